@@ -1,0 +1,100 @@
+"""Auxiliary lines (paper section 3.1, SPEC 2): physical points with known (xi, eta)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import InputError
+from .fileio import RawLine
+from .geometry import Boundary, Polyline, _segments_cross
+
+END_TOL = 1e-2  # an end lies on a side within this fraction of the bounding-box diagonal
+SAMPLES_PER_LINE = 101
+OPPOSITE = {"bottom": "top", "top": "bottom", "left": "right", "right": "left"}
+
+
+@dataclass(frozen=True)
+class AuxLine:
+    """Samples of one auxiliary line: working-frame points and their (xi, eta)."""
+
+    name: str
+    xy: np.ndarray
+    xi_eta: np.ndarray
+    sides: tuple[str, str] | None = None
+
+
+def inside(points: np.ndarray, ring: np.ndarray) -> np.ndarray:
+    """Even-odd point-in-polygon test."""
+    x, y = points[:, 0:1], points[:, 1:2]
+    a, b = ring, np.roll(ring, -1, axis=0)
+    straddle = (a[:, 1] > y) != (b[:, 1] > y)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x_cross = a[:, 0] + (y - a[:, 1]) * (b[:, 0] - a[:, 0]) / (b[:, 1] - a[:, 1])
+    return (straddle & (x < x_cross)).sum(axis=1) % 2 == 1
+
+
+def _end_sides(p: np.ndarray, boundary: Boundary, tol: float) -> dict[str, tuple[float, float]]:
+    """Sides within ``tol`` of point ``p``: side -> (arc-length fraction, distance)."""
+    near = {}
+    for side in ("bottom", "right", "top", "left"):
+        t, d = boundary.side(side).project(p[None, :])
+        if d <= tol:
+            near[side] = (t, d)
+    return near
+
+
+def _check_inside(line: Polyline, boundary: Boundary, name: str) -> None:
+    """The line between its ends must stay strictly inside the domain."""
+    eps = 1e-3
+    inner = Polyline(line.at(np.concatenate([[eps], line.t[(line.t > eps) & (line.t < 1 - eps)],
+                                             [1 - eps]])))
+    a, b = boundary.ring, np.roll(boundary.ring, -1, axis=0)
+    p, q = inner.points[:-1], inner.points[1:]
+    cross = _segments_cross(p[:, None], q[:, None], a[None], b[None])
+    if cross.any():
+        raise InputError("crosses the boundary", name)
+    if not inside(inner.at(np.array([0.5])), boundary.ring)[0]:
+        raise InputError("lies outside the domain", name)
+
+
+def map_line(raw: RawLine, boundary: Boundary, end_tol: float = END_TOL) -> AuxLine:
+    """Computational coordinates of an auxiliary line by the rule of SPEC 2."""
+    pts = boundary.frame.to_unit(raw.points)
+    if raw.xi_eta is not None:
+        xe = np.asarray(raw.xi_eta, dtype=float)
+        if not np.all(np.isfinite(xe)) or xe.min() < 0 or xe.max() > 1:
+            raise InputError("xi/eta point data must be finite and within [0, 1]", raw.name)
+        return AuxLine(raw.name, pts, xe)
+    step = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+    pts = pts[np.concatenate([[True], step > 1e-12])]
+    if len(pts) < 2:
+        raise InputError("has zero length", raw.name)
+    tol = end_tol * boundary.diagonal
+    first, last = (_end_sides(p, boundary, tol) for p in (pts[0], pts[-1]))
+    pairs = [(s, OPPOSITE[s]) for s in first if OPPOSITE[s] in last]
+    if not pairs:
+        where = lambda ends: "/".join(ends) or "no side"  # noqa: E731
+        raise InputError(
+            f"does not end on two opposite sides (start near {where(first)}, end near "
+            f"{where(last)}; tolerance {end_tol:g} of the domain diagonal)", raw.name)
+    s0, s1 = min(pairs, key=lambda p: first[p[0]][1] + last[p[1]][1])
+    t0, t1 = first[s0][0], last[s1][0]
+    if s0 in ("top", "right"):  # orient from bottom to top, or from left to right
+        pts, (s0, s1), (t0, t1) = pts[::-1], (s1, s0), (t1, t0)
+    pts = pts.copy()
+    pts[0] = boundary.side(s0).at(np.array([t0]))[0]
+    pts[-1] = boundary.side(s1).at(np.array([t1]))[0]
+    line = Polyline(pts)
+    _check_inside(line, boundary, raw.name)
+    t = np.linspace(0.0, 1.0, SAMPLES_PER_LINE)
+    across = t0 + t * (t1 - t0)
+    xi_eta = np.column_stack([across, t] if s0 == "bottom" else [t, across])
+    return AuxLine(raw.name, line.at(t), xi_eta, (s0, s1))
+
+
+def map_lines(raws: list[RawLine], boundary: Boundary, end_tol: float = END_TOL
+              ) -> list[AuxLine]:
+    """Map every auxiliary line; raises :class:`InputError` naming the first bad one."""
+    return [map_line(r, boundary, end_tol) for r in raws]

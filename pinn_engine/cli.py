@@ -1,0 +1,166 @@
+"""The ``pinn-mesh`` command (SPEC 5)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import signal
+import sys
+import time
+from pathlib import Path
+
+from .errors import PinnMeshError
+from .settings import METHODS, make_settings
+
+EXIT_ERROR = 2
+EXIT_INTERRUPTED = 130
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="pinn-mesh",
+        description="Structured quadrilateral mesh of a four-sided 2D domain "
+                    "(PINN of Chen et al., with TFI, elliptic and MGNet baselines).")
+    p.add_argument("boundary", help="closed boundary: .vtp, .vtk, .csv or .txt")
+    p.add_argument("--aux", action="append", default=[], metavar="AUX",
+                   help="auxiliary lines (.vtp/.vtk); repeat for several files")
+    p.add_argument("--method", choices=METHODS, default="pinn")
+    p.add_argument("--size", nargs=2, type=int, default=(41, 21), metavar=("NI", "NJ"),
+                   help="nodes along xi and eta (default 41 21)")
+    p.add_argument("--seed", type=int, default=None)
+    p.add_argument("--preset", choices=("default", "paper"), default="default",
+                   help="'paper' reproduces the paper's section 4 settings exactly")
+    p.add_argument("-o", "--output", default=None, metavar="OUT.vts",
+                   help="output grid (default out/<boundary>_<method>.vts)")
+    p.add_argument("--corners", nargs=4, type=int, metavar="I",
+                   help="the four corner point indices, instead of automatic detection")
+    p.add_argument("--png", metavar="PATH", help="also render the grid, coloured by "
+                   "MaxIncludedAngle, to this PNG (off-screen)")
+    p.add_argument("--report", metavar="PATH", help="also write a JSON report")
+    p.add_argument("--fail-on-folded", action="store_true",
+                   help="exit with an error (and no output) if any cell is folded")
+    p.add_argument("--quiet", action="store_true", help="no progress output")
+    g = p.add_argument_group("training (pinn, mgnet)")
+    g.add_argument("--epochs", type=int, dest="adam_epochs", help="Adam epochs")
+    g.add_argument("--lbfgs", type=int, dest="lbfgs_iterations", help="L-BFGS iterations")
+    g.add_argument("--layers", type=int, dest="hidden_layers", help="hidden layers")
+    g.add_argument("--neurons", type=int, help="neurons per hidden layer")
+    g.add_argument("--lambda2", type=float, help="weight of the auxiliary-line term")
+    g.add_argument("--boundary-mode", choices=("hard", "penalty"), dest="boundary",
+                   help="hard: exact boundary by construction; penalty: the paper's term")
+    g.add_argument("--boundary-fit", choices=("arclength", "tree"), dest="boundary_fit")
+    g.add_argument("--device", help="torch device: auto, cpu, cuda")
+    g.add_argument("--save-model", metavar="PATH", help="save the trained model")
+    g.add_argument("--load-model", metavar="PATH",
+                   help="evaluate a saved model instead of training")
+    e = p.add_argument_group("elliptic")
+    e.add_argument("--elliptic-iterations", type=int, dest="elliptic_iterations",
+                   help="N point-Jacobi sweeps from a zero interior (paper); 0 = converge")
+    return p
+
+
+class _Progress:
+    """Progress on stderr: one updating line on a terminal, a line per 10 %% otherwise."""
+
+    def __init__(self, quiet: bool) -> None:
+        self.quiet = quiet
+        self.tty = sys.stderr.isatty()
+        self.last = -1
+
+    def __call__(self, info: dict) -> None:
+        if self.quiet:
+            return
+        done = info["step"] / max(info["total"], 1)
+        decile = int(done * 10)
+        text = (f"[{info['phase']:5s} {info['step']:5d}/{info['total']}] "
+                f"loss {info['loss']:.3e}")
+        if self.tty:
+            print("\r" + text, end="", file=sys.stderr, flush=True)
+        elif decile != self.last:
+            print(text, file=sys.stderr, flush=True)
+        self.last = decile
+
+    def close(self) -> None:
+        if self.tty and not self.quiet and self.last >= 0:
+            print(file=sys.stderr)
+
+
+def _raise_interrupt(signum, frame):  # noqa: ARG001
+    raise KeyboardInterrupt
+
+
+def run(args: argparse.Namespace) -> Path:
+    from .fileio import write_vts
+    from .mesher import Mesher
+    from .pipeline import load_aux, load_boundary, to_vtk
+
+    out = Path(args.output or f"out/{Path(args.boundary).stem}_{args.method}.vts")
+    if out.suffix.lower() != ".vts":
+        raise PinnMeshError(f"{out}: output must be a .vts file")
+    ni, nj = args.size
+    if not (2 <= ni <= 20000 and 2 <= nj <= 20000 and ni * nj <= 25_000_000):
+        raise PinnMeshError(f"--size {ni} {nj}: each size must be 2..20000 and the grid at "
+                            "most 25 million nodes")
+    fields = ("seed", "adam_epochs", "lbfgs_iterations", "hidden_layers", "neurons",
+              "lambda2", "boundary", "boundary_fit", "device", "elliptic_iterations")
+    try:
+        settings = make_settings(args.method, args.preset,
+                                 **{k: getattr(args, k) for k in fields})
+    except ValueError as exc:
+        raise PinnMeshError(str(exc)) from exc
+    boundary = load_boundary(args.boundary, args.corners)
+    aux = load_aux(args.aux, boundary)
+    mesher = Mesher(settings)
+    progress = _Progress(args.quiet)
+    start = time.perf_counter()
+    try:
+        if args.load_model:
+            from .model_io import load_model
+
+            mesher = load_model(args.load_model, boundary)
+        else:
+            mesher.fit(boundary, aux, progress)
+    finally:
+        progress.close()
+    if args.save_model:
+        from .model_io import save_model
+
+        save_model(mesher, args.save_model)
+    result = mesher.predict(ni, nj)
+    q = result.quality
+    if not args.quiet:
+        print(f"{settings.method} {ni}x{nj} grid in {time.perf_counter() - start:.2f} s: "
+              f"mean MaxIncludedAngle {q['mean_max_angle']:.2f}, worst "
+              f"{q['worst_max_angle']:.2f} deg, {q['folded_cells']} folded cells, boundary "
+              f"deviation {q['boundary_deviation']:.1e}", file=sys.stderr, flush=True)
+    if args.fail_on_folded and q["folded_cells"]:
+        raise PinnMeshError(f"{args.boundary}: {q['folded_cells']} folded cells "
+                            "(--fail-on-folded); no output written")
+    grid = to_vtk(result)
+    write_vts(grid, out)
+    if args.report:
+        Path(args.report).write_text(json.dumps(result.report, indent=2, default=float))
+    if args.png:
+        from .render import render_png
+
+        render_png(grid, args.png, title=f"{args.method}: {Path(args.boundary).name}")
+    print(f"wrote {out}" + (f" and {args.png}" if args.png else ""))
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    signal.signal(signal.SIGTERM, _raise_interrupt)
+    try:
+        run(args)
+    except PinnMeshError as exc:
+        print(f"pinn-mesh: error: {exc}", file=sys.stderr)
+        return EXIT_ERROR
+    except KeyboardInterrupt:
+        print("pinn-mesh: interrupted; no output written", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

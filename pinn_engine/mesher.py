@@ -1,0 +1,103 @@
+"""The estimator: configure, ``fit`` on a boundary (trains once), ``predict`` at any resolution."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .auxlines import AuxLine
+from .boundary_fit import make_fit
+from .elliptic import winslow_solve, winslow_sweeps
+from .geometry import Boundary
+from .quality import boundary_nodes, summary
+from .settings import Settings, make_settings
+from .tfi import tfi_grid
+
+NEURAL = ("pinn", "mgnet")
+Progress = Callable[[dict], bool | None]
+
+
+@dataclass
+class MeshResult:
+    """A grid (nj, ni, 2) in the user's coordinates, with what a user needs to judge it."""
+
+    points: np.ndarray
+    report: dict
+    history: dict[str, list[float]] = field(default_factory=dict)
+
+    @property
+    def quality(self) -> dict:
+        return self.report["quality"]
+
+
+class Mesher:
+    """Structured mesher for one boundary; ``method`` is pinn, mgnet, tfi or elliptic.
+
+    >>> mesher = Mesher(make_settings("elliptic")).fit(boundary)
+    >>> result = mesher.predict(41, 21)
+    """
+
+    def __init__(self, settings: Settings | None = None) -> None:
+        self.settings = settings or make_settings()
+        self.boundary: Boundary | None = None
+        self.aux_lines: list[AuxLine] = []
+        self.model = None  # the trained network of the neural methods
+        self.train_seconds = 0.0
+
+    def fit(self, boundary: Boundary, aux_lines: Sequence[AuxLine] = (),
+            progress: Progress | None = None) -> Mesher:
+        """Prepare meshing of ``boundary``; trains the network for pinn and mgnet.
+
+        ``progress(info)`` is called during training; returning True cancels it.
+        """
+        self.boundary = boundary
+        self.aux_lines = list(aux_lines) if self.settings.method == "pinn" else []
+        self.model = None
+        if self.settings.method in NEURAL:
+            from .training import train  # torch is imported only when training
+
+            start = time.perf_counter()
+            self.model = train(boundary, self.aux_lines, self.settings, progress)
+            self.train_seconds = time.perf_counter() - start
+        return self
+
+    def predict(self, ni: int, nj: int) -> MeshResult:
+        """The grid at ``ni`` x ``nj`` nodes; feed-forward for the neural methods."""
+        if self.boundary is None:
+            raise RuntimeError("call fit() before predict()")
+        if ni < 2 or nj < 2:
+            raise ValueError(f"grid size must be at least 2 x 2, got {ni} x {nj}")
+        start = time.perf_counter()
+        unit = self._grid_unit(ni, nj)
+        mesh_seconds = time.perf_counter() - start
+        deviation = float(self.boundary.deviation(boundary_nodes(unit)).max())
+        points = self.boundary.frame.to_user(unit)
+        report = {
+            "method": self.settings.method,
+            "size": [ni, nj],
+            "settings": self.settings.to_dict(),
+            "train_seconds": self.train_seconds,
+            "mesh_seconds": mesh_seconds,
+            "quality": summary(points, deviation),
+            "source": self.boundary.source,
+            "aux_lines": [a.name for a in self.aux_lines],
+        }
+        if self.model is not None:
+            report["training"] = self.model.info
+        history = self.model.history if self.model is not None else {}
+        return MeshResult(points=points, report=report, history=history)
+
+    def _grid_unit(self, ni: int, nj: int) -> np.ndarray:
+        s = self.settings
+        if self.model is not None:
+            return self.model.grid(ni, nj)
+        # classical methods always place boundary nodes exactly on the input polyline
+        base = tfi_grid(make_fit("arclength", self.boundary).sample, ni, nj)
+        if s.method == "tfi":
+            return base
+        if s.elliptic_iterations:
+            return winslow_sweeps(base, s.elliptic_iterations, zero_interior=True)
+        return winslow_solve(base)[0]

@@ -1,0 +1,35 @@
+"""Off-screen pictures of grids coloured by an included-angle array (pyvista)."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+
+
+def render_png(grid, path: str | os.PathLike, scalars: str = "MaxIncludedAngle",
+               title: str | None = None, clim: tuple[float, float] | None = (90.0, 180.0),
+               boundary=None, aux=None, window_size=(1200, 800)) -> Path:
+    """Draw ``grid`` (a VTK or pyvista structured grid) with its edges, coloured by ``scalars``."""
+    import pyvista as pv
+
+    pv.OFF_SCREEN = True
+    mesh = pv.wrap(grid)
+    plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
+    plotter.set_background("white")
+    plotter.add_mesh(mesh, scalars=scalars, preference="cell", show_edges=True,
+                     edge_color="black", line_width=0.5, cmap="viridis", clim=clim,
+                     scalar_bar_args={"title": f"{scalars} (deg)", "color": "black"})
+    for extra, color in ((boundary, "red"), (aux, "orange")):
+        if extra is not None:
+            plotter.add_mesh(pv.wrap(extra), color=color, line_width=3)
+    if title:
+        plotter.add_text(title, font_size=12, color="black")
+    plotter.view_xy()
+    plotter.camera.zoom(1.1)
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    plotter.screenshot(str(path))
+    plotter.close()
+    return path

@@ -1,0 +1,74 @@
+"""Every setting of a meshing run, the paper preset and the measured defaults."""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field, fields, replace
+
+METHODS = ("pinn", "mgnet", "tfi", "elliptic")
+PRESETS = ("default", "paper")
+
+
+@dataclass(frozen=True)
+class Settings:
+    """What a run depends on. ``training_key`` names the part that training depends on."""
+
+    method: str = "pinn"
+    preset: str = "default"
+    # boundary treatment: "hard" (network corrects TFI, exact boundary) or "penalty" (paper)
+    boundary: str = "hard"
+    boundary_fit: str = "arclength"  # "arclength" or "tree" (paper)
+    hidden_layers: int = 4
+    neurons: int = 30
+    activation: str = "tanh"
+    adam_epochs: int = 5000
+    learning_rate: float = 1e-3
+    lr_decay: float = 0.9
+    lr_decay_every: int = 1000
+    batch_size: int = 100
+    lbfgs_iterations: int = 500
+    lbfgs_points: int = 1000
+    lambda2: float = 10.0
+    anneal_momentum: float = 0.9  # moving-average factor of the lambda1 update
+    seed: int = 0
+    dtype: str = "float64"
+    device: str = "auto"
+    fast: bool = True  # forward-mode derivative jets instead of nested autograd
+    elliptic_iterations: int = 0  # 0: iterate to convergence; N: the paper's N sweeps from 0
+    extra: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if self.method not in METHODS:
+            raise ValueError(f"unknown method {self.method!r}; use one of {', '.join(METHODS)}")
+        if self.preset not in PRESETS:
+            raise ValueError(f"unknown preset {self.preset!r}; use one of {', '.join(PRESETS)}")
+        for name in ("hidden_layers", "neurons", "batch_size", "lbfgs_points"):
+            if getattr(self, name) < 1:
+                raise ValueError(f"{name} must be at least 1")
+        for name in ("adam_epochs", "lbfgs_iterations", "elliptic_iterations"):
+            if getattr(self, name) < 0:
+                raise ValueError(f"{name} must not be negative")
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+    def training_key(self) -> tuple:
+        """The settings that change the trained network (not the output resolution)."""
+        skip = {"preset", "device", "extra"}
+        return tuple((f.name, getattr(self, f.name)) for f in fields(self) if f.name not in skip)
+
+
+PAPER = {
+    "boundary": "penalty", "boundary_fit": "tree", "hidden_layers": 4, "neurons": 30,
+    "activation": "tanh", "adam_epochs": 5000, "learning_rate": 1e-3, "lr_decay": 0.9,
+    "lr_decay_every": 1000, "batch_size": 100, "lbfgs_iterations": 500,
+    "lbfgs_points": 1000, "lambda2": 10.0, "elliptic_iterations": 1000,
+}
+
+
+def make_settings(method: str = "pinn", preset: str = "default", **overrides) -> Settings:
+    """Settings for ``method`` under ``preset``, then ``overrides`` (None values ignored)."""
+    base = Settings(method=method, preset=preset)
+    if preset == "paper":
+        base = replace(base, **PAPER)
+    given = {k: v for k, v in overrides.items() if v is not None}
+    return replace(base, **given)

@@ -1,0 +1,65 @@
+"""Build the output ``vtkStructuredGrid`` of SPEC 3 (VTK only, usable inside ParaView)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+from vtkmodules.util.numpy_support import numpy_to_vtk
+from vtkmodules.vtkCommonCore import vtkPoints, vtkStringArray
+from vtkmodules.vtkCommonDataModel import vtkStructuredGrid
+
+from .quality import folded_cells, included_angles, scaled_jacobian
+
+
+def _add_scalar(fd, name: str, values) -> None:
+    arr = numpy_to_vtk(np.atleast_1d(np.asarray(values, dtype=float)), deep=True)
+    arr.SetName(name)
+    fd.AddArray(arr)
+
+
+def _add_string(fd, name: str, text: str) -> None:
+    arr = vtkStringArray()
+    arr.SetName(name)
+    arr.InsertNextValue(text)
+    fd.AddArray(arr)
+
+
+def structured_grid(points: np.ndarray, report: dict | None = None,
+                    history: dict[str, list[float]] | None = None) -> vtkStructuredGrid:
+    """A grid of dimensions (ni, nj, 1) from ``points`` (nj, ni, 2), with quality arrays.
+
+    Cell data: ``MaxIncludedAngle``, ``MinIncludedAngle`` (degrees, as vtkMeshQuality),
+    ``ScaledJacobian`` and ``Folded`` (0/1). Field data: ``Method``, ``Report`` (JSON: settings,
+    timings, quality summary), the summary figures as numbers and ``Loss_<term>`` histories.
+    """
+    nj, ni = points.shape[:2]
+    grid = vtkStructuredGrid()
+    grid.SetDimensions(ni, nj, 1)
+    xyz = np.column_stack([points.reshape(-1, 2), np.zeros(ni * nj)])
+    pts = vtkPoints()
+    pts.SetData(numpy_to_vtk(np.ascontiguousarray(xyz), deep=True))
+    grid.SetPoints(pts)
+    max_a, min_a = included_angles(points)
+    cells = {
+        "MaxIncludedAngle": max_a, "MinIncludedAngle": min_a,
+        "ScaledJacobian": scaled_jacobian(points), "Folded": folded_cells(points),
+    }
+    for name, values in cells.items():
+        arr = numpy_to_vtk(np.ascontiguousarray(values, dtype=float).ravel(), deep=True)
+        arr.SetName(name)
+        grid.GetCellData().AddArray(arr)
+    grid.GetCellData().SetActiveScalars("MaxIncludedAngle")
+    fd = grid.GetFieldData()
+    report = report or {}
+    _add_string(fd, "Method", str(report.get("method", "")))
+    _add_string(fd, "Report", json.dumps(report, default=float))
+    for key, value in report.get("quality", {}).items():
+        _add_scalar(fd, key, value)
+    for key in ("train_seconds", "mesh_seconds"):
+        if key in report:
+            _add_scalar(fd, key, report[key])
+    for term, values in (history or {}).items():
+        _add_scalar(fd, f"Loss_{term}", values)
+    return grid
+

@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Run a ParaView executable with the pinn-mesh environment:
+#   scripts/pvenv.sh pvpython script.py [args...]
+#   scripts/pvenv.sh pvbatch  script.py
+#   scripts/pvenv.sh paraview --script=gui.py
+#   scripts/pvenv.sh env            # print the variables
+#
+# Sets
+#   PYTHONPATH     = paraview_support (getargspec shim) : .venv-pv site-packages
+#                    (torch, sklearn, numpy<2.4) : repo root (import pinn_engine)
+#   PV_PLUGIN_PATH = <repo>/plugin   (override with PINN_PV_PLUGIN_PATH)
+# and runs the command under `xvfb-run -a` when DISPLAY is unset and the
+# command renders (paraview, pvpython, pvbatch).  Set PINN_PV_NO_XVFB=1 to
+# skip the X server (pure pipeline work without rendering).
+set -euo pipefail
+
+REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+VENV="${PINN_PV_VENV:-$REPO/.venv-pv}"
+
+if [ ! -x "$VENV/bin/python" ]; then
+    echo "pvenv.sh: $VENV missing; run scripts/setup_paraview.sh first" >&2
+    exit 2
+fi
+# site-packages path without starting python every time (venv layout is fixed)
+SITE="$(echo "$VENV"/lib/python3.*/site-packages)"
+
+export PYTHONPATH="$REPO/paraview_support:$SITE:$REPO${PYTHONPATH:+:$PYTHONPATH}"
+export PV_PLUGIN_PATH="${PINN_PV_PLUGIN_PATH:-$REPO/plugin}"
+# Qt under Xvfb: no GPU, use Mesa's software GL; silence the XDG warning.
+export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp/runtime-$(id -u)}"
+mkdir -p "$XDG_RUNTIME_DIR" && chmod 700 "$XDG_RUNTIME_DIR"
+
+if [ $# -eq 0 ] || [ "$1" = "env" ]; then
+    echo "export PYTHONPATH=\"$PYTHONPATH\""
+    echo "export PV_PLUGIN_PATH=\"$PV_PLUGIN_PATH\""
+    exit 0
+fi
+
+case "$(basename "$1")" in
+    paraview|pvpython|pvbatch) needs_x=1 ;;
+    *) needs_x=0 ;;
+esac
+
+if [ "$needs_x" = 1 ] && [ -z "${DISPLAY:-}" ] && [ -z "${PINN_PV_NO_XVFB:-}" ]; then
+    exec xvfb-run -a -s "-screen 0 1600x1000x24" "$@"
+fi
+exec "$@"
