@@ -115,17 +115,13 @@ def run(args: argparse.Namespace) -> Path:
     start = time.perf_counter()
     try:
         if args.load_model:
-            from .model_io import load_model
-
-            mesher = load_model(args.load_model, boundary)
+            mesher = Mesher.load(args.load_model, boundary)
         else:
             mesher.fit(boundary, aux, progress)
     finally:
         progress.close()
     if args.save_model:
-        from .model_io import save_model
-
-        save_model(mesher, args.save_model)
+        mesher.save(args.save_model)
     result = mesher.predict(ni, nj)
     q = result.quality
     if not args.quiet:

@@ -1,4 +1,7 @@
-"""Reading boundaries and auxiliary lines, writing grids; VTK only (no pyvista), so ParaView can use it."""
+"""Reading boundaries and auxiliary lines, writing grids.
+
+VTK only (no pyvista), so that the ParaView plugin can use it.
+"""
 
 from __future__ import annotations
 

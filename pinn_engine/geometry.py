@@ -1,4 +1,4 @@
-"""Closed four-sided boundaries: validation, corners, sides and the normalised working frame (SPEC 1)."""
+"""Closed four-sided boundaries: validation, corners, sides, the working frame (SPEC 1)."""
 
 from __future__ import annotations
 
@@ -157,12 +157,12 @@ def clean_ring(points: np.ndarray, source: str | None) -> tuple[np.ndarray, np.n
         k = int(first[np.argmax(counts > 1)])
         raise InputError(f"boundary point {k} is repeated further along the ring "
                          "(the boundary touches itself)", source)
-    if abs(signed_area(pts)) < 1e-9 * diag * diag:
-        raise InputError("boundary encloses no area", source)
     hits = self_intersections(pts)
     if hits:
         i, j = hits[0]
         raise InputError(f"boundary is self-intersecting (edges {i} and {j} cross)", source)
+    if abs(signed_area(pts)) < 1e-9 * diag * diag:
+        raise InputError("boundary encloses no area", source)
     return pts, keep
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -11,6 +12,7 @@ import numpy as np
 from .auxlines import AuxLine
 from .boundary_fit import make_fit
 from .elliptic import winslow_solve, winslow_sweeps
+from .errors import PinnMeshError
 from .geometry import Boundary
 from .quality import boundary_nodes, summary
 from .settings import Settings, make_settings
@@ -62,7 +64,25 @@ class Mesher:
             start = time.perf_counter()
             self.model = train(boundary, self.aux_lines, self.settings, progress)
             self.train_seconds = time.perf_counter() - start
+            self.model.info["train_seconds"] = self.train_seconds
         return self
+
+    def save(self, path: str | os.PathLike) -> None:
+        """Save the trained network (pinn and mgnet only)."""
+        if self.model is None:
+            raise PinnMeshError(f"method {self.settings.method} has no trained model to save")
+        self.model.save(path)
+
+    @classmethod
+    def load(cls, path: str | os.PathLike, boundary: Boundary) -> Mesher:
+        """A fitted mesher from a saved model; ``boundary`` must be the one it was trained on."""
+        from .model import TrainedModel
+
+        model = TrainedModel.load(path, boundary)
+        mesher = cls(model.settings)
+        mesher.boundary, mesher.model = boundary, model
+        mesher.train_seconds = float(model.info.get("train_seconds", 0.0))
+        return mesher
 
     def predict(self, ni: int, nj: int) -> MeshResult:
         """The grid at ``ni`` x ``nj`` nodes; feed-forward for the neural methods."""

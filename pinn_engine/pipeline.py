@@ -1,4 +1,4 @@
-"""From files or VTK inputs to a boundary, auxiliary lines and a grid: shared by CLI, filter, pyvista."""
+"""From files or VTK inputs to boundary, auxiliary lines and grid (CLI, filter, pyvista)."""
 
 from __future__ import annotations
 

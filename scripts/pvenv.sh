@@ -12,6 +12,7 @@
 # and runs the command under `xvfb-run -a` when DISPLAY is unset and the
 # command renders (paraview, pvpython, pvbatch).  Set PINN_PV_NO_XVFB=1 to
 # skip the X server (pure pipeline work without rendering).
+# Other knobs: PINN_PV_VENV (default <repo>/.venv-pv), PINN_PV_EXTRA_PYTHONPATH.
 set -euo pipefail
 
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -24,7 +25,10 @@ fi
 # site-packages path without starting python every time (venv layout is fixed)
 SITE="$(echo "$VENV"/lib/python3.*/site-packages)"
 
-export PYTHONPATH="$REPO/paraview_support:$SITE:$REPO${PYTHONPATH:+:$PYTHONPATH}"
+# The caller's PYTHONPATH is deliberately dropped: a pip vtk/pyvista on it makes
+# pvpython segfault.  Add extra entries with PINN_PV_EXTRA_PYTHONPATH.
+unset PYTHONHOME
+export PYTHONPATH="$REPO/paraview_support:$SITE:$REPO${PINN_PV_EXTRA_PYTHONPATH:+:$PINN_PV_EXTRA_PYTHONPATH}"
 export PV_PLUGIN_PATH="${PINN_PV_PLUGIN_PATH:-$REPO/plugin}"
 # Qt under Xvfb: no GPU, use Mesa's software GL; silence the XDG warning.
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp/runtime-$(id -u)}"

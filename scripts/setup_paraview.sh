@@ -2,8 +2,8 @@
 # Install a real ParaView (Debian's 5.11) plus a Python venv for pvpython.
 #
 # Idempotent: re-running skips what is already there.
-#   * apt: paraview, python3-paraview, xvfb (+ x11-apps/imagemagick for GUI
-#     screenshots) -- only when pvpython is missing.
+#   * apt: paraview, python3-paraview, xvfb (+ x11-apps/imagemagick/xdotool for GUI
+#     screenshots) -- only when one of pvpython, xvfb-run, import, xdotool is missing.
 #   * .venv-pv in the repo root, built from /usr/bin/python3 (Debian's 3.11,
 #     the interpreter pvpython embeds), with torch==2.13.0 (CPU wheel),
 #     scikit-learn and numpy<2.4.  NEVER install pip vtk/pyvista into it:
@@ -21,19 +21,25 @@ export DEBIAN_FRONTEND=noninteractive
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 
-if ! command -v pvpython >/dev/null 2>&1 || ! command -v xvfb-run >/dev/null 2>&1; then
+if ! command -v pvpython >/dev/null 2>&1 || ! command -v xvfb-run >/dev/null 2>&1 \
+        || ! command -v import >/dev/null 2>&1 || ! command -v xdotool >/dev/null 2>&1; then
     echo "[setup_paraview] installing ParaView from apt ..."
     $SUDO apt-get update -qq
     $SUDO apt-get install -y -qq \
-        paraview python3-paraview xvfb xauth x11-apps imagemagick python3-venv >/dev/null
+        paraview python3-paraview xvfb xauth x11-apps imagemagick xdotool python3-venv >/dev/null
 else
     echo "[setup_paraview] pvpython already installed: $(command -v pvpython)"
 fi
 
-# pvpython embeds Debian's system Python; the venv must use the same version.
-PV_PYVER="$(pvpython --version 2>/dev/null | head -1 || true)"
+# pvpython embeds Debian's system Python; the venv must use the same version
+# (NOT the pyenv/other python3 that may come first on PATH).
+PV_PYVER="$(env -u PYTHONPATH -u PYTHONHOME pvpython -c 'import sys; print("%d.%d" % sys.version_info[:2])' 2>/dev/null | tail -1)"
 SYS_PYVER="$($SYS_PY -c 'import sys; print("%d.%d" % sys.version_info[:2])')"
-echo "[setup_paraview] system python $SYS_PYVER; $PV_PYVER"
+echo "[setup_paraview] $(pvpython --version 2>/dev/null | head -1); embedded python $PV_PYVER; $SYS_PY is $SYS_PYVER"
+if [ "$PV_PYVER" != "$SYS_PYVER" ]; then
+    echo "[setup_paraview] ERROR: pvpython's Python ($PV_PYVER) != $SYS_PY ($SYS_PYVER)" >&2
+    exit 1
+fi
 
 if [ ! -x "$VENV/bin/python" ] || ! "$VENV/bin/python" -c "import torch, sklearn, numpy" >/dev/null 2>&1; then
     echo "[setup_paraview] creating $VENV ..."

@@ -1,0 +1,63 @@
+"""Loss terms of the paper (section 3.2): Winslow residual, boundary term, auxiliary-line data term.
+
+All terms are mean squares (the paper writes sums; a mean keeps the weights independent of
+the number of sampled points). Jets are (6, B, 2) tensors: channels of ``networks.V..ETAETA``
+for the x and y coordinates.
+"""
+
+from __future__ import annotations
+
+import torch
+
+from .networks import ETA, ETAETA, XI, XIETA, XIXI, V
+
+
+def winslow_residual(jet: torch.Tensor) -> torch.Tensor:
+    """e1, e2 of paper eq. 13, with alpha, beta, gamma of eq. 8: shape (B, 2).
+
+    beta is x_xi x_eta + y_xi y_eta (the paper misprints it as x_xi x_eta + y_xi x_eta).
+    """
+    r_xi, r_eta = jet[XI], jet[ETA]
+    alpha = (r_eta * r_eta).sum(dim=-1, keepdim=True)  # eq. 8
+    beta = (r_xi * r_eta).sum(dim=-1, keepdim=True)
+    gamma = (r_xi * r_xi).sum(dim=-1, keepdim=True)
+    return alpha * jet[XIXI] - 2 * beta * jet[XIETA] + gamma * jet[ETAETA]
+
+
+def loss_eqns(jet: torch.Tensor) -> torch.Tensor:
+    """L_eqns of paper eq. 11: mean of e1^2 + e2^2 over the collocation points."""
+    return winslow_residual(jet).pow(2).sum(dim=-1).mean()
+
+
+def loss_points(pred: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
+    """Mean of |x - x*|^2 + |y - y*|^2: the boundary term e3, e4 (eq. 12, 13) per side."""
+    return (pred - target).pow(2).sum(dim=-1).mean()
+
+
+def loss_data(pred: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
+    """L_data of paper eq. 10: the auxiliary-line data term on the line samples."""
+    return loss_points(pred, target)
+
+
+def total_loss(l_eqns: torch.Tensor, l_bcs: torch.Tensor, l_data: torch.Tensor,
+               lambda1: float, lambda2: float) -> torch.Tensor:
+    """Paper eq. 9: Loss = L_eqns + lambda1 L_bcs + lambda2 L_data."""
+    return l_eqns + lambda1 * l_bcs + lambda2 * l_data
+
+
+def annealed_lambda(grads_eqns: list[torch.Tensor], grads_bcs: list[torch.Tensor],
+                    lambda1: float, momentum: float) -> float:
+    """Learning-rate annealing weight (Wang, Teng, Perdikaris 2020, Algorithm 1).
+
+    lambda_hat = max |grad L_eqns| / mean |grad (lambda1 L_bcs)| over the network weights;
+    returns the moving average momentum * lambda1 + (1 - momentum) * lambda_hat.
+    """
+    top = max(float(g.abs().max()) for g in grads_eqns)
+    mean = torch.cat([(lambda1 * g).abs().flatten() for g in grads_bcs]).mean()
+    lambda_hat = top / max(float(mean), 1e-300)
+    return momentum * lambda1 + (1 - momentum) * lambda_hat
+
+
+def value(jet: torch.Tensor) -> torch.Tensor:
+    """The (B, 2) coordinates of a jet."""
+    return jet[V]

@@ -1,0 +1,78 @@
+"""The learned map (xi, eta) -> (x, y) in the working frame, with its boundary treatment.
+
+- ``penalty`` (the paper): the networks are the map; the boundary is a loss term only.
+- ``hard``: map = TFI of the boundary + B(xi, eta) * networks, with the bubble
+  B = 16 xi (1 - xi) eta (1 - eta) vanishing on the boundary, so boundary nodes lie on the
+  boundary by construction. Training takes the TFI's derivatives from a C2 spline through the
+  boundary vertices; the grid uses the exact polyline TFI (they agree on the boundary).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import torch
+
+from .boundary_fit import ArcLengthFit, SplineFit
+from .geometry import Boundary
+from .networks import CoordinateNet, autograd_jet, jet_product
+from .tfi import node_params, tfi_grid, transfinite
+
+
+def bubble_jet(x: torch.Tensor) -> torch.Tensor:
+    """Jet (6, B, 1) of B = 16 xi (1 - xi) eta (1 - eta)."""
+    xi, eta = x[:, 0], x[:, 1]
+    p, q = xi * (1 - xi), eta * (1 - eta)
+    dp, dq = 1 - 2 * xi, 1 - 2 * eta
+    jet = torch.stack([p * q, dp * q, p * dq, -2 * q, dp * dq, -2 * p])
+    return 16 * jet.unsqueeze(-1)
+
+
+def _product(u: torch.Tensor, w: torch.Tensor) -> torch.Tensor:
+    """Jet of a product, for jets stored as (6, B, k) tensors."""
+    return torch.stack(jet_product(u.unbind(0), w.unbind(0)))
+
+
+class Mapping:
+    """Evaluates the map and its derivative jet for a network and a boundary."""
+
+    def __init__(self, net: CoordinateNet, boundary: Boundary, mode: str) -> None:
+        if mode not in ("hard", "penalty"):
+            raise ValueError(f"unknown boundary mode {mode!r}; use hard or penalty")
+        self.net, self.boundary, self.mode = net, boundary, mode
+        self.spline = SplineFit(boundary) if mode == "hard" else None
+
+    def tfi_jet(self, x: np.ndarray) -> np.ndarray:
+        """Jet (6, B, 2) of the spline TFI at points ``x`` (B, 2); constant during training."""
+        return np.stack(transfinite(x[:, 0], x[:, 1], self.spline.sample, order=2))
+
+    def jet(self, x: torch.Tensor, base: torch.Tensor | None, fast: bool = True) -> torch.Tensor:
+        """Jet (6, B, 2) of the map at ``x``; ``base`` is ``tfi_jet(x)`` in hard mode."""
+        net_jet = self.net.jet(x) if fast else autograd_jet(self.net, x)
+        if self.mode == "penalty":
+            return net_jet
+        return base + _product(bubble_jet(x), net_jet)
+
+    def values(self, x: torch.Tensor, base: torch.Tensor | None) -> torch.Tensor:
+        """Map values (B, 2) at ``x``; ``base`` is the TFI value there in hard mode."""
+        out = self.net(x)
+        if self.mode == "penalty":
+            return out
+        return base + bubble_jet(x)[0] * out
+
+    @torch.no_grad()
+    def grid(self, ni: int, nj: int, chunk: int = 1 << 18) -> np.ndarray:
+        """Grid (nj, ni, 2) in the working frame, feed-forward, boundary exact in hard mode."""
+        xi, eta = node_params(ni), node_params(nj)
+        pts = np.stack(np.meshgrid(xi, eta), axis=-1).reshape(-1, 2)
+        p = next(self.net.parameters())
+        out = np.empty_like(pts)
+        for s in range(0, len(pts), chunk):
+            x = torch.as_tensor(pts[s:s + chunk], dtype=p.dtype, device=p.device)
+            y = self.net(x)
+            if self.mode == "hard":
+                y = bubble_jet(x)[0] * y
+            out[s:s + chunk] = y.cpu().numpy()
+        out = out.reshape(nj, ni, 2)
+        if self.mode == "hard":
+            out += tfi_grid(ArcLengthFit(self.boundary).sample, ni, nj)
+        return out

@@ -1,0 +1,89 @@
+"""A trained model: feed-forward grids at any resolution, saved and loaded with its boundary."""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from . import __version__
+from .errors import InputError
+from .geometry import Boundary, Frame
+from .mapping import Mapping
+from .networks import CoordinateNet
+from .settings import Settings
+
+FORMAT = "pinn-mesh-model/1"
+
+
+@dataclass
+class TrainedModel:
+    """The trained map plus what produced it (settings, loss history, training info)."""
+
+    mapping: Mapping
+    settings: Settings
+    history: dict[str, list[float]]
+    info: dict
+
+    def grid(self, ni: int, nj: int) -> np.ndarray:
+        """Grid (nj, ni, 2) in the working frame: one forward pass, no training."""
+        return self.mapping.grid(ni, nj)
+
+    def save(self, path: str | os.PathLike) -> Path:
+        """Write the model (weights, settings, boundary, history) to ``path`` atomically."""
+        b = self.mapping.boundary
+        net = self.mapping.net
+        payload = {
+            "format": FORMAT, "version": __version__,
+            "settings": {k: v for k, v in self.settings.to_dict().items() if k != "extra"},
+            "network": {"kind": net.kind, "hidden_layers": net.hidden_layers,
+                        "neurons": net.neurons, "activation": net.activation},
+            "state": {k: v.detach().cpu() for k, v in net.state_dict().items()},
+            "boundary": {"ring": torch.as_tensor(b.ring), "corners": list(b.corners),
+                         "origin": torch.as_tensor(b.frame.origin), "scale": b.frame.scale},
+            "history": self.history, "info": self.info,
+        }
+        path = Path(path)
+        tmp = path.with_name(f".{path.name}.part")
+        torch.save(payload, tmp)
+        os.replace(tmp, path)
+        return path
+
+    @classmethod
+    def load(cls, path: str | os.PathLike, boundary: Boundary | None = None) -> TrainedModel:
+        """Read a model; if ``boundary`` is given it must be the one the model was trained on."""
+        src = str(path)
+        if not Path(path).is_file():
+            raise InputError("model file not found", src)
+        try:
+            payload = torch.load(path, map_location="cpu", weights_only=True)
+        except Exception as exc:  # torch raises many types for a damaged file
+            raise InputError(f"not a readable pinn-mesh model ({type(exc).__name__})",
+                             src) from None
+        if not isinstance(payload, dict) or payload.get("format") != FORMAT:
+            raise InputError(f"not a pinn-mesh model of format {FORMAT}", src)
+        try:
+            settings = Settings(**payload["settings"])
+            net = CoordinateNet(**payload["network"])
+            net.load_state_dict(payload["state"])
+            bd = payload["boundary"]
+            saved = Boundary(ring=bd["ring"].numpy(), corners=tuple(bd["corners"]),
+                             frame=Frame(bd["origin"].numpy(), float(bd["scale"])), source=src)
+        except (KeyError, TypeError, RuntimeError, ValueError) as exc:
+            raise InputError(f"damaged or incompatible model ({exc})", src) from None
+        if boundary is not None:
+            same = (saved.ring.shape == boundary.ring.shape
+                    and np.allclose(saved.frame.to_user(saved.ring),
+                                    boundary.frame.to_user(boundary.ring), rtol=1e-9, atol=1e-12
+                                    * boundary.frame.scale)
+                    and saved.corners == boundary.corners)
+            if not same:
+                raise InputError("model was trained for a different boundary", src)
+            saved = dataclasses.replace(saved, source=boundary.source)
+        net = net.to(torch.float64)
+        return cls(Mapping(net, saved, settings.boundary), settings, payload["history"],
+                   payload["info"])

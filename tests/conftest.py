@@ -1,0 +1,38 @@
+"""Shared fixtures: small boundaries and the example data folder."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = ROOT / "example_data"
+CASES = ("wavy", "fig2", "concave")
+
+
+def square_ring(n: int = 10, size: float = 1.0) -> np.ndarray:
+    """Counter-clockwise square with ``n`` segments per side, starting at (0, 0)."""
+    t = np.linspace(0, size, n + 1)[:-1]
+    z, s = np.zeros_like(t), np.full_like(t, size)
+    return np.vstack([np.column_stack([t, z]), np.column_stack([s, t]),
+                      np.column_stack([size - t, s]), np.column_stack([z, size - t])])
+
+
+def wavy_ring(n: int = 24) -> np.ndarray:
+    """A four-sided domain with wavy sides (2 x 1), CCW from (0, 0)."""
+    s = np.linspace(0, 1, n + 1)[:-1]
+    bottom = np.column_stack([2 * s, 0.1 * np.sin(2 * np.pi * s)])
+    right = np.column_stack([2 + 0.1 * np.sin(np.pi * s), s])
+    top = np.column_stack([2 - 2 * s, 1 + 0.1 * np.sin(3 * np.pi * s)])
+    left = np.column_stack([-0.05 * np.sin(np.pi * s), 1 - s])
+    return np.vstack([bottom, right, top, left])
+
+
+@pytest.fixture
+def tmp_out(tmp_path: Path) -> Path:
+    return tmp_path

@@ -1,0 +1,64 @@
+"""Quality arrays equal VTK's vtkMeshQuality (Verdict) on distorted, non-convex, folded cells."""
+
+from __future__ import annotations
+
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkFiltersVerdict import vtkMeshQuality
+
+from pinn_engine.quality import folded_cells, included_angles
+from pinn_engine.tfi import node_params
+from pinn_engine.vtkgrid import structured_grid
+
+
+def distorted_grid(seed: int, amount: float) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    xi, eta = np.meshgrid(node_params(12), node_params(9))
+    grid = np.stack([3 * xi, 2 * eta], axis=-1)
+    return grid + amount * rng.normal(size=grid.shape) * [3 / 11, 2 / 8]
+
+
+def vtk_angles(grid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    out = []
+    for measure in ("SetQuadQualityMeasureToMaxAngle", "SetQuadQualityMeasureToMinAngle"):
+        mq = vtkMeshQuality()
+        mq.SetInputData(structured_grid(grid))
+        getattr(mq, measure)()
+        mq.Update()
+        out.append(vtk_to_numpy(mq.GetOutput().GetCellData().GetArray("Quality")))
+    return out[0], out[1]
+
+
+def test_angles_equal_vtk_mesh_quality():
+    kinds = {"convex": 0, "nonconvex": 0, "folded": 0}
+    for seed, amount in [(0, 0.05), (1, 0.25), (2, 0.45), (3, 0.7)]:
+        grid = distorted_grid(seed, amount)
+        max_a, min_a = included_angles(grid)
+        vmax, vmin = vtk_angles(grid)
+        np.testing.assert_allclose(max_a.ravel(), vmax, atol=1e-9)
+        np.testing.assert_allclose(min_a.ravel(), vmin, atol=1e-9)
+        folded = folded_cells(grid).ravel()
+        kinds["folded"] += int(folded.sum())
+        kinds["nonconvex"] += int(((vmax > 180) & ~folded).sum() + ((vmax > 180) & folded).sum())
+        kinds["convex"] += int((vmax < 180).sum())
+    # the sample really covers distorted, non-convex and folded cells
+    assert kinds["convex"] > 50 and kinds["nonconvex"] > 5 and kinds["folded"] > 5
+
+
+def test_output_arrays_are_the_quality_arrays():
+    grid = distorted_grid(4, 0.3)
+    sg = structured_grid(grid)
+    cd = sg.GetCellData()
+    max_a, min_a = included_angles(grid)
+    np.testing.assert_array_equal(vtk_to_numpy(cd.GetArray("MaxIncludedAngle")), max_a.ravel())
+    np.testing.assert_array_equal(vtk_to_numpy(cd.GetArray("MinIncludedAngle")), min_a.ravel())
+    assert sg.GetExtent() == (0, 11, 0, 8, 0, 0)
+
+
+def test_folded_cell_is_counted():
+    xi, eta = np.meshgrid(node_params(4), node_params(4))
+    grid = np.stack([xi, eta], axis=-1)
+    grid[1, 1] = [0.5, 0.5]  # push an interior node past its neighbours' diagonal
+    grid[1, 1] = [0.8, 0.8]
+    assert folded_cells(grid).sum() >= 1
+    assert folded_cells(np.stack([xi, eta], axis=-1)).sum() == 0
