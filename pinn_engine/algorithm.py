@@ -1,0 +1,355 @@
+"""pinn-mesh as a VTK algorithm: boundary (+ auxiliary lines) in, structured grid out.
+
+``PinnMeshAlgorithm`` is a plain ``VTKPythonAlgorithmBase`` subclass: it works in any VTK
+pipeline (pip ``vtk``, pyvista, ParaView's own VTK 9.2), and the ParaView plugin in
+``plugin/`` only decorates it. It imports ``vtkmodules`` and the engine; torch is imported
+only when a network is trained.
+
+>>> alg = PinnMeshAlgorithm()
+>>> alg.SetInputConnection(0, boundary_reader.GetOutputPort())
+>>> alg.AddInputConnection(1, aux_reader.GetOutputPort())    # optional, repeatable
+>>> alg.SetGridSize(41, 21)
+>>> alg.Update()                                              # trains once
+>>> alg.SetGridSize(81, 41); alg.Update()                     # re-evaluates, no training
+
+Ports: input 0 the boundary (``vtkPolyData``, one closed polyline or polygon); input 1 the
+auxiliary lines (``vtkPolyData``, optional, any number of connections, each may hold several
+polylines); output 0 a ``vtkStructuredGrid`` as in SPEC 3, plus field data ``Trained``
+(1 when this update trained a network, 0 when it re-used one) and ``TrainingCount``.
+
+Errors (bad boundary, bad auxiliary line, failed or cancelled training, bad settings) are
+reported as one line ``PINN Structured Mesh: <message>`` through ``vtkOutputWindow`` (the
+Output Messages window in ParaView) and as an ``ErrorEvent`` on the algorithm; the output
+is then an empty grid and ``GetLastError()`` returns the message.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import sys
+from collections import OrderedDict
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
+
+import numpy as np
+from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
+from vtkmodules.vtkCommonCore import vtkCommand, vtkIntArray, vtkOutputWindow
+from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
+from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
+
+from .errors import PinnMeshError, TrainingCancelled
+from .settings import METHODS, PRESETS, Settings, make_settings
+
+if TYPE_CHECKING:  # the engine's numerics are imported on first use (fast plugin loading)
+    from .auxlines import AuxLine
+    from .geometry import Boundary
+    from .mesher import Mesher
+
+LABEL = "PINN Structured Mesh"
+MAX_NODES = 25_000_000
+# training settings the algorithm exposes as properties; None means "the preset's value"
+TRAINING_FIELDS = ("adam_epochs", "lbfgs_iterations", "hidden_layers", "neurons", "lambda2",
+                   "seed")
+
+
+def _digest(*arrays) -> str:
+    h = hashlib.sha1()
+    for a in arrays:
+        if a is None:
+            h.update(b"<none>")
+            continue
+        a = np.ascontiguousarray(a)
+        h.update(str((a.dtype.str, a.shape)).encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
+
+
+def data_key(boundary: Boundary, aux_lines: Sequence[AuxLine]) -> tuple[str, str]:
+    """Fingerprints of what training sees of the inputs: the boundary (ring, corners, frame)
+    and the mapped auxiliary lines."""
+    b = _digest(boundary.ring, np.asarray(boundary.corners), boundary.frame.origin,
+                np.asarray([boundary.frame.scale]))
+    a = _digest(*[x for line in aux_lines for x in (line.xy, line.xi_eta)])
+    return b, f"{len(aux_lines)}:{a}"
+
+
+class MeshCache:
+    """Fitted meshers keyed by (boundary, auxiliary lines, ``Settings.training_key()``).
+
+    ``fitted`` trains only when that key is new; a change of grid size (or of anything else
+    training does not depend on) re-uses the trained network through ``Mesher.predict``.
+    """
+
+    def __init__(self, capacity: int = 4) -> None:
+        self.capacity = capacity
+        self.trainings = 0  # networks trained (pinn, mgnet) through this cache
+        self._entries: OrderedDict[tuple, Mesher] = OrderedDict()
+
+    def key(self, boundary: Boundary, aux_lines: Sequence[AuxLine], settings: Settings) -> tuple:
+        aux = aux_lines if settings.method == "pinn" else ()
+        return (*data_key(boundary, aux), settings.training_key())
+
+    def fitted(self, boundary: Boundary, aux_lines: Sequence[AuxLine], settings: Settings,
+               progress: Callable[[dict], bool | None] | None = None) -> tuple[Mesher, bool]:
+        """A mesher fitted to these inputs and whether a network was trained for it now."""
+        key = self.key(boundary, aux_lines, settings)
+        mesher = self._entries.get(key)
+        if mesher is not None:
+            self._entries.move_to_end(key)
+            mesher.settings = settings  # same training key; refreshes preset/device in reports
+            return mesher, False
+        from .mesher import NEURAL, Mesher
+
+        mesher = Mesher(settings).fit(boundary, aux_lines, progress)
+        trained = settings.method in NEURAL
+        self.trainings += int(trained)
+        self._entries[key] = mesher
+        while len(self._entries) > self.capacity:
+            self._entries.popitem(last=False)
+        return mesher, trained
+
+    def clear(self) -> None:
+        self._entries.clear()
+
+
+def _choice(value, options: tuple[str, ...], what: str) -> str:
+    """Accept a name or an index into ``options`` (ParaView enumerations send indices)."""
+    if isinstance(value, (int, np.integer)) and not isinstance(value, bool):
+        if 0 <= int(value) < len(options):
+            return options[int(value)]
+        raise ValueError(f"{what} index {value} out of range 0..{len(options) - 1}")
+    name = str(value).strip().lower()
+    if name not in options:
+        raise ValueError(f"unknown {what} {value!r}; use one of {', '.join(options)}")
+    return name
+
+
+class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
+    """Structured quadrilateral grid of a four-sided boundary (pinn, mgnet, tfi, elliptic).
+
+    Settings (each setter calls ``Modified()`` when the value changes):
+
+    * ``SetMethod("pinn"|"mgnet"|"tfi"|"elliptic")`` (or its index 0..3), default ``pinn``
+    * ``SetGridSize(ni, nj)``: nodes along xi and eta, default 41 x 21
+    * ``SetPreset("default"|"paper")`` (or 0/1): the base settings; ``paper`` is the paper's
+      section 4 (penalty boundary term, decision-tree boundary fit, 1000 elliptic sweeps)
+    * ``SetAdamEpochs``, ``SetLBFGSIterations``, ``SetHiddenLayers``, ``SetNeurons``,
+      ``SetLambda2``, ``SetSeed``: override the preset (``None`` restores the preset value)
+    * ``SetCorners(i0, i1, i2, i3)``: the four corner point indices of the boundary;
+      ``SetCorners(None)`` or any negative index: automatic detection
+    * ``SetSetting(name, value)``: any other field of ``pinn_engine.settings.Settings``
+      (e.g. ``"device"``, ``"boundary"``, ``"elliptic_iterations"``)
+    """
+
+    def __init__(self) -> None:
+        super().__init__(nInputPorts=2, nOutputPorts=1, outputType="vtkStructuredGrid")
+        self._method = "pinn"
+        self._preset = "default"
+        self._size = (41, 21)
+        self._overrides: dict[str, object] = {}
+        self._corners: tuple[int, int, int, int] | None = None
+        self._cache = MeshCache()
+        self._last_error = ""
+        self._trained = False
+        self._progress_span = (0.0, 1.0)
+
+    # ---- ports -------------------------------------------------------------------------
+    def FillInputPortInformation(self, port, info):
+        info.Set(self.INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData")
+        if port == 1:
+            info.Set(self.INPUT_IS_OPTIONAL(), 1)
+            info.Set(self.INPUT_IS_REPEATABLE(), 1)
+        return 1
+
+    # ---- settings ----------------------------------------------------------------------
+    def _set(self, attr: str, value) -> None:
+        if getattr(self, attr) != value:
+            setattr(self, attr, value)
+            self.Modified()
+
+    def _set_override(self, name: str, value) -> None:
+        current = self._overrides.get(name)
+        if value is None:
+            if name in self._overrides:
+                del self._overrides[name]
+                self.Modified()
+        elif current != value:
+            self._overrides[name] = value
+            self.Modified()
+
+    def SetMethod(self, method) -> None:
+        self._set("_method", _choice(method, METHODS, "method"))
+
+    def GetMethod(self) -> str:
+        return self._method
+
+    def SetPreset(self, preset) -> None:
+        self._set("_preset", _choice(preset, PRESETS, "preset"))
+
+    def GetPreset(self) -> str:
+        return self._preset
+
+    def SetGridSize(self, ni, nj=None) -> None:
+        """Nodes along xi and eta (checked at the next update: at least 2 x 2)."""
+        if nj is None:  # a (ni, nj) pair
+            ni, nj = ni
+        self._set("_size", (int(ni), int(nj)))
+
+    def GetGridSize(self) -> tuple[int, int]:
+        return self._size
+
+    def SetAdamEpochs(self, n) -> None:
+        self._set_override("adam_epochs", None if n is None else int(n))
+
+    def SetLBFGSIterations(self, n) -> None:
+        self._set_override("lbfgs_iterations", None if n is None else int(n))
+
+    def SetHiddenLayers(self, n) -> None:
+        self._set_override("hidden_layers", None if n is None else int(n))
+
+    def SetNeurons(self, n) -> None:
+        self._set_override("neurons", None if n is None else int(n))
+
+    def SetLambda2(self, value) -> None:
+        self._set_override("lambda2", None if value is None else float(value))
+
+    def SetSeed(self, n) -> None:
+        self._set_override("seed", None if n is None else int(n))
+
+    def SetSetting(self, name: str, value) -> None:
+        """Override any ``Settings`` field (``None`` restores the preset's value)."""
+        if name in ("method", "preset"):
+            getattr(self, f"Set{name.capitalize()}")(value)
+            return
+        if name not in Settings.__dataclass_fields__:
+            raise ValueError(f"unknown setting {name!r}")
+        self._set_override(name, value)
+
+    def SetCorners(self, *indices) -> None:
+        if len(indices) == 1:
+            indices = indices[0]
+        if indices is None or len(indices) == 0:
+            corners = None
+        else:
+            if len(indices) != 4:
+                raise ValueError("corners: give four point indices (or None for automatic)")
+            corners = tuple(int(i) for i in indices)
+            if min(corners) < 0:
+                corners = None
+        self._set("_corners", corners)
+
+    def GetCorners(self) -> tuple[int, int, int, int] | None:
+        return self._corners
+
+    def GetSettings(self) -> Settings:
+        """The ``Settings`` the next update uses (raises ``ValueError`` if invalid)."""
+        return make_settings(self._method, self._preset, **self._overrides)
+
+    # ---- results -----------------------------------------------------------------------
+    def GetOutput(self) -> vtkStructuredGrid:
+        """The output grid (after ``Update()``); empty when the last update failed."""
+        return self.GetOutputDataObject(0)
+
+    def GetLastError(self) -> str:
+        """The message of the last failed update ("" after a successful one)."""
+        return self._last_error
+
+    def GetTrainingCount(self) -> int:
+        """How many networks this algorithm has trained (grid-size changes do not train)."""
+        return self._cache.trainings
+
+    def GetTrained(self) -> bool:
+        """Whether the last update trained a network (False: re-used or classical method)."""
+        return self._trained
+
+    def ClearCache(self) -> None:
+        """Forget trained networks: the next update trains again."""
+        self._cache.clear()
+        self.Modified()
+
+    # ---- pipeline ----------------------------------------------------------------------
+    def RequestInformation(self, request, inInfo, outInfo):
+        ni, nj = (max(n, 1) for n in self._size)
+        info = outInfo.GetInformationObject(0)
+        info.Set(vtkStreamingDemandDrivenPipeline.WHOLE_EXTENT(), 0, ni - 1, 0, nj - 1, 0, 0)
+        return 1
+
+    def RequestData(self, request, inInfo, outInfo):
+        output = vtkStructuredGrid.GetData(outInfo, 0)
+        self._last_error, self._trained = "", False
+        try:
+            grid = self._execute(inInfo)
+        except TrainingCancelled as exc:
+            message = f"{exc}; no grid produced"
+        except PinnMeshError as exc:
+            message = str(exc)
+        except ValueError as exc:  # invalid settings
+            message = f"invalid settings: {exc}"
+        except ImportError as exc:
+            message = (f"cannot import {exc.name or exc} in this Python ({sys.executable}); "
+                       "pinn-mesh needs numpy, scipy, scikit-learn and (to train) torch there")
+        except Exception as exc:  # never let an exception reach ParaView's executive
+            message = f"unexpected {type(exc).__name__}: {exc}"
+        else:
+            output.ShallowCopy(grid)
+            self.UpdateProgress(1.0)
+            return 1
+        output.Initialize()
+        self._report_error(message)
+        return 1
+
+    def _execute(self, inInfo) -> vtkStructuredGrid:
+        from .pipeline import aux_from_polydata, boundary_from_polydata, to_vtk
+
+        settings = self.GetSettings()
+        ni, nj = self._size
+        if ni < 2 or nj < 2 or ni * nj > MAX_NODES:
+            raise ValueError(f"grid size {ni} x {nj}: each size must be at least 2 and the "
+                             f"grid at most {MAX_NODES} nodes")
+        boundary_poly = vtkPolyData.GetData(inInfo[0], 0)
+        if boundary_poly is None or boundary_poly.GetNumberOfPoints() == 0:
+            raise PinnMeshError("boundary input: is empty; connect a closed polyline")
+        boundary = boundary_from_polydata(boundary_poly, self._corners, source="boundary input")
+        aux_polys = []
+        if len(inInfo) > 1:
+            aux_polys = [vtkPolyData.GetData(inInfo[1], k)
+                         for k in range(inInfo[1].GetNumberOfInformationObjects())]
+        aux_lines = aux_from_polydata(aux_polys, boundary)
+        self.UpdateProgress(0.0)
+        mesher, self._trained = self._cache.fitted(boundary, aux_lines, settings,
+                                                   self._training_progress(settings))
+        self.UpdateProgress(0.95)
+        grid = to_vtk(mesher.predict(*self._size))
+        fd = grid.GetFieldData()
+        for name, value in (("Trained", int(self._trained)),
+                            ("TrainingCount", self._cache.trainings)):
+            arr = vtkIntArray()
+            arr.SetName(name)
+            arr.InsertNextValue(value)
+            fd.AddArray(arr)
+        return grid
+
+    def _training_progress(self, settings: Settings) -> Callable[[dict], bool]:
+        adam, lbfgs = settings.adam_epochs, settings.lbfgs_iterations
+        total = max(adam + lbfgs, 1)
+
+        def progress(info: dict) -> bool:
+            done = info["step"] if info["phase"] == "adam" else adam + min(info["step"], lbfgs)
+            self.UpdateProgress(0.9 * min(done / total, 1.0))
+            return self._abort_requested()
+
+        return progress
+
+    def _abort_requested(self) -> bool:
+        check = getattr(self, "CheckAbort", None)  # VTK 9.4+
+        if check is not None and check():
+            return True
+        return bool(self.GetAbortExecute())
+
+    def _report_error(self, message: str) -> None:
+        line = f"{LABEL}: {' '.join(str(message).split())}"
+        self._last_error = line
+        if self.GetAbortExecute():
+            self.SetAbortExecute(0)  # a cancelled run must not cancel the next one
+        vtkOutputWindow.GetInstance().DisplayErrorText(line + "\n")
+        self.InvokeEvent(vtkCommand.ErrorEvent, line)  # call data: the message (VTK_STRING)

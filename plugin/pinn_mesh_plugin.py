@@ -1,0 +1,144 @@
+"""ParaView plugin: Filters > Mesh Generation > PINN Structured Mesh.
+
+A thin layer of ``paraview.util.vtkAlgorithm`` decorators over
+``pinn_engine.algorithm.PinnMeshAlgorithm``. Load it with Tools > Manage Plugins > Load New
+(this file) or put this folder on ``PV_PLUGIN_PATH``. ``pinn_engine`` is imported from the
+checkout this file lives in (``plugin/..``); it need not be installed into ParaView's Python,
+but that Python needs numpy, scipy, scikit-learn and (for training) torch: start ParaView
+with ``scripts/pvenv.sh paraview`` (which also puts the ``getargspec`` shim that Debian's
+ParaView 5.11 needs on PYTHONPATH; see README).
+
+Property order: ParaView 5.11 lists a Python plugin's properties alphabetically by method
+name, so the methods below carry a numeric prefix (``P01...``) that keeps the panel in the
+intended order in every version.
+"""
+
+import os
+import sys
+
+_REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+if _REPO not in sys.path:
+    sys.path.insert(0, _REPO)
+
+try:
+    from pinn_engine.algorithm import PinnMeshAlgorithm
+    from pinn_engine.settings import METHODS, PRESETS, Settings
+except ImportError as _exc:  # a clear line in ParaView's output instead of a bare traceback
+    raise ImportError(
+        f"PINN Structured Mesh plugin: cannot import pinn_engine from {_REPO} ({_exc}); keep "
+        "this file in the plugin/ folder of a pinn-mesh checkout and give ParaView's Python "
+        "numpy, scipy and scikit-learn (see scripts/pvenv.sh)") from _exc
+
+from paraview.util.vtkAlgorithm import smdomain, smhint, smproperty, smproxy  # noqa: E402
+
+paraview_plugin_name = "PINN Mesh"
+paraview_plugin_version = "0.1.0"
+
+_DEFAULTS = Settings()
+_NEURAL = '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" ' \
+          'property="Method" values="0 1"/>'  # training settings: pinn and mgnet only
+_PINN_ONLY = '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" ' \
+             'property="Method" value="0"/>'
+
+
+def _enum(options):
+    entries = "".join(f'<Entry value="{k}" text="{name}"/>' for k, name in enumerate(options))
+    return f'<EnumerationDomain name="enum">{entries}</EnumerationDomain>'
+
+
+def _doc(text):
+    return f"<Documentation>{text}</Documentation>"
+
+
+@smproxy.filter(name="PINNStructuredMesh", label="PINN Structured Mesh")
+@smhint.xml('<ShowInMenu category="Mesh Generation"/>')
+@smproperty.input(name="AuxiliaryLines", label="Auxiliary Lines", port_index=1,
+                  multiple_input=True)
+@smdomain.datatype(dataTypes=["vtkPolyData"], composite_data_supported=False)
+@smdomain.xml(_doc("Optional open polylines from one side of the boundary to the opposite "
+                   "side (several polylines per input and several inputs both work). Used "
+                   "by the pinn method only."))
+@smhint.xml("<Optional/>")
+@smproperty.input(name="Input", label="Boundary", port_index=0)
+@smdomain.datatype(dataTypes=["vtkPolyData"], composite_data_supported=False)
+@smdomain.xml(_doc("The closed boundary: one closed polyline or polygon with four corners."))
+@smproperty.xml(_doc("Structured quadrilateral grid of a four-sided 2D domain from a "
+                     "physics-informed neural network (pinn), with MGNet, transfinite "
+                     "interpolation and elliptic baselines. Cells are coloured by their "
+                     "included angles (MaxIncludedAngle, MinIncludedAngle)."))
+class PINNStructuredMesh(PinnMeshAlgorithm):
+    """The ParaView face of :class:`pinn_engine.algorithm.PinnMeshAlgorithm`."""
+
+    @smproperty.intvector(name="Method", default_values=0)
+    @smdomain.xml(_enum(METHODS))
+    @smdomain.xml(_doc("pinn: the paper's PINN (uses the auxiliary lines); mgnet: plain "
+                       "networks, no auxiliary lines; tfi: transfinite interpolation; "
+                       "elliptic: the classical elliptic (Winslow) method."))
+    def P01Method(self, index):
+        self.SetMethod(int(index))
+
+    @smproperty.intvector(name="GridSize", label="Grid Size", default_values=[41, 21])
+    @smdomain.intrange(min=2, max=5000)
+    @smdomain.xml(_doc("Nodes along xi and eta. Changing only the grid size re-evaluates the "
+                       "trained network; it does not train again."))
+    def P02GridSize(self, ni, nj):
+        self.SetGridSize(ni, nj)
+
+    @smproperty.intvector(name="Preset", default_values=0)
+    @smdomain.xml(_enum(PRESETS))
+    @smdomain.xml(_doc("default: measured defaults (exact boundary, arc-length fit); paper: "
+                       "the paper's section 4 (penalty boundary term, decision-tree fit, "
+                       "1000 elliptic sweeps). The values below are used as set."))
+    def P03Preset(self, index):
+        self.SetPreset(int(index))
+
+    @smproperty.intvector(name="AdamEpochs", label="Adam Epochs",
+                          default_values=_DEFAULTS.adam_epochs)
+    @smdomain.intrange(min=0, max=100000)
+    @smdomain.xml(_doc("Adam epochs of training."))
+    @smhint.xml(_NEURAL)
+    def P04AdamEpochs(self, n):
+        self.SetAdamEpochs(n)
+
+    @smproperty.intvector(name="LBFGSIterations", label="L-BFGS Iterations",
+                          default_values=_DEFAULTS.lbfgs_iterations)
+    @smdomain.intrange(min=0, max=100000)
+    @smdomain.xml(_doc("L-BFGS iterations after Adam."))
+    @smhint.xml(_NEURAL)
+    def P05LBFGSIterations(self, n):
+        self.SetLBFGSIterations(n)
+
+    @smproperty.intvector(name="HiddenLayers", label="Hidden Layers",
+                          default_values=_DEFAULTS.hidden_layers)
+    @smdomain.intrange(min=1, max=20)
+    @smdomain.xml(_doc("Hidden layers of each sub-network."))
+    @smhint.xml(_NEURAL)
+    def P06HiddenLayers(self, n):
+        self.SetHiddenLayers(n)
+
+    @smproperty.intvector(name="Neurons", default_values=_DEFAULTS.neurons)
+    @smdomain.intrange(min=1, max=500)
+    @smdomain.xml(_doc("Neurons per hidden layer."))
+    @smhint.xml(_NEURAL)
+    def P07Neurons(self, n):
+        self.SetNeurons(n)
+
+    @smproperty.doublevector(name="Lambda2", default_values=_DEFAULTS.lambda2)
+    @smdomain.doublerange(min=0.0, max=1000.0)
+    @smdomain.xml(_doc("Weight of the auxiliary-line term of the loss (paper: 10)."))
+    @smhint.xml(_PINN_ONLY)
+    def P08Lambda2(self, value):
+        self.SetLambda2(value)
+
+    @smproperty.intvector(name="Seed", default_values=_DEFAULTS.seed)
+    @smdomain.xml(_doc("Random seed of training (runs are repeatable)."))
+    @smhint.xml(_NEURAL)
+    def P09Seed(self, n):
+        self.SetSeed(n)
+
+    @smproperty.intvector(name="CornerIndices", label="Corner Indices",
+                          default_values=[-1, -1, -1, -1])
+    @smdomain.xml(_doc("The four corner point indices of the boundary; -1 -1 -1 -1 finds "
+                       "them automatically (the four sharpest turns)."))
+    def P10CornerIndices(self, i0, i1, i2, i3):
+        self.SetCorners(i0, i1, i2, i3)
