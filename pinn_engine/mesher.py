@@ -14,7 +14,7 @@ from .boundary_fit import make_fit
 from .elliptic import winslow_solve, winslow_sweeps
 from .errors import PinnMeshError
 from .geometry import Boundary
-from .quality import boundary_nodes, summary
+from .quality import boundary_nodes, cell_quality, summary
 from .settings import Settings, make_settings
 from .tfi import tfi_grid
 
@@ -29,6 +29,7 @@ class MeshResult:
     points: np.ndarray
     report: dict
     history: dict[str, list[float]] = field(default_factory=dict)
+    cells: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def quality(self) -> dict:
@@ -95,20 +96,21 @@ class Mesher:
         mesh_seconds = time.perf_counter() - start
         deviation = float(self.boundary.deviation(boundary_nodes(unit)).max())
         points = self.boundary.frame.to_user(unit)
+        cells = cell_quality(points)
         report = {
             "method": self.settings.method,
             "size": [ni, nj],
             "settings": self.settings.to_dict(),
             "train_seconds": self.train_seconds,
             "mesh_seconds": mesh_seconds,
-            "quality": summary(points, deviation),
+            "quality": summary(cells, deviation),
             "source": self.boundary.source,
             "aux_lines": [a.name for a in self.aux_lines],
         }
         if self.model is not None:
             report["training"] = self.model.info
         history = self.model.history if self.model is not None else {}
-        return MeshResult(points=points, report=report, history=history)
+        return MeshResult(points=points, report=report, history=history, cells=cells)
 
     def _grid_unit(self, ni: int, nj: int) -> np.ndarray:
         s = self.settings

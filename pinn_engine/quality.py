@@ -71,14 +71,20 @@ def scaled_jacobian(grid: np.ndarray) -> np.ndarray:
     return np.nan_to_num(sj, nan=0.0)
 
 
-def summary(grid: np.ndarray, boundary_deviation: float) -> dict[str, float]:
-    """The quality figures of SPEC 6 for a grid."""
+def cell_quality(grid: np.ndarray) -> dict[str, np.ndarray]:
+    """The per-cell arrays of the output grid (SPEC 3), each (nj-1, ni-1)."""
     max_a, min_a = included_angles(grid)
+    return {"MaxIncludedAngle": max_a, "MinIncludedAngle": min_a,
+            "ScaledJacobian": scaled_jacobian(grid), "Folded": folded_cells(grid)}
+
+
+def summary(cells: dict[str, np.ndarray], boundary_deviation: float) -> dict[str, float]:
+    """The quality figures of SPEC 6 from the arrays of :func:`cell_quality`."""
     return {
-        "mean_max_angle": float(max_a.mean()),
-        "worst_max_angle": float(max_a.max()),
-        "worst_min_angle": float(min_a.min()),
-        "folded_cells": int(folded_cells(grid).sum()),
+        "mean_max_angle": float(cells["MaxIncludedAngle"].mean()),
+        "worst_max_angle": float(cells["MaxIncludedAngle"].max()),
+        "worst_min_angle": float(cells["MinIncludedAngle"].min()),
+        "folded_cells": int(cells["Folded"].sum()),
         "boundary_deviation": float(boundary_deviation),
     }
 

@@ -21,7 +21,7 @@ from .boundary_fit import make_fit
 from .errors import TrainingCancelled, TrainingError
 from .geometry import SIDES, Boundary
 from .losses import annealed_lambda, loss_data, loss_eqns, loss_points, total_loss
-from .mapping import Mapping
+from .mapping import Mapping, bubble_jet
 from .model import TrainedModel
 from .networks import CoordinateNet
 from .settings import Settings
@@ -47,53 +47,90 @@ def side_points(side: str, t: np.ndarray) -> np.ndarray:
 
 
 class _Problem:
-    """Sampled points and targets for one boundary, as tensors on the training device."""
+    """Sampled points and targets for one boundary, as tensors on the training device.
+
+    Random points are drawn ``CHUNK`` epochs at a time, with the boundary-fit targets and (hard
+    mode) the TFI jets computed once per chunk, so an epoch only slices ready tensors.
+    """
+
+    CHUNK = 500
 
     def __init__(self, mapping: Mapping, boundary: Boundary, aux: Sequence[AuxLine],
                  settings: Settings, dtype: torch.dtype, device: torch.device) -> None:
         self.mapping, self.settings = mapping, settings
-        self.tensor = lambda a: torch.as_tensor(np.asarray(a), dtype=dtype, device=device)
+        self.dtype, self.device = dtype, device
         self.fit = make_fit(settings.boundary_fit, boundary) if settings.boundary == "penalty" \
             else None
         self.rng = np.random.default_rng(settings.seed)
+        self.hard = mapping.mode == "hard"
+        self.n_aux = 0
         if aux:
             xe = np.concatenate([a.xi_eta for a in aux])
             self.aux_x = self.tensor(xe)
             self.aux_y = self.tensor(np.concatenate([a.xy for a in aux]))
-            self.aux_base = self._base_values(xe)
-        else:
-            self.aux_x = None
+            self.aux_base = self.tensor(mapping.tfi_jet(xe)[0]) if self.hard else None
+            self.n_aux = len(xe)
+        self._chunk: list = []
 
-    def _base_values(self, x: np.ndarray) -> torch.Tensor | None:
-        return self.tensor(self.mapping.tfi_jet(x)[0]) if self.mapping.mode == "hard" else None
+    def tensor(self, a) -> torch.Tensor:
+        return torch.as_tensor(np.asarray(a), dtype=self.dtype, device=self.device)
 
-    def collocation(self, n: int) -> tuple[torch.Tensor, torch.Tensor | None]:
-        """``n`` uniform random interior points and, in hard mode, the TFI jet there."""
+    def to(self, dtype: torch.dtype) -> None:
+        """Switch the precision of everything sampled from now on (mixed precision)."""
+        self.dtype = dtype
+        if self.n_aux:
+            self.aux_x, self.aux_y = self.aux_x.to(dtype), self.aux_y.to(dtype)
+            if self.aux_base is not None:
+                self.aux_base = self.aux_base.to(dtype)
+
+    def sample(self, n: int, n_side: int) -> tuple:
+        """``n`` uniform random interior points (with the TFI jet there in hard mode) and,
+        in penalty mode, ``n_side`` random points per side with their boundary-fit targets."""
         x = self.rng.random((n, 2))
-        base = self.tensor(self.mapping.tfi_jet(x)) if self.mapping.mode == "hard" else None
-        return self.tensor(x), base
+        base = self.tensor(self.mapping.tfi_jet(x)) if self.hard else None
+        bx = by = None
+        if self.fit is not None:
+            t = self.rng.random((4, n_side))
+            bx = np.concatenate([side_points(side, ts) for side, ts in zip(SIDES, t)])
+            by = np.concatenate([self.fit.sample(side, ts) for side, ts in zip(SIDES, t)])
+            bx, by = self.tensor(bx), self.tensor(by)
+        return self.tensor(x), base, bx, by
 
-    def boundary_batch(self, n: int) -> list[tuple[torch.Tensor, torch.Tensor]]:
-        """Per side: ``n`` random side points and their boundary-fit targets (penalty mode)."""
-        if self.fit is None:
-            return []
-        out = []
-        for side in SIDES:
-            t = self.rng.random(n)
-            out.append((self.tensor(side_points(side, t)), self.tensor(self.fit.sample(side, t))))
-        return out
+    def epoch_batch(self, epoch: int) -> tuple:
+        """The points of one Adam epoch, cut from the current chunk."""
+        s = self.settings
+        k = (epoch - 1) % self.CHUNK
+        if k == 0:
+            self._chunk = self.sample(self.CHUNK * s.batch_size, self.CHUNK * s.batch_size)
+        x, base, bx, by = self._chunk
+        cut = slice(k * s.batch_size, (k + 1) * s.batch_size)
+        side_cut = [slice(j * self.CHUNK * s.batch_size + cut.start,
+                          j * self.CHUNK * s.batch_size + cut.stop) for j in range(4)]
+        if bx is not None:
+            bx = torch.cat([bx[c] for c in side_cut])
+            by = torch.cat([by[c] for c in side_cut])
+        return x[cut], None if base is None else base[:, cut], bx, by
 
-    def terms(self, x: torch.Tensor, base: torch.Tensor | None,
-              bnd: list[tuple[torch.Tensor, torch.Tensor]]) -> dict[str, torch.Tensor]:
-        """Unweighted loss terms at the given points."""
+    def terms(self, x: torch.Tensor, base: torch.Tensor | None, bx: torch.Tensor | None,
+              by: torch.Tensor | None) -> dict[str, torch.Tensor]:
+        """Unweighted loss terms; boundary and auxiliary points share one forward pass."""
         jet = self.mapping.jet(x, base, fast=self.settings.fast)
         terms = {"eqns": loss_eqns(jet)}
-        for side, (xs, target) in zip(SIDES, bnd):
-            terms[f"bcs_{side}"] = loss_points(self.mapping.values(xs, None), target)
         zero = jet.new_zeros(())
-        terms["bcs"] = sum((terms[f"bcs_{s}"] for s in SIDES), zero) if bnd else zero
-        if self.aux_x is not None:
-            pred = self.mapping.values(self.aux_x, self.aux_base)
+        points = [p for p in (bx, self.aux_x if self.n_aux else None) if p is not None]
+        values = self.mapping.net(torch.cat(points)) if points else None
+        if bx is not None:
+            per_side = values[:len(bx)].reshape(4, -1, 2)
+            targets = by.reshape(4, -1, 2)
+            for j, side in enumerate(SIDES):
+                terms[f"bcs_{side}"] = loss_points(per_side[j], targets[j])
+            terms["bcs"] = sum(terms[f"bcs_{side}"] for side in SIDES)
+        else:
+            terms["bcs"] = zero
+        if self.n_aux:
+            pred = values[len(values) - self.n_aux:]
+            if self.hard:
+                pred = self.aux_base + bubble_jet(self.aux_x)[0] * pred
             terms["data"] = loss_data(pred, self.aux_y)
         else:
             terms["data"] = zero
@@ -126,7 +163,8 @@ def _notify(progress, phase: str, step: int, total_steps: int, history: _History
 def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
           progress: Callable[[dict], bool | None] | None = None) -> TrainedModel:
     """Train the networks for ``boundary`` (working frame) and return the trained model."""
-    dtype = {"float64": torch.float64, "float32": torch.float32}[settings.dtype]
+    # "mixed": Adam in float32 (noisy steps do not need more), L-BFGS polishes in float64
+    dtype = torch.float64 if settings.dtype == "float64" else torch.float32
     device = pick_device(settings.device)
     threads = torch.get_num_threads()
     if device.type == "cpu":
@@ -142,6 +180,9 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
         history = _History()
         lambda1 = 1.0 if settings.boundary == "penalty" else 0.0
         lambda1, recoveries = _adam(net, problem, settings, history, lambda1, progress)
+        if settings.dtype == "mixed":
+            net.to(torch.float64)
+            problem.to(torch.float64)
         lbfgs_ok = _lbfgs(net, problem, settings, history, lambda1, progress)
     finally:
         torch.set_num_threads(threads)
@@ -161,14 +202,12 @@ def _bad(loss: float, best: float) -> bool:
 def _adam(net, problem: _Problem, s: Settings, history: _History, lambda1: float,
           progress) -> tuple[float, int]:
     lr = s.learning_rate
-    opt = torch.optim.Adam(net.parameters(), lr=lr)
+    opt = torch.optim.Adam(net.parameters(), lr=lr, fused=True)
     sched = torch.optim.lr_scheduler.StepLR(opt, step_size=s.lr_decay_every, gamma=s.lr_decay)
     weights = [p for p in net.parameters() if p.ndim >= 2]
     best, good_state, recoveries = math.inf, copy.deepcopy(net.state_dict()), 0
     for epoch in range(1, s.adam_epochs + 1):
-        x, base = problem.collocation(s.batch_size)
-        bnd = problem.boundary_batch(s.batch_size)
-        terms = problem.terms(x, base, bnd)
+        terms = problem.terms(*problem.epoch_batch(epoch))
         if s.boundary == "penalty" and epoch % ANNEAL_EVERY == 1:
             g_eq = torch.autograd.grad(terms["eqns"], weights, retain_graph=True)
             g_bc = torch.autograd.grad(terms["bcs"], weights, retain_graph=True)
@@ -205,8 +244,7 @@ def _lbfgs(net, problem: _Problem, s: Settings, history: _History, lambda1: floa
     """Full-batch L-BFGS; returns False if it diverged and the Adam weights were kept."""
     if s.lbfgs_iterations == 0:
         return True
-    x, base = problem.collocation(s.lbfgs_points)
-    bnd = problem.boundary_batch(max(s.lbfgs_points // 4, 1))
+    batch = problem.sample(s.lbfgs_points, max(s.lbfgs_points // 4, 1))
     opt = torch.optim.LBFGS(net.parameters(), lr=1.0, max_iter=s.lbfgs_iterations,
                             max_eval=int(s.lbfgs_iterations * 1.25) + 1, history_size=50,
                             tolerance_grad=1e-12, tolerance_change=1e-15,
@@ -216,9 +254,9 @@ def _lbfgs(net, problem: _Problem, s: Settings, history: _History, lambda1: floa
 
     def closure():
         opt.zero_grad(set_to_none=True)
-        terms = problem.terms(x, base, bnd)
+        terms = problem.terms(*batch)
         loss = total_loss(terms["eqns"], terms["bcs"], terms["data"], lambda1, s.lambda2)
-        if math.isfinite(float(loss)):
+        if math.isfinite(loss.item()):
             history.add(terms, lambda1, s.lambda2, loss)
             loss.backward()
         calls[0] += 1
@@ -228,8 +266,8 @@ def _lbfgs(net, problem: _Problem, s: Settings, history: _History, lambda1: floa
 
     before = history.values["total"][-1] if history.values else math.inf
     opt.step(closure)
-    final = float(total_loss(*(problem.terms(x, base, bnd)[k] for k in ("eqns", "bcs", "data")),
-                             lambda1, s.lambda2).detach())
+    terms = problem.terms(*batch)
+    final = total_loss(terms["eqns"], terms["bcs"], terms["data"], lambda1, s.lambda2).item()
     if not math.isfinite(final) or final > before * EXPLODE_FACTOR:
         net.load_state_dict(start_state)
         return False

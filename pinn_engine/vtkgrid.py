@@ -9,7 +9,7 @@ from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonCore import vtkPoints, vtkStringArray
 from vtkmodules.vtkCommonDataModel import vtkStructuredGrid
 
-from .quality import folded_cells, included_angles, scaled_jacobian
+from .quality import cell_quality
 
 
 def _add_scalar(fd, name: str, values) -> None:
@@ -26,12 +26,14 @@ def _add_string(fd, name: str, text: str) -> None:
 
 
 def structured_grid(points: np.ndarray, report: dict | None = None,
-                    history: dict[str, list[float]] | None = None) -> vtkStructuredGrid:
+                    history: dict[str, list[float]] | None = None,
+                    cells: dict[str, np.ndarray] | None = None) -> vtkStructuredGrid:
     """A grid of dimensions (ni, nj, 1) from ``points`` (nj, ni, 2), with quality arrays.
 
     Cell data: ``MaxIncludedAngle``, ``MinIncludedAngle`` (degrees, as vtkMeshQuality),
-    ``ScaledJacobian`` and ``Folded`` (0/1). Field data: ``Method``, ``Report`` (JSON: settings,
-    timings, quality summary), the summary figures as numbers and ``Loss_<term>`` histories.
+    ``ScaledJacobian`` and ``Folded`` (0/1), computed unless given as ``cells``. Field data:
+    ``Method``, ``Report`` (JSON: settings, timings, quality summary), the summary figures as
+    numbers and ``Loss_<term>`` histories.
     """
     nj, ni = points.shape[:2]
     grid = vtkStructuredGrid()
@@ -40,11 +42,7 @@ def structured_grid(points: np.ndarray, report: dict | None = None,
     pts = vtkPoints()
     pts.SetData(numpy_to_vtk(np.ascontiguousarray(xyz), deep=True))
     grid.SetPoints(pts)
-    max_a, min_a = included_angles(points)
-    cells = {
-        "MaxIncludedAngle": max_a, "MinIncludedAngle": min_a,
-        "ScaledJacobian": scaled_jacobian(points), "Folded": folded_cells(points),
-    }
+    cells = cell_quality(points) if cells is None else cells
     for name, values in cells.items():
         arr = numpy_to_vtk(np.ascontiguousarray(values, dtype=float).ravel(), deep=True)
         arr.SetName(name)
