@@ -43,7 +43,8 @@ def _activation(name: str, z: torch.Tensor) -> tuple[torch.Tensor, ...]:
     raise ValueError(f"unknown activation {name!r}; use tanh, sin, sigmoid or swish")
 
 
-ACTIVATIONS = ("tanh", "sin", "sigmoid", "swish")
+ACTIVATIONS = {"tanh": torch.tanh, "sin": torch.sin, "sigmoid": torch.sigmoid,
+               "swish": torch.nn.functional.silu}
 Jet = tuple  # six tensors: value, d_xi, d_eta, d_xixi, d_xieta, d_etaeta
 
 
@@ -140,7 +141,9 @@ class CoordinateNet(nn.Module):
         super().__init__()
         if kind not in ("shortcut", "mlp"):
             raise ValueError(f"unknown network kind {kind!r}")
-        _activation(activation, torch.zeros(1))  # validate the name early
+        if activation not in ACTIVATIONS:
+            raise ValueError(f"unknown activation {activation!r}; use one of "
+                             + ", ".join(ACTIVATIONS))
         self.kind, self.activation = kind, activation
         self.hidden_layers, self.neurons = hidden_layers, neurons
         n, k = neurons, outputs
@@ -163,16 +166,17 @@ class CoordinateNet(nn.Module):
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
         """(B, 2) computational coordinates -> (B, 2) outputs, one per sub-network."""
-        act = lambda z: _activation(self.activation, z)[0]  # noqa: E731
-        x = x.unsqueeze(0)  # broadcast over the sub-networks
-        h = act(x @ self.w_in + self.b_in)  # H1 = sigma(W1 x + b1)
+        act = ACTIVATIONS[self.activation]
+        xk = x.unsqueeze(0).expand(len(self.w_in), -1, -1)
+        h = act(torch.baddbmm(self.b_in, xk, self.w_in))  # H1 = sigma(W1 x + b1)
         if self.kind == "shortcut":
-            u, v = act(x @ self.w_u + self.b_u), act(x @ self.w_v + self.b_v)
+            u = act(torch.baddbmm(self.b_u, xk, self.w_u))
+            diff = act(torch.baddbmm(self.b_v, xk, self.w_v)) - u
         for w, b in zip(self.w_hidden, self.b_hidden):
-            z = act(torch.bmm(h, w) + b)
-            # paper eq. 14: FC_{k+1} = (1 - FC'_k) x FC_b1 + FC'_k x FC_b2
-            h = (1 - z) * u + z * v if self.kind == "shortcut" else z
-        return (torch.bmm(h, self.w_out) + self.b_out)[..., 0].T
+            z = act(torch.baddbmm(b, h, w))
+            # paper eq. 14: FC_{k+1} = (1 - FC'_k) x FC_b1 + FC'_k x FC_b2 = U + Z (V - U)
+            h = torch.addcmul(u, z, diff) if self.kind == "shortcut" else z
+        return torch.baddbmm(self.b_out, h, self.w_out)[..., 0].T
 
     def jet(self, x: torch.Tensor) -> torch.Tensor:
         """Values and derivatives in one pass: (B, 2) -> (6, B, 2), channels as ``V..ETAETA``."""

@@ -20,62 +20,70 @@ def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
 
 
+class _Cells:
+    """Edges, edge lengths and signed corner areas of every cell, computed once."""
+
+    def __init__(self, grid: np.ndarray) -> None:
+        p = _corners(np.asarray(grid, dtype=float))
+        self.edges = [p[(k + 1) % 4] - p[k] for k in range(4)]
+        self.lengths = [np.hypot(e[..., 0], e[..., 1]) for e in self.edges]
+        # corner k sits between edge k-1 (incoming) and edge k (outgoing)
+        self.areas = np.stack([_cross(self.edges[k - 1], self.edges[k]) for k in range(4)])
+        self.orientation = 1.0 if self.areas.sum() >= 0 else -1.0
+
+    def angles(self) -> tuple[np.ndarray, np.ndarray]:
+        e, n = self.edges, self.lengths
+        with np.errstate(invalid="ignore", divide="ignore"):
+            cos = np.stack([-np.einsum("...i,...i->...", e[k], e[(k + 1) % 4])
+                            / (n[k] * n[(k + 1) % 4]) for k in range(4)])
+        cos = np.clip(cos, -1.0, 1.0)
+        # arccos is decreasing: the largest angle has the smallest cosine
+        max_angle = np.degrees(np.arccos(cos.min(axis=0)))
+        min_angle = np.degrees(np.arccos(cos.max(axis=0)))
+        # Verdict: signed corner areas against the cell's centre normal (principal axes)
+        centre = np.sign(_cross(e[0] - e[2], e[1] - e[3]))
+        max_angle = np.where((self.areas * centre < 0).any(axis=0), 360.0 - max_angle,
+                             max_angle)
+        degenerate = np.minimum.reduce(n) <= DBL_MIN
+        return np.where(degenerate, 0.0, max_angle), np.where(degenerate, 360.0, min_angle)
+
+    def folded(self) -> np.ndarray:
+        return (self.areas * self.orientation <= 0).any(axis=0)
+
+    def scaled_jacobian(self) -> np.ndarray:
+        n = self.lengths
+        with np.errstate(invalid="ignore", divide="ignore"):
+            sj = np.stack([self.areas[k] * self.orientation / (n[k - 1] * n[k])
+                           for k in range(4)]).min(axis=0)
+        return np.nan_to_num(sj, nan=0.0)
+
+
 def corner_areas(grid: np.ndarray) -> np.ndarray:
     """Signed corner areas (cross products of the edges at each corner), shape (4, nj-1, ni-1)."""
-    p = _corners(grid)
-    e = [p[(k + 1) % 4] - p[k] for k in range(4)]
-    return np.stack([_cross(e[k - 1], e[k]) for k in range(4)])
+    return _Cells(grid).areas
 
 
 def included_angles(grid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Per-cell (MaxIncludedAngle, MinIncludedAngle) in degrees, as Verdict computes them."""
-    p = _corners(grid)
-    e = [p[(k + 1) % 4] - p[k] for k in range(4)]
-    length = [np.hypot(v[..., 0], v[..., 1]) for v in e]
-    angles = []
-    with np.errstate(invalid="ignore", divide="ignore"):
-        for k in range(4):
-            prev, cur = e[k], e[(k + 1) % 4]
-            cos = -np.einsum("...i,...i->...", prev, cur) / (length[k] * length[(k + 1) % 4])
-            angles.append(np.arccos(np.clip(cos, -1.0, 1.0)))
-    angles = np.degrees(np.stack(angles))
-    max_angle, min_angle = angles.max(axis=0), angles.min(axis=0)
-    # Verdict: signed corner areas against the cell's centre normal (principal axes).
-    centre = np.sign(_cross(e[0] - e[2], e[1] - e[3]))
-    signed = corner_areas(grid) * centre
-    max_angle = np.where((signed < 0).any(axis=0), 360.0 - max_angle, max_angle)
-    degenerate = np.stack(length).min(axis=0) <= DBL_MIN
-    max_angle = np.where(degenerate, 0.0, max_angle)
-    min_angle = np.where(degenerate, 360.0, min_angle)
-    return max_angle, min_angle
-
-
-def orientation(grid: np.ndarray) -> float:
-    """+1 if the grid maps (xi, eta) counter-clockwise, -1 otherwise (by total signed area)."""
-    return 1.0 if corner_areas(grid).sum() >= 0 else -1.0
+    return _Cells(grid).angles()
 
 
 def folded_cells(grid: np.ndarray) -> np.ndarray:
     """Boolean per cell: some corner's orientation opposes the grid's (or is degenerate)."""
-    return (corner_areas(grid) * orientation(grid) <= 0).any(axis=0)
+    return _Cells(grid).folded()
 
 
 def scaled_jacobian(grid: np.ndarray) -> np.ndarray:
     """Minimum corner area over the product of its edge lengths, in the grid's orientation."""
-    p = _corners(grid)
-    e = [p[(k + 1) % 4] - p[k] for k in range(4)]
-    length = [np.hypot(v[..., 0], v[..., 1]) for v in e]
-    areas = corner_areas(grid) * orientation(grid)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        sj = np.stack([areas[k] / (length[k - 1] * length[k]) for k in range(4)]).min(axis=0)
-    return np.nan_to_num(sj, nan=0.0)
+    return _Cells(grid).scaled_jacobian()
 
 
 def cell_quality(grid: np.ndarray) -> dict[str, np.ndarray]:
     """The per-cell arrays of the output grid (SPEC 3), each (nj-1, ni-1)."""
-    max_a, min_a = included_angles(grid)
+    cells = _Cells(grid)
+    max_a, min_a = cells.angles()
     return {"MaxIncludedAngle": max_a, "MinIncludedAngle": min_a,
-            "ScaledJacobian": scaled_jacobian(grid), "Folded": folded_cells(grid)}
+            "ScaledJacobian": cells.scaled_jacobian(), "Folded": cells.folded()}
 
 
 def summary(cells: dict[str, np.ndarray], boundary_deviation: float) -> dict[str, float]:

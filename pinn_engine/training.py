@@ -183,11 +183,12 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
         if settings.dtype == "mixed":
             net.to(torch.float64)
             problem.to(torch.float64)
-        lbfgs_ok = _lbfgs(net, problem, settings, history, lambda1, progress)
+        lbfgs_ok, lbfgs_iterations = _lbfgs(net, problem, settings, history, lambda1, progress)
     finally:
         torch.set_num_threads(threads)
     info = {"adam_epochs": settings.adam_epochs,
             "lbfgs_evaluations": len(history.values.get("total", [])) - settings.adam_epochs,
+            "lbfgs_iterations": lbfgs_iterations,
             "lambda1": lambda1, "recoveries": recoveries, "lbfgs_accepted": lbfgs_ok,
             "device": str(device), "final_loss": history.values["total"][-1]
             if history.values else float("nan")}
@@ -240,10 +241,11 @@ def _adam(net, problem: _Problem, s: Settings, history: _History, lambda1: float
 
 
 def _lbfgs(net, problem: _Problem, s: Settings, history: _History, lambda1: float,
-           progress) -> bool:
-    """Full-batch L-BFGS; returns False if it diverged and the Adam weights were kept."""
+           progress) -> tuple[bool, int]:
+    """Full-batch L-BFGS; returns (accepted, iterations): not accepted if it diverged and the
+    Adam weights were kept."""
     if s.lbfgs_iterations == 0:
-        return True
+        return True, 0
     batch = problem.sample(s.lbfgs_points, max(s.lbfgs_points // 4, 1))
     opt = torch.optim.LBFGS(net.parameters(), lr=1.0, max_iter=s.lbfgs_iterations,
                             max_eval=int(s.lbfgs_iterations * 1.25) + 1, history_size=50,
@@ -268,7 +270,8 @@ def _lbfgs(net, problem: _Problem, s: Settings, history: _History, lambda1: floa
     opt.step(closure)
     terms = problem.terms(*batch)
     final = total_loss(terms["eqns"], terms["bcs"], terms["data"], lambda1, s.lambda2).item()
+    iterations = int(opt.state[next(iter(opt.state))].get("n_iter", 0)) if opt.state else 0
     if not math.isfinite(final) or final > before * EXPLODE_FACTOR:
         net.load_state_dict(start_state)
-        return False
-    return True
+        return False, iterations
+    return True, iterations
