@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
+import os
+import re
 import signal
 import sys
 import time
@@ -13,7 +16,11 @@ from .errors import PinnMeshError
 from .settings import METHODS, make_settings
 
 EXIT_ERROR = 2
+EXIT_INTERNAL = 3
 EXIT_INTERRUPTED = 130
+MAX_SIDE_NODES = 20_000
+MAX_NODES = 4_000_000  # about 1.5 GB of memory while meshing and writing
+DEVICE_NAMES = re.compile(r"^(auto|cpu|mps|cuda(:\d+)?)$")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -38,7 +45,7 @@ def build_parser() -> argparse.ArgumentParser:
                    "MaxIncludedAngle, to this PNG (off-screen)")
     p.add_argument("--report", metavar="PATH", help="also write a JSON report")
     p.add_argument("--fail-on-folded", action="store_true",
-                   help="exit with an error (and no output) if any cell is folded")
+                   help="exit with an error (status 2, no output) if any cell is folded")
     p.add_argument("--quiet", action="store_true", help="no progress output")
     g = p.add_argument_group("training (pinn, mgnet)")
     g.add_argument("--epochs", type=int, dest="adam_epochs", help="Adam epochs")
@@ -46,7 +53,7 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--layers", type=int, dest="hidden_layers", help="hidden layers")
     g.add_argument("--neurons", type=int, help="neurons per hidden layer")
     g.add_argument("--lambda2", type=float, help="weight of the auxiliary-line term")
-    g.add_argument("--boundary-mode", choices=("hard", "penalty"), dest="boundary",
+    g.add_argument("--boundary-mode", choices=("hard", "penalty"), dest="boundary_mode",
                    help="hard: exact boundary by construction; penalty: the paper's term")
     g.add_argument("--boundary-fit", choices=("arclength", "tree"), dest="boundary_fit")
     g.add_argument("--device", help="torch device: auto, cpu, cuda")
@@ -89,22 +96,52 @@ def _raise_interrupt(signum, frame):  # noqa: ARG001
     raise KeyboardInterrupt
 
 
-def run(args: argparse.Namespace) -> Path:
-    from .fileio import write_vts
+def _check_options(args: argparse.Namespace) -> None:
+    """Refuse option values that are out of range, with a message naming the option."""
+    ni, nj = args.size
+    if not (2 <= ni <= MAX_SIDE_NODES and 2 <= nj <= MAX_SIDE_NODES and ni * nj <= MAX_NODES):
+        raise PinnMeshError(f"--size {ni} {nj}: each size must be 2..{MAX_SIDE_NODES} and the "
+                            f"grid at most {MAX_NODES:,} nodes")
+    if args.seed is not None and not 0 <= args.seed < 2**32:
+        raise PinnMeshError(f"--seed {args.seed}: must be 0..{2**32 - 1}")
+    if args.lambda2 is not None and not (math.isfinite(args.lambda2) and args.lambda2 >= 0):
+        raise PinnMeshError(f"--lambda2 {args.lambda2}: must be a finite number >= 0")
+    for name, flag, top in (("hidden_layers", "--layers", 64), ("neurons", "--neurons", 4096)):
+        value = getattr(args, name)
+        if value is not None and not 1 <= value <= top:
+            raise PinnMeshError(f"{flag} {value}: must be 1..{top}")
+    if args.device is not None:
+        if not DEVICE_NAMES.match(args.device):
+            raise PinnMeshError(f"--device {args.device!r}: use auto, cpu, cuda or cuda:N")
+        if args.device.startswith("cuda") and args.method in ("pinn", "mgnet"):
+            import torch
+
+            if not torch.cuda.is_available():
+                raise PinnMeshError(f"--device {args.device}: no CUDA device is available; "
+                                    "use --device cpu or auto")
+
+
+def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
+    """One meshing run; appends each output file to ``written`` once it is complete."""
+    import numpy as np
+
+    from .fileio import atomic_path, write_text_atomic, write_vts
     from .mesher import Mesher
     from .pipeline import load_aux, load_boundary, to_vtk
 
+    written = written if written is not None else []
     out = Path(args.output or f"out/{Path(args.boundary).stem}_{args.method}.vts")
     if out.suffix.lower() != ".vts":
         raise PinnMeshError(f"{out}: output must be a .vts file")
+    if out.is_dir():
+        raise PinnMeshError(f"{out}: is a directory; -o needs a file name")
+    _check_options(args)
     ni, nj = args.size
-    if not (2 <= ni <= 20000 and 2 <= nj <= 20000 and ni * nj <= 25_000_000):
-        raise PinnMeshError(f"--size {ni} {nj}: each size must be 2..20000 and the grid at "
-                            "most 25 million nodes")
     fields = ("seed", "adam_epochs", "lbfgs_iterations", "hidden_layers", "neurons",
-              "lambda2", "boundary", "boundary_fit", "device", "elliptic_iterations")
+              "lambda2", "boundary_fit", "device", "elliptic_iterations")
     try:
         settings = make_settings(args.method, args.preset,
+                                 boundary=args.boundary_mode,
                                  **{k: getattr(args, k) for k in fields})
     except ValueError as exc:
         raise PinnMeshError(str(exc)) from exc
@@ -121,8 +158,17 @@ def run(args: argparse.Namespace) -> Path:
     finally:
         progress.close()
     if args.save_model:
-        mesher.save(args.save_model)
+        try:
+            Path(args.save_model).parent.mkdir(parents=True, exist_ok=True)
+            mesher.save(args.save_model)
+        except (OSError, RuntimeError) as exc:
+            raise PinnMeshError(f"{args.save_model}: cannot save the model ({exc})") from None
+        written.append(Path(args.save_model))
     result = mesher.predict(ni, nj)
+    if not np.all(np.isfinite(result.points)):
+        raise PinnMeshError(f"{args.boundary}: the {settings.method} result has non-finite "
+                            "grid points (training failed); try another --seed or fewer "
+                            "--epochs; no output written")
     q = result.quality
     if not args.quiet:
         print(f"{settings.method} {ni}x{nj} grid in {time.perf_counter() - start:.2f} s: "
@@ -134,27 +180,54 @@ def run(args: argparse.Namespace) -> Path:
                             "(--fail-on-folded); no output written")
     grid = to_vtk(result)
     write_vts(grid, out)
+    written.append(out)
     if args.report:
-        Path(args.report).write_text(json.dumps(result.report, indent=2, default=float))
+        write_text_atomic(args.report, json.dumps(result.report, indent=2, default=float))
+        written.append(Path(args.report))
     if args.png:
         from .render import render_png
 
-        render_png(grid, args.png, title=f"{args.method}: {Path(args.boundary).name}")
+        with atomic_path(args.png, suffix=Path(args.png).suffix or ".png") as tmp:
+            render_png(grid, tmp, title=f"{args.method}: {Path(args.boundary).name}")
+        written.append(Path(args.png))
     print(f"wrote {out}" + (f" and {args.png}" if args.png else ""))
     return out
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run the command; returns 0, 2 (error, one line on stderr) or 130 (interrupted).
+
+    An unexpected internal failure prints one line and returns 3; set ``PINN_MESH_DEBUG=1``
+    to see its traceback instead.
+    """
     args = build_parser().parse_args(argv)
-    signal.signal(signal.SIGTERM, _raise_interrupt)
+    previous = signal.signal(signal.SIGTERM, _raise_interrupt)
+    written: list[Path] = []
     try:
-        run(args)
+        run(args, written)
     except PinnMeshError as exc:
         print(f"pinn-mesh: error: {exc}", file=sys.stderr)
         return EXIT_ERROR
     except KeyboardInterrupt:
-        print("pinn-mesh: interrupted; no output written", file=sys.stderr)
+        done = f"; already written: {', '.join(map(str, written))}" if written else \
+            "; no output written"
+        print(f"pinn-mesh: interrupted{done}", file=sys.stderr)
         return EXIT_INTERRUPTED
+    except OSError as exc:
+        where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
+        print(f"pinn-mesh: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return EXIT_ERROR
+    except MemoryError:
+        print("pinn-mesh: error: out of memory; try a smaller --size", file=sys.stderr)
+        return EXIT_ERROR
+    except Exception as exc:  # a bug: one line, not a traceback, unless debugging
+        if os.environ.get("PINN_MESH_DEBUG"):
+            raise
+        print(f"pinn-mesh: internal error: {type(exc).__name__}: {exc} (please report it; "
+              "PINN_MESH_DEBUG=1 shows the traceback)", file=sys.stderr)
+        return EXIT_INTERNAL
+    finally:
+        signal.signal(signal.SIGTERM, previous)
     return 0
 
 

@@ -1,0 +1,88 @@
+"""Quality and run time of every method on every example case: the README's table.
+
+Usage: ``.venv/bin/python benchmarks/compare_methods.py [--quick] [--out results/comparison]``
+
+For each case (with its auxiliary lines) and each method it prints mean and worst
+``MaxIncludedAngle``, worst ``MinIncludedAngle``, folded cells, boundary deviation and run
+time (training included), and for the neural methods the mean angle of the converged
+elliptic grid on the same boundary nodes, with the difference. Writes ``<out>.json`` and
+``<out>.md`` (the markdown table pasted into the README).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+
+from pinn_engine.elliptic import winslow_solve
+from pinn_engine.mesher import Mesher
+from pinn_engine.pipeline import load_aux, load_boundary
+from pinn_engine.quality import cell_quality, summary
+from pinn_engine.settings import make_settings
+
+ROOT = Path(__file__).resolve().parents[1]
+CASES = ("wavy", "fig2", "concave")
+RUNS = (  # label, method, preset, overrides
+    ("tfi", "tfi", "default", {}),
+    ("elliptic, paper (1000 sweeps from 0)", "elliptic", "paper", {}),
+    ("elliptic, converged", "elliptic", "default", {}),
+    ("mgnet, paper", "mgnet", "paper", {}),
+    ("mgnet, default", "mgnet", "default", {}),
+    ("pinn, paper", "pinn", "paper", {}),
+    ("pinn, default", "pinn", "default", {}),
+)
+
+
+def run_case(case: str, size: tuple[int, int], quick: bool) -> list[dict]:
+    boundary = load_boundary(ROOT / "example_data" / f"{case}.vtp")
+    aux = load_aux([ROOT / "example_data" / f"{case}_aux.vtp"], boundary)
+    rows = []
+    for label, method, preset, overrides in RUNS:
+        budget = {"adam_epochs": 300, "lbfgs_iterations": 30} if quick else {}
+        settings = make_settings(method, preset, **budget, **overrides)
+        start = time.perf_counter()
+        result = Mesher(settings).fit(boundary, aux).predict(*size)
+        row = {"case": case, "run": label, "seconds": time.perf_counter() - start,
+               **result.quality}
+        if method in ("pinn", "mgnet"):
+            ref = winslow_solve(result.points)[0]
+            row["elliptic_same_nodes_mean"] = summary(cell_quality(ref), 0.0)["mean_max_angle"]
+            row["delta_mean"] = row["mean_max_angle"] - row["elliptic_same_nodes_mean"]
+        rows.append(row)
+        print(f"{case:8s} {label:38s} mean {row['mean_max_angle']:7.2f} worst "
+              f"{row['worst_max_angle']:7.2f} folded {row['folded_cells']:3d} dev "
+              f"{row['boundary_deviation']:.1e} {row['seconds']:7.1f} s", flush=True)
+    return rows
+
+
+def markdown(rows: list[dict]) -> str:
+    lines = ["| case | method | mean MaxIncludedAngle | worst MaxIncludedAngle | worst "
+             "MinIncludedAngle | folded | boundary dev. | time (s) | Δ mean vs elliptic on "
+             "same nodes |", "|" + "---|" * 9]
+    for r in rows:
+        delta = f"{r['delta_mean']:+.2f}" if "delta_mean" in r else ""
+        lines.append(f"| {r['case']} | {r['run']} | {r['mean_max_angle']:.2f} | "
+                     f"{r['worst_max_angle']:.2f} | {r['worst_min_angle']:.2f} | "
+                     f"{r['folded_cells']} | {r['boundary_deviation']:.1e} | "
+                     f"{r['seconds']:.1f} | {delta} |")
+    return "\n".join(lines) + "\n"
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--quick", action="store_true", help="300 Adam epochs, 30 L-BFGS")
+    p.add_argument("--size", nargs=2, type=int, default=(41, 21))
+    p.add_argument("--out", default=str(ROOT / "results" / "comparison"))
+    args = p.parse_args()
+    rows = [row for case in CASES for row in run_case(case, tuple(args.size), args.quick)]
+    out = Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.with_suffix(".json").write_text(json.dumps(rows, indent=2))
+    out.with_suffix(".md").write_text(markdown(rows))
+    print(f"\nwrote {out.with_suffix('.json')} and {out.with_suffix('.md')}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,175 @@
+"""The PINN of the paper: Winslow residual, shortcut network, annealing, data term, training."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import torch
+from conftest import EXAMPLES
+
+from pinn_engine.cli import main
+from pinn_engine.losses import annealed_lambda, loss_eqns, winslow_residual
+from pinn_engine.mapping import Mapping
+from pinn_engine.mesher import Mesher
+from pinn_engine.networks import CoordinateNet, autograd_jet, input_jet, jet_product
+from pinn_engine.pipeline import load_aux, load_boundary
+from pinn_engine.settings import make_settings
+from pinn_engine.training import _Problem
+
+QUICK = {"adam_epochs": 200, "lbfgs_iterations": 20}
+
+
+@pytest.fixture(scope="module")
+def fig2():
+    boundary = load_boundary(EXAMPLES / "fig2.vtp")
+    return boundary, load_aux([EXAMPLES / "fig2_aux.vtp"], boundary)
+
+
+def exp_map_jet(x: torch.Tensor) -> torch.Tensor:
+    """Jet of the conformal (hence Winslow-harmonic) map x + i y = exp(xi + i eta)."""
+    e = torch.exp(x[:, 0])
+    c, s = torch.cos(x[:, 1]), torch.sin(x[:, 1])
+    fx = [e * c, e * c, -e * s, e * c, -e * s, -e * c]  # value, xi, eta, xixi, xieta, etaeta
+    fy = [e * s, e * s, e * c, e * s, e * c, -e * s]
+    return torch.stack([torch.stack(fx), torch.stack(fy)], dim=-1)
+
+
+def test_winslow_residual_of_a_harmonic_map_is_zero_through_the_training_path(fig2):
+    boundary, _ = fig2
+    net = CoordinateNet("shortcut", 3, 8).double()
+    with torch.no_grad():
+        net.w_out.zero_()
+        net.b_out.zero_()  # the correction vanishes: the map is the base
+    mapping = Mapping(net, boundary, "hard")
+    x = torch.rand(64, 2, dtype=torch.float64)
+    for fast in (True, False):
+        jet = mapping.jet(x, exp_map_jet(x), fast=fast)
+        assert winslow_residual(jet).abs().max() < 1e-13
+        assert loss_eqns(jet) < 1e-26
+    # control: a non-harmonic base gives a clearly non-zero residual
+    square = exp_map_jet(x)
+    square[3] = 1.0  # x_xixi = 1
+    assert loss_eqns(mapping.jet(x, square)) > 1e-2
+
+
+def test_z_squared_jet_from_the_jet_algebra_is_harmonic():
+    x = torch.rand(32, 2, dtype=torch.float64)
+    xi_eta = input_jet(x)
+    xi = tuple(c[:, :1] for c in xi_eta)
+    eta = tuple(c[:, 1:] for c in xi_eta)
+    re = [a - b for a, b in zip(jet_product(xi, xi), jet_product(eta, eta))]
+    im = [2 * a for a in jet_product(xi, eta)]
+    jet = torch.stack([torch.cat([a, b], dim=1) for a, b in zip(re, im)])
+    assert winslow_residual(jet).abs().max() < 1e-14
+
+
+def test_shortcut_network_shapes_and_gating_on_a_hand_set_network():
+    net = CoordinateNet("shortcut", hidden_layers=2, neurons=2)
+    with torch.no_grad():
+        for p in net.parameters():
+            p.zero_()
+        net.w_in[0] = torch.tensor([[1.0, 0.0], [0.0, 1.0]])   # H1 = tanh(x)
+        net.w_u[0] = torch.tensor([[0.5, 0.0], [0.0, 0.5]])    # U = tanh(x / 2)
+        net.w_v[0] = torch.tensor([[0.0, 1.0], [1.0, 0.0]])    # V = tanh(swap(x))
+        net.w_hidden[0][0] = torch.tensor([[2.0, 0.0], [0.0, -1.0]])
+        net.b_hidden[0][0] = torch.tensor([[0.1, 0.2]])
+        net.w_out[0] = torch.tensor([[1.0], [3.0]])
+        net.b_out[0] = torch.tensor([[0.25]])
+    x = torch.tensor([[0.3, 0.7], [0.9, 0.1]], dtype=torch.float64)
+    h1 = torch.tanh(x)
+    u, v = torch.tanh(x / 2), torch.tanh(x.flip(1))
+    z = torch.tanh(h1 * torch.tensor([2.0, -1.0]).double() + torch.tensor([0.1, 0.2]).double())
+    h2 = (1 - z) * u + z * v  # paper eq. 14
+    expected = h2 @ torch.tensor([1.0, 3.0]).double() + 0.25
+    out = net(x)
+    assert out.shape == (2, 2)
+    torch.testing.assert_close(out[:, 0], expected)
+    torch.testing.assert_close(out[:, 1], torch.zeros(2, dtype=torch.float64))  # y-net is 0
+    assert net.jet(x).shape == (6, 2, 2)
+    torch.testing.assert_close(net.jet(x), autograd_jet(net, x))
+
+
+def test_annealing_weight_against_a_hand_computation():
+    g_eqns = [torch.tensor([[1.0, -3.0], [2.0, 0.5]]), torch.tensor([[0.2]])]
+    g_bcs = [torch.tensor([[0.5, -1.0], [0.0, 0.5]]), torch.tensor([[-0.5]])]
+    # lambda_hat = max|g_eqns| / mean|lambda1 g_bcs| = 3 / (2 * 2.5 / 5) = 3
+    assert annealed_lambda(g_eqns, g_bcs, lambda1=2.0, momentum=0.9) == pytest.approx(
+        0.9 * 2.0 + 0.1 * 3.0)
+
+
+def test_annealing_on_a_toy_loss_via_autograd():
+    w = torch.tensor([1.0, 2.0], requires_grad=True)
+    l_eqns = (w ** 2).sum()          # grad 2w = [2, 4]
+    l_bcs = (3 * w).sum()            # grad [3, 3]
+    g_e = torch.autograd.grad(l_eqns, [w])
+    g_b = torch.autograd.grad(l_bcs, [w])
+    assert annealed_lambda(g_e, g_b, 1.0, 0.9) == pytest.approx(0.9 + 0.1 * 4 / 3)
+
+
+def test_data_term_sees_the_auxiliary_line_points(fig2):
+    boundary, aux = fig2
+    settings = make_settings("pinn", **QUICK)
+    net = CoordinateNet("shortcut", 2, 8).double()
+    mapping = Mapping(net, boundary, "hard")
+    problem = _Problem(mapping, boundary, aux, settings, torch.float64, torch.device("cpu"))
+    batch = problem.epoch_batch(1)
+    data = problem.terms(*batch)["data"]
+    xe = torch.as_tensor(np.concatenate([a.xi_eta for a in aux]))
+    xy = torch.as_tensor(np.concatenate([a.xy for a in aux]))
+    base = torch.as_tensor(mapping.tfi_jet(xe.numpy())[0])
+    manual = (mapping.values(xe, base) - xy).pow(2).sum(dim=1).mean()
+    torch.testing.assert_close(data, manual)
+    problem.aux_y = problem.aux_y + 0.1  # move the measured points: the term follows
+    assert problem.terms(*batch)["data"] > data + 1e-3
+    without = _Problem(mapping, boundary, [], settings, torch.float64, torch.device("cpu"))
+    assert without.terms(*batch)["data"] == 0
+
+
+def test_same_seed_same_grid_and_another_seed_another_grid(fig2):
+    boundary, aux = fig2
+    grids = [Mesher(make_settings("pinn", seed=s, adam_epochs=60, lbfgs_iterations=5))
+             .fit(boundary, aux).predict(21, 11).points for s in (3, 3, 4)]
+    np.testing.assert_array_equal(grids[0], grids[1])
+    assert np.abs(grids[0] - grids[2]).max() > 1e-6
+
+
+def test_short_training_on_an_example_gives_a_conforming_unfolded_grid(fig2, tmp_path):
+    boundary, aux = fig2
+    mesher = Mesher(make_settings("pinn", **QUICK)).fit(boundary, aux)
+    result = mesher.predict(41, 21)
+    q = result.quality
+    assert q["folded_cells"] == 0 and q["boundary_deviation"] <= 1e-9
+    h = result.history
+    assert len(h["total"]) >= QUICK["adam_epochs"] and h["total"][-1] < h["total"][0]
+    for term in ("eqns", "bcs", "data", "weighted_data", "lambda1"):
+        assert len(h[term]) == len(h["total"])
+    # the model re-meshes at another resolution without training, and survives save/load
+    path = tmp_path / "m.pt"
+    mesher.save(path)
+    again = Mesher.load(path, boundary).predict(41, 21)
+    np.testing.assert_allclose(again.points, result.points, atol=1e-12)
+    assert Mesher.load(path, boundary).predict(81, 41).points.shape == (41, 81, 2)
+
+
+def test_paper_preset_and_mgnet_train_with_penalty_terms(fig2):
+    boundary, aux = fig2
+    paper = Mesher(make_settings("pinn", "paper", adam_epochs=60, lbfgs_iterations=5))
+    h = paper.fit(boundary, aux).predict(21, 11).history
+    assert {"bcs_bottom", "bcs_right", "bcs_top", "bcs_left"} <= set(h)
+    assert h["lambda1"][-1] != 1.0  # the annealing moved lambda1
+    mg = Mesher(make_settings("mgnet", adam_epochs=60, lbfgs_iterations=5)).fit(boundary, aux)
+    assert mg.aux_lines == [] and mg.model.mapping.net.kind == "mlp"
+
+
+def test_cli_pinn_with_save_and_load(tmp_path, capsys):
+    model = tmp_path / "m.pt"
+    args = [str(EXAMPLES / "wavy.vtp"), "--aux", str(EXAMPLES / "wavy_aux.vtp"), "--epochs",
+            "60", "--lbfgs", "5", "--quiet"]
+    assert main(args + ["-o", str(tmp_path / "a.vts"), "--save-model", str(model)]) == 0
+    assert main([str(EXAMPLES / "wavy.vtp"), "--load-model", str(model), "--size", "101", "51",
+                 "-o", str(tmp_path / "b.vts"), "--quiet"]) == 0
+    assert (tmp_path / "b.vts").stat().st_size > 0
+    # a model for another boundary is refused with a clear error
+    assert main([str(EXAMPLES / "fig2.vtp"), "--load-model", str(model), "-o",
+                 str(tmp_path / "c.vts")]) == 2
+    assert "different boundary" in capsys.readouterr().err
