@@ -39,7 +39,7 @@ class TrainedModel:
         net = self.mapping.net
         payload = {
             "format": FORMAT, "version": __version__,
-            "settings": {k: v for k, v in self.settings.to_dict().items() if k != "extra"},
+            "settings": self.settings.to_dict(),
             "network": {"kind": net.kind, "hidden_layers": net.hidden_layers,
                         "neurons": net.neurons, "activation": net.activation},
             "state": {k: v.detach().cpu() for k, v in net.state_dict().items()},

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, field, fields, replace
+from dataclasses import asdict, dataclass, fields, replace
 
 METHODS = ("pinn", "mgnet", "tfi", "elliptic")
 PRESETS = ("default", "paper")
@@ -10,7 +10,7 @@ PRESETS = ("default", "paper")
 
 @dataclass(frozen=True)
 class Settings:
-    """What a run depends on. ``training_key`` names the part that training depends on."""
+    """Every setting of a run; ``training_key`` is the part that training depends on."""
 
     method: str = "pinn"
     preset: str = "default"
@@ -34,7 +34,6 @@ class Settings:
     device: str = "auto"
     fast: bool = True  # forward-mode derivative jets instead of nested autograd
     elliptic_iterations: int = 0  # 0: iterate to convergence; N: the paper's N sweeps from 0
-    extra: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -55,7 +54,7 @@ class Settings:
 
     def training_key(self) -> tuple:
         """The settings that change the trained network (not the output resolution)."""
-        skip = {"preset", "device", "extra"}
+        skip = {"preset", "device"}
         return tuple((f.name, getattr(self, f.name)) for f in fields(self) if f.name not in skip)
 
 
