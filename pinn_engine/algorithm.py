@@ -151,7 +151,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         self._cache = MeshCache()
         self._last_error = ""
         self._trained = False
-        self._progress_span = (0.0, 1.0)
+        self._failed: tuple | None = None  # stamp of the inputs/settings of a failed update
 
     # ---- ports -------------------------------------------------------------------------
     def FillInputPortInformation(self, port, info):
@@ -263,8 +263,9 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         return self._trained
 
     def ClearCache(self) -> None:
-        """Forget trained networks: the next update trains again."""
+        """Forget trained networks (and a failure): the next update trains again."""
         self._cache.clear()
+        self._failed = None
         self.Modified()
 
     # ---- pipeline ----------------------------------------------------------------------
@@ -276,6 +277,15 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
 
     def RequestData(self, request, inInfo, outInfo):
         output = vtkStructuredGrid.GetData(outInfo, 0)
+        if self.GetAbortExecute():
+            self.SetAbortExecute(0)  # an abort request is for the run it came in, not this one
+        if self._failed is not None and self._failed == self._stamp(inInfo):
+            # Nothing changed since the failure; the executive asks again only because the
+            # empty output does not cover the whole extent. Do not repeat the error (or a
+            # failed training) on every render.
+            output.Initialize()
+            return 1
+        self._failed = None
         self._last_error, self._trained = "", False
         try:
             grid = self._execute(inInfo)
@@ -295,8 +305,24 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
             self.UpdateProgress(1.0)
             return 1
         output.Initialize()
+        if self.GetAbortExecute():
+            self.SetAbortExecute(0)
+        self._failed = self._stamp(inInfo)
         self._report_error(message)
         return 1
+
+    def _stamp(self, inInfo) -> tuple:
+        """What a re-execution depends on: the settings and the inputs' modification times.
+
+        (Not this algorithm's MTime: VTK modifies it for abort bookkeeping between runs.)
+        """
+        times: list = [self._method, self._preset, self._size, self._corners,
+                       tuple(sorted(self._overrides.items(), key=repr))]
+        for port in inInfo:
+            for k in range(port.GetNumberOfInformationObjects()):
+                data = port.GetInformationObject(k).Get(vtkPolyData.DATA_OBJECT())
+                times.append(data.GetMTime() if data is not None else -1)
+        return tuple(times)
 
     def _execute(self, inInfo) -> vtkStructuredGrid:
         from .pipeline import aux_from_polydata, boundary_from_polydata, to_vtk
@@ -349,7 +375,5 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
     def _report_error(self, message: str) -> None:
         line = f"{LABEL}: {' '.join(str(message).split())}"
         self._last_error = line
-        if self.GetAbortExecute():
-            self.SetAbortExecute(0)  # a cancelled run must not cancel the next one
         vtkOutputWindow.GetInstance().DisplayErrorText(line + "\n")
         self.InvokeEvent(vtkCommand.ErrorEvent, line)  # call data: the message (VTK_STRING)

@@ -53,13 +53,13 @@ def _doc(text):
 @smproxy.filter(name="PINNStructuredMesh", label="PINN Structured Mesh")
 @smhint.xml('<ShowInMenu category="Mesh Generation"/>')
 @smproperty.input(name="AuxiliaryLines", label="Auxiliary Lines", port_index=1,
-                  multiple_input=True)
+                  multiple_input=True, clean_command="RemoveAllAuxiliaryLines")
 @smdomain.datatype(dataTypes=["vtkPolyData"], composite_data_supported=False)
 @smdomain.xml(_doc("Optional open polylines from one side of the boundary to the opposite "
                    "side (several polylines per input and several inputs both work). Used "
                    "by the pinn method only."))
 @smhint.xml("<Optional/>")
-@smproperty.input(name="Input", label="Boundary", port_index=0)
+@smproperty.input(name="Input", port_index=0)
 @smdomain.datatype(dataTypes=["vtkPolyData"], composite_data_supported=False)
 @smdomain.xml(_doc("The closed boundary: one closed polyline or polygon with four corners."))
 @smproperty.xml(_doc("Structured quadrilateral grid of a four-sided 2D domain from a "
@@ -68,6 +68,11 @@ def _doc(text):
                      "included angles (MaxIncludedAngle, MinIncludedAngle)."))
 class PINNStructuredMesh(PinnMeshAlgorithm):
     """The ParaView face of :class:`pinn_engine.algorithm.PinnMeshAlgorithm`."""
+
+    def RemoveAllAuxiliaryLines(self):
+        # clean command of the repeatable AuxiliaryLines input: the decorator's default,
+        # RemoveAllInputs, would also disconnect the boundary on port 0
+        self.RemoveAllInputConnections(1)
 
     @smproperty.intvector(name="Method", default_values=0)
     @smdomain.xml(_enum(METHODS))

@@ -12,7 +12,9 @@
 # and runs the command under `xvfb-run -a` when DISPLAY is unset and the
 # command renders (paraview, pvpython, pvbatch).  Set PINN_PV_NO_XVFB=1 to
 # skip the X server (pure pipeline work without rendering).
-# Other knobs: PINN_PV_VENV (default <repo>/.venv-pv), PINN_PV_EXTRA_PYTHONPATH.
+# Other knobs: PINN_PV_VENV (default <repo>/.venv-pv), PINN_PV_EXTRA_PYTHONPATH,
+# PINN_PV_NO_REPO_PATH=1 (leave the repo root off PYTHONPATH: the plugin must then
+# find pinn_engine by itself, as it does when loaded by a plain ParaView).
 set -euo pipefail
 
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -28,7 +30,9 @@ SITE="$(echo "$VENV"/lib/python3.*/site-packages)"
 # The caller's PYTHONPATH is deliberately dropped: a pip vtk/pyvista on it makes
 # pvpython segfault.  Add extra entries with PINN_PV_EXTRA_PYTHONPATH.
 unset PYTHONHOME
-export PYTHONPATH="$REPO/paraview_support:$SITE:$REPO${PINN_PV_EXTRA_PYTHONPATH:+:$PINN_PV_EXTRA_PYTHONPATH}"
+REPO_ON_PATH=":$REPO"
+if [ -n "${PINN_PV_NO_REPO_PATH:-}" ]; then REPO_ON_PATH=""; fi
+export PYTHONPATH="$REPO/paraview_support:$SITE$REPO_ON_PATH${PINN_PV_EXTRA_PYTHONPATH:+:$PINN_PV_EXTRA_PYTHONPATH}"
 export PV_PLUGIN_PATH="${PINN_PV_PLUGIN_PATH:-$REPO/plugin}"
 # Qt under Xvfb: no GPU, use Mesa's software GL; silence the XDG warning.
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp/runtime-$(id -u)}"

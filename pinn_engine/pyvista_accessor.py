@@ -1,0 +1,211 @@
+"""pinn-mesh for pyvista: ``pinn_mesh(boundary, ...)`` and the ``PolyData.pinn_mesh`` accessor.
+
+With pinn-mesh installed (pyvista 0.48+ finds the accessor through the ``pyvista.accessors``
+entry point; no import needed)::
+
+    import pyvista as pv
+
+    boundary = pv.read("example_data/fig2.vtp")      # one closed polyline, four corners
+    lines = pv.read("example_data/fig2_aux.vtp")     # optional auxiliary polylines
+    grid = boundary.pinn_mesh(aux=lines, size=(41, 21))
+    grid.plot(scalars="MaxIncludedAngle", show_edges=True, cpos="xy")
+
+    finer = boundary.pinn_mesh(aux=lines, size=(161, 81))   # same network, no retraining
+
+The accessor keeps the networks it trained for that boundary, so calling it again with
+another ``size`` only re-evaluates the network. ``boundary.pinn_mesh.trainings`` counts the
+trainings and ``boundary.pinn_mesh.clear()`` forgets them. ``pinn_mesh(boundary, ...)`` is the
+same as a plain function (no cache unless you pass one).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
+import numpy as np
+import pyvista as pv
+from vtkmodules.vtkCommonDataModel import vtkPolyData
+
+from .algorithm import MeshCache
+from .errors import InputError
+from .settings import make_settings
+
+__all__ = ["PinnMeshAccessor", "pinn_mesh", "register"]
+
+
+def _ring_polydata(points, closed: bool) -> pv.PolyData:
+    pts = np.asarray(points, dtype=float)
+    if pts.ndim != 2 or pts.shape[1] not in (2, 3) or len(pts) < 2:
+        raise InputError(f"expected an (n, 2) or (n, 3) array of points, got shape {pts.shape}")
+    if pts.shape[1] == 2:
+        pts = np.column_stack([pts, np.zeros(len(pts))])
+    ids = list(range(len(pts))) + ([0] if closed else [])
+    return pv.PolyData(pts, lines=[len(ids), *ids])
+
+
+def _as_polydata(obj, closed: bool, what: str) -> vtkPolyData:
+    if isinstance(obj, vtkPolyData):
+        return obj
+    if isinstance(obj, np.ndarray | list | tuple):
+        return _ring_polydata(obj, closed)
+    if hasattr(obj, "extract_surface"):  # another pyvista dataset holding lines
+        return obj.extract_surface()
+    raise InputError(f"{what}: expected a pyvista/VTK PolyData or an array of points, got "
+                     f"{type(obj).__name__}")
+
+
+def _aux_list(aux) -> list[vtkPolyData]:
+    if aux is None:
+        return []
+    if isinstance(aux, vtkPolyData):
+        return [aux]
+    if isinstance(aux, np.ndarray):  # one polyline as an (n, 2|3) array
+        return [_ring_polydata(aux, closed=False)]
+    if isinstance(aux, pv.MultiBlock):
+        aux = [block for block in aux if block is not None]
+    return [_as_polydata(a, closed=False, what="aux") for a in aux]
+
+
+def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = "pinn", *,
+              preset: str = "default", corners: Sequence[int] | None = None,
+              adam_epochs: int | None = None, lbfgs_iterations: int | None = None,
+              hidden_layers: int | None = None, neurons: int | None = None,
+              lambda2: float | None = None, seed: int | None = None,
+              boundary_mode: str | None = None, device: str | None = None,
+              progress: Callable[[dict], bool | None] | None = None,
+              cache: MeshCache | None = None, **settings) -> pv.StructuredGrid:
+    """Structured quadrilateral grid of a four-sided 2D domain.
+
+    Parameters
+    ----------
+    boundary : pyvista.PolyData, vtkPolyData or array_like
+        The closed boundary: one closed polyline (or polygon) with four corners, or an
+        ``(n, 2)``/``(n, 3)`` array of its points in order (closed automatically).
+    aux : PolyData, vtkPolyData, array_like, or a list/MultiBlock of them, optional
+        Auxiliary lines: open polylines from one side to the opposite side. One PolyData
+        may hold several polylines. Used by ``method="pinn"`` only.
+    size : (int, int)
+        Nodes along xi and eta (``ni``, ``nj``), default ``(41, 21)``.
+    method : {"pinn", "mgnet", "tfi", "elliptic"}
+        The paper's PINN (default), its MGNet baseline, transfinite interpolation, or the
+        elliptic (Winslow) method.
+    preset : {"default", "paper"}
+        ``"paper"`` reproduces the paper's section 4 settings.
+    corners : four ints, optional
+        Corner point indices of the boundary; default: the four sharpest turns.
+    adam_epochs, lbfgs_iterations, hidden_layers, neurons, lambda2, seed : optional
+        Training settings (``None``: the preset's value, e.g. 5000 Adam epochs and 500
+        L-BFGS iterations). Short runs such as ``adam_epochs=300, lbfgs_iterations=50``
+        are good for a first look.
+    boundary_mode : {"hard", "penalty"}, optional
+        Exact boundary by construction (default) or the paper's penalty term.
+    device : str, optional
+        Torch device: ``"auto"`` (default), ``"cpu"``, ``"cuda"``.
+    progress : callable, optional
+        ``progress(info)`` during training, ``info`` a dict with ``phase`` ("adam" or
+        "lbfgs"), ``step``, ``total``, ``loss`` and ``terms``; returning True cancels
+        (``pinn_engine.errors.TrainingCancelled``).
+    cache : pinn_engine.algorithm.MeshCache, optional
+        Re-use networks trained earlier on the same inputs and training settings.
+    **settings
+        Any other field of ``pinn_engine.settings.Settings`` (e.g. ``learning_rate``).
+
+    Returns
+    -------
+    pyvista.StructuredGrid
+        Dimensions ``(ni, nj, 1)``; cell data ``MaxIncludedAngle``, ``MinIncludedAngle``
+        (degrees), ``ScaledJacobian``, ``Folded``; field data ``Method``, ``Report`` (JSON),
+        quality figures and ``Loss_<term>`` histories.
+
+    Raises
+    ------
+    pinn_engine.errors.PinnMeshError
+        Bad boundary or auxiliary line (``InputError``), failed training
+        (``TrainingError``); the message is one line.
+    ValueError
+        Invalid settings or size.
+
+    Examples
+    --------
+    >>> import pyvista as pv
+    >>> from pinn_engine.pyvista_accessor import pinn_mesh
+    >>> square = pv.Rectangle([[0, 0, 0], [2, 0, 0], [2, 1, 0]])
+    >>> grid = pinn_mesh(square, size=(21, 11), method="tfi")
+    >>> grid.dimensions
+    (21, 11, 1)
+    """
+    from .pipeline import aux_from_polydata, boundary_from_polydata, to_vtk
+
+    ni, nj = (int(n) for n in size)
+    if ni < 2 or nj < 2:
+        raise ValueError(f"size must be at least (2, 2), got ({ni}, {nj})")
+    config = make_settings(method, preset, adam_epochs=adam_epochs,
+                           lbfgs_iterations=lbfgs_iterations, hidden_layers=hidden_layers,
+                           neurons=neurons, lambda2=lambda2, seed=seed, boundary=boundary_mode,
+                           device=device, **settings)
+    poly = _as_polydata(boundary, closed=True, what="boundary")
+    ring = boundary_from_polydata(poly, corners, source="boundary")
+    lines = aux_from_polydata(_aux_list(aux), ring)
+    cache = cache if cache is not None else MeshCache(capacity=1)
+    mesher, _ = cache.fitted(ring, lines, config, progress)
+    return pv.wrap(to_vtk(mesher.predict(ni, nj)))
+
+
+@pv.register_dataset_accessor("pinn_mesh", pv.PolyData)
+class PinnMeshAccessor:
+    """``boundary.pinn_mesh(aux=None, size=(41, 21), method="pinn", **settings)``.
+
+    Meshes the four-sided domain bounded by this PolyData (one closed polyline) and returns
+    a ``pyvista.StructuredGrid`` (active cell scalars ``MaxIncludedAngle``). The arguments
+    are those of :func:`pinn_engine.pyvista_accessor.pinn_mesh`; ``help(pinn_mesh)``
+    describes them.
+
+    Trained networks are kept per boundary: calling again with only another ``size`` (or
+    anything else training does not depend on) re-evaluates the network instead of training.
+
+    >>> grid = boundary.pinn_mesh(aux=lines, size=(41, 21))
+    >>> fine = boundary.pinn_mesh(aux=lines, size=(161, 81))   # no retraining
+    >>> boundary.pinn_mesh.trainings
+    1
+    """
+
+    def __init__(self, mesh: pv.PolyData) -> None:
+        self._mesh = mesh
+        self._cache = MeshCache()
+
+    def __call__(self, aux=None, size: Sequence[int] = (41, 21), method: str = "pinn", *,
+                 preset: str = "default", corners: Sequence[int] | None = None,
+                 adam_epochs: int | None = None, lbfgs_iterations: int | None = None,
+                 hidden_layers: int | None = None, neurons: int | None = None,
+                 lambda2: float | None = None, seed: int | None = None,
+                 progress: Callable[[dict], bool | None] | None = None,
+                 **settings) -> pv.StructuredGrid:
+        """Mesh the domain bounded by this PolyData; see ``pinn_mesh`` for the arguments.
+
+        ``aux``: auxiliary polylines (PolyData or a list); ``size``: ``(ni, nj)`` nodes;
+        ``method``: pinn, mgnet, tfi or elliptic; ``preset``: default or paper; training
+        settings default to the preset's (5000 Adam epochs, 500 L-BFGS iterations).
+        Returns a ``pyvista.StructuredGrid`` with MaxIncludedAngle/MinIncludedAngle cells.
+        """
+        return pinn_mesh(self._mesh, aux, size, method, preset=preset, corners=corners,
+                         adam_epochs=adam_epochs, lbfgs_iterations=lbfgs_iterations,
+                         hidden_layers=hidden_layers, neurons=neurons, lambda2=lambda2,
+                         seed=seed, progress=progress, cache=self._cache, **settings)
+
+    mesh = __call__  # boundary.pinn_mesh.mesh(...) reads well too
+
+    @property
+    def trainings(self) -> int:
+        """Networks trained for this boundary so far."""
+        return self._cache.trainings
+
+    def clear(self) -> None:
+        """Forget the trained networks: the next call trains again."""
+        self._cache.clear()
+
+
+def register() -> type[PinnMeshAccessor]:
+    """Make sure the accessor is registered (importing this module already does it)."""
+    if "pinn_mesh" not in pv.PolyData.__dict__:
+        pv.register_dataset_accessor("pinn_mesh", pv.PolyData)(PinnMeshAccessor)
+    return PinnMeshAccessor

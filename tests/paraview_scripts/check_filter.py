@@ -1,0 +1,126 @@
+"""pvpython check of the PINN Structured Mesh plugin (run by tests/test_paraview.py).
+
+    scripts/pvenv.sh pvpython tests/paraview_scripts/check_filter.py EXAMPLE_DIR
+
+Expects the plugin to be loaded already through PV_PLUGIN_PATH (scripts/pvenv.sh sets it).
+Prints one ``RESULT {json}`` line; any failed check raises (exit status 1).
+"""
+
+import contextlib
+import io
+import json
+import os
+import sys
+import time
+
+import paraview.simple as simple
+from paraview import servermanager
+from paraview.simple import PolyLineSource, XMLPolyDataReader
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
+from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+
+EXAMPLES = sys.argv[1]
+SHORT = {"AdamEpochs": 60, "LBFGSIterations": 5}
+result = {"pinn_engine_on_pythonpath": any(
+    os.path.isdir(os.path.join(p, "pinn_engine")) for p in
+    os.environ.get("PYTHONPATH", "").split(os.pathsep) if p)}
+
+
+@contextlib.contextmanager
+def captured_errors():
+    """Text written to vtkOutputWindow (and Python's stderr) inside the block."""
+    got = {"vtk": "", "stderr": ""}
+    old_window, window = vtkOutputWindow.GetInstance(), vtkStringOutputWindow()
+    old_err, buf = sys.stderr, io.StringIO()
+    vtkOutputWindow.SetInstance(window)
+    sys.stderr = buf
+    try:
+        yield got
+    finally:
+        sys.stderr = old_err
+        vtkOutputWindow.SetInstance(old_window)
+        got["vtk"], got["stderr"] = window.GetOutput(), buf.getvalue()
+
+
+def field(grid, name):
+    arr = grid.GetFieldData().GetArray(name)
+    return None if arr is None else arr.GetValue(0)
+
+
+def summary(grid):
+    return {"class": grid.GetClassName(), "extent": list(grid.GetExtent()),
+            "points": grid.GetNumberOfPoints(),
+            "cell_arrays": [grid.GetCellData().GetArrayName(i)
+                            for i in range(grid.GetCellData().GetNumberOfArrays())],
+            "method": grid.GetFieldData().GetAbstractArray("Method").GetValue(0)
+            if grid.GetFieldData().GetAbstractArray("Method") else None,
+            "trained": field(grid, "Trained"), "training_count": field(grid, "TrainingCount")}
+
+
+# 1. the plugin came in through PV_PLUGIN_PATH (no LoadPlugin), pinn_engine via the plugin
+assert hasattr(simple, "PINNStructuredMesh"), "PINN Structured Mesh filter not loaded"
+result["torch_after_load"] = "torch" in sys.modules
+proto = servermanager.ProxyManager().GetPrototypeProxy("filters", "PINNStructuredMesh")
+result["label"] = proto.GetXMLLabel()
+hints = proto.GetHints()
+menu = hints.FindNestedElementByName("ShowInMenu") if hints else None
+result["menu_category"] = menu.GetAttribute("category") if menu else None
+import pinn_engine  # noqa: E402  (already imported by the plugin)
+
+result["pinn_engine_file"] = pinn_engine.__file__
+
+boundary = XMLPolyDataReader(FileName=[os.path.join(EXAMPLES, "fig2.vtp")])
+aux = XMLPolyDataReader(FileName=[os.path.join(EXAMPLES, "fig2_aux.vtp")])
+
+# 2. boundary + auxiliary lines, short training; progress events reach the algorithm
+mesh = simple.PINNStructuredMesh(Input=boundary, AuxiliaryLines=[aux], GridSize=[41, 21],
+                                 **SHORT)
+progress = []
+alg = mesh.GetClientSideObject()
+alg.AddObserver("ProgressEvent", lambda obj, event: progress.append(obj.GetProgress()))
+start = time.perf_counter()
+grid = servermanager.Fetch(mesh)
+result["first"] = summary(grid)
+result["first_seconds"] = time.perf_counter() - start
+result["whole_extent"] = list(mesh.GetDataInformation().GetExtent())
+result["progress"] = [min(progress), max(progress), len(progress)] if progress else []
+first_points = vtk_to_numpy(grid.GetPoints().GetData()).copy()
+
+# 3. grid size only: re-evaluated, not retrained
+mesh.GridSize = [61, 31]
+start = time.perf_counter()
+result["resized"] = summary(servermanager.Fetch(mesh))
+result["resized_seconds"] = time.perf_counter() - start
+
+# 4. the two auxiliary polylines as two inputs (PolyLineSource) on a new filter instance
+reader = vtkXMLPolyDataReader()
+reader.SetFileName(os.path.join(EXAMPLES, "fig2_aux.vtp"))
+reader.Update()
+lines = reader.GetOutput()
+sources = []
+for k in range(lines.GetNumberOfCells()):
+    ids = lines.GetCell(k).GetPointIds()
+    pts = [c for i in range(ids.GetNumberOfIds()) for c in lines.GetPoint(ids.GetId(i))]
+    sources.append(PolyLineSource(Points=pts))
+two = simple.PINNStructuredMesh(Input=boundary, AuxiliaryLines=sources, GridSize=[41, 21],
+                                **SHORT)
+grid_two = servermanager.Fetch(two)
+result["two_inputs"] = summary(grid_two)
+result["two_inputs_max_diff"] = float(abs(
+    vtk_to_numpy(grid_two.GetPoints().GetData()) - first_points).max())
+
+# 5. a bad boundary (the auxiliary file: two open polylines): empty output, one error line
+bad = simple.PINNStructuredMesh(Input=aux, **SHORT)
+with captured_errors() as err:
+    bad_grid = servermanager.Fetch(bad)
+result["bad"] = {"points": bad_grid.GetNumberOfPoints(), "class": bad_grid.GetClassName()}
+result["bad_vtk_text"] = err["vtk"]
+result["bad_stderr"] = err["stderr"]
+
+# 6. ParaView goes on: fix the input of the failed filter and update again
+bad.Input = boundary
+bad.AuxiliaryLines = [aux]
+result["recovered"] = summary(servermanager.Fetch(bad))
+result["torch_at_end"] = "torch" in sys.modules
+print("RESULT " + json.dumps(result))

@@ -1,0 +1,44 @@
+"""pvpython check: load the plugin file with LoadPlugin (as Tools > Manage Plugins > Load New
+does) and run a classical method, which must not import torch.
+
+    scripts/pvenv.sh pvpython tests/paraview_scripts/check_load_plugin.py PLUGIN_FILE EXAMPLE_DIR
+
+Run with PV_PLUGIN_PATH pointing elsewhere. Prints one ``RESULT {json}`` line.
+"""
+
+import json
+import os
+import sys
+
+import paraview.simple as simple
+from paraview import servermanager
+from paraview.simple import LoadPlugin, XMLPolyDataReader
+
+PLUGIN, EXAMPLES = sys.argv[1], sys.argv[2]
+result = {"before_load": hasattr(simple, "PINNStructuredMesh")}
+LoadPlugin(PLUGIN, remote=False, ns=globals())
+result["after_load"] = "PINNStructuredMesh" in globals()
+result["torch_after_load"] = "torch" in sys.modules
+
+proto = servermanager.ProxyManager().GetPrototypeProxy("filters", "PINNStructuredMesh")
+it = servermanager.vtkSMOrderedPropertyIterator()
+it.SetProxy(proto)
+it.Begin()
+order = []
+while not it.IsAtEnd():
+    order.append(it.GetKey())
+    it.Next()
+result["property_order"] = order
+method = proto.GetProperty("Method").FindDomain("vtkSMEnumerationDomain")
+result["methods"] = [method.GetEntryText(i) for i in range(method.GetNumberOfEntries())]
+aux_hints = proto.GetProperty("AuxiliaryLines").GetHints()
+result["aux_optional"] = bool(aux_hints and aux_hints.FindNestedElementByName("Optional"))
+
+boundary = XMLPolyDataReader(FileName=[os.path.join(EXAMPLES, "wavy.vtp")])
+mesh = PINNStructuredMesh(Input=boundary, Method="elliptic", GridSize=[31, 16])  # noqa: F821
+grid = servermanager.Fetch(mesh)
+result["grid"] = {"class": grid.GetClassName(), "extent": list(grid.GetExtent()),
+                  "max_angle": grid.GetCellData().GetArray("MaxIncludedAngle") is not None,
+                  "method": grid.GetFieldData().GetAbstractArray("Method").GetValue(0)}
+result["torch_at_end"] = "torch" in sys.modules
+print("RESULT " + json.dumps(result))

@@ -1,0 +1,281 @@
+"""PinnMeshAlgorithm in plain VTK pipelines (pip vtk)."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from conftest import EXAMPLES, ROOT
+from vtkmodules.util.misc import calldata_type
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonCore import VTK_STRING, vtkOutputWindow, vtkStringOutputWindow
+from vtkmodules.vtkCommonDataModel import vtkPolyData
+from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
+from vtkmodules.vtkFiltersSources import vtkLineSource, vtkPolyLineSource
+from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+
+from pinn_engine.algorithm import PinnMeshAlgorithm
+from pinn_engine.errors import TrainingError
+
+SHORT = {"adam_epochs": 60, "lbfgs_iterations": 5}
+
+
+def reader(name: str) -> vtkXMLPolyDataReader:
+    r = vtkXMLPolyDataReader()
+    r.SetFileName(str(EXAMPLES / name))
+    return r
+
+
+KEEP: list = []  # an output port does not keep its producer alive: hold the readers
+
+
+def connect(alg, port: int, producer, add: bool = False) -> None:
+    KEEP.append(producer)
+    if add:
+        alg.AddInputConnection(port, producer.GetOutputPort())
+    else:
+        alg.SetInputConnection(port, producer.GetOutputPort())
+
+
+def make_alg(case: str = "fig2", aux: bool = True, **settings) -> PinnMeshAlgorithm:
+    alg = PinnMeshAlgorithm()
+    connect(alg, 0, reader(f"{case}.vtp"))
+    if aux:
+        connect(alg, 1, reader(f"{case}_aux.vtp"), add=True)
+    for name, value in {**SHORT, **settings}.items():
+        alg.SetSetting(name, value)
+    return alg
+
+
+def points(alg) -> np.ndarray:
+    return vtk_to_numpy(alg.GetOutput().GetPoints().GetData()).copy()
+
+
+def field(alg, name: str):
+    return alg.GetOutput().GetFieldData().GetArray(name).GetValue(0)
+
+
+class Errors:
+    """Collects vtkOutputWindow text and the algorithm's ErrorEvents."""
+
+    def __init__(self, alg) -> None:
+        self.window, self.old = vtkStringOutputWindow(), vtkOutputWindow.GetInstance()
+        self.events: list[str] = []
+
+        @calldata_type(VTK_STRING)
+        def on_error(obj, event, message):
+            self.events.append(message)
+
+        alg.AddObserver("ErrorEvent", on_error)
+
+    def __enter__(self):
+        vtkOutputWindow.SetInstance(self.window)
+        return self
+
+    def __exit__(self, *exc):
+        vtkOutputWindow.SetInstance(self.old)
+
+    @property
+    def lines(self) -> list[str]:
+        return [ln for ln in self.window.GetOutput().splitlines() if ln.strip()]
+
+
+@pytest.fixture(scope="module")
+def trained():
+    """One trained algorithm shared by the tests that only re-evaluate it."""
+    alg = make_alg()
+    progress: list[float] = []
+    alg.AddObserver("ProgressEvent", lambda obj, event: progress.append(obj.GetProgress()))
+    alg.Update()
+    return alg, progress
+
+
+def test_pipeline_output(trained):
+    alg, progress = trained
+    assert alg.GetLastError() == ""
+    grid = alg.GetOutput()
+    assert grid.GetClassName() == "vtkStructuredGrid"
+    assert grid.GetExtent() == (0, 40, 0, 20, 0, 0) and grid.GetNumberOfPoints() == 41 * 21
+    for name in ("MaxIncludedAngle", "MinIncludedAngle", "ScaledJacobian", "Folded"):
+        assert grid.GetCellData().GetArray(name).GetNumberOfTuples() == 40 * 20
+    fd = grid.GetFieldData()
+    assert fd.GetAbstractArray("Method").GetValue(0) == "pinn"
+    assert fd.GetArray("Loss_total").GetNumberOfTuples() > 0
+    assert field(alg, "Trained") == 1 and alg.GetTrainingCount() == 1
+    assert progress[0] == 0.0 and progress[-1] == 1.0 and len(progress) >= 4
+    assert progress == sorted(progress)
+
+
+def test_whole_extent_in_request_information():
+    alg = make_alg(method="tfi")
+    alg.SetGridSize(17, 9)
+    alg.UpdateInformation()
+    info = alg.GetOutputInformation(0)
+    assert info.Get(vtkStreamingDemandDrivenPipeline.WHOLE_EXTENT()) == (0, 16, 0, 8, 0, 0)
+
+
+def test_grid_size_change_reevaluates_without_training(trained):
+    alg, _ = trained
+    before = points(alg)
+    alg.SetGridSize(81, 41)
+    alg.Update()
+    assert alg.GetOutput().GetExtent() == (0, 80, 0, 40, 0, 0)
+    assert field(alg, "Trained") == 0 and alg.GetTrainingCount() == 1
+    fine = points(alg).reshape(41, 81, 3)
+    np.testing.assert_allclose(fine[::2, ::2].reshape(-1, 3), before, atol=1e-12)
+    alg.SetGridSize(41, 21)  # and back: still the same network
+    alg.Update()
+    np.testing.assert_array_equal(points(alg), before)
+    assert alg.GetTrainingCount() == 1
+
+
+def test_training_setting_change_retrains():
+    alg = make_alg(case="wavy", aux=False, method="mgnet", adam_epochs=20, lbfgs_iterations=0)
+    alg.Update()
+    alg.SetSeed(1)
+    alg.Update()
+    assert field(alg, "Trained") == 1 and alg.GetTrainingCount() == 2
+    alg.SetSeed(0)  # the first network is still cached
+    alg.Update()
+    assert field(alg, "Trained") == 0 and alg.GetTrainingCount() == 2
+
+
+def test_several_aux_connections_equal_one_input_with_several_lines(trained):
+    alg, _ = trained
+    alg.SetGridSize(41, 21)
+    alg.Update()
+    split = PinnMeshAlgorithm()
+    connect(split, 0, reader("fig2.vtp"))
+    lines = reader("fig2_aux.vtp")
+    lines.Update()
+    aux = lines.GetOutput()
+    assert aux.GetNumberOfCells() == 2
+    for k in range(2):  # each auxiliary polyline through its own connection
+        ids = aux.GetCell(k).GetPointIds()
+        source = vtkPolyLineSource()
+        source.SetNumberOfPoints(ids.GetNumberOfIds())
+        for i in range(ids.GetNumberOfIds()):
+            source.SetPoint(i, *aux.GetPoint(ids.GetId(i)))
+        connect(split, 1, source, add=True)
+    for name, value in SHORT.items():
+        split.SetSetting(name, value)
+    split.Update()
+    assert split.GetLastError() == "" and field(split, "Trained") == 1
+    np.testing.assert_allclose(points(split), points(alg), atol=1e-9)
+
+
+def test_bad_boundary_empty_output_one_message_then_recovers():
+    alg = make_alg(case="fig2", aux=False)
+    connect(alg, 0, reader("fig2_aux.vtp"))  # two open polylines
+    with Errors(alg) as errors:
+        alg.Update()
+        alg.Update()  # nothing changed: not repeated
+    assert alg.GetOutput().GetNumberOfPoints() == 0
+    expected = ("PINN Structured Mesh: boundary input: holds 2 separate curves; the boundary "
+                "must be one closed polyline")
+    assert errors.lines == [expected] and errors.events == [expected]
+    assert alg.GetLastError() == expected
+    connect(alg, 0, reader("fig2.vtp"))
+    alg.SetMethod("tfi")
+    alg.Update()
+    assert alg.GetLastError() == "" and alg.GetOutput().GetNumberOfPoints() == 41 * 21
+
+
+def test_bad_aux_line_is_named():
+    line = vtkPolyData()
+    src = vtkLineSource()  # from the middle of the domain to far outside
+    src.SetPoint1(0.5, 0.4, 0)
+    src.SetPoint2(9, 9, 0)
+    src.Update()
+    line.DeepCopy(src.GetOutput())
+    alg = make_alg(case="fig2", aux=False)
+    alg.AddInputDataObject(1, line)
+    with Errors(alg) as errors:
+        alg.Update()
+    assert alg.GetOutput().GetNumberOfPoints() == 0
+    assert len(errors.lines) == 1
+    assert errors.lines[0].startswith("PINN Structured Mesh: auxiliary input 0 line 0")
+
+
+def test_failed_training_reported(monkeypatch):
+    from pinn_engine import mesher
+
+    def fail(self, boundary, aux_lines=(), progress=None):
+        raise TrainingError("training diverged (loss nan at Adam epoch 3)")
+
+    monkeypatch.setattr(mesher.Mesher, "fit", fail)
+    alg = make_alg()
+    with Errors(alg) as errors:
+        alg.Update()
+    assert errors.lines == ["PINN Structured Mesh: training diverged (loss nan at Adam epoch 3)"]
+    assert alg.GetOutput().GetNumberOfPoints() == 0
+
+
+def test_invalid_settings_reported():
+    alg = make_alg(method="tfi")
+    alg.SetGridSize(1, 5)
+    with Errors(alg) as errors:
+        alg.Update()
+    assert len(errors.lines) == 1 and "invalid settings: grid size 1 x 5" in errors.lines[0]
+    alg.SetGridSize(5, 5)
+    alg.SetAdamEpochs(-3)
+    with Errors(alg) as errors:
+        alg.Update()
+    assert errors.lines == ["PINN Structured Mesh: invalid settings: adam_epochs must not be "
+                            "negative"]
+
+
+def test_abort_cancels_training_and_next_update_runs():
+    alg = make_alg(adam_epochs=2000, lbfgs_iterations=0)
+
+    pressed = []
+
+    def abort(obj, event):  # the user presses "abort" once, during training
+        if obj.GetProgress() > 0.05 and not pressed:
+            pressed.append(obj.GetProgress())
+            obj.SetAbortExecute(1)
+
+    tag = alg.AddObserver("ProgressEvent", abort)
+    with Errors(alg) as errors:
+        alg.Update()
+        alg.Update()  # nothing changed: no new training, no second message
+    assert alg.GetOutput().GetNumberOfPoints() == 0
+    assert len(errors.lines) == 1 and "training cancelled during adam" in errors.lines[0]
+    assert alg.GetTrainingCount() == 0 and pressed[0] < 0.2
+    alg.RemoveObserver(tag)
+    alg.SetAdamEpochs(60)
+    alg.Update()
+    assert alg.GetLastError() == "" and alg.GetOutput().GetNumberOfPoints() == 41 * 21
+
+
+def test_corners_and_choices():
+    alg = make_alg(case="wavy", aux=False, method="tfi")
+    alg.Update()
+    auto = points(alg)
+    from pinn_engine.fileio import read_boundary_points
+    from pinn_engine.geometry import detect_corners
+
+    ring = read_boundary_points(EXAMPLES / "wavy.vtp")
+    alg.SetCorners(*(int(i) for i in detect_corners(ring)))
+    alg.Update()
+    np.testing.assert_allclose(points(alg), auto, atol=1e-12)
+    alg.SetCorners(0, 1, 2, 3)  # not four corners of this boundary: still a grid or an error
+    alg.Update()
+    alg.SetCorners(None)
+    assert alg.GetCorners() is None
+    alg.SetMethod(3)
+    assert alg.GetMethod() == "elliptic"
+    alg.SetPreset("paper")
+    assert alg.GetSettings().boundary_fit == "tree" and alg.GetSettings().adam_epochs == 60
+    with pytest.raises(ValueError):
+        alg.SetMethod("magic")
+
+
+def test_import_needs_no_torch_nor_pyvista():
+    code = ("import sys, pinn_engine.algorithm as a; a.PinnMeshAlgorithm(); "
+            "print(sorted(m for m in ('torch', 'pyvista') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True,
+                         timeout=120, check=True).stdout
+    assert out.strip() == "[]"

@@ -1,0 +1,140 @@
+"""The ParaView route, in a real ParaView (Debian's ``paraview`` package, pvpython).
+
+The pvpython scripts in ``tests/paraview_scripts`` run through ``scripts/pvenv.sh`` on a clean
+copy of the checkout (tracked and unignored files only; no ``.venv``, no egg-info), with the
+repository root left off PYTHONPATH: the plugin must find ``pinn_engine`` by itself.
+``bash scripts/setup_paraview.sh`` installs ParaView and ``.venv-pv``; without them these
+tests are skipped with the reason.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+from conftest import ROOT
+
+pytestmark = pytest.mark.paraview
+
+VENV_PV = Path(os.environ.get("PINN_PV_VENV", ROOT / ".venv-pv"))
+TIMEOUT = 240
+
+
+def _missing() -> str | None:
+    if shutil.which("pvpython") is None:
+        return "ParaView's pvpython is not installed (bash scripts/setup_paraview.sh installs it)"
+    if not (VENV_PV / "bin" / "python").exists():
+        return f"{VENV_PV} is missing (bash scripts/setup_paraview.sh creates it)"
+    return None
+
+
+if _missing():
+    pytest.skip(_missing(), allow_module_level=True)
+
+
+@pytest.fixture(scope="module")
+def checkout(tmp_path_factory) -> Path:
+    """A clean copy of the working tree: what ``git clone`` plus local edits would give."""
+    dest = tmp_path_factory.mktemp("pv") / "checkout"
+    try:
+        listed = subprocess.run(["git", "ls-files", "-co", "--exclude-standard", "-z"], cwd=ROOT,
+                                capture_output=True, check=True, timeout=60).stdout
+        files = [f for f in listed.decode().split("\0") if f]
+    except (OSError, subprocess.CalledProcessError):
+        files = [str(p.relative_to(ROOT)) for d in ("pinn_engine", "plugin", "paraview_support",
+                                                     "scripts", "example_data", "tests")
+                 for p in (ROOT / d).rglob("*") if p.is_file() and "__pycache__" not in p.parts]
+    for name in files:
+        src = ROOT / name
+        if src.is_file():
+            (dest / name).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(src, dest / name)
+    return dest
+
+
+def run_pvpython(checkout: Path, script: str, *args: str, **env_extra: str) -> dict:
+    env = dict(os.environ, PINN_PV_VENV=str(VENV_PV), PINN_PV_NO_REPO_PATH="1",
+               PINN_PV_NO_XVFB="1", **env_extra)  # pipeline work only: no X server needed
+    env.pop("PYTHONPATH", None)
+    cmd = ["bash", str(checkout / "scripts" / "pvenv.sh"), "pvpython",
+           str(checkout / "tests" / "paraview_scripts" / script), *args]
+    proc = subprocess.run(cmd, cwd=checkout.parent, env=env, capture_output=True, text=True,
+                          timeout=TIMEOUT)
+    lines = [ln for ln in proc.stdout.splitlines() if ln.startswith("RESULT ")]
+    assert proc.returncode == 0 and lines, (
+        f"{script} failed (rc {proc.returncode})\nstdout:\n{proc.stdout[-3000:]}\n"
+        f"stderr:\n{proc.stderr[-3000:]}")
+    return json.loads(lines[-1][len("RESULT "):])
+
+
+@pytest.fixture(scope="module")
+def filter_run(checkout) -> dict:
+    return run_pvpython(checkout, "check_filter.py", str(checkout / "example_data"))
+
+
+def test_plugin_autoloads_from_clean_checkout(filter_run, checkout):
+    assert not filter_run["pinn_engine_on_pythonpath"]
+    assert Path(filter_run["pinn_engine_file"]).is_relative_to(checkout)
+    assert filter_run["label"] == "PINN Structured Mesh"
+    assert filter_run["menu_category"] == "Mesh Generation"
+    assert not filter_run["torch_after_load"]  # torch only when training
+
+
+def test_filter_output_with_aux_lines(filter_run):
+    first = filter_run["first"]
+    assert first["class"] == "vtkStructuredGrid"
+    assert first["extent"] == [0, 40, 0, 20, 0, 0] and first["points"] == 41 * 21
+    assert filter_run["whole_extent"] == [0, 40, 0, 20, 0, 0]
+    for name in ("MaxIncludedAngle", "MinIncludedAngle", "ScaledJacobian", "Folded"):
+        assert name in first["cell_arrays"]
+    assert first["method"] == "pinn" and first["trained"] == 1
+    low, high, count = filter_run["progress"]
+    assert low == 0.0 and high == 1.0 and count >= 3
+
+
+def test_grid_size_change_does_not_retrain(filter_run):
+    resized = filter_run["resized"]
+    assert resized["extent"] == [0, 60, 0, 30, 0, 0] and resized["points"] == 61 * 31
+    assert resized["trained"] == 0 and resized["training_count"] == 1
+    assert filter_run["resized_seconds"] < filter_run["first_seconds"]
+
+
+def test_aux_lines_as_several_inputs(filter_run):
+    assert filter_run["two_inputs"]["trained"] == 1
+    assert filter_run["two_inputs_max_diff"] < 1e-9  # same lines, same seed: same grid
+
+
+def test_bad_boundary_gives_empty_output_and_one_message(filter_run):
+    assert filter_run["bad"] == {"points": 0, "class": "vtkStructuredGrid"}
+    messages = [ln for ln in filter_run["bad_vtk_text"].splitlines() if ln.strip()]
+    assert messages == ["PINN Structured Mesh: boundary input: holds 2 separate curves; the "
+                        "boundary must be one closed polyline"]
+    assert "Traceback" not in filter_run["bad_stderr"]
+    recovered = filter_run["recovered"]  # ParaView goes on
+    assert recovered["points"] == 41 * 21 and recovered["trained"] == 1
+
+
+def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
+    empty = tmp_path / "no_plugins"
+    empty.mkdir()
+    result = run_pvpython(checkout, "check_load_plugin.py",
+                          str(checkout / "plugin" / "pinn_mesh_plugin.py"),
+                          str(checkout / "example_data"), PINN_PV_PLUGIN_PATH=str(empty))
+    assert not result["before_load"] and result["after_load"]
+    assert result["property_order"][1:] == [
+        "Input", "AuxiliaryLines", "Method", "GridSize", "Preset", "AdamEpochs",
+        "LBFGSIterations", "HiddenLayers", "Neurons", "Lambda2", "Seed", "CornerIndices"]
+    assert result["methods"] == ["pinn", "mgnet", "tfi", "elliptic"]
+    assert result["aux_optional"]
+    assert result["grid"] == {"class": "vtkStructuredGrid", "extent": [0, 30, 0, 15, 0, 0],
+                              "max_angle": True, "method": "elliptic"}
+    assert not result["torch_after_load"] and not result["torch_at_end"]
+
+
+def test_plugin_folder_holds_only_the_plugin():
+    assert sorted(p.name for p in (ROOT / "plugin").iterdir()
+                  if p.name != "__pycache__") == ["pinn_mesh_plugin.py"]
