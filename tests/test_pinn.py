@@ -173,3 +173,25 @@ def test_cli_pinn_with_save_and_load(tmp_path, capsys):
     assert main([str(EXAMPLES / "fig2.vtp"), "--load-model", str(model), "-o",
                  str(tmp_path / "c.vts")]) == 2
     assert "different boundary" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("kind", ["shortcut", "mlp"])
+@pytest.mark.parametrize("mode", ["hard", "penalty"])
+def test_fast_path_residuals_and_gradients_equal_the_autograd_reference(fig2, kind, mode):
+    boundary, _ = fig2
+    torch.manual_seed(1)
+    net = CoordinateNet(kind, 4, 12).double()
+    mapping = Mapping(net, boundary, mode)
+    x = torch.rand(40, 2, dtype=torch.float64)
+    base = torch.as_tensor(mapping.tfi_jet(x.numpy())) if mode == "hard" else None
+    results = []
+    for fast in (True, False):
+        net.zero_grad()
+        jet = mapping.jet(x, base, fast=fast)
+        loss_eqns(jet).backward()
+        results.append((winslow_residual(jet).detach(),
+                        [p.grad.clone() for p in net.parameters()]))
+    (r_fast, g_fast), (r_ref, g_ref) = results
+    torch.testing.assert_close(r_fast, r_ref, rtol=1e-10, atol=1e-12)
+    for a, b in zip(g_fast, g_ref):
+        torch.testing.assert_close(a, b, rtol=1e-9, atol=1e-12)
