@@ -75,14 +75,6 @@ class _Problem:
     def tensor(self, a) -> torch.Tensor:
         return torch.as_tensor(np.asarray(a), dtype=self.dtype, device=self.device)
 
-    def to(self, dtype: torch.dtype) -> None:
-        """Switch the precision of everything sampled from now on (mixed precision)."""
-        self.dtype = dtype
-        if self.n_aux:
-            self.aux_x, self.aux_y = self.aux_x.to(dtype), self.aux_y.to(dtype)
-            if self.aux_base is not None:
-                self.aux_base = self.aux_base.to(dtype)
-
     def sample(self, n: int, n_side: int) -> tuple:
         """``n`` uniform random interior points (with the TFI jet there in hard mode) and,
         in penalty mode, ``n_side`` random points per side with their boundary-fit targets."""
@@ -163,8 +155,7 @@ def _notify(progress, phase: str, step: int, total_steps: int, history: _History
 def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
           progress: Callable[[dict], bool | None] | None = None) -> TrainedModel:
     """Train the networks for ``boundary`` (working frame) and return the trained model."""
-    # "mixed": Adam in float32 (noisy steps do not need more), L-BFGS polishes in float64
-    dtype = torch.float64 if settings.dtype == "float64" else torch.float32
+    dtype = {"float64": torch.float64, "float32": torch.float32}[settings.dtype]
     device = pick_device(settings.device)
     threads = torch.get_num_threads()
     if device.type == "cpu":
@@ -180,9 +171,6 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
         history = _History()
         lambda1 = 1.0 if settings.boundary == "penalty" else 0.0
         lambda1, recoveries = _adam(net, problem, settings, history, lambda1, progress)
-        if settings.dtype == "mixed":
-            net.to(torch.float64)
-            problem.to(torch.float64)
         lbfgs_ok, lbfgs_iterations = _lbfgs(net, problem, settings, history, lambda1, progress)
     finally:
         torch.set_num_threads(threads)
