@@ -11,6 +11,11 @@ from .fileio import RawLine
 from .geometry import Boundary, Polyline, _segments_cross
 
 END_TOL = 1e-2  # an end lies on a side within this fraction of the bounding-box diagonal
+# Where two auxiliary lines cross, the (xi, eta) that each gives the crossing point may differ
+# by at most this much (max-norm, computational units): the SPEC 2 arc-length rule is only
+# approximately consistent (the example lines differ by up to 0.15), a larger mismatch means
+# lines drawn in an order the map cannot follow without folding.
+CROSS_TOL = 0.25
 SAMPLES_PER_LINE = 101
 OPPOSITE = {"bottom": "top", "top": "bottom", "left": "right", "right": "left"}
 
@@ -94,7 +99,70 @@ def map_line(raw: RawLine, boundary: Boundary, end_tol: float = END_TOL) -> AuxL
     return AuxLine(raw.name, line.at(t), xi_eta, (s0, s1))
 
 
+def _crossings(a: AuxLine, b: AuxLine) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """Points where lines ``a`` and ``b`` meet: (point, (xi, eta) by a, (xi, eta) by b)."""
+    p, r = a.xy[:-1, None], np.diff(a.xy, axis=0)[:, None]
+    q, s = b.xy[None, :-1], np.diff(b.xy, axis=0)[None]
+
+    def cross(u, v):
+        return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
+
+    den, qp = cross(r, s), q - p
+    scale = np.linalg.norm(r, axis=-1) * np.linalg.norm(s, axis=-1)
+    parallel = np.abs(den) <= 1e-12 * scale
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u = np.where(parallel, 0.0, cross(qp, s) / den)
+        v = np.where(parallel, 0.0, cross(qp, r) / den)
+    hit = ~parallel & (u >= 0) & (u <= 1) & (v >= 0) & (v <= 1)
+    if np.any(parallel):  # collinear overlaps: use a's segment start projected onto b
+        on = parallel & (np.abs(cross(qp, r)) <= 1e-12 * np.maximum(scale, 1e-300))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            v_par = np.einsum("ijk,ijk->ij", p - q, np.broadcast_to(s, qp.shape)) / np.maximum(
+                np.einsum("ijk,ijk->ij", np.broadcast_to(s, qp.shape),
+                          np.broadcast_to(s, qp.shape)), 1e-300)
+        on &= (v_par >= 0) & (v_par <= 1)
+        v = np.where(on, v_par, v)
+        hit |= on
+    out = []
+    for i, j in zip(*np.nonzero(hit)):
+        ui, vj = float(u[i, j]), float(v[i, j])
+        point = a.xy[i] + ui * (a.xy[i + 1] - a.xy[i])
+        xa = a.xi_eta[i] + ui * (a.xi_eta[i + 1] - a.xi_eta[i])
+        xb = b.xi_eta[j] + vj * (b.xi_eta[j + 1] - b.xi_eta[j])
+        out.append((point, xa, xb))
+    return out
+
+
+def check_crossings(lines: list[AuxLine], boundary: Boundary, tol: float = CROSS_TOL) -> None:
+    """Refuse two lines that cross where they disagree about the crossing's (xi, eta).
+
+    Every crossing point of two auxiliary lines gets a computational position from each line;
+    if the two differ by more than ``tol`` (e.g. two bottom-to-top lines in one order at the
+    bottom and the other order at the top that cross far from where their computational
+    images cross, or a bottom-top and a left-right line that cross more than once), no
+    unfolded map can honour both lines, and :class:`InputError` names both.
+    """
+    for k, a in enumerate(lines):
+        lo_a, hi_a = a.xy.min(axis=0), a.xy.max(axis=0)
+        for b in lines[k + 1:]:
+            if np.any(b.xy.min(axis=0) > hi_a) or np.any(b.xy.max(axis=0) < lo_a):
+                continue
+            for point, xa, xb in _crossings(a, b):
+                if np.abs(xa - xb).max() > tol:
+                    user = boundary.frame.to_user(point)
+                    raise InputError(
+                        f"auxiliary lines {a.name!r} and {b.name!r} cross inconsistently: at "
+                        f"({user[0]:.6g}, {user[1]:.6g}) the first gives (xi, eta) = "
+                        f"({xa[0]:.3f}, {xa[1]:.3f}) and the second ({xb[0]:.3f}, "
+                        f"{xb[1]:.3f}), more than {tol:g} apart; redraw or drop one of them")
+
+
 def map_lines(raws: list[RawLine], boundary: Boundary, end_tol: float = END_TOL
               ) -> list[AuxLine]:
-    """Map every auxiliary line; raises :class:`InputError` naming the first bad one."""
-    return [map_line(r, boundary, end_tol) for r in raws]
+    """Map every auxiliary line and check that they cross consistently.
+
+    Raises :class:`InputError` naming the first bad line, or both lines of a bad crossing.
+    """
+    lines = [map_line(r, boundary, end_tol) for r in raws]
+    check_crossings(lines, boundary)
+    return lines

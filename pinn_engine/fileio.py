@@ -7,22 +7,28 @@ from __future__ import annotations
 
 import contextlib
 import os
+import re
+import signal
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkCommonCore import vtkObject
+from vtkmodules.vtkCommonCore import vtkLogger, vtkObject, vtkOutputWindow, vtkStringOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 from vtkmodules.vtkFiltersCore import vtkStripper
 from vtkmodules.vtkIOLegacy import vtkPolyDataReader
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader, vtkXMLStructuredGridWriter
 
 from .errors import InputError
+from .geometry import MAX_POINTS
 
 BOUNDARY_FORMATS = (".vtp", ".vtk", ".csv", ".txt")
 AUX_FORMATS = (".vtp", ".vtk")
+MAX_FILE_BYTES = 256 * 1024 * 1024  # larger inputs are refused before reading
+# z counts as constant when its range is below this fraction of the x-y extent (CAD noise).
+Z_TOL = 1e-6
 
 
 @dataclass(frozen=True)
@@ -54,25 +60,187 @@ def _check_file(path: Path, formats: tuple[str, ...]) -> str:
     if path.suffix.lower() not in formats:
         raise InputError(f"unknown format {path.suffix or '(none)'!r}; use one of "
                          + ", ".join(formats), src)
-    if path.stat().st_size == 0:
+    try:
+        size = path.stat().st_size
+        with open(path, "rb"):
+            pass
+    except OSError as exc:
+        raise InputError(f"cannot be read ({exc.strerror or exc})", src) from None
+    if size == 0:
         raise InputError("file is empty", src)
+    if size > MAX_FILE_BYTES:
+        raise InputError(f"file is too large ({size / 2**20:.0f} MiB; at most "
+                         f"{MAX_FILE_BYTES // 2**20} MiB)", src)
     return src
+
+
+@contextlib.contextmanager
+def _captured_vtk_errors():
+    """Collect VTK's error text (also its logger's) instead of printing it; yields a getter."""
+    previous_window = vtkOutputWindow.GetInstance()
+    window = vtkStringOutputWindow()
+    previous_display = vtkObject.GetGlobalWarningDisplay()
+    previous_verbosity = vtkLogger.GetCurrentVerbosityCutoff()  # the stderr sink's level
+    vtkOutputWindow.SetInstance(window)
+    vtkObject.GlobalWarningDisplayOn()
+    vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
+
+    def first_error() -> str | None:
+        text = window.GetOutput() or ""
+        if isinstance(text, bytes):  # VTK hands back bytes when the text is not UTF-8
+            text = text.decode("utf-8", errors="replace")
+        found = re.search(r"ERROR:[^\n]*\n[^\n]*?\): ([^\n]*)", text)
+        if not found and "ERROR" not in text:
+            return None
+        message = found.group(1) if found else text
+        message = "".join(c if c.isprintable() and c.isascii() else "?" for c in message)
+        return " ".join(message.split())[:100] or "error"
+
+    try:
+        yield first_error
+    finally:
+        vtkOutputWindow.SetInstance(previous_window)
+        vtkObject.SetGlobalWarningDisplay(previous_display)
+        vtkLogger.SetStderrVerbosity(previous_verbosity)
+
+
+PROBE_TIMEOUT = 60.0  # seconds a probing read may take before the file counts as damaged
+
+
+def _limit_memory(extra: int) -> None:
+    """Cap this process's address space at its current size plus ``extra`` bytes (Linux)."""
+    try:
+        import resource
+
+        with open("/proc/self/statm") as f:
+            current = int(f.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
+        resource.setrlimit(resource.RLIMIT_AS, (current + extra, resource.RLIM_INFINITY))
+    except (ImportError, OSError, ValueError):
+        pass
+
+
+def _forked(function, timeout: float | None = None, memory: int | None = None) -> str | None:
+    """Run ``function()`` in a forked child process and wait for it, staying interruptible.
+
+    Returns None when the child ended normally and ``function`` returned None or True; the
+    text that ``function`` returned; or what happened to the child. On Ctrl-C or SIGTERM in
+    the parent, or after ``timeout`` seconds, the child is killed. ``memory`` caps the child's
+    extra address space, so that a damaged size field fails fast instead of swapping. The
+    child leaves with ``os._exit``: no Python clean-up runs twice.
+    """
+    import time
+
+    read_end, write_end = os.pipe()
+    held = {signal.SIGINT, signal.SIGTERM}
+    # Hold the signals over the fork: a Ctrl-C landing in Python's fork hooks would be
+    # swallowed there ("Exception ignored"); held, it reaches the parent's wait loop below.
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    try:
+        pid = os.fork()
+    except BaseException:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+        raise
+    if pid == 0:  # the child (it starts with no pending signals)
+        code = 1
+        try:
+            import faulthandler
+
+            signal.signal(signal.SIGINT, signal.SIG_DFL)
+            signal.signal(signal.SIGTERM, signal.SIG_DFL)
+            signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+            os.close(read_end)
+            faulthandler.disable()
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, 1)
+            os.dup2(devnull, 2)
+            if memory:
+                _limit_memory(memory)
+            answer = function()
+            if isinstance(answer, str):
+                os.write(write_end, answer.encode("utf-8", "replace")[:4000])
+                code = 3
+            else:
+                code = 0 if answer in (None, True) else 1
+        finally:
+            os._exit(code)
+    deadline = time.monotonic() + timeout if timeout else None
+    delay, done, status = 0.001, 0, 0
+    try:
+        os.close(write_end)
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)  # a held Ctrl-C lands here
+        while True:
+            done, status = os.waitpid(pid, os.WNOHANG)
+            if done:
+                break
+            if deadline is not None and time.monotonic() > deadline:
+                return f"did not finish in {timeout:g} s"
+            time.sleep(delay)
+            delay = min(delay * 2, 0.05)
+        message = os.read(read_end, 4096).decode("utf-8", "replace")
+    finally:
+        os.close(read_end)
+        if not done:
+            with contextlib.suppress(OSError):
+                os.kill(pid, signal.SIGKILL)
+                os.waitpid(pid, 0)
+    if os.WIFSIGNALED(status):
+        return f"crashed ({signal.Signals(os.WTERMSIG(status)).name})"
+    code = os.WEXITSTATUS(status)
+    if code == 3:
+        return message
+    return None if code == 0 else f"failed (status {code})"
+
+
+def _probe_read(path: Path) -> str | None:
+    """Read ``path`` with VTK in a forked child first; what is wrong with it, if anything.
+
+    VTK's readers can abort the whole process (``std::bad_alloc`` on a damaged size field) or
+    crash on a malformed file. A probe in a child process, with a memory cap, turns that into
+    a clear error instead of a crash or a long stall. Where ``fork`` is missing (Windows) no
+    probe is made.
+    """
+    if not hasattr(os, "fork") or os.environ.get("PINN_MESH_NO_FORK"):
+        return None
+
+    def read() -> str | None:
+        with _captured_vtk_errors() as vtk_error:
+            _vtk_reader(path).Update()
+            error = vtk_error()
+        return f"VTK: {error}" if error else None
+
+    memory = 2**30 + 64 * path.stat().st_size
+    problem = _forked(read, PROBE_TIMEOUT, memory)
+    if problem is None or problem.startswith("failed"):  # the probe itself could not run
+        return None
+    if problem.startswith("crashed") or problem.startswith("did not"):
+        return f"VTK's reader {problem} on it"
+    return problem
+
+
+def _vtk_reader(path: Path):
+    reader = vtkXMLPolyDataReader() if path.suffix.lower() == ".vtp" else vtkPolyDataReader()
+    reader.SetFileName(str(path))
+    return reader
 
 
 def read_polydata(path: Path) -> vtkPolyData:
     """Read a ``.vtp`` or legacy ``.vtk`` polydata file."""
     src = str(path)
-    reader = vtkXMLPolyDataReader() if path.suffix.lower() == ".vtp" else vtkPolyDataReader()
-    with _quiet_vtk():
+    reader = _vtk_reader(path)
+    with _captured_vtk_errors():
         if isinstance(reader, vtkPolyDataReader):
-            reader.SetFileName(src)
             if not reader.IsFilePolyData():
                 raise InputError("not a VTK polydata file", src)
-        else:
-            if not reader.CanReadFile(src):
-                raise InputError("not a VTK XML polydata file", src)
-            reader.SetFileName(src)
+        elif not reader.CanReadFile(src):
+            raise InputError("not a VTK XML polydata file", src)
+    problem = _probe_read(path)
+    if problem:
+        raise InputError(f"is damaged or unreadable ({problem})", src)
+    with _captured_vtk_errors() as vtk_error:
         reader.Update()
+        error = vtk_error()
+    if error:
+        raise InputError(f"is damaged or unreadable (VTK: {error})", src)
     out = reader.GetOutput()
     if out is None or out.GetNumberOfPoints() == 0:
         raise InputError("holds no points", src)
@@ -80,51 +248,73 @@ def read_polydata(path: Path) -> vtkPolyData:
 
 
 def _xy(points: np.ndarray, source: str) -> np.ndarray:
+    """The x, y columns; a z column must be constant (to ``Z_TOL`` of the x-y extent)."""
+    if len(points) > MAX_POINTS:
+        raise InputError(f"holds {len(points)} points; at most {MAX_POINTS} are accepted "
+                         "(resample it)", source)
+    xy = np.ascontiguousarray(points[:, :2], dtype=float)
     if points.shape[1] == 3:
         z = points[:, 2]
-        finite = np.isfinite(z)
-        if finite.any() and np.ptp(z[finite]) > 1e-9 * max(1.0, float(np.abs(z[finite]).max())):
-            raise InputError("z is not constant; the domain must lie in a plane z = const",
-                             source)
-    return np.ascontiguousarray(points[:, :2], dtype=float)
+        if not np.all(np.isfinite(z)):
+            bad = int(np.flatnonzero(~np.isfinite(z))[0])
+            raise InputError(f"point {bad} has a non-finite z (NaN or infinity)", source)
+        finite = np.isfinite(xy).all(axis=1)
+        extent = float(np.ptp(xy[finite], axis=0).max()) if finite.any() else 0.0
+        with np.errstate(over="ignore", invalid="ignore"):
+            spread = float(np.ptp(z))
+            limit = Z_TOL * max(extent, float(np.spacing(np.abs(z).max())) * 1e6)
+        if not spread <= limit:
+            raise InputError(f"z is not constant (it ranges over {spread:.3g}); the domain must "
+                             "lie in a plane z = const", source)
+    return xy
 
 
-def polylines_of(poly: vtkPolyData) -> list[tuple[np.ndarray, bool]]:
+def _cell_ids(cells, npts: int) -> list[np.ndarray]:
+    """Point-id lists of a ``vtkCellArray``, refusing ids outside ``0..npts-1``."""
+    offsets = vtk_to_numpy(cells.GetOffsetsArray()).astype(np.int64)
+    conn = vtk_to_numpy(cells.GetConnectivityArray()).astype(np.int64)
+    if len(conn) and (conn.min() < 0 or conn.max() >= npts):
+        raise ValueError("a cell refers to a point that does not exist")
+    return [conn[offsets[k]:offsets[k + 1]] for k in range(len(offsets) - 1)]
+
+
+def polylines_of(poly: vtkPolyData, source: str = "input") -> list[tuple[np.ndarray, bool]]:
     """Point-id lists of the polylines and polygons in ``poly``, with a closed flag.
 
     Line segments are joined into polylines by ``vtkStripper``.
     """
     found: list[tuple[np.ndarray, bool]] = []
-    polys = poly.GetPolys()
-    if polys is not None and polys.GetNumberOfCells():
-        for k in range(poly.GetNumberOfCells()):
-            cell = poly.GetCell(k)
-            if cell.GetCellDimension() == 2:
-                ids = np.array([cell.GetPointId(i) for i in range(cell.GetNumberOfPoints())])
-                found.append((ids, True))
-    lines = poly.GetLines()
-    if lines is not None and lines.GetNumberOfCells():
+    npts = poly.GetNumberOfPoints()
+    try:
+        polys = [ids for ids in _cell_ids(poly.GetPolys(), npts) if len(ids)] \
+            if poly.GetPolys() is not None else []
+        lines = _cell_ids(poly.GetLines(), npts) if poly.GetLines() is not None else []
+    except ValueError as exc:
+        raise InputError(f"is damaged: {exc}", source) from None
+    found.extend((ids, True) for ids in polys)
+    if lines:
         only_lines = vtkPolyData()
         only_lines.SetPoints(poly.GetPoints())
-        only_lines.SetLines(lines)
+        only_lines.SetLines(poly.GetLines())
         stripper = vtkStripper()
         stripper.SetInputData(only_lines)
         stripper.JoinContiguousSegmentsOn()
-        stripper.Update()
+        with _quiet_vtk():
+            stripper.Update()
         strips = stripper.GetOutput()
-        pts = strips.GetPoints()  # the stripper keeps the input's points and their ids
-        for k in range(strips.GetNumberOfCells()):
-            cell = strips.GetCell(k)
-            ids = np.array([cell.GetPointId(i) for i in range(cell.GetNumberOfPoints())])
-            closed = len(ids) > 2 and (
-                ids[0] == ids[-1] or pts.GetPoint(ids[0]) == pts.GetPoint(ids[-1]))
+        xyz = vtk_to_numpy(strips.GetPoints().GetData())  # the stripper keeps point ids
+        for ids in _cell_ids(strips.GetLines(), strips.GetNumberOfPoints()):
+            if len(ids) == 0:
+                continue
+            closed = len(ids) > 2 and (ids[0] == ids[-1]
+                                       or bool(np.array_equal(xyz[ids[0]], xyz[ids[-1]])))
             found.append((ids, closed))
     return found
 
 
 def boundary_points(poly: vtkPolyData, source: str = "boundary input") -> np.ndarray:
     """The (x, y) ring of the single closed polyline or polygon in ``poly``."""
-    cells = polylines_of(poly)
+    cells = polylines_of(poly, source)
     if not cells:
         raise InputError("holds no polyline or polygon cell", source)
     if len(cells) > 1:
@@ -142,14 +332,18 @@ def boundary_points(poly: vtkPolyData, source: str = "boundary input") -> np.nda
 def read_table(path: Path) -> np.ndarray:
     """Read ``x,y[,z]`` rows (comma or whitespace separated, optional header)."""
     src = str(path)
-    data = path.read_bytes()
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise InputError(f"cannot be read ({exc.strerror or exc})", src) from None
     if b"\0" in data:
         raise InputError("is a binary file, not a text table of x,y rows", src)
     try:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise InputError("is not UTF-8 text; expected rows of x,y", src) from exc
-    rows = []
+    rows: list[list[float]] = []
+    header = False
     for number, line in enumerate(text.splitlines(), start=1):
         line = line.strip()
         if not line or line.startswith("#"):
@@ -158,8 +352,9 @@ def read_table(path: Path) -> np.ndarray:
         try:
             values = [float(f) for f in fields]
         except ValueError:
-            if not rows and number == 1:
-                continue  # a header row
+            if not rows and not header:
+                header = True  # one header row before the data
+                continue
             raise InputError(f"line {number} is not numeric: {line[:40]!r}", src) from None
         if len(values) not in (2, 3):
             raise InputError(f"line {number} has {len(values)} columns; expected x,y or x,y,z",
@@ -168,6 +363,8 @@ def read_table(path: Path) -> np.ndarray:
             raise InputError(f"line {number} has {len(values)} columns, earlier lines "
                              f"{len(rows[0])}", src)
         rows.append(values)
+        if len(rows) > MAX_POINTS:
+            raise InputError(f"holds more than {MAX_POINTS} rows; resample it", src)
     if not rows:
         raise InputError("holds no x,y rows", src)
     return _xy(np.array(rows, dtype=float), src)
@@ -187,11 +384,16 @@ def aux_lines_of(poly: vtkPolyData, source: str = "auxiliary input") -> list[Raw
     pd = poly.GetPointData()
     arrays = [pd.GetArray(n) for n in ("xi", "eta")]
     xi_eta_all = None
-    if all(a is not None for a in arrays):
+    if any(a is not None for a in arrays):
+        if any(a is None for a in arrays):
+            raise InputError("has only one of the point-data arrays xi and eta; give both or "
+                             "neither", source)
+        if any(a.GetNumberOfComponents() != 1 for a in arrays):
+            raise InputError("point-data arrays xi and eta must have one component", source)
         xi_eta_all = np.stack([vtk_to_numpy(a).astype(float) for a in arrays], axis=1)
     pts_all = vtk_to_numpy(poly.GetPoints().GetData()).astype(float)
     lines = []
-    for k, (ids, closed) in enumerate(polylines_of(poly)):
+    for k, (ids, closed) in enumerate(polylines_of(poly, source)):
         name = f"{source} line {k}"
         if closed:
             raise InputError("is a closed curve; an auxiliary line must be open", name)
@@ -214,24 +416,92 @@ def read_aux_lines(path: str | os.PathLike) -> list[RawLine]:
     return aux_lines_of(read_polydata(path), src)
 
 
+@contextlib.contextmanager
+def _signals_deferred():
+    """Hold SIGINT and SIGTERM back (delivered on exit) around a few critical lines."""
+    sigs = {signal.SIGINT, signal.SIGTERM}
+    try:
+        old = signal.pthread_sigmask(signal.SIG_BLOCK, sigs)
+    except (AttributeError, ValueError, OSError):  # no POSIX masks (Windows)
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+def _umask() -> int:
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+@contextlib.contextmanager
+def atomic_path(path: str | os.PathLike, suffix: str = ".part"):
+    """Yield a temporary name next to ``path``; on success it replaces ``path`` atomically.
+
+    On any failure or interruption the temporary file is removed and ``path`` is untouched,
+    so the file is complete or absent, never half-written. Concurrent writers of the same
+    ``path`` each use their own temporary name; the last to finish wins.
+    """
+    path = Path(path)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"cannot create its folder {str(path.parent)!r} "
+                         f"({exc.strerror or exc})", str(path)) from None
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=f".part{suffix}"
+                               if suffix != ".part" else suffix, dir=path.parent)
+    os.close(fd)
+    try:
+        yield Path(tmp)
+        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; give the usual permissions
+        with _signals_deferred():
+            os.replace(tmp, path)
+    finally:
+        with _signals_deferred():
+            with contextlib.suppress(FileNotFoundError):
+                os.unlink(tmp)
+
+
+def write_text_atomic(path: str | os.PathLike, text: str) -> Path:
+    """Write a text file atomically (complete or absent)."""
+    with atomic_path(path) as tmp:
+        tmp.write_text(text)
+    return Path(path)
+
+
 def write_vts(grid: vtkStructuredGrid, path: str | os.PathLike) -> Path:
-    """Write ``grid`` atomically: the file is complete or absent, never half-written."""
+    """Write ``grid`` atomically: the file is complete or absent, never half-written.
+
+    VTK writes a temporary file beside ``path`` that then replaces ``path`` in one step. The
+    writing runs in a forked child process (where ``fork`` exists): VTK's long stretches of
+    C++ cannot be interrupted, a child can, so Ctrl-C or SIGTERM end the command at once.
+    """
     path = Path(path)
     if path.suffix.lower() != ".vts":
         raise InputError("output must be a .vts file", str(path))
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
-    os.close(fd)
-    try:
+    with atomic_path(path) as tmp:
         writer = vtkXMLStructuredGridWriter()
-        writer.SetFileName(tmp)
+        writer.SetFileName(str(tmp))
         writer.SetInputData(grid)
         writer.SetDataModeToAppended()
         writer.SetCompressorTypeToZLib()
-        if writer.Write() != 1:
-            raise OSError(f"VTK could not write {path}")
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+
+        def write() -> bool:
+            with _quiet_vtk():
+                ok = writer.Write() == 1
+            if ok:
+                with open(tmp, "rb+") as f:
+                    os.fsync(f.fileno())
+            return ok
+
+        if hasattr(os, "fork") and not os.environ.get("PINN_MESH_NO_FORK"):
+            problem = _forked(write)
+        else:
+            problem = None if write() else "failed"
+        if problem:
+            raise OSError(f"VTK could not write {path} ({problem}; disk full or not "
+                          "writable?)")
     return path

@@ -12,7 +12,7 @@ import numpy as np
 from .auxlines import AuxLine
 from .boundary_fit import make_fit
 from .elliptic import winslow_solve, winslow_sweeps
-from .errors import PinnMeshError
+from .errors import PinnMeshError, TrainingError
 from .geometry import Boundary
 from .quality import boundary_nodes, cell_quality, summary
 from .settings import Settings, make_settings
@@ -94,6 +94,9 @@ class Mesher:
         start = time.perf_counter()
         unit = self._grid_unit(ni, nj)
         mesh_seconds = time.perf_counter() - start
+        if not np.all(np.isfinite(unit)):
+            raise TrainingError(f"the {self.settings.method} grid has non-finite grid points "
+                                "(training failed); try another seed or fewer epochs")
         deviation = float(self.boundary.deviation(boundary_nodes(unit)).max())
         points = self.boundary.frame.to_user(unit)
         cells = cell_quality(points)

@@ -12,6 +12,7 @@ import torch
 
 from . import __version__
 from .errors import InputError
+from .fileio import atomic_path
 from .geometry import Boundary, Frame
 from .mapping import Mapping
 from .networks import CoordinateNet
@@ -47,11 +48,9 @@ class TrainedModel:
                          "origin": torch.as_tensor(b.frame.origin), "scale": b.frame.scale},
             "history": self.history, "info": self.info,
         }
-        path = Path(path)
-        tmp = path.with_name(f".{path.name}.part")
-        torch.save(payload, tmp)
-        os.replace(tmp, path)
-        return path
+        with atomic_path(path) as tmp:
+            torch.save(payload, tmp)
+        return Path(path)
 
     @classmethod
     def load(cls, path: str | os.PathLike, boundary: Boundary | None = None) -> TrainedModel:

@@ -36,7 +36,13 @@ def pick_device(name: str) -> torch.device:
     """``auto`` picks CUDA when available, else the CPU."""
     if name == "auto":
         return torch.device("cuda" if torch.cuda.is_available() else "cpu")
-    return torch.device(name)
+    try:
+        device = torch.device(name)
+        torch.empty(1, device=device)
+    except (RuntimeError, AssertionError) as exc:
+        raise TrainingError(f"device {name!r} is not available here ({exc}); use auto or cpu"
+                            ) from None
+    return device
 
 
 def side_points(side: str, t: np.ndarray) -> np.ndarray:
@@ -194,13 +200,15 @@ def _adam(net, problem: _Problem, s: Settings, history: _History, lambda1: float
     opt = torch.optim.Adam(net.parameters(), lr=lr, fused=True)
     sched = torch.optim.lr_scheduler.StepLR(opt, step_size=s.lr_decay_every, gamma=s.lr_decay)
     weights = [p for p in net.parameters() if p.ndim >= 2]
-    best, good_state, recoveries = math.inf, copy.deepcopy(net.state_dict()), 0
+    best, recoveries = math.inf, 0
+    good_state, good_lambda1 = copy.deepcopy(net.state_dict()), lambda1
     for epoch in range(1, s.adam_epochs + 1):
         terms = problem.terms(*problem.epoch_batch(epoch))
         if s.boundary == "penalty" and epoch % ANNEAL_EVERY == 1:
             g_eq = torch.autograd.grad(terms["eqns"], weights, retain_graph=True)
             g_bc = torch.autograd.grad(terms["bcs"], weights, retain_graph=True)
-            lambda1 = annealed_lambda(g_eq, g_bc, lambda1, s.anneal_momentum)
+            updated = annealed_lambda(g_eq, g_bc, lambda1, s.anneal_momentum)
+            lambda1 = updated if math.isfinite(updated) else lambda1
         loss = total_loss(terms["eqns"], terms["bcs"], terms["data"], lambda1, s.lambda2)
         value = loss.item()
         if _bad(value, best):
@@ -210,6 +218,7 @@ def _adam(net, problem: _Problem, s: Settings, history: _History, lambda1: float
                                     f"{epoch}) after {MAX_RECOVERIES} recoveries; try a smaller "
                                     "learning rate or another seed")
             net.load_state_dict(good_state)
+            lambda1 = good_lambda1
             for group in opt.param_groups:
                 group["lr"] *= 0.5
             opt.state.clear()
@@ -218,7 +227,7 @@ def _adam(net, problem: _Problem, s: Settings, history: _History, lambda1: float
         if value < best:
             best = value
             if epoch % 100 == 0:
-                good_state = copy.deepcopy(net.state_dict())
+                good_state, good_lambda1 = copy.deepcopy(net.state_dict()), lambda1
         opt.zero_grad(set_to_none=True)
         loss.backward()
         opt.step()
