@@ -48,73 +48,137 @@ ACTIVATIONS = {"tanh": torch.tanh, "sin": torch.sin, "sigmoid": torch.sigmoid,
 Jet = tuple  # six tensors: value, d_xi, d_eta, d_xixi, d_xieta, d_etaeta
 
 
-def _zeros_for_none(grads: tuple, like: torch.Tensor) -> list[torch.Tensor]:
-    return [torch.zeros_like(like) if g is None else g for g in grads]
-
-
-class _ActivationJet(torch.autograd.Function):
-    """Chain rule for a point-wise activation on a jet, with a hand-written backward.
-
-    One autograd node instead of a dozen: the fast path's main saving on small batches.
-    """
-
-    @staticmethod
-    def forward(ctx, name: str, z0, z1, z2, z3, z4, z5):
-        s, d1, d2, d3 = _activation(name, z0)
-        ctx.save_for_backward(z1, z2, z3, z4, z5, d1, d2, d3)
-        return (s, d1 * z1, d1 * z2, d2 * z1 * z1 + d1 * z3, d2 * z1 * z2 + d1 * z4,
-                d2 * z2 * z2 + d1 * z5)
-
-    @staticmethod
-    def backward(ctx, *grads):
-        z1, z2, z3, z4, z5, d1, d2, d3 = ctx.saved_tensors
-        g0, g1, g2, g3, g4, g5 = _zeros_for_none(grads, z1)
-        g_d1 = g1 * z1 + g2 * z2 + g3 * z3 + g4 * z4 + g5 * z5
-        g_d2 = (g3 * z1 + g4 * z2) * z1 + g5 * z2 * z2
-        return (None, g0 * d1 + g_d1 * d2 + g_d2 * d3,
-                g1 * d1 + d2 * (2 * g3 * z1 + g4 * z2), g2 * d1 + d2 * (g4 * z1 + 2 * g5 * z2),
-                g3 * d1, g4 * d1, g5 * d1)
-
-
-class _ProductJet(torch.autograd.Function):
-    """Leibniz rule for the jet of u * w, with a hand-written backward."""
-
-    @staticmethod
-    def forward(ctx, *uw):
-        u, w = uw[:6], uw[6:]
-        ctx.save_for_backward(*uw)
-        return _leibniz(u, w)
-
-    @staticmethod
-    def backward(ctx, *grads):
-        saved = ctx.saved_tensors
-        u, w = saved[:6], saved[6:]
-        g = _zeros_for_none(grads, u[0])
-
-        def wrt(a: Jet) -> list[torch.Tensor]:  # gradient w.r.t. the other factor of a
-            return [g[0] * a[0] + g[1] * a[1] + g[2] * a[2] + g[3] * a[3] + g[4] * a[4]
-                    + g[5] * a[5],
-                    g[1] * a[0] + 2 * g[3] * a[1] + g[4] * a[2],
-                    g[2] * a[0] + g[4] * a[1] + 2 * g[5] * a[2],
-                    g[3] * a[0], g[4] * a[0], g[5] * a[0]]
-
-        return (*wrt(w), *wrt(u))
-
-
 def _leibniz(u: Jet, w: Jet) -> Jet:
     first = tuple(u[c] * w[V] + u[V] * w[c] for c, _ in FIRST)
     second = tuple(u[c] * w[V] + u[a] * w[b] + u[b] * w[a] + u[V] * w[c] for c, a, b in SECOND)
     return (u[V] * w[V], *first, *second)
 
 
-def activation_jet(name: str, z: Jet) -> Jet:
-    """Chain rule for a point-wise activation on a jet."""
-    return _ActivationJet.apply(name, *z)
+def _leibniz_backward(u: Jet, w: Jet, g: Jet) -> tuple[Jet, Jet]:
+    """Gradients of a loss with respect to u and w, given its gradient ``g`` w.r.t. u * w."""
+
+    def wrt(a: Jet) -> Jet:  # gradient w.r.t. the other factor of ``a``
+        return (g[0] * a[0] + g[1] * a[1] + g[2] * a[2] + g[3] * a[3] + g[4] * a[4]
+                + g[5] * a[5],
+                g[1] * a[0] + 2 * g[3] * a[1] + g[4] * a[2],
+                g[2] * a[0] + g[4] * a[1] + 2 * g[5] * a[2],
+                g[3] * a[0], g[4] * a[0], g[5] * a[0])
+
+    return wrt(w), wrt(u)
+
+
+def _activation_forward(name: str, z: Jet) -> tuple[Jet, tuple]:
+    """Chain rule for a point-wise activation on a jet; also returns what backward needs."""
+    s, d1, d2, d3 = _activation(name, z[V])
+    out = (s, d1 * z[1], d1 * z[2], d2 * z[1] * z[1] + d1 * z[3], d2 * z[1] * z[2] + d1 * z[4],
+           d2 * z[2] * z[2] + d1 * z[5])
+    return out, (z, d1, d2, d3)
+
+
+def _activation_backward(saved: tuple, g: Jet) -> Jet:
+    (_, z1, z2, z3, z4, z5), d1, d2, d3 = saved
+    g0, g1, g2, g3, g4, g5 = g
+    g_d1 = g1 * z1 + g2 * z2 + g3 * z3 + g4 * z4 + g5 * z5
+    g_d2 = (g3 * z1 + g4 * z2) * z1 + g5 * z2 * z2
+    return (g0 * d1 + g_d1 * d2 + g_d2 * d3, g1 * d1 + d2 * (2 * g3 * z1 + g4 * z2),
+            g2 * d1 + d2 * (g4 * z1 + 2 * g5 * z2), g3 * d1, g4 * d1, g5 * d1)
+
+
+def _linear(h: torch.Tensor, w: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
+    """One matmul for all six channels (k, 6, B, n); the bias shifts only the value."""
+    z = torch.matmul(h, w.unsqueeze(1))
+    z[:, V] += b
+    return z
+
+
+def _linear_backward(h: torch.Tensor, w: torch.Tensor, g: torch.Tensor, need_input: bool):
+    k = g.shape[0]
+    h = h.expand(k, *h.shape[1:])
+    dw = torch.bmm(h.reshape(k, -1, h.shape[-1]).transpose(1, 2), g.reshape(k, -1, g.shape[-1]))
+    db = g[:, V].sum(dim=1, keepdim=True)
+    dh = torch.matmul(g, w.transpose(1, 2).unsqueeze(1)) if need_input else None
+    return dw, db, dh
+
+
+class _NetworkJet(torch.autograd.Function):
+    """The whole network's jet as one autograd node with a hand-written backward.
+
+    Forward propagates values, first and second derivatives layer by layer (chain and
+    Leibniz rules); backward runs the layers in reverse with the matching formulas. One node
+    instead of hundreds: on batches of ~100 points the autograd bookkeeping, not the
+    arithmetic, is what costs.
+    """
+
+    @staticmethod
+    def forward(ctx, kind: str, name: str, x: torch.Tensor, *params: torch.Tensor):
+        it = iter(params)
+        w_in, b_in = next(it), next(it)
+        shortcut = kind == "shortcut"
+        if shortcut:
+            w_u, b_u, w_v, b_v = next(it), next(it), next(it), next(it)
+        rest = list(it)
+        hidden, (w_out, b_out) = list(zip(rest[:-2:2], rest[1:-2:2])), rest[-2:]
+        xj = torch.stack(input_jet(x)).unsqueeze(0)  # (1, 6, B, 2)
+        h, s_in = _activation_forward(name, _linear(xj, w_in, b_in).unbind(1))
+        saved = {"xj": xj, "s_in": s_in, "layers": []}
+        if shortcut:
+            u, saved["s_u"] = _activation_forward(name, _linear(xj, w_u, b_u).unbind(1))
+            v, saved["s_v"] = _activation_forward(name, _linear(xj, w_v, b_v).unbind(1))
+            diff = tuple(b - a for a, b in zip(u, v))
+            saved["diff"] = diff
+        for w, b in hidden:
+            hs = torch.stack(h, dim=1)
+            a, s_l = _activation_forward(name, _linear(hs, w, b).unbind(1))
+            saved["layers"].append((hs, w, s_l, a))
+            h = tuple(p + q for p, q in zip(u, _leibniz(a, diff))) if shortcut else a
+        hs = torch.stack(h, dim=1)
+        saved["out"] = (hs, w_out)
+        ctx.kind, ctx.shortcut, ctx.weights, ctx.saved = kind, shortcut, params, saved
+        return _linear(hs, w_out, b_out)[..., 0].permute(1, 2, 0).contiguous()
+
+    @staticmethod
+    def backward(ctx, g_out: torch.Tensor):
+        saved, shortcut = ctx.saved, ctx.shortcut
+        params = ctx.weights
+        g = g_out.permute(2, 0, 1).unsqueeze(-1)  # (k, 6, B, 1)
+        hs, w_out = saved["out"]
+        dw_out, db_out, dh = _linear_backward(hs, w_out, g, True)
+        dh = dh.unbind(1)
+        if shortcut:
+            diff = saved["diff"]
+            d_u = [torch.zeros_like(c) for c in dh]
+            d_diff = [torch.zeros_like(c) for c in dh]
+        hidden_grads = []
+        for hs, w, s_l, a in reversed(saved["layers"]):
+            if shortcut:
+                d_u = [p + q for p, q in zip(d_u, dh)]
+                d_a, dd = _leibniz_backward(a, diff, dh)
+                d_diff = [p + q for p, q in zip(d_diff, dd)]
+            else:
+                d_a = dh
+            d_z = torch.stack(_activation_backward(s_l, d_a), dim=1)
+            dw, db, dh_prev = _linear_backward(hs, w, d_z, True)
+            hidden_grads.append((dw, db))
+            dh = dh_prev.unbind(1)
+        xj = saved["xj"]
+        d_z = torch.stack(_activation_backward(saved["s_in"], dh), dim=1)
+        dw_in, db_in, _ = _linear_backward(xj, params[0], d_z, False)
+        grads = [dw_in, db_in]
+        if shortcut:
+            d_v = d_diff
+            d_u_total = [p - q for p, q in zip(d_u, d_diff)]
+            for s_key, d in (("s_u", d_u_total), ("s_v", d_v)):
+                d_z = torch.stack(_activation_backward(saved[s_key], d), dim=1)
+                grads.extend(_linear_backward(xj, params[0], d_z, False)[:2])
+        for dw, db in reversed(hidden_grads):
+            grads.extend([dw, db])
+        grads.extend([dw_out, db_out])
+        return (None, None, None, *grads)
 
 
 def jet_product(u: Jet, w: Jet) -> Jet:
     """Leibniz rule: the jet of u * w from the jets of u and w."""
-    return _ProductJet.apply(*u, *w)
+    return _leibniz(u, w)
 
 
 def input_jet(x: torch.Tensor) -> Jet:
@@ -180,25 +244,13 @@ class CoordinateNet(nn.Module):
 
     def jet(self, x: torch.Tensor) -> torch.Tensor:
         """Values and derivatives in one pass: (B, 2) -> (6, B, 2), channels as ``V..ETAETA``."""
-
-        def linear(h: Jet, w: torch.Tensor, b: torch.Tensor) -> Jet:
-            # one matmul for all six channels; the bias shifts only the value
-            z = torch.matmul(torch.stack(h, dim=-3), w.unsqueeze(-3)).unbind(-3)
-            return (z[V] + b, *z[1:])
-
-        xj = input_jet(x)
-        h = activation_jet(self.activation, linear(xj, self.w_in, self.b_in))
+        params = [self.w_in, self.b_in]
         if self.kind == "shortcut":
-            u = activation_jet(self.activation, linear(xj, self.w_u, self.b_u))
-            v = activation_jet(self.activation, linear(xj, self.w_v, self.b_v))
-            diff = tuple(b - a for a, b in zip(u, v))
+            params += [self.w_u, self.b_u, self.w_v, self.b_v]
         for w, b in zip(self.w_hidden, self.b_hidden):
-            z = activation_jet(self.activation, linear(h, w, b))
-            # paper eq. 14 on jets: H = U + Z (V - U)
-            h = tuple(a + g for a, g in zip(u, jet_product(z, diff))) \
-                if self.kind == "shortcut" else z
-        out = linear(h, self.w_out, self.b_out)  # six (k, B, 1)
-        return torch.stack(out)[..., 0].transpose(1, 2)
+            params += [w, b]
+        params += [self.w_out, self.b_out]
+        return _NetworkJet.apply(self.kind, self.activation, x, *params)
 
 
 def autograd_jet(net: nn.Module, x: torch.Tensor) -> torch.Tensor:
