@@ -10,6 +10,8 @@
 from __future__ import annotations
 
 import copy
+import os
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import torch
@@ -61,27 +63,33 @@ class Mapping:
             return out
         return base + bubble_jet(x)[0] * out
 
-    @torch.no_grad()
-    def grid(self, ni: int, nj: int, chunk: int = 1 << 16) -> np.ndarray:
+    def grid(self, ni: int, nj: int, chunk: int = 1 << 15) -> np.ndarray:
         """Grid (nj, ni, 2) in the working frame, feed-forward, boundary exact in hard mode.
 
-        The network runs in float32 (node positions need ~1e-7 of the domain, not 1e-16);
-        the TFI base, and so the boundary, stays exact in float64.
+        The network runs in float32 (node positions need ~1e-7 of the domain, not 1e-16) on
+        chunks of points, one chunk per core at a time, each op on one thread: measured
+        steadier than torch's own threads when other work shares the cores. The TFI base,
+        and so the boundary, stays exact in float64.
         """
         xi, eta = node_params(ni), node_params(nj)
         pts = np.stack(np.meshgrid(xi, eta), axis=-1).reshape(-1, 2)
         p = next(self.net.parameters())
         net = copy.deepcopy(self.net).float() if p.dtype != torch.float32 else self.net
         out = np.empty_like(pts)
+
+        @torch.no_grad()
+        def run(start: int) -> None:
+            x = torch.as_tensor(pts[start:start + chunk], dtype=torch.float32, device=p.device)
+            y = net(x)
+            if self.mode == "hard":
+                y = 16 * (x[:, :1] * (1 - x[:, :1]) * x[:, 1:] * (1 - x[:, 1:])) * y
+            out[start:start + chunk] = y.cpu().numpy()
+
         threads = torch.get_num_threads()
-        torch.set_num_threads(1)  # measured: steadier, and as fast, as 2 threads on 2 cores
+        torch.set_num_threads(1)
         try:
-            for s in range(0, len(pts), chunk):
-                x = torch.as_tensor(pts[s:s + chunk], dtype=torch.float32, device=p.device)
-                y = net(x)
-                if self.mode == "hard":
-                    y = bubble_jet(x)[0] * y
-                out[s:s + chunk] = y.cpu().numpy()
+            with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
+                list(pool.map(run, range(0, len(pts), chunk)))
         finally:
             torch.set_num_threads(threads)
         out = out.reshape(nj, ni, 2)
