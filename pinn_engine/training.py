@@ -205,9 +205,13 @@ def _adam(net, problem: _Problem, s: Settings, history: _History, lambda1: float
     for epoch in range(1, s.adam_epochs + 1):
         terms = problem.terms(*problem.epoch_batch(epoch))
         if s.boundary == "penalty" and epoch % ANNEAL_EVERY == 1:
-            g_eq = torch.autograd.grad(terms["eqns"], weights, retain_graph=True)
-            g_bc = torch.autograd.grad(terms["bcs"], weights, retain_graph=True)
-            updated = annealed_lambda(g_eq, g_bc, lambda1, s.anneal_momentum)
+            g_eq = torch.autograd.grad(terms["eqns"], weights, retain_graph=True,
+                                       allow_unused=True)
+            g_bc = torch.autograd.grad(terms["bcs"], weights, retain_graph=True,
+                                       allow_unused=True)
+            used = [(a, b) for a, b in zip(g_eq, g_bc) if a is not None and b is not None]
+            updated = annealed_lambda([a for a, _ in used], [b for _, b in used], lambda1,
+                                      s.anneal_momentum)
             lambda1 = updated if math.isfinite(updated) else lambda1
         loss = total_loss(terms["eqns"], terms["bcs"], terms["data"], lambda1, s.lambda2)
         value = loss.item()
