@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import torch
 
-from .networks import ETA, ETAETA, XI, XIETA, XIXI, V
+from .networks import ETA, ETAETA, XI, XIETA, XIXI
 
 
 def winslow_residual(jet: torch.Tensor) -> torch.Tensor:
@@ -57,7 +57,3 @@ def annealed_lambda(grads_eqns: list[torch.Tensor], grads_bcs: list[torch.Tensor
     lambda_hat = top / max(float(mean), 1e-300)
     return momentum * lambda1 + (1 - momentum) * lambda_hat
 
-
-def value(jet: torch.Tensor) -> torch.Tensor:
-    """The (B, 2) coordinates of a jet."""
-    return jet[V]

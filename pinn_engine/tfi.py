@@ -39,7 +39,7 @@ def transfinite(xi: np.ndarray, eta: np.ndarray, side: SideEval, order: int = 0)
     T_xixi = (1 - eta) * b2 + eta * t2
     T_etaeta = (1 - xi) * l2 + xi * r2
     T_xieta = r1 - l1 + t1 - b1 - (c00 - c10 - c01 + c11)
-    return [T, T_xi, T_eta, T_xixi, T_xieta + 0 * T, T_etaeta]
+    return [T, T_xi, T_eta, T_xixi, np.broadcast_to(T_xieta, T.shape), T_etaeta]
 
 
 def node_params(n: int) -> np.ndarray:
