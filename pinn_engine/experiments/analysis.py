@@ -363,8 +363,15 @@ def claim_architecture(results: dict, budget: Budget) -> dict:
         missing = [x for x, v in zip(sweep["x"], sweep["losses"]) if not v]
         gone = (f" No successful run at {', '.join(map(str, missing))} (see Failed runs), so "
                 "that point is not judged." if missing else "")
+        smallest = min(means) if means else None
+        worst_note = ""
+        if smallest is not None and len(means) > 1:
+            worst = max(means, key=means.get)
+            verb = "is" if worst == smallest else "is not"
+            worst_note = (f" The smallest size ({smallest}) {verb} the worst "
+                          f"(worst mean at {worst}).")
         evidence.append(f"{name} ({sweep['fixed']}): best mean at {shape['best']}; {what}. "
-                        f"Mean final loss: {listing}.{gone}")
+                        f"Mean final loss: {listing}.{gone}{worst_note}")
     if shapes and all(s == "clear" for s in shapes):
         verdict = "supported"
     elif shapes and all(s == "monotone" for s in shapes):
