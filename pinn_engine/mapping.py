@@ -22,6 +22,12 @@ from .networks import CoordinateNet, autograd_jet, jet_product
 from .tfi import node_params, tfi_grid, transfinite
 
 
+def bubble(x: torch.Tensor) -> torch.Tensor:
+    """B = 16 xi (1 - xi) eta (1 - eta) at points (B, 2), shape (B, 1): zero on the boundary."""
+    xi, eta = x[:, :1], x[:, 1:]
+    return 16 * xi * (1 - xi) * eta * (1 - eta)
+
+
 def bubble_jet(x: torch.Tensor) -> torch.Tensor:
     """Jet (6, B, 1) of B = 16 xi (1 - xi) eta (1 - eta)."""
     xi, eta = x[:, 0], x[:, 1]
@@ -56,12 +62,15 @@ class Mapping:
             return net_jet
         return base + _product(bubble_jet(x), net_jet)
 
+    def compose(self, out: torch.Tensor, x: torch.Tensor,
+                base: torch.Tensor | None) -> torch.Tensor:
+        """Map values (B, 2) from the network's outputs ``out`` at ``x``; ``base`` is the TFI
+        value there in hard mode."""
+        return out if self.mode == "penalty" else base + bubble(x) * out
+
     def values(self, x: torch.Tensor, base: torch.Tensor | None) -> torch.Tensor:
         """Map values (B, 2) at ``x``; ``base`` is the TFI value there in hard mode."""
-        out = self.net(x)
-        if self.mode == "penalty":
-            return out
-        return base + bubble_jet(x)[0] * out
+        return self.compose(self.net(x), x, base)
 
     def grid(self, ni: int, nj: int, chunk: int = 1 << 15) -> np.ndarray:
         """Grid (nj, ni, 2) in the working frame, feed-forward, boundary exact in hard mode.
@@ -82,7 +91,7 @@ class Mapping:
             x = torch.as_tensor(pts[start:start + chunk], dtype=torch.float32, device=p.device)
             y = net(x)
             if self.mode == "hard":
-                y = 16 * (x[:, :1] * (1 - x[:, :1]) * x[:, 1:] * (1 - x[:, 1:])) * y
+                y = bubble(x) * y
             out[start:start + chunk] = y.cpu().numpy()
 
         threads = torch.get_num_threads()

@@ -58,11 +58,6 @@ class _Cells:
         return np.nan_to_num(sj, nan=0.0)
 
 
-def corner_areas(grid: np.ndarray) -> np.ndarray:
-    """Signed corner areas (cross products of the edges at each corner), shape (4, nj-1, ni-1)."""
-    return _Cells(grid).areas
-
-
 def included_angles(grid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Per-cell (MaxIncludedAngle, MinIncludedAngle) in degrees, as Verdict computes them."""
     return _Cells(grid).angles()
@@ -71,11 +66,6 @@ def included_angles(grid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def folded_cells(grid: np.ndarray) -> np.ndarray:
     """Boolean per cell: some corner's orientation opposes the grid's (or is degenerate)."""
     return _Cells(grid).folded()
-
-
-def scaled_jacobian(grid: np.ndarray) -> np.ndarray:
-    """Minimum corner area over the product of its edge lengths, in the grid's orientation."""
-    return _Cells(grid).scaled_jacobian()
 
 
 def cell_quality(grid: np.ndarray) -> dict[str, np.ndarray]:

@@ -21,7 +21,7 @@ from .boundary_fit import make_fit
 from .errors import TrainingCancelled, TrainingError
 from .geometry import SIDES, Boundary
 from .losses import annealed_lambda, loss_data, loss_eqns, loss_points, total_loss
-from .mapping import Mapping, bubble_jet
+from .mapping import Mapping
 from .model import TrainedModel
 from .networks import CoordinateNet
 from .settings import Settings
@@ -126,9 +126,8 @@ class _Problem:
         else:
             terms["bcs"] = zero
         if self.n_aux:
-            pred = values[len(values) - self.n_aux:]
-            if self.hard:
-                pred = self.aux_base + bubble_jet(self.aux_x)[0] * pred
+            pred = self.mapping.compose(values[len(values) - self.n_aux:], self.aux_x,
+                                        self.aux_base)
             terms["data"] = loss_data(pred, self.aux_y)
         else:
             terms["data"] = zero
