@@ -30,8 +30,9 @@ def loss_eqns(jet: torch.Tensor) -> torch.Tensor:
 
 
 def loss_points(pred: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
-    """Mean of |x - x*|^2 + |y - y*|^2: the boundary term e3, e4 (eq. 12, 13) per side."""
-    return (pred - target).pow(2).sum(dim=-1).mean()
+    """Mean of |x - x*|^2 + |y - y*|^2 over the points (axis -2): the boundary term e3, e4
+    (eq. 12, 13) of one side, or of each side for stacked (sides, B, 2) inputs."""
+    return (pred - target).pow(2).sum(dim=-1).mean(dim=-1)
 
 
 def loss_data(pred: torch.Tensor, target: torch.Tensor) -> torch.Tensor:

@@ -55,12 +55,19 @@ class Mapping:
         """Jet (6, B, 2) of the spline TFI at points ``x`` (B, 2); constant during training."""
         return np.stack(transfinite(x[:, 0], x[:, 1], self.spline.sample, order=2))
 
-    def jet(self, x: torch.Tensor, base: torch.Tensor | None, fast: bool = True) -> torch.Tensor:
-        """Jet (6, B, 2) of the map at ``x``; ``base`` is ``tfi_jet(x)`` in hard mode."""
-        net_jet = self.net.jet(x) if fast else autograd_jet(self.net, x)
+    def jet(self, x: torch.Tensor, base: torch.Tensor | None, extra: torch.Tensor | None = None,
+            fast: bool = True) -> tuple[torch.Tensor, torch.Tensor]:
+        """Jet (6, B, 2) of the map at ``x`` (``base`` is ``tfi_jet(x)`` in hard mode) and the
+        networks' outputs (B', 2) at the ``extra`` points; ``fast=False`` is the reference:
+        nested autograd and a separate forward pass."""
+        extra = x[:0] if extra is None else extra
+        if fast:
+            net_jet, values = self.net.jet(x, extra)
+        else:
+            net_jet, values = autograd_jet(self.net, x), self.net(extra)
         if self.mode == "penalty":
-            return net_jet
-        return base + _product(bubble_jet(x), net_jet)
+            return net_jet, values
+        return base + _product(bubble_jet(x), net_jet), values
 
     def compose(self, out: torch.Tensor, x: torch.Tensor,
                 base: torch.Tensor | None) -> torch.Tensor:

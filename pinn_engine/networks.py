@@ -3,7 +3,9 @@
 Each sub-network maps (xi, eta) to one physical coordinate. Their parameters are stacked
 along a leading axis of size 2 (x-net, y-net), so both evaluate in one batched matmul while
 staying independent networks. ``jet`` propagates values with first and second derivatives
-(channels v, d_xi, d_eta, d_xixi, d_xieta, d_etaeta) in one forward pass.
+(channels v, d_xi, d_eta, d_xixi, d_xieta, d_etaeta) in one forward pass, with plain values at
+extra points (boundary and auxiliary-line samples) riding in the same matmuls. Its layers run
+as fused CPU kernels (native.py) where they could be built, else as torch operations.
 """
 
 from __future__ import annotations
@@ -12,6 +14,8 @@ import math
 
 import torch
 from torch import nn
+
+from . import native
 
 # derivative channels of a jet: value, first, then second derivatives
 V, XI, ETA, XIXI, XIETA, ETAETA = range(6)
@@ -84,33 +88,146 @@ def _activation_backward(saved: tuple, g: Jet) -> Jet:
             g2 * d1 + d2 * (g4 * z1 + 2 * g5 * z2), g3 * d1, g4 * d1, g5 * d1)
 
 
-def _linear(h: torch.Tensor, w: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
-    """One matmul for all six channels (k, 6, B, n); the bias shifts only the value."""
-    z = torch.matmul(h, w.unsqueeze(1))
-    z[:, V] += b
+# Row layout of one layer's jet, per sub-network: the five derivative channels (XI..ETAETA)
+# of the B jet points, then the values of the jet points and of the value-only points:
+# (k, 5 B + B + B_extra, n). One matmul serves every row; only value rows get the bias.
+
+
+def _linear(h: torch.Tensor, w: torch.Tensor, b: torch.Tensor, n_jet: int) -> torch.Tensor:
+    z = torch.matmul(h, w)
+    z[:, 5 * n_jet:] += b
     return z
 
 
-def _linear_backward(h: torch.Tensor, w: torch.Tensor, g: torch.Tensor, need_input: bool):
-    k = g.shape[0]
-    h = h.expand(k, *h.shape[1:])
-    dw = torch.bmm(h.reshape(k, -1, h.shape[-1]).transpose(1, 2), g.reshape(k, -1, g.shape[-1]))
-    db = g[:, V].sum(dim=1, keepdim=True)
-    dh = torch.matmul(g, w.transpose(1, 2).unsqueeze(1)) if need_input else None
+def _linear_backward(h: torch.Tensor, w: torch.Tensor, g: torch.Tensor, n_jet: int,
+                     need_input: bool):
+    dw = torch.matmul(h.transpose(1, 2), g)
+    db = g[:, 5 * n_jet:].sum(dim=1, keepdim=True)
+    dh = torch.matmul(g, w.transpose(1, 2)) if need_input else None
     return dw, db, dh
+
+
+def _channels(t: torch.Tensor, n_jet: int) -> tuple[Jet, torch.Tensor]:
+    """Rows -> (jet channels V..ETAETA of the jet points, values of the value-only points)."""
+    k, _, n = t.shape
+    d = t[:, :5 * n_jet].reshape(k, 5, n_jet, n).unbind(1)
+    return (t[:, 5 * n_jet:6 * n_jet], *d), t[:, 6 * n_jet:]
+
+
+def _rows(jet: Jet, extra: torch.Tensor) -> torch.Tensor:
+    """Inverse of :func:`_channels`."""
+    return torch.cat([torch.stack(jet[1:], dim=1).flatten(1, 2), jet[0], extra], dim=1)
+
+
+class _TorchLayers:
+    """Jet layers as torch operations: portable (any device), many small operations.
+
+    ``forward(name, z, n_jet, u, diff)`` returns sigma(z) on rows (the jet of it for jet
+    points) or, given the shortcut encoders, U + sigma(z) (V - U) with ``diff`` = V - U,
+    plus what backward needs. ``backward(saved, g, gu, gdiff)`` returns dL/dz from
+    g = dL/d(output) and adds the gradients of U and V - U to ``gu`` and ``gdiff`` in place.
+    """
+
+    @staticmethod
+    def forward(name: str, z: torch.Tensor, n_jet: int, u: torch.Tensor | None = None,
+                diff: torch.Tensor | None = None) -> tuple[torch.Tensor, tuple]:
+        z_jet, z_extra = _channels(z, n_jet)
+        a, saved = _activation_forward(name, z_jet)
+        s, d1 = _activation(name, z_extra)[:2]
+        if u is None:
+            return _rows(a, s), (n_jet, saved, d1, None, None)
+        (u_jet, u_extra), (w_jet, w_extra) = _channels(u, n_jet), _channels(diff, n_jet)
+        h = tuple(p + q for p, q in zip(u_jet, _leibniz(a, w_jet)))
+        return _rows(h, u_extra + s * w_extra), (n_jet, saved, d1, (a, s), (w_jet, w_extra))
+
+    @staticmethod
+    def backward(saved: tuple, g: torch.Tensor, gu: torch.Tensor | None = None,
+                 gdiff: torch.Tensor | None = None) -> torch.Tensor:
+        n_jet, s_jet, d1, a, diff = saved
+        g_a, g_extra = _channels(g, n_jet)
+        if a is not None:
+            gu += g
+            g_a, g_diff = _leibniz_backward(a[0], diff[0], g_a)
+            gdiff += _rows(g_diff, g_extra * a[1])
+            g_extra = g_extra * diff[1]
+        return _rows(_activation_backward(s_jet, g_a), g_extra * d1)
+
+
+class _NativeLayers:
+    """The same jet layers as :class:`_TorchLayers`, each one fused CPU kernel (native.py);
+    sigma itself comes from torch's vectorised functions."""
+
+    PRIMARY = {"tanh": (0, torch.tanh, None), "sin": (1, torch.sin, torch.cos),
+               "sigmoid": (2, torch.sigmoid, None), "swish": (3, torch.sigmoid, None)}
+
+    def __init__(self, lib, dtype: torch.dtype) -> None:
+        suffix = "f32" if dtype == torch.float32 else "f64"
+        self._fwd = getattr(lib, f"jet_forward_{suffix}")
+        self._bwd = getattr(lib, f"jet_backward_{suffix}")
+
+    def forward(self, name: str, z: torch.Tensor, n_jet: int, u: torch.Tensor | None = None,
+                diff: torch.Tensor | None = None) -> tuple[torch.Tensor, tuple]:
+        code, f, f2 = self.PRIMARY[name]
+        z = z.contiguous()
+        k, rows, n = z.shape
+        values = z[:, 5 * n_jet:]
+        p = f(values).contiguous()
+        q = f2(values).contiguous() if f2 is not None else None
+        s, st = n_jet * n, (rows - 5 * n_jet) * n
+        a, d = torch.empty_like(z), z.new_empty(k, st + 2 * s)
+        h = torch.empty_like(z) if u is not None else None
+        self._fwd(code, k, s, st, z.data_ptr(), p.data_ptr(), _ptr(q), _ptr(u), _ptr(diff),
+                  a.data_ptr(), _ptr(h), d.data_ptr())
+        saved = (n_jet, z, d) + ((None, None) if u is None else (a, diff))
+        return (a if u is None else h), saved
+
+    def backward(self, saved: tuple, g: torch.Tensor, gu: torch.Tensor | None = None,
+                 gdiff: torch.Tensor | None = None) -> torch.Tensor:
+        n_jet, z, d, a, diff = saved
+        g = g.contiguous()
+        dz = torch.empty_like(g)
+        k, rows, n = g.shape
+        gated = a is not None
+        self._bwd(k, n_jet * n, (rows - 5 * n_jet) * n, g.data_ptr(), z.data_ptr(),
+                  d.data_ptr(), _ptr(a), _ptr(diff), _ptr(gu if gated else None),
+                  _ptr(gdiff if gated else None), dz.data_ptr())
+        return dz
+
+
+def _ptr(t: torch.Tensor | None) -> int | None:
+    return None if t is None else t.data_ptr()
+
+
+def _layers(x: torch.Tensor):
+    """The fused kernels on the CPU when they could be built, else torch operations."""
+    lib = native.kernels() if x.device.type == "cpu" else None
+    if lib is None or x.dtype not in (torch.float32, torch.float64):
+        return _TorchLayers
+    return _NativeLayers(lib, x.dtype)
+
+
+def _input_rows(x: torch.Tensor, extra: torch.Tensor) -> torch.Tensor:
+    """Rows (1, 6 B + B_extra, 2) of the input (xi, eta): d_xi = (1, 0), d_eta = (0, 1)."""
+    d = x.new_zeros(5, len(x), 2)
+    d[XI - 1, :, 0] = 1.0
+    d[ETA - 1, :, 1] = 1.0
+    return torch.cat([d.flatten(0, 1), x, extra]).unsqueeze(0)
 
 
 class _NetworkJet(torch.autograd.Function):
     """The whole network's jet as one autograd node with a hand-written backward.
 
     Forward propagates values, first and second derivatives layer by layer (chain and
-    Leibniz rules); backward runs the layers in reverse with the matching formulas. One node
+    Leibniz rules) at the jet points, and plain values at the extra points, in the same
+    matmuls; backward runs the layers in reverse with the matching formulas. One node
     instead of hundreds: on batches of ~100 points the autograd bookkeeping, not the
     arithmetic, is what costs.
     """
 
     @staticmethod
-    def forward(ctx, kind: str, name: str, x: torch.Tensor, *params: torch.Tensor):
+    def forward(ctx, kind: str, name: str, x: torch.Tensor, extra: torch.Tensor,
+                *params: torch.Tensor):
+        layers, b = _layers(x), len(x)
         it = iter(params)
         w_in, b_in = next(it), next(it)
         shortcut = kind == "shortcut"
@@ -118,62 +235,49 @@ class _NetworkJet(torch.autograd.Function):
             w_u, b_u, w_v, b_v = next(it), next(it), next(it), next(it)
         rest = list(it)
         hidden, (w_out, b_out) = list(zip(rest[:-2:2], rest[1:-2:2])), rest[-2:]
-        xj = torch.stack(input_jet(x)).unsqueeze(0)  # (1, 6, B, 2)
-        h, s_in = _activation_forward(name, _linear(xj, w_in, b_in).unbind(1))
-        saved = {"xj": xj, "s_in": s_in, "layers": []}
+        xr = _input_rows(x, extra)
+        h, s_in = layers.forward(name, _linear(xr, w_in, b_in, b), b)
+        saved = {"xr": xr, "s_in": s_in, "layers": []}
+        u = diff = None
         if shortcut:
-            u, saved["s_u"] = _activation_forward(name, _linear(xj, w_u, b_u).unbind(1))
-            v, saved["s_v"] = _activation_forward(name, _linear(xj, w_v, b_v).unbind(1))
-            diff = tuple(b - a for a, b in zip(u, v))
-            saved["diff"] = diff
-        for w, b in hidden:
-            hs = torch.stack(h, dim=1)
-            a, s_l = _activation_forward(name, _linear(hs, w, b).unbind(1))
-            saved["layers"].append((hs, w, s_l, a))
-            h = tuple(p + q for p, q in zip(u, _leibniz(a, diff))) if shortcut else a
-        hs = torch.stack(h, dim=1)
-        saved["out"] = (hs, w_out)
-        ctx.kind, ctx.shortcut, ctx.weights, ctx.saved = kind, shortcut, params, saved
-        return _linear(hs, w_out, b_out)[..., 0].permute(1, 2, 0).contiguous()
+            u, saved["s_u"] = layers.forward(name, _linear(xr, w_u, b_u, b), b)
+            v, saved["s_v"] = layers.forward(name, _linear(xr, w_v, b_v, b), b)
+            diff = v - u
+        for w, bias in hidden:
+            hs = h
+            h, s_l = layers.forward(name, _linear(hs, w, bias, b), b, u, diff)
+            saved["layers"].append((hs, w, s_l))
+        saved["out"] = (h, w_out)
+        ctx.layers, ctx.shortcut, ctx.weights, ctx.saved = layers, shortcut, params, saved
+        jet, values = _channels(_linear(h, w_out, b_out, b), b)
+        return (torch.stack(jet)[..., 0].permute(0, 2, 1).contiguous(),
+                values[..., 0].T.contiguous())
 
     @staticmethod
-    def backward(ctx, g_out: torch.Tensor):
-        saved, shortcut = ctx.saved, ctx.shortcut
-        params = ctx.weights
-        g = g_out.permute(2, 0, 1).unsqueeze(-1)  # (k, 6, B, 1)
+    def backward(ctx, g_jet: torch.Tensor, g_values: torch.Tensor):
+        saved, shortcut, layers = ctx.saved, ctx.shortcut, ctx.layers
+        params, b = ctx.weights, g_jet.shape[1]
+        g = _rows(g_jet.permute(0, 2, 1).unsqueeze(-1).unbind(0), g_values.T.unsqueeze(-1))
         hs, w_out = saved["out"]
-        dw_out, db_out, dh = _linear_backward(hs, w_out, g, True)
-        dh = dh.unbind(1)
-        if shortcut:
-            diff = saved["diff"]
-            d_u = [torch.zeros_like(c) for c in dh]
-            d_diff = [torch.zeros_like(c) for c in dh]
+        dw_out, db_out, dh = _linear_backward(hs, w_out, g, b, True)
+        d_u = torch.zeros_like(dh) if shortcut else None
+        d_diff = torch.zeros_like(dh) if shortcut else None
         hidden_grads = []
-        for hs, w, s_l, a in reversed(saved["layers"]):
-            if shortcut:
-                d_u = [p + q for p, q in zip(d_u, dh)]
-                d_a, dd = _leibniz_backward(a, diff, dh)
-                d_diff = [p + q for p, q in zip(d_diff, dd)]
-            else:
-                d_a = dh
-            d_z = torch.stack(_activation_backward(s_l, d_a), dim=1)
-            dw, db, dh_prev = _linear_backward(hs, w, d_z, True)
+        for hs, w, s_l in reversed(saved["layers"]):
+            d_z = layers.backward(s_l, dh, d_u, d_diff)
+            dw, db, dh = _linear_backward(hs, w, d_z, b, True)
             hidden_grads.append((dw, db))
-            dh = dh_prev.unbind(1)
-        xj = saved["xj"]
-        d_z = torch.stack(_activation_backward(saved["s_in"], dh), dim=1)
-        dw_in, db_in, _ = _linear_backward(xj, params[0], d_z, False)
-        grads = [dw_in, db_in]
+        xr = saved["xr"]
+        d_z = layers.backward(saved["s_in"], dh)
+        grads = list(_linear_backward(xr, params[0], d_z, b, False)[:2])
         if shortcut:
-            d_v = d_diff
-            d_u_total = [p - q for p, q in zip(d_u, d_diff)]
-            for s_key, d in (("s_u", d_u_total), ("s_v", d_v)):
-                d_z = torch.stack(_activation_backward(saved[s_key], d), dim=1)
-                grads.extend(_linear_backward(xj, params[0], d_z, False)[:2])
+            for s_key, d in (("s_u", d_u - d_diff), ("s_v", d_diff)):
+                d_z = layers.backward(saved[s_key], d)
+                grads.extend(_linear_backward(xr, params[0], d_z, b, False)[:2])
         for dw, db in reversed(hidden_grads):
             grads.extend([dw, db])
         grads.extend([dw_out, db_out])
-        return (None, None, None, *grads)
+        return (None, None, None, None, *grads)
 
 
 def jet_product(u: Jet, w: Jet) -> Jet:
@@ -242,15 +346,18 @@ class CoordinateNet(nn.Module):
             h = torch.addcmul(u, z, diff) if self.kind == "shortcut" else z
         return torch.baddbmm(self.b_out, h, self.w_out)[..., 0].T
 
-    def jet(self, x: torch.Tensor) -> torch.Tensor:
-        """Values and derivatives in one pass: (B, 2) -> (6, B, 2), channels as ``V..ETAETA``."""
+    def jet(self, x: torch.Tensor, extra: torch.Tensor | None = None
+            ) -> tuple[torch.Tensor, torch.Tensor]:
+        """Jet (6, B, 2) at ``x`` (channels ``V..ETAETA``) and plain values (B', 2) at the
+        ``extra`` points, all in one pass."""
         params = [self.w_in, self.b_in]
         if self.kind == "shortcut":
             params += [self.w_u, self.b_u, self.w_v, self.b_v]
         for w, b in zip(self.w_hidden, self.b_hidden):
             params += [w, b]
         params += [self.w_out, self.b_out]
-        return _NetworkJet.apply(self.kind, self.activation, x, *params)
+        extra = x[:0] if extra is None else extra
+        return _NetworkJet.apply(self.kind, self.activation, x, extra, *params)
 
 
 def autograd_jet(net: nn.Module, x: torch.Tensor) -> torch.Tensor:

@@ -9,6 +9,7 @@ the history records it and nothing fails silently.
 
 from __future__ import annotations
 
+import contextlib
 import copy
 import math
 from collections.abc import Callable, Sequence
@@ -20,6 +21,7 @@ from .auxlines import AuxLine
 from .boundary_fit import make_fit
 from .errors import TrainingCancelled, TrainingError
 from .geometry import SIDES, Boundary
+from .heap import reuse_freed_memory
 from .losses import annealed_lambda, loss_data, loss_eqns, loss_points, total_loss
 from .mapping import Mapping
 from .model import TrainedModel
@@ -111,18 +113,17 @@ class _Problem:
 
     def terms(self, x: torch.Tensor, base: torch.Tensor | None, bx: torch.Tensor | None,
               by: torch.Tensor | None) -> dict[str, torch.Tensor]:
-        """Unweighted loss terms; boundary and auxiliary points share one forward pass."""
-        jet = self.mapping.jet(x, base, fast=self.settings.fast)
+        """Unweighted loss terms; boundary and auxiliary points ride along the jet's pass."""
+        points = [p for p in (bx, self.aux_x if self.n_aux else None) if p is not None]
+        extra = torch.cat(points) if len(points) > 1 else (points[0] if points else None)
+        jet, values = self.mapping.jet(x, base, extra, fast=self.settings.fast)
         terms = {"eqns": loss_eqns(jet)}
         zero = jet.new_zeros(())
-        points = [p for p in (bx, self.aux_x if self.n_aux else None) if p is not None]
-        values = self.mapping.net(torch.cat(points)) if points else None
         if bx is not None:
-            per_side = values[:len(bx)].reshape(4, -1, 2)
-            targets = by.reshape(4, -1, 2)
+            per_side = loss_points(values[:len(bx)].reshape(4, -1, 2), by.reshape(4, -1, 2))
             for j, side in enumerate(SIDES):
-                terms[f"bcs_{side}"] = loss_points(per_side[j], targets[j])
-            terms["bcs"] = sum(terms[f"bcs_{side}"] for side in SIDES)
+                terms[f"bcs_{side}"] = per_side[j]
+            terms["bcs"] = per_side.sum()
         else:
             terms["bcs"] = zero
         if self.n_aux:
@@ -163,20 +164,23 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
     dtype = {"float64": torch.float64, "float32": torch.float32}[settings.dtype]
     device = pick_device(settings.device)
     threads = torch.get_num_threads()
-    if device.type == "cpu":
+    cpu = device.type == "cpu"
+    if cpu:
         torch.set_num_threads(1)  # measured: faster and steadier for these small networks
     try:
-        torch.manual_seed(settings.seed)
-        kind = "shortcut" if settings.method == "pinn" else "mlp"
-        net = CoordinateNet(kind, settings.hidden_layers, settings.neurons,
-                            settings.activation).to(device=device, dtype=dtype)
-        mapping = Mapping(net, boundary, settings.boundary)
-        problem = _Problem(mapping, boundary, aux if settings.method == "pinn" else (),
-                           settings, dtype, device)
-        history = _History()
-        lambda1 = 1.0 if settings.boundary == "penalty" else 0.0
-        lambda1, recoveries = _adam(net, problem, settings, history, lambda1, progress)
-        lbfgs_ok, lbfgs_iterations = _lbfgs(net, problem, settings, history, lambda1, progress)
+        with reuse_freed_memory() if cpu else contextlib.nullcontext():
+            torch.manual_seed(settings.seed)
+            kind = "shortcut" if settings.method == "pinn" else "mlp"
+            net = CoordinateNet(kind, settings.hidden_layers, settings.neurons,
+                                settings.activation).to(device=device, dtype=dtype)
+            mapping = Mapping(net, boundary, settings.boundary)
+            problem = _Problem(mapping, boundary, aux if settings.method == "pinn" else (),
+                               settings, dtype, device)
+            history = _History()
+            lambda1 = 1.0 if settings.boundary == "penalty" else 0.0
+            lambda1, recoveries = _adam(net, problem, settings, history, lambda1, progress)
+            lbfgs_ok, lbfgs_iterations = _lbfgs(net, problem, settings, history, lambda1,
+                                                progress)
     finally:
         torch.set_num_threads(threads)
     info = {"adam_epochs": settings.adam_epochs,

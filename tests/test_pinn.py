@@ -7,6 +7,7 @@ import pytest
 import torch
 from conftest import EXAMPLES
 
+from pinn_engine import native
 from pinn_engine.cli import main
 from pinn_engine.losses import annealed_lambda, loss_eqns, winslow_residual
 from pinn_engine.mapping import Mapping
@@ -43,13 +44,13 @@ def test_winslow_residual_of_a_harmonic_map_is_zero_through_the_training_path(fi
     mapping = Mapping(net, boundary, "hard")
     x = torch.rand(64, 2, dtype=torch.float64)
     for fast in (True, False):
-        jet = mapping.jet(x, exp_map_jet(x), fast=fast)
+        jet = mapping.jet(x, exp_map_jet(x), fast=fast)[0]
         assert winslow_residual(jet).abs().max() < 1e-13
         assert loss_eqns(jet) < 1e-26
     # control: a non-harmonic base gives a clearly non-zero residual
     square = exp_map_jet(x)
     square[3] = 1.0  # x_xixi = 1
-    assert loss_eqns(mapping.jet(x, square)) > 1e-2
+    assert loss_eqns(mapping.jet(x, square)[0]) > 1e-2
 
 
 def test_z_squared_jet_from_the_jet_algebra_is_harmonic():
@@ -85,8 +86,10 @@ def test_shortcut_network_shapes_and_gating_on_a_hand_set_network():
     assert out.shape == (2, 2)
     torch.testing.assert_close(out[:, 0], expected)
     torch.testing.assert_close(out[:, 1], torch.zeros(2, dtype=torch.float64))  # y-net is 0
-    assert net.jet(x).shape == (6, 2, 2)
-    torch.testing.assert_close(net.jet(x), autograd_jet(net, x))
+    jet, values = net.jet(x, x)
+    assert jet.shape == (6, 2, 2)
+    torch.testing.assert_close(jet, autograd_jet(net, x))
+    torch.testing.assert_close(values, out)
 
 
 def test_annealing_weight_against_a_hand_computation():
@@ -176,23 +179,31 @@ def test_cli_pinn_with_save_and_load(tmp_path, capsys):
     assert "different boundary" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("backend", ["native", "torch"])
 @pytest.mark.parametrize("kind", ["shortcut", "mlp"])
 @pytest.mark.parametrize("mode", ["hard", "penalty"])
-def test_fast_path_residuals_and_gradients_equal_the_autograd_reference(fig2, kind, mode):
+def test_fast_path_residuals_and_gradients_equal_the_autograd_reference(fig2, kind, mode,
+                                                                        backend, monkeypatch):
     boundary, _ = fig2
+    if backend == "torch":
+        monkeypatch.setattr(native, "kernels", lambda: None)
+    else:
+        assert native.kernels() is not None, "the fused kernels did not build"
     torch.manual_seed(1)
     net = CoordinateNet(kind, 4, 12).double()
     mapping = Mapping(net, boundary, mode)
     x = torch.rand(40, 2, dtype=torch.float64)
+    extra = torch.rand(30, 2, dtype=torch.float64)  # boundary / auxiliary points: values only
     base = torch.as_tensor(mapping.tfi_jet(x.numpy())) if mode == "hard" else None
     results = []
     for fast in (True, False):
         net.zero_grad()
-        jet = mapping.jet(x, base, fast=fast)
-        loss_eqns(jet).backward()
-        results.append((winslow_residual(jet).detach(),
+        jet, values = mapping.jet(x, base, extra, fast=fast)
+        (loss_eqns(jet) + values.pow(2).mean()).backward()
+        results.append((winslow_residual(jet).detach(), values.detach(),
                         [p.grad.clone() for p in net.parameters()]))
-    (r_fast, g_fast), (r_ref, g_ref) = results
+    (r_fast, v_fast, g_fast), (r_ref, v_ref, g_ref) = results
     torch.testing.assert_close(r_fast, r_ref, rtol=1e-10, atol=1e-12)
+    torch.testing.assert_close(v_fast, v_ref, rtol=1e-12, atol=1e-14)
     for a, b in zip(g_fast, g_ref):
         torch.testing.assert_close(a, b, rtol=1e-9, atol=1e-12)

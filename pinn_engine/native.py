@@ -1,0 +1,86 @@
+"""The fused jet-layer kernels of ``jet_kernels.cpp``, compiled once with the system compiler.
+
+The library is built on first use into a per-user cache (``$PINN_MESH_CACHE``, else
+``$XDG_CACHE_HOME/pinn-mesh`` or ``~/.cache/pinn-mesh``), keyed by the source, the compiler
+flags and the CPU, and loaded with ctypes: no Python or torch headers, about a second to build.
+Without a C++ compiler, or with ``PINN_MESH_NATIVE=0``, :func:`kernels` returns None and the
+networks use the same formulas as torch operations (slower, same results).
+"""
+
+from __future__ import annotations
+
+import ctypes
+import functools
+import hashlib
+import logging
+import os
+import shutil
+import subprocess
+import tempfile
+from pathlib import Path
+
+log = logging.getLogger(__name__)
+SOURCE = Path(__file__).with_name("jet_kernels.cpp")
+FLAGS = ["-O3", "-march=native", "-shared", "-fPIC", "-std=c++17"]
+
+
+def _cache_dir() -> Path:
+    if os.environ.get("PINN_MESH_CACHE"):
+        return Path(os.environ["PINN_MESH_CACHE"])
+    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+    return Path(base) / "pinn-mesh"
+
+
+def _cpu_flags() -> str:
+    try:
+        with open("/proc/cpuinfo") as f:
+            return next((line for line in f if line.startswith("flags")), "")
+    except OSError:
+        return ""
+
+
+def _build(compiler: str) -> Path:
+    source = SOURCE.read_bytes()
+    key = hashlib.sha256(b"\0".join([source, " ".join([compiler, *FLAGS]).encode(),
+                                     _cpu_flags().encode()])).hexdigest()[:16]
+    target = _cache_dir() / f"jet_kernels-{key}.so"
+    if target.exists():
+        return target
+    target.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(suffix=".so", dir=target.parent)
+    os.close(fd)
+    try:
+        subprocess.run([compiler, *FLAGS, "-o", tmp, str(SOURCE)], check=True,
+                       capture_output=True, text=True, timeout=120)
+        os.replace(tmp, target)  # atomic: concurrent builds all end with a complete file
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+    return target
+
+
+def _bind(lib: ctypes.CDLL) -> ctypes.CDLL:
+    p, n = ctypes.c_void_p, ctypes.c_ssize_t
+    for suffix in ("f32", "f64"):
+        fwd, bwd = getattr(lib, f"jet_forward_{suffix}"), getattr(lib, f"jet_backward_{suffix}")
+        fwd.argtypes, fwd.restype = [ctypes.c_int, n, n, n] + [p] * 8, None
+        bwd.argtypes, bwd.restype = [n, n, n] + [p] * 8, None
+    return lib
+
+
+@functools.cache
+def kernels() -> ctypes.CDLL | None:
+    """The loaded kernel library, or None where it cannot be built (then torch is used)."""
+    if os.environ.get("PINN_MESH_NATIVE", "1") == "0":
+        return None
+    compiler = os.environ.get("CXX") or shutil.which("c++") or shutil.which("g++")
+    if not compiler:
+        log.info("no C++ compiler found: jet layers run as torch operations")
+        return None
+    try:
+        return _bind(ctypes.CDLL(str(_build(compiler))))
+    except (OSError, subprocess.SubprocessError, AttributeError) as exc:
+        detail = getattr(exc, "stderr", "") or exc
+        log.warning("could not build the fused jet kernels (%s); using torch operations",
+                    str(detail).strip()[:500])
+        return None

@@ -1,0 +1,88 @@
+"""The fused jet kernels (native.py, jet_kernels.cpp): same numbers as torch, safe fallback."""
+
+from __future__ import annotations
+
+import logging
+import shutil
+
+import pytest
+import torch
+
+from pinn_engine import native
+from pinn_engine.networks import ACTIVATIONS, CoordinateNet
+
+
+def _run(net: CoordinateNet, x: torch.Tensor, extra: torch.Tensor) -> list[torch.Tensor]:
+    """Jet, values and every parameter gradient of a loss that uses all of them."""
+    net.zero_grad()
+    jet, values = net.jet(x, extra)
+    (jet.pow(2).sum() + values.pow(3).sum()).backward()
+    return [jet.detach(), values.detach()] + [p.grad.clone() for p in net.parameters()]
+
+
+@pytest.fixture
+def fresh_kernels(monkeypatch, tmp_path):
+    """kernels() rebuilt from scratch in an empty cache, and forgotten afterwards."""
+    monkeypatch.setenv("PINN_MESH_CACHE", str(tmp_path))
+    native.kernels.cache_clear()
+    yield
+    native.kernels.cache_clear()
+
+
+@pytest.mark.parametrize("dtype", [torch.float64, torch.float32])
+@pytest.mark.parametrize("activation", sorted(ACTIVATIONS))
+@pytest.mark.parametrize("kind", ["shortcut", "mlp"])
+def test_fused_kernels_equal_the_torch_operations(kind, activation, dtype, monkeypatch):
+    assert native.kernels() is not None, "the fused kernels did not build"
+    torch.manual_seed(3)
+    net = CoordinateNet(kind, 3, 9, activation).to(dtype)
+    x, extra = torch.rand(17, 2, dtype=dtype), torch.rand(11, 2, dtype=dtype)
+    fused = _run(net, x, extra)
+    monkeypatch.setattr(native, "kernels", lambda: None)
+    plain = _run(net, x, extra)
+    tol = {"rtol": 1e-12, "atol": 1e-12} if dtype == torch.float64 else {"rtol": 2e-4,
+                                                                            "atol": 2e-5}
+    for a, b in zip(fused, plain):
+        torch.testing.assert_close(a, b, **tol)
+
+
+def test_no_extra_points_and_no_jet_points_are_both_fine():
+    net = CoordinateNet("shortcut", 2, 5).double()
+    x = torch.rand(4, 2, dtype=torch.float64)
+    jet, values = net.jet(x)
+    assert jet.shape == (6, 4, 2) and values.shape == (0, 2)
+    jet, values = net.jet(x[:0], x)
+    assert jet.shape == (6, 0, 2)
+    torch.testing.assert_close(values, net(x))
+
+
+@pytest.mark.skipif(not (shutil.which("c++") or shutil.which("g++")), reason="no C++ compiler")
+def test_the_build_is_cached_per_source_and_reused(fresh_kernels, tmp_path):
+    assert native.kernels() is not None
+    built = list(tmp_path.glob("jet_kernels-*.so"))
+    assert len(built) == 1
+    stamp = built[0].stat().st_mtime_ns
+    native.kernels.cache_clear()
+    assert native.kernels() is not None
+    assert [p.stat().st_mtime_ns for p in tmp_path.glob("jet_kernels-*.so")] == [stamp]
+    assert not list(tmp_path.glob("*.tmp*")) and len(list(tmp_path.iterdir())) == 1
+
+
+def test_a_failing_compiler_falls_back_to_torch_with_a_warning(fresh_kernels, monkeypatch,
+                                                               tmp_path, caplog):
+    broken = tmp_path / "broken-c++"
+    broken.write_text("#!/bin/sh\necho 'fatal error: simulated' >&2\nexit 1\n")
+    broken.chmod(0o755)
+    monkeypatch.setenv("CXX", str(broken))
+    with caplog.at_level(logging.WARNING, logger="pinn_engine.native"):
+        assert native.kernels() is None
+    assert "simulated" in caplog.text
+    assert list(tmp_path.glob("*.so")) == []  # no half-written library left behind
+    net = CoordinateNet("shortcut", 2, 5).double()
+    x = torch.rand(6, 2, dtype=torch.float64)
+    assert net.jet(x)[0].shape == (6, 6, 2)  # still works, through torch operations
+
+
+def test_native_kernels_can_be_switched_off(fresh_kernels, monkeypatch):
+    monkeypatch.setenv("PINN_MESH_NATIVE", "0")
+    assert native.kernels() is None
