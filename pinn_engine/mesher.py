@@ -14,6 +14,7 @@ from .boundary_fit import make_fit
 from .elliptic import winslow_solve, winslow_sweeps
 from .errors import PinnMeshError, TrainingError
 from .geometry import Boundary
+from .heap import reuse_freed_memory
 from .quality import boundary_nodes, cell_quality, summary
 from .settings import Settings, make_settings
 from .tfi import tfi_grid
@@ -91,15 +92,16 @@ class Mesher:
             raise RuntimeError("call fit() before predict()")
         if ni < 2 or nj < 2:
             raise ValueError(f"grid size must be at least 2 x 2, got {ni} x {nj}")
-        start = time.perf_counter()
-        unit = self._grid_unit(ni, nj)
-        mesh_seconds = time.perf_counter() - start
-        if not np.all(np.isfinite(unit)):
-            raise TrainingError(f"the {self.settings.method} grid has non-finite grid points "
-                                "(training failed); try another seed or fewer epochs")
-        deviation = float(self.boundary.deviation(boundary_nodes(unit)).max())
-        points = self.boundary.frame.to_user(unit)
-        cells = cell_quality(points)
+        with reuse_freed_memory():
+            start = time.perf_counter()
+            unit = self._grid_unit(ni, nj)
+            mesh_seconds = time.perf_counter() - start
+            if not np.all(np.isfinite(unit)):
+                raise TrainingError(f"the {self.settings.method} grid has non-finite grid "
+                                    "points (training failed); try another seed or fewer epochs")
+            deviation = float(self.boundary.deviation(boundary_nodes(unit)).max())
+            points = self.boundary.frame.to_user(unit)
+            cells = cell_quality(points)
         report = {
             "method": self.settings.method,
             "size": [ni, nj],

@@ -49,8 +49,9 @@ def node_params(n: int) -> np.ndarray:
     return np.linspace(0.0, 1.0, n)
 
 
-def tfi_grid(sample: Callable[[str, np.ndarray], np.ndarray], ni: int, nj: int) -> np.ndarray:
-    """TFI grid (nj, ni, 2) whose boundary nodes are ``sample(side, t)`` at uniform t."""
-    xi, eta = node_params(ni), node_params(nj)
-    grid = transfinite(xi[None, :], eta[:, None], lambda s, t, nu: sample(s, t))[0]
-    return grid
+def tfi_grid(sample: Callable[[str, np.ndarray], np.ndarray], ni: int, nj: int,
+             rows: slice = slice(None)) -> np.ndarray:
+    """TFI grid (nj, ni, 2) whose boundary nodes are ``sample(side, t)`` at uniform t; only
+    the grid rows ``rows`` when given (blocks of a large grid)."""
+    xi, eta = node_params(ni), node_params(nj)[rows]
+    return transfinite(xi[None, :], eta[:, None], lambda s, t, nu: sample(s, t))[0]

@@ -6,7 +6,8 @@ import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkFiltersVerdict import vtkMeshQuality
 
-from pinn_engine.quality import folded_cells, included_angles
+from pinn_engine import quality
+from pinn_engine.quality import cell_quality, folded_cells, included_angles
 from pinn_engine.tfi import node_params
 from pinn_engine.vtkgrid import structured_grid
 
@@ -62,3 +63,17 @@ def test_folded_cell_is_counted():
     grid[1, 1] = [0.8, 0.8]
     assert folded_cells(grid).sum() >= 1
     assert folded_cells(np.stack([xi, eta], axis=-1)).sum() == 0
+
+
+def test_bands_on_several_threads_equal_one_pass_with_the_global_orientation(monkeypatch):
+    grid = distorted_grid(5, 0.3)
+    grid[6:] = grid[6:, ::-1]  # the top rows are mirrored: folded against the whole grid
+    whole = quality._Cells(grid)
+    expected = whole.quality(whole.orientation)
+    assert 0 < expected["Folded"].sum() < expected["Folded"].size / 2
+    monkeypatch.setattr(quality, "BAND_CELLS", 10)
+    monkeypatch.setattr(quality.os, "cpu_count", lambda: 4)
+    banded = cell_quality(grid)
+    assert set(banded) == set(expected)
+    for name, values in expected.items():
+        np.testing.assert_array_equal(banded[name], values, err_msg=name)
