@@ -39,15 +39,15 @@ def _cpu_flags() -> str:
         return ""
 
 
-def _build(compiler: str) -> Path:
+def _build(compiler: str, cache: Path) -> Path:
     source = SOURCE.read_bytes()
     key = hashlib.sha256(b"\0".join([source, " ".join([compiler, *FLAGS]).encode(),
                                      _cpu_flags().encode()])).hexdigest()[:16]
-    target = _cache_dir() / f"jet_kernels-{key}.so"
+    target = cache / f"jet_kernels-{key}.so"
     if target.exists():
         return target
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(suffix=".so", dir=target.parent)
+    cache.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(suffix=".so", dir=cache)
     os.close(fd)
     try:
         subprocess.run([compiler, *FLAGS, "-o", tmp, str(SOURCE)], check=True,
@@ -78,7 +78,11 @@ def kernels() -> ctypes.CDLL | None:
         log.info("no C++ compiler found: jet layers run as torch operations")
         return None
     try:
-        return _bind(ctypes.CDLL(str(_build(compiler))))
+        try:
+            path = _build(compiler, _cache_dir())
+        except OSError:  # e.g. a read-only home: build in the temporary directory instead
+            path = _build(compiler, Path(tempfile.gettempdir()) / f"pinn-mesh-{os.getuid()}")
+        return _bind(ctypes.CDLL(str(path)))
     except (OSError, subprocess.SubprocessError, AttributeError) as exc:
         detail = getattr(exc, "stderr", "") or exc
         log.warning("could not build the fused jet kernels (%s); using torch operations",

@@ -98,18 +98,17 @@ class _Problem:
 
     def epoch_batch(self, epoch: int) -> tuple:
         """The points of one Adam epoch, cut from the current chunk."""
-        s = self.settings
-        k = (epoch - 1) % self.CHUNK
+        n, k = self.settings.batch_size, (epoch - 1) % self.CHUNK
         if k == 0:
-            self._chunk = self.sample(self.CHUNK * s.batch_size, self.CHUNK * s.batch_size)
+            x, base, bx, by = self.sample(self.CHUNK * n, self.CHUNK * n)
+            if bx is not None:  # side-major -> epoch-major, so that an epoch is one slice
+                bx, by = (t.reshape(4, self.CHUNK, n, 2).transpose(0, 1).reshape(
+                    self.CHUNK, 4 * n, 2) for t in (bx, by))
+            self._chunk = x, base, bx, by
         x, base, bx, by = self._chunk
-        cut = slice(k * s.batch_size, (k + 1) * s.batch_size)
-        side_cut = [slice(j * self.CHUNK * s.batch_size + cut.start,
-                          j * self.CHUNK * s.batch_size + cut.stop) for j in range(4)]
-        if bx is not None:
-            bx = torch.cat([bx[c] for c in side_cut])
-            by = torch.cat([by[c] for c in side_cut])
-        return x[cut], None if base is None else base[:, cut], bx, by
+        cut = slice(k * n, (k + 1) * n)
+        return (x[cut], None if base is None else base[:, cut],
+                None if bx is None else bx[k], None if by is None else by[k])
 
     def terms(self, x: torch.Tensor, base: torch.Tensor | None, bx: torch.Tensor | None,
               by: torch.Tensor | None) -> dict[str, torch.Tensor]:

@@ -68,6 +68,17 @@ def test_the_build_is_cached_per_source_and_reused(fresh_kernels, tmp_path):
     assert not list(tmp_path.glob("*.tmp*")) and len(list(tmp_path.iterdir())) == 1
 
 
+@pytest.mark.skipif(not (shutil.which("c++") or shutil.which("g++")), reason="no C++ compiler")
+def test_an_unusable_cache_directory_builds_in_the_temporary_directory(fresh_kernels,
+                                                                        monkeypatch, tmp_path):
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a directory")
+    monkeypatch.setenv("PINN_MESH_CACHE", str(blocker / "cache"))
+    monkeypatch.setattr(native.tempfile, "gettempdir", lambda: str(tmp_path / "tmp"))
+    assert native.kernels() is not None
+    assert len(list((tmp_path / "tmp").glob("pinn-mesh-*/jet_kernels-*.so"))) == 1
+
+
 def test_a_failing_compiler_falls_back_to_torch_with_a_warning(fresh_kernels, monkeypatch,
                                                                tmp_path, caplog):
     broken = tmp_path / "broken-c++"
