@@ -94,16 +94,16 @@ def _activation_backward(saved: tuple, g: Jet) -> Jet:
 
 
 def _linear(h: torch.Tensor, w: torch.Tensor, b: torch.Tensor, n_jet: int) -> torch.Tensor:
-    z = torch.matmul(h, w)
+    z = torch.bmm(h, w)  # bmm, not matmul: measured 5-15 us less per call
     z[:, 5 * n_jet:] += b
     return z
 
 
 def _linear_backward(h: torch.Tensor, w: torch.Tensor, g: torch.Tensor, n_jet: int,
                      need_input: bool):
-    dw = torch.matmul(h.transpose(1, 2), g)
+    dw = torch.bmm(h.transpose(1, 2), g)
     db = g[:, 5 * n_jet:].sum(dim=1, keepdim=True)
-    dh = torch.matmul(g, w.transpose(1, 2)) if need_input else None
+    dh = torch.bmm(g, w.transpose(1, 2)) if need_input else None
     return dw, db, dh
 
 
@@ -235,7 +235,7 @@ class _NetworkJet(torch.autograd.Function):
             w_u, b_u, w_v, b_v = next(it), next(it), next(it), next(it)
         rest = list(it)
         hidden, (w_out, b_out) = list(zip(rest[:-2:2], rest[1:-2:2])), rest[-2:]
-        xr = _input_rows(x, extra)
+        xr = _input_rows(x, extra).expand(len(params[0]), -1, -1)
         h, s_in = layers.forward(name, _linear(xr, w_in, b_in, b), b)
         saved = {"xr": xr, "s_in": s_in, "layers": []}
         u = diff = None
