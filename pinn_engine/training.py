@@ -114,7 +114,7 @@ class _Problem:
               by: torch.Tensor | None) -> dict[str, torch.Tensor]:
         """Unweighted loss terms; boundary and auxiliary points ride along the jet's pass."""
         points = [p for p in (bx, self.aux_x if self.n_aux else None) if p is not None]
-        extra = torch.cat(points) if len(points) > 1 else (points[0] if points else None)
+        extra = torch.cat(points) if points else None
         jet, values = self.mapping.jet(x, base, extra, fast=self.settings.fast)
         terms = {"eqns": loss_eqns(jet)}
         zero = jet.new_zeros(())
