@@ -175,7 +175,9 @@ class _NativeLayers:
         q = f2(values).contiguous() if f2 is not None else None
         s, st = n_jet * n, (rows - 5 * n_jet) * n
         a, d = torch.empty_like(z), z.new_empty(k, st + 2 * s)
-        h = torch.empty_like(z) if u is not None else None
+        h = None
+        if u is not None:  # the kernel reads raw memory: the (k, rows, n) layout, no strides
+            u, diff, h = u.contiguous(), diff.contiguous(), torch.empty_like(z)
         self._fwd(code, k, s, st, z.data_ptr(), p.data_ptr(), _ptr(q), _ptr(u), _ptr(diff),
                   a.data_ptr(), _ptr(h), d.data_ptr())
         saved = (n_jet, z, d) + ((None, None) if u is None else (a, diff))
