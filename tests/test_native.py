@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import logging
-import shutil
 
 import pytest
 import torch
+from conftest import needs_compiler
 
 from pinn_engine import native
 from pinn_engine.networks import ACTIVATIONS, CoordinateNet
@@ -29,6 +29,7 @@ def fresh_kernels(monkeypatch, tmp_path):
     native.kernels.cache_clear()
 
 
+@needs_compiler
 @pytest.mark.parametrize("dtype", [torch.float64, torch.float32])
 @pytest.mark.parametrize("activation", sorted(ACTIVATIONS))
 @pytest.mark.parametrize("kind", ["shortcut", "mlp"])
@@ -56,7 +57,7 @@ def test_no_extra_points_and_no_jet_points_are_both_fine():
     torch.testing.assert_close(values, net(x))
 
 
-@pytest.mark.skipif(not (shutil.which("c++") or shutil.which("g++")), reason="no C++ compiler")
+@needs_compiler
 def test_the_build_is_cached_per_source_and_reused(fresh_kernels, tmp_path):
     assert native.kernels() is not None
     built = list(tmp_path.glob("jet_kernels-*.so"))
@@ -68,7 +69,7 @@ def test_the_build_is_cached_per_source_and_reused(fresh_kernels, tmp_path):
     assert not list(tmp_path.glob("*.tmp*")) and len(list(tmp_path.iterdir())) == 1
 
 
-@pytest.mark.skipif(not (shutil.which("c++") or shutil.which("g++")), reason="no C++ compiler")
+@needs_compiler
 def test_an_unusable_cache_directory_builds_in_the_temporary_directory(fresh_kernels,
                                                                         monkeypatch, tmp_path):
     blocker = tmp_path / "a-file"

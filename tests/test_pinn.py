@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import torch
-from conftest import EXAMPLES
+from conftest import EXAMPLES, needs_compiler
 
 from pinn_engine import native
 from pinn_engine.cli import main
@@ -179,7 +179,7 @@ def test_cli_pinn_with_save_and_load(tmp_path, capsys):
     assert "different boundary" in capsys.readouterr().err
 
 
-@pytest.mark.parametrize("backend", ["native", "torch"])
+@pytest.mark.parametrize("backend", [pytest.param("native", marks=needs_compiler), "torch"])
 @pytest.mark.parametrize("kind", ["shortcut", "mlp"])
 @pytest.mark.parametrize("mode", ["hard", "penalty"])
 def test_fast_path_residuals_and_gradients_equal_the_autograd_reference(fig2, kind, mode,
