@@ -308,6 +308,20 @@ def make_figures(results: dict, budget: Budget, out: Path,
                 chosen.append((m, run))
         return chosen
 
+    def grids_and_angles(runs, case: str, preset: str, names: tuple[str, str], key: str,
+                         **layout) -> None:
+        """The grids side by side (Fig. 5 or 7) and their angle histograms (Fig. 6 or 8)."""
+        mesh, angles = names
+        path = out / f"{mesh}_mesh_{case}_{preset}.png"
+        renderers.add(mesh_figure(runs, path, f"{case} case, {preset} preset", renderer,
+                                  dpi=dpi, **layout))
+        figs[f"{mesh}_{key}"] = path
+        step(mesh)
+        figs[f"{angles}_{key}"] = angle_histograms(
+            runs, out / f"{angles}_angles_{case}_{preset}.png",
+            f"MaxIncludedAngle per cell, {case} case, {preset} preset", dpi)
+        step(angles)
+
     for preset in PRESETS:
         neural = compare_set(LOSS_CASE, preset, ("pinn", "mgnet"))
         if neural:
@@ -315,15 +329,7 @@ def make_figures(results: dict, budget: Budget, out: Path,
                 dict(neural), out / f"fig4_loss_{LOSS_CASE}_{preset}.png",
                 f"Loss terms on the {LOSS_CASE} case, {preset} preset (seed 0)", dpi)
             step("fig4")
-            path = out / f"fig5_mesh_{LOSS_CASE}_{preset}.png"
-            renderers.add(mesh_figure(neural, path, f"{LOSS_CASE} case, {preset} preset",
-                                      renderer, dpi=dpi))
-            figs[f"fig5_{preset}"] = path
-            step("fig5")
-            figs[f"fig6_{preset}"] = angle_histograms(
-                neural, out / f"fig6_angles_{LOSS_CASE}_{preset}.png",
-                f"MaxIncludedAngle per cell, {LOSS_CASE} case, {preset} preset", dpi)
-            step("fig6")
+            grids_and_angles(neural, LOSS_CASE, preset, ("fig5", "fig6"), preset)
         every = compare_set(LOSS_CASE, preset, METHODS)
         if every:
             report.write_angles_csv(every, out / f"angles_{LOSS_CASE}_{preset}.csv")
@@ -333,15 +339,8 @@ def make_figures(results: dict, budget: Budget, out: Path,
             chosen = compare_set(case, preset, order)
             if not chosen:
                 continue
-            path = out / f"fig7_mesh_{case}_{preset}.png"
-            renderers.add(mesh_figure(chosen, path, f"{case} case, {preset} preset", renderer,
-                                      columns=2, dpi=dpi))
-            figs[f"fig7_{case}_{preset}"] = path
-            step("fig7")
-            figs[f"fig8_{case}_{preset}"] = angle_histograms(
-                chosen, out / f"fig8_angles_{case}_{preset}.png",
-                f"MaxIncludedAngle per cell, {case} case, {preset} preset", dpi)
-            step("fig8")
+            grids_and_angles(chosen, case, preset, ("fig7", "fig8"), f"{case}_{preset}",
+                             columns=2)
             report.write_angles_csv(chosen, out / f"angles_{case}_{preset}.csv")
     sweeps = sweep_data(results, budget)
     figs["fig9"] = architecture_figure(
