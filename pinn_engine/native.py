@@ -2,7 +2,7 @@
 
 The library is built on first use into a per-user cache (``$PINN_MESH_CACHE``, else
 ``$XDG_CACHE_HOME/pinn-mesh`` or ``~/.cache/pinn-mesh``), keyed by the source, the compiler
-flags and the CPU, and loaded with ctypes: no Python or torch headers, about a second to build.
+flags and the CPU, and loaded with ctypes: no Python or torch headers, a few seconds to build.
 Without a C++ compiler, or with ``PINN_MESH_NATIVE=0``, :func:`kernels` returns None and the
 networks use the same formulas as torch operations (slower, same results).
 """
@@ -18,6 +18,9 @@ import shutil
 import subprocess
 import tempfile
 from pathlib import Path
+
+from .errors import InputError
+from .fileio import atomic_path
 
 log = logging.getLogger(__name__)
 SOURCE = Path(__file__).with_name("jet_kernels.cpp")
@@ -46,16 +49,9 @@ def _build(compiler: str, cache: Path) -> Path:
     target = cache / f"jet_kernels-{key}.so"
     if target.exists():
         return target
-    cache.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(suffix=".so", dir=cache)
-    os.close(fd)
-    try:
-        subprocess.run([compiler, *FLAGS, "-o", tmp, str(SOURCE)], check=True,
+    with atomic_path(target, suffix=".so") as tmp:  # complete or absent, even if concurrent
+        subprocess.run([compiler, *FLAGS, "-o", str(tmp), str(SOURCE)], check=True,
                        capture_output=True, text=True, timeout=120)
-        os.replace(tmp, target)  # atomic: concurrent builds all end with a complete file
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
     return target
 
 
@@ -80,7 +76,7 @@ def kernels() -> ctypes.CDLL | None:
     try:
         try:
             path = _build(compiler, _cache_dir())
-        except OSError:  # e.g. a read-only home: build in the temporary directory instead
+        except (OSError, InputError):  # e.g. a read-only home: use the temporary directory
             path = _build(compiler, Path(tempfile.gettempdir()) / f"pinn-mesh-{os.getuid()}")
         return _bind(ctypes.CDLL(str(path)))
     except (OSError, subprocess.SubprocessError, AttributeError) as exc:
