@@ -21,6 +21,11 @@ Errors (bad boundary, bad auxiliary line, failed or cancelled training, bad sett
 reported as one line ``PINN Structured Mesh: <message>`` through ``vtkOutputWindow`` (the
 Output Messages window in ParaView) and as an ``ErrorEvent`` on the algorithm; the output
 is then an empty grid and ``GetLastError()`` returns the message.
+
+A grid with folded cells is still produced, with one warning line ``PINN Structured Mesh:
+warning: N of M cells are folded ...`` (a hint in the words of the ParaView panel) through
+``vtkOutputWindow`` (ParaView's Output Messages) and as a ``WarningEvent``;
+``GetLastWarning()`` returns it.
 """
 
 from __future__ import annotations
@@ -37,7 +42,7 @@ from vtkmodules.vtkCommonCore import vtkCommand, vtkIntArray, vtkOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
-from .errors import PinnMeshError, TrainingCancelled
+from .errors import PinnMeshError, TrainingCancelled, folded_cells_warning
 from .settings import METHODS, PRESETS, Settings, make_settings
 
 if TYPE_CHECKING:  # the engine's numerics are imported on first use (fast plugin loading)
@@ -150,6 +155,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         self._corners: tuple[int, int, int, int] | None = None
         self._cache = MeshCache()
         self._last_error = ""
+        self._last_warning = ""
         self._trained = False
         self._failed: tuple | None = None  # stamp of the inputs/settings of a failed update
 
@@ -254,6 +260,10 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         """The message of the last failed update ("" after a successful one)."""
         return self._last_error
 
+    def GetLastWarning(self) -> str:
+        """The warning of the last update (folded cells), "" when it had none."""
+        return self._last_warning
+
     def GetTrainingCount(self) -> int:
         """How many networks this algorithm has trained (grid-size changes do not train)."""
         return self._cache.trainings
@@ -286,9 +296,9 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
             output.Initialize()
             return 1
         self._failed = None
-        self._last_error, self._trained = "", False
+        self._last_error, self._last_warning, self._trained = "", "", False
         try:
-            grid = self._execute(inInfo)
+            grid, warning = self._execute(inInfo)
         except TrainingCancelled as exc:
             message = f"{exc}; no grid produced"
         except PinnMeshError as exc:
@@ -302,6 +312,8 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
             message = f"unexpected {type(exc).__name__}: {exc}"
         else:
             output.ShallowCopy(grid)
+            if warning:
+                self._report_warning(warning)
             self.UpdateProgress(1.0)
             return 1
         output.Initialize()
@@ -324,7 +336,8 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
                 times.append(data.GetMTime() if data is not None else -1)
         return tuple(times)
 
-    def _execute(self, inInfo) -> vtkStructuredGrid:
+    def _execute(self, inInfo) -> tuple[vtkStructuredGrid, str | None]:
+        """The grid and the warning about its folded cells (None when none is folded)."""
         from .pipeline import aux_from_polydata, boundary_from_polydata, to_vtk
 
         settings = self.GetSettings()
@@ -345,7 +358,8 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         mesher, self._trained = self._cache.fitted(boundary, aux_lines, settings,
                                                    self._training_progress(settings))
         self.UpdateProgress(0.95)
-        grid = to_vtk(mesher.predict(*self._size))
+        result = mesher.predict(*self._size)
+        grid = to_vtk(result)
         fd = grid.GetFieldData()
         for name, value in (("Trained", int(self._trained)),
                             ("TrainingCount", self._cache.trainings)):
@@ -353,7 +367,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
             arr.SetName(name)
             arr.InsertNextValue(value)
             fd.AddArray(arr)
-        return grid
+        return grid, folded_cells_warning(result.report, "paraview")
 
     def _training_progress(self, settings: Settings) -> Callable[[dict], bool]:
         adam, lbfgs = settings.adam_epochs, settings.lbfgs_iterations
@@ -377,3 +391,9 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         self._last_error = line
         vtkOutputWindow.GetInstance().DisplayErrorText(line + "\n")
         self.InvokeEvent(vtkCommand.ErrorEvent, line)  # call data: the message (VTK_STRING)
+
+    def _report_warning(self, message: str) -> None:
+        line = f"{LABEL}: warning: {' '.join(str(message).split())}"
+        self._last_warning = line
+        vtkOutputWindow.GetInstance().DisplayWarningText(line + "\n")
+        self.InvokeEvent(vtkCommand.WarningEvent, line)  # call data: the message (VTK_STRING)

@@ -12,7 +12,7 @@ import sys
 import time
 from pathlib import Path
 
-from .errors import PinnMeshError
+from .errors import PinnMeshError, folded_cells_warning
 from .settings import METHODS, make_settings
 
 EXIT_ERROR = 2
@@ -46,7 +46,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--report", metavar="PATH", help="also write a JSON report")
     p.add_argument("--fail-on-folded", action="store_true",
                    help="exit with an error (status 2, no output) if any cell is folded")
-    p.add_argument("--quiet", action="store_true", help="no progress output")
+    p.add_argument("--quiet", action="store_true",
+                   help="no progress output (a warning about folded cells is still printed)")
     g = p.add_argument_group("training (pinn, mgnet)")
     g.add_argument("--epochs", type=int, dest="adam_epochs", help="Adam epochs")
     g.add_argument("--lbfgs", type=int, dest="lbfgs_iterations", help="L-BFGS iterations")
@@ -186,6 +187,9 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
             render_png(grid, tmp, title=f"{args.method}: {Path(args.boundary).name}")
         written.append(Path(args.png))
     print(f"wrote {out}" + (f" and {args.png}" if args.png else ""))
+    warning = folded_cells_warning(result.report, "cli")
+    if warning:  # not progress: printed with --quiet too; last, so an error stays one line
+        print(f"pinn-mesh: warning: {args.boundary}: {warning}", file=sys.stderr, flush=True)
     return out
 
 

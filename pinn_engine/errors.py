@@ -1,4 +1,4 @@
-"""Exceptions that carry a one-line, user-facing message."""
+"""Exceptions and warnings that carry a one-line, user-facing message."""
 
 from __future__ import annotations
 
@@ -21,3 +21,70 @@ class TrainingError(PinnMeshError):
 
 class TrainingCancelled(TrainingError):
     """The progress callback asked training to stop."""
+
+
+class FoldedCellsWarning(UserWarning):
+    """A grid was produced although some of its cells are folded (pyvista route).
+
+    Filter it like any warning, e.g. ``warnings.simplefilter("error", FoldedCellsWarning)``
+    to refuse such grids or ``"ignore"`` to accept them silently.
+    """
+
+
+# the fixes a folded grid suggests, in the words of each route: command-line options,
+# pyvista keyword arguments, the ParaView filter panel's property labels
+_FIX_WORDS = {
+    "cli": {
+        "method": "--method {}",
+        "lbfgs": "more --lbfgs iterations",
+        "seed": "another --seed",
+        "converge": "--elliptic-iterations 0 (solve to convergence)",
+        "refuse": "; --fail-on-folded refuses such grids",
+    },
+    "pyvista": {
+        "method": 'method="{}"',
+        "lbfgs": "a larger lbfgs_iterations=",
+        "seed": "another seed=",
+        "converge": "elliptic_iterations=0 (solve to convergence)",
+        "refuse": "",
+    },
+    "paraview": {
+        "method": "Method {}",
+        "lbfgs": "more L-BFGS Iterations",
+        "seed": "another Seed",
+        "converge": "Preset default (solves to convergence)",
+        "refuse": "",
+    },
+}
+_HANDED_OVER = {"cli": "written", "pyvista": "returned", "paraview": "produced"}
+
+
+def folded_cells_warning(report: dict, route: str) -> str | None:
+    """The warning for a grid with folded cells, or None when no cell is folded.
+
+    ``report`` is ``MeshResult.report`` (its ``quality.folded_cells``, ``size``, ``method``
+    and ``settings``); ``route`` is ``"cli"``, ``"pyvista"`` or ``"paraview"`` and chooses
+    the words of the hint: options, keyword arguments or the filter panel's labels. Each
+    route adds its own prefix (``pinn-mesh: warning:``, the filter's label, the warning
+    category).
+    """
+    folded = int(report["quality"]["folded_cells"])
+    if folded <= 0:
+        return None
+    ni, nj = report["size"]
+    words = _FIX_WORDS[route]
+    method = report.get("method", "")
+    if method in ("pinn", "mgnet"):
+        fix = f"{words['method'].format('elliptic')}, {words['lbfgs']} or {words['seed']}"
+    elif method == "tfi":
+        fix = words["method"].format("elliptic")
+    elif report.get("settings", {}).get("elliptic_iterations"):
+        fix = f"{words['converge']} or {words['method'].format('pinn')}"
+    else:
+        fix = words["method"].format("pinn")
+    verb = "is" if folded == 1 else "are"
+    return (
+        f"{folded} of {(ni - 1) * (nj - 1)} cells {verb} folded (a corner's orientation "
+        f"opposes the grid's); the grid is {_HANDED_OVER[route]} anyway; try {fix}"
+        f"{words['refuse']}"
+    )

@@ -16,10 +16,16 @@ The accessor keeps the networks it trained for that boundary, so calling it agai
 another ``size`` only re-evaluates the network. ``boundary.pinn_mesh.trainings`` counts the
 trainings and ``boundary.pinn_mesh.clear()`` forgets them. ``pinn_mesh(boundary, ...)`` is the
 same as a plain function (no cache unless you pass one).
+
+A grid with folded cells is still returned, with a ``pinn_engine.FoldedCellsWarning`` (a
+``UserWarning``) that gives the count and a hint; ``warnings.simplefilter("error",
+FoldedCellsWarning)`` turns it into an exception.
 """
 
 from __future__ import annotations
 
+import sys
+import warnings
 from collections.abc import Callable, Sequence
 
 import numpy as np
@@ -27,10 +33,10 @@ import pyvista as pv
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 from .algorithm import MeshCache
-from .errors import InputError
+from .errors import FoldedCellsWarning, InputError, folded_cells_warning
 from .settings import make_settings
 
-__all__ = ["PinnMeshAccessor", "pinn_mesh", "register"]
+__all__ = ["FoldedCellsWarning", "PinnMeshAccessor", "pinn_mesh", "register"]
 
 
 def _ring_polydata(points, closed: bool) -> pv.PolyData:
@@ -41,6 +47,17 @@ def _ring_polydata(points, closed: bool) -> pv.PolyData:
         pts = np.column_stack([pts, np.zeros(len(pts))])
     ids = list(range(len(pts))) + ([0] if closed else [])
     return pv.PolyData(pts, lines=[len(ids), *ids])
+
+
+def _warn_if_folded(report: dict) -> None:
+    """A ``FoldedCellsWarning`` attributed to the first caller outside this module."""
+    text = folded_cells_warning(report, "pyvista")
+    if text is None:
+        return
+    frame, level = sys._getframe(), 1
+    while frame is not None and frame.f_code.co_filename == __file__:
+        frame, level = frame.f_back, level + 1
+    warnings.warn(text, FoldedCellsWarning, stacklevel=level)
 
 
 def _as_polydata(obj, closed: bool, what: str) -> vtkPolyData:
@@ -117,6 +134,12 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
         (degrees), ``ScaledJacobian``, ``Folded``; field data ``Method``, ``Report`` (JSON),
         quality figures and ``Loss_<term>`` histories.
 
+    Warns
+    -----
+    pinn_engine.FoldedCellsWarning
+        Some cells of the grid are folded (the count and a hint of the fix); the grid is
+        returned anyway.
+
     Raises
     ------
     pinn_engine.errors.PinnMeshError
@@ -148,7 +171,10 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
     lines = aux_from_polydata(_aux_list(aux), ring)
     cache = cache if cache is not None else MeshCache(capacity=1)
     mesher, _ = cache.fitted(ring, lines, config, progress)
-    return pv.wrap(to_vtk(mesher.predict(ni, nj)))
+    result = mesher.predict(ni, nj)
+    grid = pv.wrap(to_vtk(result))
+    _warn_if_folded(result.report)
+    return grid
 
 
 @pv.register_dataset_accessor("pinn_mesh", pv.PolyData)

@@ -1,0 +1,246 @@
+"""A grid with folded cells is never handed over silently (issue 11 item 4).
+
+TFI folds cells on the L-shaped ``concave`` example and on none of ``fig2``: the command
+line warns on stderr, the VTK algorithm (ParaView filter) through ``vtkOutputWindow`` and a
+``WarningEvent``, the pyvista route with a ``FoldedCellsWarning``; no training involved.
+"""
+
+from __future__ import annotations
+
+import inspect
+import re
+import warnings
+
+import pytest
+import pyvista as pv
+from conftest import EXAMPLES, ROOT
+from vtkmodules.util.misc import calldata_type
+from vtkmodules.vtkCommonCore import VTK_STRING, vtkOutputWindow, vtkStringOutputWindow
+from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+
+import pinn_engine
+from pinn_engine.algorithm import PinnMeshAlgorithm
+from pinn_engine.cli import build_parser, main
+from pinn_engine.errors import FoldedCellsWarning, folded_cells_warning
+from pinn_engine.mesher import Mesher
+from pinn_engine.pipeline import load_boundary
+from pinn_engine.pyvista_accessor import pinn_mesh
+from pinn_engine.settings import METHODS, Settings, make_settings
+
+FOLDED, UNFOLDED = EXAMPLES / "concave.vtp", EXAMPLES / "fig2.vtp"
+
+
+@pytest.fixture(scope="module")
+def folded() -> int:
+    """Folded cells of the 41 x 21 TFI grid of the concave example (13 when written)."""
+    result = Mesher(make_settings("tfi")).fit(load_boundary(FOLDED)).predict(41, 21)
+    count = result.quality["folded_cells"]
+    assert count > 0
+    return count
+
+
+def report(method: str, folded_cells: int = 3, **settings) -> dict:
+    return {
+        "method": method,
+        "size": [11, 6],
+        "quality": {"folded_cells": folded_cells},
+        "settings": make_settings(method, **settings).to_dict(),
+    }
+
+
+# ---------------------------------------------------------------- the text, in one place
+
+
+def test_text_gives_the_count_of_all_cells_and_none_when_nothing_is_folded():
+    text = folded_cells_warning(report("tfi"), "cli")
+    assert text.startswith("3 of 50 cells are folded (a corner's orientation opposes the grid's)")
+    assert "the grid is written anyway" in text
+    assert folded_cells_warning(report("tfi", 1), "pyvista").startswith("1 of 50 cells is folded")
+    assert folded_cells_warning(report("tfi", 0), "cli") is None
+
+
+CASES = [
+    ("tfi", {}),
+    ("elliptic", {}),
+    ("elliptic", {"elliptic_iterations": 1000}),
+    ("pinn", {}),
+    ("mgnet", {}),
+]
+
+
+@pytest.mark.parametrize(("method", "settings"), CASES)
+def test_cli_hint_names_options_that_exist(method, settings):
+    text = folded_cells_warning(report(method, **settings), "cli")
+    options = build_parser()._option_string_actions
+    named = re.findall(r"--[a-z][a-z-]*", text)
+    assert named and all(flag in options for flag in named), named
+    assert text.endswith("--fail-on-folded refuses such grids")
+    for value in re.findall(r"--method (\w+)", text):
+        assert value in METHODS and value != method
+
+
+@pytest.mark.parametrize(("method", "settings"), CASES)
+def test_pyvista_hint_names_keyword_arguments_that_exist(method, settings):
+    text = folded_cells_warning(report(method, **settings), "pyvista")
+    assert "the grid is returned anyway" in text and "--" not in text
+    keywords = set(inspect.signature(pinn_mesh).parameters) | set(Settings.__dataclass_fields__)
+    named = re.findall(r"(\w+)=", text)
+    assert named and all(k in keywords for k in named), named
+
+
+@pytest.mark.parametrize(("method", "settings"), CASES)
+def test_paraview_hint_names_labels_of_the_filter_panel(method, settings):
+    text = folded_cells_warning(report(method, **settings), "paraview")
+    assert "the grid is produced anyway" in text and "--" not in text and "=" not in text
+    plugin = (ROOT / "plugin" / "pinn_mesh_plugin.py").read_text()
+    labels = set(re.findall(r'label="([^"]+)"', plugin))
+    labels |= set(re.findall(r'name="(\w+)"', plugin))  # no label: ParaView shows the name
+    hint = text.split("; try ", 1)[1]
+    named = re.findall(r"[A-Z][\w-]*(?: [A-Z][\w-]*)*", hint)  # capitalised: the labels
+    assert named and all(label in labels for label in named), named
+    for value in re.findall(r"Method (\w+)", hint):
+        assert value in METHODS and value != method
+
+
+def test_warning_class_is_exported_from_the_package():
+    assert pinn_engine.FoldedCellsWarning is FoldedCellsWarning
+    assert issubclass(FoldedCellsWarning, UserWarning)
+
+
+# ---------------------------------------------------------------- command line
+
+
+def run_cli(argv, capsys) -> tuple[int, str, str]:
+    rc = main([str(a) for a in argv])
+    captured = capsys.readouterr()
+    return rc, captured.out, captured.err
+
+
+def test_cli_warns_on_stderr_even_when_quiet_and_writes_the_grid(folded, tmp_path, capsys):
+    out = tmp_path / "g.vts"
+    rc, stdout, err = run_cli([FOLDED, "--method", "tfi", "-o", out, "--quiet"], capsys)
+    assert rc == 0 and out.is_file() and f"wrote {out}" in stdout
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert lines[0].startswith(f"pinn-mesh: warning: {FOLDED}: {folded} of 800 cells are folded")
+    assert "--method elliptic" in lines[0] and "--fail-on-folded" in lines[0]
+
+
+def test_cli_warning_comes_last_after_the_summary(folded, tmp_path, capsys):
+    rc, _, err = run_cli([FOLDED, "--method", "tfi", "-o", tmp_path / "g.vts"], capsys)
+    lines = err.strip().splitlines()
+    assert rc == 0 and f"{folded} folded cells" in lines[0]
+    assert lines[-1].startswith("pinn-mesh: warning: ") and f"{folded} of 800" in lines[-1]
+
+
+def test_cli_fail_on_folded_still_refuses_with_status_2_and_no_warning(folded, tmp_path, capsys):
+    out = tmp_path / "g.vts"
+    argv = [FOLDED, "--method", "tfi", "-o", out, "--quiet", "--fail-on-folded"]
+    rc, _, err = run_cli(argv, capsys)
+    assert rc == 2 and not out.exists() and not list(tmp_path.iterdir())
+    assert err.strip().splitlines() == [
+        f"pinn-mesh: error: {FOLDED}: {folded} folded cells (--fail-on-folded); no output written"
+    ]
+
+
+@pytest.mark.parametrize(("boundary", "method"), [(UNFOLDED, "tfi"), (FOLDED, "elliptic")])
+def test_cli_no_warning_without_folded_cells(boundary, method, tmp_path, capsys):
+    rc, _, err = run_cli(
+        [boundary, "--method", method, "-o", tmp_path / "g.vts", "--quiet"], capsys
+    )
+    assert rc == 0 and err == ""
+
+
+# ---------------------------------------------------------------- VTK algorithm, ParaView
+
+
+class Messages:
+    """Collects vtkOutputWindow text (ParaView's Output Messages) and WarningEvents."""
+
+    def __init__(self, alg) -> None:
+        self.window, self.old = vtkStringOutputWindow(), vtkOutputWindow.GetInstance()
+        self.events: list[str] = []
+
+        @calldata_type(VTK_STRING)
+        def on_warning(obj, event, message):
+            self.events.append(message)
+
+        alg.AddObserver("WarningEvent", on_warning)
+
+    def __enter__(self):
+        vtkOutputWindow.SetInstance(self.window)
+        return self
+
+    def __exit__(self, *exc):
+        vtkOutputWindow.SetInstance(self.old)
+
+    @property
+    def lines(self) -> list[str]:
+        return [ln for ln in self.window.GetOutput().splitlines() if ln.strip()]
+
+
+def algorithm(path, method: str) -> tuple[PinnMeshAlgorithm, vtkXMLPolyDataReader]:
+    reader = vtkXMLPolyDataReader()
+    reader.SetFileName(str(path))
+    alg = PinnMeshAlgorithm()
+    alg.SetInputConnection(0, reader.GetOutputPort())
+    alg.SetMethod(method)
+    return alg, reader  # keep the reader alive with the algorithm
+
+
+def test_algorithm_warns_in_the_output_window_and_still_produces_the_grid(folded):
+    alg, _reader = algorithm(FOLDED, "tfi")
+    with Messages(alg) as messages:
+        alg.Update()
+    grid = alg.GetOutput()
+    assert alg.GetLastError() == "" and grid.GetNumberOfPoints() == 41 * 21
+    assert grid.GetFieldData().GetArray("folded_cells").GetValue(0) == folded
+    warning = alg.GetLastWarning()
+    assert warning.startswith(f"PINN Structured Mesh: warning: {folded} of 800 cells are folded")
+    assert "try Method elliptic" in warning and "--" not in warning
+    assert messages.lines == [warning] and messages.events == [warning]
+    # the next update without folded cells clears it and says nothing
+    alg.SetMethod("elliptic")
+    with Messages(alg) as messages:
+        alg.Update()
+    assert alg.GetLastWarning() == "" and messages.lines == [] and messages.events == []
+    assert alg.GetOutput().GetNumberOfPoints() == 41 * 21
+
+
+def test_algorithm_no_warning_without_folded_cells():
+    alg, _reader = algorithm(UNFOLDED, "tfi")
+    with Messages(alg) as messages:
+        alg.Update()
+    assert alg.GetOutput().GetNumberOfPoints() == 41 * 21
+    assert alg.GetLastWarning() == "" and messages.lines == [] and messages.events == []
+
+
+# ---------------------------------------------------------------- pyvista
+
+
+def test_pyvista_function_and_accessor_warn_at_the_callers_line(folded):
+    boundary = pv.read(FOLDED)
+    with pytest.warns(FoldedCellsWarning, match=f"^{folded} of 800 cells are folded") as record:
+        grid = pinn_mesh(boundary, method="tfi")
+    assert grid.n_cells == 800 and int(grid.cell_data["Folded"].sum()) == folded
+    assert 'method="elliptic"' in str(record[0].message)
+    assert record[0].filename == __file__
+    with pytest.warns(FoldedCellsWarning) as record:
+        boundary.pinn_mesh(method="tfi", size=(11, 6))
+    assert str(record[0].message).startswith("1 of 50 cells is folded")
+    assert record[0].filename == __file__
+
+
+def test_pyvista_warning_can_be_turned_into_an_error():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", FoldedCellsWarning)
+        with pytest.raises(FoldedCellsWarning):
+            pinn_mesh(pv.read(FOLDED), method="tfi")
+
+
+@pytest.mark.parametrize(("boundary", "method"), [(UNFOLDED, "tfi"), (FOLDED, "elliptic")])
+def test_pyvista_no_warning_without_folded_cells(boundary, method):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        grid = pv.read(boundary).pinn_mesh(method=method)
+    assert grid.n_cells == 800 and int(grid.cell_data["Folded"].sum()) == 0
