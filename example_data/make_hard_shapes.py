@@ -31,8 +31,9 @@ def line(a, b, n: int = 41) -> np.ndarray:
     return np.linspace(np.asarray(a, float), np.asarray(b, float), n)
 
 
-def graph(f: Callable[[np.ndarray], np.ndarray], x0: float, x1: float, n: int = 241,
-          dense: int = 40001) -> np.ndarray:
+def graph(
+    f: Callable[[np.ndarray], np.ndarray], x0: float, x1: float, n: int = 241, dense: int = 40001
+) -> np.ndarray:
     """The curve y = f(x) from x0 to x1, resampled by arc length."""
     x = np.linspace(x0, x1, dense)
     return resample(np.column_stack([x, f(x)]), n)
@@ -50,8 +51,12 @@ def slot(x: np.ndarray, centre: float, width: float, depth: float, edge: float) 
 
 def box_with_top(width: float, height: float, top: Callable, n_top: int = 321) -> np.ndarray:
     """A box whose top is y = top(x); corners (0,0), (w,0), (w,top(w)), (0,top(0))."""
-    return ring(line((0, 0), (width, 0), 81), line((width, 0), (width, top(np.array(width))), 41),
-                graph(top, width, 0.0, n_top), line((0, top(np.array(0.0))), (0, 0), 41))
+    return ring(
+        line((0, 0), (width, 0), 81),
+        line((width, 0), (width, top(np.array(width))), 41),
+        graph(top, width, 0.0, n_top),
+        line((0, top(np.array(0.0))), (0, 0), 41),
+    )
 
 
 def notch_narrow_deep():
@@ -62,7 +67,7 @@ def notch_narrow_deep():
 
 def notch_gauss():
     """A Gaussian notch 60 % deep in the top of a 2:1 box, aux line down its middle."""
-    top = lambda x: 1 - 0.6 * np.exp(-((x - 1) / 0.12) ** 2)  # noqa: E731
+    top = lambda x: 1 - 0.6 * np.exp(-(((x - 1) / 0.12) ** 2))  # noqa: E731
     return box_with_top(2.0, 1.0, top), [line((1.0, 0.0), (1.0, 0.4), 21)]
 
 
@@ -88,8 +93,9 @@ def two_slots():
 def backward_step():
     """A channel with a smoothed backward-facing step of half the outlet height."""
     bottom = graph(lambda x: 0.5 * (1 - step((x - 1.0) / 0.03)), 0.0, 4.0, 321)
-    return ring(bottom, line((4, 0), (4, 1)), line((4, 1), (0, 1), 161),
-                line((0, 1), (0, 0.5), 21)), []
+    return ring(
+        bottom, line((4, 0), (4, 1)), line((4, 1), (0, 1), 161), line((0, 1), (0, 0.5), 21)
+    ), []
 
 
 def dart_30():
@@ -125,11 +131,12 @@ def channel_12():
 
 def nozzle_4():
     """A converging-diverging nozzle, inlet height 4 times the throat's."""
-    h = lambda x: 0.125 + 0.375 * (1 - np.exp(-((x - 1.0) / 0.35) ** 2))  # noqa: E731
+    h = lambda x: 0.125 + 0.375 * (1 - np.exp(-(((x - 1.0) / 0.35) ** 2)))  # noqa: E731
     bottom = graph(lambda x: -h(x), 0.0, 3.0, 241)
     top = graph(h, 3.0, 0.0, 241)
-    return ring(bottom, line(bottom[-1], top[0]), top, line(top[-1], bottom[0])), \
-        [line((1.0, -0.125), (1.0, 0.125), 21)]
+    return ring(bottom, line(bottom[-1], top[0]), top, line(top[-1], bottom[0])), [
+        line((1.0, -0.125), (1.0, 0.125), 21)
+    ]
 
 
 def s_duct():
@@ -142,14 +149,30 @@ def s_duct():
 
 def bump():
     """A bump channel (bump 40 % of the height), aux line over the bump's crest."""
-    bottom = graph(lambda x: 0.4 * np.exp(-((x - 1.5) / 0.25) ** 2), 0.0, 3.0, 241)
-    return ring(bottom, line((3, 0), (3, 1)), line((3, 1), (0, 1), 121), line((0, 1), (0, 0))), \
-        [line((1.5, 0.4), (1.5, 1.0), 21)]
+    bottom = graph(lambda x: 0.4 * np.exp(-(((x - 1.5) / 0.25) ** 2)), 0.0, 3.0, 241)
+    return ring(bottom, line((3, 0), (3, 1)), line((3, 1), (0, 1), 121), line((0, 1), (0, 0))), [
+        line((1.5, 0.4), (1.5, 1.0), 21)
+    ]
 
 
-SHAPES = {f.__name__: f for f in (
-    notch_narrow_deep, notch_gauss, notch_v_sharp, notch_wide_shallow_offset, two_slots,
-    backward_step, dart_30, kite_35, sector_270, channel_12, nozzle_4, s_duct, bump)}
+SHAPES = {
+    f.__name__: f
+    for f in (
+        notch_narrow_deep,
+        notch_gauss,
+        notch_v_sharp,
+        notch_wide_shallow_offset,
+        two_slots,
+        backward_step,
+        dart_30,
+        kite_35,
+        sector_270,
+        channel_12,
+        nozzle_4,
+        s_duct,
+        bump,
+    )
+}
 
 
 def main() -> None:
