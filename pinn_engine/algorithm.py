@@ -249,7 +249,8 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
 
     def GetSettings(self) -> Settings:
         """The ``Settings`` the next update uses (raises ``ValueError`` if invalid)."""
-        return make_settings(self._method, self._preset, **self._overrides)
+        return make_settings(self._method, self._preset,
+                             **{"lattice": tuple(max(n, 2) for n in self._size), **self._overrides})
 
     # ---- results -----------------------------------------------------------------------
     def GetOutput(self) -> vtkStructuredGrid:

@@ -166,3 +166,24 @@ def map_lines(raws: list[RawLine], boundary: Boundary, end_tol: float = END_TOL
     lines = [map_line(r, boundary, end_tol) for r in raws]
     check_crossings(lines, boundary)
     return lines
+
+
+def line_distances(grid: np.ndarray, lines: list[AuxLine], diagonal: float) -> dict[str, float]:
+    """How far the grid follows each auxiliary line: the largest distance from the drawn line
+    of the grid's curve through the line's (xi, eta) (bilinear in the grid's cells), relative
+    to the boundary's diagonal. ``grid`` (nj, ni, 2) and the lines share one frame."""
+    from scipy.interpolate import RegularGridInterpolator
+
+    nj, ni = grid.shape[:2]
+    along = RegularGridInterpolator((np.linspace(0, 1, nj), np.linspace(0, 1, ni)), grid)
+    out = {}
+    for line in lines:
+        curve = along(line.xi_eta[:, ::-1])
+        a, b = line.xy[:-1], line.xy[1:]
+        ab = b - a
+        u = np.einsum("pij,ij->pi", curve[:, None] - a, ab) / np.maximum(
+            np.einsum("ij,ij->i", ab, ab), 1e-300)
+        foot = a + np.clip(u, 0.0, 1.0)[..., None] * ab
+        out[line.name] = float(np.linalg.norm(curve[:, None] - foot, axis=-1).min(axis=1).max()
+                               / diagonal)
+    return out

@@ -57,6 +57,9 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--boundary-mode", choices=("hard", "penalty"), dest="boundary_mode",
                    help="hard: exact boundary by construction; penalty: the paper's term")
     g.add_argument("--boundary-fit", choices=("arclength", "tree"), dest="boundary_fit")
+    g.add_argument("--warm-start", choices=("elliptic", "none"), dest="warm_start",
+                   help="elliptic (default): start from the converged elliptic grid and keep "
+                        "the last state no worse than it; none: train from TFI (paper)")
     g.add_argument("--device", help="torch device: auto, cpu, cuda")
     g.add_argument("--save-model", metavar="PATH", help="save the trained model")
     g.add_argument("--load-model", metavar="PATH",
@@ -138,9 +141,9 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     _check_options(args)
     ni, nj = args.size
     fields = ("seed", "adam_epochs", "lbfgs_iterations", "hidden_layers", "neurons",
-              "lambda2", "boundary_fit", "device", "elliptic_iterations")
+              "lambda2", "boundary_fit", "device", "elliptic_iterations", "warm_start")
     try:
-        settings = make_settings(args.method, args.preset,
+        settings = make_settings(args.method, args.preset, lattice=(ni, nj),
                                  boundary=args.boundary_mode,
                                  **{k: getattr(args, k) for k in fields})
     except ValueError as exc:

@@ -4,7 +4,8 @@
 - ``hard``: map = TFI of the boundary + B(xi, eta) * networks, with the bubble
   B = 16 xi (1 - xi) eta (1 - eta) vanishing on the boundary, so boundary nodes lie on the
   boundary by construction. Training takes the TFI's derivatives from a C2 spline through the
-  boundary vertices; the grid uses the exact polyline TFI (they agree on the boundary).
+  boundary vertices; the grid uses the exact polyline TFI (they agree on the boundary). With
+  a warm start (warmstart.py) its correction, zero on the boundary, joins the TFI base.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from .boundary_fit import ArcLengthFit, SplineFit
 from .geometry import Boundary
 from .networks import CoordinateNet, autograd_jet, jet_product
 from .tfi import node_params, tfi_grid, transfinite
+from .warmstart import WarmStart
 
 
 def bubble(x: torch.Tensor) -> torch.Tensor:
@@ -45,19 +47,24 @@ def _product(u: torch.Tensor, w: torch.Tensor) -> torch.Tensor:
 class Mapping:
     """Evaluates the map and its derivative jet for a network and a boundary."""
 
-    def __init__(self, net: CoordinateNet, boundary: Boundary, mode: str) -> None:
+    def __init__(self, net: CoordinateNet, boundary: Boundary, mode: str,
+                 warm: WarmStart | None = None) -> None:
         if mode not in ("hard", "penalty"):
             raise ValueError(f"unknown boundary mode {mode!r}; use hard or penalty")
-        self.net, self.boundary, self.mode = net, boundary, mode
+        if warm is not None and mode != "hard":
+            raise ValueError("a warm start needs the hard boundary mode")
+        self.net, self.boundary, self.mode, self.warm = net, boundary, mode, warm
         self.spline = SplineFit(boundary) if mode == "hard" else None
 
-    def tfi_jet(self, x: np.ndarray) -> np.ndarray:
-        """Jet (6, B, 2) of the spline TFI at points ``x`` (B, 2); constant during training."""
-        return np.stack(transfinite(x[:, 0], x[:, 1], self.spline.sample, order=2))
+    def base_jet(self, x: np.ndarray) -> np.ndarray:
+        """Jet (6, B, 2) of the hard mode's base (spline TFI, plus the warm start's
+        correction) at points ``x`` (B, 2); constant during training."""
+        jet = np.stack(transfinite(x[:, 0], x[:, 1], self.spline.sample, order=2))
+        return jet if self.warm is None else jet + self.warm.jet(x)
 
     def jet(self, x: torch.Tensor, base: torch.Tensor | None, extra: torch.Tensor | None = None,
             fast: bool = True) -> tuple[torch.Tensor, torch.Tensor]:
-        """Jet (6, B, 2) of the map at ``x`` (``base`` is ``tfi_jet(x)`` in hard mode) and the
+        """Jet (6, B, 2) of the map at ``x`` (``base`` is ``base_jet(x)`` in hard mode) and the
         networks' outputs (B', 2) at the ``extra`` points; ``fast=False`` is the reference:
         nested autograd and a separate forward pass."""
         extra = x[:0] if extra is None else extra
@@ -76,7 +83,7 @@ class Mapping:
         return out if self.mode == "penalty" else base + bubble(x) * out
 
     def values(self, x: torch.Tensor, base: torch.Tensor | None) -> torch.Tensor:
-        """Map values (B, 2) at ``x``; ``base`` is the TFI value there in hard mode."""
+        """Map values (B, 2) at ``x``; ``base`` is the base value there in hard mode."""
         return self.compose(self.net(x), x, base)
 
     def grid(self, ni: int, nj: int, chunk: int = 1 << 13) -> np.ndarray:
@@ -106,6 +113,8 @@ class Mapping:
             out[block] = y.cpu().numpy().reshape(-1, ni, 2)
             if sample is not None:
                 out[block] += tfi_grid(sample, ni, nj, block)
+            if self.warm is not None:
+                out[block] += self.warm.grid(ni, nj, block)
 
         threads = torch.get_num_threads()
         torch.set_num_threads(1)

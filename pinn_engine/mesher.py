@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .auxlines import AuxLine
+from .auxlines import AuxLine, line_distances
 from .boundary_fit import make_fit
 from .elliptic import winslow_solve, winslow_sweeps
 from .errors import PinnMeshError, TrainingError
@@ -111,6 +111,7 @@ class Mesher:
             "quality": summary(cells, deviation),
             "source": self.boundary.source,
             "aux_lines": [a.name for a in self.aux_lines],
+            "aux_line_distance": line_distances(unit, self.aux_lines, self.boundary.diagonal),
         }
         if self.model is not None:
             report["training"] = self.model.info

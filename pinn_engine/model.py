@@ -17,6 +17,7 @@ from .geometry import Boundary, Frame
 from .mapping import Mapping
 from .networks import CoordinateNet
 from .settings import Settings
+from .warmstart import WarmStart
 
 FORMAT = "pinn-mesh-model/1"
 
@@ -47,6 +48,8 @@ class TrainedModel:
             "boundary": {"ring": torch.as_tensor(b.ring), "corners": list(b.corners),
                          "origin": torch.as_tensor(b.frame.origin), "scale": b.frame.scale},
             "history": self.history, "info": self.info,
+            "warm": None if self.mapping.warm is None
+            else torch.as_tensor(self.mapping.warm.correction),
         }
         with atomic_path(path) as tmp:
             torch.save(payload, tmp)
@@ -72,6 +75,8 @@ class TrainedModel:
             bd = payload["boundary"]
             saved = Boundary(ring=bd["ring"].numpy(), corners=tuple(bd["corners"]),
                              frame=Frame(bd["origin"].numpy(), float(bd["scale"])), source=src)
+            warm = payload.get("warm")
+            warm = WarmStart(warm.numpy()) if warm is not None else None
         except (KeyError, TypeError, RuntimeError, ValueError) as exc:
             raise InputError(f"damaged or incompatible model ({exc})", src) from None
         if boundary is not None:
@@ -84,5 +89,5 @@ class TrainedModel:
                 raise InputError("model was trained for a different boundary", src)
             saved = dataclasses.replace(saved, source=boundary.source)
         net = net.to(torch.float64)
-        return cls(Mapping(net, saved, settings.boundary), settings, payload["history"],
+        return cls(Mapping(net, saved, settings.boundary, warm), settings, payload["history"],
                    payload["info"])

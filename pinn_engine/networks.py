@@ -334,6 +334,11 @@ class CoordinateNet(nn.Module):
         self.b_hidden = nn.ParameterList([bias(k, 1, n) for _ in range(hidden_layers - 1)])
         self.w_out, self.b_out = weight(k, n, 1), bias(k, 1, 1)
 
+    def weight_matrices(self) -> list[nn.Parameter]:
+        """The weight matrices of the main path (input, hidden, output layers): what Wang et
+        al.'s Algorithm 1 takes gradient statistics of (no biases, no U/V encoders)."""
+        return [self.w_in, *self.w_hidden, self.w_out]
+
     def forward(self, x: torch.Tensor) -> torch.Tensor:
         """(B, 2) computational coordinates -> (B, 2) outputs, one per sub-network."""
         act = ACTIVATIONS[self.activation]

@@ -165,7 +165,7 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
     config = make_settings(method, preset, adam_epochs=adam_epochs,
                            lbfgs_iterations=lbfgs_iterations, hidden_layers=hidden_layers,
                            neurons=neurons, lambda2=lambda2, seed=seed, boundary=boundary_mode,
-                           device=device, **settings)
+                           device=device, **{"lattice": (ni, nj), **settings})
     poly = _as_polydata(boundary, closed=True, what="boundary")
     ring = boundary_from_polydata(poly, corners, source="boundary")
     lines = aux_from_polydata(_aux_list(aux), ring)

@@ -17,15 +17,19 @@ class Settings:
     # boundary treatment: "hard" (network corrects TFI, exact boundary) or "penalty" (paper)
     boundary: str = "hard"
     boundary_fit: str = "arclength"  # "arclength" or "tree" (paper)
+    # "elliptic": start from the converged elliptic grid on ``lattice`` and stop L-BFGS at the
+    # last state no worse than it there (warmstart.py); "none": start from TFI (paper)
+    warm_start: str = "elliptic"
+    lattice: tuple[int, int] = (41, 21)  # nodes of the warm start; routes use the output size
     hidden_layers: int = 4
     neurons: int = 30
     activation: str = "tanh"
-    adam_epochs: int = 5000
+    adam_epochs: int = 0
     learning_rate: float = 1e-3
     lr_decay: float = 0.9
     lr_decay_every: int = 1000
     batch_size: int = 100
-    lbfgs_iterations: int = 500
+    lbfgs_iterations: int = 60
     lbfgs_points: int = 1000
     lambda2: float = 10.0
     anneal_momentum: float = 0.9  # moving-average factor of the lambda1 update
@@ -48,28 +52,50 @@ class Settings:
         for name in ("adam_epochs", "lbfgs_iterations", "elliptic_iterations"):
             if getattr(self, name) < 0:
                 raise ValueError(f"{name} must not be negative")
+        if self.warm_start not in ("elliptic", "none"):
+            raise ValueError(f"unknown warm start {self.warm_start!r}; use elliptic or none")
+        if self.warm_start == "elliptic" and self.boundary != "hard":
+            raise ValueError("the elliptic warm start needs the hard boundary mode; with the "
+                             "penalty boundary set the warm start to none")
+        lattice = tuple(int(n) for n in self.lattice)
+        if len(lattice) != 2 or min(lattice) < 2:
+            raise ValueError(f"lattice must be two node counts of at least 2, got {self.lattice}")
+        object.__setattr__(self, "lattice", lattice)  # lists (JSON, saved models) -> tuple
 
     def to_dict(self) -> dict:
         return asdict(self)
 
     def training_key(self) -> tuple:
         """The settings that change the trained network (not the output resolution)."""
-        skip = {"preset", "device"}
+        skip = {"preset", "device"} | ({"lattice"} if self.warm_start == "none" else set())
         return tuple((f.name, getattr(self, f.name)) for f in fields(self) if f.name not in skip)
 
 
 PAPER = {
-    "boundary": "penalty", "boundary_fit": "tree", "hidden_layers": 4, "neurons": 30,
-    "activation": "tanh", "adam_epochs": 5000, "learning_rate": 1e-3, "lr_decay": 0.9,
-    "lr_decay_every": 1000, "batch_size": 100, "lbfgs_iterations": 500,
+    "boundary": "penalty", "boundary_fit": "tree", "warm_start": "none", "hidden_layers": 4,
+    "neurons": 30, "activation": "tanh", "adam_epochs": 5000, "learning_rate": 1e-3,
+    "lr_decay": 0.9, "lr_decay_every": 1000, "batch_size": 100, "lbfgs_iterations": 500,
     "lbfgs_points": 1000, "lambda2": 10.0, "elliptic_iterations": 1000,
 }
 
 
+# Training from TFI (no warm start) needs the long schedule of the paper's recipe.
+FROM_TFI = {"adam_epochs": 5000, "lbfgs_iterations": 500}
+
+
 def make_settings(method: str = "pinn", preset: str = "default", **overrides) -> Settings:
-    """Settings for ``method`` under ``preset``, then ``overrides`` (None values ignored)."""
+    """Settings for ``method`` under ``preset``, then ``overrides`` (None values ignored).
+
+    The elliptic warm start needs the hard boundary: asking for the penalty boundary without
+    naming a warm start turns it off, and a run without warm start gets the Adam and L-BFGS
+    budgets of ``FROM_TFI`` unless they are given.
+    """
     base = Settings(method=method, preset=preset)
     if preset == "paper":
         base = replace(base, **PAPER)
     given = {k: v for k, v in overrides.items() if v is not None}
+    if given.get("boundary") == "penalty" and "warm_start" not in given:
+        given["warm_start"] = "none"
+    if given.get("warm_start") == "none" and preset == "default":
+        given = {**FROM_TFI, **given}
     return replace(base, **given)

@@ -1,5 +1,10 @@
 """Training of the PINN and MGNet (paper section 4): Adam with step decay, then L-BFGS.
 
+With the elliptic warm start (the default, warmstart.py) the map starts as the converged
+elliptic grid and L-BFGS runs in rounds of ``GUARD_EVERY`` iterations; after each round the
+grid on the warm start's lattice is checked against that elliptic grid, and training ends
+with the last state that was no worse (:class:`_Guard`): early stopping on grid quality.
+
 Seeded and repeatable. ``progress(info)`` is called every few steps with the phase, step and
 loss terms; returning True cancels (raises :class:`TrainingCancelled`). A non-finite or
 exploding loss during Adam restores the last good weights and halves the learning rate, at
@@ -26,12 +31,21 @@ from .losses import annealed_lambda, loss_data, loss_eqns, loss_points, total_lo
 from .mapping import Mapping
 from .model import TrainedModel
 from .networks import CoordinateNet
+from .quality import cell_quality, summary
 from .settings import Settings
+from .warmstart import WarmStart
 
 ANNEAL_EVERY = 10  # epochs between lambda1 updates (Wang et al. use 10)
 EXPLODE_FACTOR = 1e4  # a loss this many times its best value counts as diverged
 MAX_RECOVERIES = 3
 PROGRESS_EVERY = 50
+GUARD_EVERY = 5  # L-BFGS iterations between grid-quality checks
+GUARD_PATIENCE = 2  # rejected checks in a row that end the training
+# A state is kept if its grid has no more folded cells than the elliptic grid and mean and
+# worst MaxIncludedAngle within these many degrees of it (half of issue 11's bounds, which
+# leaves room for other output sizes than the lattice).
+GUARD_MEAN_TOL = 0.25
+GUARD_WORST_TOL = 1.0
 
 
 def pick_device(name: str) -> torch.device:
@@ -76,7 +90,7 @@ class _Problem:
             xe = np.concatenate([a.xi_eta for a in aux])
             self.aux_x = self.tensor(xe)
             self.aux_y = self.tensor(np.concatenate([a.xy for a in aux]))
-            self.aux_base = self.tensor(mapping.tfi_jet(xe)[0]) if self.hard else None
+            self.aux_base = self.tensor(mapping.base_jet(xe)[0]) if self.hard else None
             self.n_aux = len(xe)
         self._chunk: list = []
 
@@ -87,7 +101,7 @@ class _Problem:
         """``n`` uniform random interior points (with the TFI jet there in hard mode) and,
         in penalty mode, ``n_side`` random points per side with their boundary-fit targets."""
         x = self.rng.random((n, 2))
-        base = self.tensor(self.mapping.tfi_jet(x)) if self.hard else None
+        base = self.tensor(self.mapping.base_jet(x)) if self.hard else None
         bx = by = None
         if self.fit is not None:
             t = self.rng.random((4, n_side))
@@ -134,6 +148,42 @@ class _Problem:
         return terms
 
 
+class _Guard:
+    """Early stopping on grid quality against the elliptic grid of the warm start."""
+
+    def __init__(self, net: CoordinateNet, mapping: Mapping, reference: np.ndarray) -> None:
+        self.net, self.mapping = net, mapping
+        self.size = reference.shape[1], reference.shape[0]
+        self.reference = self._quality(reference)
+        self.kept = self.reference
+        self.state = copy.deepcopy(net.state_dict())
+        self.kept_iterations = self.rejected = 0
+
+    @staticmethod
+    def _quality(grid: np.ndarray) -> dict[str, float]:
+        q = summary(cell_quality(grid), 0.0)
+        return {k: q[k] for k in ("mean_max_angle", "worst_max_angle", "folded_cells")}
+
+    def check(self, iterations: int) -> bool:
+        """Keep the current state if its grid passes; False once ``GUARD_PATIENCE`` checks in
+        a row failed (training should stop)."""
+        q, ref = self._quality(self.mapping.grid(*self.size)), self.reference
+        if (q["folded_cells"] <= ref["folded_cells"]
+                and q["mean_max_angle"] <= ref["mean_max_angle"] + GUARD_MEAN_TOL
+                and q["worst_max_angle"] <= ref["worst_max_angle"] + GUARD_WORST_TOL):
+            self.state, self.kept = copy.deepcopy(self.net.state_dict()), q
+            self.kept_iterations, self.rejected = iterations, 0
+        else:
+            self.rejected += 1
+        return self.rejected < GUARD_PATIENCE
+
+    def restore(self) -> dict:
+        """Load the kept state; returns what the report says about the guard."""
+        self.net.load_state_dict(self.state)
+        return {"lattice": list(self.size), "elliptic": self.reference, "kept": self.kept,
+                "kept_after_lbfgs_iterations": self.kept_iterations}
+
+
 class _History:
     def __init__(self) -> None:
         self.values: dict[str, list[float]] = {}
@@ -172,14 +222,21 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
             kind = "shortcut" if settings.method == "pinn" else "mlp"
             net = CoordinateNet(kind, settings.hidden_layers, settings.neurons,
                                 settings.activation).to(device=device, dtype=dtype)
-            mapping = Mapping(net, boundary, settings.boundary)
+            warm = reference = None
+            if settings.warm_start == "elliptic":
+                warm, reference = WarmStart.elliptic(boundary, *settings.lattice)
+                with torch.no_grad():  # the map starts as the elliptic grid
+                    net.w_out.zero_()
+            mapping = Mapping(net, boundary, settings.boundary, warm)
+            guard = _Guard(net, mapping, reference) if reference is not None else None
             problem = _Problem(mapping, boundary, aux if settings.method == "pinn" else (),
                                settings, dtype, device)
             history = _History()
             lambda1 = 1.0 if settings.boundary == "penalty" else 0.0
             lambda1, recoveries = _adam(net, problem, settings, history, lambda1, progress)
             lbfgs_ok, lbfgs_iterations = _lbfgs(net, problem, settings, history, lambda1,
-                                                progress)
+                                                progress, guard)
+            guarded = guard.restore() if guard is not None else None
     finally:
         torch.set_num_threads(threads)
     info = {"adam_epochs": settings.adam_epochs,
@@ -188,6 +245,8 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
             "lambda1": lambda1, "recoveries": recoveries, "lbfgs_accepted": lbfgs_ok,
             "device": str(device), "final_loss": history.values["total"][-1]
             if history.values else float("nan")}
+    if guarded is not None:
+        info["guard"] = guarded
     return TrainedModel(mapping=mapping, settings=settings, history=history.values, info=info)
 
 
@@ -198,10 +257,12 @@ def _bad(loss: float, best: float) -> bool:
 
 def _adam(net, problem: _Problem, s: Settings, history: _History, lambda1: float,
           progress) -> tuple[float, int]:
+    if s.adam_epochs == 0:
+        return lambda1, 0
     lr = s.learning_rate
     opt = torch.optim.Adam(net.parameters(), lr=lr, fused=True)
     sched = torch.optim.lr_scheduler.StepLR(opt, step_size=s.lr_decay_every, gamma=s.lr_decay)
-    weights = [p for p in net.parameters() if p.ndim >= 2]
+    weights = net.weight_matrices()
     best, recoveries = math.inf, 0
     good_state, good_lambda1 = copy.deepcopy(net.state_dict()), lambda1
     for epoch in range(1, s.adam_epochs + 1):
@@ -244,9 +305,10 @@ def _adam(net, problem: _Problem, s: Settings, history: _History, lambda1: float
 
 
 def _lbfgs(net, problem: _Problem, s: Settings, history: _History, lambda1: float,
-           progress) -> tuple[bool, int]:
+           progress, guard: _Guard | None = None) -> tuple[bool, int]:
     """Full-batch L-BFGS; returns (accepted, iterations): not accepted if it diverged and the
-    Adam weights were kept."""
+    Adam weights were kept. With a ``guard``, runs in rounds of ``GUARD_EVERY`` iterations
+    and stops when the guard says so."""
     if s.lbfgs_iterations == 0:
         return True, 0
     batch = problem.sample(s.lbfgs_points, max(s.lbfgs_points // 4, 1))
@@ -270,7 +332,17 @@ def _lbfgs(net, problem: _Problem, s: Settings, history: _History, lambda1: floa
         return loss
 
     before = history.values["total"][-1] if history.values else math.inf
-    opt.step(closure)
+    if guard is None:
+        opt.step(closure)
+    else:
+        done = 0
+        while done < s.lbfgs_iterations:
+            step = min(GUARD_EVERY, s.lbfgs_iterations - done)
+            opt.param_groups[0].update(max_iter=step, max_eval=int(step * 1.25) + 1)
+            opt.step(closure)
+            done += step
+            if not guard.check(done):
+                break
     terms = problem.terms(*batch)
     final = total_loss(terms["eqns"], terms["bcs"], terms["data"], lambda1, s.lambda2).item()
     iterations = int(opt.state[next(iter(opt.state))].get("n_iter", 0)) if opt.state else 0

@@ -116,8 +116,9 @@ def test_whole_extent_in_request_information():
     assert info.Get(vtkStreamingDemandDrivenPipeline.WHOLE_EXTENT()) == (0, 16, 0, 8, 0, 0)
 
 
-def test_grid_size_change_reevaluates_without_training(trained):
-    alg, _ = trained
+def test_grid_size_change_reevaluates_without_training():
+    alg = make_alg(warm_start="none")  # trained from TFI: nothing depends on the size
+    alg.Update()
     before = points(alg)
     alg.SetGridSize(81, 41)
     alg.Update()
@@ -129,6 +130,21 @@ def test_grid_size_change_reevaluates_without_training(trained):
     alg.Update()
     np.testing.assert_array_equal(points(alg), before)
     assert alg.GetTrainingCount() == 1
+
+
+def test_warm_start_is_tuned_to_the_grid_size(trained):
+    """The default warm start is the elliptic grid at the output size: a new size retrains,
+    and the size it was tuned for comes back from the cache."""
+    alg, _ = trained
+    alg.SetGridSize(41, 21)
+    alg.Update()
+    count = alg.GetTrainingCount()
+    alg.SetGridSize(31, 15)
+    alg.Update()
+    assert field(alg, "Trained") == 1 and alg.GetTrainingCount() == count + 1
+    alg.SetGridSize(41, 21)
+    alg.Update()
+    assert field(alg, "Trained") == 0 and alg.GetTrainingCount() == count + 1
 
 
 def test_training_setting_change_retrains():

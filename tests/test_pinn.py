@@ -119,7 +119,7 @@ def test_data_term_sees_the_auxiliary_line_points(fig2):
     data = problem.terms(*batch)["data"]
     xe = torch.as_tensor(np.concatenate([a.xi_eta for a in aux]))
     xy = torch.as_tensor(np.concatenate([a.xy for a in aux]))
-    base = torch.as_tensor(mapping.tfi_jet(xe.numpy())[0])
+    base = torch.as_tensor(mapping.base_jet(xe.numpy())[0])
     manual = (mapping.values(xe, base) - xy).pow(2).sum(dim=1).mean()
     torch.testing.assert_close(data, manual)
     assert data > 1e-3
@@ -194,7 +194,7 @@ def test_fast_path_residuals_and_gradients_equal_the_autograd_reference(fig2, ki
     mapping = Mapping(net, boundary, mode)
     x = torch.rand(40, 2, dtype=torch.float64)
     extra = torch.rand(30, 2, dtype=torch.float64)  # boundary / auxiliary points: values only
-    base = torch.as_tensor(mapping.tfi_jet(x.numpy())) if mode == "hard" else None
+    base = torch.as_tensor(mapping.base_jet(x.numpy())) if mode == "hard" else None
     results = []
     for fast in (True, False):
         net.zero_grad()
