@@ -130,12 +130,13 @@ def channel_12():
 
 
 def nozzle_4():
-    """A converging-diverging nozzle, inlet height 4 times the throat's."""
+    """A converging-diverging nozzle, inlet height 4 times the throat's; a slanted aux line
+    across the throat."""
     h = lambda x: 0.125 + 0.375 * (1 - np.exp(-(((x - 1.0) / 0.35) ** 2)))  # noqa: E731
     bottom = graph(lambda x: -h(x), 0.0, 3.0, 241)
     top = graph(h, 3.0, 0.0, 241)
     return ring(bottom, line(bottom[-1], top[0]), top, line(top[-1], bottom[0])), [
-        line((1.0, -0.125), (1.0, 0.125), 21)
+        line((0.9, -h(0.9)), (1.1, h(1.1)), 21)
     ]
 
 
@@ -148,10 +149,11 @@ def s_duct():
 
 
 def bump():
-    """A bump channel (bump 40 % of the height), aux line over the bump's crest."""
+    """A bump channel (bump 40 % of the height); an aux line straight across the channel
+    just above the crest (a flat grid row over the bump)."""
     bottom = graph(lambda x: 0.4 * np.exp(-(((x - 1.5) / 0.25) ** 2)), 0.0, 3.0, 241)
     return ring(bottom, line((3, 0), (3, 1)), line((3, 1), (0, 1), 121), line((0, 1), (0, 0))), [
-        line((1.5, 0.4), (1.5, 1.0), 21)
+        line((0.0, 0.55), (3.0, 0.55), 81)
     ]
 
 

@@ -24,9 +24,19 @@ def winslow_residual(jet: torch.Tensor) -> torch.Tensor:
     return alpha * jet[XIXI] - 2 * beta * jet[XIETA] + gamma * jet[ETAETA]
 
 
-def loss_eqns(jet: torch.Tensor) -> torch.Tensor:
-    """L_eqns of paper eq. 11: mean of e1^2 + e2^2 over the collocation points."""
-    return winslow_residual(jet).pow(2).sum(dim=-1).mean()
+def scaled_winslow_residual(jet: torch.Tensor) -> torch.Tensor:
+    """e1, e2 of eq. 13 divided by (alpha + gamma)^(3/2): the same equations, measured
+    relative to the local cell size (the raw residual is cubic in the map's derivatives, so
+    a few points at a sharp feature dominate it and shrinking cells there lowers it)."""
+    scale = (jet[XI].pow(2) + jet[ETA].pow(2)).sum(dim=-1, keepdim=True)  # alpha + gamma
+    return winslow_residual(jet) / scale.pow(1.5)
+
+
+def loss_eqns(jet: torch.Tensor, scaled: bool = False) -> torch.Tensor:
+    """L_eqns of paper eq. 11: mean of e1^2 + e2^2 over the collocation points (of the
+    scaled residual if ``scaled``)."""
+    e = scaled_winslow_residual(jet) if scaled else winslow_residual(jet)
+    return e.pow(2).sum(dim=-1).mean()
 
 
 def loss_points(pred: torch.Tensor, target: torch.Tensor) -> torch.Tensor:

@@ -21,6 +21,7 @@ class Settings:
     # last state no worse than it there (warmstart.py); "none": start from TFI (paper)
     warm_start: str = "elliptic"
     lattice: tuple[int, int] = (41, 21)  # nodes of the warm start; routes use the output size
+    residual: str = "scaled"  # Winslow residual: "paper" (eq. 13) or "scaled" (losses.py)
     hidden_layers: int = 4
     neurons: int = 30
     activation: str = "tanh"
@@ -29,9 +30,9 @@ class Settings:
     lr_decay: float = 0.9
     lr_decay_every: int = 1000
     batch_size: int = 100
-    lbfgs_iterations: int = 60
-    lbfgs_points: int = 1000
-    lambda2: float = 10.0
+    lbfgs_iterations: int = 120
+    lbfgs_points: int = 400
+    lambda2: float = 30.0
     anneal_momentum: float = 0.9  # moving-average factor of the lambda1 update
     seed: int = 0
     dtype: str = "float32"  # training precision: float32 (measured: same loss) or float64
@@ -52,6 +53,8 @@ class Settings:
         for name in ("adam_epochs", "lbfgs_iterations", "elliptic_iterations"):
             if getattr(self, name) < 0:
                 raise ValueError(f"{name} must not be negative")
+        if self.residual not in ("paper", "scaled"):
+            raise ValueError(f"unknown residual {self.residual!r}; use paper or scaled")
         if self.warm_start not in ("elliptic", "none"):
             raise ValueError(f"unknown warm start {self.warm_start!r}; use elliptic or none")
         if self.warm_start == "elliptic" and self.boundary != "hard":
@@ -72,23 +75,24 @@ class Settings:
 
 
 PAPER = {
-    "boundary": "penalty", "boundary_fit": "tree", "warm_start": "none", "hidden_layers": 4,
-    "neurons": 30, "activation": "tanh", "adam_epochs": 5000, "learning_rate": 1e-3,
-    "lr_decay": 0.9, "lr_decay_every": 1000, "batch_size": 100, "lbfgs_iterations": 500,
-    "lbfgs_points": 1000, "lambda2": 10.0, "elliptic_iterations": 1000,
+    "boundary": "penalty", "boundary_fit": "tree", "warm_start": "none", "residual": "paper",
+    "hidden_layers": 4, "neurons": 30, "activation": "tanh", "adam_epochs": 5000,
+    "learning_rate": 1e-3, "lr_decay": 0.9, "lr_decay_every": 1000, "batch_size": 100,
+    "lbfgs_iterations": 500, "lbfgs_points": 1000, "lambda2": 10.0, "elliptic_iterations": 1000,
 }
 
 
-# Training from TFI (no warm start) needs the long schedule of the paper's recipe.
-FROM_TFI = {"adam_epochs": 5000, "lbfgs_iterations": 500}
+# Training from TFI (no warm start) takes the paper's schedule and losses.
+FROM_TFI = {"adam_epochs": 5000, "lbfgs_iterations": 500, "lbfgs_points": 1000,
+            "lambda2": 10.0, "residual": "paper"}
 
 
 def make_settings(method: str = "pinn", preset: str = "default", **overrides) -> Settings:
     """Settings for ``method`` under ``preset``, then ``overrides`` (None values ignored).
 
     The elliptic warm start needs the hard boundary: asking for the penalty boundary without
-    naming a warm start turns it off, and a run without warm start gets the Adam and L-BFGS
-    budgets of ``FROM_TFI`` unless they are given.
+    naming a warm start turns it off, and a run without warm start gets the schedule and
+    losses of ``FROM_TFI`` unless they are given.
     """
     base = Settings(method=method, preset=preset)
     if preset == "paper":

@@ -42,10 +42,10 @@ PROGRESS_EVERY = 50
 GUARD_EVERY = 5  # L-BFGS iterations between grid-quality checks
 GUARD_PATIENCE = 2  # rejected checks in a row that end the training
 # A state is kept if its grid has no more folded cells than the elliptic grid and mean and
-# worst MaxIncludedAngle within these many degrees of it (half of issue 11's bounds, which
-# leaves room for other output sizes than the lattice).
-GUARD_MEAN_TOL = 0.25
-GUARD_WORST_TOL = 1.0
+# worst MaxIncludedAngle within (mean, worst) degrees of it: half of issue 11's bounds without
+# auxiliary lines, the bounds themselves with them (pulling grid lines onto drawn lines may
+# cost some quality; the elliptic grid ignores the lines).
+GUARD_TOL = {False: (0.25, 1.0), True: (0.5, 2.0)}
 
 
 def pick_device(name: str) -> torch.device:
@@ -130,7 +130,7 @@ class _Problem:
         points = [p for p in (bx, self.aux_x if self.n_aux else None) if p is not None]
         extra = torch.cat(points) if points else None
         jet, values = self.mapping.jet(x, base, extra, fast=self.settings.fast)
-        terms = {"eqns": loss_eqns(jet)}
+        terms = {"eqns": loss_eqns(jet, self.settings.residual == "scaled")}
         zero = jet.new_zeros(())
         if bx is not None:
             per_side = loss_points(values[:len(bx)].reshape(4, -1, 2), by.reshape(4, -1, 2))
@@ -151,8 +151,10 @@ class _Problem:
 class _Guard:
     """Early stopping on grid quality against the elliptic grid of the warm start."""
 
-    def __init__(self, net: CoordinateNet, mapping: Mapping, reference: np.ndarray) -> None:
+    def __init__(self, net: CoordinateNet, mapping: Mapping, reference: np.ndarray,
+                 with_aux: bool) -> None:
         self.net, self.mapping = net, mapping
+        self.mean_tol, self.worst_tol = GUARD_TOL[with_aux]
         self.size = reference.shape[1], reference.shape[0]
         self.reference = self._quality(reference)
         self.kept = self.reference
@@ -169,8 +171,8 @@ class _Guard:
         a row failed (training should stop)."""
         q, ref = self._quality(self.mapping.grid(*self.size)), self.reference
         if (q["folded_cells"] <= ref["folded_cells"]
-                and q["mean_max_angle"] <= ref["mean_max_angle"] + GUARD_MEAN_TOL
-                and q["worst_max_angle"] <= ref["worst_max_angle"] + GUARD_WORST_TOL):
+                and q["mean_max_angle"] <= ref["mean_max_angle"] + self.mean_tol
+                and q["worst_max_angle"] <= ref["worst_max_angle"] + self.worst_tol):
             self.state, self.kept = copy.deepcopy(self.net.state_dict()), q
             self.kept_iterations, self.rejected = iterations, 0
         else:
@@ -228,9 +230,9 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
                 with torch.no_grad():  # the map starts as the elliptic grid
                     net.w_out.zero_()
             mapping = Mapping(net, boundary, settings.boundary, warm)
-            guard = _Guard(net, mapping, reference) if reference is not None else None
-            problem = _Problem(mapping, boundary, aux if settings.method == "pinn" else (),
-                               settings, dtype, device)
+            aux = aux if settings.method == "pinn" else ()
+            problem = _Problem(mapping, boundary, aux, settings, dtype, device)
+            guard = None if reference is None else _Guard(net, mapping, reference, bool(aux))
             history = _History()
             lambda1 = 1.0 if settings.boundary == "penalty" else 0.0
             lambda1, recoveries = _adam(net, problem, settings, history, lambda1, progress)

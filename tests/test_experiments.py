@@ -143,7 +143,10 @@ def test_full_mode_plan_matches_the_issue():
     sweep = [j for j in jobs if j.group == "sweep"]
     assert len(sweep) == (7 + 6 - 1) * len(budget.sweep_seeds)  # 4 x 30 is shared
     compare = [j for j in jobs if j.group == "compare"]
-    assert all(j.settings().adam_epochs == 5000 for j in compare if j.method in NEURAL)
+    neural = [j.settings() for j in compare if j.method in NEURAL]
+    assert all(s.adam_epochs == 5000 for s in neural if s.preset == "paper")
+    assert all(s.warm_start == "elliptic" and s.lattice == budget.size
+               for s in neural if s.preset == "default")
     assert {j.settings().boundary for j in compare if j.preset == "paper"} == {"penalty"}
     assert build_parser().parse_args([]).mode == "full"
 

@@ -87,7 +87,7 @@ class Job:
         from ..settings import make_settings
 
         return make_settings(self.method, self.preset, seed=self.seed, device=self.device,
-                             **dict(self.overrides))
+                             lattice=self.size, **dict(self.overrides))
 
     def cost(self) -> float:
         """A rough relative run time, to weigh the progress bar and order the work."""
