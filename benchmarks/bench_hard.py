@@ -1,6 +1,7 @@
 """Every method on the hard four-sided shapes of ``example_data/hard/`` (issue 11's table).
 
-Usage: ``.venv/bin/python benchmarks/bench_hard.py [--sizes 41x21 161x81] [--no-speed]``
+Usage: ``.venv/bin/python benchmarks/bench_hard.py [--sizes 41x21 161x81] [--no-speed]
+[--variants]``
 
 For each shape and size it meshes with ``tfi``, ``elliptic`` (converged), ``mgnet`` and the
 default ``pinn`` and prints mean and worst ``MaxIncludedAngle``, folded cells and time
@@ -9,6 +10,12 @@ against the converged elliptic grid on the same boundary nodes: mean <= elliptic
 worst <= elliptic worst + 2, no folded cell where the elliptic grid has none (where it has
 some: no more than it). Shapes with auxiliary lines also get the largest distance of the
 grid line through each line's (xi, eta) from the drawn line (``auxlines.line_distances``).
+
+``--variants`` adds two runs of the PINN that show what the default's choices are worth (the
+default's own bounds check applies to them too): ``pinn, paper residual`` (the warm start
+and guard with the paper's raw residual and lambda2 = 10) and ``pinn, from TFI`` (the
+previous default: no warm start, 5000 Adam epochs and 500 L-BFGS iterations, the paper's
+residual), and writes ``<out>_variants.md`` instead of the main table.
 
 The speed section times, on ``bump`` with its auxiliary line at 41 x 21: the ``pinn-mesh``
 command with the default settings (a fresh process, start to written grid), the paper preset
@@ -34,7 +41,11 @@ from pinn_engine.settings import make_settings
 
 ROOT = Path(__file__).resolve().parents[1]
 HARD = ROOT / "example_data" / "hard"
-METHODS = ("tfi", "elliptic", "mgnet", "pinn")
+RUNS = {"tfi": ("tfi", {}), "elliptic": ("elliptic", {}), "mgnet": ("mgnet", {}),
+        "pinn": ("pinn", {})}
+VARIANTS = {"elliptic": ("elliptic", {}), "pinn": ("pinn", {}),
+            "pinn, paper residual": ("pinn", {"residual": "paper", "lambda2": 10.0}),
+            "pinn, from TFI": ("pinn", {"warm_start": "none"})}
 MEAN_BOUND, WORST_BOUND = 0.5, 2.0
 
 
@@ -55,17 +66,17 @@ def within(q: dict, ref: dict) -> bool:
             and q["worst_max_angle"] <= ref["worst_max_angle"] + WORST_BOUND)
 
 
-def run_shape(name: str, size: tuple[int, int]) -> list[dict]:
+def run_shape(name: str, size: tuple[int, int], runs: dict = RUNS) -> list[dict]:
     boundary, aux = inputs(name)
     rows, ref = [], None
-    for method in METHODS:
+    for label, (method, overrides) in runs.items():
         start = time.perf_counter()
-        settings = make_settings(method, lattice=size)
+        settings = make_settings(method, lattice=size, **overrides)
         result = Mesher(settings).fit(boundary, aux).predict(*size)
         seconds = time.perf_counter() - start
         q = result.quality
         unit = boundary.frame.to_unit(result.points)
-        row = {"shape": name, "size": list(size), "method": method, "seconds": seconds,
+        row = {"shape": name, "size": list(size), "method": label, "seconds": seconds,
                **{k: q[k] for k in ("mean_max_angle", "worst_max_angle", "folded_cells")},
                "aux_distance": max(line_distances(unit, aux, boundary.diagonal).values(),
                                    default=None)}
@@ -76,7 +87,7 @@ def run_shape(name: str, size: tuple[int, int]) -> list[dict]:
         rows.append(row)
         aux_text = f" aux {row['aux_distance']:.4f}" if aux else ""
         check = {True: " ok", False: " OUT OF BOUNDS"}.get(row.get("within_bounds"), "")
-        print(f"{name:26s} {size[0]:3d}x{size[1]:<3d} {method:9s} mean "
+        print(f"{name:26s} {size[0]:3d}x{size[1]:<3d} {label:20s} mean "
               f"{row['mean_max_angle']:7.2f} worst {row['worst_max_angle']:7.2f} folded "
               f"{row['folded_cells']:4d} {seconds:6.2f} s{aux_text}{check}", flush=True)
     return rows
@@ -115,9 +126,25 @@ def speed(name: str = "bump") -> dict:
     return out
 
 
-def markdown(rows: list[dict], fast: dict | None) -> str:
-    lines = ["| shape | size | method | mean MaxIncludedAngle | worst MaxIncludedAngle | "
-             "folded | time (s) | aux-line distance | issue 11 bounds |", "|" + "---|" * 9]
+def markdown(rows: list[dict], fast: dict | None, variants: bool) -> str:
+    """The table page: what was run, how to run it again, the rows, the speed figures."""
+    neural = [r for r in rows if "within_bounds" in r]
+    command = "benchmarks/bench_hard.py" + (" --variants --sizes 41x21" if variants else "")
+    lines = [
+        "# " + ("The default PINN against its ablations" if variants else "Every method on "
+                "the hard four-sided shapes"), "",
+        f"Made by `.venv/bin/python {command}` on the shapes of `example_data/hard/` "
+        "(`example_data/make_hard_shapes.py` draws them). Quality is VTK's Verdict quad "
+        "`MaxIncludedAngle`; time is fit plus grid in one process with torch imported "
+        "(a few seconds of start-up are not in it). The bounds are issue 11's, against the "
+        "converged elliptic grid on the same boundary nodes: mean <= elliptic + 0.5, worst <= "
+        "elliptic worst + 2 degrees, and no more folded cells than it (none where it has "
+        "none). The aux-line distance is the largest distance of the grid line through an "
+        "auxiliary line's (xi, eta) from the drawn line, relative to the diagonal.", "",
+        f"**{sum(r['within_bounds'] for r in neural)} of {len(neural)} neural grids within "
+        "the bounds.**", "",
+        "| shape | size | method | mean MaxIncludedAngle | worst MaxIncludedAngle | folded | "
+        "time (s) | aux-line distance | issue 11 bounds |", "|" + "---|" * 9]
     for r in rows:
         aux = f"{r['aux_distance']:.4f}" if r["aux_distance"] is not None else ""
         check = {True: "within", False: "**outside**"}.get(r.get("within_bounds"), "")
@@ -125,13 +152,16 @@ def markdown(rows: list[dict], fast: dict | None) -> str:
                      f"{r['mean_max_angle']:.2f} | {r['worst_max_angle']:.2f} | "
                      f"{r['folded_cells']} | {r['seconds']:.2f} | {aux} | {check} |")
     if fast:
-        lines += ["", f"Speed on `{fast['shape']}` at 41 x 21 with its auxiliary line: the "
-                  f"default `pinn-mesh` command took {fast['command_median_s']:.2f} s from start "
-                  f"to written grid (median of three); the plain-autograd paper recipe "
-                  f"(`benchmarks/plain_pinn.py`) trained for {fast['plain_train_s']:.1f} s "
-                  f"({fast['default_speedup']:.1f}x the command); the paper preset trained for "
-                  f"{fast['paper_preset_train_s']:.1f} s ({fast['paper_speedup']:.2f}x faster "
-                  "than the plain recipe)."]
+        lines += ["", "## Speed", "", f"On `{fast['shape']}` at 41 x 21 with its auxiliary "
+                  f"line: the default `pinn-mesh` command took {fast['command_median_s']:.2f} s "
+                  "from start to written grid (median of "
+                  f"{', '.join(f'{t:.2f}' for t in fast['command_runs_s'])} s, torch's import "
+                  "included); the plain-autograd paper recipe (`benchmarks/plain_pinn.py`: "
+                  "Adam in float32, L-BFGS in float64, nested autograd) trained for "
+                  f"{fast['plain_train_s']:.1f} s, {fast['default_speedup']:.1f}x the whole "
+                  "default command; the paper preset trained for "
+                  f"{fast['paper_preset_train_s']:.1f} s, {fast['paper_speedup']:.2f}x faster "
+                  "than the plain recipe."]
     return "\n".join(lines) + "\n"
 
 
@@ -140,20 +170,23 @@ def main() -> None:
     p.add_argument("--sizes", nargs="+", default=["41x21", "161x81"])
     p.add_argument("--shapes", nargs="+", default=None)
     p.add_argument("--no-speed", action="store_true", help="skip the speed section")
+    p.add_argument("--variants", action="store_true",
+                   help="the default against its ablations instead of the method table")
     p.add_argument("--out", default=str(ROOT / "docs" / "hard_shapes"))
     args = p.parse_args()
     import torch  # noqa: F401  (imported once, before any timing)
 
     sizes = [tuple(int(n) for n in s.split("x")) for s in args.sizes]
+    runs = VARIANTS if args.variants else RUNS
     rows = [row for name in (args.shapes or shapes()) for size in sizes
-            for row in run_shape(name, size)]
+            for row in run_shape(name, size, runs)]
     neural = [r for r in rows if "within_bounds" in r]
     print(f"\n{sum(r['within_bounds'] for r in neural)} of {len(neural)} neural grids within "
           "issue 11's bounds")
-    fast = None if args.no_speed else speed()
-    out = Path(args.out)
+    fast = None if args.no_speed or args.variants else speed()
+    out = Path(args.out + ("_variants" if args.variants else ""))
     out.with_suffix(".json").write_text(json.dumps({"rows": rows, "speed": fast}, indent=2))
-    out.with_suffix(".md").write_text(markdown(rows, fast))
+    out.with_suffix(".md").write_text(markdown(rows, fast, args.variants))
     print(f"wrote {out.with_suffix('.md')} and {out.with_suffix('.json')}")
 
 

@@ -81,8 +81,9 @@ def data_key(boundary: Boundary, aux_lines: Sequence[AuxLine]) -> tuple[str, str
 class MeshCache:
     """Fitted meshers keyed by (boundary, auxiliary lines, ``Settings.training_key()``).
 
-    ``fitted`` trains only when that key is new; a change of grid size (or of anything else
-    training does not depend on) re-uses the trained network through ``Mesher.predict``.
+    ``fitted`` trains only when that key is new; a change of anything training does not depend
+    on re-uses the trained network through ``Mesher.predict``. The grid size is part of the
+    key under the elliptic warm start (``Settings.lattice``), not otherwise.
     """
 
     def __init__(self, capacity: int = 4) -> None:
@@ -221,6 +222,12 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
 
     def SetSeed(self, n) -> None:
         self._set_override("seed", None if n is None else int(n))
+
+    def SetPanelSetting(self, name: str, value) -> None:
+        """A value from the ParaView panel: one equal to the default preset's is no override,
+        so that a panel left at its defaults follows the chosen preset (with Preset paper,
+        the paper's 5000 Adam epochs rather than the default's 0)."""
+        self.SetSetting(name, None if value == getattr(Settings(), name) else value)
 
     def SetSetting(self, name: str, value) -> None:
         """Override any ``Settings`` field (``None`` restores the preset's value)."""

@@ -10,12 +10,15 @@ entry point; no import needed)::
     grid = boundary.pinn_mesh(aux=lines, size=(41, 21))
     grid.plot(scalars="MaxIncludedAngle", show_edges=True, cpos="xy")
 
-    finer = boundary.pinn_mesh(aux=lines, size=(161, 81))   # same network, no retraining
+    finer = boundary.pinn_mesh(aux=lines, size=(161, 81))   # trains from the 161 x 81 elliptic grid
+    again = boundary.pinn_mesh(aux=lines, size=(41, 21))    # the first network, no retraining
 
 The accessor keeps the networks it trained for that boundary, so calling it again with
-another ``size`` only re-evaluates the network. ``boundary.pinn_mesh.trainings`` counts the
-trainings and ``boundary.pinn_mesh.clear()`` forgets them. ``pinn_mesh(boundary, ...)`` is the
-same as a plain function (no cache unless you pass one).
+settings it has seen only re-evaluates the network. The default PINN starts from the
+elliptic grid of ``size`` (``lattice``), so a new size trains anew; ``lattice=(41, 21)``
+evaluates the network trained for 41 x 21 at any ``size``. ``boundary.pinn_mesh.trainings``
+counts the trainings and ``boundary.pinn_mesh.clear()`` forgets them. ``pinn_mesh(boundary,
+...)`` is the same as a plain function (no cache unless you pass one).
 
 A grid with folded cells is still returned, with a ``pinn_engine.FoldedCellsWarning`` (a
 ``UserWarning``) that gives the count and a hint; ``warnings.simplefilter("error",
@@ -186,11 +189,11 @@ class PinnMeshAccessor:
     are those of :func:`pinn_engine.pyvista_accessor.pinn_mesh`; ``help(pinn_mesh)``
     describes them.
 
-    Trained networks are kept per boundary: calling again with only another ``size`` (or
-    anything else training does not depend on) re-evaluates the network instead of training.
+    Trained networks are kept per boundary: calling again with settings seen before (or with
+    a change training does not depend on) re-evaluates the network instead of training.
 
     >>> grid = boundary.pinn_mesh(aux=lines, size=(41, 21))
-    >>> fine = boundary.pinn_mesh(aux=lines, size=(161, 81))   # no retraining
+    >>> fine = boundary.pinn_mesh(aux=lines, size=(161, 81), lattice=(41, 21))  # no retraining
     >>> boundary.pinn_mesh.trainings
     1
     """

@@ -308,47 +308,58 @@ def _adam(net, problem: _Problem, s: Settings, history: _History, lambda1: float
 
 def _lbfgs(net, problem: _Problem, s: Settings, history: _History, lambda1: float,
            progress, guard: _Guard | None = None) -> tuple[bool, int]:
-    """Full-batch L-BFGS; returns (accepted, iterations): not accepted if it diverged and the
-    Adam weights were kept. With a ``guard``, runs in rounds of ``GUARD_EVERY`` iterations
-    and stops when the guard says so."""
+    """Full-batch L-BFGS (SciPy's L-BFGS-B without bounds, as the paper's TensorFlow code
+    used, and without torch.optim's 1.5 s import of torch._dynamo); returns (accepted,
+    iterations): not accepted if it diverged and the Adam weights were kept. With a
+    ``guard``, the guard checks the grid every ``GUARD_EVERY`` iterations and may stop it."""
     if s.lbfgs_iterations == 0:
         return True, 0
-    batch = problem.sample(s.lbfgs_points, max(s.lbfgs_points // 4, 1))
-    opt = torch.optim.LBFGS(net.parameters(), lr=1.0, max_iter=s.lbfgs_iterations,
-                            max_eval=int(s.lbfgs_iterations * 1.25) + 1, history_size=50,
-                            tolerance_grad=1e-12, tolerance_change=1e-15,
-                            line_search_fn="strong_wolfe")
-    start_state = copy.deepcopy(net.state_dict())
-    calls = [0]
+    from scipy.optimize import minimize
 
-    def closure():
-        opt.zero_grad(set_to_none=True)
+    batch = problem.sample(s.lbfgs_points, max(s.lbfgs_points // 4, 1))
+    params = list(net.parameters())
+    sizes = [p.numel() for p in params]
+    start_state = copy.deepcopy(net.state_dict())
+    calls, iterations = [0], [0]
+
+    def load(theta: np.ndarray) -> None:
+        with torch.no_grad():
+            for p, chunk in zip(params, np.split(theta, np.cumsum(sizes)[:-1])):
+                p.copy_(torch.from_numpy(chunk).view_as(p))
+
+    def loss_and_grad(theta: np.ndarray) -> tuple[float, np.ndarray]:
+        load(theta)
+        for p in params:
+            p.grad = None
         terms = problem.terms(*batch)
         loss = total_loss(terms["eqns"], terms["bcs"], terms["data"], lambda1, s.lambda2)
-        if math.isfinite(loss.item()):
-            history.add(terms, lambda1, s.lambda2, loss)
-            loss.backward()
+        value = loss.item()
         calls[0] += 1
+        if not math.isfinite(value):
+            return math.inf, np.zeros_like(theta)
+        history.add(terms, lambda1, s.lambda2, loss)
+        loss.backward()
         if calls[0] % 10 == 0:
             _notify(progress, "lbfgs", calls[0], s.lbfgs_iterations, history)
-        return loss
+        grad = [p.grad if p.grad is not None else torch.zeros_like(p) for p in params]
+        return value, torch.cat([g.flatten() for g in grad]).double().cpu().numpy()
+
+    def each_iteration(xk: np.ndarray) -> None:
+        iterations[0] += 1
+        if guard is not None and iterations[0] % GUARD_EVERY == 0:
+            load(xk)
+            if not guard.check(iterations[0]):
+                raise StopIteration
 
     before = history.values["total"][-1] if history.values else math.inf
-    if guard is None:
-        opt.step(closure)
-    else:
-        done = 0
-        while done < s.lbfgs_iterations:
-            step = min(GUARD_EVERY, s.lbfgs_iterations - done)
-            opt.param_groups[0].update(max_iter=step, max_eval=int(step * 1.25) + 1)
-            opt.step(closure)
-            done += step
-            if not guard.check(done):
-                break
+    theta = torch.cat([p.detach().flatten() for p in params]).double().cpu().numpy()
+    result = minimize(loss_and_grad, theta, jac=True, method="L-BFGS-B", callback=each_iteration,
+                      options={"maxiter": s.lbfgs_iterations, "maxcor": 50, "ftol": 1e-15,
+                               "gtol": 1e-12, "maxfun": int(s.lbfgs_iterations * 1.25) + 1})
+    load(result.x)
     terms = problem.terms(*batch)
     final = total_loss(terms["eqns"], terms["bcs"], terms["data"], lambda1, s.lambda2).item()
-    iterations = int(opt.state[next(iter(opt.state))].get("n_iter", 0)) if opt.state else 0
     if not math.isfinite(final) or final > before * EXPLODE_FACTOR:
         net.load_state_dict(start_state)
-        return False, iterations
-    return True, iterations
+        return False, iterations[0]
+    return True, iterations[0]

@@ -84,8 +84,9 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
 
     @smproperty.intvector(name="GridSize", label="Grid Size", default_values=[41, 21])
     @smdomain.intrange(min=2, max=5000)
-    @smdomain.xml(_doc("Nodes along xi and eta. Changing only the grid size re-evaluates the "
-                       "trained network; it does not train again."))
+    @smdomain.xml(_doc("Nodes along xi and eta. The default PINN starts from the elliptic "
+                       "grid of this size and trains anew for a new size (seconds); with "
+                       "Preset paper a new size re-evaluates the trained network."))
     def P02GridSize(self, ni, nj):
         self.SetGridSize(ni, nj)
 
@@ -93,25 +94,26 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
     @smdomain.xml(_enum(PRESETS))
     @smdomain.xml(_doc("default: measured defaults (exact boundary, arc-length fit); paper: "
                        "the paper's section 4 (penalty boundary term, decision-tree fit, "
-                       "1000 elliptic sweeps). The values below are used as set."))
+                       "1000 elliptic sweeps). Values below left at their defaults follow "
+                       "the preset; changed ones are used as set."))
     def P03Preset(self, index):
         self.SetPreset(int(index))
 
     @smproperty.intvector(name="AdamEpochs", label="Adam Epochs",
                           default_values=_DEFAULTS.adam_epochs)
     @smdomain.intrange(min=0, max=100000)
-    @smdomain.xml(_doc("Adam epochs of training."))
+    @smdomain.xml(_doc("Adam epochs of training (left at the default, the preset's own)."))
     @smhint.xml(_NEURAL)
     def P04AdamEpochs(self, n):
-        self.SetAdamEpochs(n)
+        self.SetPanelSetting("adam_epochs", int(n))
 
     @smproperty.intvector(name="LBFGSIterations", label="L-BFGS Iterations",
                           default_values=_DEFAULTS.lbfgs_iterations)
     @smdomain.intrange(min=0, max=100000)
-    @smdomain.xml(_doc("L-BFGS iterations after Adam."))
+    @smdomain.xml(_doc("L-BFGS iterations after Adam (left at the default, the preset's own)."))
     @smhint.xml(_NEURAL)
     def P05LBFGSIterations(self, n):
-        self.SetLBFGSIterations(n)
+        self.SetPanelSetting("lbfgs_iterations", int(n))
 
     @smproperty.intvector(name="HiddenLayers", label="Hidden Layers",
                           default_values=_DEFAULTS.hidden_layers)
@@ -119,27 +121,27 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
     @smdomain.xml(_doc("Hidden layers of each sub-network."))
     @smhint.xml(_NEURAL)
     def P06HiddenLayers(self, n):
-        self.SetHiddenLayers(n)
+        self.SetPanelSetting("hidden_layers", int(n))
 
     @smproperty.intvector(name="Neurons", default_values=_DEFAULTS.neurons)
     @smdomain.intrange(min=1, max=500)
     @smdomain.xml(_doc("Neurons per hidden layer."))
     @smhint.xml(_NEURAL)
     def P07Neurons(self, n):
-        self.SetNeurons(n)
+        self.SetPanelSetting("neurons", int(n))
 
     @smproperty.doublevector(name="Lambda2", default_values=_DEFAULTS.lambda2)
     @smdomain.doublerange(min=0.0, max=1000.0)
     @smdomain.xml(_doc("Weight of the auxiliary-line term of the loss (paper: 10)."))
     @smhint.xml(_PINN_ONLY)
     def P08Lambda2(self, value):
-        self.SetLambda2(value)
+        self.SetPanelSetting("lambda2", float(value))
 
     @smproperty.intvector(name="Seed", default_values=_DEFAULTS.seed)
     @smdomain.xml(_doc("Random seed of training (runs are repeatable)."))
     @smhint.xml(_NEURAL)
     def P09Seed(self, n):
-        self.SetSeed(n)
+        self.SetPanelSetting("seed", int(n))
 
     @smproperty.intvector(name="CornerIndices", label="Corner Indices",
                           default_values=[-1, -1, -1, -1])

@@ -18,6 +18,7 @@ from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
 from pinn_engine.algorithm import PinnMeshAlgorithm
 from pinn_engine.errors import TrainingError
+from pinn_engine.settings import Settings
 
 SHORT = {"adam_epochs": 60, "lbfgs_iterations": 5}
 
@@ -145,6 +146,18 @@ def test_warm_start_is_tuned_to_the_grid_size(trained):
     alg.SetGridSize(41, 21)
     alg.Update()
     assert field(alg, "Trained") == 0 and alg.GetTrainingCount() == count + 1
+
+
+def test_panel_values_left_at_their_defaults_follow_the_preset():
+    alg = PinnMeshAlgorithm()
+    defaults = Settings()
+    for name in ("adam_epochs", "lbfgs_iterations", "lambda2", "seed"):
+        alg.SetPanelSetting(name, getattr(defaults, name))
+    alg.SetPreset("paper")
+    paper = alg.GetSettings()
+    assert (paper.adam_epochs, paper.lbfgs_iterations, paper.lambda2) == (5000, 500, 10.0)
+    alg.SetPanelSetting("adam_epochs", 700)  # a changed value is used as set
+    assert alg.GetSettings().adam_epochs == 700
 
 
 def test_training_setting_change_retrains():
