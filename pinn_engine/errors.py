@@ -40,6 +40,7 @@ _FIX_WORDS = {
         "seed": "another --seed",
         "converge": "--elliptic-iterations 0 (solve to convergence)",
         "refuse": "; --fail-on-folded refuses such grids",
+        "size": "--size",
     },
     "pyvista": {
         "method": 'method="{}"',
@@ -47,6 +48,7 @@ _FIX_WORDS = {
         "seed": "another seed=",
         "converge": "elliptic_iterations=0 (solve to convergence)",
         "refuse": "",
+        "size": "size=",
     },
     "paraview": {
         "method": "Method {}",
@@ -54,6 +56,7 @@ _FIX_WORDS = {
         "seed": "another Seed",
         "converge": "Preset default (solves to convergence)",
         "refuse": "",
+        "size": "Grid Size",
     },
 }
 _HANDED_OVER = {"cli": "written", "pyvista": "returned", "paraview": "produced"}
@@ -74,7 +77,12 @@ def folded_cells_warning(report: dict, route: str) -> str | None:
     ni, nj = report["size"]
     words = _FIX_WORDS[route]
     method = report.get("method", "")
-    if method in ("pinn", "mgnet"):
+    guard = report.get("training", {}).get("guard")
+    if guard and guard["elliptic"]["folded_cells"]:  # the warm start's elliptic grid folds too
+        fix = (f"rounding the boundary where it turns sharply between nodes or another "
+               f"{words['size']}: the converged elliptic grid on these boundary nodes folds "
+               f"{guard['elliptic']['folded_cells']} cells as well")
+    elif method in ("pinn", "mgnet"):
         fix = f"{words['method'].format('elliptic')}, {words['lbfgs']} or {words['seed']}"
     elif method == "tfi":
         fix = words["method"].format("elliptic")

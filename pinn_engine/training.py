@@ -236,6 +236,8 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
             history = _History()
             lambda1 = 1.0 if settings.boundary == "penalty" else 0.0
             lambda1, recoveries = _adam(net, problem, settings, history, lambda1, progress)
+            if guard is not None and settings.adam_epochs:
+                guard.check(0)  # an Adam phase (not needed from the warm start) is checked too
             lbfgs_ok, lbfgs_iterations = _lbfgs(net, problem, settings, history, lambda1,
                                                 progress, guard)
             guarded = guard.restore() if guard is not None else None

@@ -39,13 +39,19 @@ def folded() -> int:
     return count
 
 
-def report(method: str, folded_cells: int = 3, **settings) -> dict:
-    return {
+def report(method: str, folded_cells: int = 3, elliptic_folds: int | None = None,
+           **settings) -> dict:
+    """A report as ``Mesher.predict`` makes it; ``elliptic_folds``: a warm-started PINN whose
+    elliptic grid folds that many cells."""
+    out = {
         "method": method,
         "size": [11, 6],
         "quality": {"folded_cells": folded_cells},
         "settings": make_settings(method, **settings).to_dict(),
     }
+    if elliptic_folds is not None:
+        out["training"] = {"guard": {"elliptic": {"folded_cells": elliptic_folds}}}
+    return out
 
 
 # ---------------------------------------------------------------- the text, in one place
@@ -64,8 +70,15 @@ CASES = [
     ("elliptic", {}),
     ("elliptic", {"elliptic_iterations": 1000}),
     ("pinn", {}),
+    ("pinn", {"elliptic_folds": 2}),
     ("mgnet", {}),
 ]
+
+
+def test_when_the_elliptic_grid_folds_too_the_hint_says_so():
+    text = folded_cells_warning(report("pinn", elliptic_folds=2), "cli")
+    assert "elliptic grid on these boundary nodes folds 2 cells as well" in text
+    assert "--method" not in text and "--size" in text
 
 
 @pytest.mark.parametrize(("method", "settings"), CASES)

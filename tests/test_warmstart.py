@@ -98,3 +98,14 @@ def test_settings_rules_for_the_warm_start():
     assert make_settings("pinn", lattice=[9, 5]).lattice == (9, 5)
     key = dict(make_settings("pinn", "paper", lattice=(9, 5)).training_key())
     assert "lattice" not in key
+
+
+def test_an_adam_phase_from_the_warm_start_is_checked_too():
+    boundary, aux = inputs("notch_gauss")
+    settings = make_settings("pinn", lattice=(21, 11), adam_epochs=50, lbfgs_iterations=0)
+    result = Mesher(settings).fit(boundary, aux).predict(21, 11)
+    guard, q = result.report["training"]["guard"], result.quality
+    assert guard["kept_after_lbfgs_iterations"] == 0
+    assert q["folded_cells"] <= guard["elliptic"]["folded_cells"]
+    assert q["mean_max_angle"] == pytest.approx(guard["kept"]["mean_max_angle"])
+    assert q["mean_max_angle"] <= guard["elliptic"]["mean_max_angle"] + 0.5
