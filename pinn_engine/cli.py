@@ -174,6 +174,10 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
               f"mean MaxIncludedAngle {q['mean_max_angle']:.2f}, worst "
               f"{q['worst_max_angle']:.2f} deg, {q['folded_cells']} folded cells, boundary "
               f"deviation {q['boundary_deviation']:.1e}", file=sys.stderr, flush=True)
+        distances = result.report["aux_line_distance"]
+        if distances:
+            print(f"auxiliary lines: grid lines within {max(distances.values()):.2e} of the "
+                  "diagonal of the drawn lines", file=sys.stderr, flush=True)
     if args.fail_on_folded and q["folded_cells"]:
         raise PinnMeshError(f"{args.boundary}: {q['folded_cells']} folded cells "
                             "(--fail-on-folded); no output written")
