@@ -7,7 +7,6 @@
 #
 # Needs `bash scripts/setup_paraview.sh` (ParaView, .venv-pv, xvfb, xdotool, ImageMagick).
 # Runs the GUI on its own Xvfb screen (1600x1000) even when a display exists.
-# PINN_SHOT_EPOCHS (default 600) sets the Adam epochs of the short training;
 # PINN_SHOT_MENU=menu.png also saves a picture of the open Filters menu.
 set -euo pipefail
 

@@ -96,11 +96,14 @@ def test_filter_output_with_aux_lines(filter_run):
     assert low == 0.0 and high == 1.0 and count >= 3
 
 
-def test_grid_size_change_does_not_retrain(filter_run):
+def test_grid_size_change_trains_for_the_new_size_and_keeps_the_first(filter_run):
     resized = filter_run["resized"]
     assert resized["extent"] == [0, 60, 0, 30, 0, 0] and resized["points"] == 61 * 31
-    assert resized["trained"] == 0 and resized["training_count"] == 1
-    assert filter_run["resized_seconds"] < filter_run["first_seconds"]
+    assert resized["trained"] == 1 and resized["training_count"] == 2
+    back = filter_run["back"]
+    assert back["trained"] == 0 and back["training_count"] == 2
+    assert filter_run["back_max_diff"] == 0.0
+    assert filter_run["back_seconds"] < filter_run["first_seconds"]
 
 
 def test_aux_lines_as_several_inputs(filter_run):

@@ -87,11 +87,17 @@ result["whole_extent"] = list(mesh.GetDataInformation().GetExtent())
 result["progress"] = [min(progress), max(progress), len(progress)] if progress else []
 first_points = vtk_to_numpy(grid.GetPoints().GetData()).copy()
 
-# 3. grid size only: re-evaluated, not retrained
+# 3. a new grid size trains anew (the default starts from the elliptic grid of that size);
+#    back at the first size, the first network is re-used, not retrained
 mesh.GridSize = [61, 31]
-start = time.perf_counter()
 result["resized"] = summary(servermanager.Fetch(mesh))
-result["resized_seconds"] = time.perf_counter() - start
+mesh.GridSize = [41, 21]
+start = time.perf_counter()
+back = servermanager.Fetch(mesh)
+result["back"] = summary(back)
+result["back_seconds"] = time.perf_counter() - start
+result["back_max_diff"] = float(abs(vtk_to_numpy(back.GetPoints().GetData())
+                                    - first_points).max())
 
 # 4. the two auxiliary polylines as two inputs (PolyLineSource) on a new filter instance
 reader = vtkXMLPolyDataReader()
