@@ -33,7 +33,7 @@ from .model import TrainedModel
 from .networks import CoordinateNet
 from .quality import cell_quality, summary
 from .settings import Settings
-from .warmstart import WarmStart
+from .warmstart import WarmStart, lattice_for
 
 ANNEAL_EVERY = 10  # epochs between lambda1 updates (Wang et al. use 10)
 EXPLODE_FACTOR = 1e4  # a loss this many times its best value counts as diverged
@@ -226,7 +226,8 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
                                 settings.activation).to(device=device, dtype=dtype)
             warm = reference = None
             if settings.warm_start == "elliptic":
-                warm, reference = WarmStart.elliptic(boundary, *settings.lattice)
+                warm, reference = WarmStart.elliptic(boundary,
+                                                     *lattice_for(*settings.lattice))
                 with torch.no_grad():  # the map starts as the elliptic grid
                     net.w_out.zero_()
             mapping = Mapping(net, boundary, settings.boundary, warm)

@@ -11,7 +11,7 @@ from pinn_engine.model import TrainedModel
 from pinn_engine.networks import CoordinateNet
 from pinn_engine.pipeline import load_aux, load_boundary
 from pinn_engine.settings import make_settings
-from pinn_engine.warmstart import WarmStart
+from pinn_engine.warmstart import MAX_LATTICE_NODES, WarmStart, lattice_for
 
 HARD = EXAMPLES / "hard"
 
@@ -109,3 +109,16 @@ def test_an_adam_phase_from_the_warm_start_is_checked_too():
     assert q["folded_cells"] <= guard["elliptic"]["folded_cells"]
     assert q["mean_max_angle"] == pytest.approx(guard["kept"]["mean_max_angle"])
     assert q["mean_max_angle"] <= guard["elliptic"]["mean_max_angle"] + 0.5
+
+
+def test_large_grids_warm_start_on_a_coarser_lattice():
+    """The elliptic solve would take minutes at 641 x 321 on a notch: the warm start runs on a
+    lattice of about MAX_LATTICE_NODES nodes and the network is evaluated at the full size."""
+    assert lattice_for(41, 21) == (41, 21)
+    ni, nj = lattice_for(641, 321)
+    assert ni * nj <= 1.05 * MAX_LATTICE_NODES and abs((ni - 1) / (nj - 1) - 2) < 0.05
+    boundary, aux = inputs("bump")
+    mesher = Mesher(make_settings("pinn", lattice=(641, 321), lbfgs_iterations=5))
+    result = mesher.fit(boundary, aux).predict(641, 321)
+    assert result.report["training"]["guard"]["lattice"] == [ni, nj]
+    assert result.quality["folded_cells"] == 0 and result.points.shape == (321, 641, 2)
