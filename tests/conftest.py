@@ -8,6 +8,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from vtkmodules.util.misc import calldata_type
+from vtkmodules.vtkCommonCore import VTK_STRING, vtkOutputWindow, vtkStringOutputWindow
 
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 
@@ -41,3 +43,29 @@ def wavy_ring(n: int = 24) -> np.ndarray:
 @pytest.fixture
 def tmp_out(tmp_path: Path) -> Path:
     return tmp_path
+
+
+class OutputMessages:
+    """Collects vtkOutputWindow text (ParaView's Output Messages) and the algorithm's events
+    of one kind ("ErrorEvent", "WarningEvent") inside a ``with`` block."""
+
+    def __init__(self, alg, event: str) -> None:
+        self.window, self.old = vtkStringOutputWindow(), vtkOutputWindow.GetInstance()
+        self.events: list[str] = []
+
+        @calldata_type(VTK_STRING)
+        def on_event(obj, name, message):
+            self.events.append(message)
+
+        alg.AddObserver(event, on_event)
+
+    def __enter__(self):
+        vtkOutputWindow.SetInstance(self.window)
+        return self
+
+    def __exit__(self, *exc):
+        vtkOutputWindow.SetInstance(self.old)
+
+    @property
+    def lines(self) -> list[str]:
+        return [ln for ln in self.window.GetOutput().splitlines() if ln.strip()]

@@ -7,10 +7,8 @@ import sys
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES, ROOT
-from vtkmodules.util.misc import calldata_type
+from conftest import EXAMPLES, ROOT, OutputMessages
 from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkCommonCore import VTK_STRING, vtkOutputWindow, vtkStringOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 from vtkmodules.vtkFiltersSources import vtkLineSource, vtkPolyLineSource
@@ -56,31 +54,6 @@ def points(alg) -> np.ndarray:
 
 def field(alg, name: str):
     return alg.GetOutput().GetFieldData().GetArray(name).GetValue(0)
-
-
-class Errors:
-    """Collects vtkOutputWindow text and the algorithm's ErrorEvents."""
-
-    def __init__(self, alg) -> None:
-        self.window, self.old = vtkStringOutputWindow(), vtkOutputWindow.GetInstance()
-        self.events: list[str] = []
-
-        @calldata_type(VTK_STRING)
-        def on_error(obj, event, message):
-            self.events.append(message)
-
-        alg.AddObserver("ErrorEvent", on_error)
-
-    def __enter__(self):
-        vtkOutputWindow.SetInstance(self.window)
-        return self
-
-    def __exit__(self, *exc):
-        vtkOutputWindow.SetInstance(self.old)
-
-    @property
-    def lines(self) -> list[str]:
-        return [ln for ln in self.window.GetOutput().splitlines() if ln.strip()]
 
 
 @pytest.fixture(scope="module")
@@ -198,7 +171,7 @@ def test_several_aux_connections_equal_one_input_with_several_lines(trained):
 def test_bad_boundary_empty_output_one_message_then_recovers():
     alg = make_alg(case="fig2", aux=False)
     connect(alg, 0, reader("fig2_aux.vtp"))  # two open polylines
-    with Errors(alg) as errors:
+    with OutputMessages(alg, "ErrorEvent") as errors:
         alg.Update()
         alg.Update()  # nothing changed: not repeated
     assert alg.GetOutput().GetNumberOfPoints() == 0
@@ -221,7 +194,7 @@ def test_bad_aux_line_is_named():
     line.DeepCopy(src.GetOutput())
     alg = make_alg(case="fig2", aux=False)
     alg.AddInputDataObject(1, line)
-    with Errors(alg) as errors:
+    with OutputMessages(alg, "ErrorEvent") as errors:
         alg.Update()
     assert alg.GetOutput().GetNumberOfPoints() == 0
     assert len(errors.lines) == 1
@@ -236,7 +209,7 @@ def test_failed_training_reported(monkeypatch):
 
     monkeypatch.setattr(mesher.Mesher, "fit", fail)
     alg = make_alg()
-    with Errors(alg) as errors:
+    with OutputMessages(alg, "ErrorEvent") as errors:
         alg.Update()
     assert errors.lines == ["PINN Structured Mesh: training diverged (loss nan at Adam epoch 3)"]
     assert alg.GetOutput().GetNumberOfPoints() == 0
@@ -245,12 +218,12 @@ def test_failed_training_reported(monkeypatch):
 def test_invalid_settings_reported():
     alg = make_alg(method="tfi")
     alg.SetGridSize(1, 5)
-    with Errors(alg) as errors:
+    with OutputMessages(alg, "ErrorEvent") as errors:
         alg.Update()
     assert len(errors.lines) == 1 and "invalid settings: grid size 1 x 5" in errors.lines[0]
     alg.SetGridSize(5, 5)
     alg.SetAdamEpochs(-3)
-    with Errors(alg) as errors:
+    with OutputMessages(alg, "ErrorEvent") as errors:
         alg.Update()
     assert errors.lines == ["PINN Structured Mesh: invalid settings: adam_epochs must not be "
                             "negative"]
@@ -267,7 +240,7 @@ def test_abort_cancels_training_and_next_update_runs():
             obj.SetAbortExecute(1)
 
     tag = alg.AddObserver("ProgressEvent", abort)
-    with Errors(alg) as errors:
+    with OutputMessages(alg, "ErrorEvent") as errors:
         alg.Update()
         alg.Update()  # nothing changed: no new training, no second message
     assert alg.GetOutput().GetNumberOfPoints() == 0

@@ -13,9 +13,7 @@ import warnings
 
 import pytest
 import pyvista as pv
-from conftest import EXAMPLES, ROOT
-from vtkmodules.util.misc import calldata_type
-from vtkmodules.vtkCommonCore import VTK_STRING, vtkOutputWindow, vtkStringOutputWindow
+from conftest import EXAMPLES, ROOT, OutputMessages
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
 import pinn_engine
@@ -167,31 +165,6 @@ def test_cli_no_warning_without_folded_cells(boundary, method, tmp_path, capsys)
 # ---------------------------------------------------------------- VTK algorithm, ParaView
 
 
-class Messages:
-    """Collects vtkOutputWindow text (ParaView's Output Messages) and WarningEvents."""
-
-    def __init__(self, alg) -> None:
-        self.window, self.old = vtkStringOutputWindow(), vtkOutputWindow.GetInstance()
-        self.events: list[str] = []
-
-        @calldata_type(VTK_STRING)
-        def on_warning(obj, event, message):
-            self.events.append(message)
-
-        alg.AddObserver("WarningEvent", on_warning)
-
-    def __enter__(self):
-        vtkOutputWindow.SetInstance(self.window)
-        return self
-
-    def __exit__(self, *exc):
-        vtkOutputWindow.SetInstance(self.old)
-
-    @property
-    def lines(self) -> list[str]:
-        return [ln for ln in self.window.GetOutput().splitlines() if ln.strip()]
-
-
 def algorithm(path, method: str) -> tuple[PinnMeshAlgorithm, vtkXMLPolyDataReader]:
     reader = vtkXMLPolyDataReader()
     reader.SetFileName(str(path))
@@ -203,7 +176,7 @@ def algorithm(path, method: str) -> tuple[PinnMeshAlgorithm, vtkXMLPolyDataReade
 
 def test_algorithm_warns_in_the_output_window_and_still_produces_the_grid(folded):
     alg, _reader = algorithm(FOLDED, "tfi")
-    with Messages(alg) as messages:
+    with OutputMessages(alg, "WarningEvent") as messages:
         alg.Update()
     grid = alg.GetOutput()
     assert alg.GetLastError() == "" and grid.GetNumberOfPoints() == 41 * 21
@@ -214,7 +187,7 @@ def test_algorithm_warns_in_the_output_window_and_still_produces_the_grid(folded
     assert messages.lines == [warning] and messages.events == [warning]
     # the next update without folded cells clears it and says nothing
     alg.SetMethod("elliptic")
-    with Messages(alg) as messages:
+    with OutputMessages(alg, "WarningEvent") as messages:
         alg.Update()
     assert alg.GetLastWarning() == "" and messages.lines == [] and messages.events == []
     assert alg.GetOutput().GetNumberOfPoints() == 41 * 21
@@ -222,7 +195,7 @@ def test_algorithm_warns_in_the_output_window_and_still_produces_the_grid(folded
 
 def test_algorithm_no_warning_without_folded_cells():
     alg, _reader = algorithm(UNFOLDED, "tfi")
-    with Messages(alg) as messages:
+    with OutputMessages(alg, "WarningEvent") as messages:
         alg.Update()
     assert alg.GetOutput().GetNumberOfPoints() == 41 * 21
     assert alg.GetLastWarning() == "" and messages.lines == [] and messages.events == []
