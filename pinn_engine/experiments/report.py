@@ -40,8 +40,10 @@ HISTORY_EVERY = 10  # the loss-history CSV keeps every 10th Adam epoch and every
 PRESET_TEXT = {
     "paper": "paper preset: penalty boundary terms, decision-tree boundary fit, PDE method "
              "= 1000 point-Jacobi sweeps from a zero interior (the paper's recipe)",
-    "default": "default preset: hard boundary (the network corrects TFI, boundary exact), "
-               "arc-length boundary fit, PDE method iterated to convergence",
+    "default": "default preset: hard boundary (boundary exact), the network starting from "
+               "the converged elliptic grid (warm start) with L-BFGS stopped at the last "
+               "state no worse than it, arc-length boundary fit, PDE method iterated to "
+               "convergence",
 }
 VERDICT_MARK = {"supported": "**supported**", "contradicted": "**contradicted**",
                 "mixed": "**mixed**", "n/a": "n/a"}
@@ -239,6 +241,7 @@ def architecture_table(data: dict) -> str:
 
 
 SETTING_ROWS = (("boundary", "boundary treatment"), ("boundary_fit", "boundary fit"),
+                ("warm_start", "warm start"), ("residual", "Winslow residual"),
                 ("hidden_layers", "hidden layers"), ("neurons", "neurons per layer"),
                 ("activation", "activation"), ("adam_epochs", "Adam epochs"),
                 ("batch_size", "Adam batch (points)"), ("learning_rate", "learning rate"),
