@@ -40,8 +40,12 @@ class MeshResult:
 class Mesher:
     """Structured mesher for one boundary; ``method`` is pinn, mgnet, tfi or elliptic.
 
-    >>> mesher = Mesher(make_settings("elliptic")).fit(boundary)
-    >>> result = mesher.predict(41, 21)
+    The neural methods' default training starts from, and is checked against, the elliptic
+    grid on ``settings.lattice`` nodes: give the size you will predict (the command line,
+    the filter and the accessor do); other sizes are evaluated from the same map, unchecked.
+
+    >>> mesher = Mesher(make_settings("pinn", lattice=(81, 41))).fit(boundary)
+    >>> result = mesher.predict(81, 41)
     """
 
     def __init__(self, settings: Settings | None = None) -> None:
