@@ -43,7 +43,7 @@ from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 from .errors import PinnMeshError, TrainingCancelled, folded_cells_warning
-from .settings import METHODS, PRESETS, Settings, make_settings
+from .settings import METHODS, PRESETS, Settings, grid_size_problem, make_settings
 
 if TYPE_CHECKING:  # the engine's numerics are imported on first use (fast plugin loading)
     from .auxlines import AuxLine
@@ -51,7 +51,6 @@ if TYPE_CHECKING:  # the engine's numerics are imported on first use (fast plugi
     from .mesher import Mesher
 
 LABEL = "PINN Structured Mesh"
-MAX_NODES = 25_000_000
 # training settings the algorithm exposes as properties; None means "the preset's value"
 TRAINING_FIELDS = ("adam_epochs", "lbfgs_iterations", "hidden_layers", "neurons", "lambda2",
                    "seed")
@@ -350,9 +349,9 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
 
         settings = self.GetSettings()
         ni, nj = self._size
-        if ni < 2 or nj < 2 or ni * nj > MAX_NODES:
-            raise ValueError(f"grid size {ni} x {nj}: each size must be at least 2 and the "
-                             f"grid at most {MAX_NODES} nodes")
+        problem = grid_size_problem(ni, nj)
+        if problem:
+            raise ValueError(f"Grid Size {ni} {nj}: {problem}")
         boundary_poly = vtkPolyData.GetData(inInfo[0], 0)
         if boundary_poly is None or boundary_poly.GetNumberOfPoints() == 0:
             raise PinnMeshError("boundary input: is empty; connect a closed polyline")

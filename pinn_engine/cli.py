@@ -13,13 +13,11 @@ import time
 from pathlib import Path
 
 from .errors import PinnMeshError, folded_cells_warning
-from .settings import METHODS, make_settings
+from .settings import METHODS, grid_size_problem, make_settings
 
 EXIT_ERROR = 2
 EXIT_INTERNAL = 3
 EXIT_INTERRUPTED = 130
-MAX_SIDE_NODES = 20_000
-MAX_NODES = 4_000_000  # about 1.5 GB of memory while meshing and writing
 DEVICE_NAMES = re.compile(r"^(auto|cpu|mps|cuda(:\d+)?)$")
 
 
@@ -103,9 +101,9 @@ def _raise_interrupt(signum, frame):  # noqa: ARG001
 def _check_options(args: argparse.Namespace) -> None:
     """Refuse option values that are out of range, with a message naming the option."""
     ni, nj = args.size
-    if not (2 <= ni <= MAX_SIDE_NODES and 2 <= nj <= MAX_SIDE_NODES and ni * nj <= MAX_NODES):
-        raise PinnMeshError(f"--size {ni} {nj}: each size must be 2..{MAX_SIDE_NODES} and the "
-                            f"grid at most {MAX_NODES:,} nodes")
+    problem = grid_size_problem(ni, nj)
+    if problem:
+        raise PinnMeshError(f"--size {ni} {nj}: {problem}")
     if args.seed is not None and not 0 <= args.seed < 2**32:
         raise PinnMeshError(f"--seed {args.seed}: must be 0..{2**32 - 1}")
     if args.lambda2 is not None and not (math.isfinite(args.lambda2) and args.lambda2 >= 0):

@@ -16,7 +16,7 @@ from .errors import PinnMeshError, TrainingError
 from .geometry import Boundary
 from .heap import reuse_freed_memory
 from .quality import boundary_nodes, cell_quality, summary
-from .settings import Settings, make_settings
+from .settings import Settings, grid_size_problem, make_settings
 from .tfi import tfi_grid
 
 NEURAL = ("pinn", "mgnet")
@@ -94,8 +94,9 @@ class Mesher:
         """The grid at ``ni`` x ``nj`` nodes; feed-forward for the neural methods."""
         if self.boundary is None:
             raise RuntimeError("call fit() before predict()")
-        if ni < 2 or nj < 2:
-            raise ValueError(f"grid size must be at least 2 x 2, got {ni} x {nj}")
+        problem = grid_size_problem(ni, nj)
+        if problem:
+            raise ValueError(f"grid size {ni} x {nj}: {problem}")
         with reuse_freed_memory():
             start = time.perf_counter()
             unit = self._grid_unit(ni, nj)

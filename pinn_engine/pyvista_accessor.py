@@ -37,7 +37,7 @@ from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 from .algorithm import MeshCache
 from .errors import FoldedCellsWarning, InputError, folded_cells_warning
-from .settings import make_settings
+from .settings import grid_size_problem, make_settings
 
 __all__ = ["FoldedCellsWarning", "PinnMeshAccessor", "pinn_mesh", "register"]
 
@@ -163,8 +163,9 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
     from .pipeline import aux_from_polydata, boundary_from_polydata, to_vtk
 
     ni, nj = (int(n) for n in size)
-    if ni < 2 or nj < 2:
-        raise ValueError(f"size must be at least (2, 2), got ({ni}, {nj})")
+    problem = grid_size_problem(ni, nj)
+    if problem:
+        raise ValueError(f"size=({ni}, {nj}): {problem}")
     config = make_settings(method, preset, adam_epochs=adam_epochs,
                            lbfgs_iterations=lbfgs_iterations, hidden_layers=hidden_layers,
                            neurons=neurons, lambda2=lambda2, seed=seed, boundary=boundary_mode,

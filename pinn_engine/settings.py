@@ -6,6 +6,18 @@ from dataclasses import asdict, dataclass, fields, replace
 
 METHODS = ("pinn", "mgnet", "tfi", "elliptic")
 PRESETS = ("default", "paper")
+# Grid sizes accepted on every route (command line, filter and panel, pyvista, Mesher)
+MAX_SIDE_NODES = 20_000
+MAX_NODES = 4_000_000  # about 1.5 GB of memory while meshing and writing
+
+
+def grid_size_problem(ni: int, nj: int) -> str | None:
+    """What is wrong with a grid of ``ni`` x ``nj`` nodes, or None; each route prefixes its
+    own name for the size (``--size``, ``size=``, Grid Size)."""
+    if min(ni, nj) < 2 or max(ni, nj) > MAX_SIDE_NODES or ni * nj > MAX_NODES:
+        return (f"each side must have 2 to {MAX_SIDE_NODES:,} nodes and the grid at most "
+                f"{MAX_NODES:,} nodes")
+    return None
 
 
 @dataclass(frozen=True)

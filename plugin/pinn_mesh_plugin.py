@@ -22,7 +22,7 @@ if _REPO not in sys.path:
 
 try:
     from pinn_engine.algorithm import PinnMeshAlgorithm
-    from pinn_engine.settings import METHODS, PRESETS, Settings
+    from pinn_engine.settings import MAX_SIDE_NODES, METHODS, PRESETS, Settings
 except ImportError as _exc:  # a clear line in ParaView's output instead of a bare traceback
     raise ImportError(
         f"PINN Structured Mesh plugin: cannot import pinn_engine from {_REPO} ({_exc}); keep "
@@ -83,7 +83,7 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
         self.SetMethod(int(index))
 
     @smproperty.intvector(name="GridSize", label="Grid Size", default_values=[41, 21])
-    @smdomain.intrange(min=2, max=5000)
+    @smdomain.intrange(min=2, max=MAX_SIDE_NODES)
     @smdomain.xml(_doc("Nodes along xi and eta. The default PINN starts from the elliptic "
                        "grid of this size and trains anew for a new size (seconds); with "
                        "Preset paper a new size re-evaluates the trained network."))

@@ -220,7 +220,8 @@ def test_invalid_settings_reported():
     alg.SetGridSize(1, 5)
     with OutputMessages(alg, "ErrorEvent") as errors:
         alg.Update()
-    assert len(errors.lines) == 1 and "invalid settings: grid size 1 x 5" in errors.lines[0]
+    assert len(errors.lines) == 1
+    assert "invalid settings: Grid Size 1 5: each side" in errors.lines[0]
     alg.SetGridSize(5, 5)
     alg.SetAdamEpochs(-3)
     with OutputMessages(alg, "ErrorEvent") as errors:

@@ -467,7 +467,7 @@ def test_damaged_aux_file(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("options, pattern", [
-    pytest.param(["--size", "1", "5"], "--size 1 5: each size must be 2", id="size below 2"),
+    pytest.param(["--size", "1", "5"], "--size 1 5: each side must have 2 to", id="size below 2"),
     pytest.param(["--size", "20000", "20000"], "at most 4,000,000 nodes", id="size too large"),
     pytest.param(["--size", "30000", "3"], "--size 30000 3", id="side too long"),
     pytest.param(["--seed", "-1"], "--seed -1", id="seed"),

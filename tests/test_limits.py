@@ -1,0 +1,49 @@
+"""The grid-size limits are checked in one place and are the same on every route."""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+from conftest import EXAMPLES, ROOT, OutputMessages, square_ring
+from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+
+from pinn_engine.algorithm import PinnMeshAlgorithm
+from pinn_engine.cli import main
+from pinn_engine.geometry import Boundary
+from pinn_engine.mesher import Mesher
+from pinn_engine.pyvista_accessor import pinn_mesh
+from pinn_engine.settings import MAX_NODES, MAX_SIDE_NODES, grid_size_problem, make_settings
+
+TOO_BIG = [(1, 5), (MAX_SIDE_NODES + 1, 2), (2001, 2001)]  # the last: 4,004,001 nodes
+
+
+@pytest.mark.parametrize(("ni", "nj"), TOO_BIG)
+def test_every_route_refuses_the_same_sizes_in_its_own_words(ni, nj, tmp_path, capsys):
+    assert grid_size_problem(ni, nj)
+    assert main([str(EXAMPLES / "fig2.vtp"), "--method", "tfi", "--size", str(ni), str(nj),
+                 "-o", str(tmp_path / "g.vts")]) == 2
+    assert f"--size {ni} {nj}: each side must have 2 to" in capsys.readouterr().err
+    ring = np.column_stack([square_ring(4), np.zeros(16)])
+    with pytest.raises(ValueError, match=re.escape(f"size=({ni}, {nj}): each side")):
+        pinn_mesh(ring, size=(ni, nj), method="tfi")
+    reader = vtkXMLPolyDataReader()
+    reader.SetFileName(str(EXAMPLES / "fig2.vtp"))
+    alg = PinnMeshAlgorithm()
+    alg.SetInputConnection(0, reader.GetOutputPort())
+    alg.SetMethod("tfi")
+    alg.SetGridSize(ni, nj)
+    with OutputMessages(alg, "ErrorEvent"):
+        alg.Update()
+    assert f"Grid Size {ni} {nj}: each side must have 2 to" in alg.GetLastError()
+    mesher = Mesher(make_settings("tfi")).fit(Boundary.from_points(square_ring(4)))
+    with pytest.raises(ValueError, match="each side must have 2 to"):
+        mesher.predict(ni, nj)
+
+
+def test_the_largest_sizes_pass_and_the_panel_allows_exactly_them():
+    assert grid_size_problem(MAX_SIDE_NODES, 2) is None
+    assert grid_size_problem(2000, MAX_NODES // 2000) is None
+    plugin = (ROOT / "plugin" / "pinn_mesh_plugin.py").read_text()
+    assert "@smdomain.intrange(min=2, max=MAX_SIDE_NODES)" in plugin
