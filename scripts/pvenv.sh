@@ -9,7 +9,7 @@
 #   PYTHONPATH     = paraview_support (getargspec shim) : .venv-pv site-packages
 #                    (torch, sklearn, numpy<2.4) : repo root (import pinn_engine)
 #   PV_PLUGIN_PATH = <repo>/plugin   (override with PINN_PV_PLUGIN_PATH)
-# and runs the command under `xvfb-run -a` when DISPLAY is unset and the
+# and runs the command on a private Xvfb screen when DISPLAY is unset and the
 # command renders (paraview, pvpython, pvbatch).  Set PINN_PV_NO_XVFB=1 to
 # skip the X server (pure pipeline work without rendering).
 # Other knobs: PINN_PV_VENV (default <repo>/.venv-pv), PINN_PV_EXTRA_PYTHONPATH,
@@ -50,6 +50,19 @@ case "$(basename "$1")" in
 esac
 
 if [ "$needs_x" = 1 ] && [ -z "${DISPLAY:-}" ] && [ -z "${PINN_PV_NO_XVFB:-}" ]; then
-    exec xvfb-run -a -s "-screen 0 1600x1000x24" "$@"
+    # Our own Xvfb instead of `xvfb-run -a`, under which pvpython aborted now and then ("bad
+    # X server connection", 2 runs in 19): Xvfb reset itself when its first client left, and
+    # a connection during the reset failed. -noreset keeps it up; -displayfd lets it pick a
+    # free display and write the number once it accepts connections.
+    fifo="$(mktemp -u)"
+    mkfifo "$fifo"
+    Xvfb -displayfd 3 -screen 0 1600x1000x24 -nolisten tcp -noreset 3>"$fifo" >/dev/null 2>&1 &
+    xvfb_pid=$!
+    trap 'kill "$xvfb_pid" 2>/dev/null || true; rm -f "$fifo"' EXIT
+    read -r -t 30 display_number <"$fifo" || { echo "pvenv.sh: Xvfb did not start" >&2; exit 2; }
+    export DISPLAY=":$display_number"
+    status=0
+    "$@" || status=$?
+    exit "$status"
 fi
 exec "$@"
