@@ -42,7 +42,7 @@ from vtkmodules.vtkCommonCore import vtkCommand, vtkIntArray, vtkOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
-from .errors import PinnMeshError, TrainingCancelled, folded_cells_warning
+from .errors import InputError, PinnMeshError, TrainingCancelled, folded_cells_warning
 from .settings import METHODS, PRESETS, Settings, grid_size_problem, make_settings
 
 if TYPE_CHECKING:  # the engine's numerics are imported on first use (fast plugin loading)
@@ -308,6 +308,8 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
             grid, warning = self._execute(inInfo)
         except TrainingCancelled as exc:
             message = f"{exc}; no grid produced"
+        except InputError as exc:
+            message = str(exc.for_route("paraview"))
         except PinnMeshError as exc:
             message = str(exc)
         except ValueError as exc:  # invalid settings

@@ -8,11 +8,28 @@ class PinnMeshError(Exception):
 
 
 class InputError(PinnMeshError):
-    """Bad boundary, auxiliary line or option; the message names the problem and the source."""
+    """Bad boundary, auxiliary line or option; the message names the problem and the source.
+
+    A fix that differs between routes is written as a token of ``ROUTE_WORDS`` (e.g.
+    ``{corners}``); the message reads in the command line's words, :meth:`for_route` gives
+    the same error in another route's words.
+    """
 
     def __init__(self, message: str, source: str | None = None) -> None:
-        self.source = source
-        super().__init__(f"{source}: {message}" if source else message)
+        self.template, self.source = message, source
+        super().__init__(self._text("cli"))
+
+    def _text(self, route: str) -> str:
+        text = self.template
+        for key, words in ROUTE_WORDS[route].items():
+            text = text.replace("{" + key + "}", words)
+        return f"{self.source}: {text}" if self.source else text
+
+    def for_route(self, route: str) -> InputError:
+        """This error worded for ``route``: "cli", "pyvista" or "paraview"."""
+        error = InputError(self.template, self.source)
+        error.args = (self._text(route),)
+        return error
 
 
 class TrainingError(PinnMeshError):
@@ -31,10 +48,12 @@ class FoldedCellsWarning(UserWarning):
     """
 
 
-# the fixes a folded grid suggests, in the words of each route: command-line options,
-# pyvista keyword arguments, the ParaView filter panel's property labels
-_FIX_WORDS = {
+# Fixes worded for each route: command-line options, pyvista keyword arguments, the ParaView
+# filter panel's property labels (and the properties of ParaView's own sources)
+ROUTE_WORDS = {
     "cli": {
+        "corners": "--corners",
+        "close": "close it (repeat its first point at its end)",
         "method": "--method {}",
         "lbfgs": "more --lbfgs iterations",
         "seed": "another --seed",
@@ -43,6 +62,8 @@ _FIX_WORDS = {
         "size": "--size",
     },
     "pyvista": {
+        "corners": "corners=",
+        "close": "close it (a closed line cell, or repeat its first point at its end)",
         "method": 'method="{}"',
         "lbfgs": "a larger lbfgs_iterations=",
         "seed": "another seed=",
@@ -51,6 +72,8 @@ _FIX_WORDS = {
         "size": "size=",
     },
     "paraview": {
+        "corners": "Corner Indices",
+        "close": "tick Closed in the Poly Line Source's properties (or close the polyline)",
         "method": "Method {}",
         "lbfgs": "more L-BFGS Iterations",
         "seed": "another Seed",
@@ -75,7 +98,7 @@ def folded_cells_warning(report: dict, route: str) -> str | None:
     if folded <= 0:
         return None
     ni, nj = report["size"]
-    words = _FIX_WORDS[route]
+    words = ROUTE_WORDS[route]
     method = report.get("method", "")
     guard = report.get("training", {}).get("guard")
     if guard and guard["elliptic"]["folded_cells"]:  # the warm start's elliptic grid folds too

@@ -322,7 +322,8 @@ def boundary_points(poly: vtkPolyData, source: str = "boundary input") -> np.nda
                          "closed polyline", source)
     ids, closed = cells[0]
     if not closed:
-        raise InputError("boundary polyline is open (its last point is not its first)", source)
+        raise InputError("boundary polyline is open (its last point is not its first); "
+                         "{close}", source)
     pts = vtk_to_numpy(poly.GetPoints().GetData()).astype(float)[ids]
     if len(ids) > 1 and ids[0] == ids[-1]:
         pts = pts[:-1]

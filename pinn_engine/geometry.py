@@ -297,7 +297,7 @@ def detect_corners(ring: np.ndarray, source: str | None = None,
     A corner turns by at least ``MIN_CORNER_TURN_DEG`` (an interior angle of at most 160
     degrees), and the fifth-largest turn is below ``CORNER_MARGIN`` times the fourth;
     otherwise the corners are ambiguous and the error lists the candidates by ``labels``
-    (the user's point numbers) so that they can be named with ``--corners``.
+    (the user's point numbers) so that they can be named (``--corners`` on the command line).
     """
     turn = turning_angles(ring)
     order = np.argsort(-turn, kind="stable")
@@ -310,7 +310,7 @@ def detect_corners(ring: np.ndarray, source: str | None = None,
                if fourth < MIN_CORNER_TURN_DEG else "the 5th-largest turn is close to the 4th")
         raise InputError(
             f"fewer than four clear corners ({why}; largest turning angles {top} degrees); "
-            "name them with four point indices (--corners)", source)
+            "name them with four point indices ({corners})", source)
     return np.sort(order[:4])
 
 

@@ -170,9 +170,12 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
                            lbfgs_iterations=lbfgs_iterations, hidden_layers=hidden_layers,
                            neurons=neurons, lambda2=lambda2, seed=seed, boundary=boundary_mode,
                            device=device, **{"lattice": (ni, nj), **settings})
-    poly = _as_polydata(boundary, closed=True, what="boundary")
-    ring = boundary_from_polydata(poly, corners, source="boundary")
-    lines = aux_from_polydata(_aux_list(aux), ring)
+    try:
+        poly = _as_polydata(boundary, closed=True, what="boundary")
+        ring = boundary_from_polydata(poly, corners, source="boundary")
+        lines = aux_from_polydata(_aux_list(aux), ring)
+    except InputError as exc:
+        raise exc.for_route("pyvista") from None
     cache = cache if cache is not None else MeshCache(capacity=1)
     mesher, _ = cache.fitted(ring, lines, config, progress)
     result = mesher.predict(ni, nj)
