@@ -148,6 +148,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
 
     def __init__(self) -> None:
         super().__init__(nInputPorts=2, nOutputPorts=1, outputType="vtkStructuredGrid")
+        self.SetProgressText(LABEL)  # also what the executive's own progress events show
         self._method = "pinn"
         self._preset = "default"
         self._size = (41, 21)
@@ -323,7 +324,8 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
             output.ShallowCopy(grid)
             if warning:
                 self._report_warning(warning)
-            self.UpdateProgress(1.0)
+            self._progress(1.0, "done")
+            self.SetProgressText(LABEL)
             return 1
         output.Initialize()
         if self.GetAbortExecute():
@@ -363,10 +365,10 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
             aux_polys = [vtkPolyData.GetData(inInfo[1], k)
                          for k in range(inInfo[1].GetNumberOfInformationObjects())]
         aux_lines = aux_from_polydata(aux_polys, boundary)
-        self.UpdateProgress(0.0)
+        self._progress(0.0, "training" if settings.method in ("pinn", "mgnet") else "meshing")
         mesher, self._trained = self._cache.fitted(boundary, aux_lines, settings,
                                                    self._training_progress(settings))
-        self.UpdateProgress(0.95)
+        self._progress(0.95, "meshing")
         result = mesher.predict(*self._size)
         grid = to_vtk(result)
         fd = grid.GetFieldData()
@@ -384,10 +386,17 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
 
         def progress(info: dict) -> bool:
             done = info["step"] if info["phase"] == "adam" else adam + min(info["step"], lbfgs)
-            self.UpdateProgress(0.9 * min(done / total, 1.0))
+            phase = "Adam" if info["phase"] == "adam" else "L-BFGS"
+            self._progress(0.9 * min(done / total, 1.0), f"training ({phase})")
             return self._abort_requested()
 
         return progress
+
+    def _progress(self, fraction: float, phase: str) -> None:
+        """Progress with the filter's name and the phase as its text: ParaView's progress bar
+        shows it instead of the class name ("PythonAlgorithm")."""
+        self.SetProgressText(f"{LABEL}: {phase}")
+        self.UpdateProgress(fraction)
 
     def _abort_requested(self) -> bool:
         check = getattr(self, "CheckAbort", None)  # VTK 9.4+

@@ -82,6 +82,16 @@ def test_pipeline_output(trained):
     assert progress == sorted(progress)
 
 
+def test_progress_text_names_the_filter_and_the_phase():
+    alg = make_alg(method="pinn")
+    texts: list[str] = []
+    alg.AddObserver("ProgressEvent", lambda obj, event: texts.append(obj.GetProgressText()))
+    alg.Update()
+    assert texts and all(t.startswith("PINN Structured Mesh") for t in texts)
+    assert "PINN Structured Mesh: training (Adam)" in texts  # the phase, as training goes
+    assert texts.index("PINN Structured Mesh: meshing") < texts.index("PINN Structured Mesh: done")
+
+
 def test_whole_extent_in_request_information():
     alg = make_alg(method="tfi")
     alg.SetGridSize(17, 9)
