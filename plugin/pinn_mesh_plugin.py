@@ -50,7 +50,8 @@ def _doc(text):
     return f"<Documentation>{text}</Documentation>"
 
 
-@smproxy.filter(name="PINNStructuredMesh", label="PINN Structured Mesh")
+@smproxy.filter(name="PINNStructuredMesh", label="PINN Structured Mesh",
+                support_reload=False)  # no developer's "Reload Python Module" button
 @smhint.xml('<ShowInMenu category="Mesh Generation"/>')
 @smproperty.input(name="AuxiliaryLines", label="Auxiliary Lines", port_index=1,
                   multiple_input=True, clean_command="RemoveAllAuxiliaryLines")
