@@ -32,12 +32,22 @@ _ORDERS = ((0, 0), (0, 1), (1, 0), (0, 2), (1, 1), (2, 0))
 
 def lattice_for(ni: int, nj: int) -> tuple[int, int]:
     """The warm start's lattice for an ``ni`` x ``nj`` grid: the grid itself up to about
-    ``MAX_LATTICE_NODES`` nodes, else a coarser one with the same number of cells per side
-    ratio."""
+    ``MAX_LATTICE_NODES`` nodes, else a coarser one with the same ratio of cells per side."""
     if ni * nj <= MAX_LATTICE_NODES:
         return ni, nj
     scale = math.sqrt(MAX_LATTICE_NODES / (ni * nj))
     return max(2, int((ni - 1) * scale) + 1), max(2, int((nj - 1) * scale) + 1)
+
+
+def _at_least_4(d: np.ndarray, axis: int) -> np.ndarray:
+    """``d`` with nodes added by linear interpolation between its nodes along ``axis`` until
+    there are at least 4 (a bicubic spline needs them); the given nodes keep their values."""
+    n = d.shape[axis]
+    if n >= 4:
+        return d
+    fine = (n - 1) * (2 if n == 3 else 3) + 1
+    t, t_fine = np.linspace(0, 1, n), np.linspace(0, 1, fine)
+    return np.apply_along_axis(lambda v: np.interp(t_fine, t, v), axis, d)
 
 
 class WarmStart:
@@ -45,11 +55,9 @@ class WarmStart:
 
     def __init__(self, correction: np.ndarray) -> None:
         self.correction = np.asarray(correction, dtype=float)
-        nj, ni = self.correction.shape[:2]
-        xi, eta = node_params(ni), node_params(nj)
-        kx, ky = min(3, nj - 1), min(3, ni - 1)
-        self._splines = [RectBivariateSpline(eta, xi, self.correction[..., k], kx=kx, ky=ky,
-                                             s=0) for k in range(2)]
+        d = _at_least_4(_at_least_4(self.correction, 0), 1)
+        eta, xi = node_params(d.shape[0]), node_params(d.shape[1])
+        self._splines = [RectBivariateSpline(eta, xi, d[..., k], s=0) for k in range(2)]
 
     @classmethod
     def elliptic(cls, boundary: Boundary, ni: int, nj: int) -> tuple[WarmStart, np.ndarray]:

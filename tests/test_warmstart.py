@@ -64,6 +64,16 @@ def test_warm_start_is_zero_on_the_boundary_and_the_elliptic_grid_at_its_nodes()
     assert np.isfinite(grid).all()
 
 
+@pytest.mark.parametrize("size", [(21, 3), (2, 9), (3, 3)])
+def test_thin_grids_start_at_their_own_elliptic_grid(size):
+    """Fewer than 4 nodes a side: the spline runs through added nodes, the grid at the
+    output size is still exactly the elliptic one at the start."""
+    boundary, _ = inputs("bump")
+    warm, grid = WarmStart.elliptic(boundary, *size)
+    np.testing.assert_allclose(warm.grid(*size), warm.correction, atol=1e-12)
+    assert np.isfinite(warm.jet(np.array([[0.5, 0.5]]))).all()
+
+
 def test_saved_model_keeps_its_warm_start(tmp_path):
     boundary, aux = inputs("bump")
     mesher = Mesher(make_settings("pinn", lattice=(21, 11), lbfgs_iterations=10))
@@ -114,7 +124,7 @@ def test_an_adam_phase_from_the_warm_start_is_checked_too():
 def test_large_grids_warm_start_on_a_coarser_lattice():
     """The elliptic solve would take minutes at 641 x 321 on a notch: the warm start runs on a
     lattice of about MAX_LATTICE_NODES nodes and the network is evaluated at the full size."""
-    assert lattice_for(41, 21) == (41, 21)
+    assert lattice_for(41, 21) == (41, 21) and lattice_for(21, 3) == (21, 3)
     ni, nj = lattice_for(641, 321)
     assert ni * nj <= 1.05 * MAX_LATTICE_NODES and abs((ni - 1) / (nj - 1) - 2) < 0.05
     boundary, aux = inputs("bump")
