@@ -5,7 +5,8 @@ on the same boundary nodes by D = E - T, which is zero on the boundary. A bicubi
 through D (zero along the four sides, since it interpolates zeros there) is added to the TFI
 base of the hard-boundary map, so that with the network's output layer at zero the map *is*
 the elliptic grid at the lattice nodes, and a smooth interpolant of it between them. Training
-on the paper's losses then starts where the classical method ends instead of at TFI: on
+on the Winslow and auxiliary-line losses then starts where the classical method ends, not at
+TFI: on
 shapes with sharp features the PINN from TFI stalls halfway or folds (issue 11), the warm
 start does not, and it needs tens of L-BFGS iterations instead of thousands of Adam epochs.
 """
@@ -19,12 +20,13 @@ from scipy.interpolate import RectBivariateSpline
 
 from .boundary_fit import ArcLengthFit
 from .elliptic import winslow_solve
+from .errors import TrainingError
 from .geometry import Boundary
 from .tfi import node_params, tfi_grid
 
 # The warm start's elliptic solve grows faster than linearly with the nodes (measured on the
-# V notch: 1 s at 161 x 81, 16 s at 321 x 161, 106 s at 641 x 321); above this many nodes it
-# runs on a coarser lattice of the same shape, and the network is evaluated finer.
+# V notch, 2 busy cores: 1 s at 161 x 81, 16 s at 321 x 161, 106 s at 641 x 321); above this
+# many nodes it runs on a coarser lattice of the same shape, and the network is evaluated finer.
 MAX_LATTICE_NODES = 161 * 81
 # (d_eta, d_xi) orders of the jet channels V, XI, ETA, XIXI, XIETA, ETAETA (networks.py)
 _ORDERS = ((0, 0), (0, 1), (1, 0), (0, 2), (1, 1), (2, 0))
@@ -65,6 +67,9 @@ class WarmStart:
         returns that grid (working frame), the reference the training is checked against."""
         base = tfi_grid(ArcLengthFit(boundary).sample, ni, nj)
         grid = winslow_solve(base)[0]
+        if not np.isfinite(grid).all():
+            raise TrainingError("the elliptic grid of the warm start is not finite; train "
+                                "from TFI instead (warm start none)")
         return cls(grid - base), grid
 
     def jet(self, x: np.ndarray) -> np.ndarray:
