@@ -41,8 +41,7 @@ from pinn_engine.settings import make_settings
 
 ROOT = Path(__file__).resolve().parents[1]
 HARD = ROOT / "example_data" / "hard"
-RUNS = {"tfi": ("tfi", {}), "elliptic": ("elliptic", {}), "mgnet": ("mgnet", {}),
-        "pinn": ("pinn", {})}
+RUNS = {method: (method, {}) for method in ("tfi", "elliptic", "mgnet", "pinn")}
 VARIANTS = {"elliptic": ("elliptic", {}), "pinn": ("pinn", {}),
             "pinn, paper residual": ("pinn", {"residual": "paper", "lambda2": 10.0}),
             "pinn, from TFI": ("pinn", {"warm_start": "none"})}

@@ -5,10 +5,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.interpolate import RegularGridInterpolator
 
 from .errors import InputError
 from .fileio import RawLine
-from .geometry import Boundary, Polyline, _segments_cross
+from .geometry import Boundary, Polyline, _segments_cross, segment_distance
 
 END_TOL = 1e-2  # an end lies on a side within this fraction of the bounding-box diagonal
 # Where two auxiliary lines cross, the (xi, eta) that each gives the crossing point may differ
@@ -172,18 +173,8 @@ def line_distances(grid: np.ndarray, lines: list[AuxLine], diagonal: float) -> d
     """How far the grid follows each auxiliary line: the largest distance from the drawn line
     of the grid's curve through the line's (xi, eta) (bilinear in the grid's cells), relative
     to the boundary's diagonal. ``grid`` (nj, ni, 2) and the lines share one frame."""
-    from scipy.interpolate import RegularGridInterpolator
-
     nj, ni = grid.shape[:2]
     along = RegularGridInterpolator((np.linspace(0, 1, nj), np.linspace(0, 1, ni)), grid)
-    out = {}
-    for line in lines:
-        curve = along(line.xi_eta[:, ::-1])
-        a, b = line.xy[:-1], line.xy[1:]
-        ab = b - a
-        u = np.einsum("pij,ij->pi", curve[:, None] - a, ab) / np.maximum(
-            np.einsum("ij,ij->i", ab, ab), 1e-300)
-        foot = a + np.clip(u, 0.0, 1.0)[..., None] * ab
-        out[line.name] = float(np.linalg.norm(curve[:, None] - foot, axis=-1).min(axis=1).max()
-                               / diagonal)
-    return out
+    return {line.name: float(segment_distance(along(line.xi_eta[:, ::-1]), line.xy,
+                                              closed=False).max() / diagonal)
+            for line in lines}

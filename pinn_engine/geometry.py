@@ -73,10 +73,10 @@ class Frame:
         return np.asarray(q, dtype=float) * self.scale + self.origin
 
 
-def segment_distance(p: np.ndarray, ring: np.ndarray) -> np.ndarray:
-    """Distance of each point of ``p`` (n, 2) to the closed polyline ``ring`` (m, 2)."""
-    a = ring
-    b = np.roll(ring, -1, axis=0)
+def segment_distance(p: np.ndarray, ring: np.ndarray, closed: bool = True) -> np.ndarray:
+    """Distance of each point of ``p`` (n, 2) to the polyline ``ring`` (m, 2), closed unless
+    ``closed`` is False."""
+    a, b = (ring, np.roll(ring, -1, axis=0)) if closed else (ring[:-1], ring[1:])
     ab = b - a
     ab2 = np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300)
     out = np.empty(len(p))
