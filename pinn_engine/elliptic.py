@@ -48,8 +48,10 @@ def winslow_sweeps(grid: np.ndarray, iterations: int = 1000, zero_interior: bool
     return g
 
 
-def _stencil_matrix(g: np.ndarray) -> tuple[sp.csc_matrix, np.ndarray]:
-    """Linear system of the Winslow equations with alpha, beta, gamma frozen at ``g``."""
+def _stencil_matrix(g: np.ndarray, cp: np.ndarray | None = None, cq: np.ndarray | None = None
+                    ) -> tuple[sp.csc_matrix, np.ndarray]:
+    """Linear system of the Winslow equations with alpha, beta, gamma frozen at ``g``; with
+    ``cp``, ``cq`` (interior nodes) the control terms ``cp x_xi + cq x_eta`` are added."""
     nj, ni = g.shape[:2]
     a, b, c = _coefficients(g)
     # 9-point stencil weights, offsets (dj, di)
@@ -57,6 +59,9 @@ def _stencil_matrix(g: np.ndarray) -> tuple[sp.csc_matrix, np.ndarray]:
         (0, 0): -2 * (a + c), (0, 1): a, (0, -1): a, (1, 0): c, (-1, 0): c,
         (1, 1): -0.5 * b, (-1, -1): -0.5 * b, (1, -1): 0.5 * b, (-1, 1): 0.5 * b,
     }
+    if cp is not None:
+        weights[(0, 1)], weights[(0, -1)] = a + 0.5 * cp, a - 0.5 * cp
+        weights[(1, 0)], weights[(-1, 0)] = c + 0.5 * cq, c - 0.5 * cq
     jj, ii = np.meshgrid(np.arange(1, nj - 1), np.arange(1, ni - 1), indexing="ij")
     row = (jj - 1) * (ni - 2) + (ii - 1)
     rows, cols, vals = [], [], []
@@ -107,5 +112,110 @@ def winslow_solve(grid: np.ndarray, tol: float = 1e-12, max_iterations: int = 50
         previous = change
         g[1:-1, 1:-1] = (inner + step).reshape(g.shape[0] - 2, g.shape[1] - 2, 2)
         if change <= tol * extent:
+            return g, it
+    return g, max_iterations
+
+
+def _parameter_controls(g: np.ndarray, params: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Control terms that keep a node distribution (Spekreijse 1995, "Elliptic grid
+    generation based on Laplace equations and algebraic transformations", J. Comput. Phys.
+    118): the grid is x(s, t) with s, t harmonic in x, the nodes at parameters
+    ``params`` (nj, ni, 2) = (s, t). With alpha, beta, gamma of ``g``, the Winslow equations in
+    index space gain ``cp x_xi + cq x_eta`` with (cp, cq) = -T^-1 (L s, L t), T the Jacobian
+    of (s, t) in index space and L = alpha d_xixi - 2 beta d_xieta + gamma d_etaeta."""
+    a, b, c = _coefficients(g)
+    out = []
+    for k in (0, 1):
+        p = params[..., k]
+        d_xi = 0.5 * (p[1:-1, 2:] - p[1:-1, :-2])
+        d_eta = 0.5 * (p[2:, 1:-1] - p[:-2, 1:-1])
+        d_xixi = p[1:-1, 2:] - 2 * p[1:-1, 1:-1] + p[1:-1, :-2]
+        d_etaeta = p[2:, 1:-1] - 2 * p[1:-1, 1:-1] + p[:-2, 1:-1]
+        d_xieta = 0.25 * (p[2:, 2:] - p[:-2, 2:] - p[2:, :-2] + p[:-2, :-2])
+        out.append((d_xi, d_eta, a * d_xixi - 2 * b * d_xieta + c * d_etaeta))
+    (s_xi, s_eta, ls), (t_xi, t_eta, lt) = out
+    det = s_xi * t_eta - s_eta * t_xi
+    det = np.where(np.abs(det) > 1e-300, det, 1e-300)
+    cp = -(t_eta * ls - s_eta * lt) / det
+    cq = -(-t_xi * ls + s_xi * lt) / det
+    return cp, cq
+
+
+def wall_cosines(g: np.ndarray) -> dict[str, np.ndarray]:
+    """Cosine of the angle between each side's tangent and the first grid edge leaving it,
+    at the side's nodes 1..n-2 (the sign says towards which end the grid line leans)."""
+    def cos(side, inner):
+        tangent = side[2:] - side[:-2]
+        leave = inner[1:-1] - side[1:-1]
+        return np.einsum("ij,ij->i", tangent, leave) / np.maximum(
+            np.linalg.norm(tangent, axis=1) * np.linalg.norm(leave, axis=1), 1e-300)
+    return {"bottom": cos(g[0], g[1]), "top": cos(g[-1], g[-2]),
+            "left": cos(g[:, 0], g[:, 1]), "right": cos(g[:, -1], g[:, -2])}
+
+
+# Hilgenstock's orthogonality control: relaxation of the wall control per iteration and its
+# decay per index away from the wall (measured on the bump channel and the V notch).
+HILGENSTOCK_RELAX = 0.2
+HILGENSTOCK_DECAY = 0.25
+
+
+def controlled_solve(grid: np.ndarray, params: np.ndarray | None = None,
+                     orthogonal: tuple[str, ...] = (), tol: float = 1e-10,
+                     max_iterations: int = 2000, initial: np.ndarray | None = None,
+                     angle_tol: float = 0.5) -> tuple[np.ndarray, int]:
+    """Elliptic grid with control functions: Winslow in the parameter space of ``params``
+    (the node distribution is kept, :func:`_parameter_controls`), and with orthogonality at
+    the ``orthogonal`` sides by Hilgenstock's control (Hilgenstock 1988, "A fast method for
+    the elliptic generation of three-dimensional grids with full boundary control"): each
+    Picard iteration moves a wall's control function by the cosine of the angle at each of
+    its nodes, and the control decays exponentially into the interior. Boundary nodes are
+    those of ``grid``; iterates until nodes move less than ``tol`` of the extent and every
+    wall angle is within ``angle_tol`` degrees of 90 (the two nodes at each corner aside).
+    """
+    g = np.array(grid if initial is None else initial, dtype=float)
+    g[0], g[-1], g[:, 0], g[:, -1] = grid[0], grid[-1], grid[:, 0], grid[:, -1]
+    nj, ni = g.shape[:2]
+    if min(nj, ni) < 3:
+        return g, 0
+    extent = float(np.ptp(g.reshape(-1, 2), axis=0).max())
+    jj, ii = np.arange(1, nj - 1)[:, None], np.arange(1, ni - 1)[None, :]
+    decay = {"bottom": np.exp(-HILGENSTOCK_DECAY * (jj - 1)),
+             "top": np.exp(-HILGENSTOCK_DECAY * (nj - 2 - jj)),
+             "left": np.exp(-HILGENSTOCK_DECAY * (ii - 1)),
+             "right": np.exp(-HILGENSTOCK_DECAY * (ni - 2 - ii))}
+    control = {s: np.zeros(ni - 2 if s in ("bottom", "top") else nj - 2) for s in orthogonal}
+    limit = np.cos(np.radians(90.0 - angle_tol))
+    lu, previous = None, np.inf
+    for it in range(1, max_iterations + 1):
+        a, _, c = _coefficients(g)
+        if params is not None:
+            cp, cq = _parameter_controls(g, params)
+        else:
+            cp, cq = np.zeros_like(a), np.zeros_like(a)
+        worst = 0.0
+        if orthogonal:
+            cosines = wall_cosines(g)
+            for side in orthogonal:
+                k = cosines[side]
+                worst = max(worst, float(np.abs(k[1:-1]).max(initial=0.0)))
+                control[side] -= HILGENSTOCK_RELAX * k
+                if side in ("bottom", "top"):
+                    cp = cp + a * control[side][None, :] * decay[side]
+                else:
+                    cq = cq + c * control[side][:, None] * decay[side]
+        mat, rhs = _stencil_matrix(g, cp, cq)
+        inner = g[1:-1, 1:-1].reshape(-1, 2)
+        defect = rhs - mat @ inner
+        if lu is None:
+            lu = splu(mat, permc_spec="MMD_AT_PLUS_A")
+        step = lu.solve(defect)
+        change = float(np.abs(step).max())
+        if change > 0.5 * previous:
+            lu = splu(mat, permc_spec="MMD_AT_PLUS_A")
+            step = lu.solve(defect)
+            change = float(np.abs(step).max())
+        previous = change
+        g[1:-1, 1:-1] = (inner + step).reshape(nj - 2, ni - 2, 2)
+        if change <= tol * extent and worst <= limit:
             return g, it
     return g, max_iterations

@@ -50,10 +50,18 @@ def loss_data(pred: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
     return loss_points(pred, target)
 
 
+def loss_orthogonal(jet: torch.Tensor) -> torch.Tensor:
+    """Mean squared cosine of the angle between the xi and eta grid lines at points on the
+    sides that are to be orthogonal (SPEC 7): zero where grid lines leave them at 90 degrees."""
+    dot = (jet[XI] * jet[ETA]).sum(dim=-1)
+    return (dot.pow(2) / (jet[XI].pow(2).sum(dim=-1) * jet[ETA].pow(2).sum(dim=-1))).mean()
+
+
 def total_loss(l_eqns: torch.Tensor, l_bcs: torch.Tensor, l_data: torch.Tensor,
-               lambda1: float, lambda2: float) -> torch.Tensor:
-    """Paper eq. 9: Loss = L_eqns + lambda1 L_bcs + lambda2 L_data."""
-    return l_eqns + lambda1 * l_bcs + lambda2 * l_data
+               lambda1: float, lambda2: float, l_orth: torch.Tensor | float = 0.0,
+               lambda_orth: float = 0.0) -> torch.Tensor:
+    """Paper eq. 9: Loss = L_eqns + lambda1 L_bcs + lambda2 L_data (+ lambda_orth L_orth)."""
+    return l_eqns + lambda1 * l_bcs + lambda2 * l_data + lambda_orth * l_orth
 
 
 def annealed_lambda(grads_eqns: list[torch.Tensor], grads_bcs: list[torch.Tensor],

@@ -17,6 +17,7 @@ from .geometry import Boundary
 from .heap import reuse_freed_memory
 from .quality import boundary_nodes, cell_quality, summary
 from .settings import Settings, grid_size_problem, make_settings
+from .spacing import classical_grid, fit_params, side_lengths, side_report, working_spacing
 from .tfi import tfi_grid
 
 NEURAL = ("pinn", "mgnet")
@@ -61,6 +62,10 @@ class Mesher:
 
         ``progress(info)`` is called during training; returning True cancels it.
         """
+        try:
+            working_spacing(self.settings.spacing, boundary)  # checked before any work
+        except ValueError as exc:
+            raise PinnMeshError(str(exc)) from None
         self.boundary = boundary
         self.aux_lines = list(aux_lines) if self.settings.method == "pinn" else []
         self.model = None
@@ -117,6 +122,7 @@ class Mesher:
             "source": self.boundary.source,
             "aux_lines": [a.name for a in self.aux_lines],
             "aux_line_distance": line_distances(unit, self.aux_lines, self.boundary.diagonal),
+            "sides": side_report(unit, self.boundary.frame.scale),
         }
         if self.model is not None:
             report["training"] = self.model.info
@@ -125,6 +131,8 @@ class Mesher:
 
     def _grid_unit(self, ni: int, nj: int) -> np.ndarray:
         s = self.settings
+        if s.spacing or (s.orthogonal and s.method == "elliptic"):
+            return self._spaced_grid_unit(ni, nj)
         if self.model is not None:
             return self.model.grid(ni, nj)
         # classical methods always place boundary nodes exactly on the input polyline
@@ -134,3 +142,17 @@ class Mesher:
         if s.elliptic_iterations:
             return winslow_sweeps(base, s.elliptic_iterations, zero_interior=True)
         return winslow_solve(base)[0]
+
+    def _spaced_grid_unit(self, ni: int, nj: int) -> np.ndarray:
+        """The grid under ``spacing``/``orthogonal`` (SPEC 7, spacing.py): node parameters
+        iterated until every first edge has its length; the neural map is evaluated there."""
+        s = self.settings
+        try:
+            spacing = working_spacing(s.spacing, self.boundary)
+        except ValueError as exc:
+            raise PinnMeshError(str(exc)) from None
+        if self.model is None:
+            return classical_grid(self.boundary, ni, nj, s.method, spacing, s.orthogonal)[1]
+        mapping = self.model.mapping
+        return fit_params(lambda p: mapping.grid(ni, nj, params=p), spacing, ni, nj,
+                          side_lengths(self.boundary))[1]

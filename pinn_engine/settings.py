@@ -20,6 +20,57 @@ def grid_size_problem(ni: int, nj: int) -> str | None:
     return None
 
 
+SIDE_NAMES = ("bottom", "right", "top", "left")
+
+
+def parse_sides(value) -> tuple[str, ...]:
+    """Sides from "bottom,left", a list of names or None, in SIDE_NAMES order, checked."""
+    if value is None or value == "":
+        return ()
+    names = value.split(",") if isinstance(value, str) else list(value)
+    names = [str(n).strip().lower() for n in names if str(n).strip()]
+    bad = [n for n in names if n not in SIDE_NAMES]
+    if bad:
+        raise ValueError(f"unknown side {bad[0]!r}; use {', '.join(SIDE_NAMES)}")
+    return tuple(s for s in SIDE_NAMES if s in names)
+
+
+def parse_spacing(value) -> tuple[tuple[str, float], ...]:
+    """First-edge spacings from a dict {side: H}, pairs, "side=H" strings (one or a list, or
+    "bottom=1e-3,top=0.01"), checked: H a finite positive number, each side at most once."""
+    if value is None or value == "" or (hasattr(value, "__len__") and len(value) == 0):
+        return ()
+    if isinstance(value, dict):
+        items = list(value.items())
+    else:
+        parts = value.split(",") if isinstance(value, str) else list(value)
+        items = []
+        for part in parts:
+            if isinstance(part, str):
+                side, sep, h = part.partition("=")
+                if not sep:
+                    raise ValueError(f"spacing {part!r}: write SIDE=H, e.g. bottom=0.001")
+                items.append((side, h))
+            else:
+                side, h = part
+                items.append((side, h))
+    out = {}
+    for side, h in items:
+        side = str(side).strip().lower()
+        if side not in SIDE_NAMES:
+            raise ValueError(f"spacing: unknown side {side!r}; use {', '.join(SIDE_NAMES)}")
+        if side in out:
+            raise ValueError(f"spacing: side {side} given twice")
+        try:
+            h = float(h)
+        except (TypeError, ValueError):
+            raise ValueError(f"spacing {side}={h!r}: H must be a number") from None
+        if not (0 < h < float("inf")):
+            raise ValueError(f"spacing {side}={h}: H must be a finite length > 0")
+        out[side] = h
+    return tuple((s, out[s]) for s in SIDE_NAMES if s in out)
+
+
 @dataclass(frozen=True)
 class Settings:
     """Every setting of a run; ``training_key`` is the part that training depends on."""
@@ -51,6 +102,11 @@ class Settings:
     device: str = "auto"
     fast: bool = True  # forward-mode derivative jets instead of nested autograd
     elliptic_iterations: int = 0  # 0: iterate to convergence; N: the paper's N sweeps from 0
+    # SPEC 7: first-edge length per side in user units, e.g. (("bottom", 1e-3),), and the
+    # sides that grid lines leave at right angles (pinn: loss term, elliptic: control functions)
+    spacing: tuple[tuple[str, float], ...] = ()
+    orthogonal: tuple[str, ...] = ()
+    lambda_orthogonal: float = 10.0  # weight of the orthogonality term (pinn)
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -76,6 +132,17 @@ class Settings:
         if len(lattice) != 2 or min(lattice) < 2:
             raise ValueError(f"lattice must be two node counts of at least 2, got {self.lattice}")
         object.__setattr__(self, "lattice", lattice)  # lists (JSON, saved models) -> tuple
+        object.__setattr__(self, "spacing", parse_spacing(self.spacing))
+        object.__setattr__(self, "orthogonal", parse_sides(self.orthogonal))
+        if self.orthogonal and self.method not in ("pinn", "elliptic"):
+            raise ValueError(f"orthogonal sides need the pinn or elliptic method, not "
+                             f"{self.method}")
+        if self.method == "elliptic" and self.elliptic_iterations and (
+                self.spacing or self.orthogonal):
+            raise ValueError("spacing and orthogonal sides need the converged elliptic solver "
+                             "(elliptic_iterations 0, not the paper's sweeps)")
+        if not (self.lambda_orthogonal >= 0 and self.lambda_orthogonal < float("inf")):
+            raise ValueError("lambda_orthogonal must be a finite number >= 0")
 
     def to_dict(self) -> dict:
         return asdict(self)

@@ -27,12 +27,14 @@ from .boundary_fit import make_fit
 from .errors import TrainingCancelled, TrainingError
 from .geometry import SIDES, Boundary
 from .heap import reuse_freed_memory
-from .losses import annealed_lambda, loss_data, loss_eqns, loss_points, total_loss
+from .losses import annealed_lambda, loss_data, loss_eqns, loss_orthogonal, loss_points
+from .losses import total_loss
 from .mapping import Mapping
 from .model import TrainedModel
 from .networks import CoordinateNet
 from .quality import cell_quality, summary
 from .settings import Settings
+from .spacing import classical_grid, working_spacing
 from .warmstart import WarmStart, lattice_for
 
 ANNEAL_EVERY = 10  # epochs between lambda1 updates (Wang et al. use 10)
@@ -46,6 +48,7 @@ GUARD_PATIENCE = 2  # rejected checks in a row that end the training
 # auxiliary lines, the bounds themselves with them (pulling grid lines onto drawn lines may
 # cost some quality; the elliptic grid ignores the lines).
 GUARD_TOL = {False: (0.25, 1.0), True: (0.5, 2.0)}
+WALL_POINTS = 200  # points per orthogonal side in the orthogonality term (SPEC 7)
 
 
 def pick_device(name: str) -> torch.device:
@@ -93,6 +96,14 @@ class _Problem:
             self.aux_base = self.tensor(mapping.base_jet(xe)[0]) if self.hard else None
             self.n_aux = len(xe)
         self._chunk: list = []
+        # fixed points on the sides to be orthogonal (SPEC 7), with the base jet there
+        walls = settings.orthogonal if settings.method == "pinn" else ()
+        self.n_wall = WALL_POINTS * len(walls)
+        if walls:
+            t = (np.arange(WALL_POINTS) + 0.5) / WALL_POINTS
+            xw = np.concatenate([side_points(side, t) for side in walls])
+            self.wall_x = self.tensor(xw)
+            self.wall_base = self.tensor(mapping.base_jet(xw)) if self.hard else None
 
     def tensor(self, a) -> torch.Tensor:
         return torch.as_tensor(np.asarray(a), dtype=self.dtype, device=self.device)
@@ -129,8 +140,14 @@ class _Problem:
         """Unweighted loss terms; boundary and auxiliary points ride along the jet's pass."""
         points = [p for p in (bx, self.aux_x if self.n_aux else None) if p is not None]
         extra = torch.cat(points) if points else None
+        n = len(x)
+        if self.n_wall:
+            x = torch.cat([x, self.wall_x])
+            base = None if base is None else torch.cat([base, self.wall_base], dim=1)
         jet, values = self.mapping.jet(x, base, extra, fast=self.settings.fast)
-        terms = {"eqns": loss_eqns(jet, self.settings.residual == "scaled")}
+        terms = {"eqns": loss_eqns(jet[:, :n], self.settings.residual == "scaled")}
+        if self.n_wall:
+            terms["orth"] = loss_orthogonal(jet[:, n:])
         zero = jet.new_zeros(())
         if bx is not None:
             per_side = loss_points(values[:len(bx)].reshape(4, -1, 2), by.reshape(4, -1, 2))
@@ -152,8 +169,8 @@ class _Guard:
     """Early stopping on grid quality against the elliptic grid of the warm start."""
 
     def __init__(self, net: CoordinateNet, mapping: Mapping, reference: np.ndarray,
-                 with_aux: bool) -> None:
-        self.net, self.mapping = net, mapping
+                 with_aux: bool, params: np.ndarray | None = None) -> None:
+        self.net, self.mapping, self.params = net, mapping, params  # params: spacing.py
         self.mean_tol, self.worst_tol = GUARD_TOL[with_aux]
         self.size = reference.shape[1], reference.shape[0]
         self.reference = self._quality(reference)
@@ -169,7 +186,8 @@ class _Guard:
     def check(self, iterations: int) -> bool:
         """Keep the current state if its grid passes; False once ``GUARD_PATIENCE`` checks in
         a row failed (training should stop)."""
-        q, ref = self._quality(self.mapping.grid(*self.size)), self.reference
+        q = self._quality(self.mapping.grid(*self.size, params=self.params))
+        ref = self.reference
         if (q["folded_cells"] <= ref["folded_cells"]
                 and q["mean_max_angle"] <= ref["mean_max_angle"] + self.mean_tol
                 and q["worst_max_angle"] <= ref["worst_max_angle"] + self.worst_tol):
@@ -224,16 +242,21 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
             kind = "shortcut" if settings.method == "pinn" else "mlp"
             net = CoordinateNet(kind, settings.hidden_layers, settings.neurons,
                                 settings.activation).to(device=device, dtype=dtype)
-            warm = reference = None
+            warm = reference = params = None
             if settings.warm_start == "elliptic":
-                warm, reference = WarmStart.elliptic(boundary,
-                                                     *lattice_for(*settings.lattice))
+                lattice = lattice_for(*settings.lattice)
+                warm, reference = WarmStart.elliptic(boundary, *lattice, settings.orthogonal)
+                if settings.spacing:  # the guard's reference: elliptic under the same spacing
+                    params, reference = classical_grid(
+                        boundary, *lattice, "elliptic",
+                        working_spacing(settings.spacing, boundary), settings.orthogonal)
                 with torch.no_grad():  # the map starts as the elliptic grid
                     net.w_out.zero_()
             mapping = Mapping(net, boundary, settings.boundary, warm)
             aux = aux if settings.method == "pinn" else ()
             problem = _Problem(mapping, boundary, aux, settings, dtype, device)
-            guard = None if reference is None else _Guard(net, mapping, reference, bool(aux))
+            guard = None if reference is None else _Guard(net, mapping, reference, bool(aux),
+                                                          params)
             history = _History()
             lambda1 = 1.0 if settings.boundary == "penalty" else 0.0
             lambda1, recoveries = _adam(net, problem, settings, history, lambda1, progress)
@@ -281,7 +304,8 @@ def _adam(net, problem: _Problem, s: Settings, history: _History, lambda1: float
             updated = annealed_lambda([a for a, _ in used], [b for _, b in used], lambda1,
                                       s.anneal_momentum)
             lambda1 = updated if math.isfinite(updated) else lambda1
-        loss = total_loss(terms["eqns"], terms["bcs"], terms["data"], lambda1, s.lambda2)
+        loss = total_loss(terms["eqns"], terms["bcs"], terms["data"], lambda1, s.lambda2,
+                          terms.get("orth", 0.0), s.lambda_orthogonal)
         value = loss.item()
         if _bad(value, best):
             recoveries += 1
@@ -335,7 +359,8 @@ def _lbfgs(net, problem: _Problem, s: Settings, history: _History, lambda1: floa
         for p in params:
             p.grad = None
         terms = problem.terms(*batch)
-        loss = total_loss(terms["eqns"], terms["bcs"], terms["data"], lambda1, s.lambda2)
+        loss = total_loss(terms["eqns"], terms["bcs"], terms["data"], lambda1, s.lambda2,
+                          terms.get("orth", 0.0), s.lambda_orthogonal)
         value = loss.item()
         calls[0] += 1
         if not math.isfinite(value):
@@ -361,7 +386,8 @@ def _lbfgs(net, problem: _Problem, s: Settings, history: _History, lambda1: floa
                                "gtol": 1e-12, "maxfun": int(s.lbfgs_iterations * 1.25) + 1})
     load(result.x)
     terms = problem.terms(*batch)
-    final = total_loss(terms["eqns"], terms["bcs"], terms["data"], lambda1, s.lambda2).item()
+    final = total_loss(terms["eqns"], terms["bcs"], terms["data"], lambda1, s.lambda2,
+                       terms.get("orth", 0.0), s.lambda_orthogonal).item()
     if not math.isfinite(final) or final > before * EXPLODE_FACTOR:
         net.load_state_dict(start_state)
         return False, iterations[0]

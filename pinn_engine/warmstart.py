@@ -19,7 +19,7 @@ import numpy as np
 from scipy.interpolate import RectBivariateSpline
 
 from .boundary_fit import ArcLengthFit
-from .elliptic import winslow_solve
+from .elliptic import controlled_solve, winslow_solve
 from .errors import TrainingError
 from .geometry import Boundary
 from .tfi import node_params, tfi_grid
@@ -62,11 +62,14 @@ class WarmStart:
         self._splines = [RectBivariateSpline(eta, xi, d[..., k], s=0) for k in range(2)]
 
     @classmethod
-    def elliptic(cls, boundary: Boundary, ni: int, nj: int) -> tuple[WarmStart, np.ndarray]:
-        """The warm start from the converged elliptic grid on ``ni`` x ``nj`` nodes; also
-        returns that grid (working frame), the reference the training is checked against."""
+    def elliptic(cls, boundary: Boundary, ni: int, nj: int, orthogonal: tuple[str, ...] = ()
+                 ) -> tuple[WarmStart, np.ndarray]:
+        """The warm start from the converged elliptic grid on ``ni`` x ``nj`` nodes (with
+        Hilgenstock's orthogonality control at the ``orthogonal`` sides); also returns that
+        grid (working frame), the reference the training is checked against."""
         base = tfi_grid(ArcLengthFit(boundary).sample, ni, nj)
-        grid = winslow_solve(base)[0]
+        grid = controlled_solve(base, None, orthogonal)[0] if orthogonal else \
+            winslow_solve(base)[0]
         if not np.isfinite(grid).all():
             raise TrainingError("the elliptic grid of the warm start is not finite; train "
                                 "from TFI instead (warm start none)")
@@ -77,6 +80,10 @@ class WarmStart:
         xi, eta = x[:, 0], x[:, 1]
         return np.stack([np.stack([s.ev(eta, xi, dx=a, dy=b) for s in self._splines], axis=-1)
                          for a, b in _ORDERS])
+
+    def at(self, x: np.ndarray) -> np.ndarray:
+        """The correction (B, 2) at points ``x`` (B, 2) = (xi, eta)."""
+        return np.stack([s.ev(x[:, 1], x[:, 0]) for s in self._splines], axis=-1)
 
     def grid(self, ni: int, nj: int, rows: slice = slice(None)) -> np.ndarray:
         """The correction at the nodes of an ``ni`` x ``nj`` grid (only ``rows`` if given)."""

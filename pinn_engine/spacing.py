@@ -1,0 +1,240 @@
+"""Node distributions for boundary layers (SPEC 7): first-edge spacing at chosen sides.
+
+A grid's nodes sit at parameters (xi, eta) of a map from the unit square; without spacing
+they are uniform (today's distribution). ``--spacing SIDE=H`` stretches them with Vinokur's
+one- or two-sided formula (Vinokur 1983, "On one-dimensional stretching functions for
+finite-difference calculations", J. Comput. Phys. 50): bottom/top stretch eta, left/right
+stretch xi. A physical first edge H is not one parameter spacing on a curved or tapering
+domain, so every grid line gets its own stretching (the eta distribution of column i has its
+own first spacing at the bottom and top), and :func:`fit_params` iterates those per-line
+spacings against the measured first edges of the grid the method produces, until every
+first edge is H within ``tol``. The boundary nodes follow the same parameters (the bottom
+row of xi parameters places the nodes on the bottom side), so the boundary stays exact.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+SIDE_AXIS = {"bottom": 1, "top": 1, "left": 0, "right": 0}  # parameter that the side stretches
+MAX_B = 1e12  # stretching beyond this (first spacing ~1e-12 of a side) is clipped
+
+
+def _solve(b: np.ndarray, f: Callable[[np.ndarray], np.ndarray], hi: float) -> np.ndarray:
+    """delta in (0, hi) with f(delta) = b for increasing (sinh) or decreasing (sin) f/x."""
+    lo_, hi_ = np.full_like(b, 1e-12), np.full_like(b, hi)
+    increasing = f(np.asarray([hi * 0.5]))[0] > f(np.asarray([hi * 0.25]))[0]
+    for _ in range(80):
+        mid = 0.5 * (lo_ + hi_)
+        above = f(mid) > b
+        hi_, lo_ = (np.where(above, mid, hi_), np.where(above, lo_, mid)) if increasing else \
+            (np.where(above, hi_, mid), np.where(above, mid, lo_))
+    return 0.5 * (lo_ + hi_)
+
+
+def _delta(b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Vinokur's delta for B = b: sinh(d)/d = B when B > 1 (hyperbolic), sin(d)/d = B when
+    B < 1 (trigonometric); returns (delta, hyperbolic)."""
+    b = np.clip(b, 1e-3, MAX_B)
+    hyper = b >= 1.0
+    d = np.zeros_like(b)
+    if hyper.any():
+        lb = np.log(b[hyper])
+        d[hyper] = _solve(lb, lambda x: np.log(np.sinh(x) / x), 2 * np.log(2 * b[hyper].max()) + 4)
+    if (~hyper).any():
+        d[~hyper] = _solve(b[~hyper], lambda x: np.sin(x) / x, np.pi * (1 - 1e-9))
+    return d, hyper
+
+
+def _odd(d: np.ndarray, hyper: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """tanh(d z)/tanh(d/2) or tan(d z)/tan(d/2); z in [-1/2, 1/2], linear 2 z as d -> 0."""
+    d = d[:, None]
+    small = d < 1e-6
+    ds = np.where(small, 1.0, d)
+    h = np.tanh(ds * z) / np.tanh(ds / 2)
+    t = np.tan(ds * z) / np.tan(ds / 2)
+    return np.where(small, 2 * z, np.where(hyper[:, None], h, t))
+
+
+def stretch(n: int, first: np.ndarray | None, last: np.ndarray | None,
+            lines: int = 1) -> np.ndarray:
+    """Parameters (lines, n) in [0, 1], monotone, with first and last interval ``first`` and
+    ``last`` (arrays over the lines; None: that end is free). Vinokur's formulas: the
+    derivative at an end is the requested spacing times n - 1; measured edges correct the
+    rest (:func:`fit_params`)."""
+    u = np.linspace(0.0, 1.0, n)[None, :]
+    if first is None and last is None or n < 3:
+        return np.repeat(u, lines, axis=0)
+    if first is None:  # mirror of a stretching at the start
+        return 1.0 - stretch(n, last, None, lines)[:, ::-1]
+    n1 = n - 1
+    first = np.broadcast_to(np.asarray(first, dtype=float), (lines,))
+    if last is None:  # one-sided (Vinokur eq. for s'(0) only)
+        d, hyper = _delta(1.0 / (n1 * first))
+        return np.clip(1.0 + _odd(d, hyper, (u - 1.0) / 2), 0.0, 1.0)
+    last = np.broadcast_to(np.asarray(last, dtype=float), (lines,))
+    a = np.sqrt(last / first)[:, None]
+    d, hyper = _delta(1.0 / (n1 * np.sqrt(first * last)))
+    v = 0.5 * (1.0 + _odd(d, hyper, u - 0.5))
+    return np.clip(v / (a + (1.0 - a) * v), 0.0, 1.0)
+
+
+def param_grid(ni: int, nj: int, spacing: dict[str, np.ndarray]) -> np.ndarray:
+    """Node parameters (nj, ni, 2): xi of row j stretched by the left/right spacings of that
+    row, eta of column i by the bottom/top spacings of that column (parameter units)."""
+    xi = stretch(ni, spacing.get("left"), spacing.get("right"), nj)
+    eta = stretch(nj, spacing.get("bottom"), spacing.get("top"), ni)
+    return np.stack([xi, eta.T], axis=-1)
+
+
+def first_edges(grid: np.ndarray) -> dict[str, np.ndarray]:
+    """Length of the first grid edge leaving each node of each side (along the side)."""
+    def norm(a, b):
+        return np.linalg.norm(a - b, axis=-1)
+    return {"bottom": norm(grid[1], grid[0]), "top": norm(grid[-2], grid[-1]),
+            "left": norm(grid[:, 1], grid[:, 0]), "right": norm(grid[:, -2], grid[:, -1])}
+
+
+def uniform_params(ni: int, nj: int) -> np.ndarray:
+    return param_grid(ni, nj, {})
+
+
+def fit_params(evaluate: Callable[[np.ndarray], np.ndarray], spacing: dict[str, float],
+               ni: int, nj: int, side_lengths: dict[str, float], iterations: int = 12,
+               tol: float = 0.01, start: dict[str, np.ndarray] | None = None
+               ) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
+    """Parameters whose grid ``evaluate(params)`` has first edges ``spacing[side]`` (working
+    frame) within ``tol`` at every node of those sides (corners included when they can be).
+
+    Each round scales a line's parameter spacing by target / measured (a one-parameter
+    secant step; the first edge is nearly linear in it). ``side_lengths``: the lengths of the
+    four sides, for the first guess. Returns (params, grid, per-line parameter spacings).
+    """
+    if not spacing:
+        params = uniform_params(ni, nj)
+        return params, evaluate(params), {}
+    across = {"bottom": ("left", "right"), "top": ("left", "right"),
+              "left": ("bottom", "top"), "right": ("bottom", "top")}
+    count = {"bottom": ni, "top": ni, "left": nj, "right": nj}
+    if start is not None:
+        par = {s: np.array(v, dtype=float) for s, v in start.items()}
+    else:
+        par = {s: np.full(count[s], h / (0.5 * sum(side_lengths[o] for o in across[s])))
+               for s, h in spacing.items()}
+    for _ in range(iterations):
+        params = param_grid(ni, nj, par)
+        grid = evaluate(params)
+        edges = first_edges(grid)
+        worst = 0.0
+        for side, h in spacing.items():
+            ratio = h / np.maximum(edges[side], 1e-300)
+            worst = max(worst, float(np.abs(ratio - 1.0)[1:-1].max(initial=0.0)))
+            par[side] = np.clip(par[side] * np.clip(ratio, 0.2, 5.0), 1e-14, 0.9)
+        if worst <= tol:
+            break
+    return params, grid, par
+
+
+def grid_lines_angle(grid: np.ndarray) -> dict[str, np.ndarray]:
+    """Deviation from 90 degrees of the first grid edge leaving each node of each side, from
+    the side's tangent (central difference along the side; one-sided at its corners)."""
+    def dev(side_nodes, inner_nodes):
+        tangent = np.gradient(side_nodes, axis=0)
+        leave = inner_nodes - side_nodes
+        cos = np.einsum("ij,ij->i", tangent, leave) / np.maximum(
+            np.linalg.norm(tangent, axis=1) * np.linalg.norm(leave, axis=1), 1e-300)
+        return np.abs(90.0 - np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
+    return {"bottom": dev(grid[0], grid[1]), "top": dev(grid[-1], grid[-2]),
+            "left": dev(grid[:, 0], grid[:, 1]), "right": dev(grid[:, -1], grid[:, -2])}
+
+
+def growth_ratios(grid: np.ndarray) -> dict[str, float]:
+    """Largest ratio of consecutive edge lengths (either way round) along the grid lines that
+    leave each side: bottom/top along eta, left/right along xi."""
+    along_eta = np.linalg.norm(np.diff(grid, axis=0), axis=-1)  # (nj-1, ni)
+    along_xi = np.linalg.norm(np.diff(grid, axis=1), axis=-1)   # (nj, ni-1)
+
+    def worst(lengths):  # lengths (n_edges, lines)
+        if len(lengths) < 2:
+            return 1.0
+        r = lengths[1:] / np.maximum(lengths[:-1], 1e-300)
+        return float(np.maximum(r, 1.0 / np.maximum(r, 1e-300)).max())
+    eta_ratio, xi_ratio = worst(along_eta), worst(along_xi.T)
+    return {"bottom": eta_ratio, "top": eta_ratio, "left": xi_ratio, "right": xi_ratio}
+
+
+def side_report(grid: np.ndarray, scale: float = 1.0) -> dict[str, dict[str, float]]:
+    """Per side: first-edge lengths (min, median, max; user units via ``scale``), the largest
+    wall-angle deviation (degrees, the two nodes nearest each corner excepted) and the
+    largest growth ratio of the lines leaving it."""
+    edges, angles, growth = first_edges(grid), grid_lines_angle(grid), growth_ratios(grid)
+    out = {}
+    for side in ("bottom", "right", "top", "left"):
+        e = edges[side][1:-1] if len(edges[side]) > 2 else edges[side]
+        a = angles[side][2:-2] if len(angles[side]) > 4 else angles[side][:0]
+        out[side] = {"first_edge_min": float(e.min()) * scale,
+                     "first_edge_median": float(np.median(e)) * scale,
+                     "first_edge_max": float(e.max()) * scale,
+                     "max_angle_deviation": float(a.max(initial=0.0)),
+                     "max_growth_ratio": growth[side]}
+    return out
+
+
+def working_spacing(spacing: tuple[tuple[str, float], ...], boundary) -> dict[str, float]:
+    """``Settings.spacing`` (user units) in the working frame, checked against the domain: a
+    first edge must be shorter than half the sides it runs along."""
+    out = {}
+    across = {"bottom": ("left", "right"), "top": ("left", "right"),
+              "left": ("bottom", "top"), "right": ("bottom", "top")}
+    for side, h in spacing:
+        unit = h / boundary.frame.scale
+        room = min(boundary.side(s).length for s in across[side])
+        if unit >= 0.5 * room:
+            raise ValueError(f"spacing {side}={h:g}: the first edge must be shorter than half "
+                             f"of the {' and '.join(across[side])} sides "
+                             f"({0.5 * room * boundary.frame.scale:.4g})")
+        out[side] = unit
+    return out
+
+
+def side_lengths(boundary) -> dict[str, float]:
+    return {s: boundary.side(s).length for s in ("bottom", "right", "top", "left")}
+
+
+def tfi_at(boundary) -> Callable[[np.ndarray], np.ndarray]:
+    """TFI of the exact boundary polylines, evaluated at node parameters (nj, ni, 2)."""
+    from .boundary_fit import ArcLengthFit
+    from .tfi import transfinite
+
+    fit = ArcLengthFit(boundary)
+    return lambda p: transfinite(p[..., 0], p[..., 1], lambda s, t, nu: fit.sample(s, t))[0]
+
+
+def elliptic_at(boundary, orthogonal: tuple[str, ...] = ()) -> Callable[[np.ndarray], np.ndarray]:
+    """Converged elliptic grid with control functions (elliptic.controlled_solve) on the
+    boundary nodes of parameters (nj, ni, 2); each call starts from the previous grid."""
+    from .elliptic import controlled_solve
+
+    tfi = tfi_at(boundary)
+    last: list = [None]
+
+    def evaluate(p: np.ndarray) -> np.ndarray:
+        base = tfi(p)
+        uniform = np.allclose(p, uniform_params(p.shape[1], p.shape[0]), atol=1e-15)
+        grid = controlled_solve(base, None if uniform else p, orthogonal,
+                                initial=base if last[0] is None else last[0])[0]
+        last[0] = grid
+        return grid
+
+    return evaluate
+
+
+def classical_grid(boundary, ni: int, nj: int, method: str, spacing: dict[str, float],
+                   orthogonal: tuple[str, ...] = ()) -> tuple[np.ndarray, np.ndarray]:
+    """(params, grid) of the tfi or (converged) elliptic method under the spacing (working
+    frame) and orthogonality settings."""
+    evaluate = tfi_at(boundary) if method == "tfi" else elliptic_at(boundary, orthogonal)
+    params, grid, _ = fit_params(evaluate, spacing, ni, nj, side_lengths(boundary))
+    return params, grid
