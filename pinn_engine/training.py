@@ -27,8 +27,7 @@ from .boundary_fit import make_fit
 from .errors import TrainingCancelled, TrainingError
 from .geometry import SIDES, Boundary
 from .heap import reuse_freed_memory
-from .losses import annealed_lambda, loss_data, loss_eqns, loss_orthogonal, loss_points
-from .losses import total_loss
+from .losses import annealed_lambda, loss_data, loss_eqns, loss_orthogonal, loss_points, total_loss
 from .mapping import Mapping
 from .model import TrainedModel
 from .networks import CoordinateNet
