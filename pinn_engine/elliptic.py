@@ -155,14 +155,15 @@ def wall_cosines(g: np.ndarray) -> dict[str, np.ndarray]:
 
 # Hilgenstock's orthogonality control: relaxation of the wall control per iteration and its
 # decay per index away from the wall (measured on the bump channel and the V notch).
-HILGENSTOCK_RELAX = 0.2
-HILGENSTOCK_DECAY = 0.25
+HILGENSTOCK_RELAX = 0.5
+HILGENSTOCK_DECAY = 0.3
 
 
 def controlled_solve(grid: np.ndarray, params: np.ndarray | None = None,
-                     orthogonal: tuple[str, ...] = (), tol: float = 1e-10,
+                     orthogonal: tuple[str, ...] = (), tol: float = 1e-9,
                      max_iterations: int = 2000, initial: np.ndarray | None = None,
-                     angle_tol: float = 0.5) -> tuple[np.ndarray, int]:
+                     angle_tol: float = 0.5, control: dict | None = None
+                     ) -> tuple[np.ndarray, int]:
     """Elliptic grid with control functions: Winslow in the parameter space of ``params``
     (the node distribution is kept, :func:`_parameter_controls`), and with orthogonality at
     the ``orthogonal`` sides by Hilgenstock's control (Hilgenstock 1988, "A fast method for
@@ -171,6 +172,7 @@ def controlled_solve(grid: np.ndarray, params: np.ndarray | None = None,
     its nodes, and the control decays exponentially into the interior. Boundary nodes are
     those of ``grid``; iterates until nodes move less than ``tol`` of the extent and every
     wall angle is within ``angle_tol`` degrees of 90 (the two nodes at each corner aside).
+    ``control``: a dict that keeps the wall controls between calls (a start for the next).
     """
     g = np.array(grid if initial is None else initial, dtype=float)
     g[0], g[-1], g[:, 0], g[:, -1] = grid[0], grid[-1], grid[:, 0], grid[:, -1]
@@ -183,7 +185,11 @@ def controlled_solve(grid: np.ndarray, params: np.ndarray | None = None,
              "top": np.exp(-HILGENSTOCK_DECAY * (nj - 2 - jj)),
              "left": np.exp(-HILGENSTOCK_DECAY * (ii - 1)),
              "right": np.exp(-HILGENSTOCK_DECAY * (ni - 2 - ii))}
-    control = {s: np.zeros(ni - 2 if s in ("bottom", "top") else nj - 2) for s in orthogonal}
+    control = {} if control is None else control
+    for s in orthogonal:
+        size = ni - 2 if s in ("bottom", "top") else nj - 2
+        if control.get(s) is None or len(control[s]) != size:
+            control[s] = np.zeros(size)
     limit = np.cos(np.radians(90.0 - angle_tol))
     lu, previous = None, np.inf
     for it in range(1, max_iterations + 1):
@@ -219,3 +225,23 @@ def controlled_solve(grid: np.ndarray, params: np.ndarray | None = None,
         if change <= tol * extent and worst <= limit:
             return g, it
     return g, max_iterations
+
+
+def safe_controlled_solve(grid: np.ndarray, params: np.ndarray | None,
+                          orthogonal: tuple[str, ...], max_iterations: int = 800, **kwargs
+                          ) -> tuple[np.ndarray, int, bool]:
+    """:func:`controlled_solve`, but where the orthogonality control does not converge or
+    folds a cell, the solve without it (``orthogonal`` cannot always be had: at a sharp
+    corner of a narrow notch the controls of facing walls fight). Returns (grid, iterations,
+    whether the orthogonality control was kept)."""
+    from .quality import folded_cells
+
+    g, it = controlled_solve(grid, params, orthogonal, max_iterations=max_iterations, **kwargs)
+    bad = it >= max_iterations or not np.isfinite(g).all() or folded_cells(g).any()
+    if orthogonal and bad:
+        plain, it2 = controlled_solve(grid, params, (), max_iterations=max_iterations)
+        if np.isfinite(plain).all() and (not np.isfinite(g).all()
+                                         or folded_cells(plain).sum() < folded_cells(g).sum()
+                                         or it >= max_iterations):
+            return plain, it2, False
+    return g, it, bool(orthogonal)

@@ -81,11 +81,35 @@ def stretch(n: int, first: np.ndarray | None, last: np.ndarray | None,
     return np.clip(v / (a + (1.0 - a) * v), 0.0, 1.0)
 
 
+# Lines of one direction share one Vinokur stretching (by the geometric mean of their
+# first spacings); each line's own first spacing is reached by a correction that decays
+# over about this many cells from the side, so that a line's far part is not moved (rows
+# shifted as a whole along a curved wall would skew its thin first cells into folds).
+LOCAL_CELLS = 4.0
+
+
+def _lines(n: int, first: np.ndarray | None, last: np.ndarray | None, lines: int
+           ) -> np.ndarray:
+    """Parameters (lines, n) of one direction for per-line first/last spacings."""
+    mean = [None if a is None else np.exp(np.log(np.asarray(a, dtype=float)).mean())
+            for a in (first, last)]
+    t = np.repeat(stretch(n, *mean), lines, axis=0)
+    if n < 3:
+        return t
+    decay = np.exp(-np.maximum(np.arange(n) - 1, 0) / LOCAL_CELLS)
+    if first is not None:
+        t = t * (1 + (np.asarray(first) / mean[0] - 1)[:, None] * decay[None, :])
+    if last is not None:
+        t = 1 - (1 - t) * (1 + (np.asarray(last) / mean[1] - 1)[:, None] * decay[None, ::-1])
+    t[:, 0], t[:, -1] = 0.0, 1.0
+    return t
+
+
 def param_grid(ni: int, nj: int, spacing: dict[str, np.ndarray]) -> np.ndarray:
-    """Node parameters (nj, ni, 2): xi of row j stretched by the left/right spacings of that
-    row, eta of column i by the bottom/top spacings of that column (parameter units)."""
-    xi = stretch(ni, spacing.get("left"), spacing.get("right"), nj)
-    eta = stretch(nj, spacing.get("bottom"), spacing.get("top"), ni)
+    """Node parameters (nj, ni, 2): xi of row j from the left/right first spacings of that
+    row, eta of column i from the bottom/top spacings of that column (parameter units)."""
+    xi = _lines(ni, spacing.get("left"), spacing.get("right"), nj)
+    eta = _lines(nj, spacing.get("bottom"), spacing.get("top"), ni)
     return np.stack([xi, eta.T], axis=-1)
 
 
@@ -126,6 +150,8 @@ def fit_params(evaluate: Callable[[np.ndarray], np.ndarray], spacing: dict[str, 
     for _ in range(iterations):
         params = param_grid(ni, nj, par)
         grid = evaluate(params)
+        if getattr(evaluate, "failed", False):
+            break
         edges = first_edges(grid)
         worst = 0.0
         for side, h in spacing.items():
@@ -214,27 +240,76 @@ def tfi_at(boundary) -> Callable[[np.ndarray], np.ndarray]:
 
 def elliptic_at(boundary, orthogonal: tuple[str, ...] = ()) -> Callable[[np.ndarray], np.ndarray]:
     """Converged elliptic grid with control functions (elliptic.controlled_solve) on the
-    boundary nodes of parameters (nj, ni, 2); each call starts from the previous grid."""
-    from .elliptic import controlled_solve
+    boundary nodes of parameters (nj, ni, 2); each call starts from the previous grid and
+    controls. ``evaluate.failed`` turns True when a solve did not converge."""
+    from .elliptic import safe_controlled_solve
+    from .quality import folded_cells
 
     tfi = tfi_at(boundary)
     last: list = [None]
+    control: dict = {}
 
     def evaluate(p: np.ndarray) -> np.ndarray:
         base = tfi(p)
         uniform = np.allclose(p, uniform_params(p.shape[1], p.shape[0]), atol=1e-15)
-        grid = controlled_solve(base, None if uniform else p, orthogonal,
-                                initial=base if last[0] is None else last[0])[0]
+        grid, iterations, kept = safe_controlled_solve(
+            base, None if uniform else p, orthogonal, control=control,
+            initial=base if last[0] is None else last[0], max_iterations=MAX_SOLVE_ITERATIONS)
+        evaluate.failed |= (iterations >= MAX_SOLVE_ITERATIONS or not np.isfinite(grid).all()
+                            or bool(folded_cells(grid).any()))
+        evaluate.orthogonal &= kept
         last[0] = grid
         return grid
 
+    evaluate.failed, evaluate.orthogonal = False, True
     return evaluate
 
 
+MAX_SOLVE_ITERATIONS = 800
+
+
+def interpolated_elliptic_at(boundary, ni: int, nj: int, orthogonal: tuple[str, ...] = ()
+                             ) -> Callable[[np.ndarray], np.ndarray]:
+    """The elliptic map solved on the uniform ``ni`` x ``nj`` lattice (with orthogonality
+    control), as a smooth map of the parameters (TFI plus a bicubic spline of the elliptic
+    correction, warmstart.py) evaluated at node parameters: the fallback where the solve
+    with distribution controls does not converge."""
+    from .elliptic import safe_controlled_solve, winslow_solve
+    from .warmstart import WarmStart
+
+    tfi = tfi_at(boundary)
+    base = tfi(uniform_params(ni, nj))
+    grid = safe_controlled_solve(base, None, orthogonal)[0] if orthogonal else \
+        winslow_solve(base)[0]
+    warm = WarmStart(grid - base)
+    return lambda p: tfi(p) + warm.at(p.reshape(-1, 2)).reshape(p.shape)
+
+
 def classical_grid(boundary, ni: int, nj: int, method: str, spacing: dict[str, float],
-                   orthogonal: tuple[str, ...] = ()) -> tuple[np.ndarray, np.ndarray]:
+                   orthogonal: tuple[str, ...] = (), info: dict | None = None
+                   ) -> tuple[np.ndarray, np.ndarray]:
     """(params, grid) of the tfi or (converged) elliptic method under the spacing (working
-    frame) and orthogonality settings."""
-    evaluate = tfi_at(boundary) if method == "tfi" else elliptic_at(boundary, orthogonal)
-    params, grid, _ = fit_params(evaluate, spacing, ni, nj, side_lengths(boundary))
+    frame) and orthogonality settings. The elliptic grid is solved with control functions
+    (distribution and Hilgenstock orthogonality); if that fails (no convergence, a folded
+    cell or first edges off by more than 10 %), the interpolated elliptic map is evaluated
+    at the distribution instead; ``info["elliptic"]`` says which."""
+    from .quality import folded_cells
+
+    lengths = side_lengths(boundary)
+    if method == "tfi":
+        params, grid, _ = fit_params(tfi_at(boundary), spacing, ni, nj, lengths)
+        return params, grid
+    evaluate = elliptic_at(boundary, orthogonal)
+    params, grid, _ = fit_params(evaluate, spacing, ni, nj, lengths)
+    edges = first_edges(grid)
+    off = max((float(np.abs(edges[s][1:-1] / h - 1).max(initial=0.0))
+               for s, h in spacing.items()), default=0.0)
+    ok = not evaluate.failed and off <= 0.1 and not folded_cells(grid).any()
+    if not ok and spacing:
+        evaluate = interpolated_elliptic_at(boundary, ni, nj, orthogonal)
+        params, grid, _ = fit_params(evaluate, spacing, ni, nj, lengths)
+    if info is not None:
+        info["elliptic"] = "control functions" if ok or not spacing else "interpolated"
+        info["orthogonality_control"] = bool(orthogonal) and getattr(evaluate, "orthogonal",
+                                                                     True)
     return params, grid

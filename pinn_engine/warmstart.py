@@ -19,7 +19,7 @@ import numpy as np
 from scipy.interpolate import RectBivariateSpline
 
 from .boundary_fit import ArcLengthFit
-from .elliptic import controlled_solve, winslow_solve
+from .elliptic import safe_controlled_solve, winslow_solve
 from .errors import TrainingError
 from .geometry import Boundary
 from .tfi import node_params, tfi_grid
@@ -68,7 +68,7 @@ class WarmStart:
         Hilgenstock's orthogonality control at the ``orthogonal`` sides); also returns that
         grid (working frame), the reference the training is checked against."""
         base = tfi_grid(ArcLengthFit(boundary).sample, ni, nj)
-        grid = controlled_solve(base, None, orthogonal)[0] if orthogonal else \
+        grid = safe_controlled_solve(base, None, orthogonal)[0] if orthogonal else \
             winslow_solve(base)[0]
         if not np.isfinite(grid).all():
             raise TrainingError("the elliptic grid of the warm start is not finite; train "
