@@ -43,7 +43,16 @@ from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 from .errors import InputError, PinnMeshError, TrainingCancelled, folded_cells_warning
-from .settings import METHODS, PRESETS, Settings, grid_size_problem, make_settings
+from .settings import (
+    METHODS,
+    PRESETS,
+    SIDE_NAMES,
+    Settings,
+    grid_size_problem,
+    make_settings,
+    parse_sides,
+    parse_spacing,
+)
 
 if TYPE_CHECKING:  # the engine's numerics are imported on first use (fast plugin loading)
     from .auxlines import AuxLine
@@ -140,6 +149,8 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
       section 4 (penalty boundary term, decision-tree boundary fit, 1000 elliptic sweeps)
     * ``SetAdamEpochs``, ``SetLBFGSIterations``, ``SetHiddenLayers``, ``SetNeurons``,
       ``SetLambda2``, ``SetSeed``: override the preset (``None`` restores the preset value)
+    * ``SetSpacing(bottom, right, top, left)``: first-edge lengths (0: none), and
+      ``SetOrthogonal(b, r, t, l)``: 0/1 per side (SPEC 7; also names or a dict)
     * ``SetCorners(i0, i1, i2, i3)``: the four corner point indices of the boundary;
       ``SetCorners(None)`` or any negative index: automatic detection
     * ``SetSetting(name, value)``: any other field of ``pinn_engine.settings.Settings``
@@ -222,6 +233,32 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
 
     def SetSeed(self, n) -> None:
         self._set_override("seed", None if n is None else int(n))
+
+    def SetSpacing(self, *values) -> None:
+        """First-edge length per side (SPEC 7): four numbers for bottom, right, top, left
+        (0: that side keeps today's distribution), a dict ``{"bottom": 1e-3}`` or a string
+        ``"bottom=1e-3,top=0.01"``; ``None`` or all zeros: no spacing."""
+        value = values[0] if len(values) == 1 else values
+        if isinstance(value, (list, tuple)) and len(value) == 4 and all(
+                isinstance(v, (int, float, np.number)) for v in value):
+            value = {side: float(h) for side, h in zip(SIDE_NAMES, value) if h}
+        spacing = parse_spacing(value)
+        self._set_override("spacing", spacing or None)
+
+    def GetSpacing(self) -> tuple:
+        return self._overrides.get("spacing", ())
+
+    def SetOrthogonal(self, *values) -> None:
+        """Sides that grid lines leave at 90 degrees (SPEC 7): four 0/1 flags for bottom,
+        right, top, left, a list of names or ``"bottom,left"``; ``None``: none."""
+        value = values[0] if len(values) == 1 else values
+        if isinstance(value, (list, tuple)) and len(value) == 4 and all(
+                isinstance(v, (int, bool, np.integer)) for v in value):
+            value = [side for side, on in zip(SIDE_NAMES, value) if on]
+        self._set_override("orthogonal", parse_sides(value) or None)
+
+    def GetOrthogonal(self) -> tuple:
+        return self._overrides.get("orthogonal", ())
 
     def SetPanelSetting(self, name: str, value) -> None:
         """A value from the ParaView panel: one equal to the default preset's is no override,

@@ -44,6 +44,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--report", metavar="PATH", help="also write a JSON report")
     p.add_argument("--fail-on-folded", action="store_true",
                    help="exit with an error (status 2, no output) if any cell is folded")
+    p.add_argument("--spacing", action="append", default=[], metavar="SIDE=H",
+                   help="first grid edge leaving SIDE (bottom, right, top, left) has length "
+                        "H (your units), growing smoothly away from it; repeat for more sides "
+                        "(pinn, tfi, elliptic)")
+    p.add_argument("--orthogonal", metavar="SIDE[,SIDE...]", default=None,
+                   help="grid lines leave these sides at 90 degrees (pinn: a loss term; "
+                        "elliptic: Hilgenstock control functions)")
     p.add_argument("--quiet", action="store_true",
                    help="no progress output (a warning about folded cells is still printed)")
     g = p.add_argument_group("training (pinn, mgnet)")
@@ -142,7 +149,8 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
               "lambda2", "boundary_fit", "device", "elliptic_iterations", "warm_start")
     try:
         settings = make_settings(args.method, args.preset, lattice=(ni, nj),
-                                 boundary=args.boundary_mode,
+                                 boundary=args.boundary_mode, spacing=args.spacing,
+                                 orthogonal=args.orthogonal,
                                  **{k: getattr(args, k) for k in fields})
     except ValueError as exc:
         raise PinnMeshError(str(exc)) from exc
@@ -172,6 +180,12 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
               f"mean MaxIncludedAngle {q['mean_max_angle']:.2f}, worst "
               f"{q['worst_max_angle']:.2f} deg, {q['folded_cells']} folded cells, boundary "
               f"deviation {q['boundary_deviation']:.1e}", file=sys.stderr, flush=True)
+        for side in settings.orthogonal + tuple(k for k, _ in settings.spacing
+                                                if k not in settings.orthogonal):
+            r = result.report["sides"][side]
+            print(f"{side}: first edges {r['first_edge_min']:.3g}..{r['first_edge_max']:.3g}, "
+                  f"wall angles within {r['max_angle_deviation']:.2f} deg of 90, growth "
+                  f"ratio up to {r['max_growth_ratio']:.3f}", file=sys.stderr, flush=True)
         distances = result.report["aux_line_distance"]
         if distances:
             print(f"auxiliary lines: grid lines within {max(distances.values()):.2e} of the "

@@ -92,6 +92,7 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
               hidden_layers: int | None = None, neurons: int | None = None,
               lambda2: float | None = None, seed: int | None = None,
               boundary_mode: str | None = None, device: str | None = None,
+              spacing=None, orthogonal=None,
               progress: Callable[[dict], bool | None] | None = None,
               cache: MeshCache | None = None, **settings) -> pv.StructuredGrid:
     """Structured quadrilateral grid of a four-sided 2D domain.
@@ -121,6 +122,13 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
         Exact boundary by construction (default) or the paper's penalty term.
     device : str, optional
         Torch device: ``"auto"`` (default), ``"cpu"``, ``"cuda"``.
+    spacing : dict, optional
+        First-edge length per side in the boundary's units, e.g. ``{"bottom": 1e-3}``
+        (also ``"bottom=1e-3"`` or pairs): the first grid edge leaving every node of that
+        side has this length, growing smoothly away from it (pinn, tfi, elliptic).
+    orthogonal : str or list of str, optional
+        Sides that grid lines leave at 90 degrees, e.g. ``"bottom"`` or ``["bottom",
+        "top"]`` (pinn: a loss term; elliptic: Hilgenstock control functions).
     progress : callable, optional
         ``progress(info)`` during training, ``info`` a dict with ``phase`` ("adam" or
         "lbfgs"), ``step``, ``total``, ``loss`` and ``terms``; returning True cancels
@@ -169,7 +177,8 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
     config = make_settings(method, preset, adam_epochs=adam_epochs,
                            lbfgs_iterations=lbfgs_iterations, hidden_layers=hidden_layers,
                            neurons=neurons, lambda2=lambda2, seed=seed, boundary=boundary_mode,
-                           device=device, **{"lattice": (ni, nj), **settings})
+                           device=device, spacing=spacing, orthogonal=orthogonal,
+                           **{"lattice": (ni, nj), **settings})
     try:
         poly = _as_polydata(boundary, closed=True, what="boundary")
         ring = boundary_from_polydata(poly, corners, source="boundary")
@@ -211,6 +220,7 @@ class PinnMeshAccessor:
                  adam_epochs: int | None = None, lbfgs_iterations: int | None = None,
                  hidden_layers: int | None = None, neurons: int | None = None,
                  lambda2: float | None = None, seed: int | None = None,
+                 spacing=None, orthogonal=None,
                  progress: Callable[[dict], bool | None] | None = None,
                  **settings) -> pv.StructuredGrid:
         """Mesh the domain bounded by this PolyData; see ``pinn_mesh`` for the arguments.
@@ -223,7 +233,8 @@ class PinnMeshAccessor:
         return pinn_mesh(self._mesh, aux, size, method, preset=preset, corners=corners,
                          adam_epochs=adam_epochs, lbfgs_iterations=lbfgs_iterations,
                          hidden_layers=hidden_layers, neurons=neurons, lambda2=lambda2,
-                         seed=seed, progress=progress, cache=self._cache, **settings)
+                         seed=seed, spacing=spacing, orthogonal=orthogonal, progress=progress,
+                         cache=self._cache, **settings)
 
     mesh = __call__  # boundary.pinn_mesh.mesh(...) reads well too
 

@@ -33,7 +33,8 @@ def structured_grid(points: np.ndarray, report: dict | None = None,
     Cell data: ``MaxIncludedAngle``, ``MinIncludedAngle`` (degrees, as vtkMeshQuality),
     ``ScaledJacobian`` and ``Folded`` (0/1), computed unless given as ``cells``. Field data:
     ``Method``, ``Report`` (JSON: settings, timings, quality summary), the summary figures as
-    numbers and ``Loss_<term>`` histories.
+    numbers, per side ``FirstEdge_<side>`` (min, median, max), ``WallAngleDeviation_<side>``
+    (degrees) and ``GrowthRatio_<side>``, and ``Loss_<term>`` histories.
     """
     nj, ni = points.shape[:2]
     grid = vtkStructuredGrid()
@@ -54,6 +55,12 @@ def structured_grid(points: np.ndarray, report: dict | None = None,
     _add_string(fd, "Report", json.dumps(report, default=float))
     for key, value in report.get("quality", {}).items():
         _add_scalar(fd, key, value)
+    for side, figures in report.get("sides", {}).items():  # SPEC 7, per side
+        _add_scalar(fd, f"FirstEdge_{side}", [figures["first_edge_min"],
+                                              figures["first_edge_median"],
+                                              figures["first_edge_max"]])
+        _add_scalar(fd, f"WallAngleDeviation_{side}", figures["max_angle_deviation"])
+        _add_scalar(fd, f"GrowthRatio_{side}", figures["max_growth_ratio"])
     for key in ("train_seconds", "mesh_seconds"):
         if key in report:
             _add_scalar(fd, key, report[key])

@@ -150,3 +150,21 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
                        "them automatically (the four sharpest turns)."))
     def P10CornerIndices(self, i0, i1, i2, i3):
         self.SetCorners(i0, i1, i2, i3)
+
+    @smproperty.doublevector(name="FirstEdgeSpacing", label="First Edge Spacing",
+                             default_values=[0.0, 0.0, 0.0, 0.0])
+    @smdomain.xml(_doc("Length of the first grid edge leaving the bottom, right, top and "
+                       "left sides, in the boundary's units (0: that side keeps the even "
+                       "distribution). The spacing grows smoothly away from the side "
+                       "(Vinokur's stretching); pinn, tfi and elliptic."))
+    def P11FirstEdgeSpacing(self, bottom, right, top, left):
+        self.SetSpacing(float(bottom), float(right), float(top), float(left))
+
+    @smproperty.intvector(name="OrthogonalSides", label="Orthogonal Sides",
+                          default_values=[0, 0, 0, 0])
+    @smdomain.intrange(min=0, max=1)
+    @smdomain.xml(_doc("1 for each of the bottom, right, top and left sides that grid lines "
+                       "are to leave at 90 degrees (pinn: a loss term; elliptic: "
+                       "Hilgenstock control functions; not tfi or mgnet)."))
+    def P12OrthogonalSides(self, bottom, right, top, left):
+        self.SetOrthogonal(int(bottom), int(right), int(top), int(left))
