@@ -50,6 +50,8 @@ class TrainedModel:
             "history": self.history, "info": self.info,
             "warm": None if self.mapping.warm is None
             else torch.as_tensor(self.mapping.warm.correction),
+            "warm_nodes": None if self.mapping.warm is None or self.mapping.warm.nodes is None
+            else [torch.as_tensor(n) for n in self.mapping.warm.nodes],
         }
         with atomic_path(path) as tmp:
             torch.save(payload, tmp)
@@ -76,7 +78,9 @@ class TrainedModel:
             saved = Boundary(ring=bd["ring"].numpy(), corners=tuple(bd["corners"]),
                              frame=Frame(bd["origin"].numpy(), float(bd["scale"])), source=src)
             warm = payload.get("warm")
-            warm = WarmStart(warm.numpy()) if warm is not None else None
+            nodes = payload.get("warm_nodes")
+            nodes = None if nodes is None else tuple(n.numpy() for n in nodes)
+            warm = WarmStart(warm.numpy(), nodes) if warm is not None else None
         except (KeyError, TypeError, RuntimeError, ValueError) as exc:
             raise InputError(f"damaged or incompatible model ({exc})", src) from None
         if boundary is not None:

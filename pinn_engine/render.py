@@ -10,8 +10,10 @@ os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 
 def render_png(grid, path: str | os.PathLike, scalars: str = "MaxIncludedAngle",
                title: str | None = None, clim: tuple[float, float] | None = (90.0, 180.0),
-               boundary=None, aux=None, window_size=(1200, 800)) -> Path:
-    """Draw ``grid`` (a VTK or pyvista structured grid) with its edges, coloured by ``scalars``."""
+               boundary=None, aux=None, window_size=(1200, 800),
+               view: tuple[float, float, float, float] | None = None) -> Path:
+    """Draw ``grid`` (a VTK or pyvista structured grid) with its edges, coloured by ``scalars``;
+    ``view`` = (xmin, xmax, ymin, ymax) zooms on that box (e.g. a wall's first cells)."""
     import pyvista as pv
 
     pv.OFF_SCREEN = True
@@ -27,7 +29,16 @@ def render_png(grid, path: str | os.PathLike, scalars: str = "MaxIncludedAngle",
     if title:
         plotter.add_text(title, font_size=12, color="black")
     plotter.view_xy()
-    plotter.camera.zoom(1.1)
+    if view is None:
+        plotter.camera.zoom(1.1)
+    else:
+        x0, x1, y0, y1 = view
+        plotter.enable_parallel_projection()
+        centre = ((x0 + x1) / 2, (y0 + y1) / 2)
+        plotter.camera.focal_point = (*centre, 0.0)
+        plotter.camera.position = (*centre, 10.0 * max(x1 - x0, y1 - y0))
+        aspect = window_size[0] / window_size[1]
+        plotter.camera.parallel_scale = max(y1 - y0, (x1 - x0) / aspect) / 2
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     plotter.screenshot(str(path))

@@ -55,8 +55,15 @@ def _at_least_4(d: np.ndarray, axis: int) -> np.ndarray:
 class WarmStart:
     """The correction ``D`` (nj, ni, 2) from TFI to the elliptic grid, as a smooth field."""
 
-    def __init__(self, correction: np.ndarray) -> None:
+    def __init__(self, correction: np.ndarray, nodes: tuple | None = None) -> None:
+        """``nodes``: the (xi, eta) parameters of the lattice's columns and rows when they
+        are not uniform (a boundary-layer lattice, spacing.py)."""
         self.correction = np.asarray(correction, dtype=float)
+        self.nodes = None if nodes is None else tuple(np.asarray(n, dtype=float) for n in nodes)
+        if self.nodes is not None and min(self.correction.shape[:2]) >= 4:
+            self._splines = [RectBivariateSpline(self.nodes[1], self.nodes[0],
+                                                 self.correction[..., k], s=0) for k in range(2)]
+            return
         d = _at_least_4(_at_least_4(self.correction, 0), 1)
         eta, xi = node_params(d.shape[0]), node_params(d.shape[1])
         self._splines = [RectBivariateSpline(eta, xi, d[..., k], s=0) for k in range(2)]
@@ -74,6 +81,23 @@ class WarmStart:
             raise TrainingError("the elliptic grid of the warm start is not finite; train "
                                 "from TFI instead (warm start none)")
         return cls(grid - base), grid
+
+    @classmethod
+    def elliptic_layer(cls, boundary: Boundary, params: np.ndarray,
+                       orthogonal: tuple[str, ...] = ()) -> WarmStart:
+        """The warm start under a spacing (SPEC 7): the elliptic grid with control functions
+        on the rectilinear lattice of the mean column and row parameters of ``params``
+        (nj, ni, 2), so that the map is resolved, and orthogonal, at the first edges."""
+        from .spacing import tfi_at
+
+        xi, eta = params[..., 0].mean(axis=0), params[..., 1].mean(axis=1)
+        lattice = np.stack(np.meshgrid(xi, eta), axis=-1)
+        base = tfi_at(boundary)(lattice)
+        grid = safe_controlled_solve(base, lattice, orthogonal)[0]
+        if not np.isfinite(grid).all():
+            raise TrainingError("the elliptic grid of the warm start is not finite; train "
+                                "from TFI instead (warm start none)")
+        return cls(grid - base, (xi, eta))
 
     def jet(self, x: np.ndarray) -> np.ndarray:
         """Jet (6, B, 2) of the correction at points ``x`` (B, 2) = (xi, eta)."""
