@@ -106,7 +106,7 @@ class Settings:
     # sides that grid lines leave at right angles (pinn: loss term, elliptic: control functions)
     spacing: tuple[tuple[str, float], ...] = ()
     orthogonal: tuple[str, ...] = ()
-    lambda_orthogonal: float = 10.0  # weight of the orthogonality term (pinn)
+    lambda_orthogonal: float = 300.0  # weight of the orthogonality term (pinn)
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:

@@ -81,27 +81,31 @@ def stretch(n: int, first: np.ndarray | None, last: np.ndarray | None,
     return np.clip(v / (a + (1.0 - a) * v), 0.0, 1.0)
 
 
-# Lines of one direction share one Vinokur stretching (by the geometric mean of their
-# first spacings); each line's own first spacing is reached by a correction that decays
-# over about this many cells from the side, so that a line's far part is not moved (rows
-# shifted as a whole along a curved wall would skew its thin first cells into folds).
-LOCAL_CELLS = 4.0
+# Lines of one direction share one Vinokur stretching (by the geometric mean of their first
+# spacings); each line's own first spacing is reached by scaling its first intervals, by a
+# factor that decays over about this many cells from the side (and a uniform rescaling of
+# all of them to keep the total), so that a line's far part is hardly moved (rows shifted as
+# a whole along a curved wall would skew its thin first cells into folds) and its spacing
+# still grows monotonically away from the side.
+LOCAL_CELLS = 6.0
 
 
 def _lines(n: int, first: np.ndarray | None, last: np.ndarray | None, lines: int
            ) -> np.ndarray:
     """Parameters (lines, n) of one direction for per-line first/last spacings."""
-    mean = [None if a is None else np.exp(np.log(np.asarray(a, dtype=float)).mean())
-            for a in (first, last)]
-    t = np.repeat(stretch(n, *mean), lines, axis=0)
-    if n < 3:
+    top = [None if a is None else float(np.exp(np.log(a).mean())) for a in (first, last)]
+    t = np.repeat(stretch(n, *top), lines, axis=0)
+    if n < 3 or (first is None and last is None):
         return t
-    decay = np.exp(-np.maximum(np.arange(n) - 1, 0) / LOCAL_CELLS)
+    d = np.diff(t, axis=1)
+    decay = np.exp(-np.arange(n - 1) / LOCAL_CELLS)
     if first is not None:
-        t = t * (1 + (np.asarray(first) / mean[0] - 1)[:, None] * decay[None, :])
+        d = d * (1 + (np.asarray(first) / top[0] - 1)[:, None] * decay[None, :])
     if last is not None:
-        t = 1 - (1 - t) * (1 + (np.asarray(last) / mean[1] - 1)[:, None] * decay[None, ::-1])
-    t[:, 0], t[:, -1] = 0.0, 1.0
+        d = d * (1 + (np.asarray(last) / top[1] - 1)[:, None] * decay[None, ::-1])
+    t = np.concatenate([np.zeros((lines, 1)), np.cumsum(d, axis=1)], axis=1)
+    t /= t[:, -1:]
+    t[:, -1] = 1.0
     return t
 
 
