@@ -26,7 +26,7 @@ from pinn_engine.pipeline import load_boundary, to_vtk  # noqa: E402
 from pinn_engine.settings import make_settings  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-CASE = ROOT / "example_data" / "hard" / "bump.vtp"
+CASE = ROOT / "example_data" / "bump_channel.vtp"
 SIZE = (81, 41)
 RUNS = (("tfi", ()), ("elliptic", ("bottom",)), ("pinn", ("bottom",)))
 ZOOM = (1.02, 1.32, 0.0, 0.2)  # the upslope of the bump: x, y box of the pictures

@@ -108,6 +108,18 @@ def concave() -> tuple[np.ndarray, list[np.ndarray]]:
     return ring(bottom, right, top, left), aux
 
 
+def bump_channel() -> np.ndarray:
+    """The boundary-layer example (SPEC 7): a channel 3 long and 1 high with a smooth bump
+    of 15 % of the height on its floor (sin^2 over 1 < x < 2, zero slope at its feet)."""
+    bottom = curve(lambda s: 3 * s,
+                   lambda s: np.where((s > 1 / 3) & (s < 2 / 3),
+                                      0.15 * np.sin(np.pi * (3 * s - 1)) ** 2, 0.0), 241)
+    right = curve(lambda s: 3 + 0 * s, lambda s: s, 41)
+    top = curve(lambda s: 3 - 3 * s, lambda s: 1 + 0 * s, 61)
+    left = curve(lambda s: 0 * s, lambda s: 1 - s, 41)
+    return ring(bottom, right, top, left)
+
+
 CASES = {"wavy": wavy, "fig2": fig2, "concave": concave}
 
 
@@ -116,6 +128,7 @@ def main() -> None:
         boundary, aux = make()
         write(polydata([boundary], closed=True), f"{name}.vtp")
         write(polydata(aux, closed=False), f"{name}_aux.vtp")
+    write(polydata([bump_channel()], closed=True), "bump_channel.vtp")
     boundary, _ = wavy()
     np.savetxt(HERE / "wavy.csv", boundary, delimiter=",", header="x,y", comments="",
                fmt="%.10g")
