@@ -130,7 +130,8 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
     assert not result["before_load"] and result["after_load"]
     assert result["property_order"] == [  # no "Reload Python Module" button for users
         "Input", "AuxiliaryLines", "Method", "GridSize", "Preset", "AdamEpochs",
-        "LBFGSIterations", "HiddenLayers", "Neurons", "Lambda2", "Seed", "CornerIndices"]
+        "LBFGSIterations", "HiddenLayers", "Neurons", "Lambda2", "Seed", "CornerIndices",
+        "FirstEdgeSpacing", "OrthogonalSides"]
     assert result["methods"] == ["pinn", "mgnet", "tfi", "elliptic"]
     assert result["aux_optional"]
     assert result["grid"] == {"class": "vtkStructuredGrid", "extent": [0, 30, 0, 15, 0, 0],
@@ -141,3 +142,10 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
 def test_plugin_folder_holds_only_the_plugin():
     assert sorted(p.name for p in (ROOT / "plugin").iterdir()
                   if p.name != "__pycache__") == ["pinn_mesh_plugin.py"]
+
+
+def test_boundary_layer_panel_fields(filter_run):
+    layer = filter_run["layer"]
+    assert {"FirstEdgeSpacing", "OrthogonalSides"} <= set(layer["properties"])
+    assert all(abs(v / 0.01 - 1) < 0.1 for v in layer["first_edge"])
+    assert layer["angle"] <= 2.0

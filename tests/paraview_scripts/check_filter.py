@@ -128,5 +128,13 @@ result["bad_stderr"] = err["stderr"]
 bad.Input = boundary
 bad.AuxiliaryLines = [aux]
 result["recovered"] = summary(servermanager.Fetch(bad))
+
+# 7. boundary-layer settings (SPEC 7): first-edge spacing and orthogonal sides on the panel
+layer = simple.PINNStructuredMesh(Input=boundary, Method=3, GridSize=[41, 21],
+                                  FirstEdgeSpacing=[0.01, 0, 0, 0], OrthogonalSides=[1, 0, 0, 0])
+fd = servermanager.Fetch(layer).GetFieldData()
+result["layer"] = {"first_edge": [fd.GetArray("FirstEdge_bottom").GetValue(k) for k in range(3)],
+                   "angle": fd.GetArray("WallAngleDeviation_bottom").GetValue(0),
+                   "properties": list(layer.ListProperties())}
 result["torch_at_end"] = "torch" in sys.modules
 print("RESULT " + json.dumps(result))
