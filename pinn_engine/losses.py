@@ -50,11 +50,12 @@ def loss_data(pred: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
     return loss_points(pred, target)
 
 
-def loss_orthogonal(jet: torch.Tensor) -> torch.Tensor:
-    """Mean squared cosine of the angle between the xi and eta grid lines at points on the
-    sides that are to be orthogonal (SPEC 7): zero where grid lines leave them at 90 degrees."""
-    dot = (jet[XI] * jet[ETA]).sum(dim=-1)
-    return (dot.pow(2) / (jet[XI].pow(2).sum(dim=-1) * jet[ETA].pow(2).sum(dim=-1))).mean()
+def loss_orthogonal(leave: torch.Tensor, tangent: torch.Tensor) -> torch.Tensor:
+    """Mean squared cosine of the angle between the map's derivative ``leave`` (B, 2) leaving
+    a side that is to be orthogonal (SPEC 7) and the side's tangent (B, 2) there: zero where
+    grid lines leave it at 90 degrees."""
+    dot = (leave * tangent).sum(dim=-1)
+    return (dot.pow(2) / (leave.pow(2).sum(dim=-1) * tangent.pow(2).sum(dim=-1))).mean()
 
 
 def total_loss(l_eqns: torch.Tensor, l_bcs: torch.Tensor, l_data: torch.Tensor,

@@ -317,3 +317,15 @@ def classical_grid(boundary, ni: int, nj: int, method: str, spacing: dict[str, f
         info["orthogonality_control"] = bool(orthogonal) and getattr(evaluate, "orthogonal",
                                                                      True)
     return params, grid
+
+
+def chord_tangents(boundary, side: str, t: np.ndarray, nodes: int) -> np.ndarray:
+    """Tangents (len(t), 2) of ``side`` at parameters ``t`` as a grid of ``nodes`` nodes
+    along it sees them: the chord between the neighbouring nodes (what the reported wall
+    angle measures, :func:`grid_lines_angle`), not the curve's own tangent, which differs
+    from it where the wall bends within a cell."""
+    from .boundary_fit import ArcLengthFit
+
+    fit, step = ArcLengthFit(boundary), 1.0 / max(nodes - 1, 1)
+    ahead, behind = np.clip(t + step, 0.0, 1.0), np.clip(t - step, 0.0, 1.0)
+    return fit.sample(side, ahead) - fit.sample(side, behind)

@@ -33,7 +33,7 @@ from .model import TrainedModel
 from .networks import CoordinateNet
 from .quality import cell_quality, summary
 from .settings import Settings
-from .spacing import classical_grid, working_spacing
+from .spacing import chord_tangents, classical_grid, working_spacing
 from .warmstart import WarmStart, lattice_for
 
 ANNEAL_EVERY = 10  # epochs between lambda1 updates (Wang et al. use 10)
@@ -63,9 +63,27 @@ def pick_device(name: str) -> torch.device:
     return device
 
 
-def side_points(side: str, t: np.ndarray) -> np.ndarray:
-    """Computational coordinates of parameter ``t`` on a side (SPEC 1)."""
-    zero, one = np.zeros_like(t), np.ones_like(t)
+def wall_tangents(boundary: Boundary, side: str, t: np.ndarray, lattice: tuple[int, int]
+                  ) -> np.ndarray:
+    """Tangents of a side at ``t`` as the grid of ``lattice`` nodes sees them (chords)."""
+    return chord_tangents(boundary, side, t, lattice[0 if side in ("bottom", "top") else 1])
+
+
+def first_steps(lattice: tuple[int, int], params: np.ndarray | None = None
+                ) -> dict[str, float]:
+    """Parameter distance from each side to the next grid row or column: the mean first
+    step of ``params`` (nj, ni, 2) (a spacing, spacing.py), else the uniform one."""
+    if params is None:
+        du, dv = 1.0 / (lattice[0] - 1), 1.0 / (lattice[1] - 1)
+        return {"bottom": dv, "top": dv, "left": du, "right": du}
+    return {"bottom": float(params[1, :, 1].mean()), "top": float(1 - params[-2, :, 1].mean()),
+            "left": float(params[:, 1, 0].mean()), "right": float(1 - params[:, -2, 0].mean())}
+
+
+def side_points(side: str, t: np.ndarray, inset: float = 0.0) -> np.ndarray:
+    """Computational coordinates of parameter ``t`` on a side (SPEC 1), or ``inset`` inside
+    it (on the next grid row or column)."""
+    zero, one = np.full_like(t, inset), np.full_like(t, 1.0 - inset)
     return {"bottom": np.column_stack([t, zero]), "top": np.column_stack([t, one]),
             "left": np.column_stack([zero, t]), "right": np.column_stack([one, t])}[side]
 
@@ -80,7 +98,8 @@ class _Problem:
     CHUNK = 500
 
     def __init__(self, mapping: Mapping, boundary: Boundary, aux: Sequence[AuxLine],
-                 settings: Settings, dtype: torch.dtype, device: torch.device) -> None:
+                 settings: Settings, dtype: torch.dtype, device: torch.device,
+                 wall_steps: dict[str, float] | None = None) -> None:
         self.mapping, self.settings = mapping, settings
         self.dtype, self.device = dtype, device
         self.fit = make_fit(settings.boundary_fit, boundary) if settings.boundary == "penalty" \
@@ -98,11 +117,17 @@ class _Problem:
         # fixed points on the sides to be orthogonal (SPEC 7), with the base jet there
         walls = settings.orthogonal if settings.method == "pinn" else ()
         self.n_wall = WALL_POINTS * len(walls)
-        if walls:
+        if walls:  # the first grid edge leaving each point: from the side to the next row
             t = (np.arange(WALL_POINTS) + 0.5) / WALL_POINTS
-            xw = np.concatenate([side_points(side, t) for side in walls])
+            steps = wall_steps or first_steps(settings.lattice)
+            xw = np.concatenate([side_points(side, t, steps[side]) for side in walls])
             self.wall_x = self.tensor(xw)
             self.wall_base = self.tensor(mapping.base_jet(xw)) if self.hard else None
+            fit = make_fit("arclength", boundary)
+            self.wall_origin = self.tensor(np.concatenate([fit.sample(side, t)
+                                                           for side in walls]))
+            self.wall_tangent = self.tensor(np.concatenate([wall_tangents(
+                boundary, side, t, settings.lattice) for side in walls]))
 
     def tensor(self, a) -> torch.Tensor:
         return torch.as_tensor(np.asarray(a), dtype=self.dtype, device=self.device)
@@ -146,7 +171,7 @@ class _Problem:
         jet, values = self.mapping.jet(x, base, extra, fast=self.settings.fast)
         terms = {"eqns": loss_eqns(jet[:, :n], self.settings.residual == "scaled")}
         if self.n_wall:
-            terms["orth"] = loss_orthogonal(jet[:, n:])
+            terms["orth"] = loss_orthogonal(jet[0, n:] - self.wall_origin, self.wall_tangent)
         zero = jet.new_zeros(())
         if bx is not None:
             per_side = loss_points(values[:len(bx)].reshape(4, -1, 2), by.reshape(4, -1, 2))
@@ -252,8 +277,13 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
                 with torch.no_grad():  # the map starts as the elliptic grid
                     net.w_out.zero_()
             mapping = Mapping(net, boundary, settings.boundary, warm)
+            steps = first_steps(lattice, params) if warm is not None else None
+            if warm is not None and settings.orthogonal and settings.method == "pinn":
+                warm.orthogonalise(mapping.base_jet, settings.orthogonal,
+                                   lambda side, t: wall_tangents(boundary, side, t,
+                                                                 settings.lattice), steps)
             aux = aux if settings.method == "pinn" else ()
-            problem = _Problem(mapping, boundary, aux, settings, dtype, device)
+            problem = _Problem(mapping, boundary, aux, settings, dtype, device, steps)
             guard = None if reference is None else _Guard(net, mapping, reference, bool(aux),
                                                           params)
             history = _History()

@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.interpolate import RectBivariateSpline
+from scipy.interpolate import CubicSpline, RectBivariateSpline
 
 from .boundary_fit import ArcLengthFit
 from .elliptic import safe_controlled_solve, winslow_solve
@@ -28,6 +28,10 @@ from .tfi import node_params, tfi_grid
 # V notch, 2 busy cores: 1 s at 161 x 81, 16 s at 321 x 161, 106 s at 641 x 321); above this
 # many nodes it runs on a coarser lattice of the same shape, and the network is evaluated finer.
 MAX_LATTICE_NODES = 161 * 81
+# Orthogonal sides (SPEC 7): samples of the turn of the leaving derivative along a side, and
+# the width (in the side's parameter) over which it tapers to zero at the corners.
+WALL_SAMPLES = 401
+WALL_TAPER = 0.03
 # (d_eta, d_xi) orders of the jet channels V, XI, ETA, XIXI, XIETA, ETAETA (networks.py)
 _ORDERS = ((0, 0), (0, 1), (1, 0), (0, 2), (1, 1), (2, 0))
 
@@ -60,6 +64,8 @@ class WarmStart:
         are not uniform (a boundary-layer lattice, spacing.py)."""
         self.correction = np.asarray(correction, dtype=float)
         self.nodes = None if nodes is None else tuple(np.asarray(n, dtype=float) for n in nodes)
+        self.walls: dict[str, np.ndarray] = {}  # side -> turn of the leaving derivative
+        self._wall_splines: dict[str, CubicSpline] = {}
         if self.nodes is not None and min(self.correction.shape[:2]) >= 4:
             self._splines = [RectBivariateSpline(self.nodes[1], self.nodes[0],
                                                  self.correction[..., k], s=0) for k in range(2)]
@@ -99,17 +105,79 @@ class WarmStart:
                                 "from TFI instead (warm start none)")
         return cls(grid - base, (xi, eta))
 
+    def orthogonalise(self, base_jet, sides: tuple[str, ...], tangents=None,
+                      steps: dict[str, float] | None = None) -> None:
+        """Turn the map's derivative leaving each of ``sides`` normal to the side (SPEC 7):
+        adds ``w(n) phi(a)``, n the coordinate across the side and a along it, with
+        ``w = n (1 - n)^2`` (zero on both sides, slope 1 at the side) and ``phi`` minus the
+        tangential part of the leaving derivative of ``base_jet`` (the map without this
+        term), tapered to zero at the corners. The boundary is unchanged, and so is the
+        derivative leaving the opposite side; the network then only has to keep it.
+        ``tangents(side, t)``: the side's tangents to be normal to (default: the map's).
+        ``steps[side]``: turn the first grid edge, from the side to the point this parameter
+        distance inside, rather than the derivative (default: the derivative)."""
+        t = np.linspace(0.0, 1.0, WALL_SAMPLES)
+        taper = np.tanh(t / WALL_TAPER) * np.tanh((1 - t) / WALL_TAPER)
+        for side in sides:
+            along_xi = side in ("bottom", "top")
+            fixed = np.full_like(t, 0.0 if side in ("bottom", "left") else 1.0)
+            x = np.column_stack([t, fixed] if along_xi else [fixed, t])
+            jet = base_jet(x)
+            tangent, leave = (jet[1], jet[2]) if along_xi else (jet[2], jet[1])
+            h = 0.0 if steps is None else steps[side]
+            if h > 0:  # the chord to the first row, over w(h) (w = n (1 - n)^2)
+                inner = x.copy()
+                inner[:, 1 if along_xi else 0] += h if side in ("bottom", "left") else -h
+                leave = (base_jet(inner)[0] - jet[0]) * (
+                    1 if side in ("bottom", "left") else -1) / (h * (1 - h) ** 2)
+            if tangents is not None:
+                tangent = tangents(side, t)
+            tau = tangent / np.linalg.norm(tangent, axis=1, keepdims=True)
+            phi = -np.einsum("ij,ij->i", leave, tau)[:, None] * tau * taper[:, None]
+            self.set_wall(side, phi)
+
+    def set_wall(self, side: str, phi: np.ndarray) -> None:
+        self.walls[side] = np.asarray(phi, dtype=float)
+        t = np.linspace(0.0, 1.0, len(self.walls[side]))
+        self._wall_splines[side] = CubicSpline(t, self.walls[side])
+
+    def _wall_jet(self, x: np.ndarray, order: int) -> np.ndarray:
+        """Jet (6, B, 2) (or values (1, B, 2) for ``order`` 0) of the wall terms."""
+        out = np.zeros((6 if order else 1, len(x), 2))
+        for side, spline in self._wall_splines.items():
+            along_xi = side in ("bottom", "top")
+            a, n = (x[:, 0], x[:, 1]) if along_xi else (x[:, 1], x[:, 0])
+            if side in ("bottom", "left"):
+                w, w1, w2 = n * (1 - n) ** 2, 1 - 4 * n + 3 * n * n, -4 + 6 * n
+            else:
+                w, w1, w2 = -n * n * (1 - n), -2 * n + 3 * n * n, -2 + 6 * n
+            f, f1, f2 = (spline(a, k) for k in range(3))
+            w, w1, w2 = w[:, None], w1[:, None], w2[:, None]
+            if not order:
+                out[0] += w * f
+            elif along_xi:  # channels V, XI, ETA, XIXI, XIETA, ETAETA
+                out += np.stack([w * f, w * f1, w1 * f, w * f2, w1 * f1, w2 * f])
+            else:
+                out += np.stack([w * f, w1 * f, w * f1, w2 * f, w1 * f1, w * f2])
+        return out
+
     def jet(self, x: np.ndarray) -> np.ndarray:
         """Jet (6, B, 2) of the correction at points ``x`` (B, 2) = (xi, eta)."""
         xi, eta = x[:, 0], x[:, 1]
-        return np.stack([np.stack([s.ev(eta, xi, dx=a, dy=b) for s in self._splines], axis=-1)
-                         for a, b in _ORDERS])
+        jet = np.stack([np.stack([s.ev(eta, xi, dx=a, dy=b) for s in self._splines], axis=-1)
+                        for a, b in _ORDERS])
+        return jet + self._wall_jet(x, 2) if self.walls else jet
 
     def at(self, x: np.ndarray) -> np.ndarray:
         """The correction (B, 2) at points ``x`` (B, 2) = (xi, eta)."""
-        return np.stack([s.ev(x[:, 1], x[:, 0]) for s in self._splines], axis=-1)
+        out = np.stack([s.ev(x[:, 1], x[:, 0]) for s in self._splines], axis=-1)
+        return out + self._wall_jet(x, 0)[0] if self.walls else out
 
     def grid(self, ni: int, nj: int, rows: slice = slice(None)) -> np.ndarray:
         """The correction at the nodes of an ``ni`` x ``nj`` grid (only ``rows`` if given)."""
         xi, eta = node_params(ni), node_params(nj)[rows]
-        return np.stack([s(eta, xi) for s in self._splines], axis=-1)
+        out = np.stack([s(eta, xi) for s in self._splines], axis=-1)
+        if self.walls:
+            pts = np.stack(np.meshgrid(xi, eta), axis=-1).reshape(-1, 2)
+            out = out + self._wall_jet(pts, 0)[0].reshape(out.shape)
+        return out
