@@ -269,7 +269,12 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
             warm = reference = params = None
             if settings.warm_start == "elliptic":
                 lattice = lattice_for(*settings.lattice)
-                warm, reference = WarmStart.elliptic(boundary, *lattice, settings.orthogonal)
+                # plain Winslow: the wall term below turns it orthogonal smoothly (a
+                # controlled elliptic grid kinks within the few cells its control reaches)
+                warm, reference = WarmStart.elliptic(boundary, *lattice)
+                if settings.orthogonal and not settings.spacing:  # the fair reference
+                    reference = classical_grid(boundary, *lattice, "elliptic", {},
+                                               settings.orthogonal)[1]
                 if settings.spacing:  # the guard's reference: elliptic under the same spacing
                     params, reference = classical_grid(
                         boundary, *lattice, "elliptic",
