@@ -31,7 +31,7 @@ from .losses import annealed_lambda, loss_data, loss_eqns, loss_orthogonal, loss
 from .mapping import Mapping
 from .model import TrainedModel
 from .networks import CoordinateNet
-from .quality import cell_quality, summary
+from .quality import cell_quality, folded_cells, summary
 from .settings import Settings
 from .spacing import chord_tangents, classical_grid, working_spacing
 from .warmstart import WarmStart, lattice_for
@@ -67,6 +67,19 @@ def wall_tangents(boundary: Boundary, side: str, t: np.ndarray, lattice: tuple[i
                   ) -> np.ndarray:
     """Tangents of a side at ``t`` as the grid of ``lattice`` nodes sees them (chords)."""
     return chord_tangents(boundary, side, t, lattice[0 if side in ("bottom", "top") else 1])
+
+
+def _fold_safe_walls(warm: WarmStart, mapping: Mapping, reference: np.ndarray,
+                     params: np.ndarray | None) -> None:
+    """Halve the wall terms of the warm start (SPEC 7) until its grid on the lattice folds
+    no more cells than the reference, dropping them after three halvings."""
+    size = reference.shape[1], reference.shape[0]
+    allowed = int(folded_cells(reference).sum())
+    for factor in (1.0, 0.5, 0.5, 0.5):
+        warm.scale_walls(factor)
+        if int(folded_cells(mapping.grid(*size, params=params)).sum()) <= allowed:
+            return
+    warm.scale_walls(0.0)
 
 
 def first_steps(lattice: tuple[int, int], params: np.ndarray | None = None
@@ -287,6 +300,7 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
                 warm.orthogonalise(mapping.base_jet, settings.orthogonal,
                                    lambda side, t: wall_tangents(boundary, side, t,
                                                                  settings.lattice), steps)
+                _fold_safe_walls(warm, mapping, reference, params)
             aux = aux if settings.method == "pinn" else ()
             problem = _Problem(mapping, boundary, aux, settings, dtype, device, steps)
             guard = None if reference is None else _Guard(net, mapping, reference, bool(aux),

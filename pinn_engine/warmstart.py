@@ -32,6 +32,8 @@ MAX_LATTICE_NODES = 161 * 81
 # the width (in the side's parameter) over which it tapers to zero at the corners.
 WALL_SAMPLES = 401
 WALL_TAPER = 0.03
+# The wall term fades out at the opposite side, or half way when that side has one too.
+OPPOSITE = {"bottom": "top", "top": "bottom", "left": "right", "right": "left"}
 # (d_eta, d_xi) orders of the jet channels V, XI, ETA, XIXI, XIETA, ETAETA (networks.py)
 _ORDERS = ((0, 0), (0, 1), (1, 0), (0, 2), (1, 1), (2, 0))
 
@@ -108,8 +110,9 @@ class WarmStart:
     def orthogonalise(self, base_jet, sides: tuple[str, ...], tangents=None,
                       steps: dict[str, float] | None = None) -> None:
         """Turn the map's derivative leaving each of ``sides`` normal to the side (SPEC 7):
-        adds ``w(n) phi(a)``, n the coordinate across the side and a along it, with
-        ``w = n (1 - n)^2`` (zero on both sides, slope 1 at the side) and ``phi`` minus the
+        adds ``w(n) phi(a)``, n the distance across the side and a along it, with
+        ``w = n (1 - n / R)^2`` up to R (1, or 1/2 when the opposite side has a term too),
+        then 0 (zero on the side, slope 1 there, C1 to zero at R) and ``phi`` minus the
         tangential part of the leaving derivative of ``base_jet`` (the map without this
         term), tapered to zero at the corners. The boundary is unchanged, and so is the
         derivative leaving the opposite side; the network then only has to keep it.
@@ -125,16 +128,25 @@ class WarmStart:
             jet = base_jet(x)
             tangent, leave = (jet[1], jet[2]) if along_xi else (jet[2], jet[1])
             h = 0.0 if steps is None else steps[side]
-            if h > 0:  # the chord to the first row, over w(h) (w = n (1 - n)^2)
+            if h > 0:  # the chord to the first row, over w(h)
                 inner = x.copy()
                 inner[:, 1 if along_xi else 0] += h if side in ("bottom", "left") else -h
+                reach = 0.5 if OPPOSITE[side] in sides else 1.0
                 leave = (base_jet(inner)[0] - jet[0]) * (
-                    1 if side in ("bottom", "left") else -1) / (h * (1 - h) ** 2)
+                    1 if side in ("bottom", "left") else -1) / (h * (1 - h / reach) ** 2)
             if tangents is not None:
                 tangent = tangents(side, t)
             tau = tangent / np.linalg.norm(tangent, axis=1, keepdims=True)
             phi = -np.einsum("ij,ij->i", leave, tau)[:, None] * tau * taper[:, None]
             self.set_wall(side, phi)
+
+    def scale_walls(self, factor: float) -> None:
+        """Scale the wall terms (0 removes them)."""
+        for side in list(self.walls):
+            if factor:
+                self.set_wall(side, self.walls[side] * factor)
+            else:
+                del self.walls[side], self._wall_splines[side]
 
     def set_wall(self, side: str, phi: np.ndarray) -> None:
         self.walls[side] = np.asarray(phi, dtype=float)
@@ -147,10 +159,15 @@ class WarmStart:
         for side, spline in self._wall_splines.items():
             along_xi = side in ("bottom", "top")
             a, n = (x[:, 0], x[:, 1]) if along_xi else (x[:, 1], x[:, 0])
-            if side in ("bottom", "left"):
-                w, w1, w2 = n * (1 - n) ** 2, 1 - 4 * n + 3 * n * n, -4 + 6 * n
-            else:
-                w, w1, w2 = -n * n * (1 - n), -2 * n + 3 * n * n, -2 + 6 * n
+            m = n if side in ("bottom", "left") else 1 - n  # distance from the side
+            reach = 0.5 if OPPOSITE[side] in self._wall_splines else 1.0
+            inside = m < reach
+            r = np.where(inside, 1 - m / reach, 0.0)  # w = m r^2: C1 to zero at the reach
+            w = m * r * r
+            w1 = np.where(inside, r * r - 2 * m * r / reach, 0.0)
+            w2 = np.where(inside, -4 * r / reach + 2 * m / reach ** 2, 0.0)
+            if side in ("top", "right"):  # d/dn = -d/dm: w(n) = -m r^2 turns x_n like w(m)
+                w, w2 = -w, -w2
             f, f1, f2 = (spline(a, k) for k in range(3))
             w, w1, w2 = w[:, None], w1[:, None], w2[:, None]
             if not order:
