@@ -6,7 +6,7 @@ import json
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES
+from conftest import EXAMPLES, wavy_ring
 
 from pinn_engine.algorithm import PinnMeshAlgorithm
 from pinn_engine.cli import main
@@ -141,6 +141,17 @@ def test_pinn_orthogonal_without_spacing(bump):
     settings = make_settings("pinn", lattice=(41, 21), orthogonal="bottom")
     result = Mesher(settings).fit(bump).predict(41, 21)
     assert result.report["sides"]["bottom"]["max_angle_deviation"] <= 2.0
+    assert result.quality["folded_cells"] == 0
+
+
+def test_pinn_orthogonal_on_every_side_never_folds():
+    """Where the wall terms would fold the warm start (four wavy sides) they are reduced."""
+    from pinn_engine.geometry import Boundary
+
+    wavy = Boundary.from_points(wavy_ring(40))
+    settings = make_settings("pinn", lattice=(41, 21), orthogonal="bottom,right,top,left",
+                             lbfgs_iterations=20)
+    result = Mesher(settings).fit(wavy).predict(41, 21)
     assert result.quality["folded_cells"] == 0
 
 
