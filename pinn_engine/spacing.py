@@ -319,13 +319,21 @@ def classical_grid(boundary, ni: int, nj: int, method: str, spacing: dict[str, f
     return params, grid
 
 
-def chord_tangents(boundary, side: str, t: np.ndarray, nodes: int) -> np.ndarray:
+def chord_tangents(boundary, side: str, t: np.ndarray, nodes: int,
+                   along: np.ndarray | None = None) -> np.ndarray:
     """Tangents (len(t), 2) of ``side`` at parameters ``t`` as a grid of ``nodes`` nodes
     along it sees them: the chord between the neighbouring nodes (what the reported wall
     angle measures, :func:`grid_lines_angle`), not the curve's own tangent, which differs
-    from it where the wall bends within a cell."""
+    from it where the wall bends within a cell. ``along``: the parameters of the side's
+    nodes when they are not uniform."""
     from .boundary_fit import ArcLengthFit
 
     fit, step = ArcLengthFit(boundary), 1.0 / max(nodes - 1, 1)
+    if along is not None:  # the nodes' parameters along the side (a spacing across it)
+        u = np.linspace(0.0, 1.0, len(along))
+        at = np.interp(t, along, u)
+        ahead = np.interp(np.clip(at + step, 0.0, 1.0), u, along)
+        behind = np.interp(np.clip(at - step, 0.0, 1.0), u, along)
+        return fit.sample(side, ahead) - fit.sample(side, behind)
     ahead, behind = np.clip(t + step, 0.0, 1.0), np.clip(t - step, 0.0, 1.0)
     return fit.sample(side, ahead) - fit.sample(side, behind)

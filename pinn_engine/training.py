@@ -63,10 +63,16 @@ def pick_device(name: str) -> torch.device:
     return device
 
 
-def wall_tangents(boundary: Boundary, side: str, t: np.ndarray, lattice: tuple[int, int]
-                  ) -> np.ndarray:
-    """Tangents of a side at ``t`` as the grid of ``lattice`` nodes sees them (chords)."""
-    return chord_tangents(boundary, side, t, lattice[0 if side in ("bottom", "top") else 1])
+def wall_tangents(boundary: Boundary, side: str, t: np.ndarray, lattice: tuple[int, int],
+                  params: np.ndarray | None = None) -> np.ndarray:
+    """Tangents of a side at ``t`` as the grid of ``lattice`` nodes (at ``params``, spacing.py)
+    sees them (chords)."""
+    along = None
+    if params is not None:
+        along = {"bottom": params[0, :, 0], "top": params[-1, :, 0],
+                 "left": params[:, 0, 1], "right": params[:, -1, 1]}[side]
+    return chord_tangents(boundary, side, t, lattice[0 if side in ("bottom", "top") else 1],
+                          along)
 
 
 def _fold_safe_walls(warm: WarmStart, mapping: Mapping, reference: np.ndarray,
@@ -112,7 +118,8 @@ class _Problem:
 
     def __init__(self, mapping: Mapping, boundary: Boundary, aux: Sequence[AuxLine],
                  settings: Settings, dtype: torch.dtype, device: torch.device,
-                 wall_steps: dict[str, float] | None = None) -> None:
+                 wall_steps: dict[str, float] | None = None,
+                 params: np.ndarray | None = None) -> None:
         self.mapping, self.settings = mapping, settings
         self.dtype, self.device = dtype, device
         self.fit = make_fit(settings.boundary_fit, boundary) if settings.boundary == "penalty" \
@@ -140,7 +147,7 @@ class _Problem:
             self.wall_origin = self.tensor(np.concatenate([fit.sample(side, t)
                                                            for side in walls]))
             self.wall_tangent = self.tensor(np.concatenate([wall_tangents(
-                boundary, side, t, settings.lattice) for side in walls]))
+                boundary, side, t, settings.lattice, params) for side in walls]))
 
     def tensor(self, a) -> torch.Tensor:
         return torch.as_tensor(np.asarray(a), dtype=self.dtype, device=self.device)
@@ -299,10 +306,11 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
             if warm is not None and settings.orthogonal and settings.method == "pinn":
                 warm.orthogonalise(mapping.base_jet, settings.orthogonal,
                                    lambda side, t: wall_tangents(boundary, side, t,
-                                                                 settings.lattice), steps)
+                                                                 settings.lattice, params),
+                                   steps)
                 _fold_safe_walls(warm, mapping, reference, params)
             aux = aux if settings.method == "pinn" else ()
-            problem = _Problem(mapping, boundary, aux, settings, dtype, device, steps)
+            problem = _Problem(mapping, boundary, aux, settings, dtype, device, steps, params)
             guard = None if reference is None else _Guard(net, mapping, reference, bool(aux),
                                                           params)
             history = _History()
