@@ -143,7 +143,9 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
     pyvista.StructuredGrid
         Dimensions ``(ni, nj, 1)``; cell data ``MaxIncludedAngle``, ``MinIncludedAngle``
         (degrees), ``ScaledJacobian``, ``Folded``; field data ``Method``, ``Report`` (JSON),
-        quality figures and ``Loss_<term>`` histories.
+        quality figures, per side ``FirstEdge_<side>`` (min, median, max),
+        ``WallAngleDeviation_<side>`` and ``GrowthRatio_<side>``, and ``Loss_<term>``
+        histories.
 
     Warns
     -----
