@@ -67,7 +67,7 @@ def _check_inside(line: Polyline, boundary: Boundary, name: str) -> None:
 
 def map_line(raw: RawLine, boundary: Boundary, end_tol: float = END_TOL) -> AuxLine:
     """Computational coordinates of an auxiliary line by the rule of SPEC 2."""
-    pts = boundary.frame.to_unit(raw.points)
+    pts = boundary.frame.to_unit(boundary.plane.to_plane(raw.points, raw.name))
     if raw.xi_eta is not None:
         xe = np.asarray(raw.xi_eta, dtype=float)
         if not np.all(np.isfinite(xe)) or xe.min() < 0 or xe.max() > 1:

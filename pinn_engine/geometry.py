@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from .errors import InputError
+from .plane import Plane
 
 SIDES = ("bottom", "right", "top", "left")
 
@@ -323,17 +324,26 @@ class Boundary:
 
     ring: np.ndarray
     corners: tuple[int, int, int, int]
-    frame: Frame
+    frame: Frame  # user's in-plane (u, v) <-> working frame
     source: str | None = None
+    plane: Plane = field(default_factory=Plane.horizontal)  # user's 3D <-> in-plane (u, v)
 
     @classmethod
     def from_points(cls, points: np.ndarray, corners: tuple[int, ...] | None = None,
                     source: str | None = None) -> Boundary:
         """Validate user points, find the corners and apply the side convention of SPEC 1.
 
-        ``corners`` are indices into ``points`` as given (closing point excluded).
+        ``corners`` are indices into ``points`` as given (closing point excluded). Points
+        (n, 3) may lie in any plane: the ring is meshed in the plane's own (u, v).
         """
         raw = np.asarray(points, dtype=float)
+        plane = Plane.horizontal()
+        if raw.ndim == 2 and raw.shape[1] == 3:
+            if np.isfinite(raw).all():  # (non-finite points are refused below, by index)
+                plane = Plane.fit(raw, source)
+                raw = plane.to_plane(raw, source)
+            else:
+                raw = raw[:, :2]
         if raw.ndim == 2 and len(raw) > 1 and np.array_equal(raw[0], raw[-1]):
             raw = raw[:-1]
         marked = None
@@ -361,7 +371,8 @@ class Boundary:
         start = int(idx[key[0]])
         unit = np.roll(unit, -start, axis=0)
         idx = np.sort((idx - start) % len(unit))
-        return cls(ring=unit, corners=tuple(int(i) for i in idx), frame=frame, source=source)
+        return cls(ring=unit, corners=tuple(int(i) for i in idx), frame=frame, source=source,
+                   plane=plane)
 
     @property
     def diagonal(self) -> float:

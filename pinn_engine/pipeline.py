@@ -48,4 +48,4 @@ def aux_from_polydata(polys: Sequence[vtkPolyData], boundary: Boundary) -> list[
 def to_vtk(result: MeshResult) -> vtkStructuredGrid:
     """The output grid of SPEC 3 for a mesh result."""
     return structured_grid(np.asarray(result.points), result.report, result.history,
-                           result.cells or None)
+                           result.cells or None, result.points3d)

@@ -5,6 +5,10 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+import numpy as np
+
+from .plane import in_plane_axes
+
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 
 
@@ -26,7 +30,11 @@ def render_png(grid, path: str | os.PathLike, scalars: str = "MaxIncludedAngle",
             plotter.add_mesh(pv.wrap(extra), color=color, line_width=3)
     if title:
         plotter.add_text(title, font_size=12, color="black")
-    plotter.view_xy()
+    normal = np.linalg.svd(mesh.points - mesh.points.mean(axis=0), full_matrices=False)[2][2]
+    if abs(normal[2]) > 1 - 1e-9:  # a grid in a plane z = const
+        plotter.view_xy()
+    else:  # look at the grid's own plane, its v axis up
+        plotter.view_vector(normal, viewup=in_plane_axes(normal)[1])
     plotter.camera.zoom(1.1)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)

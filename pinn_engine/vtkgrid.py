@@ -27,8 +27,10 @@ def _add_string(fd, name: str, text: str) -> None:
 
 def structured_grid(points: np.ndarray, report: dict | None = None,
                     history: dict[str, list[float]] | None = None,
-                    cells: dict[str, np.ndarray] | None = None) -> vtkStructuredGrid:
-    """A grid of dimensions (ni, nj, 1) from ``points`` (nj, ni, 2), with quality arrays.
+                    cells: dict[str, np.ndarray] | None = None,
+                    xyz: np.ndarray | None = None) -> vtkStructuredGrid:
+    """A grid of dimensions (ni, nj, 1) from ``points`` (nj, ni, 2), with quality arrays;
+    ``xyz`` (nj, ni, 3), when given, are the points in the user's 3D frame (default z = 0).
 
     Cell data: ``MaxIncludedAngle``, ``MinIncludedAngle`` (degrees, as vtkMeshQuality),
     ``ScaledJacobian`` and ``Folded`` (0/1), computed unless given as ``cells``. Field data:
@@ -38,9 +40,10 @@ def structured_grid(points: np.ndarray, report: dict | None = None,
     nj, ni = points.shape[:2]
     grid = vtkStructuredGrid()
     grid.SetDimensions(ni, nj, 1)
-    xyz = np.column_stack([points.reshape(-1, 2), np.zeros(ni * nj)])
+    if xyz is None:
+        xyz = np.column_stack([points.reshape(-1, 2), np.zeros(ni * nj)])
     pts = vtkPoints()
-    pts.SetData(numpy_to_vtk(np.ascontiguousarray(xyz), deep=True))
+    pts.SetData(numpy_to_vtk(np.ascontiguousarray(xyz, dtype=float).reshape(-1, 3), deep=True))
     grid.SetPoints(pts)
     cells = cell_quality(points) if cells is None else cells
     for name, values in cells.items():

@@ -76,7 +76,7 @@ def example_ring(rng) -> np.ndarray:
     from pinn_engine.fileio import read_boundary_points
 
     name = rng.choice(["wavy", "fig2", "concave"])
-    return read_boundary_points(EXAMPLES / f"{name}.vtp")
+    return read_boundary_points(EXAMPLES / f"{name}.vtp")[:, :2]
 
 
 def circle_ring(rng) -> np.ndarray:

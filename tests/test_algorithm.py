@@ -270,7 +270,7 @@ def test_corners_and_choices():
     from pinn_engine.fileio import read_boundary_points
     from pinn_engine.geometry import detect_corners
 
-    ring = read_boundary_points(EXAMPLES / "wavy.vtp")
+    ring = read_boundary_points(EXAMPLES / "wavy.vtp")[:, :2]
     alg.SetCorners(*(int(i) for i in detect_corners(ring)))
     alg.Update()
     np.testing.assert_allclose(points(alg), auto, atol=1e-12)

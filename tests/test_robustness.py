@@ -229,8 +229,8 @@ BAD_BOUNDARIES = {
                           "self-intersecting"),
     "repeated point": (ring_with(_repeated_point), "repeated further along"),
     "zero-width spike": (ring_with(_spike), "doubles back|self-intersecting"),
-    "non-constant z": (lambda d: _write_z(d, lambda n: np.arange(n, dtype=float)),
-                       "z is not constant"),
+    "not planar": (lambda d: _write_z(d, lambda n: np.arange(n, dtype=float)),
+                   "is not planar: its points lie up to .* off their best-fit plane"),
     "NaN z": (lambda d: _write_z(d, lambda n: np.where(np.arange(n) == 2, np.nan, 0.0)),
               "point 2 has a non-finite z"),
 }
