@@ -162,10 +162,12 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
 
     # ---- ports -------------------------------------------------------------------------
     def FillInputPortInformation(self, port, info):
+        """Port 0: the boundary, or the boundary and auxiliary lines together (ParaView's
+        GUI connects every selected source there); port 1: more auxiliary lines."""
         info.Set(self.INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData")
+        info.Set(self.INPUT_IS_REPEATABLE(), 1)
         if port == 1:
             info.Set(self.INPUT_IS_OPTIONAL(), 1)
-            info.Set(self.INPUT_IS_REPEATABLE(), 1)
         return 1
 
     # ---- settings ----------------------------------------------------------------------
@@ -349,21 +351,20 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
 
     def _execute(self, inInfo) -> tuple[vtkStructuredGrid, str | None]:
         """The grid and the warning about its folded cells (None when none is folded)."""
-        from .pipeline import aux_from_polydata, boundary_from_polydata, to_vtk
+        from .pipeline import aux_from_polydata, boundary_from_polydata, split_inputs, to_vtk
 
         settings = self.GetSettings()
         ni, nj = self._size
         problem = grid_size_problem(ni, nj)
         if problem:
             raise ValueError(f"Grid Size {ni} {nj}: {problem}")
-        boundary_poly = vtkPolyData.GetData(inInfo[0], 0)
-        if boundary_poly is None or boundary_poly.GetNumberOfPoints() == 0:
-            raise PinnMeshError("boundary input: is empty; connect a closed polyline")
+        inputs = [vtkPolyData.GetData(inInfo[0], k)
+                  for k in range(inInfo[0].GetNumberOfInformationObjects())]
+        boundary_poly, aux_polys = split_inputs(inputs)
         boundary = boundary_from_polydata(boundary_poly, self._corners, source="boundary input")
-        aux_polys = []
         if len(inInfo) > 1:
-            aux_polys = [vtkPolyData.GetData(inInfo[1], k)
-                         for k in range(inInfo[1].GetNumberOfInformationObjects())]
+            aux_polys += [vtkPolyData.GetData(inInfo[1], k)
+                          for k in range(inInfo[1].GetNumberOfInformationObjects())]
         aux_lines = aux_from_polydata(aux_polys, boundary)
         self._progress(0.0, "training" if settings.method in ("pinn", "mgnet") else "meshing")
         mesher, self._trained = self._cache.fitted(boundary, aux_lines, settings,

@@ -9,7 +9,15 @@ import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 
 from .auxlines import AuxLine, map_lines
-from .fileio import RawLine, aux_lines_of, boundary_points, read_aux_lines, read_boundary_points
+from .errors import InputError
+from .fileio import (
+    RawLine,
+    aux_lines_of,
+    boundary_points,
+    polylines_of,
+    read_aux_lines,
+    read_boundary_points,
+)
 from .geometry import Boundary
 from .mesher import MeshResult
 from .vtkgrid import structured_grid
@@ -34,6 +42,22 @@ def boundary_from_polydata(poly: vtkPolyData, corners: Sequence[int] | None = No
     """Validate the boundary held by a ``vtkPolyData`` (e.g. a filter's input port 0)."""
     pts = boundary_points(poly, source)
     return Boundary.from_points(pts, tuple(corners) if corners else None, source=source)
+
+
+def split_inputs(polys: Sequence[vtkPolyData | None]) -> tuple[vtkPolyData, list[vtkPolyData]]:
+    """The boundary and the auxiliary lines among inputs connected together: the one input
+    holding a closed curve is the boundary, the others hold open auxiliary lines."""
+    polys = [p for p in polys if p is not None and p.GetNumberOfPoints()]
+    if not polys:
+        raise InputError("is empty; connect a closed polyline", "boundary input")
+    if len(polys) == 1:
+        return polys[0], []
+    closed = [p for p in polys if any(c for _, c in polylines_of(p, "input"))]
+    if len(closed) != 1:
+        raise InputError(f"{len(closed)} of the {len(polys)} connected inputs hold a closed "
+                         "curve; connect one closed boundary, and open polylines as auxiliary "
+                         "lines", "boundary input")
+    return closed[0], [p for p in polys if p is not closed[0]]
 
 
 def aux_from_polydata(polys: Sequence[vtkPolyData], boundary: Boundary) -> list[AuxLine]:

@@ -60,9 +60,13 @@ def _doc(text):
                    "side (several polylines per input and several inputs both work). Used "
                    "by the pinn method only."))
 @smhint.xml("<Optional/>")
-@smproperty.input(name="Input", port_index=0)
+@smproperty.input(name="Input", port_index=0, multiple_input=True,
+                  clean_command="RemoveAllBoundaryInputs")
 @smdomain.datatype(dataTypes=["vtkPolyData"], composite_data_supported=False)
-@smdomain.xml(_doc("The closed boundary: one closed polyline or polygon with four corners."))
+@smdomain.xml(_doc("The closed boundary: one closed polyline or polygon with four corners. "
+                   "Select it together with sources of open auxiliary lines and apply the "
+                   "filter: the closed curve is taken as the boundary, the open ones as "
+                   "auxiliary lines."))
 @smproperty.xml(_doc("Structured quadrilateral grid of a four-sided 2D domain from a "
                      "physics-informed neural network (pinn), with MGNet, transfinite "
                      "interpolation and elliptic baselines. Cells are coloured by their "
@@ -70,9 +74,12 @@ def _doc(text):
 class PINNStructuredMesh(PinnMeshAlgorithm):
     """The ParaView face of :class:`pinn_engine.algorithm.PinnMeshAlgorithm`."""
 
+    def RemoveAllBoundaryInputs(self):
+        # clean commands of the two repeatable inputs: the decorator's default,
+        # RemoveAllInputs, would also disconnect the other port
+        self.RemoveAllInputConnections(0)
+
     def RemoveAllAuxiliaryLines(self):
-        # clean command of the repeatable AuxiliaryLines input: the decorator's default,
-        # RemoveAllInputs, would also disconnect the boundary on port 0
         self.RemoveAllInputConnections(1)
 
     @smproperty.intvector(name="Method", default_values=0)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 
@@ -292,3 +293,25 @@ def test_import_needs_no_torch_nor_pyvista():
     out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True,
                          timeout=120, check=True).stdout
     assert out.strip() == "[]"
+
+
+def test_inputs_connected_together_are_told_apart():
+    """ParaView's GUI connects every selected source to port 0: the closed curve is the
+    boundary, the open polylines are auxiliary lines; two closed curves are an error."""
+    together = PinnMeshAlgorithm()
+    connect(together, 0, reader("fig2_aux.vtp"), add=True)
+    connect(together, 0, reader("fig2.vtp"), add=True)
+    for name, value in SHORT.items():
+        together.SetSetting(name, value)
+    together.Update()
+    apart = make_alg()
+    apart.Update()
+    np.testing.assert_allclose(points(together), points(apart), atol=1e-9)
+    report = json.loads(together.GetOutput().GetFieldData().GetAbstractArray("Report").GetValue(0))
+    assert len(report["aux_lines"]) == 2
+    two = PinnMeshAlgorithm()
+    connect(two, 0, reader("fig2.vtp"), add=True)
+    connect(two, 0, reader("wavy.vtp"), add=True)
+    two.Update()
+    assert two.GetOutput().GetNumberOfPoints() == 0
+    assert "2 of the 2 connected inputs hold a closed curve" in two.GetLastError()

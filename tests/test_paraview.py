@@ -111,6 +111,12 @@ def test_aux_lines_as_several_inputs(filter_run):
     assert filter_run["two_inputs_max_diff"] < 1e-9  # same lines, same seed: same grid
 
 
+def test_boundary_and_aux_lines_selected_together(filter_run):
+    # the GUI connects every selected source to Input: the closed one is the boundary
+    assert filter_run["both_on_input"]["trained"] == 1
+    assert filter_run["both_on_input_max_diff"] < 1e-9
+
+
 def test_bad_boundary_gives_empty_output_and_one_message(filter_run):
     assert filter_run["bad"] == {"points": 0, "class": "vtkStructuredGrid"}
     messages = [ln for ln in filter_run["bad_vtk_text"].splitlines() if ln.strip()]
