@@ -30,8 +30,11 @@ warning: N of M cells are folded ...`` (a hint in the words of the ParaView pane
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
+import signal
 import sys
+import threading
 from collections import OrderedDict
 from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING
@@ -159,6 +162,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         self._last_warning = ""
         self._trained = False
         self._failed: tuple | None = None  # stamp of the inputs/settings of a failed update
+        self._stop_signal: int | None = None  # a stop signal received during training
 
     # ---- ports -------------------------------------------------------------------------
     def FillInputPortInformation(self, port, info):
@@ -367,8 +371,9 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
                           for k in range(inInfo[1].GetNumberOfInformationObjects())]
         aux_lines = aux_from_polydata(aux_polys, boundary)
         self._progress(0.0, "training" if settings.method in ("pinn", "mgnet") else "meshing")
-        mesher, self._trained = self._cache.fitted(boundary, aux_lines, settings,
-                                                   self._training_progress(settings))
+        with self._stop_on_signal():
+            mesher, self._trained = self._cache.fitted(boundary, aux_lines, settings,
+                                                       self._training_progress(settings))
         self._progress(0.95, "meshing")
         result = mesher.predict(*self._size)
         grid = to_vtk(result)
@@ -400,10 +405,34 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         self.UpdateProgress(fraction)
 
     def _abort_requested(self) -> bool:
+        if self._stop_signal:
+            return True
         check = getattr(self, "CheckAbort", None)  # VTK 9.4+
         if check is not None and check():
             return True
         return bool(self.GetAbortExecute())
+
+    @contextlib.contextmanager
+    def _stop_on_signal(self):
+        """While training, SIGUSR1 (``pkill -USR1 -x paraview``) stops the training instead of
+        the host process: ParaView 5.11 handles no GUI event while a filter runs, so its abort
+        button cannot. Only where SIGUSR1 has its default action or a Python handler, which is
+        put back afterwards (the host is left as it was); main thread only."""
+        self._stop_signal = None
+        usr1 = getattr(signal, "SIGUSR1", None)
+        previous = signal.getsignal(usr1) if usr1 is not None else None
+        if previous is None or threading.current_thread() is not threading.main_thread():
+            yield  # a handler installed outside Python, or no main thread: leave it alone
+            return
+
+        def stop(signum, frame):  # noqa: ARG001
+            self._stop_signal = signum
+
+        signal.signal(usr1, stop)
+        try:
+            yield
+        finally:
+            signal.signal(usr1, previous)
 
     def _report_error(self, message: str) -> None:
         line = f"{LABEL}: {' '.join(str(message).split())}"

@@ -315,3 +315,22 @@ def test_inputs_connected_together_are_told_apart():
     two.Update()
     assert two.GetOutput().GetNumberOfPoints() == 0
     assert "2 of the 2 connected inputs hold a closed curve" in two.GetLastError()
+
+
+def test_sigusr1_stops_a_training_and_the_handler_is_restored():
+    """ParaView 5.11 runs no GUI event during a filter: ``pkill -USR1 -x paraview`` stops it."""
+    import os
+    import signal
+    import threading
+
+    alg = make_alg(adam_epochs=200_000, lbfgs_iterations=0, warm_start="none")
+    before = signal.getsignal(signal.SIGUSR1)
+    timer = threading.Timer(3.0, os.kill, (os.getpid(), signal.SIGUSR1))
+    timer.start()
+    try:
+        alg.Update()
+    finally:
+        timer.cancel()
+    assert alg.GetOutput().GetNumberOfPoints() == 0
+    assert "training cancelled during adam" in alg.GetLastError()
+    assert signal.getsignal(signal.SIGUSR1) == before
