@@ -91,8 +91,9 @@ ROUTE_WORDS = {
         "patch": "Patch Names (bottom right top left, or SIDE=NAME)",
         "extrude": "Extrude Thickness",
         "output": "File > Save Data with a PINN Mesh file type",
-        "h5py": "give ParaView's Python h5py (bash scripts/setup_paraview.sh puts it in "
-                ".venv-pv)",
+        "h5py": "ParaView's HDF5 clashes with pip's h5py, so the writer runs the "
+                "checkout's .venv Python: make it with bash scripts/setup.sh (or set "
+                "PINN_MESH_PYTHON to a Python with h5py)",
     },
 }
 _HANDED_OVER = {"cli": "written", "pyvista": "returned", "paraview": "produced"}

@@ -90,7 +90,7 @@ def output_format(path: str | os.PathLike, fmt: str | None = None,
             raise InputError(f"extrusion thickness {extrude}: must be a number > 0 "
                              "({extrude})", str(path))
     if found.key == "cgns":
-        cgns._h5py()
+        cgns.check()
     return found
 
 

@@ -15,6 +15,8 @@ order (so an array of Fortran shape (ni, nj) is an HDF5 dataset of shape (nj, ni
 
 from __future__ import annotations
 
+import os
+import subprocess
 import sys
 from pathlib import Path
 
@@ -24,18 +26,72 @@ from .block import Block
 from .patches import FRONT_AND_BACK
 from .topology import index_range
 
+ROOT = Path(__file__).resolve().parents[2]  # the checkout (its .venv: the helper Python)
+
 _TYPES = {np.dtype(np.int32): "I4", np.dtype(np.float32): "R4", np.dtype(np.float64): "R8"}
 
 
+_H5PY: list = []  # [module or None]: h5py, once imported and found usable
+
+
 def _h5py():
-    try:
-        import h5py
-    except ImportError:
+    """h5py, or None where it is missing or unusable. Inside Debian's ParaView a pip h5py
+    finds ParaView's HDF5 already loaded and fails (version clash), hence the helper."""
+    if not _H5PY:
+        try:
+            import h5py
+
+            usable = h5py.version.hdf5_version_tuple == h5py.version.hdf5_built_version_tuple
+        except Exception:  # ImportError, or a clash of HDF5 libraries at import
+            h5py, usable = None, False
+        _H5PY.append(h5py if usable else None)
+    return _H5PY[0]
+
+
+def _helper_python() -> str | None:
+    """A Python with a working h5py to write CGNS for this one (ParaView's): the variable
+    ``PINN_MESH_PYTHON``, else the checkout's ``.venv`` (``scripts/setup.sh``)."""
+    given = os.environ.get("PINN_MESH_PYTHON")
+    candidate = Path(given) if given else ROOT / ".venv" / "bin" / "python"
+    if os.access(candidate, os.X_OK) and candidate.resolve() != Path(sys.executable).resolve():
+        return str(candidate)
+    return None
+
+
+def check() -> None:
+    """Refuse (one line) where CGNS cannot be written: no h5py and no helper Python."""
+    if _h5py() is None and _helper_python() is None:
         from ..errors import InputError
 
-        raise InputError("writing CGNS needs the h5py package, which this Python lacks; "
-                         "{h5py}", "cgns") from None
-    return h5py
+        raise InputError("writing CGNS needs a working h5py, which this Python lacks; "
+                         "{h5py}", "cgns")
+
+
+def _write_in_helper(block: Block, path: Path) -> None:
+    python = _helper_python()
+    if python is None:
+        check()
+    data = path.with_name(path.name + ".npz")
+    try:
+        np.savez(data, points=block.points, names=np.array(block.names),
+                 thickness=np.array(np.nan if block.thickness is None else block.thickness))
+        env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME")}
+        env["PYTHONPATH"] = str(ROOT)
+        proc = subprocess.run([python, "-m", "pinn_engine.export.cgns", str(data), str(path)],
+                              env=env, capture_output=True, text=True, timeout=3600)
+    finally:
+        data.unlink(missing_ok=True)
+    if proc.returncode != 0:
+        last = (proc.stderr.strip().splitlines() or ["no message"])[-1]
+        raise OSError(f"the CGNS helper ({python}) failed: {last}")
+
+
+def _main() -> None:
+    """``python -m pinn_engine.export.cgns DATA.npz OUT.cgns`` (the helper's side)."""
+    data = np.load(sys.argv[1])
+    thickness = float(data["thickness"])
+    write(Block(data["points"], tuple(str(n) for n in data["names"]),
+                None if np.isnan(thickness) else thickness), Path(sys.argv[2]))
 
 
 def _attr(node, key: str, text: str, size: int) -> None:
@@ -67,6 +123,9 @@ def _bc_name(name: str, side: str, shared: bool) -> str:
 
 def write(block: Block, path: Path) -> None:
     h5py = _h5py()
+    if h5py is None:
+        _write_in_helper(block, path)
+        return
     xyz = block.layers()
     nk, nj, ni = xyz.shape[:3]
     three_d = nk > 1
@@ -109,3 +168,7 @@ def write(block: Block, path: Path) -> None:
         for name in ranges:
             family = _node(base, name, "Family_t")
             _node(family, "FamilyBC", "FamilyBC_t", "BCTypeUserDefined")
+
+
+if __name__ == "__main__":
+    _main()
