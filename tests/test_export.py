@@ -42,11 +42,7 @@ def grid():
 @pytest.fixture(scope="module")
 def reference(grid, tmp_path_factory) -> np.ndarray:
     """The nodes (nj * ni, 3) as written to and read back from a .vts."""
-    path = save_mesh(grid, tmp_path_factory.mktemp("vts") / "grid.vts")
-    reader = vtkXMLStructuredGridReader()
-    reader.SetFileName(str(path))
-    reader.Update()
-    return vtk_to_numpy(reader.GetOutput().GetPoints().GetData()).astype(float)
+    return read_vts(save_mesh(grid, tmp_path_factory.mktemp("vts") / "grid.vts"))
 
 
 def extruded(ref: np.ndarray) -> np.ndarray:
@@ -87,11 +83,21 @@ def test_vtk_formats_keep_patches_and_indices(grid, reference, tmp_path, ext):
     assert vtk_to_numpy(out.GetPointData().GetArray("i")).max() == NI - 1
 
 
+def read_vts(path: Path) -> np.ndarray:
+    reader = vtkXMLStructuredGridReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    return vtk_to_numpy(reader.GetOutput().GetPoints().GetData()).astype(float)
+
+
 @pytest.mark.parametrize("thickness", [None, T])
 def test_plot3d_read_by_vtk(grid, reference, tmp_path, thickness):
+    check_plot3d(save_mesh(grid, tmp_path / "g.xyz", extrude=thickness), reference, thickness)
+
+
+def check_plot3d(path: Path, reference: np.ndarray, thickness: float | None) -> None:
     from vtkmodules.vtkIOParallel import vtkMultiBlockPLOT3DReader
 
-    path = save_mesh(grid, tmp_path / "g.xyz", extrude=thickness)
     reader = vtkMultiBlockPLOT3DReader()  # explicit: multi-grid, whole, double, byte counts
     reader.SetXYZFileName(str(path))
     reader.AutoDetectFormatOff()
@@ -110,10 +116,14 @@ def test_plot3d_read_by_vtk(grid, reference, tmp_path, thickness):
 
 @pytest.mark.parametrize("thickness", [None, T])
 def test_cgns_read_by_vtk_and_h5py(grid, reference, tmp_path, thickness):
-    h5py = pytest.importorskip("h5py")
+    pytest.importorskip("h5py")
+    check_cgns(save_mesh(grid, tmp_path / "g.cgns", extrude=thickness), reference, thickness)
+
+
+def check_cgns(path: Path, reference: np.ndarray, thickness: float | None) -> None:
+    import h5py
     from vtkmodules.vtkIOCGNSReader import vtkCGNSReader
 
-    path = save_mesh(grid, tmp_path / "g.cgns", extrude=thickness)
     reader = vtkCGNSReader()
     reader.SetFileName(str(path))
     reader.UpdateInformation()
@@ -182,7 +192,11 @@ def read_su2(path: Path) -> dict:
 
 
 def test_su2_parsed(grid, reference, tmp_path):
-    mesh = read_su2(save_mesh(grid, tmp_path / "g.su2"))
+    check_su2(save_mesh(grid, tmp_path / "g.su2"), reference)
+
+
+def check_su2(path: Path, reference: np.ndarray) -> None:
+    mesh = read_su2(path)
     assert mesh["ndime"] == 2
     assert mesh["elems"].shape == ((NI - 1) * (NJ - 1), 6) and set(mesh["elems"][:, 0]) == {9}
     np.testing.assert_array_equal(mesh["points"], reference[:, :2])
@@ -199,8 +213,13 @@ def test_su2_parsed(grid, reference, tmp_path):
 
 @pytest.mark.parametrize("thickness", [None, T])
 def test_gmsh_read_by_gmsh(grid, reference, tmp_path, thickness):
-    gmsh = pytest.importorskip("gmsh")
-    path = save_mesh(grid, tmp_path / "g.msh", extrude=thickness)
+    pytest.importorskip("gmsh")
+    check_gmsh(save_mesh(grid, tmp_path / "g.msh", extrude=thickness), reference, thickness)
+
+
+def check_gmsh(path: Path, reference: np.ndarray, thickness: float | None) -> None:
+    import gmsh
+
     assert path.read_text().startswith("$MeshFormat\n4.1 0 8\n")
     gmsh.initialize(["-noenv"], readConfigFiles=False)
     try:
@@ -242,11 +261,15 @@ def foam_list(path: Path) -> list[str]:
 
 
 def test_openfoam_case(grid, reference, tmp_path):
-    case = save_mesh(grid, tmp_path / "case", "openfoam", extrude=T)
+    check_openfoam(save_mesh(grid, tmp_path / "case", "openfoam", extrude=T), reference)
+
+
+def check_openfoam(case: Path, reference: np.ndarray) -> None:
+    """Files, nodes, patches; then checkMesh (skipped, after the rest, when missing)."""
     mesh = case / "constant" / "polyMesh"
     assert sorted(p.name for p in mesh.iterdir()) == ["boundary", "faces", "neighbour",
                                                       "owner", "points"]
-    assert (case / "case.foam").exists() and (case / "system" / "controlDict").exists()
+    assert (case / f"{case.name}.foam").exists() and (case / "system" / "controlDict").exists()
     points = np.array([ln.strip("()").split() for ln in foam_list(mesh / "points")], float)
     np.testing.assert_allclose(points, extruded(reference), atol=1e-12)
     boundary = (mesh / "boundary").read_text()
