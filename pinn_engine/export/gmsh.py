@@ -21,6 +21,7 @@ import numpy as np
 
 from .block import Block
 from .patches import FRONT_AND_BACK
+from .text import write_rows
 from .topology import end_faces, hexes, quads, side_edges, side_faces
 
 FLUID = "fluid"
@@ -113,8 +114,8 @@ def write(block: Block, path: Path) -> None:
         f.write("\n".join(lines) + "\n")
         for state, ids in blocks:
             f.write(f"{state.count(1)} {tags[state]} 0 {len(ids)}\n")
-            np.savetxt(f, ids + 1, fmt="%d")
-            np.savetxt(f, coords[ids], fmt="%.17g")
+            write_rows(f, ids + 1, "%d")
+            write_rows(f, coords[ids], "%.17g %.17g %.17g")
         f.write("$EndNodes\n")
         volume = hexes(ni, nj) if three_d else quads(ni, nj)
         element_blocks = [((1,) * dim, 5 if three_d else 3, volume)]
@@ -126,8 +127,8 @@ def write(block: Block, path: Path) -> None:
         first = 1
         for state, kind, elems in element_blocks:
             f.write(f"{state.count(1)} {tags[state]} {kind} {len(elems)}\n")
-            np.savetxt(f, np.column_stack([np.arange(first, first + len(elems)), elems + 1]),
-                       fmt="%d")
+            rows = np.column_stack([np.arange(first, first + len(elems)), elems + 1])
+            write_rows(f, rows, " ".join(["%d"] * rows.shape[1]))
             first += len(elems)
         f.write("$EndElements\n")
 

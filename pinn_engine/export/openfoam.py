@@ -17,6 +17,7 @@ import numpy as np
 
 from .block import Block
 from .patches import FRONT_AND_BACK
+from .text import write_rows
 from .topology import end_faces, quads, side_cells, side_faces
 
 _HEADER = """FoamFile
@@ -58,12 +59,8 @@ def _write_list(path: Path, cls: str, rows: np.ndarray, note: str = "") -> None:
     with open(path, "w") as f:
         f.write(_header(cls, path.name).replace("    object", f"{note}    object"))
         f.write(f"\n{len(rows)}\n(\n")
-        if cls == "vectorField":
-            np.savetxt(f, rows, fmt="(%.17g %.17g %.17g)")
-        elif cls == "faceList":
-            np.savetxt(f, rows, fmt="4(%d %d %d %d)")
-        else:
-            np.savetxt(f, rows, fmt="%d")
+        fmt = {"vectorField": "(%.17g %.17g %.17g)", "faceList": "4(%d %d %d %d)"}
+        write_rows(f, rows, fmt.get(cls, "%d"))
         f.write(")\n")
 
 

@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from .block import Block
+from .text import write_rows
 from .topology import quads, side_edges
 
 
@@ -20,15 +21,14 @@ def write(block: Block, path: Path) -> None:
     with open(path, "w") as f:
         f.write("% SU2 mesh written by pinn-mesh\nNDIME= 2\n")
         f.write(f"NELEM= {len(cells)}\n")
-        rows = np.column_stack([np.full(len(cells), 9), cells, np.arange(len(cells))])
-        np.savetxt(f, rows, fmt="%d")
+        write_rows(f, np.column_stack([cells, np.arange(len(cells))]), "9 %d %d %d %d %d")
         f.write(f"NPOIN= {ni * nj}\n")
         xy = block.points.reshape(-1, 3)[:, :2]
-        for k, (x, y) in enumerate(xy.tolist()):
-            f.write(f"{x!r} {y!r} {k}\n")
+        write_rows(f, np.column_stack([xy, np.arange(len(xy))]),
+                   "%.17g %.17g %d")
         patches = block.patches()
         f.write(f"NMARK= {len(patches)}\n")
         for name, sides in patches.items():
             edges = np.vstack([side_edges(ni, nj, s) for s in sides])
             f.write(f"MARKER_TAG= {name}\nMARKER_ELEMS= {len(edges)}\n")
-            np.savetxt(f, np.column_stack([np.full(len(edges), 3), edges]), fmt="%d")
+            write_rows(f, edges, "3 %d %d")
