@@ -1,7 +1,7 @@
 """CGNS (``.cgns``) in its HDF5 layout, through ``h5py``.
 
-The tree is small and fixed, so it is written node by node rather than through the CGNS
-library (whose Python bindings, pyCGNS, are not on PyPI as wheels): one ``CGNSBase_t``,
+The tree is small and fixed, so it is written node by node rather than through a binding
+of the CGNS C library: one ``CGNSBase_t``,
 one structured ``Zone_t`` with ``GridCoordinates`` (double), ``ZoneBC`` with one ``BC_t``
 per side as a vertex ``PointRange`` (``FamilySpecified``, ``FamilyName`` = the patch name),
 and one ``Family_t`` per patch (sides with one name share the family). Extruded grids are
