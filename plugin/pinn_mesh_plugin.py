@@ -8,6 +8,10 @@ but that Python needs numpy, scipy, scikit-learn and (for training) torch: start
 with ``scripts/pvenv.sh paraview`` (which also puts the ``getargspec`` shim that Debian's
 ParaView 5.11 needs on PYTHONPATH; see README).
 
+It also registers File > Save Data writers for the filter's output (``pinn_engine.export``):
+PLOT3D, CGNS with boundary conditions, SU2, Gmsh 4.1 and OpenFOAM, each using the grid's
+Patch Names (docs/export.md).
+
 Property order: ParaView 5.11 lists a Python plugin's properties alphabetically by method
 name, so the methods below carry a numeric prefix (``P01...``) that keeps the panel in the
 intended order in every version.

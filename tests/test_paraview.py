@@ -147,8 +147,14 @@ def test_plugin_folder_holds_only_the_plugin():
 def test_save_data_offers_the_solver_formats_and_writes_them(checkout, tmp_path):
     """File > Save Data: the PINN Mesh file types for the filter's output, each read back
     by the readers of tests/test_export.py against ParaView's own .vts of the grid."""
-    from test_export import (check_cgns, check_gmsh, check_openfoam, check_plot3d, check_su2,
-                             read_vts)
+    from test_export import (
+        check_cgns,
+        check_gmsh,
+        check_openfoam,
+        check_plot3d,
+        check_su2,
+        read_vts,
+    )
 
     helper = ROOT / ".venv" / "bin" / "python"  # CGNS: ParaView's HDF5 clashes with h5py's
     result = run_pvpython(checkout, "check_writers.py", str(checkout / "example_data"),
