@@ -334,6 +334,18 @@ def test_failing_openfoam_writer_keeps_the_previous_mesh(grid, tmp_path, monkeyp
     assert sorted(p.name for p in (case / "constant").iterdir()) == ["polyMesh"]
 
 
+def test_clockwise_or_3d_grids_are_refused(grid, tmp_path):
+    import pyvista as pv
+
+    flipped = pv.StructuredGrid(grid.x[::-1], grid.y[::-1], grid.z[::-1])  # i reversed
+    with pytest.raises(InputError, match=r"^grid: the grid's boundary does not run counter"):
+        save_mesh(flipped, tmp_path / "g.su2")
+    with pytest.raises(InputError, match=r"expected a 2D structured grid"):
+        save_mesh(pv.ImageData(dimensions=(3, 3, 3)).cast_to_structured_grid(),
+                  tmp_path / "g.msh")
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_cli_writes_each_format_with_patches(tmp_path, capsys):
     boundary = str(EXAMPLES / "fig2.vtp")
     common = [boundary, "--method", "tfi", "--size", "9", "5", "--quiet",

@@ -39,7 +39,7 @@ from ..fileio import atomic_path, write_text_atomic
 from . import cgns, gmsh, openfoam, plot3d, su2, vtkfiles
 from .block import Block
 from .patches import FIELD, SIDES, add_to_grid, of_grid, parse_patch_options, patch_names
-from .topology import mean_edge
+from .topology import mean_edge, side_nodes
 
 
 @dataclass(frozen=True)
@@ -103,8 +103,14 @@ def grid_points(grid: vtkStructuredGrid) -> np.ndarray:
     if nk != 1 or min(ni, nj) < 2:
         raise InputError(f"expected a 2D structured grid of (ni, nj, 1) nodes, got "
                          f"({ni}, {nj}, {nk})", "grid")
-    pts = vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64)
-    return pts.reshape(nj, ni, 3)
+    pts = vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64).reshape(nj, ni, 3)
+    ring = pts.reshape(-1, 3)[np.concatenate([side_nodes(ni, nj, s)[:-1] for s in SIDES])]
+    x, y = ring[:, 0], ring[:, 1]
+    if np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y) <= 0:  # shoelace: clockwise or flat
+        raise InputError("the grid's boundary does not run counter-clockwise in the x-y "
+                         "plane along i, then j (SPEC 3); the writers orient cells and "
+                         "patches by it: reverse its i or j direction first", "grid")
+    return pts
 
 
 def write(grid: vtkStructuredGrid, path: str | os.PathLike, fmt: str | None = None, *,
