@@ -147,6 +147,8 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
       ``SetCorners(None)`` or any negative index: automatic detection
     * ``SetSetting(name, value)``: any other field of ``pinn_engine.settings.Settings``
       (e.g. ``"device"``, ``"boundary"``, ``"elliptic_iterations"``)
+    * ``SetPatchNames(names)``: boundary patch names (four names bottom right top left, or
+      ``SIDE=NAME`` items, as a string, sequence or mapping); field data ``PatchNames``
     """
 
     def __init__(self) -> None:
@@ -157,6 +159,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         self._size = (41, 21)
         self._overrides: dict[str, object] = {}
         self._corners: tuple[int, int, int, int] | None = None
+        self._patches = ""  # as given; checked at the update (default names when empty)
         self._cache = MeshCache()
         self._last_error = ""
         self._last_warning = ""
@@ -260,6 +263,17 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
     def GetCorners(self) -> tuple[int, int, int, int] | None:
         return self._corners
 
+    def SetPatchNames(self, names) -> None:
+        if not isinstance(names, str) and names is not None:
+            names = dict(names) if hasattr(names, "items") else " ".join(map(str, names))
+        self._set("_patches", names or "")
+
+    def GetPatchNames(self) -> tuple[str, ...]:
+        """The four patch names (bottom, right, top, left) the next update uses."""
+        from .export import patch_names
+
+        return patch_names(self._patches or None)
+
     def GetSettings(self) -> Settings:
         """The ``Settings`` the next update uses (raises ``ValueError`` if invalid)."""
         return make_settings(self._method, self._preset,
@@ -346,7 +360,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         (Not this algorithm's MTime: VTK modifies it for abort bookkeeping between runs.)
         """
         times: list = [self._method, self._preset, self._size, self._corners,
-                       tuple(sorted(self._overrides.items(), key=repr))]
+                       tuple(sorted(self._overrides.items(), key=repr)), repr(self._patches)]
         for port in inInfo:
             for k in range(port.GetNumberOfInformationObjects()):
                 data = port.GetInformationObject(k).Get(vtkPolyData.DATA_OBJECT())
@@ -358,6 +372,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         from .pipeline import aux_from_polydata, boundary_from_polydata, split_inputs, to_vtk
 
         settings = self.GetSettings()
+        patches = self.GetPatchNames()
         ni, nj = self._size
         problem = grid_size_problem(ni, nj)
         if problem:
@@ -376,7 +391,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
                                                        self._training_progress(settings))
         self._progress(0.95, "meshing")
         result = mesher.predict(*self._size)
-        grid = to_vtk(result)
+        grid = to_vtk(result, patches)
         fd = grid.GetFieldData()
         for name, value in (("Trained", int(self._trained)),
                             ("TrainingCount", self._cache.trainings)):

@@ -15,6 +15,8 @@ from pathlib import Path
 from .errors import PinnMeshError, folded_cells_warning
 from .settings import METHODS, grid_size_problem, make_settings
 
+FORMAT_KEYS = ("vts", "vtk", "xyz", "cgns", "su2", "msh", "openfoam")  # export.FORMATS
+
 EXIT_ERROR = 2
 EXIT_INTERNAL = 3
 EXIT_INTERRUPTED = 130
@@ -36,7 +38,17 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--preset", choices=("default", "paper"), default="default",
                    help="'paper' reproduces the paper's section 4 settings exactly")
     p.add_argument("-o", "--output", default=None, metavar="OUT.vts",
-                   help="output grid (default out/<boundary>_<method>.vts)")
+                   help="output grid (default out/<boundary>_<method>.vts); the extension "
+                        "picks the format: .vts, .vtk, .xyz (PLOT3D), .cgns, .su2, .msh "
+                        "(Gmsh 4.1); a folder with --format openfoam")
+    p.add_argument("--format", choices=FORMAT_KEYS, default=None,
+                   help="output format instead of the extension of -o (openfoam: -o DIR "
+                        "gets DIR/constant/polyMesh)")
+    p.add_argument("--patch", action="append", default=[], metavar="SIDE=NAME",
+                   help="name the boundary patch of a side (bottom, right, top, left; "
+                        "repeatable; equal names form one patch)")
+    p.add_argument("--extrude", type=float, default=None, metavar="T",
+                   help="one cell of thickness T in z for .xyz, .cgns, .msh and openfoam")
     p.add_argument("--corners", nargs=4, type=int, metavar="I",
                    help="the four corner point indices, instead of automatic detection")
     p.add_argument("--png", metavar="PATH", help="also render the grid, coloured by "
@@ -126,16 +138,16 @@ def _check_options(args: argparse.Namespace) -> None:
 def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     """One meshing run; appends each output file to ``written`` once it is complete."""
 
-    from .fileio import atomic_path, write_text_atomic, write_vts
+    from . import export
+    from .fileio import atomic_path, write_text_atomic
     from .mesher import Mesher
     from .pipeline import load_aux, load_boundary, to_vtk
 
     written = written if written is not None else []
-    out = Path(args.output or f"out/{Path(args.boundary).stem}_{args.method}.vts")
-    if out.suffix.lower() != ".vts":
-        raise PinnMeshError(f"{out}: output must be a .vts file")
-    if out.is_dir():
-        raise PinnMeshError(f"{out}: is a directory; -o needs a file name")
+    suffix = "" if args.format == "openfoam" else f".{args.format or 'vts'}"
+    out = Path(args.output or f"out/{Path(args.boundary).stem}_{args.method}{suffix}")
+    export.output_format(out, args.format, args.extrude)  # refuse before meshing
+    patches = export.parse_patch_options(args.patch)
     _check_options(args)
     ni, nj = args.size
     fields = ("seed", "adam_epochs", "lbfgs_iterations", "hidden_layers", "neurons",
@@ -179,8 +191,8 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     if args.fail_on_folded and q["folded_cells"]:
         raise PinnMeshError(f"{args.boundary}: {q['folded_cells']} folded cells "
                             "(--fail-on-folded); no output written")
-    grid = to_vtk(result)
-    write_vts(grid, out)
+    grid = to_vtk(result, patches)
+    export.write(grid, out, args.format, extrude=args.extrude)
     written.append(out)
     if args.report:
         write_text_atomic(args.report, json.dumps(result.report, indent=2, default=float))

@@ -60,6 +60,10 @@ ROUTE_WORDS = {
         "converge": "--elliptic-iterations 0 (solve to convergence)",
         "refuse": "; --fail-on-folded refuses such grids",
         "size": "--size",
+        "patch": "--patch SIDE=NAME",
+        "extrude": "--extrude T",
+        "output": "-o with .vts, .vtk, .xyz, .cgns, .su2 or .msh, or --format openfoam -o DIR",
+        "h5py": "pip install h5py",
     },
     "pyvista": {
         "corners": "corners=",
@@ -70,6 +74,10 @@ ROUTE_WORDS = {
         "converge": "elliptic_iterations=0 (solve to convergence)",
         "refuse": "",
         "size": "size=",
+        "patch": 'patches={"bottom": "wall", ...}',
+        "extrude": "extrude=",
+        "output": 'a path ending in .vts, .vtk, .xyz, .cgns, .su2 or .msh, or format="openfoam"',
+        "h5py": "pip install h5py",
     },
     "paraview": {
         "corners": "Corner Indices",
@@ -80,6 +88,12 @@ ROUTE_WORDS = {
         "converge": "Preset default (solves to convergence)",
         "refuse": "",
         "size": "Grid Size",
+        "patch": "Patch Names (bottom right top left, or SIDE=NAME)",
+        "extrude": "Extrude Thickness",
+        "output": "File > Save Data with a PINN Mesh file type",
+        "h5py": "ParaView's HDF5 clashes with pip's h5py, so the writer runs the "
+                "checkout's .venv Python: make it with bash scripts/setup.sh (or set "
+                "PINN_MESH_PYTHON to a Python with h5py)",
     },
 }
 _HANDED_OVER = {"cli": "written", "pyvista": "returned", "paraview": "produced"}

@@ -69,7 +69,7 @@ def aux_from_polydata(polys: Sequence[vtkPolyData], boundary: Boundary) -> list[
     return map_lines(raws, boundary)
 
 
-def to_vtk(result: MeshResult) -> vtkStructuredGrid:
-    """The output grid of SPEC 3 for a mesh result."""
+def to_vtk(result: MeshResult, patches=None) -> vtkStructuredGrid:
+    """The output grid of SPEC 3 for a mesh result, with the patch names of SPEC 8."""
     return structured_grid(np.asarray(result.points), result.report, result.history,
-                           result.cells or None, result.points3d)
+                           result.cells or None, patches, result.points3d)

@@ -39,7 +39,7 @@ from .algorithm import MeshCache
 from .errors import FoldedCellsWarning, InputError, folded_cells_warning
 from .settings import grid_size_problem, make_settings
 
-__all__ = ["FoldedCellsWarning", "PinnMeshAccessor", "pinn_mesh", "register"]
+__all__ = ["FoldedCellsWarning", "PinnMeshAccessor", "pinn_mesh", "register", "save_mesh"]
 
 
 def _ring_polydata(points, closed: bool) -> pv.PolyData:
@@ -93,7 +93,7 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
               lambda2: float | None = None, seed: int | None = None,
               boundary_mode: str | None = None, device: str | None = None,
               progress: Callable[[dict], bool | None] | None = None,
-              cache: MeshCache | None = None, **settings) -> pv.StructuredGrid:
+              cache: MeshCache | None = None, patches=None, **settings) -> pv.StructuredGrid:
     """Structured quadrilateral grid of a four-sided 2D domain.
 
     Parameters
@@ -127,6 +127,10 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
         (``pinn_engine.errors.TrainingCancelled``).
     cache : pinn_engine.algorithm.MeshCache, optional
         Re-use networks trained earlier on the same inputs and training settings.
+    patches : dict, sequence of four names or str, optional
+        Boundary patch names, e.g. ``{"bottom": "wall", "top": "wall"}`` (default: bottom,
+        right, top, left; equal names form one patch); stored as field data ``PatchNames``
+        and used by :func:`save_mesh`.
     **settings
         Any other field of ``pinn_engine.settings.Settings`` (e.g. ``learning_rate``).
 
@@ -134,8 +138,9 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
     -------
     pyvista.StructuredGrid
         Dimensions ``(ni, nj, 1)``; cell data ``MaxIncludedAngle``, ``MinIncludedAngle``
-        (degrees), ``ScaledJacobian``, ``Folded``; field data ``Method``, ``Report`` (JSON),
-        quality figures and ``Loss_<term>`` histories.
+        (degrees), ``ScaledJacobian``, ``Folded``; point data ``i``, ``j``; field data
+        ``Method``, ``Report`` (JSON), quality figures, ``Loss_<term>`` histories and
+        ``PatchNames``.
 
     Warns
     -----
@@ -160,6 +165,7 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
     >>> grid.dimensions
     (21, 11, 1)
     """
+    from .export import patch_names
     from .pipeline import aux_from_polydata, boundary_from_polydata, to_vtk
 
     ni, nj = (int(n) for n in size)
@@ -171,6 +177,7 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
                            neurons=neurons, lambda2=lambda2, seed=seed, boundary=boundary_mode,
                            device=device, **{"lattice": (ni, nj), **settings})
     try:
+        names = patch_names(patches)
         poly = _as_polydata(boundary, closed=True, what="boundary")
         ring = boundary_from_polydata(poly, corners, source="boundary")
         lines = aux_from_polydata(_aux_list(aux), ring)
@@ -179,9 +186,32 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
     cache = cache if cache is not None else MeshCache(capacity=1)
     mesher, _ = cache.fitted(ring, lines, config, progress)
     result = mesher.predict(ni, nj)
-    grid = pv.wrap(to_vtk(result))
+    grid = pv.wrap(to_vtk(result, names))
     _warn_if_folded(result.report)
     return grid
+
+
+def save_mesh(grid, path, format: str | None = None, *, patches=None,
+              extrude: float | None = None):
+    """Write a grid from :func:`pinn_mesh` for a CFD solver; returns the path written.
+
+    The format follows the extension of ``path``: ``.vts``, ``.vtk``, ``.xyz`` (PLOT3D),
+    ``.cgns``, ``.su2``, ``.msh`` (Gmsh 4.1); ``format="openfoam"`` writes the case folder
+    ``path`` (``constant/polyMesh``). ``patches`` renames the boundary patches (default: the
+    grid's ``PatchNames``); ``extrude=T`` makes PLOT3D, CGNS and Gmsh outputs one cell of
+    thickness T in z (OpenFOAM always is). Atomic: on failure nothing is left behind.
+    Raises ``pinn_engine.errors.InputError`` (one line) for bad arguments.
+
+    >>> grid = pinn_mesh(square, size=(21, 11), method="tfi", patches={"bottom": "wall"})
+    >>> save_mesh(grid, "out/square.cgns")
+    >>> save_mesh(grid, "out/square_case", format="openfoam", extrude=0.1)
+    """
+    from .export import write
+
+    try:
+        return write(grid, path, format, patches=patches, extrude=extrude)
+    except InputError as exc:
+        raise exc.for_route("pyvista") from None
 
 
 @pv.register_dataset_accessor("pinn_mesh", pv.PolyData)
@@ -205,6 +235,7 @@ class PinnMeshAccessor:
     def __init__(self, mesh: pv.PolyData) -> None:
         self._mesh = mesh
         self._cache = MeshCache()
+        self.last: pv.StructuredGrid | None = None  # the last grid made, for save()
 
     def __call__(self, aux=None, size: Sequence[int] = (41, 21), method: str = "pinn", *,
                  preset: str = "default", corners: Sequence[int] | None = None,
@@ -220,12 +251,27 @@ class PinnMeshAccessor:
         settings default to the preset's (5000 Adam epochs, 500 L-BFGS iterations).
         Returns a ``pyvista.StructuredGrid`` with MaxIncludedAngle/MinIncludedAngle cells.
         """
-        return pinn_mesh(self._mesh, aux, size, method, preset=preset, corners=corners,
-                         adam_epochs=adam_epochs, lbfgs_iterations=lbfgs_iterations,
-                         hidden_layers=hidden_layers, neurons=neurons, lambda2=lambda2,
-                         seed=seed, progress=progress, cache=self._cache, **settings)
+        self.last = pinn_mesh(self._mesh, aux, size, method, preset=preset, corners=corners,
+                              adam_epochs=adam_epochs, lbfgs_iterations=lbfgs_iterations,
+                              hidden_layers=hidden_layers, neurons=neurons, lambda2=lambda2,
+                              seed=seed, progress=progress, cache=self._cache, **settings)
+        return self.last
 
     mesh = __call__  # boundary.pinn_mesh.mesh(...) reads well too
+
+    def save(self, path, format: str | None = None, *, grid=None, patches=None,
+             extrude: float | None = None):
+        """Write ``grid`` (default: the last grid this accessor made) for a CFD solver;
+        the arguments are those of :func:`save_mesh`.
+
+        >>> boundary.pinn_mesh(size=(41, 21), patches={"bottom": "wall", "top": "wall"})
+        >>> boundary.pinn_mesh.save("out/channel.su2")
+        """
+        grid = grid if grid is not None else self.last
+        if grid is None:
+            raise InputError("no grid to save yet; call boundary.pinn_mesh(...) first or "
+                             "pass grid=")
+        return save_mesh(grid, path, format, patches=patches, extrude=extrude)
 
     @property
     def trainings(self) -> int:

@@ -9,6 +9,7 @@ from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonCore import vtkPoints, vtkStringArray
 from vtkmodules.vtkCommonDataModel import vtkStructuredGrid
 
+from .export.patches import add_to_grid, patch_names
 from .quality import cell_quality
 
 
@@ -28,14 +29,15 @@ def _add_string(fd, name: str, text: str) -> None:
 def structured_grid(points: np.ndarray, report: dict | None = None,
                     history: dict[str, list[float]] | None = None,
                     cells: dict[str, np.ndarray] | None = None,
-                    xyz: np.ndarray | None = None) -> vtkStructuredGrid:
+                    patches=None, xyz: np.ndarray | None = None) -> vtkStructuredGrid:
     """A grid of dimensions (ni, nj, 1) from ``points`` (nj, ni, 2), with quality arrays;
     ``xyz`` (nj, ni, 3), when given, are the points in the user's 3D frame (default z = 0).
 
     Cell data: ``MaxIncludedAngle``, ``MinIncludedAngle`` (degrees, as vtkMeshQuality),
     ``ScaledJacobian`` and ``Folded`` (0/1), computed unless given as ``cells``. Field data:
     ``Method``, ``Report`` (JSON: settings, timings, quality summary), the summary figures as
-    numbers and ``Loss_<term>`` histories.
+    numbers and ``Loss_<term>`` histories, ``PatchNames`` (``patches``: any form
+    ``export.patch_names`` takes; default bottom, right, top, left). Point data: ``i``, ``j``.
     """
     nj, ni = points.shape[:2]
     grid = vtkStructuredGrid()
@@ -51,6 +53,7 @@ def structured_grid(points: np.ndarray, report: dict | None = None,
         arr.SetName(name)
         grid.GetCellData().AddArray(arr)
     grid.GetCellData().SetActiveScalars("MaxIncludedAngle")
+    add_to_grid(grid, patch_names(patches))
     fd = grid.GetFieldData()
     report = report or {}
     _add_string(fd, "Method", str(report.get("method", "")))

@@ -8,6 +8,10 @@ but that Python needs numpy, scipy, scikit-learn and (for training) torch: start
 with ``scripts/pvenv.sh paraview`` (which also puts the ``getargspec`` shim that Debian's
 ParaView 5.11 needs on PYTHONPATH; see README).
 
+It also registers File > Save Data writers for the filter's output (``pinn_engine.export``):
+PLOT3D, CGNS with boundary conditions, SU2, Gmsh 4.1 and OpenFOAM, each using the grid's
+Patch Names (docs/export.md).
+
 Property order: ParaView 5.11 lists a Python plugin's properties alphabetically by method
 name, so the methods below carry a numeric prefix (``P01...``) that keeps the panel in the
 intended order in every version.
@@ -22,6 +26,8 @@ if _REPO not in sys.path:
 
 try:
     from pinn_engine.algorithm import PinnMeshAlgorithm
+    from pinn_engine.export import FORMATS
+    from pinn_engine.export.algorithm import PARAVIEW_FORMATS, GridWriter
     from pinn_engine.settings import MAX_SIDE_NODES, METHODS, PRESETS, Settings
 except ImportError as _exc:  # a clear line in ParaView's output instead of a bare traceback
     raise ImportError(
@@ -157,3 +163,51 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
                        "them automatically (the four sharpest turns)."))
     def P10CornerIndices(self, i0, i1, i2, i3):
         self.SetCorners(i0, i1, i2, i3)
+
+    @smproperty.stringvector(name="PatchNames", label="Patch Names",
+                             default_values="bottom right top left")
+    @smdomain.xml(_doc("Boundary patch names for solver formats (File > Save Data: PLOT3D, "
+                       "CGNS, SU2, Gmsh, OpenFOAM): four names for the bottom, right, top "
+                       "and left sides, or SIDE=NAME items such as 'bottom=wall top=wall'. "
+                       "Sides with the same name form one patch."))
+    def P20PatchNames(self, text):
+        self.SetPatchNames(text)
+
+
+def _writer_proxy(key, extension, name):
+    """File > Save Data entry for one solver format (``pinn_engine.export``)."""
+    fmt = FORMATS[key]
+    thickness = ("One cell of this thickness in z (0: the grid's mean edge length); "
+                 "OpenFOAM meshes are always 3D." if key == "openfoam" else
+                 "0 writes a 2D grid; a thickness T writes one cell of thickness T in z.")
+
+    class Writer(GridWriter):
+        FORMAT = key
+
+        @smproperty.stringvector(name="FileName", panel_visibility="never")
+        @smdomain.filelist()
+        def SetFileName(self, name):
+            GridWriter.SetFileName(self, name)
+
+        if fmt.extrudes:
+            @smproperty.doublevector(name="ExtrudeThickness", label="Extrude Thickness",
+                                     default_values=0.0)
+            @smdomain.doublerange(min=0.0)
+            @smdomain.xml(_doc(thickness))
+            def SetExtrudeThickness(self, value):
+                GridWriter.SetExtrudeThickness(self, value)
+
+    Writer.__name__ = Writer.__qualname__ = name
+    Writer.__module__ = __name__
+    Writer = smdomain.datatype(dataTypes=["vtkStructuredGrid"],  # noqa: N806
+                               composite_data_supported=False)(Writer)
+    Writer = smproperty.input(name="Input", port_index=0)(Writer)  # noqa: N806
+    return smproxy.writer(name=name, label=name,
+                          extensions=extension,
+                          file_description=f"PINN Mesh {fmt.description}",
+                          support_reload=False)(Writer)
+
+
+for _key, (_extension, _name) in PARAVIEW_FORMATS.items():
+    globals()[_name] = _writer_proxy(_key, _extension, _name)
+del _key, _extension, _name  # one module name per proxy: ParaView registers every one it finds

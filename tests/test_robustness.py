@@ -479,7 +479,7 @@ def test_damaged_aux_file(tmp_path, capsys):
                  id="corner out of range"),
     pytest.param(["--corners", "0", "0", "2", "3"], "four different point indices",
                  id="corners repeated"),
-    pytest.param(["-o", "out.vtk"], "output must be a .vts file", id="output not vts"),
+    pytest.param(["-o", "out.dat"], "unknown output format '.dat'", id="output format"),
 ])
 def test_bad_option_values_are_clear_errors(options, pattern, tmp_path, capsys):
     argv = [EXAMPLES / "wavy.vtp", "--method", "tfi", "-o", tmp_path / "g.vts", *options]
