@@ -36,6 +36,7 @@ from vtkmodules.vtkCommonDataModel import vtkStructuredGrid
 
 from ..errors import InputError
 from ..fileio import atomic_path, write_text_atomic
+from ..plane import Plane
 from . import cgns, gmsh, openfoam, plot3d, su2, vtkfiles
 from .block import Block
 from .patches import FIELD, SIDES, add_to_grid, of_grid, parse_patch_options, patch_names
@@ -94,8 +95,10 @@ def output_format(path: str | os.PathLike, fmt: str | None = None,
     return found
 
 
-def grid_points(grid: vtkStructuredGrid) -> np.ndarray:
-    """The nodes of a 2D structured grid (ni, nj, 1) as an array (nj, ni, 3)."""
+def grid_points(grid: vtkStructuredGrid) -> tuple[np.ndarray, np.ndarray]:
+    """The nodes of a 2D structured grid (ni, nj, 1) as an array (nj, ni, 3), and the unit
+    normal about which its boundary runs counter-clockwise along i, then j (SPEC 3): +z for
+    a grid in a plane z = const, whose boundary must then run counter-clockwise in x-y."""
     if grid is None or grid.GetPoints() is None or grid.GetNumberOfPoints() == 0:
         raise InputError("the grid is empty; mesh the boundary first", "grid")
     ext = grid.GetExtent()
@@ -105,12 +108,15 @@ def grid_points(grid: vtkStructuredGrid) -> np.ndarray:
                          f"({ni}, {nj}, {nk})", "grid")
     pts = vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64).reshape(nj, ni, 3)
     ring = pts.reshape(-1, 3)[np.concatenate([side_nodes(ni, nj, s)[:-1] for s in SIDES])]
-    x, y = ring[:, 0], ring[:, 1]
-    if np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y) <= 0:  # shoelace: clockwise or flat
-        raise InputError("the grid's boundary does not run counter-clockwise in the x-y "
-                         "plane along i, then j (SPEC 3); the writers orient cells and "
-                         "patches by it: reverse its i or j direction first", "grid")
-    return pts
+    plane = Plane.fit(pts.reshape(-1, 3), "grid")
+    area = 0.5 * np.cross(ring, np.roll(ring, -1, axis=0)).sum(axis=0)  # vector area
+    if plane.is_horizontal:
+        if area[2] <= 0:  # clockwise or flat
+            raise InputError("the grid's boundary does not run counter-clockwise in the x-y "
+                             "plane along i, then j (SPEC 3); the writers orient cells and "
+                             "patches by it: reverse its i or j direction first", "grid")
+        return pts, np.array([0.0, 0.0, 1.0])
+    return pts, area / np.linalg.norm(area)
 
 
 def write(grid: vtkStructuredGrid, path: str | os.PathLike, fmt: str | None = None, *,
@@ -127,7 +133,7 @@ def write(grid: vtkStructuredGrid, path: str | os.PathLike, fmt: str | None = No
     path = Path(path)
     found = output_format(path, fmt, extrude)
     names = of_grid(grid) if patches is None else patch_names(patches)
-    points = grid_points(grid)
+    points, normal = grid_points(grid)
     if found.key in ("vts", "vtk"):
         copy = vtkStructuredGrid()
         copy.ShallowCopy(grid)
@@ -138,9 +144,10 @@ def write(grid: vtkStructuredGrid, path: str | os.PathLike, fmt: str | None = No
             vtkfiles.write_legacy(copy, tmp)
         return path
     if found.key == "openfoam":
-        block = Block(points, names, extrude if extrude is not None else mean_edge(points))
+        block = Block(points, names, extrude if extrude is not None else mean_edge(points),
+                      normal)
         return _write_openfoam(block, path)
-    block = Block(points, names, extrude)
+    block = Block(points, names, extrude, normal)
     with atomic_path(path, suffix=found.suffix) as tmp:
         _FILE_WRITERS[found.key](block, tmp)
     return path

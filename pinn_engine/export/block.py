@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -13,11 +13,13 @@ from .topology import layers
 @dataclass(frozen=True)
 class Block:
     """One structured block: ``points`` (nj, ni, 3) in the user's units, the four patch
-    names (bottom, right, top, left) and the extrusion thickness (None: 2D)."""
+    names (bottom, right, top, left), the extrusion thickness (None: 2D) and the unit
+    normal it extrudes along (+z for a grid in a plane z = const)."""
 
     points: np.ndarray
     names: tuple[str, ...]
     thickness: float | None = None
+    normal: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, 1.0]))
 
     @property
     def ni(self) -> int:
@@ -29,7 +31,7 @@ class Block:
 
     def layers(self) -> np.ndarray:
         """Nodes as (nk, nj, ni, 3): nk = 1 in 2D, 2 when extruded."""
-        return layers(self.points, self.thickness)
+        return layers(self.points, self.thickness, self.normal)
 
     def patches(self) -> dict[str, list[str]]:
         """Patch name -> its sides, in the order of first appearance."""

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import InputError
 from .block import Block
 from .text import write_rows
 from .topology import quads, side_edges
@@ -17,6 +18,9 @@ from .topology import quads, side_edges
 
 def write(block: Block, path: Path) -> None:
     ni, nj = block.ni, block.nj
+    if block.normal[2] != 1.0:
+        raise InputError("SU2's 2D format needs a grid in a plane z = const; this one lies in "
+                         "a tilted plane (write .cgns, .msh, .xyz or OpenFOAM instead)", str(path))
     cells = quads(ni, nj)
     with open(path, "w") as f:
         f.write("% SU2 mesh written by pinn-mesh\nNDIME= 2\n")

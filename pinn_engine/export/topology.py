@@ -13,13 +13,12 @@ import numpy as np
 from .patches import SIDES
 
 
-def layers(points: np.ndarray, thickness: float | None) -> np.ndarray:
-    """``points`` (nj, ni, 3) as (nk, nj, ni, 3): nk = 1, or 2 with the copy at z + T."""
+def layers(points: np.ndarray, thickness: float | None, normal: np.ndarray) -> np.ndarray:
+    """``points`` (nj, ni, 3) as (nk, nj, ni, 3): nk = 1, or 2 with the copy moved by T
+    along ``normal`` (z + T for a grid in a plane z = const)."""
     if thickness is None:
         return points[None]
-    top = points.copy()
-    top[..., 2] += thickness
-    return np.stack([points, top])
+    return np.stack([points, points + thickness * np.asarray(normal, dtype=float)])
 
 
 def mean_edge(points: np.ndarray) -> float:
