@@ -46,7 +46,7 @@ from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 from .errors import InputError, PinnMeshError, TrainingCancelled, folded_cells_warning
-from .settings import METHODS, PRESETS, Settings, grid_size_problem, make_settings
+from .settings import METHODS, NEURAL, PRESETS, Settings, grid_size_problem, make_settings
 
 if TYPE_CHECKING:  # the engine's numerics are imported on first use (fast plugin loading)
     from .auxlines import AuxLine
@@ -54,9 +54,6 @@ if TYPE_CHECKING:  # the engine's numerics are imported on first use (fast plugi
     from .mesher import Mesher
 
 LABEL = "PINN Structured Mesh"
-# training settings the algorithm exposes as properties; None means "the preset's value"
-TRAINING_FIELDS = ("adam_epochs", "lbfgs_iterations", "hidden_layers", "neurons", "lambda2",
-                   "seed")
 
 
 def _digest(*arrays) -> str:
@@ -106,7 +103,7 @@ class MeshCache:
             self._entries.move_to_end(key)
             mesher.settings = settings  # same training key; refreshes preset/device in reports
             return mesher, False
-        from .mesher import NEURAL, Mesher
+        from .mesher import Mesher
 
         mesher = Mesher(settings).fit(boundary, aux_lines, progress)
         trained = settings.method in NEURAL
@@ -385,7 +382,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
             aux_polys += [vtkPolyData.GetData(inInfo[1], k)
                           for k in range(inInfo[1].GetNumberOfInformationObjects())]
         aux_lines = aux_from_polydata(aux_polys, boundary)
-        self._progress(0.0, "training" if settings.method in ("pinn", "mgnet") else "meshing")
+        self._progress(0.0, "training" if settings.method in NEURAL else "meshing")
         with self._stop_on_signal():
             mesher, self._trained = self._cache.fitted(boundary, aux_lines, settings,
                                                        self._training_progress(settings))

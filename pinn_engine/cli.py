@@ -13,7 +13,7 @@ import time
 from pathlib import Path
 
 from .errors import PinnMeshError, folded_cells_warning
-from .settings import METHODS, grid_size_problem, make_settings
+from .settings import METHODS, NEURAL, grid_size_problem, make_settings
 
 FORMAT_KEYS = ("vts", "vtk", "xyz", "cgns", "su2", "msh", "openfoam")  # export.FORMATS
 
@@ -127,7 +127,7 @@ def _check_options(args: argparse.Namespace) -> None:
     if args.device is not None:
         if not DEVICE_NAMES.match(args.device):
             raise PinnMeshError(f"--device {args.device!r}: use auto, cpu, cuda or cuda:N")
-        if args.device.startswith("cuda") and args.method in ("pinn", "mgnet"):
+        if args.device.startswith("cuda") and args.method in NEURAL:
             import torch
 
             if not torch.cuda.is_available():

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from .settings import NEURAL
+
 
 class PinnMeshError(Exception):
     """Any failure pinn-mesh reports to a user as one line (CLI exit status 2)."""
@@ -119,7 +121,7 @@ def folded_cells_warning(report: dict, route: str) -> str | None:
         fix = (f"rounding the boundary where it turns sharply between nodes or another "
                f"{words['size']}: the converged elliptic grid on these boundary nodes folds "
                f"{guard['elliptic']['folded_cells']} cells as well")
-    elif method in ("pinn", "mgnet"):
+    elif method in NEURAL:
         fix = f"{words['method'].format('elliptic')}, {words['lbfgs']} or {words['seed']}"
     elif method == "tfi":
         fix = words["method"].format("elliptic")

@@ -17,10 +17,9 @@ from .geometry import Boundary
 from .heap import reuse_freed_memory
 from .plane import Plane
 from .quality import boundary_nodes, cell_quality, summary
-from .settings import Settings, grid_size_problem, make_settings
+from .settings import NEURAL, Settings, grid_size_problem, make_settings
 from .tfi import tfi_grid
 
-NEURAL = ("pinn", "mgnet")
 Progress = Callable[[dict], bool | None]
 
 

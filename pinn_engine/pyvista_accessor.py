@@ -39,7 +39,7 @@ from .algorithm import MeshCache
 from .errors import FoldedCellsWarning, InputError, folded_cells_warning
 from .settings import grid_size_problem, make_settings
 
-__all__ = ["FoldedCellsWarning", "PinnMeshAccessor", "pinn_mesh", "register", "save_mesh"]
+__all__ = ["FoldedCellsWarning", "PinnMeshAccessor", "pinn_mesh", "save_mesh"]
 
 
 def _ring_polydata(points, closed: bool) -> pv.PolyData:
@@ -281,10 +281,3 @@ class PinnMeshAccessor:
     def clear(self) -> None:
         """Forget the trained networks: the next call trains again."""
         self._cache.clear()
-
-
-def register() -> type[PinnMeshAccessor]:
-    """Make sure the accessor is registered (importing this module already does it)."""
-    if "pinn_mesh" not in pv.PolyData.__dict__:
-        pv.register_dataset_accessor("pinn_mesh", pv.PolyData)(PinnMeshAccessor)
-    return PinnMeshAccessor

@@ -2,14 +2,33 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
 
 from .plane import in_plane_axes
 
-os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+
+@contextlib.contextmanager
+def off_screen() -> Iterator[None]:
+    """Off-screen rendering for the block (EGL unless the user chose a render window; no
+    X display needed), the process's environment and pyvista's setting restored after."""
+    import pyvista as pv
+
+    previous = os.environ.get("VTK_DEFAULT_OPENGL_WINDOW")
+    flag = pv.OFF_SCREEN
+    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+    pv.OFF_SCREEN = True
+    try:
+        yield
+    finally:
+        pv.OFF_SCREEN = flag
+        if previous is None:
+            os.environ.pop("VTK_DEFAULT_OPENGL_WINDOW", None)
+
 
 
 def render_png(grid, path: str | os.PathLike, scalars: str = "MaxIncludedAngle",
@@ -18,26 +37,26 @@ def render_png(grid, path: str | os.PathLike, scalars: str = "MaxIncludedAngle",
     """Draw ``grid`` (a VTK or pyvista structured grid) with its edges, coloured by ``scalars``."""
     import pyvista as pv
 
-    pv.OFF_SCREEN = True
-    mesh = pv.wrap(grid)
-    plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
-    plotter.set_background("white")
-    plotter.add_mesh(mesh, scalars=scalars, preference="cell", show_edges=True,
-                     edge_color="black", line_width=0.5, cmap="viridis", clim=clim,
-                     scalar_bar_args={"title": f"{scalars} (deg)", "color": "black"})
-    for extra, color in ((boundary, "red"), (aux, "orange")):
-        if extra is not None:
-            plotter.add_mesh(pv.wrap(extra), color=color, line_width=3)
-    if title:
-        plotter.add_text(title, font_size=12, color="black")
-    normal = np.linalg.svd(mesh.points - mesh.points.mean(axis=0), full_matrices=False)[2][2]
-    if abs(normal[2]) > 1 - 1e-9:  # a grid in a plane z = const
-        plotter.view_xy()
-    else:  # look at the grid's own plane, its v axis up
-        plotter.view_vector(normal, viewup=in_plane_axes(normal)[1])
-    plotter.camera.zoom(1.1)
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    plotter.screenshot(str(path))
-    plotter.close()
+    with off_screen():
+        mesh = pv.wrap(grid)
+        plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
+        plotter.set_background("white")
+        plotter.add_mesh(mesh, scalars=scalars, preference="cell", show_edges=True,
+                         edge_color="black", line_width=0.5, cmap="viridis", clim=clim,
+                         scalar_bar_args={"title": f"{scalars} (deg)", "color": "black"})
+        for extra, color in ((boundary, "red"), (aux, "orange")):
+            if extra is not None:
+                plotter.add_mesh(pv.wrap(extra), color=color, line_width=3)
+        if title:
+            plotter.add_text(title, font_size=12, color="black")
+        normal = np.linalg.svd(mesh.points - mesh.points.mean(axis=0), full_matrices=False)[2][2]
+        if abs(normal[2]) > 1 - 1e-9:  # a grid in a plane z = const
+            plotter.view_xy()
+        else:  # look at the grid's own plane, its v axis up
+            plotter.view_vector(normal, viewup=in_plane_axes(normal)[1])
+        plotter.camera.zoom(1.1)
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        plotter.screenshot(str(path))
+        plotter.close()
     return path

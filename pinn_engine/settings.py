@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, fields, replace
 
 METHODS = ("pinn", "mgnet", "tfi", "elliptic")
+NEURAL = ("pinn", "mgnet")  # the methods that train a network
 PRESETS = ("default", "paper")
 # Grid sizes accepted on every route (command line, filter and panel, pyvista, Mesher)
 MAX_SIDE_NODES = 20_000

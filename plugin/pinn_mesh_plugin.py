@@ -25,6 +25,7 @@ if _REPO not in sys.path:
     sys.path.insert(0, _REPO)
 
 try:
+    from pinn_engine import __version__
     from pinn_engine.algorithm import PinnMeshAlgorithm
     from pinn_engine.export import FORMATS
     from pinn_engine.export.algorithm import PARAVIEW_FORMATS, GridWriter
@@ -38,7 +39,7 @@ except ImportError as _exc:  # a clear line in ParaView's output instead of a ba
 from paraview.util.vtkAlgorithm import smdomain, smhint, smproperty, smproxy  # noqa: E402
 
 paraview_plugin_name = "PINN Mesh"
-paraview_plugin_version = "0.1.0"
+paraview_plugin_version = __version__
 
 _DEFAULTS = Settings()
 _NEURAL = '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" ' \
