@@ -14,12 +14,13 @@ import re
 import signal
 import subprocess
 import sys
+import sysconfig
 import time
 from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES, ROOT, square_ring, wavy_ring
+from conftest import EXAMPLES, square_ring, wavy_ring
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkPoints
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
@@ -33,7 +34,8 @@ from pinn_engine.mesher import Mesher
 from pinn_engine.pipeline import load_boundary
 from pinn_engine.settings import make_settings
 
-PINN_MESH = ROOT / ".venv" / "bin" / "pinn-mesh"
+# the command as installed into the environment running the tests (its console script)
+PINN_MESH = Path(sysconfig.get_path("scripts")) / "pinn-mesh"
 
 
 # ---------------------------------------------------------------- helpers
