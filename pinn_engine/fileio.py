@@ -10,7 +10,6 @@ import os
 import re
 import signal
 import tempfile
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -21,21 +20,13 @@ from vtkmodules.vtkFiltersCore import vtkStripper
 from vtkmodules.vtkIOLegacy import vtkPolyDataReader
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader, vtkXMLStructuredGridWriter
 
+from .auxlines import RawLine
 from .errors import InputError
 from .geometry import MAX_POINTS
 
 BOUNDARY_FORMATS = (".vtp", ".vtk", ".csv", ".txt")
 AUX_FORMATS = (".vtp", ".vtk")
 MAX_FILE_BYTES = 256 * 1024 * 1024  # larger inputs are refused before reading
-
-
-@dataclass(frozen=True)
-class RawLine:
-    """A polyline as read: points (n, 2) or (n, 3) and optional per-point (xi, eta) overrides."""
-
-    points: np.ndarray
-    xi_eta: np.ndarray | None
-    name: str
 
 
 @contextlib.contextmanager

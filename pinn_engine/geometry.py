@@ -93,7 +93,7 @@ def signed_area(ring: np.ndarray) -> float:
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
 
 
-def _segments_cross(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray,
+def segments_cross(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray,
                     rel_tol: float = 1e-12) -> np.ndarray:
     """Proper or touching intersection of segments ab and cd (broadcast).
 
@@ -133,7 +133,7 @@ def _brute_force_intersections(a: np.ndarray, b: np.ndarray) -> list[tuple[int, 
             j = j[j != n - 1]
         if len(j) == 0:
             continue
-        cross = _segments_cross(a[i], b[i], a[j], b[j])
+        cross = segments_cross(a[i], b[i], a[j], b[j])
         if cross.any():
             return [(i, int(k)) for k in j[cross]]
     return []
@@ -193,7 +193,7 @@ def self_intersections(ring: np.ndarray, budget: int = 4_000_000) -> list[tuple[
     hits: list[tuple[int, int]] = []
     for s in range(0, len(pairs), 1 << 20):
         i, j = pairs[s:s + (1 << 20), 0], pairs[s:s + (1 << 20), 1]
-        cross = _segments_cross(a[i], b[i], a[j], b[j])
+        cross = segments_cross(a[i], b[i], a[j], b[j])
         hits.extend((int(p), int(q)) for p, q in zip(i[cross], j[cross]))
     return sorted(hits)
 

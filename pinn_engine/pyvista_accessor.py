@@ -35,7 +35,7 @@ import numpy as np
 import pyvista as pv
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 
-from .algorithm import MeshCache
+from .cache import MeshCache
 from .errors import FoldedCellsWarning, InputError, folded_cells_warning
 from .settings import grid_size_problem, make_settings
 
@@ -125,7 +125,7 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
         ``progress(info)`` during training, ``info`` a dict with ``phase`` ("adam" or
         "lbfgs"), ``step``, ``total``, ``loss`` and ``terms``; returning True cancels
         (``pinn_engine.errors.TrainingCancelled``).
-    cache : pinn_engine.algorithm.MeshCache, optional
+    cache : pinn_engine.cache.MeshCache, optional
         Re-use networks trained earlier on the same inputs and training settings.
     patches : dict, sequence of four names or str, optional
         Boundary patch names, e.g. ``{"bottom": "wall", "top": "wall"}`` (default: bottom,

@@ -110,3 +110,14 @@ def test_saved_model_keeps_its_plane(tmp_path, fig2):
     again = Mesher.load(tmp_path / "m.pt", load_boundary(path)).predict(11, 6)
     np.testing.assert_allclose(again.points3d, mesher.predict(11, 6).points3d, atol=1e-9)
     assert isinstance(again.plane, Plane) and not again.plane.is_horizontal
+
+
+def test_a_cached_mesher_is_not_reused_for_another_plane(fig2):
+    from pinn_engine.cache import MeshCache
+
+    boundary, _ = fig2
+    cache = MeshCache()
+    pinn_mesh(boundary, size=(11, 6), method="tfi", cache=cache)
+    lifted = pinn_mesh(moved(boundary, np.eye(3), [0.0, 0.0, 5.0]), size=(11, 6),
+                       method="tfi", cache=cache)
+    assert np.all(lifted.points[:, 2] == 5.0)
