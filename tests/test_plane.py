@@ -121,3 +121,26 @@ def test_a_cached_mesher_is_not_reused_for_another_plane(fig2):
     lifted = pinn_mesh(moved(boundary, np.eye(3), [0.0, 0.0, 5.0]), size=(11, 6),
                        method="tfi", cache=cache)
     assert np.all(lifted.points[:, 2] == 5.0)
+
+
+def test_tilted_grid_exports_extrude_along_its_normal(tmp_path, fig2):
+    import gmsh
+
+    from pinn_engine.export import write
+
+    boundary, _ = fig2
+    matrix = rotation(0.4, 1.1)
+    tilted = pinn_mesh(moved(boundary, matrix, [1.0, 2.0, 3.0]), size=(11, 6), method="tfi")
+    out = write(tilted, tmp_path / "g.msh", extrude=0.5)
+    gmsh.initialize()
+    try:
+        gmsh.open(str(out))
+        _, coords, _ = gmsh.model.mesh.getNodes()
+    finally:
+        gmsh.finalize()
+    normal = matrix @ [0.0, 0.0, 1.0]
+    offsets = np.round((coords.reshape(-1, 3) - [1.0, 2.0, 3.0]) @ normal, 9)
+    assert set(np.abs(offsets)) == {0.0, 0.5}  # the two layers, 0.5 apart along the normal
+    with pytest.raises(InputError, match="SU2's 2D format needs a grid in a plane z = const"):
+        write(tilted, tmp_path / "g.su2")
+    assert not (tmp_path / "g.su2").exists()
