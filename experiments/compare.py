@@ -1,4 +1,4 @@
-"""Quality and run time of every method on every example case: the README's table.
+"""Quality and run time of every method on every example case: the table of docs/quality.md.
 
 Usage: ``.venv/bin/python -m experiments.compare [--quick] [--out results/comparison]``
 
@@ -11,7 +11,7 @@ same boundary nodes, with the difference. "pinn, from TFI" is the default before
 elliptic warm start (``warm_start="none"``: TFI start, 5000 Adam epochs, 500 L-BFGS
 iterations, the paper's residual and lambda2 = 10); the two "default but" runs change one
 choice of the default back to the paper's. Writes ``<out>.json`` and
-``<out>.md`` (the markdown table pasted into the README).
+``<out>.md`` (the markdown table of docs/quality.md).
 """
 
 from __future__ import annotations

@@ -1,8 +1,8 @@
 """Bad inputs, failing training, interruption and damaged models (issue #7).
 
-Every row of the README's robustness table names the test here that backs it. Error rows run
-the command in-process and check: exit status 2, one ``pinn-mesh: error:`` line that names the
-file and the problem, and no output file (complete or partial).
+Every row of the robustness table (docs/robustness.md) names the test here that backs it.
+Error rows run the command in-process and check: exit status 2, one ``pinn-mesh: error:``
+line that names the file and the problem, and no output file (complete or partial).
 """
 
 from __future__ import annotations
