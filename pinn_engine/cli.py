@@ -12,6 +12,7 @@ import sys
 import time
 from pathlib import Path
 
+from . import heap
 from .errors import PinnMeshError, folded_cells_warning
 from .settings import METHODS, NEURAL, grid_size_problem, make_settings
 
@@ -217,6 +218,7 @@ def main(argv: list[str] | None = None) -> int:
     to see its traceback instead.
     """
     args = build_parser().parse_args(argv)
+    heap.tune_process()  # this process is ours: glibc's heap tuned for training and meshing
     previous = signal.signal(signal.SIGTERM, _raise_interrupt)
     written: list[Path] = []
     try:
