@@ -43,7 +43,7 @@ from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 from .errors import InputError, PinnMeshError, TrainingCancelled, folded_cells_warning
-from .settings import METHODS, PRESETS, Settings, grid_size_problem, make_settings
+from .settings import METHODS, OBJECTIVES, PRESETS, Settings, grid_size_problem, make_settings
 
 if TYPE_CHECKING:  # the engine's numerics are imported on first use (fast plugin loading)
     from .auxlines import AuxLine
@@ -142,6 +142,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
       ``SetLambda2``, ``SetSeed``: override the preset (``None`` restores the preset value)
     * ``SetCorners(i0, i1, i2, i3)``: the four corner point indices of the boundary;
       ``SetCorners(None)`` or any negative index: automatic detection
+    * ``SetObjective("winslow"|"quality")`` (or 0/1): the pinn's objective (SPEC 7)
     * ``SetSetting(name, value)``: any other field of ``pinn_engine.settings.Settings``
       (e.g. ``"device"``, ``"boundary"``, ``"elliptic_iterations"``)
     """
@@ -222,6 +223,11 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
 
     def SetSeed(self, n) -> None:
         self._set_override("seed", None if n is None else int(n))
+
+    def SetObjective(self, objective) -> None:
+        """The pinn's objective: winslow or quality (or its index); None: the preset's."""
+        self._set_override("objective", None if objective is None
+                           else _choice(objective, OBJECTIVES, "objective"))
 
     def SetPanelSetting(self, name: str, value) -> None:
         """A value from the ParaView panel: one equal to the default preset's is no override,
