@@ -94,5 +94,5 @@ def loss_quality(grid: torch.Tensor, orientation: float, tau: float | None = Non
     cell_max = tau * torch.logsumexp(theta / tau, dim=0)
     barrier = torch.relu(0.05 - torch.sin(theta)).pow(2).sum()
     return soft_max + MEAN_W * cell_max.mean() + 100.0 * barrier
-MEAN_W = 10.0
+MEAN_W = 1.0
 TAU = 0.035

@@ -52,6 +52,8 @@ GUARD_TOL = {False: (0.25, 1.0), True: (0.5, 2.0)}
 QUALITY_WEIGHT = 1.0
 QUALITY_PATIENCE = 4
 QUALITY_MEAN_TOL = 0.5  # issue 14's bound on the mean MaxIncludedAngle against the elliptic grid
+QUALITY_NODE_ITERATIONS = 300  # L-BFGS iterations of the start's node optimisation
+QUALITY_OPTIMIZE = True
 
 
 def pick_device(name: str) -> torch.device:
@@ -241,15 +243,51 @@ def _rank(q: dict[str, float]) -> tuple[int, float]:
     return q["folded_cells"], round(q["worst_max_angle"], 3)
 
 
-def _quality_start(warm: WarmStart, elliptic: np.ndarray, mean_tol: float) -> WarmStart:
-    """The start of ``--objective quality``: TFI (no correction) instead of the elliptic grid
-    where TFI's grid ranks better (``_rank``) and its mean is within ``mean_tol`` of the
-    elliptic grid's (a polar grid on an annulus sector, say)."""
-    tfi, ell = _Guard._quality(elliptic - warm.correction), _Guard._quality(elliptic)
-    if (_rank(tfi) < _rank(ell)
-            and tfi["mean_max_angle"] <= ell["mean_max_angle"] + mean_tol):
-        return WarmStart(np.zeros_like(warm.correction), start="tfi")
-    return warm
+def _quality_start(warm: WarmStart, elliptic: np.ndarray, optimize: bool) -> WarmStart:
+    """The start of ``--objective quality``: the better (``_rank``) of the elliptic and the TFI
+    grid on the lattice (a polar grid on an annulus sector, say), then, if ``optimize``, that
+    grid with its interior nodes moved to minimise the same cell-quality term the network
+    trains on: the objective's discrete solution, as the converged elliptic grid is the
+    Winslow objective's. A grid replaces the one before only if it ranks better with its
+    mean within ``QUALITY_MEAN_TOL`` of the elliptic grid's."""
+    tfi = elliptic - warm.correction
+    bound = _Guard._quality(elliptic)["mean_max_angle"] + QUALITY_MEAN_TOL
+    best = (elliptic, _Guard._quality(elliptic), "elliptic")
+
+    def consider(grid: np.ndarray, label: str) -> None:
+        nonlocal best
+        q = _Guard._quality(grid)
+        if _rank(q) < _rank(best[1]) and q["mean_max_angle"] <= bound:
+            best = (grid, q, label)
+
+    consider(tfi, "tfi")
+    if optimize:
+        consider(_optimize_nodes(best[0]), "optimized " + best[2])
+    return WarmStart(best[0] - tfi, start=best[2])
+
+
+def _optimize_nodes(grid: np.ndarray, iterations: int = QUALITY_NODE_ITERATIONS) -> np.ndarray:
+    """``grid`` with its interior nodes moved to minimise ``losses.loss_quality`` (L-BFGS in
+    float64, at most ``iterations``); the boundary nodes stay."""
+    from scipy.optimize import minimize
+
+    fixed = torch.as_tensor(grid, dtype=torch.float64)
+    orientation = 1.0 if _area(grid) >= 0 else -1.0
+    shape = fixed[1:-1, 1:-1].shape
+
+    def loss_and_grad(x: np.ndarray) -> tuple[float, np.ndarray]:
+        inner = torch.from_numpy(x).view(shape).requires_grad_(True)
+        g = torch.cat([fixed[:1], torch.cat([fixed[1:-1, :1], inner, fixed[1:-1, -1:]], dim=1),
+                       fixed[-1:]])
+        loss = loss_quality(g, orientation)
+        loss.backward()
+        return loss.item(), inner.grad.numpy().ravel()
+
+    result = minimize(loss_and_grad, fixed[1:-1, 1:-1].numpy().ravel(), jac=True,
+                      method="L-BFGS-B", options={"maxiter": iterations, "maxcor": 50})
+    out = np.array(grid, dtype=float)
+    out[1:-1, 1:-1] = result.x.reshape(shape)
+    return out
 
 
 class _History:
@@ -292,20 +330,20 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
                                 settings.activation).to(device=device, dtype=dtype)
             aux = aux if settings.method == "pinn" else ()
             quality = settings.objective == "quality" and settings.method == "pinn"
-            warm = reference = None
+            warm = reference = start = None
             if settings.warm_start == "elliptic":
                 warm, reference = WarmStart.elliptic(boundary,
                                                      *lattice_for(*settings.lattice))
-                if quality:
-                    warm = _quality_start(warm, reference, QUALITY_MEAN_TOL)
+                if quality:  # the TFI base plus the new start's correction
+                    tfi = reference - warm.correction
+                    warm = _quality_start(warm, reference, QUALITY_OPTIMIZE)
+                    start = tfi + warm.correction
                 with torch.no_grad():  # the map starts as the elliptic grid (or TFI)
                     net.w_out.zero_()
             mapping = Mapping(net, boundary, settings.boundary, warm)
             problem = _Problem(mapping, boundary, aux, settings, dtype, device)
-            start = reference - warm.correction if warm is not None and warm.start == "tfi" \
-                else reference
             guard = None if reference is None else _Guard(net, mapping, reference, bool(aux),
-                                                          start if quality else None)
+                                                          start)
             history = _History()
             lambda1 = 1.0 if settings.boundary == "penalty" else 0.0
             lambda1, recoveries = _adam(net, problem, settings, history, lambda1, progress)
