@@ -73,8 +73,8 @@ class Settings:
             raise ValueError(f"unknown residual {self.residual!r}; use paper or scaled")
         if self.objective not in OBJECTIVES:
             raise ValueError(f"unknown objective {self.objective!r}; use winslow or quality")
-        if self.objective == "quality" and self.method != "pinn":
-            raise ValueError(f"objective quality is for the pinn method, not {self.method}")
+        if self.method != "pinn":  # the objective is the pinn's (make_settings says so)
+            object.__setattr__(self, "objective", "winslow")
         if self.warm_start not in ("elliptic", "none"):
             raise ValueError(f"unknown warm start {self.warm_start!r}; use elliptic or none")
         if self.warm_start == "elliptic" and self.boundary != "hard":
@@ -106,7 +106,7 @@ PAPER = {
 
 # Training from TFI (no warm start) takes the paper's schedule and losses.
 FROM_TFI = {"adam_epochs": 5000, "lbfgs_iterations": 500, "lbfgs_points": 1000,
-            "lambda2": 10.0, "residual": "paper"}
+            "lambda2": 10.0, "residual": "paper", "objective": "winslow"}
 
 
 def make_settings(method: str = "pinn", preset: str = "default", **overrides) -> Settings:
@@ -120,6 +120,8 @@ def make_settings(method: str = "pinn", preset: str = "default", **overrides) ->
     if preset == "paper":
         base = replace(base, **PAPER)
     given = {k: v for k, v in overrides.items() if v is not None}
+    if given.get("objective") == "quality" and method != "pinn":
+        raise ValueError(f"objective quality is for the pinn method, not {method}")
     if given.get("boundary") == "penalty" and "warm_start" not in given:
         given["warm_start"] = "none"
     if given.get("warm_start") == "none" and preset == "default":
