@@ -82,17 +82,15 @@ def corner_angles(grid: torch.Tensor, orientation: float) -> torch.Tensor:
     return torch.stack(angles)
 
 
-def loss_quality(grid: torch.Tensor, orientation: float, tau: float | None = None) -> torch.Tensor:
-    """Cell-quality term of ``--objective quality`` on a grid (nj, ni, 2): a soft maximum
-    (log-sum-exp at temperature ``tau`` radians, 2 degrees) of the included angles of all
-    cells, which pulls the worst cells' largest angles down (MaxIncludedAngle's worst), plus a
-    barrier on corners whose sine is below 0.05 (nearly flat, reflex or folded), which
-    unfolds cells; the Winslow term beside it keeps the rest of the grid smooth."""
-    tau = TAU if tau is None else tau
-    theta = corner_angles(grid, orientation)
+def loss_quality(theta: torch.Tensor, tau: float = 0.035, mean_weight: float = 1.0
+                 ) -> torch.Tensor:
+    """Cell-quality term of ``--objective quality`` from the corner angles ``theta`` of a
+    grid's cells (:func:`corner_angles`): a soft maximum (log-sum-exp at temperature ``tau``
+    radians, 2 degrees) of all of them, which pulls the worst cell's largest angle down, plus
+    ``mean_weight`` times the mean over cells of each cell's soft largest angle (the mean
+    MaxIncludedAngle), plus a barrier on corners whose sine is below 0.05 (nearly flat,
+    reflex: folded), which unfolds cells."""
     soft_max = tau * torch.logsumexp(theta.flatten() / tau, dim=0)
     cell_max = tau * torch.logsumexp(theta / tau, dim=0)
     barrier = torch.relu(0.05 - torch.sin(theta)).pow(2).sum()
-    return soft_max + MEAN_W * cell_max.mean() + 100.0 * barrier
-MEAN_W = 1.0
-TAU = 0.035
+    return soft_max + mean_weight * cell_max.mean() + 100.0 * barrier
