@@ -69,7 +69,6 @@ def annealed_lambda(grads_eqns: list[torch.Tensor], grads_bcs: list[torch.Tensor
     return momentum * lambda1 + (1 - momentum) * lambda_hat
 
 
-
 def corner_angles(grid: torch.Tensor, orientation: float) -> torch.Tensor:
     """Interior angle (radians) at the four corners of every cell of a grid (nj, ni, 2):
     (4, nj - 1, ni - 1), in (0, 2 pi); above pi at a reflex corner (a folded cell)."""

@@ -364,7 +364,7 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
                     tfi = reference - warm.correction
                     warm = _quality_start(warm, reference)
                     start = tfi + warm.correction
-                with torch.no_grad():  # the map starts as the elliptic grid (or TFI)
+                with torch.no_grad():  # the map starts as the elliptic grid (or quality start)
                     net.w_out.zero_()
             mapping = Mapping(net, boundary, settings.boundary, warm)
             problem = _Problem(mapping, boundary, aux, settings, dtype, device)

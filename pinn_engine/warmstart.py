@@ -57,7 +57,8 @@ class WarmStart:
 
     def __init__(self, correction: np.ndarray, start: str = "elliptic") -> None:
         self.correction = np.asarray(correction, dtype=float)
-        self.start = start  # the grid it starts from: "elliptic", or "tfi" (zero correction)
+        self.start = start  # the grid it starts from: "elliptic", or under --objective quality
+        # "tfi" (zero correction), a blend of the two, or "optimized" (training._quality_start)
         d = _at_least_4(_at_least_4(self.correction, 0), 1)
         eta, xi = node_params(d.shape[0]), node_params(d.shape[1])
         self._splines = [RectBivariateSpline(eta, xi, d[..., k], s=0) for k in range(2)]
