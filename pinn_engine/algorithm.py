@@ -262,8 +262,11 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
 
     def GetSettings(self) -> Settings:
         """The ``Settings`` the next update uses (raises ``ValueError`` if invalid)."""
+        overrides = dict(self._overrides)
+        if self._method != "pinn":  # the panel hides Objective for the other methods
+            overrides.pop("objective", None)
         return make_settings(self._method, self._preset,
-                             **{"lattice": tuple(max(n, 2) for n in self._size), **self._overrides})
+                             **{"lattice": tuple(max(n, 2) for n in self._size), **overrides})
 
     # ---- results -----------------------------------------------------------------------
     def GetOutput(self) -> vtkStructuredGrid:

@@ -98,6 +98,9 @@ def test_objective_in_the_accessor_and_the_filter():
     alg = PinnMeshAlgorithm()
     alg.SetObjective(1)
     assert alg.GetSettings().objective == "quality"
+    alg.SetMethod("tfi")  # the panel keeps Objective set when the method changes
+    assert alg.GetSettings().objective == "winslow"
+    alg.SetMethod("pinn")
     alg.SetObjective("winslow")
     assert alg.GetSettings().objective == "winslow"
     with pytest.raises(ValueError, match="objective"):
