@@ -57,7 +57,7 @@ GUARD_PATIENCE = 2  # rejected checks in a row that end the training
 GUARD_TOL = {False: (0.25, 1.0), True: (0.5, 2.0)}
 # --objective quality: weight of the cell-quality term (losses.loss_quality) beside the Winslow
 # term; issue 14's bound on the mean MaxIncludedAngle against the elliptic grid; L-BFGS
-# iterations of the start's node optimisation
+# iterations of the start's node optimisation (0: none, the ablation of bench_hard.py)
 QUALITY_WEIGHT = 1.0
 QUALITY_MEAN_TOL = 0.5
 QUALITY_NODE_ITERATIONS = 100
@@ -269,13 +269,12 @@ def _quality_start(warm: WarmStart, elliptic: np.ndarray, optimize: bool = True)
     consider(tfi, "tfi")
     for weight in np.arange(1, 10) / 10:  # grids between the two
         consider(elliptic + weight * (tfi - elliptic), f"{weight:.1f} tfi + elliptic")
-    if optimize:
-        consider(_optimize_nodes(best[0], bound), "optimized")
+    if optimize and QUALITY_NODE_ITERATIONS:
+        consider(_optimize_nodes(best[0], bound, QUALITY_NODE_ITERATIONS), "optimized")
     return WarmStart(best[0] - tfi, start=best[2])
 
 
-def _optimize_nodes(grid: np.ndarray, mean_bound: float,
-                    iterations: int = QUALITY_NODE_ITERATIONS) -> np.ndarray:
+def _optimize_nodes(grid: np.ndarray, mean_bound: float, iterations: int) -> np.ndarray:
     """``grid`` with its interior nodes moved to minimise ``losses.loss_quality`` (L-BFGS in
     float64, at most ``iterations``); the boundary nodes stay. Returns the evaluated state
     that ranks best (``_rank``, on the corner angles) with its mean largest angle within
