@@ -35,7 +35,6 @@ import signal
 import sys
 import threading
 from collections.abc import Callable
-from typing import TYPE_CHECKING
 
 import numpy as np
 from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
@@ -45,10 +44,15 @@ from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 from .cache import MeshCache
 from .errors import InputError, PinnMeshError, TrainingCancelled, folded_cells_warning
-from .settings import METHODS, NEURAL, PRESETS, Settings, grid_size_problem, make_settings
-
-if TYPE_CHECKING:  # the engine's numerics are imported on first use (fast plugin loading)
-    pass
+from .settings import (
+    METHODS,
+    NEURAL,
+    OBJECTIVES,
+    PRESETS,
+    Settings,
+    grid_size_problem,
+    make_settings,
+)
 
 LABEL = "PINN Structured Mesh"
 
@@ -78,6 +82,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
       ``SetLambda2``, ``SetSeed``: override the preset (``None`` restores the preset value)
     * ``SetCorners(i0, i1, i2, i3)``: the four corner point indices of the boundary;
       ``SetCorners(None)`` or any negative index: automatic detection
+    * ``SetObjective("winslow"|"quality")`` (or 0/1): the pinn's objective (SPEC 7)
     * ``SetSetting(name, value)``: any other field of ``pinn_engine.settings.Settings``
       (e.g. ``"device"``, ``"boundary"``, ``"elliptic_iterations"``)
     * ``SetPatchNames(names)``: boundary patch names (four names bottom right top left, or
@@ -165,6 +170,11 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
     def SetSeed(self, n) -> None:
         self._set_override("seed", None if n is None else int(n))
 
+    def SetObjective(self, objective) -> None:
+        """The pinn's objective: winslow or quality (or its index); None: the preset's."""
+        self._set_override("objective", None if objective is None
+                           else _choice(objective, OBJECTIVES, "objective"))
+
     def SetPanelSetting(self, name: str, value) -> None:
         """A value from the ParaView panel: one equal to the default preset's is no override,
         so that a panel left at its defaults follows the chosen preset (with Preset paper,
@@ -209,8 +219,11 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
 
     def GetSettings(self) -> Settings:
         """The ``Settings`` the next update uses (raises ``ValueError`` if invalid)."""
+        overrides = dict(self._overrides)
+        if self._method != "pinn":  # the panel hides Objective for the other methods
+            overrides.pop("objective", None)
         return make_settings(self._method, self._preset,
-                             **{"lattice": tuple(max(n, 2) for n in self._size), **self._overrides})
+                             **{"lattice": tuple(max(n, 2) for n in self._size), **overrides})
 
     # ---- results -----------------------------------------------------------------------
     def GetOutput(self) -> vtkStructuredGrid:

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from . import heap
 from .errors import PinnMeshError, folded_cells_warning
-from .settings import METHODS, NEURAL, grid_size_problem, make_settings
+from .settings import METHODS, NEURAL, OBJECTIVES, grid_size_problem, make_settings
 
 FORMAT_KEYS = ("vts", "vtk", "xyz", "cgns", "su2", "msh", "openfoam")  # export.FORMATS
 
@@ -71,6 +71,9 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--warm-start", choices=("elliptic", "none"), dest="warm_start",
                    help="elliptic (default): start from the converged elliptic grid and keep "
                         "the last state no worse than it; none: train from TFI (paper)")
+    g.add_argument("--objective", choices=OBJECTIVES, dest="objective",
+                   help="pinn: winslow (the Winslow equations) or quality (plus a cell-quality "
+                        "term that lowers the worst cell's largest angle; SPEC 7)")
     g.add_argument("--device", help="torch device: auto, cpu, cuda")
     g.add_argument("--save-model", metavar="PATH", help="save the trained model")
     g.add_argument("--load-model", metavar="PATH",
@@ -152,7 +155,8 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     _check_options(args)
     ni, nj = args.size
     fields = ("seed", "adam_epochs", "lbfgs_iterations", "hidden_layers", "neurons",
-              "lambda2", "boundary_fit", "device", "elliptic_iterations", "warm_start")
+              "lambda2", "boundary_fit", "device", "elliptic_iterations", "warm_start",
+              "objective")
     try:
         settings = make_settings(args.method, args.preset, lattice=(ni, nj),
                                  boundary=args.boundary_mode,

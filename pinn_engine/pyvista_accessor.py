@@ -119,6 +119,9 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
         are good for a first look.
     boundary_mode : {"hard", "penalty"}, optional
         Exact boundary by construction (default) or the paper's penalty term.
+    objective : {"winslow", "quality"}, optional (a ``**settings`` field)
+        ``method="pinn"``: the Winslow equations alone, or with a cell-quality term that
+        lowers the worst cell's largest angle (SPEC 7; ``docs/quality_objective.md``).
     device : str, optional
         Torch device: ``"auto"`` (default), ``"cpu"``, ``"cuda"``.
     progress : callable, optional

@@ -55,8 +55,10 @@ def _at_least_4(d: np.ndarray, axis: int) -> np.ndarray:
 class WarmStart:
     """The correction ``D`` (nj, ni, 2) from TFI to the elliptic grid, as a smooth field."""
 
-    def __init__(self, correction: np.ndarray) -> None:
+    def __init__(self, correction: np.ndarray, start: str = "elliptic") -> None:
         self.correction = np.asarray(correction, dtype=float)
+        self.start = start  # the grid it starts from: "elliptic", or under --objective quality
+        # "tfi" (zero correction), a blend of the two, or "optimized" (training._quality_start)
         d = _at_least_4(_at_least_4(self.correction, 0), 1)
         eta, xi = node_params(d.shape[0]), node_params(d.shape[1])
         self._splines = [RectBivariateSpline(eta, xi, d[..., k], s=0) for k in range(2)]

@@ -29,7 +29,7 @@ try:
     from pinn_engine.algorithm import PinnMeshAlgorithm
     from pinn_engine.export import FORMATS
     from pinn_engine.export.algorithm import PARAVIEW_FORMATS, GridWriter
-    from pinn_engine.settings import MAX_SIDE_NODES, METHODS, PRESETS, Settings
+    from pinn_engine.settings import MAX_SIDE_NODES, METHODS, OBJECTIVES, PRESETS, Settings
 except ImportError as _exc:  # a clear line in ParaView's output instead of a bare traceback
     raise ImportError(
         f"PINN Structured Mesh plugin: cannot import pinn_engine from {_REPO} ({_exc}); keep "
@@ -164,6 +164,15 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
                        "them automatically (the four sharpest turns)."))
     def P10CornerIndices(self, i0, i1, i2, i3):
         self.SetCorners(i0, i1, i2, i3)
+
+    @smproperty.intvector(name="Objective", default_values=OBJECTIVES.index(_DEFAULTS.objective))
+    @smdomain.xml(_enum(OBJECTIVES))
+    @smdomain.xml(_doc("winslow: train on the Winslow equations; quality: add a cell-quality "
+                       "term that lowers the worst cell's largest angle, starting from the "
+                       "better of the elliptic and TFI grids (pinn only)."))
+    @smhint.xml(_PINN_ONLY)
+    def P11Objective(self, index):
+        self.SetPanelSetting("objective", OBJECTIVES[int(index)])
 
     @smproperty.stringvector(name="PatchNames", label="Patch Names",
                              default_values="bottom right top left")
