@@ -40,21 +40,22 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.sparse as sp
 from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq
-from scipy.sparse.linalg import splu
 
 from .airfoil import Body, FarField
 from .errors import InputError
 
 TOPOLOGIES = ("o", "c")
-FAR_ANGLE_WEIGHT = 0.5
 NORMAL_SMOOTHING, TANGENT_SMOOTHING, NORMAL_REACH = 0.5, 0.1, 0.3
 CONCAVE_SMOOTHING = 2.0
 MAX_SUBSTEPS = 40
 REAR_TURN = 0.02
-BLEND_START, BLEND_END = 0.5, 2.0  # chords  # far-field node angle: this share of the body node's polar angle
+BLEND_START, BLEND_END = 0.5, 2.0  # chords
+CONTROL_DECAY, CONTROL_PASSES = 0.05, 10
+JACOBI_RELAX = 0.5
+ELLIPTIC_SWEEPS = 1000
+HELD_ROWS = 2  # far-field node angle: this share of the body node's polar angle
 
 
 # ---------------------------------------------------------------- stretching functions
@@ -93,7 +94,7 @@ def two_sided(n: int, d0: float, d1: float) -> np.ndarray:
     for _ in range(30):
         target = n * math.sqrt(d0 * d1)
         if target < 1:
-            b = brentq(lambda b: b / math.sinh(b) - target, 1e-9, 200.0)
+            b = brentq(lambda b, t=target: b / math.sinh(b) - t, 1e-9, 200.0)
         else:
             b = 0.0
         s = dist(a, b)
@@ -181,28 +182,6 @@ class Layout:
         return np.arange(self.n_wake, self.ni - self.n_wake)
 
 
-def _polar(p: np.ndarray, c: np.ndarray) -> np.ndarray:
-    return np.unwrap(np.arctan2(p[:, 1] - c[1], p[:, 0] - c[0]))
-
-
-def _arc_fraction(p: np.ndarray) -> np.ndarray:
-    s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))]
-    return s / s[-1]
-
-
-def _polyline_at(ring: np.ndarray, start: np.ndarray, frac: np.ndarray) -> np.ndarray:
-    """Points of the closed counter-clockwise polyline ``ring`` at arc-length fractions
-    ``frac`` measured from its point nearest the ray from the centre through ``start``."""
-    closed = np.concatenate([ring, ring[:1]])
-    seg = np.linalg.norm(np.diff(closed, axis=0), axis=1)
-    s = np.r_[0.0, np.cumsum(seg)]
-    dense_t = np.linspace(0, s[-1], 20001)
-    dense = np.column_stack([np.interp(dense_t, s, closed[:, k]) for k in range(2)])
-    s0 = dense_t[np.argmin(np.linalg.norm(dense - start, axis=1))]
-    t = (s0 + frac * s[-1]) % s[-1]
-    return np.column_stack([np.interp(t, s, closed[:, k]) for k in range(2)])
-
-
 def _row_normals(p: np.ndarray, topology: str, n_wake: int) -> np.ndarray:
     """Unit normals of a grid row ``p`` (ni, 2), pointing away from the body."""
     if topology == "o":
@@ -250,17 +229,6 @@ def rear_start(inner: np.ndarray, n_wake: int) -> np.ndarray:
     x_lo = inner[lower[np.argmin(np.abs(n[lower, 0]))], 0]
     x_up = inner[upper[np.argmin(np.abs(n[upper, 0]))], 0]
     return np.where(np.arange(ni) < ni // 2, x_lo, x_up)
-
-
-def _fractions(p: np.ndarray) -> np.ndarray:
-    s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))]
-    return s / s[-1]
-
-
-def _redistribute(q: np.ndarray, frac: np.ndarray) -> np.ndarray:
-    """Nodes along the polyline ``q`` at arc-length fractions ``frac``."""
-    s = _fractions(q)
-    return np.column_stack([np.interp(frac, s, q[:, k]) for k in range(2)])
 
 
 def march(inner: np.ndarray, topology: str, distances: np.ndarray, scale: float,
@@ -490,47 +458,6 @@ def tfi(lay: Layout, nj: int) -> np.ndarray:
     return lay.inner[None] + s[..., None] * vec[None]
 
 
-def wall_normals(lay: Layout, smooth: int = 2) -> np.ndarray:
-    """Unit normals (ni, 2) of the line j = 0, pointing into the domain."""
-    p = lay.inner
-    if lay.topology == "o":
-        q = p[:-1]
-        t = np.roll(q, -1, axis=0) - np.roll(q, 1, axis=0)
-        t = np.concatenate([t, t[:1]])
-    else:
-        t = np.gradient(p, axis=0)
-    t /= np.linalg.norm(t, axis=1, keepdims=True)
-    n = np.column_stack([-t[:, 1], t[:, 0]])  # left of the direction of i
-    if lay.topology == "o":
-        n = -n  # i runs counter-clockwise around the body: the domain is on its right
-    if lay.topology == "c":
-        n[: lay.n_wake] = (0.0, -1.0)
-        n[lay.ni - lay.n_wake:] = (0.0, 1.0)
-    for _ in range(smooth):
-        m = n.copy()
-        if lay.topology == "o":
-            q = n[:-1]
-            m[:-1] = 0.5 * q + 0.25 * (np.roll(q, 1, axis=0) + np.roll(q, -1, axis=0))
-            m[-1] = m[0]
-        else:
-            m[1:-1] = 0.5 * n[1:-1] + 0.25 * (n[:-2] + n[2:])
-            m[: lay.n_wake + 1] = n[: lay.n_wake + 1]
-            m[lay.ni - lay.n_wake - 1:] = n[lay.ni - lay.n_wake - 1:]
-        n = m / np.linalg.norm(m, axis=1, keepdims=True)
-    return n
-
-
-def normal_blend(lay: Layout, base: np.ndarray, reach: float) -> np.ndarray:
-    """A wall-orthogonal algebraic grid: each column leaves the wall along its normal with
-    the distances of ``base`` and turns into ``base`` over about ``reach`` (smoothstep)."""
-    n = wall_normals(lay)
-    d = np.linalg.norm(base - lay.inner[None], axis=-1)
-    w = np.clip(d / reach, 0.0, 1.0)
-    blend = (w * w * (3 - 2 * w))[..., None]
-    offset = lay.inner[None] + d[..., None] * n[None]
-    return (1 - blend) * offset + blend * base
-
-
 # ---------------------------------------------------------------- elliptic solver
 
 
@@ -567,27 +494,6 @@ def residual(g: np.ndarray, periodic: bool, s_xi: np.ndarray | None = None,
     return r
 
 
-def one_d_controls(g: np.ndarray, periodic: bool) -> tuple[np.ndarray, np.ndarray]:
-    """Thomas-Middlecoff's phi and psi at the unknown nodes: phi = -x_xi.x_xixi / |x_xi|^2
-    on the lines j = 0 and nj - 1 of grid ``g``, interpolated linearly in j between them;
-    psi = -x_eta.x_etaeta / |x_eta|^2 along each column of ``g`` (a TFI grid: straight
-    columns, so psi is the column's own stretching)."""
-    nj = g.shape[0]
-    rows = []
-    for row in (g[0], g[-1]):
-        q = row[:-1] if periodic else row
-        if periodic:
-            e, w = np.roll(q, -1, axis=0), np.roll(q, 1, axis=0)
-        else:
-            e, w, q = q[2:], q[:-2], q[1:-1]
-        x_xi, x_xixi = 0.5 * (e - w), e - 2 * q + w
-        rows.append(-_dot(x_xi, x_xixi) / _dot(x_xi, x_xi))
-    t = (np.arange(1, nj - 1) / (nj - 1))[:, None]
-    phi = (1 - t) * rows[0][None] + t * rows[1][None]
-    _, x_eta, _, x_etaeta, _ = _d(g, periodic)
-    return phi, -_dot(x_eta, x_etaeta) / _dot(x_eta, x_eta)
-
-
 def exact_controls(g: np.ndarray, periodic: bool) -> tuple[np.ndarray, np.ndarray]:
     """Sources (s_xi, s_eta) that make ``g`` an exact solution: s_xi x_xi + s_eta x_eta
     = -(alpha x_xixi - 2 beta x_xieta + gamma x_etaeta)."""
@@ -599,111 +505,71 @@ def exact_controls(g: np.ndarray, periodic: bool) -> tuple[np.ndarray, np.ndarra
     return s_xi, s_eta
 
 
-class Controls:
-    """Control functions of the elliptic equations: the 1-D controls (phi, psi) of a
-    reference grid everywhere, blended near the wall with the exact sources of a
-    wall-orthogonal grid (weight ``wall_weight``, 1 at the wall, decaying in j)."""
-
-    def __init__(self, phi, psi, exact=None, weight=None) -> None:
-        self.phi, self.psi, self.exact, self.weight = phi, psi, exact, weight
-
-    def sources(self, g: np.ndarray, periodic: bool) -> tuple[np.ndarray, np.ndarray]:
-        x_xi, x_eta, *_ = _d(g, periodic)
-        s_xi = _dot(x_eta, x_eta) * self.phi
-        s_eta = _dot(x_xi, x_xi) * self.psi
-        if self.exact is not None:
-            w = self.weight
-            s_xi = (1 - w) * s_xi + w * self.exact[0]
-            s_eta = (1 - w) * s_eta + w * self.exact[1]
-        return s_xi, s_eta
-
-
-def _index(nj: int, ni: int, periodic: bool):
-    """Unknown-node numbering: returns (rows, ncols, neighbour function)."""
-    m = ni - 1 if periodic else ni - 2
-    return m
-
-
-def elliptic_solve(grid: np.ndarray, periodic: bool, controls: Controls,
-                   tol: float = 1e-9, max_iterations: int = 200, relax: float = 0.2
-                   ) -> tuple[np.ndarray, int]:
-    """Solve the controlled Winslow equations for the interior of ``grid`` (its rows j = 0
-    and nj - 1 and, for the C-grid, its columns 0 and ni - 1 are held): Picard iteration
-    with frozen coefficients, each step a sparse LU solve. Periodic across the O-grid's seam.
-    """
-    g = np.array(grid, dtype=float)
-    nj, ni = g.shape[:2]
-    m = ni - 1 if periodic else ni - 2  # unknown columns
-    rows_j = nj - 2
-    jj, ii = np.meshgrid(np.arange(rows_j), np.arange(m), indexing="ij")
-    num = (jj * m + ii).ravel()
-    extent = float(np.ptp(g.reshape(-1, 2), axis=0).max())
-    offsets = [(0, 0), (0, 1), (0, -1), (1, 0), (-1, 0), (1, 1), (-1, -1), (1, -1), (-1, 1)]
-    for it in range(1, max_iterations + 1):
-        x_xi, x_eta, *_ = _d(g, periodic)
-        a, b, c = _dot(x_eta, x_eta), _dot(x_xi, x_eta), _dot(x_xi, x_xi)
-        s_xi, s_eta = controls.sources(g, periodic)
-        w = {(0, 0): -2 * (a + c), (0, 1): a + 0.5 * s_xi, (0, -1): a - 0.5 * s_xi,
-             (1, 0): c + 0.5 * s_eta, (-1, 0): c - 0.5 * s_eta,
-             (1, 1): -0.5 * b, (-1, -1): -0.5 * b, (1, -1): 0.5 * b, (-1, 1): 0.5 * b}
-        scale = 1.0 / (a + c)  # row equilibration: a and c span ten decades near the wall
-        w = {k: v * scale for k, v in w.items()}
-        rows, cols, vals = [], [], []
-        rhs = np.zeros((num.size, 2))
-        for dj, di in offsets:
-            wt = w[(dj, di)].ravel()
-            tj = jj.ravel() + dj  # unknown row index of the neighbour (-1 or rows_j: fixed)
+def smoothed_controls(g: np.ndarray, periodic: bool, decay: float = CONTROL_DECAY,
+                      passes: int = CONTROL_PASSES) -> tuple[np.ndarray, np.ndarray]:
+    """The exact sources of ``g`` (see :func:`exact_controls`), kept at the wall and
+    blended, with weight exp(-decay (j - 1)), into ``passes`` Jacobi passes of their
+    smoothing away from it."""
+    out = []
+    j = np.arange(1, g.shape[0] - 1)[:, None]
+    w = np.exp(-decay * (j - 1))
+    for a in exact_controls(g, periodic):
+        b = np.nan_to_num(a)
+        for _ in range(passes):
             if periodic:
-                ti = (ii.ravel() + di) % m
-                gi = ti
+                e, west = np.roll(b, -1, axis=1), np.roll(b, 1, axis=1)
             else:
-                ti = ii.ravel() + di  # -1 or m: the fixed columns
-                gi = ti + 1
-            inner = (tj >= 0) & (tj < rows_j) & (ti >= 0) & (ti < m)
-            rows.append(num[inner])
-            cols.append((tj * m + ti)[inner])
-            vals.append(wt[inner])
-            fixed = ~inner
-            rhs[num[fixed]] -= wt[fixed, None] * g[tj[fixed] + 1, gi[fixed]]
-        mat = sp.csc_matrix((np.concatenate(vals), (np.concatenate(rows),
-                                                    np.concatenate(cols))),
-                            shape=(num.size, num.size))
-        cur = g[1:-1, :-1] if periodic else g[1:-1, 1:-1]
-        new = splu(mat, permc_spec="MMD_AT_PLUS_A").solve(rhs)
-        new = cur + relax * (new.reshape(rows_j, m, 2) - cur)
-        change = float(np.abs(new - cur).max())
-        if not np.isfinite(change):
-            raise InputError("the elliptic solve diverged; try another --size or the tfi "
-                             "method")
+                e = np.concatenate([b[:, 1:], b[:, -1:]], axis=1)
+                west = np.concatenate([b[:, :1], b[:, :-1]], axis=1)
+            n = np.concatenate([b[1:], b[-1:]])
+            south = np.concatenate([b[:1], b[:-1]])
+            b = 0.5 * b + 0.125 * (e + west + n + south)
+        out.append(w * np.nan_to_num(a) + (1 - w) * b)
+    return out[0], out[1]
+
+
+def jacobi(grid: np.ndarray, periodic: bool, s_xi: np.ndarray, s_eta: np.ndarray,
+           sweeps: int, relax: float = JACOBI_RELAX, hold: int = HELD_ROWS) -> np.ndarray:
+    """``sweeps`` relaxed point-Jacobi sweeps of the controlled Winslow equations (the
+    paper's PDE iteration) on the interior of ``grid``; rows j = 0, nj - 1 (and the C-grid's
+    outflow columns) held, and the first ``hold`` rows off the wall (the first layer's height
+    and the wall angle are the reference's), the O-grid's seam column kept equal to
+    column 0."""
+    g = np.array(grid, dtype=float)
+    kept = g[1:hold + 1].copy()
+    sx, se = s_xi[..., None], s_eta[..., None]
+    for _ in range(sweeps):
+        x_xi, x_eta, _, _, x_xieta = _d(g, periodic)
+        a, b, c = (_dot(x_eta, x_eta)[..., None], _dot(x_xi, x_eta)[..., None],
+                   _dot(x_xi, x_xi)[..., None])
         if periodic:
-            g[1:-1, :-1] = new
-            g[1:-1, -1] = new[:, 0]
+            u = g[:, :-1]
+            ew = np.roll(u, -1, axis=1)[1:-1] + np.roll(u, 1, axis=1)[1:-1]
+            centre = u[1:-1]
+            ns = u[2:] + u[:-2]
         else:
-            g[1:-1, 1:-1] = new
-        if change <= tol * extent:
-            return g, it
-    return g, max_iterations
+            ew = g[1:-1, 2:] + g[1:-1, :-2]
+            centre = g[1:-1, 1:-1]
+            ns = g[2:, 1:-1] + g[:-2, 1:-1]
+        new = (a * ew + c * ns - 2 * b * x_xieta + sx * x_xi + se * x_eta) / (2 * (a + c))
+        upd = centre + relax * (new - centre)
+        if periodic:
+            g[1:-1, :-1] = upd
+            g[1:-1, -1] = upd[:, 0]
+        else:
+            g[1:-1, 1:-1] = upd
+        g[1:hold + 1] = kept
+    return g
 
 
-def elliptic(lay: Layout, nj: int, orthogonal: bool = False, reach: float | None = None,
-             decay: float = 0.15) -> tuple[np.ndarray, Controls]:
-    """The elliptic grid and the controls it solves (see the module's docstring)."""
+def elliptic(lay: Layout, sweeps: int = ELLIPTIC_SWEEPS) -> tuple[np.ndarray, tuple]:
+    """The elliptic grid: ``sweeps`` Jacobi sweeps of Winslow's equations from the
+    reference grid, with the controls of :func:`smoothed_controls`; also returns them."""
     periodic = lay.topology == "o"
-    base = tfi(lay, nj)
-    phi, psi = one_d_controls(base, periodic)
-    exact = weight = None
-    start = base
-    if orthogonal:
-        chord_scale = float(np.ptp(lay.inner[lay.wall_columns()], axis=0).max())
-        ref = normal_blend(lay, base, reach or 0.5 * chord_scale)
-        exact = exact_controls(ref, periodic)
-        j = np.arange(1, nj - 1)[:, None]
-        weight = np.exp(-decay * (j - 1)) * np.ones_like(phi)
-        start = ref
-    controls = Controls(phi, psi, exact, weight)
-    grid, _ = elliptic_solve(start, periodic, controls)
-    return grid, controls
+    controls = smoothed_controls(lay.reference, periodic)
+    return jacobi(lay.reference, periodic, *controls, sweeps), controls
 
 
-__all__ = ["TOPOLOGIES", "BodyCurve", "Controls", "Layout", "elliptic", "elliptic_solve",
-           "layout", "one_sided", "tfi", "two_sided"]
+__all__ = ["TOPOLOGIES", "BodyCurve", "Layout", "elliptic", "jacobi", "layout", "march",
+           "one_sided", "reference_grid", "residual", "smoothed_controls", "tfi",
+           "two_sided"]
