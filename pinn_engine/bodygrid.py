@@ -55,7 +55,8 @@ BLEND_START, BLEND_END = 0.5, 2.0  # chords
 CONTROL_DECAY, CONTROL_PASSES = 0.05, 10
 JACOBI_RELAX = 0.5
 ELLIPTIC_SWEEPS = 1000
-HELD_ROWS = 2  # far-field node angle: this share of the body node's polar angle
+HELD_ROWS = 2
+CHECK_EVERY, CHECK_WORST = 100, 2.0  # far-field node angle: this share of the body node's polar angle
 
 
 # ---------------------------------------------------------------- stretching functions
@@ -170,6 +171,7 @@ class Layout:
     n_wake: int = 0
     wall_spacing: float = 0.0
     reference: np.ndarray | None = None
+    sweeps_kept: int = 0
 
     @property
     def ni(self) -> int:
@@ -258,6 +260,12 @@ def march(inner: np.ndarray, topology: str, distances: np.ndarray, scale: float,
         step = distances[j] - distances[j - 1]
         # sub-steps no longer than half the row's smallest spacing: a step that outruns the
         # spacing can cross lines off a concave wall before any smoothing acts
+        if j == 1:  # the first layer: straight along the wall's normals, height h exactly
+            q = q + step * _row_normals(q, topology, n_wake)
+            if topology == "c":
+                q[0], q[-1] = inner[0] + (0, -step), inner[-1] + (0, step)
+            rows.append(q)
+            continue
         subs = int(min(MAX_SUBSTEPS, max(1, math.ceil(step / (0.5 * _row_spacing(
             q, topology).min())))))
         for k in range(subs):
@@ -267,7 +275,7 @@ def march(inner: np.ndarray, topology: str, distances: np.ndarray, scale: float,
             for _ in range(passes):
                 n = _smooth_normals(n, NORMAL_SMOOTHING * grow, topology)
             if rear is not None:
-                turn = rear * min(1.0, d / (REAR_TURN * scale))
+                turn = rear * min(1.0, (d - distances[1]) / (REAR_TURN * scale))
                 n = (1 - turn) * n + turn * vertical
                 n /= np.linalg.norm(n, axis=1, keepdims=True)
             q = q + (step / subs) * n
@@ -563,11 +571,35 @@ def jacobi(grid: np.ndarray, periodic: bool, s_xi: np.ndarray, s_eta: np.ndarray
 
 
 def elliptic(lay: Layout, sweeps: int = ELLIPTIC_SWEEPS) -> tuple[np.ndarray, tuple]:
-    """The elliptic grid: ``sweeps`` Jacobi sweeps of Winslow's equations from the
-    reference grid, with the controls of :func:`smoothed_controls`; also returns them."""
+    """The elliptic grid: up to ``sweeps`` Jacobi sweeps of Winslow's equations from the
+    reference grid, with the controls of :func:`smoothed_controls`; also returns them.
+
+    Every ``CHECK_EVERY`` sweeps the grid is checked against the reference: the sweeps stop
+    at the last state with no more folded cells and a worst MaxIncludedAngle at most
+    ``CHECK_WORST`` degrees above the reference's (on coarse grids with strong wall
+    stretching the relaxed Jacobi iteration can drift off; ``lay.sweeps_kept`` says how far
+    it went)."""
+    from .quality import cell_quality, summary
+
     periodic = lay.topology == "o"
     controls = smoothed_controls(lay.reference, periodic)
-    return jacobi(lay.reference, periodic, *controls, sweeps), controls
+
+    def quality(g: np.ndarray) -> tuple[int, float]:
+        q = summary(cell_quality(g), 0.0)
+        return q["folded_cells"], q["worst_max_angle"]
+
+    folded0, worst0 = quality(lay.reference)
+    g, kept, done = lay.reference, lay.reference, 0
+    lay.sweeps_kept = 0
+    while done < sweeps:
+        n = min(CHECK_EVERY, sweeps - done)
+        g = jacobi(g, periodic, *controls, n)
+        done += n
+        folded, worst = quality(g)
+        if folded > folded0 or worst > worst0 + CHECK_WORST:
+            break
+        kept, lay.sweeps_kept = g, done
+    return kept, controls
 
 
 __all__ = ["TOPOLOGIES", "BodyCurve", "Layout", "elliptic", "jacobi", "layout", "march",

@@ -123,6 +123,8 @@ def mesh_body(body: Body, far: FarField, topology: str, method: str, ni: int, nj
         "topology": topology_metrics(grid, topology, lay.n_wake, far, body.sharp),
     }
     report["topology"]["wall_spacing"] = lay.wall_spacing
+    if method != "tfi":
+        report["topology"]["elliptic_sweeps"] = lay.sweeps_kept
     if training is not None:
         report["training"] = training
     return MeshResult(points=grid, report=report, history=history, cells=cells)

@@ -119,6 +119,15 @@ def grid_points(grid: vtkStructuredGrid) -> tuple[np.ndarray, np.ndarray]:
     return pts, area / np.linalg.norm(area)
 
 
+def body_topology(grid: vtkStructuredGrid) -> str | None:
+    """"o" or "c" for an O- or C-grid around a body (field data ``Topology``), else None."""
+    arr = grid.GetFieldData().GetAbstractArray("Topology") if grid is not None else None
+    if arr is None or arr.GetNumberOfValues() != 1:
+        return None
+    value = str(arr.GetValue(0)).lower()
+    return value if value in ("o", "c") else None
+
+
 def write(grid: vtkStructuredGrid, path: str | os.PathLike, fmt: str | None = None, *,
           patches: Mapping[str, str] | Sequence[str] | str | None = None,
           extrude: float | None = None) -> Path:
@@ -133,6 +142,20 @@ def write(grid: vtkStructuredGrid, path: str | os.PathLike, fmt: str | None = No
     path = Path(path)
     found = output_format(path, fmt, extrude)
     names = of_grid(grid) if patches is None else patch_names(patches)
+    topology = body_topology(grid)
+    if topology and found.key not in ("vts", "vtk"):
+        raise InputError(f"an {topology.upper()}-grid (SPEC 9) is written as .vts or .vtk in "
+                         f"this build; {found.description} does not record its "
+                         f"{'seam' if topology == 'o' else 'wake cut'} yet", str(path))
+    if topology:
+        copy = vtkStructuredGrid()
+        copy.ShallowCopy(grid)
+        add_to_grid(copy, names)
+        if found.key == "vts":
+            return vtkfiles.write_vts(copy, path)
+        with atomic_path(path, suffix=found.suffix) as tmp:
+            vtkfiles.write_legacy(copy, tmp)
+        return path
     points, normal = grid_points(grid)
     if found.key in ("vts", "vtk"):
         copy = vtkStructuredGrid()
