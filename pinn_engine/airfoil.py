@@ -40,7 +40,7 @@ def _rows(text: str, source: str) -> tuple[list[list[tuple[float, float]]], str]
         else:
             if k == 0:
                 name = line.strip()
-            elif line.strip() and not blocks[-1]:
+            elif line.strip():
                 raise InputError(f"line {k + 1} is not an 'x y' row: {line.strip()[:40]!r}",
                                  source)
             if blocks[-1]:
@@ -229,12 +229,12 @@ def circle(body: Body, radius: float) -> FarField:
     if not (np.isfinite(radius) and radius > 0):
         raise InputError(f"far-field radius {radius}: must be a positive number of chords "
                          "({farfield})")
+    if radius < 1.0:
+        raise InputError(f"far-field radius {radius}: must be at least 1 chord ({{farfield}})")
     far = FarField(center=body.mid_chord, radius=float(radius) * body.chord)
     if not far.contains(body.surface).all():
         raise InputError(f"the far-field circle of radius {radius} chords does not enclose "
                          "the body; give a larger radius ({farfield})", body.source)
-    if radius < 1.0:
-        raise InputError(f"far-field radius {radius}: must be at least 1 chord ({{farfield}})")
     return far
 
 

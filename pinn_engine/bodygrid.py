@@ -41,7 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.interpolate import CubicSpline
-from scipy.optimize import brentq
+from scipy.optimize import brentq, minimize_scalar
 
 from .airfoil import Body, FarField
 from .errors import InputError
@@ -79,8 +79,9 @@ def one_sided(n: int, d0: float) -> np.ndarray:
 
 
 def two_sided(n: int, d0: float, d1: float) -> np.ndarray:
-    """``n + 1`` values from 0 to 1 with first interval ``d0`` and last ``d1`` (fractions),
-    Vinokur's two-sided stretching (tanh, or uniform-u when the spacings ask for none)."""
+    """``n + 1`` values from 0 to 1 with first interval ``d0`` and last ``d1`` (fractions):
+    Vinokur's two-sided stretching, u = (1 + tanh(b (eta - 1/2)) / tanh(b / 2)) / 2 mapped
+    by s = u / (a + (1 - a) u); b sets the clustering, a the ratio of the end spacings."""
     eta = np.linspace(0.0, 1.0, n + 1)
     if n < 2:
         return eta
@@ -90,21 +91,19 @@ def two_sided(n: int, d0: float, d1: float) -> np.ndarray:
         u = eta if b < 1e-6 else 0.5 * (1 + np.tanh(b * (eta - 0.5)) / np.tanh(b / 2))
         return u / (a + (1 - a) * u)
 
-    a = math.sqrt(d1 / d0)
-    b = 0.0
-    for _ in range(30):
-        target = n * math.sqrt(d0 * d1)
-        if target < 1:
-            b = brentq(lambda b, t=target: b / math.sinh(b) - t, 1e-9, 200.0)
-        else:
-            b = 0.0
+    def ends(a: float, b: float) -> tuple[float, float]:
         s = dist(a, b)
-        first, last = s[1], 1 - s[-2]
-        if abs(first / d0 - 1) < 1e-3 and abs(last / d1 - 1) < 1e-3:
+        return s[1], 1 - s[-2]
+
+    a, b = math.sqrt(d1 / d0), 0.0
+    for _ in range(40):
+        target = math.sqrt(d0 * d1)
+        f = lambda b, a=a: math.sqrt(ends(a, b)[0] * ends(a, b)[1]) - target  # noqa: E731
+        b = brentq(f, 1e-7, 60.0) if f(1e-7) > 0 > f(60.0) else 1e-7
+        first, last = ends(a, b)
+        if abs(first / d0 - 1) < 1e-4 and abs(last / d1 - 1) < 1e-4:
             break
-        a *= math.sqrt((d1 / last) / (d0 / first)) ** 0.5
-        d0c, d1c = d0 * d0 / first, d1 * d1 / last  # fixed point on the spacings themselves
-        d0, d1 = math.sqrt(d0 * d0c), math.sqrt(d1 * d1c)
+        a *= math.sqrt((d1 / d0) / (last / first))
     s = dist(a, b)
     s[0], s[-1] = 0.0, 1.0
     return s
@@ -133,7 +132,12 @@ class BodyCurve:
             near = np.abs(dense - self.length) < 0.05 * self.length
             near |= dense < 0.05 * self.length
             x = np.where(near, self.spline(dense)[:, 0], -np.inf)
-            self.t0 = float(dense[np.argmax(x)])
+            t_best = float(dense[np.argmax(x)])
+            step = dense[1] - dense[0]
+            best = minimize_scalar(lambda t: -float(self.spline(t % self.length)[0]),
+                                   bounds=(t_best - step, t_best + step), method="bounded",
+                                   options={"xatol": 1e-12})
+            self.t0 = float(best.x) % self.length
         te = self.at(np.zeros(1))[0]
         self.t_le = float(dense[np.argmax(np.linalg.norm(self.at(dense) - te, axis=1))])
 
@@ -281,6 +285,8 @@ def march(inner: np.ndarray, topology: str, distances: np.ndarray, scale: float,
             q = q + (step / subs) * n
             shrink = np.clip(1 - _row_spacing(q, topology) / spacing0, 0.0, 1.0)
             eps = np.minimum(0.5, CONCAVE_SMOOTHING * shrink)[:, None]
+            if topology == "c":  # the wake's columns run straight: no sliding along rows
+                eps[:n_wake] = eps[len(q) - n_wake:] = 0.0
             for _ in range(passes):
                 q = _smooth_row(q, eps, topology)
                 target = _smooth_row(q, tangent * grow, topology)
