@@ -56,7 +56,7 @@ CONTROL_DECAY, CONTROL_PASSES = 0.05, 10
 JACOBI_RELAX = 0.5
 ELLIPTIC_SWEEPS = 1000
 HELD_ROWS = 2
-CHECK_EVERY, CHECK_WORST = 100, 2.0  # far-field node angle: this share of the body node's polar angle
+CHECK_EVERY, CHECK_WORST = 100, 2.0
 
 
 # ---------------------------------------------------------------- stretching functions
@@ -96,8 +96,8 @@ def two_sided(n: int, d0: float, d1: float) -> np.ndarray:
         return s[1], 1 - s[-2]
 
     a, b = math.sqrt(d1 / d0), 0.0
+    target = math.sqrt(d0 * d1)
     for _ in range(40):
-        target = math.sqrt(d0 * d1)
         f = lambda b, a=a: math.sqrt(ends(a, b)[0] * ends(a, b)[1]) - target  # noqa: E731
         b = brentq(f, 1e-7, 60.0) if f(1e-7) > 0 > f(60.0) else 1e-7
         first, last = ends(a, b)
