@@ -223,3 +223,27 @@ def test_cli_errors_are_one_line(tmp_path, capsys, argv, words):
               ([] if "-o" in argv else ["-o", str(tmp_path / "g.vts")]))
     err = capsys.readouterr().err
     assert rc == 2 and words in err and err.count("\n") == 1
+
+
+def test_pyvista_routes(tmp_path):
+    pv = pytest.importorskip("pyvista")
+    from pinn_engine.pyvista_accessor import pinn_mesh
+
+    grid = pinn_mesh(None, naca="0012", topology="o", size=(61, 21), method="elliptic",
+                     farfield=10, spacing={"bottom": 1e-3}, orthogonal="bottom")
+    assert grid.dimensions == (61, 21, 1)
+    assert grid.field_data["Topology"][0] == "o"
+    pts = grid.points.reshape(21, 61, 3)
+    np.testing.assert_array_equal(pts[:, 0], pts[:, -1])
+    r = np.linalg.norm(pts[-1, :, :2] - (0.5, 0.0), axis=1)
+    np.testing.assert_allclose(r, 10.0, atol=2e-3)  # mid-chord of the blunt section
+    xy = naca4("2412", points=61)
+    body = pv.lines_from_points(np.column_stack([xy, np.zeros(len(xy))]))
+    c = body.pinn_mesh(size=(121, 21), method="tfi", topology="c", farfield=8)
+    assert c.field_data["Topology"][0] == "c"
+    assert list(c.field_data["PatchNames"]) == ["wall", "outflow", "farfield", "outflow"]
+    dat = _selig(tmp_path / "f.dat", xy)
+    g = pinn_mesh(str(dat), topology="c", size=(121, 21), method="tfi")
+    assert g.n_cells == 120 * 20
+    with pytest.raises(InputError, match='topology="o"|"o" or "c"'):
+        pinn_mesh(None, naca="0012", topology="x", size=(41, 17))
