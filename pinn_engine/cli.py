@@ -331,10 +331,12 @@ def run_body(args: argparse.Namespace, written: list[Path]) -> Path:
         write_text_atomic(args.report, json.dumps(result.report, indent=2, default=float))
         written.append(Path(args.report))
     if args.png:
-        from .render import render_png
+        from .render import render_body_png
 
+        le, te = body.chord_points
         with atomic_path(args.png, suffix=Path(args.png).suffix or ".png") as tmp:
-            render_png(grid, tmp, title=f"{args.method} {args.topology.upper()}-grid: {name}")
+            render_body_png(grid, tmp, title=f"{args.method} {args.topology.upper()}-grid "
+                            f"{name}", le=le, te=te, zoom=0.08 * body.chord)
         written.append(Path(args.png))
     print(f"wrote {out}" + (f" and {args.png}" if args.png else ""))
     warning = folded_cells_warning(result.report, "cli")
