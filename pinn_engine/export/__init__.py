@@ -143,11 +143,23 @@ def write(grid: vtkStructuredGrid, path: str | os.PathLike, fmt: str | None = No
     found = output_format(path, fmt, extrude)
     names = of_grid(grid) if patches is None else patch_names(patches)
     topology = body_topology(grid)
-    if topology and found.key not in ("vts", "vtk"):
-        raise InputError(f"an {topology.upper()}-grid (SPEC 9) is written as .vts or .vtk in "
-                         f"this build; {found.description} does not record its "
-                         f"{'seam' if topology == 'o' else 'wake cut'} yet", str(path))
     if topology:
+        if found.key == "openfoam":
+            raise InputError(f"an {topology.upper()}-grid (SPEC 9) is not written as an "
+                             "OpenFOAM case in this build; write .cgns, .su2, .msh, .xyz, "
+                             ".vts or .vtk", str(path))
+        points = vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64)
+        ext = grid.GetExtent()
+        points = points.reshape(ext[3] - ext[2] + 1, ext[1] - ext[0] + 1, 3)
+        if np.ptp(points[..., 2]) > 1e-12 * max(1.0, float(np.ptp(points))):
+            raise InputError("an O- or C-grid must lie in a plane z = const to be written",
+                             str(path))
+        wake = grid.GetFieldData().GetArray("WakeNodes")
+        n_wake = int(wake.GetValue(0)) if wake is not None else 0
+        normal = np.array([0.0, 0.0, -1.0 if topology == "o" else 1.0])
+    else:
+        points, normal, n_wake = None, None, 0
+    if topology and found.key in ("vts", "vtk"):
         copy = vtkStructuredGrid()
         copy.ShallowCopy(grid)
         add_to_grid(copy, names)
@@ -155,6 +167,11 @@ def write(grid: vtkStructuredGrid, path: str | os.PathLike, fmt: str | None = No
             return vtkfiles.write_vts(copy, path)
         with atomic_path(path, suffix=found.suffix) as tmp:
             vtkfiles.write_legacy(copy, tmp)
+        return path
+    if topology:
+        block = Block(points, names, extrude, normal, topology, n_wake)
+        with atomic_path(path, suffix=found.suffix) as tmp:
+            _FILE_WRITERS[found.key](block, tmp)
         return path
     points, normal = grid_points(grid)
     if found.key in ("vts", "vtk"):
