@@ -278,10 +278,9 @@ def run_body(args: argparse.Namespace, written: list[Path]) -> Path:
     suffix = "" if args.format == "openfoam" else f".{args.format or 'vts'}"
     out = Path(args.output or f"out/{name}_{args.topology}_{args.method}{suffix}")
     found = export.output_format(out, args.format, args.extrude)
-    if found.key == "openfoam" or (found.key == "msh" and args.extrude is not None):
-        raise PinnMeshError(f"{out}: an O- or C-grid is not written as an OpenFOAM case or an "
-                            "extruded Gmsh mesh in this build (use .cgns, .su2, .msh, .xyz, "
-                            ".vts or .vtk)")
+    if found.key == "msh" and args.extrude is not None:
+        raise PinnMeshError(f"{out}: an O- or C-grid is written to Gmsh in 2D in this build; "
+                            "drop --extrude (or write .cgns, .xyz or --format openfoam)")
     names = dict(zip(("bottom", "right", "top", "left"), patch_names(args.topology)))
     for item in args.patch:
         side, sep, value = item.partition("=")

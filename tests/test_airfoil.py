@@ -215,8 +215,8 @@ def test_cli_o_and_c_grids(tmp_path, capsys):
     (["--naca", "0012", "--method", "tfi"], "--topology o or c"),
     (["--naca", "0012", "--topology", "o", "--method", "mgnet"], "mgnet"),
     (["--naca", "0012", "--topology", "o", "--spacing", "top=1e-3"], "bottom=H"),
-    (["--naca", "0012", "--topology", "c", "--format", "openfoam", "-o", "case"],
-     "OpenFOAM"),
+    (["--naca", "0012", "--topology", "c", "--extrude", "0.1", "-o", "x.msh"],
+     "Gmsh in 2D"),
     (["--naca", "00x2", "--topology", "o"], "NACA"),
 ])
 def test_cli_errors_are_one_line(tmp_path, capsys, argv, words):

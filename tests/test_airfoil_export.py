@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import os
+import shutil
+import subprocess
+
 import numpy as np
 import pytest
 from vtkmodules.util.numpy_support import vtk_to_numpy
@@ -135,5 +139,38 @@ def test_plot3d_and_openfoam(case, tmp_path):
     reader.Update()
     pts = vtk_to_numpy(reader.GetOutput().GetBlock(0).GetPoints().GetData())
     np.testing.assert_allclose(pts[:, :2], result.points.reshape(-1, 2), atol=1e-12)
-    with pytest.raises(InputError, match="OpenFOAM"):
-        write(grid, tmp_path / "case", "openfoam")
+    with pytest.raises(InputError, match="Gmsh in 2D"):
+        write(grid, tmp_path / "g.msh", extrude=0.1)
+
+
+def test_openfoam_joins_the_seam_or_cut(case, tmp_path):
+    topology, result, grid = case
+    ni, nj, nw = NI[topology], NJ, result.report["topology"]["wake_nodes"]
+    mesh = write(grid, tmp_path / "case", "openfoam") / "constant" / "polyMesh"
+
+    def numbers(name):
+        text = (mesh / name).read_text()
+        body = text[text.index("(", text.index("}")) + 1:text.rindex(")")]
+        return body
+
+    n_cells = (ni - 1) * (nj - 1)
+    owner = np.array(numbers("owner").split(), dtype=int)
+    neighbour = np.array(numbers("neighbour").split(), dtype=int)
+    # every cell has 6 faces: 4 sides + 2 ends
+    counts = np.bincount(np.concatenate([owner, neighbour]), minlength=n_cells)
+    assert np.all(counts == 6)
+    assert np.all(owner[:len(neighbour)] < neighbour)
+    boundary = (mesh / "boundary").read_text()
+    faces = {name: int(boundary.split(name)[1].split("nFaces")[1].split(";")[0])
+             for name in ("wall", "farfield")}
+    assert faces["farfield"] == ni - 1
+    assert faces["wall"] == (ni - 1 if topology == "o" else ni - 1 - 2 * nw)
+    # internal faces: all shared cell sides, the seam or cut included
+    sides = faces["wall"] + faces["farfield"] + (2 * (nj - 1) if topology == "c" else 0)
+    assert len(neighbour) == (4 * n_cells - sides) // 2
+    if shutil.which("checkMesh"):
+        env = dict(os.environ)
+        env.setdefault("WM_PROJECT_DIR", "/usr/share/openfoam")  # Debian's openfoam package
+        proc = subprocess.run(["checkMesh", "-case", str(mesh.parents[1])], env=env,
+                              capture_output=True, text=True, timeout=300)
+        assert "Mesh OK" in proc.stdout, proc.stdout[-2000:] + proc.stderr[-2000:]

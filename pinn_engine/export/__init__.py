@@ -37,7 +37,7 @@ from vtkmodules.vtkCommonDataModel import vtkStructuredGrid
 from ..errors import InputError
 from ..fileio import atomic_path, write_text_atomic
 from ..plane import Plane
-from . import cgns, gmsh, openfoam, plot3d, su2, vtkfiles
+from . import bodies, cgns, gmsh, openfoam, plot3d, su2, vtkfiles
 from .block import Block
 from .patches import FIELD, SIDES, add_to_grid, of_grid, parse_patch_options, patch_names
 from .topology import mean_edge, side_nodes
@@ -144,10 +144,6 @@ def write(grid: vtkStructuredGrid, path: str | os.PathLike, fmt: str | None = No
     names = of_grid(grid) if patches is None else patch_names(patches)
     topology = body_topology(grid)
     if topology:
-        if found.key == "openfoam":
-            raise InputError(f"an {topology.upper()}-grid (SPEC 9) is not written as an "
-                             "OpenFOAM case in this build; write .cgns, .su2, .msh, .xyz, "
-                             ".vts or .vtk", str(path))
         points = vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64)
         ext = grid.GetExtent()
         points = points.reshape(ext[3] - ext[2] + 1, ext[1] - ext[0] + 1, 3)
@@ -168,6 +164,10 @@ def write(grid: vtkStructuredGrid, path: str | os.PathLike, fmt: str | None = No
         with atomic_path(path, suffix=found.suffix) as tmp:
             vtkfiles.write_legacy(copy, tmp)
         return path
+    if topology and found.key == "openfoam":
+        block = Block(points, names, extrude if extrude is not None else mean_edge(points),
+                      normal, topology, n_wake)
+        return _write_openfoam(block, path)
     if topology:
         block = Block(points, names, extrude, normal, topology, n_wake)
         with atomic_path(path, suffix=found.suffix) as tmp:
@@ -205,7 +205,7 @@ def _write_openfoam(block: Block, case: Path) -> Path:
         try:
             mesh = tmp / "constant" / "polyMesh"
             mesh.mkdir(parents=True)
-            openfoam.write_polymesh(block, mesh)
+            (bodies.write_polymesh if block.topology else openfoam.write_polymesh)(block, mesh)
             for rel, text in files.items():
                 (tmp / rel).parent.mkdir(parents=True, exist_ok=True)
                 (tmp / rel).write_text(text)
@@ -219,7 +219,7 @@ def _write_openfoam(block: Block, case: Path) -> Path:
     tmp = Path(tempfile.mkdtemp(prefix=".polyMesh.", suffix=".part", dir=constant))
     target, old, moved = constant / "polyMesh", None, False
     try:
-        openfoam.write_polymesh(block, tmp)
+        (bodies.write_polymesh if block.topology else openfoam.write_polymesh)(block, tmp)
         os.chmod(tmp, 0o777 & ~_umask())
         if target.exists():
             old = Path(tempfile.mkdtemp(prefix=".polyMesh.", suffix=".old", dir=constant))

@@ -72,3 +72,66 @@ def patch_edges(ni: int, nj: int, topology: str, n_wake: int, names: tuple[str, 
 
 
 __all__ = ["cells", "compact", "node_map", "patch_edges"]
+
+
+def write_polymesh(block, mesh) -> None:
+    """OpenFOAM polyMesh of an O- or C-grid extruded one cell in z (``block.thickness``):
+    the seam or cut nodes merged, so its faces are internal faces like any other; patches
+    wall, farfield (outflow) and ``frontAndBack`` (empty)."""
+    from .openfoam import _header, _write_list
+    from .patches import FRONT_AND_BACK
+
+    ni, nj, topo, nw = block.ni, block.nj, block.topology, block.n_wake
+    kept, _ = compact(ni, nj, topo, nw)
+    m = len(kept)
+    xy = block.points.reshape(-1, 3)[kept]
+    up = np.array([0.0, 0.0, abs(block.thickness)])
+    points = np.vstack([xy, xy + up])
+    q = cells(ni, nj, topo, nw)  # counter-clockwise seen from +z
+    n_cells = len(q)
+    a = q.ravel()
+    b = np.roll(q, -1, axis=1).ravel()
+    owner_of = np.repeat(np.arange(n_cells), 4)
+    key = np.sort(np.column_stack([a, b]), axis=1)
+    _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    inverse = inverse.ravel()
+    side = np.column_stack([a, b, b + m, a + m])  # normal out of the cell that owns the edge
+    # internal faces: the lower cell owns the face, oriented as that cell's edge
+    shared = counts[inverse] == 2
+    order = np.lexsort((owner_of[shared], inverse[shared]))
+    idx = np.flatnonzero(shared)[order].reshape(-1, 2)  # the two edge copies of each face
+    first, second = idx[:, 0], idx[:, 1]
+    swap = owner_of[first] > owner_of[second]
+    own = np.where(swap, second, first)
+    nei = np.where(swap, first, second)
+    internal_faces, owner, neighbour = side[own], owner_of[own], owner_of[nei]
+    sort = np.lexsort((neighbour, owner))
+    internal_faces, owner, neighbour = internal_faces[sort], owner[sort], neighbour[sort]
+    # boundary faces, patch by patch
+    single = np.flatnonzero(counts[inverse] == 1)
+    lookup = {tuple(key[k]): k for k in single}
+    patches = []
+    for name, edges in patch_edges(ni, nj, topo, nw, block.names).items():
+        ks = np.array([lookup[tuple(sorted(e))] for e in edges])
+        patches.append((name, "patch", side[ks], owner_of[ks]))
+    ids = np.arange(n_cells)
+    patches.append((FRONT_AND_BACK, "empty", np.vstack([q[:, ::-1], q + m]),
+                    np.concatenate([ids, ids])))
+    all_faces = np.vstack([internal_faces] + [p[2] for p in patches])
+    all_owner = np.concatenate([owner] + [p[3] for p in patches])
+    note = (f'    note        "nPoints:{2 * m} nCells:{n_cells} nFaces:{len(all_faces)} '
+            f'nInternalFaces:{len(internal_faces)}";\n')
+    _write_list(mesh / "points", "vectorField", points)
+    _write_list(mesh / "faces", "faceList", all_faces)
+    _write_list(mesh / "owner", "labelList", all_owner, note)
+    _write_list(mesh / "neighbour", "labelList", neighbour, note)
+    text = [_header("polyBoundaryMesh", "boundary"), f"\n{len(patches)}\n(\n"]
+    start = len(internal_faces)
+    for name, kind, pf, _ in patches:
+        group = "        inGroups        List<word> 1(empty);\n" if kind == "empty" else ""
+        text.append(f"    {name}\n    {{\n        type            {kind};\n{group}"
+                    f"        nFaces          {len(pf)};\n        startFace       {start};\n"
+                    "    }\n")
+        start += len(pf)
+    text.append(")\n")
+    (mesh / "boundary").write_text("".join(text))
