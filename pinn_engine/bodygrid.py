@@ -7,28 +7,29 @@ edge, around the body (lower surface, leading edge, upper surface) and back alon
 wake cut; the cut is straight, leaves the trailing edge in +x, and its lower and upper nodes
 coincide pairwise (node (i, 0) is node (ni - 1 - i, 0)).
 
-Nodes on the lines j = 0 and j = nj - 1 are placed once, for every method (:class:`Layout`):
-around the body by a two-sided (Vinokur) stretching on each surface, fine at the leading and
-trailing edges; along the wake by a one-sided stretching from the trailing edge; on the far
-field at a blend of the body node's polar angle about mid-chord and its arc-length share.
-The C-grid's far field is the circle for x up to mid-chord, continued by the lines
-y = y_c -+ R to the outflow line x = x_c + R (patch ``outflow``: the columns i = 0 and
-i = ni - 1).
+Nodes on j = 0 are placed once, for every method (:func:`layout`): around the body by a
+two-sided (Vinokur) stretching on each surface, fine at the leading and trailing edges;
+along the wake by a one-sided stretching from the trailing edge. The C-grid's far field is
+the circle for x up to mid-chord, continued by the lines y = y_c -+ R to the outflow line
+x = x_c + R (patch ``outflow``: the columns i = 0 and i = ni - 1).
 
-Between them (the wall-normal distribution): each column leaves the wall with the first edge
-``wall_spacing`` (``--spacing bottom=H``; default half the mean tangential spacing on the
-body) and grows by a one-sided Vinokur (tanh) stretching. This distribution is local to this
-module until the boundary-layer options of SPEC 7 share one.
+The wall-normal distribution: the first edge off the wall is ``wall_spacing``
+(``--spacing bottom=H``; default half the mean tangential spacing on the body), growing by a
+one-sided Vinokur (tanh) stretching. This distribution is local to this module until the
+boundary-layer options of SPEC 7 share one.
 
-- ``tfi``: the two-boundary transfinite interpolation between body and far field (straight
-  columns).
-- ``elliptic``: Winslow's equations with control functions, periodic across the O-grid's
-  seam, the C-grid's cut held on its straight line: the one-dimensional controls of
-  Thomas and Middlecoff (phi = -x_xi.x_xixi / |x_xi|^2, psi likewise in eta) taken from the
-  TFI grid keep its node distribution; with ``orthogonal`` (``--orthogonal bottom``) the
-  controls near the wall are those that make a wall-orthogonal algebraic grid (normal
-  offsets from the wall, blended into the TFI grid) an exact solution, decaying away from the
-  wall, so grid lines leave the wall at right angles with the first edge ``wall_spacing``.
+The reference grid (:func:`reference_grid`, wall-orthogonal, algebraic) is marched off the
+wall along the rows' own normals (:func:`march`; the first row exactly along the wall's
+normals), its last row projected onto the far field; that projection fixes the far-field
+nodes for every method. Then:
+
+- ``tfi``: the two-boundary TFI between the body and far-field nodes (straight columns,
+  each stretched to the first edge); not orthogonal at the wall.
+- ``elliptic``: Winslow's equations with the control functions that make the reference an
+  exact solution at the wall, smoothed away from it (:func:`smoothed_controls`), by relaxed
+  point-Jacobi sweeps from the reference (:func:`jacobi`), periodic across the O-grid's
+  seam, the C-grid's cut held on its line, the first rows held (first edge and wall angle
+  exact); the sweeps stop at the last state no worse than the reference (:func:`elliptic`).
 - ``pinn``: bodygrid_pinn.py: a network of (cos 2 pi xi, sin 2 pi xi, eta) for the O-grid
   (periodic in xi exactly), a correction vanishing on j = 0 and j = nj - 1 (and on the
   C-grid's outflow columns), added to the elliptic grid and trained on the same equations.
