@@ -91,7 +91,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="first-cell height H off a side (here: bottom, the body wall)")
     b.add_argument("--orthogonal", default=None, metavar="SIDE[,SIDE]",
                    help="grid lines leave these sides at 90 degrees (here: bottom, the wall; "
-                        "O- and C-grids by elliptic and pinn always do)")
+                        "O- and C-grids by elliptic and pinn always do; tfi cannot)")
     e = p.add_argument_group("elliptic")
     e.add_argument("--elliptic-iterations", type=int, dest="elliptic_iterations",
                    help="N point-Jacobi sweeps from a zero interior (paper); 0 = converge")
@@ -274,6 +274,12 @@ def run_body(args: argparse.Namespace, written: list[Path]) -> Path:
     if args.aux or args.corners:
         raise PinnMeshError("--aux and --corners apply to four-sided domains, not to "
                             "--topology")
+    if args.save_model or args.load_model:
+        raise PinnMeshError("--save-model and --load-model apply to four-sided domains in "
+                            "this build, not to --topology")
+    if args.orthogonal and args.method == "tfi":
+        raise PinnMeshError("--orthogonal bottom: tfi's straight columns cannot leave the "
+                            "wall at right angles; use --method elliptic or pinn")
     name = f"naca{args.naca}" if args.naca else Path(args.boundary).stem
     suffix = "" if args.format == "openfoam" else f".{args.format or 'vts'}"
     out = Path(args.output or f"out/{name}_{args.topology}_{args.method}{suffix}")

@@ -192,7 +192,7 @@ def _read(path):
 def test_cli_o_and_c_grids(tmp_path, capsys):
     out = tmp_path / "o.vts"
     rc = main(["--naca", "0012", "--topology", "o", "--method", "tfi", "--size", "61", "21",
-               "--spacing", "bottom=1e-3", "--orthogonal", "bottom", "-o", str(out),
+               "--spacing", "bottom=1e-3", "-o", str(out),
                "--report", str(tmp_path / "o.json"), "--quiet"])
     assert rc == 0
     grid = _read(out)
@@ -218,6 +218,8 @@ def test_cli_o_and_c_grids(tmp_path, capsys):
     (["--naca", "0012", "--topology", "c", "--extrude", "0.1", "-o", "x.msh"],
      "Gmsh in 2D"),
     (["--naca", "00x2", "--topology", "o"], "NACA"),
+    (["--naca", "0012", "--topology", "o", "--method", "tfi", "--orthogonal", "bottom"],
+     "right angles"),
 ])
 def test_cli_errors_are_one_line(tmp_path, capsys, argv, words):
     rc = main(argv + ["--size", "41", "17", "--quiet"] +
