@@ -137,7 +137,7 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
     assert result["property_order"] == [  # no "Reload Python Module" button for users
         "Input", "AuxiliaryLines", "Method", "GridSize", "Preset", "AdamEpochs",
         "LBFGSIterations", "HiddenLayers", "Neurons", "Lambda2", "Seed", "CornerIndices",
-        "PatchNames"]
+        "Topology", "FarFieldRadius", "WallSpacing", "PatchNames"]
     assert result["methods"] == ["pinn", "mgnet", "tfi", "elliptic"]
     assert result["aux_optional"]
     assert result["grid"] == {"class": "vtkStructuredGrid", "extent": [0, 30, 0, 15, 0, 0],
