@@ -55,6 +55,7 @@ from .settings import (
 )
 
 LABEL = "PINN Structured Mesh"
+TOPOLOGY_CHOICES = ("none", "o", "c")
 
 
 def _choice(value, options: tuple[str, ...], what: str) -> str:
@@ -98,6 +99,9 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         self._overrides: dict[str, object] = {}
         self._corners: tuple[int, int, int, int] | None = None
         self._patches = ""  # as given; checked at the update (default names when empty)
+        self._topology = "none"  # "o" or "c": an O- or C-grid around a body (SPEC 9)
+        self._farfield = 15.0  # far-field circle radius in chords (one body curve)
+        self._wall_spacing = 0.0  # first-layer height off the body; 0: the default
         self._cache = MeshCache()
         self._last_error = ""
         self._last_warning = ""
@@ -211,6 +215,21 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
             names = dict(names) if hasattr(names, "items") else " ".join(map(str, names))
         self._set("_patches", names or "")
 
+    def SetTopology(self, topology) -> None:
+        """"none" (a four-sided domain), "o" (O-grid) or "c" (C-grid), or 0, 1, 2."""
+        self._set("_topology", _choice(topology, TOPOLOGY_CHOICES, "topology"))
+
+    def GetTopology(self) -> str:
+        return self._topology
+
+    def SetFarFieldRadius(self, radius) -> None:
+        self._set("_farfield", float(radius))
+
+    def SetWallSpacing(self, h) -> None:
+        """First-layer height off the body wall (0: the default, half the mean spacing
+        along the wall)."""
+        self._set("_wall_spacing", float(h))
+
     def GetPatchNames(self) -> tuple[str, ...]:
         """The four patch names (bottom, right, top, left) the next update uses."""
         from .export import patch_names
@@ -306,7 +325,8 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         (Not this algorithm's MTime: VTK modifies it for abort bookkeeping between runs.)
         """
         times: list = [self._method, self._preset, self._size, self._corners,
-                       tuple(sorted(self._overrides.items(), key=repr)), repr(self._patches)]
+                       tuple(sorted(self._overrides.items(), key=repr)), repr(self._patches),
+                       self._topology, self._farfield, self._wall_spacing]
         for port in inInfo:
             for k in range(port.GetNumberOfInformationObjects()):
                 data = port.GetInformationObject(k).Get(vtkPolyData.DATA_OBJECT())
@@ -325,6 +345,8 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
             raise ValueError(f"Grid Size {ni} {nj}: {problem}")
         inputs = [vtkPolyData.GetData(inInfo[0], k)
                   for k in range(inInfo[0].GetNumberOfInformationObjects())]
+        if self._topology != "none":
+            return self._execute_body(inputs, settings)
         boundary_poly, aux_polys = split_inputs(inputs)
         boundary = boundary_from_polydata(boundary_poly, self._corners, source="boundary input")
         if len(inInfo) > 1:
@@ -345,6 +367,34 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
             arr.SetName(name)
             arr.InsertNextValue(value)
             fd.AddArray(arr)
+        return grid, folded_cells_warning(result.report, "paraview")
+
+    def _execute_body(self, inputs, settings: Settings) -> tuple[vtkStructuredGrid, str | None]:
+        """An O- or C-grid around the body of the first input (SPEC 9)."""
+        from .airfoil_algorithm import body_and_farfield_of
+        from .bodymesh import mesh_body
+        from .bodymesh import patch_names as body_patches
+        from .export import patch_names
+        from .pipeline import to_vtk
+
+        polys = [p for p in inputs if p is not None and p.GetNumberOfPoints()]
+        if not polys:
+            raise InputError("is empty; connect an airfoil (the Airfoil source or a .dat "
+                             "file)", "boundary input")
+        body, far = body_and_farfield_of(polys[0], self._farfield)
+        if settings.method == "mgnet":
+            raise InputError("Method mgnet meshes four-sided domains; use pinn, tfi or "
+                             "elliptic with Topology O-grid or C-grid")
+        self._progress(0.0, "meshing")
+        with self._stop_on_signal():
+            result = mesh_body(body, far, self._topology, settings.method, *self._size,
+                               settings, self._wall_spacing or None,
+                               self._training_progress(settings))
+        self._trained = settings.method == "pinn"
+        patches = patch_names(self._patches) if self._patches.strip() and \
+            self._patches.split() != ["bottom", "right", "top", "left"] else \
+            body_patches(self._topology)
+        grid = to_vtk(result, patches)
         return grid, folded_cells_warning(result.report, "paraview")
 
     def _training_progress(self, settings: Settings) -> Callable[[dict], bool]:

@@ -66,6 +66,9 @@ ROUTE_WORDS = {
         "extrude": "--extrude T",
         "output": "-o with .vts, .vtk, .xyz, .cgns, .su2 or .msh, or --format openfoam -o DIR",
         "h5py": "pip install h5py",
+        "naca": "--naca DDDD",
+        "farfield": "--farfield R",
+        "topology": "--topology o",
     },
     "pyvista": {
         "corners": "corners=",
@@ -80,6 +83,9 @@ ROUTE_WORDS = {
         "extrude": "extrude=",
         "output": 'a path ending in .vts, .vtk, .xyz, .cgns, .su2 or .msh, or format="openfoam"',
         "h5py": "pip install h5py",
+        "naca": 'naca="DDDD"',
+        "farfield": "farfield=R",
+        "topology": 'topology="o"',
     },
     "paraview": {
         "corners": "Corner Indices",
@@ -96,6 +102,9 @@ ROUTE_WORDS = {
         "h5py": "ParaView's HDF5 clashes with pip's h5py, so the writer runs the "
                 "checkout's .venv Python: make it with bash scripts/setup.sh (or set "
                 "PINN_MESH_PYTHON to a Python with h5py)",
+        "naca": "the Airfoil source's NACA field",
+        "farfield": "Far Field Radius",
+        "topology": "Topology O-grid",
     },
 }
 _HANDED_OVER = {"cli": "written", "pyvista": "returned", "paraview": "produced"}

@@ -71,5 +71,10 @@ def aux_from_polydata(polys: Sequence[vtkPolyData], boundary: Boundary) -> list[
 
 def to_vtk(result: MeshResult, patches=None) -> vtkStructuredGrid:
     """The output grid of SPEC 3 for a mesh result, with the patch names of SPEC 8."""
+    topology = result.report.get("topology")
+    if topology and patches is None:
+        from .bodymesh import patch_names
+
+        patches = patch_names(topology["kind"])
     return structured_grid(np.asarray(result.points), result.report, result.history,
                            result.cells or None, patches, result.points3d)

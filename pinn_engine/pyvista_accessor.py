@@ -93,8 +93,12 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
               lambda2: float | None = None, seed: int | None = None,
               boundary_mode: str | None = None, device: str | None = None,
               progress: Callable[[dict], bool | None] | None = None,
-              cache: MeshCache | None = None, patches=None, **settings) -> pv.StructuredGrid:
-    """Structured quadrilateral grid of a four-sided 2D domain.
+              cache: MeshCache | None = None, patches=None, topology: str | None = None,
+              naca: str | None = None, farfield: float | None = None,
+              spacing: dict | None = None, orthogonal=None,
+              **settings) -> pv.StructuredGrid:
+    """Structured quadrilateral grid of a four-sided 2D domain, or an O- or C-grid around a
+    body (``topology="o"`` or ``"c"``, SPEC 9).
 
     Parameters
     ----------
@@ -134,6 +138,21 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
         Boundary patch names, e.g. ``{"bottom": "wall", "top": "wall"}`` (default: bottom,
         right, top, left; equal names form one patch); stored as field data ``PatchNames``
         and used by :func:`save_mesh`.
+    topology : {"o", "c"}, optional
+        Mesh around a body instead: ``boundary`` is then the body (an airfoil curve as
+        PolyData or points, or the path of a Selig/Lednicer ``.dat`` file or of a file with
+        two closed polylines, body inside far field), or ``None`` with ``naca``. Methods
+        pinn, tfi, elliptic. Index conventions and patches: SPEC 9 and docs/airfoils.md.
+    naca : str, optional
+        NACA 4-digit code, e.g. ``"0012"`` (chord 1; blunt trailing edge for the O-grid,
+        closed for the C-grid).
+    farfield : float, optional
+        Far-field circle radius in chords about mid-chord (default 15).
+    spacing : dict, optional
+        ``{"bottom": H}``: first-layer height off the body wall.
+    orthogonal : str or sequence, optional
+        ``"bottom"``: grid lines leave the wall at 90 degrees (elliptic and pinn body grids
+        always do).
     **settings
         Any other field of ``pinn_engine.settings.Settings`` (e.g. ``learning_rate``).
 
@@ -175,6 +194,12 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
     problem = grid_size_problem(ni, nj)
     if problem:
         raise ValueError(f"size=({ni}, {nj}): {problem}")
+    if topology is not None or naca is not None:
+        return _body_mesh(boundary, ni, nj, method, preset, topology, naca, farfield, spacing,
+                          orthogonal, patches, progress,
+                          dict(adam_epochs=adam_epochs, lbfgs_iterations=lbfgs_iterations,
+                               hidden_layers=hidden_layers, neurons=neurons, seed=seed,
+                               device=device, **settings))
     config = make_settings(method, preset, adam_epochs=adam_epochs,
                            lbfgs_iterations=lbfgs_iterations, hidden_layers=hidden_layers,
                            neurons=neurons, lambda2=lambda2, seed=seed, boundary=boundary_mode,
@@ -189,6 +214,65 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
     cache = cache if cache is not None else MeshCache(capacity=1)
     mesher, _ = cache.fitted(ring, lines, config, progress)
     result = mesher.predict(ni, nj)
+    grid = pv.wrap(to_vtk(result, names))
+    _warn_if_folded(result.report)
+    return grid
+
+
+def _body_mesh(boundary, ni, nj, method, preset, topology, naca, farfield, spacing,
+               orthogonal, patches, progress, overrides) -> pv.StructuredGrid:
+    """The O- or C-grid route of :func:`pinn_mesh`."""
+    import os
+
+    from .airfoil import body_from_points, circle, load_body, read_body_and_farfield
+    from .bodymesh import mesh_body
+    from .bodymesh import patch_names as body_patches
+    from .export import patch_names
+    from .pipeline import to_vtk
+
+    try:
+        if topology not in ("o", "c"):
+            raise InputError(f"topology={topology!r}: use \"o\" or \"c\" for a body grid")
+        h = None
+        for side, value in dict(spacing or {}).items():
+            if side != "bottom":
+                raise InputError(f"spacing={{{side!r}: ...}}: a body grid takes "
+                                 "{'bottom': H} (the wall)")
+            h = float(value)
+        if orthogonal is not None:
+            sides = [orthogonal] if isinstance(orthogonal, str) else list(orthogonal)
+            if {str(t).strip() for t in sides} != {"bottom"}:
+                raise InputError(f"orthogonal={orthogonal!r}: a body grid takes \"bottom\"")
+        if naca is not None:
+            if boundary is not None:
+                raise InputError("give either a body or naca=, not both")
+            body = load_body(naca=naca, te="blunt" if topology == "o" else "sharp")
+            far = circle(body, farfield or 15.0)
+        elif isinstance(boundary, (str, os.PathLike)):
+            if str(boundary).lower().endswith(".dat") or farfield is not None:
+                body = load_body(boundary)
+                far = circle(body, farfield or 15.0)
+            else:
+                body, far = read_body_and_farfield(boundary)
+        else:
+            if boundary is None:
+                raise InputError("give a body (PolyData, points or a .dat path) or naca=")
+            if isinstance(boundary, np.ndarray | list | tuple):
+                pts = np.asarray(boundary, dtype=float)
+            else:
+                pts = np.asarray(pv.wrap(boundary).points, dtype=float)
+                lines = pv.wrap(boundary).lines
+                if lines is not None and len(lines) and int(lines[0]) + 1 == len(lines):
+                    pts = pts[np.asarray(lines[1:])]  # one polyline: its own order
+            body = body_from_points(pts[:, :2], "body")
+            far = circle(body, farfield or 15.0)
+        names = patch_names(patches if patches is not None else
+                            dict(zip(("bottom", "right", "top", "left"),
+                                     body_patches(topology))))
+        settings = make_settings(method, preset, lattice=(ni, nj), **overrides)
+        result = mesh_body(body, far, topology, method, ni, nj, settings, h, progress)
+    except InputError as exc:
+        raise exc.for_route("pyvista") from None
     grid = pv.wrap(to_vtk(result, names))
     _warn_if_folded(result.report)
     return grid

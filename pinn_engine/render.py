@@ -60,3 +60,41 @@ def render_png(grid, path: str | os.PathLike, scalars: str = "MaxIncludedAngle",
         plotter.screenshot(str(path))
         plotter.close()
     return path
+
+
+def render_body_png(grid, path: str | os.PathLike, title: str | None = None,
+                    le=(0.0, 0.0), te=(1.0, 0.0), zoom: float = 0.06,
+                    window_size=(1800, 640)) -> Path:
+    """An O- or C-grid in three panels: the whole domain, and zoomed on the leading edge
+    ``le`` and the trailing edge ``te`` (boxes ``zoom`` wide, in the grid's units)."""
+    import pyvista as pv
+
+    pv.OFF_SCREEN = True
+    mesh = pv.wrap(grid)
+    plotter = pv.Plotter(off_screen=True, shape=(1, 3), window_size=list(window_size),
+                         border=False)
+    bounds = mesh.bounds
+    whole = (0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]),
+             0.5 * max(bounds[1] - bounds[0], bounds[3] - bounds[2]))
+    panels = (("whole", whole), ("leading edge", (le[0] + 0.25 * zoom, le[1], 0.5 * zoom)),
+              ("trailing edge", (te[0], te[1], 0.5 * zoom)))
+    for k, (name, (cx, cy, half)) in enumerate(panels):
+        plotter.subplot(0, k)
+        plotter.set_background("white")
+        plotter.add_mesh(mesh.copy(), scalars="MaxIncludedAngle", preference="cell",
+                         show_edges=True, edge_color="black", line_width=0.4, cmap="viridis",
+                         clim=(90.0, 130.0), show_scalar_bar=k == 2,
+                         scalar_bar_args={"title": "MaxIncludedAngle (deg)", "color": "black"})
+        plotter.add_text(name if not (title and k == 0) else f"{title}: {name}",
+                         font_size=10, color="black")
+        plotter.view_xy()
+        cam = plotter.camera
+        cam.parallel_projection = True
+        cam.focal_point = (cx, cy, 0.0)
+        cam.position = (cx, cy, 10.0 * max(half, 1.0))
+        cam.parallel_scale = half
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    plotter.screenshot(str(path))
+    plotter.close()
+    return path

@@ -65,5 +65,9 @@ def structured_grid(points: np.ndarray, report: dict | None = None,
             _add_scalar(fd, key, report[key])
     for term, values in (history or {}).items():
         _add_scalar(fd, f"Loss_{term}", values)
+    topology = report.get("topology")
+    if topology:  # an O- or C-grid (SPEC 9): what the writers need to join seam or cut
+        _add_string(fd, "Topology", topology["kind"])
+        _add_scalar(fd, "WakeNodes", topology.get("wake_nodes", 0))
     return grid
 

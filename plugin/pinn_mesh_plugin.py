@@ -26,6 +26,7 @@ if _REPO not in sys.path:
 
 try:
     from pinn_engine import __version__
+    from pinn_engine.airfoil_algorithm import AirfoilReader, AirfoilSource
     from pinn_engine.algorithm import PinnMeshAlgorithm
     from pinn_engine.export import FORMATS
     from pinn_engine.export.algorithm import PARAVIEW_FORMATS, GridWriter
@@ -174,6 +175,34 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
     def P11Objective(self, index):
         self.SetPanelSetting("objective", OBJECTIVES[int(index)])
 
+    @smproperty.intvector(name="Topology", default_values=0)
+    @smdomain.xml(_enum(("Four-sided domain", "O-grid", "C-grid")) + _doc(
+        "Four-sided domain: the input is a closed boundary with four corners. O-grid / "
+        "C-grid: the input is a body such as an airfoil (the Airfoil source, or a .dat file "
+        "opened with the Airfoil reader): one curve, meshed out to a far-field circle of Far "
+        "Field Radius chords, or two closed polylines (body inside far field). The C-grid "
+        "needs a sharp trailing edge. Methods pinn, tfi, elliptic (docs/airfoils.md)."))
+    def P11Topology(self, index):
+        self.SetTopology(int(index))
+
+    @smproperty.doublevector(name="FarFieldRadius", label="Far Field Radius",
+                             default_values=15.0)
+    @smdomain.doublerange(min=1.0)
+    @smdomain.xml('<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
+                  'property="Topology" values="1 2"/>'
+                  + _doc("Far-field circle radius in chords about mid-chord."))
+    def P12FarFieldRadius(self, radius):
+        self.SetFarFieldRadius(radius)
+
+    @smproperty.doublevector(name="WallSpacing", label="Wall Spacing", default_values=0.0)
+    @smdomain.doublerange(min=0.0)
+    @smdomain.xml('<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
+                  'property="Topology" values="1 2"/>'
+                  + _doc("First-layer height off the body wall, in the body's units (0: half "
+                         "the mean node spacing along the wall)."))
+    def P13WallSpacing(self, h):
+        self.SetWallSpacing(h)
+
     @smproperty.stringvector(name="PatchNames", label="Patch Names",
                              default_values="bottom right top left")
     @smdomain.xml(_doc("Boundary patch names for solver formats (File > Save Data: PLOT3D, "
@@ -182,6 +211,36 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
                        "Sides with the same name form one patch."))
     def P20PatchNames(self, text):
         self.SetPatchNames(text)
+
+
+@smproxy.reader(name="PINNAirfoilReader", label="Airfoil Reader", extensions="dat",
+                file_description="Airfoil coordinates (Selig or Lednicer)",
+                support_reload=False)
+class PINNAirfoilReader(AirfoilReader):
+    """An airfoil .dat file as a polyline, for PINN Structured Mesh with Topology O/C."""
+
+    @smproperty.stringvector(name="FileName", panel_visibility="never")
+    @smdomain.filelist()
+    def SetFileName(self, name):
+        AirfoilReader.SetFileName(self, name)
+
+
+@smproxy.source(name="PINNAirfoilSource", label="Airfoil", support_reload=False)
+@smhint.xml('<ShowInMenu category="Mesh Generation"/>')
+class PINNAirfoilSource(AirfoilSource):
+    """A NACA 4-digit section of chord 1, for PINN Structured Mesh with Topology O/C."""
+
+    @smproperty.stringvector(name="NACA", default_values="0012")
+    @smdomain.xml(_doc("Four digits, e.g. 0012 or 2412."))
+    def P01NACA(self, code):
+        self.SetNACA(code)
+
+    @smproperty.intvector(name="SharpTrailingEdge", label="Sharp Trailing Edge",
+                          default_values=1)
+    @smdomain.xml('<BooleanDomain name="bool"/>' + _doc(
+        "Closed trailing edge (for the C-grid); off: the classical blunt one (O-grid)."))
+    def P02SharpTrailingEdge(self, sharp):
+        self.SetSharpTrailingEdge(sharp)
 
 
 def _writer_proxy(key, extension, name):

@@ -137,7 +137,7 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
     assert result["property_order"] == [  # no "Reload Python Module" button for users
         "Input", "AuxiliaryLines", "Method", "GridSize", "Preset", "AdamEpochs",
         "LBFGSIterations", "HiddenLayers", "Neurons", "Lambda2", "Seed", "CornerIndices",
-        "Objective", "PatchNames"]
+        "Objective", "Topology", "FarFieldRadius", "WallSpacing", "PatchNames"]
     assert result["methods"] == ["pinn", "mgnet", "tfi", "elliptic"]
     assert result["aux_optional"]
     assert result["grid"] == {"class": "vtkStructuredGrid", "extent": [0, 30, 0, 15, 0, 0],
@@ -185,3 +185,16 @@ def test_save_data_offers_the_solver_formats_and_writes_them(checkout, tmp_path)
         "with h5py)"]
     assert not result["no_helper"]["traceback"] and "none.cgns" not in result["files"]
     check_openfoam(tmp_path / "case", reference)  # last: skips when checkMesh is missing
+
+
+def test_airfoil_reader_source_and_topology(checkout):
+    result = run_pvpython(checkout, "check_airfoil.py", str(checkout / "example_data"))
+    assert result["reader_points"] == 201
+    o, c = result["o_grid"], result["c_grid"]
+    assert o["extent"] == [0, 80, 0, 24, 0, 0] and o["topology"] == "o"
+    assert o["patches"] == ["wall", "seam", "farfield", "seam"]
+    assert o["seam_gap"] == 0.0 and o["folded"] == 0
+    assert abs(o["far_radius"] - 10.0) < 1e-2
+    assert c["topology"] == "c" and c["folded"] == 0
+    assert c["patches"] == ["wall", "outflow", "farfield", "outflow"]
+    assert result["opened_with"] == "PINNAirfoilReader"

@@ -37,7 +37,7 @@ from vtkmodules.vtkCommonDataModel import vtkStructuredGrid
 from ..errors import InputError
 from ..fileio import atomic_path, write_text_atomic
 from ..plane import Plane
-from . import cgns, gmsh, openfoam, plot3d, su2, vtkfiles
+from . import bodies, cgns, gmsh, openfoam, plot3d, su2, vtkfiles
 from .block import Block
 from .patches import FIELD, SIDES, add_to_grid, of_grid, parse_patch_options, patch_names
 from .topology import mean_edge, side_nodes
@@ -119,6 +119,15 @@ def grid_points(grid: vtkStructuredGrid) -> tuple[np.ndarray, np.ndarray]:
     return pts, area / np.linalg.norm(area)
 
 
+def body_topology(grid: vtkStructuredGrid) -> str | None:
+    """"o" or "c" for an O- or C-grid around a body (field data ``Topology``), else None."""
+    arr = grid.GetFieldData().GetAbstractArray("Topology") if grid is not None else None
+    if arr is None or arr.GetNumberOfValues() != 1:
+        return None
+    value = str(arr.GetValue(0)).lower()
+    return value if value in ("o", "c") else None
+
+
 def write(grid: vtkStructuredGrid, path: str | os.PathLike, fmt: str | None = None, *,
           patches: Mapping[str, str] | Sequence[str] | str | None = None,
           extrude: float | None = None) -> Path:
@@ -133,6 +142,37 @@ def write(grid: vtkStructuredGrid, path: str | os.PathLike, fmt: str | None = No
     path = Path(path)
     found = output_format(path, fmt, extrude)
     names = of_grid(grid) if patches is None else patch_names(patches)
+    topology = body_topology(grid)
+    if topology:
+        points = vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64)
+        ext = grid.GetExtent()
+        points = points.reshape(ext[3] - ext[2] + 1, ext[1] - ext[0] + 1, 3)
+        if np.ptp(points[..., 2]) > 1e-12 * max(1.0, float(np.ptp(points))):
+            raise InputError("an O- or C-grid must lie in a plane z = const to be written",
+                             str(path))
+        wake = grid.GetFieldData().GetArray("WakeNodes")
+        n_wake = int(wake.GetValue(0)) if wake is not None else 0
+        normal = np.array([0.0, 0.0, -1.0 if topology == "o" else 1.0])
+    else:
+        points, normal, n_wake = None, None, 0
+    if topology and found.key in ("vts", "vtk"):
+        copy = vtkStructuredGrid()
+        copy.ShallowCopy(grid)
+        add_to_grid(copy, names)
+        if found.key == "vts":
+            return vtkfiles.write_vts(copy, path)
+        with atomic_path(path, suffix=found.suffix) as tmp:
+            vtkfiles.write_legacy(copy, tmp)
+        return path
+    if topology and found.key == "openfoam":
+        block = Block(points, names, extrude if extrude is not None else mean_edge(points),
+                      normal, topology, n_wake)
+        return _write_openfoam(block, path)
+    if topology:
+        block = Block(points, names, extrude, normal, topology, n_wake)
+        with atomic_path(path, suffix=found.suffix) as tmp:
+            _FILE_WRITERS[found.key](block, tmp)
+        return path
     points, normal = grid_points(grid)
     if found.key in ("vts", "vtk"):
         copy = vtkStructuredGrid()
@@ -165,7 +205,7 @@ def _write_openfoam(block: Block, case: Path) -> Path:
         try:
             mesh = tmp / "constant" / "polyMesh"
             mesh.mkdir(parents=True)
-            openfoam.write_polymesh(block, mesh)
+            (bodies.write_polymesh if block.topology else openfoam.write_polymesh)(block, mesh)
             for rel, text in files.items():
                 (tmp / rel).parent.mkdir(parents=True, exist_ok=True)
                 (tmp / rel).write_text(text)
@@ -179,7 +219,7 @@ def _write_openfoam(block: Block, case: Path) -> Path:
     tmp = Path(tempfile.mkdtemp(prefix=".polyMesh.", suffix=".part", dir=constant))
     target, old, moved = constant / "polyMesh", None, False
     try:
-        openfoam.write_polymesh(block, tmp)
+        (bodies.write_polymesh if block.topology else openfoam.write_polymesh)(block, tmp)
         os.chmod(tmp, 0o777 & ~_umask())
         if target.exists():
             old = Path(tempfile.mkdtemp(prefix=".polyMesh.", suffix=".old", dir=constant))

@@ -20,6 +20,8 @@ class Block:
     names: tuple[str, ...]
     thickness: float | None = None
     normal: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, 1.0]))
+    topology: str | None = None  # "o" or "c": an O- or C-grid around a body (bodies.py)
+    n_wake: int = 0  # the C-grid's lower trailing-edge node index
 
     @property
     def ni(self) -> int:

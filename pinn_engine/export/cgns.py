@@ -74,7 +74,9 @@ def _write_in_helper(block: Block, path: Path) -> None:
     data = path.with_name(path.name + ".npz")
     try:
         np.savez(data, points=block.points, names=np.array(block.names),
-                 thickness=np.array(np.nan if block.thickness is None else block.thickness))
+                 thickness=np.array(np.nan if block.thickness is None else block.thickness),
+                 normal=block.normal, topology=np.array(block.topology or ""),
+                 n_wake=np.array(block.n_wake))
         env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME")}
         env["PYTHONPATH"] = str(ROOT)
         proc = subprocess.run([python, "-m", "pinn_engine.export.cgns", str(data), str(path)],
@@ -91,7 +93,8 @@ def _main() -> None:
     data = np.load(sys.argv[1])
     thickness = float(data["thickness"])
     write(Block(data["points"], tuple(str(n) for n in data["names"]),
-                None if np.isnan(thickness) else thickness), Path(sys.argv[2]))
+                None if np.isnan(thickness) else thickness, data["normal"],
+                str(data["topology"]) or None, int(data["n_wake"])), Path(sys.argv[2]))
 
 
 def _attr(node, key: str, text: str, size: int) -> None:
@@ -151,9 +154,13 @@ def write(block: Block, path: Path) -> None:
             _node(coords, f"Coordinate{key}", "DataArray_t",
                   np.ascontiguousarray(values.T, dtype=np.float64))  # Fortran (i, j, k)
         zone_bc = _node(zone, "ZoneBC", "ZoneBC_t")
-        patches = block.patches()
-        ranges = {name: [(side, index_range(ni, nj, side)) for side in sides]
-                  for name, sides in patches.items()}
+        if block.topology:
+            ranges = _body_ranges(block)
+            _connect(zone, block, three_d)
+        else:
+            patches = block.patches()
+            ranges = {name: [(side, index_range(ni, nj, side)) for side in sides]
+                      for name, sides in patches.items()}
         if three_d:
             for name in ranges:  # the sides reach through both layers
                 ranges[name] = [(s, ((*lo, 1), (*hi, 2))) for s, (lo, hi) in ranges[name]]
@@ -168,6 +175,46 @@ def write(block: Block, path: Path) -> None:
         for name in ranges:
             family = _node(base, name, "Family_t")
             _node(family, "FamilyBC", "FamilyBC_t", "BCTypeUserDefined")
+
+
+def _body_ranges(block: Block) -> dict[str, list]:
+    """BC point ranges of an O- or C-grid: the wall (the C-grid's body part of j = 1), the
+    far field (j = nj) and the C-grid's outflow columns; the seam and cut have none."""
+    ni, nj, nw = block.ni, block.nj, block.n_wake
+    bottom, right, top, left = block.names
+    if block.topology == "o":
+        parts = [(bottom, "wall", ((1, 1), (ni, 1))), (top, "farfield", ((1, nj), (ni, nj)))]
+    else:
+        parts = [(bottom, "wall", ((nw + 1, 1), (ni - nw, 1))),
+                 (right, "right", ((ni, 1), (ni, nj))),
+                 (top, "farfield", ((1, nj), (ni, nj))),
+                 (left, "left", ((1, 1), (1, nj)))]
+    out: dict[str, list] = {}
+    for name, side, rng in parts:
+        out.setdefault(name, []).append((side, rng))
+    return out
+
+
+def _connect(zone, block: Block, three_d: bool) -> None:
+    """The seam (O) or the wake cut (C) as two GridConnectivity1to1_t of the zone with
+    itself (one from each side, as CGNS asks for every 1-to-1 interface)."""
+    ni, nj, nw = block.ni, block.nj, block.n_wake
+    if block.topology == "o":  # column i = 1 is column i = ni; i and j run alike
+        a, b, transform = ((1, 1), (1, nj)), ((ni, 1), (ni, nj)), [1, 2]
+    else:  # node (i, 1) is node (ni + 1 - i, 1): i and j run opposite
+        a, b, transform = ((1, 1), (nw + 1, 1)), ((ni, 1), (ni - nw, 1)), [-1, -2]
+    if three_d:
+        a = ((*a[0], 1), (*a[1], 2))
+        b = ((*b[0], 1), (*b[1], 2))
+        transform = transform + [3]
+    grid_conn = _node(zone, "ZoneGridConnectivity", "ZoneGridConnectivity_t")
+    name = "seam" if block.topology == "o" else "wake_cut"
+    for suffix, here, there in (("a", a, b), ("b", b, a)):
+        conn = _node(grid_conn, f"{name}_{suffix}", "GridConnectivity1to1_t", "Zone")
+        _node(conn, "Transform", "\"int[IndexDimension]\"",
+              np.array(transform, np.int32))
+        _node(conn, "PointRange", "IndexRange_t", np.array(here, np.int32).T)
+        _node(conn, "PointRangeDonor", "IndexRange_t", np.array(there, np.int32).T)
 
 
 if __name__ == "__main__":

@@ -50,7 +50,56 @@ def _boundary(state: tuple[int, ...]) -> list[tuple[tuple[int, ...], int]]:
     return [(at(a, v), 1) for a in free for v in (0, 2)]
 
 
+def _write_body(block: Block, path: Path) -> None:
+    """An O- or C-grid, 2D: seam or cut nodes merged (bodies.py); one discrete surface
+    (physical ``fluid``) and one discrete curve per patch, all nodes on the surface."""
+    from ..errors import InputError
+    from . import bodies
+
+    if block.thickness is not None:
+        raise InputError("an O- or C-grid is written to Gmsh in 2D in this build; drop "
+                         "{extrude}", str(path))
+    ni, nj, topo, nw = block.ni, block.nj, block.topology, block.n_wake
+    kept, _ = bodies.compact(ni, nj, topo, nw)
+    coords = block.points.reshape(-1, 3)[kept]
+    quads_ = bodies.cells(ni, nj, topo, nw)
+    patches = bodies.patch_edges(ni, nj, topo, nw, block.names)
+    names = list(patches)
+    fluid_tag = len(names) + 1
+    lo, hi = coords.min(axis=0), coords.max(axis=0)
+    box = " ".join(_num(v) for v in (*lo, *hi))
+    lines = ["$MeshFormat", "4.1 0 8", "$EndMeshFormat", "$PhysicalNames",
+             str(len(names) + 1)]
+    lines += [f'1 {k + 1} "{name}"' for k, name in enumerate(names)]
+    lines += [f'2 {fluid_tag} "{FLUID}"', "$EndPhysicalNames", "$Entities",
+              f"0 {len(names)} 1 0"]
+    for k, name in enumerate(names):
+        pts = coords[np.unique(patches[name])]
+        bb = " ".join(_num(v) for v in (*pts.min(axis=0), *pts.max(axis=0)))
+        lines.append(f"{k + 1} {bb} 1 {k + 1} 0")
+    lines += [f"1 {box} 1 {fluid_tag} 0", "$EndEntities", "$Nodes",
+              f"1 {len(coords)} 1 {len(coords)}", f"2 1 0 {len(coords)}"]
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+        write_rows(f, np.arange(1, len(coords) + 1), "%d")
+        write_rows(f, coords, "%.17g %.17g %.17g")
+        f.write("$EndNodes\n")
+        blocks = [(2, 1, 3, quads_)] + [(1, k + 1, 1, patches[n]) for k, n in enumerate(names)]
+        total = sum(len(e) for *_, e in blocks)
+        f.write(f"$Elements\n{len(blocks)} {total} 1 {total}\n")
+        first = 1
+        for dim, tag, kind, elems in blocks:
+            f.write(f"{dim} {tag} {kind} {len(elems)}\n")
+            rows = np.column_stack([np.arange(first, first + len(elems)), elems + 1])
+            write_rows(f, rows, " ".join(["%d"] * rows.shape[1]))
+            first += len(elems)
+        f.write("$EndElements\n")
+
+
 def write(block: Block, path: Path) -> None:
+    if block.topology:
+        _write_body(block, path)
+        return
     xyz = block.layers()
     nk, nj, ni = xyz.shape[:3]
     three_d = nk > 1
