@@ -13,5 +13,5 @@ demo: $(STAMP)
 		-o out/wavy_pinn.vts --png out/wavy_pinn.png
 
 test: $(STAMP)
-	$(VENV)/bin/ruff check pinn_engine plugin tests examples benchmarks scripts example_data
+	$(VENV)/bin/ruff check pinn_engine plugin tests examples benchmarks experiments scripts example_data
 	$(VENV)/bin/python -m pytest

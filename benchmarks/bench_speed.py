@@ -182,4 +182,7 @@ def main() -> None:
 
 
 if __name__ == "__main__":
+    from pinn_engine.heap import tune_process
+
+    tune_process()  # as the command line does (the library leaves a host's allocator alone)
     main()

@@ -30,11 +30,11 @@ warning: N of M cells are folded ...`` (a hint in the words of the ParaView pane
 
 from __future__ import annotations
 
-import hashlib
+import contextlib
+import signal
 import sys
-from collections import OrderedDict
-from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING
+import threading
+from collections.abc import Callable
 
 import numpy as np
 from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
@@ -42,9 +42,12 @@ from vtkmodules.vtkCommonCore import vtkCommand, vtkIntArray, vtkOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
+from .cache import MeshCache
 from .errors import InputError, PinnMeshError, TrainingCancelled, folded_cells_warning
 from .settings import (
     METHODS,
+    NEURAL,
+    OBJECTIVES,
     PRESETS,
     SIDE_NAMES,
     Settings,
@@ -54,76 +57,8 @@ from .settings import (
     parse_spacing,
 )
 
-if TYPE_CHECKING:  # the engine's numerics are imported on first use (fast plugin loading)
-    from .auxlines import AuxLine
-    from .geometry import Boundary
-    from .mesher import Mesher
-
 LABEL = "PINN Structured Mesh"
-# training settings the algorithm exposes as properties; None means "the preset's value"
-TRAINING_FIELDS = ("adam_epochs", "lbfgs_iterations", "hidden_layers", "neurons", "lambda2",
-                   "seed")
-
-
-def _digest(*arrays) -> str:
-    h = hashlib.sha1()
-    for a in arrays:
-        if a is None:
-            h.update(b"<none>")
-            continue
-        a = np.ascontiguousarray(a)
-        h.update(str((a.dtype.str, a.shape)).encode())
-        h.update(a.tobytes())
-    return h.hexdigest()
-
-
-def data_key(boundary: Boundary, aux_lines: Sequence[AuxLine]) -> tuple[str, str]:
-    """Fingerprints of what training sees of the inputs: the boundary (ring, corners, frame)
-    and the mapped auxiliary lines."""
-    b = _digest(boundary.ring, np.asarray(boundary.corners), boundary.frame.origin,
-                np.asarray([boundary.frame.scale]))
-    a = _digest(*[x for line in aux_lines for x in (line.xy, line.xi_eta)])
-    return b, f"{len(aux_lines)}:{a}"
-
-
-class MeshCache:
-    """Fitted meshers keyed by (boundary, auxiliary lines, ``Settings.training_key()``).
-
-    ``fitted`` trains only when that key is new; a change of anything training does not depend
-    on re-uses the trained network through ``Mesher.predict``. The grid size is part of the
-    key under the elliptic warm start (``Settings.lattice``), not otherwise.
-    """
-
-    def __init__(self, capacity: int = 4) -> None:
-        self.capacity = capacity
-        self.trainings = 0  # networks trained (pinn, mgnet) through this cache
-        self._entries: OrderedDict[tuple, Mesher] = OrderedDict()
-
-    def key(self, boundary: Boundary, aux_lines: Sequence[AuxLine], settings: Settings) -> tuple:
-        aux = aux_lines if settings.method == "pinn" else ()
-        return (*data_key(boundary, aux), settings.training_key())
-
-    def fitted(self, boundary: Boundary, aux_lines: Sequence[AuxLine], settings: Settings,
-               progress: Callable[[dict], bool | None] | None = None) -> tuple[Mesher, bool]:
-        """A mesher fitted to these inputs and whether a network was trained for it now."""
-        key = self.key(boundary, aux_lines, settings)
-        mesher = self._entries.get(key)
-        if mesher is not None:
-            self._entries.move_to_end(key)
-            mesher.settings = settings  # same training key; refreshes preset/device in reports
-            return mesher, False
-        from .mesher import NEURAL, Mesher
-
-        mesher = Mesher(settings).fit(boundary, aux_lines, progress)
-        trained = settings.method in NEURAL
-        self.trainings += int(trained)
-        self._entries[key] = mesher
-        while len(self._entries) > self.capacity:
-            self._entries.popitem(last=False)
-        return mesher, trained
-
-    def clear(self) -> None:
-        self._entries.clear()
+TOPOLOGY_CHOICES = ("none", "o", "c")
 
 
 def _choice(value, options: tuple[str, ...], what: str) -> str:
@@ -153,8 +88,11 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
       ``SetOrthogonal(b, r, t, l)``: 0/1 per side (SPEC 7; also names or a dict)
     * ``SetCorners(i0, i1, i2, i3)``: the four corner point indices of the boundary;
       ``SetCorners(None)`` or any negative index: automatic detection
+    * ``SetObjective("winslow"|"quality")`` (or 0/1): the pinn's objective (SPEC 7)
     * ``SetSetting(name, value)``: any other field of ``pinn_engine.settings.Settings``
       (e.g. ``"device"``, ``"boundary"``, ``"elliptic_iterations"``)
+    * ``SetPatchNames(names)``: boundary patch names (four names bottom right top left, or
+      ``SIDE=NAME`` items, as a string, sequence or mapping); field data ``PatchNames``
     """
 
     def __init__(self) -> None:
@@ -165,18 +103,25 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         self._size = (41, 21)
         self._overrides: dict[str, object] = {}
         self._corners: tuple[int, int, int, int] | None = None
+        self._patches = ""  # as given; checked at the update (default names when empty)
+        self._topology = "none"  # "o" or "c": an O- or C-grid around a body (SPEC 9)
+        self._farfield = 15.0  # far-field circle radius in chords (one body curve)
+        self._wall_spacing = 0.0  # first-layer height off the body; 0: the default
         self._cache = MeshCache()
         self._last_error = ""
         self._last_warning = ""
         self._trained = False
         self._failed: tuple | None = None  # stamp of the inputs/settings of a failed update
+        self._stop_signal: int | None = None  # a stop signal received during training
 
     # ---- ports -------------------------------------------------------------------------
     def FillInputPortInformation(self, port, info):
+        """Port 0: the boundary, or the boundary and auxiliary lines together (ParaView's
+        GUI connects every selected source there); port 1: more auxiliary lines."""
         info.Set(self.INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData")
+        info.Set(self.INPUT_IS_REPEATABLE(), 1)
         if port == 1:
             info.Set(self.INPUT_IS_OPTIONAL(), 1)
-            info.Set(self.INPUT_IS_REPEATABLE(), 1)
         return 1
 
     # ---- settings ----------------------------------------------------------------------
@@ -260,6 +205,11 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
     def GetOrthogonal(self) -> tuple:
         return self._overrides.get("orthogonal", ())
 
+    def SetObjective(self, objective) -> None:
+        """The pinn's objective: winslow or quality (or its index); None: the preset's."""
+        self._set_override("objective", None if objective is None
+                           else _choice(objective, OBJECTIVES, "objective"))
+
     def SetPanelSetting(self, name: str, value) -> None:
         """A value from the ParaView panel: one equal to the default preset's is no override,
         so that a panel left at its defaults follows the chosen preset (with Preset paper,
@@ -291,10 +241,39 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
     def GetCorners(self) -> tuple[int, int, int, int] | None:
         return self._corners
 
+    def SetPatchNames(self, names) -> None:
+        if not isinstance(names, str) and names is not None:
+            names = dict(names) if hasattr(names, "items") else " ".join(map(str, names))
+        self._set("_patches", names or "")
+
+    def SetTopology(self, topology) -> None:
+        """"none" (a four-sided domain), "o" (O-grid) or "c" (C-grid), or 0, 1, 2."""
+        self._set("_topology", _choice(topology, TOPOLOGY_CHOICES, "topology"))
+
+    def GetTopology(self) -> str:
+        return self._topology
+
+    def SetFarFieldRadius(self, radius) -> None:
+        self._set("_farfield", float(radius))
+
+    def SetWallSpacing(self, h) -> None:
+        """First-layer height off the body wall (0: the default, half the mean spacing
+        along the wall)."""
+        self._set("_wall_spacing", float(h))
+
+    def GetPatchNames(self) -> tuple[str, ...]:
+        """The four patch names (bottom, right, top, left) the next update uses."""
+        from .export import patch_names
+
+        return patch_names(self._patches or None)
+
     def GetSettings(self) -> Settings:
         """The ``Settings`` the next update uses (raises ``ValueError`` if invalid)."""
+        overrides = dict(self._overrides)
+        if self._method != "pinn":  # the panel hides Objective for the other methods
+            overrides.pop("objective", None)
         return make_settings(self._method, self._preset,
-                             **{"lattice": tuple(max(n, 2) for n in self._size), **self._overrides})
+                             **{"lattice": tuple(max(n, 2) for n in self._size), **overrides})
 
     # ---- results -----------------------------------------------------------------------
     def GetOutput(self) -> vtkStructuredGrid:
@@ -377,7 +356,8 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         (Not this algorithm's MTime: VTK modifies it for abort bookkeeping between runs.)
         """
         times: list = [self._method, self._preset, self._size, self._corners,
-                       tuple(sorted(self._overrides.items(), key=repr))]
+                       tuple(sorted(self._overrides.items(), key=repr)), repr(self._patches),
+                       self._topology, self._farfield, self._wall_spacing]
         for port in inInfo:
             for k in range(port.GetNumberOfInformationObjects()):
                 data = port.GetInformationObject(k).Get(vtkPolyData.DATA_OBJECT())
@@ -386,28 +366,31 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
 
     def _execute(self, inInfo) -> tuple[vtkStructuredGrid, str | None]:
         """The grid and the warning about its folded cells (None when none is folded)."""
-        from .pipeline import aux_from_polydata, boundary_from_polydata, to_vtk
+        from .pipeline import aux_from_polydata, boundary_from_polydata, split_inputs, to_vtk
 
         settings = self.GetSettings()
+        patches = self.GetPatchNames()
         ni, nj = self._size
         problem = grid_size_problem(ni, nj)
         if problem:
             raise ValueError(f"Grid Size {ni} {nj}: {problem}")
-        boundary_poly = vtkPolyData.GetData(inInfo[0], 0)
-        if boundary_poly is None or boundary_poly.GetNumberOfPoints() == 0:
-            raise PinnMeshError("boundary input: is empty; connect a closed polyline")
+        inputs = [vtkPolyData.GetData(inInfo[0], k)
+                  for k in range(inInfo[0].GetNumberOfInformationObjects())]
+        if self._topology != "none":
+            return self._execute_body(inputs, settings)
+        boundary_poly, aux_polys = split_inputs(inputs)
         boundary = boundary_from_polydata(boundary_poly, self._corners, source="boundary input")
-        aux_polys = []
         if len(inInfo) > 1:
-            aux_polys = [vtkPolyData.GetData(inInfo[1], k)
-                         for k in range(inInfo[1].GetNumberOfInformationObjects())]
+            aux_polys += [vtkPolyData.GetData(inInfo[1], k)
+                          for k in range(inInfo[1].GetNumberOfInformationObjects())]
         aux_lines = aux_from_polydata(aux_polys, boundary)
-        self._progress(0.0, "training" if settings.method in ("pinn", "mgnet") else "meshing")
-        mesher, self._trained = self._cache.fitted(boundary, aux_lines, settings,
-                                                   self._training_progress(settings))
+        self._progress(0.0, "training" if settings.method in NEURAL else "meshing")
+        with self._stop_on_signal():
+            mesher, self._trained = self._cache.fitted(boundary, aux_lines, settings,
+                                                       self._training_progress(settings))
         self._progress(0.95, "meshing")
         result = mesher.predict(*self._size)
-        grid = to_vtk(result)
+        grid = to_vtk(result, patches)
         fd = grid.GetFieldData()
         for name, value in (("Trained", int(self._trained)),
                             ("TrainingCount", self._cache.trainings)):
@@ -415,6 +398,34 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
             arr.SetName(name)
             arr.InsertNextValue(value)
             fd.AddArray(arr)
+        return grid, folded_cells_warning(result.report, "paraview")
+
+    def _execute_body(self, inputs, settings: Settings) -> tuple[vtkStructuredGrid, str | None]:
+        """An O- or C-grid around the body of the first input (SPEC 9)."""
+        from .airfoil_algorithm import body_and_farfield_of
+        from .bodymesh import mesh_body
+        from .bodymesh import patch_names as body_patches
+        from .export import patch_names
+        from .pipeline import to_vtk
+
+        polys = [p for p in inputs if p is not None and p.GetNumberOfPoints()]
+        if not polys:
+            raise InputError("is empty; connect an airfoil (the Airfoil source or a .dat "
+                             "file)", "boundary input")
+        body, far = body_and_farfield_of(polys[0], self._farfield)
+        if settings.method == "mgnet":
+            raise InputError("Method mgnet meshes four-sided domains; use pinn, tfi or "
+                             "elliptic with Topology O-grid or C-grid")
+        self._progress(0.0, "meshing")
+        with self._stop_on_signal():
+            result = mesh_body(body, far, self._topology, settings.method, *self._size,
+                               settings, self._wall_spacing or None,
+                               self._training_progress(settings))
+        self._trained = settings.method == "pinn"
+        patches = patch_names(self._patches) if self._patches.strip() and \
+            self._patches.split() != ["bottom", "right", "top", "left"] else \
+            body_patches(self._topology)
+        grid = to_vtk(result, patches)
         return grid, folded_cells_warning(result.report, "paraview")
 
     def _training_progress(self, settings: Settings) -> Callable[[dict], bool]:
@@ -436,10 +447,34 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         self.UpdateProgress(fraction)
 
     def _abort_requested(self) -> bool:
+        if self._stop_signal:
+            return True
         check = getattr(self, "CheckAbort", None)  # VTK 9.4+
         if check is not None and check():
             return True
         return bool(self.GetAbortExecute())
+
+    @contextlib.contextmanager
+    def _stop_on_signal(self):
+        """While training, SIGUSR1 (``pkill -USR1 -x paraview``) stops the training instead of
+        the host process: ParaView 5.11 handles no GUI event while a filter runs, so its abort
+        button cannot. Only where SIGUSR1 has its default action or a Python handler, which is
+        put back afterwards (the host is left as it was); main thread only."""
+        self._stop_signal = None
+        usr1 = getattr(signal, "SIGUSR1", None)
+        previous = signal.getsignal(usr1) if usr1 is not None else None
+        if previous is None or threading.current_thread() is not threading.main_thread():
+            yield  # a handler installed outside Python, or no main thread: leave it alone
+            return
+
+        def stop(signum, frame):  # noqa: ARG001
+            self._stop_signal = signum
+
+        signal.signal(usr1, stop)
+        try:
+            yield
+        finally:
+            signal.signal(usr1, previous)
 
     def _report_error(self, message: str) -> None:
         line = f"{LABEL}: {' '.join(str(message).split())}"

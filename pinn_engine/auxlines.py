@@ -8,8 +8,7 @@ import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 
 from .errors import InputError
-from .fileio import RawLine
-from .geometry import Boundary, Polyline, _segments_cross, segment_distance
+from .geometry import Boundary, Polyline, segment_distance, segments_cross
 
 END_TOL = 1e-2  # an end lies on a side within this fraction of the bounding-box diagonal
 # Where two auxiliary lines cross, the (xi, eta) that each gives the crossing point may differ
@@ -19,6 +18,15 @@ END_TOL = 1e-2  # an end lies on a side within this fraction of the bounding-box
 CROSS_TOL = 0.25
 SAMPLES_PER_LINE = 101
 OPPOSITE = {"bottom": "top", "top": "bottom", "left": "right", "right": "left"}
+
+
+@dataclass(frozen=True)
+class RawLine:
+    """A polyline as read: points (n, 2) or (n, 3) and optional per-point (xi, eta) overrides."""
+
+    points: np.ndarray
+    xi_eta: np.ndarray | None
+    name: str
 
 
 @dataclass(frozen=True)
@@ -58,7 +66,7 @@ def _check_inside(line: Polyline, boundary: Boundary, name: str) -> None:
                                              [1 - eps]])))
     a, b = boundary.ring, np.roll(boundary.ring, -1, axis=0)
     p, q = inner.points[:-1], inner.points[1:]
-    cross = _segments_cross(p[:, None], q[:, None], a[None], b[None])
+    cross = segments_cross(p[:, None], q[:, None], a[None], b[None])
     if cross.any():
         raise InputError("crosses the boundary", name)
     if not inside(inner.at(np.array([0.5])), boundary.ring)[0]:
@@ -67,7 +75,7 @@ def _check_inside(line: Polyline, boundary: Boundary, name: str) -> None:
 
 def map_line(raw: RawLine, boundary: Boundary, end_tol: float = END_TOL) -> AuxLine:
     """Computational coordinates of an auxiliary line by the rule of SPEC 2."""
-    pts = boundary.frame.to_unit(raw.points)
+    pts = boundary.frame.to_unit(boundary.plane.to_plane(raw.points, raw.name))
     if raw.xi_eta is not None:
         xe = np.asarray(raw.xi_eta, dtype=float)
         if not np.all(np.isfinite(xe)) or xe.min() < 0 or xe.max() > 1:

@@ -17,8 +17,6 @@ TREE_SAMPLES_PER_SIDE = 256
 class ArcLengthFit:
     """Exact linear interpolation of the side polylines: samples lie on the input boundary."""
 
-    name = "arclength"
-
     def __init__(self, boundary: Boundary) -> None:
         self.sides = {s: boundary.side(s) for s in SIDES}
 
@@ -32,8 +30,6 @@ class DecisionTreeFit:
     Trained on the side's vertices plus arc-length resamples (so a two-point side still gets
     enough control points); piecewise constant, so its samples sit near, not on, the boundary.
     """
-
-    name = "tree"
 
     def __init__(self, boundary: Boundary, random_state: int = 0) -> None:
         from sklearn.tree import DecisionTreeRegressor  # only the paper preset needs it (0.5 s)
@@ -56,8 +52,6 @@ class SplineFit:
     Gives the smooth boundary derivatives that the hard-constrained PINN needs in its
     Winslow residual; the grid itself is still placed on the exact polyline.
     """
-
-    name = "spline"
 
     def __init__(self, boundary: Boundary) -> None:
         self.splines = {}

@@ -12,8 +12,11 @@ import sys
 import time
 from pathlib import Path
 
+from . import heap
 from .errors import PinnMeshError, folded_cells_warning
-from .settings import METHODS, grid_size_problem, make_settings
+from .settings import METHODS, NEURAL, OBJECTIVES, grid_size_problem, make_settings
+
+FORMAT_KEYS = ("vts", "vtk", "xyz", "cgns", "su2", "msh", "openfoam")  # export.FORMATS
 
 EXIT_ERROR = 2
 EXIT_INTERNAL = 3
@@ -26,7 +29,10 @@ def build_parser() -> argparse.ArgumentParser:
         prog="pinn-mesh",
         description="Structured quadrilateral mesh of a four-sided 2D domain "
                     "(PINN of Chen et al., with TFI, elliptic and MGNet baselines).")
-    p.add_argument("boundary", help="closed boundary: .vtp, .vtk, .csv or .txt")
+    p.add_argument("boundary", nargs="?", default=None,
+                   help="closed boundary: .vtp, .vtk, .csv or .txt; with --topology an "
+                        "airfoil .dat (Selig or Lednicer) or a file with two closed "
+                        "polylines (body inside far field)")
     p.add_argument("--aux", action="append", default=[], metavar="AUX",
                    help="auxiliary lines (.vtp/.vtk); repeat for several files")
     p.add_argument("--method", choices=METHODS, default="pinn")
@@ -36,7 +42,17 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--preset", choices=("default", "paper"), default="default",
                    help="'paper' reproduces the paper's section 4 settings exactly")
     p.add_argument("-o", "--output", default=None, metavar="OUT.vts",
-                   help="output grid (default out/<boundary>_<method>.vts)")
+                   help="output grid (default out/<boundary>_<method>.vts); the extension "
+                        "picks the format: .vts, .vtk, .xyz (PLOT3D), .cgns, .su2, .msh "
+                        "(Gmsh 4.1); a folder with --format openfoam")
+    p.add_argument("--format", choices=FORMAT_KEYS, default=None,
+                   help="output format instead of the extension of -o (openfoam: -o DIR "
+                        "gets DIR/constant/polyMesh)")
+    p.add_argument("--patch", action="append", default=[], metavar="SIDE=NAME",
+                   help="name the boundary patch of a side (bottom, right, top, left; "
+                        "repeatable; equal names form one patch)")
+    p.add_argument("--extrude", type=float, default=None, metavar="T",
+                   help="one cell of thickness T in z for .xyz, .cgns, .msh and openfoam")
     p.add_argument("--corners", nargs=4, type=int, metavar="I",
                    help="the four corner point indices, instead of automatic detection")
     p.add_argument("--png", metavar="PATH", help="also render the grid, coloured by "
@@ -47,10 +63,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--spacing", action="append", default=[], metavar="SIDE=H",
                    help="first grid edge leaving SIDE (bottom, right, top, left) has length "
                         "H (your units), growing smoothly away from it; repeat for more sides "
-                        "(pinn, tfi, elliptic)")
+                        "(pinn, tfi, elliptic; SPEC 7). O- and C-grids: bottom=H, the first "
+                        "cell off the body wall")
     p.add_argument("--orthogonal", metavar="SIDE[,SIDE...]", default=None,
                    help="grid lines leave these sides at 90 degrees (pinn: a loss term; "
-                        "elliptic: Hilgenstock control functions)")
+                        "elliptic: Hilgenstock control functions). O- and C-grids: bottom "
+                        "(elliptic and pinn always do; tfi cannot)")
     p.add_argument("--quiet", action="store_true",
                    help="no progress output (a warning about folded cells is still printed)")
     g = p.add_argument_group("training (pinn, mgnet)")
@@ -65,10 +83,23 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--warm-start", choices=("elliptic", "none"), dest="warm_start",
                    help="elliptic (default): start from the converged elliptic grid and keep "
                         "the last state no worse than it; none: train from TFI (paper)")
+    g.add_argument("--objective", choices=OBJECTIVES, dest="objective",
+                   help="pinn: winslow (the Winslow equations) or quality (plus a cell-quality "
+                        "term that lowers the worst cell's largest angle; SPEC 7)")
     g.add_argument("--device", help="torch device: auto, cpu, cuda")
     g.add_argument("--save-model", metavar="PATH", help="save the trained model")
     g.add_argument("--load-model", metavar="PATH",
                    help="evaluate a saved model instead of training")
+    b = p.add_argument_group("O- and C-grids around a body (SPEC 9)")
+    b.add_argument("--topology", choices=("o", "c"), default=None,
+                   help="o: O-grid (j = 0 on the body, seam at the trailing edge); c: C-grid "
+                        "with a wake cut (sharp trailing edge)")
+    b.add_argument("--naca", metavar="DDDD", default=None,
+                   help="NACA 4-digit section of chord 1 instead of a file (blunt trailing "
+                        "edge for --topology o, closed for c)")
+    b.add_argument("--farfield", type=float, default=None, metavar="R",
+                   help="far-field circle of radius R chords about mid-chord (default 15 "
+                        "for a single body)")
     e = p.add_argument_group("elliptic")
     e.add_argument("--elliptic-iterations", type=int, dest="elliptic_iterations",
                    help="N point-Jacobi sweeps from a zero interior (paper); 0 = converge")
@@ -122,7 +153,7 @@ def _check_options(args: argparse.Namespace) -> None:
     if args.device is not None:
         if not DEVICE_NAMES.match(args.device):
             raise PinnMeshError(f"--device {args.device!r}: use auto, cpu, cuda or cuda:N")
-        if args.device.startswith("cuda") and args.method in ("pinn", "mgnet"):
+        if args.device.startswith("cuda") and args.method in NEURAL:
             import torch
 
             if not torch.cuda.is_available():
@@ -133,20 +164,25 @@ def _check_options(args: argparse.Namespace) -> None:
 def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     """One meshing run; appends each output file to ``written`` once it is complete."""
 
-    from .fileio import atomic_path, write_text_atomic, write_vts
+    from . import export
+    from .fileio import atomic_path, write_text_atomic
     from .mesher import Mesher
     from .pipeline import load_aux, load_boundary, to_vtk
 
     written = written if written is not None else []
-    out = Path(args.output or f"out/{Path(args.boundary).stem}_{args.method}.vts")
-    if out.suffix.lower() != ".vts":
-        raise PinnMeshError(f"{out}: output must be a .vts file")
-    if out.is_dir():
-        raise PinnMeshError(f"{out}: is a directory; -o needs a file name")
+    if args.topology or args.naca or (args.boundary or "").lower().endswith(".dat"):
+        return run_body(args, written)
+    if args.boundary is None:
+        raise PinnMeshError("give a boundary file (or --naca DDDD with --topology o or c)")
+    suffix = "" if args.format == "openfoam" else f".{args.format or 'vts'}"
+    out = Path(args.output or f"out/{Path(args.boundary).stem}_{args.method}{suffix}")
+    export.output_format(out, args.format, args.extrude)  # refuse before meshing
+    patches = export.parse_patch_options(args.patch)
     _check_options(args)
     ni, nj = args.size
     fields = ("seed", "adam_epochs", "lbfgs_iterations", "hidden_layers", "neurons",
-              "lambda2", "boundary_fit", "device", "elliptic_iterations", "warm_start")
+              "lambda2", "boundary_fit", "device", "elliptic_iterations", "warm_start",
+              "objective")
     try:
         settings = make_settings(args.method, args.preset, lattice=(ni, nj),
                                  boundary=args.boundary_mode, spacing=args.spacing,
@@ -193,8 +229,8 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     if args.fail_on_folded and q["folded_cells"]:
         raise PinnMeshError(f"{args.boundary}: {q['folded_cells']} folded cells "
                             "(--fail-on-folded); no output written")
-    grid = to_vtk(result)
-    write_vts(grid, out)
+    grid = to_vtk(result, patches)
+    export.write(grid, out, args.format, extrude=args.extrude)
     written.append(out)
     if args.report:
         write_text_atomic(args.report, json.dumps(result.report, indent=2, default=float))
@@ -212,6 +248,122 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     return out
 
 
+def _wall_spacing(args: argparse.Namespace) -> float | None:
+    """H of ``--spacing bottom=H`` (the wall of an O- or C-grid)."""
+    h = None
+    for item in args.spacing:
+        side, sep, value = item.partition("=")
+        if not sep or side.strip().lower() != "bottom":
+            raise PinnMeshError(f"--spacing {item!r}: an O- or C-grid takes bottom=H (the "
+                                "body wall)")
+        try:
+            h = float(value)
+        except ValueError:
+            raise PinnMeshError(f"--spacing {item!r}: H must be a number") from None
+        if not (math.isfinite(h) and h > 0):
+            raise PinnMeshError(f"--spacing {item!r}: H must be a number > 0")
+    if args.orthogonal is not None:
+        sides = {t.strip().lower() for t in args.orthogonal.split(",") if t.strip()}
+        if sides != {"bottom"}:
+            raise PinnMeshError(f"--orthogonal {args.orthogonal}: an O- or C-grid takes "
+                                "bottom (the body wall)")
+    return h
+
+
+def run_body(args: argparse.Namespace, written: list[Path]) -> Path:
+    """An O- or C-grid around an airfoil or another body (SPEC 9)."""
+    from . import export
+    from .airfoil import circle, load_body, read_body_and_farfield
+    from .bodymesh import mesh_body, patch_names
+    from .fileio import atomic_path, write_text_atomic
+    from .pipeline import to_vtk
+
+    if args.topology is None:
+        raise PinnMeshError("an airfoil or body needs --topology o or c")
+    if args.naca and args.boundary:
+        raise PinnMeshError("give either an airfoil file or --naca, not both")
+    if args.naca is None and args.boundary is None:
+        raise PinnMeshError("give an airfoil file (.dat) or --naca DDDD")
+    if args.aux or args.corners:
+        raise PinnMeshError("--aux and --corners apply to four-sided domains, not to "
+                            "--topology")
+    if args.save_model or args.load_model:
+        raise PinnMeshError("--save-model and --load-model apply to four-sided domains in "
+                            "this build, not to --topology")
+    if args.orthogonal and args.method == "tfi":
+        raise PinnMeshError("--orthogonal bottom: tfi's straight columns cannot leave the "
+                            "wall at right angles; use --method elliptic or pinn")
+    name = f"naca{args.naca}" if args.naca else Path(args.boundary).stem
+    suffix = "" if args.format == "openfoam" else f".{args.format or 'vts'}"
+    out = Path(args.output or f"out/{name}_{args.topology}_{args.method}{suffix}")
+    found = export.output_format(out, args.format, args.extrude)
+    if found.key == "msh" and args.extrude is not None:
+        raise PinnMeshError(f"{out}: an O- or C-grid is written to Gmsh in 2D in this build; "
+                            "drop --extrude (or write .cgns, .xyz or --format openfoam)")
+    names = dict(zip(("bottom", "right", "top", "left"), patch_names(args.topology)))
+    for item in args.patch:
+        side, sep, value = item.partition("=")
+        if not sep or side.strip().lower() not in names:
+            raise PinnMeshError(f"--patch {item!r}: expected SIDE=NAME")
+        names[side.strip().lower()] = value.strip()
+    patches = export.patch_names(names)
+    _check_options(args)
+    h = _wall_spacing(args)
+    ni, nj = args.size
+    fields = ("seed", "adam_epochs", "lbfgs_iterations", "hidden_layers", "neurons",
+              "device", "elliptic_iterations", "warm_start")
+    try:
+        settings = make_settings(args.method, args.preset, lattice=(ni, nj),
+                                 **{k: getattr(args, k) for k in fields})
+    except ValueError as exc:
+        raise PinnMeshError(str(exc)) from exc
+    if args.naca:
+        body = load_body(naca=args.naca, te="blunt" if args.topology == "o" else "sharp")
+        far = circle(body, args.farfield or 15.0)
+    elif Path(args.boundary).suffix.lower() == ".dat" or args.farfield is not None:
+        body = load_body(args.boundary)
+        far = circle(body, args.farfield or 15.0)
+    else:
+        body, far = read_body_and_farfield(args.boundary)
+    progress = _Progress(args.quiet)
+    start = time.perf_counter()
+    try:
+        result = mesh_body(body, far, args.topology, args.method, ni, nj, settings, h,
+                           progress)
+    finally:
+        progress.close()
+    q, t = result.quality, result.report["topology"]
+    if not args.quiet:
+        print(f"{args.method} {args.topology.upper()}-grid {ni}x{nj} in "
+              f"{time.perf_counter() - start:.2f} s: mean MaxIncludedAngle "
+              f"{q['mean_max_angle']:.2f}, worst {q['worst_max_angle']:.2f} deg, "
+              f"{q['folded_cells']} folded cells; first layer {t['first_layer']['min']:.3g} .. "
+              f"{t['first_layer']['max']:.3g}, wall angles within "
+              f"{t['wall_angle_deviation']:.2f} deg of 90", file=sys.stderr, flush=True)
+    if args.fail_on_folded and q["folded_cells"]:
+        raise PinnMeshError(f"{name}: {q['folded_cells']} folded cells (--fail-on-folded); "
+                            "no output written")
+    grid = to_vtk(result, patches)
+    export.write(grid, out, args.format, extrude=args.extrude)
+    written.append(out)
+    if args.report:
+        write_text_atomic(args.report, json.dumps(result.report, indent=2, default=float))
+        written.append(Path(args.report))
+    if args.png:
+        from .render import render_body_png
+
+        le, te = body.chord_points
+        with atomic_path(args.png, suffix=Path(args.png).suffix or ".png") as tmp:
+            render_body_png(grid, tmp, title=f"{args.method} {args.topology.upper()}-grid "
+                            f"{name}", le=le, te=te, zoom=0.08 * body.chord)
+        written.append(Path(args.png))
+    print(f"wrote {out}" + (f" and {args.png}" if args.png else ""))
+    warning = folded_cells_warning(result.report, "cli")
+    if warning:
+        print(f"pinn-mesh: warning: {name}: {warning}", file=sys.stderr, flush=True)
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the command; returns 0, 2 (error, one line on stderr) or 130 (interrupted).
 
@@ -219,6 +371,7 @@ def main(argv: list[str] | None = None) -> int:
     to see its traceback instead.
     """
     args = build_parser().parse_args(argv)
+    heap.tune_process()  # this process is ours: glibc's heap tuned for training and meshing
     previous = signal.signal(signal.SIGTERM, _raise_interrupt)
     written: list[Path] = []
     try:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from .settings import NEURAL
+
 
 class PinnMeshError(Exception):
     """Any failure pinn-mesh reports to a user as one line (CLI exit status 2)."""
@@ -60,6 +62,13 @@ ROUTE_WORDS = {
         "converge": "--elliptic-iterations 0 (solve to convergence)",
         "refuse": "; --fail-on-folded refuses such grids",
         "size": "--size",
+        "patch": "--patch SIDE=NAME",
+        "extrude": "--extrude T",
+        "output": "-o with .vts, .vtk, .xyz, .cgns, .su2 or .msh, or --format openfoam -o DIR",
+        "h5py": "pip install h5py",
+        "naca": "--naca DDDD",
+        "farfield": "--farfield R",
+        "topology": "--topology o",
     },
     "pyvista": {
         "corners": "corners=",
@@ -70,6 +79,13 @@ ROUTE_WORDS = {
         "converge": "elliptic_iterations=0 (solve to convergence)",
         "refuse": "",
         "size": "size=",
+        "patch": 'patches={"bottom": "wall", ...}',
+        "extrude": "extrude=",
+        "output": 'a path ending in .vts, .vtk, .xyz, .cgns, .su2 or .msh, or format="openfoam"',
+        "h5py": "pip install h5py",
+        "naca": 'naca="DDDD"',
+        "farfield": "farfield=R",
+        "topology": 'topology="o"',
     },
     "paraview": {
         "corners": "Corner Indices",
@@ -80,6 +96,15 @@ ROUTE_WORDS = {
         "converge": "Preset default (solves to convergence)",
         "refuse": "",
         "size": "Grid Size",
+        "patch": "Patch Names (bottom right top left, or SIDE=NAME)",
+        "extrude": "Extrude Thickness",
+        "output": "File > Save Data with a PINN Mesh file type",
+        "h5py": "ParaView's HDF5 clashes with pip's h5py, so the writer runs the "
+                "checkout's .venv Python: make it with bash scripts/setup.sh (or set "
+                "PINN_MESH_PYTHON to a Python with h5py)",
+        "naca": "the Airfoil source's NACA field",
+        "farfield": "Far Field Radius",
+        "topology": "Topology O-grid",
     },
 }
 _HANDED_OVER = {"cli": "written", "pyvista": "returned", "paraview": "produced"}
@@ -105,7 +130,7 @@ def folded_cells_warning(report: dict, route: str) -> str | None:
         fix = (f"rounding the boundary where it turns sharply between nodes or another "
                f"{words['size']}: the converged elliptic grid on these boundary nodes folds "
                f"{guard['elliptic']['folded_cells']} cells as well")
-    elif method in ("pinn", "mgnet"):
+    elif method in NEURAL:
         fix = f"{words['method'].format('elliptic')}, {words['lbfgs']} or {words['seed']}"
     elif method == "tfi":
         fix = words["method"].format("elliptic")

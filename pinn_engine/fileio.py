@@ -10,7 +10,6 @@ import os
 import re
 import signal
 import tempfile
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -21,23 +20,13 @@ from vtkmodules.vtkFiltersCore import vtkStripper
 from vtkmodules.vtkIOLegacy import vtkPolyDataReader
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader, vtkXMLStructuredGridWriter
 
+from .auxlines import RawLine
 from .errors import InputError
 from .geometry import MAX_POINTS
 
 BOUNDARY_FORMATS = (".vtp", ".vtk", ".csv", ".txt")
 AUX_FORMATS = (".vtp", ".vtk")
 MAX_FILE_BYTES = 256 * 1024 * 1024  # larger inputs are refused before reading
-# z counts as constant when its range is below this fraction of the x-y extent (CAD noise).
-Z_TOL = 1e-6
-
-
-@dataclass(frozen=True)
-class RawLine:
-    """A polyline as read: points (n, 2) and optional per-point (xi, eta) overrides."""
-
-    points: np.ndarray
-    xi_eta: np.ndarray | None
-    name: str
 
 
 @contextlib.contextmanager
@@ -247,26 +236,17 @@ def read_polydata(path: Path) -> vtkPolyData:
     return out
 
 
-def _xy(points: np.ndarray, source: str) -> np.ndarray:
-    """The x, y columns; a z column must be constant (to ``Z_TOL`` of the x-y extent)."""
+def _checked(points: np.ndarray, source: str) -> np.ndarray:
+    """The points (n, 2) or (n, 3) as float, refusing too many and a non-finite z (x and y
+    are checked with the shape); the plane they lie in is found by ``plane.Plane.fit``."""
     if len(points) > MAX_POINTS:
         raise InputError(f"holds {len(points)} points; at most {MAX_POINTS} are accepted "
                          "(resample it)", source)
-    xy = np.ascontiguousarray(points[:, :2], dtype=float)
-    if points.shape[1] == 3:
-        z = points[:, 2]
-        if not np.all(np.isfinite(z)):
-            bad = int(np.flatnonzero(~np.isfinite(z))[0])
-            raise InputError(f"point {bad} has a non-finite z (NaN or infinity)", source)
-        finite = np.isfinite(xy).all(axis=1)
-        extent = float(np.ptp(xy[finite], axis=0).max()) if finite.any() else 0.0
-        with np.errstate(over="ignore", invalid="ignore"):
-            spread = float(np.ptp(z))
-            limit = Z_TOL * max(extent, float(np.spacing(np.abs(z).max())) * 1e6)
-        if not spread <= limit:
-            raise InputError(f"z is not constant (it ranges over {spread:.3g}); the domain must "
-                             "lie in a plane z = const", source)
-    return xy
+    pts = np.ascontiguousarray(points, dtype=float)
+    if pts.shape[1] == 3 and not np.all(np.isfinite(pts[:, 2])):
+        bad = int(np.flatnonzero(~np.isfinite(pts[:, 2]))[0])
+        raise InputError(f"point {bad} has a non-finite z (NaN or infinity)", source)
+    return pts
 
 
 def _cell_ids(cells, npts: int) -> list[np.ndarray]:
@@ -313,7 +293,7 @@ def polylines_of(poly: vtkPolyData, source: str = "input") -> list[tuple[np.ndar
 
 
 def boundary_points(poly: vtkPolyData, source: str = "boundary input") -> np.ndarray:
-    """The (x, y) ring of the single closed polyline or polygon in ``poly``."""
+    """The (x, y, z) ring of the single closed polyline or polygon in ``poly``."""
     cells = polylines_of(poly, source)
     if not cells:
         raise InputError("holds no polyline or polygon cell", source)
@@ -327,7 +307,7 @@ def boundary_points(poly: vtkPolyData, source: str = "boundary input") -> np.nda
     pts = vtk_to_numpy(poly.GetPoints().GetData()).astype(float)[ids]
     if len(ids) > 1 and ids[0] == ids[-1]:
         pts = pts[:-1]
-    return _xy(pts, source)
+    return _checked(pts, source)
 
 
 def read_table(path: Path) -> np.ndarray:
@@ -368,11 +348,11 @@ def read_table(path: Path) -> np.ndarray:
             raise InputError(f"holds more than {MAX_POINTS} rows; resample it", src)
     if not rows:
         raise InputError("holds no x,y rows", src)
-    return _xy(np.array(rows, dtype=float), src)
+    return _checked(np.array(rows, dtype=float), src)
 
 
 def read_boundary_points(path: str | os.PathLike) -> np.ndarray:
-    """The boundary ring (n, 2) of a ``.vtp``, ``.vtk``, ``.csv`` or ``.txt`` file."""
+    """The boundary ring (n, 2) or (n, 3) of a ``.vtp``, ``.vtk``, ``.csv`` or ``.txt`` file."""
     path = Path(path)
     src = _check_file(path, BOUNDARY_FORMATS)
     if path.suffix.lower() in (".csv", ".txt"):
@@ -400,7 +380,7 @@ def aux_lines_of(poly: vtkPolyData, source: str = "auxiliary input") -> list[Raw
             raise InputError("is a closed curve; an auxiliary line must be open", name)
         if len(ids) < 2:
             raise InputError("has fewer than 2 points", name)
-        pts = _xy(pts_all[ids], name)
+        pts = _checked(pts_all[ids], name)
         if not np.all(np.isfinite(pts)):
             raise InputError("has a non-finite point", name)
         xe = xi_eta_all[ids] if xi_eta_all is not None else None

@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from .errors import InputError
+from .plane import Plane
 
 SIDES = ("bottom", "right", "top", "left")
 
@@ -92,7 +93,7 @@ def signed_area(ring: np.ndarray) -> float:
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
 
 
-def _segments_cross(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray,
+def segments_cross(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray,
                     rel_tol: float = 1e-12) -> np.ndarray:
     """Proper or touching intersection of segments ab and cd (broadcast).
 
@@ -132,7 +133,7 @@ def _brute_force_intersections(a: np.ndarray, b: np.ndarray) -> list[tuple[int, 
             j = j[j != n - 1]
         if len(j) == 0:
             continue
-        cross = _segments_cross(a[i], b[i], a[j], b[j])
+        cross = segments_cross(a[i], b[i], a[j], b[j])
         if cross.any():
             return [(i, int(k)) for k in j[cross]]
     return []
@@ -192,7 +193,7 @@ def self_intersections(ring: np.ndarray, budget: int = 4_000_000) -> list[tuple[
     hits: list[tuple[int, int]] = []
     for s in range(0, len(pairs), 1 << 20):
         i, j = pairs[s:s + (1 << 20), 0], pairs[s:s + (1 << 20), 1]
-        cross = _segments_cross(a[i], b[i], a[j], b[j])
+        cross = segments_cross(a[i], b[i], a[j], b[j])
         hits.extend((int(p), int(q)) for p, q in zip(i[cross], j[cross]))
     return sorted(hits)
 
@@ -323,17 +324,26 @@ class Boundary:
 
     ring: np.ndarray
     corners: tuple[int, int, int, int]
-    frame: Frame
+    frame: Frame  # user's in-plane (u, v) <-> working frame
     source: str | None = None
+    plane: Plane = field(default_factory=Plane.horizontal)  # user's 3D <-> in-plane (u, v)
 
     @classmethod
     def from_points(cls, points: np.ndarray, corners: tuple[int, ...] | None = None,
                     source: str | None = None) -> Boundary:
         """Validate user points, find the corners and apply the side convention of SPEC 1.
 
-        ``corners`` are indices into ``points`` as given (closing point excluded).
+        ``corners`` are indices into ``points`` as given (closing point excluded). Points
+        (n, 3) may lie in any plane: the ring is meshed in the plane's own (u, v).
         """
         raw = np.asarray(points, dtype=float)
+        plane = Plane.horizontal()
+        if raw.ndim == 2 and raw.shape[1] == 3:
+            if np.isfinite(raw).all():  # (non-finite points are refused below, by index)
+                plane = Plane.fit(raw, source)
+                raw = plane.to_plane(raw, source)
+            else:
+                raw = raw[:, :2]
         if raw.ndim == 2 and len(raw) > 1 and np.array_equal(raw[0], raw[-1]):
             raw = raw[:-1]
         marked = None
@@ -361,7 +371,8 @@ class Boundary:
         start = int(idx[key[0]])
         unit = np.roll(unit, -start, axis=0)
         idx = np.sort((idx - start) % len(unit))
-        return cls(ring=unit, corners=tuple(int(i) for i in idx), frame=frame, source=source)
+        return cls(ring=unit, corners=tuple(int(i) for i in idx), frame=frame, source=source,
+                   plane=plane)
 
     @property
     def diagonal(self) -> float:

@@ -4,8 +4,13 @@ Training allocates and frees the same few-megabyte tensors thousands of times, a
 grid goes through the networks in chunks of several megabytes. Under glibc's defaults such
 blocks come from a fresh ``mmap`` or from a heap that was just trimmed, so every step pays
 the page faults again (measured on 1000 points: an L-BFGS evaluation 30 ms with the defaults,
-15 ms with these settings; a 1001 x 1001 grid with quality arrays 1.54 s -> 1.27 s). Outside
-glibc (macOS, Windows, musl) this does nothing.
+15 ms with these settings; a 1001 x 1001 grid with quality arrays 1.54 s -> 1.27 s).
+
+The thresholds hold for the whole process and glibc cannot restore its adaptive defaults, so
+only a process of pinn-mesh's own sets them (``tune_process``: the command line, the
+benchmarks); the library, which runs inside ParaView or a user's script, only hands freed
+memory back after training and meshing (``reuse_freed_memory``). Outside glibc (macOS,
+Windows, musl) both do nothing.
 """
 
 from __future__ import annotations
@@ -32,20 +37,21 @@ def _glibc() -> ctypes.CDLL | None:
         return None
 
 
+def tune_process() -> None:
+    """Raise glibc's mmap and trim thresholds for this process (its own processes only)."""
+    libc = _glibc()
+    if libc is not None:
+        libc.mallopt(M_MMAP_THRESHOLD, MMAP_THRESHOLD)
+        libc.mallopt(M_TRIM_THRESHOLD, TRIM_THRESHOLD)
+
+
 @contextlib.contextmanager
 def reuse_freed_memory() -> Iterator[None]:
-    """Raise glibc's mmap and trim thresholds, and hand freed memory back after the block.
-
-    The thresholds stay raised for the process: glibc cannot restore its adaptive defaults
-    once they are set, and its static defaults measured twice as slow for the grid.
-    """
+    """Hand the memory freed in the block back to the system afterwards (``malloc_trim``);
+    the block itself runs under whatever thresholds the process has."""
     libc = _glibc()
-    if libc is None:
-        yield
-        return
-    libc.mallopt(M_MMAP_THRESHOLD, MMAP_THRESHOLD)
-    libc.mallopt(M_TRIM_THRESHOLD, TRIM_THRESHOLD)
     try:
         yield
     finally:
-        libc.malloc_trim(0)
+        if libc is not None:
+            libc.malloc_trim(0)

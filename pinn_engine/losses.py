@@ -77,3 +77,28 @@ def annealed_lambda(grads_eqns: list[torch.Tensor], grads_bcs: list[torch.Tensor
     lambda_hat = top / max(float(mean), 1e-300)
     return momentum * lambda1 + (1 - momentum) * lambda_hat
 
+
+def corner_angles(grid: torch.Tensor, orientation: float) -> torch.Tensor:
+    """Interior angle (radians) at the four corners of every cell of a grid (nj, ni, 2):
+    (4, nj - 1, ni - 1), in (0, 2 pi); above pi at a reflex corner (a folded cell)."""
+    p = [grid[:-1, :-1], grid[:-1, 1:], grid[1:, 1:], grid[1:, :-1]]  # counter-clockwise
+    angles = []
+    for k in range(4):
+        a, b = p[(k + 1) % 4] - p[k], p[k - 1] - p[k]
+        cross = orientation * (a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0])
+        angles.append(torch.pi + torch.atan2(-cross, -(a * b).sum(dim=-1)))  # smooth to 2 pi
+    return torch.stack(angles)
+
+
+def loss_quality(theta: torch.Tensor, tau: float = 0.035, mean_weight: float = 1.0
+                 ) -> torch.Tensor:
+    """Cell-quality term of ``--objective quality`` from the corner angles ``theta`` of a
+    grid's cells (:func:`corner_angles`): a soft maximum (log-sum-exp at temperature ``tau``
+    radians, 2 degrees) of all of them, which pulls the worst cell's largest angle down, plus
+    ``mean_weight`` times the mean over cells of each cell's soft largest angle (the mean
+    MaxIncludedAngle), plus a barrier on corners whose sine is below 0.05 (nearly flat,
+    reflex: folded), which unfolds cells."""
+    soft_max = tau * torch.logsumexp(theta.flatten() / tau, dim=0)
+    cell_max = tau * torch.logsumexp(theta / tau, dim=0)
+    barrier = torch.relu(0.05 - torch.sin(theta)).pow(2).sum()
+    return soft_max + mean_weight * cell_max.mean() + 100.0 * barrier

@@ -15,23 +15,30 @@ from .elliptic import winslow_solve, winslow_sweeps
 from .errors import PinnMeshError, TrainingError
 from .geometry import Boundary
 from .heap import reuse_freed_memory
+from .plane import Plane
 from .quality import boundary_nodes, cell_quality, summary
-from .settings import Settings, grid_size_problem, make_settings
+from .settings import NEURAL, Settings, grid_size_problem, make_settings
 from .spacing import classical_grid, fit_params, side_lengths, side_report, working_spacing
 from .tfi import tfi_grid
 
-NEURAL = ("pinn", "mgnet")
 Progress = Callable[[dict], bool | None]
 
 
 @dataclass
 class MeshResult:
-    """A grid (nj, ni, 2) in the user's coordinates, with what a user needs to judge it."""
+    """A grid (nj, ni, 2) in the user's in-plane coordinates (x, y for a boundary in a plane
+    z = const), with what a user needs to judge it; ``points3d`` in the user's 3D frame."""
 
     points: np.ndarray
     report: dict
     history: dict[str, list[float]] = field(default_factory=dict)
     cells: dict[str, np.ndarray] = field(default_factory=dict)
+    plane: Plane = field(default_factory=Plane.horizontal)
+
+    @property
+    def points3d(self) -> np.ndarray:
+        """The grid (nj, ni, 3) in the user's 3D frame (the boundary's plane)."""
+        return self.plane.lift(self.points)
 
     @property
     def quality(self) -> dict:
@@ -127,7 +134,8 @@ class Mesher:
         if self.model is not None:
             report["training"] = self.model.info
         history = self.model.history if self.model is not None else {}
-        return MeshResult(points=points, report=report, history=history, cells=cells)
+        return MeshResult(points=points, report=report, history=history, cells=cells,
+                          plane=self.boundary.plane)
 
     def _grid_unit(self, ni: int, nj: int) -> np.ndarray:
         s = self.settings

@@ -16,6 +16,7 @@ from .fileio import atomic_path
 from .geometry import Boundary, Frame
 from .mapping import Mapping
 from .networks import CoordinateNet
+from .plane import Plane
 from .settings import Settings
 from .warmstart import WarmStart
 
@@ -46,7 +47,9 @@ class TrainedModel:
                         "neurons": net.neurons, "activation": net.activation},
             "state": {k: v.detach().cpu() for k, v in net.state_dict().items()},
             "boundary": {"ring": torch.as_tensor(b.ring), "corners": list(b.corners),
-                         "origin": torch.as_tensor(b.frame.origin), "scale": b.frame.scale},
+                         "origin": torch.as_tensor(b.frame.origin), "scale": b.frame.scale,
+                         "plane_origin": torch.as_tensor(b.plane.origin),
+                         "plane_axes": torch.as_tensor(b.plane.axes)},
             "history": self.history, "info": self.info,
             "warm": None if self.mapping.warm is None
             else torch.as_tensor(self.mapping.warm.correction),
@@ -77,8 +80,11 @@ class TrainedModel:
             net = CoordinateNet(**payload["network"])
             net.load_state_dict(payload["state"])
             bd = payload["boundary"]
+            plane = (Plane(bd["plane_origin"].numpy(), bd["plane_axes"].numpy())
+                     if "plane_origin" in bd else Plane.horizontal())  # models before planes
             saved = Boundary(ring=bd["ring"].numpy(), corners=tuple(bd["corners"]),
-                             frame=Frame(bd["origin"].numpy(), float(bd["scale"])), source=src)
+                             frame=Frame(bd["origin"].numpy(), float(bd["scale"])), source=src,
+                             plane=plane)
             warm = payload.get("warm")
             nodes = payload.get("warm_nodes")
             nodes = None if nodes is None else tuple(n.numpy() for n in nodes)
@@ -95,7 +101,7 @@ class TrainedModel:
                     and saved.corners == boundary.corners)
             if not same:
                 raise InputError("model was trained for a different boundary", src)
-            saved = dataclasses.replace(saved, source=boundary.source)
+            saved = dataclasses.replace(saved, source=boundary.source, plane=boundary.plane)
         net = net.to(torch.float64)
         return cls(Mapping(net, saved, settings.boundary, warm), settings, payload["history"],
                    payload["info"])

@@ -9,7 +9,15 @@ import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 
 from .auxlines import AuxLine, map_lines
-from .fileio import RawLine, aux_lines_of, boundary_points, read_aux_lines, read_boundary_points
+from .errors import InputError
+from .fileio import (
+    RawLine,
+    aux_lines_of,
+    boundary_points,
+    polylines_of,
+    read_aux_lines,
+    read_boundary_points,
+)
 from .geometry import Boundary
 from .mesher import MeshResult
 from .vtkgrid import structured_grid
@@ -36,6 +44,22 @@ def boundary_from_polydata(poly: vtkPolyData, corners: Sequence[int] | None = No
     return Boundary.from_points(pts, tuple(corners) if corners else None, source=source)
 
 
+def split_inputs(polys: Sequence[vtkPolyData | None]) -> tuple[vtkPolyData, list[vtkPolyData]]:
+    """The boundary and the auxiliary lines among inputs connected together: the one input
+    holding a closed curve is the boundary, the others hold open auxiliary lines."""
+    polys = [p for p in polys if p is not None and p.GetNumberOfPoints()]
+    if not polys:
+        raise InputError("is empty; connect a closed polyline", "boundary input")
+    if len(polys) == 1:
+        return polys[0], []
+    closed = [p for p in polys if any(c for _, c in polylines_of(p, "input"))]
+    if len(closed) != 1:
+        raise InputError(f"{len(closed)} of the {len(polys)} connected inputs hold a closed "
+                         "curve; connect one closed boundary, and open polylines as auxiliary "
+                         "lines", "boundary input")
+    return closed[0], [p for p in polys if p is not closed[0]]
+
+
 def aux_from_polydata(polys: Sequence[vtkPolyData], boundary: Boundary) -> list[AuxLine]:
     """Map the polylines of every ``vtkPolyData`` in ``polys`` as auxiliary lines."""
     raws: list[RawLine] = []
@@ -45,7 +69,12 @@ def aux_from_polydata(polys: Sequence[vtkPolyData], boundary: Boundary) -> list[
     return map_lines(raws, boundary)
 
 
-def to_vtk(result: MeshResult) -> vtkStructuredGrid:
-    """The output grid of SPEC 3 for a mesh result."""
+def to_vtk(result: MeshResult, patches=None) -> vtkStructuredGrid:
+    """The output grid of SPEC 3 for a mesh result, with the patch names of SPEC 8."""
+    topology = result.report.get("topology")
+    if topology and patches is None:
+        from .bodymesh import patch_names
+
+        patches = patch_names(topology["kind"])
     return structured_grid(np.asarray(result.points), result.report, result.history,
-                           result.cells or None)
+                           result.cells or None, patches, result.points3d)

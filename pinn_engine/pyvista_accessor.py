@@ -35,11 +35,11 @@ import numpy as np
 import pyvista as pv
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 
-from .algorithm import MeshCache
+from .cache import MeshCache
 from .errors import FoldedCellsWarning, InputError, folded_cells_warning
 from .settings import grid_size_problem, make_settings
 
-__all__ = ["FoldedCellsWarning", "PinnMeshAccessor", "pinn_mesh", "register"]
+__all__ = ["FoldedCellsWarning", "PinnMeshAccessor", "pinn_mesh", "save_mesh"]
 
 
 def _ring_polydata(points, closed: bool) -> pv.PolyData:
@@ -92,10 +92,13 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
               hidden_layers: int | None = None, neurons: int | None = None,
               lambda2: float | None = None, seed: int | None = None,
               boundary_mode: str | None = None, device: str | None = None,
-              spacing=None, orthogonal=None,
               progress: Callable[[dict], bool | None] | None = None,
-              cache: MeshCache | None = None, **settings) -> pv.StructuredGrid:
-    """Structured quadrilateral grid of a four-sided 2D domain.
+              cache: MeshCache | None = None, patches=None, topology: str | None = None,
+              naca: str | None = None, farfield: float | None = None,
+              spacing: dict | None = None, orthogonal=None,
+              **settings) -> pv.StructuredGrid:
+    """Structured quadrilateral grid of a four-sided 2D domain, or an O- or C-grid around a
+    body (``topology="o"`` or ``"c"``, SPEC 9).
 
     Parameters
     ----------
@@ -120,21 +123,41 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
         are good for a first look.
     boundary_mode : {"hard", "penalty"}, optional
         Exact boundary by construction (default) or the paper's penalty term.
+    objective : {"winslow", "quality"}, optional (a ``**settings`` field)
+        ``method="pinn"``: the Winslow equations alone, or with a cell-quality term that
+        lowers the worst cell's largest angle (SPEC 7; ``docs/quality_objective.md``).
     device : str, optional
         Torch device: ``"auto"`` (default), ``"cpu"``, ``"cuda"``.
-    spacing : dict, optional
-        First-edge length per side in the boundary's units, e.g. ``{"bottom": 1e-3}``
-        (also ``"bottom=1e-3"`` or pairs): the first grid edge leaving every node of that
-        side has this length, growing smoothly away from it (pinn, tfi, elliptic).
-    orthogonal : str or list of str, optional
-        Sides that grid lines leave at 90 degrees, e.g. ``"bottom"`` or ``["bottom",
-        "top"]`` (pinn: a loss term; elliptic: Hilgenstock control functions).
     progress : callable, optional
         ``progress(info)`` during training, ``info`` a dict with ``phase`` ("adam" or
         "lbfgs"), ``step``, ``total``, ``loss`` and ``terms``; returning True cancels
         (``pinn_engine.errors.TrainingCancelled``).
-    cache : pinn_engine.algorithm.MeshCache, optional
+    cache : pinn_engine.cache.MeshCache, optional
         Re-use networks trained earlier on the same inputs and training settings.
+    patches : dict, sequence of four names or str, optional
+        Boundary patch names, e.g. ``{"bottom": "wall", "top": "wall"}`` (default: bottom,
+        right, top, left; equal names form one patch); stored as field data ``PatchNames``
+        and used by :func:`save_mesh`.
+    topology : {"o", "c"}, optional
+        Mesh around a body instead: ``boundary`` is then the body (an airfoil curve as
+        PolyData or points, or the path of a Selig/Lednicer ``.dat`` file or of a file with
+        two closed polylines, body inside far field), or ``None`` with ``naca``. Methods
+        pinn, tfi, elliptic. Index conventions and patches: SPEC 9 and docs/airfoils.md.
+    naca : str, optional
+        NACA 4-digit code, e.g. ``"0012"`` (chord 1; blunt trailing edge for the O-grid,
+        closed for the C-grid).
+    farfield : float, optional
+        Far-field circle radius in chords about mid-chord (default 15).
+    spacing : dict, optional
+        First-edge length per side in the boundary's units, e.g. ``{"bottom": 1e-3}``
+        (also ``"bottom=1e-3"`` or pairs): the first grid edge leaving every node of that
+        side has this length, growing smoothly away from it (pinn, tfi, elliptic; SPEC 7,
+        docs/boundary_layer.md). A body grid takes ``{"bottom": H}``: the first-layer
+        height off the body wall.
+    orthogonal : str or sequence, optional
+        Sides that grid lines leave at 90 degrees, e.g. ``"bottom"`` or ``["bottom",
+        "top"]`` (pinn: a loss term; elliptic: Hilgenstock control functions). A body grid
+        takes ``"bottom"`` (elliptic and pinn body grids always leave the wall at 90).
     **settings
         Any other field of ``pinn_engine.settings.Settings`` (e.g. ``learning_rate``).
 
@@ -142,10 +165,10 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
     -------
     pyvista.StructuredGrid
         Dimensions ``(ni, nj, 1)``; cell data ``MaxIncludedAngle``, ``MinIncludedAngle``
-        (degrees), ``ScaledJacobian``, ``Folded``; field data ``Method``, ``Report`` (JSON),
-        quality figures, per side ``FirstEdge_<side>`` (min, median, max),
-        ``WallAngleDeviation_<side>`` and ``GrowthRatio_<side>``, and ``Loss_<term>``
-        histories.
+        (degrees), ``ScaledJacobian``, ``Folded``; point data ``i``, ``j``; field data
+        ``Method``, ``Report`` (JSON), quality figures, per side ``FirstEdge_<side>`` (min,
+        median, max), ``WallAngleDeviation_<side>`` and ``GrowthRatio_<side>``,
+        ``Loss_<term>`` histories and ``PatchNames``.
 
     Warns
     -----
@@ -170,18 +193,26 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
     >>> grid.dimensions
     (21, 11, 1)
     """
+    from .export import patch_names
     from .pipeline import aux_from_polydata, boundary_from_polydata, to_vtk
 
     ni, nj = (int(n) for n in size)
     problem = grid_size_problem(ni, nj)
     if problem:
         raise ValueError(f"size=({ni}, {nj}): {problem}")
+    if topology is not None or naca is not None:
+        return _body_mesh(boundary, ni, nj, method, preset, topology, naca, farfield, spacing,
+                          orthogonal, patches, progress,
+                          dict(adam_epochs=adam_epochs, lbfgs_iterations=lbfgs_iterations,
+                               hidden_layers=hidden_layers, neurons=neurons, seed=seed,
+                               device=device, **settings))
     config = make_settings(method, preset, adam_epochs=adam_epochs,
                            lbfgs_iterations=lbfgs_iterations, hidden_layers=hidden_layers,
                            neurons=neurons, lambda2=lambda2, seed=seed, boundary=boundary_mode,
                            device=device, spacing=spacing, orthogonal=orthogonal,
                            **{"lattice": (ni, nj), **settings})
     try:
+        names = patch_names(patches)
         poly = _as_polydata(boundary, closed=True, what="boundary")
         ring = boundary_from_polydata(poly, corners, source="boundary")
         lines = aux_from_polydata(_aux_list(aux), ring)
@@ -190,9 +221,91 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
     cache = cache if cache is not None else MeshCache(capacity=1)
     mesher, _ = cache.fitted(ring, lines, config, progress)
     result = mesher.predict(ni, nj)
-    grid = pv.wrap(to_vtk(result))
+    grid = pv.wrap(to_vtk(result, names))
     _warn_if_folded(result.report)
     return grid
+
+
+def _body_mesh(boundary, ni, nj, method, preset, topology, naca, farfield, spacing,
+               orthogonal, patches, progress, overrides) -> pv.StructuredGrid:
+    """The O- or C-grid route of :func:`pinn_mesh`."""
+    import os
+
+    from .airfoil import body_from_points, circle, load_body, read_body_and_farfield
+    from .bodymesh import mesh_body
+    from .bodymesh import patch_names as body_patches
+    from .export import patch_names
+    from .pipeline import to_vtk
+
+    try:
+        if topology not in ("o", "c"):
+            raise InputError(f"topology={topology!r}: use \"o\" or \"c\" for a body grid")
+        h = None
+        for side, value in dict(spacing or {}).items():
+            if side != "bottom":
+                raise InputError(f"spacing={{{side!r}: ...}}: a body grid takes "
+                                 "{'bottom': H} (the wall)")
+            h = float(value)
+        if orthogonal is not None:
+            sides = [orthogonal] if isinstance(orthogonal, str) else list(orthogonal)
+            if {str(t).strip() for t in sides} != {"bottom"}:
+                raise InputError(f"orthogonal={orthogonal!r}: a body grid takes \"bottom\"")
+        if naca is not None:
+            if boundary is not None:
+                raise InputError("give either a body or naca=, not both")
+            body = load_body(naca=naca, te="blunt" if topology == "o" else "sharp")
+            far = circle(body, farfield or 15.0)
+        elif isinstance(boundary, (str, os.PathLike)):
+            if str(boundary).lower().endswith(".dat") or farfield is not None:
+                body = load_body(boundary)
+                far = circle(body, farfield or 15.0)
+            else:
+                body, far = read_body_and_farfield(boundary)
+        else:
+            if boundary is None:
+                raise InputError("give a body (PolyData, points or a .dat path) or naca=")
+            if isinstance(boundary, np.ndarray | list | tuple):
+                pts = np.asarray(boundary, dtype=float)
+            else:
+                pts = np.asarray(pv.wrap(boundary).points, dtype=float)
+                lines = pv.wrap(boundary).lines
+                if lines is not None and len(lines) and int(lines[0]) + 1 == len(lines):
+                    pts = pts[np.asarray(lines[1:])]  # one polyline: its own order
+            body = body_from_points(pts[:, :2], "body")
+            far = circle(body, farfield or 15.0)
+        names = patch_names(patches if patches is not None else
+                            dict(zip(("bottom", "right", "top", "left"),
+                                     body_patches(topology))))
+        settings = make_settings(method, preset, lattice=(ni, nj), **overrides)
+        result = mesh_body(body, far, topology, method, ni, nj, settings, h, progress)
+    except InputError as exc:
+        raise exc.for_route("pyvista") from None
+    grid = pv.wrap(to_vtk(result, names))
+    _warn_if_folded(result.report)
+    return grid
+
+
+def save_mesh(grid, path, format: str | None = None, *, patches=None,
+              extrude: float | None = None):
+    """Write a grid from :func:`pinn_mesh` for a CFD solver; returns the path written.
+
+    The format follows the extension of ``path``: ``.vts``, ``.vtk``, ``.xyz`` (PLOT3D),
+    ``.cgns``, ``.su2``, ``.msh`` (Gmsh 4.1); ``format="openfoam"`` writes the case folder
+    ``path`` (``constant/polyMesh``). ``patches`` renames the boundary patches (default: the
+    grid's ``PatchNames``); ``extrude=T`` makes PLOT3D, CGNS and Gmsh outputs one cell of
+    thickness T in z (OpenFOAM always is). Atomic: on failure nothing is left behind.
+    Raises ``pinn_engine.errors.InputError`` (one line) for bad arguments.
+
+    >>> grid = pinn_mesh(square, size=(21, 11), method="tfi", patches={"bottom": "wall"})
+    >>> save_mesh(grid, "out/square.cgns")
+    >>> save_mesh(grid, "out/square_case", format="openfoam", extrude=0.1)
+    """
+    from .export import write
+
+    try:
+        return write(grid, path, format, patches=patches, extrude=extrude)
+    except InputError as exc:
+        raise exc.for_route("pyvista") from None
 
 
 @pv.register_dataset_accessor("pinn_mesh", pv.PolyData)
@@ -216,6 +329,7 @@ class PinnMeshAccessor:
     def __init__(self, mesh: pv.PolyData) -> None:
         self._mesh = mesh
         self._cache = MeshCache()
+        self.last: pv.StructuredGrid | None = None  # the last grid made, for save()
 
     def __call__(self, aux=None, size: Sequence[int] = (41, 21), method: str = "pinn", *,
                  preset: str = "default", corners: Sequence[int] | None = None,
@@ -232,13 +346,28 @@ class PinnMeshAccessor:
         settings default to the preset's (5000 Adam epochs, 500 L-BFGS iterations).
         Returns a ``pyvista.StructuredGrid`` with MaxIncludedAngle/MinIncludedAngle cells.
         """
-        return pinn_mesh(self._mesh, aux, size, method, preset=preset, corners=corners,
-                         adam_epochs=adam_epochs, lbfgs_iterations=lbfgs_iterations,
-                         hidden_layers=hidden_layers, neurons=neurons, lambda2=lambda2,
-                         seed=seed, spacing=spacing, orthogonal=orthogonal, progress=progress,
-                         cache=self._cache, **settings)
+        self.last = pinn_mesh(self._mesh, aux, size, method, preset=preset, corners=corners,
+                              adam_epochs=adam_epochs, lbfgs_iterations=lbfgs_iterations,
+                              hidden_layers=hidden_layers, neurons=neurons, lambda2=lambda2,
+                              seed=seed, spacing=spacing, orthogonal=orthogonal,
+                              progress=progress, cache=self._cache, **settings)
+        return self.last
 
     mesh = __call__  # boundary.pinn_mesh.mesh(...) reads well too
+
+    def save(self, path, format: str | None = None, *, grid=None, patches=None,
+             extrude: float | None = None):
+        """Write ``grid`` (default: the last grid this accessor made) for a CFD solver;
+        the arguments are those of :func:`save_mesh`.
+
+        >>> boundary.pinn_mesh(size=(41, 21), patches={"bottom": "wall", "top": "wall"})
+        >>> boundary.pinn_mesh.save("out/channel.su2")
+        """
+        grid = grid if grid is not None else self.last
+        if grid is None:
+            raise InputError("no grid to save yet; call boundary.pinn_mesh(...) first or "
+                             "pass grid=")
+        return save_mesh(grid, path, format, patches=patches, extrude=extrude)
 
     @property
     def trainings(self) -> int:
@@ -248,10 +377,3 @@ class PinnMeshAccessor:
     def clear(self) -> None:
         """Forget the trained networks: the next call trains again."""
         self._cache.clear()
-
-
-def register() -> type[PinnMeshAccessor]:
-    """Make sure the accessor is registered (importing this module already does it)."""
-    if "pinn_mesh" not in pv.PolyData.__dict__:
-        pv.register_dataset_accessor("pinn_mesh", pv.PolyData)(PinnMeshAccessor)
-    return PinnMeshAccessor

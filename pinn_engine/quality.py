@@ -109,3 +109,19 @@ def summary(cells: dict[str, np.ndarray], boundary_deviation: float) -> dict[str
 def boundary_nodes(grid: np.ndarray) -> np.ndarray:
     """All boundary nodes of a grid, (2 (ni + nj) - 4, 2)."""
     return np.concatenate([grid[0], grid[-1], grid[1:-1, 0], grid[1:-1, -1]])
+
+
+def angle_floor(grid: np.ndarray) -> tuple[float, float]:
+    """The lower bounds that a grid's boundary nodes put on its worst MaxIncludedAngle:
+    (the largest angle at a domain corner between the first boundary edges, the largest
+    half interior angle at another boundary node, where two cells share that angle)."""
+    g = np.asarray(grid, dtype=float)
+    nj, ni = g.shape[:2]
+    ring = np.concatenate([g[0, :-1], g[:-1, -1], g[-1, :0:-1], g[:0:-1, 0]])
+    turn = np.sign(_cross(ring, np.roll(ring, -1, axis=0)).sum())  # counter-clockwise: +1
+    ahead, back = np.roll(ring, -1, axis=0) - ring, np.roll(ring, 1, axis=0) - ring
+    angle = np.degrees(np.mod(np.arctan2(turn * _cross(ahead, back),
+                                         np.einsum("ij,ij->i", ahead, back)), 2 * np.pi))
+    corners = np.zeros(len(ring), dtype=bool)
+    corners[[0, ni - 1, ni + nj - 2, 2 * ni + nj - 3]] = True
+    return float(angle[corners].max()), float(angle[~corners].max() / 2)

@@ -5,7 +5,9 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, fields, replace
 
 METHODS = ("pinn", "mgnet", "tfi", "elliptic")
+NEURAL = ("pinn", "mgnet")  # the methods that train a network
 PRESETS = ("default", "paper")
+OBJECTIVES = ("winslow", "quality")  # SPEC 7, --objective (pinn)
 # Grid sizes accepted on every route (command line, filter and panel, pyvista, Mesher)
 MAX_SIDE_NODES = 20_000
 MAX_NODES = 4_000_000  # about 1.5 GB of memory while meshing and writing
@@ -85,6 +87,9 @@ class Settings:
     warm_start: str = "elliptic"
     lattice: tuple[int, int] = (41, 21)  # nodes of the warm start; routes use the output size
     residual: str = "scaled"  # Winslow residual: "paper" (eq. 13) or "scaled" (losses.py)
+    # pinn: "winslow" (the Winslow equations) or "quality" (plus a cell-quality term, and the
+    # start and guard keep the best worst angle; training.py); other methods: "winslow"
+    objective: str = "winslow"
     hidden_layers: int = 4
     neurons: int = 30
     activation: str = "tanh"
@@ -123,6 +128,10 @@ class Settings:
                 raise ValueError(f"{name} must not be negative")
         if self.residual not in ("paper", "scaled"):
             raise ValueError(f"unknown residual {self.residual!r}; use paper or scaled")
+        if self.objective not in OBJECTIVES:
+            raise ValueError(f"unknown objective {self.objective!r}; use winslow or quality")
+        if self.method != "pinn":  # the objective is the pinn's (make_settings says so)
+            object.__setattr__(self, "objective", "winslow")
         if self.warm_start not in ("elliptic", "none"):
             raise ValueError(f"unknown warm start {self.warm_start!r}; use elliptic or none")
         if self.warm_start == "elliptic" and self.boundary != "hard":
@@ -149,7 +158,8 @@ class Settings:
 
     def training_key(self) -> tuple:
         """The settings that change the trained network (not the output resolution)."""
-        skip = {"preset", "device"} | ({"lattice"} if self.warm_start == "none" else set())
+        skip = {"preset", "device"} | ({"lattice"} if self.warm_start == "none"
+                                       and self.objective == "winslow" else set())
         return tuple((f.name, getattr(self, f.name)) for f in fields(self) if f.name not in skip)
 
 
@@ -158,12 +168,13 @@ PAPER = {
     "hidden_layers": 4, "neurons": 30, "activation": "tanh", "adam_epochs": 5000,
     "learning_rate": 1e-3, "lr_decay": 0.9, "lr_decay_every": 1000, "batch_size": 100,
     "lbfgs_iterations": 500, "lbfgs_points": 1000, "lambda2": 10.0, "elliptic_iterations": 1000,
+    "objective": "winslow",
 }
 
 
 # Training from TFI (no warm start) takes the paper's schedule and losses.
 FROM_TFI = {"adam_epochs": 5000, "lbfgs_iterations": 500, "lbfgs_points": 1000,
-            "lambda2": 10.0, "residual": "paper"}
+            "lambda2": 10.0, "residual": "paper", "objective": "winslow"}
 
 
 def make_settings(method: str = "pinn", preset: str = "default", **overrides) -> Settings:
@@ -177,6 +188,8 @@ def make_settings(method: str = "pinn", preset: str = "default", **overrides) ->
     if preset == "paper":
         base = replace(base, **PAPER)
     given = {k: v for k, v in overrides.items() if v is not None}
+    if given.get("objective") == "quality" and method != "pinn":
+        raise ValueError(f"objective quality is for the pinn method, not {method}")
     if given.get("boundary") == "penalty" and "warm_start" not in given:
         given["warm_start"] = "none"
     if given.get("warm_start") == "none" and preset == "default":

@@ -23,17 +23,27 @@ import numpy as np
 import torch
 
 from .auxlines import AuxLine
-from .boundary_fit import make_fit
+from .boundary_fit import ArcLengthFit, make_fit
 from .errors import TrainingCancelled, TrainingError
 from .geometry import SIDES, Boundary
 from .heap import reuse_freed_memory
-from .losses import annealed_lambda, loss_data, loss_eqns, loss_orthogonal, loss_points, total_loss
+from .losses import (
+    annealed_lambda,
+    corner_angles,
+    loss_data,
+    loss_eqns,
+    loss_orthogonal,
+    loss_points,
+    loss_quality,
+    total_loss,
+)
 from .mapping import Mapping
 from .model import TrainedModel
 from .networks import CoordinateNet
 from .quality import cell_quality, folded_cells, summary
 from .settings import Settings
 from .spacing import chord_tangents, classical_grid, working_spacing
+from .tfi import node_params, tfi_grid
 from .warmstart import WarmStart, lattice_for
 
 ANNEAL_EVERY = 10  # epochs between lambda1 updates (Wang et al. use 10)
@@ -48,6 +58,12 @@ GUARD_PATIENCE = 2  # rejected checks in a row that end the training
 # cost some quality; the elliptic grid ignores the lines).
 GUARD_TOL = {False: (0.25, 1.0), True: (0.5, 2.0)}
 WALL_POINTS = 200  # points per orthogonal side in the orthogonality term (SPEC 7)
+# --objective quality: weight of the cell-quality term (losses.loss_quality) beside the Winslow
+# term; issue 14's bound on the mean MaxIncludedAngle against the elliptic grid; L-BFGS
+# iterations of the start's node optimisation (0: none, the ablation of bench_hard.py)
+QUALITY_WEIGHT = 1.0
+QUALITY_MEAN_TOL = 0.5
+QUALITY_NODE_ITERATIONS = 100
 
 
 def pick_device(name: str) -> torch.device:
@@ -148,6 +164,16 @@ class _Problem:
                                                            for side in walls]))
             self.wall_tangent = self.tensor(np.concatenate([wall_tangents(
                 boundary, side, t, settings.lattice, params) for side in walls]))
+        self.lattice = None
+        if settings.objective == "quality" and settings.method == "pinn" and self.hard:
+            ni, nj = lattice_for(*settings.lattice)
+            base = tfi_grid(ArcLengthFit(boundary).sample, ni, nj)  # the grid's exact base
+            if mapping.warm is not None:
+                base = base + mapping.warm.grid(ni, nj)
+            xi, eta = np.meshgrid(node_params(ni), node_params(nj))
+            self.lattice = (self.tensor(np.column_stack([xi.ravel(), eta.ravel()])),
+                            self.tensor(base.reshape(-1, 2)), (nj, ni, 2),
+                            1.0 if _area(base) >= 0 else -1.0)
 
     def tensor(self, a) -> torch.Tensor:
         return torch.as_tensor(np.asarray(a), dtype=self.dtype, device=self.device)
@@ -182,13 +208,18 @@ class _Problem:
     def terms(self, x: torch.Tensor, base: torch.Tensor | None, bx: torch.Tensor | None,
               by: torch.Tensor | None) -> dict[str, torch.Tensor]:
         """Unweighted loss terms; boundary and auxiliary points ride along the jet's pass."""
-        points = [p for p in (bx, self.aux_x if self.n_aux else None) if p is not None]
+        lattice = self.lattice[0] if self.lattice is not None else None
+        points = [p for p in (bx, self.aux_x if self.n_aux else None, lattice) if p is not None]
         extra = torch.cat(points) if points else None
         n = len(x)
         if self.n_wall:
             x = torch.cat([x, self.wall_x])
             base = None if base is None else torch.cat([base, self.wall_base], dim=1)
         jet, values = self.mapping.jet(x, base, extra, fast=self.settings.fast)
+        if lattice is not None:  # the grid on the lattice, for the cell-quality term
+            x_lat, base_lat, shape, orientation = self.lattice
+            grid = self.mapping.compose(values[len(values) - len(x_lat):], x_lat, base_lat)
+            values = values[:len(values) - len(x_lat)]
         terms = {"eqns": loss_eqns(jet[:, :n], self.settings.residual == "scaled")}
         if self.n_wall:
             terms["orth"] = loss_orthogonal(jet[0, n:] - self.wall_origin, self.wall_tangent)
@@ -206,19 +237,44 @@ class _Problem:
             terms["data"] = loss_data(pred, self.aux_y)
         else:
             terms["data"] = zero
+        if lattice is not None:
+            terms["quality"] = loss_quality(corner_angles(grid.reshape(shape), orientation))
         return terms
+
+    def loss(self, terms: dict[str, torch.Tensor], lambda1: float) -> torch.Tensor:
+        """The weighted sum of the terms: paper eq. 9, plus the orthogonality (SPEC 7) and
+        cell-quality terms."""
+        loss = total_loss(terms["eqns"], terms["bcs"], terms["data"], lambda1,
+                          self.settings.lambda2, terms.get("orth", 0.0),
+                          self.settings.lambda_orthogonal)
+        return loss + QUALITY_WEIGHT * terms["quality"] if "quality" in terms else loss
+
+
+def _area(grid: np.ndarray) -> float:
+    """Sum of the signed cell areas of a grid (nj, ni, 2) (its orientation's sign)."""
+    d1, d2 = grid[1:, 1:] - grid[:-1, :-1], grid[1:, :-1] - grid[:-1, 1:]
+    return float((d1[..., 0] * d2[..., 1] - d1[..., 1] * d2[..., 0]).sum())
 
 
 class _Guard:
-    """Early stopping on grid quality against the elliptic grid of the warm start."""
+    """Early stopping on grid quality against the elliptic grid of the warm start.
+
+    Under ``--objective quality`` (``start`` is the start grid) a state is kept if it has
+    fewer folded cells than the kept one, or as many and a smaller worst angle, with the mean
+    within the tolerance of the elliptic grid's: the best worst angle seen.
+    """
 
     def __init__(self, net: CoordinateNet, mapping: Mapping, reference: np.ndarray,
-                 with_aux: bool, params: np.ndarray | None = None) -> None:
+                 with_aux: bool, start: np.ndarray | None = None,
+                 params: np.ndarray | None = None) -> None:
         self.net, self.mapping, self.params = net, mapping, params  # params: spacing.py
         self.mean_tol, self.worst_tol = GUARD_TOL[with_aux]
         self.size = reference.shape[1], reference.shape[0]
         self.reference = self._quality(reference)
-        self.kept = self.reference
+        self.best_worst = start is not None
+        if self.best_worst:
+            self.mean_tol = QUALITY_MEAN_TOL
+        self.kept = self._quality(start) if self.best_worst else self.reference
         self.state = copy.deepcopy(net.state_dict())
         self.kept_iterations = self.rejected = 0
 
@@ -232,9 +288,14 @@ class _Guard:
         a row failed (training should stop)."""
         q = self._quality(self.mapping.grid(*self.size, params=self.params))
         ref = self.reference
-        if (q["folded_cells"] <= ref["folded_cells"]
-                and q["mean_max_angle"] <= ref["mean_max_angle"] + self.mean_tol
-                and q["worst_max_angle"] <= ref["worst_max_angle"] + self.worst_tol):
+        if self.best_worst:
+            ok = (q["mean_max_angle"] <= ref["mean_max_angle"] + self.mean_tol
+                  and _rank(q) < _rank(self.kept))
+        else:
+            ok = (q["folded_cells"] <= ref["folded_cells"]
+                  and q["mean_max_angle"] <= ref["mean_max_angle"] + self.mean_tol
+                  and q["worst_max_angle"] <= ref["worst_max_angle"] + self.worst_tol)
+        if ok:
             self.state, self.kept = copy.deepcopy(self.net.state_dict()), q
             self.kept_iterations, self.rejected = iterations, 0
         else:
@@ -246,6 +307,78 @@ class _Guard:
         self.net.load_state_dict(self.state)
         return {"lattice": list(self.size), "elliptic": self.reference, "kept": self.kept,
                 "kept_after_lbfgs_iterations": self.kept_iterations}
+
+
+def _rank(q: dict[str, float]) -> tuple[int, float]:
+    """Order of grids under ``--objective quality``: fewer folded cells, then the smaller
+    worst angle (by more than 0.001 degrees)."""
+    return q["folded_cells"], round(q["worst_max_angle"], 3)
+
+
+def _quality_start(warm: WarmStart, elliptic: np.ndarray, optimize: bool = True) -> WarmStart:
+    """The start of ``--objective quality``: the best (``_rank``) of the elliptic grid, the TFI
+    grid (a polar grid on an annulus sector, say) and blends of them on the lattice, then,
+    if ``optimize``, that grid with its interior nodes moved to minimise the cell-quality term
+    the network trains on: the objective's discrete solution, as the converged elliptic grid
+    is the Winslow objective's. A grid replaces the one before only if it ranks better with
+    its mean within ``QUALITY_MEAN_TOL`` of the elliptic grid's."""
+    tfi = elliptic - warm.correction
+    bound = _Guard._quality(elliptic)["mean_max_angle"] + QUALITY_MEAN_TOL
+    best = (elliptic, _Guard._quality(elliptic), "elliptic")
+
+    def consider(grid: np.ndarray, label: str) -> None:
+        nonlocal best
+        q = _Guard._quality(grid)
+        if _rank(q) < _rank(best[1]) and q["mean_max_angle"] <= bound:
+            best = (grid, q, label)
+
+    consider(tfi, "tfi")
+    for weight in np.arange(1, 10) / 10:  # grids between the two
+        consider(elliptic + weight * (tfi - elliptic), f"{weight:.1f} tfi + elliptic")
+    if optimize and QUALITY_NODE_ITERATIONS:
+        consider(_optimize_nodes(best[0], bound, QUALITY_NODE_ITERATIONS), "optimized")
+    return WarmStart(best[0] - tfi, start=best[2])
+
+
+def _optimize_nodes(grid: np.ndarray, mean_bound: float, iterations: int) -> np.ndarray:
+    """``grid`` with its interior nodes moved to minimise ``losses.loss_quality`` (L-BFGS in
+    float64, at most ``iterations``); the boundary nodes stay. Returns the evaluated state
+    that ranks best (``_rank``, on the corner angles) with its mean largest angle within
+    ``mean_bound``: the soft maximum is a surrogate of the worst angle, not the same. Each
+    node moves in units of its shortest edge (a diagonal preconditioner: angles change with
+    a node's move relative to its cells, 100 times smaller at a notch than in the open)."""
+    from scipy.optimize import minimize
+
+    fixed = torch.as_tensor(grid, dtype=torch.float64)
+    orientation = 1.0 if _area(grid) >= 0 else -1.0
+    inner0 = fixed[1:-1, 1:-1]
+    edges = [np.linalg.norm(grid[1:-1, 1:-1] - grid[a, b], axis=-1) for a, b in
+             ((slice(2, None), slice(1, -1)), (slice(None, -2), slice(1, -1)),
+              (slice(1, -1), slice(2, None)), (slice(1, -1), slice(None, -2)))]
+    unit = torch.as_tensor(np.minimum.reduce(edges))[..., None]
+    best = [(math.inf, math.inf), np.zeros(inner0.numel())]
+
+    def loss_and_grad(x: np.ndarray) -> tuple[float, np.ndarray]:
+        u = torch.from_numpy(x).view(inner0.shape).requires_grad_(True)
+        inner = inner0 + unit * u
+        g = torch.cat([fixed[:1], torch.cat([fixed[1:-1, :1], inner, fixed[1:-1, -1:]], dim=1),
+                       fixed[-1:]])
+        theta = corner_angles(g, orientation)
+        loss = loss_quality(theta)
+        loss.backward()
+        with torch.no_grad():
+            largest = torch.rad2deg(theta.max(dim=0).values)
+            rank = (int((largest > 180.0).sum()), round(float(largest.max()), 3))
+            if rank < best[0] and float(largest.mean()) <= mean_bound:
+                best[:] = rank, x.copy()
+        return loss.item(), u.grad.numpy().ravel()
+
+    minimize(loss_and_grad, np.zeros(inner0.numel()), jac=True, method="L-BFGS-B",
+             options={"maxiter": iterations, "maxcor": 10, "maxfun": 3 * iterations,
+                      "ftol": 1e-15, "gtol": 1e-12})
+    out = np.array(grid, dtype=float)
+    out[1:-1, 1:-1] += (unit * torch.from_numpy(best[1]).view(inner0.shape)).numpy()
+    return out
 
 
 class _History:
@@ -286,20 +419,28 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
             kind = "shortcut" if settings.method == "pinn" else "mlp"
             net = CoordinateNet(kind, settings.hidden_layers, settings.neurons,
                                 settings.activation).to(device=device, dtype=dtype)
-            warm = reference = params = None
+            aux = aux if settings.method == "pinn" else ()
+            quality = settings.objective == "quality" and settings.method == "pinn"
+            warm = reference = start = params = None
             if settings.warm_start == "elliptic":
                 lattice = lattice_for(*settings.lattice)
-                # plain Winslow: the wall term below turns it orthogonal smoothly (a
-                # controlled elliptic grid kinks within the few cells its control reaches)
                 warm, reference = WarmStart.elliptic(boundary, *lattice)
-                if settings.orthogonal and not settings.spacing:  # the fair reference
+                if quality:  # the TFI base plus the new start's correction
+                    tfi = reference - warm.correction
+                    warm = _quality_start(warm, reference)
+                    start = tfi + warm.correction
+                # orthogonal: the plain Winslow start, turned orthogonal smoothly by the wall
+                # term below (a controlled elliptic grid kinks within the few cells its
+                # control reaches); the guard's reference is the elliptic grid under the same
+                # spacing and orthogonality control (SPEC 7)
+                if settings.orthogonal and not settings.spacing:
                     reference = classical_grid(boundary, *lattice, "elliptic", {},
                                                settings.orthogonal)[1]
-                if settings.spacing:  # the guard's reference: elliptic under the same spacing
+                if settings.spacing:
                     params, reference = classical_grid(
                         boundary, *lattice, "elliptic",
                         working_spacing(settings.spacing, boundary), settings.orthogonal)
-                with torch.no_grad():  # the map starts as the elliptic grid
+                with torch.no_grad():  # the map starts as the elliptic grid (or quality start)
                     net.w_out.zero_()
             mapping = Mapping(net, boundary, settings.boundary, warm)
             steps = first_steps(lattice, params) if warm is not None else None
@@ -309,10 +450,9 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
                                                                  settings.lattice, params),
                                    steps)
                 _fold_safe_walls(warm, mapping, reference, params)
-            aux = aux if settings.method == "pinn" else ()
             problem = _Problem(mapping, boundary, aux, settings, dtype, device, steps, params)
             guard = None if reference is None else _Guard(net, mapping, reference, bool(aux),
-                                                          params)
+                                                          start, params)
             history = _History()
             lambda1 = 1.0 if settings.boundary == "penalty" else 0.0
             lambda1, recoveries = _adam(net, problem, settings, history, lambda1, progress)
@@ -331,6 +471,7 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
             if history.values else float("nan")}
     if guarded is not None:
         info["guard"] = guarded
+        info["start"] = warm.start
     return TrainedModel(mapping=mapping, settings=settings, history=history.values, info=info)
 
 
@@ -360,8 +501,7 @@ def _adam(net, problem: _Problem, s: Settings, history: _History, lambda1: float
             updated = annealed_lambda([a for a, _ in used], [b for _, b in used], lambda1,
                                       s.anneal_momentum)
             lambda1 = updated if math.isfinite(updated) else lambda1
-        loss = total_loss(terms["eqns"], terms["bcs"], terms["data"], lambda1, s.lambda2,
-                          terms.get("orth", 0.0), s.lambda_orthogonal)
+        loss = problem.loss(terms, lambda1)
         value = loss.item()
         if _bad(value, best):
             recoveries += 1
@@ -415,8 +555,7 @@ def _lbfgs(net, problem: _Problem, s: Settings, history: _History, lambda1: floa
         for p in params:
             p.grad = None
         terms = problem.terms(*batch)
-        loss = total_loss(terms["eqns"], terms["bcs"], terms["data"], lambda1, s.lambda2,
-                          terms.get("orth", 0.0), s.lambda_orthogonal)
+        loss = problem.loss(terms, lambda1)
         value = loss.item()
         calls[0] += 1
         if not math.isfinite(value):
@@ -442,8 +581,7 @@ def _lbfgs(net, problem: _Problem, s: Settings, history: _History, lambda1: floa
                                "gtol": 1e-12, "maxfun": int(s.lbfgs_iterations * 1.25) + 1})
     load(result.x)
     terms = problem.terms(*batch)
-    final = total_loss(terms["eqns"], terms["bcs"], terms["data"], lambda1, s.lambda2,
-                       terms.get("orth", 0.0), s.lambda_orthogonal).item()
+    final = problem.loss(terms, lambda1).item()
     if not math.isfinite(final) or final > before * EXPLODE_FACTOR:
         net.load_state_dict(start_state)
         return False, iterations[0]

@@ -9,6 +9,7 @@ from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonCore import vtkPoints, vtkStringArray
 from vtkmodules.vtkCommonDataModel import vtkStructuredGrid
 
+from .export.patches import add_to_grid, patch_names
 from .quality import cell_quality
 
 
@@ -27,21 +28,26 @@ def _add_string(fd, name: str, text: str) -> None:
 
 def structured_grid(points: np.ndarray, report: dict | None = None,
                     history: dict[str, list[float]] | None = None,
-                    cells: dict[str, np.ndarray] | None = None) -> vtkStructuredGrid:
-    """A grid of dimensions (ni, nj, 1) from ``points`` (nj, ni, 2), with quality arrays.
+                    cells: dict[str, np.ndarray] | None = None,
+                    patches=None, xyz: np.ndarray | None = None) -> vtkStructuredGrid:
+    """A grid of dimensions (ni, nj, 1) from ``points`` (nj, ni, 2), with quality arrays;
+    ``xyz`` (nj, ni, 3), when given, are the points in the user's 3D frame (default z = 0).
 
     Cell data: ``MaxIncludedAngle``, ``MinIncludedAngle`` (degrees, as vtkMeshQuality),
     ``ScaledJacobian`` and ``Folded`` (0/1), computed unless given as ``cells``. Field data:
     ``Method``, ``Report`` (JSON: settings, timings, quality summary), the summary figures as
     numbers, per side ``FirstEdge_<side>`` (min, median, max), ``WallAngleDeviation_<side>``
-    (degrees) and ``GrowthRatio_<side>``, and ``Loss_<term>`` histories.
+    (degrees) and ``GrowthRatio_<side>``, and ``Loss_<term>`` histories, ``PatchNames``
+    (``patches``: any form ``export.patch_names`` takes; default bottom, right, top, left).
+    Point data: ``i``, ``j``.
     """
     nj, ni = points.shape[:2]
     grid = vtkStructuredGrid()
     grid.SetDimensions(ni, nj, 1)
-    xyz = np.column_stack([points.reshape(-1, 2), np.zeros(ni * nj)])
+    if xyz is None:
+        xyz = np.column_stack([points.reshape(-1, 2), np.zeros(ni * nj)])
     pts = vtkPoints()
-    pts.SetData(numpy_to_vtk(np.ascontiguousarray(xyz), deep=True))
+    pts.SetData(numpy_to_vtk(np.ascontiguousarray(xyz, dtype=float).reshape(-1, 3), deep=True))
     grid.SetPoints(pts)
     cells = cell_quality(points) if cells is None else cells
     for name, values in cells.items():
@@ -49,6 +55,7 @@ def structured_grid(points: np.ndarray, report: dict | None = None,
         arr.SetName(name)
         grid.GetCellData().AddArray(arr)
     grid.GetCellData().SetActiveScalars("MaxIncludedAngle")
+    add_to_grid(grid, patch_names(patches))
     fd = grid.GetFieldData()
     report = report or {}
     _add_string(fd, "Method", str(report.get("method", "")))
@@ -66,5 +73,9 @@ def structured_grid(points: np.ndarray, report: dict | None = None,
             _add_scalar(fd, key, report[key])
     for term, values in (history or {}).items():
         _add_scalar(fd, f"Loss_{term}", values)
+    topology = report.get("topology")
+    if topology:  # an O- or C-grid (SPEC 9): what the writers need to join seam or cut
+        _add_string(fd, "Topology", topology["kind"])
+        _add_scalar(fd, "WakeNodes", topology.get("wake_nodes", 0))
     return grid
 

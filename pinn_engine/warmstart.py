@@ -61,10 +61,13 @@ def _at_least_4(d: np.ndarray, axis: int) -> np.ndarray:
 class WarmStart:
     """The correction ``D`` (nj, ni, 2) from TFI to the elliptic grid, as a smooth field."""
 
-    def __init__(self, correction: np.ndarray, nodes: tuple | None = None) -> None:
+    def __init__(self, correction: np.ndarray, nodes: tuple | None = None,
+                 start: str = "elliptic") -> None:
         """``nodes``: the (xi, eta) parameters of the lattice's columns and rows when they
         are not uniform (a boundary-layer lattice, spacing.py)."""
         self.correction = np.asarray(correction, dtype=float)
+        self.start = start  # the grid it starts from: "elliptic", or under --objective quality
+        # "tfi" (zero correction), a blend of the two, or "optimized" (training._quality_start)
         self.nodes = None if nodes is None else tuple(np.asarray(n, dtype=float) for n in nodes)
         self.walls: dict[str, np.ndarray] = {}  # side -> turn of the leaving derivative
         self._wall_splines: dict[str, CubicSpline] = {}

@@ -8,6 +8,10 @@ but that Python needs numpy, scipy, scikit-learn and (for training) torch: start
 with ``scripts/pvenv.sh paraview`` (which also puts the ``getargspec`` shim that Debian's
 ParaView 5.11 needs on PYTHONPATH; see README).
 
+It also registers File > Save Data writers for the filter's output (``pinn_engine.export``):
+PLOT3D, CGNS with boundary conditions, SU2, Gmsh 4.1 and OpenFOAM, each using the grid's
+Patch Names (docs/export.md).
+
 Property order: ParaView 5.11 lists a Python plugin's properties alphabetically by method
 name, so the methods below carry a numeric prefix (``P01...``) that keeps the panel in the
 intended order in every version.
@@ -21,8 +25,12 @@ if _REPO not in sys.path:
     sys.path.insert(0, _REPO)
 
 try:
+    from pinn_engine import __version__
+    from pinn_engine.airfoil_algorithm import AirfoilReader, AirfoilSource
     from pinn_engine.algorithm import PinnMeshAlgorithm
-    from pinn_engine.settings import MAX_SIDE_NODES, METHODS, PRESETS, Settings
+    from pinn_engine.export import FORMATS
+    from pinn_engine.export.algorithm import PARAVIEW_FORMATS, GridWriter
+    from pinn_engine.settings import MAX_SIDE_NODES, METHODS, OBJECTIVES, PRESETS, Settings
 except ImportError as _exc:  # a clear line in ParaView's output instead of a bare traceback
     raise ImportError(
         f"PINN Structured Mesh plugin: cannot import pinn_engine from {_REPO} ({_exc}); keep "
@@ -32,11 +40,13 @@ except ImportError as _exc:  # a clear line in ParaView's output instead of a ba
 from paraview.util.vtkAlgorithm import smdomain, smhint, smproperty, smproxy  # noqa: E402
 
 paraview_plugin_name = "PINN Mesh"
-paraview_plugin_version = "0.1.0"
+paraview_plugin_version = __version__
 
 _DEFAULTS = Settings()
 _NEURAL = '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" ' \
           'property="Method" values="0 1"/>'  # training settings: pinn and mgnet only
+_FOUR_SIDED = '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" ' \
+              'property="Topology" value="0"/>'  # SPEC 7 settings: four-sided domains
 _PINN_ONLY = '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" ' \
              'property="Method" value="0"/>'
 
@@ -60,9 +70,13 @@ def _doc(text):
                    "side (several polylines per input and several inputs both work). Used "
                    "by the pinn method only."))
 @smhint.xml("<Optional/>")
-@smproperty.input(name="Input", port_index=0)
+@smproperty.input(name="Input", port_index=0, multiple_input=True,
+                  clean_command="RemoveAllBoundaryInputs")
 @smdomain.datatype(dataTypes=["vtkPolyData"], composite_data_supported=False)
-@smdomain.xml(_doc("The closed boundary: one closed polyline or polygon with four corners."))
+@smdomain.xml(_doc("The closed boundary: one closed polyline or polygon with four corners. "
+                   "Select it together with sources of open auxiliary lines and apply the "
+                   "filter: the closed curve is taken as the boundary, the open ones as "
+                   "auxiliary lines."))
 @smproperty.xml(_doc("Structured quadrilateral grid of a four-sided 2D domain from a "
                      "physics-informed neural network (pinn), with MGNet, transfinite "
                      "interpolation and elliptic baselines. Cells are coloured by their "
@@ -70,9 +84,12 @@ def _doc(text):
 class PINNStructuredMesh(PinnMeshAlgorithm):
     """The ParaView face of :class:`pinn_engine.algorithm.PinnMeshAlgorithm`."""
 
+    def RemoveAllBoundaryInputs(self):
+        # clean commands of the two repeatable inputs: the decorator's default,
+        # RemoveAllInputs, would also disconnect the other port
+        self.RemoveAllInputConnections(0)
+
     def RemoveAllAuxiliaryLines(self):
-        # clean command of the repeatable AuxiliaryLines input: the decorator's default,
-        # RemoveAllInputs, would also disconnect the boundary on port 0
         self.RemoveAllInputConnections(1)
 
     @smproperty.intvector(name="Method", default_values=0)
@@ -151,13 +168,52 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
     def P10CornerIndices(self, i0, i1, i2, i3):
         self.SetCorners(i0, i1, i2, i3)
 
+    @smproperty.intvector(name="Objective", default_values=OBJECTIVES.index(_DEFAULTS.objective))
+    @smdomain.xml(_enum(OBJECTIVES))
+    @smdomain.xml(_doc("winslow: train on the Winslow equations; quality: add a cell-quality "
+                       "term that lowers the worst cell's largest angle, starting from the "
+                       "better of the elliptic and TFI grids (pinn only)."))
+    @smhint.xml(_PINN_ONLY)
+    def P11Objective(self, index):
+        self.SetPanelSetting("objective", OBJECTIVES[int(index)])
+
+    @smproperty.intvector(name="Topology", default_values=0)
+    @smdomain.xml(_enum(("Four-sided domain", "O-grid", "C-grid")) + _doc(
+        "Four-sided domain: the input is a closed boundary with four corners. O-grid / "
+        "C-grid: the input is a body such as an airfoil (the Airfoil source, or a .dat file "
+        "opened with the Airfoil reader): one curve, meshed out to a far-field circle of Far "
+        "Field Radius chords, or two closed polylines (body inside far field). The C-grid "
+        "needs a sharp trailing edge. Methods pinn, tfi, elliptic (docs/airfoils.md)."))
+    def P11Topology(self, index):
+        self.SetTopology(int(index))
+
+    @smproperty.doublevector(name="FarFieldRadius", label="Far Field Radius",
+                             default_values=15.0)
+    @smdomain.doublerange(min=1.0)
+    @smdomain.xml('<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
+                  'property="Topology" values="1 2"/>'
+                  + _doc("Far-field circle radius in chords about mid-chord."))
+    def P12FarFieldRadius(self, radius):
+        self.SetFarFieldRadius(radius)
+
+    @smproperty.doublevector(name="WallSpacing", label="Wall Spacing", default_values=0.0)
+    @smdomain.doublerange(min=0.0)
+    @smdomain.xml('<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
+                  'property="Topology" values="1 2"/>'
+                  + _doc("First-layer height off the body wall, in the body's units (0: half "
+                         "the mean node spacing along the wall)."))
+    def P13WallSpacing(self, h):
+        self.SetWallSpacing(h)
+
     @smproperty.doublevector(name="FirstEdgeSpacing", label="First Edge Spacing",
                              default_values=[0.0, 0.0, 0.0, 0.0])
     @smdomain.xml(_doc("Length of the first grid edge leaving the bottom, right, top and "
                        "left sides, in the boundary's units (0: that side keeps the even "
                        "distribution). The spacing grows smoothly away from the side "
-                       "(Vinokur's stretching); pinn, tfi and elliptic."))
-    def P11FirstEdgeSpacing(self, bottom, right, top, left):
+                       "(Vinokur's stretching); pinn, tfi and elliptic, four-sided domains "
+                       "(docs/boundary_layer.md)."))
+    @smhint.xml(_FOUR_SIDED)
+    def P14FirstEdgeSpacing(self, bottom, right, top, left):
         self.SetSpacing(float(bottom), float(right), float(top), float(left))
 
     @smproperty.intvector(name="OrthogonalSides", label="Orthogonal Sides",
@@ -166,5 +222,84 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
     @smdomain.xml(_doc("1 for each of the bottom, right, top and left sides that grid lines "
                        "are to leave at 90 degrees (pinn: a loss term; elliptic: "
                        "Hilgenstock control functions; not tfi or mgnet)."))
-    def P12OrthogonalSides(self, bottom, right, top, left):
+    @smhint.xml(_FOUR_SIDED)
+    def P15OrthogonalSides(self, bottom, right, top, left):
         self.SetOrthogonal(int(bottom), int(right), int(top), int(left))
+
+    @smproperty.stringvector(name="PatchNames", label="Patch Names",
+                             default_values="bottom right top left")
+    @smdomain.xml(_doc("Boundary patch names for solver formats (File > Save Data: PLOT3D, "
+                       "CGNS, SU2, Gmsh, OpenFOAM): four names for the bottom, right, top "
+                       "and left sides, or SIDE=NAME items such as 'bottom=wall top=wall'. "
+                       "Sides with the same name form one patch."))
+    def P20PatchNames(self, text):
+        self.SetPatchNames(text)
+
+
+@smproxy.reader(name="PINNAirfoilReader", label="Airfoil Reader", extensions="dat",
+                file_description="Airfoil coordinates (Selig or Lednicer)",
+                support_reload=False)
+class PINNAirfoilReader(AirfoilReader):
+    """An airfoil .dat file as a polyline, for PINN Structured Mesh with Topology O/C."""
+
+    @smproperty.stringvector(name="FileName", panel_visibility="never")
+    @smdomain.filelist()
+    def SetFileName(self, name):
+        AirfoilReader.SetFileName(self, name)
+
+
+@smproxy.source(name="PINNAirfoilSource", label="Airfoil", support_reload=False)
+@smhint.xml('<ShowInMenu category="Mesh Generation"/>')
+class PINNAirfoilSource(AirfoilSource):
+    """A NACA 4-digit section of chord 1, for PINN Structured Mesh with Topology O/C."""
+
+    @smproperty.stringvector(name="NACA", default_values="0012")
+    @smdomain.xml(_doc("Four digits, e.g. 0012 or 2412."))
+    def P01NACA(self, code):
+        self.SetNACA(code)
+
+    @smproperty.intvector(name="SharpTrailingEdge", label="Sharp Trailing Edge",
+                          default_values=1)
+    @smdomain.xml('<BooleanDomain name="bool"/>' + _doc(
+        "Closed trailing edge (for the C-grid); off: the classical blunt one (O-grid)."))
+    def P02SharpTrailingEdge(self, sharp):
+        self.SetSharpTrailingEdge(sharp)
+
+
+def _writer_proxy(key, extension, name):
+    """File > Save Data entry for one solver format (``pinn_engine.export``)."""
+    fmt = FORMATS[key]
+    thickness = ("One cell of this thickness in z (0: the grid's mean edge length); "
+                 "OpenFOAM meshes are always 3D." if key == "openfoam" else
+                 "0 writes a 2D grid; a thickness T writes one cell of thickness T in z.")
+
+    class Writer(GridWriter):
+        FORMAT = key
+
+        @smproperty.stringvector(name="FileName", panel_visibility="never")
+        @smdomain.filelist()
+        def SetFileName(self, name):
+            GridWriter.SetFileName(self, name)
+
+        if fmt.extrudes:
+            @smproperty.doublevector(name="ExtrudeThickness", label="Extrude Thickness",
+                                     default_values=0.0)
+            @smdomain.doublerange(min=0.0)
+            @smdomain.xml(_doc(thickness))
+            def SetExtrudeThickness(self, value):
+                GridWriter.SetExtrudeThickness(self, value)
+
+    Writer.__name__ = Writer.__qualname__ = name
+    Writer.__module__ = __name__
+    Writer = smdomain.datatype(dataTypes=["vtkStructuredGrid"],  # noqa: N806
+                               composite_data_supported=False)(Writer)
+    Writer = smproperty.input(name="Input", port_index=0)(Writer)  # noqa: N806
+    return smproxy.writer(name=name, label=name,
+                          extensions=extension,
+                          file_description=f"PINN Mesh {fmt.description}",
+                          support_reload=False)(Writer)
+
+
+for _key, (_extension, _name) in PARAVIEW_FORMATS.items():
+    globals()[_name] = _writer_proxy(_key, _extension, _name)
+del _key, _extension, _name  # one module name per proxy: ParaView registers every one it finds

@@ -12,7 +12,7 @@ are kept under ``WORKDIR/findings/CASE`` and the run exits with status 1.
 Cases run in a worker process that a supervisor restarts after a crash or a hang. Every case
 has its own seed (printed with each finding), so ``--replay SEED`` reruns one case.
 
-    .venv/bin/python scripts/fuzz.py --minutes 10            # the README's fuzzing session
+    .venv/bin/python scripts/fuzz.py --minutes 10            # docs/robustness.md's fuzzing session
     .venv/bin/python scripts/fuzz.py --seconds 60 --seed 7   # a short run
     .venv/bin/python scripts/fuzz.py --replay 7000012        # one case, verbose
 """
@@ -76,7 +76,7 @@ def example_ring(rng) -> np.ndarray:
     from pinn_engine.fileio import read_boundary_points
 
     name = rng.choice(["wavy", "fig2", "concave"])
-    return read_boundary_points(EXAMPLES / f"{name}.vtp")
+    return read_boundary_points(EXAMPLES / f"{name}.vtp")[:, :2]
 
 
 def circle_ring(rng) -> np.ndarray:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 
@@ -270,7 +271,7 @@ def test_corners_and_choices():
     from pinn_engine.fileio import read_boundary_points
     from pinn_engine.geometry import detect_corners
 
-    ring = read_boundary_points(EXAMPLES / "wavy.vtp")
+    ring = read_boundary_points(EXAMPLES / "wavy.vtp")[:, :2]
     alg.SetCorners(*(int(i) for i in detect_corners(ring)))
     alg.Update()
     np.testing.assert_allclose(points(alg), auto, atol=1e-12)
@@ -292,3 +293,44 @@ def test_import_needs_no_torch_nor_pyvista():
     out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True,
                          timeout=120, check=True).stdout
     assert out.strip() == "[]"
+
+
+def test_inputs_connected_together_are_told_apart():
+    """ParaView's GUI connects every selected source to port 0: the closed curve is the
+    boundary, the open polylines are auxiliary lines; two closed curves are an error."""
+    together = PinnMeshAlgorithm()
+    connect(together, 0, reader("fig2_aux.vtp"), add=True)
+    connect(together, 0, reader("fig2.vtp"), add=True)
+    for name, value in SHORT.items():
+        together.SetSetting(name, value)
+    together.Update()
+    apart = make_alg()
+    apart.Update()
+    np.testing.assert_allclose(points(together), points(apart), atol=1e-9)
+    report = json.loads(together.GetOutput().GetFieldData().GetAbstractArray("Report").GetValue(0))
+    assert len(report["aux_lines"]) == 2
+    two = PinnMeshAlgorithm()
+    connect(two, 0, reader("fig2.vtp"), add=True)
+    connect(two, 0, reader("wavy.vtp"), add=True)
+    two.Update()
+    assert two.GetOutput().GetNumberOfPoints() == 0
+    assert "2 of the 2 connected inputs hold a closed curve" in two.GetLastError()
+
+
+def test_sigusr1_stops_a_training_and_the_handler_is_restored():
+    """ParaView 5.11 runs no GUI event during a filter: ``pkill -USR1 -x paraview`` stops it."""
+    import os
+    import signal
+    import threading
+
+    alg = make_alg(adam_epochs=200_000, lbfgs_iterations=0, warm_start="none")
+    before = signal.getsignal(signal.SIGUSR1)
+    timer = threading.Timer(3.0, os.kill, (os.getpid(), signal.SIGUSR1))
+    timer.start()
+    try:
+        alg.Update()
+    finally:
+        timer.cancel()
+    assert alg.GetOutput().GetNumberOfPoints() == 0
+    assert "training cancelled during adam" in alg.GetLastError()
+    assert signal.getsignal(signal.SIGUSR1) == before

@@ -6,9 +6,8 @@ import numpy as np
 import pytest
 from conftest import square_ring
 
-from pinn_engine.auxlines import map_line
+from pinn_engine.auxlines import RawLine, map_line
 from pinn_engine.errors import InputError
-from pinn_engine.fileio import RawLine
 from pinn_engine.geometry import Boundary
 
 

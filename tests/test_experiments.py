@@ -14,15 +14,15 @@ import numpy as np
 import pytest
 from conftest import ROOT
 
-from pinn_engine.experiments import BUDGETS, build_parser, run_experiments
-from pinn_engine.experiments.analysis import (
+from experiments import BUDGETS, build_parser, run_experiments
+from experiments.analysis import (
     claim_architecture,
     claim_pde,
     sweep_shape,
     tally,
 )
-from pinn_engine.experiments.execute import ProgressBar
-from pinn_engine.experiments.runs import CASES, METHODS, NEURAL, PRESETS, make_plan
+from experiments.execute import ProgressBar
+from experiments.runs import CASES, METHODS, NEURAL, PRESETS, make_plan
 
 FIGURES = (
     [f"fig4_loss_wavy_{p}.png" for p in PRESETS]
@@ -214,7 +214,7 @@ def test_progress_bar_text():
 
 
 def test_one_hidden_layer_trains_under_the_paper_preset():
-    from pinn_engine.experiments.runs import Job, run_job
+    from experiments.runs import Job, run_job
 
     job = Job("sweep", "wavy", "pinn", "paper", 0,
               (("adam_epochs", 20), ("lbfgs_iterations", 2), ("hidden_layers", 1),

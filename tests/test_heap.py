@@ -1,4 +1,5 @@
-"""glibc heap settings (heap.py): thresholds raised once, memory handed back after each block."""
+"""glibc heap settings (heap.py): thresholds raised only by pinn-mesh's own processes, memory
+handed back after each block."""
 
 from __future__ import annotations
 
@@ -20,21 +21,40 @@ class FakeLibc:
         return 1
 
 
-def test_thresholds_are_raised_and_memory_trimmed_even_when_the_block_fails(monkeypatch):
+def test_the_library_hands_memory_back_and_changes_no_threshold(monkeypatch):
     libc = FakeLibc()
     monkeypatch.setattr(heap, "_glibc", lambda: libc)
     with pytest.raises(RuntimeError), heap.reuse_freed_memory():
-        assert libc.calls == [("mallopt", heap.M_MMAP_THRESHOLD, heap.MMAP_THRESHOLD),
-                              ("mallopt", heap.M_TRIM_THRESHOLD, heap.TRIM_THRESHOLD)]
+        assert libc.calls == []  # a host process (ParaView, a script) keeps its allocator
         raise RuntimeError("training failed")
-    # trimmed, and no static 128 KiB thresholds put back (measured 2x slower for the grid)
-    assert libc.calls[2:] == [("malloc_trim", 0)]
+    assert libc.calls == [("malloc_trim", 0)]
+
+
+def test_own_processes_raise_the_thresholds(monkeypatch):
+    libc = FakeLibc()
+    monkeypatch.setattr(heap, "_glibc", lambda: libc)
+    heap.tune_process()
+    assert libc.calls == [("mallopt", heap.M_MMAP_THRESHOLD, heap.MMAP_THRESHOLD),
+                          ("mallopt", heap.M_TRIM_THRESHOLD, heap.TRIM_THRESHOLD)]
+
+
+def test_the_command_line_tunes_its_process(monkeypatch, tmp_path):
+    from conftest import EXAMPLES
+
+    from pinn_engine.cli import main
+
+    libc = FakeLibc()
+    monkeypatch.setattr(heap, "_glibc", lambda: libc)
+    assert main([str(EXAMPLES / "fig2.vtp"), "--method", "tfi", "-o", str(tmp_path / "g.vts"),
+                 "--quiet"]) == 0
+    assert ("mallopt", heap.M_MMAP_THRESHOLD, heap.MMAP_THRESHOLD) in libc.calls
 
 
 def test_without_glibc_it_does_nothing(monkeypatch):
     monkeypatch.setattr(heap, "_glibc", lambda: None)
     with heap.reuse_freed_memory():
         pass
+    heap.tune_process()
 
 
 def test_the_real_glibc_accepts_the_settings():

@@ -111,6 +111,12 @@ def test_aux_lines_as_several_inputs(filter_run):
     assert filter_run["two_inputs_max_diff"] < 1e-9  # same lines, same seed: same grid
 
 
+def test_boundary_and_aux_lines_selected_together(filter_run):
+    # the GUI connects every selected source to Input: the closed one is the boundary
+    assert filter_run["both_on_input"]["trained"] == 1
+    assert filter_run["both_on_input_max_diff"] < 1e-9
+
+
 def test_bad_boundary_gives_empty_output_and_one_message(filter_run):
     assert filter_run["bad"] == {"points": 0, "class": "vtkStructuredGrid"}
     messages = [ln for ln in filter_run["bad_vtk_text"].splitlines() if ln.strip()]
@@ -131,7 +137,8 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
     assert result["property_order"] == [  # no "Reload Python Module" button for users
         "Input", "AuxiliaryLines", "Method", "GridSize", "Preset", "AdamEpochs",
         "LBFGSIterations", "HiddenLayers", "Neurons", "Lambda2", "Seed", "CornerIndices",
-        "FirstEdgeSpacing", "OrthogonalSides"]
+        "Objective", "Topology", "FarFieldRadius", "WallSpacing", "FirstEdgeSpacing",
+        "OrthogonalSides", "PatchNames"]
     assert result["methods"] == ["pinn", "mgnet", "tfi", "elliptic"]
     assert result["aux_optional"]
     assert result["grid"] == {"class": "vtkStructuredGrid", "extent": [0, 30, 0, 15, 0, 0],
@@ -142,6 +149,56 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
 def test_plugin_folder_holds_only_the_plugin():
     assert sorted(p.name for p in (ROOT / "plugin").iterdir()
                   if p.name != "__pycache__") == ["pinn_mesh_plugin.py"]
+
+
+def test_save_data_offers_the_solver_formats_and_writes_them(checkout, tmp_path):
+    """File > Save Data: the PINN Mesh file types for the filter's output, each read back
+    by the readers of tests/test_export.py against ParaView's own .vts of the grid."""
+    from test_export import (
+        check_cgns,
+        check_gmsh,
+        check_openfoam,
+        check_plot3d,
+        check_su2,
+        read_vts,
+    )
+
+    helper = ROOT / ".venv" / "bin" / "python"  # CGNS: ParaView's HDF5 clashes with h5py's
+    result = run_pvpython(checkout, "check_writers.py", str(checkout / "example_data"),
+                          str(tmp_path), PINN_MESH_PYTHON=str(helper))
+    assert result["patch_names"] == ["wall", "right", "wall", "inlet"]
+    assert {"i", "j"} <= set(result["point_arrays"])
+    assert sorted(t.split("(*")[1] for t in result["file_types"]) == [
+        ".cgns )", ".foam )", ".msh )", ".su2 )", ".xyz )"]
+    assert all(not text for text in result["errors"].values()), result["errors"]
+    reference = read_vts(tmp_path / "grid.vts")
+    check_plot3d(tmp_path / "grid.xyz", reference, None)
+    check_plot3d(tmp_path / "grid3.xyz", reference, 0.25)
+    check_su2(tmp_path / "grid.su2", reference)
+    check_gmsh(tmp_path / "grid.msh", reference, None)
+    check_gmsh(tmp_path / "grid3.msh", reference, 0.25)
+    check_cgns(tmp_path / "grid.cgns", reference, None)
+    check_cgns(tmp_path / "grid3.cgns", reference, 0.25)
+    assert [ln for ln in result["no_helper"]["vtk"].splitlines() if ln.strip()] == [
+        "PINN Mesh writer: cgns: writing CGNS needs a working h5py, which this Python lacks; "
+        "ParaView's HDF5 clashes with pip's h5py, so the writer runs the checkout's .venv "
+        "Python: make it with bash scripts/setup.sh (or set PINN_MESH_PYTHON to a Python "
+        "with h5py)"]
+    assert not result["no_helper"]["traceback"] and "none.cgns" not in result["files"]
+    check_openfoam(tmp_path / "case", reference)  # last: skips when checkMesh is missing
+
+
+def test_airfoil_reader_source_and_topology(checkout):
+    result = run_pvpython(checkout, "check_airfoil.py", str(checkout / "example_data"))
+    assert result["reader_points"] == 201
+    o, c = result["o_grid"], result["c_grid"]
+    assert o["extent"] == [0, 80, 0, 24, 0, 0] and o["topology"] == "o"
+    assert o["patches"] == ["wall", "seam", "farfield", "seam"]
+    assert o["seam_gap"] == 0.0 and o["folded"] == 0
+    assert abs(o["far_radius"] - 10.0) < 1e-2
+    assert c["topology"] == "c" and c["folded"] == 0
+    assert c["patches"] == ["wall", "outflow", "farfield", "outflow"]
+    assert result["opened_with"] == "PINNAirfoilReader"
 
 
 def test_boundary_layer_panel_fields(filter_run):

@@ -1,8 +1,8 @@
 """Bad inputs, failing training, interruption and damaged models (issue #7).
 
-Every row of the README's robustness table names the test here that backs it. Error rows run
-the command in-process and check: exit status 2, one ``pinn-mesh: error:`` line that names the
-file and the problem, and no output file (complete or partial).
+Every row of the robustness table (docs/robustness.md) names the test here that backs it.
+Error rows run the command in-process and check: exit status 2, one ``pinn-mesh: error:``
+line that names the file and the problem, and no output file (complete or partial).
 """
 
 from __future__ import annotations
@@ -14,12 +14,13 @@ import re
 import signal
 import subprocess
 import sys
+import sysconfig
 import time
 from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES, ROOT, square_ring, wavy_ring
+from conftest import EXAMPLES, square_ring, wavy_ring
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkPoints
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
@@ -33,7 +34,8 @@ from pinn_engine.mesher import Mesher
 from pinn_engine.pipeline import load_boundary
 from pinn_engine.settings import make_settings
 
-PINN_MESH = ROOT / ".venv" / "bin" / "pinn-mesh"
+# the command as installed into the environment running the tests (its console script)
+PINN_MESH = Path(sysconfig.get_path("scripts")) / "pinn-mesh"
 
 
 # ---------------------------------------------------------------- helpers
@@ -229,8 +231,8 @@ BAD_BOUNDARIES = {
                           "self-intersecting"),
     "repeated point": (ring_with(_repeated_point), "repeated further along"),
     "zero-width spike": (ring_with(_spike), "doubles back|self-intersecting"),
-    "non-constant z": (lambda d: _write_z(d, lambda n: np.arange(n, dtype=float)),
-                       "z is not constant"),
+    "not planar": (lambda d: _write_z(d, lambda n: np.arange(n, dtype=float)),
+                   "is not planar: its points lie up to .* off their best-fit plane"),
     "NaN z": (lambda d: _write_z(d, lambda n: np.where(np.arange(n) == 2, np.nan, 0.0)),
               "point 2 has a non-finite z"),
 }
@@ -479,7 +481,7 @@ def test_damaged_aux_file(tmp_path, capsys):
                  id="corner out of range"),
     pytest.param(["--corners", "0", "0", "2", "3"], "four different point indices",
                  id="corners repeated"),
-    pytest.param(["-o", "out.vtk"], "output must be a .vts file", id="output not vts"),
+    pytest.param(["-o", "out.dat"], "unknown output format '.dat'", id="output format"),
 ])
 def test_bad_option_values_are_clear_errors(options, pattern, tmp_path, capsys):
     argv = [EXAMPLES / "wavy.vtp", "--method", "tfi", "-o", tmp_path / "g.vts", *options]

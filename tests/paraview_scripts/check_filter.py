@@ -116,6 +116,13 @@ result["two_inputs"] = summary(grid_two)
 result["two_inputs_max_diff"] = float(abs(
     vtk_to_numpy(grid_two.GetPoints().GetData()) - first_points).max())
 
+# 4b. boundary and auxiliary lines both on Input, as the GUI connects two selected sources
+both = simple.PINNStructuredMesh(Input=[aux, boundary], GridSize=[41, 21], **SHORT)
+grid_both = servermanager.Fetch(both)
+result["both_on_input"] = summary(grid_both)
+result["both_on_input_max_diff"] = float(abs(
+    vtk_to_numpy(grid_both.GetPoints().GetData()) - first_points).max())
+
 # 5. a bad boundary (the auxiliary file: two open polylines): empty output, one error line
 bad = simple.PINNStructuredMesh(Input=aux, **SHORT)
 with captured_errors() as err:

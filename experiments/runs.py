@@ -15,10 +15,10 @@ from pathlib import Path
 
 import numpy as np
 
+from pinn_engine.settings import METHODS, NEURAL
+
 CASES = ("wavy", "fig2", "concave")
 PRESETS = ("paper", "default")
-METHODS = ("pinn", "mgnet", "tfi", "elliptic")
-NEURAL = ("pinn", "mgnet")
 LOSS_CASE = "wavy"  # the paper's first case: loss curves and meshes of the two neural methods
 FOUR_METHOD_CASES = ("fig2", "concave")  # the paper's Fig. 2 geometry, and a concave one
 LABELS = {"pinn": "Proposed (PINN)", "mgnet": "MGNet", "tfi": "Algebraic (TFI)",
@@ -84,7 +84,7 @@ class Job:
         return f"{self.case} {self.preset} {self.method}{arch} s{self.seed}"
 
     def settings(self):
-        from ..settings import make_settings
+        from pinn_engine.settings import make_settings
 
         return make_settings(self.method, self.preset, seed=self.seed, device=self.device,
                              lattice=self.size, **dict(self.overrides))
@@ -141,9 +141,9 @@ def case_files(example_dir: Path, case: str) -> tuple[Path, Path]:
 def run_job(job: Job, example_dir: str | Path,
             progress: Callable[[float], None] | None = None) -> dict:
     """Run ``job``; ``progress(fraction)`` is called during training. Never raises."""
-    from ..mesher import Mesher
-    from ..pipeline import load_aux, load_boundary
-    from ..quality import included_angles
+    from pinn_engine.mesher import Mesher
+    from pinn_engine.pipeline import load_aux, load_boundary
+    from pinn_engine.quality import included_angles
 
     out: dict = {"key": job.key, "group": job.group, "case": job.case, "method": job.method,
                  "preset": job.preset, "seed": job.seed, "ok": False, "error": ""}

@@ -1,6 +1,6 @@
-"""Quality and run time of every method on every example case: the README's table.
+"""Quality and run time of every method on every example case: the table of docs/quality.md.
 
-Usage: ``.venv/bin/python benchmarks/compare_methods.py [--quick] [--out results/comparison]``
+Usage: ``.venv/bin/python -m experiments.compare [--quick] [--out results/comparison]``
 
 For each case (with its auxiliary lines) and each method it prints mean and worst
 ``MaxIncludedAngle``, worst ``MinIncludedAngle``, folded cells, boundary deviation, run time
@@ -11,7 +11,7 @@ same boundary nodes, with the difference. "pinn, from TFI" is the default before
 elliptic warm start (``warm_start="none"``: TFI start, 5000 Adam epochs, 500 L-BFGS
 iterations, the paper's residual and lambda2 = 10); the two "default but" runs change one
 choice of the default back to the paper's. Writes ``<out>.json`` and
-``<out>.md`` (the markdown table pasted into the README).
+``<out>.md`` (the markdown table of docs/quality.md).
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ from pinn_engine.elliptic import winslow_solve
 from pinn_engine.mesher import Mesher
 from pinn_engine.pipeline import load_aux, load_boundary
 from pinn_engine.quality import cell_quality, summary
-from pinn_engine.settings import make_settings
+from pinn_engine.settings import NEURAL, make_settings
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = ("wavy", "fig2", "concave")
@@ -57,7 +57,7 @@ def run_case(case: str, size: tuple[int, int], quick: bool) -> list[dict]:
         row = {"case": case, "run": label, "seconds": time.perf_counter() - start,
                **result.quality,
                "aux_distance": list(line_distances(unit, aux, boundary.diagonal).values())}
-        if method in ("pinn", "mgnet"):
+        if method in NEURAL:
             ref = winslow_solve(result.points)[0]
             row["elliptic_same_nodes_mean"] = summary(cell_quality(ref), 0.0)["mean_max_angle"]
             row["delta_mean"] = row["mean_max_angle"] - row["elliptic_same_nodes_mean"]

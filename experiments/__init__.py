@@ -1,6 +1,6 @@
 """The paper's section 4 experiments on pinn-mesh: one command, figures, numbers and a report.
 
-    .venv/bin/python -m pinn_engine.experiments --mode full
+    .venv/bin/python -m experiments --mode full
 
 runs every experiment (method comparisons on the example cases under the paper preset and the
 default, and the architecture sweep), with a progress bar on stderr, and writes PNG figures,
@@ -20,7 +20,7 @@ from pathlib import Path
 
 from .runs import BUDGETS, LOSS_CASE, Budget, make_plan
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[1]
 
 __all__ = ["BUDGETS", "Budget", "main", "run_experiments"]
 
@@ -58,7 +58,7 @@ def run_experiments(mode: str = "quick", out: str | os.PathLike = "results",
         ROOT / "docs" / "README_results_section.md" if budget.mode == "full"
         else out / "README_results_section.md")
     example_dir = Path(example_dir) if example_dir else _examples_dir()
-    command = command or (f".venv/bin/python -m pinn_engine.experiments --mode {budget.mode}"
+    command = command or (f".venv/bin/python -m experiments --mode {budget.mode}"
                           + (f" --out {out}" if str(out) != "results" else ""))
     plan = make_plan(budget, device)
     run_cost = sum(j.cost() for j in plan.jobs)
@@ -134,7 +134,7 @@ def _machine() -> str:
 
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
-        prog="python -m pinn_engine.experiments",
+        prog="python -m experiments",
         description="Run the paper's section 4 experiments (Figs. 4-9 analogues) on the "
                     "example cases; write figures, CSV/JSON numbers and docs/RESULTS.md.")
     p.add_argument("--mode", choices=sorted(BUDGETS), default="full",
@@ -162,7 +162,7 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     jobs = args.jobs or (min(2, os.cpu_count() or 1) if args.mode == "full" else 1)
-    command = f".venv/bin/python -m pinn_engine.experiments --mode {args.mode}"
+    command = f".venv/bin/python -m experiments --mode {args.mode}"
     for flag, value, default in (("--out", args.out, "results"), ("--doc", args.doc, None),
                                  ("--readme-section", args.readme, None)):
         if value not in (None, default):

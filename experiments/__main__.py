@@ -1,0 +1,5 @@
+"""``python -m experiments``: see :mod:`experiments`."""
+
+from experiments import main
+
+raise SystemExit(main())

@@ -1,0 +1,78 @@
+"""Fitted meshers kept for re-use by the VTK algorithm and the pyvista accessor."""
+
+from __future__ import annotations
+
+import hashlib
+from collections import OrderedDict
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .settings import NEURAL, Settings
+
+if TYPE_CHECKING:  # the engine's numerics are imported on first use (fast plugin loading)
+    from .auxlines import AuxLine
+    from .geometry import Boundary
+    from .mesher import Mesher
+
+
+def _digest(*arrays) -> str:
+    h = hashlib.sha1()
+    for a in arrays:
+        if a is None:
+            h.update(b"<none>")
+            continue
+        a = np.ascontiguousarray(a)
+        h.update(str((a.dtype.str, a.shape)).encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
+
+
+def data_key(boundary: Boundary, aux_lines: Sequence[AuxLine]) -> tuple[str, str]:
+    """Fingerprints of the inputs of a fitted mesher: the boundary (ring, corners, frame and
+    plane) and the mapped auxiliary lines."""
+    b = _digest(boundary.ring, np.asarray(boundary.corners), boundary.frame.origin,
+                np.asarray([boundary.frame.scale]), boundary.plane.origin, boundary.plane.axes)
+    a = _digest(*[x for line in aux_lines for x in (line.xy, line.xi_eta)])
+    return b, f"{len(aux_lines)}:{a}"
+
+
+class MeshCache:
+    """Fitted meshers keyed by (boundary, auxiliary lines, ``Settings.training_key()``).
+
+    ``fitted`` trains only when that key is new; a change of anything training does not depend
+    on re-uses the trained network through ``Mesher.predict``. The grid size is part of the
+    key under the elliptic warm start (``Settings.lattice``), not otherwise.
+    """
+
+    def __init__(self, capacity: int = 4) -> None:
+        self.capacity = capacity
+        self.trainings = 0  # networks trained (pinn, mgnet) through this cache
+        self._entries: OrderedDict[tuple, Mesher] = OrderedDict()
+
+    def key(self, boundary: Boundary, aux_lines: Sequence[AuxLine], settings: Settings) -> tuple:
+        aux = aux_lines if settings.method == "pinn" else ()
+        return (*data_key(boundary, aux), settings.training_key())
+
+    def fitted(self, boundary: Boundary, aux_lines: Sequence[AuxLine], settings: Settings,
+               progress: Callable[[dict], bool | None] | None = None) -> tuple[Mesher, bool]:
+        """A mesher fitted to these inputs and whether a network was trained for it now."""
+        key = self.key(boundary, aux_lines, settings)
+        mesher = self._entries.get(key)
+        if mesher is not None:
+            self._entries.move_to_end(key)
+            mesher.settings = settings  # same training key; refreshes preset/device in reports
+            return mesher, False
+        from .mesher import Mesher
+
+        mesher = Mesher(settings).fit(boundary, aux_lines, progress)
+        trained = settings.method in NEURAL
+        self.trainings += int(trained)
+        self._entries[key] = mesher
+        while len(self._entries) > self.capacity:
+            self._entries.popitem(last=False)
+        return mesher, trained
+
+    def clear(self) -> None:
+        self._entries.clear()

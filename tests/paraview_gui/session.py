@@ -1,0 +1,71 @@
+"""Runs inside the ParaView GUI (``paraview --script=...``) for tests/paraview_gui/drive.sh.
+
+Opens example_data/fig2.vtp and fig2_aux.vtp, turns on auto-apply and, for every PINN
+Structured Mesh filter the GUI creates, writes what its update gave (points, auxiliary lines,
+inputs, error) to the JSON file named by PINN_GUI_RESULT. PINN_GUI_LONG=1 makes new filters
+default to a long training (Preset paper, 200000 Adam epochs) for the stop test. Writes the
+file named by PINN_GUI_READY when the GUI may be driven.
+"""
+
+import json
+import os
+import traceback
+
+import paraview.simple as simple
+from paraview import servermanager
+
+RESULT = os.environ["PINN_GUI_RESULT"]
+DATA = os.path.join(os.environ["PINN_GUI_REPO"], "example_data")
+watched = {}
+
+
+def write(proxy, alg):
+    try:
+        grid = alg.GetOutput()
+        report = grid.GetFieldData().GetAbstractArray("Report")
+        report = json.loads(report.GetValue(0)) if report is not None else {}
+        prop = proxy.SMProxy.GetProperty("Input")
+        connected = [prop.GetProxy(k) for k in range(prop.GetNumberOfProxies())]
+        result = {"points": grid.GetNumberOfPoints(), "aux_lines": report.get("aux_lines"),
+                  "inputs": sorted(name for (name, _), src in simple.GetSources().items()
+                                   if src.SMProxy in connected),
+                  "error": alg.GetLastError()}
+    except Exception:
+        result = {"exception": traceback.format_exc()}
+    with open(RESULT + ".tmp", "w") as f:
+        json.dump(result, f)
+    os.replace(RESULT + ".tmp", RESULT)
+
+
+def on_register(obj, event):
+    for key, proxy in simple.GetSources().items():
+        if proxy.GetXMLName() == "PINNStructuredMesh" and key not in watched:
+            alg = proxy.GetClientSideObject()
+            watched[key] = alg.AddObserver("EndEvent",
+                                           lambda o, e, p=proxy, a=alg: write(p, a))
+
+
+def main():
+    view = simple.GetActiveViewOrCreate("RenderView")
+    view.OrientationAxesVisibility = 0
+    for name in ("fig2.vtp", "fig2_aux.vtp"):
+        reader = simple.XMLPolyDataReader(registrationName=name,
+                                          FileName=[os.path.join(DATA, name)])
+        simple.Show(reader, view)
+    simple.ResetCamera()
+    simple.Render()
+    simple.GetSettingsProxy("GeneralSettings").AutoApply = 1
+    if os.environ.get("PINN_GUI_LONG") == "1":
+        settings = servermanager.vtkSMSettings.GetInstance()
+        settings.SetSetting("filters.PINNStructuredMesh.Preset", 1)
+        settings.SetSetting("filters.PINNStructuredMesh.AdamEpochs", 200000)
+    servermanager.ProxyManager().SMProxyManager.AddObserver("RegisterEvent", on_register)
+
+
+try:
+    main()
+    status = "ready\n"
+except Exception:
+    status = "error\n" + traceback.format_exc()
+with open(os.environ["PINN_GUI_READY"], "w") as f:
+    f.write(status)

@@ -1,0 +1,252 @@
+"""O- and C-grids around airfoils (SPEC 9): readers, NACA sections, topology, CLI."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from vtkmodules.vtkIOXML import vtkXMLStructuredGridReader
+
+from pinn_engine import bodygrid
+from pinn_engine.airfoil import circle, load_body, naca4, read_body_and_farfield, read_dat
+from pinn_engine.bodymesh import mesh_body
+from pinn_engine.cli import main
+from pinn_engine.errors import InputError
+from pinn_engine.settings import make_settings
+
+FAST_PINN = {"lbfgs_iterations": 10, "lbfgs_points": 200}
+
+
+def _selig(path, xy, name="TEST"):
+    path.write_text(name + "\n" + "\n".join(f"{x:.7f} {y:.7f}" for x, y in xy) + "\n")
+    return path
+
+
+@pytest.fixture(scope="module")
+def o_grid():
+    body = load_body(naca="0012", te="blunt")
+    far = circle(body, 15)
+    return body, far, mesh_body(body, far, "o", "elliptic", 81, 33, wall_spacing=1e-4)
+
+
+@pytest.fixture(scope="module")
+def c_grid():
+    body = load_body(naca="2412")
+    far = circle(body, 10)
+    return body, far, mesh_body(body, far, "c", "elliptic", 121, 33, wall_spacing=1e-4)
+
+
+def test_selig_and_lednicer_give_the_same_airfoil(tmp_path):
+    xy = naca4("2412", points=41)
+    a, name = read_dat(_selig(tmp_path / "a.dat", xy, "NACA 2412"))
+    n = 41
+    upper, lower = xy[:n][::-1], xy[n - 1:]
+    text = "NACA 2412\n41. 41.\n\n" + "\n".join(f"{x} {y}" for x, y in upper) + "\n\n" \
+        + "\n".join(f"{x} {y}" for x, y in lower) + "\n"
+    (tmp_path / "b.dat").write_text(text)
+    b, _ = read_dat(tmp_path / "b.dat")
+    assert name == "NACA 2412"
+    np.testing.assert_allclose(a, xy, atol=1e-6)
+    np.testing.assert_allclose(b, xy, atol=1e-6)
+
+
+@pytest.mark.parametrize("text, words", [
+    ("name\n1 0\n0.5 x\n", "not an 'x y' row"),
+    ("name\n1 0\n0 0\n1 0\n", "at least 5"),
+    ("just a name\n", "no 'x y' coordinate rows"),
+])
+def test_bad_dat_files_fail_in_one_line(tmp_path, text, words):
+    path = tmp_path / "bad.dat"
+    path.write_text(text)
+    with pytest.raises(InputError, match=words) as info:
+        read_dat(path)
+    assert "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize("code", ["12", "00a2", "0000", "2012"])
+def test_bad_naca_codes(code):
+    with pytest.raises(InputError, match="NACA"):
+        naca4(code)
+
+
+def test_naca_sections():
+    sharp, blunt = naca4("0012"), naca4("0012", te="blunt")
+    np.testing.assert_allclose(sharp[0], sharp[-1])
+    assert blunt[0, 1] - blunt[-1, 1] == pytest.approx(0.00252, abs=2e-5)
+    assert np.ptp(sharp[:, 1]) == pytest.approx(0.12, abs=2e-3)
+    body = load_body(naca="4412")
+    assert body.sharp and body.chord == pytest.approx(1.0, abs=1e-3)
+    np.testing.assert_allclose(body.mid_chord, (0.5, 0.0), atol=3e-3)
+
+
+def test_o_grid_indices_seam_far_field_and_wall(o_grid):
+    body, far, result = o_grid
+    g = result.points
+    t = result.report["topology"]
+    assert t["seam_gap"] == 0.0 and np.array_equal(g[:, 0], g[:, -1])
+    assert t["far_field_radius_error"] < 1e-9
+    assert np.argmax(g[0, :-1, 0]) == 0  # starts at the trailing edge (largest x)
+    assert g[0, 1, 1] > g[0, 0, 1]  # counter-clockwise: up the trailing edge first
+    assert result.quality["folded_cells"] == 0
+    assert result.quality["boundary_deviation"] < 1e-4
+    lo, hi = t["first_layer"]["min"], t["first_layer"]["max"]
+    assert 0.9e-4 <= lo <= hi <= 1.1e-4
+    assert t["wall_angle_deviation"] < 3.0
+
+
+def test_c_grid_cut_outflow_far_field_and_wall(c_grid):
+    body, far, result = c_grid
+    g = result.points
+    t = result.report["topology"]
+    n = t["wake_nodes"]
+    assert t["cut_gap"] == 0.0
+    np.testing.assert_array_equal(g[0, :n + 1], g[0, ::-1][:n + 1])  # coincide pairwise
+    np.testing.assert_allclose(g[0, n], body.surface[0])  # the trailing edge
+    assert np.all(np.diff(g[0, :n + 1, 0]) < 0)  # the cut runs from the outflow to the TE
+    np.testing.assert_allclose(g[0, :n + 1, 1], body.surface[0, 1])  # straight, in +x
+    x_out = far.center[0] + far.radius
+    np.testing.assert_allclose(g[:, 0, 0], x_out)  # outflow columns
+    np.testing.assert_allclose(g[:, -1, 0], x_out)
+    assert t["far_field_radius_error"] < 1e-9
+    assert result.quality["folded_cells"] == 0
+    assert 0.9e-4 <= t["first_layer"]["min"] <= t["first_layer"]["max"] <= 1.1e-4
+    assert t["wall_angle_deviation"] < 3.0
+
+
+@pytest.mark.parametrize("topology, code", [("o", "0012"), ("c", "0012"), ("c", "4412")])
+def test_every_method_gives_an_unfolded_grid(topology, code):
+    body = load_body(naca=code, te="blunt" if topology == "o" else "sharp")
+    far = circle(body, 12)
+    worst = {}
+    for method in ("tfi", "elliptic", "pinn"):
+        settings = make_settings(method, lattice=(97, 25), **FAST_PINN)
+        r = mesh_body(body, far, topology, method, 97, 25, settings, wall_spacing=1e-3)
+        assert r.quality["folded_cells"] == 0, method
+        worst[method] = r.report["topology"]["wall_angle_deviation"]
+        if method == "pinn":
+            guard = r.report["training"]["guard"]
+            assert guard["kept"]["worst_max_angle"] <= guard["elliptic"]["worst_max_angle"] + 1
+    # TFI's straight columns leave the wall obliquely; the others at right angles
+    assert worst["elliptic"] < 1.0 and worst["pinn"] < 1.0 < worst["tfi"]
+
+
+def test_pinn_is_periodic_in_xi(o_grid):
+    body, far, _ = o_grid
+    settings = make_settings("pinn", lattice=(81, 33), **FAST_PINN)
+    r = mesh_body(body, far, "o", "pinn", 81, 33, settings, wall_spacing=1e-4)
+    assert r.report["topology"]["seam_gap"] == 0.0
+    assert r.quality["folded_cells"] == 0
+
+
+def test_paper_preset_trains_from_tfi():
+    body = load_body(naca="0012", te="blunt")
+    settings = make_settings("pinn", "paper", lattice=(41, 17), adam_epochs=20,
+                             lbfgs_iterations=5, lbfgs_points=100)
+    r = mesh_body(body, circle(body, 8), "o", "pinn", 41, 17, settings)
+    assert r.report["training"]["warm_start"] == "none"
+    assert r.report["topology"]["seam_gap"] == 0.0
+
+
+def test_c_grid_needs_a_sharp_trailing_edge():
+    body = load_body(naca="0012", te="blunt")
+    with pytest.raises(InputError, match="sharp"):
+        mesh_body(body, circle(body, 10), "c", "tfi", 121, 21)
+
+
+def test_farfield_must_enclose_the_body():
+    body = load_body(naca="0012")
+    with pytest.raises(InputError, match="at least 1 chord"):
+        circle(body, 0.4)
+
+
+def test_two_polylines_file(tmp_path):
+    body = naca4("0012", points=61, te="blunt")
+    th = np.linspace(0, 2 * np.pi, 80, endpoint=False)
+    outer = np.column_stack([0.5 + 8 * np.cos(th), 6 * np.sin(th)])  # an ellipse
+    text = "\n".join(f"{x},{y}" for x, y in body) + "\n\n" + \
+        "\n".join(f"{x},{y}" for x, y in outer) + "\n"
+    path = tmp_path / "two.csv"
+    path.write_text(text)
+    b, far = read_body_and_farfield(path)
+    r = mesh_body(b, far, "o", "elliptic", 81, 25, wall_spacing=1e-3)
+    assert r.quality["folded_cells"] == 0
+    last = r.points[-1]
+    assert np.abs(((last[:, 0] - 0.5) / 8) ** 2 + (last[:, 1] / 6) ** 2 - 1).max() < 0.02
+
+
+def test_stretching_functions():
+    s = bodygrid.one_sided(40, 1e-4)
+    assert s[1] == pytest.approx(1e-4, rel=1e-6) and np.all(np.diff(s) > 0)
+    t = bodygrid.two_sided(60, 2e-3, 1e-2)
+    assert t[1] == pytest.approx(2e-3, rel=0.02) and 1 - t[-2] == pytest.approx(1e-2, rel=0.02)
+
+
+def _read(path):
+    reader = vtkXMLStructuredGridReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    return reader.GetOutput()
+
+
+def test_cli_o_and_c_grids(tmp_path, capsys):
+    out = tmp_path / "o.vts"
+    rc = main(["--naca", "0012", "--topology", "o", "--method", "tfi", "--size", "61", "21",
+               "--spacing", "bottom=1e-3", "-o", str(out),
+               "--report", str(tmp_path / "o.json"), "--quiet"])
+    assert rc == 0
+    grid = _read(out)
+    fd = grid.GetFieldData()
+    assert fd.GetAbstractArray("Topology").GetValue(0) == "o"
+    names = [fd.GetAbstractArray("PatchNames").GetValue(k) for k in range(4)]
+    assert names == ["wall", "seam", "farfield", "seam"]
+    report = json.loads((tmp_path / "o.json").read_text())
+    assert report["topology"]["seam_gap"] == 0.0
+    dat = _selig(tmp_path / "foil.dat", naca4("2412", points=61))
+    out = tmp_path / "c.vts"
+    assert main([str(dat), "--topology", "c", "--method", "elliptic", "--size", "121", "21",
+                 "--farfield", "8", "-o", str(out), "--quiet"]) == 0
+    fd = _read(out).GetFieldData()
+    assert fd.GetAbstractArray("Topology").GetValue(0) == "c"
+    assert fd.GetArray("WakeNodes").GetValue(0) > 0
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["--naca", "0012", "--method", "tfi"], "--topology o or c"),
+    (["--naca", "0012", "--topology", "o", "--method", "mgnet"], "mgnet"),
+    (["--naca", "0012", "--topology", "o", "--spacing", "top=1e-3"], "bottom=H"),
+    (["--naca", "0012", "--topology", "c", "--extrude", "0.1", "-o", "x.msh"],
+     "Gmsh in 2D"),
+    (["--naca", "00x2", "--topology", "o"], "NACA"),
+    (["--naca", "0012", "--topology", "o", "--method", "tfi", "--orthogonal", "bottom"],
+     "right angles"),
+])
+def test_cli_errors_are_one_line(tmp_path, capsys, argv, words):
+    rc = main(argv + ["--size", "41", "17", "--quiet"] +
+              ([] if "-o" in argv else ["-o", str(tmp_path / "g.vts")]))
+    err = capsys.readouterr().err
+    assert rc == 2 and words in err and err.count("\n") == 1
+
+
+def test_pyvista_routes(tmp_path):
+    pv = pytest.importorskip("pyvista")
+    from pinn_engine.pyvista_accessor import pinn_mesh
+
+    grid = pinn_mesh(None, naca="0012", topology="o", size=(61, 21), method="elliptic",
+                     farfield=10, spacing={"bottom": 1e-3}, orthogonal="bottom")
+    assert grid.dimensions == (61, 21, 1)
+    assert grid.field_data["Topology"][0] == "o"
+    pts = grid.points.reshape(21, 61, 3)
+    np.testing.assert_array_equal(pts[:, 0], pts[:, -1])
+    r = np.linalg.norm(pts[-1, :, :2] - (0.5, 0.0), axis=1)
+    np.testing.assert_allclose(r, 10.0, atol=2e-3)  # mid-chord of the blunt section
+    xy = naca4("2412", points=61)
+    body = pv.lines_from_points(np.column_stack([xy, np.zeros(len(xy))]))
+    c = body.pinn_mesh(size=(121, 21), method="tfi", topology="c", farfield=8)
+    assert c.field_data["Topology"][0] == "c"
+    assert list(c.field_data["PatchNames"]) == ["wall", "outflow", "farfield", "outflow"]
+    dat = _selig(tmp_path / "f.dat", xy)
+    g = pinn_mesh(str(dat), topology="c", size=(121, 21), method="tfi")
+    assert g.n_cells == 120 * 20
+    with pytest.raises(InputError, match='topology="o"|"o" or "c"'):
+        pinn_mesh(None, naca="0012", topology="x", size=(41, 17))

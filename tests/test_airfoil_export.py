@@ -1,0 +1,176 @@
+"""O- and C-grids in the solver formats (SPEC 9): the seam and the wake cut recorded."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+from vtkmodules.util.numpy_support import vtk_to_numpy
+
+from pinn_engine.airfoil import circle, load_body
+from pinn_engine.bodymesh import mesh_body, patch_names
+from pinn_engine.errors import InputError
+from pinn_engine.export import write
+from pinn_engine.pipeline import to_vtk
+
+NI, NJ = {"o": 41, "c": 61}, 13
+
+
+@pytest.fixture(scope="module", params=["o", "c"])
+def case(request):
+    topology = request.param
+    body = load_body(naca="0012", te="blunt" if topology == "o" else "sharp")
+    result = mesh_body(body, circle(body, 8), topology, "tfi", NI[topology], NJ,
+                       wall_spacing=1e-3)
+    return topology, result, to_vtk(result, patch_names(topology))
+
+
+def _su2(path):
+    text = path.read_text().split("\n")
+    at = {line.split("=")[0]: k for k, line in enumerate(text) if "=" in line}
+    nelem = int(text[at["NELEM"]].split("=")[1])
+    elems = np.array([list(map(int, r.split()[1:5])) for r in
+                      text[at["NELEM"] + 1:at["NELEM"] + 1 + nelem]])
+    npoin = int(text[at["NPOIN"]].split("=")[1])
+    pts = np.array([list(map(float, r.split()[:2])) for r in
+                    text[at["NPOIN"] + 1:at["NPOIN"] + 1 + npoin]])
+    markers, k = {}, at["NMARK"] + 1
+    while k < len(text) and text[k].startswith("MARKER_TAG"):
+        name = text[k].split("=")[1].strip()
+        n = int(text[k + 1].split("=")[1])
+        markers[name] = np.array([list(map(int, r.split()[1:])) for r in text[k + 2:k + 2 + n]])
+        k += 2 + n
+    return elems, pts, markers
+
+
+def _area(pts, quad):
+    p = pts[quad]
+    return 0.5 * np.sum(p[:, 0] * np.roll(p[:, 1], -1) - np.roll(p[:, 0], -1) * p[:, 1])
+
+
+def test_su2_merges_the_seam_or_cut(case, tmp_path):
+    topology, result, grid = case
+    ni, nj = NI[topology], NJ
+    elems, pts, markers = _su2(write(grid, tmp_path / "g.su2"))
+    n_wake = result.report["topology"]["wake_nodes"]
+    merged = nj if topology == "o" else n_wake + 1
+    assert len(pts) == ni * nj - merged  # each coincident node written once
+    assert len(elems) == (ni - 1) * (nj - 1)
+    assert all(_area(pts, q) > 0 for q in elems)  # counter-clockwise quads
+    expected = {"wall": ni - 1 if topology == "o" else ni - 1 - 2 * n_wake,
+                "farfield": ni - 1}
+    if topology == "c":
+        expected["outflow"] = 2 * (nj - 1)
+    assert {k: len(v) for k, v in markers.items()} == expected
+    # every edge is shared by two quads except the marker edges: the seam/cut is internal
+    edges = {}
+    for q in elems:
+        for a, b in zip(q, np.roll(q, -1)):
+            edges[frozenset((a, b))] = edges.get(frozenset((a, b)), 0) + 1
+    boundary = {e for e, n in edges.items() if n == 1}
+    assert boundary == {frozenset(e) for v in markers.values() for e in v}
+
+
+def test_gmsh_reads_the_merged_mesh(case, tmp_path):
+    gmsh = pytest.importorskip("gmsh")
+    topology, result, grid = case
+    path = write(grid, tmp_path / "g.msh")
+    gmsh.initialize(["-noenv"], readConfigFiles=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.open(str(path))
+        tags, _, _ = gmsh.model.mesh.getNodes()
+        names = {gmsh.model.getPhysicalName(d, t) for d, t in gmsh.model.getPhysicalGroups()}
+    finally:
+        gmsh.finalize()
+    n_wake = result.report["topology"]["wake_nodes"]
+    merged = NJ if topology == "o" else n_wake + 1
+    assert len(tags) == NI[topology] * NJ - merged
+    assert names == ({"wall", "farfield", "fluid"} | ({"outflow"} if topology == "c" else set()))
+
+
+@pytest.mark.parametrize("thickness", [None, 0.1])
+def test_cgns_records_the_seam_or_cut(case, tmp_path, thickness):
+    h5py = pytest.importorskip("h5py")
+    from vtkmodules.vtkIOCGNSReader import vtkCGNSReader
+
+    topology, result, grid = case
+    path = write(grid, tmp_path / "g.cgns", extrude=thickness)
+    ni, nj, nw = NI[topology], NJ, result.report["topology"]["wake_nodes"]
+    with h5py.File(path, "r") as f:
+        conn = f["Base/Zone/ZoneGridConnectivity"]
+        got = {name: (conn[name]["PointRange/ data"][()].tolist(),
+                      conn[name]["PointRangeDonor/ data"][()].tolist(),
+                      conn[name]["Transform/ data"][()].tolist()) for name in conn}
+        bcs = sorted(bytes(bc["FamilyName/ data"][()]).decode()
+                     for bc in f["Base/Zone/ZoneBC"].values())
+    k = ([1], [2]) if thickness else ([], [])
+    if topology == "o":
+        a, b, t = [[1, 1] + k[0], [1, nj] + k[1]], [[ni, 1] + k[0], [ni, nj] + k[1]], [1, 2]
+        assert bcs == sorted(["farfield", "wall"] + (["frontAndBack"] * 2 if thickness else []))
+    else:
+        a, b = [[1, 1] + k[0], [nw + 1, 1] + k[1]], [[ni, 1] + k[0], [ni - nw, 1] + k[1]]
+        t = [-1, -2]
+        assert bcs == sorted(["farfield", "outflow", "outflow", "wall"]
+                             + (["frontAndBack"] * 2 if thickness else []))
+    t = t + ([3] if thickness else [])
+    name = "seam" if topology == "o" else "wake_cut"
+    assert got == {f"{name}_a": (a, b, t), f"{name}_b": (b, a, t)}
+    reader = vtkCGNSReader()
+    reader.SetFileName(str(path))
+    reader.UpdateInformation()
+    reader.EnableAllBases()
+    reader.Update()
+    block = reader.GetOutput().GetBlock(0).GetBlock(0)
+    pts = vtk_to_numpy(block.GetPoints().GetData())
+    assert len(pts) == ni * nj * (2 if thickness else 1)
+
+
+def test_plot3d_and_openfoam(case, tmp_path):
+    from vtkmodules.vtkIOParallel import vtkMultiBlockPLOT3DReader
+
+    topology, result, grid = case
+    path = write(grid, tmp_path / "g.xyz")
+    reader = vtkMultiBlockPLOT3DReader()
+    reader.SetXYZFileName(str(path))
+    reader.Update()
+    pts = vtk_to_numpy(reader.GetOutput().GetBlock(0).GetPoints().GetData())
+    np.testing.assert_allclose(pts[:, :2], result.points.reshape(-1, 2), atol=1e-12)
+    with pytest.raises(InputError, match="Gmsh in 2D"):
+        write(grid, tmp_path / "g.msh", extrude=0.1)
+
+
+def test_openfoam_joins_the_seam_or_cut(case, tmp_path):
+    topology, result, grid = case
+    ni, nj, nw = NI[topology], NJ, result.report["topology"]["wake_nodes"]
+    mesh = write(grid, tmp_path / "case", "openfoam") / "constant" / "polyMesh"
+
+    def numbers(name):
+        text = (mesh / name).read_text()
+        body = text[text.index("(", text.index("}")) + 1:text.rindex(")")]
+        return body
+
+    n_cells = (ni - 1) * (nj - 1)
+    owner = np.array(numbers("owner").split(), dtype=int)
+    neighbour = np.array(numbers("neighbour").split(), dtype=int)
+    # every cell has 6 faces: 4 sides + 2 ends
+    counts = np.bincount(np.concatenate([owner, neighbour]), minlength=n_cells)
+    assert np.all(counts == 6)
+    assert np.all(owner[:len(neighbour)] < neighbour)
+    boundary = (mesh / "boundary").read_text()
+    faces = {name: int(boundary.split(name)[1].split("nFaces")[1].split(";")[0])
+             for name in ("wall", "farfield")}
+    assert faces["farfield"] == ni - 1
+    assert faces["wall"] == (ni - 1 if topology == "o" else ni - 1 - 2 * nw)
+    # internal faces: all shared cell sides, the seam or cut included
+    sides = faces["wall"] + faces["farfield"] + (2 * (nj - 1) if topology == "c" else 0)
+    assert len(neighbour) == (4 * n_cells - sides) // 2
+    if shutil.which("checkMesh"):
+        env = dict(os.environ)
+        env.setdefault("WM_PROJECT_DIR", "/usr/share/openfoam")  # Debian's openfoam package
+        proc = subprocess.run(["checkMesh", "-case", str(mesh.parents[1])], env=env,
+                              capture_output=True, text=True, timeout=300)
+        assert "Mesh OK" in proc.stdout, proc.stdout[-2000:] + proc.stderr[-2000:]

@@ -1,0 +1,428 @@
+"""Solver formats (SPEC 8, issue 15): every writer read back by an independent reader.
+
+Node coordinates are compared with the ``.vts`` of the same grid, read back by VTK; patch
+names and sizes with the patches asked for. Readers: VTK's PLOT3D and CGNS readers, h5py
+for the CGNS tree, Gmsh's own API, a parse of the SU2 text and OpenFOAM's ``checkMesh``.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import EXAMPLES, OutputMessages, wavy_ring
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkIOLegacy import vtkStructuredGridReader
+from vtkmodules.vtkIOXML import vtkXMLPolyDataReader, vtkXMLStructuredGridReader
+
+from pinn_engine import export
+from pinn_engine.algorithm import PinnMeshAlgorithm
+from pinn_engine.cli import main
+from pinn_engine.errors import InputError
+from pinn_engine.export.algorithm import GridWriter
+from pinn_engine.pyvista_accessor import pinn_mesh, save_mesh
+
+NI, NJ = 13, 7
+PATCHES = {"bottom": "wall", "top": "wall", "left": "inlet"}  # right keeps "right"
+# patch -> number of boundary edges (2D)
+EDGES = {"wall": 2 * (NI - 1), "right": NJ - 1, "inlet": NJ - 1}
+T = 0.25
+
+
+@pytest.fixture(scope="module")
+def grid():
+    return pinn_mesh(wavy_ring(), size=(NI, NJ), method="tfi", patches=PATCHES)
+
+
+@pytest.fixture(scope="module")
+def reference(grid, tmp_path_factory) -> np.ndarray:
+    """The nodes (nj * ni, 3) as written to and read back from a .vts."""
+    return read_vts(save_mesh(grid, tmp_path_factory.mktemp("vts") / "grid.vts"))
+
+
+def extruded(ref: np.ndarray) -> np.ndarray:
+    top = ref.copy()
+    top[:, 2] += T
+    return np.vstack([ref, top])
+
+
+def blocks(multiblock) -> dict[str, object]:
+    """Leaves of a VTK multiblock by name."""
+    out = {}
+    it = multiblock.NewTreeIterator()
+    it.VisitOnlyLeavesOn()
+    it.InitTraversal()
+    while not it.IsDoneWithTraversal():
+        out[it.GetCurrentMetaData().Get(multiblock.NAME())] = it.GetCurrentDataObject()
+        it.GoToNextItem()
+    return out
+
+
+def test_grid_carries_patch_names_and_indices(grid):
+    assert list(grid.field_data["PatchNames"]) == ["wall", "right", "wall", "inlet"]
+    i, j = grid.point_data["i"], grid.point_data["j"]
+    assert i.reshape(NJ, NI)[3].tolist() == list(range(NI))
+    assert j.reshape(NJ, NI)[:, 5].tolist() == list(range(NJ))
+
+
+@pytest.mark.parametrize("ext", ["vts", "vtk"])
+def test_vtk_formats_keep_patches_and_indices(grid, reference, tmp_path, ext):
+    path = save_mesh(grid, tmp_path / f"g.{ext}")
+    reader = vtkXMLStructuredGridReader() if ext == "vts" else vtkStructuredGridReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    out = reader.GetOutput()
+    np.testing.assert_allclose(vtk_to_numpy(out.GetPoints().GetData()), reference, atol=1e-6)
+    names = out.GetFieldData().GetAbstractArray("PatchNames")
+    assert [names.GetValue(k) for k in range(4)] == ["wall", "right", "wall", "inlet"]
+    assert vtk_to_numpy(out.GetPointData().GetArray("i")).max() == NI - 1
+
+
+def read_vts(path: Path) -> np.ndarray:
+    reader = vtkXMLStructuredGridReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    return vtk_to_numpy(reader.GetOutput().GetPoints().GetData()).astype(float)
+
+
+@pytest.mark.parametrize("thickness", [None, T])
+def test_plot3d_read_by_vtk(grid, reference, tmp_path, thickness):
+    check_plot3d(save_mesh(grid, tmp_path / "g.xyz", extrude=thickness), reference, thickness)
+
+
+def check_plot3d(path: Path, reference: np.ndarray, thickness: float | None) -> None:
+    from vtkmodules.vtkIOParallel import vtkMultiBlockPLOT3DReader
+
+    reader = vtkMultiBlockPLOT3DReader()  # explicit: multi-grid, whole, double, byte counts
+    reader.SetXYZFileName(str(path))
+    reader.AutoDetectFormatOff()
+    reader.MultiGridOn()
+    reader.BinaryFileOn()
+    reader.HasByteCountOn()
+    reader.DoublePrecisionOn()
+    reader.IBlankingOff()
+    reader.Update()
+    block = reader.GetOutput().GetBlock(0)
+    nk = 1 if thickness is None else 2
+    assert block.GetExtent() == (0, NI - 1, 0, NJ - 1, 0, nk - 1)
+    expected = reference if thickness is None else extruded(reference)
+    np.testing.assert_allclose(vtk_to_numpy(block.GetPoints().GetData()), expected, atol=1e-12)
+
+
+@pytest.mark.parametrize("thickness", [None, T])
+def test_cgns_read_by_vtk_and_h5py(grid, reference, tmp_path, thickness):
+    pytest.importorskip("h5py")
+    check_cgns(save_mesh(grid, tmp_path / "g.cgns", extrude=thickness), reference, thickness)
+
+
+def check_cgns(path: Path, reference: np.ndarray, thickness: float | None) -> None:
+    import h5py
+    from vtkmodules.vtkIOCGNSReader import vtkCGNSReader
+
+    reader = vtkCGNSReader()
+    reader.SetFileName(str(path))
+    reader.UpdateInformation()
+    reader.EnableAllBases()
+    reader.LoadBndPatchOn()
+    reader.Update()
+    found = blocks(reader.GetOutput())
+    nk = 1 if thickness is None else 2
+    expected = reference if thickness is None else extruded(reference)
+    np.testing.assert_allclose(vtk_to_numpy(found["Internal"].GetPoints().GetData()),
+                               expected, atol=1e-12)
+    sizes = {"wall_bottom": NI, "wall_top": NI, "right": NJ, "inlet": NJ}
+    if thickness:
+        sizes.update(frontAndBack_back=NI * NJ, frontAndBack_front=NI * NJ)
+    assert {k: v.GetNumberOfPoints() // (nk if k in ("wall_bottom", "wall_top", "right",
+                                                     "inlet") else 1)
+            for k, v in found.items() if k != "Internal"} == sizes
+
+    with h5py.File(path, "r") as f:
+        zone = f["Base/Zone"]
+        assert zone.attrs["label"] == b"Zone_t"
+        size = zone[" data"][()]  # Fortran (IndexDim, 3) stored as (3, IndexDim)
+        assert size[0].tolist() == ([NI, NJ] + ([2] if thickness else []))
+        ranges, families = {}, {}
+        for name, bc in zone["ZoneBC"].items():
+            assert bc.attrs["label"] == b"BC_t"
+            assert bytes(bc[" data"][()]).decode() == "FamilySpecified"
+            ranges[name] = bc["PointRange/ data"][()].tolist()
+            families[name] = bytes(bc["FamilyName/ data"][()]).decode()
+        k = [1, 2] if thickness else []
+        assert ranges["wall_bottom"] == [[1, 1] + k[:1], [NI, 1] + k[1:]]
+        assert ranges["inlet"] == [[1, 1] + k[:1], [1, NJ] + k[1:]]
+        assert families == {"wall_bottom": "wall", "wall_top": "wall", "right": "right",
+                            "inlet": "inlet", **({"frontAndBack_back": "frontAndBack",
+                                                  "frontAndBack_front": "frontAndBack"}
+                                                 if thickness else {})}
+        family_nodes = {n for n, g in f["Base"].items()
+                        if isinstance(g, h5py.Group) and g.attrs["label"] == b"Family_t"}
+        assert family_nodes == set(families.values())
+
+
+def read_su2(path: Path) -> dict:
+    lines = path.read_text().splitlines()
+    out: dict = {"markers": {}}
+    k = 0
+    while k < len(lines):
+        line = lines[k].strip()
+        k += 1
+        if line.startswith("NDIME="):
+            out["ndime"] = int(line.split("=")[1])
+        elif line.startswith("NELEM="):
+            n = int(line.split("=")[1])
+            out["elems"] = np.array([lines[k + m].split() for m in range(n)], dtype=int)
+            k += n
+        elif line.startswith("NPOIN="):
+            n = int(line.split("=")[1].split()[0])
+            out["points"] = np.array([lines[k + m].split()[:2] for m in range(n)], dtype=float)
+            k += n
+        elif line.startswith("MARKER_TAG="):
+            name = line.split("=")[1].strip()
+            n = int(lines[k].split("=")[1])
+            out["markers"][name] = np.array([lines[k + 1 + m].split() for m in range(n)],
+                                            dtype=int)
+            k += n + 1
+    return out
+
+
+def test_su2_parsed(grid, reference, tmp_path):
+    check_su2(save_mesh(grid, tmp_path / "g.su2"), reference)
+
+
+def check_su2(path: Path, reference: np.ndarray) -> None:
+    mesh = read_su2(path)
+    assert mesh["ndime"] == 2
+    assert mesh["elems"].shape == ((NI - 1) * (NJ - 1), 6) and set(mesh["elems"][:, 0]) == {9}
+    np.testing.assert_array_equal(mesh["points"], reference[:, :2])
+    assert {n: len(e) for n, e in mesh["markers"].items()} == EDGES
+    for edges in mesh["markers"].values():
+        assert set(edges[:, 0]) == {3}
+    inlet = np.unique(mesh["markers"]["inlet"][:, 1:])
+    assert inlet.tolist() == list(range(0, NI * NJ, NI))  # i = 0 column
+    pts = mesh["points"][mesh["elems"][:, 1:5]]  # counter-clockwise quads: positive area
+    x, y = pts[..., 0], pts[..., 1]
+    area = 0.5 * np.sum(x * np.roll(y, -1, 1) - np.roll(x, -1, 1) * y, axis=1)
+    assert (area > 0).all()
+
+
+@pytest.mark.parametrize("thickness", [None, T])
+def test_gmsh_read_by_gmsh(grid, reference, tmp_path, thickness):
+    pytest.importorskip("gmsh")
+    check_gmsh(save_mesh(grid, tmp_path / "g.msh", extrude=thickness), reference, thickness)
+
+
+def check_gmsh(path: Path, reference: np.ndarray, thickness: float | None) -> None:
+    import gmsh
+
+    assert path.read_text().startswith("$MeshFormat\n4.1 0 8\n")
+    gmsh.initialize(["-noenv"], readConfigFiles=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.open(str(path))
+        tags, coords, _ = gmsh.model.mesh.getNodes()
+        order = np.argsort(tags)
+        expected = reference if thickness is None else extruded(reference)
+        np.testing.assert_allclose(coords.reshape(-1, 3)[order], expected, atol=1e-12)
+        dim = 2 if thickness is None else 3
+        groups = {}
+        for d, tag in gmsh.model.getPhysicalGroups():
+            count = 0
+            for entity in gmsh.model.getEntitiesForPhysicalGroup(d, tag):
+                _, elems, _ = gmsh.model.mesh.getElements(d, entity)
+                count += sum(len(e) for e in elems)
+            groups[(d, gmsh.model.getPhysicalName(d, tag))] = count
+    finally:
+        gmsh.finalize()
+    cells = (NI - 1) * (NJ - 1)
+    want = {(dim, "fluid"): cells, **{(dim - 1, n): c for n, c in EDGES.items()}}
+    if thickness:
+        want[(2, "frontAndBack")] = 2 * cells
+    assert groups == want
+
+
+def check_mesh(case: Path) -> str:
+    env = dict(os.environ)
+    env.setdefault("WM_PROJECT_DIR", "/usr/share/openfoam")  # Debian's openfoam package
+    proc = subprocess.run(["checkMesh", "-case", str(case)], capture_output=True, text=True,
+                          env=env, timeout=300)
+    return proc.stdout + proc.stderr
+
+
+def foam_list(path: Path) -> list[str]:
+    text = path.read_text()
+    body = text[text.index("(", text.index("}")) + 1:text.rindex(")")]
+    return [ln for ln in body.splitlines() if ln.strip()]
+
+
+def test_openfoam_case(grid, reference, tmp_path):
+    check_openfoam(save_mesh(grid, tmp_path / "case", "openfoam", extrude=T), reference)
+
+
+def check_openfoam(case: Path, reference: np.ndarray) -> None:
+    """Files, nodes, patches; then checkMesh (skipped, after the rest, when missing)."""
+    mesh = case / "constant" / "polyMesh"
+    assert sorted(p.name for p in mesh.iterdir()) == ["boundary", "faces", "neighbour",
+                                                      "owner", "points"]
+    assert (case / f"{case.name}.foam").exists() and (case / "system" / "controlDict").exists()
+    points = np.array([ln.strip("()").split() for ln in foam_list(mesh / "points")], float)
+    np.testing.assert_allclose(points, extruded(reference), atol=1e-12)
+    boundary = (mesh / "boundary").read_text()
+    found = dict(re.findall(r"(\w+)\s*\{[^}]*?nFaces\s+(\d+);", boundary))
+    assert {k: int(v) for k, v in found.items()} == {**EDGES,
+                                                     "frontAndBack": 2 * (NI - 1) * (NJ - 1)}
+    assert re.search(r"frontAndBack\s*\{\s*type\s+empty;", boundary)
+    if shutil.which("checkMesh") is None:
+        pytest.skip("OpenFOAM's checkMesh is missing (apt-get install openfoam; .ci/run "
+                    "installs it)")
+    report = check_mesh(case)
+    assert "Mesh OK." in report, report[-3000:]
+    assert re.search(r"wall\s+24\s", report)  # the patch as checkMesh sees it
+
+
+def test_openfoam_into_an_existing_case_replaces_only_the_mesh(grid, tmp_path):
+    case = tmp_path / "case"
+    (case / "system").mkdir(parents=True)
+    (case / "system" / "controlDict").write_text("// mine\n")
+    (case / "0").mkdir()
+    save_mesh(grid, case, "openfoam")
+    save_mesh(grid, case, "openfoam", patches=["a", "b", "c", "d"])
+    assert (case / "system" / "controlDict").read_text() == "// mine\n"
+    assert (case / "0").is_dir() and (case / "system" / "fvSchemes").exists()
+    assert "    d\n" in (case / "constant" / "polyMesh" / "boundary").read_text()
+    assert sorted(p.name for p in (case / "constant").iterdir()) == ["polyMesh"]
+
+
+@pytest.mark.parametrize("ext", ["xyz", "cgns", "su2", "msh", "vtk", "openfoam"])
+def test_failing_writer_leaves_nothing(grid, tmp_path, monkeypatch, ext):
+    def broken(block, path, *args):
+        Path(path).write_text("partial")  # a write that stops half-way
+        raise OSError("disk full")
+
+    if ext == "openfoam":
+        monkeypatch.setattr(export.openfoam, "write_polymesh",
+                            lambda block, mesh: broken(block, mesh / "points"))
+        target, fmt = tmp_path / "case", "openfoam"
+    elif ext == "vtk":
+        monkeypatch.setattr(export.vtkfiles, "write_legacy", broken)
+        target, fmt = tmp_path / "g.vtk", None
+    else:
+        monkeypatch.setitem(export._FILE_WRITERS, ext, broken)
+        target, fmt = tmp_path / f"g.{ext}", None
+    with pytest.raises(OSError, match="disk full"):
+        save_mesh(grid, target, fmt)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_failing_openfoam_writer_keeps_the_previous_mesh(grid, tmp_path, monkeypatch):
+    case = save_mesh(grid, tmp_path / "case", "openfoam")
+    before = (case / "constant" / "polyMesh" / "points").read_text()
+
+    def broken(block, mesh):
+        (mesh / "points").write_text("partial")
+        raise OSError("disk full")
+
+    monkeypatch.setattr(export.openfoam, "write_polymesh", broken)
+    with pytest.raises(OSError):
+        save_mesh(grid, case, "openfoam", extrude=5.0)
+    assert (case / "constant" / "polyMesh" / "points").read_text() == before
+    assert sorted(p.name for p in (case / "constant").iterdir()) == ["polyMesh"]
+
+
+def test_clockwise_or_3d_grids_are_refused(grid, tmp_path):
+    import pyvista as pv
+
+    flipped = pv.StructuredGrid(grid.x[::-1], grid.y[::-1], grid.z[::-1])  # i reversed
+    with pytest.raises(InputError, match=r"^grid: the grid's boundary does not run counter"):
+        save_mesh(flipped, tmp_path / "g.su2")
+    with pytest.raises(InputError, match=r"expected a 2D structured grid"):
+        save_mesh(pv.ImageData(dimensions=(3, 3, 3)).cast_to_structured_grid(),
+                  tmp_path / "g.msh")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_cli_writes_each_format_with_patches(tmp_path, capsys):
+    boundary = str(EXAMPLES / "fig2.vtp")
+    common = [boundary, "--method", "tfi", "--size", "9", "5", "--quiet",
+              "--patch", "bottom=wall", "--patch", "top=wall"]
+    for out in ("g.su2", "g.msh", "g.xyz", "g.cgns", "g.vtk"):
+        assert main([*common, "-o", str(tmp_path / out)]) == 0, capsys.readouterr().err
+    assert main([*common, "--format", "openfoam", "-o", str(tmp_path / "case")]) == 0
+    assert main([*common, "-o", str(tmp_path / "g3.msh"), "--extrude", "0.5"]) == 0
+    assert set(read_su2(tmp_path / "g.su2")["markers"]) == {"wall", "right", "left"}
+    assert (tmp_path / "case" / "constant" / "polyMesh" / "boundary").exists()
+
+
+@pytest.mark.parametrize("args, message", [
+    (["-o", "g.foo"], "g.foo: unknown output format '.foo'; use -o with .vts, .vtk, .xyz, "
+                      ".cgns, .su2 or .msh, or --format openfoam -o DIR"),
+    (["-o", "g.su2", "--extrude", "1"], "g.su2: SU2 mesh with markers is 2D only; drop "
+                                        "--extrude T (it applies to .xyz, .cgns, .msh and "
+                                        "OpenFOAM)"),
+    (["-o", "g.msh", "--extrude", "-1"], "g.msh: extrusion thickness -1.0: must be a number "
+                                         "> 0 (--extrude T)"),
+    (["-o", "g.msh", "--patch", "up=wall"], "patch 'up=wall': expected SIDE=NAME with SIDE "
+                                            "one of bottom, right, top, left (--patch "
+                                            "SIDE=NAME)"),
+    (["-o", "g.msh", "--patch", "top=a b"], "patch name 'a b': use 1 to 32 letters, digits, "
+                                            "'_' or '-' (--patch SIDE=NAME)"),
+])
+def test_cli_errors_are_one_line_before_meshing(tmp_path, capsys, monkeypatch, args, message):
+    monkeypatch.chdir(tmp_path)
+    assert main([str(EXAMPLES / "fig2.vtp"), "--method", "tfi", *args]) == 2
+    err = capsys.readouterr().err
+    assert err == f"pinn-mesh: error: {message}\n"
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_pyvista_accessor_save_and_route_words(tmp_path):
+    import pyvista as pv
+
+    boundary = pv.PolyData(np.column_stack([wavy_ring(), np.zeros(len(wavy_ring()))]),
+                           lines=[len(wavy_ring()) + 1, *range(len(wavy_ring())), 0])
+    with pytest.raises(InputError, match=r"no grid to save yet"):
+        boundary.pinn_mesh.save(tmp_path / "g.su2")
+    boundary.pinn_mesh(size=(NI, NJ), method="tfi", patches="wall right wall inlet")
+    mesh = read_su2(boundary.pinn_mesh.save(tmp_path / "g.su2"))
+    assert {n: len(e) for n, e in mesh["markers"].items()} == EDGES
+    with pytest.raises(InputError, match=r"drop extrude= \(it applies"):
+        boundary.pinn_mesh.save(tmp_path / "h.su2", extrude=1.0)
+    with pytest.raises(InputError, match=r'format="openfoam"$'):
+        boundary.pinn_mesh.save(tmp_path / "h.dat")
+    with pytest.raises(InputError, match=r"\(patches=\{"):
+        pinn_mesh(wavy_ring(), size=(5, 5), method="tfi", patches={"north": "x"})
+
+
+def test_vtk_writer_algorithm_after_the_filter(tmp_path):
+    """What ParaView's File > Save Data runs, in a plain VTK pipeline."""
+    reader = vtkXMLPolyDataReader()
+    reader.SetFileName(str(EXAMPLES / "fig2.vtp"))
+    alg = PinnMeshAlgorithm()
+    alg.SetInputConnection(0, reader.GetOutputPort())
+    alg.SetMethod("tfi")
+    alg.SetGridSize(9, 5)
+    alg.SetPatchNames("bottom=wall top=wall")
+    writer = GridWriter("su2")
+    writer.SetInputConnection(alg.GetOutputPort())
+    writer.SetFileName(str(tmp_path / "g.su2"))
+    assert writer.Write() == 1
+    assert set(read_su2(tmp_path / "g.su2")["markers"]) == {"wall", "right", "left"}
+
+    writer.SetExtrudeThickness(2.0)
+    with OutputMessages(writer, "ErrorEvent") as messages:
+        assert writer.Write() == 0
+    assert messages.lines == [f"PINN Mesh writer: {tmp_path / 'g.su2'}: SU2 mesh with markers "
+                              "is 2D only; drop Extrude Thickness (it applies to .xyz, .cgns, "
+                              ".msh and OpenFOAM)"]
+
+    alg.SetPatchNames("wall wall")
+    with OutputMessages(alg, "ErrorEvent") as messages:
+        alg.Update()
+    assert messages.lines == ["PINN Structured Mesh: patch names 'wall wall': give four names "
+                              "(bottom, right, top, left) or SIDE=NAME items (Patch Names "
+                              "(bottom right top left, or SIDE=NAME))"]

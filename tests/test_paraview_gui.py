@@ -1,0 +1,52 @@
+"""The ParaView GUI as a user drives it (Xvfb, xdotool): auxiliary lines and stopping.
+
+``tests/paraview_gui/drive.sh`` selects the boundary and the auxiliary-line source in the
+Pipeline Browser, creates the filter from the quick-launch, and later stops a long training
+with SIGUSR1. Skipped without ParaView, Xvfb, xdotool or ImageMagick
+(``bash scripts/setup_paraview.sh`` installs them).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+from conftest import ROOT
+
+pytestmark = pytest.mark.paraview
+
+TOOLS = ("paraview", "xvfb-run", "Xvfb", "xdotool", "import")
+missing = [t for t in TOOLS if shutil.which(t) is None]
+if missing or not (Path(os.environ.get("PINN_PV_VENV", ROOT / ".venv-pv")) / "bin").exists():
+    pytest.skip(f"ParaView GUI test needs {', '.join(missing) or '.venv-pv'} "
+                "(bash scripts/setup_paraview.sh)", allow_module_level=True)
+
+
+@pytest.fixture(scope="module")
+def gui(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("gui")
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "PYTHONPATH")}
+    proc = subprocess.run(["bash", str(ROOT / "tests" / "paraview_gui" / "drive.sh"), str(out)],
+                          env=env, capture_output=True, text=True, timeout=420)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    return out
+
+
+def test_both_sources_selected_give_a_grid_with_aux_lines(gui):
+    result = json.loads((gui / "aux_lines.json").read_text())
+    assert result["error"] == ""
+    assert result["inputs"] == ["fig2.vtp", "fig2_aux.vtp"]
+    assert result["points"] == 41 * 21
+    assert len(result["aux_lines"]) == 2  # fig2_aux.vtp holds two polylines
+    assert (gui / "aux_lines.png").stat().st_size > 10_000
+
+
+def test_a_long_training_is_stopped_and_paraview_goes_on(gui):
+    result = json.loads((gui / "stop.json").read_text())
+    assert result["points"] == 0
+    assert "training cancelled during adam" in result["error"]
+    assert (gui / "alive").read_text().strip() == "yes"

@@ -1,0 +1,71 @@
+"""The built wheel: the engine and its licence only, installable, and its command meshes.
+
+Builds the wheel with pip (no build isolation: setuptools from this environment), installs it
+with ``--no-deps`` into a fresh venv that borrows this environment's dependencies through a
+path entry (their ``.pth`` files, such as the editable install of this checkout, are not run),
+and meshes an example from a folder outside the checkout.
+"""
+
+from __future__ import annotations
+
+import os
+import site
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import pytest
+from conftest import EXAMPLES, ROOT
+
+pytestmark = pytest.mark.slow
+
+
+@pytest.fixture(scope="module")
+def wheel(tmp_path_factory) -> tuple[Path, str]:
+    out = tmp_path_factory.mktemp("wheel")
+    proc = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps",
+                           "--no-build-isolation", "-w", str(out), str(ROOT)],
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    return next(out.glob("pinn_mesh-*.whl")), proc.stdout + proc.stderr
+
+
+def test_wheel_holds_the_engine_and_licence_only(wheel):
+    path, log = wheel
+    assert "deprecat" not in log.lower(), log[-3000:]
+    names = zipfile.ZipFile(path).namelist()
+    assert "pinn_engine/cli.py" in names and "pinn_engine/jet_kernels.cpp" in names
+    assert any(n.endswith(".dist-info/licenses/LICENSE") for n in names)
+    assert not [n for n in names if n.startswith(("experiments/", "tests/", "benchmarks/"))]
+    metadata = zipfile.ZipFile(path).read(next(n for n in names if n.endswith("METADATA")))
+    assert b"License-Expression: MIT" in metadata
+
+
+def test_installed_wheel_meshes_an_example(wheel, tmp_path):
+    path, _ = wheel
+    env_dir = tmp_path / "env"
+    subprocess.run([sys.executable, "-m", "venv", str(env_dir)], check=True, timeout=120)
+    python = env_dir / "bin" / "python"
+    subprocess.run([str(python), "-m", "pip", "install", "--quiet", "--no-deps",
+                    "--no-index", str(path)], check=True, timeout=300)
+    fresh_site = subprocess.run([str(python), "-c", "import site; print(site.getsitepackages()"
+                                 "[0])"], capture_output=True, text=True, check=True).stdout
+    (Path(fresh_site.strip()) / "borrowed_deps.pth").write_text(
+        "\n".join(site.getsitepackages()) + "\n")
+    work = tmp_path / "work"
+    work.mkdir()
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    proc = subprocess.run([str(env_dir / "bin" / "pinn-mesh"), str(EXAMPLES / "fig2.vtp"),
+                           "--aux", str(EXAMPLES / "fig2_aux.vtp"), "-o", "grid.vts"],
+                          cwd=work, env=env, capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert (work / "grid.vts").stat().st_size > 10_000
+    where = subprocess.run([str(python), "-c", "import pinn_engine; print(pinn_engine.__file__, "
+                            "pinn_engine.__version__)"], cwd=work, env=env, capture_output=True,
+                           text=True, check=True).stdout
+    import tomllib
+
+    version = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["version"]
+    file, found = where.split()
+    assert file.startswith(str(env_dir)) and found == version  # the wheel's copy and number
