@@ -47,6 +47,8 @@ _NEURAL = '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" ' 
           'property="Method" values="0 1"/>'  # training settings: pinn and mgnet only
 _FOUR_SIDED = '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" ' \
               'property="Topology" value="0"/>'  # SPEC 7 settings: four-sided domains
+_BODY = '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" ' \
+        'property="Topology" values="1 2"/>'  # O- and C-grid settings
 _PINN_ONLY = '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" ' \
              'property="Method" value="0"/>'
 
@@ -190,18 +192,16 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
     @smproperty.doublevector(name="FarFieldRadius", label="Far Field Radius",
                              default_values=15.0)
     @smdomain.doublerange(min=1.0)
-    @smdomain.xml('<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
-                  'property="Topology" values="1 2"/>'
-                  + _doc("Far-field circle radius in chords about mid-chord."))
+    @smdomain.xml(_doc("Far-field circle radius in chords about mid-chord."))
+    @smhint.xml(_BODY)
     def P12FarFieldRadius(self, radius):
         self.SetFarFieldRadius(radius)
 
     @smproperty.doublevector(name="WallSpacing", label="Wall Spacing", default_values=0.0)
     @smdomain.doublerange(min=0.0)
-    @smdomain.xml('<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
-                  'property="Topology" values="1 2"/>'
-                  + _doc("First-layer height off the body wall, in the body's units (0: half "
-                         "the mean node spacing along the wall)."))
+    @smdomain.xml(_doc("First-layer height off the body wall, in the body's units (0: half "
+                       "the mean node spacing along the wall)."))
+    @smhint.xml(_BODY)
     def P13WallSpacing(self, h):
         self.SetWallSpacing(h)
 

@@ -5,8 +5,9 @@
 #    quick-launch (Ctrl+Space), type "PINN Structured", press Return: the filter is created
 #    on both sources and auto-applied; OUTDIR/aux_lines.json holds what its update gave and
 #    OUTDIR/aux_lines.png the screen;
-# 2. the same with a long training (Preset paper, 200000 Adam epochs): 15 s into it (the GUI
-#    is frozen, as ParaView 5.11 handles no event while a filter runs) `kill -USR1` stops it;
+# 2. the same with a long training (Preset paper, 200000 Adam epochs): once the filter's
+#    progress says it trains (the GUI is frozen then, as ParaView 5.11 handles no event while
+#    a filter runs), `kill -USR1` stops it;
 #    OUTDIR/stop.json holds the filter's result, OUTDIR/alive whether ParaView still runs
 #    afterwards and OUTDIR/stopped.png the screen with the message.
 # Needs paraview, xvfb-run, xdotool and ImageMagick's import (scripts/setup_paraview.sh).
@@ -28,7 +29,7 @@ export PINN_GUI_REPO="$REPO" PINN_GUI_READY="$OUT/ready"
 
 session() {  # session NAME LONG: start ParaView, wait until the session script is done
     export PINN_GUI_RESULT="$OUT/$1.json" PINN_GUI_LONG="$2"
-    rm -f "$PINN_GUI_RESULT" "$PINN_GUI_READY"
+    rm -f "$PINN_GUI_RESULT" "$PINN_GUI_RESULT.training" "$PINN_GUI_READY"
     paraview --dr --script="$REPO/tests/paraview_gui/session.py" >"$OUT/$1.log" 2>&1 &
     PV=$!
     for _ in $(seq 1 240); do
@@ -72,7 +73,8 @@ kill "$PV"; wait "$PV" 2>/dev/null || true
 # 2. a long training, stopped
 session stop 1
 select_both_and_apply
-sleep 15   # well into the training
+wait_for "$PINN_GUI_RESULT.training" 120 || { echo "the training did not start" >&2; kill "$PV"; exit 1; }
+sleep 3    # well into the training
 kill -USR1 "$PV"
 wait_for "$PINN_GUI_RESULT" 60 || { echo "the training did not stop" >&2; kill "$PV"; exit 1; }
 sleep 2

@@ -2,7 +2,8 @@
 
 Opens example_data/fig2.vtp and fig2_aux.vtp, turns on auto-apply and, for every PINN
 Structured Mesh filter the GUI creates, writes what its update gave (points, auxiliary lines,
-inputs, error) to the JSON file named by PINN_GUI_RESULT. PINN_GUI_LONG=1 makes new filters
+inputs, error) to the JSON file named by PINN_GUI_RESULT, and creates PINN_GUI_RESULT.training
+once its progress says it trains. PINN_GUI_LONG=1 makes new filters
 default to a long training (Preset paper, 200000 Adam epochs) for the stop test. Writes the
 file named by PINN_GUI_READY when the GUI may be driven.
 """
@@ -37,10 +38,19 @@ def write(proxy, alg):
     os.replace(RESULT + ".tmp", RESULT)
 
 
+def training(alg):
+    """Marks (file PINN_GUI_RESULT.training) that the filter's training is under way."""
+    marker = RESULT + ".training"
+    if alg.GetProgressText().startswith("PINN Structured Mesh: training") and not \
+            os.path.exists(marker):
+        open(marker, "w").close()
+
+
 def on_register(obj, event):
     for key, proxy in simple.GetSources().items():
         if proxy.GetXMLName() == "PINNStructuredMesh" and key not in watched:
             alg = proxy.GetClientSideObject()
+            alg.AddObserver("ProgressEvent", lambda o, e, a=alg: training(a))
             watched[key] = alg.AddObserver("EndEvent",
                                            lambda o, e, p=proxy, a=alg: write(p, a))
 
