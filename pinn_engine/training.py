@@ -309,6 +309,18 @@ def _adam(net, problem: _Problem, s: Settings, history: _History, lambda1: float
     return lambda1, recoveries
 
 
+def _one_blas_thread():
+    """SciPy's L-BFGS-B on one BLAS thread. Its vectors (a few thousand numbers, 50 pairs)
+    are far too small for threads: OpenBLAS's spinning workers made each iteration cost
+    about 20 ms instead of 1.4 ms (measured on this 2-core machine with other work on it),
+    and competed with the loss evaluations for the cores."""
+    try:
+        from threadpoolctl import threadpool_limits  # installed with scikit-learn
+    except ImportError:
+        return contextlib.nullcontext()
+    return threadpool_limits(1, user_api="blas")
+
+
 def _lbfgs(net, problem: _Problem, s: Settings, history: _History, lambda1: float,
            progress, guard: _Guard | None = None) -> tuple[bool, int]:
     """Full-batch L-BFGS (SciPy's L-BFGS-B without bounds, as the paper's TensorFlow code
@@ -356,9 +368,11 @@ def _lbfgs(net, problem: _Problem, s: Settings, history: _History, lambda1: floa
 
     before = history.values["total"][-1] if history.values else math.inf
     theta = torch.cat([p.detach().flatten() for p in params]).double().cpu().numpy()
-    result = minimize(loss_and_grad, theta, jac=True, method="L-BFGS-B", callback=each_iteration,
-                      options={"maxiter": s.lbfgs_iterations, "maxcor": 50, "ftol": 1e-15,
-                               "gtol": 1e-12, "maxfun": int(s.lbfgs_iterations * 1.25) + 1})
+    with _one_blas_thread():
+        result = minimize(loss_and_grad, theta, jac=True, method="L-BFGS-B",
+                          callback=each_iteration,
+                          options={"maxiter": s.lbfgs_iterations, "maxcor": 50, "ftol": 1e-15,
+                                   "gtol": 1e-12, "maxfun": int(s.lbfgs_iterations * 1.25) + 1})
     load(result.x)
     terms = problem.terms(*batch)
     final = total_loss(terms["eqns"], terms["bcs"], terms["data"], lambda1, s.lambda2).item()
