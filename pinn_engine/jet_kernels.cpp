@@ -100,7 +100,7 @@ inline void derivatives(T z, T p, T q, T &s, T &d1, T &d2, T &d3) {
 template <typename T, int NP>
 void matmul(idx rows, idx n, const T *__restrict a, const T *__restrict w, T *__restrict c) {
     using V = typename Vec<T>::type;
-    constexpr idx NV = NP / Vec<T>::L, RB = NV >= 16 ? 1 : NV >= 8 ? 2 : NV >= 4 ? 4 : 8;
+    constexpr idx NV = NP / Vec<T>::L, RB = NV >= 16 ? 1 : NV >= 8 ? 3 : NV >= 4 ? 6 : 12;
     idx r = 0;
     for (; r + RB <= rows; r += RB) {
         V acc[RB][NV];
@@ -132,7 +132,7 @@ void matmul(idx rows, idx n, const T *__restrict a, const T *__restrict w, T *__
 template <typename T, int NP>
 void outer(idx rows, idx n, const T *__restrict a, const T *__restrict d, T *__restrict g) {
     using V = typename Vec<T>::type;
-    constexpr idx NV = NP / Vec<T>::L, IB = NV >= 16 ? 1 : NV >= 8 ? 2 : NV >= 4 ? 4 : 8;
+    constexpr idx NV = NP / Vec<T>::L, IB = NV >= 16 ? 1 : NV >= 8 ? 3 : NV >= 4 ? 6 : 12;
     idx i = 0;
     for (; i + IB <= n; i += IB) {
         V acc[IB][NV];
@@ -445,6 +445,7 @@ void backward_block(const Shape &s, const Layout &lay, const Params<T> &p, Grads
     T *gw = sc.v.data();
     // output layer
     const T *HL = ws + lay.H + (s.L - 1) * lay.R + off;
+    T w_out[NP] = {};  // this block's share of the output weights' gradient
     for (idx r = 0; r < rows; ++r) {
         T gr;
         bool value = true;
@@ -457,10 +458,11 @@ void backward_block(const Shape &s, const Layout &lay, const Params<T> &p, Grads
         }
         if (value) g.b_out += gr;
         for (idx j = 0; j < np; ++j) {
-            g.w_out[j] += HL[r * np + j] * gr;
+            w_out[j] += HL[r * np + j] * gr;
             dh[r * np + j] = gr * p.w_out[j];
         }
     }
+    for (idx j = 0; j < np; ++j) g.w_out[j] += w_out[j];
     if (s.gated) std::fill(gu, gu + rows * np, T(0)), std::fill(gw, gw + rows * np, T(0));
     const T *Wd = ws + lay.W + off;
     auto bias_grad = [&](std::vector<T> &db, const T *d) {
