@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <thread>
 #include <vector>
 
 namespace {
@@ -290,6 +291,7 @@ void gate_jet_back(idx P, idx np, const T *g, const T *a, const T *w, T *c, T *g
 struct Shape {
     idx K, L, n, B, E;
     bool gated;
+    int threads;  // the sub-networks run on up to this many threads
 };
 
 // Workspace of one sub-network, in elements of T: per state l < L the layer output H_l
@@ -526,12 +528,25 @@ void backward_block(const Shape &s, const Layout &lay, const Params<T> &p, Grads
     }
 }
 
+// Runs f(k) for the K sub-networks, on up to ``threads`` threads (they are independent).
+template <typename F>
+void each_network(idx K, int threads, const F &f) {
+    if (threads < 2 || K < 2) {
+        for (idx k = 0; k < K; ++k) f(k);
+        return;
+    }
+    std::vector<std::thread> helpers;
+    for (idx k = 1; k < K; ++k) helpers.emplace_back(f, k);
+    f(0);
+    for (auto &t : helpers) t.join();
+}
+
 template <typename T, int NP, int A>
 void forward_net(const Shape &s, const T *const *param, const T *x, const T *ex, T *ws,
                  T *jet_out, T *val_out) {
     const Layout lay(s, NP);
-    Scratch<T> sc(NP);
-    for (idx k = 0; k < s.K; ++k) {
+    each_network(s.K, s.threads, [&](idx k) {
+        Scratch<T> sc(NP);
         const Params<T> p = load(s, NP, param, k);
         T *w = ws + k * lay.size;
         for (idx p0 = 0; p0 < s.B; p0 += POINTS)
@@ -540,16 +555,16 @@ void forward_net(const Shape &s, const T *const *param, const T *x, const T *ex,
         for (idx p0 = 0; p0 < s.E; p0 += ROWS)
             forward_block<T, NP, A>(s, lay, p, sc, k, false, p0, std::min(ROWS, s.E - p0), x, ex,
                                     w, jet_out, val_out);
-    }
+    });
 }
 
 template <typename T, int NP>
 void backward_net(const Shape &s, const T *const *param, const T *x, const T *ex,
                   const T *ws, const T *g_jet, const T *g_val, T *const *grad) {
     const Layout lay(s, NP);
-    Scratch<T> sc(NP);
     const idx n = s.n, K = s.K;
-    for (idx k = 0; k < K; ++k) {
+    each_network(K, s.threads, [&](idx k) {
+        Scratch<T> sc(NP);
         const Params<T> p = load(s, NP, param, k);
         Grads<T> g(s, NP);
         const T *w = ws + k * lay.size;
@@ -578,7 +593,7 @@ void backward_net(const Shape &s, const T *const *param, const T *x, const T *ex
         }
         for (idx j = 0; j < n; ++j) grad[at][k * n + j] = g.w_out[j];
         grad[at + 1][k] = g.b_out;
-    }
+    });
 }
 
 // Padded width for n neurons: the smallest of 8, 16, 32, 64 that holds them (0: too many).
@@ -632,38 +647,40 @@ extern "C" {
 idx net_workspace(idx L, idx n, idx B, idx E, int gated) {
     const int np = padded(n);
     if (np == 0) return -1;
-    return Layout(Shape{1, L, n, B, E, gated != 0}, np).size;
+    return Layout(Shape{1, L, n, B, E, gated != 0, 1}, np).size;
 }
 
 // Jet (6, B, K) at the B points x (B, 2) and values (E, K) at the E points ex (E, 2);
 // ws holds K * net_workspace(...) elements for backward. Returns 0 on success.
-int net_forward_f32(int act, int gated, idx K, idx L, idx n, idx B, idx E,
+int net_forward_f32(int act, int gated, int threads, idx K, idx L, idx n, idx B, idx E,
                     const float *const *param, const float *x, const float *ex, float *ws,
                     float *jet_out, float *val_out) {
-    return forward_any<float>(act, Shape{K, L, n, B, E, gated != 0}, param, x, ex, ws, jet_out,
-                              val_out);
+    return forward_any<float>(act, Shape{K, L, n, B, E, gated != 0, threads}, param, x, ex, ws,
+                              jet_out, val_out);
 }
 
-int net_forward_f64(int act, int gated, idx K, idx L, idx n, idx B, idx E,
+int net_forward_f64(int act, int gated, int threads, idx K, idx L, idx n, idx B, idx E,
                     const double *const *param, const double *x, const double *ex, double *ws,
                     double *jet_out, double *val_out) {
-    return forward_any<double>(act, Shape{K, L, n, B, E, gated != 0}, param, x, ex, ws,
+    return forward_any<double>(act, Shape{K, L, n, B, E, gated != 0, threads}, param, x, ex, ws,
                                jet_out, val_out);
 }
 
 // Gradients (same layouts as the parameters) from dL/djet (6, B, K) and dL/dvalues (E, K);
 // a null dL/djet or dL/dvalues stands for zeros (those points are skipped).
-int net_backward_f32(int gated, idx K, idx L, idx n, idx B, idx E, const float *const *param,
-                     const float *x, const float *ex, const float *ws, const float *g_jet,
-                     const float *g_val, float *const *grad) {
-    return backward_any<float>(Shape{K, L, n, B, E, gated != 0}, param, x, ex, ws, g_jet, g_val,
-                               grad);
+int net_backward_f32(int gated, int threads, idx K, idx L, idx n, idx B, idx E,
+                     const float *const *param, const float *x, const float *ex,
+                     const float *ws, const float *g_jet, const float *g_val,
+                     float *const *grad) {
+    return backward_any<float>(Shape{K, L, n, B, E, gated != 0, threads}, param, x, ex, ws,
+                               g_jet, g_val, grad);
 }
 
-int net_backward_f64(int gated, idx K, idx L, idx n, idx B, idx E, const double *const *param,
-                     const double *x, const double *ex, const double *ws, const double *g_jet,
-                     const double *g_val, double *const *grad) {
-    return backward_any<double>(Shape{K, L, n, B, E, gated != 0}, param, x, ex, ws, g_jet,
+int net_backward_f64(int gated, int threads, idx K, idx L, idx n, idx B, idx E,
+                     const double *const *param, const double *x, const double *ex,
+                     const double *ws, const double *g_jet, const double *g_val,
+                     double *const *grad) {
+    return backward_any<double>(Shape{K, L, n, B, E, gated != 0, threads}, param, x, ex, ws, g_jet,
                                 g_val, grad);
 }
 

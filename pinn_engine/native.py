@@ -24,7 +24,8 @@ from .fileio import atomic_path
 
 log = logging.getLogger(__name__)
 SOURCE = Path(__file__).with_name("jet_kernels.cpp")
-FLAGS = ["-O3", "-march=native", "-fno-trapping-math", "-shared", "-fPIC", "-std=c++17"]
+FLAGS = ["-O3", "-march=native", "-fno-trapping-math", "-shared", "-fPIC", "-std=c++17",
+         "-pthread"]
 
 
 def _cache_dir() -> Path:
@@ -60,9 +61,16 @@ def _bind(lib: ctypes.CDLL) -> ctypes.CDLL:
     lib.net_workspace.argtypes, lib.net_workspace.restype = [n, n, n, n, i], n
     for suffix in ("f32", "f64"):
         fwd, bwd = getattr(lib, f"net_forward_{suffix}"), getattr(lib, f"net_backward_{suffix}")
-        fwd.argtypes, fwd.restype = [i, i] + [n] * 5 + [p] * 6, i
-        bwd.argtypes, bwd.restype = [i] + [n] * 5 + [p] * 7, i
+        fwd.argtypes, fwd.restype = [i, i, i] + [n] * 5 + [p] * 6, i
+        bwd.argtypes, bwd.restype = [i, i] + [n] * 5 + [p] * 7, i
     return lib
+
+
+def threads() -> int:
+    """Threads for the two sub-networks' jets: ``PINN_MESH_JET_THREADS``, default 1 (two
+    measured no faster on the shared 2-core machine this was written on, with other work on
+    both cores)."""
+    return max(1, int(os.environ.get("PINN_MESH_JET_THREADS") or 1))
 
 
 @functools.cache

@@ -180,18 +180,18 @@ class _Native:
     def forward(self) -> tuple[torch.Tensor, torch.Tensor]:
         k, _, _, b, e = self.dims
         jet, values = self.x.new_empty(6, b, k), self.x.new_empty(e, k)
-        rc = self.fwd(self.code, self.gated, *self.dims, self.pointers(self.params),
-                      self.x.data_ptr(), self.extra.data_ptr(), self.ws.data_ptr(),
-                      jet.data_ptr(), values.data_ptr())
+        rc = self.fwd(self.code, self.gated, native.threads(), *self.dims,
+                      self.pointers(self.params), self.x.data_ptr(), self.extra.data_ptr(),
+                      self.ws.data_ptr(), jet.data_ptr(), values.data_ptr())
         assert rc == 0, "jet kernels: unsupported width"
         return jet, values
 
     def backward(self, g_jet: torch.Tensor, g_values: torch.Tensor) -> list[torch.Tensor]:
         grads = [torch.empty_like(p) for p in self.params]
         g_jet, g_values = (None if g is None else g.contiguous() for g in (g_jet, g_values))
-        rc = self.bwd(self.gated, *self.dims, self.pointers(self.params), self.x.data_ptr(),
-                      self.extra.data_ptr(), self.ws.data_ptr(), _ptr(g_jet), _ptr(g_values),
-                      self.pointers(grads))
+        rc = self.bwd(self.gated, native.threads(), *self.dims, self.pointers(self.params),
+                      self.x.data_ptr(), self.extra.data_ptr(), self.ws.data_ptr(), _ptr(g_jet),
+                      _ptr(g_values), self.pointers(grads))
         assert rc == 0, "jet kernels: unsupported width"
         return grads
 
