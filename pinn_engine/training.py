@@ -192,9 +192,11 @@ class _History:
 
     def add(self, terms: dict[str, torch.Tensor], lambda1: float, lambda2: float,
             total: torch.Tensor) -> None:
-        row = {k: v.item() for k, v in terms.items()}
+        with torch.no_grad():  # one read of all the terms, not one a term
+            values = torch.stack([*terms.values(), total]).tolist()
+        row = dict(zip(terms, values))
         row.update(lambda1=lambda1, weighted_bcs=lambda1 * row["bcs"],
-                   weighted_data=lambda2 * row["data"], total=total.item())
+                   weighted_data=lambda2 * row["data"], total=values[-1])
         for k, v in row.items():
             self.values.setdefault(k, []).append(v)
 
