@@ -370,12 +370,10 @@ struct Scratch {  // one block's temporaries (ROWS rows of np)
 // points [p0, p0 + P) (jet = false).
 template <typename T, int NP, int A>
 void forward_block(const Shape &s, const Layout &lay, const Params<T> &p, Scratch<T> &sc,
-                   idx k, bool jet, idx p0, idx P, const T *x, const T *ex, T *ws, T *jet_out,
-                   T *val_out) {
+                   idx k, bool jet, idx p0, idx P, const T *x, const T *ex, T *ws, idx off,
+                   idx offd, T *jet_out, T *val_out) {
     constexpr idx np = NP;
     const idx rows = jet ? 6 * P : P;
-    // row offsets of this block in R-row arrays and in D arrays
-    const idx off = (jet ? 6 * p0 : 6 * s.B + p0) * np, offd = (jet ? 3 * p0 : 3 * s.B + p0) * np;
     T *buf = sc.buf.data(), *u = sc.u.data(), *v = sc.v.data(), *zin = sc.zin.data();
     const T *pts = jet ? x + 2 * p0 : ex + 2 * p0;
     auto input = [&](const std::vector<T> &w, const std::vector<T> &b, T *out, T *d) {
@@ -414,7 +412,8 @@ void forward_block(const Shape &s, const Layout &lay, const Params<T> &p, Scratc
         }
     }
     const T *H = ws + lay.H + (s.L - 1) * lay.R + off;
-    for (idx r = 0; r < rows; ++r) {
+    T *out = jet ? jet_out : val_out;  // null: a recomputation for backward
+    for (idx r = 0; out && r < rows; ++r) {
         T acc = 0;
         for (idx j = 0; j < s.n; ++j) acc += H[r * np + j] * p.w_out[j];
         if (jet) {
@@ -439,10 +438,9 @@ struct Grads {  // one sub-network's gradients, padded like Params
 template <typename T, int NP>
 void backward_block(const Shape &s, const Layout &lay, const Params<T> &p, Grads<T> &g,
                     Scratch<T> &sc, idx k, bool jet, idx p0, idx P, const T *x, const T *ex,
-                    const T *ws, const T *g_jet, const T *g_val) {
+                    const T *ws, idx off, idx offd, const T *g_jet, const T *g_val) {
     constexpr idx np = NP;
     const idx rows = jet ? 6 * P : P;
-    const idx off = (jet ? 6 * p0 : 6 * s.B + p0) * np, offd = (jet ? 3 * p0 : 3 * s.B + p0) * np;
     T *dh = sc.dh.data(), *c = sc.c.data(), *dz = sc.dz.data(), *gu = sc.u.data();
     T *gw = sc.v.data();
     // output layer
@@ -541,39 +539,66 @@ void each_network(idx K, int threads, const F &f) {
     for (auto &t : helpers) t.join();
 }
 
+// Row offsets of a block in the workspace's R-row and D arrays.
+inline idx offset(const Shape &s, bool jet, idx p0, idx np) {
+    return (jet ? 6 * p0 : 6 * s.B + p0) * np;
+}
+inline idx offset_d(const Shape &s, bool jet, idx p0, idx np) {
+    return (jet ? 3 * p0 : 3 * s.B + p0) * np;
+}
+
+// Layout of one block's own workspace: without a workspace (ws null), forward keeps
+// nothing and backward recomputes each block's forward in cache first (for large batches
+// the workspace's memory traffic costs more than the recomputation; networks.py).
+template <typename T>
+Layout block_layout(const Shape &s, idx np) {
+    return Layout(Shape{1, s.L, s.n, 0, ROWS, s.gated, 1}, np);
+}
+
 template <typename T, int NP, int A>
 void forward_net(const Shape &s, const T *const *param, const T *x, const T *ex, T *ws,
                  T *jet_out, T *val_out) {
-    const Layout lay(s, NP);
+    const Layout lay = ws ? Layout(s, NP) : block_layout<T>(s, NP);
     each_network(s.K, s.threads, [&](idx k) {
         Scratch<T> sc(NP);
         const Params<T> p = load(s, NP, param, k);
-        T *w = ws + k * lay.size;
-        for (idx p0 = 0; p0 < s.B; p0 += POINTS)
-            forward_block<T, NP, A>(s, lay, p, sc, k, true, p0, std::min(POINTS, s.B - p0), x, ex,
-                                    w, jet_out, val_out);
-        for (idx p0 = 0; p0 < s.E; p0 += ROWS)
-            forward_block<T, NP, A>(s, lay, p, sc, k, false, p0, std::min(ROWS, s.E - p0), x, ex,
-                                    w, jet_out, val_out);
+        std::vector<T> own(ws ? 0 : lay.size);
+        T *w = ws ? ws + k * lay.size : own.data();
+        for (int jet = 1; jet >= 0; --jet)
+            for (idx p0 = 0, end = jet ? s.B : s.E; p0 < end; p0 += jet ? POINTS : ROWS)
+                forward_block<T, NP, A>(s, lay, p, sc, k, jet, p0,
+                                        std::min(jet ? POINTS : ROWS, end - p0), x, ex, w,
+                                        ws ? offset(s, jet, p0, NP) : 0,
+                                        ws ? offset_d(s, jet, p0, NP) : 0, jet_out, val_out);
     });
 }
 
-template <typename T, int NP>
+template <typename T, int NP, int A>
 void backward_net(const Shape &s, const T *const *param, const T *x, const T *ex,
                   const T *ws, const T *g_jet, const T *g_val, T *const *grad) {
-    const Layout lay(s, NP);
+    const Layout lay = ws ? Layout(s, NP) : block_layout<T>(s, NP);
     const idx n = s.n, K = s.K;
     each_network(K, s.threads, [&](idx k) {
         Scratch<T> sc(NP);
         const Params<T> p = load(s, NP, param, k);
         Grads<T> g(s, NP);
-        const T *w = ws + k * lay.size;
-        for (idx p0 = 0; g_jet && p0 < s.B; p0 += POINTS)  // null: no gradient reaches them
-            backward_block<T, NP>(s, lay, p, g, sc, k, true, p0, std::min(POINTS, s.B - p0), x, ex,
-                                  w, g_jet, g_val);
-        for (idx p0 = 0; g_val && p0 < s.E; p0 += ROWS)
-            backward_block<T, NP>(s, lay, p, g, sc, k, false, p0, std::min(ROWS, s.E - p0), x, ex,
-                                  w, g_jet, g_val);
+        std::vector<T> own(ws ? 0 : lay.size);
+        for (int jet = 1; jet >= 0; --jet) {
+            if (!(jet ? g_jet : g_val)) continue;  // null: no gradient reaches these points
+            for (idx p0 = 0, end = jet ? s.B : s.E; p0 < end; p0 += jet ? POINTS : ROWS) {
+                const idx P = std::min(jet ? POINTS : ROWS, end - p0);
+                if (ws) {
+                    backward_block<T, NP>(s, lay, p, g, sc, k, jet, p0, P, x, ex,
+                                          ws + k * lay.size, offset(s, jet, p0, NP),
+                                          offset_d(s, jet, p0, NP), g_jet, g_val);
+                } else {
+                    forward_block<T, NP, A>(s, lay, p, sc, k, jet, p0, P, x, ex, own.data(), 0,
+                                            0, nullptr, nullptr);
+                    backward_block<T, NP>(s, lay, p, g, sc, k, jet, p0, P, x, ex, own.data(),
+                                          0, 0, g_jet, g_val);
+                }
+            }
+        }
         auto put = [&](T *dst, const std::vector<T> &src, idx rows) {  // padded -> (K, rows, n)
             for (idx i = 0; i < rows; ++i)
                 for (idx j = 0; j < n; ++j) dst[(k * rows + i) * n + j] = src[i * NP + j];
@@ -626,14 +651,26 @@ int forward_any(int act, const Shape &s, const T *const *param, const T *x, cons
     return 1;
 }
 
+template <typename T, int NP>
+void backward_act(int act, const Shape &s, const T *const *param, const T *x, const T *ex,
+                  const T *ws, const T *g_jet, const T *g_val, T *const *grad) {
+    switch (act) {
+        case TANH: return backward_net<T, NP, TANH>(s, param, x, ex, ws, g_jet, g_val, grad);
+        case SIN: return backward_net<T, NP, SIN>(s, param, x, ex, ws, g_jet, g_val, grad);
+        case SIGMOID:
+            return backward_net<T, NP, SIGMOID>(s, param, x, ex, ws, g_jet, g_val, grad);
+        default: return backward_net<T, NP, SWISH>(s, param, x, ex, ws, g_jet, g_val, grad);
+    }
+}
+
 template <typename T>
-int backward_any(const Shape &s, const T *const *param, const T *x, const T *ex, const T *ws,
-                 const T *g_jet, const T *g_val, T *const *grad) {
+int backward_any(int act, const Shape &s, const T *const *param, const T *x, const T *ex,
+                 const T *ws, const T *g_jet, const T *g_val, T *const *grad) {
     switch (padded(s.n)) {
-        case 8: backward_net<T, 8>(s, param, x, ex, ws, g_jet, g_val, grad); return 0;
-        case 16: backward_net<T, 16>(s, param, x, ex, ws, g_jet, g_val, grad); return 0;
-        case 32: backward_net<T, 32>(s, param, x, ex, ws, g_jet, g_val, grad); return 0;
-        case 64: backward_net<T, 64>(s, param, x, ex, ws, g_jet, g_val, grad); return 0;
+        case 8: backward_act<T, 8>(act, s, param, x, ex, ws, g_jet, g_val, grad); return 0;
+        case 16: backward_act<T, 16>(act, s, param, x, ex, ws, g_jet, g_val, grad); return 0;
+        case 32: backward_act<T, 32>(act, s, param, x, ex, ws, g_jet, g_val, grad); return 0;
+        case 64: backward_act<T, 64>(act, s, param, x, ex, ws, g_jet, g_val, grad); return 0;
     }
     return 1;
 }
@@ -651,7 +688,8 @@ idx net_workspace(idx L, idx n, idx B, idx E, int gated) {
 }
 
 // Jet (6, B, K) at the B points x (B, 2) and values (E, K) at the E points ex (E, 2);
-// ws holds K * net_workspace(...) elements for backward. Returns 0 on success.
+// ws holds K * net_workspace(...) elements for backward, or is null (backward then
+// recomputes). Returns 0 on success.
 int net_forward_f32(int act, int gated, int threads, idx K, idx L, idx n, idx B, idx E,
                     const float *const *param, const float *x, const float *ex, float *ws,
                     float *jet_out, float *val_out) {
@@ -668,20 +706,20 @@ int net_forward_f64(int act, int gated, int threads, idx K, idx L, idx n, idx B,
 
 // Gradients (same layouts as the parameters) from dL/djet (6, B, K) and dL/dvalues (E, K);
 // a null dL/djet or dL/dvalues stands for zeros (those points are skipped).
-int net_backward_f32(int gated, int threads, idx K, idx L, idx n, idx B, idx E,
+int net_backward_f32(int act, int gated, int threads, idx K, idx L, idx n, idx B, idx E,
                      const float *const *param, const float *x, const float *ex,
                      const float *ws, const float *g_jet, const float *g_val,
                      float *const *grad) {
-    return backward_any<float>(Shape{K, L, n, B, E, gated != 0, threads}, param, x, ex, ws,
+    return backward_any<float>(act, Shape{K, L, n, B, E, gated != 0, threads}, param, x, ex, ws,
                                g_jet, g_val, grad);
 }
 
-int net_backward_f64(int gated, int threads, idx K, idx L, idx n, idx B, idx E,
+int net_backward_f64(int act, int gated, int threads, idx K, idx L, idx n, idx B, idx E,
                      const double *const *param, const double *x, const double *ex,
                      const double *ws, const double *g_jet, const double *g_val,
                      double *const *grad) {
-    return backward_any<double>(Shape{K, L, n, B, E, gated != 0, threads}, param, x, ex, ws, g_jet,
-                                g_val, grad);
+    return backward_any<double>(act, Shape{K, L, n, B, E, gated != 0, threads}, param, x, ex,
+                                ws, g_jet, g_val, grad);
 }
 
 }  // extern "C"

@@ -62,7 +62,7 @@ def _bind(lib: ctypes.CDLL) -> ctypes.CDLL:
     for suffix in ("f32", "f64"):
         fwd, bwd = getattr(lib, f"net_forward_{suffix}"), getattr(lib, f"net_backward_{suffix}")
         fwd.argtypes, fwd.restype = [i, i, i] + [n] * 5 + [p] * 6, i
-        bwd.argtypes, bwd.restype = [i, i] + [n] * 5 + [p] * 7, i
+        bwd.argtypes, bwd.restype = [i, i, i] + [n] * 5 + [p] * 7, i
     return lib
 
 

@@ -8,7 +8,7 @@ import pytest
 import torch
 from conftest import needs_compiler
 
-from pinn_engine import native
+from pinn_engine import native, networks
 from pinn_engine.networks import ACTIVATIONS, CoordinateNet
 
 
@@ -108,4 +108,15 @@ def test_two_threads_give_the_same_numbers(monkeypatch):
     one = _run(net, x, extra)
     monkeypatch.setenv("PINN_MESH_JET_THREADS", "2")
     for a, b in zip(_run(net, x, extra), one):
+        torch.testing.assert_close(a, b, rtol=0, atol=0)
+
+
+@needs_compiler
+def test_backward_without_a_workspace_recomputes_the_same_numbers(monkeypatch):
+    torch.manual_seed(6)
+    net = CoordinateNet("shortcut", 4, 30).float()
+    x, extra = torch.rand(53, 2), torch.rand(71, 2)
+    stored = _run(net, x, extra)
+    monkeypatch.setattr(networks, "WORKSPACE_BYTES", 0)
+    for a, b in zip(_run(net, x, extra), stored):
         torch.testing.assert_close(a, b, rtol=0, atol=0)
