@@ -41,6 +41,9 @@ def job(kind: str, shape: str, threads: int) -> dict:
     torch.optim.Adam([torch.zeros(1, requires_grad=True)])  # its first use imports more
     boundary = load_boundary(HARD / f"{shape}.vtp")
     aux = load_aux([HARD / f"{shape}_aux.vtp"], boundary)
+    import pinn_engine
+
+    assert Path(pinn_engine.__file__).resolve().parents[1] == ROOT, pinn_engine.__file__
     wall, cpu = time.perf_counter(), time.process_time()
     if kind == "plain":
         result = train_plain(boundary, aux, threads=threads)
@@ -64,13 +67,15 @@ def main() -> None:
     if args.job:
         print(json.dumps(job(args.job[0], args.job[1], args.plain_threads)))
         return
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(  # this checkout's engine, always
+        [str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])}
     load_before = os.getloadavg()
     runs: dict[str, list[dict]] = {"plain": [], "paper": []}
     for _ in range(args.pairs):
         for kind in ("plain", "paper"):
             out = subprocess.run([sys.executable, __file__, "--job", kind, args.shape,
                                   "--plain-threads", str(args.plain_threads)], check=True,
-                                 capture_output=True, text=True, cwd=ROOT)
+                                 capture_output=True, text=True, cwd=ROOT, env=env)
             run = json.loads(out.stdout.strip().splitlines()[-1])
             runs[kind].append(run)
             print(f"{kind:5s} wall {run['wall_s']:6.1f} s  cpu {run['cpu_s']:6.1f} s  "
