@@ -136,15 +136,17 @@ def train_plain(
     adam_epochs: int = 5000,
     lbfgs_iterations: int = 500,
     seed: int = 0,
+    threads: int = 1,
 ) -> dict:
-    """Train the paper recipe plainly on ``boundary`` (working frame) and its aux lines.
+    """Train the paper recipe plainly on ``boundary`` (working frame) and its aux lines, on
+    ``threads`` torch threads.
 
     Returns {"seconds": training wall time, "final_loss": loss on the L-BFGS batch at the end,
     "lambda1": final boundary weight, "model": the float64 PlainPINN,
     "grid": (ni, nj) -> (nj, ni, 2) grid in user coordinates}.
     """
-    threads = torch.get_num_threads()
-    torch.set_num_threads(1)
+    before = torch.get_num_threads()
+    torch.set_num_threads(threads)
     try:
         start = time.perf_counter()
         torch.manual_seed(seed)
@@ -223,7 +225,7 @@ def train_plain(
             loss = total()
         seconds = time.perf_counter() - start
     finally:
-        torch.set_num_threads(threads)
+        torch.set_num_threads(before)
     return {
         "seconds": seconds,
         "final_loss": float(loss.item()),

@@ -1,4 +1,4 @@
-"""The fused jet-layer kernels of ``jet_kernels.cpp``, compiled once with the system compiler.
+"""The networks' jet in C++ (``jet_kernels.cpp``), compiled once with the system compiler.
 
 The library is built on first use into a per-user cache (``$PINN_MESH_CACHE``, else
 ``$XDG_CACHE_HOME/pinn-mesh`` or ``~/.cache/pinn-mesh``), keyed by the source, the compiler
@@ -24,7 +24,8 @@ from .fileio import atomic_path
 
 log = logging.getLogger(__name__)
 SOURCE = Path(__file__).with_name("jet_kernels.cpp")
-FLAGS = ["-O3", "-march=native", "-shared", "-fPIC", "-std=c++17"]
+FLAGS = ["-O3", "-march=native", "-fno-trapping-math", "-shared", "-fPIC", "-std=c++17",
+         "-pthread"]
 
 
 def _cache_dir() -> Path:
@@ -56,12 +57,20 @@ def _build(compiler: str, cache: Path) -> Path:
 
 
 def _bind(lib: ctypes.CDLL) -> ctypes.CDLL:
-    p, n = ctypes.c_void_p, ctypes.c_ssize_t
+    p, n, i = ctypes.c_void_p, ctypes.c_ssize_t, ctypes.c_int
+    lib.net_workspace.argtypes, lib.net_workspace.restype = [n, n, n, n, i], n
     for suffix in ("f32", "f64"):
-        fwd, bwd = getattr(lib, f"jet_forward_{suffix}"), getattr(lib, f"jet_backward_{suffix}")
-        fwd.argtypes, fwd.restype = [ctypes.c_int, n, n, n] + [p] * 8, None
-        bwd.argtypes, bwd.restype = [n, n, n] + [p] * 8, None
+        fwd, bwd = getattr(lib, f"net_forward_{suffix}"), getattr(lib, f"net_backward_{suffix}")
+        fwd.argtypes, fwd.restype = [i, i, i] + [n] * 5 + [p] * 6, i
+        bwd.argtypes, bwd.restype = [i, i, i] + [n] * 5 + [p] * 7, i
     return lib
+
+
+def threads() -> int:
+    """Threads for the two sub-networks' jets: ``PINN_MESH_JET_THREADS``, default 1 (two
+    measured no faster on the shared 2-core machine this was written on, with other work on
+    both cores)."""
+    return max(1, int(os.environ.get("PINN_MESH_JET_THREADS") or 1))
 
 
 @functools.cache

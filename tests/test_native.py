@@ -8,7 +8,7 @@ import pytest
 import torch
 from conftest import needs_compiler
 
-from pinn_engine import native
+from pinn_engine import native, networks
 from pinn_engine.networks import ACTIVATIONS, CoordinateNet
 
 
@@ -98,3 +98,25 @@ def test_a_failing_compiler_falls_back_to_torch_with_a_warning(fresh_kernels, mo
 def test_native_kernels_can_be_switched_off(fresh_kernels, monkeypatch):
     monkeypatch.setenv("PINN_MESH_NATIVE", "0")
     assert native.kernels() is None
+
+
+@needs_compiler
+def test_two_threads_give_the_same_numbers(monkeypatch):
+    torch.manual_seed(5)
+    net = CoordinateNet("shortcut", 4, 30).float()
+    x, extra = torch.rand(37, 2), torch.rand(23, 2)
+    one = _run(net, x, extra)
+    monkeypatch.setenv("PINN_MESH_JET_THREADS", "2")
+    for a, b in zip(_run(net, x, extra), one):
+        torch.testing.assert_close(a, b, rtol=0, atol=0)
+
+
+@needs_compiler
+def test_backward_without_a_workspace_recomputes_the_same_numbers(monkeypatch):
+    torch.manual_seed(6)
+    net = CoordinateNet("shortcut", 4, 30).float()
+    x, extra = torch.rand(53, 2), torch.rand(71, 2)
+    stored = _run(net, x, extra)
+    monkeypatch.setattr(networks, "WORKSPACE_BYTES", 0)
+    for a, b in zip(_run(net, x, extra), stored):
+        torch.testing.assert_close(a, b, rtol=0, atol=0)
