@@ -19,9 +19,6 @@ import subprocess
 import tempfile
 from pathlib import Path
 
-from .errors import InputError
-from .fileio import atomic_path
-
 log = logging.getLogger(__name__)
 SOURCE = Path(__file__).with_name("jet_kernels.cpp")
 FLAGS = ["-O3", "-march=native", "-fno-trapping-math", "-shared", "-fPIC", "-std=c++17",
@@ -50,9 +47,16 @@ def _build(compiler: str, cache: Path) -> Path:
     target = cache / f"jet_kernels-{key}.so"
     if target.exists():
         return target
-    with atomic_path(target, suffix=".so") as tmp:  # complete or absent, even if concurrent
-        subprocess.run([compiler, *FLAGS, "-o", str(tmp), str(SOURCE)], check=True,
+    cache.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(suffix=".so.part", dir=cache)  # complete or absent, even if
+    os.close(fd)                                               # two processes build at once
+    try:
+        subprocess.run([compiler, *FLAGS, "-o", tmp, str(SOURCE)], check=True,
                        capture_output=True, text=True, timeout=120)
+        os.replace(tmp, target)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
     return target
 
 
@@ -85,7 +89,7 @@ def kernels() -> ctypes.CDLL | None:
     try:
         try:
             path = _build(compiler, _cache_dir())
-        except (OSError, InputError):  # e.g. a read-only home: use the temporary directory
+        except OSError:  # e.g. a read-only home: use the temporary directory
             path = _build(compiler, Path(tempfile.gettempdir()) / f"pinn-mesh-{os.getuid()}")
         return _bind(ctypes.CDLL(str(path)))
     except (OSError, subprocess.SubprocessError, AttributeError) as exc:
