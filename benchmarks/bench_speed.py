@@ -70,7 +70,7 @@ def job_train(case: str, path: str, epochs: int, lbfgs: int) -> dict:
     start = time.perf_counter()
     mesher.fit(boundary, aux, progress)
     total = time.perf_counter() - start
-    info = mesher.model.info
+    info = mesher.model_.info
     (t0, e0), (t1, e1) = stamps["adam"], stamps["adam_end"]
     lbfgs_s = start + total - t1
     iterations = max(info["lbfgs_iterations"], 1)

@@ -186,7 +186,7 @@ def run_job(job: Job, example_dir: str | Path,
         lbfgs_accepted=info.get("lbfgs_accepted"), recoveries=info.get("recoveries", 0),
         points=points, max_angle=max_a, min_angle=min_a,
         boundary_ring=boundary.frame.to_user(boundary.ring),
-        aux_lines=[boundary.frame.to_user(a.xy) for a in mesher.aux_lines],
+        aux_lines=[boundary.frame.to_user(a.xy) for a in mesher.aux_lines_],
     )
     return out
 

@@ -38,6 +38,10 @@ class TrainingError(PinnMeshError):
     """Training diverged or was cancelled; no grid is produced."""
 
 
+class NotFittedError(PinnMeshError, AttributeError):
+    """A ``Mesher`` used before ``fit`` (scikit-learn's convention)."""
+
+
 class TrainingCancelled(TrainingError):
     """The progress callback asked training to stop."""
 

@@ -12,7 +12,7 @@ import numpy as np
 from .auxlines import AuxLine, line_distances
 from .boundary_fit import make_fit
 from .elliptic import winslow_solve, winslow_sweeps
-from .errors import PinnMeshError, TrainingError
+from .errors import NotFittedError, PinnMeshError, TrainingError
 from .geometry import Boundary
 from .heap import reuse_freed_memory
 from .plane import Plane
@@ -58,10 +58,14 @@ class Mesher:
 
     def __init__(self, settings: Settings | None = None) -> None:
         self.settings = settings or make_settings()
-        self.boundary: Boundary | None = None
-        self.aux_lines: list[AuxLine] = []
-        self.model = None  # the trained network of the neural methods
-        self.train_seconds = 0.0
+
+    # Fitted attributes (set by ``fit``, scikit-learn's way): ``boundary_``, ``aux_lines_``
+    # (those the method uses), ``model_`` (the trained network; None for tfi and elliptic),
+    # ``train_seconds_``.
+
+    def _check_fitted(self) -> None:
+        if not hasattr(self, "boundary_"):
+            raise NotFittedError("this Mesher is not fitted yet: call fit(boundary) first")
 
     def fit(self, boundary: Boundary, aux_lines: Sequence[AuxLine] = (),
             progress: Progress | None = None) -> Mesher:
@@ -73,23 +77,25 @@ class Mesher:
             working_spacing(self.settings.spacing, boundary)  # checked before any work
         except ValueError as exc:
             raise PinnMeshError(str(exc)) from None
-        self.boundary = boundary
-        self.aux_lines = list(aux_lines) if self.settings.method == "pinn" else []
-        self.model = None
+        self.boundary_ = boundary
+        self.aux_lines_ = list(aux_lines) if self.settings.method == "pinn" else []
+        self.model_ = None
+        self.train_seconds_ = 0.0
         if self.settings.method in NEURAL:
             from .training import train  # torch is imported only when training
 
             start = time.perf_counter()
-            self.model = train(boundary, self.aux_lines, self.settings, progress)
-            self.train_seconds = time.perf_counter() - start
-            self.model.info["train_seconds"] = self.train_seconds
+            self.model_ = train(boundary, self.aux_lines_, self.settings, progress)
+            self.train_seconds_ = time.perf_counter() - start
+            self.model_.info["train_seconds"] = self.train_seconds_
         return self
 
     def save(self, path: str | os.PathLike) -> None:
         """Save the trained network (pinn and mgnet only)."""
-        if self.model is None:
+        self._check_fitted()
+        if self.model_ is None:
             raise PinnMeshError(f"method {self.settings.method} has no trained model to save")
-        self.model.save(path)
+        self.model_.save(path)
 
     @classmethod
     def load(cls, path: str | os.PathLike, boundary: Boundary) -> Mesher:
@@ -98,14 +104,13 @@ class Mesher:
 
         model = TrainedModel.load(path, boundary)
         mesher = cls(model.settings)
-        mesher.boundary, mesher.model = boundary, model
-        mesher.train_seconds = float(model.info.get("train_seconds", 0.0))
+        mesher.boundary_, mesher.aux_lines_, mesher.model_ = boundary, [], model
+        mesher.train_seconds_ = float(model.info.get("train_seconds", 0.0))
         return mesher
 
     def predict(self, ni: int, nj: int) -> MeshResult:
         """The grid at ``ni`` x ``nj`` nodes; feed-forward for the neural methods."""
-        if self.boundary is None:
-            raise RuntimeError("call fit() before predict()")
+        self._check_fitted()
         problem = grid_size_problem(ni, nj)
         if problem:
             raise ValueError(f"grid size {ni} x {nj}: {problem}")
@@ -116,35 +121,35 @@ class Mesher:
             if not np.all(np.isfinite(unit)):
                 raise TrainingError(f"the {self.settings.method} grid has non-finite grid "
                                     "points (training failed); try another seed or fewer epochs")
-            deviation = float(self.boundary.deviation(boundary_nodes(unit)).max())
-            points = self.boundary.frame.to_user(unit)
+            deviation = float(self.boundary_.deviation(boundary_nodes(unit)).max())
+            points = self.boundary_.frame.to_user(unit)
             cells = cell_quality(points)
         report = {
             "method": self.settings.method,
             "size": [ni, nj],
             "settings": self.settings.to_dict(),
-            "train_seconds": self.train_seconds,
+            "train_seconds": self.train_seconds_,
             "mesh_seconds": mesh_seconds,
             "quality": summary(cells, deviation),
-            "source": self.boundary.source,
-            "aux_lines": [a.name for a in self.aux_lines],
-            "aux_line_distance": line_distances(unit, self.aux_lines, self.boundary.diagonal),
-            "sides": side_report(unit, self.boundary.frame.scale),
+            "source": self.boundary_.source,
+            "aux_lines": [a.name for a in self.aux_lines_],
+            "aux_line_distance": line_distances(unit, self.aux_lines_, self.boundary_.diagonal),
+            "sides": side_report(unit, self.boundary_.frame.scale),
         }
-        if self.model is not None:
-            report["training"] = self.model.info
-        history = self.model.history if self.model is not None else {}
+        if self.model_ is not None:
+            report["training"] = self.model_.info
+        history = self.model_.history if self.model_ is not None else {}
         return MeshResult(points=points, report=report, history=history, cells=cells,
-                          plane=self.boundary.plane)
+                          plane=self.boundary_.plane)
 
     def _grid_unit(self, ni: int, nj: int) -> np.ndarray:
         s = self.settings
         if s.spacing or (s.orthogonal and s.method == "elliptic"):
             return self._spaced_grid_unit(ni, nj)
-        if self.model is not None:
-            return self.model.grid(ni, nj)
+        if self.model_ is not None:
+            return self.model_.grid(ni, nj)
         # classical methods always place boundary nodes exactly on the input polyline
-        base = tfi_grid(make_fit("arclength", self.boundary).sample, ni, nj)
+        base = tfi_grid(make_fit("arclength", self.boundary_).sample, ni, nj)
         if s.method == "tfi":
             return base
         if s.elliptic_iterations:
@@ -156,11 +161,11 @@ class Mesher:
         iterated until every first edge has its length; the neural map is evaluated there."""
         s = self.settings
         try:
-            spacing = working_spacing(s.spacing, self.boundary)
+            spacing = working_spacing(s.spacing, self.boundary_)
         except ValueError as exc:
             raise PinnMeshError(str(exc)) from None
-        if self.model is None:
-            return classical_grid(self.boundary, ni, nj, s.method, spacing, s.orthogonal)[1]
-        mapping = self.model.mapping
+        if self.model_ is None:
+            return classical_grid(self.boundary_, ni, nj, s.method, spacing, s.orthogonal)[1]
+        mapping = self.model_.mapping
         return fit_params(lambda p: mapping.grid(ni, nj, params=p), spacing, ni, nj,
-                          side_lengths(self.boundary))[1]
+                          side_lengths(self.boundary_))[1]

@@ -557,7 +557,7 @@ def test_exploding_loss_during_adam_recovers(monkeypatch):
     monkeypatch.setattr(training, "total_loss", exploding)
     b = load_boundary(EXAMPLES / "wavy.vtp")
     mesher = Mesher(make_settings("pinn", adam_epochs=60, lbfgs_iterations=0)).fit(b)
-    assert mesher.model.info["recoveries"] == 1
+    assert mesher.model_.info["recoveries"] == 1
     assert np.all(np.isfinite(mesher.predict(11, 7).points))
 
 
@@ -586,8 +586,8 @@ def test_nan_in_lambda1_annealing_recovers(monkeypatch):
     b = load_boundary(EXAMPLES / "wavy.vtp")
     mesher = Mesher(make_settings("pinn", "paper", adam_epochs=60, lbfgs_iterations=0)).fit(b)
     assert count[0] > 3  # the NaN update was skipped and annealing went on
-    assert math.isfinite(mesher.model.info["lambda1"])
-    assert all(math.isfinite(v) for v in mesher.model.history["lambda1"])
+    assert math.isfinite(mesher.model_.info["lambda1"])
+    assert all(math.isfinite(v) for v in mesher.model_.history["lambda1"])
 
 
 def test_nan_during_lbfgs_falls_back_to_the_adam_result(monkeypatch):
@@ -597,7 +597,7 @@ def test_nan_during_lbfgs_falls_back_to_the_adam_result(monkeypatch):
                                                           set(range(41, 10_000))))
     b = load_boundary(EXAMPLES / "wavy.vtp")
     mesher = Mesher(make_settings("pinn", adam_epochs=40, lbfgs_iterations=5)).fit(b)
-    assert mesher.model.info["lbfgs_accepted"] is False
+    assert mesher.model_.info["lbfgs_accepted"] is False
     assert np.all(np.isfinite(mesher.predict(11, 7).points))
 
 

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
+from conftest import EXAMPLES
 
 from pinn_engine.elliptic import winslow_residual, winslow_solve, winslow_sweeps
 from pinn_engine.quality import folded_cells
@@ -86,3 +88,19 @@ def test_converged_solver_is_fast_on_a_200_by_200_grid():
     solved, iterations = winslow_solve(grid, tol=1e-10)
     assert iterations < 40
     assert np.abs(winslow_residual(solved)).max() < 1e-8
+
+
+def test_mesher_fitted_attributes_the_scikit_learn_way():
+    from pinn_engine.errors import NotFittedError
+    from pinn_engine.mesher import Mesher
+    from pinn_engine.pipeline import load_boundary
+    from pinn_engine.settings import make_settings
+
+    mesher = Mesher(make_settings("elliptic"))
+    assert not hasattr(mesher, "boundary_") and not hasattr(mesher, "model_")
+    with pytest.raises(NotFittedError, match="call fit"):
+        mesher.predict(11, 6)
+    boundary = load_boundary(EXAMPLES / "fig2.vtp")
+    assert mesher.fit(boundary) is mesher
+    assert mesher.boundary_ is boundary and mesher.model_ is None and mesher.aux_lines_ == []
+    assert mesher.predict(11, 6).points.shape == (6, 11, 2)
