@@ -12,8 +12,8 @@ fast and reference runs alternate so that machine noise hits both. Printed:
 - peak resident memory of each subprocess.
 Training times start once torch is imported (a one-time cost per process, printed apart).
 The reference is the same loss with derivatives by nested ``torch.autograd.grad`` in float64
-(settings ``fast=False, dtype="float64"``); the fast path is the default (``fast=True``,
-``dtype="float32"``).
+(settings ``derivatives="autograd", dtype="float64"``); the fast path is the default
+(``derivatives="jets"``, ``dtype="float32"``).
 """
 
 from __future__ import annotations
@@ -27,8 +27,8 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-PATHS = {"fast": {"fast": True, "dtype": "float32"},
-         "reference": {"fast": False, "dtype": "float64"}}
+PATHS = {"fast": {"derivatives": "jets", "dtype": "float32"},
+         "reference": {"derivatives": "autograd", "dtype": "float64"}}
 
 
 def _peak_mib() -> float:

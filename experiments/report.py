@@ -28,7 +28,7 @@ from .analysis import (
 from .runs import FOUR_METHOD_CASES, LABELS, LOSS_CASE, METHODS, NEURAL, PRESETS, Budget
 
 RUN_COLUMNS = ("key", "group", "case", "preset", "method", "seed", "ok", "hidden_layers",
-               "neurons", "adam_epochs", "lbfgs_iterations", "boundary", "boundary_fit",
+               "neurons", "adam_epochs", "lbfgs_iterations", "boundary_mode", "boundary_fit",
                "elliptic_iterations", "mean_max_angle", "worst_max_angle", "worst_min_angle",
                "folded_cells", "boundary_deviation", "train_seconds", "mesh_seconds",
                "run_seconds", "final_total", "final_eqns", "final_bcs_bottom", "final_bcs_right",
@@ -240,7 +240,7 @@ def architecture_table(data: dict) -> str:
     return "\n\n".join(blocks)
 
 
-SETTING_ROWS = (("boundary", "boundary treatment"), ("boundary_fit", "boundary fit"),
+SETTING_ROWS = (("boundary_mode", "boundary treatment"), ("boundary_fit", "boundary fit"),
                 ("warm_start", "warm start"), ("residual", "Winslow residual"),
                 ("hidden_layers", "hidden layers"), ("neurons", "neurons per layer"),
                 ("activation", "activation"), ("adam_epochs", "Adam epochs"),

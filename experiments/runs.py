@@ -152,7 +152,7 @@ def run_job(job: Job, example_dir: str | Path,
         settings = job.settings()
         out["settings"] = settings.to_dict()
         out.update(hidden_layers=settings.hidden_layers, neurons=settings.neurons,
-                   boundary=settings.boundary, boundary_fit=settings.boundary_fit,
+                   boundary_mode=settings.boundary_mode, boundary_fit=settings.boundary_fit,
                    elliptic_iterations=settings.elliptic_iterations)
         if job.method in NEURAL:
             out.update(adam_epochs=settings.adam_epochs,

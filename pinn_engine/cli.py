@@ -14,7 +14,16 @@ from pathlib import Path
 
 from . import heap
 from .errors import PinnMeshError, folded_cells_warning
-from .settings import METHODS, NEURAL, OBJECTIVES, grid_size_problem, make_settings
+from .settings import (
+    METHODS,
+    NEURAL,
+    OBJECTIVES,
+    PARAMETER_CONSTRAINTS,
+    PRESETS,
+    grid_size_problem,
+    make_settings,
+    setting_problem,
+)
 
 FORMAT_KEYS = ("vts", "vtk", "xyz", "cgns", "su2", "msh", "openfoam")  # export.FORMATS
 
@@ -22,6 +31,10 @@ EXIT_ERROR = 2
 EXIT_INTERNAL = 3
 EXIT_INTERRUPTED = 130
 DEVICE_NAMES = re.compile(r"^(auto|cpu|mps|cuda(:\d+)?)$")
+
+
+def _options(name: str) -> tuple:
+    return PARAMETER_CONSTRAINTS[name].values
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -39,7 +52,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--size", nargs=2, type=int, default=(41, 21), metavar=("NI", "NJ"),
                    help="nodes along xi and eta (default 41 21)")
     p.add_argument("--seed", type=int, default=None)
-    p.add_argument("--preset", choices=("default", "paper"), default="default",
+    p.add_argument("--preset", choices=PRESETS, default="default",
                    help="'paper' reproduces the paper's section 4 settings exactly")
     p.add_argument("-o", "--output", default=None, metavar="OUT.vts",
                    help="output grid (default out/<boundary>_<method>.vts); the extension "
@@ -77,10 +90,10 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--layers", type=int, dest="hidden_layers", help="hidden layers")
     g.add_argument("--neurons", type=int, help="neurons per hidden layer")
     g.add_argument("--lambda2", type=float, help="weight of the auxiliary-line term")
-    g.add_argument("--boundary-mode", choices=("hard", "penalty"), dest="boundary_mode",
+    g.add_argument("--boundary-mode", choices=_options("boundary_mode"), dest="boundary_mode",
                    help="hard: exact boundary by construction; penalty: the paper's term")
-    g.add_argument("--boundary-fit", choices=("arclength", "tree"), dest="boundary_fit")
-    g.add_argument("--warm-start", choices=("elliptic", "none"), dest="warm_start",
+    g.add_argument("--boundary-fit", choices=_options("boundary_fit"), dest="boundary_fit")
+    g.add_argument("--warm-start", choices=_options("warm_start"), dest="warm_start",
                    help="elliptic (default): start from the converged elliptic grid and keep "
                         "the last state no worse than it; none: train from TFI (paper)")
     g.add_argument("--objective", choices=OBJECTIVES, dest="objective",
@@ -136,20 +149,23 @@ def _raise_interrupt(signum, frame):  # noqa: ARG001
     raise KeyboardInterrupt
 
 
+# the command line's name for each numeric setting
+OPTION_FLAGS = {"seed": "--seed", "lambda2": "--lambda2", "hidden_layers": "--layers",
+                "neurons": "--neurons", "adam_epochs": "--epochs",
+                "lbfgs_iterations": "--lbfgs", "elliptic_iterations": "--elliptic-iterations"}
+
+
 def _check_options(args: argparse.Namespace) -> None:
     """Refuse option values that are out of range, with a message naming the option."""
     ni, nj = args.size
     problem = grid_size_problem(ni, nj)
     if problem:
         raise PinnMeshError(f"--size {ni} {nj}: {problem}")
-    if args.seed is not None and not 0 <= args.seed < 2**32:
-        raise PinnMeshError(f"--seed {args.seed}: must be 0..{2**32 - 1}")
-    if args.lambda2 is not None and not (math.isfinite(args.lambda2) and args.lambda2 >= 0):
-        raise PinnMeshError(f"--lambda2 {args.lambda2}: must be a finite number >= 0")
-    for name, flag, top in (("hidden_layers", "--layers", 64), ("neurons", "--neurons", 4096)):
+    for name, flag in OPTION_FLAGS.items():  # the ranges of settings.PARAMETER_CONSTRAINTS
         value = getattr(args, name)
-        if value is not None and not 1 <= value <= top:
-            raise PinnMeshError(f"{flag} {value}: must be 1..{top}")
+        problem = setting_problem(name, value) if value is not None else None
+        if problem:
+            raise PinnMeshError(f"{flag} {value}: {problem}")
     if args.device is not None:
         if not DEVICE_NAMES.match(args.device):
             raise PinnMeshError(f"--device {args.device!r}: use auto, cpu, cuda or cuda:N")
@@ -185,7 +201,7 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
               "objective")
     try:
         settings = make_settings(args.method, args.preset, lattice=(ni, nj),
-                                 boundary=args.boundary_mode, spacing=args.spacing,
+                                 boundary_mode=args.boundary_mode, spacing=args.spacing,
                                  orthogonal=args.orthogonal,
                                  **{k: getattr(args, k) for k in fields})
     except ValueError as exc:

@@ -76,7 +76,7 @@ class TrainedModel:
         if not isinstance(payload, dict) or payload.get("format") != FORMAT:
             raise InputError(f"not a pinn-mesh model of format {FORMAT}", src)
         try:
-            settings = Settings(**payload["settings"])
+            settings = _settings_of(payload["settings"])
             net = CoordinateNet(**payload["network"])
             net.load_state_dict(payload["state"])
             bd = payload["boundary"]
@@ -103,5 +103,15 @@ class TrainedModel:
                 raise InputError("model was trained for a different boundary", src)
             saved = dataclasses.replace(saved, source=boundary.source, plane=boundary.plane)
         net = net.to(torch.float64)
-        return cls(Mapping(net, saved, settings.boundary, warm), settings, payload["history"],
+        return cls(Mapping(net, saved, settings.boundary_mode, warm), settings, payload["history"],
                    payload["info"])
+
+
+def _settings_of(saved: dict) -> Settings:
+    """The settings of a saved model; files written before the renames name two differently."""
+    saved = dict(saved)
+    if "boundary" in saved:
+        saved["boundary_mode"] = saved.pop("boundary")
+    if "fast" in saved:
+        saved["derivatives"] = "jets" if saved.pop("fast") else "autograd"
+    return Settings(**saved)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+import numbers
 from dataclasses import asdict, dataclass, fields, replace
 
 METHODS = ("pinn", "mgnet", "tfi", "elliptic")
@@ -74,13 +76,86 @@ def parse_spacing(value) -> tuple[tuple[str, float], ...]:
 
 
 @dataclass(frozen=True)
+class Options:
+    """A setting that takes one of ``values``."""
+
+    values: tuple
+
+    def problem(self, value) -> str | None:
+        return None if value in self.values else f"use {', '.join(map(str, self.values))}"
+
+
+@dataclass(frozen=True)
+class Interval:
+    """A whole (``kind`` int) or real (``kind`` float) number in ``[low, high]``."""
+
+    kind: type
+    low: float
+    high: float = math.inf
+
+    def problem(self, value) -> str | None:
+        whole = isinstance(value, numbers.Integral) and not isinstance(value, bool)
+        if self.kind is int and not whole:
+            return "must be a whole number"
+        if self.kind is float and (isinstance(value, bool) or not isinstance(value, numbers.Real)
+                                   or not math.isfinite(value)):
+            return "must be a finite number"
+        if self.low <= value <= self.high:
+            return None
+        kind = "a whole number" if self.kind is int else "a number"
+        show = (lambda x: str(int(x))) if self.kind is int else (lambda x: f"{x:g}")
+        if self.high == math.inf:
+            return f"must be {kind} >= {show(self.low)}"
+        return f"must be {kind} from {show(self.low)} to {show(self.high)}"
+
+
+# Every setting's rule, in one place (scikit-learn's ``_parameter_constraints``): the Settings
+# dataclass checks them, and the command line, the VTK filter, the plugin panel and the
+# pyvista accessor take their choices and ranges from here. Rules between settings are in
+# ``Settings.__post_init__`` and ``make_settings``.
+PARAMETER_CONSTRAINTS: dict[str, Options | Interval] = {
+    "method": Options(METHODS),
+    "preset": Options(PRESETS),
+    "boundary_mode": Options(("hard", "penalty")),
+    "boundary_fit": Options(("arclength", "tree")),
+    "warm_start": Options(("elliptic", "none")),
+    "residual": Options(("paper", "scaled")),
+    "objective": Options(OBJECTIVES),
+    "hidden_layers": Interval(int, 1, 64),
+    "neurons": Interval(int, 1, 4096),
+    "activation": Options(("tanh", "sin", "sigmoid", "swish")),
+    "adam_epochs": Interval(int, 0, 1_000_000),
+    "learning_rate": Interval(float, 0.0, 1.0),
+    "lr_decay": Interval(float, 0.0, 1.0),
+    "lr_decay_every": Interval(int, 1),
+    "batch_size": Interval(int, 1, 1_000_000),
+    "lbfgs_iterations": Interval(int, 0, 1_000_000),
+    "lbfgs_points": Interval(int, 1, 1_000_000),
+    "lambda2": Interval(float, 0.0),
+    "anneal_momentum": Interval(float, 0.0, 1.0),
+    "seed": Interval(int, 0, 2**32 - 1),
+    "dtype": Options(("float32", "float64")),
+    "derivatives": Options(("jets", "autograd")),
+    "elliptic_iterations": Interval(int, 0, 1_000_000),
+    "lambda_orthogonal": Interval(float, 0.0),
+}
+
+
+def setting_problem(name: str, value) -> str | None:
+    """What is wrong with ``value`` for the setting ``name`` (None: nothing); each route
+    prefixes its own name for the setting."""
+    rule = PARAMETER_CONSTRAINTS.get(name)
+    return rule.problem(value) if rule is not None else None
+
+
+@dataclass(frozen=True)
 class Settings:
     """Every setting of a run; ``training_key`` is the part that training depends on."""
 
     method: str = "pinn"
     preset: str = "default"
     # boundary treatment: "hard" (network corrects TFI, exact boundary) or "penalty" (paper)
-    boundary: str = "hard"
+    boundary_mode: str = "hard"
     boundary_fit: str = "arclength"  # "arclength" or "tree" (paper)
     # "elliptic": start from the converged elliptic grid on ``lattice`` and stop L-BFGS at the
     # last state no worse than it there (warmstart.py); "none": start from TFI (paper)
@@ -105,7 +180,9 @@ class Settings:
     seed: int = 0
     dtype: str = "float32"  # training precision: float32 (measured: same loss) or float64
     device: str = "auto"
-    fast: bool = True  # forward-mode derivative jets instead of nested autograd
+    # derivatives of the map: "jets" (forward-mode, networks.py) or "autograd" (nested
+    # torch.autograd.grad, the reference)
+    derivatives: str = "jets"
     elliptic_iterations: int = 0  # 0: iterate to convergence; N: the paper's N sweeps from 0
     # SPEC 7: first-edge length per side in user units, e.g. (("bottom", 1e-3),), and the
     # sides that grid lines leave at right angles (pinn: loss term, elliptic: control functions)
@@ -114,27 +191,13 @@ class Settings:
     lambda_orthogonal: float = 300.0  # weight of the orthogonality term (pinn)
 
     def __post_init__(self) -> None:
-        if self.method not in METHODS:
-            raise ValueError(f"unknown method {self.method!r}; use one of {', '.join(METHODS)}")
-        if self.preset not in PRESETS:
-            raise ValueError(f"unknown preset {self.preset!r}; use one of {', '.join(PRESETS)}")
-        for name in ("hidden_layers", "neurons", "batch_size", "lbfgs_points"):
-            if getattr(self, name) < 1:
-                raise ValueError(f"{name} must be at least 1")
-        if self.dtype not in ("float64", "float32"):
-            raise ValueError(f"unknown dtype {self.dtype!r}; use float32 or float64")
-        for name in ("adam_epochs", "lbfgs_iterations", "elliptic_iterations"):
-            if getattr(self, name) < 0:
-                raise ValueError(f"{name} must not be negative")
-        if self.residual not in ("paper", "scaled"):
-            raise ValueError(f"unknown residual {self.residual!r}; use paper or scaled")
-        if self.objective not in OBJECTIVES:
-            raise ValueError(f"unknown objective {self.objective!r}; use winslow or quality")
+        for name in PARAMETER_CONSTRAINTS:
+            problem = setting_problem(name, getattr(self, name))
+            if problem:
+                raise ValueError(f"{name} {getattr(self, name)!r}: {problem}")
         if self.method != "pinn":  # the objective is the pinn's (make_settings says so)
             object.__setattr__(self, "objective", "winslow")
-        if self.warm_start not in ("elliptic", "none"):
-            raise ValueError(f"unknown warm start {self.warm_start!r}; use elliptic or none")
-        if self.warm_start == "elliptic" and self.boundary != "hard":
+        if self.warm_start == "elliptic" and self.boundary_mode != "hard":
             raise ValueError("the elliptic warm start needs the hard boundary mode; with the "
                              "penalty boundary set the warm start to none")
         lattice = tuple(int(n) for n in self.lattice)
@@ -150,8 +213,6 @@ class Settings:
                 self.spacing or self.orthogonal):
             raise ValueError("spacing and orthogonal sides need the converged elliptic solver "
                              "(elliptic_iterations 0, not the paper's sweeps)")
-        if not (self.lambda_orthogonal >= 0 and self.lambda_orthogonal < float("inf")):
-            raise ValueError("lambda_orthogonal must be a finite number >= 0")
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -164,7 +225,7 @@ class Settings:
 
 
 PAPER = {
-    "boundary": "penalty", "boundary_fit": "tree", "warm_start": "none", "residual": "paper",
+    "boundary_mode": "penalty", "boundary_fit": "tree", "warm_start": "none", "residual": "paper",
     "hidden_layers": 4, "neurons": 30, "activation": "tanh", "adam_epochs": 5000,
     "learning_rate": 1e-3, "lr_decay": 0.9, "lr_decay_every": 1000, "batch_size": 100,
     "lbfgs_iterations": 500, "lbfgs_points": 1000, "lambda2": 10.0, "elliptic_iterations": 1000,
@@ -190,7 +251,7 @@ def make_settings(method: str = "pinn", preset: str = "default", **overrides) ->
     given = {k: v for k, v in overrides.items() if v is not None}
     if given.get("objective") == "quality" and method != "pinn":
         raise ValueError(f"objective quality is for the pinn method, not {method}")
-    if given.get("boundary") == "penalty" and "warm_start" not in given:
+    if given.get("boundary_mode") == "penalty" and "warm_start" not in given:
         given["warm_start"] = "none"
     if given.get("warm_start") == "none" and preset == "default":
         given = {**FROM_TFI, **given}

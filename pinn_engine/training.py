@@ -138,8 +138,8 @@ class _Problem:
                  params: np.ndarray | None = None) -> None:
         self.mapping, self.settings = mapping, settings
         self.dtype, self.device = dtype, device
-        self.fit = make_fit(settings.boundary_fit, boundary) if settings.boundary == "penalty" \
-            else None
+        penalty = settings.boundary_mode == "penalty"
+        self.fit = make_fit(settings.boundary_fit, boundary) if penalty else None
         self.rng = np.random.default_rng(settings.seed)
         self.hard = mapping.mode == "hard"
         self.n_aux = 0
@@ -215,7 +215,7 @@ class _Problem:
         if self.n_wall:
             x = torch.cat([x, self.wall_x])
             base = None if base is None else torch.cat([base, self.wall_base], dim=1)
-        jet, values = self.mapping.jet(x, base, extra, fast=self.settings.fast)
+        jet, values = self.mapping.jet(x, base, extra, fast=self.settings.derivatives == "jets")
         if lattice is not None:  # the grid on the lattice, for the cell-quality term
             x_lat, base_lat, shape, orientation = self.lattice
             grid = self.mapping.compose(values[len(values) - len(x_lat):], x_lat, base_lat)
@@ -444,7 +444,7 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
                         working_spacing(settings.spacing, boundary), settings.orthogonal)
                 with torch.no_grad():  # the map starts as the elliptic grid (or quality start)
                     net.w_out.zero_()
-            mapping = Mapping(net, boundary, settings.boundary, warm)
+            mapping = Mapping(net, boundary, settings.boundary_mode, warm)
             steps = first_steps(lattice, params) if warm is not None else None
             if warm is not None and settings.orthogonal and settings.method == "pinn":
                 warm.orthogonalise(mapping.base_jet, settings.orthogonal,
@@ -456,7 +456,7 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
             guard = None if reference is None else _Guard(net, mapping, reference, bool(aux),
                                                           start, params)
             history = _History()
-            lambda1 = 1.0 if settings.boundary == "penalty" else 0.0
+            lambda1 = 1.0 if settings.boundary_mode == "penalty" else 0.0
             lambda1, recoveries = _adam(net, problem, settings, history, lambda1, progress)
             if guard is not None and settings.adam_epochs:
                 guard.check(0)  # an Adam phase (not needed from the warm start) is checked too
@@ -540,7 +540,7 @@ def _adam_epochs(net, opt: _FlatAdam, problem: _Problem, s: Settings, history: _
     good_state, good_lambda1 = copy.deepcopy(net.state_dict()), lambda1
     for epoch in range(1, s.adam_epochs + 1):
         terms = problem.terms(*problem.epoch_batch(epoch))
-        if s.boundary == "penalty" and epoch % ANNEAL_EVERY == 1:
+        if s.boundary_mode == "penalty" and epoch % ANNEAL_EVERY == 1:
             g_eq = torch.autograd.grad(terms["eqns"], weights, retain_graph=True,
                                        allow_unused=True)
             g_bc = torch.autograd.grad(terms["bcs"], weights, retain_graph=True,

@@ -30,7 +30,14 @@ try:
     from pinn_engine.algorithm import PinnMeshAlgorithm
     from pinn_engine.export import FORMATS
     from pinn_engine.export.algorithm import PARAVIEW_FORMATS, GridWriter
-    from pinn_engine.settings import MAX_SIDE_NODES, METHODS, OBJECTIVES, PRESETS, Settings
+    from pinn_engine.settings import (
+        MAX_SIDE_NODES,
+        METHODS,
+        OBJECTIVES,
+        PARAMETER_CONSTRAINTS,
+        PRESETS,
+        Settings,
+    )
 except ImportError as _exc:  # a clear line in ParaView's output instead of a bare traceback
     raise ImportError(
         f"PINN Structured Mesh plugin: cannot import pinn_engine from {_REPO} ({_exc}); keep "
@@ -51,6 +58,12 @@ _BODY = '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" ' \
         'property="Topology" values="1 2"/>'  # O- and C-grid settings
 _PINN_ONLY = '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" ' \
              'property="Method" value="0"/>'
+
+
+def _range(name):
+    """The panel range of a whole-number setting, from settings.PARAMETER_CONSTRAINTS."""
+    rule = PARAMETER_CONSTRAINTS[name]
+    return {"min": int(rule.low), "max": int(rule.high)}
 
 
 def _enum(options):
@@ -121,7 +134,7 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
 
     @smproperty.intvector(name="AdamEpochs", label="Adam Epochs",
                           default_values=_DEFAULTS.adam_epochs)
-    @smdomain.intrange(min=0, max=100000)
+    @smdomain.intrange(**_range("adam_epochs"))
     @smdomain.xml(_doc("Adam epochs of training (left at the default, the preset's own)."))
     @smhint.xml(_NEURAL)
     def P04AdamEpochs(self, n):
@@ -129,7 +142,7 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
 
     @smproperty.intvector(name="LBFGSIterations", label="L-BFGS Iterations",
                           default_values=_DEFAULTS.lbfgs_iterations)
-    @smdomain.intrange(min=0, max=100000)
+    @smdomain.intrange(**_range("lbfgs_iterations"))
     @smdomain.xml(_doc("L-BFGS iterations after Adam (left at the default, the preset's own)."))
     @smhint.xml(_NEURAL)
     def P05LBFGSIterations(self, n):
@@ -137,14 +150,14 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
 
     @smproperty.intvector(name="HiddenLayers", label="Hidden Layers",
                           default_values=_DEFAULTS.hidden_layers)
-    @smdomain.intrange(min=1, max=20)
+    @smdomain.intrange(**_range("hidden_layers"))
     @smdomain.xml(_doc("Hidden layers of each sub-network."))
     @smhint.xml(_NEURAL)
     def P06HiddenLayers(self, n):
         self.SetPanelSetting("hidden_layers", int(n))
 
     @smproperty.intvector(name="Neurons", default_values=_DEFAULTS.neurons)
-    @smdomain.intrange(min=1, max=500)
+    @smdomain.intrange(**_range("neurons"))
     @smdomain.xml(_doc("Neurons per hidden layer."))
     @smhint.xml(_NEURAL)
     def P07Neurons(self, n):

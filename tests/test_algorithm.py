@@ -237,8 +237,8 @@ def test_invalid_settings_reported():
     alg.SetAdamEpochs(-3)
     with OutputMessages(alg, "ErrorEvent") as errors:
         alg.Update()
-    assert errors.lines == ["PINN Structured Mesh: invalid settings: adam_epochs must not be "
-                            "negative"]
+    assert errors.lines == ["PINN Structured Mesh: invalid settings: adam_epochs -3: must be "
+                            "a whole number from 0 to 1000000"]
 
 
 def test_abort_cancels_training_and_next_update_runs():

@@ -147,7 +147,7 @@ def test_full_mode_plan_matches_the_issue():
     assert all(s.adam_epochs == 5000 for s in neural if s.preset == "paper")
     assert all(s.warm_start == "elliptic" and s.lattice == budget.size
                for s in neural if s.preset == "default")
-    assert {j.settings().boundary for j in compare if j.preset == "paper"} == {"penalty"}
+    assert {j.settings().boundary_mode for j in compare if j.preset == "paper"} == {"penalty"}
     assert build_parser().parse_args([]).mode == "full"
 
 

@@ -47,3 +47,26 @@ def test_the_largest_sizes_pass_and_the_panel_allows_exactly_them():
     assert grid_size_problem(2000, MAX_NODES // 2000) is None
     plugin = (ROOT / "plugin" / "pinn_mesh_plugin.py").read_text()
     assert "@smdomain.intrange(min=2, max=MAX_SIDE_NODES)" in plugin
+
+
+def test_one_table_of_setting_rules_read_by_every_route(tmp_path, capsys):
+    """settings.PARAMETER_CONSTRAINTS: the same range on the command line, in the panel, in
+    Settings (pyvista, the VTK filter)."""
+    import re
+
+    from pinn_engine.cli import main
+    from pinn_engine.settings import PARAMETER_CONSTRAINTS, make_settings
+
+    top = PARAMETER_CONSTRAINTS["hidden_layers"].high
+    assert make_settings("pinn", hidden_layers=top).hidden_layers == top
+    with pytest.raises(ValueError, match=f"hidden_layers {top + 1}: must be a whole number"):
+        make_settings("pinn", hidden_layers=top + 1)
+    assert main([str(EXAMPLES / "fig2.vtp"), "--layers", str(top + 1), "-o",
+                 str(tmp_path / "g.vts")]) == 2
+    assert f"--layers {top + 1}: must be a whole number from 1 to {top}" in \
+        capsys.readouterr().err
+    plugin = (ROOT / "plugin" / "pinn_mesh_plugin.py").read_text()
+    ranges = re.findall(r'name="(HiddenLayers|Neurons|AdamEpochs|LBFGSIterations)".*?'
+                        r"intrange\(\*\*_range\(\"(\w+)\"\)\)", plugin, re.S)
+    assert {field for _, field in ranges} == {"hidden_layers", "neurons", "adam_epochs",
+                                             "lbfgs_iterations"}

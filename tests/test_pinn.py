@@ -162,7 +162,7 @@ def test_paper_preset_and_mgnet_train_with_penalty_terms(fig2):
     assert {"bcs_bottom", "bcs_right", "bcs_top", "bcs_left"} <= set(h)
     assert h["lambda1"][-1] != 1.0  # the annealing moved lambda1
     mg = Mesher(make_settings("mgnet", adam_epochs=60, lbfgs_iterations=5)).fit(boundary, aux)
-    assert mg.aux_lines == [] and mg.model.mapping.net.kind == "mlp"
+    assert mg.aux_lines_ == [] and mg.model_.mapping.net.kind == "mlp"
 
 
 def test_cli_pinn_with_save_and_load(tmp_path, capsys):

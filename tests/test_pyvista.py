@@ -75,7 +75,7 @@ def test_errors_are_one_line(fig2):
     outside = pv.Line((0.5, 0.4, 0), (9, 9, 0), resolution=5)
     with pytest.raises(PinnMeshError, match="auxiliary input 0 line 0"):
         pinn_mesh(boundary, aux=outside, **SHORT)
-    with pytest.raises(ValueError, match="unknown method"):
+    with pytest.raises(ValueError, match="method 'magic': use pinn, mgnet, tfi, elliptic"):
         boundary.pinn_mesh(method="magic")
     with pytest.raises(ValueError, match="size"):
         boundary.pinn_mesh(size=(1, 4), method="tfi")

@@ -68,7 +68,7 @@ def test_settings_rules_for_the_objective():
     assert make_settings("mgnet").objective == "winslow"
     with pytest.raises(ValueError, match="pinn method"):
         make_settings("mgnet", objective="quality")
-    with pytest.raises(ValueError, match="unknown objective"):
+    with pytest.raises(ValueError, match="objective 'smooth': use winslow, quality"):
         make_settings("pinn", objective="smooth")
     key = dict(make_settings("pinn", warm_start="none", objective="quality").training_key())
     assert "lattice" in key  # the quality term is computed on the lattice

@@ -80,7 +80,7 @@ def test_saved_model_keeps_its_warm_start(tmp_path):
     before = mesher.fit(boundary, aux).predict(21, 11).points
     mesher.save(tmp_path / "m.pt")
     loaded = Mesher.load(tmp_path / "m.pt", boundary)
-    assert loaded.model.mapping.warm is not None
+    assert loaded.model_.mapping.warm is not None
     np.testing.assert_allclose(loaded.predict(21, 11).points, before, atol=1e-6)
     assert TrainedModel.load(tmp_path / "m.pt").settings.lattice == (21, 11)
 
@@ -99,10 +99,10 @@ def test_annealing_takes_the_weight_matrices_only():
 def test_settings_rules_for_the_warm_start():
     assert make_settings("pinn").warm_start == "elliptic"
     assert make_settings("pinn", "paper").warm_start == "none"
-    penalty = make_settings("pinn", boundary="penalty")
+    penalty = make_settings("pinn", boundary_mode="penalty")
     assert penalty.warm_start == "none" and penalty.adam_epochs == 5000
     with pytest.raises(ValueError, match="hard boundary"):
-        make_settings("pinn", boundary="penalty", warm_start="elliptic")
+        make_settings("pinn", boundary_mode="penalty", warm_start="elliptic")
     with pytest.raises(ValueError, match="lattice"):
         make_settings("pinn", lattice=(1, 5))
     assert make_settings("pinn", lattice=[9, 5]).lattice == (9, 5)
