@@ -90,7 +90,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
       ``SetCorners(None)`` or any negative index: automatic detection
     * ``SetObjective("winslow"|"quality")`` (or 0/1): the pinn's objective (SPEC 7)
     * ``SetSetting(name, value)``: any other field of ``pinn_engine.settings.Settings``
-      (e.g. ``"device"``, ``"boundary"``, ``"elliptic_iterations"``)
+      (e.g. ``"device"``, ``"boundary_mode"``, ``"elliptic_iterations"``)
     * ``SetPatchNames(names)``: boundary patch names (four names bottom right top left, or
       ``SIDE=NAME`` items, as a string, sequence or mapping); field data ``PatchNames``
     """
