@@ -1,7 +1,7 @@
 """Loss terms of the paper (section 3.2): Winslow residual, boundary term, auxiliary-line data term.
 
 All terms are mean squares (the paper writes sums; a mean keeps the weights independent of
-the number of sampled points). Jets are (6, B, 2) tensors: channels of ``networks.V..ETAETA``
+the number of sampled points). Jets are (6, B, 2) tensors: channels of ``jet.V..ETAETA``
 for the x and y coordinates.
 """
 
@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import torch
 
-from .networks import ETA, ETAETA, XI, XIETA, XIXI
+from .jet import ETA, ETAETA, XI, XIETA, XIXI
 
 
 def winslow_residual(jet: torch.Tensor) -> torch.Tensor:

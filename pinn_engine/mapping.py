@@ -19,7 +19,8 @@ import torch
 
 from .boundary_fit import ArcLengthFit, SplineFit
 from .geometry import Boundary
-from .networks import CoordinateNet, autograd_jet, jet_product
+from .jet import jet_product
+from .networks import CoordinateNet, autograd_jet
 from .tfi import node_params, tfi_grid, transfinite
 from .warmstart import WarmStart
 

@@ -180,7 +180,7 @@ class Settings:
     seed: int = 0
     dtype: str = "float32"  # training precision: float32 (measured: same loss) or float64
     device: str = "auto"
-    # derivatives of the map: "jets" (forward-mode, networks.py) or "autograd" (nested
+    # derivatives of the map: "jets" (forward-mode, jet/layers.py) or "autograd" (nested
     # torch.autograd.grad, the reference)
     derivatives: str = "jets"
     elliptic_iterations: int = 0  # 0: iterate to convergence; N: the paper's N sweeps from 0

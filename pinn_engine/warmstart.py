@@ -34,7 +34,7 @@ WALL_SAMPLES = 401
 WALL_TAPER = 0.03
 # The wall term fades out at the opposite side, or half way when that side has one too.
 OPPOSITE = {"bottom": "top", "top": "bottom", "left": "right", "right": "left"}
-# (d_eta, d_xi) orders of the jet channels V, XI, ETA, XIXI, XIETA, ETAETA (networks.py)
+# (d_eta, d_xi) orders of the jet channels V, XI, ETA, XIXI, XIETA, ETAETA (jet/layers.py)
 _ORDERS = ((0, 0), (0, 1), (1, 0), (0, 2), (1, 1), (2, 0))
 
 

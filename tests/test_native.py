@@ -1,4 +1,4 @@
-"""The fused jet kernels (native.py, jet_kernels.cpp): same numbers as torch, safe fallback."""
+"""The networks' jet in C++ (jet/native.py, kernels.cpp): as torch computes it, safe fallback."""
 
 from __future__ import annotations
 
@@ -8,8 +8,9 @@ import pytest
 import torch
 from conftest import needs_compiler
 
-from pinn_engine import native, networks
-from pinn_engine.networks import ACTIVATIONS, CoordinateNet
+from pinn_engine.jet import layers, native
+from pinn_engine.jet.layers import ACTIVATIONS
+from pinn_engine.networks import CoordinateNet
 
 
 def _run(net: CoordinateNet, x: torch.Tensor, extra: torch.Tensor) -> list[torch.Tensor]:
@@ -117,6 +118,6 @@ def test_backward_without_a_workspace_recomputes_the_same_numbers(monkeypatch):
     net = CoordinateNet("shortcut", 4, 30).float()
     x, extra = torch.rand(53, 2), torch.rand(71, 2)
     stored = _run(net, x, extra)
-    monkeypatch.setattr(networks, "WORKSPACE_BYTES", 0)
+    monkeypatch.setattr(layers, "WORKSPACE_BYTES", 0)
     for a, b in zip(_run(net, x, extra), stored):
         torch.testing.assert_close(a, b, rtol=0, atol=0)

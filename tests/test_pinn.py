@@ -7,12 +7,12 @@ import pytest
 import torch
 from conftest import EXAMPLES, needs_compiler
 
-from pinn_engine import native
 from pinn_engine.cli import main
+from pinn_engine.jet import input_jet, jet_product, native
 from pinn_engine.losses import annealed_lambda, loss_eqns, winslow_residual
 from pinn_engine.mapping import Mapping
 from pinn_engine.mesher import Mesher
-from pinn_engine.networks import CoordinateNet, autograd_jet, input_jet, jet_product
+from pinn_engine.networks import CoordinateNet, autograd_jet
 from pinn_engine.pipeline import load_aux, load_boundary
 from pinn_engine.settings import make_settings
 from pinn_engine.training import _Problem

@@ -1,4 +1,4 @@
-"""The networks' jet in C++ (``jet_kernels.cpp``), compiled once with the system compiler.
+"""The networks' jet in C++ (``kernels.cpp``), compiled once with the system compiler.
 
 The library is built on first use into a per-user cache (``$PINN_MESH_CACHE``, else
 ``$XDG_CACHE_HOME/pinn-mesh`` or ``~/.cache/pinn-mesh``), keyed by the source, the compiler
@@ -20,7 +20,7 @@ import tempfile
 from pathlib import Path
 
 log = logging.getLogger(__name__)
-SOURCE = Path(__file__).with_name("jet_kernels.cpp")
+SOURCE = Path(__file__).with_name("kernels.cpp")
 FLAGS = ["-O3", "-march=native", "-fno-trapping-math", "-shared", "-fPIC", "-std=c++17",
          "-pthread"]
 
