@@ -14,4 +14,5 @@ demo: $(STAMP)
 
 test: $(STAMP)
 	$(VENV)/bin/ruff check pinn_engine plugin tests examples benchmarks experiments scripts example_data
+	$(VENV)/bin/ruff format --check pinn_engine plugin tests examples benchmarks experiments scripts example_data
 	$(VENV)/bin/python -m pytest

@@ -56,8 +56,8 @@ def write_dat(path: Path, code: str, te: str) -> None:
 def read_p3d(path: Path) -> np.ndarray:
     tok = path.read_text().split()
     ni, nj = int(tok[0]), int(tok[1])
-    v = np.array(tok[2:2 + 2 * ni * nj], dtype=float)
-    return np.stack([v[:ni * nj].reshape(nj, ni), v[ni * nj:].reshape(nj, ni)], axis=-1)
+    v = np.array(tok[2 : 2 + 2 * ni * nj], dtype=float)
+    return np.stack([v[: ni * nj].reshape(nj, ni), v[ni * nj :].reshape(nj, ni)], axis=-1)
 
 
 def c2d_figures(g: np.ndarray) -> dict:
@@ -69,39 +69,52 @@ def c2d_figures(g: np.ndarray) -> dict:
     else:
         topology = "c"
         same = np.all(np.isclose(row, row[::-1], atol=1e-12), axis=1)
-        n_wake = int(np.argmin(same[:len(row) // 2])) - 1
+        n_wake = int(np.argmin(same[: len(row) // 2])) - 1
     w = wall_metrics(g, topology, n_wake, sharp=topology == "c")
     return {**q, **w, "topology": topology}
 
 
 def run_construct2d(exe: str, dat: Path) -> tuple[np.ndarray, float]:
     start = time.perf_counter()
-    subprocess.run([exe, dat.name], input="GRID\nSMTH\nQUIT\n", text=True, cwd=dat.parent,
-                   capture_output=True, check=True, timeout=600)
+    subprocess.run(
+        [exe, dat.name],
+        input="GRID\nSMTH\nQUIT\n",
+        text=True,
+        cwd=dat.parent,
+        capture_output=True,
+        check=True,
+        timeout=600,
+    )
     return read_p3d(dat.with_suffix(".p3d")), time.perf_counter() - start
 
 
 def row(name: str, q: dict, seconds: float) -> str:
-    return (f"| {name} | {q['mean_max_angle']:.2f} | {q['worst_max_angle']:.2f} | "
-            f"{q['folded_cells']} | {q['wall_angle_deviation']:.2f} | "
-            f"{q['first_layer']['min']:.3g} .. {q['first_layer']['max']:.3g} | "
-            f"{seconds:.1f} |")
+    return (
+        f"| {name} | {q['mean_max_angle']:.2f} | {q['worst_max_angle']:.2f} | "
+        f"{q['folded_cells']} | {q['wall_angle_deviation']:.2f} | "
+        f"{q['first_layer']['min']:.3g} .. {q['first_layer']['max']:.3g} | "
+        f"{seconds:.1f} |"
+    )
 
 
 def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--construct2d", default=os.environ.get("CONSTRUCT2D")
-                   or shutil.which("construct2d"), help="the construct2d executable")
+    p.add_argument(
+        "--construct2d",
+        default=os.environ.get("CONSTRUCT2D") or shutil.which("construct2d"),
+        help="the construct2d executable",
+    )
     p.add_argument("--write", metavar="MD", help="also write the table to this Markdown file")
     p.add_argument("--cases", nargs="*", default=[c[0] for c in CASES])
     args = p.parse_args()
     if not args.construct2d:
-        print("construct2d not found: build it (make) and pass --construct2d PATH",
-              file=sys.stderr)
+        print("construct2d not found: build it (make) and pass --construct2d PATH", file=sys.stderr)
         return 2
     lines, verdicts = [], []
-    header = ("| grid | mean MaxIncludedAngle | worst | folded | wall angle, max deviation "
-              "from 90 | first layer (min .. max) | seconds |\n|---|---|---|---|---|---|---|")
+    header = (
+        "| grid | mean MaxIncludedAngle | worst | folded | wall angle, max deviation "
+        "from 90 | first layer (min .. max) | seconds |\n|---|---|---|---|---|---|---|"
+    )
     with tempfile.TemporaryDirectory() as tmp:
         for stem, code, te in (c for c in CASES if c[0] in args.cases):
             dat = Path(tmp) / f"{stem}.dat"
@@ -110,9 +123,11 @@ def main() -> int:
             ref = c2d_figures(g)
             nj, ni = g.shape[:2]
             h = ref["first_layer"]["max"]
-            title = (f"NACA {code}, {'blunt' if te == 'blunt' else 'sharp'} trailing edge, "
-                     f"{ref['topology'].upper()}-grid {ni} x {nj}, first layer {h:.3g}, "
-                     "far field 15 chords")
+            title = (
+                f"NACA {code}, {'blunt' if te == 'blunt' else 'sharp'} trailing edge, "
+                f"{ref['topology'].upper()}-grid {ni} x {nj}, first layer {h:.3g}, "
+                "far field 15 chords"
+            )
             print(f"\n{title}\n{header}")
             lines += [f"\n**{title}**\n", header]
             text = row("Construct2D (hyperbolic + smoothing)", ref, secs)
@@ -122,8 +137,16 @@ def main() -> int:
             for method in METHODS:
                 settings = make_settings(method, lattice=(ni, nj))
                 t0 = time.perf_counter()
-                r = mesh_body(body, circle(body, 15), ref["topology"], method, ni, nj,
-                              settings, wall_spacing=h)
+                r = mesh_body(
+                    body,
+                    circle(body, 15),
+                    ref["topology"],
+                    method,
+                    ni,
+                    nj,
+                    settings,
+                    wall_spacing=h,
+                )
                 secs = time.perf_counter() - t0
                 q = {**r.quality, **r.report["topology"]}
                 text = row(f"pinn-mesh {method}", q, secs)
@@ -133,18 +156,27 @@ def main() -> int:
                     dm = q["mean_max_angle"] - ref["mean_max_angle"]
                     dw = q["worst_max_angle"] - ref["worst_max_angle"]
                     ok = dm <= 2 and dw <= 5 and q["folded_cells"] == 0
-                    verdicts.append(f"{stem} {method}: mean {dm:+.2f}, worst {dw:+.2f} deg "
-                                    f"against Construct2D -> {'within' if ok else 'OUTSIDE'} "
-                                    "the target (mean +2, worst +5, no fold)")
+                    verdicts.append(
+                        f"{stem} {method}: mean {dm:+.2f}, worst {dw:+.2f} deg "
+                        f"against Construct2D -> {'within' if ok else 'OUTSIDE'} "
+                        "the target (mean +2, worst +5, no fold)"
+                    )
     print("\n" + "\n".join(verdicts))
     if args.write:
         md = Path(args.write)
         text = md.read_text() if md.exists() else ""
         start, end = "<!-- airfoils-table:begin -->", "<!-- airfoils-table:end -->"
-        block = start + "\n" + "\n".join(lines) + "\n\n" + "\n".join(
-            f"- {v}" for v in verdicts) + "\n" + end
+        block = (
+            start
+            + "\n"
+            + "\n".join(lines)
+            + "\n\n"
+            + "\n".join(f"- {v}" for v in verdicts)
+            + "\n"
+            + end
+        )
         if start in text and end in text:
-            text = text[:text.index(start)] + block + text[text.index(end) + len(end):]
+            text = text[: text.index(start)] + block + text[text.index(end) + len(end) :]
         else:
             text += "\n" + block + "\n"
         md.write_text(text)

@@ -53,14 +53,19 @@ from pinn_engine.settings import make_settings
 ROOT = Path(__file__).resolve().parents[1]
 HARD = ROOT / "example_data" / "hard"
 RUNS = {method: (method, {}) for method in ("tfi", "elliptic", "mgnet", "pinn")}
-VARIANTS = {"elliptic": ("elliptic", {}), "pinn": ("pinn", {}),
-            "pinn, paper residual": ("pinn", {"residual": "paper", "lambda2": 10.0}),
-            "pinn, from TFI": ("pinn", {"warm_start": "none"})}
-OBJECTIVES = {"tfi": ("tfi", {}), "elliptic": ("elliptic", {}),
-              "pinn": ("pinn", {"objective": "winslow"}),
-              "pinn, quality": ("pinn", {"objective": "quality"}),
-              "pinn, quality, network only": ("pinn", {"objective": "quality",
-                                                       "node_iterations": 0})}
+VARIANTS = {
+    "elliptic": ("elliptic", {}),
+    "pinn": ("pinn", {}),
+    "pinn, paper residual": ("pinn", {"residual": "paper", "lambda2": 10.0}),
+    "pinn, from TFI": ("pinn", {"warm_start": "none"}),
+}
+OBJECTIVES = {
+    "tfi": ("tfi", {}),
+    "elliptic": ("elliptic", {}),
+    "pinn": ("pinn", {"objective": "winslow"}),
+    "pinn, quality": ("pinn", {"objective": "quality"}),
+    "pinn, quality, network only": ("pinn", {"objective": "quality", "node_iterations": 0}),
+}
 QUALITY_RUNS = ("pinn", "pinn, quality", "pinn, quality, network only")
 MEAN_BOUND, WORST_BOUND = 0.5, 2.0
 FLOOR_TOL = 0.01  # degrees: a worst angle this close to the floor is at it
@@ -78,18 +83,24 @@ def inputs(name: str):
 
 def within(q: dict, ref: dict) -> bool:
     """Issue 11's bounds for a neural grid ``q`` against the elliptic grid ``ref``."""
-    return (q["folded_cells"] <= ref["folded_cells"]
-            and q["mean_max_angle"] <= ref["mean_max_angle"] + MEAN_BOUND
-            and q["worst_max_angle"] <= ref["worst_max_angle"] + WORST_BOUND)
+    return (
+        q["folded_cells"] <= ref["folded_cells"]
+        and q["mean_max_angle"] <= ref["mean_max_angle"] + MEAN_BOUND
+        and q["worst_max_angle"] <= ref["worst_max_angle"] + WORST_BOUND
+    )
 
 
 def item3(q: dict, ell: dict, tfi: dict, floor: float) -> bool:
     """Issue 14's item 3 for a pinn grid ``q`` against the elliptic and TFI grids."""
-    return (q["folded_cells"] == 0
-            and q["mean_max_angle"] <= ell["mean_max_angle"] + MEAN_BOUND
-            and q["worst_max_angle"] <= tfi["worst_max_angle"] + 0.5
-            and (q["worst_max_angle"] < ell["worst_max_angle"]
-                 or q["worst_max_angle"] <= floor + FLOOR_TOL))
+    return (
+        q["folded_cells"] == 0
+        and q["mean_max_angle"] <= ell["mean_max_angle"] + MEAN_BOUND
+        and q["worst_max_angle"] <= tfi["worst_max_angle"] + 0.5
+        and (
+            q["worst_max_angle"] < ell["worst_max_angle"]
+            or q["worst_max_angle"] <= floor + FLOOR_TOL
+        )
+    )
 
 
 def run_shape(name: str, size: tuple[int, int], runs: dict = RUNS) -> list[dict]:
@@ -108,10 +119,16 @@ def run_shape(name: str, size: tuple[int, int], runs: dict = RUNS) -> list[dict]
         seconds = time.perf_counter() - start
         q = result.quality
         unit = boundary.frame.to_unit(result.points)
-        row = {"shape": name, "size": list(size), "method": label, "seconds": seconds,
-               **{k: q[k] for k in ("mean_max_angle", "worst_max_angle", "folded_cells")},
-               "aux_distance": max(line_distances(unit, aux, boundary.diagonal).values(),
-                                   default=None)}
+        row = {
+            "shape": name,
+            "size": list(size),
+            "method": label,
+            "seconds": seconds,
+            **{k: q[k] for k in ("mean_max_angle", "worst_max_angle", "folded_cells")},
+            "aux_distance": max(
+                line_distances(unit, aux, boundary.diagonal).values(), default=None
+            ),
+        }
         if method == "elliptic":
             ref = row
         if method == "tfi":
@@ -125,17 +142,29 @@ def run_shape(name: str, size: tuple[int, int], runs: dict = RUNS) -> list[dict]
         aux_text = f" aux {row['aux_distance']:.4f}" if aux else ""
         check = {True: " ok", False: " OUT OF BOUNDS"}.get(row.get("within_bounds"), "")
         check += {True: " item3 ok", False: " ITEM3 FAILS"}.get(row.get("item3"), "")
-        print(f"{name:26s} {size[0]:3d}x{size[1]:<3d} {label:20s} mean "
-              f"{row['mean_max_angle']:7.2f} worst {row['worst_max_angle']:7.2f} folded "
-              f"{row['folded_cells']:4d} {seconds:6.2f} s{aux_text}{check}", flush=True)
+        print(
+            f"{name:26s} {size[0]:3d}x{size[1]:<3d} {label:20s} mean "
+            f"{row['mean_max_angle']:7.2f} worst {row['worst_max_angle']:7.2f} folded "
+            f"{row['folded_cells']:4d} {seconds:6.2f} s{aux_text}{check}",
+            flush=True,
+        )
     return rows
 
 
 def command_seconds(name: str) -> float:
     """Wall time of the default ``pinn-mesh`` command, start to written grid."""
     with tempfile.TemporaryDirectory() as tmp:
-        cmd = [sys.executable, "-m", "pinn_engine.cli", str(HARD / f"{name}.vtp"), "--aux",
-               str(HARD / f"{name}_aux.vtp"), "-o", str(Path(tmp) / "g.vts"), "--quiet"]
+        cmd = [
+            sys.executable,
+            "-m",
+            "pinn_engine.cli",
+            str(HARD / f"{name}.vtp"),
+            "--aux",
+            str(HARD / f"{name}_aux.vtp"),
+            "-o",
+            str(Path(tmp) / "g.vts"),
+            "--quiet",
+        ]
         start = time.perf_counter()
         subprocess.run(cmd, check=True, cwd=ROOT, capture_output=True)
         return time.perf_counter() - start
@@ -151,16 +180,25 @@ def speed(name: str = "bump") -> dict:
     Mesher(make_settings("pinn", "paper")).fit(boundary, aux)
     paper = time.perf_counter() - start
     plain = train_plain(boundary, aux)["seconds"]
-    out = {"shape": name, "command_median_s": runs[1], "command_runs_s": runs,
-           "paper_preset_train_s": paper, "plain_train_s": plain,
-           "default_speedup": plain / runs[1], "paper_speedup": plain / paper}
-    print(f"\nspeed on {name} (41 x 21, one auxiliary line):\n"
-          f"  default pinn-mesh command, start to written grid: {runs[1]:.2f} s "
-          f"(median of {', '.join(f'{r:.2f}' for r in runs)})\n"
-          f"  paper preset, training: {paper:.1f} s\n"
-          f"  plain-autograd paper recipe (plain_pinn.py), training: {plain:.1f} s\n"
-          f"  plain / default command: {out['default_speedup']:.1f}x; "
-          f"plain / paper preset: {out['paper_speedup']:.2f}x", flush=True)
+    out = {
+        "shape": name,
+        "command_median_s": runs[1],
+        "command_runs_s": runs,
+        "paper_preset_train_s": paper,
+        "plain_train_s": plain,
+        "default_speedup": plain / runs[1],
+        "paper_speedup": plain / paper,
+    }
+    print(
+        f"\nspeed on {name} (41 x 21, one auxiliary line):\n"
+        f"  default pinn-mesh command, start to written grid: {runs[1]:.2f} s "
+        f"(median of {', '.join(f'{r:.2f}' for r in runs)})\n"
+        f"  paper preset, training: {paper:.1f} s\n"
+        f"  plain-autograd paper recipe (plain_pinn.py), training: {plain:.1f} s\n"
+        f"  plain / default command: {out['default_speedup']:.1f}x; "
+        f"plain / paper preset: {out['paper_speedup']:.2f}x",
+        flush=True,
+    )
     return out
 
 
@@ -169,8 +207,13 @@ def markdown(rows: list[dict], fast: dict | None, variants: bool) -> str:
     neural = [r for r in rows if "within_bounds" in r]
     command = "benchmarks/bench_hard.py" + (" --variants --sizes 41x21" if variants else "")
     lines = [
-        "# " + ("The default PINN against its ablations" if variants else "Every method on "
-                "the hard four-sided shapes"), "",
+        "# "
+        + (
+            "The default PINN against its ablations"
+            if variants
+            else "Every method on the hard four-sided shapes"
+        ),
+        "",
         f"Made by `.venv/bin/python {command}` on the shapes of `example_data/hard/` "
         "(`example_data/make_hard_shapes.py` draws them). Quality is VTK's Verdict quad "
         "`MaxIncludedAngle`; time is fit plus grid in one process with torch imported "
@@ -178,28 +221,39 @@ def markdown(rows: list[dict], fast: dict | None, variants: bool) -> str:
         "converged elliptic grid on the same boundary nodes: mean <= elliptic + 0.5, worst <= "
         "elliptic worst + 2 degrees, and no more folded cells than it (none where it has "
         "none). The aux-line distance is the largest distance of the grid line through an "
-        "auxiliary line's (xi, eta) from the drawn line, relative to the diagonal.", "",
+        "auxiliary line's (xi, eta) from the drawn line, relative to the diagonal.",
+        "",
         f"**{sum(r['within_bounds'] for r in neural)} of {len(neural)} neural grids within "
-        "the bounds.**", "",
+        "the bounds.**",
+        "",
         "| shape | size | method | mean MaxIncludedAngle | worst MaxIncludedAngle | folded | "
-        "time (s) | aux-line distance | issue 11 bounds |", "|" + "---|" * 9]
+        "time (s) | aux-line distance | issue 11 bounds |",
+        "|" + "---|" * 9,
+    ]
     for r in rows:
         aux = f"{r['aux_distance']:.4f}" if r["aux_distance"] is not None else ""
         check = {True: "within", False: "**outside**"}.get(r.get("within_bounds"), "")
-        lines.append(f"| {r['shape']} | {r['size'][0]} x {r['size'][1]} | {r['method']} | "
-                     f"{r['mean_max_angle']:.2f} | {r['worst_max_angle']:.2f} | "
-                     f"{r['folded_cells']} | {r['seconds']:.2f} | {aux} | {check} |")
+        lines.append(
+            f"| {r['shape']} | {r['size'][0]} x {r['size'][1]} | {r['method']} | "
+            f"{r['mean_max_angle']:.2f} | {r['worst_max_angle']:.2f} | "
+            f"{r['folded_cells']} | {r['seconds']:.2f} | {aux} | {check} |"
+        )
     if fast:
-        lines += ["", "## Speed", "", f"On `{fast['shape']}` at 41 x 21 with its auxiliary "
-                  f"line: the default `pinn-mesh` command took {fast['command_median_s']:.2f} s "
-                  "from start to written grid (median of "
-                  f"{', '.join(f'{t:.2f}' for t in fast['command_runs_s'])} s, torch's import "
-                  "included); the plain-autograd paper recipe (`benchmarks/plain_pinn.py`: "
-                  "Adam in float32, L-BFGS in float64, nested autograd) trained for "
-                  f"{fast['plain_train_s']:.1f} s, {fast['default_speedup']:.1f}x the whole "
-                  "default command; the paper preset trained for "
-                  f"{fast['paper_preset_train_s']:.1f} s, {fast['paper_speedup']:.2f}x faster "
-                  "than the plain recipe."]
+        lines += [
+            "",
+            "## Speed",
+            "",
+            f"On `{fast['shape']}` at 41 x 21 with its auxiliary "
+            f"line: the default `pinn-mesh` command took {fast['command_median_s']:.2f} s "
+            "from start to written grid (median of "
+            f"{', '.join(f'{t:.2f}' for t in fast['command_runs_s'])} s, torch's import "
+            "included); the plain-autograd paper recipe (`benchmarks/plain_pinn.py`: "
+            "Adam in float32, L-BFGS in float64, nested autograd) trained for "
+            f"{fast['plain_train_s']:.1f} s, {fast['default_speedup']:.1f}x the whole "
+            "default command; the paper preset trained for "
+            f"{fast['paper_preset_train_s']:.1f} s, {fast['paper_speedup']:.2f}x faster "
+            "than the plain recipe.",
+        ]
     return "\n".join(lines) + "\n"
 
 
@@ -210,10 +264,13 @@ def markdown_quality(rows: list[dict]) -> str:
     for r in rows:
         runs.setdefault((r["shape"], tuple(r["size"])), {})[r["method"]] = r
     pinn = [r for r in rows if "item3" in r]
-    count = {m: (sum(r["item3"] for r in pinn if r["method"] == m),
-                 sum(r["method"] == m for r in pinn)) for m in QUALITY_RUNS}
+    count = {
+        m: (sum(r["item3"] for r in pinn if r["method"] == m), sum(r["method"] == m for r in pinn))
+        for m in QUALITY_RUNS
+    }
     lines = [
-        "# The pinn's objectives: winslow and quality (issue 14, item 3)", "",
+        "# The pinn's objectives: winslow and quality (issue 14, item 3)",
+        "",
         "Made by `.venv/bin/python benchmarks/bench_hard.py --objective` on the shapes of "
         "`example_data/hard/`. Each cell: mean / worst `MaxIncludedAngle` (VTK's Verdict "
         "quad metric, degrees), then folded cells and the time of fit plus grid in seconds "
@@ -223,26 +280,35 @@ def markdown_quality(rows: list[dict]) -> str:
         "largest interior angle at another boundary node (the two cells there share it). "
         "Item 3 holds for a pinn grid with no folded cell, mean <= elliptic + 0.5, worst <= "
         "TFI's worst + 0.5, and worst below the elliptic grid's or at the floor (within "
-        f"{FLOOR_TOL} degrees).", "",
+        f"{FLOOR_TOL} degrees).",
+        "",
         f"**Item 3 holds on {count['pinn, quality'][0]} of {count['pinn, quality'][1]} grids "
         f"with `--objective quality`, on {count['pinn'][0]} of {count['pinn'][1]} with "
         "`--objective winslow`, on "
         f"{count['pinn, quality, network only'][0]} of {count['pinn, quality, network only'][1]}"
         " with the quality objective's network alone (no node optimisation of the start).**",
-        "", "| shape | size | floor | tfi | elliptic | pinn, winslow | pinn, quality | pinn, "
-        "quality, network only | item 3 (winslow / quality / network only) |", "|" + "---|" * 9]
+        "",
+        "| shape | size | floor | tfi | elliptic | pinn, winslow | pinn, quality | pinn, "
+        "quality, network only | item 3 (winslow / quality / network only) |",
+        "|" + "---|" * 9,
+    ]
 
     def cell(r: dict, extra: bool = True) -> str:
         text = f"{r['mean_max_angle']:.2f} / {r['worst_max_angle']:.2f}"
-        return text + (f", {r['folded_cells']} folded, {r['seconds']:.1f} s" if extra else
-                       (f", {r['folded_cells']} folded" if r["folded_cells"] else ""))
+        return text + (
+            f", {r['folded_cells']} folded, {r['seconds']:.1f} s"
+            if extra
+            else (f", {r['folded_cells']} folded" if r["folded_cells"] else "")
+        )
 
     for (shape, size), r in runs.items():
-        marks = " / ".join({True: "holds", False: "**fails**"}[r[m]["item3"]]
-                           for m in QUALITY_RUNS)
-        lines.append(f"| {shape} | {size[0]} x {size[1]} | {r['tfi']['floor']:.2f} | "
-                     f"{cell(r['tfi'], False)} | {cell(r['elliptic'], False)} | "
-                     + " | ".join(cell(r[m]) for m in QUALITY_RUNS) + f" | {marks} |")
+        marks = " / ".join({True: "holds", False: "**fails**"}[r[m]["item3"]] for m in QUALITY_RUNS)
+        lines.append(
+            f"| {shape} | {size[0]} x {size[1]} | {r['tfi']['floor']:.2f} | "
+            f"{cell(r['tfi'], False)} | {cell(r['elliptic'], False)} | "
+            + " | ".join(cell(r[m]) for m in QUALITY_RUNS)
+            + f" | {marks} |"
+        )
     return "\n".join(lines) + "\n"
 
 
@@ -251,27 +317,39 @@ def main() -> None:
     p.add_argument("--sizes", nargs="+", default=["41x21", "161x81"])
     p.add_argument("--shapes", nargs="+", default=None)
     p.add_argument("--no-speed", action="store_true", help="skip the speed section")
-    p.add_argument("--variants", action="store_true",
-                   help="the default against its ablations instead of the method table")
-    p.add_argument("--objective", action="store_true",
-                   help="the pinn's objectives winslow and quality (issue 14, item 3)")
+    p.add_argument(
+        "--variants",
+        action="store_true",
+        help="the default against its ablations instead of the method table",
+    )
+    p.add_argument(
+        "--objective",
+        action="store_true",
+        help="the pinn's objectives winslow and quality (issue 14, item 3)",
+    )
     p.add_argument("--out", default=str(ROOT / "docs" / "hard_shapes"))
     args = p.parse_args()
     import torch  # noqa: F401  (imported once, before any timing)
 
     sizes = [tuple(int(n) for n in s.split("x")) for s in args.sizes]
     runs = OBJECTIVES if args.objective else VARIANTS if args.variants else RUNS
-    rows = [row for name in (args.shapes or shapes()) for size in sizes
-            for row in run_shape(name, size, runs)]
+    rows = [
+        row
+        for name in (args.shapes or shapes())
+        for size in sizes
+        for row in run_shape(name, size, runs)
+    ]
     neural = [r for r in rows if "within_bounds" in r]
-    print(f"\n{sum(r['within_bounds'] for r in neural)} of {len(neural)} neural grids within "
-          "issue 11's bounds")
+    print(
+        f"\n{sum(r['within_bounds'] for r in neural)} of {len(neural)} neural grids within "
+        "issue 11's bounds"
+    )
     fast = None if args.no_speed or args.variants or args.objective else speed()
-    out = Path(args.out + ("_variants" if args.variants else "_quality" if args.objective
-                           else ""))
+    out = Path(args.out + ("_variants" if args.variants else "_quality" if args.objective else ""))
     out.with_suffix(".json").write_text(json.dumps({"rows": rows, "speed": fast}, indent=2))
-    out.with_suffix(".md").write_text(markdown_quality(rows) if args.objective
-                                      else markdown(rows, fast, args.variants))
+    out.with_suffix(".md").write_text(
+        markdown_quality(rows) if args.objective else markdown(rows, fast, args.variants)
+    )
     print(f"wrote {out.with_suffix('.md')} and {out.with_suffix('.json')}")
 
 

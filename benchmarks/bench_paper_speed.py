@@ -52,45 +52,85 @@ def job(kind: str, shape: str, threads: int) -> dict:
         mesher = Mesher(make_settings("pinn", "paper"))
         mesher.fit(boundary, aux)
         loss = mesher.model_.info["final_loss"]
-    return {"kind": kind, "wall_s": time.perf_counter() - wall,
-            "cpu_s": time.process_time() - cpu, "final_loss": loss}
+    return {
+        "kind": kind,
+        "wall_s": time.perf_counter() - wall,
+        "cpu_s": time.process_time() - cpu,
+        "final_loss": loss,
+    }
 
 
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--pairs", type=int, default=3)
     p.add_argument("--shape", default="bump")
-    p.add_argument("--plain-threads", type=int, default=1,
-                   help="torch threads of the plain recipe (the paper preset uses one)")
+    p.add_argument(
+        "--plain-threads",
+        type=int,
+        default=1,
+        help="torch threads of the plain recipe (the paper preset uses one)",
+    )
     p.add_argument("--job", nargs=2, metavar=("KIND", "SHAPE"), help=argparse.SUPPRESS)
     args = p.parse_args()
     if args.job:
         print(json.dumps(job(args.job[0], args.job[1], args.plain_threads)))
         return
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join(  # this checkout's engine, always
-        [str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])}
+    env = {
+        **os.environ,
+        "PYTHONPATH": os.pathsep.join(  # this checkout's engine, always
+            [str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])]
+        ),
+    }
     load_before = os.getloadavg()
     runs: dict[str, list[dict]] = {"plain": [], "paper": []}
     for _ in range(args.pairs):
         for kind in ("plain", "paper"):
-            out = subprocess.run([sys.executable, __file__, "--job", kind, args.shape,
-                                  "--plain-threads", str(args.plain_threads)], check=True,
-                                 capture_output=True, text=True, cwd=ROOT, env=env)
+            out = subprocess.run(
+                [
+                    sys.executable,
+                    __file__,
+                    "--job",
+                    kind,
+                    args.shape,
+                    "--plain-threads",
+                    str(args.plain_threads),
+                ],
+                check=True,
+                capture_output=True,
+                text=True,
+                cwd=ROOT,
+                env=env,
+            )
             run = json.loads(out.stdout.strip().splitlines()[-1])
             runs[kind].append(run)
-            print(f"{kind:5s} wall {run['wall_s']:6.1f} s  cpu {run['cpu_s']:6.1f} s  "
-                  f"final loss {run['final_loss']:.4e}", flush=True)
-    med = {k: {m: statistics.median(r[m] for r in v) for m in ("wall_s", "cpu_s", "final_loss")}
-           for k, v in runs.items()}
-    print(f"\n{args.shape}, 41 x 21 aux line, {args.pairs} pairs alternating; plain recipe on "
-          f"{args.plain_threads} torch thread(s), paper preset on 1")
+            print(
+                f"{kind:5s} wall {run['wall_s']:6.1f} s  cpu {run['cpu_s']:6.1f} s  "
+                f"final loss {run['final_loss']:.4e}",
+                flush=True,
+            )
+    med = {
+        k: {m: statistics.median(r[m] for r in v) for m in ("wall_s", "cpu_s", "final_loss")}
+        for k, v in runs.items()
+    }
+    print(
+        f"\n{args.shape}, 41 x 21 aux line, {args.pairs} pairs alternating; plain recipe on "
+        f"{args.plain_threads} torch thread(s), paper preset on 1"
+    )
     for kind in ("plain", "paper"):
-        print(f"  {kind:5s} median wall {med[kind]['wall_s']:6.1f} s, cpu "
-              f"{med[kind]['cpu_s']:6.1f} s, final loss {med[kind]['final_loss']:.4e}")
-    print(f"  plain / paper: {med['plain']['wall_s'] / med['paper']['wall_s']:.2f}x wall, "
-          f"{med['plain']['cpu_s'] / med['paper']['cpu_s']:.2f}x cpu")
-    print("  load average before: " + " ".join(f"{x:.2f}" for x in load_before)
-          + "; after: " + " ".join(f"{x:.2f}" for x in os.getloadavg()))
+        print(
+            f"  {kind:5s} median wall {med[kind]['wall_s']:6.1f} s, cpu "
+            f"{med[kind]['cpu_s']:6.1f} s, final loss {med[kind]['final_loss']:.4e}"
+        )
+    print(
+        f"  plain / paper: {med['plain']['wall_s'] / med['paper']['wall_s']:.2f}x wall, "
+        f"{med['plain']['cpu_s'] / med['paper']['cpu_s']:.2f}x cpu"
+    )
+    print(
+        "  load average before: "
+        + " ".join(f"{x:.2f}" for x in load_before)
+        + "; after: "
+        + " ".join(f"{x:.2f}" for x in os.getloadavg())
+    )
 
 
 if __name__ == "__main__":

@@ -27,8 +27,10 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-PATHS = {"fast": {"derivatives": "jets", "dtype": "float32"},
-         "reference": {"derivatives": "autograd", "dtype": "float64"}}
+PATHS = {
+    "fast": {"derivatives": "jets", "dtype": "float32"},
+    "reference": {"derivatives": "autograd", "dtype": "float64"},
+}
 
 
 def _peak_mib() -> float:
@@ -64,8 +66,9 @@ def job_train(case: str, path: str, epochs: int, lbfgs: int) -> dict:
             stamps[phase] = (now, info["step"])
         stamps[phase + "_end"] = (now, info["step"])
 
-    settings = make_settings("pinn", "paper", adam_epochs=epochs, lbfgs_iterations=lbfgs,
-                             **PATHS[path])
+    settings = make_settings(
+        "pinn", "paper", adam_epochs=epochs, lbfgs_iterations=lbfgs, **PATHS[path]
+    )
     mesher = Mesher(settings)
     start = time.perf_counter()
     mesher.fit(boundary, aux, progress)
@@ -74,9 +77,15 @@ def job_train(case: str, path: str, epochs: int, lbfgs: int) -> dict:
     (t0, e0), (t1, e1) = stamps["adam"], stamps["adam_end"]
     lbfgs_s = start + total - t1
     iterations = max(info["lbfgs_iterations"], 1)
-    return {"total_s": total, "adam_epoch_ms": 1e3 * (t1 - t0) / (e1 - e0),
-            "lbfgs_iteration_ms": 1e3 * lbfgs_s / iterations, "lbfgs_iterations": iterations,
-            "final_loss": info["final_loss"], "peak_mib": _peak_mib(), "startup_s": startup}
+    return {
+        "total_s": total,
+        "adam_epoch_ms": 1e3 * (t1 - t0) / (e1 - e0),
+        "lbfgs_iteration_ms": 1e3 * lbfgs_s / iterations,
+        "lbfgs_iterations": iterations,
+        "final_loss": info["final_loss"],
+        "peak_mib": _peak_mib(),
+        "startup_s": startup,
+    }
 
 
 def job_evaluate(case: str, n: int) -> dict:
@@ -111,8 +120,13 @@ JOBS = {"train": job_train, "evaluate": job_evaluate, "elliptic": job_elliptic}
 
 def run_job(name: str, *args) -> dict:
     """Run one job in a fresh interpreter and return its JSON result."""
-    out = subprocess.run([sys.executable, __file__, "--job", name, *map(str, args)],
-                         capture_output=True, text=True, check=True, cwd=ROOT)
+    out = subprocess.run(
+        [sys.executable, __file__, "--job", name, *map(str, args)],
+        capture_output=True,
+        text=True,
+        check=True,
+        cwd=ROOT,
+    )
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
@@ -132,21 +146,31 @@ def main() -> None:
     case = args.case
     short = (100, 10) if args.quick else (400, 40)
     full = (300, 30) if args.quick else (5000, 500)
-    print(f"pinn-mesh speed benchmark on example_data/{case}.vtp (paper preset, "
-          f"{'quick' if args.quick else 'full'} mode)\n")
+    print(
+        f"pinn-mesh speed benchmark on example_data/{case}.vtp (paper preset, "
+        f"{'quick' if args.quick else 'full'} mode)\n"
+    )
 
     steps = {path: [] for path in PATHS}
     for _ in range(args.repeats):
         for path in PATHS:
             steps[path].append(run_job("train", case, path, *short))
-    med = {path: {k: statistics.median(r[k] for r in runs)
-                  for k in ("adam_epoch_ms", "lbfgs_iteration_ms")}
-           for path, runs in steps.items()}
-    print(f"per step (median of {args.repeats}; {short[0]} Adam epochs at batch 100, "
-          f"{short[1]} L-BFGS iterations on 1000 points)")
+    med = {
+        path: {
+            k: statistics.median(r[k] for r in runs)
+            for k in ("adam_epoch_ms", "lbfgs_iteration_ms")
+        }
+        for path, runs in steps.items()
+    }
+    print(
+        f"per step (median of {args.repeats}; {short[0]} Adam epochs at batch 100, "
+        f"{short[1]} L-BFGS iterations on 1000 points)"
+    )
     print(f"  {'':24s}{'fast':>12s}{'reference':>12s}{'ratio':>8s}")
-    for key, label in (("adam_epoch_ms", "Adam epoch (ms)"),
-                       ("lbfgs_iteration_ms", "L-BFGS iteration (ms)")):
+    for key, label in (
+        ("adam_epoch_ms", "Adam epoch (ms)"),
+        ("lbfgs_iteration_ms", "L-BFGS iteration (ms)"),
+    ):
         f, r = med["fast"][key], med["reference"][key]
         print(f"  {label:24s}{f:12.2f}{r:12.2f}{r / f:8.2f}x")
 
@@ -156,29 +180,42 @@ def main() -> None:
     r = run_job("train", case, "reference", *full)
     second = run_job("train", case, "fast", *full)
     fast_s = (first["total_s"] + second["total_s"]) / 2
-    print(f"\nwhole paper-preset training ({full[0]} Adam epochs + up to {full[1]} L-BFGS "
-          "iterations; fast run before and after the reference)")
+    print(
+        f"\nwhole paper-preset training ({full[0]} Adam epochs + up to {full[1]} L-BFGS "
+        "iterations; fast run before and after the reference)"
+    )
     print(f"  {'':24s}{'fast':>12s}{'reference':>12s}{'ratio':>8s}")
-    print(f"  {'seconds':24s}{fast_s:12.1f}{r['total_s']:12.1f}{r['total_s'] / fast_s:8.2f}x"
-          f"   (fast runs {first['total_s']:.1f} s and {second['total_s']:.1f} s)")
-    print(f"  {'final loss':24s}{first['final_loss']:12.4e}{r['final_loss']:12.4e}"
-          f"{first['final_loss'] / r['final_loss']:8.2f} (fast / reference)")
-    print(f"  {'L-BFGS iterations':24s}{first['lbfgs_iterations']:12d}"
-          f"{r['lbfgs_iterations']:12d}")
+    print(
+        f"  {'seconds':24s}{fast_s:12.1f}{r['total_s']:12.1f}{r['total_s'] / fast_s:8.2f}x"
+        f"   (fast runs {first['total_s']:.1f} s and {second['total_s']:.1f} s)"
+    )
+    print(
+        f"  {'final loss':24s}{first['final_loss']:12.4e}{r['final_loss']:12.4e}"
+        f"{first['final_loss'] / r['final_loss']:8.2f} (fast / reference)"
+    )
+    print(f"  {'L-BFGS iterations':24s}{first['lbfgs_iterations']:12d}{r['lbfgs_iterations']:12d}")
     print(f"  {'peak memory (MiB)':24s}{first['peak_mib']:12.0f}{r['peak_mib']:12.0f}")
-    print(f"  (not included: importing torch and its optimizers, once per process: "
-          f"{first['startup_s']:.1f} s)")
+    print(
+        f"  (not included: importing torch and its optimizers, once per process: "
+        f"{first['startup_s']:.1f} s)"
+    )
     if first["final_loss"] != second["final_loss"]:
-        print("  note: the two fast runs ended at different losses "
-              f"({first['final_loss']:.6e}, {second['final_loss']:.6e})")
+        print(
+            "  note: the two fast runs ended at different losses "
+            f"({first['final_loss']:.6e}, {second['final_loss']:.6e})"
+        )
 
     ev = run_job("evaluate", case, 1001)
-    print(f"\n1001 x 1001 grid, feed-forward with quality arrays: {ev['seconds']:.2f} s "
-          f"(peak {ev['peak_mib']:.0f} MiB)")
+    print(
+        f"\n1001 x 1001 grid, feed-forward with quality arrays: {ev['seconds']:.2f} s "
+        f"(peak {ev['peak_mib']:.0f} MiB)"
+    )
     for n in (101, 401):
         el = run_job("elliptic", case, n)
-        print(f"converged elliptic grid {n} x {n}: {el['seconds']:.2f} s "
-              f"(peak {el['peak_mib']:.0f} MiB)")
+        print(
+            f"converged elliptic grid {n} x {n}: {el['seconds']:.2f} s "
+            f"(peak {el['peak_mib']:.0f} MiB)"
+        )
 
 
 if __name__ == "__main__":

@@ -43,43 +43,59 @@ def main() -> None:
     h = 1e-3 * height
     rows = []
     for method, orthogonal in RUNS:
-        settings = make_settings(method, lattice=SIZE, spacing={"bottom": h},
-                                 orthogonal=orthogonal)
+        settings = make_settings(method, lattice=SIZE, spacing={"bottom": h}, orthogonal=orthogonal)
         start = time.perf_counter()
         result = Mesher(settings).fit(boundary).predict(*SIZE)
         seconds = time.perf_counter() - start
         q, floor = result.quality, result.report["sides"]["bottom"]
-        row = {"method": method + (" (orthogonal floor)" if orthogonal else ""),
-               "seconds": seconds,
-               "first": [floor[f"first_edge_{k}"] / h for k in ("min", "median", "max")],
-               "angle": floor["max_angle_deviation"], "growth": floor["max_growth_ratio"],
-               "mean": q["mean_max_angle"], "worst": q["worst_max_angle"],
-               "folded": q["folded_cells"]}
+        row = {
+            "method": method + (" (orthogonal floor)" if orthogonal else ""),
+            "seconds": seconds,
+            "first": [floor[f"first_edge_{k}"] / h for k in ("min", "median", "max")],
+            "angle": floor["max_angle_deviation"],
+            "growth": floor["max_growth_ratio"],
+            "mean": q["mean_max_angle"],
+            "worst": q["worst_max_angle"],
+            "folded": q["folded_cells"],
+        }
         rows.append(row)
-        print(f"{row['method']:28s} {seconds:6.1f} s  first edge / H "
-              f"{row['first'][0]:.3f} {row['first'][1]:.3f} {row['first'][2]:.3f}  wall angle "
-              f"+-{row['angle']:.2f} deg  growth {row['growth']:.3f}  MaxIncludedAngle mean "
-              f"{row['mean']:.2f} worst {row['worst']:.2f}  folded {row['folded']}", flush=True)
+        print(
+            f"{row['method']:28s} {seconds:6.1f} s  first edge / H "
+            f"{row['first'][0]:.3f} {row['first'][1]:.3f} {row['first'][2]:.3f}  wall angle "
+            f"+-{row['angle']:.2f} deg  growth {row['growth']:.3f}  MaxIncludedAngle mean "
+            f"{row['mean']:.2f} worst {row['worst']:.2f}  folded {row['folded']}",
+            flush=True,
+        )
         if not args.no_images:
             from pinn_engine.render import render_png
 
-            render_png(to_vtk(result), ROOT / "docs" / "images" / f"boundary_layer_{method}.png",
-                       title=f"{method}: bump channel, first cell {h:g} on the floor",
-                       view=ZOOM, window_size=(1000, 700), clim=(90.0, 120.0))
-    table = ["| method | time (s) | first edge / H: min, median, max | wall angle: largest "
-             "deviation from 90 (deg) | largest growth ratio | MaxIncludedAngle mean / worst "
-             "(deg) | folded |", "|---|---|---|---|---|---|---|"]
+            render_png(
+                to_vtk(result),
+                ROOT / "docs" / "images" / f"boundary_layer_{method}.png",
+                title=f"{method}: bump channel, first cell {h:g} on the floor",
+                view=ZOOM,
+                window_size=(1000, 700),
+                clim=(90.0, 120.0),
+            )
+    table = [
+        "| method | time (s) | first edge / H: min, median, max | wall angle: largest "
+        "deviation from 90 (deg) | largest growth ratio | MaxIncludedAngle mean / worst "
+        "(deg) | folded |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for r in rows:
-        table.append(f"| {r['method']} | {r['seconds']:.1f} | {r['first'][0]:.3f}, "
-                     f"{r['first'][1]:.3f}, {r['first'][2]:.3f} | {r['angle']:.2f} | "
-                     f"{r['growth']:.3f} | {r['mean']:.2f} / {r['worst']:.2f} | "
-                     f"{r['folded']} |")
+        table.append(
+            f"| {r['method']} | {r['seconds']:.1f} | {r['first'][0]:.3f}, "
+            f"{r['first'][1]:.3f}, {r['first'][2]:.3f} | {r['angle']:.2f} | "
+            f"{r['growth']:.3f} | {r['mean']:.2f} / {r['worst']:.2f} | "
+            f"{r['folded']} |"
+        )
     out = Path(args.out)
     text = out.read_text() if out.exists() else ""
     start, end = "<!-- table:start -->", "<!-- table:end -->"
     block = "\n".join([start, "", *table, "", end])
     if start in text and end in text:
-        text = text[:text.index(start)] + block + text[text.index(end) + len(end):]
+        text = text[: text.index(start)] + block + text[text.index(end) + len(end) :]
     else:
         text = text + "\n" + block + "\n"
     out.write_text(text)

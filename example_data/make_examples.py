@@ -59,8 +59,10 @@ def wavy() -> tuple[np.ndarray, list[np.ndarray]]:
     top = curve(lambda s: 4 - 4 * s, lambda s: 2 + 0.3 * np.sin(3 * np.pi * s), 81)
     left = curve(lambda s: -0.15 * np.sin(np.pi * (1 - s)), lambda s: 2 - 2 * s, 41)
     # the vertical through x = 2 (bottom at y = 0, top at y = 1.7) and the horizontal y = 1
-    aux = [curve(lambda s: 2 + 0 * s, lambda s: 1.7 * s, 41),
-           curve(lambda s: -0.15 + 4.35 * s, lambda s: 1 + 0 * s, 81)]
+    aux = [
+        curve(lambda s: 2 + 0 * s, lambda s: 1.7 * s, 41),
+        curve(lambda s: -0.15 + 4.35 * s, lambda s: 1 + 0 * s, 81),
+    ]
     return ring(bottom, right, top, left), aux
 
 
@@ -75,8 +77,10 @@ def fig2() -> tuple[np.ndarray, list[np.ndarray]]:
     left = curve(lambda s: 0 * s, lambda s: 1.5 - 1.5 * s, 41)
     x_aux = 1.2
     y_top = 1.5 + 0.9 * np.sin(np.pi * (3.8 - x_aux) / 3.8) ** 2
-    aux = [curve(lambda s: x_aux + 0 * s, lambda s: y_top * s, 41),
-           curve(lambda s: 3.4 * s, lambda s: 0.75 + 0 * s, 61)]
+    aux = [
+        curve(lambda s: x_aux + 0 * s, lambda s: y_top * s, 41),
+        curve(lambda s: 3.4 * s, lambda s: 0.75 + 0 * s, 61),
+    ]
     return ring(bottom, right, top, left), aux
 
 
@@ -93,27 +97,35 @@ def concave() -> tuple[np.ndarray, list[np.ndarray]]:
     """
     bottom = curve(lambda s: 3 * s, lambda s: 0 * s, 61)
     right = curve(lambda s: 3 + 0 * s, lambda s: s, 11)
-    top = np.vstack([
-        curve(lambda s: 3 - 1.5 * s, lambda s: 1 + 0 * s, 31)[:-1],
-        _arc(1.5, 1.5, 0.5, -np.pi / 2, -np.pi, 17)[:-1],        # re-entrant bend, rounded
-        curve(lambda s: 1 + 0 * s, lambda s: 1.5 + 1.5 * s, 31),
-    ])
-    left = np.vstack([
-        curve(lambda s: 1 - 0.5 * s, lambda s: 3 + 0 * s, 6)[:-1],
-        _arc(0.5, 2.5, 0.5, np.pi / 2, np.pi, 16)[:-1],           # convex outer bend, rounded
-        curve(lambda s: 0 * s, lambda s: 2.5 - 2.5 * s, 26),
-    ])
-    aux = [curve(lambda s: 3 * s, lambda s: 0.5 + 0 * s, 31),   # parallel to the bottom
-           curve(lambda s: 2 + 0 * s, lambda s: s, 11)]         # parallel to the right
+    top = np.vstack(
+        [
+            curve(lambda s: 3 - 1.5 * s, lambda s: 1 + 0 * s, 31)[:-1],
+            _arc(1.5, 1.5, 0.5, -np.pi / 2, -np.pi, 17)[:-1],  # re-entrant bend, rounded
+            curve(lambda s: 1 + 0 * s, lambda s: 1.5 + 1.5 * s, 31),
+        ]
+    )
+    left = np.vstack(
+        [
+            curve(lambda s: 1 - 0.5 * s, lambda s: 3 + 0 * s, 6)[:-1],
+            _arc(0.5, 2.5, 0.5, np.pi / 2, np.pi, 16)[:-1],  # convex outer bend, rounded
+            curve(lambda s: 0 * s, lambda s: 2.5 - 2.5 * s, 26),
+        ]
+    )
+    aux = [
+        curve(lambda s: 3 * s, lambda s: 0.5 + 0 * s, 31),  # parallel to the bottom
+        curve(lambda s: 2 + 0 * s, lambda s: s, 11),
+    ]  # parallel to the right
     return ring(bottom, right, top, left), aux
 
 
 def bump_channel() -> np.ndarray:
     """The boundary-layer example (SPEC 7): a channel 3 long and 1 high with a smooth bump
     of 15 % of the height on its floor (sin^2 over 1 < x < 2, zero slope at its feet)."""
-    bottom = curve(lambda s: 3 * s,
-                   lambda s: np.where((s > 1 / 3) & (s < 2 / 3),
-                                      0.15 * np.sin(np.pi * (3 * s - 1)) ** 2, 0.0), 241)
+    bottom = curve(
+        lambda s: 3 * s,
+        lambda s: np.where((s > 1 / 3) & (s < 2 / 3), 0.15 * np.sin(np.pi * (3 * s - 1)) ** 2, 0.0),
+        241,
+    )
     right = curve(lambda s: 3 + 0 * s, lambda s: s, 41)
     top = curve(lambda s: 3 - 3 * s, lambda s: 1 + 0 * s, 61)
     left = curve(lambda s: 0 * s, lambda s: 1 - s, 41)
@@ -130,8 +142,7 @@ def main() -> None:
         write(polydata(aux, closed=False), f"{name}_aux.vtp")
     write(polydata([bump_channel()], closed=True), "bump_channel.vtp")
     boundary, _ = wavy()
-    np.savetxt(HERE / "wavy.csv", boundary, delimiter=",", header="x,y", comments="",
-               fmt="%.10g")
+    np.savetxt(HERE / "wavy.csv", boundary, delimiter=",", header="x,y", comments="", fmt="%.10g")
 
 
 if __name__ == "__main__":

@@ -33,20 +33,26 @@ def main() -> int:
     cases = {
         "naca0012_o": dict(boundary=None, naca="0012", topology="o"),
         "naca0012_c": dict(boundary=None, naca="0012", topology="c"),
-        "naca4412_c": dict(boundary=str(ROOT / "example_data" / "naca4412.dat"),
-                           topology="c"),
+        "naca4412_c": dict(boundary=str(ROOT / "example_data" / "naca4412.dat"), topology="c"),
     }
     for name, kw in cases.items():
         boundary = kw.pop("boundary")
-        grid = pinn_mesh(boundary, size=(240, 64), method=args.method, farfield=15,
-                         spacing={"bottom": 2e-4}, **kw)
+        grid = pinn_mesh(
+            boundary,
+            size=(240, 64),
+            method=args.method,
+            farfield=15,
+            spacing={"bottom": 2e-4},
+            **kw,
+        )
         q = grid.field_data
-        print(f"{name}: mean MaxIncludedAngle {q['mean_max_angle'][0]:.2f}, worst "
-              f"{q['worst_max_angle'][0]:.2f} deg, {int(q['folded_cells'][0])} folded")
+        print(
+            f"{name}: mean MaxIncludedAngle {q['mean_max_angle'][0]:.2f}, worst "
+            f"{q['worst_max_angle'][0]:.2f} deg, {int(q['folded_cells'][0])} folded"
+        )
         grid.save(out / f"{name}.vts")
         save_mesh(grid, out / f"{name}.su2")
-        render_body_png(grid, out / f"{name}.png", title=f"{args.method} {name}",
-                        zoom=0.08)
+        render_body_png(grid, out / f"{name}.png", title=f"{args.method} {name}", zoom=0.08)
     return 0
 
 

@@ -26,8 +26,9 @@ import pinn_engine.pyvista_accessor  # noqa: E402,F401  (only needed when not pi
 
 def build_domain() -> tuple[pv.PolyData, pv.PolyData]:
     """Boundary (one closed polyline) and an auxiliary line, both made with pyvista."""
-    inner = pv.CircularArc(pointa=[1, 0, 0], pointb=[0, 1, 0], center=[0, 0, 0],
-                           resolution=40).points
+    inner = pv.CircularArc(
+        pointa=[1, 0, 0], pointb=[0, 1, 0], center=[0, 0, 0], resolution=40
+    ).points
     theta = np.linspace(0.0, np.pi / 2, 61)
     outer = np.column_stack([2.4 * np.cos(theta), 2.0 * np.sin(theta), np.zeros_like(theta)])
     bottom = pv.Line([1, 0, 0], [2.4, 0, 0], resolution=10).points
@@ -37,8 +38,7 @@ def build_domain() -> tuple[pv.PolyData, pv.PolyData]:
     boundary = pv.PolyData(ring, lines=[len(ring) + 1, *range(len(ring)), 0])
     # auxiliary line at 45 degrees, from the inner arc (a vertex of it) to the outer arc
     a = np.pi / 4
-    aux = pv.Line([np.cos(a), np.sin(a), 0], [2.4 * np.cos(a), 2.0 * np.sin(a), 0],
-                  resolution=20)
+    aux = pv.Line([np.cos(a), np.sin(a), 0], [2.4 * np.cos(a), 2.0 * np.sin(a), 0], resolution=20)
     return boundary, aux
 
 
@@ -54,15 +54,22 @@ def main(argv: list[str] | None = None) -> int:
     grid = boundary.pinn_mesh(aux=aux, size=tuple(args.size), **training)  # trains once
     # the same network (trained for, and checked at, the first size) evaluated coarser
     preview = boundary.pinn_mesh(aux=aux, size=(11, 8), lattice=tuple(args.size), **training)
-    print(f"{grid.dimensions} grid, {preview.dimensions} preview, "
-          f"{boundary.pinn_mesh.trainings} training(s); worst MaxIncludedAngle "
-          f"{grid['MaxIncludedAngle'].max():.1f} deg, folded cells {int(grid['Folded'].sum())}")
+    print(
+        f"{grid.dimensions} grid, {preview.dimensions} preview, "
+        f"{boundary.pinn_mesh.trainings} training(s); worst MaxIncludedAngle "
+        f"{grid['MaxIncludedAngle'].max():.1f} deg, folded cells {int(grid['Folded'].sum())}"
+    )
 
     plotter = pv.Plotter(off_screen=True, window_size=(1000, 800))
     plotter.set_background("white")
-    plotter.add_mesh(grid, scalars="MaxIncludedAngle", show_edges=True, cmap="viridis",
-                     clim=(90, 180), scalar_bar_args={"title": "MaxIncludedAngle (deg)",
-                                                      "color": "black"})
+    plotter.add_mesh(
+        grid,
+        scalars="MaxIncludedAngle",
+        show_edges=True,
+        cmap="viridis",
+        clim=(90, 180),
+        scalar_bar_args={"title": "MaxIncludedAngle (deg)", "color": "black"},
+    )
     plotter.add_mesh(boundary, color="red", line_width=3)
     plotter.add_mesh(aux, color="orange", line_width=4)
     plotter.view_xy()

@@ -54,32 +54,44 @@ def run_case(case: str, size: tuple[int, int], quick: bool) -> list[dict]:
         start = time.perf_counter()
         result = Mesher(settings).fit(boundary, aux).predict(*size)
         unit = boundary.frame.to_unit(result.points)
-        row = {"case": case, "run": label, "seconds": time.perf_counter() - start,
-               **result.quality,
-               "aux_distance": list(line_distances(unit, aux, boundary.diagonal).values())}
+        row = {
+            "case": case,
+            "run": label,
+            "seconds": time.perf_counter() - start,
+            **result.quality,
+            "aux_distance": list(line_distances(unit, aux, boundary.diagonal).values()),
+        }
         if method in NEURAL:
             ref = winslow_solve(result.points)[0]
             row["elliptic_same_nodes_mean"] = summary(cell_quality(ref), 0.0)["mean_max_angle"]
             row["delta_mean"] = row["mean_max_angle"] - row["elliptic_same_nodes_mean"]
         rows.append(row)
-        print(f"{case:8s} {label:38s} mean {row['mean_max_angle']:7.2f} worst "
-              f"{row['worst_max_angle']:7.2f} folded {row['folded_cells']:3d} dev "
-              f"{row['boundary_deviation']:.1e} {row['seconds']:7.1f} s aux "
-              f"{' / '.join(f'{d:.4f}' for d in row['aux_distance'])}", flush=True)
+        print(
+            f"{case:8s} {label:38s} mean {row['mean_max_angle']:7.2f} worst "
+            f"{row['worst_max_angle']:7.2f} folded {row['folded_cells']:3d} dev "
+            f"{row['boundary_deviation']:.1e} {row['seconds']:7.1f} s aux "
+            f"{' / '.join(f'{d:.4f}' for d in row['aux_distance'])}",
+            flush=True,
+        )
     return rows
 
 
 def markdown(rows: list[dict]) -> str:
-    lines = ["| case | method | mean MaxIncludedAngle | worst MaxIncludedAngle | worst "
-             "MinIncludedAngle | folded | boundary dev. | time (s) | aux-line distance (per "
-             "line) | Δ mean vs elliptic on same nodes |", "|" + "---|" * 10]
+    lines = [
+        "| case | method | mean MaxIncludedAngle | worst MaxIncludedAngle | worst "
+        "MinIncludedAngle | folded | boundary dev. | time (s) | aux-line distance (per "
+        "line) | Δ mean vs elliptic on same nodes |",
+        "|" + "---|" * 10,
+    ]
     for r in rows:
         delta = f"{r['delta_mean']:+.2f}" if "delta_mean" in r else ""
-        lines.append(f"| {r['case']} | {r['run']} | {r['mean_max_angle']:.2f} | "
-                     f"{r['worst_max_angle']:.2f} | {r['worst_min_angle']:.2f} | "
-                     f"{r['folded_cells']} | {r['boundary_deviation']:.1e} | "
-                     f"{r['seconds']:.1f} | {' / '.join(f'{d:.4f}' for d in r['aux_distance'])} | "
-                     f"{delta} |")
+        lines.append(
+            f"| {r['case']} | {r['run']} | {r['mean_max_angle']:.2f} | "
+            f"{r['worst_max_angle']:.2f} | {r['worst_min_angle']:.2f} | "
+            f"{r['folded_cells']} | {r['boundary_deviation']:.1e} | "
+            f"{r['seconds']:.1f} | {' / '.join(f'{d:.4f}' for d in r['aux_distance'])} | "
+            f"{delta} |"
+        )
     return "\n".join(lines) + "\n"
 
 

@@ -26,8 +26,9 @@ def _clock(seconds: float) -> str:
 class ProgressBar:
     """A text bar on ``stream``: one updating line on a terminal, a line per 2 % otherwise."""
 
-    def __init__(self, total: float, stream: TextIO | None = None, width: int = 30,
-                 enabled: bool = True) -> None:
+    def __init__(
+        self, total: float, stream: TextIO | None = None, width: int = 30, enabled: bool = True
+    ) -> None:
         self.total = max(float(total), 1e-9)
         self.stream = stream if stream is not None else sys.stderr
         self.width, self.enabled = width, enabled
@@ -120,10 +121,15 @@ def _worker(job: Job, example_dir: str) -> dict:
     return run_job(job, example_dir, progress)
 
 
-def execute(jobs: list[Job], example_dir: Path, processes: int = 1,
-            bar: ProgressBar | None = None, extra_cost: float = 0.0,
-            done: dict[str, dict] | None = None,
-            on_result: Callable[[Job, dict], None] | None = None) -> dict[str, dict]:
+def execute(
+    jobs: list[Job],
+    example_dir: Path,
+    processes: int = 1,
+    bar: ProgressBar | None = None,
+    extra_cost: float = 0.0,
+    done: dict[str, dict] | None = None,
+    on_result: Callable[[Job, dict], None] | None = None,
+) -> dict[str, dict]:
     """Run ``jobs`` (longest first over ``processes`` workers); results by job key.
 
     ``extra_cost`` reserves room at the end of the bar for work after the runs (figures);
@@ -155,8 +161,9 @@ def execute(jobs: list[Job], example_dir: Path, processes: int = 1,
         return results
     ctx = mp.get_context("spawn")  # torch and fork do not mix
     q = ctx.Queue()
-    with ProcessPoolExecutor(max_workers=processes, mp_context=ctx, initializer=_init_worker,
-                             initargs=(q,)) as pool:
+    with ProcessPoolExecutor(
+        max_workers=processes, mp_context=ctx, initializer=_init_worker, initargs=(q,)
+    ) as pool:
         futures = {pool.submit(_worker, job, str(example_dir)): job for job in ordered}
         pending = set(futures)
         while pending:
@@ -167,9 +174,16 @@ def execute(jobs: list[Job], example_dir: Path, processes: int = 1,
                 try:
                     result = fut.result()
                 except Exception as exc:  # noqa: BLE001 - a crashed worker is a failed run
-                    result = {"key": job.key, "group": job.group, "case": job.case,
-                              "method": job.method, "preset": job.preset, "seed": job.seed,
-                              "ok": False, "error": f"{type(exc).__name__}: {exc}"}
+                    result = {
+                        "key": job.key,
+                        "group": job.group,
+                        "case": job.case,
+                        "method": job.method,
+                        "preset": job.preset,
+                        "seed": job.seed,
+                        "ok": False,
+                        "error": f"{type(exc).__name__}: {exc}",
+                    }
                 finished(job, result)
         _drain(q, tracker)
     return results

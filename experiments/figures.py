@@ -23,10 +23,16 @@ CLIM = (90.0, 180.0)  # MaxIncludedAngle colour scale of every grid picture (deg
 OVER_COLOR = "magenta"  # cells above 180 degrees: folded
 CMAP = "viridis"
 COLORS = {"pinn": "tab:blue", "mgnet": "tab:red", "tfi": "tab:gray", "elliptic": "tab:green"}
-TERM_TITLES = {"eqns": "Loss_eqns (Laplace residual)", "bcs_bottom": "Loss_bcs bottom",
-               "bcs_right": "Loss_bcs right", "bcs_top": "Loss_bcs top (paper: 'up')",
-               "bcs_left": "Loss_bcs left", "data": "Loss_data (auxiliary lines)",
-               "total": "Total loss (as minimised)", "lambda1": "lambda1 (dynamic weight)"}
+TERM_TITLES = {
+    "eqns": "Loss_eqns (Laplace residual)",
+    "bcs_bottom": "Loss_bcs bottom",
+    "bcs_right": "Loss_bcs right",
+    "bcs_top": "Loss_bcs top (paper: 'up')",
+    "bcs_left": "Loss_bcs left",
+    "data": "Loss_data (auxiliary lines)",
+    "total": "Total loss (as minimised)",
+    "lambda1": "lambda1 (dynamic weight)",
+}
 LOSS_TERMS = tuple(TERM_TITLES)
 
 
@@ -51,8 +57,11 @@ def loss_figure(runs: dict[str, dict], path: Path, title: str, dpi: int = 110) -
     A term that is identically zero in every run (the boundary terms under a hard boundary, the
     data term of MGNet) is left out for that run, or entirely.
     """
-    terms = [t for t in LOSS_TERMS
-             if any(np.any(np.asarray(r["history"].get(t, [0.0])) != 0) for r in runs.values())]
+    terms = [
+        t
+        for t in LOSS_TERMS
+        if any(np.any(np.asarray(r["history"].get(t, [0.0])) != 0) for r in runs.values())
+    ]
     cols = min(4, len(terms))
     rows = -(-len(terms) // cols)
     fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.2 * rows), squeeze=False)
@@ -66,8 +75,13 @@ def loss_figure(runs: dict[str, dict], path: Path, title: str, dpi: int = 110) -
             color = COLORS.get(method, "black")
             ax.plot(steps[:n_adam], values[:n_adam], color=color, alpha=0.25, lw=0.5)
             window = max(1, n_adam // 100)
-            ax.plot(steps[:n_adam], _smooth(values[:n_adam], window), color=color, lw=1.2,
-                    label=f"{LABELS[method]}: {values[-1]:.3e}")
+            ax.plot(
+                steps[:n_adam],
+                _smooth(values[:n_adam], window),
+                color=color,
+                lw=1.2,
+                label=f"{LABELS[method]}: {values[-1]:.3e}",
+            )
             ax.plot(steps[n_adam:], values[n_adam:], color=color, lw=1.2)
         n_adam = max(int(r["n_adam"]) for r in runs.values())
         ax.axvline(n_adam + 0.5, color="black", ls="--", lw=0.8)
@@ -78,7 +92,7 @@ def loss_figure(runs: dict[str, dict], path: Path, title: str, dpi: int = 110) -
         ax.set_xlabel("Adam epoch, then L-BFGS evaluation (shaded)", fontsize=7)
         ax.tick_params(labelsize=7)
         ax.legend(fontsize=7, title="final value", title_fontsize=7)
-    for ax in list(axes.flat)[len(terms):]:
+    for ax in list(axes.flat)[len(terms) :]:
         ax.axis("off")
     fig.suptitle(title, fontsize=11)
     fig.tight_layout()
@@ -117,18 +131,32 @@ class GridRenderer:
         plotter.clear()
         plotter.window_size = [self.width, int(np.clip(self.width * aspect, 100, 2 * self.width))]
         plotter.set_background("white")
-        plotter.add_mesh(pv.wrap(structured_grid(points)), scalars="MaxIncludedAngle",
-                         preference="cell", show_edges=True, edge_color="black", line_width=0.5,
-                         cmap=CMAP, clim=self.clim, above_color=OVER_COLOR,
-                         show_scalar_bar=False)
+        plotter.add_mesh(
+            pv.wrap(structured_grid(points)),
+            scalars="MaxIncludedAngle",
+            preference="cell",
+            show_edges=True,
+            edge_color="black",
+            line_width=0.5,
+            cmap=CMAP,
+            clim=self.clim,
+            above_color=OVER_COLOR,
+            show_scalar_bar=False,
+        )
         ring = np.asarray(run["boundary_ring"])
         ring = np.vstack([ring, ring[:1]])
-        plotter.add_mesh(pv.lines_from_points(np.column_stack([ring, np.zeros(len(ring))])),
-                         color="red", line_width=2)
+        plotter.add_mesh(
+            pv.lines_from_points(np.column_stack([ring, np.zeros(len(ring))])),
+            color="red",
+            line_width=2,
+        )
         for line in run.get("aux_lines", []):
             line = np.asarray(line)
-            plotter.add_mesh(pv.lines_from_points(np.column_stack([line, np.zeros(len(line))])),
-                             color="orange", line_width=3)
+            plotter.add_mesh(
+                pv.lines_from_points(np.column_stack([line, np.zeros(len(line))])),
+                color="orange",
+                line_width=3,
+            )
         plotter.view_xy()
         plotter.enable_parallel_projection()
         plotter.reset_camera()
@@ -154,8 +182,14 @@ def _draw_grid_matplotlib(ax, run: dict, clim: tuple[float, float]) -> None:
     p = np.asarray(run["points"])
     quads = np.stack([p[:-1, :-1], p[:-1, 1:], p[1:, 1:], p[1:, :-1]], axis=2).reshape(-1, 4, 2)
     cmap = plt.get_cmap(CMAP).with_extremes(over=OVER_COLOR)
-    coll = PolyCollection(quads, array=np.asarray(run["max_angle"]).ravel(), cmap=cmap,
-                          norm=Normalize(*clim), edgecolors="black", linewidths=0.2)
+    coll = PolyCollection(
+        quads,
+        array=np.asarray(run["max_angle"]).ravel(),
+        cmap=cmap,
+        norm=Normalize(*clim),
+        edgecolors="black",
+        linewidths=0.2,
+    )
     ax.add_collection(coll)
     ring = np.asarray(run["boundary_ring"])
     ax.plot(*np.vstack([ring, ring[:1]]).T, color="red", lw=1)
@@ -165,9 +199,14 @@ def _draw_grid_matplotlib(ax, run: dict, clim: tuple[float, float]) -> None:
     ax.autoscale_view()
 
 
-def mesh_figure(runs: Sequence[tuple[str, dict]], path: Path, title: str,
-                renderer: GridRenderer | None = None, columns: int | None = None,
-                dpi: int = 110) -> str:
+def mesh_figure(
+    runs: Sequence[tuple[str, dict]],
+    path: Path,
+    title: str,
+    renderer: GridRenderer | None = None,
+    columns: int | None = None,
+    dpi: int = 110,
+) -> str:
     """Grids side by side, each coloured by MaxIncludedAngle on the same scale (``CLIM``).
 
     ``runs`` are (method, run) pairs. Returns what drew them: "pyvista" or "matplotlib".
@@ -190,9 +229,12 @@ def mesh_figure(runs: Sequence[tuple[str, dict]], path: Path, title: str,
         span = pts.max(axis=0) - pts.min(axis=0)
         ratio = float(span[1] / max(span[0], 1e-12))
     panel_w = 4.6
-    fig, axes = plt.subplots(rows, cols, figsize=(panel_w * cols + 1.0,
-                                                  panel_w * ratio * rows + 0.9 * rows),
-                             squeeze=False)
+    fig, axes = plt.subplots(
+        rows,
+        cols,
+        figsize=(panel_w * cols + 1.0, panel_w * ratio * rows + 0.9 * rows),
+        squeeze=False,
+    )
     for k, (ax, (method, run)) in enumerate(zip(axes.flat, runs)):
         if images:
             ax.imshow(images[k])
@@ -204,9 +246,11 @@ def mesh_figure(runs: Sequence[tuple[str, dict]], path: Path, title: str,
             _draw_grid_matplotlib(ax, run, clim)
             ax.axis("off")
         q = run["quality"]
-        ax.set_title(f"({chr(97 + k)}) {LABELS[method]}\nmean {q['mean_max_angle']:.1f}°, "
-                     f"worst {q['worst_max_angle']:.1f}°, folded {q['folded_cells']}",
-                     fontsize=9)
+        ax.set_title(
+            f"({chr(97 + k)}) {LABELS[method]}\nmean {q['mean_max_angle']:.1f}°, "
+            f"worst {q['worst_max_angle']:.1f}°, folded {q['folded_cells']}",
+            fontsize=9,
+        )
     for ax in list(axes.flat)[n:]:
         ax.axis("off")
     cmap = plt.get_cmap(CMAP).with_extremes(over=OVER_COLOR)
@@ -218,14 +262,16 @@ def mesh_figure(runs: Sequence[tuple[str, dict]], path: Path, title: str,
     return used
 
 
-def angle_histograms(runs: Sequence[tuple[str, dict]], path: Path, title: str,
-                     dpi: int = 110) -> Path:
+def angle_histograms(
+    runs: Sequence[tuple[str, dict]], path: Path, title: str, dpi: int = 110
+) -> Path:
     """Distribution of MaxIncludedAngle per method, same bins, with mean and worst marked."""
     angles = [np.asarray(run["max_angle"]).ravel() for _, run in runs]
     top = max(180.0, max(float(a.max()) for a in angles))
     bins = np.arange(90.0, top + 2.0, 2.0)
-    fig, axes = plt.subplots(1, len(runs), figsize=(3.6 * len(runs), 3.2), sharex=True,
-                             sharey=True, squeeze=False)
+    fig, axes = plt.subplots(
+        1, len(runs), figsize=(3.6 * len(runs), 3.2), sharex=True, sharey=True, squeeze=False
+    )
     for ax, (method, _run), a in zip(axes.flat, runs, angles):
         color = COLORS.get(method, "black")
         ax.hist(np.clip(a, 90.0, None), bins=bins, color=color, alpha=0.75)
@@ -242,8 +288,7 @@ def angle_histograms(runs: Sequence[tuple[str, dict]], path: Path, title: str,
     return _save(fig, path, dpi)
 
 
-def architecture_figure(sweeps: dict[str, dict], path: Path, title: str,
-                        dpi: int = 110) -> Path:
+def architecture_figure(sweeps: dict[str, dict], path: Path, title: str, dpi: int = 110) -> Path:
     """Final loss against hidden layers and neurons per layer: every seed, mean and range.
 
     ``sweeps``: name -> {"x": [...], "label": str, "losses": [[seed values] per x]}.
@@ -255,8 +300,7 @@ def architecture_figure(sweeps: dict[str, dict], path: Path, title: str,
         for x, values in zip(xs, sweep["losses"]):
             v = np.asarray([u for u in values if np.isfinite(u)], dtype=float)
             if v.size:
-                ax.scatter(np.full(v.size, x), v, s=14, color="tab:blue", alpha=0.6,
-                           zorder=3)
+                ax.scatter(np.full(v.size, x), v, s=14, color="tab:blue", alpha=0.6, zorder=3)
                 means.append(v.mean())
                 lows.append(v.min())
                 highs.append(v.max())
@@ -264,8 +308,15 @@ def architecture_figure(sweeps: dict[str, dict], path: Path, title: str,
                 means.append(np.nan)
                 lows.append(np.nan)
                 highs.append(np.nan)
-                ax.text(x, 0.03, "failed", transform=ax.get_xaxis_transform(), ha="center",
-                        fontsize=8, color="tab:red")
+                ax.text(
+                    x,
+                    0.03,
+                    "failed",
+                    transform=ax.get_xaxis_transform(),
+                    ha="center",
+                    fontsize=8,
+                    color="tab:red",
+                )
         ax.fill_between(xs, lows, highs, color="tab:blue", alpha=0.15, label="seed range")
         ax.plot(xs, means, color="tab:blue", marker="o", lw=1.5, label="mean over seeds")
         ax.set_yscale("log")
@@ -282,9 +333,12 @@ def architecture_figure(sweeps: dict[str, dict], path: Path, title: str,
 N_FIGURES = 15
 
 
-def make_figures(results: dict, budget: Budget, out: Path,
-                 step: Callable[[str], None] = lambda label: None,
-                 ) -> tuple[dict[str, Path], set[str]]:
+def make_figures(
+    results: dict,
+    budget: Budget,
+    out: Path,
+    step: Callable[[str], None] = lambda label: None,
+) -> tuple[dict[str, Path], set[str]]:
     """Every figure of the report, and the per-cell angle CSVs of the pictured grids.
 
     Returns the figures by name and what drew the grids; ``step(label)`` follows progress.
@@ -308,26 +362,34 @@ def make_figures(results: dict, budget: Budget, out: Path,
                 chosen.append((m, run))
         return chosen
 
-    def grids_and_angles(runs, case: str, preset: str, names: tuple[str, str], key: str,
-                         **layout) -> None:
+    def grids_and_angles(
+        runs, case: str, preset: str, names: tuple[str, str], key: str, **layout
+    ) -> None:
         """The grids side by side (Fig. 5 or 7) and their angle histograms (Fig. 6 or 8)."""
         mesh, angles = names
         path = out / f"{mesh}_mesh_{case}_{preset}.png"
-        renderers.add(mesh_figure(runs, path, f"{case} case, {preset} preset", renderer,
-                                  dpi=dpi, **layout))
+        renderers.add(
+            mesh_figure(runs, path, f"{case} case, {preset} preset", renderer, dpi=dpi, **layout)
+        )
         figs[f"{mesh}_{key}"] = path
         step(mesh)
         figs[f"{angles}_{key}"] = angle_histograms(
-            runs, out / f"{angles}_angles_{case}_{preset}.png",
-            f"MaxIncludedAngle per cell, {case} case, {preset} preset", dpi)
+            runs,
+            out / f"{angles}_angles_{case}_{preset}.png",
+            f"MaxIncludedAngle per cell, {case} case, {preset} preset",
+            dpi,
+        )
         step(angles)
 
     for preset in PRESETS:
         neural = compare_set(LOSS_CASE, preset, ("pinn", "mgnet"))
         if neural:
             figs[f"fig4_{preset}"] = loss_figure(
-                dict(neural), out / f"fig4_loss_{LOSS_CASE}_{preset}.png",
-                f"Loss terms on the {LOSS_CASE} case, {preset} preset (seed 0)", dpi)
+                dict(neural),
+                out / f"fig4_loss_{LOSS_CASE}_{preset}.png",
+                f"Loss terms on the {LOSS_CASE} case, {preset} preset (seed 0)",
+                dpi,
+            )
             step("fig4")
             grids_and_angles(neural, LOSS_CASE, preset, ("fig5", "fig6"), preset)
         every = compare_set(LOSS_CASE, preset, METHODS)
@@ -339,15 +401,17 @@ def make_figures(results: dict, budget: Budget, out: Path,
             chosen = compare_set(case, preset, order)
             if not chosen:
                 continue
-            grids_and_angles(chosen, case, preset, ("fig7", "fig8"), f"{case}_{preset}",
-                             columns=2)
+            grids_and_angles(chosen, case, preset, ("fig7", "fig8"), f"{case}_{preset}", columns=2)
             report.write_angles_csv(chosen, out / f"angles_{case}_{preset}.csv")
     sweeps = sweep_data(results, budget)
     figs["fig9"] = architecture_figure(
-        {k: v for k, v in sweeps.items() if not k.startswith("_")}, out / "fig9_architecture.png",
+        {k: v for k, v in sweeps.items() if not k.startswith("_")},
+        out / "fig9_architecture.png",
         f"Proposed method, {budget.sweep_case} case, {budget.sweep_preset} preset: final loss "
         f"after {budget.sweep_adam_epochs} Adam epochs + {budget.sweep_lbfgs_iterations} "
-        f"L-BFGS iterations, {len(budget.sweep_seeds)} seeds", dpi)
+        f"L-BFGS iterations, {len(budget.sweep_seeds)} seeds",
+        dpi,
+    )
     step("fig9")
     if renderer is not None:
         renderer.close()

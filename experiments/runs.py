@@ -21,8 +21,12 @@ CASES = ("wavy", "fig2", "concave")
 PRESETS = ("paper", "default")
 LOSS_CASE = "wavy"  # the paper's first case: loss curves and meshes of the two neural methods
 FOUR_METHOD_CASES = ("fig2", "concave")  # the paper's Fig. 2 geometry, and a concave one
-LABELS = {"pinn": "Proposed (PINN)", "mgnet": "MGNet", "tfi": "Algebraic (TFI)",
-          "elliptic": "PDE (elliptic)"}
+LABELS = {
+    "pinn": "Proposed (PINN)",
+    "mgnet": "MGNet",
+    "tfi": "Algebraic (TFI)",
+    "elliptic": "PDE (elliptic)",
+}
 SHORT = {"pinn": "proposed", "mgnet": "MGNet", "tfi": "TFI", "elliptic": "PDE"}
 
 
@@ -51,10 +55,21 @@ class Budget:
 
 
 BUDGETS = {
-    "full": Budget("full", None, None, (61, 31), (0, 1, 2), 2000, 200,
-                   (1, 2, 3, 4, 5, 6, 7), (10, 20, 30, 40, 50, 60), (0, 1, 2)),
-    "quick": Budget("quick", 40, 5, (21, 11), (0, 1), 40, 5, (1, 4), (10, 30), (0, 1),
-                    lbfgs_points=200),
+    "full": Budget(
+        "full",
+        None,
+        None,
+        (61, 31),
+        (0, 1, 2),
+        2000,
+        200,
+        (1, 2, 3, 4, 5, 6, 7),
+        (10, 20, 30, 40, 50, 60),
+        (0, 1, 2),
+    ),
+    "quick": Budget(
+        "quick", 40, 5, (21, 11), (0, 1), 40, 5, (1, 4), (10, 30), (0, 1), lbfgs_points=200
+    ),
 }
 
 
@@ -86,8 +101,14 @@ class Job:
     def settings(self):
         from pinn_engine.settings import make_settings
 
-        return make_settings(self.method, self.preset, seed=self.seed, device=self.device,
-                             lattice=self.size, **dict(self.overrides))
+        return make_settings(
+            self.method,
+            self.preset,
+            seed=self.seed,
+            device=self.device,
+            lattice=self.size,
+            **dict(self.overrides),
+        )
 
     def cost(self) -> float:
         """A rough relative run time, to weigh the progress bar and order the work."""
@@ -111,26 +132,57 @@ def make_plan(budget: Budget, device: str = "cpu") -> Plan:
     """Every run of a mode: the method comparisons, then the architecture sweep."""
     jobs: list[Job] = []
     points = (("lbfgs_points", budget.lbfgs_points),) if budget.lbfgs_points else ()
-    train = tuple((k, v) for k, v in (("adam_epochs", budget.adam_epochs),
-                                       ("lbfgs_iterations", budget.lbfgs_iterations))
-                  if v is not None) + points
+    train = (
+        tuple(
+            (k, v)
+            for k, v in (
+                ("adam_epochs", budget.adam_epochs),
+                ("lbfgs_iterations", budget.lbfgs_iterations),
+            )
+            if v is not None
+        )
+        + points
+    )
     for case in CASES:
         for preset in PRESETS:
             for method in METHODS:
                 neural = method in NEURAL
                 seeds = budget.loss_seeds if (neural and case == LOSS_CASE) else (0,)
                 for seed in seeds:
-                    jobs.append(Job("compare", case, method, preset, seed,
-                                    train if neural else (), budget.size, device))
+                    jobs.append(
+                        Job(
+                            "compare",
+                            case,
+                            method,
+                            preset,
+                            seed,
+                            train if neural else (),
+                            budget.size,
+                            device,
+                        )
+                    )
     configs = [(n, budget.sweep_fixed_neurons) for n in budget.sweep_layers]
     configs += [(budget.sweep_fixed_layers, w) for w in budget.sweep_neurons]
     for layers, neurons in dict.fromkeys(configs):
         for seed in budget.sweep_seeds:
-            over = (("adam_epochs", budget.sweep_adam_epochs),
-                    ("lbfgs_iterations", budget.sweep_lbfgs_iterations),
-                    ("hidden_layers", layers), ("neurons", neurons)) + points
-            jobs.append(Job("sweep", budget.sweep_case, "pinn", budget.sweep_preset, seed,
-                            over, budget.size, device))
+            over = (
+                ("adam_epochs", budget.sweep_adam_epochs),
+                ("lbfgs_iterations", budget.sweep_lbfgs_iterations),
+                ("hidden_layers", layers),
+                ("neurons", neurons),
+            ) + points
+            jobs.append(
+                Job(
+                    "sweep",
+                    budget.sweep_case,
+                    "pinn",
+                    budget.sweep_preset,
+                    seed,
+                    over,
+                    budget.size,
+                    device,
+                )
+            )
     return Plan(budget, jobs)
 
 
@@ -138,25 +190,37 @@ def case_files(example_dir: Path, case: str) -> tuple[Path, Path]:
     return example_dir / f"{case}.vtp", example_dir / f"{case}_aux.vtp"
 
 
-def run_job(job: Job, example_dir: str | Path,
-            progress: Callable[[float], None] | None = None) -> dict:
+def run_job(
+    job: Job, example_dir: str | Path, progress: Callable[[float], None] | None = None
+) -> dict:
     """Run ``job``; ``progress(fraction)`` is called during training. Never raises."""
     from pinn_engine.mesher import Mesher
     from pinn_engine.pipeline import load_aux, load_boundary
     from pinn_engine.quality import included_angles
 
-    out: dict = {"key": job.key, "group": job.group, "case": job.case, "method": job.method,
-                 "preset": job.preset, "seed": job.seed, "ok": False, "error": ""}
+    out: dict = {
+        "key": job.key,
+        "group": job.group,
+        "case": job.case,
+        "method": job.method,
+        "preset": job.preset,
+        "seed": job.seed,
+        "ok": False,
+        "error": "",
+    }
     start = time.perf_counter()
     try:
         settings = job.settings()
         out["settings"] = settings.to_dict()
-        out.update(hidden_layers=settings.hidden_layers, neurons=settings.neurons,
-                   boundary_mode=settings.boundary_mode, boundary_fit=settings.boundary_fit,
-                   elliptic_iterations=settings.elliptic_iterations)
+        out.update(
+            hidden_layers=settings.hidden_layers,
+            neurons=settings.neurons,
+            boundary_mode=settings.boundary_mode,
+            boundary_fit=settings.boundary_fit,
+            elliptic_iterations=settings.elliptic_iterations,
+        )
         if job.method in NEURAL:
-            out.update(adam_epochs=settings.adam_epochs,
-                       lbfgs_iterations=settings.lbfgs_iterations)
+            out.update(adam_epochs=settings.adam_epochs, lbfgs_iterations=settings.lbfgs_iterations)
         bpath, apath = case_files(Path(example_dir), job.case)
         boundary = load_boundary(bpath)
         aux = load_aux([apath], boundary)
@@ -174,17 +238,28 @@ def run_job(job: Job, example_dir: str | Path,
     info = report.get("training", {})
     history = {k: [float(x) for x in v] for k, v in (result.history or {}).items()}
     n_total = len(history.get("total", []))
-    n_adam = min(n_total, max(0, int(info.get("adam_epochs", out.get("adam_epochs", 0)))
-                              - int(info.get("recoveries", 0))))
+    n_adam = min(
+        n_total,
+        max(
+            0,
+            int(info.get("adam_epochs", out.get("adam_epochs", 0)))
+            - int(info.get("recoveries", 0)),
+        ),
+    )
     out.update(
-        ok=True, quality=dict(report["quality"]),
+        ok=True,
+        quality=dict(report["quality"]),
         train_seconds=float(report.get("train_seconds", 0.0)),
         mesh_seconds=float(report.get("mesh_seconds", 0.0)),
         run_seconds=time.perf_counter() - start,
-        history=history, n_adam=n_adam,
+        history=history,
+        n_adam=n_adam,
         final={k: v[-1] for k, v in history.items() if v},
-        lbfgs_accepted=info.get("lbfgs_accepted"), recoveries=info.get("recoveries", 0),
-        points=points, max_angle=max_a, min_angle=min_a,
+        lbfgs_accepted=info.get("lbfgs_accepted"),
+        recoveries=info.get("recoveries", 0),
+        points=points,
+        max_angle=max_a,
+        min_angle=min_a,
         boundary_ring=boundary.frame.to_user(boundary.ring),
         aux_lines=[boundary.frame.to_user(a.xy) for a in mesher.aux_lines_],
     )

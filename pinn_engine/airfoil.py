@@ -25,8 +25,10 @@ import numpy as np
 
 from .errors import InputError
 
-_NUMBER = re.compile(r"^[\s]*[-+]?(\d+\.?\d*|\.\d+)([eEdD][-+]?\d+)?[\s,;]+"
-                     r"[-+]?(\d+\.?\d*|\.\d+)([eEdD][-+]?\d+)?[\s,;]*$")
+_NUMBER = re.compile(
+    r"^[\s]*[-+]?(\d+\.?\d*|\.\d+)([eEdD][-+]?\d+)?[\s,;]+"
+    r"[-+]?(\d+\.?\d*|\.\d+)([eEdD][-+]?\d+)?[\s,;]*$"
+)
 
 
 def _rows(text: str, source: str) -> tuple[list[list[tuple[float, float]]], str]:
@@ -41,8 +43,7 @@ def _rows(text: str, source: str) -> tuple[list[list[tuple[float, float]]], str]
             if k == 0:
                 name = line.strip()
             elif line.strip():
-                raise InputError(f"line {k + 1} is not an 'x y' row: {line.strip()[:40]!r}",
-                                 source)
+                raise InputError(f"line {k + 1} is not an 'x y' row: {line.strip()[:40]!r}", source)
             if blocks[-1]:
                 blocks.append([])
     return [b for b in blocks if b], name
@@ -58,22 +59,28 @@ def read_dat(path: str | os.PathLike) -> tuple[np.ndarray, str]:
         raise InputError(f"cannot read the file ({exc.strerror or exc})", source) from None
     blocks, name = _rows(text, source)
     if not blocks:
-        raise InputError("holds no 'x y' coordinate rows (expected a Selig or Lednicer "
-                         "airfoil file)", source)
+        raise InputError(
+            "holds no 'x y' coordinate rows (expected a Selig or Lednicer airfoil file)", source
+        )
     first = blocks[0][0]
-    lednicer = (first[0] >= 2 and first[1] >= 2 and float(first[0]).is_integer()
-                and float(first[1]).is_integer())
+    lednicer = (
+        first[0] >= 2
+        and first[1] >= 2
+        and float(first[0]).is_integer()
+        and float(first[1]).is_integer()
+    )
     if lednicer:
         nu, nl = int(first[0]), int(first[1])
         pts = [p for b in blocks for p in b][1:]
         if len(blocks[0]) > 1:  # counts and coordinates in one block
             pts = blocks[0][1:] + [p for b in blocks[1:] for p in b]
         if len(pts) != nu + nl:
-            raise InputError(f"Lednicer header announces {nu} + {nl} points but the file holds "
-                             f"{len(pts)}", source)
+            raise InputError(
+                f"Lednicer header announces {nu} + {nl} points but the file holds {len(pts)}",
+                source,
+            )
         upper, lower = np.array(pts[:nu]), np.array(pts[nu:])
-        xy = np.concatenate([upper[::-1], lower[1:] if np.allclose(lower[0], upper[0])
-                             else lower])
+        xy = np.concatenate([upper[::-1], lower[1:] if np.allclose(lower[0], upper[0]) else lower])
     else:
         xy = np.array([p for b in blocks for p in b])
     if len(xy) < 5:
@@ -91,11 +98,12 @@ def naca4(code: str, points: int = 201, te: str = "sharp") -> np.ndarray:
         raise InputError(f"NACA code {code!r}: give four digits, e.g. 0012 or 2412 ({{naca}})")
     m, p, t = int(code[0]) / 100, int(code[1]) / 10, int(code[2:]) / 100
     if t <= 0:
-        raise InputError(f"NACA {code}: the thickness (last two digits) must be above 0 "
-                         "({naca})")
+        raise InputError(f"NACA {code}: the thickness (last two digits) must be above 0 ({{naca}})")
     if m > 0 and p == 0:
-        raise InputError(f"NACA {code}: a cambered section needs the camber position (second "
-                         "digit) above 0 ({naca})")
+        raise InputError(
+            f"NACA {code}: a cambered section needs the camber position (second "
+            "digit) above 0 ({naca})"
+        )
     if te not in ("sharp", "blunt"):
         raise ValueError(f"te must be sharp or blunt, not {te!r}")
     beta = np.linspace(0.0, np.pi, points)
@@ -104,8 +112,9 @@ def naca4(code: str, points: int = 201, te: str = "sharp") -> np.ndarray:
     yt = 5 * t * (0.2969 * np.sqrt(x) - 0.1260 * x - 0.3516 * x**2 + 0.2843 * x**3 + a4 * x**4)
     if m > 0:
         front = x < p
-        yc = np.where(front, m / p**2 * (2 * p * x - x**2),
-                      m / (1 - p) ** 2 * (1 - 2 * p + 2 * p * x - x**2))
+        yc = np.where(
+            front, m / p**2 * (2 * p * x - x**2), m / (1 - p) ** 2 * (1 - 2 * p + 2 * p * x - x**2)
+        )
         dyc = np.where(front, 2 * m / p**2 * (p - x), 2 * m / (1 - p) ** 2 * (p - x))
     else:
         yc, dyc = np.zeros_like(x), np.zeros_like(x)
@@ -195,8 +204,9 @@ def body_from_points(xy: np.ndarray, source: str, sharp_tol: float = 1e-6) -> Bo
     return Body(surface=surface, sharp=sharp, source=source)
 
 
-def load_body(path: str | os.PathLike | None = None, naca: str | None = None,
-              te: str | None = None) -> Body:
+def load_body(
+    path: str | os.PathLike | None = None, naca: str | None = None, te: str | None = None
+) -> Body:
     """The body of a ``.dat`` file or of a NACA code (``te``: sharp or blunt, default sharp)."""
     if naca is not None:
         return body_from_points(naca4(naca, te=te or "sharp"), f"NACA {naca}")
@@ -227,14 +237,18 @@ class FarField:
 def circle(body: Body, radius: float) -> FarField:
     """Far field: circle of ``radius`` chords about the body's mid-chord."""
     if not (np.isfinite(radius) and radius > 0):
-        raise InputError(f"far-field radius {radius}: must be a positive number of chords "
-                         "({farfield})")
+        raise InputError(
+            f"far-field radius {radius}: must be a positive number of chords ({{farfield}})"
+        )
     if radius < 1.0:
         raise InputError(f"far-field radius {radius}: must be at least 1 chord ({{farfield}})")
     far = FarField(center=body.mid_chord, radius=float(radius) * body.chord)
     if not far.contains(body.surface).all():
-        raise InputError(f"the far-field circle of radius {radius} chords does not enclose "
-                         "the body; give a larger radius ({farfield})", body.source)
+        raise InputError(
+            f"the far-field circle of radius {radius} chords does not enclose "
+            "the body; give a larger radius ({farfield})",
+            body.source,
+        )
     return far
 
 
@@ -248,8 +262,7 @@ def polyline_farfield(points: np.ndarray, body: Body, source: str) -> FarField:
         pts = pts[::-1]
     far = FarField(center=body.mid_chord, polyline=pts)
     if not far.contains(body.surface).all():
-        raise InputError("the far field (outer closed polyline) does not enclose the body",
-                         source)
+        raise InputError("the far field (outer closed polyline) does not enclose the body", source)
     return far
 
 
@@ -270,13 +283,25 @@ def read_body_and_farfield(path: str | os.PathLike) -> tuple[Body, FarField]:
             raise InputError(f"cannot read the file ({exc.strerror or exc})", source) from None
         lines = [np.array(b) for b in _rows(text, source)[0]]
     if len(lines) != 2:
-        raise InputError(f"holds {len(lines)} polylines; give two closed polylines (the body "
-                         "inside the far field) or one body with --farfield R", source)
+        raise InputError(
+            f"holds {len(lines)} polylines; give two closed polylines (the body "
+            "inside the far field) or one body with --farfield R",
+            source,
+        )
     ext = [float(np.ptp(np.asarray(p)[:, :2], axis=0).max()) for p in lines]
     inner, outer = (lines[0], lines[1]) if ext[0] < ext[1] else (lines[1], lines[0])
     body = body_from_points(np.asarray(inner)[:, :2], source)
     return body, polyline_farfield(outer, body, source)
 
 
-__all__ = ["Body", "FarField", "body_from_points", "circle", "load_body", "naca4",
-           "polyline_farfield", "read_body_and_farfield", "read_dat"]
+__all__ = [
+    "Body",
+    "FarField",
+    "body_from_points",
+    "circle",
+    "load_body",
+    "naca4",
+    "polyline_farfield",
+    "read_body_and_farfield",
+    "read_dat",
+]

@@ -126,8 +126,7 @@ def body_and_farfield_of(poly: vtkPolyData, radius: float, source: str = "bounda
     from .fileio import polylines_of
 
     if poly is None or poly.GetNumberOfPoints() == 0:
-        raise InputError("is empty; connect an airfoil (the Airfoil source or a .dat file)",
-                         source)
+        raise InputError("is empty; connect an airfoil (the Airfoil source or a .dat file)", source)
     xyz = vtk_to_numpy(poly.GetPoints().GetData()).astype(float)
     curves = []
     for ids, closed in polylines_of(poly, source):
@@ -143,8 +142,11 @@ def body_and_farfield_of(poly: vtkPolyData, radius: float, source: str = "bounda
         inner, outer = (curves[0], curves[1]) if size[0] < size[1] else (curves[1], curves[0])
         body = body_from_points(inner, source)
         return body, polyline_farfield(outer, body, source)
-    raise InputError(f"holds {len(curves)} polylines; connect one airfoil curve (with Far "
-                     "Field Radius) or two closed polylines (body inside far field)", source)
+    raise InputError(
+        f"holds {len(curves)} polylines; connect one airfoil curve (with Far "
+        "Field Radius) or two closed polylines (body inside far field)",
+        source,
+    )
 
 
 __all__ = ["AirfoilReader", "AirfoilSource", "body_and_farfield_of", "body_polydata"]

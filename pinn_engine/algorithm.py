@@ -184,8 +184,11 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         (0: that side keeps today's distribution), a dict ``{"bottom": 1e-3}`` or a string
         ``"bottom=1e-3,top=0.01"``; ``None`` or all zeros: no spacing."""
         value = values[0] if len(values) == 1 else values
-        if isinstance(value, (list, tuple)) and len(value) == 4 and all(
-                isinstance(v, (int, float, np.number)) for v in value):
+        if (
+            isinstance(value, (list, tuple))
+            and len(value) == 4
+            and all(isinstance(v, (int, float, np.number)) for v in value)
+        ):
             value = {side: float(h) for side, h in zip(SIDE_NAMES, value) if h}
         spacing = parse_spacing(value)
         self._set_override("spacing", spacing or None)
@@ -197,8 +200,11 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         """Sides that grid lines leave at 90 degrees (SPEC 7): four 0/1 flags for bottom,
         right, top, left, a list of names or ``"bottom,left"``; ``None``: none."""
         value = values[0] if len(values) == 1 else values
-        if isinstance(value, (list, tuple)) and len(value) == 4 and all(
-                isinstance(v, (int, bool, np.integer)) for v in value):
+        if (
+            isinstance(value, (list, tuple))
+            and len(value) == 4
+            and all(isinstance(v, (int, bool, np.integer)) for v in value)
+        ):
             value = [side for side, on in zip(SIDE_NAMES, value) if on]
         self._set_override("orthogonal", parse_sides(value) or None)
 
@@ -207,8 +213,9 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
 
     def SetObjective(self, objective) -> None:
         """The pinn's objective: winslow or quality (or its index); None: the preset's."""
-        self._set_override("objective", None if objective is None
-                           else _choice(objective, OBJECTIVES, "objective"))
+        self._set_override(
+            "objective", None if objective is None else _choice(objective, OBJECTIVES, "objective")
+        )
 
     def SetPanelSetting(self, name: str, value) -> None:
         """A value from the ParaView panel: one equal to the default preset's is no override,
@@ -247,7 +254,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         self._set("_patches", names or "")
 
     def SetTopology(self, topology) -> None:
-        """"none" (a four-sided domain), "o" (O-grid) or "c" (C-grid), or 0, 1, 2."""
+        """ "none" (a four-sided domain), "o" (O-grid) or "c" (C-grid), or 0, 1, 2."""
         self._set("_topology", _choice(topology, TOPOLOGY_CHOICES, "topology"))
 
     def GetTopology(self) -> str:
@@ -272,8 +279,11 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         overrides = dict(self._overrides)
         if self._method != "pinn":  # the panel hides Objective for the other methods
             overrides.pop("objective", None)
-        return make_settings(self._method, self._preset,
-                             **{"lattice": tuple(max(n, 2) for n in self._size), **overrides})
+        return make_settings(
+            self._method,
+            self._preset,
+            **{"lattice": tuple(max(n, 2) for n in self._size), **overrides},
+        )
 
     # ---- results -----------------------------------------------------------------------
     def GetOutput(self) -> vtkStructuredGrid:
@@ -332,8 +342,10 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         except ValueError as exc:  # invalid settings
             message = f"invalid settings: {exc}"
         except ImportError as exc:
-            message = (f"cannot import {exc.name or exc} in this Python ({sys.executable}); "
-                       "pinn-mesh needs numpy, scipy, scikit-learn and (to train) torch there")
+            message = (
+                f"cannot import {exc.name or exc} in this Python ({sys.executable}); "
+                "pinn-mesh needs numpy, scipy, scikit-learn and (to train) torch there"
+            )
         except Exception as exc:  # never let an exception reach ParaView's executive
             message = f"unexpected {type(exc).__name__}: {exc}"
         else:
@@ -355,9 +367,17 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
 
         (Not this algorithm's MTime: VTK modifies it for abort bookkeeping between runs.)
         """
-        times: list = [self._method, self._preset, self._size, self._corners,
-                       tuple(sorted(self._overrides.items(), key=repr)), repr(self._patches),
-                       self._topology, self._farfield, self._wall_spacing]
+        times: list = [
+            self._method,
+            self._preset,
+            self._size,
+            self._corners,
+            tuple(sorted(self._overrides.items(), key=repr)),
+            repr(self._patches),
+            self._topology,
+            self._farfield,
+            self._wall_spacing,
+        ]
         for port in inInfo:
             for k in range(port.GetNumberOfInformationObjects()):
                 data = port.GetInformationObject(k).Get(vtkPolyData.DATA_OBJECT())
@@ -374,26 +394,33 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         problem = grid_size_problem(ni, nj)
         if problem:
             raise ValueError(f"Grid Size {ni} {nj}: {problem}")
-        inputs = [vtkPolyData.GetData(inInfo[0], k)
-                  for k in range(inInfo[0].GetNumberOfInformationObjects())]
+        inputs = [
+            vtkPolyData.GetData(inInfo[0], k)
+            for k in range(inInfo[0].GetNumberOfInformationObjects())
+        ]
         if self._topology != "none":
             return self._execute_body(inputs, settings)
         boundary_poly, aux_polys = split_inputs(inputs)
         boundary = boundary_from_polydata(boundary_poly, self._corners, source="boundary input")
         if len(inInfo) > 1:
-            aux_polys += [vtkPolyData.GetData(inInfo[1], k)
-                          for k in range(inInfo[1].GetNumberOfInformationObjects())]
+            aux_polys += [
+                vtkPolyData.GetData(inInfo[1], k)
+                for k in range(inInfo[1].GetNumberOfInformationObjects())
+            ]
         aux_lines = aux_from_polydata(aux_polys, boundary)
         self._progress(0.0, "training" if settings.method in NEURAL else "meshing")
         with self._stop_on_signal():
-            mesher, self._trained = self._cache.fitted(boundary, aux_lines, settings,
-                                                       self._training_progress(settings))
+            mesher, self._trained = self._cache.fitted(
+                boundary, aux_lines, settings, self._training_progress(settings)
+            )
         self._progress(0.95, "meshing")
         result = mesher.predict(*self._size)
         grid = to_vtk(result, patches)
         fd = grid.GetFieldData()
-        for name, value in (("Trained", int(self._trained)),
-                            ("TrainingCount", self._cache.trainings)):
+        for name, value in (
+            ("Trained", int(self._trained)),
+            ("TrainingCount", self._cache.trainings),
+        ):
             arr = vtkIntArray()
             arr.SetName(name)
             arr.InsertNextValue(value)
@@ -410,21 +437,33 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
 
         polys = [p for p in inputs if p is not None and p.GetNumberOfPoints()]
         if not polys:
-            raise InputError("is empty; connect an airfoil (the Airfoil source or a .dat "
-                             "file)", "boundary input")
+            raise InputError(
+                "is empty; connect an airfoil (the Airfoil source or a .dat file)", "boundary input"
+            )
         body, far = body_and_farfield_of(polys[0], self._farfield)
         if settings.method == "mgnet":
-            raise InputError("Method mgnet meshes four-sided domains; use pinn, tfi or "
-                             "elliptic with Topology O-grid or C-grid")
+            raise InputError(
+                "Method mgnet meshes four-sided domains; use pinn, tfi or "
+                "elliptic with Topology O-grid or C-grid"
+            )
         self._progress(0.0, "meshing")
         with self._stop_on_signal():
-            result = mesh_body(body, far, self._topology, settings.method, *self._size,
-                               settings, self._wall_spacing or None,
-                               self._training_progress(settings))
+            result = mesh_body(
+                body,
+                far,
+                self._topology,
+                settings.method,
+                *self._size,
+                settings,
+                self._wall_spacing or None,
+                self._training_progress(settings),
+            )
         self._trained = settings.method == "pinn"
-        patches = patch_names(self._patches) if self._patches.strip() and \
-            self._patches.split() != ["bottom", "right", "top", "left"] else \
-            body_patches(self._topology)
+        patches = (
+            patch_names(self._patches)
+            if self._patches.strip() and self._patches.split() != ["bottom", "right", "top", "left"]
+            else body_patches(self._topology)
+        )
         grid = to_vtk(result, patches)
         return grid, folded_cells_warning(result.report, "paraview")
 

@@ -62,8 +62,9 @@ def _end_sides(p: np.ndarray, boundary: Boundary, tol: float) -> dict[str, tuple
 def _check_inside(line: Polyline, boundary: Boundary, name: str) -> None:
     """The line between its ends must stay strictly inside the domain."""
     eps = 1e-3
-    inner = Polyline(line.at(np.concatenate([[eps], line.t[(line.t > eps) & (line.t < 1 - eps)],
-                                             [1 - eps]])))
+    inner = Polyline(
+        line.at(np.concatenate([[eps], line.t[(line.t > eps) & (line.t < 1 - eps)], [1 - eps]]))
+    )
     a, b = boundary.ring, np.roll(boundary.ring, -1, axis=0)
     p, q = inner.points[:-1], inner.points[1:]
     cross = segments_cross(p[:, None], q[:, None], a[None], b[None])
@@ -92,7 +93,9 @@ def map_line(raw: RawLine, boundary: Boundary, end_tol: float = END_TOL) -> AuxL
         where = lambda ends: "/".join(ends) or "no side"  # noqa: E731
         raise InputError(
             f"does not end on two opposite sides (start near {where(first)}, end near "
-            f"{where(last)}; tolerance {end_tol:g} of the domain diagonal)", raw.name)
+            f"{where(last)}; tolerance {end_tol:g} of the domain diagonal)",
+            raw.name,
+        )
     s0, s1 = min(pairs, key=lambda p: first[p[0]][1] + last[p[1]][1])
     t0, t1 = first[s0][0], last[s1][0]
     if s0 in ("top", "right"):  # orient from bottom to top, or from left to right
@@ -127,8 +130,11 @@ def _crossings(a: AuxLine, b: AuxLine) -> list[tuple[np.ndarray, np.ndarray, np.
         on = parallel & (np.abs(cross(qp, r)) <= 1e-12 * np.maximum(scale, 1e-300))
         with np.errstate(divide="ignore", invalid="ignore"):
             v_par = np.einsum("ijk,ijk->ij", p - q, np.broadcast_to(s, qp.shape)) / np.maximum(
-                np.einsum("ijk,ijk->ij", np.broadcast_to(s, qp.shape),
-                          np.broadcast_to(s, qp.shape)), 1e-300)
+                np.einsum(
+                    "ijk,ijk->ij", np.broadcast_to(s, qp.shape), np.broadcast_to(s, qp.shape)
+                ),
+                1e-300,
+            )
         on &= (v_par >= 0) & (v_par <= 1)
         v = np.where(on, v_par, v)
         hit |= on
@@ -153,7 +159,7 @@ def check_crossings(lines: list[AuxLine], boundary: Boundary, tol: float = CROSS
     """
     for k, a in enumerate(lines):
         lo_a, hi_a = a.xy.min(axis=0), a.xy.max(axis=0)
-        for b in lines[k + 1:]:
+        for b in lines[k + 1 :]:
             if np.any(b.xy.min(axis=0) > hi_a) or np.any(b.xy.max(axis=0) < lo_a):
                 continue
             for point, xa, xb in _crossings(a, b):
@@ -163,11 +169,11 @@ def check_crossings(lines: list[AuxLine], boundary: Boundary, tol: float = CROSS
                         f"auxiliary lines {a.name!r} and {b.name!r} cross inconsistently: at "
                         f"({user[0]:.6g}, {user[1]:.6g}) the first gives (xi, eta) = "
                         f"({xa[0]:.3f}, {xa[1]:.3f}) and the second ({xb[0]:.3f}, "
-                        f"{xb[1]:.3f}), more than {tol:g} apart; redraw or drop one of them")
+                        f"{xb[1]:.3f}), more than {tol:g} apart; redraw or drop one of them"
+                    )
 
 
-def map_lines(raws: list[RawLine], boundary: Boundary, end_tol: float = END_TOL
-              ) -> list[AuxLine]:
+def map_lines(raws: list[RawLine], boundary: Boundary, end_tol: float = END_TOL) -> list[AuxLine]:
     """Map every auxiliary line and check that they cross consistently.
 
     Raises :class:`InputError` naming the first bad line, or both lines of a bad crossing.
@@ -183,6 +189,9 @@ def line_distances(grid: np.ndarray, lines: list[AuxLine], diagonal: float) -> d
     to the boundary's diagonal. ``grid`` (nj, ni, 2) and the lines share one frame."""
     nj, ni = grid.shape[:2]
     along = RegularGridInterpolator((np.linspace(0, 1, nj), np.linspace(0, 1, ni)), grid)
-    return {line.name: float(segment_distance(along(line.xi_eta[:, ::-1]), line.xy,
-                                              closed=False).max() / diagonal)
-            for line in lines}
+    return {
+        line.name: float(
+            segment_distance(along(line.xi_eta[:, ::-1]), line.xy, closed=False).max() / diagonal
+        )
+        for line in lines
+    }

@@ -120,12 +120,12 @@ class BodyCurve:
     the base's height past it) and starts at the point of largest x."""
 
     def __init__(self, body: Body) -> None:
-        pts = body.surface if body.sharp else np.concatenate([body.surface,
-                                                               body.surface[:1]])
+        pts = body.surface if body.sharp else np.concatenate([body.surface, body.surface[:1]])
         t = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))]
         self.length = float(t[-1])
-        self.spline = CubicSpline(t, pts, axis=0, bc_type="not-a-knot" if body.sharp
-                                  else "periodic")
+        self.spline = CubicSpline(
+            t, pts, axis=0, bc_type="not-a-knot" if body.sharp else "periodic"
+        )
         self.body = body
         dense = np.linspace(0.0, self.length, 20001)
         self.t0 = 0.0
@@ -135,9 +135,12 @@ class BodyCurve:
             x = np.where(near, self.spline(dense)[:, 0], -np.inf)
             t_best = float(dense[np.argmax(x)])
             step = dense[1] - dense[0]
-            best = minimize_scalar(lambda t: -float(self.spline(t % self.length)[0]),
-                                   bounds=(t_best - step, t_best + step), method="bounded",
-                                   options={"xatol": 1e-12})
+            best = minimize_scalar(
+                lambda t: -float(self.spline(t % self.length)[0]),
+                bounds=(t_best - step, t_best + step),
+                method="bounded",
+                options={"xatol": 1e-12},
+            )
             self.t0 = float(best.x) % self.length
         te = self.at(np.zeros(1))[0]
         self.t_le = float(dense[np.argmax(np.linalg.norm(self.at(dense) - te, axis=1))])
@@ -153,8 +156,7 @@ class BodyCurve:
         return float(np.linalg.norm(np.diff(s, axis=0), axis=1).sum())
 
 
-def _surface_nodes(curve: BodyCurve, n_up: int, n_lo: int, d_te: float, d_le: float
-                   ) -> np.ndarray:
+def _surface_nodes(curve: BodyCurve, n_up: int, n_lo: int, d_te: float, d_le: float) -> np.ndarray:
     """Nodes from the upper trailing edge to the lower one (Selig order): ``n_up`` intervals
     on the upper surface, ``n_lo`` on the lower, spacings ``d_te`` and ``d_le`` (lengths)."""
     l_up, l_lo = curve.arc(0, curve.t_le), curve.arc(curve.t_le, curve.length)
@@ -238,8 +240,15 @@ def rear_start(inner: np.ndarray, n_wake: int) -> np.ndarray:
     return np.where(np.arange(ni) < ni // 2, x_lo, x_up)
 
 
-def march(inner: np.ndarray, topology: str, distances: np.ndarray, scale: float,
-          n_wake: int = 0, passes: int = 2, tangent: float = 0.0) -> np.ndarray:
+def march(
+    inner: np.ndarray,
+    topology: str,
+    distances: np.ndarray,
+    scale: float,
+    n_wake: int = 0,
+    passes: int = 2,
+    tangent: float = 0.0,
+) -> np.ndarray:
     """Rows marched from ``inner`` along their own normals by the steps of ``distances``
     (nj,): the wall-orthogonal reference grid (nj, ni, 2). Each new row is smoothed along
     itself, lightly near the wall and more farther out (relative to ``scale``, the chord) and
@@ -256,7 +265,7 @@ def march(inner: np.ndarray, topology: str, distances: np.ndarray, scale: float,
         x = inner[:, 0]
         x_t = rear_start(inner, n_wake)
         share = np.clip((x - x_t) / (x[n_wake] - x_t), 0.0, 1.0)
-        share[:n_wake + 1] = share[ni - n_wake - 1:] = 1.0
+        share[: n_wake + 1] = share[ni - n_wake - 1 :] = 1.0
         rear = np.where(x >= x_t, 1.0, 0.0)[:, None] * (0.5 + 0.5 * share[:, None])
         side = np.where(np.arange(ni) < ni // 2, -1.0, 1.0)
         vertical = np.column_stack([np.zeros(ni), side])
@@ -271,8 +280,9 @@ def march(inner: np.ndarray, topology: str, distances: np.ndarray, scale: float,
                 q[0], q[-1] = inner[0] + (0, -step), inner[-1] + (0, step)
             rows.append(q)
             continue
-        subs = int(min(MAX_SUBSTEPS, max(1, math.ceil(step / (0.5 * _row_spacing(
-            q, topology).min())))))
+        subs = int(
+            min(MAX_SUBSTEPS, max(1, math.ceil(step / (0.5 * _row_spacing(q, topology).min()))))
+        )
         for k in range(subs):
             d = distances[j - 1] + step * (k + 1) / subs
             grow = 1 - math.exp(-d / (NORMAL_REACH * scale))
@@ -287,7 +297,7 @@ def march(inner: np.ndarray, topology: str, distances: np.ndarray, scale: float,
             shrink = np.clip(1 - _row_spacing(q, topology) / spacing0, 0.0, 1.0)
             eps = np.minimum(0.5, CONCAVE_SMOOTHING * shrink)[:, None]
             if topology == "c":  # the wake's columns run straight: no sliding along rows
-                eps[:n_wake] = eps[len(q) - n_wake:] = 0.0
+                eps[:n_wake] = eps[len(q) - n_wake :] = 0.0
             for _ in range(passes):
                 q = _smooth_row(q, eps, topology)
                 target = _smooth_row(q, tangent * grow, topology)
@@ -313,31 +323,47 @@ def _row_tangents(p: np.ndarray, topology: str) -> np.ndarray:
     return np.column_stack([-n[:, 1], n[:, 0]])
 
 
-def layout(body: Body, far: FarField, topology: str, ni: int, nj: int,
-           wall_spacing: float | None = None, wake_nodes: int | None = None,
-           le_spacing: float | None = None, te_spacing: float | None = None) -> Layout:
+def layout(
+    body: Body,
+    far: FarField,
+    topology: str,
+    ni: int,
+    nj: int,
+    wall_spacing: float | None = None,
+    wake_nodes: int | None = None,
+    le_spacing: float | None = None,
+    te_spacing: float | None = None,
+) -> Layout:
     """Place the nodes of j = 0 and j = nj - 1 (see the module's docstring)."""
     if topology not in TOPOLOGIES:
         raise InputError(f"unknown topology {topology!r}; use o or c")
     if ni < 9 or nj < 3:
-        raise InputError(f"grid size {ni} x {nj}: a body grid needs at least 9 x 3 nodes "
-                         "({size})")
+        raise InputError(
+            f"grid size {ni} x {nj}: a body grid needs at least 9 x 3 nodes ({{size}})"
+        )
     curve = BodyCurve(body)
     chord = body.chord
     center = far.center
     if topology == "c":
         if not body.sharp:
-            raise InputError(f"the C-grid needs a sharp (closed) trailing edge; this one is "
-                             f"open by {body.te_gap / chord:.2g} chords: use {{topology}}",
-                             body.source)
+            raise InputError(
+                f"the C-grid needs a sharp (closed) trailing edge; this one is "
+                f"open by {body.te_gap / chord:.2g} chords: use {{topology}}",
+                body.source,
+            )
         if far.radius is None:
-            raise InputError("the C-grid takes a far-field circle ({farfield}); a far field "
-                             "from a file works with {topology}", body.source)
+            raise InputError(
+                "the C-grid takes a far-field circle ({farfield}); a far field "
+                "from a file works with {topology}",
+                body.source,
+            )
         n_w = wake_nodes if wake_nodes is not None else max(2, round(0.14 * ni))
         n_b = ni - 1 - 2 * n_w
         if n_b < 6:
-            raise InputError(f"grid size {ni}: too few nodes for the body after {n_w} wake "
-                             "nodes on each side ({size})")
+            raise InputError(
+                f"grid size {ni}: too few nodes for the body after {n_w} wake "
+                "nodes on each side ({size})"
+            )
     else:
         n_w, n_b = 0, ni - 1
     l_up, l_lo = curve.arc(0, curve.t_le), curve.arc(curve.t_le, curve.length)
@@ -360,9 +386,11 @@ def layout(body: Body, far: FarField, topology: str, ni: int, nj: int,
         te = surf[0]
         x_out = center[0] + radius
         if x_out <= te[0] + 0.1 * chord:
-            raise InputError(f"the far-field radius leaves no room for the wake (outflow at "
-                             f"x = {x_out:.3g}); give a larger radius ({{farfield}})",
-                             body.source)
+            raise InputError(
+                f"the far-field radius leaves no room for the wake (outflow at "
+                f"x = {x_out:.3g}); give a larger radius ({{farfield}})",
+                body.source,
+            )
         wake_len = x_out - te[0]
         wake = te[0] + wake_len * one_sided(n_w, d_te / wake_len)
         wake_pts = np.column_stack([wake, np.full_like(wake, te[1])])
@@ -384,8 +412,9 @@ def layout(body: Body, far: FarField, topology: str, ni: int, nj: int,
     return Layout(topology, inner, outer, first, n_w, h, reference)
 
 
-def reference_grid(inner: np.ndarray, far: FarField, topology: str, dist: np.ndarray,
-                   chord: float, n_wake: int) -> tuple[np.ndarray, np.ndarray]:
+def reference_grid(
+    inner: np.ndarray, far: FarField, topology: str, dist: np.ndarray, chord: float, n_wake: int
+) -> tuple[np.ndarray, np.ndarray]:
     """The wall-orthogonal reference grid and its far-field nodes: rows marched off the
     wall to ``BLEND_END`` chords, turning over ``BLEND_START`` .. ``BLEND_END`` chords into
     straight lines from the row at ``BLEND_START`` to that row's projection onto the far
@@ -402,7 +431,7 @@ def reference_grid(inner: np.ndarray, far: FarField, topology: str, dist: np.nda
     a = int(np.searchsorted(dist, BLEND_START * chord))
     b = int(np.searchsorted(dist, BLEND_END * chord))
     a, b = min(a, len(dist) - 2), min(max(b, a + 1), len(dist) - 1)
-    marched = march(inner, topology, dist[:b + 1], chord, n_wake, tangent=0.0)
+    marched = march(inner, topology, dist[: b + 1], chord, n_wake, tangent=0.0)
     start = marched[a]
     outer = _project(start, far, topology, inner, marched[a] - marched[a - 1], n_wake)
     t = ((dist - dist[a]) / (dist[-1] - dist[a])).clip(0.0, 1.0)
@@ -410,7 +439,7 @@ def reference_grid(inner: np.ndarray, far: FarField, topology: str, dist: np.nda
     w = np.clip((dist - dist[a]) / max(dist[b] - dist[a], 1e-300), 0.0, 1.0)
     w = (w * w * (3 - 2 * w))[:, None, None]
     grid = straight.copy()
-    grid[:b + 1] = (1 - w[:b + 1]) * marched + w[:b + 1] * straight[:b + 1]
+    grid[: b + 1] = (1 - w[: b + 1]) * marched + w[: b + 1] * straight[: b + 1]
     grid[0] = inner
     grid[-1] = outer
     return grid, outer
@@ -424,8 +453,14 @@ def _far_distance(inner: np.ndarray, far: FarField, topology: str) -> float:
     return float(r.min())
 
 
-def _project(row: np.ndarray, far: FarField, topology: str, inner: np.ndarray,
-             direction: np.ndarray | None = None, n_wake: int = 0) -> np.ndarray:
+def _project(
+    row: np.ndarray,
+    far: FarField,
+    topology: str,
+    inner: np.ndarray,
+    direction: np.ndarray | None = None,
+    n_wake: int = 0,
+) -> np.ndarray:
     """Points of the far field for a marched row: radially about the far field's centre
     onto the circle (or polyline); for the C-grid, behind mid-chord, straight up or down
     onto the lines y = y_c -+ R."""
@@ -435,7 +470,7 @@ def _project(row: np.ndarray, far: FarField, topology: str, inner: np.ndarray,
         u = direction / np.linalg.norm(direction, axis=1, keepdims=True)
         p = row - c
         pu = np.einsum("ik,ik->i", p, u)
-        t = -pu + np.sqrt(pu * pu - np.einsum("ik,ik->i", p, p) + far.radius ** 2)
+        t = -pu + np.sqrt(pu * pu - np.einsum("ik,ik->i", p, p) + far.radius**2)
         out = row + t[:, None] * u
     elif far.radius is not None:
         out = c + far.radius * np.column_stack([np.cos(ang), np.sin(ang)])
@@ -452,9 +487,8 @@ def _project(row: np.ndarray, far: FarField, topology: str, inner: np.ndarray,
         sign = np.where(np.arange(len(row)) < half, -1.0, 1.0)
         rear = inner[:, 0] >= rear_start(inner, n_wake)
         x = row[:, 0]
-        on_circle = np.sqrt(np.maximum(far.radius ** 2 - (x - c[0]) ** 2, 0.0))
-        line = np.column_stack([x, c[1] + sign * np.where(x < c[0], on_circle,
-                                                          far.radius)])
+        on_circle = np.sqrt(np.maximum(far.radius**2 - (x - c[0]) ** 2, 0.0))
+        line = np.column_stack([x, c[1] + sign * np.where(x < c[0], on_circle, far.radius)])
         out[rear] = line[rear]
         out[0, 0], out[-1, 0] = row[0, 0], row[-1, 0]
         out[0, 1], out[-1, 1] = c[1] - far.radius, c[1] + far.radius
@@ -489,16 +523,16 @@ def _d(g: np.ndarray, periodic: bool) -> tuple[np.ndarray, ...]:
     n, s = c[2:], c[:-2]
     ne, nw, se, sw = e[2:], w[2:], e[:-2], w[:-2]
     e, w, c = e[1:-1], w[1:-1], c[1:-1]
-    return (0.5 * (e - w), 0.5 * (n - s), e - 2 * c + w, n - 2 * c + s,
-            0.25 * (ne - nw - se + sw))
+    return (0.5 * (e - w), 0.5 * (n - s), e - 2 * c + w, n - 2 * c + s, 0.25 * (ne - nw - se + sw))
 
 
 def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.einsum("...k,...k->...", a, b)
 
 
-def residual(g: np.ndarray, periodic: bool, s_xi: np.ndarray | None = None,
-             s_eta: np.ndarray | None = None) -> np.ndarray:
+def residual(
+    g: np.ndarray, periodic: bool, s_xi: np.ndarray | None = None, s_eta: np.ndarray | None = None
+) -> np.ndarray:
     """alpha x_xixi - 2 beta x_xieta + gamma x_etaeta + s_xi x_xi + s_eta x_eta at the
     unknown nodes."""
     x_xi, x_eta, x_xixi, x_etaeta, x_xieta = _d(g, periodic)
@@ -520,8 +554,9 @@ def exact_controls(g: np.ndarray, periodic: bool) -> tuple[np.ndarray, np.ndarra
     return s_xi, s_eta
 
 
-def smoothed_controls(g: np.ndarray, periodic: bool, decay: float = CONTROL_DECAY,
-                      passes: int = CONTROL_PASSES) -> tuple[np.ndarray, np.ndarray]:
+def smoothed_controls(
+    g: np.ndarray, periodic: bool, decay: float = CONTROL_DECAY, passes: int = CONTROL_PASSES
+) -> tuple[np.ndarray, np.ndarray]:
     """The exact sources of ``g`` (see :func:`exact_controls`), kept at the wall and
     blended, with weight exp(-decay (j - 1)), into ``passes`` Jacobi passes of their
     smoothing away from it."""
@@ -543,20 +578,30 @@ def smoothed_controls(g: np.ndarray, periodic: bool, decay: float = CONTROL_DECA
     return out[0], out[1]
 
 
-def jacobi(grid: np.ndarray, periodic: bool, s_xi: np.ndarray, s_eta: np.ndarray,
-           sweeps: int, relax: float = JACOBI_RELAX, hold: int = HELD_ROWS) -> np.ndarray:
+def jacobi(
+    grid: np.ndarray,
+    periodic: bool,
+    s_xi: np.ndarray,
+    s_eta: np.ndarray,
+    sweeps: int,
+    relax: float = JACOBI_RELAX,
+    hold: int = HELD_ROWS,
+) -> np.ndarray:
     """``sweeps`` relaxed point-Jacobi sweeps of the controlled Winslow equations (the
     paper's PDE iteration) on the interior of ``grid``; rows j = 0, nj - 1 (and the C-grid's
     outflow columns) held, and the first ``hold`` rows off the wall (the first layer's height
     and the wall angle are the reference's), the O-grid's seam column kept equal to
     column 0."""
     g = np.array(grid, dtype=float)
-    kept = g[1:hold + 1].copy()
+    kept = g[1 : hold + 1].copy()
     sx, se = s_xi[..., None], s_eta[..., None]
     for _ in range(sweeps):
         x_xi, x_eta, _, _, x_xieta = _d(g, periodic)
-        a, b, c = (_dot(x_eta, x_eta)[..., None], _dot(x_xi, x_eta)[..., None],
-                   _dot(x_xi, x_xi)[..., None])
+        a, b, c = (
+            _dot(x_eta, x_eta)[..., None],
+            _dot(x_xi, x_eta)[..., None],
+            _dot(x_xi, x_xi)[..., None],
+        )
         if periodic:
             u = g[:, :-1]
             ew = np.roll(u, -1, axis=1)[1:-1] + np.roll(u, 1, axis=1)[1:-1]
@@ -573,7 +618,7 @@ def jacobi(grid: np.ndarray, periodic: bool, s_xi: np.ndarray, s_eta: np.ndarray
             g[1:-1, -1] = upd[:, 0]
         else:
             g[1:-1, 1:-1] = upd
-        g[1:hold + 1] = kept
+        g[1 : hold + 1] = kept
     return g
 
 
@@ -609,6 +654,18 @@ def elliptic(lay: Layout, sweeps: int = ELLIPTIC_SWEEPS) -> tuple[np.ndarray, tu
     return kept, controls
 
 
-__all__ = ["TOPOLOGIES", "BodyCurve", "Layout", "elliptic", "jacobi", "layout", "march",
-           "one_sided", "reference_grid", "residual", "smoothed_controls", "tfi",
-           "two_sided"]
+__all__ = [
+    "TOPOLOGIES",
+    "BodyCurve",
+    "Layout",
+    "elliptic",
+    "jacobi",
+    "layout",
+    "march",
+    "one_sided",
+    "reference_grid",
+    "residual",
+    "smoothed_controls",
+    "tfi",
+    "two_sided",
+]

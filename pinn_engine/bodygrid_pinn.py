@@ -60,27 +60,31 @@ class _Field:
         eta = np.linspace(0.0, 1.0, nj)
         if periodic:  # unique columns 0 .. ni - 2, wrapped by PAD on both sides
             u = values[:, :-1]
-            u = np.concatenate([u[:, -PAD:], u, u[:, :PAD + 1]], axis=1)
+            u = np.concatenate([u[:, -PAD:], u, u[:, : PAD + 1]], axis=1)
             step = 1.0 / (ni - 1)
             xi = np.arange(-PAD, ni + PAD) * step
         else:
             u = values
-        self.splines = [RectBivariateSpline(eta, xi, u[..., k], s=0)
-                        for k in range(u.shape[-1])]
+        self.splines = [RectBivariateSpline(eta, xi, u[..., k], s=0) for k in range(u.shape[-1])]
 
     def jet(self, x: np.ndarray) -> np.ndarray:
         """(6, B, k): value, d_xi, d_eta, d_xixi, d_xieta, d_etaeta at points (xi, eta)."""
         xi, eta = x[:, 0], x[:, 1]
         orders = ((0, 0), (0, 1), (1, 0), (0, 2), (1, 1), (2, 0))
-        return np.stack([np.stack([s.ev(eta, xi, dx=a, dy=b) for s in self.splines], -1)
-                         for a, b in orders])
+        return np.stack(
+            [np.stack([s.ev(eta, xi, dx=a, dy=b) for s in self.splines], -1) for a, b in orders]
+        )
 
 
 class _Net(torch.nn.Module):
     def __init__(self, periodic: bool, layers: int, neurons: int, activation: str) -> None:
         super().__init__()
-        act = {"tanh": torch.nn.Tanh, "sin": None, "sigmoid": torch.nn.Sigmoid,
-               "swish": torch.nn.SiLU}.get(activation) or torch.nn.Tanh
+        act = {
+            "tanh": torch.nn.Tanh,
+            "sin": None,
+            "sigmoid": torch.nn.Sigmoid,
+            "swish": torch.nn.SiLU,
+        }.get(activation) or torch.nn.Tanh
         width = 3 if periodic else 2
         mods: list[torch.nn.Module] = []
         for _ in range(layers):
@@ -97,7 +101,7 @@ class _Net(torch.nn.Module):
             f = torch.cat([torch.cos(2 * math.pi * xi), torch.sin(2 * math.pi * xi), eta], 1)
         else:
             f = x
-        bubble = eta ** 3 * (1 - eta)
+        bubble = eta**3 * (1 - eta)
         if not self.periodic:
             bubble = bubble * 4 * xi * (1 - xi)
         return bubble * self.last(self.body(f))
@@ -112,15 +116,13 @@ def _correction_jet(net: _Net, x: torch.Tensor) -> list[torch.Tensor]:
         g = torch.autograd.grad(out[:, k].sum(), x, create_graph=True)[0]
         g_xi = torch.autograd.grad(g[:, 0].sum(), x, create_graph=True)[0]
         g_eta = torch.autograd.grad(g[:, 1].sum(), x, create_graph=True)[0]
-        for c, v in enumerate((out[:, k], g[:, 0], g[:, 1], g_xi[:, 0], g_xi[:, 1],
-                               g_eta[:, 1])):
+        for c, v in enumerate((out[:, k], g[:, 0], g[:, 1], g_xi[:, 0], g_xi[:, 1], g_eta[:, 1])):
             cols[c].append(v)
     return [torch.stack(c, dim=1) for c in cols]
 
 
 class _Problem:
-    def __init__(self, start: np.ndarray, controls, periodic: bool, settings: Settings
-                 ) -> None:
+    def __init__(self, start: np.ndarray, controls, periodic: bool, settings: Settings) -> None:
         self.nj, self.ni = start.shape[:2]
         self.periodic = periodic
         self.base = _Field(start, periodic)
@@ -145,7 +147,7 @@ class _Problem:
         si, sj = self.ni - 1, self.nj - 1  # index space: d/di = d/dxi / (ni - 1)
         v = [base[k] + c[k] for k in range(6)]
         x_i, x_j = v[1] / si, v[2] / sj
-        x_ii, x_ij, x_jj = v[3] / si ** 2, v[4] / (si * sj), v[5] / sj ** 2
+        x_ii, x_ij, x_jj = v[3] / si**2, v[4] / (si * sj), v[5] / sj**2
         a = (x_j * x_j).sum(1, keepdim=True)
         b = (x_i * x_j).sum(1, keepdim=True)
         g = (x_i * x_i).sum(1, keepdim=True)
@@ -160,8 +162,7 @@ class _Problem:
         xi = np.linspace(0.0, 1.0, self.ni)
         eta = np.linspace(0.0, 1.0, self.nj)
         pts = np.stack(np.meshgrid(xi, eta), -1).reshape(-1, 2)
-        out = net(torch.as_tensor(pts, dtype=torch.float64)).numpy().reshape(self.nj,
-                                                                            self.ni, 2)
+        out = net(torch.as_tensor(pts, dtype=torch.float64)).numpy().reshape(self.nj, self.ni, 2)
         g = start + out
         if self.periodic:
             g[:, -1] = g[:, 0]
@@ -173,9 +174,13 @@ def _quality(grid: np.ndarray) -> dict:
     return {k: q[k] for k in ("mean_max_angle", "worst_max_angle", "folded_cells")}
 
 
-def train_body(lay, elliptic_grid: np.ndarray, controls, settings: Settings,
-               progress: Callable[[dict], bool | None] | None = None
-               ) -> tuple[np.ndarray, dict, dict]:
+def train_body(
+    lay,
+    elliptic_grid: np.ndarray,
+    controls,
+    settings: Settings,
+    progress: Callable[[dict], bool | None] | None = None,
+) -> tuple[np.ndarray, dict, dict]:
     """Train the correction network; returns (grid, loss history, training info)."""
     from . import bodygrid
 
@@ -191,22 +196,34 @@ def train_body(lay, elliptic_grid: np.ndarray, controls, settings: Settings,
         history: dict[str, list[float]] = {"eqns": [], "total": []}
         reference = _quality(elliptic_grid)
         mean_tol, worst_tol = BODY_GUARD_TOL
-        kept = {"state": copy.deepcopy(net.state_dict()), "quality": _quality(start),
-                "iteration": 0}
+        kept = {
+            "state": copy.deepcopy(net.state_dict()),
+            "quality": _quality(start),
+            "iteration": 0,
+        }
         rejected = [0]
 
         def record(value: float, phase: str, step: int, total: int) -> None:
             history["eqns"].append(value)
             history["total"].append(value)
-            if progress is not None and step % 10 == 0 and progress(
-                    {"phase": phase, "step": step, "total": total, "loss": value,
-                     "terms": {"eqns": value}}):
+            if (
+                progress is not None
+                and step % 10 == 0
+                and progress(
+                    {
+                        "phase": phase,
+                        "step": step,
+                        "total": total,
+                        "loss": value,
+                        "terms": {"eqns": value},
+                    }
+                )
+            ):
                 raise TrainingCancelled(f"training cancelled during {phase} at step {step}")
 
         if settings.adam_epochs:
             opt = torch.optim.Adam(net.parameters(), lr=settings.learning_rate)
-            sched = torch.optim.lr_scheduler.StepLR(opt, settings.lr_decay_every,
-                                                    settings.lr_decay)
+            sched = torch.optim.lr_scheduler.StepLR(opt, settings.lr_decay_every, settings.lr_decay)
             for epoch in range(1, settings.adam_epochs + 1):
                 batch = problem.sample(settings.batch_size)
                 loss = problem.loss(net, *batch)
@@ -220,28 +237,36 @@ def train_body(lay, elliptic_grid: np.ndarray, controls, settings: Settings,
         iterations = [0]
         if settings.lbfgs_iterations:
             batch = problem.sample(settings.lbfgs_points)
-            opt = torch.optim.LBFGS(net.parameters(), lr=1.0, max_iter=GUARD_EVERY,
-                                    history_size=50, line_search_fn="strong_wolfe",
-                                    tolerance_grad=1e-12, tolerance_change=1e-15)
+            opt = torch.optim.LBFGS(
+                net.parameters(),
+                lr=1.0,
+                max_iter=GUARD_EVERY,
+                history_size=50,
+                line_search_fn="strong_wolfe",
+                tolerance_grad=1e-12,
+                tolerance_change=1e-15,
+            )
 
             def closure() -> torch.Tensor:
                 opt.zero_grad()
                 loss = problem.loss(net, *batch)
                 loss.backward()
-                record(loss.item(), "lbfgs", len(history["total"]),
-                       settings.lbfgs_iterations)
+                record(loss.item(), "lbfgs", len(history["total"]), settings.lbfgs_iterations)
                 return loss
 
             while iterations[0] < settings.lbfgs_iterations:
                 opt.step(closure)
                 iterations[0] += GUARD_EVERY
                 q = _quality(problem.grid(net, start))
-                ok = (q["folded_cells"] <= reference["folded_cells"]
-                      and q["mean_max_angle"] <= reference["mean_max_angle"] + mean_tol
-                      and q["worst_max_angle"] <= reference["worst_max_angle"] + worst_tol)
+                ok = (
+                    q["folded_cells"] <= reference["folded_cells"]
+                    and q["mean_max_angle"] <= reference["mean_max_angle"] + mean_tol
+                    and q["worst_max_angle"] <= reference["worst_max_angle"] + worst_tol
+                )
                 if ok or not warm:
-                    kept.update(state=copy.deepcopy(net.state_dict()), quality=q,
-                                iteration=iterations[0])
+                    kept.update(
+                        state=copy.deepcopy(net.state_dict()), quality=q, iteration=iterations[0]
+                    )
                     rejected[0] = 0
                 else:
                     rejected[0] += 1
@@ -251,11 +276,17 @@ def train_body(lay, elliptic_grid: np.ndarray, controls, settings: Settings,
         grid = problem.grid(net, start)
     finally:
         torch.set_num_threads(threads)
-    info = {"adam_epochs": settings.adam_epochs, "lbfgs_iterations": iterations[0],
-            "warm_start": settings.warm_start,
-            "guard": {"elliptic": reference, "kept": kept["quality"],
-                      "kept_after_lbfgs_iterations": kept["iteration"]},
-            "final_loss": history["total"][-1] if history["total"] else float("nan")}
+    info = {
+        "adam_epochs": settings.adam_epochs,
+        "lbfgs_iterations": iterations[0],
+        "warm_start": settings.warm_start,
+        "guard": {
+            "elliptic": reference,
+            "kept": kept["quality"],
+            "kept_after_lbfgs_iterations": kept["iteration"],
+        },
+        "final_loss": history["total"][-1] if history["total"] else float("nan"),
+    }
     return grid, history, info
 
 

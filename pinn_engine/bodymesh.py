@@ -29,8 +29,11 @@ def patch_names(topology: str) -> tuple[str, str, str, str]:
     """PatchNames (bottom, right, top, left) of a body grid: the O-grid's left and right
     sides are the seam, the C-grid's are the outflow; the C-grid's bottom side holds the
     wall and the wake cut (field data ``Topology`` and ``WakeNodes`` tell them apart)."""
-    return ("wall", "seam", "farfield", "seam") if topology == "o" else \
-        ("wall", "outflow", "farfield", "outflow")
+    return (
+        ("wall", "seam", "farfield", "seam")
+        if topology == "o"
+        else ("wall", "outflow", "farfield", "outflow")
+    )
 
 
 def wall_metrics(grid: np.ndarray, topology: str, n_wake: int, sharp: bool) -> dict:
@@ -52,20 +55,29 @@ def wall_metrics(grid: np.ndarray, topology: str, n_wake: int, sharp: bool) -> d
     if sharp:  # the corner at a sharp trailing edge has no tangent
         te = [0, ni - 1] if topology == "o" else [n_wake, ni - 1 - n_wake]
         keep = np.setdiff1d(idx, te)
-    return {"first_layer": {"min": float(h[idx].min()), "median": float(np.median(h[idx])),
-                            "max": float(h[idx].max())},
-            "wall_angle_deviation": float(dev[keep].max())}
+    return {
+        "first_layer": {
+            "min": float(h[idx].min()),
+            "median": float(np.median(h[idx])),
+            "max": float(h[idx].max()),
+        },
+        "wall_angle_deviation": float(dev[keep].max()),
+    }
 
 
-def topology_metrics(grid: np.ndarray, topology: str, n_wake: int, far: FarField,
-                     sharp: bool) -> dict:
+def topology_metrics(
+    grid: np.ndarray, topology: str, n_wake: int, far: FarField, sharp: bool
+) -> dict:
     """Seam or cut mismatch, far-field radius error and the wall figures."""
     if topology == "o":
         gap = float(np.abs(grid[:, 0] - grid[:, -1]).max())
     else:
-        gap = float(np.abs(grid[0, :n_wake + 1] - grid[0, ::-1][:n_wake + 1]).max())
-    out = {"kind": topology, "wake_nodes": n_wake,
-           ("seam_gap" if topology == "o" else "cut_gap"): gap}
+        gap = float(np.abs(grid[0, : n_wake + 1] - grid[0, ::-1][: n_wake + 1]).max())
+    out = {
+        "kind": topology,
+        "wake_nodes": n_wake,
+        ("seam_gap" if topology == "o" else "cut_gap"): gap,
+    }
     if far.radius is not None:
         r = np.linalg.norm(grid[-1] - far.center, axis=1)
         front = slice(None) if topology == "o" else grid[-1][:, 0] <= far.center[0] + 1e-12
@@ -75,17 +87,26 @@ def topology_metrics(grid: np.ndarray, topology: str, n_wake: int, far: FarField
     return out
 
 
-def mesh_body(body: Body, far: FarField, topology: str, method: str, ni: int, nj: int,
-              settings: Settings | None = None, wall_spacing: float | None = None,
-              progress: Callable[[dict], bool | None] | None = None) -> MeshResult:
+def mesh_body(
+    body: Body,
+    far: FarField,
+    topology: str,
+    method: str,
+    ni: int,
+    nj: int,
+    settings: Settings | None = None,
+    wall_spacing: float | None = None,
+    progress: Callable[[dict], bool | None] | None = None,
+) -> MeshResult:
     """The O- or C-grid of ``ni`` x ``nj`` nodes around ``body`` (see bodygrid.py)."""
     if method not in METHODS:
-        raise InputError(f"method {method}: O- and C-grids are made by "
-                         f"{', '.join(METHODS)} (mgnet meshes four-sided domains only)")
+        raise InputError(
+            f"method {method}: O- and C-grids are made by "
+            f"{', '.join(METHODS)} (mgnet meshes four-sided domains only)"
+        )
     settings = settings or make_settings(method, lattice=(ni, nj))
     if wall_spacing is not None and not (np.isfinite(wall_spacing) and wall_spacing > 0):
-        raise InputError(f"wall spacing {wall_spacing}: must be a number > 0 "
-                         "(--spacing bottom=H)")
+        raise InputError(f"wall spacing {wall_spacing}: must be a number > 0 (--spacing bottom=H)")
     start = time.perf_counter()
     lay = bodygrid.layout(body, far, topology, ni, nj, wall_spacing=wall_spacing)
     history: dict[str, list[float]] = {}

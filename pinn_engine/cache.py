@@ -32,8 +32,14 @@ def _digest(*arrays) -> str:
 def data_key(boundary: Boundary, aux_lines: Sequence[AuxLine]) -> tuple[str, str]:
     """Fingerprints of the inputs of a fitted mesher: the boundary (ring, corners, frame and
     plane) and the mapped auxiliary lines."""
-    b = _digest(boundary.ring, np.asarray(boundary.corners), boundary.frame.origin,
-                np.asarray([boundary.frame.scale]), boundary.plane.origin, boundary.plane.axes)
+    b = _digest(
+        boundary.ring,
+        np.asarray(boundary.corners),
+        boundary.frame.origin,
+        np.asarray([boundary.frame.scale]),
+        boundary.plane.origin,
+        boundary.plane.axes,
+    )
     a = _digest(*[x for line in aux_lines for x in (line.xy, line.xi_eta)])
     return b, f"{len(aux_lines)}:{a}"
 
@@ -55,8 +61,13 @@ class MeshCache:
         aux = aux_lines if settings.method == "pinn" else ()
         return (*data_key(boundary, aux), settings.training_key())
 
-    def fitted(self, boundary: Boundary, aux_lines: Sequence[AuxLine], settings: Settings,
-               progress: Callable[[dict], bool | None] | None = None) -> tuple[Mesher, bool]:
+    def fitted(
+        self,
+        boundary: Boundary,
+        aux_lines: Sequence[AuxLine],
+        settings: Settings,
+        progress: Callable[[dict], bool | None] | None = None,
+    ) -> tuple[Mesher, bool]:
         """A mesher fitted to these inputs and whether a network was trained for it now."""
         key = self.key(boundary, aux_lines, settings)
         mesher = self._entries.get(key)

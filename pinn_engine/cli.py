@@ -41,81 +41,172 @@ def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="pinn-mesh",
         description="Structured quadrilateral mesh of a four-sided 2D domain "
-                    "(PINN of Chen et al., with TFI, elliptic and MGNet baselines).")
-    p.add_argument("boundary", nargs="?", default=None,
-                   help="closed boundary: .vtp, .vtk, .csv or .txt; with --topology an "
-                        "airfoil .dat (Selig or Lednicer) or a file with two closed "
-                        "polylines (body inside far field)")
-    p.add_argument("--aux", action="append", default=[], metavar="AUX",
-                   help="auxiliary lines (.vtp/.vtk); repeat for several files")
+        "(PINN of Chen et al., with TFI, elliptic and MGNet baselines).",
+    )
+    p.add_argument(
+        "boundary",
+        nargs="?",
+        default=None,
+        help="closed boundary: .vtp, .vtk, .csv or .txt; with --topology an "
+        "airfoil .dat (Selig or Lednicer) or a file with two closed "
+        "polylines (body inside far field)",
+    )
+    p.add_argument(
+        "--aux",
+        action="append",
+        default=[],
+        metavar="AUX",
+        help="auxiliary lines (.vtp/.vtk); repeat for several files",
+    )
     p.add_argument("--method", choices=METHODS, default="pinn")
-    p.add_argument("--size", nargs=2, type=int, default=(41, 21), metavar=("NI", "NJ"),
-                   help="nodes along xi and eta (default 41 21)")
+    p.add_argument(
+        "--size",
+        nargs=2,
+        type=int,
+        default=(41, 21),
+        metavar=("NI", "NJ"),
+        help="nodes along xi and eta (default 41 21)",
+    )
     p.add_argument("--seed", type=int, default=None)
-    p.add_argument("--preset", choices=PRESETS, default="default",
-                   help="'paper' reproduces the paper's section 4 settings exactly")
-    p.add_argument("-o", "--output", default=None, metavar="OUT.vts",
-                   help="output grid (default out/<boundary>_<method>.vts); the extension "
-                        "picks the format: .vts, .vtk, .xyz (PLOT3D), .cgns, .su2, .msh "
-                        "(Gmsh 4.1); a folder with --format openfoam")
-    p.add_argument("--format", choices=FORMAT_KEYS, default=None,
-                   help="output format instead of the extension of -o (openfoam: -o DIR "
-                        "gets DIR/constant/polyMesh)")
-    p.add_argument("--patch", action="append", default=[], metavar="SIDE=NAME",
-                   help="name the boundary patch of a side (bottom, right, top, left; "
-                        "repeatable; equal names form one patch)")
-    p.add_argument("--extrude", type=float, default=None, metavar="T",
-                   help="one cell of thickness T in z for .xyz, .cgns, .msh and openfoam")
-    p.add_argument("--corners", nargs=4, type=int, metavar="I",
-                   help="the four corner point indices, instead of automatic detection")
-    p.add_argument("--png", metavar="PATH", help="also render the grid, coloured by "
-                   "MaxIncludedAngle, to this PNG (off-screen)")
+    p.add_argument(
+        "--preset",
+        choices=PRESETS,
+        default="default",
+        help="'paper' reproduces the paper's section 4 settings exactly",
+    )
+    p.add_argument(
+        "-o",
+        "--output",
+        default=None,
+        metavar="OUT.vts",
+        help="output grid (default out/<boundary>_<method>.vts); the extension "
+        "picks the format: .vts, .vtk, .xyz (PLOT3D), .cgns, .su2, .msh "
+        "(Gmsh 4.1); a folder with --format openfoam",
+    )
+    p.add_argument(
+        "--format",
+        choices=FORMAT_KEYS,
+        default=None,
+        help="output format instead of the extension of -o (openfoam: -o DIR "
+        "gets DIR/constant/polyMesh)",
+    )
+    p.add_argument(
+        "--patch",
+        action="append",
+        default=[],
+        metavar="SIDE=NAME",
+        help="name the boundary patch of a side (bottom, right, top, left; "
+        "repeatable; equal names form one patch)",
+    )
+    p.add_argument(
+        "--extrude",
+        type=float,
+        default=None,
+        metavar="T",
+        help="one cell of thickness T in z for .xyz, .cgns, .msh and openfoam",
+    )
+    p.add_argument(
+        "--corners",
+        nargs=4,
+        type=int,
+        metavar="I",
+        help="the four corner point indices, instead of automatic detection",
+    )
+    p.add_argument(
+        "--png",
+        metavar="PATH",
+        help="also render the grid, coloured by MaxIncludedAngle, to this PNG (off-screen)",
+    )
     p.add_argument("--report", metavar="PATH", help="also write a JSON report")
-    p.add_argument("--fail-on-folded", action="store_true",
-                   help="exit with an error (status 2, no output) if any cell is folded")
-    p.add_argument("--spacing", action="append", default=[], metavar="SIDE=H",
-                   help="first grid edge leaving SIDE (bottom, right, top, left) has length "
-                        "H (your units), growing smoothly away from it; repeat for more sides "
-                        "(pinn, tfi, elliptic; SPEC 7). O- and C-grids: bottom=H, the first "
-                        "cell off the body wall")
-    p.add_argument("--orthogonal", metavar="SIDE[,SIDE...]", default=None,
-                   help="grid lines leave these sides at 90 degrees (pinn: a loss term; "
-                        "elliptic: Hilgenstock control functions). O- and C-grids: bottom "
-                        "(elliptic and pinn always do; tfi cannot)")
-    p.add_argument("--quiet", action="store_true",
-                   help="no progress output (a warning about folded cells is still printed)")
+    p.add_argument(
+        "--fail-on-folded",
+        action="store_true",
+        help="exit with an error (status 2, no output) if any cell is folded",
+    )
+    p.add_argument(
+        "--spacing",
+        action="append",
+        default=[],
+        metavar="SIDE=H",
+        help="first grid edge leaving SIDE (bottom, right, top, left) has length "
+        "H (your units), growing smoothly away from it; repeat for more sides "
+        "(pinn, tfi, elliptic; SPEC 7). O- and C-grids: bottom=H, the first "
+        "cell off the body wall",
+    )
+    p.add_argument(
+        "--orthogonal",
+        metavar="SIDE[,SIDE...]",
+        default=None,
+        help="grid lines leave these sides at 90 degrees (pinn: a loss term; "
+        "elliptic: Hilgenstock control functions). O- and C-grids: bottom "
+        "(elliptic and pinn always do; tfi cannot)",
+    )
+    p.add_argument(
+        "--quiet",
+        action="store_true",
+        help="no progress output (a warning about folded cells is still printed)",
+    )
     g = p.add_argument_group("training (pinn, mgnet)")
     g.add_argument("--epochs", type=int, dest="adam_epochs", help="Adam epochs")
     g.add_argument("--lbfgs", type=int, dest="lbfgs_iterations", help="L-BFGS iterations")
     g.add_argument("--layers", type=int, dest="hidden_layers", help="hidden layers")
     g.add_argument("--neurons", type=int, help="neurons per hidden layer")
     g.add_argument("--lambda2", type=float, help="weight of the auxiliary-line term")
-    g.add_argument("--boundary-mode", choices=_options("boundary_mode"), dest="boundary_mode",
-                   help="hard: exact boundary by construction; penalty: the paper's term")
+    g.add_argument(
+        "--boundary-mode",
+        choices=_options("boundary_mode"),
+        dest="boundary_mode",
+        help="hard: exact boundary by construction; penalty: the paper's term",
+    )
     g.add_argument("--boundary-fit", choices=_options("boundary_fit"), dest="boundary_fit")
-    g.add_argument("--warm-start", choices=_options("warm_start"), dest="warm_start",
-                   help="elliptic (default): start from the converged elliptic grid and keep "
-                        "the last state no worse than it; none: train from TFI (paper)")
-    g.add_argument("--objective", choices=OBJECTIVES, dest="objective",
-                   help="pinn: winslow (the Winslow equations) or quality (plus a cell-quality "
-                        "term that lowers the worst cell's largest angle; SPEC 7)")
+    g.add_argument(
+        "--warm-start",
+        choices=_options("warm_start"),
+        dest="warm_start",
+        help="elliptic (default): start from the converged elliptic grid and keep "
+        "the last state no worse than it; none: train from TFI (paper)",
+    )
+    g.add_argument(
+        "--objective",
+        choices=OBJECTIVES,
+        dest="objective",
+        help="pinn: winslow (the Winslow equations) or quality (plus a cell-quality "
+        "term that lowers the worst cell's largest angle; SPEC 7)",
+    )
     g.add_argument("--device", help="torch device: auto, cpu, cuda")
     g.add_argument("--save-model", metavar="PATH", help="save the trained model")
-    g.add_argument("--load-model", metavar="PATH",
-                   help="evaluate a saved model instead of training")
+    g.add_argument(
+        "--load-model", metavar="PATH", help="evaluate a saved model instead of training"
+    )
     b = p.add_argument_group("O- and C-grids around a body (SPEC 9)")
-    b.add_argument("--topology", choices=("o", "c"), default=None,
-                   help="o: O-grid (j = 0 on the body, seam at the trailing edge); c: C-grid "
-                        "with a wake cut (sharp trailing edge)")
-    b.add_argument("--naca", metavar="DDDD", default=None,
-                   help="NACA 4-digit section of chord 1 instead of a file (blunt trailing "
-                        "edge for --topology o, closed for c)")
-    b.add_argument("--farfield", type=float, default=None, metavar="R",
-                   help="far-field circle of radius R chords about mid-chord (default 15 "
-                        "for a single body)")
+    b.add_argument(
+        "--topology",
+        choices=("o", "c"),
+        default=None,
+        help="o: O-grid (j = 0 on the body, seam at the trailing edge); c: C-grid "
+        "with a wake cut (sharp trailing edge)",
+    )
+    b.add_argument(
+        "--naca",
+        metavar="DDDD",
+        default=None,
+        help="NACA 4-digit section of chord 1 instead of a file (blunt trailing "
+        "edge for --topology o, closed for c)",
+    )
+    b.add_argument(
+        "--farfield",
+        type=float,
+        default=None,
+        metavar="R",
+        help="far-field circle of radius R chords about mid-chord (default 15 for a single body)",
+    )
     e = p.add_argument_group("elliptic")
-    e.add_argument("--elliptic-iterations", type=int, dest="elliptic_iterations",
-                   help="N point-Jacobi sweeps from a zero interior (paper); 0 = converge")
+    e.add_argument(
+        "--elliptic-iterations",
+        type=int,
+        dest="elliptic_iterations",
+        help="N point-Jacobi sweeps from a zero interior (paper); 0 = converge",
+    )
     return p
 
 
@@ -132,8 +223,7 @@ class _Progress:
             return
         done = info["step"] / max(info["total"], 1)
         decile = int(done * 10)
-        text = (f"[{info['phase']:5s} {info['step']:5d}/{info['total']}] "
-                f"loss {info['loss']:.3e}")
+        text = f"[{info['phase']:5s} {info['step']:5d}/{info['total']}] loss {info['loss']:.3e}"
         if self.tty:
             print("\r" + text, end="", file=sys.stderr, flush=True)
         elif decile != self.last:
@@ -150,9 +240,15 @@ def _raise_interrupt(signum, frame):  # noqa: ARG001
 
 
 # the command line's name for each numeric setting
-OPTION_FLAGS = {"seed": "--seed", "lambda2": "--lambda2", "hidden_layers": "--layers",
-                "neurons": "--neurons", "adam_epochs": "--epochs",
-                "lbfgs_iterations": "--lbfgs", "elliptic_iterations": "--elliptic-iterations"}
+OPTION_FLAGS = {
+    "seed": "--seed",
+    "lambda2": "--lambda2",
+    "hidden_layers": "--layers",
+    "neurons": "--neurons",
+    "adam_epochs": "--epochs",
+    "lbfgs_iterations": "--lbfgs",
+    "elliptic_iterations": "--elliptic-iterations",
+}
 
 
 def _check_options(args: argparse.Namespace) -> None:
@@ -173,8 +269,9 @@ def _check_options(args: argparse.Namespace) -> None:
             import torch
 
             if not torch.cuda.is_available():
-                raise PinnMeshError(f"--device {args.device}: no CUDA device is available; "
-                                    "use --device cpu or auto")
+                raise PinnMeshError(
+                    f"--device {args.device}: no CUDA device is available; use --device cpu or auto"
+                )
 
 
 def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
@@ -196,14 +293,29 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     patches = export.parse_patch_options(args.patch)
     _check_options(args)
     ni, nj = args.size
-    fields = ("seed", "adam_epochs", "lbfgs_iterations", "hidden_layers", "neurons",
-              "lambda2", "boundary_fit", "device", "elliptic_iterations", "warm_start",
-              "objective")
+    fields = (
+        "seed",
+        "adam_epochs",
+        "lbfgs_iterations",
+        "hidden_layers",
+        "neurons",
+        "lambda2",
+        "boundary_fit",
+        "device",
+        "elliptic_iterations",
+        "warm_start",
+        "objective",
+    )
     try:
-        settings = make_settings(args.method, args.preset, lattice=(ni, nj),
-                                 boundary_mode=args.boundary_mode, spacing=args.spacing,
-                                 orthogonal=args.orthogonal,
-                                 **{k: getattr(args, k) for k in fields})
+        settings = make_settings(
+            args.method,
+            args.preset,
+            lattice=(ni, nj),
+            boundary_mode=args.boundary_mode,
+            spacing=args.spacing,
+            orthogonal=args.orthogonal,
+            **{k: getattr(args, k) for k in fields},
+        )
     except ValueError as exc:
         raise PinnMeshError(str(exc)) from exc
     boundary = load_boundary(args.boundary, args.corners)
@@ -228,23 +340,38 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     result = mesher.predict(ni, nj)
     q = result.quality
     if not args.quiet:
-        print(f"{settings.method} {ni}x{nj} grid in {time.perf_counter() - start:.2f} s: "
-              f"mean MaxIncludedAngle {q['mean_max_angle']:.2f}, worst "
-              f"{q['worst_max_angle']:.2f} deg, {q['folded_cells']} folded cells, boundary "
-              f"deviation {q['boundary_deviation']:.1e}", file=sys.stderr, flush=True)
-        for side in settings.orthogonal + tuple(k for k, _ in settings.spacing
-                                                if k not in settings.orthogonal):
+        print(
+            f"{settings.method} {ni}x{nj} grid in {time.perf_counter() - start:.2f} s: "
+            f"mean MaxIncludedAngle {q['mean_max_angle']:.2f}, worst "
+            f"{q['worst_max_angle']:.2f} deg, {q['folded_cells']} folded cells, boundary "
+            f"deviation {q['boundary_deviation']:.1e}",
+            file=sys.stderr,
+            flush=True,
+        )
+        for side in settings.orthogonal + tuple(
+            k for k, _ in settings.spacing if k not in settings.orthogonal
+        ):
             r = result.report["sides"][side]
-            print(f"{side}: first edges {r['first_edge_min']:.3g}..{r['first_edge_max']:.3g}, "
-                  f"wall angles within {r['max_angle_deviation']:.2f} deg of 90, growth "
-                  f"ratio up to {r['max_growth_ratio']:.3f}", file=sys.stderr, flush=True)
+            print(
+                f"{side}: first edges {r['first_edge_min']:.3g}..{r['first_edge_max']:.3g}, "
+                f"wall angles within {r['max_angle_deviation']:.2f} deg of 90, growth "
+                f"ratio up to {r['max_growth_ratio']:.3f}",
+                file=sys.stderr,
+                flush=True,
+            )
         distances = result.report["aux_line_distance"]
         if distances:
-            print(f"auxiliary lines: grid lines within {max(distances.values()):.2e} of the "
-                  "diagonal of the drawn lines", file=sys.stderr, flush=True)
+            print(
+                f"auxiliary lines: grid lines within {max(distances.values()):.2e} of the "
+                "diagonal of the drawn lines",
+                file=sys.stderr,
+                flush=True,
+            )
     if args.fail_on_folded and q["folded_cells"]:
-        raise PinnMeshError(f"{args.boundary}: {q['folded_cells']} folded cells "
-                            "(--fail-on-folded); no output written")
+        raise PinnMeshError(
+            f"{args.boundary}: {q['folded_cells']} folded cells "
+            "(--fail-on-folded); no output written"
+        )
     grid = to_vtk(result, patches)
     export.write(grid, out, args.format, extrude=args.extrude)
     written.append(out)
@@ -270,8 +397,9 @@ def _wall_spacing(args: argparse.Namespace) -> float | None:
     for item in args.spacing:
         side, sep, value = item.partition("=")
         if not sep or side.strip().lower() != "bottom":
-            raise PinnMeshError(f"--spacing {item!r}: an O- or C-grid takes bottom=H (the "
-                                "body wall)")
+            raise PinnMeshError(
+                f"--spacing {item!r}: an O- or C-grid takes bottom=H (the body wall)"
+            )
         try:
             h = float(value)
         except ValueError:
@@ -281,8 +409,9 @@ def _wall_spacing(args: argparse.Namespace) -> float | None:
     if args.orthogonal is not None:
         sides = {t.strip().lower() for t in args.orthogonal.split(",") if t.strip()}
         if sides != {"bottom"}:
-            raise PinnMeshError(f"--orthogonal {args.orthogonal}: an O- or C-grid takes "
-                                "bottom (the body wall)")
+            raise PinnMeshError(
+                f"--orthogonal {args.orthogonal}: an O- or C-grid takes bottom (the body wall)"
+            )
     return h
 
 
@@ -301,21 +430,26 @@ def run_body(args: argparse.Namespace, written: list[Path]) -> Path:
     if args.naca is None and args.boundary is None:
         raise PinnMeshError("give an airfoil file (.dat) or --naca DDDD")
     if args.aux or args.corners:
-        raise PinnMeshError("--aux and --corners apply to four-sided domains, not to "
-                            "--topology")
+        raise PinnMeshError("--aux and --corners apply to four-sided domains, not to --topology")
     if args.save_model or args.load_model:
-        raise PinnMeshError("--save-model and --load-model apply to four-sided domains in "
-                            "this build, not to --topology")
+        raise PinnMeshError(
+            "--save-model and --load-model apply to four-sided domains in "
+            "this build, not to --topology"
+        )
     if args.orthogonal and args.method == "tfi":
-        raise PinnMeshError("--orthogonal bottom: tfi's straight columns cannot leave the "
-                            "wall at right angles; use --method elliptic or pinn")
+        raise PinnMeshError(
+            "--orthogonal bottom: tfi's straight columns cannot leave the "
+            "wall at right angles; use --method elliptic or pinn"
+        )
     name = f"naca{args.naca}" if args.naca else Path(args.boundary).stem
     suffix = "" if args.format == "openfoam" else f".{args.format or 'vts'}"
     out = Path(args.output or f"out/{name}_{args.topology}_{args.method}{suffix}")
     found = export.output_format(out, args.format, args.extrude)
     if found.key == "msh" and args.extrude is not None:
-        raise PinnMeshError(f"{out}: an O- or C-grid is written to Gmsh in 2D in this build; "
-                            "drop --extrude (or write .cgns, .xyz or --format openfoam)")
+        raise PinnMeshError(
+            f"{out}: an O- or C-grid is written to Gmsh in 2D in this build; "
+            "drop --extrude (or write .cgns, .xyz or --format openfoam)"
+        )
     names = dict(zip(("bottom", "right", "top", "left"), patch_names(args.topology)))
     for item in args.patch:
         side, sep, value = item.partition("=")
@@ -326,11 +460,20 @@ def run_body(args: argparse.Namespace, written: list[Path]) -> Path:
     _check_options(args)
     h = _wall_spacing(args)
     ni, nj = args.size
-    fields = ("seed", "adam_epochs", "lbfgs_iterations", "hidden_layers", "neurons",
-              "device", "elliptic_iterations", "warm_start")
+    fields = (
+        "seed",
+        "adam_epochs",
+        "lbfgs_iterations",
+        "hidden_layers",
+        "neurons",
+        "device",
+        "elliptic_iterations",
+        "warm_start",
+    )
     try:
-        settings = make_settings(args.method, args.preset, lattice=(ni, nj),
-                                 **{k: getattr(args, k) for k in fields})
+        settings = make_settings(
+            args.method, args.preset, lattice=(ni, nj), **{k: getattr(args, k) for k in fields}
+        )
     except ValueError as exc:
         raise PinnMeshError(str(exc)) from exc
     if args.naca:
@@ -344,21 +487,25 @@ def run_body(args: argparse.Namespace, written: list[Path]) -> Path:
     progress = _Progress(args.quiet)
     start = time.perf_counter()
     try:
-        result = mesh_body(body, far, args.topology, args.method, ni, nj, settings, h,
-                           progress)
+        result = mesh_body(body, far, args.topology, args.method, ni, nj, settings, h, progress)
     finally:
         progress.close()
     q, t = result.quality, result.report["topology"]
     if not args.quiet:
-        print(f"{args.method} {args.topology.upper()}-grid {ni}x{nj} in "
-              f"{time.perf_counter() - start:.2f} s: mean MaxIncludedAngle "
-              f"{q['mean_max_angle']:.2f}, worst {q['worst_max_angle']:.2f} deg, "
-              f"{q['folded_cells']} folded cells; first layer {t['first_layer']['min']:.3g} .. "
-              f"{t['first_layer']['max']:.3g}, wall angles within "
-              f"{t['wall_angle_deviation']:.2f} deg of 90", file=sys.stderr, flush=True)
+        print(
+            f"{args.method} {args.topology.upper()}-grid {ni}x{nj} in "
+            f"{time.perf_counter() - start:.2f} s: mean MaxIncludedAngle "
+            f"{q['mean_max_angle']:.2f}, worst {q['worst_max_angle']:.2f} deg, "
+            f"{q['folded_cells']} folded cells; first layer {t['first_layer']['min']:.3g} .. "
+            f"{t['first_layer']['max']:.3g}, wall angles within "
+            f"{t['wall_angle_deviation']:.2f} deg of 90",
+            file=sys.stderr,
+            flush=True,
+        )
     if args.fail_on_folded and q["folded_cells"]:
-        raise PinnMeshError(f"{name}: {q['folded_cells']} folded cells (--fail-on-folded); "
-                            "no output written")
+        raise PinnMeshError(
+            f"{name}: {q['folded_cells']} folded cells (--fail-on-folded); no output written"
+        )
     grid = to_vtk(result, patches)
     export.write(grid, out, args.format, extrude=args.extrude)
     written.append(out)
@@ -370,8 +517,14 @@ def run_body(args: argparse.Namespace, written: list[Path]) -> Path:
 
         le, te = body.chord_points
         with atomic_path(args.png, suffix=Path(args.png).suffix or ".png") as tmp:
-            render_body_png(grid, tmp, title=f"{args.method} {args.topology.upper()}-grid "
-                            f"{name}", le=le, te=te, zoom=0.08 * body.chord)
+            render_body_png(
+                grid,
+                tmp,
+                title=f"{args.method} {args.topology.upper()}-grid {name}",
+                le=le,
+                te=te,
+                zoom=0.08 * body.chord,
+            )
         written.append(Path(args.png))
     print(f"wrote {out}" + (f" and {args.png}" if args.png else ""))
     warning = folded_cells_warning(result.report, "cli")
@@ -396,8 +549,11 @@ def main(argv: list[str] | None = None) -> int:
         print(f"pinn-mesh: error: {exc}", file=sys.stderr)
         return EXIT_ERROR
     except KeyboardInterrupt:
-        done = f"; already written: {', '.join(map(str, written))}" if written else \
-            "; no output written"
+        done = (
+            f"; already written: {', '.join(map(str, written))}"
+            if written
+            else "; no output written"
+        )
         print(f"pinn-mesh: interrupted{done}", file=sys.stderr)
         return EXIT_INTERRUPTED
     except OSError as exc:
@@ -410,8 +566,11 @@ def main(argv: list[str] | None = None) -> int:
     except Exception as exc:  # a bug: one line, not a traceback, unless debugging
         if os.environ.get("PINN_MESH_DEBUG"):
             raise
-        print(f"pinn-mesh: internal error: {type(exc).__name__}: {exc} (please report it; "
-              "PINN_MESH_DEBUG=1 shows the traceback)", file=sys.stderr)
+        print(
+            f"pinn-mesh: internal error: {type(exc).__name__}: {exc} (please report it; "
+            "PINN_MESH_DEBUG=1 shows the traceback)",
+            file=sys.stderr,
+        )
         return EXIT_INTERNAL
     finally:
         signal.signal(signal.SIGTERM, previous)

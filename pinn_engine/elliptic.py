@@ -31,8 +31,9 @@ def winslow_residual(g: np.ndarray) -> np.ndarray:
     return a * g_xixi - 2 * b * g_xieta + c * g_etaeta
 
 
-def winslow_sweeps(grid: np.ndarray, iterations: int = 1000, zero_interior: bool = True
-                   ) -> np.ndarray:
+def winslow_sweeps(
+    grid: np.ndarray, iterations: int = 1000, zero_interior: bool = True
+) -> np.ndarray:
     """The paper's PDE run: point-Jacobi sweeps from an interior initialised to 0."""
     g = np.array(grid, dtype=float)
     if zero_interior:
@@ -40,24 +41,31 @@ def winslow_sweeps(grid: np.ndarray, iterations: int = 1000, zero_interior: bool
     for _ in range(iterations):
         a, b, c = (v[..., None] for v in _coefficients(g))
         cross = 0.25 * (g[2:, 2:] - g[:-2, 2:] - g[2:, :-2] + g[:-2, :-2])
-        num = (a * (g[1:-1, 2:] + g[1:-1, :-2]) + c * (g[2:, 1:-1] + g[:-2, 1:-1])
-               - 2 * b * cross)
+        num = a * (g[1:-1, 2:] + g[1:-1, :-2]) + c * (g[2:, 1:-1] + g[:-2, 1:-1]) - 2 * b * cross
         den = 2 * (a + c)
         ok = den > 0  # nodes whose neighbours are all still 0 wait for the front to arrive
         g[1:-1, 1:-1] = np.where(ok, num / np.where(ok, den, 1.0), g[1:-1, 1:-1])
     return g
 
 
-def _stencil_matrix(g: np.ndarray, cp: np.ndarray | None = None, cq: np.ndarray | None = None
-                    ) -> tuple[sp.csc_matrix, np.ndarray]:
+def _stencil_matrix(
+    g: np.ndarray, cp: np.ndarray | None = None, cq: np.ndarray | None = None
+) -> tuple[sp.csc_matrix, np.ndarray]:
     """Linear system of the Winslow equations with alpha, beta, gamma frozen at ``g``; with
     ``cp``, ``cq`` (interior nodes) the control terms ``cp x_xi + cq x_eta`` are added."""
     nj, ni = g.shape[:2]
     a, b, c = _coefficients(g)
     # 9-point stencil weights, offsets (dj, di)
     weights = {
-        (0, 0): -2 * (a + c), (0, 1): a, (0, -1): a, (1, 0): c, (-1, 0): c,
-        (1, 1): -0.5 * b, (-1, -1): -0.5 * b, (1, -1): 0.5 * b, (-1, 1): 0.5 * b,
+        (0, 0): -2 * (a + c),
+        (0, 1): a,
+        (0, -1): a,
+        (1, 0): c,
+        (-1, 0): c,
+        (1, 1): -0.5 * b,
+        (-1, -1): -0.5 * b,
+        (1, -1): 0.5 * b,
+        (-1, 1): 0.5 * b,
     }
     if cp is not None:
         weights[(0, 1)], weights[(0, -1)] = a + 0.5 * cp, a - 0.5 * cp
@@ -75,13 +83,18 @@ def _stencil_matrix(g: np.ndarray, cp: np.ndarray | None = None, cq: np.ndarray 
         edge = ~inner
         np.subtract.at(rhs, row[edge], w[edge][:, None] * g[nj_[edge], ni_[edge]])
     n = row.size
-    mat = sp.csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                        shape=(n, n))
+    mat = sp.csc_matrix(
+        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n)
+    )
     return mat, rhs
 
 
-def winslow_solve(grid: np.ndarray, tol: float = 1e-12, max_iterations: int = 500,
-                  initial: np.ndarray | None = None) -> tuple[np.ndarray, int]:
+def winslow_solve(
+    grid: np.ndarray,
+    tol: float = 1e-12,
+    max_iterations: int = 500,
+    initial: np.ndarray | None = None,
+) -> tuple[np.ndarray, int]:
     """Converged Winslow grid by Picard iteration (coefficients frozen per step).
 
     Each step solves the frozen-coefficient system by defect correction with a sparse LU
@@ -144,13 +157,20 @@ def _parameter_controls(g: np.ndarray, params: np.ndarray) -> tuple[np.ndarray, 
 def wall_cosines(g: np.ndarray) -> dict[str, np.ndarray]:
     """Cosine of the angle between each side's tangent and the first grid edge leaving it,
     at the side's nodes 1..n-2 (the sign says towards which end the grid line leans)."""
+
     def cos(side, inner):
         tangent = side[2:] - side[:-2]
         leave = inner[1:-1] - side[1:-1]
         return np.einsum("ij,ij->i", tangent, leave) / np.maximum(
-            np.linalg.norm(tangent, axis=1) * np.linalg.norm(leave, axis=1), 1e-300)
-    return {"bottom": cos(g[0], g[1]), "top": cos(g[-1], g[-2]),
-            "left": cos(g[:, 0], g[:, 1]), "right": cos(g[:, -1], g[:, -2])}
+            np.linalg.norm(tangent, axis=1) * np.linalg.norm(leave, axis=1), 1e-300
+        )
+
+    return {
+        "bottom": cos(g[0], g[1]),
+        "top": cos(g[-1], g[-2]),
+        "left": cos(g[:, 0], g[:, 1]),
+        "right": cos(g[:, -1], g[:, -2]),
+    }
 
 
 # Hilgenstock's orthogonality control: relaxation of the wall control per iteration and its
@@ -159,11 +179,16 @@ HILGENSTOCK_RELAX = 0.5
 HILGENSTOCK_DECAY = 0.3
 
 
-def controlled_solve(grid: np.ndarray, params: np.ndarray | None = None,
-                     orthogonal: tuple[str, ...] = (), tol: float = 1e-9,
-                     max_iterations: int = 2000, initial: np.ndarray | None = None,
-                     angle_tol: float = 0.5, control: dict | None = None
-                     ) -> tuple[np.ndarray, int]:
+def controlled_solve(
+    grid: np.ndarray,
+    params: np.ndarray | None = None,
+    orthogonal: tuple[str, ...] = (),
+    tol: float = 1e-9,
+    max_iterations: int = 2000,
+    initial: np.ndarray | None = None,
+    angle_tol: float = 0.5,
+    control: dict | None = None,
+) -> tuple[np.ndarray, int]:
     """Elliptic grid with control functions: Winslow in the parameter space of ``params``
     (the node distribution is kept, :func:`_parameter_controls`), and with orthogonality at
     the ``orthogonal`` sides by Hilgenstock's control (Hilgenstock 1988, "A fast method for
@@ -181,10 +206,12 @@ def controlled_solve(grid: np.ndarray, params: np.ndarray | None = None,
         return g, 0
     extent = float(np.ptp(g.reshape(-1, 2), axis=0).max())
     jj, ii = np.arange(1, nj - 1)[:, None], np.arange(1, ni - 1)[None, :]
-    decay = {"bottom": np.exp(-HILGENSTOCK_DECAY * (jj - 1)),
-             "top": np.exp(-HILGENSTOCK_DECAY * (nj - 2 - jj)),
-             "left": np.exp(-HILGENSTOCK_DECAY * (ii - 1)),
-             "right": np.exp(-HILGENSTOCK_DECAY * (ni - 2 - ii))}
+    decay = {
+        "bottom": np.exp(-HILGENSTOCK_DECAY * (jj - 1)),
+        "top": np.exp(-HILGENSTOCK_DECAY * (nj - 2 - jj)),
+        "left": np.exp(-HILGENSTOCK_DECAY * (ii - 1)),
+        "right": np.exp(-HILGENSTOCK_DECAY * (ni - 2 - ii)),
+    }
     control = {} if control is None else control
     for s in orthogonal:
         size = ni - 2 if s in ("bottom", "top") else nj - 2
@@ -227,9 +254,13 @@ def controlled_solve(grid: np.ndarray, params: np.ndarray | None = None,
     return g, max_iterations
 
 
-def safe_controlled_solve(grid: np.ndarray, params: np.ndarray | None,
-                          orthogonal: tuple[str, ...], max_iterations: int = 800, **kwargs
-                          ) -> tuple[np.ndarray, int, bool]:
+def safe_controlled_solve(
+    grid: np.ndarray,
+    params: np.ndarray | None,
+    orthogonal: tuple[str, ...],
+    max_iterations: int = 800,
+    **kwargs,
+) -> tuple[np.ndarray, int, bool]:
     """:func:`controlled_solve`, but where the orthogonality control does not converge or
     folds a cell, the solve without it (``orthogonal`` cannot always be had: at a sharp
     corner of a narrow notch the controls of facing walls fight). Returns (grid, iterations,
@@ -240,8 +271,10 @@ def safe_controlled_solve(grid: np.ndarray, params: np.ndarray | None,
     bad = it >= max_iterations or not np.isfinite(g).all() or folded_cells(g).any()
     if orthogonal and bad:
         plain, it2 = controlled_solve(grid, params, (), max_iterations=max_iterations)
-        if np.isfinite(plain).all() and (not np.isfinite(g).all()
-                                         or folded_cells(plain).sum() < folded_cells(g).sum()
-                                         or it >= max_iterations):
+        if np.isfinite(plain).all() and (
+            not np.isfinite(g).all()
+            or folded_cells(plain).sum() < folded_cells(g).sum()
+            or it >= max_iterations
+        ):
             return plain, it2, False
     return g, it, bool(orthogonal)

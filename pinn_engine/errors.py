@@ -104,8 +104,8 @@ ROUTE_WORDS = {
         "extrude": "Extrude Thickness",
         "output": "File > Save Data with a PINN Mesh file type",
         "h5py": "ParaView's HDF5 clashes with pip's h5py, so the writer runs the "
-                "checkout's .venv Python: make it with bash scripts/setup.sh (or set "
-                "PINN_MESH_PYTHON to a Python with h5py)",
+        "checkout's .venv Python: make it with bash scripts/setup.sh (or set "
+        "PINN_MESH_PYTHON to a Python with h5py)",
         "naca": "the Airfoil source's NACA field",
         "farfield": "Far Field Radius",
         "topology": "Topology O-grid",
@@ -131,9 +131,11 @@ def folded_cells_warning(report: dict, route: str) -> str | None:
     method = report.get("method", "")
     guard = report.get("training", {}).get("guard")
     if guard and guard["elliptic"]["folded_cells"]:  # the warm start's elliptic grid folds too
-        fix = (f"rounding the boundary where it turns sharply between nodes or another "
-               f"{words['size']}: the converged elliptic grid on these boundary nodes folds "
-               f"{guard['elliptic']['folded_cells']} cells as well")
+        fix = (
+            f"rounding the boundary where it turns sharply between nodes or another "
+            f"{words['size']}: the converged elliptic grid on these boundary nodes folds "
+            f"{guard['elliptic']['folded_cells']} cells as well"
+        )
     elif method in NEURAL:
         fix = f"{words['method'].format('elliptic')}, {words['lbfgs']} or {words['seed']}"
     elif method == "tfi":

@@ -47,8 +47,9 @@ def _check_file(path: Path, formats: tuple[str, ...]) -> str:
     if path.is_dir():
         raise InputError("is a directory, not a file", src)
     if path.suffix.lower() not in formats:
-        raise InputError(f"unknown format {path.suffix or '(none)'!r}; use one of "
-                         + ", ".join(formats), src)
+        raise InputError(
+            f"unknown format {path.suffix or '(none)'!r}; use one of " + ", ".join(formats), src
+        )
     try:
         size = path.stat().st_size
         with open(path, "rb"):
@@ -58,8 +59,10 @@ def _check_file(path: Path, formats: tuple[str, ...]) -> str:
     if size == 0:
         raise InputError("file is empty", src)
     if size > MAX_FILE_BYTES:
-        raise InputError(f"file is too large ({size / 2**20:.0f} MiB; at most "
-                         f"{MAX_FILE_BYTES // 2**20} MiB)", src)
+        raise InputError(
+            f"file is too large ({size / 2**20:.0f} MiB; at most {MAX_FILE_BYTES // 2**20} MiB)",
+            src,
+        )
     return src
 
 
@@ -240,8 +243,9 @@ def _checked(points: np.ndarray, source: str) -> np.ndarray:
     """The points (n, 2) or (n, 3) as float, refusing too many and a non-finite z (x and y
     are checked with the shape); the plane they lie in is found by ``plane.Plane.fit``."""
     if len(points) > MAX_POINTS:
-        raise InputError(f"holds {len(points)} points; at most {MAX_POINTS} are accepted "
-                         "(resample it)", source)
+        raise InputError(
+            f"holds {len(points)} points; at most {MAX_POINTS} are accepted (resample it)", source
+        )
     pts = np.ascontiguousarray(points, dtype=float)
     if pts.shape[1] == 3 and not np.all(np.isfinite(pts[:, 2])):
         bad = int(np.flatnonzero(~np.isfinite(pts[:, 2]))[0])
@@ -255,7 +259,7 @@ def _cell_ids(cells, npts: int) -> list[np.ndarray]:
     conn = vtk_to_numpy(cells.GetConnectivityArray()).astype(np.int64)
     if len(conn) and (conn.min() < 0 or conn.max() >= npts):
         raise ValueError("a cell refers to a point that does not exist")
-    return [conn[offsets[k]:offsets[k + 1]] for k in range(len(offsets) - 1)]
+    return [conn[offsets[k] : offsets[k + 1]] for k in range(len(offsets) - 1)]
 
 
 def polylines_of(poly: vtkPolyData, source: str = "input") -> list[tuple[np.ndarray, bool]]:
@@ -266,8 +270,11 @@ def polylines_of(poly: vtkPolyData, source: str = "input") -> list[tuple[np.ndar
     found: list[tuple[np.ndarray, bool]] = []
     npts = poly.GetNumberOfPoints()
     try:
-        polys = [ids for ids in _cell_ids(poly.GetPolys(), npts) if len(ids)] \
-            if poly.GetPolys() is not None else []
+        polys = (
+            [ids for ids in _cell_ids(poly.GetPolys(), npts) if len(ids)]
+            if poly.GetPolys() is not None
+            else []
+        )
         lines = _cell_ids(poly.GetLines(), npts) if poly.GetLines() is not None else []
     except ValueError as exc:
         raise InputError(f"is damaged: {exc}", source) from None
@@ -286,8 +293,9 @@ def polylines_of(poly: vtkPolyData, source: str = "input") -> list[tuple[np.ndar
         for ids in _cell_ids(strips.GetLines(), strips.GetNumberOfPoints()):
             if len(ids) == 0:
                 continue
-            closed = len(ids) > 2 and (ids[0] == ids[-1]
-                                       or bool(np.array_equal(xyz[ids[0]], xyz[ids[-1]])))
+            closed = len(ids) > 2 and (
+                ids[0] == ids[-1] or bool(np.array_equal(xyz[ids[0]], xyz[ids[-1]]))
+            )
             found.append((ids, closed))
     return found
 
@@ -298,12 +306,14 @@ def boundary_points(poly: vtkPolyData, source: str = "boundary input") -> np.nda
     if not cells:
         raise InputError("holds no polyline or polygon cell", source)
     if len(cells) > 1:
-        raise InputError(f"holds {len(cells)} separate curves; the boundary must be one "
-                         "closed polyline", source)
+        raise InputError(
+            f"holds {len(cells)} separate curves; the boundary must be one closed polyline", source
+        )
     ids, closed = cells[0]
     if not closed:
-        raise InputError("boundary polyline is open (its last point is not its first); "
-                         "{close}", source)
+        raise InputError(
+            "boundary polyline is open (its last point is not its first); {close}", source
+        )
     pts = vtk_to_numpy(poly.GetPoints().GetData()).astype(float)[ids]
     if len(ids) > 1 and ids[0] == ids[-1]:
         pts = pts[:-1]
@@ -338,11 +348,11 @@ def read_table(path: Path) -> np.ndarray:
                 continue
             raise InputError(f"line {number} is not numeric: {line[:40]!r}", src) from None
         if len(values) not in (2, 3):
-            raise InputError(f"line {number} has {len(values)} columns; expected x,y or x,y,z",
-                             src)
+            raise InputError(f"line {number} has {len(values)} columns; expected x,y or x,y,z", src)
         if rows and len(values) != len(rows[0]):
-            raise InputError(f"line {number} has {len(values)} columns, earlier lines "
-                             f"{len(rows[0])}", src)
+            raise InputError(
+                f"line {number} has {len(values)} columns, earlier lines {len(rows[0])}", src
+            )
         rows.append(values)
         if len(rows) > MAX_POINTS:
             raise InputError(f"holds more than {MAX_POINTS} rows; resample it", src)
@@ -367,8 +377,9 @@ def aux_lines_of(poly: vtkPolyData, source: str = "auxiliary input") -> list[Raw
     xi_eta_all = None
     if any(a is not None for a in arrays):
         if any(a is None for a in arrays):
-            raise InputError("has only one of the point-data arrays xi and eta; give both or "
-                             "neither", source)
+            raise InputError(
+                "has only one of the point-data arrays xi and eta; give both or neither", source
+            )
         if any(a.GetNumberOfComponents() != 1 for a in arrays):
             raise InputError("point-data arrays xi and eta must have one component", source)
         xi_eta_all = np.stack([vtk_to_numpy(a).astype(float) for a in arrays], axis=1)
@@ -430,10 +441,14 @@ def atomic_path(path: str | os.PathLike, suffix: str = ".part"):
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise InputError(f"cannot create its folder {str(path.parent)!r} "
-                         f"({exc.strerror or exc})", str(path)) from None
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=f".part{suffix}"
-                               if suffix != ".part" else suffix, dir=path.parent)
+        raise InputError(
+            f"cannot create its folder {str(path.parent)!r} ({exc.strerror or exc})", str(path)
+        ) from None
+    fd, tmp = tempfile.mkstemp(
+        prefix=f".{path.name}.",
+        suffix=f".part{suffix}" if suffix != ".part" else suffix,
+        dir=path.parent,
+    )
     os.close(fd)
     try:
         yield Path(tmp)
@@ -483,6 +498,5 @@ def write_vts(grid: vtkStructuredGrid, path: str | os.PathLike) -> Path:
         else:
             problem = None if write() else "failed"
         if problem:
-            raise OSError(f"VTK could not write {path} ({problem}; disk full or not "
-                          "writable?)")
+            raise OSError(f"VTK could not write {path} ({problem}; disk full or not writable?)")
     return path

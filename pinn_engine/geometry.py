@@ -48,8 +48,11 @@ class Polyline:
         """Arc-length fraction of the closest point to ``p`` and the distance to it."""
         a, b = self.points[:-1], self.points[1:]
         ab = b - a
-        u = np.clip(np.einsum("ij,ij->i", p - a, ab) / np.maximum(np.einsum("ij,ij->i", ab, ab),
-                                                                  1e-300), 0.0, 1.0)
+        u = np.clip(
+            np.einsum("ij,ij->i", p - a, ab) / np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300),
+            0.0,
+            1.0,
+        )
         d = np.linalg.norm(a + u[:, None] * ab - p, axis=1)
         k = int(np.argmin(d))
         return float(self.t[k] + u[k] * (self.t[k + 1] - self.t[k])), float(d[k])
@@ -82,9 +85,9 @@ def segment_distance(p: np.ndarray, ring: np.ndarray, closed: bool = True) -> np
     ab2 = np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300)
     out = np.empty(len(p))
     for start in range(0, len(p), 256):
-        q = p[start:start + 256, None, :]
+        q = p[start : start + 256, None, :]
         u = np.clip(np.einsum("pmj,mj->pm", q - a, ab) / ab2, 0.0, 1.0)
-        out[start:start + 256] = np.linalg.norm(a + u[..., None] * ab - q, axis=2).min(axis=1)
+        out[start : start + 256] = np.linalg.norm(a + u[..., None] * ab - q, axis=2).min(axis=1)
     return out
 
 
@@ -93,8 +96,9 @@ def signed_area(ring: np.ndarray) -> float:
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
 
 
-def segments_cross(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray,
-                    rel_tol: float = 1e-12) -> np.ndarray:
+def segments_cross(
+    a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray, rel_tol: float = 1e-12
+) -> np.ndarray:
     """Proper or touching intersection of segments ab and cd (broadcast).
 
     An orientation within ``rel_tol`` of zero (relative to the lengths involved) counts as
@@ -119,8 +123,12 @@ def segments_cross(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray,
     s1, s2 = side(a, b, c), side(a, b, d)
     s3, s4 = side(c, d, a), side(c, d, b)
     proper = (s1 * s2 < 0) & (s3 * s4 < 0)
-    touch = (((s1 == 0) & within(a, b, c)) | ((s2 == 0) & within(a, b, d))
-             | ((s3 == 0) & within(c, d, a)) | ((s4 == 0) & within(c, d, b)))
+    touch = (
+        ((s1 == 0) & within(a, b, c))
+        | ((s2 == 0) & within(a, b, d))
+        | ((s3 == 0) & within(c, d, a))
+        | ((s4 == 0) & within(c, d, b))
+    )
     return proper | touch
 
 
@@ -192,7 +200,7 @@ def self_intersections(ring: np.ndarray, budget: int = 4_000_000) -> list[tuple[
         return _brute_force_intersections(a, b)
     hits: list[tuple[int, int]] = []
     for s in range(0, len(pairs), 1 << 20):
-        i, j = pairs[s:s + (1 << 20), 0], pairs[s:s + (1 << 20), 1]
+        i, j = pairs[s : s + (1 << 20), 0], pairs[s : s + (1 << 20), 1]
         cross = segments_cross(a[i], b[i], a[j], b[j])
         hits.extend((int(p), int(q)) for p, q in zip(i[cross], j[cross]))
     return sorted(hits)
@@ -207,8 +215,9 @@ def turning_angles(ring: np.ndarray) -> np.ndarray:
     return np.degrees(np.arctan2(cross, dot))
 
 
-def _merge_close(unit: np.ndarray, tol: float, marked: np.ndarray | None,
-                 source: str | None) -> np.ndarray:
+def _merge_close(
+    unit: np.ndarray, tol: float, marked: np.ndarray | None, source: str | None
+) -> np.ndarray:
     """Keep-mask that drops each point lying within ``tol`` of the next one (ring order).
 
     Named corners (``marked``) are always kept: the neighbour is dropped instead.
@@ -224,8 +233,9 @@ def _merge_close(unit: np.ndarray, tol: float, marked: np.ndarray | None,
     return keep
 
 
-def clean_ring(points: np.ndarray, source: str | None,
-               marked: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+def clean_ring(
+    points: np.ndarray, source: str | None, marked: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """Validate a closed ring of (x, y) points; return the kept points and the kept mask.
 
     Consecutive points closer than ``DUPLICATE_TOL`` times the bounding-box diagonal are merged
@@ -242,21 +252,28 @@ def clean_ring(points: np.ndarray, source: str | None,
     if len(pts) > 1 and np.all(pts == pts[0]):
         raise InputError("boundary points all coincide", source)
     if len(pts) < 4:
-        raise InputError(f"boundary has {len(pts)} points; a four-sided domain needs at "
-                         "least 4", source)
+        raise InputError(
+            f"boundary has {len(pts)} points; a four-sided domain needs at least 4", source
+        )
     if np.abs(pts).max() > MAX_COORDINATE:
-        raise InputError(f"boundary coordinates beyond +-{MAX_COORDINATE:g} are not accepted",
-                         source)
+        raise InputError(
+            f"boundary coordinates beyond +-{MAX_COORDINATE:g} are not accepted", source
+        )
     if len(pts) > MAX_POINTS:
-        raise InputError(f"boundary has {len(pts)} points; at most {MAX_POINTS} are "
-                         "accepted (resample it)", source)
+        raise InputError(
+            f"boundary has {len(pts)} points; at most {MAX_POINTS} are accepted (resample it)",
+            source,
+        )
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     size = float((hi - lo).max())
     ulp = float(np.spacing(np.abs(pts).max()))
     if ulp > PRECISION_LIMIT * size:
-        raise InputError(f"coordinates carry too few significant digits for a domain this "
-                         f"small ({size:.3g} wide at {np.abs(pts).max():.3g} from the origin); "
-                         "shift it nearer the origin", source)
+        raise InputError(
+            f"coordinates carry too few significant digits for a domain this "
+            f"small ({size:.3g} wide at {np.abs(pts).max():.3g} from the origin); "
+            "shift it nearer the origin",
+            source,
+        )
     unit = (pts - lo) / size
     diag = float(np.linalg.norm(unit.max(axis=0) - unit.min(axis=0)))
     tol = max(DUPLICATE_TOL * diag, 4.0 * ulp / size)
@@ -269,30 +286,37 @@ def clean_ring(points: np.ndarray, source: str | None,
     _, first, counts = np.unique(rounded, axis=0, return_index=True, return_counts=True)
     if np.any(counts > 1):
         k = int(kept[first[np.argmax(counts > 1)]])
-        raise InputError(f"boundary point {k} is repeated further along the ring "
-                         "(the boundary touches itself)", source)
+        raise InputError(
+            f"boundary point {k} is repeated further along the ring (the boundary touches itself)",
+            source,
+        )
     e_in = unit - np.roll(unit, 1, axis=0)
     e_out = np.roll(unit, -1, axis=0) - unit
     cross = e_in[:, 0] * e_out[:, 1] - e_in[:, 1] * e_out[:, 0]
     dot = np.einsum("ij,ij->i", e_in, e_out)
-    back = (dot < 0) & (np.abs(cross) <= 1e-9 * np.linalg.norm(e_in, axis=1)
-                        * np.linalg.norm(e_out, axis=1))
+    back = (dot < 0) & (
+        np.abs(cross) <= 1e-9 * np.linalg.norm(e_in, axis=1) * np.linalg.norm(e_out, axis=1)
+    )
     if back.any():
         k = int(kept[np.argmax(back)])
-        raise InputError(f"boundary doubles back on itself at point {k} (a zero-width "
-                         "spike)", source)
+        raise InputError(
+            f"boundary doubles back on itself at point {k} (a zero-width spike)", source
+        )
     hits = self_intersections(unit)
     if hits:
         i, j = hits[0]
-        raise InputError(f"boundary is self-intersecting (the edges after points {kept[i]} "
-                         f"and {kept[j]} cross)", source)
+        raise InputError(
+            f"boundary is self-intersecting (the edges after points {kept[i]} and {kept[j]} cross)",
+            source,
+        )
     if abs(signed_area(unit)) < 1e-9 * diag * diag:
         raise InputError("boundary encloses no area", source)
     return pts[keep], keep
 
 
-def detect_corners(ring: np.ndarray, source: str | None = None,
-                   labels: np.ndarray | None = None) -> np.ndarray:
+def detect_corners(
+    ring: np.ndarray, source: str | None = None, labels: np.ndarray | None = None
+) -> np.ndarray:
     """Indices of the four vertices with the largest turning angle of a CCW ring.
 
     A corner turns by at least ``MIN_CORNER_TURN_DEG`` (an interior angle of at most 160
@@ -307,11 +331,16 @@ def detect_corners(ring: np.ndarray, source: str | None = None,
     if fourth < MIN_CORNER_TURN_DEG or fifth > CORNER_MARGIN * fourth:
         names = labels if labels is not None else np.arange(len(ring))
         top = ", ".join(f"{turn[k]:.1f} at point {names[k]}" for k in order[:5])
-        why = (f"the 4th-largest turn is below {MIN_CORNER_TURN_DEG:g}"
-               if fourth < MIN_CORNER_TURN_DEG else "the 5th-largest turn is close to the 4th")
+        why = (
+            f"the 4th-largest turn is below {MIN_CORNER_TURN_DEG:g}"
+            if fourth < MIN_CORNER_TURN_DEG
+            else "the 5th-largest turn is close to the 4th"
+        )
         raise InputError(
             f"fewer than four clear corners ({why}; largest turning angles {top} degrees); "
-            "name them with four point indices ({corners})", source)
+            "name them with four point indices ({corners})",
+            source,
+        )
     return np.sort(order[:4])
 
 
@@ -329,8 +358,9 @@ class Boundary:
     plane: Plane = field(default_factory=Plane.horizontal)  # user's 3D <-> in-plane (u, v)
 
     @classmethod
-    def from_points(cls, points: np.ndarray, corners: tuple[int, ...] | None = None,
-                    source: str | None = None) -> Boundary:
+    def from_points(
+        cls, points: np.ndarray, corners: tuple[int, ...] | None = None, source: str | None = None
+    ) -> Boundary:
         """Validate user points, find the corners and apply the side convention of SPEC 1.
 
         ``corners`` are indices into ``points`` as given (closing point excluded). Points
@@ -364,15 +394,15 @@ class Boundary:
         if signed_area(unit) < 0:
             unit, labels = unit[::-1], labels[::-1]
             flags = flags[::-1] if flags is not None else None
-        idx = (np.flatnonzero(flags) if flags is not None
-               else detect_corners(unit, source, labels))
+        idx = np.flatnonzero(flags) if flags is not None else detect_corners(unit, source, labels)
         c = unit[idx]
         key = np.lexsort((c[:, 1], c[:, 0] + c[:, 1]))
         start = int(idx[key[0]])
         unit = np.roll(unit, -start, axis=0)
         idx = np.sort((idx - start) % len(unit))
-        return cls(ring=unit, corners=tuple(int(i) for i in idx), frame=frame, source=source,
-                   plane=plane)
+        return cls(
+            ring=unit, corners=tuple(int(i) for i in idx), frame=frame, source=source, plane=plane
+        )
 
     @property
     def diagonal(self) -> float:
@@ -384,11 +414,11 @@ class Boundary:
         c0, c1, c2, c3 = self.corners
         closed = np.vstack([self.ring, self.ring[:1]])
         if name == "bottom":
-            return Polyline(closed[c0:c1 + 1])
+            return Polyline(closed[c0 : c1 + 1])
         if name == "right":
-            return Polyline(closed[c1:c2 + 1])
+            return Polyline(closed[c1 : c2 + 1])
         if name == "top":
-            return Polyline(closed[c2:c3 + 1][::-1])
+            return Polyline(closed[c2 : c3 + 1][::-1])
         if name == "left":
             return Polyline(closed[c3:][::-1])
         raise ValueError(f"unknown side {name!r}")

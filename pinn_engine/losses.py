@@ -58,15 +58,22 @@ def loss_orthogonal(leave: torch.Tensor, tangent: torch.Tensor) -> torch.Tensor:
     return (dot.pow(2) / (leave.pow(2).sum(dim=-1) * tangent.pow(2).sum(dim=-1))).mean()
 
 
-def total_loss(l_eqns: torch.Tensor, l_bcs: torch.Tensor, l_data: torch.Tensor,
-               lambda1: float, lambda2: float, l_orth: torch.Tensor | float = 0.0,
-               lambda_orth: float = 0.0) -> torch.Tensor:
+def total_loss(
+    l_eqns: torch.Tensor,
+    l_bcs: torch.Tensor,
+    l_data: torch.Tensor,
+    lambda1: float,
+    lambda2: float,
+    l_orth: torch.Tensor | float = 0.0,
+    lambda_orth: float = 0.0,
+) -> torch.Tensor:
     """Paper eq. 9: Loss = L_eqns + lambda1 L_bcs + lambda2 L_data (+ lambda_orth L_orth)."""
     return l_eqns + lambda1 * l_bcs + lambda2 * l_data + lambda_orth * l_orth
 
 
-def annealed_lambda(grads_eqns: list[torch.Tensor], grads_bcs: list[torch.Tensor],
-                    lambda1: float, momentum: float) -> float:
+def annealed_lambda(
+    grads_eqns: list[torch.Tensor], grads_bcs: list[torch.Tensor], lambda1: float, momentum: float
+) -> float:
     """Learning-rate annealing weight (Wang, Teng, Perdikaris 2020, Algorithm 1).
 
     lambda_hat = max |grad L_eqns| / mean |grad (lambda1 L_bcs)| over the network weights;
@@ -90,8 +97,7 @@ def corner_angles(grid: torch.Tensor, orientation: float) -> torch.Tensor:
     return torch.stack(angles)
 
 
-def loss_quality(theta: torch.Tensor, tau: float = 0.035, mean_weight: float = 1.0
-                 ) -> torch.Tensor:
+def loss_quality(theta: torch.Tensor, tau: float = 0.035, mean_weight: float = 1.0) -> torch.Tensor:
     """Cell-quality term of ``--objective quality`` from the corner angles ``theta`` of a
     grid's cells (:func:`corner_angles`): a soft maximum (log-sum-exp at temperature ``tau``
     radians, 2 degrees) of all of them, which pulls the worst cell's largest angle down, plus

@@ -48,8 +48,9 @@ def _product(u: torch.Tensor, w: torch.Tensor) -> torch.Tensor:
 class Mapping:
     """Evaluates the map and its derivative jet for a network and a boundary."""
 
-    def __init__(self, net: CoordinateNet, boundary: Boundary, mode: str,
-                 warm: WarmStart | None = None) -> None:
+    def __init__(
+        self, net: CoordinateNet, boundary: Boundary, mode: str, warm: WarmStart | None = None
+    ) -> None:
         if mode not in ("hard", "penalty"):
             raise ValueError(f"unknown boundary mode {mode!r}; use hard or penalty")
         if warm is not None and mode != "hard":
@@ -63,8 +64,13 @@ class Mapping:
         jet = np.stack(transfinite(x[:, 0], x[:, 1], self.spline.sample, order=2))
         return jet if self.warm is None else jet + self.warm.jet(x)
 
-    def jet(self, x: torch.Tensor, base: torch.Tensor | None, extra: torch.Tensor | None = None,
-            fast: bool = True) -> tuple[torch.Tensor, torch.Tensor]:
+    def jet(
+        self,
+        x: torch.Tensor,
+        base: torch.Tensor | None,
+        extra: torch.Tensor | None = None,
+        fast: bool = True,
+    ) -> tuple[torch.Tensor, torch.Tensor]:
         """Jet (6, B, 2) of the map at ``x`` (``base`` is ``base_jet(x)`` in hard mode) and the
         networks' outputs (B', 2) at the ``extra`` points; ``fast=False`` is the reference:
         nested autograd and a separate forward pass."""
@@ -77,8 +83,9 @@ class Mapping:
             return net_jet, values
         return base + _product(bubble_jet(x), net_jet), values
 
-    def compose(self, out: torch.Tensor, x: torch.Tensor,
-                base: torch.Tensor | None) -> torch.Tensor:
+    def compose(
+        self, out: torch.Tensor, x: torch.Tensor, base: torch.Tensor | None
+    ) -> torch.Tensor:
         """Map values (B, 2) from the network's outputs ``out`` at ``x``; ``base`` is the TFI
         value there in hard mode."""
         return out if self.mode == "penalty" else base + bubble(x) * out
@@ -87,8 +94,9 @@ class Mapping:
         """Map values (B, 2) at ``x``; ``base`` is the base value there in hard mode."""
         return self.compose(self.net(x), x, base)
 
-    def grid(self, ni: int, nj: int, chunk: int = 1 << 13,
-             params: np.ndarray | None = None) -> np.ndarray:
+    def grid(
+        self, ni: int, nj: int, chunk: int = 1 << 13, params: np.ndarray | None = None
+    ) -> np.ndarray:
         """Grid (nj, ni, 2) in the working frame, feed-forward, boundary exact in hard mode.
 
         The network runs in float32 (node positions need ~1e-7 of the domain, not 1e-16) on
@@ -109,19 +117,26 @@ class Mapping:
         def run(j0: int) -> None:
             block = slice(j0, min(j0 + rows, nj))
             at = None if params is None else params[block]
-            pts = (np.stack(np.meshgrid(xi, eta[block]), axis=-1) if at is None else at
-                   ).reshape(-1, 2)
+            pts = (np.stack(np.meshgrid(xi, eta[block]), axis=-1) if at is None else at).reshape(
+                -1, 2
+            )
             x = torch.as_tensor(pts, dtype=torch.float32, device=p.device)
             y = net(x)
             if sample is not None:
                 y = bubble(x) * y
             out[block] = y.cpu().numpy().reshape(-1, ni, 2)
             if sample is not None:
-                out[block] += tfi_grid(sample, ni, nj, block) if at is None else \
-                    transfinite(at[..., 0], at[..., 1], lambda s, t, nu: sample(s, t))[0]
+                out[block] += (
+                    tfi_grid(sample, ni, nj, block)
+                    if at is None
+                    else transfinite(at[..., 0], at[..., 1], lambda s, t, nu: sample(s, t))[0]
+                )
             if self.warm is not None:
-                out[block] += self.warm.grid(ni, nj, block) if at is None else \
-                    self.warm.at(at.reshape(-1, 2)).reshape(at.shape)
+                out[block] += (
+                    self.warm.grid(ni, nj, block)
+                    if at is None
+                    else self.warm.at(at.reshape(-1, 2)).reshape(at.shape)
+                )
 
         threads = torch.get_num_threads()
         torch.set_num_threads(1)

@@ -67,8 +67,12 @@ class Mesher:
         if not hasattr(self, "boundary_"):
             raise NotFittedError("this Mesher is not fitted yet: call fit(boundary) first")
 
-    def fit(self, boundary: Boundary, aux_lines: Sequence[AuxLine] = (),
-            progress: Progress | None = None) -> Mesher:
+    def fit(
+        self,
+        boundary: Boundary,
+        aux_lines: Sequence[AuxLine] = (),
+        progress: Progress | None = None,
+    ) -> Mesher:
         """Prepare meshing of ``boundary``; trains the network for pinn and mgnet.
 
         ``progress(info)`` is called during training; returning True cancels it.
@@ -119,8 +123,10 @@ class Mesher:
             unit = self._grid_unit(ni, nj)
             mesh_seconds = time.perf_counter() - start
             if not np.all(np.isfinite(unit)):
-                raise TrainingError(f"the {self.settings.method} grid has non-finite grid "
-                                    "points (training failed); try another seed or fewer epochs")
+                raise TrainingError(
+                    f"the {self.settings.method} grid has non-finite grid "
+                    "points (training failed); try another seed or fewer epochs"
+                )
             deviation = float(self.boundary_.deviation(boundary_nodes(unit)).max())
             points = self.boundary_.frame.to_user(unit)
             cells = cell_quality(points)
@@ -139,8 +145,9 @@ class Mesher:
         if self.model_ is not None:
             report["training"] = self.model_.info
         history = self.model_.history if self.model_ is not None else {}
-        return MeshResult(points=points, report=report, history=history, cells=cells,
-                          plane=self.boundary_.plane)
+        return MeshResult(
+            points=points, report=report, history=history, cells=cells, plane=self.boundary_.plane
+        )
 
     def _grid_unit(self, ni: int, nj: int) -> np.ndarray:
         s = self.settings
@@ -167,5 +174,6 @@ class Mesher:
         if self.model_ is None:
             return classical_grid(self.boundary_, ni, nj, s.method, spacing, s.orthogonal)[1]
         mapping = self.model_.mapping
-        return fit_params(lambda p: mapping.grid(ni, nj, params=p), spacing, ni, nj,
-                          side_lengths(self.boundary_))[1]
+        return fit_params(
+            lambda p: mapping.grid(ni, nj, params=p), spacing, ni, nj, side_lengths(self.boundary_)
+        )[1]

@@ -41,21 +41,34 @@ class TrainedModel:
         b = self.mapping.boundary
         net = self.mapping.net
         payload = {
-            "format": FORMAT, "version": __version__,
+            "format": FORMAT,
+            "version": __version__,
             "settings": self.settings.to_dict(),
-            "network": {"kind": net.kind, "hidden_layers": net.hidden_layers,
-                        "neurons": net.neurons, "activation": net.activation},
+            "network": {
+                "kind": net.kind,
+                "hidden_layers": net.hidden_layers,
+                "neurons": net.neurons,
+                "activation": net.activation,
+            },
             "state": {k: v.detach().cpu() for k, v in net.state_dict().items()},
-            "boundary": {"ring": torch.as_tensor(b.ring), "corners": list(b.corners),
-                         "origin": torch.as_tensor(b.frame.origin), "scale": b.frame.scale,
-                         "plane_origin": torch.as_tensor(b.plane.origin),
-                         "plane_axes": torch.as_tensor(b.plane.axes)},
-            "history": self.history, "info": self.info,
-            "warm": None if self.mapping.warm is None
+            "boundary": {
+                "ring": torch.as_tensor(b.ring),
+                "corners": list(b.corners),
+                "origin": torch.as_tensor(b.frame.origin),
+                "scale": b.frame.scale,
+                "plane_origin": torch.as_tensor(b.plane.origin),
+                "plane_axes": torch.as_tensor(b.plane.axes),
+            },
+            "history": self.history,
+            "info": self.info,
+            "warm": None
+            if self.mapping.warm is None
             else torch.as_tensor(self.mapping.warm.correction),
-            "warm_nodes": None if self.mapping.warm is None or self.mapping.warm.nodes is None
+            "warm_nodes": None
+            if self.mapping.warm is None or self.mapping.warm.nodes is None
             else [torch.as_tensor(n) for n in self.mapping.warm.nodes],
-            "warm_walls": {} if self.mapping.warm is None
+            "warm_walls": {}
+            if self.mapping.warm is None
             else {k: torch.as_tensor(v) for k, v in self.mapping.warm.walls.items()},
         }
         with atomic_path(path) as tmp:
@@ -71,8 +84,9 @@ class TrainedModel:
         try:
             payload = torch.load(path, map_location="cpu", weights_only=True)
         except Exception as exc:  # torch raises many types for a damaged file
-            raise InputError(f"not a readable pinn-mesh model ({type(exc).__name__})",
-                             src) from None
+            raise InputError(
+                f"not a readable pinn-mesh model ({type(exc).__name__})", src
+            ) from None
         if not isinstance(payload, dict) or payload.get("format") != FORMAT:
             raise InputError(f"not a pinn-mesh model of format {FORMAT}", src)
         try:
@@ -80,11 +94,18 @@ class TrainedModel:
             net = CoordinateNet(**payload["network"])
             net.load_state_dict(payload["state"])
             bd = payload["boundary"]
-            plane = (Plane(bd["plane_origin"].numpy(), bd["plane_axes"].numpy())
-                     if "plane_origin" in bd else Plane.horizontal())  # models before planes
-            saved = Boundary(ring=bd["ring"].numpy(), corners=tuple(bd["corners"]),
-                             frame=Frame(bd["origin"].numpy(), float(bd["scale"])), source=src,
-                             plane=plane)
+            plane = (
+                Plane(bd["plane_origin"].numpy(), bd["plane_axes"].numpy())
+                if "plane_origin" in bd
+                else Plane.horizontal()
+            )  # models before planes
+            saved = Boundary(
+                ring=bd["ring"].numpy(),
+                corners=tuple(bd["corners"]),
+                frame=Frame(bd["origin"].numpy(), float(bd["scale"])),
+                source=src,
+                plane=plane,
+            )
             warm = payload.get("warm")
             nodes = payload.get("warm_nodes")
             nodes = None if nodes is None else tuple(n.numpy() for n in nodes)
@@ -94,17 +115,26 @@ class TrainedModel:
         except (KeyError, TypeError, RuntimeError, ValueError) as exc:
             raise InputError(f"damaged or incompatible model ({exc})", src) from None
         if boundary is not None:
-            same = (saved.ring.shape == boundary.ring.shape
-                    and np.allclose(saved.frame.to_user(saved.ring),
-                                    boundary.frame.to_user(boundary.ring), rtol=1e-9, atol=1e-12
-                                    * boundary.frame.scale)
-                    and saved.corners == boundary.corners)
+            same = (
+                saved.ring.shape == boundary.ring.shape
+                and np.allclose(
+                    saved.frame.to_user(saved.ring),
+                    boundary.frame.to_user(boundary.ring),
+                    rtol=1e-9,
+                    atol=1e-12 * boundary.frame.scale,
+                )
+                and saved.corners == boundary.corners
+            )
             if not same:
                 raise InputError("model was trained for a different boundary", src)
             saved = dataclasses.replace(saved, source=boundary.source, plane=boundary.plane)
         net = net.to(torch.float64)
-        return cls(Mapping(net, saved, settings.boundary_mode, warm), settings, payload["history"],
-                   payload["info"])
+        return cls(
+            Mapping(net, saved, settings.boundary_mode, warm),
+            settings,
+            payload["history"],
+            payload["info"],
+        )
 
 
 def _settings_of(saved: dict) -> Settings:

@@ -25,14 +25,21 @@ class CoordinateNet(nn.Module):
     ``kind="mlp"`` is MGNet's fully connected network.
     """
 
-    def __init__(self, kind: str = "shortcut", hidden_layers: int = 4, neurons: int = 30,
-                 activation: str = "tanh", outputs: int = 2) -> None:
+    def __init__(
+        self,
+        kind: str = "shortcut",
+        hidden_layers: int = 4,
+        neurons: int = 30,
+        activation: str = "tanh",
+        outputs: int = 2,
+    ) -> None:
         super().__init__()
         if kind not in ("shortcut", "mlp"):
             raise ValueError(f"unknown network kind {kind!r}")
         if activation not in ACTIVATIONS:
-            raise ValueError(f"unknown activation {activation!r}; use one of "
-                             + ", ".join(ACTIVATIONS))
+            raise ValueError(
+                f"unknown activation {activation!r}; use one of " + ", ".join(ACTIVATIONS)
+            )
         self.kind, self.activation = kind, activation
         self.hidden_layers, self.neurons = hidden_layers, neurons
         n, k = neurons, outputs
@@ -72,8 +79,9 @@ class CoordinateNet(nn.Module):
             h = torch.addcmul(u, z, diff) if self.kind == "shortcut" else z
         return torch.baddbmm(self.b_out, h, self.w_out)[..., 0].T
 
-    def jet(self, x: torch.Tensor, extra: torch.Tensor | None = None
-            ) -> tuple[torch.Tensor, torch.Tensor]:
+    def jet(
+        self, x: torch.Tensor, extra: torch.Tensor | None = None
+    ) -> tuple[torch.Tensor, torch.Tensor]:
         """Jet (6, B, 2) at ``x`` (channels ``V..ETAETA``) and plain values (B', 2) at the
         ``extra`` points, all in one pass."""
         params = [self.w_in, self.b_in]
@@ -95,6 +103,7 @@ def autograd_jet(net: nn.Module, x: torch.Tensor) -> torch.Tensor:
     for k in range(out.shape[1]):
         g = grad(out[:, k])
         g_xi, g_eta = grad(g[:, 0]), grad(g[:, 1])
-        columns.append(torch.stack([out[:, k], g[:, 0], g[:, 1], g_xi[:, 0], g_xi[:, 1],
-                                    g_eta[:, 1]]))
+        columns.append(
+            torch.stack([out[:, k], g[:, 0], g[:, 1], g_xi[:, 0], g_xi[:, 1], g_eta[:, 1]])
+        )
     return torch.stack(columns, dim=-1)

@@ -37,8 +37,9 @@ def load_aux(paths: Sequence[str | os.PathLike], boundary: Boundary) -> list[Aux
     return map_lines(raws, boundary)
 
 
-def boundary_from_polydata(poly: vtkPolyData, corners: Sequence[int] | None = None,
-                           source: str = "boundary input") -> Boundary:
+def boundary_from_polydata(
+    poly: vtkPolyData, corners: Sequence[int] | None = None, source: str = "boundary input"
+) -> Boundary:
     """Validate the boundary held by a ``vtkPolyData`` (e.g. a filter's input port 0)."""
     pts = boundary_points(poly, source)
     return Boundary.from_points(pts, tuple(corners) if corners else None, source=source)
@@ -54,9 +55,12 @@ def split_inputs(polys: Sequence[vtkPolyData | None]) -> tuple[vtkPolyData, list
         return polys[0], []
     closed = [p for p in polys if any(c for _, c in polylines_of(p, "input"))]
     if len(closed) != 1:
-        raise InputError(f"{len(closed)} of the {len(polys)} connected inputs hold a closed "
-                         "curve; connect one closed boundary, and open polylines as auxiliary "
-                         "lines", "boundary input")
+        raise InputError(
+            f"{len(closed)} of the {len(polys)} connected inputs hold a closed "
+            "curve; connect one closed boundary, and open polylines as auxiliary "
+            "lines",
+            "boundary input",
+        )
     return closed[0], [p for p in polys if p is not closed[0]]
 
 
@@ -76,5 +80,11 @@ def to_vtk(result: MeshResult, patches=None) -> vtkStructuredGrid:
         from .bodymesh import patch_names
 
         patches = patch_names(topology["kind"])
-    return structured_grid(np.asarray(result.points), result.report, result.history,
-                           result.cells or None, patches, result.points3d)
+    return structured_grid(
+        np.asarray(result.points),
+        result.report,
+        result.history,
+        result.cells or None,
+        patches,
+        result.points3d,
+    )

@@ -51,9 +51,12 @@ class Plane:
         off = float(np.abs((p - centre) @ normal).max())
         if off > limit:
             size = float(np.linalg.norm(np.ptp(p, axis=0)))
-            raise InputError(f"is not planar: its points lie up to {off:.3g} ({off / size:.2%} "
-                             "of its size) off their best-fit plane; the domain must lie in "
-                             "one plane", source)
+            raise InputError(
+                f"is not planar: its points lie up to {off:.3g} ({off / size:.2%} "
+                "of its size) off their best-fit plane; the domain must lie in "
+                "one plane",
+                source,
+            )
         return cls(centre, in_plane_axes(normal))
 
     def to_plane(self, points: np.ndarray, source: str | None = None) -> np.ndarray:
@@ -62,13 +65,19 @@ class Plane:
         p = np.asarray(points, dtype=float)
         if p.shape[1] == 2:
             if not self.is_horizontal:
-                raise InputError("has only x, y coordinates but the boundary is not in a "
-                                 "plane z = const; give x, y, z", source)
+                raise InputError(
+                    "has only x, y coordinates but the boundary is not in a "
+                    "plane z = const; give x, y, z",
+                    source,
+                )
             return p
         off = float(np.abs((p - self.origin) @ self.normal).max()) if len(p) else 0.0
         if off > _tolerance(p, extra=self.origin):
-            raise InputError(f"lies up to {off:.3g} off the boundary's plane; it must lie in "
-                             "the plane of the boundary", source)
+            raise InputError(
+                f"lies up to {off:.3g} off the boundary's plane; it must lie in "
+                "the plane of the boundary",
+                source,
+            )
         if self.is_horizontal:
             return np.ascontiguousarray(p[:, :2])
         return (p - self.origin) @ self.axes.T

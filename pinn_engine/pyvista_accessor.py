@@ -70,8 +70,9 @@ def _as_polydata(obj, closed: bool, what: str) -> vtkPolyData:
         return _ring_polydata(obj, closed)
     if hasattr(obj, "extract_surface"):  # another pyvista dataset holding lines
         return obj.extract_surface()
-    raise InputError(f"{what}: expected a pyvista/VTK PolyData or an array of points, got "
-                     f"{type(obj).__name__}")
+    raise InputError(
+        f"{what}: expected a pyvista/VTK PolyData or an array of points, got {type(obj).__name__}"
+    )
 
 
 def _aux_list(aux) -> list[vtkPolyData]:
@@ -86,17 +87,32 @@ def _aux_list(aux) -> list[vtkPolyData]:
     return [_as_polydata(a, closed=False, what="aux") for a in aux]
 
 
-def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = "pinn", *,
-              preset: str = "default", corners: Sequence[int] | None = None,
-              adam_epochs: int | None = None, lbfgs_iterations: int | None = None,
-              hidden_layers: int | None = None, neurons: int | None = None,
-              lambda2: float | None = None, seed: int | None = None,
-              boundary_mode: str | None = None, device: str | None = None,
-              progress: Callable[[dict], bool | None] | None = None,
-              cache: MeshCache | None = None, patches=None, topology: str | None = None,
-              naca: str | None = None, farfield: float | None = None,
-              spacing: dict | None = None, orthogonal=None,
-              **settings) -> pv.StructuredGrid:
+def pinn_mesh(
+    boundary,
+    aux=None,
+    size: Sequence[int] = (41, 21),
+    method: str = "pinn",
+    *,
+    preset: str = "default",
+    corners: Sequence[int] | None = None,
+    adam_epochs: int | None = None,
+    lbfgs_iterations: int | None = None,
+    hidden_layers: int | None = None,
+    neurons: int | None = None,
+    lambda2: float | None = None,
+    seed: int | None = None,
+    boundary_mode: str | None = None,
+    device: str | None = None,
+    progress: Callable[[dict], bool | None] | None = None,
+    cache: MeshCache | None = None,
+    patches=None,
+    topology: str | None = None,
+    naca: str | None = None,
+    farfield: float | None = None,
+    spacing: dict | None = None,
+    orthogonal=None,
+    **settings,
+) -> pv.StructuredGrid:
     """Structured quadrilateral grid of a four-sided 2D domain, or an O- or C-grid around a
     body (``topology="o"`` or ``"c"``, SPEC 9).
 
@@ -201,16 +217,44 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
     if problem:
         raise ValueError(f"size=({ni}, {nj}): {problem}")
     if topology is not None or naca is not None:
-        return _body_mesh(boundary, ni, nj, method, preset, topology, naca, farfield, spacing,
-                          orthogonal, patches, progress,
-                          dict(adam_epochs=adam_epochs, lbfgs_iterations=lbfgs_iterations,
-                               hidden_layers=hidden_layers, neurons=neurons, seed=seed,
-                               device=device, **settings))
-    config = make_settings(method, preset, adam_epochs=adam_epochs,
-                           lbfgs_iterations=lbfgs_iterations, hidden_layers=hidden_layers,
-                           neurons=neurons, lambda2=lambda2, seed=seed, boundary=boundary_mode,
-                           device=device, spacing=spacing, orthogonal=orthogonal,
-                           **{"lattice": (ni, nj), **settings})
+        return _body_mesh(
+            boundary,
+            ni,
+            nj,
+            method,
+            preset,
+            topology,
+            naca,
+            farfield,
+            spacing,
+            orthogonal,
+            patches,
+            progress,
+            dict(
+                adam_epochs=adam_epochs,
+                lbfgs_iterations=lbfgs_iterations,
+                hidden_layers=hidden_layers,
+                neurons=neurons,
+                seed=seed,
+                device=device,
+                **settings,
+            ),
+        )
+    config = make_settings(
+        method,
+        preset,
+        adam_epochs=adam_epochs,
+        lbfgs_iterations=lbfgs_iterations,
+        hidden_layers=hidden_layers,
+        neurons=neurons,
+        lambda2=lambda2,
+        seed=seed,
+        boundary=boundary_mode,
+        device=device,
+        spacing=spacing,
+        orthogonal=orthogonal,
+        **{"lattice": (ni, nj), **settings},
+    )
     try:
         names = patch_names(patches)
         poly = _as_polydata(boundary, closed=True, what="boundary")
@@ -226,8 +270,21 @@ def pinn_mesh(boundary, aux=None, size: Sequence[int] = (41, 21), method: str = 
     return grid
 
 
-def _body_mesh(boundary, ni, nj, method, preset, topology, naca, farfield, spacing,
-               orthogonal, patches, progress, overrides) -> pv.StructuredGrid:
+def _body_mesh(
+    boundary,
+    ni,
+    nj,
+    method,
+    preset,
+    topology,
+    naca,
+    farfield,
+    spacing,
+    orthogonal,
+    patches,
+    progress,
+    overrides,
+) -> pv.StructuredGrid:
     """The O- or C-grid route of :func:`pinn_mesh`."""
     import os
 
@@ -239,17 +296,18 @@ def _body_mesh(boundary, ni, nj, method, preset, topology, naca, farfield, spaci
 
     try:
         if topology not in ("o", "c"):
-            raise InputError(f"topology={topology!r}: use \"o\" or \"c\" for a body grid")
+            raise InputError(f'topology={topology!r}: use "o" or "c" for a body grid')
         h = None
         for side, value in dict(spacing or {}).items():
             if side != "bottom":
-                raise InputError(f"spacing={{{side!r}: ...}}: a body grid takes "
-                                 "{'bottom': H} (the wall)")
+                raise InputError(
+                    f"spacing={{{side!r}: ...}}: a body grid takes {{'bottom': H}} (the wall)"
+                )
             h = float(value)
         if orthogonal is not None:
             sides = [orthogonal] if isinstance(orthogonal, str) else list(orthogonal)
             if {str(t).strip() for t in sides} != {"bottom"}:
-                raise InputError(f"orthogonal={orthogonal!r}: a body grid takes \"bottom\"")
+                raise InputError(f'orthogonal={orthogonal!r}: a body grid takes "bottom"')
         if naca is not None:
             if boundary is not None:
                 raise InputError("give either a body or naca=, not both")
@@ -273,9 +331,11 @@ def _body_mesh(boundary, ni, nj, method, preset, topology, naca, farfield, spaci
                     pts = pts[np.asarray(lines[1:])]  # one polyline: its own order
             body = body_from_points(pts[:, :2], "body")
             far = circle(body, farfield or 15.0)
-        names = patch_names(patches if patches is not None else
-                            dict(zip(("bottom", "right", "top", "left"),
-                                     body_patches(topology))))
+        names = patch_names(
+            patches
+            if patches is not None
+            else dict(zip(("bottom", "right", "top", "left"), body_patches(topology)))
+        )
         settings = make_settings(method, preset, lattice=(ni, nj), **overrides)
         result = mesh_body(body, far, topology, method, ni, nj, settings, h, progress)
     except InputError as exc:
@@ -285,8 +345,7 @@ def _body_mesh(boundary, ni, nj, method, preset, topology, naca, farfield, spaci
     return grid
 
 
-def save_mesh(grid, path, format: str | None = None, *, patches=None,
-              extrude: float | None = None):
+def save_mesh(grid, path, format: str | None = None, *, patches=None, extrude: float | None = None):
     """Write a grid from :func:`pinn_mesh` for a CFD solver; returns the path written.
 
     The format follows the extension of ``path``: ``.vts``, ``.vtk``, ``.xyz`` (PLOT3D),
@@ -331,14 +390,25 @@ class PinnMeshAccessor:
         self._cache = MeshCache()
         self.last: pv.StructuredGrid | None = None  # the last grid made, for save()
 
-    def __call__(self, aux=None, size: Sequence[int] = (41, 21), method: str = "pinn", *,
-                 preset: str = "default", corners: Sequence[int] | None = None,
-                 adam_epochs: int | None = None, lbfgs_iterations: int | None = None,
-                 hidden_layers: int | None = None, neurons: int | None = None,
-                 lambda2: float | None = None, seed: int | None = None,
-                 spacing=None, orthogonal=None,
-                 progress: Callable[[dict], bool | None] | None = None,
-                 **settings) -> pv.StructuredGrid:
+    def __call__(
+        self,
+        aux=None,
+        size: Sequence[int] = (41, 21),
+        method: str = "pinn",
+        *,
+        preset: str = "default",
+        corners: Sequence[int] | None = None,
+        adam_epochs: int | None = None,
+        lbfgs_iterations: int | None = None,
+        hidden_layers: int | None = None,
+        neurons: int | None = None,
+        lambda2: float | None = None,
+        seed: int | None = None,
+        spacing=None,
+        orthogonal=None,
+        progress: Callable[[dict], bool | None] | None = None,
+        **settings,
+    ) -> pv.StructuredGrid:
         """Mesh the domain bounded by this PolyData; see ``pinn_mesh`` for the arguments.
 
         ``aux``: auxiliary polylines (PolyData or a list); ``size``: ``(ni, nj)`` nodes;
@@ -346,17 +416,38 @@ class PinnMeshAccessor:
         settings default to the preset's (5000 Adam epochs, 500 L-BFGS iterations).
         Returns a ``pyvista.StructuredGrid`` with MaxIncludedAngle/MinIncludedAngle cells.
         """
-        self.last = pinn_mesh(self._mesh, aux, size, method, preset=preset, corners=corners,
-                              adam_epochs=adam_epochs, lbfgs_iterations=lbfgs_iterations,
-                              hidden_layers=hidden_layers, neurons=neurons, lambda2=lambda2,
-                              seed=seed, spacing=spacing, orthogonal=orthogonal,
-                              progress=progress, cache=self._cache, **settings)
+        self.last = pinn_mesh(
+            self._mesh,
+            aux,
+            size,
+            method,
+            preset=preset,
+            corners=corners,
+            adam_epochs=adam_epochs,
+            lbfgs_iterations=lbfgs_iterations,
+            hidden_layers=hidden_layers,
+            neurons=neurons,
+            lambda2=lambda2,
+            seed=seed,
+            spacing=spacing,
+            orthogonal=orthogonal,
+            progress=progress,
+            cache=self._cache,
+            **settings,
+        )
         return self.last
 
     mesh = __call__  # boundary.pinn_mesh.mesh(...) reads well too
 
-    def save(self, path, format: str | None = None, *, grid=None, patches=None,
-             extrude: float | None = None):
+    def save(
+        self,
+        path,
+        format: str | None = None,
+        *,
+        grid=None,
+        patches=None,
+        extrude: float | None = None,
+    ):
         """Write ``grid`` (default: the last grid this accessor made) for a CFD solver;
         the arguments are those of :func:`save_mesh`.
 
@@ -365,8 +456,9 @@ class PinnMeshAccessor:
         """
         grid = grid if grid is not None else self.last
         if grid is None:
-            raise InputError("no grid to save yet; call boundary.pinn_mesh(...) first or "
-                             "pass grid=")
+            raise InputError(
+                "no grid to save yet; call boundary.pinn_mesh(...) first or pass grid="
+            )
         return save_mesh(grid, path, format, patches=patches, extrude=extrude)
 
     @property

@@ -38,16 +38,19 @@ class _Cells:
     def angles(self) -> tuple[np.ndarray, np.ndarray]:
         e, n = self.edges, self.lengths
         with np.errstate(invalid="ignore", divide="ignore"):
-            cos = np.stack([-np.einsum("...i,...i->...", e[k], e[(k + 1) % 4])
-                            / (n[k] * n[(k + 1) % 4]) for k in range(4)])
+            cos = np.stack(
+                [
+                    -np.einsum("...i,...i->...", e[k], e[(k + 1) % 4]) / (n[k] * n[(k + 1) % 4])
+                    for k in range(4)
+                ]
+            )
         cos = np.clip(cos, -1.0, 1.0)
         # arccos is decreasing: the largest angle has the smallest cosine
         max_angle = np.degrees(np.arccos(cos.min(axis=0)))
         min_angle = np.degrees(np.arccos(cos.max(axis=0)))
         # Verdict: signed corner areas against the cell's centre normal (principal axes)
         centre = np.sign(_cross(e[0] - e[2], e[1] - e[3]))
-        max_angle = np.where((self.areas * centre < 0).any(axis=0), 360.0 - max_angle,
-                             max_angle)
+        max_angle = np.where((self.areas * centre < 0).any(axis=0), 360.0 - max_angle, max_angle)
         degenerate = np.minimum.reduce(n) <= DBL_MIN
         return np.where(degenerate, 0.0, max_angle), np.where(degenerate, 360.0, min_angle)
 
@@ -57,14 +60,19 @@ class _Cells:
     def quality(self, orientation: float) -> dict[str, np.ndarray]:
         self.orientation = orientation
         max_a, min_a = self.angles()
-        return {"MaxIncludedAngle": max_a, "MinIncludedAngle": min_a,
-                "ScaledJacobian": self.scaled_jacobian(), "Folded": self.folded()}
+        return {
+            "MaxIncludedAngle": max_a,
+            "MinIncludedAngle": min_a,
+            "ScaledJacobian": self.scaled_jacobian(),
+            "Folded": self.folded(),
+        }
 
     def scaled_jacobian(self) -> np.ndarray:
         n = self.lengths
         with np.errstate(invalid="ignore", divide="ignore"):
-            sj = np.stack([self.areas[k] * self.orientation / (n[k - 1] * n[k])
-                           for k in range(4)]).min(axis=0)
+            sj = np.stack(
+                [self.areas[k] * self.orientation / (n[k - 1] * n[k]) for k in range(4)]
+            ).min(axis=0)
         return np.nan_to_num(sj, nan=0.0)
 
 
@@ -89,7 +97,7 @@ def cell_quality(grid: np.ndarray) -> dict[str, np.ndarray]:
     bands = int(min(os.cpu_count() or 1, grid.shape[0] - 1, max(1, n_cells // BAND_CELLS)))
     cuts = np.linspace(0, grid.shape[0] - 1, bands + 1).astype(int)
     with ThreadPoolExecutor(max_workers=bands) as pool:
-        parts = list(pool.map(_Cells, [grid[a:b + 1] for a, b in zip(cuts[:-1], cuts[1:])]))
+        parts = list(pool.map(_Cells, [grid[a : b + 1] for a, b in zip(cuts[:-1], cuts[1:])]))
         orientation = 1.0 if sum(c.areas.sum() for c in parts) >= 0 else -1.0
         arrays = list(pool.map(lambda c: c.quality(orientation), parts))
     return {k: np.concatenate([a[k] for a in arrays]) for k in arrays[0]}
@@ -120,8 +128,11 @@ def angle_floor(grid: np.ndarray) -> tuple[float, float]:
     ring = np.concatenate([g[0, :-1], g[:-1, -1], g[-1, :0:-1], g[:0:-1, 0]])
     turn = np.sign(_cross(ring, np.roll(ring, -1, axis=0)).sum())  # counter-clockwise: +1
     ahead, back = np.roll(ring, -1, axis=0) - ring, np.roll(ring, 1, axis=0) - ring
-    angle = np.degrees(np.mod(np.arctan2(turn * _cross(ahead, back),
-                                         np.einsum("ij,ij->i", ahead, back)), 2 * np.pi))
+    angle = np.degrees(
+        np.mod(
+            np.arctan2(turn * _cross(ahead, back), np.einsum("ij,ij->i", ahead, back)), 2 * np.pi
+        )
+    )
     corners = np.zeros(len(ring), dtype=bool)
     corners[[0, ni - 1, ni + nj - 2, 2 * ni + nj - 3]] = True
     return float(angle[corners].max()), float(angle[~corners].max() / 2)

@@ -30,11 +30,17 @@ def off_screen() -> Iterator[None]:
             os.environ.pop("VTK_DEFAULT_OPENGL_WINDOW", None)
 
 
-
-def render_png(grid, path: str | os.PathLike, scalars: str = "MaxIncludedAngle",
-               title: str | None = None, clim: tuple[float, float] | None = (90.0, 180.0),
-               boundary=None, aux=None, window_size=(1200, 800),
-               view: tuple[float, float, float, float] | None = None) -> Path:
+def render_png(
+    grid,
+    path: str | os.PathLike,
+    scalars: str = "MaxIncludedAngle",
+    title: str | None = None,
+    clim: tuple[float, float] | None = (90.0, 180.0),
+    boundary=None,
+    aux=None,
+    window_size=(1200, 800),
+    view: tuple[float, float, float, float] | None = None,
+) -> Path:
     """Draw ``grid`` (a VTK or pyvista structured grid) with its edges, coloured by ``scalars``;
     ``view`` = (xmin, xmax, ymin, ymax) zooms on that box of a grid in a plane z = const (e.g.
     a wall's first cells)."""
@@ -44,9 +50,17 @@ def render_png(grid, path: str | os.PathLike, scalars: str = "MaxIncludedAngle",
         mesh = pv.wrap(grid)
         plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
         plotter.set_background("white")
-        plotter.add_mesh(mesh, scalars=scalars, preference="cell", show_edges=True,
-                         edge_color="black", line_width=0.5, cmap="viridis", clim=clim,
-                         scalar_bar_args={"title": f"{scalars} (deg)", "color": "black"})
+        plotter.add_mesh(
+            mesh,
+            scalars=scalars,
+            preference="cell",
+            show_edges=True,
+            edge_color="black",
+            line_width=0.5,
+            cmap="viridis",
+            clim=clim,
+            scalar_bar_args={"title": f"{scalars} (deg)", "color": "black"},
+        )
         for extra, color in ((boundary, "red"), (aux, "orange")):
             if extra is not None:
                 plotter.add_mesh(pv.wrap(extra), color=color, line_width=3)
@@ -74,31 +88,51 @@ def render_png(grid, path: str | os.PathLike, scalars: str = "MaxIncludedAngle",
     return path
 
 
-def render_body_png(grid, path: str | os.PathLike, title: str | None = None,
-                    le=(0.0, 0.0), te=(1.0, 0.0), zoom: float = 0.06,
-                    window_size=(1800, 640)) -> Path:
+def render_body_png(
+    grid,
+    path: str | os.PathLike,
+    title: str | None = None,
+    le=(0.0, 0.0),
+    te=(1.0, 0.0),
+    zoom: float = 0.06,
+    window_size=(1800, 640),
+) -> Path:
     """An O- or C-grid in three panels: the whole domain, and zoomed on the leading edge
     ``le`` and the trailing edge ``te`` (boxes ``zoom`` wide, in the grid's units)."""
     import pyvista as pv
 
     pv.OFF_SCREEN = True
     mesh = pv.wrap(grid)
-    plotter = pv.Plotter(off_screen=True, shape=(1, 3), window_size=list(window_size),
-                         border=False)
+    plotter = pv.Plotter(off_screen=True, shape=(1, 3), window_size=list(window_size), border=False)
     bounds = mesh.bounds
-    whole = (0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]),
-             0.5 * max(bounds[1] - bounds[0], bounds[3] - bounds[2]))
-    panels = (("whole", whole), ("leading edge", (le[0] + 0.25 * zoom, le[1], 0.5 * zoom)),
-              ("trailing edge", (te[0], te[1], 0.5 * zoom)))
+    whole = (
+        0.5 * (bounds[0] + bounds[1]),
+        0.5 * (bounds[2] + bounds[3]),
+        0.5 * max(bounds[1] - bounds[0], bounds[3] - bounds[2]),
+    )
+    panels = (
+        ("whole", whole),
+        ("leading edge", (le[0] + 0.25 * zoom, le[1], 0.5 * zoom)),
+        ("trailing edge", (te[0], te[1], 0.5 * zoom)),
+    )
     for k, (name, (cx, cy, half)) in enumerate(panels):
         plotter.subplot(0, k)
         plotter.set_background("white")
-        plotter.add_mesh(mesh.copy(), scalars="MaxIncludedAngle", preference="cell",
-                         show_edges=True, edge_color="black", line_width=0.4, cmap="viridis",
-                         clim=(90.0, 130.0), show_scalar_bar=k == 2,
-                         scalar_bar_args={"title": "MaxIncludedAngle (deg)", "color": "black"})
-        plotter.add_text(name if not (title and k == 0) else f"{title}: {name}",
-                         font_size=10, color="black")
+        plotter.add_mesh(
+            mesh.copy(),
+            scalars="MaxIncludedAngle",
+            preference="cell",
+            show_edges=True,
+            edge_color="black",
+            line_width=0.4,
+            cmap="viridis",
+            clim=(90.0, 130.0),
+            show_scalar_bar=k == 2,
+            scalar_bar_args={"title": "MaxIncludedAngle (deg)", "color": "black"},
+        )
+        plotter.add_text(
+            name if not (title and k == 0) else f"{title}: {name}", font_size=10, color="black"
+        )
         plotter.view_xy()
         cam = plotter.camera
         cam.parallel_projection = True

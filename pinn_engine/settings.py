@@ -19,8 +19,10 @@ def grid_size_problem(ni: int, nj: int) -> str | None:
     """What is wrong with a grid of ``ni`` x ``nj`` nodes, or None; each route prefixes its
     own name for the size (``--size``, ``size=``, Grid Size)."""
     if min(ni, nj) < 2 or max(ni, nj) > MAX_SIDE_NODES or ni * nj > MAX_NODES:
-        return (f"each side must have 2 to {MAX_SIDE_NODES:,} nodes and the grid at most "
-                f"{MAX_NODES:,} nodes")
+        return (
+            f"each side must have 2 to {MAX_SIDE_NODES:,} nodes and the grid at most "
+            f"{MAX_NODES:,} nodes"
+        )
     return None
 
 
@@ -97,8 +99,11 @@ class Interval:
         whole = isinstance(value, numbers.Integral) and not isinstance(value, bool)
         if self.kind is int and not whole:
             return "must be a whole number"
-        if self.kind is float and (isinstance(value, bool) or not isinstance(value, numbers.Real)
-                                   or not math.isfinite(value)):
+        if self.kind is float and (
+            isinstance(value, bool)
+            or not isinstance(value, numbers.Real)
+            or not math.isfinite(value)
+        ):
             return "must be a finite number"
         if self.low <= value <= self.high:
             return None
@@ -198,8 +203,10 @@ class Settings:
         if self.method != "pinn":  # the objective is the pinn's (make_settings says so)
             object.__setattr__(self, "objective", "winslow")
         if self.warm_start == "elliptic" and self.boundary_mode != "hard":
-            raise ValueError("the elliptic warm start needs the hard boundary mode; with the "
-                             "penalty boundary set the warm start to none")
+            raise ValueError(
+                "the elliptic warm start needs the hard boundary mode; with the "
+                "penalty boundary set the warm start to none"
+            )
         lattice = tuple(int(n) for n in self.lattice)
         if len(lattice) != 2 or min(lattice) < 2:
             raise ValueError(f"lattice must be two node counts of at least 2, got {self.lattice}")
@@ -207,35 +214,60 @@ class Settings:
         object.__setattr__(self, "spacing", parse_spacing(self.spacing))
         object.__setattr__(self, "orthogonal", parse_sides(self.orthogonal))
         if self.orthogonal and self.method not in ("pinn", "elliptic"):
-            raise ValueError(f"orthogonal sides need the pinn or elliptic method, not "
-                             f"{self.method}")
-        if self.method == "elliptic" and self.elliptic_iterations and (
-                self.spacing or self.orthogonal):
-            raise ValueError("spacing and orthogonal sides need the converged elliptic solver "
-                             "(elliptic_iterations 0, not the paper's sweeps)")
+            raise ValueError(
+                f"orthogonal sides need the pinn or elliptic method, not {self.method}"
+            )
+        if (
+            self.method == "elliptic"
+            and self.elliptic_iterations
+            and (self.spacing or self.orthogonal)
+        ):
+            raise ValueError(
+                "spacing and orthogonal sides need the converged elliptic solver "
+                "(elliptic_iterations 0, not the paper's sweeps)"
+            )
 
     def to_dict(self) -> dict:
         return asdict(self)
 
     def training_key(self) -> tuple:
         """The settings that change the trained network (not the output resolution)."""
-        skip = {"preset", "device"} | ({"lattice"} if self.warm_start == "none"
-                                       and self.objective == "winslow" else set())
+        skip = {"preset", "device"} | (
+            {"lattice"} if self.warm_start == "none" and self.objective == "winslow" else set()
+        )
         return tuple((f.name, getattr(self, f.name)) for f in fields(self) if f.name not in skip)
 
 
 PAPER = {
-    "boundary_mode": "penalty", "boundary_fit": "tree", "warm_start": "none", "residual": "paper",
-    "hidden_layers": 4, "neurons": 30, "activation": "tanh", "adam_epochs": 5000,
-    "learning_rate": 1e-3, "lr_decay": 0.9, "lr_decay_every": 1000, "batch_size": 100,
-    "lbfgs_iterations": 500, "lbfgs_points": 1000, "lambda2": 10.0, "elliptic_iterations": 1000,
+    "boundary_mode": "penalty",
+    "boundary_fit": "tree",
+    "warm_start": "none",
+    "residual": "paper",
+    "hidden_layers": 4,
+    "neurons": 30,
+    "activation": "tanh",
+    "adam_epochs": 5000,
+    "learning_rate": 1e-3,
+    "lr_decay": 0.9,
+    "lr_decay_every": 1000,
+    "batch_size": 100,
+    "lbfgs_iterations": 500,
+    "lbfgs_points": 1000,
+    "lambda2": 10.0,
+    "elliptic_iterations": 1000,
     "objective": "winslow",
 }
 
 
 # Training from TFI (no warm start) takes the paper's schedule and losses.
-FROM_TFI = {"adam_epochs": 5000, "lbfgs_iterations": 500, "lbfgs_points": 1000,
-            "lambda2": 10.0, "residual": "paper", "objective": "winslow"}
+FROM_TFI = {
+    "adam_epochs": 5000,
+    "lbfgs_iterations": 500,
+    "lbfgs_points": 1000,
+    "lambda2": 10.0,
+    "residual": "paper",
+    "objective": "winslow",
+}
 
 
 def make_settings(method: str = "pinn", preset: str = "default", **overrides) -> Settings:

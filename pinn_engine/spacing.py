@@ -29,8 +29,11 @@ def _solve(b: np.ndarray, f: Callable[[np.ndarray], np.ndarray], hi: float) -> n
     for _ in range(80):
         mid = 0.5 * (lo_ + hi_)
         above = f(mid) > b
-        hi_, lo_ = (np.where(above, mid, hi_), np.where(above, lo_, mid)) if increasing else \
-            (np.where(above, hi_, mid), np.where(above, mid, lo_))
+        hi_, lo_ = (
+            (np.where(above, mid, hi_), np.where(above, lo_, mid))
+            if increasing
+            else (np.where(above, hi_, mid), np.where(above, mid, lo_))
+        )
     return 0.5 * (lo_ + hi_)
 
 
@@ -58,8 +61,9 @@ def _odd(d: np.ndarray, hyper: np.ndarray, z: np.ndarray) -> np.ndarray:
     return np.where(small, 2 * z, np.where(hyper[:, None], h, t))
 
 
-def stretch(n: int, first: np.ndarray | None, last: np.ndarray | None,
-            lines: int = 1) -> np.ndarray:
+def stretch(
+    n: int, first: np.ndarray | None, last: np.ndarray | None, lines: int = 1
+) -> np.ndarray:
     """Parameters (lines, n) in [0, 1], monotone, with first and last interval ``first`` and
     ``last`` (arrays over the lines; None: that end is free). Vinokur's formulas: the
     derivative at an end is the requested spacing times n - 1; measured edges correct the
@@ -90,8 +94,7 @@ def stretch(n: int, first: np.ndarray | None, last: np.ndarray | None,
 LOCAL_CELLS = 6.0
 
 
-def _lines(n: int, first: np.ndarray | None, last: np.ndarray | None, lines: int
-           ) -> np.ndarray:
+def _lines(n: int, first: np.ndarray | None, last: np.ndarray | None, lines: int) -> np.ndarray:
     """Parameters (lines, n) of one direction for per-line first/last spacings."""
     top = [None if a is None else float(np.exp(np.log(a).mean())) for a in (first, last)]
     t = np.repeat(stretch(n, *top), lines, axis=0)
@@ -119,20 +122,32 @@ def param_grid(ni: int, nj: int, spacing: dict[str, np.ndarray]) -> np.ndarray:
 
 def first_edges(grid: np.ndarray) -> dict[str, np.ndarray]:
     """Length of the first grid edge leaving each node of each side (along the side)."""
+
     def norm(a, b):
         return np.linalg.norm(a - b, axis=-1)
-    return {"bottom": norm(grid[1], grid[0]), "top": norm(grid[-2], grid[-1]),
-            "left": norm(grid[:, 1], grid[:, 0]), "right": norm(grid[:, -2], grid[:, -1])}
+
+    return {
+        "bottom": norm(grid[1], grid[0]),
+        "top": norm(grid[-2], grid[-1]),
+        "left": norm(grid[:, 1], grid[:, 0]),
+        "right": norm(grid[:, -2], grid[:, -1]),
+    }
 
 
 def uniform_params(ni: int, nj: int) -> np.ndarray:
     return param_grid(ni, nj, {})
 
 
-def fit_params(evaluate: Callable[[np.ndarray], np.ndarray], spacing: dict[str, float],
-               ni: int, nj: int, side_lengths: dict[str, float], iterations: int = 12,
-               tol: float = 0.01, start: dict[str, np.ndarray] | None = None
-               ) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
+def fit_params(
+    evaluate: Callable[[np.ndarray], np.ndarray],
+    spacing: dict[str, float],
+    ni: int,
+    nj: int,
+    side_lengths: dict[str, float],
+    iterations: int = 12,
+    tol: float = 0.01,
+    start: dict[str, np.ndarray] | None = None,
+) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
     """Parameters whose grid ``evaluate(params)`` has first edges ``spacing[side]`` (working
     frame) within ``tol`` at every node of those sides (corners included when they can be).
 
@@ -143,14 +158,20 @@ def fit_params(evaluate: Callable[[np.ndarray], np.ndarray], spacing: dict[str, 
     if not spacing:
         params = uniform_params(ni, nj)
         return params, evaluate(params), {}
-    across = {"bottom": ("left", "right"), "top": ("left", "right"),
-              "left": ("bottom", "top"), "right": ("bottom", "top")}
+    across = {
+        "bottom": ("left", "right"),
+        "top": ("left", "right"),
+        "left": ("bottom", "top"),
+        "right": ("bottom", "top"),
+    }
     count = {"bottom": ni, "top": ni, "left": nj, "right": nj}
     if start is not None:
         par = {s: np.array(v, dtype=float) for s, v in start.items()}
     else:
-        par = {s: np.full(count[s], h / (0.5 * sum(side_lengths[o] for o in across[s])))
-               for s, h in spacing.items()}
+        par = {
+            s: np.full(count[s], h / (0.5 * sum(side_lengths[o] for o in across[s])))
+            for s, h in spacing.items()
+        }
     for _ in range(iterations):
         params = param_grid(ni, nj, par)
         grid = evaluate(params)
@@ -170,27 +191,35 @@ def fit_params(evaluate: Callable[[np.ndarray], np.ndarray], spacing: dict[str, 
 def grid_lines_angle(grid: np.ndarray) -> dict[str, np.ndarray]:
     """Deviation from 90 degrees of the first grid edge leaving each node of each side, from
     the side's tangent (central difference along the side; one-sided at its corners)."""
+
     def dev(side_nodes, inner_nodes):
         tangent = np.gradient(side_nodes, axis=0)
         leave = inner_nodes - side_nodes
         cos = np.einsum("ij,ij->i", tangent, leave) / np.maximum(
-            np.linalg.norm(tangent, axis=1) * np.linalg.norm(leave, axis=1), 1e-300)
+            np.linalg.norm(tangent, axis=1) * np.linalg.norm(leave, axis=1), 1e-300
+        )
         return np.abs(90.0 - np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
-    return {"bottom": dev(grid[0], grid[1]), "top": dev(grid[-1], grid[-2]),
-            "left": dev(grid[:, 0], grid[:, 1]), "right": dev(grid[:, -1], grid[:, -2])}
+
+    return {
+        "bottom": dev(grid[0], grid[1]),
+        "top": dev(grid[-1], grid[-2]),
+        "left": dev(grid[:, 0], grid[:, 1]),
+        "right": dev(grid[:, -1], grid[:, -2]),
+    }
 
 
 def growth_ratios(grid: np.ndarray) -> dict[str, float]:
     """Largest ratio of consecutive edge lengths (either way round) along the grid lines that
     leave each side: bottom/top along eta, left/right along xi."""
     along_eta = np.linalg.norm(np.diff(grid, axis=0), axis=-1)  # (nj-1, ni)
-    along_xi = np.linalg.norm(np.diff(grid, axis=1), axis=-1)   # (nj, ni-1)
+    along_xi = np.linalg.norm(np.diff(grid, axis=1), axis=-1)  # (nj, ni-1)
 
     def worst(lengths):  # lengths (n_edges, lines)
         if len(lengths) < 2:
             return 1.0
         r = lengths[1:] / np.maximum(lengths[:-1], 1e-300)
         return float(np.maximum(r, 1.0 / np.maximum(r, 1e-300)).max())
+
     eta_ratio, xi_ratio = worst(along_eta), worst(along_xi.T)
     return {"bottom": eta_ratio, "top": eta_ratio, "left": xi_ratio, "right": xi_ratio}
 
@@ -204,11 +233,13 @@ def side_report(grid: np.ndarray, scale: float = 1.0) -> dict[str, dict[str, flo
     for side in ("bottom", "right", "top", "left"):
         e = edges[side][1:-1] if len(edges[side]) > 2 else edges[side]
         a = angles[side][2:-2] if len(angles[side]) > 4 else angles[side][:0]
-        out[side] = {"first_edge_min": float(e.min()) * scale,
-                     "first_edge_median": float(np.median(e)) * scale,
-                     "first_edge_max": float(e.max()) * scale,
-                     "max_angle_deviation": float(a.max(initial=0.0)),
-                     "max_growth_ratio": growth[side]}
+        out[side] = {
+            "first_edge_min": float(e.min()) * scale,
+            "first_edge_median": float(np.median(e)) * scale,
+            "first_edge_max": float(e.max()) * scale,
+            "max_angle_deviation": float(a.max(initial=0.0)),
+            "max_growth_ratio": growth[side],
+        }
     return out
 
 
@@ -216,15 +247,21 @@ def working_spacing(spacing: tuple[tuple[str, float], ...], boundary) -> dict[st
     """``Settings.spacing`` (user units) in the working frame, checked against the domain: a
     first edge must be shorter than half the sides it runs along."""
     out = {}
-    across = {"bottom": ("left", "right"), "top": ("left", "right"),
-              "left": ("bottom", "top"), "right": ("bottom", "top")}
+    across = {
+        "bottom": ("left", "right"),
+        "top": ("left", "right"),
+        "left": ("bottom", "top"),
+        "right": ("bottom", "top"),
+    }
     for side, h in spacing:
         unit = h / boundary.frame.scale
         room = min(boundary.side(s).length for s in across[side])
         if unit >= 0.5 * room:
-            raise ValueError(f"spacing {side}={h:g}: the first edge must be shorter than half "
-                             f"of the {' and '.join(across[side])} sides "
-                             f"({0.5 * room * boundary.frame.scale:.4g})")
+            raise ValueError(
+                f"spacing {side}={h:g}: the first edge must be shorter than half "
+                f"of the {' and '.join(across[side])} sides "
+                f"({0.5 * room * boundary.frame.scale:.4g})"
+            )
         out[side] = unit
     return out
 
@@ -257,10 +294,18 @@ def elliptic_at(boundary, orthogonal: tuple[str, ...] = ()) -> Callable[[np.ndar
         base = tfi(p)
         uniform = np.allclose(p, uniform_params(p.shape[1], p.shape[0]), atol=1e-15)
         grid, iterations, kept = safe_controlled_solve(
-            base, None if uniform else p, orthogonal, control=control,
-            initial=base if last[0] is None else last[0], max_iterations=MAX_SOLVE_ITERATIONS)
-        evaluate.failed |= (iterations >= MAX_SOLVE_ITERATIONS or not np.isfinite(grid).all()
-                            or bool(folded_cells(grid).any()))
+            base,
+            None if uniform else p,
+            orthogonal,
+            control=control,
+            initial=base if last[0] is None else last[0],
+            max_iterations=MAX_SOLVE_ITERATIONS,
+        )
+        evaluate.failed |= (
+            iterations >= MAX_SOLVE_ITERATIONS
+            or not np.isfinite(grid).all()
+            or bool(folded_cells(grid).any())
+        )
         evaluate.orthogonal &= kept
         last[0] = grid
         return grid
@@ -272,8 +317,9 @@ def elliptic_at(boundary, orthogonal: tuple[str, ...] = ()) -> Callable[[np.ndar
 MAX_SOLVE_ITERATIONS = 800
 
 
-def interpolated_elliptic_at(boundary, ni: int, nj: int, orthogonal: tuple[str, ...] = ()
-                             ) -> Callable[[np.ndarray], np.ndarray]:
+def interpolated_elliptic_at(
+    boundary, ni: int, nj: int, orthogonal: tuple[str, ...] = ()
+) -> Callable[[np.ndarray], np.ndarray]:
     """The elliptic map solved on the uniform ``ni`` x ``nj`` lattice (with orthogonality
     control), as a smooth map of the parameters (TFI plus a bicubic spline of the elliptic
     correction, warmstart.py) evaluated at node parameters: the fallback where the solve
@@ -283,15 +329,22 @@ def interpolated_elliptic_at(boundary, ni: int, nj: int, orthogonal: tuple[str, 
 
     tfi = tfi_at(boundary)
     base = tfi(uniform_params(ni, nj))
-    grid = safe_controlled_solve(base, None, orthogonal)[0] if orthogonal else \
-        winslow_solve(base)[0]
+    grid = (
+        safe_controlled_solve(base, None, orthogonal)[0] if orthogonal else winslow_solve(base)[0]
+    )
     warm = WarmStart(grid - base)
     return lambda p: tfi(p) + warm.at(p.reshape(-1, 2)).reshape(p.shape)
 
 
-def classical_grid(boundary, ni: int, nj: int, method: str, spacing: dict[str, float],
-                   orthogonal: tuple[str, ...] = (), info: dict | None = None
-                   ) -> tuple[np.ndarray, np.ndarray]:
+def classical_grid(
+    boundary,
+    ni: int,
+    nj: int,
+    method: str,
+    spacing: dict[str, float],
+    orthogonal: tuple[str, ...] = (),
+    info: dict | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
     """(params, grid) of the tfi or (converged) elliptic method under the spacing (working
     frame) and orthogonality settings. The elliptic grid is solved with control functions
     (distribution and Hilgenstock orthogonality); if that fails (no convergence, a folded
@@ -306,21 +359,23 @@ def classical_grid(boundary, ni: int, nj: int, method: str, spacing: dict[str, f
     evaluate = elliptic_at(boundary, orthogonal)
     params, grid, _ = fit_params(evaluate, spacing, ni, nj, lengths)
     edges = first_edges(grid)
-    off = max((float(np.abs(edges[s][1:-1] / h - 1).max(initial=0.0))
-               for s, h in spacing.items()), default=0.0)
+    off = max(
+        (float(np.abs(edges[s][1:-1] / h - 1).max(initial=0.0)) for s, h in spacing.items()),
+        default=0.0,
+    )
     ok = not evaluate.failed and off <= 0.1 and not folded_cells(grid).any()
     if not ok and spacing:
         evaluate = interpolated_elliptic_at(boundary, ni, nj, orthogonal)
         params, grid, _ = fit_params(evaluate, spacing, ni, nj, lengths)
     if info is not None:
         info["elliptic"] = "control functions" if ok or not spacing else "interpolated"
-        info["orthogonality_control"] = bool(orthogonal) and getattr(evaluate, "orthogonal",
-                                                                     True)
+        info["orthogonality_control"] = bool(orthogonal) and getattr(evaluate, "orthogonal", True)
     return params, grid
 
 
-def chord_tangents(boundary, side: str, t: np.ndarray, nodes: int,
-                   along: np.ndarray | None = None) -> np.ndarray:
+def chord_tangents(
+    boundary, side: str, t: np.ndarray, nodes: int, along: np.ndarray | None = None
+) -> np.ndarray:
     """Tangents (len(t), 2) of ``side`` at parameters ``t`` as a grid of ``nodes`` nodes
     along it sees them: the chord between the neighbouring nodes (what the reported wall
     angle measures, :func:`grid_lines_angle`), not the curve's own tangent, which differs

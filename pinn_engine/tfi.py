@@ -23,19 +23,24 @@ def transfinite(xi: np.ndarray, eta: np.ndarray, side: SideEval, order: int = 0)
     c01, c11 = side("top", 0 * one, 0)[0], side("top", one, 0)[0]
     b, t = side("bottom", xi[..., 0], 0), side("top", xi[..., 0], 0)
     left, right = side("left", eta[..., 0], 0), side("right", eta[..., 0], 0)
-    T = ((1 - xi) * left + xi * right + (1 - eta) * b + eta * t
-         - (1 - xi) * (1 - eta) * c00 - xi * (1 - eta) * c10
-         - (1 - xi) * eta * c01 - xi * eta * c11)
+    T = (
+        (1 - xi) * left
+        + xi * right
+        + (1 - eta) * b
+        + eta * t
+        - (1 - xi) * (1 - eta) * c00
+        - xi * (1 - eta) * c10
+        - (1 - xi) * eta * c01
+        - xi * eta * c11
+    )
     if order == 0:
         return [T]
     b1, t1 = side("bottom", xi[..., 0], 1), side("top", xi[..., 0], 1)
     l1, r1 = side("left", eta[..., 0], 1), side("right", eta[..., 0], 1)
     b2, t2 = side("bottom", xi[..., 0], 2), side("top", xi[..., 0], 2)
     l2, r2 = side("left", eta[..., 0], 2), side("right", eta[..., 0], 2)
-    T_xi = (right - left + (1 - eta) * b1 + eta * t1
-            + (1 - eta) * (c00 - c10) + eta * (c01 - c11))
-    T_eta = ((1 - xi) * l1 + xi * r1 + t - b
-             + (1 - xi) * (c00 - c01) + xi * (c10 - c11))
+    T_xi = right - left + (1 - eta) * b1 + eta * t1 + (1 - eta) * (c00 - c10) + eta * (c01 - c11)
+    T_eta = (1 - xi) * l1 + xi * r1 + t - b + (1 - xi) * (c00 - c01) + xi * (c10 - c11)
     T_xixi = (1 - eta) * b2 + eta * t2
     T_etaeta = (1 - xi) * l2 + xi * r2
     T_xieta = r1 - l1 + t1 - b1 - (c00 - c10 - c01 + c11)
@@ -49,8 +54,9 @@ def node_params(n: int) -> np.ndarray:
     return np.linspace(0.0, 1.0, n)
 
 
-def tfi_grid(sample: Callable[[str, np.ndarray], np.ndarray], ni: int, nj: int,
-             rows: slice = slice(None)) -> np.ndarray:
+def tfi_grid(
+    sample: Callable[[str, np.ndarray], np.ndarray], ni: int, nj: int, rows: slice = slice(None)
+) -> np.ndarray:
     """TFI grid (nj, ni, 2) whose boundary nodes are ``sample(side, t)`` at uniform t; only
     the grid rows ``rows`` when given (blocks of a large grid)."""
     xi, eta = node_params(ni), node_params(nj)[rows]

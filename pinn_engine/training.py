@@ -74,25 +74,35 @@ def pick_device(name: str) -> torch.device:
         device = torch.device(name)
         torch.empty(1, device=device)
     except (RuntimeError, AssertionError) as exc:
-        raise TrainingError(f"device {name!r} is not available here ({exc}); use auto or cpu"
-                            ) from None
+        raise TrainingError(
+            f"device {name!r} is not available here ({exc}); use auto or cpu"
+        ) from None
     return device
 
 
-def wall_tangents(boundary: Boundary, side: str, t: np.ndarray, lattice: tuple[int, int],
-                  params: np.ndarray | None = None) -> np.ndarray:
+def wall_tangents(
+    boundary: Boundary,
+    side: str,
+    t: np.ndarray,
+    lattice: tuple[int, int],
+    params: np.ndarray | None = None,
+) -> np.ndarray:
     """Tangents of a side at ``t`` as the grid of ``lattice`` nodes (at ``params``, spacing.py)
     sees them (chords)."""
     along = None
     if params is not None:
-        along = {"bottom": params[0, :, 0], "top": params[-1, :, 0],
-                 "left": params[:, 0, 1], "right": params[:, -1, 1]}[side]
-    return chord_tangents(boundary, side, t, lattice[0 if side in ("bottom", "top") else 1],
-                          along)
+        along = {
+            "bottom": params[0, :, 0],
+            "top": params[-1, :, 0],
+            "left": params[:, 0, 1],
+            "right": params[:, -1, 1],
+        }[side]
+    return chord_tangents(boundary, side, t, lattice[0 if side in ("bottom", "top") else 1], along)
 
 
-def _fold_safe_walls(warm: WarmStart, mapping: Mapping, reference: np.ndarray,
-                     params: np.ndarray | None) -> None:
+def _fold_safe_walls(
+    warm: WarmStart, mapping: Mapping, reference: np.ndarray, params: np.ndarray | None
+) -> None:
     """Halve the wall terms of the warm start (SPEC 7) until its grid on the lattice folds
     no more cells than the reference, dropping them after three halvings."""
     size = reference.shape[1], reference.shape[0]
@@ -104,23 +114,30 @@ def _fold_safe_walls(warm: WarmStart, mapping: Mapping, reference: np.ndarray,
     warm.scale_walls(0.0)
 
 
-def first_steps(lattice: tuple[int, int], params: np.ndarray | None = None
-                ) -> dict[str, float]:
+def first_steps(lattice: tuple[int, int], params: np.ndarray | None = None) -> dict[str, float]:
     """Parameter distance from each side to the next grid row or column: the mean first
     step of ``params`` (nj, ni, 2) (a spacing, spacing.py), else the uniform one."""
     if params is None:
         du, dv = 1.0 / (lattice[0] - 1), 1.0 / (lattice[1] - 1)
         return {"bottom": dv, "top": dv, "left": du, "right": du}
-    return {"bottom": float(params[1, :, 1].mean()), "top": float(1 - params[-2, :, 1].mean()),
-            "left": float(params[:, 1, 0].mean()), "right": float(1 - params[:, -2, 0].mean())}
+    return {
+        "bottom": float(params[1, :, 1].mean()),
+        "top": float(1 - params[-2, :, 1].mean()),
+        "left": float(params[:, 1, 0].mean()),
+        "right": float(1 - params[:, -2, 0].mean()),
+    }
 
 
 def side_points(side: str, t: np.ndarray, inset: float = 0.0) -> np.ndarray:
     """Computational coordinates of parameter ``t`` on a side (SPEC 1), or ``inset`` inside
     it (on the next grid row or column)."""
     zero, one = np.full_like(t, inset), np.full_like(t, 1.0 - inset)
-    return {"bottom": np.column_stack([t, zero]), "top": np.column_stack([t, one]),
-            "left": np.column_stack([zero, t]), "right": np.column_stack([one, t])}[side]
+    return {
+        "bottom": np.column_stack([t, zero]),
+        "top": np.column_stack([t, one]),
+        "left": np.column_stack([zero, t]),
+        "right": np.column_stack([one, t]),
+    }[side]
 
 
 class _Problem:
@@ -132,10 +149,17 @@ class _Problem:
 
     CHUNK = 500
 
-    def __init__(self, mapping: Mapping, boundary: Boundary, aux: Sequence[AuxLine],
-                 settings: Settings, dtype: torch.dtype, device: torch.device,
-                 wall_steps: dict[str, float] | None = None,
-                 params: np.ndarray | None = None) -> None:
+    def __init__(
+        self,
+        mapping: Mapping,
+        boundary: Boundary,
+        aux: Sequence[AuxLine],
+        settings: Settings,
+        dtype: torch.dtype,
+        device: torch.device,
+        wall_steps: dict[str, float] | None = None,
+        params: np.ndarray | None = None,
+    ) -> None:
         self.mapping, self.settings = mapping, settings
         self.dtype, self.device = dtype, device
         penalty = settings.boundary_mode == "penalty"
@@ -160,10 +184,12 @@ class _Problem:
             self.wall_x = self.tensor(xw)
             self.wall_base = self.tensor(mapping.base_jet(xw)) if self.hard else None
             fit = make_fit("arclength", boundary)
-            self.wall_origin = self.tensor(np.concatenate([fit.sample(side, t)
-                                                           for side in walls]))
-            self.wall_tangent = self.tensor(np.concatenate([wall_tangents(
-                boundary, side, t, settings.lattice, params) for side in walls]))
+            self.wall_origin = self.tensor(np.concatenate([fit.sample(side, t) for side in walls]))
+            self.wall_tangent = self.tensor(
+                np.concatenate(
+                    [wall_tangents(boundary, side, t, settings.lattice, params) for side in walls]
+                )
+            )
         self.lattice = None
         if settings.objective == "quality" and settings.method == "pinn" and self.hard:
             ni, nj = lattice_for(*settings.lattice)
@@ -171,9 +197,12 @@ class _Problem:
             if mapping.warm is not None:
                 base = base + mapping.warm.grid(ni, nj)
             xi, eta = np.meshgrid(node_params(ni), node_params(nj))
-            self.lattice = (self.tensor(np.column_stack([xi.ravel(), eta.ravel()])),
-                            self.tensor(base.reshape(-1, 2)), (nj, ni, 2),
-                            1.0 if _area(base) >= 0 else -1.0)
+            self.lattice = (
+                self.tensor(np.column_stack([xi.ravel(), eta.ravel()])),
+                self.tensor(base.reshape(-1, 2)),
+                (nj, ni, 2),
+                1.0 if _area(base) >= 0 else -1.0,
+            )
 
     def tensor(self, a) -> torch.Tensor:
         return torch.as_tensor(np.asarray(a), dtype=self.dtype, device=self.device)
@@ -197,16 +226,27 @@ class _Problem:
         if k == 0:
             x, base, bx, by = self.sample(self.CHUNK * n, self.CHUNK * n)
             if bx is not None:  # side-major -> epoch-major, so that an epoch is one slice
-                bx, by = (t.reshape(4, self.CHUNK, n, 2).transpose(0, 1).reshape(
-                    self.CHUNK, 4 * n, 2) for t in (bx, by))
+                bx, by = (
+                    t.reshape(4, self.CHUNK, n, 2).transpose(0, 1).reshape(self.CHUNK, 4 * n, 2)
+                    for t in (bx, by)
+                )
             self._chunk = x, base, bx, by
         x, base, bx, by = self._chunk
         cut = slice(k * n, (k + 1) * n)
-        return (x[cut], None if base is None else base[:, cut],
-                None if bx is None else bx[k], None if by is None else by[k])
+        return (
+            x[cut],
+            None if base is None else base[:, cut],
+            None if bx is None else bx[k],
+            None if by is None else by[k],
+        )
 
-    def terms(self, x: torch.Tensor, base: torch.Tensor | None, bx: torch.Tensor | None,
-              by: torch.Tensor | None) -> dict[str, torch.Tensor]:
+    def terms(
+        self,
+        x: torch.Tensor,
+        base: torch.Tensor | None,
+        bx: torch.Tensor | None,
+        by: torch.Tensor | None,
+    ) -> dict[str, torch.Tensor]:
         """Unweighted loss terms; boundary and auxiliary points ride along the jet's pass."""
         lattice = self.lattice[0] if self.lattice is not None else None
         points = [p for p in (bx, self.aux_x if self.n_aux else None, lattice) if p is not None]
@@ -218,22 +258,23 @@ class _Problem:
         jet, values = self.mapping.jet(x, base, extra, fast=self.settings.derivatives == "jets")
         if lattice is not None:  # the grid on the lattice, for the cell-quality term
             x_lat, base_lat, shape, orientation = self.lattice
-            grid = self.mapping.compose(values[len(values) - len(x_lat):], x_lat, base_lat)
-            values = values[:len(values) - len(x_lat)]
+            grid = self.mapping.compose(values[len(values) - len(x_lat) :], x_lat, base_lat)
+            values = values[: len(values) - len(x_lat)]
         terms = {"eqns": loss_eqns(jet[:, :n], self.settings.residual == "scaled")}
         if self.n_wall:
             terms["orth"] = loss_orthogonal(jet[0, n:] - self.wall_origin, self.wall_tangent)
         zero = jet.new_zeros(())
         if bx is not None:
-            per_side = loss_points(values[:len(bx)].reshape(4, -1, 2), by.reshape(4, -1, 2))
+            per_side = loss_points(values[: len(bx)].reshape(4, -1, 2), by.reshape(4, -1, 2))
             for j, side in enumerate(SIDES):
                 terms[f"bcs_{side}"] = per_side[j]
             terms["bcs"] = per_side.sum()
         else:
             terms["bcs"] = zero
         if self.n_aux:
-            pred = self.mapping.compose(values[len(values) - self.n_aux:], self.aux_x,
-                                        self.aux_base)
+            pred = self.mapping.compose(
+                values[len(values) - self.n_aux :], self.aux_x, self.aux_base
+            )
             terms["data"] = loss_data(pred, self.aux_y)
         else:
             terms["data"] = zero
@@ -244,9 +285,15 @@ class _Problem:
     def loss(self, terms: dict[str, torch.Tensor], lambda1: float) -> torch.Tensor:
         """The weighted sum of the terms: paper eq. 9, plus the orthogonality (SPEC 7) and
         cell-quality terms."""
-        loss = total_loss(terms["eqns"], terms["bcs"], terms["data"], lambda1,
-                          self.settings.lambda2, terms.get("orth", 0.0),
-                          self.settings.lambda_orthogonal)
+        loss = total_loss(
+            terms["eqns"],
+            terms["bcs"],
+            terms["data"],
+            lambda1,
+            self.settings.lambda2,
+            terms.get("orth", 0.0),
+            self.settings.lambda_orthogonal,
+        )
         return loss + QUALITY_WEIGHT * terms["quality"] if "quality" in terms else loss
 
 
@@ -264,9 +311,15 @@ class _Guard:
     within the tolerance of the elliptic grid's: the best worst angle seen.
     """
 
-    def __init__(self, net: CoordinateNet, mapping: Mapping, reference: np.ndarray,
-                 with_aux: bool, start: np.ndarray | None = None,
-                 params: np.ndarray | None = None) -> None:
+    def __init__(
+        self,
+        net: CoordinateNet,
+        mapping: Mapping,
+        reference: np.ndarray,
+        with_aux: bool,
+        start: np.ndarray | None = None,
+        params: np.ndarray | None = None,
+    ) -> None:
         self.net, self.mapping, self.params = net, mapping, params  # params: spacing.py
         self.mean_tol, self.worst_tol = GUARD_TOL[with_aux]
         self.size = reference.shape[1], reference.shape[0]
@@ -289,12 +342,15 @@ class _Guard:
         q = self._quality(self.mapping.grid(*self.size, params=self.params))
         ref = self.reference
         if self.best_worst:
-            ok = (q["mean_max_angle"] <= ref["mean_max_angle"] + self.mean_tol
-                  and _rank(q) < _rank(self.kept))
+            ok = q["mean_max_angle"] <= ref["mean_max_angle"] + self.mean_tol and _rank(q) < _rank(
+                self.kept
+            )
         else:
-            ok = (q["folded_cells"] <= ref["folded_cells"]
-                  and q["mean_max_angle"] <= ref["mean_max_angle"] + self.mean_tol
-                  and q["worst_max_angle"] <= ref["worst_max_angle"] + self.worst_tol)
+            ok = (
+                q["folded_cells"] <= ref["folded_cells"]
+                and q["mean_max_angle"] <= ref["mean_max_angle"] + self.mean_tol
+                and q["worst_max_angle"] <= ref["worst_max_angle"] + self.worst_tol
+            )
         if ok:
             self.state, self.kept = copy.deepcopy(self.net.state_dict()), q
             self.kept_iterations, self.rejected = iterations, 0
@@ -305,8 +361,12 @@ class _Guard:
     def restore(self) -> dict:
         """Load the kept state; returns what the report says about the guard."""
         self.net.load_state_dict(self.state)
-        return {"lattice": list(self.size), "elliptic": self.reference, "kept": self.kept,
-                "kept_after_lbfgs_iterations": self.kept_iterations}
+        return {
+            "lattice": list(self.size),
+            "elliptic": self.reference,
+            "kept": self.kept,
+            "kept_after_lbfgs_iterations": self.kept_iterations,
+        }
 
 
 def _rank(q: dict[str, float]) -> tuple[int, float]:
@@ -352,17 +412,24 @@ def _optimize_nodes(grid: np.ndarray, mean_bound: float, iterations: int) -> np.
     fixed = torch.as_tensor(grid, dtype=torch.float64)
     orientation = 1.0 if _area(grid) >= 0 else -1.0
     inner0 = fixed[1:-1, 1:-1]
-    edges = [np.linalg.norm(grid[1:-1, 1:-1] - grid[a, b], axis=-1) for a, b in
-             ((slice(2, None), slice(1, -1)), (slice(None, -2), slice(1, -1)),
-              (slice(1, -1), slice(2, None)), (slice(1, -1), slice(None, -2)))]
+    edges = [
+        np.linalg.norm(grid[1:-1, 1:-1] - grid[a, b], axis=-1)
+        for a, b in (
+            (slice(2, None), slice(1, -1)),
+            (slice(None, -2), slice(1, -1)),
+            (slice(1, -1), slice(2, None)),
+            (slice(1, -1), slice(None, -2)),
+        )
+    ]
     unit = torch.as_tensor(np.minimum.reduce(edges))[..., None]
     best = [(math.inf, math.inf), np.zeros(inner0.numel())]
 
     def loss_and_grad(x: np.ndarray) -> tuple[float, np.ndarray]:
         u = torch.from_numpy(x).view(inner0.shape).requires_grad_(True)
         inner = inner0 + unit * u
-        g = torch.cat([fixed[:1], torch.cat([fixed[1:-1, :1], inner, fixed[1:-1, -1:]], dim=1),
-                       fixed[-1:]])
+        g = torch.cat(
+            [fixed[:1], torch.cat([fixed[1:-1, :1], inner, fixed[1:-1, -1:]], dim=1), fixed[-1:]]
+        )
         theta = corner_angles(g, orientation)
         loss = loss_quality(theta)
         loss.backward()
@@ -373,9 +440,19 @@ def _optimize_nodes(grid: np.ndarray, mean_bound: float, iterations: int) -> np.
                 best[:] = rank, x.copy()
         return loss.item(), u.grad.numpy().ravel()
 
-    minimize(loss_and_grad, np.zeros(inner0.numel()), jac=True, method="L-BFGS-B",
-             options={"maxiter": iterations, "maxcor": 10, "maxfun": 3 * iterations,
-                      "ftol": 1e-15, "gtol": 1e-12})
+    minimize(
+        loss_and_grad,
+        np.zeros(inner0.numel()),
+        jac=True,
+        method="L-BFGS-B",
+        options={
+            "maxiter": iterations,
+            "maxcor": 10,
+            "maxfun": 3 * iterations,
+            "ftol": 1e-15,
+            "gtol": 1e-12,
+        },
+    )
     out = np.array(grid, dtype=float)
     out[1:-1, 1:-1] += (unit * torch.from_numpy(best[1]).view(inner0.shape)).numpy()
     return out
@@ -385,13 +462,18 @@ class _History:
     def __init__(self) -> None:
         self.values: dict[str, list[float]] = {}
 
-    def add(self, terms: dict[str, torch.Tensor], lambda1: float, lambda2: float,
-            total: torch.Tensor) -> None:
+    def add(
+        self, terms: dict[str, torch.Tensor], lambda1: float, lambda2: float, total: torch.Tensor
+    ) -> None:
         with torch.no_grad():  # one read of all the terms, not one a term
             values = torch.stack([*terms.values(), total]).tolist()
         row = dict(zip(terms, values))
-        row.update(lambda1=lambda1, weighted_bcs=lambda1 * row["bcs"],
-                   weighted_data=lambda2 * row["data"], total=values[-1])
+        row.update(
+            lambda1=lambda1,
+            weighted_bcs=lambda1 * row["bcs"],
+            weighted_data=lambda2 * row["data"],
+            total=values[-1],
+        )
         for k, v in row.items():
             self.values.setdefault(k, []).append(v)
 
@@ -400,14 +482,23 @@ def _notify(progress, phase: str, step: int, total_steps: int, history: _History
     if progress is None:
         return
     last = {k: v[-1] for k, v in history.values.items()}
-    info = {"phase": phase, "step": step, "total": total_steps, "loss": last["total"],
-            "terms": last}
+    info = {
+        "phase": phase,
+        "step": step,
+        "total": total_steps,
+        "loss": last["total"],
+        "terms": last,
+    }
     if progress(info):
         raise TrainingCancelled(f"training cancelled during {phase} at step {step}")
 
 
-def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
-          progress: Callable[[dict], bool | None] | None = None) -> TrainedModel:
+def train(
+    boundary: Boundary,
+    aux: Sequence[AuxLine],
+    settings: Settings,
+    progress: Callable[[dict], bool | None] | None = None,
+) -> TrainedModel:
     """Train the networks for ``boundary`` (working frame) and return the trained model."""
     dtype = {"float64": torch.float64, "float32": torch.float32}[settings.dtype]
     device = pick_device(settings.device)
@@ -419,8 +510,9 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
         with reuse_freed_memory() if cpu else contextlib.nullcontext():
             torch.manual_seed(settings.seed)
             kind = "shortcut" if settings.method == "pinn" else "mlp"
-            net = CoordinateNet(kind, settings.hidden_layers, settings.neurons,
-                                settings.activation).to(device=device, dtype=dtype)
+            net = CoordinateNet(
+                kind, settings.hidden_layers, settings.neurons, settings.activation
+            ).to(device=device, dtype=dtype)
             aux = aux if settings.method == "pinn" else ()
             quality = settings.objective == "quality" and settings.method == "pinn"
             warm = reference = start = params = None
@@ -436,41 +528,56 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
                 # control reaches); the guard's reference is the elliptic grid under the same
                 # spacing and orthogonality control (SPEC 7)
                 if settings.orthogonal and not settings.spacing:
-                    reference = classical_grid(boundary, *lattice, "elliptic", {},
-                                               settings.orthogonal)[1]
+                    reference = classical_grid(
+                        boundary, *lattice, "elliptic", {}, settings.orthogonal
+                    )[1]
                 if settings.spacing:
                     params, reference = classical_grid(
-                        boundary, *lattice, "elliptic",
-                        working_spacing(settings.spacing, boundary), settings.orthogonal)
+                        boundary,
+                        *lattice,
+                        "elliptic",
+                        working_spacing(settings.spacing, boundary),
+                        settings.orthogonal,
+                    )
                 with torch.no_grad():  # the map starts as the elliptic grid (or quality start)
                     net.w_out.zero_()
             mapping = Mapping(net, boundary, settings.boundary_mode, warm)
             steps = first_steps(lattice, params) if warm is not None else None
             if warm is not None and settings.orthogonal and settings.method == "pinn":
-                warm.orthogonalise(mapping.base_jet, settings.orthogonal,
-                                   lambda side, t: wall_tangents(boundary, side, t,
-                                                                 settings.lattice, params),
-                                   steps)
+                warm.orthogonalise(
+                    mapping.base_jet,
+                    settings.orthogonal,
+                    lambda side, t: wall_tangents(boundary, side, t, settings.lattice, params),
+                    steps,
+                )
                 _fold_safe_walls(warm, mapping, reference, params)
             problem = _Problem(mapping, boundary, aux, settings, dtype, device, steps, params)
-            guard = None if reference is None else _Guard(net, mapping, reference, bool(aux),
-                                                          start, params)
+            guard = (
+                None
+                if reference is None
+                else _Guard(net, mapping, reference, bool(aux), start, params)
+            )
             history = _History()
             lambda1 = 1.0 if settings.boundary_mode == "penalty" else 0.0
             lambda1, recoveries = _adam(net, problem, settings, history, lambda1, progress)
             if guard is not None and settings.adam_epochs:
                 guard.check(0)  # an Adam phase (not needed from the warm start) is checked too
-            lbfgs_ok, lbfgs_iterations = _lbfgs(net, problem, settings, history, lambda1,
-                                                progress, guard)
+            lbfgs_ok, lbfgs_iterations = _lbfgs(
+                net, problem, settings, history, lambda1, progress, guard
+            )
             guarded = guard.restore() if guard is not None else None
     finally:
         torch.set_num_threads(threads)
-    info = {"adam_epochs": settings.adam_epochs,
-            "lbfgs_evaluations": len(history.values.get("total", [])) - settings.adam_epochs,
-            "lbfgs_iterations": lbfgs_iterations,
-            "lambda1": lambda1, "recoveries": recoveries, "lbfgs_accepted": lbfgs_ok,
-            "device": str(device), "final_loss": history.values["total"][-1]
-            if history.values else float("nan")}
+    info = {
+        "adam_epochs": settings.adam_epochs,
+        "lbfgs_evaluations": len(history.values.get("total", [])) - settings.adam_epochs,
+        "lbfgs_iterations": lbfgs_iterations,
+        "lambda1": lambda1,
+        "recoveries": recoveries,
+        "lbfgs_accepted": lbfgs_ok,
+        "device": str(device),
+        "final_loss": history.values["total"][-1] if history.values else float("nan"),
+    }
     if guarded is not None:
         info["guard"] = guarded
         info["start"] = warm.start
@@ -478,8 +585,9 @@ def train(boundary: Boundary, aux: Sequence[AuxLine], settings: Settings,
 
 
 def _bad(loss: float, best: float) -> bool:
-    return not math.isfinite(loss) or (math.isfinite(best) and loss > EXPLODE_FACTOR * best
-                                       and loss > 1.0)
+    return not math.isfinite(loss) or (
+        math.isfinite(best) and loss > EXPLODE_FACTOR * best and loss > 1.0
+    )
 
 
 class _FlatAdam:
@@ -496,7 +604,7 @@ class _FlatAdam:
         self.flat = torch.cat([p.detach().reshape(-1) for p in self.params])
         at = 0
         for p in self.params:
-            p.data = self.flat[at:at + p.numel()].view_as(p)
+            p.data = self.flat[at : at + p.numel()].view_as(p)
             at += p.numel()
         self.reset()
 
@@ -509,21 +617,26 @@ class _FlatAdam:
 
     @torch.no_grad()
     def step(self) -> None:
-        grad = torch.cat([p.grad.reshape(-1) if p.grad is not None
-                          else p.new_zeros(p.numel()) for p in self.params])
+        grad = torch.cat(
+            [
+                p.grad.reshape(-1) if p.grad is not None else p.new_zeros(p.numel())
+                for p in self.params
+            ]
+        )
         (b1, b2), self.t = self.BETAS, self.t + 1
         self.m.lerp_(grad, 1 - b1)
         self.v.mul_(b2).addcmul_(grad, grad, value=1 - b2)
-        denom = (self.v.sqrt() / math.sqrt(1 - b2 ** self.t)).add_(self.EPS)
-        self.flat.addcdiv_(self.m, denom, value=-self.lr / (1 - b1 ** self.t))
+        denom = (self.v.sqrt() / math.sqrt(1 - b2**self.t)).add_(self.EPS)
+        self.flat.addcdiv_(self.m, denom, value=-self.lr / (1 - b1**self.t))
 
     def release(self) -> None:
         for p in self.params:
             p.data = p.data.clone()
 
 
-def _adam(net, problem: _Problem, s: Settings, history: _History, lambda1: float,
-          progress) -> tuple[float, int]:
+def _adam(
+    net, problem: _Problem, s: Settings, history: _History, lambda1: float, progress
+) -> tuple[float, int]:
     if s.adam_epochs == 0:
         return lambda1, 0
     opt = _FlatAdam(net, s.learning_rate)
@@ -533,30 +646,32 @@ def _adam(net, problem: _Problem, s: Settings, history: _History, lambda1: float
         opt.release()
 
 
-def _adam_epochs(net, opt: _FlatAdam, problem: _Problem, s: Settings, history: _History,
-                 lambda1: float, progress) -> tuple[float, int]:
+def _adam_epochs(
+    net, opt: _FlatAdam, problem: _Problem, s: Settings, history: _History, lambda1: float, progress
+) -> tuple[float, int]:
     weights = net.weight_matrices()
     best, recoveries, steps = math.inf, 0, 0
     good_state, good_lambda1 = copy.deepcopy(net.state_dict()), lambda1
     for epoch in range(1, s.adam_epochs + 1):
         terms = problem.terms(*problem.epoch_batch(epoch))
         if s.boundary_mode == "penalty" and epoch % ANNEAL_EVERY == 1:
-            g_eq = torch.autograd.grad(terms["eqns"], weights, retain_graph=True,
-                                       allow_unused=True)
-            g_bc = torch.autograd.grad(terms["bcs"], weights, retain_graph=True,
-                                       allow_unused=True)
+            g_eq = torch.autograd.grad(terms["eqns"], weights, retain_graph=True, allow_unused=True)
+            g_bc = torch.autograd.grad(terms["bcs"], weights, retain_graph=True, allow_unused=True)
             used = [(a, b) for a, b in zip(g_eq, g_bc) if a is not None and b is not None]
-            updated = annealed_lambda([a for a, _ in used], [b for _, b in used], lambda1,
-                                      s.anneal_momentum)
+            updated = annealed_lambda(
+                [a for a, _ in used], [b for _, b in used], lambda1, s.anneal_momentum
+            )
             lambda1 = updated if math.isfinite(updated) else lambda1
         loss = problem.loss(terms, lambda1)
         value = loss.item()
         if _bad(value, best):
             recoveries += 1
             if recoveries > MAX_RECOVERIES:
-                raise TrainingError(f"training diverged (loss {value:.3g} at Adam epoch "
-                                    f"{epoch}) after {MAX_RECOVERIES} recoveries; try a smaller "
-                                    "learning rate or another seed")
+                raise TrainingError(
+                    f"training diverged (loss {value:.3g} at Adam epoch "
+                    f"{epoch}) after {MAX_RECOVERIES} recoveries; try a smaller "
+                    "learning rate or another seed"
+                )
             net.load_state_dict(good_state)
             lambda1 = good_lambda1
             opt.lr *= 0.5
@@ -591,8 +706,15 @@ def _one_blas_thread():
     return threadpool_limits(1, user_api="blas")
 
 
-def _lbfgs(net, problem: _Problem, s: Settings, history: _History, lambda1: float,
-           progress, guard: _Guard | None = None) -> tuple[bool, int]:
+def _lbfgs(
+    net,
+    problem: _Problem,
+    s: Settings,
+    history: _History,
+    lambda1: float,
+    progress,
+    guard: _Guard | None = None,
+) -> tuple[bool, int]:
     """Full-batch L-BFGS (SciPy's L-BFGS-B without bounds, as the paper's TensorFlow code
     used, and without torch.optim's 1.5 s import of torch._dynamo); returns (accepted,
     iterations): not accepted if it diverged and the Adam weights were kept. With a
@@ -639,10 +761,20 @@ def _lbfgs(net, problem: _Problem, s: Settings, history: _History, lambda1: floa
     before = history.values["total"][-1] if history.values else math.inf
     theta = torch.cat([p.detach().flatten() for p in params]).double().cpu().numpy()
     with _one_blas_thread():
-        result = minimize(loss_and_grad, theta, jac=True, method="L-BFGS-B",
-                          callback=each_iteration,
-                          options={"maxiter": s.lbfgs_iterations, "maxcor": 50, "ftol": 1e-15,
-                                   "gtol": 1e-12, "maxfun": int(s.lbfgs_iterations * 1.25) + 1})
+        result = minimize(
+            loss_and_grad,
+            theta,
+            jac=True,
+            method="L-BFGS-B",
+            callback=each_iteration,
+            options={
+                "maxiter": s.lbfgs_iterations,
+                "maxcor": 50,
+                "ftol": 1e-15,
+                "gtol": 1e-12,
+                "maxfun": int(s.lbfgs_iterations * 1.25) + 1,
+            },
+        )
     load(result.x)
     terms = problem.terms(*batch)
     final = problem.loss(terms, lambda1).item()

@@ -26,10 +26,14 @@ def _add_string(fd, name: str, text: str) -> None:
     fd.AddArray(arr)
 
 
-def structured_grid(points: np.ndarray, report: dict | None = None,
-                    history: dict[str, list[float]] | None = None,
-                    cells: dict[str, np.ndarray] | None = None,
-                    patches=None, xyz: np.ndarray | None = None) -> vtkStructuredGrid:
+def structured_grid(
+    points: np.ndarray,
+    report: dict | None = None,
+    history: dict[str, list[float]] | None = None,
+    cells: dict[str, np.ndarray] | None = None,
+    patches=None,
+    xyz: np.ndarray | None = None,
+) -> vtkStructuredGrid:
     """A grid of dimensions (ni, nj, 1) from ``points`` (nj, ni, 2), with quality arrays;
     ``xyz`` (nj, ni, 3), when given, are the points in the user's 3D frame (default z = 0).
 
@@ -63,9 +67,11 @@ def structured_grid(points: np.ndarray, report: dict | None = None,
     for key, value in report.get("quality", {}).items():
         _add_scalar(fd, key, value)
     for side, figures in report.get("sides", {}).items():  # SPEC 7, per side
-        _add_scalar(fd, f"FirstEdge_{side}", [figures["first_edge_min"],
-                                              figures["first_edge_median"],
-                                              figures["first_edge_max"]])
+        _add_scalar(
+            fd,
+            f"FirstEdge_{side}",
+            [figures["first_edge_min"], figures["first_edge_median"], figures["first_edge_max"]],
+        )
         _add_scalar(fd, f"WallAngleDeviation_{side}", figures["max_angle_deviation"])
         _add_scalar(fd, f"GrowthRatio_{side}", figures["max_growth_ratio"])
     for key in ("train_seconds", "mesh_seconds"):
@@ -78,4 +84,3 @@ def structured_grid(points: np.ndarray, report: dict | None = None,
         _add_string(fd, "Topology", topology["kind"])
         _add_scalar(fd, "WakeNodes", topology.get("wake_nodes", 0))
     return grid
-

@@ -61,8 +61,9 @@ def _at_least_4(d: np.ndarray, axis: int) -> np.ndarray:
 class WarmStart:
     """The correction ``D`` (nj, ni, 2) from TFI to the elliptic grid, as a smooth field."""
 
-    def __init__(self, correction: np.ndarray, nodes: tuple | None = None,
-                 start: str = "elliptic") -> None:
+    def __init__(
+        self, correction: np.ndarray, nodes: tuple | None = None, start: str = "elliptic"
+    ) -> None:
         """``nodes``: the (xi, eta) parameters of the lattice's columns and rows when they
         are not uniform (a boundary-layer lattice, spacing.py)."""
         self.correction = np.asarray(correction, dtype=float)
@@ -72,30 +73,39 @@ class WarmStart:
         self.walls: dict[str, np.ndarray] = {}  # side -> turn of the leaving derivative
         self._wall_splines: dict[str, CubicSpline] = {}
         if self.nodes is not None and min(self.correction.shape[:2]) >= 4:
-            self._splines = [RectBivariateSpline(self.nodes[1], self.nodes[0],
-                                                 self.correction[..., k], s=0) for k in range(2)]
+            self._splines = [
+                RectBivariateSpline(self.nodes[1], self.nodes[0], self.correction[..., k], s=0)
+                for k in range(2)
+            ]
             return
         d = _at_least_4(_at_least_4(self.correction, 0), 1)
         eta, xi = node_params(d.shape[0]), node_params(d.shape[1])
         self._splines = [RectBivariateSpline(eta, xi, d[..., k], s=0) for k in range(2)]
 
     @classmethod
-    def elliptic(cls, boundary: Boundary, ni: int, nj: int, orthogonal: tuple[str, ...] = ()
-                 ) -> tuple[WarmStart, np.ndarray]:
+    def elliptic(
+        cls, boundary: Boundary, ni: int, nj: int, orthogonal: tuple[str, ...] = ()
+    ) -> tuple[WarmStart, np.ndarray]:
         """The warm start from the converged elliptic grid on ``ni`` x ``nj`` nodes (with
         Hilgenstock's orthogonality control at the ``orthogonal`` sides); also returns that
         grid (working frame), the reference the training is checked against."""
         base = tfi_grid(ArcLengthFit(boundary).sample, ni, nj)
-        grid = safe_controlled_solve(base, None, orthogonal)[0] if orthogonal else \
-            winslow_solve(base)[0]
+        grid = (
+            safe_controlled_solve(base, None, orthogonal)[0]
+            if orthogonal
+            else winslow_solve(base)[0]
+        )
         if not np.isfinite(grid).all():
-            raise TrainingError("the elliptic grid of the warm start is not finite; train "
-                                "from TFI instead (warm start none)")
+            raise TrainingError(
+                "the elliptic grid of the warm start is not finite; train "
+                "from TFI instead (warm start none)"
+            )
         return cls(grid - base), grid
 
     @classmethod
-    def elliptic_layer(cls, boundary: Boundary, params: np.ndarray,
-                       orthogonal: tuple[str, ...] = ()) -> WarmStart:
+    def elliptic_layer(
+        cls, boundary: Boundary, params: np.ndarray, orthogonal: tuple[str, ...] = ()
+    ) -> WarmStart:
         """The warm start under a spacing (SPEC 7): the elliptic grid with control functions
         on the rectilinear lattice of the mean column and row parameters of ``params``
         (nj, ni, 2), so that the map is resolved, and orthogonal, at the first edges."""
@@ -106,12 +116,15 @@ class WarmStart:
         base = tfi_at(boundary)(lattice)
         grid = safe_controlled_solve(base, lattice, orthogonal)[0]
         if not np.isfinite(grid).all():
-            raise TrainingError("the elliptic grid of the warm start is not finite; train "
-                                "from TFI instead (warm start none)")
+            raise TrainingError(
+                "the elliptic grid of the warm start is not finite; train "
+                "from TFI instead (warm start none)"
+            )
         return cls(grid - base, (xi, eta))
 
-    def orthogonalise(self, base_jet, sides: tuple[str, ...], tangents=None,
-                      steps: dict[str, float] | None = None) -> None:
+    def orthogonalise(
+        self, base_jet, sides: tuple[str, ...], tangents=None, steps: dict[str, float] | None = None
+    ) -> None:
         """Turn the map's derivative leaving each of ``sides`` normal to the side (SPEC 7):
         adds ``w(n) phi(a)``, n the distance across the side and a along it, with
         ``w = n (1 - n / R)^2`` up to R (1, or 1/2 when the opposite side has a term too),
@@ -135,8 +148,11 @@ class WarmStart:
                 inner = x.copy()
                 inner[:, 1 if along_xi else 0] += h if side in ("bottom", "left") else -h
                 reach = 0.5 if OPPOSITE[side] in sides else 1.0
-                leave = (base_jet(inner)[0] - jet[0]) * (
-                    1 if side in ("bottom", "left") else -1) / (h * (1 - h / reach) ** 2)
+                leave = (
+                    (base_jet(inner)[0] - jet[0])
+                    * (1 if side in ("bottom", "left") else -1)
+                    / (h * (1 - h / reach) ** 2)
+                )
             if tangents is not None:
                 tangent = tangents(side, t)
             tau = tangent / np.linalg.norm(tangent, axis=1, keepdims=True)
@@ -168,7 +184,7 @@ class WarmStart:
             r = np.where(inside, 1 - m / reach, 0.0)  # w = m r^2: C1 to zero at the reach
             w = m * r * r
             w1 = np.where(inside, r * r - 2 * m * r / reach, 0.0)
-            w2 = np.where(inside, -4 * r / reach + 2 * m / reach ** 2, 0.0)
+            w2 = np.where(inside, -4 * r / reach + 2 * m / reach**2, 0.0)
             if side in ("top", "right"):  # d/dn = -d/dm: w(n) = -m r^2 turns x_n like w(m)
                 w, w2 = -w, -w2
             f, f1, f2 = (spline(a, k) for k in range(3))
@@ -184,8 +200,12 @@ class WarmStart:
     def jet(self, x: np.ndarray) -> np.ndarray:
         """Jet (6, B, 2) of the correction at points ``x`` (B, 2) = (xi, eta)."""
         xi, eta = x[:, 0], x[:, 1]
-        jet = np.stack([np.stack([s.ev(eta, xi, dx=a, dy=b) for s in self._splines], axis=-1)
-                        for a, b in _ORDERS])
+        jet = np.stack(
+            [
+                np.stack([s.ev(eta, xi, dx=a, dy=b) for s in self._splines], axis=-1)
+                for a, b in _ORDERS
+            ]
+        )
         return jet + self._wall_jet(x, 2) if self.walls else jet
 
     def at(self, x: np.ndarray) -> np.ndarray:

@@ -42,7 +42,8 @@ except ImportError as _exc:  # a clear line in ParaView's output instead of a ba
     raise ImportError(
         f"PINN Structured Mesh plugin: cannot import pinn_engine from {_REPO} ({_exc}); keep "
         "this file in the plugin/ folder of a pinn-mesh checkout and give ParaView's Python "
-        "numpy, scipy and scikit-learn (see scripts/pvenv.sh)") from _exc
+        "numpy, scipy and scikit-learn (see scripts/pvenv.sh)"
+    ) from _exc
 
 from paraview.util.vtkAlgorithm import smdomain, smhint, smproperty, smproxy  # noqa: E402
 
@@ -50,14 +51,22 @@ paraview_plugin_name = "PINN Mesh"
 paraview_plugin_version = __version__
 
 _DEFAULTS = Settings()
-_NEURAL = '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" ' \
-          'property="Method" values="0 1"/>'  # training settings: pinn and mgnet only
-_FOUR_SIDED = '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" ' \
-              'property="Topology" value="0"/>'  # SPEC 7 settings: four-sided domains
-_BODY = '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" ' \
-        'property="Topology" values="1 2"/>'  # O- and C-grid settings
-_PINN_ONLY = '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" ' \
-             'property="Method" value="0"/>'
+_NEURAL = (
+    '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
+    'property="Method" values="0 1"/>'
+)  # training settings: pinn and mgnet only
+_FOUR_SIDED = (
+    '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
+    'property="Topology" value="0"/>'
+)  # SPEC 7 settings: four-sided domains
+_BODY = (
+    '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
+    'property="Topology" values="1 2"/>'
+)  # O- and C-grid settings
+_PINN_ONLY = (
+    '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
+    'property="Method" value="0"/>'
+)
 
 
 def _range(name):
@@ -75,27 +84,46 @@ def _doc(text):
     return f"<Documentation>{text}</Documentation>"
 
 
-@smproxy.filter(name="PINNStructuredMesh", label="PINN Structured Mesh",
-                support_reload=False)  # no developer's "Reload Python Module" button
+@smproxy.filter(
+    name="PINNStructuredMesh", label="PINN Structured Mesh", support_reload=False
+)  # no developer's "Reload Python Module" button
 @smhint.xml('<ShowInMenu category="Mesh Generation"/>')
-@smproperty.input(name="AuxiliaryLines", label="Auxiliary Lines", port_index=1,
-                  multiple_input=True, clean_command="RemoveAllAuxiliaryLines")
+@smproperty.input(
+    name="AuxiliaryLines",
+    label="Auxiliary Lines",
+    port_index=1,
+    multiple_input=True,
+    clean_command="RemoveAllAuxiliaryLines",
+)
 @smdomain.datatype(dataTypes=["vtkPolyData"], composite_data_supported=False)
-@smdomain.xml(_doc("Optional open polylines from one side of the boundary to the opposite "
-                   "side (several polylines per input and several inputs both work). Used "
-                   "by the pinn method only."))
+@smdomain.xml(
+    _doc(
+        "Optional open polylines from one side of the boundary to the opposite "
+        "side (several polylines per input and several inputs both work). Used "
+        "by the pinn method only."
+    )
+)
 @smhint.xml("<Optional/>")
-@smproperty.input(name="Input", port_index=0, multiple_input=True,
-                  clean_command="RemoveAllBoundaryInputs")
+@smproperty.input(
+    name="Input", port_index=0, multiple_input=True, clean_command="RemoveAllBoundaryInputs"
+)
 @smdomain.datatype(dataTypes=["vtkPolyData"], composite_data_supported=False)
-@smdomain.xml(_doc("The closed boundary: one closed polyline or polygon with four corners. "
-                   "Select it together with sources of open auxiliary lines and apply the "
-                   "filter: the closed curve is taken as the boundary, the open ones as "
-                   "auxiliary lines."))
-@smproperty.xml(_doc("Structured quadrilateral grid of a four-sided 2D domain from a "
-                     "physics-informed neural network (pinn), with MGNet, transfinite "
-                     "interpolation and elliptic baselines. Cells are coloured by their "
-                     "included angles (MaxIncludedAngle, MinIncludedAngle)."))
+@smdomain.xml(
+    _doc(
+        "The closed boundary: one closed polyline or polygon with four corners. "
+        "Select it together with sources of open auxiliary lines and apply the "
+        "filter: the closed curve is taken as the boundary, the open ones as "
+        "auxiliary lines."
+    )
+)
+@smproperty.xml(
+    _doc(
+        "Structured quadrilateral grid of a four-sided 2D domain from a "
+        "physics-informed neural network (pinn), with MGNet, transfinite "
+        "interpolation and elliptic baselines. Cells are coloured by their "
+        "included angles (MaxIncludedAngle, MinIncludedAngle)."
+    )
+)
 class PINNStructuredMesh(PinnMeshAlgorithm):
     """The ParaView face of :class:`pinn_engine.algorithm.PinnMeshAlgorithm`."""
 
@@ -109,47 +137,62 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
 
     @smproperty.intvector(name="Method", default_values=0)
     @smdomain.xml(_enum(METHODS))
-    @smdomain.xml(_doc("pinn: the paper's PINN (uses the auxiliary lines); mgnet: plain "
-                       "networks, no auxiliary lines; tfi: transfinite interpolation; "
-                       "elliptic: the classical elliptic (Winslow) method."))
+    @smdomain.xml(
+        _doc(
+            "pinn: the paper's PINN (uses the auxiliary lines); mgnet: plain "
+            "networks, no auxiliary lines; tfi: transfinite interpolation; "
+            "elliptic: the classical elliptic (Winslow) method."
+        )
+    )
     def P01Method(self, index):
         self.SetMethod(int(index))
 
     @smproperty.intvector(name="GridSize", label="Grid Size", default_values=[41, 21])
     @smdomain.intrange(min=2, max=MAX_SIDE_NODES)
-    @smdomain.xml(_doc("Nodes along xi and eta. The default PINN starts from the elliptic "
-                       "grid of this size and trains anew for a new size (seconds); with "
-                       "Preset paper a new size re-evaluates the trained network."))
+    @smdomain.xml(
+        _doc(
+            "Nodes along xi and eta. The default PINN starts from the elliptic "
+            "grid of this size and trains anew for a new size (seconds); with "
+            "Preset paper a new size re-evaluates the trained network."
+        )
+    )
     def P02GridSize(self, ni, nj):
         self.SetGridSize(ni, nj)
 
     @smproperty.intvector(name="Preset", default_values=0)
     @smdomain.xml(_enum(PRESETS))
-    @smdomain.xml(_doc("default: measured defaults (exact boundary, arc-length fit); paper: "
-                       "the paper's section 4 (penalty boundary term, decision-tree fit, "
-                       "1000 elliptic sweeps). Values below left at their defaults follow "
-                       "the preset; changed ones are used as set."))
+    @smdomain.xml(
+        _doc(
+            "default: measured defaults (exact boundary, arc-length fit); paper: "
+            "the paper's section 4 (penalty boundary term, decision-tree fit, "
+            "1000 elliptic sweeps). Values below left at their defaults follow "
+            "the preset; changed ones are used as set."
+        )
+    )
     def P03Preset(self, index):
         self.SetPreset(int(index))
 
-    @smproperty.intvector(name="AdamEpochs", label="Adam Epochs",
-                          default_values=_DEFAULTS.adam_epochs)
+    @smproperty.intvector(
+        name="AdamEpochs", label="Adam Epochs", default_values=_DEFAULTS.adam_epochs
+    )
     @smdomain.intrange(**_range("adam_epochs"))
     @smdomain.xml(_doc("Adam epochs of training (left at the default, the preset's own)."))
     @smhint.xml(_NEURAL)
     def P04AdamEpochs(self, n):
         self.SetPanelSetting("adam_epochs", int(n))
 
-    @smproperty.intvector(name="LBFGSIterations", label="L-BFGS Iterations",
-                          default_values=_DEFAULTS.lbfgs_iterations)
+    @smproperty.intvector(
+        name="LBFGSIterations", label="L-BFGS Iterations", default_values=_DEFAULTS.lbfgs_iterations
+    )
     @smdomain.intrange(**_range("lbfgs_iterations"))
     @smdomain.xml(_doc("L-BFGS iterations after Adam (left at the default, the preset's own)."))
     @smhint.xml(_NEURAL)
     def P05LBFGSIterations(self, n):
         self.SetPanelSetting("lbfgs_iterations", int(n))
 
-    @smproperty.intvector(name="HiddenLayers", label="Hidden Layers",
-                          default_values=_DEFAULTS.hidden_layers)
+    @smproperty.intvector(
+        name="HiddenLayers", label="Hidden Layers", default_values=_DEFAULTS.hidden_layers
+    )
     @smdomain.intrange(**_range("hidden_layers"))
     @smdomain.xml(_doc("Hidden layers of each sub-network."))
     @smhint.xml(_NEURAL)
@@ -176,34 +219,46 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
     def P09Seed(self, n):
         self.SetPanelSetting("seed", int(n))
 
-    @smproperty.intvector(name="CornerIndices", label="Corner Indices",
-                          default_values=[-1, -1, -1, -1])
-    @smdomain.xml(_doc("The four corner point indices of the boundary; -1 -1 -1 -1 finds "
-                       "them automatically (the four sharpest turns)."))
+    @smproperty.intvector(
+        name="CornerIndices", label="Corner Indices", default_values=[-1, -1, -1, -1]
+    )
+    @smdomain.xml(
+        _doc(
+            "The four corner point indices of the boundary; -1 -1 -1 -1 finds "
+            "them automatically (the four sharpest turns)."
+        )
+    )
     def P10CornerIndices(self, i0, i1, i2, i3):
         self.SetCorners(i0, i1, i2, i3)
 
     @smproperty.intvector(name="Objective", default_values=OBJECTIVES.index(_DEFAULTS.objective))
     @smdomain.xml(_enum(OBJECTIVES))
-    @smdomain.xml(_doc("winslow: train on the Winslow equations; quality: add a cell-quality "
-                       "term that lowers the worst cell's largest angle, starting from the "
-                       "better of the elliptic and TFI grids (pinn only)."))
+    @smdomain.xml(
+        _doc(
+            "winslow: train on the Winslow equations; quality: add a cell-quality "
+            "term that lowers the worst cell's largest angle, starting from the "
+            "better of the elliptic and TFI grids (pinn only)."
+        )
+    )
     @smhint.xml(_PINN_ONLY)
     def P11Objective(self, index):
         self.SetPanelSetting("objective", OBJECTIVES[int(index)])
 
     @smproperty.intvector(name="Topology", default_values=0)
-    @smdomain.xml(_enum(("Four-sided domain", "O-grid", "C-grid")) + _doc(
-        "Four-sided domain: the input is a closed boundary with four corners. O-grid / "
-        "C-grid: the input is a body such as an airfoil (the Airfoil source, or a .dat file "
-        "opened with the Airfoil reader): one curve, meshed out to a far-field circle of Far "
-        "Field Radius chords, or two closed polylines (body inside far field). The C-grid "
-        "needs a sharp trailing edge. Methods pinn, tfi, elliptic (docs/airfoils.md)."))
+    @smdomain.xml(
+        _enum(("Four-sided domain", "O-grid", "C-grid"))
+        + _doc(
+            "Four-sided domain: the input is a closed boundary with four corners. O-grid / "
+            "C-grid: the input is a body such as an airfoil (the Airfoil source, or a .dat file "
+            "opened with the Airfoil reader): one curve, meshed out to a far-field circle of Far "
+            "Field Radius chords, or two closed polylines (body inside far field). The C-grid "
+            "needs a sharp trailing edge. Methods pinn, tfi, elliptic (docs/airfoils.md)."
+        )
+    )
     def P11Topology(self, index):
         self.SetTopology(int(index))
 
-    @smproperty.doublevector(name="FarFieldRadius", label="Far Field Radius",
-                             default_values=15.0)
+    @smproperty.doublevector(name="FarFieldRadius", label="Far Field Radius", default_values=15.0)
     @smdomain.doublerange(min=1.0)
     @smdomain.xml(_doc("Far-field circle radius in chords about mid-chord."))
     @smhint.xml(_BODY)
@@ -212,46 +267,69 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
 
     @smproperty.doublevector(name="WallSpacing", label="Wall Spacing", default_values=0.0)
     @smdomain.doublerange(min=0.0)
-    @smdomain.xml(_doc("First-layer height off the body wall, in the body's units (0: half "
-                       "the mean node spacing along the wall)."))
+    @smdomain.xml(
+        _doc(
+            "First-layer height off the body wall, in the body's units (0: half "
+            "the mean node spacing along the wall)."
+        )
+    )
     @smhint.xml(_BODY)
     def P13WallSpacing(self, h):
         self.SetWallSpacing(h)
 
-    @smproperty.doublevector(name="FirstEdgeSpacing", label="First Edge Spacing",
-                             default_values=[0.0, 0.0, 0.0, 0.0])
-    @smdomain.xml(_doc("Length of the first grid edge leaving the bottom, right, top and "
-                       "left sides, in the boundary's units (0: that side keeps the even "
-                       "distribution). The spacing grows smoothly away from the side "
-                       "(Vinokur's stretching); pinn, tfi and elliptic, four-sided domains "
-                       "(docs/boundary_layer.md)."))
+    @smproperty.doublevector(
+        name="FirstEdgeSpacing", label="First Edge Spacing", default_values=[0.0, 0.0, 0.0, 0.0]
+    )
+    @smdomain.xml(
+        _doc(
+            "Length of the first grid edge leaving the bottom, right, top and "
+            "left sides, in the boundary's units (0: that side keeps the even "
+            "distribution). The spacing grows smoothly away from the side "
+            "(Vinokur's stretching); pinn, tfi and elliptic, four-sided domains "
+            "(docs/boundary_layer.md)."
+        )
+    )
     @smhint.xml(_FOUR_SIDED)
     def P14FirstEdgeSpacing(self, bottom, right, top, left):
         self.SetSpacing(float(bottom), float(right), float(top), float(left))
 
-    @smproperty.intvector(name="OrthogonalSides", label="Orthogonal Sides",
-                          default_values=[0, 0, 0, 0])
+    @smproperty.intvector(
+        name="OrthogonalSides", label="Orthogonal Sides", default_values=[0, 0, 0, 0]
+    )
     @smdomain.intrange(min=0, max=1)
-    @smdomain.xml(_doc("1 for each of the bottom, right, top and left sides that grid lines "
-                       "are to leave at 90 degrees (pinn: a loss term; elliptic: "
-                       "Hilgenstock control functions; not tfi or mgnet)."))
+    @smdomain.xml(
+        _doc(
+            "1 for each of the bottom, right, top and left sides that grid lines "
+            "are to leave at 90 degrees (pinn: a loss term; elliptic: "
+            "Hilgenstock control functions; not tfi or mgnet)."
+        )
+    )
     @smhint.xml(_FOUR_SIDED)
     def P15OrthogonalSides(self, bottom, right, top, left):
         self.SetOrthogonal(int(bottom), int(right), int(top), int(left))
 
-    @smproperty.stringvector(name="PatchNames", label="Patch Names",
-                             default_values="bottom right top left")
-    @smdomain.xml(_doc("Boundary patch names for solver formats (File > Save Data: PLOT3D, "
-                       "CGNS, SU2, Gmsh, OpenFOAM): four names for the bottom, right, top "
-                       "and left sides, or SIDE=NAME items such as 'bottom=wall top=wall'. "
-                       "Sides with the same name form one patch."))
+    @smproperty.stringvector(
+        name="PatchNames", label="Patch Names", default_values="bottom right top left"
+    )
+    @smdomain.xml(
+        _doc(
+            "Boundary patch names for solver formats (File > Save Data: PLOT3D, "
+            "CGNS, SU2, Gmsh, OpenFOAM): four names for the bottom, right, top "
+            "and left sides, or SIDE=NAME items such as 'bottom=wall top=wall'. "
+            "Sides with the same name form one patch."
+        )
+    )
     def P20PatchNames(self, text):
         self.SetPatchNames(text)
 
 
-@smproxy.reader(name="PINNAirfoilReader", label="Airfoil Reader", extensions="dat",
-                file_description="Airfoil coordinates (Selig or Lednicer)",
-                support_reload=False)
+@smproxy.reader(
+    name="PINNAirfoilReader",
+    label="Airfoil Reader",
+    extensions="dat",
+    file_description="Airfoil coordinates (Selig or Lednicer)",
+    support_reload=False,
+)
 class PINNAirfoilReader(AirfoilReader):
     """An airfoil .dat file as a polyline, for PINN Structured Mesh with Topology O/C."""
 
@@ -271,10 +349,11 @@ class PINNAirfoilSource(AirfoilSource):
     def P01NACA(self, code):
         self.SetNACA(code)
 
-    @smproperty.intvector(name="SharpTrailingEdge", label="Sharp Trailing Edge",
-                          default_values=1)
-    @smdomain.xml('<BooleanDomain name="bool"/>' + _doc(
-        "Closed trailing edge (for the C-grid); off: the classical blunt one (O-grid)."))
+    @smproperty.intvector(name="SharpTrailingEdge", label="Sharp Trailing Edge", default_values=1)
+    @smdomain.xml(
+        '<BooleanDomain name="bool"/>'
+        + _doc("Closed trailing edge (for the C-grid); off: the classical blunt one (O-grid).")
+    )
     def P02SharpTrailingEdge(self, sharp):
         self.SetSharpTrailingEdge(sharp)
 
@@ -282,9 +361,12 @@ class PINNAirfoilSource(AirfoilSource):
 def _writer_proxy(key, extension, name):
     """File > Save Data entry for one solver format (``pinn_engine.export``)."""
     fmt = FORMATS[key]
-    thickness = ("One cell of this thickness in z (0: the grid's mean edge length); "
-                 "OpenFOAM meshes are always 3D." if key == "openfoam" else
-                 "0 writes a 2D grid; a thickness T writes one cell of thickness T in z.")
+    thickness = (
+        "One cell of this thickness in z (0: the grid's mean edge length); "
+        "OpenFOAM meshes are always 3D."
+        if key == "openfoam"
+        else "0 writes a 2D grid; a thickness T writes one cell of thickness T in z."
+    )
 
     class Writer(GridWriter):
         FORMAT = key
@@ -295,8 +377,10 @@ def _writer_proxy(key, extension, name):
             GridWriter.SetFileName(self, name)
 
         if fmt.extrudes:
-            @smproperty.doublevector(name="ExtrudeThickness", label="Extrude Thickness",
-                                     default_values=0.0)
+
+            @smproperty.doublevector(
+                name="ExtrudeThickness", label="Extrude Thickness", default_values=0.0
+            )
             @smdomain.doublerange(min=0.0)
             @smdomain.xml(_doc(thickness))
             def SetExtrudeThickness(self, value):
@@ -304,13 +388,18 @@ def _writer_proxy(key, extension, name):
 
     Writer.__name__ = Writer.__qualname__ = name
     Writer.__module__ = __name__
-    Writer = smdomain.datatype(dataTypes=["vtkStructuredGrid"],  # noqa: N806
-                               composite_data_supported=False)(Writer)
+    Writer = smdomain.datatype(
+        dataTypes=["vtkStructuredGrid"],  # noqa: N806
+        composite_data_supported=False,
+    )(Writer)
     Writer = smproperty.input(name="Input", port_index=0)(Writer)  # noqa: N806
-    return smproxy.writer(name=name, label=name,
-                          extensions=extension,
-                          file_description=f"PINN Mesh {fmt.description}",
-                          support_reload=False)(Writer)
+    return smproxy.writer(
+        name=name,
+        label=name,
+        extensions=extension,
+        file_description=f"PINN Mesh {fmt.description}",
+        support_reload=False,
+    )(Writer)
 
 
 for _key, (_extension, _name) in PARAVIEW_FORMATS.items():

@@ -56,8 +56,16 @@ def quad_ring(rng) -> np.ndarray:
     corners = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
     corners += rng.uniform(-0.2, 0.2, (4, 2))
     corners[:, 0] *= 10 ** rng.uniform(-1, 1)
-    parts = [_side(corners[k], corners[(k + 1) % 4], int(rng.integers(1, 40)),
-                   rng.uniform(-0.08, 0.08), rng) for k in range(4)]
+    parts = [
+        _side(
+            corners[k],
+            corners[(k + 1) % 4],
+            int(rng.integers(1, 40)),
+            rng.uniform(-0.08, 0.08),
+            rng,
+        )
+        for k in range(4)
+    ]
     return np.vstack(parts)
 
 
@@ -89,8 +97,7 @@ def random_ring(rng) -> np.ndarray:
     return rng.uniform(-1, 1, (int(rng.integers(0, 30)), 2))
 
 
-SHAPES = [(quad_ring, 5), (annulus_ring, 2), (example_ring, 2), (circle_ring, 1),
-          (random_ring, 1)]
+SHAPES = [(quad_ring, 5), (annulus_ring, 2), (example_ring, 2), (circle_ring, 1), (random_ring, 1)]
 
 
 # ---------------------------------------------------------------- mutations
@@ -102,16 +109,34 @@ def _mutate_points(p: np.ndarray, rng) -> tuple[np.ndarray, list[str]]:
         if len(p) == 0:
             break
         k = int(rng.integers(len(p)))
-        what = rng.choice(["dup", "near_dup", "drop", "swap", "nonfinite", "reverse", "roll",
-                           "scale", "offset", "rotate", "close", "micro", "spike", "huge",
-                           "collinear_corner", "flatten", "jitter", "repeat_far"])
+        what = rng.choice(
+            [
+                "dup",
+                "near_dup",
+                "drop",
+                "swap",
+                "nonfinite",
+                "reverse",
+                "roll",
+                "scale",
+                "offset",
+                "rotate",
+                "close",
+                "micro",
+                "spike",
+                "huge",
+                "collinear_corner",
+                "flatten",
+                "jitter",
+                "repeat_far",
+            ]
+        )
         notes.append(str(what))
         if what == "dup":
             p = np.insert(p, k, p[k], axis=0)
         elif what == "near_dup":
             span = float(np.ptp(p, axis=0).max()) or 1.0
-            p = np.insert(p, k, p[k] + rng.normal(0, span * 10 ** rng.uniform(-14, -5), 2),
-                          axis=0)
+            p = np.insert(p, k, p[k] + rng.normal(0, span * 10 ** rng.uniform(-14, -5), 2), axis=0)
         elif what == "drop":
             p = np.delete(p, rng.integers(len(p), size=int(rng.integers(1, 4))), axis=0)
         elif what == "swap":
@@ -139,8 +164,9 @@ def _mutate_points(p: np.ndarray, rng) -> tuple[np.ndarray, list[str]]:
             p = np.insert(p, j, p[k] + (p[j] - p[k]) * 10 ** rng.uniform(-9, -3), axis=0)
         elif what == "spike":
             j = (k + 1) % len(p)
-            p = np.insert(p, j, [p[k] + rng.normal(0, 1, 2) * float(np.ptp(p, axis=0).max()),
-                                 p[k]], axis=0)
+            p = np.insert(
+                p, j, [p[k] + rng.normal(0, 1, 2) * float(np.ptp(p, axis=0).max()), p[k]], axis=0
+            )
         elif what == "huge":
             p = p.copy()
             p[k] = rng.choice([1e308, -1e308, 1e200, 1e-300])
@@ -152,7 +178,8 @@ def _mutate_points(p: np.ndarray, rng) -> tuple[np.ndarray, list[str]]:
             p[:, 1] = p[0, 1]
         elif what == "jitter":
             p = p + rng.normal(0, 10 ** rng.uniform(-12, -2), p.shape) * (
-                float(np.ptp(p, axis=0).max()) if len(p) else 1.0)
+                float(np.ptp(p, axis=0).max()) if len(p) else 1.0
+            )
         elif what == "repeat_far" and len(p) > 4:
             p = np.insert(p, int(rng.integers(len(p))), p[k], axis=0)
     return p, notes
@@ -165,7 +192,7 @@ def _mutate_bytes(data: bytes, rng) -> bytes:
         for _ in range(int(rng.integers(1, 8))):
             b[int(rng.integers(len(b)))] = int(rng.integers(256))
     elif what == "truncate" and b:
-        b = b[:int(rng.integers(len(b)))]
+        b = b[: int(rng.integers(len(b)))]
     elif what == "garbage":
         k = int(rng.integers(len(b) + 1))
         b[k:k] = rng.bytes(int(rng.integers(1, 64)))
@@ -175,7 +202,7 @@ def _mutate_bytes(data: bytes, rng) -> bytes:
         b = bytearray()
     elif what == "dup_chunk" and b:
         k = int(rng.integers(len(b)))
-        b[k:k] = b[k:k + int(rng.integers(1, 200))]
+        b[k:k] = b[k : k + int(rng.integers(1, 200))]
     return bytes(b)
 
 
@@ -246,15 +273,20 @@ def write_boundary(points: np.ndarray, folder: Path, rng) -> tuple[Path, list[st
         if rng.random() < 0.1:
             lines.insert(0, "# exported by a CAD system")
         fmt = str(rng.choice(["%.17g", "%.6g", "%r"]))
-        lines += [sep.join((fmt % v) if fmt != "%r" else repr(float(v)) for v in row)
-                  for row in cols]
+        lines += [
+            sep.join((fmt % v) if fmt != "%r" else repr(float(v)) for v in row) for row in cols
+        ]
         path.write_text("\n".join(lines) + ("\n" if rng.random() < 0.8 else ""))
     elif len(points) < 3:  # VTK's writers crash on cells of fewer points
         path = path.with_suffix(".csv")
         np.savetxt(path, points, delimiter=",")
     else:
-        kind = str(rng.choice(["polygon", "closed_line", "segments", "open_line", "two_cells"],
-                              p=[0.35, 0.35, 0.2, 0.05, 0.05]))
+        kind = str(
+            rng.choice(
+                ["polygon", "closed_line", "segments", "open_line", "two_cells"],
+                p=[0.35, 0.35, 0.2, 0.05, 0.05],
+            )
+        )
         notes.append(kind)
         _write_poly(_polydata(points, kind, z), path, ascii_data=rng.random() < 0.3)
     if rng.random() < 0.12:
@@ -332,8 +364,7 @@ def make_case(seed: int, folder: Path) -> tuple[list[str], list[str]]:
     if rng.random() < 0.05:
         size[int(rng.integers(2))] = int(rng.choice([1, 0, -5, 30000, 10**9]))
     out = folder / "out" / "grid.vts"
-    argv = [str(boundary), "--method", method, "--size", *map(str, size), "-o", str(out),
-            "--quiet"]
+    argv = [str(boundary), "--method", method, "--size", *map(str, size), "-o", str(out), "--quiet"]
     if rng.random() < 0.3:
         aux, more = write_aux(points, folder, rng)
         notes += more
@@ -348,8 +379,13 @@ def make_case(seed: int, folder: Path) -> tuple[list[str], list[str]]:
     if method == "elliptic" and rng.random() < 0.3:
         argv += ["--elliptic-iterations", str(int(rng.integers(0, 50)))]
     if rng.random() < 0.03:
-        argv += [str(rng.choice(["--frobnicate", "--size", "--seed=-3", "--method=foo",
-                                 "--preset", "--corners"]))]
+        argv += [
+            str(
+                rng.choice(
+                    ["--frobnicate", "--size", "--seed=-3", "--method=foo", "--preset", "--corners"]
+                )
+            )
+        ]
     return argv, notes
 
 
@@ -402,8 +438,16 @@ def run_case(seed: int, folder: Path) -> dict:
         problem = f"C-level stderr output: {c_text[:200]!r}"
     category = err.splitlines()[-1] if err else ""
     category = category.split(":", 3)[-1].strip()[:60] if rc == 2 else f"status {rc}"
-    return {"seed": seed, "argv": argv, "notes": notes, "rc": rc, "stderr": err[-2000:],
-            "seconds": round(seconds, 3), "problem": problem, "category": category}
+    return {
+        "seed": seed,
+        "argv": argv,
+        "notes": notes,
+        "rc": rc,
+        "stderr": err[-2000:],
+        "seconds": round(seconds, 3),
+        "problem": problem,
+        "category": category,
+    }
 
 
 def check_outcome(rc, err: str, out: Path, argv: list[str]) -> str | None:
@@ -417,8 +461,11 @@ def check_outcome(rc, err: str, out: Path, argv: list[str]) -> str | None:
     if rc == 2:
         lines = err.splitlines()
         if "usage:" in err:  # argparse's own two-line message
-            return None if lines and lines[-1].startswith("pinn-mesh: error:") else \
-                f"argparse output without an error line: {err[:200]!r}"
+            return (
+                None
+                if lines and lines[-1].startswith("pinn-mesh: error:")
+                else f"argparse output without an error line: {err[:200]!r}"
+            )
         if len(lines) != 1 or not lines[0].startswith("pinn-mesh: error: "):
             return f"status 2 without a one-line error: {err[:300]!r}"
         if out.exists():
@@ -435,7 +482,7 @@ def check_grid(path: Path, argv: list[str]) -> str | None:
     reader.SetFileName(str(path))
     reader.Update()
     grid = reader.GetOutput()
-    ni, nj = (int(v) for v in argv[argv.index("--size") + 1:argv.index("--size") + 3])
+    ni, nj = (int(v) for v in argv[argv.index("--size") + 1 : argv.index("--size") + 3])
     extent = tuple(grid.GetExtent())
     if extent != (0, ni - 1, 0, nj - 1, 0, 0):
         return f"grid extent {extent}, expected {(0, ni - 1, 0, nj - 1, 0, 0)}"
@@ -482,15 +529,30 @@ def supervise(base: int, seconds: float, workdir: Path, case_timeout: float) -> 
     (workdir / "tmp").mkdir(exist_ok=True)
     (workdir / "cases.jsonl").write_text("")
     deadline = time.time() + seconds
-    print(f"fuzzing pinn-mesh for {seconds:.0f} s, base seed {base}, work folder {workdir}",
-          flush=True)
+    print(
+        f"fuzzing pinn-mesh for {seconds:.0f} s, base seed {base}, work folder {workdir}",
+        flush=True,
+    )
     number, crashes = 0, []
     state = workdir / "current"
     while time.time() < deadline:
         state.write_text(str(number))
-        proc = subprocess.Popen([sys.executable, __file__, "--worker", "--seed", str(base),
-                                 "--first", str(number), "--deadline", str(deadline),
-                                 "--workdir", str(workdir)], cwd=ROOT)
+        proc = subprocess.Popen(
+            [
+                sys.executable,
+                __file__,
+                "--worker",
+                "--seed",
+                str(base),
+                "--first",
+                str(number),
+                "--deadline",
+                str(deadline),
+                "--workdir",
+                str(workdir),
+            ],
+            cwd=ROOT,
+        )
         last, since = state.read_text(), time.time()
         while proc.poll() is None:
             time.sleep(0.5)
@@ -505,8 +567,11 @@ def supervise(base: int, seconds: float, workdir: Path, case_timeout: float) -> 
         if current == "done":
             break
         seed = base * CASES_PER_SEED + int(current)
-        why = f"exit status {proc.returncode}" if proc.returncode not in (None, -9) else \
-            f"no progress for {case_timeout:.0f} s"
+        why = (
+            f"exit status {proc.returncode}"
+            if proc.returncode not in (None, -9)
+            else f"no progress for {case_timeout:.0f} s"
+        )
         crashes.append({"seed": seed, "problem": f"worker died or hung ({why})"})
         print(f"  case {seed}: worker died or hung ({why}); restarting", flush=True)
         number = int(current) + 1
@@ -514,12 +579,17 @@ def supervise(base: int, seconds: float, workdir: Path, case_timeout: float) -> 
 
 
 def summarise(workdir: Path, crashes: list[dict]) -> int:
-    results = [json.loads(line) for line in (workdir / "cases.jsonl").read_text().splitlines()
-               if line.strip()]
+    results = [
+        json.loads(line)
+        for line in (workdir / "cases.jsonl").read_text().splitlines()
+        if line.strip()
+    ]
     findings = [r for r in results if r["problem"]] + crashes
     rc = Counter(str(r["rc"]) for r in results)
-    print(f"{len(results)} cases in {sum(r['seconds'] for r in results):.0f} s of meshing: "
-          + ", ".join(f"status {k}: {v}" for k, v in sorted(rc.items())))
+    print(
+        f"{len(results)} cases in {sum(r['seconds'] for r in results):.0f} s of meshing: "
+        + ", ".join(f"status {k}: {v}" for k, v in sorted(rc.items()))
+    )
     print("most common errors:")
     for text, count in Counter(r["category"] for r in results if r["rc"] == 2).most_common(12):
         print(f"  {count:5d}  {text}")
@@ -549,10 +619,18 @@ def main(argv: list[str] | None = None) -> int:
     budget.add_argument("--seconds", type=float, help="time budget in seconds")
     budget.add_argument("--minutes", type=float, help="time budget in minutes")
     p.add_argument("--seed", type=int, default=None, help="base seed (default: from the clock)")
-    p.add_argument("--workdir", type=Path, default=None,
-                   help="folder for the case log and findings (default: a new temp folder)")
-    p.add_argument("--case-timeout", type=float, default=120.0,
-                   help="a case running longer than this is a finding (hang)")
+    p.add_argument(
+        "--workdir",
+        type=Path,
+        default=None,
+        help="folder for the case log and findings (default: a new temp folder)",
+    )
+    p.add_argument(
+        "--case-timeout",
+        type=float,
+        default=120.0,
+        help="a case running longer than this is a finding (hang)",
+    )
     p.add_argument("--replay", type=int, metavar="CASE_SEED", help="rerun one case")
     p.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     p.add_argument("--first", type=int, default=0, help=argparse.SUPPRESS)

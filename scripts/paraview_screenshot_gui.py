@@ -25,12 +25,18 @@ def main():
     repo = os.environ["PINN_SHOT_REPO"]
     data = os.path.join(repo, "example_data")
 
-    boundary = XMLPolyDataReader(registrationName="fig2.vtp",
-                                 FileName=[os.path.join(data, "fig2.vtp")])
-    aux = XMLPolyDataReader(registrationName="fig2_aux.vtp",
-                            FileName=[os.path.join(data, "fig2_aux.vtp")])
-    mesh = simple.PINNStructuredMesh(registrationName="PINNStructuredMesh1", Input=boundary,
-                                     AuxiliaryLines=[aux], GridSize=[41, 21])
+    boundary = XMLPolyDataReader(
+        registrationName="fig2.vtp", FileName=[os.path.join(data, "fig2.vtp")]
+    )
+    aux = XMLPolyDataReader(
+        registrationName="fig2_aux.vtp", FileName=[os.path.join(data, "fig2_aux.vtp")]
+    )
+    mesh = simple.PINNStructuredMesh(
+        registrationName="PINNStructuredMesh1",
+        Input=boundary,
+        AuxiliaryLines=[aux],
+        GridSize=[41, 21],
+    )
 
     view = GetActiveViewOrCreate("RenderView")
     view.OrientationAxesVisibility = 0

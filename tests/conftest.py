@@ -19,15 +19,22 @@ CASES = ("wavy", "fig2", "concave")
 # the fused jet kernels need a C++ compiler; without one the torch-operation path is tested
 needs_compiler = pytest.mark.skipif(
     not (os.environ.get("CXX") or shutil.which("c++") or shutil.which("g++")),
-    reason="no C++ compiler: the fused jet kernels cannot be built here")
+    reason="no C++ compiler: the fused jet kernels cannot be built here",
+)
 
 
 def square_ring(n: int = 10, size: float = 1.0) -> np.ndarray:
     """Counter-clockwise square with ``n`` segments per side, starting at (0, 0)."""
     t = np.linspace(0, size, n + 1)[:-1]
     z, s = np.zeros_like(t), np.full_like(t, size)
-    return np.vstack([np.column_stack([t, z]), np.column_stack([s, t]),
-                      np.column_stack([size - t, s]), np.column_stack([z, size - t])])
+    return np.vstack(
+        [
+            np.column_stack([t, z]),
+            np.column_stack([s, t]),
+            np.column_stack([size - t, s]),
+            np.column_stack([z, size - t]),
+        ]
+    )
 
 
 def wavy_ring(n: int = 24) -> np.ndarray:

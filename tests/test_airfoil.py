@@ -41,9 +41,14 @@ def test_selig_and_lednicer_give_the_same_airfoil(tmp_path):
     xy = naca4("2412", points=41)
     a, name = read_dat(_selig(tmp_path / "a.dat", xy, "NACA 2412"))
     n = 41
-    upper, lower = xy[:n][::-1], xy[n - 1:]
-    text = "NACA 2412\n41. 41.\n\n" + "\n".join(f"{x} {y}" for x, y in upper) + "\n\n" \
-        + "\n".join(f"{x} {y}" for x, y in lower) + "\n"
+    upper, lower = xy[:n][::-1], xy[n - 1 :]
+    text = (
+        "NACA 2412\n41. 41.\n\n"
+        + "\n".join(f"{x} {y}" for x, y in upper)
+        + "\n\n"
+        + "\n".join(f"{x} {y}" for x, y in lower)
+        + "\n"
+    )
     (tmp_path / "b.dat").write_text(text)
     b, _ = read_dat(tmp_path / "b.dat")
     assert name == "NACA 2412"
@@ -51,11 +56,14 @@ def test_selig_and_lednicer_give_the_same_airfoil(tmp_path):
     np.testing.assert_allclose(b, xy, atol=1e-6)
 
 
-@pytest.mark.parametrize("text, words", [
-    ("name\n1 0\n0.5 x\n", "not an 'x y' row"),
-    ("name\n1 0\n0 0\n1 0\n", "at least 5"),
-    ("just a name\n", "no 'x y' coordinate rows"),
-])
+@pytest.mark.parametrize(
+    "text, words",
+    [
+        ("name\n1 0\n0.5 x\n", "not an 'x y' row"),
+        ("name\n1 0\n0 0\n1 0\n", "at least 5"),
+        ("just a name\n", "no 'x y' coordinate rows"),
+    ],
+)
 def test_bad_dat_files_fail_in_one_line(tmp_path, text, words):
     path = tmp_path / "bad.dat"
     path.write_text(text)
@@ -101,10 +109,10 @@ def test_c_grid_cut_outflow_far_field_and_wall(c_grid):
     t = result.report["topology"]
     n = t["wake_nodes"]
     assert t["cut_gap"] == 0.0
-    np.testing.assert_array_equal(g[0, :n + 1], g[0, ::-1][:n + 1])  # coincide pairwise
+    np.testing.assert_array_equal(g[0, : n + 1], g[0, ::-1][: n + 1])  # coincide pairwise
     np.testing.assert_allclose(g[0, n], body.surface[0])  # the trailing edge
-    assert np.all(np.diff(g[0, :n + 1, 0]) < 0)  # the cut runs from the outflow to the TE
-    np.testing.assert_allclose(g[0, :n + 1, 1], body.surface[0, 1])  # straight, in +x
+    assert np.all(np.diff(g[0, : n + 1, 0]) < 0)  # the cut runs from the outflow to the TE
+    np.testing.assert_allclose(g[0, : n + 1, 1], body.surface[0, 1])  # straight, in +x
     x_out = far.center[0] + far.radius
     np.testing.assert_allclose(g[:, 0, 0], x_out)  # outflow columns
     np.testing.assert_allclose(g[:, -1, 0], x_out)
@@ -141,8 +149,9 @@ def test_pinn_is_periodic_in_xi(o_grid):
 
 def test_paper_preset_trains_from_tfi():
     body = load_body(naca="0012", te="blunt")
-    settings = make_settings("pinn", "paper", lattice=(41, 17), adam_epochs=20,
-                             lbfgs_iterations=5, lbfgs_points=100)
+    settings = make_settings(
+        "pinn", "paper", lattice=(41, 17), adam_epochs=20, lbfgs_iterations=5, lbfgs_points=100
+    )
     r = mesh_body(body, circle(body, 8), "o", "pinn", 41, 17, settings)
     assert r.report["training"]["warm_start"] == "none"
     assert r.report["topology"]["seam_gap"] == 0.0
@@ -164,8 +173,12 @@ def test_two_polylines_file(tmp_path):
     body = naca4("0012", points=61, te="blunt")
     th = np.linspace(0, 2 * np.pi, 80, endpoint=False)
     outer = np.column_stack([0.5 + 8 * np.cos(th), 6 * np.sin(th)])  # an ellipse
-    text = "\n".join(f"{x},{y}" for x, y in body) + "\n\n" + \
-        "\n".join(f"{x},{y}" for x, y in outer) + "\n"
+    text = (
+        "\n".join(f"{x},{y}" for x, y in body)
+        + "\n\n"
+        + "\n".join(f"{x},{y}" for x, y in outer)
+        + "\n"
+    )
     path = tmp_path / "two.csv"
     path.write_text(text)
     b, far = read_body_and_farfield(path)
@@ -191,9 +204,26 @@ def _read(path):
 
 def test_cli_o_and_c_grids(tmp_path, capsys):
     out = tmp_path / "o.vts"
-    rc = main(["--naca", "0012", "--topology", "o", "--method", "tfi", "--size", "61", "21",
-               "--spacing", "bottom=1e-3", "-o", str(out),
-               "--report", str(tmp_path / "o.json"), "--quiet"])
+    rc = main(
+        [
+            "--naca",
+            "0012",
+            "--topology",
+            "o",
+            "--method",
+            "tfi",
+            "--size",
+            "61",
+            "21",
+            "--spacing",
+            "bottom=1e-3",
+            "-o",
+            str(out),
+            "--report",
+            str(tmp_path / "o.json"),
+            "--quiet",
+        ]
+    )
     assert rc == 0
     grid = _read(out)
     fd = grid.GetFieldData()
@@ -204,26 +234,51 @@ def test_cli_o_and_c_grids(tmp_path, capsys):
     assert report["topology"]["seam_gap"] == 0.0
     dat = _selig(tmp_path / "foil.dat", naca4("2412", points=61))
     out = tmp_path / "c.vts"
-    assert main([str(dat), "--topology", "c", "--method", "elliptic", "--size", "121", "21",
-                 "--farfield", "8", "-o", str(out), "--quiet"]) == 0
+    assert (
+        main(
+            [
+                str(dat),
+                "--topology",
+                "c",
+                "--method",
+                "elliptic",
+                "--size",
+                "121",
+                "21",
+                "--farfield",
+                "8",
+                "-o",
+                str(out),
+                "--quiet",
+            ]
+        )
+        == 0
+    )
     fd = _read(out).GetFieldData()
     assert fd.GetAbstractArray("Topology").GetValue(0) == "c"
     assert fd.GetArray("WakeNodes").GetValue(0) > 0
 
 
-@pytest.mark.parametrize("argv, words", [
-    (["--naca", "0012", "--method", "tfi"], "--topology o or c"),
-    (["--naca", "0012", "--topology", "o", "--method", "mgnet"], "mgnet"),
-    (["--naca", "0012", "--topology", "o", "--spacing", "top=1e-3"], "bottom=H"),
-    (["--naca", "0012", "--topology", "c", "--extrude", "0.1", "-o", "x.msh"],
-     "Gmsh in 2D"),
-    (["--naca", "00x2", "--topology", "o"], "NACA"),
-    (["--naca", "0012", "--topology", "o", "--method", "tfi", "--orthogonal", "bottom"],
-     "right angles"),
-])
+@pytest.mark.parametrize(
+    "argv, words",
+    [
+        (["--naca", "0012", "--method", "tfi"], "--topology o or c"),
+        (["--naca", "0012", "--topology", "o", "--method", "mgnet"], "mgnet"),
+        (["--naca", "0012", "--topology", "o", "--spacing", "top=1e-3"], "bottom=H"),
+        (["--naca", "0012", "--topology", "c", "--extrude", "0.1", "-o", "x.msh"], "Gmsh in 2D"),
+        (["--naca", "00x2", "--topology", "o"], "NACA"),
+        (
+            ["--naca", "0012", "--topology", "o", "--method", "tfi", "--orthogonal", "bottom"],
+            "right angles",
+        ),
+    ],
+)
 def test_cli_errors_are_one_line(tmp_path, capsys, argv, words):
-    rc = main(argv + ["--size", "41", "17", "--quiet"] +
-              ([] if "-o" in argv else ["-o", str(tmp_path / "g.vts")]))
+    rc = main(
+        argv
+        + ["--size", "41", "17", "--quiet"]
+        + ([] if "-o" in argv else ["-o", str(tmp_path / "g.vts")])
+    )
     err = capsys.readouterr().err
     assert rc == 2 and words in err and err.count("\n") == 1
 
@@ -232,8 +287,16 @@ def test_pyvista_routes(tmp_path):
     pv = pytest.importorskip("pyvista")
     from pinn_engine.pyvista_accessor import pinn_mesh
 
-    grid = pinn_mesh(None, naca="0012", topology="o", size=(61, 21), method="elliptic",
-                     farfield=10, spacing={"bottom": 1e-3}, orthogonal="bottom")
+    grid = pinn_mesh(
+        None,
+        naca="0012",
+        topology="o",
+        size=(61, 21),
+        method="elliptic",
+        farfield=10,
+        spacing={"bottom": 1e-3},
+        orthogonal="bottom",
+    )
     assert grid.dimensions == (61, 21, 1)
     assert grid.field_data["Topology"][0] == "o"
     pts = grid.points.reshape(21, 61, 3)

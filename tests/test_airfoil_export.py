@@ -23,8 +23,7 @@ NI, NJ = {"o": 41, "c": 61}, 13
 def case(request):
     topology = request.param
     body = load_body(naca="0012", te="blunt" if topology == "o" else "sharp")
-    result = mesh_body(body, circle(body, 8), topology, "tfi", NI[topology], NJ,
-                       wall_spacing=1e-3)
+    result = mesh_body(body, circle(body, 8), topology, "tfi", NI[topology], NJ, wall_spacing=1e-3)
     return topology, result, to_vtk(result, patch_names(topology))
 
 
@@ -32,16 +31,18 @@ def _su2(path):
     text = path.read_text().split("\n")
     at = {line.split("=")[0]: k for k, line in enumerate(text) if "=" in line}
     nelem = int(text[at["NELEM"]].split("=")[1])
-    elems = np.array([list(map(int, r.split()[1:5])) for r in
-                      text[at["NELEM"] + 1:at["NELEM"] + 1 + nelem]])
+    elems = np.array(
+        [list(map(int, r.split()[1:5])) for r in text[at["NELEM"] + 1 : at["NELEM"] + 1 + nelem]]
+    )
     npoin = int(text[at["NPOIN"]].split("=")[1])
-    pts = np.array([list(map(float, r.split()[:2])) for r in
-                    text[at["NPOIN"] + 1:at["NPOIN"] + 1 + npoin]])
+    pts = np.array(
+        [list(map(float, r.split()[:2])) for r in text[at["NPOIN"] + 1 : at["NPOIN"] + 1 + npoin]]
+    )
     markers, k = {}, at["NMARK"] + 1
     while k < len(text) and text[k].startswith("MARKER_TAG"):
         name = text[k].split("=")[1].strip()
         n = int(text[k + 1].split("=")[1])
-        markers[name] = np.array([list(map(int, r.split()[1:])) for r in text[k + 2:k + 2 + n]])
+        markers[name] = np.array([list(map(int, r.split()[1:])) for r in text[k + 2 : k + 2 + n]])
         k += 2 + n
     return elems, pts, markers
 
@@ -60,8 +61,7 @@ def test_su2_merges_the_seam_or_cut(case, tmp_path):
     assert len(pts) == ni * nj - merged  # each coincident node written once
     assert len(elems) == (ni - 1) * (nj - 1)
     assert all(_area(pts, q) > 0 for q in elems)  # counter-clockwise quads
-    expected = {"wall": ni - 1 if topology == "o" else ni - 1 - 2 * n_wake,
-                "farfield": ni - 1}
+    expected = {"wall": ni - 1 if topology == "o" else ni - 1 - 2 * n_wake, "farfield": ni - 1}
     if topology == "c":
         expected["outflow"] = 2 * (nj - 1)
     assert {k: len(v) for k, v in markers.items()} == expected
@@ -102,11 +102,17 @@ def test_cgns_records_the_seam_or_cut(case, tmp_path, thickness):
     ni, nj, nw = NI[topology], NJ, result.report["topology"]["wake_nodes"]
     with h5py.File(path, "r") as f:
         conn = f["Base/Zone/ZoneGridConnectivity"]
-        got = {name: (conn[name]["PointRange/ data"][()].tolist(),
-                      conn[name]["PointRangeDonor/ data"][()].tolist(),
-                      conn[name]["Transform/ data"][()].tolist()) for name in conn}
-        bcs = sorted(bytes(bc["FamilyName/ data"][()]).decode()
-                     for bc in f["Base/Zone/ZoneBC"].values())
+        got = {
+            name: (
+                conn[name]["PointRange/ data"][()].tolist(),
+                conn[name]["PointRangeDonor/ data"][()].tolist(),
+                conn[name]["Transform/ data"][()].tolist(),
+            )
+            for name in conn
+        }
+        bcs = sorted(
+            bytes(bc["FamilyName/ data"][()]).decode() for bc in f["Base/Zone/ZoneBC"].values()
+        )
     k = ([1], [2]) if thickness else ([], [])
     if topology == "o":
         a, b, t = [[1, 1] + k[0], [1, nj] + k[1]], [[ni, 1] + k[0], [ni, nj] + k[1]], [1, 2]
@@ -114,8 +120,9 @@ def test_cgns_records_the_seam_or_cut(case, tmp_path, thickness):
     else:
         a, b = [[1, 1] + k[0], [nw + 1, 1] + k[1]], [[ni, 1] + k[0], [ni - nw, 1] + k[1]]
         t = [-1, -2]
-        assert bcs == sorted(["farfield", "outflow", "outflow", "wall"]
-                             + (["frontAndBack"] * 2 if thickness else []))
+        assert bcs == sorted(
+            ["farfield", "outflow", "outflow", "wall"] + (["frontAndBack"] * 2 if thickness else [])
+        )
     t = t + ([3] if thickness else [])
     name = "seam" if topology == "o" else "wake_cut"
     assert got == {f"{name}_a": (a, b, t), f"{name}_b": (b, a, t)}
@@ -150,7 +157,7 @@ def test_openfoam_joins_the_seam_or_cut(case, tmp_path):
 
     def numbers(name):
         text = (mesh / name).read_text()
-        body = text[text.index("(", text.index("}")) + 1:text.rindex(")")]
+        body = text[text.index("(", text.index("}")) + 1 : text.rindex(")")]
         return body
 
     n_cells = (ni - 1) * (nj - 1)
@@ -159,10 +166,12 @@ def test_openfoam_joins_the_seam_or_cut(case, tmp_path):
     # every cell has 6 faces: 4 sides + 2 ends
     counts = np.bincount(np.concatenate([owner, neighbour]), minlength=n_cells)
     assert np.all(counts == 6)
-    assert np.all(owner[:len(neighbour)] < neighbour)
+    assert np.all(owner[: len(neighbour)] < neighbour)
     boundary = (mesh / "boundary").read_text()
-    faces = {name: int(boundary.split(name)[1].split("nFaces")[1].split(";")[0])
-             for name in ("wall", "farfield")}
+    faces = {
+        name: int(boundary.split(name)[1].split("nFaces")[1].split(";")[0])
+        for name in ("wall", "farfield")
+    }
     assert faces["farfield"] == ni - 1
     assert faces["wall"] == (ni - 1 if topology == "o" else ni - 1 - 2 * nw)
     # internal faces: all shared cell sides, the seam or cut included
@@ -171,6 +180,11 @@ def test_openfoam_joins_the_seam_or_cut(case, tmp_path):
     if shutil.which("checkMesh"):
         env = dict(os.environ)
         env.setdefault("WM_PROJECT_DIR", "/usr/share/openfoam")  # Debian's openfoam package
-        proc = subprocess.run(["checkMesh", "-case", str(mesh.parents[1])], env=env,
-                              capture_output=True, text=True, timeout=300)
+        proc = subprocess.run(
+            ["checkMesh", "-case", str(mesh.parents[1])],
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=300,
+        )
         assert "Mesh OK" in proc.stdout, proc.stdout[-2000:] + proc.stderr[-2000:]

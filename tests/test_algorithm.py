@@ -186,8 +186,10 @@ def test_bad_boundary_empty_output_one_message_then_recovers():
         alg.Update()
         alg.Update()  # nothing changed: not repeated
     assert alg.GetOutput().GetNumberOfPoints() == 0
-    expected = ("PINN Structured Mesh: boundary input: holds 2 separate curves; the boundary "
-                "must be one closed polyline")
+    expected = (
+        "PINN Structured Mesh: boundary input: holds 2 separate curves; the boundary "
+        "must be one closed polyline"
+    )
     assert errors.lines == [expected] and errors.events == [expected]
     assert alg.GetLastError() == expected
     connect(alg, 0, reader("fig2.vtp"))
@@ -237,8 +239,10 @@ def test_invalid_settings_reported():
     alg.SetAdamEpochs(-3)
     with OutputMessages(alg, "ErrorEvent") as errors:
         alg.Update()
-    assert errors.lines == ["PINN Structured Mesh: invalid settings: adam_epochs -3: must be "
-                            "a whole number from 0 to 1000000"]
+    assert errors.lines == [
+        "PINN Structured Mesh: invalid settings: adam_epochs -3: must be "
+        "a whole number from 0 to 1000000"
+    ]
 
 
 def test_abort_cancels_training_and_next_update_runs():
@@ -288,10 +292,18 @@ def test_corners_and_choices():
 
 
 def test_import_needs_no_torch_nor_pyvista():
-    code = ("import sys, pinn_engine.algorithm as a; a.PinnMeshAlgorithm(); "
-            "print(sorted(m for m in ('torch', 'pyvista') if m in sys.modules))")
-    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True,
-                         timeout=120, check=True).stdout
+    code = (
+        "import sys, pinn_engine.algorithm as a; a.PinnMeshAlgorithm(); "
+        "print(sorted(m for m in ('torch', 'pyvista') if m in sys.modules))"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=True,
+    ).stdout
     assert out.strip() == "[]"
 
 

@@ -49,11 +49,14 @@ def test_xi_eta_point_data_override(square):
     np.testing.assert_array_equal(aux.xi_eta, xe)
 
 
-@pytest.mark.parametrize("points, message", [
-    ([[0.6, 0.0], [2.0, 0.8]], "opposite sides"),          # bottom to right
-    ([[0.6, 0.5], [1.4, 2.0]], "opposite sides"),          # starts inside
-    ([[0.6, 0.0], [1.0, 2.5], [1.4, 2.0]], "crosses the boundary"),
-])
+@pytest.mark.parametrize(
+    "points, message",
+    [
+        ([[0.6, 0.0], [2.0, 0.8]], "opposite sides"),  # bottom to right
+        ([[0.6, 0.5], [1.4, 2.0]], "opposite sides"),  # starts inside
+        ([[0.6, 0.0], [1.0, 2.5], [1.4, 2.0]], "crosses the boundary"),
+    ],
+)
 def test_bad_lines_name_the_line(square, points, message):
     with pytest.raises(InputError, match=message) as err:
         map_line(line(points, name="lines.vtp line 3"), square)

@@ -52,8 +52,11 @@ def check_floor(result, boundary, h=H, angle=None, growth_limit=1.6):
 
 def test_stretching_is_monotone_with_the_requested_end_spacings():
     for first, last in ((1e-3, None), (None, 1e-2), (1e-4, 1e-2), (0.05, 0.01), (1e-6, 1e-6)):
-        s = stretch(41, None if first is None else np.array([first]),
-                    None if last is None else np.array([last]))[0]
+        s = stretch(
+            41,
+            None if first is None else np.array([first]),
+            None if last is None else np.array([last]),
+        )[0]
         d = np.diff(s)
         assert s[0] == 0 and s[-1] == 1 and (d > 0).all()
         if first is not None:  # Vinokur's end slopes: the first interval within a factor 1.5
@@ -85,8 +88,11 @@ def test_tfi_first_edges_on_a_curved_floor(bump):
 
 
 def test_elliptic_first_edges_and_orthogonality_on_a_curved_floor(bump):
-    result = Mesher(make_settings("elliptic", spacing={"bottom": H}, orthogonal="bottom")
-                    ).fit(bump).predict(81, 41)
+    result = (
+        Mesher(make_settings("elliptic", spacing={"bottom": H}, orthogonal="bottom"))
+        .fit(bump)
+        .predict(81, 41)
+    )
     check_floor(result, bump, angle=2.0)
     assert result.report["sides"]["bottom"]["max_angle_deviation"] <= 2.0
 
@@ -116,8 +122,7 @@ def test_spacing_at_both_ends_of_both_directions_stays_conforming(bump):
 
 
 def test_pinn_first_edges_and_orthogonality_without_folds(bump):
-    settings = make_settings("pinn", lattice=(41, 21), spacing={"bottom": H},
-                             orthogonal="bottom")
+    settings = make_settings("pinn", lattice=(41, 21), spacing={"bottom": H}, orthogonal="bottom")
     result = Mesher(settings).fit(bump).predict(41, 21)
     check_floor(result, bump, angle=2.0, growth_limit=2.0)  # 20 cells from 1e-3 to 1
     assert "orth" in result.history and result.history["orth"][-1] < 1e-4
@@ -127,8 +132,9 @@ def test_pinn_on_a_steep_wall_and_saved_model(tmp_path):
     """A Gaussian bump 40 % of the height: the wall term turns the warm start's leaving
     derivative normal to the wall as the grid sees it; a saved model gives the same grid."""
     steep = load_boundary(EXAMPLES / "hard" / "bump.vtp")
-    settings = make_settings("pinn", lattice=(41, 21), spacing={"bottom": H},
-                             orthogonal="bottom", lbfgs_iterations=20)
+    settings = make_settings(
+        "pinn", lattice=(41, 21), spacing={"bottom": H}, orthogonal="bottom", lbfgs_iterations=20
+    )
     mesher = Mesher(settings).fit(steep)
     result = mesher.predict(41, 21)
     check_floor(result, steep, angle=2.0, growth_limit=2.5)
@@ -149,8 +155,9 @@ def test_pinn_orthogonal_on_every_side_never_folds():
     from pinn_engine.geometry import Boundary
 
     wavy = Boundary.from_points(wavy_ring(40))
-    settings = make_settings("pinn", lattice=(41, 21), orthogonal="bottom,right,top,left",
-                             lbfgs_iterations=20)
+    settings = make_settings(
+        "pinn", lattice=(41, 21), orthogonal="bottom,right,top,left", lbfgs_iterations=20
+    )
     result = Mesher(settings).fit(wavy).predict(41, 21)
     assert result.quality["folded_cells"] == 0
 
@@ -176,9 +183,24 @@ def test_spacing_larger_than_the_domain_is_refused(bump):
 
 def test_cli_options_and_report(tmp_path, capsys):
     out, report = tmp_path / "g.vts", tmp_path / "r.json"
-    code = main([str(BUMP), "--method", "elliptic", "--size", "41", "21", "--spacing",
-                 "bottom=1e-3", "--orthogonal", "bottom", "-o", str(out), "--report",
-                 str(report)])
+    code = main(
+        [
+            str(BUMP),
+            "--method",
+            "elliptic",
+            "--size",
+            "41",
+            "21",
+            "--spacing",
+            "bottom=1e-3",
+            "--orthogonal",
+            "bottom",
+            "-o",
+            str(out),
+            "--report",
+            str(report),
+        ]
+    )
     assert code == 0
     err = capsys.readouterr().err
     assert "bottom: first edges" in err
@@ -199,8 +221,9 @@ def test_accessor_and_filter_options():
     from pinn_engine.pyvista_accessor import pinn_mesh
 
     boundary = pv.read(BUMP)
-    grid = pinn_mesh(boundary, size=(41, 21), method="elliptic", spacing={"bottom": H},
-                     orthogonal="bottom")
+    grid = pinn_mesh(
+        boundary, size=(41, 21), method="elliptic", spacing={"bottom": H}, orthogonal="bottom"
+    )
     first = grid.field_data["FirstEdge_bottom"]
     assert len(first) == 3 and abs(first[1] / H - 1) < 0.1
     assert grid.field_data["WallAngleDeviation_bottom"][0] <= 2.0
@@ -224,5 +247,6 @@ def test_tfi_evaluated_at_uniform_parameters_is_the_tfi_grid(bump):
     from pinn_engine.boundary_fit import ArcLengthFit
     from pinn_engine.tfi import tfi_grid
 
-    np.testing.assert_allclose(tfi_at(bump)(uniform_params(9, 5)),
-                               tfi_grid(ArcLengthFit(bump).sample, 9, 5), atol=1e-15)
+    np.testing.assert_allclose(
+        tfi_at(bump)(uniform_params(9, 5)), tfi_grid(ArcLengthFit(bump).sample, 9, 5), atol=1e-15
+    )

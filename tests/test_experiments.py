@@ -32,8 +32,9 @@ FIGURES = (
     + [f"fig8_angles_{c}_{p}.png" for c in ("fig2", "concave") for p in PRESETS]
     + ["fig9_architecture.png"]
 )
-NUMBERS = (["runs.csv", "loss_history_wavy.csv", "architecture.csv", "summary.json"]
-           + [f"angles_{c}_{p}.csv" for c in CASES for p in PRESETS])
+NUMBERS = ["runs.csv", "loss_history_wavy.csv", "architecture.csv", "summary.json"] + [
+    f"angles_{c}_{p}.csv" for c in CASES for p in PRESETS
+]
 VERDICTS = {"supported", "contradicted", "mixed", "n/a"}
 
 
@@ -42,8 +43,9 @@ def quick(tmp_path_factory):
     """One quick-mode run of every experiment, shared by the tests below."""
     base = tmp_path_factory.mktemp("experiments")
     out, doc, readme = base / "results", base / "docs" / "RESULTS.md", base / "README_part.md"
-    summary = run_experiments("quick", out, doc, readme, jobs=1, progress=False,
-                              cache=base / "cache")
+    summary = run_experiments(
+        "quick", out, doc, readme, jobs=1, progress=False, cache=base / "cache"
+    )
     return {"out": out, "doc": doc, "readme": readme, "summary": summary, "base": base}
 
 
@@ -69,7 +71,8 @@ def test_quick_mode_numbers_are_sane(quick):
     assert {r["key"] for r in rows} == {j.key for j in plan.jobs}
     compare = [r for r in rows if r["group"] == "compare"]
     assert {(r["case"], r["preset"], r["method"]) for r in compare} == {
-        (c, p, m) for c in CASES for p in PRESETS for m in METHODS}
+        (c, p, m) for c in CASES for p in PRESETS for m in METHODS
+    }
     for r in compare:
         assert r["ok"] == "True", (r["key"], r["error"])
         mean, worst = float(r["mean_max_angle"]), float(r["worst_max_angle"])
@@ -82,16 +85,16 @@ def test_quick_mode_numbers_are_sane(quick):
             assert math.isfinite(float(r["final_total"])) and float(r["final_total"]) > 0
             assert float(r["final_eqns"]) > 0
             if r["preset"] == "paper":  # penalty boundary: one loss term per side
-                assert all(float(r[f"final_bcs_{s}"]) > 0
-                           for s in ("bottom", "right", "top", "left"))
+                assert all(
+                    float(r[f"final_bcs_{s}"]) > 0 for s in ("bottom", "right", "top", "left")
+                )
         else:
             assert r["final_total"] == ""
         if r["preset"] == "default" or r["method"] not in NEURAL:
             assert float(r["boundary_deviation"]) < 1e-9  # exact boundary
     hist = _rows(quick["out"] / "loss_history_wavy.csv")
     assert {h["phase"] for h in hist} == {"adam", "lbfgs"}
-    assert {(h["preset"], h["method"]) for h in hist} == {(p, m) for p in PRESETS
-                                                            for m in NEURAL}
+    assert {(h["preset"], h["method"]) for h in hist} == {(p, m) for p in PRESETS for m in NEURAL}
     angles = _rows(quick["out"] / "angles_concave_default.csv")
     ni, nj = BUDGETS["quick"].size
     assert len(angles) == (ni - 1) * (nj - 1)
@@ -124,9 +127,15 @@ def test_quick_mode_summary_and_documents(quick):
 
 def test_reuse_regenerates_from_the_cache(quick):
     base = quick["base"]
-    again = run_experiments("quick", base / "again", base / "again" / "RESULTS.md",
-                            base / "again" / "README.md", progress=False, cache=base / "cache",
-                            reuse=True)
+    again = run_experiments(
+        "quick",
+        base / "again",
+        base / "again" / "RESULTS.md",
+        base / "again" / "README.md",
+        progress=False,
+        cache=base / "cache",
+        reuse=True,
+    )
     ok = sum(r["ok"] == "True" for r in _rows(quick["out"] / "runs.csv"))
     assert again["reused_runs"] == ok
     first = [r for r in _rows(quick["out"] / "runs.csv") if r["ok"] == "True"]
@@ -145,8 +154,11 @@ def test_full_mode_plan_matches_the_issue():
     compare = [j for j in jobs if j.group == "compare"]
     neural = [j.settings() for j in compare if j.method in NEURAL]
     assert all(s.adam_epochs == 5000 for s in neural if s.preset == "paper")
-    assert all(s.warm_start == "elliptic" and s.lattice == budget.size
-               for s in neural if s.preset == "default")
+    assert all(
+        s.warm_start == "elliptic" and s.lattice == budget.size
+        for s in neural
+        if s.preset == "default"
+    )
     assert {j.settings().boundary_mode for j in compare if j.preset == "paper"} == {"penalty"}
     assert build_parser().parse_args([]).mode == "full"
 
@@ -165,13 +177,29 @@ def test_tally_and_sweep_shape():
     assert sweep_shape(xs, [[], [1.0], []])["shape"] == "n/a"
 
 
-def _fake(case, preset, method, mean, worst, folded=0, deviation=0.0, seed=0, group="compare",
-          **extra):
-    q = {"mean_max_angle": mean, "worst_max_angle": worst, "worst_min_angle": 180 - worst,
-         "folded_cells": folded, "boundary_deviation": deviation}
-    run = {"key": f"{group}/{case}/{preset}/{method}/{seed}/{extra}", "group": group,
-           "case": case, "preset": preset, "method": method, "seed": seed, "ok": True,
-           "quality": q, "train_seconds": 1.0, "mesh_seconds": 0.0, "final": {"total": 1.0}}
+def _fake(
+    case, preset, method, mean, worst, folded=0, deviation=0.0, seed=0, group="compare", **extra
+):
+    q = {
+        "mean_max_angle": mean,
+        "worst_max_angle": worst,
+        "worst_min_angle": 180 - worst,
+        "folded_cells": folded,
+        "boundary_deviation": deviation,
+    }
+    run = {
+        "key": f"{group}/{case}/{preset}/{method}/{seed}/{extra}",
+        "group": group,
+        "case": case,
+        "preset": preset,
+        "method": method,
+        "seed": seed,
+        "ok": True,
+        "quality": q,
+        "train_seconds": 1.0,
+        "mesh_seconds": 0.0,
+        "final": {"total": 1.0},
+    }
     run.update(extra)
     return run
 
@@ -179,10 +207,12 @@ def _fake(case, preset, method, mean, worst, folded=0, deviation=0.0, seed=0, gr
 def test_pde_claim_thresholds():
     runs = []
     for case in ("fig2", "concave"):
-        runs += [_fake(case, "default", "elliptic", 104.0, 133.0),
-                 _fake(case, "default", "pinn", 105.5, 140.0),  # comparable
-                 _fake(case, "paper", "elliptic", 104.0, 133.0),
-                 _fake(case, "paper", "pinn", 104.0, 133.0, deviation=0.02)]  # off boundary
+        runs += [
+            _fake(case, "default", "elliptic", 104.0, 133.0),
+            _fake(case, "default", "pinn", 105.5, 140.0),  # comparable
+            _fake(case, "paper", "elliptic", 104.0, 133.0),
+            _fake(case, "paper", "pinn", 104.0, 133.0, deviation=0.02),
+        ]  # off boundary
     claim = claim_pde({r["key"]: r for r in runs})
     assert claim["verdict"] == "mixed"
     assert sum("not comparable" in e for e in claim["evidence"]) == 2
@@ -191,15 +221,41 @@ def test_pde_claim_thresholds():
 def test_architecture_claim_from_seed_ranges():
     budget = BUDGETS["quick"]
     losses = {(1, 30): [5.0, 6.0], (4, 30): [1.0, 1.2], (4, 10): [2.0, 2.5]}
-    runs = [_fake("wavy", "paper", "pinn", 100, 120, seed=s, group="sweep", hidden_layers=n,
-                  neurons=w, final={"total": v})
-            for (n, w), values in losses.items() for s, v in enumerate(values)]
+    runs = [
+        _fake(
+            "wavy",
+            "paper",
+            "pinn",
+            100,
+            120,
+            seed=s,
+            group="sweep",
+            hidden_layers=n,
+            neurons=w,
+            final={"total": v},
+        )
+        for (n, w), values in losses.items()
+        for s, v in enumerate(values)
+    ]
     claim = claim_architecture({r["key"]: r for r in runs}, budget)
     assert claim["verdict"] == "contradicted"  # both sweeps: bigger was better every time
     losses[(4, 30)] = [7.0, 8.0]
-    runs = [_fake("wavy", "paper", "pinn", 100, 120, seed=s, group="sweep", hidden_layers=n,
-                  neurons=w, final={"total": v})
-            for (n, w), values in losses.items() for s, v in enumerate(values)]
+    runs = [
+        _fake(
+            "wavy",
+            "paper",
+            "pinn",
+            100,
+            120,
+            seed=s,
+            group="sweep",
+            hidden_layers=n,
+            neurons=w,
+            final={"total": v},
+        )
+        for (n, w), values in losses.items()
+        for s, v in enumerate(values)
+    ]
     assert claim_architecture({r["key"]: r for r in runs}, budget)["verdict"] == "supported"
 
 
@@ -216,9 +272,15 @@ def test_progress_bar_text():
 def test_one_hidden_layer_trains_under_the_paper_preset():
     from experiments.runs import Job, run_job
 
-    job = Job("sweep", "wavy", "pinn", "paper", 0,
-              (("adam_epochs", 20), ("lbfgs_iterations", 2), ("hidden_layers", 1),
-               ("lbfgs_points", 100)), (11, 6))
+    job = Job(
+        "sweep",
+        "wavy",
+        "pinn",
+        "paper",
+        0,
+        (("adam_epochs", 20), ("lbfgs_iterations", 2), ("hidden_layers", 1), ("lbfgs_points", 100)),
+        (11, 6),
+    )
     result = run_job(job, ROOT / "example_data")
     assert result["ok"], result["error"]
     assert np.isfinite(result["final"]["total"])

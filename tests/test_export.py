@@ -133,14 +133,18 @@ def check_cgns(path: Path, reference: np.ndarray, thickness: float | None) -> No
     found = blocks(reader.GetOutput())
     nk = 1 if thickness is None else 2
     expected = reference if thickness is None else extruded(reference)
-    np.testing.assert_allclose(vtk_to_numpy(found["Internal"].GetPoints().GetData()),
-                               expected, atol=1e-12)
+    np.testing.assert_allclose(
+        vtk_to_numpy(found["Internal"].GetPoints().GetData()), expected, atol=1e-12
+    )
     sizes = {"wall_bottom": NI, "wall_top": NI, "right": NJ, "inlet": NJ}
     if thickness:
         sizes.update(frontAndBack_back=NI * NJ, frontAndBack_front=NI * NJ)
-    assert {k: v.GetNumberOfPoints() // (nk if k in ("wall_bottom", "wall_top", "right",
-                                                     "inlet") else 1)
-            for k, v in found.items() if k != "Internal"} == sizes
+    assert {
+        k: v.GetNumberOfPoints()
+        // (nk if k in ("wall_bottom", "wall_top", "right", "inlet") else 1)
+        for k, v in found.items()
+        if k != "Internal"
+    } == sizes
 
     with h5py.File(path, "r") as f:
         zone = f["Base/Zone"]
@@ -156,12 +160,22 @@ def check_cgns(path: Path, reference: np.ndarray, thickness: float | None) -> No
         k = [1, 2] if thickness else []
         assert ranges["wall_bottom"] == [[1, 1] + k[:1], [NI, 1] + k[1:]]
         assert ranges["inlet"] == [[1, 1] + k[:1], [1, NJ] + k[1:]]
-        assert families == {"wall_bottom": "wall", "wall_top": "wall", "right": "right",
-                            "inlet": "inlet", **({"frontAndBack_back": "frontAndBack",
-                                                  "frontAndBack_front": "frontAndBack"}
-                                                 if thickness else {})}
-        family_nodes = {n for n, g in f["Base"].items()
-                        if isinstance(g, h5py.Group) and g.attrs["label"] == b"Family_t"}
+        assert families == {
+            "wall_bottom": "wall",
+            "wall_top": "wall",
+            "right": "right",
+            "inlet": "inlet",
+            **(
+                {"frontAndBack_back": "frontAndBack", "frontAndBack_front": "frontAndBack"}
+                if thickness
+                else {}
+            ),
+        }
+        family_nodes = {
+            n
+            for n, g in f["Base"].items()
+            if isinstance(g, h5py.Group) and g.attrs["label"] == b"Family_t"
+        }
         assert family_nodes == set(families.values())
 
 
@@ -185,8 +199,7 @@ def read_su2(path: Path) -> dict:
         elif line.startswith("MARKER_TAG="):
             name = line.split("=")[1].strip()
             n = int(lines[k].split("=")[1])
-            out["markers"][name] = np.array([lines[k + 1 + m].split() for m in range(n)],
-                                            dtype=int)
+            out["markers"][name] = np.array([lines[k + 1 + m].split() for m in range(n)], dtype=int)
             k += n + 1
     return out
 
@@ -249,14 +262,15 @@ def check_gmsh(path: Path, reference: np.ndarray, thickness: float | None) -> No
 def check_mesh(case: Path) -> str:
     env = dict(os.environ)
     env.setdefault("WM_PROJECT_DIR", "/usr/share/openfoam")  # Debian's openfoam package
-    proc = subprocess.run(["checkMesh", "-case", str(case)], capture_output=True, text=True,
-                          env=env, timeout=300)
+    proc = subprocess.run(
+        ["checkMesh", "-case", str(case)], capture_output=True, text=True, env=env, timeout=300
+    )
     return proc.stdout + proc.stderr
 
 
 def foam_list(path: Path) -> list[str]:
     text = path.read_text()
-    body = text[text.index("(", text.index("}")) + 1:text.rindex(")")]
+    body = text[text.index("(", text.index("}")) + 1 : text.rindex(")")]
     return [ln for ln in body.splitlines() if ln.strip()]
 
 
@@ -267,19 +281,27 @@ def test_openfoam_case(grid, reference, tmp_path):
 def check_openfoam(case: Path, reference: np.ndarray) -> None:
     """Files, nodes, patches; then checkMesh (skipped, after the rest, when missing)."""
     mesh = case / "constant" / "polyMesh"
-    assert sorted(p.name for p in mesh.iterdir()) == ["boundary", "faces", "neighbour",
-                                                      "owner", "points"]
+    assert sorted(p.name for p in mesh.iterdir()) == [
+        "boundary",
+        "faces",
+        "neighbour",
+        "owner",
+        "points",
+    ]
     assert (case / f"{case.name}.foam").exists() and (case / "system" / "controlDict").exists()
     points = np.array([ln.strip("()").split() for ln in foam_list(mesh / "points")], float)
     np.testing.assert_allclose(points, extruded(reference), atol=1e-12)
     boundary = (mesh / "boundary").read_text()
     found = dict(re.findall(r"(\w+)\s*\{[^}]*?nFaces\s+(\d+);", boundary))
-    assert {k: int(v) for k, v in found.items()} == {**EDGES,
-                                                     "frontAndBack": 2 * (NI - 1) * (NJ - 1)}
+    assert {k: int(v) for k, v in found.items()} == {
+        **EDGES,
+        "frontAndBack": 2 * (NI - 1) * (NJ - 1),
+    }
     assert re.search(r"frontAndBack\s*\{\s*type\s+empty;", boundary)
     if shutil.which("checkMesh") is None:
-        pytest.skip("OpenFOAM's checkMesh is missing (apt-get install openfoam; .ci/run "
-                    "installs it)")
+        pytest.skip(
+            "OpenFOAM's checkMesh is missing (apt-get install openfoam; .ci/run installs it)"
+        )
     report = check_mesh(case)
     assert "Mesh OK." in report, report[-3000:]
     assert re.search(r"wall\s+24\s", report)  # the patch as checkMesh sees it
@@ -305,8 +327,9 @@ def test_failing_writer_leaves_nothing(grid, tmp_path, monkeypatch, ext):
         raise OSError("disk full")
 
     if ext == "openfoam":
-        monkeypatch.setattr(export.openfoam, "write_polymesh",
-                            lambda block, mesh: broken(block, mesh / "points"))
+        monkeypatch.setattr(
+            export.openfoam, "write_polymesh", lambda block, mesh: broken(block, mesh / "points")
+        )
         target, fmt = tmp_path / "case", "openfoam"
     elif ext == "vtk":
         monkeypatch.setattr(export.vtkfiles, "write_legacy", broken)
@@ -341,15 +364,25 @@ def test_clockwise_or_3d_grids_are_refused(grid, tmp_path):
     with pytest.raises(InputError, match=r"^grid: the grid's boundary does not run counter"):
         save_mesh(flipped, tmp_path / "g.su2")
     with pytest.raises(InputError, match=r"expected a 2D structured grid"):
-        save_mesh(pv.ImageData(dimensions=(3, 3, 3)).cast_to_structured_grid(),
-                  tmp_path / "g.msh")
+        save_mesh(pv.ImageData(dimensions=(3, 3, 3)).cast_to_structured_grid(), tmp_path / "g.msh")
     assert list(tmp_path.iterdir()) == []
 
 
 def test_cli_writes_each_format_with_patches(tmp_path, capsys):
     boundary = str(EXAMPLES / "fig2.vtp")
-    common = [boundary, "--method", "tfi", "--size", "9", "5", "--quiet",
-              "--patch", "bottom=wall", "--patch", "top=wall"]
+    common = [
+        boundary,
+        "--method",
+        "tfi",
+        "--size",
+        "9",
+        "5",
+        "--quiet",
+        "--patch",
+        "bottom=wall",
+        "--patch",
+        "top=wall",
+    ]
     for out in ("g.su2", "g.msh", "g.xyz", "g.cgns", "g.vtk"):
         assert main([*common, "-o", str(tmp_path / out)]) == 0, capsys.readouterr().err
     assert main([*common, "--format", "openfoam", "-o", str(tmp_path / "case")]) == 0
@@ -358,20 +391,36 @@ def test_cli_writes_each_format_with_patches(tmp_path, capsys):
     assert (tmp_path / "case" / "constant" / "polyMesh" / "boundary").exists()
 
 
-@pytest.mark.parametrize("args, message", [
-    (["-o", "g.foo"], "g.foo: unknown output format '.foo'; use -o with .vts, .vtk, .xyz, "
-                      ".cgns, .su2 or .msh, or --format openfoam -o DIR"),
-    (["-o", "g.su2", "--extrude", "1"], "g.su2: SU2 mesh with markers is 2D only; drop "
-                                        "--extrude T (it applies to .xyz, .cgns, .msh and "
-                                        "OpenFOAM)"),
-    (["-o", "g.msh", "--extrude", "-1"], "g.msh: extrusion thickness -1.0: must be a number "
-                                         "> 0 (--extrude T)"),
-    (["-o", "g.msh", "--patch", "up=wall"], "patch 'up=wall': expected SIDE=NAME with SIDE "
-                                            "one of bottom, right, top, left (--patch "
-                                            "SIDE=NAME)"),
-    (["-o", "g.msh", "--patch", "top=a b"], "patch name 'a b': use 1 to 32 letters, digits, "
-                                            "'_' or '-' (--patch SIDE=NAME)"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (
+            ["-o", "g.foo"],
+            "g.foo: unknown output format '.foo'; use -o with .vts, .vtk, .xyz, "
+            ".cgns, .su2 or .msh, or --format openfoam -o DIR",
+        ),
+        (
+            ["-o", "g.su2", "--extrude", "1"],
+            "g.su2: SU2 mesh with markers is 2D only; drop "
+            "--extrude T (it applies to .xyz, .cgns, .msh and "
+            "OpenFOAM)",
+        ),
+        (
+            ["-o", "g.msh", "--extrude", "-1"],
+            "g.msh: extrusion thickness -1.0: must be a number > 0 (--extrude T)",
+        ),
+        (
+            ["-o", "g.msh", "--patch", "up=wall"],
+            "patch 'up=wall': expected SIDE=NAME with SIDE "
+            "one of bottom, right, top, left (--patch "
+            "SIDE=NAME)",
+        ),
+        (
+            ["-o", "g.msh", "--patch", "top=a b"],
+            "patch name 'a b': use 1 to 32 letters, digits, '_' or '-' (--patch SIDE=NAME)",
+        ),
+    ],
+)
 def test_cli_errors_are_one_line_before_meshing(tmp_path, capsys, monkeypatch, args, message):
     monkeypatch.chdir(tmp_path)
     assert main([str(EXAMPLES / "fig2.vtp"), "--method", "tfi", *args]) == 2
@@ -383,8 +432,10 @@ def test_cli_errors_are_one_line_before_meshing(tmp_path, capsys, monkeypatch, a
 def test_pyvista_accessor_save_and_route_words(tmp_path):
     import pyvista as pv
 
-    boundary = pv.PolyData(np.column_stack([wavy_ring(), np.zeros(len(wavy_ring()))]),
-                           lines=[len(wavy_ring()) + 1, *range(len(wavy_ring())), 0])
+    boundary = pv.PolyData(
+        np.column_stack([wavy_ring(), np.zeros(len(wavy_ring()))]),
+        lines=[len(wavy_ring()) + 1, *range(len(wavy_ring())), 0],
+    )
     with pytest.raises(InputError, match=r"no grid to save yet"):
         boundary.pinn_mesh.save(tmp_path / "g.su2")
     boundary.pinn_mesh(size=(NI, NJ), method="tfi", patches="wall right wall inlet")
@@ -416,13 +467,17 @@ def test_vtk_writer_algorithm_after_the_filter(tmp_path):
     writer.SetExtrudeThickness(2.0)
     with OutputMessages(writer, "ErrorEvent") as messages:
         assert writer.Write() == 0
-    assert messages.lines == [f"PINN Mesh writer: {tmp_path / 'g.su2'}: SU2 mesh with markers "
-                              "is 2D only; drop Extrude Thickness (it applies to .xyz, .cgns, "
-                              ".msh and OpenFOAM)"]
+    assert messages.lines == [
+        f"PINN Mesh writer: {tmp_path / 'g.su2'}: SU2 mesh with markers "
+        "is 2D only; drop Extrude Thickness (it applies to .xyz, .cgns, "
+        ".msh and OpenFOAM)"
+    ]
 
     alg.SetPatchNames("wall wall")
     with OutputMessages(alg, "ErrorEvent") as messages:
         alg.Update()
-    assert messages.lines == ["PINN Structured Mesh: patch names 'wall wall': give four names "
-                              "(bottom, right, top, left) or SIDE=NAME items (Patch Names "
-                              "(bottom right top left, or SIDE=NAME))"]
+    assert messages.lines == [
+        "PINN Structured Mesh: patch names 'wall wall': give four names "
+        "(bottom, right, top, left) or SIDE=NAME items (Patch Names "
+        "(bottom right top left, or SIDE=NAME))"
+    ]

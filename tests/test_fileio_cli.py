@@ -34,8 +34,9 @@ def test_txt_with_whitespace_and_constant_z(tmp_path):
     ring = square_ring(3)
     path = tmp_path / "b.txt"
     np.savetxt(path, np.column_stack([ring, np.full(len(ring), 7.0)]))
-    np.testing.assert_allclose(read_boundary_points(path), np.column_stack([ring, np.full(
-        len(ring), 7.0)]))
+    np.testing.assert_allclose(
+        read_boundary_points(path), np.column_stack([ring, np.full(len(ring), 7.0)])
+    )
 
 
 def test_legacy_vtk_reads(tmp_path):
@@ -49,8 +50,9 @@ def test_legacy_vtk_reads(tmp_path):
     w.SetFileName(str(tmp_path / "fig2.vtk"))
     w.SetInputData(r.GetOutput())
     w.Write()
-    np.testing.assert_allclose(read_boundary_points(tmp_path / "fig2.vtk"),
-                               read_boundary_points(EXAMPLES / "fig2.vtp"))
+    np.testing.assert_allclose(
+        read_boundary_points(tmp_path / "fig2.vtk"), read_boundary_points(EXAMPLES / "fig2.vtp")
+    )
 
 
 @pytest.mark.parametrize("case", CASES)
@@ -58,8 +60,22 @@ def test_legacy_vtk_reads(tmp_path):
 def test_cli_classical_methods_on_every_example(case, method, tmp_path, capsys):
     out = tmp_path / f"{case}_{method}.vts"
     report = tmp_path / "report.json"
-    assert main([str(EXAMPLES / f"{case}.vtp"), "--aux", str(EXAMPLES / f"{case}_aux.vtp"),
-                 "--method", method, "-o", str(out), "--report", str(report)]) == 0
+    assert (
+        main(
+            [
+                str(EXAMPLES / f"{case}.vtp"),
+                "--aux",
+                str(EXAMPLES / f"{case}_aux.vtp"),
+                "--method",
+                method,
+                "-o",
+                str(out),
+                "--report",
+                str(report),
+            ]
+        )
+        == 0
+    )
     assert f"wrote {out}" in capsys.readouterr().out
     grid = read_vts(out)
     assert grid.GetExtent() == (0, 40, 0, 20, 0, 0)
@@ -70,8 +86,9 @@ def test_cli_classical_methods_on_every_example(case, method, tmp_path, capsys):
     pts = vtk_to_numpy(grid.GetPoints().GetData())[:, :2].reshape(21, 41, 2)
     b = load_boundary(EXAMPLES / f"{case}.vtp")
     corners = b.frame.to_user(b.corner_points())
-    np.testing.assert_allclose([pts[0, 0], pts[0, -1], pts[-1, -1], pts[-1, 0]], corners,
-                               atol=1e-12 * b.frame.scale)
+    np.testing.assert_allclose(
+        [pts[0, 0], pts[0, -1], pts[-1, -1], pts[-1, 0]], corners, atol=1e-12 * b.frame.scale
+    )
     cd = grid.GetCellData()
     assert cd.GetArray("MaxIncludedAngle").GetNumberOfTuples() == 40 * 20
     fd = grid.GetFieldData()
@@ -83,8 +100,18 @@ def test_tfi_folds_cells_on_the_concave_case_and_elliptic_does_not(tmp_path):
     reports = {}
     for method in ("tfi", "elliptic"):
         rep = tmp_path / f"{method}.json"
-        main([str(EXAMPLES / "concave.vtp"), "--method", method, "-o",
-              str(tmp_path / f"{method}.vts"), "--report", str(rep), "--quiet"])
+        main(
+            [
+                str(EXAMPLES / "concave.vtp"),
+                "--method",
+                method,
+                "-o",
+                str(tmp_path / f"{method}.vts"),
+                "--report",
+                str(rep),
+                "--quiet",
+            ]
+        )
         reports[method] = json.loads(rep.read_text())["quality"]
     assert reports["tfi"]["folded_cells"] > 0 and reports["elliptic"]["folded_cells"] == 0
     assert reports["elliptic"]["worst_max_angle"] < reports["tfi"]["worst_max_angle"]
@@ -93,8 +120,23 @@ def test_tfi_folds_cells_on_the_concave_case_and_elliptic_does_not(tmp_path):
 def test_paper_elliptic_run_and_png(tmp_path):
     png = tmp_path / "grid.png"
     out = tmp_path / "g.vts"
-    assert main([str(EXAMPLES / "fig2.vtp"), "--method", "elliptic", "--preset", "paper",
-                 "-o", str(out), "--png", str(png), "--quiet"]) == 0
+    assert (
+        main(
+            [
+                str(EXAMPLES / "fig2.vtp"),
+                "--method",
+                "elliptic",
+                "--preset",
+                "paper",
+                "-o",
+                str(out),
+                "--png",
+                str(png),
+                "--quiet",
+            ]
+        )
+        == 0
+    )
     assert png.stat().st_size > 10_000 and png.read_bytes()[:4] == b"\x89PNG"
     report = json.loads(read_vts(out).GetFieldData().GetAbstractArray("Report").GetValue(0))
     assert report["settings"]["elliptic_iterations"] == 1000
@@ -134,16 +176,28 @@ BAD_INPUTS = {
     "empty file": (lambda d: bytes_file(d / "e.csv", b""), "empty"),
     "binary csv": (lambda d: bytes_file(d / "bin.csv", b"\x00\x01\x02garbage"), "binary"),
     "open polyline": (open_polyline_vtp, "open"),
-    "fewer than four corners": (lambda d: ring_file(d, np.column_stack(
-        [np.cos(np.linspace(0, 6.2, 50)), np.sin(np.linspace(0, 6.2, 50))])), "clear corners"),
-    "self-intersecting": (lambda d: ring_file(d, [[0, 0], [1, 1], [1, 0], [0, 1]]),
-                          "self-intersecting"),
-    "repeated point": (lambda d: ring_file(d, np.insert(square_ring(8), 20, square_ring(8)[5],
-                                                        axis=0)), "repeated|self-intersect"),
-    "non-finite": (lambda d: ring_file(d, np.where(np.arange(32)[:, None] == 3, np.nan,
-                                                   square_ring(8))), "not finite"),
-    "not planar": (lambda d: ring_file(d, np.column_stack([square_ring(3), np.arange(12.0)])),
-                   "is not planar"),
+    "fewer than four corners": (
+        lambda d: ring_file(
+            d, np.column_stack([np.cos(np.linspace(0, 6.2, 50)), np.sin(np.linspace(0, 6.2, 50))])
+        ),
+        "clear corners",
+    ),
+    "self-intersecting": (
+        lambda d: ring_file(d, [[0, 0], [1, 1], [1, 0], [0, 1]]),
+        "self-intersecting",
+    ),
+    "repeated point": (
+        lambda d: ring_file(d, np.insert(square_ring(8), 20, square_ring(8)[5], axis=0)),
+        "repeated|self-intersect",
+    ),
+    "non-finite": (
+        lambda d: ring_file(d, np.where(np.arange(32)[:, None] == 3, np.nan, square_ring(8))),
+        "not finite",
+    ),
+    "not planar": (
+        lambda d: ring_file(d, np.column_stack([square_ring(3), np.arange(12.0)])),
+        "is not planar",
+    ),
 }
 
 
@@ -157,6 +211,7 @@ def test_bad_boundary_gives_one_line_error_status_2_and_no_output(name, tmp_path
     assert len(err.splitlines()) == 1 and err.startswith("pinn-mesh: error: ")
     assert str(path) in err
     import re
+
     assert re.search(message, err), err
     assert not out.exists() and not list(tmp_path.glob("*.vts*"))
 
@@ -174,8 +229,20 @@ def test_aux_line_not_ending_on_opposite_sides(tmp_path, capsys):
     w.SetInputData(src.GetOutput())
     w.Write()
     out = tmp_path / "o.vts"
-    assert main([str(EXAMPLES / "wavy.vtp"), "--aux", str(tmp_path / "aux.vtp"), "--method",
-                 "tfi", "-o", str(out)]) == 2
+    assert (
+        main(
+            [
+                str(EXAMPLES / "wavy.vtp"),
+                "--aux",
+                str(tmp_path / "aux.vtp"),
+                "--method",
+                "tfi",
+                "-o",
+                str(out),
+            ]
+        )
+        == 2
+    )
     err = capsys.readouterr().err
     assert "aux.vtp line 0" in err and "opposite sides" in err
     assert not out.exists()
@@ -185,6 +252,19 @@ def test_unknown_option_and_bad_size_exit_2(tmp_path, capsys):
     with pytest.raises(SystemExit) as exc:
         main([str(EXAMPLES / "wavy.vtp"), "--frobnicate"])
     assert exc.value.code == 2
-    assert main([str(EXAMPLES / "wavy.vtp"), "--method", "tfi", "--size", "1", "5",
-                 "-o", str(tmp_path / "o.vts")]) == 2
+    assert (
+        main(
+            [
+                str(EXAMPLES / "wavy.vtp"),
+                "--method",
+                "tfi",
+                "--size",
+                "1",
+                "5",
+                "-o",
+                str(tmp_path / "o.vts"),
+            ]
+        )
+        == 2
+    )
     assert "--size" in capsys.readouterr().err

@@ -37,8 +37,9 @@ def folded() -> int:
     return count
 
 
-def report(method: str, folded_cells: int = 3, elliptic_folds: int | None = None,
-           **settings) -> dict:
+def report(
+    method: str, folded_cells: int = 3, elliptic_folds: int | None = None, **settings
+) -> dict:
     """A report as ``Mesher.predict`` makes it; ``elliptic_folds``: a warm-started PINN whose
     elliptic grid folds that many cells."""
     out = {

@@ -24,8 +24,7 @@ def rotate(p: np.ndarray, angle: float) -> np.ndarray:
 @pytest.mark.parametrize("angle", [0.3, 1.2, 2.5, -2.0])
 def test_corners_unchanged_under_rotation(angle):
     ring = wavy_ring()
-    expected = {tuple(np.round(rotate(p[None], angle)[0], 9))
-                for p in ring[[0, 24, 48, 72]]}
+    expected = {tuple(np.round(rotate(p[None], angle)[0], 9)) for p in ring[[0, 24, 48, 72]]}
     assert corner_set(rotate(ring, angle)) == expected
 
 
@@ -63,8 +62,7 @@ def test_named_corners_override_detection():
     # pretend the corners are the side midpoints; detection would pick the real corners
     mids = (2, 6, 10, 14)
     b = Boundary.from_points(ring, mids)
-    assert {tuple(p) for p in b.frame.to_user(b.corner_points())} == {
-        tuple(ring[i]) for i in mids}
+    assert {tuple(p) for p in b.frame.to_user(b.corner_points())} == {tuple(ring[i]) for i in mids}
 
 
 def test_closing_point_and_consecutive_duplicates_are_dropped():

@@ -34,8 +34,10 @@ def test_own_processes_raise_the_thresholds(monkeypatch):
     libc = FakeLibc()
     monkeypatch.setattr(heap, "_glibc", lambda: libc)
     heap.tune_process()
-    assert libc.calls == [("mallopt", heap.M_MMAP_THRESHOLD, heap.MMAP_THRESHOLD),
-                          ("mallopt", heap.M_TRIM_THRESHOLD, heap.TRIM_THRESHOLD)]
+    assert libc.calls == [
+        ("mallopt", heap.M_MMAP_THRESHOLD, heap.MMAP_THRESHOLD),
+        ("mallopt", heap.M_TRIM_THRESHOLD, heap.TRIM_THRESHOLD),
+    ]
 
 
 def test_the_command_line_tunes_its_process(monkeypatch, tmp_path):
@@ -45,8 +47,19 @@ def test_the_command_line_tunes_its_process(monkeypatch, tmp_path):
 
     libc = FakeLibc()
     monkeypatch.setattr(heap, "_glibc", lambda: libc)
-    assert main([str(EXAMPLES / "fig2.vtp"), "--method", "tfi", "-o", str(tmp_path / "g.vts"),
-                 "--quiet"]) == 0
+    assert (
+        main(
+            [
+                str(EXAMPLES / "fig2.vtp"),
+                "--method",
+                "tfi",
+                "-o",
+                str(tmp_path / "g.vts"),
+                "--quiet",
+            ]
+        )
+        == 0
+    )
     assert ("mallopt", heap.M_MMAP_THRESHOLD, heap.MMAP_THRESHOLD) in libc.calls
 
 

@@ -22,8 +22,21 @@ TOO_BIG = [(1, 5), (MAX_SIDE_NODES + 1, 2), (2001, 2001)]  # the last: 4,004,001
 @pytest.mark.parametrize(("ni", "nj"), TOO_BIG)
 def test_every_route_refuses_the_same_sizes_in_its_own_words(ni, nj, tmp_path, capsys):
     assert grid_size_problem(ni, nj)
-    assert main([str(EXAMPLES / "fig2.vtp"), "--method", "tfi", "--size", str(ni), str(nj),
-                 "-o", str(tmp_path / "g.vts")]) == 2
+    assert (
+        main(
+            [
+                str(EXAMPLES / "fig2.vtp"),
+                "--method",
+                "tfi",
+                "--size",
+                str(ni),
+                str(nj),
+                "-o",
+                str(tmp_path / "g.vts"),
+            ]
+        )
+        == 2
+    )
     assert f"--size {ni} {nj}: each side must have 2 to" in capsys.readouterr().err
     ring = np.column_stack([square_ring(4), np.zeros(16)])
     with pytest.raises(ValueError, match=re.escape(f"size=({ni}, {nj}): each side")):
@@ -61,12 +74,21 @@ def test_one_table_of_setting_rules_read_by_every_route(tmp_path, capsys):
     assert make_settings("pinn", hidden_layers=top).hidden_layers == top
     with pytest.raises(ValueError, match=f"hidden_layers {top + 1}: must be a whole number"):
         make_settings("pinn", hidden_layers=top + 1)
-    assert main([str(EXAMPLES / "fig2.vtp"), "--layers", str(top + 1), "-o",
-                 str(tmp_path / "g.vts")]) == 2
-    assert f"--layers {top + 1}: must be a whole number from 1 to {top}" in \
-        capsys.readouterr().err
+    assert (
+        main([str(EXAMPLES / "fig2.vtp"), "--layers", str(top + 1), "-o", str(tmp_path / "g.vts")])
+        == 2
+    )
+    assert f"--layers {top + 1}: must be a whole number from 1 to {top}" in capsys.readouterr().err
     plugin = (ROOT / "plugin" / "pinn_mesh_plugin.py").read_text()
-    ranges = re.findall(r'name="(HiddenLayers|Neurons|AdamEpochs|LBFGSIterations)".*?'
-                        r"intrange\(\*\*_range\(\"(\w+)\"\)\)", plugin, re.S)
-    assert {field for _, field in ranges} == {"hidden_layers", "neurons", "adam_epochs",
-                                             "lbfgs_iterations"}
+    ranges = re.findall(
+        r'name="(HiddenLayers|Neurons|AdamEpochs|LBFGSIterations)".*?'
+        r"intrange\(\*\*_range\(\"(\w+)\"\)\)",
+        plugin,
+        re.S,
+    )
+    assert {field for _, field in ranges} == {
+        "hidden_layers",
+        "neurons",
+        "adam_epochs",
+        "lbfgs_iterations",
+    }

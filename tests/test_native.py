@@ -42,8 +42,7 @@ def test_fused_kernels_equal_the_torch_operations(kind, activation, dtype, monke
     fused = _run(net, x, extra)
     monkeypatch.setattr(native, "kernels", lambda: None)
     plain = _run(net, x, extra)
-    tol = {"rtol": 1e-12, "atol": 1e-12} if dtype == torch.float64 else {"rtol": 2e-4,
-                                                                            "atol": 2e-5}
+    tol = {"rtol": 1e-12, "atol": 1e-12} if dtype == torch.float64 else {"rtol": 2e-4, "atol": 2e-5}
     for a, b in zip(fused, plain):
         torch.testing.assert_close(a, b, **tol)
 
@@ -71,8 +70,9 @@ def test_the_build_is_cached_per_source_and_reused(fresh_kernels, tmp_path):
 
 
 @needs_compiler
-def test_an_unusable_cache_directory_builds_in_the_temporary_directory(fresh_kernels,
-                                                                        monkeypatch, tmp_path):
+def test_an_unusable_cache_directory_builds_in_the_temporary_directory(
+    fresh_kernels, monkeypatch, tmp_path
+):
     blocker = tmp_path / "a-file"
     blocker.write_text("not a directory")
     monkeypatch.setenv("PINN_MESH_CACHE", str(blocker / "cache"))
@@ -81,8 +81,9 @@ def test_an_unusable_cache_directory_builds_in_the_temporary_directory(fresh_ker
     assert len(list((tmp_path / "tmp").glob("pinn-mesh-*/jet_kernels-*.so"))) == 1
 
 
-def test_a_failing_compiler_falls_back_to_torch_with_a_warning(fresh_kernels, monkeypatch,
-                                                               tmp_path, caplog):
+def test_a_failing_compiler_falls_back_to_torch_with_a_warning(
+    fresh_kernels, monkeypatch, tmp_path, caplog
+):
     broken = tmp_path / "broken-c++"
     broken.write_text("#!/bin/sh\necho 'fatal error: simulated' >&2\nexit 1\n")
     broken.chmod(0o755)

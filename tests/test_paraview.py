@@ -41,13 +41,28 @@ def checkout(tmp_path_factory) -> Path:
     """A clean copy of the working tree: what ``git clone`` plus local edits would give."""
     dest = tmp_path_factory.mktemp("pv") / "checkout"
     try:
-        listed = subprocess.run(["git", "ls-files", "-co", "--exclude-standard", "-z"], cwd=ROOT,
-                                capture_output=True, check=True, timeout=60).stdout
+        listed = subprocess.run(
+            ["git", "ls-files", "-co", "--exclude-standard", "-z"],
+            cwd=ROOT,
+            capture_output=True,
+            check=True,
+            timeout=60,
+        ).stdout
         files = [f for f in listed.decode().split("\0") if f]
     except (OSError, subprocess.CalledProcessError):
-        files = [str(p.relative_to(ROOT)) for d in ("pinn_engine", "plugin", "paraview_support",
-                                                     "scripts", "example_data", "tests")
-                 for p in (ROOT / d).rglob("*") if p.is_file() and "__pycache__" not in p.parts]
+        files = [
+            str(p.relative_to(ROOT))
+            for d in (
+                "pinn_engine",
+                "plugin",
+                "paraview_support",
+                "scripts",
+                "example_data",
+                "tests",
+            )
+            for p in (ROOT / d).rglob("*")
+            if p.is_file() and "__pycache__" not in p.parts
+        ]
     for name in files:
         src = ROOT / name
         if src.is_file():
@@ -57,18 +72,30 @@ def checkout(tmp_path_factory) -> Path:
 
 
 def run_pvpython(checkout: Path, script: str, *args: str, **env_extra: str) -> dict:
-    env = dict(os.environ, PINN_PV_VENV=str(VENV_PV), PINN_PV_NO_REPO_PATH="1",
-               PINN_PV_NO_XVFB="1", **env_extra)  # pipeline work only: no X server needed
+    env = dict(
+        os.environ,
+        PINN_PV_VENV=str(VENV_PV),
+        PINN_PV_NO_REPO_PATH="1",
+        PINN_PV_NO_XVFB="1",
+        **env_extra,
+    )  # pipeline work only: no X server needed
     env.pop("PYTHONPATH", None)
-    cmd = ["bash", str(checkout / "scripts" / "pvenv.sh"), "pvpython",
-           str(checkout / "tests" / "paraview_scripts" / script), *args]
-    proc = subprocess.run(cmd, cwd=checkout.parent, env=env, capture_output=True, text=True,
-                          timeout=TIMEOUT)
+    cmd = [
+        "bash",
+        str(checkout / "scripts" / "pvenv.sh"),
+        "pvpython",
+        str(checkout / "tests" / "paraview_scripts" / script),
+        *args,
+    ]
+    proc = subprocess.run(
+        cmd, cwd=checkout.parent, env=env, capture_output=True, text=True, timeout=TIMEOUT
+    )
     lines = [ln for ln in proc.stdout.splitlines() if ln.startswith("RESULT ")]
     assert proc.returncode == 0 and lines, (
         f"{script} failed (rc {proc.returncode})\nstdout:\n{proc.stdout[-3000:]}\n"
-        f"stderr:\n{proc.stderr[-3000:]}")
-    return json.loads(lines[-1][len("RESULT "):])
+        f"stderr:\n{proc.stderr[-3000:]}"
+    )
+    return json.loads(lines[-1][len("RESULT ") :])
 
 
 @pytest.fixture(scope="module")
@@ -120,8 +147,10 @@ def test_boundary_and_aux_lines_selected_together(filter_run):
 def test_bad_boundary_gives_empty_output_and_one_message(filter_run):
     assert filter_run["bad"] == {"points": 0, "class": "vtkStructuredGrid"}
     messages = [ln for ln in filter_run["bad_vtk_text"].splitlines() if ln.strip()]
-    assert messages == ["PINN Structured Mesh: boundary input: holds 2 separate curves; the "
-                        "boundary must be one closed polyline"]
+    assert messages == [
+        "PINN Structured Mesh: boundary input: holds 2 separate curves; the "
+        "boundary must be one closed polyline"
+    ]
     assert "Traceback" not in filter_run["bad_stderr"]
     recovered = filter_run["recovered"]  # ParaView goes on
     assert recovered["points"] == 41 * 21 and recovered["trained"] == 1
@@ -130,25 +159,50 @@ def test_bad_boundary_gives_empty_output_and_one_message(filter_run):
 def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
     empty = tmp_path / "no_plugins"
     empty.mkdir()
-    result = run_pvpython(checkout, "check_load_plugin.py",
-                          str(checkout / "plugin" / "pinn_mesh_plugin.py"),
-                          str(checkout / "example_data"), PINN_PV_PLUGIN_PATH=str(empty))
+    result = run_pvpython(
+        checkout,
+        "check_load_plugin.py",
+        str(checkout / "plugin" / "pinn_mesh_plugin.py"),
+        str(checkout / "example_data"),
+        PINN_PV_PLUGIN_PATH=str(empty),
+    )
     assert not result["before_load"] and result["after_load"]
     assert result["property_order"] == [  # no "Reload Python Module" button for users
-        "Input", "AuxiliaryLines", "Method", "GridSize", "Preset", "AdamEpochs",
-        "LBFGSIterations", "HiddenLayers", "Neurons", "Lambda2", "Seed", "CornerIndices",
-        "Objective", "Topology", "FarFieldRadius", "WallSpacing", "FirstEdgeSpacing",
-        "OrthogonalSides", "PatchNames"]
+        "Input",
+        "AuxiliaryLines",
+        "Method",
+        "GridSize",
+        "Preset",
+        "AdamEpochs",
+        "LBFGSIterations",
+        "HiddenLayers",
+        "Neurons",
+        "Lambda2",
+        "Seed",
+        "CornerIndices",
+        "Objective",
+        "Topology",
+        "FarFieldRadius",
+        "WallSpacing",
+        "FirstEdgeSpacing",
+        "OrthogonalSides",
+        "PatchNames",
+    ]
     assert result["methods"] == ["pinn", "mgnet", "tfi", "elliptic"]
     assert result["aux_optional"]
-    assert result["grid"] == {"class": "vtkStructuredGrid", "extent": [0, 30, 0, 15, 0, 0],
-                              "max_angle": True, "method": "elliptic"}
+    assert result["grid"] == {
+        "class": "vtkStructuredGrid",
+        "extent": [0, 30, 0, 15, 0, 0],
+        "max_angle": True,
+        "method": "elliptic",
+    }
     assert not result["torch_after_load"] and not result["torch_at_end"]
 
 
 def test_plugin_folder_holds_only_the_plugin():
-    assert sorted(p.name for p in (ROOT / "plugin").iterdir()
-                  if p.name != "__pycache__") == ["pinn_mesh_plugin.py"]
+    assert sorted(p.name for p in (ROOT / "plugin").iterdir() if p.name != "__pycache__") == [
+        "pinn_mesh_plugin.py"
+    ]
 
 
 def test_save_data_offers_the_solver_formats_and_writes_them(checkout, tmp_path):
@@ -164,12 +218,22 @@ def test_save_data_offers_the_solver_formats_and_writes_them(checkout, tmp_path)
     )
 
     helper = ROOT / ".venv" / "bin" / "python"  # CGNS: ParaView's HDF5 clashes with h5py's
-    result = run_pvpython(checkout, "check_writers.py", str(checkout / "example_data"),
-                          str(tmp_path), PINN_MESH_PYTHON=str(helper))
+    result = run_pvpython(
+        checkout,
+        "check_writers.py",
+        str(checkout / "example_data"),
+        str(tmp_path),
+        PINN_MESH_PYTHON=str(helper),
+    )
     assert result["patch_names"] == ["wall", "right", "wall", "inlet"]
     assert {"i", "j"} <= set(result["point_arrays"])
     assert sorted(t.split("(*")[1] for t in result["file_types"]) == [
-        ".cgns )", ".foam )", ".msh )", ".su2 )", ".xyz )"]
+        ".cgns )",
+        ".foam )",
+        ".msh )",
+        ".su2 )",
+        ".xyz )",
+    ]
     assert all(not text for text in result["errors"].values()), result["errors"]
     reference = read_vts(tmp_path / "grid.vts")
     check_plot3d(tmp_path / "grid.xyz", reference, None)
@@ -183,7 +247,8 @@ def test_save_data_offers_the_solver_formats_and_writes_them(checkout, tmp_path)
         "PINN Mesh writer: cgns: writing CGNS needs a working h5py, which this Python lacks; "
         "ParaView's HDF5 clashes with pip's h5py, so the writer runs the checkout's .venv "
         "Python: make it with bash scripts/setup.sh (or set PINN_MESH_PYTHON to a Python "
-        "with h5py)"]
+        "with h5py)"
+    ]
     assert not result["no_helper"]["traceback"] and "none.cgns" not in result["files"]
     check_openfoam(tmp_path / "case", reference)  # last: skips when checkMesh is missing
 

@@ -22,16 +22,24 @@ pytestmark = pytest.mark.paraview
 TOOLS = ("paraview", "xvfb-run", "Xvfb", "xdotool", "import")
 missing = [t for t in TOOLS if shutil.which(t) is None]
 if missing or not (Path(os.environ.get("PINN_PV_VENV", ROOT / ".venv-pv")) / "bin").exists():
-    pytest.skip(f"ParaView GUI test needs {', '.join(missing) or '.venv-pv'} "
-                "(bash scripts/setup_paraview.sh)", allow_module_level=True)
+    pytest.skip(
+        f"ParaView GUI test needs {', '.join(missing) or '.venv-pv'} "
+        "(bash scripts/setup_paraview.sh)",
+        allow_module_level=True,
+    )
 
 
 @pytest.fixture(scope="module")
 def gui(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("gui")
     env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "PYTHONPATH")}
-    proc = subprocess.run(["bash", str(ROOT / "tests" / "paraview_gui" / "drive.sh"), str(out)],
-                          env=env, capture_output=True, text=True, timeout=420)
+    proc = subprocess.run(
+        ["bash", str(ROOT / "tests" / "paraview_gui" / "drive.sh"), str(out)],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=420,
+    )
     assert proc.returncode == 0, proc.stderr[-3000:]
     return out
 

@@ -69,9 +69,9 @@ def test_shortcut_network_shapes_and_gating_on_a_hand_set_network():
     with torch.no_grad():
         for p in net.parameters():
             p.zero_()
-        net.w_in[0] = torch.tensor([[1.0, 0.0], [0.0, 1.0]])   # H1 = tanh(x)
-        net.w_u[0] = torch.tensor([[0.5, 0.0], [0.0, 0.5]])    # U = tanh(x / 2)
-        net.w_v[0] = torch.tensor([[0.0, 1.0], [1.0, 0.0]])    # V = tanh(swap(x))
+        net.w_in[0] = torch.tensor([[1.0, 0.0], [0.0, 1.0]])  # H1 = tanh(x)
+        net.w_u[0] = torch.tensor([[0.5, 0.0], [0.0, 0.5]])  # U = tanh(x / 2)
+        net.w_v[0] = torch.tensor([[0.0, 1.0], [1.0, 0.0]])  # V = tanh(swap(x))
         net.w_hidden[0][0] = torch.tensor([[2.0, 0.0], [0.0, -1.0]])
         net.b_hidden[0][0] = torch.tensor([[0.1, 0.2]])
         net.w_out[0] = torch.tensor([[1.0], [3.0]])
@@ -97,13 +97,14 @@ def test_annealing_weight_against_a_hand_computation():
     g_bcs = [torch.tensor([[0.5, -1.0], [0.0, 0.5]]), torch.tensor([[-0.5]])]
     # lambda_hat = max|g_eqns| / mean|lambda1 g_bcs| = 3 / (2 * 2.5 / 5) = 3
     assert annealed_lambda(g_eqns, g_bcs, lambda1=2.0, momentum=0.9) == pytest.approx(
-        0.9 * 2.0 + 0.1 * 3.0)
+        0.9 * 2.0 + 0.1 * 3.0
+    )
 
 
 def test_annealing_on_a_toy_loss_via_autograd():
     w = torch.tensor([1.0, 2.0], requires_grad=True)
-    l_eqns = (w ** 2).sum()          # grad 2w = [2, 4]
-    l_bcs = (3 * w).sum()            # grad [3, 3]
+    l_eqns = (w**2).sum()  # grad 2w = [2, 4]
+    l_bcs = (3 * w).sum()  # grad [3, 3]
     g_e = torch.autograd.grad(l_eqns, [w])
     g_b = torch.autograd.grad(l_bcs, [w])
     assert annealed_lambda(g_e, g_b, 1.0, 0.9) == pytest.approx(0.9 + 0.1 * 4 / 3)
@@ -131,8 +132,13 @@ def test_data_term_sees_the_auxiliary_line_points(fig2):
 
 def test_same_seed_same_grid_and_another_seed_another_grid(fig2):
     boundary, aux = fig2
-    grids = [Mesher(make_settings("pinn", seed=s, adam_epochs=60, lbfgs_iterations=5))
-             .fit(boundary, aux).predict(21, 11).points for s in (3, 3, 4)]
+    grids = [
+        Mesher(make_settings("pinn", seed=s, adam_epochs=60, lbfgs_iterations=5))
+        .fit(boundary, aux)
+        .predict(21, 11)
+        .points
+        for s in (3, 3, 4)
+    ]
     np.testing.assert_array_equal(grids[0], grids[1])
     assert np.abs(grids[0] - grids[2]).max() > 1e-6
 
@@ -167,23 +173,50 @@ def test_paper_preset_and_mgnet_train_with_penalty_terms(fig2):
 
 def test_cli_pinn_with_save_and_load(tmp_path, capsys):
     model = tmp_path / "m.pt"
-    args = [str(EXAMPLES / "wavy.vtp"), "--aux", str(EXAMPLES / "wavy_aux.vtp"), "--epochs",
-            "60", "--lbfgs", "5", "--quiet"]
+    args = [
+        str(EXAMPLES / "wavy.vtp"),
+        "--aux",
+        str(EXAMPLES / "wavy_aux.vtp"),
+        "--epochs",
+        "60",
+        "--lbfgs",
+        "5",
+        "--quiet",
+    ]
     assert main(args + ["-o", str(tmp_path / "a.vts"), "--save-model", str(model)]) == 0
-    assert main([str(EXAMPLES / "wavy.vtp"), "--load-model", str(model), "--size", "101", "51",
-                 "-o", str(tmp_path / "b.vts"), "--quiet"]) == 0
+    assert (
+        main(
+            [
+                str(EXAMPLES / "wavy.vtp"),
+                "--load-model",
+                str(model),
+                "--size",
+                "101",
+                "51",
+                "-o",
+                str(tmp_path / "b.vts"),
+                "--quiet",
+            ]
+        )
+        == 0
+    )
     assert (tmp_path / "b.vts").stat().st_size > 0
     # a model for another boundary is refused with a clear error
-    assert main([str(EXAMPLES / "fig2.vtp"), "--load-model", str(model), "-o",
-                 str(tmp_path / "c.vts")]) == 2
+    assert (
+        main(
+            [str(EXAMPLES / "fig2.vtp"), "--load-model", str(model), "-o", str(tmp_path / "c.vts")]
+        )
+        == 2
+    )
     assert "different boundary" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize("backend", [pytest.param("native", marks=needs_compiler), "torch"])
 @pytest.mark.parametrize("kind", ["shortcut", "mlp"])
 @pytest.mark.parametrize("mode", ["hard", "penalty"])
-def test_fast_path_residuals_and_gradients_equal_the_autograd_reference(fig2, kind, mode,
-                                                                        backend, monkeypatch):
+def test_fast_path_residuals_and_gradients_equal_the_autograd_reference(
+    fig2, kind, mode, backend, monkeypatch
+):
     boundary, _ = fig2
     if backend == "torch":
         monkeypatch.setattr(native, "kernels", lambda: None)
@@ -200,8 +233,13 @@ def test_fast_path_residuals_and_gradients_equal_the_autograd_reference(fig2, ki
         net.zero_grad()
         jet, values = mapping.jet(x, base, extra, fast=fast)
         (loss_eqns(jet) + values.pow(2).mean()).backward()
-        results.append((winslow_residual(jet).detach(), values.detach(),
-                        [p.grad.clone() for p in net.parameters()]))
+        results.append(
+            (
+                winslow_residual(jet).detach(),
+                values.detach(),
+                [p.grad.clone() for p in net.parameters()],
+            )
+        )
     (r_fast, v_fast, g_fast), (r_ref, v_ref, g_ref) = results
     torch.testing.assert_close(r_fast, r_ref, rtol=1e-10, atol=1e-12)
     torch.testing.assert_close(v_fast, v_ref, rtol=1e-12, atol=1e-14)

@@ -41,11 +41,16 @@ def test_tilted_plane_gives_the_flat_grid_moved(fig2):
     boundary, aux = fig2
     flat = pinn_mesh(boundary, aux=aux, size=(21, 11), method="elliptic")
     matrix, shift = rotation(0.4, 1.1), [3.0, -2.0, 7.5]
-    tilted = pinn_mesh(moved(boundary, matrix, shift), aux=moved(aux, matrix, shift),
-                       size=(21, 11), method="elliptic")
+    tilted = pinn_mesh(
+        moved(boundary, matrix, shift),
+        aux=moved(aux, matrix, shift),
+        size=(21, 11),
+        method="elliptic",
+    )
     # same cells, same quality; points in the user's plane, boundary nodes on the input
-    np.testing.assert_allclose(tilted.cell_data["MaxIncludedAngle"],
-                               flat.cell_data["MaxIncludedAngle"], atol=1e-6)
+    np.testing.assert_allclose(
+        tilted.cell_data["MaxIncludedAngle"], flat.cell_data["MaxIncludedAngle"], atol=1e-6
+    )
     normal = matrix @ [0.0, 0.0, 1.0]
     assert np.abs((tilted.points - shift) @ normal).max() < 1e-9
     np.testing.assert_allclose(tilted.points, flat.points @ matrix.T + shift, atol=1e-9)
@@ -57,8 +62,24 @@ def test_xz_plane_from_the_command_line(tmp_path, fig2):
     moved(boundary, swap, [0, 2.0, 0]).save(tmp_path / "b.vtp")
     moved(aux, swap, [0, 2.0, 0]).save(tmp_path / "a.vtp")
     out = tmp_path / "g.vts"
-    assert main([str(tmp_path / "b.vtp"), "--aux", str(tmp_path / "a.vtp"), "--size", "21",
-                 "11", "--method", "tfi", "-o", str(out), "--quiet"]) == 0
+    assert (
+        main(
+            [
+                str(tmp_path / "b.vtp"),
+                "--aux",
+                str(tmp_path / "a.vtp"),
+                "--size",
+                "21",
+                "11",
+                "--method",
+                "tfi",
+                "-o",
+                str(out),
+                "--quiet",
+            ]
+        )
+        == 0
+    )
     grid = pv.read(out)
     assert np.allclose(grid.points[:, 1], 2.0)
     # xi along x and eta up (+z): node (0, 0) is corner 0 of the XZ drawing, as in the xy one
@@ -79,8 +100,14 @@ def test_constant_z_is_kept():
 
 def test_non_planar_boundary_says_how_far(tmp_path, capsys):
     t = np.linspace(0, 1, 10, endpoint=False)
-    square = np.concatenate([np.column_stack([t, 0 * t]), np.column_stack([1 + 0 * t, t]),
-                             np.column_stack([1 - t, 1 + 0 * t]), np.column_stack([0 * t, 1 - t])])
+    square = np.concatenate(
+        [
+            np.column_stack([t, 0 * t]),
+            np.column_stack([1 + 0 * t, t]),
+            np.column_stack([1 - t, 1 + 0 * t]),
+            np.column_stack([0 * t, 1 - t]),
+        ]
+    )
     z = np.where(np.arange(len(square)) == 15, 0.05, 0.0)  # one point 0.05 off: a dent
     path = tmp_path / "warped.csv"
     np.savetxt(path, np.column_stack([square, z]), delimiter=",")
@@ -118,8 +145,9 @@ def test_a_cached_mesher_is_not_reused_for_another_plane(fig2):
     boundary, _ = fig2
     cache = MeshCache()
     pinn_mesh(boundary, size=(11, 6), method="tfi", cache=cache)
-    lifted = pinn_mesh(moved(boundary, np.eye(3), [0.0, 0.0, 5.0]), size=(11, 6),
-                       method="tfi", cache=cache)
+    lifted = pinn_mesh(
+        moved(boundary, np.eye(3), [0.0, 0.0, 5.0]), size=(11, 6), method="tfi", cache=cache
+    )
     assert np.all(lifted.points[:, 2] == 5.0)
 
 

@@ -28,12 +28,15 @@ from pinn_engine.geometry import Boundary, segment_distance, signed_area
 from pinn_engine.mesher import Mesher
 from pinn_engine.settings import make_settings
 
-settings.register_profile("pinn-ci", max_examples=30, deadline=None,
-                          suppress_health_check=[HealthCheck.too_slow])
-settings.register_profile("pinn-long", max_examples=3000, deadline=None,
-                          suppress_health_check=[HealthCheck.too_slow])
-PROFILE = settings.get_profile("pinn-long" if os.environ.get("PINN_MESH_HYPOTHESIS") == "long"
-                               else "pinn-ci")
+settings.register_profile(
+    "pinn-ci", max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow]
+)
+settings.register_profile(
+    "pinn-long", max_examples=3000, deadline=None, suppress_health_check=[HealthCheck.too_slow]
+)
+PROFILE = settings.get_profile(
+    "pinn-long" if os.environ.get("PINN_MESH_HYPOTHESIS") == "long" else "pinn-ci"
+)
 
 unit = st.floats(0.0, 1.0)
 
@@ -54,9 +57,18 @@ def quad_shape(draw):
         n = draw(st.integers(1, 30))
         s = np.linspace(0.0, 1.0, n + 1)[:-1]
         if draw(st.booleans()):  # uneven spacing along the side
-            s = np.sort(np.concatenate([[0.0], draw(st.lists(st.floats(0.02, 0.98),
-                                                             min_size=n - 1, max_size=n - 1,
-                                                             unique=True))]))
+            s = np.sort(
+                np.concatenate(
+                    [
+                        [0.0],
+                        draw(
+                            st.lists(
+                                st.floats(0.02, 0.98), min_size=n - 1, max_size=n - 1, unique=True
+                            )
+                        ),
+                    ]
+                )
+            )
         bump = draw(st.floats(-0.03, 0.03)) * np.sin(draw(st.integers(1, 2)) * np.pi * s)
         d = b - a
         parts.append(a + s[:, None] * d + bump[:, None] * np.array([-d[1], d[0]]))
@@ -125,8 +137,9 @@ def test_valid_boundaries_give_a_grid_with_boundary_nodes_on_the_boundary(case, 
         np.testing.assert_allclose(found[0], corners[np.argmin(key)], atol=tol)
     grid = Mesher(make_settings("tfi")).fit(b).predict(ni, nj).points
     assert grid.shape == (nj, ni, 2) and np.all(np.isfinite(grid))
-    np.testing.assert_allclose([grid[0, 0], grid[0, -1], grid[-1, -1], grid[-1, 0]], found,
-                               atol=tol)
+    np.testing.assert_allclose(
+        [grid[0, 0], grid[0, -1], grid[-1, -1], grid[-1, 0]], found, atol=tol
+    )
     edge = np.concatenate([grid[0], grid[1:, -1], grid[-1, -2::-1], grid[-2:0:-1, 0]])
     on = segment_distance(edge, ring)
     assert on.max() <= tol, on.max()
@@ -144,8 +157,9 @@ def ring_position(points: np.ndarray, ring: np.ndarray) -> np.ndarray:
     ab = b - a
     length = np.linalg.norm(ab, axis=1)
     start = np.concatenate([[0.0], np.cumsum(length)[:-1]])
-    u = np.clip(np.einsum("pmj,mj->pm", points[:, None] - a, ab) / np.maximum(length ** 2,
-                                                                            1e-300), 0, 1)
+    u = np.clip(
+        np.einsum("pmj,mj->pm", points[:, None] - a, ab) / np.maximum(length**2, 1e-300), 0, 1
+    )
     d = np.linalg.norm(a + u[..., None] * ab - points[:, None], axis=2)
     k = d.argmin(axis=1)
     return start[k] + u[np.arange(len(points)), k] * length[k]
@@ -157,8 +171,20 @@ def ring_position(points: np.ndarray, ring: np.ndarray) -> np.ndarray:
 @st.composite
 def invalid_boundary(draw):
     """A boundary that is wrong in one of several ways; returns (points, reason)."""
-    reason = draw(st.sampled_from(["nonfinite", "too_few", "crossing", "polygon", "repeat",
-                                   "spike", "collinear", "coincide"]))
+    reason = draw(
+        st.sampled_from(
+            [
+                "nonfinite",
+                "too_few",
+                "crossing",
+                "polygon",
+                "repeat",
+                "spike",
+                "collinear",
+                "coincide",
+            ]
+        )
+    )
     ring, _ = draw(placed(quad_shape(), duplicates=False))
     n = len(ring)
     k = draw(st.integers(0, n - 1))
@@ -166,7 +192,7 @@ def invalid_boundary(draw):
         ring = ring.copy()
         ring[k, draw(st.integers(0, 1))] = draw(st.sampled_from([np.nan, np.inf, -np.inf]))
     elif reason == "too_few":
-        ring = ring[:draw(st.integers(0, 3))]
+        ring = ring[: draw(st.integers(0, 3))]
     elif reason == "crossing":  # one vertex pulled far through the opposite side
         centre = ring.mean(axis=0)
         ring = ring.copy()
@@ -200,8 +226,9 @@ def test_invalid_boundaries_give_a_clear_error(case):
 
 
 finite_or_not = st.floats(allow_nan=True, allow_infinity=True, width=64)
-coordinate = st.one_of(st.floats(-1e3, 1e3), finite_or_not,
-                       st.sampled_from([0.0, 1.0, 1e-300, 1e300]))
+coordinate = st.one_of(
+    st.floats(-1e3, 1e3), finite_or_not, st.sampled_from([0.0, 1.0, 1e-300, 1e300])
+)
 
 
 @settings(PROFILE)
@@ -219,14 +246,21 @@ def test_arbitrary_points_give_a_grid_or_a_clear_error(points):
 
 
 @settings(PROFILE, max_examples=max(PROFILE.max_examples // 3, 10))
-@given(st.one_of(valid_boundaries, invalid_boundary()),
-       st.sampled_from([".csv", ".txt"]), st.booleans())
+@given(
+    st.one_of(valid_boundaries, invalid_boundary()),
+    st.sampled_from([".csv", ".txt"]),
+    st.booleans(),
+)
 def test_cli_answers_status_0_with_a_grid_or_2_with_one_line(case, ext, header):
     ring = case[0]
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / f"boundary{ext}"
-        rows = [" ".join(repr(float(v)) for v in row) if ext == ".txt"
-                else ",".join(repr(float(v)) for v in row) for row in ring]
+        rows = [
+            " ".join(repr(float(v)) for v in row)
+            if ext == ".txt"
+            else ",".join(repr(float(v)) for v in row)
+            for row in ring
+        ]
         path.write_text("\n".join((["x,y"] if header else []) + rows) + "\n")
         out = Path(folder) / "g.vts"
         import contextlib
@@ -234,8 +268,7 @@ def test_cli_answers_status_0_with_a_grid_or_2_with_one_line(case, ext, header):
 
         err = io.StringIO()
         with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
-            rc = main([str(path), "--method", "tfi", "--size", "9", "5", "-o", str(out),
-                       "--quiet"])
+            rc = main([str(path), "--method", "tfi", "--size", "9", "5", "-o", str(out), "--quiet"])
         if isinstance(case[1], str):  # an invalid case
             assert rc == 2
         assert rc in (0, 2)

@@ -44,8 +44,9 @@ def test_accessor_trains_once_per_training_key(fig2):
     coarse = boundary.pinn_mesh(aux=aux, size=(21, 11), **short)
     fine = boundary.pinn_mesh.mesh(aux=aux, size=(41, 21), **short)  # the same, namespaced
     assert boundary.pinn_mesh.trainings == 1
-    np.testing.assert_allclose(fine.points.reshape(21, 41, 3)[::2, ::2].reshape(-1, 3),
-                               coarse.points, atol=1e-12)
+    np.testing.assert_allclose(
+        fine.points.reshape(21, 41, 3)[::2, ::2].reshape(-1, 3), coarse.points, atol=1e-12
+    )
     boundary.pinn_mesh(aux=aux, size=(21, 11), seed=1, **short)
     assert boundary.pinn_mesh.trainings == 2
     boundary.pinn_mesh.clear()
@@ -94,18 +95,22 @@ def test_entry_point_declares_the_accessor_module():
     # pyvista 0.49 imports the entry point's value with importlib.import_module: a module path
     assert eps[0].value == "pinn_engine.pyvista_accessor", (
         f"entry point value {eps[0].value!r}: pyvista imports it as a module; it must be "
-        "'pinn_engine.pyvista_accessor' in pyproject.toml")
+        "'pinn_engine.pyvista_accessor' in pyproject.toml"
+    )
     importlib.import_module(eps[0].value)
 
 
 def test_accessor_found_through_entry_point_without_import():
-    code = ("import sys, pyvista as pv\n"
-            f"b = pv.read({str(EXAMPLES / 'wavy.vtp')!r})\n"
-            "assert 'pinn_engine' not in sys.modules\n"
-            "g = b.pinn_mesh(size=(9, 5), method='tfi')\n"
-            "print(type(g).__name__, g.dimensions)\n")
-    proc = subprocess.run([sys.executable, "-c", code], cwd="/", capture_output=True, text=True,
-                          timeout=120)
+    code = (
+        "import sys, pyvista as pv\n"
+        f"b = pv.read({str(EXAMPLES / 'wavy.vtp')!r})\n"
+        "assert 'pinn_engine' not in sys.modules\n"
+        "g = b.pinn_mesh(size=(9, 5), method='tfi')\n"
+        "print(type(g).__name__, g.dimensions)\n"
+    )
+    proc = subprocess.run(
+        [sys.executable, "-c", code], cwd="/", capture_output=True, text=True, timeout=120
+    )
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert proc.stdout.strip() == "StructuredGrid (9, 5, 1)"
 
@@ -113,9 +118,14 @@ def test_accessor_found_through_entry_point_without_import():
 def test_example_script_saves_a_picture(tmp_path):
     out = tmp_path / "example.png"
     env = dict(os.environ, VTK_DEFAULT_OPENGL_WINDOW="vtkEGLRenderWindow")
-    proc = subprocess.run([sys.executable, str(ROOT / "examples" / "pyvista_example.py"),
-                           "--quick", "-o", str(out)], cwd=tmp_path, env=env,
-                          capture_output=True, text=True, timeout=300)
+    proc = subprocess.run(
+        [sys.executable, str(ROOT / "examples" / "pyvista_example.py"), "--quick", "-o", str(out)],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert "1 training(s)" in proc.stdout
     assert out.stat().st_size > 10_000

@@ -78,8 +78,26 @@ def test_objective_on_the_command_line(tmp_path, capsys):
     ring = tmp_path / "square.csv"
     np.savetxt(ring, square_ring(8), delimiter=",")
     out, report = tmp_path / "g.vts", tmp_path / "r.json"
-    assert main([str(ring), "--size", "9", "5", "--objective", "quality", "--lbfgs", "0",
-                 "-o", str(out), "--report", str(report), "--quiet"]) == 0
+    assert (
+        main(
+            [
+                str(ring),
+                "--size",
+                "9",
+                "5",
+                "--objective",
+                "quality",
+                "--lbfgs",
+                "0",
+                "-o",
+                str(out),
+                "--report",
+                str(report),
+                "--quiet",
+            ]
+        )
+        == 0
+    )
     saved = json.loads(report.read_text())
     assert saved["settings"]["objective"] == "quality" and saved["quality"]["folded_cells"] == 0
     with pytest.raises(SystemExit) as exc:

@@ -115,8 +115,9 @@ def grid_points(path: Path) -> np.ndarray:
     reader.SetFileName(str(path))
     reader.Update()
     grid = reader.GetOutput()
-    ni, nj = grid.GetDimensions()[:2] if False else (grid.GetExtent()[1] + 1,
-                                                      grid.GetExtent()[3] + 1)
+    ni, nj = (
+        grid.GetDimensions()[:2] if False else (grid.GetExtent()[1] + 1, grid.GetExtent()[3] + 1)
+    )
     return vtk_to_numpy(grid.GetPoints().GetData())[:, :2].reshape(nj, ni, 2)
 
 
@@ -175,7 +176,7 @@ def _write_z(d, z):
 
 def _damaged_vtp(d):
     data = (EXAMPLES / "wavy.vtp").read_bytes()
-    (d / "b.vtp").write_bytes(data[:len(data) // 2])
+    (d / "b.vtp").write_bytes(data[: len(data) // 2])
     return d / "b.vtp"
 
 
@@ -197,44 +198,54 @@ BAD_BOUNDARIES = {
     "no extension": (lambda d: csv(d / "boundary", square_ring(3)), "unknown format"),
     "directory": (lambda d: (d / "dir.csv").mkdir() or d / "dir.csv", "is a directory"),
     "empty file": (lambda d: put(d / "e.csv", b""), "file is empty"),
-    "binary file named .csv": (
-        lambda d: put(d / "b.csv", bytes(range(256)) * 4), "binary"),
-    "not UTF-8 text": (lambda d: put(d / "b.csv", b"0,0\n\xff\xfe,1\n"),
-                       "not UTF-8"),
+    "binary file named .csv": (lambda d: put(d / "b.csv", bytes(range(256)) * 4), "binary"),
+    "not UTF-8 text": (lambda d: put(d / "b.csv", b"0,0\n\xff\xfe,1\n"), "not UTF-8"),
     "text that is not numbers": (
         lambda d: put(d / "b.csv", "x,y\n0,0\n1,zero\n"),
-        "line 3 is not numeric"),
-    "wrong number of columns": (
-        lambda d: put(d / "b.csv", "0,0\n1,0,0,0\n"), "4 columns"),
+        "line 3 is not numeric",
+    ),
+    "wrong number of columns": (lambda d: put(d / "b.csv", "0,0\n1,0,0,0\n"), "4 columns"),
     "damaged .vtp": (_damaged_vtp, "damaged or unreadable"),
-    "not a VTK file named .vtp": (
-        lambda d: put(d / "b.vtp", "hello"), "not a VTK XML"),
+    "not a VTK file named .vtp": (lambda d: put(d / "b.vtp", "hello"), "not a VTK XML"),
     "open polyline": (_open_polyline, "open"),
     "several curves": (_two_curves, "2 separate curves"),
     "too few points": (ring_with(lambda: [[0, 0], [1, 0], [0, 1]]), "needs at least 4"),
     "all points the same": (ring_with(lambda: [[1, 1]] * 6), "all coincide"),
-    "all points on a line": (ring_with(lambda: [[0, 0], [1, 0], [2, 0], [3, 0]]),
-                             "doubles back|no area"),
+    "all points on a line": (
+        ring_with(lambda: [[0, 0], [1, 0], [2, 0], [3, 0]]),
+        "doubles back|no area",
+    ),
     "NaN point": (ring_with(_nan_point), "point 5 is not finite"),
     "infinite point": (ring_with(_inf_point), "point 2 is not finite"),
     "huge coordinates": (ring_with(lambda: square_ring(3) * 1e300), "beyond"),
     "tiny domain far from the origin": (ring_with(_tiny_far_away), "significant digits"),
     "fewer than four clear corners": (
-        ring_with(lambda: np.column_stack([np.cos(np.linspace(0, 6.2, 40)),
-                                           np.sin(np.linspace(0, 6.2, 40))])),
-        "fewer than four clear corners.*--corners"),
-    "corner angle near 180 degrees": (ring_with(_near_180_corner),
-                                      "4th-largest turn is below 20.*1.4 at point 3"),
-    "nearly collinear corners (ambiguous)": (ring_with(_ambiguous_corners),
-                                             "5th-largest turn is close to the 4th"),
-    "self-intersecting": (ring_with(lambda: [[0, 0], [1, 1], [1, 0], [0, 1]]),
-                          "self-intersecting"),
+        ring_with(
+            lambda: np.column_stack(
+                [np.cos(np.linspace(0, 6.2, 40)), np.sin(np.linspace(0, 6.2, 40))]
+            )
+        ),
+        "fewer than four clear corners.*--corners",
+    ),
+    "corner angle near 180 degrees": (
+        ring_with(_near_180_corner),
+        "4th-largest turn is below 20.*1.4 at point 3",
+    ),
+    "nearly collinear corners (ambiguous)": (
+        ring_with(_ambiguous_corners),
+        "5th-largest turn is close to the 4th",
+    ),
+    "self-intersecting": (ring_with(lambda: [[0, 0], [1, 1], [1, 0], [0, 1]]), "self-intersecting"),
     "repeated point": (ring_with(_repeated_point), "repeated further along"),
     "zero-width spike": (ring_with(_spike), "doubles back|self-intersecting"),
-    "not planar": (lambda d: _write_z(d, lambda n: np.arange(n, dtype=float)),
-                   "is not planar: its points lie up to .* off their best-fit plane"),
-    "NaN z": (lambda d: _write_z(d, lambda n: np.where(np.arange(n) == 2, np.nan, 0.0)),
-              "point 2 has a non-finite z"),
+    "not planar": (
+        lambda d: _write_z(d, lambda n: np.arange(n, dtype=float)),
+        "is not planar: its points lie up to .* off their best-fit plane",
+    ),
+    "NaN z": (
+        lambda d: _write_z(d, lambda n: np.where(np.arange(n) == 2, np.nan, 0.0)),
+        "point 2 has a non-finite z",
+    ),
 }
 
 
@@ -273,8 +284,9 @@ def test_vtk_reader_crash_is_a_clear_error_not_a_crash(tmp_path, capsys, monkeyp
             self.reader.Update()
 
     monkeypatch.setattr(fileio, "_vtk_reader", Aborting)
-    rc, _, err = run_cli([EXAMPLES / "wavy.vtp", "--method", "tfi", "-o", tmp_path / "g.vts"],
-                         capsys)
+    rc, _, err = run_cli(
+        [EXAMPLES / "wavy.vtp", "--method", "tfi", "-o", tmp_path / "g.vts"], capsys
+    )
     assert_clean_error(rc, err, tmp_path, r"VTK's reader crashed \(SIGABRT\) on it", "wavy.vtp")
 
 
@@ -307,8 +319,9 @@ def test_named_corners_survive_merging_of_their_duplicates():
     ring = square_ring(4)
     doubled = np.repeat(ring, 2, axis=0)  # each point twice; name the second copies
     b = Boundary.from_points(doubled, (1, 9, 17, 25))
-    np.testing.assert_allclose(b.frame.to_user(b.corner_points()),
-                               [[0, 0], [1, 0], [1, 1], [0, 1]], atol=1e-12)
+    np.testing.assert_allclose(
+        b.frame.to_user(b.corner_points()), [[0, 0], [1, 0], [1, 1], [0, 1]], atol=1e-12
+    )
     with pytest.raises(InputError, match="named corners 0 and 1 are the same point"):
         Boundary.from_points(doubled, (0, 1, 17, 25))
 
@@ -323,37 +336,75 @@ def test_clockwise_ring_and_any_start_give_the_same_grid():
 def test_corner_near_180_degrees_meshes_when_named(tmp_path, capsys):
     path = csv(tmp_path / "b.csv", _near_180_corner())
     out = tmp_path / "g.vts"
-    rc, _, err = run_cli([path, "--corners", 0, 1, 2, 3, "--method", "elliptic", "--size", 9, 9,
-                          "-o", out, "--quiet"], capsys)
+    rc, _, err = run_cli(
+        [
+            path,
+            "--corners",
+            0,
+            1,
+            2,
+            3,
+            "--method",
+            "elliptic",
+            "--size",
+            9,
+            9,
+            "-o",
+            out,
+            "--quiet",
+        ],
+        capsys,
+    )
     assert rc == 0, err
     pts = grid_points(out)
-    np.testing.assert_allclose([pts[0, 0], pts[0, -1], pts[-1, -1], pts[-1, 0]],
-                               [[0, 0], [2, 0], [1, 1.5], [0.5, 0.77]], atol=1e-12)
+    np.testing.assert_allclose(
+        [pts[0, 0], pts[0, -1], pts[-1, -1], pts[-1, 0]],
+        [[0, 0], [2, 0], [1, 1.5], [0.5, 0.77]],
+        atol=1e-12,
+    )
 
 
 def test_ambiguous_corners_mesh_when_named(tmp_path, capsys):
     path = csv(tmp_path / "b.csv", _ambiguous_corners())
-    rc, _, err = run_cli([path, "--corners", 0, 1, 3, 4, "--method", "tfi", "-o",
-                          tmp_path / "g.vts", "--quiet"], capsys)
+    rc, _, err = run_cli(
+        [path, "--corners", 0, 1, 3, 4, "--method", "tfi", "-o", tmp_path / "g.vts", "--quiet"],
+        capsys,
+    )
     assert rc == 0, err
 
 
 def test_very_unequal_side_lengths(tmp_path, capsys):
     # a 1000:1 strip, one segment on each short side and 2000 on each long side
     t = np.linspace(0, 1000, 2001)[:-1]
-    ring = np.vstack([np.column_stack([t, 0 * t]), [[1000, 0]],
-                      np.column_stack([1000 - t, 1 + 0 * t]), [[0, 1]]])
+    ring = np.vstack(
+        [np.column_stack([t, 0 * t]), [[1000, 0]], np.column_stack([1000 - t, 1 + 0 * t]), [[0, 1]]]
+    )
     path = csv(tmp_path / "strip.csv", ring)
     report = tmp_path / "r.json"
-    rc, _, err = run_cli([path, "--method", "elliptic", "--size", 201, 5, "-o",
-                          tmp_path / "g.vts", "--report", report, "--quiet"], capsys)
+    rc, _, err = run_cli(
+        [
+            path,
+            "--method",
+            "elliptic",
+            "--size",
+            201,
+            5,
+            "-o",
+            tmp_path / "g.vts",
+            "--report",
+            report,
+            "--quiet",
+        ],
+        capsys,
+    )
     assert rc == 0, err
     q = json.loads(report.read_text())["quality"]
     assert q["folded_cells"] == 0 and q["boundary_deviation"] <= 1e-12
 
 
-@pytest.mark.parametrize("scale, offset", [(1e-6, 0.0), (1e8, 0.0), (1.0, 1e5), (1e-3, 1e5),
-                                           (1e3, -3e7), (1e-6, 1e5)])
+@pytest.mark.parametrize(
+    "scale, offset", [(1e-6, 0.0), (1e8, 0.0), (1.0, 1e5), (1e-3, 1e5), (1e3, -3e7), (1e-6, 1e5)]
+)
 def test_huge_and_tiny_scales_and_offsets(scale, offset, tmp_path, capsys):
     """Everything runs in a normalised frame: the grid is the unit case, scaled and shifted."""
     ring = wavy_ring()
@@ -361,8 +412,7 @@ def test_huge_and_tiny_scales_and_offsets(scale, offset, tmp_path, capsys):
     reference = tfi(ring)
     path = csv(tmp_path / "b.csv", ring * scale + shift)
     out = tmp_path / "g.vts"
-    rc, _, err = run_cli([path, "--method", "tfi", "--size", 11, 7, "-o", out, "--quiet"],
-                         capsys)
+    rc, _, err = run_cli([path, "--method", "tfi", "--size", 11, 7, "-o", out, "--quiet"], capsys)
     assert rc == 0, err
     # the input itself carries about eps * |offset| of rounding
     tol = 1e-9 * scale + 4 * np.spacing(abs(offset) + 2 * scale)
@@ -388,8 +438,9 @@ def square_csv(tmp_path) -> Path:
 
 
 def aux_error(tmp_path, capsys, square_csv, aux: Path, pattern: str, names: str | None = None):
-    rc, _, err = run_cli([square_csv, "--aux", aux, "--method", "tfi", "-o",
-                          tmp_path / "g.vts"], capsys)
+    rc, _, err = run_cli(
+        [square_csv, "--aux", aux, "--method", "tfi", "-o", tmp_path / "g.vts"], capsys
+    )
     assert_clean_error(rc, err, tmp_path, pattern, names or str(aux))
 
 
@@ -422,8 +473,14 @@ def test_aux_lines_crossing_each_other_inconsistently(tmp_path, capsys, square_c
     vertical = [[1.0, 0.0], [1.0, 2.0]]
     bulge = [[0.0, 0.2], [0.9, 1.8], [1.1, 1.8], [2.0, 0.2]]
     aux = aux_file(tmp_path / "aux.vtp", vertical, bulge)
-    aux_error(tmp_path, capsys, square_csv, aux,
-              r"auxiliary lines '.*line 0' and '.*line 1' cross inconsistently", "aux.vtp")
+    aux_error(
+        tmp_path,
+        capsys,
+        square_csv,
+        aux,
+        r"auxiliary lines '.*line 0' and '.*line 1' cross inconsistently",
+        "aux.vtp",
+    )
 
 
 def test_aux_lines_in_swapped_order_crossing_inconsistently(tmp_path, capsys, square_csv):
@@ -441,59 +498,76 @@ def test_aux_lines_crossing_consistently_are_accepted(tmp_path, capsys, square_c
     b = [[1.6, 0.0], [0.4, 2.0]]
     c = [[0.0, 1.0], [2.0, 1.0]]
     aux = aux_file(tmp_path / "aux.vtp", a, b, c)
-    rc, _, err = run_cli([square_csv, "--aux", aux, "--method", "tfi", "-o",
-                          tmp_path / "g.vts", "--quiet"], capsys)
+    rc, _, err = run_cli(
+        [square_csv, "--aux", aux, "--method", "tfi", "-o", tmp_path / "g.vts", "--quiet"], capsys
+    )
     assert rc == 0, err
 
 
 def test_aux_xi_eta_arrays_must_be_complete_and_in_range(tmp_path, capsys, square_csv):
     line = [[0.5, 0.5], [1.5, 1.5]]
-    only_xi = vtp(tmp_path / "a1.vtp", polydata(line, lines=[[0, 1]],
-                                                arrays={"xi": [0.2, 0.8]}))
+    only_xi = vtp(tmp_path / "a1.vtp", polydata(line, lines=[[0, 1]], arrays={"xi": [0.2, 0.8]}))
     aux_error(tmp_path, capsys, square_csv, only_xi, "only one of the point-data arrays")
-    outside = vtp(tmp_path / "a2.vtp", polydata(line, lines=[[0, 1]],
-                                                arrays={"xi": [0.2, 1.8], "eta": [0.1, 0.2]}))
+    outside = vtp(
+        tmp_path / "a2.vtp",
+        polydata(line, lines=[[0, 1]], arrays={"xi": [0.2, 1.8], "eta": [0.1, 0.2]}),
+    )
     aux_error(tmp_path, capsys, square_csv, outside, "within \\[0, 1\\]")
 
 
 def test_damaged_aux_file(tmp_path, capsys):
     data = (EXAMPLES / "wavy_aux.vtp").read_bytes()
     aux = tmp_path / "aux.vtp"
-    aux.write_bytes(data[:len(data) // 2])
-    rc, _, err = run_cli([EXAMPLES / "wavy.vtp", "--aux", aux, "--method", "tfi", "-o",
-                          tmp_path / "g.vts"], capsys)
+    aux.write_bytes(data[: len(data) // 2])
+    rc, _, err = run_cli(
+        [EXAMPLES / "wavy.vtp", "--aux", aux, "--method", "tfi", "-o", tmp_path / "g.vts"], capsys
+    )
     assert_clean_error(rc, err, tmp_path, "damaged or unreadable", str(aux))
 
 
 # ---------------------------------------------------------------- options
 
 
-@pytest.mark.parametrize("options, pattern", [
-    pytest.param(["--size", "1", "5"], "--size 1 5: each side must have 2 to", id="size below 2"),
-    pytest.param(["--size", "20000", "20000"], "at most 4,000,000 nodes", id="size too large"),
-    pytest.param(["--size", "30000", "3"], "--size 30000 3", id="side too long"),
-    pytest.param(["--seed", "-1"], "--seed -1", id="seed"),
-    pytest.param(["--lambda2", "nan"], "--lambda2 nan", id="lambda2"),
-    pytest.param(["--neurons", "0"], "--neurons 0: must be a whole number from 1 to 4096",
-                 id="neurons"),
-    pytest.param(["--device", "gpu7"], "--device 'gpu7'", id="device"),
-    pytest.param(["--epochs", "-3"], "--epochs -3: must be a whole number from 0 to 1000000",
-                 id="epochs"),
-    pytest.param(["--corners", "0", "1", "2", "9999"], "corner index out of range",
-                 id="corner out of range"),
-    pytest.param(["--corners", "0", "0", "2", "3"], "four different point indices",
-                 id="corners repeated"),
-    pytest.param(["-o", "out.dat"], "unknown output format '.dat'", id="output format"),
-])
+@pytest.mark.parametrize(
+    "options, pattern",
+    [
+        pytest.param(
+            ["--size", "1", "5"], "--size 1 5: each side must have 2 to", id="size below 2"
+        ),
+        pytest.param(["--size", "20000", "20000"], "at most 4,000,000 nodes", id="size too large"),
+        pytest.param(["--size", "30000", "3"], "--size 30000 3", id="side too long"),
+        pytest.param(["--seed", "-1"], "--seed -1", id="seed"),
+        pytest.param(["--lambda2", "nan"], "--lambda2 nan", id="lambda2"),
+        pytest.param(
+            ["--neurons", "0"], "--neurons 0: must be a whole number from 1 to 4096", id="neurons"
+        ),
+        pytest.param(["--device", "gpu7"], "--device 'gpu7'", id="device"),
+        pytest.param(
+            ["--epochs", "-3"], "--epochs -3: must be a whole number from 0 to 1000000", id="epochs"
+        ),
+        pytest.param(
+            ["--corners", "0", "1", "2", "9999"],
+            "corner index out of range",
+            id="corner out of range",
+        ),
+        pytest.param(
+            ["--corners", "0", "0", "2", "3"], "four different point indices", id="corners repeated"
+        ),
+        pytest.param(["-o", "out.dat"], "unknown output format '.dat'", id="output format"),
+    ],
+)
 def test_bad_option_values_are_clear_errors(options, pattern, tmp_path, capsys):
     argv = [EXAMPLES / "wavy.vtp", "--method", "tfi", "-o", tmp_path / "g.vts", *options]
     rc, _, err = run_cli(argv, capsys)
-    assert_clean_error(rc, err, tmp_path, re.escape(pattern) if "\\" not in pattern
-                       else pattern, None)
+    assert_clean_error(
+        rc, err, tmp_path, re.escape(pattern) if "\\" not in pattern else pattern, None
+    )
 
 
-@pytest.mark.parametrize("options", [["--frobnicate"], ["--size", "a", "b"],
-                                     ["--method", "magic"], ["--corners", "1", "2"]])
+@pytest.mark.parametrize(
+    "options",
+    [["--frobnicate"], ["--size", "a", "b"], ["--method", "magic"], ["--corners", "1", "2"]],
+)
 def test_unknown_options_exit_2_with_usage(options, capsys):
     with pytest.raises(SystemExit) as exc:
         main([str(EXAMPLES / "wavy.vtp"), *options])
@@ -507,10 +581,13 @@ def test_unwritable_output_is_a_clear_error(tmp_path, capsys):
     blocker.write_text("not a folder")
     out_dir = tmp_path / "out.vts"
     out_dir.mkdir()
-    for out, pattern in ((blocker / "g.vts", "g.vts: cannot create its folder .*file.txt"),
-                         (out_dir, "is a directory")):
-        rc, _, err = run_cli([EXAMPLES / "wavy.vtp", "--method", "tfi", "-o", out, "--quiet"],
-                             capsys)
+    for out, pattern in (
+        (blocker / "g.vts", "g.vts: cannot create its folder .*file.txt"),
+        (out_dir, "is a directory"),
+    ):
+        rc, _, err = run_cli(
+            [EXAMPLES / "wavy.vtp", "--method", "tfi", "-o", out, "--quiet"], capsys
+        )
         assert rc == 2 and re.search(pattern, err), err
         assert len(err.strip().splitlines()) == 1
 
@@ -537,8 +614,9 @@ def test_nan_loss_during_adam_recovers(tmp_path, capsys, monkeypatch):
 
     monkeypatch.setattr(training, "total_loss", nan_after(training.total_loss, {20, 21}))
     report = tmp_path / "r.json"
-    rc, _, err = run_cli([EXAMPLES / "wavy.vtp", *QUICK, "-o", tmp_path / "g.vts", "--report",
-                          report], capsys)
+    rc, _, err = run_cli(
+        [EXAMPLES / "wavy.vtp", *QUICK, "-o", tmp_path / "g.vts", "--report", report], capsys
+    )
     assert rc == 0, err
     rep = json.loads(report.read_text())
     assert rep["training"]["recoveries"] == 2
@@ -566,8 +644,9 @@ def test_exploding_loss_during_adam_recovers(monkeypatch):
 def test_persistent_nan_ends_with_a_clear_error_and_no_output(tmp_path, capsys, monkeypatch):
     from pinn_engine import training
 
-    monkeypatch.setattr(training, "total_loss", nan_after(training.total_loss,
-                                                          set(range(10, 10_000))))
+    monkeypatch.setattr(
+        training, "total_loss", nan_after(training.total_loss, set(range(10, 10_000)))
+    )
     rc, _, err = run_cli([EXAMPLES / "wavy.vtp", *QUICK, "-o", tmp_path / "g.vts"], capsys)
     assert_clean_error(rc, err, tmp_path, "training diverged .* after 3 recoveries", None)
     with pytest.raises(TrainingError):
@@ -595,8 +674,9 @@ def test_nan_in_lambda1_annealing_recovers(monkeypatch):
 def test_nan_during_lbfgs_falls_back_to_the_adam_result(monkeypatch):
     from pinn_engine import training
 
-    monkeypatch.setattr(training, "total_loss", nan_after(training.total_loss,
-                                                          set(range(41, 10_000))))
+    monkeypatch.setattr(
+        training, "total_loss", nan_after(training.total_loss, set(range(41, 10_000)))
+    )
     b = load_boundary(EXAMPLES / "wavy.vtp")
     mesher = Mesher(make_settings("pinn", adam_epochs=40, lbfgs_iterations=5)).fit(b)
     assert mesher.model_.info["lbfgs_accepted"] is False
@@ -619,8 +699,13 @@ def test_folded_cells_are_reported_and_fail_on_folded_refuses_them(tmp_path, cap
     (tmp_path / "a.vts").unlink()
     (tmp_path / "r.json").unlink()
     rc, _, err = run_cli([*base, "-o", tmp_path / "b.vts", "--fail-on-folded"], capsys)
-    assert_clean_error(rc, err.splitlines()[-1], tmp_path,
-                       f"{folded} folded cells \\(--fail-on-folded\\); no output written", None)
+    assert_clean_error(
+        rc,
+        err.splitlines()[-1],
+        tmp_path,
+        f"{folded} folded cells \\(--fail-on-folded\\); no output written",
+        None,
+    )
     assert not (tmp_path / "r.json").exists()
 
 
@@ -629,8 +714,14 @@ def test_folded_cells_are_reported_and_fail_on_folded_refuses_them(tmp_path, cap
 
 def start(args: list, tmp_path: Path) -> subprocess.Popen:
     env = dict(os.environ, PYTHONUNBUFFERED="1")
-    return subprocess.Popen([str(PINN_MESH), *map(str, args)], cwd=tmp_path, env=env,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    return subprocess.Popen(
+        [str(PINN_MESH), *map(str, args)],
+        cwd=tmp_path,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
 
 
 def wait_for(predicate, timeout: float) -> bool:
@@ -653,9 +744,23 @@ def test_interrupt_during_training_ends_promptly_without_output(tmp_path):
     for sig in (signal.SIGINT, signal.SIGTERM):
         folder = tmp_path / sig.name
         folder.mkdir()
-        runs[sig] = (folder, start([EXAMPLES / "wavy.vtp", "--epochs", "1000000", "--lbfgs",
-                                    "0", "-o", folder / "g.vts", "--report",
-                                    folder / "r.json"], folder))
+        runs[sig] = (
+            folder,
+            start(
+                [
+                    EXAMPLES / "wavy.vtp",
+                    "--epochs",
+                    "1000000",
+                    "--lbfgs",
+                    "0",
+                    "-o",
+                    folder / "g.vts",
+                    "--report",
+                    folder / "r.json",
+                ],
+                folder,
+            ),
+        )
     for sig, (folder, proc) in runs.items():
         first = proc.stderr.readline()  # the first progress line: training is under way
         assert "[adam" in first, first + proc.stderr.read()
@@ -675,8 +780,9 @@ def test_interrupt_during_training_ends_promptly_without_output(tmp_path):
 def test_interrupt_during_writing_leaves_no_partial_file(tmp_path):
     out = tmp_path / "g.vts"
     out.write_bytes(b"the previous grid")
-    proc = start([EXAMPLES / "wavy.vtp", "--method", "tfi", "--size", "1200", "1200", "-o", out],
-                 tmp_path)
+    proc = start(
+        [EXAMPLES / "wavy.vtp", "--method", "tfi", "--size", "1200", "1200", "-o", out], tmp_path
+    )
     summary = proc.stderr.readline()  # printed once the grid is made, just before writing
     assert "1200x1200 grid" in summary, summary + proc.stderr.read()
     assert wait_for(lambda: list(tmp_path.glob(".g.vts.*.part")), PROMPT)  # writing started
@@ -717,8 +823,13 @@ def test_writer_failing_midway_leaves_no_partial_file(how, tmp_path, monkeypatch
 
 def test_two_runs_writing_the_same_output_at_once(tmp_path):
     out = tmp_path / "g.vts"
-    procs = [start([EXAMPLES / name, "--method", "elliptic", "--size", "61", "31", "-o", out,
-                    "--quiet"], tmp_path) for name in ("wavy.vtp", "fig2.vtp")]
+    procs = [
+        start(
+            [EXAMPLES / name, "--method", "elliptic", "--size", "61", "31", "-o", out, "--quiet"],
+            tmp_path,
+        )
+        for name in ("wavy.vtp", "fig2.vtp")
+    ]
     for proc in procs:
         _, err = proc.communicate(timeout=120)
         assert proc.returncode == 0, err
@@ -740,8 +851,26 @@ def current_umask() -> int:
 def saved_model(tmp_path_factory) -> Path:
     folder = tmp_path_factory.mktemp("model")
     model = folder / "m.pt"
-    assert main([str(EXAMPLES / "wavy.vtp"), "--epochs", "20", "--lbfgs", "0", "--size", "5",
-                 "5", "-o", str(folder / "g.vts"), "--save-model", str(model), "--quiet"]) == 0
+    assert (
+        main(
+            [
+                str(EXAMPLES / "wavy.vtp"),
+                "--epochs",
+                "20",
+                "--lbfgs",
+                "0",
+                "--size",
+                "5",
+                "5",
+                "-o",
+                str(folder / "g.vts"),
+                "--save-model",
+                str(model),
+                "--quiet",
+            ]
+        )
+        == 0
+    )
     return model
 
 
@@ -756,18 +885,26 @@ def _rewrite_model(src: Path, dst: Path, change) -> Path:
 
 MODEL_CASES = {
     "missing": (lambda m, d: d / "none.pt", "model file not found"),
-    "random bytes": (lambda m, d: put(d / "x.pt", os.urandom(2000)),
-                     "not a readable pinn-mesh model"),
-    "truncated": (lambda m, d: put(d / "t.pt", m.read_bytes()[:1000]),
-                  "not a readable pinn-mesh model"),
+    "random bytes": (
+        lambda m, d: put(d / "x.pt", os.urandom(2000)),
+        "not a readable pinn-mesh model",
+    ),
+    "truncated": (
+        lambda m, d: put(d / "t.pt", m.read_bytes()[:1000]),
+        "not a readable pinn-mesh model",
+    ),
     "another format version": (
         lambda m, d: _rewrite_model(m, d / "v.pt", lambda p: p.update(format="pinn-mesh-model/0")),
-        "not a pinn-mesh model of format"),
-    "missing weights": (lambda m, d: _rewrite_model(m, d / "w.pt", lambda p: p.pop("state")),
-                        "damaged or incompatible model"),
+        "not a pinn-mesh model of format",
+    ),
+    "missing weights": (
+        lambda m, d: _rewrite_model(m, d / "w.pt", lambda p: p.pop("state")),
+        "damaged or incompatible model",
+    ),
     "unknown settings": (
         lambda m, d: _rewrite_model(m, d / "s.pt", lambda p: p["settings"].update(bogus=1)),
-        "damaged or incompatible model"),
+        "damaged or incompatible model",
+    ),
     "another boundary": (lambda m, d: m, "trained for a different boundary"),
 }
 
@@ -782,9 +919,19 @@ def test_bad_saved_model_is_a_clear_error(name, saved_model, tmp_path, capsys):
 
 
 def test_saving_a_model_into_a_new_folder_and_loading_it(saved_model, tmp_path, capsys):
-    rc, _, err = run_cli([EXAMPLES / "wavy.vtp", "--load-model", saved_model, "--save-model",
-                          tmp_path / "new" / "m.pt", "-o", tmp_path / "g.vts", "--quiet"],
-                         capsys)
+    rc, _, err = run_cli(
+        [
+            EXAMPLES / "wavy.vtp",
+            "--load-model",
+            saved_model,
+            "--save-model",
+            tmp_path / "new" / "m.pt",
+            "-o",
+            tmp_path / "g.vts",
+            "--quiet",
+        ],
+        capsys,
+    )
     assert rc == 0, err
     assert (tmp_path / "new" / "m.pt").is_file()
 

@@ -42,8 +42,9 @@ def cli_error(points: np.ndarray, tmp_path, capsys, closed: bool = True) -> str:
 
 
 def test_an_open_polyline_names_the_way_to_close_it_on_each_route(tmp_path, capsys):
-    assert "close it (repeat its first point at its end)" in cli_error(SQUARE, tmp_path, capsys,
-                                                                      closed=False)
+    assert "close it (repeat its first point at its end)" in cli_error(
+        SQUARE, tmp_path, capsys, closed=False
+    )
     with pytest.raises(InputError, match=r"a closed line cell") as info:
         pinn_mesh(pv.lines_from_points(SQUARE), method="tfi")
     assert "--" not in str(info.value)

@@ -12,17 +12,29 @@ from pinn_engine.tfi import node_params, tfi_grid
 
 
 def bilinear(xi, eta):
-    p = {"00": np.array([0.0, 0.0]), "10": np.array([3.0, 0.5]),
-         "01": np.array([0.4, 2.0]), "11": np.array([2.5, 2.8])}
+    p = {
+        "00": np.array([0.0, 0.0]),
+        "10": np.array([3.0, 0.5]),
+        "01": np.array([0.4, 2.0]),
+        "11": np.array([2.5, 2.8]),
+    }
     xi, eta = np.asarray(xi)[..., None], np.asarray(eta)[..., None]
-    return ((1 - xi) * (1 - eta) * p["00"] + xi * (1 - eta) * p["10"]
-            + (1 - xi) * eta * p["01"] + xi * eta * p["11"])
+    return (
+        (1 - xi) * (1 - eta) * p["00"]
+        + xi * (1 - eta) * p["10"]
+        + (1 - xi) * eta * p["01"]
+        + xi * eta * p["11"]
+    )
 
 
 def bilinear_sides(side, t):
     t = np.asarray(t, dtype=float)
-    return {"bottom": lambda: bilinear(t, 0 * t), "top": lambda: bilinear(t, 0 * t + 1),
-            "left": lambda: bilinear(0 * t, t), "right": lambda: bilinear(0 * t + 1, t)}[side]()
+    return {
+        "bottom": lambda: bilinear(t, 0 * t),
+        "top": lambda: bilinear(t, 0 * t + 1),
+        "left": lambda: bilinear(0 * t, t),
+        "right": lambda: bilinear(0 * t + 1, t),
+    }[side]()
 
 
 def test_tfi_reproduces_a_bilinear_map_exactly():
@@ -82,8 +94,12 @@ def test_converged_solver_is_fast_on_a_200_by_200_grid():
     """Not a timing test: it bounds the iteration count that makes 200 x 200 take seconds."""
     s = node_params(200)
     bottom = np.column_stack([3 * s, 0.3 * np.sin(2 * np.pi * s)])
-    sides = {"bottom": bottom, "top": bottom + [0, 2], "left": np.column_stack([0 * s, 2 * s]),
-             "right": np.column_stack([3 + 0 * s, 2 * s])}
+    sides = {
+        "bottom": bottom,
+        "top": bottom + [0, 2],
+        "left": np.column_stack([0 * s, 2 * s]),
+        "right": np.column_stack([3 + 0 * s, 2 * s]),
+    }
     grid = tfi_grid(lambda side, t: sides[side], 200, 200)
     solved, iterations = winslow_solve(grid, tol=1e-10)
     assert iterations < 40

@@ -45,8 +45,9 @@ def test_paper_loss_from_tfi_folds_where_the_warm_start_does_not():
     boundary, aux = inputs("notch_narrow_deep")
     cold = make_settings("pinn", warm_start="none", adam_epochs=300, lbfgs_iterations=30)
     warm = make_settings("pinn", lattice=(41, 21))
-    folded = [Mesher(s).fit(boundary, aux).predict(41, 21).quality["folded_cells"]
-              for s in (cold, warm)]
+    folded = [
+        Mesher(s).fit(boundary, aux).predict(41, 21).quality["folded_cells"] for s in (cold, warm)
+    ]
     ell = Mesher(make_settings("elliptic")).fit(boundary).predict(41, 21).quality
     assert folded[0] > ell["folded_cells"] >= folded[1]
 
@@ -90,8 +91,7 @@ def test_annealing_takes_the_weight_matrices_only():
     no U/V encoders (issue 11, item 5)."""
     net = CoordinateNet("shortcut", 4, 8)
     mats = net.weight_matrices()
-    assert [tuple(m.shape) for m in mats] == [(2, 2, 8), (2, 8, 8), (2, 8, 8), (2, 8, 8),
-                                              (2, 8, 1)]
+    assert [tuple(m.shape) for m in mats] == [(2, 2, 8), (2, 8, 8), (2, 8, 8), (2, 8, 8), (2, 8, 1)]
     ids = {id(m) for m in mats}
     assert not ids & {id(net.w_u), id(net.w_v), id(net.b_in), id(net.b_out)}
 

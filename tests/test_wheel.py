@@ -24,9 +24,22 @@ pytestmark = pytest.mark.slow
 @pytest.fixture(scope="module")
 def wheel(tmp_path_factory) -> tuple[Path, str]:
     out = tmp_path_factory.mktemp("wheel")
-    proc = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps",
-                           "--no-build-isolation", "-w", str(out), str(ROOT)],
-                          capture_output=True, text=True, timeout=300)
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "wheel",
+            "--no-deps",
+            "--no-build-isolation",
+            "-w",
+            str(out),
+            str(ROOT),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert proc.returncode == 0, proc.stderr[-3000:]
     return next(out.glob("pinn_mesh-*.whl")), proc.stdout + proc.stderr
 
@@ -47,23 +60,52 @@ def test_installed_wheel_meshes_an_example(wheel, tmp_path):
     env_dir = tmp_path / "env"
     subprocess.run([sys.executable, "-m", "venv", str(env_dir)], check=True, timeout=120)
     python = env_dir / "bin" / "python"
-    subprocess.run([str(python), "-m", "pip", "install", "--quiet", "--no-deps",
-                    "--no-index", str(path)], check=True, timeout=300)
-    fresh_site = subprocess.run([str(python), "-c", "import site; print(site.getsitepackages()"
-                                 "[0])"], capture_output=True, text=True, check=True).stdout
+    subprocess.run(
+        [str(python), "-m", "pip", "install", "--quiet", "--no-deps", "--no-index", str(path)],
+        check=True,
+        timeout=300,
+    )
+    fresh_site = subprocess.run(
+        [str(python), "-c", "import site; print(site.getsitepackages()[0])"],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
     (Path(fresh_site.strip()) / "borrowed_deps.pth").write_text(
-        "\n".join(site.getsitepackages()) + "\n")
+        "\n".join(site.getsitepackages()) + "\n"
+    )
     work = tmp_path / "work"
     work.mkdir()
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
-    proc = subprocess.run([str(env_dir / "bin" / "pinn-mesh"), str(EXAMPLES / "fig2.vtp"),
-                           "--aux", str(EXAMPLES / "fig2_aux.vtp"), "-o", "grid.vts"],
-                          cwd=work, env=env, capture_output=True, text=True, timeout=300)
+    proc = subprocess.run(
+        [
+            str(env_dir / "bin" / "pinn-mesh"),
+            str(EXAMPLES / "fig2.vtp"),
+            "--aux",
+            str(EXAMPLES / "fig2_aux.vtp"),
+            "-o",
+            "grid.vts",
+        ],
+        cwd=work,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert proc.returncode == 0, proc.stderr[-3000:]
     assert (work / "grid.vts").stat().st_size > 10_000
-    where = subprocess.run([str(python), "-c", "import pinn_engine; print(pinn_engine.__file__, "
-                            "pinn_engine.__version__)"], cwd=work, env=env, capture_output=True,
-                           text=True, check=True).stdout
+    where = subprocess.run(
+        [
+            str(python),
+            "-c",
+            "import pinn_engine; print(pinn_engine.__file__, pinn_engine.__version__)",
+        ],
+        cwd=work,
+        env=env,
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
     import tomllib
 
     version = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["version"]

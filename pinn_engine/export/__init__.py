@@ -51,21 +51,25 @@ class Format:
     extrudes: bool
 
 
-FORMATS = {f.key: f for f in (
-    Format("vts", ".vts", "VTK XML structured grid", False),
-    Format("vtk", ".vtk", "VTK legacy structured grid", False),
-    Format("xyz", ".xyz", "PLOT3D grid (multi-grid, whole, double)", True),
-    Format("cgns", ".cgns", "CGNS/HDF5 with boundary patches", True),
-    Format("su2", ".su2", "SU2 mesh with markers", False),
-    Format("msh", ".msh", "Gmsh 4.1 mesh with physical groups", True),
-    Format("openfoam", "", "OpenFOAM case (constant/polyMesh)", True),
-)}
+FORMATS = {
+    f.key: f
+    for f in (
+        Format("vts", ".vts", "VTK XML structured grid", False),
+        Format("vtk", ".vtk", "VTK legacy structured grid", False),
+        Format("xyz", ".xyz", "PLOT3D grid (multi-grid, whole, double)", True),
+        Format("cgns", ".cgns", "CGNS/HDF5 with boundary patches", True),
+        Format("su2", ".su2", "SU2 mesh with markers", False),
+        Format("msh", ".msh", "Gmsh 4.1 mesh with physical groups", True),
+        Format("openfoam", "", "OpenFOAM case (constant/polyMesh)", True),
+    )
+}
 _BY_SUFFIX = {f.suffix: f for f in FORMATS.values() if f.suffix}
 _FILE_WRITERS = {"xyz": plot3d.write, "cgns": cgns.write, "su2": su2.write, "msh": gmsh.write}
 
 
-def output_format(path: str | os.PathLike, fmt: str | None = None,
-                  extrude: float | None = None) -> Format:
+def output_format(
+    path: str | os.PathLike, fmt: str | None = None, extrude: float | None = None
+) -> Format:
     """The format for ``path`` (its extension, or ``fmt``); checks ``extrude`` and, for
     CGNS, that h5py is there, so that a route can refuse before meshing."""
     path = Path(path)
@@ -76,20 +80,25 @@ def output_format(path: str | os.PathLike, fmt: str | None = None,
     else:
         found = _BY_SUFFIX.get(path.suffix.lower())
         if found is None:
-            raise InputError(f"unknown output format {path.suffix or '(no extension)'!r}; "
-                             "use {output}", str(path))
+            raise InputError(
+                f"unknown output format {path.suffix or '(no extension)'!r}; use {{output}}",
+                str(path),
+            )
     if found.suffix and path.is_dir():
         raise InputError("is a directory; give a file name ({output})", str(path))
     if not found.suffix and path.exists() and not path.is_dir():
-        raise InputError("exists and is not a directory; an OpenFOAM case is a folder",
-                         str(path))
+        raise InputError("exists and is not a directory; an OpenFOAM case is a folder", str(path))
     if extrude is not None:
         if not found.extrudes:
-            raise InputError(f"{found.description} is 2D only; drop {{extrude}} (it applies "
-                             "to .xyz, .cgns, .msh and OpenFOAM)", str(path))
+            raise InputError(
+                f"{found.description} is 2D only; drop {{extrude}} (it applies "
+                "to .xyz, .cgns, .msh and OpenFOAM)",
+                str(path),
+            )
         if not (math.isfinite(extrude) and extrude > 0):
-            raise InputError(f"extrusion thickness {extrude}: must be a number > 0 "
-                             "({extrude})", str(path))
+            raise InputError(
+                f"extrusion thickness {extrude}: must be a number > 0 ({{extrude}})", str(path)
+            )
     if found.key == "cgns":
         cgns.check()
     return found
@@ -104,23 +113,27 @@ def grid_points(grid: vtkStructuredGrid) -> tuple[np.ndarray, np.ndarray]:
     ext = grid.GetExtent()
     ni, nj, nk = (ext[2 * a + 1] - ext[2 * a] + 1 for a in range(3))
     if nk != 1 or min(ni, nj) < 2:
-        raise InputError(f"expected a 2D structured grid of (ni, nj, 1) nodes, got "
-                         f"({ni}, {nj}, {nk})", "grid")
+        raise InputError(
+            f"expected a 2D structured grid of (ni, nj, 1) nodes, got ({ni}, {nj}, {nk})", "grid"
+        )
     pts = vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64).reshape(nj, ni, 3)
     ring = pts.reshape(-1, 3)[np.concatenate([side_nodes(ni, nj, s)[:-1] for s in SIDES])]
     plane = Plane.fit(pts.reshape(-1, 3), "grid")
     area = 0.5 * np.cross(ring, np.roll(ring, -1, axis=0)).sum(axis=0)  # vector area
     if plane.is_horizontal:
         if area[2] <= 0:  # clockwise or flat
-            raise InputError("the grid's boundary does not run counter-clockwise in the x-y "
-                             "plane along i, then j (SPEC 3); the writers orient cells and "
-                             "patches by it: reverse its i or j direction first", "grid")
+            raise InputError(
+                "the grid's boundary does not run counter-clockwise in the x-y "
+                "plane along i, then j (SPEC 3); the writers orient cells and "
+                "patches by it: reverse its i or j direction first",
+                "grid",
+            )
         return pts, np.array([0.0, 0.0, 1.0])
     return pts, area / np.linalg.norm(area)
 
 
 def body_topology(grid: vtkStructuredGrid) -> str | None:
-    """"o" or "c" for an O- or C-grid around a body (field data ``Topology``), else None."""
+    """ "o" or "c" for an O- or C-grid around a body (field data ``Topology``), else None."""
     arr = grid.GetFieldData().GetAbstractArray("Topology") if grid is not None else None
     if arr is None or arr.GetNumberOfValues() != 1:
         return None
@@ -128,9 +141,14 @@ def body_topology(grid: vtkStructuredGrid) -> str | None:
     return value if value in ("o", "c") else None
 
 
-def write(grid: vtkStructuredGrid, path: str | os.PathLike, fmt: str | None = None, *,
-          patches: Mapping[str, str] | Sequence[str] | str | None = None,
-          extrude: float | None = None) -> Path:
+def write(
+    grid: vtkStructuredGrid,
+    path: str | os.PathLike,
+    fmt: str | None = None,
+    *,
+    patches: Mapping[str, str] | Sequence[str] | str | None = None,
+    extrude: float | None = None,
+) -> Path:
     """Write ``grid`` to ``path`` in the format of its extension (or ``fmt``).
 
     ``patches``: the four patch names (see :func:`patches.patch_names`); None keeps the
@@ -148,8 +166,9 @@ def write(grid: vtkStructuredGrid, path: str | os.PathLike, fmt: str | None = No
         ext = grid.GetExtent()
         points = points.reshape(ext[3] - ext[2] + 1, ext[1] - ext[0] + 1, 3)
         if np.ptp(points[..., 2]) > 1e-12 * max(1.0, float(np.ptp(points))):
-            raise InputError("an O- or C-grid must lie in a plane z = const to be written",
-                             str(path))
+            raise InputError(
+                "an O- or C-grid must lie in a plane z = const to be written", str(path)
+            )
         wake = grid.GetFieldData().GetArray("WakeNodes")
         n_wake = int(wake.GetValue(0)) if wake is not None else 0
         normal = np.array([0.0, 0.0, -1.0 if topology == "o" else 1.0])
@@ -165,8 +184,14 @@ def write(grid: vtkStructuredGrid, path: str | os.PathLike, fmt: str | None = No
             vtkfiles.write_legacy(copy, tmp)
         return path
     if topology and found.key == "openfoam":
-        block = Block(points, names, extrude if extrude is not None else mean_edge(points),
-                      normal, topology, n_wake)
+        block = Block(
+            points,
+            names,
+            extrude if extrude is not None else mean_edge(points),
+            normal,
+            topology,
+            n_wake,
+        )
         return _write_openfoam(block, path)
     if topology:
         block = Block(points, names, extrude, normal, topology, n_wake)
@@ -184,8 +209,7 @@ def write(grid: vtkStructuredGrid, path: str | os.PathLike, fmt: str | None = No
             vtkfiles.write_legacy(copy, tmp)
         return path
     if found.key == "openfoam":
-        block = Block(points, names, extrude if extrude is not None else mean_edge(points),
-                      normal)
+        block = Block(points, names, extrude if extrude is not None else mean_edge(points), normal)
         return _write_openfoam(block, path)
     block = Block(points, names, extrude, normal)
     with atomic_path(path, suffix=found.suffix) as tmp:
@@ -245,5 +269,15 @@ def _umask() -> int:
     return mask
 
 
-__all__ = ["FIELD", "FORMATS", "SIDES", "Block", "Format", "grid_points", "output_format",
-           "parse_patch_options", "patch_names", "write"]
+__all__ = [
+    "FIELD",
+    "FORMATS",
+    "SIDES",
+    "Block",
+    "Format",
+    "grid_points",
+    "output_format",
+    "parse_patch_options",
+    "patch_names",
+    "write",
+]

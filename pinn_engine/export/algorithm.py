@@ -26,11 +26,13 @@ from ..errors import InputError, PinnMeshError
 LABEL = "PINN Mesh writer"
 # formats offered in ParaView (its own writers cover .vts and .vtk): key -> (extension,
 # writer proxy name; pvpython: ``servermanager.writers.PINNMeshCGNSWriter(Input=..., ...)``)
-PARAVIEW_FORMATS = {"xyz": ("xyz", "PINNMeshPLOT3DWriter"),
-                    "cgns": ("cgns", "PINNMeshCGNSWriter"),
-                    "su2": ("su2", "PINNMeshSU2Writer"),
-                    "msh": ("msh", "PINNMeshGmshWriter"),
-                    "openfoam": ("foam", "PINNMeshOpenFOAMWriter")}
+PARAVIEW_FORMATS = {
+    "xyz": ("xyz", "PINNMeshPLOT3DWriter"),
+    "cgns": ("cgns", "PINNMeshCGNSWriter"),
+    "su2": ("su2", "PINNMeshSU2Writer"),
+    "msh": ("msh", "PINNMeshGmshWriter"),
+    "openfoam": ("foam", "PINNMeshOpenFOAMWriter"),
+}
 
 
 class GridWriter(VTKPythonAlgorithmBase):
@@ -83,8 +85,12 @@ class GridWriter(VTKPythonAlgorithmBase):
             path = Path(self._file_name)
             if self._format == "openfoam":
                 path = path.with_suffix("") if path.suffix.lower() == ".foam" else path
-            write(vtkStructuredGrid.GetData(inInfo[0], 0), path, self._format,
-                  extrude=self._extrude if self._extrude > 0 else None)
+            write(
+                vtkStructuredGrid.GetData(inInfo[0], 0),
+                path,
+                self._format,
+                extrude=self._extrude if self._extrude > 0 else None,
+            )
         except InputError as exc:
             self._report(str(exc.for_route("paraview")))
         except PinnMeshError as exc:

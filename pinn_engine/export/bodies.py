@@ -47,8 +47,9 @@ def cells(ni: int, nj: int, topology: str, n_wake: int) -> np.ndarray:
     return compact(ni, nj, topology, n_wake)[1][q]
 
 
-def patch_edges(ni: int, nj: int, topology: str, n_wake: int, names: tuple[str, ...]
-                ) -> dict[str, np.ndarray]:
+def patch_edges(
+    ni: int, nj: int, topology: str, n_wake: int, names: tuple[str, ...]
+) -> dict[str, np.ndarray]:
     """Patch name -> (edges, 2) merged node ids, the domain on each edge's left."""
     new = compact(ni, nj, topology, n_wake)[1]
     i = np.arange(ni - 1)
@@ -115,12 +116,15 @@ def write_polymesh(block, mesh) -> None:
         ks = np.array([lookup[tuple(sorted(e))] for e in edges])
         patches.append((name, "patch", side[ks], owner_of[ks]))
     ids = np.arange(n_cells)
-    patches.append((FRONT_AND_BACK, "empty", np.vstack([q[:, ::-1], q + m]),
-                    np.concatenate([ids, ids])))
+    patches.append(
+        (FRONT_AND_BACK, "empty", np.vstack([q[:, ::-1], q + m]), np.concatenate([ids, ids]))
+    )
     all_faces = np.vstack([internal_faces] + [p[2] for p in patches])
     all_owner = np.concatenate([owner] + [p[3] for p in patches])
-    note = (f'    note        "nPoints:{2 * m} nCells:{n_cells} nFaces:{len(all_faces)} '
-            f'nInternalFaces:{len(internal_faces)}";\n')
+    note = (
+        f'    note        "nPoints:{2 * m} nCells:{n_cells} nFaces:{len(all_faces)} '
+        f'nInternalFaces:{len(internal_faces)}";\n'
+    )
     _write_list(mesh / "points", "vectorField", points)
     _write_list(mesh / "faces", "faceList", all_faces)
     _write_list(mesh / "owner", "labelList", all_owner, note)
@@ -129,9 +133,11 @@ def write_polymesh(block, mesh) -> None:
     start = len(internal_faces)
     for name, kind, pf, _ in patches:
         group = "        inGroups        List<word> 1(empty);\n" if kind == "empty" else ""
-        text.append(f"    {name}\n    {{\n        type            {kind};\n{group}"
-                    f"        nFaces          {len(pf)};\n        startFace       {start};\n"
-                    "    }\n")
+        text.append(
+            f"    {name}\n    {{\n        type            {kind};\n{group}"
+            f"        nFaces          {len(pf)};\n        startFace       {start};\n"
+            "    }\n"
+        )
         start += len(pf)
     text.append(")\n")
     (mesh / "boundary").write_text("".join(text))

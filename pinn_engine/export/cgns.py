@@ -63,8 +63,9 @@ def check() -> None:
     if _h5py() is None and _helper_python() is None:
         from ..errors import InputError
 
-        raise InputError("writing CGNS needs a working h5py, which this Python lacks; "
-                         "{h5py}", "cgns")
+        raise InputError(
+            "writing CGNS needs a working h5py, which this Python lacks; {h5py}", "cgns"
+        )
 
 
 def _write_in_helper(block: Block, path: Path) -> None:
@@ -73,14 +74,24 @@ def _write_in_helper(block: Block, path: Path) -> None:
         check()
     data = path.with_name(path.name + ".npz")
     try:
-        np.savez(data, points=block.points, names=np.array(block.names),
-                 thickness=np.array(np.nan if block.thickness is None else block.thickness),
-                 normal=block.normal, topology=np.array(block.topology or ""),
-                 n_wake=np.array(block.n_wake))
+        np.savez(
+            data,
+            points=block.points,
+            names=np.array(block.names),
+            thickness=np.array(np.nan if block.thickness is None else block.thickness),
+            normal=block.normal,
+            topology=np.array(block.topology or ""),
+            n_wake=np.array(block.n_wake),
+        )
         env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME")}
         env["PYTHONPATH"] = str(ROOT)
-        proc = subprocess.run([python, "-m", "pinn_engine.export.cgns", str(data), str(path)],
-                              env=env, capture_output=True, text=True, timeout=3600)
+        proc = subprocess.run(
+            [python, "-m", "pinn_engine.export.cgns", str(data), str(path)],
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=3600,
+        )
     finally:
         data.unlink(missing_ok=True)
     if proc.returncode != 0:
@@ -92,9 +103,17 @@ def _main() -> None:
     """``python -m pinn_engine.export.cgns DATA.npz OUT.cgns`` (the helper's side)."""
     data = np.load(sys.argv[1])
     thickness = float(data["thickness"])
-    write(Block(data["points"], tuple(str(n) for n in data["names"]),
-                None if np.isnan(thickness) else thickness, data["normal"],
-                str(data["topology"]) or None, int(data["n_wake"])), Path(sys.argv[2]))
+    write(
+        Block(
+            data["points"],
+            tuple(str(n) for n in data["names"]),
+            None if np.isnan(thickness) else thickness,
+            data["normal"],
+            str(data["topology"]) or None,
+            int(data["n_wake"]),
+        ),
+        Path(sys.argv[2]),
+    )
 
 
 def _attr(node, key: str, text: str, size: int) -> None:
@@ -121,7 +140,7 @@ def _node(parent, name: str, label: str, value=None):
 
 
 def _bc_name(name: str, side: str, shared: bool) -> str:
-    return f"{name[:32 - len(side) - 1]}_{side}" if shared else name
+    return f"{name[: 32 - len(side) - 1]}_{side}" if shared else name
 
 
 def write(block: Block, path: Path) -> None:
@@ -140,8 +159,10 @@ def write(block: Block, path: Path) -> None:
         order = "LITTLE" if sys.byteorder == "little" else "BIG"
         f.create_dataset(" format", data=np.frombuffer(f"IEEE_{order}_32".encode(), np.int8))
         version = f"HDF5 Version {'.'.join(map(str, h5py.h5.get_libversion()))}"
-        f.create_dataset(" hdf5version", data=np.frombuffer(
-            version.encode("ascii").ljust(33, b"\0"), dtype=np.int8))
+        f.create_dataset(
+            " hdf5version",
+            data=np.frombuffer(version.encode("ascii").ljust(33, b"\0"), dtype=np.int8),
+        )
         _node(f, "CGNSLibraryVersion", "CGNSLibraryVersion_t", np.array([3.4], np.float32))
         dim = 3 if three_d else 2
         base = _node(f, "Base", "CGNSBase_t", np.array([dim, dim], np.int32))
@@ -151,25 +172,31 @@ def write(block: Block, path: Path) -> None:
         coords = _node(zone, "GridCoordinates", "GridCoordinates_t")
         for axis, key in enumerate("XYZ"[:dim]):
             values = xyz[..., axis] if three_d else xyz[0, ..., axis]  # C (k, j, i)
-            _node(coords, f"Coordinate{key}", "DataArray_t",
-                  np.ascontiguousarray(values.T, dtype=np.float64))  # Fortran (i, j, k)
+            _node(
+                coords,
+                f"Coordinate{key}",
+                "DataArray_t",
+                np.ascontiguousarray(values.T, dtype=np.float64),
+            )  # Fortran (i, j, k)
         zone_bc = _node(zone, "ZoneBC", "ZoneBC_t")
         if block.topology:
             ranges = _body_ranges(block)
             _connect(zone, block, three_d)
         else:
             patches = block.patches()
-            ranges = {name: [(side, index_range(ni, nj, side)) for side in sides]
-                      for name, sides in patches.items()}
+            ranges = {
+                name: [(side, index_range(ni, nj, side)) for side in sides]
+                for name, sides in patches.items()
+            }
         if three_d:
             for name in ranges:  # the sides reach through both layers
                 ranges[name] = [(s, ((*lo, 1), (*hi, 2))) for s, (lo, hi) in ranges[name]]
-            ranges.setdefault(FRONT_AND_BACK, []).extend([
-                ("back", ((1, 1, 1), (ni, nj, 1))), ("front", ((1, 1, 2), (ni, nj, 2)))])
+            ranges.setdefault(FRONT_AND_BACK, []).extend(
+                [("back", ((1, 1, 1), (ni, nj, 1))), ("front", ((1, 1, 2), (ni, nj, 2)))]
+            )
         for name, parts in ranges.items():
             for side, (lo, hi) in parts:
-                bc = _node(zone_bc, _bc_name(name, side, len(parts) > 1), "BC_t",
-                           "FamilySpecified")
+                bc = _node(zone_bc, _bc_name(name, side, len(parts) > 1), "BC_t", "FamilySpecified")
                 _node(bc, "PointRange", "IndexRange_t", np.array([lo, hi], np.int32).T)
                 _node(bc, "FamilyName", "FamilyName_t", name)
         for name in ranges:
@@ -185,10 +212,12 @@ def _body_ranges(block: Block) -> dict[str, list]:
     if block.topology == "o":
         parts = [(bottom, "wall", ((1, 1), (ni, 1))), (top, "farfield", ((1, nj), (ni, nj)))]
     else:
-        parts = [(bottom, "wall", ((nw + 1, 1), (ni - nw, 1))),
-                 (right, "right", ((ni, 1), (ni, nj))),
-                 (top, "farfield", ((1, nj), (ni, nj))),
-                 (left, "left", ((1, 1), (1, nj)))]
+        parts = [
+            (bottom, "wall", ((nw + 1, 1), (ni - nw, 1))),
+            (right, "right", ((ni, 1), (ni, nj))),
+            (top, "farfield", ((1, nj), (ni, nj))),
+            (left, "left", ((1, 1), (1, nj))),
+        ]
     out: dict[str, list] = {}
     for name, side, rng in parts:
         out.setdefault(name, []).append((side, rng))
@@ -211,8 +240,7 @@ def _connect(zone, block: Block, three_d: bool) -> None:
     name = "seam" if block.topology == "o" else "wake_cut"
     for suffix, here, there in (("a", a, b), ("b", b, a)):
         conn = _node(grid_conn, f"{name}_{suffix}", "GridConnectivity1to1_t", "Zone")
-        _node(conn, "Transform", "\"int[IndexDimension]\"",
-              np.array(transform, np.int32))
+        _node(conn, "Transform", '"int[IndexDimension]"', np.array(transform, np.int32))
         _node(conn, "PointRange", "IndexRange_t", np.array(here, np.int32).T)
         _node(conn, "PointRangeDonor", "IndexRange_t", np.array(there, np.int32).T)
 

@@ -57,8 +57,9 @@ def _write_body(block: Block, path: Path) -> None:
     from . import bodies
 
     if block.thickness is not None:
-        raise InputError("an O- or C-grid is written to Gmsh in 2D in this build; drop "
-                         "{extrude}", str(path))
+        raise InputError(
+            "an O- or C-grid is written to Gmsh in 2D in this build; drop {extrude}", str(path)
+        )
     ni, nj, topo, nw = block.ni, block.nj, block.topology, block.n_wake
     kept, _ = bodies.compact(ni, nj, topo, nw)
     coords = block.points.reshape(-1, 3)[kept]
@@ -68,17 +69,20 @@ def _write_body(block: Block, path: Path) -> None:
     fluid_tag = len(names) + 1
     lo, hi = coords.min(axis=0), coords.max(axis=0)
     box = " ".join(_num(v) for v in (*lo, *hi))
-    lines = ["$MeshFormat", "4.1 0 8", "$EndMeshFormat", "$PhysicalNames",
-             str(len(names) + 1)]
+    lines = ["$MeshFormat", "4.1 0 8", "$EndMeshFormat", "$PhysicalNames", str(len(names) + 1)]
     lines += [f'1 {k + 1} "{name}"' for k, name in enumerate(names)]
-    lines += [f'2 {fluid_tag} "{FLUID}"', "$EndPhysicalNames", "$Entities",
-              f"0 {len(names)} 1 0"]
+    lines += [f'2 {fluid_tag} "{FLUID}"', "$EndPhysicalNames", "$Entities", f"0 {len(names)} 1 0"]
     for k, name in enumerate(names):
         pts = coords[np.unique(patches[name])]
         bb = " ".join(_num(v) for v in (*pts.min(axis=0), *pts.max(axis=0)))
         lines.append(f"{k + 1} {bb} 1 {k + 1} 0")
-    lines += [f"1 {box} 1 {fluid_tag} 0", "$EndEntities", "$Nodes",
-              f"1 {len(coords)} 1 {len(coords)}", f"2 1 0 {len(coords)}"]
+    lines += [
+        f"1 {box} 1 {fluid_tag} 0",
+        "$EndEntities",
+        "$Nodes",
+        f"1 {len(coords)} 1 {len(coords)}",
+        f"2 1 0 {len(coords)}",
+    ]
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")
         write_rows(f, np.arange(1, len(coords) + 1), "%d")
@@ -109,8 +113,7 @@ def write(block: Block, path: Path) -> None:
     # entity of every node, from the state of its index along each axis
     node_state = np.stack(np.meshgrid(*[_states(n) for n in shape], indexing="ij"), -1)
     node_state = node_state.transpose(*range(dim)[::-1], dim).reshape(-1, dim)  # i fastest
-    entities = sorted(itertools.product((0, 1, 2), repeat=dim),
-                      key=lambda s: (s.count(1), s))
+    entities = sorted(itertools.product((0, 1, 2), repeat=dim), key=lambda s: (s.count(1), s))
     tags: dict[tuple[int, ...], int] = {}
     for state in entities:
         d = state.count(1)
@@ -126,7 +129,8 @@ def write(block: Block, path: Path) -> None:
             faces.setdefault(name, []).append((state, elems))
     if three_d:
         faces.setdefault(FRONT_AND_BACK, []).extend(
-            [((1, 1, 0), end_faces(ni, nj, "back")), ((1, 1, 2), end_faces(ni, nj, "front"))])
+            [((1, 1, 0), end_faces(ni, nj, "back")), ((1, 1, 2), end_faces(ni, nj, "front"))]
+        )
     physical = {name: k + 1 for k, name in enumerate(faces)}
     fluid_tag = len(physical) + 1
     entity_physical: dict[tuple[int, ...], list[int]] = {(1,) * dim: [fluid_tag]}
@@ -134,8 +138,7 @@ def write(block: Block, path: Path) -> None:
         for state, _ in parts:
             entity_physical.setdefault(state, []).append(physical[name])
 
-    lines = ["$MeshFormat", "4.1 0 8", "$EndMeshFormat", "$PhysicalNames",
-             str(len(physical) + 1)]
+    lines = ["$MeshFormat", "4.1 0 8", "$EndMeshFormat", "$PhysicalNames", str(len(physical) + 1)]
     lines += [f'{dim - 1} {tag} "{name}"' for name, tag in physical.items()]
     lines += [f'{dim} {fluid_tag} "{FLUID}"', "$EndPhysicalNames", "$Entities"]
     counts = [sum(1 for s in entities if s.count(1) == d) for d in range(4)]
@@ -144,8 +147,9 @@ def write(block: Block, path: Path) -> None:
         inside = np.all((node_state == state) | (np.array(state) == 1), axis=1)
         pts = coords[inside]
         phys = entity_physical.get(state, [])
-        head = [tags[state]] + (list(pts[0]) if state.count(1) == 0 else
-                                [*pts.min(axis=0), *pts.max(axis=0)])
+        head = [tags[state]] + (
+            list(pts[0]) if state.count(1) == 0 else [*pts.min(axis=0), *pts.max(axis=0)]
+        )
         row = [*map(_num, head), str(len(phys)), *map(str, phys)]
         if state.count(1):
             bound = _boundary(state)

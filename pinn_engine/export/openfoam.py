@@ -67,7 +67,7 @@ def _write_list(path: Path, cls: str, rows: np.ndarray, note: str = "") -> None:
 def internal_faces(ni: int, nj: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Faces between cells (upper-triangular order), their owners and neighbours."""
     top = ni * nj
-    jj, ii = np.mgrid[0:nj - 1, 0:ni - 1]
+    jj, ii = np.mgrid[0 : nj - 1, 0 : ni - 1]
     cell = (ii + (ni - 1) * jj).ravel()
     node = (ii + ni * jj).ravel()
     ii, jj = ii.ravel(), jj.ravel()
@@ -90,18 +90,30 @@ def write_polymesh(block: Block, mesh: Path) -> None:
     faces, owner, neighbour = internal_faces(ni, nj)
     patches: list[tuple[str, str, np.ndarray, np.ndarray]] = []
     for name, sides in block.patches().items():
-        patches.append((name, "patch",
-                        np.vstack([side_faces(ni, nj, s) for s in sides]),
-                        np.concatenate([side_cells(ni, nj, s) for s in sides])))
+        patches.append(
+            (
+                name,
+                "patch",
+                np.vstack([side_faces(ni, nj, s) for s in sides]),
+                np.concatenate([side_cells(ni, nj, s) for s in sides]),
+            )
+        )
     cells = np.arange(len(quads(ni, nj)))
-    patches.append((FRONT_AND_BACK, "empty",
-                    np.vstack([end_faces(ni, nj, "back"), end_faces(ni, nj, "front")]),
-                    np.concatenate([cells, cells])))
+    patches.append(
+        (
+            FRONT_AND_BACK,
+            "empty",
+            np.vstack([end_faces(ni, nj, "back"), end_faces(ni, nj, "front")]),
+            np.concatenate([cells, cells]),
+        )
+    )
     all_faces = np.vstack([faces] + [p[2] for p in patches])
     all_owner = np.concatenate([owner] + [p[3] for p in patches])
     n_points, n_cells = 2 * ni * nj, len(cells)
-    note = (f'    note        "nPoints:{n_points} nCells:{n_cells} nFaces:{len(all_faces)} '
-            f'nInternalFaces:{len(faces)}";\n')
+    note = (
+        f'    note        "nPoints:{n_points} nCells:{n_cells} nFaces:{len(all_faces)} '
+        f'nInternalFaces:{len(faces)}";\n'
+    )
     _write_list(mesh / "points", "vectorField", block.layers().reshape(-1, 3))
     _write_list(mesh / "faces", "faceList", all_faces)
     _write_list(mesh / "owner", "labelList", all_owner, note)
@@ -110,9 +122,11 @@ def write_polymesh(block: Block, mesh: Path) -> None:
     start = len(faces)
     for name, kind, pf, _ in patches:
         group = "        inGroups        List<word> 1(empty);\n" if kind == "empty" else ""
-        text.append(f"    {name}\n    {{\n        type            {kind};\n{group}"
-                    f"        nFaces          {len(pf)};\n        startFace       {start};\n"
-                    "    }\n")
+        text.append(
+            f"    {name}\n    {{\n        type            {kind};\n{group}"
+            f"        nFaces          {len(pf)};\n        startFace       {start};\n"
+            "    }\n"
+        )
         start += len(pf)
     text.append(")\n")
     (mesh / "boundary").write_text("".join(text))
@@ -121,7 +135,9 @@ def write_polymesh(block: Block, mesh: Path) -> None:
 def case_files(title: str) -> dict[str, str]:
     """The files besides the polyMesh (relative path -> text): a minimal ``system/`` and the
     empty ``<title>.foam`` that ParaView opens."""
-    files = {f"system/{name}": _header("dictionary", name, "system") + "\n" + body
-             for name, body in SYSTEM.items()}
+    files = {
+        f"system/{name}": _header("dictionary", name, "system") + "\n" + body
+        for name, body in SYSTEM.items()
+    }
     files[f"{title}.foam"] = ""
     return files

@@ -25,11 +25,14 @@ FRONT_AND_BACK = "frontAndBack"  # the two ends of an extruded output
 
 def _checked(name: str) -> str:
     if not NAME.match(name):
-        raise InputError(f"patch name {name!r}: use 1 to 32 letters, digits, '_' or '-' "
-                         "({patch})")
+        raise InputError(
+            f"patch name {name!r}: use 1 to 32 letters, digits, '_' or '-' ({{patch}})"
+        )
     if name.lower() == FRONT_AND_BACK.lower():
-        raise InputError(f"patch name {name!r} is reserved for the two ends of extruded "
-                         "outputs; choose another ({patch})")
+        raise InputError(
+            f"patch name {name!r} is reserved for the two ends of extruded "
+            "outputs; choose another ({patch})"
+        )
     return name
 
 
@@ -40,8 +43,10 @@ def parse_patch_options(items: Sequence[str] | None) -> tuple[str, ...]:
         side, sep, name = item.partition("=")
         side = side.strip().lower()
         if not sep or side not in names:
-            raise InputError(f"patch {item!r}: expected SIDE=NAME with SIDE one of "
-                             f"{', '.join(SIDES)} ({{patch}})")
+            raise InputError(
+                f"patch {item!r}: expected SIDE=NAME with SIDE one of "
+                f"{', '.join(SIDES)} ({{patch}})"
+            )
         names[side] = _checked(name.strip())
     return tuple(names[s] for s in SIDES)
 
@@ -66,8 +71,10 @@ def patch_names(patches: Mapping[str, str] | Sequence[str] | str | None) -> tupl
         return parse_patch_options([f"{k}={v}" for k, v in patches.items()])
     names = [str(n).strip() for n in patches]
     if len(names) != 4 or any("=" in n for n in names):
-        raise InputError(f"patch names {' '.join(names)!r}: give four names (bottom, right, "
-                         "top, left) or SIDE=NAME items ({patch})")
+        raise InputError(
+            f"patch names {' '.join(names)!r}: give four names (bottom, right, "
+            "top, left) or SIDE=NAME items ({patch})"
+        )
     return tuple(_checked(n) for n in names)
 
 

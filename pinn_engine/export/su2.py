@@ -23,8 +23,7 @@ def _write_body(block: Block, path: Path) -> None:
     kept, _ = bodies.compact(ni, nj, topo, nw)
     cells = bodies.cells(ni, nj, topo, nw)
     with open(path, "w") as f:
-        f.write("% SU2 mesh written by pinn-mesh (O- or C-grid, seam or cut merged)\n"
-                "NDIME= 2\n")
+        f.write("% SU2 mesh written by pinn-mesh (O- or C-grid, seam or cut merged)\nNDIME= 2\n")
         f.write(f"NELEM= {len(cells)}\n")
         write_rows(f, np.column_stack([cells, np.arange(len(cells))]), "9 %d %d %d %d %d")
         xy = block.points.reshape(-1, 3)[kept, :2]
@@ -43,8 +42,11 @@ def write(block: Block, path: Path) -> None:
         _write_body(block, path)
         return
     if block.normal[2] != 1.0:
-        raise InputError("SU2's 2D format needs a grid in a plane z = const; this one lies in "
-                         "a tilted plane (write .cgns, .msh, .xyz or OpenFOAM instead)", str(path))
+        raise InputError(
+            "SU2's 2D format needs a grid in a plane z = const; this one lies in "
+            "a tilted plane (write .cgns, .msh, .xyz or OpenFOAM instead)",
+            str(path),
+        )
     cells = quads(ni, nj)
     with open(path, "w") as f:
         f.write("% SU2 mesh written by pinn-mesh\nNDIME= 2\n")
@@ -52,8 +54,7 @@ def write(block: Block, path: Path) -> None:
         write_rows(f, np.column_stack([cells, np.arange(len(cells))]), "9 %d %d %d %d %d")
         f.write(f"NPOIN= {ni * nj}\n")
         xy = block.points.reshape(-1, 3)[:, :2]
-        write_rows(f, np.column_stack([xy, np.arange(len(xy))]),
-                   "%.17g %.17g %d")
+        write_rows(f, np.column_stack([xy, np.arange(len(xy))]), "%.17g %.17g %d")
         patches = block.patches()
         f.write(f"NMARK= {len(patches)}\n")
         for name, sides in patches.items():

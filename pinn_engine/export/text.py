@@ -15,5 +15,5 @@ def write_rows(f, rows: np.ndarray, fmt: str) -> None:
         rows = rows[:, None]
     line = fmt + "\n"
     for start in range(0, len(rows), CHUNK):
-        chunk = rows[start:start + CHUNK]
+        chunk = rows[start : start + CHUNK]
         f.write(line * len(chunk) % tuple(chunk.ravel().tolist()))

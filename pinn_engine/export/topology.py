@@ -30,7 +30,7 @@ def mean_edge(points: np.ndarray) -> float:
 
 def quads(ni: int, nj: int) -> np.ndarray:
     """(cells, 4) counter-clockwise node indices of the layer k = 0, i fastest."""
-    jj, ii = np.mgrid[0:nj - 1, 0:ni - 1]
+    jj, ii = np.mgrid[0 : nj - 1, 0 : ni - 1]
     n = (ii + ni * jj).ravel()
     return np.column_stack([n, n + 1, n + 1 + ni, n + ni])
 
@@ -44,15 +44,23 @@ def hexes(ni: int, nj: int) -> np.ndarray:
 def side_nodes(ni: int, nj: int, side: str) -> np.ndarray:
     """Node indices of a side, counter-clockwise around the domain (domain on the left)."""
     i, j = np.arange(ni), np.arange(nj)
-    return {"bottom": i, "right": ni - 1 + ni * j, "top": (i + ni * (nj - 1))[::-1],
-            "left": (ni * j)[::-1]}[side]
+    return {
+        "bottom": i,
+        "right": ni - 1 + ni * j,
+        "top": (i + ni * (nj - 1))[::-1],
+        "left": (ni * j)[::-1],
+    }[side]
 
 
 def side_cells(ni: int, nj: int, side: str) -> np.ndarray:
     """The cell next to each edge of ``side_edges`` (same order)."""
     i, j = np.arange(ni - 1), np.arange(nj - 1)
-    return {"bottom": i, "right": ni - 2 + (ni - 1) * j,
-            "top": (i + (ni - 1) * (nj - 2))[::-1], "left": ((ni - 1) * j)[::-1]}[side]
+    return {
+        "bottom": i,
+        "right": ni - 2 + (ni - 1) * j,
+        "top": (i + (ni - 1) * (nj - 2))[::-1],
+        "left": ((ni - 1) * j)[::-1],
+    }[side]
 
 
 def side_edges(ni: int, nj: int, side: str) -> np.ndarray:
@@ -81,9 +89,25 @@ def side_size(ni: int, nj: int, side: str) -> int:
 
 def index_range(ni: int, nj: int, side: str) -> tuple[tuple[int, int], tuple[int, int]]:
     """1-based ((imin, jmin), (imax, jmax)) of a side (CGNS PointRange)."""
-    return {"bottom": ((1, 1), (ni, 1)), "right": ((ni, 1), (ni, nj)),
-            "top": ((1, nj), (ni, nj)), "left": ((1, 1), (1, nj))}[side]
+    return {
+        "bottom": ((1, 1), (ni, 1)),
+        "right": ((ni, 1), (ni, nj)),
+        "top": ((1, nj), (ni, nj)),
+        "left": ((1, 1), (1, nj)),
+    }[side]
 
 
-__all__ = ["SIDES", "end_faces", "hexes", "index_range", "layers", "mean_edge", "quads",
-           "side_cells", "side_edges", "side_faces", "side_nodes", "side_size"]
+__all__ = [
+    "SIDES",
+    "end_faces",
+    "hexes",
+    "index_range",
+    "layers",
+    "mean_edge",
+    "quads",
+    "side_cells",
+    "side_edges",
+    "side_faces",
+    "side_nodes",
+    "side_size",
+]

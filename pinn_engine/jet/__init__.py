@@ -3,5 +3,15 @@ C++ (kernels.cpp, built and loaded by native.py)."""
 
 from .layers import ETA, ETAETA, FIRST, SECOND, XI, XIETA, XIXI, V, input_jet, jet_product
 
-__all__ = ["ETA", "ETAETA", "FIRST", "SECOND", "V", "XI", "XIETA", "XIXI", "input_jet",
-           "jet_product"]
+__all__ = [
+    "ETA",
+    "ETAETA",
+    "FIRST",
+    "SECOND",
+    "V",
+    "XI",
+    "XIETA",
+    "XIXI",
+    "input_jet",
+    "jet_product",
+]

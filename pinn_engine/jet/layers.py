@@ -5,7 +5,6 @@ a hand-written backward. The whole network runs as one C++ call each way (native
 kernels.cpp) where that could be built, else layer by layer as torch operations.
 """
 
-
 from __future__ import annotations
 
 import ctypes
@@ -44,8 +43,12 @@ def _activation(name: str, z: torch.Tensor) -> tuple[torch.Tensor, ...]:
     raise ValueError(f"unknown activation {name!r}; use tanh, sin, sigmoid or swish")
 
 
-ACTIVATIONS = {"tanh": torch.tanh, "sin": torch.sin, "sigmoid": torch.sigmoid,
-               "swish": torch.nn.functional.silu}
+ACTIVATIONS = {
+    "tanh": torch.tanh,
+    "sin": torch.sin,
+    "sigmoid": torch.sigmoid,
+    "swish": torch.nn.functional.silu,
+}
 Jet = tuple  # six tensors: value, d_xi, d_eta, d_xixi, d_xieta, d_etaeta
 
 
@@ -59,11 +62,14 @@ def _leibniz_backward(u: Jet, w: Jet, g: Jet) -> tuple[Jet, Jet]:
     """Gradients of a loss with respect to u and w, given its gradient ``g`` w.r.t. u * w."""
 
     def wrt(a: Jet) -> Jet:  # gradient w.r.t. the other factor of ``a``
-        return (g[0] * a[0] + g[1] * a[1] + g[2] * a[2] + g[3] * a[3] + g[4] * a[4]
-                + g[5] * a[5],
-                g[1] * a[0] + 2 * g[3] * a[1] + g[4] * a[2],
-                g[2] * a[0] + g[4] * a[1] + 2 * g[5] * a[2],
-                g[3] * a[0], g[4] * a[0], g[5] * a[0])
+        return (
+            g[0] * a[0] + g[1] * a[1] + g[2] * a[2] + g[3] * a[3] + g[4] * a[4] + g[5] * a[5],
+            g[1] * a[0] + 2 * g[3] * a[1] + g[4] * a[2],
+            g[2] * a[0] + g[4] * a[1] + 2 * g[5] * a[2],
+            g[3] * a[0],
+            g[4] * a[0],
+            g[5] * a[0],
+        )
 
     return wrt(w), wrt(u)
 
@@ -71,8 +77,14 @@ def _leibniz_backward(u: Jet, w: Jet, g: Jet) -> tuple[Jet, Jet]:
 def _activation_forward(name: str, z: Jet) -> tuple[Jet, tuple]:
     """Chain rule for a point-wise activation on a jet; also returns what backward needs."""
     s, d1, d2, d3 = _activation(name, z[V])
-    out = (s, d1 * z[1], d1 * z[2], d2 * z[1] * z[1] + d1 * z[3], d2 * z[1] * z[2] + d1 * z[4],
-           d2 * z[2] * z[2] + d1 * z[5])
+    out = (
+        s,
+        d1 * z[1],
+        d1 * z[2],
+        d2 * z[1] * z[1] + d1 * z[3],
+        d2 * z[1] * z[2] + d1 * z[4],
+        d2 * z[2] * z[2] + d1 * z[5],
+    )
     return out, (z, d1, d2, d3)
 
 
@@ -81,8 +93,14 @@ def _activation_backward(saved: tuple, g: Jet) -> Jet:
     g0, g1, g2, g3, g4, g5 = g
     g_d1 = g1 * z1 + g2 * z2 + g3 * z3 + g4 * z4 + g5 * z5
     g_d2 = (g3 * z1 + g4 * z2) * z1 + g5 * z2 * z2
-    return (g0 * d1 + g_d1 * d2 + g_d2 * d3, g1 * d1 + d2 * (2 * g3 * z1 + g4 * z2),
-            g2 * d1 + d2 * (g4 * z1 + 2 * g5 * z2), g3 * d1, g4 * d1, g5 * d1)
+    return (
+        g0 * d1 + g_d1 * d2 + g_d2 * d3,
+        g1 * d1 + d2 * (2 * g3 * z1 + g4 * z2),
+        g2 * d1 + d2 * (g4 * z1 + 2 * g5 * z2),
+        g3 * d1,
+        g4 * d1,
+        g5 * d1,
+    )
 
 
 # Row layout of one layer's jet, per sub-network: the five derivative channels (XI..ETAETA)
@@ -92,14 +110,15 @@ def _activation_backward(saved: tuple, g: Jet) -> Jet:
 
 def _linear(h: torch.Tensor, w: torch.Tensor, b: torch.Tensor, n_jet: int) -> torch.Tensor:
     z = torch.bmm(h, w)  # bmm, not matmul: measured 5-15 us less per call
-    z[:, 5 * n_jet:] += b
+    z[:, 5 * n_jet :] += b
     return z
 
 
-def _linear_backward(h: torch.Tensor, w: torch.Tensor, g: torch.Tensor, n_jet: int,
-                     need_input: bool):
+def _linear_backward(
+    h: torch.Tensor, w: torch.Tensor, g: torch.Tensor, n_jet: int, need_input: bool
+):
     dw = torch.bmm(h.transpose(1, 2), g)
-    db = g[:, 5 * n_jet:].sum(dim=1, keepdim=True)
+    db = g[:, 5 * n_jet :].sum(dim=1, keepdim=True)
     dh = torch.bmm(g, w.transpose(1, 2)) if need_input else None
     return dw, db, dh
 
@@ -107,8 +126,8 @@ def _linear_backward(h: torch.Tensor, w: torch.Tensor, g: torch.Tensor, n_jet: i
 def _channels(t: torch.Tensor, n_jet: int) -> tuple[Jet, torch.Tensor]:
     """Rows -> (jet channels V..ETAETA of the jet points, values of the value-only points)."""
     k, _, n = t.shape
-    d = t[:, :5 * n_jet].reshape(k, 5, n_jet, n).unbind(1)
-    return (t[:, 5 * n_jet:6 * n_jet], *d), t[:, 6 * n_jet:]
+    d = t[:, : 5 * n_jet].reshape(k, 5, n_jet, n).unbind(1)
+    return (t[:, 5 * n_jet : 6 * n_jet], *d), t[:, 6 * n_jet :]
 
 
 def _rows(jet: Jet, extra: torch.Tensor) -> torch.Tensor:
@@ -126,8 +145,13 @@ class _TorchLayers:
     """
 
     @staticmethod
-    def forward(name: str, z: torch.Tensor, n_jet: int, u: torch.Tensor | None = None,
-                diff: torch.Tensor | None = None) -> tuple[torch.Tensor, tuple]:
+    def forward(
+        name: str,
+        z: torch.Tensor,
+        n_jet: int,
+        u: torch.Tensor | None = None,
+        diff: torch.Tensor | None = None,
+    ) -> tuple[torch.Tensor, tuple]:
         z_jet, z_extra = _channels(z, n_jet)
         a, saved = _activation_forward(name, z_jet)
         s, d1 = _activation(name, z_extra)[:2]
@@ -138,8 +162,12 @@ class _TorchLayers:
         return _rows(h, u_extra + s * w_extra), (n_jet, saved, d1, (a, s), (w_jet, w_extra))
 
     @staticmethod
-    def backward(saved: tuple, g: torch.Tensor, gu: torch.Tensor | None = None,
-                 gdiff: torch.Tensor | None = None) -> torch.Tensor:
+    def backward(
+        saved: tuple,
+        g: torch.Tensor,
+        gu: torch.Tensor | None = None,
+        gdiff: torch.Tensor | None = None,
+    ) -> torch.Tensor:
         n_jet, s_jet, d1, a, diff = saved
         g_a, g_extra = _channels(g, n_jet)
         if a is not None:
@@ -163,8 +191,16 @@ class _Native:
 
     CODES = {"tanh": 0, "sin": 1, "sigmoid": 2, "swish": 3}
 
-    def __init__(self, lib, x: torch.Tensor, extra: torch.Tensor, kind: str, name: str,
-                 params: tuple, size: int) -> None:
+    def __init__(
+        self,
+        lib,
+        x: torch.Tensor,
+        extra: torch.Tensor,
+        kind: str,
+        name: str,
+        params: tuple,
+        size: int,
+    ) -> None:
         suffix = "f32" if x.dtype == torch.float32 else "f64"
         self.fwd = getattr(lib, f"net_forward_{suffix}")
         self.bwd = getattr(lib, f"net_backward_{suffix}")
@@ -175,8 +211,7 @@ class _Native:
         self.x, self.extra = x.contiguous(), extra.contiguous()
         self.dims = (k, hidden + 1, n, len(x), len(extra))
         # a large workspace costs more memory traffic than backward recomputing it
-        self.ws = x.new_empty(k * size) if k * size * x.element_size() <= WORKSPACE_BYTES \
-            else None
+        self.ws = x.new_empty(k * size) if k * size * x.element_size() <= WORKSPACE_BYTES else None
 
     @staticmethod
     def pointers(tensors) -> ctypes.Array:
@@ -185,18 +220,37 @@ class _Native:
     def forward(self) -> tuple[torch.Tensor, torch.Tensor]:
         k, _, _, b, e = self.dims
         jet, values = self.x.new_empty(6, b, k), self.x.new_empty(e, k)
-        rc = self.fwd(self.code, self.gated, native.threads(), *self.dims,
-                      self.pointers(self.params), self.x.data_ptr(), self.extra.data_ptr(),
-                      _ptr(self.ws), jet.data_ptr(), values.data_ptr())
+        rc = self.fwd(
+            self.code,
+            self.gated,
+            native.threads(),
+            *self.dims,
+            self.pointers(self.params),
+            self.x.data_ptr(),
+            self.extra.data_ptr(),
+            _ptr(self.ws),
+            jet.data_ptr(),
+            values.data_ptr(),
+        )
         assert rc == 0, "jet kernels: unsupported width"
         return jet, values
 
     def backward(self, g_jet: torch.Tensor, g_values: torch.Tensor) -> list[torch.Tensor]:
         grads = [torch.empty_like(p) for p in self.params]
         g_jet, g_values = (None if g is None else g.contiguous() for g in (g_jet, g_values))
-        rc = self.bwd(self.code, self.gated, native.threads(), *self.dims,
-                      self.pointers(self.params), self.x.data_ptr(), self.extra.data_ptr(),
-                      _ptr(self.ws), _ptr(g_jet), _ptr(g_values), self.pointers(grads))
+        rc = self.bwd(
+            self.code,
+            self.gated,
+            native.threads(),
+            *self.dims,
+            self.pointers(self.params),
+            self.x.data_ptr(),
+            self.extra.data_ptr(),
+            _ptr(self.ws),
+            _ptr(g_jet),
+            _ptr(g_values),
+            self.pointers(grads),
+        )
         assert rc == 0, "jet kernels: unsupported width"
         return grads
 
@@ -205,8 +259,9 @@ def _ptr(t: torch.Tensor | None) -> int | None:
     return None if t is None else t.data_ptr()
 
 
-def _native(x: torch.Tensor, extra: torch.Tensor, kind: str, name: str,
-            params: tuple) -> _Native | None:
+def _native(
+    x: torch.Tensor, extra: torch.Tensor, kind: str, name: str, params: tuple
+) -> _Native | None:
     """The C++ network on the CPU when it could be built (and the width fits), else None."""
     if x.device.type != "cpu" or x.dtype not in (torch.float32, torch.float64):
         return None
@@ -214,8 +269,9 @@ def _native(x: torch.Tensor, extra: torch.Tensor, kind: str, name: str,
     if lib is None:
         return None
     hidden = (len(params) - (8 if kind == "shortcut" else 4)) // 2
-    size = lib.net_workspace(hidden + 1, params[0].shape[2], len(x), len(extra),
-                             int(kind == "shortcut"))
+    size = lib.net_workspace(
+        hidden + 1, params[0].shape[2], len(x), len(extra), int(kind == "shortcut")
+    )
     return None if size < 0 else _Native(lib, x, extra, kind, name, params, size)
 
 
@@ -238,8 +294,9 @@ class NetworkJet(torch.autograd.Function):
     """
 
     @staticmethod
-    def forward(ctx, kind: str, name: str, x: torch.Tensor, extra: torch.Tensor,
-                *params: torch.Tensor):
+    def forward(
+        ctx, kind: str, name: str, x: torch.Tensor, extra: torch.Tensor, *params: torch.Tensor
+    ):
         ctx.native = _native(x, extra, kind, name, params)
         ctx.set_materialize_grads(False)  # an unused output's gradient comes as None
         if ctx.native is not None:
@@ -267,8 +324,10 @@ class NetworkJet(torch.autograd.Function):
         saved["out"] = (h, w_out)
         ctx.layers, ctx.shortcut, ctx.weights, ctx.saved = layers, shortcut, params, saved
         jet, values = _channels(_linear(h, w_out, b_out, b), b)
-        jet, values = (torch.stack(jet)[..., 0].permute(0, 2, 1).contiguous(),
-                       values[..., 0].T.contiguous())
+        jet, values = (
+            torch.stack(jet)[..., 0].permute(0, 2, 1).contiguous(),
+            values[..., 0].T.contiguous(),
+        )
         ctx.shapes = jet.shape, values.shape
         return jet, values
 

@@ -21,8 +21,7 @@ from pathlib import Path
 
 log = logging.getLogger(__name__)
 SOURCE = Path(__file__).with_name("kernels.cpp")
-FLAGS = ["-O3", "-march=native", "-fno-trapping-math", "-shared", "-fPIC", "-std=c++17",
-         "-pthread"]
+FLAGS = ["-O3", "-march=native", "-fno-trapping-math", "-shared", "-fPIC", "-std=c++17", "-pthread"]
 
 
 def _cache_dir() -> Path:
@@ -42,17 +41,23 @@ def _cpu_flags() -> str:
 
 def _build(compiler: str, cache: Path) -> Path:
     source = SOURCE.read_bytes()
-    key = hashlib.sha256(b"\0".join([source, " ".join([compiler, *FLAGS]).encode(),
-                                     _cpu_flags().encode()])).hexdigest()[:16]
+    key = hashlib.sha256(
+        b"\0".join([source, " ".join([compiler, *FLAGS]).encode(), _cpu_flags().encode()])
+    ).hexdigest()[:16]
     target = cache / f"jet_kernels-{key}.so"
     if target.exists():
         return target
     cache.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(suffix=".so.part", dir=cache)  # complete or absent, even if
-    os.close(fd)                                               # two processes build at once
+    os.close(fd)  # two processes build at once
     try:
-        subprocess.run([compiler, *FLAGS, "-o", tmp, str(SOURCE)], check=True,
-                       capture_output=True, text=True, timeout=120)
+        subprocess.run(
+            [compiler, *FLAGS, "-o", tmp, str(SOURCE)],
+            check=True,
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
         os.replace(tmp, target)
     finally:
         if os.path.exists(tmp):
@@ -94,6 +99,8 @@ def kernels() -> ctypes.CDLL | None:
         return _bind(ctypes.CDLL(str(path)))
     except (OSError, subprocess.SubprocessError, AttributeError) as exc:
         detail = getattr(exc, "stderr", "") or exc
-        log.warning("could not build the fused jet kernels (%s); using torch operations",
-                    str(detail).strip()[:500])
+        log.warning(
+            "could not build the fused jet kernels (%s); using torch operations",
+            str(detail).strip()[:500],
+        )
         return None

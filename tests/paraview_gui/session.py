@@ -27,10 +27,14 @@ def write(proxy, alg):
         report = json.loads(report.GetValue(0)) if report is not None else {}
         prop = proxy.SMProxy.GetProperty("Input")
         connected = [prop.GetProxy(k) for k in range(prop.GetNumberOfProxies())]
-        result = {"points": grid.GetNumberOfPoints(), "aux_lines": report.get("aux_lines"),
-                  "inputs": sorted(name for (name, _), src in simple.GetSources().items()
-                                   if src.SMProxy in connected),
-                  "error": alg.GetLastError()}
+        result = {
+            "points": grid.GetNumberOfPoints(),
+            "aux_lines": report.get("aux_lines"),
+            "inputs": sorted(
+                name for (name, _), src in simple.GetSources().items() if src.SMProxy in connected
+            ),
+            "error": alg.GetLastError(),
+        }
     except Exception:
         result = {"exception": traceback.format_exc()}
     with open(RESULT + ".tmp", "w") as f:
@@ -41,8 +45,9 @@ def write(proxy, alg):
 def training(alg):
     """Marks (file PINN_GUI_RESULT.training) that the filter's training is under way."""
     marker = RESULT + ".training"
-    if alg.GetProgressText().startswith("PINN Structured Mesh: training") and not \
-            os.path.exists(marker):
+    if alg.GetProgressText().startswith("PINN Structured Mesh: training") and not os.path.exists(
+        marker
+    ):
         open(marker, "w").close()
 
 
@@ -51,16 +56,16 @@ def on_register(obj, event):
         if proxy.GetXMLName() == "PINNStructuredMesh" and key not in watched:
             alg = proxy.GetClientSideObject()
             alg.AddObserver("ProgressEvent", lambda o, e, a=alg: training(a))
-            watched[key] = alg.AddObserver("EndEvent",
-                                           lambda o, e, p=proxy, a=alg: write(p, a))
+            watched[key] = alg.AddObserver("EndEvent", lambda o, e, p=proxy, a=alg: write(p, a))
 
 
 def main():
     view = simple.GetActiveViewOrCreate("RenderView")
     view.OrientationAxesVisibility = 0
     for name in ("fig2.vtp", "fig2_aux.vtp"):
-        reader = simple.XMLPolyDataReader(registrationName=name,
-                                          FileName=[os.path.join(DATA, name)])
+        reader = simple.XMLPolyDataReader(
+            registrationName=name, FileName=[os.path.join(DATA, name)]
+        )
         simple.Show(reader, view)
     simple.ResetCamera()
     simple.Render()

@@ -22,9 +22,13 @@ from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
 EXAMPLES = sys.argv[1]
 SHORT = {"AdamEpochs": 60, "LBFGSIterations": 5}
-result = {"pinn_engine_on_pythonpath": any(
-    os.path.isdir(os.path.join(p, "pinn_engine")) for p in
-    os.environ.get("PYTHONPATH", "").split(os.pathsep) if p)}
+result = {
+    "pinn_engine_on_pythonpath": any(
+        os.path.isdir(os.path.join(p, "pinn_engine"))
+        for p in os.environ.get("PYTHONPATH", "").split(os.pathsep)
+        if p
+    )
+}
 
 
 @contextlib.contextmanager
@@ -49,13 +53,20 @@ def field(grid, name):
 
 
 def summary(grid):
-    return {"class": grid.GetClassName(), "extent": list(grid.GetExtent()),
-            "points": grid.GetNumberOfPoints(),
-            "cell_arrays": [grid.GetCellData().GetArrayName(i)
-                            for i in range(grid.GetCellData().GetNumberOfArrays())],
-            "method": grid.GetFieldData().GetAbstractArray("Method").GetValue(0)
-            if grid.GetFieldData().GetAbstractArray("Method") else None,
-            "trained": field(grid, "Trained"), "training_count": field(grid, "TrainingCount")}
+    return {
+        "class": grid.GetClassName(),
+        "extent": list(grid.GetExtent()),
+        "points": grid.GetNumberOfPoints(),
+        "cell_arrays": [
+            grid.GetCellData().GetArrayName(i)
+            for i in range(grid.GetCellData().GetNumberOfArrays())
+        ],
+        "method": grid.GetFieldData().GetAbstractArray("Method").GetValue(0)
+        if grid.GetFieldData().GetAbstractArray("Method")
+        else None,
+        "trained": field(grid, "Trained"),
+        "training_count": field(grid, "TrainingCount"),
+    }
 
 
 # 1. the plugin came in through PV_PLUGIN_PATH (no LoadPlugin), pinn_engine via the plugin
@@ -74,8 +85,7 @@ boundary = XMLPolyDataReader(FileName=[os.path.join(EXAMPLES, "fig2.vtp")])
 aux = XMLPolyDataReader(FileName=[os.path.join(EXAMPLES, "fig2_aux.vtp")])
 
 # 2. boundary + auxiliary lines, short training; progress events reach the algorithm
-mesh = simple.PINNStructuredMesh(Input=boundary, AuxiliaryLines=[aux], GridSize=[41, 21],
-                                 **SHORT)
+mesh = simple.PINNStructuredMesh(Input=boundary, AuxiliaryLines=[aux], GridSize=[41, 21], **SHORT)
 progress = []
 alg = mesh.GetClientSideObject()
 alg.AddObserver("ProgressEvent", lambda obj, event: progress.append(obj.GetProgress()))
@@ -96,8 +106,7 @@ start = time.perf_counter()
 back = servermanager.Fetch(mesh)
 result["back"] = summary(back)
 result["back_seconds"] = time.perf_counter() - start
-result["back_max_diff"] = float(abs(vtk_to_numpy(back.GetPoints().GetData())
-                                    - first_points).max())
+result["back_max_diff"] = float(abs(vtk_to_numpy(back.GetPoints().GetData()) - first_points).max())
 
 # 4. the two auxiliary polylines as two inputs (PolyLineSource) on a new filter instance
 reader = vtkXMLPolyDataReader()
@@ -109,19 +118,20 @@ for k in range(lines.GetNumberOfCells()):
     ids = lines.GetCell(k).GetPointIds()
     pts = [c for i in range(ids.GetNumberOfIds()) for c in lines.GetPoint(ids.GetId(i))]
     sources.append(PolyLineSource(Points=pts))
-two = simple.PINNStructuredMesh(Input=boundary, AuxiliaryLines=sources, GridSize=[41, 21],
-                                **SHORT)
+two = simple.PINNStructuredMesh(Input=boundary, AuxiliaryLines=sources, GridSize=[41, 21], **SHORT)
 grid_two = servermanager.Fetch(two)
 result["two_inputs"] = summary(grid_two)
-result["two_inputs_max_diff"] = float(abs(
-    vtk_to_numpy(grid_two.GetPoints().GetData()) - first_points).max())
+result["two_inputs_max_diff"] = float(
+    abs(vtk_to_numpy(grid_two.GetPoints().GetData()) - first_points).max()
+)
 
 # 4b. boundary and auxiliary lines both on Input, as the GUI connects two selected sources
 both = simple.PINNStructuredMesh(Input=[aux, boundary], GridSize=[41, 21], **SHORT)
 grid_both = servermanager.Fetch(both)
 result["both_on_input"] = summary(grid_both)
-result["both_on_input_max_diff"] = float(abs(
-    vtk_to_numpy(grid_both.GetPoints().GetData()) - first_points).max())
+result["both_on_input_max_diff"] = float(
+    abs(vtk_to_numpy(grid_both.GetPoints().GetData()) - first_points).max()
+)
 
 # 5. a bad boundary (the auxiliary file: two open polylines): empty output, one error line
 bad = simple.PINNStructuredMesh(Input=aux, **SHORT)
@@ -137,11 +147,18 @@ bad.AuxiliaryLines = [aux]
 result["recovered"] = summary(servermanager.Fetch(bad))
 
 # 7. boundary-layer settings (SPEC 7): first-edge spacing and orthogonal sides on the panel
-layer = simple.PINNStructuredMesh(Input=boundary, Method=3, GridSize=[41, 21],
-                                  FirstEdgeSpacing=[0.01, 0, 0, 0], OrthogonalSides=[1, 0, 0, 0])
+layer = simple.PINNStructuredMesh(
+    Input=boundary,
+    Method=3,
+    GridSize=[41, 21],
+    FirstEdgeSpacing=[0.01, 0, 0, 0],
+    OrthogonalSides=[1, 0, 0, 0],
+)
 fd = servermanager.Fetch(layer).GetFieldData()
-result["layer"] = {"first_edge": [fd.GetArray("FirstEdge_bottom").GetValue(k) for k in range(3)],
-                   "angle": fd.GetArray("WallAngleDeviation_bottom").GetValue(0),
-                   "properties": list(layer.ListProperties())}
+result["layer"] = {
+    "first_edge": [fd.GetArray("FirstEdge_bottom").GetValue(k) for k in range(3)],
+    "angle": fd.GetArray("WallAngleDeviation_bottom").GetValue(0),
+    "properties": list(layer.ListProperties()),
+}
 result["torch_at_end"] = "torch" in sys.modules
 print("RESULT " + json.dumps(result))

@@ -37,8 +37,11 @@ result["aux_optional"] = bool(aux_hints and aux_hints.FindNestedElementByName("O
 boundary = XMLPolyDataReader(FileName=[os.path.join(EXAMPLES, "wavy.vtp")])
 mesh = PINNStructuredMesh(Input=boundary, Method="elliptic", GridSize=[31, 16])  # noqa: F821
 grid = servermanager.Fetch(mesh)
-result["grid"] = {"class": grid.GetClassName(), "extent": list(grid.GetExtent()),
-                  "max_angle": grid.GetCellData().GetArray("MaxIncludedAngle") is not None,
-                  "method": grid.GetFieldData().GetAbstractArray("Method").GetValue(0)}
+result["grid"] = {
+    "class": grid.GetClassName(),
+    "extent": list(grid.GetExtent()),
+    "max_angle": grid.GetCellData().GetArray("MaxIncludedAngle") is not None,
+    "method": grid.GetFieldData().GetAbstractArray("Method").GetValue(0),
+}
 result["torch_at_end"] = "torch" in sys.modules
 print("RESULT " + json.dumps(result))

@@ -38,40 +38,51 @@ def captured_errors():
 
 
 boundary = simple.XMLPolyDataReader(FileName=[os.path.join(EXAMPLES, "fig2.vtp")])
-mesh = simple.PINNStructuredMesh(Input=boundary, Method="tfi", GridSize=[13, 7],
-                                 PatchNames="bottom=wall top=wall left=inlet")
+mesh = simple.PINNStructuredMesh(
+    Input=boundary, Method="tfi", GridSize=[13, 7], PatchNames="bottom=wall top=wall left=inlet"
+)
 grid = servermanager.Fetch(mesh)
 names = grid.GetFieldData().GetAbstractArray("PatchNames")
-result = {"patch_names": [names.GetValue(k) for k in range(names.GetNumberOfValues())],
-          "point_arrays": [grid.GetPointData().GetArrayName(k)
-                           for k in range(grid.GetPointData().GetNumberOfArrays())]}
+result = {
+    "patch_names": [names.GetValue(k) for k in range(names.GetNumberOfValues())],
+    "point_arrays": [
+        grid.GetPointData().GetArrayName(k) for k in range(grid.GetPointData().GetNumberOfArrays())
+    ],
+}
 
 factory = vtkSMProxyManager.GetProxyManager().GetWriterFactory()
 factory.UpdateAvailableWriters()
-result["file_types"] = [t for t in factory.GetSupportedFileTypes(mesh.SMProxy, 0).split(";;")
-                        if t.startswith("PINN Mesh")]
+result["file_types"] = [
+    t
+    for t in factory.GetSupportedFileTypes(mesh.SMProxy, 0).split(";;")
+    if t.startswith("PINN Mesh")
+]
 
 simple.SaveData(os.path.join(OUT, "grid.vts"), proxy=mesh)  # ParaView's own writer
-jobs = [("PINNMeshPLOT3DWriter", "grid.xyz", {}),
-        ("PINNMeshPLOT3DWriter", "grid3.xyz", {"ExtrudeThickness": 0.25}),
-        ("PINNMeshCGNSWriter", "grid.cgns", {}),
-        ("PINNMeshCGNSWriter", "grid3.cgns", {"ExtrudeThickness": 0.25}),
-        ("PINNMeshSU2Writer", "grid.su2", {}),
-        ("PINNMeshGmshWriter", "grid.msh", {}),
-        ("PINNMeshGmshWriter", "grid3.msh", {"ExtrudeThickness": 0.25}),
-        ("PINNMeshOpenFOAMWriter", "case.foam", {"ExtrudeThickness": 0.25})]
+jobs = [
+    ("PINNMeshPLOT3DWriter", "grid.xyz", {}),
+    ("PINNMeshPLOT3DWriter", "grid3.xyz", {"ExtrudeThickness": 0.25}),
+    ("PINNMeshCGNSWriter", "grid.cgns", {}),
+    ("PINNMeshCGNSWriter", "grid3.cgns", {"ExtrudeThickness": 0.25}),
+    ("PINNMeshSU2Writer", "grid.su2", {}),
+    ("PINNMeshGmshWriter", "grid.msh", {}),
+    ("PINNMeshGmshWriter", "grid3.msh", {"ExtrudeThickness": 0.25}),
+    ("PINNMeshOpenFOAMWriter", "case.foam", {"ExtrudeThickness": 0.25}),
+]
 result["errors"] = {}
 for proxy_name, file_name, props in jobs:
     writer = getattr(servermanager.writers, proxy_name)(
-        Input=mesh, FileName=os.path.join(OUT, file_name), **props)
+        Input=mesh, FileName=os.path.join(OUT, file_name), **props
+    )
     with captured_errors() as err:
         writer.UpdatePipeline()
     result["errors"][file_name] = err["vtk"].strip()
     del writer
 
 os.environ["PINN_MESH_PYTHON"] = "/nonexistent/python"  # no helper: CGNS cannot be written
-writer = servermanager.writers.PINNMeshCGNSWriter(Input=mesh,
-                                                  FileName=os.path.join(OUT, "none.cgns"))
+writer = servermanager.writers.PINNMeshCGNSWriter(
+    Input=mesh, FileName=os.path.join(OUT, "none.cgns")
+)
 with captured_errors() as err:
     writer.UpdatePipeline()
 result["no_helper"] = {"vtk": err["vtk"], "traceback": "Traceback" in err["stderr"]}
