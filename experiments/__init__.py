@@ -18,6 +18,7 @@ import time
 from datetime import datetime, timezone
 from pathlib import Path
 
+from .execute import clock
 from .runs import BUDGETS, LOSS_CASE, Budget, make_plan
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -117,13 +118,13 @@ def run_experiments(
         "root": ROOT,
         "command": command,
         "date": date,
-        "wall": _clock(wall),
+        "wall": clock(wall),
         "cpu_minutes": cpu / 60,
         "processes": jobs,
         "n_runs": len(results),
         "machine": _machine(),
         "reused": len(done),
-        "sessions_wall": _clock(sum(x["wall_seconds"] for x in computing)),
+        "sessions_wall": clock(sum(x["wall_seconds"] for x in computing)),
         "sessions": len(computing),
     }
     doc.parent.mkdir(parents=True, exist_ok=True)
@@ -156,11 +157,6 @@ def run_experiments(
     report.write_json(summary, out / "summary.json")
     bar.close(f"done: {len(results)} runs, {len(figs)} figures in {out}")
     return summary
-
-
-def _clock(seconds: float) -> str:
-    seconds = int(round(seconds))
-    return f"{seconds // 3600}:{seconds // 60 % 60:02d}:{seconds % 60:02d}"
 
 
 def _machine() -> str:

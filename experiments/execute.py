@@ -18,8 +18,9 @@ from typing import TextIO
 from .runs import Job, run_job
 
 
-def _clock(seconds: float) -> str:
-    seconds = max(int(seconds), 0)
+def clock(seconds: float) -> str:
+    """``seconds`` as h:mm:ss (rounded, never negative)."""
+    seconds = max(int(round(seconds)), 0)
     return f"{seconds // 3600:d}:{seconds // 60 % 60:02d}:{seconds % 60:02d}"
 
 
@@ -42,9 +43,9 @@ class ProgressBar:
         filled = int(round(frac * self.width))
         elapsed = time.perf_counter() - self.start
         eta = elapsed * (1 - frac) / frac if frac > 0.01 else float("nan")
-        eta_text = _clock(eta) if eta == eta else "--:--:--"
+        eta_text = clock(eta) if eta == eta else "--:--:--"
         bar = "#" * filled + "." * (self.width - filled)
-        return f"[{bar}] {100 * frac:5.1f}% {_clock(elapsed)} eta {eta_text}  {self.label}"
+        return f"[{bar}] {100 * frac:5.1f}% {clock(elapsed)} eta {eta_text}  {self.label}"
 
     def update(self, done: float, label: str | None = None, force: bool = False) -> None:
         self.done = done
