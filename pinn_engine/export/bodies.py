@@ -79,7 +79,7 @@ def write_polymesh(block, mesh) -> None:
     """OpenFOAM polyMesh of an O- or C-grid extruded one cell in z (``block.thickness``):
     the seam or cut nodes merged, so its faces are internal faces like any other; patches
     wall, farfield (outflow) and ``frontAndBack`` (empty)."""
-    from .openfoam import _header, _write_list
+    from .openfoam import write_mesh_files
     from .patches import FRONT_AND_BACK
 
     ni, nj, topo, nw = block.ni, block.nj, block.topology, block.n_wake
@@ -119,25 +119,4 @@ def write_polymesh(block, mesh) -> None:
     patches.append(
         (FRONT_AND_BACK, "empty", np.vstack([q[:, ::-1], q + m]), np.concatenate([ids, ids]))
     )
-    all_faces = np.vstack([internal_faces] + [p[2] for p in patches])
-    all_owner = np.concatenate([owner] + [p[3] for p in patches])
-    note = (
-        f'    note        "nPoints:{2 * m} nCells:{n_cells} nFaces:{len(all_faces)} '
-        f'nInternalFaces:{len(internal_faces)}";\n'
-    )
-    _write_list(mesh / "points", "vectorField", points)
-    _write_list(mesh / "faces", "faceList", all_faces)
-    _write_list(mesh / "owner", "labelList", all_owner, note)
-    _write_list(mesh / "neighbour", "labelList", neighbour, note)
-    text = [_header("polyBoundaryMesh", "boundary"), f"\n{len(patches)}\n(\n"]
-    start = len(internal_faces)
-    for name, kind, pf, _ in patches:
-        group = "        inGroups        List<word> 1(empty);\n" if kind == "empty" else ""
-        text.append(
-            f"    {name}\n    {{\n        type            {kind};\n{group}"
-            f"        nFaces          {len(pf)};\n        startFace       {start};\n"
-            "    }\n"
-        )
-        start += len(pf)
-    text.append(")\n")
-    (mesh / "boundary").write_text("".join(text))
+    write_mesh_files(mesh, points, internal_faces, owner, neighbour, patches)

@@ -107,14 +107,27 @@ def write_polymesh(block: Block, mesh: Path) -> None:
             np.concatenate([cells, cells]),
         )
     )
+    write_mesh_files(mesh, block.layers().reshape(-1, 3), faces, owner, neighbour, patches)
+
+
+def write_mesh_files(
+    mesh: Path,
+    points: np.ndarray,
+    faces: np.ndarray,
+    owner: np.ndarray,
+    neighbour: np.ndarray,
+    patches: list,
+) -> None:
+    """The five polyMesh files from the points, the internal faces (owner-ordered) and the
+    patches as (name, type, faces, owner cells), in ``mesh``."""
     all_faces = np.vstack([faces] + [p[2] for p in patches])
     all_owner = np.concatenate([owner] + [p[3] for p in patches])
-    n_points, n_cells = 2 * ni * nj, len(cells)
+    n_cells = int(max(owner.max(initial=-1), all_owner.max(initial=-1))) + 1
     note = (
-        f'    note        "nPoints:{n_points} nCells:{n_cells} nFaces:{len(all_faces)} '
+        f'    note        "nPoints:{len(points)} nCells:{n_cells} nFaces:{len(all_faces)} '
         f'nInternalFaces:{len(faces)}";\n'
     )
-    _write_list(mesh / "points", "vectorField", block.layers().reshape(-1, 3))
+    _write_list(mesh / "points", "vectorField", points)
     _write_list(mesh / "faces", "faceList", all_faces)
     _write_list(mesh / "owner", "labelList", all_owner, note)
     _write_list(mesh / "neighbour", "labelList", neighbour, note)
