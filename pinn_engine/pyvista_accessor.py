@@ -249,7 +249,7 @@ def pinn_mesh(
         neurons=neurons,
         lambda2=lambda2,
         seed=seed,
-        boundary=boundary_mode,
+        boundary_mode=boundary_mode,
         device=device,
         spacing=spacing,
         orthogonal=orthogonal,

@@ -133,3 +133,24 @@ def test_example_script_saves_a_picture(tmp_path):
     assert image.dimensions[:2] == (1000, 800)
     pixels = image.point_data[image.point_data.keys()[0]]
     assert len(np.unique(pixels.reshape(len(pixels), -1)[:, :3], axis=0)) > 20  # not blank
+
+
+def test_every_keyword_reaches_the_settings(fig2):
+    boundary, _ = fig2
+    grid = pinn_mesh(
+        boundary,
+        size=(11, 6),
+        boundary_mode="penalty",
+        adam_epochs=20,
+        lbfgs_iterations=2,
+        hidden_layers=2,
+        neurons=8,
+        lambda2=5.0,
+        seed=3,
+        device="cpu",
+    )
+    import json
+
+    settings = json.loads(str(grid.field_data["Report"][0]))["settings"]
+    assert settings["boundary_mode"] == "penalty" and settings["warm_start"] == "none"
+    assert (settings["hidden_layers"], settings["neurons"], settings["seed"]) == (2, 8, 3)
