@@ -18,6 +18,8 @@ from collections.abc import Callable
 
 import numpy as np
 
+from .tfi import tfi_at
+
 SIDE_AXIS = {"bottom": 1, "top": 1, "left": 0, "right": 0}  # parameter that the side stretches
 MAX_B = 1e12  # stretching beyond this (first spacing ~1e-12 of a side) is clipped
 
@@ -268,15 +270,6 @@ def working_spacing(spacing: tuple[tuple[str, float], ...], boundary) -> dict[st
 
 def side_lengths(boundary) -> dict[str, float]:
     return {s: boundary.side(s).length for s in ("bottom", "right", "top", "left")}
-
-
-def tfi_at(boundary) -> Callable[[np.ndarray], np.ndarray]:
-    """TFI of the exact boundary polylines, evaluated at node parameters (nj, ni, 2)."""
-    from .boundary_fit import ArcLengthFit
-    from .tfi import transfinite
-
-    fit = ArcLengthFit(boundary)
-    return lambda p: transfinite(p[..., 0], p[..., 1], lambda s, t, nu: fit.sample(s, t))[0]
 
 
 def elliptic_at(boundary, orthogonal: tuple[str, ...] = ()) -> Callable[[np.ndarray], np.ndarray]:

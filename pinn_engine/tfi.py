@@ -61,3 +61,11 @@ def tfi_grid(
     the grid rows ``rows`` when given (blocks of a large grid)."""
     xi, eta = node_params(ni), node_params(nj)[rows]
     return transfinite(xi[None, :], eta[:, None], lambda s, t, nu: sample(s, t))[0]
+
+
+def tfi_at(boundary) -> Callable[[np.ndarray], np.ndarray]:
+    """TFI of the exact boundary polylines, evaluated at node parameters (nj, ni, 2)."""
+    from .boundary_fit import ArcLengthFit  # boundary_fit -> geometry; tfi stays a leaf
+
+    fit = ArcLengthFit(boundary)
+    return lambda p: transfinite(p[..., 0], p[..., 1], lambda s, t, nu: fit.sample(s, t))[0]

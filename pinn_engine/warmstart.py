@@ -109,7 +109,7 @@ class WarmStart:
         """The warm start under a spacing (SPEC 7): the elliptic grid with control functions
         on the rectilinear lattice of the mean column and row parameters of ``params``
         (nj, ni, 2), so that the map is resolved, and orthogonal, at the first edges."""
-        from .spacing import tfi_at
+        from .tfi import tfi_at
 
         xi, eta = params[..., 0].mean(axis=0), params[..., 1].mean(axis=1)
         lattice = np.stack(np.meshgrid(xi, eta), axis=-1)

@@ -21,9 +21,9 @@ from pinn_engine.spacing import (
     grid_lines_angle,
     param_grid,
     stretch,
-    tfi_at,
     uniform_params,
 )
+from pinn_engine.tfi import tfi_at
 
 BUMP = EXAMPLES / "bump_channel.vtp"  # channel of height 1, a smooth bump on the floor
 H = 1e-3
