@@ -278,9 +278,8 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     """One meshing run; appends each output file to ``written`` once it is complete."""
 
     from . import export
-    from .fileio import atomic_path, write_text_atomic
     from .mesher import Mesher
-    from .pipeline import load_aux, load_boundary, to_vtk
+    from .pipeline import load_aux, load_boundary
 
     written = written if written is not None else []
     if args.topology or args.naca or (args.boundary or "").lower().endswith(".dat"):
@@ -367,28 +366,13 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
                 file=sys.stderr,
                 flush=True,
             )
-    if args.fail_on_folded and q["folded_cells"]:
-        raise PinnMeshError(
-            f"{args.boundary}: {q['folded_cells']} folded cells "
-            "(--fail-on-folded); no output written"
-        )
-    grid = to_vtk(result, patches)
-    export.write(grid, out, args.format, extrude=args.extrude)
-    written.append(out)
-    if args.report:
-        write_text_atomic(args.report, json.dumps(result.report, indent=2, default=float))
-        written.append(Path(args.report))
-    if args.png:
+
+    def picture(grid, tmp) -> None:
         from .render import render_png
 
-        with atomic_path(args.png, suffix=Path(args.png).suffix or ".png") as tmp:
-            render_png(grid, tmp, title=f"{args.method}: {Path(args.boundary).name}")
-        written.append(Path(args.png))
-    print(f"wrote {out}" + (f" and {args.png}" if args.png else ""))
-    warning = folded_cells_warning(result.report, "cli")
-    if warning:  # not progress: printed with --quiet too; last, so an error stays one line
-        print(f"pinn-mesh: warning: {args.boundary}: {warning}", file=sys.stderr, flush=True)
-    return out
+        render_png(grid, tmp, title=f"{args.method}: {Path(args.boundary).name}")
+
+    return _write_outputs(args, result, out, patches, written, args.boundary, picture)
 
 
 def _wall_spacing(args: argparse.Namespace) -> float | None:
@@ -420,8 +404,6 @@ def run_body(args: argparse.Namespace, written: list[Path]) -> Path:
     from . import export
     from .airfoil import circle, load_body, read_body_and_farfield
     from .bodymesh import mesh_body, patch_names
-    from .fileio import atomic_path, write_text_atomic
-    from .pipeline import to_vtk
 
     if args.topology is None:
         raise PinnMeshError("an airfoil or body needs --topology o or c")
@@ -502,6 +484,27 @@ def run_body(args: argparse.Namespace, written: list[Path]) -> Path:
             file=sys.stderr,
             flush=True,
         )
+
+    def picture(grid, tmp) -> None:
+        from .render import render_body_png
+
+        le, te = body.chord_points
+        title = f"{args.method} {args.topology.upper()}-grid {name}"
+        render_body_png(grid, tmp, title=title, le=le, te=te, zoom=0.08 * body.chord)
+
+    return _write_outputs(args, result, out, patches, written, name, picture)
+
+
+def _write_outputs(
+    args, result, out: Path, patches, written: list[Path], name: str, picture
+) -> Path:
+    """The grid in the format of ``out``, the report and the picture (``picture(grid, tmp)``)
+    if asked, each complete or absent; then the line saying so and the folded-cell warning."""
+    from . import export
+    from .fileio import atomic_path, write_text_atomic
+    from .pipeline import to_vtk
+
+    q = result.quality
     if args.fail_on_folded and q["folded_cells"]:
         raise PinnMeshError(
             f"{name}: {q['folded_cells']} folded cells (--fail-on-folded); no output written"
@@ -513,22 +516,12 @@ def run_body(args: argparse.Namespace, written: list[Path]) -> Path:
         write_text_atomic(args.report, json.dumps(result.report, indent=2, default=float))
         written.append(Path(args.report))
     if args.png:
-        from .render import render_body_png
-
-        le, te = body.chord_points
         with atomic_path(args.png, suffix=Path(args.png).suffix or ".png") as tmp:
-            render_body_png(
-                grid,
-                tmp,
-                title=f"{args.method} {args.topology.upper()}-grid {name}",
-                le=le,
-                te=te,
-                zoom=0.08 * body.chord,
-            )
+            picture(grid, tmp)
         written.append(Path(args.png))
     print(f"wrote {out}" + (f" and {args.png}" if args.png else ""))
     warning = folded_cells_warning(result.report, "cli")
-    if warning:
+    if warning:  # not progress: printed with --quiet too; last, so an error stays one line
         print(f"pinn-mesh: warning: {name}: {warning}", file=sys.stderr, flush=True)
     return out
 

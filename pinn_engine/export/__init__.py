@@ -162,43 +162,9 @@ def write(
     names = of_grid(grid) if patches is None else patch_names(patches)
     topology = body_topology(grid)
     if topology:
-        points = vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64)
-        ext = grid.GetExtent()
-        points = points.reshape(ext[3] - ext[2] + 1, ext[1] - ext[0] + 1, 3)
-        if np.ptp(points[..., 2]) > 1e-12 * max(1.0, float(np.ptp(points))):
-            raise InputError(
-                "an O- or C-grid must lie in a plane z = const to be written", str(path)
-            )
-        wake = grid.GetFieldData().GetArray("WakeNodes")
-        n_wake = int(wake.GetValue(0)) if wake is not None else 0
-        normal = np.array([0.0, 0.0, -1.0 if topology == "o" else 1.0])
+        points, normal, n_wake = _body_points(grid, topology, path)
     else:
-        points, normal, n_wake = None, None, 0
-    if topology and found.key in ("vts", "vtk"):
-        copy = vtkStructuredGrid()
-        copy.ShallowCopy(grid)
-        add_to_grid(copy, names)
-        if found.key == "vts":
-            return vtkfiles.write_vts(copy, path)
-        with atomic_path(path, suffix=found.suffix) as tmp:
-            vtkfiles.write_legacy(copy, tmp)
-        return path
-    if topology and found.key == "openfoam":
-        block = Block(
-            points,
-            names,
-            extrude if extrude is not None else mean_edge(points),
-            normal,
-            topology,
-            n_wake,
-        )
-        return _write_openfoam(block, path)
-    if topology:
-        block = Block(points, names, extrude, normal, topology, n_wake)
-        with atomic_path(path, suffix=found.suffix) as tmp:
-            _FILE_WRITERS[found.key](block, tmp)
-        return path
-    points, normal = grid_points(grid)
+        (points, normal), n_wake = grid_points(grid), 0
     if found.key in ("vts", "vtk"):
         copy = vtkStructuredGrid()
         copy.ShallowCopy(grid)
@@ -208,13 +174,27 @@ def write(
         with atomic_path(path, suffix=found.suffix) as tmp:
             vtkfiles.write_legacy(copy, tmp)
         return path
+    if extrude is None and found.key == "openfoam":  # OpenFOAM meshes are always 3D
+        extrude = mean_edge(points)
+    block = Block(points, names, extrude, normal, topology, n_wake)
     if found.key == "openfoam":
-        block = Block(points, names, extrude if extrude is not None else mean_edge(points), normal)
         return _write_openfoam(block, path)
-    block = Block(points, names, extrude, normal)
     with atomic_path(path, suffix=found.suffix) as tmp:
         _FILE_WRITERS[found.key](block, tmp)
     return path
+
+
+def _body_points(grid: vtkStructuredGrid, topology: str, path: Path):
+    """The nodes (nj, ni, 3) of an O- or C-grid, its extrusion normal (the O-grid's cells are
+    clockwise in (i, j), SPEC 9) and its wake node count."""
+    points = vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64)
+    ext = grid.GetExtent()
+    points = points.reshape(ext[3] - ext[2] + 1, ext[1] - ext[0] + 1, 3)
+    if np.ptp(points[..., 2]) > 1e-12 * max(1.0, float(np.ptp(points))):
+        raise InputError("an O- or C-grid must lie in a plane z = const to be written", str(path))
+    wake = grid.GetFieldData().GetArray("WakeNodes")
+    n_wake = int(wake.GetValue(0)) if wake is not None else 0
+    return points, np.array([0.0, 0.0, -1.0 if topology == "o" else 1.0]), n_wake
 
 
 def _write_openfoam(block: Block, case: Path) -> Path:
