@@ -221,42 +221,30 @@ def test_pde_claim_thresholds():
 def test_architecture_claim_from_seed_ranges():
     budget = BUDGETS["quick"]
     losses = {(1, 30): [5.0, 6.0], (4, 30): [1.0, 1.2], (4, 10): [2.0, 2.5]}
-    runs = [
-        _fake(
-            "wavy",
-            "paper",
-            "pinn",
-            100,
-            120,
-            seed=s,
-            group="sweep",
-            hidden_layers=n,
-            neurons=w,
-            final={"total": v},
-        )
-        for (n, w), values in losses.items()
-        for s, v in enumerate(values)
-    ]
-    claim = claim_architecture({r["key"]: r for r in runs}, budget)
+
+    def sweep() -> dict:
+        runs = [
+            _fake(
+                "wavy",
+                "paper",
+                "pinn",
+                100,
+                120,
+                seed=s,
+                group="sweep",
+                hidden_layers=n,
+                neurons=w,
+                final={"total": v},
+            )
+            for (n, w), values in losses.items()
+            for s, v in enumerate(values)
+        ]
+        return {r["key"]: r for r in runs}
+
+    claim = claim_architecture(sweep(), budget)
     assert claim["verdict"] == "contradicted"  # both sweeps: bigger was better every time
     losses[(4, 30)] = [7.0, 8.0]
-    runs = [
-        _fake(
-            "wavy",
-            "paper",
-            "pinn",
-            100,
-            120,
-            seed=s,
-            group="sweep",
-            hidden_layers=n,
-            neurons=w,
-            final={"total": v},
-        )
-        for (n, w), values in losses.items()
-        for s, v in enumerate(values)
-    ]
-    assert claim_architecture({r["key"]: r for r in runs}, budget)["verdict"] == "supported"
+    assert claim_architecture(sweep(), budget)["verdict"] == "supported"
 
 
 def test_progress_bar_text():

@@ -217,10 +217,9 @@ class _Native:
     def pointers(tensors) -> ctypes.Array:
         return (ctypes.c_void_p * len(tensors))(*[t.data_ptr() for t in tensors])
 
-    def forward(self) -> tuple[torch.Tensor, torch.Tensor]:
-        k, _, _, b, e = self.dims
-        jet, values = self.x.new_empty(6, b, k), self.x.new_empty(e, k)
-        rc = self.fwd(
+    def _inputs(self) -> tuple:
+        """The arguments both C++ calls start with: the network, its inputs, the workspace."""
+        return (
             self.code,
             self.gated,
             native.threads(),
@@ -229,6 +228,13 @@ class _Native:
             self.x.data_ptr(),
             self.extra.data_ptr(),
             _ptr(self.ws),
+        )
+
+    def forward(self) -> tuple[torch.Tensor, torch.Tensor]:
+        k, _, _, b, e = self.dims
+        jet, values = self.x.new_empty(6, b, k), self.x.new_empty(e, k)
+        rc = self.fwd(
+            *self._inputs(),
             jet.data_ptr(),
             values.data_ptr(),
         )
@@ -239,14 +245,7 @@ class _Native:
         grads = [torch.empty_like(p) for p in self.params]
         g_jet, g_values = (None if g is None else g.contiguous() for g in (g_jet, g_values))
         rc = self.bwd(
-            self.code,
-            self.gated,
-            native.threads(),
-            *self.dims,
-            self.pointers(self.params),
-            self.x.data_ptr(),
-            self.extra.data_ptr(),
-            _ptr(self.ws),
+            *self._inputs(),
             _ptr(g_jet),
             _ptr(g_values),
             self.pointers(grads),

@@ -6,8 +6,6 @@ Expects the plugin to be loaded already through PV_PLUGIN_PATH (scripts/pvenv.sh
 Prints one ``RESULT {json}`` line; any failed check raises (exit status 1).
 """
 
-import contextlib
-import io
 import json
 import os
 import sys
@@ -16,8 +14,8 @@ import time
 import paraview.simple as simple
 from paraview import servermanager
 from paraview.simple import PolyLineSource, XMLPolyDataReader
+from pvcommon import captured_errors
 from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
 EXAMPLES = sys.argv[1]
@@ -29,22 +27,6 @@ result = {
         if p
     )
 }
-
-
-@contextlib.contextmanager
-def captured_errors():
-    """Text written to vtkOutputWindow (and Python's stderr) inside the block."""
-    got = {"vtk": "", "stderr": ""}
-    old_window, window = vtkOutputWindow.GetInstance(), vtkStringOutputWindow()
-    old_err, buf = sys.stderr, io.StringIO()
-    vtkOutputWindow.SetInstance(window)
-    sys.stderr = buf
-    try:
-        yield got
-    finally:
-        sys.stderr = old_err
-        vtkOutputWindow.SetInstance(old_window)
-        got["vtk"], got["stderr"] = window.GetOutput(), buf.getvalue()
 
 
 def field(grid, name):

@@ -8,8 +8,6 @@ types File > Save Data offers for the filter's output, writes every PINN Mesh fo
 one ``RESULT {json}`` line; the test reads the files back with independent readers.
 """
 
-import contextlib
-import io
 import json
 import os
 import sys
@@ -17,24 +15,9 @@ import sys
 import paraview.simple as simple
 from paraview import servermanager
 from paraview.modules.vtkRemotingServerManager import vtkSMProxyManager
-from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
+from pvcommon import captured_errors
 
 EXAMPLES, OUT = sys.argv[1], sys.argv[2]
-
-
-@contextlib.contextmanager
-def captured_errors():
-    got = {"vtk": "", "stderr": ""}
-    old_window, window = vtkOutputWindow.GetInstance(), vtkStringOutputWindow()
-    old_err, buf = sys.stderr, io.StringIO()
-    vtkOutputWindow.SetInstance(window)
-    sys.stderr = buf
-    try:
-        yield got
-    finally:
-        sys.stderr = old_err
-        vtkOutputWindow.SetInstance(old_window)
-        got["vtk"], got["stderr"] = window.GetOutput(), buf.getvalue()
 
 
 boundary = simple.XMLPolyDataReader(FileName=[os.path.join(EXAMPLES, "fig2.vtp")])
