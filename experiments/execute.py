@@ -175,16 +175,7 @@ def execute(
                 try:
                     result = fut.result()
                 except Exception as exc:  # noqa: BLE001 - a crashed worker is a failed run
-                    result = {
-                        "key": job.key,
-                        "group": job.group,
-                        "case": job.case,
-                        "method": job.method,
-                        "preset": job.preset,
-                        "seed": job.seed,
-                        "ok": False,
-                        "error": f"{type(exc).__name__}: {exc}",
-                    }
+                    result = job.record(f"{type(exc).__name__}: {exc}")
                 finished(job, result)
         _drain(q, tracker)
     return results

@@ -86,6 +86,19 @@ class Job:
     size: tuple[int, int] = (61, 31)
     device: str = "cpu"
 
+    def record(self, error: str = "") -> dict:
+        """The start of this run's result: what it is, not yet ok."""
+        return {
+            "key": self.key,
+            "group": self.group,
+            "case": self.case,
+            "method": self.method,
+            "preset": self.preset,
+            "seed": self.seed,
+            "ok": False,
+            "error": error,
+        }
+
     @property
     def key(self) -> str:
         extra = "".join(f"/{k}={v}" for k, v in self.overrides)
@@ -198,16 +211,7 @@ def run_job(
     from pinn_engine.pipeline import load_aux, load_boundary
     from pinn_engine.quality import included_angles
 
-    out: dict = {
-        "key": job.key,
-        "group": job.group,
-        "case": job.case,
-        "method": job.method,
-        "preset": job.preset,
-        "seed": job.seed,
-        "ok": False,
-        "error": "",
-    }
+    out: dict = job.record()
     start = time.perf_counter()
     try:
         settings = job.settings()
