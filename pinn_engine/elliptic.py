@@ -89,6 +89,27 @@ def _stencil_matrix(
     return mat, rhs
 
 
+class _ReusedLU:
+    """Defect correction with a sparse LU factorisation that is reused while it still halves
+    the update and refreshed otherwise (the factorisation dominates the cost on large grids)."""
+
+    def __init__(self) -> None:
+        self.lu, self.previous = None, np.inf
+
+    def solve(self, mat, defect: np.ndarray) -> tuple[np.ndarray, float]:
+        """The update for ``defect`` and its largest component."""
+        if self.lu is None:
+            self.lu = splu(mat, permc_spec="MMD_AT_PLUS_A")
+        step = self.lu.solve(defect)
+        change = float(np.abs(step).max())
+        if change > 0.5 * self.previous:  # the stale factorisation stopped paying: refresh it
+            self.lu = splu(mat, permc_spec="MMD_AT_PLUS_A")
+            step = self.lu.solve(defect)
+            change = float(np.abs(step).max())
+        self.previous = change
+        return step, change
+
+
 def winslow_solve(
     grid: np.ndarray,
     tol: float = 1e-12,
@@ -109,20 +130,11 @@ def winslow_solve(
     if min(g.shape[:2]) < 3:
         return g, 0
     extent = float(np.ptp(g.reshape(-1, 2), axis=0).max())
-    lu, previous = None, np.inf
+    solver = _ReusedLU()
     for it in range(1, max_iterations + 1):
         mat, rhs = _stencil_matrix(g)
         inner = g[1:-1, 1:-1].reshape(-1, 2)
-        defect = rhs - mat @ inner
-        if lu is None:
-            lu = splu(mat, permc_spec="MMD_AT_PLUS_A")
-        step = lu.solve(defect)
-        change = float(np.abs(step).max())
-        if change > 0.5 * previous:  # the stale factorisation stopped paying: refresh it
-            lu = splu(mat, permc_spec="MMD_AT_PLUS_A")
-            step = lu.solve(defect)
-            change = float(np.abs(step).max())
-        previous = change
+        step, change = solver.solve(mat, rhs - mat @ inner)
         g[1:-1, 1:-1] = (inner + step).reshape(g.shape[0] - 2, g.shape[1] - 2, 2)
         if change <= tol * extent:
             return g, it
@@ -218,7 +230,7 @@ def controlled_solve(
         if control.get(s) is None or len(control[s]) != size:
             control[s] = np.zeros(size)
     limit = np.cos(np.radians(90.0 - angle_tol))
-    lu, previous = None, np.inf
+    solver = _ReusedLU()
     for it in range(1, max_iterations + 1):
         a, _, c = _coefficients(g)
         if params is not None:
@@ -238,16 +250,7 @@ def controlled_solve(
                     cq = cq + c * control[side][:, None] * decay[side]
         mat, rhs = _stencil_matrix(g, cp, cq)
         inner = g[1:-1, 1:-1].reshape(-1, 2)
-        defect = rhs - mat @ inner
-        if lu is None:
-            lu = splu(mat, permc_spec="MMD_AT_PLUS_A")
-        step = lu.solve(defect)
-        change = float(np.abs(step).max())
-        if change > 0.5 * previous:
-            lu = splu(mat, permc_spec="MMD_AT_PLUS_A")
-            step = lu.solve(defect)
-            change = float(np.abs(step).max())
-        previous = change
+        step, change = solver.solve(mat, rhs - mat @ inner)
         g[1:-1, 1:-1] = (inner + step).reshape(nj - 2, ni - 2, 2)
         if change <= tol * extent and worst <= limit:
             return g, it
