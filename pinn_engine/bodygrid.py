@@ -8,15 +8,15 @@ wake cut; the cut is straight, leaves the trailing edge in +x, and its lower and
 coincide pairwise (node (i, 0) is node (ni - 1 - i, 0)).
 
 Nodes on j = 0 are placed once, for every method (:func:`layout`): around the body by a
-two-sided (Vinokur) stretching on each surface, fine at the leading and trailing edges;
+two-sided Vinokur stretching on each surface, fine at the leading and trailing edges;
 along the wake by a one-sided stretching from the trailing edge. The C-grid's far field is
 the circle for x up to mid-chord, continued by the lines y = y_c -+ R to the outflow line
 x = x_c + R (patch ``outflow``: the columns i = 0 and i = ni - 1).
 
 The wall-normal distribution: the first edge off the wall is ``wall_spacing``
 (``--spacing bottom=H``; default half the mean tangential spacing on the body), growing by a
-one-sided Vinokur (tanh) stretching. This distribution is local to this module until the
-boundary-layer options of SPEC 7 share one.
+one-sided Vinokur stretching. Every stretching here is the four-sided grids' (SPEC 7,
+spacing.py), with its end intervals made exact (:func:`spacing.exact_stretch`).
 
 The reference grid (:func:`reference_grid`, wall-orthogonal, algebraic) is marched off the
 wall along the rows' own normals (:func:`march`; the first row exactly along the wall's
@@ -42,10 +42,11 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.interpolate import CubicSpline
-from scipy.optimize import brentq, minimize_scalar
+from scipy.optimize import minimize_scalar
 
 from .airfoil import Body, FarField
 from .errors import InputError
+from .spacing import exact_stretch
 
 TOPOLOGIES = ("o", "c")
 NORMAL_SMOOTHING, TANGENT_SMOOTHING, NORMAL_REACH = 0.5, 0.1, 0.3
@@ -58,56 +59,6 @@ JACOBI_RELAX = 0.5
 ELLIPTIC_SWEEPS = 1000
 HELD_ROWS = 2
 CHECK_EVERY, CHECK_WORST = 100, 2.0
-
-
-# ---------------------------------------------------------------- stretching functions
-
-
-def one_sided(n: int, d0: float) -> np.ndarray:
-    """``n + 1`` values from 0 to 1 whose first interval is ``d0`` (a fraction of 1):
-    Vinokur's one-sided tanh stretching; uniform when ``d0 >= 1 / n``."""
-    eta = np.linspace(0.0, 1.0, n + 1)
-    if n < 2 or d0 >= 0.999 / n:
-        return eta
-
-    def s(b: float) -> np.ndarray:
-        return 1 + np.tanh(b * (eta - 1)) / np.tanh(b)
-
-    b = brentq(lambda b: s(b)[1] - d0, 1e-6, 200.0)
-    out = s(b)
-    out[0], out[-1] = 0.0, 1.0
-    return out
-
-
-def two_sided(n: int, d0: float, d1: float) -> np.ndarray:
-    """``n + 1`` values from 0 to 1 with first interval ``d0`` and last ``d1`` (fractions):
-    Vinokur's two-sided stretching, u = (1 + tanh(b (eta - 1/2)) / tanh(b / 2)) / 2 mapped
-    by s = u / (a + (1 - a) u); b sets the clustering, a the ratio of the end spacings."""
-    eta = np.linspace(0.0, 1.0, n + 1)
-    if n < 2:
-        return eta
-    d0, d1 = min(d0, 0.9), min(d1, 0.9)
-
-    def dist(a: float, b: float) -> np.ndarray:
-        u = eta if b < 1e-6 else 0.5 * (1 + np.tanh(b * (eta - 0.5)) / np.tanh(b / 2))
-        return u / (a + (1 - a) * u)
-
-    def ends(a: float, b: float) -> tuple[float, float]:
-        s = dist(a, b)
-        return s[1], 1 - s[-2]
-
-    a, b = math.sqrt(d1 / d0), 0.0
-    target = math.sqrt(d0 * d1)
-    for _ in range(40):
-        f = lambda b, a=a: math.sqrt(ends(a, b)[0] * ends(a, b)[1]) - target  # noqa: E731
-        b = brentq(f, 1e-7, 60.0) if f(1e-7) > 0 > f(60.0) else 1e-7
-        first, last = ends(a, b)
-        if abs(first / d0 - 1) < 1e-4 and abs(last / d1 - 1) < 1e-4:
-            break
-        a *= math.sqrt((d1 / d0) / (last / first))
-    s = dist(a, b)
-    s[0], s[-1] = 0.0, 1.0
-    return s
 
 
 # ---------------------------------------------------------------- the body curve
@@ -160,8 +111,9 @@ def _surface_nodes(curve: BodyCurve, n_up: int, n_lo: int, d_te: float, d_le: fl
     """Nodes from the upper trailing edge to the lower one (Selig order): ``n_up`` intervals
     on the upper surface, ``n_lo`` on the lower, spacings ``d_te`` and ``d_le`` (lengths)."""
     l_up, l_lo = curve.arc(0, curve.t_le), curve.arc(curve.t_le, curve.length)
-    up = curve.t_le * two_sided(n_up, d_te / l_up, d_le / l_up)
-    lo = curve.t_le + (curve.length - curve.t_le) * two_sided(n_lo, d_le / l_lo, d_te / l_lo)
+    up = curve.t_le * exact_stretch(n_up + 1, d_te / l_up, d_le / l_up)[0]
+    lo = exact_stretch(n_lo + 1, d_le / l_lo, d_te / l_lo)[0]
+    lo = curve.t_le + (curve.length - curve.t_le) * lo
     return curve.at(np.concatenate([up, lo[1:]]))
 
 
@@ -392,14 +344,14 @@ def layout(
                 body.source,
             )
         wake_len = x_out - te[0]
-        wake = te[0] + wake_len * one_sided(n_w, d_te / wake_len)
+        wake = te[0] + wake_len * exact_stretch(n_w + 1, d_te / wake_len)[0]
         wake_pts = np.column_stack([wake, np.full_like(wake, te[1])])
         body_c = surf[::-1]  # lower trailing edge -> leading edge -> upper trailing edge
         inner = np.concatenate([wake_pts[::-1], body_c[1:-1], wake_pts])
     # the wall-orthogonal reference: rows marched off j = 0, the last one projected onto the
     # far field, the projection blended in over the outer rows
     reach = _far_distance(inner, far, topology) - 0.25 * chord
-    dist = reach * one_sided(nj - 1, h / reach)
+    dist = reach * exact_stretch(nj, h / reach)[0]
     reference, outer = reference_grid(inner, far, topology, dist, chord, n_w)
     first = np.full(ni, h)
     if topology == "c":  # the first edge grows along the wake to the outflow
@@ -503,7 +455,7 @@ def tfi(lay: Layout, nj: int) -> np.ndarray:
     first edge is ``lay.first``."""
     vec = lay.outer - lay.inner
     length = np.linalg.norm(vec, axis=1)
-    s = np.stack([one_sided(nj - 1, f / L) for f, L in zip(lay.first, length)], axis=1)
+    s = exact_stretch(nj, lay.first / length, None, lay.ni).T
     return lay.inner[None] + s[..., None] * vec[None]
 
 
@@ -662,10 +614,8 @@ __all__ = [
     "jacobi",
     "layout",
     "march",
-    "one_sided",
     "reference_grid",
     "residual",
     "smoothed_controls",
     "tfi",
-    "two_sided",
 ]

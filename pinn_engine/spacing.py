@@ -87,6 +87,36 @@ def stretch(
     return np.clip(v / (a + (1.0 - a) * v), 0.0, 1.0)
 
 
+def exact_stretch(
+    n: int, first: np.ndarray | float | None, last: np.ndarray | float | None = None, lines: int = 1
+) -> np.ndarray:
+    """:func:`stretch` whose first and last intervals are ``first`` and ``last`` themselves,
+    not Vinokur's end slopes: each end's requested spacing is scaled by target / measured
+    interval until they agree to ``EXACT_TOL`` (the body grids' distributions, which have no grid
+    evaluation to correct them as :func:`fit_params` does)."""
+    want = [
+        None if a is None else np.broadcast_to(np.asarray(a, float), (lines,))
+        for a in (first, last)
+    ]
+    ask = [None if a is None else a.copy() for a in want]
+    for _ in range(EXACT_ITERATIONS):
+        s = stretch(n, ask[0], ask[1], lines)
+        if n < 3:
+            break
+        off = 0.0
+        for k, got in enumerate((s[:, 1] - s[:, 0], s[:, -1] - s[:, -2])):
+            if want[k] is not None:
+                ratio = want[k] / np.maximum(got, 1e-300)
+                off = max(off, float(np.abs(ratio - 1.0).max()))
+                ask[k] = ask[k] * ratio
+        if off <= EXACT_TOL:
+            break
+    return s
+
+
+EXACT_TOL, EXACT_ITERATIONS = 1e-9, 60  # a first interval of 1e-9 is good to about 1e-7
+
+
 # Lines of one direction share one Vinokur stretching (by the geometric mean of their first
 # spacings); each line's own first spacing is reached by scaling its first intervals, by a
 # factor that decays over about this many cells from the side (and a uniform rescaling of

@@ -8,12 +8,12 @@ import numpy as np
 import pytest
 from vtkmodules.vtkIOXML import vtkXMLStructuredGridReader
 
-from pinn_engine import bodygrid
 from pinn_engine.airfoil import circle, load_body, naca4, read_body_and_farfield, read_dat
 from pinn_engine.bodymesh import mesh_body
 from pinn_engine.cli import main
 from pinn_engine.errors import InputError
 from pinn_engine.settings import make_settings
+from pinn_engine.spacing import exact_stretch
 
 FAST_PINN = {"lbfgs_iterations": 10, "lbfgs_points": 200}
 
@@ -188,11 +188,15 @@ def test_two_polylines_file(tmp_path):
     assert np.abs(((last[:, 0] - 0.5) / 8) ** 2 + (last[:, 1] / 6) ** 2 - 1).max() < 0.02
 
 
-def test_stretching_functions():
-    s = bodygrid.one_sided(40, 1e-4)
-    assert s[1] == pytest.approx(1e-4, rel=1e-6) and np.all(np.diff(s) > 0)
-    t = bodygrid.two_sided(60, 2e-3, 1e-2)
-    assert t[1] == pytest.approx(2e-3, rel=0.02) and 1 - t[-2] == pytest.approx(1e-2, rel=0.02)
+def test_exact_stretching():
+    """The body grids' distributions: spacing.py's Vinokur stretching, end intervals exact."""
+    s = exact_stretch(41, 1e-4)[0]
+    assert s[1] == pytest.approx(1e-4, rel=1e-8) and np.all(np.diff(s) > 0)
+    t = exact_stretch(61, 2e-3, 1e-2)[0]
+    assert t[1] == pytest.approx(2e-3, rel=1e-8) and 1 - t[-2] == pytest.approx(1e-2, rel=1e-8)
+    columns = exact_stretch(30, np.array([1e-5, 1e-3]), None, lines=2)
+    np.testing.assert_allclose(columns[:, 1], [1e-5, 1e-3], rtol=1e-8)
+    assert (np.diff(columns, axis=1) > 0).all()
 
 
 def _read(path):
