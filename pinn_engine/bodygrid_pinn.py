@@ -13,11 +13,12 @@ The map is x(xi, eta) = X(xi, eta) + B(xi, eta) N(features), in index space:
   at the wall: the nodes on j = 0 and j = nj - 1, the first layer's height and the wall
   angle are those of X. The C-grid's cut stays on its line, its nodes coincident.
 
-The loss is the mean square of Winslow's equations with the control functions of the
-elliptic grid (bodygrid.smoothed_controls), scaled by (alpha + gamma)^(3/2) so that cells of
-1e-5 and of 1 chord weigh alike, plus ``ORTHO_WEIGHT`` times the mean square cosine of the
-angle between the grid lines (a local orthogonality term, until SPEC 7's quality objective
-is shared). Adam (if any epochs), then L-BFGS; with the elliptic warm
+The loss is the four-sided PINN's (losses.py) in index space: the mean square of Winslow's
+equations with the control functions of the elliptic grid (bodygrid.smoothed_controls),
+scaled by (alpha + gamma)^(3/2) so that cells of 1e-5 and of 1 chord weigh alike, plus
+``ORTHO_WEIGHT`` times losses.loss_orthogonal between the two grid lines at the same
+interior points (a local orthogonality term, where the four-sided one holds only at the
+orthogonal sides). Adam (if any epochs), then L-BFGS; with the elliptic warm
 start the grid is checked against the elliptic grid every few iterations and training ends
 with the last state that was no worse, in mean and worst angle, than the elliptic grid.
 """
@@ -33,6 +34,8 @@ import torch
 from scipy.interpolate import RectBivariateSpline
 
 from .errors import TrainingCancelled
+from .jet import ETA, XI
+from .losses import loss_eqns, loss_orthogonal
 from .quality import cell_quality, summary
 from .settings import Settings
 from .training import GUARD_EVERY, GUARD_PATIENCE
@@ -145,16 +148,11 @@ class _Problem:
     def loss(self, net: _Net, x, base, ctl) -> torch.Tensor:
         c = _correction_jet(net, x)
         si, sj = self.ni - 1, self.nj - 1  # index space: d/di = d/dxi / (ni - 1)
-        v = [base[k] + c[k] for k in range(6)]
-        x_i, x_j = v[1] / si, v[2] / sj
-        x_ii, x_ij, x_jj = v[3] / si**2, v[4] / (si * sj), v[5] / sj**2
-        a = (x_j * x_j).sum(1, keepdim=True)
-        b = (x_i * x_j).sum(1, keepdim=True)
-        g = (x_i * x_i).sum(1, keepdim=True)
-        r = a * x_ii - 2 * b * x_ij + g * x_jj + ctl[:, :1] * x_i + ctl[:, 1:] * x_j
-        loss = ((r * r).sum(1) / (a + g)[:, 0] ** 3).mean()
-        if ORTHO_WEIGHT:  # cos^2 of the angle between the grid lines
-            loss = loss + ORTHO_WEIGHT * ((b * b) / (a * g)).mean()
+        scale = (1, si, sj, si**2, si * sj, sj**2)
+        jet = torch.stack([(base[k] + c[k]) / scale[k] for k in range(6)])
+        loss = loss_eqns(jet, scaled=True, controls=ctl)
+        if ORTHO_WEIGHT:  # cos^2 of the angle between the grid lines, everywhere
+            loss = loss + ORTHO_WEIGHT * loss_orthogonal(jet[ETA], jet[XI])
         return loss
 
     @torch.no_grad()

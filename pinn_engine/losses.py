@@ -12,31 +12,40 @@ import torch
 from .jet import ETA, ETAETA, XI, XIETA, XIXI
 
 
-def winslow_residual(jet: torch.Tensor) -> torch.Tensor:
+def winslow_residual(jet: torch.Tensor, controls: torch.Tensor | None = None) -> torch.Tensor:
     """e1, e2 of paper eq. 13, with alpha, beta, gamma of eq. 8: shape (B, 2).
 
     beta is x_xi x_eta + y_xi y_eta (the paper misprints it as x_xi x_eta + y_xi x_eta).
+    ``controls`` (B, 2): control functions (P, Q) whose terms P x_xi + Q x_eta are added
+    (the body grids' elliptic controls, bodygrid.smoothed_controls).
     """
     r_xi, r_eta = jet[XI], jet[ETA]
     alpha = (r_eta * r_eta).sum(dim=-1, keepdim=True)  # eq. 8
     beta = (r_xi * r_eta).sum(dim=-1, keepdim=True)
     gamma = (r_xi * r_xi).sum(dim=-1, keepdim=True)
-    return alpha * jet[XIXI] - 2 * beta * jet[XIETA] + gamma * jet[ETAETA]
+    e = alpha * jet[XIXI] - 2 * beta * jet[XIETA] + gamma * jet[ETAETA]
+    if controls is not None:
+        e = e + controls[:, :1] * r_xi + controls[:, 1:] * r_eta
+    return e
 
 
-def scaled_winslow_residual(jet: torch.Tensor) -> torch.Tensor:
+def scaled_winslow_residual(
+    jet: torch.Tensor, controls: torch.Tensor | None = None
+) -> torch.Tensor:
     """e1, e2 of eq. 13 divided by (alpha + gamma)^(3/2): the same equations, measured
     relative to the local cell size (the raw residual is cubic in the map's derivatives, so
     a few points at a sharp feature dominate it and shrinking cells there lowers it)."""
     scale = (jet[XI].pow(2) + jet[ETA].pow(2)).sum(dim=-1, keepdim=True)  # alpha + gamma
-    return winslow_residual(jet) / scale.pow(1.5)
+    return winslow_residual(jet, controls) / scale.pow(1.5)
 
 
-def loss_eqns(jet: torch.Tensor, scaled: bool = False) -> torch.Tensor:
+def loss_eqns(
+    jet: torch.Tensor, scaled: bool = False, controls: torch.Tensor | None = None
+) -> torch.Tensor:
     """L_eqns of paper eq. 11: mean of e1^2 + e2^2 over the collocation points (of the
-    scaled residual if ``scaled``)."""
-    e = scaled_winslow_residual(jet) if scaled else winslow_residual(jet)
-    return e.pow(2).sum(dim=-1).mean()
+    scaled residual if ``scaled``; with the terms of ``controls``, :func:`winslow_residual`)."""
+    residual = scaled_winslow_residual if scaled else winslow_residual
+    return residual(jet, controls).pow(2).sum(dim=-1).mean()
 
 
 def loss_points(pred: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
@@ -53,7 +62,8 @@ def loss_data(pred: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
 def loss_orthogonal(leave: torch.Tensor, tangent: torch.Tensor) -> torch.Tensor:
     """Mean squared cosine of the angle between the map's derivative ``leave`` (B, 2) leaving
     a side that is to be orthogonal (SPEC 7) and the side's tangent (B, 2) there: zero where
-    grid lines leave it at 90 degrees."""
+    grid lines leave it at 90 degrees. The body PINN passes x_eta and x_xi at interior
+    points: the same cosine between the two grid lines, everywhere."""
     dot = (leave * tangent).sum(dim=-1)
     return (dot.pow(2) / (leave.pow(2).sum(dim=-1) * tangent.pow(2).sum(dim=-1))).mean()
 
