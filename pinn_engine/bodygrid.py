@@ -143,19 +143,29 @@ class Layout:
         return np.arange(self.n_wake, self.ni - self.n_wake)
 
 
-def _row_normals(p: np.ndarray, topology: str, n_wake: int) -> np.ndarray:
-    """Unit normals of a grid row ``p`` (ni, 2), pointing away from the body."""
+def row_chords(p: np.ndarray, topology: str) -> np.ndarray:
+    """Half the chord between each node's two neighbours along a grid row ``p`` (ni, 2), in
+    the direction of i (wrapped across the O-grid's seam; one-sided at the C-grid's ends):
+    the row's tangents, as long as its local spacing."""
     if topology == "o":
         q = p[:-1]
-        t = np.roll(q, -1, axis=0) - np.roll(q, 1, axis=0)
-        t = np.concatenate([t, t[:1]])
-        n = np.column_stack([t[:, 1], -t[:, 0]])  # i runs counter-clockwise: body on the left
-    else:
-        t = np.gradient(p, axis=0)
-        n = np.column_stack([-t[:, 1], t[:, 0]])  # i runs clockwise: body on the right
-    n /= np.linalg.norm(n, axis=1, keepdims=True)
-    if topology == "c":
-        n[0], n[-1] = (0.0, -1.0), (0.0, 1.0)
+        t = 0.5 * (np.roll(q, -1, axis=0) - np.roll(q, 1, axis=0))
+        return np.concatenate([t, t[:1]])
+    return np.gradient(p, axis=0)
+
+
+def _row_tangents(p: np.ndarray, topology: str) -> np.ndarray:
+    t = row_chords(p, topology)
+    return t / np.linalg.norm(t, axis=1, keepdims=True)
+
+
+def _row_normals(p: np.ndarray, topology: str) -> np.ndarray:
+    """Unit normals of a grid row ``p`` (ni, 2), pointing away from the body."""
+    t = _row_tangents(p, topology)
+    if topology == "o":
+        return np.column_stack([t[:, 1], -t[:, 0]])  # i runs counter-clockwise: body on the left
+    n = np.column_stack([-t[:, 1], t[:, 0]])  # i runs clockwise: body on the right
+    n[0], n[-1] = (0.0, -1.0), (0.0, 1.0)
     return n
 
 
@@ -184,7 +194,7 @@ def rear_start(inner: np.ndarray, n_wake: int) -> np.ndarray:
     """Per node of a C-grid's line j = 0, the x of its surface's thickest point (where the
     wall's normal is closest to vertical): the columns behind it run straight up or down."""
     ni = len(inner)
-    n = _row_normals(inner, "c", n_wake)
+    n = _row_normals(inner, "c")
     lower = np.arange(n_wake + 1, ni // 2)
     upper = np.arange(ni // 2, ni - n_wake - 1)
     x_lo = inner[lower[np.argmin(np.abs(n[lower, 0]))], 0]
@@ -227,7 +237,7 @@ def march(
         # sub-steps no longer than half the row's smallest spacing: a step that outruns the
         # spacing can cross lines off a concave wall before any smoothing acts
         if j == 1:  # the first layer: straight along the wall's normals, height h exactly
-            q = q + step * _row_normals(q, topology, n_wake)
+            q = q + step * _row_normals(q, topology)
             if topology == "c":
                 q[0], q[-1] = inner[0] + (0, -step), inner[-1] + (0, step)
             rows.append(q)
@@ -238,7 +248,7 @@ def march(
         for k in range(subs):
             d = distances[j - 1] + step * (k + 1) / subs
             grow = 1 - math.exp(-d / (NORMAL_REACH * scale))
-            n = _row_normals(q, topology, n_wake)
+            n = _row_normals(q, topology)
             for _ in range(passes):
                 n = _smooth_normals(n, NORMAL_SMOOTHING * grow, topology)
             if rear is not None:
@@ -263,16 +273,7 @@ def march(
 
 def _row_spacing(p: np.ndarray, topology: str) -> np.ndarray:
     """Half the distance between each node's two neighbours along a row."""
-    if topology == "o":
-        q = p[:-1]
-        d = np.linalg.norm(np.roll(q, -1, axis=0) - np.roll(q, 1, axis=0), axis=1)
-        return 0.5 * np.concatenate([d, d[:1]])
-    return np.linalg.norm(np.gradient(p, axis=0), axis=1)
-
-
-def _row_tangents(p: np.ndarray, topology: str) -> np.ndarray:
-    n = _row_normals(p, topology, 0)
-    return np.column_stack([-n[:, 1], n[:, 0]])
+    return np.linalg.norm(row_chords(p, topology), axis=1)
 
 
 def layout(
@@ -616,6 +617,7 @@ __all__ = [
     "march",
     "reference_grid",
     "residual",
+    "row_chords",
     "smoothed_controls",
     "tfi",
 ]

@@ -21,6 +21,7 @@ from .geometry import segment_distance
 from .mesher import MeshResult
 from .quality import cell_quality, summary
 from .settings import Settings, make_settings
+from .spacing import angle_deviation
 
 METHODS = ("pinn", "tfi", "elliptic")
 
@@ -40,17 +41,9 @@ def wall_metrics(grid: np.ndarray, topology: str, n_wake: int, sharp: bool) -> d
     """First-layer heights and wall angles on the body part of j = 0."""
     ni = grid.shape[1]
     idx = np.arange(ni - 1) if topology == "o" else np.arange(n_wake, ni - n_wake)
-    p, q = grid[0], grid[1]
-    if topology == "o":
-        u = p[:-1]
-        t = np.roll(u, -1, axis=0) - np.roll(u, 1, axis=0)
-        t = np.concatenate([t, t[:1]])
-    else:
-        t = np.gradient(p, axis=0)
-    e = q - p
+    e = grid[1] - grid[0]
     h = np.linalg.norm(e, axis=1)
-    cosang = np.abs(np.einsum("ik,ik->i", t, e)) / (np.linalg.norm(t, axis=1) * h)
-    dev = np.degrees(np.arcsin(np.clip(cosang, 0.0, 1.0)))
+    dev = angle_deviation(bodygrid.row_chords(grid[0], topology), e)
     keep = idx
     if sharp:  # the corner at a sharp trailing edge has no tangent
         te = [0, ni - 1] if topology == "o" else [n_wake, ni - 1 - n_wake]

@@ -220,17 +220,21 @@ def fit_params(
     return params, grid, par
 
 
+def angle_deviation(tangent: np.ndarray, leave: np.ndarray) -> np.ndarray:
+    """Deviation from 90 degrees (n,) of the angle between a side's tangents and the grid
+    edges leaving it, (n, 2) each."""
+    cos = np.einsum("ij,ij->i", tangent, leave) / np.maximum(
+        np.linalg.norm(tangent, axis=1) * np.linalg.norm(leave, axis=1), 1e-300
+    )
+    return np.abs(90.0 - np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
+
+
 def grid_lines_angle(grid: np.ndarray) -> dict[str, np.ndarray]:
     """Deviation from 90 degrees of the first grid edge leaving each node of each side, from
     the side's tangent (central difference along the side; one-sided at its corners)."""
 
     def dev(side_nodes, inner_nodes):
-        tangent = np.gradient(side_nodes, axis=0)
-        leave = inner_nodes - side_nodes
-        cos = np.einsum("ij,ij->i", tangent, leave) / np.maximum(
-            np.linalg.norm(tangent, axis=1) * np.linalg.norm(leave, axis=1), 1e-300
-        )
-        return np.abs(90.0 - np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
+        return angle_deviation(np.gradient(side_nodes, axis=0), inner_nodes - side_nodes)
 
     return {
         "bottom": dev(grid[0], grid[1]),
