@@ -35,7 +35,9 @@ from scipy.interpolate import RectBivariateSpline
 
 from .errors import TrainingCancelled
 from .jet import ETA, XI
+from .jet.layers import ACTIVATIONS
 from .losses import loss_eqns, loss_orthogonal
+from .networks import autograd_jet
 from .quality import cell_quality, summary
 from .settings import Settings
 from .training import GUARD_EVERY, GUARD_PATIENCE
@@ -82,21 +84,15 @@ class _Field:
 class _Net(torch.nn.Module):
     def __init__(self, periodic: bool, layers: int, neurons: int, activation: str) -> None:
         super().__init__()
-        act = {
-            "tanh": torch.nn.Tanh,
-            "sin": None,
-            "sigmoid": torch.nn.Sigmoid,
-            "swish": torch.nn.SiLU,
-        }.get(activation) or torch.nn.Tanh
         width = 3 if periodic else 2
-        mods: list[torch.nn.Module] = []
+        self.hidden = torch.nn.ModuleList()
         for _ in range(layers):
-            mods += [torch.nn.Linear(width, neurons, dtype=torch.float64), act()]
+            self.hidden.append(torch.nn.Linear(width, neurons, dtype=torch.float64))
             width = neurons
         last = torch.nn.Linear(width, 2, dtype=torch.float64)
         torch.nn.init.zeros_(last.weight)
         torch.nn.init.zeros_(last.bias)
-        self.body, self.last, self.periodic = torch.nn.Sequential(*mods), last, periodic
+        self.last, self.act, self.periodic = last, ACTIVATIONS[activation], periodic
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
         xi, eta = x[:, :1], x[:, 1:]
@@ -104,24 +100,12 @@ class _Net(torch.nn.Module):
             f = torch.cat([torch.cos(2 * math.pi * xi), torch.sin(2 * math.pi * xi), eta], 1)
         else:
             f = x
+        for layer in self.hidden:
+            f = self.act(layer(f))
         bubble = eta**3 * (1 - eta)
         if not self.periodic:
             bubble = bubble * 4 * xi * (1 - xi)
-        return bubble * self.last(self.body(f))
-
-
-def _correction_jet(net: _Net, x: torch.Tensor) -> list[torch.Tensor]:
-    """Value and derivatives (xi, eta, xixi, xieta, etaeta) of the correction, each (B, 2)."""
-    x = x.detach().requires_grad_(True)
-    out = net(x)
-    cols = [[], [], [], [], [], []]
-    for k in range(2):
-        g = torch.autograd.grad(out[:, k].sum(), x, create_graph=True)[0]
-        g_xi = torch.autograd.grad(g[:, 0].sum(), x, create_graph=True)[0]
-        g_eta = torch.autograd.grad(g[:, 1].sum(), x, create_graph=True)[0]
-        for c, v in enumerate((out[:, k], g[:, 0], g[:, 1], g_xi[:, 0], g_xi[:, 1], g_eta[:, 1])):
-            cols[c].append(v)
-    return [torch.stack(c, dim=1) for c in cols]
+        return bubble * self.last(f)
 
 
 class _Problem:
@@ -146,10 +130,9 @@ class _Problem:
         return t(x), t(self.base.jet(x)), t(self.controls.jet(x)[0])
 
     def loss(self, net: _Net, x, base, ctl) -> torch.Tensor:
-        c = _correction_jet(net, x)
         si, sj = self.ni - 1, self.nj - 1  # index space: d/di = d/dxi / (ni - 1)
-        scale = (1, si, sj, si**2, si * sj, sj**2)
-        jet = torch.stack([(base[k] + c[k]) / scale[k] for k in range(6)])
+        scale = torch.tensor([1, si, sj, si**2, si * sj, sj**2], dtype=torch.float64)
+        jet = (base + autograd_jet(net, x)) / scale[:, None, None]
         loss = loss_eqns(jet, scaled=True, controls=ctl)
         if ORTHO_WEIGHT:  # cos^2 of the angle between the grid lines, everywhere
             loss = loss + ORTHO_WEIGHT * loss_orthogonal(jet[ETA], jet[XI])
