@@ -584,24 +584,18 @@ def elliptic(lay: Layout, sweeps: int = ELLIPTIC_SWEEPS) -> tuple[np.ndarray, tu
     ``CHECK_WORST`` degrees above the reference's (on coarse grids with strong wall
     stretching the relaxed Jacobi iteration can drift off; ``lay.sweeps_kept`` says how far
     it went)."""
-    from .quality import cell_quality, summary
+    from .quality import guard_figures, no_worse
 
     periodic = lay.topology == "o"
     controls = smoothed_controls(lay.reference, periodic)
-
-    def quality(g: np.ndarray) -> tuple[int, float]:
-        q = summary(cell_quality(g), 0.0)
-        return q["folded_cells"], q["worst_max_angle"]
-
-    folded0, worst0 = quality(lay.reference)
+    ref = guard_figures(lay.reference)
     g, kept, done = lay.reference, lay.reference, 0
     lay.sweeps_kept = 0
     while done < sweeps:
         n = min(CHECK_EVERY, sweeps - done)
         g = jacobi(g, periodic, *controls, n)
         done += n
-        folded, worst = quality(g)
-        if folded > folded0 or worst > worst0 + CHECK_WORST:
+        if not no_worse(guard_figures(g), ref, math.inf, CHECK_WORST):
             break
         kept, lay.sweeps_kept = g, done
     return kept, controls

@@ -38,7 +38,7 @@ from .jet import ETA, XI
 from .jet.layers import ACTIVATIONS
 from .losses import loss_eqns, loss_orthogonal
 from .networks import autograd_jet
-from .quality import cell_quality, summary
+from .quality import guard_figures, no_worse
 from .settings import Settings
 from .training import GUARD_EVERY, GUARD_PATIENCE
 
@@ -150,11 +150,6 @@ class _Problem:
         return g
 
 
-def _quality(grid: np.ndarray) -> dict:
-    q = summary(cell_quality(grid), 0.0)
-    return {k: q[k] for k in ("mean_max_angle", "worst_max_angle", "folded_cells")}
-
-
 def train_body(
     lay,
     elliptic_grid: np.ndarray,
@@ -175,11 +170,11 @@ def train_body(
         net = _Net(periodic, settings.hidden_layers, settings.neurons, settings.activation)
         problem = _Problem(start, controls, periodic, settings)
         history: dict[str, list[float]] = {"eqns": [], "total": []}
-        reference = _quality(elliptic_grid)
+        reference = guard_figures(elliptic_grid)
         mean_tol, worst_tol = BODY_GUARD_TOL
         kept = {
             "state": copy.deepcopy(net.state_dict()),
-            "quality": _quality(start),
+            "quality": guard_figures(start),
             "iteration": 0,
         }
         rejected = [0]
@@ -238,13 +233,8 @@ def train_body(
             while iterations[0] < settings.lbfgs_iterations:
                 opt.step(closure)
                 iterations[0] += GUARD_EVERY
-                q = _quality(problem.grid(net, start))
-                ok = (
-                    q["folded_cells"] <= reference["folded_cells"]
-                    and q["mean_max_angle"] <= reference["mean_max_angle"] + mean_tol
-                    and q["worst_max_angle"] <= reference["worst_max_angle"] + worst_tol
-                )
-                if ok or not warm:
+                q = guard_figures(problem.grid(net, start))
+                if no_worse(q, reference, mean_tol, worst_tol) or not warm:
                     kept.update(
                         state=copy.deepcopy(net.state_dict()), quality=q, iteration=iterations[0]
                     )

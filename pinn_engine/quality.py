@@ -114,6 +114,25 @@ def summary(cells: dict[str, np.ndarray], boundary_deviation: float) -> dict[str
     }
 
 
+def guard_figures(grid: np.ndarray) -> dict[str, float]:
+    """Mean and worst MaxIncludedAngle and folded cells of a grid: what the body grids'
+    elliptic sweeps and PINN guard compare against a reference grid."""
+    q = summary(cell_quality(grid), 0.0)
+    return {k: q[k] for k in ("mean_max_angle", "worst_max_angle", "folded_cells")}
+
+
+def no_worse(
+    q: dict[str, float], reference: dict[str, float], mean_tol: float, worst_tol: float
+) -> bool:
+    """Whether figures ``q`` (:func:`guard_figures`) have no more folded cells than
+    ``reference``'s and mean and worst MaxIncludedAngle at most the tolerances above its."""
+    return (
+        q["folded_cells"] <= reference["folded_cells"]
+        and q["mean_max_angle"] <= reference["mean_max_angle"] + mean_tol
+        and q["worst_max_angle"] <= reference["worst_max_angle"] + worst_tol
+    )
+
+
 def boundary_nodes(grid: np.ndarray) -> np.ndarray:
     """All boundary nodes of a grid, (2 (ni + nj) - 4, 2)."""
     return np.concatenate([grid[0], grid[-1], grid[1:-1, 0], grid[1:-1, -1]])
