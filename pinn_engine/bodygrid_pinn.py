@@ -50,9 +50,9 @@ PAD = 3  # columns of the neighbouring periods on each side of the O-grid's spli
 BODY_GUARD_TOL = (0.0, 0.0)
 # weight of the mean cos^2 of the angle between the grid lines (everywhere, not only at the
 # wall): measured on benchmarks/airfoils.py at 0.1, the O-grids' mean MaxIncludedAngle drops
-# by 0.2 degree and the worst by 0.3 below the elliptic grid's (1 and 10 gain less); on the
-# C-grids the mean rises by a few hundredths while the worst falls, so the guard keeps the
-# elliptic grid there
+# by 0.2 degree and the worst by 0.3 to 0.4 below the elliptic grid's (1 and 10 gain less);
+# on the C-grids the mean rises by a few hundredths while the worst falls, so the guard keeps
+# the elliptic grid there
 ORTHO_WEIGHT = 0.1
 
 
