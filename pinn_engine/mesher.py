@@ -174,6 +174,11 @@ class Mesher:
         if self.model_ is None:
             return classical_grid(self.boundary_, ni, nj, s.method, spacing, s.orthogonal)[1]
         mapping = self.model_.mapping
+        nodes = None if mapping.warm is None else mapping.warm.nodes
+        if nodes is not None and (len(nodes[0]), len(nodes[1])) == (ni, nj):
+            # the nodes of the orthogonal start (warmstart.py): first rows normal to the
+            # walls and as far from them as the spacing asks
+            return mapping.grid(ni, nj, params=np.stack(np.meshgrid(*nodes), axis=-1))
         return fit_params(
             lambda p: mapping.grid(ni, nj, params=p), spacing, ni, nj, side_lengths(self.boundary_)
         )[1]

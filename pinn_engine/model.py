@@ -67,9 +67,6 @@ class TrainedModel:
             "warm_nodes": None
             if self.mapping.warm is None or self.mapping.warm.nodes is None
             else [torch.as_tensor(n) for n in self.mapping.warm.nodes],
-            "warm_walls": {}
-            if self.mapping.warm is None
-            else {k: torch.as_tensor(v) for k, v in self.mapping.warm.walls.items()},
         }
         with atomic_path(path) as tmp:
             torch.save(payload, tmp)
@@ -110,8 +107,12 @@ class TrainedModel:
             nodes = payload.get("warm_nodes")
             nodes = None if nodes is None else tuple(n.numpy() for n in nodes)
             warm = WarmStart(warm.numpy(), nodes) if warm is not None else None
-            for side, phi in (payload.get("warm_walls") or {}).items():
-                warm.set_wall(side, phi.numpy())
+            if payload.get("warm_walls"):
+                raise InputError(
+                    "a model of an older pinn-mesh with orthogonal sides, whose warm start "
+                    "this version does not have; fit it again",
+                    src,
+                )
         except (KeyError, TypeError, RuntimeError, ValueError) as exc:
             raise InputError(f"damaged or incompatible model ({exc})", src) from None
         if boundary is not None:

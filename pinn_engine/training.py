@@ -23,6 +23,7 @@ import numpy as np
 import torch
 
 from .auxlines import AuxLine
+from .blas import one_blas_thread
 from .boundary_fit import ArcLengthFit, make_fit
 from .errors import TrainingCancelled, TrainingError
 from .geometry import SIDES, Boundary
@@ -40,9 +41,9 @@ from .losses import (
 from .mapping import Mapping
 from .model import TrainedModel
 from .networks import CoordinateNet
-from .quality import cell_quality, folded_cells, summary
+from .quality import cell_quality, summary
 from .settings import Settings
-from .spacing import chord_tangents, classical_grid, working_spacing
+from .spacing import chord_tangents, classical_grid, side_report, working_spacing
 from .tfi import node_params, tfi_grid
 from .warmstart import WarmStart, lattice_for
 
@@ -57,6 +58,7 @@ GUARD_PATIENCE = 2  # rejected checks in a row that end the training
 # auxiliary lines, the bounds themselves with them (pulling grid lines onto drawn lines may
 # cost some quality; the elliptic grid ignores the lines).
 GUARD_TOL = {False: (0.25, 1.0), True: (0.5, 2.0)}
+WALL_ANGLE_TOL = 1.0  # degrees off 90 that the guard allows at orthogonal sides (SPEC 7: 2)
 WALL_POINTS = 200  # points per orthogonal side in the orthogonality term (SPEC 7)
 # --objective quality: weight of the cell-quality term (losses.loss_quality) beside the Winslow
 # term; issue 14's bound on the mean MaxIncludedAngle against the elliptic grid; L-BFGS
@@ -98,20 +100,6 @@ def wall_tangents(
             "right": params[:, -1, 1],
         }[side]
     return chord_tangents(boundary, side, t, lattice[0 if side in ("bottom", "top") else 1], along)
-
-
-def _fold_safe_walls(
-    warm: WarmStart, mapping: Mapping, reference: np.ndarray, params: np.ndarray | None
-) -> None:
-    """Halve the wall terms of the warm start (SPEC 7) until its grid on the lattice folds
-    no more cells than the reference, dropping them after three halvings."""
-    size = reference.shape[1], reference.shape[0]
-    allowed = int(folded_cells(reference).sum())
-    for factor in (1.0, 0.5, 0.5, 0.5):
-        warm.scale_walls(factor)
-        if int(folded_cells(mapping.grid(*size, params=params)).sum()) <= allowed:
-            return
-    warm.scale_walls(0.0)
 
 
 def first_steps(lattice: tuple[int, int], params: np.ndarray | None = None) -> dict[str, float]:
@@ -308,7 +296,9 @@ class _Guard:
 
     Under ``--objective quality`` (``start`` is the start grid) a state is kept if it has
     fewer folded cells than the kept one, or as many and a smaller worst angle, with the mean
-    within the tolerance of the elliptic grid's: the best worst angle seen.
+    within the tolerance of the elliptic grid's: the best worst angle seen. With orthogonal
+    ``walls`` (SPEC 7) a state is also kept only if its grid lines leave them within
+    ``WALL_ANGLE_TOL`` degrees of 90, or no farther off than the reference's.
     """
 
     def __init__(
@@ -319,11 +309,14 @@ class _Guard:
         with_aux: bool,
         start: np.ndarray | None = None,
         params: np.ndarray | None = None,
+        walls: tuple[str, ...] = (),
     ) -> None:
         self.net, self.mapping, self.params = net, mapping, params  # params: spacing.py
+        self.walls = walls
         self.mean_tol, self.worst_tol = GUARD_TOL[with_aux]
         self.size = reference.shape[1], reference.shape[0]
         self.reference = self._quality(reference)
+        self.wall_tol = max(WALL_ANGLE_TOL, self._wall_angle(reference))
         self.best_worst = start is not None
         if self.best_worst:
             self.mean_tol = QUALITY_MEAN_TOL
@@ -336,10 +329,16 @@ class _Guard:
         q = summary(cell_quality(grid), 0.0)
         return {k: q[k] for k in ("mean_max_angle", "worst_max_angle", "folded_cells")}
 
+    def _wall_angle(self, grid: np.ndarray) -> float:
+        """The largest wall-angle deviation (degrees) at the orthogonal sides."""
+        report = side_report(grid)
+        return max((report[side]["max_angle_deviation"] for side in self.walls), default=0.0)
+
     def check(self, iterations: int) -> bool:
         """Keep the current state if its grid passes; False once ``GUARD_PATIENCE`` checks in
         a row failed (training should stop)."""
-        q = self._quality(self.mapping.grid(*self.size, params=self.params))
+        grid = self.mapping.grid(*self.size, params=self.params)
+        q = self._quality(grid)
         ref = self.reference
         if self.best_worst:
             ok = q["mean_max_angle"] <= ref["mean_max_angle"] + self.mean_tol and _rank(q) < _rank(
@@ -351,6 +350,7 @@ class _Guard:
                 and q["mean_max_angle"] <= ref["mean_max_angle"] + self.mean_tol
                 and q["worst_max_angle"] <= ref["worst_max_angle"] + self.worst_tol
             )
+        ok = ok and self._wall_angle(grid) <= self.wall_tol
         if ok:
             self.state, self.kept = copy.deepcopy(self.net.state_dict()), q
             self.kept_iterations, self.rejected = iterations, 0
@@ -493,6 +493,31 @@ def _notify(progress, phase: str, step: int, total_steps: int, history: _History
         raise TrainingCancelled(f"training cancelled during {phase} at step {step}")
 
 
+def _warm_start(boundary: Boundary, settings: Settings, lattice: tuple[int, int]) -> tuple:
+    """(warm start, the guard's reference grid, the quality objective's start grid or None,
+    the lattice's node parameters or None) on ``lattice``. The reference is the converged
+    elliptic grid, under the spacing if one is set (its node parameters, spacing.py), or
+    the orthogonal start grid itself under ``--orthogonal`` (orthogonal.py)."""
+    spacing = working_spacing(settings.spacing, boundary) if settings.spacing else {}
+    params = reference = None
+    if spacing:
+        params, reference = classical_grid(boundary, *lattice, "elliptic", spacing)
+    if settings.orthogonal:
+        heights = {s: h for s, h in spacing.items() if s in settings.orthogonal}
+        warm, reference = WarmStart.orthogonal(
+            boundary, *lattice, settings.orthogonal, params, heights
+        )
+        lattice_params = None if warm.nodes is None else np.stack(np.meshgrid(*warm.nodes), -1)
+        return warm, reference, None, lattice_params
+    warm, elliptic = WarmStart.elliptic(boundary, *lattice)
+    start = None
+    if settings.objective == "quality" and settings.method == "pinn":
+        tfi = elliptic - warm.correction  # the TFI base plus the new start's correction
+        warm = _quality_start(warm, elliptic)
+        start = tfi + warm.correction
+    return warm, elliptic if reference is None else reference, start, params
+
+
 def train(
     boundary: Boundary,
     aux: Sequence[AuxLine],
@@ -514,48 +539,19 @@ def train(
                 kind, settings.hidden_layers, settings.neurons, settings.activation
             ).to(device=device, dtype=dtype)
             aux = aux if settings.method == "pinn" else ()
-            quality = settings.objective == "quality" and settings.method == "pinn"
             warm = reference = start = params = None
             if settings.warm_start == "elliptic":
                 lattice = lattice_for(*settings.lattice)
-                warm, reference = WarmStart.elliptic(boundary, *lattice)
-                if quality:  # the TFI base plus the new start's correction
-                    tfi = reference - warm.correction
-                    warm = _quality_start(warm, reference)
-                    start = tfi + warm.correction
-                # orthogonal: the plain Winslow start, turned orthogonal smoothly by the wall
-                # term below (a controlled elliptic grid kinks within the few cells its
-                # control reaches); the guard's reference is the elliptic grid under the same
-                # spacing and orthogonality control (SPEC 7)
-                if settings.orthogonal and not settings.spacing:
-                    reference = classical_grid(
-                        boundary, *lattice, "elliptic", {}, settings.orthogonal
-                    )[1]
-                if settings.spacing:
-                    params, reference = classical_grid(
-                        boundary,
-                        *lattice,
-                        "elliptic",
-                        working_spacing(settings.spacing, boundary),
-                        settings.orthogonal,
-                    )
-                with torch.no_grad():  # the map starts as the elliptic grid (or quality start)
+                warm, reference, start, params = _warm_start(boundary, settings, lattice)
+                with torch.no_grad():  # the map starts as the warm start's grid
                     net.w_out.zero_()
             mapping = Mapping(net, boundary, settings.boundary_mode, warm)
             steps = first_steps(lattice, params) if warm is not None else None
-            if warm is not None and settings.orthogonal and settings.method == "pinn":
-                warm.orthogonalise(
-                    mapping.base_jet,
-                    settings.orthogonal,
-                    lambda side, t: wall_tangents(boundary, side, t, settings.lattice, params),
-                    steps,
-                )
-                _fold_safe_walls(warm, mapping, reference, params)
             problem = _Problem(mapping, boundary, aux, settings, dtype, device, steps, params)
             guard = (
                 None
                 if reference is None
-                else _Guard(net, mapping, reference, bool(aux), start, params)
+                else _Guard(net, mapping, reference, bool(aux), start, params, settings.orthogonal)
             )
             history = _History()
             lambda1 = 1.0 if settings.boundary_mode == "penalty" else 0.0
@@ -694,18 +690,6 @@ def _adam_epochs(
     return lambda1, recoveries
 
 
-def _one_blas_thread():
-    """SciPy's L-BFGS-B on one BLAS thread. Its vectors (a few thousand numbers, 50 pairs)
-    are far too small for threads: OpenBLAS's spinning workers made each iteration cost
-    about 20 ms instead of 1.4 ms (measured on this 2-core machine with other work on it),
-    and competed with the loss evaluations for the cores."""
-    try:
-        from threadpoolctl import threadpool_limits  # installed with scikit-learn
-    except ImportError:
-        return contextlib.nullcontext()
-    return threadpool_limits(1, user_api="blas")
-
-
 def _lbfgs(
     net,
     problem: _Problem,
@@ -760,7 +744,7 @@ def _lbfgs(
 
     before = history.values["total"][-1] if history.values else math.inf
     theta = torch.cat([p.detach().flatten() for p in params]).double().cpu().numpy()
-    with _one_blas_thread():
+    with one_blas_thread():
         result = minimize(
             loss_and_grad,
             theta,

@@ -1,0 +1,250 @@
+"""Wall-orthogonal grids on a lattice (SPEC 7): the start of the pinn's ``--orthogonal``.
+
+The first grid row off each orthogonal side is placed on the wall normals: each node of the
+converged elliptic grid's first row keeps its distance from the wall and loses the part of
+its offset along the wall (the wall's chord tangent, what the reported wall angle measures,
+``spacing.grid_lines_angle``). The Winslow equations are then solved inside those rows, so
+the grid is orthogonal at every node but the two nearest each corner whatever the number
+of orthogonal sides, adjacent ones included. At a sharp corner, or a wall bent within a
+cell, such rows can fold a cell; the grid is then repaired by minimising, over its interior
+nodes, the same three things the network trains on: the (linearised, scaled) Winslow
+residual, the squared cosine of the wall angles, and a barrier on nearly flat or reflex
+cell corners.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import torch
+from scipy.optimize import minimize
+
+from .blas import one_blas_thread
+from .elliptic import _parameter_controls, _stencil_matrix, controlled_solve, winslow_solve
+from .losses import corner_angles, loss_orthogonal
+from .quality import folded_cells
+
+SIDES = ("bottom", "right", "top", "left")
+# Repair of a folded start: weight of the wall-angle term against the scaled residual, sine
+# of the flattest cell corner the barrier allows (0.1: 174 degrees), L-BFGS iterations.
+REPAIR_ORTH_WEIGHT = 1e4
+REPAIR_MIN_SINE = 0.1
+REPAIR_ITERATIONS = 400
+REPAIR_REACH = 6  # cells around a folded cell whose nodes the repair moves
+
+
+def _wall_and_row(g, side: str):
+    """Views of a side's nodes and of the first row or column inside it."""
+    return {
+        "bottom": (g[0], g[1]),
+        "top": (g[-1], g[-2]),
+        "left": (g[:, 0], g[:, 1]),
+        "right": (g[:, -1], g[:, -2]),
+    }[side]
+
+
+def _chord_tangents(wall):
+    """Tangents of a side at its nodes as the wall angle measures them: central chords,
+    one-sided at the ends (works on numpy arrays and torch tensors)."""
+    inner = (wall[2:] - wall[:-2]) / 2
+    ends = [wall[1:2] - wall[:1], wall[-1:] - wall[-2:-1]]
+    cat = torch.cat if isinstance(wall, torch.Tensor) else np.concatenate
+    return cat([ends[0], inner, ends[1]])
+
+
+# the sides at the first and the last node of each side's row of nodes
+_ENDS = {
+    "bottom": ("left", "right"),
+    "top": ("left", "right"),
+    "left": ("bottom", "top"),
+    "right": ("bottom", "top"),
+}
+
+
+def _free(side: str, sides: tuple[str, ...], n: int) -> slice:
+    """The nodes of a side whose first row is set: all but the corners, and but the node
+    next to a corner whose other side is orthogonal too (it belongs to both rows)."""
+    first, last = _ENDS[side]
+    return slice(2 if first in sides else 1, n - (2 if last in sides else 1))
+
+
+# the two sides that meet at each corner, by its (row, column) index
+_CORNER_SIDES = {
+    (0, 0): {"bottom", "left"},
+    (0, -1): {"bottom", "right"},
+    (-1, 0): {"top", "left"},
+    (-1, -1): {"top", "right"},
+}
+
+
+def _inward_normals(g: np.ndarray, side: str) -> np.ndarray:
+    """Unit normals of a side at its nodes, towards the first row (nodes, 2)."""
+    wall, row = _wall_and_row(g, side)
+    t = _chord_tangents(wall)
+    t = t / np.linalg.norm(t, axis=1, keepdims=True)
+    n = np.column_stack([-t[:, 1], t[:, 0]])
+    return n * np.sign(np.einsum("ij,ij->i", row - wall, n))[:, None]
+
+
+def normal_rows(
+    grid: np.ndarray, sides: tuple[str, ...], heights: dict[str, float] | None = None
+) -> np.ndarray:
+    """``grid`` with the first row off each of ``sides`` moved onto the wall normals: each
+    node keeps its distance from the wall, or is put at ``heights[side]`` from it (a first
+    edge of SPEC 7's spacing). The node next to a corner between two of ``sides`` is put at
+    those distances from both sides' nodes next to the corner (without heights: where it
+    completes the parallelogram of the corner and those two nodes)."""
+    heights = heights or {}
+    out = np.array(grid, dtype=float)
+    normals = {side: _inward_normals(out, side) for side in sides}
+    for side in sides:
+        wall, row = _wall_and_row(out, side)
+        k = _free(side, sides, len(wall))
+        n = normals[side][k]
+        h = heights.get(side, np.einsum("ij,ij->i", row[k] - wall[k], n)[:, None])
+        row[k] = wall[k] + h * n
+    for (j, dj), (i, di) in ((a, b) for a in ((0, 1), (-1, -1)) for b in ((0, 1), (-1, -1))):
+        pair = _CORNER_SIDES[j, i]
+        if not pair <= set(sides):
+            continue
+        # each side's node next to the corner and its normal there; the node inside is at
+        # the asked distance from both (two lines' intersection)
+        a, rhs = [], []
+        for s in sorted(pair):
+            along_xi = s in ("bottom", "top")
+            end = out[j, i + di] if along_xi else out[j + dj, i]
+            other_end = out[j + dj, i] if along_xi else out[j, i + di]
+            nrm = normals[s][-2 if (i if along_xi else j) else 1]
+            a.append(nrm)
+            rhs.append(heights.get(s, float((other_end - out[j, i]) @ nrm)) + float(end @ nrm))
+        a = np.array(a)
+        if abs(np.linalg.det(a)) > 1e-6:  # else a straight angle: keep the node
+            out[j + dj, i + di] = np.linalg.solve(a, np.array(rhs))
+    return out
+
+
+def _inside(shape: tuple[int, ...], sides: tuple[str, ...]) -> tuple[slice, slice]:
+    """Rows and columns of the grid inside the fixed first rows."""
+    nj, ni = shape[:2]
+    rows = slice(int("bottom" in sides), nj - int("top" in sides))
+    cols = slice(int("left" in sides), ni - int("right" in sides))
+    return rows, cols
+
+
+def orthogonal_grid(
+    grid: np.ndarray,
+    sides: tuple[str, ...],
+    params: np.ndarray | None = None,
+    heights: dict[str, float] | None = None,
+) -> np.ndarray:
+    """A grid on ``grid``'s boundary nodes whose lines leave ``sides`` at right angles, from
+    the converged elliptic grid ``grid``. ``params`` (nj, ni, 2): the node parameters of a
+    spacing, which the solve inside keeps with its control functions; ``heights``: the first
+    edge wanted at some of ``sides`` (working frame)."""
+    sides = tuple(s for s in SIDES if s in sides)
+    if not sides or min(grid.shape[:2]) < 5:
+        return np.array(grid, dtype=float)
+    out = normal_rows(grid, sides, heights)
+    rows, cols = _inside(out.shape, sides)
+    inner = out[rows, cols]
+    if params is None:
+        out[rows, cols] = winslow_solve(inner)[0]
+    else:
+        out[rows, cols] = controlled_solve(inner, params[rows, cols])[0]
+    if folded_cells(out).any():
+        out = repair(out, sides, params)
+    return out
+
+
+def _orientation(grid: np.ndarray) -> float:
+    d1, d2 = grid[1:, 1:] - grid[:-1, :-1], grid[1:, :-1] - grid[:-1, 1:]
+    return 1.0 if (d1[..., 0] * d2[..., 1] - d1[..., 1] * d2[..., 0]).sum() >= 0 else -1.0
+
+
+def _wall_term(g: torch.Tensor, sides: tuple[str, ...]) -> torch.Tensor:
+    """Mean squared cosine of the wall angles (:func:`losses.loss_orthogonal`) over the
+    nodes of ``sides`` but the two nearest each corner."""
+    leave, tangent = [], []
+    for side in sides:
+        wall, row = _wall_and_row(g, side)
+        leave.append((row - wall)[2:-2])
+        tangent.append(_chord_tangents(wall)[2:-2])
+    return loss_orthogonal(torch.cat(leave), torch.cat(tangent))
+
+
+def _near_folds(grid: np.ndarray) -> np.ndarray:
+    """Interior nodes (nj - 2, ni - 2) within ``REPAIR_REACH`` cells of a folded cell."""
+    from scipy.ndimage import binary_dilation
+
+    nodes = np.zeros(grid.shape[:2], dtype=bool)
+    cells = folded_cells(grid)
+    for dj in (0, 1):
+        for di in (0, 1):
+            nodes[dj : dj + cells.shape[0], di : di + cells.shape[1]] |= cells
+    return binary_dilation(nodes, iterations=REPAIR_REACH)[1:-1, 1:-1]
+
+
+def repair(grid: np.ndarray, sides: tuple[str, ...], params: np.ndarray | None) -> np.ndarray:
+    """``grid`` with its interior nodes near folded cells moved (L-BFGS) to minimise the
+    Winslow residual linearised at ``grid`` and scaled by the local cell size (the network's
+    scaled residual, losses.py), ``REPAIR_ORTH_WEIGHT`` times the wall term, and a barrier on
+    cell corners whose sine is below ``REPAIR_MIN_SINE`` (nearly flat or reflex: folded).
+    Each node moves in units of its shortest edge. Returns ``grid`` if the result folds more
+    cells."""
+    cp = cq = None
+    if params is not None:
+        cp, cq = _parameter_controls(grid, params)
+    mat, rhs = _stencil_matrix(grid, cp, cq)
+    g_xi = 0.5 * (grid[1:-1, 2:] - grid[1:-1, :-2])
+    g_eta = 0.5 * (grid[2:, 1:-1] - grid[:-2, 1:-1])
+    scale = ((g_xi**2).sum(-1) + (g_eta**2).sum(-1)).reshape(-1, 1) ** 1.5
+    mat = mat.tocsr().multiply(1.0 / scale).tocsr()
+    rhs = rhs / scale
+    free = _near_folds(grid).ravel()
+    fixed, orientation = torch.as_tensor(grid), _orientation(grid)
+    inner0 = grid[1:-1, 1:-1].reshape(-1, 2)
+    edges = np.minimum.reduce(
+        [
+            np.linalg.norm(grid[1:-1, 1:-1] - grid[a, b], axis=-1)
+            for a, b in (
+                (slice(2, None), slice(1, -1)),
+                (slice(None, -2), slice(1, -1)),
+                (slice(1, -1), slice(2, None)),
+                (slice(1, -1), slice(None, -2)),
+            )
+        ]
+    ).reshape(-1, 1)[free]
+    n = len(inner0)
+
+    def nodes(x: np.ndarray) -> np.ndarray:
+        inner = inner0.copy()
+        inner[free] += edges * x.reshape(-1, 2)
+        return inner
+
+    def loss_and_grad(x: np.ndarray) -> tuple[float, np.ndarray]:
+        inner = nodes(x)
+        r = mat @ inner - rhs
+        value, grad = float((r**2).sum()) / n, 2.0 * (mat.T @ r) / n
+        u = torch.from_numpy(inner).requires_grad_(True)
+        rows = torch.cat([fixed[1:-1, :1], u.view(fixed[1:-1, 1:-1].shape), fixed[1:-1, -1:]], 1)
+        g = torch.cat([fixed[:1], rows, fixed[-1:]])
+        theta = corner_angles(g, orientation)
+        barrier = torch.relu(REPAIR_MIN_SINE - torch.sin(theta)).pow(2).sum()
+        term = REPAIR_ORTH_WEIGHT * _wall_term(g, sides) + 100.0 * barrier
+        term.backward()
+        grad = grad + u.grad.numpy()
+        return value + float(term.detach()), (grad[free] * edges).ravel()
+
+    x, left = np.zeros(2 * int(free.sum())), REPAIR_ITERATIONS
+    with one_blas_thread():
+        while left > 0:  # restarted where the line search gives up (a barrier's wall)
+            result = minimize(
+                loss_and_grad,
+                x,
+                jac=True,
+                method="L-BFGS-B",
+                options={"maxiter": left, "maxcor": 20, "ftol": 1e-15, "gtol": 1e-12},
+            )
+            x, left = result.x, left - max(result.nit, REPAIR_ITERATIONS // 8)
+    out = np.array(grid, dtype=float)
+    out[1:-1, 1:-1] = nodes(x).reshape(out[1:-1, 1:-1].shape)
+    return out if folded_cells(out).sum() <= folded_cells(grid).sum() else np.array(grid)

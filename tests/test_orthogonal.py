@@ -1,0 +1,90 @@
+"""The orthogonal start of the pinn's --orthogonal (orthogonal.py, SPEC 7) on hard shapes."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import EXAMPLES
+
+from pinn_engine.boundary_fit import ArcLengthFit
+from pinn_engine.elliptic import winslow_solve
+from pinn_engine.mesher import Mesher
+from pinn_engine.orthogonal import normal_rows, orthogonal_grid
+from pinn_engine.pipeline import load_boundary
+from pinn_engine.quality import boundary_nodes, folded_cells
+from pinn_engine.settings import make_settings
+from pinn_engine.spacing import classical_grid, first_edges, side_report, working_spacing
+from pinn_engine.tfi import tfi_grid
+
+HARD = EXAMPLES / "hard"
+FOUR = ("bottom", "right", "top", "left")
+
+
+def elliptic(name: str, size=(41, 21)):
+    boundary = load_boundary(HARD / f"{name}.vtp")
+    return boundary, winslow_solve(tfi_grid(ArcLengthFit(boundary).sample, *size))[0]
+
+
+def deviations(grid, sides):
+    report = side_report(grid)
+    return {side: report[side]["max_angle_deviation"] for side in sides}
+
+
+def test_normal_rows_keep_the_wall_distance_and_leave_at_right_angles():
+    _, grid = elliptic("s_duct")
+    out = normal_rows(grid, ("bottom", "top"))
+    assert max(deviations(out, ("bottom", "top")).values()) < 1e-9
+    # the distance from the wall's chord line is kept: only the part along the wall goes
+    wall, row = grid[0], grid[1]
+    t = np.gradient(wall, axis=0)
+    n = np.column_stack([-t[:, 1], t[:, 0]]) / np.linalg.norm(t, axis=1)[:, None]
+    np.testing.assert_allclose(
+        np.abs(np.einsum("ij,ij->i", out[1] - wall, n))[1:-1],
+        np.abs(np.einsum("ij,ij->i", row - wall, n))[1:-1],
+        rtol=1e-12,
+    )
+    np.testing.assert_array_equal(boundary_nodes(out), boundary_nodes(grid))
+
+
+def test_heights_and_the_node_next_to_a_corner_between_two_spaced_sides():
+    boundary = load_boundary(HARD / "nozzle_4.vtp")
+    h = 0.004
+    spacing = working_spacing((("bottom", h), ("left", h)), boundary)
+    _, grid = classical_grid(boundary, 41, 21, "tfi", spacing)
+    out = normal_rows(grid, ("bottom", "left"), spacing)
+    edges = {side: e * boundary.frame.scale for side, e in first_edges(out).items()}
+    # every first edge off both sides is h; the node inside the corner is h from both
+    # sides (its edges from their nodes next to the corner are within 10 % of h)
+    np.testing.assert_allclose(edges["bottom"][2:-1], h, rtol=1e-9)
+    np.testing.assert_allclose(edges["left"][2:-1], h, rtol=1e-9)
+    assert abs(edges["bottom"][1] / h - 1) < 0.1 and abs(edges["left"][1] / h - 1) < 0.1
+
+
+@pytest.mark.parametrize("name", ["dart_30", "kite_35", "notch_v_sharp", "backward_step"])
+def test_sharp_corners_all_four_sides_without_folds(name):
+    """30- and 35-degree corners, a V notch and a step: the normal rows fold cells there,
+    and the repair unfolds them while keeping every wall angle within 2 degrees."""
+    _, grid = elliptic(name)
+    out = orthogonal_grid(grid, FOUR)
+    assert not folded_cells(out).any()
+    assert max(deviations(out, FOUR).values()) <= 2.0
+    np.testing.assert_array_equal(boundary_nodes(out), boundary_nodes(grid))
+
+
+def test_pinn_adjacent_orthogonal_sides_with_spacing_on_a_nozzle():
+    """The case that failed before: a 4:1 nozzle, bottom and left orthogonal and spaced."""
+    boundary = load_boundary(HARD / "nozzle_4.vtp")
+    h = 0.005
+    settings = make_settings(
+        "pinn",
+        lattice=(41, 21),
+        orthogonal="bottom,left",
+        spacing={"bottom": h, "left": h},
+        lbfgs_iterations=20,
+    )
+    result = Mesher(settings).fit(boundary).predict(41, 21)
+    assert result.quality["folded_cells"] == 0
+    for side in ("bottom", "left"):
+        figures = result.report["sides"][side]
+        assert figures["max_angle_deviation"] <= 2.0
+        assert 0.9 * h <= figures["first_edge_min"] <= figures["first_edge_max"] <= 1.1 * h
