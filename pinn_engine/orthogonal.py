@@ -21,9 +21,18 @@ from scipy.optimize import minimize
 from .blas import one_blas_thread
 from .elliptic import _parameter_controls, _stencil_matrix, controlled_solve, winslow_solve
 from .losses import corner_angles, loss_orthogonal
-from .quality import folded_cells
+from .quality import cell_quality, folded_cells, summary
+from .spacing import side_report
 
 SIDES = ("bottom", "right", "top", "left")
+OPPOSITE = {"bottom": "top", "top": "bottom", "left": "right", "right": "left"}
+# The sheared candidate (:func:`sheared_grid`): the width (in the side's parameter) over
+# which its shear tapers to zero at the corners, and the wall angle (degrees off 90) it must
+# keep to be chosen over the solve inside the normal rows, and how much larger than that
+# grid's its largest growth ratio may be (the shear must not break the spacing's growth).
+SHEAR_TAPER = 0.03
+SHEAR_WALL_TOL = 1.0
+SHEAR_GROWTH = 1.1
 # Repair of a folded start: weight of the wall-angle term against the scaled residual, sine
 # of the flattest cell corner the barrier allows (0.1: 174 degrees), L-BFGS iterations.
 REPAIR_ORTH_WEIGHT = 1e4
@@ -152,6 +161,65 @@ def orthogonal_grid(
         out[rows, cols] = controlled_solve(inner, params[rows, cols])[0]
     if folded_cells(out).any():
         out = repair(out, sides, params)
+    sheared = normal_rows(sheared_grid(grid, sides, params), sides, heights)
+    smooth = _growth(sheared, sides) <= SHEAR_GROWTH * _growth(out, sides)
+    return sheared if smooth and _rank(sheared, sides) < _rank(out, sides) else out
+
+
+def _growth(grid: np.ndarray, sides: tuple[str, ...]) -> float:
+    report = side_report(grid)
+    return max(report[side]["max_growth_ratio"] for side in sides)
+
+
+def _rank(grid: np.ndarray, sides: tuple[str, ...]) -> tuple:
+    """Order of candidate grids: fewer folded cells, wall angles within ``SHEAR_WALL_TOL``,
+    then the smaller worst and mean MaxIncludedAngle."""
+    q = summary(cell_quality(grid), 0.0)
+    report = side_report(grid)
+    wall = max(report[side]["max_angle_deviation"] for side in sides)
+    return (
+        q["folded_cells"],
+        wall > SHEAR_WALL_TOL,
+        round(q["worst_max_angle"], 3),
+        q["mean_max_angle"],
+    )
+
+
+def sheared_grid(
+    grid: np.ndarray, sides: tuple[str, ...], params: np.ndarray | None = None
+) -> np.ndarray:
+    """The elliptic grid turned orthogonal at ``sides`` by a smooth shear: each grid line
+    leaving a side moves along it by the tangential part of its first edge, scaled by
+    ``w(n) / w(n1)`` with ``w(n) = n (1 - n / R)^2`` (n the parameter distance from the
+    side, n1 the first row's; R = 1, or 1/2 when the opposite side is orthogonal too) and
+    tapered to zero at the corners: the line leaves the wall along its normal and bends back
+    to the elliptic grid's line smoothly, a third of the way across (where ``w`` peaks), not
+    within a cell as the solve inside the normal rows does. Folds where the shears of
+    several sides meet; :func:`orthogonal_grid` then keeps the other candidate."""
+    out = np.array(grid, dtype=float)
+    nj, ni = grid.shape[:2]
+    if params is None:
+        params = np.stack(np.meshgrid(np.linspace(0, 1, ni), np.linspace(0, 1, nj)), -1)
+    for side in sides:
+        along_xi = side in ("bottom", "top")
+        near = side in ("bottom", "left")
+        # the grid and its parameters with the side as row 0 and the lines leaving it as columns
+        g = grid if along_xi else grid.transpose(1, 0, 2)
+        p = params[..., 1] if along_xi else params[..., 0].T
+        if not near:
+            g, p = g[::-1], 1.0 - p[::-1]
+        wall = g[0]
+        tau = _chord_tangents(wall)
+        tau = tau / np.linalg.norm(tau, axis=1, keepdims=True)
+        shift = -np.einsum("ij,ij->i", g[1] - wall, tau)[:, None] * tau  # (nodes, 2)
+        t = np.linspace(0.0, 1.0, len(wall))
+        shift *= (np.tanh(t / SHEAR_TAPER) * np.tanh((1 - t) / SHEAR_TAPER))[:, None]
+        reach = 0.5 if OPPOSITE[side] in sides else 1.0
+        w = np.where(p < reach, p * (1 - p / reach) ** 2, 0.0)  # (rows, nodes)
+        moved = shift[None] * (w / np.maximum(w[1:2], 1e-300))[..., None]
+        if not near:
+            moved = moved[::-1]
+        out += moved if along_xi else moved.transpose(1, 0, 2)
     return out
 
 
