@@ -48,7 +48,7 @@ def winslow_sweeps(
     return g
 
 
-def _stencil_matrix(
+def stencil_matrix(
     g: np.ndarray, cp: np.ndarray | None = None, cq: np.ndarray | None = None
 ) -> tuple[sp.csc_matrix, np.ndarray]:
     """Linear system of the Winslow equations with alpha, beta, gamma frozen at ``g``; with
@@ -132,7 +132,7 @@ def winslow_solve(
     extent = float(np.ptp(g.reshape(-1, 2), axis=0).max())
     solver = _ReusedLU()
     for it in range(1, max_iterations + 1):
-        mat, rhs = _stencil_matrix(g)
+        mat, rhs = stencil_matrix(g)
         inner = g[1:-1, 1:-1].reshape(-1, 2)
         step, change = solver.solve(mat, rhs - mat @ inner)
         g[1:-1, 1:-1] = (inner + step).reshape(g.shape[0] - 2, g.shape[1] - 2, 2)
@@ -141,7 +141,7 @@ def winslow_solve(
     return g, max_iterations
 
 
-def _parameter_controls(g: np.ndarray, params: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def parameter_controls(g: np.ndarray, params: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Control terms that keep a node distribution (Spekreijse 1995, "Elliptic grid
     generation based on Laplace equations and algebraic transformations", J. Comput. Phys.
     118): the grid is x(s, t) with s, t harmonic in x, the nodes at parameters
@@ -202,7 +202,7 @@ def controlled_solve(
     control: dict | None = None,
 ) -> tuple[np.ndarray, int]:
     """Elliptic grid with control functions: Winslow in the parameter space of ``params``
-    (the node distribution is kept, :func:`_parameter_controls`), and with orthogonality at
+    (the node distribution is kept, :func:`parameter_controls`), and with orthogonality at
     the ``orthogonal`` sides by Hilgenstock's control (Hilgenstock 1988, "A fast method for
     the elliptic generation of three-dimensional grids with full boundary control"): each
     Picard iteration moves a wall's control function by the cosine of the angle at each of
@@ -234,7 +234,7 @@ def controlled_solve(
     for it in range(1, max_iterations + 1):
         a, _, c = _coefficients(g)
         if params is not None:
-            cp, cq = _parameter_controls(g, params)
+            cp, cq = parameter_controls(g, params)
         else:
             cp, cq = np.zeros_like(a), np.zeros_like(a)
         worst = 0.0
@@ -248,7 +248,7 @@ def controlled_solve(
                     cp = cp + a * control[side][None, :] * decay[side]
                 else:
                     cq = cq + c * control[side][:, None] * decay[side]
-        mat, rhs = _stencil_matrix(g, cp, cq)
+        mat, rhs = stencil_matrix(g, cp, cq)
         inner = g[1:-1, 1:-1].reshape(-1, 2)
         step, change = solver.solve(mat, rhs - mat @ inner)
         g[1:-1, 1:-1] = (inner + step).reshape(nj - 2, ni - 2, 2)

@@ -19,7 +19,7 @@ import torch
 from scipy.optimize import minimize
 
 from .blas import one_blas_thread
-from .elliptic import _parameter_controls, _stencil_matrix, controlled_solve, winslow_solve
+from .elliptic import controlled_solve, parameter_controls, stencil_matrix, winslow_solve
 from .losses import corner_angles, loss_orthogonal
 from .quality import cell_quality, folded_cells, summary
 from .spacing import side_report
@@ -260,8 +260,8 @@ def repair(grid: np.ndarray, sides: tuple[str, ...], params: np.ndarray | None) 
     cells."""
     cp = cq = None
     if params is not None:
-        cp, cq = _parameter_controls(grid, params)
-    mat, rhs = _stencil_matrix(grid, cp, cq)
+        cp, cq = parameter_controls(grid, params)
+    mat, rhs = stencil_matrix(grid, cp, cq)
     g_xi = 0.5 * (grid[1:-1, 2:] - grid[1:-1, :-2])
     g_eta = 0.5 * (grid[2:, 1:-1] - grid[:-2, 1:-1])
     scale = ((g_xi**2).sum(-1) + (g_eta**2).sum(-1)).reshape(-1, 1) ** 1.5
