@@ -21,7 +21,7 @@ from scipy.optimize import minimize
 from .blas import one_blas_thread
 from .elliptic import controlled_solve, parameter_controls, stencil_matrix, winslow_solve
 from .losses import corner_angles, loss_orthogonal
-from .quality import cell_quality, folded_cells, summary
+from .quality import cell_quality, folded_cells, orientation, shortest_edges, summary
 from .spacing import side_report
 
 SIDES = ("bottom", "right", "top", "left")
@@ -223,11 +223,6 @@ def sheared_grid(
     return out
 
 
-def _orientation(grid: np.ndarray) -> float:
-    d1, d2 = grid[1:, 1:] - grid[:-1, :-1], grid[1:, :-1] - grid[:-1, 1:]
-    return 1.0 if (d1[..., 0] * d2[..., 1] - d1[..., 1] * d2[..., 0]).sum() >= 0 else -1.0
-
-
 def _wall_term(g: torch.Tensor, sides: tuple[str, ...]) -> torch.Tensor:
     """Mean squared cosine of the wall angles (:func:`losses.loss_orthogonal`) over the
     nodes of ``sides`` but the two nearest each corner."""
@@ -268,19 +263,9 @@ def repair(grid: np.ndarray, sides: tuple[str, ...], params: np.ndarray | None) 
     mat = mat.tocsr().multiply(1.0 / scale).tocsr()
     rhs = rhs / scale
     free = _near_folds(grid).ravel()
-    fixed, orientation = torch.as_tensor(grid), _orientation(grid)
+    fixed, sense = torch.as_tensor(grid), orientation(grid)
     inner0 = grid[1:-1, 1:-1].reshape(-1, 2)
-    edges = np.minimum.reduce(
-        [
-            np.linalg.norm(grid[1:-1, 1:-1] - grid[a, b], axis=-1)
-            for a, b in (
-                (slice(2, None), slice(1, -1)),
-                (slice(None, -2), slice(1, -1)),
-                (slice(1, -1), slice(2, None)),
-                (slice(1, -1), slice(None, -2)),
-            )
-        ]
-    ).reshape(-1, 1)[free]
+    edges = shortest_edges(grid).reshape(-1, 1)[free]
     n = len(inner0)
 
     def nodes(x: np.ndarray) -> np.ndarray:
@@ -295,7 +280,7 @@ def repair(grid: np.ndarray, sides: tuple[str, ...], params: np.ndarray | None) 
         u = torch.from_numpy(inner).requires_grad_(True)
         rows = torch.cat([fixed[1:-1, :1], u.view(fixed[1:-1, 1:-1].shape), fixed[1:-1, -1:]], 1)
         g = torch.cat([fixed[:1], rows, fixed[-1:]])
-        theta = corner_angles(g, orientation)
+        theta = corner_angles(g, sense)
         barrier = torch.relu(REPAIR_MIN_SINE - torch.sin(theta)).pow(2).sum()
         term = REPAIR_ORTH_WEIGHT * _wall_term(g, sides) + 100.0 * barrier
         term.backward()

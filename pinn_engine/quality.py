@@ -155,3 +155,18 @@ def angle_floor(grid: np.ndarray) -> tuple[float, float]:
     corners = np.zeros(len(ring), dtype=bool)
     corners[[0, ni - 1, ni + nj - 2, 2 * ni + nj - 3]] = True
     return float(angle[corners].max()), float(angle[~corners].max() / 2)
+
+
+def orientation(grid: np.ndarray) -> float:
+    """+1 if the grid (nj, ni, 2) runs counter-clockwise (positive signed area), else -1."""
+    d1, d2 = grid[1:, 1:] - grid[:-1, :-1], grid[1:, :-1] - grid[:-1, 1:]
+    return 1.0 if (d1[..., 0] * d2[..., 1] - d1[..., 1] * d2[..., 0]).sum() >= 0 else -1.0
+
+
+def shortest_edges(grid: np.ndarray) -> np.ndarray:
+    """Length of the shortest of the four edges at each interior node (nj - 2, ni - 2): the
+    unit in which node optimisations move a node (angles change with a node's move relative
+    to its cells)."""
+    inner = grid[1:-1, 1:-1]
+    neighbours = (grid[2:, 1:-1], grid[:-2, 1:-1], grid[1:-1, 2:], grid[1:-1, :-2])
+    return np.minimum.reduce([np.linalg.norm(inner - n, axis=-1) for n in neighbours])
