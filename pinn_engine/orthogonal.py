@@ -150,7 +150,9 @@ def orthogonal_grid(
     """A grid on ``grid``'s boundary nodes whose lines leave ``sides`` at right angles, from
     the converged elliptic grid ``grid``. ``params`` (nj, ni, 2): the node parameters of a
     spacing, which the solve inside keeps with its control functions; ``heights``: the first
-    edge wanted at some of ``sides`` (working frame)."""
+    edge wanted at some of ``sides`` (working frame). Never folds more cells than ``grid``:
+    where it would (walls notched within a cell, measured in benchmarks/orthogonal.py),
+    ``grid`` itself is returned, and the report shows how far its lines are off 90."""
     sides = tuple(s for s in SIDES if s in sides)
     if not sides or min(grid.shape[:2]) < 5:
         return np.array(grid, dtype=float)
@@ -170,7 +172,8 @@ def orthogonal_grid(
         out = min(tries, key=lambda g: _rank(g, sides, WALL_TOL))
     sheared = normal_rows(sheared_grid(grid, sides, params), sides, heights)
     smooth = _growth(sheared, sides) <= SHEAR_GROWTH * _growth(out, sides)
-    return sheared if smooth and _rank(sheared, sides) < _rank(out, sides) else out
+    out = sheared if smooth and _rank(sheared, sides) < _rank(out, sides) else out
+    return np.array(grid) if folded_cells(out).sum() > folded_cells(grid).sum() else out
 
 
 def _growth(grid: np.ndarray, sides: tuple[str, ...]) -> float:
