@@ -203,6 +203,16 @@ class _Problem:
                 (nj, ni, 2),
                 1.0 if _area(base) >= 0 else -1.0,
             )
+        none = self.tensor(np.zeros((0, 2)))
+        self.fused = (  # the paper preset's terms, in one C++ call (_FusedEvaluation)
+            penalty
+            and not self.n_wall
+            and self.lattice is None
+            and settings.residual == "paper"
+            and settings.derivatives == "jets"
+            and mapping.net.native_jet(none, none) is not None
+        )
+        self.term_grads = _TermGradients(mapping.net, dtype, device) if self.fused else None
 
     def tensor(self, a) -> torch.Tensor:
         return torch.as_tensor(np.asarray(a), dtype=self.dtype, device=self.device)
@@ -295,6 +305,101 @@ class _Problem:
             self.settings.lambda_orthogonal,
         )
         return loss + QUALITY_WEIGHT * terms["quality"] if "quality" in terms else loss
+
+    def evaluate(self, batch: tuple) -> _Evaluation:
+        """The loss terms at ``batch`` (from :meth:`sample` or :meth:`epoch_batch`), with
+        their gradients on demand."""
+        return (_FusedEvaluation if self.fused else _Evaluation)(self, batch)
+
+
+class _Evaluation:
+    """The loss terms at one batch and the gradient of the loss, through autograd's graph."""
+
+    def __init__(self, problem: _Problem, batch: tuple) -> None:
+        self.problem = problem
+        self.terms = problem.terms(*batch)
+
+    def loss(self, lambda1: float) -> torch.Tensor:
+        """The weighted loss (:meth:`_Problem.loss`); :meth:`gradient` differentiates it."""
+        self.lambda1 = lambda1
+        self.total = self.problem.loss(self.terms, lambda1)
+        return self.total
+
+    def weight_grads(
+        self, weights: Sequence[torch.Tensor]
+    ) -> tuple[list[torch.Tensor], list[torch.Tensor]]:
+        """Gradients of L_eqns and of L_bcs with respect to ``weights`` (for annealing), where
+        both reach a weight."""
+        g_eq = torch.autograd.grad(
+            self.terms["eqns"], weights, retain_graph=True, allow_unused=True
+        )
+        g_bc = torch.autograd.grad(self.terms["bcs"], weights, retain_graph=True, allow_unused=True)
+        used = [(a, b) for a, b in zip(g_eq, g_bc) if a is not None and b is not None]
+        return [a for a, _ in used], [b for _, b in used]
+
+    def gradient(self) -> torch.Tensor:
+        """The gradient of the last :meth:`loss`: one vector in net.parameters() order."""
+        params = list(self.problem.mapping.net.parameters())
+        grads = torch.autograd.grad(self.total, params, allow_unused=True)
+        return torch.cat(
+            [p.new_zeros(p.numel()) if g is None else g.reshape(-1) for p, g in zip(params, grads)]
+        )
+
+
+class _TermGradients:
+    """The gradients of L_eqns, L_bcs and L_data: rows of ``flat``, each one vector in
+    net.parameters() order (as the optimizers take it), written by the C++ loss through
+    ``views`` (per row, each parameter's slice shaped as the parameter)."""
+
+    def __init__(self, net: CoordinateNet, dtype: torch.dtype, device: torch.device) -> None:
+        params = list(net.parameters())
+        self.flat = torch.empty(3, sum(p.numel() for p in params), dtype=dtype, device=device)
+        self.views = []
+        for row in self.flat:
+            at, views = 0, {}
+            for p in params:
+                views[p] = row[at : at + p.numel()].view_as(p)
+                at += p.numel()
+            self.views.append(views)
+        self.jet_order = [[views[p] for p in net.jet_params()] for views in self.views]
+
+
+class _FusedEvaluation(_Evaluation):
+    """The same for penalty mode with the paper's residual and no orthogonality or quality
+    term (the paper preset), without autograd: one C++ call (``NativeJet.loss``) runs the
+    networks forward, the terms' gradients and backward block by block, with the gradients
+    of L_eqns, L_bcs and L_data apart (annealing needs the first two); the loss's gradient is
+    their weighted sum. Measured per Adam epoch of the paper preset: see docs/speed.md."""
+
+    def __init__(self, problem: _Problem, batch: tuple) -> None:
+        x, _, bx, by = batch
+        self.problem, self.grads = problem, problem.term_grads
+        side = len(bx) // 4
+        ends = [side, 2 * side, 3 * side, 4 * side]
+        extra, target = bx, by
+        if problem.n_aux:
+            extra, target = torch.cat([bx, problem.aux_x]), torch.cat([by, problem.aux_y])
+            ends.append(4 * side + problem.n_aux)
+        net = problem.mapping.net.native_jet(x, extra)
+        terms = net.loss(target, ends, [1, 1, 1, 1, 2][: len(ends)], self.grads.jet_order)
+        if not problem.n_aux:
+            terms = torch.cat([terms, terms.new_zeros(1)])
+        eqns, *sides, data = terms.unbind()
+        self.terms = {"eqns": eqns, **{f"bcs_{side}": v for side, v in zip(SIDES, sides)}}
+        self.terms.update(bcs=terms[1:5].sum(), data=data)
+
+    def weight_grads(
+        self, weights: Sequence[torch.Tensor]
+    ) -> tuple[list[torch.Tensor], list[torch.Tensor]]:
+        eqns, bcs = self.grads.views[:2]
+        return [eqns[w] for w in weights], [bcs[w] for w in weights]
+
+    def gradient(self) -> torch.Tensor:
+        eqns, bcs, data = self.grads.flat
+        total = torch.add(eqns, bcs, alpha=self.lambda1)
+        return (
+            total.add_(data, alpha=self.problem.settings.lambda2) if self.problem.n_aux else total
+        )
 
 
 def _area(grid: np.ndarray) -> float:
@@ -611,18 +716,9 @@ class _FlatAdam:
     def reset(self) -> None:
         self.m, self.v, self.t = torch.zeros_like(self.flat), torch.zeros_like(self.flat), 0
 
-    def zero_grad(self) -> None:
-        for p in self.params:
-            p.grad = None
-
     @torch.no_grad()
-    def step(self) -> None:
-        grad = torch.cat(
-            [
-                p.grad.reshape(-1) if p.grad is not None else p.new_zeros(p.numel())
-                for p in self.params
-            ]
-        )
+    def step(self, grad: torch.Tensor) -> None:
+        """One update from the loss's gradient ``grad``, a vector in the parameters' order."""
         (b1, b2), self.t = self.BETAS, self.t + 1
         self.m.lerp_(grad, 1 - b1)
         self.v.mul_(b2).addcmul_(grad, grad, value=1 - b2)
@@ -653,16 +749,12 @@ def _adam_epochs(
     best, recoveries, steps = math.inf, 0, 0
     good_state, good_lambda1 = copy.deepcopy(net.state_dict()), lambda1
     for epoch in range(1, s.adam_epochs + 1):
-        terms = problem.terms(*problem.epoch_batch(epoch))
+        evaluation = problem.evaluate(problem.epoch_batch(epoch))
+        terms = evaluation.terms
         if s.boundary_mode == "penalty" and epoch % ANNEAL_EVERY == 1:
-            g_eq = torch.autograd.grad(terms["eqns"], weights, retain_graph=True, allow_unused=True)
-            g_bc = torch.autograd.grad(terms["bcs"], weights, retain_graph=True, allow_unused=True)
-            used = [(a, b) for a, b in zip(g_eq, g_bc) if a is not None and b is not None]
-            updated = annealed_lambda(
-                [a for a, _ in used], [b for _, b in used], lambda1, s.anneal_momentum
-            )
+            updated = annealed_lambda(*evaluation.weight_grads(weights), lambda1, s.anneal_momentum)
             lambda1 = updated if math.isfinite(updated) else lambda1
-        loss = problem.loss(terms, lambda1)
+        loss = evaluation.loss(lambda1)
         value = loss.item()
         if _bad(value, best):
             recoveries += 1
@@ -682,15 +774,12 @@ def _adam_epochs(
             best = value
             if epoch % 100 == 0:
                 good_state, good_lambda1 = copy.deepcopy(net.state_dict()), lambda1
-        opt.zero_grad()
-        loss.backward()
-        opt.step()
+        opt.step(evaluation.gradient())
         steps += 1
         if steps % s.lr_decay_every == 0:  # step decay, as torch's StepLR
             opt.lr *= s.lr_decay
         if epoch % PROGRESS_EVERY == 0 or epoch == s.adam_epochs:
             _notify(progress, "adam", epoch, s.adam_epochs, history)
-    opt.zero_grad()
     return lambda1, recoveries
 
 
@@ -736,20 +825,17 @@ def _lbfgs(
 
     def loss_and_grad(theta: np.ndarray) -> tuple[float, np.ndarray]:
         load(theta)
-        for p in params:
-            p.grad = None
-        terms = problem.terms(*batch)
-        loss = problem.loss(terms, lambda1)
+        evaluation = problem.evaluate(batch)
+        loss = evaluation.loss(lambda1)
         value = loss.item()
         calls[0] += 1
         if not math.isfinite(value):
             return math.inf, np.zeros_like(theta)
-        history.add(terms, lambda1, s.lambda2, loss)
-        loss.backward()
+        history.add(evaluation.terms, lambda1, s.lambda2, loss)
+        grad = evaluation.gradient()
         if calls[0] % 10 == 0:
             _notify(progress, "lbfgs", calls[0], s.lbfgs_iterations, history)
-        grad = [p.grad if p.grad is not None else torch.zeros_like(p) for p in params]
-        return value, torch.cat([g.flatten() for g in grad]).double().cpu().numpy()
+        return value, grad.double().cpu().numpy()
 
     def each_iteration(xk: np.ndarray) -> None:
         iterations[0] += 1
@@ -776,8 +862,7 @@ def _lbfgs(
             },
         )
     load(result.x)
-    terms = problem.terms(*batch)
-    final = problem.loss(terms, lambda1).item()
+    final = problem.evaluate(batch).loss(lambda1).item()
     if not math.isfinite(final) or final > before * EXPLODE_FACTOR:
         net.load_state_dict(start_state)
         return False, iterations[0]
