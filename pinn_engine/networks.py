@@ -13,7 +13,7 @@ import math
 import torch
 from torch import nn
 
-from .jet.layers import ACTIVATIONS, NativeJet, NetworkJet, native_jet
+from .jet.layers import ACTIVATIONS, NetworkJet
 
 
 class CoordinateNet(nn.Module):
@@ -96,12 +96,6 @@ class CoordinateNet(nn.Module):
         ``extra`` points, all in one pass."""
         extra = x[:0] if extra is None else extra
         return NetworkJet.apply(self.kind, self.activation, x, extra, *self.jet_params())
-
-    def native_jet(self, x: torch.Tensor, extra: torch.Tensor) -> NativeJet | None:
-        """The same jet in C++ outside autograd (gradients in :meth:`jet_params` order):
-        forward and backward, or the paper's loss and its gradients in one call; None where
-        the kernels are not available (jet/layers.py)."""
-        return native_jet(x, extra, self.kind, self.activation, self.jet_params())
 
 
 def autograd_jet(net: nn.Module, x: torch.Tensor) -> torch.Tensor:

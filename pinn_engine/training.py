@@ -27,6 +27,7 @@ from .boundary_fit import ArcLengthFit, make_fit
 from .errors import TrainingCancelled, TrainingError
 from .geometry import SIDES, Boundary
 from .heap import reuse_freed_memory
+from .jet.layers import native_jet
 from .losses import (
     annealed_lambda,
     corner_angles,
@@ -203,16 +204,16 @@ class _Problem:
                 (nj, ni, 2),
                 1.0 if _area(base) >= 0 else -1.0,
             )
-        none = self.tensor(np.zeros((0, 2)))
-        self.fused = (  # the paper preset's terms, in one C++ call (_FusedEvaluation)
+        net, none = mapping.net, self.tensor(np.zeros((0, 2)))
+        fusable = (  # the paper preset's terms
             penalty
             and not self.n_wall
             and self.lattice is None
             and settings.residual == "paper"
             and settings.derivatives == "jets"
-            and mapping.net.native_jet(none, none) is not None
+            and native_jet(none, none, net.kind, net.activation, net.jet_params()) is not None
         )
-        self.term_grads = _TermGradients(mapping.net, dtype, device) if self.fused else None
+        self.fused = _FusedLoss(net, dtype, device) if fusable else None
 
     def tensor(self, a) -> torch.Tensor:
         return torch.as_tensor(np.asarray(a), dtype=self.dtype, device=self.device)
@@ -309,7 +310,7 @@ class _Problem:
     def evaluate(self, batch: tuple) -> _Evaluation:
         """The loss terms at ``batch`` (from :meth:`sample` or :meth:`epoch_batch`), with
         their gradients on demand."""
-        return (_FusedEvaluation if self.fused else _Evaluation)(self, batch)
+        return (_Evaluation if self.fused is None else _FusedEvaluation)(self, batch)
 
 
 class _Evaluation:
@@ -346,10 +347,13 @@ class _Evaluation:
         )
 
 
-class _TermGradients:
-    """The gradients of L_eqns, L_bcs and L_data: rows of ``flat``, each one vector in
-    net.parameters() order (as the optimizers take it), written by the C++ loss through
-    ``views`` (per row, each parameter's slice shaped as the parameter)."""
+class _FusedLoss:
+    """The paper preset's loss in one C++ call (``NativeJet.loss``): per block of points the
+    networks' forward, the terms' gradients with respect to the jet and values, and backward,
+    without autograd. The gradients of L_eqns, L_bcs and L_data come apart (annealing needs
+    the first two): rows of ``flat``, each one vector in net.parameters() order as the
+    optimizers take it, which the C++ code writes through ``views`` (per row, each
+    parameter's slice shaped as the parameter)."""
 
     def __init__(self, net: CoordinateNet, dtype: torch.dtype, device: torch.device) -> None:
         params = list(net.parameters())
@@ -361,27 +365,35 @@ class _TermGradients:
                 views[p] = row[at : at + p.numel()].view_as(p)
                 at += p.numel()
             self.views.append(views)
-        self.jet_order = [[views[p] for p in net.jet_params()] for views in self.views]
+        self.params = net.jet_params()
+        self.order = [[views[p] for p in self.params] for views in self.views]  # C++'s order
+        self.kind, self.activation = net.kind, net.activation
+
+    def __call__(
+        self, x: torch.Tensor, extra: torch.Tensor, target: torch.Tensor, ends: list[int]
+    ) -> torch.Tensor:
+        """The terms (float64): L_eqns at ``x``, then the mean squared distance to ``target``
+        of each group of ``extra`` (ending at ``ends``: four sides, then the auxiliary
+        lines); their gradients into the rows of ``flat``."""
+        net = native_jet(x, extra, self.kind, self.activation, self.params)
+        return net.loss(target, ends, [1, 1, 1, 1, 2][: len(ends)], self.order)
 
 
 class _FusedEvaluation(_Evaluation):
     """The same for penalty mode with the paper's residual and no orthogonality or quality
-    term (the paper preset), without autograd: one C++ call (``NativeJet.loss``) runs the
-    networks forward, the terms' gradients and backward block by block, with the gradients
-    of L_eqns, L_bcs and L_data apart (annealing needs the first two); the loss's gradient is
-    their weighted sum. Measured per Adam epoch of the paper preset: see docs/speed.md."""
+    term (the paper preset), through :class:`_FusedLoss`; the loss's gradient is the terms'
+    weighted sum."""
 
     def __init__(self, problem: _Problem, batch: tuple) -> None:
         x, _, bx, by = batch
-        self.problem, self.grads = problem, problem.term_grads
+        self.problem, self.fused = problem, problem.fused
         side = len(bx) // 4
         ends = [side, 2 * side, 3 * side, 4 * side]
         extra, target = bx, by
         if problem.n_aux:
             extra, target = torch.cat([bx, problem.aux_x]), torch.cat([by, problem.aux_y])
             ends.append(4 * side + problem.n_aux)
-        net = problem.mapping.net.native_jet(x, extra)
-        terms = net.loss(target, ends, [1, 1, 1, 1, 2][: len(ends)], self.grads.jet_order)
+        terms = self.fused(x, extra, target, ends)
         if not problem.n_aux:
             terms = torch.cat([terms, terms.new_zeros(1)])
         eqns, *sides, data = terms.unbind()
@@ -391,11 +403,11 @@ class _FusedEvaluation(_Evaluation):
     def weight_grads(
         self, weights: Sequence[torch.Tensor]
     ) -> tuple[list[torch.Tensor], list[torch.Tensor]]:
-        eqns, bcs = self.grads.views[:2]
+        eqns, bcs = self.fused.views[:2]
         return [eqns[w] for w in weights], [bcs[w] for w in weights]
 
     def gradient(self) -> torch.Tensor:
-        eqns, bcs, data = self.grads.flat
+        eqns, bcs, data = self.fused.flat
         total = torch.add(eqns, bcs, alpha=self.lambda1)
         return (
             total.add_(data, alpha=self.problem.settings.lambda2) if self.problem.n_aux else total

@@ -786,6 +786,9 @@ int loss_any(int act, const Shape &s, const T *const *param, const T *x, const T
              const T *target, idx G, const idx *ends, const int *sets, int nsets,
              double *terms, T *const *grad) {
     if (s.K != 2) return 2;  // the Winslow residual couples exactly two outputs
+    for (idx g = 0; g < G; ++g)  // groups in order, within the value points; sets that exist
+        if (ends[g] < (g ? ends[g - 1] : 0) || ends[g] > s.E || sets[g] < 1 || sets[g] >= nsets)
+            return 3;
     return dispatch(act, s.n, [&](auto np, auto a) {
         loss_net<T, np, a>(s, param, x, ex, target, G, ends, sets, nsets, terms, grad);
     });
@@ -840,7 +843,8 @@ int net_backward_f64(int act, int gated, int threads, idx K, idx L, idx n, idx B
 
 // The paper's loss terms and their gradients (loss_net above) at the B jet points x and the
 // E value points ex with targets (E, K): terms holds 1 + G numbers, grad nsets x (parameter
-// count) pointers. Returns 0 on success, 2 unless K is 2.
+// count) pointers. Returns 0 on success, 1 if the networks are too wide, 2 unless K is 2, 3
+// if the groups do not fit the value points or name a set out of 1 .. nsets - 1.
 int net_loss_f32(int act, int gated, idx K, idx L, idx n, idx B, idx E,
                  const float *const *param, const float *x, const float *ex,
                  const float *target, idx G, const idx *ends, const int *sets, int nsets,
