@@ -206,7 +206,7 @@ class NativeJet:
         suffix = "f32" if x.dtype == torch.float32 else "f64"
         self.fwd = getattr(lib, f"net_forward_{suffix}")
         self.bwd = getattr(lib, f"net_backward_{suffix}")
-        self.fused = getattr(lib, f"net_loss_{suffix}")
+        self.loss_call = getattr(lib, f"net_loss_{suffix}")
         self.code, self.gated = self.CODES[name], int(kind == "shortcut")
         self.params = [p.detach().contiguous() for p in params]
         k, n = self.params[0].shape[0], self.params[0].shape[2]
@@ -274,7 +274,7 @@ class NativeJet:
         ``grads[0]`` and of group g's into ``grads[sets[g]]`` (each set in :meth:`backward`'s
         order; a set no term reaches gets zeros)."""
         terms = torch.zeros(1 + len(ends), dtype=torch.float64)
-        rc = self.fused(
+        rc = self.loss_call(
             self.code,
             self.gated,
             *self.dims,
