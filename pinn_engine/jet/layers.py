@@ -274,6 +274,7 @@ class NativeJet:
         ``grads[0]`` and of group g's into ``grads[sets[g]]`` (each set in :meth:`backward`'s
         order; a set no term reaches gets zeros)."""
         terms = torch.zeros(1 + len(ends), dtype=torch.float64)
+        target = target.contiguous()  # held here: the C++ call reads it
         rc = self.loss_call(
             self.code,
             self.gated,
@@ -281,7 +282,7 @@ class NativeJet:
             self.pointers(self.params),
             self.x.data_ptr(),
             self.extra.data_ptr(),
-            target.contiguous().data_ptr(),
+            target.data_ptr(),
             len(ends),
             (ctypes.c_ssize_t * len(ends))(*ends),
             (ctypes.c_int * len(sets))(*sets),
