@@ -79,19 +79,23 @@ class CoordinateNet(nn.Module):
             h = torch.addcmul(u, z, diff) if self.kind == "shortcut" else z
         return torch.baddbmm(self.b_out, h, self.w_out)[..., 0].T
 
-    def jet(
-        self, x: torch.Tensor, extra: torch.Tensor | None = None
-    ) -> tuple[torch.Tensor, torch.Tensor]:
-        """Jet (6, B, 2) at ``x`` (channels ``V..ETAETA``) and plain values (B', 2) at the
-        ``extra`` points, all in one pass."""
+    def jet_params(self) -> list[nn.Parameter]:
+        """The parameters in the jet's order: input layer, encoders, (weight, bias) of each
+        hidden layer, output layer."""
         params = [self.w_in, self.b_in]
         if self.kind == "shortcut":
             params += [self.w_u, self.b_u, self.w_v, self.b_v]
         for w, b in zip(self.w_hidden, self.b_hidden):
             params += [w, b]
-        params += [self.w_out, self.b_out]
+        return params + [self.w_out, self.b_out]
+
+    def jet(
+        self, x: torch.Tensor, extra: torch.Tensor | None = None
+    ) -> tuple[torch.Tensor, torch.Tensor]:
+        """Jet (6, B, 2) at ``x`` (channels ``V..ETAETA``) and plain values (B', 2) at the
+        ``extra`` points, all in one pass."""
         extra = x[:0] if extra is None else extra
-        return NetworkJet.apply(self.kind, self.activation, x, extra, *params)
+        return NetworkJet.apply(self.kind, self.activation, x, extra, *self.jet_params())
 
 
 def autograd_jet(net: nn.Module, x: torch.Tensor) -> torch.Tensor:

@@ -28,6 +28,7 @@ from .boundary_fit import ArcLengthFit, make_fit
 from .errors import TrainingCancelled, TrainingError
 from .geometry import SIDES, Boundary
 from .heap import reuse_freed_memory
+from .jet.layers import native_jet
 from .losses import (
     annealed_lambda,
     corner_angles,
@@ -191,6 +192,16 @@ class _Problem:
                 (nj, ni, 2),
                 1.0 if _area(base) >= 0 else -1.0,
             )
+        net, none = mapping.net, self.tensor(np.zeros((0, 2)))
+        fusable = (  # the paper preset's terms
+            penalty
+            and not self.n_wall
+            and self.lattice is None
+            and settings.residual == "paper"
+            and settings.derivatives == "jets"
+            and native_jet(none, none, net.kind, net.activation, net.jet_params()) is not None
+        )
+        self.fused = _FusedLoss(net, dtype, device) if fusable else None
 
     def tensor(self, a) -> torch.Tensor:
         return torch.as_tensor(np.asarray(a), dtype=self.dtype, device=self.device)
@@ -283,6 +294,112 @@ class _Problem:
             self.settings.lambda_orthogonal,
         )
         return loss + QUALITY_WEIGHT * terms["quality"] if "quality" in terms else loss
+
+    def evaluate(self, batch: tuple) -> _Evaluation:
+        """The loss terms at ``batch`` (from :meth:`sample` or :meth:`epoch_batch`), with
+        their gradients on demand."""
+        return (_Evaluation if self.fused is None else _FusedEvaluation)(self, batch)
+
+
+class _Evaluation:
+    """The loss terms at one batch and the gradient of the loss, through autograd's graph."""
+
+    def __init__(self, problem: _Problem, batch: tuple) -> None:
+        self.problem = problem
+        self.terms = problem.terms(*batch)
+
+    def loss(self, lambda1: float) -> torch.Tensor:
+        """The weighted loss (:meth:`_Problem.loss`); :meth:`gradient` differentiates it."""
+        self.lambda1 = lambda1
+        self.total = self.problem.loss(self.terms, lambda1)
+        return self.total
+
+    def weight_grads(
+        self, weights: Sequence[torch.Tensor]
+    ) -> tuple[list[torch.Tensor], list[torch.Tensor]]:
+        """Gradients of L_eqns and of L_bcs with respect to ``weights`` (for annealing), where
+        both reach a weight."""
+        g_eq = torch.autograd.grad(
+            self.terms["eqns"], weights, retain_graph=True, allow_unused=True
+        )
+        g_bc = torch.autograd.grad(self.terms["bcs"], weights, retain_graph=True, allow_unused=True)
+        used = [(a, b) for a, b in zip(g_eq, g_bc) if a is not None and b is not None]
+        return [a for a, _ in used], [b for _, b in used]
+
+    def gradient(self) -> torch.Tensor:
+        """The gradient of the last :meth:`loss`: one vector in net.parameters() order."""
+        params = list(self.problem.mapping.net.parameters())
+        grads = torch.autograd.grad(self.total, params, allow_unused=True)
+        return torch.cat(
+            [p.new_zeros(p.numel()) if g is None else g.reshape(-1) for p, g in zip(params, grads)]
+        )
+
+
+class _FusedLoss:
+    """The paper preset's loss in one C++ call (``NativeJet.loss``): per block of points the
+    networks' forward, the terms' gradients with respect to the jet and values, and backward,
+    without autograd. The gradients of L_eqns, L_bcs and L_data come apart (annealing needs
+    the first two): rows of ``flat``, each one vector in net.parameters() order as the
+    optimizers take it, which the C++ code writes through ``views`` (per row, each
+    parameter's slice shaped as the parameter)."""
+
+    def __init__(self, net: CoordinateNet, dtype: torch.dtype, device: torch.device) -> None:
+        params = list(net.parameters())
+        self.flat = torch.empty(3, sum(p.numel() for p in params), dtype=dtype, device=device)
+        self.views = []
+        for row in self.flat:
+            at, views = 0, {}
+            for p in params:
+                views[p] = row[at : at + p.numel()].view_as(p)
+                at += p.numel()
+            self.views.append(views)
+        self.params = net.jet_params()
+        self.order = [[views[p] for p in self.params] for views in self.views]  # C++'s order
+        self.kind, self.activation = net.kind, net.activation
+
+    def __call__(
+        self, x: torch.Tensor, extra: torch.Tensor, target: torch.Tensor, ends: list[int]
+    ) -> torch.Tensor:
+        """The terms (float64): L_eqns at ``x``, then the mean squared distance to ``target``
+        of each group of ``extra`` (ending at ``ends``: four sides, then the auxiliary
+        lines); their gradients into the rows of ``flat``."""
+        net = native_jet(x, extra, self.kind, self.activation, self.params)
+        return net.loss(target, ends, [1, 1, 1, 1, 2][: len(ends)], self.order)
+
+
+class _FusedEvaluation(_Evaluation):
+    """The same for penalty mode with the paper's residual and no orthogonality or quality
+    term (the paper preset), through :class:`_FusedLoss`; the loss's gradient is the terms'
+    weighted sum."""
+
+    def __init__(self, problem: _Problem, batch: tuple) -> None:
+        x, _, bx, by = batch
+        self.problem, self.fused = problem, problem.fused
+        n_side = len(bx) // 4
+        ends = [n_side, 2 * n_side, 3 * n_side, 4 * n_side]
+        extra, target = bx, by
+        if problem.n_aux:
+            extra, target = torch.cat([bx, problem.aux_x]), torch.cat([by, problem.aux_y])
+            ends.append(4 * n_side + problem.n_aux)
+        terms = self.fused(x, extra, target, ends)
+        if not problem.n_aux:
+            terms = torch.cat([terms, terms.new_zeros(1)])
+        eqns, *sides, data = terms.unbind()
+        self.terms = {"eqns": eqns, **{f"bcs_{side}": v for side, v in zip(SIDES, sides)}}
+        self.terms.update(bcs=terms[1:5].sum(), data=data)
+
+    def weight_grads(
+        self, weights: Sequence[torch.Tensor]
+    ) -> tuple[list[torch.Tensor], list[torch.Tensor]]:
+        eqns, bcs = self.fused.views[:2]
+        return [eqns[w] for w in weights], [bcs[w] for w in weights]
+
+    def gradient(self) -> torch.Tensor:
+        eqns, bcs, data = self.fused.flat
+        total = torch.add(eqns, bcs, alpha=self.lambda1)
+        return (
+            total.add_(data, alpha=self.problem.settings.lambda2) if self.problem.n_aux else total
+        )
 
 
 def _area(grid: np.ndarray) -> float:
@@ -589,9 +706,9 @@ def _bad(loss: float, best: float) -> bool:
 class _FlatAdam:
     """torch.optim.Adam's update (betas 0.9, 0.999, eps 1e-8; same formulas) on every
     parameter at once: during training the parameters are views of one flat vector, so a
-    step is a handful of vector operations instead of torch.optim's per-tensor bookkeeping
-    (measured 0.64 ms -> 0.1 ms per epoch with zero_grad, about a tenth of an Adam epoch).
-    ``release`` gives the parameters their own storage back."""
+    step is a handful of vector operations on the flat gradient instead of torch.optim's
+    per-tensor bookkeeping (measured 0.64 ms -> 0.1 ms per epoch with zero_grad, before the
+    gradient came flat). ``release`` gives the parameters their own storage back."""
 
     BETAS, EPS = (0.9, 0.999), 1e-8
 
@@ -607,18 +724,9 @@ class _FlatAdam:
     def reset(self) -> None:
         self.m, self.v, self.t = torch.zeros_like(self.flat), torch.zeros_like(self.flat), 0
 
-    def zero_grad(self) -> None:
-        for p in self.params:
-            p.grad = None
-
     @torch.no_grad()
-    def step(self) -> None:
-        grad = torch.cat(
-            [
-                p.grad.reshape(-1) if p.grad is not None else p.new_zeros(p.numel())
-                for p in self.params
-            ]
-        )
+    def step(self, grad: torch.Tensor) -> None:
+        """One update from the loss's gradient ``grad``, a vector in the parameters' order."""
         (b1, b2), self.t = self.BETAS, self.t + 1
         self.m.lerp_(grad, 1 - b1)
         self.v.mul_(b2).addcmul_(grad, grad, value=1 - b2)
@@ -649,16 +757,12 @@ def _adam_epochs(
     best, recoveries, steps = math.inf, 0, 0
     good_state, good_lambda1 = copy.deepcopy(net.state_dict()), lambda1
     for epoch in range(1, s.adam_epochs + 1):
-        terms = problem.terms(*problem.epoch_batch(epoch))
+        evaluation = problem.evaluate(problem.epoch_batch(epoch))
+        terms = evaluation.terms
         if s.boundary_mode == "penalty" and epoch % ANNEAL_EVERY == 1:
-            g_eq = torch.autograd.grad(terms["eqns"], weights, retain_graph=True, allow_unused=True)
-            g_bc = torch.autograd.grad(terms["bcs"], weights, retain_graph=True, allow_unused=True)
-            used = [(a, b) for a, b in zip(g_eq, g_bc) if a is not None and b is not None]
-            updated = annealed_lambda(
-                [a for a, _ in used], [b for _, b in used], lambda1, s.anneal_momentum
-            )
+            updated = annealed_lambda(*evaluation.weight_grads(weights), lambda1, s.anneal_momentum)
             lambda1 = updated if math.isfinite(updated) else lambda1
-        loss = problem.loss(terms, lambda1)
+        loss = evaluation.loss(lambda1)
         value = loss.item()
         if _bad(value, best):
             recoveries += 1
@@ -678,15 +782,12 @@ def _adam_epochs(
             best = value
             if epoch % 100 == 0:
                 good_state, good_lambda1 = copy.deepcopy(net.state_dict()), lambda1
-        opt.zero_grad()
-        loss.backward()
-        opt.step()
+        opt.step(evaluation.gradient())
         steps += 1
         if steps % s.lr_decay_every == 0:  # step decay, as torch's StepLR
             opt.lr *= s.lr_decay
         if epoch % PROGRESS_EVERY == 0 or epoch == s.adam_epochs:
             _notify(progress, "adam", epoch, s.adam_epochs, history)
-    opt.zero_grad()
     return lambda1, recoveries
 
 
@@ -720,20 +821,17 @@ def _lbfgs(
 
     def loss_and_grad(theta: np.ndarray) -> tuple[float, np.ndarray]:
         load(theta)
-        for p in params:
-            p.grad = None
-        terms = problem.terms(*batch)
-        loss = problem.loss(terms, lambda1)
+        evaluation = problem.evaluate(batch)
+        loss = evaluation.loss(lambda1)
         value = loss.item()
         calls[0] += 1
         if not math.isfinite(value):
             return math.inf, np.zeros_like(theta)
-        history.add(terms, lambda1, s.lambda2, loss)
-        loss.backward()
+        history.add(evaluation.terms, lambda1, s.lambda2, loss)
+        grad = evaluation.gradient()
         if calls[0] % 10 == 0:
             _notify(progress, "lbfgs", calls[0], s.lbfgs_iterations, history)
-        grad = [p.grad if p.grad is not None else torch.zeros_like(p) for p in params]
-        return value, torch.cat([g.flatten() for g in grad]).double().cpu().numpy()
+        return value, grad.double().cpu().numpy()
 
     def each_iteration(xk: np.ndarray) -> None:
         iterations[0] += 1
@@ -760,8 +858,7 @@ def _lbfgs(
             },
         )
     load(result.x)
-    terms = problem.terms(*batch)
-    final = problem.loss(terms, lambda1).item()
+    final = problem.evaluate(batch).loss(lambda1).item()
     if not math.isfinite(final) or final > before * EXPLODE_FACTOR:
         net.load_state_dict(start_state)
         return False, iterations[0]

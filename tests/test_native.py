@@ -122,3 +122,18 @@ def test_backward_without_a_workspace_recomputes_the_same_numbers(monkeypatch):
     monkeypatch.setattr(layers, "WORKSPACE_BYTES", 0)
     for a, b in zip(_run(net, x, extra), stored):
         torch.testing.assert_close(a, b, rtol=0, atol=0)
+
+
+@needs_compiler
+def test_the_fused_loss_refuses_groups_that_do_not_fit():
+    torch.manual_seed(7)
+    net = CoordinateNet("shortcut", 2, 5).double()
+    x, extra = torch.rand(3, 2, dtype=torch.float64), torch.rand(4, 2, dtype=torch.float64)
+    params = net.jet_params()
+    fused = layers.native_jet(x, extra, net.kind, net.activation, params)
+    grads = [[torch.empty_like(p) for p in params] for _ in range(2)]
+    target = net(extra).detach()  # the values themselves: no distance
+    assert fused.loss(target, [4], [1], grads)[1] < 1e-28
+    for ends, sets in (([5], [1]), ([3, 2], [1, 1]), ([4], [2])):
+        with pytest.raises(AssertionError, match="fused loss"):
+            fused.loss(target, ends, sets, grads)

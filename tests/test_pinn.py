@@ -15,7 +15,7 @@ from pinn_engine.mesher import Mesher
 from pinn_engine.networks import CoordinateNet, autograd_jet
 from pinn_engine.pipeline import load_aux, load_boundary
 from pinn_engine.settings import make_settings
-from pinn_engine.training import _Problem
+from pinn_engine.training import _Evaluation, _FusedEvaluation, _Problem
 
 QUICK = {"adam_epochs": 200, "lbfgs_iterations": 20}
 
@@ -245,3 +245,65 @@ def test_fast_path_residuals_and_gradients_equal_the_autograd_reference(
     torch.testing.assert_close(v_fast, v_ref, rtol=1e-12, atol=1e-14)
     for a, b in zip(g_fast, g_ref):
         torch.testing.assert_close(a, b, rtol=1e-9, atol=1e-12)
+
+
+@needs_compiler
+@pytest.mark.parametrize("dtype", [torch.float64, torch.float32])
+@pytest.mark.parametrize("with_aux", [True, False])
+@pytest.mark.parametrize("kind", ["shortcut", "mlp"])
+def test_the_fused_paper_loss_equals_the_autograd_loss_terms(fig2, kind, with_aux, dtype):
+    """The C++ loss (terms, annealing gradients, the loss's gradient) against losses.py's
+    terms through autograd, on batches that fill no C++ block evenly."""
+    boundary, aux = fig2
+    torch.manual_seed(2)
+    net = CoordinateNet(kind, 4, 30).to(dtype)
+    problem = _Problem(
+        Mapping(net, boundary, "penalty"),
+        boundary,
+        aux if with_aux else [],
+        make_settings("pinn", "paper"),
+        dtype,
+        torch.device("cpu"),
+    )
+    assert problem.fused is not None
+    batch = problem.sample(37, 23)
+    fused = problem.evaluate(batch)
+    problem.fused = None
+    plain = problem.evaluate(batch)
+    assert (type(fused), type(plain)) == (_FusedEvaluation, _Evaluation)
+    f64 = dtype == torch.float64
+    tol = {"rtol": 1e-10 if f64 else 1e-4, "atol": 0.0}
+    near = 1e-12 if f64 else 1e-5  # gradients: absolute tolerance, relative to the largest
+    assert list(fused.terms) == list(plain.terms)
+    for name, value in plain.terms.items():
+        torch.testing.assert_close(fused.terms[name], value.double(), **tol)
+    assert with_aux == (plain.terms["data"] > 0)
+    weights = net.weight_matrices()
+    for a, b in zip(fused.weight_grads(weights), plain.weight_grads(weights)):
+        for g_fused, g_plain in zip(a, b, strict=True):
+            torch.testing.assert_close(
+                g_fused, g_plain, rtol=tol["rtol"], atol=near * g_plain.abs().max()
+            )
+    torch.testing.assert_close(fused.loss(3.0), plain.loss(3.0).double(), **tol)
+    g_plain = plain.gradient()
+    torch.testing.assert_close(
+        fused.gradient(), g_plain, rtol=tol["rtol"], atol=near * g_plain.abs().max()
+    )
+
+
+def test_the_fused_loss_only_where_it_applies(fig2):
+    boundary, aux = fig2
+    net = CoordinateNet("shortcut", 2, 8).double()
+    problems = {
+        preset: _Problem(
+            Mapping(net, boundary, make_settings("pinn", preset).boundary_mode),
+            boundary,
+            aux,
+            make_settings("pinn", preset),
+            torch.float64,
+            torch.device("cpu"),
+        )
+        for preset in ("paper", "default")
+    }
+    assert (problems["paper"].fused is not None) == (native.kernels() is not None)
+    assert problems["default"].fused is None  # hard boundary, scaled residual: autograd

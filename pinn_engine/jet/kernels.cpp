@@ -1,5 +1,6 @@
 // The coordinate networks' jet (networks.py) as two C++ calls: one forward, one backward,
-// matrix products included, for both sub-networks.
+// matrix products included, for both sub-networks; and the paper's loss (Winslow, boundary
+// and data terms) with its gradients in one call (``loss_net``).
 //
 // A jet carries, per point and neuron, six channels: the value and its derivatives d_xi,
 // d_eta, d_xixi, d_xieta, d_etaeta. Jet points hold six rows each (one per channel),
@@ -21,6 +22,7 @@
 #include <cstddef>
 #include <cstring>
 #include <thread>
+#include <type_traits>
 #include <vector>
 
 namespace {
@@ -573,12 +575,36 @@ void forward_net(const Shape &s, const T *const *param, const T *x, const T *ex,
     });
 }
 
+// Writes sub-network k's gradients g into grad (the parameters' layouts, (K, rows, n)).
+template <typename T, int NP>
+void store(const Shape &s, const Grads<T> &g, idx k, T *const *grad) {
+    const idx n = s.n;
+    auto put = [&](T *dst, const std::vector<T> &src, idx rows) {  // padded -> (K, rows, n)
+        for (idx i = 0; i < rows; ++i)
+            for (idx j = 0; j < n; ++j) dst[(k * rows + i) * n + j] = src[i * NP + j];
+    };
+    int at = 0;
+    put(grad[at++], g.w_in, 2);
+    put(grad[at++], g.b_in, 1);
+    if (s.gated) {
+        put(grad[at++], g.w_u, 2);
+        put(grad[at++], g.b_u, 1);
+        put(grad[at++], g.w_v, 2);
+        put(grad[at++], g.b_v, 1);
+    }
+    for (idx l = 0; l < s.L - 1; ++l) {
+        put(grad[at++], g.w[l], n);
+        put(grad[at++], g.b[l], 1);
+    }
+    for (idx j = 0; j < n; ++j) grad[at][k * n + j] = g.w_out[j];
+    grad[at + 1][k] = g.b_out;
+}
+
 template <typename T, int NP, int A>
 void backward_net(const Shape &s, const T *const *param, const T *x, const T *ex,
                   const T *ws, const T *g_jet, const T *g_val, T *const *grad) {
     const Layout lay = ws ? Layout(s, NP) : block_layout<T>(s, NP);
-    const idx n = s.n, K = s.K;
-    each_network(K, s.threads, [&](idx k) {
+    each_network(s.K, s.threads, [&](idx k) {
         Scratch<T> sc(NP);
         const Params<T> p = load(s, NP, param, k);
         Grads<T> g(s, NP);
@@ -599,26 +625,116 @@ void backward_net(const Shape &s, const T *const *param, const T *x, const T *ex
                 }
             }
         }
-        auto put = [&](T *dst, const std::vector<T> &src, idx rows) {  // padded -> (K, rows, n)
-            for (idx i = 0; i < rows; ++i)
-                for (idx j = 0; j < n; ++j) dst[(k * rows + i) * n + j] = src[i * NP + j];
-        };
-        int at = 0;
-        put(grad[at++], g.w_in, 2);
-        put(grad[at++], g.b_in, 1);
-        if (s.gated) {
-            put(grad[at++], g.w_u, 2);
-            put(grad[at++], g.b_u, 1);
-            put(grad[at++], g.w_v, 2);
-            put(grad[at++], g.b_v, 1);
-        }
-        for (idx l = 0; l < s.L - 1; ++l) {
-            put(grad[at++], g.w[l], n);
-            put(grad[at++], g.b[l], 1);
-        }
-        for (idx j = 0; j < n; ++j) grad[at][k * n + j] = g.w_out[j];
-        grad[at + 1][k] = g.b_out;
+        store<T, NP>(s, g, k, grad);
     });
+}
+
+// ---- the paper's loss, fused -----------------------------------------------------------
+
+// The Winslow term (losses.loss_eqns, the paper's residual) at jet points [p0, p0 + P) of
+// jet (6, B, 2): returns the sum of |e|^2 there and writes dL/djet of L = mean |e|^2 into g.
+// With c = (alpha, -2 beta, gamma), e = c . (r_xixi, r_xieta, r_etaeta) and dL/de = 2 e / B:
+// dL/dr_second = c dL/de, and the first derivatives' share comes through alpha = |r_eta|^2,
+// beta = r_xi . r_eta, gamma = |r_xi|^2.
+template <typename T>
+double winslow_block(idx B, idx p0, idx P, const T *jet, T *g) {
+    const T scale = T(2) / T(B);
+    double sum = 0;
+    for (idx q = p0; q < p0 + P; ++q) {
+        const T *r[6];
+        T *gr[6];
+        for (int c = 0; c < 6; ++c) r[c] = jet + (c * B + q) * 2, gr[c] = g + (c * B + q) * 2;
+        const T alpha = r[2][0] * r[2][0] + r[2][1] * r[2][1];
+        const T beta = r[1][0] * r[2][0] + r[1][1] * r[2][1];
+        const T gamma = r[1][0] * r[1][0] + r[1][1] * r[1][1];
+        T ge[2], g_alpha = 0, g_beta = 0, g_gamma = 0;  // dL/de; dL/d(alpha, -2 beta, gamma)
+        for (int k = 0; k < 2; ++k) {
+            const T e = alpha * r[3][k] - 2 * beta * r[4][k] + gamma * r[5][k];
+            sum += double(e) * double(e);
+            ge[k] = scale * e;
+            g_alpha += ge[k] * r[3][k];
+            g_beta += ge[k] * r[4][k];
+            g_gamma += ge[k] * r[5][k];
+        }
+        for (int k = 0; k < 2; ++k) {
+            gr[0][k] = 0;
+            gr[1][k] = 2 * (g_gamma * r[1][k] - g_beta * r[2][k]);
+            gr[2][k] = 2 * (g_alpha * r[2][k] - g_beta * r[1][k]);
+            gr[3][k] = alpha * ge[k];
+            gr[4][k] = -2 * beta * ge[k];
+            gr[5][k] = gamma * ge[k];
+        }
+    }
+    return sum;
+}
+
+// A point term (losses.loss_points) at value points [p0, p0 + P) of a group of n:
+// returns the sum of |v - t|^2 there and writes dL/dv of L = mean |v - t|^2 into g (E, K).
+template <typename T>
+double points_block(idx K, idx p0, idx P, idx n, const T *val, const T *target, T *g) {
+    const T scale = T(2) / T(n);
+    double sum = 0;
+    for (idx e = p0 * K; e < (p0 + P) * K; ++e) {
+        const T d = val[e] - target[e];
+        sum += double(d) * double(d);
+        g[e] = scale * d;
+    }
+    return sum;
+}
+
+// The paper's loss terms and their gradients in one pass: per block of points, both
+// sub-networks' forward, the terms' gradients with respect to their outputs, and backward,
+// all in cache (no workspace, no second forward). Term 0 is the Winslow loss at the jet
+// points; value points come in G groups (group g ends at ends[g]), each a mean squared
+// distance to ``target`` (term 1 + g). Gradients are kept per set: the jet points' in set 0,
+// group g's in set sets[g]; grad holds nsets x (parameter count) pointers, set by set.
+template <typename T, int NP, int A>
+void loss_net(const Shape &s, const T *const *param, const T *x, const T *ex, const T *target,
+              idx G, const idx *ends, const int *sets, int nsets, double *terms,
+              T *const *grad) {
+    const Layout lay = block_layout<T>(s, NP);
+    const idx K = s.K;
+    Scratch<T> sc(NP);
+    std::vector<Params<T>> p;
+    std::vector<std::vector<T>> own(K, std::vector<T>(lay.size));
+    std::vector<std::vector<Grads<T>>> g(nsets);
+    for (idx k = 0; k < K; ++k) {
+        p.push_back(load(s, NP, param, k));
+        for (auto &set : g) set.emplace_back(s, NP);
+    }
+    std::vector<T> out(std::max(6 * s.B, s.E) * K), g_out(out.size());
+    // one block of P points from p0: forward, output gradient (returns the term's sum), backward
+    auto block = [&](bool jet, idx p0, idx P, int set, const auto &output_grad) {
+        for (idx k = 0; k < K; ++k)
+            forward_block<T, NP, A>(s, lay, p[k], sc, k, jet, p0, P, x, ex, own[k].data(), 0, 0,
+                                    out.data(), out.data());
+        const double sum = output_grad();
+        for (idx k = 0; k < K; ++k)
+            backward_block<T, NP>(s, lay, p[k], g[set][k], sc, k, jet, p0, P, x, ex,
+                                  own[k].data(), 0, 0, g_out.data(), g_out.data());
+        return sum;
+    };
+    double sum = 0;
+    for (idx p0 = 0; p0 < s.B; p0 += POINTS) {
+        const idx P = std::min(POINTS, s.B - p0);
+        sum += block(true, p0, P, 0,
+                     [&] { return winslow_block(s.B, p0, P, out.data(), g_out.data()); });
+    }
+    terms[0] = s.B ? sum / double(s.B) : 0.0;
+    for (idx grp = 0, start = 0; grp < G; start = ends[grp++]) {
+        const idx n = ends[grp] - start;
+        sum = 0;
+        for (idx p0 = start; p0 < ends[grp]; p0 += ROWS) {
+            const idx P = std::min(ROWS, ends[grp] - p0);
+            sum += block(false, p0, P, sets[grp], [&] {
+                return points_block(K, p0, P, n, out.data(), target, g_out.data());
+            });
+        }
+        terms[1 + grp] = n ? sum / double(n) : 0.0;
+    }
+    const idx count = 2 * (s.gated ? 3 : 1) + 2 * (s.L - 1) + 2;  // parameters per set
+    for (int set = 0; set < nsets; ++set)
+        for (idx k = 0; k < K; ++k) store<T, NP>(s, g[set][k], k, grad + set * count);
 }
 
 // Padded width for n neurons: the smallest of 8, 16, 32, 64 that holds them (0: too many).
@@ -628,51 +744,54 @@ inline int padded(idx n) {
     return 0;
 }
 
-template <typename T, int NP>
-void forward_act(int act, const Shape &s, const T *const *param, const T *x, const T *ex,
-                 T *ws, T *jet_out, T *val_out) {
-    switch (act) {
-        case TANH: return forward_net<T, NP, TANH>(s, param, x, ex, ws, jet_out, val_out);
-        case SIN: return forward_net<T, NP, SIN>(s, param, x, ex, ws, jet_out, val_out);
-        case SIGMOID: return forward_net<T, NP, SIGMOID>(s, param, x, ex, ws, jet_out, val_out);
-        default: return forward_net<T, NP, SWISH>(s, param, x, ex, ws, jet_out, val_out);
+// Calls f(width, activation) with the padded width for n and the activation as compile-time
+// constants (std::integral_constant); returns 1 when n is too wide for these kernels.
+template <typename F>
+int dispatch(int act, idx n, const F &f) {
+    auto with = [&](auto np) {
+        switch (act) {
+            case TANH: return f(np, std::integral_constant<int, TANH>{});
+            case SIN: return f(np, std::integral_constant<int, SIN>{});
+            case SIGMOID: return f(np, std::integral_constant<int, SIGMOID>{});
+            default: return f(np, std::integral_constant<int, SWISH>{});
+        }
+    };
+    switch (padded(n)) {
+        case 8: with(std::integral_constant<int, 8>{}); return 0;
+        case 16: with(std::integral_constant<int, 16>{}); return 0;
+        case 32: with(std::integral_constant<int, 32>{}); return 0;
+        case 64: with(std::integral_constant<int, 64>{}); return 0;
     }
+    return 1;
 }
 
 template <typename T>
 int forward_any(int act, const Shape &s, const T *const *param, const T *x, const T *ex,
                 T *ws, T *jet_out, T *val_out) {
-    switch (padded(s.n)) {
-        case 8: forward_act<T, 8>(act, s, param, x, ex, ws, jet_out, val_out); return 0;
-        case 16: forward_act<T, 16>(act, s, param, x, ex, ws, jet_out, val_out); return 0;
-        case 32: forward_act<T, 32>(act, s, param, x, ex, ws, jet_out, val_out); return 0;
-        case 64: forward_act<T, 64>(act, s, param, x, ex, ws, jet_out, val_out); return 0;
-    }
-    return 1;
-}
-
-template <typename T, int NP>
-void backward_act(int act, const Shape &s, const T *const *param, const T *x, const T *ex,
-                  const T *ws, const T *g_jet, const T *g_val, T *const *grad) {
-    switch (act) {
-        case TANH: return backward_net<T, NP, TANH>(s, param, x, ex, ws, g_jet, g_val, grad);
-        case SIN: return backward_net<T, NP, SIN>(s, param, x, ex, ws, g_jet, g_val, grad);
-        case SIGMOID:
-            return backward_net<T, NP, SIGMOID>(s, param, x, ex, ws, g_jet, g_val, grad);
-        default: return backward_net<T, NP, SWISH>(s, param, x, ex, ws, g_jet, g_val, grad);
-    }
+    return dispatch(act, s.n, [&](auto np, auto a) {
+        forward_net<T, np, a>(s, param, x, ex, ws, jet_out, val_out);
+    });
 }
 
 template <typename T>
 int backward_any(int act, const Shape &s, const T *const *param, const T *x, const T *ex,
                  const T *ws, const T *g_jet, const T *g_val, T *const *grad) {
-    switch (padded(s.n)) {
-        case 8: backward_act<T, 8>(act, s, param, x, ex, ws, g_jet, g_val, grad); return 0;
-        case 16: backward_act<T, 16>(act, s, param, x, ex, ws, g_jet, g_val, grad); return 0;
-        case 32: backward_act<T, 32>(act, s, param, x, ex, ws, g_jet, g_val, grad); return 0;
-        case 64: backward_act<T, 64>(act, s, param, x, ex, ws, g_jet, g_val, grad); return 0;
-    }
-    return 1;
+    return dispatch(act, s.n, [&](auto np, auto a) {
+        backward_net<T, np, a>(s, param, x, ex, ws, g_jet, g_val, grad);
+    });
+}
+
+template <typename T>
+int loss_any(int act, const Shape &s, const T *const *param, const T *x, const T *ex,
+             const T *target, idx G, const idx *ends, const int *sets, int nsets,
+             double *terms, T *const *grad) {
+    if (s.K != 2) return 2;  // the Winslow residual couples exactly two outputs
+    for (idx g = 0; g < G; ++g)  // groups in order, within the value points; sets that exist
+        if (ends[g] < (g ? ends[g - 1] : 0) || ends[g] > s.E || sets[g] < 1 || sets[g] >= nsets)
+            return 3;
+    return dispatch(act, s.n, [&](auto np, auto a) {
+        loss_net<T, np, a>(s, param, x, ex, target, G, ends, sets, nsets, terms, grad);
+    });
 }
 
 }  // namespace
@@ -720,6 +839,26 @@ int net_backward_f64(int act, int gated, int threads, idx K, idx L, idx n, idx B
                      double *const *grad) {
     return backward_any<double>(act, Shape{K, L, n, B, E, gated != 0, threads}, param, x, ex,
                                 ws, g_jet, g_val, grad);
+}
+
+// The paper's loss terms and their gradients (loss_net above) at the B jet points x and the
+// E value points ex with targets (E, K): terms holds 1 + G numbers, grad nsets x (parameter
+// count) pointers. Returns 0 on success, 1 if the networks are too wide, 2 unless K is 2, 3
+// if the groups do not fit the value points or name a set out of 1 .. nsets - 1.
+int net_loss_f32(int act, int gated, idx K, idx L, idx n, idx B, idx E,
+                 const float *const *param, const float *x, const float *ex,
+                 const float *target, idx G, const idx *ends, const int *sets, int nsets,
+                 double *terms, float *const *grad) {
+    return loss_any<float>(act, Shape{K, L, n, B, E, gated != 0, 1}, param, x, ex, target, G,
+                           ends, sets, nsets, terms, grad);
+}
+
+int net_loss_f64(int act, int gated, idx K, idx L, idx n, idx B, idx E,
+                 const double *const *param, const double *x, const double *ex,
+                 const double *target, idx G, const idx *ends, const int *sets, int nsets,
+                 double *terms, double *const *grad) {
+    return loss_any<double>(act, Shape{K, L, n, B, E, gated != 0, 1}, param, x, ex, target, G,
+                            ends, sets, nsets, terms, grad);
 }
 
 }  // extern "C"

@@ -8,6 +8,7 @@ kernels.cpp) where that could be built, else layer by layer as torch operations.
 from __future__ import annotations
 
 import ctypes
+from collections.abc import Sequence
 
 import torch
 
@@ -185,9 +186,10 @@ class _TorchLayers:
 WORKSPACE_BYTES = 8 << 20
 
 
-class _Native:
-    """The whole network's jet as two C++ calls (native.py, kernels.cpp): forward, and
-    backward from the workspace forward filled; matrix products included."""
+class NativeJet:
+    """The whole network's jet as C++ calls (native.py, kernels.cpp), matrix products
+    included: forward, and backward from the workspace forward filled; or the paper's loss
+    terms and their gradients in one call (:meth:`loss`)."""
 
     CODES = {"tanh": 0, "sin": 1, "sigmoid": 2, "swish": 3}
 
@@ -198,27 +200,28 @@ class _Native:
         extra: torch.Tensor,
         kind: str,
         name: str,
-        params: tuple,
+        params: Sequence[torch.Tensor],
         size: int,
     ) -> None:
         suffix = "f32" if x.dtype == torch.float32 else "f64"
         self.fwd = getattr(lib, f"net_forward_{suffix}")
         self.bwd = getattr(lib, f"net_backward_{suffix}")
+        self.loss_call = getattr(lib, f"net_loss_{suffix}")
         self.code, self.gated = self.CODES[name], int(kind == "shortcut")
         self.params = [p.detach().contiguous() for p in params]
         k, n = self.params[0].shape[0], self.params[0].shape[2]
         hidden = (len(params) - (8 if self.gated else 4)) // 2
         self.x, self.extra = x.contiguous(), extra.contiguous()
         self.dims = (k, hidden + 1, n, len(x), len(extra))
-        # a large workspace costs more memory traffic than backward recomputing it
-        self.ws = x.new_empty(k * size) if k * size * x.element_size() <= WORKSPACE_BYTES else None
+        self.size, self.ws = k * size, None
 
     @staticmethod
     def pointers(tensors) -> ctypes.Array:
         return (ctypes.c_void_p * len(tensors))(*[t.data_ptr() for t in tensors])
 
     def _inputs(self) -> tuple:
-        """The arguments both C++ calls start with: the network, its inputs, the workspace."""
+        """The arguments forward and backward start with: the network, its inputs, the
+        workspace."""
         return (
             self.code,
             self.gated,
@@ -232,6 +235,9 @@ class _Native:
 
     def forward(self) -> tuple[torch.Tensor, torch.Tensor]:
         k, _, _, b, e = self.dims
+        # a large workspace costs more memory traffic than backward recomputing it
+        if self.size * self.x.element_size() <= WORKSPACE_BYTES:
+            self.ws = self.x.new_empty(self.size)
         jet, values = self.x.new_empty(6, b, k), self.x.new_empty(e, k)
         rc = self.fwd(
             *self._inputs(),
@@ -253,15 +259,50 @@ class _Native:
         assert rc == 0, "jet kernels: unsupported width"
         return grads
 
+    def loss(
+        self,
+        target: torch.Tensor,
+        ends: Sequence[int],
+        sets: Sequence[int],
+        grads: Sequence[Sequence[torch.Tensor]],
+    ) -> torch.Tensor:
+        """The paper's loss terms and their gradients in one call, block by block, no
+        workspace (kernels.cpp ``loss_net``; K = 2 outputs): term 0 is L_eqns (the paper's
+        Winslow residual, losses.loss_eqns) at the jet points, term 1 + g the mean squared
+        distance to ``target`` (losses.loss_points) of the value points of group g (ending at
+        ``ends[g]``). Returns the 1 + G terms (float64); writes the gradients of term 0 into
+        ``grads[0]`` and of group g's into ``grads[sets[g]]`` (each set in :meth:`backward`'s
+        order; a set no term reaches gets zeros)."""
+        terms = torch.zeros(1 + len(ends), dtype=torch.float64)
+        target = target.contiguous()  # held here: the C++ call reads it
+        rc = self.loss_call(
+            self.code,
+            self.gated,
+            *self.dims,
+            self.pointers(self.params),
+            self.x.data_ptr(),
+            self.extra.data_ptr(),
+            target.data_ptr(),
+            len(ends),
+            (ctypes.c_ssize_t * len(ends))(*ends),
+            (ctypes.c_int * len(sets))(*sets),
+            len(grads),
+            terms.data_ptr(),
+            self.pointers([g for group in grads for g in group]),
+        )
+        assert rc == 0, f"jet kernels: unsupported network for the fused loss ({rc})"
+        return terms
+
 
 def _ptr(t: torch.Tensor | None) -> int | None:
     return None if t is None else t.data_ptr()
 
 
-def _native(
-    x: torch.Tensor, extra: torch.Tensor, kind: str, name: str, params: tuple
-) -> _Native | None:
-    """The C++ network on the CPU when it could be built (and the width fits), else None."""
+def native_jet(
+    x: torch.Tensor, extra: torch.Tensor, kind: str, name: str, params: Sequence[torch.Tensor]
+) -> NativeJet | None:
+    """The C++ network on the CPU when it could be built (and the width fits), else None;
+    outside autograd (gradients come in the order of ``params``)."""
     if x.device.type != "cpu" or x.dtype not in (torch.float32, torch.float64):
         return None
     lib = native.kernels()
@@ -271,7 +312,7 @@ def _native(
     size = lib.net_workspace(
         hidden + 1, params[0].shape[2], len(x), len(extra), int(kind == "shortcut")
     )
-    return None if size < 0 else _Native(lib, x, extra, kind, name, params, size)
+    return None if size < 0 else NativeJet(lib, x, extra, kind, name, params, size)
 
 
 def _input_rows(x: torch.Tensor, extra: torch.Tensor) -> torch.Tensor:
@@ -296,7 +337,7 @@ class NetworkJet(torch.autograd.Function):
     def forward(
         ctx, kind: str, name: str, x: torch.Tensor, extra: torch.Tensor, *params: torch.Tensor
     ):
-        ctx.native = _native(x, extra, kind, name, params)
+        ctx.native = native_jet(x, extra, kind, name, params)
         ctx.set_materialize_grads(False)  # an unused output's gradient comes as None
         if ctx.native is not None:
             return ctx.native.forward()

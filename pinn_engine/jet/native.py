@@ -72,6 +72,8 @@ def _bind(lib: ctypes.CDLL) -> ctypes.CDLL:
         fwd, bwd = getattr(lib, f"net_forward_{suffix}"), getattr(lib, f"net_backward_{suffix}")
         fwd.argtypes, fwd.restype = [i, i, i] + [n] * 5 + [p] * 6, i
         bwd.argtypes, bwd.restype = [i, i, i] + [n] * 5 + [p] * 7, i
+        loss = getattr(lib, f"net_loss_{suffix}")
+        loss.argtypes, loss.restype = [i, i] + [n] * 5 + [p] * 4 + [n, p, p, i, p, p], i
     return lib
 
 
