@@ -1,15 +1,23 @@
 """Wall-orthogonal grids on a lattice (SPEC 7): the start of the pinn's ``--orthogonal``.
 
-The first grid row off each orthogonal side is placed on the wall normals: each node of the
-converged elliptic grid's first row keeps its distance from the wall and loses the part of
-its offset along the wall (the wall's chord tangent, what the reported wall angle measures,
-``spacing.grid_lines_angle``). The Winslow equations are then solved inside those rows, so
-the grid is orthogonal at every node but the two nearest each corner whatever the number
-of orthogonal sides, adjacent ones included. At a sharp corner, or a wall bent within a
-cell, such rows can fold a cell; the grid is then repaired by minimising, over its interior
-nodes, the same three things the network trains on: the (linearised, scaled) Winslow
-residual, the squared cosine of the wall angles, and a barrier on nearly flat or reflex
-cell corners.
+Two candidates are made from the converged elliptic grid on the same boundary nodes, and the
+better kept (:func:`orthogonal_grid`):
+
+- *normal rows*: the first row off each orthogonal side is put on the wall normals (each
+  node keeps its distance from the wall, or takes the spacing's first edge), measured against
+  the wall's chord tangent as the reported wall angle is (``spacing.grid_lines_angle``), and
+  the Winslow equations are solved inside those rows. Orthogonal at every node but the two
+  nearest each corner, for any number of sides, adjacent ones included. Where such rows fold
+  a cell (a sharp corner, a wall bent within a cell) the grid is repaired by minimising,
+  over the interior nodes near the folds, the network's own terms: the (linearised, scaled)
+  Winslow residual, the squared cosine of the wall angles, and a barrier on nearly flat or
+  reflex cell corners;
+- *sheared*: the elliptic grid with each line leaving a side sheared along it so that it
+  leaves the wall along the normal and bends back over a third of the domain (smoother
+  lines, better cells, where it folds nothing).
+
+Neither may fold more cells than the elliptic grid; where both would, the elliptic grid is
+kept and the report says how far its lines are off 90 degrees.
 """
 
 from __future__ import annotations
