@@ -43,7 +43,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from pinn_engine import training
+from pinn_engine import quality_start
 from pinn_engine.auxlines import line_distances
 from pinn_engine.mesher import Mesher
 from pinn_engine.pipeline import load_aux, load_boundary
@@ -108,14 +108,14 @@ def run_shape(name: str, size: tuple[int, int], runs: dict = RUNS) -> list[dict]
     rows, ref, tfi = [], None, None
     for label, (method, overrides) in runs.items():
         overrides = dict(overrides)
-        node_iterations = overrides.pop("node_iterations", training.QUALITY_NODE_ITERATIONS)
+        node_iterations = overrides.pop("node_iterations", quality_start.NODE_ITERATIONS)
         start = time.perf_counter()
         settings = make_settings(method, lattice=size, **overrides)
-        saved, training.QUALITY_NODE_ITERATIONS = training.QUALITY_NODE_ITERATIONS, node_iterations
+        saved, quality_start.NODE_ITERATIONS = quality_start.NODE_ITERATIONS, node_iterations
         try:
             result = Mesher(settings).fit(boundary, aux).predict(*size)
         finally:
-            training.QUALITY_NODE_ITERATIONS = saved
+            quality_start.NODE_ITERATIONS = saved
         seconds = time.perf_counter() - start
         q = result.quality
         unit = boundary.frame.to_unit(result.points)

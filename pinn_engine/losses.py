@@ -59,6 +59,23 @@ def loss_data(pred: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
     return loss_points(pred, target)
 
 
+def nearest_on_line(points: torch.Tensor, line: torch.Tensor) -> torch.Tensor:
+    """The nearest point (B, 2) of the polyline ``line`` (m, 2) to each of ``points`` (B, 2),
+    differentiable in ``points`` (the nearest segment is chosen without gradient). The
+    auxiliary-line term of ``--objective quality`` is the squared distance to it: unlike
+    :func:`loss_data`, it lets the grid's curve through a line's (xi, eta) slide along the
+    drawn line."""
+
+    def foot(a: torch.Tensor, ab: torch.Tensor, p: torch.Tensor) -> torch.Tensor:
+        along = ((p - a) * ab).sum(dim=-1) / (ab * ab).sum(dim=-1).clamp_min(1e-300)
+        return a + along.clamp(0.0, 1.0)[..., None] * ab
+
+    a, ab = line[:-1], line[1:] - line[:-1]
+    with torch.no_grad():
+        nearest = (foot(a, ab, points[:, None]) - points[:, None]).pow(2).sum(dim=-1).argmin(1)
+    return foot(a[nearest], ab[nearest], points)
+
+
 def loss_orthogonal(leave: torch.Tensor, tangent: torch.Tensor) -> torch.Tensor:
     """Mean squared cosine of the angle between the map's derivative ``leave`` (B, 2) leaving
     a side that is to be orthogonal (SPEC 7) and the side's tangent (B, 2) there: zero where

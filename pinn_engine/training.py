@@ -42,7 +42,8 @@ from .losses import (
 from .mapping import Mapping
 from .model import TrainedModel
 from .networks import CoordinateNet
-from .quality import cell_quality, summary
+from .quality import guard_figures, orientation
+from .quality_start import Ranking, quality_start
 from .settings import Settings
 from .spacing import chord_tangents, classical_grid, side_report, working_spacing
 from .tfi import node_params, tfi_grid
@@ -62,11 +63,8 @@ GUARD_TOL = {False: (0.25, 1.0), True: (0.5, 2.0)}
 WALL_ANGLE_TOL = 1.0  # degrees off 90 that the guard allows at orthogonal sides (SPEC 7: 2)
 WALL_POINTS = 200  # points per orthogonal side in the orthogonality term (SPEC 7)
 # --objective quality: weight of the cell-quality term (losses.loss_quality) beside the Winslow
-# term; issue 14's bound on the mean MaxIncludedAngle against the elliptic grid; L-BFGS
-# iterations of the start's node optimisation (0: none, the ablation of bench_hard.py)
+# term (the objective's start and its order of grids: quality_start.py)
 QUALITY_WEIGHT = 1.0
-QUALITY_MEAN_TOL = 0.5
-QUALITY_NODE_ITERATIONS = 100
 
 
 def pick_device(name: str) -> torch.device:
@@ -190,7 +188,7 @@ class _Problem:
                 self.tensor(np.column_stack([xi.ravel(), eta.ravel()])),
                 self.tensor(base.reshape(-1, 2)),
                 (nj, ni, 2),
-                1.0 if _area(base) >= 0 else -1.0,
+                orientation(base),
             )
         net, none = mapping.net, self.tensor(np.zeros((0, 2)))
         fusable = (  # the paper preset's terms
@@ -402,18 +400,13 @@ class _FusedEvaluation(_Evaluation):
         )
 
 
-def _area(grid: np.ndarray) -> float:
-    """Sum of the signed cell areas of a grid (nj, ni, 2) (its orientation's sign)."""
-    d1, d2 = grid[1:, 1:] - grid[:-1, :-1], grid[1:, :-1] - grid[:-1, 1:]
-    return float((d1[..., 0] * d2[..., 1] - d1[..., 1] * d2[..., 0]).sum())
-
-
 class _Guard:
     """Early stopping on grid quality against the elliptic grid of the warm start.
 
-    Under ``--objective quality`` (``start`` is the start grid) a state is kept if it has
-    fewer folded cells than the kept one, or as many and a smaller worst angle, with the mean
-    within the tolerance of the elliptic grid's: the best worst angle seen. With orthogonal
+    Under ``--objective quality`` (``start`` is the start grid) a state is kept if it ranks
+    better than the kept one by ``ranking`` (quality_start.py: fewer folded cells, then closer
+    to the auxiliary lines, then a mean less above the bound, set by ``reference`` here, then
+    a smaller worst angle). With orthogonal
     ``walls`` (SPEC 7) a state is also kept only if its grid lines leave them within
     ``WALL_ANGLE_TOL`` degrees of 90, or no farther off than the reference's.
     """
@@ -427,24 +420,19 @@ class _Guard:
         start: np.ndarray | None = None,
         params: np.ndarray | None = None,
         walls: tuple[str, ...] = (),
+        ranking: Ranking | None = None,
     ) -> None:
         self.net, self.mapping, self.params = net, mapping, params  # params: spacing.py
         self.walls = walls
         self.mean_tol, self.worst_tol = GUARD_TOL[with_aux]
         self.size = reference.shape[1], reference.shape[0]
+        self.ranking = None if ranking is None else ranking.against(reference)
+        self._quality = guard_figures if ranking is None else self.ranking.quality
         self.reference = self._quality(reference)
         self.wall_tol = max(WALL_ANGLE_TOL, self._wall_angle(reference))
-        self.best_worst = start is not None
-        if self.best_worst:
-            self.mean_tol = QUALITY_MEAN_TOL
-        self.kept = self._quality(start) if self.best_worst else self.reference
+        self.kept = self.reference if ranking is None else self._quality(start)
         self.state = copy.deepcopy(net.state_dict())
         self.kept_iterations = self.rejected = 0
-
-    @staticmethod
-    def _quality(grid: np.ndarray) -> dict[str, float]:
-        q = summary(cell_quality(grid), 0.0)
-        return {k: q[k] for k in ("mean_max_angle", "worst_max_angle", "folded_cells")}
 
     def _wall_angle(self, grid: np.ndarray) -> float:
         """The largest wall-angle deviation (degrees) at the orthogonal sides."""
@@ -457,10 +445,8 @@ class _Guard:
         grid = self.mapping.grid(*self.size, params=self.params)
         q = self._quality(grid)
         ref = self.reference
-        if self.best_worst:
-            ok = q["mean_max_angle"] <= ref["mean_max_angle"] + self.mean_tol and _rank(q) < _rank(
-                self.kept
-            )
+        if self.ranking is not None:
+            ok = self.ranking.key(q) < self.ranking.key(self.kept)
         else:
             ok = (
                 q["folded_cells"] <= ref["folded_cells"]
@@ -484,95 +470,6 @@ class _Guard:
             "kept": self.kept,
             "kept_after_lbfgs_iterations": self.kept_iterations,
         }
-
-
-def _rank(q: dict[str, float]) -> tuple[int, float]:
-    """Order of grids under ``--objective quality``: fewer folded cells, then the smaller
-    worst angle (by more than 0.001 degrees)."""
-    return q["folded_cells"], round(q["worst_max_angle"], 3)
-
-
-def _quality_start(warm: WarmStart, elliptic: np.ndarray, optimize: bool = True) -> WarmStart:
-    """The start of ``--objective quality``: the best (``_rank``) of the elliptic grid, the TFI
-    grid (a polar grid on an annulus sector, say) and blends of them on the lattice, then,
-    if ``optimize``, that grid with its interior nodes moved to minimise the cell-quality term
-    the network trains on: the objective's discrete solution, as the converged elliptic grid
-    is the Winslow objective's. A grid replaces the one before only if it ranks better with
-    its mean within ``QUALITY_MEAN_TOL`` of the elliptic grid's."""
-    tfi = elliptic - warm.correction
-    bound = _Guard._quality(elliptic)["mean_max_angle"] + QUALITY_MEAN_TOL
-    best = (elliptic, _Guard._quality(elliptic), "elliptic")
-
-    def consider(grid: np.ndarray, label: str) -> None:
-        nonlocal best
-        q = _Guard._quality(grid)
-        if _rank(q) < _rank(best[1]) and q["mean_max_angle"] <= bound:
-            best = (grid, q, label)
-
-    consider(tfi, "tfi")
-    for weight in np.arange(1, 10) / 10:  # grids between the two
-        consider(elliptic + weight * (tfi - elliptic), f"{weight:.1f} tfi + elliptic")
-    if optimize and QUALITY_NODE_ITERATIONS:
-        consider(_optimize_nodes(best[0], bound, QUALITY_NODE_ITERATIONS), "optimized")
-    return WarmStart(best[0] - tfi, start=best[2])
-
-
-def _optimize_nodes(grid: np.ndarray, mean_bound: float, iterations: int) -> np.ndarray:
-    """``grid`` with its interior nodes moved to minimise ``losses.loss_quality`` (L-BFGS in
-    float64, at most ``iterations``); the boundary nodes stay. Returns the evaluated state
-    that ranks best (``_rank``, on the corner angles) with its mean largest angle within
-    ``mean_bound``: the soft maximum is a surrogate of the worst angle, not the same. Each
-    node moves in units of its shortest edge (a diagonal preconditioner: angles change with
-    a node's move relative to its cells, 100 times smaller at a notch than in the open)."""
-    from scipy.optimize import minimize
-
-    fixed = torch.as_tensor(grid, dtype=torch.float64)
-    orientation = 1.0 if _area(grid) >= 0 else -1.0
-    inner0 = fixed[1:-1, 1:-1]
-    edges = [
-        np.linalg.norm(grid[1:-1, 1:-1] - grid[a, b], axis=-1)
-        for a, b in (
-            (slice(2, None), slice(1, -1)),
-            (slice(None, -2), slice(1, -1)),
-            (slice(1, -1), slice(2, None)),
-            (slice(1, -1), slice(None, -2)),
-        )
-    ]
-    unit = torch.as_tensor(np.minimum.reduce(edges))[..., None]
-    best = [(math.inf, math.inf), np.zeros(inner0.numel())]
-
-    def loss_and_grad(x: np.ndarray) -> tuple[float, np.ndarray]:
-        u = torch.from_numpy(x).view(inner0.shape).requires_grad_(True)
-        inner = inner0 + unit * u
-        g = torch.cat(
-            [fixed[:1], torch.cat([fixed[1:-1, :1], inner, fixed[1:-1, -1:]], dim=1), fixed[-1:]]
-        )
-        theta = corner_angles(g, orientation)
-        loss = loss_quality(theta)
-        loss.backward()
-        with torch.no_grad():
-            largest = torch.rad2deg(theta.max(dim=0).values)
-            rank = (int((largest > 180.0).sum()), round(float(largest.max()), 3))
-            if rank < best[0] and float(largest.mean()) <= mean_bound:
-                best[:] = rank, x.copy()
-        return loss.item(), u.grad.numpy().ravel()
-
-    minimize(
-        loss_and_grad,
-        np.zeros(inner0.numel()),
-        jac=True,
-        method="L-BFGS-B",
-        options={
-            "maxiter": iterations,
-            "maxcor": 10,
-            "maxfun": 3 * iterations,
-            "ftol": 1e-15,
-            "gtol": 1e-12,
-        },
-    )
-    out = np.array(grid, dtype=float)
-    out[1:-1, 1:-1] += (unit * torch.from_numpy(best[1]).view(inner0.shape)).numpy()
-    return out
 
 
 class _History:
@@ -610,11 +507,14 @@ def _notify(progress, phase: str, step: int, total_steps: int, history: _History
         raise TrainingCancelled(f"training cancelled during {phase} at step {step}")
 
 
-def _warm_start(boundary: Boundary, settings: Settings, lattice: tuple[int, int]) -> tuple:
+def _warm_start(
+    boundary: Boundary, settings: Settings, lattice: tuple[int, int], aux: Sequence[AuxLine]
+) -> tuple:
     """(warm start, the guard's reference grid, the quality objective's start grid or None,
-    the lattice's node parameters or None) on ``lattice``. The reference is the converged
-    elliptic grid, under the spacing if one is set (its node parameters, spacing.py), or
-    the orthogonal start grid itself under ``--orthogonal`` (orthogonal.py)."""
+    the lattice's node parameters or None, the quality objective's ranking of grids or None)
+    on ``lattice``. The reference is the converged elliptic grid, under the spacing if one is
+    set (its node parameters, spacing.py), or the orthogonal start grid itself under
+    ``--orthogonal`` (orthogonal.py)."""
     spacing = working_spacing(settings.spacing, boundary) if settings.spacing else {}
     params = reference = None
     if spacing:
@@ -625,14 +525,16 @@ def _warm_start(boundary: Boundary, settings: Settings, lattice: tuple[int, int]
             boundary, *lattice, settings.orthogonal, params, heights
         )
         lattice_params = None if warm.nodes is None else np.stack(np.meshgrid(*warm.nodes), -1)
-        return warm, reference, None, lattice_params
+        return warm, reference, None, lattice_params, None
     warm, elliptic = WarmStart.elliptic(boundary, *lattice)
-    start = None
+    start = ranking = None
     if settings.objective == "quality" and settings.method == "pinn":
         tfi = elliptic - warm.correction  # the TFI base plus the new start's correction
-        warm = _quality_start(warm, elliptic)
+        ranking = Ranking.of(elliptic, aux, boundary.diagonal)
+        with one_blas_thread():  # its L-BFGS, as _lbfgs's
+            warm = quality_start(warm, elliptic, ranking)
         start = tfi + warm.correction
-    return warm, elliptic if reference is None else reference, start, params
+    return warm, elliptic if reference is None else reference, start, params, ranking
 
 
 def train(
@@ -656,10 +558,12 @@ def train(
                 kind, settings.hidden_layers, settings.neurons, settings.activation
             ).to(device=device, dtype=dtype)
             aux = aux if settings.method == "pinn" else ()
-            warm = reference = start = params = None
+            warm = reference = start = params = ranking = None
             if settings.warm_start == "elliptic":
                 lattice = lattice_for(*settings.lattice)
-                warm, reference, start, params = _warm_start(boundary, settings, lattice)
+                warm, reference, start, params, ranking = _warm_start(
+                    boundary, settings, lattice, aux
+                )
                 with torch.no_grad():  # the map starts as the warm start's grid
                     net.w_out.zero_()
             mapping = Mapping(net, boundary, settings.boundary_mode, warm)
@@ -668,7 +572,16 @@ def train(
             guard = (
                 None
                 if reference is None
-                else _Guard(net, mapping, reference, bool(aux), start, params, settings.orthogonal)
+                else _Guard(
+                    net,
+                    mapping,
+                    reference,
+                    bool(aux),
+                    start,
+                    params,
+                    settings.orthogonal,
+                    ranking,
+                )
             )
             history = _History()
             lambda1 = 1.0 if settings.boundary_mode == "penalty" else 0.0
