@@ -17,11 +17,12 @@ import numpy as np
 import scipy.sparse as sp
 import torch
 from scipy.optimize import minimize
-from scipy.sparse.linalg import splu
+from scipy.sparse.linalg import splu, spsolve
 
 from .auxlines import AuxLine, line_distances
+from .elliptic import stencil_matrix
 from .losses import corner_angles, loss_quality, nearest_on_line
-from .quality import guard_figures, orientation, shortest_edges
+from .quality import folded_cells, guard_figures, orientation, shortest_edges
 from .warmstart import WarmStart
 
 MEAN_TOL = 0.5  # issue 14's bound on the mean MaxIncludedAngle against the elliptic grid
@@ -29,10 +30,12 @@ NODE_ITERATIONS = 100  # L-BFGS iterations of the node optimisation (0: none, an
 # A grid follows the auxiliary lines when it misses them by at most LINE_TOL (of the
 # diagonal) more than the boundary nodes fix; the line term's weight in the node optimisation
 # (squared distance in units of the lattice's median shortest edge)
-LINE_TOL = 1e-5
-LINE_WEIGHT = 10.0
+LINE_TOL = 1e-4
+LINE_WEIGHT = 100.0
 PULL_ROUNDS = 15  # rounds of pull_onto_lines at most
 PULL_WEIGHT = 1e5  # of the lines against the smoothness of the pull's moves (more: folds)
+RELAX_ITERATIONS = 10  # Winslow iterations of relax_on_lines
+RELAX_WEIGHT = 10.0  # of the lines against the Winslow equations there (more: folds)
 
 
 @dataclass(frozen=True)
@@ -71,16 +74,28 @@ class Ranking:
             q["aux_distance"] = max(line_distances(grid, list(self.lines), self.diagonal).values())
         return q
 
+    def holding(self, grid: np.ndarray) -> Ranking:
+        """This ranking with the lines' tolerance no more than ``grid``'s distance from them:
+        a grid further from them than ``grid`` ranks below it."""
+        if not self.lines:
+            return self
+        return replace(self, line_tol=min(self.line_tol, self.quality(grid)["aux_distance"]))
+
     def key(self, q: dict[str, float]) -> tuple[int, float, float, float]:
         """Fewer folded cells, then a smaller distance from the lines beyond ``line_tol``
-        (to 1e-5 of the diagonal), then a mean less above the bound (to 0.01 degrees), then
-        a smaller worst angle (to 0.001 degrees)."""
+        (in steps of 1e-5 of the diagonal), then a mean less above the bound (in steps of
+        0.01 degrees), then a smaller worst angle (to 0.001 degrees)."""
         return (
             q["folded_cells"],
-            round(max(0.0, q.get("aux_distance", 0.0) - self.line_tol), 5),
-            round(max(0.0, q["mean_max_angle"] - self.mean_bound), 2),
+            _steps_above(q.get("aux_distance", 0.0), self.line_tol, 1e-5),
+            _steps_above(q["mean_max_angle"], self.mean_bound, 0.01),
             round(q["worst_max_angle"], 3),
         )
+
+
+def _steps_above(value: float, bound: float, step: float) -> float:
+    """How far ``value`` is above ``bound``, rounded up to whole ``step`` (0 at or below)."""
+    return math.ceil(max(0.0, value - bound) / step - 1e-9) * step
 
 
 def quality_start(warm: WarmStart, elliptic: np.ndarray, ranking: Ranking) -> WarmStart:
@@ -172,6 +187,13 @@ def _interior(ni: int, nj: int) -> np.ndarray:
     return (np.arange(1, nj - 1)[:, None] * ni + np.arange(1, ni - 1)).ravel()
 
 
+def follow_lines(grid: np.ndarray, ranking: Ranking) -> np.ndarray:
+    """``grid`` moved onto the auxiliary lines: pulled (:func:`pull_onto_lines`), relaxed as
+    an elliptic grid that keeps to them (:func:`relax_on_lines`), pulled again."""
+    pulled = pull_onto_lines(grid, ranking)
+    return pull_onto_lines(relax_on_lines(pulled, ranking), ranking)
+
+
 def pull_onto_lines(grid: np.ndarray, ranking: Ranking) -> np.ndarray:
     """``grid`` with its interior nodes slid within it towards following the auxiliary lines,
     in up to ``PULL_ROUNDS`` rounds (:func:`_pull_round`) while it is further from them than
@@ -217,8 +239,7 @@ def _pull_round(grid: np.ndarray, curves: list, smoothest, step: float) -> np.nd
     misses = []
     for samples, xy in curves:
         at = samples.at(grid)
-        foot = nearest_on_line(torch.from_numpy(at), torch.from_numpy(xy)).numpy()
-        misses.append(_inverse_times(samples.jacobian(grid), foot - at))
+        misses.append(_inverse_times(samples.jacobian(grid), _nearest(at, xy) - at))
     params = np.stack(np.meshgrid(np.linspace(0, 1, ni), np.linspace(0, 1, nj)), axis=-1)
     params = params.reshape(-1, 2)
     inner = _interior(ni, nj)
@@ -226,17 +247,47 @@ def _pull_round(grid: np.ndarray, curves: list, smoothest, step: float) -> np.nd
     return _Samples(params, ni, nj).at(grid).reshape(grid.shape)
 
 
+def relax_on_lines(grid: np.ndarray, ranking: Ranking) -> np.ndarray:
+    """``grid`` after ``RELAX_ITERATIONS`` Picard iterations of the Winslow equations (the
+    coefficients frozen at each, ``elliptic.stencil_matrix``) with the grid's curves through
+    the auxiliary lines held at their nearest points on the drawn lines by a penalty
+    (``RELAX_WEIGHT`` times the equations' median diagonal): the elliptic grid that follows
+    the lines, which the pull only approaches (it shears cells where lines move far, and the
+    node optimisation does not undo that: the mean angle rises). ``grid`` itself if that
+    folds more cells."""
+    nj, ni = grid.shape[:2]
+    curves = [(_Samples(a.xi_eta, ni, nj), a.xy) for a in ranking.lines]
+    picks = sp.vstack([s.matrix() for s, _ in curves]).tocsr()
+    inner = _interior(ni, nj)
+    inside = picks[:, inner]
+    g = grid.reshape(-1, 2).copy()
+    fixed = picks @ g - inside @ g[inner]  # the samples' part from the boundary nodes
+    for _ in range(RELAX_ITERATIONS):
+        mat, rhs = stencil_matrix(g.reshape(grid.shape))
+        weight = RELAX_WEIGHT * float(np.median(-mat.diagonal()))
+        targets = np.concatenate([_nearest(s.at(g), xy) for s, xy in curves])
+        system = (weight * inside.T @ inside - mat).tocsc()
+        g[inner] = spsolve(system, weight * inside.T @ (targets - fixed) - rhs)
+    relaxed = g.reshape(grid.shape)
+    return relaxed if folded_cells(relaxed).sum() <= folded_cells(grid).sum() else grid
+
+
+def _nearest(points: np.ndarray, line: np.ndarray) -> np.ndarray:
+    """``losses.nearest_on_line`` on arrays."""
+    return nearest_on_line(torch.from_numpy(points), torch.from_numpy(line)).numpy()
+
+
 def optimize_nodes(grid: np.ndarray, ranking: Ranking, iterations: int) -> np.ndarray:
     """``grid`` with its interior nodes moved to minimise ``losses.loss_quality`` (L-BFGS in
-    float64, at most ``iterations``), with auxiliary lines from the grid pulled onto them
-    (:func:`pull_onto_lines`) and plus ``LINE_WEIGHT`` times the line term
+    float64, at most ``iterations``), with auxiliary lines from the grid moved onto them
+    (:func:`follow_lines`) and plus ``LINE_WEIGHT`` times the line term
     (:func:`_line_term`); the boundary nodes stay. Returns the evaluated state that ranks
     best (``ranking``, on the corner angles): the soft maximum is a surrogate of the worst
     angle, not the same. Each node moves in units of its shortest edge (a diagonal
     preconditioner: angles change with a node's move relative to its cells, 100 times
     smaller at a notch than in the open)."""
     if ranking.lines:
-        grid = pull_onto_lines(grid, ranking)
+        grid = follow_lines(grid, ranking)
     fixed = torch.as_tensor(grid, dtype=torch.float64)
     turn = orientation(grid)
     inner0 = fixed[1:-1, 1:-1]

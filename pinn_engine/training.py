@@ -405,8 +405,8 @@ class _Guard:
 
     Under ``--objective quality`` (``start`` is the start grid) a state is kept if it ranks
     better than the kept one by ``ranking`` (quality_start.py: fewer folded cells, then closer
-    to the auxiliary lines, then a mean less above the bound, set by ``reference`` here, then
-    a smaller worst angle). With orthogonal
+    to the auxiliary lines, and never further from them than ``start``, then a mean less
+    above the bound, set by ``reference`` here, then a smaller worst angle). With orthogonal
     ``walls`` (SPEC 7) a state is also kept only if its grid lines leave them within
     ``WALL_ANGLE_TOL`` degrees of 90, or no farther off than the reference's.
     """
@@ -426,7 +426,7 @@ class _Guard:
         self.walls = walls
         self.mean_tol, self.worst_tol = GUARD_TOL[with_aux]
         self.size = reference.shape[1], reference.shape[0]
-        self.ranking = None if ranking is None else ranking.against(reference)
+        self.ranking = None if ranking is None else ranking.against(reference).holding(start)
         self._quality = guard_figures if ranking is None else self.ranking.quality
         self.reference = self._quality(reference)
         self.wall_tol = max(WALL_ANGLE_TOL, self._wall_angle(reference))
