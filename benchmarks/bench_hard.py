@@ -24,7 +24,10 @@ the quality term from the best of the elliptic grid, TFI and their blends), and 
 issue 14's item 3 on each pinn grid: no folded cell, mean <= elliptic + 0.5, worst <= TFI's
 worst + 0.5, and worst below the elliptic grid's or at the floor the boundary nodes fix
 (``quality.angle_floor``: the largest angle at a domain corner, or half the largest interior
-angle at another boundary node). Writes ``<out>_quality.md`` instead of the main table.
+angle at another boundary node). It also runs the example shapes with auxiliary lines outside
+the hard set (``AUX_EXAMPLES``) and tabulates, for every shape with auxiliary lines, the
+distance of the grid line through them from the drawn lines under each objective. Writes
+``<out>_quality.md`` instead of the main table.
 
 The speed section times, on ``bump`` with its auxiliary line at 41 x 21: the ``pinn-mesh``
 command with the default settings (a fresh process, start to written grid), the paper preset
@@ -52,6 +55,7 @@ from pinn_engine.settings import make_settings
 
 ROOT = Path(__file__).resolve().parents[1]
 HARD = ROOT / "example_data" / "hard"
+AUX_EXAMPLES = ("concave", "fig2", "wavy")  # in example_data/, with <name>_aux.vtp
 RUNS = {method: (method, {}) for method in ("tfi", "elliptic", "mgnet", "pinn")}
 VARIANTS = {
     "elliptic": ("elliptic", {}),
@@ -75,9 +79,9 @@ def shapes() -> list[str]:
     return sorted(p.stem for p in HARD.glob("*.vtp") if not p.stem.endswith("_aux"))
 
 
-def inputs(name: str):
-    boundary = load_boundary(HARD / f"{name}.vtp")
-    aux_file = HARD / f"{name}_aux.vtp"
+def inputs(name: str, folder: Path = HARD):
+    boundary = load_boundary(folder / f"{name}.vtp")
+    aux_file = folder / f"{name}_aux.vtp"
     return boundary, load_aux([aux_file], boundary) if aux_file.exists() else []
 
 
@@ -103,8 +107,10 @@ def item3(q: dict, ell: dict, tfi: dict, floor: float) -> bool:
     )
 
 
-def run_shape(name: str, size: tuple[int, int], runs: dict = RUNS) -> list[dict]:
-    boundary, aux = inputs(name)
+def run_shape(
+    name: str, size: tuple[int, int], runs: dict = RUNS, folder: Path = HARD
+) -> list[dict]:
+    boundary, aux = inputs(name, folder)
     rows, ref, tfi = [], None, None
     for label, (method, overrides) in runs.items():
         overrides = dict(overrides)
@@ -121,6 +127,7 @@ def run_shape(name: str, size: tuple[int, int], runs: dict = RUNS) -> list[dict]
         unit = boundary.frame.to_unit(result.points)
         row = {
             "shape": name,
+            "hard": folder == HARD,
             "size": list(size),
             "method": label,
             "seconds": seconds,
@@ -258,12 +265,29 @@ def markdown(rows: list[dict], fast: dict | None, variants: bool) -> str:
 
 
 def markdown_quality(rows: list[dict]) -> str:
-    """The table of ``--objective``: one row per shape and size, both pinn objectives against
-    TFI, the elliptic grid and the floor."""
+    """The page of ``--objective``: the hard shapes' table (both pinn objectives against TFI,
+    the elliptic grid and the floor), then the auxiliary lines' table."""
     runs: dict[tuple, dict] = {}
     for r in rows:
         runs.setdefault((r["shape"], tuple(r["size"])), {})[r["method"]] = r
-    pinn = [r for r in rows if "item3" in r]
+    hard = {k: r for k, r in runs.items() if r["tfi"]["hard"]}
+    with_aux = {k: r for k, r in runs.items() if r["tfi"]["aux_distance"] is not None}
+    return "\n".join(_quality_table(hard) + [""] + _aux_table(with_aux)) + "\n"
+
+
+def _cell(r: dict, extra: bool = True) -> str:
+    """Mean / worst MaxIncludedAngle, with folded cells and seconds (or folded cells if any)."""
+    text = f"{r['mean_max_angle']:.2f} / {r['worst_max_angle']:.2f}"
+    return text + (
+        f", {r['folded_cells']} folded, {r['seconds']:.1f} s"
+        if extra
+        else (f", {r['folded_cells']} folded" if r["folded_cells"] else "")
+    )
+
+
+def _quality_table(runs: dict[tuple, dict]) -> list[str]:
+    """Issue 14's item 3 on the hard shapes: one row per shape and size."""
+    pinn = [r[m] for r in runs.values() for m in QUALITY_RUNS]
     count = {
         m: (sum(r["item3"] for r in pinn if r["method"] == m), sum(r["method"] == m for r in pinn))
         for m in QUALITY_RUNS
@@ -292,24 +316,49 @@ def markdown_quality(rows: list[dict]) -> str:
         "quality, network only | item 3 (winslow / quality / network only) |",
         "|" + "---|" * 9,
     ]
-
-    def cell(r: dict, extra: bool = True) -> str:
-        text = f"{r['mean_max_angle']:.2f} / {r['worst_max_angle']:.2f}"
-        return text + (
-            f", {r['folded_cells']} folded, {r['seconds']:.1f} s"
-            if extra
-            else (f", {r['folded_cells']} folded" if r["folded_cells"] else "")
-        )
-
     for (shape, size), r in runs.items():
         marks = " / ".join({True: "holds", False: "**fails**"}[r[m]["item3"]] for m in QUALITY_RUNS)
         lines.append(
             f"| {shape} | {size[0]} x {size[1]} | {r['tfi']['floor']:.2f} | "
-            f"{cell(r['tfi'], False)} | {cell(r['elliptic'], False)} | "
-            + " | ".join(cell(r[m]) for m in QUALITY_RUNS)
+            f"{_cell(r['tfi'], False)} | {_cell(r['elliptic'], False)} | "
+            + " | ".join(_cell(r[m]) for m in QUALITY_RUNS)
             + f" | {marks} |"
         )
-    return "\n".join(lines) + "\n"
+    return lines
+
+
+def _aux_table(runs: dict[tuple, dict]) -> list[str]:
+    """How far each objective's grid follows the auxiliary lines, on every shape with them."""
+    followed = sum(
+        r["pinn, quality"]["aux_distance"] <= r["pinn"]["aux_distance"] for r in runs.values()
+    )
+    lines = [
+        "## Auxiliary lines",
+        "",
+        "The shapes of `example_data/hard/` with auxiliary lines and the examples "
+        f"{', '.join(f'`{n}`' for n in AUX_EXAMPLES)} of `example_data/` (with their "
+        "`_aux.vtp`). The distance is the largest distance of the grid line through an "
+        "auxiliary line's (xi, eta) from the drawn line, relative to the diagonal "
+        "(`auxlines.line_distances`, the report's `aux_line_distance`); it is never below "
+        "what the boundary nodes fix where the line meets the boundary. Then mean / worst "
+        "`MaxIncludedAngle`, folded cells and seconds of the two objectives.",
+        "",
+        f"**The quality objective's grid follows the lines at least as closely as winslow's on "
+        f"{followed} of {len(runs)} grids.**",
+        "",
+        "| shape | size | distance: tfi / elliptic / winslow / quality / network only | "
+        "pinn, winslow | pinn, quality |",
+        "|" + "---|" * 5,
+    ]
+    for (shape, size), r in runs.items():
+        distances = " / ".join(
+            f"{r[m]['aux_distance']:.5f}" for m in ("tfi", "elliptic", *QUALITY_RUNS)
+        )
+        lines.append(
+            f"| {shape} | {size[0]} x {size[1]} | {distances} | {_cell(r['pinn'])} | "
+            f"{_cell(r['pinn, quality'])} |"
+        )
+    return lines
 
 
 def main() -> None:
@@ -339,6 +388,13 @@ def main() -> None:
         for size in sizes
         for row in run_shape(name, size, runs)
     ]
+    if args.objective and not args.shapes:
+        rows += [
+            row
+            for name in AUX_EXAMPLES
+            for size in sizes
+            for row in run_shape(name, size, runs, ROOT / "example_data")
+        ]
     neural = [r for r in rows if "within_bounds" in r]
     print(
         f"\n{sum(r['within_bounds'] for r in neural)} of {len(neural)} neural grids within "
