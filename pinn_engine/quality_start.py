@@ -241,10 +241,11 @@ def _pull_round(grid: np.ndarray, curves: list, smoothest, step: float) -> np.nd
         at = samples.at(grid)
         misses.append(_inverse_times(samples.jacobian(grid), _nearest(at, xy) - at))
     params = np.stack(np.meshgrid(np.linspace(0, 1, ni), np.linspace(0, 1, nj)), axis=-1)
-    params = params.reshape(-1, 2)
     inner = _interior(ni, nj)
-    params[inner] = np.clip(params[inner] + step * smoothest(np.concatenate(misses)), 0.0, 1.0)
-    return _Samples(params, ni, nj).at(grid).reshape(grid.shape)
+    params = np.clip(params.reshape(-1, 2)[inner] + step * smoothest(np.concatenate(misses)), 0, 1)
+    out = grid.reshape(-1, 2).copy()
+    out[inner] = _Samples(params, ni, nj).at(grid)
+    return out.reshape(grid.shape)
 
 
 def relax_on_lines(grid: np.ndarray, ranking: Ranking) -> np.ndarray:

@@ -12,12 +12,14 @@ from conftest import EXAMPLES, square_ring
 from pinn_engine.algorithm import PinnMeshAlgorithm
 from pinn_engine.boundary_fit import ArcLengthFit
 from pinn_engine.cli import main
-from pinn_engine.losses import corner_angles, loss_quality
+from pinn_engine.losses import corner_angles, loss_quality, nearest_on_line
 from pinn_engine.mesher import Mesher
 from pinn_engine.pipeline import load_aux, load_boundary
-from pinn_engine.quality import angle_floor
+from pinn_engine.quality import angle_floor, folded_cells
+from pinn_engine.quality_start import Ranking, follow_lines
 from pinn_engine.settings import make_settings
 from pinn_engine.tfi import tfi_grid
+from pinn_engine.warmstart import WarmStart
 
 HARD = EXAMPLES / "hard"
 
@@ -40,6 +42,74 @@ def test_quality_objective_beats_the_elliptic_grid_on_a_deep_notch():
     assert q["mean_max_angle"] <= e["mean_max_angle"] + 0.5
     assert q["boundary_deviation"] < 1e-12
     assert result.report["training"]["start"].startswith("optimized")
+
+
+def test_quality_objective_follows_an_auxiliary_line():
+    """On the bump (41 x 21), whose auxiliary line the elliptic grid misses by 0.04 of the
+    diagonal: the quality objective's grid line through it is on the drawn line (closer than
+    winslow's), and the grid keeps issue 14's item 3 against the elliptic and TFI grids."""
+    boundary = load_boundary(HARD / "bump.vtp")
+    aux = load_aux([HARD / "bump_aux.vtp"], boundary)
+    fits = {
+        objective: Mesher(make_settings("pinn", objective=objective)).fit(boundary, aux)
+        for objective in ("winslow", "quality")
+    }
+    winslow, quality = (fits[o].predict(41, 21) for o in ("winslow", "quality"))
+    distance = {
+        name: max(r.report["aux_line_distance"].values())
+        for name, r in (("winslow", winslow), ("quality", quality))
+    }
+    assert distance["quality"] <= min(distance["winslow"], 1e-3)
+    ell = Mesher(make_settings("elliptic")).fit(boundary).predict(41, 21).quality
+    tfi = Mesher(make_settings("tfi")).fit(boundary).predict(41, 21).quality
+    q = quality.quality
+    assert q["folded_cells"] == 0
+    assert q["worst_max_angle"] < ell["worst_max_angle"]
+    assert q["worst_max_angle"] <= tfi["worst_max_angle"] + 0.5
+    assert q["mean_max_angle"] <= ell["mean_max_angle"] + 0.5
+
+
+def test_follow_lines_moves_the_elliptic_grid_onto_crossing_lines():
+    """The start's move onto the lines (pull, elliptic relaxation on them, pull) on fig2's two
+    crossing lines, which the elliptic grid misses by 0.05 of the diagonal: within 0.002,
+    nothing folded, boundary nodes unmoved."""
+    boundary = load_boundary(EXAMPLES / "fig2.vtp")
+    aux = load_aux([EXAMPLES / "fig2_aux.vtp"], boundary)
+    _, elliptic = WarmStart.elliptic(boundary, 41, 21)
+    ranking = Ranking.of(elliptic, aux, boundary.diagonal)
+    moved = follow_lines(elliptic, ranking)
+    assert ranking.quality(elliptic)["aux_distance"] > 0.04
+    assert ranking.quality(moved)["aux_distance"] < 2e-3
+    assert not folded_cells(moved).any()
+    ring = np.ones(elliptic.shape[:2], dtype=bool)
+    ring[1:-1, 1:-1] = False
+    assert np.array_equal(moved[ring], elliptic[ring])
+    held = ranking.holding(moved)  # training's guard: never further from the lines
+    assert held.key(held.quality(moved))[1] == 0 < held.key(held.quality(elliptic))[1]
+
+
+def test_ranking_of_grids_under_the_quality_objective():
+    ranking = Ranking(mean_bound=100.0, line_tol=1e-3)
+
+    def key(folded=0, distance=0.0, mean=99.0, worst=150.0):
+        q = {"folded_cells": folded, "mean_max_angle": mean, "worst_max_angle": worst}
+        return ranking.key({**q, "aux_distance": distance})
+
+    assert key(folded=0, distance=0.5) < key(folded=1)  # folds first
+    assert key(distance=2e-3, mean=101.0) < key(distance=3e-3)  # then the lines
+    assert key(distance=1e-3, worst=150.0) == key(distance=0.0, worst=150.0)  # within the tol
+    assert key(mean=100.0, worst=170.0) < key(mean=100.001, worst=120.0)  # then the mean
+    assert key(worst=140.0) < key(worst=150.0)  # then the worst angle
+
+
+def test_nearest_on_line():
+    line = torch.tensor([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]], dtype=torch.float64)
+    points = torch.tensor([[0.5, 0.3], [1.4, 0.6], [-1.0, -1.0]], dtype=torch.float64)
+    points.requires_grad_(True)
+    foot = nearest_on_line(points, line)
+    assert torch.allclose(foot, torch.tensor([[0.5, 0.0], [1.0, 0.6], [0.0, 0.0]]).double())
+    (foot - points).pow(2).sum().backward()  # the squared distance's gradient: 2 (p - foot)
+    assert torch.allclose(points.grad, 2 * (points - foot).detach())
 
 
 def test_corner_angles_and_the_quality_term():
