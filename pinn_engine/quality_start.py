@@ -1,10 +1,11 @@
 """The start of ``--objective quality`` (docs/quality_objective.md): the cell-quality
 objective's discrete solution on the lattice, following the auxiliary lines.
 
-Grids on the lattice are ranked (:class:`Ranking`) by folded cells, then by how far they miss
-the auxiliary lines (beyond what the boundary nodes fix), then by how far their mean
-``MaxIncludedAngle`` is above the converged elliptic grid's plus ``MEAN_TOL``, then by the
-worst ``MaxIncludedAngle``.
+Grids on the lattice are ranked (:class:`Ranking`) by how far their mean ``MaxIncludedAngle``
+is above that of the converged elliptic grid (or, with auxiliary lines, of the elliptic grid
+moved onto them, if larger) plus ``MEAN_TOL``, then by folded cells, then by how far they miss
+the auxiliary lines (beyond what the boundary nodes fix), then by the worst
+``MaxIncludedAngle``.
 """
 
 from __future__ import annotations
@@ -60,14 +61,16 @@ class Ranking:
         ]
         ends = [e for e in ends if len(e.xi_eta)]
         floor = max(line_distances(elliptic, ends, diagonal).values(), default=0.0)
-        return cls(0.0, tuple(aux), diagonal, floor + LINE_TOL).against(elliptic)
+        return cls(-math.inf, tuple(aux), diagonal, floor + LINE_TOL).against(elliptic)
 
     def against(self, elliptic: np.ndarray) -> Ranking:
-        """This ranking with the mean bound of another elliptic grid."""
-        return replace(self, mean_bound=guard_figures(elliptic)["mean_max_angle"] + MEAN_TOL)
+        """This ranking with the mean bound raised to ``MEAN_TOL`` above another elliptic
+        grid's mean, if that is higher."""
+        bound = guard_figures(elliptic)["mean_max_angle"] + MEAN_TOL
+        return replace(self, mean_bound=max(self.mean_bound, bound))
 
     def quality(self, grid: np.ndarray) -> dict[str, float]:
-        """:func:`grid_quality`, and with lines the largest distance of the grid's curves
+        """:func:`quality.guard_figures`, and with lines the largest distance of the grid's curves
         through them from the drawn lines (``auxlines.line_distances``)."""
         q = guard_figures(grid)
         if self.lines:
@@ -81,14 +84,14 @@ class Ranking:
             return self
         return replace(self, line_tol=min(self.line_tol, self.quality(grid)["aux_distance"]))
 
-    def key(self, q: dict[str, float]) -> tuple[int, float, float, float]:
-        """Fewer folded cells, then a smaller distance from the lines beyond ``line_tol``
-        (in steps of 1e-5 of the diagonal), then a mean less above the bound (in steps of
-        0.01 degrees), then a smaller worst angle (to 0.001 degrees)."""
+    def key(self, q: dict[str, float]) -> tuple[float, int, float, float]:
+        """A mean less above the bound (in steps of 0.01 degrees), then fewer folded cells,
+        then a smaller distance from the lines beyond ``line_tol`` (in steps of 1e-5 of the
+        diagonal), then a smaller worst angle (to 0.001 degrees)."""
         return (
+            _steps_above(q["mean_max_angle"], self.mean_bound, 0.01),
             q["folded_cells"],
             _steps_above(q.get("aux_distance", 0.0), self.line_tol, 1e-5),
-            _steps_above(q["mean_max_angle"], self.mean_bound, 0.01),
             round(q["worst_max_angle"], 3),
         )
 
@@ -98,20 +101,28 @@ def _steps_above(value: float, bound: float, step: float) -> float:
     return math.ceil(max(0.0, value - bound) / step - 1e-9) * step
 
 
-def quality_start(warm: WarmStart, elliptic: np.ndarray, ranking: Ranking) -> WarmStart:
+def quality_start(
+    warm: WarmStart, elliptic: np.ndarray, ranking: Ranking
+) -> tuple[WarmStart, Ranking]:
     """The best (``ranking``) of the elliptic grid, the TFI grid (``warm``'s base: a polar
-    grid on an annulus sector, say), blends of them and that grid with its interior nodes
+    grid on an annulus sector, say), blends of them, with auxiliary lines the elliptic grid
+    moved onto them (:func:`follow_lines`), and the best of these with its interior nodes
     optimised (:func:`optimize_nodes`): the objective's discrete solution, as the converged
-    elliptic grid is the Winslow objective's."""
+    elliptic grid is the Winslow objective's. Also returns the ranking, its mean bound
+    raised to the elliptic grid on the lines'."""
     tfi = elliptic - warm.correction
     candidates = [(elliptic, "elliptic"), (tfi, "tfi")] + [
         (elliptic + w * (tfi - elliptic), f"{w:.1f} tfi + elliptic") for w in np.arange(1, 10) / 10
     ]
+    if ranking.lines:
+        on_lines = follow_lines(elliptic, ranking)
+        ranking = ranking.against(on_lines)
+        candidates.append((on_lines, "elliptic on the lines"))
     best = min(candidates, key=lambda c: ranking.key(ranking.quality(c[0])))
     if NODE_ITERATIONS:
         optimized = (optimize_nodes(best[0], ranking, NODE_ITERATIONS), "optimized")
         best = min([best, optimized], key=lambda c: ranking.key(ranking.quality(c[0])))
-    return WarmStart(best[0] - tfi, start=best[1])
+    return WarmStart(best[0] - tfi, start=best[1]), ranking
 
 
 class _Samples:
@@ -281,13 +292,13 @@ def _nearest(points: np.ndarray, line: np.ndarray) -> np.ndarray:
 def optimize_nodes(grid: np.ndarray, ranking: Ranking, iterations: int) -> np.ndarray:
     """``grid`` with its interior nodes moved to minimise ``losses.loss_quality`` (L-BFGS in
     float64, at most ``iterations``), with auxiliary lines from the grid moved onto them
-    (:func:`follow_lines`) and plus ``LINE_WEIGHT`` times the line term
+    (:func:`follow_lines`, unless it follows them) and plus ``LINE_WEIGHT`` times the line term
     (:func:`_line_term`); the boundary nodes stay. Returns the evaluated state that ranks
     best (``ranking``, on the corner angles): the soft maximum is a surrogate of the worst
     angle, not the same. Each node moves in units of its shortest edge (a diagonal
     preconditioner: angles change with a node's move relative to its cells, 100 times
     smaller at a notch than in the open)."""
-    if ranking.lines:
+    if ranking.key(ranking.quality(grid))[2] > 0:  # it misses the lines
         grid = follow_lines(grid, ranking)
     fixed = torch.as_tensor(grid, dtype=torch.float64)
     turn = orientation(grid)

@@ -404,9 +404,10 @@ class _Guard:
     """Early stopping on grid quality against the elliptic grid of the warm start.
 
     Under ``--objective quality`` (``start`` is the start grid) a state is kept if it ranks
-    better than the kept one by ``ranking`` (quality_start.py: fewer folded cells, then closer
-    to the auxiliary lines, and never further from them than ``start``, then a mean less
-    above the bound, set by ``reference`` here, then a smaller worst angle). With orthogonal
+    better than the kept one by ``ranking`` (quality_start.py: a mean less above the bound,
+    raised to ``reference``'s if that is higher, then fewer folded cells, then closer to the
+    auxiliary lines, and never further from them than ``start``, then a smaller worst
+    angle). With orthogonal
     ``walls`` (SPEC 7) a state is also kept only if its grid lines leave them within
     ``WALL_ANGLE_TOL`` degrees of 90, or no farther off than the reference's.
     """
@@ -532,7 +533,7 @@ def _warm_start(
         tfi = elliptic - warm.correction  # the TFI base plus the new start's correction
         ranking = Ranking.of(elliptic, aux, boundary.diagonal)
         with one_blas_thread():  # its L-BFGS, as _lbfgs's
-            warm = quality_start(warm, elliptic, ranking)
+            warm, ranking = quality_start(warm, elliptic, ranking)
         start = tfi + warm.correction
     return warm, elliptic if reference is None else reference, start, params, ranking
 
