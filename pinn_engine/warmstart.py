@@ -72,7 +72,7 @@ class WarmStart:
         are not uniform (a boundary-layer lattice, spacing.py)."""
         self.correction = np.asarray(correction, dtype=float)
         self.start = start  # the grid it starts from: "elliptic", or under --objective quality
-        # "tfi" (zero correction), a blend of the two, or "optimized" (training._quality_start)
+        # "tfi" (zero correction), a blend, ... (quality_start.quality_start)
         self.nodes = None if nodes is None else tuple(np.asarray(n, dtype=float) for n in nodes)
         if self.nodes is not None and min(self.correction.shape[:2]) >= 4:
             self._splines = [
