@@ -162,6 +162,17 @@ class _Samples:
         )
 
 
+def _curves(ranking: Ranking, ni: int, nj: int) -> list[tuple[_Samples, np.ndarray]]:
+    """The samples of an ni x nj grid's curves through the ranking's auxiliary lines, each
+    with its drawn line."""
+    return [(_Samples(a.xi_eta, ni, nj), a.xy) for a in ranking.lines]
+
+
+def _picks(curves: list[tuple[_Samples, np.ndarray]]) -> sp.csr_matrix:
+    """The curves' samples as one sparse matrix on the flattened nodes."""
+    return sp.vstack([samples.matrix() for samples, _ in curves]).tocsr()
+
+
 def _smoothing(ni: int, nj: int) -> sp.csr_matrix:
     """The squared 5-point Laplacian on the interior nodes of an ni x nj lattice (boundary
     values zero): the roughness of a displacement field."""
@@ -213,9 +224,9 @@ def pull_onto_lines(grid: np.ndarray, ranking: Ranking) -> np.ndarray:
     the rows or columns beside it along, in proportion to their spacing (the node
     optimisation, one node at a time, would fold them)."""
     nj, ni = grid.shape[:2]
-    curves = [(_Samples(a.xi_eta, ni, nj), a.xy) for a in ranking.lines]
+    curves = _curves(ranking, ni, nj)
     inner = _interior(ni, nj)
-    picks = sp.vstack([s.matrix() for s, _ in curves]).tocsc()[:, inner]
+    picks = _picks(curves)[:, inner]
     weight = PULL_WEIGHT / picks.shape[0]  # a mean over the samples
     # the roughness in computational units, whatever the lattice
     system = (ni - 1) * (nj - 1) * _smoothing(ni, nj) + weight * picks.T @ picks
@@ -268,8 +279,8 @@ def relax_on_lines(grid: np.ndarray, ranking: Ranking) -> np.ndarray:
     node optimisation does not undo that: the mean angle rises). ``grid`` itself if that
     folds more cells."""
     nj, ni = grid.shape[:2]
-    curves = [(_Samples(a.xi_eta, ni, nj), a.xy) for a in ranking.lines]
-    picks = sp.vstack([s.matrix() for s, _ in curves]).tocsr()
+    curves = _curves(ranking, ni, nj)
+    picks = _picks(curves)
     inner = _interior(ni, nj)
     inside = picks[:, inner]
     g = grid.reshape(-1, 2).copy()
@@ -357,10 +368,9 @@ def _line_term(grid: np.ndarray, ranking: Ranking, scale: float):
     without lines."""
     if not ranking.lines:
         return None
-    nj, ni = grid.shape[:2]
     curves = [
-        (_Samples(a.xi_eta, ni, nj), torch.as_tensor(a.xy, dtype=torch.float64) / scale)
-        for a in ranking.lines
+        (samples, torch.as_tensor(xy, dtype=torch.float64) / scale)
+        for samples, xy in _curves(ranking, grid.shape[1], grid.shape[0])
     ]
 
     def term(g: torch.Tensor) -> tuple[torch.Tensor, float]:
