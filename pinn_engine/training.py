@@ -406,10 +406,9 @@ class _Guard:
     Under ``--objective quality`` (``start`` is the start grid) a state is kept if it ranks
     better than the kept one by ``ranking`` (quality_start.py: a mean less above the bound,
     raised to ``reference``'s if that is higher, then fewer folded cells, then closer to the
-    auxiliary lines, and never further from them than ``start``, then a smaller worst
-    angle). With orthogonal
-    ``walls`` (SPEC 7) a state is also kept only if its grid lines leave them within
-    ``WALL_ANGLE_TOL`` degrees of 90, or no farther off than the reference's.
+    auxiliary lines, and never further from them than ``start``, then a smaller worst angle).
+    With orthogonal ``walls`` (SPEC 7) a state is also kept only if its grid lines leave them
+    within ``WALL_ANGLE_TOL`` degrees of 90, or no farther off than the reference's.
     """
 
     def __init__(
