@@ -435,9 +435,11 @@ class _Guard:
         self.kept_iterations = self.rejected = 0
 
     def _wall_angle(self, grid: np.ndarray) -> float:
-        """The largest wall-angle deviation (degrees) at the orthogonal sides."""
+        """The largest wall-angle deviation (degrees) at the orthogonal sides (0 if none)."""
+        if not self.walls:
+            return 0.0
         report = side_report(grid)
-        return max((report[side]["max_angle_deviation"] for side in self.walls), default=0.0)
+        return max(report[side]["max_angle_deviation"] for side in self.walls)
 
     def check(self, iterations: int) -> bool:
         """Keep the current state if its grid passes; False once ``GUARD_PATIENCE`` checks in
