@@ -1,6 +1,6 @@
 """pinn-mesh: structured quadrilateral meshes from a physics-informed neural network."""
 
 from ._version import __version__
-from .errors import FoldedCellsWarning
+from .errors import FoldedCellsWarning, WallAngleWarning
 
-__all__ = ["FoldedCellsWarning", "__version__"]
+__all__ = ["FoldedCellsWarning", "WallAngleWarning", "__version__"]

@@ -22,8 +22,9 @@ reported as one line ``PINN Structured Mesh: <message>`` through ``vtkOutputWind
 Output Messages window in ParaView) and as an ``ErrorEvent`` on the algorithm; the output
 is then an empty grid and ``GetLastError()`` returns the message.
 
-A grid with folded cells is still produced, with one warning line ``PINN Structured Mesh:
-warning: N of M cells are folded ...`` (a hint in the words of the ParaView panel) through
+A grid with folded cells (or lines leaving an orthogonal side more than 2 degrees off 90)
+is still produced, with one warning line ``PINN Structured Mesh: warning: N of M cells are
+folded ...`` (a hint in the words of the ParaView panel) through
 ``vtkOutputWindow`` (ParaView's Output Messages) and as a ``WarningEvent``;
 ``GetLastWarning()`` returns it.
 """
@@ -43,7 +44,13 @@ from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 from .cache import MeshCache
-from .errors import InputError, PinnMeshError, TrainingCancelled, folded_cells_warning
+from .errors import (
+    InputError,
+    PinnMeshError,
+    TrainingCancelled,
+    folded_cells_warning,
+    wall_angle_warning,
+)
 from .settings import (
     METHODS,
     NEURAL,
@@ -59,6 +66,17 @@ from .settings import (
 
 LABEL = "PINN Structured Mesh"
 TOPOLOGY_CHOICES = ("none", "o", "c")
+
+
+def _warning(report: dict) -> str | None:
+    """The update's warning: folded cells and wall angles off an orthogonal side, in the
+    panel's words, joined; None when neither applies."""
+    texts = [
+        w
+        for w in (folded_cells_warning(report, "paraview"), wall_angle_warning(report, "paraview"))
+        if w
+    ]
+    return "; ".join(texts) or None
 
 
 def _choice(value, options: tuple[str, ...], what: str) -> str:
@@ -295,7 +313,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         return self._last_error
 
     def GetLastWarning(self) -> str:
-        """The warning of the last update (folded cells), "" when it had none."""
+        """The warning of the last update (folded cells, wall angles), "" when it had none."""
         return self._last_warning
 
     def GetTrainingCount(self) -> int:
@@ -385,7 +403,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         return tuple(times)
 
     def _execute(self, inInfo) -> tuple[vtkStructuredGrid, str | None]:
-        """The grid and the warning about its folded cells (None when none is folded)."""
+        """The grid and its warning (folded cells, wall angles; None when neither)."""
         from .pipeline import aux_from_polydata, boundary_from_polydata, split_inputs, to_vtk
 
         settings = self.GetSettings()
@@ -425,7 +443,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
             arr.SetName(name)
             arr.InsertNextValue(value)
             fd.AddArray(arr)
-        return grid, folded_cells_warning(result.report, "paraview")
+        return grid, _warning(result.report)
 
     def _execute_body(self, inputs, settings: Settings) -> tuple[vtkStructuredGrid, str | None]:
         """An O- or C-grid around the body of the first input (SPEC 9)."""
@@ -465,7 +483,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
             else body_patches(self._topology)
         )
         grid = to_vtk(result, patches)
-        return grid, folded_cells_warning(result.report, "paraview")
+        return grid, _warning(result.report)
 
     def _training_progress(self, settings: Settings) -> Callable[[dict], bool]:
         adam, lbfgs = settings.adam_epochs, settings.lbfgs_iterations

@@ -13,7 +13,7 @@ import time
 from pathlib import Path
 
 from . import heap
-from .errors import PinnMeshError, folded_cells_warning
+from .errors import PinnMeshError, folded_cells_warning, wall_angle_warning
 from .settings import (
     METHODS,
     NEURAL,
@@ -499,7 +499,8 @@ def _write_outputs(
     args, result, out: Path, patches, written: list[Path], name: str, picture
 ) -> Path:
     """The grid in the format of ``out``, the report and the picture (``picture(grid, tmp)``)
-    if asked, each complete or absent; then the line saying so and the folded-cell warning."""
+    if asked, each complete or absent; then the line saying so and the warnings (folded
+    cells, wall angles off an orthogonal side)."""
     from . import export
     from .fileio import atomic_path, write_text_atomic
     from .pipeline import to_vtk
@@ -520,9 +521,12 @@ def _write_outputs(
             picture(grid, tmp)
         written.append(Path(args.png))
     print(f"wrote {out}" + (f" and {args.png}" if args.png else ""))
-    warning = folded_cells_warning(result.report, "cli")
-    if warning:  # not progress: printed with --quiet too; last, so an error stays one line
-        print(f"pinn-mesh: warning: {name}: {warning}", file=sys.stderr, flush=True)
+    for warning in (  # not progress: printed with --quiet too; last: an error stays one line
+        folded_cells_warning(result.report, "cli"),
+        wall_angle_warning(result.report, "cli"),
+    ):
+        if warning:
+            print(f"pinn-mesh: warning: {name}: {warning}", file=sys.stderr, flush=True)
     return out
 
 

@@ -46,6 +46,11 @@ class TrainingCancelled(TrainingError):
     """The progress callback asked training to stop."""
 
 
+class WallAngleWarning(UserWarning):
+    """A grid was produced although its lines leave an orthogonal side (SPEC 7) more than
+    ``WALL_ANGLE_TOL`` degrees off 90 (pyvista route); filter it like any warning."""
+
+
 class FoldedCellsWarning(UserWarning):
     """A grid was produced although some of its cells are folded (pyvista route).
 
@@ -149,4 +154,28 @@ def folded_cells_warning(report: dict, route: str) -> str | None:
         f"{folded} of {(ni - 1) * (nj - 1)} cells {verb} folded (a corner's orientation "
         f"opposes the grid's); the grid is {_HANDED_OVER[route]} anyway; try {fix}"
         f"{words['refuse']}"
+    )
+
+
+WALL_ANGLE_TOL = 2.0  # SPEC 7: degrees off 90, the two nodes nearest each corner aside
+
+
+def wall_angle_warning(report: dict, route: str) -> str | None:
+    """The warning for a grid whose lines leave a side asked to be orthogonal (SPEC 7) more
+    than ``WALL_ANGLE_TOL`` degrees off 90, or None; words as :func:`folded_cells_warning`."""
+    sides = report.get("settings", {}).get("orthogonal") or ()
+    figures = report.get("sides", {})
+    off = {
+        side: figures[side]["max_angle_deviation"]
+        for side in sides
+        if side in figures and figures[side]["max_angle_deviation"] > WALL_ANGLE_TOL
+    }
+    if not off:
+        return None
+    listing = ", ".join(f"{side} {angle:.1f}" for side, angle in off.items())
+    return (
+        f"grid lines leave orthogonal sides more than {WALL_ANGLE_TOL:g} degrees off 90 "
+        f"({listing} degrees; the two nodes nearest each corner aside); the grid is "
+        f"{_HANDED_OVER[route]} anyway; where a wall turns sharply within a cell, round it or "
+        f"try another {ROUTE_WORDS[route]['size']}"
     )

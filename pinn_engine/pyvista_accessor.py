@@ -36,7 +36,13 @@ import pyvista as pv
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 from .cache import MeshCache
-from .errors import FoldedCellsWarning, InputError, folded_cells_warning
+from .errors import (
+    FoldedCellsWarning,
+    InputError,
+    WallAngleWarning,
+    folded_cells_warning,
+    wall_angle_warning,
+)
 from .settings import grid_size_problem, make_settings
 
 __all__ = ["FoldedCellsWarning", "PinnMeshAccessor", "pinn_mesh", "save_mesh"]
@@ -52,15 +58,18 @@ def _ring_polydata(points, closed: bool) -> pv.PolyData:
     return pv.PolyData(pts, lines=[len(ids), *ids])
 
 
-def _warn_if_folded(report: dict) -> None:
-    """A ``FoldedCellsWarning`` attributed to the first caller outside this module."""
-    text = folded_cells_warning(report, "pyvista")
-    if text is None:
-        return
+def _warn_about(report: dict) -> None:
+    """A ``FoldedCellsWarning`` and a ``WallAngleWarning`` where they apply, attributed to
+    the first caller outside this module."""
     frame, level = sys._getframe(), 1
     while frame is not None and frame.f_code.co_filename == __file__:
         frame, level = frame.f_back, level + 1
-    warnings.warn(text, FoldedCellsWarning, stacklevel=level)
+    for text, category in (
+        (folded_cells_warning(report, "pyvista"), FoldedCellsWarning),
+        (wall_angle_warning(report, "pyvista"), WallAngleWarning),
+    ):
+        if text is not None:
+            warnings.warn(text, category, stacklevel=level)
 
 
 def _as_polydata(obj, closed: bool, what: str) -> vtkPolyData:
@@ -266,7 +275,7 @@ def pinn_mesh(
     mesher, _ = cache.fitted(ring, lines, config, progress)
     result = mesher.predict(ni, nj)
     grid = pv.wrap(to_vtk(result, names))
-    _warn_if_folded(result.report)
+    _warn_about(result.report)
     return grid
 
 
@@ -341,7 +350,7 @@ def _body_mesh(
     except InputError as exc:
         raise exc.for_route("pyvista") from None
     grid = pv.wrap(to_vtk(result, names))
-    _warn_if_folded(result.report)
+    _warn_about(result.report)
     return grid
 
 

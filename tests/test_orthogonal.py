@@ -88,3 +88,53 @@ def test_pinn_adjacent_orthogonal_sides_with_spacing_on_a_nozzle():
         figures = result.report["sides"][side]
         assert figures["max_angle_deviation"] <= 2.0
         assert 0.9 * h <= figures["first_edge_min"] <= figures["first_edge_max"] <= 1.1 * h
+
+
+def test_wall_angles_off_an_orthogonal_side_are_warned_on_every_route(capsys, tmp_path):
+    """The elliptic solve drops Hilgenstock's control on the 30-degree dart (60 degrees off):
+    the command line, pyvista and the filter say so, in their own words."""
+    import warnings
+
+    import pyvista as pv
+
+    from pinn_engine import WallAngleWarning
+    from pinn_engine.algorithm import _warning
+    from pinn_engine.cli import main
+    from pinn_engine.errors import wall_angle_warning
+
+    report = {
+        "settings": {"orthogonal": ["bottom", "top"]},
+        "sides": {"bottom": {"max_angle_deviation": 60.0}, "top": {"max_angle_deviation": 1.0}},
+        "quality": {"folded_cells": 0},
+        "size": [41, 21],
+    }
+    text = wall_angle_warning(report, "cli")
+    assert "bottom 60.0" in text and "top" not in text and "--size" in text
+    assert "Grid Size" in _warning(report)
+    report["sides"]["bottom"]["max_angle_deviation"] = 1.9
+    assert wall_angle_warning(report, "cli") is None and _warning(report) is None
+
+    shape = str(HARD / "dart_30.vtp")
+    assert (
+        main(
+            [
+                shape,
+                "--method",
+                "elliptic",
+                "--orthogonal",
+                "bottom",
+                "--quiet",
+                "-o",
+                str(tmp_path / "dart.vts"),
+            ]
+        )
+        == 0
+    )
+    err = capsys.readouterr().err
+    assert "pinn-mesh: warning:" in err and "bottom 60.0 degrees" in err
+
+    boundary = pv.read(shape)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        boundary.pinn_mesh(method="elliptic", orthogonal="bottom")
+    assert any(issubclass(w.category, WallAngleWarning) for w in caught)
