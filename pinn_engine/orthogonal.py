@@ -28,6 +28,7 @@ from scipy.optimize import minimize
 
 from .blas import one_blas_thread
 from .elliptic import controlled_solve, parameter_controls, stencil_matrix, winslow_solve
+from .errors import WALL_ANGLE_TOL
 from .losses import corner_angles, loss_orthogonal
 from .quality import cell_quality, folded_cells, orientation, shortest_edges, summary
 from .spacing import side_report
@@ -44,11 +45,10 @@ SHEAR_GROWTH = 1.1
 # Repair of a folded start: the sine of the flattest cell corner the barrier allows (0.1:
 # 174 degrees); (weight of the wall term against the scaled residual, L-BFGS iterations,
 # cells around a folded cell whose nodes move) of its tries, the second where the first
-# leaves a fold or a wall angle over SPEC 7's WALL_TOL (measured on the hard shapes: neither
+# leaves a fold or a wall angle over SPEC 7's 2 degrees (measured on the hard shapes: neither
 # alone unfolds all of them).
 REPAIR_MIN_SINE = 0.1
 REPAIR_TRIES = ((1e4, 400, 6), (1e5, 800, 8))
-WALL_TOL = 2.0
 
 
 def _wall_and_row(g, side: str):
@@ -175,9 +175,9 @@ def orthogonal_grid(
         start, tries = out, []
         for weight, iterations, reach in REPAIR_TRIES:
             tries.append(repair(start, sides, params, weight, iterations, reach))
-            if _rank(tries[-1], sides, WALL_TOL)[:2] == (0, False):
+            if _rank(tries[-1], sides, WALL_ANGLE_TOL)[:2] == (0, False):
                 break
-        out = min(tries, key=lambda g: _rank(g, sides, WALL_TOL))
+        out = min(tries, key=lambda g: _rank(g, sides, WALL_ANGLE_TOL))
     sheared = normal_rows(sheared_grid(grid, sides, params), sides, heights)
     smooth = _growth(sheared, sides) <= SHEAR_GROWTH * _growth(out, sides)
     out = sheared if smooth and _rank(sheared, sides) < _rank(out, sides) else out

@@ -60,7 +60,7 @@ GUARD_PATIENCE = 2  # rejected checks in a row that end the training
 # auxiliary lines, the bounds themselves with them (pulling grid lines onto drawn lines may
 # cost some quality; the elliptic grid ignores the lines).
 GUARD_TOL = {False: (0.25, 1.0), True: (0.5, 2.0)}
-WALL_ANGLE_TOL = 1.0  # degrees off 90 that the guard allows at orthogonal sides (SPEC 7: 2)
+GUARD_WALL_ANGLE = 1.0  # degrees off 90 that the guard allows at orthogonal sides (SPEC 7: 2)
 WALL_POINTS = 200  # points per orthogonal side in the orthogonality term (SPEC 7)
 # --objective quality: weight of the cell-quality term (losses.loss_quality) beside the Winslow
 # term (the objective's start and its order of grids: quality_start.py)
@@ -408,7 +408,7 @@ class _Guard:
     raised to ``reference``'s if that is higher, then fewer folded cells, then closer to the
     auxiliary lines, and never further from them than ``start``, then a smaller worst angle).
     With orthogonal ``walls`` (SPEC 7) a state is also kept only if its grid lines leave them
-    within ``WALL_ANGLE_TOL`` degrees of 90, or no farther off than the reference's.
+    within ``GUARD_WALL_ANGLE`` degrees of 90, or no farther off than the reference's.
     """
 
     def __init__(
@@ -429,7 +429,7 @@ class _Guard:
         self.ranking = None if ranking is None else ranking.against(reference).holding(start)
         self._quality = guard_figures if ranking is None else self.ranking.quality
         self.reference = self._quality(reference)
-        self.wall_tol = max(WALL_ANGLE_TOL, self._wall_angle(reference))
+        self.wall_tol = max(GUARD_WALL_ANGLE, self._wall_angle(reference))
         self.kept = self.reference if ranking is None else self._quality(start)
         self.state = copy.deepcopy(net.state_dict())
         self.kept_iterations = self.rejected = 0
