@@ -19,9 +19,8 @@ from .airfoil import Body, FarField
 from .errors import InputError
 from .geometry import segment_distance
 from .mesher import MeshResult
-from .quality import cell_quality, summary
+from .quality import angle_deviation, cell_quality, summary
 from .settings import Settings, make_settings
-from .spacing import angle_deviation
 
 METHODS = ("pinn", "tfi", "elliptic")
 

@@ -16,9 +16,9 @@ from .errors import NotFittedError, PinnMeshError, TrainingError
 from .geometry import Boundary
 from .heap import reuse_freed_memory
 from .plane import Plane
-from .quality import boundary_nodes, cell_quality, summary
+from .quality import boundary_nodes, cell_quality, side_report, summary
 from .settings import NEURAL, Settings, grid_size_problem, make_settings
-from .spacing import classical_grid, fit_params, side_lengths, side_report, working_spacing
+from .spacing import classical_grid, fit_params, side_lengths, working_spacing
 from .tfi import tfi_grid
 
 Progress = Callable[[dict], bool | None]

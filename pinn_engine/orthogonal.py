@@ -5,7 +5,7 @@ better kept (:func:`orthogonal_grid`):
 
 - *normal rows*: the first row off each orthogonal side is put on the wall normals (each
   node keeps its distance from the wall, or takes the spacing's first edge), measured against
-  the wall's chord tangent as the reported wall angle is (``spacing.grid_lines_angle``), and
+  the wall's chord tangent as the reported wall angle is (``quality.grid_lines_angle``), and
   the Winslow equations are solved inside those rows. Orthogonal at every node but the two
   nearest each corner, for any number of sides, adjacent ones included. Where such rows fold
   a cell (a sharp corner, a wall bent within a cell) the grid is repaired by minimising,
@@ -30,8 +30,14 @@ from .blas import one_blas_thread
 from .elliptic import controlled_solve, parameter_controls, stencil_matrix, winslow_solve
 from .errors import WALL_ANGLE_TOL
 from .losses import corner_angles, loss_orthogonal
-from .quality import cell_quality, folded_cells, orientation, shortest_edges, summary
-from .spacing import side_report
+from .quality import (
+    cell_quality,
+    folded_cells,
+    orientation,
+    shortest_edges,
+    side_report,
+    summary,
+)
 
 SIDES = ("bottom", "right", "top", "left")
 OPPOSITE = {"bottom": "top", "top": "bottom", "left": "right", "right": "left"}

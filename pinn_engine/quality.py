@@ -170,3 +170,79 @@ def shortest_edges(grid: np.ndarray) -> np.ndarray:
     inner = grid[1:-1, 1:-1]
     neighbours = (grid[2:, 1:-1], grid[:-2, 1:-1], grid[1:-1, 2:], grid[1:-1, :-2])
     return np.minimum.reduce([np.linalg.norm(inner - n, axis=-1) for n in neighbours])
+
+
+# SPEC 7's figures per side: first edges, wall angles, growth
+
+
+def first_edges(grid: np.ndarray) -> dict[str, np.ndarray]:
+    """Length of the first grid edge leaving each node of each side (along the side)."""
+
+    def norm(a, b):
+        return np.linalg.norm(a - b, axis=-1)
+
+    return {
+        "bottom": norm(grid[1], grid[0]),
+        "top": norm(grid[-2], grid[-1]),
+        "left": norm(grid[:, 1], grid[:, 0]),
+        "right": norm(grid[:, -2], grid[:, -1]),
+    }
+
+
+def angle_deviation(tangent: np.ndarray, leave: np.ndarray) -> np.ndarray:
+    """Deviation from 90 degrees (n,) of the angle between a side's tangents and the grid
+    edges leaving it, (n, 2) each."""
+    cos = np.einsum("ij,ij->i", tangent, leave) / np.maximum(
+        np.linalg.norm(tangent, axis=1) * np.linalg.norm(leave, axis=1), 1e-300
+    )
+    return np.abs(90.0 - np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
+
+
+def grid_lines_angle(grid: np.ndarray) -> dict[str, np.ndarray]:
+    """Deviation from 90 degrees of the first grid edge leaving each node of each side, from
+    the side's tangent (central difference along the side; one-sided at its corners)."""
+
+    def dev(side_nodes, inner_nodes):
+        return angle_deviation(np.gradient(side_nodes, axis=0), inner_nodes - side_nodes)
+
+    return {
+        "bottom": dev(grid[0], grid[1]),
+        "top": dev(grid[-1], grid[-2]),
+        "left": dev(grid[:, 0], grid[:, 1]),
+        "right": dev(grid[:, -1], grid[:, -2]),
+    }
+
+
+def growth_ratios(grid: np.ndarray) -> dict[str, float]:
+    """Largest ratio of consecutive edge lengths (either way round) along the grid lines that
+    leave each side: bottom/top along eta, left/right along xi."""
+    along_eta = np.linalg.norm(np.diff(grid, axis=0), axis=-1)  # (nj-1, ni)
+    along_xi = np.linalg.norm(np.diff(grid, axis=1), axis=-1)  # (nj, ni-1)
+
+    def worst(lengths):  # lengths (n_edges, lines)
+        if len(lengths) < 2:
+            return 1.0
+        r = lengths[1:] / np.maximum(lengths[:-1], 1e-300)
+        return float(np.maximum(r, 1.0 / np.maximum(r, 1e-300)).max())
+
+    eta_ratio, xi_ratio = worst(along_eta), worst(along_xi.T)
+    return {"bottom": eta_ratio, "top": eta_ratio, "left": xi_ratio, "right": xi_ratio}
+
+
+def side_report(grid: np.ndarray, scale: float = 1.0) -> dict[str, dict[str, float]]:
+    """Per side: first-edge lengths (min, median, max; user units via ``scale``), the largest
+    wall-angle deviation (degrees, the two nodes nearest each corner excepted) and the
+    largest growth ratio of the lines leaving it."""
+    edges, angles, growth = first_edges(grid), grid_lines_angle(grid), growth_ratios(grid)
+    out = {}
+    for side in ("bottom", "right", "top", "left"):
+        e = edges[side][1:-1] if len(edges[side]) > 2 else edges[side]
+        a = angles[side][2:-2] if len(angles[side]) > 4 else angles[side][:0]
+        out[side] = {
+            "first_edge_min": float(e.min()) * scale,
+            "first_edge_median": float(np.median(e)) * scale,
+            "first_edge_max": float(e.max()) * scale,
+            "max_angle_deviation": float(a.max(initial=0.0)),
+            "max_growth_ratio": growth[side],
+        }
+    return out

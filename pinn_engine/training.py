@@ -42,10 +42,10 @@ from .losses import (
 from .mapping import Mapping
 from .model import TrainedModel
 from .networks import CoordinateNet
-from .quality import guard_figures, orientation
+from .quality import guard_figures, orientation, side_report
 from .quality_start import Ranking, quality_start
 from .settings import Settings
-from .spacing import chord_tangents, classical_grid, side_report, working_spacing
+from .spacing import chord_tangents, classical_grid, working_spacing
 from .tfi import node_params, tfi_grid
 from .warmstart import WarmStart, lattice_for
 

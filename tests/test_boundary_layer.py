@@ -14,15 +14,9 @@ from pinn_engine.elliptic import controlled_solve
 from pinn_engine.errors import PinnMeshError
 from pinn_engine.mesher import Mesher
 from pinn_engine.pipeline import load_boundary
-from pinn_engine.quality import boundary_nodes, folded_cells
+from pinn_engine.quality import boundary_nodes, first_edges, folded_cells, grid_lines_angle
 from pinn_engine.settings import make_settings
-from pinn_engine.spacing import (
-    first_edges,
-    grid_lines_angle,
-    param_grid,
-    stretch,
-    uniform_params,
-)
+from pinn_engine.spacing import param_grid, stretch, uniform_params
 from pinn_engine.tfi import tfi_at
 
 BUMP = EXAMPLES / "bump_channel.vtp"  # channel of height 1, a smooth bump on the floor

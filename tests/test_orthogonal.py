@@ -11,9 +11,9 @@ from pinn_engine.elliptic import winslow_solve
 from pinn_engine.mesher import Mesher
 from pinn_engine.orthogonal import normal_rows, orthogonal_grid
 from pinn_engine.pipeline import load_boundary
-from pinn_engine.quality import boundary_nodes, folded_cells
+from pinn_engine.quality import boundary_nodes, first_edges, folded_cells, side_report
 from pinn_engine.settings import make_settings
-from pinn_engine.spacing import classical_grid, first_edges, side_report, working_spacing
+from pinn_engine.spacing import classical_grid, working_spacing
 from pinn_engine.tfi import tfi_grid
 
 HARD = EXAMPLES / "hard"
