@@ -20,6 +20,7 @@ from .settings import (
     OBJECTIVES,
     PARAMETER_CONSTRAINTS,
     PRESETS,
+    Settings,
     grid_size_problem,
     make_settings,
     setting_problem,
@@ -292,31 +293,15 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     patches = export.parse_patch_options(args.patch)
     _check_options(args)
     ni, nj = args.size
-    fields = (
-        "seed",
-        "adam_epochs",
-        "lbfgs_iterations",
-        "hidden_layers",
-        "neurons",
-        "lambda2",
-        "boundary_fit",
-        "device",
-        "elliptic_iterations",
-        "warm_start",
-        "objective",
+    settings = _settings(
+        args,
+        ni,
+        nj,
+        ("lambda2", "boundary_fit", "objective"),
+        boundary_mode=args.boundary_mode,
+        spacing=args.spacing,
+        orthogonal=args.orthogonal,
     )
-    try:
-        settings = make_settings(
-            args.method,
-            args.preset,
-            lattice=(ni, nj),
-            boundary_mode=args.boundary_mode,
-            spacing=args.spacing,
-            orthogonal=args.orthogonal,
-            **{k: getattr(args, k) for k in fields},
-        )
-    except ValueError as exc:
-        raise PinnMeshError(str(exc)) from exc
     boundary = load_boundary(args.boundary, args.corners)
     aux = load_aux(args.aux, boundary)
     mesher = Mesher(settings)
@@ -442,22 +427,7 @@ def run_body(args: argparse.Namespace, written: list[Path]) -> Path:
     _check_options(args)
     h = _wall_spacing(args)
     ni, nj = args.size
-    fields = (
-        "seed",
-        "adam_epochs",
-        "lbfgs_iterations",
-        "hidden_layers",
-        "neurons",
-        "device",
-        "elliptic_iterations",
-        "warm_start",
-    )
-    try:
-        settings = make_settings(
-            args.method, args.preset, lattice=(ni, nj), **{k: getattr(args, k) for k in fields}
-        )
-    except ValueError as exc:
-        raise PinnMeshError(str(exc)) from exc
+    settings = _settings(args, ni, nj)
     if args.naca:
         body = load_body(naca=args.naca, te="blunt" if args.topology == "o" else "sharp")
         far = circle(body, args.farfield or 15.0)
@@ -493,6 +463,29 @@ def run_body(args: argparse.Namespace, written: list[Path]) -> Path:
         render_body_png(grid, tmp, title=title, le=le, te=te, zoom=0.08 * body.chord)
 
     return _write_outputs(args, result, out, patches, written, name, picture)
+
+
+# options of the training and solver settings that both routes (four-sided, body) pass on
+_SETTING_FIELDS = (
+    "seed",
+    "adam_epochs",
+    "lbfgs_iterations",
+    "hidden_layers",
+    "neurons",
+    "device",
+    "elliptic_iterations",
+    "warm_start",
+)
+
+
+def _settings(args, ni: int, nj: int, fields: tuple[str, ...] = (), **given) -> Settings:
+    """The settings of the command line's options (``_SETTING_FIELDS`` and ``fields``), with
+    a settings error as a one-line command-line error."""
+    options = {k: getattr(args, k) for k in _SETTING_FIELDS + fields}
+    try:
+        return make_settings(args.method, args.preset, lattice=(ni, nj), **options, **given)
+    except ValueError as exc:
+        raise PinnMeshError(str(exc)) from exc
 
 
 def _write_outputs(
