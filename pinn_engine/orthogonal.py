@@ -4,7 +4,8 @@ Two candidates are made from the converged elliptic grid on the same boundary no
 better kept (:func:`orthogonal_grid`):
 
 - *normal rows*: the first row off each orthogonal side is put on the wall normals (each
-  node keeps its distance from the wall, or takes the spacing's first edge), measured against
+  node keeps its distance from the wall, or takes the spacing's first edge, lowered where
+  neighbouring normals converge, off a notch's mouth or a sharp corner), measured against
   the wall's chord tangent as the reported wall angle is (``quality.grid_lines_angle``), and
   the Winslow equations are solved inside those rows. Orthogonal at every node but the two
   nearest each corner, for any number of sides, adjacent ones included. Where such rows fold
@@ -50,11 +51,16 @@ SHEAR_WALL_TOL = 1.0
 SHEAR_GROWTH = 1.1
 # Repair of a folded start: the sine of the flattest cell corner the barrier allows (0.1:
 # 174 degrees); (weight of the wall term against the scaled residual, L-BFGS iterations,
-# cells around a folded cell whose nodes move) of its tries, the second where the first
-# leaves a fold or a wall angle over SPEC 7's 2 degrees (measured on the hard shapes: neither
-# alone unfolds all of them).
+# cells around a folded cell whose nodes move) of its tries, each where the one before
+# leaves a fold or a wall angle over SPEC 7's 2 degrees (measured on the hard shapes: none
+# alone unfolds all of them; the lightest wall term, last, unfolds the notches' spaced rows).
 REPAIR_MIN_SINE = 0.1
-REPAIR_TRIES = ((1e4, 400, 6), (1e5, 800, 8))
+# First rows on the normals (:func:`row_heights`): the fraction of the distance
+# at which neighbouring normals cross that a row node may sit at, and how much higher than
+# its neighbour's a node's height may then be.
+ROW_CROSSING = 0.5
+ROW_GROWTH = 1.3
+REPAIR_TRIES = ((1e4, 400, 6), (1e5, 800, 8), (1e3, 400, 6))
 
 
 def _wall_and_row(g, side: str):
@@ -101,32 +107,70 @@ _CORNER_SIDES = {
 }
 
 
+# the side of a wall (+1: left of its tangent, along increasing index) the grid lies on, in
+# a grid that runs counter-clockwise
+_INSIDE = {"bottom": 1.0, "right": 1.0, "top": -1.0, "left": -1.0}
+
+
 def _inward_normals(g: np.ndarray, side: str) -> np.ndarray:
-    """Unit normals of a side at its nodes, towards the first row (nodes, 2)."""
-    wall, row = _wall_and_row(g, side)
-    t = _chord_tangents(wall)
+    """Unit normals of a side at its nodes, into the domain (nodes, 2); the grid's orientation
+    says which way that is (a folded cell at a wall does not turn its normal round)."""
+    t = _chord_tangents(_wall_and_row(g, side)[0])
     t = t / np.linalg.norm(t, axis=1, keepdims=True)
-    n = np.column_stack([-t[:, 1], t[:, 0]])
-    return n * np.sign(np.einsum("ij,ij->i", row - wall, n))[:, None]
+    return np.column_stack([-t[:, 1], t[:, 0]]) * (_INSIDE[side] * orientation(g))
+
+
+def row_heights(wall: np.ndarray, ways: np.ndarray, wanted: np.ndarray) -> np.ndarray:
+    """Heights (nodes,) of the first row off a wall's nodes along the unit vectors ``ways``
+    (inf where a node's row node stays): ``wanted`` where that gives a row of convex cells,
+    at most ``ROW_CROSSING`` of the distance at which a node's line crosses its neighbour's
+    (lines converge off a convex kink, a convex curved wall, a sharp corner), and at most
+    ``ROW_GROWTH`` times its neighbours' (a row that follows the wall smoothly)."""
+    d = wall[1:] - wall[:-1]
+    a, b = ways[:-1], ways[1:]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        det = b[:, 0] * a[:, 1] - a[:, 0] * b[:, 1]  # of the system s a - t b = d
+        s = (b[:, 0] * d[:, 1] - d[:, 0] * b[:, 1]) / det
+        t = (a[:, 0] * d[:, 1] - d[:, 0] * a[:, 1]) / det
+    crossing = (np.abs(det) > 1e-12) & (s > 0) & (t > 0)
+    h = np.array(wanted, dtype=float)
+    h[:-1] = np.minimum(h[:-1], np.where(crossing, ROW_CROSSING * s, np.inf))
+    h[1:] = np.minimum(h[1:], np.where(crossing, ROW_CROSSING * t, np.inf))
+    h[np.isinf(wanted)] = np.inf
+    for k in range(1, len(h)):  # forwards, then backwards
+        h[k] = min(h[k], ROW_GROWTH * h[k - 1])
+    for k in range(len(h) - 2, -1, -1):
+        h[k] = min(h[k], ROW_GROWTH * h[k + 1])
+    return h
 
 
 def normal_rows(
-    grid: np.ndarray, sides: tuple[str, ...], heights: dict[str, float] | None = None
+    grid: np.ndarray,
+    sides: tuple[str, ...],
+    heights: dict[str, float] | None = None,
+    limit: bool = True,
 ) -> np.ndarray:
     """``grid`` with the first row off each of ``sides`` moved onto the wall normals: each
-    node keeps its distance from the wall, or is put at ``heights[side]`` from it (a first
-    edge of SPEC 7's spacing). The node next to a corner between two of ``sides`` is put at
-    those distances from both sides' nodes next to the corner (without heights: where it
-    completes the parallelogram of the corner and those two nodes)."""
+    node keeps its distance from its wall node, or is put at ``heights[side]`` from it (a
+    first edge of SPEC 7's spacing), lowered by :func:`row_heights` if ``limit``. The node
+    next to a corner between two of ``sides`` is put at those distances from both sides'
+    nodes next to the corner (without heights: where it completes the parallelogram of the
+    corner and those two nodes)."""
     heights = heights or {}
     out = np.array(grid, dtype=float)
     normals = {side: _inward_normals(out, side) for side in sides}
     for side in sides:
         wall, row = _wall_and_row(out, side)
         k = _free(side, sides, len(wall))
-        n = normals[side][k]
-        h = heights.get(side, np.einsum("ij,ij->i", row[k] - wall[k], n)[:, None])
-        row[k] = wall[k] + h * n
+        moved = np.zeros(len(wall), dtype=bool)
+        moved[k] = True
+        # the lines leaving the nodes that stay (a corner's is the other side) keep their way
+        leave = row - wall
+        length = np.linalg.norm(leave, axis=1)
+        ways = np.where(moved[:, None], normals[side], leave / length[:, None])
+        h = np.where(moved, heights.get(side, length), np.inf)
+        h = row_heights(wall, ways, h) if limit else h
+        row[k] = wall[k] + h[k, None] * normals[side][k]
     for (j, dj), (i, di) in ((a, b) for a in ((0, 1), (-1, -1)) for b in ((0, 1), (-1, -1))):
         pair = _CORNER_SIDES[j, i]
         if not pair <= set(sides):
@@ -170,24 +214,44 @@ def orthogonal_grid(
     sides = tuple(s for s in SIDES if s in sides)
     if not sides or min(grid.shape[:2]) < 5:
         return np.array(grid, dtype=float)
-    out = normal_rows(grid, sides, heights)
+    clean = (0, False)  # no fold, wall angles within SPEC 7's tolerance
+    out = solved_rows(grid, sides, params, heights, limit=True)
+    if _rank(out, sides, WALL_ANGLE_TOL)[:2] != clean:
+        unlimited = solved_rows(grid, sides, params, heights, limit=False)
+        out = min(out, unlimited, key=lambda g: _rank(g, sides, WALL_ANGLE_TOL))
+    sheared = normal_rows(sheared_grid(grid, sides, params), sides, heights)
+    smooth = _growth(sheared, sides) <= SHEAR_GROWTH * _growth(out, sides)
+    out = sheared if smooth and _rank(sheared, sides) < _rank(out, sides) else out
+    return np.array(grid) if folded_cells(out).sum() > folded_cells(grid).sum() else out
+
+
+def solved_rows(
+    grid: np.ndarray,
+    sides: tuple[str, ...],
+    params: np.ndarray | None,
+    heights: dict[str, float] | None,
+    limit: bool,
+) -> np.ndarray:
+    """The normal rows' candidate of :func:`orthogonal_grid`: :func:`normal_rows` (``limit``:
+    their heights limited by :func:`row_heights`), Winslow solved inside them, and repaired
+    where that folds a cell. Limited rows are the safer start on notched walls; unlimited
+    ones keep thick rows against a corner that the elliptic grid's rows lean into (a
+    12:1 channel's 73-degree corner, measured in benchmarks/orthogonal.py)."""
+    out = normal_rows(grid, sides, heights, limit)
     rows, cols = _inside(out.shape, sides)
     inner = out[rows, cols]
     if params is None:
         out[rows, cols] = winslow_solve(inner)[0]
     else:
         out[rows, cols] = controlled_solve(inner, params[rows, cols])[0]
-    if folded_cells(out).any():
-        start, tries = out, []
-        for weight, iterations, reach in REPAIR_TRIES:
-            tries.append(repair(start, sides, params, weight, iterations, reach))
-            if _rank(tries[-1], sides, WALL_ANGLE_TOL)[:2] == (0, False):
-                break
-        out = min(tries, key=lambda g: _rank(g, sides, WALL_ANGLE_TOL))
-    sheared = normal_rows(sheared_grid(grid, sides, params), sides, heights)
-    smooth = _growth(sheared, sides) <= SHEAR_GROWTH * _growth(out, sides)
-    out = sheared if smooth and _rank(sheared, sides) < _rank(out, sides) else out
-    return np.array(grid) if folded_cells(out).sum() > folded_cells(grid).sum() else out
+    if not folded_cells(out).any():
+        return out
+    start, tries = out, []
+    for weight, iterations, reach in REPAIR_TRIES:
+        tries.append(repair(start, sides, params, weight, iterations, reach))
+        if _rank(tries[-1], sides, WALL_ANGLE_TOL)[:2] == (0, False):
+            break
+    return min(tries, key=lambda g: _rank(g, sides, WALL_ANGLE_TOL))
 
 
 def _growth(grid: np.ndarray, sides: tuple[str, ...]) -> float:
