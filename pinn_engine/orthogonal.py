@@ -34,6 +34,7 @@ from .losses import corner_angles, loss_orthogonal
 from .quality import (
     cell_quality,
     folded_cells,
+    grid_lines_angle,
     orientation,
     shortest_edges,
     side_report,
@@ -51,16 +52,19 @@ SHEAR_WALL_TOL = 1.0
 SHEAR_GROWTH = 1.1
 # Repair of a folded start: the sine of the flattest cell corner the barrier allows (0.1:
 # 174 degrees); (weight of the wall term against the scaled residual, L-BFGS iterations,
-# cells around a folded cell whose nodes move) of its tries, each where the one before
-# leaves a fold or a wall angle over SPEC 7's 2 degrees (measured on the hard shapes: none
-# alone unfolds all of them; the lightest wall term, last, unfolds the notches' spaced rows).
+# cells around a folded cell or a wall angle over SPEC 7's 2 degrees whose nodes move) of
+# its tries, each where the ones before leave a fold or such an angle: first from the
+# solved grid, then (the chain) from the best grid so far, a light wall term that unfolds
+# and a heavier one that straightens the lines at the walls again (measured on the hard
+# shapes in benchmarks/orthogonal.py: no single try does both on all of them).
 REPAIR_MIN_SINE = 0.1
-# First rows on the normals (:func:`row_heights`): the fraction of the distance
-# at which neighbouring normals cross that a row node may sit at, and how much higher than
-# its neighbour's a node's height may then be.
+REPAIR_TRIES = ((1e4, 400, 6), (1e5, 800, 8))
+REPAIR_CHAIN = ((1e3, 400, 6), (1e4, 400, 6))
+# First rows on the normals (:func:`row_heights`): the fraction of the distance at which
+# neighbouring lines cross that a row node may sit at, and how much higher than its
+# neighbour's a node's height may then be.
 ROW_CROSSING = 0.5
 ROW_GROWTH = 1.3
-REPAIR_TRIES = ((1e4, 400, 6), (1e5, 800, 8), (1e3, 400, 6))
 
 
 def _wall_and_row(g, side: str):
@@ -246,12 +250,14 @@ def solved_rows(
         out[rows, cols] = controlled_solve(inner, params[rows, cols])[0]
     if not folded_cells(out).any():
         return out
-    start, tries = out, []
-    for weight, iterations, reach in REPAIR_TRIES:
-        tries.append(repair(start, sides, params, weight, iterations, reach))
-        if _rank(tries[-1], sides, WALL_ANGLE_TOL)[:2] == (0, False):
-            break
-    return min(tries, key=lambda g: _rank(g, sides, WALL_ANGLE_TOL))
+    best = out
+    for tries, chained in ((REPAIR_TRIES, False), (REPAIR_CHAIN, True)):
+        for weight, iterations, reach in tries:
+            tried = repair(best if chained else out, sides, params, weight, iterations, reach)
+            best = min(best, tried, key=lambda g: _rank(g, sides, WALL_ANGLE_TOL))
+            if _rank(best, sides, WALL_ANGLE_TOL)[:2] == (0, False):
+                return best
+    return best
 
 
 def _growth(grid: np.ndarray, sides: tuple[str, ...]) -> float:
@@ -322,8 +328,9 @@ def _wall_term(g: torch.Tensor, sides: tuple[str, ...]) -> torch.Tensor:
     return loss_orthogonal(torch.cat(leave), torch.cat(tangent))
 
 
-def _near_folds(grid: np.ndarray, reach: int) -> np.ndarray:
-    """Interior nodes (nj - 2, ni - 2) within ``reach`` cells of a folded cell."""
+def _to_move(grid: np.ndarray, sides: tuple[str, ...], reach: int) -> np.ndarray:
+    """Interior nodes (nj - 2, ni - 2) within ``reach`` cells of a folded cell or of a first
+    row node whose line leaves an orthogonal side more than SPEC 7's 2 degrees off 90."""
     from scipy.ndimage import binary_dilation
 
     nodes = np.zeros(grid.shape[:2], dtype=bool)
@@ -331,6 +338,10 @@ def _near_folds(grid: np.ndarray, reach: int) -> np.ndarray:
     for dj in (0, 1):
         for di in (0, 1):
             nodes[dj : dj + cells.shape[0], di : di + cells.shape[1]] |= cells
+    angles = grid_lines_angle(grid)
+    for side in sides:
+        _, row = _wall_and_row(nodes, side)
+        row[2:-2] |= angles[side][2:-2] > WALL_ANGLE_TOL
     return binary_dilation(nodes, iterations=reach)[1:-1, 1:-1]
 
 
@@ -342,7 +353,8 @@ def repair(
     iterations: int,
     reach: int,
 ) -> np.ndarray:
-    """``grid`` with its interior nodes near folded cells moved (L-BFGS) to minimise the
+    """``grid`` with its interior nodes near folded cells or near lines more than 2 degrees
+    off an orthogonal side (:func:`_to_move`) moved (L-BFGS) to minimise the
     Winslow residual linearised at ``grid`` and scaled by the local cell size (the network's
     scaled residual, losses.py), ``weight`` times the wall term, and a barrier on
     cell corners whose sine is below ``REPAIR_MIN_SINE`` (nearly flat or reflex: folded).
@@ -357,7 +369,7 @@ def repair(
     scale = ((g_xi**2).sum(-1) + (g_eta**2).sum(-1)).reshape(-1, 1) ** 1.5
     mat = mat.tocsr().multiply(1.0 / scale).tocsr()
     rhs = rhs / scale
-    free = _near_folds(grid, reach).ravel()
+    free = _to_move(grid, sides, reach).ravel()
     fixed, sense = torch.as_tensor(grid), orientation(grid)
     inner0 = grid[1:-1, 1:-1].reshape(-1, 2)
     edges = shortest_edges(grid).reshape(-1, 1)[free]
