@@ -60,11 +60,12 @@ SHEAR_GROWTH = 1.1
 REPAIR_MIN_SINE = 0.1
 REPAIR_TRIES = ((1e4, 400, 6), (1e5, 800, 8))
 REPAIR_CHAIN = ((1e3, 400, 6), (1e4, 400, 6))
-# First rows on the normals (:func:`row_heights`): the fraction of the distance at which
-# neighbouring lines cross that a row node may sit at, and how much higher than its
-# neighbour's a node's height may then be.
+# First rows on the normals (:func:`row_heights`): where a row node comes within ROW_NEAR
+# of the distance at which its line crosses its neighbour's, it is put at ROW_CROSSING of
+# it; a row rises by at most ROW_SLOPE (tan 27 degrees) times the wall's node distance.
+ROW_NEAR = 0.9
 ROW_CROSSING = 0.5
-ROW_GROWTH = 1.3
+ROW_SLOPE = 0.5
 
 
 def _wall_and_row(g, side: str):
@@ -126,10 +127,11 @@ def _inward_normals(g: np.ndarray, side: str) -> np.ndarray:
 
 def row_heights(wall: np.ndarray, ways: np.ndarray, wanted: np.ndarray) -> np.ndarray:
     """Heights (nodes,) of the first row off a wall's nodes along the unit vectors ``ways``
-    (inf where a node's row node stays): ``wanted`` where that gives a row of convex cells,
-    at most ``ROW_CROSSING`` of the distance at which a node's line crosses its neighbour's
-    (lines converge off a convex kink, a convex curved wall, a sharp corner), and at most
-    ``ROW_GROWTH`` times its neighbours' (a row that follows the wall smoothly)."""
+    (inf where a node's row node stays): ``wanted``, but ``ROW_CROSSING`` of the distance
+    at which a node's line crosses its neighbour's where ``wanted`` comes within
+    ``ROW_NEAR`` of it (lines converge off a convex kink, a sharp corner), and rising by at
+    most ``ROW_SLOPE`` times the distance between neighbouring wall nodes (the row's edges
+    leave the wall's direction by 27 degrees at most, so the cells keep their angles)."""
     d = wall[1:] - wall[:-1]
     a, b = ways[:-1], ways[1:]
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -138,13 +140,16 @@ def row_heights(wall: np.ndarray, ways: np.ndarray, wanted: np.ndarray) -> np.nd
         t = (a[:, 0] * d[:, 1] - d[:, 0] * a[:, 1]) / det
     crossing = (np.abs(det) > 1e-12) & (s > 0) & (t > 0)
     h = np.array(wanted, dtype=float)
-    h[:-1] = np.minimum(h[:-1], np.where(crossing, ROW_CROSSING * s, np.inf))
-    h[1:] = np.minimum(h[1:], np.where(crossing, ROW_CROSSING * t, np.inf))
+    near = crossing & (h[:-1] > ROW_NEAR * s)
+    h[:-1] = np.where(near, np.minimum(h[:-1], ROW_CROSSING * s), h[:-1])
+    near = crossing & (h[1:] > ROW_NEAR * t)
+    h[1:] = np.where(near, np.minimum(h[1:], ROW_CROSSING * t), h[1:])
     h[np.isinf(wanted)] = np.inf
+    rise = ROW_SLOPE * np.linalg.norm(d, axis=1)
     for k in range(1, len(h)):  # forwards, then backwards
-        h[k] = min(h[k], ROW_GROWTH * h[k - 1])
+        h[k] = min(h[k], h[k - 1] + rise[k - 1])
     for k in range(len(h) - 2, -1, -1):
-        h[k] = min(h[k], ROW_GROWTH * h[k + 1])
+        h[k] = min(h[k], h[k + 1] + rise[k])
     return h
 
 
@@ -170,9 +175,12 @@ def normal_rows(
         moved[k] = True
         # the lines leaving the nodes that stay (a corner's is the other side) keep their way
         leave = row - wall
-        length = np.linalg.norm(leave, axis=1)
-        ways = np.where(moved[:, None], normals[side], leave / length[:, None])
-        h = np.where(moved, heights.get(side, length), np.inf)
+        ways = np.where(
+            moved[:, None], normals[side], leave / np.linalg.norm(leave, axis=1)[:, None]
+        )
+        # the distance from the wall (a row node that a fold put outside keeps it too)
+        h = np.abs(np.einsum("ij,ij->i", leave, normals[side]))
+        h = np.where(moved, heights.get(side, h), np.inf)
         h = row_heights(wall, ways, h) if limit else h
         row[k] = wall[k] + h[k, None] * normals[side][k]
     for (j, dj), (i, di) in ((a, b) for a in ((0, 1), (-1, -1)) for b in ((0, 1), (-1, -1))):
@@ -218,11 +226,10 @@ def orthogonal_grid(
     sides = tuple(s for s in SIDES if s in sides)
     if not sides or min(grid.shape[:2]) < 5:
         return np.array(grid, dtype=float)
-    clean = (0, False)  # no fold, wall angles within SPEC 7's tolerance
-    out = solved_rows(grid, sides, params, heights, limit=True)
-    if _rank(out, sides, WALL_ANGLE_TOL)[:2] != clean:
-        unlimited = solved_rows(grid, sides, params, heights, limit=False)
-        out = min(out, unlimited, key=lambda g: _rank(g, sides, WALL_ANGLE_TOL))
+    out = min(
+        (solved_rows(grid, sides, params, heights, limit) for limit in (True, False)),
+        key=lambda g: _rank(g, sides, WALL_ANGLE_TOL),
+    )
     sheared = normal_rows(sheared_grid(grid, sides, params), sides, heights)
     smooth = _growth(sheared, sides) <= SHEAR_GROWTH * _growth(out, sides)
     out = sheared if smooth and _rank(sheared, sides) < _rank(out, sides) else out
@@ -239,8 +246,8 @@ def solved_rows(
     """The normal rows' candidate of :func:`orthogonal_grid`: :func:`normal_rows` (``limit``:
     their heights limited by :func:`row_heights`), Winslow solved inside them, and repaired
     where that folds a cell. Limited rows are the safer start on notched walls; unlimited
-    ones keep thick rows against a corner that the elliptic grid's rows lean into (a
-    12:1 channel's 73-degree corner, measured in benchmarks/orthogonal.py)."""
+    ones, the elliptic grid's own heights, often give the better cells on smooth walls and
+    at a sector's corners (measured in benchmarks/orthogonal.py): both are tried."""
     out = normal_rows(grid, sides, heights, limit)
     rows, cols = _inside(out.shape, sides)
     inner = out[rows, cols]
@@ -255,9 +262,14 @@ def solved_rows(
         for weight, iterations, reach in tries:
             tried = repair(best if chained else out, sides, params, weight, iterations, reach)
             best = min(best, tried, key=lambda g: _rank(g, sides, WALL_ANGLE_TOL))
-            if _rank(best, sides, WALL_ANGLE_TOL)[:2] == (0, False):
+            if _clean(best, sides):
                 return best
     return best
+
+
+def _clean(grid: np.ndarray, sides: tuple[str, ...]) -> bool:
+    """No folded cell, and every line within SPEC 7's 2 degrees of 90 at ``sides``."""
+    return _rank(grid, sides, WALL_ANGLE_TOL)[:2] == (0, False)
 
 
 def _growth(grid: np.ndarray, sides: tuple[str, ...]) -> float:
