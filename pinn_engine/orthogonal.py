@@ -221,7 +221,7 @@ def orthogonal_grid(
     the converged elliptic grid ``grid``. ``params`` (nj, ni, 2): the node parameters of a
     spacing, which the solve inside keeps with its control functions; ``heights``: the first
     edge wanted at some of ``sides`` (working frame). Never folds more cells than ``grid``:
-    where it would (walls notched within a cell, measured in benchmarks/orthogonal.py),
+    where both candidates would (none does on benchmarks/orthogonal.py's hard shapes),
     ``grid`` itself is returned, and the report shows how far its lines are off 90."""
     sides = tuple(s for s in SIDES if s in sides)
     if not sides or min(grid.shape[:2]) < 5:
