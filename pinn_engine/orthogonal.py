@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 import torch
+from scipy.ndimage import binary_dilation
 from scipy.optimize import minimize
 
 from .blas import one_blas_thread
@@ -343,8 +344,6 @@ def _wall_term(g: torch.Tensor, sides: tuple[str, ...]) -> torch.Tensor:
 def _to_move(grid: np.ndarray, sides: tuple[str, ...], reach: int) -> np.ndarray:
     """Interior nodes (nj - 2, ni - 2) within ``reach`` cells of a folded cell or of a first
     row node whose line leaves an orthogonal side more than SPEC 7's 2 degrees off 90."""
-    from scipy.ndimage import binary_dilation
-
     nodes = np.zeros(grid.shape[:2], dtype=bool)
     cells = folded_cells(grid)
     for dj in (0, 1):
