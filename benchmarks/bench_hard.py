@@ -46,12 +46,12 @@ import tempfile
 import time
 from pathlib import Path
 
-from pinn_engine import quality_start
-from pinn_engine.auxlines import line_distances
+from pinn_engine.geometry.auxlines import line_distances
+from pinn_engine.io.pipeline import load_aux, load_boundary
 from pinn_engine.mesher import Mesher
-from pinn_engine.pipeline import load_aux, load_boundary
 from pinn_engine.quality import angle_floor
 from pinn_engine.settings import make_settings
+from pinn_engine.starts import quality_start
 
 ROOT = Path(__file__).resolve().parents[1]
 HARD = ROOT / "example_data" / "hard"
@@ -165,7 +165,7 @@ def command_seconds(name: str) -> float:
         cmd = [
             sys.executable,
             "-m",
-            "pinn_engine.cli",
+            "pinn_engine.routes.cli",
             str(HARD / f"{name}.vtp"),
             "--aux",
             str(HARD / f"{name}_aux.vtp"),

@@ -40,7 +40,7 @@ def _peak_mib() -> float:
 
 
 def _inputs(case: str):
-    from pinn_engine.pipeline import load_aux, load_boundary
+    from pinn_engine.io.pipeline import load_aux, load_boundary
 
     boundary = load_boundary(ROOT / "example_data" / f"{case}.vtp")
     return boundary, load_aux([ROOT / "example_data" / f"{case}_aux.vtp"], boundary)
@@ -90,8 +90,8 @@ def job_train(case: str, path: str, epochs: int, lbfgs: int) -> dict:
 
 def job_evaluate(case: str, n: int) -> dict:
     """Train briefly, then time a feed-forward n x n grid with its quality arrays."""
+    from pinn_engine.io.pipeline import to_vtk
     from pinn_engine.mesher import Mesher
-    from pinn_engine.pipeline import to_vtk
     from pinn_engine.settings import make_settings
 
     boundary, aux = _inputs(case)

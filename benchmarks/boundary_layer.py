@@ -21,8 +21,8 @@ from pathlib import Path
 
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 
+from pinn_engine.io.pipeline import load_boundary, to_vtk  # noqa: E402
 from pinn_engine.mesher import Mesher  # noqa: E402
-from pinn_engine.pipeline import load_boundary, to_vtk  # noqa: E402
 from pinn_engine.settings import make_settings  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -67,7 +67,7 @@ def main() -> None:
             flush=True,
         )
         if not args.no_images:
-            from pinn_engine.render import render_png
+            from pinn_engine.routes.render import render_png
 
             render_png(
                 to_vtk(result),

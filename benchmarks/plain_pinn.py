@@ -28,10 +28,10 @@ import numpy as np
 import torch
 from torch import nn
 
-from pinn_engine.auxlines import AuxLine
-from pinn_engine.boundary_fit import make_fit
-from pinn_engine.geometry import SIDES, Boundary
-from pinn_engine.training import side_points
+from pinn_engine.blocks.quad import side_points
+from pinn_engine.geometry.auxlines import AuxLine
+from pinn_engine.geometry.boundary import SIDES, Boundary
+from pinn_engine.geometry.boundary_fit import make_fit
 
 HIDDEN_LAYERS, NEURONS = 4, 30
 LEARNING_RATE, LR_DECAY, LR_DECAY_EVERY = 1e-3, 0.9, 1000
@@ -246,7 +246,7 @@ def plain_grid(model: PlainPINN, ni: int, nj: int, boundary: Boundary) -> np.nda
 
 
 def main(argv: Sequence[str] | None = None) -> None:
-    from pinn_engine.pipeline import load_aux, load_boundary
+    from pinn_engine.io.pipeline import load_aux, load_boundary
     from pinn_engine.quality import boundary_nodes, cell_quality, summary
 
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])

@@ -19,8 +19,8 @@ os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")  # off-
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from pinn_engine.pyvista_accessor import pinn_mesh, save_mesh  # noqa: E402
-from pinn_engine.render import render_body_png  # noqa: E402
+from pinn_engine.routes.pyvista_accessor import pinn_mesh, save_mesh  # noqa: E402
+from pinn_engine.routes.render import render_body_png  # noqa: E402
 
 
 def main() -> int:

@@ -21,7 +21,7 @@ os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")  # off-
 
 import pyvista as pv  # noqa: E402
 
-import pinn_engine.pyvista_accessor  # noqa: E402,F401  (only needed when not pip-installed)
+import pinn_engine.routes.pyvista_accessor  # noqa: E402,F401  (only needed when not pip-installed)
 
 
 def build_domain() -> tuple[pv.PolyData, pv.PolyData]:

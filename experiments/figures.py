@@ -122,7 +122,7 @@ class GridRenderer:
 
     def image(self, run: dict) -> np.ndarray:
         """An RGB picture of the run's grid, boundary (red) and auxiliary lines (orange)."""
-        from pinn_engine.vtkgrid import structured_grid
+        from pinn_engine.io.vtkgrid import structured_grid
 
         pv, plotter = self.pv, self.plotter
         points = np.asarray(run["points"])

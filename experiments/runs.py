@@ -207,8 +207,8 @@ def run_job(
     job: Job, example_dir: str | Path, progress: Callable[[float], None] | None = None
 ) -> dict:
     """Run ``job``; ``progress(fraction)`` is called during training. Never raises."""
+    from pinn_engine.io.pipeline import load_aux, load_boundary
     from pinn_engine.mesher import Mesher
-    from pinn_engine.pipeline import load_aux, load_boundary
     from pinn_engine.quality import included_angles
 
     out: dict = job.record()

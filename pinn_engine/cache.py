@@ -9,12 +9,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .settings import NEURAL, Settings
+from pinn_engine.settings import NEURAL, Settings
 
 if TYPE_CHECKING:  # the engine's numerics are imported on first use (fast plugin loading)
-    from .auxlines import AuxLine
-    from .geometry import Boundary
-    from .mesher import Mesher
+    from pinn_engine.geometry.auxlines import AuxLine
+    from pinn_engine.geometry.boundary import Boundary
+    from pinn_engine.mesher import Mesher
 
 
 def _digest(*arrays) -> str:
@@ -75,7 +75,7 @@ class MeshCache:
             self._entries.move_to_end(key)
             mesher.settings = settings  # same training key; refreshes preset/device in reports
             return mesher, False
-        from .mesher import Mesher
+        from pinn_engine.mesher import Mesher
 
         mesher = Mesher(settings).fit(boundary, aux_lines, progress)
         trained = settings.method in NEURAL

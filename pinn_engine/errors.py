@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from .settings import NEURAL
+from pinn_engine.settings import NEURAL
 
 
 class PinnMeshError(Exception):
@@ -178,4 +178,23 @@ def wall_angle_warning(report: dict, route: str) -> str | None:
         f"({listing} degrees; the two nodes nearest each corner aside); the grid is "
         f"{_HANDED_OVER[route]} anyway; where a wall turns sharply within a cell, round it or "
         f"try another {ROUTE_WORDS[route]['size']}"
+    )
+
+
+def network_effect(report: dict) -> str | None:
+    """What the network did, for the summary line of every route: whether its grid was kept
+    or the start's (the guard found no better state), and the largest node move between
+    the start and the result relative to the diagonal; None for a method without network."""
+    training = report.get("training")
+    if not training or "result" not in training:
+        return None
+    start = training.get("start", "elliptic")
+    if training["result"] == "start":
+        return f"network: start kept ({start} grid; no trained state passed the quality guard)"
+    move = training.get("largest_node_move")
+    if move is None:
+        return "network: trained from TFI, its grid kept"
+    return (
+        f"network: its grid kept, nodes moved up to {move:.1e} of the diagonal from the "
+        f"{start} start"
     )

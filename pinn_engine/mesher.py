@@ -9,17 +9,17 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .auxlines import AuxLine, line_distances
-from .boundary_fit import make_fit
-from .elliptic import winslow_solve, winslow_sweeps
-from .errors import NotFittedError, PinnMeshError, TrainingError
-from .geometry import Boundary
-from .heap import reuse_freed_memory
-from .plane import Plane
-from .quality import boundary_nodes, cell_quality, side_report, summary
-from .settings import NEURAL, Settings, grid_size_problem, make_settings
-from .spacing import classical_grid, fit_params, side_lengths, working_spacing
-from .tfi import tfi_grid
+from pinn_engine.classical.elliptic import winslow_solve, winslow_sweeps
+from pinn_engine.classical.spacing import classical_grid, fit_params, side_lengths, working_spacing
+from pinn_engine.classical.tfi import tfi_grid
+from pinn_engine.errors import NotFittedError, PinnMeshError, TrainingError
+from pinn_engine.geometry.auxlines import AuxLine, line_distances
+from pinn_engine.geometry.boundary import Boundary
+from pinn_engine.geometry.boundary_fit import make_fit
+from pinn_engine.geometry.plane import Plane
+from pinn_engine.heap import reuse_freed_memory
+from pinn_engine.quality import boundary_nodes, cell_quality, side_report, summary
+from pinn_engine.settings import NEURAL, Settings, grid_size_problem, make_settings
 
 Progress = Callable[[dict], bool | None]
 
@@ -86,7 +86,7 @@ class Mesher:
         self.model_ = None
         self.train_seconds_ = 0.0
         if self.settings.method in NEURAL:
-            from .training import train  # torch is imported only when training
+            from pinn_engine.blocks.quad import train  # torch is imported only when training
 
             start = time.perf_counter()
             self.model_ = train(boundary, self.aux_lines_, self.settings, progress)
@@ -104,7 +104,7 @@ class Mesher:
     @classmethod
     def load(cls, path: str | os.PathLike, boundary: Boundary) -> Mesher:
         """A fitted mesher from a saved model; ``boundary`` must be the one it was trained on."""
-        from .model import TrainedModel
+        from pinn_engine.neural.model import TrainedModel
 
         model = TrainedModel.load(path, boundary)
         mesher = cls(model.settings)

@@ -4,12 +4,15 @@ from __future__ import annotations
 
 import math
 import numbers
+import re
 from dataclasses import asdict, dataclass, fields, replace
 
 METHODS = ("pinn", "mgnet", "tfi", "elliptic")
 NEURAL = ("pinn", "mgnet")  # the methods that train a network
 PRESETS = ("default", "paper")
 OBJECTIVES = ("winslow", "quality")  # SPEC 7, --objective (pinn)
+TOPOLOGIES = ("none", "o", "c")  # SPEC 9: a four-sided domain, an O-grid or a C-grid
+BODY_METHODS = ("pinn", "tfi", "elliptic")  # the methods of O- and C-grids
 # Grid sizes accepted on every route (command line, filter and panel, pyvista, Mesher)
 MAX_SIDE_NODES = 20_000
 MAX_NODES = 4_000_000  # about 1.5 GB of memory while meshing and writing
@@ -114,6 +117,19 @@ class Interval:
         return f"must be {kind} from {show(self.low)} to {show(self.high)}"
 
 
+@dataclass(frozen=True)
+class Pattern:
+    """A string matching the regular expression ``regex`` (``hint`` says what it wants)."""
+
+    regex: str
+    hint: str
+
+    def problem(self, value) -> str | None:
+        if isinstance(value, str) and re.fullmatch(self.regex, value):
+            return None
+        return f"use {self.hint}"
+
+
 # Every setting's rule, in one place (scikit-learn's ``_parameter_constraints``): the Settings
 # dataclass checks them, and the command line, the VTK filter, the plugin panel and the
 # pyvista accessor take their choices and ranges from here. Rules between settings are in
@@ -143,6 +159,9 @@ PARAMETER_CONSTRAINTS: dict[str, Options | Interval] = {
     "derivatives": Options(("jets", "autograd")),
     "elliptic_iterations": Interval(int, 0, 1_000_000),
     "lambda_orthogonal": Interval(float, 0.0),
+    "topology": Options(TOPOLOGIES),
+    "naca": Pattern(r"(\d{4})?", "a NACA 4-digit code such as 0012"),
+    "farfield": Interval(float, 1.0),  # chords: a far field inside the body is no domain
 }
 
 
@@ -194,6 +213,13 @@ class Settings:
     spacing: tuple[tuple[str, float], ...] = ()
     orthogonal: tuple[str, ...] = ()
     lambda_orthogonal: float = 300.0  # weight of the orthogonality term (pinn)
+    # SPEC 9, a body instead of a four-sided domain: "o" or "c" ("none": four-sided), a NACA
+    # 4-digit section instead of a body file ("": none), the far-field circle's radius in
+    # chords about mid-chord (a body given with its own far-field curve ignores it); the
+    # first-layer height off the wall is ``spacing`` of the side "bottom"
+    topology: str = "none"
+    naca: str = ""
+    farfield: float = 15.0
 
     def __post_init__(self) -> None:
         for name in PARAMETER_CONSTRAINTS:
@@ -213,6 +239,10 @@ class Settings:
         object.__setattr__(self, "lattice", lattice)  # lists (JSON, saved models) -> tuple
         object.__setattr__(self, "spacing", parse_spacing(self.spacing))
         object.__setattr__(self, "orthogonal", parse_sides(self.orthogonal))
+        if self.topology != "none":
+            self._check_body()
+        elif self.naca:
+            raise ValueError(f"naca {self.naca}: a NACA section needs topology o or c")
         if self.orthogonal and self.method not in ("pinn", "elliptic"):
             raise ValueError(
                 f"orthogonal sides need the pinn or elliptic method, not {self.method}"
@@ -226,6 +256,33 @@ class Settings:
                 "spacing and orthogonal sides need the converged elliptic solver "
                 "(elliptic_iterations 0, not the paper's sweeps)"
             )
+
+    def _check_body(self) -> None:
+        """The rules of O- and C-grids (SPEC 9): their methods, and the wall as the one side
+        that spacing and orthogonality apply to."""
+        if self.method not in BODY_METHODS:
+            raise ValueError(
+                f"method {self.method}: O- and C-grids are made by "
+                f"{', '.join(BODY_METHODS)} ({self.method} meshes four-sided domains only)"
+            )
+        if self.objective == "quality":
+            raise ValueError("objective quality: for four-sided domains, not O- and C-grids")
+        if any(side != "bottom" for side, _ in self.spacing):
+            raise ValueError(
+                "spacing: an O- or C-grid takes bottom=H (the first layer off the wall)"
+            )
+        if any(side != "bottom" for side in self.orthogonal):
+            raise ValueError("orthogonal: an O- or C-grid takes bottom (the body wall)")
+        if self.orthogonal and self.method == "tfi":
+            raise ValueError(
+                "orthogonal bottom: tfi's straight columns cannot leave the wall at right "
+                "angles; use method elliptic or pinn"
+            )
+
+    @property
+    def wall_spacing(self) -> float | None:
+        """The first-layer height off a body's wall (``spacing`` of bottom), or None."""
+        return dict(self.spacing).get("bottom")
 
     def to_dict(self) -> dict:
         return asdict(self)

@@ -1,14 +1,14 @@
 """ParaView plugin: Filters > Mesh Generation > PINN Structured Mesh.
 
 A thin layer of ``paraview.util.vtkAlgorithm`` decorators over
-``pinn_engine.algorithm.PinnMeshAlgorithm``. Load it with Tools > Manage Plugins > Load New
+``pinn_engine.routes.algorithm.PinnMeshAlgorithm``. Load it with Tools > Manage Plugins > Load New
 (this file) or put this folder on ``PV_PLUGIN_PATH``. ``pinn_engine`` is imported from the
 checkout this file lives in (``plugin/..``); it need not be installed into ParaView's Python,
 but that Python needs numpy, scipy, scikit-learn and (for training) torch: start ParaView
 with ``scripts/pvenv.sh paraview`` (which also puts the ``getargspec`` shim that Debian's
 ParaView 5.11 needs on PYTHONPATH; see README).
 
-It also registers File > Save Data writers for the filter's output (``pinn_engine.export``):
+It also registers File > Save Data writers for the filter's output (``pinn_engine.io.export``):
 PLOT3D, CGNS with boundary conditions, SU2, Gmsh 4.1 and OpenFOAM, each using the grid's
 Patch Names (docs/export.md).
 
@@ -26,10 +26,10 @@ if _REPO not in sys.path:
 
 try:
     from pinn_engine import __version__
-    from pinn_engine.airfoil_algorithm import AirfoilReader, AirfoilSource
-    from pinn_engine.algorithm import PinnMeshAlgorithm
-    from pinn_engine.export import FORMATS
-    from pinn_engine.export.algorithm import PARAVIEW_FORMATS, GridWriter
+    from pinn_engine.io.export import FORMATS
+    from pinn_engine.io.export.algorithm import PARAVIEW_FORMATS, GridWriter
+    from pinn_engine.routes.airfoil_algorithm import AirfoilReader, AirfoilSource
+    from pinn_engine.routes.algorithm import PinnMeshAlgorithm
     from pinn_engine.settings import (
         MAX_SIDE_NODES,
         METHODS,
@@ -125,7 +125,7 @@ def _doc(text):
     )
 )
 class PINNStructuredMesh(PinnMeshAlgorithm):
-    """The ParaView face of :class:`pinn_engine.algorithm.PinnMeshAlgorithm`."""
+    """The ParaView face of :class:`pinn_engine.routes.algorithm.PinnMeshAlgorithm`."""
 
     def RemoveAllBoundaryInputs(self):
         # clean commands of the two repeatable inputs: the decorator's default,
@@ -359,7 +359,7 @@ class PINNAirfoilSource(AirfoilSource):
 
 
 def _writer_proxy(key, extension, name):
-    """File > Save Data entry for one solver format (``pinn_engine.export``)."""
+    """File > Save Data entry for one solver format (``pinn_engine.io.export``)."""
     fmt = FORMATS[key]
     thickness = (
         "One cell of this thickness in z (0: the grid's mean edge length); "

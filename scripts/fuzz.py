@@ -2,7 +2,7 @@
 
 Each case writes a boundary file (``.csv``, ``.txt``, ``.vtp`` or ``.vtk``; valid shapes,
 damaged shapes and damaged bytes), sometimes an auxiliary-line file and random options, and
-runs ``pinn_engine.cli.main`` in-process with ``--method tfi`` or ``elliptic``. A case passes
+runs ``pinn_engine.routes.cli.main`` in-process with ``--method tfi`` or ``elliptic``. A case passes
 when the command ends with status 0 and a complete, finite grid whose boundary nodes lie on
 the boundary, or with status 2 and one ``pinn-mesh: error:`` line and no output file. Anything
 else (an exception escaping ``main``, status 3, a C-level message on stderr, a crash of the
@@ -81,7 +81,7 @@ def annulus_ring(rng) -> np.ndarray:
 
 
 def example_ring(rng) -> np.ndarray:
-    from pinn_engine.fileio import read_boundary_points
+    from pinn_engine.io.fileio import read_boundary_points
 
     name = rng.choice(["wavy", "fig2", "concave"])
     return read_boundary_points(EXAMPLES / f"{name}.vtp")[:, :2]
@@ -409,7 +409,7 @@ def _fd2_to(path: Path):
 
 def run_case(seed: int, folder: Path) -> dict:
     """Run one case; returns its outcome with ``problem`` set when it is a finding."""
-    from pinn_engine.cli import main
+    from pinn_engine.routes.cli import main
 
     folder.mkdir(parents=True, exist_ok=True)
     argv, notes = make_case(seed, folder)

@@ -8,12 +8,12 @@ import numpy as np
 import pytest
 from vtkmodules.vtkIOXML import vtkXMLStructuredGridReader
 
-from pinn_engine.airfoil import circle, load_body, naca4, read_body_and_farfield, read_dat
-from pinn_engine.bodymesh import mesh_body
-from pinn_engine.cli import main
+from pinn_engine.bodies.airfoil import circle, load_body, naca4, read_body_and_farfield, read_dat
+from pinn_engine.bodies.bodymesh import mesh_body
+from pinn_engine.classical.spacing import exact_stretch
 from pinn_engine.errors import InputError
+from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
-from pinn_engine.spacing import exact_stretch
 
 FAST_PINN = {"lbfgs_iterations": 10, "lbfgs_points": 200}
 
@@ -289,7 +289,7 @@ def test_cli_errors_are_one_line(tmp_path, capsys, argv, words):
 
 def test_pyvista_routes(tmp_path):
     pv = pytest.importorskip("pyvista")
-    from pinn_engine.pyvista_accessor import pinn_mesh
+    from pinn_engine.routes.pyvista_accessor import pinn_mesh
 
     grid = pinn_mesh(
         None,
@@ -315,5 +315,5 @@ def test_pyvista_routes(tmp_path):
     dat = _selig(tmp_path / "f.dat", xy)
     g = pinn_mesh(str(dat), topology="c", size=(121, 21), method="tfi")
     assert g.n_cells == 120 * 20
-    with pytest.raises(InputError, match='topology="o"|"o" or "c"'):
+    with pytest.raises(ValueError, match="topology 'x': use none, o, c"):
         pinn_mesh(None, naca="0012", topology="x", size=(41, 17))

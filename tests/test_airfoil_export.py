@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
-from pinn_engine.airfoil import circle, load_body
-from pinn_engine.bodymesh import mesh_body, patch_names
+from pinn_engine.bodies.airfoil import circle, load_body
+from pinn_engine.bodies.bodymesh import mesh_body, patch_names
 from pinn_engine.errors import InputError
-from pinn_engine.export import write
-from pinn_engine.pipeline import to_vtk
+from pinn_engine.io.export import write
+from pinn_engine.io.pipeline import to_vtk
 
 NI, NJ = {"o": 41, "c": 61}, 13
 

@@ -15,8 +15,8 @@ from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 from vtkmodules.vtkFiltersSources import vtkLineSource, vtkPolyLineSource
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
-from pinn_engine.algorithm import PinnMeshAlgorithm
 from pinn_engine.errors import TrainingError
+from pinn_engine.routes.algorithm import PinnMeshAlgorithm
 from pinn_engine.settings import Settings
 
 SHORT = {"adam_epochs": 60, "lbfgs_iterations": 5}
@@ -272,8 +272,8 @@ def test_corners_and_choices():
     alg = make_alg(case="wavy", aux=False, method="tfi")
     alg.Update()
     auto = points(alg)
-    from pinn_engine.fileio import read_boundary_points
-    from pinn_engine.geometry import detect_corners
+    from pinn_engine.geometry.boundary import detect_corners
+    from pinn_engine.io.fileio import read_boundary_points
 
     ring = read_boundary_points(EXAMPLES / "wavy.vtp")[:, :2]
     alg.SetCorners(*(int(i) for i in detect_corners(ring)))
@@ -293,7 +293,7 @@ def test_corners_and_choices():
 
 def test_import_needs_no_torch_nor_pyvista():
     code = (
-        "import sys, pinn_engine.algorithm as a; a.PinnMeshAlgorithm(); "
+        "import sys, pinn_engine.routes.algorithm as a; a.PinnMeshAlgorithm(); "
         "print(sorted(m for m in ('torch', 'pyvista') if m in sys.modules))"
     )
     out = subprocess.run(

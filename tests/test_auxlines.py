@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from conftest import square_ring
 
-from pinn_engine.auxlines import RawLine, map_line
 from pinn_engine.errors import InputError
-from pinn_engine.geometry import Boundary
+from pinn_engine.geometry.auxlines import RawLine, map_line
+from pinn_engine.geometry.boundary import Boundary
 
 
 @pytest.fixture

@@ -8,16 +8,16 @@ import numpy as np
 import pytest
 from conftest import EXAMPLES, wavy_ring
 
-from pinn_engine.algorithm import PinnMeshAlgorithm
-from pinn_engine.cli import main
-from pinn_engine.elliptic import controlled_solve
+from pinn_engine.classical.elliptic import controlled_solve
+from pinn_engine.classical.spacing import param_grid, stretch, uniform_params
+from pinn_engine.classical.tfi import tfi_at
 from pinn_engine.errors import PinnMeshError
+from pinn_engine.io.pipeline import load_boundary
 from pinn_engine.mesher import Mesher
-from pinn_engine.pipeline import load_boundary
 from pinn_engine.quality import boundary_nodes, first_edges, folded_cells, grid_lines_angle
+from pinn_engine.routes.algorithm import PinnMeshAlgorithm
+from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
-from pinn_engine.spacing import param_grid, stretch, uniform_params
-from pinn_engine.tfi import tfi_at
 
 BUMP = EXAMPLES / "bump_channel.vtp"  # channel of height 1, a smooth bump on the floor
 H = 1e-3
@@ -146,7 +146,7 @@ def test_pinn_orthogonal_without_spacing(bump):
 
 def test_pinn_orthogonal_on_every_side():
     """Four wavy sides, all orthogonal: within 2 degrees everywhere, no fold."""
-    from pinn_engine.geometry import Boundary
+    from pinn_engine.geometry.boundary import Boundary
 
     wavy = Boundary.from_points(wavy_ring(40))
     settings = make_settings(
@@ -214,7 +214,7 @@ def test_cli_options_and_report(tmp_path, capsys):
 def test_accessor_and_filter_options():
     import pyvista as pv
 
-    from pinn_engine.pyvista_accessor import pinn_mesh
+    from pinn_engine.routes.pyvista_accessor import pinn_mesh
 
     boundary = pv.read(BUMP)
     grid = pinn_mesh(
@@ -240,8 +240,8 @@ def test_accessor_and_filter_options():
 
 
 def test_tfi_evaluated_at_uniform_parameters_is_the_tfi_grid(bump):
-    from pinn_engine.boundary_fit import ArcLengthFit
-    from pinn_engine.tfi import tfi_grid
+    from pinn_engine.classical.tfi import tfi_grid
+    from pinn_engine.geometry.boundary_fit import ArcLengthFit
 
     np.testing.assert_allclose(
         tfi_at(bump)(uniform_params(9, 5)), tfi_grid(ArcLengthFit(bump).sample, 9, 5), atol=1e-15

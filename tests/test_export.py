@@ -20,12 +20,12 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkIOLegacy import vtkStructuredGridReader
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader, vtkXMLStructuredGridReader
 
-from pinn_engine import export
-from pinn_engine.algorithm import PinnMeshAlgorithm
-from pinn_engine.cli import main
 from pinn_engine.errors import InputError
-from pinn_engine.export.algorithm import GridWriter
-from pinn_engine.pyvista_accessor import pinn_mesh, save_mesh
+from pinn_engine.io import export
+from pinn_engine.io.export.algorithm import GridWriter
+from pinn_engine.routes.algorithm import PinnMeshAlgorithm
+from pinn_engine.routes.cli import main
+from pinn_engine.routes.pyvista_accessor import pinn_mesh, save_mesh
 
 NI, NJ = 13, 7
 PATCHES = {"bottom": "wall", "top": "wall", "left": "inlet"}  # right keeps "right"

@@ -11,9 +11,9 @@ from conftest import CASES, EXAMPLES, square_ring
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkIOXML import vtkXMLStructuredGridReader
 
-from pinn_engine.cli import main
-from pinn_engine.fileio import read_boundary_points
-from pinn_engine.pipeline import load_boundary
+from pinn_engine.io.fileio import read_boundary_points
+from pinn_engine.io.pipeline import load_boundary
+from pinn_engine.routes.cli import main
 
 
 def read_vts(path: Path):

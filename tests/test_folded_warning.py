@@ -17,12 +17,12 @@ from conftest import EXAMPLES, ROOT, OutputMessages
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
 import pinn_engine
-from pinn_engine.algorithm import PinnMeshAlgorithm
-from pinn_engine.cli import build_parser, main
 from pinn_engine.errors import FoldedCellsWarning, folded_cells_warning
+from pinn_engine.io.pipeline import load_boundary
 from pinn_engine.mesher import Mesher
-from pinn_engine.pipeline import load_boundary
-from pinn_engine.pyvista_accessor import pinn_mesh
+from pinn_engine.routes.algorithm import PinnMeshAlgorithm
+from pinn_engine.routes.cli import build_parser, main
+from pinn_engine.routes.pyvista_accessor import pinn_mesh
 from pinn_engine.settings import METHODS, Settings, make_settings
 
 FOLDED, UNFOLDED = EXAMPLES / "concave.vtp", EXAMPLES / "fig2.vtp"

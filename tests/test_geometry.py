@@ -7,7 +7,7 @@ import pytest
 from conftest import square_ring, wavy_ring
 
 from pinn_engine.errors import InputError
-from pinn_engine.geometry import Boundary
+from pinn_engine.geometry.boundary import Boundary
 
 
 def corner_set(points: np.ndarray, corners=None) -> set[tuple[float, float]]:

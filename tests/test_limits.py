@@ -9,11 +9,11 @@ import pytest
 from conftest import EXAMPLES, ROOT, OutputMessages, square_ring
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
-from pinn_engine.algorithm import PinnMeshAlgorithm
-from pinn_engine.cli import main
-from pinn_engine.geometry import Boundary
+from pinn_engine.geometry.boundary import Boundary
 from pinn_engine.mesher import Mesher
-from pinn_engine.pyvista_accessor import pinn_mesh
+from pinn_engine.routes.algorithm import PinnMeshAlgorithm
+from pinn_engine.routes.cli import main
+from pinn_engine.routes.pyvista_accessor import pinn_mesh
 from pinn_engine.settings import MAX_NODES, MAX_SIDE_NODES, grid_size_problem, make_settings
 
 TOO_BIG = [(1, 5), (MAX_SIDE_NODES + 1, 2), (2001, 2001)]  # the last: 4,004,001 nodes
@@ -67,7 +67,7 @@ def test_one_table_of_setting_rules_read_by_every_route(tmp_path, capsys):
     Settings (pyvista, the VTK filter)."""
     import re
 
-    from pinn_engine.cli import main
+    from pinn_engine.routes.cli import main
     from pinn_engine.settings import PARAMETER_CONSTRAINTS, make_settings
 
     top = PARAMETER_CONSTRAINTS["hidden_layers"].high

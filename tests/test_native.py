@@ -8,9 +8,9 @@ import pytest
 import torch
 from conftest import needs_compiler
 
-from pinn_engine.jet import layers, native
-from pinn_engine.jet.layers import ACTIVATIONS
-from pinn_engine.networks import CoordinateNet
+from pinn_engine.neural.jet import layers, native
+from pinn_engine.neural.jet.layers import ACTIVATIONS
+from pinn_engine.neural.networks import CoordinateNet
 
 
 def _run(net: CoordinateNet, x: torch.Tensor, extra: torch.Tensor) -> list[torch.Tensor]:

@@ -6,15 +6,15 @@ import numpy as np
 import pytest
 from conftest import EXAMPLES
 
-from pinn_engine.boundary_fit import ArcLengthFit
-from pinn_engine.elliptic import winslow_solve
+from pinn_engine.classical.elliptic import winslow_solve
+from pinn_engine.classical.spacing import classical_grid, working_spacing
+from pinn_engine.classical.tfi import tfi_grid
+from pinn_engine.geometry.boundary_fit import ArcLengthFit
+from pinn_engine.io.pipeline import load_boundary
 from pinn_engine.mesher import Mesher
-from pinn_engine.orthogonal import normal_rows, orthogonal_grid, row_heights
-from pinn_engine.pipeline import load_boundary
 from pinn_engine.quality import boundary_nodes, first_edges, folded_cells, side_report
 from pinn_engine.settings import make_settings
-from pinn_engine.spacing import classical_grid, working_spacing
-from pinn_engine.tfi import tfi_grid
+from pinn_engine.starts.orthogonal import normal_rows, orthogonal_grid, row_heights
 
 HARD = EXAMPLES / "hard"
 FOUR = ("bottom", "right", "top", "left")
@@ -135,9 +135,9 @@ def test_wall_angles_off_an_orthogonal_side_are_warned_on_every_route(capsys, tm
     import pyvista as pv
 
     from pinn_engine import WallAngleWarning
-    from pinn_engine.algorithm import _warning
-    from pinn_engine.cli import main
     from pinn_engine.errors import wall_angle_warning
+    from pinn_engine.routes.algorithm import _warning
+    from pinn_engine.routes.cli import main
 
     report = {
         "settings": {"orthogonal": ["bottom", "top"]},

@@ -7,15 +7,16 @@ import pytest
 import torch
 from conftest import EXAMPLES, needs_compiler
 
-from pinn_engine.cli import main
-from pinn_engine.jet import input_jet, jet_product, native
-from pinn_engine.losses import annealed_lambda, loss_eqns, winslow_residual
-from pinn_engine.mapping import Mapping
+from pinn_engine.blocks.quad import QuadProblem, _FusedEvaluation
+from pinn_engine.io.pipeline import load_aux, load_boundary
 from pinn_engine.mesher import Mesher
-from pinn_engine.networks import CoordinateNet, autograd_jet
-from pinn_engine.pipeline import load_aux, load_boundary
+from pinn_engine.neural.jet import input_jet, jet_product, native
+from pinn_engine.neural.losses import annealed_lambda, loss_eqns, winslow_residual
+from pinn_engine.neural.mapping import Mapping
+from pinn_engine.neural.networks import CoordinateNet, autograd_jet
+from pinn_engine.neural.trainer import AutogradEvaluation
+from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
-from pinn_engine.training import _Evaluation, _FusedEvaluation, _Problem
 
 QUICK = {"adam_epochs": 200, "lbfgs_iterations": 20}
 
@@ -115,7 +116,7 @@ def test_data_term_sees_the_auxiliary_line_points(fig2):
     settings = make_settings("pinn", **QUICK)
     net = CoordinateNet("shortcut", 2, 8).double()
     mapping = Mapping(net, boundary, "hard")
-    problem = _Problem(mapping, boundary, aux, settings, torch.float64, torch.device("cpu"))
+    problem = QuadProblem(mapping, boundary, aux, settings, torch.float64, torch.device("cpu"))
     batch = problem.epoch_batch(1)
     data = problem.terms(*batch)["data"]
     xe = torch.as_tensor(np.concatenate([a.xi_eta for a in aux]))
@@ -126,7 +127,7 @@ def test_data_term_sees_the_auxiliary_line_points(fig2):
     assert data > 1e-3
     problem.aux_y = mapping.values(xe, base).detach()  # measured points = the prediction
     assert problem.terms(*batch)["data"] < 1e-20
-    without = _Problem(mapping, boundary, [], settings, torch.float64, torch.device("cpu"))
+    without = QuadProblem(mapping, boundary, [], settings, torch.float64, torch.device("cpu"))
     assert without.terms(*batch)["data"] == 0
 
 
@@ -257,7 +258,7 @@ def test_the_fused_paper_loss_equals_the_autograd_loss_terms(fig2, kind, with_au
     boundary, aux = fig2
     torch.manual_seed(2)
     net = CoordinateNet(kind, 4, 30).to(dtype)
-    problem = _Problem(
+    problem = QuadProblem(
         Mapping(net, boundary, "penalty"),
         boundary,
         aux if with_aux else [],
@@ -270,7 +271,7 @@ def test_the_fused_paper_loss_equals_the_autograd_loss_terms(fig2, kind, with_au
     fused = problem.evaluate(batch)
     problem.fused = None
     plain = problem.evaluate(batch)
-    assert (type(fused), type(plain)) == (_FusedEvaluation, _Evaluation)
+    assert (type(fused), type(plain)) == (_FusedEvaluation, AutogradEvaluation)
     f64 = dtype == torch.float64
     tol = {"rtol": 1e-10 if f64 else 1e-4, "atol": 0.0}
     near = 1e-12 if f64 else 1e-5  # gradients: absolute tolerance, relative to the largest
@@ -295,7 +296,7 @@ def test_the_fused_loss_only_where_it_applies(fig2):
     boundary, aux = fig2
     net = CoordinateNet("shortcut", 2, 8).double()
     problems = {
-        preset: _Problem(
+        preset: QuadProblem(
             Mapping(net, boundary, make_settings("pinn", preset).boundary_mode),
             boundary,
             aux,

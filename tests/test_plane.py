@@ -7,13 +7,13 @@ import pytest
 import pyvista as pv
 from conftest import EXAMPLES
 
-from pinn_engine.cli import main
 from pinn_engine.errors import InputError
-from pinn_engine.geometry import Boundary
+from pinn_engine.geometry.boundary import Boundary
+from pinn_engine.geometry.plane import Plane
+from pinn_engine.io.pipeline import load_aux, load_boundary
 from pinn_engine.mesher import Mesher
-from pinn_engine.pipeline import load_aux, load_boundary
-from pinn_engine.plane import Plane
-from pinn_engine.pyvista_accessor import pinn_mesh
+from pinn_engine.routes.cli import main
+from pinn_engine.routes.pyvista_accessor import pinn_mesh
 from pinn_engine.settings import make_settings
 
 SHORT = {"adam_epochs": 0, "lbfgs_iterations": 5}
@@ -154,7 +154,7 @@ def test_a_cached_mesher_is_not_reused_for_another_plane(fig2):
 def test_tilted_grid_exports_extrude_along_its_normal(tmp_path, fig2):
     import gmsh
 
-    from pinn_engine.export import write
+    from pinn_engine.io.export import write
 
     boundary, _ = fig2
     matrix = rotation(0.4, 1.1)

@@ -22,10 +22,10 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from pinn_engine.cli import main
 from pinn_engine.errors import InputError
-from pinn_engine.geometry import Boundary, segment_distance, signed_area
+from pinn_engine.geometry.boundary import Boundary, segment_distance, signed_area
 from pinn_engine.mesher import Mesher
+from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
 
 settings.register_profile(

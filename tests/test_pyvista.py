@@ -14,7 +14,7 @@ import pyvista as pv
 from conftest import EXAMPLES, ROOT, wavy_ring
 
 from pinn_engine.errors import InputError, PinnMeshError
-from pinn_engine.pyvista_accessor import PinnMeshAccessor, pinn_mesh
+from pinn_engine.routes.pyvista_accessor import PinnMeshAccessor, pinn_mesh
 
 SHORT = {"adam_epochs": 60, "lbfgs_iterations": 5}
 ARRAYS = ("MaxIncludedAngle", "MinIncludedAngle", "ScaledJacobian", "Folded")
@@ -93,9 +93,9 @@ def test_entry_point_declares_the_accessor_module():
     eps = [ep for ep in entry_points(group="pyvista.accessors") if ep.name == "pinn_mesh"]
     assert len(eps) == 1, "pinn-mesh is not installed (pip install -e .)"
     # pyvista 0.49 imports the entry point's value with importlib.import_module: a module path
-    assert eps[0].value == "pinn_engine.pyvista_accessor", (
+    assert eps[0].value == "pinn_engine.routes.pyvista_accessor", (
         f"entry point value {eps[0].value!r}: pyvista imports it as a module; it must be "
-        "'pinn_engine.pyvista_accessor' in pyproject.toml"
+        "'pinn_engine.routes.pyvista_accessor' in pyproject.toml"
     )
     importlib.import_module(eps[0].value)
 

@@ -7,9 +7,9 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkFiltersVerdict import vtkMeshQuality
 
 from pinn_engine import quality
+from pinn_engine.classical.tfi import node_params
+from pinn_engine.io.vtkgrid import structured_grid
 from pinn_engine.quality import cell_quality, folded_cells, included_angles
-from pinn_engine.tfi import node_params
-from pinn_engine.vtkgrid import structured_grid
 
 
 def distorted_grid(seed: int, amount: float) -> np.ndarray:

@@ -9,17 +9,17 @@ import pytest
 import torch
 from conftest import EXAMPLES, square_ring
 
-from pinn_engine.algorithm import PinnMeshAlgorithm
-from pinn_engine.boundary_fit import ArcLengthFit
-from pinn_engine.cli import main
-from pinn_engine.losses import corner_angles, loss_quality, nearest_on_line
+from pinn_engine.classical.tfi import tfi_grid
+from pinn_engine.geometry.boundary_fit import ArcLengthFit
+from pinn_engine.io.pipeline import load_aux, load_boundary
 from pinn_engine.mesher import Mesher
-from pinn_engine.pipeline import load_aux, load_boundary
+from pinn_engine.neural.losses import corner_angles, loss_quality, nearest_on_line
 from pinn_engine.quality import angle_floor, folded_cells
-from pinn_engine.quality_start import Ranking, follow_lines
+from pinn_engine.routes.algorithm import PinnMeshAlgorithm
+from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
-from pinn_engine.tfi import tfi_grid
-from pinn_engine.warmstart import WarmStart
+from pinn_engine.starts.quality_start import Ranking, follow_lines
+from pinn_engine.starts.warmstart import elliptic_start
 
 HARD = EXAMPLES / "hard"
 
@@ -75,7 +75,7 @@ def test_follow_lines_moves_the_elliptic_grid_onto_crossing_lines():
     nothing folded, boundary nodes unmoved."""
     boundary = load_boundary(EXAMPLES / "fig2.vtp")
     aux = load_aux([EXAMPLES / "fig2_aux.vtp"], boundary)
-    _, elliptic = WarmStart.elliptic(boundary, 41, 21)
+    _, elliptic = elliptic_start(boundary, 41, 21)
     ranking = Ranking.of(elliptic, aux, boundary.diagonal)
     moved = follow_lines(elliptic, ranking)
     assert ranking.quality(elliptic)["aux_distance"] > 0.04
@@ -178,7 +178,7 @@ def test_objective_on_the_command_line(tmp_path, capsys):
 
 def test_objective_in_the_accessor_and_the_filter():
     pv = pytest.importorskip("pyvista")
-    from pinn_engine.pyvista_accessor import pinn_mesh
+    from pinn_engine.routes.pyvista_accessor import pinn_mesh
 
     grid = pinn_mesh(square_ring(8), size=(9, 5), objective="quality", lbfgs_iterations=0)
     report = json.loads(str(grid.field_data["Report"][0]))

@@ -26,12 +26,12 @@ from vtkmodules.vtkCommonCore import vtkPoints
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
 from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter, vtkXMLStructuredGridReader
 
-from pinn_engine import fileio
-from pinn_engine.cli import main
 from pinn_engine.errors import InputError, TrainingError
-from pinn_engine.geometry import Boundary
+from pinn_engine.geometry.boundary import Boundary
+from pinn_engine.io import fileio
+from pinn_engine.io.pipeline import load_boundary
 from pinn_engine.mesher import Mesher
-from pinn_engine.pipeline import load_boundary
+from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
 
 # the command as installed into the environment running the tests (its console script)
@@ -610,7 +610,7 @@ def nan_after(real, calls: set[int]):
 
 
 def test_nan_loss_during_adam_recovers(tmp_path, capsys, monkeypatch):
-    from pinn_engine import training
+    from pinn_engine.blocks import quad as training
 
     monkeypatch.setattr(training, "total_loss", nan_after(training.total_loss, {20, 21}))
     report = tmp_path / "r.json"
@@ -625,7 +625,7 @@ def test_nan_loss_during_adam_recovers(tmp_path, capsys, monkeypatch):
 
 
 def test_exploding_loss_during_adam_recovers(monkeypatch):
-    from pinn_engine import training
+    from pinn_engine.blocks import quad as training
 
     real, count = training.total_loss, [0]
 
@@ -642,7 +642,7 @@ def test_exploding_loss_during_adam_recovers(monkeypatch):
 
 
 def test_persistent_nan_ends_with_a_clear_error_and_no_output(tmp_path, capsys, monkeypatch):
-    from pinn_engine import training
+    from pinn_engine.blocks import quad as training
 
     monkeypatch.setattr(
         training, "total_loss", nan_after(training.total_loss, set(range(10, 10_000)))
@@ -655,7 +655,7 @@ def test_persistent_nan_ends_with_a_clear_error_and_no_output(tmp_path, capsys, 
 
 
 def test_nan_in_lambda1_annealing_recovers(monkeypatch):
-    from pinn_engine import training
+    from pinn_engine.neural import trainer as training
 
     real, count = training.annealed_lambda, [0]
 
@@ -672,7 +672,7 @@ def test_nan_in_lambda1_annealing_recovers(monkeypatch):
 
 
 def test_nan_during_lbfgs_falls_back_to_the_adam_result(monkeypatch):
-    from pinn_engine import training
+    from pinn_engine.blocks import quad as training
 
     monkeypatch.setattr(
         training, "total_loss", nan_after(training.total_loss, set(range(41, 10_000)))
@@ -684,7 +684,7 @@ def test_nan_during_lbfgs_falls_back_to_the_adam_result(monkeypatch):
 
 
 def test_non_finite_grid_is_a_clear_error(tmp_path, capsys, monkeypatch):
-    from pinn_engine.model import TrainedModel
+    from pinn_engine.neural.model import TrainedModel
 
     monkeypatch.setattr(TrainedModel, "grid", lambda self, ni, nj: np.full((nj, ni, 2), np.nan))
     rc, _, err = run_cli([EXAMPLES / "wavy.vtp", *QUICK, "-o", tmp_path / "g.vts"], capsys)
@@ -811,7 +811,7 @@ def test_writer_failing_midway_leaves_no_partial_file(how, tmp_path, monkeypatch
             return 0
 
     monkeypatch.setattr(fileio, "vtkXMLStructuredGridWriter", HalfWriter)
-    from pinn_engine.pipeline import to_vtk
+    from pinn_engine.io.pipeline import to_vtk
 
     result = Mesher(make_settings("tfi")).fit(load_boundary(EXAMPLES / "wavy.vtp")).predict(5, 5)
     (tmp_path / "g.vts").write_bytes(b"the previous grid")

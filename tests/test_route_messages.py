@@ -8,10 +8,10 @@ import pyvista as pv
 from conftest import OutputMessages
 from vtkmodules.vtkFiltersSources import vtkPolyLineSource
 
-from pinn_engine.algorithm import PinnMeshAlgorithm
-from pinn_engine.cli import main
 from pinn_engine.errors import ROUTE_WORDS, InputError
-from pinn_engine.pyvista_accessor import pinn_mesh
+from pinn_engine.routes.algorithm import PinnMeshAlgorithm
+from pinn_engine.routes.cli import main
+from pinn_engine.routes.pyvista_accessor import pinn_mesh
 
 T = np.linspace(0, 2 * np.pi, 40, endpoint=False)
 CIRCLE = np.column_stack([np.cos(T), np.sin(T), np.zeros_like(T)])  # no corner at all

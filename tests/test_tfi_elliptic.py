@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from conftest import EXAMPLES
 
-from pinn_engine.elliptic import winslow_residual, winslow_solve, winslow_sweeps
+from pinn_engine.classical.elliptic import winslow_residual, winslow_solve, winslow_sweeps
+from pinn_engine.classical.tfi import node_params, tfi_grid
 from pinn_engine.quality import folded_cells
-from pinn_engine.tfi import node_params, tfi_grid
 
 
 def bilinear(xi, eta):
@@ -108,8 +108,8 @@ def test_converged_solver_is_fast_on_a_200_by_200_grid():
 
 def test_mesher_fitted_attributes_the_scikit_learn_way():
     from pinn_engine.errors import NotFittedError
+    from pinn_engine.io.pipeline import load_boundary
     from pinn_engine.mesher import Mesher
-    from pinn_engine.pipeline import load_boundary
     from pinn_engine.settings import make_settings
 
     mesher = Mesher(make_settings("elliptic"))

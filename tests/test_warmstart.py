@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 from conftest import EXAMPLES
 
+from pinn_engine.io.pipeline import load_aux, load_boundary
 from pinn_engine.mesher import Mesher
-from pinn_engine.model import TrainedModel
-from pinn_engine.networks import CoordinateNet
-from pinn_engine.pipeline import load_aux, load_boundary
+from pinn_engine.neural.model import TrainedModel
+from pinn_engine.neural.networks import CoordinateNet
 from pinn_engine.settings import make_settings
-from pinn_engine.warmstart import MAX_LATTICE_NODES, WarmStart, lattice_for
+from pinn_engine.starts.warmstart import MAX_LATTICE_NODES, elliptic_start, lattice_for
 
 HARD = EXAMPLES / "hard"
 
@@ -54,7 +54,7 @@ def test_paper_loss_from_tfi_folds_where_the_warm_start_does_not():
 
 def test_warm_start_is_zero_on_the_boundary_and_the_elliptic_grid_at_its_nodes():
     boundary, _ = inputs("two_slots")
-    warm, grid = WarmStart.elliptic(boundary, 33, 17)
+    warm, grid = elliptic_start(boundary, 33, 17)
     d = warm.grid(33, 17)
     np.testing.assert_allclose(d, warm.correction, atol=1e-12)
     fine = warm.grid(129, 65)
@@ -70,7 +70,7 @@ def test_thin_grids_start_at_their_own_elliptic_grid(size):
     """Fewer than 4 nodes a side: the spline runs through added nodes, the grid at the
     output size is still exactly the elliptic one at the start."""
     boundary, _ = inputs("bump")
-    warm, grid = WarmStart.elliptic(boundary, *size)
+    warm, grid = elliptic_start(boundary, *size)
     np.testing.assert_allclose(warm.grid(*size), warm.correction, atol=1e-12)
     assert np.isfinite(warm.jet(np.array([[0.5, 0.5]]))).all()
 

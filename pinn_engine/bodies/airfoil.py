@@ -1,0 +1,307 @@
+"""Bodies and far fields of O- and C-grids (SPEC 9): airfoil files, NACA sections, circles.
+
+- Selig ``.dat``: a name line, then ``x y`` rows from the trailing edge over the upper
+  surface to the leading edge and back along the lower surface (counter-clockwise).
+- Lednicer ``.dat``: a name line, a row ``NU NL`` (point counts), then the upper surface
+  from leading to trailing edge and the lower surface likewise (blank lines between).
+- ``naca4("2412")``: the NACA 4-digit section of chord 1. ``te="sharp"`` (default) closes the
+  trailing edge (thickness coefficient -0.1036, so the C-grid applies); ``te="blunt"`` is the
+  classical formula (-0.1015), whose trailing edge of thickness 0.21 % t/c (0.25 % chord for
+  12 %) is closed by a straight base, the usual O-grid body.
+- A far field is a circle (radius R chords about the body's mid-chord) or a closed polyline.
+
+A :class:`Body` holds the closed body curve counter-clockwise, starting at the trailing edge
+(the point of largest x; the middle of a blunt trailing edge's base).
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from pinn_engine.errors import InputError
+
+_NUMBER = re.compile(
+    r"^[\s]*[-+]?(\d+\.?\d*|\.\d+)([eEdD][-+]?\d+)?[\s,;]+"
+    r"[-+]?(\d+\.?\d*|\.\d+)([eEdD][-+]?\d+)?[\s,;]*$"
+)
+
+
+def _rows(text: str, source: str) -> tuple[list[list[tuple[float, float]]], str]:
+    """Blocks of numeric ``x y`` rows separated by blank or text lines, and the name line."""
+    blocks: list[list[tuple[float, float]]] = [[]]
+    name = ""
+    for k, line in enumerate(text.splitlines()):
+        if _NUMBER.match(line):
+            a, b = re.split(r"[\s,;]+", line.strip().replace("d", "e").replace("D", "e"))[:2]
+            blocks[-1].append((float(a), float(b)))
+        else:
+            if k == 0:
+                name = line.strip()
+            elif line.strip():
+                raise InputError(f"line {k + 1} is not an 'x y' row: {line.strip()[:40]!r}", source)
+            if blocks[-1]:
+                blocks.append([])
+    return [b for b in blocks if b], name
+
+
+def read_dat(path: str | os.PathLike) -> tuple[np.ndarray, str]:
+    """Airfoil coordinates of a Selig or Lednicer ``.dat`` file, in Selig order (upper
+    trailing edge -> leading edge -> lower trailing edge), and the airfoil's name."""
+    source = str(path)
+    try:
+        text = Path(path).read_text(errors="replace")
+    except OSError as exc:
+        raise InputError(f"cannot read the file ({exc.strerror or exc})", source) from None
+    blocks, name = _rows(text, source)
+    if not blocks:
+        raise InputError(
+            "holds no 'x y' coordinate rows (expected a Selig or Lednicer airfoil file)", source
+        )
+    first = blocks[0][0]
+    lednicer = (
+        first[0] >= 2
+        and first[1] >= 2
+        and float(first[0]).is_integer()
+        and float(first[1]).is_integer()
+    )
+    if lednicer:
+        nu, nl = int(first[0]), int(first[1])
+        pts = [p for b in blocks for p in b][1:]
+        if len(blocks[0]) > 1:  # counts and coordinates in one block
+            pts = blocks[0][1:] + [p for b in blocks[1:] for p in b]
+        if len(pts) != nu + nl:
+            raise InputError(
+                f"Lednicer header announces {nu} + {nl} points but the file holds {len(pts)}",
+                source,
+            )
+        upper, lower = np.array(pts[:nu]), np.array(pts[nu:])
+        xy = np.concatenate([upper[::-1], lower[1:] if np.allclose(lower[0], upper[0]) else lower])
+    else:
+        xy = np.array([p for b in blocks for p in b])
+    if len(xy) < 5:
+        raise InputError(f"has {len(xy)} coordinate rows; an airfoil needs at least 5", source)
+    if not np.isfinite(xy).all():
+        raise InputError("has non-finite coordinates", source)
+    return xy, name or Path(path).stem
+
+
+def naca4(code: str, points: int = 201, te: str = "sharp") -> np.ndarray:
+    """NACA 4-digit section ``code`` (e.g. "0012", "2412"), chord 1 from (0, 0) to (1, 0),
+    ``points`` per surface on a cosine spacing, in Selig order."""
+    code = str(code).strip()
+    if not re.fullmatch(r"\d{4}", code):
+        raise InputError(f"NACA code {code!r}: give four digits, e.g. 0012 or 2412 ({{naca}})")
+    m, p, t = int(code[0]) / 100, int(code[1]) / 10, int(code[2:]) / 100
+    if t <= 0:
+        raise InputError(f"NACA {code}: the thickness (last two digits) must be above 0 ({{naca}})")
+    if m > 0 and p == 0:
+        raise InputError(
+            f"NACA {code}: a cambered section needs the camber position (second "
+            "digit) above 0 ({naca})"
+        )
+    if te not in ("sharp", "blunt"):
+        raise ValueError(f"te must be sharp or blunt, not {te!r}")
+    beta = np.linspace(0.0, np.pi, points)
+    x = 0.5 * (1 - np.cos(beta))
+    a4 = -0.1036 if te == "sharp" else -0.1015
+    yt = 5 * t * (0.2969 * np.sqrt(x) - 0.1260 * x - 0.3516 * x**2 + 0.2843 * x**3 + a4 * x**4)
+    if m > 0:
+        front = x < p
+        yc = np.where(
+            front, m / p**2 * (2 * p * x - x**2), m / (1 - p) ** 2 * (1 - 2 * p + 2 * p * x - x**2)
+        )
+        dyc = np.where(front, 2 * m / p**2 * (p - x), 2 * m / (1 - p) ** 2 * (p - x))
+    else:
+        yc, dyc = np.zeros_like(x), np.zeros_like(x)
+    th = np.arctan(dyc)
+    upper = np.column_stack([x - yt * np.sin(th), yc + yt * np.cos(th)])
+    lower = np.column_stack([x + yt * np.sin(th), yc - yt * np.cos(th)])
+    if te == "sharp":
+        upper[-1] = lower[-1] = (1.0, 0.0)
+    return np.concatenate([upper[::-1], lower[1:]])
+
+
+@dataclass(frozen=True)
+class Body:
+    """A closed body curve: ``surface`` (Selig order, upper trailing edge to lower trailing
+    edge, at least 5 points), whether its trailing edge is ``sharp`` (the two ends coincide)
+    and where it came from. Without a base, a blunt trailing edge is closed by the straight
+    segment between the surface's two ends."""
+
+    surface: np.ndarray
+    sharp: bool
+    source: str
+
+    @property
+    def chord_points(self) -> tuple[np.ndarray, np.ndarray]:
+        """Leading edge (farthest surface point from the trailing edge) and trailing edge."""
+        te = 0.5 * (self.surface[0] + self.surface[-1])
+        le = self.surface[int(np.argmax(np.linalg.norm(self.surface - te, axis=1)))]
+        return le, te
+
+    @property
+    def chord(self) -> float:
+        le, te = self.chord_points
+        return float(np.linalg.norm(te - le))
+
+    @property
+    def mid_chord(self) -> np.ndarray:
+        le, te = self.chord_points
+        return 0.5 * (le + te)
+
+    @property
+    def te_gap(self) -> float:
+        return float(np.linalg.norm(self.surface[0] - self.surface[-1]))
+
+    def ring(self) -> np.ndarray:
+        """The closed curve, counter-clockwise from the trailing edge, first point repeated
+        last (a blunt edge starts and ends at the middle of its base)."""
+        s = self.surface
+        if self.sharp:
+            return np.concatenate([s[:-1], s[:1]])
+        mid = 0.5 * (s[0] + s[-1])
+        return np.concatenate([mid[None], s, mid[None]])
+
+
+def body_from_points(xy: np.ndarray, source: str, sharp_tol: float = 1e-6) -> Body:
+    """A :class:`Body` from airfoil-like points in either orientation, starting anywhere
+    near the trailing edge: reordered to Selig order (counter-clockwise, from the point of
+    largest x). A closed ring (last point = first) is accepted."""
+    xy = np.asarray(xy, dtype=float)
+    if xy.ndim != 2 or xy.shape[1] < 2 or len(xy) < 5:
+        raise InputError("a body needs at least 5 points (x y)", source)
+    xy = xy[:, :2]
+    keep = np.r_[True, np.linalg.norm(np.diff(xy, axis=0), axis=1) > 0]
+    xy = xy[keep]
+    size = float(np.ptp(xy, axis=0).max())
+    if size <= 0:
+        raise InputError("all body points coincide", source)
+    closed = np.linalg.norm(xy[0] - xy[-1]) <= sharp_tol * size
+    ring = xy[:-1] if closed else xy
+    # orientation: counter-clockwise (signed area of the closed curve)
+    x, y = ring[:, 0], ring[:, 1]
+    area = 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+    if abs(area) <= 1e-9 * size**2:
+        raise InputError("the body encloses no area", source)
+    if area < 0:
+        ring = ring[::-1]
+    if closed:  # restart the ring at the point of largest x
+        k = int(np.argmax(ring[:, 0]))
+        ring = np.roll(ring, -k, axis=0)
+        surface = np.concatenate([ring, ring[:1]])
+    else:  # an open trailing edge: the ends are the two trailing-edge points
+        if area < 0:
+            pass
+        surface = ring
+        if surface[0, 1] < surface[-1, 1]:  # Selig: starts on the upper surface
+            surface = surface[::-1]
+    sharp = bool(np.linalg.norm(surface[0] - surface[-1]) <= sharp_tol * size)
+    return Body(surface=surface, sharp=sharp, source=source)
+
+
+def load_body(
+    path: str | os.PathLike | None = None, naca: str | None = None, te: str | None = None
+) -> Body:
+    """The body of a ``.dat`` file or of a NACA code (``te``: sharp or blunt, default sharp)."""
+    if naca is not None:
+        return body_from_points(naca4(naca, te=te or "sharp"), f"NACA {naca}")
+    if path is None:
+        raise InputError("give an airfoil file or a NACA code ({naca})")
+    if Path(path).suffix.lower() in (".dat", ".txt", ".csv", ""):
+        xy, _ = read_dat(path)
+        return body_from_points(xy, str(path))
+    raise InputError("an airfoil body is read from a Selig or Lednicer .dat file", str(path))
+
+
+@dataclass(frozen=True)
+class FarField:
+    """A circle (``radius`` about ``center``) or a closed counter-clockwise polyline."""
+
+    center: np.ndarray
+    radius: float | None = None
+    polyline: np.ndarray | None = None
+
+    def contains(self, pts: np.ndarray) -> np.ndarray:
+        if self.radius is not None:
+            return np.linalg.norm(pts - self.center, axis=1) < self.radius
+        from matplotlib.path import Path as MPath
+
+        return MPath(self.polyline).contains_points(pts)
+
+
+def circle(body: Body, radius: float) -> FarField:
+    """Far field: circle of ``radius`` chords about the body's mid-chord."""
+    if not (np.isfinite(radius) and radius > 0):
+        raise InputError(
+            f"far-field radius {radius}: must be a positive number of chords ({{farfield}})"
+        )
+    if radius < 1.0:
+        raise InputError(f"far-field radius {radius}: must be at least 1 chord ({{farfield}})")
+    far = FarField(center=body.mid_chord, radius=float(radius) * body.chord)
+    if not far.contains(body.surface).all():
+        raise InputError(
+            f"the far-field circle of radius {radius} chords does not enclose "
+            "the body; give a larger radius ({farfield})",
+            body.source,
+        )
+    return far
+
+
+def polyline_farfield(points: np.ndarray, body: Body, source: str) -> FarField:
+    """Far field from a closed polyline, which must enclose the body."""
+    pts = np.asarray(points, dtype=float)[:, :2]
+    if np.allclose(pts[0], pts[-1]):
+        pts = pts[:-1]
+    x, y = pts[:, 0], pts[:, 1]
+    if 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)) < 0:
+        pts = pts[::-1]
+    far = FarField(center=body.mid_chord, polyline=pts)
+    if not far.contains(body.surface).all():
+        raise InputError("the far field (outer closed polyline) does not enclose the body", source)
+    return far
+
+
+def read_body_and_farfield(path: str | os.PathLike) -> tuple[Body, FarField]:
+    """A file with two closed polylines: the body inside the far field. ``.vtp``/``.vtk``:
+    two polyline cells; ``.csv``/``.txt``: two blocks of ``x,y`` rows separated by a blank
+    line."""
+    source = str(path)
+    suffix = Path(path).suffix.lower()
+    if suffix in (".vtp", ".vtk"):
+        from pinn_engine.io.fileio import polylines_of, read_polydata
+
+        lines = [pts for pts, _ in polylines_of(read_polydata(Path(path)), source)]
+    else:
+        try:
+            text = Path(path).read_text(errors="replace")
+        except OSError as exc:
+            raise InputError(f"cannot read the file ({exc.strerror or exc})", source) from None
+        lines = [np.array(b) for b in _rows(text, source)[0]]
+    if len(lines) != 2:
+        raise InputError(
+            f"holds {len(lines)} polylines; give two closed polylines (the body "
+            "inside the far field) or one body with --farfield R",
+            source,
+        )
+    ext = [float(np.ptp(np.asarray(p)[:, :2], axis=0).max()) for p in lines]
+    inner, outer = (lines[0], lines[1]) if ext[0] < ext[1] else (lines[1], lines[0])
+    body = body_from_points(np.asarray(inner)[:, :2], source)
+    return body, polyline_farfield(outer, body, source)
+
+
+__all__ = [
+    "Body",
+    "FarField",
+    "body_from_points",
+    "circle",
+    "load_body",
+    "naca4",
+    "polyline_farfield",
+    "read_body_and_farfield",
+    "read_dat",
+]

@@ -1,0 +1,617 @@
+"""O-grids and C-grids around a body (SPEC 9) by tfi, elliptic and pinn.
+
+Index conventions (SPEC 9). O-grid: j = 0 on the body, j = nj - 1 on the far field, i once
+around the body counter-clockwise from the trailing edge, column ni - 1 repeating column 0
+(the seam). C-grid: j = 0 runs along the lower wake cut from the outflow to the trailing
+edge, around the body (lower surface, leading edge, upper surface) and back along the upper
+wake cut; the cut is straight, leaves the trailing edge in +x, and its lower and upper nodes
+coincide pairwise (node (i, 0) is node (ni - 1 - i, 0)).
+
+Nodes on j = 0 are placed once, for every method (:func:`layout`): around the body by a
+two-sided Vinokur stretching on each surface, fine at the leading and trailing edges;
+along the wake by a one-sided stretching from the trailing edge. The C-grid's far field is
+the circle for x up to mid-chord, continued by the lines y = y_c -+ R to the outflow line
+x = x_c + R (patch ``outflow``: the columns i = 0 and i = ni - 1).
+
+The wall-normal distribution: the first edge off the wall is ``wall_spacing``
+(``--spacing bottom=H``; default half the mean tangential spacing on the body), growing by a
+one-sided Vinokur stretching. Every stretching here is the four-sided grids' (SPEC 7,
+spacing.py), with its end intervals made exact (:func:`spacing.exact_stretch`).
+
+The reference grid (:func:`reference_grid`, wall-orthogonal, algebraic) is marched off the
+wall along the rows' own normals (:func:`march`; the first row exactly along the wall's
+normals), its last row projected onto the far field; that projection fixes the far-field
+nodes for every method. Then:
+
+- ``tfi``: the two-boundary TFI between the body and far-field nodes (straight columns,
+  each stretched to the first edge); not orthogonal at the wall.
+- ``elliptic``: Winslow's equations with the control functions that make the reference an
+  exact solution at the wall, smoothed away from it (:func:`smoothed_controls`), by relaxed
+  point-Jacobi sweeps from the reference (:func:`jacobi`), periodic across the O-grid's
+  seam, the C-grid's cut held on its line, the first rows held (first edge and wall angle
+  exact); the sweeps stop at the last state no worse than the reference (:func:`elliptic`).
+- ``pinn``: bodygrid_pinn.py: a network of (cos 2 pi xi, sin 2 pi xi, eta) for the O-grid
+  (periodic in xi exactly), a correction vanishing on j = 0 and j = nj - 1 (and on the
+  C-grid's outflow columns), added to the elliptic grid and trained on the same equations.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+from scipy.optimize import minimize_scalar
+
+from pinn_engine.bodies.airfoil import Body, FarField
+from pinn_engine.classical.spacing import exact_stretch
+from pinn_engine.errors import InputError
+
+TOPOLOGIES = ("o", "c")
+NORMAL_SMOOTHING, TANGENT_SMOOTHING, NORMAL_REACH = 0.5, 0.1, 0.3
+CONCAVE_SMOOTHING = 2.0
+MAX_SUBSTEPS = 40
+REAR_TURN = 0.02
+BLEND_START, BLEND_END = 0.5, 2.0  # chords
+CONTROL_DECAY, CONTROL_PASSES = 0.05, 10
+JACOBI_RELAX = 0.5
+ELLIPTIC_SWEEPS = 1000
+HELD_ROWS = 2
+CHECK_EVERY, CHECK_WORST = 100, 2.0
+
+
+# ---------------------------------------------------------------- the body curve
+
+
+class BodyCurve:
+    """A cubic spline through the body by cumulative chord length: through the surface
+    (Selig order) for a sharp trailing edge, whose corner it keeps; periodic through the
+    closed surface for a blunt one, which rounds the base (the curve bulges by about half
+    the base's height past it) and starts at the point of largest x."""
+
+    def __init__(self, body: Body) -> None:
+        pts = body.surface if body.sharp else np.concatenate([body.surface, body.surface[:1]])
+        t = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))]
+        self.length = float(t[-1])
+        self.spline = CubicSpline(
+            t, pts, axis=0, bc_type="not-a-knot" if body.sharp else "periodic"
+        )
+        self.body = body
+        dense = np.linspace(0.0, self.length, 20001)
+        self.t0 = 0.0
+        if not body.sharp:
+            near = np.abs(dense - self.length) < 0.05 * self.length
+            near |= dense < 0.05 * self.length
+            x = np.where(near, self.spline(dense)[:, 0], -np.inf)
+            t_best = float(dense[np.argmax(x)])
+            step = dense[1] - dense[0]
+            best = minimize_scalar(
+                lambda t: -float(self.spline(t % self.length)[0]),
+                bounds=(t_best - step, t_best + step),
+                method="bounded",
+                options={"xatol": 1e-12},
+            )
+            self.t0 = float(best.x) % self.length
+        te = self.at(np.zeros(1))[0]
+        self.t_le = float(dense[np.argmax(np.linalg.norm(self.at(dense) - te, axis=1))])
+
+    def at(self, t: np.ndarray) -> np.ndarray:
+        t = np.asarray(t, dtype=float)
+        if self.t0:
+            return self.spline((t + self.t0) % self.length)
+        return self.spline(np.clip(t, 0.0, self.length))
+
+    def arc(self, t0: float, t1: float) -> float:
+        s = self.at(np.linspace(t0, t1, 2001))
+        return float(np.linalg.norm(np.diff(s, axis=0), axis=1).sum())
+
+
+def _surface_nodes(curve: BodyCurve, n_up: int, n_lo: int, d_te: float, d_le: float) -> np.ndarray:
+    """Nodes from the upper trailing edge to the lower one (Selig order): ``n_up`` intervals
+    on the upper surface, ``n_lo`` on the lower, spacings ``d_te`` and ``d_le`` (lengths)."""
+    l_up, l_lo = curve.arc(0, curve.t_le), curve.arc(curve.t_le, curve.length)
+    up = curve.t_le * exact_stretch(n_up + 1, d_te / l_up, d_le / l_up)[0]
+    lo = exact_stretch(n_lo + 1, d_le / l_lo, d_te / l_lo)[0]
+    lo = curve.t_le + (curve.length - curve.t_le) * lo
+    return curve.at(np.concatenate([up, lo[1:]]))
+
+
+@dataclass
+class Layout:
+    """The fixed nodes of a body grid: ``inner`` (ni, 2) on j = 0, ``outer`` (ni, 2) on
+    j = nj - 1, the first-edge length ``first`` (ni,) of each column, and for the C-grid the
+    index ``n_wake`` of the lower trailing-edge node."""
+
+    topology: str
+    inner: np.ndarray
+    outer: np.ndarray
+    first: np.ndarray
+    n_wake: int = 0
+    wall_spacing: float = 0.0
+    reference: np.ndarray | None = None
+    sweeps_kept: int = 0
+
+    @property
+    def ni(self) -> int:
+        return len(self.inner)
+
+    def wall_columns(self) -> np.ndarray:
+        """Indices of the j = 0 nodes on the body."""
+        if self.topology == "o":
+            return np.arange(self.ni)
+        return np.arange(self.n_wake, self.ni - self.n_wake)
+
+
+def row_chords(p: np.ndarray, topology: str) -> np.ndarray:
+    """Half the chord between each node's two neighbours along a grid row ``p`` (ni, 2), in
+    the direction of i (wrapped across the O-grid's seam; one-sided at the C-grid's ends):
+    the row's tangents, as long as its local spacing."""
+    if topology == "o":
+        q = p[:-1]
+        t = 0.5 * (np.roll(q, -1, axis=0) - np.roll(q, 1, axis=0))
+        return np.concatenate([t, t[:1]])
+    return np.gradient(p, axis=0)
+
+
+def _row_tangents(p: np.ndarray, topology: str) -> np.ndarray:
+    t = row_chords(p, topology)
+    return t / np.linalg.norm(t, axis=1, keepdims=True)
+
+
+def _row_normals(p: np.ndarray, topology: str) -> np.ndarray:
+    """Unit normals of a grid row ``p`` (ni, 2), pointing away from the body."""
+    t = _row_tangents(p, topology)
+    if topology == "o":
+        return np.column_stack([t[:, 1], -t[:, 0]])  # i runs counter-clockwise: body on the left
+    n = np.column_stack([-t[:, 1], t[:, 0]])  # i runs clockwise: body on the right
+    n[0], n[-1] = (0.0, -1.0), (0.0, 1.0)
+    return n
+
+
+def _smooth_row(q: np.ndarray, eps, topology: str) -> np.ndarray:
+    """One Laplacian pass along a row (ends held for the C-grid, wrapped for the O-grid);
+    ``eps`` a number or one per node (ni, 1)."""
+    out = q.copy()
+    eps = np.broadcast_to(np.asarray(eps, dtype=float), (len(q), 1))
+    if topology == "o":
+        u = q[:-1]
+        out[:-1] = u + eps[:-1] * (0.5 * (np.roll(u, 1, axis=0) + np.roll(u, -1, axis=0)) - u)
+        out[-1] = out[0]
+    else:
+        out[1:-1] = q[1:-1] + eps[1:-1] * (0.5 * (q[:-2] + q[2:]) - q[1:-1])
+    return out
+
+
+def _smooth_normals(n: np.ndarray, eps: float, topology: str) -> np.ndarray:
+    m = _smooth_row(n, eps, topology)
+    if topology == "c":
+        m[0], m[-1] = n[0], n[-1]
+    return m / np.linalg.norm(m, axis=1, keepdims=True)
+
+
+def rear_start(inner: np.ndarray, n_wake: int) -> np.ndarray:
+    """Per node of a C-grid's line j = 0, the x of its surface's thickest point (where the
+    wall's normal is closest to vertical): the columns behind it run straight up or down."""
+    ni = len(inner)
+    n = _row_normals(inner, "c")
+    lower = np.arange(n_wake + 1, ni // 2)
+    upper = np.arange(ni // 2, ni - n_wake - 1)
+    x_lo = inner[lower[np.argmin(np.abs(n[lower, 0]))], 0]
+    x_up = inner[upper[np.argmin(np.abs(n[upper, 0]))], 0]
+    return np.where(np.arange(ni) < ni // 2, x_lo, x_up)
+
+
+def march(
+    inner: np.ndarray,
+    topology: str,
+    distances: np.ndarray,
+    scale: float,
+    n_wake: int = 0,
+    passes: int = 2,
+    tangent: float = 0.0,
+) -> np.ndarray:
+    """Rows marched from ``inner`` along their own normals by the steps of ``distances``
+    (nj,): the wall-orthogonal reference grid (nj, ni, 2). Each new row is smoothed along
+    itself, lightly near the wall and more farther out (relative to ``scale``, the chord) and
+    where it has shrunk (lines converging off a concave wall), then its nodes are put back at
+    the arc-length shares of the row below, so that they stay in order."""
+    rows = [inner]
+    spacing0 = _row_spacing(inner, topology)
+    rear = None
+    if topology == "c":
+        # behind the thickest point the C-grid's columns turn straight down (lower side)
+        # or up (upper side) within ``REAR_TURN`` chords of the wall, as the wake's do: the
+        # aft surface's normals lean downstream and would overtake the wake's columns
+        ni = len(inner)
+        x = inner[:, 0]
+        x_t = rear_start(inner, n_wake)
+        share = np.clip((x - x_t) / (x[n_wake] - x_t), 0.0, 1.0)
+        share[: n_wake + 1] = share[ni - n_wake - 1 :] = 1.0
+        rear = np.where(x >= x_t, 1.0, 0.0)[:, None] * (0.5 + 0.5 * share[:, None])
+        side = np.where(np.arange(ni) < ni // 2, -1.0, 1.0)
+        vertical = np.column_stack([np.zeros(ni), side])
+    q = inner
+    for j in range(1, len(distances)):
+        step = distances[j] - distances[j - 1]
+        # sub-steps no longer than half the row's smallest spacing: a step that outruns the
+        # spacing can cross lines off a concave wall before any smoothing acts
+        if j == 1:  # the first layer: straight along the wall's normals, height h exactly
+            q = q + step * _row_normals(q, topology)
+            if topology == "c":
+                q[0], q[-1] = inner[0] + (0, -step), inner[-1] + (0, step)
+            rows.append(q)
+            continue
+        subs = int(
+            min(MAX_SUBSTEPS, max(1, math.ceil(step / (0.5 * _row_spacing(q, topology).min()))))
+        )
+        for k in range(subs):
+            d = distances[j - 1] + step * (k + 1) / subs
+            grow = 1 - math.exp(-d / (NORMAL_REACH * scale))
+            n = _row_normals(q, topology)
+            for _ in range(passes):
+                n = _smooth_normals(n, NORMAL_SMOOTHING * grow, topology)
+            if rear is not None:
+                turn = rear * min(1.0, (d - distances[1]) / (REAR_TURN * scale))
+                n = (1 - turn) * n + turn * vertical
+                n /= np.linalg.norm(n, axis=1, keepdims=True)
+            q = q + (step / subs) * n
+            shrink = np.clip(1 - _row_spacing(q, topology) / spacing0, 0.0, 1.0)
+            eps = np.minimum(0.5, CONCAVE_SMOOTHING * shrink)[:, None]
+            if topology == "c":  # the wake's columns run straight: no sliding along rows
+                eps[:n_wake] = eps[len(q) - n_wake :] = 0.0
+            for _ in range(passes):
+                q = _smooth_row(q, eps, topology)
+                target = _smooth_row(q, tangent * grow, topology)
+                t = _row_tangents(q, topology)
+                q = q + np.einsum("ik,ik->i", target - q, t)[:, None] * t
+            if topology == "c":  # the outflow columns march straight
+                q[0], q[-1] = inner[0] + (0, -d), inner[-1] + (0, d)
+        rows.append(q)
+    return np.stack(rows)
+
+
+def _row_spacing(p: np.ndarray, topology: str) -> np.ndarray:
+    """Half the distance between each node's two neighbours along a row."""
+    return np.linalg.norm(row_chords(p, topology), axis=1)
+
+
+def layout(
+    body: Body,
+    far: FarField,
+    topology: str,
+    ni: int,
+    nj: int,
+    wall_spacing: float | None = None,
+    wake_nodes: int | None = None,
+    le_spacing: float | None = None,
+    te_spacing: float | None = None,
+) -> Layout:
+    """Place the nodes of j = 0 and j = nj - 1 (see the module's docstring)."""
+    if topology not in TOPOLOGIES:
+        raise InputError(f"unknown topology {topology!r}; use o or c")
+    if ni < 9 or nj < 3:
+        raise InputError(
+            f"grid size {ni} x {nj}: a body grid needs at least 9 x 3 nodes ({{size}})"
+        )
+    curve = BodyCurve(body)
+    chord = body.chord
+    center = far.center
+    if topology == "c":
+        if not body.sharp:
+            raise InputError(
+                f"the C-grid needs a sharp (closed) trailing edge; this one is "
+                f"open by {body.te_gap / chord:.2g} chords: use {{topology}}",
+                body.source,
+            )
+        if far.radius is None:
+            raise InputError(
+                "the C-grid takes a far-field circle ({farfield}); a far field "
+                "from a file works with {topology}",
+                body.source,
+            )
+        n_w = wake_nodes if wake_nodes is not None else max(2, round(0.14 * ni))
+        n_b = ni - 1 - 2 * n_w
+        if n_b < 6:
+            raise InputError(
+                f"grid size {ni}: too few nodes for the body after {n_w} wake "
+                "nodes on each side ({size})"
+            )
+    else:
+        n_w, n_b = 0, ni - 1
+    l_up, l_lo = curve.arc(0, curve.t_le), curve.arc(curve.t_le, curve.length)
+    n_up = int(np.clip(round(n_b * l_up / (l_up + l_lo)), 3, n_b - 3))
+    mean = (l_up + l_lo) / n_b
+    d_le = le_spacing * chord if le_spacing else 0.2 * mean
+    if te_spacing:
+        d_te = te_spacing * chord
+    elif body.sharp:
+        d_te = 0.6 * mean
+    else:
+        d_te = min(0.6 * mean, 0.1 * body.te_gap)
+    surf = _surface_nodes(curve, n_up, n_b - n_up, d_te, d_le)
+    h = wall_spacing * 1.0 if wall_spacing else 0.5 * mean
+    radius = far.radius
+    if topology == "o":
+        inner = surf
+        inner[-1] = inner[0]
+    else:
+        te = surf[0]
+        x_out = center[0] + radius
+        if x_out <= te[0] + 0.1 * chord:
+            raise InputError(
+                f"the far-field radius leaves no room for the wake (outflow at "
+                f"x = {x_out:.3g}); give a larger radius ({{farfield}})",
+                body.source,
+            )
+        wake_len = x_out - te[0]
+        wake = te[0] + wake_len * exact_stretch(n_w + 1, d_te / wake_len)[0]
+        wake_pts = np.column_stack([wake, np.full_like(wake, te[1])])
+        body_c = surf[::-1]  # lower trailing edge -> leading edge -> upper trailing edge
+        inner = np.concatenate([wake_pts[::-1], body_c[1:-1], wake_pts])
+    # the wall-orthogonal reference: rows marched off j = 0, the last one projected onto the
+    # far field, the projection blended in over the outer rows
+    reach = _far_distance(inner, far, topology) - 0.25 * chord
+    dist = reach * exact_stretch(nj, h / reach)[0]
+    reference, outer = reference_grid(inner, far, topology, dist, chord, n_w)
+    first = np.full(ni, h)
+    if topology == "c":  # the first edge grows along the wake to the outflow
+        far_first = 0.5 * radius / (nj - 1)
+        x = inner[:, 0]
+        frac = np.clip((x - inner[n_w, 0]) / (x[0] - inner[n_w, 0]), 0.0, 1.0)
+        idx = np.arange(ni)
+        body_nodes = (idx >= n_w) & (idx <= ni - 1 - n_w)
+        first = np.where(body_nodes, h, h * (max(far_first, h) / h) ** frac)
+    return Layout(topology, inner, outer, first, n_w, h, reference)
+
+
+def reference_grid(
+    inner: np.ndarray, far: FarField, topology: str, dist: np.ndarray, chord: float, n_wake: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """The wall-orthogonal reference grid and its far-field nodes: rows marched off the
+    wall to ``BLEND_END`` chords, turning over ``BLEND_START`` .. ``BLEND_END`` chords into
+    straight lines from the row at ``BLEND_START`` to that row's projection onto the far
+    field (radially about the far field's centre; straight up or down behind mid-chord in
+    a C-grid), so that every column ends on the far field."""
+    if topology == "o":  # marched all the way, the far-field projection blended in
+        marched = march(inner, topology, dist, chord, n_wake, tangent=TANGENT_SMOOTHING)
+        outer = _project(marched[-1], far, topology, inner)
+        outer[-1] = outer[0]
+        blend = ((dist / dist[-1]) ** 3)[:, None, None]
+        grid = marched + blend * (outer - marched[-1])[None]
+        grid[-1] = outer
+        return grid, outer
+    a = int(np.searchsorted(dist, BLEND_START * chord))
+    b = int(np.searchsorted(dist, BLEND_END * chord))
+    a, b = min(a, len(dist) - 2), min(max(b, a + 1), len(dist) - 1)
+    marched = march(inner, topology, dist[: b + 1], chord, n_wake, tangent=0.0)
+    start = marched[a]
+    outer = _project(start, far, topology, inner, marched[a] - marched[a - 1], n_wake)
+    t = ((dist - dist[a]) / (dist[-1] - dist[a])).clip(0.0, 1.0)
+    straight = start[None] + t[:, None, None] * (outer - start)[None]
+    w = np.clip((dist - dist[a]) / max(dist[b] - dist[a], 1e-300), 0.0, 1.0)
+    w = (w * w * (3 - 2 * w))[:, None, None]
+    grid = straight.copy()
+    grid[: b + 1] = (1 - w[: b + 1]) * marched + w[: b + 1] * straight[: b + 1]
+    grid[0] = inner
+    grid[-1] = outer
+    return grid, outer
+
+
+def _far_distance(inner: np.ndarray, far: FarField, topology: str) -> float:
+    """About how far the far field lies from the body (for the marching distance)."""
+    if far.radius is not None:
+        return float(far.radius)
+    r = np.linalg.norm(far.polyline - far.center, axis=1)
+    return float(r.min())
+
+
+def _project(
+    row: np.ndarray,
+    far: FarField,
+    topology: str,
+    inner: np.ndarray,
+    direction: np.ndarray | None = None,
+    n_wake: int = 0,
+) -> np.ndarray:
+    """Points of the far field for a marched row: radially about the far field's centre
+    onto the circle (or polyline); for the C-grid, behind mid-chord, straight up or down
+    onto the lines y = y_c -+ R."""
+    c = far.center
+    ang = np.arctan2(row[:, 1] - c[1], row[:, 0] - c[0])
+    if far.radius is not None and direction is not None:  # along the rows' direction
+        u = direction / np.linalg.norm(direction, axis=1, keepdims=True)
+        p = row - c
+        pu = np.einsum("ik,ik->i", p, u)
+        t = -pu + np.sqrt(pu * pu - np.einsum("ik,ik->i", p, p) + far.radius**2)
+        out = row + t[:, None] * u
+    elif far.radius is not None:
+        out = c + far.radius * np.column_stack([np.cos(ang), np.sin(ang)])
+    else:
+        ring = far.polyline
+        pa = np.arctan2(ring[:, 1] - c[1], ring[:, 0] - c[0])
+        order = np.argsort(pa)
+        pa, pts = pa[order], ring[order]
+        pa = np.r_[pa[-1] - 2 * np.pi, pa, pa[0] + 2 * np.pi]
+        pts = np.concatenate([pts[-1:], pts, pts[:1]])
+        out = np.column_stack([np.interp(ang, pa, pts[:, k]) for k in range(2)])
+    if topology == "c":  # the D-shaped far field: behind mid-chord, the lines y_c -+ R
+        half = len(row) // 2
+        sign = np.where(np.arange(len(row)) < half, -1.0, 1.0)
+        rear = inner[:, 0] >= rear_start(inner, n_wake)
+        x = row[:, 0]
+        on_circle = np.sqrt(np.maximum(far.radius**2 - (x - c[0]) ** 2, 0.0))
+        line = np.column_stack([x, c[1] + sign * np.where(x < c[0], on_circle, far.radius)])
+        out[rear] = line[rear]
+        out[0, 0], out[-1, 0] = row[0, 0], row[-1, 0]
+        out[0, 1], out[-1, 1] = c[1] - far.radius, c[1] + far.radius
+    return out
+
+
+# ---------------------------------------------------------------- algebraic grids
+
+
+def tfi(lay: Layout, nj: int) -> np.ndarray:
+    """The two-boundary TFI grid (nj, ni, 2): straight columns, each stretched so that its
+    first edge is ``lay.first``."""
+    vec = lay.outer - lay.inner
+    length = np.linalg.norm(vec, axis=1)
+    s = exact_stretch(nj, lay.first / length, None, lay.ni).T
+    return lay.inner[None] + s[..., None] * vec[None]
+
+
+# ---------------------------------------------------------------- elliptic solver
+
+
+def _d(g: np.ndarray, periodic: bool) -> tuple[np.ndarray, ...]:
+    """Central differences at interior rows (j = 1 .. nj - 2) of the grid's unique columns
+    (O: wrapped; C: columns 1 .. ni - 2): x_xi, x_eta, x_xixi, x_etaeta, x_xieta."""
+    if periodic:
+        u = g[:, :-1]
+        e, w = np.roll(u, -1, axis=1), np.roll(u, 1, axis=1)
+        c = u
+    else:
+        u = g
+        e, w, c = u[:, 2:], u[:, :-2], u[:, 1:-1]
+    n, s = c[2:], c[:-2]
+    ne, nw, se, sw = e[2:], w[2:], e[:-2], w[:-2]
+    e, w, c = e[1:-1], w[1:-1], c[1:-1]
+    return (0.5 * (e - w), 0.5 * (n - s), e - 2 * c + w, n - 2 * c + s, 0.25 * (ne - nw - se + sw))
+
+
+def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.einsum("...k,...k->...", a, b)
+
+
+def residual(
+    g: np.ndarray, periodic: bool, s_xi: np.ndarray | None = None, s_eta: np.ndarray | None = None
+) -> np.ndarray:
+    """alpha x_xixi - 2 beta x_xieta + gamma x_etaeta + s_xi x_xi + s_eta x_eta at the
+    unknown nodes."""
+    x_xi, x_eta, x_xixi, x_etaeta, x_xieta = _d(g, periodic)
+    a, b, c = _dot(x_eta, x_eta), _dot(x_xi, x_eta), _dot(x_xi, x_xi)
+    r = a[..., None] * x_xixi - 2 * b[..., None] * x_xieta + c[..., None] * x_etaeta
+    if s_xi is not None:
+        r = r + s_xi[..., None] * x_xi + s_eta[..., None] * x_eta
+    return r
+
+
+def exact_controls(g: np.ndarray, periodic: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Sources (s_xi, s_eta) that make ``g`` an exact solution: s_xi x_xi + s_eta x_eta
+    = -(alpha x_xixi - 2 beta x_xieta + gamma x_etaeta)."""
+    x_xi, x_eta, *_ = _d(g, periodic)
+    r = -residual(g, periodic)
+    det = x_xi[..., 0] * x_eta[..., 1] - x_xi[..., 1] * x_eta[..., 0]
+    s_xi = (r[..., 0] * x_eta[..., 1] - r[..., 1] * x_eta[..., 0]) / det
+    s_eta = (x_xi[..., 0] * r[..., 1] - x_xi[..., 1] * r[..., 0]) / det
+    return s_xi, s_eta
+
+
+def smoothed_controls(
+    g: np.ndarray, periodic: bool, decay: float = CONTROL_DECAY, passes: int = CONTROL_PASSES
+) -> tuple[np.ndarray, np.ndarray]:
+    """The exact sources of ``g`` (see :func:`exact_controls`), kept at the wall and
+    blended, with weight exp(-decay (j - 1)), into ``passes`` Jacobi passes of their
+    smoothing away from it."""
+    out = []
+    j = np.arange(1, g.shape[0] - 1)[:, None]
+    w = np.exp(-decay * (j - 1))
+    for a in exact_controls(g, periodic):
+        b = np.nan_to_num(a)
+        for _ in range(passes):
+            if periodic:
+                e, west = np.roll(b, -1, axis=1), np.roll(b, 1, axis=1)
+            else:
+                e = np.concatenate([b[:, 1:], b[:, -1:]], axis=1)
+                west = np.concatenate([b[:, :1], b[:, :-1]], axis=1)
+            n = np.concatenate([b[1:], b[-1:]])
+            south = np.concatenate([b[:1], b[:-1]])
+            b = 0.5 * b + 0.125 * (e + west + n + south)
+        out.append(w * np.nan_to_num(a) + (1 - w) * b)
+    return out[0], out[1]
+
+
+def jacobi(
+    grid: np.ndarray,
+    periodic: bool,
+    s_xi: np.ndarray,
+    s_eta: np.ndarray,
+    sweeps: int,
+    relax: float = JACOBI_RELAX,
+    hold: int = HELD_ROWS,
+) -> np.ndarray:
+    """``sweeps`` relaxed point-Jacobi sweeps of the controlled Winslow equations (the
+    paper's PDE iteration) on the interior of ``grid``; rows j = 0, nj - 1 (and the C-grid's
+    outflow columns) held, and the first ``hold`` rows off the wall (the first layer's height
+    and the wall angle are the reference's), the O-grid's seam column kept equal to
+    column 0."""
+    g = np.array(grid, dtype=float)
+    kept = g[1 : hold + 1].copy()
+    sx, se = s_xi[..., None], s_eta[..., None]
+    for _ in range(sweeps):
+        x_xi, x_eta, _, _, x_xieta = _d(g, periodic)
+        a, b, c = (
+            _dot(x_eta, x_eta)[..., None],
+            _dot(x_xi, x_eta)[..., None],
+            _dot(x_xi, x_xi)[..., None],
+        )
+        if periodic:
+            u = g[:, :-1]
+            ew = np.roll(u, -1, axis=1)[1:-1] + np.roll(u, 1, axis=1)[1:-1]
+            centre = u[1:-1]
+            ns = u[2:] + u[:-2]
+        else:
+            ew = g[1:-1, 2:] + g[1:-1, :-2]
+            centre = g[1:-1, 1:-1]
+            ns = g[2:, 1:-1] + g[:-2, 1:-1]
+        new = (a * ew + c * ns - 2 * b * x_xieta + sx * x_xi + se * x_eta) / (2 * (a + c))
+        upd = centre + relax * (new - centre)
+        if periodic:
+            g[1:-1, :-1] = upd
+            g[1:-1, -1] = upd[:, 0]
+        else:
+            g[1:-1, 1:-1] = upd
+        g[1 : hold + 1] = kept
+    return g
+
+
+def elliptic(lay: Layout, sweeps: int = ELLIPTIC_SWEEPS) -> tuple[np.ndarray, tuple]:
+    """The elliptic grid: up to ``sweeps`` Jacobi sweeps of Winslow's equations from the
+    reference grid, with the controls of :func:`smoothed_controls`; also returns them.
+
+    Every ``CHECK_EVERY`` sweeps the grid is checked against the reference: the sweeps stop
+    at the last state with no more folded cells and a worst MaxIncludedAngle at most
+    ``CHECK_WORST`` degrees above the reference's (on coarse grids with strong wall
+    stretching the relaxed Jacobi iteration can drift off; ``lay.sweeps_kept`` says how far
+    it went)."""
+    from pinn_engine.quality import guard_figures, no_worse
+
+    periodic = lay.topology == "o"
+    controls = smoothed_controls(lay.reference, periodic)
+    ref = guard_figures(lay.reference)
+    g, kept, done = lay.reference, lay.reference, 0
+    lay.sweeps_kept = 0
+    while done < sweeps:
+        n = min(CHECK_EVERY, sweeps - done)
+        g = jacobi(g, periodic, *controls, n)
+        done += n
+        if not no_worse(guard_figures(g), ref, math.inf, CHECK_WORST):
+            break
+        kept, lay.sweeps_kept = g, done
+    return kept, controls
+
+
+__all__ = [
+    "TOPOLOGIES",
+    "BodyCurve",
+    "Layout",
+    "elliptic",
+    "jacobi",
+    "layout",
+    "march",
+    "reference_grid",
+    "residual",
+    "row_chords",
+    "smoothed_controls",
+    "tfi",
+]

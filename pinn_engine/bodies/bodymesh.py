@@ -1,0 +1,146 @@
+"""O- and C-grids around a body as mesh results (SPEC 9): one entry point for every route.
+
+``mesh_body(body, far, "o", "elliptic", 250, 100, wall_spacing=1e-5)`` returns a
+:class:`MeshResult` like the four-sided mesher's, with the topology's figures in its report:
+the seam's or the wake cut's largest node mismatch, the far field's largest radius error,
+the first-layer heights on the wall (min, median, max) and the largest deviation from 90
+degrees of the grid lines leaving the wall.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+
+import numpy as np
+
+from pinn_engine.bodies import bodygrid
+from pinn_engine.bodies.airfoil import Body, FarField
+from pinn_engine.errors import InputError
+from pinn_engine.geometry.boundary import segment_distance
+from pinn_engine.mesher import MeshResult
+from pinn_engine.quality import angle_deviation, cell_quality, summary
+from pinn_engine.settings import Settings, make_settings
+
+METHODS = ("pinn", "tfi", "elliptic")
+
+
+def patch_names(topology: str) -> tuple[str, str, str, str]:
+    """PatchNames (bottom, right, top, left) of a body grid: the O-grid's left and right
+    sides are the seam, the C-grid's are the outflow; the C-grid's bottom side holds the
+    wall and the wake cut (field data ``Topology`` and ``WakeNodes`` tell them apart)."""
+    return (
+        ("wall", "seam", "farfield", "seam")
+        if topology == "o"
+        else ("wall", "outflow", "farfield", "outflow")
+    )
+
+
+def wall_metrics(grid: np.ndarray, topology: str, n_wake: int, sharp: bool) -> dict:
+    """First-layer heights and wall angles on the body part of j = 0."""
+    ni = grid.shape[1]
+    idx = np.arange(ni - 1) if topology == "o" else np.arange(n_wake, ni - n_wake)
+    e = grid[1] - grid[0]
+    h = np.linalg.norm(e, axis=1)
+    dev = angle_deviation(bodygrid.row_chords(grid[0], topology), e)
+    keep = idx
+    if sharp:  # the corner at a sharp trailing edge has no tangent
+        te = [0, ni - 1] if topology == "o" else [n_wake, ni - 1 - n_wake]
+        keep = np.setdiff1d(idx, te)
+    return {
+        "first_layer": {
+            "min": float(h[idx].min()),
+            "median": float(np.median(h[idx])),
+            "max": float(h[idx].max()),
+        },
+        "wall_angle_deviation": float(dev[keep].max()),
+    }
+
+
+def topology_metrics(
+    grid: np.ndarray, topology: str, n_wake: int, far: FarField, sharp: bool
+) -> dict:
+    """Seam or cut mismatch, far-field radius error and the wall figures."""
+    if topology == "o":
+        gap = float(np.abs(grid[:, 0] - grid[:, -1]).max())
+    else:
+        gap = float(np.abs(grid[0, : n_wake + 1] - grid[0, ::-1][: n_wake + 1]).max())
+    out = {
+        "kind": topology,
+        "wake_nodes": n_wake,
+        ("seam_gap" if topology == "o" else "cut_gap"): gap,
+    }
+    if far.radius is not None:
+        r = np.linalg.norm(grid[-1] - far.center, axis=1)
+        front = slice(None) if topology == "o" else grid[-1][:, 0] <= far.center[0] + 1e-12
+        out["far_field_radius"] = far.radius
+        out["far_field_radius_error"] = float(np.abs(r[front] - far.radius).max())
+    out.update(wall_metrics(grid, topology, n_wake, sharp))
+    return out
+
+
+def mesh_body(
+    body: Body,
+    far: FarField,
+    topology: str,
+    method: str,
+    ni: int,
+    nj: int,
+    settings: Settings | None = None,
+    wall_spacing: float | None = None,
+    progress: Callable[[dict], bool | None] | None = None,
+) -> MeshResult:
+    """The O- or C-grid of ``ni`` x ``nj`` nodes around ``body`` (see bodygrid.py)."""
+    if method not in METHODS:
+        raise InputError(
+            f"method {method}: O- and C-grids are made by "
+            f"{', '.join(METHODS)} (mgnet meshes four-sided domains only)"
+        )
+    settings = settings or make_settings(method, lattice=(ni, nj))
+    if wall_spacing is not None and not (np.isfinite(wall_spacing) and wall_spacing > 0):
+        raise InputError(f"wall spacing {wall_spacing}: must be a number > 0 (--spacing bottom=H)")
+    start = time.perf_counter()
+    lay = bodygrid.layout(body, far, topology, ni, nj, wall_spacing=wall_spacing)
+    history: dict[str, list[float]] = {}
+    training: dict | None = None
+    train_seconds = 0.0
+    if method == "tfi":
+        grid = bodygrid.tfi(lay, nj)
+    else:
+        sweeps = settings.elliptic_iterations or bodygrid.ELLIPTIC_SWEEPS
+        grid, controls = bodygrid.elliptic(lay, sweeps)
+        if method == "pinn":
+            from pinn_engine.blocks.body import train_body
+
+            t0 = time.perf_counter()
+            grid, history, training = train_body(lay, grid, controls, settings, progress)
+            train_seconds = time.perf_counter() - t0
+    mesh_seconds = time.perf_counter() - start - train_seconds
+    if not np.isfinite(grid).all():
+        raise InputError(f"the {method} grid has non-finite nodes; try another --size")
+    cells = cell_quality(grid)
+    ring = body.ring()
+    wall = grid[0][lay.wall_columns()]
+    scale = float(np.linalg.norm(np.ptp(grid.reshape(-1, 2), axis=0)))
+    deviation = float(segment_distance(wall, ring[:-1]).max()) / scale
+    report = {
+        "method": method,
+        "size": [ni, nj],
+        "settings": settings.to_dict(),
+        "train_seconds": train_seconds,
+        "mesh_seconds": mesh_seconds,
+        "quality": summary(cells, deviation),
+        "source": body.source,
+        "aux_lines": [],
+        "aux_line_distance": {},
+        "topology": topology_metrics(grid, topology, lay.n_wake, far, body.sharp),
+    }
+    report["topology"]["wall_spacing"] = lay.wall_spacing
+    if method != "tfi":
+        report["topology"]["elliptic_sweeps"] = lay.sweeps_kept
+    if training is not None:
+        report["training"] = training
+    return MeshResult(points=grid, report=report, history=history, cells=cells)
+
+
+__all__ = ["METHODS", "mesh_body", "patch_names", "topology_metrics", "wall_metrics"]

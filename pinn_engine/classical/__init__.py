@@ -1,0 +1,2 @@
+"""The classical grid methods: transfinite interpolation, the elliptic (Winslow) solver, node
+spacing."""

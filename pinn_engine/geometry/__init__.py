@@ -1,0 +1,1 @@
+"""Boundaries, sides and corners, planes, auxiliary lines, boundary fits."""

@@ -1,0 +1,1 @@
+"""Reading inputs, VTK grids, the solver formats."""

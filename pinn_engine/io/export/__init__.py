@@ -1,0 +1,270 @@
+"""Solver-ready output (SPEC 8): one grid, the formats CFD solvers read, named patches.
+
+``write(grid, path)`` picks the format from the extension of ``path`` (or ``fmt``):
+
+=========  =========================================================  ===========
+format     what                                                       extrudes
+=========  =========================================================  ===========
+vts        VTK XML structured grid (default)                          no
+vtk        VTK legacy structured grid                                 no
+xyz        PLOT3D, multi-grid, whole, double precision                ``extrude=``
+cgns       CGNS/HDF5, one structured zone, a ``BC_t`` per side        ``extrude=``
+su2        SU2, quadrilaterals, a ``MARKER_TAG`` per patch            no
+msh        Gmsh 4.1, physical groups per patch and ``fluid``          ``extrude=``
+openfoam   ``DIR/constant/polyMesh`` (one cell in z, frontAndBack)    always
+=========  =========================================================  ===========
+
+Every writer is atomic: a file is written under a temporary name beside its target and
+renamed over it when complete; an OpenFOAM case is built in a temporary directory. A
+failure leaves the target as it was. Everything here needs numpy and VTK only, except
+CGNS (``h5py``), so that the ParaView plugin offers the same writers.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import tempfile
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonDataModel import vtkStructuredGrid
+
+from pinn_engine.errors import InputError
+from pinn_engine.geometry.plane import Plane
+from pinn_engine.io.export import bodies, cgns, gmsh, openfoam, plot3d, su2, vtkfiles
+from pinn_engine.io.export.block import Block
+from pinn_engine.io.export.patches import (
+    FIELD,
+    SIDES,
+    add_to_grid,
+    of_grid,
+    parse_patch_options,
+    patch_names,
+)
+from pinn_engine.io.export.topology import mean_edge, side_nodes
+from pinn_engine.io.fileio import atomic_path, write_text_atomic
+
+
+@dataclass(frozen=True)
+class Format:
+    key: str
+    suffix: str  # "" for a directory
+    description: str
+    extrudes: bool
+
+
+FORMATS = {
+    f.key: f
+    for f in (
+        Format("vts", ".vts", "VTK XML structured grid", False),
+        Format("vtk", ".vtk", "VTK legacy structured grid", False),
+        Format("xyz", ".xyz", "PLOT3D grid (multi-grid, whole, double)", True),
+        Format("cgns", ".cgns", "CGNS/HDF5 with boundary patches", True),
+        Format("su2", ".su2", "SU2 mesh with markers", False),
+        Format("msh", ".msh", "Gmsh 4.1 mesh with physical groups", True),
+        Format("openfoam", "", "OpenFOAM case (constant/polyMesh)", True),
+    )
+}
+_BY_SUFFIX = {f.suffix: f for f in FORMATS.values() if f.suffix}
+_FILE_WRITERS = {"xyz": plot3d.write, "cgns": cgns.write, "su2": su2.write, "msh": gmsh.write}
+
+
+def output_format(
+    path: str | os.PathLike, fmt: str | None = None, extrude: float | None = None
+) -> Format:
+    """The format for ``path`` (its extension, or ``fmt``); checks ``extrude`` and, for
+    CGNS, that h5py is there, so that a route can refuse before meshing."""
+    path = Path(path)
+    if fmt is not None:
+        found = FORMATS.get(str(fmt).strip().lower())
+        if found is None:
+            raise InputError(f"unknown format {fmt!r}; use {{output}}", str(path))
+    else:
+        found = _BY_SUFFIX.get(path.suffix.lower())
+        if found is None:
+            raise InputError(
+                f"unknown output format {path.suffix or '(no extension)'!r}; use {{output}}",
+                str(path),
+            )
+    if found.suffix and path.is_dir():
+        raise InputError("is a directory; give a file name ({output})", str(path))
+    if not found.suffix and path.exists() and not path.is_dir():
+        raise InputError("exists and is not a directory; an OpenFOAM case is a folder", str(path))
+    if extrude is not None:
+        if not found.extrudes:
+            raise InputError(
+                f"{found.description} is 2D only; drop {{extrude}} (it applies "
+                "to .xyz, .cgns, .msh and OpenFOAM)",
+                str(path),
+            )
+        if not (math.isfinite(extrude) and extrude > 0):
+            raise InputError(
+                f"extrusion thickness {extrude}: must be a number > 0 ({{extrude}})", str(path)
+            )
+    if found.key == "cgns":
+        cgns.check()
+    return found
+
+
+def grid_points(grid: vtkStructuredGrid) -> tuple[np.ndarray, np.ndarray]:
+    """The nodes of a 2D structured grid (ni, nj, 1) as an array (nj, ni, 3), and the unit
+    normal about which its boundary runs counter-clockwise along i, then j (SPEC 3): +z for
+    a grid in a plane z = const, whose boundary must then run counter-clockwise in x-y."""
+    if grid is None or grid.GetPoints() is None or grid.GetNumberOfPoints() == 0:
+        raise InputError("the grid is empty; mesh the boundary first", "grid")
+    ext = grid.GetExtent()
+    ni, nj, nk = (ext[2 * a + 1] - ext[2 * a] + 1 for a in range(3))
+    if nk != 1 or min(ni, nj) < 2:
+        raise InputError(
+            f"expected a 2D structured grid of (ni, nj, 1) nodes, got ({ni}, {nj}, {nk})", "grid"
+        )
+    pts = vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64).reshape(nj, ni, 3)
+    ring = pts.reshape(-1, 3)[np.concatenate([side_nodes(ni, nj, s)[:-1] for s in SIDES])]
+    plane = Plane.fit(pts.reshape(-1, 3), "grid")
+    area = 0.5 * np.cross(ring, np.roll(ring, -1, axis=0)).sum(axis=0)  # vector area
+    if plane.is_horizontal:
+        if area[2] <= 0:  # clockwise or flat
+            raise InputError(
+                "the grid's boundary does not run counter-clockwise in the x-y "
+                "plane along i, then j (SPEC 3); the writers orient cells and "
+                "patches by it: reverse its i or j direction first",
+                "grid",
+            )
+        return pts, np.array([0.0, 0.0, 1.0])
+    return pts, area / np.linalg.norm(area)
+
+
+def body_topology(grid: vtkStructuredGrid) -> str | None:
+    """ "o" or "c" for an O- or C-grid around a body (field data ``Topology``), else None."""
+    arr = grid.GetFieldData().GetAbstractArray("Topology") if grid is not None else None
+    if arr is None or arr.GetNumberOfValues() != 1:
+        return None
+    value = str(arr.GetValue(0)).lower()
+    return value if value in ("o", "c") else None
+
+
+def write(
+    grid: vtkStructuredGrid,
+    path: str | os.PathLike,
+    fmt: str | None = None,
+    *,
+    patches: Mapping[str, str] | Sequence[str] | str | None = None,
+    extrude: float | None = None,
+) -> Path:
+    """Write ``grid`` to ``path`` in the format of its extension (or ``fmt``).
+
+    ``patches``: the four patch names (see :func:`patches.patch_names`); None keeps the
+    grid's ``PatchNames`` (or the defaults bottom, right, top, left). ``extrude``: one cell
+    of this thickness in z (PLOT3D, CGNS, Gmsh, OpenFOAM; OpenFOAM defaults to the grid's
+    mean edge length). Returns the path written; raises ``InputError`` (one line) for bad
+    arguments and ``OSError`` when the file system refuses.
+    """
+    path = Path(path)
+    found = output_format(path, fmt, extrude)
+    names = of_grid(grid) if patches is None else patch_names(patches)
+    topology = body_topology(grid)
+    if topology:
+        points, normal, n_wake = _body_points(grid, topology, path)
+    else:
+        (points, normal), n_wake = grid_points(grid), 0
+    if found.key in ("vts", "vtk"):
+        copy = vtkStructuredGrid()
+        copy.ShallowCopy(grid)
+        add_to_grid(copy, names)
+        if found.key == "vts":
+            return vtkfiles.write_vts(copy, path)
+        with atomic_path(path, suffix=found.suffix) as tmp:
+            vtkfiles.write_legacy(copy, tmp)
+        return path
+    if extrude is None and found.key == "openfoam":  # OpenFOAM meshes are always 3D
+        extrude = mean_edge(points)
+    block = Block(points, names, extrude, normal, topology, n_wake)
+    if found.key == "openfoam":
+        return _write_openfoam(block, path)
+    with atomic_path(path, suffix=found.suffix) as tmp:
+        _FILE_WRITERS[found.key](block, tmp)
+    return path
+
+
+def _body_points(grid: vtkStructuredGrid, topology: str, path: Path):
+    """The nodes (nj, ni, 3) of an O- or C-grid, its extrusion normal (the O-grid's cells are
+    clockwise in (i, j), SPEC 9) and its wake node count."""
+    points = vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64)
+    ext = grid.GetExtent()
+    points = points.reshape(ext[3] - ext[2] + 1, ext[1] - ext[0] + 1, 3)
+    if np.ptp(points[..., 2]) > 1e-12 * max(1.0, float(np.ptp(points))):
+        raise InputError("an O- or C-grid must lie in a plane z = const to be written", str(path))
+    wake = grid.GetFieldData().GetArray("WakeNodes")
+    n_wake = int(wake.GetValue(0)) if wake is not None else 0
+    return points, np.array([0.0, 0.0, -1.0 if topology == "o" else 1.0]), n_wake
+
+
+def _write_openfoam(block: Block, case: Path) -> Path:
+    """A new case is built in a temporary folder and renamed; in an existing case only
+    ``constant/polyMesh`` is replaced (built beside it, then swapped) and missing case
+    files are added."""
+    title = case.name or "case"
+    files = openfoam.case_files(title)
+    if not case.exists():
+        case.parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{title}.", suffix=".part", dir=case.parent))
+        try:
+            mesh = tmp / "constant" / "polyMesh"
+            mesh.mkdir(parents=True)
+            (bodies.write_polymesh if block.topology else openfoam.write_polymesh)(block, mesh)
+            for rel, text in files.items():
+                (tmp / rel).parent.mkdir(parents=True, exist_ok=True)
+                (tmp / rel).write_text(text)
+            os.chmod(tmp, 0o777 & ~_umask())
+            os.rename(tmp, case)
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
+        return case
+    constant = case / "constant"
+    constant.mkdir(exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=".polyMesh.", suffix=".part", dir=constant))
+    target, old, moved = constant / "polyMesh", None, False
+    try:
+        (bodies.write_polymesh if block.topology else openfoam.write_polymesh)(block, tmp)
+        os.chmod(tmp, 0o777 & ~_umask())
+        if target.exists():
+            old = Path(tempfile.mkdtemp(prefix=".polyMesh.", suffix=".old", dir=constant))
+            os.rename(target, old / "polyMesh")
+            moved = True
+        os.rename(tmp, target)
+        moved = False
+    finally:
+        if moved:  # put the previous mesh back
+            os.rename(old / "polyMesh", target)
+        shutil.rmtree(tmp, ignore_errors=True)
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+    for rel, text in files.items():
+        if not (case / rel).exists():
+            write_text_atomic(case / rel, text)
+    return case
+
+
+def _umask() -> int:
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+__all__ = [
+    "FIELD",
+    "FORMATS",
+    "SIDES",
+    "Block",
+    "Format",
+    "grid_points",
+    "output_format",
+    "parse_patch_options",
+    "patch_names",
+    "write",
+]

@@ -1,0 +1,109 @@
+"""The writers as a VTK sink (``GridWriter``): what ParaView's File > Save Data runs.
+
+The ParaView plugin decorates one subclass per format (``plugin/pinn_mesh_plugin.py``);
+the algorithm itself is plain VTK, so it also works in any VTK pipeline::
+
+    w = GridWriter("cgns")
+    w.SetInputConnection(mesh_algorithm.GetOutputPort())
+    w.SetFileName("out/grid.cgns")
+    w.Write()
+
+Patch names come from the grid's ``PatchNames`` (the filter's Patch Names field). Errors
+are one line ``PINN Mesh writer: <message>`` through ``vtkOutputWindow`` (ParaView's
+Output Messages) and ``GetLastError()``; nothing is written then.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
+from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
+from vtkmodules.vtkCommonDataModel import vtkStructuredGrid
+
+from pinn_engine.errors import InputError, PinnMeshError
+
+LABEL = "PINN Mesh writer"
+# formats offered in ParaView (its own writers cover .vts and .vtk): key -> (extension,
+# writer proxy name; pvpython: ``servermanager.writers.PINNMeshCGNSWriter(Input=..., ...)``)
+PARAVIEW_FORMATS = {
+    "xyz": ("xyz", "PINNMeshPLOT3DWriter"),
+    "cgns": ("cgns", "PINNMeshCGNSWriter"),
+    "su2": ("su2", "PINNMeshSU2Writer"),
+    "msh": ("msh", "PINNMeshGmshWriter"),
+    "openfoam": ("foam", "PINNMeshOpenFOAMWriter"),
+}
+
+
+class GridWriter(VTKPythonAlgorithmBase):
+    """Writes its input ``vtkStructuredGrid`` in one of ``export.FORMATS``.
+
+    ``SetFileName(path)``; for OpenFOAM a ``NAME.foam`` path writes the case folder
+    ``NAME/`` beside it (with ``NAME/NAME.foam`` inside, which ParaView opens).
+    ``SetExtrudeThickness(t)``: one cell of thickness t in z (0: 2D; OpenFOAM: the mean
+    edge length).
+    """
+
+    FORMAT = "vts"
+
+    def __init__(self, fmt: str | None = None) -> None:
+        super().__init__(nInputPorts=1, nOutputPorts=0, inputType="vtkStructuredGrid")
+        self._format = fmt or self.FORMAT
+        self._file_name = ""
+        self._extrude = 0.0
+        self._last_error = ""
+
+    def SetFileName(self, name) -> None:
+        if name != self._file_name:
+            self._file_name = name or ""
+            self.Modified()
+
+    def GetFileName(self) -> str:
+        return self._file_name
+
+    def SetExtrudeThickness(self, value) -> None:
+        value = float(value or 0.0)
+        if value != self._extrude:
+            self._extrude = value
+            self.Modified()
+
+    def GetLastError(self) -> str:
+        return self._last_error
+
+    def Write(self) -> int:
+        self.Modified()
+        self.Update()
+        return 0 if self._last_error else 1
+
+    def RequestData(self, request, inInfo, outInfo):
+        from pinn_engine.io.export import write
+
+        self._last_error = ""
+        try:
+            if not self._file_name:
+                raise InputError("no file name given")
+            path = Path(self._file_name)
+            if self._format == "openfoam":
+                path = path.with_suffix("") if path.suffix.lower() == ".foam" else path
+            write(
+                vtkStructuredGrid.GetData(inInfo[0], 0),
+                path,
+                self._format,
+                extrude=self._extrude if self._extrude > 0 else None,
+            )
+        except InputError as exc:
+            self._report(str(exc.for_route("paraview")))
+        except PinnMeshError as exc:
+            self._report(str(exc))
+        except OSError as exc:
+            where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
+            self._report(f"{where}{exc.strerror or exc}")
+        except Exception as exc:  # never let an exception reach ParaView's executive
+            self._report(f"unexpected {type(exc).__name__}: {exc}")
+        return 1
+
+    def _report(self, message: str) -> None:
+        line = f"{LABEL}: {' '.join(str(message).split())}"
+        self._last_error = line
+        vtkOutputWindow.GetInstance().DisplayErrorText(line + "\n")
+        self.InvokeEvent(vtkCommand.ErrorEvent, line)

@@ -1,0 +1,40 @@
+"""What every writer gets: the grid's nodes, its patch names and the extrusion, if any."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pinn_engine.io.export.patches import groups
+from pinn_engine.io.export.topology import layers
+
+
+@dataclass(frozen=True)
+class Block:
+    """One structured block: ``points`` (nj, ni, 3) in the user's units, the four patch
+    names (bottom, right, top, left), the extrusion thickness (None: 2D) and the unit
+    normal it extrudes along (+z for a grid in a plane z = const)."""
+
+    points: np.ndarray
+    names: tuple[str, ...]
+    thickness: float | None = None
+    normal: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, 1.0]))
+    topology: str | None = None  # "o" or "c": an O- or C-grid around a body (bodies.py)
+    n_wake: int = 0  # the C-grid's lower trailing-edge node index
+
+    @property
+    def ni(self) -> int:
+        return self.points.shape[1]
+
+    @property
+    def nj(self) -> int:
+        return self.points.shape[0]
+
+    def layers(self) -> np.ndarray:
+        """Nodes as (nk, nj, ni, 3): nk = 1 in 2D, 2 when extruded."""
+        return layers(self.points, self.thickness, self.normal)
+
+    def patches(self) -> dict[str, list[str]]:
+        """Patch name -> its sides, in the order of first appearance."""
+        return groups(self.names)

@@ -1,0 +1,249 @@
+"""CGNS (``.cgns``) in its HDF5 layout, through ``h5py``.
+
+The tree is small and fixed, so it is written node by node rather than through a binding
+of the CGNS C library: one ``CGNSBase_t``,
+one structured ``Zone_t`` with ``GridCoordinates`` (double), ``ZoneBC`` with one ``BC_t``
+per side as a vertex ``PointRange`` (``FamilySpecified``, ``FamilyName`` = the patch name),
+and one ``Family_t`` per patch (sides with one name share the family). Extruded grids are
+3D zones with nk = 2 and the ends in the family ``frontAndBack``.
+
+HDF5 layout (CGNS "SIDS-to-HDF5" mapping): each node is a group with the attributes
+``name``, ``label`` (33-byte strings), ``type`` (3 bytes: MT, C1, I4, R4, R8) and
+``flags``; its value is the dataset " data", multi-dimensional arrays stored in Fortran
+order (so an array of Fortran shape (ni, nj) is an HDF5 dataset of shape (nj, ni)).
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from pinn_engine.io.export.block import Block
+from pinn_engine.io.export.patches import FRONT_AND_BACK
+from pinn_engine.io.export.topology import index_range
+
+ROOT = Path(__file__).resolve().parents[2]  # the checkout (its .venv: the helper Python)
+
+_TYPES = {np.dtype(np.int32): "I4", np.dtype(np.float32): "R4", np.dtype(np.float64): "R8"}
+
+
+_H5PY: list = []  # [module or None]: h5py, once imported and found usable
+
+
+def _h5py():
+    """h5py, or None where it is missing or unusable. Inside Debian's ParaView a pip h5py
+    finds ParaView's HDF5 already loaded and fails (version clash), hence the helper."""
+    if not _H5PY:
+        try:
+            import h5py
+
+            usable = h5py.version.hdf5_version_tuple == h5py.version.hdf5_built_version_tuple
+        except Exception:  # ImportError, or a clash of HDF5 libraries at import
+            h5py, usable = None, False
+        _H5PY.append(h5py if usable else None)
+    return _H5PY[0]
+
+
+def _helper_python() -> str | None:
+    """A Python with a working h5py to write CGNS for this one (ParaView's): the variable
+    ``PINN_MESH_PYTHON``, else the checkout's ``.venv`` (``scripts/setup.sh``)."""
+    given = os.environ.get("PINN_MESH_PYTHON")
+    candidate = Path(given) if given else ROOT / ".venv" / "bin" / "python"
+    if os.access(candidate, os.X_OK) and candidate.resolve() != Path(sys.executable).resolve():
+        return str(candidate)
+    return None
+
+
+def check() -> None:
+    """Refuse (one line) where CGNS cannot be written: no h5py and no helper Python."""
+    if _h5py() is None and _helper_python() is None:
+        from pinn_engine.errors import InputError
+
+        raise InputError(
+            "writing CGNS needs a working h5py, which this Python lacks; {h5py}", "cgns"
+        )
+
+
+def _write_in_helper(block: Block, path: Path) -> None:
+    python = _helper_python()
+    if python is None:
+        check()
+    data = path.with_name(path.name + ".npz")
+    try:
+        np.savez(
+            data,
+            points=block.points,
+            names=np.array(block.names),
+            thickness=np.array(np.nan if block.thickness is None else block.thickness),
+            normal=block.normal,
+            topology=np.array(block.topology or ""),
+            n_wake=np.array(block.n_wake),
+        )
+        env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME")}
+        env["PYTHONPATH"] = str(ROOT)
+        proc = subprocess.run(
+            [python, "-m", "pinn_engine.io.export.cgns", str(data), str(path)],
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=3600,
+        )
+    finally:
+        data.unlink(missing_ok=True)
+    if proc.returncode != 0:
+        last = (proc.stderr.strip().splitlines() or ["no message"])[-1]
+        raise OSError(f"the CGNS helper ({python}) failed: {last}")
+
+
+def _main() -> None:
+    """``python -m pinn_engine.io.export.cgns DATA.npz OUT.cgns`` (the helper's side)."""
+    data = np.load(sys.argv[1])
+    thickness = float(data["thickness"])
+    write(
+        Block(
+            data["points"],
+            tuple(str(n) for n in data["names"]),
+            None if np.isnan(thickness) else thickness,
+            data["normal"],
+            str(data["topology"]) or None,
+            int(data["n_wake"]),
+        ),
+        Path(sys.argv[2]),
+    )
+
+
+def _attr(node, key: str, text: str, size: int) -> None:
+    node.attrs.create(key, np.array(text.encode("ascii"), dtype=f"S{size}"))
+
+
+def _node(parent, name: str, label: str, value=None):
+    """A CGNS node: ``value`` a string (C1) or an array (stored in Fortran order)."""
+    group = parent.create_group(name, track_order=True)
+    _attr(group, "name", name, 33)
+    _attr(group, "label", label, 33)
+    group.attrs.create("flags", np.array([1], dtype=np.int32))
+    if value is None:
+        _attr(group, "type", "MT", 3)
+        return group
+    if isinstance(value, str):
+        kind, data = "C1", np.frombuffer(value.encode("ascii"), dtype=np.int8)
+    else:
+        data = np.asarray(value)
+        kind, data = _TYPES[data.dtype], data.T  # Fortran order: reverse the axes
+    _attr(group, "type", kind, 3)
+    group.create_dataset(" data", data=np.ascontiguousarray(data))
+    return group
+
+
+def _bc_name(name: str, side: str, shared: bool) -> str:
+    return f"{name[: 32 - len(side) - 1]}_{side}" if shared else name
+
+
+def write(block: Block, path: Path) -> None:
+    h5py = _h5py()
+    if h5py is None:
+        _write_in_helper(block, path)
+        return
+    xyz = block.layers()
+    nk, nj, ni = xyz.shape[:3]
+    three_d = nk > 1
+    dims = [ni, nj, nk] if three_d else [ni, nj]
+    with h5py.File(path, "w", track_order=True) as f:
+        _attr(f, "name", "HDF5 MotherNode", 33)
+        _attr(f, "label", "Root Node of HDF5 File", 33)
+        _attr(f, "type", "MT", 3)
+        order = "LITTLE" if sys.byteorder == "little" else "BIG"
+        f.create_dataset(" format", data=np.frombuffer(f"IEEE_{order}_32".encode(), np.int8))
+        version = f"HDF5 Version {'.'.join(map(str, h5py.h5.get_libversion()))}"
+        f.create_dataset(
+            " hdf5version",
+            data=np.frombuffer(version.encode("ascii").ljust(33, b"\0"), dtype=np.int8),
+        )
+        _node(f, "CGNSLibraryVersion", "CGNSLibraryVersion_t", np.array([3.4], np.float32))
+        dim = 3 if three_d else 2
+        base = _node(f, "Base", "CGNSBase_t", np.array([dim, dim], np.int32))
+        size = np.array([dims, [n - 1 for n in dims], [0] * dim], np.int32).T  # (dim, 3)
+        zone = _node(base, "Zone", "Zone_t", size)
+        _node(zone, "ZoneType", "ZoneType_t", "Structured")
+        coords = _node(zone, "GridCoordinates", "GridCoordinates_t")
+        for axis, key in enumerate("XYZ"[:dim]):
+            values = xyz[..., axis] if three_d else xyz[0, ..., axis]  # C (k, j, i)
+            _node(
+                coords,
+                f"Coordinate{key}",
+                "DataArray_t",
+                np.ascontiguousarray(values.T, dtype=np.float64),
+            )  # Fortran (i, j, k)
+        zone_bc = _node(zone, "ZoneBC", "ZoneBC_t")
+        if block.topology:
+            ranges = _body_ranges(block)
+            _connect(zone, block, three_d)
+        else:
+            patches = block.patches()
+            ranges = {
+                name: [(side, index_range(ni, nj, side)) for side in sides]
+                for name, sides in patches.items()
+            }
+        if three_d:
+            for name in ranges:  # the sides reach through both layers
+                ranges[name] = [(s, ((*lo, 1), (*hi, 2))) for s, (lo, hi) in ranges[name]]
+            ranges.setdefault(FRONT_AND_BACK, []).extend(
+                [("back", ((1, 1, 1), (ni, nj, 1))), ("front", ((1, 1, 2), (ni, nj, 2)))]
+            )
+        for name, parts in ranges.items():
+            for side, (lo, hi) in parts:
+                bc = _node(zone_bc, _bc_name(name, side, len(parts) > 1), "BC_t", "FamilySpecified")
+                _node(bc, "PointRange", "IndexRange_t", np.array([lo, hi], np.int32).T)
+                _node(bc, "FamilyName", "FamilyName_t", name)
+        for name in ranges:
+            family = _node(base, name, "Family_t")
+            _node(family, "FamilyBC", "FamilyBC_t", "BCTypeUserDefined")
+
+
+def _body_ranges(block: Block) -> dict[str, list]:
+    """BC point ranges of an O- or C-grid: the wall (the C-grid's body part of j = 1), the
+    far field (j = nj) and the C-grid's outflow columns; the seam and cut have none."""
+    ni, nj, nw = block.ni, block.nj, block.n_wake
+    bottom, right, top, left = block.names
+    if block.topology == "o":
+        parts = [(bottom, "wall", ((1, 1), (ni, 1))), (top, "farfield", ((1, nj), (ni, nj)))]
+    else:
+        parts = [
+            (bottom, "wall", ((nw + 1, 1), (ni - nw, 1))),
+            (right, "right", ((ni, 1), (ni, nj))),
+            (top, "farfield", ((1, nj), (ni, nj))),
+            (left, "left", ((1, 1), (1, nj))),
+        ]
+    out: dict[str, list] = {}
+    for name, side, rng in parts:
+        out.setdefault(name, []).append((side, rng))
+    return out
+
+
+def _connect(zone, block: Block, three_d: bool) -> None:
+    """The seam (O) or the wake cut (C) as two GridConnectivity1to1_t of the zone with
+    itself (one from each side, as CGNS asks for every 1-to-1 interface)."""
+    ni, nj, nw = block.ni, block.nj, block.n_wake
+    if block.topology == "o":  # column i = 1 is column i = ni; i and j run alike
+        a, b, transform = ((1, 1), (1, nj)), ((ni, 1), (ni, nj)), [1, 2]
+    else:  # node (i, 1) is node (ni + 1 - i, 1): i and j run opposite
+        a, b, transform = ((1, 1), (nw + 1, 1)), ((ni, 1), (ni - nw, 1)), [-1, -2]
+    if three_d:
+        a = ((*a[0], 1), (*a[1], 2))
+        b = ((*b[0], 1), (*b[1], 2))
+        transform = transform + [3]
+    grid_conn = _node(zone, "ZoneGridConnectivity", "ZoneGridConnectivity_t")
+    name = "seam" if block.topology == "o" else "wake_cut"
+    for suffix, here, there in (("a", a, b), ("b", b, a)):
+        conn = _node(grid_conn, f"{name}_{suffix}", "GridConnectivity1to1_t", "Zone")
+        _node(conn, "Transform", '"int[IndexDimension]"', np.array(transform, np.int32))
+        _node(conn, "PointRange", "IndexRange_t", np.array(here, np.int32).T)
+        _node(conn, "PointRangeDonor", "IndexRange_t", np.array(there, np.int32).T)
+
+
+if __name__ == "__main__":
+    _main()

@@ -1,0 +1,156 @@
+"""OpenFOAM case (``DIR/constant/polyMesh``), written by hand in OpenFOAM's ASCII format.
+
+OpenFOAM meshes are always 3D: the grid is extruded one cell in z (thickness T, by default
+the grid's mean edge length) and the two ends form the patch ``frontAndBack`` of type
+``empty``, OpenFOAM's 2D idiom. Faces follow polyMesh's rules: internal faces first, in
+upper-triangular order (by owner, then neighbour) with normals from owner to neighbour,
+then the boundary faces patch by patch with normals out of the domain. A minimal
+``system/`` (controlDict, fvSchemes, fvSolution) makes the case readable by ``checkMesh``
+and ParaView at once; existing files there are kept.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from pinn_engine.io.export.block import Block
+from pinn_engine.io.export.patches import FRONT_AND_BACK
+from pinn_engine.io.export.text import write_rows
+from pinn_engine.io.export.topology import end_faces, quads, side_cells, side_faces
+
+_HEADER = """FoamFile
+{{
+    version     2.0;
+    format      ascii;
+    class       {cls};
+    location    "{location}";
+    object      {obj};
+}}
+"""
+SYSTEM = {
+    "controlDict": """application     simpleFoam;
+startFrom       startTime;
+startTime       0;
+stopAt          endTime;
+endTime         1;
+deltaT          1;
+writeControl    timeStep;
+writeInterval   1;
+""",
+    "fvSchemes": """ddtSchemes { default steadyState; }
+gradSchemes { default Gauss linear; }
+divSchemes { default none; }
+laplacianSchemes { default Gauss linear corrected; }
+interpolationSchemes { default linear; }
+snGradSchemes { default corrected; }
+""",
+    "fvSolution": "solvers {}\n",
+}
+
+
+def _header(cls: str, obj: str, location: str = "constant/polyMesh") -> str:
+    return _HEADER.format(cls=cls, location=location, obj=obj)
+
+
+def _write_list(path: Path, cls: str, rows: np.ndarray, note: str = "") -> None:
+    """An OpenFOAM list file: points (vectors), faces (point lists) or labels."""
+    with open(path, "w") as f:
+        f.write(_header(cls, path.name).replace("    object", f"{note}    object"))
+        f.write(f"\n{len(rows)}\n(\n")
+        fmt = {"vectorField": "(%.17g %.17g %.17g)", "faceList": "4(%d %d %d %d)"}
+        write_rows(f, rows, fmt.get(cls, "%d"))
+        f.write(")\n")
+
+
+def internal_faces(ni: int, nj: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Faces between cells (upper-triangular order), their owners and neighbours."""
+    top = ni * nj
+    jj, ii = np.mgrid[0 : nj - 1, 0 : ni - 1]
+    cell = (ii + (ni - 1) * jj).ravel()
+    node = (ii + ni * jj).ravel()
+    ii, jj = ii.ravel(), jj.ravel()
+    east = ii < ni - 2  # face at i + 1, normal +i
+    a, b = node[east] + 1, node[east] + 1 + ni
+    f_east = np.column_stack([a, b, b + top, a + top])
+    north = jj < nj - 2  # face at j + 1, normal +j
+    a, b = node[north] + ni, node[north] + ni + 1
+    f_north = np.column_stack([a, a + top, b + top, b])
+    faces = np.vstack([f_east, f_north])
+    owner = np.concatenate([cell[east], cell[north]])
+    neighbour = np.concatenate([cell[east] + 1, cell[north] + ni - 1])
+    order = np.lexsort((neighbour, owner))
+    return faces[order], owner[order], neighbour[order]
+
+
+def write_polymesh(block: Block, mesh: Path) -> None:
+    """Write the polyMesh files (points, faces, owner, neighbour, boundary) into ``mesh``."""
+    ni, nj = block.ni, block.nj
+    faces, owner, neighbour = internal_faces(ni, nj)
+    patches: list[tuple[str, str, np.ndarray, np.ndarray]] = []
+    for name, sides in block.patches().items():
+        patches.append(
+            (
+                name,
+                "patch",
+                np.vstack([side_faces(ni, nj, s) for s in sides]),
+                np.concatenate([side_cells(ni, nj, s) for s in sides]),
+            )
+        )
+    cells = np.arange(len(quads(ni, nj)))
+    patches.append(
+        (
+            FRONT_AND_BACK,
+            "empty",
+            np.vstack([end_faces(ni, nj, "back"), end_faces(ni, nj, "front")]),
+            np.concatenate([cells, cells]),
+        )
+    )
+    write_mesh_files(mesh, block.layers().reshape(-1, 3), faces, owner, neighbour, patches)
+
+
+def write_mesh_files(
+    mesh: Path,
+    points: np.ndarray,
+    faces: np.ndarray,
+    owner: np.ndarray,
+    neighbour: np.ndarray,
+    patches: list,
+) -> None:
+    """The five polyMesh files from the points, the internal faces (owner-ordered) and the
+    patches as (name, type, faces, owner cells), in ``mesh``."""
+    all_faces = np.vstack([faces] + [p[2] for p in patches])
+    all_owner = np.concatenate([owner] + [p[3] for p in patches])
+    n_cells = int(max(owner.max(initial=-1), all_owner.max(initial=-1))) + 1
+    note = (
+        f'    note        "nPoints:{len(points)} nCells:{n_cells} nFaces:{len(all_faces)} '
+        f'nInternalFaces:{len(faces)}";\n'
+    )
+    _write_list(mesh / "points", "vectorField", points)
+    _write_list(mesh / "faces", "faceList", all_faces)
+    _write_list(mesh / "owner", "labelList", all_owner, note)
+    _write_list(mesh / "neighbour", "labelList", neighbour, note)
+    text = [_header("polyBoundaryMesh", "boundary"), f"\n{len(patches)}\n(\n"]
+    start = len(faces)
+    for name, kind, pf, _ in patches:
+        group = "        inGroups        List<word> 1(empty);\n" if kind == "empty" else ""
+        text.append(
+            f"    {name}\n    {{\n        type            {kind};\n{group}"
+            f"        nFaces          {len(pf)};\n        startFace       {start};\n"
+            "    }\n"
+        )
+        start += len(pf)
+    text.append(")\n")
+    (mesh / "boundary").write_text("".join(text))
+
+
+def case_files(title: str) -> dict[str, str]:
+    """The files besides the polyMesh (relative path -> text): a minimal ``system/`` and the
+    empty ``<title>.foam`` that ParaView opens."""
+    files = {
+        f"system/{name}": _header("dictionary", name, "system") + "\n" + body
+        for name, body in SYSTEM.items()
+    }
+    files[f"{title}.foam"] = ""
+    return files

@@ -1,0 +1,151 @@
+"""One meshing job, whichever route asks: the settings (the one spec), the geometry, the size.
+
+Every route (the command line, the VTK algorithm, and through it pyvista and ParaView) builds
+a :class:`~pinn_engine.settings.Settings`, turns its inputs into a :class:`Geometry` (from
+files: :func:`geometry_from_files`; from VTK data: :func:`geometry_from_polydata`) and calls
+:func:`run`, which picks the block kind from ``settings.topology`` and returns the result and
+its ``vtkStructuredGrid``. What differs between routes is only how they read inputs and
+present results, in their own words.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
+
+from pinn_engine.cache import MeshCache
+from pinn_engine.errors import InputError
+from pinn_engine.mesher import Mesher, MeshResult
+from pinn_engine.settings import NEURAL, Settings
+
+
+@dataclass
+class Geometry:
+    """A job's geometry: a four-sided ``boundary`` with auxiliary lines ``aux``, or a
+    ``body`` inside its far field ``far`` (SPEC 9)."""
+
+    boundary: object | None = None  # geometry.boundary.Boundary
+    aux: list = field(default_factory=list)  # geometry.auxlines.AuxLine
+    body: object | None = None  # bodies.airfoil.Body
+    far: object | None = None  # bodies.airfoil.FarField
+
+
+@dataclass
+class Outcome:
+    """What a job gives: the result, its VTK grid, whether a network was trained for it, and
+    the fitted mesher of a four-sided block (to save it)."""
+
+    result: MeshResult
+    grid: vtkStructuredGrid
+    trained: bool
+    mesher: Mesher | None = None
+
+
+def _naca_body(settings: Settings):
+    from pinn_engine.bodies.airfoil import circle, load_body
+
+    body = load_body(naca=settings.naca, te="blunt" if settings.topology == "o" else "sharp")
+    return Geometry(body=body, far=circle(body, settings.farfield))
+
+
+def geometry_from_files(
+    settings: Settings,
+    boundary: str | os.PathLike | None,
+    aux: Sequence[str | os.PathLike] = (),
+    corners: Sequence[int] | None = None,
+    farfield_given: bool = False,
+) -> Geometry:
+    """The geometry of files: a boundary (``.vtp``, ``.vtk``, ``.csv``, ``.txt``) with
+    auxiliary-line files, or (``settings.topology`` o or c) a body: an airfoil ``.dat``
+    (with the far-field circle), a file of two closed polylines (body inside far field, or
+    one body with the circle when ``farfield_given``), or ``settings.naca``."""
+    if settings.topology == "none":
+        from pinn_engine.io.pipeline import load_aux, load_boundary
+
+        ring = load_boundary(boundary, corners)
+        return Geometry(boundary=ring, aux=load_aux(list(aux), ring))
+    if settings.naca:
+        return _naca_body(settings)
+    from pinn_engine.bodies.airfoil import circle, load_body, read_body_and_farfield
+
+    if str(boundary).lower().endswith(".dat") or farfield_given:
+        body = load_body(boundary)
+        return Geometry(body=body, far=circle(body, settings.farfield))
+    body, far = read_body_and_farfield(boundary)
+    return Geometry(body=body, far=far)
+
+
+def geometry_from_polydata(
+    settings: Settings,
+    inputs: Sequence[vtkPolyData | None],
+    aux: Sequence[vtkPolyData] = (),
+    corners: Sequence[int] | None = None,
+    source: str = "boundary input",
+) -> Geometry:
+    """The geometry of VTK inputs: the boundary is the one closed curve among ``inputs``, the
+    open polylines there and ``aux`` are auxiliary lines; or (``settings.topology`` o or c)
+    the body of the first non-empty input (or ``settings.naca``)."""
+    from pinn_engine.io.pipeline import (
+        aux_from_polydata,
+        body_from_polydata,
+        boundary_from_polydata,
+        split_inputs,
+    )
+
+    if settings.topology == "none":
+        boundary_poly, aux_polys = split_inputs(list(inputs))
+        ring = boundary_from_polydata(boundary_poly, corners, source=source)
+        return Geometry(boundary=ring, aux=aux_from_polydata(aux_polys + list(aux), ring))
+    if settings.naca:
+        return _naca_body(settings)
+    polys = [p for p in inputs if p is not None and p.GetNumberOfPoints()]
+    if not polys:
+        raise InputError("is empty; connect an airfoil (the Airfoil source or a .dat file)", source)
+    body, far = body_from_polydata(polys[0], settings.farfield, source)
+    return Geometry(body=body, far=far)
+
+
+def run(
+    settings: Settings,
+    size: tuple[int, int],
+    geometry: Geometry,
+    patches=None,
+    progress: Callable[[dict], bool | None] | None = None,
+    cache: MeshCache | None = None,
+    mesher: Mesher | None = None,
+) -> Outcome:
+    """Mesh ``geometry`` at ``size`` nodes under ``settings``: a four-sided block through the
+    fitted-network ``cache`` (or a given fitted ``mesher``, e.g. a loaded model), a body
+    through its block kind; ``patches`` (any form ``export.patch_names`` takes) name the
+    grid's sides (default: bottom, right, top, left; a body's wall, seam or outflow, far
+    field)."""
+    from pinn_engine.bodies.bodymesh import mesh_body
+    from pinn_engine.bodies.bodymesh import patch_names as body_patches
+    from pinn_engine.io.export import patch_names
+    from pinn_engine.io.pipeline import to_vtk
+
+    ni, nj = size
+    if settings.topology == "none":
+        names = patch_names(patches)  # refused before meshing, not after
+        trained = False
+        if mesher is None:
+            cache = cache if cache is not None else MeshCache(capacity=1)
+            mesher, trained = cache.fitted(geometry.boundary, geometry.aux, settings, progress)
+        result = mesher.predict(ni, nj)
+        return Outcome(result, to_vtk(result, names), trained, mesher)
+    names = patch_names(patches, body_patches(settings.topology))
+    result = mesh_body(
+        geometry.body,
+        geometry.far,
+        settings.topology,
+        settings.method,
+        ni,
+        nj,
+        settings,
+        settings.wall_spacing,
+        progress,
+    )
+    return Outcome(result, to_vtk(result, names), settings.method in NEURAL)

@@ -1,0 +1,148 @@
+"""A trained model: feed-forward grids at any resolution, saved and loaded with its boundary."""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from pinn_engine import __version__
+from pinn_engine.errors import InputError
+from pinn_engine.geometry.boundary import Boundary, Frame
+from pinn_engine.geometry.plane import Plane
+from pinn_engine.io.fileio import atomic_path
+from pinn_engine.neural.mapping import Mapping
+from pinn_engine.neural.networks import CoordinateNet
+from pinn_engine.neural.warm import WarmStart
+from pinn_engine.settings import Settings
+
+FORMAT = "pinn-mesh-model/1"
+
+
+@dataclass
+class TrainedModel:
+    """The trained map plus what produced it (settings, loss history, training info)."""
+
+    mapping: Mapping
+    settings: Settings
+    history: dict[str, list[float]]
+    info: dict
+
+    def grid(self, ni: int, nj: int) -> np.ndarray:
+        """Grid (nj, ni, 2) in the working frame: one forward pass, no training."""
+        return self.mapping.grid(ni, nj)
+
+    def save(self, path: str | os.PathLike) -> Path:
+        """Write the model (weights, settings, boundary, history) to ``path`` atomically."""
+        b = self.mapping.boundary
+        net = self.mapping.net
+        payload = {
+            "format": FORMAT,
+            "version": __version__,
+            "settings": self.settings.to_dict(),
+            "network": {
+                "kind": net.kind,
+                "hidden_layers": net.hidden_layers,
+                "neurons": net.neurons,
+                "activation": net.activation,
+            },
+            "state": {k: v.detach().cpu() for k, v in net.state_dict().items()},
+            "boundary": {
+                "ring": torch.as_tensor(b.ring),
+                "corners": list(b.corners),
+                "origin": torch.as_tensor(b.frame.origin),
+                "scale": b.frame.scale,
+                "plane_origin": torch.as_tensor(b.plane.origin),
+                "plane_axes": torch.as_tensor(b.plane.axes),
+            },
+            "history": self.history,
+            "info": self.info,
+            "warm": None
+            if self.mapping.warm is None
+            else torch.as_tensor(self.mapping.warm.correction),
+            "warm_nodes": None
+            if self.mapping.warm is None or self.mapping.warm.nodes is None
+            else [torch.as_tensor(n) for n in self.mapping.warm.nodes],
+        }
+        with atomic_path(path) as tmp:
+            torch.save(payload, tmp)
+        return Path(path)
+
+    @classmethod
+    def load(cls, path: str | os.PathLike, boundary: Boundary | None = None) -> TrainedModel:
+        """Read a model; if ``boundary`` is given it must be the one the model was trained on."""
+        src = str(path)
+        if not Path(path).is_file():
+            raise InputError("model file not found", src)
+        try:
+            payload = torch.load(path, map_location="cpu", weights_only=True)
+        except Exception as exc:  # torch raises many types for a damaged file
+            raise InputError(
+                f"not a readable pinn-mesh model ({type(exc).__name__})", src
+            ) from None
+        if not isinstance(payload, dict) or payload.get("format") != FORMAT:
+            raise InputError(f"not a pinn-mesh model of format {FORMAT}", src)
+        try:
+            settings = _settings_of(payload["settings"])
+            net = CoordinateNet(**payload["network"])
+            net.load_state_dict(payload["state"])
+            bd = payload["boundary"]
+            plane = (
+                Plane(bd["plane_origin"].numpy(), bd["plane_axes"].numpy())
+                if "plane_origin" in bd
+                else Plane.horizontal()
+            )  # models before planes
+            saved = Boundary(
+                ring=bd["ring"].numpy(),
+                corners=tuple(bd["corners"]),
+                frame=Frame(bd["origin"].numpy(), float(bd["scale"])),
+                source=src,
+                plane=plane,
+            )
+            warm = payload.get("warm")
+            nodes = payload.get("warm_nodes")
+            nodes = None if nodes is None else tuple(n.numpy() for n in nodes)
+            warm = WarmStart(warm.numpy(), nodes) if warm is not None else None
+            if payload.get("warm_walls"):
+                raise InputError(
+                    "a model of an older pinn-mesh with orthogonal sides, whose warm start "
+                    "this version does not have; fit it again",
+                    src,
+                )
+        except (KeyError, TypeError, RuntimeError, ValueError) as exc:
+            raise InputError(f"damaged or incompatible model ({exc})", src) from None
+        if boundary is not None:
+            same = (
+                saved.ring.shape == boundary.ring.shape
+                and np.allclose(
+                    saved.frame.to_user(saved.ring),
+                    boundary.frame.to_user(boundary.ring),
+                    rtol=1e-9,
+                    atol=1e-12 * boundary.frame.scale,
+                )
+                and saved.corners == boundary.corners
+            )
+            if not same:
+                raise InputError("model was trained for a different boundary", src)
+            saved = dataclasses.replace(saved, source=boundary.source, plane=boundary.plane)
+        net = net.to(torch.float64)
+        return cls(
+            Mapping(net, saved, settings.boundary_mode, warm),
+            settings,
+            payload["history"],
+            payload["info"],
+        )
+
+
+def _settings_of(saved: dict) -> Settings:
+    """The settings of a saved model; files written before the renames name two differently."""
+    saved = dict(saved)
+    if "boundary" in saved:
+        saved["boundary_mode"] = saved.pop("boundary")
+    if "fast" in saved:
+        saved["derivatives"] = "jets" if saved.pop("fast") else "autograd"
+    return Settings(**saved)

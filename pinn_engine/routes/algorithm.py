@@ -1,0 +1,543 @@
+"""pinn-mesh as a VTK algorithm: boundary (+ auxiliary lines) in, structured grid out.
+
+``PinnMeshAlgorithm`` is a plain ``VTKPythonAlgorithmBase`` subclass: it works in any VTK
+pipeline (pip ``vtk``, pyvista, ParaView's own VTK 9.2), and the ParaView plugin in
+``plugin/`` only decorates it. It imports ``vtkmodules`` and the engine; torch is imported
+only when a network is trained.
+
+>>> alg = PinnMeshAlgorithm()
+>>> alg.SetInputConnection(0, boundary_reader.GetOutputPort())
+>>> alg.AddInputConnection(1, aux_reader.GetOutputPort())    # optional, repeatable
+>>> alg.SetGridSize(41, 21)
+>>> alg.Update()                                              # trains once
+>>> alg.SetGridSize(81, 41); alg.Update()                     # re-evaluates, no training
+
+Ports: input 0 the boundary (``vtkPolyData``, one closed polyline or polygon); input 1 the
+auxiliary lines (``vtkPolyData``, optional, any number of connections, each may hold several
+polylines); output 0 a ``vtkStructuredGrid`` as in SPEC 3, plus field data ``Trained``
+(1 when this update trained a network, 0 when it re-used one) and ``TrainingCount``.
+
+Errors (bad boundary, bad auxiliary line, failed or cancelled training, bad settings) are
+reported as one line ``PINN Structured Mesh: <message>`` through ``vtkOutputWindow`` (the
+Output Messages window in ParaView) and as an ``ErrorEvent`` on the algorithm; the output
+is then an empty grid and ``GetLastError()`` returns the message.
+
+A grid with folded cells (or lines leaving an orthogonal side more than 2 degrees off 90)
+is still produced, with one warning line ``PINN Structured Mesh: warning: N of M cells are
+folded ...`` (a hint in the words of the ParaView panel) through
+``vtkOutputWindow`` (ParaView's Output Messages) and as a ``WarningEvent``;
+``GetLastWarning()`` returns it.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import signal
+import sys
+import threading
+from collections.abc import Callable
+
+import numpy as np
+from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
+from vtkmodules.vtkCommonCore import vtkCommand, vtkIntArray, vtkOutputWindow
+from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
+from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
+
+from pinn_engine.cache import MeshCache
+from pinn_engine.errors import (
+    InputError,
+    PinnMeshError,
+    TrainingCancelled,
+    folded_cells_warning,
+    wall_angle_warning,
+)
+from pinn_engine.settings import (
+    METHODS,
+    NEURAL,
+    OBJECTIVES,
+    PRESETS,
+    SIDE_NAMES,
+    TOPOLOGIES,
+    Settings,
+    grid_size_problem,
+    make_settings,
+    parse_sides,
+    parse_spacing,
+)
+
+LABEL = "PINN Structured Mesh"
+
+
+def _warning(report: dict) -> str | None:
+    """The update's warning: folded cells and wall angles off an orthogonal side, in the
+    panel's words, joined; None when neither applies."""
+    texts = [
+        w
+        for w in (folded_cells_warning(report, "paraview"), wall_angle_warning(report, "paraview"))
+        if w
+    ]
+    return "; ".join(texts) or None
+
+
+def _choice(value, options: tuple[str, ...], what: str) -> str:
+    """Accept a name or an index into ``options`` (ParaView enumerations send indices)."""
+    if isinstance(value, (int, np.integer)) and not isinstance(value, bool):
+        if 0 <= int(value) < len(options):
+            return options[int(value)]
+        raise ValueError(f"{what} index {value} out of range 0..{len(options) - 1}")
+    name = str(value).strip().lower()
+    if name not in options:
+        raise ValueError(f"unknown {what} {value!r}; use one of {', '.join(options)}")
+    return name
+
+
+class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
+    """Structured quadrilateral grid of a four-sided boundary (pinn, mgnet, tfi, elliptic).
+
+    Settings (each setter calls ``Modified()`` when the value changes):
+
+    * ``SetMethod("pinn"|"mgnet"|"tfi"|"elliptic")`` (or its index 0..3), default ``pinn``
+    * ``SetGridSize(ni, nj)``: nodes along xi and eta, default 41 x 21
+    * ``SetPreset("default"|"paper")`` (or 0/1): the base settings; ``paper`` is the paper's
+      section 4 (penalty boundary term, decision-tree boundary fit, 1000 elliptic sweeps)
+    * ``SetAdamEpochs``, ``SetLBFGSIterations``, ``SetHiddenLayers``, ``SetNeurons``,
+      ``SetLambda2``, ``SetSeed``: override the preset (``None`` restores the preset value)
+    * ``SetSpacing(bottom, right, top, left)``: first-edge lengths (0: none), and
+      ``SetOrthogonal(b, r, t, l)``: 0/1 per side (SPEC 7; also names or a dict)
+    * ``SetCorners(i0, i1, i2, i3)``: the four corner point indices of the boundary;
+      ``SetCorners(None)`` or any negative index: automatic detection
+    * ``SetObjective("winslow"|"quality")`` (or 0/1): the pinn's objective (SPEC 7)
+    * ``SetSetting(name, value)``: any other field of ``pinn_engine.settings.Settings``
+      (e.g. ``"device"``, ``"boundary_mode"``, ``"elliptic_iterations"``)
+    * ``SetPatchNames(names)``: boundary patch names (four names bottom right top left, or
+      ``SIDE=NAME`` items, as a string, sequence or mapping); field data ``PatchNames``
+    """
+
+    def __init__(
+        self,
+        route: str = "paraview",
+        cache: MeshCache | None = None,
+        progress: Callable[[dict], bool | None] | None = None,
+    ) -> None:
+        """``route``: whose words errors are in ("paraview"; "pyvista" keeps them off VTK's
+        output window, for the caller to raise ``GetLastException()``); ``cache``: fitted
+        networks to share (default: this algorithm's own); ``progress``: the caller's
+        training callback, as the pyvista route's (returning True cancels)."""
+        super().__init__(nInputPorts=2, nOutputPorts=1, outputType="vtkStructuredGrid")
+        self.SetProgressText(LABEL)  # also what the executive's own progress events show
+        self._route, self._user_progress = route, progress
+        self._exception: Exception | None = None
+        self._method = "pinn"
+        self._preset = "default"
+        self._size = (41, 21)
+        self._overrides: dict[str, object] = {}
+        self._corners: tuple[int, int, int, int] | None = None
+        self._patches = ""  # as given; checked at the update (default names when empty)
+        self._wall_spacing = 0.0  # first-layer height off a body's wall; 0: the default
+        self._cache = cache if cache is not None else MeshCache()
+        self._last_error = ""
+        self._last_warning = ""
+        self._trained = False
+        self._failed: tuple | None = None  # stamp of the inputs/settings of a failed update
+        self._stop_signal: int | None = None  # a stop signal received during training
+
+    # ---- ports -------------------------------------------------------------------------
+    def FillInputPortInformation(self, port, info):
+        """Port 0: the boundary, or the boundary and auxiliary lines together (ParaView's
+        GUI connects every selected source there); port 1: more auxiliary lines."""
+        info.Set(self.INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData")
+        info.Set(self.INPUT_IS_REPEATABLE(), 1)
+        if port == 1:
+            info.Set(self.INPUT_IS_OPTIONAL(), 1)
+        return 1
+
+    # ---- settings ----------------------------------------------------------------------
+    def _set(self, attr: str, value) -> None:
+        if getattr(self, attr) != value:
+            setattr(self, attr, value)
+            self.Modified()
+
+    def _set_override(self, name: str, value) -> None:
+        current = self._overrides.get(name)
+        if value is None:
+            if name in self._overrides:
+                del self._overrides[name]
+                self.Modified()
+        elif current != value:
+            self._overrides[name] = value
+            self.Modified()
+
+    def SetMethod(self, method) -> None:
+        self._set("_method", _choice(method, METHODS, "method"))
+
+    def GetMethod(self) -> str:
+        return self._method
+
+    def SetPreset(self, preset) -> None:
+        self._set("_preset", _choice(preset, PRESETS, "preset"))
+
+    def GetPreset(self) -> str:
+        return self._preset
+
+    def SetGridSize(self, ni, nj=None) -> None:
+        """Nodes along xi and eta (checked at the next update: at least 2 x 2)."""
+        if nj is None:  # a (ni, nj) pair
+            ni, nj = ni
+        self._set("_size", (int(ni), int(nj)))
+
+    def GetGridSize(self) -> tuple[int, int]:
+        return self._size
+
+    def SetAdamEpochs(self, n) -> None:
+        self._set_override("adam_epochs", None if n is None else int(n))
+
+    def SetLBFGSIterations(self, n) -> None:
+        self._set_override("lbfgs_iterations", None if n is None else int(n))
+
+    def SetHiddenLayers(self, n) -> None:
+        self._set_override("hidden_layers", None if n is None else int(n))
+
+    def SetNeurons(self, n) -> None:
+        self._set_override("neurons", None if n is None else int(n))
+
+    def SetLambda2(self, value) -> None:
+        self._set_override("lambda2", None if value is None else float(value))
+
+    def SetSeed(self, n) -> None:
+        self._set_override("seed", None if n is None else int(n))
+
+    def SetSpacing(self, *values) -> None:
+        """First-edge length per side (SPEC 7): four numbers for bottom, right, top, left
+        (0: that side keeps today's distribution), a dict ``{"bottom": 1e-3}`` or a string
+        ``"bottom=1e-3,top=0.01"``; ``None`` or all zeros: no spacing."""
+        value = values[0] if len(values) == 1 else values
+        if (
+            isinstance(value, (list, tuple))
+            and len(value) == 4
+            and all(isinstance(v, (int, float, np.number)) for v in value)
+        ):
+            value = {side: float(h) for side, h in zip(SIDE_NAMES, value) if h}
+        spacing = parse_spacing(value)
+        self._set_override("spacing", spacing or None)
+
+    def GetSpacing(self) -> tuple:
+        return self._overrides.get("spacing", ())
+
+    def SetOrthogonal(self, *values) -> None:
+        """Sides that grid lines leave at 90 degrees (SPEC 7): four 0/1 flags for bottom,
+        right, top, left, a list of names or ``"bottom,left"``; ``None``: none."""
+        value = values[0] if len(values) == 1 else values
+        if (
+            isinstance(value, (list, tuple))
+            and len(value) == 4
+            and all(isinstance(v, (int, bool, np.integer)) for v in value)
+        ):
+            value = [side for side, on in zip(SIDE_NAMES, value) if on]
+        self._set_override("orthogonal", parse_sides(value) or None)
+
+    def GetOrthogonal(self) -> tuple:
+        return self._overrides.get("orthogonal", ())
+
+    def SetObjective(self, objective) -> None:
+        """The pinn's objective: winslow or quality (or its index); None: the preset's."""
+        self._set_override(
+            "objective", None if objective is None else _choice(objective, OBJECTIVES, "objective")
+        )
+
+    def SetPanelSetting(self, name: str, value) -> None:
+        """A value from the ParaView panel: one equal to the default preset's is no override,
+        so that a panel left at its defaults follows the chosen preset (with Preset paper,
+        the paper's 5000 Adam epochs rather than the default's 0)."""
+        self.SetSetting(name, None if value == getattr(Settings(), name) else value)
+
+    def SetSetting(self, name: str, value) -> None:
+        """Override any ``Settings`` field (``None`` restores the preset's value)."""
+        if name in ("method", "preset"):
+            getattr(self, f"Set{name.capitalize()}")(value)
+            return
+        if name not in Settings.__dataclass_fields__:
+            raise ValueError(f"unknown setting {name!r}")
+        self._set_override(name, value)
+
+    def SetCorners(self, *indices) -> None:
+        if len(indices) == 1:
+            indices = indices[0]
+        if indices is None or len(indices) == 0:
+            corners = None
+        else:
+            if len(indices) != 4:
+                raise ValueError("corners: give four point indices (or None for automatic)")
+            corners = tuple(int(i) for i in indices)
+            if min(corners) < 0:
+                corners = None
+        self._set("_corners", corners)
+
+    def GetCorners(self) -> tuple[int, int, int, int] | None:
+        return self._corners
+
+    def SetPatchNames(self, names) -> None:
+        if not isinstance(names, str) and names is not None:
+            names = dict(names) if hasattr(names, "items") else " ".join(map(str, names))
+        self._set("_patches", names or "")
+
+    def SetTopology(self, topology) -> None:
+        """ "none" (a four-sided domain), "o" (O-grid) or "c" (C-grid), or 0, 1, 2."""
+        choice = _choice(topology, TOPOLOGIES, "topology")
+        self._set_override("topology", None if choice == "none" else choice)
+
+    def GetTopology(self) -> str:
+        return self._overrides.get("topology", "none")
+
+    def SetFarFieldRadius(self, radius) -> None:
+        """Far-field circle radius in chords about mid-chord (one body curve)."""
+        self._set_override("farfield", float(radius))
+
+    def SetWallSpacing(self, h) -> None:
+        """First-layer height off the body wall (0: the default, half the mean spacing
+        along the wall); with Topology O or C it is the spacing of the wall, side bottom."""
+        self._set("_wall_spacing", float(h))
+
+    def GetPatchNames(self) -> tuple[str, ...]:
+        """The four patch names (bottom, right, top, left) the next update uses."""
+        from pinn_engine.bodies.bodymesh import patch_names as body_patches
+        from pinn_engine.io.export import patch_names
+
+        topology = self.GetTopology()
+        default = body_patches(topology) if topology != "none" else SIDE_NAMES
+        return patch_names(self._panel_patches(), default)
+
+    def GetSettings(self) -> Settings:
+        """The ``Settings`` the next update uses (raises ``ValueError`` if invalid)."""
+        overrides = dict(self._overrides)
+        if self._method != "pinn":  # the panel hides Objective for the other methods
+            overrides.pop("objective", None)
+        if self._wall_spacing and overrides.get("topology", "none") != "none":
+            overrides["spacing"] = (("bottom", self._wall_spacing),)  # the body's wall
+        return make_settings(
+            self._method,
+            self._preset,
+            **{"lattice": tuple(max(n, 2) for n in self._size), **overrides},
+        )
+
+    # ---- results -----------------------------------------------------------------------
+    def GetOutput(self) -> vtkStructuredGrid:
+        """The output grid (after ``Update()``); empty when the last update failed."""
+        return self.GetOutputDataObject(0)
+
+    def GetLastError(self) -> str:
+        """The message of the last failed update ("" after a successful one)."""
+        return self._last_error
+
+    def GetLastWarning(self) -> str:
+        """The warning of the last update (folded cells, wall angles), "" when it had none."""
+        return self._last_warning
+
+    def GetTrainingCount(self) -> int:
+        """How many networks this algorithm has trained (grid-size changes do not train)."""
+        return self._cache.trainings
+
+    def GetTrained(self) -> bool:
+        """Whether the last update trained a network (False: re-used or classical method)."""
+        return self._trained
+
+    def ClearCache(self) -> None:
+        """Forget trained networks (and a failure): the next update trains again."""
+        self._cache.clear()
+        self._failed = None
+        self.Modified()
+
+    # ---- pipeline ----------------------------------------------------------------------
+    def RequestInformation(self, request, inInfo, outInfo):
+        ni, nj = (max(n, 1) for n in self._size)
+        info = outInfo.GetInformationObject(0)
+        info.Set(vtkStreamingDemandDrivenPipeline.WHOLE_EXTENT(), 0, ni - 1, 0, nj - 1, 0, 0)
+        return 1
+
+    def RequestData(self, request, inInfo, outInfo):
+        output = vtkStructuredGrid.GetData(outInfo, 0)
+        if self.GetAbortExecute():
+            self.SetAbortExecute(0)  # an abort request is for the run it came in, not this one
+        if self._failed is not None and self._failed == self._stamp(inInfo):
+            # Nothing changed since the failure; the executive asks again only because the
+            # empty output does not cover the whole extent. Do not repeat the error (or a
+            # failed training) on every render.
+            output.Initialize()
+            return 1
+        self._failed = None
+        self._last_error, self._last_warning, self._trained = "", "", False
+        self._exception = None
+        try:
+            grid, warning = self._execute(inInfo)
+        except Exception as exc:
+            self._exception = exc
+            message = self._message(exc)
+        else:
+            output.ShallowCopy(grid)
+            if warning:
+                self._report_warning(warning)
+            self._progress(1.0, "done")
+            self.SetProgressText(LABEL)
+            return 1
+        output.Initialize()
+        if self.GetAbortExecute():
+            self.SetAbortExecute(0)
+        self._failed = self._stamp(inInfo)
+        self._report_error(message)
+        return 1
+
+    def _message(self, exc: Exception) -> str:
+        """The one-line message of a failed update, in the route's words."""
+        if isinstance(exc, TrainingCancelled):
+            return f"{exc}; no grid produced"
+        if isinstance(exc, InputError):
+            return str(exc.for_route(self._route))
+        if isinstance(exc, PinnMeshError):
+            return str(exc)
+        if isinstance(exc, ValueError):  # invalid settings
+            return f"invalid settings: {exc}"
+        if isinstance(exc, ImportError):
+            return (
+                f"cannot import {exc.name or exc} in this Python ({sys.executable}); "
+                "pinn-mesh needs numpy, scipy, scikit-learn and (to train) torch there"
+            )
+        return f"unexpected {type(exc).__name__}: {exc}"  # never reaches ParaView's executive
+
+    def GetLastException(self) -> Exception | None:
+        """The exception of the last failed update (None after a successful one)."""
+        return self._exception
+
+    def _stamp(self, inInfo) -> tuple:
+        """What a re-execution depends on: the settings and the inputs' modification times.
+
+        (Not this algorithm's MTime: VTK modifies it for abort bookkeeping between runs.)
+        """
+        times: list = [
+            self._method,
+            self._preset,
+            self._size,
+            self._corners,
+            tuple(sorted(self._overrides.items(), key=repr)),
+            repr(self._patches),
+            self._wall_spacing,
+        ]
+        for port in inInfo:
+            for k in range(port.GetNumberOfInformationObjects()):
+                data = port.GetInformationObject(k).Get(vtkPolyData.DATA_OBJECT())
+                times.append(data.GetMTime() if data is not None else -1)
+        return tuple(times)
+
+    def _execute(self, inInfo) -> tuple[vtkStructuredGrid, str | None]:
+        """The grid and its warning (folded cells, wall angles; None when neither)."""
+        from pinn_engine import job
+
+        settings = self.GetSettings()
+        ni, nj = self._size
+        problem = grid_size_problem(ni, nj)
+        if problem:
+            raise ValueError(f"Grid Size {ni} {nj}: {problem}")
+        inputs = [
+            vtkPolyData.GetData(inInfo[0], k)
+            for k in range(inInfo[0].GetNumberOfInformationObjects())
+        ]
+        aux = [
+            vtkPolyData.GetData(port, k)
+            for port in inInfo[1:]
+            for k in range(port.GetNumberOfInformationObjects())
+        ]
+        geometry = job.geometry_from_polydata(settings, inputs, aux, self._corners)
+        neural = settings.method in NEURAL
+        self._progress(0.0, "training" if neural else "meshing")
+        with self._stop_on_signal():
+            outcome = job.run(
+                settings,
+                self._size,
+                geometry,
+                self._panel_patches(),
+                self._training_progress(settings),
+                self._cache,
+            )
+        self._trained = outcome.trained
+        self._progress(0.95, "meshing")
+        fd = outcome.grid.GetFieldData()
+        for name, value in (
+            ("Trained", int(self._trained)),
+            ("TrainingCount", self._cache.trainings),
+        ):
+            arr = vtkIntArray()
+            arr.SetName(name)
+            arr.InsertNextValue(value)
+            fd.AddArray(arr)
+        return outcome.grid, _warning(outcome.result.report)
+
+    def _panel_patches(self):
+        """The patch names as given, None for the panel's default text (so that a body grid
+        gets its own default names)."""
+        text = self._patches
+        if isinstance(text, str) and text.split() in ([], list(SIDE_NAMES)):
+            return None
+        return text
+
+    def _training_progress(self, settings: Settings) -> Callable[[dict], bool]:
+        adam, lbfgs = settings.adam_epochs, settings.lbfgs_iterations
+        total = max(adam + lbfgs, 1)
+
+        def progress(info: dict) -> bool:
+            done = info["step"] if info["phase"] == "adam" else adam + min(info["step"], lbfgs)
+            phase = "Adam" if info["phase"] == "adam" else "L-BFGS"
+            self._progress(0.9 * min(done / total, 1.0), f"training ({phase})")
+            user = self._user_progress is not None and self._user_progress(info)
+            return bool(user) or self._abort_requested()
+
+        return progress
+
+    def _progress(self, fraction: float, phase: str) -> None:
+        """Progress with the filter's name and the phase as its text: ParaView's progress bar
+        shows it instead of the class name ("PythonAlgorithm")."""
+        self.SetProgressText(f"{LABEL}: {phase}")
+        self.UpdateProgress(fraction)
+
+    def _abort_requested(self) -> bool:
+        if self._stop_signal:
+            return True
+        check = getattr(self, "CheckAbort", None)  # VTK 9.4+
+        if check is not None and check():
+            return True
+        return bool(self.GetAbortExecute())
+
+    @contextlib.contextmanager
+    def _stop_on_signal(self):
+        """While training, SIGUSR1 (``pkill -USR1 -x paraview``) stops the training instead of
+        the host process: ParaView 5.11 handles no GUI event while a filter runs, so its abort
+        button cannot. Only where SIGUSR1 has its default action or a Python handler, which is
+        put back afterwards (the host is left as it was); main thread only."""
+        self._stop_signal = None
+        usr1 = getattr(signal, "SIGUSR1", None)
+        previous = signal.getsignal(usr1) if usr1 is not None else None
+        if previous is None or threading.current_thread() is not threading.main_thread():
+            yield  # a handler installed outside Python, or no main thread: leave it alone
+            return
+
+        def stop(signum, frame):  # noqa: ARG001
+            self._stop_signal = signum
+
+        signal.signal(usr1, stop)
+        try:
+            yield
+        finally:
+            signal.signal(usr1, previous)
+
+    def _report_error(self, message: str) -> None:
+        line = f"{LABEL}: {' '.join(str(message).split())}"
+        self._last_error = line
+        if self._route != "paraview":  # the caller raises GetLastException() instead
+            return
+        vtkOutputWindow.GetInstance().DisplayErrorText(line + "\n")
+        self.InvokeEvent(vtkCommand.ErrorEvent, line)  # call data: the message (VTK_STRING)
+
+    def _report_warning(self, message: str) -> None:
+        line = f"{LABEL}: warning: {' '.join(str(message).split())}"
+        self._last_warning = line
+        if self._route != "paraview":  # the caller warns in its own words
+            return
+        vtkOutputWindow.GetInstance().DisplayWarningText(line + "\n")
+        self.InvokeEvent(vtkCommand.WarningEvent, line)  # call data: the message (VTK_STRING)

@@ -1,0 +1,516 @@
+"""The ``pinn-mesh`` command (SPEC 5)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import re
+import signal
+import sys
+import time
+from pathlib import Path
+
+from pinn_engine import heap
+from pinn_engine.errors import (
+    PinnMeshError,
+    folded_cells_warning,
+    network_effect,
+    wall_angle_warning,
+)
+from pinn_engine.settings import (
+    METHODS,
+    NEURAL,
+    OBJECTIVES,
+    PARAMETER_CONSTRAINTS,
+    PRESETS,
+    Settings,
+    grid_size_problem,
+    make_settings,
+    setting_problem,
+)
+
+FORMAT_KEYS = ("vts", "vtk", "xyz", "cgns", "su2", "msh", "openfoam")  # export.FORMATS
+
+EXIT_ERROR = 2
+EXIT_INTERNAL = 3
+EXIT_INTERRUPTED = 130
+DEVICE_NAMES = re.compile(r"^(auto|cpu|mps|cuda(:\d+)?)$")
+
+
+def _options(name: str) -> tuple:
+    return PARAMETER_CONSTRAINTS[name].values
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="pinn-mesh",
+        description="Structured quadrilateral mesh of a four-sided 2D domain "
+        "(PINN of Chen et al., with TFI, elliptic and MGNet baselines).",
+    )
+    p.add_argument(
+        "boundary",
+        nargs="?",
+        default=None,
+        help="closed boundary: .vtp, .vtk, .csv or .txt; with --topology an "
+        "airfoil .dat (Selig or Lednicer) or a file with two closed "
+        "polylines (body inside far field)",
+    )
+    p.add_argument(
+        "--aux",
+        action="append",
+        default=[],
+        metavar="AUX",
+        help="auxiliary lines (.vtp/.vtk); repeat for several files",
+    )
+    p.add_argument("--method", choices=METHODS, default="pinn")
+    p.add_argument(
+        "--size",
+        nargs=2,
+        type=int,
+        default=(41, 21),
+        metavar=("NI", "NJ"),
+        help="nodes along xi and eta (default 41 21)",
+    )
+    p.add_argument("--seed", type=int, default=None)
+    p.add_argument(
+        "--preset",
+        choices=PRESETS,
+        default="default",
+        help="'paper' reproduces the paper's section 4 settings exactly",
+    )
+    p.add_argument(
+        "-o",
+        "--output",
+        default=None,
+        metavar="OUT.vts",
+        help="output grid (default out/<boundary>_<method>.vts); the extension "
+        "picks the format: .vts, .vtk, .xyz (PLOT3D), .cgns, .su2, .msh "
+        "(Gmsh 4.1); a folder with --format openfoam",
+    )
+    p.add_argument(
+        "--format",
+        choices=FORMAT_KEYS,
+        default=None,
+        help="output format instead of the extension of -o (openfoam: -o DIR "
+        "gets DIR/constant/polyMesh)",
+    )
+    p.add_argument(
+        "--patch",
+        action="append",
+        default=[],
+        metavar="SIDE=NAME",
+        help="name the boundary patch of a side (bottom, right, top, left; "
+        "repeatable; equal names form one patch)",
+    )
+    p.add_argument(
+        "--extrude",
+        type=float,
+        default=None,
+        metavar="T",
+        help="one cell of thickness T in z for .xyz, .cgns, .msh and openfoam",
+    )
+    p.add_argument(
+        "--corners",
+        nargs=4,
+        type=int,
+        metavar="I",
+        help="the four corner point indices, instead of automatic detection",
+    )
+    p.add_argument(
+        "--png",
+        metavar="PATH",
+        help="also render the grid, coloured by MaxIncludedAngle, to this PNG (off-screen)",
+    )
+    p.add_argument("--report", metavar="PATH", help="also write a JSON report")
+    p.add_argument(
+        "--fail-on-folded",
+        action="store_true",
+        help="exit with an error (status 2, no output) if any cell is folded",
+    )
+    p.add_argument(
+        "--spacing",
+        action="append",
+        default=[],
+        metavar="SIDE=H",
+        help="first grid edge leaving SIDE (bottom, right, top, left) has length "
+        "H (your units), growing smoothly away from it; repeat for more sides "
+        "(pinn, tfi, elliptic; SPEC 7). O- and C-grids: bottom=H, the first "
+        "cell off the body wall",
+    )
+    p.add_argument(
+        "--orthogonal",
+        metavar="SIDE[,SIDE...]",
+        default=None,
+        help="grid lines leave these sides at 90 degrees (pinn: a loss term; "
+        "elliptic: Hilgenstock control functions). O- and C-grids: bottom "
+        "(elliptic and pinn always do; tfi cannot)",
+    )
+    p.add_argument(
+        "--quiet",
+        action="store_true",
+        help="no progress output (a warning about folded cells is still printed)",
+    )
+    g = p.add_argument_group("training (pinn, mgnet)")
+    g.add_argument("--epochs", type=int, dest="adam_epochs", help="Adam epochs")
+    g.add_argument("--lbfgs", type=int, dest="lbfgs_iterations", help="L-BFGS iterations")
+    g.add_argument("--layers", type=int, dest="hidden_layers", help="hidden layers")
+    g.add_argument("--neurons", type=int, help="neurons per hidden layer")
+    g.add_argument("--lambda2", type=float, help="weight of the auxiliary-line term")
+    g.add_argument(
+        "--boundary-mode",
+        choices=_options("boundary_mode"),
+        dest="boundary_mode",
+        help="hard: exact boundary by construction; penalty: the paper's term",
+    )
+    g.add_argument("--boundary-fit", choices=_options("boundary_fit"), dest="boundary_fit")
+    g.add_argument(
+        "--warm-start",
+        choices=_options("warm_start"),
+        dest="warm_start",
+        help="elliptic (default): start from the converged elliptic grid and keep "
+        "the last state no worse than it; none: train from TFI (paper)",
+    )
+    g.add_argument(
+        "--objective",
+        choices=OBJECTIVES,
+        dest="objective",
+        help="pinn: winslow (the Winslow equations) or quality (plus a cell-quality "
+        "term that lowers the worst cell's largest angle; SPEC 7)",
+    )
+    g.add_argument("--device", help="torch device: auto, cpu, cuda")
+    g.add_argument("--save-model", metavar="PATH", help="save the trained model")
+    g.add_argument(
+        "--load-model", metavar="PATH", help="evaluate a saved model instead of training"
+    )
+    b = p.add_argument_group("O- and C-grids around a body (SPEC 9)")
+    b.add_argument(
+        "--topology",
+        choices=("o", "c"),
+        default=None,
+        help="o: O-grid (j = 0 on the body, seam at the trailing edge); c: C-grid "
+        "with a wake cut (sharp trailing edge)",
+    )
+    b.add_argument(
+        "--naca",
+        metavar="DDDD",
+        default=None,
+        help="NACA 4-digit section of chord 1 instead of a file (blunt trailing "
+        "edge for --topology o, closed for c)",
+    )
+    b.add_argument(
+        "--farfield",
+        type=float,
+        default=None,
+        metavar="R",
+        help="far-field circle of radius R chords about mid-chord (default 15 for a single body)",
+    )
+    e = p.add_argument_group("elliptic")
+    e.add_argument(
+        "--elliptic-iterations",
+        type=int,
+        dest="elliptic_iterations",
+        help="N point-Jacobi sweeps from a zero interior (paper); 0 = converge",
+    )
+    return p
+
+
+class _Progress:
+    """Progress on stderr: one updating line on a terminal, a line per 10 %% otherwise."""
+
+    def __init__(self, quiet: bool) -> None:
+        self.quiet = quiet
+        self.tty = sys.stderr.isatty()
+        self.last = -1
+
+    def __call__(self, info: dict) -> None:
+        if self.quiet:
+            return
+        done = info["step"] / max(info["total"], 1)
+        decile = int(done * 10)
+        text = f"[{info['phase']:5s} {info['step']:5d}/{info['total']}] loss {info['loss']:.3e}"
+        if self.tty:
+            print("\r" + text, end="", file=sys.stderr, flush=True)
+        elif decile != self.last:
+            print(text, file=sys.stderr, flush=True)
+        self.last = decile
+
+    def close(self) -> None:
+        if self.tty and not self.quiet and self.last >= 0:
+            print(file=sys.stderr)
+
+
+def _raise_interrupt(signum, frame):  # noqa: ARG001
+    raise KeyboardInterrupt
+
+
+# the command line's name for each numeric setting
+OPTION_FLAGS = {
+    "seed": "--seed",
+    "lambda2": "--lambda2",
+    "hidden_layers": "--layers",
+    "neurons": "--neurons",
+    "adam_epochs": "--epochs",
+    "lbfgs_iterations": "--lbfgs",
+    "elliptic_iterations": "--elliptic-iterations",
+}
+
+
+def _check_options(args: argparse.Namespace) -> None:
+    """Refuse option values that are out of range, with a message naming the option."""
+    ni, nj = args.size
+    problem = grid_size_problem(ni, nj)
+    if problem:
+        raise PinnMeshError(f"--size {ni} {nj}: {problem}")
+    for name, flag in OPTION_FLAGS.items():  # the ranges of settings.PARAMETER_CONSTRAINTS
+        value = getattr(args, name)
+        problem = setting_problem(name, value) if value is not None else None
+        if problem:
+            raise PinnMeshError(f"{flag} {value}: {problem}")
+    if args.device is not None:
+        if not DEVICE_NAMES.match(args.device):
+            raise PinnMeshError(f"--device {args.device!r}: use auto, cpu, cuda or cuda:N")
+        if args.device.startswith("cuda") and args.method in NEURAL:
+            import torch
+
+            if not torch.cuda.is_available():
+                raise PinnMeshError(
+                    f"--device {args.device}: no CUDA device is available; use --device cpu or auto"
+                )
+
+
+def _check_inputs(args: argparse.Namespace, body: bool) -> None:
+    """Refuse inputs that do not go together, in the command line's words."""
+    if not body:
+        if args.boundary is None:
+            raise PinnMeshError("give a boundary file (or --naca DDDD with --topology o or c)")
+        return
+    if args.topology is None:
+        raise PinnMeshError("an airfoil or body needs --topology o or c")
+    if args.naca and args.boundary:
+        raise PinnMeshError("give either an airfoil file or --naca, not both")
+    if args.naca is None and args.boundary is None:
+        raise PinnMeshError("give an airfoil file (.dat) or --naca DDDD")
+    if args.aux or args.corners:
+        raise PinnMeshError("--aux and --corners apply to four-sided domains, not to --topology")
+    if args.save_model or args.load_model:
+        raise PinnMeshError(
+            "--save-model and --load-model apply to four-sided domains in "
+            "this build, not to --topology"
+        )
+
+
+def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
+    """One meshing run (a four-sided domain or, with --topology, a body; SPEC 5 and 9);
+    appends each output file to ``written`` once it is complete."""
+    from pinn_engine import job
+    from pinn_engine.io import export
+    from pinn_engine.mesher import Mesher
+
+    written = written if written is not None else []
+    body = bool(args.topology or args.naca or (args.boundary or "").lower().endswith(".dat"))
+    _check_inputs(args, body)
+    name = f"naca{args.naca}" if args.naca else Path(args.boundary).stem
+    kind = f"{args.topology}_" if body else ""
+    suffix = "" if args.format == "openfoam" else f".{args.format or 'vts'}"
+    out = Path(args.output or f"out/{name}_{kind}{args.method}{suffix}")
+    found = export.output_format(out, args.format, args.extrude)  # refuse before meshing
+    if body and found.key == "msh" and args.extrude is not None:
+        raise PinnMeshError(
+            f"{out}: an O- or C-grid is written to Gmsh in 2D in this build; "
+            "drop --extrude (or write .cgns, .xyz or --format openfoam)"
+        )
+    _check_options(args)
+    ni, nj = args.size
+    settings = _settings(args, ni, nj)
+    geometry = job.geometry_from_files(
+        settings, args.boundary, args.aux, args.corners, args.farfield is not None
+    )
+    mesher = Mesher.load(args.load_model, geometry.boundary) if args.load_model else None
+    progress = _Progress(args.quiet)
+    start = time.perf_counter()
+    try:
+        outcome = job.run(settings, (ni, nj), geometry, args.patch or None, progress, mesher=mesher)
+    finally:
+        progress.close()
+    if args.save_model:
+        try:
+            Path(args.save_model).parent.mkdir(parents=True, exist_ok=True)
+            outcome.mesher.save(args.save_model)
+        except (OSError, RuntimeError) as exc:
+            raise PinnMeshError(f"{args.save_model}: cannot save the model ({exc})") from None
+        written.append(Path(args.save_model))
+    if not args.quiet:
+        _summary(outcome.result, settings, ni, nj, time.perf_counter() - start)
+
+    def picture(grid, tmp) -> None:
+        from pinn_engine.routes.render import render_body_png, render_png
+
+        if not body:
+            render_png(grid, tmp, title=f"{args.method}: {Path(args.boundary).name}")
+            return
+        le, te = geometry.body.chord_points
+        title = f"{args.method} {args.topology.upper()}-grid {name}"
+        render_body_png(grid, tmp, title=title, le=le, te=te, zoom=0.08 * geometry.body.chord)
+
+    source = name if body else args.boundary
+    return _write_outputs(args, outcome, out, written, source, picture)
+
+
+def _summary(result, settings: Settings, ni: int, nj: int, seconds: float) -> None:
+    """The summary lines on stderr: quality, the wall or the sides asked for, the auxiliary
+    lines, and what the network did."""
+    q = result.quality
+
+    def say(text: str) -> None:
+        print(text, file=sys.stderr, flush=True)
+
+    t = result.report.get("topology")
+    grid = f"{settings.topology.upper()}-grid" if t else "grid"
+    say(
+        f"{settings.method} {ni}x{nj} {grid} in {seconds:.2f} s: mean MaxIncludedAngle "
+        f"{q['mean_max_angle']:.2f}, worst {q['worst_max_angle']:.2f} deg, "
+        f"{q['folded_cells']} folded cells"
+        + (
+            f"; first layer {t['first_layer']['min']:.3g} .. {t['first_layer']['max']:.3g}, "
+            f"wall angles within {t['wall_angle_deviation']:.2f} deg of 90"
+            if t
+            else f", boundary deviation {q['boundary_deviation']:.1e}"
+        )
+    )
+    effect = network_effect(result.report)
+    if effect:
+        say(effect)
+    if t:
+        return
+    spaced = tuple(k for k, _ in settings.spacing if k not in settings.orthogonal)
+    for side in settings.orthogonal + spaced:
+        r = result.report["sides"][side]
+        say(
+            f"{side}: first edges {r['first_edge_min']:.3g}..{r['first_edge_max']:.3g}, "
+            f"wall angles within {r['max_angle_deviation']:.2f} deg of 90, growth "
+            f"ratio up to {r['max_growth_ratio']:.3f}"
+        )
+    distances = result.report["aux_line_distance"]
+    if distances:
+        say(
+            f"auxiliary lines: grid lines within {max(distances.values()):.2e} of the "
+            "diagonal of the drawn lines"
+        )
+
+
+# the command line's options that are Settings fields (make_settings ignores None values)
+_SETTING_FIELDS = (
+    "seed",
+    "adam_epochs",
+    "lbfgs_iterations",
+    "hidden_layers",
+    "neurons",
+    "device",
+    "elliptic_iterations",
+    "warm_start",
+    "lambda2",
+    "boundary_fit",
+    "objective",
+    "boundary_mode",
+    "topology",
+    "naca",
+    "farfield",
+)
+
+
+def _settings(args, ni: int, nj: int) -> Settings:
+    """The settings of the command line's options, with a settings error as a one-line
+    command-line error."""
+    options = {k: getattr(args, k) for k in _SETTING_FIELDS}
+    try:
+        return make_settings(
+            args.method,
+            args.preset,
+            lattice=(ni, nj),
+            spacing=args.spacing,
+            orthogonal=args.orthogonal,
+            **options,
+        )
+    except ValueError as exc:
+        raise PinnMeshError(str(exc)) from exc
+
+
+def _write_outputs(args, outcome, out: Path, written: list[Path], name: str, picture) -> Path:
+    """The grid in the format of ``out``, the report and the picture (``picture(grid, tmp)``)
+    if asked, each complete or absent; then the line saying so and the warnings (folded
+    cells, wall angles off an orthogonal side)."""
+    from pinn_engine.io import export
+    from pinn_engine.io.fileio import atomic_path, write_text_atomic
+
+    result, grid = outcome.result, outcome.grid
+    q = result.quality
+    if args.fail_on_folded and q["folded_cells"]:
+        raise PinnMeshError(
+            f"{name}: {q['folded_cells']} folded cells (--fail-on-folded); no output written"
+        )
+    export.write(grid, out, args.format, extrude=args.extrude)
+    written.append(out)
+    if args.report:
+        write_text_atomic(args.report, json.dumps(result.report, indent=2, default=float))
+        written.append(Path(args.report))
+    if args.png:
+        with atomic_path(args.png, suffix=Path(args.png).suffix or ".png") as tmp:
+            picture(grid, tmp)
+        written.append(Path(args.png))
+    print(f"wrote {out}" + (f" and {args.png}" if args.png else ""))
+    for warning in (  # not progress: printed with --quiet too; last: an error stays one line
+        folded_cells_warning(result.report, "cli"),
+        wall_angle_warning(result.report, "cli"),
+    ):
+        if warning:
+            print(f"pinn-mesh: warning: {name}: {warning}", file=sys.stderr, flush=True)
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command; returns 0, 2 (error, one line on stderr) or 130 (interrupted).
+
+    An unexpected internal failure prints one line and returns 3; set ``PINN_MESH_DEBUG=1``
+    to see its traceback instead.
+    """
+    args = build_parser().parse_args(argv)
+    heap.tune_process()  # this process is ours: glibc's heap tuned for training and meshing
+    previous = signal.signal(signal.SIGTERM, _raise_interrupt)
+    written: list[Path] = []
+    try:
+        run(args, written)
+    except PinnMeshError as exc:
+        print(f"pinn-mesh: error: {exc}", file=sys.stderr)
+        return EXIT_ERROR
+    except KeyboardInterrupt:
+        done = (
+            f"; already written: {', '.join(map(str, written))}"
+            if written
+            else "; no output written"
+        )
+        print(f"pinn-mesh: interrupted{done}", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except OSError as exc:
+        where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
+        print(f"pinn-mesh: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return EXIT_ERROR
+    except MemoryError:
+        print("pinn-mesh: error: out of memory; try a smaller --size", file=sys.stderr)
+        return EXIT_ERROR
+    except Exception as exc:  # a bug: one line, not a traceback, unless debugging
+        if os.environ.get("PINN_MESH_DEBUG"):
+            raise
+        print(
+            f"pinn-mesh: internal error: {type(exc).__name__}: {exc} (please report it; "
+            "PINN_MESH_DEBUG=1 shows the traceback)",
+            file=sys.stderr,
+        )
+        return EXIT_INTERNAL
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

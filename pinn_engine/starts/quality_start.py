@@ -1,0 +1,381 @@
+"""The start of ``--objective quality`` (docs/quality_objective.md): the cell-quality
+objective's discrete solution on the lattice, following the auxiliary lines.
+
+Grids on the lattice are ranked (:class:`Ranking`) by how far their mean ``MaxIncludedAngle``
+is above that of the converged elliptic grid (or, with auxiliary lines, of the elliptic grid
+moved onto them, if larger) plus ``MEAN_TOL``, then by folded cells, then by how far they miss
+the auxiliary lines (beyond what the boundary nodes fix), then by the worst
+``MaxIncludedAngle``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+
+import numpy as np
+import scipy.sparse as sp
+import torch
+from scipy.optimize import minimize
+from scipy.sparse.linalg import splu, spsolve
+
+from pinn_engine.classical.elliptic import stencil_matrix
+from pinn_engine.geometry.auxlines import AuxLine, line_distances
+from pinn_engine.neural.losses import corner_angles, loss_quality, nearest_on_line
+from pinn_engine.neural.warm import WarmStart
+from pinn_engine.quality import folded_cells, guard_figures, orientation, shortest_edges
+
+MEAN_TOL = 0.5  # issue 14's bound on the mean MaxIncludedAngle against the elliptic grid
+NODE_ITERATIONS = 100  # L-BFGS iterations of the node optimisation (0: none, an ablation)
+# A grid follows the auxiliary lines when it misses them by at most LINE_TOL (of the
+# diagonal) more than the boundary nodes fix; the line term's weight in the node optimisation
+# (squared distance in units of the lattice's median shortest edge)
+LINE_TOL = 1e-4
+LINE_WEIGHT = 100.0
+PULL_ROUNDS = 15  # rounds of pull_onto_lines at most
+PULL_WEIGHT = 1e5  # of the lines against the smoothness of the pull's moves (more: folds)
+RELAX_ITERATIONS = 10  # Winslow iterations of relax_on_lines
+RELAX_WEIGHT = 10.0  # of the lines against the Winslow equations there (more: folds)
+
+
+@dataclass(frozen=True)
+class Ranking:
+    """The order of grids on a lattice under ``--objective quality`` (:meth:`key`), with the
+    auxiliary lines (working frame) they are to follow within ``line_tol`` of the boundary's
+    ``diagonal``, and the bound on their mean ``MaxIncludedAngle``."""
+
+    mean_bound: float
+    lines: tuple[AuxLine, ...] = ()
+    diagonal: float = 1.0
+    line_tol: float = 0.0
+
+    @classmethod
+    def of(cls, elliptic: np.ndarray, aux: Sequence[AuxLine], diagonal: float) -> Ranking:
+        """The ranking of grids with the boundary nodes of the converged ``elliptic`` grid:
+        the mean bound is its mean plus ``MEAN_TOL``, and the lines count as followed within
+        ``LINE_TOL`` of the distance of their samples on the boundary (which no interior node
+        changes)."""
+        ends = [
+            replace(a, xi_eta=a.xi_eta[((a.xi_eta == 0) | (a.xi_eta == 1)).any(1)]) for a in aux
+        ]
+        ends = [e for e in ends if len(e.xi_eta)]
+        floor = max(line_distances(elliptic, ends, diagonal).values(), default=0.0)
+        return cls(-math.inf, tuple(aux), diagonal, floor + LINE_TOL).against(elliptic)
+
+    def against(self, elliptic: np.ndarray) -> Ranking:
+        """This ranking with the mean bound raised to ``MEAN_TOL`` above another elliptic
+        grid's mean, if that is higher."""
+        bound = guard_figures(elliptic)["mean_max_angle"] + MEAN_TOL
+        return replace(self, mean_bound=max(self.mean_bound, bound))
+
+    def quality(self, grid: np.ndarray) -> dict[str, float]:
+        """:func:`quality.guard_figures`, and with lines the largest distance of the grid's curves
+        through them from the drawn lines (``auxlines.line_distances``)."""
+        q = guard_figures(grid)
+        if self.lines:
+            q["aux_distance"] = max(line_distances(grid, list(self.lines), self.diagonal).values())
+        return q
+
+    def holding(self, grid: np.ndarray) -> Ranking:
+        """This ranking with the lines' tolerance no more than ``grid``'s distance from them:
+        a grid further from them than ``grid`` ranks below it."""
+        if not self.lines:
+            return self
+        return replace(self, line_tol=min(self.line_tol, self.quality(grid)["aux_distance"]))
+
+    def key(self, q: dict[str, float]) -> tuple[float, int, float, float]:
+        """A mean less above the bound (in steps of 0.01 degrees), then fewer folded cells,
+        then a smaller distance from the lines beyond ``line_tol`` (in steps of 1e-5 of the
+        diagonal), then a smaller worst angle (to 0.001 degrees)."""
+        return (
+            _steps_above(q["mean_max_angle"], self.mean_bound, 0.01),
+            q["folded_cells"],
+            _steps_above(q.get("aux_distance", 0.0), self.line_tol, 1e-5),
+            round(q["worst_max_angle"], 3),
+        )
+
+
+def _steps_above(value: float, bound: float, step: float) -> float:
+    """How far ``value`` is above ``bound``, rounded up to whole ``step`` (0 at or below)."""
+    return math.ceil(max(0.0, value - bound) / step - 1e-9) * step
+
+
+def quality_start(
+    warm: WarmStart, elliptic: np.ndarray, ranking: Ranking
+) -> tuple[WarmStart, Ranking]:
+    """The best (``ranking``) of the elliptic grid, the TFI grid (``warm``'s base: a polar
+    grid on an annulus sector, say), blends of them, with auxiliary lines the elliptic grid
+    moved onto them (:func:`follow_lines`), and the best of these with its interior nodes
+    optimised (:func:`optimize_nodes`): the objective's discrete solution, as the converged
+    elliptic grid is the Winslow objective's. Also returns the ranking, its mean bound
+    raised to the elliptic grid on the lines'."""
+    tfi = elliptic - warm.correction
+    candidates = [(elliptic, "elliptic"), (tfi, "tfi")] + [
+        (elliptic + w * (tfi - elliptic), f"{w:.1f} tfi + elliptic") for w in np.arange(1, 10) / 10
+    ]
+    if ranking.lines:
+        on_lines = follow_lines(elliptic, ranking)
+        ranking = ranking.against(on_lines)
+        candidates.append((on_lines, "elliptic on the lines"))
+    best = min(candidates, key=lambda c: ranking.key(ranking.quality(c[0])))
+    if NODE_ITERATIONS:
+        optimized = (optimize_nodes(best[0], ranking, NODE_ITERATIONS), "optimized")
+        best = min([best, optimized], key=lambda c: ranking.key(ranking.quality(c[0])))
+    return WarmStart(best[0] - tfi, start=best[1]), ranking
+
+
+class _Samples:
+    """The bilinear interpolation of grids (nj, ni, 2) at computational points (n, 2) (the
+    grid's curve through an auxiliary line's (xi, eta), as ``line_distances`` evaluates it)."""
+
+    def __init__(self, xi_eta: np.ndarray, ni: int, nj: int) -> None:
+        u, v = xi_eta[:, 0] * (ni - 1), xi_eta[:, 1] * (nj - 1)
+        i = np.clip(np.floor(u).astype(int), 0, ni - 2)
+        j = np.clip(np.floor(v).astype(int), 0, nj - 2)
+        a, b = u - i, v - j
+        self.size = ni, nj
+        corners = ((j, i), (j, i + 1), (j + 1, i + 1), (j + 1, i))
+        self.index = np.stack([jj * ni + ii for jj, ii in corners], axis=1)  # (n, 4) flat
+        self.weight = np.stack([(1 - a) * (1 - b), a * (1 - b), a * b, (1 - a) * b], axis=1)
+        self.a, self.b = a[:, None], b[:, None]
+
+    def at(self, grid: np.ndarray | torch.Tensor) -> np.ndarray | torch.Tensor:
+        """The grid's values at the points, (n, 2) (numpy or torch, as ``grid``)."""
+        weight = torch.as_tensor(self.weight) if isinstance(grid, torch.Tensor) else self.weight
+        return (grid.reshape(-1, 2)[self.index] * weight[..., None]).sum(1)
+
+    def jacobian(self, grid: np.ndarray) -> np.ndarray:
+        """d(x, y) / d(xi, eta) of the grid's bilinear map at the points, (n, 2, 2)."""
+        c = grid.reshape(-1, 2)[self.index]  # (n, 4, 2)
+        ni, nj = self.size
+        d_xi = ((1 - self.b) * (c[:, 1] - c[:, 0]) + self.b * (c[:, 2] - c[:, 3])) * (ni - 1)
+        d_eta = ((1 - self.a) * (c[:, 3] - c[:, 0]) + self.a * (c[:, 2] - c[:, 1])) * (nj - 1)
+        return np.stack([d_xi, d_eta], axis=-1)
+
+    def matrix(self) -> sp.csr_matrix:
+        """The interpolation as a sparse (n, ni nj) matrix on the flattened nodes."""
+        rows = np.repeat(np.arange(len(self.index)), 4)
+        return sp.csr_matrix(
+            (self.weight.ravel(), (rows, self.index.ravel())),
+            shape=(len(self.index), self.size[0] * self.size[1]),
+        )
+
+
+def _curves(ranking: Ranking, ni: int, nj: int) -> list[tuple[_Samples, np.ndarray]]:
+    """The samples of an ni x nj grid's curves through the ranking's auxiliary lines, each
+    with its drawn line."""
+    return [(_Samples(a.xi_eta, ni, nj), a.xy) for a in ranking.lines]
+
+
+def _picks(curves: list[tuple[_Samples, np.ndarray]]) -> sp.csr_matrix:
+    """The curves' samples as one sparse matrix on the flattened nodes."""
+    return sp.vstack([samples.matrix() for samples, _ in curves]).tocsr()
+
+
+def _smoothing(ni: int, nj: int) -> sp.csr_matrix:
+    """The squared 5-point Laplacian on the interior nodes of an ni x nj lattice (boundary
+    values zero): the roughness of a displacement field."""
+
+    def second_difference(n: int) -> sp.spmatrix:
+        return sp.diags([-np.ones(n - 1), 2 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1])
+
+    laplacian = sp.kron(sp.identity(nj), second_difference(ni)) + sp.kron(
+        second_difference(nj), sp.identity(ni)
+    )
+    inner = _interior(ni, nj)
+    laplacian = laplacian.tocsr()[inner][:, inner]
+    return (laplacian.T @ laplacian).tocsr()
+
+
+def _inverse_times(jac: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """``jac^-1 v`` for (n, 2, 2) and (n, 2); zero where ``jac`` is singular (a degenerate
+    cell at a corner)."""
+    det = jac[:, 0, 0] * jac[:, 1, 1] - jac[:, 0, 1] * jac[:, 1, 0]
+    adj_v = np.stack(
+        [
+            jac[:, 1, 1] * v[:, 0] - jac[:, 0, 1] * v[:, 1],
+            jac[:, 0, 0] * v[:, 1] - jac[:, 1, 0] * v[:, 0],
+        ],
+        axis=-1,
+    )
+    scale = np.einsum("nij,nij->n", jac, jac)
+    ok = np.abs(det) > 1e-12 * scale
+    return np.where(ok[:, None], adj_v / np.where(ok, det, 1.0)[:, None], 0.0)
+
+
+def _interior(ni: int, nj: int) -> np.ndarray:
+    """Flat indices of the interior nodes of an ni x nj lattice."""
+    return (np.arange(1, nj - 1)[:, None] * ni + np.arange(1, ni - 1)).ravel()
+
+
+def follow_lines(grid: np.ndarray, ranking: Ranking) -> np.ndarray:
+    """``grid`` moved onto the auxiliary lines: pulled (:func:`pull_onto_lines`), relaxed as
+    an elliptic grid that keeps to them (:func:`relax_on_lines`), pulled again."""
+    pulled = pull_onto_lines(grid, ranking)
+    return pull_onto_lines(relax_on_lines(pulled, ranking), ranking)
+
+
+def pull_onto_lines(grid: np.ndarray, ranking: Ranking) -> np.ndarray:
+    """``grid`` with its interior nodes slid within it towards following the auxiliary lines,
+    in up to ``PULL_ROUNDS`` rounds (:func:`_pull_round`) while it is further from them than
+    the ranking's tolerance. A round that does not bring the grid closer, or folds cells, is
+    retried at half its step, up to three times. A grid line far from its drawn line moves
+    the rows or columns beside it along, in proportion to their spacing (the node
+    optimisation, one node at a time, would fold them)."""
+    nj, ni = grid.shape[:2]
+    curves = _curves(ranking, ni, nj)
+    inner = _interior(ni, nj)
+    picks = _picks(curves)[:, inner]
+    weight = PULL_WEIGHT / picks.shape[0]  # a mean over the samples
+    # the roughness in computational units, whatever the lattice
+    system = (ni - 1) * (nj - 1) * _smoothing(ni, nj) + weight * picks.T @ picks
+    solve = splu(system.tocsc()).solve
+
+    def smoothest(miss: np.ndarray) -> np.ndarray:
+        return solve(weight * (picks.T @ miss))
+
+    q, step = ranking.quality(grid), 1.0
+    for _ in range(PULL_ROUNDS):
+        if q["aux_distance"] <= ranking.line_tol or step < 0.125:
+            break
+        moved = _pull_round(grid, curves, smoothest, step)
+        q_moved = ranking.quality(moved)
+        if (
+            q_moved["folded_cells"] > q["folded_cells"]
+            or q_moved["aux_distance"] >= q["aux_distance"]
+        ):
+            step /= 2
+            continue
+        grid, q = moved, q_moved
+    return grid
+
+
+def _pull_round(grid: np.ndarray, curves: list, smoothest, step: float) -> np.ndarray:
+    """One round of :func:`pull_onto_lines`: each sample of the grid's curves through the
+    lines is to move to its nearest point on its drawn line, a move of its (xi, eta) through
+    the inverse of the grid's Jacobian there; ``smoothest`` turns these moves (n, 2) into the
+    smoothest field of moves of the interior nodes' (xi, eta) that makes them (least squares),
+    and the new node is the grid at its (xi, eta) moved by ``step`` times that (bilinear)."""
+    nj, ni = grid.shape[:2]
+    misses = []
+    for samples, xy in curves:
+        at = samples.at(grid)
+        misses.append(_inverse_times(samples.jacobian(grid), _nearest(at, xy) - at))
+    params = np.stack(np.meshgrid(np.linspace(0, 1, ni), np.linspace(0, 1, nj)), axis=-1)
+    inner = _interior(ni, nj)
+    params = np.clip(params.reshape(-1, 2)[inner] + step * smoothest(np.concatenate(misses)), 0, 1)
+    out = grid.reshape(-1, 2).copy()
+    out[inner] = _Samples(params, ni, nj).at(grid)
+    return out.reshape(grid.shape)
+
+
+def relax_on_lines(grid: np.ndarray, ranking: Ranking) -> np.ndarray:
+    """``grid`` after ``RELAX_ITERATIONS`` Picard iterations of the Winslow equations (the
+    coefficients frozen at each, ``elliptic.stencil_matrix``) with the grid's curves through
+    the auxiliary lines held at their nearest points on the drawn lines by a penalty
+    (``RELAX_WEIGHT`` times the equations' median diagonal): the elliptic grid that follows
+    the lines, which the pull only approaches (it shears cells where lines move far, and the
+    node optimisation does not undo that: the mean angle rises). ``grid`` itself if that
+    folds more cells."""
+    nj, ni = grid.shape[:2]
+    curves = _curves(ranking, ni, nj)
+    picks = _picks(curves)
+    inner = _interior(ni, nj)
+    inside = picks[:, inner]
+    g = grid.reshape(-1, 2).copy()
+    fixed = picks @ g - inside @ g[inner]  # the samples' part from the boundary nodes
+    for _ in range(RELAX_ITERATIONS):
+        mat, rhs = stencil_matrix(g.reshape(grid.shape))
+        weight = RELAX_WEIGHT * float(np.median(-mat.diagonal()))
+        targets = np.concatenate([_nearest(s.at(g), xy) for s, xy in curves])
+        system = (weight * inside.T @ inside - mat).tocsc()
+        g[inner] = spsolve(system, weight * inside.T @ (targets - fixed) - rhs)
+    relaxed = g.reshape(grid.shape)
+    return relaxed if folded_cells(relaxed).sum() <= folded_cells(grid).sum() else grid
+
+
+def _nearest(points: np.ndarray, line: np.ndarray) -> np.ndarray:
+    """``losses.nearest_on_line`` on arrays."""
+    return nearest_on_line(torch.from_numpy(points), torch.from_numpy(line)).numpy()
+
+
+def optimize_nodes(grid: np.ndarray, ranking: Ranking, iterations: int) -> np.ndarray:
+    """``grid`` with its interior nodes moved to minimise ``losses.loss_quality`` (L-BFGS in
+    float64, at most ``iterations``), with auxiliary lines from the grid moved onto them
+    (:func:`follow_lines`, unless it follows them) and plus ``LINE_WEIGHT`` times the line term
+    (:func:`_line_term`); the boundary nodes stay. Returns the evaluated state that ranks
+    best (``ranking``, on the corner angles): the soft maximum is a surrogate of the worst
+    angle, not the same. Each node moves in units of its shortest edge (a diagonal
+    preconditioner: angles change with a node's move relative to its cells, 100 times
+    smaller at a notch than in the open)."""
+    if ranking.key(ranking.quality(grid))[2] > 0:  # it misses the lines
+        grid = follow_lines(grid, ranking)
+    fixed = torch.as_tensor(grid, dtype=torch.float64)
+    turn = orientation(grid)
+    inner0 = fixed[1:-1, 1:-1]
+    unit = torch.as_tensor(shortest_edges(grid))[..., None]
+    line_term = _line_term(grid, ranking, float(unit.median()))
+    best = [(math.inf,), np.zeros(inner0.numel())]
+
+    def loss_and_grad(x: np.ndarray) -> tuple[float, np.ndarray]:
+        u = torch.from_numpy(x).view(inner0.shape).requires_grad_(True)
+        inner = inner0 + unit * u
+        g = torch.cat(
+            [fixed[:1], torch.cat([fixed[1:-1, :1], inner, fixed[1:-1, -1:]], dim=1), fixed[-1:]]
+        )
+        theta = corner_angles(g, turn)
+        loss = loss_quality(theta)
+        q = {}
+        if line_term is not None:
+            term, q["aux_distance"] = line_term(g)
+            loss = loss + LINE_WEIGHT * term
+        loss.backward()
+        with torch.no_grad():
+            largest = torch.rad2deg(theta.max(dim=0).values)
+            q.update(
+                folded_cells=int((largest > 180.0).sum()),
+                mean_max_angle=float(largest.mean()),
+                worst_max_angle=float(largest.max()),
+            )
+            key = ranking.key(q)
+            if key < best[0]:
+                best[:] = key, x.copy()
+        return loss.item(), u.grad.numpy().ravel()
+
+    minimize(
+        loss_and_grad,
+        np.zeros(inner0.numel()),
+        jac=True,
+        method="L-BFGS-B",
+        options={
+            "maxiter": iterations,
+            "maxcor": 10,
+            "maxfun": 3 * iterations,
+            "ftol": 1e-15,
+            "gtol": 1e-12,
+        },
+    )
+    out = np.array(grid, dtype=float)
+    out[1:-1, 1:-1] += (unit * torch.from_numpy(best[1]).view(inner0.shape)).numpy()
+    return out
+
+
+def _line_term(grid: np.ndarray, ranking: Ranking, scale: float):
+    """``g -> (term, distance)`` for grids shaped like ``grid``: the mean squared distance (in
+    units of ``scale``) of the grid's curves through the auxiliary lines from the drawn lines
+    (``losses.nearest_on_line``), and the largest distance (relative to the diagonal); None
+    without lines."""
+    if not ranking.lines:
+        return None
+    curves = [
+        (samples, torch.as_tensor(xy, dtype=torch.float64) / scale)
+        for samples, xy in _curves(ranking, grid.shape[1], grid.shape[0])
+    ]
+
+    def term(g: torch.Tensor) -> tuple[torch.Tensor, float]:
+        points = [(s.at(g) / scale, xy) for s, xy in curves]
+        squared = torch.cat([(nearest_on_line(p, xy) - p).pow(2).sum(-1) for p, xy in points])
+        return squared.mean(), float(squared.detach().max().sqrt()) * scale / ranking.diagonal
+
+    return term
