@@ -1,8 +1,10 @@
 # The two commands of the README: `make demo` and `make test`. Both set everything up first.
+# `make check` is the fast tier (lint and the tests not marked slow or paraview, stopping at
+# the first failure; under 2 minutes on 2 cores); `make test` lints and runs every test.
 VENV := .venv
 STAMP := $(VENV)/.installed
 
-.PHONY: setup demo test lint
+.PHONY: setup demo lint check test
 setup: $(STAMP)
 
 $(STAMP): pyproject.toml scripts/setup.sh
@@ -12,7 +14,13 @@ demo: $(STAMP)
 	$(VENV)/bin/pinn-mesh example_data/wavy.vtp --aux example_data/wavy_aux.vtp \
 		-o out/wavy_pinn.vts --png out/wavy_pinn.png
 
-test: $(STAMP)
-	$(VENV)/bin/ruff check pinn_engine plugin tests examples benchmarks experiments scripts example_data
-	$(VENV)/bin/ruff format --check pinn_engine plugin tests examples benchmarks experiments scripts example_data
+# the whole repository; `ruff format` also checks the Python code blocks of the Markdown files
+lint: $(STAMP)
+	$(VENV)/bin/ruff check .
+	$(VENV)/bin/ruff format --check .
+
+check: lint
+	$(VENV)/bin/python -m pytest -x -q -m "not slow and not paraview"
+
+test: lint
 	$(VENV)/bin/python -m pytest

@@ -57,6 +57,7 @@ def test_no_extra_points_and_no_jet_points_are_both_fine():
     torch.testing.assert_close(values, net(x))
 
 
+@pytest.mark.slow  # compiles the kernels afresh (about 30 s)
 @needs_compiler
 def test_the_build_is_cached_per_source_and_reused(fresh_kernels, tmp_path):
     assert native.kernels() is not None
@@ -69,6 +70,7 @@ def test_the_build_is_cached_per_source_and_reused(fresh_kernels, tmp_path):
     assert not list(tmp_path.glob("*.tmp*")) and len(list(tmp_path.iterdir())) == 1
 
 
+@pytest.mark.slow  # compiles the kernels afresh (about 30 s)
 @needs_compiler
 def test_an_unusable_cache_directory_builds_in_the_temporary_directory(
     fresh_kernels, monkeypatch, tmp_path

@@ -78,6 +78,7 @@ def test_heights_and_the_node_next_to_a_corner_between_two_spaced_sides():
     assert abs(edges["bottom"][1] / h - 1) < 0.1 and abs(edges["left"][1] / h - 1) < 0.1
 
 
+@pytest.mark.slow  # 7 to 15 s each on 2 cores
 @pytest.mark.parametrize("name", ["dart_30", "kite_35", "notch_v_sharp", "backward_step"])
 def test_sharp_corners_all_four_sides_without_folds(name):
     """30- and 35-degree corners, a V notch and a step: the normal rows fold cells there,
@@ -89,6 +90,7 @@ def test_sharp_corners_all_four_sides_without_folds(name):
     np.testing.assert_array_equal(boundary_nodes(out), boundary_nodes(grid))
 
 
+@pytest.mark.slow  # 1 to 5 minutes each on 2 cores
 @pytest.mark.parametrize(
     "name, size",
     [

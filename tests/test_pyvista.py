@@ -115,6 +115,7 @@ def test_accessor_found_through_entry_point_without_import():
     assert proc.stdout.strip() == "StructuredGrid (9, 5, 1)"
 
 
+@pytest.mark.slow  # the example script end to end, a picture off screen
 def test_example_script_saves_a_picture(tmp_path):
     out = tmp_path / "example.png"
     env = dict(os.environ, VTK_DEFAULT_OPENGL_WINDOW="vtkEGLRenderWindow")
