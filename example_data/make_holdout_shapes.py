@@ -34,7 +34,7 @@ from make_hard_shapes import resample, slot, step  # noqa: E402
 from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter  # noqa: E402
 
 from pinn_engine.errors import InputError  # noqa: E402
-from pinn_engine.geometry import Boundary, turning_angles  # noqa: E402
+from pinn_engine.geometry.boundary import Boundary, turning_angles  # noqa: E402
 
 OUT = HERE / "holdout"
 SEED = 226  # issue 22, item 6: any fixed number; a new one draws a new hold-out set

@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pinn_engine.fileio import read_boundary_points
-from pinn_engine.pipeline import load_boundary
+from pinn_engine.io.fileio import read_boundary_points
+from pinn_engine.io.pipeline import load_boundary
 
 ROOT = Path(__file__).resolve().parents[1]
 HOLDOUT = ROOT / "example_data" / "holdout"
