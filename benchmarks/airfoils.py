@@ -35,7 +35,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from pinn_engine.bodies.airfoil import circle, load_body, naca4  # noqa: E402
-from pinn_engine.bodies.bodymesh import mesh_body, wall_metrics  # noqa: E402
+from pinn_engine.bodymesh import mesh_body, wall_metrics  # noqa: E402
 from pinn_engine.quality import cell_quality, summary  # noqa: E402
 from pinn_engine.settings import make_settings  # noqa: E402
 

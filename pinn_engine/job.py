@@ -18,7 +18,8 @@ from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 
 from pinn_engine.cache import MeshCache
 from pinn_engine.errors import InputError
-from pinn_engine.mesher import Mesher, MeshResult
+from pinn_engine.mesher import Mesher
+from pinn_engine.result import MeshResult
 from pinn_engine.settings import NEURAL, Settings
 
 
@@ -122,9 +123,9 @@ def run(
     through its block kind; ``patches`` (any form ``export.patch_names`` takes) name the
     grid's sides (default: bottom, right, top, left; a body's wall, seam or outflow, far
     field)."""
-    from pinn_engine.bodies.bodymesh import mesh_body
-    from pinn_engine.bodies.bodymesh import patch_names as body_patches
+    from pinn_engine.bodymesh import mesh_body
     from pinn_engine.io.export import patch_names
+    from pinn_engine.io.export.patches import body_patch_names as body_patches
     from pinn_engine.io.pipeline import to_vtk
 
     ni, nj = size

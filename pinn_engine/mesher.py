@@ -5,7 +5,6 @@ from __future__ import annotations
 import os
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -16,33 +15,12 @@ from pinn_engine.errors import NotFittedError, PinnMeshError, TrainingError
 from pinn_engine.geometry.auxlines import AuxLine, line_distances
 from pinn_engine.geometry.boundary import Boundary
 from pinn_engine.geometry.boundary_fit import make_fit
-from pinn_engine.geometry.plane import Plane
 from pinn_engine.heap import reuse_freed_memory
 from pinn_engine.quality import boundary_nodes, cell_quality, side_report, summary
+from pinn_engine.result import MeshResult
 from pinn_engine.settings import NEURAL, Settings, grid_size_problem, make_settings
 
 Progress = Callable[[dict], bool | None]
-
-
-@dataclass
-class MeshResult:
-    """A grid (nj, ni, 2) in the user's in-plane coordinates (x, y for a boundary in a plane
-    z = const), with what a user needs to judge it; ``points3d`` in the user's 3D frame."""
-
-    points: np.ndarray
-    report: dict
-    history: dict[str, list[float]] = field(default_factory=dict)
-    cells: dict[str, np.ndarray] = field(default_factory=dict)
-    plane: Plane = field(default_factory=Plane.horizontal)
-
-    @property
-    def points3d(self) -> np.ndarray:
-        """The grid (nj, ni, 3) in the user's 3D frame (the boundary's plane)."""
-        return self.plane.lift(self.points)
-
-    @property
-    def quality(self) -> dict:
-        return self.report["quality"]
 
 
 class Mesher:

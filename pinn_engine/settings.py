@@ -82,9 +82,10 @@ def parse_spacing(value) -> tuple[tuple[str, float], ...]:
 
 @dataclass(frozen=True)
 class Options:
-    """A setting that takes one of ``values``."""
+    """A setting that takes one of ``values`` (``help``: one line for the routes)."""
 
     values: tuple
+    help: str = ""
 
     def problem(self, value) -> str | None:
         return None if value in self.values else f"use {', '.join(map(str, self.values))}"
@@ -97,6 +98,7 @@ class Interval:
     kind: type
     low: float
     high: float = math.inf
+    help: str = ""
 
     def problem(self, value) -> str | None:
         whole = isinstance(value, numbers.Integral) and not isinstance(value, bool)
@@ -123,6 +125,7 @@ class Pattern:
 
     regex: str
     hint: str
+    help: str = ""
 
     def problem(self, value) -> str | None:
         if isinstance(value, str) and re.fullmatch(self.regex, value):
@@ -140,25 +143,25 @@ PARAMETER_CONSTRAINTS: dict[str, Options | Interval] = {
     "boundary_mode": Options(("hard", "penalty")),
     "boundary_fit": Options(("arclength", "tree")),
     "warm_start": Options(("elliptic", "none")),
-    "residual": Options(("paper", "scaled")),
+    "residual": Options(("paper", "scaled"), "Winslow residual: the paper's eq. 13 or scaled"),
     "objective": Options(OBJECTIVES),
     "hidden_layers": Interval(int, 1, 64),
     "neurons": Interval(int, 1, 4096),
-    "activation": Options(("tanh", "sin", "sigmoid", "swish")),
+    "activation": Options(("tanh", "sin", "sigmoid", "swish"), "hidden layers' activation"),
     "adam_epochs": Interval(int, 0, 1_000_000),
-    "learning_rate": Interval(float, 0.0, 1.0),
-    "lr_decay": Interval(float, 0.0, 1.0),
-    "lr_decay_every": Interval(int, 1),
-    "batch_size": Interval(int, 1, 1_000_000),
+    "learning_rate": Interval(float, 0.0, 1.0, "Adam's learning rate"),
+    "lr_decay": Interval(float, 0.0, 1.0, "factor of the learning rate's step decay"),
+    "lr_decay_every": Interval(int, 1, help="Adam epochs between learning-rate decays"),
+    "batch_size": Interval(int, 1, 1_000_000, "collocation points per Adam epoch"),
     "lbfgs_iterations": Interval(int, 0, 1_000_000),
-    "lbfgs_points": Interval(int, 1, 1_000_000),
+    "lbfgs_points": Interval(int, 1, 1_000_000, "collocation points of L-BFGS's batch"),
     "lambda2": Interval(float, 0.0),
-    "anneal_momentum": Interval(float, 0.0, 1.0),
+    "anneal_momentum": Interval(float, 0.0, 1.0, "moving average of lambda1's annealing"),
     "seed": Interval(int, 0, 2**32 - 1),
-    "dtype": Options(("float32", "float64")),
-    "derivatives": Options(("jets", "autograd")),
+    "dtype": Options(("float32", "float64"), "training precision"),
+    "derivatives": Options(("jets", "autograd"), "derivatives: forward jets or autograd"),
     "elliptic_iterations": Interval(int, 0, 1_000_000),
-    "lambda_orthogonal": Interval(float, 0.0),
+    "lambda_orthogonal": Interval(float, 0.0, help="weight of the orthogonality term"),
     "topology": Options(TOPOLOGIES),
     "naca": Pattern(r"(\d{4})?", "a NACA 4-digit code such as 0012"),
     "farfield": Interval(float, 1.0),  # chords: a far field inside the body is no domain

@@ -9,7 +9,7 @@ import pytest
 from vtkmodules.vtkIOXML import vtkXMLStructuredGridReader
 
 from pinn_engine.bodies.airfoil import circle, load_body, naca4, read_body_and_farfield, read_dat
-from pinn_engine.bodies.bodymesh import mesh_body
+from pinn_engine.bodymesh import mesh_body
 from pinn_engine.classical.spacing import exact_stretch
 from pinn_engine.errors import InputError
 from pinn_engine.routes.cli import main

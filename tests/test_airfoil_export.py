@@ -11,9 +11,10 @@ import pytest
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 from pinn_engine.bodies.airfoil import circle, load_body
-from pinn_engine.bodies.bodymesh import mesh_body, patch_names
+from pinn_engine.bodymesh import mesh_body
 from pinn_engine.errors import InputError
 from pinn_engine.io.export import write
+from pinn_engine.io.export.patches import body_patch_names as patch_names
 from pinn_engine.io.pipeline import to_vtk
 
 NI, NJ = {"o": 41, "c": 61}, 13

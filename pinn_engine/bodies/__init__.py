@@ -1,2 +1,2 @@
-"""O- and C-grids around bodies (SPEC 9): airfoil input, the classical body grid, meshing a
-body."""
+"""Bodies (SPEC 9): airfoil input (Selig, Lednicer, NACA), far fields, and the classical O- and
+C-grid (layout, marching reference grid, TFI and elliptic sweeps with controls)."""

@@ -280,7 +280,7 @@ def interpolated_elliptic_at(
     correction, warmstart.py) evaluated at node parameters: the fallback where the solve
     with distribution controls does not converge."""
     from pinn_engine.classical.elliptic import safe_controlled_solve, winslow_solve
-    from pinn_engine.neural.warm import WarmStart
+    from pinn_engine.classical.warm import WarmStart
 
     tfi = tfi_at(boundary)
     base = tfi(uniform_params(ni, nj))

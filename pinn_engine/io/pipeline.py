@@ -21,7 +21,7 @@ from pinn_engine.io.fileio import (
     read_boundary_points,
 )
 from pinn_engine.io.vtkgrid import structured_grid
-from pinn_engine.mesher import MeshResult
+from pinn_engine.result import MeshResult
 
 
 def load_boundary(path: str | os.PathLike, corners: Sequence[int] | None = None) -> Boundary:
@@ -78,9 +78,9 @@ def to_vtk(result: MeshResult, patches=None) -> vtkStructuredGrid:
     """The output grid of SPEC 3 for a mesh result, with the patch names of SPEC 8."""
     topology = result.report.get("topology")
     if topology and patches is None:
-        from pinn_engine.bodies.bodymesh import patch_names
+        from pinn_engine.io.export.patches import body_patch_names
 
-        patches = patch_names(topology["kind"])
+        patches = body_patch_names(topology["kind"])
     return structured_grid(
         np.asarray(result.points),
         result.report,

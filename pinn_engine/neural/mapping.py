@@ -18,11 +18,11 @@ import numpy as np
 import torch
 
 from pinn_engine.classical.tfi import node_params, tfi_grid, transfinite
+from pinn_engine.classical.warm import WarmStart
 from pinn_engine.geometry.boundary import Boundary
 from pinn_engine.geometry.boundary_fit import ArcLengthFit, SplineFit
 from pinn_engine.neural.jet import jet_product
 from pinn_engine.neural.networks import CoordinateNet, autograd_jet
-from pinn_engine.neural.warm import WarmStart
 
 
 def bubble(x: torch.Tensor) -> torch.Tensor:

@@ -299,8 +299,8 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
 
     def GetPatchNames(self) -> tuple[str, ...]:
         """The four patch names (bottom, right, top, left) the next update uses."""
-        from pinn_engine.bodies.bodymesh import patch_names as body_patches
         from pinn_engine.io.export import patch_names
+        from pinn_engine.io.export.patches import body_patch_names as body_patches
 
         topology = self.GetTopology()
         default = body_patches(topology) if topology != "none" else SIDE_NAMES

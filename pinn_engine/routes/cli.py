@@ -24,6 +24,8 @@ from pinn_engine.settings import (
     OBJECTIVES,
     PARAMETER_CONSTRAINTS,
     PRESETS,
+    Interval,
+    Options,
     Settings,
     grid_size_problem,
     make_settings,
@@ -212,7 +214,23 @@ def build_parser() -> argparse.ArgumentParser:
         dest="elliptic_iterations",
         help="N point-Jacobi sweeps from a zero interior (paper); 0 = converge",
     )
+    _table_options(p.add_argument_group("more settings"), p)
     return p
+
+
+def _table_options(group, parser: argparse.ArgumentParser) -> None:
+    """A flag ``--name-with-dashes`` for every setting of the constraint table that has no
+    hand-written option above: a setting added to the table is an option here too."""
+    taken = {action.dest for action in parser._actions}
+    for name, rule in PARAMETER_CONSTRAINTS.items():
+        if name in taken:
+            continue
+        flag = "--" + name.replace("_", "-")
+        if isinstance(rule, Options):
+            group.add_argument(flag, dest=name, choices=rule.values, help=rule.help)
+        else:
+            kind = rule.kind if isinstance(rule, Interval) else str
+            group.add_argument(flag, dest=name, type=kind, help=rule.help)
 
 
 class _Progress:
@@ -244,29 +262,18 @@ def _raise_interrupt(signum, frame):  # noqa: ARG001
     raise KeyboardInterrupt
 
 
-# the command line's name for each numeric setting
-OPTION_FLAGS = {
-    "seed": "--seed",
-    "lambda2": "--lambda2",
-    "hidden_layers": "--layers",
-    "neurons": "--neurons",
-    "adam_epochs": "--epochs",
-    "lbfgs_iterations": "--lbfgs",
-    "elliptic_iterations": "--elliptic-iterations",
-}
-
-
 def _check_options(args: argparse.Namespace) -> None:
     """Refuse option values that are out of range, with a message naming the option."""
     ni, nj = args.size
     problem = grid_size_problem(ni, nj)
     if problem:
         raise PinnMeshError(f"--size {ni} {nj}: {problem}")
-    for name, flag in OPTION_FLAGS.items():  # the ranges of settings.PARAMETER_CONSTRAINTS
-        value = getattr(args, name)
+    flags = {a.dest: a.option_strings[-1] for a in build_parser()._actions if a.option_strings}
+    for name in PARAMETER_CONSTRAINTS:  # each range, named by the option that set it
+        value = getattr(args, name, None)
         problem = setting_problem(name, value) if value is not None else None
-        if problem:
-            raise PinnMeshError(f"{flag} {value}: {problem}")
+        if problem and name in flags:
+            raise PinnMeshError(f"{flags[name]} {value}: {problem}")
     if args.device is not None:
         if not DEVICE_NAMES.match(args.device):
             raise PinnMeshError(f"--device {args.device!r}: use auto, cpu, cuda or cuda:N")
@@ -399,30 +406,11 @@ def _summary(result, settings: Settings, ni: int, nj: int, seconds: float) -> No
         )
 
 
-# the command line's options that are Settings fields (make_settings ignores None values)
-_SETTING_FIELDS = (
-    "seed",
-    "adam_epochs",
-    "lbfgs_iterations",
-    "hidden_layers",
-    "neurons",
-    "device",
-    "elliptic_iterations",
-    "warm_start",
-    "lambda2",
-    "boundary_fit",
-    "objective",
-    "boundary_mode",
-    "topology",
-    "naca",
-    "farfield",
-)
-
-
 def _settings(args, ni: int, nj: int) -> Settings:
     """The settings of the command line's options, with a settings error as a one-line
     command-line error."""
-    options = {k: getattr(args, k) for k in _SETTING_FIELDS}
+    skip = ("method", "preset")  # given first: the preset is the base the others override
+    options = {k: getattr(args, k) for k in PARAMETER_CONSTRAINTS if k not in skip}
     try:
         return make_settings(
             args.method,
@@ -430,6 +418,7 @@ def _settings(args, ni: int, nj: int) -> Settings:
             lattice=(ni, nj),
             spacing=args.spacing,
             orthogonal=args.orthogonal,
+            device=args.device,
             **options,
         )
     except ValueError as exc:

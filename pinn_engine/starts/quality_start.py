@@ -21,9 +21,9 @@ from scipy.optimize import minimize
 from scipy.sparse.linalg import splu, spsolve
 
 from pinn_engine.classical.elliptic import stencil_matrix
+from pinn_engine.classical.warm import WarmStart
 from pinn_engine.geometry.auxlines import AuxLine, line_distances
 from pinn_engine.neural.losses import corner_angles, loss_quality, nearest_on_line
-from pinn_engine.neural.warm import WarmStart
 from pinn_engine.quality import folded_cells, guard_figures, orientation, shortest_edges
 
 MEAN_TOL = 0.5  # issue 14's bound on the mean MaxIncludedAngle against the elliptic grid

@@ -19,10 +19,10 @@ import numpy as np
 
 from pinn_engine.classical.elliptic import controlled_solve, winslow_solve
 from pinn_engine.classical.tfi import tfi_at, tfi_grid
+from pinn_engine.classical.warm import WarmStart
 from pinn_engine.errors import TrainingError
 from pinn_engine.geometry.boundary import Boundary
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
-from pinn_engine.neural.warm import WarmStart
 from pinn_engine.starts.orthogonal import orthogonal_grid
 
 # The warm start's elliptic solve grows faster than linearly with the nodes (measured on the

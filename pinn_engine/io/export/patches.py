@@ -36,6 +36,17 @@ def _checked(name: str) -> str:
     return name
 
 
+def body_patch_names(topology: str) -> tuple[str, str, str, str]:
+    """PatchNames (bottom, right, top, left) of a body grid: the O-grid's left and right
+    sides are the seam, the C-grid's are the outflow; the C-grid's bottom side holds the
+    wall and the wake cut (field data ``Topology`` and ``WakeNodes`` tell them apart)."""
+    return (
+        ("wall", "seam", "farfield", "seam")
+        if topology == "o"
+        else ("wall", "outflow", "farfield", "outflow")
+    )
+
+
 def parse_patch_options(
     items: Sequence[str] | None, default: Sequence[str] = DEFAULT
 ) -> tuple[str, ...]:

@@ -18,22 +18,11 @@ from pinn_engine.bodies import bodygrid
 from pinn_engine.bodies.airfoil import Body, FarField
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import segment_distance
-from pinn_engine.mesher import MeshResult
 from pinn_engine.quality import angle_deviation, cell_quality, summary
+from pinn_engine.result import MeshResult
 from pinn_engine.settings import Settings, make_settings
 
 METHODS = ("pinn", "tfi", "elliptic")
-
-
-def patch_names(topology: str) -> tuple[str, str, str, str]:
-    """PatchNames (bottom, right, top, left) of a body grid: the O-grid's left and right
-    sides are the seam, the C-grid's are the outflow; the C-grid's bottom side holds the
-    wall and the wake cut (field data ``Topology`` and ``WakeNodes`` tell them apart)."""
-    return (
-        ("wall", "seam", "farfield", "seam")
-        if topology == "o"
-        else ("wall", "outflow", "farfield", "outflow")
-    )
 
 
 def wall_metrics(grid: np.ndarray, topology: str, n_wake: int, sharp: bool) -> dict:
@@ -143,4 +132,4 @@ def mesh_body(
     return MeshResult(points=grid, report=report, history=history, cells=cells)
 
 
-__all__ = ["METHODS", "mesh_body", "patch_names", "topology_metrics", "wall_metrics"]
+__all__ = ["METHODS", "mesh_body", "topology_metrics", "wall_metrics"]
