@@ -1,0 +1,153 @@
+"""The recipes of docs/architecture.md, each done once: a loss term, a block kind, an option and
+a route added without touching the trainer or the other routes."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import torch
+from conftest import EXAMPLES
+
+from pinn_engine import job
+from pinn_engine.blocks import quad
+from pinn_engine.geometry.boundary import Boundary
+from pinn_engine.io.fileio import read_boundary_points
+from pinn_engine.neural import trainer
+from pinn_engine.routes.algorithm import PinnMeshAlgorithm
+from pinn_engine.routes.cli import build_parser, main
+from pinn_engine.settings import PARAMETER_CONSTRAINTS, Interval, Options, make_settings
+
+
+def test_recipe_loss_term(monkeypatch):
+    """A new term (the mean squared network output, weighted 10) returned by the four-sided
+    block's ``terms`` and weighed in its ``loss``: the unchanged trainer records it in the
+    history and minimises it."""
+    terms, loss = quad.QuadProblem.terms, quad.QuadProblem.loss
+
+    def with_smallness(self, x, base, bx, by):
+        out = terms(self, x, base, bx, by)
+        out["smallness"] = self.net(x).pow(2).sum(dim=-1).mean()
+        return out
+
+    def weighted(self, t, lambda1):
+        return loss(self, t, lambda1) + 10.0 * t["smallness"]
+
+    monkeypatch.setattr(quad.QuadProblem, "terms", with_smallness)
+    monkeypatch.setattr(quad.QuadProblem, "loss", weighted)
+    ring = Boundary.from_points(read_boundary_points(EXAMPLES / "fig2.vtp"))
+    settings = make_settings("pinn", warm_start="none", adam_epochs=200, lbfgs_iterations=0)
+    model = quad.train(ring, [], settings)
+    history = model.history["smallness"]
+    assert len(history) == 200 and history[-1] < 0.5 * history[0]
+
+
+class _GradedLine:
+    """A toy block kind: nodes x(s) on [0, 1] with x(0) = 0, x(1) = 1 built in (x = s +
+    s (1 - s) N(s)), whose cells grow by a constant ratio: x'' = log(RATIO) x'."""
+
+    RATIO = 4.0
+    anneals = False
+
+    def __init__(self, settings) -> None:
+        torch.manual_seed(settings.seed)
+        self.net = torch.nn.Sequential(
+            torch.nn.Linear(1, 16, dtype=torch.float64),
+            torch.nn.Tanh(),
+            torch.nn.Linear(16, 1, dtype=torch.float64),
+        )
+        self.settings = settings
+
+    def x(self, s: torch.Tensor) -> torch.Tensor:
+        return s + s * (1 - s) * self.net(s)
+
+    def epoch_batch(self, epoch: int) -> tuple:
+        return (torch.rand(64, 1, dtype=torch.float64, requires_grad=True),)
+
+    def lbfgs_batch(self) -> tuple:
+        return (torch.linspace(0, 1, 64, dtype=torch.float64)[:, None].requires_grad_(),)
+
+    def terms(self, s: torch.Tensor) -> dict[str, torch.Tensor]:
+        x = self.x(s)
+        dx = torch.autograd.grad(x.sum(), s, create_graph=True)[0]
+        ddx = torch.autograd.grad(dx.sum(), s, create_graph=True)[0]
+        return {"eqns": (ddx - np.log(self.RATIO) * dx).pow(2).mean()}
+
+    def loss(self, terms, lambda1):
+        return terms["eqns"]
+
+    def evaluate(self, batch):
+        return trainer.AutogradEvaluation(self, batch)
+
+    def weights(self, lambda1):
+        return {}
+
+    def grid(self) -> np.ndarray:
+        with torch.no_grad():
+            return self.x(torch.linspace(0, 1, 11, dtype=torch.float64)[:, None]).numpy()
+
+
+def test_recipe_block_kind():
+    """The toy kind trains with the unchanged trainer and guard: the guard keeps the trained
+    state (its growth ratio is nearer the target) and reports the node move."""
+    settings = make_settings("pinn", lbfgs_iterations=60)
+    problem = _GradedLine(settings)
+
+    def growth(grid: np.ndarray) -> dict:  # x' grows by RATIO over [0, 1]: RATIO^0.9 here
+        cells = np.diff(grid[:, 0])
+        return {"error": float(np.abs(cells[-1] / cells[0] - _GradedLine.RATIO**0.9))}
+
+    guard = trainer.Guard(
+        problem.net,
+        problem.grid,
+        growth,
+        lambda q, kept: q["error"] <= kept["error"],
+        growth(problem.grid()),
+        1.0,
+    )
+    with trainer.training_process(torch.device("cpu")):
+        history, info = trainer.fit(problem, settings, guard)
+    assert info["result"] == "network" and info["largest_node_move"] > 0.05
+    assert info["guard"]["kept"]["error"] < 0.01
+    assert history["eqns"][-1] < 1e-3 * history["eqns"][0]
+
+
+@pytest.mark.parametrize("name", sorted(PARAMETER_CONSTRAINTS))
+def test_recipe_option(name, capsys):
+    """Every setting of the constraint table reaches every route: the command line's flag
+    (out-of-range values refused in one line naming it), the VTK algorithm's SetSetting."""
+    rule = PARAMETER_CONSTRAINTS[name]
+    flags = {a.dest: a.option_strings for a in build_parser()._actions}
+    assert name in flags
+    alg = PinnMeshAlgorithm()
+    good = rule.values[0] if isinstance(rule, Options) else None
+    if isinstance(rule, Interval):
+        good = rule.kind(rule.low)
+    if good is not None and name not in ("method", "preset"):
+        alg.SetSetting(name, good)
+        assert alg._overrides[name] == good
+    if isinstance(rule, Interval) and flags[name]:
+        bad = rule.low - 1
+        assert main([str(EXAMPLES / "fig2.vtp"), flags[name][-1], str(bad), "-o", "x.vts"]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and flags[name][-1] in err
+
+
+def test_recipe_route(tmp_path):
+    """A route of its own in a few lines (numpy points in, numpy grid out) gives the command
+    line's grid for the same options."""
+
+    def numpy_route(points: np.ndarray, size: tuple[int, int], **options) -> np.ndarray:
+        settings = make_settings(options.pop("method", "pinn"), lattice=size, **options)
+        ring = Boundary.from_points(points, source="points")
+        outcome = job.run(settings, size, job.Geometry(boundary=ring))
+        return outcome.result.points
+
+    points = read_boundary_points(EXAMPLES / "fig2.vtp")
+    grid = numpy_route(points, (21, 11), method="elliptic")
+    out = tmp_path / "g.vts"
+    assert main([str(EXAMPLES / "fig2.vtp"), "--method", "elliptic", "--size", "21", "11",
+                 "-o", str(out), "--quiet"]) == 0  # fmt: skip
+    import pyvista as pv
+
+    expected = pv.read(out).points[:, :2].reshape(11, 21, 2)
+    np.testing.assert_allclose(grid, expected, atol=1e-12)
