@@ -317,3 +317,14 @@ def test_pyvista_routes(tmp_path):
     assert g.n_cells == 120 * 20
     with pytest.raises(ValueError, match="topology 'x': use none, o, c"):
         pinn_mesh(None, naca="0012", topology="x", size=(41, 17))
+
+
+def test_inside_polygon_needs_no_matplotlib():
+    """The far-field polyline's inside test (even-odd rule): points of a concave star."""
+    from pinn_engine.bodies.airfoil import inside_polygon
+
+    th = np.linspace(0, 2 * np.pi, 10, endpoint=False)
+    r = np.where(np.arange(10) % 2 == 0, 2.0, 1.0)
+    star = np.column_stack([r * np.cos(th), r * np.sin(th)])
+    pts = np.array([[0.0, 0.0], [1.9, 0.0], [3.0, 0.0], [1.5 * np.cos(th[1]), 1.5 * np.sin(th[1])]])
+    assert inside_polygon(pts, star).tolist() == [True, True, False, False]

@@ -218,6 +218,17 @@ def load_body(
     raise InputError("an airfoil body is read from a Selig or Lednicer .dat file", str(path))
 
 
+def inside_polygon(pts: np.ndarray, ring: np.ndarray) -> np.ndarray:
+    """Whether each point (P, 2) lies inside the closed polyline ``ring`` (n, 2): the even-odd
+    rule, counting the edges a ray in +x crosses (vectorised over points and edges)."""
+    a, b = ring, np.roll(ring, -1, axis=0)
+    x, y = pts[:, :1], pts[:, 1:]
+    spans = (a[:, 1] > y) != (b[:, 1] > y)  # the edge straddles the point's height
+    with np.errstate(divide="ignore", invalid="ignore"):
+        at = a[:, 0] + (y - a[:, 1]) * (b[:, 0] - a[:, 0]) / (b[:, 1] - a[:, 1])
+    return (spans & (x < at)).sum(axis=1) % 2 == 1
+
+
 @dataclass(frozen=True)
 class FarField:
     """A circle (``radius`` about ``center``) or a closed counter-clockwise polyline."""
@@ -229,9 +240,7 @@ class FarField:
     def contains(self, pts: np.ndarray) -> np.ndarray:
         if self.radius is not None:
             return np.linalg.norm(pts - self.center, axis=1) < self.radius
-        from matplotlib.path import Path as MPath
-
-        return MPath(self.polyline).contains_points(pts)
+        return inside_polygon(pts, self.polyline)
 
 
 def circle(body: Body, radius: float) -> FarField:
