@@ -15,7 +15,9 @@ only when a network is trained.
 Ports: input 0 the boundary (``vtkPolyData``, one closed polyline or polygon); input 1 the
 auxiliary lines (``vtkPolyData``, optional, any number of connections, each may hold several
 polylines); output 0 a ``vtkStructuredGrid`` as in SPEC 3, plus field data ``Trained``
-(1 when this update trained a network, 0 when it re-used one) and ``TrainingCount``.
+(1 when this update trained a network, 0 when it re-used one), ``TrainingCount``, and for a
+network ``NetworkResult`` (``network``: its grid was kept; ``start``: the guard kept the
+start) and ``LargestNodeMove`` (from start to result, of the diagonal).
 
 Errors (bad boundary, bad auxiliary line, failed or cancelled training, bad settings) are
 reported as one line ``PINN Structured Mesh: <message>`` through ``vtkOutputWindow`` (the
