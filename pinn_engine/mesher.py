@@ -154,7 +154,7 @@ class Mesher:
         mapping = self.model_.mapping
         nodes = None if mapping.warm is None else mapping.warm.nodes
         if nodes is not None and (len(nodes[0]), len(nodes[1])) == (ni, nj):
-            # the nodes of the orthogonal start (warmstart.py): first rows normal to the
+            # the nodes of the orthogonal start (starts/warmstart.py): first rows normal to the
             # walls and as far from them as the spacing asks
             return mapping.grid(ni, nj, params=np.stack(np.meshgrid(*nodes), axis=-1))
         return fit_params(

@@ -185,12 +185,12 @@ class Settings:
     boundary_mode: str = "hard"
     boundary_fit: str = "arclength"  # "arclength" or "tree" (paper)
     # "elliptic": start from the converged elliptic grid on ``lattice`` and stop L-BFGS at the
-    # last state no worse than it there (warmstart.py); "none": start from TFI (paper)
+    # last state no worse than it there (starts/warmstart.py); "none": start from TFI (paper)
     warm_start: str = "elliptic"
     lattice: tuple[int, int] = (41, 21)  # nodes of the warm start; routes use the output size
     residual: str = "scaled"  # Winslow residual: "paper" (eq. 13) or "scaled" (losses.py)
     # pinn: "winslow" (the Winslow equations) or "quality" (plus a cell-quality term, and the
-    # start and guard keep the best worst angle; training.py); other methods: "winslow"
+    # start and guard keep the best worst angle; blocks/quad.py); other methods: "winslow"
     objective: str = "winslow"
     hidden_layers: int = 4
     neurons: int = 30

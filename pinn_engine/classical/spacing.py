@@ -277,7 +277,7 @@ def interpolated_elliptic_at(
 ) -> Callable[[np.ndarray], np.ndarray]:
     """The elliptic map solved on the uniform ``ni`` x ``nj`` lattice (with orthogonality
     control), as a smooth map of the parameters (TFI plus a bicubic spline of the elliptic
-    correction, warmstart.py) evaluated at node parameters: the fallback where the solve
+    correction, classical/warm.py) evaluated at node parameters: the fallback where the solve
     with distribution controls does not converge."""
     from pinn_engine.classical.elliptic import safe_controlled_solve, winslow_solve
     from pinn_engine.classical.warm import WarmStart

@@ -5,7 +5,7 @@
   B = 16 xi (1 - xi) eta (1 - eta) vanishing on the boundary, so boundary nodes lie on the
   boundary by construction. Training takes the TFI's derivatives from a C2 spline through the
   boundary vertices; the grid uses the exact polyline TFI (they agree on the boundary). With
-  a warm start (warmstart.py) its correction, zero on the boundary, joins the TFI base.
+  a start (classical/warm.py) its correction, zero on the boundary, joins the TFI base.
 """
 
 from __future__ import annotations
