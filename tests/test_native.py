@@ -3,6 +3,10 @@
 from __future__ import annotations
 
 import logging
+import os
+import shutil
+import stat
+from pathlib import Path
 
 import pytest
 import torch
@@ -139,3 +143,167 @@ def test_the_fused_loss_refuses_groups_that_do_not_fit():
     for ends, sets in (([5], [1]), ([3, 2], [1, 1]), ([4], [2])):
         with pytest.raises(AssertionError, match="fused loss"):
             fused.loss(target, ends, sets, grads)
+
+
+# ---------------------------------------------------------------- the cache: only this user's
+
+
+@pytest.fixture
+def no_build(monkeypatch, tmp_path):
+    """``_compile`` stubbed (writes a file, records its target), the temporary directory in
+    ``tmp_path/tmp``: the cache's choices without a compiler."""
+    built = []
+
+    def fake_compile(compiler, folder, target):
+        target.write_bytes(b"built")
+        target.chmod(0o700)
+        built.append(target)
+        return target
+
+    monkeypatch.setattr(native, "_compile", fake_compile)
+    monkeypatch.setattr(native.tempfile, "gettempdir", lambda: str(tmp_path / "tmp"))
+    (tmp_path / "tmp").mkdir()
+    monkeypatch.setenv("PINN_MESH_CACHE", str(tmp_path / "cache"))
+    return built
+
+
+def _plant(folder: Path, mode: int = 0o700) -> Path:
+    """A library of the expected name in ``folder``, as another user would plant it."""
+    folder.mkdir(exist_ok=True)
+    planted = folder / f"jet_kernels-{native.build_key('c++')}.so"
+    planted.write_bytes(b"planted")
+    planted.chmod(mode)
+    return planted
+
+
+@pytest.mark.skipif(os.name == "nt", reason="POSIX owners and modes")
+def test_a_new_cache_folder_is_private(no_build, tmp_path):
+    path, fresh = native._built("c++")
+    assert fresh is None and path.parent == tmp_path / "cache" and path.read_bytes() == b"built"
+    assert stat.S_IMODE((tmp_path / "cache").stat().st_mode) == 0o700
+
+
+@pytest.mark.skipif(os.name == "nt", reason="POSIX owners and modes")
+def test_a_library_in_a_group_writable_cache_is_not_loaded(no_build, tmp_path, caplog):
+    planted = _plant(tmp_path / "cache")
+    (tmp_path / "cache").chmod(0o775)
+    with caplog.at_level(logging.WARNING):
+        path, fresh = native._built("c++")
+    assert path != planted and planted.read_bytes() == b"planted"
+    assert path.parent == tmp_path / "tmp" / f"pinn-mesh-{os.getuid()}" and fresh is None
+    assert "is writable by others (mode 775)" in caplog.text
+
+
+@pytest.mark.skipif(os.name == "nt", reason="POSIX owners and modes")
+def test_a_group_writable_library_is_built_again(no_build, tmp_path, caplog):
+    planted = _plant(tmp_path / "cache", mode=0o664)
+    (tmp_path / "cache").chmod(0o700)
+    with caplog.at_level(logging.WARNING):
+        path, _ = native._built("c++")
+    assert path == planted and path.read_bytes() == b"built"  # replaced, not loaded
+    assert "not loading" in caplog.text
+
+
+@pytest.mark.skipif(os.name == "nt", reason="POSIX owners and modes")
+def test_folders_and_libraries_of_another_user_are_not_used(no_build, tmp_path, monkeypatch):
+    for folder in (tmp_path / "cache", tmp_path / "tmp" / f"pinn-mesh-{os.getuid()}"):
+        _plant(folder)
+    real = os.getuid()
+    monkeypatch.setattr(native.os, "getuid", lambda: real + 1)  # everything is foreign now
+    path, fresh = native._built("c++")
+    assert fresh is not None and path.parent == fresh and path.read_bytes() == b"built"
+    assert fresh.parent == tmp_path / "tmp"
+
+
+@pytest.mark.skipif(os.name == "nt", reason="POSIX owners and modes")
+def test_a_library_owned_by_another_user_is_not_loaded(no_build, tmp_path, monkeypatch):
+    planted = _plant(tmp_path / "cache")
+    real_lstat, real_uid = os.lstat, os.getuid()
+
+    class Foreign:
+        def __init__(self, info):
+            self.st_mode, self.st_uid = info.st_mode, real_uid + 1
+
+    def lstat(path, *args, **kwargs):
+        info = real_lstat(path, *args, **kwargs)
+        return Foreign(info) if Path(path) == planted else info
+
+    monkeypatch.setattr(native.os, "lstat", lstat)
+    path, _ = native._built("c++")
+    assert path == planted and planted.read_bytes() == b"built"  # built again over it
+
+
+@needs_compiler
+@pytest.mark.skipif(os.name == "nt", reason="POSIX owners and modes")
+def test_the_engine_never_loads_a_planted_library(fresh_kernels, tmp_path, monkeypatch):
+    planted = _plant(tmp_path)
+    tmp_path.chmod(0o777)
+    monkeypatch.setattr(native.tempfile, "gettempdir", lambda: str(tmp_path / "tmp"))
+    loaded = []
+    real = native.ctypes.CDLL
+    monkeypatch.setattr(native.ctypes, "CDLL", lambda path: loaded.append(path) or real(path))
+    try:
+        assert native.kernels() is not None
+    finally:
+        tmp_path.chmod(0o700)
+    assert len(loaded) == 1 and Path(loaded[0]).name == planted.name  # the name it wanted
+    assert loaded[0] != str(planted) and planted.read_bytes() == b"planted"
+    assert stat.S_IMODE(Path(loaded[0]).stat().st_mode) == 0o700
+
+
+# ---------------------------------------------------------------- the build key
+
+
+def test_the_build_key_names_the_cpu(monkeypatch):
+    key = native.build_key("c++")
+    assert len(key) == 16 and int(key, 16) >= 0
+    monkeypatch.setattr(native, "_cpu_id", lambda: "x86_64 Linux model name=CPU A")
+    a = native.build_key("c++")
+    monkeypatch.setattr(native, "_cpu_id", lambda: "x86_64 Linux model name=CPU B")
+    assert native.build_key("c++") != a
+
+
+def test_the_cpu_is_identified_on_each_platform(monkeypatch, tmp_path):
+    cpuinfo = tmp_path / "cpuinfo"
+    cpuinfo.write_text(
+        "processor\t: 0\nvendor_id\t: GenuineIntel\nmodel name\t: Intel(R) Xeon(R) X\n"
+        "flags\t\t: fpu sse2 avx2\n\nprocessor\t: 1\nmodel name\t: other\n"
+    )
+    monkeypatch.setattr(native, "CPUINFO", cpuinfo)
+    monkeypatch.setattr(native.platform, "machine", lambda: "x86_64")
+    monkeypatch.setattr(native.platform, "system", lambda: "Linux")
+    linux = native._cpu_id()
+    assert "model name=Intel(R) Xeon(R) X" in linux and "avx2" in linux and "other" not in linux
+    sysctl = {"machdep.cpu.brand_string": "Apple M2", "machdep.cpu.features": ""}
+    monkeypatch.setattr(native, "_output", lambda command: sysctl.get(command[-1], ""))
+    monkeypatch.setattr(native.platform, "system", lambda: "Darwin")
+    monkeypatch.setattr(native.platform, "machine", lambda: "arm64")
+    assert native._cpu_id() == "arm64 Darwin Apple M2"
+    monkeypatch.setattr(native.platform, "system", lambda: "Windows")
+    monkeypatch.setattr(native.platform, "machine", lambda: "AMD64")
+    monkeypatch.setattr(native.platform, "processor", lambda: "Intel64 Family 6 Model 85")
+    assert native._cpu_id() == "AMD64 Windows Intel64 Family 6 Model 85"
+    monkeypatch.setattr(native.platform, "processor", lambda: "")
+    monkeypatch.setattr(native.platform, "machine", lambda: "")
+    monkeypatch.setattr(native.platform, "node", lambda: "box7")
+    assert native._cpu_id() == "unknown machine Windows unidentified CPU of host box7"
+
+
+# ---------------------------------------------------------------- a failing build
+
+
+@pytest.mark.skipif(not shutil.which("false"), reason="no `false` command")
+def test_a_failing_compile_raises_and_the_engine_falls_back(
+    fresh_kernels, monkeypatch, tmp_path, caplog
+):
+    compiler = shutil.which("false")
+    with pytest.raises(native.NativeBuildError, match=r"`.*false -O3 .*kernels\.cpp` failed"):
+        native._compile(compiler, tmp_path, tmp_path / "lib.so")
+    assert list(tmp_path.iterdir()) == []  # no temporary file left
+    monkeypatch.setenv("CXX", compiler)
+    with caplog.at_level(logging.WARNING):
+        assert native.kernels() is None
+    assert "could not build the fused jet kernels" in caplog.text and "false" in caplog.text
+    net = CoordinateNet("shortcut", 2, 5).double()
+    x = torch.rand(6, 2, dtype=torch.float64)
+    torch.testing.assert_close(net.jet(x)[0][0], net(x))  # through torch operations

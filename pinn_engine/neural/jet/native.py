@@ -2,9 +2,18 @@
 
 The library is built on first use into a per-user cache (``$PINN_MESH_CACHE``, else
 ``$XDG_CACHE_HOME/pinn-mesh`` or ``~/.cache/pinn-mesh``), keyed by the source, the compiler
-flags and the CPU, and loaded with ctypes: no Python or torch headers, a few seconds to build.
-Without a C++ compiler, or with ``PINN_MESH_NATIVE=0``, :func:`kernels` returns None and the
-networks use the same formulas as torch operations (slower, same results).
+(its path and version), the flags and the CPU (``-march=native`` code runs only on the CPU
+it was built for), and loaded with ctypes: no Python or torch headers, a few seconds to
+build. Without a C++ compiler, with ``PINN_MESH_NATIVE=0``, or when the build fails
+(:class:`NativeBuildError`), :func:`kernels` returns None and the networks use the same
+formulas as torch operations (slower, same results).
+
+Nothing is loaded from a folder that another user could write to. The cache folder is
+created with mode 0700; before a library is loaded, the folder and the file must belong to
+this user and be writable by nobody else (POSIX; on Windows the user's profile and
+temporary folders are private already). Where the cache folder fails that, the per-user
+folder in the temporary directory is tried, then a fresh private folder for this process
+alone, each time with a warning.
 """
 
 from __future__ import annotations
@@ -14,7 +23,9 @@ import functools
 import hashlib
 import logging
 import os
+import platform
 import shutil
+import stat
 import subprocess
 import tempfile
 from pathlib import Path
@@ -22,6 +33,33 @@ from pathlib import Path
 log = logging.getLogger(__name__)
 SOURCE = Path(__file__).with_name("kernels.cpp")
 FLAGS = ["-O3", "-march=native", "-fno-trapping-math", "-shared", "-fPIC", "-std=c++17", "-pthread"]
+CPUINFO = Path("/proc/cpuinfo")
+COMPILE_TIMEOUT = 120.0  # seconds
+# /proc/cpuinfo fields (first processor) that name the CPU and what it can run: x86 and ARM
+_CPU_FIELDS = (
+    "vendor_id",
+    "cpu family",
+    "model",
+    "model name",
+    "cpu model",
+    "hardware",
+    "cpu implementer",
+    "cpu architecture",
+    "cpu variant",
+    "cpu part",
+    "isa",
+    "flags",
+    "features",
+)
+
+
+class NativeBuildError(RuntimeError):
+    """The C++ kernels could not be built; the message names the compiler command and
+    ends with the end of its error output."""
+
+
+class NotPrivateError(OSError):
+    """A cache folder or library that another user could have written."""
 
 
 def _cache_dir() -> Path:
@@ -31,38 +69,154 @@ def _cache_dir() -> Path:
     return Path(base) / "pinn-mesh"
 
 
-def _cpu_flags() -> str:
+def _temporary_cache_dir() -> Path:
+    """The per-user folder in the temporary directory (the fallback for an unusable cache)."""
+    user = os.getuid() if hasattr(os, "getuid") else os.environ.get("USERNAME", "user")
+    return Path(tempfile.gettempdir()) / f"pinn-mesh-{user}"
+
+
+def _output(command: list[str]) -> str:
+    """The standard output of ``command``, stripped; "" where it cannot run or fails."""
     try:
-        with open("/proc/cpuinfo") as f:
-            return next((line for line in f if line.startswith("flags")), "")
+        done = subprocess.run(command, capture_output=True, text=True, timeout=10)
+    except (OSError, subprocess.SubprocessError):
+        return ""
+    return done.stdout.strip() if done.returncode == 0 else ""
+
+
+def _linux_cpu() -> str:
+    """The first processor's identifying fields of ``/proc/cpuinfo`` (model, flags)."""
+    try:
+        text = CPUINFO.read_text(errors="replace")
     except OSError:
         return ""
+    found = {}
+    for line in text.split("\n\n", 1)[0].splitlines():
+        key, sep, value = line.partition(":")
+        key = key.strip().lower()
+        if sep and key in _CPU_FIELDS and key not in found:
+            found[key] = " ".join(value.split())
+    return "; ".join(f"{k}={found[k]}" for k in _CPU_FIELDS if found.get(k))
 
 
-def _build(compiler: str, cache: Path) -> Path:
-    source = SOURCE.read_bytes()
-    key = hashlib.sha256(
-        b"\0".join([source, " ".join([compiler, *FLAGS]).encode(), _cpu_flags().encode()])
-    ).hexdigest()[:16]
-    target = cache / f"jet_kernels-{key}.so"
-    if target.exists():
-        return target
-    cache.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(suffix=".so.part", dir=cache)  # complete or absent, even if
-    os.close(fd)  # two processes build at once
+def _cpu_id() -> str:
+    """What identifies this CPU for ``-march=native`` code; never empty.
+
+    The machine (``platform.machine()``) and the CPU's model: ``/proc/cpuinfo`` on Linux
+    (model name and flags), ``sysctl -n machdep.cpu.brand_string`` (and the feature list
+    where there is one) on macOS, ``platform.processor()`` on Windows. Where none of these
+    says anything, the host's name: the build is then kept per machine.
+    """
+    system = platform.system()
+    if system == "Linux":
+        model = _linux_cpu()
+    elif system == "Darwin":
+        model = " ".join(
+            _output(["sysctl", "-n", name])
+            for name in ("machdep.cpu.brand_string", "machdep.cpu.features")
+        ).strip()
+    else:
+        model = platform.processor()
+    if not model:
+        model = f"unidentified CPU of host {platform.node() or 'unknown'}"
+    return f"{platform.machine() or 'unknown machine'} {system} {model}"
+
+
+def build_key(compiler: str) -> str:
+    """The library's key: a hash of the source, the compiler's path and version, the flags
+    and the CPU (:func:`_cpu_id`); 16 hex digits."""
+    version = _output([compiler, "--version"]).splitlines()[:1] or ["unknown version"]
+    parts = [
+        SOURCE.read_bytes(),
+        str(shutil.which(compiler) or compiler).encode(),
+        version[0].encode(),
+        " ".join(FLAGS).encode(),
+        _cpu_id().encode(),
+    ]
+    return hashlib.sha256(b"\0".join(parts)).hexdigest()[:16]
+
+
+def _not_private(path: Path, folder: bool) -> str | None:
+    """Why ``path`` (a folder or a library file) may hold what another user wrote; None if
+    it is this user's alone: owned by this user, writable by no one else, and no link
+    (``os.lstat``). Not checked on Windows (no POSIX owners and modes)."""
+    if os.name == "nt":
+        return None
+    info = os.lstat(path)
+    if stat.S_ISLNK(info.st_mode):
+        return "is a symbolic link"
+    if folder and not stat.S_ISDIR(info.st_mode):
+        return "is not a folder"
+    if not folder and not stat.S_ISREG(info.st_mode):
+        return "is not a regular file"
+    if info.st_uid != os.getuid():
+        return f"belongs to user {info.st_uid}, not to this user ({os.getuid()})"
+    if info.st_mode & (stat.S_IWGRP | stat.S_IWOTH):
+        return f"is writable by others (mode {stat.S_IMODE(info.st_mode):o})"
+    return None
+
+
+def _private_dir(path: Path) -> Path:
+    """``path``, created with mode 0700 if missing; raises ``NotPrivateError`` where it is
+    not this user's alone (:func:`_not_private`), ``OSError`` where it cannot be made."""
+    path.mkdir(mode=0o700, parents=True, exist_ok=True)
+    why = _not_private(path, folder=True)
+    if why:
+        raise NotPrivateError(f"cache folder {path} {why}")
+    return path
+
+
+def _compile(compiler: str, folder: Path, target: Path) -> Path:
+    """Build the library into ``target`` in ``folder``: complete or absent, even if two
+    processes build at once; readable and writable by this user alone."""
+    fd, tmp = tempfile.mkstemp(suffix=".so.part", dir=folder)
+    os.close(fd)
+    command = [compiler, *FLAGS, "-o", tmp, str(SOURCE)]
+    shown = " ".join(command)
     try:
-        subprocess.run(
-            [compiler, *FLAGS, "-o", tmp, str(SOURCE)],
-            check=True,
-            capture_output=True,
-            text=True,
-            timeout=120,
-        )
+        try:
+            done = subprocess.run(command, capture_output=True, text=True, timeout=COMPILE_TIMEOUT)
+        except subprocess.TimeoutExpired:
+            raise NativeBuildError(f"`{shown}` did not finish in {COMPILE_TIMEOUT:g} s") from None
+        except OSError as exc:  # the compiler cannot be run at all
+            raise NativeBuildError(f"`{shown}` could not run: {exc}") from None
+        if done.returncode != 0:
+            tail = (done.stderr or done.stdout or "no output").strip()[-800:]
+            raise NativeBuildError(f"`{shown}` failed (exit status {done.returncode}): {tail}")
+        os.chmod(tmp, 0o700)  # the compiler's own mode follows the umask (0775 under 002)
         os.replace(tmp, target)
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
     return target
+
+
+def _built(compiler: str) -> tuple[Path, Path | None]:
+    """The library for this source, compiler and CPU: (its path, the fresh folder to remove
+    after loading it or None). Found or built in the first private folder of: the cache,
+    the per-user folder in the temporary directory, a fresh private folder."""
+    name = f"jet_kernels-{build_key(compiler)}.so"
+    for candidate in (_cache_dir(), _temporary_cache_dir()):
+        try:
+            folder = _private_dir(candidate)
+            target = folder / name
+            if os.path.lexists(target):
+                why = _not_private(target, folder=False)
+                if why is None:
+                    return target, None
+                log.warning("not loading %s: it %s; building it again", target, why)
+            return _compile(compiler, folder, target), None
+        except NotPrivateError as exc:
+            log.warning("%s; not using it for the jet kernels", exc)
+        except OSError as exc:  # e.g. a read-only home: try the next folder
+            log.info("cannot use %s for the jet kernels (%s)", candidate, exc)
+    fresh = Path(tempfile.mkdtemp(prefix="pinn-mesh-"))  # 0700, this user's
+    log.warning("jet kernels built in a fresh private folder %s for this process", fresh)
+    try:
+        return _compile(compiler, fresh, fresh / name), fresh
+    except BaseException:
+        shutil.rmtree(fresh, ignore_errors=True)
+        raise
 
 
 def _bind(lib: ctypes.CDLL) -> ctypes.CDLL:
@@ -94,15 +248,15 @@ def kernels() -> ctypes.CDLL | None:
         log.info("no C++ compiler found: jet layers run as torch operations")
         return None
     try:
+        path, fresh = _built(compiler)
         try:
-            path = _build(compiler, _cache_dir())
-        except OSError:  # e.g. a read-only home: use the temporary directory
-            path = _build(compiler, Path(tempfile.gettempdir()) / f"pinn-mesh-{os.getuid()}")
-        return _bind(ctypes.CDLL(str(path)))
-    except (OSError, subprocess.SubprocessError, AttributeError) as exc:
-        detail = getattr(exc, "stderr", "") or exc
+            return _bind(ctypes.CDLL(str(path)))
+        finally:
+            if fresh is not None:  # loaded: the file can go (POSIX; Windows keeps it)
+                shutil.rmtree(fresh, ignore_errors=True)
+    except (OSError, NativeBuildError, AttributeError) as exc:
         log.warning(
             "could not build the fused jet kernels (%s); using torch operations",
-            str(detail).strip()[:500],
+            str(exc).strip()[-1000:],
         )
         return None
