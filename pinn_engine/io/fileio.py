@@ -241,7 +241,8 @@ def _read_in_child(path: Path) -> tuple[str | None, bytes] | None:
         _READ.move_to_end(key)
         return None, _READ[key]
     memory = PROBE_MEMORY + 64 * path.stat().st_size
-    command = [python, "-c", _CHILD_CODE, str(path), str(memory), json.dumps(sys.path)]
+    paths = json.dumps([str(p) for p in sys.path])
+    command = [python, "-c", _CHILD_CODE, str(path), str(memory), paths]
     try:
         done = subprocess.run(
             command,
