@@ -505,9 +505,12 @@ def _umask() -> int:
 def atomic_path(path: str | os.PathLike, suffix: str = ".part"):
     """Yield a temporary name next to ``path``; on success it replaces ``path`` atomically.
 
-    On any failure or interruption the temporary file is removed and ``path`` is untouched,
-    so the file is complete or absent, never half-written. Concurrent writers of the same
-    ``path`` each use their own temporary name; the last to finish wins.
+    The one way this package writes a file: the caller writes the temporary file (in this
+    process), which is flushed to disk (``fsync``) and renamed over ``path``. On any failure
+    or interruption the temporary file is removed and ``path`` is untouched, so the file is
+    complete or absent, never half-written; if the process is killed, ``path`` is untouched
+    and the temporary file stays. Concurrent writers of the same ``path`` each use their own
+    temporary name; the last to finish wins.
     """
     path = Path(path)
     try:
