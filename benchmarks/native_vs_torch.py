@@ -3,14 +3,14 @@
 Usage: ``.venv/bin/python benchmarks/native_vs_torch.py [--repeats 20] [--no-compile]``
 
 What is timed is what the paper preset's training does at each L-BFGS evaluation
-(``training._FusedLoss``): the default network (``CoordinateNet("shortcut", 4, 30, "tanh")``,
+(``blocks.quad._FusedLoss``): the default network (``CoordinateNet("shortcut", 4, 30, "tanh")``,
 both sub-networks), 1000 collocation points where the Winslow residual needs the map's first
 and second derivatives (L_eqns, paper eq. 11 and 13), 1000 boundary points (250 a side) with
 their targets (L_bcs), and the gradient of L_eqns + lambda1 L_bcs with respect to all 6182
 parameters. One torch thread (as training runs). Each way, in float64 and float32:
 
-- ``C++ kernel``: ``NativeJet.loss`` (``jet/kernels.cpp``), one call;
-- ``torch jet``: the same jets as torch operations (``jet/layers.py``, ``_TorchLayers``,
+- ``C++ kernel``: ``NativeJet.loss`` (``neural/jet/kernels.cpp``), one call;
+- ``torch jet``: the same jets as torch operations (``neural/jet/layers.py``, ``_TorchLayers``,
   hand-written backward; the path without a compiler), loss and ``torch.autograd.grad``;
 - ``torch.func jacfwd``: per point, ``jacfwd`` of ``jacfwd`` (value, first and second derivatives
   in one forward-over-forward pass), ``vmap`` over the points, ``torch.func.grad_and_value``
@@ -45,9 +45,9 @@ import time
 import torch
 from torch.func import functional_call, hessian, jacfwd, jvp, vmap
 
-from pinn_engine.jet import ETA, ETAETA, XI, XIETA, XIXI, layers, native
-from pinn_engine.losses import loss_eqns, loss_points
-from pinn_engine.networks import CoordinateNet
+from pinn_engine.neural.jet import ETA, ETAETA, XI, XIETA, XIXI, layers, native
+from pinn_engine.neural.losses import loss_eqns, loss_points
+from pinn_engine.neural.networks import CoordinateNet
 
 N_JET, N_SIDE, LAMBDA1 = 1000, 250, 1.7
 

@@ -323,7 +323,7 @@ def test_files_are_read_and_written_without_forking(tmp_path, monkeypatch):
         writer.Write()
         np.testing.assert_allclose(fileio.read_boundary_points(legacy), ring, atol=1e-9)
         assert len(started) == 2 + binary
-    from pinn_engine.pipeline import to_vtk
+    from pinn_engine.io.pipeline import to_vtk
 
     result = Mesher(make_settings("tfi")).fit(load_boundary(EXAMPLES / "wavy.vtp")).predict(5, 4)
     fileio.write_vts(to_vtk(result), tmp_path / "g.vts")
@@ -868,9 +868,9 @@ def test_a_process_killed_while_writing_leaves_the_target_as_it_was(tmp_path):
 import os, signal
 from pathlib import Path
 from vtkmodules.vtkIOXML import vtkXMLStructuredGridWriter
-from pinn_engine import fileio
+from pinn_engine.io import fileio
 from pinn_engine.mesher import Mesher
-from pinn_engine.pipeline import load_boundary, to_vtk
+from pinn_engine.io.pipeline import load_boundary, to_vtk
 from pinn_engine.settings import make_settings
 
 class DyingWriter(vtkXMLStructuredGridWriter):
