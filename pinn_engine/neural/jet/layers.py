@@ -136,6 +136,17 @@ def _rows(jet: Jet, extra: torch.Tensor) -> torch.Tensor:
     return torch.cat([torch.stack(jet[1:], dim=1).flatten(1, 2), jet[0], extra], dim=1)
 
 
+class NativeCallError(RuntimeError):
+    """A C++ kernel refused its call (a non-zero return code): a bug, never a user error."""
+
+
+def _check(rc: int, what: str) -> None:
+    """Raise :class:`NativeCallError` for a kernel's non-zero return code ``rc`` (an
+    exception, not an assert: ``python -O`` must not skip it)."""
+    if rc != 0:
+        raise NativeCallError(f"jet kernels: {what} (return code {rc})")
+
+
 class _TorchLayers:
     """Jet layers as torch operations: portable (any device), many small operations.
 
@@ -244,7 +255,7 @@ class NativeJet:
             jet.data_ptr(),
             values.data_ptr(),
         )
-        assert rc == 0, "jet kernels: unsupported width"
+        _check(rc, "unsupported width")
         return jet, values
 
     def backward(self, g_jet: torch.Tensor, g_values: torch.Tensor) -> list[torch.Tensor]:
@@ -256,7 +267,7 @@ class NativeJet:
             _ptr(g_values),
             self.pointers(grads),
         )
-        assert rc == 0, "jet kernels: unsupported width"
+        _check(rc, "unsupported width")
         return grads
 
     def loss(
@@ -290,7 +301,7 @@ class NativeJet:
             terms.data_ptr(),
             self.pointers([g for group in grads for g in group]),
         )
-        assert rc == 0, f"jet kernels: unsupported network for the fused loss ({rc})"
+        _check(rc, "unsupported network for the fused loss")
         return terms
 
 
