@@ -340,50 +340,17 @@ class PinnMeshAccessor:
         self.last: pv.StructuredGrid | None = None  # the last grid made, for save()
 
     def __call__(
-        self,
-        aux=None,
-        size: Sequence[int] = (41, 21),
-        method: str = "pinn",
-        *,
-        preset: str = "default",
-        corners: Sequence[int] | None = None,
-        adam_epochs: int | None = None,
-        lbfgs_iterations: int | None = None,
-        hidden_layers: int | None = None,
-        neurons: int | None = None,
-        lambda2: float | None = None,
-        seed: int | None = None,
-        spacing=None,
-        orthogonal=None,
-        progress: Callable[[dict], bool | None] | None = None,
-        **settings,
+        self, aux=None, size: Sequence[int] = (41, 21), method: str = "pinn", **options
     ) -> pv.StructuredGrid:
-        """Mesh the domain bounded by this PolyData; see ``pinn_mesh`` for the arguments.
+        """Mesh the domain bounded by this PolyData (or, with ``topology``, around this body);
+        the keyword ``options`` are those of :func:`pinn_mesh` (``help(pinn_mesh)``), with
+        this accessor's networks re-used.
 
         ``aux``: auxiliary polylines (PolyData or a list); ``size``: ``(ni, nj)`` nodes;
-        ``method``: pinn, mgnet, tfi or elliptic; ``preset``: default or paper; training
-        settings default to the preset's (5000 Adam epochs, 500 L-BFGS iterations).
-        Returns a ``pyvista.StructuredGrid`` with MaxIncludedAngle/MinIncludedAngle cells.
+        ``method``: pinn, mgnet, tfi or elliptic. Returns a ``pyvista.StructuredGrid`` with
+        MaxIncludedAngle/MinIncludedAngle cells.
         """
-        self.last = pinn_mesh(
-            self._mesh,
-            aux,
-            size,
-            method,
-            preset=preset,
-            corners=corners,
-            adam_epochs=adam_epochs,
-            lbfgs_iterations=lbfgs_iterations,
-            hidden_layers=hidden_layers,
-            neurons=neurons,
-            lambda2=lambda2,
-            seed=seed,
-            spacing=spacing,
-            orthogonal=orthogonal,
-            progress=progress,
-            cache=self._cache,
-            **settings,
-        )
+        self.last = pinn_mesh(self._mesh, aux, size, method, cache=self._cache, **options)
         return self.last
 
     mesh = __call__  # boundary.pinn_mesh.mesh(...) reads well too
