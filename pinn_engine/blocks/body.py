@@ -33,6 +33,7 @@ import torch
 from scipy.interpolate import RectBivariateSpline
 
 from pinn_engine.bodies import bodygrid
+from pinn_engine.classical.warm import JET_ORDERS
 from pinn_engine.neural.jet import ETA, XI
 from pinn_engine.neural.jet.layers import ACTIVATIONS
 from pinn_engine.neural.losses import loss_eqns, loss_orthogonal
@@ -75,9 +76,8 @@ class _Field:
     def jet(self, x: np.ndarray) -> np.ndarray:
         """(6, B, k): value, d_xi, d_eta, d_xixi, d_xieta, d_etaeta at points (xi, eta)."""
         xi, eta = x[:, 0], x[:, 1]
-        orders = ((0, 0), (0, 1), (1, 0), (0, 2), (1, 1), (2, 0))
         return np.stack(
-            [np.stack([s.ev(eta, xi, dx=a, dy=b) for s in self.splines], -1) for a, b in orders]
+            [np.stack([s.ev(eta, xi, dx=a, dy=b) for s in self.splines], -1) for a, b in JET_ORDERS]
         )
 
 

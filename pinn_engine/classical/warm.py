@@ -16,7 +16,7 @@ from scipy.interpolate import RectBivariateSpline
 from pinn_engine.classical.tfi import node_params
 
 # (d_eta, d_xi) orders of the jet channels V, XI, ETA, XIXI, XIETA, ETAETA (jet/layers.py)
-_ORDERS = ((0, 0), (0, 1), (1, 0), (0, 2), (1, 1), (2, 0))
+JET_ORDERS = ((0, 0), (0, 1), (1, 0), (0, 2), (1, 1), (2, 0))
 
 
 def _at_least_4(d: np.ndarray, axis: int) -> np.ndarray:
@@ -58,7 +58,7 @@ class WarmStart:
         jet = np.stack(
             [
                 np.stack([s.ev(eta, xi, dx=a, dy=b) for s in self._splines], axis=-1)
-                for a, b in _ORDERS
+                for a, b in JET_ORDERS
             ]
         )
         return jet
