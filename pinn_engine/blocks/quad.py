@@ -56,10 +56,16 @@ from pinn_engine.starts.warmstart import elliptic_start, lattice_for, orthogonal
 # cost some quality; the elliptic grid ignores the lines).
 GUARD_TOL = {False: (0.25, 1.0), True: (0.5, 2.0)}
 GUARD_WALL_ANGLE = 1.0  # degrees off 90 that the guard allows at orthogonal sides (SPEC 7: 2)
-WALL_POINTS = 200  # points per orthogonal side in the orthogonality term (SPEC 7)
+# points per orthogonal side in the orthogonality term (SPEC 7): five per cell at 41 nodes,
+# more than one per cell up to 201 (the guard checks the wall angle at every node anyway)
+WALL_POINTS = 200
 # --objective quality: weight of the cell-quality term (losses.loss_quality) beside the Winslow
-# term (the objective's start and its order of grids: quality_start.py)
+# term (the objective's start and its order of grids: quality_start.py); 1: both are means of
+# order one per point, and the guard's ranking, not the weight, decides what is kept
 QUALITY_WEIGHT = 1.0
+# L-BFGS's fixed batch has a quarter as many points a side as inside: the four sides
+# together as many as the interior (penalty mode)
+SIDE_SHARE = 4
 
 
 def wall_tangents(
@@ -202,7 +208,7 @@ class QuadProblem:
     def lbfgs_batch(self) -> tuple:
         """L-BFGS's fixed batch: ``lbfgs_points`` interior points, a quarter as many a side."""
         n = self.settings.lbfgs_points
-        return self.sample(n, max(n // 4, 1))
+        return self.sample(n, max(n // SIDE_SHARE, 1))
 
     def weights(self, lambda1: float) -> dict[str, float]:
         """The weights of the boundary and auxiliary-line terms, for the history."""

@@ -49,16 +49,69 @@ from pinn_engine.classical.spacing import exact_stretch
 from pinn_engine.errors import InputError
 
 TOPOLOGIES = ("o", "c")
+# All of these were set by hand when the body grids were built (4245c22, docs/airfoils.md), checked
+# on NACA 0012 and 4412 O- and C-grids against Construct2D (benchmarks/airfoils.py), not swept; each
+# line says what the value means.
+#
+# Nodes on the body and the wall-normal distribution (:func:`layout`), in units of the mean
+# tangential spacing on the body: the leading-edge spacing (0.2: fine where the curvature is), the
+# sharp trailing edge's (0.6: coarser, the edge is straight), a blunt base's at most 0.1 of its
+# height (a few nodes across the base), the default first edge off the wall (0.5: cells of aspect 2
+# at the wall); the C-grid's wake nodes a side, a share of ni (0.14: the wake takes about 2 x 14 %
+# of the nodes), and at least 3 intervals on either surface.
+LE_SPACING, TE_SPACING, BLUNT_TE_SPACING = 0.2, 0.6, 0.1
+WALL_SPACING = 0.5
+WAKE_SHARE = 0.14
+MIN_SURFACE_INTERVALS = 3
+# The marched rows end this many chords inside the far field (room for the blend onto it); the
+# C-grid's outflow needs this many chords of wake behind the trailing edge; the first edge at the
+# outflow is this share of the far field's mean row spacing (R / (nj - 1)).
+FAR_GAP = 0.25
+MIN_WAKE = 0.1
+OUTFLOW_FIRST = 0.5
+# Marching (:func:`march`): the Laplacian weight of the normals' smoothing per pass away from the
+# wall (0.5: the largest that damps the sawtooth without flipping it), reached with distance as 1 -
+# exp(-d / (NORMAL_REACH chords)) (0.3: 63 % of it 0.3 chords off, the rows near the wall stay on
+# the wall's normals); the O-grid's tangential slide towards equal spacing (0.1: a fifth of the
+# normals' weight, a gentle pull); the row smoothing per unit of a row's shrink (2.0: at 25 %
+# shrink, the largest stable weight), capped at ROW_SMOOTHING_MAX (0.5, as above); sub-steps no
+# longer than SUBSTEP of the row's smallest spacing (a step that outruns the spacing crosses lines
+# off a concave wall before smoothing acts), at most MAX_SUBSTEPS a row (a cap on the marching's
+# cost); smoothing passes a sub-step (2).
 NORMAL_SMOOTHING, TANGENT_SMOOTHING, NORMAL_REACH = 0.5, 0.1, 0.3
 CONCAVE_SMOOTHING = 2.0
+ROW_SMOOTHING_MAX = 0.5
+SUBSTEP = 0.5
 MAX_SUBSTEPS = 40
+MARCH_PASSES = 2
+# C-grid: behind the thickest point the columns turn vertical within 0.02 chords of the wall (the
+# aft normals lean downstream and would overtake the wake's columns), half way at the thickest
+# point, fully at the trailing edge (REAR_TURN_START of the turn).
 REAR_TURN = 0.02
+REAR_TURN_START = 0.5
+# The marched rows turn into straight lines to the far field between 0.5 and 2 chords from the wall
+# (C-grid; near the body the marched lines, far off the straight ones); the O-grid's projection onto
+# the far field is blended in as (distance share) ** O_BLEND_POWER (3: the inner rows stay marched,
+# the outer ones end on the far field smoothly).
 BLEND_START, BLEND_END = 0.5, 2.0  # chords
+O_BLEND_POWER = 3
+# Elliptic (:func:`elliptic`): the exact controls are kept at the wall and smoothed away from it
+# with weight exp(-0.05 (j - 1)) (half at 14 rows from the wall) over 10 Jacobi passes; the sweeps
+# are under-relaxed by 0.5 (each moves a node half way to its Jacobi update); 1000 sweeps, the
+# paper's PDE iteration; the first two rows are held (first layer height and wall angle exact).
 CONTROL_DECAY, CONTROL_PASSES = 0.05, 10
 JACOBI_RELAX = 0.5
 ELLIPTIC_SWEEPS = 1000
 HELD_ROWS = 2
+# The sweeps are checked every 100 (a check is a whole grid's quality figures) and stop at the last
+# state with no more folds and a worst angle at most 2 degrees above the reference's (issue 11's
+# worst-angle bound; a stopping criterion, the body grids have no other bound).
 CHECK_EVERY, CHECK_WORST = 100, 2.0
+# The body curve: samples of the spline for the leading edge (20001: 5e-5 of the perimeter) and of
+# an arc's length (2001), and the share of the perimeter either side of a blunt trailing edge
+# searched for its largest x (5 %).
+CURVE_SAMPLES, ARC_SAMPLES = 20001, 2001
+TE_SEARCH = 0.05
 
 
 # ---------------------------------------------------------------- the body curve
@@ -78,11 +131,11 @@ class BodyCurve:
             t, pts, axis=0, bc_type="not-a-knot" if body.sharp else "periodic"
         )
         self.body = body
-        dense = np.linspace(0.0, self.length, 20001)
+        dense = np.linspace(0.0, self.length, CURVE_SAMPLES)
         self.t0 = 0.0
         if not body.sharp:
-            near = np.abs(dense - self.length) < 0.05 * self.length
-            near |= dense < 0.05 * self.length
+            near = np.abs(dense - self.length) < TE_SEARCH * self.length
+            near |= dense < TE_SEARCH * self.length
             x = np.where(near, self.spline(dense)[:, 0], -np.inf)
             t_best = float(dense[np.argmax(x)])
             step = dense[1] - dense[0]
@@ -103,7 +156,7 @@ class BodyCurve:
         return self.spline(np.clip(t, 0.0, self.length))
 
     def arc(self, t0: float, t1: float) -> float:
-        s = self.at(np.linspace(t0, t1, 2001))
+        s = self.at(np.linspace(t0, t1, ARC_SAMPLES))
         return float(np.linalg.norm(np.diff(s, axis=0), axis=1).sum())
 
 
@@ -208,7 +261,7 @@ def march(
     distances: np.ndarray,
     scale: float,
     n_wake: int = 0,
-    passes: int = 2,
+    passes: int = MARCH_PASSES,
     tangent: float = 0.0,
 ) -> np.ndarray:
     """Rows marched from ``inner`` along their own normals by the steps of ``distances``
@@ -228,7 +281,9 @@ def march(
         x_t = rear_start(inner, n_wake)
         share = np.clip((x - x_t) / (x[n_wake] - x_t), 0.0, 1.0)
         share[: n_wake + 1] = share[ni - n_wake - 1 :] = 1.0
-        rear = np.where(x >= x_t, 1.0, 0.0)[:, None] * (0.5 + 0.5 * share[:, None])
+        rear = np.where(x >= x_t, 1.0, 0.0)[:, None] * (
+            REAR_TURN_START + (1 - REAR_TURN_START) * share[:, None]
+        )
         side = np.where(np.arange(ni) < ni // 2, -1.0, 1.0)
         vertical = np.column_stack([np.zeros(ni), side])
     q = inner
@@ -243,7 +298,7 @@ def march(
             rows.append(q)
             continue
         subs = int(
-            min(MAX_SUBSTEPS, max(1, math.ceil(step / (0.5 * _row_spacing(q, topology).min()))))
+            min(MAX_SUBSTEPS, max(1, math.ceil(step / (SUBSTEP * _row_spacing(q, topology).min()))))
         )
         for k in range(subs):
             d = distances[j - 1] + step * (k + 1) / subs
@@ -257,7 +312,7 @@ def march(
                 n /= np.linalg.norm(n, axis=1, keepdims=True)
             q = q + (step / subs) * n
             shrink = np.clip(1 - _row_spacing(q, topology) / spacing0, 0.0, 1.0)
-            eps = np.minimum(0.5, CONCAVE_SMOOTHING * shrink)[:, None]
+            eps = np.minimum(ROW_SMOOTHING_MAX, CONCAVE_SMOOTHING * shrink)[:, None]
             if topology == "c":  # the wake's columns run straight: no sliding along rows
                 eps[:n_wake] = eps[len(q) - n_wake :] = 0.0
             for _ in range(passes):
@@ -310,7 +365,7 @@ def layout(
                 "from a file works with {topology}",
                 body.source,
             )
-        n_w = wake_nodes if wake_nodes is not None else max(2, round(0.14 * ni))
+        n_w = wake_nodes if wake_nodes is not None else max(2, round(WAKE_SHARE * ni))
         n_b = ni - 1 - 2 * n_w
         if n_b < 6:
             raise InputError(
@@ -320,17 +375,18 @@ def layout(
     else:
         n_w, n_b = 0, ni - 1
     l_up, l_lo = curve.arc(0, curve.t_le), curve.arc(curve.t_le, curve.length)
-    n_up = int(np.clip(round(n_b * l_up / (l_up + l_lo)), 3, n_b - 3))
+    n_up = round(n_b * l_up / (l_up + l_lo))
+    n_up = int(np.clip(n_up, MIN_SURFACE_INTERVALS, n_b - MIN_SURFACE_INTERVALS))
     mean = (l_up + l_lo) / n_b
-    d_le = le_spacing * chord if le_spacing else 0.2 * mean
+    d_le = le_spacing * chord if le_spacing else LE_SPACING * mean
     if te_spacing:
         d_te = te_spacing * chord
     elif body.sharp:
-        d_te = 0.6 * mean
+        d_te = TE_SPACING * mean
     else:
-        d_te = min(0.6 * mean, 0.1 * body.te_gap)
+        d_te = min(TE_SPACING * mean, BLUNT_TE_SPACING * body.te_gap)
     surf = _surface_nodes(curve, n_up, n_b - n_up, d_te, d_le)
-    h = wall_spacing * 1.0 if wall_spacing else 0.5 * mean
+    h = wall_spacing * 1.0 if wall_spacing else WALL_SPACING * mean
     radius = far.radius
     if topology == "o":
         inner = surf
@@ -338,7 +394,7 @@ def layout(
     else:
         te = surf[0]
         x_out = center[0] + radius
-        if x_out <= te[0] + 0.1 * chord:
+        if x_out <= te[0] + MIN_WAKE * chord:
             raise InputError(
                 f"the far-field radius leaves no room for the wake (outflow at "
                 f"x = {x_out:.3g}); give a larger radius ({{farfield}})",
@@ -351,12 +407,12 @@ def layout(
         inner = np.concatenate([wake_pts[::-1], body_c[1:-1], wake_pts])
     # the wall-orthogonal reference: rows marched off j = 0, the last one projected onto the
     # far field, the projection blended in over the outer rows
-    reach = _far_distance(inner, far, topology) - 0.25 * chord
+    reach = _far_distance(inner, far, topology) - FAR_GAP * chord
     dist = reach * exact_stretch(nj, h / reach)[0]
     reference, outer = reference_grid(inner, far, topology, dist, chord, n_w)
     first = np.full(ni, h)
     if topology == "c":  # the first edge grows along the wake to the outflow
-        far_first = 0.5 * radius / (nj - 1)
+        far_first = OUTFLOW_FIRST * radius / (nj - 1)
         x = inner[:, 0]
         frac = np.clip((x - inner[n_w, 0]) / (x[0] - inner[n_w, 0]), 0.0, 1.0)
         idx = np.arange(ni)
@@ -377,7 +433,7 @@ def reference_grid(
         marched = march(inner, topology, dist, chord, n_wake, tangent=TANGENT_SMOOTHING)
         outer = _project(marched[-1], far, topology, inner)
         outer[-1] = outer[0]
-        blend = ((dist / dist[-1]) ** 3)[:, None, None]
+        blend = ((dist / dist[-1]) ** O_BLEND_POWER)[:, None, None]
         grid = marched + blend * (outer - marched[-1])[None]
         grid[-1] = outer
         return grid, outer

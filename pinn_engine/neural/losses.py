@@ -11,6 +11,19 @@ import torch
 
 from pinn_engine.neural.jet import ETA, ETAETA, XI, XIETA, XIXI
 
+# loss_quality (``--objective quality``): the soft maximum's temperature, 0.035 radians = 2
+# degrees (the worst angle is met within about tau log(cells): a few degrees; a colder one
+# pulls only the single worst corner, whose gradient then jumps between corners and stalls
+# L-BFGS); the mean term's weight (1: the mean and the soft worst angle count alike, both
+# bounded by issue 14's item 3); the sine below which a corner is barred, 0.05 (177 degrees:
+# nearly flat or reflex, a fold) and the barrier's weight (a reflex corner, sine below 0,
+# costs at least 100 * 0.05^2 = 0.25, as much as 14 degrees of the soft maximum in radians:
+# unfolding comes first). Set by hand with the objective (c2c7443), not swept.
+QUALITY_TAU = 0.035
+QUALITY_MEAN_WEIGHT = 1.0
+QUALITY_MIN_SINE = 0.05
+QUALITY_BARRIER_WEIGHT = 100.0
+
 
 def winslow_residual(jet: torch.Tensor, controls: torch.Tensor | None = None) -> torch.Tensor:
     """e1, e2 of paper eq. 13, with alpha, beta, gamma of eq. 8: shape (B, 2).
@@ -124,14 +137,16 @@ def corner_angles(grid: torch.Tensor, orientation: float) -> torch.Tensor:
     return torch.stack(angles)
 
 
-def loss_quality(theta: torch.Tensor, tau: float = 0.035, mean_weight: float = 1.0) -> torch.Tensor:
+def loss_quality(
+    theta: torch.Tensor, tau: float = QUALITY_TAU, mean_weight: float = QUALITY_MEAN_WEIGHT
+) -> torch.Tensor:
     """Cell-quality term of ``--objective quality`` from the corner angles ``theta`` of a
     grid's cells (:func:`corner_angles`): a soft maximum (log-sum-exp at temperature ``tau``
     radians, 2 degrees) of all of them, which pulls the worst cell's largest angle down, plus
     ``mean_weight`` times the mean over cells of each cell's soft largest angle (the mean
-    MaxIncludedAngle), plus a barrier on corners whose sine is below 0.05 (nearly flat,
-    reflex: folded), which unfolds cells."""
+    MaxIncludedAngle), plus ``QUALITY_BARRIER_WEIGHT`` times a barrier on corners whose sine
+    is below ``QUALITY_MIN_SINE`` (nearly flat, reflex: folded), which unfolds cells."""
     soft_max = tau * torch.logsumexp(theta.flatten() / tau, dim=0)
     cell_max = tau * torch.logsumexp(theta / tau, dim=0)
-    barrier = torch.relu(0.05 - torch.sin(theta)).pow(2).sum()
-    return soft_max + mean_weight * cell_max.mean() + 100.0 * barrier
+    barrier = torch.relu(QUALITY_MIN_SINE - torch.sin(theta)).pow(2).sum()
+    return soft_max + mean_weight * cell_max.mean() + QUALITY_BARRIER_WEIGHT * barrier

@@ -53,9 +53,15 @@ OPPOSITE = {"bottom": "top", "top": "bottom", "left": "right", "right": "left"}
 # which its shear tapers to zero at the corners, and the wall angle (degrees off 90) it must
 # keep to be chosen over the solve inside the normal rows, and how much larger than that
 # grid's its largest growth ratio may be (the shear must not break the spacing's growth).
-SHEAR_TAPER = 0.03
-SHEAR_WALL_TOL = 1.0
-SHEAR_GROWTH = 1.1
+SHEAR_TAPER = 0.03  # 3 % of the side: about one cell at 41 nodes
+SHEAR_WALL_TOL = 1.0  # half SPEC 7's 2 degrees, as the guard's GUARD_WALL_ANGLE
+SHEAR_GROWTH = 1.1  # 10 %: the shear may not turn a smooth spacing into a visible kink
+# The parameter distance over which a side's shear goes back to zero: across the domain,
+# or half of it when the opposite side is sheared too (the two shears must not overlap).
+SHEAR_REACH = {False: 1.0, True: 0.5}
+# Worst angles of candidate grids are compared to 0.001 degrees (below that, differences of
+# solves with the same outcome), so that the mean decides between equal ones.
+RANK_DECIMALS = 3
 # Repair of a folded start: the sine of the flattest cell corner the barrier allows (0.1:
 # 174 degrees); (weight of the wall term against the scaled residual, L-BFGS iterations,
 # cells around a folded cell or a wall angle over SPEC 7's 2 degrees whose nodes move) of
@@ -72,6 +78,25 @@ REPAIR_CHAIN = ((1e3, 400, 6), (1e4, 400, 6))
 ROW_NEAR = 0.9
 ROW_CROSSING = 0.5
 ROW_SLOPE = 0.5
+# The barrier's weight in the repair: a corner at the flattest sine allowed minus 0.1 (a
+# fold) costs 100 * 0.1^2 = 1, the scaled residual's order over a whole grid, so one folded
+# corner outweighs the smoothness it buys; the same as losses.QUALITY_BARRIER_WEIGHT
+# (set by hand, not swept).
+REPAIR_BARRIER_WEIGHT = 100.0
+# L-BFGS of the repair: the history kept (20 pairs: a few hundred free nodes converge in the
+# iterations given), tolerances below float64 noise (the iteration budget stops it, not
+# them), and the iterations charged to a restart at least 1/8 of the budget (so that a
+# barrier that stops every line search at once cannot restart for ever).
+REPAIR_LBFGS = {"maxcor": 20, "ftol": 1e-15, "gtol": 1e-12}
+REPAIR_RESTART_SHARE = 8
+# A grid narrower than this many nodes has no row between the first rows of opposite
+# sides and the corners' two nodes each (SPEC 7): it is returned as it is.
+MIN_NODES = 5
+# |det| below which two nearly parallel lines are taken not to cross (row_heights: unit
+# vectors, so this is a sine of their angle of 1e-12), and two wall normals at a corner
+# are taken for a straight angle (normal_rows: a sine of 1e-6, 2e-4 degrees).
+PARALLEL_SINE = 1e-12
+STRAIGHT_SINE = 1e-6
 
 
 def _wall_and_row(g, side: str):
@@ -144,7 +169,7 @@ def row_heights(wall: np.ndarray, ways: np.ndarray, wanted: np.ndarray) -> np.nd
         det = b[:, 0] * a[:, 1] - a[:, 0] * b[:, 1]  # of the system s a - t b = d
         s = (b[:, 0] * d[:, 1] - d[:, 0] * b[:, 1]) / det
         t = (a[:, 0] * d[:, 1] - d[:, 0] * a[:, 1]) / det
-    crossing = (np.abs(det) > 1e-12) & (s > 0) & (t > 0)
+    crossing = (np.abs(det) > PARALLEL_SINE) & (s > 0) & (t > 0)
     h = np.array(wanted, dtype=float)
     near = crossing & (h[:-1] > ROW_NEAR * s)
     h[:-1] = np.where(near, np.minimum(h[:-1], ROW_CROSSING * s), h[:-1])
@@ -204,7 +229,7 @@ def normal_rows(
             a.append(nrm)
             rhs.append(heights.get(s, float((other_end - out[j, i]) @ nrm)) + float(end @ nrm))
         a = np.array(a)
-        if abs(np.linalg.det(a)) > 1e-6:  # else a straight angle: keep the node
+        if abs(np.linalg.det(a)) > STRAIGHT_SINE:  # else a straight angle: keep the node
             out[j + dj, i + di] = np.linalg.solve(a, np.array(rhs))
     return out
 
@@ -230,7 +255,7 @@ def orthogonal_grid(
     where both candidates would (none does on benchmarks/orthogonal.py's hard shapes),
     ``grid`` itself is returned, and the report shows how far its lines are off 90."""
     sides = tuple(s for s in SIDES if s in sides)
-    if not sides or min(grid.shape[:2]) < 5:
+    if not sides or min(grid.shape[:2]) < MIN_NODES:
         return np.array(grid, dtype=float)
     out = min(
         (solved_rows(grid, sides, params, heights, limit) for limit in (True, False)),
@@ -292,7 +317,7 @@ def _rank(grid: np.ndarray, sides: tuple[str, ...], tol: float = 0.0) -> tuple:
     return (
         q["folded_cells"],
         wall > (tol or SHEAR_WALL_TOL),
-        round(q["worst_max_angle"], 3),
+        round(q["worst_max_angle"], RANK_DECIMALS),
         q["mean_max_angle"],
     )
 
@@ -326,7 +351,7 @@ def sheared_grid(
         shift = -np.einsum("ij,ij->i", g[1] - wall, tau)[:, None] * tau  # (nodes, 2)
         t = np.linspace(0.0, 1.0, len(wall))
         shift *= (np.tanh(t / SHEAR_TAPER) * np.tanh((1 - t) / SHEAR_TAPER))[:, None]
-        reach = 0.5 if OPPOSITE[side] in sides else 1.0
+        reach = SHEAR_REACH[OPPOSITE[side] in sides]
         w = np.where(p < reach, p * (1 - p / reach) ** 2, 0.0)  # (rows, nodes)
         moved = shift[None] * (w / np.maximum(w[1:2], 1e-300))[..., None]
         if not near:
@@ -405,7 +430,7 @@ def repair(
         g = torch.cat([fixed[:1], rows, fixed[-1:]])
         theta = corner_angles(g, sense)
         barrier = torch.relu(REPAIR_MIN_SINE - torch.sin(theta)).pow(2).sum()
-        term = weight * _wall_term(g, sides) + 100.0 * barrier
+        term = weight * _wall_term(g, sides) + REPAIR_BARRIER_WEIGHT * barrier
         term.backward()
         grad = grad + u.grad.numpy()
         return value + float(term.detach()), (grad[free] * edges).ravel()
@@ -418,9 +443,9 @@ def repair(
                 x,
                 jac=True,
                 method="L-BFGS-B",
-                options={"maxiter": left, "maxcor": 20, "ftol": 1e-15, "gtol": 1e-12},
+                options={"maxiter": left, **REPAIR_LBFGS},
             )
-            x, left = result.x, left - max(result.nit, iterations // 8)
+            x, left = result.x, left - max(result.nit, iterations // REPAIR_RESTART_SHARE)
     out = np.array(grid, dtype=float)
     out[1:-1, 1:-1] = nodes(x).reshape(out[1:-1, 1:-1].shape)
     return out if folded_cells(out).sum() <= folded_cells(grid).sum() else np.array(grid)

@@ -37,6 +37,31 @@ PULL_ROUNDS = 15  # rounds of pull_onto_lines at most
 PULL_WEIGHT = 1e5  # of the lines against the smoothness of the pull's moves (more: folds)
 RELAX_ITERATIONS = 10  # Winslow iterations of relax_on_lines
 RELAX_WEIGHT = 10.0  # of the lines against the Winslow equations there (more: folds)
+# The blends of the start (:func:`quality_start`): elliptic + w (TFI - elliptic) for w in
+# 0.1 .. 0.9, a tenth apart: the ranking's figures change little within a tenth (TFI has the
+# lower worst angle at sharp notches, the elliptic grid the lower mean), and nine grids cost
+# nine evaluations of the figures, a small part of the start.
+BLEND_WEIGHTS = np.arange(1, 10) / 10
+# The ranking's steps (:meth:`Ranking.key`): the mean to 0.01 degrees and the line distance
+# to 1e-5 of the diagonal (a step is a difference that matters; smaller ones, of the same
+# grid solved twice, must not decide), the worst angle to 0.001 degrees; and the slack of the
+# rounding up (a value at the bound to rounding error is at it).
+MEAN_STEP = 0.01
+LINE_STEP = 1e-5
+WORST_DECIMALS = 3
+STEP_SLACK = 1e-9
+# The pull's step is halved after a round that does not bring the grid closer or folds; it
+# gives up below 1/8 (three halvings: a smaller step does not move the grid visibly).
+PULL_MIN_STEP = 0.125
+# A Jacobian is singular (a degenerate cell at a corner) when its determinant is below this
+# share of its squared size (float64's noise on the products, with a margin).
+SINGULAR_SHARE = 1e-12
+# L-BFGS of the node optimisation: the history kept (10 pairs, scipy's default), at most
+# three evaluations an iteration (line searches), tolerances below float64's noise (the
+# iterations stop it, and it keeps the best-ranked state it met).
+NODE_LBFGS = {"maxcor": 10, "ftol": 1e-15, "gtol": 1e-12}
+NODE_EVALUATIONS = 3
+FOLDED_ANGLE = 180.0  # degrees: a corner above it is reflex, its cell folded (quality.py)
 
 
 @dataclass(frozen=True)
@@ -89,16 +114,16 @@ class Ranking:
         then a smaller distance from the lines beyond ``line_tol`` (in steps of 1e-5 of the
         diagonal), then a smaller worst angle (to 0.001 degrees)."""
         return (
-            _steps_above(q["mean_max_angle"], self.mean_bound, 0.01),
+            _steps_above(q["mean_max_angle"], self.mean_bound, MEAN_STEP),
             q["folded_cells"],
-            _steps_above(q.get("aux_distance", 0.0), self.line_tol, 1e-5),
-            round(q["worst_max_angle"], 3),
+            _steps_above(q.get("aux_distance", 0.0), self.line_tol, LINE_STEP),
+            round(q["worst_max_angle"], WORST_DECIMALS),
         )
 
 
 def _steps_above(value: float, bound: float, step: float) -> float:
     """How far ``value`` is above ``bound``, rounded up to whole ``step`` (0 at or below)."""
-    return math.ceil(max(0.0, value - bound) / step - 1e-9) * step
+    return math.ceil(max(0.0, value - bound) / step - STEP_SLACK) * step
 
 
 def quality_start(
@@ -112,7 +137,7 @@ def quality_start(
     raised to the elliptic grid on the lines'."""
     tfi = elliptic - warm.correction
     candidates = [(elliptic, "elliptic"), (tfi, "tfi")] + [
-        (elliptic + w * (tfi - elliptic), f"{w:.1f} tfi + elliptic") for w in np.arange(1, 10) / 10
+        (elliptic + w * (tfi - elliptic), f"{w:.1f} tfi + elliptic") for w in BLEND_WEIGHTS
     ]
     if ranking.lines:
         on_lines = follow_lines(elliptic, ranking)
@@ -200,7 +225,7 @@ def _inverse_times(jac: np.ndarray, v: np.ndarray) -> np.ndarray:
         axis=-1,
     )
     scale = np.einsum("nij,nij->n", jac, jac)
-    ok = np.abs(det) > 1e-12 * scale
+    ok = np.abs(det) > SINGULAR_SHARE * scale
     return np.where(ok[:, None], adj_v / np.where(ok, det, 1.0)[:, None], 0.0)
 
 
@@ -237,7 +262,7 @@ def pull_onto_lines(grid: np.ndarray, ranking: Ranking) -> np.ndarray:
 
     q, step = ranking.quality(grid), 1.0
     for _ in range(PULL_ROUNDS):
-        if q["aux_distance"] <= ranking.line_tol or step < 0.125:
+        if q["aux_distance"] <= ranking.line_tol or step < PULL_MIN_STEP:
             break
         moved = _pull_round(grid, curves, smoothest, step)
         q_moved = ranking.quality(moved)
@@ -334,7 +359,7 @@ def optimize_nodes(grid: np.ndarray, ranking: Ranking, iterations: int) -> np.nd
         with torch.no_grad():
             largest = torch.rad2deg(theta.max(dim=0).values)
             q.update(
-                folded_cells=int((largest > 180.0).sum()),
+                folded_cells=int((largest > FOLDED_ANGLE).sum()),
                 mean_max_angle=float(largest.mean()),
                 worst_max_angle=float(largest.max()),
             )
@@ -348,13 +373,7 @@ def optimize_nodes(grid: np.ndarray, ranking: Ranking, iterations: int) -> np.nd
         np.zeros(inner0.numel()),
         jac=True,
         method="L-BFGS-B",
-        options={
-            "maxiter": iterations,
-            "maxcor": 10,
-            "maxfun": 3 * iterations,
-            "ftol": 1e-15,
-            "gtol": 1e-12,
-        },
+        options={"maxiter": iterations, "maxfun": NODE_EVALUATIONS * iterations, **NODE_LBFGS},
     )
     out = np.array(grid, dtype=float)
     out[1:-1, 1:-1] += (unit * torch.from_numpy(best[1]).view(inner0.shape)).numpy()
