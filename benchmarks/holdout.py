@@ -239,7 +239,32 @@ def _family(name: str) -> str:
     return name.split("_")[1] if name.startswith("h") else "tuning"
 
 
-def markdown(records: list[dict], pages: dict, sizes: list[str], with_tuning: bool) -> str:
+NOTES = "## Stopping criteria and bounds"  # a hand-written section the page keeps
+
+
+def kept_notes(page: Path) -> list[str]:
+    """The lines of the hand-written section ``NOTES`` of an existing page (up to the next
+    section), so that a rerun keeps it."""
+    if not page.exists():
+        return []
+    lines = page.read_text().splitlines()
+    if NOTES not in lines:
+        return []
+    start = lines.index(NOTES)
+    end = next((k for k in range(start + 1, len(lines)) if lines[k].startswith("## ")), None)
+    notes = lines[start:end]
+    while notes and not notes[-1].strip():
+        notes.pop()
+    return notes + [""]
+
+
+def markdown(
+    records: list[dict],
+    pages: dict,
+    sizes: list[str],
+    with_tuning: bool,
+    notes: list[str] | None = None,
+) -> str:
     hold = [r for r in records if r["set"] == "holdout"]
     tune = [r for r in records if r["set"] == "tuning"]
     n_shapes = len({r["shape"] for r in hold})
@@ -315,8 +340,8 @@ def markdown(records: list[dict], pages: dict, sizes: list[str], with_tuning: bo
             f"- `{r['shape']}` {r['size']}, {LABELS[m]}: {failure_text(r, m)}"
             for r, m in tune_failures
         ] or ["None."]
+    lines += [""] + (notes or [])
     lines += [
-        "",
         "## Every grid",
         "",
         "Mean / worst `MaxIncludedAngle` (folded cells if any); walls: degrees off 90 at the "
@@ -356,7 +381,8 @@ def main() -> None:
     if args.from_json:
         data = json.loads(out.with_suffix(".json").read_text())
         tuning = any(r["set"] == "tuning" for r in data["records"])
-        md = markdown(data["records"], data["tuning_pages"], data["sizes"], tuning)
+        notes = kept_notes(out.with_suffix(".md"))
+        md = markdown(data["records"], data["tuning_pages"], data["sizes"], tuning, notes)
         out.with_suffix(".md").write_text(md)
         print(f"wrote {out.with_suffix('.md')}")
         return
@@ -384,7 +410,9 @@ def main() -> None:
     out.with_suffix(".json").write_text(
         json.dumps({"sizes": args.sizes, "tuning_pages": pages, "records": records}, indent=1)
     )
-    out.with_suffix(".md").write_text(markdown(records, pages, args.sizes, args.with_tuning))
+    notes = kept_notes(out.with_suffix(".md"))
+    md = markdown(records, pages, args.sizes, args.with_tuning, notes)
+    out.with_suffix(".md").write_text(md)
     for method in METHODS:
         hold = [r for r in records if r["set"] == "holdout"]
         print(f"{method}: hold-out {_frac(_count(hold, method))}")
