@@ -56,9 +56,9 @@ TOPOLOGIES = ("o", "c")
 # Nodes on the body and the wall-normal distribution (:func:`layout`), in units of the mean
 # tangential spacing on the body: the leading-edge spacing (0.2: fine where the curvature is), the
 # sharp trailing edge's (0.6: coarser, the edge is straight), a blunt base's at most 0.1 of its
-# height (a few nodes across the base), the default first edge off the wall (0.5: cells of aspect 2
-# at the wall); the C-grid's wake nodes a side, a share of ni (0.14: the wake takes about 2 x 14 %
-# of the nodes), and at least 3 intervals on either surface.
+# height (about ten intervals across the base), the default first edge off the wall (0.5: cells of
+# aspect 2 at the wall); the C-grid's wake nodes a side, a share of ni (0.14: the wake takes about 2
+# x 14 % of the nodes), and at least 3 intervals on either surface.
 LE_SPACING, TE_SPACING, BLUNT_TE_SPACING = 0.2, 0.6, 0.1
 WALL_SPACING = 0.5
 WAKE_SHARE = 0.14
