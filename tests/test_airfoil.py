@@ -328,3 +328,25 @@ def test_inside_polygon_needs_no_matplotlib():
     star = np.column_stack([r * np.cos(th), r * np.sin(th)])
     pts = np.array([[0.0, 0.0], [1.9, 0.0], [3.0, 0.0], [1.5 * np.cos(th[1]), 1.5 * np.sin(th[1])]])
     assert inside_polygon(pts, star).tolist() == [True, True, False, False]
+
+
+@pytest.mark.parametrize("gap, sharp", [(1e-5, True), (1e-4, True), (1e-3, False)])
+def test_a_trailing_edge_open_by_at_most_1e4_chord_is_sharp(tmp_path, capsys, gap, sharp):
+    """SPEC 9 (issue 23, item 5): a .dat whose trailing edge is open by 1e-5 chord, as many
+    public files are, gets a C-grid, closed at the mean point of its two ends; 1e-3 is a
+    drawn base and the C-grid refuses it."""
+    xy = naca4("0012", points=81)
+    xy[0, 1] += gap / 2
+    xy[-1, 1] -= gap / 2
+    dat = _selig(tmp_path / "gap.dat", xy)
+    body = load_body(dat)
+    assert body.sharp == sharp
+    if sharp:
+        np.testing.assert_allclose(body.surface[0], [1.0, 0.0], atol=1e-7)
+    out = tmp_path / "c.vts"
+    argv = [str(dat), "--topology", "c", "--method", "tfi", "--size", "121", "21", "-o", str(out)]
+    rc = main([*argv, "--quiet"])
+    err = capsys.readouterr().err
+    assert (rc, out.exists()) == ((0, True) if sharp else (2, False)), err
+    if not sharp:
+        assert "open by 0.001 chords (at most 0.0001 counts as sharp)" in err

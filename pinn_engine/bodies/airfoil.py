@@ -90,6 +90,11 @@ def read_dat(path: str | os.PathLike) -> tuple[np.ndarray, str]:
     return xy, name or Path(path).stem
 
 
+# SPEC 9: a trailing-edge gap of at most this many chords counts as sharp (many public .dat
+# files leave one of about 1e-5: a rounding of the last digit, not a drawn base)
+SHARP_GAP = 1e-4
+
+
 def naca4(code: str, points: int = 201, te: str = "sharp") -> np.ndarray:
     """NACA 4-digit section ``code`` (e.g. "0012", "2412"), chord 1 from (0, 0) to (1, 0),
     ``points`` per surface on a cosine spacing, in Selig order."""
@@ -168,10 +173,11 @@ class Body:
         return np.concatenate([mid[None], s, mid[None]])
 
 
-def body_from_points(xy: np.ndarray, source: str, sharp_tol: float = 1e-6) -> Body:
+def body_from_points(xy: np.ndarray, source: str, sharp_tol: float = SHARP_GAP) -> Body:
     """A :class:`Body` from airfoil-like points in either orientation, starting anywhere
     near the trailing edge: reordered to Selig order (counter-clockwise, from the point of
-    largest x). A closed ring (last point = first) is accepted."""
+    largest x). A closed ring (last point = first) is accepted; ends at most ``sharp_tol``
+    of the chord apart are one sharp trailing edge, closed at their mean point (SPEC 9)."""
     xy = np.asarray(xy, dtype=float)
     if xy.ndim != 2 or xy.shape[1] < 2 or len(xy) < 5:
         raise InputError("a body needs at least 5 points (x y)", source)
@@ -182,6 +188,9 @@ def body_from_points(xy: np.ndarray, source: str, sharp_tol: float = 1e-6) -> Bo
     if size <= 0:
         raise InputError("all body points coincide", source)
     closed = np.linalg.norm(xy[0] - xy[-1]) <= sharp_tol * size
+    if closed:  # a nearly closed trailing edge: both ends at their mean point
+        xy = xy.copy()
+        xy[0] = xy[-1] = 0.5 * (xy[0] + xy[-1])
     ring = xy[:-1] if closed else xy
     # orientation: counter-clockwise (signed area of the closed curve)
     x, y = ring[:, 0], ring[:, 1]

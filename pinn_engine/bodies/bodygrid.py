@@ -44,7 +44,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 from scipy.optimize import minimize_scalar
 
-from pinn_engine.bodies.airfoil import Body, FarField
+from pinn_engine.bodies.airfoil import SHARP_GAP, Body, FarField
 from pinn_engine.classical.spacing import exact_stretch
 from pinn_engine.errors import InputError
 
@@ -356,7 +356,8 @@ def layout(
         if not body.sharp:
             raise InputError(
                 f"the C-grid needs a sharp (closed) trailing edge; this one is "
-                f"open by {body.te_gap / chord:.2g} chords: use {{topology}}",
+                f"open by {body.te_gap / chord:.2g} chords (at most {SHARP_GAP:g} counts as "
+                f"sharp): use {{topology}}",
                 body.source,
             )
         if far.radius is None:
