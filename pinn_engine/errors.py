@@ -78,6 +78,7 @@ ROUTE_WORDS = {
         "naca": "--naca DDDD",
         "farfield": "--farfield R",
         "topology": "--topology o",
+        "topologies": "--topology o or c",
     },
     "pyvista": {
         "corners": "corners=",
@@ -95,6 +96,7 @@ ROUTE_WORDS = {
         "naca": 'naca="DDDD"',
         "farfield": "farfield=R",
         "topology": 'topology="o"',
+        "topologies": 'topology="o" or "c"',
     },
     "paraview": {
         "corners": "Corner Indices",
@@ -114,6 +116,7 @@ ROUTE_WORDS = {
         "naca": "the Airfoil source's NACA field",
         "farfield": "Far Field Radius",
         "topology": "Topology O-grid",
+        "topologies": "Topology O-grid or C-grid",
     },
 }
 _HANDED_OVER = {"cli": "written", "pyvista": "returned", "paraview": "produced"}

@@ -14,6 +14,7 @@ import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
+import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 
 from pinn_engine.cache import MeshCache
@@ -21,6 +22,14 @@ from pinn_engine.errors import InputError
 from pinn_engine.mesher import Mesher
 from pinn_engine.result import MeshResult
 from pinn_engine.settings import NEURAL, Settings
+
+# A curve that fails as a four-sided boundary is called a body (and the user pointed to the
+# O- and C-grids) when its ends are at most this share of its size apart (a blunt trailing
+# edge is about 0.3 % of the chord; a forgotten side of a four-sided domain is far more) ...
+BODY_GAP = 0.02
+# ... and it turns by more than this many degrees at no more than two points (an airfoil's
+# trailing edge, a blunt base's two corners; a triangle or a four-sided domain has more)
+BODY_TURN = 45.0
 
 
 @dataclass
@@ -79,6 +88,32 @@ def geometry_from_files(
     return Geometry(body=body, far=far)
 
 
+def _looks_like_body(poly: vtkPolyData | None) -> bool:
+    """Whether a curve that is no four-sided boundary is a body: one polyline, closed or
+    open by at most ``BODY_GAP`` of its size (a blunt trailing edge), that turns by more
+    than ``BODY_TURN`` degrees at no more than two points (a trailing edge's corner or a
+    blunt base's two), and that is a valid body (SPEC 9)."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    from pinn_engine.bodies.airfoil import body_from_points
+    from pinn_engine.geometry.boundary import turning_angles
+    from pinn_engine.io.fileio import polylines_of
+
+    try:
+        lines = polylines_of(poly) if poly is not None and poly.GetNumberOfPoints() else []
+        if len(lines) != 1:
+            return False
+        pts = vtk_to_numpy(poly.GetPoints().GetData())[lines[0][0], :2].astype(float)
+        size = float(np.ptp(pts, axis=0).max())
+        if np.linalg.norm(pts[0] - pts[-1]) > BODY_GAP * size:
+            return False
+        body = body_from_points(pts, "body")
+    except InputError:
+        return False
+    ring = body.surface[:-1] if body.sharp else body.surface
+    return int((np.abs(turning_angles(ring)) > BODY_TURN).sum()) <= 2
+
+
 def geometry_from_polydata(
     settings: Settings,
     inputs: Sequence[vtkPolyData | None],
@@ -98,7 +133,17 @@ def geometry_from_polydata(
 
     if settings.topology == "none":
         boundary_poly, aux_polys = split_inputs(list(inputs))
-        ring = boundary_from_polydata(boundary_poly, corners, source=source)
+        try:
+            ring = boundary_from_polydata(boundary_poly, corners, source=source)
+        except InputError as exc:
+            if corners is None and _looks_like_body(boundary_poly):
+                raise InputError(
+                    "looks like an airfoil or another body, not a four-sided domain: "
+                    "choose {topologies} to mesh around it, or name four point indices "
+                    "({corners}) to mesh inside it",
+                    source,
+                ) from exc
+            raise
         return Geometry(boundary=ring, aux=aux_from_polydata(aux_polys + list(aux), ring))
     if settings.naca:
         return _naca_body(settings)

@@ -350,3 +350,31 @@ def test_a_trailing_edge_open_by_at_most_1e4_chord_is_sharp(tmp_path, capsys, ga
     assert (rc, out.exists()) == ((0, True) if sharp else (2, False)), err
     if not sharp:
         assert "open by 0.001 chords (at most 0.0001 counts as sharp)" in err
+
+
+@pytest.mark.parametrize("te", ["sharp", "blunt"])
+def test_an_airfoil_meshed_as_a_four_sided_domain_is_told_to_choose_a_topology(te):
+    """Issue 23 item 9: the filter with its default topology says the input looks like a
+    body and names Topology O-grid or C-grid (not Closed or Corner Indices); pyvista names
+    its keyword; an open four-sided outline keeps its own message."""
+    pv = pytest.importorskip("pyvista")
+    from pinn_engine.routes.airfoil_algorithm import AirfoilSource
+    from pinn_engine.routes.algorithm import PinnMeshAlgorithm
+    from pinn_engine.routes.pyvista_accessor import pinn_mesh
+
+    source = AirfoilSource()
+    source.SetNACA("2412")
+    source.SetSharpTrailingEdge(te == "sharp")
+    alg = PinnMeshAlgorithm()
+    alg.SetInputConnection(0, source.GetOutputPort())
+    alg.SetMethod("tfi")
+    alg.Update()
+    assert "looks like an airfoil or another body" in alg.GetLastError()
+    assert "choose Topology O-grid or C-grid to mesh around it" in alg.GetLastError()
+    source.Update()
+    with pytest.raises(InputError, match='topology="o" or "c"'):
+        pinn_mesh(pv.wrap(source.GetOutputDataObject(0)), method="tfi")
+    three_sides = np.array([[0.0, 1.0], [0.0, 0.0], [2.0, 0.0], [2.0, 1.0]])
+    with pytest.raises(InputError, match="open") as info:
+        pinn_mesh(pv.lines_from_points(np.c_[three_sides, np.zeros(4)]), method="tfi")
+    assert "body" not in str(info.value)
