@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import subprocess
 
@@ -169,10 +170,10 @@ def test_openfoam_joins_the_seam_or_cut(case, tmp_path):
     assert np.all(counts == 6)
     assert np.all(owner[: len(neighbour)] < neighbour)
     boundary = (mesh / "boundary").read_text()
-    faces = {
-        name: int(boundary.split(name)[1].split("nFaces")[1].split(";")[0])
-        for name in ("wall", "farfield")
-    }
+    patches = {k: v for k, v in re.findall(r"(\w+)\s*\{([^}]*)\}", boundary) if "nFaces" in v}
+    faces = {name: int(re.search(r"nFaces\s+(\d+);", patches[name])[1]) for name in patches}
+    kinds = {name: re.search(r"type\s+(\w+);", patches[name])[1] for name in patches}
+    assert (kinds["wall"], kinds["farfield"]) == ("wall", "patch")  # issue 23 item 1
     assert faces["farfield"] == ni - 1
     assert faces["wall"] == (ni - 1 if topology == "o" else ni - 1 - 2 * nw)
     # internal faces: all shared cell sides, the seam or cut included

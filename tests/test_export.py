@@ -481,3 +481,42 @@ def test_vtk_writer_algorithm_after_the_filter(tmp_path):
         "(bottom, right, top, left) or SIDE=NAME items (Patch Names "
         "(bottom right top left, or SIDE=NAME))"
     ]
+
+
+def test_patch_types_reach_openfoam_and_cgns(tmp_path, capsys):
+    """Issue 23 item 1: ``--patch SIDE=NAME:TYPE`` types the patches (a patch named wall is a
+    wall without one): OpenFOAM's wall, symmetryPlane and patch, CGNS's BCWall, BCInflow,
+    BCOutflow, BCSymmetryPlane; the grid carries PatchTypes; a bad or a doubled type is a
+    one-line error before meshing."""
+    h5py = pytest.importorskip("h5py")
+    common = [str(EXAMPLES / "fig2.vtp"), "--method", "tfi", "--size", "9", "5", "--quiet"]
+    patches = ["--patch", "bottom=wall", "--patch", "top=lid:symmetry"]
+    patches += ["--patch", "left=in:inflow", "--patch", "right=out:outflow"]
+    assert main([*common, *patches, "--format", "openfoam", "-o", str(tmp_path / "case")]) == 0
+    boundary = (tmp_path / "case" / "constant" / "polyMesh" / "boundary").read_text()
+    kinds = dict(re.findall(r"(\w+)\s*\{\s*type\s+(\w+);", boundary))
+    assert kinds == {
+        "wall": "wall",
+        "out": "patch",
+        "lid": "symmetryPlane",
+        "in": "patch",
+        "frontAndBack": "empty",
+    }
+    assert main([*common, *patches, "-o", str(tmp_path / "g.cgns")]) == 0
+    with h5py.File(tmp_path / "g.cgns", "r") as f:
+        bc = {n: bytes(f[f"Base/{n}/FamilyBC/ data"][()]).decode() for n in kinds if n in f["Base"]}
+    assert bc == {"wall": "BCWall", "out": "BCOutflow", "lid": "BCSymmetryPlane", "in": "BCInflow"}
+    assert main([*common, *patches, "-o", str(tmp_path / "g.vts")]) == 0
+    reader = vtkXMLStructuredGridReader()
+    reader.SetFileName(str(tmp_path / "g.vts"))
+    reader.Update()
+    fd = reader.GetOutput().GetFieldData().GetAbstractArray("PatchTypes")
+    assert [fd.GetValue(k) for k in range(4)] == ["wall", "outflow", "symmetry", "inflow"]
+    capsys.readouterr()
+    for bad, words in (
+        ("top=lid:slip", "patch type 'slip' of 'lid'"),
+        ("top=wall:inflow", "two types"),
+    ):
+        assert main([*common, "--patch", "bottom=wall:wall", "--patch", bad, "-o", "x.vts"]) == 2
+        err = capsys.readouterr().err
+        assert words in err and err.count("\n") == 1

@@ -9,7 +9,7 @@ from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonCore import vtkPoints, vtkStringArray
 from vtkmodules.vtkCommonDataModel import vtkStructuredGrid
 
-from pinn_engine.io.export.patches import add_to_grid, patch_names
+from pinn_engine.io.export.patches import add_to_grid, patch_specs
 from pinn_engine.quality import cell_quality
 
 
@@ -61,7 +61,7 @@ def structured_grid(
         arr.SetName(name)
         grid.GetCellData().AddArray(arr)
     grid.GetCellData().SetActiveScalars("MaxIncludedAngle")
-    add_to_grid(grid, patch_names(patches))
+    add_to_grid(grid, *patch_specs(patches))
     fd = grid.GetFieldData()
     report = report or {}
     _add_string(fd, "Method", str(report.get("method", "")))

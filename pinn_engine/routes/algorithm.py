@@ -301,12 +301,12 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
 
     def GetPatchNames(self) -> tuple[str, ...]:
         """The four patch names (bottom, right, top, left) the next update uses."""
-        from pinn_engine.io.export import patch_names
         from pinn_engine.io.export.patches import body_patch_names as body_patches
+        from pinn_engine.io.export.patches import patch_specs
 
         topology = self.GetTopology()
         default = body_patches(topology) if topology != "none" else SIDE_NAMES
-        return patch_names(self._panel_patches(), default)
+        return patch_specs(self._panel_patches(), default)[0]
 
     def GetSettings(self) -> Settings:
         """The ``Settings`` the next update uses (raises ``ValueError`` if invalid)."""

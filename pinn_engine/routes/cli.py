@@ -101,9 +101,11 @@ def build_parser() -> argparse.ArgumentParser:
         "--patch",
         action="append",
         default=[],
-        metavar="SIDE=NAME",
+        metavar="SIDE=NAME[:TYPE]",
         help="name the boundary patch of a side (bottom, right, top, left; "
-        "repeatable; equal names form one patch)",
+        "repeatable; equal names form one patch) and optionally its type: wall, inflow, "
+        "outflow, farfield, symmetry, patch (default: wall for a patch named wall, else "
+        "patch); OpenFOAM and CGNS write the types",
     )
     p.add_argument(
         "--extrude",

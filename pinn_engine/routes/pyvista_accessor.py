@@ -165,8 +165,10 @@ def pinn_mesh(
         Re-use networks trained earlier on the same inputs and training settings.
     patches : dict, sequence of four names or str, optional
         Boundary patch names, e.g. ``{"bottom": "wall", "top": "wall"}`` (default: bottom,
-        right, top, left; equal names form one patch); stored as field data ``PatchNames``
-        and used by :func:`save_mesh`.
+        right, top, left; equal names form one patch), each optionally typed as
+        ``"NAME:TYPE"`` (wall, inflow, outflow, farfield, symmetry, patch; a patch named
+        wall is a wall); stored as field data ``PatchNames`` and ``PatchTypes`` and used by
+        :func:`save_mesh` (OpenFOAM and CGNS write the types).
     topology : {"o", "c"}, optional
         Mesh around a body instead: ``boundary`` is then the body (an airfoil curve as
         PolyData or points, or the path of a Selig/Lednicer ``.dat`` file or of a file with

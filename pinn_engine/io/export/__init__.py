@@ -45,6 +45,7 @@ from pinn_engine.io.export.patches import (
     of_grid,
     parse_patch_options,
     patch_names,
+    patch_specs,
 )
 from pinn_engine.io.export.topology import mean_edge, side_nodes
 from pinn_engine.io.fileio import atomic_path, write_text_atomic
@@ -166,7 +167,7 @@ def write(
     """
     path = Path(path)
     found = output_format(path, fmt, extrude)
-    names = of_grid(grid) if patches is None else patch_names(patches)
+    names, types = of_grid(grid) if patches is None else patch_specs(patches)
     topology = body_topology(grid)
     if topology:
         points, normal, n_wake = _body_points(grid, topology, path)
@@ -175,7 +176,7 @@ def write(
     if found.key in ("vts", "vtk"):
         copy = vtkStructuredGrid()
         copy.ShallowCopy(grid)
-        add_to_grid(copy, names)
+        add_to_grid(copy, names, types)
         if found.key == "vts":
             return vtkfiles.write_vts(copy, path)
         with atomic_path(path, suffix=found.suffix) as tmp:
@@ -183,7 +184,7 @@ def write(
         return path
     if extrude is None and found.key == "openfoam":  # OpenFOAM meshes are always 3D
         extrude = mean_edge(points)
-    block = Block(points, names, extrude, normal, topology, n_wake)
+    block = Block(points, names, extrude, normal, topology, n_wake, types)
     if found.key == "openfoam":
         return _write_openfoam(block, path)
     with atomic_path(path, suffix=found.suffix) as tmp:

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pinn_engine.io.export.patches import groups
+from pinn_engine.io.export.patches import default_type, groups
 from pinn_engine.io.export.topology import layers
 
 
@@ -22,6 +22,7 @@ class Block:
     normal: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, 1.0]))
     topology: str | None = None  # "o" or "c": an O- or C-grid around a body (bodies.py)
     n_wake: int = 0  # the C-grid's lower trailing-edge node index
+    types: tuple[str, ...] | None = None  # each side's patch type (patches.TYPES)
 
     @property
     def ni(self) -> int:
@@ -38,3 +39,8 @@ class Block:
     def patches(self) -> dict[str, list[str]]:
         """Patch name -> its sides, in the order of first appearance."""
         return groups(self.names)
+
+    def patch_type(self, name: str) -> str:
+        """The type (``patches.TYPES``) of the patch ``name``: given, or by its name."""
+        types = self.types or [default_type(n) for n in self.names]
+        return dict(zip(self.names, types)).get(name, default_type(name))

@@ -80,7 +80,7 @@ def write_polymesh(block, mesh) -> None:
     the seam or cut nodes merged, so its faces are internal faces like any other; patches
     wall, farfield (outflow) and ``frontAndBack`` (empty)."""
     from pinn_engine.io.export.openfoam import write_mesh_files
-    from pinn_engine.io.export.patches import FRONT_AND_BACK
+    from pinn_engine.io.export.patches import FRONT_AND_BACK, TYPES
 
     ni, nj, topo, nw = block.ni, block.nj, block.topology, block.n_wake
     kept, _ = compact(ni, nj, topo, nw)
@@ -114,7 +114,7 @@ def write_polymesh(block, mesh) -> None:
     patches = []
     for name, edges in patch_edges(ni, nj, topo, nw, block.names).items():
         ks = np.array([lookup[tuple(sorted(e))] for e in edges])
-        patches.append((name, "patch", side[ks], owner_of[ks]))
+        patches.append((name, TYPES[block.patch_type(name)][0], side[ks], owner_of[ks]))
     ids = np.arange(n_cells)
     patches.append(
         (FRONT_AND_BACK, "empty", np.vstack([q[:, ::-1], q + m]), np.concatenate([ids, ids]))

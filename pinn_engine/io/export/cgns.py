@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from pinn_engine.io.export.block import Block
-from pinn_engine.io.export.patches import FRONT_AND_BACK
+from pinn_engine.io.export.patches import FRONT_AND_BACK, TYPES
 from pinn_engine.io.export.topology import index_range
 
 ROOT = Path(__file__).resolve().parents[2]  # the checkout (its .venv: the helper Python)
@@ -201,7 +201,8 @@ def write(block: Block, path: Path) -> None:
                 _node(bc, "FamilyName", "FamilyName_t", name)
         for name in ranges:
             family = _node(base, name, "Family_t")
-            _node(family, "FamilyBC", "FamilyBC_t", "BCTypeUserDefined")
+            kind = "patch" if name == FRONT_AND_BACK else block.patch_type(name)
+            _node(family, "FamilyBC", "FamilyBC_t", TYPES[kind][1])
 
 
 def _body_ranges(block: Block) -> dict[str, list]:

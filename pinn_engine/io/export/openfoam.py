@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from pinn_engine.io.export.block import Block
-from pinn_engine.io.export.patches import FRONT_AND_BACK
+from pinn_engine.io.export.patches import FRONT_AND_BACK, TYPES
 from pinn_engine.io.export.text import write_rows
 from pinn_engine.io.export.topology import end_faces, quads, side_cells, side_faces
 
@@ -93,7 +93,7 @@ def write_polymesh(block: Block, mesh: Path) -> None:
         patches.append(
             (
                 name,
-                "patch",
+                TYPES[block.patch_type(name)][0],
                 np.vstack([side_faces(ni, nj, s) for s in sides]),
                 np.concatenate([side_cells(ni, nj, s) for s in sides]),
             )

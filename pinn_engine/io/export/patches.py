@@ -20,7 +20,45 @@ SIDES = ("bottom", "right", "top", "left")
 DEFAULT = SIDES
 NAME = re.compile(r"^[A-Za-z0-9_-]{1,32}$")
 FIELD = "PatchNames"
+TYPES_FIELD = "PatchTypes"  # the boundary condition kind of each side, as PatchNames
+# A patch's type (``NAME:TYPE``), as each format writes it: OpenFOAM's patch type, CGNS's
+# BCType. "patch" is the untyped default (OpenFOAM's generic patch, CGNS user-defined).
+TYPES = {
+    "wall": ("wall", "BCWall"),
+    "inflow": ("patch", "BCInflow"),
+    "outflow": ("patch", "BCOutflow"),
+    "farfield": ("patch", "BCFarfield"),
+    "symmetry": ("symmetryPlane", "BCSymmetryPlane"),
+    "patch": ("patch", "BCTypeUserDefined"),
+}
+
+
+def default_type(name: str) -> str:
+    """A patch named ``wall`` (a body's wall, or a side the user calls so) is a wall."""
+    return "wall" if name.lower() == "wall" else "patch"
+
+
+def _typed(item: str) -> tuple[str, str | None]:
+    """``NAME`` or ``NAME:TYPE`` -> (name, type or None), the type checked."""
+    name, sep, kind = item.partition(":")
+    if not sep:
+        return name.strip(), None
+    kind = kind.strip().lower()
+    if kind not in TYPES:
+        raise InputError(
+            f"patch type {kind!r} of {name.strip()!r}: use {', '.join(TYPES)} ({{patch}})"
+        )
+    return name.strip(), kind
+
+
 FRONT_AND_BACK = "frontAndBack"  # the two ends of an extruded output
+
+
+def _checked_typed(item: str) -> str:
+    """``NAME`` or ``NAME:TYPE``, both parts checked; returned as given."""
+    name, kind = _typed(item)
+    _checked(name)
+    return item if kind is None else f"{name}:{kind}"
 
 
 def _checked(name: str) -> str:
@@ -61,7 +99,7 @@ def parse_patch_options(
                 f"patch {item!r}: expected SIDE=NAME with SIDE one of "
                 f"{', '.join(SIDES)} ({{patch}})"
             )
-        names[side] = _checked(name.strip())
+        names[side] = _checked_typed(name.strip())
     return tuple(names[s] for s in SIDES)
 
 
@@ -94,7 +132,22 @@ def patch_names(
             f"patch names {' '.join(names)!r}: give four names (bottom, right, "
             "top, left) or SIDE=NAME items ({patch})"
         )
-    return tuple(_checked(n) for n in names)
+    return tuple(_checked_typed(n) for n in names)
+
+
+def patch_specs(
+    patches: Mapping[str, str] | Sequence[str] | str | None, default: Sequence[str] = DEFAULT
+) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """The four patch names and their types (bottom, right, top, left) from any of the
+    routes' forms, where each name may carry ``:TYPE`` (one of ``TYPES``; default: wall for
+    a patch named wall, else patch). Sides of one name must agree on its type."""
+    typed = [_typed(item) for item in patch_names(patches, default)]
+    given: dict[str, str] = {}
+    for name, kind in typed:
+        if kind is not None and given.setdefault(name, kind) != kind:
+            raise InputError(f"patch {name!r} is given two types, {given[name]} and {kind}")
+    names = tuple(name for name, _ in typed)
+    return names, tuple(given.get(name, default_type(name)) for name in names)
 
 
 def groups(names: Sequence[str]) -> dict[str, list[str]]:
@@ -105,15 +158,18 @@ def groups(names: Sequence[str]) -> dict[str, list[str]]:
     return out
 
 
-def add_to_grid(grid, names: Sequence[str]) -> None:
-    """Put ``PatchNames`` (field data) and the point arrays ``i``, ``j`` on ``grid``."""
+def add_to_grid(grid, names: Sequence[str], types: Sequence[str] | None = None) -> None:
+    """Put ``PatchNames`` and ``PatchTypes`` (field data; types default by name) and the
+    point arrays ``i``, ``j`` on ``grid``."""
     fd = grid.GetFieldData()
-    fd.RemoveArray(FIELD)
-    arr = vtkStringArray()
-    arr.SetName(FIELD)
-    for name in names:
-        arr.InsertNextValue(name)
-    fd.AddArray(arr)
+    types = types if types is not None else [default_type(n) for n in names]
+    for field, values in ((FIELD, names), (TYPES_FIELD, types)):
+        fd.RemoveArray(field)
+        arr = vtkStringArray()
+        arr.SetName(field)
+        for value in values:
+            arr.InsertNextValue(value)
+        fd.AddArray(arr)
     ext = grid.GetExtent()
     ni, nj = ext[1] - ext[0] + 1, ext[3] - ext[2] + 1
     jj, ii = np.mgrid[0:nj, 0:ni]
@@ -123,9 +179,13 @@ def add_to_grid(grid, names: Sequence[str]) -> None:
         grid.GetPointData().AddArray(data)
 
 
-def of_grid(grid) -> tuple[str, ...]:
-    """The patch names a grid carries, or the defaults."""
-    arr = grid.GetFieldData().GetAbstractArray(FIELD)
+def of_grid(grid) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """The patch names and types a grid carries, or the defaults."""
+    fd = grid.GetFieldData()
+    arr, kinds = fd.GetAbstractArray(FIELD), fd.GetAbstractArray(TYPES_FIELD)
     if arr is None or arr.GetNumberOfValues() != 4:
-        return DEFAULT
-    return patch_names([arr.GetValue(k) for k in range(4)])
+        return patch_specs(None)
+    names = [arr.GetValue(k) for k in range(4)]
+    if kinds is not None and kinds.GetNumberOfValues() == 4:
+        names = [f"{n}:{kinds.GetValue(k)}" for k, n in enumerate(names)]
+    return patch_specs(names)
