@@ -116,3 +116,11 @@ def test_bad_named_corners():
         Boundary.from_points(square_ring(4), (0, 0, 4, 8))
     with pytest.raises(InputError, match="out of range"):
         Boundary.from_points(square_ring(4), (0, 4, 8, 99))
+
+
+def test_a_self_intersecting_boundary_says_where_and_what_to_change():
+    """Issue 23 item 9: the crossing's point in the user's units, and the fix."""
+    bowtie = np.array([[0.0, 0.0], [4.0, 2.0], [4.0, 0.0], [0.0, 2.0]]) + [10.0, 5.0]
+    with pytest.raises(InputError, match=r"cross at \(12, 6\); move those points") as info:
+        Boundary.from_points(bowtie)
+    assert "\n" not in str(info.value)

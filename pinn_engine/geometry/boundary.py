@@ -305,13 +305,29 @@ def clean_ring(
     hits = self_intersections(unit)
     if hits:
         i, j = hits[0]
+        x, y = lo + size * _crossing(unit, i, j)
         raise InputError(
-            f"boundary is self-intersecting (the edges after points {kept[i]} and {kept[j]} cross)",
+            f"boundary is self-intersecting: the edges after points {kept[i]} and {kept[j]} "
+            f"cross at ({x:.6g}, {y:.6g}); move those points so that the boundary runs once "
+            "around the domain without crossing itself (its points in order along it)",
             source,
         )
     if abs(signed_area(unit)) < 1e-9 * diag * diag:
         raise InputError("boundary encloses no area", source)
     return pts[keep], keep
+
+
+def _crossing(ring: np.ndarray, i: int, j: int) -> np.ndarray:
+    """Where the edge after point ``i`` of ``ring`` meets the edge after point ``j`` (the
+    middle of their overlap's ends when they are parallel)."""
+    n = len(ring)
+    a, b, c, d = ring[i], ring[(i + 1) % n], ring[j], ring[(j + 1) % n]
+    r, s = b - a, d - c
+    denom = r[0] * s[1] - r[1] * s[0]
+    if abs(denom) <= 1e-12 * float(np.linalg.norm(r) * np.linalg.norm(s)):
+        return 0.5 * (b + c)  # touching or overlapping collinear edges
+    q = c - a
+    return a + (q[0] * s[1] - q[1] * s[0]) / denom * r
 
 
 def detect_corners(
