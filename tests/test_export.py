@@ -520,3 +520,28 @@ def test_patch_types_reach_openfoam_and_cgns(tmp_path, capsys):
         assert main([*common, "--patch", "bottom=wall:wall", "--patch", bad, "-o", "x.vts"]) == 2
         err = capsys.readouterr().err
         assert words in err and err.count("\n") == 1
+
+
+def test_the_openfoam_writer_says_where_the_case_went(tmp_path):
+    """Issue 23 item 11: Save Data as OpenFOAM makes a folder; the writer says which one
+    (a text line in Output Messages, ``GetLastMessage()``); other formats say nothing."""
+    reader = vtkXMLPolyDataReader()
+    reader.SetFileName(str(EXAMPLES / "fig2.vtp"))
+    alg = PinnMeshAlgorithm()
+    alg.SetInputConnection(0, reader.GetOutputPort())
+    alg.SetMethod("tfi")
+    alg.SetGridSize(9, 5)
+    writer = GridWriter("openfoam")
+    writer.SetInputConnection(alg.GetOutputPort())
+    writer.SetFileName(str(tmp_path / "run1.foam"))
+    assert writer.Write() == 1
+    case = tmp_path / "run1"
+    assert (case / "constant" / "polyMesh" / "boundary").exists()
+    assert writer.GetLastMessage() == (
+        f"PINN Mesh writer: wrote the OpenFOAM case {case} (mesh in "
+        f"{case / 'constant' / 'polyMesh'}; open run1.foam)"
+    )
+    su2 = GridWriter("su2")
+    su2.SetInputConnection(alg.GetOutputPort())
+    su2.SetFileName(str(tmp_path / "g.su2"))
+    assert su2.Write() == 1 and su2.GetLastMessage() == ""

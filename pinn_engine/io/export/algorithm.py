@@ -51,7 +51,7 @@ class GridWriter(VTKPythonAlgorithmBase):
         self._format = fmt or self.FORMAT
         self._file_name = ""
         self._extrude = 0.0
-        self._last_error = ""
+        self._last_error = self._last_message = ""
 
     def SetFileName(self, name) -> None:
         if name != self._file_name:
@@ -70,6 +70,10 @@ class GridWriter(VTKPythonAlgorithmBase):
     def GetLastError(self) -> str:
         return self._last_error
 
+    def GetLastMessage(self) -> str:
+        """What the last write told Output Messages besides errors (where a case went)."""
+        return self._last_message
+
     def Write(self) -> int:
         self.Modified()
         self.Update()
@@ -78,19 +82,25 @@ class GridWriter(VTKPythonAlgorithmBase):
     def RequestData(self, request, inInfo, outInfo):
         from pinn_engine.io.export import write
 
-        self._last_error = ""
+        self._last_error = self._last_message = ""
         try:
             if not self._file_name:
                 raise InputError("no file name given")
             path = Path(self._file_name)
             if self._format == "openfoam":
                 path = path.with_suffix("") if path.suffix.lower() == ".foam" else path
-            write(
+            written = write(
                 vtkStructuredGrid.GetData(inInfo[0], 0),
                 path,
                 self._format,
                 extrude=self._extrude if self._extrude > 0 else None,
             )
+            if self._format == "openfoam":  # a folder appears: say where (Output Messages)
+                self._last_message = (
+                    f"{LABEL}: wrote the OpenFOAM case {written} "
+                    f"(mesh in {written / 'constant' / 'polyMesh'}; open {written.name}.foam)"
+                )
+                vtkOutputWindow.GetInstance().DisplayText(self._last_message + "\n")
         except InputError as exc:
             self._report(str(exc.for_route("paraview")))
         except PinnMeshError as exc:
