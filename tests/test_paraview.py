@@ -234,7 +234,11 @@ def test_save_data_offers_the_solver_formats_and_writes_them(checkout, tmp_path)
         ".su2 )",
         ".xyz )",
     ]
-    assert all(not text for text in result["errors"].values()), result["errors"]
+    messages = dict(result["errors"])
+    case = messages.pop("case.foam")  # Save Data as OpenFOAM says where the case went
+    assert all(not text for text in messages.values()), result["errors"]
+    assert "PINN Mesh writer: wrote the OpenFOAM case" in case and case.count("\n") == 0, case
+    assert case.endswith("open case.foam)"), case
     reference = read_vts(tmp_path / "grid.vts")
     check_plot3d(tmp_path / "grid.xyz", reference, None)
     check_plot3d(tmp_path / "grid3.xyz", reference, 0.25)
