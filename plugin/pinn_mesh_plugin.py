@@ -173,7 +173,10 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
         self.SetPreset(int(index))
 
     @smproperty.intvector(
-        name="AdamEpochs", label="Adam Epochs", default_values=_DEFAULTS.adam_epochs
+        name="AdamEpochs",
+        label="Adam Epochs",
+        default_values=_DEFAULTS.adam_epochs,
+        panel_visibility="advanced",
     )
     @smdomain.intrange(**_range("adam_epochs"))
     @smdomain.xml(_doc("Adam epochs of training (left at the default, the preset's own)."))
@@ -182,7 +185,10 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
         self.SetPanelSetting("adam_epochs", int(n))
 
     @smproperty.intvector(
-        name="LBFGSIterations", label="L-BFGS Iterations", default_values=_DEFAULTS.lbfgs_iterations
+        name="LBFGSIterations",
+        label="L-BFGS Iterations",
+        default_values=_DEFAULTS.lbfgs_iterations,
+        panel_visibility="advanced",
     )
     @smdomain.intrange(**_range("lbfgs_iterations"))
     @smdomain.xml(_doc("L-BFGS iterations after Adam (left at the default, the preset's own)."))
@@ -191,7 +197,10 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
         self.SetPanelSetting("lbfgs_iterations", int(n))
 
     @smproperty.intvector(
-        name="HiddenLayers", label="Hidden Layers", default_values=_DEFAULTS.hidden_layers
+        name="HiddenLayers",
+        label="Hidden Layers",
+        default_values=_DEFAULTS.hidden_layers,
+        panel_visibility="advanced",
     )
     @smdomain.intrange(**_range("hidden_layers"))
     @smdomain.xml(_doc("Hidden layers of each sub-network."))
@@ -199,7 +208,9 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
     def P06HiddenLayers(self, n):
         self.SetPanelSetting("hidden_layers", int(n))
 
-    @smproperty.intvector(name="Neurons", default_values=_DEFAULTS.neurons)
+    @smproperty.intvector(
+        name="Neurons", default_values=_DEFAULTS.neurons, panel_visibility="advanced"
+    )
     @smdomain.intrange(**_range("neurons"))
     @smdomain.xml(_doc("Neurons per hidden layer."))
     @smhint.xml(_NEURAL)
@@ -213,7 +224,7 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
     def P08Lambda2(self, value):
         self.SetPanelSetting("lambda2", float(value))
 
-    @smproperty.intvector(name="Seed", default_values=_DEFAULTS.seed)
+    @smproperty.intvector(name="Seed", default_values=_DEFAULTS.seed, panel_visibility="advanced")
     @smdomain.xml(_doc("Random seed of training (runs are repeatable)."))
     @smhint.xml(_NEURAL)
     def P09Seed(self, n):
@@ -344,7 +355,7 @@ class PINNAirfoilReader(AirfoilReader):
 class PINNAirfoilSource(AirfoilSource):
     """A NACA 4-digit section of chord 1, for PINN Structured Mesh with Topology O/C."""
 
-    @smproperty.stringvector(name="NACA", default_values="0012")
+    @smproperty.stringvector(name="NACA", label="NACA", default_values="0012")
     @smdomain.xml(_doc("Four digits, e.g. 0012 or 2412."))
     def P01NACA(self, code):
         self.SetNACA(code)

@@ -189,6 +189,15 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
         "PatchNames",
     ]
     assert result["methods"] == ["pinn", "mgnet", "tfi", "elliptic"]
+    # issue 23 item 10: the network settings behind the gear; "NACA", not "N ACA"
+    assert result["advanced"] == [
+        "AdamEpochs",
+        "HiddenLayers",
+        "LBFGSIterations",
+        "Neurons",
+        "Seed",
+    ]
+    assert result["naca_label"] == "NACA"
     assert result["aux_optional"]
     assert result["grid"] == {
         "class": "vtkStructuredGrid",

@@ -31,6 +31,11 @@ while not it.IsAtEnd():
 result["property_order"] = order
 method = proto.GetProperty("Method").FindDomain("vtkSMEnumerationDomain")
 result["methods"] = [method.GetEntryText(i) for i in range(method.GetNumberOfEntries())]
+result["advanced"] = sorted(
+    key for key in order if proto.GetProperty(key).GetPanelVisibility() == "advanced"
+)
+airfoil = servermanager.ProxyManager().GetPrototypeProxy("sources", "PINNAirfoilSource")
+result["naca_label"] = airfoil.GetProperty("NACA").GetXMLLabel()
 aux_hints = proto.GetProperty("AuxiliaryLines").GetHints()
 result["aux_optional"] = bool(aux_hints and aux_hints.FindNestedElementByName("Optional"))
 
