@@ -126,15 +126,16 @@ class Guard:
         self.net, self.grid, self.figures, self.accept = net, grid, figures, accept
         self.kept, self.scale = start, scale
         self.state = copy.deepcopy(net.state_dict())
-        self.start_grid = grid()
+        self.start_grid = self.kept_grid = grid()
         self.kept_iterations, self.rejected, self.checked = 0, 0, False
 
     def check(self, iterations: int) -> bool:
         """Keep the current state if its grid passes; False once ``GUARD_PATIENCE`` checks in
         a row failed (training should stop)."""
-        q = self.figures(self.grid())
+        grid = self.grid()
+        q = self.figures(grid)
         if self.accept(q, self.kept):
-            self.state, self.kept = copy.deepcopy(self.net.state_dict()), q
+            self.state, self.kept, self.kept_grid = copy.deepcopy(self.net.state_dict()), q, grid
             self.kept_iterations, self.rejected, self.checked = iterations, 0, True
         else:
             self.rejected += 1
@@ -144,7 +145,7 @@ class Guard:
         """Load the kept state; returns what the report says about the guard and the
         network's effect."""
         self.net.load_state_dict(self.state)
-        move = np.linalg.norm(self.grid() - self.start_grid, axis=-1).max() / self.scale
+        move = np.linalg.norm(self.kept_grid - self.start_grid, axis=-1).max() / self.scale
         return {
             "kept": self.kept,
             "kept_after_lbfgs_iterations": self.kept_iterations,

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import os
 import re
@@ -264,13 +265,19 @@ def _raise_interrupt(signum, frame):  # noqa: ARG001
     raise KeyboardInterrupt
 
 
+@functools.cache
+def _flags() -> dict[str, str]:
+    """Each setting's option as the user types it (dest -> the long flag)."""
+    return {a.dest: a.option_strings[-1] for a in build_parser()._actions if a.option_strings}
+
+
 def _check_options(args: argparse.Namespace) -> None:
     """Refuse option values that are out of range, with a message naming the option."""
     ni, nj = args.size
     problem = grid_size_problem(ni, nj)
     if problem:
         raise PinnMeshError(f"--size {ni} {nj}: {problem}")
-    flags = {a.dest: a.option_strings[-1] for a in build_parser()._actions if a.option_strings}
+    flags = _flags()
     for name in PARAMETER_CONSTRAINTS:  # each range, named by the option that set it
         value = getattr(args, name, None)
         problem = setting_problem(name, value) if value is not None else None
