@@ -198,6 +198,36 @@ def angle_deviation(tangent: np.ndarray, leave: np.ndarray) -> np.ndarray:
     return np.abs(90.0 - np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
 
 
+def cell_centroids(grid: np.ndarray) -> np.ndarray:
+    """Area centroids (nj-1, ni-1, 2) of the cells (two triangles each, as OpenFOAM and
+    VTK decompose a quad)."""
+    p0, p1, p2, p3 = _corners(grid)
+    a1, a2 = 0.5 * _cross(p1 - p0, p2 - p0), 0.5 * _cross(p2 - p0, p3 - p0)
+    c1, c2 = (p0 + p1 + p2) / 3, (p0 + p2 + p3) / 3
+    area = a1 + a2
+    return (a1[..., None] * c1 + a2[..., None] * c2) / np.where(area == 0, DBL_MIN, area)[..., None]
+
+
+def non_orthogonality(grid: np.ndarray) -> dict[str, np.ndarray]:
+    """OpenFOAM checkMesh's face non-orthogonality (degrees) of a 2D grid's interior edges:
+    the angle between an edge's normal and the line joining the centroids of its two cells.
+    ``"i"`` (nj-1, ni-2): the edges between cells (i - 1, j) and (i, j); ``"j"`` (nj-2, ni-1):
+    between (i, j - 1) and (i, j). On cells 1e5 times longer than high a centroid moved by a
+    fraction of the height gives large angles: solvers need a non-orthogonal correction."""
+    c = cell_centroids(grid)
+
+    def angle(edge: np.ndarray, link: np.ndarray) -> np.ndarray:
+        normal = np.stack([-edge[..., 1], edge[..., 0]], axis=-1)
+        cos = np.abs(np.einsum("...k,...k->...", normal, link))
+        cos /= np.maximum(np.linalg.norm(normal, axis=-1) * np.linalg.norm(link, axis=-1), DBL_MIN)
+        return np.degrees(np.arccos(np.clip(cos, 0.0, 1.0)))
+
+    return {
+        "i": angle(grid[1:, 1:-1] - grid[:-1, 1:-1], c[:, 1:] - c[:, :-1]),
+        "j": angle(grid[1:-1, 1:] - grid[1:-1, :-1], c[1:] - c[:-1]),
+    }
+
+
 def grid_lines_angle(grid: np.ndarray) -> dict[str, np.ndarray]:
     """Deviation from 90 degrees of the first grid edge leaving each node of each side, from
     the side's tangent (central difference along the side; one-sided at its corners)."""

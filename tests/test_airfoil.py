@@ -12,6 +12,7 @@ from pinn_engine.bodies.airfoil import circle, load_body, naca4, read_body_and_f
 from pinn_engine.bodymesh import mesh_body
 from pinn_engine.classical.spacing import exact_stretch
 from pinn_engine.errors import InputError
+from pinn_engine.quality import non_orthogonality
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
 
@@ -137,6 +138,17 @@ def test_every_method_gives_an_unfolded_grid(topology, code):
             assert guard["kept"]["worst_max_angle"] <= guard["elliptic"]["worst_max_angle"] + 1
     # TFI's straight columns leave the wall obliquely; the others at right angles
     assert worst["elliptic"] < 1.0 and worst["pinn"] < 1.0 < worst["tfi"]
+
+
+@pytest.mark.parametrize("code", ["0012", "4412"])
+def test_c_grid_wake_cells_are_smooth_enough_for_a_solver(code):
+    """Issue 23 item 2: on a y+ ~ 1 C-grid the wake's cells are a chord long and 1e-5 high;
+    row heights that wiggle from column to column gave checkMesh 89 degrees there."""
+    body = load_body(naca=code, te="sharp")
+    r = mesh_body(body, circle(body, 15), "c", "pinn", 320, 90, wall_spacing=1e-5)
+    worst = max(a.max() for a in non_orthogonality(r.points).values())
+    assert worst <= 20.0
+    assert r.quality["folded_cells"] == 0
 
 
 def test_pinn_is_periodic_in_xi(o_grid):

@@ -17,6 +17,7 @@ from pinn_engine.errors import InputError
 from pinn_engine.io.export import write
 from pinn_engine.io.export.patches import body_patch_names as patch_names
 from pinn_engine.io.pipeline import to_vtk
+from pinn_engine.quality import non_orthogonality
 
 NI, NJ = {"o": 41, "c": 61}, 13
 
@@ -190,3 +191,7 @@ def test_openfoam_joins_the_seam_or_cut(case, tmp_path):
             timeout=300,
         )
         assert "Mesh OK" in proc.stdout, proc.stdout[-2000:] + proc.stderr[-2000:]
+        # quality.non_orthogonality is checkMesh's figure (issue 23 item 2)
+        reported = float(re.search(r"non-orthogonality Max: ([\d.eE+-]+)", proc.stdout)[1])
+        ours = max(a.max() for a in non_orthogonality(result.points).values())
+        assert reported == pytest.approx(ours, abs=0.01)

@@ -74,7 +74,10 @@ OUTFLOW_FIRST = 0.5
 # exp(-d / (NORMAL_REACH chords)) (0.3: 63 % of it 0.3 chords off, the rows near the wall stay on
 # the wall's normals); the O-grid's tangential slide towards equal spacing (0.1: a fifth of the
 # normals' weight, a gentle pull); the row smoothing per unit of a row's shrink (2.0: at 25 %
-# shrink, the largest stable weight), capped at ROW_SMOOTHING_MAX (0.5, as above); sub-steps no
+# shrink, the largest stable weight), capped at ROW_SMOOTHING_MAX (0.5, as above), reached with
+# distance as the normals' smoothing (near the wall every node steps exactly along its normal, so
+# the thin cells keep equal heights across a column pair: a height that differs by 1 % between the
+# sides of a cell 500 times longer than high moves its centroid by 40 % of its height); sub-steps no
 # longer than SUBSTEP of the row's smallest spacing (a step that outruns the spacing crosses lines
 # off a concave wall before smoothing acts), at most MAX_SUBSTEPS a row (a cap on the marching's
 # cost); smoothing passes a sub-step (2).
@@ -103,10 +106,13 @@ CONTROL_DECAY, CONTROL_PASSES = 0.05, 10
 JACOBI_RELAX = 0.5
 ELLIPTIC_SWEEPS = 1000
 HELD_ROWS = 2
-# The sweeps are checked every 100 (a check is a whole grid's quality figures) and stop at the last
-# state with no more folds and a worst angle at most 2 degrees above the reference's (issue 11's
-# worst-angle bound; a stopping criterion, the body grids have no other bound).
-CHECK_EVERY, CHECK_WORST = 100, 2.0
+# The sweeps are checked after 10, then after twice as many as before (a check is a whole grid's
+# quality figures: the checks stay few, a run that fails early wastes few sweeps); they stop at the
+# last state with no more folds and mean and worst angles no worse than the reference's (mean, worst
+# tolerances; measured on benchmarks/airfoils.py: with the worst up to 2 degrees above and the mean
+# free, the kept sweeps raised the mean by up to 0.7 degree and, on the C-grids' thin wake cells,
+# made checkMesh's non-orthogonality 89 degrees where the reference's is 17).
+FIRST_CHECK, CHECK_TOL = 10, (0.0, 0.0)
 # The body curve: samples of the spline for the leading edge (20001: 5e-5 of the perimeter) and of
 # an arc's length (2001), and the share of the perimeter either side of a blunt trailing edge
 # searched for its largest x (5 %).
@@ -312,7 +318,7 @@ def march(
                 n /= np.linalg.norm(n, axis=1, keepdims=True)
             q = q + (step / subs) * n
             shrink = np.clip(1 - _row_spacing(q, topology) / spacing0, 0.0, 1.0)
-            eps = np.minimum(ROW_SMOOTHING_MAX, CONCAVE_SMOOTHING * shrink)[:, None]
+            eps = grow * np.minimum(ROW_SMOOTHING_MAX, CONCAVE_SMOOTHING * shrink)[:, None]
             if topology == "c":  # the wake's columns run straight: no sliding along rows
                 eps[:n_wake] = eps[len(q) - n_wake :] = 0.0
             for _ in range(passes):
@@ -636,11 +642,11 @@ def elliptic(lay: Layout, sweeps: int = ELLIPTIC_SWEEPS) -> tuple[np.ndarray, tu
     """The elliptic grid: up to ``sweeps`` Jacobi sweeps of Winslow's equations from the
     reference grid, with the controls of :func:`smoothed_controls`; also returns them.
 
-    Every ``CHECK_EVERY`` sweeps the grid is checked against the reference: the sweeps stop
-    at the last state with no more folded cells and a worst MaxIncludedAngle at most
-    ``CHECK_WORST`` degrees above the reference's (on coarse grids with strong wall
-    stretching the relaxed Jacobi iteration can drift off; ``lay.sweeps_kept`` says how far
-    it went)."""
+    After ``FIRST_CHECK`` sweeps, then after twice as many each time, the grid is checked
+    against the reference: the sweeps stop at the last state with no more folded cells and
+    mean and worst MaxIncludedAngle within ``CHECK_TOL`` of the reference's (the relaxed
+    Jacobi iteration with smoothed controls can drift off a good marched grid, most on thin
+    wall and wake cells; ``lay.sweeps_kept`` says how far it went)."""
     from pinn_engine.quality import guard_figures, no_worse
 
     periodic = lay.topology == "o"
@@ -648,11 +654,12 @@ def elliptic(lay: Layout, sweeps: int = ELLIPTIC_SWEEPS) -> tuple[np.ndarray, tu
     ref = guard_figures(lay.reference)
     g, kept, done = lay.reference, lay.reference, 0
     lay.sweeps_kept = 0
+    step = FIRST_CHECK
     while done < sweeps:
-        n = min(CHECK_EVERY, sweeps - done)
+        n = min(step, sweeps - done)
         g = jacobi(g, periodic, *controls, n)
-        done += n
-        if not no_worse(guard_figures(g), ref, math.inf, CHECK_WORST):
+        done, step = done + n, 2 * step
+        if not no_worse(guard_figures(g), ref, *CHECK_TOL):
             break
         kept, lay.sweeps_kept = g, done
     return kept, controls
