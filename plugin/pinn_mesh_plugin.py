@@ -34,6 +34,7 @@ try:
         MAX_SIDE_NODES,
         METHODS,
         OBJECTIVES,
+        PANEL_TIME_LIMIT,
         PARAMETER_CONSTRAINTS,
         PRESETS,
         Settings,
@@ -171,6 +172,19 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
     )
     def P03Preset(self, index):
         self.SetPreset(int(index))
+
+    @smproperty.doublevector(name="TimeLimit", label="Time Limit", default_values=PANEL_TIME_LIMIT)
+    @smdomain.doublerange(min=0.0)
+    @smdomain.xml(
+        _doc(
+            "Seconds of training, then the grid of the best state so far is produced with a "
+            "warning (0: no limit). ParaView handles no event while a filter runs; "
+            "pkill -USR1 -x paraview ends a training early the same way."
+        )
+    )
+    @smhint.xml(_NEURAL)
+    def P03TimeLimit(self, seconds):
+        self.SetPanelSetting("time_limit", float(seconds))
 
     @smproperty.intvector(
         name="AdamEpochs",
