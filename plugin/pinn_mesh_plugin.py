@@ -383,7 +383,7 @@ class PINNAirfoilSource(AirfoilSource):
         self.SetSharpTrailingEdge(sharp)
 
 
-def _writer_proxy(key, extension, name):
+def _writer_proxy(key, extension, name, file_type):
     """File > Save Data entry for one solver format (``pinn_engine.io.export``)."""
     fmt = FORMATS[key]
     thickness = (
@@ -422,11 +422,16 @@ def _writer_proxy(key, extension, name):
         name=name,
         label=name,
         extensions=extension,
-        file_description=f"PINN Mesh {fmt.description}",
+        file_description=file_type,
         support_reload=False,
     )(Writer)
 
 
-for _key, (_extension, _name) in PARAVIEW_FORMATS.items():
-    globals()[_name] = _writer_proxy(_key, _extension, _name)
-del _key, _extension, _name  # one module name per proxy: ParaView registers every one it finds
+for _key, (_extension, _name, _file_type) in PARAVIEW_FORMATS.items():
+    globals()[_name] = _writer_proxy(_key, _extension, _name, _file_type)
+del (
+    _key,
+    _extension,
+    _name,
+    _file_type,
+)  # one module name per proxy: ParaView registers every one it finds

@@ -16,6 +16,7 @@ from vtkmodules.vtkFiltersSources import vtkLineSource, vtkPolyLineSource
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
 from pinn_engine.errors import TrainingError
+from pinn_engine.io.vtkgrid import loss_history
 from pinn_engine.routes.algorithm import PREPARE_SHARE, PinnMeshAlgorithm
 from pinn_engine.settings import Settings
 
@@ -77,7 +78,10 @@ def test_pipeline_output(trained):
         assert grid.GetCellData().GetArray(name).GetNumberOfTuples() == 40 * 20
     fd = grid.GetFieldData()
     assert fd.GetAbstractArray("Method").GetValue(0) == "pinn"
-    assert fd.GetArray("Loss_total").GetNumberOfTuples() > 0
+    history = loss_history(alg.GetOutput())  # one array, a component per term
+    assert len(history["total"]) > 0 and {"eqns", "data"} <= set(history)
+    assert fd.GetArray("LossHistory").GetNumberOfComponents() == len(history)
+    assert not any(fd.GetArrayName(k).startswith("Loss_") for k in range(fd.GetNumberOfArrays()))
     assert field(alg, "Trained") == 1 and alg.GetTrainingCount() == 1
     assert progress[0] == 0.0 and progress[-1] == 1.0 and len(progress) >= 4
     assert progress == sorted(progress)

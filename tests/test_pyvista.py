@@ -33,6 +33,8 @@ def test_function_returns_structured_grid(fig2):
     assert all(name in grid.cell_data for name in ARRAYS)
     assert grid.active_scalars_name == "MaxIncludedAngle"
     assert str(grid.field_data["Method"][0]) == "pinn"
+    history = grid.field_data["LossHistory"]  # a row per evaluation, a component per term
+    assert history.ndim == 2 and history.shape[1] > 5 and history.shape[0] > 60
     # boundary nodes lie on the input boundary
     assert np.isclose(grid.points[:, 0].min(), boundary.points[:, 0].min())
 

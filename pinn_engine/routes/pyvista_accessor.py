@@ -198,7 +198,9 @@ def pinn_mesh(
         (degrees), ``ScaledJacobian``, ``Folded``; point data ``i``, ``j``; field data
         ``Method``, ``Report`` (JSON), quality figures, per side ``FirstEdge_<side>`` (min,
         median, max), ``WallAngleDeviation_<side>`` and ``GrowthRatio_<side>``,
-        ``Loss_<term>`` histories and ``PatchNames``.
+        ``LossHistory`` (a row per evaluation, a component per term:
+        ``grid.field_data["LossHistory"]``, or ``pinn_engine.io.vtkgrid.loss_history``) and
+        ``PatchNames``.
 
     Warns
     -----
