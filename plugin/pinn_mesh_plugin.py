@@ -19,6 +19,7 @@ intended order in every version.
 
 import os
 import sys
+from xml.sax.saxutils import escape, quoteattr
 
 _REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 if _REPO not in sys.path:
@@ -85,10 +86,19 @@ def _doc(text):
     return f"<Documentation>{text}</Documentation>"
 
 
+def _proxy_doc(short, text):
+    """A proxy's documentation: ``short`` (a line) and ``text`` for the panel's "?" help."""
+    return (
+        f"<Documentation long_help={quoteattr(text)} short_help={quoteattr(short)}>"
+        f"{escape(text)}</Documentation>"
+    )
+
+
 @smproxy.filter(
     name="PINNStructuredMesh", label="PINN Structured Mesh", support_reload=False
 )  # no developer's "Reload Python Module" button
 @smhint.xml('<ShowInMenu category="Mesh Generation"/>')
+@smhint.xml('<RepresentationType view="RenderView" type="Surface With Edges"/>')  # cells seen
 @smproperty.input(
     name="AuxiliaryLines",
     label="Auxiliary Lines",
@@ -118,11 +128,17 @@ def _doc(text):
     )
 )
 @smproperty.xml(
-    _doc(
+    _proxy_doc(
+        "Structured quadrilateral grid from a physics-informed neural network.",
         "Structured quadrilateral grid of a four-sided 2D domain from a "
         "physics-informed neural network (pinn), with MGNet, transfinite "
-        "interpolation and elliptic baselines. Cells are coloured by their "
-        "included angles (MaxIncludedAngle, MinIncludedAngle)."
+        "interpolation and elliptic baselines, or an O- or C-grid around an airfoil "
+        "(Topology). Input: the closed boundary with four corners, optionally with "
+        "open auxiliary lines between opposite sides. Cells carry their included "
+        "angles (MaxIncludedAngle, MinIncludedAngle), ScaledJacobian and Folded; "
+        "field data the report and the loss history. A training ends after Time "
+        "Limit seconds or at pkill -USR1 -x paraview with its best grid so far. "
+        "Guide: docs/routes.md of the pinn-mesh checkout.",
     )
 )
 class PINNStructuredMesh(PinnMeshAlgorithm):
@@ -355,6 +371,13 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
     file_description="Airfoil coordinates (Selig or Lednicer)",
     support_reload=False,
 )
+@smproperty.xml(
+    _proxy_doc(
+        "An airfoil .dat file (Selig or Lednicer) as a polyline.",
+        "Reads an airfoil .dat file (Selig or Lednicer coordinates) as one polyline, "
+        "for PINN Structured Mesh with Topology O-grid or C-grid (docs/airfoils.md).",
+    )
+)
 class PINNAirfoilReader(AirfoilReader):
     """An airfoil .dat file as a polyline, for PINN Structured Mesh with Topology O/C."""
 
@@ -366,6 +389,14 @@ class PINNAirfoilReader(AirfoilReader):
 
 @smproxy.source(name="PINNAirfoilSource", label="Airfoil", support_reload=False)
 @smhint.xml('<ShowInMenu category="Mesh Generation"/>')
+@smproperty.xml(
+    _proxy_doc(
+        "A NACA 4-digit airfoil of chord 1 as a polyline.",
+        "A NACA 4-digit section of chord 1 as one polyline (sharp trailing edge for "
+        "the C-grid, the classical blunt one for the O-grid), for PINN Structured "
+        "Mesh with Topology O-grid or C-grid (docs/airfoils.md).",
+    )
+)
 class PINNAirfoilSource(AirfoilSource):
     """A NACA 4-digit section of chord 1, for PINN Structured Mesh with Topology O/C."""
 
@@ -418,6 +449,13 @@ def _writer_proxy(key, extension, name, file_type):
         composite_data_supported=False,
     )(Writer)
     Writer = smproperty.input(name="Input", port_index=0)(Writer)  # noqa: N806
+    Writer = smproperty.xml(  # noqa: N806
+        _proxy_doc(
+            f"Writes the grid as {fmt.description}.",
+            f"Writes a PINN Structured Mesh grid as {fmt.description}, with the grid's "
+            "Patch Names as boundary patches (docs/export.md).",
+        )
+    )(Writer)
     return smproxy.writer(
         name=name,
         label=name,

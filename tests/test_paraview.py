@@ -173,6 +173,7 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
         "Method",
         "GridSize",
         "Preset",
+        "TimeLimit",
         "AdamEpochs",
         "LBFGSIterations",
         "HiddenLayers",
@@ -198,6 +199,10 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
         "Seed",
     ]
     assert result["naca_label"] == "NACA"
+    # issue 23 item 10: "?" help for every proxy; the grid shows its cells from the first show
+    for name, (short, long) in result["help"].items():
+        assert 20 < len(short) < len(long), name
+    assert result["representation"] == "Surface With Edges"
     assert result["aux_optional"]
     assert result["grid"] == {
         "class": "vtkStructuredGrid",
