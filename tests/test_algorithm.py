@@ -382,3 +382,25 @@ def test_time_limit_in_lbfgs_keeps_the_state_the_guard_kept():
     assert training["stopped"]["phase"] == "lbfgs" or "guard" in training
     assert training["result"] in ("network", "start") and report["quality"]["folded_cells"] == 0
     assert training["lbfgs_iterations"] < 100_000
+
+
+def test_an_airfoil_o_grid_reports_its_stages_before_training():
+    """The elliptic grid and torch's set-up took seconds without a progress step."""
+    from pinn_engine.routes.airfoil_algorithm import AirfoilSource
+
+    alg = PinnMeshAlgorithm()
+    connect(alg, 0, AirfoilSource())
+    alg.SetTopology("o")
+    alg.SetGridSize(65, 25)
+    steps: list[tuple[float, str]] = []
+    alg.AddObserver(
+        "ProgressEvent", lambda obj, event: steps.append((obj.GetProgress(), obj.GetProgressText()))
+    )
+    alg.Update()
+    assert alg.GetLastError() == ""
+    texts = [text.removeprefix("PINN Structured Mesh: ") for _, text in steps]
+    stages = ["body layout", "elliptic grid", "network set-up"]
+    assert [t for t in texts if t in stages] == stages
+    assert texts.index("network set-up") < texts.index("training (L-BFGS)")
+    fractions = [f for f, t in steps if t.endswith(tuple(stages))]
+    assert fractions == sorted(fractions) and fractions[-1] < PREPARE_SHARE
