@@ -23,6 +23,16 @@ from pinn_engine.result import MeshResult
 from pinn_engine.settings import Settings, make_settings
 
 METHODS = ("pinn", "tfi", "elliptic")
+# The stages before training, reported as progress (phase "prepare"): seconds without a
+# training step on fine grids (the elliptic sweeps, torch's first import)
+STAGES = ("body layout", "elliptic grid", "network set-up")
+
+
+def _stage(progress: Callable[[dict], object] | None, stage: str) -> None:
+    """Report that ``stage`` of STAGES begins, so that a progress bar moves before training."""
+    if progress is not None:
+        step = STAGES.index(stage)
+        progress({"phase": "prepare", "stage": stage, "step": step, "total": len(STAGES)})
 
 
 def wall_metrics(grid: np.ndarray, topology: str, n_wake: int, sharp: bool) -> dict:
@@ -89,6 +99,7 @@ def mesh_body(
     if wall_spacing is not None and not (np.isfinite(wall_spacing) and wall_spacing > 0):
         raise InputError(f"wall spacing {wall_spacing}: must be a number > 0 (--spacing bottom=H)")
     start = time.perf_counter()
+    _stage(progress, "body layout")
     lay = bodygrid.layout(body, far, topology, ni, nj, wall_spacing=wall_spacing)
     history: dict[str, list[float]] = {}
     training: dict | None = None
@@ -97,8 +108,10 @@ def mesh_body(
         grid = bodygrid.tfi(lay, nj)
     else:
         sweeps = settings.elliptic_iterations or bodygrid.ELLIPTIC_SWEEPS
+        _stage(progress, "elliptic grid")
         grid, controls = bodygrid.elliptic(lay, sweeps)
         if method == "pinn":
+            _stage(progress, "network set-up")
             from pinn_engine.blocks.body import train_body
 
             t0 = time.perf_counter()

@@ -49,7 +49,8 @@ class MeshCache:
 
     ``fitted`` trains only when that key is new; a change of anything training does not depend
     on re-uses the trained network through ``Mesher.predict``. The grid size is part of the
-    key under the elliptic warm start (``Settings.lattice``), not otherwise.
+    key under the elliptic warm start (``Settings.lattice``), not otherwise. A training
+    stopped early (time limit, stop request) is not kept.
     """
 
     def __init__(self, capacity: int = 4) -> None:
@@ -80,7 +81,8 @@ class MeshCache:
         mesher = Mesher(settings).fit(boundary, aux_lines, progress)
         trained = settings.method in NEURAL
         self.trainings += int(trained)
-        self._entries[key] = mesher
+        if mesher.model_ is None or "stopped" not in mesher.model_.info:
+            self._entries[key] = mesher  # a stopped training is not the asked one: train again
         while len(self._entries) > self.capacity:
             self._entries.popitem(last=False)
         return mesher, trained

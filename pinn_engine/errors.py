@@ -43,12 +43,22 @@ class NotFittedError(PinnMeshError, AttributeError):
 
 
 class TrainingCancelled(TrainingError):
-    """The progress callback asked training to stop."""
+    """The progress callback asked training to stop (answered True)."""
+
+
+# A progress callback's other answer: end the training now and make the grid of the best state
+# so far (a warning says so), as a time limit does; no grid is lost to a stop
+STOP = "stop"
 
 
 class WallAngleWarning(UserWarning):
     """A grid was produced although its lines leave an orthogonal side (SPEC 7) more than
     ``WALL_ANGLE_TOL`` degrees off 90 (pyvista route); filter it like any warning."""
+
+
+class TrainingStoppedWarning(UserWarning):
+    """A grid was produced from a training stopped early, by ``time_limit`` or a progress
+    callback's ``STOP`` answer (pyvista route): the best state so far."""
 
 
 class FoldedCellsWarning(UserWarning):
@@ -79,6 +89,7 @@ ROUTE_WORDS = {
         "farfield": "--farfield R",
         "topology": "--topology o",
         "topologies": "--topology o or c",
+        "time_limit": "a larger --time-limit (0: none)",
     },
     "pyvista": {
         "corners": "corners=",
@@ -97,6 +108,7 @@ ROUTE_WORDS = {
         "farfield": "farfield=R",
         "topology": 'topology="o"',
         "topologies": 'topology="o" or "c"',
+        "time_limit": "a larger time_limit= (0: none)",
     },
     "paraview": {
         "corners": "Corner Indices",
@@ -117,6 +129,7 @@ ROUTE_WORDS = {
         "farfield": "Far Field Radius",
         "topology": "Topology O-grid",
         "topologies": "Topology O-grid or C-grid",
+        "time_limit": "a larger Time Limit (0: none)",
     },
 }
 _HANDED_OVER = {"cli": "written", "pyvista": "returned", "paraview": "produced"}
@@ -157,6 +170,25 @@ def folded_cells_warning(report: dict, route: str) -> str | None:
         f"{folded} of {(ni - 1) * (nj - 1)} cells {verb} folded (a corner's orientation "
         f"opposes the grid's); the grid is {_HANDED_OVER[route]} anyway; try {fix}"
         f"{words['refuse']}"
+    )
+
+
+def stopped_training_warning(report: dict, route: str) -> str | None:
+    """The warning for a grid from a training that ended early (``training.stopped`` of the
+    report: its time limit ran out, or a stop was asked), or None; words as
+    :func:`folded_cells_warning`."""
+    stopped = report.get("training", {}).get("stopped")
+    if not stopped:
+        return None
+    where = f"during {stopped['phase']} at step {stopped['step']}"
+    if stopped["reason"] == "time limit":
+        why = f"its time limit of {stopped['time_limit']:g} s ran out {where}"
+        fix = f"; for the full training give {ROUTE_WORDS[route]['time_limit']}"
+    else:
+        why, fix = f"a stop was asked {where}", ""
+    return (
+        f"training stopped after {stopped['seconds']:g} s ({why}); the grid of the best "
+        f"state so far is {_HANDED_OVER[route]}{fix}"
     )
 
 
@@ -201,3 +233,14 @@ def network_effect(report: dict) -> str | None:
         f"network: its grid kept, nodes moved up to {move:.1e} of the diagonal from the "
         f"{start} start"
     )
+
+
+def grid_warnings(report: dict, route: str) -> list[tuple[str, type[UserWarning]]]:
+    """Every warning a produced grid carries, in ``route``'s words, with the category the
+    pyvista route warns with: a stopped training, folded cells, lines off an orthogonal side."""
+    found = (
+        (stopped_training_warning(report, route), TrainingStoppedWarning),
+        (folded_cells_warning(report, route), FoldedCellsWarning),
+        (wall_angle_warning(report, route), WallAngleWarning),
+    )
+    return [(text, category) for text, category in found if text]

@@ -16,6 +16,9 @@ BODY_METHODS = ("pinn", "tfi", "elliptic")  # the methods of O- and C-grids
 # Grid sizes accepted on every route (command line, filter and panel, pyvista, Mesher)
 MAX_SIDE_NODES = 20_000
 MAX_NODES = 4_000_000  # about 1.5 GB of memory while meshing and writing
+# Training's wall-clock limit in seconds, after which the best state so far is kept
+NO_TIME_LIMIT = 0.0  # command line, pyvista, VTK: a limit would tie the grid to machine speed
+PANEL_TIME_LIMIT = 60.0  # ParaView 5.11 freezes while a filter runs; the paper preset (~33 s) fits
 
 
 def grid_size_problem(ni: int, nj: int) -> str | None:
@@ -158,6 +161,9 @@ PARAMETER_CONSTRAINTS: dict[str, Options | Interval] = {
     "lambda2": Interval(float, 0.0),
     "anneal_momentum": Interval(float, 0.0, 1.0, "moving average of lambda1's annealing"),
     "seed": Interval(int, 0, 2**32 - 1),
+    "time_limit": Interval(
+        float, 0.0, help="seconds of training before the best state so far is kept; 0: none"
+    ),
     "dtype": Options(("float32", "float64"), "training precision"),
     "derivatives": Options(("jets", "autograd"), "derivatives: forward jets or autograd"),
     "elliptic_iterations": Interval(int, 0, 1_000_000),
@@ -205,6 +211,9 @@ class Settings:
     lambda2: float = 30.0
     anneal_momentum: float = 0.9  # moving-average factor of the lambda1 update
     seed: int = 0
+    # wall-clock seconds of training, then the best state so far is kept (0: no limit); not
+    # in training_key: a stopped training is not cached (cache.py), a complete one is the same
+    time_limit: float = NO_TIME_LIMIT
     dtype: str = "float32"  # training precision: float32 (measured: same loss) or float64
     device: str = "auto"
     # derivatives of the map: "jets" (forward-mode, jet/layers.py) or "autograd" (nested
@@ -292,7 +301,7 @@ class Settings:
 
     def training_key(self) -> tuple:
         """The settings that change the trained network (not the output resolution)."""
-        skip = {"preset", "device"} | (
+        skip = {"preset", "device", "time_limit"} | (
             {"lattice"} if self.warm_start == "none" and self.objective == "winslow" else set()
         )
         return tuple((f.name, getattr(self, f.name)) for f in fields(self) if f.name not in skip)

@@ -19,6 +19,7 @@ intended order in every version.
 
 import os
 import sys
+from xml.sax.saxutils import escape, quoteattr
 
 _REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 if _REPO not in sys.path:
@@ -34,6 +35,7 @@ try:
         MAX_SIDE_NODES,
         METHODS,
         OBJECTIVES,
+        PANEL_TIME_LIMIT,
         PARAMETER_CONSTRAINTS,
         PRESETS,
         Settings,
@@ -84,10 +86,19 @@ def _doc(text):
     return f"<Documentation>{text}</Documentation>"
 
 
+def _proxy_doc(short, text):
+    """A proxy's documentation: ``short`` (a line) and ``text`` for the panel's "?" help."""
+    return (
+        f"<Documentation long_help={quoteattr(text)} short_help={quoteattr(short)}>"
+        f"{escape(text)}</Documentation>"
+    )
+
+
 @smproxy.filter(
     name="PINNStructuredMesh", label="PINN Structured Mesh", support_reload=False
 )  # no developer's "Reload Python Module" button
 @smhint.xml('<ShowInMenu category="Mesh Generation"/>')
+@smhint.xml('<RepresentationType view="RenderView" type="Surface With Edges"/>')  # cells seen
 @smproperty.input(
     name="AuxiliaryLines",
     label="Auxiliary Lines",
@@ -117,11 +128,17 @@ def _doc(text):
     )
 )
 @smproperty.xml(
-    _doc(
+    _proxy_doc(
+        "Structured quadrilateral grid from a physics-informed neural network.",
         "Structured quadrilateral grid of a four-sided 2D domain from a "
         "physics-informed neural network (pinn), with MGNet, transfinite "
-        "interpolation and elliptic baselines. Cells are coloured by their "
-        "included angles (MaxIncludedAngle, MinIncludedAngle)."
+        "interpolation and elliptic baselines, or an O- or C-grid around an airfoil "
+        "(Topology). Input: the closed boundary with four corners, optionally with "
+        "open auxiliary lines between opposite sides. Cells carry their included "
+        "angles (MaxIncludedAngle, MinIncludedAngle), ScaledJacobian and Folded; "
+        "field data the report and the loss history. A training ends after Time "
+        "Limit seconds or at pkill -USR1 -x paraview with its best grid so far. "
+        "Guide: docs/routes.md of the pinn-mesh checkout.",
     )
 )
 class PINNStructuredMesh(PinnMeshAlgorithm):
@@ -171,6 +188,19 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
     )
     def P03Preset(self, index):
         self.SetPreset(int(index))
+
+    @smproperty.doublevector(name="TimeLimit", label="Time Limit", default_values=PANEL_TIME_LIMIT)
+    @smdomain.doublerange(min=0.0)
+    @smdomain.xml(
+        _doc(
+            "Seconds of training, then the grid of the best state so far is produced with a "
+            "warning (0: no limit). ParaView handles no event while a filter runs; "
+            "pkill -USR1 -x paraview ends a training early the same way."
+        )
+    )
+    @smhint.xml(_NEURAL)
+    def P03TimeLimit(self, seconds):
+        self.SetPanelSetting("time_limit", float(seconds))
 
     @smproperty.intvector(
         name="AdamEpochs",
@@ -341,6 +371,13 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
     file_description="Airfoil coordinates (Selig or Lednicer)",
     support_reload=False,
 )
+@smproperty.xml(
+    _proxy_doc(
+        "An airfoil .dat file (Selig or Lednicer) as a polyline.",
+        "Reads an airfoil .dat file (Selig or Lednicer coordinates) as one polyline, "
+        "for PINN Structured Mesh with Topology O-grid or C-grid (docs/airfoils.md).",
+    )
+)
 class PINNAirfoilReader(AirfoilReader):
     """An airfoil .dat file as a polyline, for PINN Structured Mesh with Topology O/C."""
 
@@ -352,6 +389,14 @@ class PINNAirfoilReader(AirfoilReader):
 
 @smproxy.source(name="PINNAirfoilSource", label="Airfoil", support_reload=False)
 @smhint.xml('<ShowInMenu category="Mesh Generation"/>')
+@smproperty.xml(
+    _proxy_doc(
+        "A NACA 4-digit airfoil of chord 1 as a polyline.",
+        "A NACA 4-digit section of chord 1 as one polyline (sharp trailing edge for "
+        "the C-grid, the classical blunt one for the O-grid), for PINN Structured "
+        "Mesh with Topology O-grid or C-grid (docs/airfoils.md).",
+    )
+)
 class PINNAirfoilSource(AirfoilSource):
     """A NACA 4-digit section of chord 1, for PINN Structured Mesh with Topology O/C."""
 
@@ -369,7 +414,7 @@ class PINNAirfoilSource(AirfoilSource):
         self.SetSharpTrailingEdge(sharp)
 
 
-def _writer_proxy(key, extension, name):
+def _writer_proxy(key, extension, name, file_type):
     """File > Save Data entry for one solver format (``pinn_engine.io.export``)."""
     fmt = FORMATS[key]
     thickness = (
@@ -404,15 +449,27 @@ def _writer_proxy(key, extension, name):
         composite_data_supported=False,
     )(Writer)
     Writer = smproperty.input(name="Input", port_index=0)(Writer)  # noqa: N806
+    Writer = smproperty.xml(  # noqa: N806
+        _proxy_doc(
+            f"Writes the grid as {fmt.description}.",
+            f"Writes a PINN Structured Mesh grid as {fmt.description}, with the grid's "
+            "Patch Names as boundary patches (docs/export.md).",
+        )
+    )(Writer)
     return smproxy.writer(
         name=name,
         label=name,
         extensions=extension,
-        file_description=f"PINN Mesh {fmt.description}",
+        file_description=file_type,
         support_reload=False,
     )(Writer)
 
 
-for _key, (_extension, _name) in PARAVIEW_FORMATS.items():
-    globals()[_name] = _writer_proxy(_key, _extension, _name)
-del _key, _extension, _name  # one module name per proxy: ParaView registers every one it finds
+for _key, (_extension, _name, _file_type) in PARAVIEW_FORMATS.items():
+    globals()[_name] = _writer_proxy(_key, _extension, _name, _file_type)
+del (
+    _key,
+    _extension,
+    _name,
+    _file_type,
+)  # one module name per proxy: ParaView registers every one it finds

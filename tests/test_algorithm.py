@@ -16,7 +16,8 @@ from vtkmodules.vtkFiltersSources import vtkLineSource, vtkPolyLineSource
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
 from pinn_engine.errors import TrainingError
-from pinn_engine.routes.algorithm import PinnMeshAlgorithm
+from pinn_engine.io.vtkgrid import loss_history
+from pinn_engine.routes.algorithm import PREPARE_SHARE, PinnMeshAlgorithm
 from pinn_engine.settings import Settings
 
 SHORT = {"adam_epochs": 60, "lbfgs_iterations": 5}
@@ -77,7 +78,10 @@ def test_pipeline_output(trained):
         assert grid.GetCellData().GetArray(name).GetNumberOfTuples() == 40 * 20
     fd = grid.GetFieldData()
     assert fd.GetAbstractArray("Method").GetValue(0) == "pinn"
-    assert fd.GetArray("Loss_total").GetNumberOfTuples() > 0
+    history = loss_history(alg.GetOutput())  # one array, a component per term
+    assert len(history["total"]) > 0 and {"eqns", "data"} <= set(history)
+    assert fd.GetArray("LossHistory").GetNumberOfComponents() == len(history)
+    assert not any(fd.GetArrayName(k).startswith("Loss_") for k in range(fd.GetNumberOfArrays()))
     assert field(alg, "Trained") == 1 and alg.GetTrainingCount() == 1
     assert progress[0] == 0.0 and progress[-1] == 1.0 and len(progress) >= 4
     assert progress == sorted(progress)
@@ -261,7 +265,7 @@ def test_abort_cancels_training_and_next_update_runs():
         alg.Update()  # nothing changed: no new training, no second message
     assert alg.GetOutput().GetNumberOfPoints() == 0
     assert len(errors.lines) == 1 and "training cancelled during adam" in errors.lines[0]
-    assert alg.GetTrainingCount() == 0 and pressed[0] < 0.2
+    assert alg.GetTrainingCount() == 0 and pressed[0] < PREPARE_SHARE + 0.1  # early in training
     alg.RemoveObserver(tag)
     alg.SetAdamEpochs(60)
     alg.Update()
@@ -329,8 +333,9 @@ def test_inputs_connected_together_are_told_apart():
     assert "2 of the 2 connected inputs hold a closed curve" in two.GetLastError()
 
 
-def test_sigusr1_stops_a_training_and_the_handler_is_restored():
-    """ParaView 5.11 runs no GUI event during a filter: ``pkill -USR1 -x paraview`` stops it."""
+def test_sigusr1_stops_a_training_with_its_best_grid_and_the_handler_is_restored():
+    """ParaView 5.11 runs no GUI event during a filter: ``pkill -USR1 -x paraview`` stops it,
+    and the grid of the training so far comes with a warning (not an empty output)."""
     import os
     import signal
     import threading
@@ -343,6 +348,59 @@ def test_sigusr1_stops_a_training_and_the_handler_is_restored():
         alg.Update()
     finally:
         timer.cancel()
-    assert alg.GetOutput().GetNumberOfPoints() == 0
-    assert "training cancelled during adam" in alg.GetLastError()
+    assert alg.GetLastError() == "" and alg.GetOutput().GetNumberOfPoints() == 41 * 21
+    warning = alg.GetLastWarning()
+    assert "training stopped after" in warning and "a stop was asked during adam" in warning
+    assert "the grid of the best state so far is produced" in warning
     assert signal.getsignal(signal.SIGUSR1) == before
+
+
+def test_time_limit_gives_the_best_grid_so_far_with_a_warning_and_is_not_cached():
+    alg = make_alg(adam_epochs=200_000, lbfgs_iterations=0, warm_start="none", time_limit=1.5)
+    with OutputMessages(alg, "WarningEvent") as warnings:
+        alg.Update()
+    assert alg.GetLastError() == "" and alg.GetOutput().GetNumberOfPoints() == 41 * 21
+    assert len(warnings.lines) == 1
+    assert "its time limit of 1.5 s ran out during adam" in warnings.lines[0]
+    assert "give a larger Time Limit (0: none)" in warnings.lines[0]
+    report = json.loads(alg.GetOutput().GetFieldData().GetAbstractArray("Report").GetValue(0))
+    stopped = report["training"]["stopped"]
+    assert stopped["reason"] == "time limit" and 1.5 <= stopped["seconds"] < 10
+    assert 0 < report["training"]["adam_epochs"] < 200_000
+    alg.Modified()  # a stopped training is not kept: the next update trains again
+    alg.Update()
+    assert alg.GetTrainingCount() == 2
+
+
+def test_time_limit_in_lbfgs_keeps_the_state_the_guard_kept():
+    """From the elliptic warm start the guard's kept state is the result of a stopped
+    L-BFGS, never a line search's trial point."""
+    alg = make_alg(lbfgs_iterations=100_000, time_limit=1.0)
+    alg.Update()
+    report = json.loads(alg.GetOutput().GetFieldData().GetAbstractArray("Report").GetValue(0))
+    training = report["training"]
+    assert training["stopped"]["phase"] == "lbfgs" or "guard" in training
+    assert training["result"] in ("network", "start") and report["quality"]["folded_cells"] == 0
+    assert training["lbfgs_iterations"] < 100_000
+
+
+def test_an_airfoil_o_grid_reports_its_stages_before_training():
+    """The elliptic grid and torch's set-up took seconds without a progress step."""
+    from pinn_engine.routes.airfoil_algorithm import AirfoilSource
+
+    alg = PinnMeshAlgorithm()
+    connect(alg, 0, AirfoilSource())
+    alg.SetTopology("o")
+    alg.SetGridSize(65, 25)
+    steps: list[tuple[float, str]] = []
+    alg.AddObserver(
+        "ProgressEvent", lambda obj, event: steps.append((obj.GetProgress(), obj.GetProgressText()))
+    )
+    alg.Update()
+    assert alg.GetLastError() == ""
+    texts = [text.removeprefix("PINN Structured Mesh: ") for _, text in steps]
+    stages = ["body layout", "elliptic grid", "network set-up"]
+    assert [t for t in texts if t in stages] == stages
+    assert texts.index("network set-up") < texts.index("training (L-BFGS)")
+    fractions = [f for f, t in steps if t.endswith(tuple(stages))]
+    assert fractions == sorted(fractions) and fractions[-1] < PREPARE_SHARE

@@ -268,3 +268,14 @@ def test_unknown_option_and_bad_size_exit_2(tmp_path, capsys):
         == 2
     )
     assert "--size" in capsys.readouterr().err
+
+
+def test_cli_time_limit_writes_the_best_grid_with_a_warning(tmp_path, capsys):
+    out = tmp_path / "fig2.vts"
+    args = [str(EXAMPLES / "fig2.vtp"), "-o", str(out), "--size", "21", "11"]
+    args += ["--epochs", "100000", "--lbfgs", "0", "--warm-start", "none"]
+    assert main([*args, "--time-limit", "1", "--quiet"]) == 0
+    assert out.exists()
+    err = capsys.readouterr().err
+    assert "warning" in err and "its time limit of 1 s ran out during adam" in err
+    assert "a larger --time-limit (0: none)" in err

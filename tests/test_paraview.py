@@ -173,6 +173,7 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
         "Method",
         "GridSize",
         "Preset",
+        "TimeLimit",
         "AdamEpochs",
         "LBFGSIterations",
         "HiddenLayers",
@@ -198,6 +199,10 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
         "Seed",
     ]
     assert result["naca_label"] == "NACA"
+    # issue 23 item 10: "?" help for every proxy; the grid shows its cells from the first show
+    for name, (short, long) in result["help"].items():
+        assert 20 < len(short) < len(long), name
+    assert result["representation"] == "Surface With Edges"
     assert result["aux_optional"]
     assert result["grid"] == {
         "class": "vtkStructuredGrid",
@@ -236,12 +241,12 @@ def test_save_data_offers_the_solver_formats_and_writes_them(checkout, tmp_path)
     )
     assert result["patch_names"] == ["wall", "right", "wall", "inlet"]
     assert {"i", "j"} <= set(result["point_arrays"])
-    assert sorted(t.split("(*")[1] for t in result["file_types"]) == [
-        ".cgns )",
-        ".foam )",
-        ".msh )",
-        ".su2 )",
-        ".xyz )",
+    assert sorted(result["file_types"]) == [  # short: Save Data's list shows them whole
+        "PINN Mesh CGNS(*.cgns )",
+        "PINN Mesh Gmsh(*.msh )",
+        "PINN Mesh OpenFOAM(*.foam )",
+        "PINN Mesh PLOT3D(*.xyz )",
+        "PINN Mesh SU2(*.su2 )",
     ]
     messages = dict(result["errors"])
     case = messages.pop("case.foam")  # Save Data as OpenFOAM says where the case went

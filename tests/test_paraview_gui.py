@@ -2,8 +2,8 @@
 
 ``tests/paraview_gui/drive.sh`` selects the boundary and the auxiliary-line source in the
 Pipeline Browser, creates the filter from the quick-launch, and later stops a long training
-with SIGUSR1. Skipped without ParaView, Xvfb, xdotool or ImageMagick
-(``bash scripts/setup_paraview.sh`` installs them).
+with SIGUSR1 and another with the panel's Time Limit. Skipped without ParaView, Xvfb, xdotool
+or ImageMagick (``bash scripts/setup_paraview.sh`` installs them).
 """
 
 from __future__ import annotations
@@ -56,8 +56,16 @@ def test_both_sources_selected_give_a_grid_with_aux_lines(gui):
     assert "ERR|" not in (gui / "aux_lines.log").read_text()
 
 
-def test_a_long_training_is_stopped_and_paraview_goes_on(gui):
+def test_a_long_training_stopped_by_signal_gives_its_best_grid_and_paraview_goes_on(gui):
     result = json.loads((gui / "stop.json").read_text())
-    assert result["points"] == 0
-    assert "training cancelled during adam" in result["error"]
+    assert result["error"] == "" and result["points"] == 41 * 21
+    assert "a stop was asked during adam" in result["warning"]
+    assert "the grid of the best state so far is produced" in result["warning"]
     assert (gui / "alive").read_text().strip() == "yes"
+
+
+def test_the_time_limit_ends_a_long_training_with_its_best_grid(gui):
+    result = json.loads((gui / "limit.json").read_text())
+    assert result["error"] == "" and result["points"] == 41 * 21
+    assert "its time limit of 4 s ran out during adam" in result["warning"]
+    assert "a larger Time Limit (0: none)" in result["warning"]

@@ -33,6 +33,8 @@ def test_function_returns_structured_grid(fig2):
     assert all(name in grid.cell_data for name in ARRAYS)
     assert grid.active_scalars_name == "MaxIncludedAngle"
     assert str(grid.field_data["Method"][0]) == "pinn"
+    history = grid.field_data["LossHistory"]  # a row per evaluation, a component per term
+    assert history.ndim == 2 and history.shape[1] > 5 and history.shape[0] > 60
     # boundary nodes lie on the input boundary
     assert np.isclose(grid.points[:, 0].min(), boundary.points[:, 0].min())
 
@@ -155,3 +157,22 @@ def test_every_keyword_reaches_the_settings(fig2):
     settings = json.loads(str(grid.field_data["Report"][0]))["settings"]
     assert settings["boundary_mode"] == "penalty" and settings["warm_start"] == "none"
     assert (settings["hidden_layers"], settings["neurons"], settings["seed"]) == (2, 8, 3)
+
+
+def test_time_limit_and_a_stop_answer_return_the_best_grid_with_a_warning(fig2):
+    from pinn_engine.errors import STOP, TrainingStoppedWarning
+
+    boundary, aux = fig2
+    long = {"adam_epochs": 100_000, "lbfgs_iterations": 0, "warm_start": "none"}
+    with pytest.warns(TrainingStoppedWarning, match=r"time limit of 1 s .*time_limit="):
+        grid = pinn_mesh(boundary, aux=aux, size=(21, 11), time_limit=1, **long)
+    assert grid.n_points == 21 * 11
+    steps = []
+
+    def stop_after_two(info):
+        steps.append(info["step"])
+        return STOP if len(steps) == 2 else None
+
+    with pytest.warns(TrainingStoppedWarning, match="a stop was asked during adam at step 100"):
+        grid = pinn_mesh(boundary, aux=aux, size=(21, 11), progress=stop_after_two, **long)
+    assert grid.n_points == 21 * 11 and steps == [50, 100]

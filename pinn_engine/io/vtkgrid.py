@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
-from vtkmodules.util.numpy_support import numpy_to_vtk
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkPoints, vtkStringArray
 from vtkmodules.vtkCommonDataModel import vtkStructuredGrid
 
@@ -26,6 +26,27 @@ def _add_string(fd, name: str, text: str) -> None:
     fd.AddArray(arr)
 
 
+def _add_history(fd, history: dict[str, list[float]]) -> None:
+    """The loss history as one array ``LossHistory``: a row per evaluation, a component per
+    term, named after it; one entry in ParaView's Color By list instead of one per term."""
+    terms = list(history)
+    arr = numpy_to_vtk(np.column_stack([history[t] for t in terms]).astype(float), deep=True)
+    arr.SetName("LossHistory")
+    for k, term in enumerate(terms):
+        arr.SetComponentName(k, term)
+    fd.AddArray(arr)
+
+
+def loss_history(grid) -> dict[str, np.ndarray]:
+    """The loss history of a grid's field data (``LossHistory``): term -> values, e.g.
+    ``loss_history(grid)["total"]``; empty for a method without training."""
+    arr = grid.GetFieldData().GetArray("LossHistory")
+    if arr is None:
+        return {}
+    values = vtk_to_numpy(arr).reshape(arr.GetNumberOfTuples(), -1)
+    return {arr.GetComponentName(k): values[:, k].copy() for k in range(values.shape[1])}
+
+
 def structured_grid(
     points: np.ndarray,
     report: dict | None = None,
@@ -41,7 +62,8 @@ def structured_grid(
     ``ScaledJacobian`` and ``Folded`` (0/1), computed unless given as ``cells``. Field data:
     ``Method``, ``Report`` (JSON: settings, timings, quality summary), the summary figures as
     numbers, per side ``FirstEdge_<side>`` (min, median, max), ``WallAngleDeviation_<side>``
-    (degrees) and ``GrowthRatio_<side>``, and ``Loss_<term>`` histories, ``PatchNames``
+    (degrees) and ``GrowthRatio_<side>``, the loss history ``LossHistory`` (a component per
+    term; :func:`loss_history` reads it), ``PatchNames``
     (``patches``: any form ``export.patch_names`` takes; default bottom, right, top, left),
     and for a trained network ``NetworkResult`` (``network``: its grid; ``start``: the guard
     kept the start) and ``LargestNodeMove`` (between start and result, of the diagonal).
@@ -84,8 +106,8 @@ def structured_grid(
         _add_string(fd, "NetworkResult", training["result"])
         if training.get("largest_node_move") is not None:
             _add_scalar(fd, "LargestNodeMove", training["largest_node_move"])
-    for term, values in (history or {}).items():
-        _add_scalar(fd, f"Loss_{term}", values)
+    if history:
+        _add_history(fd, history)
     topology = report.get("topology")
     if topology:  # an O- or C-grid (SPEC 9): what the writers need to join seam or cut
         _add_string(fd, "Topology", topology["kind"])

@@ -5,7 +5,9 @@ that builds the boundary in, the start: all the block kind's business) and knows
 which kind it trains. Callbacks steer it: a :class:`Guard` checks the grid every
 ``GUARD_EVERY`` L-BFGS iterations and keeps the last state that passed (early stopping on
 grid quality), and ``progress(info)`` is called every few steps with the phase, step and loss
-terms; returning True cancels (raises :class:`TrainingCancelled`).
+terms; returning True cancels (raises :class:`TrainingCancelled`), returning ``errors.STOP`` ends
+the training early with the best state so far, as ``settings.time_limit`` does (a
+:class:`Stop` records why: the report's ``training.stopped``).
 
 Seeded and repeatable. A non-finite or exploding loss during Adam restores the last good
 weights and halves the learning rate, at most ``MAX_RECOVERIES`` times; during L-BFGS it
@@ -17,6 +19,7 @@ from __future__ import annotations
 import contextlib
 import copy
 import math
+import time
 from collections.abc import Callable, Sequence
 from typing import Protocol
 
@@ -24,7 +27,7 @@ import numpy as np
 import torch
 
 from pinn_engine.blas import one_blas_thread
-from pinn_engine.errors import TrainingCancelled, TrainingError
+from pinn_engine.errors import STOP, TrainingCancelled, TrainingError
 from pinn_engine.heap import reuse_freed_memory
 from pinn_engine.neural.losses import annealed_lambda
 from pinn_engine.settings import Settings
@@ -39,7 +42,7 @@ GUARD_PATIENCE = 2  # rejected checks in a row that end the training
 LBFGS_MEMORY = 50  # L-BFGS correction pairs (SciPy's maxcor; the paper's TensorFlow used 50)
 LBFGS_EVALUATIONS = 1.25  # loss evaluations allowed per iteration (line searches)
 
-Progress = Callable[[dict], "bool | None"]
+Progress = Callable[[dict], "bool | str | None"]
 
 
 class Evaluation(Protocol):
@@ -173,12 +176,43 @@ class History:
             self.values.setdefault(k, []).append(v)
 
 
-def notify(progress: Progress | None, phase: str, step: int, total: int, loss: dict) -> None:
-    """Call ``progress`` with the phase, step and last loss terms; cancel if it says so."""
+class Stop:
+    """Whether training is to end before its schedule, and why: ``settings.time_limit``
+    seconds passed (0: no limit) or a progress callback answered ``errors.STOP``."""
+
+    def __init__(self, time_limit: float) -> None:
+        self.started = time.monotonic()
+        self.deadline = self.started + time_limit if time_limit > 0 else math.inf
+        self.time_limit = time_limit
+        self.record: dict | None = None  # the report's ``training.stopped``
+
+    def request(self, reason: str, phase: str, step: int) -> None:
+        """End the training at the next step; ``reason``: "time limit" or "request"."""
+        if self.record is None:
+            seconds = round(time.monotonic() - self.started, 1)
+            self.record = {"reason": reason, "phase": phase, "step": step, "seconds": seconds}
+            if reason == "time limit":
+                self.record["time_limit"] = self.time_limit
+
+    def due(self, phase: str, step: int) -> bool:
+        """Whether training ends now (the clock is read here: once a step, about 50 ns)."""
+        if self.record is None and time.monotonic() > self.deadline:
+            self.request("time limit", phase, step)
+        return self.record is not None
+
+
+def notify(
+    progress: Progress | None, phase: str, step: int, total: int, loss: dict, stop: Stop
+) -> None:
+    """Call ``progress`` with the phase, step and last loss terms; cancel if it answers True,
+    ask ``stop`` to end the training if it answers ``errors.STOP``."""
     if progress is None:
         return
     info = {"phase": phase, "step": step, "total": total, "loss": loss["total"], "terms": loss}
-    if progress(info):
+    answer = progress(info)
+    if isinstance(answer, str) and answer == STOP:
+        stop.request("request", phase, step)
+    elif answer:
         raise TrainingCancelled(f"training cancelled during {phase} at step {step}")
 
 
@@ -222,21 +256,29 @@ def fit(
 ) -> tuple[dict[str, list[float]], dict]:
     """Train ``problem.net`` on ``problem``: ``settings.adam_epochs`` of Adam, then up to
     ``settings.lbfgs_iterations`` of L-BFGS under ``guard``; the net ends in the kept state.
+    Training ends early, in the best state so far (the guard's, else the last step's), after
+    ``settings.time_limit`` seconds or when ``progress`` answers ``errors.STOP``.
     Returns the loss history and what the report says about the training."""
-    history = History()
-    lambda1, recoveries = _adam(problem, settings, history, lambda1, progress)
-    if guard is not None and settings.adam_epochs:
+    history, stop = History(), Stop(settings.time_limit)
+    lambda1, recoveries, epochs = _adam(problem, settings, history, lambda1, progress, stop)
+    if guard is not None and epochs:
         guard.check(0)  # an Adam phase (not needed from a warm start) is checked too
-    lbfgs_ok, lbfgs_iterations = _lbfgs(problem, settings, history, lambda1, progress, guard)
+    lbfgs_ok, lbfgs_iterations = True, 0
+    if stop.record is None:
+        lbfgs_ok, lbfgs_iterations = _lbfgs(
+            problem, settings, history, lambda1, progress, stop, guard
+        )
     info = {
-        "adam_epochs": settings.adam_epochs,
-        "lbfgs_evaluations": len(history.values.get("total", [])) - settings.adam_epochs,
+        "adam_epochs": epochs,
+        "lbfgs_evaluations": len(history.values.get("total", [])) - epochs,
         "lbfgs_iterations": lbfgs_iterations,
         "lambda1": lambda1,
         "recoveries": recoveries,
         "lbfgs_accepted": lbfgs_ok,
         "final_loss": history.values["total"][-1] if history.values else float("nan"),
     }
+    if stop.record is not None:
+        info["stopped"] = stop.record
     if guard is None:  # trained from scratch: the network's grid is the result
         info.update(result="network", largest_node_move=None)
     else:
@@ -288,20 +330,27 @@ class _FlatAdam:
 
 
 def _adam(
-    problem: Problem, s: Settings, history: History, lambda1: float, progress
-) -> tuple[float, int]:
+    problem: Problem, s: Settings, history: History, lambda1: float, progress, stop: Stop
+) -> tuple[float, int, int]:
+    """Adam's phase; returns lambda1, the recoveries and the epochs run."""
     if s.adam_epochs == 0:
-        return lambda1, 0
+        return lambda1, 0, 0
     opt = _FlatAdam(problem.net, s.learning_rate)
     try:
-        return _adam_epochs(opt, problem, s, history, lambda1, progress)
+        return _adam_epochs(opt, problem, s, history, lambda1, progress, stop)
     finally:
         opt.release()
 
 
 def _adam_epochs(
-    opt: _FlatAdam, problem: Problem, s: Settings, history: History, lambda1: float, progress
-) -> tuple[float, int]:
+    opt: _FlatAdam,
+    problem: Problem,
+    s: Settings,
+    history: History,
+    lambda1: float,
+    progress,
+    stop: Stop,
+) -> tuple[float, int, int]:
     net = problem.net
     weights = net.weight_matrices() if problem.anneals else []
     best, recoveries, steps = math.inf, 0, 0
@@ -338,8 +387,10 @@ def _adam_epochs(
             opt.lr *= s.lr_decay
         if epoch % PROGRESS_EVERY == 0 or epoch == s.adam_epochs:
             last = {k: v[-1] for k, v in history.values.items()}
-            notify(progress, "adam", epoch, s.adam_epochs, last)
-    return lambda1, recoveries
+            notify(progress, "adam", epoch, s.adam_epochs, last, stop)
+        if stop.due("adam", epoch):
+            return lambda1, recoveries, epoch
+    return lambda1, recoveries, s.adam_epochs
 
 
 def _lbfgs(
@@ -348,12 +399,14 @@ def _lbfgs(
     history: History,
     lambda1: float,
     progress,
+    stop: Stop,
     guard: Guard | None = None,
 ) -> tuple[bool, int]:
     """Full-batch L-BFGS (SciPy's L-BFGS-B without bounds, as the paper's TensorFlow code
     used, and without torch.optim's 1.5 s import of torch._dynamo); returns (accepted,
     iterations): not accepted if it diverged and the Adam weights were kept. With a
-    ``guard``, the guard checks the grid every ``GUARD_EVERY`` iterations and may stop it."""
+    ``guard``, the guard checks the grid every ``GUARD_EVERY`` iterations and may stop it;
+    ``stop`` ends it after an iteration (an accepted iterate, not a line search's trial)."""
     if s.lbfgs_iterations == 0:
         return True, 0
     from scipy.optimize import minimize
@@ -382,7 +435,7 @@ def _lbfgs(
         grad = evaluation.gradient()
         if calls[0] % 10 == 0:
             last = {k: v[-1] for k, v in history.values.items()}
-            notify(progress, "lbfgs", calls[0], s.lbfgs_iterations, last)
+            notify(progress, "lbfgs", calls[0], s.lbfgs_iterations, last, stop)
         return value, grad.double().cpu().numpy()
 
     def each_iteration(xk: np.ndarray) -> None:
@@ -391,6 +444,8 @@ def _lbfgs(
             load(xk)
             if not guard.check(iterations[0]):
                 raise StopIteration
+        if stop.due("lbfgs", iterations[0]):
+            raise StopIteration
 
     before = history.values["total"][-1] if history.values else math.inf
     theta = torch.cat([p.detach().flatten() for p in params]).double().cpu().numpy()

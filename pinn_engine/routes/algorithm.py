@@ -47,11 +47,11 @@ from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 from pinn_engine.cache import MeshCache
 from pinn_engine.errors import (
+    STOP,
     InputError,
     PinnMeshError,
     TrainingCancelled,
-    folded_cells_warning,
-    wall_angle_warning,
+    grid_warnings,
 )
 from pinn_engine.settings import (
     METHODS,
@@ -68,17 +68,13 @@ from pinn_engine.settings import (
 )
 
 LABEL = "PINN Structured Mesh"
+PREPARE_SHARE = 0.3  # of the progress bar for a body's stages before training (elliptic grid)
 
 
 def _warning(report: dict) -> str | None:
-    """The update's warning: folded cells and wall angles off an orthogonal side, in the
-    panel's words, joined; None when neither applies."""
-    texts = [
-        w
-        for w in (folded_cells_warning(report, "paraview"), wall_angle_warning(report, "paraview"))
-        if w
-    ]
-    return "; ".join(texts) or None
+    """The update's warning: a stopped training, folded cells and wall angles off an
+    orthogonal side, in the panel's words, joined; None when none applies."""
+    return "; ".join(text for text, _ in grid_warnings(report, "paraview")) or None
 
 
 def _choice(value, options: tuple[str, ...], what: str) -> str:
@@ -479,16 +475,26 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
             return None
         return text
 
-    def _training_progress(self, settings: Settings) -> Callable[[dict], bool]:
+    def _training_progress(self, settings: Settings) -> Callable[[dict], bool | str]:
+        """The engine's progress callback: the bar (a body's stages before training up to
+        ``PREPARE_SHARE``, training up to 0.9) and the answer: ``STOP`` after the stop signal
+        (or the caller's ``STOP``), True to cancel (the caller's True, an abort request)."""
         adam, lbfgs = settings.adam_epochs, settings.lbfgs_iterations
         total = max(adam + lbfgs, 1)
 
-        def progress(info: dict) -> bool:
-            done = info["step"] if info["phase"] == "adam" else adam + min(info["step"], lbfgs)
-            phase = "Adam" if info["phase"] == "adam" else "L-BFGS"
-            self._progress(0.9 * min(done / total, 1.0), f"training ({phase})")
-            user = self._user_progress is not None and self._user_progress(info)
-            return bool(user) or self._abort_requested()
+        def progress(info: dict) -> bool | str:
+            if info["phase"] == "prepare":
+                fraction = PREPARE_SHARE * info["step"] / max(info["total"], 1)
+                self._progress(fraction, info["stage"])
+            else:
+                done = info["step"] if info["phase"] == "adam" else adam + min(info["step"], lbfgs)
+                phase = "Adam" if info["phase"] == "adam" else "L-BFGS"
+                fraction = PREPARE_SHARE + (0.9 - PREPARE_SHARE) * min(done / total, 1.0)
+                self._progress(fraction, f"training ({phase})")
+            answer = self._user_progress(info) if self._user_progress is not None else None
+            if self._stop_signal or (isinstance(answer, str) and answer == STOP):
+                return STOP
+            return bool(answer) or self._abort_requested()
 
         return progress
 
@@ -499,8 +505,6 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         self.UpdateProgress(fraction)
 
     def _abort_requested(self) -> bool:
-        if self._stop_signal:
-            return True
         check = getattr(self, "CheckAbort", None)  # VTK 9.4+
         if check is not None and check():
             return True
@@ -508,10 +512,11 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
 
     @contextlib.contextmanager
     def _stop_on_signal(self):
-        """While training, SIGUSR1 (``pkill -USR1 -x paraview``) stops the training instead of
-        the host process: ParaView 5.11 handles no GUI event while a filter runs, so its abort
-        button cannot. Only where SIGUSR1 has its default action or a Python handler, which is
-        put back afterwards (the host is left as it was); main thread only."""
+        """While training, SIGUSR1 (``pkill -USR1 -x paraview``) stops the training with the
+        best grid so far (and a warning) instead of ending the host process: ParaView 5.11
+        handles no GUI event while a filter runs, so its abort button cannot. Only where
+        SIGUSR1 has its default action or a Python handler, which is put back afterwards (the
+        host is left as it was); main thread only."""
         self._stop_signal = None
         usr1 = getattr(signal, "SIGUSR1", None)
         previous = signal.getsignal(usr1) if usr1 is not None else None

@@ -15,9 +15,8 @@ from pathlib import Path
 from pinn_engine import heap
 from pinn_engine.errors import (
     PinnMeshError,
-    folded_cells_warning,
+    grid_warnings,
     network_effect,
-    wall_angle_warning,
 )
 from pinn_engine.settings import (
     METHODS,
@@ -249,7 +248,10 @@ class _Progress:
             return
         done = info["step"] / max(info["total"], 1)
         decile = int(done * 10)
-        text = f"[{info['phase']:5s} {info['step']:5d}/{info['total']}] loss {info['loss']:.3e}"
+        if info["phase"] == "prepare":  # a stage before training (bodymesh.STAGES)
+            text = f"[{info['stage']}]"
+        else:
+            text = f"[{info['phase']:5s} {info['step']:5d}/{info['total']}] loss {info['loss']:.3e}"
         if self.tty:
             print("\r" + text, end="", file=sys.stderr, flush=True)
         elif decile != self.last:
@@ -457,12 +459,8 @@ def _write_outputs(args, outcome, out: Path, written: list[Path], name: str, pic
             picture(grid, tmp)
         written.append(Path(args.png))
     print(f"wrote {out}" + (f" and {args.png}" if args.png else ""))
-    for warning in (  # not progress: printed with --quiet too; last: an error stays one line
-        folded_cells_warning(result.report, "cli"),
-        wall_angle_warning(result.report, "cli"),
-    ):
-        if warning:
-            print(f"pinn-mesh: warning: {name}: {warning}", file=sys.stderr, flush=True)
+    for warning, _ in grid_warnings(result.report, "cli"):  # printed with --quiet too
+        print(f"pinn-mesh: warning: {name}: {warning}", file=sys.stderr, flush=True)
     return out
 
 

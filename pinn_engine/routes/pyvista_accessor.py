@@ -41,9 +41,7 @@ from pinn_engine.cache import MeshCache
 from pinn_engine.errors import (
     FoldedCellsWarning,
     InputError,
-    WallAngleWarning,
-    folded_cells_warning,
-    wall_angle_warning,
+    grid_warnings,
 )
 from pinn_engine.routes.airfoil_algorithm import body_polydata
 from pinn_engine.routes.algorithm import PinnMeshAlgorithm
@@ -63,17 +61,13 @@ def _ring_polydata(points, closed: bool) -> pv.PolyData:
 
 
 def _warn_about(report: dict) -> None:
-    """A ``FoldedCellsWarning`` and a ``WallAngleWarning`` where they apply, attributed to
-    the first caller outside this module."""
+    """A ``TrainingStoppedWarning``, ``FoldedCellsWarning`` and ``WallAngleWarning`` where
+    they apply, attributed to the first caller outside this module."""
     frame, level = sys._getframe(), 1
     while frame is not None and frame.f_code.co_filename == __file__:
         frame, level = frame.f_back, level + 1
-    for text, category in (
-        (folded_cells_warning(report, "pyvista"), FoldedCellsWarning),
-        (wall_angle_warning(report, "pyvista"), WallAngleWarning),
-    ):
-        if text is not None:
-            warnings.warn(text, category, stacklevel=level)
+    for text, category in grid_warnings(report, "pyvista"):
+        warnings.warn(text, category, stacklevel=level)
 
 
 def _as_polydata(obj, closed: bool, what: str) -> vtkPolyData:
@@ -159,8 +153,13 @@ def pinn_mesh(
         Torch device: ``"auto"`` (default), ``"cpu"``, ``"cuda"``.
     progress : callable, optional
         ``progress(info)`` during training, ``info`` a dict with ``phase`` ("adam" or
-        "lbfgs"), ``step``, ``total``, ``loss`` and ``terms``; returning True cancels
-        (``pinn_engine.errors.TrainingCancelled``).
+        "lbfgs"), ``step``, ``total``, ``loss`` and ``terms`` (before an O- or C-grid's
+        training, ``phase`` "prepare" with ``stage``, ``step`` and ``total``); returning
+        True cancels (``pinn_engine.errors.TrainingCancelled``), returning
+        ``pinn_engine.errors.STOP`` ends the training with the grid of its best state so far
+        and a ``TrainingStoppedWarning``.
+    time_limit : float, optional (a ``**settings`` field)
+        Seconds of training, then the same as a ``STOP`` answer (default: no limit).
     cache : pinn_engine.cache.MeshCache, optional
         Re-use networks trained earlier on the same inputs and training settings.
     patches : dict, sequence of four names or str, optional
@@ -199,10 +198,15 @@ def pinn_mesh(
         (degrees), ``ScaledJacobian``, ``Folded``; point data ``i``, ``j``; field data
         ``Method``, ``Report`` (JSON), quality figures, per side ``FirstEdge_<side>`` (min,
         median, max), ``WallAngleDeviation_<side>`` and ``GrowthRatio_<side>``,
-        ``Loss_<term>`` histories and ``PatchNames``.
+        ``LossHistory`` (a row per evaluation, a component per term:
+        ``grid.field_data["LossHistory"]``, or ``pinn_engine.io.vtkgrid.loss_history``) and
+        ``PatchNames``.
 
     Warns
     -----
+    pinn_engine.TrainingStoppedWarning
+        The training ended early (``time_limit``, a ``STOP`` answer); the grid of its best
+        state is returned.
     pinn_engine.FoldedCellsWarning
         Some cells of the grid are folded (the count and a hint of the fix); the grid is
         returned anyway.

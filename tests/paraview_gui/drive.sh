@@ -7,9 +7,10 @@
 #    OUTDIR/aux_lines.png the screen;
 # 2. the same with a long training (Preset paper, 200000 Adam epochs): once the filter's
 #    progress says it trains (the GUI is frozen then, as ParaView 5.11 handles no event while
-#    a filter runs), `kill -USR1` stops it;
+#    a filter runs), `kill -USR1` stops it with the best grid so far;
 #    OUTDIR/stop.json holds the filter's result, OUTDIR/alive whether ParaView still runs
-#    afterwards and OUTDIR/stopped.png the screen with the message.
+#    afterwards and OUTDIR/stopped.png the screen with the grid and the warning;
+# 3. the same long training with a Time Limit of 4 s: OUTDIR/limit.json, OUTDIR/limit.png.
 # Needs paraview, xvfb-run, xdotool and ImageMagick's import (scripts/setup_paraview.sh).
 set -euo pipefail
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -80,4 +81,13 @@ wait_for "$PINN_GUI_RESULT" 60 || { echo "the training did not stop" >&2; kill "
 sleep 2
 if kill -0 "$PV" 2>/dev/null; then echo yes >"$OUT/alive"; else echo no >"$OUT/alive"; fi
 import -window root "$OUT/stopped.png"
+kill "$PV"; wait "$PV" 2>/dev/null || true
+
+# 3. a long training under a time limit
+export PINN_GUI_TIME_LIMIT=4
+session limit 1
+select_both_and_apply
+wait_for "$PINN_GUI_RESULT" 90 || { echo "the time limit did not stop the training" >&2; kill "$PV"; exit 1; }
+sleep 3
+import -window root "$OUT/limit.png"
 kill "$PV"; wait "$PV" 2>/dev/null || true

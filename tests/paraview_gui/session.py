@@ -4,8 +4,9 @@ Opens example_data/fig2.vtp and fig2_aux.vtp, turns on auto-apply and, for every
 Structured Mesh filter the GUI creates, writes what its update gave (points, auxiliary lines,
 inputs, error) to the JSON file named by PINN_GUI_RESULT, and creates PINN_GUI_RESULT.training
 once its progress says it trains. PINN_GUI_LONG=1 makes new filters
-default to a long training (Preset paper, 200000 Adam epochs) for the stop test. Writes the
-file named by PINN_GUI_READY when the GUI may be driven.
+default to a long training (Preset paper, 200000 Adam epochs) for the stop tests, with the
+Time Limit PINN_GUI_TIME_LIMIT when set. Writes the file named by PINN_GUI_READY when the GUI
+may be driven.
 """
 
 import json
@@ -34,6 +35,7 @@ def write(proxy, alg):
                 name for (name, _), src in simple.GetSources().items() if src.SMProxy in connected
             ),
             "error": alg.GetLastError(),
+            "warning": alg.GetLastWarning(),
         }
     except Exception:
         result = {"exception": traceback.format_exc()}
@@ -74,6 +76,9 @@ def main():
         settings = servermanager.vtkSMSettings.GetInstance()
         settings.SetSetting("filters.PINNStructuredMesh.Preset", 1)
         settings.SetSetting("filters.PINNStructuredMesh.AdamEpochs", 200000)
+        if os.environ.get("PINN_GUI_TIME_LIMIT"):
+            limit = float(os.environ["PINN_GUI_TIME_LIMIT"])
+            settings.SetSetting("filters.PINNStructuredMesh.TimeLimit", limit)
     servermanager.ProxyManager().SMProxyManager.AddObserver("RegisterEvent", on_register)
 
 

@@ -36,6 +36,22 @@ result["advanced"] = sorted(
 )
 airfoil = servermanager.ProxyManager().GetPrototypeProxy("sources", "PINNAirfoilSource")
 result["naca_label"] = airfoil.GetProperty("NACA").GetXMLLabel()
+pxm = servermanager.ProxyManager()
+result["help"] = {  # the panel's "?": every proxy of the plugin documented
+    name: [
+        pxm.GetPrototypeProxy(group, name).GetDocumentation().GetShortHelp() or "",
+        pxm.GetPrototypeProxy(group, name).GetDocumentation().GetLongHelp() or "",
+    ]
+    for group, name in [
+        ("filters", "PINNStructuredMesh"),
+        ("sources", "PINNAirfoilSource"),
+        ("sources", "PINNAirfoilReader"),
+        ("writers", "PINNMeshCGNSWriter"),
+        ("writers", "PINNMeshOpenFOAMWriter"),
+    ]
+}
+shown = proto.GetHints().FindNestedElementByName("RepresentationType")
+result["representation"] = shown.GetAttribute("type") if shown else None
 aux_hints = proto.GetProperty("AuxiliaryLines").GetHints()
 result["aux_optional"] = bool(aux_hints and aux_hints.FindNestedElementByName("Optional"))
 

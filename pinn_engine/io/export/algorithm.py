@@ -25,13 +25,14 @@ from pinn_engine.errors import InputError, PinnMeshError
 
 LABEL = "PINN Mesh writer"
 # formats offered in ParaView (its own writers cover .vts and .vtk): key -> (extension,
-# writer proxy name; pvpython: ``servermanager.writers.PINNMeshCGNSWriter(Input=..., ...)``)
+# writer proxy name, pvpython: ``servermanager.writers.PINNMeshCGNSWriter(Input=..., ...)``;
+# file type in Save Data's list, short so that the list shows it whole)
 PARAVIEW_FORMATS = {
-    "xyz": ("xyz", "PINNMeshPLOT3DWriter"),
-    "cgns": ("cgns", "PINNMeshCGNSWriter"),
-    "su2": ("su2", "PINNMeshSU2Writer"),
-    "msh": ("msh", "PINNMeshGmshWriter"),
-    "openfoam": ("foam", "PINNMeshOpenFOAMWriter"),
+    "xyz": ("xyz", "PINNMeshPLOT3DWriter", "PINN Mesh PLOT3D"),
+    "cgns": ("cgns", "PINNMeshCGNSWriter", "PINN Mesh CGNS"),
+    "su2": ("su2", "PINNMeshSU2Writer", "PINN Mesh SU2"),
+    "msh": ("msh", "PINNMeshGmshWriter", "PINN Mesh Gmsh"),
+    "openfoam": ("foam", "PINNMeshOpenFOAMWriter", "PINN Mesh OpenFOAM"),
 }
 
 
