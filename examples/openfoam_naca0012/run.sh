@@ -31,8 +31,17 @@ simpleFoam -case "$CASE" >"$CASE/log.simpleFoam"
 echo "simpleFoam (log.simpleFoam): $((SECONDS - start)) s, $(grep -c '^Time =' "$CASE/log.simpleFoam") iterations"
 grep -E "SIMPLE solution converged" "$CASE/log.simpleFoam" || echo "  residualControl not met by endTime"
 
-# the last row of the coefficients; columns by name from the header (# Time Cd Cs Cl ...)
-awk '/^# Time/ { for (k = 2; k <= NF; k++) col[$k] = k - 1 }
-     !/^#/ { last = $0 }
-     END { split(last, v); printf "Cl = %.4f  Cd = %.5f  (iteration %d)\n", v[col["Cl"]], v[col["Cd"]], v[1] }' \
-    "$CASE/postProcessing/forceCoeffs/0/coefficient.dat"
+# Cl and Cd: means over the last AVG iterations (an even number: on this grid Cd alternates
+# by about 2 % between odd and even iterations, Cl by 3e-6), with Cd's range over them
+AVG=200
+awk -v n=$AVG '/^# Time/ { for (k = 2; k <= NF; k++) col[$k] = k - 1; next }
+     !/^#/ { row[++m] = $0 }
+     END {
+         for (r = m - n + 1; r <= m; r++) {
+             split(row[r], v); cl += v[col["Cl"]]; cd += v[col["Cd"]]
+             if (r == m - n + 1 || v[col["Cd"]] < lo) lo = v[col["Cd"]]
+             if (r == m - n + 1 || v[col["Cd"]] > hi) hi = v[col["Cd"]]
+         }
+         printf "Cl = %.4f  Cd = %.5f  (means over iterations %d-%d; Cd from %.5f to %.5f)\n", \
+             cl / n, cd / n, m - n + 1, m, lo, hi
+     }' "$CASE/postProcessing/forceCoeffs/0/coefficient.dat"
