@@ -1,0 +1,100 @@
+"""The OpenFOAM examples of ``examples/`` run on pinn-mesh's grids (issue 23 item 3).
+
+The laminar bump channel runs to convergence through its own ``run.sh``; the NACA 0012
+Spalart-Allmaras case (minutes) runs a few iterations on a coarse C-grid, which checks that
+its dictionaries fit the patches pinn-mesh writes. Skipped where OpenFOAM is missing;
+``.ci/run`` installs it (``scripts/setup_openfoam.sh``).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from conftest import ROOT
+
+from pinn_engine.routes.cli import main
+
+pytestmark = pytest.mark.skipif(
+    shutil.which("simpleFoam") is None,
+    reason="OpenFOAM's simpleFoam is missing (apt-get install openfoam; .ci/run installs it)",
+)
+
+BUMP = ROOT / "examples" / "openfoam_bump"
+NACA = ROOT / "examples" / "openfoam_naca0012"
+INFLOW = 1.0 * 1.0 * 0.1  # volume flux in: speed 1 (0/U) x height 1 x depth 0.1 (--extrude)
+NU, LENGTH = 0.01, 3.0  # constant/transportProperties; the channel's length (height 1)
+# fully developed Poiseuille flow loses 12 nu U L / H^2: the developing inflow and the bump
+# only add to that, so the measured drop must be larger
+POISEUILLE_DROP = 12 * NU * 1.0 * LENGTH
+FEW = 5  # SIMPLE iterations of the NACA case on the coarse grid: enough to read the dictionaries
+
+
+def foam_env() -> dict[str, str]:
+    env = dict(os.environ)
+    env.setdefault("WM_PROJECT_DIR", "/usr/share/openfoam")  # Debian's openfoam package
+    return env
+
+
+def last_value(case: Path, function: str) -> float:
+    """The last value written by a surfaceFieldValue function object of the case."""
+    rows = (case / "postProcessing" / function / "0" / "surfaceFieldValue.dat").read_text()
+    return float(rows.strip().splitlines()[-1].split()[1])
+
+
+def test_the_bump_channel_converges_and_keeps_its_mass(tmp_path):
+    case = tmp_path / "bump"
+    env = foam_env()
+    command = Path(sys.executable).with_name("pinn-mesh")  # this interpreter's, when it has one
+    if command.exists():
+        env["PINN_MESH"] = str(command)
+    proc = subprocess.run(
+        ["bash", str(BUMP / "run.sh"), str(case)],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=240,
+    )
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    assert "Mesh OK." in (case / "log.checkMesh").read_text()
+    log = (case / "log.simpleFoam").read_text()
+    done = re.search(r"SIMPLE solution converged in (\d+) iterations", log)
+    assert done, log[-2000:]
+    cap = int(re.search(r"^endTime\s+(\d+);", (BUMP / "system/controlDict").read_text(), re.M)[1])
+    assert int(done[1]) < cap
+    inflow, outflow = -last_value(case, "inletFlux"), last_value(case, "outletFlux")
+    assert inflow == pytest.approx(INFLOW, rel=1e-6)
+    assert outflow == pytest.approx(inflow, rel=0.01)
+    assert last_value(case, "inletPressure") > POISEUILLE_DROP
+    assert f"flux in {-inflow:.8e}" in proc.stdout  # the script's summary line
+
+
+def test_the_naca_case_reads_a_c_grid(tmp_path):
+    case = tmp_path / "naca"
+    case.mkdir()
+    for part in ("0", "constant", "system"):
+        shutil.copytree(NACA / part, case / part)
+    control = case / "system" / "controlDict"
+    control.write_text(
+        re.sub(r"^endTime\s+\d+;", f"endTime {FEW};", control.read_text(), flags=re.M)
+    )
+    command = ["--naca", "0012", "--topology", "c", "--size", "97", "25", "--method", "elliptic"]
+    command += ["--spacing", "bottom=1e-3", "--format", "openfoam", "--extrude", "0.1"]
+    assert main([*command, "-o", str(case), "--quiet"]) == 0
+    proc = subprocess.run(
+        ["simpleFoam", "-case", str(case)],
+        capture_output=True,
+        text=True,
+        env=foam_env(),
+        timeout=120,
+    )
+    assert proc.returncode == 0 and proc.stdout.rstrip().endswith("End"), proc.stdout[-3000:]
+    rows = (case / "postProcessing" / "forceCoeffs" / "0" / "coefficient.dat").read_text()
+    last = [ln for ln in rows.splitlines() if not ln.startswith("#")][-1].split()
+    assert int(last[0]) == FEW and all(math.isfinite(float(v)) for v in last)
