@@ -13,15 +13,20 @@ better kept (:func:`orthogonal_grid`):
   over the interior nodes near the folds, the network's own terms: the (linearised, scaled)
   Winslow residual, the squared cosine of the wall angles, and a barrier on nearly flat or
   reflex cell corners;
-- *sheared*: the elliptic grid with each line leaving a side sheared along it so that it
-  leaves the wall along the normal and bends back over a third of the domain (smoother
-  lines, better cells, where it folds nothing).
+- *sheared*: the elliptic grid, and the TFI grid on the same nodes, with each line leaving a
+  side sheared along it so that it leaves the wall along the normal and bends back over a
+  third of the domain (smoother lines, better cells, where it folds nothing). The TFI grid
+  counts because orthogonality must not cost cells the boundary does not force: on a
+  sector's arcs the polar TFI grid is orthogonal as it is, while the elliptic grid's lines
+  lean and turning them within a cell ruins the cells there.
 
-Neither may fold more cells than the elliptic grid; where both would, the elliptic grid is
+None may fold more cells than the elliptic grid; where all would, the elliptic grid is
 kept and the report says how far its lines are off 90 degrees.
 """
 
 from __future__ import annotations
+
+from itertools import product
 
 import numpy as np
 import torch
@@ -94,14 +99,15 @@ REPAIR_BARRIER_WEIGHT = 100.0
 # barrier that stops every line search at once cannot restart for ever).
 REPAIR_LBFGS = {"maxcor": 20, "ftol": 1e-15, "gtol": 1e-12}
 REPAIR_RESTART_SHARE = 8
+# Lines next to a corner whose other side is not orthogonal turn onto the normal over this many
+# nodes: the two nearest the corner that SPEC 7 excepts (the third is held to its 2 degrees).
+CORNER_TURN = 2
 # A grid narrower than this many nodes has no row between the first rows of opposite
 # sides and the corners' two nodes each (SPEC 7): it is returned as it is.
 MIN_NODES = 5
 # |det| below which two nearly parallel lines are taken not to cross (row_heights: unit
-# vectors, so this is a sine of their angle of 1e-12), and two wall normals at a corner
-# are taken for a straight angle (normal_rows: a sine of 1e-6, 2e-4 degrees).
+# vectors, so this is a sine of their angle of 1e-12).
 PARALLEL_SINE = 1e-12
-STRAIGHT_SINE = 1e-6
 
 
 def _wall_and_row(g, side: str):
@@ -137,6 +143,16 @@ def _free(side: str, sides: tuple[str, ...], n: int) -> slice:
     next to a corner whose other side is orthogonal too (it belongs to both rows)."""
     first, last = _ENDS[side]
     return slice(2 if first in sides else 1, n - (2 if last in sides else 1))
+
+
+def _corner_turn(n: int) -> np.ndarray:
+    """How far (0 .. 1) each of a side's ``n`` first-row lines turns onto the normal: all the
+    way but within ``CORNER_TURN`` nodes of a corner, where the turn is spread over the nodes
+    SPEC 7 excepts (turned at once, the first line off a coarse curved side shifts a row
+    node by up to its whole spacing next to the corner's line, and the corner's cells
+    collapse)."""
+    k = np.arange(n, dtype=float)
+    return np.clip(np.minimum(k, n - 1 - k) / CORNER_TURN, 0.0, 1.0)
 
 
 # the two sides that meet at each corner, by its (row, column) index
@@ -197,13 +213,15 @@ def normal_rows(
 ) -> np.ndarray:
     """``grid`` with the first row off each of ``sides`` moved onto the wall normals: each
     node keeps its distance from its wall node, or is put at ``heights[side]`` from it (a
-    first edge of SPEC 7's spacing), lowered by :func:`row_heights` if ``limit``. The node
-    next to a corner between two of ``sides`` is put at those distances from both sides'
-    nodes next to the corner (without heights: where it completes the parallelogram of the
-    corner and those two nodes)."""
+    first edge of SPEC 7's spacing), lowered by :func:`row_heights` if ``limit``; next to
+    the corners the lines turn part way (:func:`_corner_turn`). The node next to a corner
+    between two of ``sides`` lies on both sides' first rows: it goes where each would put it
+    (half turned), weighted by how far that side's line has to turn there (a side whose line
+    leaves normally already does not pull it)."""
     heights = heights or {}
     out = np.array(grid, dtype=float)
     normals = {side: _inward_normals(out, side) for side in sides}
+    shared: dict[tuple[int, int], list[np.ndarray]] = {}
     for side in sides:
         wall, row = _wall_and_row(out, side)
         k = _free(side, sides, len(wall))
@@ -211,32 +229,37 @@ def normal_rows(
         moved[k] = True
         # the lines leaving the nodes that stay (a corner's is the other side) keep their way
         leave = row - wall
-        ways = np.where(
-            moved[:, None], normals[side], leave / np.linalg.norm(leave, axis=1)[:, None]
-        )
+        leave = leave / np.linalg.norm(leave, axis=1)[:, None]
+        turn = _corner_turn(len(wall))[:, None]
+        ways = (1 - turn) * leave + turn * normals[side]
+        ways = np.where(moved[:, None], ways / np.linalg.norm(ways, axis=1)[:, None], leave)
         # the distance from the wall (a row node that a fold put outside keeps it too)
-        h = np.abs(np.einsum("ij,ij->i", leave, normals[side]))
+        h = np.abs(np.einsum("ij,ij->i", row - wall, normals[side]))
         h = np.where(moved, heights.get(side, h), np.inf)
         h = row_heights(wall, ways, h) if limit else h
-        row[k] = wall[k] + h[k, None] * normals[side][k]
-    for (j, dj), (i, di) in ((a, b) for a in ((0, 1), (-1, -1)) for b in ((0, 1), (-1, -1))):
-        pair = _CORNER_SIDES[j, i]
-        if not pair <= set(sides):
-            continue
-        # each side's node next to the corner and its normal there; the node inside is at
-        # the asked distance from both (two lines' intersection)
-        a, rhs = [], []
-        for s in sorted(pair):
-            along_xi = s in ("bottom", "top")
-            end = out[j, i + di] if along_xi else out[j + dj, i]
-            other_end = out[j + dj, i] if along_xi else out[j, i + di]
-            nrm = normals[s][-2 if (i if along_xi else j) else 1]
-            a.append(nrm)
-            rhs.append(heights.get(s, float((other_end - out[j, i]) @ nrm)) + float(end @ nrm))
-        a = np.array(a)
-        if abs(np.linalg.det(a)) > STRAIGHT_SINE:  # else a straight angle: keep the node
-            out[j + dj, i + di] = np.linalg.solve(a, np.array(rhs))
+        row[k] = wall[k] + h[k, None] * ways[k]
+        for end, other in zip((1, -2), _ENDS[side]):  # where this row meets another's
+            if other in sides:
+                normal = normals[side][end]
+                way = (leave[end] + normal) / np.linalg.norm(leave[end] + normal)
+                height = heights.get(side, abs(float((row[end] - wall[end]) @ normal)))
+                off = float(np.arccos(np.clip(leave[end] @ normal, -1.0, 1.0)))
+                shared.setdefault(_shared_node(side, end), []).append(
+                    (off, wall[end] + height * way)
+                )
+    for node, places in shared.items():
+        weights = np.array([off for off, _ in places])
+        if weights.sum() > 0:
+            out[node] = weights @ np.array([p for _, p in places]) / weights.sum()
     return out
+
+
+def _shared_node(side: str, end: int) -> tuple[int, int]:
+    """The (row, column) of the node next to the corner at ``end`` (1 or -2) of ``side``'s
+    first row, which the other side's first row shares."""
+    row = {"bottom": 1, "top": -2, "left": end, "right": end}[side]
+    col = {"left": 1, "right": -2, "bottom": end, "top": end}[side]
+    return row, col
 
 
 def _inside(shape: tuple[int, ...], sides: tuple[str, ...]) -> tuple[slice, slice]:
@@ -252,13 +275,15 @@ def orthogonal_grid(
     sides: tuple[str, ...],
     params: np.ndarray | None = None,
     heights: dict[str, float] | None = None,
+    tfi: np.ndarray | None = None,
 ) -> np.ndarray:
     """A grid on ``grid``'s boundary nodes whose lines leave ``sides`` at right angles, from
-    the converged elliptic grid ``grid``. ``params`` (nj, ni, 2): the node parameters of a
-    spacing, which the solve inside keeps with its control functions; ``heights``: the first
-    edge wanted at some of ``sides`` (working frame). Never folds more cells than ``grid``:
-    where both candidates would (none does on benchmarks/orthogonal.py's hard shapes),
-    ``grid`` itself is returned, and the report shows how far its lines are off 90."""
+    the converged elliptic grid ``grid`` and the TFI grid ``tfi`` on the same nodes.
+    ``params`` (nj, ni, 2): the node parameters of a spacing, which the solve inside keeps
+    with its control functions; ``heights``: the first edge wanted at some of ``sides``
+    (working frame). Never folds more cells than ``grid``: where every candidate would (none
+    does on benchmarks/orthogonal.py's hard shapes), ``grid`` itself is returned, and the
+    report shows how far its lines are off 90."""
     sides = tuple(s for s in SIDES if s in sides)
     if not sides or min(grid.shape[:2]) < MIN_NODES:
         return np.array(grid, dtype=float)
@@ -266,9 +291,11 @@ def orthogonal_grid(
         (solved_rows(grid, sides, params, heights, limit) for limit in (True, False)),
         key=lambda g: _rank(g, sides, WALL_ANGLE_TOL),
     )
-    sheared = normal_rows(sheared_grid(grid, sides, params), sides, heights)
-    smooth = _growth(sheared, sides) <= SHEAR_GROWTH * _growth(out, sides)
-    out = sheared if smooth and _rank(sheared, sides) < _rank(out, sides) else out
+    for source in (grid,) if tfi is None else (grid, tfi):
+        for shaped, limit in product((source, sheared_grid(source, sides, params)), (True, False)):
+            candidate = normal_rows(shaped, sides, heights, limit)
+            smooth = _growth(candidate, sides) <= SHEAR_GROWTH * _growth(out, sides)
+            out = candidate if smooth and _rank(candidate, sides) < _rank(out, sides) else out
     return np.array(grid) if folded_cells(out).sum() > folded_cells(grid).sum() else out
 
 

@@ -76,10 +76,11 @@ def orthogonal_start(
     sides. A spline on a rectilinear lattice keeps the map smooth between the nodes."""
     if params is None:
         base = tfi_grid(ArcLengthFit(boundary).sample, ni, nj)
-        grid = orthogonal_grid(_finite(winslow_solve(base)[0]), sides)
+        grid = orthogonal_grid(_finite(winslow_solve(base)[0]), sides, tfi=base)
         return WarmStart(_finite(grid) - base, start="orthogonal"), grid
     nodes = params[..., 0].mean(axis=0), params[..., 1].mean(axis=1)
-    base = tfi_at(boundary)(np.stack(np.meshgrid(*nodes), axis=-1))
+    tfi = tfi_at(boundary)
+    base = tfi(np.stack(np.meshgrid(*nodes), axis=-1))
     grid = _finite(controlled_solve(base, params)[0])
-    grid = _finite(orthogonal_grid(grid, sides, params, heights))
+    grid = _finite(orthogonal_grid(grid, sides, params, heights, tfi(params)))
     return WarmStart(grid - base, nodes, "orthogonal"), grid
