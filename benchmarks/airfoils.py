@@ -15,7 +15,12 @@ height (``--spacing bottom=H``) and a far-field circle of 15 chords.
 
 The airfoil files are written by pinn-mesh's NACA generator (201 points per surface):
 ``naca0012.dat`` (blunt trailing edge, the classical formula), ``naca0012_sharp.dat`` and
-``naca4412_sharp.dat`` (closed trailing edge), ``naca4412.dat`` (blunt).
+``naca4412_sharp.dat`` (closed trailing edge), ``naca4412.dat`` (blunt),
+``naca4417_base07.dat`` (a blunt base of 0.7 % chord, as the LS(1)-0417 file of issue 23) and
+``naca0012_gap1e5.dat`` (open by 1e-5 chord, as many public files). Besides the quality
+figures, each grid's largest face non-orthogonality (checkMesh's, quality.non_orthogonality)
+and its wall nodes' largest distance from the drawn polyline; and the default C-grid's time
+at 320 x 90 beside Construct2D's at the same size (issue 23 item 6).
 """
 
 from __future__ import annotations
@@ -36,20 +41,31 @@ sys.path.insert(0, str(ROOT))
 
 from pinn_engine.bodies.airfoil import circle, load_body, naca4  # noqa: E402
 from pinn_engine.bodymesh import mesh_body, wall_metrics  # noqa: E402
-from pinn_engine.quality import cell_quality, summary  # noqa: E402
+from pinn_engine.geometry.boundary import segment_distance  # noqa: E402
+from pinn_engine.quality import cell_quality, non_orthogonality, summary  # noqa: E402
 from pinn_engine.settings import make_settings  # noqa: E402
 
-CASES = (  # file stem, NACA code, trailing edge
+CASES = (  # file stem, NACA code, trailing edge: blunt, sharp or a gap in chords
     ("naca0012", "0012", "blunt"),
     ("naca0012_sharp", "0012", "sharp"),
     ("naca4412", "4412", "blunt"),
     ("naca4412_sharp", "4412", "sharp"),
+    ("naca4417_base07", "4417", 0.007),  # a blunt base of 0.7 % chord, as LS(1)-0417's
+    ("naca0012_gap1e5", "0012", 1e-5),  # open by 1e-5 chord, as many public files
 )
 METHODS = ("tfi", "elliptic", "pinn")
+# Issue 23 item 6: the default C-grid at 320 x 90 (first layer as Construct2D's, 1.04e-5),
+# timed over SPEED_RUNS runs (the median), against at most SPEED_TARGET seconds
+SPEED_SIZE, SPEED_RUNS, SPEED_TARGET = (320, 90), 3, 1.0
 
 
-def write_dat(path: Path, code: str, te: str) -> None:
-    xy = naca4(code, points=201, te=te)
+def write_dat(path: Path, code: str, te: str | float) -> None:
+    """A Selig file of NACA ``code``: ``te`` "sharp", "blunt" (the classical formula) or
+    a trailing-edge gap in chords (the sharp section opened linearly along the chord)."""
+    xy = naca4(code, points=201, te=te if isinstance(te, str) else "sharp")
+    if not isinstance(te, str):
+        n = len(xy) // 2
+        xy[:, 1] += np.where(np.arange(len(xy)) <= n, 0.5, -0.5) * te * xy[:, 0]
     path.write_text(f"NACA {code}\n" + "".join(f"{x:12.8f} {y:12.8f}\n" for x, y in xy))
 
 
@@ -71,14 +87,19 @@ def c2d_figures(g: np.ndarray) -> dict:
         same = np.all(np.isclose(row, row[::-1], atol=1e-12), axis=1)
         n_wake = int(np.argmin(same[: len(row) // 2])) - 1
     w = wall_metrics(g, topology, n_wake, sharp=topology == "c")
-    return {**q, **w, "topology": topology}
+    return {**q, **w, "topology": topology, "wake_nodes": n_wake}
 
 
-def run_construct2d(exe: str, dat: Path) -> tuple[np.ndarray, float]:
+def run_construct2d(exe: str, dat: Path, size: tuple[int, int] | None = None):
+    """Construct2D's grid of ``dat`` and its time; at its default size, or a C-grid of
+    ``size`` (its surface points ni - 2 x its 50 wake points, and ni x nj)."""
+    menu = "GRID\nSMTH\nQUIT\n"
+    if size is not None:
+        menu = f"SOPT\nNSRF\n{size[0] - 100}\nQUIT\nVOPT\nJMAX\n{size[1]}\nQUIT\n" + menu
     start = time.perf_counter()
     subprocess.run(
         [exe, dat.name],
-        input="GRID\nSMTH\nQUIT\n",
+        input=menu,
         text=True,
         cwd=dat.parent,
         capture_output=True,
@@ -88,12 +109,51 @@ def run_construct2d(exe: str, dat: Path) -> tuple[np.ndarray, float]:
     return read_p3d(dat.with_suffix(".p3d")), time.perf_counter() - start
 
 
+def solver_figures(g: np.ndarray, ring: np.ndarray, wall: np.ndarray, chord: float) -> dict:
+    """checkMesh's largest face non-orthogonality (quality.non_orthogonality; the cut's and
+    seam's faces aside) and the wall nodes' largest distance from the drawn polyline."""
+    return {
+        "non_orthogonality": max(float(a.max()) for a in non_orthogonality(g).values()),
+        "wall_off": float(segment_distance(wall, ring[:-1]).max()) / chord,
+    }
+
+
 def row(name: str, q: dict, seconds: float) -> str:
     return (
         f"| {name} | {q['mean_max_angle']:.2f} | {q['worst_max_angle']:.2f} | "
         f"{q['folded_cells']} | {q['wall_angle_deviation']:.2f} | "
         f"{q['first_layer']['min']:.3g} .. {q['first_layer']['max']:.3g} | "
-        f"{seconds:.1f} |"
+        f"{q['non_orthogonality']:.1f} | {100 * q['wall_off']:.3f} | {seconds:.1f} |"
+    )
+
+
+def speed(exe: str, dat: Path) -> str:
+    """Issue 23 item 6: the default C-grid at ``SPEED_SIZE`` in the engine and as a whole
+    command, and Construct2D's at the same size (medians of ``SPEED_RUNS`` runs)."""
+    c2d = [run_construct2d(exe, dat, SPEED_SIZE) for _ in range(SPEED_RUNS)]
+    g = c2d[0][0]
+    h = float(np.linalg.norm(g[1] - g[0], axis=1).max())
+    body = load_body(dat)
+    ni, nj = SPEED_SIZE
+    engine, command = [], []
+    out = dat.with_suffix(".vts")
+    argv = [str(ROOT / ".venv" / "bin" / "pinn-mesh"), str(dat), "--topology", "c"]
+    argv += ["--size", str(ni), str(nj), "--spacing", f"bottom={h}", "--quiet", "-o", str(out)]
+    for _ in range(SPEED_RUNS):
+        t0 = time.perf_counter()
+        mesh_body(body, circle(body, 15), "c", "pinn", ni, nj, wall_spacing=h)
+        engine.append(time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        subprocess.run(argv, check=True, capture_output=True)
+        command.append(time.perf_counter() - t0)
+    t_engine, t_command = float(np.median(engine)), float(np.median(command))
+    t_c2d = float(np.median([t for _, t in c2d]))
+    return (
+        f"Default C-grid {ni} x {nj}, first layer {h:.3g} (median of {SPEED_RUNS}): pinn-mesh "
+        f"{t_engine:.2f} s in the engine ({t_command:.2f} s the whole command, Python and "
+        f"torch start-up included); Construct2D {t_c2d:.2f} s -> "
+        f"{'within' if t_engine <= SPEED_TARGET else 'OUTSIDE'} the target "
+        f"({SPEED_TARGET:g} s)"
     )
 
 
@@ -113,7 +173,9 @@ def main() -> int:
     lines, verdicts = [], []
     header = (
         "| grid | mean MaxIncludedAngle | worst | folded | wall angle, max deviation "
-        "from 90 | first layer (min .. max) | seconds |\n|---|---|---|---|---|---|---|"
+        "from 90 | first layer (min .. max) | non-orthogonality (checkMesh), max | wall "
+        "off the drawn polyline, max (% chord) | seconds |\n"
+        "|---|---|---|---|---|---|---|---|---|"
     )
     with tempfile.TemporaryDirectory() as tmp:
         for stem, code, te in (c for c in CASES if c[0] in args.cases):
@@ -130,10 +192,13 @@ def main() -> int:
             )
             print(f"\n{title}\n{header}")
             lines += [f"\n**{title}**\n", header]
+            body = load_body(dat)
+            ring, chord = body.ring(), body.chord
+            c2d_wall = g[0][ref["wake_nodes"] : g.shape[1] - ref["wake_nodes"]]
+            ref.update(solver_figures(g, ring, c2d_wall, chord))
             text = row("Construct2D (hyperbolic + smoothing)", ref, secs)
             print(text, flush=True)
             lines.append(text)
-            body = load_body(dat)
             for method in METHODS:
                 settings = make_settings(method, lattice=(ni, nj))
                 t0 = time.perf_counter()
@@ -149,6 +214,9 @@ def main() -> int:
                 )
                 secs = time.perf_counter() - t0
                 q = {**r.quality, **r.report["topology"]}
+                n_w = r.report["topology"]["wake_nodes"]
+                wall = r.points[0][n_w : r.points.shape[1] - n_w]
+                q.update(solver_figures(r.points, ring, wall, chord))
                 text = row(f"pinn-mesh {method}", q, secs)
                 print(text, flush=True)
                 lines.append(text)
@@ -161,6 +229,9 @@ def main() -> int:
                         f"against Construct2D -> {'within' if ok else 'OUTSIDE'} "
                         "the target (mean +2, worst +5, no fold)"
                     )
+        if "naca0012_sharp" in args.cases:
+            dat = Path(tmp) / "naca0012_sharp.dat"
+            verdicts.append(speed(args.construct2d, dat))
     print("\n" + "\n".join(verdicts))
     if args.write:
         md = Path(args.write)

@@ -12,6 +12,7 @@ from pinn_engine.bodies.airfoil import circle, load_body, naca4, read_body_and_f
 from pinn_engine.bodymesh import mesh_body
 from pinn_engine.classical.spacing import exact_stretch
 from pinn_engine.errors import InputError
+from pinn_engine.geometry.boundary import segment_distance
 from pinn_engine.quality import non_orthogonality
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
@@ -148,6 +149,24 @@ def test_c_grid_wake_cells_are_smooth_enough_for_a_solver(code):
     r = mesh_body(body, circle(body, 15), "c", "pinn", 320, 90, wall_spacing=1e-5)
     worst = max(a.max() for a in non_orthogonality(r.points).values())
     assert worst <= 20.0
+    assert r.quality["folded_cells"] == 0
+
+
+def test_a_blunt_base_stays_as_drawn(tmp_path):
+    """Issue 23 item 4: a Selig file with a 0.7 % chord base (as LS(1)-0417's): the base is a
+    straight piece of wall with its corners as nodes, no wall node farther than 0.1 % chord
+    from the drawn polyline (the periodic spline put them up to 0.36 % off)."""
+    xy = naca4("4417", te="sharp")
+    xy[:, 1] += np.where(np.arange(len(xy)) <= len(xy) // 2, 0.5, -0.5) * 0.007 * xy[:, 0]
+    body = load_body(_selig(tmp_path / "base07.dat", xy))
+    assert not body.sharp
+    r = mesh_body(body, circle(body, 15), "o", "elliptic", 161, 41, wall_spacing=1e-4)
+    wall = r.points[0]
+    off = segment_distance(wall, body.ring()[:-1]).max() / body.chord
+    assert off <= 1e-3
+    for corner in (body.surface[0], body.surface[-1]):
+        assert np.linalg.norm(wall - corner, axis=1).min() < 1e-12
+    assert np.allclose(wall[0], 0.5 * (body.surface[0] + body.surface[-1]))  # the base's middle
     assert r.quality["folded_cells"] == 0
 
 

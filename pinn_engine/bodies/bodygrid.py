@@ -42,7 +42,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.interpolate import CubicSpline
-from scipy.optimize import minimize_scalar
 
 from pinn_engine.bodies.airfoil import SHARP_GAP, Body, FarField
 from pinn_engine.classical.spacing import exact_stretch
@@ -56,10 +55,13 @@ TOPOLOGIES = ("o", "c")
 # Nodes on the body and the wall-normal distribution (:func:`layout`), in units of the mean
 # tangential spacing on the body: the leading-edge spacing (0.2: fine where the curvature is), the
 # sharp trailing edge's (0.6: coarser, the edge is straight), a blunt base's at most 0.1 of its
-# height (about ten intervals across the base), the default first edge off the wall (0.5: cells of
-# aspect 2 at the wall); the C-grid's wake nodes a side, a share of ni (0.14: the wake takes about 2
-# x 14 % of the nodes), and at least 3 intervals on either surface.
+# height (about ten intervals across the straight base), the default first edge off the wall
+# (0.5: cells of aspect 2 at the wall); the C-grid's wake nodes a side, a share of ni (0.14: the
+# wake takes about 2 x 14 % of the nodes), and at least 3 intervals on either surface.
 LE_SPACING, TE_SPACING, BLUNT_TE_SPACING = 0.2, 0.6, 0.1
+# A blunt base (drawn straight, SPEC 9) takes at most this share of the wall's intervals (an
+# eighth: a coarse grid keeps most of its nodes on the surface, whose curvature needs them).
+MAX_BASE_SHARE = 0.125
 WALL_SPACING = 0.5
 WAKE_SHARE = 0.14
 MIN_SURFACE_INTERVALS = 3
@@ -114,52 +116,31 @@ HELD_ROWS = 2
 # made checkMesh's non-orthogonality 89 degrees where the reference's is 17).
 FIRST_CHECK, CHECK_TOL = 10, (0.0, 0.0)
 # The body curve: samples of the spline for the leading edge (20001: 5e-5 of the perimeter) and of
-# an arc's length (2001), and the share of the perimeter either side of a blunt trailing edge
-# searched for its largest x (5 %).
+# an arc's length (2001).
 CURVE_SAMPLES, ARC_SAMPLES = 20001, 2001
-TE_SEARCH = 0.05
 
 
 # ---------------------------------------------------------------- the body curve
 
 
 class BodyCurve:
-    """A cubic spline through the body by cumulative chord length: through the surface
-    (Selig order) for a sharp trailing edge, whose corner it keeps; periodic through the
-    closed surface for a blunt one, which rounds the base (the curve bulges by about half
-    the base's height past it) and starts at the point of largest x."""
+    """A cubic spline through the body's surface (Selig order, from the upper trailing-edge
+    point to the lower one) by cumulative chord length: it keeps a sharp trailing edge's
+    corner, and a blunt one's base stays as drawn, the straight segment between the
+    surface's two ends (SPEC 9)."""
 
     def __init__(self, body: Body) -> None:
-        pts = body.surface if body.sharp else np.concatenate([body.surface, body.surface[:1]])
+        pts = body.surface
         t = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))]
         self.length = float(t[-1])
-        self.spline = CubicSpline(
-            t, pts, axis=0, bc_type="not-a-knot" if body.sharp else "periodic"
-        )
+        self.spline = CubicSpline(t, pts, axis=0, bc_type="not-a-knot")
         self.body = body
         dense = np.linspace(0.0, self.length, CURVE_SAMPLES)
-        self.t0 = 0.0
-        if not body.sharp:
-            near = np.abs(dense - self.length) < TE_SEARCH * self.length
-            near |= dense < TE_SEARCH * self.length
-            x = np.where(near, self.spline(dense)[:, 0], -np.inf)
-            t_best = float(dense[np.argmax(x)])
-            step = dense[1] - dense[0]
-            best = minimize_scalar(
-                lambda t: -float(self.spline(t % self.length)[0]),
-                bounds=(t_best - step, t_best + step),
-                method="bounded",
-                options={"xatol": 1e-12},
-            )
-            self.t0 = float(best.x) % self.length
-        te = self.at(np.zeros(1))[0]
+        te = 0.5 * (pts[0] + pts[-1])
         self.t_le = float(dense[np.argmax(np.linalg.norm(self.at(dense) - te, axis=1))])
 
     def at(self, t: np.ndarray) -> np.ndarray:
-        t = np.asarray(t, dtype=float)
-        if self.t0:
-            return self.spline((t + self.t0) % self.length)
-        return self.spline(np.clip(t, 0.0, self.length))
+        return self.spline(np.clip(np.asarray(t, dtype=float), 0.0, self.length))
 
     def arc(self, t0: float, t1: float) -> float:
         s = self.at(np.linspace(t0, t1, ARC_SAMPLES))
@@ -174,6 +155,33 @@ def _surface_nodes(curve: BodyCurve, n_up: int, n_lo: int, d_te: float, d_le: fl
     lo = exact_stretch(n_lo + 1, d_le / l_lo, d_te / l_lo)[0]
     lo = curve.t_le + (curve.length - curve.t_le) * lo
     return curve.at(np.concatenate([up, lo[1:]]))
+
+
+def _base_intervals(base: float, surface: float, intervals: int, spacing: float | None) -> int:
+    """Intervals (even, so that the base's middle is a node) on a blunt trailing edge's base
+    of length ``base`` (0: a sharp edge, none) out of the wall's ``intervals``: about
+    ``base / BLUNT_TE_SPACING`` (or the given trailing-edge ``spacing``), no finer than the
+    trailing edge's ``TE_SPACING`` asks, at most ``MAX_BASE_SHARE`` of them."""
+    if base <= 0:
+        return 0
+    step = spacing or min(TE_SPACING * (surface + base) / intervals, BLUNT_TE_SPACING * base)
+    n = 2 * max(1, round(base / (2 * step)))
+    return min(n, max(2, 2 * int(MAX_BASE_SHARE * intervals / 2)))
+
+
+def _with_base(surf: np.ndarray, n_base: int) -> np.ndarray:
+    """The O-grid's line j = 0: from the middle of a blunt base up to its upper corner,
+    along ``surf`` (upper corner, leading edge, lower corner) and up the base's lower half
+    back to its middle, ``n_base`` intervals on the base; for a sharp edge (``n_base`` 0),
+    ``surf`` closed at its trailing edge."""
+    if not n_base:
+        out = surf.copy()
+        out[-1] = out[0]
+        return out
+    mid = 0.5 * (surf[0] + surf[-1])
+    k = np.linspace(0.0, 1.0, n_base // 2 + 1)[:, None]
+    upper, lower = mid + k * (surf[0] - mid), surf[-1] + k * (mid - surf[-1])
+    return np.concatenate([upper[:-1], surf, lower[1:]])
 
 
 @dataclass
@@ -382,24 +390,25 @@ def layout(
     else:
         n_w, n_b = 0, ni - 1
     l_up, l_lo = curve.arc(0, curve.t_le), curve.arc(curve.t_le, curve.length)
-    n_up = round(n_b * l_up / (l_up + l_lo))
-    n_up = int(np.clip(n_up, MIN_SURFACE_INTERVALS, n_b - MIN_SURFACE_INTERVALS))
-    mean = (l_up + l_lo) / n_b
+    base = 0.0 if body.sharp else body.te_gap
+    n_base = _base_intervals(base, l_up + l_lo, n_b, te_spacing and te_spacing * chord)
+    n_s = n_b - n_base  # intervals on the surface
+    n_up = round(n_s * l_up / (l_up + l_lo))
+    n_up = int(np.clip(n_up, MIN_SURFACE_INTERVALS, n_s - MIN_SURFACE_INTERVALS))
+    mean = (l_up + l_lo) / n_s
     d_le = le_spacing * chord if le_spacing else LE_SPACING * mean
-    if te_spacing:
-        d_te = te_spacing * chord
-    elif body.sharp:
-        d_te = TE_SPACING * mean
+    if n_base:  # the surface's end spacing is the base's: no jump at the corners
+        d_te = base / n_base
     else:
-        d_te = min(TE_SPACING * mean, BLUNT_TE_SPACING * body.te_gap)
-    surf = _surface_nodes(curve, n_up, n_b - n_up, d_te, d_le)
+        d_te = te_spacing * chord if te_spacing else TE_SPACING * mean
+    surf = _surface_nodes(curve, n_up, n_s - n_up, d_te, d_le)
     h = wall_spacing * 1.0 if wall_spacing else WALL_SPACING * mean
     radius = far.radius
     if topology == "o":
-        inner = surf
-        inner[-1] = inner[0]
+        inner = _with_base(surf, n_base)
     else:
-        te = surf[0]
+        body_c = _with_base(surf, n_base)[::-1]  # trailing edge, lower surface, ..., back
+        te = body_c[0]
         x_out = center[0] + radius
         if x_out <= te[0] + MIN_WAKE * chord:
             raise InputError(
@@ -410,7 +419,6 @@ def layout(
         wake_len = x_out - te[0]
         wake = te[0] + wake_len * exact_stretch(n_w + 1, d_te / wake_len)[0]
         wake_pts = np.column_stack([wake, np.full_like(wake, te[1])])
-        body_c = surf[::-1]  # lower trailing edge -> leading edge -> upper trailing edge
         inner = np.concatenate([wake_pts[::-1], body_c[1:-1], wake_pts])
     # the wall-orthogonal reference: rows marched off j = 0, the last one projected onto the
     # far field, the projection blended in over the outer rows
