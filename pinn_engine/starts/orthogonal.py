@@ -217,7 +217,8 @@ def normal_rows(
     the corners the lines turn part way (:func:`_corner_turn`). The node next to a corner
     between two of ``sides`` lies on both sides' first rows: it goes where each would put it
     (half turned), weighted by how far that side's line has to turn there (a side whose line
-    leaves normally already does not pull it)."""
+    leaves normally already does not pull it), then at the ``heights`` asked from those
+    sides' nodes (:func:`_at_distances`)."""
     heights = heights or {}
     out = np.array(grid, dtype=float)
     normals = {side: _inward_normals(out, side) for side in sides}
@@ -244,14 +245,37 @@ def normal_rows(
                 way = (leave[end] + normal) / np.linalg.norm(leave[end] + normal)
                 height = heights.get(side, abs(float((row[end] - wall[end]) @ normal)))
                 off = float(np.arccos(np.clip(leave[end] @ normal, -1.0, 1.0)))
+                fixed = (wall[end], heights[side]) if side in heights else None
                 shared.setdefault(_shared_node(side, end), []).append(
-                    (off, wall[end] + height * way)
+                    (off, wall[end] + height * way, fixed)
                 )
     for node, places in shared.items():
-        weights = np.array([off for off, _ in places])
+        weights = np.array([off for off, _, _ in places])
         if weights.sum() > 0:
-            out[node] = weights @ np.array([p for _, p in places]) / weights.sum()
+            out[node] = weights @ np.array([p for _, p, _ in places]) / weights.sum()
+        out[node] = _at_distances(out[node], [f for _, _, f in places if f is not None])
     return out
+
+
+def _at_distances(p: np.ndarray, circles: list[tuple[np.ndarray, float]]) -> np.ndarray:
+    """The point nearest ``p`` at the given distances from the given wall nodes (a spacing's
+    first edges, SPEC 7): on the one circle, or at the nearer crossing of two; ``p`` where
+    there is none or the two circles do not cross."""
+    if len(circles) == 1:
+        ((c, r),) = circles
+        d = p - c
+        return c + r * d / np.linalg.norm(d)
+    if len(circles) != 2:
+        return p
+    (c0, r0), (c1, r1) = circles
+    gap = c1 - c0
+    d = float(np.linalg.norm(gap))
+    if d == 0 or d > r0 + r1 or d < abs(r0 - r1):
+        return p
+    a = (r0 * r0 - r1 * r1 + d * d) / (2 * d)
+    base = c0 + a * gap / d
+    off = np.sqrt(max(r0 * r0 - a * a, 0.0)) * np.array([-gap[1], gap[0]]) / d
+    return min((base + off, base - off), key=lambda q: float(np.linalg.norm(q - p)))
 
 
 def _shared_node(side: str, end: int) -> tuple[int, int]:
