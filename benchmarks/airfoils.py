@@ -196,8 +196,9 @@ def main() -> int:
             ref = c2d_figures(g)
             nj, ni = g.shape[:2]
             h = ref["first_layer"]["max"]
+            edge = te if isinstance(te, str) else f"{te:g} chord open"
             title = (
-                f"NACA {code}, {'blunt' if te == 'blunt' else 'sharp'} trailing edge, "
+                f"NACA {code}, {edge} trailing edge, "
                 f"{ref['topology'].upper()}-grid {ni} x {nj}, first layer {h:.3g}, "
                 "far field 15 chords"
             )
