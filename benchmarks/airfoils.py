@@ -39,7 +39,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from pinn_engine.bodies.airfoil import circle, load_body, naca4  # noqa: E402
+from pinn_engine.bodies.airfoil import SHARP_GAP, circle, load_body, naca4  # noqa: E402
 from pinn_engine.bodymesh import mesh_body, wall_metrics  # noqa: E402
 from pinn_engine.geometry.boundary import segment_distance  # noqa: E402
 from pinn_engine.quality import cell_quality, non_orthogonality, summary  # noqa: E402
@@ -57,6 +57,9 @@ METHODS = ("tfi", "elliptic", "pinn")
 # Issue 23 item 6: the default C-grid at 320 x 90 (first layer as Construct2D's, 1.04e-5),
 # timed over SPEED_RUNS runs (the median), against at most SPEED_TARGET seconds
 SPEED_SIZE, SPEED_RUNS, SPEED_TARGET = (320, 90), 3, 1.0
+# the worst cell may exceed the bound that the wall's corners force by this much (the corner
+# cell's angle equals the bound when its first edge bisects the corner; 0.5 degree of tilt)
+FLOOR_TOL = 0.5
 
 
 def write_dat(path: Path, code: str, te: str | float) -> None:
@@ -90,10 +93,15 @@ def c2d_figures(g: np.ndarray) -> dict:
     return {**q, **w, "topology": topology, "wake_nodes": n_wake}
 
 
-def run_construct2d(exe: str, dat: Path, size: tuple[int, int] | None = None):
-    """Construct2D's grid of ``dat`` and its time; at its default size, or a C-grid of
-    ``size`` (its surface points ni - 2 x its 50 wake points, and ni x nj)."""
+def run_construct2d(
+    exe: str, dat: Path, size: tuple[int, int] | None = None, c_grid: bool = False
+) -> tuple[np.ndarray, float]:
+    """Construct2D's grid of ``dat`` and its time; at its default size and topology (O for
+    a trailing-edge gap, C for none), a C-grid if ``c_grid``, or a C-grid of ``size`` (its
+    surface points ni - 2 x its 50 wake points, and ni x nj)."""
     menu = "GRID\nSMTH\nQUIT\n"
+    if c_grid or size is not None:
+        menu = "VOPT\nTOPO\nCGRD\nQUIT\n" + menu
     if size is not None:
         menu = f"SOPT\nNSRF\n{size[0] - 100}\nQUIT\nVOPT\nJMAX\n{size[1]}\nQUIT\n" + menu
     start = time.perf_counter()
@@ -192,7 +200,9 @@ def main() -> int:
         for stem, code, te in (c for c in CASES if c[0] in args.cases):
             dat = Path(tmp) / f"{stem}.dat"
             write_dat(dat, code, te)
-            g, secs = run_construct2d(args.construct2d, dat)
+            # a gap of at most SHARP_GAP is a sharp edge (SPEC 9): both make C-grids
+            sharp = te == "sharp" or (not isinstance(te, str) and te <= SHARP_GAP)
+            g, secs = run_construct2d(args.construct2d, dat, c_grid=sharp)
             ref = c2d_figures(g)
             nj, ni = g.shape[:2]
             h = ref["first_layer"]["max"]
@@ -237,7 +247,7 @@ def main() -> int:
                     dw = q["worst_max_angle"] - ref["worst_max_angle"]
                     floor = corner_floor(wall) if ref["topology"] == "o" else 0.0
                     ok = dm <= 2 and q["folded_cells"] == 0
-                    ok &= q["worst_max_angle"] <= max(ref["worst_max_angle"] + 5, floor)
+                    ok &= q["worst_max_angle"] <= max(ref["worst_max_angle"] + 5, floor + FLOOR_TOL)
                     verdicts.append(
                         f"{stem} {method}: mean {dm:+.2f}, worst {dw:+.2f} deg "
                         f"against Construct2D -> {'within' if ok else 'OUTSIDE'} "
