@@ -39,6 +39,7 @@ try:
         PARAMETER_CONSTRAINTS,
         PRESETS,
         Settings,
+        make_settings,
     )
 except ImportError as _exc:  # a clear line in ParaView's output instead of a bare traceback
     raise ImportError(
@@ -80,6 +81,21 @@ _BODY = (
     '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
     'property="Topology" values="1 2"/>'
 )  # O- and C-grid settings
+
+
+def _for_preset(preset, methods):
+    """Shown only under Preset ``preset`` (index) and for the Method indices ``methods``."""
+    return (
+        '<PropertyWidgetDecorator type="CompositeDecorator"><Expression type="and">'
+        '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
+        f'property="Method" values="{methods}"/>'
+        '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
+        f'property="Preset" value="{preset}"/>'
+        "</Expression></PropertyWidgetDecorator>"
+    )
+
+
+_PAPER = make_settings("pinn", "paper")
 _PINN_ONLY = (
     '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
     'property="Method" value="0"/>'
@@ -263,8 +279,8 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
         _doc(
             "default: measured defaults (exact boundary, arc-length fit); paper: "
             "the paper's section 4 (penalty boundary term, decision-tree fit, "
-            "1000 elliptic sweeps). Values below left at their defaults follow "
-            "the preset; changed ones are used as set."
+            "1000 elliptic sweeps). Adam Epochs, L-BFGS Iterations and Lambda2 "
+            "have a field per preset; the panel shows the chosen preset's."
         )
     )
     def P03Preset(self, index):
@@ -290,10 +306,22 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
         panel_visibility="advanced",
     )
     @smdomain.intrange(**_range("adam_epochs"))
-    @smdomain.xml(_doc("Adam epochs of training (left at the default, the preset's own)."))
-    @smhint.xml(_NEURAL)
+    @smdomain.xml(_doc("Adam epochs of training under Preset default."))
+    @smhint.xml(_for_preset(0, "0 1"))
     def P04AdamEpochs(self, n):
-        self.SetPanelSetting("adam_epochs", int(n))
+        self.SetPresetSetting("default", "adam_epochs", int(n))
+
+    @smproperty.intvector(
+        name="PaperAdamEpochs",
+        label="Paper Adam Epochs",
+        default_values=_PAPER.adam_epochs,
+        panel_visibility="advanced",
+    )
+    @smdomain.intrange(**_range("adam_epochs"))
+    @smdomain.xml(_doc("Adam epochs of training under Preset paper (the paper's 5000)."))
+    @smhint.xml(_for_preset(1, "0 1"))
+    def P04PaperAdamEpochs(self, n):
+        self.SetPresetSetting("paper", "adam_epochs", int(n))
 
     @smproperty.intvector(
         name="LBFGSIterations",
@@ -302,10 +330,22 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
         panel_visibility="advanced",
     )
     @smdomain.intrange(**_range("lbfgs_iterations"))
-    @smdomain.xml(_doc("L-BFGS iterations after Adam (left at the default, the preset's own)."))
-    @smhint.xml(_NEURAL)
+    @smdomain.xml(_doc("L-BFGS iterations after Adam under Preset default."))
+    @smhint.xml(_for_preset(0, "0 1"))
     def P05LBFGSIterations(self, n):
-        self.SetPanelSetting("lbfgs_iterations", int(n))
+        self.SetPresetSetting("default", "lbfgs_iterations", int(n))
+
+    @smproperty.intvector(
+        name="PaperLBFGSIterations",
+        label="Paper L-BFGS Iterations",
+        default_values=_PAPER.lbfgs_iterations,
+        panel_visibility="advanced",
+    )
+    @smdomain.intrange(**_range("lbfgs_iterations"))
+    @smdomain.xml(_doc("L-BFGS iterations after Adam under Preset paper (the paper's 500)."))
+    @smhint.xml(_for_preset(1, "0 1"))
+    def P05PaperLBFGSIterations(self, n):
+        self.SetPresetSetting("paper", "lbfgs_iterations", int(n))
 
     @smproperty.intvector(
         name="HiddenLayers",
@@ -330,10 +370,19 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
 
     @smproperty.doublevector(name="Lambda2", default_values=_DEFAULTS.lambda2)
     @smdomain.doublerange(min=0.0, max=1000.0)
-    @smdomain.xml(_doc("Weight of the auxiliary-line term of the loss (paper: 10)."))
-    @smhint.xml(_PINN_ONLY)
+    @smdomain.xml(_doc("Weight of the auxiliary-line term of the loss under Preset default."))
+    @smhint.xml(_for_preset(0, "0"))
     def P08Lambda2(self, value):
-        self.SetPanelSetting("lambda2", float(value))
+        self.SetPresetSetting("default", "lambda2", float(value))
+
+    @smproperty.doublevector(
+        name="PaperLambda2", label="Paper Lambda2", default_values=_PAPER.lambda2
+    )
+    @smdomain.doublerange(min=0.0, max=1000.0)
+    @smdomain.xml(_doc("Weight of the auxiliary-line term under Preset paper (the paper's 10)."))
+    @smhint.xml(_for_preset(1, "0"))
+    def P08PaperLambda2(self, value):
+        self.SetPresetSetting("paper", "lambda2", float(value))
 
     @smproperty.intvector(name="Seed", default_values=_DEFAULTS.seed, panel_visibility="advanced")
     @smdomain.xml(_doc("Random seed of training (runs are repeatable)."))

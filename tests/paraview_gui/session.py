@@ -113,7 +113,7 @@ def main():
     if os.environ.get("PINN_GUI_LONG") == "1":
         settings = servermanager.vtkSMSettings.GetInstance()
         settings.SetSetting("filters.PINNStructuredMesh.Preset", 1)
-        settings.SetSetting("filters.PINNStructuredMesh.AdamEpochs", 200000)
+        settings.SetSetting("filters.PINNStructuredMesh.PaperAdamEpochs", 200000)
         if os.environ.get("PINN_GUI_TIME_LIMIT"):
             limit = float(os.environ["PINN_GUI_TIME_LIMIT"])
             settings.SetSetting("filters.PINNStructuredMesh.TimeLimit", limit)
