@@ -39,6 +39,7 @@ try:
         PARAMETER_CONSTRAINTS,
         PRESETS,
         Settings,
+        make_settings,
     )
 except ImportError as _exc:  # a clear line in ParaView's output instead of a bare traceback
     raise ImportError(
@@ -49,10 +50,25 @@ except ImportError as _exc:  # a clear line in ParaView's output instead of a ba
 
 from paraview.util.vtkAlgorithm import smdomain, smhint, smproperty, smproxy  # noqa: E402
 
+try:  # the client side, where displays are made (absent from a data-server-only build)
+    from paraview.modules.vtkRemotingServerManager import (
+        vtkSMPropertyHelper,
+        vtkSMProxyManager,
+    )
+    from paraview.modules.vtkRemotingViews import vtkSMPVRepresentationProxy
+    from vtkmodules.vtkCommonDataModel import vtkDataObject
+except ImportError:
+    vtkSMProxyManager = None
+
 paraview_plugin_name = "PINN Mesh"
 paraview_plugin_version = __version__
 
 _DEFAULTS = Settings()
+_COLOUR_ARRAY = "MaxIncludedAngle"  # what a new grid is coloured by
+_OBSERVERS = []  # the display observers (_ColourWhenDataArrives)
+# id(session proxy manager): (it, its RegisterEvent observer, the observer's id); VTK's own
+# reference to a Python observer was not enough in the GUI (a closure crashed on its 2nd call)
+_WATCHED_SESSIONS = {}
 _NEURAL = (
     '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
     'property="Method" values="0 1"/>'
@@ -65,10 +81,87 @@ _BODY = (
     '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
     'property="Topology" values="1 2"/>'
 )  # O- and C-grid settings
+
+
+def _for_preset(preset, methods):
+    """Shown only under Preset ``preset`` (index) and for the Method indices ``methods``."""
+    return (
+        '<PropertyWidgetDecorator type="CompositeDecorator"><Expression type="and">'
+        '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
+        f'property="Method" values="{methods}"/>'
+        '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
+        f'property="Preset" value="{preset}"/>'
+        "</Expression></PropertyWidgetDecorator>"
+    )
+
+
+_PAPER = make_settings("pinn", "paper")
 _PINN_ONLY = (
     '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
     'property="Method" value="0"/>'
 )
+
+
+class _ColourWhenDataArrives:
+    """Observer of one display of the filter: colour it by MaxIncludedAngle once the filter's
+    output first has cells, if it was shown before that (a failed first Apply). ParaView picks
+    a display's colour array once, when it creates the display, from the data it has then; an
+    empty output carries no arrays to ParaView (vtkPVDataSetAttributesInformation skips the
+    arrays of empty data), so the display stayed in a solid colour for good."""
+
+    def __init__(self):
+        self.empty = False
+        self.settled = False  # (removing an observer inside its own call crashes the GUI)
+
+    def __call__(self, repr_proxy, event):
+        if self.settled:
+            return
+        source = vtkSMPropertyHelper(repr_proxy, "Input").GetAsProxy()
+        if source is None:
+            return
+        info = source.GetDataInformation(vtkSMPropertyHelper(repr_proxy, "Input").GetOutputPort())
+        if info.GetNumberOfCells() == 0:
+            self.empty = True
+            return
+        self.settled = True  # from here on, the colour is the user's choice
+        if (
+            self.empty
+            and not vtkSMPVRepresentationProxy.GetUsingScalarColoring(repr_proxy)
+            and info.GetCellDataInformation().GetArrayInformation(_COLOUR_ARRAY) is not None
+        ):
+            vtkSMPVRepresentationProxy.SetScalarColoring(
+                repr_proxy, _COLOUR_ARRAY, vtkDataObject.FIELD_ASSOCIATION_CELLS
+            )
+            vtkSMPVRepresentationProxy.RescaleTransferFunctionToDataRange(repr_proxy, False, False)
+            repr_proxy.UpdateVTKObjects()
+
+
+def _watch_displays():
+    """Let every new display of a PINN Structured Mesh filter in the active session be
+    coloured by MaxIncludedAngle when its first grid arrives (``_ColourWhenDataArrives``).
+    Runs where proxies are made (the GUI, pvpython); idempotent per session."""
+    if vtkSMProxyManager is None:
+        return
+    pxm = vtkSMProxyManager.GetProxyManager().GetActiveSessionProxyManager()
+    if pxm is None or id(pxm) in _WATCHED_SESSIONS:
+        return
+    seen = set()
+
+    def on_register(obj, event):
+        for k in range(pxm.GetNumberOfProxies("representations")):
+            proxy = pxm.GetProxy("representations", pxm.GetProxyName("representations", k))
+            if proxy is None or proxy.GetGlobalID() in seen:
+                continue
+            seen.add(proxy.GetGlobalID())
+            if proxy.GetProperty("Input") is None or proxy.GetProperty("ColorArrayName") is None:
+                continue
+            source = vtkSMPropertyHelper(proxy, "Input").GetAsProxy()
+            if source is not None and source.GetXMLName() == "PINNStructuredMesh":
+                observer = _ColourWhenDataArrives()
+                _OBSERVERS.append(observer)  # kept alive here, not only by VTK
+                proxy.AddObserver("UpdateDataEvent", observer)
+
+    _WATCHED_SESSIONS[id(pxm)] = (pxm, on_register, pxm.AddObserver("RegisterEvent", on_register))
 
 
 def _range(name):
@@ -144,6 +237,10 @@ def _proxy_doc(short, text):
 class PINNStructuredMesh(PinnMeshAlgorithm):
     """The ParaView face of :class:`pinn_engine.routes.algorithm.PinnMeshAlgorithm`."""
 
+    def __init__(self):
+        super().__init__()
+        _watch_displays()  # a session made after the plugin was loaded
+
     def RemoveAllBoundaryInputs(self):
         # clean commands of the two repeatable inputs: the decorator's default,
         # RemoveAllInputs, would also disconnect the other port
@@ -182,8 +279,8 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
         _doc(
             "default: measured defaults (exact boundary, arc-length fit); paper: "
             "the paper's section 4 (penalty boundary term, decision-tree fit, "
-            "1000 elliptic sweeps). Values below left at their defaults follow "
-            "the preset; changed ones are used as set."
+            "1000 elliptic sweeps). Adam Epochs, L-BFGS Iterations and Lambda2 "
+            "have a field per preset; the panel shows the chosen preset's."
         )
     )
     def P03Preset(self, index):
@@ -209,10 +306,22 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
         panel_visibility="advanced",
     )
     @smdomain.intrange(**_range("adam_epochs"))
-    @smdomain.xml(_doc("Adam epochs of training (left at the default, the preset's own)."))
-    @smhint.xml(_NEURAL)
+    @smdomain.xml(_doc("Adam epochs of training under Preset default."))
+    @smhint.xml(_for_preset(0, "0 1"))
     def P04AdamEpochs(self, n):
-        self.SetPanelSetting("adam_epochs", int(n))
+        self.SetPresetSetting("default", "adam_epochs", int(n))
+
+    @smproperty.intvector(
+        name="PaperAdamEpochs",
+        label="Paper Adam Epochs",
+        default_values=_PAPER.adam_epochs,
+        panel_visibility="advanced",
+    )
+    @smdomain.intrange(**_range("adam_epochs"))
+    @smdomain.xml(_doc("Adam epochs of training under Preset paper (the paper's 5000)."))
+    @smhint.xml(_for_preset(1, "0 1"))
+    def P04PaperAdamEpochs(self, n):
+        self.SetPresetSetting("paper", "adam_epochs", int(n))
 
     @smproperty.intvector(
         name="LBFGSIterations",
@@ -221,10 +330,22 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
         panel_visibility="advanced",
     )
     @smdomain.intrange(**_range("lbfgs_iterations"))
-    @smdomain.xml(_doc("L-BFGS iterations after Adam (left at the default, the preset's own)."))
-    @smhint.xml(_NEURAL)
+    @smdomain.xml(_doc("L-BFGS iterations after Adam under Preset default."))
+    @smhint.xml(_for_preset(0, "0 1"))
     def P05LBFGSIterations(self, n):
-        self.SetPanelSetting("lbfgs_iterations", int(n))
+        self.SetPresetSetting("default", "lbfgs_iterations", int(n))
+
+    @smproperty.intvector(
+        name="PaperLBFGSIterations",
+        label="Paper L-BFGS Iterations",
+        default_values=_PAPER.lbfgs_iterations,
+        panel_visibility="advanced",
+    )
+    @smdomain.intrange(**_range("lbfgs_iterations"))
+    @smdomain.xml(_doc("L-BFGS iterations after Adam under Preset paper (the paper's 500)."))
+    @smhint.xml(_for_preset(1, "0 1"))
+    def P05PaperLBFGSIterations(self, n):
+        self.SetPresetSetting("paper", "lbfgs_iterations", int(n))
 
     @smproperty.intvector(
         name="HiddenLayers",
@@ -249,10 +370,19 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
 
     @smproperty.doublevector(name="Lambda2", default_values=_DEFAULTS.lambda2)
     @smdomain.doublerange(min=0.0, max=1000.0)
-    @smdomain.xml(_doc("Weight of the auxiliary-line term of the loss (paper: 10)."))
-    @smhint.xml(_PINN_ONLY)
+    @smdomain.xml(_doc("Weight of the auxiliary-line term of the loss under Preset default."))
+    @smhint.xml(_for_preset(0, "0"))
     def P08Lambda2(self, value):
-        self.SetPanelSetting("lambda2", float(value))
+        self.SetPresetSetting("default", "lambda2", float(value))
+
+    @smproperty.doublevector(
+        name="PaperLambda2", label="Paper Lambda2", default_values=_PAPER.lambda2
+    )
+    @smdomain.doublerange(min=0.0, max=1000.0)
+    @smdomain.xml(_doc("Weight of the auxiliary-line term under Preset paper (the paper's 10)."))
+    @smhint.xml(_for_preset(1, "0"))
+    def P08PaperLambda2(self, value):
+        self.SetPresetSetting("paper", "lambda2", float(value))
 
     @smproperty.intvector(name="Seed", default_values=_DEFAULTS.seed, panel_visibility="advanced")
     @smdomain.xml(_doc("Random seed of training (runs are repeatable)."))
@@ -464,6 +594,8 @@ def _writer_proxy(key, extension, name, file_type):
         support_reload=False,
     )(Writer)
 
+
+_watch_displays()
 
 for _key, (_extension, _name, _file_type) in PARAVIEW_FORMATS.items():
     globals()[_name] = _writer_proxy(_key, _extension, _name, _file_type)

@@ -148,6 +148,20 @@ def test_panel_values_left_at_their_defaults_follow_the_preset():
     assert alg.GetSettings().adam_epochs == 700
 
 
+def test_per_preset_values_are_used_only_under_their_preset():
+    # issue 23 item 10: the panel's Adam Epochs (default) and Paper Adam Epochs (paper)
+    alg = PinnMeshAlgorithm()
+    alg.SetPresetSetting("default", "adam_epochs", 700)
+    alg.SetPresetSetting("paper", "lbfgs_iterations", 90)
+    assert (alg.GetSettings().adam_epochs, alg.GetSettings().lbfgs_iterations) == (700, 120)
+    alg.SetPreset("paper")
+    paper = alg.GetSettings()
+    assert (paper.adam_epochs, paper.lbfgs_iterations, paper.lambda2) == (5000, 90, 10.0)
+    stamp = alg.GetMTime()
+    alg.SetPresetSetting("paper", "lambda2", 10.0)  # the preset's own value: no change
+    assert alg.GetMTime() == stamp and alg.GetSettings().lambda2 == 10.0
+
+
 def test_training_setting_change_retrains():
     alg = make_alg(case="wavy", aux=False, method="mgnet", adam_epochs=20, lbfgs_iterations=0)
     alg.Update()

@@ -175,10 +175,13 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
         "Preset",
         "TimeLimit",
         "AdamEpochs",
+        "PaperAdamEpochs",
         "LBFGSIterations",
+        "PaperLBFGSIterations",
         "HiddenLayers",
         "Neurons",
         "Lambda2",
+        "PaperLambda2",
         "Seed",
         "CornerIndices",
         "Objective",
@@ -196,8 +199,22 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
         "HiddenLayers",
         "LBFGSIterations",
         "Neurons",
+        "PaperAdamEpochs",
+        "PaperLBFGSIterations",
         "Seed",
     ]
+    # issue 23 item 10: the panel shows what runs: the chosen preset's field, which is used
+    assert result["presets"] == [[5000, 500, 10.0], [5000, 90, 10.0], [7, 120, 30.0]]
+    shown_under = {
+        key: [value for prop, value in pairs if prop == "Preset"]
+        for key, pairs in result["preset_decorators"].items()
+    }
+    assert shown_under == {
+        "AdamEpochs": ["0"],
+        "PaperAdamEpochs": ["1"],
+        "Lambda2": ["0"],
+        "PaperLambda2": ["1"],
+    }
     assert result["naca_label"] == "NACA"
     # issue 23 item 10: "?" help for every proxy; the grid shows its cells from the first show
     for name, (short, long) in result["help"].items():

@@ -69,3 +69,16 @@ def test_the_time_limit_ends_a_long_training_with_its_best_grid(gui):
     assert result["error"] == "" and result["points"] == 41 * 21
     assert "its time limit of 4 s ran out during adam" in result["warning"]
     assert "a larger Time Limit (0: none)" in result["warning"]
+
+
+def test_a_grid_after_a_failed_apply_is_shown_with_edges_coloured_by_max_angle(gui):
+    # issue 23 item 10: ParaView picks a display's colour array when it creates the display;
+    # after a failed first Apply (an empty output) the plugin colours it when the grid comes
+    failed = json.loads((gui / "failed_display.json").read_text())
+    assert failed["points"] == 0 and "boundary input" in failed["error"]
+    fixed = json.loads((gui / "fixed_display.json").read_text())
+    assert fixed["points"] == 41 * 21 and fixed["error"] == ""
+    assert fixed["representation"] == "Surface With Edges"
+    assert fixed["colour"] == ["CELLS", "MaxIncludedAngle"]
+    log = (gui / "failed.log").read_text()
+    assert "SIGSEGV" not in log and "Traceback" not in log

@@ -105,6 +105,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
     * ``SetCorners(i0, i1, i2, i3)``: the four corner point indices of the boundary;
       ``SetCorners(None)`` or any negative index: automatic detection
     * ``SetObjective("winslow"|"quality")`` (or 0/1): the pinn's objective (SPEC 7)
+    * ``SetPresetSetting(preset, name, value)``: a value used only under that preset
     * ``SetSetting(name, value)``: any other field of ``pinn_engine.settings.Settings``
       (e.g. ``"device"``, ``"boundary_mode"``, ``"elliptic_iterations"``)
     * ``SetPatchNames(names)``: boundary patch names (four names bottom right top left, or
@@ -129,6 +130,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         self._preset = "default"
         self._size = (41, 21)
         self._overrides: dict[str, object] = {}
+        self._preset_values: dict[tuple[str, str], object] = {}  # (preset, setting): value
         self._corners: tuple[int, int, int, int] | None = None
         self._patches = ""  # as given; checked at the update (default names when empty)
         self._wall_spacing = 0.0  # first-layer height off a body's wall; 0: the default
@@ -248,6 +250,24 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         the paper's 5000 Adam epochs rather than the default's 0)."""
         self.SetSetting(name, None if value == getattr(Settings(), name) else value)
 
+    def SetPresetSetting(self, preset, name: str, value) -> None:
+        """A value used only while ``preset`` is chosen (the panel's per-preset fields, such as
+        Adam Epochs and Paper Adam Epochs, so that the panel shows what runs); one equal to
+        the preset's own value, or None, is no override."""
+        preset = _choice(preset, PRESETS, "preset")
+        if name not in Settings.__dataclass_fields__:
+            raise ValueError(f"unknown setting {name!r}")
+        if value is not None and value == getattr(make_settings("pinn", preset), name):
+            value = None
+        key = (preset, name)
+        if value is None:
+            if key in self._preset_values:
+                del self._preset_values[key]
+                self.Modified()
+        elif self._preset_values.get(key) != value:
+            self._preset_values[key] = value
+            self.Modified()
+
     def SetSetting(self, name: str, value) -> None:
         """Override any ``Settings`` field (``None`` restores the preset's value)."""
         if name in ("method", "preset"):
@@ -306,7 +326,12 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
 
     def GetSettings(self) -> Settings:
         """The ``Settings`` the next update uses (raises ``ValueError`` if invalid)."""
-        overrides = dict(self._overrides)
+        overrides = {
+            name: value
+            for (preset, name), value in self._preset_values.items()
+            if preset == self._preset
+        }
+        overrides.update(self._overrides)
         if self._method != "pinn":  # the panel hides Objective for the other methods
             overrides.pop("objective", None)
         if self._wall_spacing and overrides.get("topology", "none") != "none":
@@ -415,6 +440,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
             self._size,
             self._corners,
             tuple(sorted(self._overrides.items(), key=repr)),
+            tuple(sorted(self._preset_values.items(), key=repr)),
             repr(self._patches),
             self._wall_spacing,
         ]

@@ -10,7 +10,11 @@
 #    a filter runs), `kill -USR1` stops it with the best grid so far;
 #    OUTDIR/stop.json holds the filter's result, OUTDIR/alive whether ParaView still runs
 #    afterwards and OUTDIR/stopped.png the screen with the grid and the warning;
-# 3. the same long training with a Time Limit of 4 s: OUTDIR/limit.json, OUTDIR/limit.png.
+# 3. the same long training with a Time Limit of 4 s: OUTDIR/limit.json, OUTDIR/limit.png;
+# 4. a failed first Apply (only fig2_aux.vtp selected: no closed boundary), then the input
+#    fixed (both sources) and Apply pressed: OUTDIR/failed_display.json and
+#    OUTDIR/fixed_display.json hold the display's representation and colour array after
+#    each, OUTDIR/failed.png and OUTDIR/fixed.png the screen.
 # Needs paraview, xvfb-run, xdotool and ImageMagick's import (scripts/setup_paraview.sh).
 set -euo pipefail
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -90,4 +94,28 @@ select_both_and_apply
 wait_for "$PINN_GUI_RESULT" 90 || { echo "the time limit did not stop the training" >&2; kill "$PV"; exit 1; }
 sleep 3
 import -window root "$OUT/limit.png"
+kill "$PV"; wait "$PV" 2>/dev/null || true
+
+# 4. a failed first Apply, the input fixed, Apply again
+unset PINN_GUI_TIME_LIMIT
+session failed 0
+xdotool mousemove 106 218 click 1; sleep 0.5                           # fig2_aux.vtp only
+xdotool key ctrl+space; sleep 1
+xdotool type --delay 50 "PINN Structured"; sleep 1
+xdotool key Return
+wait_for "$PINN_GUI_RESULT" 60 || { echo "no result from the failing filter" >&2; kill "$PV"; exit 1; }
+sleep 2
+echo "$OUT/failed_display.json" >"$PINN_GUI_RESULT.probe"
+wait_for "$OUT/failed_display.json" 10 || { echo "no display state" >&2; kill "$PV"; exit 1; }
+import -window root "$OUT/failed.png"
+rm -f "$PINN_GUI_RESULT"
+touch "$PINN_GUI_RESULT.fix"; sleep 2                                  # Change Input: both
+xdotool mousemove 138 283 click 1; sleep 1                              # the filter's row
+xdotool mousemove 47 508 click 1                                        # Apply
+wait_for "$PINN_GUI_RESULT" 60 || { echo "no result after the fix" >&2; kill "$PV"; exit 1; }
+sleep 3
+echo "$OUT/fixed_display.json" >"$PINN_GUI_RESULT.probe"
+wait_for "$OUT/fixed_display.json" 10 || { echo "no display state" >&2; kill "$PV"; exit 1; }
+xdotool mousemove 1590 990
+import -window root "$OUT/fixed.png"
 kill "$PV"; wait "$PV" 2>/dev/null || true

@@ -6,7 +6,8 @@ inputs, error) to the JSON file named by PINN_GUI_RESULT, and creates PINN_GUI_R
 once its progress says it trains. PINN_GUI_LONG=1 makes new filters
 default to a long training (Preset paper, 200000 Adam epochs) for the stop tests, with the
 Time Limit PINN_GUI_TIME_LIMIT when set. Writes the file named by PINN_GUI_READY when the GUI
-may be driven.
+may be driven. A timer answers drive.sh's requests (``on_timer``): change the filter's input,
+write the display's state.
 """
 
 import json
@@ -61,6 +62,43 @@ def on_register(obj, event):
             watched[key] = alg.AddObserver("EndEvent", lambda o, e, p=proxy, a=alg: write(p, a))
 
 
+def display_state():
+    """The filter's display in the active view: representation, colour array, points."""
+    view = simple.GetActiveView()
+    for proxy in simple.GetSources().values():
+        if proxy.GetXMLName() == "PINNStructuredMesh":
+            display = simple.GetDisplayProperties(proxy, view)
+            alg = proxy.GetClientSideObject()
+            return {
+                "representation": str(display.Representation).strip("'"),
+                "colour": [str(c) for c in display.ColorArrayName],
+                "points": alg.GetOutput().GetNumberOfPoints(),
+                "error": alg.GetLastError(),
+            }
+    return {}
+
+
+def on_timer(obj, event):
+    """Requests from drive.sh as files: RESULT.fix connects the filter to both sources (the
+    user's Change Input), RESULT.probe NAME writes display_state() to NAME."""
+    try:
+        if os.path.exists(RESULT + ".fix"):
+            os.remove(RESULT + ".fix")
+            sources = simple.GetSources()
+            mesh = next(p for p in sources.values() if p.GetXMLName() == "PINNStructuredMesh")
+            mesh.Input = [simple.FindSource("fig2.vtp"), simple.FindSource("fig2_aux.vtp")]
+        if os.path.exists(RESULT + ".probe"):
+            with open(RESULT + ".probe") as f:
+                name = f.read().strip()
+            os.remove(RESULT + ".probe")
+            with open(name + ".tmp", "w") as f:
+                json.dump(display_state(), f)
+            os.replace(name + ".tmp", name)
+    except Exception:
+        with open(RESULT + ".timer_error", "a") as f:
+            f.write(traceback.format_exc())
+
+
 def main():
     view = simple.GetActiveViewOrCreate("RenderView")
     view.OrientationAxesVisibility = 0
@@ -75,11 +113,14 @@ def main():
     if os.environ.get("PINN_GUI_LONG") == "1":
         settings = servermanager.vtkSMSettings.GetInstance()
         settings.SetSetting("filters.PINNStructuredMesh.Preset", 1)
-        settings.SetSetting("filters.PINNStructuredMesh.AdamEpochs", 200000)
+        settings.SetSetting("filters.PINNStructuredMesh.PaperAdamEpochs", 200000)
         if os.environ.get("PINN_GUI_TIME_LIMIT"):
             limit = float(os.environ["PINN_GUI_TIME_LIMIT"])
             settings.SetSetting("filters.PINNStructuredMesh.TimeLimit", limit)
     servermanager.ProxyManager().SMProxyManager.AddObserver("RegisterEvent", on_register)
+    interactor = view.GetRenderWindow().GetInteractor()  # Qt's timer: polls drive.sh's files
+    interactor.AddObserver("TimerEvent", on_timer)
+    interactor.CreateRepeatingTimer(300)
 
 
 try:

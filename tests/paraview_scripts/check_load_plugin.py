@@ -64,5 +64,35 @@ result["grid"] = {
     "max_angle": grid.GetCellData().GetArray("MaxIncludedAngle") is not None,
     "method": grid.GetFieldData().GetAbstractArray("Method").GetValue(0),
 }
+# issue 23 item 10: a field per preset for the settings the presets differ in; the chosen
+# preset's is used (and shown), the other's is not
+presets = PINNStructuredMesh(Input=boundary, Preset="paper", AdamEpochs=7)  # noqa: F821
+presets.UpdateVTKObjects()
+alg = presets.GetClientSideObject()
+first = alg.GetSettings()
+presets.PaperLBFGSIterations = 90
+presets.UpdateVTKObjects()
+second = alg.GetSettings()
+presets.Preset = "default"
+presets.UpdateVTKObjects()
+third = alg.GetSettings()
+result["presets"] = [[s.adam_epochs, s.lbfgs_iterations, s.lambda2] for s in (first, second, third)]
+
+
+def decorated_by(element):
+    """The (property, value) pairs of the widget decorators under an XML element."""
+    found = []
+    for k in range(element.GetNumberOfNestedElements()):
+        child = element.GetNestedElement(k)
+        if child.GetAttribute("property"):
+            found.append((child.GetAttribute("property"), child.GetAttribute("value") or ""))
+        found += decorated_by(child)
+    return found
+
+
+result["preset_decorators"] = {
+    key: decorated_by(proto.GetProperty(key).GetHints())
+    for key in ("AdamEpochs", "PaperAdamEpochs", "Lambda2", "PaperLambda2")
+}
 result["torch_at_end"] = "torch" in sys.modules
 print("RESULT " + json.dumps(result))
