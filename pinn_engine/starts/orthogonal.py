@@ -155,15 +155,6 @@ def _corner_turn(n: int) -> np.ndarray:
     return np.clip(np.minimum(k, n - 1 - k) / CORNER_TURN, 0.0, 1.0)
 
 
-# the two sides that meet at each corner, by its (row, column) index
-_CORNER_SIDES = {
-    (0, 0): {"bottom", "left"},
-    (0, -1): {"bottom", "right"},
-    (-1, 0): {"top", "left"},
-    (-1, -1): {"top", "right"},
-}
-
-
 # the side of a wall (+1: left of its tangent, along increasing index) the grid lies on, in
 # a grid that runs counter-clockwise
 _INSIDE = {"bottom": 1.0, "right": 1.0, "top": -1.0, "left": -1.0}
@@ -224,7 +215,7 @@ def normal_rows(
     heights = heights or {}
     out = np.array(grid, dtype=float)
     normals = {side: _inward_normals(out, side) for side in sides}
-    shared: dict[tuple[int, int], list[np.ndarray]] = {}
+    shared: dict[tuple[int, int], list[tuple]] = {}  # node: (turn, place, distance)
     for side in sides:
         wall, row = _wall_and_row(out, side)
         k = _free(side, sides, len(wall))
