@@ -31,17 +31,16 @@ simpleFoam -case "$CASE" >"$CASE/log.simpleFoam"
 echo "simpleFoam (log.simpleFoam): $((SECONDS - start)) s, $(grep -c '^Time =' "$CASE/log.simpleFoam") iterations"
 grep -E "SIMPLE solution converged" "$CASE/log.simpleFoam" || echo "  residualControl not met by endTime"
 
-# Cl and Cd: means over the last AVG iterations (an even number: on this grid Cd alternates
-# by about 2 % between odd and even iterations, Cl by 3e-6), with Cd's range over them
+# Cl and Cd at the last iteration, with how far each moved over the last AVG iterations
 AVG=200
 awk -v n=$AVG '/^# Time/ { for (k = 2; k <= NF; k++) col[$k] = k - 1; next }
      !/^#/ { row[++m] = $0 }
      END {
          for (r = m - n + 1; r <= m; r++) {
-             split(row[r], v); cl += v[col["Cl"]]; cd += v[col["Cd"]]
-             if (r == m - n + 1 || v[col["Cd"]] < lo) lo = v[col["Cd"]]
-             if (r == m - n + 1 || v[col["Cd"]] > hi) hi = v[col["Cd"]]
+             split(row[r], v); l = v[col["Cl"]]; d = v[col["Cd"]]
+             if (r == m - n + 1 || l < llo) llo = l; if (r == m - n + 1 || l > lhi) lhi = l
+             if (r == m - n + 1 || d < dlo) dlo = d; if (r == m - n + 1 || d > dhi) dhi = d
          }
-         printf "Cl = %.4f  Cd = %.5f  (means over iterations %d-%d; Cd from %.5f to %.5f)\n", \
-             cl / n, cd / n, m - n + 1, m, lo, hi
+         printf "Cl = %.4f  Cd = %.5f  (iteration %d; over iterations %d-%d Cl moved %.1e, Cd %.1e)\n", \
+             l, d, m, m - n + 1, m, lhi - llo, dhi - dlo
      }' "$CASE/postProcessing/forceCoeffs/0/coefficient.dat"
