@@ -176,6 +176,8 @@ if b"ERROR" not in text:
     writer.WriteToOutputStringOn()
     writer.Write()
     data = writer.GetOutputStdString()
+    if isinstance(data, str):  # VTK hands back str when the bytes happen to be UTF-8
+        data = data.encode("utf-8", "surrogateescape")
     more = window.GetOutput() or ""
     text = more if isinstance(more, bytes) else more.encode("utf-8", "replace")
 out.write(b"%d\\n" % len(text) + text + data)
