@@ -191,7 +191,7 @@ def check_crossings(rings: list[np.ndarray], edges: list[np.ndarray], names: lis
             if len(hit):
                 i, j = hit[0]
                 raise InputError(
-                    f"crosses {names[m]} at {_where(segs[i], edge_segs[m][j])}; block edges "
+                    f"crosses the block edge {names[m]} at {_where(segs[i], edge_segs[m][j])}; block edges "
                     "may only meet at an end (end one edge on the other)",
                     names[k],
                 )
