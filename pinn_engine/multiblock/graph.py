@@ -190,9 +190,10 @@ def check_crossings(rings: list[np.ndarray], edges: list[np.ndarray], names: lis
             hit = _crossing(segs, edge_segs[m])
             if len(hit):
                 i, j = hit[0]
+                where = _where(segs[i], edge_segs[m][j])
                 raise InputError(
-                    f"crosses the block edge {names[m]} at {_where(segs[i], edge_segs[m][j])}; block edges "
-                    "may only meet at an end (end one edge on the other)",
+                    f"crosses the block edge {names[m]} at {where}; block edges may only meet "
+                    "at an end (end one edge on the other)",
                     names[k],
                 )
 
