@@ -15,13 +15,17 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
+from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkPolyData, vtkStructuredGrid
 
 from pinn_engine.cache import MeshCache
 from pinn_engine.errors import InputError
 from pinn_engine.mesher import Mesher
 from pinn_engine.result import MeshResult
 from pinn_engine.settings import NEURAL, Settings
+
+# A multi-block domain's curves must lie in one plane z = const: z may vary by this share
+# of the domain's size (SPEC 10's grids are built in the x, y plane)
+FLAT = 1e-6
 
 # A curve that fails as a four-sided boundary is called a body (and the user pointed to the
 # O- and C-grids) when its ends are at most this share of its size apart (a blunt trailing
@@ -195,3 +199,44 @@ def run(
         progress,
     )
     return Outcome(result, to_vtk(result, names), settings.method in NEURAL)
+
+
+@dataclass
+class BlocksOutcome:
+    """What a multi-block job gives: the result and its ``vtkMultiBlockDataSet``."""
+
+    result: object  # multiblock.mesh.MultiBlockResult
+    dataset: vtkMultiBlockDataSet
+
+
+def _flat(curves: list[np.ndarray], source: str) -> list[np.ndarray]:
+    """The curves' (x, y), refused unless every z is the same (within ``FLAT``)."""
+    z = np.concatenate([c[:, 2] if c.shape[1] == 3 else np.zeros(len(c)) for c in curves])
+    size = max(float(np.ptp(np.vstack([c[:, :2] for c in curves]), axis=0).max()), 1e-300)
+    if np.ptp(z) > FLAT * size:
+        raise InputError(
+            f"z varies by {np.ptp(z):.3g}; a multi-block domain lies in a plane z = const in "
+            "this build",
+            source,
+        )
+    return [np.ascontiguousarray(c[:, :2]) for c in curves]
+
+
+def run_blocks(
+    settings: Settings,
+    boundary: str | os.PathLike,
+    edges: Sequence[str | os.PathLike],
+) -> BlocksOutcome:
+    """Mesh a multi-block domain (SPEC 10) from files: ``boundary`` (outer boundary and
+    holes) and the block-edge files ``edges``, by ``settings.method`` (tfi or elliptic)."""
+    from pinn_engine.io.export.vtm import multiblock_dataset
+    from pinn_engine.io.fileio import read_aux_lines, read_rings
+    from pinn_engine.multiblock.mesh import mesh_blocks
+
+    source = str(boundary)
+    rings = read_rings(boundary)
+    raws = [line for path in edges for line in read_aux_lines(path)]
+    curves = _flat(rings + [r.points for r in raws], source)
+    names = [r.name for r in raws]
+    result = mesh_blocks(curves[: len(rings)], curves[len(rings) :], names, settings, source)
+    return BlocksOutcome(result, multiblock_dataset(result.grids, result.cells, result.report))

@@ -13,6 +13,7 @@ PRESETS = ("default", "paper")
 OBJECTIVES = ("winslow", "quality")  # SPEC 7, --objective (pinn)
 TOPOLOGIES = ("none", "o", "c")  # SPEC 9: a four-sided domain, an O-grid or a C-grid
 BODY_METHODS = ("pinn", "tfi", "elliptic")  # the methods of O- and C-grids
+MULTIBLOCK_METHODS = ("tfi", "elliptic")  # SPEC 10's methods in this build (pinn to come)
 # Grid sizes accepted on every route (command line, filter and panel, pyvista, Mesher)
 MAX_SIDE_NODES = 20_000
 MAX_NODES = 4_000_000  # about 1.5 GB of memory while meshing and writing
@@ -171,6 +172,13 @@ PARAMETER_CONSTRAINTS: dict[str, Options | Interval] = {
     "topology": Options(TOPOLOGIES),
     "naca": Pattern(r"(\d{4})?", "a NACA 4-digit code such as 0012"),
     "farfield": Interval(float, 1.0),  # chords: a far field inside the body is no domain
+    "cell_size": Interval(
+        float, 0.0, help="multi-block: cell size in your units; 0: the diagonal / 40"
+    ),
+    "interfaces": Options(
+        ("free", "fixed"),
+        "multi-block: free (interface nodes solved like interior nodes) or fixed (as drawn)",
+    ),
 }
 
 
@@ -232,6 +240,11 @@ class Settings:
     topology: str = "none"
     naca: str = ""
     farfield: float = 15.0
+    # SPEC 10, a multi-block domain (block edges given): the cells' length in user units
+    # (0: the domain's diagonal / 40), and whether interface nodes are solved ("free") or
+    # stay on the drawn edges ("fixed")
+    cell_size: float = 0.0
+    interfaces: str = "free"
 
     def __post_init__(self) -> None:
         for name in PARAMETER_CONSTRAINTS:
@@ -301,7 +314,7 @@ class Settings:
 
     def training_key(self) -> tuple:
         """The settings that change the trained network (not the output resolution)."""
-        skip = {"preset", "device", "time_limit"} | (
+        skip = {"preset", "device", "time_limit", "cell_size", "interfaces"} | (
             {"lattice"} if self.warm_start == "none" and self.objective == "winslow" else set()
         )
         return tuple((f.name, getattr(self, f.name)) for f in fields(self) if f.name not in skip)

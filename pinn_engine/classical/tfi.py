@@ -71,3 +71,24 @@ def tfi_at(boundary) -> Callable[[np.ndarray], np.ndarray]:
 
     fit = ArcLengthFit(boundary)
     return lambda p: transfinite(p[..., 0], p[..., 1], lambda s, t, nu: fit.sample(s, t))[0]
+
+
+def tfi_of_sides(
+    bottom: np.ndarray, right: np.ndarray, top: np.ndarray, left: np.ndarray
+) -> np.ndarray:
+    """TFI grid (nj, ni, 2) of four given node rows: ``bottom`` and ``top`` (ni, 2) with i
+    increasing, ``left`` and ``right`` (nj, 2) with j increasing, sharing their corner
+    nodes; uniform computational coordinates (a block of a multi-block grid)."""
+    xi = node_params(len(bottom))[None, :, None]
+    eta = node_params(len(left))[:, None, None]
+    b, t, lf, r = bottom[None], top[None], left[:, None], right[:, None]
+    return (
+        (1 - eta) * b
+        + eta * t
+        + (1 - xi) * lf
+        + xi * r
+        - (1 - xi) * (1 - eta) * bottom[0]
+        - xi * (1 - eta) * bottom[-1]
+        - (1 - xi) * eta * top[0]
+        - xi * eta * top[-1]
+    )

@@ -176,6 +176,8 @@ if b"ERROR" not in text:
     writer.WriteToOutputStringOn()
     writer.Write()
     data = writer.GetOutputStdString()
+    if isinstance(data, str):  # VTK hands back str when the bytes happen to be UTF-8
+        data = data.encode("utf-8", "surrogateescape")
     more = window.GetOutput() or ""
     text = more if isinstance(more, bytes) else more.encode("utf-8", "replace")
 out.write(b"%d\\n" % len(text) + text + data)
@@ -440,6 +442,27 @@ def read_boundary_points(path: str | os.PathLike) -> np.ndarray:
     if path.suffix.lower() in (".csv", ".txt"):
         return read_table(path)
     return boundary_points(read_polydata(path), src)
+
+
+def read_rings(path: str | os.PathLike) -> list[np.ndarray]:
+    """Every closed curve (n, 2) or (n, 3) of a ``.vtp``/``.vtk`` file, or the one ring of a
+    ``.csv``/``.txt`` table: a multi-block domain's boundary and holes (SPEC 10)."""
+    path = Path(path)
+    src = _check_file(path, BOUNDARY_FORMATS)
+    if path.suffix.lower() in (".csv", ".txt"):
+        return [read_table(path)]
+    poly = read_polydata(path)
+    xyz = vtk_to_numpy(poly.GetPoints().GetData()).astype(float)
+    rings = []
+    for k, (ids, closed) in enumerate(polylines_of(poly, src)):
+        if not closed:
+            raise InputError(
+                f"curve {k} is open; the boundary and its holes are closed polylines", src
+            )
+        rings.append(_checked(xyz[ids[:-1] if ids[0] == ids[-1] else ids], src))
+    if not rings:
+        raise InputError("holds no polyline or polygon cell", src)
+    return rings
 
 
 def aux_lines_of(poly: vtkPolyData, source: str = "auxiliary input") -> list[RawLine]:

@@ -20,6 +20,7 @@ from pinn_engine.errors import (
 )
 from pinn_engine.settings import (
     METHODS,
+    MULTIBLOCK_METHODS,
     NEURAL,
     OBJECTIVES,
     PARAMETER_CONSTRAINTS,
@@ -34,6 +35,13 @@ from pinn_engine.settings import (
 
 FORMAT_KEYS = ("vts", "vtk", "xyz", "cgns", "su2", "msh", "openfoam")  # export.FORMATS
 
+DEFAULT_SIZE = (41, 21)  # nodes along xi and eta of a four-sided grid (SPEC 5)
+BLOCKS_METHOD = "elliptic"  # multi-block's default: its pinn is not in this build
+# Options of four-sided domains and bodies that a multi-block run refuses (SPEC 10)
+NOT_FOR_BLOCKS = (
+    "aux", "size", "corners", "topology", "naca", "farfield", "spacing", "orthogonal",
+    "patch", "format", "extrude", "save_model", "load_model",
+)  # fmt: skip
 EXIT_ERROR = 2
 EXIT_INTERNAL = 3
 EXIT_INTERRUPTED = 130
@@ -65,12 +73,26 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="AUX",
         help="auxiliary lines (.vtp/.vtk); repeat for several files",
     )
-    p.add_argument("--method", choices=METHODS, default="pinn")
+    p.add_argument(
+        "--blocks",
+        action="append",
+        default=[],
+        metavar="EDGES",
+        help="block edges (.vtp/.vtk, several open polylines a file; repeatable): mesh a "
+        "multi-block domain (SPEC 10) into OUT.vtm; with --cell-size, --interfaces, "
+        "--method tfi or elliptic (the default there)",
+    )
+    p.add_argument(
+        "--method",
+        choices=METHODS,
+        default=None,
+        help="default pinn; elliptic with --blocks",
+    )
     p.add_argument(
         "--size",
         nargs=2,
         type=int,
-        default=(41, 21),
+        default=None,
         metavar=("NI", "NJ"),
         help="nodes along xi and eta (default 41 21)",
     )
@@ -326,6 +348,10 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     from pinn_engine.mesher import Mesher
 
     written = written if written is not None else []
+    if args.blocks:
+        return _run_blocks(args, written)
+    args.method = args.method or "pinn"
+    args.size = args.size or DEFAULT_SIZE
     body = bool(args.topology or args.naca or (args.boundary or "").lower().endswith(".dat"))
     _check_inputs(args, body)
     name = f"naca{args.naca}" if args.naca else Path(args.boundary).stem
@@ -373,6 +399,74 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
 
     source = name if body else args.boundary
     return _write_outputs(args, outcome, out, written, source, picture)
+
+
+def _run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
+    """A multi-block run (SPEC 10): the boundary and its block edges into ``OUT.vtm``."""
+    from pinn_engine import job
+    from pinn_engine.io.export.vtm import write_vtm
+    from pinn_engine.io.fileio import atomic_path, write_text_atomic
+
+    flags = _flags()
+    for name in NOT_FOR_BLOCKS:
+        if getattr(args, name, None):
+            raise PinnMeshError(
+                f"{flags[name]} applies to four-sided domains and bodies, not to --blocks"
+            )
+    if args.boundary is None:
+        raise PinnMeshError("give a boundary file (outer boundary and holes) with --blocks")
+    args.method = args.method or BLOCKS_METHOD
+    if args.method not in MULTIBLOCK_METHODS:
+        raise PinnMeshError(
+            f"--method {args.method}: multi-block domains are meshed by "
+            f"{' or '.join(MULTIBLOCK_METHODS)} in this build (default {BLOCKS_METHOD})"
+        )
+    out = Path(args.output or f"out/{Path(args.boundary).stem}_{args.method}.vtm")
+    if out.suffix.lower() != ".vtm":
+        raise PinnMeshError(f"{out}: a multi-block grid is written as .vtm in this build")
+    args.size = DEFAULT_SIZE  # checked by _check_options, unused by multi-block
+    _check_options(args)
+    settings = _settings(args, *DEFAULT_SIZE)
+    start = time.perf_counter()
+    outcome = job.run_blocks(settings, args.boundary, args.blocks)
+    report = outcome.result.report
+    q, kink = report["quality"], report["interface_kink"]
+    if args.fail_on_folded and q["folded_cells"]:
+        raise PinnMeshError(
+            f"{args.boundary}: {q['folded_cells']} folded cells (--fail-on-folded); no output "
+            "written"
+        )
+    if not args.quiet:
+        print(
+            f"{args.method} {report['blocks']} blocks, {report['cells']} cells in "
+            f"{time.perf_counter() - start:.2f} s: mean MaxIncludedAngle "
+            f"{q['mean_max_angle']:.2f}, worst {q['worst_max_angle']:.2f} deg, "
+            f"{q['folded_cells']} folded cells; grid lines cross interfaces with kinks of "
+            f"{kink['mean']:.2f} deg mean, {kink['max']:.2f} max",
+            file=sys.stderr,
+            flush=True,
+        )
+    write_vtm(outcome.dataset, out)
+    written.append(out)
+    if args.report:
+        write_text_atomic(args.report, json.dumps(report, indent=2, default=float))
+        written.append(Path(args.report))
+    if args.png:
+        from pinn_engine.routes.render import render_blocks_png
+
+        with atomic_path(args.png, suffix=Path(args.png).suffix or ".png") as tmp:
+            title = f"{args.method}: {Path(args.boundary).name}, {report['blocks']} blocks"
+            render_blocks_png(outcome.dataset, tmp, title=title)
+        written.append(Path(args.png))
+    print(f"wrote {out}" + (f" and {args.png}" if args.png else ""))
+    if q["folded_cells"]:
+        print(
+            f"pinn-mesh: warning: {args.boundary}: {q['folded_cells']} of {report['cells']} "
+            "cells are folded",
+            file=sys.stderr,
+            flush=True,
+        )
+    return out
 
 
 def _summary(result, settings: Settings, ni: int, nj: int, seconds: float) -> None:

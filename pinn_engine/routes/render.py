@@ -144,3 +144,23 @@ def render_body_png(
     plotter.screenshot(str(path))
     plotter.close()
     return path
+
+
+def render_blocks_png(dataset, path: str | os.PathLike, title: str | None = None) -> Path:
+    """A multi-block grid (a ``vtkMultiBlockDataSet`` of structured grids in a plane
+    z = const) coloured by MaxIncludedAngle, each block's outline drawn in red."""
+    import pyvista as pv
+
+    blocks = pv.wrap(dataset)
+    outlines = pv.merge(
+        [
+            pv.wrap(block).extract_feature_edges(
+                boundary_edges=True,
+                feature_edges=False,
+                manifold_edges=False,
+                non_manifold_edges=False,
+            )
+            for block in blocks
+        ]
+    )
+    return render_png(blocks.combine(), path, title=title, boundary=outlines)

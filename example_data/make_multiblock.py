@@ -1,0 +1,63 @@
+"""Regenerate the multi-block examples (SPEC 10): a boundary file and a block-edge file each.
+
+Run ``.venv/bin/python example_data/make_multiblock.py``; it rewrites, beside it,
+``lshape.vtp``/``lshape_blocks.vtp`` (two blocks; the edge drawn askew, to be solved
+straight), ``step.vtp``/``step_blocks.vtp`` (a backward-facing step: four blocks, an edge
+ending on another edge) and ``cylinder_channel.vtp``/``cylinder_channel_blocks.vtp`` (a
+cylinder of diameter 1 in a channel: an O-ring of 4 blocks inside 8 outer blocks).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from make_examples import polydata, write
+
+CYLINDER_POINTS = 96  # points on the cylinder (a multiple of 8: a vertex at each diagonal)
+
+
+def lshape() -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """An L of arm width 1; one edge from the inner corner to the left wall, drawn askew."""
+    ring = np.array([(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)], dtype=float)
+    return [ring], [np.array([(1.0, 1.0), (0.0, 1.25)])]
+
+
+def step() -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """A backward-facing step of height 1 in a channel of height 2: the step's edge runs to
+    the outlet, one edge closes the inlet block (drawn leaning), one edge below the step's
+    edge ends on it."""
+    ring = np.array([(-2, 1), (0, 1), (0, 0), (6, 0), (6, 2), (-2, 2)], dtype=float)
+    edges = [
+        np.array([(0.0, 1.0), (3.0, 1.0), (6.0, 1.0)]),
+        np.array([(0.0, 1.0), (0.25, 2.0)]),
+        np.array([(2.5, 0.0), (3.0, 1.0)]),
+    ]
+    return [ring], edges
+
+
+def cylinder_channel() -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """A cylinder of diameter 1 at the origin in the channel [-3, 6] x [-2, 2]; a square
+    [-1, 1]^2 around it cut along its diagonals (the O-ring) and its sides carried on to
+    the channel's walls (8 outer blocks)."""
+    channel = np.array([(-3, -2), (6, -2), (6, 2), (-3, 2)], dtype=float)
+    a = 2 * np.pi * np.arange(CYLINDER_POINTS) / CYLINDER_POINTS
+    cylinder = 0.5 * np.column_stack([np.cos(a), np.sin(a)])
+    square = [(1.0, -1.0), (1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0)]
+    edges = [np.array([square[k - 1], square[k]]) for k in range(4)]
+    for x, y in square:
+        edges.append(np.array([(0.5 * x / np.sqrt(2), 0.5 * y / np.sqrt(2)), (x, y)]))
+    for x, y in ((-1, -2), (1, -2)):  # the square's sides carried on to the walls
+        edges += [np.array([(x, y), (x, -1.0)]), np.array([(x, 1.0), (x, -y)])]
+    for x, y in ((-3, -1), (-3, 1)):
+        edges += [np.array([(x, y), (-1.0, y)]), np.array([(1.0, y), (6.0, y)])]
+    return [channel, cylinder], edges
+
+
+def main() -> None:
+    for name, make in (("lshape", lshape), ("step", step), ("cylinder_channel", cylinder_channel)):
+        rings, edges = make()
+        write(polydata(rings, closed=True), f"{name}.vtp")
+        write(polydata(edges, closed=False), f"{name}_blocks.vtp")
+
+
+if __name__ == "__main__":
+    main()

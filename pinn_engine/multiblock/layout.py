@@ -1,0 +1,73 @@
+"""The nodes of a multi-block grid: one numbering over all blocks, so that a node on a side
+shared by two blocks is placed once and is the same point in both (SPEC 10)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from pinn_engine.classical.tfi import tfi_of_sides
+from pinn_engine.multiblock.blocks import Topology
+
+
+@dataclass
+class Layout:
+    """Node positions ``points`` (N, 2), per block its node ids ``ids`` (nj, ni) (i along
+    side 0 from corner 0, j along side 3 backwards), and per piece its node ids in the
+    piece's own direction."""
+
+    points: np.ndarray
+    ids: list[np.ndarray]
+    piece_ids: list[np.ndarray]
+
+
+def resample(polyline: np.ndarray, cells: int) -> np.ndarray:
+    """``cells + 1`` points along ``polyline`` at equal arc length, its ends exactly."""
+    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(polyline, axis=0), axis=1))])
+    t = np.linspace(0.0, s[-1], cells + 1)
+    out = np.column_stack([np.interp(t, s, polyline[:, 0]), np.interp(t, s, polyline[:, 1])])
+    out[0], out[-1] = polyline[0], polyline[-1]
+    return out
+
+
+def _side_ids(side, piece_ids) -> np.ndarray:
+    """Node ids along a side (a list of (piece, backwards)), corner to corner."""
+    runs = [piece_ids[p][::-1] if back else piece_ids[p] for p, back in side]
+    return np.concatenate([runs[0]] + [r[1:] for r in runs[1:]])
+
+
+def layout(topo: Topology, counts: np.ndarray) -> Layout:
+    """Nodes of every piece at equal arc length (``counts`` cells a piece), the piece ends
+    shared by the pieces meeting there, and each block's interior by TFI of its sides."""
+    points: list[np.ndarray] = []
+    junction: dict[tuple[float, float], int] = {}
+
+    def new(xy: np.ndarray) -> np.ndarray:
+        start = sum(len(p) for p in points)
+        points.append(np.asarray(xy, dtype=float).reshape(-1, 2))
+        return np.arange(start, start + len(points[-1]))
+
+    def end(xy: np.ndarray) -> int:
+        key = (float(xy[0]), float(xy[1]))
+        if key not in junction:
+            junction[key] = int(new(xy)[0])
+        return junction[key]
+
+    piece_ids = []
+    for piece, n in zip(topo.pieces, counts):
+        nodes = resample(piece.points, int(n))
+        inner = new(nodes[1:-1])
+        piece_ids.append(np.concatenate([[end(nodes[0])], inner, [end(nodes[-1])]]))
+    ids = []
+    for block in topo.blocks:
+        s0, s1, s2, s3 = (_side_ids(side, piece_ids) for side in block.sides)
+        bottom, right, top, left = s0, s1, s2[::-1], s3[::-1]
+        nj, ni = len(right), len(bottom)
+        grid = np.empty((nj, ni), dtype=int)
+        grid[0], grid[-1], grid[:, 0], grid[:, -1] = bottom, top, left, right
+        xy = np.concatenate(points)
+        inner = tfi_of_sides(xy[bottom], xy[right], xy[top], xy[left])[1:-1, 1:-1]
+        grid[1:-1, 1:-1] = new(inner).reshape(nj - 2, ni - 2)
+        ids.append(grid)
+    return Layout(np.concatenate(points), ids, piece_ids)

@@ -1,0 +1,180 @@
+"""Multi-block domains (SPEC 10): topology errors, shared nodes, folds, the .vtm output and
+how smoothly grid lines cross the interfaces."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import pyvista as pv
+from conftest import EXAMPLES
+from vtkmodules.vtkFiltersVerdict import vtkMeshQuality
+
+from pinn_engine.routes.cli import main
+
+CYLINDER = ["cylinder_channel.vtp", "--blocks", "cylinder_channel_blocks.vtp", "--cell-size", "0.1"]
+EXAMPLE_RUNS = {
+    "lshape": ["lshape.vtp", "--blocks", "lshape_blocks.vtp"],
+    "step": ["step.vtp", "--blocks", "step_blocks.vtp", "--cell-size", "0.1"],
+    "cylinder": CYLINDER,
+}
+
+
+def _lines(path, polylines, closed: bool = False) -> str:
+    """Write polylines (each a list of (x, y)) to a .vtp file."""
+    points, cells = [], []
+    for line in polylines:
+        ids = list(range(len(points), len(points) + len(line)))
+        points += [(x, y, 0.0) for x, y in line]
+        cells += [len(ids) + closed, *ids, *ids[:1] * closed]
+    poly = pv.PolyData(np.array(points, dtype=float), lines=np.array(cells))
+    poly.save(path)
+    return str(path)
+
+
+def _run(tmp_path, args: list[str], *more: str) -> tuple[int, pv.MultiBlock | None]:
+    """Run the command on example files; the exit status and the grid read back."""
+    out = tmp_path / "grid.vtm"
+    files = [str(EXAMPLES / a) if a.endswith(".vtp") else a for a in args]
+    code = main([*files, *more, "-o", str(out), "--quiet"])
+    return code, pv.read(out) if out.exists() else None
+
+
+RECTANGLE = [(0, 0), (2, 0), (2, 2), (0, 2)]
+
+
+@pytest.mark.parametrize(
+    "ring, edges, expected",
+    [
+        # a diagonal cut: two triangles
+        (RECTANGLE, [[(0, 0), (2, 2)]], "has 3 corners"),
+        # the right block has a chamfered corner: five corners
+        ([(0, 0), (3, 0), (3, 1), (2, 2), (0, 2)], [[(1, 0), (1, 2)]], "has 5 corners"),
+        (RECTANGLE, [[(1, 0), (1, 1.5)]], "ends nowhere at (1, 1.5)"),
+        (RECTANGLE, [[(1, 0), (1, 2)], [(0, 1), (2, 1)]], "edges.vtp line 1 at (1, 1)"),
+        # out through the top and back onto it
+        (RECTANGLE, [[(1, 0), (1, 3), (1.5, 3), (1.5, 2)]], "crosses the boundary at (1, 2)"),
+    ],
+)
+def test_topology_errors(tmp_path, capsys, ring, edges, expected):
+    """A block with other than four corners, an edge ending nowhere, crossing edges: one
+    line naming the place, exit status 2, no file."""
+    boundary = _lines(tmp_path / "ring.vtp", [ring], closed=True)
+    blocks = _lines(tmp_path / "edges.vtp", edges)
+    out = tmp_path / "grid.vtm"
+    assert main([boundary, "--blocks", blocks, "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and expected in err, err
+    assert not out.exists() and not (tmp_path / "grid").exists()
+
+
+def test_pinn_is_refused_and_elliptic_is_the_default(tmp_path, capsys):
+    """The network's multi-block kind is not in this build: --method pinn says which
+    methods work; without --method the grid is the elliptic one."""
+    assert _run(tmp_path, EXAMPLE_RUNS["lshape"], "--method", "pinn")[0] == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "tfi or elliptic" in err
+    code, grid = _run(tmp_path, EXAMPLE_RUNS["lshape"])
+    assert code == 0 and str(grid[0].field_data["Method"][0]) == "elliptic"
+
+
+def _sides(block: pv.StructuredGrid):
+    """Each side's nodes and the nodes just inside it, (n, 2) each, corner to corner."""
+    ni, nj, _ = block.dimensions
+    g = block.points[:, :2].reshape(nj, ni, 2)
+    return [(g[0], g[1]), (g[-1], g[-2]), (g[:, 0], g[:, 1]), (g[:, -1], g[:, -2])]
+
+
+def interface_kinks(grid: pv.MultiBlock, corner_nodes: int = 2) -> np.ndarray:
+    """180 minus the angle between the two blocks' grid edges leaving each node that two
+    blocks share, the ``corner_nodes`` nodes nearest each block corner left out."""
+    leaving: dict[tuple, list] = {}
+    for block in grid:
+        for side, inside in _sides(block):
+            n = len(side)
+            for k in range(n):
+                near = k <= corner_nodes or k >= n - 1 - corner_nodes
+                leaving.setdefault(tuple(side[k]), []).append((near, inside[k] - side[k]))
+    kinks = []
+    for found in leaving.values():
+        if len(found) == 2 and not (found[0][0] or found[1][0]):
+            u, v = found[0][1], found[1][1]
+            cos = u @ v / (np.linalg.norm(u) * np.linalg.norm(v))
+            kinks.append(180.0 - np.degrees(np.arccos(np.clip(cos, -1, 1))))
+    return np.array(kinks)
+
+
+@pytest.mark.parametrize("name", sorted(EXAMPLE_RUNS))
+@pytest.mark.parametrize("method", ["tfi", "elliptic"])
+def test_examples_have_no_folds_and_shared_nodes(tmp_path, name, method):
+    """No folded cell; a node on a side shared by two blocks is the same point in both:
+    side nodes closer than 1e-9 are equal, and every side node off the boundary is in at
+    least two blocks."""
+    code, grid = _run(tmp_path, EXAMPLE_RUNS[name], "--method", method, "--fail-on-folded")
+    assert code == 0
+    assert sum(int(b.cell_data["Folded"].sum()) for b in grid) == 0
+    nodes = np.vstack([s for b in grid for s, _ in _sides(b)])
+    exact = np.unique(nodes, axis=0)
+    close = np.unique(np.round(exact / 1e-9), axis=0)
+    assert len(close) == len(exact)  # no two distinct nodes within 1e-9: shared means equal
+    boundary = pv.read(EXAMPLES / EXAMPLE_RUNS[name][0])
+    lines = boundary.extract_all_edges()
+    _, closest = lines.find_closest_cell(
+        np.column_stack([exact, np.zeros(len(exact))]), return_closest_point=True
+    )
+    off = np.linalg.norm(closest[:, :2] - exact, axis=1) > 1e-6  # the locator is that exact
+    count = {tuple(p): 0 for p in exact}
+    for block in grid:
+        for p in {tuple(q) for s, _ in _sides(block) for q in s}:
+            count[p] += 1
+    assert min(count[tuple(p)] for p in exact[off]) >= 2
+
+
+def test_vtm_round_trip(tmp_path):
+    """The .vtm holds one structured grid a block, named block0, block1, ..., with the
+    quality arrays of SPEC 3 and the run's report."""
+    code, grid = _run(tmp_path, CYLINDER)
+    assert code == 0 and isinstance(grid, pv.MultiBlock)
+    assert grid.keys() == [f"block{k}" for k in range(12)]
+    cells = 0
+    for block in grid:
+        assert isinstance(block, pv.StructuredGrid)
+        for name in ("MaxIncludedAngle", "MinIncludedAngle", "ScaledJacobian", "Folded"):
+            assert len(block.cell_data[name]) == block.n_cells
+        verdict = vtkMeshQuality()
+        verdict.SetInputData(block)
+        verdict.SetQuadQualityMeasureToMaxAngle()
+        verdict.Update()
+        expected = pv.wrap(verdict.GetOutput()).cell_data["Quality"]
+        np.testing.assert_allclose(block.cell_data["MaxIncludedAngle"], expected, atol=1e-9)
+        cells += block.n_cells
+    assert cells == 4000  # SPEC 10's counts: 4 x 20 x 10 + 2 x (20 + 50) x 10 + ...
+    assert "cell_size" in str(grid[0].field_data["Report"][0])
+
+
+def test_elliptic_interfaces_are_smooth(tmp_path):
+    """Around the cylinder, grid lines cross the interfaces of the elliptic grid with kinks
+    of at most 2 degrees on average (15 at most); the drawn interfaces (tfi, or --interfaces
+    fixed) kink by far more."""
+    kinks = interface_kinks(_run(tmp_path, CYLINDER)[1])
+    assert len(kinks) > 100 and kinks.mean() <= 2.0 and kinks.max() <= 15.0
+    for more in (["--method", "tfi"], ["--interfaces", "fixed"]):
+        drawn = interface_kinks(_run(tmp_path, CYLINDER, *more)[1])
+        assert drawn.mean() > 5.0
+
+
+def test_fixed_interfaces_keep_the_drawn_edge(tmp_path):
+    """--interfaces fixed keeps the L-shape's askew edge where it is drawn; free, its end
+    slides along the straight left wall and its nodes leave the drawn line."""
+
+    def edge_nodes(grid):
+        top = grid[1] if grid[1].bounds[3] > 1.9 else grid[0]
+        ni, nj, _ = top.dimensions
+        return top.points[:, :2].reshape(nj, ni, 2)[0]
+
+    def off_line(p):  # distance from the drawn edge, (1, 1) to (0, 1.25)
+        return np.abs(0.25 * (p[:, 0] - 1.0) + (p[:, 1] - 1.0)) / np.hypot(0.25, 1.0)
+
+    fixed = edge_nodes(_run(tmp_path, EXAMPLE_RUNS["lshape"], "--interfaces", "fixed")[1])
+    assert off_line(fixed).max() < 1e-12 and fixed[0, 0] == 0.0 and fixed[0, 1] == 1.25
+    free = edge_nodes(_run(tmp_path, EXAMPLE_RUNS["lshape"])[1])
+    assert off_line(free).max() > 1e-2 and free[0, 0] == 0.0 and free[0, 1] != 1.25
