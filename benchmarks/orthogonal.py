@@ -20,6 +20,7 @@ minute a grid at 161 x 81 where it does not converge).
 from __future__ import annotations
 
 import argparse
+import sys
 import time
 from pathlib import Path
 
@@ -134,7 +135,8 @@ def main() -> None:
     print(summary)
     args.out.write_text(
         "# Wall orthogonality on hard shapes (SPEC 7, issue 14 item 2)\n\n"
-        "Made by `.venv/bin/python benchmarks/orthogonal.py`: the largest deviation from 90 "
+        f"Made by `.venv/bin/python benchmarks/orthogonal.py {' '.join(sys.argv[1:])}`: "
+        "the largest deviation from 90 "
         "degrees of the grid lines leaving the orthogonal sides (the two nodes nearest each "
         "corner excepted); **x**: a pinn grid off by more than 2 degrees or folded. "
         "*worst - plain*: the worst MaxIncludedAngle minus the better of the tfi and elliptic "
