@@ -90,6 +90,7 @@ ROUTE_WORDS = {
         "topology": "--topology o",
         "topologies": "--topology o or c",
         "time_limit": "a larger --time-limit (0: none)",
+        "blocks": "give them with --blocks EDGES",
     },
     "pyvista": {
         "corners": "corners=",
@@ -109,6 +110,7 @@ ROUTE_WORDS = {
         "topology": 'topology="o"',
         "topologies": 'topology="o" or "c"',
         "time_limit": "a larger time_limit= (0: none)",
+        "blocks": "give them as blocks=",
     },
     "paraview": {
         "corners": "Corner Indices",
@@ -130,6 +132,7 @@ ROUTE_WORDS = {
         "topology": "Topology O-grid",
         "topologies": "Topology O-grid or C-grid",
         "time_limit": "a larger Time Limit (0: none)",
+        "blocks": "select their source together with the boundary's (or connect it to Block Edges)",
     },
 }
 _HANDED_OVER = {"cli": "written", "pyvista": "returned", "paraview": "produced"}

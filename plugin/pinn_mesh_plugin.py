@@ -1,9 +1,11 @@
-"""ParaView plugin: Filters > Mesh Generation > PINN Structured Mesh.
+"""ParaView plugin: Filters > Mesh Generation > PINN Structured Mesh and PINN Multi-Block Mesh.
 
 A thin layer of ``paraview.util.vtkAlgorithm`` decorators over
-``pinn_engine.routes.algorithm.PinnMeshAlgorithm``. Load it with Tools > Manage Plugins > Load New
-(this file) or put this folder on ``PV_PLUGIN_PATH``. ``pinn_engine`` is imported from the
-checkout this file lives in (``plugin/..``); it need not be installed into ParaView's Python,
+``pinn_engine.routes.algorithm.PinnMeshAlgorithm`` and
+``pinn_engine.routes.multiblock_algorithm.PinnMultiBlockAlgorithm``. Load it with Tools >
+Manage Plugins > Load New (this file) or put this folder on ``PV_PLUGIN_PATH``.
+``pinn_engine`` is imported from the checkout this file lives in (``plugin/..``); it need not
+be installed into ParaView's Python,
 but that Python needs numpy, scipy, scikit-learn and (for training) torch: start ParaView
 with ``scripts/pvenv.sh paraview`` (which also puts the ``getargspec`` shim that Debian's
 ParaView 5.11 needs on PYTHONPATH; see README).
@@ -31,9 +33,12 @@ try:
     from pinn_engine.io.export.algorithm import PARAVIEW_FORMATS, GridWriter
     from pinn_engine.routes.airfoil_algorithm import AirfoilReader, AirfoilSource
     from pinn_engine.routes.algorithm import PinnMeshAlgorithm
+    from pinn_engine.routes.cli import BLOCKS_METHOD
+    from pinn_engine.routes.multiblock_algorithm import INTERFACES, PinnMultiBlockAlgorithm
     from pinn_engine.settings import (
         MAX_SIDE_NODES,
         METHODS,
+        MULTIBLOCK_METHODS,
         OBJECTIVES,
         PANEL_TIME_LIMIT,
         PARAMETER_CONSTRAINTS,
@@ -65,6 +70,7 @@ paraview_plugin_version = __version__
 
 _DEFAULTS = Settings()
 _COLOUR_ARRAY = "MaxIncludedAngle"  # what a new grid is coloured by
+_MESH_FILTERS = ("PINNStructuredMesh", "PINNMultiBlockMesh")  # whose displays get that colour
 _OBSERVERS = []  # the display observers (_ColourWhenDataArrives)
 # id(session proxy manager): (it, its RegisterEvent observer, the observer's id); VTK's own
 # reference to a Python observer was not enough in the GUI (a closure crashed on its 2nd call)
@@ -137,7 +143,7 @@ class _ColourWhenDataArrives:
 
 
 def _watch_displays():
-    """Let every new display of a PINN Structured Mesh filter in the active session be
+    """Let every new display of a PINN mesh filter (``_MESH_FILTERS``) in the active session be
     coloured by MaxIncludedAngle when its first grid arrives (``_ColourWhenDataArrives``).
     Runs where proxies are made (the GUI, pvpython); idempotent per session."""
     if vtkSMProxyManager is None:
@@ -156,7 +162,7 @@ def _watch_displays():
             if proxy.GetProperty("Input") is None or proxy.GetProperty("ColorArrayName") is None:
                 continue
             source = vtkSMPropertyHelper(proxy, "Input").GetAsProxy()
-            if source is not None and source.GetXMLName() == "PINNStructuredMesh":
+            if source is not None and source.GetXMLName() in _MESH_FILTERS:
                 observer = _ColourWhenDataArrives()
                 _OBSERVERS.append(observer)  # kept alive here, not only by VTK
                 proxy.AddObserver("UpdateDataEvent", observer)
@@ -492,6 +498,100 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
     )
     def P20PatchNames(self, text):
         self.SetPatchNames(text)
+
+
+@smproxy.filter(name="PINNMultiBlockMesh", label="PINN Multi-Block Mesh", support_reload=False)
+@smhint.xml('<ShowInMenu category="Mesh Generation"/>')
+@smhint.xml('<RepresentationType view="RenderView" type="Surface With Edges"/>')
+@smproperty.input(
+    name="BlockEdges",
+    label="Block Edges",
+    port_index=1,
+    multiple_input=True,
+    clean_command="RemoveAllBlockEdges",
+)
+@smdomain.datatype(dataTypes=["vtkPolyData"], composite_data_supported=False)
+@smdomain.xml(
+    _doc(
+        "More block edges: open polylines, each from the boundary, a hole or another "
+        "edge to the boundary, a hole or another edge (several polylines per input and "
+        "several inputs both work)."
+    )
+)
+@smhint.xml("<Optional/>")
+@smproperty.input(
+    name="Input", port_index=0, multiple_input=True, clean_command="RemoveAllBoundaryInputs"
+)
+@smdomain.datatype(dataTypes=["vtkPolyData"], composite_data_supported=False)
+@smdomain.xml(
+    _doc(
+        "The boundary and the block edges: select the boundary's source together with "
+        "the block edges' and apply the filter. Closed polylines are the outer boundary "
+        "(the largest) and holes, open polylines are block edges."
+    )
+)
+@smproperty.xml(
+    _proxy_doc(
+        "Multi-block structured grid of a domain cut into four-sided blocks.",
+        "Structured quadrilateral grid of a 2D domain that is not four-sided (an L, a "
+        "step, a body in a channel), cut into four-sided blocks by block edges you draw "
+        "(SPEC 10). Inputs: closed polylines (the outer boundary and holes) and open "
+        "polylines (block edges); every block needs four corners (points where its "
+        "outline turns by 30 degrees or more). Opposite sides of a block get the same "
+        "number of cells and a node on a shared side is the same point in both blocks. "
+        "Output: one structured grid a block (block0, block1, ...) with the cells' "
+        "MaxIncludedAngle, MinIncludedAngle, ScaledJacobian and Folded, and the report as "
+        "field data. Guide: docs/multiblock.md of the pinn-mesh checkout.",
+    )
+)
+class PINNMultiBlockMesh(PinnMultiBlockAlgorithm):
+    """The ParaView face of
+    :class:`pinn_engine.routes.multiblock_algorithm.PinnMultiBlockAlgorithm`."""
+
+    def __init__(self):
+        super().__init__()
+        _watch_displays()
+
+    def RemoveAllBoundaryInputs(self):
+        # clean commands of the two repeatable inputs (as PINNStructuredMesh's)
+        self.RemoveAllInputConnections(0)
+
+    def RemoveAllBlockEdges(self):
+        self.RemoveAllInputConnections(1)
+
+    @smproperty.intvector(name="Method", default_values=MULTIBLOCK_METHODS.index(BLOCKS_METHOD))
+    @smdomain.xml(_enum(MULTIBLOCK_METHODS))
+    @smdomain.xml(
+        _doc(
+            "elliptic: Winslow on all blocks at once (interface nodes move like interior "
+            "nodes); tfi: each block's transfinite interpolation of its side nodes."
+        )
+    )
+    def P01Method(self, index):
+        self.SetMethod(int(index))
+
+    @smproperty.doublevector(name="CellSize", label="Cell Size", default_values=0.0)
+    @smdomain.doublerange(min=PARAMETER_CONSTRAINTS["cell_size"].low)
+    @smdomain.xml(
+        _doc(
+            "Cell length in the boundary's units (0: the domain's diagonal / 40). A chain "
+            "of opposite sides through the blocks takes its longest side over the cell "
+            "size, rounded up, at least 2 cells."
+        )
+    )
+    def P02CellSize(self, h):
+        self.SetCellSize(h)
+
+    @smproperty.intvector(name="Interfaces", default_values=0)
+    @smdomain.xml(_enum(INTERFACES))
+    @smdomain.xml(
+        _doc(
+            "free: interface nodes are solved like interior nodes, so grid lines cross "
+            "the block edges smoothly (elliptic); fixed: they stay on the drawn edges."
+        )
+    )
+    def P03Interfaces(self, index):
+        self.SetInterfaces(int(index))
 
 
 @smproxy.reader(

@@ -6,7 +6,7 @@
 #     screenshots) -- only when one of pvpython, xvfb-run, import, xdotool is missing.
 #   * .venv-pv in the repo root, built from /usr/bin/python3 (Debian's 3.11,
 #     the interpreter pvpython embeds), with torch==2.13.0 (CPU wheel),
-#     scikit-learn and numpy<2.4.  NEVER install pip vtk/pyvista into it:
+#     scikit-learn, shapely 2.0.x (multi-block faces) and numpy<2.4.  NEVER install pip vtk/pyvista into it:
 #     mixing them with ParaView's own VTK 9.2 crashes pvpython (SIGSEGV).
 #
 # Usage: bash scripts/setup_paraview.sh     (as root, non-interactive)
@@ -41,15 +41,17 @@ if [ "$PV_PYVER" != "$SYS_PYVER" ]; then
     exit 1
 fi
 
-if [ ! -x "$VENV/bin/python" ] || ! "$VENV/bin/python" -c "import torch, sklearn, numpy" >/dev/null 2>&1; then
+if [ ! -x "$VENV/bin/python" ] || ! "$VENV/bin/python" -c "import torch, sklearn, numpy, shapely; assert shapely.geos_version[:2] == (3, 11)" >/dev/null 2>&1; then
     echo "[setup_paraview] creating $VENV ..."
     $SYS_PY -m venv "$VENV"
     # torch==2.13.0 exactly: the CPU wheel is available locally; any other
-    # spec may resolve to the multi-GB CUDA build.
+    # spec may resolve to the multi-GB CUDA build. shapely 2.0.x: its wheel bundles GEOS
+    # 3.11 like Debian 12's, which ParaView's VTK (GDAL) loads first; shapely >= 2.1
+    # bundles GEOS 3.13+, whose C API then binds to those 3.11 C++ symbols and aborts.
     "$VENV/bin/python" -m pip install -q --disable-pip-version-check \
-        "torch==2.13.0" "scikit-learn" "numpy<2.4"
+        "torch==2.13.0" "scikit-learn" "shapely>=2.0,<2.1" "numpy<2.4"
 else
-    echo "[setup_paraview] $VENV already has torch, sklearn, numpy"
+    echo "[setup_paraview] $VENV already has torch, sklearn, numpy, shapely"
 fi
 
 SITE="$("$VENV/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')"

@@ -15,6 +15,7 @@ import shutil
 import subprocess
 from pathlib import Path
 
+import numpy as np
 import pytest
 from conftest import ROOT
 
@@ -306,3 +307,65 @@ def test_boundary_layer_panel_fields(filter_run):
     assert {"FirstEdgeSpacing", "OrthogonalSides"} <= set(layer["properties"])
     assert all(abs(v / 0.01 - 1) < 0.1 for v in layer["first_edge"])
     assert layer["angle"] <= 2.0
+
+
+def _side_nodes(points: np.ndarray) -> list[np.ndarray]:
+    """The (x, y) nodes of a block's four sides: bottom, top, left, right."""
+    xy = points[..., :2]
+    return [xy[0], xy[-1], xy[:, 0], xy[:, -1]]
+
+
+def test_multiblock_filter_on_the_step(checkout):
+    """PINN Multi-Block Mesh (issue 24 item 6): the step's four blocks as the command line
+    makes them, a side shared node for node, the quality arrays, one line for an edge that
+    ends nowhere."""
+    from scipy.spatial.distance import cdist
+
+    from pinn_engine.job import run_blocks
+    from pinn_engine.settings import make_settings
+
+    result = run_pvpython(checkout, "check_multiblock.py", str(checkout / "example_data"))
+    assert result["label"] == "PINN Multi-Block Mesh"
+    assert result["menu_category"] == "Mesh Generation"
+    assert 20 < len(result["help"][0]) < len(result["help"][1])
+    assert set(result["properties"]) == {"Input", "BlockEdges", "Method", "CellSize", "Interfaces"}
+    assert result["methods"] == ["tfi", "elliptic"] and result["interfaces"] == ["free", "fixed"]
+    assert result["class"] == "vtkMultiBlockDataSet" and result["progress"] == [0.0, 1.0]
+    assert not result["together_messages"]
+    boundary, edges = ROOT / "example_data" / "step.vtp", ROOT / "example_data" / "step_blocks.vtp"
+    for key, method, interfaces in (
+        ("together", "elliptic", "free"),
+        ("apart_tfi", "tfi", "fixed"),
+    ):
+        blocks = result[key]
+        settings = make_settings(method, cell_size=0.1, interfaces=interfaces)
+        expected = run_blocks(settings, boundary, [edges]).result.grids
+        assert [b["name"] for b in blocks] == ["block0", "block1", "block2", "block3"]
+        for block, grid in zip(blocks, expected):
+            assert block["class"] == "vtkStructuredGrid" and block["folded"] == 0
+            assert block["cell_arrays"] == [
+                "MaxIncludedAngle",
+                "MinIncludedAngle",
+                "ScaledJacobian",
+                "Folded",
+            ]
+            assert np.array_equal(np.array(block["points"])[..., :2], grid), key
+    points = [np.array(b["points"]) for b in result["together"]]
+    whole_sides = 0
+    for a, pa in enumerate(points):
+        for b, pb in enumerate(points):
+            if a == b:
+                continue
+            theirs = np.concatenate(_side_nodes(pb))
+            for side in _side_nodes(pa):
+                distance = cdist(side, theirs).min(axis=1)
+                assert np.array_equal(distance < 1e-9, distance == 0.0)  # equal or apart
+                whole_sides += bool(np.all(distance == 0.0))
+    assert whole_sides >= 2  # a side shared whole, seen from both blocks
+    messages = [ln for ln in result["bad_vtk_text"].splitlines() if ln.strip()]
+    assert messages == [
+        "PINN Multi-Block Mesh: block edges input line 0: ends nowhere at (1, 0.6): each end "
+        "must lie on the boundary, a hole or another block edge (within 0.001 of the diagonal)"
+    ]
+    assert result["bad_blocks"] == 0 and "Traceback" not in result["bad_stderr"]
+    assert result["recovered_blocks"] == 4

@@ -35,24 +35,18 @@ from __future__ import annotations
 
 import contextlib
 import signal
-import sys
 import threading
 from collections.abc import Callable
 
 import numpy as np
 from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
-from vtkmodules.vtkCommonCore import vtkCommand, vtkIntArray, vtkOutputWindow
+from vtkmodules.vtkCommonCore import vtkIntArray
 from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 from pinn_engine.cache import MeshCache
-from pinn_engine.errors import (
-    STOP,
-    InputError,
-    PinnMeshError,
-    TrainingCancelled,
-    grid_warnings,
-)
+from pinn_engine.errors import STOP, grid_warnings
+from pinn_engine.routes.reporting import announce, message_of
 from pinn_engine.settings import (
     METHODS,
     NEURAL,
@@ -410,20 +404,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
 
     def _message(self, exc: Exception) -> str:
         """The one-line message of a failed update, in the route's words."""
-        if isinstance(exc, TrainingCancelled):
-            return f"{exc}; no grid produced"
-        if isinstance(exc, InputError):
-            return str(exc.for_route(self._route))
-        if isinstance(exc, PinnMeshError):
-            return str(exc)
-        if isinstance(exc, ValueError):  # invalid settings
-            return f"invalid settings: {exc}"
-        if isinstance(exc, ImportError):
-            return (
-                f"cannot import {exc.name or exc} in this Python ({sys.executable}); "
-                "pinn-mesh needs numpy, scipy, scikit-learn and (to train) torch there"
-            )
-        return f"unexpected {type(exc).__name__}: {exc}"  # never reaches ParaView's executive
+        return message_of(exc, self._route)
 
     def GetLastException(self) -> Exception | None:
         """The exception of the last failed update (None after a successful one)."""
@@ -564,13 +545,11 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         self._last_error = line
         if self._route != "paraview":  # the caller raises GetLastException() instead
             return
-        vtkOutputWindow.GetInstance().DisplayErrorText(line + "\n")
-        self.InvokeEvent(vtkCommand.ErrorEvent, line)  # call data: the message (VTK_STRING)
+        announce(self, line)
 
     def _report_warning(self, message: str) -> None:
         line = f"{LABEL}: warning: {' '.join(str(message).split())}"
         self._last_warning = line
         if self._route != "paraview":  # the caller warns in its own words
             return
-        vtkOutputWindow.GetInstance().DisplayWarningText(line + "\n")
-        self.InvokeEvent(vtkCommand.WarningEvent, line)  # call data: the message (VTK_STRING)
+        announce(self, line, warning=True)

@@ -23,6 +23,10 @@ counts the trainings and ``boundary.pinn_mesh.clear()`` forgets them. ``pinn_mes
 A grid with folded cells is still returned, with a ``pinn_engine.FoldedCellsWarning`` (a
 ``UserWarning``) that gives the count and a hint; ``warnings.simplefilter("error",
 FoldedCellsWarning)`` turns it into an exception.
+
+A multi-block domain (SPEC 10) is meshed by giving its block edges: ``blocks = boundary.
+pinn_mesh(blocks=edges, cell_size=0.1)`` (or :func:`pinn_mesh_blocks`) returns a
+``pyvista.MultiBlock`` of structured grids ``block0``, ``block1``, ...
 """
 
 from __future__ import annotations
@@ -45,9 +49,10 @@ from pinn_engine.errors import (
 )
 from pinn_engine.routes.airfoil_algorithm import body_polydata
 from pinn_engine.routes.algorithm import PinnMeshAlgorithm
+from pinn_engine.routes.multiblock_algorithm import PinnMultiBlockAlgorithm, folded_warning
 from pinn_engine.settings import Settings, grid_size_problem, make_settings
 
-__all__ = ["FoldedCellsWarning", "PinnMeshAccessor", "pinn_mesh", "save_mesh"]
+__all__ = ["FoldedCellsWarning", "PinnMeshAccessor", "pinn_mesh", "pinn_mesh_blocks", "save_mesh"]
 
 
 def _ring_polydata(points, closed: bool) -> pv.PolyData:
@@ -60,12 +65,19 @@ def _ring_polydata(points, closed: bool) -> pv.PolyData:
     return pv.PolyData(pts, lines=[len(ids), *ids])
 
 
+def _caller_level() -> int:
+    """The ``stacklevel`` of the first caller outside this module, for ``warnings.warn``
+    called from here."""
+    frame, level = sys._getframe(1), 1
+    while frame is not None and frame.f_code.co_filename == __file__:
+        frame, level = frame.f_back, level + 1
+    return level
+
+
 def _warn_about(report: dict) -> None:
     """A ``TrainingStoppedWarning``, ``FoldedCellsWarning`` and ``WallAngleWarning`` where
     they apply, attributed to the first caller outside this module."""
-    frame, level = sys._getframe(), 1
-    while frame is not None and frame.f_code.co_filename == __file__:
-        frame, level = frame.f_back, level + 1
+    level = _caller_level()
     for text, category in grid_warnings(report, "pyvista"):
         warnings.warn(text, category, stacklevel=level)
 
@@ -276,6 +288,76 @@ def pinn_mesh(
     return grid
 
 
+def pinn_mesh_blocks(
+    boundary,
+    blocks,
+    *,
+    cell_size: float | None = None,
+    method: str | None = None,
+    interfaces: str | None = None,
+) -> pv.MultiBlock:
+    """Multi-block structured grid (SPEC 10) of a domain cut into four-sided blocks.
+
+    Parameters
+    ----------
+    boundary : pyvista.PolyData, vtkPolyData or array_like
+        The outer boundary and its holes: closed polylines (one PolyData may hold several),
+        or an ``(n, 2)``/``(n, 3)`` array of the outer boundary's points (closed
+        automatically).
+    blocks : PolyData, vtkPolyData, array_like, or a list/MultiBlock of them
+        Block edges: open polylines from the boundary, a hole or another edge to the
+        boundary, a hole or another edge.
+    cell_size : float, optional
+        Cell length in the boundary's units (default: the diagonal / 40).
+    method : {"elliptic", "tfi"}, optional
+        Winslow on all blocks at once (default) or each block's TFI.
+    interfaces : {"free", "fixed"}, optional
+        Interface nodes solved like interior nodes (default) or kept on the drawn edges.
+
+    Returns
+    -------
+    pyvista.MultiBlock
+        One ``StructuredGrid`` a block, named ``block0``, ``block1``, ..., each with the cell
+        arrays ``MaxIncludedAngle``, ``MinIncludedAngle``, ``ScaledJacobian``, ``Folded`` and
+        field data ``Report`` (JSON: the block's and the whole grid's figures). A node on a
+        side shared by two blocks is the same point in both.
+
+    Warns ``pinn_engine.FoldedCellsWarning`` when cells are folded; raises
+    ``pinn_engine.errors.InputError`` (one line) for bad curves, ``ValueError`` for bad
+    settings.
+
+    >>> blocks = pinn_mesh_blocks(pv.read("example_data/lshape.vtp"),
+    ...                           pv.read("example_data/lshape_blocks.vtp"), cell_size=0.1)
+    >>> blocks.keys()
+    ['block0', 'block1']
+    """
+    alg = PinnMultiBlockAlgorithm(route="pyvista")
+    for setter, value in (
+        (alg.SetMethod, method),
+        (alg.SetCellSize, cell_size),
+        (alg.SetInterfaces, interfaces),
+    ):
+        if value is not None:
+            setter(value)
+    alg.GetSettings()  # ValueError for bad settings, before any input is read
+    try:
+        alg.SetInputDataObject(0, _as_polydata(boundary, closed=True, what="boundary"))
+        for poly in _aux_list(blocks):
+            alg.AddInputDataObject(1, poly)
+    except InputError as exc:
+        raise exc.for_route("pyvista") from None
+    alg.Update()
+    error = alg.GetLastException()
+    if error is not None:
+        raise error.for_route("pyvista") if isinstance(error, InputError) else error
+    out = pv.wrap(alg.GetOutput())
+    report = json.loads(out[0].field_data["Report"][0])["multiblock"]
+    warning = folded_warning(report, "pyvista")
+    if warning:
+        warnings.warn(warning, FoldedCellsWarning, stacklevel=_caller_level())
+    return out
+
+
 def _boundary_polydata(boundary, settings: Settings, farfield_given: bool) -> vtkPolyData:
     """Port 0 of the algorithm from any of :func:`pinn_mesh`'s forms of ``boundary``: PolyData
     or points; for a body also a file path (``.dat``, or two closed polylines) or None with
@@ -338,25 +420,52 @@ class PinnMeshAccessor:
     >>> fine = boundary.pinn_mesh(aux=lines, size=(161, 81), lattice=(41, 21))  # no retraining
     >>> boundary.pinn_mesh.trainings
     1
+
+    With ``blocks=`` (block edges) it meshes a multi-block domain (SPEC 10) instead and
+    returns a ``pyvista.MultiBlock``; see :func:`pinn_mesh_blocks`.
+
+    >>> lshape = pv.read("example_data/lshape.vtp")
+    >>> blocks = lshape.pinn_mesh(blocks=pv.read("example_data/lshape_blocks.vtp"), cell_size=0.1)
     """
 
     def __init__(self, mesh: pv.PolyData) -> None:
         self._mesh = mesh
         self._cache = MeshCache()
-        self.last: pv.StructuredGrid | None = None  # the last grid made, for save()
+        self.last: pv.StructuredGrid | pv.MultiBlock | None = None  # the last grid made
 
     def __call__(
-        self, aux=None, size: Sequence[int] = (41, 21), method: str = "pinn", **options
-    ) -> pv.StructuredGrid:
+        self,
+        aux=None,
+        size: Sequence[int] | None = None,
+        method: str | None = None,
+        *,
+        blocks=None,
+        **options,
+    ) -> pv.StructuredGrid | pv.MultiBlock:
         """Mesh the domain bounded by this PolyData (or, with ``topology``, around this body);
         the keyword ``options`` are those of :func:`pinn_mesh` (``help(pinn_mesh)``), with
         this accessor's networks re-used.
 
-        ``aux``: auxiliary polylines (PolyData or a list); ``size``: ``(ni, nj)`` nodes;
-        ``method``: pinn, mgnet, tfi or elliptic. Returns a ``pyvista.StructuredGrid`` with
-        MaxIncludedAngle/MinIncludedAngle cells.
+        ``aux``: auxiliary polylines (PolyData or a list); ``size``: ``(ni, nj)`` nodes
+        (default 41 x 21); ``method``: pinn (default), mgnet, tfi or elliptic. Returns a
+        ``pyvista.StructuredGrid`` with MaxIncludedAngle/MinIncludedAngle cells.
+
+        ``blocks``: block edges (PolyData or a list): this PolyData's closed polylines are
+        then the outer boundary and holes of a multi-block domain, and the keywords those of
+        :func:`pinn_mesh_blocks` (``cell_size``, ``method``: elliptic or tfi,
+        ``interfaces``); returns a ``pyvista.MultiBlock``.
         """
-        self.last = pinn_mesh(self._mesh, aux, size, method, cache=self._cache, **options)
+        if blocks is not None:
+            for name, value in (("aux", aux), ("size", size)):
+                if value is not None:
+                    raise InputError(f"{name}= applies to four-sided domains, not to blocks=")
+            self.last = pinn_mesh_blocks(self._mesh, blocks, method=method, **options)
+            return self.last
+        if size is not None:
+            options["size"] = size
+        self.last = pinn_mesh(
+            self._mesh, aux, method=method or "pinn", cache=self._cache, **options
+        )
         return self.last
 
     mesh = __call__  # boundary.pinn_mesh.mesh(...) reads well too

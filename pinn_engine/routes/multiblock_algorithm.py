@@ -1,0 +1,228 @@
+"""pinn-mesh's multi-block route as a VTK algorithm (SPEC 10): boundary and block edges in,
+one structured grid a block out.
+
+``PinnMultiBlockAlgorithm`` is a plain ``VTKPythonAlgorithmBase`` subclass (pip ``vtk``,
+pyvista, ParaView's own VTK 9.2); ``plugin/`` decorates it as the filter PINN Multi-Block
+Mesh, and the pyvista accessor's ``blocks=`` runs it.
+
+>>> alg = PinnMultiBlockAlgorithm()
+>>> alg.SetInputConnection(0, boundary_reader.GetOutputPort())  # outer boundary and holes
+>>> alg.AddInputConnection(1, edges_reader.GetOutputPort())     # block edges, repeatable
+>>> alg.SetCellSize(0.1)
+>>> alg.Update()
+>>> blocks = alg.GetOutput()                                     # vtkMultiBlockDataSet
+
+Ports: input 0 ``vtkPolyData``, repeatable: its closed polylines (or polygons) are the outer
+boundary and the holes, its open polylines block edges (ParaView's GUI connects every
+selected source there); input 1 more block edges (optional, repeatable). Output 0 the
+``vtkMultiBlockDataSet`` of the command line's ``.vtm``: ``vtkStructuredGrid`` blocks named
+``block0``, ``block1``, ... with the cell arrays of SPEC 3 and the run's report.
+
+A failed update leaves the output empty and reports one line ``PINN Multi-Block Mesh:
+<message>`` (the ParaView route: in Output Messages and as an ``ErrorEvent``; other routes
+read ``GetLastError()`` and raise ``GetLastException()``). Folded cells give one warning line
+the same way (``GetLastWarning()``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
+from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkPolyData
+
+from pinn_engine.errors import ROUTE_WORDS, InputError
+from pinn_engine.routes.algorithm import _choice
+from pinn_engine.routes.cli import BLOCKS_METHOD
+from pinn_engine.routes.reporting import announce, message_of
+from pinn_engine.settings import MULTIBLOCK_METHODS, PARAMETER_CONSTRAINTS, Settings, make_settings
+
+LABEL = "PINN Multi-Block Mesh"
+INTERFACES = PARAMETER_CONSTRAINTS["interfaces"].values  # free, fixed (SPEC 10)
+
+
+def _name(what: str, k: int, count: int) -> str:
+    """An input's name in messages: ``what``, numbered from 1 when its port has several."""
+    return what if count == 1 else f"{what} {k + 1}"
+
+
+def curves_of(
+    boundary_inputs: list[vtkPolyData], edge_inputs: list[vtkPolyData]
+) -> tuple[list[np.ndarray], list[np.ndarray], list[str]]:
+    """The rings (closed curves: outer boundary and holes), the block edges (open curves)
+    and the edges' names of the two ports' inputs, each curve's points (n, 3)."""
+    from pinn_engine.io.fileio import polylines_of
+
+    rings, edges, names = [], [], []
+    ports = (("input", boundary_inputs), ("block edges input", edge_inputs))
+    for what, polys in ports:
+        polys = [p for p in polys if p is not None and p.GetNumberOfPoints()]
+        for k, poly in enumerate(polys):
+            source = _name(what, k, len(polys))
+            xyz = vtk_to_numpy(poly.GetPoints().GetData()).astype(float)
+            for j, (ids, closed) in enumerate(polylines_of(poly, source)):
+                points = xyz[ids]
+                if not np.all(np.isfinite(points)):
+                    raise InputError(f"line {j} has a non-finite point", source)
+                if closed:
+                    rings.append(points[:-1] if ids[0] == ids[-1] else points)
+                else:
+                    edges.append(points)
+                    names.append(f"{source} line {j}")
+    if not rings:
+        raise InputError(
+            "no closed polyline among the inputs: the outer boundary and its holes are closed "
+            "polylines; {close}",
+            "input",
+        )
+    if not edges:
+        raise InputError("no block edges (open polylines) among the inputs; {blocks}", "input")
+    return rings, edges, names
+
+
+def folded_warning(report: dict, route: str) -> str | None:
+    """The warning of a multi-block grid with folded cells in ``route``'s words, or None."""
+    folded = int(report["quality"]["folded_cells"])
+    if not folded:
+        return None
+    if report["method"] == "tfi":
+        fix = ROUTE_WORDS[route]["method"].format("elliptic")
+    else:
+        fix = "moving the block edges near them (the cell array Folded marks them)"
+    verb = "is" if folded == 1 else "are"
+    return f"{folded} of {report['cells']} cells {verb} folded; try {fix}"
+
+
+class PinnMultiBlockAlgorithm(VTKPythonAlgorithmBase):
+    """Multi-block structured grid (SPEC 10) of a boundary, its holes and block edges.
+
+    Settings (each setter calls ``Modified()`` when the value changes; values are checked at
+    the next update against ``settings.PARAMETER_CONSTRAINTS``):
+
+    * ``SetMethod("tfi"|"elliptic")`` (or its index in ``MULTIBLOCK_METHODS``), default
+      elliptic: Winslow on all blocks at once
+    * ``SetCellSize(h)``: cell length in the boundary's units; 0 (default): the diagonal / 40
+    * ``SetInterfaces("free"|"fixed")`` (or 0/1): interface nodes solved like interior nodes,
+      or kept on the drawn edges
+    """
+
+    def __init__(self, route: str = "paraview") -> None:
+        """``route``: whose words messages are in ("paraview"; "pyvista" keeps them off VTK's
+        output window, for the caller to raise ``GetLastException()``)."""
+        super().__init__(nInputPorts=2, nOutputPorts=1, outputType="vtkMultiBlockDataSet")
+        self.SetProgressText(LABEL)
+        self._route = route
+        self._method = BLOCKS_METHOD
+        self._cell_size = 0.0
+        self._interfaces = INTERFACES[0]
+        self._last_error = self._last_warning = ""
+        self._exception: Exception | None = None
+
+    def FillInputPortInformation(self, port, info):
+        """Port 0: the boundary and holes, with block edges selected together with them;
+        port 1: more block edges (optional)."""
+        info.Set(self.INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData")
+        info.Set(self.INPUT_IS_REPEATABLE(), 1)
+        if port == 1:
+            info.Set(self.INPUT_IS_OPTIONAL(), 1)
+        return 1
+
+    # ---- settings ----------------------------------------------------------------------
+    def _set(self, attr: str, value) -> None:
+        if getattr(self, attr) != value:
+            setattr(self, attr, value)
+            self.Modified()
+
+    def SetMethod(self, method) -> None:
+        self._set("_method", _choice(method, MULTIBLOCK_METHODS, "method"))
+
+    def GetMethod(self) -> str:
+        return self._method
+
+    def SetCellSize(self, h) -> None:
+        self._set("_cell_size", float(h))
+
+    def GetCellSize(self) -> float:
+        return self._cell_size
+
+    def SetInterfaces(self, interfaces) -> None:
+        self._set("_interfaces", _choice(interfaces, INTERFACES, "interfaces"))
+
+    def GetInterfaces(self) -> str:
+        return self._interfaces
+
+    def GetSettings(self) -> Settings:
+        """The ``Settings`` the next update uses (raises ``ValueError`` if invalid)."""
+        return make_settings(self._method, cell_size=self._cell_size, interfaces=self._interfaces)
+
+    # ---- results -----------------------------------------------------------------------
+    def GetOutput(self) -> vtkMultiBlockDataSet:
+        """The blocks (after ``Update()``); empty when the last update failed."""
+        return self.GetOutputDataObject(0)
+
+    def GetLastError(self) -> str:
+        """The line of the last failed update ("" after a successful one)."""
+        return self._last_error
+
+    def GetLastWarning(self) -> str:
+        """The warning line of the last update ("" when it had none)."""
+        return self._last_warning
+
+    def GetLastException(self) -> Exception | None:
+        """The exception of the last failed update (None after a successful one)."""
+        return self._exception
+
+    # ---- pipeline ----------------------------------------------------------------------
+    def RequestData(self, request, inInfo, outInfo):
+        output = vtkMultiBlockDataSet.GetData(outInfo, 0)
+        self._last_error = self._last_warning = ""
+        self._exception = None
+        self._progress(0.0, "meshing")
+        try:
+            dataset, report = self._execute(inInfo)
+        except Exception as exc:
+            self._exception = exc
+            output.Initialize()
+            self._report(message_of(exc, self._route), warning=False)
+        else:
+            output.ShallowCopy(dataset)
+            warning = folded_warning(report, self._route)
+            if warning:
+                self._report(f"warning: {warning}", warning=True)
+        self._progress(1.0, "done")
+        self.SetProgressText(LABEL)
+        return 1
+
+    def _execute(self, inInfo) -> tuple[vtkMultiBlockDataSet, dict]:
+        """The blocks of the connected inputs under the settings, and the run's report."""
+        from pinn_engine.io.export.vtm import multiblock_dataset
+        from pinn_engine.job import _flat
+        from pinn_engine.multiblock.mesh import mesh_blocks
+
+        settings = self.GetSettings()
+        ports = [
+            [vtkPolyData.GetData(port, k) for k in range(port.GetNumberOfInformationObjects())]
+            for port in inInfo
+        ]
+        rings, edges, names = curves_of(ports[0], ports[1])
+        curves = _flat(rings + edges, "input")
+        result = mesh_blocks(curves[: len(rings)], curves[len(rings) :], names, settings, "input")
+        dataset = multiblock_dataset(result.grids, result.cells, result.report)
+        return dataset, result.report
+
+    def _progress(self, fraction: float, phase: str) -> None:
+        """Progress with the filter's name and the phase as its text (ParaView's bar)."""
+        self.SetProgressText(f"{LABEL}: {phase}")
+        self.UpdateProgress(fraction)
+
+    def _report(self, message: str, warning: bool) -> None:
+        line = f"{LABEL}: {' '.join(str(message).split())}"
+        if warning:
+            self._last_warning = line
+        else:
+            self._last_error = line
+        if self._route == "paraview":  # other routes raise or warn in their own words
+            announce(self, line, warning)
+
+
+__all__ = ["PinnMultiBlockAlgorithm", "curves_of", "folded_warning"]

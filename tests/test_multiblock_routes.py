@@ -1,0 +1,154 @@
+"""The multi-block routes (issue 24 item 6): the VTK algorithm and pyvista's ``blocks=``."""
+
+from __future__ import annotations
+
+import json
+import signal
+
+import numpy as np
+import pytest
+import pyvista as pv
+from conftest import ROOT
+from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
+from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet
+from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+
+from pinn_engine.errors import InputError
+from pinn_engine.job import run_blocks
+from pinn_engine.routes.multiblock_algorithm import PinnMultiBlockAlgorithm, folded_warning
+from pinn_engine.settings import make_settings
+
+DATA = ROOT / "example_data"
+CELL_SIZE = 0.1  # docs/multiblock.md's L-shape and step: well under a second each
+
+
+def _read(name: str):
+    """The polydata of an example file."""
+    reader = vtkXMLPolyDataReader()
+    reader.SetFileName(str(DATA / name))
+    reader.Update()
+    return reader.GetOutput()
+
+
+def _cli_grids(example: str, method: str = "elliptic", interfaces: str = "free"):
+    settings = make_settings(method, cell_size=CELL_SIZE, interfaces=interfaces)
+    return run_blocks(settings, DATA / f"{example}.vtp", [DATA / f"{example}_blocks.vtp"])
+
+
+def _points(grid) -> np.ndarray:
+    ext = grid.GetExtent()
+    return np.array(grid.GetPoints().GetData()).reshape(ext[3] + 1, ext[1] + 1, 3)
+
+
+def test_algorithm_gives_the_command_lines_blocks_with_progress():
+    alg = PinnMultiBlockAlgorithm()
+    alg.SetInputDataObject(0, _read("step.vtp"))
+    alg.AddInputDataObject(1, _read("step_blocks.vtp"))
+    alg.SetCellSize(CELL_SIZE)
+    progress = []
+    alg.AddObserver("ProgressEvent", lambda obj, event: progress.append(obj.GetProgress()))
+    handlers = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM, signal.SIGUSR1)}
+    window = vtkOutputWindow.GetInstance()
+    alg.Update()
+    assert {s: signal.getsignal(s) for s in handlers} == handlers  # the host as found
+    assert vtkOutputWindow.GetInstance() is window
+    assert alg.GetLastError() == "" and min(progress) == 0.0 and max(progress) == 1.0
+    out = alg.GetOutput()
+    expected = _cli_grids("step")
+    assert out.GetNumberOfBlocks() == len(expected.result.grids) == 4
+    for k, grid in enumerate(expected.result.grids):
+        block = out.GetBlock(k)
+        assert out.GetMetaData(k).Get(vtkCompositeDataSet.NAME()) == f"block{k}"
+        assert np.array_equal(_points(block)[..., :2], grid)
+        for name in ("MaxIncludedAngle", "MinIncludedAngle", "ScaledJacobian", "Folded"):
+            assert block.GetCellData().GetArray(name) is not None
+        report = json.loads(block.GetFieldData().GetAbstractArray("Report").GetValue(0))
+        assert report["block"] == k and report["multiblock"]["blocks"] == 4
+
+
+def test_boundary_and_edges_on_one_input_and_the_settings():
+    alg = PinnMultiBlockAlgorithm()
+    alg.AddInputDataObject(0, _read("lshape_blocks.vtp"))  # selected together
+    alg.AddInputDataObject(0, _read("lshape.vtp"))
+    alg.SetCellSize(CELL_SIZE)
+    alg.SetMethod(0)  # ParaView's enumeration index: tfi
+    alg.SetInterfaces("fixed")
+    assert alg.GetSettings().method == "tfi" and alg.GetSettings().interfaces == "fixed"
+    alg.Update()
+    expected = _cli_grids("lshape", "tfi", "fixed").result.grids
+    out = alg.GetOutput()
+    assert out.GetNumberOfBlocks() == 2
+    for k, grid in enumerate(expected):
+        assert np.array_equal(_points(out.GetBlock(k))[..., :2], grid)
+    with pytest.raises(ValueError, match="unknown method 'mgnet'"):
+        alg.SetMethod("mgnet")
+
+
+@pytest.mark.parametrize(
+    ("edges", "message"),
+    [
+        (
+            pv.Line((1.0, 0.6, 0.0), (1.5, 0.7, 0.0)),
+            "PINN Multi-Block Mesh: block edges input line 0: ends nowhere at (1, 0.6)",
+        ),
+        (
+            None,
+            "PINN Multi-Block Mesh: input: no block edges (open polylines) among the inputs; "
+            "select their source together with the boundary's (or connect it to Block Edges)",
+        ),
+    ],
+)
+def test_errors_are_one_line_in_the_panels_words(edges, message):
+    alg = PinnMultiBlockAlgorithm()
+    alg.SetInputDataObject(0, _read("step.vtp"))
+    if edges is not None:
+        alg.AddInputDataObject(1, edges)
+    errors = []
+    alg.AddObserver("ErrorEvent", lambda obj, event: errors.append(event))
+    window, previous = vtkStringOutputWindow(), vtkOutputWindow.GetInstance()
+    vtkOutputWindow.SetInstance(window)
+    try:
+        alg.Update()
+    finally:
+        vtkOutputWindow.SetInstance(previous)
+    assert alg.GetLastError().startswith(message)
+    assert alg.GetOutput().GetNumberOfBlocks() == 0
+    assert isinstance(alg.GetLastException(), InputError) and len(errors) == 1
+    shown = [ln for ln in window.GetOutput().splitlines() if ln.strip()]
+    assert shown == [alg.GetLastError()]
+
+
+def test_pyvista_blocks_returns_a_multiblock():
+    boundary = pv.read(DATA / "lshape.vtp")
+    edges = pv.read(DATA / "lshape_blocks.vtp")
+    blocks = boundary.pinn_mesh(blocks=edges, cell_size=CELL_SIZE)
+    assert isinstance(blocks, pv.MultiBlock) and blocks.keys() == ["block0", "block1"]
+    assert boundary.pinn_mesh.last is blocks
+    for grid, expected in zip(blocks, _cli_grids("lshape").result.grids):
+        assert isinstance(grid, pv.StructuredGrid)
+        assert np.array_equal(_points(grid)[..., :2], expected)
+        assert {"MaxIncludedAngle", "Folded"} <= set(grid.cell_data.keys())
+    tfi = boundary.pinn_mesh(blocks=[edges], cell_size=CELL_SIZE, method="tfi")
+    assert json.loads(tfi[0].field_data["Report"][0])["method"] == "tfi"
+
+
+def test_pyvista_blocks_errors_name_its_keywords():
+    boundary = pv.read(DATA / "lshape.vtp")
+    edges = pv.read(DATA / "lshape_blocks.vtp")
+    with pytest.raises(InputError, match="^size= applies to four-sided domains, not to blocks="):
+        boundary.pinn_mesh(blocks=edges, size=(41, 21))
+    with pytest.raises(InputError, match="no block edges .*; give them as blocks=$"):
+        boundary.pinn_mesh(blocks=[])
+    with pytest.raises(ValueError, match="cell_size"):
+        boundary.pinn_mesh(blocks=edges, cell_size=-1.0)
+    with pytest.raises(InputError, match="no closed polyline .* close it"):
+        edges.pinn_mesh(blocks=edges)
+
+
+def test_folded_cells_warning_in_each_routes_words():
+    report = {"quality": {"folded_cells": 3}, "cells": 100, "method": "tfi"}
+    assert folded_warning(report, "pyvista") == '3 of 100 cells are folded; try method="elliptic"'
+    assert folded_warning(report, "paraview") == "3 of 100 cells are folded; try Method elliptic"
+    elliptic = {**report, "method": "elliptic", "quality": {"folded_cells": 1}}
+    assert folded_warning(elliptic, "paraview").startswith("1 of 100 cells is folded; try moving")
+    assert folded_warning({**report, "quality": {"folded_cells": 0}}, "paraview") is None
