@@ -201,6 +201,10 @@ def write_zones(zones: list[Zone], types: dict[str, str], path: Path) -> None:
     """A CGNS file of structured ``zones`` (all 2D, or all extruded: nk = 2, the ends in
     the family ``frontAndBack``), a ``Family_t`` per patch of ``types`` (name -> type)."""
     h5py = _h5py()
+    if h5py is None:
+        from pinn_engine.errors import InputError
+
+        raise InputError("writing these CGNS zones needs a working h5py in this Python", "cgns")
     three_d = zones[0].xyz.shape[0] > 1
     dim = 3 if three_d else 2
     with h5py.File(path, "w", track_order=True) as f:
