@@ -5,6 +5,7 @@ blocks at once), with the quality figures of every block and of the interfaces."
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -15,6 +16,7 @@ from pinn_engine.multiblock.counts import cell_counts, default_cell_size
 from pinn_engine.multiblock.elliptic import crossings, winslow
 from pinn_engine.multiblock.graph import linework
 from pinn_engine.multiblock.layout import Layout, layout
+from pinn_engine.multiblock.patches import PatchPiece, PatchPoint, block_patches
 from pinn_engine.quality import cell_quality, summary
 from pinn_engine.settings import MAX_NODES, MULTIBLOCK_METHODS, Settings
 
@@ -26,11 +28,13 @@ KINK_CORNER_NODES = 2
 
 @dataclass
 class MultiBlockResult:
-    """Each block's grid (nj, ni, 2), its per-cell quality arrays, and the report."""
+    """Each block's grid (nj, ni, 2), its per-cell quality arrays, the report, and each
+    block's boundary pieces with their patches (``patches.py``)."""
 
     grids: list[np.ndarray]
     cells: list[dict[str, np.ndarray]]
     report: dict
+    patches: list[list[PatchPiece]]
 
 
 def _figures(cells: list[dict[str, np.ndarray]]) -> dict[str, float]:
@@ -64,10 +68,12 @@ def mesh_blocks(
     names: list[str],
     settings: Settings,
     source: str = "boundary",
+    patch_points: Sequence[PatchPoint] = (),
 ) -> MultiBlockResult:
     """The multi-block grid of a boundary's ``rings`` (outer and holes) and block
     ``edges`` (named ``names`` in messages) by ``settings.method`` (tfi or elliptic), cells
-    about ``settings.cell_size`` long (0: the diagonal over 40), interfaces free or fixed."""
+    about ``settings.cell_size`` long (0: the diagonal over 40), interfaces free or fixed;
+    ``patch_points`` name boundary pieces (``patches.py``)."""
     if settings.method not in MULTIBLOCK_METHODS:
         raise InputError(
             f"method {settings.method}: multi-block domains are meshed by "
@@ -80,6 +86,7 @@ def mesh_blocks(
     h = settings.cell_size or default_cell_size(lines.diagonal)
     counts = cell_counts(topo, h)
     lay = layout_checked(topo, counts, h)
+    patches = block_patches(topo, lay, patch_points)  # refused before the solve, not after
     steps = 0
     points = lay.points
     if settings.method == "elliptic":
@@ -103,7 +110,7 @@ def mesh_blocks(
         "iterations": steps,
         "mesh_seconds": time.perf_counter() - start,
     }
-    return MultiBlockResult(grids, cells, report)
+    return MultiBlockResult(grids, cells, report, patches)
 
 
 def layout_checked(topo: Topology, counts: np.ndarray, h: float) -> Layout:

@@ -40,7 +40,7 @@ BLOCKS_METHOD = "elliptic"  # multi-block's default: its pinn is not in this bui
 # Options of four-sided domains and bodies that a multi-block run refuses (SPEC 10)
 NOT_FOR_BLOCKS = (
     "aux", "size", "corners", "topology", "naca", "farfield", "spacing", "orthogonal",
-    "patch", "format", "extrude", "save_model", "load_model",
+    "save_model", "load_model",
 )  # fmt: skip
 EXIT_ERROR = 2
 EXIT_INTERNAL = 3
@@ -127,7 +127,8 @@ def build_parser() -> argparse.ArgumentParser:
         help="name the boundary patch of a side (bottom, right, top, left; "
         "repeatable; equal names form one patch) and optionally its type: wall, inflow, "
         "outflow, farfield, symmetry, patch (default: wall for a patch named wall, else "
-        "patch); OpenFOAM and CGNS write the types",
+        "patch); OpenFOAM and CGNS write the types. With --blocks: X,Y=NAME[:TYPE] names "
+        "the boundary piece nearest the point (X, Y) (default names: boundary, hole1, ...)",
     )
     p.add_argument(
         "--extrude",
@@ -404,6 +405,7 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
 def _run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
     """A multi-block run (SPEC 10): the boundary and its block edges into ``OUT.vtm``."""
     from pinn_engine import job
+    from pinn_engine.io.export.multiblock import blocks_format, write_blocks
     from pinn_engine.io.export.vtm import write_vtm
     from pinn_engine.io.fileio import atomic_path, write_text_atomic
 
@@ -421,14 +423,18 @@ def _run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
             f"--method {args.method}: multi-block domains are meshed by "
             f"{' or '.join(MULTIBLOCK_METHODS)} in this build (default {BLOCKS_METHOD})"
         )
-    out = Path(args.output or f"out/{Path(args.boundary).stem}_{args.method}.vtm")
-    if out.suffix.lower() != ".vtm":
-        raise PinnMeshError(f"{out}: a multi-block grid is written as .vtm in this build")
+    suffix = "" if args.format == "openfoam" else f".{args.format or 'vtm'}"
+    out = Path(args.output or f"out/{Path(args.boundary).stem}_{args.method}{suffix}")
+    vtm = args.format is None and out.suffix.lower() == ".vtm"
+    if vtm and args.extrude is not None:
+        raise PinnMeshError(f"{out}: --extrude applies to .xyz, .cgns and --format openfoam")
+    if not vtm:
+        blocks_format(out, args.format, args.extrude)  # refused before meshing
     args.size = DEFAULT_SIZE  # checked by _check_options, unused by multi-block
     _check_options(args)
     settings = _settings(args, *DEFAULT_SIZE)
     start = time.perf_counter()
-    outcome = job.run_blocks(settings, args.boundary, args.blocks)
+    outcome = job.run_blocks(settings, args.boundary, args.blocks, args.patch)
     report = outcome.result.report
     q, kink = report["quality"], report["interface_kink"]
     if args.fail_on_folded and q["folded_cells"]:
@@ -446,7 +452,10 @@ def _run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
             file=sys.stderr,
             flush=True,
         )
-    write_vtm(outcome.dataset, out)
+    if vtm:
+        write_vtm(outcome.dataset, out)
+    else:
+        write_blocks(outcome.dataset, out, args.format, extrude=args.extrude)
     written.append(out)
     if args.report:
         write_text_atomic(args.report, json.dumps(report, indent=2, default=float))

@@ -26,7 +26,7 @@ import math
 import os
 import shutil
 import tempfile
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -186,7 +186,8 @@ def write(
         extrude = mean_edge(points)
     block = Block(points, names, extrude, normal, topology, n_wake, types)
     if found.key == "openfoam":
-        return _write_openfoam(block, path)
+        polymesh = bodies.write_polymesh if block.topology else openfoam.write_polymesh
+        return write_case(path, lambda folder: polymesh(block, folder))
     with atomic_path(path, suffix=found.suffix) as tmp:
         _FILE_WRITERS[found.key](block, tmp)
     return path
@@ -205,8 +206,9 @@ def _body_points(grid: vtkStructuredGrid, topology: str, path: Path):
     return points, np.array([0.0, 0.0, -1.0 if topology == "o" else 1.0]), n_wake
 
 
-def _write_openfoam(block: Block, case: Path) -> Path:
-    """A new case is built in a temporary folder and renamed; in an existing case only
+def write_case(case: Path, write_mesh: Callable[[Path], None]) -> Path:
+    """An OpenFOAM case whose ``constant/polyMesh`` ``write_mesh(folder)`` writes. A new
+    case is built in a temporary folder and renamed; in an existing case only
     ``constant/polyMesh`` is replaced (built beside it, then swapped) and missing case
     files are added."""
     title = case.name or "case"
@@ -217,7 +219,7 @@ def _write_openfoam(block: Block, case: Path) -> Path:
         try:
             mesh = tmp / "constant" / "polyMesh"
             mesh.mkdir(parents=True)
-            (bodies.write_polymesh if block.topology else openfoam.write_polymesh)(block, mesh)
+            write_mesh(mesh)
             for rel, text in files.items():
                 (tmp / rel).parent.mkdir(parents=True, exist_ok=True)
                 (tmp / rel).write_text(text)
@@ -231,7 +233,7 @@ def _write_openfoam(block: Block, case: Path) -> Path:
     tmp = Path(tempfile.mkdtemp(prefix=".polyMesh.", suffix=".part", dir=constant))
     target, old, moved = constant / "polyMesh", None, False
     try:
-        (bodies.write_polymesh if block.topology else openfoam.write_polymesh)(block, tmp)
+        write_mesh(tmp)
         os.chmod(tmp, 0o777 & ~_umask())
         if target.exists():
             old = Path(tempfile.mkdtemp(prefix=".polyMesh.", suffix=".old", dir=constant))
@@ -268,4 +270,5 @@ __all__ = [
     "parse_patch_options",
     "patch_names",
     "write",
+    "write_case",
 ]

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from pinn_engine.io.export.quadmesh import QuadMesh
 from pinn_engine.io.export.topology import quads
 
 
@@ -72,51 +73,26 @@ def patch_edges(
     return {name: np.vstack(e) for name, e in out.items()}
 
 
-__all__ = ["cells", "compact", "node_map", "patch_edges"]
-
-
 def write_polymesh(block, mesh) -> None:
     """OpenFOAM polyMesh of an O- or C-grid extruded one cell in z (``block.thickness``):
     the seam or cut nodes merged, so its faces are internal faces like any other; patches
     wall, farfield (outflow) and ``frontAndBack`` (empty)."""
-    from pinn_engine.io.export.openfoam import write_mesh_files
-    from pinn_engine.io.export.patches import FRONT_AND_BACK, TYPES
+    from pinn_engine.io.export.openfoam import write_quadmesh_polymesh
 
+    write_quadmesh_polymesh(quad_mesh(block), block.thickness, mesh)
+
+
+def quad_mesh(block) -> QuadMesh:
+    """An O- or C-grid (a ``block.Block``) with its seam or cut nodes merged."""
     ni, nj, topo, nw = block.ni, block.nj, block.topology, block.n_wake
     kept, _ = compact(ni, nj, topo, nw)
-    m = len(kept)
-    xy = block.points.reshape(-1, 3)[kept]
-    up = np.array([0.0, 0.0, abs(block.thickness)])
-    points = np.vstack([xy, xy + up])
-    q = cells(ni, nj, topo, nw)  # counter-clockwise seen from +z
-    n_cells = len(q)
-    a = q.ravel()
-    b = np.roll(q, -1, axis=1).ravel()
-    owner_of = np.repeat(np.arange(n_cells), 4)
-    key = np.sort(np.column_stack([a, b]), axis=1)
-    _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-    inverse = inverse.ravel()
-    side = np.column_stack([a, b, b + m, a + m])  # normal out of the cell that owns the edge
-    # internal faces: the lower cell owns the face, oriented as that cell's edge
-    shared = counts[inverse] == 2
-    order = np.lexsort((owner_of[shared], inverse[shared]))
-    idx = np.flatnonzero(shared)[order].reshape(-1, 2)  # the two edge copies of each face
-    first, second = idx[:, 0], idx[:, 1]
-    swap = owner_of[first] > owner_of[second]
-    own = np.where(swap, second, first)
-    nei = np.where(swap, first, second)
-    internal_faces, owner, neighbour = side[own], owner_of[own], owner_of[nei]
-    sort = np.lexsort((neighbour, owner))
-    internal_faces, owner, neighbour = internal_faces[sort], owner[sort], neighbour[sort]
-    # boundary faces, patch by patch
-    single = np.flatnonzero(counts[inverse] == 1)
-    lookup = {tuple(key[k]): k for k in single}
-    patches = []
-    for name, edges in patch_edges(ni, nj, topo, nw, block.names).items():
-        ks = np.array([lookup[tuple(sorted(e))] for e in edges])
-        patches.append((name, TYPES[block.patch_type(name)][0], side[ks], owner_of[ks]))
-    ids = np.arange(n_cells)
-    patches.append(
-        (FRONT_AND_BACK, "empty", np.vstack([q[:, ::-1], q + m]), np.concatenate([ids, ids]))
+    patches = patch_edges(ni, nj, topo, nw, block.names)
+    return QuadMesh(
+        block.points.reshape(-1, 3)[kept],
+        cells(ni, nj, topo, nw),
+        patches,
+        {name: block.patch_type(name) for name in patches},
     )
-    write_mesh_files(mesh, points, internal_faces, owner, neighbour, patches)
+
+
+__all__ = ["cells", "compact", "node_map", "patch_edges", "quad_mesh"]

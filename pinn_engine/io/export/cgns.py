@@ -18,6 +18,7 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -139,19 +140,73 @@ def _node(parent, name: str, label: str, value=None):
     return group
 
 
+@dataclass(frozen=True)
+class Join:
+    """A ``GridConnectivity1to1_t``: its name, the donor zone, the 1-based 2D (i, j) point
+    ranges here and in the donor (begin to end, the donor's begin matching ours) and the
+    2D ``Transform`` (signed donor axis of each of our axes)."""
+
+    name: str
+    donor: str
+    here: tuple[tuple[int, int], tuple[int, int]]
+    there: tuple[tuple[int, int], tuple[int, int]]
+    transform: tuple[int, int]
+
+
+@dataclass(frozen=True)
+class Zone:
+    """One structured zone: ``xyz`` (nk, nj, ni, 3), its boundary conditions ``bcs`` as
+    (BC name, patch name, 1-based 2D (i, j) point range) and its 1-to-1 ``joins``."""
+
+    name: str
+    xyz: np.ndarray
+    bcs: list[tuple[str, str, tuple[tuple[int, int], tuple[int, int]]]]
+    joins: list[Join]
+
+
 def _bc_name(name: str, side: str, shared: bool) -> str:
     return f"{name[: 32 - len(side) - 1]}_{side}" if shared else name
 
 
+def _deep(rng, three_d: bool):
+    """A 2D range through both layers of an extrusion (as is in 2D)."""
+    lo, hi = rng
+    return ((*lo, 1), (*hi, 2)) if three_d else rng
+
+
 def write(block: Block, path: Path) -> None:
-    h5py = _h5py()
-    if h5py is None:
+    if _h5py() is None:
         _write_in_helper(block, path)
         return
-    xyz = block.layers()
-    nk, nj, ni = xyz.shape[:3]
-    three_d = nk > 1
-    dims = [ni, nj, nk] if three_d else [ni, nj]
+    ni, nj = block.ni, block.nj
+    if block.topology:
+        ranges = _body_ranges(block)
+        joins = _body_joins(block)
+    else:
+        joins = []
+        ranges = {
+            name: [(side, index_range(ni, nj, side)) for side in sides]
+            for name, sides in block.patches().items()
+        }
+    bcs = [
+        (_bc_name(name, side, len(parts) > 1), name, rng)
+        for name, parts in ranges.items()
+        for side, rng in parts
+    ]
+    types = {name: block.patch_type(name) for name in ranges}
+    write_zones([Zone("Zone", block.layers(), bcs, joins)], types, path)
+
+
+def write_zones(zones: list[Zone], types: dict[str, str], path: Path) -> None:
+    """A CGNS file of structured ``zones`` (all 2D, or all extruded: nk = 2, the ends in
+    the family ``frontAndBack``), a ``Family_t`` per patch of ``types`` (name -> type)."""
+    h5py = _h5py()
+    if h5py is None:
+        from pinn_engine.errors import InputError
+
+        raise InputError("writing these CGNS zones needs a working h5py in this Python", "cgns")
+    three_d = zones[0].xyz.shape[0] > 1
+    dim = 3 if three_d else 2
     with h5py.File(path, "w", track_order=True) as f:
         _attr(f, "name", "HDF5 MotherNode", 33)
         _attr(f, "label", "Root Node of HDF5 File", 33)
@@ -164,45 +219,49 @@ def write(block: Block, path: Path) -> None:
             data=np.frombuffer(version.encode("ascii").ljust(33, b"\0"), dtype=np.int8),
         )
         _node(f, "CGNSLibraryVersion", "CGNSLibraryVersion_t", np.array([3.4], np.float32))
-        dim = 3 if three_d else 2
         base = _node(f, "Base", "CGNSBase_t", np.array([dim, dim], np.int32))
-        size = np.array([dims, [n - 1 for n in dims], [0] * dim], np.int32).T  # (dim, 3)
-        zone = _node(base, "Zone", "Zone_t", size)
-        _node(zone, "ZoneType", "ZoneType_t", "Structured")
-        coords = _node(zone, "GridCoordinates", "GridCoordinates_t")
-        for axis, key in enumerate("XYZ"[:dim]):
-            values = xyz[..., axis] if three_d else xyz[0, ..., axis]  # C (k, j, i)
-            _node(
-                coords,
-                f"Coordinate{key}",
-                "DataArray_t",
-                np.ascontiguousarray(values.T, dtype=np.float64),
-            )  # Fortran (i, j, k)
-        zone_bc = _node(zone, "ZoneBC", "ZoneBC_t")
-        if block.topology:
-            ranges = _body_ranges(block)
-            _connect(zone, block, three_d)
-        else:
-            patches = block.patches()
-            ranges = {
-                name: [(side, index_range(ni, nj, side)) for side in sides]
-                for name, sides in patches.items()
-            }
-        if three_d:
-            for name in ranges:  # the sides reach through both layers
-                ranges[name] = [(s, ((*lo, 1), (*hi, 2))) for s, (lo, hi) in ranges[name]]
-            ranges.setdefault(FRONT_AND_BACK, []).extend(
-                [("back", ((1, 1, 1), (ni, nj, 1))), ("front", ((1, 1, 2), (ni, nj, 2)))]
-            )
-        for name, parts in ranges.items():
-            for side, (lo, hi) in parts:
-                bc = _node(zone_bc, _bc_name(name, side, len(parts) > 1), "BC_t", "FamilySpecified")
-                _node(bc, "PointRange", "IndexRange_t", np.array([lo, hi], np.int32).T)
-                _node(bc, "FamilyName", "FamilyName_t", name)
-        for name in ranges:
+        for zone in zones:
+            _zone(base, zone, three_d)
+        families = dict(types, **({FRONT_AND_BACK: "patch"} if three_d else {}))
+        for name, kind in families.items():
             family = _node(base, name, "Family_t")
-            kind = "patch" if name == FRONT_AND_BACK else block.patch_type(name)
             _node(family, "FamilyBC", "FamilyBC_t", TYPES[kind][1])
+
+
+def _zone(base, zone: Zone, three_d: bool) -> None:
+    """A ``Zone_t`` with its coordinates, ``ZoneBC`` and ``ZoneGridConnectivity``."""
+    xyz = zone.xyz
+    nk, nj, ni = xyz.shape[:3]
+    dims = [ni, nj, nk] if three_d else [ni, nj]
+    size = np.array([dims, [n - 1 for n in dims], [0] * len(dims)], np.int32).T  # (dim, 3)
+    node = _node(base, zone.name, "Zone_t", size)
+    _node(node, "ZoneType", "ZoneType_t", "Structured")
+    coords = _node(node, "GridCoordinates", "GridCoordinates_t")
+    for axis, key in enumerate("XYZ"[: len(dims)]):
+        values = xyz[..., axis] if three_d else xyz[0, ..., axis]  # C (k, j, i)
+        # Fortran (i, j, k)
+        _node(coords, f"Coordinate{key}", "DataArray_t", np.ascontiguousarray(values.T, np.float64))
+    zone_bc = _node(node, "ZoneBC", "ZoneBC_t")
+    bcs = [(label, name, _deep(rng, three_d)) for label, name, rng in zone.bcs]
+    if three_d:  # the ends
+        bcs += [
+            (f"{FRONT_AND_BACK}_back", FRONT_AND_BACK, ((1, 1, 1), (ni, nj, 1))),
+            (f"{FRONT_AND_BACK}_front", FRONT_AND_BACK, ((1, 1, 2), (ni, nj, 2))),
+        ]
+    for label, name, (lo, hi) in bcs:
+        bc = _node(zone_bc, label, "BC_t", "FamilySpecified")
+        _node(bc, "PointRange", "IndexRange_t", np.array([lo, hi], np.int32).T)
+        _node(bc, "FamilyName", "FamilyName_t", name)
+    if not zone.joins:
+        return
+    grid_conn = _node(node, "ZoneGridConnectivity", "ZoneGridConnectivity_t")
+    for join in zone.joins:
+        transform = list(join.transform) + ([3] if three_d else [])
+        conn = _node(grid_conn, join.name, "GridConnectivity1to1_t", join.donor)
+        _node(conn, "Transform", '"int[IndexDimension]"', np.array(transform, np.int32))
+        _node(conn, "PointRange", "IndexRange_t", np.array(_deep(join.here, three_d), np.int32).T)
+        there = np.array(_deep(join.there, three_d), np.int32).T
+        _node(conn, "PointRangeDonor", "IndexRange_t", there)
 
 
 def _body_ranges(block: Block) -> dict[str, list]:
@@ -225,25 +284,16 @@ def _body_ranges(block: Block) -> dict[str, list]:
     return out
 
 
-def _connect(zone, block: Block, three_d: bool) -> None:
-    """The seam (O) or the wake cut (C) as two GridConnectivity1to1_t of the zone with
-    itself (one from each side, as CGNS asks for every 1-to-1 interface)."""
+def _body_joins(block: Block) -> list[Join]:
+    """The seam (O) or the wake cut (C) as two joins of the zone with itself (one from each
+    side, as CGNS asks for every 1-to-1 interface)."""
     ni, nj, nw = block.ni, block.nj, block.n_wake
     if block.topology == "o":  # column i = 1 is column i = ni; i and j run alike
-        a, b, transform = ((1, 1), (1, nj)), ((ni, 1), (ni, nj)), [1, 2]
+        a, b, transform = ((1, 1), (1, nj)), ((ni, 1), (ni, nj)), (1, 2)
     else:  # node (i, 1) is node (ni + 1 - i, 1): i and j run opposite
-        a, b, transform = ((1, 1), (nw + 1, 1)), ((ni, 1), (ni - nw, 1)), [-1, -2]
-    if three_d:
-        a = ((*a[0], 1), (*a[1], 2))
-        b = ((*b[0], 1), (*b[1], 2))
-        transform = transform + [3]
-    grid_conn = _node(zone, "ZoneGridConnectivity", "ZoneGridConnectivity_t")
+        a, b, transform = ((1, 1), (nw + 1, 1)), ((ni, 1), (ni - nw, 1)), (-1, -2)
     name = "seam" if block.topology == "o" else "wake_cut"
-    for suffix, here, there in (("a", a, b), ("b", b, a)):
-        conn = _node(grid_conn, f"{name}_{suffix}", "GridConnectivity1to1_t", "Zone")
-        _node(conn, "Transform", '"int[IndexDimension]"', np.array(transform, np.int32))
-        _node(conn, "PointRange", "IndexRange_t", np.array(here, np.int32).T)
-        _node(conn, "PointRangeDonor", "IndexRange_t", np.array(there, np.int32).T)
+    return [Join(f"{name}_a", "Zone", a, b, transform), Join(f"{name}_b", "Zone", b, a, transform)]
 
 
 if __name__ == "__main__":

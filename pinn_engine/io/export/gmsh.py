@@ -21,6 +21,7 @@ import numpy as np
 
 from pinn_engine.io.export.block import Block
 from pinn_engine.io.export.patches import FRONT_AND_BACK
+from pinn_engine.io.export.quadmesh import QuadMesh
 from pinn_engine.io.export.text import write_rows
 from pinn_engine.io.export.topology import end_faces, hexes, quads, side_edges, side_faces
 
@@ -50,22 +51,11 @@ def _boundary(state: tuple[int, ...]) -> list[tuple[tuple[int, ...], int]]:
     return [(at(a, v), 1) for a in free for v in (0, 2)]
 
 
-def _write_body(block: Block, path: Path) -> None:
-    """An O- or C-grid, 2D: seam or cut nodes merged (bodies.py); one discrete surface
-    (physical ``fluid``) and one discrete curve per patch, all nodes on the surface."""
-    from pinn_engine.errors import InputError
-    from pinn_engine.io.export import bodies
-
-    if block.thickness is not None:
-        raise InputError(
-            "an O- or C-grid is written to Gmsh in 2D in this build; drop {extrude}", str(path)
-        )
-    ni, nj, topo, nw = block.ni, block.nj, block.topology, block.n_wake
-    kept, _ = bodies.compact(ni, nj, topo, nw)
-    coords = block.points.reshape(-1, 3)[kept]
-    quads_ = bodies.cells(ni, nj, topo, nw)
-    patches = bodies.patch_edges(ni, nj, topo, nw, block.names)
-    names = list(patches)
+def write_quadmesh(mesh: QuadMesh, path: Path) -> None:
+    """An unstructured quad mesh (merged nodes), 2D: one discrete surface (physical
+    ``fluid``) and one discrete curve per patch, all nodes on the surface."""
+    coords = mesh.points
+    names = list(mesh.patches)
     fluid_tag = len(names) + 1
     lo, hi = coords.min(axis=0), coords.max(axis=0)
     box = " ".join(_num(v) for v in (*lo, *hi))
@@ -73,7 +63,7 @@ def _write_body(block: Block, path: Path) -> None:
     lines += [f'1 {k + 1} "{name}"' for k, name in enumerate(names)]
     lines += [f'2 {fluid_tag} "{FLUID}"', "$EndPhysicalNames", "$Entities", f"0 {len(names)} 1 0"]
     for k, name in enumerate(names):
-        pts = coords[np.unique(patches[name])]
+        pts = coords[np.unique(mesh.patches[name])]
         bb = " ".join(_num(v) for v in (*pts.min(axis=0), *pts.max(axis=0)))
         lines.append(f"{k + 1} {bb} 1 {k + 1} 0")
     lines += [
@@ -88,7 +78,8 @@ def _write_body(block: Block, path: Path) -> None:
         write_rows(f, np.arange(1, len(coords) + 1), "%d")
         write_rows(f, coords, "%.17g %.17g %.17g")
         f.write("$EndNodes\n")
-        blocks = [(2, 1, 3, quads_)] + [(1, k + 1, 1, patches[n]) for k, n in enumerate(names)]
+        blocks = [(2, 1, 3, mesh.quads)]
+        blocks += [(1, k + 1, 1, mesh.patches[n]) for k, n in enumerate(names)]
         total = sum(len(e) for *_, e in blocks)
         f.write(f"$Elements\n{len(blocks)} {total} 1 {total}\n")
         first = 1
@@ -101,8 +92,15 @@ def _write_body(block: Block, path: Path) -> None:
 
 
 def write(block: Block, path: Path) -> None:
-    if block.topology:
-        _write_body(block, path)
+    if block.topology:  # seam or cut nodes merged (bodies.py)
+        from pinn_engine.errors import InputError
+        from pinn_engine.io.export import bodies
+
+        if block.thickness is not None:
+            raise InputError(
+                "an O- or C-grid is written to Gmsh in 2D in this build; drop {extrude}", str(path)
+            )
+        write_quadmesh(bodies.quad_mesh(block), path)
         return
     xyz = block.layers()
     nk, nj, ni = xyz.shape[:3]

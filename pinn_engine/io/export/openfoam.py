@@ -17,6 +17,7 @@ import numpy as np
 
 from pinn_engine.io.export.block import Block
 from pinn_engine.io.export.patches import FRONT_AND_BACK, TYPES
+from pinn_engine.io.export.quadmesh import QuadMesh
 from pinn_engine.io.export.text import write_rows
 from pinn_engine.io.export.topology import end_faces, quads, side_cells, side_faces
 
@@ -108,6 +109,46 @@ def write_polymesh(block: Block, mesh: Path) -> None:
         )
     )
     write_mesh_files(mesh, block.layers().reshape(-1, 3), faces, owner, neighbour, patches)
+
+
+def write_quadmesh_polymesh(mesh: QuadMesh, thickness: float, folder: Path) -> None:
+    """polyMesh of an unstructured quad mesh (merged nodes: an O- or C-grid, a multi-block
+    grid) extruded one cell of ``thickness`` in z: faces between two quads are internal,
+    each patch's edges become its faces, the two ends ``frontAndBack`` (empty)."""
+    q = mesh.quads  # counter-clockwise seen from +z
+    m = len(mesh.points)
+    points = np.vstack([mesh.points, mesh.points + np.array([0.0, 0.0, abs(thickness)])])
+    n_cells = len(q)
+    a = q.ravel()
+    b = np.roll(q, -1, axis=1).ravel()
+    owner_of = np.repeat(np.arange(n_cells), 4)
+    key = np.sort(np.column_stack([a, b]), axis=1)
+    _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    inverse = inverse.ravel()
+    side = np.column_stack([a, b, b + m, a + m])  # normal out of the cell that owns the edge
+    # internal faces: the lower cell owns the face, oriented as that cell's edge
+    shared = counts[inverse] == 2
+    order = np.lexsort((owner_of[shared], inverse[shared]))
+    idx = np.flatnonzero(shared)[order].reshape(-1, 2)  # the two edge copies of each face
+    first, second = idx[:, 0], idx[:, 1]
+    swap = owner_of[first] > owner_of[second]
+    own = np.where(swap, second, first)
+    nei = np.where(swap, first, second)
+    faces, owner, neighbour = side[own], owner_of[own], owner_of[nei]
+    sort = np.lexsort((neighbour, owner))
+    faces, owner, neighbour = faces[sort], owner[sort], neighbour[sort]
+    # boundary faces, patch by patch
+    single = np.flatnonzero(counts[inverse] == 1)
+    lookup = {tuple(key[k]): k for k in single}
+    patches = []
+    for name, edges in mesh.patches.items():
+        ks = np.array([lookup[tuple(sorted(e))] for e in edges])
+        patches.append((name, TYPES[mesh.types[name]][0], side[ks], owner_of[ks]))
+    ids = np.arange(n_cells)
+    patches.append(
+        (FRONT_AND_BACK, "empty", np.vstack([q[:, ::-1], q + m]), np.concatenate([ids, ids]))
+    )
+    write_mesh_files(folder, points, faces, owner, neighbour, patches)
 
 
 def write_mesh_files(

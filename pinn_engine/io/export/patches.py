@@ -38,7 +38,7 @@ def default_type(name: str) -> str:
     return "wall" if name.lower() == "wall" else "patch"
 
 
-def _typed(item: str) -> tuple[str, str | None]:
+def split_type(item: str) -> tuple[str, str | None]:
     """``NAME`` or ``NAME:TYPE`` -> (name, type or None), the type checked."""
     name, sep, kind = item.partition(":")
     if not sep:
@@ -56,12 +56,12 @@ FRONT_AND_BACK = "frontAndBack"  # the two ends of an extruded output
 
 def _checked_typed(item: str) -> str:
     """``NAME`` or ``NAME:TYPE``, both parts checked; returned as given."""
-    name, kind = _typed(item)
-    _checked(name)
+    name, kind = split_type(item)
+    checked_name(name)
     return item if kind is None else f"{name}:{kind}"
 
 
-def _checked(name: str) -> str:
+def checked_name(name: str) -> str:
     if not NAME.match(name):
         raise InputError(
             f"patch name {name!r}: use 1 to 32 letters, digits, '_' or '-' ({{patch}})"
@@ -141,7 +141,7 @@ def patch_specs(
     """The four patch names and their types (bottom, right, top, left) from any of the
     routes' forms, where each name may carry ``:TYPE`` (one of ``TYPES``; default: wall for
     a patch named wall, else patch). Sides of one name must agree on its type."""
-    typed = [_typed(item) for item in patch_names(patches, default)]
+    typed = [split_type(item) for item in patch_names(patches, default)]
     given: dict[str, str] = {}
     for name, kind in typed:
         if kind is not None and given.setdefault(name, kind) != kind:

@@ -1,9 +1,9 @@
 """PLOT3D grid (``.xyz``): multi-grid, whole, double precision, Fortran unformatted.
 
-Written by hand (numpy): three Fortran records with 4-byte length markers (number of
-blocks; ni nj nk; all x, then all y, then all z), native byte order, no iblank, the layout
-VTK's ``vtkMultiBlockPLOT3DReader`` detects by itself. A 2D grid is written with nk = 1.
-PLOT3D has no boundary conditions: the patch names are not stored.
+Written by hand (numpy): Fortran records with 4-byte length markers (the number of
+grids; ni nj nk of each; then per grid all x, then all y, then all z), native byte order,
+no iblank, the layout VTK's ``vtkMultiBlockPLOT3DReader`` detects by itself. A 2D grid is
+written with nk = 1. PLOT3D has no boundary conditions: the patch names are not stored.
 """
 
 from __future__ import annotations
@@ -22,10 +22,14 @@ def _record(f, data: np.ndarray) -> None:
     f.write(marker.tobytes())
 
 
-def write(block: Block, path: Path) -> None:
-    xyz = block.layers()  # (nk, nj, ni, 3): x(i, j, k) in Fortran order is i fastest
-    nk, nj, ni = xyz.shape[:3]
+def write_grids(grids: list[np.ndarray], path: Path) -> None:
+    """Several grids, each (nk, nj, ni, 3), as one multi-grid file."""
     with open(path, "wb") as f:
-        _record(f, np.array([1], dtype=np.int32))
-        _record(f, np.array([ni, nj, nk], dtype=np.int32))
-        _record(f, np.moveaxis(xyz, -1, 0).astype(np.float64))
+        _record(f, np.array([len(grids)], dtype=np.int32))
+        _record(f, np.array([g.shape[2::-1] for g in grids], dtype=np.int32))  # ni nj nk each
+        for xyz in grids:  # x(i, j, k) in Fortran order is i fastest
+            _record(f, np.moveaxis(xyz, -1, 0).astype(np.float64))
+
+
+def write(block: Block, path: Path) -> None:
+    write_grids([block.layers()], path)

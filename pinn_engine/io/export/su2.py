@@ -13,33 +13,31 @@ import numpy as np
 from pinn_engine.errors import InputError
 from pinn_engine.io.export import bodies
 from pinn_engine.io.export.block import Block
+from pinn_engine.io.export.quadmesh import QuadMesh
 from pinn_engine.io.export.text import write_rows
 from pinn_engine.io.export.topology import quads, side_edges
 
 
-def _write_body(block: Block, path: Path) -> None:
-    """An O- or C-grid: seam or cut nodes merged, quads counter-clockwise (bodies.py)."""
-    ni, nj, topo, nw = block.ni, block.nj, block.topology, block.n_wake
-    kept, _ = bodies.compact(ni, nj, topo, nw)
-    cells = bodies.cells(ni, nj, topo, nw)
+def write_quadmesh(mesh: QuadMesh, path: Path, note: str) -> None:
+    """An unstructured quad mesh (merged nodes), ``note`` saying what it is."""
     with open(path, "w") as f:
-        f.write("% SU2 mesh written by pinn-mesh (O- or C-grid, seam or cut merged)\nNDIME= 2\n")
-        f.write(f"NELEM= {len(cells)}\n")
-        write_rows(f, np.column_stack([cells, np.arange(len(cells))]), "9 %d %d %d %d %d")
-        xy = block.points.reshape(-1, 3)[kept, :2]
+        f.write(f"% SU2 mesh written by pinn-mesh ({note})\nNDIME= 2\n")
+        f.write(f"NELEM= {len(mesh.quads)}\n")
+        rows = np.column_stack([mesh.quads, np.arange(len(mesh.quads))])
+        write_rows(f, rows, "9 %d %d %d %d %d")
+        xy = mesh.points[:, :2]
         f.write(f"NPOIN= {len(xy)}\n")
         write_rows(f, np.column_stack([xy, np.arange(len(xy))]), "%.17g %.17g %d")
-        patches = bodies.patch_edges(ni, nj, topo, nw, block.names)
-        f.write(f"NMARK= {len(patches)}\n")
-        for name, edges in patches.items():
+        f.write(f"NMARK= {len(mesh.patches)}\n")
+        for name, edges in mesh.patches.items():
             f.write(f"MARKER_TAG= {name}\nMARKER_ELEMS= {len(edges)}\n")
             write_rows(f, edges, "3 %d %d")
 
 
 def write(block: Block, path: Path) -> None:
     ni, nj = block.ni, block.nj
-    if block.topology:
-        _write_body(block, path)
+    if block.topology:  # seam or cut nodes merged, quads counter-clockwise (bodies.py)
+        write_quadmesh(bodies.quad_mesh(block), path, "O- or C-grid, seam or cut merged")
         return
     if block.normal[2] != 1.0:
         raise InputError(

@@ -4,9 +4,13 @@ file (the blocks' ``.vts`` files in a folder beside it, as VTK's own writer lays
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 from xml.sax.saxutils import quoteattr
 
+import numpy as np
+from vtkmodules.util.numpy_support import numpy_to_vtk
+from vtkmodules.vtkCommonCore import vtkStringArray
 from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet, vtkMultiBlockDataSet
 
 from pinn_engine.errors import InputError
@@ -14,11 +18,35 @@ from pinn_engine.io.export.patches import FIELD, TYPES_FIELD
 from pinn_engine.io.fileio import write_text_atomic, write_vts
 from pinn_engine.io.vtkgrid import structured_grid
 
+# Field data of each block naming its boundary pieces (SPEC 10's patches; one entry a
+# piece): the patch name, its type (``patches.TYPES``) and the piece's 0-based node range
+# (i0, j0, i1, j1) along one side of the block
+PIECE_NAMES, PIECE_TYPES, PIECE_RANGES = "PieceNames", "PieceTypes", "PieceRanges"
 
-def multiblock_dataset(grids, cells, report: dict) -> vtkMultiBlockDataSet:
+
+def _add_pieces(grid, pieces: Sequence) -> None:
+    """Put a block's boundary pieces (``multiblock.patches.PatchPiece``) on ``grid``."""
+    fd = grid.GetFieldData()
+    for key, values in (
+        (PIECE_NAMES, [p.name for p in pieces]),
+        (PIECE_TYPES, [p.kind for p in pieces]),
+    ):
+        arr = vtkStringArray()
+        arr.SetName(key)
+        for value in values:
+            arr.InsertNextValue(value)
+        fd.AddArray(arr)
+    ranges = np.array([p.nodes for p in pieces], dtype=np.int32).reshape(-1, 4)
+    arr = numpy_to_vtk(ranges, deep=True)
+    arr.SetName(PIECE_RANGES)
+    fd.AddArray(arr)
+
+
+def multiblock_dataset(grids, cells, report: dict, patches=None) -> vtkMultiBlockDataSet:
     """The blocks of a multi-block result as one dataset; each block's field data holds the
     run's report with that block's own quality figures (``quality``) beside the whole
-    grid's (``multiblock``)."""
+    grid's (``multiblock``), and its boundary pieces from ``patches`` (per block, as
+    ``MultiBlockResult.patches``)."""
     out = vtkMultiBlockDataSet()
     out.SetNumberOfBlocks(len(grids))
     whole = {k: v for k, v in report.items() if k != "sizes"}
@@ -33,6 +61,8 @@ def multiblock_dataset(grids, cells, report: dict) -> vtkMultiBlockDataSet:
         grid = structured_grid(points, block, cells=arrays)
         for name in (FIELD, TYPES_FIELD):  # a block's sides are no patches (SPEC 10's are)
             grid.GetFieldData().RemoveArray(name)
+        if patches is not None:
+            _add_pieces(grid, patches[k])
         out.SetBlock(k, grid)
         out.GetMetaData(k).Set(vtkCompositeDataSet.NAME(), f"block{k}")
     return out

@@ -1,0 +1,212 @@
+"""A multi-block grid in the solver formats (SPEC 10): ``.cgns`` a zone a block with 1-to-1
+joins and a ``BC_t`` per boundary piece, ``.xyz`` a PLOT3D grid a block, and one merged mesh
+(each shared node once) for ``.su2``, ``.msh`` (2D) and ``--format openfoam``.
+
+The writers read the ``vtkMultiBlockDataSet`` (``vtm.multiblock_dataset``): each block's
+points and its boundary pieces (field data ``PieceNames``, ``PieceTypes``, ``PieceRanges``),
+so any route that holds the dataset can write it.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet
+
+from pinn_engine.errors import InputError
+from pinn_engine.io.export import (
+    Format,
+    cgns,
+    gmsh,
+    openfoam,
+    output_format,
+    plot3d,
+    su2,
+    write_case,
+)
+from pinn_engine.io.export.joins import joins
+from pinn_engine.io.export.quadmesh import QuadMesh
+from pinn_engine.io.export.topology import layers, mean_edge, quads, side_edges
+from pinn_engine.io.export.vtm import PIECE_NAMES, PIECE_RANGES, PIECE_TYPES
+from pinn_engine.io.fileio import atomic_path
+
+BLOCK_FORMATS = ("xyz", "cgns", "su2", "msh", "openfoam")  # SPEC 10's exports
+Z_UP = np.array([0.0, 0.0, 1.0])  # a multi-block grid lies in a plane z = const
+
+
+@dataclass(frozen=True)
+class Piece:
+    """A boundary piece of a block: patch ``name``, ``kind`` (``patches.TYPES``), and its
+    0-based node range ``(i0, j0, i1, j1)`` along one side."""
+
+    name: str
+    kind: str
+    nodes: tuple[int, int, int, int]
+
+    @property
+    def side(self) -> str:
+        """The block side the piece lies on (its range is one row or column of nodes)."""
+        i0, j0, i1, j1 = self.nodes
+        if j0 == j1:
+            return "bottom" if j0 == 0 else "top"
+        return "left" if i0 == 0 else "right"
+
+
+@dataclass(frozen=True)
+class Blocks:
+    """The blocks' nodes, each (nj, ni, 3), and their boundary pieces."""
+
+    points: list[np.ndarray]
+    pieces: list[list[Piece]]
+
+    def types(self) -> dict[str, str]:
+        """Patch name -> type, in the order the names first appear."""
+        return {p.name: p.kind for block in self.pieces for p in block}
+
+
+def blocks_of(dataset: vtkMultiBlockDataSet) -> Blocks:
+    """The blocks of a multi-block dataset with their pieces; refused (one line) when a
+    block carries no pieces (a dataset not made by ``vtm.multiblock_dataset``)."""
+    points, pieces = [], []
+    for k in range(dataset.GetNumberOfBlocks()):
+        grid = dataset.GetBlock(k)
+        ext = grid.GetExtent()
+        ni, nj = ext[1] - ext[0] + 1, ext[3] - ext[2] + 1
+        points.append(vtk_to_numpy(grid.GetPoints().GetData()).astype(float).reshape(nj, ni, 3))
+        fd = grid.GetFieldData()
+        names, kinds = fd.GetAbstractArray(PIECE_NAMES), fd.GetAbstractArray(PIECE_TYPES)
+        ranges = fd.GetArray(PIECE_RANGES)
+        if names is None or kinds is None or ranges is None:
+            raise InputError(f"block {k} carries no boundary pieces ({PIECE_NAMES})", "grid")
+        rows = vtk_to_numpy(ranges).reshape(-1, 4)
+        pieces.append(
+            [
+                Piece(names.GetValue(n), kinds.GetValue(n), tuple(int(v) for v in rows[n]))
+                for n in range(names.GetNumberOfValues())
+            ]
+        )
+    return Blocks(points, pieces)
+
+
+def node_ids(blocks: Blocks) -> tuple[np.ndarray, list[np.ndarray]]:
+    """The unique nodes (n, 3) and each block's node ids (nj, ni) into them: nodes at the
+    same point (a side shared by two blocks) are one."""
+    flat = np.vstack([p.reshape(-1, 3) for p in blocks.points])
+    unique, inverse = np.unique(flat, axis=0, return_inverse=True)
+    inverse = inverse.ravel()
+    ids, start = [], 0
+    for p in blocks.points:
+        ids.append(inverse[start : start + p.shape[0] * p.shape[1]].reshape(p.shape[:2]))
+        start += p.shape[0] * p.shape[1]
+    return unique, ids
+
+
+def merged(blocks: Blocks) -> QuadMesh:
+    """One quad mesh of all blocks, shared nodes merged; refused (one line) unless the
+    blocks meet node to node and the pieces cover the boundary exactly."""
+    points, ids = node_ids(blocks)
+    cells = np.vstack([g.ravel()[quads(*g.shape[::-1])] for g in ids])
+    patches: dict[str, list[np.ndarray]] = {}
+    for g, pieces in zip(ids, blocks.pieces):
+        nj, ni = g.shape
+        for piece in pieces:
+            i0, j0, i1, j1 = piece.nodes
+            inside = np.zeros((nj, ni), dtype=bool)
+            inside[j0 : j1 + 1, i0 : i1 + 1] = True
+            edges = side_edges(ni, nj, piece.side)
+            keep = inside.ravel()[edges].all(axis=1)
+            patches.setdefault(piece.name, []).append(g.ravel()[edges[keep]])
+    out = QuadMesh(points, cells, {k: np.vstack(v) for k, v in patches.items()}, blocks.types())
+    _check_boundary(out)
+    return out
+
+
+def _check_boundary(mesh: QuadMesh) -> None:
+    """Every edge of one quad only is a patch edge, and every patch edge is such an edge."""
+    a = mesh.quads.ravel()
+    b = np.roll(mesh.quads, -1, axis=1).ravel()
+    key, counts = np.unique(np.sort(np.column_stack([a, b]), axis=1), axis=0, return_counts=True)
+    if counts.max() > 2:
+        raise InputError("the blocks overlap: an edge is shared by three cells", "grid")
+    open_edges = {tuple(e) for e in key[counts == 1]}
+    patch_edges = {tuple(sorted(e)) for v in mesh.patches.values() for e in v.tolist()}
+    stray = open_edges ^ patch_edges
+    if stray:
+        x, y = mesh.points[next(iter(stray))[0], :2]
+        raise InputError(
+            f"the blocks do not meet node to node at ({x:.6g}, {y:.6g}): a side there is "
+            "neither shared nor a boundary piece",
+            "grid",
+        )
+
+
+def zones(blocks: Blocks, thickness: float | None) -> list[cgns.Zone]:
+    """A CGNS zone a block (named ``block0``, ...): its BCs and its joins."""
+    out = []
+    for k, (pts, pieces) in enumerate(zip(blocks.points, blocks.pieces)):
+        count = {}
+        for p in pieces:
+            count[p.name] = count.get(p.name, 0) + 1
+        bcs = []
+        for n, p in enumerate(pieces):
+            i0, j0, i1, j1 = p.nodes
+            label = f"{p.name[:28]}_{n}" if count[p.name] > 1 else p.name
+            bcs.append((label, p.name, ((i0 + 1, j0 + 1), (i1 + 1, j1 + 1))))
+        xyz = layers(pts, thickness, Z_UP)
+        out.append(cgns.Zone(f"block{k}", xyz, bcs, joins(blocks.points, k)))
+    return out
+
+
+def blocks_format(path: str | os.PathLike, fmt: str | None, extrude: float | None) -> Format:
+    """The export format of a multi-block grid for ``path`` (or ``fmt``), refused (one
+    line) before meshing where it does not apply."""
+    found = output_format(path, fmt, extrude)
+    if found.key not in BLOCK_FORMATS:
+        raise InputError(
+            f"a multi-block grid is written as .vtm, .xyz, .cgns, .su2, .msh or --format "
+            f"openfoam, not as {found.description}",
+            str(path),
+        )
+    if found.key == "msh" and extrude is not None:
+        raise InputError(
+            "a multi-block grid is written to Gmsh in 2D in this build; drop {extrude}", str(path)
+        )
+    return found
+
+
+def write_blocks(
+    dataset: vtkMultiBlockDataSet,
+    path: str | os.PathLike,
+    fmt: str | None = None,
+    *,
+    extrude: float | None = None,
+) -> Path:
+    """Write a multi-block grid to ``path`` in the format of its extension (or ``fmt``);
+    ``extrude``: one cell of this thickness in z (PLOT3D, CGNS, OpenFOAM; OpenFOAM's
+    default: the mean edge length). Atomic, as every writer."""
+    path = Path(path)
+    found = blocks_format(path, fmt, extrude)
+    blocks = blocks_of(dataset)
+    if found.key == "openfoam":
+        mesh = merged(blocks)
+        thickness = extrude or float(np.mean([mean_edge(p) for p in blocks.points]))
+        return write_case(
+            path, lambda folder: openfoam.write_quadmesh_polymesh(mesh, thickness, folder)
+        )
+    with atomic_path(path, suffix=found.suffix) as tmp:
+        if found.key == "xyz":
+            plot3d.write_grids([layers(p, extrude, Z_UP) for p in blocks.points], tmp)
+        elif found.key == "cgns":
+            cgns.write_zones(zones(blocks, extrude), blocks.types(), tmp)
+        elif found.key == "su2":
+            su2.write_quadmesh(merged(blocks), tmp, f"{len(blocks.points)} blocks merged")
+        else:
+            gmsh.write_quadmesh(merged(blocks), tmp)
+    return path
+
+
+__all__ = ["BLOCK_FORMATS", "Blocks", "blocks_format", "merged", "write_blocks"]

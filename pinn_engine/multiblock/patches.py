@@ -1,0 +1,148 @@
+"""Boundary patches of a multi-block domain (SPEC 10): each boundary piece (a stretch of the
+boundary or of a hole between two junctions or block corners) is a patch, named ``boundary``
+(the outer boundary) or ``hole1``, ``hole2``, ... by default; ``--patch X,Y=NAME[:TYPE]``
+names the piece nearest the point (X, Y). Pieces of one name form one patch.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from shapely.geometry import LineString, Point
+
+from pinn_engine.errors import InputError
+from pinn_engine.io.export.patches import checked_name, default_type, split_type
+from pinn_engine.multiblock.blocks import Topology
+from pinn_engine.multiblock.layout import Layout
+
+OUTER = "boundary"  # SPEC 10: the default name of the outer boundary's pieces
+HOLE = "hole"  # SPEC 10: hole k's pieces are named hole1, hole2, ...
+# A --patch point farther than this share of the domain's diagonal from every boundary
+# piece is refused: a point meant for a piece lies on or near it; one this far is a typo
+FAR = 0.05
+# A --patch point whose two nearest pieces are within this share of the diagonal of each
+# other's distance is refused as ambiguous (a point at the corner between two pieces)
+TIE = 1e-3
+
+
+@dataclass(frozen=True)
+class PatchPiece:
+    """A boundary piece on one block: its patch ``name`` and ``kind`` (``patches.TYPES``),
+    and its 0-based node range ``(i0, j0, i1, j1)`` along one side of the block (i0 <= i1,
+    j0 <= j1)."""
+
+    name: str
+    kind: str
+    nodes: tuple[int, int, int, int]
+
+
+@dataclass(frozen=True)
+class PatchPoint:
+    """One ``--patch X,Y=NAME[:TYPE]`` item: the point, the name, the type or None."""
+
+    x: float
+    y: float
+    name: str
+    kind: str | None
+
+
+def parse_patch_points(items: Sequence[str] | None) -> list[PatchPoint]:
+    """``X,Y=NAME[:TYPE]`` items, checked (one line naming the bad item)."""
+    out = []
+    for item in items or ():
+        where, sep, named = item.partition("=")
+        parts = where.split(",")
+        try:
+            x, y = (float(p) for p in parts)
+            if not (sep and np.isfinite(x) and np.isfinite(y)):
+                raise ValueError
+        except ValueError:
+            raise InputError(
+                f"patch {item!r}: with --blocks, expected X,Y=NAME[:TYPE] naming the boundary "
+                "piece nearest the point (X, Y)"
+            ) from None
+        name, kind = split_type(named.strip())
+        out.append(PatchPoint(x, y, checked_name(name), kind))
+    return out
+
+
+def _default_names(topo: Topology) -> list[str | None]:
+    """Each piece's default patch name: ``boundary`` or ``holeK`` on the rings, None for
+    interfaces."""
+    ring_of = {(float(x), float(y)): k for k, ring in enumerate(topo.lines.rings) for x, y in ring}
+    out: list[str | None] = []
+    for piece in topo.pieces:
+        if piece.interface:
+            out.append(None)
+            continue
+        k = ring_of[(float(piece.points[0, 0]), float(piece.points[0, 1]))]
+        out.append(OUTER if k == 0 else f"{HOLE}{k}")
+    return out
+
+
+def _nearest(topo: Topology, point: PatchPoint, candidates: list[int]) -> int:
+    """The boundary piece nearest ``point``; refused when it is far from all or when two
+    are about as near."""
+    p = Point(point.x, point.y)
+    dist = np.array([LineString(topo.pieces[k].points).distance(p) for k in candidates])
+    order = np.argsort(dist)
+    where = f"({point.x:g}, {point.y:g})"
+    diagonal = topo.lines.diagonal
+    if dist[order[0]] > FAR * diagonal:
+        raise InputError(
+            f"patch {where}={point.name}: the point is {dist[order[0]]:.3g} from the nearest "
+            f"boundary piece (at most {FAR * diagonal:.3g}); put it on the piece to name"
+        )
+    if len(order) > 1 and dist[order[1]] - dist[order[0]] <= TIE * diagonal:
+        raise InputError(
+            f"patch {where}={point.name}: the point is as near to two boundary pieces (a "
+            "junction or a block corner); put it inside the piece to name"
+        )
+    return candidates[order[0]]
+
+
+def piece_patches(topo: Topology, points: Sequence[PatchPoint]) -> list[tuple[str, str] | None]:
+    """Each piece's (patch name, type), None for interfaces: defaults, then ``points``.
+    Pieces of one name must agree on its type; a name without a type gets the type given
+    to it elsewhere, else ``default_type``."""
+    names = _default_names(topo)
+    boundary = [k for k, n in enumerate(names) if n is not None]
+    given: dict[str, str] = {}
+    named: dict[int, str] = {}
+    for point in points:
+        k = _nearest(topo, point, boundary)
+        if named.setdefault(k, point.name) != point.name:
+            raise InputError(
+                f"patch ({point.x:g}, {point.y:g})={point.name}: that piece is already named "
+                f"{named[k]}"
+            )
+        names[k] = point.name
+        if point.kind is not None and given.setdefault(point.name, point.kind) != point.kind:
+            raise InputError(
+                f"patch {point.name!r} is given two types, {given[point.name]} and {point.kind}"
+            )
+    return [None if n is None else (n, given.get(n, default_type(n))) for n in names]
+
+
+def _range(ids: np.ndarray, nodes: np.ndarray) -> tuple[int, int, int, int]:
+    """The (i0, j0, i1, j1) of a piece's ``nodes`` on a side of a block of node ``ids``."""
+    for side in (ids[0], ids[:, -1], ids[-1], ids[:, 0]):
+        if np.isin(nodes, side).all():
+            jj, ii = np.nonzero(np.isin(ids, nodes))
+            return int(ii.min()), int(jj.min()), int(ii.max()), int(jj.max())
+    raise AssertionError("a boundary piece lies on no side of its block")
+
+
+def block_patches(
+    topo: Topology, lay: Layout, points: Sequence[PatchPoint] = ()
+) -> list[list[PatchPiece]]:
+    """Per block, its boundary pieces with their patch names, types and node ranges."""
+    out: list[list[PatchPiece]] = [[] for _ in topo.blocks]
+    for piece, spec, nodes in zip(topo.pieces, piece_patches(topo, points), lay.piece_ids):
+        if spec is None:
+            continue
+        b = piece.blocks[0]
+        out[b].append(PatchPiece(*spec, _range(lay.ids[b], nodes)))
+    return out
