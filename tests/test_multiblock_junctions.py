@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from pinn_engine.classical.elliptic import winslow_residual
 from pinn_engine.multiblock.blocks import topology
 from pinn_engine.multiblock.counts import cell_counts
 from pinn_engine.multiblock.elliptic import stencils, winslow
@@ -40,7 +41,8 @@ def test_star_row_holds_on_an_affine_grid(quadrants):
 
 def test_junctions_move_and_satisfy_their_rows():
     """Around a cylinder the square's corners (five blocks meet) leave their drawn places and
-    the converged grid satisfies their Winslow rows."""
+    the converged grid satisfies their Winslow rows and, inside every block, the one-block
+    Winslow equations."""
     cylinder = 0.5 * np.column_stack(
         [
             np.cos(np.linspace(0, 2 * np.pi, 48, endpoint=False)),
@@ -56,6 +58,8 @@ def test_junctions_move_and_satisfy_their_rows():
     for x, y in ((-3, -1), (-3, 1)):
         edges += [np.array([(x, y), (-1.0, y)]), np.array([(1.0, y), (6.0, y)])]
     topo, lay, points = _solve([channel, cylinder], edges, 0.2)
+    for ids in lay.ids:  # every block's interior is its own converged Winslow grid
+        assert np.abs(winslow_residual(points[ids])).max() < 1e-9
     _, stars = stencils(topo, lay, True)
     assert sorted(len(s.edges) for s in stars) == [5, 5, 5, 5]
     for star in stars:

@@ -97,10 +97,10 @@ def stencils(topo: Topology, lay: Layout, free_interfaces: bool) -> tuple[np.nda
     with other quadrant counts."""
     ext = [_ghosted(ids) for ids in lay.ids]
     found = []
-    for ids, e in zip(lay.ids, ext):
-        nj, ni = ids.shape
-        win = np.lib.stride_tricks.sliding_window_view(e, (3, 3))[1:-1, 1:-1]
-        found.append(win[1 : nj - 1, 1 : ni - 1].reshape(-1, 3, 3))
+    for e in ext:  # the windows centred on each block's interior nodes
+        found.append(
+            np.lib.stride_tricks.sliding_window_view(e, (3, 3))[1:-1, 1:-1].reshape(-1, 3, 3)
+        )
     if not free_interfaces:
         return np.concatenate(found), []
     for c in crossings(topo, lay):
