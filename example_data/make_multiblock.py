@@ -4,7 +4,10 @@ Run ``.venv/bin/python example_data/make_multiblock.py``; it rewrites, beside it
 ``lshape.vtp``/``lshape_blocks.vtp`` (two blocks; the edge drawn askew, to be solved
 straight), ``step.vtp``/``step_blocks.vtp`` (a backward-facing step: four blocks, an edge
 ending on another edge) and ``cylinder_channel.vtp``/``cylinder_channel_blocks.vtp`` (a
-cylinder of diameter 1 in a channel: an O-ring of 4 blocks inside 8 outer blocks).
+cylinder of diameter 1 in a channel: an O-ring of 4 blocks inside 8 outer blocks),
+``tee.vtp``/``tee_blocks.vtp`` (a tee whose branch leans downstream: four blocks) and
+``ybranch.vtp``/``ybranch_blocks.vtp`` (a bifurcation: three arms and a centre of three
+blocks meeting at one point).
 """
 
 from __future__ import annotations
@@ -13,6 +16,11 @@ import numpy as np
 from make_examples import polydata, write
 
 CYLINDER_POINTS = 96  # points on the cylinder (a multiple of 8: a vertex at each diagonal)
+BRANCH_TILT = 30.0  # degrees the tee's branch leans from the vertical (downstream)
+Y_ARMS = (-50.0, 50.0, 180.0)  # directions of the Y's daughters and trunk, counter-clockwise
+Y_WIDTHS = (0.8, 0.8, 1.0)  # the arms' widths (daughters narrower than the trunk)
+Y_MOUTH = 0.8  # distance of each arm's mouth from the Y's centre
+ARM_LENGTH = 3.0  # length of the Y's arms
 
 
 def lshape() -> tuple[list[np.ndarray], list[np.ndarray]]:
@@ -52,8 +60,39 @@ def cylinder_channel() -> tuple[list[np.ndarray], list[np.ndarray]]:
     return [channel, cylinder], edges
 
 
+def tee() -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """A channel [0, 6] x [0, 1] with a branch of width 1 and length 2 leaving its top wall
+    at x in [2.5, 3.5], leaning BRANCH_TILT degrees downstream; the crossing is one block."""
+    tilt = np.radians(BRANCH_TILT)
+    up = 2.0 * np.array([np.sin(tilt), np.cos(tilt)])
+    left, right = np.array([2.5, 1.0]), np.array([3.5, 1.0])
+    ring = np.array([(0, 0), (6, 0), (6, 1), right, right + up, left + up, left, (0, 1)])
+    edges = [np.array([left, (2.5, 0.0)]), np.array([right, (3.5, 0.0)]), np.array([left, right])]
+    return [ring], edges
+
+
+def ybranch() -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """A bifurcation: arms in the directions Y_ARMS leave a hexagonal centre, which edges
+    from its middle to one mouth corner of each arm cut into three blocks."""
+    ring, edges = [], []
+    for angle, width in zip(Y_ARMS, Y_WIDTHS):
+        a = np.array([np.cos(np.radians(angle)), np.sin(np.radians(angle))])
+        n = np.array([-a[1], a[0]])
+        right = Y_MOUTH * a - 0.5 * width * n
+        left = Y_MOUTH * a + 0.5 * width * n
+        ring += [right, right + ARM_LENGTH * a, left + ARM_LENGTH * a, left]
+        edges += [np.array([right, left]), np.array([(0.0, 0.0), left])]
+    return [np.array(ring)], edges
+
+
 def main() -> None:
-    for name, make in (("lshape", lshape), ("step", step), ("cylinder_channel", cylinder_channel)):
+    for name, make in (
+        ("lshape", lshape),
+        ("step", step),
+        ("cylinder_channel", cylinder_channel),
+        ("tee", tee),
+        ("ybranch", ybranch),
+    ):
         rings, edges = make()
         write(polydata(rings, closed=True), f"{name}.vtp")
         write(polydata(edges, closed=False), f"{name}_blocks.vtp")

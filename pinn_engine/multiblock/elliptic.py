@@ -4,9 +4,9 @@ frozen per step) with a sparse direct solve, as ``classical.elliptic`` does for 
 
 A node inside an interface piece has a full 3 x 3 stencil: its own block's rows, and across
 the interface the row of the block on the other side (the two blocks' index directions
-continue each other there). Junctions (piece ends) stay where they are drawn, except an edge
-end on a straight stretch of boundary, which slides along it to where the edge's first grid
-line leaves the wall at right angles (the mirror condition of a symmetry wall).
+continue each other there). Junctions inside the domain (piece ends where three or more
+pieces meet) are interior nodes too, with the stencils of ``junctions.py``; an edge's end
+on the boundary slides along it (``sliding.py``).
 """
 
 from __future__ import annotations
@@ -18,13 +18,12 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
 from pinn_engine.multiblock.blocks import Topology
+from pinn_engine.multiblock.junctions import Star, junction_stencils, star_row
 from pinn_engine.multiblock.layout import Layout
+from pinn_engine.multiblock.sliding import slide, sliders
 
 TOL = 1e-10  # converged when no node moves more than this share of the diagonal in a step
 MAX_ITERATIONS = 1000  # Picard steps at most (the examples converge in under 100)
-STRAIGHT = 1e-9  # a boundary stretch is straight when no point is off its chord by more
-# than this share of the diagonal
-SLIDE_MARGIN = 0.25  # a sliding end keeps this share of its shorter stretch from its far ends
 
 
 def _sides(ids: np.ndarray) -> dict[str, tuple[np.ndarray, np.ndarray]]:
@@ -90,18 +89,20 @@ def _ghost_slot(ext: np.ndarray, name: str, ks: np.ndarray) -> tuple:
     }[name]
 
 
-def stencils(topo: Topology, lay: Layout, free_interfaces: bool) -> np.ndarray:
+def stencils(topo: Topology, lay: Layout, free_interfaces: bool) -> tuple[np.ndarray, list[Star]]:
     """The 3 x 3 neighbourhoods (n, 3, 3) of node ids, ``[:, 1, 1]`` the node solved for:
     every block's interior nodes and, with ``free_interfaces``, the nodes inside interface
-    pieces (each once, in its first block's index directions)."""
+    pieces (each once, in its first block's index directions) and the junctions inside the
+    domain with four quadrants; with ``free_interfaces`` also the stars of the junctions
+    with other quadrant counts."""
     ext = [_ghosted(ids) for ids in lay.ids]
     found = []
-    for ids, e in zip(lay.ids, ext):
-        nj, ni = ids.shape
-        win = np.lib.stride_tricks.sliding_window_view(e, (3, 3))[1:-1, 1:-1]
-        found.append(win[1 : nj - 1, 1 : ni - 1].reshape(-1, 3, 3))
+    for e in ext:  # the windows centred on each block's interior nodes
+        found.append(
+            np.lib.stride_tricks.sliding_window_view(e, (3, 3))[1:-1, 1:-1].reshape(-1, 3, 3)
+        )
     if not free_interfaces:
-        return np.concatenate(found)
+        return np.concatenate(found), []
     for c in crossings(topo, lay):
         (a, b), (place_a, place_b) = c.blocks, c.places
         ghost, _ = _ghost_slot(ext[a], *place_a)
@@ -111,72 +112,16 @@ def stencils(topo: Topology, lay: Layout, free_interfaces: bool) -> np.ndarray:
         _, own = _ghost_slot(ext[a], place_a[0], place_a[1][1:-1])
         for j, i in zip(*np.broadcast_arrays(*own)):
             found.append(ext[a][j - 1 : j + 2, i - 1 : i + 2][None])
-    out = np.concatenate(found)
+    ends = sorted({int(n) for ids in lay.piece_ids for n in (ids[0], ids[-1])})
+    regular, stars = junction_stencils(lay, ends)
+    out = np.concatenate([*found, regular])
     assert (out >= 0).all(), "an interface node lacks a neighbour"
-    return out
+    return out, stars
 
 
-@dataclass
-class Slider:
-    """An edge end ``node`` on a straight stretch of boundary from ``far[0]`` to ``far[1]``
-    (node ids), its edge's next node ``next``, and the boundary pieces' ids to respace."""
-
-    node: int
-    next: int
-    far: tuple[int, int]
-    margin: float
-    stretches: list[np.ndarray]
-
-
-def _straight(points: np.ndarray, tol: float) -> bool:
-    a, b = points[0], points[-1]
-    d = (b - a) / max(np.linalg.norm(b - a), 1e-300)
-    off = (points - a)[:, 0] * d[1] - (points - a)[:, 1] * d[0]
-    return bool(np.abs(off).max() <= tol)
-
-
-def sliders(topo: Topology, lay: Layout) -> list[Slider]:
-    """The edge ends that slide: a junction of two boundary pieces and one interface piece,
-    where the two boundary pieces make one straight stretch."""
-    ends: dict[int, list[tuple[int, int]]] = {}
-    for k, nodes in enumerate(lay.piece_ids):
-        ends.setdefault(int(nodes[0]), []).append((k, 0))
-        ends.setdefault(int(nodes[-1]), []).append((k, -1))
-    tol = STRAIGHT * topo.lines.diagonal
-    out = []
-    for node, meeting in ends.items():
-        walls = [(k, e) for k, e in meeting if not topo.pieces[k].interface]
-        edges = [(k, e) for k, e in meeting if topo.pieces[k].interface]
-        if len(meeting) != 3 or len(walls) != 2 or len(edges) != 1:
-            continue
-        (k1, e1), (k2, e2) = walls
-        far = (int(lay.piece_ids[k1][-1 - e1]), int(lay.piece_ids[k2][-1 - e2]))
-        stretch = np.vstack([topo.pieces[k1].points, topo.pieces[k2].points])
-        chord = np.vstack([lay.points[far[0]], stretch, lay.points[far[1]]])
-        if not _straight(chord, tol):
-            continue
-        k, e = edges[0]
-        nxt = int(lay.piece_ids[k][1 if e == 0 else -2])
-        margin = SLIDE_MARGIN * min(topo.pieces[k1].length, topo.pieces[k2].length)
-        out.append(Slider(node, nxt, far, margin, [lay.piece_ids[k1], lay.piece_ids[k2]]))
-    return out
-
-
-def _slide(points: np.ndarray, slider: Slider) -> None:
-    """Move a slider to the foot of its edge's next node on its stretch (kept ``margin``
-    from the far ends) and respace the two boundary pieces evenly."""
-    a, b = points[slider.far[0]], points[slider.far[1]]
-    length = float(np.linalg.norm(b - a))
-    d = (b - a) / length
-    t = float(np.clip((points[slider.next] - a) @ d, slider.margin, length - slider.margin))
-    points[slider.node] = a + t * d
-    for nodes in slider.stretches:
-        s = np.linspace(0.0, 1.0, len(nodes))[1:-1, None]
-        points[nodes[1:-1]] = (1 - s) * points[nodes[0]] + s * points[nodes[-1]]
-
-
-def _system(points: np.ndarray, st: np.ndarray, column: np.ndarray):
-    """The frozen-coefficient Winslow system: matrix over the solved nodes, right side."""
+def _system(points: np.ndarray, st: np.ndarray, stars: list[Star], column: np.ndarray):
+    """The frozen-coefficient Winslow system: matrix over the solved nodes (the 3 x 3
+    stencils' centres, then the stars'), right side."""
     x = points[st]
     x_xi = 0.5 * (x[:, 1, 2] - x[:, 1, 0])
     x_eta = 0.5 * (x[:, 2, 1] - x[:, 0, 1])
@@ -189,13 +134,20 @@ def _system(points: np.ndarray, st: np.ndarray, column: np.ndarray):
     w[:, 0, 1] = w[:, 2, 1] = c
     w[:, 0, 0] = w[:, 2, 2] = -0.5 * b
     w[:, 0, 2] = w[:, 2, 0] = 0.5 * b
-    n = len(st)
-    rows = np.broadcast_to(np.arange(n)[:, None, None], st.shape)
-    cols = column[st]
+    rows = [np.broadcast_to(np.arange(len(st))[:, None, None], st.shape).ravel()]
+    ids, weights = [st.ravel()], [w.ravel()]
+    for k, star in enumerate(stars):
+        around, v = star_row(points, star)
+        rows.append(np.full(len(around), len(st) + k))
+        ids.append(around)
+        weights.append(v)
+    rows, ids, weights = np.concatenate(rows), np.concatenate(ids), np.concatenate(weights)
+    n = len(st) + len(stars)
+    cols = column[ids]
     solved = cols >= 0
-    mat = sp.csc_matrix((w[solved], (rows[solved], cols[solved])), shape=(n, n))
+    mat = sp.csc_matrix((weights[solved], (rows[solved], cols[solved])), shape=(n, n))
     rhs = np.zeros((n, 2))
-    np.subtract.at(rhs, rows[~solved], w[~solved][:, None] * points[st[~solved]])
+    np.subtract.at(rhs, rows[~solved], weights[~solved][:, None] * points[ids[~solved]])
     return mat, rhs
 
 
@@ -203,17 +155,18 @@ def winslow(topo: Topology, lay: Layout, free_interfaces: bool = True) -> tuple[
     """Node positions of the converged multi-block Winslow grid from ``lay``'s (TFI) start,
     and the Picard steps taken."""
     points = lay.points.copy()
-    st = stencils(topo, lay, free_interfaces)
+    st, stars = stencils(topo, lay, free_interfaces)
+    solved = np.concatenate([st[:, 1, 1], [star.node for star in stars]]).astype(int)
     column = np.full(len(points), -1)
-    column[st[:, 1, 1]] = np.arange(len(st))
-    slide = sliders(topo, lay) if free_interfaces else []
+    column[solved] = np.arange(len(solved))
+    slide_ends, rings, at = sliders(topo, lay) if free_interfaces else ([], [], {})
     tol = TOL * topo.lines.diagonal
     for step in range(1, MAX_ITERATIONS + 1):
         before = points.copy()
-        mat, rhs = _system(points, st, column)
-        points[st[:, 1, 1]] = splu(mat).solve(rhs)
-        for slider in slide:
-            _slide(points, slider)
+        mat, rhs = _system(points, st, stars, column)
+        points[solved] = splu(mat).solve(rhs)
+        for end in slide_ends:
+            slide(points, end, rings[end.ring], at)
         if np.abs(points - before).max() <= tol:
             return points, step
     return points, MAX_ITERATIONS

@@ -1,0 +1,133 @@
+"""Edge ends that slide along the boundary (SPEC 10's free interfaces): an edge ending on
+the boundary or a hole, between two boundary pieces, moves along the drawn boundary as the
+multi-block Winslow grid is solved.
+
+Each step the end goes to the point of the boundary nearest the edge's next node, so that
+the edge's first grid line meets the wall at right angles (on a straight wall this is a
+symmetry wall's mirror condition), kept a margin from the current far ends of its two
+boundary pieces (which may slide too), and those pieces' nodes are respaced at equal arc
+length along the drawn boundary. Positions on a boundary ring are arc lengths along it, so
+a curved boundary (a cylinder, a curved wall) is followed exactly as drawn.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from pinn_engine.multiblock.blocks import CORNER_TURN, Topology
+from pinn_engine.multiblock.layout import Layout
+
+SLIDE_MARGIN = 0.25  # a sliding end keeps this share of its shorter piece from its far ends
+
+
+class Ring:
+    """A closed boundary polyline parametrised by arc length (any real, taken modulo the
+    perimeter ``length``)."""
+
+    def __init__(self, ring: np.ndarray) -> None:
+        self.points = np.vstack([ring, ring[:1]])
+        steps = np.linalg.norm(np.diff(self.points, axis=0), axis=1)
+        self.arc = np.concatenate([[0.0], np.cumsum(steps)])
+        self.length = float(self.arc[-1])
+        self.vertex = {(float(x), float(y)): float(s) for (x, y), s in zip(ring, self.arc)}
+
+    def at(self, s: np.ndarray) -> np.ndarray:
+        """Points at arc lengths ``s``."""
+        s = np.mod(s, self.length)
+        return np.column_stack(
+            [np.interp(s, self.arc, self.points[:, 0]), np.interp(s, self.arc, self.points[:, 1])]
+        )
+
+    def nearest(self, p: np.ndarray, lo: float, hi: float) -> float:
+        """Arc length in [lo, hi] (hi - lo at most the perimeter) of the point of that
+        stretch nearest ``p``."""
+        inner = np.concatenate([self.arc[:-1], self.arc[:-1] + self.length])
+        s = np.concatenate([[lo], inner[(inner > lo) & (inner < hi)], [hi]])
+        a, b = self.at(s[:-1]), self.at(s[1:])
+        d = b - a
+        t = np.einsum("nk,nk->n", p - a, d) / np.maximum(np.einsum("nk,nk->n", d, d), 1e-300)
+        t = np.clip(t, 0.0, 1.0)
+        k = int(np.argmin(np.linalg.norm(a + t[:, None] * d - p, axis=1)))
+        return float(s[k] + t[k] * (s[k + 1] - s[k]))
+
+
+@dataclass
+class Slider:
+    """An edge end ``node`` on ring ``ring``, its edge's next node ``next``, the far ends
+    ``far`` of its two boundary pieces (before and after it along the ring) and those
+    pieces' node ids ``pieces`` (far[0] to the end, the end to far[1])."""
+
+    node: int
+    next: int
+    ring: int
+    far: tuple[int, int]
+    margin: float
+    pieces: tuple[np.ndarray, np.ndarray]
+
+
+def _toward(ids: np.ndarray, points: np.ndarray, e: int) -> tuple[np.ndarray, np.ndarray]:
+    """A piece's node ids and drawn points oriented to end at its end ``e`` (0 or -1)."""
+    return (ids[::-1], points[::-1]) if e == 0 else (ids, points)
+
+
+def _turn(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> float:
+    """Degrees the polyline a, b, c turns by at b."""
+    u, v = b - a, c - b
+    return float(np.degrees(abs(np.arctan2(u[0] * v[1] - u[1] * v[0], u @ v))))
+
+
+def sliders(topo: Topology, lay: Layout) -> tuple[list[Slider], list[Ring], dict[int, float]]:
+    """The edge ends that slide (junctions of two boundary pieces and one interface piece
+    where the boundary turns by less than a block corner's turn), the boundary rings, and
+    the arc length on its ring of every boundary junction node."""
+    rings = [Ring(r) for r in topo.lines.rings]
+    ends: dict[int, list[tuple[int, int]]] = {}
+    for k, nodes in enumerate(lay.piece_ids):
+        ends.setdefault(int(nodes[0]), []).append((k, 0))
+        ends.setdefault(int(nodes[-1]), []).append((k, -1))
+    where: dict[int, tuple[int, float]] = {}
+    for node in ends:
+        key = (float(lay.points[node, 0]), float(lay.points[node, 1]))
+        for r, ring in enumerate(rings):
+            if key in ring.vertex:
+                where[node] = (r, ring.vertex[key])
+    out = []
+    for node, meeting in ends.items():
+        walls = [(k, e) for k, e in meeting if not topo.pieces[k].interface]
+        edges = [(k, e) for k, e in meeting if topo.pieces[k].interface]
+        if len(meeting) != 3 or len(walls) != 2 or len(edges) != 1 or node not in where:
+            continue
+        r, s = where[node]
+        ring = rings[r]
+        runs = [_toward(lay.piece_ids[k], topo.pieces[k].points, e) for k, e in walls]
+        # the piece before the end along the ring has its last drawn step forwards
+        behind = [
+            np.mod(s - ring.vertex[(float(p[-2, 0]), float(p[-2, 1]))], ring.length)
+            for _, p in runs
+        ]
+        if behind[0] > behind[1]:
+            runs.reverse()
+        (first, before), (second, after) = runs
+        if _turn(before[-2], before[-1], after[-2]) >= CORNER_TURN:
+            continue  # a corner of the drawn boundary (the L's inner corner) stays
+        k, e = edges[0]
+        nxt = int(lay.piece_ids[k][1 if e == 0 else -2])
+        margin = SLIDE_MARGIN * min(topo.pieces[k].length for k, _ in walls)
+        far = (int(first[0]), int(second[0]))
+        out.append(Slider(node, nxt, r, far, margin, (first, second[::-1])))
+    return out, rings, {n: s for n, (_, s) in where.items()}
+
+
+def slide(points: np.ndarray, slider: Slider, ring: Ring, at: dict[int, float]) -> None:
+    """Move a slider to the point of its stretch (between its far ends' current arc lengths
+    ``at``, less the margin) nearest its edge's next node, record its arc length in ``at``
+    and respace its two boundary pieces at equal arc length."""
+    lo = at[slider.far[0]]
+    hi = lo + (np.mod(at[slider.far[1]] - lo, ring.length) or ring.length)
+    s = ring.nearest(points[slider.next], lo + slider.margin, hi - slider.margin)
+    at[slider.node] = float(np.mod(s, ring.length))
+    first, second = slider.pieces
+    points[first[1:]] = ring.at(np.linspace(lo, s, len(first))[1:])
+    points[second[1:-1]] = ring.at(np.linspace(s, hi, len(second))[1:-1])
