@@ -89,7 +89,7 @@ def stencil_matrix(
     return mat, rhs
 
 
-class _ReusedLU:
+class ReusedLU:
     """Defect correction with a sparse LU factorisation that is reused while it still halves
     the update and refreshed otherwise (the factorisation dominates the cost on large grids)."""
 
@@ -130,7 +130,7 @@ def winslow_solve(
     if min(g.shape[:2]) < 3:
         return g, 0
     extent = float(np.ptp(g.reshape(-1, 2), axis=0).max())
-    solver = _ReusedLU()
+    solver = ReusedLU()
     for it in range(1, max_iterations + 1):
         mat, rhs = stencil_matrix(g)
         inner = g[1:-1, 1:-1].reshape(-1, 2)
@@ -230,7 +230,7 @@ def controlled_solve(
         if control.get(s) is None or len(control[s]) != size:
             control[s] = np.zeros(size)
     limit = np.cos(np.radians(90.0 - angle_tol))
-    solver = _ReusedLU()
+    solver = ReusedLU()
     for it in range(1, max_iterations + 1):
         a, _, c = _coefficients(g)
         if params is not None:

@@ -20,6 +20,9 @@ from pinn_engine.multiblock.blocks import CORNER_TURN, Topology
 from pinn_engine.multiblock.layout import Layout
 
 SLIDE_MARGIN = 0.25  # a sliding end keeps this share of its shorter piece from its far ends
+# the secant step of :func:`slide` is taken while the next node follows the end by at most
+# this share (a larger one would multiply the move by more than 100: a wild step, not a fit)
+MAX_FOLLOW = 0.99
 
 
 class Ring:
@@ -120,13 +123,37 @@ def sliders(topo: Topology, lay: Layout) -> tuple[list[Slider], list[Ring], dict
     return out, rings, {n: s for n, (_, s) in where.items()}
 
 
-def slide(points: np.ndarray, slider: Slider, ring: Ring, at: dict[int, float]) -> None:
-    """Move a slider to the point of its stretch (between its far ends' current arc lengths
-    ``at``, less the margin) nearest its edge's next node, record its arc length in ``at``
-    and respace its two boundary pieces at equal arc length."""
+def slide(
+    points: np.ndarray,
+    slider: Slider,
+    ring: Ring,
+    at: dict[int, float],
+    last: dict[int, tuple[float, float]],
+) -> None:
+    """Move a slider toward the point of its stretch (between its far ends' current arc
+    lengths ``at``, less the margin) nearest its edge's next node, record its arc length in
+    ``at`` and respace its two boundary pieces at equal arc length.
+
+    The next node follows the end part of the way (it is solved with the end held), so
+    going to the nearest point each step converges slowly (the cylinder's ends needed 160
+    Picard steps, the interior alone 19): the move is a secant step on (nearest point -
+    position) = 0 over this slider's previous step, kept in ``last`` (position, target),
+    where the two steps say the next node follows by a share between 0 and
+    ``MAX_FOLLOW``, else the plain move."""
     lo = at[slider.far[0]]
     hi = lo + (np.mod(at[slider.far[1]] - lo, ring.length) or ring.length)
-    s = ring.nearest(points[slider.next], lo + slider.margin, hi - slider.margin)
+    now = lo + np.mod(at[slider.node] - lo, ring.length)
+    target = ring.nearest(points[slider.next], lo + slider.margin, hi - slider.margin)
+    s = target
+    if slider.node in last:
+        before, aimed = last[slider.node]
+        moved = now - before
+        if abs(moved) > 0:
+            follow = (target - aimed) / moved  # how far the target moved per unit of the end
+            if 0.0 <= follow <= MAX_FOLLOW:
+                s = now + (target - now) / (1.0 - follow)
+        s = float(np.clip(s, lo + slider.margin, hi - slider.margin))
+    last[slider.node] = (now, target)
     at[slider.node] = float(np.mod(s, ring.length))
     first, second = slider.pieces
     points[first[1:]] = ring.at(np.linspace(lo, s, len(first))[1:])
