@@ -83,6 +83,7 @@ def bad_manifest(tmp_path, capsys, text: str) -> str:
         ("name,input,aux,options\na,x.vtp,,--frobnicate\n", "row 2: bad options"),
         ("name,input,aux,options\na,x.vtp,,--method magic\n", "invalid choice"),
         ("name,input,aux,options\na,x.vtp,,--seed 'open\n", "row 2: bad options"),
+        ("name,input,aux,options\na,x.vtp,,--help\n", "row 2: bad options"),
         ("name,input,aux,options\na,x.vtp,,-o a.vts\n", "drop -o"),
         ("name,input,aux,options\na,x.vtp,,y.vtp\n", "the input column names the boundary"),
         (f"name,input,aux,options\na,x.vtp,,{TFI}\na,y.vtp,,{TFI}\n", "row 3: name 'a'"),

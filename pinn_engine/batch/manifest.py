@@ -4,7 +4,10 @@ options checked by the single-run command's parser before anything runs."""
 from __future__ import annotations
 
 import argparse
+import contextlib
 import csv
+import functools
+import io
 import os
 import shlex
 from collections.abc import Iterable, Mapping
@@ -30,16 +33,23 @@ class _ParserError(Exception):
 
 @dataclass
 class Case:
-    """One row: its ``name`` (the output's name), the single-run ``args`` its options give
-    (inputs resolved, ``-o`` left for the batch to set) and where the row was."""
+    """One row: its ``name`` (the output's name) and the single-run ``args`` its options
+    give (inputs resolved, ``-o`` left for the batch to set)."""
 
     name: str
     args: argparse.Namespace = field(repr=False)
-    where: str = ""
 
 
 def _raise(message: str) -> None:
     raise _ParserError(message)
+
+
+@functools.cache
+def _parser() -> argparse.ArgumentParser:
+    """The single-run command's parser, raising its complaint instead of exiting."""
+    parser = build_parser()
+    parser.error = _raise
+    return parser
 
 
 def _resolve(value, base: Path):
@@ -58,12 +68,10 @@ def parse_case(
     input-like paths relative to ``base``; raises :class:`ManifestError` naming ``where``."""
     if not name or name in (".", "..") or "/" in name or os.sep in name:
         raise ManifestError(f"{where}: name {name!r} is not a file name")
-    parser = build_parser()
-    parser.error = _raise  # a one-line error for this row, not argparse's exit
     try:
-        argv = shlex.split(options or "")
-        args = parser.parse_args(argv)
-    except (ValueError, _ParserError) as exc:  # ValueError: shlex's unclosed quote
+        with contextlib.redirect_stdout(io.StringIO()):  # what --help would print
+            args = _parser().parse_args(shlex.split(options or ""))
+    except (ValueError, _ParserError, SystemExit) as exc:  # shlex's unclosed quote, --help
         raise ManifestError(f"{where}: bad options {options!r}: {exc}") from None
     if args.boundary is not None:
         raise ManifestError(f"{where}: the input column names the boundary, not the options")
@@ -73,7 +81,7 @@ def parse_case(
     args.aux = [*aux, *args.aux]
     for key in INPUT_PATHS:
         setattr(args, key, _resolve(getattr(args, key), base))
-    return Case(name=name, args=args, where=where)
+    return Case(name=name, args=args)
 
 
 def cases_of(rows: Iterable[tuple[int, Mapping[str, str]]], base: Path, source: str) -> list[Case]:
