@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 import importlib
+import io
 import os
 import signal
 import socket
@@ -22,6 +23,7 @@ from conftest import EXAMPLES
 
 from pinn_engine.batch import mesh_many, read_manifest
 from pinn_engine.batch.cluster import connect
+from pinn_engine.batch.progress import Bar
 from pinn_engine.routes.cli import main
 
 TFI = "--method tfi --size 11 7"
@@ -250,3 +252,26 @@ def test_a_separate_scheduler_and_worker_give_the_local_summary(client, tmp_path
     assert main(["batch", str(path), "-o", str(tmp_path / "near"), "--scheduler", here]) == 1
     assert summary(tmp_path / "far") == summary(tmp_path / "near")
     assert len(summary(tmp_path / "far")) == 4
+
+
+class _Terminal(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+def test_the_progress_line_counts_and_redraws_in_place_on_a_terminal():
+    log = io.StringIO()
+    bar = Bar(total=22, skipped=2, stream=log)
+    for k in range(20):
+        bar.update(failed=k % 10 == 0)
+    bar.close()
+    lines = log.getvalue().splitlines()  # off a terminal: a line a tenth of the cases
+    assert len(lines) == 11 and lines[-1].startswith("[22/22] 2 failed, 2 skipped, ")
+    assert lines[-1].endswith(" 0 s left")
+    terminal = _Terminal()
+    bar = Bar(total=3, stream=terminal)
+    for text in ("a long first line", "short", "done"):
+        bar.text = lambda text=text: text
+        bar.update(failed=False)
+    bar.close()  # each redraw covers the longer line before it
+    assert terminal.getvalue() == "\ra long first line\rshort            \rdone \n"

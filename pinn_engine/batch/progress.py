@@ -20,6 +20,7 @@ class Bar:
         self.tty = self.stream.isatty()
         self.start = time.perf_counter()
         self.shown = -1
+        self.width = 0  # the length of the line on the terminal
 
     def text(self) -> str:
         """The line: counts, rate and the time left at that rate."""
@@ -40,8 +41,10 @@ class Bar:
         self.failed += int(failed)
         todo = max(self.total - self.skipped, 1)
         step = int(self.done / todo / LINES_EVERY)
-        if self.tty:
-            print("\r" + self.text(), end="", file=self.stream, flush=True)
+        if self.tty:  # padded over the end of a longer earlier line
+            text = self.text()
+            print("\r" + text.ljust(self.width), end="", file=self.stream, flush=True)
+            self.width = len(text)
         elif step != self.shown or self.done == todo:
             print(self.text(), file=self.stream, flush=True)
         self.shown = step
