@@ -32,6 +32,7 @@ CASES = (  # name, input, aux, options: every status, one quick pinn among them
     ("fig2", "fig2.vtp", "", "--method elliptic --size 11 7"),
     ("pinn", "concave.vtp", "concave_aux.vtp", "--size 11 7 --lbfgs 5 --epochs 50"),
     ("naca", "", "", "--naca 0012 --topology o --method elliptic --size 33 17 --format su2"),
+    ("blocks", "lshape.vtp", "", "--blocks lshape_blocks.vtp --cell-size 0.2"),
     ("stopped", "wavy.vtp", "", "--size 11 7 --epochs 100000 --time-limit 0.2"),
     ("missing", "nothere.vtp", "", TFI),
     ("broken", "broken.vtp", "", TFI),
@@ -44,8 +45,8 @@ BATCH_TIMEOUT = 300  # seconds a test waits for a batch on the busy 2-core machi
 def manifest(folder: Path, rows=CASES) -> Path:
     """A manifest in ``folder`` beside copies of the example inputs and a broken file."""
     folder.mkdir(parents=True, exist_ok=True)
-    for name in ("wavy", "fig2", "concave"):
-        for suffix in (".vtp", "_aux.vtp"):
+    for name in ("wavy", "fig2", "concave", "lshape"):
+        for suffix in (".vtp", "_aux.vtp", "_blocks.vtp"):
             if (EXAMPLES / f"{name}{suffix}").exists():
                 (folder / f"{name}{suffix}").write_bytes(
                     (EXAMPLES / f"{name}{suffix}").read_bytes()
@@ -126,7 +127,7 @@ def test_each_case_is_the_single_run_and_failures_stay_per_case(client, tmp_path
     address = client.scheduler.address
     assert main(["batch", str(path), "-o", str(out), "--scheduler", address]) == 1
     err = capsys.readouterr().err
-    assert "2 of 7 cases failed" in err and "[7/7] 2 failed" in err
+    assert "2 of 8 cases failed" in err and "[8/8] 2 failed" in err
     rows = summary(out)
     assert list(rows) == [c[0] for c in CASES]
     for name, row in rows.items():
@@ -136,7 +137,8 @@ def test_each_case_is_the_single_run_and_failures_stay_per_case(client, tmp_path
     assert "time limit" in rows["stopped"]["message"]
     assert rows["wavy"]["cells"] == "60" and rows["naca"]["cells"] == "512"
     assert sorted(p.name for p in out.iterdir()) == [
-        "fig2.vts", "naca.su2", "pinn.vts", "stopped.vts", "summary.csv", "wavy.vts",
+        "blocks", "blocks.vtm", "fig2.vts", "naca.su2", "pinn.vts", "stopped.vts",
+        "summary.csv", "wavy.vts",
     ]  # fmt: skip
     for name, source, aux, options in CASES[:3]:  # the single-run command's grid, exactly
         single = tmp_path / f"single_{name}.vts"
@@ -148,7 +150,7 @@ def test_each_case_is_the_single_run_and_failures_stay_per_case(client, tmp_path
     before = {p.name: p.stat().st_mtime_ns for p in out.glob("*.vts")}
     (out / "fig2.vts").unlink()
     assert main(["batch", str(path), "-o", str(out), "--scheduler", address]) == 1
-    assert "4 skipped" in capsys.readouterr().err
+    assert "5 skipped" in capsys.readouterr().err
     after = {p.name: p.stat().st_mtime_ns for p in out.glob("*.vts")}
     assert {k for k in before if after[k] != before[k]} == {"fig2.vts"}
     assert summary(out) == rows
@@ -239,7 +241,7 @@ def test_a_separate_scheduler_and_worker_give_the_local_summary(client, tmp_path
         stderr=subprocess.DEVNULL,
     )
     try:
-        path = manifest(tmp_path / "in", CASES[:2] + CASES[5:])
+        path = manifest(tmp_path / "in", CASES[:2] + CASES[6:])
         assert main(["batch", str(path), "-o", str(tmp_path / "far"), "--scheduler", address]) == 1
     finally:
         for process in (worker, scheduler):
