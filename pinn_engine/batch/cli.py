@@ -1,12 +1,13 @@
 """``pinn-mesh batch MANIFEST -o OUTDIR [--workers N | --scheduler ADDRESS] [--force]``
 (SPEC 12): exit status 0 when every case gave a grid, 1 when some failed, 2 for a bad
-manifest (or a scheduler that cannot be reached)."""
+manifest (or a scheduler that cannot be reached, an OUTDIR that cannot be written)."""
 
 from __future__ import annotations
 
 import argparse
 import sys
 
+from pinn_engine.errors import PinnMeshError
 from pinn_engine.routes.cli import EXIT_ERROR, EXIT_INTERRUPTED
 
 EXIT_FAILED = 1  # some cases got an error row; the others were meshed
@@ -60,7 +61,7 @@ def main(argv: list[str]) -> int:
             file=sys.stderr,
         )
         return EXIT_INTERRUPTED
-    except (OSError, TimeoutError) as exc:  # the scheduler cannot be reached
+    except (OSError, TimeoutError, PinnMeshError) as exc:  # no scheduler, OUTDIR not writable
         print(f"pinn-mesh batch: error: {exc}", file=sys.stderr)
         return EXIT_ERROR
     failed = sum(row["status"] == "error" for row in rows)
