@@ -57,6 +57,7 @@ def build_parser() -> argparse.ArgumentParser:
         prog="pinn-mesh",
         description="Structured quadrilateral mesh of a four-sided 2D domain "
         "(PINN of Chen et al., with TFI, elliptic and MGNet baselines).",
+        epilog="Many cases at once: pinn-mesh batch MANIFEST -o OUTDIR (pinn-mesh batch -h).",
     )
     p.add_argument(
         "boundary",
@@ -573,6 +574,11 @@ def main(argv: list[str] | None = None) -> int:
     An unexpected internal failure prints one line and returns 3; set ``PINN_MESH_DEBUG=1``
     to see its traceback instead.
     """
+    argv = sys.argv[1:] if argv is None else argv
+    if argv[:1] == ["batch"]:  # `pinn-mesh batch MANIFEST ...` (SPEC 12)
+        from pinn_engine.batch.cli import main as batch
+
+        return batch(argv[1:])
     args = build_parser().parse_args(argv)
     heap.tune_process()  # this process is ours: glibc's heap tuned for training and meshing
     previous = signal.signal(signal.SIGTERM, _raise_interrupt)

@@ -1,0 +1,80 @@
+"""``pinn-mesh batch MANIFEST -o OUTDIR [--workers N | --scheduler ADDRESS] [--force]``
+(SPEC 12): exit status 0 when every case gave a grid, 1 when some failed, 2 for a bad
+manifest (or a scheduler that cannot be reached, an OUTDIR that cannot be written)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from pinn_engine.errors import PinnMeshError
+from pinn_engine.routes.cli import EXIT_ERROR, EXIT_INTERRUPTED
+
+EXIT_FAILED = 1  # some cases got an error row; the others were meshed
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="pinn-mesh batch",
+        description="Mesh every case of a manifest (CSV: name,input,aux,options) on a Dask "
+        "cluster; each case as the single-run command would mesh it.",
+    )
+    p.add_argument("manifest", help="CSV with the header name,input,aux,options")
+    p.add_argument(
+        "-o", "--output", required=True, metavar="OUTDIR", help="the grids and summary.csv"
+    )
+    where = p.add_mutually_exclusive_group()
+    where.add_argument(
+        "--workers", type=int, metavar="N", help="local worker processes (default: the cores)"
+    )
+    where.add_argument(
+        "--scheduler", metavar="ADDRESS", help="run on the Dask scheduler at tcp://host:port"
+    )
+    p.add_argument("--force", action="store_true", help="redo the cases an earlier run did")
+    return p
+
+
+def main(argv: list[str]) -> int:
+    """Run the batch; returns the exit status."""
+    from pinn_engine.batch.api import run
+    from pinn_engine.batch.cluster import connect, dashboard
+    from pinn_engine.batch.manifest import ManifestError, read_manifest
+
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.workers is not None and args.workers < 1:
+        parser.error(f"--workers {args.workers}: give at least 1")
+    try:
+        cases = read_manifest(args.manifest)
+    except ManifestError as exc:
+        print(f"pinn-mesh batch: error: {exc}", file=sys.stderr)
+        return EXIT_ERROR
+    try:
+        with connect(args.workers, args.scheduler) as client:
+            link = dashboard(client)
+            if link:
+                print(f"Dask dashboard: {link}", file=sys.stderr, flush=True)
+            rows = run(client, cases, args.output, args.force, sys.stderr)
+    except KeyboardInterrupt:
+        print(
+            f"pinn-mesh batch: interrupted; the cases done are in {args.output}/summary.csv",
+            file=sys.stderr,
+        )
+        return EXIT_INTERRUPTED
+    except (OSError, TimeoutError, PinnMeshError) as exc:  # no scheduler, OUTDIR not writable
+        print(f"pinn-mesh batch: error: {exc}", file=sys.stderr)
+        return EXIT_ERROR
+    failed = sum(row["status"] == "error" for row in rows)
+    warned = sum(row["status"] == "warning" for row in rows)
+    print(
+        f"wrote {args.output}/summary.csv: {len(rows) - failed - warned} ok, "
+        f"{warned} with a warning, {failed} failed"
+    )
+    if failed:
+        print(
+            f"pinn-mesh batch: {failed} of {len(rows)} cases failed (their messages are in "
+            f"{args.output}/summary.csv)",
+            file=sys.stderr,
+        )
+        return EXIT_FAILED
+    return 0

@@ -1,0 +1,77 @@
+"""The Dask client a batch runs on: a local cluster of worker processes, or the scheduler of
+a cluster; each worker set up for meshing (one torch thread, the command's heap settings)."""
+
+from __future__ import annotations
+
+import contextlib
+import importlib.util
+import os
+from collections.abc import Iterator
+
+from distributed import Client, LocalCluster
+from distributed.diagnostics.plugin import WorkerPlugin
+
+HOST = "127.0.0.1"  # a local cluster listens on this machine only
+DASHBOARD = f"{HOST}:8787"  # Dask's usual dashboard port (another is taken when it is busy)
+THREADS_PER_WORKER = 1  # one case at a time a process: cases run side by side in processes
+
+
+class MeshingWorker(WorkerPlugin):
+    """Set a worker process up as the single-run command sets itself up: one torch thread
+    (cases run in parallel across workers, not inside one) and glibc's heap tuned."""
+
+    def setup(self, worker) -> None:  # noqa: ARG002
+        import torch
+
+        from pinn_engine import heap
+
+        torch.set_num_threads(1)
+        heap.tune_process()
+
+
+def default_workers() -> int:
+    """One worker process per core (SPEC 12)."""
+    return os.cpu_count() or 1
+
+
+@contextlib.contextmanager
+def connect(workers: int | None = None, scheduler: str | None = None) -> Iterator[Client]:
+    """A client on the scheduler at ``scheduler``, or on a new local cluster of ``workers``
+    processes (closed afterwards); its workers set up by :class:`MeshingWorker`."""
+    if scheduler:
+        client = Client(scheduler)
+        cluster = None
+    else:
+        cluster = LocalCluster(
+            n_workers=workers or default_workers(),
+            threads_per_worker=THREADS_PER_WORKER,
+            processes=True,
+            host=HOST,
+            dashboard_address=DASHBOARD,
+        )
+        client = Client(cluster)
+    try:
+        prepare(client)
+        yield client
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def prepare(client: Client) -> None:
+    """Set up every worker, and those that join later, for meshing."""
+    client.register_plugin(MeshingWorker(), name="pinn-mesh")
+
+
+def _scheduler_has_bokeh() -> bool:
+    return importlib.util.find_spec("bokeh") is not None
+
+
+def dashboard(client: Client) -> str | None:
+    """The address of the cluster's dashboard, when one runs: the scheduler serves its
+    pages only with bokeh installed (without it the address answers with an apology)."""
+    services = client.scheduler_info().get("services", {})
+    if "dashboard" not in services or not client.run_on_scheduler(_scheduler_has_bokeh):
+        return None
+    return client.dashboard_link

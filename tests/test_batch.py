@@ -1,0 +1,279 @@
+"""`pinn-mesh batch` (SPEC 12): manifest errors, per-case failures, the single-run grids, the
+rerun, a killed worker and a separately started scheduler and worker."""
+
+from __future__ import annotations
+
+import csv
+import importlib
+import io
+import os
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import dask
+import numpy as np
+import pytest
+import pyvista as pv
+from conftest import EXAMPLES
+
+from pinn_engine.batch import mesh_many, read_manifest
+from pinn_engine.batch.cluster import connect
+from pinn_engine.batch.progress import Bar
+from pinn_engine.routes.cli import main
+
+TFI = "--method tfi --size 11 7"
+CASES = (  # name, input, aux, options: every status, one quick pinn among them
+    ("wavy", "wavy.vtp", "wavy_aux.vtp", TFI),
+    ("fig2", "fig2.vtp", "", "--method elliptic --size 11 7"),
+    ("pinn", "concave.vtp", "concave_aux.vtp", "--size 11 7 --lbfgs 5 --epochs 50"),
+    ("naca", "", "", "--naca 0012 --topology o --method elliptic --size 33 17 --format su2"),
+    ("blocks", "lshape.vtp", "", "--blocks lshape_blocks.vtp --cell-size 0.2"),
+    ("stopped", "wavy.vtp", "", "--size 11 7 --epochs 100000 --time-limit 0.2"),
+    ("missing", "nothere.vtp", "", TFI),
+    ("broken", "broken.vtp", "", TFI),
+)
+STATUS = {"missing": "error", "broken": "error", "stopped": "warning"}
+SLOW = "--size 21 11 --epochs 4000 --lbfgs 0"  # about 8 s of training in a worker
+BATCH_TIMEOUT = 300  # seconds a test waits for a batch on the busy 2-core machine
+
+
+def manifest(folder: Path, rows=CASES) -> Path:
+    """A manifest in ``folder`` beside copies of the example inputs and a broken file."""
+    folder.mkdir(parents=True, exist_ok=True)
+    for name in ("wavy", "fig2", "concave", "lshape"):
+        for suffix in (".vtp", "_aux.vtp", "_blocks.vtp"):
+            if (EXAMPLES / f"{name}{suffix}").exists():
+                (folder / f"{name}{suffix}").write_bytes(
+                    (EXAMPLES / f"{name}{suffix}").read_bytes()
+                )
+    (folder / "broken.vtp").write_bytes(b"<VTKFile type='PolyData'>\0\0 not a file")
+    path = folder / "cases.csv"
+    with path.open("w", newline="") as f:
+        writer = csv.writer(f)
+        writer.writerow(("name", "input", "aux", "options"))
+        writer.writerows(rows)
+    return path
+
+
+def summary(outdir: Path) -> dict[str, dict]:
+    """The summary's rows by name, without the times (which differ between runs)."""
+    with (outdir / "summary.csv").open() as f:
+        rows = list(csv.DictReader(f))
+    return {r["name"]: {k: v for k, v in r.items() if k not in ("name", "seconds")} for r in rows}
+
+
+def bad_manifest(tmp_path, capsys, text: str) -> str:
+    path = tmp_path / "bad.csv"
+    path.write_text(text)
+    assert main(["batch", str(path), "-o", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and not (tmp_path / "out").exists()
+    return err
+
+
+@pytest.mark.parametrize(
+    "text, words",
+    [
+        ("wavy,wavy.vtp,,\n", "lacks the column name, input"),
+        ("name,aux,options\nwavy,,\n", "lacks the column input"),
+        ("name,input,aux,options\n", "holds no case"),
+        (f"name,input,aux,options\na,x.vtp,,{TFI}\nb,x.vtp,,--size 11\n", "row 3"),
+        ("name,input,aux,options\na,x.vtp,,--frobnicate\n", "row 2: bad options"),
+        ("name,input,aux,options\na,x.vtp,,--method magic\n", "invalid choice"),
+        ("name,input,aux,options\na,x.vtp,,--seed 'open\n", "row 2: bad options"),
+        ("name,input,aux,options\na,x.vtp,,--help\n", "row 2: bad options"),
+        ("name,input,aux,options\na,x.vtp,,-o a.vts\n", "drop -o"),
+        ("name,input,aux,options\na,x.vtp,,y.vtp\n", "the input column names the boundary"),
+        (f"name,input,aux,options\na,x.vtp,,{TFI}\na,y.vtp,,{TFI}\n", "row 3: name 'a'"),
+        (f"name,input,aux,options\n../a,x.vtp,,{TFI}\n", "is not a file name"),
+    ],
+)
+def test_a_bad_manifest_exits_2_with_one_line_naming_the_row(tmp_path, capsys, text, words):
+    assert words in bad_manifest(tmp_path, capsys, text)
+
+
+def test_every_rows_options_are_checked_before_any_case_runs(tmp_path, capsys):
+    """The bad row is the last: nothing was meshed for the good rows before it."""
+    rows = "".join(f"c{k},{EXAMPLES / 'wavy.vtp'},,{TFI}\n" for k in range(3))
+    err = bad_manifest(tmp_path, capsys, f"name,input,aux,options\n{rows}c3,x.vtp,,--size\n")
+    assert "row 5" in err
+
+
+def test_manifest_paths_are_relative_to_its_folder(tmp_path):
+    path = manifest(tmp_path / "in")
+    cases = {c.name: c.args for c in read_manifest(path)}
+    assert cases["wavy"].boundary == str(tmp_path / "in" / "wavy.vtp")
+    assert cases["wavy"].aux == [str(tmp_path / "in" / "wavy_aux.vtp")]
+    assert cases["naca"].boundary is None and cases["naca"].naca == "0012"
+
+
+@pytest.fixture(scope="module")
+def client():
+    """A local cluster of two worker processes, which have imported the engine already."""
+    with connect(workers=2) as c:
+        c.run(importlib.import_module, "pinn_engine.batch.task")
+        yield c
+
+
+@pytest.mark.slow
+def test_each_case_is_the_single_run_and_failures_stay_per_case(client, tmp_path, capsys):
+    path = manifest(tmp_path / "in")
+    out = tmp_path / "out"
+    address = client.scheduler.address
+    assert main(["batch", str(path), "-o", str(out), "--scheduler", address]) == 1
+    err = capsys.readouterr().err
+    assert "2 of 8 cases failed" in err and "[8/8] 2 failed" in err
+    rows = summary(out)
+    assert list(rows) == [c[0] for c in CASES]
+    for name, row in rows.items():
+        assert row["status"] == STATUS.get(name, "ok"), (name, row)
+    assert rows["missing"]["message"].endswith("nothere.vtp: file not found")
+    assert "broken.vtp" in rows["broken"]["message"]
+    assert "time limit" in rows["stopped"]["message"]
+    assert rows["wavy"]["cells"] == "60" and rows["naca"]["cells"] == "512"
+    assert sorted(p.name for p in out.iterdir()) == [
+        "blocks", "blocks.vtm", "fig2.vts", "naca.su2", "pinn.vts", "stopped.vts",
+        "summary.csv", "wavy.vts",
+    ]  # fmt: skip
+    for name, source, aux, options in CASES[:3]:  # the single-run command's grid, exactly
+        single = tmp_path / f"single_{name}.vts"
+        extra = ["--aux", str(path.parent / aux)] if aux else []
+        argv = [str(path.parent / source), *extra, *options.split(), "-o", str(single)]
+        assert main([*argv, "--quiet"]) == 0
+        assert np.array_equal(pv.read(out / f"{name}.vts").points, pv.read(single).points)
+    # a rerun skips what is done and redoes the failures; --force redoes everything
+    before = {p.name: p.stat().st_mtime_ns for p in out.glob("*.vts")}
+    (out / "fig2.vts").unlink()
+    assert main(["batch", str(path), "-o", str(out), "--scheduler", address]) == 1
+    assert "5 skipped" in capsys.readouterr().err
+    after = {p.name: p.stat().st_mtime_ns for p in out.glob("*.vts")}
+    assert {k for k in before if after[k] != before[k]} == {"fig2.vts"}
+    assert summary(out) == rows
+    assert main(["batch", str(path), "-o", str(out), "--scheduler", address, "--force"]) == 1
+    again = {p.name: p.stat().st_mtime_ns for p in out.glob("*.vts")}
+    assert all(again[k] != after[k] for k in after)
+    assert not [p for p in out.iterdir() if p.name.startswith(".")]  # no temporary file left
+
+
+@pytest.mark.slow
+def test_mesh_many_returns_the_summary_and_exit_0_when_all_are_ok(client, tmp_path, capsys):
+    records = [
+        {"name": "a", "input": str(EXAMPLES / "wavy.vtp"), "options": TFI},
+        {"name": "b", "input": str(EXAMPLES / "fig2.vtp"), "aux": [], "options": TFI},
+    ]
+    rows = mesh_many(records, client=client, outdir=tmp_path / "py")
+    rows = rows.to_dict("records") if hasattr(rows, "to_dict") else rows
+    assert [(r["name"], r["status"], r["cells"]) for r in rows] == [
+        ("a", "ok", 60),
+        ("b", "ok", 60),
+    ]
+    path = manifest(tmp_path / "in", [r for r in CASES if r[0] in ("wavy", "fig2")])
+    address = client.scheduler.address
+    assert main(["batch", str(path), "-o", str(tmp_path / "cli"), "--scheduler", address]) == 0
+    assert "0 failed" in capsys.readouterr().out
+
+
+@pytest.mark.slow
+def test_a_killed_worker_costs_a_retry_and_the_others_finish(client, tmp_path):
+    records = [{"name": "slow", "input": str(EXAMPLES / "wavy.vtp"), "options": SLOW}] + [
+        {"name": f"tfi{k}", "input": str(EXAMPLES / "wavy.vtp"), "options": TFI} for k in range(3)
+    ]
+    got: dict = {}
+    batch = threading.Thread(
+        target=lambda: got.update(rows=mesh_many(records, client=client, outdir=tmp_path))
+    )
+    batch.start()
+    deadline = time.monotonic() + BATCH_TIMEOUT
+    worker = None
+    while worker is None and time.monotonic() < deadline:
+        for address, keys in client.processing().items():
+            if any(str(k).startswith("pinn-mesh-slow-") for k in keys):
+                worker = address
+        time.sleep(0.1)
+    time.sleep(2.0)  # well inside its training
+    pid = client.run(os.getpid, workers=[worker])[worker]
+    running = client.processing(workers=[worker])[worker]
+    assert any(str(k).startswith("pinn-mesh-slow-") for k in running)  # still meshing it
+    os.kill(pid, signal.SIGKILL)
+    batch.join(BATCH_TIMEOUT)
+    rows = got["rows"]
+    rows = rows.to_dict("records") if hasattr(rows, "to_dict") else rows
+    assert [r["status"] for r in rows] == ["ok"] * 4  # the slow case was run again
+    with pytest.raises(ProcessLookupError):
+        os.kill(pid, 0)
+    assert (tmp_path / "slow.vts").exists()
+
+
+def test_a_scheduler_that_cannot_be_reached_exits_2(tmp_path, capsys):
+    path = manifest(tmp_path / "in", CASES[:1])
+    address = f"tcp://127.0.0.1:{free_port()}"
+    with dask.config.set({"distributed.comm.timeouts.connect": "1s"}):
+        assert main(["batch", str(path), "-o", str(tmp_path / "out"), "--scheduler", address]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("pinn-mesh batch: error:") and err.count("\n") == 1
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.mark.slow
+def test_a_separate_scheduler_and_worker_give_the_local_summary(client, tmp_path):
+    """``dask scheduler`` and ``dask worker`` started as on a cluster, then --scheduler."""
+    command = str(Path(sys.executable).with_name("dask"))
+    address = f"tcp://127.0.0.1:{free_port()}"
+    local = ["--host", "127.0.0.1", "--no-dashboard"]
+    scheduler = subprocess.Popen(
+        [command, "scheduler", *local, "--port", address.rsplit(":", 1)[1]],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    worker = subprocess.Popen(
+        [command, "worker", address, *local, "--nworkers", "1", "--nthreads", "1"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    try:
+        path = manifest(tmp_path / "in", CASES[:2] + CASES[6:])
+        assert main(["batch", str(path), "-o", str(tmp_path / "far"), "--scheduler", address]) == 1
+    finally:
+        for process in (worker, scheduler):
+            process.send_signal(signal.SIGINT)
+            try:
+                process.wait(30)
+            except subprocess.TimeoutExpired:
+                process.kill()
+    here = client.scheduler.address
+    assert main(["batch", str(path), "-o", str(tmp_path / "near"), "--scheduler", here]) == 1
+    assert summary(tmp_path / "far") == summary(tmp_path / "near")
+    assert len(summary(tmp_path / "far")) == 4
+
+
+class _Terminal(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+def test_the_progress_line_counts_and_redraws_in_place_on_a_terminal():
+    log = io.StringIO()
+    bar = Bar(total=22, skipped=2, stream=log)
+    for k in range(20):
+        bar.update(failed=k % 10 == 0)
+    bar.close()
+    lines = log.getvalue().splitlines()  # off a terminal: a line a tenth of the cases
+    assert len(lines) == 11 and lines[-1].startswith("[22/22] 2 failed, 2 skipped, ")
+    assert lines[-1].endswith(" 0 s left")
+    terminal = _Terminal()
+    bar = Bar(total=3, stream=terminal)
+    for text in ("a long first line", "short", "done"):
+        bar.text = lambda text=text: text
+        bar.update(failed=False)
+    bar.close()  # each redraw covers the longer line before it
+    assert terminal.getvalue() == "\ra long first line\rshort            \rdone \n"
