@@ -227,23 +227,28 @@ def run_blocks(
     boundary: str | os.PathLike,
     edges: Sequence[str | os.PathLike],
     patches: Sequence[str] = (),
+    spacing: Sequence[str] = (),
+    orthogonal: Sequence[str] = (),
 ) -> BlocksOutcome:
     """Mesh a multi-block domain (SPEC 10) from files: ``boundary`` (outer boundary and
     holes) and the block-edge files ``edges``, by ``settings.method`` (tfi or elliptic);
-    ``patches``: ``X,Y=NAME[:TYPE]`` items naming boundary pieces."""
+    ``patches``: ``X,Y=NAME[:TYPE]`` items naming boundary pieces; ``spacing``: ``NAME=H``
+    items, ``orthogonal``: ``NAME[,NAME...]`` items, on those patches."""
     from pinn_engine.io.export.vtm import multiblock_dataset
     from pinn_engine.io.fileio import read_aux_lines, read_rings
     from pinn_engine.multiblock.mesh import mesh_blocks
     from pinn_engine.multiblock.patches import parse_patch_points
+    from pinn_engine.multiblock.walls import parse_walls
 
     points = parse_patch_points(patches)  # refused before reading, not after
+    walls = parse_walls(spacing, orthogonal)
     source = str(boundary)
     rings = read_rings(boundary)
     raws = [line for path in edges for line in read_aux_lines(path)]
     curves = _flat(rings + [r.points for r in raws], source)
     names = [r.name for r in raws]
     result = mesh_blocks(
-        curves[: len(rings)], curves[len(rings) :], names, settings, source, points
+        curves[: len(rings)], curves[len(rings) :], names, settings, source, points, walls
     )
     dataset = multiblock_dataset(result.grids, result.cells, result.report, result.patches)
     return BlocksOutcome(result, dataset)

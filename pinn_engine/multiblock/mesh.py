@@ -16,7 +16,10 @@ from pinn_engine.multiblock.counts import cell_counts, default_cell_size
 from pinn_engine.multiblock.elliptic import crossings, winslow
 from pinn_engine.multiblock.graph import linework
 from pinn_engine.multiblock.layout import Layout, layout
+from pinn_engine.multiblock.orthogonal import boundary_neighbours, orthogonal
 from pinn_engine.multiblock.patches import PatchPiece, PatchPoint, block_patches
+from pinn_engine.multiblock.spacing import check_room, requests, respace
+from pinn_engine.multiblock.walls import Walls, check_names, wall_report, wall_sides
 from pinn_engine.quality import cell_quality, summary
 from pinn_engine.settings import MAX_NODES, MULTIBLOCK_METHODS, Settings
 
@@ -69,11 +72,13 @@ def mesh_blocks(
     settings: Settings,
     source: str = "boundary",
     patch_points: Sequence[PatchPoint] = (),
+    walls: Walls | None = None,
 ) -> MultiBlockResult:
     """The multi-block grid of a boundary's ``rings`` (outer and holes) and block
     ``edges`` (named ``names`` in messages) by ``settings.method`` (tfi or elliptic), cells
     about ``settings.cell_size`` long (0: the diagonal over 40), interfaces free or fixed;
-    ``patch_points`` name boundary pieces (``patches.py``)."""
+    ``patch_points`` name boundary pieces (``patches.py``); ``walls``: spacing and
+    orthogonality on patches (``spacing.py``, ``orthogonal.py``), after the method."""
     if settings.method not in MULTIBLOCK_METHODS:
         raise InputError(
             f"method {settings.method}: multi-block domains are meshed by "
@@ -87,10 +92,18 @@ def mesh_blocks(
     counts = cell_counts(topo, h)
     lay = layout_checked(topo, counts, h)
     patches = block_patches(topo, lay, patch_points)  # refused before the solve, not after
+    walls = walls or Walls()
+    check_names(walls, patches)
+    sides = wall_sides(lay.ids, patches, walls.names)
+    asked = requests(sides, walls.spacing)
+    check_room(lay.points, asked, walls.spacing)
     steps = 0
     points = lay.points
     if settings.method == "elliptic":
         points, steps = winslow(topo, lay, settings.interfaces == "free")
+    points = respace(points, asked)
+    if walls.orthogonal:
+        points = orthogonal(points, sides, walls.orthogonal, boundary_neighbours(topo, lay))
     grids = [points[ids] for ids in lay.ids]
     cells = [cell_quality(g) for g in grids]
     kinks = interface_kinks(topo, lay, points)
@@ -108,6 +121,7 @@ def mesh_blocks(
             "nodes": int(kinks.size),
         },
         "iterations": steps,
+        "walls": wall_report(points, sides),
         "mesh_seconds": time.perf_counter() - start,
     }
     return MultiBlockResult(grids, cells, report, patches)

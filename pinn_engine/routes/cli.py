@@ -39,8 +39,7 @@ DEFAULT_SIZE = (41, 21)  # nodes along xi and eta of a four-sided grid (SPEC 5)
 BLOCKS_METHOD = "elliptic"  # multi-block's default: its pinn is not in this build
 # Options of four-sided domains and bodies that a multi-block run refuses (SPEC 10)
 NOT_FOR_BLOCKS = (
-    "aux", "size", "corners", "topology", "naca", "farfield", "spacing", "orthogonal",
-    "save_model", "load_model",
+    "aux", "size", "corners", "topology", "naca", "farfield", "save_model", "load_model",
 )  # fmt: skip
 EXIT_ERROR = 2
 EXIT_INTERNAL = 3
@@ -164,7 +163,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="first grid edge leaving SIDE (bottom, right, top, left) has length "
         "H (your units), growing smoothly away from it; repeat for more sides "
         "(pinn, tfi, elliptic; SPEC 7). O- and C-grids: bottom=H, the first "
-        "cell off the body wall",
+        "cell off the body wall. With --blocks: NAME=H, a patch (--patch)",
     )
     p.add_argument(
         "--orthogonal",
@@ -172,7 +171,7 @@ def build_parser() -> argparse.ArgumentParser:
         default=None,
         help="grid lines leave these sides at 90 degrees (pinn: a loss term; "
         "elliptic: Hilgenstock control functions). O- and C-grids: bottom "
-        "(elliptic and pinn always do; tfi cannot)",
+        "(elliptic and pinn always do; tfi cannot). With --blocks: patch names",
     )
     p.add_argument(
         "--quiet",
@@ -433,9 +432,12 @@ def _run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
         blocks_format(out, args.format, args.extrude)  # refused before meshing
     args.size = DEFAULT_SIZE  # checked by _check_options, unused by multi-block
     _check_options(args)
+    # patch names, not sides: passed to the run, not to the four-sided settings
+    spacing, orthogonal = args.spacing, [args.orthogonal] if args.orthogonal else []
+    args.spacing, args.orthogonal = [], None
     settings = _settings(args, *DEFAULT_SIZE)
     start = time.perf_counter()
-    outcome = job.run_blocks(settings, args.boundary, args.blocks, args.patch)
+    outcome = job.run_blocks(settings, args.boundary, args.blocks, args.patch, spacing, orthogonal)
     report = outcome.result.report
     q, kink = report["quality"], report["interface_kink"]
     if args.fail_on_folded and q["folded_cells"]:
