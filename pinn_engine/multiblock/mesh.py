@@ -1,11 +1,12 @@
 """Mesh a multi-block domain (SPEC 10): linework, blocks, cell counts, nodes, then the
 method (``tfi``: each block's TFI on the shared side nodes; ``elliptic``: Winslow on all
-blocks at once), with the quality figures of every block and of the interfaces."""
+blocks at once; ``pinn``: the elliptic grid, then each block's PINN on its side nodes,
+``network.py``), with the quality figures of every block and of the interfaces."""
 
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -24,6 +25,8 @@ from pinn_engine.settings import MAX_NODES, MULTIBLOCK_METHODS, Settings
 # kink figures (the issue's "two nodes nearest each block corner"): at a corner grid lines
 # of three or more blocks meet and no line runs straight through
 KINK_CORNER_NODES = 2
+
+Progress = Callable[[dict], "bool | str | None"]  # trainer.Progress, without importing torch
 
 
 @dataclass
@@ -69,15 +72,17 @@ def mesh_blocks(
     settings: Settings,
     source: str = "boundary",
     patch_points: Sequence[PatchPoint] = (),
+    progress: Progress | None = None,
 ) -> MultiBlockResult:
     """The multi-block grid of a boundary's ``rings`` (outer and holes) and block
-    ``edges`` (named ``names`` in messages) by ``settings.method`` (tfi or elliptic), cells
-    about ``settings.cell_size`` long (0: the diagonal over 40), interfaces free or fixed;
-    ``patch_points`` name boundary pieces (``patches.py``)."""
+    ``edges`` (named ``names`` in messages) by ``settings.method`` (tfi, elliptic or pinn),
+    cells about ``settings.cell_size`` long (0: the diagonal over 40), interfaces free or
+    fixed; ``patch_points`` name boundary pieces (``patches.py``); ``progress`` hears the
+    pinn's training, block by block (``network.train_blocks``)."""
     if settings.method not in MULTIBLOCK_METHODS:
         raise InputError(
             f"method {settings.method}: multi-block domains are meshed by "
-            f"{' or '.join(MULTIBLOCK_METHODS)} in this build",
+            f"{', '.join(MULTIBLOCK_METHODS[:-1])} or {MULTIBLOCK_METHODS[-1]} in this build",
             source,
         )
     start = time.perf_counter()
@@ -89,9 +94,17 @@ def mesh_blocks(
     patches = block_patches(topo, lay, patch_points)  # refused before the solve, not after
     steps = 0
     points = lay.points
-    if settings.method == "elliptic":
+    if settings.method in ("elliptic", "pinn"):
         points, steps = winslow(topo, lay, settings.interfaces == "free")
     grids = [points[ids] for ids in lay.ids]
+    training = None
+    if settings.method == "pinn":
+        from pinn_engine.multiblock.network import train_blocks  # torch only when training
+
+        grids, training = train_blocks(grids, settings, progress)
+        points = points.copy()
+        for ids, grid in zip(lay.ids, grids):  # shared nodes are equal in every block
+            points[ids] = grid
     cells = [cell_quality(g) for g in grids]
     kinks = interface_kinks(topo, lay, points)
     report = {
@@ -110,6 +123,8 @@ def mesh_blocks(
         "iterations": steps,
         "mesh_seconds": time.perf_counter() - start,
     }
+    if training is not None:
+        report["training"] = training
     return MultiBlockResult(grids, cells, report, patches)
 
 
