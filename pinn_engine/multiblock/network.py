@@ -19,7 +19,7 @@ import time
 import numpy as np
 import torch
 
-from pinn_engine.blocks.quad import QuadProblem, first_steps
+from pinn_engine.blocks.quad import QuadProblem
 from pinn_engine.classical.tfi import node_params, tfi_grid
 from pinn_engine.classical.warm import WarmStart
 from pinn_engine.errors import STOP, TrainingCancelled
@@ -100,7 +100,7 @@ def train_block(
             net.w_out.zero_()
         base = tfi_grid(ArcLengthFit(boundary).sample, ni, nj)
         mapping = Mapping(net, boundary, "hard", WarmStart(unit - base))
-        problem = QuadProblem(mapping, boundary, (), settings, dtype, device, first_steps((ni, nj)))
+        problem = QuadProblem(mapping, boundary, (), settings, dtype, device)
         reference = guard_figures(unit)
         guard = Guard(
             net,
