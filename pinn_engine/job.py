@@ -229,11 +229,13 @@ def run_blocks(
     patches: Sequence[str] = (),
     spacing: Sequence[str] = (),
     orthogonal: Sequence[str] = (),
+    progress: Callable[[dict], bool | str | None] | None = None,
 ) -> BlocksOutcome:
     """Mesh a multi-block domain (SPEC 10) from files: ``boundary`` (outer boundary and
-    holes) and the block-edge files ``edges``, by ``settings.method`` (tfi or elliptic);
-    ``patches``: ``X,Y=NAME[:TYPE]`` items naming boundary pieces; ``spacing``: ``NAME=H``
-    items, ``orthogonal``: ``NAME[,NAME...]`` items, on those patches."""
+    holes) and the block-edge files ``edges``, by ``settings.method`` (tfi, elliptic or
+    pinn); ``patches``: ``X,Y=NAME[:TYPE]`` items naming boundary pieces; ``spacing``:
+    ``NAME=H`` items, ``orthogonal``: ``NAME[,NAME...]`` items, on those patches;
+    ``progress`` hears the pinn's training block by block."""
     from pinn_engine.io.export.vtm import multiblock_dataset
     from pinn_engine.io.fileio import read_aux_lines, read_rings
     from pinn_engine.multiblock.mesh import mesh_blocks
@@ -248,7 +250,14 @@ def run_blocks(
     curves = _flat(rings + [r.points for r in raws], source)
     names = [r.name for r in raws]
     result = mesh_blocks(
-        curves[: len(rings)], curves[len(rings) :], names, settings, source, points, walls
+        curves[: len(rings)],
+        curves[len(rings) :],
+        names,
+        settings,
+        source,
+        points,
+        walls,
+        progress,
     )
     dataset = multiblock_dataset(result.grids, result.cells, result.report, result.patches)
     return BlocksOutcome(result, dataset)

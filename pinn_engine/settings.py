@@ -13,7 +13,7 @@ PRESETS = ("default", "paper")
 OBJECTIVES = ("winslow", "quality")  # SPEC 7, --objective (pinn)
 TOPOLOGIES = ("none", "o", "c")  # SPEC 9: a four-sided domain, an O-grid or a C-grid
 BODY_METHODS = ("pinn", "tfi", "elliptic")  # the methods of O- and C-grids
-MULTIBLOCK_METHODS = ("tfi", "elliptic")  # SPEC 10's methods in this build (pinn to come)
+MULTIBLOCK_METHODS = ("tfi", "elliptic", "pinn")  # SPEC 10's methods in this build
 # Grid sizes accepted on every route (command line, filter and panel, pyvista, Mesher)
 MAX_SIDE_NODES = 20_000
 MAX_NODES = 4_000_000  # about 1.5 GB of memory while meshing and writing

@@ -67,14 +67,14 @@ def test_topology_errors(tmp_path, capsys, ring, edges, expected):
     assert not out.exists() and not (tmp_path / "grid").exists()
 
 
-def test_pinn_is_refused_and_elliptic_is_the_default(tmp_path, capsys):
-    """The network's multi-block kind is not in this build: --method pinn says which
-    methods work; without --method the grid is the elliptic one."""
-    assert _run(tmp_path, EXAMPLE_RUNS["lshape"], "--method", "pinn")[0] == 2
+def test_mgnet_is_refused_and_pinn_is_the_default(tmp_path, capsys):
+    """MGNet has no multi-block kind: --method mgnet says which methods work; without
+    --method the grid is the pinn's."""
+    assert _run(tmp_path, EXAMPLE_RUNS["lshape"], "--method", "mgnet")[0] == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "tfi or elliptic" in err
+    assert err.count("\n") == 1 and "tfi, elliptic or pinn" in err
     code, grid = _run(tmp_path, EXAMPLE_RUNS["lshape"])
-    assert code == 0 and str(grid[0].field_data["Method"][0]) == "elliptic"
+    assert code == 0 and str(grid[0].field_data["Method"][0]) == "pinn"
 
 
 def _sides(block: pv.StructuredGrid):
@@ -104,7 +104,7 @@ def interface_kinks(grid: pv.MultiBlock, corner_nodes: int = 2) -> np.ndarray:
 
 
 @pytest.mark.parametrize("name", sorted(EXAMPLE_RUNS))
-@pytest.mark.parametrize("method", ["tfi", "elliptic"])
+@pytest.mark.parametrize("method", ["tfi", "elliptic", "pinn"])
 def test_examples_have_no_folds_and_shared_nodes(tmp_path, name, method):
     """No folded cell; a node on a side shared by two blocks is the same point in both:
     side nodes closer than 1e-9 are equal, and every side node off the boundary is in at

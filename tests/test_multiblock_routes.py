@@ -15,6 +15,7 @@ from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
 from pinn_engine.errors import InputError
 from pinn_engine.job import run_blocks
+from pinn_engine.routes.cli import BLOCKS_METHOD
 from pinn_engine.routes.multiblock_algorithm import PinnMultiBlockAlgorithm, folded_warning
 from pinn_engine.settings import make_settings
 
@@ -30,7 +31,7 @@ def _read(name: str):
     return reader.GetOutput()
 
 
-def _cli_grids(example: str, method: str = "elliptic", interfaces: str = "free"):
+def _cli_grids(example: str, method: str = BLOCKS_METHOD, interfaces: str = "free"):
     settings = make_settings(method, cell_size=CELL_SIZE, interfaces=interfaces)
     return run_blocks(settings, DATA / f"{example}.vtp", [DATA / f"{example}_blocks.vtp"])
 

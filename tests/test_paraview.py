@@ -329,12 +329,13 @@ def test_multiblock_filter_on_the_step(checkout):
     assert result["menu_category"] == "Mesh Generation"
     assert 20 < len(result["help"][0]) < len(result["help"][1])
     assert set(result["properties"]) == {"Input", "BlockEdges", "Method", "CellSize", "Interfaces"}
-    assert result["methods"] == ["tfi", "elliptic"] and result["interfaces"] == ["free", "fixed"]
+    assert result["methods"] == ["tfi", "elliptic", "pinn"]
+    assert result["interfaces"] == ["free", "fixed"]
     assert result["class"] == "vtkMultiBlockDataSet" and result["progress"] == [0.0, 1.0]
     assert not result["together_messages"]
     boundary, edges = ROOT / "example_data" / "step.vtp", ROOT / "example_data" / "step_blocks.vtp"
     for key, method, interfaces in (
-        ("together", "elliptic", "free"),
+        ("together", "pinn", "free"),
         ("apart_tfi", "tfi", "fixed"),
     ):
         blocks = result[key]

@@ -1,11 +1,12 @@
 """Mesh a multi-block domain (SPEC 10): linework, blocks, cell counts, nodes, then the
 method (``tfi``: each block's TFI on the shared side nodes; ``elliptic``: Winslow on all
-blocks at once), with the quality figures of every block and of the interfaces."""
+blocks at once; ``pinn``: the elliptic grid, then each block's PINN on its side nodes,
+``network.py``), with the quality figures of every block and of the interfaces."""
 
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,6 +28,8 @@ from pinn_engine.settings import MAX_NODES, MULTIBLOCK_METHODS, Settings
 # kink figures (the issue's "two nodes nearest each block corner"): at a corner grid lines
 # of three or more blocks meet and no line runs straight through
 KINK_CORNER_NODES = 2
+
+Progress = Callable[[dict], "bool | str | None"]  # trainer.Progress, without importing torch
 
 
 @dataclass
@@ -73,16 +76,18 @@ def mesh_blocks(
     source: str = "boundary",
     patch_points: Sequence[PatchPoint] = (),
     walls: Walls | None = None,
+    progress: Progress | None = None,
 ) -> MultiBlockResult:
     """The multi-block grid of a boundary's ``rings`` (outer and holes) and block
-    ``edges`` (named ``names`` in messages) by ``settings.method`` (tfi or elliptic), cells
-    about ``settings.cell_size`` long (0: the diagonal over 40), interfaces free or fixed;
-    ``patch_points`` name boundary pieces (``patches.py``); ``walls``: spacing and
-    orthogonality on patches (``spacing.py``, ``orthogonal.py``), after the method."""
+    ``edges`` (named ``names`` in messages) by ``settings.method`` (tfi, elliptic or pinn),
+    cells about ``settings.cell_size`` long (0: the diagonal over 40), interfaces free or
+    fixed; ``patch_points`` name boundary pieces (``patches.py``); ``walls``: spacing and
+    orthogonality on patches (``spacing.py``, ``orthogonal.py``), after the method;
+    ``progress`` hears the pinn's training, block by block (``network.train_blocks``)."""
     if settings.method not in MULTIBLOCK_METHODS:
         raise InputError(
             f"method {settings.method}: multi-block domains are meshed by "
-            f"{' or '.join(MULTIBLOCK_METHODS)} in this build",
+            f"{', '.join(MULTIBLOCK_METHODS[:-1])} or {MULTIBLOCK_METHODS[-1]} in this build",
             source,
         )
     start = time.perf_counter()
@@ -99,8 +104,17 @@ def mesh_blocks(
     check_room(lay.points, asked, walls.spacing)
     steps = 0
     points = lay.points
-    if settings.method == "elliptic":
+    if settings.method in ("elliptic", "pinn"):
         points, steps = winslow(topo, lay, settings.interfaces == "free")
+    training = None
+    if settings.method == "pinn":
+        from pinn_engine.multiblock.network import train_blocks  # torch only when training
+
+        grids, training = train_blocks([points[ids] for ids in lay.ids], settings, progress)
+        points = points.copy()
+        for ids, grid in zip(lay.ids, grids):  # shared nodes are equal in every block
+            points[ids] = grid
+    # spacing and orthogonality on patches last: no solve or training moves them after
     points = respace(points, asked)
     if walls.orthogonal:
         points = orthogonal(points, sides, walls.orthogonal, boundary_neighbours(topo, lay))
@@ -124,6 +138,8 @@ def mesh_blocks(
         "walls": wall_report(points, sides),
         "mesh_seconds": time.perf_counter() - start,
     }
+    if training is not None:
+        report["training"] = training
     return MultiBlockResult(grids, cells, report, patches)
 
 

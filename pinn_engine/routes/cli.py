@@ -36,7 +36,7 @@ from pinn_engine.settings import (
 FORMAT_KEYS = ("vts", "vtk", "xyz", "cgns", "su2", "msh", "openfoam")  # export.FORMATS
 
 DEFAULT_SIZE = (41, 21)  # nodes along xi and eta of a four-sided grid (SPEC 5)
-BLOCKS_METHOD = "elliptic"  # multi-block's default: its pinn is not in this build
+BLOCKS_METHOD = "pinn"  # multi-block's default (SPEC 10)
 # Options of four-sided domains and bodies that a multi-block run refuses (SPEC 10)
 NOT_FOR_BLOCKS = (
     "aux", "size", "corners", "topology", "naca", "farfield", "save_model", "load_model",
@@ -80,13 +80,13 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="EDGES",
         help="block edges (.vtp/.vtk, several open polylines a file; repeatable): mesh a "
         "multi-block domain (SPEC 10) into OUT.vtm; with --cell-size, --interfaces, "
-        "--method tfi or elliptic (the default there)",
+        "--method pinn (the default), elliptic or tfi",
     )
     p.add_argument(
         "--method",
         choices=METHODS,
         default=None,
-        help="default pinn; elliptic with --blocks",
+        help="default pinn (with --blocks too: pinn, elliptic or tfi)",
     )
     p.add_argument(
         "--size",
@@ -402,6 +402,18 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     return _write_outputs(args, outcome, out, written, source, picture)
 
 
+def _trained(report: dict) -> str:
+    """The multi-block pinn's training in the summary: in how many blocks the network's
+    grid was kept (the elliptic block elsewhere) and the training's seconds."""
+    training = report.get("training")
+    if training is None:
+        return ""
+    return (
+        f"; the network's grid kept in {training['network_blocks']} of {report['blocks']} "
+        f"blocks, the elliptic grid elsewhere ({training['seconds']:.2f} s training)"
+    )
+
+
 def _run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
     """A multi-block run (SPEC 10): the boundary and its block edges into ``OUT.vtm``."""
     from pinn_engine import job
@@ -421,7 +433,8 @@ def _run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
     if args.method not in MULTIBLOCK_METHODS:
         raise PinnMeshError(
             f"--method {args.method}: multi-block domains are meshed by "
-            f"{' or '.join(MULTIBLOCK_METHODS)} in this build (default {BLOCKS_METHOD})"
+            f"{', '.join(MULTIBLOCK_METHODS[:-1])} or {MULTIBLOCK_METHODS[-1]} in this build "
+            f"(default {BLOCKS_METHOD})"
         )
     suffix = "" if args.format == "openfoam" else f".{args.format or 'vtm'}"
     out = Path(args.output or f"out/{Path(args.boundary).stem}_{args.method}{suffix}")
@@ -437,7 +450,13 @@ def _run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
     args.spacing, args.orthogonal = [], None
     settings = _settings(args, *DEFAULT_SIZE)
     start = time.perf_counter()
-    outcome = job.run_blocks(settings, args.boundary, args.blocks, args.patch, spacing, orthogonal)
+    progress = _Progress(args.quiet)
+    try:
+        outcome = job.run_blocks(
+            settings, args.boundary, args.blocks, args.patch, spacing, orthogonal, progress
+        )
+    finally:
+        progress.close()
     report = outcome.result.report
     q, kink = report["quality"], report["interface_kink"]
     if args.fail_on_folded and q["folded_cells"]:
@@ -451,7 +470,7 @@ def _run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
             f"{time.perf_counter() - start:.2f} s: mean MaxIncludedAngle "
             f"{q['mean_max_angle']:.2f}, worst {q['worst_max_angle']:.2f} deg, "
             f"{q['folded_cells']} folded cells; grid lines cross interfaces with kinks of "
-            f"{kink['mean']:.2f} deg mean, {kink['max']:.2f} max",
+            f"{kink['mean']:.2f} deg mean, {kink['max']:.2f} max{_trained(report)}",
             file=sys.stderr,
             flush=True,
         )

@@ -99,8 +99,8 @@ class PinnMultiBlockAlgorithm(VTKPythonAlgorithmBase):
     Settings (each setter calls ``Modified()`` when the value changes; values are checked at
     the next update against ``settings.PARAMETER_CONSTRAINTS``):
 
-    * ``SetMethod("tfi"|"elliptic")`` (or its index in ``MULTIBLOCK_METHODS``), default
-      elliptic: Winslow on all blocks at once
+    * ``SetMethod("tfi"|"elliptic"|"pinn")`` (or its index in ``MULTIBLOCK_METHODS``),
+      default pinn: each block's PINN on the elliptic grid (Winslow on all blocks at once)
     * ``SetCellSize(h)``: cell length in the boundary's units; 0 (default): the diagonal / 40
     * ``SetInterfaces("free"|"fixed")`` (or 0/1): interface nodes solved like interior nodes,
       or kept on the drawn edges
@@ -206,9 +206,17 @@ class PinnMultiBlockAlgorithm(VTKPythonAlgorithmBase):
         ]
         rings, edges, names = curves_of(ports[0], ports[1])
         curves = _flat(rings + edges, "input")
-        result = mesh_blocks(curves[: len(rings)], curves[len(rings) :], names, settings, "input")
+        result = mesh_blocks(
+            curves[: len(rings)], curves[len(rings) :], names, settings, "input", (), self._block
+        )
         dataset = multiblock_dataset(result.grids, result.cells, result.report)
         return dataset, result.report
+
+    def _block(self, info: dict) -> None:
+        """The pinn's progress block by block (``multiblock.network``) on the bar, the
+        elliptic grid before it at 0."""
+        if info["phase"] == "prepare":
+            self._progress(info["step"] / info["total"], info["stage"])
 
     def _progress(self, fraction: float, phase: str) -> None:
         """Progress with the filter's name and the phase as its text (ParaView's bar)."""

@@ -309,8 +309,9 @@ def pinn_mesh_blocks(
         boundary, a hole or another edge.
     cell_size : float, optional
         Cell length in the boundary's units (default: the diagonal / 40).
-    method : {"elliptic", "tfi"}, optional
-        Winslow on all blocks at once (default) or each block's TFI.
+    method : {"pinn", "elliptic", "tfi"}, optional
+        Each block's PINN on the elliptic grid, kept where no worse (default); Winslow on
+        all blocks at once; or each block's TFI.
     interfaces : {"free", "fixed"}, optional
         Interface nodes solved like interior nodes (default) or kept on the drawn edges.
 
@@ -452,7 +453,7 @@ class PinnMeshAccessor:
 
         ``blocks``: block edges (PolyData or a list): this PolyData's closed polylines are
         then the outer boundary and holes of a multi-block domain, and the keywords those of
-        :func:`pinn_mesh_blocks` (``cell_size``, ``method``: elliptic or tfi,
+        :func:`pinn_mesh_blocks` (``cell_size``, ``method``: pinn, elliptic or tfi,
         ``interfaces``); returns a ``pyvista.MultiBlock``.
         """
         if blocks is not None:
