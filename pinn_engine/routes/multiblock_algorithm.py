@@ -207,7 +207,12 @@ class PinnMultiBlockAlgorithm(VTKPythonAlgorithmBase):
         rings, edges, names = curves_of(ports[0], ports[1])
         curves = _flat(rings + edges, "input")
         result = mesh_blocks(
-            curves[: len(rings)], curves[len(rings) :], names, settings, "input", (), self._block
+            curves[: len(rings)],
+            curves[len(rings) :],
+            names,
+            settings,
+            "input",
+            progress=self._block,
         )
         dataset = multiblock_dataset(result.grids, result.cells, result.report)
         return dataset, result.report
