@@ -24,7 +24,7 @@ from conftest import EXAMPLES
 from pinn_engine.batch import mesh_many, read_manifest
 from pinn_engine.batch.cluster import connect
 from pinn_engine.batch.progress import Bar
-from pinn_engine.routes.cli import main
+from pinn_engine.command import main
 
 TFI = "--method tfi --size 11 7"
 CASES = (  # name, input, aux, options: every status, one quick pinn among them

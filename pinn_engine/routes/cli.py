@@ -596,10 +596,6 @@ def main(argv: list[str] | None = None) -> int:
     to see its traceback instead.
     """
     argv = sys.argv[1:] if argv is None else argv
-    if argv[:1] == ["batch"]:  # `pinn-mesh batch MANIFEST ...` (SPEC 12)
-        from pinn_engine.batch.cli import main as batch
-
-        return batch(argv[1:])
     args = build_parser().parse_args(argv)
     heap.tune_process()  # this process is ours: glibc's heap tuned for training and meshing
     previous = signal.signal(signal.SIGTERM, _raise_interrupt)
