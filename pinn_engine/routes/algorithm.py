@@ -46,6 +46,7 @@ from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 from pinn_engine.cache import MeshCache
 from pinn_engine.errors import STOP, grid_warnings
+from pinn_engine.routes.filters import LineInputs, choice
 from pinn_engine.routes.reporting import announce, message_of
 from pinn_engine.settings import (
     METHODS,
@@ -71,19 +72,7 @@ def _warning(report: dict) -> str | None:
     return "; ".join(text for text, _ in grid_warnings(report, "paraview")) or None
 
 
-def _choice(value, options: tuple[str, ...], what: str) -> str:
-    """Accept a name or an index into ``options`` (ParaView enumerations send indices)."""
-    if isinstance(value, (int, np.integer)) and not isinstance(value, bool):
-        if 0 <= int(value) < len(options):
-            return options[int(value)]
-        raise ValueError(f"{what} index {value} out of range 0..{len(options) - 1}")
-    name = str(value).strip().lower()
-    if name not in options:
-        raise ValueError(f"unknown {what} {value!r}; use one of {', '.join(options)}")
-    return name
-
-
-class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
+class PinnMeshAlgorithm(LineInputs, VTKPythonAlgorithmBase):
     """Structured quadrilateral grid of a four-sided boundary (pinn, mgnet, tfi, elliptic).
 
     Settings (each setter calls ``Modified()`` when the value changes):
@@ -135,22 +124,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         self._failed: tuple | None = None  # stamp of the inputs/settings of a failed update
         self._stop_signal: int | None = None  # a stop signal received during training
 
-    # ---- ports -------------------------------------------------------------------------
-    def FillInputPortInformation(self, port, info):
-        """Port 0: the boundary, or the boundary and auxiliary lines together (ParaView's
-        GUI connects every selected source there); port 1: more auxiliary lines."""
-        info.Set(self.INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData")
-        info.Set(self.INPUT_IS_REPEATABLE(), 1)
-        if port == 1:
-            info.Set(self.INPUT_IS_OPTIONAL(), 1)
-        return 1
-
     # ---- settings ----------------------------------------------------------------------
-    def _set(self, attr: str, value) -> None:
-        if getattr(self, attr) != value:
-            setattr(self, attr, value)
-            self.Modified()
-
     def _set_override(self, name: str, value) -> None:
         current = self._overrides.get(name)
         if value is None:
@@ -162,13 +136,13 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
             self.Modified()
 
     def SetMethod(self, method) -> None:
-        self._set("_method", _choice(method, METHODS, "method"))
+        self._set("_method", choice(method, METHODS, "method"))
 
     def GetMethod(self) -> str:
         return self._method
 
     def SetPreset(self, preset) -> None:
-        self._set("_preset", _choice(preset, PRESETS, "preset"))
+        self._set("_preset", choice(preset, PRESETS, "preset"))
 
     def GetPreset(self) -> str:
         return self._preset
@@ -235,7 +209,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
     def SetObjective(self, objective) -> None:
         """The pinn's objective: winslow or quality (or its index); None: the preset's."""
         self._set_override(
-            "objective", None if objective is None else _choice(objective, OBJECTIVES, "objective")
+            "objective", None if objective is None else choice(objective, OBJECTIVES, "objective")
         )
 
     def SetPanelSetting(self, name: str, value) -> None:
@@ -248,7 +222,7 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
         """A value used only while ``preset`` is chosen (the panel's per-preset fields, such as
         Adam Epochs and Paper Adam Epochs, so that the panel shows what runs); one equal to
         the preset's own value, or None, is no override."""
-        preset = _choice(preset, PRESETS, "preset")
+        preset = choice(preset, PRESETS, "preset")
         if name not in Settings.__dataclass_fields__:
             raise ValueError(f"unknown setting {name!r}")
         if value is not None and value == getattr(make_settings("pinn", preset), name):
@@ -294,8 +268,8 @@ class PinnMeshAlgorithm(VTKPythonAlgorithmBase):
 
     def SetTopology(self, topology) -> None:
         """ "none" (a four-sided domain), "o" (O-grid) or "c" (C-grid), or 0, 1, 2."""
-        choice = _choice(topology, TOPOLOGIES, "topology")
-        self._set_override("topology", None if choice == "none" else choice)
+        kind = choice(topology, TOPOLOGIES, "topology")
+        self._set_override("topology", None if kind == "none" else kind)
 
     def GetTopology(self) -> str:
         return self._overrides.get("topology", "none")

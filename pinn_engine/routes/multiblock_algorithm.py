@@ -32,8 +32,8 @@ from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
 from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkPolyData
 
 from pinn_engine.errors import ROUTE_WORDS, InputError
-from pinn_engine.routes.algorithm import _choice
 from pinn_engine.routes.cli import BLOCKS_METHOD
+from pinn_engine.routes.filters import LineInputs, choice
 from pinn_engine.routes.reporting import announce, message_of
 from pinn_engine.settings import MULTIBLOCK_METHODS, PARAMETER_CONSTRAINTS, Settings, make_settings
 
@@ -93,7 +93,7 @@ def folded_warning(report: dict, route: str) -> str | None:
     return f"{folded} of {report['cells']} cells {verb} folded; try {fix}"
 
 
-class PinnMultiBlockAlgorithm(VTKPythonAlgorithmBase):
+class PinnMultiBlockAlgorithm(LineInputs, VTKPythonAlgorithmBase):
     """Multi-block structured grid (SPEC 10) of a boundary, its holes and block edges.
 
     Settings (each setter calls ``Modified()`` when the value changes; values are checked at
@@ -118,23 +118,9 @@ class PinnMultiBlockAlgorithm(VTKPythonAlgorithmBase):
         self._last_error = self._last_warning = ""
         self._exception: Exception | None = None
 
-    def FillInputPortInformation(self, port, info):
-        """Port 0: the boundary and holes, with block edges selected together with them;
-        port 1: more block edges (optional)."""
-        info.Set(self.INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData")
-        info.Set(self.INPUT_IS_REPEATABLE(), 1)
-        if port == 1:
-            info.Set(self.INPUT_IS_OPTIONAL(), 1)
-        return 1
-
     # ---- settings ----------------------------------------------------------------------
-    def _set(self, attr: str, value) -> None:
-        if getattr(self, attr) != value:
-            setattr(self, attr, value)
-            self.Modified()
-
     def SetMethod(self, method) -> None:
-        self._set("_method", _choice(method, MULTIBLOCK_METHODS, "method"))
+        self._set("_method", choice(method, MULTIBLOCK_METHODS, "method"))
 
     def GetMethod(self) -> str:
         return self._method
@@ -146,7 +132,7 @@ class PinnMultiBlockAlgorithm(VTKPythonAlgorithmBase):
         return self._cell_size
 
     def SetInterfaces(self, interfaces) -> None:
-        self._set("_interfaces", _choice(interfaces, INTERFACES, "interfaces"))
+        self._set("_interfaces", choice(interfaces, INTERFACES, "interfaces"))
 
     def GetInterfaces(self) -> str:
         return self._interfaces
