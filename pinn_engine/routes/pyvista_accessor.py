@@ -273,9 +273,18 @@ def pinn_mesh(
     alg.SetCorners(corners)
     if patches is not None:
         alg.SetPatchNames(patches)
+    _run(alg, lambda: _boundary_polydata(boundary, config, farfield is not None), aux)
+    grid = pv.wrap(alg.GetOutput())
+    _warn_about(json.loads(grid.field_data["Report"][0]))
+    return grid
+
+
+def _run(alg, boundary: Callable[[], vtkPolyData], lines) -> None:
+    """Give a filter the ``boundary`` (port 0) and the ``lines`` (port 1: auxiliary lines or
+    block edges), run it and raise its error in pyvista's words."""
     try:
-        alg.SetInputDataObject(0, _boundary_polydata(boundary, config, farfield is not None))
-        for poly in _aux_list(aux):
+        alg.SetInputDataObject(0, boundary())
+        for poly in _aux_list(lines):
             alg.AddInputDataObject(1, poly)
     except InputError as exc:
         raise exc.for_route("pyvista") from None
@@ -283,9 +292,6 @@ def pinn_mesh(
     error = alg.GetLastException()
     if error is not None:
         raise error.for_route("pyvista") if isinstance(error, InputError) else error
-    grid = pv.wrap(alg.GetOutput())
-    _warn_about(json.loads(grid.field_data["Report"][0]))
-    return grid
 
 
 def pinn_mesh_blocks(
@@ -341,16 +347,7 @@ def pinn_mesh_blocks(
         if value is not None:
             setter(value)
     alg.GetSettings()  # ValueError for bad settings, before any input is read
-    try:
-        alg.SetInputDataObject(0, _as_polydata(boundary, closed=True, what="boundary"))
-        for poly in _aux_list(blocks):
-            alg.AddInputDataObject(1, poly)
-    except InputError as exc:
-        raise exc.for_route("pyvista") from None
-    alg.Update()
-    error = alg.GetLastException()
-    if error is not None:
-        raise error.for_route("pyvista") if isinstance(error, InputError) else error
+    _run(alg, lambda: _as_polydata(boundary, closed=True, what="boundary"), blocks)
     out = pv.wrap(alg.GetOutput())
     report = json.loads(out[0].field_data["Report"][0])["multiblock"]
     warning = folded_warning(report, "pyvista")
