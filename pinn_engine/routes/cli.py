@@ -52,6 +52,15 @@ def _options(name: str) -> tuple:
     return PARAMETER_CONSTRAINTS[name].values
 
 
+class _SizeAction(argparse.Action):
+    """``--size`` takes NI NJ (2D) or NI NJ NK (a six-faced surface), nothing else."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        if len(values) not in (2, 3):
+            parser.error(f"argument {option_string}: expected NI NJ or NI NJ NK")
+        setattr(namespace, self.dest, values)
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="pinn-mesh",
@@ -94,6 +103,7 @@ def build_parser() -> argparse.ArgumentParser:
         nargs="+",
         type=int,
         default=None,
+        action=_SizeAction,
         metavar="N",
         help="nodes along xi and eta (default 41 21); NI NJ NK for a six-faced surface "
         "with a FaceId array (default 21 21 21)",
