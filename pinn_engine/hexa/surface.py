@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from collections import defaultdict
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -16,6 +17,7 @@ from pinn_engine.errors import InputError
 FACES = 6  # a hexahedral block has six faces
 CORNERS = 8  # ... eight corners
 SIDES = 4  # ... and each face has four sides
+FACE_ARRAY = b"FaceId"  # the cell array that tags the six faces (SPEC 11)
 MERGE_DIGITS = 9  # points closer than 1e-9 of the surface's size are one (files repeat them)
 
 
@@ -39,27 +41,26 @@ class Topology:
 
 
 def is_faced_surface(path: str) -> bool:
-    """Whether ``path`` is a .vtp/.vtk surface with a FaceId cell array (a 3D domain)."""
+    """Whether ``path`` is a .vtp/.vtk file naming a FaceId array (a 3D domain): a scan of
+    its bytes, since VTK files write array names as text and a damaged file must not be
+    parsed here (the 2D reader reports it)."""
     if not str(path).lower().endswith((".vtp", ".vtk")):
         return False
-    import pyvista as pv
-
     try:
-        return "FaceId" in pv.read(path).cell_data
-    except (OSError, ValueError):
+        with open(path, "rb") as f:
+            return FACE_ARRAY in f.read()
+    except OSError:
         return False
 
 
 def read_surface(path: str) -> Surface:
-    """The triangles and FaceId of a .vtp/.vtk surface, with coincident points merged."""
+    """The triangles and FaceId of a .vtp/.vtk surface, with coincident points merged; read
+    as the 2D boundaries are (a damaged file is a one-line error)."""
     import pyvista as pv
 
-    try:
-        data = pv.read(path)
-    except (OSError, ValueError) as exc:
-        raise InputError(f"cannot read the surface ({exc})", path) from None
-    if not isinstance(data, pv.PolyData):
-        data = data.extract_surface()
+    from pinn_engine.io.fileio import read_polydata
+
+    data = pv.wrap(read_polydata(Path(path)))
     if "FaceId" not in data.cell_data:
         raise InputError("no FaceId cell array: tag each of the six faces", path)
     data = data.triangulate()
