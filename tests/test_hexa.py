@@ -159,3 +159,9 @@ def test_a_rotated_surface_still_gives_a_right_handed_grid(tmp_path, angles):
     assert _corner_sums(g).argmin() == 0
     leaving = [g[-1, 0, 0], g[0, -1, 0], g[0, 0, -1]] - g[0, 0, 0]
     assert (leaving / np.linalg.norm(leaving, axis=1, keepdims=True))[:, 0].argmax() == 0
+
+
+def test_a_legacy_vtk_surface_gives_the_same_grid(tmp_path):
+    legacy = _write(pv.read(DATA / "hexa_bend.vtp"), tmp_path, "bend.vtk")
+    a = mesh_surface(legacy, SIZE, "tfi").grid
+    np.testing.assert_allclose(a, mesh_surface(str(DATA / "hexa_bend.vtp"), SIZE, "tfi").grid)
