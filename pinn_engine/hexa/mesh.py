@@ -121,4 +121,5 @@ def summary(result: HexResult, method: str) -> str:
         f"{result.seconds:.2f} s: {int(c['Folded'].sum())} folded, min ScaledJacobian "
         f"{c['ScaledJacobian'].min():.3f}, mean MaxIncludedAngle "
         f"{c['MaxIncludedAngle'].mean():.2f} deg, worst {c['MaxIncludedAngle'].max():.2f} deg"
+        + (f" ({result.iterations} Picard steps)" if result.iterations else "")
     )
