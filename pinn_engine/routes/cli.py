@@ -18,6 +18,7 @@ from pinn_engine.errors import (
     grid_warnings,
     network_effect,
 )
+from pinn_engine.hexa.surface import is_faced_surface
 from pinn_engine.settings import (
     METHODS,
     MULTIBLOCK_METHODS,
@@ -49,6 +50,15 @@ DEVICE_NAMES = re.compile(r"^(auto|cpu|mps|cuda(:\d+)?)$")
 
 def _options(name: str) -> tuple:
     return PARAMETER_CONSTRAINTS[name].values
+
+
+class _SizeAction(argparse.Action):
+    """``--size`` takes NI NJ (2D) or NI NJ NK (a six-faced surface), nothing else."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        if len(values) not in (2, 3):
+            parser.error(f"argument {option_string}: expected NI NJ or NI NJ NK")
+        setattr(namespace, self.dest, values)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -90,11 +100,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--size",
-        nargs=2,
+        nargs="+",
         type=int,
         default=None,
-        metavar=("NI", "NJ"),
-        help="nodes along xi and eta (default 41 21)",
+        action=_SizeAction,
+        metavar="N",
+        help="nodes along xi and eta (default 41 21); NI NJ NK for a six-faced surface "
+        "with a FaceId array (default 21 21 21)",
     )
     p.add_argument("--seed", type=int, default=None)
     p.add_argument(
@@ -351,8 +363,15 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     written = written if written is not None else []
     if args.blocks:
         return _run_blocks(args, written)
+    if args.boundary and is_faced_surface(args.boundary):
+        return _run_hexa(args, written)
     args.method = args.method or "pinn"
     args.size = args.size or DEFAULT_SIZE
+    if len(args.size) != len(DEFAULT_SIZE):
+        raise PinnMeshError(
+            f"--size {' '.join(map(str, args.size))}: a 2D domain takes NI NJ "
+            "(NI NJ NK is for a six-faced surface with a FaceId array)"
+        )
     body = bool(args.topology or args.naca or (args.boundary or "").lower().endswith(".dat"))
     _check_inputs(args, body)
     name = f"naca{args.naca}" if args.naca else Path(args.boundary).stem
@@ -400,6 +419,36 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
 
     source = name if body else args.boundary
     return _write_outputs(args, outcome, out, written, source, picture)
+
+
+def _run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
+    """A six-faced 3D domain (SPEC 11): the surface's hexahedral grid into ``OUT.vts``."""
+    from pinn_engine.hexa.mesh import HEXA_METHOD, HEXA_SIZE, mesh_surface, summary, write_vts
+
+    defaults = vars(build_parser().parse_args([]))
+    allowed = {"boundary", "method", "size", "output", "quiet"}
+    flags = _flags()
+    for name, value in vars(args).items():
+        if name not in allowed and value != defaults.get(name):
+            raise PinnMeshError(
+                f"{flags.get(name, name)} applies to 2D domains, not to six-faced surfaces "
+                "in this build"
+            )
+    method = args.method or HEXA_METHOD
+    size = tuple(args.size or HEXA_SIZE)
+    if len(size) != len(HEXA_SIZE):
+        raise PinnMeshError(
+            f"--size {' '.join(map(str, size))}: a six-faced surface takes NI NJ NK"
+        )
+    out = Path(args.output or f"out/{Path(args.boundary).stem}_{method}.vts")
+    if out.suffix.lower() != ".vts":
+        raise PinnMeshError(f"{out}: hexahedral grids are written as .vts in this build")
+    result = mesh_surface(args.boundary, size, method)
+    write_vts(result, out, method)
+    written.append(out)
+    if not args.quiet:
+        print(summary(result, method))
+    return out
 
 
 def _trained(report: dict) -> str:
