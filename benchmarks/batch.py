@@ -115,8 +115,8 @@ def table(figures: dict) -> str:
         )
     lines += [
         "",
-        f"Per case, the 1-worker batch takes {(one['wall'] - figures['single']) / n:+.2f} s "
-        "against a single command (it starts Python, torch and VTK once, not once a case; "
+        f"Per case, the 1-worker batch takes {(figures['single'] - one['wall']) / n:.2f} s "
+        "less than a single command (it starts Python, torch and VTK once, not once a case; "
         "the `pinn-mesh batch` command adds its own start, about 2 s, once a batch). "
         "Every batch grid is the single command's grid node for node: "
         f"{'yes' if figures['same_grids'] else 'NO'}; the two batches' summaries agree "
