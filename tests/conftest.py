@@ -23,6 +23,14 @@ needs_compiler = pytest.mark.skipif(
 )
 
 
+def foam_env() -> dict[str, str]:
+    """The environment OpenFOAM's commands run in (Debian's openfoam package keeps its etc/
+    files under /usr/share/openfoam; elsewhere its etc/bashrc sets WM_PROJECT_DIR)."""
+    env = dict(os.environ)
+    env.setdefault("WM_PROJECT_DIR", "/usr/share/openfoam")
+    return env
+
+
 def square_ring(n: int = 10, size: float = 1.0) -> np.ndarray:
     """Counter-clockwise square with ``n`` segments per side, starting at (0, 0)."""
     t = np.linspace(0, size, n + 1)[:-1]

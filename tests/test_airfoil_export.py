@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import os
 import re
 import shutil
 import subprocess
 
 import numpy as np
 import pytest
+from conftest import foam_env
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 from pinn_engine.bodies.airfoil import circle, load_body
@@ -181,11 +181,9 @@ def test_openfoam_joins_the_seam_or_cut(case, tmp_path):
     sides = faces["wall"] + faces["farfield"] + (2 * (nj - 1) if topology == "c" else 0)
     assert len(neighbour) == (4 * n_cells - sides) // 2
     if shutil.which("checkMesh"):
-        env = dict(os.environ)
-        env.setdefault("WM_PROJECT_DIR", "/usr/share/openfoam")  # Debian's openfoam package
         proc = subprocess.run(
             ["checkMesh", "-case", str(mesh.parents[1])],
-            env=env,
+            env=foam_env(),
             capture_output=True,
             text=True,
             timeout=300,

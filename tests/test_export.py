@@ -7,7 +7,6 @@ for the CGNS tree, Gmsh's own API, a parse of the SU2 text and OpenFOAM's ``chec
 
 from __future__ import annotations
 
-import os
 import re
 import shutil
 import subprocess
@@ -15,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES, OutputMessages, wavy_ring
+from conftest import EXAMPLES, OutputMessages, foam_env, wavy_ring
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkIOLegacy import vtkStructuredGridReader
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader, vtkXMLStructuredGridReader
@@ -260,10 +259,12 @@ def check_gmsh(path: Path, reference: np.ndarray, thickness: float | None) -> No
 
 
 def check_mesh(case: Path) -> str:
-    env = dict(os.environ)
-    env.setdefault("WM_PROJECT_DIR", "/usr/share/openfoam")  # Debian's openfoam package
     proc = subprocess.run(
-        ["checkMesh", "-case", str(case)], capture_output=True, text=True, env=env, timeout=300
+        ["checkMesh", "-case", str(case)],
+        capture_output=True,
+        text=True,
+        env=foam_env(),
+        timeout=300,
     )
     return proc.stdout + proc.stderr
 

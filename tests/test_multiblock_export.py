@@ -10,7 +10,7 @@ import subprocess
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES
+from conftest import EXAMPLES, foam_env
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 from pinn_engine import job
@@ -291,14 +291,6 @@ def test_a_side_that_meets_no_node_is_refused(dataset, tmp_path):
     assert not (tmp_path / "grid.su2").exists()
 
 
-def _foam_env() -> dict[str, str]:
-    import os
-
-    env = dict(os.environ)
-    env.setdefault("WM_PROJECT_DIR", "/usr/share/openfoam")  # Debian's openfoam package
-    return env
-
-
 NO_FOAM = "OpenFOAM's {} is missing (apt-get install openfoam; .ci/run installs it)"
 
 
@@ -310,7 +302,7 @@ def test_openfoam_case_passes_checkmesh(dataset, blocks, tmp_path):
     if shutil.which("checkMesh") is None:
         pytest.skip(NO_FOAM.format("checkMesh"))
     proc = subprocess.run(
-        ["checkMesh", "-case", str(case)], capture_output=True, text=True, env=_foam_env()
+        ["checkMesh", "-case", str(case)], capture_output=True, text=True, env=foam_env()
     )
     assert "Mesh OK." in proc.stdout, proc.stdout[-3000:]
     assert re.search(r"cells:\s+4000\b", proc.stdout)
@@ -374,7 +366,7 @@ def test_icofoam_reaches_a_steady_state_on_the_cylinder(tmp_path):
         ["icoFoam", "-case", str(case)],
         capture_output=True,
         text=True,
-        env=_foam_env(),
+        env=foam_env(),
         timeout=120,
     )
     log = proc.stdout

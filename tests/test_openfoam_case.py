@@ -9,7 +9,6 @@ its dictionaries fit the patches pinn-mesh writes. Skipped where OpenFOAM is mis
 from __future__ import annotations
 
 import math
-import os
 import re
 import shutil
 import subprocess
@@ -17,7 +16,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from conftest import ROOT
+from conftest import ROOT, foam_env
 
 from pinn_engine.routes.cli import main
 
@@ -34,12 +33,6 @@ NU, LENGTH = 0.01, 3.0  # constant/transportProperties; the channel's length (he
 # only add to that, so the measured drop must be larger
 POISEUILLE_DROP = 12 * NU * 1.0 * LENGTH
 FEW = 5  # SIMPLE iterations of the NACA case on the coarse grid: enough to read the dictionaries
-
-
-def foam_env() -> dict[str, str]:
-    env = dict(os.environ)
-    env.setdefault("WM_PROJECT_DIR", "/usr/share/openfoam")  # Debian's openfoam package
-    return env
 
 
 def last_value(case: Path, function: str) -> float:
