@@ -209,7 +209,7 @@ class BlocksOutcome:
     dataset: vtkMultiBlockDataSet
 
 
-def _flat(curves: list[np.ndarray], source: str) -> list[np.ndarray]:
+def flat_curves(curves: list[np.ndarray], source: str) -> list[np.ndarray]:
     """The curves' (x, y), refused unless every z is the same (within ``FLAT``)."""
     z = np.concatenate([c[:, 2] if c.shape[1] == 3 else np.zeros(len(c)) for c in curves])
     size = max(float(np.ptp(np.vstack([c[:, :2] for c in curves]), axis=0).max()), 1e-300)
@@ -247,7 +247,7 @@ def run_blocks(
     source = str(boundary)
     rings = read_rings(boundary)
     raws = [line for path in edges for line in read_aux_lines(path)]
-    curves = _flat(rings + [r.points for r in raws], source)
+    curves = flat_curves(rings + [r.points for r in raws], source)
     names = [r.name for r in raws]
     result = mesh_blocks(
         curves[: len(rings)],

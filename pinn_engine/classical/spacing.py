@@ -127,7 +127,9 @@ EXACT_TOL, EXACT_ITERATIONS = 1e-9, 60  # a first interval of 1e-9 is good to ab
 LOCAL_CELLS = 6.0
 
 
-def _lines(n: int, first: np.ndarray | None, last: np.ndarray | None, lines: int) -> np.ndarray:
+def line_parameters(
+    n: int, first: np.ndarray | None, last: np.ndarray | None, lines: int
+) -> np.ndarray:
     """Parameters (lines, n) of one direction for per-line first/last spacings."""
     top = [None if a is None else float(np.exp(np.log(a).mean())) for a in (first, last)]
     t = np.repeat(stretch(n, *top), lines, axis=0)
@@ -148,8 +150,8 @@ def _lines(n: int, first: np.ndarray | None, last: np.ndarray | None, lines: int
 def param_grid(ni: int, nj: int, spacing: dict[str, np.ndarray]) -> np.ndarray:
     """Node parameters (nj, ni, 2): xi of row j from the left/right first spacings of that
     row, eta of column i from the bottom/top spacings of that column (parameter units)."""
-    xi = _lines(ni, spacing.get("left"), spacing.get("right"), nj)
-    eta = _lines(nj, spacing.get("bottom"), spacing.get("top"), ni)
+    xi = line_parameters(ni, spacing.get("left"), spacing.get("right"), nj)
+    eta = line_parameters(nj, spacing.get("bottom"), spacing.get("top"), ni)
     return np.stack([xi, eta.T], axis=-1)
 
 

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pinn_engine.geometry.boundary import turning_angles
 from pinn_engine.multiblock.blocks import CORNER_TURN, Topology
 from pinn_engine.multiblock.layout import Layout
 
@@ -75,10 +76,9 @@ def _toward(ids: np.ndarray, points: np.ndarray, e: int) -> tuple[np.ndarray, np
     return (ids[::-1], points[::-1]) if e == 0 else (ids, points)
 
 
-def _turn(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> float:
-    """Degrees the polyline a, b, c turns by at b."""
-    u, v = b - a, c - b
-    return float(np.degrees(abs(np.arctan2(u[0] * v[1] - u[1] * v[0], u @ v))))
+def turn(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> float:
+    """Degrees the polyline a, b, c turns by at b (``turning_angles``' at its middle vertex)."""
+    return float(abs(turning_angles(np.array([a, b, c]))[1]))
 
 
 def sliders(topo: Topology, lay: Layout) -> tuple[list[Slider], list[Ring], dict[int, float]]:
@@ -113,7 +113,7 @@ def sliders(topo: Topology, lay: Layout) -> tuple[list[Slider], list[Ring], dict
         if behind[0] > behind[1]:
             runs.reverse()
         (first, before), (second, after) = runs
-        if _turn(before[-2], before[-1], after[-2]) >= CORNER_TURN:
+        if turn(before[-2], before[-1], after[-2]) >= CORNER_TURN:
             continue  # a corner of the drawn boundary (the L's inner corner) stays
         k, e = edges[0]
         nxt = int(lay.piece_ids[k][1 if e == 0 else -2])

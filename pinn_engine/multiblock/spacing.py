@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from pinn_engine.classical.spacing import _lines  # the per-line stretching of one block
+from pinn_engine.classical.spacing import line_parameters  # one block's per-line stretching
 from pinn_engine.errors import InputError
 from pinn_engine.multiblock.walls import WallSide
 
@@ -96,7 +96,7 @@ def _stretched(p: np.ndarray, first: np.ndarray, last: np.ndarray) -> np.ndarray
         for h, a, b in ends
     ]
     for _ in range(FIT_ROUNDS):
-        t = _lines(n, param[0], param[1], m) * (n - 1)
+        t = line_parameters(n, param[0], param[1], m) * (n - 1)
         new = np.stack([spline(row) for spline, row in zip(splines, t)])
         new[:, 0], new[:, -1] = p[:, 0], p[:, -1]
         off = 0.0

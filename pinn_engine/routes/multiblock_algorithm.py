@@ -182,7 +182,7 @@ class PinnMultiBlockAlgorithm(LineInputs, VTKPythonAlgorithmBase):
     def _execute(self, inInfo) -> tuple[vtkMultiBlockDataSet, dict]:
         """The blocks of the connected inputs under the settings, and the run's report."""
         from pinn_engine.io.export.vtm import multiblock_dataset
-        from pinn_engine.job import _flat
+        from pinn_engine.job import flat_curves
         from pinn_engine.multiblock.mesh import mesh_blocks
 
         settings = self.GetSettings()
@@ -191,7 +191,7 @@ class PinnMultiBlockAlgorithm(LineInputs, VTKPythonAlgorithmBase):
             for port in inInfo
         ]
         rings, edges, names = curves_of(ports[0], ports[1])
-        curves = _flat(rings + edges, "input")
+        curves = flat_curves(rings + edges, "input")
         result = mesh_blocks(
             curves[: len(rings)],
             curves[len(rings) :],
