@@ -5,15 +5,21 @@ from __future__ import annotations
 
 import contextlib
 import importlib.util
+import multiprocessing
 import os
 from collections.abc import Iterator
 
+import dask
 from distributed import Client, LocalCluster
 from distributed.diagnostics.plugin import WorkerPlugin
 
 HOST = "127.0.0.1"  # a local cluster listens on this machine only
 DASHBOARD = f"{HOST}:8787"  # Dask's usual dashboard port (another is taken when it is busy)
 THREADS_PER_WORKER = 1  # one case at a time a process: cases run side by side in processes
+# How a local cluster starts its worker processes: forked from a server process that has
+# Dask imported, and ended by os._exit, where a spawned process ends by a full interpreter
+# shutdown (about 1 s a worker with torch and VTK loaded, paid at every batch's close)
+START_METHOD = "forkserver"
 
 
 class MeshingWorker(WorkerPlugin):
@@ -39,9 +45,13 @@ def connect(workers: int | None = None, scheduler: str | None = None) -> Iterato
     """A client on the scheduler at ``scheduler``, or on a new local cluster of ``workers``
     processes (closed afterwards); its workers set up by :class:`MeshingWorker`."""
     if scheduler:
-        client = Client(scheduler)
-        cluster = None
-    else:
+        with contextlib.closing(Client(scheduler)) as client:
+            prepare(client)
+            yield client
+        return
+    method = START_METHOD if START_METHOD in multiprocessing.get_all_start_methods() else None
+    # for the cluster's life: the nanny starts a worker that died by the same method
+    with dask.config.set({"distributed.worker.multiprocessing-method": method} if method else {}):
         cluster = LocalCluster(
             n_workers=workers or default_workers(),
             threads_per_worker=THREADS_PER_WORKER,
@@ -49,14 +59,9 @@ def connect(workers: int | None = None, scheduler: str | None = None) -> Iterato
             host=HOST,
             dashboard_address=DASHBOARD,
         )
-        client = Client(cluster)
-    try:
-        prepare(client)
-        yield client
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+        with contextlib.closing(cluster), contextlib.closing(Client(cluster)) as client:
+            prepare(client)
+            yield client
 
 
 def prepare(client: Client) -> None:
