@@ -277,3 +277,20 @@ def test_the_progress_line_counts_and_redraws_in_place_on_a_terminal():
         bar.update(failed=False)
     bar.close()  # each redraw covers the longer line before it
     assert terminal.getvalue() == "\ra long first line\rshort            \rdone \n"
+
+
+def test_the_dashboard_address_is_printed_and_answers(tmp_path, capsys):
+    """With bokeh installed (the test extra), the local cluster serves Dask's dashboard; the
+    command prints its address and the address answers."""
+    from urllib.request import urlopen
+
+    from pinn_engine.batch.cluster import dashboard
+
+    path = manifest(tmp_path / "in", CASES[:1])
+    assert main(["batch", str(path), "-o", str(tmp_path / "out"), "--workers", "1"]) == 0
+    printed = [x for x in capsys.readouterr().err.splitlines() if x.startswith("Dask dashboard")]
+    assert len(printed) == 1 and printed[0].startswith("Dask dashboard: http://127.0.0.1:")
+    with connect(1) as client:
+        link = dashboard(client)
+        with urlopen(link, timeout=30) as page:
+            assert page.status == 200 and b"Dask" in page.read()
