@@ -321,6 +321,7 @@ __all__ = [
     "FORMATS",
     "SIDES",
     "Block",
+    "Box",
     "Format",
     "box_points",
     "grid_points",

@@ -58,9 +58,10 @@ def _planes(ids: np.ndarray, axis: int) -> np.ndarray:
 def _plane_quads(planes: np.ndarray, plus: bool) -> np.ndarray:
     """(faces, 4) quads of node planes [along axis, b, c], normals along +axis (``plus``) or
     -axis; plane after plane, c fastest."""
-    a, b = planes[:, :-1, :-1], planes[:, 1:, :-1]
-    c, d = planes[:, 1:, 1:], planes[:, :-1, 1:]
-    return np.stack([x.ravel() for x in ((a, b, c, d) if plus else (a, d, c, b))], axis=1)
+    p00, p10 = planes[:, :-1, :-1], planes[:, 1:, :-1]
+    p11, p01 = planes[:, 1:, 1:], planes[:, :-1, 1:]
+    corners = (p00, p10, p11, p01) if plus else (p00, p01, p11, p10)
+    return np.stack([x.ravel() for x in corners], axis=1)
 
 
 def _ids(ni: int, nj: int, nk: int) -> np.ndarray:
