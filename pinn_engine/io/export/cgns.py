@@ -70,21 +70,27 @@ def check() -> None:
         )
 
 
-def _write_in_helper(block: Block, path: Path) -> None:
+def _write_in_helper(shape: Block | Box, path: Path) -> None:
+    """Write ``shape`` through the helper Python (:func:`_helper_python`), its fields handed
+    over in an ``.npz`` beside ``path``."""
     python = _helper_python()
     if python is None:
         check()
     data = path.with_name(path.name + ".npz")
+    common = {"names": np.array(shape.names), "types": np.array(shape.types or ())}
+    if isinstance(shape, Box):
+        fields = {"xyz": shape.xyz}
+    else:
+        thickness = np.nan if shape.thickness is None else shape.thickness
+        fields = {
+            "points": shape.points,
+            "thickness": np.array(thickness),
+            "normal": shape.normal,
+            "topology": np.array(shape.topology or ""),
+            "n_wake": np.array(shape.n_wake),
+        }
     try:
-        np.savez(
-            data,
-            points=block.points,
-            names=np.array(block.names),
-            thickness=np.array(np.nan if block.thickness is None else block.thickness),
-            normal=block.normal,
-            topology=np.array(block.topology or ""),
-            n_wake=np.array(block.n_wake),
-        )
+        np.savez(data, **common, **fields)
         env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME")}
         env["PYTHONPATH"] = str(ROOT)
         proc = subprocess.run(
@@ -104,15 +110,21 @@ def _write_in_helper(block: Block, path: Path) -> None:
 def _main() -> None:
     """``python -m pinn_engine.io.export.cgns DATA.npz OUT.cgns`` (the helper's side)."""
     data = np.load(sys.argv[1])
+    names = tuple(str(n) for n in data["names"])
+    types = tuple(str(t) for t in data["types"]) or None
+    if "xyz" in data:
+        write_box(Box(data["xyz"], names, types), Path(sys.argv[2]))
+        return
     thickness = float(data["thickness"])
     write(
         Block(
             data["points"],
-            tuple(str(n) for n in data["names"]),
+            names,
             None if np.isnan(thickness) else thickness,
             data["normal"],
             str(data["topology"]) or None,
             int(data["n_wake"]),
+            types,
         ),
         Path(sys.argv[2]),
     )
@@ -206,6 +218,9 @@ def write(block: Block, path: Path) -> None:
 
 def write_box(box: Box, path: Path) -> None:
     """A hexahedral grid as one 3D zone, a ``BC_t`` per side (SPEC 11)."""
+    if _h5py() is None:
+        _write_in_helper(box, path)
+        return
     shape = box.shape
     ranges = {
         name: [(side, box_range(*shape, side)) for side in sides]
