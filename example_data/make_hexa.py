@@ -1,7 +1,8 @@
 """Writes the six-faced example surfaces of SPEC 11 (run from the repository root):
 example_data/hexa_bump_box.vtp (a box with a bump in its floor) and example_data/hexa_bend.vtp
 (a 90-degree bend of rectangular section). Each face is a triangulated patch tagged with its
-FaceId; neighbouring faces share their edge points."""
+FaceId; neighbouring faces share their edge points. The bend is also written untagged as
+example_data/hexa_bend.stl (binary), whose faces the engine finds at its 90-degree edges."""
 
 from __future__ import annotations
 
@@ -61,7 +62,9 @@ def surface(shape) -> pv.PolyData:
 def main() -> None:
     here = Path(__file__).parent
     surface(bump_box).save(here / "hexa_bump_box.vtp")
-    surface(bend).save(here / "hexa_bend.vtp")
+    tagged_bend = surface(bend)
+    tagged_bend.save(here / "hexa_bend.vtp")
+    tagged_bend.save(here / "hexa_bend.stl")
 
 
 if __name__ == "__main__":

@@ -94,7 +94,8 @@ def test_plot3d_read_by_vtk(grid, reference, tmp_path, thickness):
     check_plot3d(save_mesh(grid, tmp_path / "g.xyz", extrude=thickness), reference, thickness)
 
 
-def check_plot3d(path: Path, reference: np.ndarray, thickness: float | None) -> None:
+def read_plot3d(path: Path):
+    """The first grid of a PLOT3D file, as VTK reads it."""
     from vtkmodules.vtkIOParallel import vtkMultiBlockPLOT3DReader
 
     reader = vtkMultiBlockPLOT3DReader()  # explicit: multi-grid, whole, double, byte counts
@@ -106,7 +107,11 @@ def check_plot3d(path: Path, reference: np.ndarray, thickness: float | None) -> 
     reader.DoublePrecisionOn()
     reader.IBlankingOff()
     reader.Update()
-    block = reader.GetOutput().GetBlock(0)
+    return reader.GetOutput().GetBlock(0)
+
+
+def check_plot3d(path: Path, reference: np.ndarray, thickness: float | None) -> None:
+    block = read_plot3d(path)
     nk = 1 if thickness is None else 2
     assert block.GetExtent() == (0, NI - 1, 0, NJ - 1, 0, nk - 1)
     expected = reference if thickness is None else extruded(reference)
@@ -119,8 +124,8 @@ def test_cgns_read_by_vtk_and_h5py(grid, reference, tmp_path, thickness):
     check_cgns(save_mesh(grid, tmp_path / "g.cgns", extrude=thickness), reference, thickness)
 
 
-def check_cgns(path: Path, reference: np.ndarray, thickness: float | None) -> None:
-    import h5py
+def read_cgns(path: Path) -> dict[str, object]:
+    """The zone ("Internal") and boundary patches of a CGNS file, as VTK reads them."""
     from vtkmodules.vtkIOCGNSReader import vtkCGNSReader
 
     reader = vtkCGNSReader()
@@ -129,7 +134,13 @@ def check_cgns(path: Path, reference: np.ndarray, thickness: float | None) -> No
     reader.EnableAllBases()
     reader.LoadBndPatchOn()
     reader.Update()
-    found = blocks(reader.GetOutput())
+    return blocks(reader.GetOutput())
+
+
+def check_cgns(path: Path, reference: np.ndarray, thickness: float | None) -> None:
+    import h5py
+
+    found = read_cgns(path)
     nk = 1 if thickness is None else 2
     expected = reference if thickness is None else extruded(reference)
     np.testing.assert_allclose(
@@ -193,7 +204,8 @@ def read_su2(path: Path) -> dict:
             k += n
         elif line.startswith("NPOIN="):
             n = int(line.split("=")[1].split()[0])
-            out["points"] = np.array([lines[k + m].split()[:2] for m in range(n)], dtype=float)
+            dim = out["ndime"]
+            out["points"] = np.array([lines[k + m].split()[:dim] for m in range(n)], dtype=float)
             k += n
         elif line.startswith("MARKER_TAG="):
             name = line.split("=")[1].strip()
@@ -358,14 +370,15 @@ def test_failing_openfoam_writer_keeps_the_previous_mesh(grid, tmp_path, monkeyp
     assert sorted(p.name for p in (case / "constant").iterdir()) == ["polyMesh"]
 
 
-def test_clockwise_or_3d_grids_are_refused(grid, tmp_path):
+def test_clockwise_or_line_grids_are_refused(grid, tmp_path):
+    """(A 3D grid is a hexahedral one: tests/test_hexa_export.py.)"""
     import pyvista as pv
 
     flipped = pv.StructuredGrid(grid.x[::-1], grid.y[::-1], grid.z[::-1])  # i reversed
     with pytest.raises(InputError, match=r"^grid: the grid's boundary does not run counter"):
         save_mesh(flipped, tmp_path / "g.su2")
     with pytest.raises(InputError, match=r"expected a 2D structured grid"):
-        save_mesh(pv.ImageData(dimensions=(3, 3, 3)).cast_to_structured_grid(), tmp_path / "g.msh")
+        save_mesh(pv.ImageData(dimensions=(3, 1, 1)).cast_to_structured_grid(), tmp_path / "g.msh")
     assert list(tmp_path.iterdir()) == []
 
 

@@ -172,7 +172,8 @@ def open_polyline_vtp(tmp_path: Path) -> Path:
 
 BAD_INPUTS = {
     "missing file": (lambda d: d / "nope.vtp", "file not found"),
-    "unknown format": (lambda d: ring_file(d, square_ring(3), "b.stl"), "unknown format"),
+    "unknown format": (lambda d: ring_file(d, square_ring(3), "b.obj"), "unknown format"),
+    "not an stl": (lambda d: ring_file(d, square_ring(3), "b.stl"), "not an STL file"),
     "empty file": (lambda d: bytes_file(d / "e.csv", b""), "empty"),
     "binary csv": (lambda d: bytes_file(d / "bin.csv", b"\x00\x01\x02garbage"), "binary"),
     "open polyline": (open_polyline_vtp, "open"),

@@ -1,6 +1,6 @@
-"""Six-faced 3D domains (SPEC 11, issue 25): topology errors, face nodes on the surface,
-orientation and right-handedness of tfi and elliptic grids, the 3D Winslow equations, and
-the command line writing a readable .vts."""
+"""Six-faced 3D domains (SPEC 11, issue 25): topology errors, an .stl's faces found at its
+sharp edges, face nodes on the surface, orientation and right-handedness of tfi and
+elliptic grids, the 3D Winslow equations, and the command line writing a readable .vts."""
 
 from __future__ import annotations
 
@@ -11,6 +11,7 @@ from conftest import ROOT
 
 from pinn_engine.hexa import volume
 from pinn_engine.hexa.mesh import METHODS, mesh_surface
+from pinn_engine.hexa.sharp import faces_at_sharp_edges
 from pinn_engine.routes.cli import main
 
 DATA = ROOT / "example_data"
@@ -143,7 +144,7 @@ def test_cli_writes_a_readable_vts(tmp_path, capsys):
     assert isinstance(grid, pv.StructuredGrid) and tuple(grid.dimensions) == SIZE
     for name in ("MaxIncludedAngle", "MinIncludedAngle", "ScaledJacobian", "Folded"):
         assert grid.cell_data[name].shape == (480,)
-    assert list(grid.field_data["Patches"]) == ["imin", "imax", "jmin", "jmax", "kmin", "kmax"]
+    assert list(grid.field_data["PatchNames"]) == ["imin", "imax", "jmin", "jmax", "kmin", "kmax"]
     vtk_measure = grid.cell_quality("scaled_jacobian").cell_data["scaled_jacobian"]
     np.testing.assert_allclose(grid.cell_data["ScaledJacobian"], vtk_measure)
 
@@ -165,3 +166,33 @@ def test_a_legacy_vtk_surface_gives_the_same_grid(tmp_path):
     legacy = _write(pv.read(DATA / "hexa_bend.vtp"), tmp_path, "bend.vtk")
     a = mesh_surface(legacy, SIZE, "tfi").grid
     np.testing.assert_allclose(a, mesh_surface(str(DATA / "hexa_bend.vtp"), SIZE, "tfi").grid)
+
+
+def test_an_stl_gives_the_grid_of_its_tagged_twin():
+    """make_hexa.py writes the bend untagged as .stl (single precision): its six faces are
+    found at the 90-degree edges, and the grid is the tagged surface's."""
+    stl = mesh_surface(str(DATA / "hexa_bend.stl"), SIZE, "tfi").grid
+    tagged = mesh_surface(str(DATA / "hexa_bend.vtp"), SIZE, "tfi").grid
+    np.testing.assert_allclose(stl, tagged, atol=1e-6)
+
+
+def test_sharp_edges_split_a_cube_whatever_the_triangles_winding():
+    cube = pv.Cube().triangulate().subdivide(2)
+    tris = np.asarray(cube.faces).reshape(-1, 4)[:, 1:].copy()
+    tris[::3] = tris[::3, ::-1]  # a third of the triangles wound the other way
+    count, face_of = faces_at_sharp_edges(np.asarray(cube.points), tris)
+    assert count == 6 and np.bincount(face_of).tolist() == [len(tris) // 6] * 6
+    assert faces_at_sharp_edges(np.asarray(cube.points), tris, angle=95.0)[0] == 1  # one face
+
+
+@pytest.mark.parametrize(
+    ("shape", "found"),
+    [(pv.Cylinder(resolution=24), 3), (pv.Tetrahedron(), 4), (pv.Sphere(), 1)],
+    ids=["cylinder", "tetrahedron", "sphere"],
+)
+def test_an_stl_without_six_sharp_faces_is_refused(tmp_path, capsys, shape, found):
+    out = tmp_path / "o.vts"
+    err = _error(capsys, [_write(shape.triangulate(), tmp_path, "s.stl"), "-o", str(out)], out)
+    assert err.endswith(
+        f"found {found} faces at edges sharper than 40 degrees; a six-faced domain needs 6"
+    )

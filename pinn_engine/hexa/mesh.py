@@ -1,4 +1,5 @@
-"""A hexahedral grid of a six-faced surface, from file to vtkStructuredGrid (SPEC 11)."""
+"""A hexahedral grid of a six-faced surface, from file to vtkStructuredGrid (SPEC 11); the
+solver formats write it through :func:`pinn_engine.io.export.write`."""
 
 from __future__ import annotations
 
@@ -14,7 +15,6 @@ from pinn_engine.hexa.facegrid import face_grid
 from pinn_engine.hexa.surface import Surface, Topology, find_topology, read_surface
 
 METHODS = ("tfi", "elliptic")  # the methods of this build for six-faced domains
-PATCHES = ("imin", "imax", "jmin", "jmax", "kmin", "kmax")  # SPEC 11's patch names
 HEXA_METHOD = "elliptic"  # the default while 3D has no pinn: the converged Winslow grid
 HEXA_SIZE = (21, 21, 21)  # SPEC 11's default nodes along i, j and k
 MIN_NODES = 3  # fewer nodes along a direction leave no interior to solve for
@@ -99,17 +99,13 @@ def cell_arrays(g: np.ndarray) -> dict[str, np.ndarray]:
     }
 
 
-def write_vts(result: HexResult, out, method: str) -> None:
-    """The grid with its cell arrays, method and patch names as a .vts file."""
-    from pinn_engine.io.fileio import atomic_path
-
+def result_grid(result: HexResult, method: str):
+    """The grid with its cell arrays and method (the writers add the patch names)."""
     grid = structured_grid(result.grid)
     for name, values in result.cells.items():
         grid.cell_data[name] = values
     grid.field_data["Method"] = [method]
-    grid.field_data["Patches"] = list(PATCHES)
-    with atomic_path(out, suffix=".vts") as tmp:
-        grid.save(str(tmp))
+    return grid
 
 
 def summary(result: HexResult, method: str) -> str:

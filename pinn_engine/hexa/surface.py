@@ -1,7 +1,8 @@
 """The input surface of a six-faced domain: its faces, 12 edges and 8 corners (SPEC 11).
 
-Reads a closed triangulated surface with a ``FaceId`` cell array and checks that its faces
-meet as a cube's do; anything else is a one-line :class:`InputError` saying what was found.
+Reads a closed triangulated surface with a ``FaceId`` cell array (or an ``.stl``, its faces
+found at its sharp edges) and checks that its faces meet as a cube's do; anything else is a
+one-line :class:`InputError` saying what was found.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from pinn_engine.errors import InputError
+from pinn_engine.hexa.sharp import SHARP_ANGLE, faces_at_sharp_edges
 
 FACES = 6  # a hexahedral block has six faces
 CORNERS = 8  # ... eight corners
@@ -41,10 +43,13 @@ class Topology:
 
 
 def is_faced_surface(path: str) -> bool:
-    """Whether ``path`` is a .vtp/.vtk file naming a FaceId array (a 3D domain): a scan of
-    its bytes, since VTK files write array names as text and a damaged file must not be
-    parsed here (the 2D reader reports it)."""
-    if not str(path).lower().endswith((".vtp", ".vtk")):
+    """Whether ``path`` is a six-faced domain's surface: an ``.stl``, or a .vtp/.vtk file
+    naming a FaceId array (a scan of its bytes, since VTK files write array names as text
+    and a damaged file must not be parsed here: the 2D reader reports it)."""
+    name = str(path).lower()
+    if name.endswith(".stl"):
+        return True
+    if not name.endswith((".vtp", ".vtk")):
         return False
     try:
         with open(path, "rb") as f:
@@ -54,18 +59,20 @@ def is_faced_surface(path: str) -> bool:
 
 
 def read_surface(path: str) -> Surface:
-    """The triangles and FaceId of a .vtp/.vtk surface, with coincident points merged; read
-    as the 2D boundaries are (a damaged file is a one-line error)."""
+    """The triangles of a .vtp/.vtk/.stl surface with coincident points merged, and their
+    faces: the FaceId array, or for an STL the regions between its sharp edges
+    (:mod:`pinn_engine.hexa.sharp`); read as the 2D boundaries are (a damaged file is a
+    one-line error)."""
     import pyvista as pv
 
     from pinn_engine.io.fileio import read_polydata
 
     data = pv.wrap(read_polydata(Path(path)))
-    if "FaceId" not in data.cell_data:
+    stl = str(path).lower().endswith(".stl")
+    if not stl and "FaceId" not in data.cell_data:
         raise InputError("no FaceId cell array: tag each of the six faces", path)
     data = data.triangulate()
     faces = np.asarray(data.faces).reshape(-1, 4)[:, 1:]
-    ids = np.asarray(data.cell_data["FaceId"]).astype(int)
     points = np.asarray(data.points, dtype=float)
     scale = float(np.ptp(points, axis=0).max()) or 1.0
     _, first, inverse = np.unique(
@@ -77,10 +84,21 @@ def read_surface(path: str) -> Surface:
         & (triangles[:, 1] != triangles[:, 2])
         & (triangles[:, 0] != triangles[:, 2])
     )
+    points, triangles = points[first], triangles[keep]
+    if stl:
+        count, face_of = faces_at_sharp_edges(points, triangles)
+        if count != FACES:
+            raise InputError(
+                f"found {count} faces at edges sharper than {SHARP_ANGLE:g} degrees; a "
+                "six-faced domain needs 6",
+                path,
+            )
+        return Surface(points, triangles, face_of)
+    ids = np.asarray(data.cell_data["FaceId"]).astype(int)
     values, face_of = np.unique(ids[keep], return_inverse=True)
     if len(values) != FACES:
         raise InputError(f"{len(values)} FaceId values found; a hexahedral block needs 6", path)
-    return Surface(points[first], triangles[keep], face_of.reshape(-1))
+    return Surface(points, triangles, face_of.reshape(-1))
 
 
 def _edge_triangles(triangles: np.ndarray) -> dict[tuple[int, int], list[int]]:

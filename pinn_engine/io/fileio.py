@@ -35,6 +35,7 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkLogger, vtkObject, vtkOutputWindow, vtkStringOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 from vtkmodules.vtkFiltersCore import vtkStripper
+from vtkmodules.vtkIOGeometry import vtkSTLReader
 from vtkmodules.vtkIOLegacy import vtkPolyDataReader
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader, vtkXMLStructuredGridWriter
 
@@ -137,6 +138,8 @@ def vtk():
     from vtkmodules.vtkIOLegacy import vtkPolyDataReader, vtkPolyDataWriter
     if path.lower().endswith(".vtp"):
         from vtkmodules.vtkIOXML import vtkXMLPolyDataReader as Reader
+    elif path.lower().endswith(".stl"):
+        from vtkmodules.vtkIOGeometry import vtkSTLReader as Reader
     else:
         Reader = vtkPolyDataReader
     return vtkLogger, vtkOutputWindow, vtkStringOutputWindow, vtkPolyDataWriter, Reader
@@ -278,13 +281,15 @@ def _read_in_child(path: Path) -> tuple[str | None, bytes] | None:
 
 
 def _vtk_reader(path: Path):
-    reader = vtkXMLPolyDataReader() if path.suffix.lower() == ".vtp" else vtkPolyDataReader()
+    """VTK's reader of ``path`` by its extension (an STL reader merges coincident points)."""
+    readers = {".vtp": vtkXMLPolyDataReader, ".stl": vtkSTLReader}
+    reader = readers.get(path.suffix.lower(), vtkPolyDataReader)()
     reader.SetFileName(str(path))
     return reader
 
 
 def read_polydata(path: Path) -> vtkPolyData:
-    """Read a ``.vtp`` or legacy ``.vtk`` polydata file (in a child process:
+    """Read a ``.vtp``, legacy ``.vtk`` or ``.stl`` polydata file (in a child process:
     :func:`_read_in_child`)."""
     src = str(path)
     reader = _vtk_reader(path)
@@ -293,7 +298,8 @@ def read_polydata(path: Path) -> vtkPolyData:
             if not reader.IsFilePolyData():
                 raise InputError("not a VTK polydata file", src)
         elif not reader.CanReadFile(src):
-            raise InputError("not a VTK XML polydata file", src)
+            kind = "an STL" if isinstance(reader, vtkSTLReader) else "a VTK XML polydata"
+            raise InputError(f"not {kind} file", src)
     read = _read_in_child(path)
     if read is not None:
         problem, data = read

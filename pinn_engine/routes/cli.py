@@ -136,10 +136,11 @@ def build_parser() -> argparse.ArgumentParser:
         action="append",
         default=[],
         metavar="SIDE=NAME[:TYPE]",
-        help="name the boundary patch of a side (bottom, right, top, left; "
-        "repeatable; equal names form one patch) and optionally its type: wall, inflow, "
-        "outflow, farfield, symmetry, patch (default: wall for a patch named wall, else "
-        "patch); OpenFOAM and CGNS write the types. With --blocks: X,Y=NAME[:TYPE] names "
+        help="name the boundary patch of a side (bottom, right, top, left; imin, imax, "
+        "jmin, jmax, kmin, kmax of a six-faced surface; repeatable; equal names form one "
+        "patch) and optionally its type: wall, inflow, outflow, farfield, symmetry, patch "
+        "(default: wall for a patch named wall, else patch); OpenFOAM and CGNS write the "
+        "types. With --blocks: X,Y=NAME[:TYPE] names "
         "the boundary piece nearest the point (X, Y) (default names: boundary, hole1, ...)",
     )
     p.add_argument(
@@ -422,11 +423,13 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
 
 
 def _run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
-    """A six-faced 3D domain (SPEC 11): the surface's hexahedral grid into ``OUT.vts``."""
-    from pinn_engine.hexa.mesh import HEXA_METHOD, HEXA_SIZE, mesh_surface, summary, write_vts
+    """A six-faced 3D domain (SPEC 11): the surface's hexahedral grid into ``OUT`` (the
+    formats and patches of SPEC 8, never extruded)."""
+    from pinn_engine.hexa.mesh import HEXA_METHOD, HEXA_SIZE, mesh_surface, result_grid, summary
+    from pinn_engine.io import export
 
     defaults = vars(build_parser().parse_args([]))
-    allowed = {"boundary", "method", "size", "output", "quiet"}
+    allowed = {"boundary", "method", "size", "output", "quiet", "format", "patch"}
     flags = _flags()
     for name, value in vars(args).items():
         if name not in allowed and value != defaults.get(name):
@@ -440,11 +443,12 @@ def _run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
         raise PinnMeshError(
             f"--size {' '.join(map(str, size))}: a six-faced surface takes NI NJ NK"
         )
-    out = Path(args.output or f"out/{Path(args.boundary).stem}_{method}.vts")
-    if out.suffix.lower() != ".vts":
-        raise PinnMeshError(f"{out}: hexahedral grids are written as .vts in this build")
+    suffix = "" if args.format == "openfoam" else f".{args.format or 'vts'}"
+    out = Path(args.output or f"out/{Path(args.boundary).stem}_{method}{suffix}")
+    export.output_format(out, args.format)  # refused before meshing
+    export.patch_specs(args.patch or None, sides=export.BOX_SIDES)  # as are the patches
     result = mesh_surface(args.boundary, size, method)
-    write_vts(result, out, method)
+    export.write(result_grid(result, method), out, args.format, patches=args.patch or None)
     written.append(out)
     if not args.quiet:
         print(summary(result, method))

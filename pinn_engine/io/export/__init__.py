@@ -1,6 +1,8 @@
 """Solver-ready output (SPEC 8): one grid, the formats CFD solvers read, named patches.
 
-``write(grid, path)`` picks the format from the extension of ``path`` (or ``fmt``):
+``write(grid, path)`` picks the format from the extension of ``path`` (or ``fmt``). A 2D
+grid has the four patches bottom, right, top and left; a hexahedral grid (SPEC 11: nk > 1)
+has imin ... kmax, is written in 3D as it is (hexahedra in SU2 and Gmsh) and never extruded:
 
 =========  =========================================================  ===========
 format     what                                                       extrudes
@@ -37,8 +39,9 @@ from vtkmodules.vtkCommonDataModel import vtkStructuredGrid
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.plane import Plane
 from pinn_engine.io.export import bodies, cgns, gmsh, openfoam, plot3d, su2, vtkfiles
-from pinn_engine.io.export.block import Block
+from pinn_engine.io.export.block import Block, Box
 from pinn_engine.io.export.patches import (
+    BOX_SIDES,
     FIELD,
     SIDES,
     add_to_grid,
@@ -73,6 +76,12 @@ FORMATS = {
 }
 _BY_SUFFIX = {f.suffix: f for f in FORMATS.values() if f.suffix}
 _FILE_WRITERS = {"xyz": plot3d.write, "cgns": cgns.write, "su2": su2.write, "msh": gmsh.write}
+_BOX_WRITERS = {
+    "xyz": plot3d.write_box,
+    "cgns": cgns.write_box,
+    "su2": su2.write_box,
+    "msh": gmsh.write_box,
+}
 
 
 def output_format(
@@ -112,14 +121,43 @@ def output_format(
     return found
 
 
+def _extent(grid: vtkStructuredGrid) -> tuple[int, int, int]:
+    """Nodes (ni, nj, nk) of a grid that has points."""
+    if grid is None or grid.GetPoints() is None or grid.GetNumberOfPoints() == 0:
+        raise InputError("the grid is empty; mesh the boundary first", "grid")
+    ext = grid.GetExtent()
+    return tuple(ext[2 * a + 1] - ext[2 * a] + 1 for a in range(3))
+
+
+def is_box(grid: vtkStructuredGrid) -> bool:
+    """Whether ``grid`` is a hexahedral grid (SPEC 11: more than one node along k)."""
+    return _extent(grid)[2] > 1
+
+
+def box_points(grid: vtkStructuredGrid) -> np.ndarray:
+    """The nodes (nk, nj, ni, 3) of a hexahedral grid, checked right-handed in (i, j, k)
+    (SPEC 11): the writers orient faces and cells by it."""
+    ni, nj, nk = _extent(grid)
+    if min(ni, nj, nk) < 2:
+        raise InputError(f"a hexahedral grid needs 2 nodes or more, got ({ni}, {nj}, {nk})", "grid")
+    xyz = vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64).reshape(nk, nj, ni, 3)
+    di = xyz[:-1, :-1, 1:] - xyz[:-1, :-1, :-1]
+    dj = xyz[:-1, 1:, :-1] - xyz[:-1, :-1, :-1]
+    dk = xyz[1:, :-1, :-1] - xyz[:-1, :-1, :-1]
+    if float(np.sum(np.cross(di, dj) * dk)) <= 0:
+        raise InputError(
+            "the grid is not right-handed in (i, j, k) (SPEC 11): its cell volumes are "
+            "negative; reverse its i, j or k direction first",
+            "grid",
+        )
+    return xyz
+
+
 def grid_points(grid: vtkStructuredGrid) -> tuple[np.ndarray, np.ndarray]:
     """The nodes of a 2D structured grid (ni, nj, 1) as an array (nj, ni, 3), and the unit
     normal about which its boundary runs counter-clockwise along i, then j (SPEC 3): +z for
     a grid in a plane z = const, whose boundary must then run counter-clockwise in x-y."""
-    if grid is None or grid.GetPoints() is None or grid.GetNumberOfPoints() == 0:
-        raise InputError("the grid is empty; mesh the boundary first", "grid")
-    ext = grid.GetExtent()
-    ni, nj, nk = (ext[2 * a + 1] - ext[2 * a] + 1 for a in range(3))
+    ni, nj, nk = _extent(grid)
     if nk != 1 or min(ni, nj) < 2:
         raise InputError(
             f"expected a 2D structured grid of (ni, nj, 1) nodes, got ({ni}, {nj}, {nk})", "grid"
@@ -159,17 +197,24 @@ def write(
 ) -> Path:
     """Write ``grid`` to ``path`` in the format of its extension (or ``fmt``).
 
-    ``patches``: the four patch names (see :func:`patches.patch_names`); None keeps the
-    grid's ``PatchNames`` (or the defaults bottom, right, top, left). ``extrude``: one cell
-    of this thickness in z (PLOT3D, CGNS, Gmsh, OpenFOAM; OpenFOAM defaults to the grid's
-    mean edge length). Returns the path written; raises ``InputError`` (one line) for bad
-    arguments and ``OSError`` when the file system refuses.
+    ``patches``: the patch names of the grid's sides (see :func:`patches.patch_names`:
+    bottom, right, top, left; imin ... kmax for a hexahedral grid); None keeps the grid's
+    ``PatchNames`` (or the sides' names). ``extrude``: one cell of this thickness in z for
+    a 2D grid (PLOT3D, CGNS, Gmsh, OpenFOAM; OpenFOAM defaults to the grid's mean edge
+    length). Returns the path written; raises ``InputError`` (one line) for bad arguments
+    and ``OSError`` when the file system refuses.
     """
     path = Path(path)
     found = output_format(path, fmt, extrude)
-    names, types = of_grid(grid) if patches is None else patch_specs(patches)
-    topology = body_topology(grid)
-    if topology:
+    box = is_box(grid)
+    sides = BOX_SIDES if box else SIDES
+    names, types = of_grid(grid, sides) if patches is None else patch_specs(patches, sides=sides)
+    topology = None if box else body_topology(grid)
+    if box:
+        if extrude is not None:
+            raise InputError("a hexahedral grid is 3D already; drop {extrude}", str(path))
+        xyz = box_points(grid)
+    elif topology:
         points, normal, n_wake = _body_points(grid, topology, path)
     else:
         (points, normal), n_wake = grid_points(grid), 0
@@ -182,6 +227,8 @@ def write(
         with atomic_path(path, suffix=found.suffix) as tmp:
             vtkfiles.write_legacy(copy, tmp)
         return path
+    if box:
+        return _write_box(Box(xyz, names, types), path, found)
     if extrude is None and found.key == "openfoam":  # OpenFOAM meshes are always 3D
         extrude = mean_edge(points)
     block = Block(points, names, extrude, normal, topology, n_wake, types)
@@ -190,6 +237,15 @@ def write(
         return write_case(path, lambda folder: polymesh(block, folder))
     with atomic_path(path, suffix=found.suffix) as tmp:
         _FILE_WRITERS[found.key](block, tmp)
+    return path
+
+
+def _write_box(box: Box, path: Path, found: Format) -> Path:
+    """A hexahedral grid in a solver format (SPEC 11)."""
+    if found.key == "openfoam":
+        return write_case(path, lambda folder: openfoam.write_box_polymesh(box, folder))
+    with atomic_path(path, suffix=found.suffix) as tmp:
+        _BOX_WRITERS[found.key](box, tmp)
     return path
 
 
@@ -260,15 +316,20 @@ def _umask() -> int:
 
 
 __all__ = [
+    "BOX_SIDES",
     "FIELD",
     "FORMATS",
     "SIDES",
     "Block",
+    "Box",
     "Format",
+    "box_points",
     "grid_points",
+    "is_box",
     "output_format",
     "parse_patch_options",
     "patch_names",
+    "patch_specs",
     "write",
     "write_case",
 ]

@@ -1,4 +1,5 @@
-"""What every writer gets: the grid's nodes, its patch names and the extrusion, if any."""
+"""What every writer gets: the grid's nodes, its patch names and the extrusion, if any (a 2D
+grid's :class:`Block`), or a hexahedral grid's nodes and six patch names (:class:`Box`)."""
 
 from __future__ import annotations
 
@@ -6,7 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pinn_engine.io.export.patches import default_type, groups
+from pinn_engine.io.export.patches import BOX_SIDES, groups, type_of
 from pinn_engine.io.export.topology import layers
 
 
@@ -42,5 +43,29 @@ class Block:
 
     def patch_type(self, name: str) -> str:
         """The type (``patches.TYPES``) of the patch ``name``: given, or by its name."""
-        types = self.types or [default_type(n) for n in self.names]
-        return dict(zip(self.names, types)).get(name, default_type(name))
+        return type_of(self.names, self.types, name)
+
+
+@dataclass(frozen=True)
+class Box:
+    """One hexahedral block (SPEC 11): ``xyz`` (nk, nj, ni, 3), right-handed in (i, j, k)
+    (positive cell volumes), and the patch names and types of its six sides (imin, imax,
+    jmin, jmax, kmin, kmax)."""
+
+    xyz: np.ndarray
+    names: tuple[str, ...]
+    types: tuple[str, ...]
+
+    @property
+    def shape(self) -> tuple[int, int, int]:
+        """Nodes along i, j and k."""
+        nk, nj, ni = self.xyz.shape[:3]
+        return ni, nj, nk
+
+    def patches(self) -> dict[str, list[str]]:
+        """Patch name -> its sides, in the order of first appearance."""
+        return groups(self.names, BOX_SIDES)
+
+    def patch_type(self, name: str) -> str:
+        """The type (``patches.TYPES``) of the patch ``name``."""
+        return type_of(self.names, self.types, name)

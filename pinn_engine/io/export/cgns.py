@@ -5,7 +5,8 @@ of the CGNS C library: one ``CGNSBase_t``,
 one structured ``Zone_t`` with ``GridCoordinates`` (double), ``ZoneBC`` with one ``BC_t``
 per side as a vertex ``PointRange`` (``FamilySpecified``, ``FamilyName`` = the patch name),
 and one ``Family_t`` per patch (sides with one name share the family). Extruded grids are
-3D zones with nk = 2 and the ends in the family ``frontAndBack``.
+3D zones with nk = 2 and the ends in the family ``frontAndBack``; a hexahedral grid (SPEC
+11) is one 3D zone with a ``BC_t`` on each of its six sides.
 
 HDF5 layout (CGNS "SIDS-to-HDF5" mapping): each node is a group with the attributes
 ``name``, ``label`` (33-byte strings), ``type`` (3 bytes: MT, C1, I4, R4, R8) and
@@ -23,9 +24,9 @@ from pathlib import Path
 
 import numpy as np
 
-from pinn_engine.io.export.block import Block
+from pinn_engine.io.export.block import Block, Box
 from pinn_engine.io.export.patches import FRONT_AND_BACK, TYPES
-from pinn_engine.io.export.topology import index_range
+from pinn_engine.io.export.topology import box_range, index_range
 
 ROOT = Path(__file__).resolve().parents[2]  # the checkout (its .venv: the helper Python)
 
@@ -69,21 +70,27 @@ def check() -> None:
         )
 
 
-def _write_in_helper(block: Block, path: Path) -> None:
+def _write_in_helper(shape: Block | Box, path: Path) -> None:
+    """Write ``shape`` through the helper Python (:func:`_helper_python`), its fields handed
+    over in an ``.npz`` beside ``path``."""
     python = _helper_python()
     if python is None:
         check()
     data = path.with_name(path.name + ".npz")
+    common = {"names": np.array(shape.names), "types": np.array(shape.types or ())}
+    if isinstance(shape, Box):
+        fields = {"xyz": shape.xyz}
+    else:
+        thickness = np.nan if shape.thickness is None else shape.thickness
+        fields = {
+            "points": shape.points,
+            "thickness": np.array(thickness),
+            "normal": shape.normal,
+            "topology": np.array(shape.topology or ""),
+            "n_wake": np.array(shape.n_wake),
+        }
     try:
-        np.savez(
-            data,
-            points=block.points,
-            names=np.array(block.names),
-            thickness=np.array(np.nan if block.thickness is None else block.thickness),
-            normal=block.normal,
-            topology=np.array(block.topology or ""),
-            n_wake=np.array(block.n_wake),
-        )
+        np.savez(data, **common, **fields)
         env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME")}
         env["PYTHONPATH"] = str(ROOT)
         proc = subprocess.run(
@@ -103,15 +110,21 @@ def _write_in_helper(block: Block, path: Path) -> None:
 def _main() -> None:
     """``python -m pinn_engine.io.export.cgns DATA.npz OUT.cgns`` (the helper's side)."""
     data = np.load(sys.argv[1])
+    names = tuple(str(n) for n in data["names"])
+    types = tuple(str(t) for t in data["types"]) or None
+    if "xyz" in data:
+        write_box(Box(data["xyz"], names, types), Path(sys.argv[2]))
+        return
     thickness = float(data["thickness"])
     write(
         Block(
             data["points"],
-            tuple(str(n) for n in data["names"]),
+            names,
             None if np.isnan(thickness) else thickness,
             data["normal"],
             str(data["topology"]) or None,
             int(data["n_wake"]),
+            types,
         ),
         Path(sys.argv[2]),
     )
@@ -156,7 +169,8 @@ class Join:
 @dataclass(frozen=True)
 class Zone:
     """One structured zone: ``xyz`` (nk, nj, ni, 3), its boundary conditions ``bcs`` as
-    (BC name, patch name, 1-based 2D (i, j) point range) and its 1-to-1 ``joins``."""
+    (BC name, patch name, 1-based point range: 2D (i, j), or (i, j, k) in a hexahedral
+    grid) and its 1-to-1 ``joins``."""
 
     name: str
     xyz: np.ndarray
@@ -168,10 +182,20 @@ def _bc_name(name: str, side: str, shared: bool) -> str:
     return f"{name[: 32 - len(side) - 1]}_{side}" if shared else name
 
 
-def _deep(rng, three_d: bool):
-    """A 2D range through both layers of an extrusion (as is in 2D)."""
+def _deep(rng, extruded: bool):
+    """A 2D range through both layers of an extrusion (as is otherwise)."""
     lo, hi = rng
-    return ((*lo, 1), (*hi, 2)) if three_d else rng
+    return ((*lo, 1), (*hi, 2)) if extruded else rng
+
+
+def _side_bcs(ranges: dict[str, list]) -> list:
+    """BCs (BC name, patch name, range) of patch name -> [(side, range)]: a patch of several
+    sides has a BC per side, named after both."""
+    return [
+        (_bc_name(name, side, len(parts) > 1), name, rng)
+        for name, parts in ranges.items()
+        for side, rng in parts
+    ]
 
 
 def write(block: Block, path: Path) -> None:
@@ -188,24 +212,37 @@ def write(block: Block, path: Path) -> None:
             name: [(side, index_range(ni, nj, side)) for side in sides]
             for name, sides in block.patches().items()
         }
-    bcs = [
-        (_bc_name(name, side, len(parts) > 1), name, rng)
-        for name, parts in ranges.items()
-        for side, rng in parts
-    ]
     types = {name: block.patch_type(name) for name in ranges}
-    write_zones([Zone("Zone", block.layers(), bcs, joins)], types, path)
+    write_zones([Zone("Zone", block.layers(), _side_bcs(ranges), joins)], types, path)
 
 
-def write_zones(zones: list[Zone], types: dict[str, str], path: Path) -> None:
-    """A CGNS file of structured ``zones`` (all 2D, or all extruded: nk = 2, the ends in
-    the family ``frontAndBack``), a ``Family_t`` per patch of ``types`` (name -> type)."""
+def write_box(box: Box, path: Path) -> None:
+    """A hexahedral grid as one 3D zone, a ``BC_t`` per side (SPEC 11)."""
+    if _h5py() is None:
+        _write_in_helper(box, path)
+        return
+    shape = box.shape
+    ranges = {
+        name: [(side, box_range(*shape, side)) for side in sides]
+        for name, sides in box.patches().items()
+    }
+    types = {name: box.patch_type(name) for name in ranges}
+    write_zones([Zone("Zone", box.xyz, _side_bcs(ranges), [])], types, path, extruded=False)
+
+
+def write_zones(
+    zones: list[Zone], types: dict[str, str], path: Path, extruded: bool = True
+) -> None:
+    """A CGNS file of structured ``zones`` (all 2D, or all 3D: extruded 2D grids, nk = 2,
+    the ends in the family ``frontAndBack``, unless not ``extruded``: hexahedral grids),
+    a ``Family_t`` per patch of ``types`` (name -> type)."""
     h5py = _h5py()
     if h5py is None:
         from pinn_engine.errors import InputError
 
         raise InputError("writing these CGNS zones needs a working h5py in this Python", "cgns")
     three_d = zones[0].xyz.shape[0] > 1
+    extruded = three_d and extruded
     dim = 3 if three_d else 2
     with h5py.File(path, "w", track_order=True) as f:
         _attr(f, "name", "HDF5 MotherNode", 33)
@@ -221,14 +258,14 @@ def write_zones(zones: list[Zone], types: dict[str, str], path: Path) -> None:
         _node(f, "CGNSLibraryVersion", "CGNSLibraryVersion_t", np.array([3.4], np.float32))
         base = _node(f, "Base", "CGNSBase_t", np.array([dim, dim], np.int32))
         for zone in zones:
-            _zone(base, zone, three_d)
-        families = dict(types, **({FRONT_AND_BACK: "patch"} if three_d else {}))
+            _zone(base, zone, three_d, extruded)
+        families = dict(types, **({FRONT_AND_BACK: "patch"} if extruded else {}))
         for name, kind in families.items():
             family = _node(base, name, "Family_t")
             _node(family, "FamilyBC", "FamilyBC_t", TYPES[kind][1])
 
 
-def _zone(base, zone: Zone, three_d: bool) -> None:
+def _zone(base, zone: Zone, three_d: bool, extruded: bool) -> None:
     """A ``Zone_t`` with its coordinates, ``ZoneBC`` and ``ZoneGridConnectivity``."""
     xyz = zone.xyz
     nk, nj, ni = xyz.shape[:3]
@@ -242,8 +279,8 @@ def _zone(base, zone: Zone, three_d: bool) -> None:
         # Fortran (i, j, k)
         _node(coords, f"Coordinate{key}", "DataArray_t", np.ascontiguousarray(values.T, np.float64))
     zone_bc = _node(node, "ZoneBC", "ZoneBC_t")
-    bcs = [(label, name, _deep(rng, three_d)) for label, name, rng in zone.bcs]
-    if three_d:  # the ends
+    bcs = [(label, name, _deep(rng, extruded)) for label, name, rng in zone.bcs]
+    if extruded:  # the ends
         bcs += [
             (f"{FRONT_AND_BACK}_back", FRONT_AND_BACK, ((1, 1, 1), (ni, nj, 1))),
             (f"{FRONT_AND_BACK}_front", FRONT_AND_BACK, ((1, 1, 2), (ni, nj, 2))),
@@ -256,11 +293,11 @@ def _zone(base, zone: Zone, three_d: bool) -> None:
         return
     grid_conn = _node(node, "ZoneGridConnectivity", "ZoneGridConnectivity_t")
     for join in zone.joins:
-        transform = list(join.transform) + ([3] if three_d else [])
+        transform = list(join.transform) + ([3] if extruded else [])
         conn = _node(grid_conn, join.name, "GridConnectivity1to1_t", join.donor)
         _node(conn, "Transform", '"int[IndexDimension]"', np.array(transform, np.int32))
-        _node(conn, "PointRange", "IndexRange_t", np.array(_deep(join.here, three_d), np.int32).T)
-        there = np.array(_deep(join.there, three_d), np.int32).T
+        _node(conn, "PointRange", "IndexRange_t", np.array(_deep(join.here, extruded), np.int32).T)
+        there = np.array(_deep(join.there, extruded), np.int32).T
         _node(conn, "PointRangeDonor", "IndexRange_t", there)
 
 

@@ -4,12 +4,12 @@ The format is plain text and fully documented, and a writer that needs only nump
 works inside ParaView's Python, where the ``gmsh`` wheel (a 100 MB native library) is not
 available; the tests read every file back with Gmsh's own API.
 
-Entities are those of the logical box: its corners, edges, faces (and, extruded, the
-volume); each node is classified on the entity it lies on. Elements: quadrangles (2D) or
-hexahedra (extruded) in the physical group ``fluid``; per patch a physical curve (2D, lines
-with the domain on their left) or surface (extruded, quadrangles facing out), plus
-``frontAndBack`` for the two ends of an extrusion. Node tags are ``1 + i + ni * (j + nj *
-k)``.
+Entities are those of the logical box: its corners, edges, faces (and, extruded or
+hexahedral, the volume); each node is classified on the entity it lies on. Elements:
+quadrangles (2D) or hexahedra (extruded, or a hexahedral grid of SPEC 11) in the physical
+group ``fluid``; per patch a physical curve (2D, lines with the domain on their left) or
+surface (3D, quadrangles facing out), plus ``frontAndBack`` for the two ends of an
+extrusion. Node tags are ``1 + i + ni * (j + nj * k)``.
 """
 
 from __future__ import annotations
@@ -19,11 +19,19 @@ from pathlib import Path
 
 import numpy as np
 
-from pinn_engine.io.export.block import Block
+from pinn_engine.io.export.block import Block, Box
 from pinn_engine.io.export.patches import FRONT_AND_BACK
 from pinn_engine.io.export.quadmesh import QuadMesh
 from pinn_engine.io.export.text import write_rows
-from pinn_engine.io.export.topology import end_faces, hexes, quads, side_edges, side_faces
+from pinn_engine.io.export.topology import (
+    BOX_SIDES,
+    box_faces,
+    end_faces,
+    hexahedra,
+    quads,
+    side_edges,
+    side_faces,
+)
 
 FLUID = "fluid"
 # entity state of a side per axis (0: first index, 1: interior, 2: last index)
@@ -105,6 +113,37 @@ def write(block: Block, path: Path) -> None:
     xyz = block.layers()
     nk, nj, ni = xyz.shape[:3]
     three_d = nk > 1
+    faces: dict[str, list[tuple[tuple[int, ...], np.ndarray]]] = {}
+    for name, sides in block.patches().items():
+        for side in sides:
+            state = _SIDE_STATE[side] + ((1,) if three_d else ())
+            elems = side_faces(ni, nj, side) if three_d else side_edges(ni, nj, side)
+            faces.setdefault(name, []).append((state, elems))
+    if three_d:
+        faces.setdefault(FRONT_AND_BACK, []).extend(
+            [((1, 1, 0), end_faces(ni, nj, "back")), ((1, 1, 2), end_faces(ni, nj, "front"))]
+        )
+    _write_structured(xyz, faces, path)
+
+
+def write_box(box: Box, path: Path) -> None:
+    """A hexahedral grid (SPEC 11): hexahedra in ``fluid``, a physical surface per patch."""
+    faces: dict[str, list[tuple[tuple[int, ...], np.ndarray]]] = {}
+    for name, sides in box.patches().items():
+        for side in sides:
+            axis, end = divmod(BOX_SIDES.index(side), 2)
+            state = tuple(2 * end if a == axis else 1 for a in range(3))
+            faces.setdefault(name, []).append((state, box_faces(*box.shape, side)))
+    _write_structured(box.xyz, faces, path)
+
+
+def _write_structured(
+    xyz: np.ndarray, faces: dict[str, list[tuple[tuple[int, ...], np.ndarray]]], path: Path
+) -> None:
+    """A structured grid ``xyz`` (nk, nj, ni, 3; nk = 1: 2D) with the boundary elements of
+    each physical group ``faces`` (name -> [(entity state, elements)])."""
+    nk, nj, ni = xyz.shape[:3]
+    three_d = nk > 1
     shape = (ni, nj, nk) if three_d else (ni, nj)
     dim = len(shape)
     coords = xyz.reshape(-1, 3)
@@ -118,17 +157,6 @@ def write(block: Block, path: Path) -> None:
         tags[state] = 1 + sum(1 for other in tags if other.count(1) == d)
 
     # physical groups: one per patch (dimension dim - 1), fluid (dim)
-    patches = block.patches()
-    faces: dict[str, list[tuple[tuple[int, ...], np.ndarray]]] = {}
-    for name, sides in patches.items():
-        for side in sides:
-            state = _SIDE_STATE[side] + ((1,) if three_d else ())
-            elems = side_faces(ni, nj, side) if three_d else side_edges(ni, nj, side)
-            faces.setdefault(name, []).append((state, elems))
-    if three_d:
-        faces.setdefault(FRONT_AND_BACK, []).extend(
-            [((1, 1, 0), end_faces(ni, nj, "back")), ((1, 1, 2), end_faces(ni, nj, "front"))]
-        )
     physical = {name: k + 1 for k, name in enumerate(faces)}
     fluid_tag = len(physical) + 1
     entity_physical: dict[tuple[int, ...], list[int]] = {(1,) * dim: [fluid_tag]}
@@ -168,7 +196,7 @@ def write(block: Block, path: Path) -> None:
             write_rows(f, ids + 1, "%d")
             write_rows(f, coords[ids], "%.17g %.17g %.17g")
         f.write("$EndNodes\n")
-        volume = hexes(ni, nj) if three_d else quads(ni, nj)
+        volume = hexahedra(ni, nj, nk) if three_d else quads(ni, nj)
         element_blocks = [((1,) * dim, 5 if three_d else 3, volume)]
         boundary_type = 3 if three_d else 1
         for parts in faces.values():

@@ -1,12 +1,13 @@
 """OpenFOAM case (``DIR/constant/polyMesh``), written by hand in OpenFOAM's ASCII format.
 
-OpenFOAM meshes are always 3D: the grid is extruded one cell in z (thickness T, by default
+OpenFOAM meshes are always 3D: a 2D grid is extruded one cell in z (thickness T, by default
 the grid's mean edge length) and the two ends form the patch ``frontAndBack`` of type
-``empty``, OpenFOAM's 2D idiom. Faces follow polyMesh's rules: internal faces first, in
-upper-triangular order (by owner, then neighbour) with normals from owner to neighbour,
-then the boundary faces patch by patch with normals out of the domain. A minimal
-``system/`` (controlDict, fvSchemes, fvSolution) makes the case readable by ``checkMesh``
-and ParaView at once; existing files there are kept.
+``empty``, OpenFOAM's 2D idiom; a hexahedral grid (SPEC 11) is written as it is. Faces
+follow polyMesh's rules: internal faces first, in upper-triangular order (by owner, then
+neighbour) with normals from owner to neighbour, then the boundary faces patch by patch
+with normals out of the domain. A minimal ``system/`` (controlDict, fvSchemes, fvSolution)
+makes the case readable by ``checkMesh`` and ParaView at once; existing files there are
+kept.
 """
 
 from __future__ import annotations
@@ -15,11 +16,19 @@ from pathlib import Path
 
 import numpy as np
 
-from pinn_engine.io.export.block import Block
+from pinn_engine.io.export.block import Block, Box
 from pinn_engine.io.export.patches import FRONT_AND_BACK, TYPES
 from pinn_engine.io.export.quadmesh import QuadMesh
 from pinn_engine.io.export.text import write_rows
-from pinn_engine.io.export.topology import end_faces, quads, side_cells, side_faces
+from pinn_engine.io.export.topology import (
+    box_cells,
+    box_faces,
+    end_faces,
+    inner_faces,
+    quads,
+    side_cells,
+    side_faces,
+)
 
 _HEADER = """FoamFile
 {{
@@ -65,22 +74,10 @@ def _write_list(path: Path, cls: str, rows: np.ndarray, note: str = "") -> None:
         f.write(")\n")
 
 
-def internal_faces(ni: int, nj: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Faces between cells (upper-triangular order), their owners and neighbours."""
-    top = ni * nj
-    jj, ii = np.mgrid[0 : nj - 1, 0 : ni - 1]
-    cell = (ii + (ni - 1) * jj).ravel()
-    node = (ii + ni * jj).ravel()
-    ii, jj = ii.ravel(), jj.ravel()
-    east = ii < ni - 2  # face at i + 1, normal +i
-    a, b = node[east] + 1, node[east] + 1 + ni
-    f_east = np.column_stack([a, b, b + top, a + top])
-    north = jj < nj - 2  # face at j + 1, normal +j
-    a, b = node[north] + ni, node[north] + ni + 1
-    f_north = np.column_stack([a, a + top, b + top, b])
-    faces = np.vstack([f_east, f_north])
-    owner = np.concatenate([cell[east], cell[north]])
-    neighbour = np.concatenate([cell[east] + 1, cell[north] + ni - 1])
+def internal_faces(ni: int, nj: int, nk: int = 2) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Faces between the cells of an (ni, nj, nk) grid (nk = 2: a 2D grid's extrusion) in
+    upper-triangular order (by owner, then neighbour), their owners and neighbours."""
+    faces, owner, neighbour = inner_faces(ni, nj, nk)
     order = np.lexsort((neighbour, owner))
     return faces[order], owner[order], neighbour[order]
 
@@ -109,6 +106,23 @@ def write_polymesh(block: Block, mesh: Path) -> None:
         )
     )
     write_mesh_files(mesh, block.layers().reshape(-1, 3), faces, owner, neighbour, patches)
+
+
+def write_box_polymesh(box: Box, mesh: Path) -> None:
+    """The polyMesh of a hexahedral grid (SPEC 11, no extrusion): a patch per name of its
+    six sides, of the type given (``patches.TYPES``)."""
+    ni, nj, nk = box.shape
+    faces, owner, neighbour = internal_faces(ni, nj, nk)
+    patches = [
+        (
+            name,
+            TYPES[box.patch_type(name)][0],
+            np.vstack([box_faces(ni, nj, nk, s) for s in sides]),
+            np.concatenate([box_cells(ni, nj, nk, s) for s in sides]),
+        )
+        for name, sides in box.patches().items()
+    ]
+    write_mesh_files(mesh, box.xyz.reshape(-1, 3), faces, owner, neighbour, patches)
 
 
 def write_quadmesh_polymesh(mesh: QuadMesh, thickness: float, folder: Path) -> None:

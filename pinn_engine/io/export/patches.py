@@ -1,7 +1,8 @@
-"""Boundary patch names of a grid's four sides (SPEC 8), VTK and numpy only.
+"""Boundary patch names of a grid's sides (SPEC 8), VTK and numpy only.
 
-A grid carries its patch names as the field-data string array ``PatchNames`` (bottom,
-right, top, left order) and its structured indices as the point arrays ``i`` and ``j``.
+A 2D grid has four sides (bottom, right, top, left), a hexahedral grid six (imin ... kmax,
+SPEC 11). A grid carries its patch names as the field-data string array ``PatchNames`` (in
+its sides' order) and its structured indices as the point arrays ``i``, ``j`` (and ``k``).
 Sides with the same name form one patch.
 """
 
@@ -17,7 +18,8 @@ from vtkmodules.vtkCommonCore import vtkStringArray
 from pinn_engine.errors import InputError
 
 SIDES = ("bottom", "right", "top", "left")
-DEFAULT = SIDES
+BOX_SIDES = ("imin", "imax", "jmin", "jmax", "kmin", "kmax")  # a hexahedral grid's (SPEC 11)
+COUNT_WORDS = {len(SIDES): "four", len(BOX_SIDES): "six"}  # side counts as messages say them
 NAME = re.compile(r"^[A-Za-z0-9_-]{1,32}$")
 FIELD = "PatchNames"
 TYPES_FIELD = "PatchTypes"  # the boundary condition kind of each side, as PatchNames
@@ -86,62 +88,70 @@ def body_patch_names(topology: str) -> tuple[str, str, str, str]:
 
 
 def parse_patch_options(
-    items: Sequence[str] | None, default: Sequence[str] = DEFAULT
+    items: Sequence[str] | None,
+    default: Sequence[str] | None = None,
+    sides: Sequence[str] = SIDES,
 ) -> tuple[str, ...]:
-    """Patch names from ``SIDE=NAME`` items (the command line's ``--patch``); sides not
-    named keep ``default``'s."""
-    names = dict(zip(SIDES, default))
+    """Patch names of ``sides`` from ``SIDE=NAME`` items (the command line's ``--patch``);
+    sides not named keep ``default``'s (the sides' own names when None)."""
+    names = dict(zip(sides, default or sides))
     for item in items or ():
         side, sep, name = item.partition("=")
         side = side.strip().lower()
         if not sep or side not in names:
             raise InputError(
                 f"patch {item!r}: expected SIDE=NAME with SIDE one of "
-                f"{', '.join(SIDES)} ({{patch}})"
+                f"{', '.join(sides)} ({{patch}})"
             )
         names[side] = _checked_typed(name.strip())
-    return tuple(names[s] for s in SIDES)
+    return tuple(names[s] for s in sides)
 
 
 def patch_names(
-    patches: Mapping[str, str] | Sequence[str] | str | None, default: Sequence[str] = DEFAULT
+    patches: Mapping[str, str] | Sequence[str] | str | None,
+    default: Sequence[str] | None = None,
+    sides: Sequence[str] = SIDES,
 ) -> tuple[str, ...]:
-    """The four patch names (bottom, right, top, left) from any of the routes' forms.
+    """The patch names of ``sides`` (bottom, right, top, left; or imin ... kmax) from any
+    of the routes' forms.
 
-    ``None``: ``default`` (bottom, right, top, left; a body grid's: wall, seam or outflow,
+    ``None``: ``default`` (None: the sides' names; a body grid's: wall, seam or outflow,
     far field); a mapping ``{"bottom": "wall", ...}`` (sides not named keep their default);
-    a sequence of four names or of ``SIDE=NAME`` items (``--patch``); or a string of four
-    names or ``SIDE=NAME`` items separated by spaces or commas (the ParaView panel's field).
+    a sequence of one name a side or of ``SIDE=NAME`` items (``--patch``); or a string of
+    such names or items separated by spaces or commas (the ParaView panel's field).
     """
+    default = tuple(default or sides)
     if patches is None:
-        return tuple(default)
+        return default
     if isinstance(patches, str):
         items = [t for t in re.split(r"[\s,;]+", patches) if t]
         if not items:
-            return tuple(default)
+            return default
         if all("=" in t for t in items):
-            return parse_patch_options(items, default)
+            return parse_patch_options(items, default, sides)
         patches = items
     if isinstance(patches, Mapping):
-        return parse_patch_options([f"{k}={v}" for k, v in patches.items()], default)
+        return parse_patch_options([f"{k}={v}" for k, v in patches.items()], default, sides)
     names = [str(n).strip() for n in patches]
     if names and all("=" in n for n in names):  # the command line's --patch items
-        return parse_patch_options(names, default)
-    if len(names) != 4 or any("=" in n for n in names):
+        return parse_patch_options(names, default, sides)
+    if len(names) != len(sides) or any("=" in n for n in names):
         raise InputError(
-            f"patch names {' '.join(names)!r}: give four names (bottom, right, "
-            "top, left) or SIDE=NAME items ({patch})"
+            f"patch names {' '.join(names)!r}: give {COUNT_WORDS[len(sides)]} names "
+            f"({', '.join(sides)}) or SIDE=NAME items ({{patch}})"
         )
     return tuple(_checked_typed(n) for n in names)
 
 
 def patch_specs(
-    patches: Mapping[str, str] | Sequence[str] | str | None, default: Sequence[str] = DEFAULT
+    patches: Mapping[str, str] | Sequence[str] | str | None,
+    default: Sequence[str] | None = None,
+    sides: Sequence[str] = SIDES,
 ) -> tuple[tuple[str, ...], tuple[str, ...]]:
-    """The four patch names and their types (bottom, right, top, left) from any of the
-    routes' forms, where each name may carry ``:TYPE`` (one of ``TYPES``; default: wall for
-    a patch named wall, else patch). Sides of one name must agree on its type."""
-    typed = [split_type(item) for item in patch_names(patches, default)]
+    """The patch names of ``sides`` and their types from any of the routes' forms, where
+    each name may carry ``:TYPE`` (one of ``TYPES``; default: wall for a patch named wall,
+    else patch). Sides of one name must agree on its type."""
+    typed = [split_type(item) for item in patch_names(patches, default, sides)]
     given: dict[str, str] = {}
     for name, kind in typed:
         if kind is not None and given.setdefault(name, kind) != kind:
@@ -150,17 +160,24 @@ def patch_specs(
     return names, tuple(given.get(name, default_type(name)) for name in names)
 
 
-def groups(names: Sequence[str]) -> dict[str, list[str]]:
+def groups(names: Sequence[str], sides: Sequence[str] = SIDES) -> dict[str, list[str]]:
     """Patch name -> its sides, in the order the names first appear."""
     out: dict[str, list[str]] = {}
-    for side, name in zip(SIDES, names):
+    for side, name in zip(sides, names):
         out.setdefault(name, []).append(side)
     return out
 
 
+def type_of(names: Sequence[str], types: Sequence[str] | None, name: str) -> str:
+    """The type (``TYPES``) of the patch ``name`` among sides named ``names``: given in
+    ``types`` (one a side), or by its name."""
+    types = types or [default_type(n) for n in names]
+    return dict(zip(names, types)).get(name, default_type(name))
+
+
 def add_to_grid(grid, names: Sequence[str], types: Sequence[str] | None = None) -> None:
     """Put ``PatchNames`` and ``PatchTypes`` (field data; types default by name) and the
-    point arrays ``i``, ``j`` on ``grid``."""
+    point arrays ``i``, ``j`` (and ``k`` on a 3D grid) on ``grid``."""
     fd = grid.GetFieldData()
     types = types if types is not None else [default_type(n) for n in names]
     for field, values in ((FIELD, names), (TYPES_FIELD, types)):
@@ -171,21 +188,22 @@ def add_to_grid(grid, names: Sequence[str], types: Sequence[str] | None = None) 
             arr.InsertNextValue(value)
         fd.AddArray(arr)
     ext = grid.GetExtent()
-    ni, nj = ext[1] - ext[0] + 1, ext[3] - ext[2] + 1
-    jj, ii = np.mgrid[0:nj, 0:ni]
-    for key, values in (("i", ii), ("j", jj)):
+    ni, nj, nk = (ext[2 * a + 1] - ext[2 * a] + 1 for a in range(3))
+    kk, jj, ii = np.mgrid[0:nk, 0:nj, 0:ni]
+    for key, values in (("i", ii), ("j", jj), ("k", kk))[: 3 if nk > 1 else 2]:
         data = numpy_to_vtk(np.ascontiguousarray(values.ravel(), dtype=np.int32), deep=True)
         data.SetName(key)
         grid.GetPointData().AddArray(data)
 
 
-def of_grid(grid) -> tuple[tuple[str, ...], tuple[str, ...]]:
-    """The patch names and types a grid carries, or the defaults."""
+def of_grid(grid, sides: Sequence[str] = SIDES) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """The patch names and types a grid carries for ``sides``, or the defaults."""
     fd = grid.GetFieldData()
     arr, kinds = fd.GetAbstractArray(FIELD), fd.GetAbstractArray(TYPES_FIELD)
-    if arr is None or arr.GetNumberOfValues() != 4:
-        return patch_specs(None)
-    names = [arr.GetValue(k) for k in range(4)]
-    if kinds is not None and kinds.GetNumberOfValues() == 4:
-        names = [f"{n}:{kinds.GetValue(k)}" for k, n in enumerate(names)]
-    return patch_specs(names)
+    n = len(sides)
+    if arr is None or arr.GetNumberOfValues() != n:
+        return patch_specs(None, sides=sides)
+    names = [arr.GetValue(k) for k in range(n)]
+    if kinds is not None and kinds.GetNumberOfValues() == n:
+        names = [f"{name}:{kinds.GetValue(k)}" for k, name in enumerate(names)]
+    return patch_specs(names, sides=sides)

@@ -3,7 +3,8 @@
 Written by hand (numpy): Fortran records with 4-byte length markers (the number of
 grids; ni nj nk of each; then per grid all x, then all y, then all z), native byte order,
 no iblank, the layout VTK's ``vtkMultiBlockPLOT3DReader`` detects by itself. A 2D grid is
-written with nk = 1. PLOT3D has no boundary conditions: the patch names are not stored.
+written with nk = 1, a hexahedral grid (SPEC 11) as the one 3D grid of the file. PLOT3D
+has no boundary conditions: the patch names are not stored.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pinn_engine.io.export.block import Block
+from pinn_engine.io.export.block import Block, Box
 
 
 def _record(f, data: np.ndarray) -> None:
@@ -33,3 +34,7 @@ def write_grids(grids: list[np.ndarray], path: Path) -> None:
 
 def write(block: Block, path: Path) -> None:
     write_grids([block.layers()], path)
+
+
+def write_box(box: Box, path: Path) -> None:
+    write_grids([box.xyz], path)

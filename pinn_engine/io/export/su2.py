@@ -1,7 +1,8 @@
 """SU2 native mesh (``.su2``), written by hand: a short, documented ASCII format.
 
-2D only: quadrilaterals (VTK type 9) counter-clockwise, then one ``MARKER_TAG`` per patch
-with its boundary lines (type 3) oriented with the domain on their left.
+2D: quadrilaterals (VTK type 9) counter-clockwise, then one ``MARKER_TAG`` per patch with
+its boundary lines (type 3) oriented with the domain on their left. A hexahedral grid (SPEC
+11): hexahedra (type 12, VTK's node order), each marker's quadrilaterals facing out.
 """
 
 from __future__ import annotations
@@ -12,26 +13,39 @@ import numpy as np
 
 from pinn_engine.errors import InputError
 from pinn_engine.io.export import bodies
-from pinn_engine.io.export.block import Block
+from pinn_engine.io.export.block import Block, Box
 from pinn_engine.io.export.quadmesh import QuadMesh
 from pinn_engine.io.export.text import write_rows
-from pinn_engine.io.export.topology import quads, side_edges
+from pinn_engine.io.export.topology import box_faces, hexahedra, quads, side_edges
+
+# VTK cell type numbers, which SU2 uses for its elements
+LINE, QUAD, HEXAHEDRON = 3, 9, 12
+
+
+def _write(
+    path: Path, note: str, points: np.ndarray, cells: np.ndarray, markers: dict[str, np.ndarray]
+) -> None:
+    """Nodes ``points`` (n, dim), ``cells`` (quads in 2D, hexahedra in 3D) and the boundary
+    elements of each marker (lines in 2D, quads in 3D)."""
+    dim = points.shape[1]
+    cell_type, face_type = (QUAD, LINE) if dim == 2 else (HEXAHEDRON, QUAD)
+    with open(path, "w") as f:
+        f.write(f"% SU2 mesh written by pinn-mesh{note}\nNDIME= {dim}\n")
+        f.write(f"NELEM= {len(cells)}\n")
+        rows = np.column_stack([cells, np.arange(len(cells))])
+        write_rows(f, rows, " ".join([str(cell_type)] + ["%d"] * rows.shape[1]))
+        f.write(f"NPOIN= {len(points)}\n")
+        rows = np.column_stack([points, np.arange(len(points))])
+        write_rows(f, rows, " ".join(["%.17g"] * dim + ["%d"]))
+        f.write(f"NMARK= {len(markers)}\n")
+        for name, faces in markers.items():
+            f.write(f"MARKER_TAG= {name}\nMARKER_ELEMS= {len(faces)}\n")
+            write_rows(f, faces, " ".join([str(face_type)] + ["%d"] * faces.shape[1]))
 
 
 def write_quadmesh(mesh: QuadMesh, path: Path, note: str) -> None:
     """An unstructured quad mesh (merged nodes), ``note`` saying what it is."""
-    with open(path, "w") as f:
-        f.write(f"% SU2 mesh written by pinn-mesh ({note})\nNDIME= 2\n")
-        f.write(f"NELEM= {len(mesh.quads)}\n")
-        rows = np.column_stack([mesh.quads, np.arange(len(mesh.quads))])
-        write_rows(f, rows, "9 %d %d %d %d %d")
-        xy = mesh.points[:, :2]
-        f.write(f"NPOIN= {len(xy)}\n")
-        write_rows(f, np.column_stack([xy, np.arange(len(xy))]), "%.17g %.17g %d")
-        f.write(f"NMARK= {len(mesh.patches)}\n")
-        for name, edges in mesh.patches.items():
-            f.write(f"MARKER_TAG= {name}\nMARKER_ELEMS= {len(edges)}\n")
-            write_rows(f, edges, "3 %d %d")
+    _write(path, f" ({note})", mesh.points[:, :2], mesh.quads, mesh.patches)
 
 
 def write(block: Block, path: Path) -> None:
@@ -45,17 +59,18 @@ def write(block: Block, path: Path) -> None:
             "a tilted plane (write .cgns, .msh, .xyz or OpenFOAM instead)",
             str(path),
         )
-    cells = quads(ni, nj)
-    with open(path, "w") as f:
-        f.write("% SU2 mesh written by pinn-mesh\nNDIME= 2\n")
-        f.write(f"NELEM= {len(cells)}\n")
-        write_rows(f, np.column_stack([cells, np.arange(len(cells))]), "9 %d %d %d %d %d")
-        f.write(f"NPOIN= {ni * nj}\n")
-        xy = block.points.reshape(-1, 3)[:, :2]
-        write_rows(f, np.column_stack([xy, np.arange(len(xy))]), "%.17g %.17g %d")
-        patches = block.patches()
-        f.write(f"NMARK= {len(patches)}\n")
-        for name, sides in patches.items():
-            edges = np.vstack([side_edges(ni, nj, s) for s in sides])
-            f.write(f"MARKER_TAG= {name}\nMARKER_ELEMS= {len(edges)}\n")
-            write_rows(f, edges, "3 %d %d")
+    markers = {
+        name: np.vstack([side_edges(ni, nj, s) for s in sides])
+        for name, sides in block.patches().items()
+    }
+    _write(path, "", block.points.reshape(-1, 3)[:, :2], quads(ni, nj), markers)
+
+
+def write_box(box: Box, path: Path) -> None:
+    """A hexahedral grid (SPEC 11): hexahedra and a marker per patch."""
+    shape = box.shape
+    markers = {
+        name: np.vstack([box_faces(*shape, s) for s in sides])
+        for name, sides in box.patches().items()
+    }
+    _write(path, " (hexahedral grid)", box.xyz.reshape(-1, 3), hexahedra(*shape), markers)

@@ -1,16 +1,18 @@
-"""Index arithmetic of a structured (ni, nj) grid and its one-cell extrusion (numpy only).
+"""Index arithmetic of a structured (ni, nj) grid, its one-cell extrusion and a hexahedral
+(ni, nj, nk) grid (numpy only).
 
-Node ``(i, j, k)`` has index ``i + ni * (j + nj * k)``; cell ``(i, j)`` has index
-``i + (ni - 1) * j``. The grid is positively oriented (SPEC 1 and 3: i along bottom
-counter-clockwise, j towards top), so the quads below are counter-clockwise and the faces
-of the extrusion (k = 0 at z = 0, k = 1 at z = T) point out of the domain.
+Node ``(i, j, k)`` has index ``i + ni * (j + nj * k)``; cell ``(i, j, k)`` has index
+``i + (ni - 1) * (j + (nj - 1) * k)``. The 2D grid is positively oriented (SPEC 1 and 3: i
+along bottom counter-clockwise, j towards top), so the quads below are counter-clockwise
+and the faces of the extrusion (k = 0 at z = 0, k = 1 at z = T) point out of the domain;
+a hexahedral grid is right-handed in (i, j, k) (SPEC 11), so its box faces point out too.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from pinn_engine.io.export.patches import SIDES
+from pinn_engine.io.export.patches import BOX_SIDES, SIDES
 
 
 def layers(points: np.ndarray, thickness: float | None, normal: np.ndarray) -> np.ndarray:
@@ -35,10 +37,63 @@ def quads(ni: int, nj: int) -> np.ndarray:
     return np.column_stack([n, n + 1, n + 1 + ni, n + ni])
 
 
+def hexahedra(ni: int, nj: int, nk: int) -> np.ndarray:
+    """(cells, 8) node indices of the hexahedra, VTK's order: the quad at k, then at k + 1."""
+    layer = ni * nj
+    q = (quads(ni, nj)[None] + layer * np.arange(nk - 1)[:, None, None]).reshape(-1, 4)
+    return np.hstack([q, q + layer])
+
+
 def hexes(ni: int, nj: int) -> np.ndarray:
     """(cells, 8) node indices of the extruded cells: the quad at k = 0, then at k = 1."""
-    q = quads(ni, nj)
-    return np.hstack([q, q + ni * nj])
+    return hexahedra(ni, nj, 2)
+
+
+def _planes(ids: np.ndarray, axis: int) -> np.ndarray:
+    """``ids`` (indexed [i, j, k]) as planes across ``axis``: [along axis, b, c] with b, c
+    the next axes in cyclic order, so that b x c points along +axis."""
+    return ids.transpose(axis, (axis + 1) % 3, (axis + 2) % 3)
+
+
+def _plane_quads(planes: np.ndarray, plus: bool) -> np.ndarray:
+    """(faces, 4) quads of node planes [along axis, b, c], normals along +axis (``plus``) or
+    -axis; plane after plane, c fastest."""
+    p00, p10 = planes[:, :-1, :-1], planes[:, 1:, :-1]
+    p11, p01 = planes[:, 1:, 1:], planes[:, :-1, 1:]
+    corners = (p00, p10, p11, p01) if plus else (p00, p01, p11, p10)
+    return np.stack([x.ravel() for x in corners], axis=1)
+
+
+def _ids(ni: int, nj: int, nk: int) -> np.ndarray:
+    """Node (or, given cell counts, cell) indices as an array [i, j, k]."""
+    return np.arange(ni * nj * nk).reshape(nk, nj, ni).transpose(2, 1, 0)
+
+
+def box_faces(ni: int, nj: int, nk: int, side: str) -> np.ndarray:
+    """(faces, 4) boundary faces of a side (``BOX_SIDES``) of a hexahedral grid, normals
+    out of the domain."""
+    axis, end = divmod(BOX_SIDES.index(side), 2)
+    planes = _planes(_ids(ni, nj, nk), axis)
+    return _plane_quads(planes[[-1 if end else 0]], plus=bool(end))
+
+
+def box_cells(ni: int, nj: int, nk: int, side: str) -> np.ndarray:
+    """The cell next to each face of ``box_faces`` (same order)."""
+    axis, end = divmod(BOX_SIDES.index(side), 2)
+    return _planes(_ids(ni - 1, nj - 1, nk - 1), axis)[-1 if end else 0].ravel()
+
+
+def inner_faces(ni: int, nj: int, nk: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The faces between the cells of a hexahedral grid, each with its normal from the
+    lower cell (the owner) to the higher (the neighbour): faces, owners, neighbours."""
+    nodes, cells = _ids(ni, nj, nk), _ids(ni - 1, nj - 1, nk - 1)
+    faces, owner, neighbour = [], [], []
+    for axis in range(3):
+        faces.append(_plane_quads(_planes(nodes, axis)[1:-1], plus=True))
+        across = _planes(cells, axis)
+        owner.append(across[:-1].ravel())
+        neighbour.append(across[1:].ravel())
+    return np.vstack(faces), np.concatenate(owner), np.concatenate(neighbour)
 
 
 def side_nodes(ni: int, nj: int, side: str) -> np.ndarray:
@@ -87,6 +142,14 @@ def side_size(ni: int, nj: int, side: str) -> int:
     return ni if side in ("bottom", "top") else nj
 
 
+def box_range(ni: int, nj: int, nk: int, side: str) -> tuple[tuple[int, ...], tuple[int, ...]]:
+    """1-based ((imin, jmin, kmin), (imax, jmax, kmax)) of a side of a hexahedral grid."""
+    axis, end = divmod(BOX_SIDES.index(side), 2)
+    lo, hi = [1, 1, 1], [ni, nj, nk]
+    lo[axis] = hi[axis] = hi[axis] if end else 1
+    return tuple(lo), tuple(hi)
+
+
 def index_range(ni: int, nj: int, side: str) -> tuple[tuple[int, int], tuple[int, int]]:
     """1-based ((imin, jmin), (imax, jmax)) of a side (CGNS PointRange)."""
     return {
@@ -98,10 +161,16 @@ def index_range(ni: int, nj: int, side: str) -> tuple[tuple[int, int], tuple[int
 
 
 __all__ = [
+    "BOX_SIDES",
     "SIDES",
+    "box_cells",
+    "box_faces",
+    "box_range",
     "end_faces",
+    "hexahedra",
     "hexes",
     "index_range",
+    "inner_faces",
     "layers",
     "mean_edge",
     "quads",
