@@ -8,9 +8,11 @@ from __future__ import annotations
 
 from collections import defaultdict
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonDataModel import vtkPolyData
+from vtkmodules.vtkFiltersCore import vtkTriangleFilter
 
 from pinn_engine.errors import InputError
 
@@ -53,20 +55,25 @@ def is_faced_surface(path: str) -> bool:
         return False
 
 
-def read_surface(path: str) -> Surface:
-    """The triangles and FaceId of a .vtp/.vtk surface, with coincident points merged; read
-    as the 2D boundaries are (a damaged file is a one-line error)."""
-    import pyvista as pv
-
-    from pinn_engine.io.fileio import read_polydata
-
-    data = pv.wrap(read_polydata(Path(path)))
-    if "FaceId" not in data.cell_data:
-        raise InputError("no FaceId cell array: tag each of the six faces", path)
-    data = data.triangulate()
-    faces = np.asarray(data.faces).reshape(-1, 4)[:, 1:]
-    ids = np.asarray(data.cell_data["FaceId"]).astype(int)
-    points = np.asarray(data.points, dtype=float)
+def surface_of(data: vtkPolyData, source: str) -> Surface:
+    """The triangles and FaceId of a polydata (polygons are triangulated), with coincident
+    points merged; plain VTK, so that ParaView's Python (no pyvista) can use it."""
+    ids = data.GetCellData().GetArray(FACE_ARRAY.decode())
+    if ids is None:
+        raise InputError("no FaceId cell array: tag each of the six faces", source)
+    triangulate = vtkTriangleFilter()
+    triangulate.SetInputData(data)
+    triangulate.PassVertsOff()
+    triangulate.PassLinesOff()
+    triangulate.Update()
+    data = triangulate.GetOutput()
+    if data.GetNumberOfPolys() == 0:
+        raise InputError("holds no triangles or polygons: a closed surface is needed", source)
+    faces = vtk_to_numpy(data.GetPolys().GetConnectivityArray()).reshape(-1, 3)
+    ids = vtk_to_numpy(data.GetCellData().GetArray(FACE_ARRAY.decode())).astype(int)
+    points = vtk_to_numpy(data.GetPoints().GetData()).astype(float)
+    if not np.isfinite(points).all():
+        raise InputError("holds a non-finite point", source)
     scale = float(np.ptp(points, axis=0).max()) or 1.0
     _, first, inverse = np.unique(
         np.round(points / scale, MERGE_DIGITS), axis=0, return_index=True, return_inverse=True
@@ -79,7 +86,7 @@ def read_surface(path: str) -> Surface:
     )
     values, face_of = np.unique(ids[keep], return_inverse=True)
     if len(values) != FACES:
-        raise InputError(f"{len(values)} FaceId values found; a hexahedral block needs 6", path)
+        raise InputError(f"{len(values)} FaceId values found; a hexahedral block needs 6", source)
     return Surface(points[first], triangles[keep], face_of.reshape(-1))
 
 
