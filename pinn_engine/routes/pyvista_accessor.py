@@ -49,7 +49,8 @@ from pinn_engine.errors import (
 )
 from pinn_engine.routes.airfoil_algorithm import body_polydata
 from pinn_engine.routes.algorithm import PinnMeshAlgorithm
-from pinn_engine.routes.multiblock_algorithm import PinnMultiBlockAlgorithm, folded_warning
+from pinn_engine.routes.filters import folded_warning
+from pinn_engine.routes.multiblock_algorithm import MOVE_EDGES, PinnMultiBlockAlgorithm
 from pinn_engine.settings import Settings, grid_size_problem, make_settings
 
 __all__ = ["FoldedCellsWarning", "PinnMeshAccessor", "pinn_mesh", "pinn_mesh_blocks", "save_mesh"]
@@ -350,7 +351,7 @@ def pinn_mesh_blocks(
     _run(alg, lambda: _as_polydata(boundary, closed=True, what="boundary"), blocks)
     out = pv.wrap(alg.GetOutput())
     report = json.loads(out[0].field_data["Report"][0])["multiblock"]
-    warning = folded_warning(report, "pyvista")
+    warning = folded_warning(report, "pyvista", MOVE_EDGES)
     if warning:
         warnings.warn(warning, FoldedCellsWarning, stacklevel=_caller_level())
     return out
