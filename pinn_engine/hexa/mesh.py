@@ -72,7 +72,7 @@ def size_problem(size: tuple[int, ...]) -> str | None:
     """Why ``size`` is not a grid size of a six-faced domain (each route names its own
     setting before it), or None."""
     if len(size) != len(HEXA_SIZE):
-        return "a six-faced surface takes three sizes, NI NJ NK"
+        return "a six-faced surface takes three sizes (nodes along i, j and k)"
     if min(size) < MIN_NODES:
         return f"each needs at least {MIN_NODES} nodes"
     return None
