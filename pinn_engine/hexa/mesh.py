@@ -18,7 +18,7 @@ from pinn_engine.hexa import quality, volume
 from pinn_engine.hexa.block import cube_corners
 from pinn_engine.hexa.facegrid import face_grid
 from pinn_engine.hexa.surface import Surface, Topology, find_topology, surface_of
-from pinn_engine.io.fileio import read_polydata
+from pinn_engine.io import fileio
 
 METHODS = ("tfi", "elliptic")  # the methods of this build for six-faced domains
 PATCHES = ("imin", "imax", "jmin", "jmax", "kmin", "kmax")  # SPEC 11's patch names
@@ -98,7 +98,7 @@ def mesh_surface(
 ) -> HexResult:
     """Read ``path``, check its topology, build the face grids and the volume grid."""
     refuse(size, method)
-    return mesh_polydata(read_polydata(Path(path)), size, method, path, progress)
+    return mesh_polydata(fileio.read_polydata(Path(path)), size, method, path, progress)
 
 
 def mesh_polydata(
@@ -133,7 +133,8 @@ def structured_grid(g: np.ndarray) -> vtkStructuredGrid:
     grid = vtkStructuredGrid()
     grid.SetDimensions(*g.shape[:3])
     points = vtkPoints()
-    points.SetData(numpy_to_vtk(np.ascontiguousarray(g.transpose(2, 1, 0, 3).reshape(-1, 3))))
+    xyz = np.ascontiguousarray(g.transpose(2, 1, 0, 3).reshape(-1, 3), dtype=float)
+    points.SetData(numpy_to_vtk(xyz, deep=True))
     grid.SetPoints(points)
     return grid
 
@@ -201,9 +202,7 @@ def hexa_grid(result: HexResult, method: str) -> vtkStructuredGrid:
 
 def write_vts(result: HexResult, out, method: str) -> None:
     """The grid of :func:`hexa_grid` as a .vts file (complete or absent)."""
-    from pinn_engine.io.fileio import write_vts as write
-
-    write(hexa_grid(result, method), out)
+    fileio.write_vts(hexa_grid(result, method), out)
 
 
 def summary(result: HexResult, method: str) -> str:
