@@ -1,8 +1,10 @@
-"""ParaView plugin: Filters > Mesh Generation > PINN Structured Mesh and PINN Multi-Block Mesh.
+"""ParaView plugin: Filters > Mesh Generation > PINN Structured Mesh, PINN Multi-Block Mesh and
+PINN Hexahedral Mesh.
 
 A thin layer of ``paraview.util.vtkAlgorithm`` decorators over
-``pinn_engine.routes.algorithm.PinnMeshAlgorithm`` and
-``pinn_engine.routes.multiblock_algorithm.PinnMultiBlockAlgorithm``. Load it with Tools >
+``pinn_engine.routes.algorithm.PinnMeshAlgorithm``,
+``pinn_engine.routes.multiblock_algorithm.PinnMultiBlockAlgorithm`` and
+``pinn_engine.routes.hexa_algorithm.PinnHexaAlgorithm``. Load it with Tools >
 Manage Plugins > Load New (this file) or put this folder on ``PV_PLUGIN_PATH``.
 ``pinn_engine`` is imported from the checkout this file lives in (``plugin/..``); it need not
 be installed into ParaView's Python,
@@ -29,11 +31,14 @@ if _REPO not in sys.path:
 
 try:
     from pinn_engine import __version__
+    from pinn_engine.hexa.mesh import HEXA_METHOD, HEXA_SIZE, MIN_NODES
+    from pinn_engine.hexa.mesh import METHODS as HEXA_METHODS
     from pinn_engine.io.export import FORMATS
     from pinn_engine.io.export.algorithm import PARAVIEW_FORMATS, GridWriter
     from pinn_engine.routes.airfoil_algorithm import AirfoilReader, AirfoilSource
     from pinn_engine.routes.algorithm import PinnMeshAlgorithm
     from pinn_engine.routes.cli import BLOCKS_METHOD
+    from pinn_engine.routes.hexa_algorithm import PinnHexaAlgorithm
     from pinn_engine.routes.multiblock_algorithm import INTERFACES, PinnMultiBlockAlgorithm
     from pinn_engine.settings import (
         MAX_SIDE_NODES,
@@ -70,7 +75,8 @@ paraview_plugin_version = __version__
 
 _DEFAULTS = Settings()
 _COLOUR_ARRAY = "MaxIncludedAngle"  # what a new grid is coloured by
-_MESH_FILTERS = ("PINNStructuredMesh", "PINNMultiBlockMesh")  # whose displays get that colour
+# whose displays get that colour
+_MESH_FILTERS = ("PINNStructuredMesh", "PINNMultiBlockMesh", "PINNHexahedralMesh")
 _OBSERVERS = []  # the display observers (_ColourWhenDataArrives)
 # id(session proxy manager): (it, its RegisterEvent observer, the observer's id); VTK's own
 # reference to a Python observer was not enough in the GUI (a closure crashed on its 2nd call)
@@ -592,6 +598,59 @@ class PINNMultiBlockMesh(PinnMultiBlockAlgorithm):
     )
     def P03Interfaces(self, index):
         self.SetInterfaces(int(index))
+
+
+_HEXA_METHOD_DOCS = {
+    "tfi": "3D transfinite interpolation of the six face grids",
+    "elliptic": "the 3D Winslow equations solved to convergence from the TFI grid",
+    "pinn": "a physics-informed network trained on the 3D Winslow equations, the face "
+    "grids built in",
+}  # the Method help of PINN Hexahedral Mesh, for the methods hexa.mesh.METHODS has
+
+
+@smproxy.filter(name="PINNHexahedralMesh", label="PINN Hexahedral Mesh", support_reload=False)
+@smhint.xml('<ShowInMenu category="Mesh Generation"/>')
+@smhint.xml('<RepresentationType view="RenderView" type="Surface With Edges"/>')
+@smproperty.input(name="Input", port_index=0)
+@smdomain.datatype(dataTypes=["vtkPolyData"], composite_data_supported=False)
+@smdomain.xml(
+    _doc(
+        "A closed triangulated surface whose six faces are tagged by a cell array FaceId "
+        "(six values), e.g. a .vtp or .vtk file; the faces must meet as a cube's do."
+    )
+)
+@smproperty.xml(
+    _proxy_doc(
+        "Hexahedral structured grid of a six-faced 3D domain.",
+        "Hexahedral structured grid (one block, ni x nj x nk nodes) of the 3D domain "
+        "bounded by a closed surface with six faces tagged by a FaceId cell array (SPEC 11): "
+        "a duct, a bend, a nozzle, a box with a bump. The faces' 8 corners and 12 edges are "
+        "found from their adjacency; each face gets a grid on the surface's triangles, and "
+        "the volume grid is made from the six face grids by the chosen method. Corner 0 is "
+        "the one with the smallest x + y + z, i leaves it nearest +x, and (i, j, k) is "
+        "right-handed. Cells carry MaxIncludedAngle, MinIncludedAngle (the 24 face-corner "
+        "angles), ScaledJacobian and Folded; field data the report and patch names imin ... "
+        "kmax. Guide: docs/hexa.md of the pinn-mesh checkout.",
+    )
+)
+class PINNHexahedralMesh(PinnHexaAlgorithm):
+    """The ParaView face of :class:`pinn_engine.routes.hexa_algorithm.PinnHexaAlgorithm`."""
+
+    def __init__(self):
+        super().__init__()
+        _watch_displays()
+
+    @smproperty.intvector(name="Method", default_values=HEXA_METHODS.index(HEXA_METHOD))
+    @smdomain.xml(_enum(HEXA_METHODS))
+    @smdomain.xml(_doc("; ".join(f"{m}: {_HEXA_METHOD_DOCS[m]}" for m in HEXA_METHODS) + "."))
+    def P01Method(self, index):
+        self.SetMethod(int(index))
+
+    @smproperty.intvector(name="GridSize", label="Grid Size", default_values=list(HEXA_SIZE))
+    @smdomain.intrange(min=MIN_NODES)
+    @smdomain.xml(_doc("Nodes along i, j and k (at least 3 each)."))
+    def P02GridSize(self, ni, nj, nk):
+        self.SetGridSize(ni, nj, nk)
 
 
 @smproxy.reader(

@@ -15,7 +15,13 @@ from pinn_engine.hexa.sharp import faces_at_sharp_edges
 from pinn_engine.routes.cli import main
 
 DATA = ROOT / "example_data"
-EXAMPLES = ("hexa_bump_box.vtp", "hexa_bend.vtp")
+EXAMPLES = (  # make_hexa.py's five shapes
+    "hexa_bump_box.vtp",
+    "hexa_bend.vtp",
+    "hexa_twisted_duct.vtp",
+    "hexa_nozzle.vtp",
+    "hexa_sheared_wavy.vtp",
+)
 SIZE = (11, 9, 7)  # small and unequal: a swapped index direction shows as a shape error
 ON_SURFACE = 1e-6  # SPEC 11: boundary nodes within 1e-6 of the surface's diagonal
 

@@ -15,7 +15,7 @@ from test_export import check_mesh, foam_list, read_cgns, read_plot3d, read_su2
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 from pinn_engine.errors import InputError
-from pinn_engine.hexa.mesh import mesh_surface, result_grid
+from pinn_engine.hexa.mesh import hexa_grid, mesh_surface
 from pinn_engine.io import export
 from pinn_engine.routes.cli import main
 
@@ -31,7 +31,7 @@ HEX_FACES = ((0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6
 
 @pytest.fixture(scope="module")
 def grid():
-    return result_grid(mesh_surface(str(SURFACE), (NI, NJ, NK), "tfi"), "tfi")
+    return pv.wrap(hexa_grid(mesh_surface(str(SURFACE), (NI, NJ, NK), "tfi"), "tfi"))
 
 
 def corner_volumes(points: np.ndarray, hexes: np.ndarray) -> np.ndarray:

@@ -16,7 +16,8 @@ from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 from pinn_engine.errors import InputError
 from pinn_engine.job import run_blocks
 from pinn_engine.routes.cli import BLOCKS_METHOD
-from pinn_engine.routes.multiblock_algorithm import PinnMultiBlockAlgorithm, folded_warning
+from pinn_engine.routes.filters import folded_warning
+from pinn_engine.routes.multiblock_algorithm import MOVE_EDGES, PinnMultiBlockAlgorithm
 from pinn_engine.settings import make_settings
 
 DATA = ROOT / "example_data"
@@ -148,8 +149,16 @@ def test_pyvista_blocks_errors_name_its_keywords():
 
 def test_folded_cells_warning_in_each_routes_words():
     report = {"quality": {"folded_cells": 3}, "cells": 100, "method": "tfi"}
-    assert folded_warning(report, "pyvista") == '3 of 100 cells are folded; try method="elliptic"'
-    assert folded_warning(report, "paraview") == "3 of 100 cells are folded; try Method elliptic"
+    assert (
+        folded_warning(report, "pyvista", MOVE_EDGES)
+        == '3 of 100 cells are folded; try method="elliptic"'
+    )
+    assert (
+        folded_warning(report, "paraview", MOVE_EDGES)
+        == "3 of 100 cells are folded; try Method elliptic"
+    )
     elliptic = {**report, "method": "elliptic", "quality": {"folded_cells": 1}}
-    assert folded_warning(elliptic, "paraview").startswith("1 of 100 cells is folded; try moving")
-    assert folded_warning({**report, "quality": {"folded_cells": 0}}, "paraview") is None
+    assert folded_warning(elliptic, "paraview", MOVE_EDGES).startswith(
+        "1 of 100 cells is folded; try moving"
+    )
+    assert folded_warning({**report, "quality": {"folded_cells": 0}}, "paraview", "") is None

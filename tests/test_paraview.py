@@ -370,3 +370,43 @@ def test_multiblock_filter_on_the_step(checkout):
     ]
     assert result["bad_blocks"] == 0 and "Traceback" not in result["bad_stderr"]
     assert result["recovered_blocks"] == 4
+
+
+def test_hexahedral_filter_on_the_bend(checkout):
+    """PINN Hexahedral Mesh (issue 25 item 4): the bend's grid as the command line makes it
+    (the same nodes, arrays and field data), for every method; one line for a surface
+    without FaceId, and ParaView goes on."""
+    from pinn_engine.hexa.mesh import METHODS, mesh_surface
+
+    result = run_pvpython(checkout, "check_hexa.py", str(checkout / "example_data"))
+    assert result["label"] == "PINN Hexahedral Mesh"
+    assert result["menu_category"] == "Mesh Generation"
+    assert result["representation"] == "Surface With Edges"
+    assert 20 < len(result["help"][0]) < len(result["help"][1])
+    assert set(result["properties"]) == {"Input", "Method", "GridSize"}
+    assert result["methods"] == list(METHODS)
+    assert result["progress"] == [0.0, 1.0] and not result["messages"]
+    assert "PINN Hexahedral Mesh: face grids" in result["progress_texts"]
+    size = (11, 9, 7)
+    for method in ("tfi", "elliptic"):
+        grid = result[method]
+        assert grid["class"] == "vtkStructuredGrid"
+        assert grid["extent"] == [0, 10, 0, 8, 0, 6]
+        assert grid["cell_arrays"] == [
+            "MaxIncludedAngle",
+            "MinIncludedAngle",
+            "ScaledJacobian",
+            "Folded",
+        ]
+        assert grid["folded"] == 0 and grid["min_scaled_jacobian"] > 0.5  # right-handed
+        assert grid["method"] == method and grid["report"]["size"] == list(size)
+        assert grid["patches"] == ["imin", "imax", "jmin", "jmax", "kmin", "kmax"]
+        expected = mesh_surface(str(ROOT / "example_data" / "hexa_bend.vtp"), size, method)
+        points = np.array(grid["points"]).transpose(2, 1, 0, 3)  # (nk, nj, ni) -> (ni, nj, nk)
+        np.testing.assert_allclose(points, expected.grid, atol=1e-9)
+    messages = [ln for ln in result["bad_vtk_text"].splitlines() if ln.strip()]
+    assert messages == [
+        "PINN Hexahedral Mesh: input: no FaceId cell array: tag each of the six faces"
+    ]
+    assert result["bad_points"] == 0 and "Traceback" not in result["bad_stderr"]
+    assert result["recovered_points"] == 11 * 9 * 7

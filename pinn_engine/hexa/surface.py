@@ -9,9 +9,11 @@ from __future__ import annotations
 
 from collections import defaultdict
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonDataModel import vtkPolyData
+from vtkmodules.vtkFiltersCore import vtkTriangleFilter
 
 from pinn_engine.errors import InputError
 from pinn_engine.hexa.sharp import SHARP_ANGLE, faces_at_sharp_edges
@@ -58,22 +60,25 @@ def is_faced_surface(path: str) -> bool:
         return False
 
 
-def read_surface(path: str) -> Surface:
-    """The triangles of a .vtp/.vtk/.stl surface with coincident points merged, and their
-    faces: the FaceId array, or for an STL the regions between its sharp edges
-    (:mod:`pinn_engine.hexa.sharp`); read as the 2D boundaries are (a damaged file is a
-    one-line error)."""
-    import pyvista as pv
-
-    from pinn_engine.io.fileio import read_polydata
-
-    data = pv.wrap(read_polydata(Path(path)))
-    stl = str(path).lower().endswith(".stl")
-    if not stl and "FaceId" not in data.cell_data:
-        raise InputError("no FaceId cell array: tag each of the six faces", path)
-    data = data.triangulate()
-    faces = np.asarray(data.faces).reshape(-1, 4)[:, 1:]
-    points = np.asarray(data.points, dtype=float)
+def surface_of(data: vtkPolyData, source: str, sharp_edges: bool = False) -> Surface:
+    """The triangles of a polydata (polygons are triangulated) with coincident points merged,
+    and their faces: the FaceId array, or with ``sharp_edges`` (an STL has no arrays) the
+    regions between its sharp edges (:mod:`pinn_engine.hexa.sharp`). Plain VTK, so that
+    ParaView's Python (no pyvista) can use it."""
+    if not sharp_edges and data.GetCellData().GetArray(FACE_ARRAY.decode()) is None:
+        raise InputError("no FaceId cell array: tag each of the six faces", source)
+    triangulate = vtkTriangleFilter()
+    triangulate.SetInputData(data)
+    triangulate.PassVertsOff()
+    triangulate.PassLinesOff()
+    triangulate.Update()
+    data = triangulate.GetOutput()
+    if data.GetNumberOfPolys() == 0:
+        raise InputError("holds no triangles or polygons: a closed surface is needed", source)
+    faces = vtk_to_numpy(data.GetPolys().GetConnectivityArray()).reshape(-1, 3)
+    points = vtk_to_numpy(data.GetPoints().GetData()).astype(float)
+    if not np.isfinite(points).all():
+        raise InputError("holds a non-finite point", source)
     scale = float(np.ptp(points, axis=0).max()) or 1.0
     _, first, inverse = np.unique(
         np.round(points / scale, MERGE_DIGITS), axis=0, return_index=True, return_inverse=True
@@ -85,19 +90,19 @@ def read_surface(path: str) -> Surface:
         & (triangles[:, 0] != triangles[:, 2])
     )
     points, triangles = points[first], triangles[keep]
-    if stl:
+    if sharp_edges:
         count, face_of = faces_at_sharp_edges(points, triangles)
         if count != FACES:
             raise InputError(
                 f"found {count} faces at edges sharper than {SHARP_ANGLE:g} degrees; a "
                 "six-faced domain needs 6",
-                path,
+                source,
             )
         return Surface(points, triangles, face_of)
-    ids = np.asarray(data.cell_data["FaceId"]).astype(int)
+    ids = vtk_to_numpy(data.GetCellData().GetArray(FACE_ARRAY.decode())).astype(int)
     values, face_of = np.unique(ids[keep], return_inverse=True)
     if len(values) != FACES:
-        raise InputError(f"{len(values)} FaceId values found; a hexahedral block needs 6", path)
+        raise InputError(f"{len(values)} FaceId values found; a hexahedral block needs 6", source)
     return Surface(points, triangles, face_of.reshape(-1))
 
 

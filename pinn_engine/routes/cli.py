@@ -425,7 +425,7 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
 def _run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
     """A six-faced 3D domain (SPEC 11): the surface's hexahedral grid into ``OUT`` (the
     formats and patches of SPEC 8, never extruded)."""
-    from pinn_engine.hexa.mesh import HEXA_METHOD, HEXA_SIZE, mesh_surface, result_grid, summary
+    from pinn_engine.hexa.mesh import HEXA_METHOD, HEXA_SIZE, hexa_grid, mesh_surface, summary
     from pinn_engine.io import export
 
     defaults = vars(build_parser().parse_args([]))
@@ -448,7 +448,7 @@ def _run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
     export.output_format(out, args.format)  # refused before meshing
     export.patch_specs(args.patch or None, sides=export.BOX_SIDES)  # as are the patches
     result = mesh_surface(args.boundary, size, method)
-    export.write(result_grid(result, method), out, args.format, patches=args.patch or None)
+    export.write(hexa_grid(result, method), out, args.format, patches=args.patch or None)
     written.append(out)
     if not args.quiet:
         print(summary(result, method))

@@ -1,9 +1,11 @@
-"""What the two VTK filters (the four-sided/body one and the multi-block one) share: their
-input ports, their setters and how a ParaView enumeration's value is read."""
+"""What the VTK filters (four-sided/body, multi-block, hexahedral) share: their input ports,
+their setters, how a ParaView enumeration's value is read and the folded-cells warning."""
 
 from __future__ import annotations
 
 import numpy as np
+
+from pinn_engine.errors import ROUTE_WORDS
 
 
 def choice(value, options: tuple[str, ...], what: str) -> str:
@@ -18,11 +20,20 @@ def choice(value, options: tuple[str, ...], what: str) -> str:
     return name
 
 
-class LineInputs:
+class ModifiedOnChange:
+    """Mixed into a ``VTKPythonAlgorithmBase``: settings change the algorithm's modified time
+    only when they change, so an unchanged Apply does not run it again."""
+
+    def _set(self, attr: str, value) -> None:
+        if getattr(self, attr) != value:
+            setattr(self, attr, value)
+            self.Modified()
+
+
+class LineInputs(ModifiedOnChange):
     """Mixed into a ``VTKPythonAlgorithmBase``: port 0 takes every selected polydata (the
     boundary and the lines selected with it: ParaView's GUI connects them all there), port
-    1 more lines (optional); settings change the algorithm's modified time only when they
-    change, so an unchanged Apply does not run it again."""
+    1 more lines (optional)."""
 
     def FillInputPortInformation(self, port, info):
         info.Set(self.INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData")
@@ -31,7 +42,17 @@ class LineInputs:
             info.Set(self.INPUT_IS_OPTIONAL(), 1)
         return 1
 
-    def _set(self, attr: str, value) -> None:
-        if getattr(self, attr) != value:
-            setattr(self, attr, value)
-            self.Modified()
+
+def folded_warning(report: dict, route: str, otherwise: str) -> str | None:
+    """The warning of a grid with folded cells in ``route``'s words, or None: ``report``
+    holds ``method``, ``cells`` and ``quality.folded_cells``; a tfi grid is pointed to the
+    elliptic method, any other to ``otherwise`` (the fix of the filter's kind of input)."""
+    folded = int(report["quality"]["folded_cells"])
+    if not folded:
+        return None
+    if report["method"] == "tfi":
+        fix = ROUTE_WORDS[route]["method"].format("elliptic")
+    else:
+        fix = otherwise
+    verb = "is" if folded == 1 else "are"
+    return f"{folded} of {report['cells']} cells {verb} folded; try {fix}"

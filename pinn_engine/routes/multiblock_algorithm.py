@@ -31,14 +31,16 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
 from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkPolyData
 
-from pinn_engine.errors import ROUTE_WORDS, InputError
+from pinn_engine.errors import InputError
 from pinn_engine.routes.cli import BLOCKS_METHOD
-from pinn_engine.routes.filters import LineInputs, choice
+from pinn_engine.routes.filters import LineInputs, choice, folded_warning
 from pinn_engine.routes.reporting import announce, message_of
 from pinn_engine.settings import MULTIBLOCK_METHODS, PARAMETER_CONSTRAINTS, Settings, make_settings
 
 LABEL = "PINN Multi-Block Mesh"
 INTERFACES = PARAMETER_CONSTRAINTS["interfaces"].values  # free, fixed (SPEC 10)
+# the fix a folded elliptic or pinn multi-block grid is pointed to
+MOVE_EDGES = "moving the block edges near them (the cell array Folded marks them)"
 
 
 def _name(what: str, k: int, count: int) -> str:
@@ -78,19 +80,6 @@ def curves_of(
     if not edges:
         raise InputError("no block edges (open polylines) among the inputs; {blocks}", "input")
     return rings, edges, names
-
-
-def folded_warning(report: dict, route: str) -> str | None:
-    """The warning of a multi-block grid with folded cells in ``route``'s words, or None."""
-    folded = int(report["quality"]["folded_cells"])
-    if not folded:
-        return None
-    if report["method"] == "tfi":
-        fix = ROUTE_WORDS[route]["method"].format("elliptic")
-    else:
-        fix = "moving the block edges near them (the cell array Folded marks them)"
-    verb = "is" if folded == 1 else "are"
-    return f"{folded} of {report['cells']} cells {verb} folded; try {fix}"
 
 
 class PinnMultiBlockAlgorithm(LineInputs, VTKPythonAlgorithmBase):
@@ -172,7 +161,7 @@ class PinnMultiBlockAlgorithm(LineInputs, VTKPythonAlgorithmBase):
             self._report(message_of(exc, self._route), warning=False)
         else:
             output.ShallowCopy(dataset)
-            warning = folded_warning(report, self._route)
+            warning = folded_warning(report, self._route, MOVE_EDGES)
             if warning:
                 self._report(f"warning: {warning}", warning=True)
         self._progress(1.0, "done")
@@ -224,4 +213,4 @@ class PinnMultiBlockAlgorithm(LineInputs, VTKPythonAlgorithmBase):
             announce(self, line, warning)
 
 
-__all__ = ["PinnMultiBlockAlgorithm", "curves_of", "folded_warning"]
+__all__ = ["MOVE_EDGES", "PinnMultiBlockAlgorithm", "curves_of"]

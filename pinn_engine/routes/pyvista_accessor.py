@@ -27,6 +27,10 @@ FoldedCellsWarning)`` turns it into an exception.
 A multi-block domain (SPEC 10) is meshed by giving its block edges: ``blocks = boundary.
 pinn_mesh(blocks=edges, cell_size=0.1)`` (or :func:`pinn_mesh_blocks`) returns a
 ``pyvista.MultiBlock`` of structured grids ``block0``, ``block1``, ...
+
+A six-faced 3D domain (SPEC 11), a closed surface with a ``FaceId`` cell array, is meshed the
+same way: ``grid = surface.pinn_mesh(size=(21, 21, 21))`` (or :func:`pinn_mesh_hexa`)
+returns its hexahedral ``pyvista.StructuredGrid``.
 """
 
 from __future__ import annotations
@@ -47,12 +51,23 @@ from pinn_engine.errors import (
     InputError,
     grid_warnings,
 )
+from pinn_engine.hexa.mesh import HEXA_SIZE, size_problem
+from pinn_engine.hexa.surface import FACE_ARRAY
 from pinn_engine.routes.airfoil_algorithm import body_polydata
 from pinn_engine.routes.algorithm import PinnMeshAlgorithm
-from pinn_engine.routes.multiblock_algorithm import PinnMultiBlockAlgorithm, folded_warning
+from pinn_engine.routes.filters import folded_warning
+from pinn_engine.routes.hexa_algorithm import PinnHexaAlgorithm, refold_hint
+from pinn_engine.routes.multiblock_algorithm import MOVE_EDGES, PinnMultiBlockAlgorithm
 from pinn_engine.settings import Settings, grid_size_problem, make_settings
 
-__all__ = ["FoldedCellsWarning", "PinnMeshAccessor", "pinn_mesh", "pinn_mesh_blocks", "save_mesh"]
+__all__ = [
+    "FoldedCellsWarning",
+    "PinnMeshAccessor",
+    "pinn_mesh",
+    "pinn_mesh_blocks",
+    "pinn_mesh_hexa",
+    "save_mesh",
+]
 
 
 def _ring_polydata(points, closed: bool) -> pv.PolyData:
@@ -350,10 +365,61 @@ def pinn_mesh_blocks(
     _run(alg, lambda: _as_polydata(boundary, closed=True, what="boundary"), blocks)
     out = pv.wrap(alg.GetOutput())
     report = json.loads(out[0].field_data["Report"][0])["multiblock"]
-    warning = folded_warning(report, "pyvista")
+    warning = folded_warning(report, "pyvista", MOVE_EDGES)
     if warning:
         warnings.warn(warning, FoldedCellsWarning, stacklevel=_caller_level())
     return out
+
+
+def pinn_mesh_hexa(
+    surface, size: Sequence[int] = HEXA_SIZE, method: str | None = None
+) -> pv.StructuredGrid:
+    """Hexahedral structured grid (SPEC 11) of the 3D domain a closed surface bounds.
+
+    Parameters
+    ----------
+    surface : pyvista.PolyData or vtkPolyData
+        A closed triangulated (or polygonal) surface with a cell array ``FaceId`` of six
+        values whose faces meet as a cube's do.
+    size : (int, int, int)
+        Nodes along i, j and k, default ``(21, 21, 21)``.
+    method : str, optional
+        One of ``pinn_engine.hexa.mesh.METHODS`` (``"tfi"``: 3D transfinite interpolation;
+        ``"elliptic"``: 3D Winslow), default ``pinn_engine.hexa.mesh.HEXA_METHOD``.
+
+    Returns
+    -------
+    pyvista.StructuredGrid
+        Dimensions ``(ni, nj, nk)``, corner 0 the one with the smallest x + y + z, i leaving
+        it nearest +x, (i, j, k) right-handed; cell data ``MaxIncludedAngle``,
+        ``MinIncludedAngle``, ``ScaledJacobian``, ``Folded``; field data ``Method``,
+        ``Patches``, ``Report`` (JSON) and the quality figures.
+
+    Warns ``pinn_engine.FoldedCellsWarning`` when cells are folded; raises
+    ``pinn_engine.errors.InputError`` (one line) for a surface that is not six-faced,
+    ``ValueError`` for bad settings.
+
+    >>> surface = pv.read("example_data/hexa_bend.vtp")
+    >>> grid = pinn_mesh_hexa(surface, size=(21, 11, 9), method="tfi")
+    >>> grid.dimensions
+    (21, 11, 9)
+    """
+    size = tuple(int(n) for n in size)
+    problem = size_problem(size)
+    if problem:
+        raise ValueError(f"size={size}: {problem}")
+    alg = PinnHexaAlgorithm(route="pyvista")
+    if method is not None:
+        alg.SetMethod(method)  # ValueError for an unknown method
+    alg.SetGridSize(*size)
+    _run(alg, lambda: _as_polydata(surface, closed=True, what="surface"), None)
+    grid = pv.wrap(alg.GetOutput())
+    warning = folded_warning(
+        json.loads(grid.field_data["Report"][0]), "pyvista", refold_hint("pyvista")
+    )
+    if warning:
+        warnings.warn(warning, FoldedCellsWarning, stacklevel=_caller_level())
+    return grid
 
 
 def _boundary_polydata(boundary, settings: Settings, farfield_given: bool) -> vtkPolyData:
@@ -420,10 +486,14 @@ class PinnMeshAccessor:
     1
 
     With ``blocks=`` (block edges) it meshes a multi-block domain (SPEC 10) instead and
-    returns a ``pyvista.MultiBlock``; see :func:`pinn_mesh_blocks`.
+    returns a ``pyvista.MultiBlock``; see :func:`pinn_mesh_blocks`. A closed surface with a
+    ``FaceId`` cell array (or a ``size`` of three numbers) gives a hexahedral grid (SPEC 11);
+    see :func:`pinn_mesh_hexa`.
 
     >>> lshape = pv.read("example_data/lshape.vtp")
     >>> blocks = lshape.pinn_mesh(blocks=pv.read("example_data/lshape_blocks.vtp"), cell_size=0.1)
+    >>> duct = pv.read("example_data/hexa_twisted_duct.vtp")
+    >>> grid = duct.pinn_mesh(size=(21, 21, 21))
     """
 
     def __init__(self, mesh: pv.PolyData) -> None:
@@ -452,7 +522,22 @@ class PinnMeshAccessor:
         then the outer boundary and holes of a multi-block domain, and the keywords those of
         :func:`pinn_mesh_blocks` (``cell_size``, ``method``: pinn, elliptic or tfi,
         ``interfaces``); returns a ``pyvista.MultiBlock``.
+
+        A surface with a ``FaceId`` cell array, or ``size=(ni, nj, nk)``: the hexahedral grid
+        of :func:`pinn_mesh_hexa` (``size``, ``method``); returns a
+        ``pyvista.StructuredGrid``.
         """
+        faced = FACE_ARRAY.decode() in self._mesh.cell_data
+        if faced or (size is not None and len(size) == len(HEXA_SIZE)):
+            given = {"aux": aux, "blocks": blocks, **options}
+            for name, value in given.items():
+                if value is not None:
+                    raise InputError(
+                        f"{name}= applies to 2D domains, not to a six-faced surface; give "
+                        "size= and method="
+                    )
+            self.last = pinn_mesh_hexa(self._mesh, size or HEXA_SIZE, method)
+            return self.last
         if blocks is not None:
             for name, value in (("aux", aux), ("size", size)):
                 if value is not None:

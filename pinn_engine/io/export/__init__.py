@@ -212,7 +212,7 @@ def write(
     topology = None if box else body_topology(grid)
     if box:
         if extrude is not None:
-            raise InputError("a hexahedral grid is 3D already; drop {extrude}", str(path))
+            raise InputError("a hexahedral grid is 3D already: drop --extrude", str(path))
         xyz = box_points(grid)
     elif topology:
         points, normal, n_wake = _body_points(grid, topology, path)

@@ -1,0 +1,167 @@
+"""pinn-mesh's six-faced 3D route as a VTK algorithm (SPEC 11): a surface with six tagged
+faces in, its hexahedral grid out.
+
+``PinnHexaAlgorithm`` is a plain ``VTKPythonAlgorithmBase`` subclass (pip ``vtk``, pyvista,
+ParaView's own VTK 9.2, which has no pyvista: the engine's hexa route is plain VTK);
+``plugin/`` decorates it as the filter PINN Hexahedral Mesh, and the pyvista accessor's
+``size=(ni, nj, nk)`` on a surface with ``FaceId`` runs it.
+
+>>> alg = PinnHexaAlgorithm()
+>>> alg.SetInputConnection(0, surface_reader.GetOutputPort())   # closed, FaceId 0..5
+>>> alg.SetGridSize(21, 21, 21)
+>>> alg.Update()
+>>> grid = alg.GetOutput()                                       # vtkStructuredGrid
+
+Port: input 0 a ``vtkPolyData``, a closed triangulated (or polygonal) surface with a cell
+array ``FaceId`` of six values. Output 0 the ``vtkStructuredGrid`` ``(ni, nj, nk)`` of the
+command line's ``.vts``: cell arrays ``MaxIncludedAngle``, ``MinIncludedAngle``,
+``ScaledJacobian``, ``Folded``; field data ``Method``, ``Patches``, ``Report`` (JSON) and the
+quality figures (``hexa.mesh.hexa_grid``).
+
+A failed update leaves the output empty and reports one line ``PINN Hexahedral Mesh:
+<message>`` (the ParaView route: in Output Messages and as an ``ErrorEvent``; other routes
+read ``GetLastError()`` and raise ``GetLastException()``). Folded cells give one warning line
+the same way (``GetLastWarning()``).
+"""
+
+from __future__ import annotations
+
+from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
+from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
+from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
+
+from pinn_engine.errors import ROUTE_WORDS
+from pinn_engine.hexa.mesh import HEXA_METHOD, HEXA_SIZE, METHODS, size_problem
+from pinn_engine.routes.filters import ModifiedOnChange, choice, folded_warning
+from pinn_engine.routes.reporting import announce, message_of
+
+LABEL = "PINN Hexahedral Mesh"
+
+
+def refold_hint(route: str) -> str:
+    """The fix a folded elliptic (or pinn) hexahedral grid is pointed to, in ``route``'s
+    words: the folds come from the face grids, where the surface bends sharply."""
+    return (
+        f"another {ROUTE_WORDS[route]['size']} or a finer triangulation where the surface "
+        "bends sharply (the cell array Folded marks the cells)"
+    )
+
+
+class PinnHexaAlgorithm(ModifiedOnChange, VTKPythonAlgorithmBase):
+    """Hexahedral structured grid (SPEC 11) of a closed surface with six tagged faces.
+
+    Settings (each setter calls ``Modified()`` when the value changes; values are checked at
+    the next update):
+
+    * ``SetMethod(name)`` (or its index in ``hexa.mesh.METHODS``), default
+      ``hexa.mesh.HEXA_METHOD``
+    * ``SetGridSize(ni, nj, nk)``: nodes along i, j and k, default 21 21 21
+    """
+
+    def __init__(self, route: str = "paraview") -> None:
+        """``route``: whose words messages are in ("paraview"; "pyvista" keeps them off VTK's
+        output window, for the caller to raise ``GetLastException()``)."""
+        super().__init__(
+            nInputPorts=1, inputType="vtkPolyData", nOutputPorts=1, outputType="vtkStructuredGrid"
+        )
+        self.SetProgressText(LABEL)
+        self._route = route
+        self._method = HEXA_METHOD
+        self._size = HEXA_SIZE
+        self._last_error = self._last_warning = ""
+        self._exception: Exception | None = None
+        self._failed: tuple | None = None  # what the last failed update ran on
+
+    # ---- settings ----------------------------------------------------------------------
+    def SetMethod(self, method) -> None:
+        self._set("_method", choice(method, METHODS, "method"))
+
+    def GetMethod(self) -> str:
+        return self._method
+
+    def SetGridSize(self, ni, nj, nk) -> None:
+        self._set("_size", (int(ni), int(nj), int(nk)))
+
+    def GetGridSize(self) -> tuple[int, int, int]:
+        return self._size
+
+    # ---- results -----------------------------------------------------------------------
+    def GetOutput(self) -> vtkStructuredGrid:
+        """The grid (after ``Update()``); empty when the last update failed."""
+        return self.GetOutputDataObject(0)
+
+    def GetLastError(self) -> str:
+        """The line of the last failed update ("" after a successful one)."""
+        return self._last_error
+
+    def GetLastWarning(self) -> str:
+        """The warning line of the last update ("" when it had none)."""
+        return self._last_warning
+
+    def GetLastException(self) -> Exception | None:
+        """The exception of the last failed update (None after a successful one)."""
+        return self._exception
+
+    # ---- pipeline ----------------------------------------------------------------------
+    def RequestInformation(self, request, inInfo, outInfo):
+        extent = [v for n in self._size for v in (0, max(n, 1) - 1)]
+        outInfo.GetInformationObject(0).Set(
+            vtkStreamingDemandDrivenPipeline.WHOLE_EXTENT(), *extent
+        )
+        return 1
+
+    def RequestData(self, request, inInfo, outInfo):
+        output = vtkStructuredGrid.GetData(outInfo, 0)
+        surface = vtkPolyData.GetData(inInfo[0], 0)
+        stamp = (self._method, self._size, surface.GetMTime() if surface else -1)
+        if stamp == self._failed:
+            # Nothing changed since the failure; the executive asks again only because the
+            # empty output does not cover the whole extent: say it once.
+            output.Initialize()
+            return 1
+        self._failed = None
+        self._last_error = self._last_warning = ""
+        self._exception = None
+        try:
+            grid, report = self._execute(surface)
+        except Exception as exc:
+            self._exception = exc
+            self._failed = stamp
+            output.Initialize()
+            self._report(message_of(exc, self._route), warning=False)
+        else:
+            output.ShallowCopy(grid)
+            warning = folded_warning(report, self._route, refold_hint(self._route))
+            if warning:
+                self._report(f"warning: {warning}", warning=True)
+        self._progress("done", 1.0)
+        self.SetProgressText(LABEL)
+        return 1
+
+    def _execute(self, surface: vtkPolyData) -> tuple[vtkStructuredGrid, dict]:
+        """The grid of the connected surface under the settings, and the run's report."""
+        from pinn_engine.hexa.mesh import hexa_grid, mesh_polydata, report
+
+        problem = size_problem(self._size)
+        if problem:
+            size = " ".join(map(str, self._size))
+            raise ValueError(f"{ROUTE_WORDS[self._route]['size']} {size}: {problem}")
+        result = mesh_polydata(surface, self._size, self._method, "input", self._progress)
+        return hexa_grid(result, self._method), report(result, self._method)
+
+    def _progress(self, phase: str, fraction: float) -> None:
+        """Progress with the filter's name and the phase as its text (ParaView's bar)."""
+        self.SetProgressText(f"{LABEL}: {phase}")
+        self.UpdateProgress(fraction)
+
+    def _report(self, message: str, warning: bool) -> None:
+        line = f"{LABEL}: {' '.join(str(message).split())}"
+        if warning:
+            self._last_warning = line
+        else:
+            self._last_error = line
+        if self._route == "paraview":  # other routes raise or warn in their own words
+            announce(self, line, warning)
+
+
+__all__ = ["LABEL", "PinnHexaAlgorithm", "refold_hint"]

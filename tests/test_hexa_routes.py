@@ -1,0 +1,118 @@
+"""The six-faced 3D routes (issue 25 item 4): the VTK algorithm behind PINN Hexahedral Mesh
+and pyvista's ``surface.pinn_mesh(size=(ni, nj, nk))``."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+import pyvista as pv
+from conftest import ROOT
+from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
+
+from pinn_engine.errors import InputError
+from pinn_engine.hexa.mesh import HEXA_METHOD, METHODS, mesh_surface
+from pinn_engine.io.export import BOX_SIDES
+from pinn_engine.routes.filters import folded_warning
+from pinn_engine.routes.hexa_algorithm import PinnHexaAlgorithm, refold_hint
+
+BEND = ROOT / "example_data" / "hexa_bend.vtp"
+SIZE = (11, 9, 7)  # small and unequal: a swapped direction shows in the dimensions
+
+
+@pytest.fixture(scope="module")
+def bend() -> pv.PolyData:
+    return pv.read(BEND)
+
+
+def _nodes(grid: pv.StructuredGrid) -> np.ndarray:
+    """The grid's points as (ni, nj, nk, 3), as the engine holds them."""
+    return np.asarray(grid.points).reshape(*grid.dimensions[::-1], 3).transpose(2, 1, 0, 3)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_accessor_gives_the_command_lines_grid(bend, method):
+    grid = bend.pinn_mesh(size=SIZE, method=method)
+    assert isinstance(grid, pv.StructuredGrid) and grid.dimensions == SIZE
+    np.testing.assert_allclose(_nodes(grid), mesh_surface(str(BEND), SIZE, method).grid)
+    for name in ("MaxIncludedAngle", "MinIncludedAngle", "ScaledJacobian", "Folded"):
+        assert grid.cell_data[name].shape == (grid.n_cells,)
+    assert grid.cell_data["Folded"].sum() == 0 and grid.cell_data["ScaledJacobian"].min() > 0.5
+    np.testing.assert_allclose(  # VTK's own measure, on the grid as handed over
+        grid.cell_data["ScaledJacobian"],
+        grid.cell_quality("scaled_jacobian").cell_data["scaled_jacobian"],
+    )
+    assert list(grid.field_data["Method"]) == [method]
+    assert list(grid.field_data["PatchNames"]) == list(BOX_SIDES)
+    report = json.loads(grid.field_data["Report"][0])
+    assert report["size"] == list(SIZE) and report["cells"] == grid.n_cells
+    assert report["quality"]["min_scaled_jacobian"] == grid.cell_data["ScaledJacobian"].min()
+    assert bend.pinn_mesh.last is grid
+
+
+def test_faceid_chooses_the_3d_route_and_its_defaults(bend):
+    grid = bend.pinn_mesh(size=(5, 5, 5))
+    assert list(grid.field_data["Method"]) == [HEXA_METHOD]
+
+
+@pytest.mark.parametrize(
+    ("call", "error", "text"),
+    [
+        (
+            lambda s: s.pinn_mesh(size=(2, 9, 7)),
+            ValueError,
+            "size=(2, 9, 7): each needs at least 3",
+        ),
+        (lambda s: s.pinn_mesh(size=(11, 9)), ValueError, "takes three sizes"),
+        (lambda s: s.pinn_mesh(aux=s), InputError, "aux= applies to 2D domains"),
+        (lambda s: s.pinn_mesh(cell_size=0.1), InputError, "cell_size= applies to 2D domains"),
+        (lambda s: s.pinn_mesh(method="mgnet"), ValueError, "unknown method 'mgnet'"),
+        (
+            lambda s: pv.Sphere().pinn_mesh(size=(5, 5, 5)),
+            InputError,
+            "input: no FaceId cell array: tag each of the six faces",
+        ),
+    ],
+)
+def test_accessor_refuses_in_one_line(bend, call, error, text):
+    with pytest.raises(error) as caught:
+        call(bend)
+    assert text in str(caught.value) and "\n" not in str(caught.value)
+
+
+def test_algorithm_reports_once_in_the_panels_words_and_recovers(bend):
+    window = vtkStringOutputWindow()
+    previous = vtkOutputWindow.GetInstance()
+    vtkOutputWindow.SetInstance(window)
+    try:
+        alg = PinnHexaAlgorithm()
+        alg.SetGridSize(*SIZE)
+        alg.SetInputDataObject(0, pv.Sphere())
+        alg.Update()
+        alg.Update()  # nothing changed: not said again
+        assert alg.GetOutput().GetNumberOfPoints() == 0
+        line = "PINN Hexahedral Mesh: input: no FaceId cell array: tag each of the six faces"
+        assert alg.GetLastError() == line
+        assert [ln for ln in window.GetOutput().splitlines() if ln.strip()] == [line]
+        alg.SetGridSize(2, 9, 7)
+        alg.SetInputDataObject(0, bend)
+        alg.Update()
+        assert alg.GetLastError() == (
+            "PINN Hexahedral Mesh: invalid settings: Grid Size 2 9 7: each needs at least 3 nodes"
+        )
+        alg.SetGridSize(*SIZE)
+        alg.Update()
+        assert alg.GetLastError() == "" and pv.wrap(alg.GetOutput()).dimensions == SIZE
+    finally:
+        vtkOutputWindow.SetInstance(previous)
+
+
+def test_folded_warning_names_each_routes_fix():
+    report = {"quality": {"folded_cells": 2}, "cells": 480, "method": "elliptic"}
+    assert folded_warning(report, "paraview", refold_hint("paraview")) == (
+        "2 of 480 cells are folded; try another Grid Size or a finer triangulation where the "
+        "surface bends sharply (the cell array Folded marks the cells)"
+    )
+    tfi = {**report, "method": "tfi"}
+    assert folded_warning(tfi, "pyvista", refold_hint("pyvista")).endswith('method="elliptic"')
