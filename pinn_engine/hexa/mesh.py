@@ -3,14 +3,17 @@
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from pinn_engine.errors import InputError
 from pinn_engine.hexa import quality, volume
 from pinn_engine.hexa.block import cube_corners
-from pinn_engine.hexa.facegrid import face_grid
+from pinn_engine.hexa.facegrid import FaceMap
+from pinn_engine.hexa.orthogonal import inner_angles, inside, normal_layers, solve_inside
+from pinn_engine.hexa.spacing import check_spacing, first_edges, fit_params, node_params, tfi_at
 from pinn_engine.hexa.surface import Surface, Topology, find_topology, read_surface
 
 METHODS = ("tfi", "elliptic")  # the methods of this build for six-faced domains
@@ -28,14 +31,17 @@ class HexResult:
     cells: dict[str, np.ndarray]
     seconds: float
     iterations: int
+    walls: dict[str, tuple[float, float, float]] = field(default_factory=dict)
 
 
-def boundary_grid(
-    surface: Surface, topology: Topology, size: tuple[int, int, int], source: str
-) -> np.ndarray:
-    """An (ni, nj, nk, 3) array whose six faces hold the face grids (interior zero)."""
+def boundary_map(
+    surface: Surface, topology: Topology, source: str
+) -> Callable[[np.ndarray], np.ndarray]:
+    """A function of node parameters (ni, nj, nk, 3) giving an array of that shape whose six
+    faces hold the face grids at those parameters (interior zero); the face maps are built
+    once."""
     cube = cube_corners(surface, topology, source)
-    g = np.zeros((*size, 3))
+    faces = []
     for axis in range(3):
         a, b = (x for x in range(3) if x != axis)
         for value in (0, 1):
@@ -55,14 +61,59 @@ def boundary_grid(
             }
             at = [slice(None)] * 3
             at[axis] = 0 if value == 0 else -1
-            g[tuple(at)] = face_grid(
-                surface, topology.face_triangles[face], sides, (size[a], size[b])
+            faces.append(
+                (tuple(at), [a, b], FaceMap(surface, topology.face_triangles[face], sides))
             )
-    return g
+
+    def boundary(params: np.ndarray) -> np.ndarray:
+        g = np.zeros(params.shape)
+        for at, axes, face in faces:
+            g[at] = face.grid(params[at][..., axes])
+        return g
+
+    return boundary
 
 
-def mesh_surface(path: str, size: tuple[int, int, int], method: str) -> HexResult:
-    """Read ``path``, check its topology, build the face grids and the volume grid."""
+def volume_grid(
+    boundary: Callable[[np.ndarray], np.ndarray],
+    method: str,
+    spacing: dict[str, float],
+    orthogonal: tuple[str, ...],
+) -> Callable[[np.ndarray], np.ndarray]:
+    """The method's grid as a function of node parameters: TFI of the face grids at them,
+    the first layers off ``orthogonal`` patches on their normals, and (elliptic) the Winslow
+    grid beyond those layers with the distribution's control terms, each solve starting
+    from the previous one's interior. ``evaluate.steps``: the last solve's Picard steps."""
+    last: list = [None]
+
+    def evaluate(params: np.ndarray) -> np.ndarray:
+        g = tfi_at(boundary, params)
+        normal_layers(g, orthogonal, spacing)
+        if method != "elliptic":
+            return g
+        start = g.copy()
+        block = inside(g.shape, orthogonal)
+        inner = tuple(slice(s.start + 1, s.stop - 1) for s in block)
+        if last[0] is not None:
+            start[inner] = last[0][inner]
+        g, evaluate.steps = solve_inside(start, orthogonal, params if spacing else None)
+        last[0] = g
+        return g
+
+    evaluate.steps = 0
+    return evaluate
+
+
+def mesh_surface(
+    path: str,
+    size: tuple[int, int, int],
+    method: str,
+    spacing: dict[str, float] | None = None,
+    orthogonal: tuple[str, ...] = (),
+) -> HexResult:
+    """Read ``path``, check its topology, build the face grids and the volume grid;
+    ``spacing`` (patch -> first edge H) and ``orthogonal`` (patches) as SPEC 7 on the
+    patches."""
     if method not in METHODS:
         raise InputError(
             f"--method {method}: six-faced 3D domains are meshed by {' or '.join(METHODS)} "
@@ -70,15 +121,51 @@ def mesh_surface(path: str, size: tuple[int, int, int], method: str) -> HexResul
         )
     if min(size) < MIN_NODES:
         raise InputError(f"--size {' '.join(map(str, size))}: each needs at least 3 nodes")
+    if orthogonal and method != "elliptic":
+        raise InputError(
+            f"--orthogonal {','.join(orthogonal)}: use --method elliptic (tfi's grid lines "
+            "cannot turn to a patch's normal)"
+        )
+    spacing = spacing or {}
     start = time.perf_counter()
     surface = read_surface(path)
     topology = find_topology(surface, path)
-    g = volume.tfi(boundary_grid(surface, topology, size, path))
-    iterations = 0
-    if method == "elliptic":
-        g, iterations = volume.winslow(g)
+    boundary = boundary_map(surface, topology, path)
+    uniform = node_params(size, {})
+    base = volume.tfi(boundary(uniform), uniform)
+    check_spacing(spacing, base)
+    evaluate = volume_grid(boundary, method, spacing, orthogonal)
+    if not spacing:
+        g = evaluate(uniform)
+    else:  # fitted on the cheap TFI grids first: the Winslow grid then needs few rounds
+        first_guess = None
+        if method == "elliptic":
+            tfi_grid = volume_grid(boundary, "tfi", spacing, orthogonal)
+            first_guess = fit_params(tfi_grid, spacing, base)[2]
+        g = fit_params(evaluate, spacing, base, first_guess)[1]
     cells = cell_arrays(g)
-    return HexResult(g, cells, time.perf_counter() - start, iterations)
+    walls = wall_figures(g, spacing, orthogonal)
+    return HexResult(g, cells, time.perf_counter() - start, evaluate.steps, walls)
+
+
+def wall_figures(
+    g: np.ndarray, spacing: dict[str, float], orthogonal: tuple[str, ...]
+) -> dict[str, tuple[float, float, float]]:
+    """Per patch with a spacing or orthogonality: the first edges' min and max (the patch's
+    corners aside) and the largest angle of a grid line from the normal (its rim's two
+    nodes aside)."""
+    out = {}
+    for patch in PATCHES:
+        if patch in spacing or patch in orthogonal:
+            edges = first_edges(g, patch)
+            edges[[0, 0, -1, -1], [0, -1, 0, -1]] = np.nan
+            angle = inner_angles(g, patch)
+            out[patch] = (
+                float(np.nanmin(edges)),
+                float(np.nanmax(edges)),
+                float(angle.max(initial=0.0)),
+            )
+    return out
 
 
 def structured_grid(g: np.ndarray):
@@ -122,4 +209,9 @@ def summary(result: HexResult, method: str) -> str:
         f"{c['ScaledJacobian'].min():.3f}, mean MaxIncludedAngle "
         f"{c['MaxIncludedAngle'].mean():.2f} deg, worst {c['MaxIncludedAngle'].max():.2f} deg"
         + (f" ({result.iterations} Picard steps)" if result.iterations else "")
+        + "".join(
+            f"; {patch}: first edges {low:.3g}..{high:.3g}, grid lines within {angle:.2f} deg "
+            "of the normal"
+            for patch, (low, high, angle) in result.walls.items()
+        )
     )

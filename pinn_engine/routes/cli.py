@@ -424,9 +424,10 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
 def _run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
     """A six-faced 3D domain (SPEC 11): the surface's hexahedral grid into ``OUT.vts``."""
     from pinn_engine.hexa.mesh import HEXA_METHOD, HEXA_SIZE, mesh_surface, summary, write_vts
+    from pinn_engine.hexa.spacing import parse_patches
 
     defaults = vars(build_parser().parse_args([]))
-    allowed = {"boundary", "method", "size", "output", "quiet"}
+    allowed = {"boundary", "method", "size", "output", "quiet", "spacing", "orthogonal"}
     flags = _flags()
     for name, value in vars(args).items():
         if name not in allowed and value != defaults.get(name):
@@ -443,7 +444,8 @@ def _run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
     out = Path(args.output or f"out/{Path(args.boundary).stem}_{method}.vts")
     if out.suffix.lower() != ".vts":
         raise PinnMeshError(f"{out}: hexahedral grids are written as .vts in this build")
-    result = mesh_surface(args.boundary, size, method)
+    spacing, orthogonal = parse_patches(args.spacing, [args.orthogonal] if args.orthogonal else [])
+    result = mesh_surface(args.boundary, size, method, spacing, orthogonal)
     write_vts(result, out, method)
     written.append(out)
     if not args.quiet:
