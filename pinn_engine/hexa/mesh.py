@@ -12,7 +12,7 @@ from pinn_engine.errors import InputError
 from pinn_engine.hexa import quality, volume
 from pinn_engine.hexa.block import cube_corners
 from pinn_engine.hexa.facegrid import FaceMap
-from pinn_engine.hexa.orthogonal import inner_angles, inside, normal_layers, solve_inside
+from pinn_engine.hexa.orthogonal import inner_angles, orthogonal_grid
 from pinn_engine.hexa.spacing import check_spacing, first_edges, fit_params, node_params, tfi_at
 from pinn_engine.hexa.surface import Surface, Topology, find_topology, read_surface
 
@@ -81,23 +81,23 @@ def volume_grid(
     orthogonal: tuple[str, ...],
 ) -> Callable[[np.ndarray], np.ndarray]:
     """The method's grid as a function of node parameters: TFI of the face grids at them,
-    the first layers off ``orthogonal`` patches on their normals, and (elliptic) the Winslow
-    grid beyond those layers with the distribution's control terms, each solve starting
-    from the previous one's interior. ``evaluate.steps``: the last solve's Picard steps."""
+    or (elliptic) the Winslow grid with the distribution's control terms, each solve starting
+    from the previous one's interior, its lines turned onto the ``orthogonal`` patches'
+    normals (``orthogonal.orthogonal_grid``). ``evaluate.steps``: the last solve's Picard
+    steps."""
     last: list = [None]
 
     def evaluate(params: np.ndarray) -> np.ndarray:
         g = tfi_at(boundary, params)
-        normal_layers(g, orthogonal, spacing)
         if method != "elliptic":
             return g
-        start = g.copy()
-        block = inside(g.shape, orthogonal)
-        inner = tuple(slice(s.start + 1, s.stop - 1) for s in block)
+        inner = (slice(1, -1),) * 3
         if last[0] is not None:
-            start[inner] = last[0][inner]
-        g, evaluate.steps = solve_inside(start, orthogonal, params if spacing else None)
+            g[inner] = last[0][inner]
+        g, evaluate.steps = volume.winslow(g, params=params if spacing else None)
         last[0] = g
+        if orthogonal:
+            g = orthogonal_grid(g, orthogonal, params, spacing, bool(spacing))
         return g
 
     evaluate.steps = 0

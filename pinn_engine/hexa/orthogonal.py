@@ -1,12 +1,19 @@
 """Grid lines that leave a patch along its normal (SPEC 7's ``--orthogonal`` on SPEC 11's
-patches).
+patches), made from the Winslow grid as 2D's orthogonal start makes its two candidates
+(``starts.orthogonal``, docs/boundary_layer.md):
 
-The first layer of nodes off each orthogonal patch is put on the patch's normals, at the
-first edge's length (H where the patch has a spacing), and the 3D Winslow equations (with
-the distribution's control terms) are solved for the nodes beyond those layers, which stay
-fixed: the 3D form of the normal rows of 2D's orthogonal start (``starts.orthogonal``). The
-normal at a patch node is the cross product of the chords through its neighbours along the
-patch, the directions the grid itself has there (as 2D's ``chord_tangents``).
+1. *Sheared* (kept when it folds no cell and leaves every orthogonal patch within
+   ``ANGLE_TOL``): each line leaving the patch is moved by its first node's offset from the
+   patch normal (at the first edge's normal height, or H where the patch has a spacing) times
+   ``w(s) / w(s_1)``, ``w(s) = s (1 - s/R)^2`` (s the line's parameter from the patch, R = 1,
+   or 1/2 when the opposite patch is orthogonal too): the line leaves straight along the
+   normal and bends back to the Winslow line a third of the way across, not within a cell.
+2. *Normal layers*: the first layer of nodes off each patch put on its normals and the
+   Winslow equations solved beyond those layers, which stay fixed (orthogonal by
+   construction, with a turn of the lines one cell off the patch).
+
+The normal at a patch node is the cross product of the chords through its neighbours along
+the patch, the directions the grid itself has there (as 2D's ``chord_tangents``).
 """
 
 from __future__ import annotations
@@ -14,12 +21,16 @@ from __future__ import annotations
 import numpy as np
 
 from pinn_engine.hexa import volume
-from pinn_engine.hexa.spacing import PATCH_AXIS, leaving
+from pinn_engine.hexa.quality import folded
+from pinn_engine.hexa.spacing import PATCH_AXIS, first_edges, leaving
 
 # The two patch nodes nearest its rim (the rim's and the next) are left out of the wall
 # angles (SPEC 7: "the two nodes nearest each corner excepted"; a rim node's line lies in
 # the neighbouring face, and the next node's first cell leans on it)
 RIM_NODES = 2
+ANGLE_TOL = 2.0  # SPEC 7: grid lines within 2 degrees of the normal
+PROJECTIONS = 20  # alternating projections onto two patches' heights (converged well before)
+SPACING_TOL = 0.1  # SPEC 7: first edges within 10 % of H
 
 
 def normals(wall: np.ndarray, first: np.ndarray) -> np.ndarray:
@@ -49,22 +60,66 @@ def inner_angles(g: np.ndarray, patch: str) -> np.ndarray:
     return wall_angles(g, patch)[r:-r, r:-r]
 
 
+def _heights(
+    wall: np.ndarray, first: np.ndarray, normal: np.ndarray, height: float | None
+) -> np.ndarray:
+    """The first layer's targets: the first edge's normal component, or ``height``."""
+    if height is None:
+        height = np.einsum("abk,abk->ab", first - wall, normal)[..., None]
+    return wall + height * normal
+
+
+def sheared(
+    g: np.ndarray, patches: tuple[str, ...], params: np.ndarray, heights: dict[str, float]
+) -> np.ndarray:
+    """Candidate 1 of the module's docstring: ``g`` with the lines leaving each of
+    ``patches`` sheared onto the normals (one patch after another)."""
+    out = np.array(g, dtype=float)
+    for patch in patches:
+        axis, end = PATCH_AXIS[patch]
+        opposite = next(p for p, v in PATCH_AXIS.items() if v == (axis, -1 - end))
+        reach = 0.5 if opposite in patches else 1.0
+        wall, first = leaving(out, patch)
+        offset = _heights(wall, first, normals(wall, first), heights.get(patch)) - first
+        s = np.moveaxis(params[..., axis], axis, 0)
+        s = s if end == 0 else (1.0 - s)[::-1]
+        w = s * np.clip(1.0 - s / reach, 0.0, None) ** 2
+        shift = offset[None] * (w / np.maximum(w[1], 1e-300))[..., None]
+        moved = np.moveaxis(out, axis, 0)
+        moved = moved if end == 0 else moved[::-1]
+        moved[1:-1, 1:-1, 1:-1] += shift[1:-1, 1:-1, 1:-1]
+    return out
+
+
 def normal_layers(g: np.ndarray, patches: tuple[str, ...], heights: dict[str, float]) -> None:
     """Put the first layer's interior nodes off each of ``patches`` on the patch normals, at
-    ``heights[patch]`` or else at the first edge's length (in place). A node in the first
-    layers of two patches (along an edge where both meet) takes the mean of the two."""
+    ``heights[patch]`` or else at the first edge's normal height (in place). A node in the
+    first layers of two patches (along an edge where both meet) is put at the asked height
+    above both patches' nodes (alternating projections from the mean of the two targets,
+    as 2D puts the node next to a corner between two orthogonal sides)."""
     total = np.zeros_like(g)
     count = np.zeros(g.shape[:3])
+    planes = []
     for patch in patches:
         wall, first = leaving(g, patch)
-        height = heights.get(patch, np.linalg.norm(first - wall, axis=-1)[..., None])
-        target = wall + height * normals(wall, first)
+        normal = normals(wall, first)
+        target = _heights(wall, first, normal, heights.get(patch))
         axis, end = PATCH_AXIS[patch]
         layer = 1 if end == 0 else -2
+        mask = np.zeros(g.shape[:3], dtype=bool)
+        np.moveaxis(mask, axis, 0)[layer][1:-1, 1:-1] = True
         np.moveaxis(total, axis, 0)[layer][1:-1, 1:-1] += target[1:-1, 1:-1]
         np.moveaxis(count, axis, 0)[layer][1:-1, 1:-1] += 1.0
+        height = np.einsum("abk,abk->ab", target - wall, normal)
+        planes.append((mask, wall[1:-1, 1:-1], normal[1:-1, 1:-1], height[1:-1, 1:-1]))
     set_ = count > 0
     g[set_] = total[set_] / count[set_][:, None]
+    shared = count > 1
+    for _ in range(PROJECTIONS if shared.any() else 0):
+        for mask, wall, normal, height in planes:
+            p = g[mask].reshape(wall.shape)
+            p += (height - np.einsum("abk,abk->ab", p - wall, normal))[..., None] * normal
+            g[mask & shared] = p.reshape(-1, 3)[shared[mask]]
 
 
 def inside(shape: tuple[int, ...], patches: tuple[str, ...]) -> tuple[slice, slice, slice]:
@@ -86,3 +141,28 @@ def solve_inside(
     out = np.array(g, dtype=float)
     out[block], steps = volume.winslow(g[block], params=None if params is None else params[block])
     return out, steps
+
+
+def orthogonal_grid(
+    g: np.ndarray,
+    patches: tuple[str, ...],
+    params: np.ndarray,
+    heights: dict[str, float],
+    controls: bool,
+) -> np.ndarray:
+    """The sheared candidate of the Winslow grid ``g`` if it folds nothing, its lines leave
+    every patch within ``ANGLE_TOL`` and the spaced ones' first edges stay within
+    ``SPACING_TOL`` of H (another patch's shear can move them), else the normal layers'
+    grid (its Winslow solve with the distribution's control terms where ``controls``)."""
+    candidate = sheared(g, patches, params, heights)
+    straight = all(inner_angles(candidate, p).max(initial=0.0) <= ANGLE_TOL for p in patches)
+    spaced = all(
+        np.abs(first_edges(candidate, p)[1:-1, 1:-1] / h - 1.0).max(initial=0.0) <= SPACING_TOL
+        for p, h in heights.items()
+        if p in patches
+    )
+    if straight and spaced and not folded(candidate).any():
+        return candidate
+    layered = np.array(g, dtype=float)
+    normal_layers(layered, patches, heights)
+    return solve_inside(layered, patches, params if controls else None)[0]
