@@ -85,14 +85,16 @@ def test_orthogonal_without_spacing_keeps_cells_unfolded():
 
 
 @pytest.mark.parametrize(
-    "spacing, orthogonal",
+    "size, spacing, orthogonal",
     [
-        ({"imin": 0.01, "imax": 0.01}, ("imin", "imax")),  # opposite: inner and outer wall
-        ({"jmin": 0.01}, ("jmin", "imin")),  # adjacent: they share an edge
+        # opposite (the two ends of the arc, lines 1.6 to 3.1 long: 2D's shared stretching
+        # gives each its own first spacing over about six cells, so 21 nodes along i)
+        ((21, 9, 9), {"imin": 0.01, "imax": 0.01}, ("imin", "imax")),
+        (SIZE, {"jmin": 0.01}, ("jmin", "imin")),  # adjacent: they share an edge
     ],
 )
-def test_opposite_and_adjacent_patches_of_the_bend(spacing, orthogonal):
-    r = mesh_surface(BEND, SIZE, "elliptic", spacing, orthogonal)
+def test_opposite_and_adjacent_patches_of_the_bend(size, spacing, orthogonal):
+    r = mesh_surface(BEND, size, "elliptic", spacing, orthogonal)
     for patch, h in spacing.items():
         assert np.abs(_first_edge_ratios(r.grid, patch, h) - 1.0).max() <= SPACING_TOL
     for patch in orthogonal:
@@ -131,6 +133,7 @@ def _error(capsys, argv: list[str], out) -> str:
         (["--spacing", "kmin=0.5"], "shorter than half of the shortest edge leaving kmin"),
         (["--orthogonal", "kmin,floor"], "unknown patch 'floor'"),
         (["--orthogonal", "kmin", "--method", "tfi"], "use --method elliptic"),
+        (["--orthogonal", "kmin,kmax", "--size", "7", "7", "3"], "at least 4 nodes along k"),
     ],
 )
 def test_cli_refuses_bad_patch_options(tmp_path, capsys, extra, words):

@@ -21,6 +21,7 @@ PATCHES = ("imin", "imax", "jmin", "jmax", "kmin", "kmax")  # SPEC 11's patch na
 HEXA_METHOD = "elliptic"  # the default while 3D has no pinn: the converged Winslow grid
 HEXA_SIZE = (21, 21, 21)  # SPEC 11's default nodes along i, j and k
 MIN_NODES = 3  # fewer nodes along a direction leave no interior to solve for
+OPPOSITE_NODES = 4  # two orthogonal opposite patches each need a first layer of their own
 
 
 @dataclass
@@ -126,6 +127,12 @@ def mesh_surface(
             f"--orthogonal {','.join(orthogonal)}: use --method elliptic (tfi's grid lines "
             "cannot turn to a patch's normal)"
         )
+    for axis, name in enumerate("ijk"):
+        if {f"{name}min", f"{name}max"} <= set(orthogonal) and size[axis] < OPPOSITE_NODES:
+            raise InputError(
+                f"--orthogonal {name}min,{name}max: give at least {OPPOSITE_NODES} nodes "
+                f"along {name} (--size), one first layer for each"
+            )
     spacing = spacing or {}
     start = time.perf_counter()
     surface = read_surface(path)

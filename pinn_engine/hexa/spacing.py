@@ -1,17 +1,18 @@
 """First-cell spacing on the patches of a six-faced domain (SPEC 7 on SPEC 11's patches).
 
 ``--spacing PATCH=H`` stretches the nodes along the direction that leaves the patch (i for
-``imin``/``imax``, j for ``jmin``/``jmax``, k for ``kmin``/``kmax``) with Vinokur's one- or
-two-sided formula (``classical.spacing.stretch``, as 2D). Every grid line of that direction
-has its own stretching, its first spacing iterated against the measured first edge of the
-grid the method produces until every first edge is H within ``FIT_TOL`` (2D's fit). Unlike
-2D's ``line_parameters`` (one shared stretching, each line's first intervals scaled over
-about six cells), each line here takes the whole formula: the shared form cannot give lines
-of a short direction their own spacing (the bend at 13 nodes along i, lines 1.6 and 3.1
-long, stayed 19 % off H). The lines on the four faces around the patch are lines of the
-same direction, so the face grids take the same distribution (the faces stay conforming),
-and the volume follows by TFI at the parameters (:func:`tfi_at`), or by the Winslow
-equations with the distribution's control terms (``controls``).
+``imin``/``imax``, j for ``jmin``/``jmax``, k for ``kmin``/``kmax``) as 2D does: the lines of
+that direction share a Vinokur stretching and each line's first intervals are scaled to its
+own first spacing (``classical.spacing.line_parameters``), those spacings iterated against
+the measured first edges of the grid the method produces until every first edge is H within
+``FIT_TOL`` (2D's fit). The shared stretching matters more in 3D: a face line and the line
+next to it inside need different spacings (the face's Floater parameters are not the
+interior's), and whole per-line stretchings then shift their far nodes apart, leaning the
+thin cells off another patch into folds (the bend with three spaced patches at 21^3 folded
+1458 cells). The lines on the four faces around the patch are lines of the same direction,
+so the face grids take the same distribution (the faces stay conforming), and the volume
+follows by TFI at the parameters (:func:`tfi_at`), or by the Winslow equations with the
+distribution's control terms (``controls``).
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from pinn_engine.classical.spacing import stretch
+from pinn_engine.classical.spacing import line_parameters
 from pinn_engine.errors import InputError
 from pinn_engine.hexa import volume
 
@@ -100,7 +101,7 @@ def node_params(size: tuple[int, int, int], par: dict[str, np.ndarray]) -> np.nd
         low, high = (p for p, (a, _) in PATCH_AXIS.items() if a == axis)
         others = [size[a] for a in range(3) if a != axis]
         first, last = (None if p not in par else par[p].reshape(-1) for p in (low, high))
-        t = stretch(size[axis], first, last, others[0] * others[1])
+        t = line_parameters(size[axis], first, last, others[0] * others[1])
         out[..., axis] = np.moveaxis(t.reshape(*others, size[axis]), -1, axis)
     return out
 

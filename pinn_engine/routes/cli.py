@@ -175,7 +175,8 @@ def build_parser() -> argparse.ArgumentParser:
         help="first grid edge leaving SIDE (bottom, right, top, left) has length "
         "H (your units), growing smoothly away from it; repeat for more sides "
         "(pinn, tfi, elliptic; SPEC 7). O- and C-grids: bottom=H, the first "
-        "cell off the body wall. With --blocks: NAME=H, a patch (--patch)",
+        "cell off the body wall. With --blocks: NAME=H, a patch (--patch). Six-faced "
+        "surfaces: PATCH=H, PATCH one of imin, imax, jmin, jmax, kmin, kmax",
     )
     p.add_argument(
         "--orthogonal",
@@ -183,7 +184,8 @@ def build_parser() -> argparse.ArgumentParser:
         default=None,
         help="grid lines leave these sides at 90 degrees (pinn: a loss term; "
         "elliptic: Hilgenstock control functions). O- and C-grids: bottom "
-        "(elliptic and pinn always do; tfi cannot). With --blocks: patch names",
+        "(elliptic and pinn always do; tfi cannot). With --blocks: patch names. "
+        "Six-faced surfaces: imin ... kmax (elliptic)",
     )
     p.add_argument(
         "--quiet",
