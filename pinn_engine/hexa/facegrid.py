@@ -2,8 +2,9 @@
 
 Each face is mapped to the unit square by Floater's mean-value coordinates (a harmonic-like
 map that is one-to-one for a convex target), its sides on the square's sides by arc length;
-a tensor grid of the square is carried back by the barycentric coordinates of the mapped
-triangle that holds each node, so every node lies on an input triangle.
+a grid of the square (a tensor grid, or the nodes of a spacing's distribution) is carried
+back by the barycentric coordinates of the mapped triangle that holds each node, so every
+node lies on an input triangle.
 """
 
 from __future__ import annotations
@@ -24,11 +25,10 @@ def arc_fractions(points: np.ndarray) -> np.ndarray:
     return s / s[-1]
 
 
-def edge_nodes(points: np.ndarray, n: int) -> np.ndarray:
-    """``n`` nodes equally spaced in arc length along a polyline (on its segments)."""
+def edge_nodes(points: np.ndarray, fractions: np.ndarray) -> np.ndarray:
+    """Nodes at arc-length ``fractions`` (0 to 1) along a polyline (on its segments)."""
     t = arc_fractions(points)
-    s = np.linspace(0.0, 1.0, n)
-    return np.stack([np.interp(s, t, points[:, d]) for d in range(3)], axis=1)
+    return np.stack([np.interp(fractions, t, points[:, d]) for d in range(3)], axis=1)
 
 
 def _mean_value_weights(points: np.ndarray, tris: np.ndarray) -> sp.csr_matrix:
@@ -96,34 +96,41 @@ def carry_back(
     return out
 
 
-def face_grid(
-    surface: Surface, triangles: np.ndarray, sides: dict[str, np.ndarray], shape: tuple
-) -> np.ndarray:
-    """Grid (na, nb, 3) of one face on its triangles.
+class FaceMap:
+    """One face's map to the unit square, built once and evaluated at node parameters.
 
     ``sides`` holds the input point paths of the face's four sides in grid order: ``a0``
     (b = 0, along a), ``a1`` (b = 1), ``b0`` (a = 0, along b), ``b1`` (a = 1).
     """
-    na, nb = shape
-    tris_global = surface.triangles[triangles]
-    used, local = np.unique(tris_global, return_inverse=True)
-    tris = local.reshape(-1, 3)
-    index = {p: n for n, p in enumerate(used.tolist())}
-    fixed: dict[int, np.ndarray] = {}
-    for name, path in sides.items():
-        t = arc_fractions(surface.points[path])
-        const = 0.0 if name.endswith("0") else 1.0
-        uv = np.stack([t, np.full_like(t, const)], axis=1)
-        for p, value in zip(path, uv if name[0] == "a" else uv[:, ::-1], strict=True):
-            fixed[index[p]] = value
-    uv = square_map(surface.points[used], tris, fixed)
-    grid = np.empty((na, nb, 3))
-    grid[:, 0] = edge_nodes(surface.points[sides["a0"]], na)
-    grid[:, -1] = edge_nodes(surface.points[sides["a1"]], na)
-    grid[0, :] = edge_nodes(surface.points[sides["b0"]], nb)
-    grid[-1, :] = edge_nodes(surface.points[sides["b1"]], nb)
-    ua, vb = np.meshgrid(np.linspace(0, 1, na)[1:-1], np.linspace(0, 1, nb)[1:-1], indexing="ij")
-    queries = np.stack([ua.ravel(), vb.ravel()], axis=1)
-    inner = carry_back(uv, tris, surface.points[used], queries)
-    grid[1:-1, 1:-1] = inner.reshape(na - 2, nb - 2, 3)
-    return grid
+
+    def __init__(
+        self, surface: Surface, triangles: np.ndarray, sides: dict[str, np.ndarray]
+    ) -> None:
+        tris_global = surface.triangles[triangles]
+        used, local = np.unique(tris_global, return_inverse=True)
+        self.tris = local.reshape(-1, 3)
+        self.points = surface.points[used]
+        self.sides = {name: surface.points[path] for name, path in sides.items()}
+        index = {p: n for n, p in enumerate(used.tolist())}
+        fixed: dict[int, np.ndarray] = {}
+        for name, path in sides.items():
+            t = arc_fractions(surface.points[path])
+            const = 0.0 if name.endswith("0") else 1.0
+            uv = np.stack([t, np.full_like(t, const)], axis=1)
+            for p, value in zip(path, uv if name[0] == "a" else uv[:, ::-1], strict=True):
+                fixed[index[p]] = value
+        self.uv = square_map(self.points, self.tris, fixed)
+
+    def grid(self, params: np.ndarray) -> np.ndarray:
+        """Grid (na, nb, 3) of the face whose node (a, b) sits at ``params[a, b]`` (u, v) of
+        the square; side nodes at those arc-length fractions of the sides."""
+        na, nb = params.shape[:2]
+        grid = np.empty((na, nb, 3))
+        grid[:, 0] = edge_nodes(self.sides["a0"], params[:, 0, 0])
+        grid[:, -1] = edge_nodes(self.sides["a1"], params[:, -1, 0])
+        grid[0, :] = edge_nodes(self.sides["b0"], params[0, :, 1])
+        grid[-1, :] = edge_nodes(self.sides["b1"], params[-1, :, 1])
+        queries = params[1:-1, 1:-1].reshape(-1, 2)
+        inner = carry_back(self.uv, self.tris, self.points, queries)
+        grid[1:-1, 1:-1] = inner.reshape(na - 2, nb - 2, 3)
+        return grid

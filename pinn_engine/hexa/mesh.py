@@ -6,7 +6,7 @@ from __future__ import annotations
 import json
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -17,7 +17,9 @@ from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 from pinn_engine.errors import InputError
 from pinn_engine.hexa import quality, volume
 from pinn_engine.hexa.block import cube_corners
-from pinn_engine.hexa.facegrid import face_grid
+from pinn_engine.hexa.facegrid import FaceMap
+from pinn_engine.hexa.orthogonal import inner_angles, orthogonal_grid
+from pinn_engine.hexa.spacing import check_spacing, first_edges, fit_params, node_params, tfi_at
 from pinn_engine.hexa.surface import Surface, Topology, find_topology, surface_of
 from pinn_engine.io import fileio
 from pinn_engine.io.export.patches import BOX_SIDES, add_to_grid, patch_specs
@@ -26,6 +28,7 @@ METHODS = ("tfi", "elliptic")  # the methods of this build for six-faced domains
 HEXA_METHOD = "elliptic"  # the default while 3D has no pinn: the converged Winslow grid
 HEXA_SIZE = (21, 21, 21)  # SPEC 11's default nodes along i, j and k
 MIN_NODES = 3  # fewer nodes along a direction leave no interior to solve for
+OPPOSITE_NODES = 4  # two orthogonal opposite patches each need a first layer of their own
 
 
 @dataclass
@@ -36,14 +39,17 @@ class HexResult:
     cells: dict[str, np.ndarray]
     seconds: float
     iterations: int
+    walls: dict[str, tuple[float, float, float]] = field(default_factory=dict)
 
 
-def boundary_grid(
-    surface: Surface, topology: Topology, size: tuple[int, int, int], source: str
-) -> np.ndarray:
-    """An (ni, nj, nk, 3) array whose six faces hold the face grids (interior zero)."""
+def boundary_map(
+    surface: Surface, topology: Topology, source: str
+) -> Callable[[np.ndarray], np.ndarray]:
+    """A function of node parameters (ni, nj, nk, 3) giving an array of that shape whose six
+    faces hold the face grids at those parameters (interior zero); the face maps are built
+    once."""
     cube = cube_corners(surface, topology, source)
-    g = np.zeros((*size, 3))
+    faces = []
     for axis in range(3):
         a, b = (x for x in range(3) if x != axis)
         for value in (0, 1):
@@ -63,10 +69,17 @@ def boundary_grid(
             }
             at = [slice(None)] * 3
             at[axis] = 0 if value == 0 else -1
-            g[tuple(at)] = face_grid(
-                surface, topology.face_triangles[face], sides, (size[a], size[b])
+            faces.append(
+                (tuple(at), [a, b], FaceMap(surface, topology.face_triangles[face], sides))
             )
-    return g
+
+    def boundary(params: np.ndarray) -> np.ndarray:
+        g = np.zeros(params.shape)
+        for at, axes, face in faces:
+            g[at] = face.grid(params[at][..., axes])
+        return g
+
+    return boundary
 
 
 def size_problem(size: tuple[int, ...]) -> str | None:
@@ -79,8 +92,8 @@ def size_problem(size: tuple[int, ...]) -> str | None:
     return None
 
 
-def refuse(size: tuple[int, ...], method: str) -> None:
-    """An :class:`InputError` for a method or size this build cannot mesh with."""
+def refuse(size: tuple[int, ...], method: str, orthogonal: tuple[str, ...] = ()) -> None:
+    """An :class:`InputError` for a method, size or orthogonality this build cannot mesh."""
     if method not in METHODS:
         raise InputError(
             f"--method {method}: six-faced 3D domains are meshed by {' or '.join(METHODS)} "
@@ -89,6 +102,47 @@ def refuse(size: tuple[int, ...], method: str) -> None:
     problem = size_problem(size)
     if problem:
         raise InputError(f"--size {' '.join(map(str, size))}: {problem}")
+    if orthogonal and method != "elliptic":
+        raise InputError(
+            f"--orthogonal {','.join(orthogonal)}: use --method elliptic (tfi's grid lines "
+            "cannot turn to a patch's normal)"
+        )
+    for axis, name in enumerate("ijk"):
+        if {f"{name}min", f"{name}max"} <= set(orthogonal) and size[axis] < OPPOSITE_NODES:
+            raise InputError(
+                f"--orthogonal {name}min,{name}max: give at least {OPPOSITE_NODES} nodes "
+                f"along {name} (--size), one first layer for each"
+            )
+
+
+def volume_grid(
+    boundary: Callable[[np.ndarray], np.ndarray],
+    method: str,
+    spacing: dict[str, float],
+    orthogonal: tuple[str, ...],
+) -> Callable[[np.ndarray], np.ndarray]:
+    """The method's grid as a function of node parameters: TFI of the face grids at them,
+    or (elliptic) the Winslow grid with the distribution's control terms, each solve starting
+    from the previous one's interior, its lines turned onto the ``orthogonal`` patches'
+    normals (``orthogonal.orthogonal_grid``). ``evaluate.steps``: the last solve's Picard
+    steps."""
+    last: list = [None]
+
+    def evaluate(params: np.ndarray) -> np.ndarray:
+        g = tfi_at(boundary, params)
+        if method != "elliptic":
+            return g
+        inner = (slice(1, -1),) * 3
+        if last[0] is not None:
+            g[inner] = last[0][inner]
+        g, evaluate.steps = volume.winslow(g, params=params if spacing else None)
+        last[0] = g
+        if orthogonal:
+            g = orthogonal_grid(g, orthogonal, params, spacing, bool(spacing))
+        return g
+
+    evaluate.steps = 0
+    return evaluate
 
 
 def mesh_surface(
@@ -96,13 +150,18 @@ def mesh_surface(
     size: tuple[int, int, int],
     method: str,
     progress: Callable[[str, float], None] | None = None,
+    *,
+    spacing: dict[str, float] | None = None,
+    orthogonal: tuple[str, ...] = (),
 ) -> HexResult:
     """Read ``path`` (an ``.stl``'s faces are found at its sharp edges), check its topology,
-    build the face grids and the volume grid."""
-    refuse(size, method)
+    build the face grids and the volume grid (:func:`mesh_polydata`)."""
+    refuse(size, method, orthogonal)
     data = fileio.read_polydata(Path(path))
     stl = str(path).lower().endswith(".stl")
-    return mesh_polydata(data, size, method, path, progress, sharp_edges=stl)
+    return mesh_polydata(
+        data, size, method, path, progress, sharp_edges=stl, spacing=spacing, orthogonal=orthogonal
+    )
 
 
 def mesh_polydata(
@@ -111,26 +170,62 @@ def mesh_polydata(
     method: str,
     source: str,
     progress: Callable[[str, float], None] | None = None,
+    *,
     sharp_edges: bool = False,
+    spacing: dict[str, float] | None = None,
+    orthogonal: tuple[str, ...] = (),
 ) -> HexResult:
     """The hexahedral grid of a surface in memory (a polydata with a FaceId cell array, or
     with ``sharp_edges`` faces found at its sharp edges; the filter's and pyvista's input),
-    ``source`` naming it in messages; ``progress(phase, fraction)`` is told each phase as it
-    starts."""
-    refuse(size, method)
+    ``source`` naming it in messages; ``spacing`` (patch -> first edge H) and ``orthogonal``
+    (patches) as SPEC 7 on the patches; ``progress(phase, fraction)`` is told each phase as
+    it starts."""
+    refuse(size, method, orthogonal)
     tell = progress or (lambda phase, fraction: None)
+    spacing = spacing or {}
     start = time.perf_counter()
     tell("face grids", 0.0)
     surface = surface_of(data, source, sharp_edges)
     topology = find_topology(surface, source)
-    g = volume.tfi(boundary_grid(surface, topology, size, source))
-    iterations = 0
+    boundary = boundary_map(surface, topology, source)
+    uniform = node_params(size, {})
+    base = volume.tfi(boundary(uniform), uniform)
+    check_spacing(spacing, base)
     if method == "elliptic":
         tell("3D Winslow", 0.3)
-        g, iterations = volume.winslow(g)
+    evaluate = volume_grid(boundary, method, spacing, orthogonal)
+    if not spacing:
+        g = evaluate(uniform)
+    else:  # fitted on the cheap TFI grids first: the Winslow grid then needs few rounds
+        first_guess = None
+        if method == "elliptic":
+            tfi_grid = volume_grid(boundary, "tfi", spacing, orthogonal)
+            first_guess = fit_params(tfi_grid, spacing, base)[2]
+        g = fit_params(evaluate, spacing, base, first_guess)[1]
     tell("quality", 0.9)
     cells = cell_arrays(g)
-    return HexResult(g, cells, time.perf_counter() - start, iterations)
+    walls = wall_figures(g, spacing, orthogonal)
+    return HexResult(g, cells, time.perf_counter() - start, evaluate.steps, walls)
+
+
+def wall_figures(
+    g: np.ndarray, spacing: dict[str, float], orthogonal: tuple[str, ...]
+) -> dict[str, tuple[float, float, float]]:
+    """Per patch with a spacing or orthogonality: the first edges' min and max (the patch's
+    corners aside) and the largest angle of a grid line from the normal (its rim's two
+    nodes aside)."""
+    out = {}
+    for patch in BOX_SIDES:
+        if patch in spacing or patch in orthogonal:
+            edges = first_edges(g, patch)
+            edges[[0, 0, -1, -1], [0, -1, 0, -1]] = np.nan
+            angle = inner_angles(g, patch)
+            out[patch] = (
+                float(np.nanmin(edges)),
+                float(np.nanmax(edges)),
+                float(angle.max(initial=0.0)),
+            )
+    return out
 
 
 def structured_grid(g: np.ndarray) -> vtkStructuredGrid:
@@ -223,4 +318,9 @@ def summary(result: HexResult, method: str) -> str:
         f"{c['ScaledJacobian'].min():.3f}, mean MaxIncludedAngle "
         f"{c['MaxIncludedAngle'].mean():.2f} deg, worst {c['MaxIncludedAngle'].max():.2f} deg"
         + (f" ({result.iterations} Picard steps)" if result.iterations else "")
+        + "".join(
+            f"; {patch}: first edges {low:.3g}..{high:.3g}, grid lines within {angle:.2f} deg "
+            "of the normal"
+            for patch, (low, high, angle) in result.walls.items()
+        )
     )

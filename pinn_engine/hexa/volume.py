@@ -10,26 +10,31 @@ import numpy as np
 import scipy.sparse as sp
 
 from pinn_engine.classical.elliptic import ReusedLU
+from pinn_engine.hexa.controls import parameter_controls
 
 
-def _lerp(g: np.ndarray, axis: int) -> np.ndarray:
-    """Linear interpolation of ``g`` along ``axis`` between its first and last slices."""
+def _lerp(g: np.ndarray, axis: int, params: np.ndarray | None = None) -> np.ndarray:
+    """Linear interpolation of ``g`` along ``axis`` between its first and last slices, at
+    the node parameters ``params[..., axis]`` (default: uniform)."""
     n = g.shape[axis]
     t = np.linspace(0.0, 1.0, n).reshape([-1 if a == axis else 1 for a in range(g.ndim)])
+    if params is not None:
+        t = params[..., axis : axis + 1]
     first = np.take(g, [0], axis=axis)
     last = np.take(g, [n - 1], axis=axis)
     return (1.0 - t) * first + t * last
 
 
-def tfi(boundary: np.ndarray) -> np.ndarray:
+def tfi(boundary: np.ndarray, params: np.ndarray | None = None) -> np.ndarray:
     """3D transfinite interpolation (Boolean sum of the three linear projectors) of the face
-    nodes of ``boundary``; its interior values are ignored."""
+    nodes of ``boundary``; its interior values are ignored. ``params`` (ni, nj, nk, 3): each
+    node's parameters along i, j, k (a spacing's distribution; default uniform)."""
     out = np.zeros_like(boundary, dtype=float)
     for count in (1, 2, 3):
         for axes in itertools.combinations(range(3), count):
             g = boundary
             for axis in axes:
-                g = _lerp(g, axis)
+                g = _lerp(g, axis, params)
             out += (-1) ** (count + 1) * g
     return out
 
@@ -53,14 +58,17 @@ def _cofactors(g: np.ndarray) -> dict[tuple[int, int], np.ndarray]:
     }
 
 
-def _stencil(c: dict[tuple[int, int], np.ndarray]) -> dict[tuple[int, int, int], np.ndarray]:
-    """19-point weights of the frozen-coefficient Winslow operator, by offset."""
+def _stencil(
+    c: dict[tuple[int, int], np.ndarray], controls: list[np.ndarray] | None = None
+) -> dict[tuple[int, int, int], np.ndarray]:
+    """19-point weights of the frozen-coefficient Winslow operator, by offset; with
+    ``controls`` (P_m at interior nodes) the terms ``sum_m P_m x_{xi_m}`` are added."""
     weights = {(0, 0, 0): -2.0 * (c[(0, 0)] + c[(1, 1)] + c[(2, 2)])}
     for m in range(3):
         for s in (1, -1):
             off = [0, 0, 0]
             off[m] = s
-            weights[tuple(off)] = c[(m, m)]
+            weights[tuple(off)] = c[(m, m)] + (0.0 if controls is None else 0.5 * s * controls[m])
     for m, n in ((0, 1), (0, 2), (1, 2)):
         for sm, sn in itertools.product((1, -1), repeat=2):
             off = [0, 0, 0]
@@ -69,16 +77,21 @@ def _stencil(c: dict[tuple[int, int], np.ndarray]) -> dict[tuple[int, int, int],
     return weights
 
 
-def stencil_matrix(g: np.ndarray) -> tuple[sp.csc_matrix, np.ndarray]:
+def stencil_matrix(
+    g: np.ndarray, params: np.ndarray | None = None
+) -> tuple[sp.csc_matrix, np.ndarray]:
     """The Winslow system over the interior nodes with coefficients frozen at ``g``; the
-    boundary nodes' terms go to the right-hand side."""
+    boundary nodes' terms go to the right-hand side. With node ``params`` (ni, nj, nk, 3)
+    their distribution's control terms are added (:func:`controls.parameter_controls`)."""
     ni, nj, nk = g.shape[:3]
     shape = (ni - 2, nj - 2, nk - 2)
     idx = np.indices(shape).reshape(3, -1).T + 1
     row = np.arange(idx.shape[0])
     rows, cols, vals = [], [], []
     rhs = np.zeros((row.size, 3))
-    for off, w in _stencil(_cofactors(g)).items():
+    c = _cofactors(g)
+    controls = None if params is None else parameter_controls(c, params)
+    for off, w in _stencil(c, controls).items():
         w = w.reshape(-1)
         nb = idx + np.array(off)
         inner = ((nb > 0) & (nb < np.array([ni, nj, nk]) - 1)).all(axis=1)
@@ -96,10 +109,14 @@ def stencil_matrix(g: np.ndarray) -> tuple[sp.csc_matrix, np.ndarray]:
 
 
 def winslow(
-    start: np.ndarray, tol: float = 1e-9, max_iterations: int = 200
+    start: np.ndarray,
+    tol: float = 1e-9,
+    max_iterations: int = 200,
+    params: np.ndarray | None = None,
 ) -> tuple[np.ndarray, int]:
     """3D Winslow grid by Picard iteration from ``start`` (its faces are kept): each step
     solves the frozen-coefficient system by defect correction with a reused sparse LU.
+    ``params``: node parameters whose distribution the grid keeps (control terms).
     Stops when no node moves more than ``tol`` times the grid's extent; returns the grid
     and the number of steps."""
     g = np.array(start, dtype=float)
@@ -109,7 +126,7 @@ def winslow(
     solver = ReusedLU()
     inner_shape = tuple(n - 2 for n in g.shape[:3]) + (3,)
     for it in range(1, max_iterations + 1):
-        mat, rhs = stencil_matrix(g)
+        mat, rhs = stencil_matrix(g, params)
         inner = g[1:-1, 1:-1, 1:-1].reshape(-1, 3)
         step, change = solver.solve(mat, rhs - mat @ inner)
         g[1:-1, 1:-1, 1:-1] = (inner + step).reshape(inner_shape)

@@ -176,7 +176,8 @@ def build_parser() -> argparse.ArgumentParser:
         help="first grid edge leaving SIDE (bottom, right, top, left) has length "
         "H (your units), growing smoothly away from it; repeat for more sides "
         "(pinn, tfi, elliptic; SPEC 7). O- and C-grids: bottom=H, the first "
-        "cell off the body wall. With --blocks: NAME=H, a patch (--patch)",
+        "cell off the body wall. With --blocks: NAME=H, a patch (--patch). Six-faced "
+        "surfaces: PATCH=H, PATCH one of imin, imax, jmin, jmax, kmin, kmax",
     )
     p.add_argument(
         "--orthogonal",
@@ -184,7 +185,8 @@ def build_parser() -> argparse.ArgumentParser:
         default=None,
         help="grid lines leave these sides at 90 degrees (pinn: a loss term; "
         "elliptic: Hilgenstock control functions). O- and C-grids: bottom "
-        "(elliptic and pinn always do; tfi cannot). With --blocks: patch names",
+        "(elliptic and pinn always do; tfi cannot). With --blocks: patch names. "
+        "Six-faced surfaces: imin ... kmax (elliptic)",
     )
     p.add_argument(
         "--quiet",
@@ -424,12 +426,14 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
 
 def _run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
     """A six-faced 3D domain (SPEC 11): the surface's hexahedral grid into ``OUT`` (the
-    formats and patches of SPEC 8, never extruded)."""
+    formats and patches of SPEC 8, never extruded; spacing and orthogonality on patches)."""
     from pinn_engine.hexa.mesh import HEXA_METHOD, HEXA_SIZE, hexa_grid, mesh_surface, summary
+    from pinn_engine.hexa.spacing import parse_patches
     from pinn_engine.io import export
 
     defaults = vars(build_parser().parse_args([]))
     allowed = {"boundary", "method", "size", "output", "quiet", "format", "patch"}
+    allowed |= {"spacing", "orthogonal"}
     flags = _flags()
     for name, value in vars(args).items():
         if name not in allowed and value != defaults.get(name):
@@ -447,7 +451,8 @@ def _run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
     out = Path(args.output or f"out/{Path(args.boundary).stem}_{method}{suffix}")
     export.output_format(out, args.format)  # refused before meshing
     export.patch_specs(args.patch or None, sides=export.BOX_SIDES)  # as are the patches
-    result = mesh_surface(args.boundary, size, method)
+    spacing, orthogonal = parse_patches(args.spacing, [args.orthogonal] if args.orthogonal else [])
+    result = mesh_surface(args.boundary, size, method, spacing=spacing, orthogonal=orthogonal)
     export.write(hexa_grid(result, method), out, args.format, patches=args.patch or None)
     written.append(out)
     if not args.quiet:
