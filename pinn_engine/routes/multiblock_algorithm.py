@@ -80,6 +80,18 @@ def curves_of(
     return rings, edges, names
 
 
+def _items(value, separators: str) -> tuple[str, ...]:
+    """Items of a setting given as one string (split at whitespace and ``separators``) or as
+    a sequence of strings; None or "" is none."""
+    if value is None:
+        return ()
+    if isinstance(value, str):
+        for sep in separators:
+            value = value.replace(sep, " ")
+        return tuple(value.split())
+    return tuple(str(v).strip() for v in value if str(v).strip())
+
+
 def folded_warning(report: dict, route: str) -> str | None:
     """The warning of a multi-block grid with folded cells in ``route``'s words, or None."""
     folded = int(report["quality"]["folded_cells"])
@@ -104,6 +116,16 @@ class PinnMultiBlockAlgorithm(LineInputs, VTKPythonAlgorithmBase):
     * ``SetCellSize(h)``: cell length in the boundary's units; 0 (default): the diagonal / 40
     * ``SetInterfaces("free"|"fixed")`` (or 0/1): interface nodes solved like interior nodes,
       or kept on the drawn edges
+    * ``SetPatchNames(items)``: ``X,Y=NAME[:TYPE]`` items naming the boundary piece nearest
+      (X, Y) (a string of items separated by spaces, a sequence of them, or a mapping
+      ``{(x, y): "NAME[:TYPE]"}``); default names ``boundary``, ``hole1``, ...
+    * ``SetSpacing(items)``: ``NAME=H`` items, the first grid edge leaving that patch
+      (``"cylinder=0.005"``, a sequence of items or a mapping ``{"cylinder": 0.005}``)
+    * ``SetOrthogonal(names)``: patches that grid lines leave along the normal
+      (``"cylinder,walls"`` or a sequence of names)
+
+    Patch items, spacings and names are checked at the next update (one line naming the
+    item, as the command line's ``--patch``, ``--spacing`` and ``--orthogonal``).
     """
 
     def __init__(self, route: str = "paraview") -> None:
@@ -115,6 +137,9 @@ class PinnMultiBlockAlgorithm(LineInputs, VTKPythonAlgorithmBase):
         self._method = BLOCKS_METHOD
         self._cell_size = 0.0
         self._interfaces = INTERFACES[0]
+        self._patches: tuple[str, ...] = ()  # X,Y=NAME[:TYPE] items, checked at the update
+        self._spacing: tuple[str, ...] = ()  # NAME=H items
+        self._orthogonal: tuple[str, ...] = ()  # patch names
         self._last_error = self._last_warning = ""
         self._exception: Exception | None = None
 
@@ -136,6 +161,28 @@ class PinnMultiBlockAlgorithm(LineInputs, VTKPythonAlgorithmBase):
 
     def GetInterfaces(self) -> str:
         return self._interfaces
+
+    def SetPatchNames(self, items) -> None:
+        if hasattr(items, "items"):
+            items = [f"{float(x)!r},{float(y)!r}={name}" for (x, y), name in items.items()]
+        self._set("_patches", _items(items, ";"))
+
+    def GetPatchNames(self) -> tuple[str, ...]:
+        return self._patches
+
+    def SetSpacing(self, items) -> None:
+        if hasattr(items, "items"):
+            items = [f"{name}={float(h)!r}" for name, h in items.items()]
+        self._set("_spacing", _items(items, ",;"))
+
+    def GetSpacing(self) -> tuple[str, ...]:
+        return self._spacing
+
+    def SetOrthogonal(self, names) -> None:
+        self._set("_orthogonal", _items(names, ",;"))
+
+    def GetOrthogonal(self) -> tuple[str, ...]:
+        return self._orthogonal
 
     def GetSettings(self) -> Settings:
         """The ``Settings`` the next update uses (raises ``ValueError`` if invalid)."""
@@ -184,8 +231,12 @@ class PinnMultiBlockAlgorithm(LineInputs, VTKPythonAlgorithmBase):
         from pinn_engine.io.export.vtm import multiblock_dataset
         from pinn_engine.job import flat_curves
         from pinn_engine.multiblock.mesh import mesh_blocks
+        from pinn_engine.multiblock.patches import parse_patch_points
+        from pinn_engine.multiblock.walls import parse_walls
 
         settings = self.GetSettings()
+        patches = parse_patch_points(self._patches)  # refused before meshing, not after
+        walls = parse_walls(self._spacing, self._orthogonal)
         ports = [
             [vtkPolyData.GetData(port, k) for k in range(port.GetNumberOfInformationObjects())]
             for port in inInfo
@@ -198,9 +249,11 @@ class PinnMultiBlockAlgorithm(LineInputs, VTKPythonAlgorithmBase):
             names,
             settings,
             "input",
-            progress=self._block,
+            patches,
+            walls,
+            self._block,
         )
-        dataset = multiblock_dataset(result.grids, result.cells, result.report)
+        dataset = multiblock_dataset(result.grids, result.cells, result.report, result.patches)
         return dataset, result.report
 
     def _block(self, info: dict) -> None:

@@ -301,6 +301,9 @@ def pinn_mesh_blocks(
     cell_size: float | None = None,
     method: str | None = None,
     interfaces: str | None = None,
+    patches=None,
+    spacing=None,
+    orthogonal=None,
 ) -> pv.MultiBlock:
     """Multi-block structured grid (SPEC 10) of a domain cut into four-sided blocks.
 
@@ -320,6 +323,18 @@ def pinn_mesh_blocks(
         all blocks at once; or each block's TFI.
     interfaces : {"free", "fixed"}, optional
         Interface nodes solved like interior nodes (default) or kept on the drawn edges.
+    patches : dict or sequence of str, optional
+        Names of boundary pieces (a stretch of the boundary or a hole between two block
+        corners or junctions; default names ``boundary``, ``hole1``, ...): ``{(x, y):
+        "NAME[:TYPE]"}`` or ``["X,Y=NAME[:TYPE]", ...]`` names the piece nearest (x, y);
+        pieces of one name form one patch. Each block's field data ``PieceNames``,
+        ``PieceTypes`` and ``PieceRanges`` carry them.
+    spacing : dict or sequence of str, optional
+        First grid edge leaving a patch, ``{"cylinder": 0.005}`` or ``["cylinder=0.005"]``
+        (SPEC 7 on patches; docs/multiblock.md).
+    orthogonal : str or sequence of str, optional
+        Patches that grid lines leave along the normal, ``"cylinder"`` or ``["cylinder",
+        "walls"]``.
 
     Returns
     -------
@@ -343,6 +358,9 @@ def pinn_mesh_blocks(
         (alg.SetMethod, method),
         (alg.SetCellSize, cell_size),
         (alg.SetInterfaces, interfaces),
+        (alg.SetPatchNames, patches),
+        (alg.SetSpacing, spacing),
+        (alg.SetOrthogonal, orthogonal),
     ):
         if value is not None:
             setter(value)
@@ -451,7 +469,8 @@ class PinnMeshAccessor:
         ``blocks``: block edges (PolyData or a list): this PolyData's closed polylines are
         then the outer boundary and holes of a multi-block domain, and the keywords those of
         :func:`pinn_mesh_blocks` (``cell_size``, ``method``: pinn, elliptic or tfi,
-        ``interfaces``); returns a ``pyvista.MultiBlock``.
+        ``interfaces``, ``patches``, ``spacing``, ``orthogonal``); returns a
+        ``pyvista.MultiBlock``.
         """
         if blocks is not None:
             for name, value in (("aux", aux), ("size", size)):
