@@ -504,6 +504,23 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
 @smhint.xml('<ShowInMenu category="Mesh Generation"/>')
 @smhint.xml('<RepresentationType view="RenderView" type="Surface With Edges"/>')
 @smproperty.input(
+    name="AuxiliaryLines",
+    label="Auxiliary Lines",
+    port_index=2,
+    multiple_input=True,
+    clean_command="RemoveAllAuxiliaryLines",
+)
+@smdomain.datatype(dataTypes=["vtkPolyData"], composite_data_supported=False)
+@smdomain.xml(
+    _doc(
+        "Optional auxiliary lines inside blocks: open polylines, each from a side of the "
+        "block holding its middle point to the opposite side (several polylines per "
+        "input and several inputs both work). Used by the pinn method: its networks "
+        "move the blocks' grid lines onto them."
+    )
+)
+@smhint.xml("<Optional/>")
+@smproperty.input(
     name="BlockEdges",
     label="Block Edges",
     port_index=1,
@@ -558,6 +575,9 @@ class PINNMultiBlockMesh(PinnMultiBlockAlgorithm):
 
     def RemoveAllBlockEdges(self):
         self.RemoveAllInputConnections(1)
+
+    def RemoveAllAuxiliaryLines(self):
+        self.RemoveAllInputConnections(2)
 
     @smproperty.intvector(name="Method", default_values=MULTIBLOCK_METHODS.index(BLOCKS_METHOD))
     @smdomain.xml(_enum(MULTIBLOCK_METHODS))

@@ -4,8 +4,11 @@ block, or one that leaves its block, is one line, exit 2, no file."""
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
+import pyvista as pv
 from conftest import ROOT
 from test_multiblock import _lines
 
@@ -70,3 +73,16 @@ def test_a_line_outside_its_block_is_one_line(tmp_path, capsys, points, message)
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and message in err, err
     assert not out.exists()
+
+
+def test_pyvista_takes_the_lines_as_aux(runs):
+    """pyvista's ``blocks=`` with ``aux=``: the command line's pinn grid node for node."""
+    boundary = pv.read(FILES[0])
+    blocks = boundary.pinn_mesh(
+        blocks=pv.read(FILES[1][0]), aux=pv.read(AUX), cell_size=0.1, method="pinn"
+    )
+    for block, expected in zip(blocks, runs["pinn"].grids):
+        nj, ni = expected.shape[:2]
+        assert np.array_equal(block.points[:, :2].reshape(nj, ni, 2), expected)
+    report = json.loads(blocks[0].field_data["Report"][0])["multiblock"]
+    assert list(report["aux_line_distance"]) == ["auxiliary lines input line 0"]

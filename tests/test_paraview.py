@@ -331,6 +331,7 @@ def test_multiblock_filter_on_the_step(checkout):
     assert set(result["properties"]) == {
         "Input",
         "BlockEdges",
+        "AuxiliaryLines",
         "Method",
         "CellSize",
         "Interfaces",
@@ -384,3 +385,11 @@ def test_multiblock_filter_on_the_step(checkout):
     assert abs(wall["first_edge"]["max"] / 0.005 - 1) <= 0.1
     assert wall["max_angle_deviation"] <= 2.0
     assert result["piece_names"] == ["boundary", "cylinder"]
+    distance = result["aux_line_distance"]["auxiliary lines input line 0"]
+    expected = run_blocks(
+        make_settings("elliptic", cell_size=0.1),
+        ROOT / "example_data" / "lshape.vtp",
+        [ROOT / "example_data" / "lshape_blocks.vtp"],
+        aux=[ROOT / "example_data" / "lshape_aux.vtp"],
+    ).result.report["aux_line_distance"]
+    assert distance == pytest.approx(list(expected.values())[0], rel=1e-9)

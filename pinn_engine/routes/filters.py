@@ -20,14 +20,14 @@ def choice(value, options: tuple[str, ...], what: str) -> str:
 
 class LineInputs:
     """Mixed into a ``VTKPythonAlgorithmBase``: port 0 takes every selected polydata (the
-    boundary and the lines selected with it: ParaView's GUI connects them all there), port
-    1 more lines (optional); settings change the algorithm's modified time only when they
+    boundary and the lines selected with it: ParaView's GUI connects them all there), the
+    other ports more lines (optional); settings change the algorithm's modified time only when they
     change, so an unchanged Apply does not run it again."""
 
     def FillInputPortInformation(self, port, info):
         info.Set(self.INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData")
         info.Set(self.INPUT_IS_REPEATABLE(), 1)
-        if port == 1:
+        if port >= 1:
             info.Set(self.INPUT_IS_OPTIONAL(), 1)
         return 1
 

@@ -8,13 +8,16 @@ Mesh, and the pyvista accessor's ``blocks=`` runs it.
 >>> alg = PinnMultiBlockAlgorithm()
 >>> alg.SetInputConnection(0, boundary_reader.GetOutputPort())  # outer boundary and holes
 >>> alg.AddInputConnection(1, edges_reader.GetOutputPort())     # block edges, repeatable
+>>> alg.AddInputConnection(2, aux_reader.GetOutputPort())       # auxiliary lines, optional
 >>> alg.SetCellSize(0.1)
 >>> alg.Update()
 >>> blocks = alg.GetOutput()                                     # vtkMultiBlockDataSet
 
 Ports: input 0 ``vtkPolyData``, repeatable: its closed polylines (or polygons) are the outer
 boundary and the holes, its open polylines block edges (ParaView's GUI connects every
-selected source there); input 1 more block edges (optional, repeatable). Output 0 the
+selected source there); input 1 more block edges (optional, repeatable); input 2 auxiliary
+lines inside blocks (optional, repeatable: open polylines, each from a side of one block to
+the opposite side, fitted by pinn). Output 0 the
 ``vtkMultiBlockDataSet`` of the command line's ``.vtm``: ``vtkStructuredGrid`` blocks named
 ``block0``, ``block1``, ... with the cell arrays of SPEC 3 and the run's report.
 
@@ -25,6 +28,8 @@ the same way (``GetLastWarning()``).
 """
 
 from __future__ import annotations
+
+import dataclasses
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
@@ -131,7 +136,7 @@ class PinnMultiBlockAlgorithm(LineInputs, VTKPythonAlgorithmBase):
     def __init__(self, route: str = "paraview") -> None:
         """``route``: whose words messages are in ("paraview"; "pyvista" keeps them off VTK's
         output window, for the caller to raise ``GetLastException()``)."""
-        super().__init__(nInputPorts=2, nOutputPorts=1, outputType="vtkMultiBlockDataSet")
+        super().__init__(nInputPorts=3, nOutputPorts=1, outputType="vtkMultiBlockDataSet")
         self.SetProgressText(LABEL)
         self._route = route
         self._method = BLOCKS_METHOD
@@ -229,6 +234,7 @@ class PinnMultiBlockAlgorithm(LineInputs, VTKPythonAlgorithmBase):
     def _execute(self, inInfo) -> tuple[vtkMultiBlockDataSet, dict]:
         """The blocks of the connected inputs under the settings, and the run's report."""
         from pinn_engine.io.export.vtm import multiblock_dataset
+        from pinn_engine.io.fileio import aux_lines_of
         from pinn_engine.job import flat_curves
         from pinn_engine.multiblock.mesh import mesh_blocks
         from pinn_engine.multiblock.patches import parse_patch_points
@@ -242,16 +248,24 @@ class PinnMultiBlockAlgorithm(LineInputs, VTKPythonAlgorithmBase):
             for port in inInfo
         ]
         rings, edges, names = curves_of(ports[0], ports[1])
-        curves = flat_curves(rings + edges, "input")
+        polys = [p for p in ports[2] if p is not None and p.GetNumberOfPoints()]
+        aux = [
+            line
+            for k, poly in enumerate(polys)
+            for line in aux_lines_of(poly, _name("auxiliary lines input", k, len(polys)))
+        ]
+        curves = flat_curves(rings + edges + [line.points for line in aux], "input")
+        flat = curves[len(rings) + len(edges) :]
         result = mesh_blocks(
             curves[: len(rings)],
-            curves[len(rings) :],
+            curves[len(rings) : len(rings) + len(edges)],
             names,
             settings,
             "input",
             patches,
             walls,
             self._block,
+            [dataclasses.replace(line, points=c) for line, c in zip(aux, flat)],
         )
         dataset = multiblock_dataset(result.grids, result.cells, result.report, result.patches)
         return dataset, result.report

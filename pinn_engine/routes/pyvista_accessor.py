@@ -304,6 +304,7 @@ def pinn_mesh_blocks(
     patches=None,
     spacing=None,
     orthogonal=None,
+    aux=None,
 ) -> pv.MultiBlock:
     """Multi-block structured grid (SPEC 10) of a domain cut into four-sided blocks.
 
@@ -335,6 +336,10 @@ def pinn_mesh_blocks(
     orthogonal : str or sequence of str, optional
         Patches that grid lines leave along the normal, ``"cylinder"`` or ``["cylinder",
         "walls"]``.
+    aux : PolyData, vtkPolyData, array_like, or a list/MultiBlock of them, optional
+        Auxiliary lines inside blocks: open polylines, each from a side of the block holding
+        its middle point to the opposite side (SPEC 2 in that block), fitted by the pinn;
+        the report's ``aux_line_distance`` says how far the grid is from each.
 
     Returns
     -------
@@ -365,6 +370,11 @@ def pinn_mesh_blocks(
         if value is not None:
             setter(value)
     alg.GetSettings()  # ValueError for bad settings, before any input is read
+    try:
+        for poly in _aux_list(aux):
+            alg.AddInputDataObject(2, poly)
+    except InputError as exc:
+        raise exc.for_route("pyvista") from None
     _run(alg, lambda: _as_polydata(boundary, closed=True, what="boundary"), blocks)
     out = pv.wrap(alg.GetOutput())
     report = json.loads(out[0].field_data["Report"][0])["multiblock"]
@@ -469,14 +479,13 @@ class PinnMeshAccessor:
         ``blocks``: block edges (PolyData or a list): this PolyData's closed polylines are
         then the outer boundary and holes of a multi-block domain, and the keywords those of
         :func:`pinn_mesh_blocks` (``cell_size``, ``method``: pinn, elliptic or tfi,
-        ``interfaces``, ``patches``, ``spacing``, ``orthogonal``); returns a
-        ``pyvista.MultiBlock``.
+        ``interfaces``, ``patches``, ``spacing``, ``orthogonal``; ``aux``: auxiliary lines
+        inside blocks); returns a ``pyvista.MultiBlock``.
         """
         if blocks is not None:
-            for name, value in (("aux", aux), ("size", size)):
-                if value is not None:
-                    raise InputError(f"{name}= applies to four-sided domains, not to blocks=")
-            self.last = pinn_mesh_blocks(self._mesh, blocks, method=method, **options)
+            if size is not None:
+                raise InputError("size= applies to four-sided domains, not to blocks=")
+            self.last = pinn_mesh_blocks(self._mesh, blocks, method=method, aux=aux, **options)
             return self.last
         if size is not None:
             options["size"] = size
