@@ -2,8 +2,9 @@
 
 Run ``.venv/bin/python example_data/make_multiblock.py``; it rewrites, beside it,
 ``lshape.vtp``/``lshape_blocks.vtp`` (two blocks; the edge drawn askew, to be solved
-straight), ``step.vtp``/``step_blocks.vtp`` (a backward-facing step: four blocks, an edge
-ending on another edge) and ``cylinder_channel.vtp``/``cylinder_channel_blocks.vtp`` (a
+straight; ``lshape_aux.vtp`` an auxiliary line inside the bottom block),
+``step.vtp``/``step_blocks.vtp`` (a backward-facing step: four blocks, an edge ending on
+another edge) and ``cylinder_channel.vtp``/``cylinder_channel_blocks.vtp`` (a
 cylinder of diameter 1 in a channel: an O-ring of 4 blocks inside 8 outer blocks),
 ``tee.vtp``/``tee_blocks.vtp`` (a tee whose branch leans downstream: four blocks) and
 ``ybranch.vtp``/``ybranch_blocks.vtp`` (a bifurcation: three arms and a centre of three
@@ -27,6 +28,12 @@ def lshape() -> tuple[list[np.ndarray], list[np.ndarray]]:
     """An L of arm width 1; one edge from the inner corner to the left wall, drawn askew."""
     ring = np.array([(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)], dtype=float)
     return [ring], [np.array([(1.0, 1.0), (0.0, 1.25)])]
+
+
+def lshape_aux() -> list[np.ndarray]:
+    """A grid line drawn inside the L's bottom block, from its bottom side to its top side,
+    leaning and gently bent (for the pinn's auxiliary lines inside blocks)."""
+    return [np.array([(1.3, 0.0), (1.42, 0.5), (1.6, 1.0)])]
 
 
 def step() -> tuple[list[np.ndarray], list[np.ndarray]]:
@@ -96,6 +103,7 @@ def main() -> None:
         rings, edges = make()
         write(polydata(rings, closed=True), f"{name}.vtp")
         write(polydata(edges, closed=False), f"{name}_blocks.vtp")
+    write(polydata(lshape_aux(), closed=False), "lshape_aux.vtp")
 
 
 if __name__ == "__main__":

@@ -91,6 +91,8 @@ ROUTE_WORDS = {
         "topologies": "--topology o or c",
         "time_limit": "a larger --time-limit (0: none)",
         "blocks": "give them with --blocks EDGES",
+        "with_blocks": "with --blocks, ",
+        "pieces": "--patch X,Y=NAME",
     },
     "pyvista": {
         "corners": "corners=",
@@ -111,6 +113,8 @@ ROUTE_WORDS = {
         "topologies": 'topology="o" or "c"',
         "time_limit": "a larger time_limit= (0: none)",
         "blocks": "give them as blocks=",
+        "with_blocks": "",
+        "pieces": 'patches=["X,Y=NAME", ...]',
     },
     "paraview": {
         "corners": "Corner Indices",
@@ -133,6 +137,8 @@ ROUTE_WORDS = {
         "topologies": "Topology O-grid or C-grid",
         "time_limit": "a larger Time Limit (0: none)",
         "blocks": "select their source together with the boundary's (or connect it to Block Edges)",
+        "with_blocks": "",
+        "pieces": "Patch Names' X,Y=NAME items",
     },
 }
 _HANDED_OVER = {"cli": "written", "pyvista": "returned", "paraview": "produced"}

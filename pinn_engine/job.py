@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkPolyData, vtkStructuredGrid
@@ -230,12 +230,14 @@ def run_blocks(
     spacing: Sequence[str] = (),
     orthogonal: Sequence[str] = (),
     progress: Callable[[dict], bool | str | None] | None = None,
+    aux: Sequence[str | os.PathLike] = (),
 ) -> BlocksOutcome:
     """Mesh a multi-block domain (SPEC 10) from files: ``boundary`` (outer boundary and
     holes) and the block-edge files ``edges``, by ``settings.method`` (tfi, elliptic or
     pinn); ``patches``: ``X,Y=NAME[:TYPE]`` items naming boundary pieces; ``spacing``:
     ``NAME=H`` items, ``orthogonal``: ``NAME[,NAME...]`` items, on those patches;
-    ``progress`` hears the pinn's training block by block."""
+    ``progress`` hears the pinn's training block by block; ``aux``: auxiliary-line files,
+    each line inside one block (the pinn fits it there)."""
     from pinn_engine.io.export.vtm import multiblock_dataset
     from pinn_engine.io.fileio import read_aux_lines, read_rings
     from pinn_engine.multiblock.mesh import mesh_blocks
@@ -247,17 +249,13 @@ def run_blocks(
     source = str(boundary)
     rings = read_rings(boundary)
     raws = [line for path in edges for line in read_aux_lines(path)]
-    curves = flat_curves(rings + [r.points for r in raws], source)
+    lines = [line for path in aux for line in read_aux_lines(path)]
+    curves = flat_curves(rings + [r.points for r in raws + lines], source)
     names = [r.name for r in raws]
+    edge_curves = curves[len(rings) : len(rings) + len(raws)]
+    flat = [replace(r, points=c) for r, c in zip(lines, curves[len(rings) + len(raws) :])]
     result = mesh_blocks(
-        curves[: len(rings)],
-        curves[len(rings) :],
-        names,
-        settings,
-        source,
-        points,
-        walls,
-        progress,
+        curves[: len(rings)], edge_curves, names, settings, source, points, walls, progress, flat
     )
     dataset = multiblock_dataset(result.grids, result.cells, result.report, result.patches)
     return BlocksOutcome(result, dataset)

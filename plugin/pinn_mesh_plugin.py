@@ -510,6 +510,23 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
 @smhint.xml('<ShowInMenu category="Mesh Generation"/>')
 @smhint.xml('<RepresentationType view="RenderView" type="Surface With Edges"/>')
 @smproperty.input(
+    name="AuxiliaryLines",
+    label="Auxiliary Lines",
+    port_index=2,
+    multiple_input=True,
+    clean_command="RemoveAllAuxiliaryLines",
+)
+@smdomain.datatype(dataTypes=["vtkPolyData"], composite_data_supported=False)
+@smdomain.xml(
+    _doc(
+        "Optional auxiliary lines inside blocks: open polylines, each from a side of the "
+        "block holding its middle point to the opposite side (several polylines per "
+        "input and several inputs both work). Used by the pinn method: its networks "
+        "move the blocks' grid lines onto them."
+    )
+)
+@smhint.xml("<Optional/>")
+@smproperty.input(
     name="BlockEdges",
     label="Block Edges",
     port_index=1,
@@ -565,6 +582,9 @@ class PINNMultiBlockMesh(PinnMultiBlockAlgorithm):
     def RemoveAllBlockEdges(self):
         self.RemoveAllInputConnections(1)
 
+    def RemoveAllAuxiliaryLines(self):
+        self.RemoveAllInputConnections(2)
+
     @smproperty.intvector(name="Method", default_values=MULTIBLOCK_METHODS.index(BLOCKS_METHOD))
     @smdomain.xml(_enum(MULTIBLOCK_METHODS))
     @smdomain.xml(
@@ -598,6 +618,43 @@ class PINNMultiBlockMesh(PinnMultiBlockAlgorithm):
     )
     def P03Interfaces(self, index):
         self.SetInterfaces(int(index))
+
+    @smproperty.stringvector(name="PatchNames", label="Patch Names", default_values="")
+    @smdomain.xml(
+        _doc(
+            "Names of boundary pieces (a piece runs between two block corners or "
+            "junctions), for solver formats and for First Edge Spacing and Orthogonal "
+            "Patches: X,Y=NAME[:TYPE] items separated by spaces, each naming the piece "
+            "nearest (X, Y), e.g. '0.5,0=cylinder:wall 0,0.5=cylinder'. Pieces with the "
+            "same name form one patch; unnamed pieces are boundary, hole1, hole2, ..."
+        )
+    )
+    def P04PatchNames(self, text):
+        self.SetPatchNames(text)
+
+    @smproperty.stringvector(name="FirstEdgeSpacing", label="First Edge Spacing", default_values="")
+    @smdomain.xml(
+        _doc(
+            "Length of the first grid edge leaving a patch, in the boundary's units: "
+            "NAME=H items separated by spaces, e.g. 'cylinder=0.005' (empty: none). The "
+            "spacing grows smoothly away from the patch (Vinokur's stretching); all "
+            "methods (docs/multiblock.md)."
+        )
+    )
+    def P05FirstEdgeSpacing(self, text):
+        self.SetSpacing(text)
+
+    @smproperty.stringvector(
+        name="OrthogonalPatches", label="Orthogonal Patches", default_values=""
+    )
+    @smdomain.xml(
+        _doc(
+            "Patches that grid lines leave at 90 degrees: names separated by commas, "
+            "e.g. 'cylinder' (empty: none); all methods."
+        )
+    )
+    def P06OrthogonalPatches(self, text):
+        self.SetOrthogonal(text)
 
 
 _HEXA_METHOD_DOCS = {

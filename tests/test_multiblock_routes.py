@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 import pyvista as pv
 from conftest import ROOT
+from test_multiblock_spacing import _first_edges, _wall_angles, _walls
 from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
@@ -162,3 +163,105 @@ def test_folded_cells_warning_in_each_routes_words():
         "1 of 100 cells is folded; try moving"
     )
     assert folded_warning({**report, "quality": {"folded_cells": 0}}, "paraview", "") is None
+
+
+CYLINDER = {(0.5, 0): "cylinder:wall", (0, 0.5): "cylinder", (-0.5, 0): "cylinder"}
+CYLINDER[(0, -0.5)] = "cylinder"
+H = 0.005  # issue 24: the first cell at the cylinder's wall
+
+
+def test_pyvista_blocks_spacing_and_orthogonal_on_a_patch():
+    """Issue 24 item 4 through pyvista: the cylinder's pieces named by ``patches=``, a first
+    cell of 0.005 within 10 % and lines within 2 degrees of the normal there, node for node
+    the command line's grid with the same ``--patch``, ``--spacing`` and ``--orthogonal``."""
+    boundary = pv.read(DATA / "cylinder_channel.vtp")
+    edges = pv.read(DATA / "cylinder_channel_blocks.vtp")
+    blocks = boundary.pinn_mesh(
+        blocks=edges,
+        cell_size=CELL_SIZE,
+        method="elliptic",
+        patches=CYLINDER,
+        spacing={"cylinder": H},
+        orthogonal="cylinder",
+    )
+    walls = _walls(blocks, "cylinder")
+    assert len(walls) == 4
+    assert np.abs(_first_edges(walls) / H - 1).max() <= 0.1
+    assert _wall_angles(walls).max() <= 2.0
+    items = [f"--patch={x:g},{y:g}={name}" for (x, y), name in CYLINDER.items()]
+    expected = run_blocks(
+        make_settings("elliptic", cell_size=CELL_SIZE),
+        DATA / "cylinder_channel.vtp",
+        [DATA / "cylinder_channel_blocks.vtp"],
+        [item.removeprefix("--patch=") for item in items],
+        [f"cylinder={H}"],
+        ["cylinder"],
+    ).result.grids
+    for grid, points in zip(blocks, expected):
+        assert np.array_equal(_points(grid)[..., :2], points)
+
+
+def test_patch_settings_take_strings_sequences_and_mappings():
+    alg = PinnMultiBlockAlgorithm()
+    alg.SetPatchNames("0.5,0=cylinder:wall  0,0.5=cylinder")
+    assert alg.GetPatchNames() == ("0.5,0=cylinder:wall", "0,0.5=cylinder")
+    alg.SetPatchNames({(-0.5, 0): "cylinder"})
+    assert alg.GetPatchNames() == ("-0.5,0.0=cylinder",)
+    alg.SetSpacing("cylinder=0.005, walls=0.01")
+    assert alg.GetSpacing() == ("cylinder=0.005", "walls=0.01")
+    alg.SetSpacing({"cylinder": 0.005})
+    assert alg.GetSpacing() == ("cylinder=0.005",)
+    alg.SetOrthogonal("cylinder,walls")
+    assert alg.GetOrthogonal() == ("cylinder", "walls")
+    alg.SetOrthogonal(["cylinder"])
+    assert alg.GetOrthogonal() == ("cylinder",)
+    alg.SetSpacing(None)
+    assert alg.GetSpacing() == ()
+
+
+@pytest.mark.parametrize(
+    ("route", "options", "message"),
+    [
+        (
+            "pyvista",
+            {"spacing": {"cylindr": H}},
+            "spacing cylindr=: no patch named 'cylindr'; the patches are boundary, hole1 (name "
+            'boundary pieces with patches=["X,Y=NAME", ...])',
+        ),
+        (
+            "paraview",
+            {"orthogonal": "cylinder"},
+            "PINN Multi-Block Mesh: orthogonal cylinder: no patch named 'cylinder'; the patches "
+            "are boundary, hole1 (name boundary pieces with Patch Names' X,Y=NAME items)",
+        ),
+        (
+            "pyvista",
+            {"patches": ["0.5,0"]},
+            "patch '0.5,0': expected X,Y=NAME[:TYPE] naming the boundary piece nearest the "
+            "point (X, Y)",
+        ),
+        ("pyvista", {"spacing": ["cylinder"]}, "spacing 'cylinder': expected NAME=H, a patch"),
+    ],
+)
+def test_patch_errors_are_one_line_in_each_routes_words(route, options, message):
+    """A bad patch item or spacing, or a name no piece carries: one line, before meshing."""
+    boundary = pv.read(DATA / "cylinder_channel.vtp")
+    edges = pv.read(DATA / "cylinder_channel_blocks.vtp")
+    if route == "pyvista":
+        with pytest.raises(InputError) as caught:
+            boundary.pinn_mesh(blocks=edges, cell_size=CELL_SIZE, method="tfi", **options)
+        assert str(caught.value).startswith(message)
+        return
+    alg = PinnMultiBlockAlgorithm()
+    alg.SetInputDataObject(0, boundary)
+    alg.AddInputDataObject(1, edges)
+    alg.SetMethod("tfi")
+    alg.SetOrthogonal(options["orthogonal"])
+    window, previous = vtkStringOutputWindow(), vtkOutputWindow.GetInstance()
+    vtkOutputWindow.SetInstance(window)
+    try:
+        alg.Update()
+    finally:
+        vtkOutputWindow.SetInstance(previous)
+    assert alg.GetLastError() == message
+    assert [ln for ln in window.GetOutput().splitlines() if ln.strip()] == [message]

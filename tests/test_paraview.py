@@ -328,7 +328,17 @@ def test_multiblock_filter_on_the_step(checkout):
     assert result["label"] == "PINN Multi-Block Mesh"
     assert result["menu_category"] == "Mesh Generation"
     assert 20 < len(result["help"][0]) < len(result["help"][1])
-    assert set(result["properties"]) == {"Input", "BlockEdges", "Method", "CellSize", "Interfaces"}
+    assert set(result["properties"]) == {
+        "Input",
+        "BlockEdges",
+        "AuxiliaryLines",
+        "Method",
+        "CellSize",
+        "Interfaces",
+        "PatchNames",
+        "FirstEdgeSpacing",
+        "OrthogonalPatches",
+    }
     assert result["methods"] == ["tfi", "elliptic", "pinn"]
     assert result["interfaces"] == ["free", "fixed"]
     assert result["class"] == "vtkMultiBlockDataSet" and result["progress"] == [0.0, 1.0]
@@ -370,6 +380,19 @@ def test_multiblock_filter_on_the_step(checkout):
     ]
     assert result["bad_blocks"] == 0 and "Traceback" not in result["bad_stderr"]
     assert result["recovered_blocks"] == 4
+    wall = result["walls"]["cylinder"]  # issue 24 item 4 from the panel: 0.005 within 10 %
+    assert abs(wall["first_edge"]["min"] / 0.005 - 1) <= 0.1
+    assert abs(wall["first_edge"]["max"] / 0.005 - 1) <= 0.1
+    assert wall["max_angle_deviation"] <= 2.0
+    assert result["piece_names"] == ["boundary", "cylinder"]
+    distance = result["aux_line_distance"]["auxiliary lines input line 0"]
+    expected = run_blocks(
+        make_settings("elliptic", cell_size=0.1),
+        ROOT / "example_data" / "lshape.vtp",
+        [ROOT / "example_data" / "lshape_blocks.vtp"],
+        aux=[ROOT / "example_data" / "lshape_aux.vtp"],
+    ).result.report["aux_line_distance"]
+    assert distance == pytest.approx(list(expected.values())[0], rel=1e-9)
 
 
 def test_hexahedral_filter_on_the_bend(checkout):

@@ -93,7 +93,7 @@ def map_line(raw: RawLine, boundary: Boundary, end_tol: float = END_TOL) -> AuxL
         where = lambda ends: "/".join(ends) or "no side"  # noqa: E731
         raise InputError(
             f"does not end on two opposite sides (start near {where(first)}, end near "
-            f"{where(last)}; tolerance {end_tol:g} of the domain diagonal)",
+            f"{where(last)}; tolerance {end_tol:g} of the diagonal)",
             raw.name,
         )
     s0, s1 = min(pairs, key=lambda p: first[p[0]][1] + last[p[1]][1])

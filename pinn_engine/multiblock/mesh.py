@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pinn_engine.errors import InputError
+from pinn_engine.geometry.auxlines import RawLine, line_distances
 from pinn_engine.multiblock.blocks import Topology, topology
 from pinn_engine.multiblock.counts import cell_counts, default_cell_size
 from pinn_engine.multiblock.elliptic import crossings, winslow
@@ -19,8 +20,15 @@ from pinn_engine.multiblock.graph import linework
 from pinn_engine.multiblock.layout import Layout, layout
 from pinn_engine.multiblock.orthogonal import boundary_neighbours, orthogonal
 from pinn_engine.multiblock.patches import PatchPiece, PatchPoint, block_patches
+from pinn_engine.multiblock.quadblock import block_boundary, block_lines
 from pinn_engine.multiblock.spacing import check_room, requests, respace
-from pinn_engine.multiblock.walls import Walls, check_names, wall_report, wall_sides
+from pinn_engine.multiblock.walls import (
+    Walls,
+    check_names,
+    side_lines,
+    wall_report,
+    wall_sides,
+)
 from pinn_engine.quality import cell_quality, summary
 from pinn_engine.settings import MAX_NODES, MULTIBLOCK_METHODS, Settings
 
@@ -51,20 +59,33 @@ def _figures(cells: list[dict[str, np.ndarray]]) -> dict[str, float]:
     return figures
 
 
-def interface_kinks(topo: Topology, lay: Layout, points: np.ndarray) -> np.ndarray:
+def _turns(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """180 minus the angle in degrees between the edges ``u`` and ``v`` (n, 2) leaving a
+    node: how far the grid line through it turns there."""
+    cos = np.einsum("nk,nk->n", u, v) / (np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1))
+    return 180.0 - np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+
+
+def interface_kinks(topo: Topology, lay: Layout, points: np.ndarray, depth: int = 0) -> np.ndarray:
     """At each interface node (those near a block corner aside), 180 minus the angle in
     degrees between the two blocks' grid edges leaving it: 0 where a grid line runs
-    straight across the interface."""
+    straight across the interface. With ``depth`` d > 0, the turn of the same grid lines at
+    their d-th node inside each block (both blocks' values): a smooth grid line turns about
+    as much there as across the interface."""
     out = []
     for c in crossings(topo, lay):
         keep = np.ones(len(c.nodes), dtype=bool)
         for b, (side, ks) in zip(c.blocks, c.places):
             n = lay.ids[b].shape[1 if side in ("bottom", "top") else 0]
             keep &= (ks > KINK_CORNER_NODES) & (ks < n - 1 - KINK_CORNER_NODES)
-        u = points[c.inward[0][keep]] - points[c.nodes[keep]]
-        v = points[c.inward[1][keep]] - points[c.nodes[keep]]
-        cos = np.einsum("nk,nk->n", u, v) / (np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1))
-        out.append(180.0 - np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
+        if depth == 0:
+            at = points[c.nodes[keep]]
+            out.append(_turns(points[c.inward[0][keep]] - at, points[c.inward[1][keep]] - at))
+            continue
+        for b, (side, ks) in zip(c.blocks, c.places):
+            lines = side_lines(lay.ids[b], side)[ks[keep]]
+            at = points[lines[:, depth]]
+            out.append(_turns(points[lines[:, depth - 1]] - at, points[lines[:, depth + 1]] - at))
     return np.concatenate(out) if out else np.zeros(0)
 
 
@@ -77,13 +98,17 @@ def mesh_blocks(
     patch_points: Sequence[PatchPoint] = (),
     walls: Walls | None = None,
     progress: Progress | None = None,
+    aux: Sequence[RawLine] = (),
 ) -> MultiBlockResult:
     """The multi-block grid of a boundary's ``rings`` (outer and holes) and block
     ``edges`` (named ``names`` in messages) by ``settings.method`` (tfi, elliptic or pinn),
     cells about ``settings.cell_size`` long (0: the diagonal over 40), interfaces free or
     fixed; ``patch_points`` name boundary pieces (``patches.py``); ``walls``: spacing and
     orthogonality on patches (``spacing.py``, ``orthogonal.py``), after the method;
-    ``progress`` hears the pinn's training, block by block (``network.train_blocks``)."""
+    ``progress`` hears the pinn's training, block by block (``network.train_blocks``);
+    ``aux``: auxiliary lines (user (x, y)) inside blocks, each in the block holding it
+    (``quadblock.block_lines``), fitted by the pinn; every method reports how far its grid
+    is from them."""
     if settings.method not in MULTIBLOCK_METHODS:
         raise InputError(
             f"method {settings.method}: multi-block domains are meshed by "
@@ -106,11 +131,13 @@ def mesh_blocks(
     points = lay.points
     if settings.method in ("elliptic", "pinn"):
         points, steps = winslow(topo, lay, settings.interfaces == "free")
+    lines = block_lines(aux, [points[ids] for ids in lay.ids])  # the method's block sides
+    frames = [block_boundary(points[ids]) for ids in lay.ids]
     training = None
     if settings.method == "pinn":
         from pinn_engine.multiblock.network import train_blocks  # torch only when training
 
-        grids, training = train_blocks([points[ids] for ids in lay.ids], settings, progress)
+        grids, training = train_blocks([points[ids] for ids in lay.ids], settings, progress, lines)
         points = points.copy()
         for ids, grid in zip(lay.ids, grids):  # shared nodes are equal in every block
             points[ids] = grid
@@ -121,6 +148,7 @@ def mesh_blocks(
     grids = [points[ids] for ids in lay.ids]
     cells = [cell_quality(g) for g in grids]
     kinks = interface_kinks(topo, lay, points)
+    inside = interface_kinks(topo, lay, points, depth=1)
     report = {
         "method": settings.method,
         "interfaces": settings.interfaces,
@@ -133,9 +161,16 @@ def mesh_blocks(
             "mean": float(kinks.mean()) if kinks.size else 0.0,
             "max": float(kinks.max()) if kinks.size else 0.0,
             "nodes": int(kinks.size),
+            "inside_mean": float(inside.mean()) if inside.size else 0.0,
         },
         "iterations": steps,
         "walls": wall_report(points, sides),
+        "aux_lines": [line.name for block in lines for line in block],
+        "aux_line_distance": {
+            name: d
+            for grid, frame, mine in zip(grids, frames, lines)
+            for name, d in line_distances(frame.frame.to_unit(grid), mine, frame.diagonal).items()
+        },
         "mesh_seconds": time.perf_counter() - start,
     }
     if training is not None:

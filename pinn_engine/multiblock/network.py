@@ -7,7 +7,9 @@ block's grid (the warm start's correction, ``classical/warm.py``) with its four 
 at the block's side nodes (hard mode), so nodes on shared sides stay the same point in both
 blocks and the interfaces are crossed as smoothly as in the elliptic grid. The block's guard
 keeps the elliptic block unless a trained state is no worse in folds, mean and worst
-MaxIncludedAngle: the multi-block grid is never worse than the elliptic one. The trainer
+MaxIncludedAngle: the multi-block grid is never worse than the elliptic one. A block with
+auxiliary lines inside it (``quadblock.block_lines``) fits them as a four-sided domain's
+pinn does, its guard allowing that domain's tolerance above the elliptic block. The trainer
 knows nothing of blocks; the guard and its reference are this module's.
 """
 
@@ -15,16 +17,19 @@ from __future__ import annotations
 
 import dataclasses
 import time
+from collections.abc import Sequence
 
 import numpy as np
 import torch
 
+from pinn_engine.blocks.quad import GUARD_TOL as QUAD_GUARD_TOL
 from pinn_engine.blocks.quad import QuadProblem
-from pinn_engine.classical.tfi import node_params, tfi_grid
+from pinn_engine.classical.tfi import tfi_grid
 from pinn_engine.classical.warm import WarmStart
 from pinn_engine.errors import STOP, TrainingCancelled
-from pinn_engine.geometry.boundary import Boundary, Frame, Polyline
+from pinn_engine.geometry.auxlines import AuxLine
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
+from pinn_engine.multiblock.quadblock import block_boundary
 from pinn_engine.neural.mapping import Mapping
 from pinn_engine.neural.networks import CoordinateNet
 from pinn_engine.neural.trainer import Guard, Progress, fit, pick_device, training_process
@@ -35,36 +40,9 @@ from pinn_engine.settings import Settings
 # mean and worst MaxIncludedAngle (degrees above it allowed): block by block no worse, so
 # the whole grid's mean (a cell-weighted mean of the blocks') and worst are no worse either
 GUARD_TOL = (0.0, 0.0)
-
-
-class NodeSide(Polyline):
-    """A side polyline through a block's side nodes, parametrised by node index: node k of
-    n is at t = k / (n - 1), so that the map's boundary nodes on the uniform lattice are the
-    block's side nodes exactly (arc length would put them elsewhere where the side nodes
-    are not evenly spaced)."""
-
-    def __init__(self, points: np.ndarray) -> None:
-        super().__init__(points)
-        self.t = node_params(len(self.points))
-
-
-@dataclasses.dataclass(frozen=True)
-class BlockBoundary(Boundary):
-    """A block's four sides as a :class:`Boundary` in its working frame, the sides
-    parametrised by node index (:class:`NodeSide`)."""
-
-    def side(self, name: str) -> NodeSide:
-        return NodeSide(super().side(name).points)
-
-
-def block_boundary(grid: np.ndarray) -> BlockBoundary:
-    """The boundary of a block grid (nj, ni, 2), in the working frame around it: ring from
-    corner 0 along bottom, right, top and left (SPEC 1's side order)."""
-    nj, ni = grid.shape[:2]
-    ring = np.concatenate([grid[0, :-1], grid[:-1, -1], grid[-1, :0:-1], grid[:0:-1, 0]])
-    frame = Frame.around(ring)
-    corners = (0, ni - 1, ni + nj - 2, 2 * ni + nj - 3)
-    return BlockBoundary(ring=frame.to_unit(ring), corners=corners, frame=frame)
+# A block with auxiliary lines trades some quality for following them, as a four-sided
+# domain's pinn does: its guard's tolerance (0.25 / 1 degree, within issue 24's 0.5 / 2)
+AUX_GUARD_TOL = QUAD_GUARD_TOL[True]
 
 
 @dataclasses.dataclass
@@ -79,10 +57,15 @@ class BlockTraining:
 
 
 def train_block(
-    start: np.ndarray, settings: Settings, progress: Progress | None = None
+    start: np.ndarray,
+    settings: Settings,
+    progress: Progress | None = None,
+    aux: Sequence[AuxLine] = (),
 ) -> BlockTraining:
     """Train the four-sided PINN block on the elliptic block grid ``start`` (nj, ni, 2):
-    warm-started from it, its sides held at its side nodes, guarded by it."""
+    warm-started from it, its sides held at its side nodes, guarded by it; ``aux``: the
+    auxiliary lines inside it, in the working frame of ``block_boundary(start)``
+    (``quadblock.block_lines``), fitted as a four-sided domain's are."""
     began = time.perf_counter()
     nj, ni = start.shape[:2]
     boundary = block_boundary(start)
@@ -100,13 +83,14 @@ def train_block(
             net.w_out.zero_()
         base = tfi_grid(ArcLengthFit(boundary).sample, ni, nj)
         mapping = Mapping(net, boundary, "hard", WarmStart(unit - base))
-        problem = QuadProblem(mapping, boundary, (), settings, dtype, device)
+        problem = QuadProblem(mapping, boundary, aux, settings, dtype, device)
         reference = guard_figures(unit)
+        tol = AUX_GUARD_TOL if aux else GUARD_TOL
         guard = Guard(
             net,
             lambda: mapping.grid(ni, nj),
             guard_figures,
-            lambda q, kept: no_worse(q, reference, *GUARD_TOL),
+            lambda q, kept: no_worse(q, reference, *tol),
             reference,
             boundary.diagonal,
         )
@@ -118,9 +102,13 @@ def train_block(
 
 
 def train_blocks(
-    grids: list[np.ndarray], settings: Settings, progress: Progress | None = None
+    grids: list[np.ndarray],
+    settings: Settings,
+    progress: Progress | None = None,
+    aux: Sequence[Sequence[AuxLine]] | None = None,
 ) -> tuple[list[np.ndarray], dict]:
-    """Each block of the elliptic grid ``grids`` trained by :func:`train_block`; returns the
+    """Each block of the elliptic grid ``grids`` trained by :func:`train_block` (with its
+    auxiliary lines ``aux[k]``, ``quadblock.block_lines``, if given); returns the
     grids and the report's ``training``: per block the result kept and the seconds, and the
     total. ``progress`` hears a ``prepare`` stage as each block starts, then the trainer's
     steps with ``block`` and ``blocks`` added; once it answers ``errors.STOP`` the blocks
@@ -136,7 +124,8 @@ def train_blocks(
             out.append(start)
             blocks.append({"result": "start", "seconds": 0.0, "stopped": True})
             continue
-        trained = train_block(start, settings, heard if progress is not None else None)
+        lines = aux[k] if aux is not None else ()
+        trained = train_block(start, settings, heard if progress is not None else None, lines)
         out.append(trained.grid)
         blocks.append(
             {

@@ -60,7 +60,7 @@ def parse_patch_points(items: Sequence[str] | None) -> list[PatchPoint]:
                 raise ValueError
         except ValueError:
             raise InputError(
-                f"patch {item!r}: with --blocks, expected X,Y=NAME[:TYPE] naming the boundary "
+                f"patch {item!r}: {{with_blocks}}expected X,Y=NAME[:TYPE] naming the boundary "
                 "piece nearest the point (X, Y)"
             ) from None
         name, kind = split_type(named.strip())

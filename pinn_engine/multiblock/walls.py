@@ -46,7 +46,7 @@ def parse_walls(spacing: Sequence[str] = (), orthogonal: Sequence[str] = ()) -> 
                 raise ValueError
         except ValueError:
             raise InputError(
-                f"spacing {item!r}: with --blocks, expected NAME=H, a patch name and a first "
+                f"spacing {item!r}: {{with_blocks}}expected NAME=H, a patch name and a first "
                 "edge H > 0 (e.g. cylinder=0.005)"
             ) from None
         name = checked_name(name.strip())
@@ -65,7 +65,7 @@ def check_names(walls: Walls, patches: list[list[PatchPiece]]) -> None:
         flag = f"spacing {name}=" if name in walls.spacing else f"orthogonal {name}"
         raise InputError(
             f"{flag}: no patch named {name!r}; the patches are {', '.join(known)} (name "
-            "boundary pieces with --patch X,Y=NAME)"
+            "boundary pieces with {pieces})"
         )
 
 

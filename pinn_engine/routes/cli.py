@@ -40,7 +40,7 @@ DEFAULT_SIZE = (41, 21)  # nodes along xi and eta of a four-sided grid (SPEC 5)
 BLOCKS_METHOD = "pinn"  # multi-block's default (SPEC 10)
 # Options of four-sided domains and bodies that a multi-block run refuses (SPEC 10)
 NOT_FOR_BLOCKS = (
-    "aux", "size", "corners", "topology", "naca", "farfield", "save_model", "load_model",
+    "size", "corners", "topology", "naca", "farfield", "save_model", "load_model",
 )  # fmt: skip
 EXIT_ERROR = 2
 EXIT_INTERNAL = 3
@@ -81,7 +81,8 @@ def build_parser() -> argparse.ArgumentParser:
         action="append",
         default=[],
         metavar="AUX",
-        help="auxiliary lines (.vtp/.vtk); repeat for several files",
+        help="auxiliary lines (.vtp/.vtk); repeat for several files. With --blocks: each "
+        "line inside one block, from a side to the opposite side (fitted by pinn)",
     )
     p.add_argument(
         "--blocks",
@@ -511,7 +512,14 @@ def _run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
     progress = _Progress(args.quiet)
     try:
         outcome = job.run_blocks(
-            settings, args.boundary, args.blocks, args.patch, spacing, orthogonal, progress
+            settings,
+            args.boundary,
+            args.blocks,
+            args.patch,
+            spacing,
+            orthogonal,
+            progress,
+            args.aux,
         )
     finally:
         progress.close()
@@ -532,6 +540,14 @@ def _run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
             file=sys.stderr,
             flush=True,
         )
+        distances = report["aux_line_distance"]
+        if distances:
+            print(
+                f"auxiliary lines: grid lines within {max(distances.values()):.2e} of their "
+                "block's diagonal of the drawn lines",
+                file=sys.stderr,
+                flush=True,
+            )
     if vtm:
         write_vtm(outcome.dataset, out)
     else:

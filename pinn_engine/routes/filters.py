@@ -32,13 +32,13 @@ class ModifiedOnChange:
 
 class LineInputs(ModifiedOnChange):
     """Mixed into a ``VTKPythonAlgorithmBase``: port 0 takes every selected polydata (the
-    boundary and the lines selected with it: ParaView's GUI connects them all there), port
-    1 more lines (optional)."""
+    boundary and the lines selected with it: ParaView's GUI connects them all there), the
+    other ports more lines (optional)."""
 
     def FillInputPortInformation(self, port, info):
         info.Set(self.INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData")
         info.Set(self.INPUT_IS_REPEATABLE(), 1)
-        if port == 1:
+        if port >= 1:
             info.Set(self.INPUT_IS_OPTIONAL(), 1)
         return 1
 

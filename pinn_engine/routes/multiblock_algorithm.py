@@ -8,13 +8,16 @@ Mesh, and the pyvista accessor's ``blocks=`` runs it.
 >>> alg = PinnMultiBlockAlgorithm()
 >>> alg.SetInputConnection(0, boundary_reader.GetOutputPort())  # outer boundary and holes
 >>> alg.AddInputConnection(1, edges_reader.GetOutputPort())     # block edges, repeatable
+>>> alg.AddInputConnection(2, aux_reader.GetOutputPort())       # auxiliary lines, optional
 >>> alg.SetCellSize(0.1)
 >>> alg.Update()
 >>> blocks = alg.GetOutput()                                     # vtkMultiBlockDataSet
 
 Ports: input 0 ``vtkPolyData``, repeatable: its closed polylines (or polygons) are the outer
 boundary and the holes, its open polylines block edges (ParaView's GUI connects every
-selected source there); input 1 more block edges (optional, repeatable). Output 0 the
+selected source there); input 1 more block edges (optional, repeatable); input 2 auxiliary
+lines inside blocks (optional, repeatable: open polylines, each from a side of one block to
+the opposite side, fitted by pinn). Output 0 the
 ``vtkMultiBlockDataSet`` of the command line's ``.vtm``: ``vtkStructuredGrid`` blocks named
 ``block0``, ``block1``, ... with the cell arrays of SPEC 3 and the run's report.
 
@@ -25,6 +28,8 @@ the same way (``GetLastWarning()``).
 """
 
 from __future__ import annotations
+
+import dataclasses
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
@@ -82,6 +87,18 @@ def curves_of(
     return rings, edges, names
 
 
+def _items(value, separators: str) -> tuple[str, ...]:
+    """Items of a setting given as one string (split at whitespace and ``separators``) or as
+    a sequence of strings; None or "" is none."""
+    if value is None:
+        return ()
+    if isinstance(value, str):
+        for sep in separators:
+            value = value.replace(sep, " ")
+        return tuple(value.split())
+    return tuple(str(v).strip() for v in value if str(v).strip())
+
+
 class PinnMultiBlockAlgorithm(LineInputs, VTKPythonAlgorithmBase):
     """Multi-block structured grid (SPEC 10) of a boundary, its holes and block edges.
 
@@ -93,17 +110,30 @@ class PinnMultiBlockAlgorithm(LineInputs, VTKPythonAlgorithmBase):
     * ``SetCellSize(h)``: cell length in the boundary's units; 0 (default): the diagonal / 40
     * ``SetInterfaces("free"|"fixed")`` (or 0/1): interface nodes solved like interior nodes,
       or kept on the drawn edges
+    * ``SetPatchNames(items)``: ``X,Y=NAME[:TYPE]`` items naming the boundary piece nearest
+      (X, Y) (a string of items separated by spaces, a sequence of them, or a mapping
+      ``{(x, y): "NAME[:TYPE]"}``); default names ``boundary``, ``hole1``, ...
+    * ``SetSpacing(items)``: ``NAME=H`` items, the first grid edge leaving that patch
+      (``"cylinder=0.005"``, a sequence of items or a mapping ``{"cylinder": 0.005}``)
+    * ``SetOrthogonal(names)``: patches that grid lines leave along the normal
+      (``"cylinder,walls"`` or a sequence of names)
+
+    Patch items, spacings and names are checked at the next update (one line naming the
+    item, as the command line's ``--patch``, ``--spacing`` and ``--orthogonal``).
     """
 
     def __init__(self, route: str = "paraview") -> None:
         """``route``: whose words messages are in ("paraview"; "pyvista" keeps them off VTK's
         output window, for the caller to raise ``GetLastException()``)."""
-        super().__init__(nInputPorts=2, nOutputPorts=1, outputType="vtkMultiBlockDataSet")
+        super().__init__(nInputPorts=3, nOutputPorts=1, outputType="vtkMultiBlockDataSet")
         self.SetProgressText(LABEL)
         self._route = route
         self._method = BLOCKS_METHOD
         self._cell_size = 0.0
         self._interfaces = INTERFACES[0]
+        self._patches: tuple[str, ...] = ()  # X,Y=NAME[:TYPE] items, checked at the update
+        self._spacing: tuple[str, ...] = ()  # NAME=H items
+        self._orthogonal: tuple[str, ...] = ()  # patch names
         self._last_error = self._last_warning = ""
         self._exception: Exception | None = None
 
@@ -125,6 +155,28 @@ class PinnMultiBlockAlgorithm(LineInputs, VTKPythonAlgorithmBase):
 
     def GetInterfaces(self) -> str:
         return self._interfaces
+
+    def SetPatchNames(self, items) -> None:
+        if hasattr(items, "items"):
+            items = [f"{float(x)!r},{float(y)!r}={name}" for (x, y), name in items.items()]
+        self._set("_patches", _items(items, ";"))
+
+    def GetPatchNames(self) -> tuple[str, ...]:
+        return self._patches
+
+    def SetSpacing(self, items) -> None:
+        if hasattr(items, "items"):
+            items = [f"{name}={float(h)!r}" for name, h in items.items()]
+        self._set("_spacing", _items(items, ",;"))
+
+    def GetSpacing(self) -> tuple[str, ...]:
+        return self._spacing
+
+    def SetOrthogonal(self, names) -> None:
+        self._set("_orthogonal", _items(names, ",;"))
+
+    def GetOrthogonal(self) -> tuple[str, ...]:
+        return self._orthogonal
 
     def GetSettings(self) -> Settings:
         """The ``Settings`` the next update uses (raises ``ValueError`` if invalid)."""
@@ -171,25 +223,40 @@ class PinnMultiBlockAlgorithm(LineInputs, VTKPythonAlgorithmBase):
     def _execute(self, inInfo) -> tuple[vtkMultiBlockDataSet, dict]:
         """The blocks of the connected inputs under the settings, and the run's report."""
         from pinn_engine.io.export.vtm import multiblock_dataset
+        from pinn_engine.io.fileio import aux_lines_of
         from pinn_engine.job import flat_curves
         from pinn_engine.multiblock.mesh import mesh_blocks
+        from pinn_engine.multiblock.patches import parse_patch_points
+        from pinn_engine.multiblock.walls import parse_walls
 
         settings = self.GetSettings()
+        patches = parse_patch_points(self._patches)  # refused before meshing, not after
+        walls = parse_walls(self._spacing, self._orthogonal)
         ports = [
             [vtkPolyData.GetData(port, k) for k in range(port.GetNumberOfInformationObjects())]
             for port in inInfo
         ]
         rings, edges, names = curves_of(ports[0], ports[1])
-        curves = flat_curves(rings + edges, "input")
+        polys = [p for p in ports[2] if p is not None and p.GetNumberOfPoints()]
+        aux = [
+            line
+            for k, poly in enumerate(polys)
+            for line in aux_lines_of(poly, _name("auxiliary lines input", k, len(polys)))
+        ]
+        curves = flat_curves(rings + edges + [line.points for line in aux], "input")
+        flat = curves[len(rings) + len(edges) :]
         result = mesh_blocks(
             curves[: len(rings)],
-            curves[len(rings) :],
+            curves[len(rings) : len(rings) + len(edges)],
             names,
             settings,
             "input",
-            progress=self._block,
+            patches,
+            walls,
+            self._block,
+            [dataclasses.replace(line, points=c) for line, c in zip(aux, flat)],
         )
-        dataset = multiblock_dataset(result.grids, result.cells, result.report)
+        dataset = multiblock_dataset(result.grids, result.cells, result.report, result.patches)
         return dataset, result.report
 
     def _block(self, info: dict) -> None:

@@ -316,6 +316,10 @@ def pinn_mesh_blocks(
     cell_size: float | None = None,
     method: str | None = None,
     interfaces: str | None = None,
+    patches=None,
+    spacing=None,
+    orthogonal=None,
+    aux=None,
 ) -> pv.MultiBlock:
     """Multi-block structured grid (SPEC 10) of a domain cut into four-sided blocks.
 
@@ -335,6 +339,22 @@ def pinn_mesh_blocks(
         all blocks at once; or each block's TFI.
     interfaces : {"free", "fixed"}, optional
         Interface nodes solved like interior nodes (default) or kept on the drawn edges.
+    patches : dict or sequence of str, optional
+        Names of boundary pieces (a stretch of the boundary or a hole between two block
+        corners or junctions; default names ``boundary``, ``hole1``, ...): ``{(x, y):
+        "NAME[:TYPE]"}`` or ``["X,Y=NAME[:TYPE]", ...]`` names the piece nearest (x, y);
+        pieces of one name form one patch. Each block's field data ``PieceNames``,
+        ``PieceTypes`` and ``PieceRanges`` carry them.
+    spacing : dict or sequence of str, optional
+        First grid edge leaving a patch, ``{"cylinder": 0.005}`` or ``["cylinder=0.005"]``
+        (SPEC 7 on patches; docs/multiblock.md).
+    orthogonal : str or sequence of str, optional
+        Patches that grid lines leave along the normal, ``"cylinder"`` or ``["cylinder",
+        "walls"]``.
+    aux : PolyData, vtkPolyData, array_like, or a list/MultiBlock of them, optional
+        Auxiliary lines inside blocks: open polylines, each from a side of the block holding
+        its middle point to the opposite side (SPEC 2 in that block), fitted by the pinn;
+        the report's ``aux_line_distance`` says how far the grid is from each.
 
     Returns
     -------
@@ -358,10 +378,18 @@ def pinn_mesh_blocks(
         (alg.SetMethod, method),
         (alg.SetCellSize, cell_size),
         (alg.SetInterfaces, interfaces),
+        (alg.SetPatchNames, patches),
+        (alg.SetSpacing, spacing),
+        (alg.SetOrthogonal, orthogonal),
     ):
         if value is not None:
             setter(value)
     alg.GetSettings()  # ValueError for bad settings, before any input is read
+    try:
+        for poly in _aux_list(aux):
+            alg.AddInputDataObject(2, poly)
+    except InputError as exc:
+        raise exc.for_route("pyvista") from None
     _run(alg, lambda: _as_polydata(boundary, closed=True, what="boundary"), blocks)
     out = pv.wrap(alg.GetOutput())
     report = json.loads(out[0].field_data["Report"][0])["multiblock"]
@@ -521,7 +549,8 @@ class PinnMeshAccessor:
         ``blocks``: block edges (PolyData or a list): this PolyData's closed polylines are
         then the outer boundary and holes of a multi-block domain, and the keywords those of
         :func:`pinn_mesh_blocks` (``cell_size``, ``method``: pinn, elliptic or tfi,
-        ``interfaces``); returns a ``pyvista.MultiBlock``.
+        ``interfaces``, ``patches``, ``spacing``, ``orthogonal``; ``aux``: auxiliary lines
+        inside blocks); returns a ``pyvista.MultiBlock``.
 
         A surface with a ``FaceId`` cell array, or ``size=(ni, nj, nk)``: the hexahedral grid
         of :func:`pinn_mesh_hexa` (``size``, ``method``); returns a
@@ -539,10 +568,9 @@ class PinnMeshAccessor:
             self.last = pinn_mesh_hexa(self._mesh, size or HEXA_SIZE, method)
             return self.last
         if blocks is not None:
-            for name, value in (("aux", aux), ("size", size)):
-                if value is not None:
-                    raise InputError(f"{name}= applies to four-sided domains, not to blocks=")
-            self.last = pinn_mesh_blocks(self._mesh, blocks, method=method, **options)
+            if size is not None:
+                raise InputError("size= applies to four-sided domains, not to blocks=")
+            self.last = pinn_mesh_blocks(self._mesh, blocks, method=method, aux=aux, **options)
             return self.last
         if size is not None:
             options["size"] = size

@@ -4,7 +4,9 @@
 
 The backward-facing step of example_data (four blocks), its boundary and block edges selected
 together (both on Input, as the GUI connects them) and on the two inputs; then a block edge
-that ends nowhere. Prints one ``RESULT {json}`` line; any failed check raises (exit status 1).
+that ends nowhere; then the cylinder in a channel, its patch named, spaced and orthogonal
+from the panel's fields; then the L-shape with an auxiliary line inside a block. Prints one
+``RESULT {json}`` line; any failed check raises (exit status 1).
 """
 
 import json
@@ -87,4 +89,32 @@ result["bad_stderr"] = err["stderr"]
 # 4. ParaView goes on: drop the stray edge and update again
 bad.BlockEdges = []
 result["recovered_blocks"] = servermanager.Fetch(bad).GetNumberOfBlocks()
+
+# 5. the cylinder's patch named, spaced and orthogonal from the panel's fields (elliptic)
+cylinder = XMLPolyDataReader(FileName=[os.path.join(EXAMPLES, "cylinder_channel.vtp")])
+cut = XMLPolyDataReader(FileName=[os.path.join(EXAMPLES, "cylinder_channel_blocks.vtp")])
+walled = simple.PINNMultiBlockMesh(
+    Input=[cylinder, cut],
+    CellSize=CELL_SIZE,
+    Method="elliptic",
+    PatchNames="0.5,0=cylinder:wall 0,0.5=cylinder -0.5,0=cylinder 0,-0.5=cylinder",
+    FirstEdgeSpacing="cylinder=0.005",
+    OrthogonalPatches="cylinder",
+)
+walled_data = servermanager.Fetch(walled)
+fields = [walled_data.GetBlock(k).GetFieldData() for k in range(walled_data.GetNumberOfBlocks())]
+report = json.loads(fields[0].GetAbstractArray("Report").GetValue(0))
+result["walls"] = report["multiblock"]["walls"]
+names = [f.GetAbstractArray("PieceNames") for f in fields]
+result["piece_names"] = sorted({a.GetValue(k) for a in names for k in range(a.GetNumberOfValues())})
+# 6. an auxiliary line inside the L's bottom block on Auxiliary Lines (elliptic: reported)
+lshape = XMLPolyDataReader(FileName=[os.path.join(EXAMPLES, "lshape.vtp")])
+lshape_edges = XMLPolyDataReader(FileName=[os.path.join(EXAMPLES, "lshape_blocks.vtp")])
+line = XMLPolyDataReader(FileName=[os.path.join(EXAMPLES, "lshape_aux.vtp")])
+lined = simple.PINNMultiBlockMesh(
+    Input=[lshape, lshape_edges], AuxiliaryLines=[line], CellSize=CELL_SIZE, Method="elliptic"
+)
+lined_data = servermanager.Fetch(lined)
+first = lined_data.GetBlock(0).GetFieldData().GetAbstractArray("Report").GetValue(0)
+result["aux_line_distance"] = json.loads(first)["multiblock"]["aux_line_distance"]
 print("RESULT " + json.dumps(result))
