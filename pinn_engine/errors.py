@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 from pinn_engine.settings import NEURAL
 
 
@@ -147,16 +149,16 @@ _HANDED_OVER = {"cli": "written", "pyvista": "returned", "paraview": "produced"}
 def folded_cells_warning(report: dict, route: str) -> str | None:
     """The warning for a grid with folded cells, or None when no cell is folded.
 
-    ``report`` is ``MeshResult.report`` (its ``quality.folded_cells``, ``size``, ``method``
-    and ``settings``); ``route`` is ``"cli"``, ``"pyvista"`` or ``"paraview"`` and chooses
-    the words of the hint: options, keyword arguments or the filter panel's labels. Each
-    route adds its own prefix (``pinn-mesh: warning:``, the filter's label, the warning
-    category).
+    ``report`` is ``MeshResult.report`` or a hexahedral grid's (its ``quality.folded_cells``,
+    ``cells`` or ``size``, ``method`` and ``settings``); ``route`` is ``"cli"``,
+    ``"pyvista"`` or ``"paraview"`` and chooses the words of the hint: options, keyword
+    arguments or the filter panel's labels. Each route adds its own prefix (``pinn-mesh:
+    warning:``, the filter's label, the warning category).
     """
     folded = int(report["quality"]["folded_cells"])
     if folded <= 0:
         return None
-    ni, nj = report["size"]
+    cells = report.get("cells") or math.prod(n - 1 for n in report["size"])
     words = ROUTE_WORDS[route]
     method = report.get("method", "")
     guard = report.get("training", {}).get("guard")
@@ -176,7 +178,7 @@ def folded_cells_warning(report: dict, route: str) -> str | None:
         fix = words["method"].format("pinn")
     verb = "is" if folded == 1 else "are"
     return (
-        f"{folded} of {(ni - 1) * (nj - 1)} cells {verb} folded (a corner's orientation "
+        f"{folded} of {cells} cells {verb} folded (a corner's orientation "
         f"opposes the grid's); the grid is {_HANDED_OVER[route]} anyway; try {fix}"
         f"{words['refuse']}"
     )

@@ -33,6 +33,7 @@ CASES = (  # name, input, aux, options: every status, one quick pinn among them
     ("pinn", "concave.vtp", "concave_aux.vtp", "--size 11 7 --lbfgs 5 --epochs 50"),
     ("naca", "", "", "--naca 0012 --topology o --method elliptic --size 33 17 --format su2"),
     ("blocks", "lshape.vtp", "", "--blocks lshape_blocks.vtp --cell-size 0.2"),
+    ("box", "hexa_bend.stl", "", "--size 7 6 5 --method tfi --patch imin=inner:wall --format su2"),
     ("stopped", "wavy.vtp", "", "--size 11 7 --epochs 100000 --time-limit 0.2"),
     ("missing", "nothere.vtp", "", TFI),
     ("broken", "broken.vtp", "", TFI),
@@ -45,6 +46,7 @@ BATCH_TIMEOUT = 300  # seconds a test waits for a batch on the busy 2-core machi
 def manifest(folder: Path, rows=CASES) -> Path:
     """A manifest in ``folder`` beside copies of the example inputs and a broken file."""
     folder.mkdir(parents=True, exist_ok=True)
+    (folder / "hexa_bend.stl").write_bytes((EXAMPLES / "hexa_bend.stl").read_bytes())
     for name in ("wavy", "fig2", "concave", "lshape"):
         for suffix in (".vtp", "_aux.vtp", "_blocks.vtp"):
             if (EXAMPLES / f"{name}{suffix}").exists():
@@ -127,7 +129,7 @@ def test_each_case_is_the_single_run_and_failures_stay_per_case(client, tmp_path
     address = client.scheduler.address
     assert main(["batch", str(path), "-o", str(out), "--scheduler", address]) == 1
     err = capsys.readouterr().err
-    assert "2 of 8 cases failed" in err and "[8/8] 2 failed" in err
+    assert "2 of 9 cases failed" in err and "[9/9] 2 failed" in err
     rows = summary(out)
     assert list(rows) == [c[0] for c in CASES]
     for name, row in rows.items():
@@ -136,10 +138,14 @@ def test_each_case_is_the_single_run_and_failures_stay_per_case(client, tmp_path
     assert "broken.vtp" in rows["broken"]["message"]
     assert "time limit" in rows["stopped"]["message"]
     assert rows["wavy"]["cells"] == "60" and rows["naca"]["cells"] == "512"
+    assert rows["box"]["cells"] == "120"  # a six-faced surface's hexahedra (6 x 5 x 4)
     assert sorted(p.name for p in out.iterdir()) == [
-        "blocks", "blocks.vtm", "fig2.vts", "naca.su2", "pinn.vts", "stopped.vts",
+        "blocks", "blocks.vtm", "box.su2", "fig2.vts", "naca.su2", "pinn.vts", "stopped.vts",
         "summary.csv", "wavy.vts",
     ]  # fmt: skip
+    single = tmp_path / "single_box.su2"
+    assert main([str(path.parent / "hexa_bend.stl"), *CASES[5][3].split(), "-o", str(single)]) == 0
+    assert (out / "box.su2").read_text() == single.read_text()
     for name, source, aux, options in CASES[:3]:  # the single-run command's grid, exactly
         single = tmp_path / f"single_{name}.vts"
         extra = ["--aux", str(path.parent / aux)] if aux else []
@@ -150,7 +156,7 @@ def test_each_case_is_the_single_run_and_failures_stay_per_case(client, tmp_path
     before = {p.name: p.stat().st_mtime_ns for p in out.glob("*.vts")}
     (out / "fig2.vts").unlink()
     assert main(["batch", str(path), "-o", str(out), "--scheduler", address]) == 1
-    assert "5 skipped" in capsys.readouterr().err
+    assert "6 skipped" in capsys.readouterr().err
     after = {p.name: p.stat().st_mtime_ns for p in out.glob("*.vts")}
     assert {k for k in before if after[k] != before[k]} == {"fig2.vts"}
     assert summary(out) == rows
@@ -241,7 +247,7 @@ def test_a_separate_scheduler_and_worker_give_the_local_summary(client, tmp_path
         stderr=subprocess.DEVNULL,
     )
     try:
-        path = manifest(tmp_path / "in", CASES[:2] + CASES[6:])
+        path = manifest(tmp_path / "in", CASES[:2] + CASES[-2:])
         assert main(["batch", str(path), "-o", str(tmp_path / "far"), "--scheduler", address]) == 1
     finally:
         for process in (worker, scheduler):

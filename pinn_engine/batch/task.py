@@ -8,6 +8,7 @@ import contextlib
 import copy
 import io
 import json
+import math
 import tempfile
 import time
 from pathlib import Path
@@ -68,12 +69,11 @@ def _row(name: str, report: dict, seconds: float) -> dict:
     """The row of a grid from its single-run report: ``warning`` with the command's
     warnings (folded cells, a stopped training, wall angles), else ``ok``."""
     q = report["quality"]
-    ni, nj = report.get("size") or (0, 0)
     warnings = [text for text, _ in grid_warnings(report, "cli")]
     return {
         "name": name,
         "status": "warning" if warnings else "ok",
-        "cells": report.get("cells", (ni - 1) * (nj - 1)),
+        "cells": report.get("cells") or math.prod(n - 1 for n in report["size"]),
         "mean_max_angle": round(q["mean_max_angle"], 4),
         "worst_max_angle": round(q["worst_max_angle"], 4),
         "folded_cells": q["folded_cells"],

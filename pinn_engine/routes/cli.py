@@ -428,13 +428,21 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
 def _run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
     """A six-faced 3D domain (SPEC 11): the surface's hexahedral grid into ``OUT`` (the
     formats and patches of SPEC 8, never extruded; spacing and orthogonality on patches)."""
-    from pinn_engine.hexa.mesh import HEXA_METHOD, HEXA_SIZE, hexa_grid, mesh_surface, summary
+    from pinn_engine.hexa.mesh import (
+        HEXA_METHOD,
+        HEXA_SIZE,
+        hexa_grid,
+        mesh_surface,
+        report,
+        summary,
+    )
     from pinn_engine.hexa.spacing import parse_patches
     from pinn_engine.io import export
+    from pinn_engine.io.fileio import write_text_atomic
 
     defaults = vars(build_parser().parse_args([]))
     allowed = {"boundary", "method", "size", "output", "quiet", "format", "patch"}
-    allowed |= {"spacing", "orthogonal"}
+    allowed |= {"spacing", "orthogonal", "report"}
     flags = _flags()
     for name, value in vars(args).items():
         if name not in allowed and value != defaults.get(name):
@@ -456,8 +464,14 @@ def _run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
     result = mesh_surface(args.boundary, size, method, spacing=spacing, orthogonal=orthogonal)
     export.write(hexa_grid(result, method), out, args.format, patches=args.patch or None)
     written.append(out)
+    run = report(result, method)
+    if args.report:
+        write_text_atomic(args.report, json.dumps(run, indent=2, default=float))
+        written.append(Path(args.report))
     if not args.quiet:
         print(summary(result, method))
+    for warning, _ in grid_warnings(run, "cli"):  # printed with --quiet too
+        print(f"pinn-mesh: warning: {warning}", file=sys.stderr)
     return out
 
 
