@@ -398,12 +398,7 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     finally:
         progress.close()
     if args.save_model:
-        try:
-            Path(args.save_model).parent.mkdir(parents=True, exist_ok=True)
-            outcome.mesher.save(args.save_model)
-        except (OSError, RuntimeError) as exc:
-            raise PinnMeshError(f"{args.save_model}: cannot save the model ({exc})") from None
-        written.append(Path(args.save_model))
+        _save_model(outcome.mesher, args.save_model, written)
     if not args.quiet:
         _summary(outcome.result, settings, ni, nj, time.perf_counter() - start)
 
@@ -421,12 +416,22 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     return _write_outputs(args, outcome, out, written, source, picture)
 
 
+def _save_model(model, path: str, written: list[Path]) -> None:
+    """``model.save(path)`` (a fitted mesher or a hexahedral pinn), its folder made."""
+    try:
+        Path(path).parent.mkdir(parents=True, exist_ok=True)
+        model.save(path)
+    except (OSError, RuntimeError) as exc:
+        raise PinnMeshError(f"{path}: cannot save the model ({exc})") from None
+    written.append(Path(path))
+
+
 def _run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
     """A six-faced 3D domain (SPEC 11): the surface's hexahedral grid into ``OUT.vts``."""
     from pinn_engine.hexa.mesh import HEXA_METHOD, HEXA_SIZE, mesh_surface, summary, write_vts
 
     defaults = vars(build_parser().parse_args([]))
-    allowed = {"boundary", "method", "size", "output", "quiet"}
+    allowed = {"boundary", "method", "size", "output", "quiet", "save_model", "load_model"}
     flags = _flags()
     for name, value in vars(args).items():
         if name not in allowed and value != defaults.get(name):
@@ -443,7 +448,13 @@ def _run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
     out = Path(args.output or f"out/{Path(args.boundary).stem}_{method}.vts")
     if out.suffix.lower() != ".vts":
         raise PinnMeshError(f"{out}: hexahedral grids are written as .vts in this build")
-    result = mesh_surface(args.boundary, size, method)
+    if (args.save_model or args.load_model) and method != "pinn":
+        raise PinnMeshError(
+            f"--method {method} trains no network: --save-model and --load-model are pinn's"
+        )
+    result = mesh_surface(args.boundary, size, method, args.load_model)
+    if args.save_model:
+        _save_model(result.model, args.save_model, written)
     write_vts(result, out, method)
     written.append(out)
     if not args.quiet:
