@@ -13,7 +13,7 @@ grid is never worse than the Winslow grid by more than those tolerances. The tra
 
 from __future__ import annotations
 
-import dataclasses
+import copy
 import os
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -116,15 +116,13 @@ class HexaModel:
         shape = tfi.shape[:3]
         x = node_points(shape).reshape(-1, DIMENSIONS)
         p = next(self.net.parameters())
-        net = self.net.float() if p.dtype != torch.float32 else self.net
+        net = copy.deepcopy(self.net).float() if p.dtype != torch.float32 else self.net
         out = np.empty_like(x)
         with torch.no_grad():
             for start in range(0, len(x), GRID_CHUNK):
                 at = x[start : start + GRID_CHUNK]
                 y = net(torch.as_tensor(at, dtype=torch.float32, device=p.device))
                 out[start : start + GRID_CHUNK] = _bubble(at) * y.cpu().numpy()
-        if net is not self.net:
-            self.net.to(p.dtype)
         return tfi + self.correction.at_nodes(shape) + out.reshape(tfi.shape)
 
     def save(self, path: str | os.PathLike) -> None:
@@ -272,4 +270,4 @@ def train(
         )
         model.history, model.info = fit(problem, settings, guard, progress)
     model.info.update(device=str(device), start="elliptic", elliptic=reference)
-    return dataclasses.replace(model, net=net.double())
+    return model
