@@ -48,16 +48,15 @@ FORMAT = "pinn-mesh-hexa-model/1"  # a saved hexahedral model (neural/model.py's
 GRID_CHUNK = 1 << 14  # nodes per forward pass when a grid is evaluated (bounds its memory)
 # The Winslow start is solved on at most this many nodes (a coarser lattice of the same
 # shape above, starts/warmstart.py, and the map evaluated finer): its sparse LU grows fast
-# (measured, 2 to 5 busy processes on the 2 cores: 21^3 1.1 to 2.8 s, 41^3 65 to 203 s and
-# 2.3 GB). At 41^3 from the 21^3 lattice the pinn grid's mean and worst MaxIncludedAngle
-# were +0.05 and -2.0 deg from the 41^3 Winslow grid's on the bump box, +0.24 and +0.02 on
-# the bend (docs/hexa.md).
+# (docs/hexa.md: 0.8 and 1.8 s at 21^3, 66 and 165 s and 2.5 GB at 41^3). At 41^3 from the
+# 21^3 lattice the pinn grid's mean and worst MaxIncludedAngle were +0.04 and -2.01 deg from
+# the 41^3 Winslow grid's on the bump box, +0.23 and +0.02 on the bend.
 MAX_LATTICE_NODES = 21**3
 # The 3D default's settings where they differ from the 2D ones (settings.py): 20 L-BFGS
-# iterations, not 120. From the Winslow start the residual falls by a quarter in 20 and a
-# third in 120, and the grids differ little (21^3, bump box: mean and worst MaxIncludedAngle
-# +0.009 and +0.07 deg over the Winslow grid's after 20, +0.019 and +0.13 after 120), while
-# each iteration costs about 40 ms on this machine (400 points, ten jet channels).
+# iterations, not 120. On the bump box at 21^3 the residual falls from the Winslow start by
+# a quarter in 20 and a third in 120, and the grids differ little (mean and worst
+# MaxIncludedAngle +0.009 and +0.07 deg over the Winslow grid's after 20, +0.019 and +0.13
+# after 120), while each iteration costs about 40 ms here (400 points, ten jet channels).
 HEXA_SETTINGS = {"lbfgs_iterations": 20}
 
 
@@ -153,7 +152,9 @@ class HexaModel:
             raise InputError(f"damaged or incompatible model ({exc})", str(path)) from None
         if saved_key != surface_key:
             raise InputError(
-                "model was trained for a different surface; train it on this one", str(path)
+                "model was trained for a different surface; save one for this surface "
+                "with --save-model",
+                str(path),
             )
         return cls(net, correction, settings, payload["history"], payload["info"], saved_key)
 
