@@ -12,6 +12,7 @@ from conftest import ROOT
 
 from pinn_engine.blocks import hexa
 from pinn_engine.hexa import volume
+from pinn_engine.hexa.field import node_points
 from pinn_engine.hexa.mesh import mesh_surface
 from pinn_engine.neural.jet import nd
 from pinn_engine.neural.losses import winslow_residual_3d
@@ -49,10 +50,10 @@ def _jet_of_quadratic(x: np.ndarray) -> torch.Tensor:
 def test_3d_residual_is_the_discrete_winslow_operator():
     n = 7
     h = 1.0 / (n - 1)
-    g = _quadratic(hexa.node_points((n, n, n)))
+    g = _quadratic(node_points((n, n, n)))
     mat, rhs = volume.stencil_matrix(g)
     discrete = (mat @ g[1:-1, 1:-1, 1:-1].reshape(-1, 3) - rhs).reshape(n - 2, n - 2, n - 2, 3)
-    inner = hexa.node_points((n, n, n))[1:-1, 1:-1, 1:-1].reshape(-1, 3)
+    inner = node_points((n, n, n))[1:-1, 1:-1, 1:-1].reshape(-1, 3)
     continuous = winslow_residual_3d(_jet_of_quadratic(inner)).numpy()
     # in index units a first derivative is h times the unit cube's, C is quartic in them
     np.testing.assert_allclose(discrete.reshape(-1, 3), continuous * h**6, atol=1e-12)

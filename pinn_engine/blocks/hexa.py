@@ -25,7 +25,7 @@ from pinn_engine import __version__
 from pinn_engine.blocks.quad import GUARD_TOL
 from pinn_engine.errors import InputError
 from pinn_engine.hexa import quality, volume
-from pinn_engine.hexa.field import LatticeField
+from pinn_engine.hexa.field import LatticeField, node_points
 from pinn_engine.io.fileio import atomic_path
 from pinn_engine.neural.jet import nd
 from pinn_engine.neural.losses import winslow_residual_3d
@@ -88,12 +88,6 @@ def _orders() -> list[tuple[int, int, int]]:
     unit = np.eye(DIMENSIONS, dtype=int)
     first = [tuple(unit[m]) for m in range(DIMENSIONS)]
     return [(0, 0, 0), *first, *(tuple(unit[m] + unit[n]) for m, n in nd.pairs(DIMENSIONS))]
-
-
-def node_points(shape: tuple[int, int, int]) -> np.ndarray:
-    """The (xi, eta, zeta) of a uniform ``shape`` grid's nodes, (ni, nj, nk, 3)."""
-    axes = [np.linspace(0.0, 1.0, n) for n in shape]
-    return np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1)
 
 
 @dataclass
@@ -224,11 +218,6 @@ def guard_figures(g: np.ndarray) -> dict[str, float]:
     }
 
 
-def hexa_settings(**given) -> Settings:
-    """The 3D pinn's settings: ``HEXA_SETTINGS`` over the defaults, then ``given``."""
-    return Settings(**{**HEXA_SETTINGS, **given})
-
-
 def train(
     tfi_of: Callable[[tuple[int, ...]], np.ndarray],
     size: tuple[int, int, int],
@@ -238,8 +227,9 @@ def train(
 ) -> HexaModel:
     """Train the network for a grid of ``size`` nodes from the converged Winslow grid on the
     lattice (``lattice_for``), under the guard; ``tfi_of(shape)`` is the 3D TFI of the face
-    grids with ``shape`` nodes."""
-    settings = settings or hexa_settings()
+    grids with ``shape`` nodes; ``settings`` default to ``HEXA_SETTINGS`` over Settings'
+    defaults; ``progress`` is the trainer's callback (neural/trainer.py)."""
+    settings = settings or Settings(**HEXA_SETTINGS)
     dtype = {"float64": torch.float64, "float32": torch.float32}[settings.dtype]
     device = pick_device(settings.device)
     tfi = tfi_of(lattice_for(*size, most=MAX_LATTICE_NODES))

@@ -18,6 +18,11 @@ from pinn_engine.classical.tfi import node_params
 CUBIC = 3  # the spline's degree where a direction has enough nodes
 
 
+def node_points(shape: tuple[int, ...]) -> np.ndarray:
+    """The (xi, eta, zeta) of a uniform ``shape`` grid's nodes on the unit cube, (*shape, 3)."""
+    return np.stack(np.meshgrid(*map(node_params, shape), indexing="ij"), axis=-1)
+
+
 class LatticeField:
     """A field (ni, nj, nk, 3) of values at the uniform lattice nodes of the unit cube, as
     an interpolating spline."""
@@ -42,5 +47,4 @@ class LatticeField:
         lattice's own values at its size."""
         if tuple(shape) == self.values.shape[:3]:
             return self.values
-        x = np.stack(np.meshgrid(*map(node_params, shape), indexing="ij"), axis=-1)
-        return self.spline(x.reshape(-1, 3)).reshape(*shape, 3)
+        return self.spline(node_points(shape).reshape(-1, 3)).reshape(*shape, 3)

@@ -82,4 +82,4 @@ def network_jet(net, x: torch.Tensor) -> torch.Tensor:
         # paper eq. 14: U + Z (V - U)
         h = [p + q for p, q in zip(u, product(z, diff, d))] if net.kind == "shortcut" else z
     out = _linear(h, rest[-2], rest[-1])
-    return torch.stack([c.expand(-1, len(x), -1)[..., 0].T for c in out])
+    return torch.stack([c[..., 0].T for c in out])
