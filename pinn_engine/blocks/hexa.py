@@ -232,7 +232,9 @@ def train(
     settings = settings or Settings(**HEXA_SETTINGS)
     dtype = {"float64": torch.float64, "float32": torch.float32}[settings.dtype]
     device = pick_device(settings.device)
-    tfi = tfi_of(lattice_for(*size, most=MAX_LATTICE_NODES))
+    coarse = lattice_for(*size, most=MAX_LATTICE_NODES)
+    # at least 3 nodes a direction, as the grid has: the Winslow start needs an interior
+    tfi = tfi_of(tuple(max(m, min(n, 3)) for m, n in zip(coarse, size, strict=True)))
     start, _ = volume.winslow(tfi)
     correction = LatticeField(start - tfi)
     with training_process(device):
