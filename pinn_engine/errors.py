@@ -161,8 +161,8 @@ def folded_cells_warning(report: dict, route: str) -> str | None:
     cells = report.get("cells") or math.prod(n - 1 for n in report["size"])
     words = ROUTE_WORDS[route]
     method = report.get("method", "")
-    guard = report.get("training", {}).get("guard")
-    if guard and guard["elliptic"]["folded_cells"]:  # the warm start's elliptic grid folds too
+    guard = report.get("training", {}).get("guard") or {}
+    if guard.get("elliptic", {}).get("folded_cells"):  # the warm start's elliptic grid folds too
         fix = (
             f"rounding the boundary where it turns sharply between nodes or another "
             f"{words['size']}: the converged elliptic grid on these boundary nodes folds "

@@ -79,10 +79,10 @@ def test_face_with_a_hole_is_refused(tmp_path, capsys):
     assert "face 4 is not a disk (Euler characteristic 0" in err
 
 
-def test_pinn_is_refused_naming_the_working_methods(tmp_path, capsys):
+def test_mgnet_is_refused_naming_the_working_methods(tmp_path, capsys):
     out = tmp_path / "o.vts"
-    err = _error(capsys, [str(DATA / EXAMPLES[0]), "--method", "pinn", "-o", str(out)], out)
-    assert "tfi or elliptic" in err
+    err = _error(capsys, [str(DATA / EXAMPLES[0]), "--method", "mgnet", "-o", str(out)], out)
+    assert "meshed by pinn, tfi, elliptic" in err
 
 
 def test_tfi_reproduces_a_trilinear_block():
@@ -136,7 +136,7 @@ def test_elliptic_grid_satisfies_the_3d_winslow_equations(result):
     scale = np.abs(rhs).max()
     if method == "elliptic":
         assert np.abs(residual).max() < 1e-6 * scale
-    else:  # the check can fail: TFI is not a Winslow grid on these shapes
+    else:  # the check can fail: TFI is not a Winslow grid on these shapes, nor the pinn's
         assert np.abs(residual).max() > 1e-4 * scale
 
 

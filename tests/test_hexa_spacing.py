@@ -130,10 +130,12 @@ def _error(capsys, argv: list[str], out) -> str:
     "extra, words",
     [
         (["--spacing", "bottom=0.01"], "PATCH one of imin, imax, jmin, jmax, kmin, kmax"),
-        (["--spacing", "kmin=0.5"], "shorter than half of the shortest edge leaving kmin"),
+        (["--spacing", "kmin=0.5", "--method", "tfi"], "shorter than half of the shortest edge"),
+        (["--spacing", "kmin=0.01"], "use --method elliptic or tfi (the 3D pinn trains on"),
+        (["--orthogonal", "kmin"], "use --method elliptic (pinn's grid lines"),
         (["--orthogonal", "kmin,floor"], "unknown patch 'floor'"),
         (["--orthogonal", "kmin", "--method", "tfi"], "use --method elliptic"),
-        (["--orthogonal", "kmin,kmax", "--size", "7", "7", "3"], "at least 4 nodes along k"),
+        (["--orthogonal", "kmin,kmax", "--size", "7", "7", "3", "--method", "elliptic"], "along k"),
     ],
 )
 def test_cli_refuses_bad_patch_options(tmp_path, capsys, extra, words):
@@ -145,6 +147,7 @@ def test_cli_refuses_bad_patch_options(tmp_path, capsys, extra, words):
 def test_cli_spacing_and_orthogonal_write_and_report(tmp_path, capsys):
     out = tmp_path / "g.vts"
     argv = [BUMP, "--size", *map(str, SIZE), "--spacing", "kmin=0.005", "--orthogonal", "kmin"]
+    argv += ["--method", "elliptic"]
     assert main([*argv, "-o", str(out)]) == 0
     text = capsys.readouterr().out
     assert "kmin: first edges 0.005..0.005, grid lines within 0.00 deg of the normal" in text

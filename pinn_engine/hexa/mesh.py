@@ -3,18 +3,20 @@ solver formats write it through :func:`pinn_engine.io.export.write`."""
 
 from __future__ import annotations
 
+import hashlib
 import json
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonCore import vtkPoints, vtkStringArray
 from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 
-from pinn_engine.errors import InputError
+from pinn_engine.errors import InputError, network_effect
 from pinn_engine.hexa import quality, volume
 from pinn_engine.hexa.block import cube_corners
 from pinn_engine.hexa.facegrid import FaceMap
@@ -24,8 +26,11 @@ from pinn_engine.hexa.surface import Surface, Topology, find_topology, surface_o
 from pinn_engine.io import fileio
 from pinn_engine.io.export.patches import BOX_SIDES, add_to_grid, patch_specs
 
-METHODS = ("tfi", "elliptic")  # the methods of this build for six-faced domains
-HEXA_METHOD = "elliptic"  # the default while 3D has no pinn: the converged Winslow grid
+if TYPE_CHECKING:
+    from pinn_engine.blocks.hexa import HexaModel
+
+METHODS = ("pinn", "tfi", "elliptic")  # the methods of this build for six-faced domains
+HEXA_METHOD = "pinn"  # SPEC 11's default (blocks/hexa.py; docs/hexa.md has its figures)
 HEXA_SIZE = (21, 21, 21)  # SPEC 11's default nodes along i, j and k
 MIN_NODES = 3  # fewer nodes along a direction leave no interior to solve for
 OPPOSITE_NODES = 4  # two orthogonal opposite patches each need a first layer of their own
@@ -33,13 +38,15 @@ OPPOSITE_NODES = 4  # two orthogonal opposite patches each need a first layer of
 
 @dataclass
 class HexResult:
-    """The grid (ni, nj, nk, 3), its cell arrays and the run's seconds."""
+    """The grid (ni, nj, nk, 3), its cell arrays, the run's seconds, the Winslow solve's
+    Picard steps and, for pinn, the trained model (blocks/hexa.py's HexaModel)."""
 
     grid: np.ndarray
     cells: dict[str, np.ndarray]
     seconds: float
     iterations: int
     walls: dict[str, tuple[float, float, float]] = field(default_factory=dict)
+    model: HexaModel | None = None
 
 
 def boundary_map(
@@ -82,6 +89,14 @@ def boundary_map(
     return boundary
 
 
+def surface_key(surface: Surface) -> str:
+    """A digest of the surface's points and triangles: a saved pinn model is evaluated only
+    on the surface it was trained on."""
+    digest = hashlib.sha256(np.ascontiguousarray(surface.points).tobytes())
+    digest.update(np.ascontiguousarray(surface.triangles).tobytes())
+    return digest.hexdigest()
+
+
 def size_problem(size: tuple[int, ...]) -> str | None:
     """Why ``size`` is not a grid size of a six-faced domain (each route names its own
     setting before it), or None."""
@@ -92,20 +107,27 @@ def size_problem(size: tuple[int, ...]) -> str | None:
     return None
 
 
-def refuse(size: tuple[int, ...], method: str, orthogonal: tuple[str, ...] = ()) -> None:
-    """An :class:`InputError` for a method, size or orthogonality this build cannot mesh."""
+def refuse(
+    size: tuple[int, ...], method: str, spacing: dict | None = None, orthogonal: tuple = ()
+) -> None:
+    """An :class:`InputError` for a method, size, spacing or orthogonality this build cannot
+    mesh."""
     if method not in METHODS:
         raise InputError(
-            f"--method {method}: six-faced 3D domains are meshed by {' or '.join(METHODS)} "
-            "in this build"
+            f"--method {method}: six-faced 3D domains are meshed by {', '.join(METHODS)}"
         )
     problem = size_problem(size)
     if problem:
         raise InputError(f"--size {' '.join(map(str, size))}: {problem}")
     if orthogonal and method != "elliptic":
         raise InputError(
-            f"--orthogonal {','.join(orthogonal)}: use --method elliptic (tfi's grid lines "
-            "cannot turn to a patch's normal)"
+            f"--orthogonal {','.join(orthogonal)}: use --method elliptic ({method}'s grid lines "
+            "do not turn to a patch's normal in this build)"
+        )
+    if spacing and method == "pinn":
+        raise InputError(
+            f"--spacing {','.join(f'{k}={v:g}' for k, v in spacing.items())}: use --method "
+            "elliptic or tfi (the 3D pinn trains on uniform node parameters in this build)"
         )
     for axis, name in enumerate("ijk"):
         if {f"{name}min", f"{name}max"} <= set(orthogonal) and size[axis] < OPPOSITE_NODES:
@@ -153,14 +175,23 @@ def mesh_surface(
     *,
     spacing: dict[str, float] | None = None,
     orthogonal: tuple[str, ...] = (),
+    load_model: str | None = None,
 ) -> HexResult:
     """Read ``path`` (an ``.stl``'s faces are found at its sharp edges), check its topology,
     build the face grids and the volume grid (:func:`mesh_polydata`)."""
-    refuse(size, method, orthogonal)
+    refuse(size, method, spacing, orthogonal)
     data = fileio.read_polydata(Path(path))
     stl = str(path).lower().endswith(".stl")
     return mesh_polydata(
-        data, size, method, path, progress, sharp_edges=stl, spacing=spacing, orthogonal=orthogonal
+        data,
+        size,
+        method,
+        path,
+        progress,
+        sharp_edges=stl,
+        spacing=spacing,
+        orthogonal=orthogonal,
+        load_model=load_model,
     )
 
 
@@ -174,13 +205,14 @@ def mesh_polydata(
     sharp_edges: bool = False,
     spacing: dict[str, float] | None = None,
     orthogonal: tuple[str, ...] = (),
+    load_model: str | None = None,
 ) -> HexResult:
     """The hexahedral grid of a surface in memory (a polydata with a FaceId cell array, or
     with ``sharp_edges`` faces found at its sharp edges; the filter's and pyvista's input),
     ``source`` naming it in messages; ``spacing`` (patch -> first edge H) and ``orthogonal``
-    (patches) as SPEC 7 on the patches; ``progress(phase, fraction)`` is told each phase as
-    it starts."""
-    refuse(size, method, orthogonal)
+    (patches) as SPEC 7 on the patches; pinn trains its network, or evaluates the one saved
+    at ``load_model``; ``progress(phase, fraction)`` is told each phase as it starts."""
+    refuse(size, method, spacing, orthogonal)
     tell = progress or (lambda phase, fraction: None)
     spacing = spacing or {}
     start = time.perf_counter()
@@ -191,21 +223,35 @@ def mesh_polydata(
     uniform = node_params(size, {})
     base = volume.tfi(boundary(uniform), uniform)
     check_spacing(spacing, base)
-    if method == "elliptic":
-        tell("3D Winslow", 0.3)
-    evaluate = volume_grid(boundary, method, spacing, orthogonal)
-    if not spacing:
-        g = evaluate(uniform)
-    else:  # fitted on the cheap TFI grids first: the Winslow grid then needs few rounds
-        first_guess = None
+    model = None
+    if method == "pinn":  # torch only for the network
+        from pinn_engine.blocks.hexa import HexaModel, train
+
+        def tfi_of(shape: tuple[int, ...]) -> np.ndarray:
+            """The TFI grid of ``shape`` nodes, its faces exactly the face grids."""
+            return tfi_at(boundary, node_params(shape, {}))
+
+        tell("network", 0.2)
+        key = surface_key(surface)
+        model = HexaModel.load(load_model, key) if load_model else train(tfi_of, size, key)
+        g, steps = model.grid(tfi_of(size)), 0
+    else:
         if method == "elliptic":
-            tfi_grid = volume_grid(boundary, "tfi", spacing, orthogonal)
-            first_guess = fit_params(tfi_grid, spacing, base)[2]
-        g = fit_params(evaluate, spacing, base, first_guess)[1]
+            tell("3D Winslow", 0.3)
+        evaluate = volume_grid(boundary, method, spacing, orthogonal)
+        if not spacing:
+            g = evaluate(uniform)
+        else:  # fitted on the cheap TFI grids first: the Winslow grid then needs few rounds
+            first_guess = None
+            if method == "elliptic":
+                tfi_grid = volume_grid(boundary, "tfi", spacing, orthogonal)
+                first_guess = fit_params(tfi_grid, spacing, base)[2]
+            g = fit_params(evaluate, spacing, base, first_guess)[1]
+        steps = evaluate.steps
     tell("quality", 0.9)
     cells = cell_arrays(g)
     walls = wall_figures(g, spacing, orthogonal)
-    return HexResult(g, cells, time.perf_counter() - start, evaluate.steps, walls)
+    return HexResult(g, cells, time.perf_counter() - start, steps, walls, model)
 
 
 def wall_figures(
@@ -265,7 +311,7 @@ def figures(cells: dict[str, np.ndarray]) -> dict[str, float]:
 
 def report(result: HexResult, method: str) -> dict:
     """What the grid's field data ``Report`` holds: method, size, cells, seconds, Picard
-    steps and :func:`figures` as ``quality``."""
+    steps, :func:`figures` as ``quality`` and the pinn's ``training`` (the trainer's info)."""
     return {
         "method": method,
         "size": list(result.grid.shape[:3]),
@@ -273,6 +319,7 @@ def report(result: HexResult, method: str) -> dict:
         "seconds": result.seconds,
         "iterations": result.iterations,
         "quality": figures(result.cells),
+        **({"training": result.model.info} if result.model else {}),
     }
 
 
@@ -290,26 +337,31 @@ def hexa_grid(result: HexResult, method: str) -> vtkStructuredGrid:
     fd = grid.GetFieldData()
     run = report(result, method)
     add_to_grid(grid, *patch_specs(None, sides=BOX_SIDES))
-    for name, texts in (("Method", [method]), ("Report", [json.dumps(run)])):
+    for name, texts in (("Method", [method]), ("Report", [json.dumps(run, default=float)])):
         array = vtkStringArray()
         array.SetName(name)
         for text in texts:
             array.InsertNextValue(text)
         fd.AddArray(array)
-    for name, value in run["quality"].items():
+    if result.model:  # what the network did, as io/vtkgrid.py writes it for 2D
+        training = result.model.info
+        numbers = {"LargestNodeMove": training["largest_node_move"] or 0.0}
+        texts = vtkStringArray()
+        texts.SetName("NetworkResult")
+        texts.InsertNextValue(training["result"])
+        fd.AddArray(texts)
+    else:
+        numbers = {}
+    for name, value in {**run["quality"], **numbers}.items():
         array = numpy_to_vtk(np.array([value], dtype=float), deep=True)
         array.SetName(name)
         fd.AddArray(array)
     return grid
 
 
-def write_vts(result: HexResult, out, method: str) -> None:
-    """The grid of :func:`hexa_grid` as a .vts file (complete or absent)."""
-    fileio.write_vts(hexa_grid(result, method), out)
-
-
 def summary(result: HexResult, method: str) -> str:
-    """One line: cells, folds, min ScaledJacobian, mean/worst MaxIncludedAngle, time."""
+    """One line: cells, folds, min ScaledJacobian, mean/worst MaxIncludedAngle, time, and
+    what the network did."""
     ni, nj, nk = result.grid.shape[:3]
     c = result.cells
     return (
@@ -323,4 +375,5 @@ def summary(result: HexResult, method: str) -> str:
             "of the normal"
             for patch, (low, high, angle) in result.walls.items()
         )
+        + (f"; {network_effect({'training': result.model.info})}" if result.model else "")
     )

@@ -2,7 +2,7 @@
 
 All terms are mean squares (the paper writes sums; a mean keeps the weights independent of
 the number of sampled points). Jets are (6, B, 2) tensors: channels of ``jet.V..ETAETA``
-for the x and y coordinates.
+for the x and y coordinates; the 3D residual's are (10, B, 3), channels of ``jet.nd``.
 """
 
 from __future__ import annotations
@@ -10,6 +10,7 @@ from __future__ import annotations
 import torch
 
 from pinn_engine.neural.jet import ETA, ETAETA, XI, XIETA, XIXI
+from pinn_engine.neural.jet.nd import pairs, second
 
 # loss_quality (``--objective quality``): the soft maximum's temperature, 0.0175 radians = 1 degree.
 # The log-sum-exp exceeds the largest angle by up to tau ln(corners) and weighs every corner within
@@ -53,6 +54,21 @@ def scaled_winslow_residual(
     a few points at a sharp feature dominate it and shrinking cells there lowers it)."""
     scale = (jet[XI].pow(2) + jet[ETA].pow(2)).sum(dim=-1, keepdim=True)  # alpha + gamma
     return winslow_residual(jet, controls) / scale.pow(1.5)
+
+
+def winslow_residual_3d(jet: torch.Tensor, scaled: bool = False) -> torch.Tensor:
+    """The 3D Winslow equations' residual sum_mn C_mn x_{xi_m xi_n} (B, 3) from a jet
+    (10, B, 3) of ``jet.nd``'s channels; C is the cofactor matrix of the metric tensor
+    g_mn = x_m . x_n, C_mn = (x_{m+1} x x_{m+2}) . (x_{n+1} x x_{n+2}) (indices mod 3;
+    hexa/volume.py's discrete equations). ``scaled``: divided by (sum_m |x_m|^2)^(5/2),
+    as :func:`scaled_winslow_residual` in 2D (the residual is of fifth order in lengths)."""
+    r = jet[1:4]
+    a = torch.stack([torch.linalg.cross(r[(m + 1) % 3], r[(m + 2) % 3]) for m in range(3)])
+    c = torch.einsum("mbk,nbk->mnb", a, a)
+    e = sum((1 if m == n else 2) * c[m, n, :, None] * jet[second(m, n, 3)] for m, n in pairs(3))
+    if scaled:
+        e = e / r.pow(2).sum(dim=(0, 2))[:, None].pow(2.5)
+    return e
 
 
 def loss_eqns(

@@ -44,13 +44,7 @@ class TrainedModel:
             "format": FORMAT,
             "version": __version__,
             "settings": self.settings.to_dict(),
-            "network": {
-                "kind": net.kind,
-                "hidden_layers": net.hidden_layers,
-                "neurons": net.neurons,
-                "activation": net.activation,
-            },
-            "state": {k: v.detach().cpu() for k, v in net.state_dict().items()},
+            **network_payload(net),
             "boundary": {
                 "ring": torch.as_tensor(b.ring),
                 "corners": list(b.corners),
@@ -76,20 +70,10 @@ class TrainedModel:
     def load(cls, path: str | os.PathLike, boundary: Boundary | None = None) -> TrainedModel:
         """Read a model; if ``boundary`` is given it must be the one the model was trained on."""
         src = str(path)
-        if not Path(path).is_file():
-            raise InputError("model file not found", src)
-        try:
-            payload = torch.load(path, map_location="cpu", weights_only=True)
-        except Exception as exc:  # torch raises many types for a damaged file
-            raise InputError(
-                f"not a readable pinn-mesh model ({type(exc).__name__})", src
-            ) from None
-        if not isinstance(payload, dict) or payload.get("format") != FORMAT:
-            raise InputError(f"not a pinn-mesh model of format {FORMAT}", src)
+        payload = read_payload(path, FORMAT)
         try:
             settings = _settings_of(payload["settings"])
-            net = CoordinateNet(**payload["network"])
-            net.load_state_dict(payload["state"])
+            net = network_from(payload)
             bd = payload["boundary"]
             plane = (
                 Plane(bd["plane_origin"].numpy(), bd["plane_axes"].numpy())
@@ -129,13 +113,50 @@ class TrainedModel:
             if not same:
                 raise InputError("model was trained for a different boundary", src)
             saved = dataclasses.replace(saved, source=boundary.source, plane=boundary.plane)
-        net = net.to(torch.float64)
         return cls(
             Mapping(net, saved, settings.boundary_mode, warm),
             settings,
             payload["history"],
             payload["info"],
         )
+
+
+def network_payload(net: CoordinateNet) -> dict:
+    """The network's part of a saved model: its shape and weights."""
+    return {
+        "network": {
+            "kind": net.kind,
+            "hidden_layers": net.hidden_layers,
+            "neurons": net.neurons,
+            "activation": net.activation,
+            "outputs": net.outputs,
+            "inputs": net.inputs,
+        },
+        "state": {k: v.detach().cpu() for k, v in net.state_dict().items()},
+    }
+
+
+def network_from(payload: dict) -> CoordinateNet:
+    """The float64 network of a saved model's :func:`network_payload` (models written before
+    3D name neither inputs nor outputs: two each)."""
+    net = CoordinateNet(**payload["network"])
+    net.load_state_dict(payload["state"])
+    return net.to(torch.float64)
+
+
+def read_payload(path: str | os.PathLike, fmt: str) -> dict:
+    """The dictionary of a model file of format ``fmt``; a missing, unreadable or other
+    file is a one-line :class:`InputError`."""
+    src = str(path)
+    if not Path(path).is_file():
+        raise InputError("model file not found", src)
+    try:
+        payload = torch.load(path, map_location="cpu", weights_only=True)
+    except Exception as exc:  # torch raises many types for a damaged file
+        raise InputError(f"not a readable pinn-mesh model ({type(exc).__name__})", src) from None
+    if not isinstance(payload, dict) or payload.get("format") != fmt:
+        raise InputError(f"not a pinn-mesh model of format {fmt}", src)
+    return payload
 
 
 def _settings_of(saved: dict) -> Settings:

@@ -1,9 +1,10 @@
-"""The two coordinate sub-networks (paper section 3.3) as one batched module.
+"""The coordinate sub-networks (paper section 3.3) as one batched module.
 
-Each sub-network maps (xi, eta) to one physical coordinate. Their parameters are stacked
-along a leading axis of size 2 (x-net, y-net), so both evaluate in one batched matmul while
-staying independent networks. ``jet`` gives values with first and second derivatives in one
-forward pass (pinn_engine.neural.jet).
+Each sub-network maps the computational coordinates ((xi, eta), or (xi, eta, zeta) for a
+hexahedral block) to one physical coordinate. Their parameters are stacked along a leading
+axis (x-net, y-net[, z-net]), so all evaluate in one batched matmul while staying
+independent networks. ``jet`` gives values with first and second derivatives in one forward
+pass for two inputs (pinn_engine.neural.jet); ``jet.nd`` does it for any number.
 """
 
 from __future__ import annotations
@@ -17,7 +18,8 @@ from pinn_engine.neural.jet.layers import ACTIVATIONS, NetworkJet
 
 
 class CoordinateNet(nn.Module):
-    """Two sub-networks (x and y), each a shortcut network (paper eq. 14) or a plain MLP.
+    """One sub-network per output coordinate (``outputs``: x and y, or x, y and z), each a
+    shortcut network (paper eq. 14) or a plain MLP of ``inputs`` computational coordinates.
 
     ``kind="shortcut"`` is the "modified MLP" of Wang, Teng and Perdikaris (2020): encoders
     U and V of the input gate every hidden layer point-wise. ``hidden_layers`` counts the
@@ -32,6 +34,7 @@ class CoordinateNet(nn.Module):
         neurons: int = 30,
         activation: str = "tanh",
         outputs: int = 2,
+        inputs: int = 2,
     ) -> None:
         super().__init__()
         if kind not in ("shortcut", "mlp"):
@@ -42,7 +45,8 @@ class CoordinateNet(nn.Module):
             )
         self.kind, self.activation = kind, activation
         self.hidden_layers, self.neurons = hidden_layers, neurons
-        n, k = neurons, outputs
+        self.inputs, self.outputs = inputs, outputs
+        n, k, d = neurons, outputs, inputs
 
         def weight(*shape: int) -> nn.Parameter:
             fan_in, fan_out = shape[-2], shape[-1]
@@ -52,10 +56,10 @@ class CoordinateNet(nn.Module):
         def bias(*shape: int) -> nn.Parameter:
             return nn.Parameter(torch.zeros(*shape, dtype=torch.float64))
 
-        self.w_in, self.b_in = weight(k, 2, n), bias(k, 1, n)
+        self.w_in, self.b_in = weight(k, d, n), bias(k, 1, n)
         if kind == "shortcut":
-            self.w_u, self.b_u = weight(k, 2, n), bias(k, 1, n)
-            self.w_v, self.b_v = weight(k, 2, n), bias(k, 1, n)
+            self.w_u, self.b_u = weight(k, d, n), bias(k, 1, n)
+            self.w_v, self.b_v = weight(k, d, n), bias(k, 1, n)
         self.w_hidden = nn.ParameterList([weight(k, n, n) for _ in range(hidden_layers - 1)])
         self.b_hidden = nn.ParameterList([bias(k, 1, n) for _ in range(hidden_layers - 1)])
         self.w_out, self.b_out = weight(k, n, 1), bias(k, 1, 1)
@@ -66,7 +70,7 @@ class CoordinateNet(nn.Module):
         return [self.w_in, *self.w_hidden, self.w_out]
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
-        """(B, 2) computational coordinates -> (B, 2) outputs, one per sub-network."""
+        """(B, inputs) computational coordinates -> (B, outputs), one per sub-network."""
         act = ACTIVATIONS[self.activation]
         xk = x.unsqueeze(0).expand(len(self.w_in), -1, -1)
         h = act(torch.baddbmm(self.b_in, xk, self.w_in))  # H1 = sigma(W1 x + b1)
@@ -93,7 +97,7 @@ class CoordinateNet(nn.Module):
         self, x: torch.Tensor, extra: torch.Tensor | None = None
     ) -> tuple[torch.Tensor, torch.Tensor]:
         """Jet (6, B, 2) at ``x`` (channels ``V..ETAETA``) and plain values (B', 2) at the
-        ``extra`` points, all in one pass."""
+        ``extra`` points, all in one pass (two inputs; ``jet.nd.network_jet`` for more)."""
         extra = x[:0] if extra is None else extra
         return NetworkJet.apply(self.kind, self.activation, x, extra, *self.jet_params())
 

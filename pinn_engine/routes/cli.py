@@ -402,12 +402,7 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     finally:
         progress.close()
     if args.save_model:
-        try:
-            Path(args.save_model).parent.mkdir(parents=True, exist_ok=True)
-            outcome.mesher.save(args.save_model)
-        except (OSError, RuntimeError) as exc:
-            raise PinnMeshError(f"{args.save_model}: cannot save the model ({exc})") from None
-        written.append(Path(args.save_model))
+        _save_model(outcome.mesher, args.save_model, written)
     if not args.quiet:
         _summary(outcome.result, settings, ni, nj, time.perf_counter() - start)
 
@@ -423,6 +418,16 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
 
     source = name if body else args.boundary
     return _write_outputs(args, outcome, out, written, source, picture)
+
+
+def _save_model(model, path: str, written: list[Path]) -> None:
+    """``model.save(path)`` (a fitted mesher or a hexahedral pinn), its folder made."""
+    try:
+        Path(path).parent.mkdir(parents=True, exist_ok=True)
+        model.save(path)
+    except (OSError, RuntimeError) as exc:
+        raise PinnMeshError(f"{path}: cannot save the model ({exc})") from None
+    written.append(Path(path))
 
 
 def _run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
@@ -442,7 +447,7 @@ def _run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
 
     defaults = vars(build_parser().parse_args([]))
     allowed = {"boundary", "method", "size", "output", "quiet", "format", "patch"}
-    allowed |= {"spacing", "orthogonal", "report"}
+    allowed |= {"spacing", "orthogonal", "report", "save_model", "load_model"}
     flags = _flags()
     for name, value in vars(args).items():
         if name not in allowed and value != defaults.get(name):
@@ -460,8 +465,21 @@ def _run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
     out = Path(args.output or f"out/{Path(args.boundary).stem}_{method}{suffix}")
     export.output_format(out, args.format)  # refused before meshing
     export.patch_specs(args.patch or None, sides=export.BOX_SIDES)  # as are the patches
+    if (args.save_model or args.load_model) and method != "pinn":
+        raise PinnMeshError(
+            f"--method {method} trains no network: --save-model and --load-model are pinn's"
+        )
     spacing, orthogonal = parse_patches(args.spacing, [args.orthogonal] if args.orthogonal else [])
-    result = mesh_surface(args.boundary, size, method, spacing=spacing, orthogonal=orthogonal)
+    result = mesh_surface(
+        args.boundary,
+        size,
+        method,
+        spacing=spacing,
+        orthogonal=orthogonal,
+        load_model=args.load_model,
+    )
+    if args.save_model:
+        _save_model(result.model, args.save_model, written)
     export.write(hexa_grid(result, method), out, args.format, patches=args.patch or None)
     written.append(out)
     run = report(result, method)

@@ -31,13 +31,14 @@ from pinn_engine.starts.orthogonal import orthogonal_grid
 MAX_LATTICE_NODES = 161 * 81
 
 
-def lattice_for(ni: int, nj: int) -> tuple[int, int]:
-    """The warm start's lattice for an ``ni`` x ``nj`` grid: the grid itself up to about
-    ``MAX_LATTICE_NODES`` nodes, else a coarser one with the same ratio of cells per side."""
-    if ni * nj <= MAX_LATTICE_NODES:
-        return ni, nj
-    scale = math.sqrt(MAX_LATTICE_NODES / (ni * nj))
-    return max(2, int((ni - 1) * scale) + 1), max(2, int((nj - 1) * scale) + 1)
+def lattice_for(*nodes: int, most: int = MAX_LATTICE_NODES) -> tuple[int, ...]:
+    """The warm start's lattice for a grid of ``nodes`` per direction (ni, nj or ni, nj, nk):
+    the grid itself up to about ``most`` nodes, else a coarser one with the same ratio of
+    cells per side."""
+    if math.prod(nodes) <= most:
+        return tuple(nodes)
+    scale = (most / math.prod(nodes)) ** (1 / len(nodes))
+    return tuple(max(2, int((n - 1) * scale) + 1) for n in nodes)
 
 
 def _finite(grid: np.ndarray) -> np.ndarray:

@@ -20,7 +20,7 @@ FIRST = ((XI, 0), (ETA, 1))
 SECOND = ((XIXI, XI, XI), (XIETA, XI, ETA), (ETAETA, ETA, ETA))
 
 
-def _activation(name: str, z: torch.Tensor) -> tuple[torch.Tensor, ...]:
+def activation_derivatives(name: str, z: torch.Tensor) -> tuple[torch.Tensor, ...]:
     """sigma(z) and its first three derivatives."""
     if name == "tanh":
         s = torch.tanh(z)
@@ -77,7 +77,7 @@ def _leibniz_backward(u: Jet, w: Jet, g: Jet) -> tuple[Jet, Jet]:
 
 def _activation_forward(name: str, z: Jet) -> tuple[Jet, tuple]:
     """Chain rule for a point-wise activation on a jet; also returns what backward needs."""
-    s, d1, d2, d3 = _activation(name, z[V])
+    s, d1, d2, d3 = activation_derivatives(name, z[V])
     out = (
         s,
         d1 * z[1],
@@ -166,7 +166,7 @@ class _TorchLayers:
     ) -> tuple[torch.Tensor, tuple]:
         z_jet, z_extra = _channels(z, n_jet)
         a, saved = _activation_forward(name, z_jet)
-        s, d1 = _activation(name, z_extra)[:2]
+        s, d1 = activation_derivatives(name, z_extra)[:2]
         if u is None:
             return _rows(a, s), (n_jet, saved, d1, None, None)
         (u_jet, u_extra), (w_jet, w_extra) = _channels(u, n_jet), _channels(diff, n_jet)

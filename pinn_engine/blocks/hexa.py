@@ -1,0 +1,266 @@
+"""The hexahedral block kind (SPEC 11, issue 25): the pinn of a six-faced 3D domain.
+
+Its map (xi, eta, zeta) -> (x, y, z) on the unit cube is the 3D TFI of the six face grids,
+plus the start's correction D (hexa/field.py, zero on the faces), plus a bubble times three
+coordinate sub-networks (neural/networks.py): the faces are built in (hard boundary, as
+neural/mapping.py in 2D). The start is the converged 3D Winslow grid on the same boundary
+nodes (the output layer starts at zero, so the map starts as that grid), the loss the 3D
+Winslow residual (losses.winslow_residual_3d) at random points, and the guard keeps the last
+L-BFGS state no worse than the start by blocks/quad.py's ``GUARD_TOL``, else the start: the
+grid is never worse than the Winslow grid by more than those tolerances. The trainer
+(neural/trainer.py) knows nothing of the third dimension.
+"""
+
+from __future__ import annotations
+
+import copy
+import os
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import torch
+
+from pinn_engine import __version__
+from pinn_engine.blocks.quad import GUARD_TOL
+from pinn_engine.errors import InputError
+from pinn_engine.hexa import quality, volume
+from pinn_engine.hexa.field import LatticeField, node_points
+from pinn_engine.io.fileio import atomic_path
+from pinn_engine.neural.jet import nd
+from pinn_engine.neural.losses import winslow_residual_3d
+from pinn_engine.neural.model import network_from, network_payload, read_payload
+from pinn_engine.neural.networks import CoordinateNet
+from pinn_engine.neural.trainer import (
+    AutogradEvaluation,
+    Guard,
+    Progress,
+    fit,
+    pick_device,
+    training_process,
+)
+from pinn_engine.quality import no_worse
+from pinn_engine.settings import Settings
+from pinn_engine.starts.warmstart import lattice_for
+
+DIMENSIONS = 3  # the block's computational coordinates, and its physical ones
+FORMAT = "pinn-mesh-hexa-model/1"  # a saved hexahedral model (neural/model.py's is 2D)
+GRID_CHUNK = 1 << 14  # nodes per forward pass when a grid is evaluated (bounds its memory)
+# The Winslow start is solved on at most this many nodes (a coarser lattice of the same
+# shape above, starts/warmstart.py, and the map evaluated finer): its sparse LU grows fast
+# (docs/hexa.md: 0.8 and 1.8 s at 21^3, 66 and 165 s and 2.5 GB at 41^3). At 41^3 from the
+# 21^3 lattice the pinn grid's mean and worst MaxIncludedAngle were +0.04 and -2.01 deg from
+# the 41^3 Winslow grid's on the bump box, +0.23 and +0.02 on the bend.
+MAX_LATTICE_NODES = 21**3
+# The 3D default's settings where they differ from the 2D ones (settings.py): 20 L-BFGS
+# iterations, not 120. On the bump box at 21^3 the residual falls from the Winslow start by
+# a quarter in 20 and a third in 120, and the grids differ little (mean and worst
+# MaxIncludedAngle +0.009 and +0.07 deg over the Winslow grid's after 20, +0.019 and +0.13
+# after 120), while each iteration costs about 40 ms here (400 points, ten jet channels).
+HEXA_SETTINGS = {"lbfgs_iterations": 20}
+
+
+def bubble_jet(x: torch.Tensor) -> nd.Jet:
+    """Jet of B = prod_m 4 xi_m (1 - xi_m) at points ``x`` (B, 3), each channel (B, 1): zero
+    on the cube's faces."""
+    p = 4 * x * (1 - x)
+    dp = 4 - 8 * x
+    value = p.prod(dim=1, keepdim=True)
+    others = [p[:, [n for n in range(DIMENSIONS) if n != m]].prod(dim=1) for m in range(DIMENSIONS)]
+    first = [(dp[:, m] * others[m])[:, None] for m in range(DIMENSIONS)]
+    mixed = []
+    for m, n in nd.pairs(DIMENSIONS):
+        if m == n:
+            mixed.append((-8 * others[m])[:, None])
+        else:
+            rest = 3 - m - n  # the third direction
+            mixed.append((dp[:, m] * dp[:, n] * p[:, rest])[:, None])
+    return [value, *first, *mixed]
+
+
+def _bubble(x: np.ndarray) -> np.ndarray:
+    """B = prod_m 4 xi_m (1 - xi_m) at points ``x`` (B, 3), shape (B, 1)."""
+    return np.prod(4 * x * (1 - x), axis=1, keepdims=True)
+
+
+def _orders() -> list[tuple[int, int, int]]:
+    """The derivative orders of ``jet.nd``'s channels for three inputs."""
+    unit = np.eye(DIMENSIONS, dtype=int)
+    first = [tuple(unit[m]) for m in range(DIMENSIONS)]
+    return [(0, 0, 0), *first, *(tuple(unit[m] + unit[n]) for m, n in nd.pairs(DIMENSIONS))]
+
+
+@dataclass
+class HexaModel:
+    """The trained map: TFI of the face grids + correction + bubble * network; with the
+    settings, loss history and training info, and the key of the surface it was trained on."""
+
+    net: CoordinateNet
+    correction: LatticeField
+    settings: Settings
+    history: dict[str, list[float]]
+    info: dict
+    surface_key: str
+
+    def grid(self, tfi: np.ndarray) -> np.ndarray:
+        """The grid (ni, nj, nk, 3) whose faces are those of ``tfi`` (the 3D TFI of the face
+        grids at the wanted size): one forward pass, no training. The network runs in float32
+        (node positions need ~1e-7 of the domain); the base, so the faces, stays float64."""
+        shape = tfi.shape[:3]
+        x = node_points(shape).reshape(-1, DIMENSIONS)
+        p = next(self.net.parameters())
+        net = copy.deepcopy(self.net).float() if p.dtype != torch.float32 else self.net
+        out = np.empty_like(x)
+        with torch.no_grad():
+            for start in range(0, len(x), GRID_CHUNK):
+                at = x[start : start + GRID_CHUNK]
+                y = net(torch.as_tensor(at, dtype=torch.float32, device=p.device))
+                out[start : start + GRID_CHUNK] = _bubble(at) * y.cpu().numpy()
+        return tfi + self.correction.at_nodes(shape) + out.reshape(tfi.shape)
+
+    def save(self, path: str | os.PathLike) -> None:
+        """Write the model (weights, settings, correction, history) to ``path`` atomically."""
+        payload = {
+            "format": FORMAT,
+            "version": __version__,
+            "settings": self.settings.to_dict(),
+            **network_payload(self.net),
+            "correction": torch.as_tensor(self.correction.values),
+            "surface_key": self.surface_key,
+            "history": self.history,
+            "info": self.info,
+        }
+        with atomic_path(path) as tmp:
+            torch.save(payload, tmp)
+
+    @classmethod
+    def load(cls, path: str | os.PathLike, surface_key: str) -> HexaModel:
+        """Read a model; it must have been trained on the surface of ``surface_key``."""
+        payload = read_payload(path, FORMAT)
+        try:
+            settings = Settings(**payload["settings"])
+            net = network_from(payload)
+            correction = LatticeField(payload["correction"].numpy())
+            saved_key = payload["surface_key"]
+        except (KeyError, TypeError, RuntimeError, ValueError) as exc:
+            raise InputError(f"damaged or incompatible model ({exc})", str(path)) from None
+        if saved_key != surface_key:
+            raise InputError(
+                "model was trained for a different surface; save one for this surface "
+                "with --save-model",
+                str(path),
+            )
+        return cls(net, correction, settings, payload["history"], payload["info"], saved_key)
+
+
+class HexaProblem:
+    """Random points in the unit cube with the start's jet there, as tensors on the training
+    device; the one loss term is the 3D Winslow residual's mean square."""
+
+    def __init__(
+        self,
+        net: CoordinateNet,
+        start: LatticeField,
+        settings: Settings,
+        dtype: torch.dtype,
+        device: torch.device,
+    ) -> None:
+        self.net, self.start, self.settings = net, start, settings
+        self.dtype, self.device = dtype, device
+        self.anneals = False  # the boundary is built in: no boundary term to weigh
+        self.rng = np.random.default_rng(settings.seed)
+        self.orders = _orders()
+
+    def sample(self, n: int) -> tuple[torch.Tensor, torch.Tensor]:
+        """``n`` uniform random points and the start's jet (10, n, 3) there."""
+        x = self.rng.random((n, DIMENSIONS))
+        base = self.start.jet(x, self.orders)
+        return (
+            torch.as_tensor(x, dtype=self.dtype, device=self.device),
+            torch.as_tensor(base, dtype=self.dtype, device=self.device),
+        )
+
+    def epoch_batch(self, epoch: int) -> tuple:
+        """The points of one Adam epoch."""
+        return self.sample(self.settings.batch_size)
+
+    def lbfgs_batch(self) -> tuple:
+        """L-BFGS's fixed batch."""
+        return self.sample(self.settings.lbfgs_points)
+
+    def weights(self, lambda1: float) -> dict[str, float]:
+        """No weighted terms: the residual is the loss."""
+        return {}
+
+    def terms(self, x: torch.Tensor, base: torch.Tensor) -> dict[str, torch.Tensor]:
+        """The Winslow term at ``x``: the map's jet is the start's plus the bubble's times
+        the network's (Leibniz rule)."""
+        net_jet = nd.network_jet(self.net, x)
+        jet = base + torch.stack(nd.product(bubble_jet(x), list(net_jet), DIMENSIONS))
+        residual = winslow_residual_3d(jet, self.settings.residual == "scaled")
+        return {"eqns": residual.pow(2).sum(dim=-1).mean()}
+
+    def loss(self, terms: dict[str, torch.Tensor], lambda1: float) -> torch.Tensor:
+        return terms["eqns"]
+
+    def evaluate(self, batch: tuple) -> AutogradEvaluation:
+        return AutogradEvaluation(self, batch)
+
+
+def guard_figures(g: np.ndarray) -> dict[str, float]:
+    """Mean and worst MaxIncludedAngle and folded cells of a hexahedral grid (the keys of
+    quality.no_worse)."""
+    largest = quality.included_angles(g)[0]
+    return {
+        "mean_max_angle": float(largest.mean()),
+        "worst_max_angle": float(largest.max()),
+        "folded_cells": int(quality.folded(g).sum()),
+    }
+
+
+def train(
+    tfi_of: Callable[[tuple[int, ...]], np.ndarray],
+    size: tuple[int, int, int],
+    surface_key: str,
+    settings: Settings | None = None,
+    progress: Progress | None = None,
+) -> HexaModel:
+    """Train the network for a grid of ``size`` nodes from the converged Winslow grid on the
+    lattice (``lattice_for``), under the guard; ``tfi_of(shape)`` is the 3D TFI of the face
+    grids with ``shape`` nodes; ``settings`` default to ``HEXA_SETTINGS`` over Settings'
+    defaults; ``progress`` is the trainer's callback (neural/trainer.py)."""
+    settings = settings or Settings(**HEXA_SETTINGS)
+    dtype = {"float64": torch.float64, "float32": torch.float32}[settings.dtype]
+    device = pick_device(settings.device)
+    coarse = lattice_for(*size, most=MAX_LATTICE_NODES)
+    # at least 3 nodes a direction, as the grid has: the Winslow start needs an interior
+    tfi = tfi_of(tuple(max(m, min(n, 3)) for m, n in zip(coarse, size, strict=True)))
+    start, _ = volume.winslow(tfi)
+    correction = LatticeField(start - tfi)
+    with training_process(device):
+        torch.manual_seed(settings.seed)
+        net = CoordinateNet(
+            "shortcut",
+            settings.hidden_layers,
+            settings.neurons,
+            settings.activation,
+            outputs=DIMENSIONS,
+            inputs=DIMENSIONS,
+        ).to(device=device, dtype=dtype)
+        with torch.no_grad():  # the map starts as the Winslow grid
+            net.w_out.zero_()
+        model = HexaModel(net, correction, settings, {}, {}, surface_key)
+        problem = HexaProblem(net, LatticeField(start), settings, dtype, device)
+        reference = guard_figures(start)
+        diagonal = float(np.linalg.norm(np.ptp(tfi.reshape(-1, DIMENSIONS), axis=0)))
+        guard = Guard(
+            net,
+            lambda: model.grid(tfi),
+            guard_figures,
+            lambda q, kept: no_worse(q, reference, *GUARD_TOL[False]),
+            reference,
+            diagonal,
+        )
+        model.history, model.info = fit(problem, settings, guard, progress)
+    model.info.update(device=str(device), start="elliptic", elliptic=reference)
+    return model

@@ -1,0 +1,138 @@
+"""The pinn of six-faced 3D domains (SPEC 11, issue 25 item 3): the 3D Winslow residual and
+the network's jets, the grid within the bounds of the converged Winslow grid, right-handed,
+and a saved model evaluated finer with its faces on the surface."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import pyvista as pv
+import torch
+from conftest import ROOT
+
+from pinn_engine.blocks import hexa
+from pinn_engine.hexa import volume
+from pinn_engine.hexa.field import node_points
+from pinn_engine.hexa.mesh import mesh_surface
+from pinn_engine.neural.jet import nd
+from pinn_engine.neural.losses import winslow_residual_3d
+from pinn_engine.neural.networks import CoordinateNet
+from pinn_engine.routes.cli import main
+
+DATA = ROOT / "example_data"
+EXAMPLES = ("hexa_bump_box.vtp", "hexa_bend.vtp")
+SIZE = (9, 9, 9)
+FINER = (13, 11, 15)  # unequal: a swapped direction in the evaluation shows as a shape error
+BOUNDS = (0.5, 2.0)  # issue 25: mean and worst MaxIncludedAngle above the Winslow grid's
+ON_SURFACE = 1e-6  # SPEC 11: boundary nodes within 1e-6 of the surface's diagonal
+
+
+def _quadratic(x: np.ndarray) -> np.ndarray:
+    """A curved map of the unit cube whose central differences are exact."""
+    a, b, c = x[..., 0], x[..., 1], x[..., 2]
+    return np.stack([2 * a + 0.3 * b * c + 0.2 * a * a, b + 0.4 * a * b, c - 0.3 * a * a], -1)
+
+
+def _jet_of_quadratic(x: np.ndarray) -> torch.Tensor:
+    """Its jet (10, B, 3) in ``jet.nd``'s channels, by autograd."""
+    t = torch.as_tensor(x, dtype=torch.float64).requires_grad_(True)
+    a, b, c = t.unbind(1)
+    out = torch.stack([2 * a + 0.3 * b * c + 0.2 * a * a, b + 0.4 * a * b, c - 0.3 * a * a], 1)
+    channels = [[out[:, k]] for k in range(3)]
+    for k in range(3):
+        g = torch.autograd.grad(out[:, k].sum(), t, create_graph=True)[0]
+        channels[k] += list(g.unbind(1))
+        for m, n in nd.pairs(3):
+            channels[k].append(torch.autograd.grad(g[:, m].sum(), t, retain_graph=True)[0][:, n])
+    return torch.stack([torch.stack(c) for c in channels], -1).detach()
+
+
+def test_3d_residual_is_the_discrete_winslow_operator():
+    n = 7
+    h = 1.0 / (n - 1)
+    g = _quadratic(node_points((n, n, n)))
+    mat, rhs = volume.stencil_matrix(g)
+    discrete = (mat @ g[1:-1, 1:-1, 1:-1].reshape(-1, 3) - rhs).reshape(n - 2, n - 2, n - 2, 3)
+    inner = node_points((n, n, n))[1:-1, 1:-1, 1:-1].reshape(-1, 3)
+    continuous = winslow_residual_3d(_jet_of_quadratic(inner)).numpy()
+    # in index units a first derivative is h times the unit cube's, C is quartic in them
+    np.testing.assert_allclose(discrete.reshape(-1, 3), continuous * h**6, atol=1e-12)
+    assert np.abs(continuous).max() > 1e-2  # the map is not a Winslow map: the check can fail
+
+
+def test_network_jet_matches_autograd():
+    torch.manual_seed(1)
+    net = CoordinateNet("shortcut", 3, 8, "tanh", outputs=3, inputs=3).double()
+    x = torch.rand(6, 3, dtype=torch.float64, requires_grad=True)
+    jet = nd.network_jet(net, x)
+    out = net(x)
+    for k in range(3):
+        g = torch.autograd.grad(out[:, k].sum(), x, create_graph=True)[0]
+        torch.testing.assert_close(jet[1:4, :, k], g.T)
+        for m, n in nd.pairs(3):
+            second = torch.autograd.grad(g[:, m].sum(), x, retain_graph=True)[0][:, n]
+            torch.testing.assert_close(jet[nd.second(m, n, 3), :, k], second)
+    bubble = hexa.bubble_jet(x)
+    value = (4 * x * (1 - x)).prod(dim=1)
+    g = torch.autograd.grad(value.sum(), x, create_graph=True)[0]
+    torch.testing.assert_close(torch.cat(bubble[1:4], dim=1), g)
+    second = torch.autograd.grad(g[:, 0].sum(), x)[0][:, 2]
+    torch.testing.assert_close(bubble[nd.second(0, 2, 3)][:, 0], second)
+
+
+@pytest.fixture(scope="module", params=EXAMPLES)
+def pinn_and_elliptic(request):
+    path = str(DATA / request.param)
+    return mesh_surface(path, SIZE, "pinn"), mesh_surface(path, SIZE, "elliptic")
+
+
+def test_pinn_is_within_the_bounds_of_the_winslow_grid(pinn_and_elliptic):
+    pinn, elliptic = pinn_and_elliptic
+    assert pinn.cells["Folded"].sum() == 0
+    a, b = pinn.cells["MaxIncludedAngle"], elliptic.cells["MaxIncludedAngle"]
+    assert a.mean() <= b.mean() + BOUNDS[0] and a.max() <= b.max() + BOUNDS[1]
+    interior = (slice(1, -1),) * 3
+    assert not np.allclose(pinn.grid[interior], elliptic.grid[interior], atol=0, rtol=1e-9)
+    np.testing.assert_array_equal(pinn.grid[0], elliptic.grid[0])  # the same face nodes
+
+
+def test_pinn_grid_is_right_handed(pinn_and_elliptic):
+    pinn, _ = pinn_and_elliptic
+    assert pinn.cells["ScaledJacobian"].min() > 0.5
+    g = pinn.grid
+    leaving = np.array([g[1, 0, 0], g[0, 1, 0], g[0, 0, 1]]) - g[0, 0, 0]
+    assert np.linalg.det(leaving) > 0
+
+
+@pytest.fixture(scope="module")
+def saved_model(tmp_path_factory) -> str:
+    """A pinn model of the bump box at ``SIZE``, saved by the command line."""
+    folder = tmp_path_factory.mktemp("model")
+    model = folder / "m" / "bump.pt"  # a folder to be made
+    argv = [str(DATA / "hexa_bump_box.vtp"), "--size", *map(str, SIZE)]
+    assert main([*argv, "--save-model", str(model), "--quiet", "-o", str(folder / "a.vts")]) == 0
+    return str(model)
+
+
+def test_saved_model_evaluates_finer_with_faces_on_the_surface(saved_model, tmp_path, capsys):
+    surface, out = DATA / "hexa_bump_box.vtp", tmp_path / "fine.vts"
+    argv = [str(surface), "--size", *map(str, FINER), "--load-model", saved_model]
+    assert main([*argv, "-o", str(out)]) == 0
+    assert "pinn 13x11x15 hexahedral grid" in capsys.readouterr().out
+    grid = pv.read(out)
+    assert tuple(grid.dimensions) == FINER and grid.cell_data["Folded"].sum() == 0
+    assert grid.field_data["NetworkResult"][0] in ("network", "start")
+    g = np.asarray(grid.points).reshape(*FINER[::-1], 3).transpose(2, 1, 0, 3)
+    faces = [g[0], g[-1], g[:, 0], g[:, -1], g[:, :, 0], g[:, :, -1]]
+    nodes = np.concatenate([f.reshape(-1, 3) for f in faces])
+    mesh = pv.read(surface)
+    _, closest = mesh.find_closest_cell(nodes, return_closest_point=True)
+    assert np.linalg.norm(nodes - closest, axis=1).max() < ON_SURFACE * mesh.length
+
+
+def test_a_model_of_another_surface_or_method_is_refused(saved_model, tmp_path, capsys):
+    bend, out = str(DATA / "hexa_bend.vtp"), tmp_path / "b.vts"
+    assert main([bend, "--load-model", saved_model, "-o", str(out)]) == 2
+    assert "trained for a different surface" in capsys.readouterr().err and not out.exists()
+    assert main([bend, "--method", "tfi", "--load-model", saved_model, "-o", str(out)]) == 2
+    assert "--method tfi trains no network" in capsys.readouterr().err and not out.exists()
