@@ -43,7 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from pinn_engine.bodies.airfoil import SHARP_GAP, Body, FarField
+from pinn_engine.bodies.airfoil import Body, FarField
 from pinn_engine.classical.spacing import exact_stretch
 from pinn_engine.errors import InputError
 
@@ -89,6 +89,16 @@ ROW_SMOOTHING_MAX = 0.5
 SUBSTEP = 0.5
 MAX_SUBSTEPS = 40
 MARCH_PASSES = 2
+# A blunt C-grid's cut leaves the base's middle, where the wall line turns 90 degrees each way into
+# the cut: two concave corners whose marched lines would cross within the base's height. Within
+# CORNER_REACH half-base heights of the middle the normals and rows are smoothed at full weight from
+# the wall on (the ramp with distance and the wake's straight columns give way there), so that the
+# normals splay around the corners and the rows' nodes slide apart, as hyperbolic generators raise
+# their smoothing at concave corners (6: with first layers of 1e-5 chord, the marched grids of the
+# 0.7 % and 0.25 % bases of benchmarks/airfoils.py at 350 x 100 and 250 x 64 have no fold from 4 on,
+# at 2 and below they fold; not enough where the first layer or the base's intervals are coarse:
+# there :func:`layout` refuses the C-grid in one line).
+CORNER_REACH = 6.0
 # C-grid: behind the thickest point the columns turn vertical within 0.02 chords of the wall (the
 # aft normals lean downstream and would overtake the wake's columns), half way at the thickest
 # point, fully at the trailing edge (REAR_TURN_START of the turn).
@@ -250,7 +260,7 @@ def _smooth_row(q: np.ndarray, eps, topology: str) -> np.ndarray:
     return out
 
 
-def _smooth_normals(n: np.ndarray, eps: float, topology: str) -> np.ndarray:
+def _smooth_normals(n: np.ndarray, eps, topology: str) -> np.ndarray:
     m = _smooth_row(n, eps, topology)
     if topology == "c":
         m[0], m[-1] = n[0], n[-1]
@@ -277,14 +287,20 @@ def march(
     n_wake: int = 0,
     passes: int = MARCH_PASSES,
     tangent: float = 0.0,
+    base: float = 0.0,
 ) -> np.ndarray:
     """Rows marched from ``inner`` along their own normals by the steps of ``distances``
-    (nj,): the wall-orthogonal reference grid (nj, ni, 2). Each new row is smoothed along
-    itself, lightly near the wall and more farther out (relative to ``scale``, the chord) and
-    where it has shrunk (lines converging off a concave wall), then its nodes are put back at
-    the arc-length shares of the row below, so that they stay in order."""
+    (nj,): the wall-orthogonal reference grid (nj, ni, 2). The normals are smoothed along
+    the row, and each new row along itself, lightly near the wall and more farther out
+    (relative to ``scale``, the chord) and where it has shrunk (lines converging off a
+    concave wall); at full weight from the wall on around a blunt C-grid's base of length
+    ``base`` (see ``CORNER_REACH``)."""
     rows = [inner]
     spacing0 = _row_spacing(inner, topology)
+    corner = np.zeros((len(inner), 1), dtype=bool)
+    if topology == "c" and base > 0:  # the nodes the base's concave corners reach
+        reach = np.linalg.norm(inner - inner[n_wake], axis=1) < CORNER_REACH * base / 2
+        corner = reach[:, None]
     rear = None
     if topology == "c":
         # behind the thickest point the C-grid's columns turn straight down (lower side)
@@ -319,16 +335,18 @@ def march(
             grow = 1 - math.exp(-d / (NORMAL_REACH * scale))
             n = _row_normals(q, topology)
             for _ in range(passes):
-                n = _smooth_normals(n, NORMAL_SMOOTHING * grow, topology)
+                n = _smooth_normals(n, NORMAL_SMOOTHING * np.where(corner, 1.0, grow), topology)
             if rear is not None:
                 turn = rear * min(1.0, (d - distances[1]) / (REAR_TURN * scale))
                 n = (1 - turn) * n + turn * vertical
                 n /= np.linalg.norm(n, axis=1, keepdims=True)
             q = q + (step / subs) * n
             shrink = np.clip(1 - _row_spacing(q, topology) / spacing0, 0.0, 1.0)
-            eps = grow * np.minimum(ROW_SMOOTHING_MAX, CONCAVE_SMOOTHING * shrink)[:, None]
+            eps = np.minimum(ROW_SMOOTHING_MAX, CONCAVE_SMOOTHING * shrink)[:, None]
+            ramped = grow * eps
             if topology == "c":  # the wake's columns run straight: no sliding along rows
-                eps[:n_wake] = eps[len(q) - n_wake :] = 0.0
+                ramped[:n_wake] = ramped[len(q) - n_wake :] = 0.0
+            eps = np.where(corner, eps, ramped)
             for _ in range(passes):
                 q = _smooth_row(q, eps, topology)
                 target = _smooth_row(q, tangent * grow, topology)
@@ -367,13 +385,6 @@ def layout(
     chord = body.chord
     center = far.center
     if topology == "c":
-        if not body.sharp:
-            raise InputError(
-                f"the C-grid needs a sharp (closed) trailing edge; this one is "
-                f"open by {body.te_gap / chord:.2g} chords (at most {SHARP_GAP:g} counts as "
-                f"sharp): use {{topology}}",
-                body.source,
-            )
         if far.radius is None:
             raise InputError(
                 "the C-grid takes a far-field circle ({farfield}); a far field "
@@ -424,7 +435,18 @@ def layout(
     # far field, the projection blended in over the outer rows
     reach = _far_distance(inner, far, topology) - FAR_GAP * chord
     dist = reach * exact_stretch(nj, h / reach)[0]
-    reference, outer = reference_grid(inner, far, topology, dist, chord, n_w)
+    reference, outer = reference_grid(inner, far, topology, dist, chord, n_w, base)
+    if base:
+        from pinn_engine.quality import guard_figures
+
+        folded = guard_figures(reference)["folded_cells"]
+        if folded:
+            raise InputError(
+                f"the C-grid around this blunt trailing edge (a base of {base / chord:.2g} "
+                f"chords) folds {folded} cells at the base: give more nodes ({{size}}) or a "
+                "thinner first layer, or use {topology}",
+                body.source,
+            )
     first = np.full(ni, h)
     if topology == "c":  # the first edge grows along the wake to the outflow
         far_first = OUTFLOW_FIRST * radius / (nj - 1)
@@ -437,7 +459,13 @@ def layout(
 
 
 def reference_grid(
-    inner: np.ndarray, far: FarField, topology: str, dist: np.ndarray, chord: float, n_wake: int
+    inner: np.ndarray,
+    far: FarField,
+    topology: str,
+    dist: np.ndarray,
+    chord: float,
+    n_wake: int,
+    base: float = 0.0,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The wall-orthogonal reference grid and its far-field nodes: rows marched off the
     wall to ``BLEND_END`` chords, turning over ``BLEND_START`` .. ``BLEND_END`` chords into
@@ -455,7 +483,7 @@ def reference_grid(
     a = int(np.searchsorted(dist, BLEND_START * chord))
     b = int(np.searchsorted(dist, BLEND_END * chord))
     a, b = min(a, len(dist) - 2), min(max(b, a + 1), len(dist) - 1)
-    marched = march(inner, topology, dist[: b + 1], chord, n_wake, tangent=0.0)
+    marched = march(inner, topology, dist[: b + 1], chord, n_wake, tangent=0.0, base=base)
     start = marched[a]
     outer = _project(start, far, topology, inner, marched[a] - marched[a - 1], n_wake)
     t = ((dist - dist[a]) / (dist[-1] - dist[a])).clip(0.0, 1.0)
