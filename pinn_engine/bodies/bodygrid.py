@@ -4,8 +4,9 @@ Index conventions (SPEC 9). O-grid: j = 0 on the body, j = nj - 1 on the far fie
 around the body counter-clockwise from the trailing edge, column ni - 1 repeating column 0
 (the seam). C-grid: j = 0 runs along the lower wake cut from the outflow to the trailing
 edge, around the body (lower surface, leading edge, upper surface) and back along the upper
-wake cut; the cut is straight, leaves the trailing edge in +x, and its lower and upper nodes
-coincide pairwise (node (i, 0) is node (ni - 1 - i, 0)).
+wake cut; the cut is straight, leaves the trailing edge (a blunt base's middle: the lower and
+upper halves of the base are wall) in +x, and its lower and upper nodes coincide pairwise
+(node (i, 0) is node (ni - 1 - i, 0)).
 
 Nodes on j = 0 are placed once, for every method (:func:`layout`): around the body by a
 two-sided Vinokur stretching on each surface, fine at the leading and trailing edges;
@@ -94,11 +95,17 @@ MARCH_PASSES = 2
 # CORNER_REACH half-base heights of the middle the normals and rows are smoothed at full weight from
 # the wall on (the ramp with distance and the wake's straight columns give way there), so that the
 # normals splay around the corners and the rows' nodes slide apart, as hyperbolic generators raise
-# their smoothing at concave corners (6: with first layers of 1e-5 chord, the marched grids of the
-# 0.7 % and 0.25 % bases of benchmarks/airfoils.py at 350 x 100 and 250 x 64 have no fold from 4 on,
-# at 2 and below they fold; not enough where the first layer or the base's intervals are coarse:
-# there :func:`layout` refuses the C-grid in one line).
+# their smoothing at concave corners. The base takes C_BASE_INTERVALS intervals (two a side of the
+# cut): the rows along the cut resolve the flow behind the base (they stack across its height), and
+# every node between the middle and a corner starts a column that the concave corners crowd. Both
+# were set on nine blunt C-grids (the 0.7 % and 0.25 % bases of benchmarks/airfoils.py's NACA 4417,
+# 0012 and 4412 files; 97 x 25 to 350 x 100; first layers 1e-5 to 1e-3 chord): with four intervals
+# none folds for a reach of 4 to 8 (6 here), at 3 three fold; with two or six intervals some fold
+# at every reach. Bases of 1e-3 to 1e-2 chord then mesh at first layers up to 1e-4 chord (NACA
+# 0012, 2412, 4412, 0018 at 161 x 41 and 350 x 100); bases of 5e-4 chord and below, and first
+# layers near the base's intervals, still fold: :func:`layout` refuses such a C-grid in one line.
 CORNER_REACH = 6.0
+C_BASE_INTERVALS = 4
 # C-grid: behind the thickest point the columns turn vertical within 0.02 chords of the wall (the
 # aft normals lean downstream and would overtake the wake's columns), half way at the thickest
 # point, fully at the trailing edge (REAR_TURN_START of the turn).
@@ -170,8 +177,9 @@ def _surface_nodes(curve: BodyCurve, n_up: int, n_lo: int, d_te: float, d_le: fl
 def _base_intervals(base: float, surface: float, intervals: int, spacing: float | None) -> int:
     """Intervals (even, so that the base's middle is a node) on a blunt trailing edge's base
     of length ``base`` (0: a sharp edge, none) out of the wall's ``intervals``: about
-    ``base / BLUNT_TE_SPACING`` (or the given trailing-edge ``spacing``), no finer than the
-    trailing edge's ``TE_SPACING`` asks, at most ``MAX_BASE_SHARE`` of them."""
+    ``base / BLUNT_TE_SPACING`` (or the given ``spacing``: a C-grid's is ``base /
+    C_BASE_INTERVALS``), no finer than the trailing edge's ``TE_SPACING`` asks, at most
+    ``MAX_BASE_SHARE`` of them."""
     if base <= 0:
         return 0
     step = spacing or min(TE_SPACING * (surface + base) / intervals, BLUNT_TE_SPACING * base)
@@ -402,7 +410,10 @@ def layout(
         n_w, n_b = 0, ni - 1
     l_up, l_lo = curve.arc(0, curve.t_le), curve.arc(curve.t_le, curve.length)
     base = 0.0 if body.sharp else body.te_gap
-    n_base = _base_intervals(base, l_up + l_lo, n_b, te_spacing and te_spacing * chord)
+    base_step = base / C_BASE_INTERVALS if topology == "c" else None
+    n_base = _base_intervals(
+        base, l_up + l_lo, n_b, te_spacing * chord if te_spacing else base_step
+    )
     n_s = n_b - n_base  # intervals on the surface
     n_up = round(n_s * l_up / (l_up + l_lo))
     n_up = int(np.clip(n_up, MIN_SURFACE_INTERVALS, n_s - MIN_SURFACE_INTERVALS))
