@@ -91,19 +91,18 @@ SUBSTEP = 0.5
 MAX_SUBSTEPS = 40
 MARCH_PASSES = 2
 # A blunt C-grid's cut leaves the base's middle, where the wall line turns 90 degrees each way into
-# the cut: two concave corners whose marched lines would cross within the base's height. Within
-# CORNER_REACH half-base heights of the middle the normals and rows are smoothed at full weight from
-# the wall on (the ramp with distance and the wake's straight columns give way there), so that the
-# normals splay around the corners and the rows' nodes slide apart, as hyperbolic generators raise
-# their smoothing at concave corners. The base takes C_BASE_INTERVALS intervals (two a side of the
-# cut): the rows along the cut resolve the flow behind the base (they stack across its height), and
-# every node between the middle and a corner starts a column that the concave corners crowd. Both
-# were set on nine blunt C-grids (the 0.7 % and 0.25 % bases of benchmarks/airfoils.py's NACA 4417,
-# 0012 and 4412 files; 97 x 25 to 350 x 100; first layers 1e-5 to 1e-3 chord): with four intervals
-# none folds for a reach of 4 to 8 (6 here), at 3 three fold; with two or six intervals some fold
-# at every reach. Bases of 1e-3 to 1e-2 chord then mesh at first layers up to 1e-4 chord (NACA
-# 0012, 2412, 4412, 0018 at 161 x 41 and 350 x 100); bases of 5e-4 chord and below, and first
-# layers near the base's intervals, still fold: :func:`layout` refuses such a C-grid in one line.
+# the cut: two concave corners whose marched lines would cross within the base's height. Around them
+# the normals and rows are smoothed from the wall on, as hyperbolic generators raise their smoothing
+# at concave corners: the normals splay round the corners and the rows' nodes slide apart. The
+# corners' weight, 1 at the middle, decays with a j = 0 node's distance d from it as
+# exp(-d / (CORNER_REACH half-base heights)) (a cut-off instead lets the smoothed columns overtake
+# the first held wake column). The base takes C_BASE_INTERVALS intervals (two a side of the cut):
+# the rows along the cut resolve the flow behind the base (they stack across its height), and every
+# node between the middle and a corner starts a column that the concave corners crowd. Measured on
+# 15 blunt C-grids (bases of 2e-4 to 2e-2 chord; NACA 0012, 2412, 4412, 4417, 0018; 97 x 25 to
+# 350 x 100; first layers 1e-5 to 1e-3 chord): reaches of 4 to 12 leave 2 folding (6 here), 3
+# leaves 3; two or six intervals fold more. The two that fold (a first layer near the base's
+# intervals; a 2 % base on NACA 4412, whose far rows fold) are refused by :func:`layout`.
 CORNER_REACH = 6.0
 C_BASE_INTERVALS = 4
 # C-grid: behind the thickest point the columns turn vertical within 0.02 chords of the wall (the
@@ -301,14 +300,15 @@ def march(
     (nj,): the wall-orthogonal reference grid (nj, ni, 2). The normals are smoothed along
     the row, and each new row along itself, lightly near the wall and more farther out
     (relative to ``scale``, the chord) and where it has shrunk (lines converging off a
-    concave wall); at full weight from the wall on around a blunt C-grid's base of length
-    ``base`` (see ``CORNER_REACH``)."""
+    concave wall); and from the wall on, by a weight that decays away from it, around the
+    concave corners where a blunt C-grid's cut leaves its base of length ``base`` (see
+    ``CORNER_REACH``)."""
     rows = [inner]
     spacing0 = _row_spacing(inner, topology)
-    corner = np.zeros((len(inner), 1), dtype=bool)
-    if topology == "c" and base > 0:  # the nodes the base's concave corners reach
-        reach = np.linalg.norm(inner - inner[n_wake], axis=1) < CORNER_REACH * base / 2
-        corner = reach[:, None]
+    corner = np.zeros((len(inner), 1))  # the weight of the base's concave corners
+    if topology == "c" and base > 0:
+        distance = np.linalg.norm(inner - inner[n_wake], axis=1)
+        corner = np.exp(-distance / (CORNER_REACH * base / 2))[:, None]
     rear = None
     if topology == "c":
         # behind the thickest point the C-grid's columns turn straight down (lower side)
@@ -343,7 +343,7 @@ def march(
             grow = 1 - math.exp(-d / (NORMAL_REACH * scale))
             n = _row_normals(q, topology)
             for _ in range(passes):
-                n = _smooth_normals(n, NORMAL_SMOOTHING * np.where(corner, 1.0, grow), topology)
+                n = _smooth_normals(n, NORMAL_SMOOTHING * np.maximum(corner, grow), topology)
             if rear is not None:
                 turn = rear * min(1.0, (d - distances[1]) / (REAR_TURN * scale))
                 n = (1 - turn) * n + turn * vertical
@@ -354,7 +354,7 @@ def march(
             ramped = grow * eps
             if topology == "c":  # the wake's columns run straight: no sliding along rows
                 ramped[:n_wake] = ramped[len(q) - n_wake :] = 0.0
-            eps = np.where(corner, eps, ramped)
+            eps = np.maximum(corner * eps, ramped)
             for _ in range(passes):
                 q = _smooth_row(q, eps, topology)
                 target = _smooth_row(q, tangent * grow, topology)
