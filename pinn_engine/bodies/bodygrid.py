@@ -305,7 +305,7 @@ def march(
     ``CORNER_REACH``)."""
     rows = [inner]
     spacing0 = _row_spacing(inner, topology)
-    corner = np.zeros((len(inner), 1))  # the weight of the base's concave corners
+    corner = None  # the weight of a blunt C-grid's concave corners at its base
     if topology == "c" and base > 0:
         distance = np.linalg.norm(inner - inner[n_wake], axis=1)
         corner = np.exp(-distance / (CORNER_REACH * base / 2))[:, None]
@@ -342,19 +342,21 @@ def march(
             d = distances[j - 1] + step * (k + 1) / subs
             grow = 1 - math.exp(-d / (NORMAL_REACH * scale))
             n = _row_normals(q, topology)
+            weight = grow if corner is None else np.maximum(corner, grow)
             for _ in range(passes):
-                n = _smooth_normals(n, NORMAL_SMOOTHING * np.maximum(corner, grow), topology)
+                n = _smooth_normals(n, NORMAL_SMOOTHING * weight, topology)
             if rear is not None:
                 turn = rear * min(1.0, (d - distances[1]) / (REAR_TURN * scale))
                 n = (1 - turn) * n + turn * vertical
                 n /= np.linalg.norm(n, axis=1, keepdims=True)
             q = q + (step / subs) * n
             shrink = np.clip(1 - _row_spacing(q, topology) / spacing0, 0.0, 1.0)
-            eps = np.minimum(ROW_SMOOTHING_MAX, CONCAVE_SMOOTHING * shrink)[:, None]
-            ramped = grow * eps
+            concave = np.minimum(ROW_SMOOTHING_MAX, CONCAVE_SMOOTHING * shrink)[:, None]
+            eps = grow * concave
             if topology == "c":  # the wake's columns run straight: no sliding along rows
-                ramped[:n_wake] = ramped[len(q) - n_wake :] = 0.0
-            eps = np.maximum(corner * eps, ramped)
+                eps[:n_wake] = eps[len(q) - n_wake :] = 0.0
+            if corner is not None:  # around the base's corners: from the wall on, wake too
+                eps = np.maximum(eps, corner * concave)
             for _ in range(passes):
                 q = _smooth_row(q, eps, topology)
                 target = _smooth_row(q, tangent * grow, topology)
