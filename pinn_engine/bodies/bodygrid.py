@@ -205,7 +205,7 @@ def _with_base(surf: np.ndarray, n_base: int) -> np.ndarray:
 class Layout:
     """The fixed nodes of a body grid: ``inner`` (ni, 2) on j = 0, ``outer`` (ni, 2) on
     j = nj - 1, the first-edge length ``first`` (ni,) of each column, and for the C-grid the
-    index ``n_wake`` of the lower trailing-edge node."""
+    index ``n_wake`` of the lower trailing-edge node (a blunt base's middle)."""
 
     topology: str
     inner: np.ndarray
@@ -449,7 +449,7 @@ def layout(
     reach = _far_distance(inner, far, topology) - FAR_GAP * chord
     dist = reach * exact_stretch(nj, h / reach)[0]
     reference, outer = reference_grid(inner, far, topology, dist, chord, n_w, base)
-    if base:
+    if topology == "c" and base:
         from pinn_engine.quality import guard_figures
 
         folded = guard_figures(reference)["folded_cells"]
