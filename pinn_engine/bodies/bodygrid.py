@@ -692,15 +692,18 @@ def elliptic(lay: Layout, sweeps: int = ELLIPTIC_SWEEPS) -> tuple[np.ndarray, tu
     reference grid, with the controls of :func:`smoothed_controls`; also returns them.
 
     After ``FIRST_CHECK`` sweeps, then after twice as many each time, the grid is checked
-    against the reference: the sweeps stop at the last state with no more folded cells and
-    mean and worst MaxIncludedAngle within ``CHECK_TOL`` of the reference's (the relaxed
-    Jacobi iteration with smoothed controls can drift off a good marched grid, most on thin
-    wall and wake cells; ``lay.sweeps_kept`` says how far it went)."""
-    from pinn_engine.quality import guard_figures, no_worse
+    against the reference: the sweeps stop at the last state with no more folded cells,
+    mean and worst MaxIncludedAngle within ``CHECK_TOL`` of the reference's and a worst
+    non-orthogonality no higher (the relaxed Jacobi iteration with smoothed controls can
+    drift off a good marched grid, most on thin wall and wake cells, where a worst angle
+    held elsewhere, as at a blunt C-grid's base, does not see it; ``lay.sweeps_kept`` says
+    how far it went)."""
+    from pinn_engine.quality import guard_figures, no_worse, worst_non_orthogonality
 
     periodic = lay.topology == "o"
     controls = smoothed_controls(lay.reference, periodic)
     ref = guard_figures(lay.reference)
+    ref_non_orthogonality = worst_non_orthogonality(lay.reference)
     g, kept, done = lay.reference, lay.reference, 0
     lay.sweeps_kept = 0
     step = FIRST_CHECK
@@ -709,6 +712,8 @@ def elliptic(lay: Layout, sweeps: int = ELLIPTIC_SWEEPS) -> tuple[np.ndarray, tu
         g = jacobi(g, periodic, *controls, n)
         done, step = done + n, 2 * step
         if not no_worse(guard_figures(g), ref, *CHECK_TOL):
+            break
+        if worst_non_orthogonality(g) > ref_non_orthogonality:
             break
         kept, lay.sweeps_kept = g, done
     return kept, controls
