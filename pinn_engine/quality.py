@@ -228,6 +228,11 @@ def non_orthogonality(grid: np.ndarray) -> dict[str, np.ndarray]:
     }
 
 
+def worst_non_orthogonality(grid: np.ndarray) -> float:
+    """The largest face non-orthogonality of a 2D grid (checkMesh's "Max", degrees)."""
+    return max(float(a.max()) for a in non_orthogonality(grid).values())
+
+
 def grid_lines_angle(grid: np.ndarray) -> dict[str, np.ndarray]:
     """Deviation from 90 degrees of the first grid edge leaving each node of each side, from
     the side's tangent (central difference along the side; one-sided at its corners)."""

@@ -434,8 +434,9 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
             "Four-sided domain: the input is a closed boundary with four corners. O-grid / "
             "C-grid: the input is a body such as an airfoil (the Airfoil source, or a .dat file "
             "opened with the Airfoil reader): one curve, meshed out to a far-field circle of Far "
-            "Field Radius chords, or two closed polylines (body inside far field). The C-grid "
-            "needs a sharp trailing edge. Methods pinn, tfi, elliptic (docs/airfoils.md)."
+            "Field Radius chords, or two closed polylines (body inside far field). The C-grid's "
+            "wake cut leaves a sharp trailing edge, or a blunt base's middle. Methods pinn, tfi, "
+            "elliptic (docs/airfoils.md)."
         )
     )
     def P11Topology(self, index):

@@ -9,11 +9,12 @@ import pytest
 from vtkmodules.vtkIOXML import vtkXMLStructuredGridReader
 
 from pinn_engine.bodies.airfoil import circle, load_body, naca4, read_body_and_farfield, read_dat
+from pinn_engine.bodies.bodygrid import C_BASE_INTERVALS
 from pinn_engine.bodymesh import mesh_body
 from pinn_engine.classical.spacing import exact_stretch
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import segment_distance
-from pinn_engine.quality import non_orthogonality
+from pinn_engine.quality import non_orthogonality, worst_non_orthogonality
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
 
@@ -156,9 +157,7 @@ def test_a_blunt_base_stays_as_drawn(tmp_path):
     """Issue 23 item 4: a Selig file with a 0.7 % chord base (as LS(1)-0417's): the base is a
     straight piece of wall with its corners as nodes, no wall node farther than 0.1 % chord
     from the drawn polyline (the periodic spline put them up to 0.36 % off)."""
-    xy = naca4("4417", te="sharp")
-    xy[:, 1] += np.where(np.arange(len(xy)) <= len(xy) // 2, 0.5, -0.5) * 0.007 * xy[:, 0]
-    body = load_body(_selig(tmp_path / "base07.dat", xy))
+    body = _base07(tmp_path)
     assert not body.sharp
     r = mesh_body(body, circle(body, 15), "o", "elliptic", 161, 41, wall_spacing=1e-4)
     wall = r.points[0]
@@ -188,9 +187,42 @@ def test_paper_preset_trains_from_tfi():
     assert r.report["topology"]["seam_gap"] == 0.0
 
 
-def test_c_grid_needs_a_sharp_trailing_edge():
-    body = load_body(naca="0012", te="blunt")
-    with pytest.raises(InputError, match="sharp"):
+def _base07(tmp_path):
+    """A Selig file of NACA 4417 opened to a 0.7 % chord base, as LS(1)-0417's (issue 23)."""
+    xy = naca4("4417", te="sharp")
+    xy[:, 1] += np.where(np.arange(len(xy)) <= len(xy) // 2, 0.5, -0.5) * 0.007 * xy[:, 0]
+    return load_body(_selig(tmp_path / "base07.dat", xy))
+
+
+def test_a_blunt_c_grid_leaves_the_base_middle_unfolded(tmp_path):
+    """Issue 23 item 4: the C-grid of a blunt trailing edge: the cut leaves the base's middle
+    in +x, the base is wall as drawn (corners as nodes), and the two concave corners where
+    the cut meets the base fold no cell."""
+    body = _base07(tmp_path)
+    r = mesh_body(body, circle(body, 15), "c", "elliptic", 250, 64, wall_spacing=1e-5)
+    assert r.quality["folded_cells"] == 0
+    n_w, g = r.report["topology"]["wake_nodes"], r.points
+    mid = 0.5 * (body.surface[0] + body.surface[-1])
+    cut = g[0, : n_w + 1]
+    np.testing.assert_allclose(cut[-1], mid, atol=1e-12)  # the cut's start: the base's middle
+    np.testing.assert_allclose(cut[:, 1], mid[1], atol=1e-12)
+    assert np.all(np.diff(cut[:, 0]) < 0)  # straight downstream
+    assert r.report["topology"]["cut_gap"] == 0.0
+    wall = g[0, n_w : g.shape[1] - n_w]
+    assert segment_distance(wall, body.ring()[:-1]).max() / body.chord <= 1e-3
+    base = wall[np.abs(wall[:, 0] - mid[0]) < 1e-12]  # the base's nodes, on the drawn base
+    assert len(base) == C_BASE_INTERVALS + 2  # both halves, the middle at both ends
+    for corner in (body.surface[0], body.surface[-1]):
+        assert np.linalg.norm(wall - corner, axis=1).min() < 1e-12
+    assert r.report["topology"]["wall_angle_deviation"] < 0.1
+    # the marched grid's worst face, at the corners (84.8); elliptic sweeps that lower the
+    # worst angle there while they raise it in the wake (89.4) are not kept
+    assert worst_non_orthogonality(g) < 85.0
+
+
+def test_a_blunt_c_grid_that_would_fold_is_refused(tmp_path):
+    body = _base07(tmp_path)
+    with pytest.raises(InputError, match="blunt trailing edge.*use --topology o"):
         mesh_body(body, circle(body, 10), "c", "tfi", 121, 21)
 
 
@@ -365,7 +397,7 @@ def test_inside_polygon_needs_no_matplotlib():
 def test_a_trailing_edge_open_by_at_most_1e4_chord_is_sharp(tmp_path, capsys, gap, sharp):
     """SPEC 9 (issue 23, item 5): a .dat whose trailing edge is open by 1e-5 chord, as many
     public files are, gets a C-grid, closed at the mean point of its two ends; 1e-3 is a
-    drawn base and the C-grid refuses it."""
+    drawn base, whose C-grid folds at this coarse size and is refused."""
     xy = naca4("0012", points=81)
     xy[0, 1] += gap / 2
     xy[-1, 1] -= gap / 2
@@ -380,7 +412,7 @@ def test_a_trailing_edge_open_by_at_most_1e4_chord_is_sharp(tmp_path, capsys, ga
     err = capsys.readouterr().err
     assert (rc, out.exists()) == ((0, True) if sharp else (2, False)), err
     if not sharp:
-        assert "open by 0.001 chords (at most 0.0001 counts as sharp)" in err
+        assert "blunt trailing edge (a base of 0.001 chords)" in err and "--topology o" in err
 
 
 @pytest.mark.parametrize("te", ["sharp", "blunt"])

@@ -232,7 +232,7 @@ def build_parser() -> argparse.ArgumentParser:
         choices=("o", "c"),
         default=None,
         help="o: O-grid (j = 0 on the body, seam at the trailing edge); c: C-grid "
-        "with a wake cut (sharp trailing edge)",
+        "with a wake cut (from a sharp trailing edge or a blunt base's middle)",
     )
     b.add_argument(
         "--naca",
