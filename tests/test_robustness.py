@@ -194,7 +194,8 @@ def _open_polyline(d):
 BAD_BOUNDARIES = {
     # name: (make the file in folder d, expected message regex)
     "missing file": (lambda d: d / "nope.csv", "file not found"),
-    "unknown format": (lambda d: csv(d / "b.stl", square_ring(3)), "unknown format '.stl'"),
+    "unknown format": (lambda d: csv(d / "b.obj", square_ring(3)), "unknown format '.obj'"),
+    "text named .stl": (lambda d: csv(d / "b.stl", square_ring(3)), "not an STL file"),
     "no extension": (lambda d: csv(d / "boundary", square_ring(3)), "unknown format"),
     "directory": (lambda d: (d / "dir.csv").mkdir() or d / "dir.csv", "is a directory"),
     "empty file": (lambda d: put(d / "e.csv", b""), "file is empty"),
