@@ -85,7 +85,7 @@ def winslow_residual(g: np.ndarray) -> np.ndarray:
 
 
 @dataclass
-class _Pattern:
+class InteriorStencil:
     """The CSR pattern of the operator over the interior nodes, built once per shape: which of
     the 19 neighbours of each node are interior. Taken in ``_OFFSETS``' (lexicographic) order,
     a row's neighbours are in column order, so no sort is needed."""
@@ -95,7 +95,7 @@ class _Pattern:
     indptr: np.ndarray
 
     @classmethod
-    def of(cls, shape: tuple[int, int, int]) -> _Pattern:
+    def of(cls, shape: tuple[int, int, int]) -> InteriorStencil:
         strides = np.array([shape[1] * shape[2], shape[2], 1])
         idx = np.indices(shape).reshape(3, -1).T
         inner = np.stack(
@@ -126,7 +126,7 @@ def winslow(
         return g, 0
     extent = float(np.ptp(g.reshape(-1, 3), axis=0).max())
     inner_shape = tuple(n - 2 for n in g.shape[:3])
-    pattern = _Pattern.of(inner_shape)
+    pattern = InteriorStencil.of(inner_shape)
     solver = InexactSolve()
     for it in range(1, max_iterations + 1):
         step = solver.solve(pattern.matrix(g), winslow_residual(g))
