@@ -74,14 +74,20 @@ def _stencil(c: dict[tuple[int, int], np.ndarray]) -> dict[tuple[int, int, int],
     return weights
 
 
-def winslow_residual(g: np.ndarray) -> np.ndarray:
-    """The 19-point Winslow operator with coefficients frozen at ``g`` applied to ``g``, at the
-    interior nodes, shape ((ni-2) (nj-2) (nk-2), 3): zero on a Winslow grid."""
+def _apply(weights: dict[tuple[int, int, int], np.ndarray], g: np.ndarray) -> np.ndarray:
+    """The 19-point operator of ``weights`` applied to ``g`` at the interior nodes, shape
+    ((ni-2) (nj-2) (nk-2), 3)."""
     shape = g.shape[:3]
     out = np.zeros((*(n - 2 for n in shape), 3))
-    for off, w in _stencil(_cofactors(g)).items():
+    for off, w in weights.items():
         out += w[..., None] * g[tuple(slice(1 + o, n - 1 + o) for o, n in zip(off, shape))]
     return out.reshape(-1, 3)
+
+
+def winslow_residual(g: np.ndarray) -> np.ndarray:
+    """The Winslow operator with coefficients frozen at ``g`` applied to ``g``, at the
+    interior nodes, shape ((ni-2) (nj-2) (nk-2), 3): zero on a Winslow grid."""
+    return _apply(_stencil(_cofactors(g)), g)
 
 
 @dataclass
@@ -105,13 +111,14 @@ class InteriorStencil:
         indptr = np.concatenate([[0], np.cumsum(inner.sum(axis=1))])
         return cls(inner, cols[inner].astype(np.int32), indptr.astype(np.int32))
 
-    def matrix(self, g: np.ndarray) -> sp.csr_matrix:
-        """Minus the operator with coefficients frozen at ``g`` over the interior nodes: its
-        diagonal is positive, as algebraic multigrid expects."""
+    def system(self, g: np.ndarray) -> tuple[sp.csr_matrix, np.ndarray]:
+        """Minus the operator with coefficients frozen at ``g`` over the interior nodes (its
+        diagonal is positive, as algebraic multigrid expects) and the Winslow residual of
+        ``g``: the Picard update solves ``matrix @ update = residual``."""
         w = _stencil(_cofactors(g))
         data = -np.stack([w[off].reshape(-1) for off in _OFFSETS], axis=1)[self.inner]
         n = self.indptr.size - 1
-        return sp.csr_matrix((data, self.indices, self.indptr), shape=(n, n))
+        return sp.csr_matrix((data, self.indices, self.indptr), shape=(n, n)), _apply(w, g)
 
 
 def winslow(
@@ -129,7 +136,7 @@ def winslow(
     pattern = InteriorStencil.of(inner_shape)
     solver = InexactSolve()
     for it in range(1, max_iterations + 1):
-        step = solver.solve(pattern.matrix(g), winslow_residual(g))
+        step = solver.solve(*pattern.system(g))
         g[1:-1, 1:-1, 1:-1] += step.reshape(*inner_shape, 3)
         if float(np.abs(step).max()) <= tol * extent:
             return g, it
