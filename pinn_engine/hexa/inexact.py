@@ -1,7 +1,7 @@
 """The linear systems of the 3D Picard steps, solved inexactly: flexible GMRES preconditioned
 by an algebraic multigrid V-cycle (pyamg), one hierarchy for the three coordinates and reused
-over the steps. A sparse LU of the 19-point 3D system fills in far more than in 2D (65 s and
-2.7 GB at 41^3); the multigrid hierarchy grows like the nodes."""
+over the steps. A sparse LU of the 19-point 3D system fills in far more than in 2D (a minute
+and 2.2 GiB at 41^3); the multigrid hierarchy grows like the nodes."""
 
 from __future__ import annotations
 
