@@ -1,4 +1,4 @@
-"""One BLAS thread for SciPy's L-BFGS-B on small problems."""
+"""One BLAS thread for SciPy's L-BFGS-B on small problems and the 3D Winslow solve."""
 
 from __future__ import annotations
 

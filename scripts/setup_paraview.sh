@@ -41,17 +41,18 @@ if [ "$PV_PYVER" != "$SYS_PYVER" ]; then
     exit 1
 fi
 
-if [ ! -x "$VENV/bin/python" ] || ! "$VENV/bin/python" -c "import torch, sklearn, numpy, shapely; assert shapely.geos_version[:2] == (3, 11)" >/dev/null 2>&1; then
+if [ ! -x "$VENV/bin/python" ] || ! "$VENV/bin/python" -c "import torch, sklearn, numpy, shapely, pyamg; assert shapely.geos_version[:2] == (3, 11)" >/dev/null 2>&1; then
     echo "[setup_paraview] creating $VENV ..."
     $SYS_PY -m venv "$VENV"
     # torch==2.13.0 exactly: the CPU wheel is available locally; any other
     # spec may resolve to the multi-GB CUDA build. shapely 2.0.x: its wheel bundles GEOS
     # 3.11 like Debian 12's, which ParaView's VTK (GDAL) loads first; shapely >= 2.1
     # bundles GEOS 3.13+, whose C API then binds to those 3.11 C++ symbols and aborts.
+    # pyamg: the 3D Winslow solve's preconditioner (six-faced domains).
     "$VENV/bin/python" -m pip install -q --disable-pip-version-check \
-        "torch==2.13.0" "scikit-learn" "shapely>=2.0,<2.1" "numpy<2.4"
+        "torch==2.13.0" "scikit-learn" "shapely>=2.0,<2.1" "numpy<2.4" "pyamg>=5.0"
 else
-    echo "[setup_paraview] $VENV already has torch, sklearn, numpy, shapely"
+    echo "[setup_paraview] $VENV already has torch, sklearn, numpy, shapely, pyamg"
 fi
 
 SITE="$("$VENV/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')"
