@@ -47,11 +47,12 @@ DIMENSIONS = 3  # the block's computational coordinates, and its physical ones
 FORMAT = "pinn-mesh-hexa-model/1"  # a saved hexahedral model (neural/model.py's is 2D)
 GRID_CHUNK = 1 << 14  # nodes per forward pass when a grid is evaluated (bounds its memory)
 # The Winslow start is solved on at most this many nodes (a coarser lattice of the same
-# shape above, starts/warmstart.py, and the map evaluated finer): its sparse LU grows fast
-# (docs/hexa.md: 0.8 and 1.8 s at 21^3, 66 and 165 s and 2.5 GB at 41^3). At 41^3 from the
-# 21^3 lattice the pinn grid's mean and worst MaxIncludedAngle were +0.04 and -2.01 deg from
-# the 41^3 Winslow grid's on the bump box, +0.23 and +0.02 on the bend.
-MAX_LATTICE_NODES = 21**3
+# shape above, starts/warmstart.py, and the map evaluated finer): the grid itself up to 41^3,
+# where the multigrid solve takes about 1.4 s and 0.26 GiB (docs/hexa.md, "Speed and
+# memory"), so the default meets issue 25's 41^3 bound against the Winslow grid of its own
+# size; at 81^3 the solve would take about 14 s and 0.85 GiB more, so larger grids start
+# from the 41^3 lattice.
+MAX_LATTICE_NODES = 41**3
 # The 3D default's settings where they differ from the 2D ones (settings.py): 20 L-BFGS
 # iterations, not 120. On the bump box at 21^3 the residual falls from the Winslow start by
 # a quarter in 20 and a third in 120, and the grids differ little (mean and worst
