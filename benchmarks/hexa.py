@@ -10,7 +10,8 @@ imports (numpy, scipy, VTK; torch for a network) included. The time is the meshi
 on whatever machine runs it. The ``elliptic`` row is the converged 3D Winslow grid on the
 same boundary nodes: the reference of issue 25's bound, checked for every other method (no
 folded cell, mean / worst MaxIncludedAngle at most 0.5 / 2 degrees above the reference's).
-With ``--out`` the table replaces the part of that file between the two BENCHMARK markers.
+With ``--out`` the table replaces the part of that file between the two BENCHMARK markers of
+its size (``<!-- BENCHMARK 21x21x21 start -->`` ... ``end -->``).
 """
 
 from __future__ import annotations
@@ -34,7 +35,7 @@ SHAPES = {  # name: file stem of make_hexa.py's surface
 }
 REFERENCE = "elliptic"  # the converged 3D Winslow grid: issue 25's reference
 MEAN_OVER, WORST_OVER = 0.5, 2.0  # issue 25: degrees above the reference allowed
-MARK = "<!-- BENCHMARK {} -->"  # the markers round the table in --out
+MARK = "<!-- BENCHMARK {} {} -->"  # the markers round a size's table in --out (size, start/end)
 KIB = 1024  # ru_maxrss is in KiB on Linux
 
 
@@ -104,7 +105,7 @@ def markdown(size: tuple[int, int, int]) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--size", type=int, nargs=3, default=(21, 21, 21), metavar="N")
-    parser.add_argument("--out", type=Path, help="a Markdown file with the two BENCHMARK markers")
+    parser.add_argument("--out", type=Path, help="Markdown with the size's BENCHMARK markers")
     parser.add_argument("--one", nargs=5, help=argparse.SUPPRESS)  # STEM METHOD NI NJ NK
     args = parser.parse_args()
     if args.one:
@@ -114,10 +115,12 @@ def main() -> None:
     text = markdown(tuple(args.size))
     print(text, end="")
     if args.out:
+        label = "x".join(map(str, args.size))
+        start, end = MARK.format(label, "start"), MARK.format(label, "end")
         page = args.out.read_text()
-        head, rest = page.split(MARK.format("start"))
-        _, tail = rest.split(MARK.format("end"))
-        args.out.write_text(f"{head}{MARK.format('start')}\n{text}{MARK.format('end')}{tail}")
+        head, rest = page.split(start)
+        _, tail = rest.split(end)
+        args.out.write_text(f"{head}{start}\n{text}{end}{tail}")
 
 
 if __name__ == "__main__":
