@@ -25,9 +25,9 @@ import torch
 
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 
-from pinn_engine.hexa.mesh import mesh_surface  # noqa: E402
 from pinn_engine.hexa.orthogonal import inner_angles  # noqa: E402
 from pinn_engine.hexa.spacing import first_edges  # noqa: E402
+from pinn_engine.hexamesh import mesh_surface  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 CASE = ROOT / "example_data" / "hexa_bump_box.vtp"

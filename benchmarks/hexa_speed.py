@@ -29,7 +29,8 @@ BOUND_SIZE, BOUND_SECONDS = 21, 3.0  # issue 25: elliptic at 21^3 in at most 3 s
 
 def _one(surface: str, n: int) -> dict:
     """One elliptic run at n^3 in this process, with the Winslow solve timed apart."""
-    from pinn_engine.hexa import mesh, volume
+    from pinn_engine import hexamesh as mesh
+    from pinn_engine.hexa import volume
 
     solve = {}
     winslow = volume.winslow

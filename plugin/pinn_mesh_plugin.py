@@ -31,8 +31,8 @@ if _REPO not in sys.path:
 
 try:
     from pinn_engine import __version__
-    from pinn_engine.hexa.mesh import HEXA_METHOD, HEXA_SIZE, MIN_NODES
-    from pinn_engine.hexa.mesh import METHODS as HEXA_METHODS
+    from pinn_engine.hexamesh import HEXA_METHOD, HEXA_SIZE, MIN_NODES
+    from pinn_engine.hexamesh import METHODS as HEXA_METHODS
     from pinn_engine.io.export import FORMATS
     from pinn_engine.io.export.algorithm import PARAVIEW_FORMATS, GridWriter
     from pinn_engine.routes.airfoil_algorithm import AirfoilReader, AirfoilSource
@@ -663,7 +663,7 @@ _HEXA_METHOD_DOCS = {
     "elliptic": "the 3D Winslow equations solved to convergence from the TFI grid",
     "pinn": "a physics-informed network trained on the 3D Winslow equations, the face "
     "grids built in",
-}  # the Method help of PINN Hexahedral Mesh, for the methods hexa.mesh.METHODS has
+}  # the Method help of PINN Hexahedral Mesh, for the methods hexamesh.METHODS has
 
 
 @smproxy.filter(name="PINNHexahedralMesh", label="PINN Hexahedral Mesh", support_reload=False)

@@ -10,8 +10,8 @@ import pyvista as pv
 from conftest import ROOT
 
 from pinn_engine.hexa import volume
-from pinn_engine.hexa.mesh import METHODS, mesh_surface
 from pinn_engine.hexa.sharp import faces_at_sharp_edges
+from pinn_engine.hexamesh import METHODS, mesh_surface
 from pinn_engine.routes.cli import main
 
 DATA = ROOT / "example_data"

@@ -15,7 +15,7 @@ from test_export import check_mesh, foam_list, read_cgns, read_plot3d, read_su2
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 from pinn_engine.errors import InputError
-from pinn_engine.hexa.mesh import hexa_grid, mesh_surface
+from pinn_engine.hexamesh import hexa_grid, mesh_surface
 from pinn_engine.io import export
 from pinn_engine.routes.cli import main
 

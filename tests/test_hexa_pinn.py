@@ -13,7 +13,7 @@ from conftest import ROOT
 from pinn_engine.blocks import hexa
 from pinn_engine.hexa import volume
 from pinn_engine.hexa.field import node_points
-from pinn_engine.hexa.mesh import mesh_surface
+from pinn_engine.hexamesh import mesh_surface
 from pinn_engine.neural.jet import nd
 from pinn_engine.neural.losses import winslow_residual_3d
 from pinn_engine.neural.networks import CoordinateNet

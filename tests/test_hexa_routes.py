@@ -12,7 +12,7 @@ from conftest import ROOT
 from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
 
 from pinn_engine.errors import InputError
-from pinn_engine.hexa.mesh import HEXA_METHOD, METHODS, mesh_surface
+from pinn_engine.hexamesh import HEXA_METHOD, METHODS, mesh_surface
 from pinn_engine.io.export import BOX_SIDES
 from pinn_engine.routes.filters import folded_warning
 from pinn_engine.routes.hexa_algorithm import PinnHexaAlgorithm, refold_hint

@@ -10,7 +10,7 @@ from conftest import ROOT
 from scipy.sparse.linalg import spsolve
 
 from pinn_engine.hexa import inexact, volume
-from pinn_engine.hexa.mesh import mesh_surface
+from pinn_engine.hexamesh import mesh_surface
 
 DATA = ROOT / "example_data"
 SIZE = (15, 13, 11)  # small for the direct solves, yet a hierarchy of 3 multigrid levels

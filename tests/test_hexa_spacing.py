@@ -10,8 +10,8 @@ import pytest
 from conftest import ROOT
 
 from pinn_engine.hexa import volume
-from pinn_engine.hexa.mesh import mesh_surface
 from pinn_engine.hexa.spacing import node_params
+from pinn_engine.hexamesh import mesh_surface
 from pinn_engine.routes.cli import main
 
 DATA = ROOT / "example_data"

@@ -399,7 +399,7 @@ def test_hexahedral_filter_on_the_bend(checkout):
     """PINN Hexahedral Mesh (issue 25 item 4): the bend's grid as the command line makes it
     (the same nodes, arrays and field data), for every method; one line for a surface
     without FaceId, and ParaView goes on."""
-    from pinn_engine.hexa.mesh import METHODS, mesh_surface
+    from pinn_engine.hexamesh import METHODS, mesh_surface
 
     result = run_pvpython(checkout, "check_hexa.py", str(checkout / "example_data"))
     assert result["label"] == "PINN Hexahedral Mesh"

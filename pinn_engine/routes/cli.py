@@ -433,7 +433,8 @@ def _save_model(model, path: str, written: list[Path]) -> None:
 def _run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
     """A six-faced 3D domain (SPEC 11): the surface's hexahedral grid into ``OUT`` (the
     formats and patches of SPEC 8, never extruded; spacing and orthogonality on patches)."""
-    from pinn_engine.hexa.mesh import (
+    from pinn_engine.hexa.spacing import parse_patches
+    from pinn_engine.hexamesh import (
         HEXA_METHOD,
         HEXA_SIZE,
         hexa_grid,
@@ -441,7 +442,6 @@ def _run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
         report,
         summary,
     )
-    from pinn_engine.hexa.spacing import parse_patches
     from pinn_engine.io import export
     from pinn_engine.io.fileio import write_text_atomic
 

@@ -16,7 +16,7 @@ Port: input 0 a ``vtkPolyData``, a closed triangulated (or polygonal) surface wi
 array ``FaceId`` of six values. Output 0 the ``vtkStructuredGrid`` ``(ni, nj, nk)`` of the
 command line's ``.vts``: cell arrays ``MaxIncludedAngle``, ``MinIncludedAngle``,
 ``ScaledJacobian``, ``Folded``; field data ``Method``, ``Patches``, ``Report`` (JSON) and the
-quality figures (``hexa.mesh.hexa_grid``).
+quality figures (``hexamesh.hexa_grid``).
 
 A failed update leaves the output empty and reports one line ``PINN Hexahedral Mesh:
 <message>`` (the ParaView route: in Output Messages and as an ``ErrorEvent``; other routes
@@ -31,7 +31,7 @@ from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 from pinn_engine.errors import ROUTE_WORDS
-from pinn_engine.hexa.mesh import HEXA_METHOD, HEXA_SIZE, METHODS, size_problem
+from pinn_engine.hexamesh import HEXA_METHOD, HEXA_SIZE, METHODS, size_problem
 from pinn_engine.routes.filters import ModifiedOnChange, choice, folded_warning
 from pinn_engine.routes.reporting import announce, message_of
 
@@ -53,8 +53,8 @@ class PinnHexaAlgorithm(ModifiedOnChange, VTKPythonAlgorithmBase):
     Settings (each setter calls ``Modified()`` when the value changes; values are checked at
     the next update):
 
-    * ``SetMethod(name)`` (or its index in ``hexa.mesh.METHODS``), default
-      ``hexa.mesh.HEXA_METHOD``
+    * ``SetMethod(name)`` (or its index in ``hexamesh.METHODS``), default
+      ``hexamesh.HEXA_METHOD``
     * ``SetGridSize(ni, nj, nk)``: nodes along i, j and k, default 21 21 21
     """
 
@@ -140,7 +140,7 @@ class PinnHexaAlgorithm(ModifiedOnChange, VTKPythonAlgorithmBase):
 
     def _execute(self, surface: vtkPolyData) -> tuple[vtkStructuredGrid, dict]:
         """The grid of the connected surface under the settings, and the run's report."""
-        from pinn_engine.hexa.mesh import hexa_grid, mesh_polydata, report
+        from pinn_engine.hexamesh import hexa_grid, mesh_polydata, report
 
         problem = size_problem(self._size)
         if problem:

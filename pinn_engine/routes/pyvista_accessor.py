@@ -51,8 +51,8 @@ from pinn_engine.errors import (
     InputError,
     grid_warnings,
 )
-from pinn_engine.hexa.mesh import HEXA_SIZE, size_problem
 from pinn_engine.hexa.surface import FACE_ARRAY
+from pinn_engine.hexamesh import HEXA_SIZE, size_problem
 from pinn_engine.routes.airfoil_algorithm import body_polydata
 from pinn_engine.routes.algorithm import PinnMeshAlgorithm
 from pinn_engine.routes.filters import folded_warning
@@ -412,8 +412,8 @@ def pinn_mesh_hexa(
     size : (int, int, int)
         Nodes along i, j and k, default ``(21, 21, 21)``.
     method : str, optional
-        One of ``pinn_engine.hexa.mesh.METHODS`` (``"tfi"``: 3D transfinite interpolation;
-        ``"elliptic"``: 3D Winslow), default ``pinn_engine.hexa.mesh.HEXA_METHOD``.
+        One of ``pinn_engine.hexamesh.METHODS`` (``"tfi"``: 3D transfinite interpolation;
+        ``"elliptic"``: 3D Winslow), default ``pinn_engine.hexamesh.HEXA_METHOD``.
 
     Returns
     -------
