@@ -83,7 +83,8 @@ def geometry_from_files(
         return Geometry(boundary=ring, aux=load_aux(list(aux), ring))
     if settings.naca:
         return _naca_body(settings)
-    from pinn_engine.bodies.airfoil import circle, load_body, read_body_and_farfield
+    from pinn_engine.bodies.airfoil import circle, load_body
+    from pinn_engine.io.pipeline import read_body_and_farfield
 
     if str(boundary).lower().endswith(".dat") or farfield_given:
         body = load_body(boundary)

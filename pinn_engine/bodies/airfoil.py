@@ -31,7 +31,7 @@ _NUMBER = re.compile(
 )
 
 
-def _rows(text: str, source: str) -> tuple[list[list[tuple[float, float]]], str]:
+def xy_blocks(text: str, source: str) -> tuple[list[list[tuple[float, float]]], str]:
     """Blocks of numeric ``x y`` rows separated by blank or text lines, and the name line."""
     blocks: list[list[tuple[float, float]]] = [[]]
     name = ""
@@ -57,7 +57,7 @@ def read_dat(path: str | os.PathLike) -> tuple[np.ndarray, str]:
         text = Path(path).read_text(errors="replace")
     except OSError as exc:
         raise InputError(f"cannot read the file ({exc.strerror or exc})", source) from None
-    blocks, name = _rows(text, source)
+    blocks, name = xy_blocks(text, source)
     if not blocks:
         raise InputError(
             "holds no 'x y' coordinate rows (expected a Selig or Lednicer airfoil file)", source
@@ -284,34 +284,6 @@ def polyline_farfield(points: np.ndarray, body: Body, source: str) -> FarField:
     return far
 
 
-def read_body_and_farfield(path: str | os.PathLike) -> tuple[Body, FarField]:
-    """A file with two closed polylines: the body inside the far field. ``.vtp``/``.vtk``:
-    two polyline cells; ``.csv``/``.txt``: two blocks of ``x,y`` rows separated by a blank
-    line."""
-    source = str(path)
-    suffix = Path(path).suffix.lower()
-    if suffix in (".vtp", ".vtk"):
-        from pinn_engine.io.fileio import polylines_of, read_polydata
-
-        lines = [pts for pts, _ in polylines_of(read_polydata(Path(path)), source)]
-    else:
-        try:
-            text = Path(path).read_text(errors="replace")
-        except OSError as exc:
-            raise InputError(f"cannot read the file ({exc.strerror or exc})", source) from None
-        lines = [np.array(b) for b in _rows(text, source)[0]]
-    if len(lines) != 2:
-        raise InputError(
-            f"holds {len(lines)} polylines; give two closed polylines (the body "
-            "inside the far field) or one body with --farfield R",
-            source,
-        )
-    ext = [float(np.ptp(np.asarray(p)[:, :2], axis=0).max()) for p in lines]
-    inner, outer = (lines[0], lines[1]) if ext[0] < ext[1] else (lines[1], lines[0])
-    body = body_from_points(np.asarray(inner)[:, :2], source)
-    return body, polyline_farfield(outer, body, source)
-
-
 __all__ = [
     "Body",
     "FarField",
@@ -320,6 +292,6 @@ __all__ = [
     "load_body",
     "naca4",
     "polyline_farfield",
-    "read_body_and_farfield",
     "read_dat",
+    "xy_blocks",
 ]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
@@ -19,6 +20,7 @@ from pinn_engine.io.fileio import (
     polylines_of,
     read_aux_lines,
     read_boundary_points,
+    read_polydata,
 )
 from pinn_engine.io.vtkgrid import structured_grid
 from pinn_engine.result import MeshResult
@@ -119,3 +121,32 @@ def body_from_polydata(poly: vtkPolyData, radius: float, source: str = "boundary
         "Field Radius) or two closed polylines (body inside far field)",
         source,
     )
+
+
+def read_body_and_farfield(path: str | os.PathLike):
+    """The body and far field (``bodies.airfoil``'s Body, FarField) of a file with two closed
+    polylines, the body inside the far field. ``.vtp``/``.vtk``: two polyline cells;
+    ``.csv``/``.txt``: two blocks of ``x,y`` rows separated by a blank line."""
+    from pinn_engine.bodies.airfoil import body_from_points, polyline_farfield, xy_blocks
+
+    source = str(path)
+    suffix = Path(path).suffix.lower()
+
+    if suffix in (".vtp", ".vtk"):
+        lines = [pts for pts, _ in polylines_of(read_polydata(Path(path)), source)]
+    else:
+        try:
+            text = Path(path).read_text(errors="replace")
+        except OSError as exc:
+            raise InputError(f"cannot read the file ({exc.strerror or exc})", source) from None
+        lines = [np.array(b) for b in xy_blocks(text, source)[0]]
+    if len(lines) != 2:
+        raise InputError(
+            f"holds {len(lines)} polylines; give two closed polylines (the body "
+            "inside the far field) or one body with --farfield R",
+            source,
+        )
+    ext = [float(np.ptp(np.asarray(p)[:, :2], axis=0).max()) for p in lines]
+    inner, outer = (lines[0], lines[1]) if ext[0] < ext[1] else (lines[1], lines[0])
+    body = body_from_points(np.asarray(inner)[:, :2], source)
+    return body, polyline_farfield(outer, body, source)
