@@ -45,7 +45,7 @@ class InexactSolve:
                 mat,
                 rhs[:, col],
                 tol=FORCING,
-                maxiter=MAX_ITERATIONS,
+                maxiter=min(MAX_ITERATIONS, mat.shape[0]),  # pyamg warns above the unknowns
                 M=self.preconditioner,
                 residuals=residuals,
             )
