@@ -411,7 +411,7 @@ def test_hexahedral_filter_on_the_bend(checkout):
     assert result["progress"] == [0.0, 1.0] and not result["messages"]
     assert "PINN Hexahedral Mesh: face grids" in result["progress_texts"]
     size = (11, 9, 7)
-    for method in ("tfi", "elliptic"):
+    for method in ("tfi", "elliptic", "pinn"):
         grid = result[method]
         assert grid["class"] == "vtkStructuredGrid"
         assert grid["extent"] == [0, 10, 0, 8, 0, 6]

@@ -2,7 +2,7 @@
 
     scripts/pvenv.sh pvpython tests/paraview_scripts/check_hexa.py EXAMPLE_DIR
 
-The 90-degree bend of example_data by tfi and elliptic, then a sphere (no FaceId) and the
+The 90-degree bend of example_data by tfi, elliptic and pinn (the default), then a sphere (no FaceId) and the
 bend again on the same filter. Prints one ``RESULT {json}`` line; any failed check raises
 (exit status 1).
 """
@@ -70,6 +70,8 @@ result["progress_texts"] = sorted(texts)
 
 mesh.Method = "elliptic"
 result["elliptic"] = grid_of(servermanager.Fetch(mesh))
+mesh.Method = "pinn"  # the network trained inside ParaView's Python
+result["pinn"] = grid_of(servermanager.Fetch(mesh))
 
 # a surface without FaceId: empty output, one line in the panel's words
 mesh.Input = simple.Sphere()
