@@ -46,7 +46,7 @@ from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 from pinn_engine.cache import MeshCache
 from pinn_engine.errors import STOP, grid_warnings
-from pinn_engine.routes.filters import LineInputs, choice
+from pinn_engine.routes.filters import LastOutcome, LineInputs, choice
 from pinn_engine.routes.reporting import announce, message_of
 from pinn_engine.settings import (
     METHODS,
@@ -72,7 +72,7 @@ def _warning(report: dict) -> str | None:
     return "; ".join(text for text, _ in grid_warnings(report, "paraview")) or None
 
 
-class PinnMeshAlgorithm(LineInputs, VTKPythonAlgorithmBase):
+class PinnMeshAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
     """Structured quadrilateral grid of a four-sided boundary (pinn, mgnet, tfi, elliptic).
 
     Settings (each setter calls ``Modified()`` when the value changes):
@@ -315,14 +315,6 @@ class PinnMeshAlgorithm(LineInputs, VTKPythonAlgorithmBase):
         """The output grid (after ``Update()``); empty when the last update failed."""
         return self.GetOutputDataObject(0)
 
-    def GetLastError(self) -> str:
-        """The message of the last failed update ("" after a successful one)."""
-        return self._last_error
-
-    def GetLastWarning(self) -> str:
-        """The warning of the last update (folded cells, wall angles), "" when it had none."""
-        return self._last_warning
-
     def GetTrainingCount(self) -> int:
         """How many networks this algorithm has trained (grid-size changes do not train)."""
         return self._cache.trainings
@@ -379,10 +371,6 @@ class PinnMeshAlgorithm(LineInputs, VTKPythonAlgorithmBase):
     def _message(self, exc: Exception) -> str:
         """The one-line message of a failed update, in the route's words."""
         return message_of(exc, self._route)
-
-    def GetLastException(self) -> Exception | None:
-        """The exception of the last failed update (None after a successful one)."""
-        return self._exception
 
     def _stamp(self, inInfo) -> tuple:
         """What a re-execution depends on: the settings and the inputs' modification times.

@@ -1,5 +1,6 @@
 """What the VTK filters (four-sided/body, multi-block, hexahedral) share: their input ports,
-their setters, how a ParaView enumeration's value is read and the folded-cells warning."""
+their setters, their last update's outcome, how a ParaView enumeration's value is read and
+the folded-cells warning."""
 
 from __future__ import annotations
 
@@ -28,6 +29,23 @@ class ModifiedOnChange:
         if getattr(self, attr) != value:
             setattr(self, attr, value)
             self.Modified()
+
+
+class LastOutcome:
+    """Mixed into a ``VTKPythonAlgorithmBase``: what the last update left (``RequestData``
+    sets ``_last_error``, ``_last_warning`` and ``_exception``), for scripts and pyvista."""
+
+    def GetLastError(self) -> str:
+        """The line of the last failed update ("" after a successful one)."""
+        return self._last_error
+
+    def GetLastWarning(self) -> str:
+        """The warning line of the last update ("" when it had none)."""
+        return self._last_warning
+
+    def GetLastException(self) -> Exception | None:
+        """The exception of the last failed update (None after a successful one)."""
+        return self._exception
 
 
 class LineInputs(ModifiedOnChange):

@@ -32,7 +32,7 @@ from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 from pinn_engine.errors import ROUTE_WORDS
 from pinn_engine.hexamesh import HEXA_METHOD, HEXA_SIZE, METHODS, size_problem
-from pinn_engine.routes.filters import ModifiedOnChange, choice, folded_warning
+from pinn_engine.routes.filters import LastOutcome, ModifiedOnChange, choice, folded_warning
 from pinn_engine.routes.reporting import announce, message_of
 
 LABEL = "PINN Hexahedral Mesh"
@@ -47,7 +47,7 @@ def refold_hint(route: str) -> str:
     )
 
 
-class PinnHexaAlgorithm(ModifiedOnChange, VTKPythonAlgorithmBase):
+class PinnHexaAlgorithm(LastOutcome, ModifiedOnChange, VTKPythonAlgorithmBase):
     """Hexahedral structured grid (SPEC 11) of a closed surface with six tagged faces.
 
     Settings (each setter calls ``Modified()`` when the value changes; values are checked at
@@ -89,18 +89,6 @@ class PinnHexaAlgorithm(ModifiedOnChange, VTKPythonAlgorithmBase):
     def GetOutput(self) -> vtkStructuredGrid:
         """The grid (after ``Update()``); empty when the last update failed."""
         return self.GetOutputDataObject(0)
-
-    def GetLastError(self) -> str:
-        """The line of the last failed update ("" after a successful one)."""
-        return self._last_error
-
-    def GetLastWarning(self) -> str:
-        """The warning line of the last update ("" when it had none)."""
-        return self._last_warning
-
-    def GetLastException(self) -> Exception | None:
-        """The exception of the last failed update (None after a successful one)."""
-        return self._exception
 
     # ---- pipeline ----------------------------------------------------------------------
     def RequestInformation(self, request, inInfo, outInfo):

@@ -38,7 +38,7 @@ from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkPolyData
 
 from pinn_engine.errors import InputError
 from pinn_engine.routes.cli import BLOCKS_METHOD
-from pinn_engine.routes.filters import LineInputs, choice, folded_warning
+from pinn_engine.routes.filters import LastOutcome, LineInputs, choice, folded_warning
 from pinn_engine.routes.reporting import announce, message_of
 from pinn_engine.settings import MULTIBLOCK_METHODS, PARAMETER_CONSTRAINTS, Settings, make_settings
 
@@ -99,7 +99,7 @@ def _items(value, separators: str) -> tuple[str, ...]:
     return tuple(str(v).strip() for v in value if str(v).strip())
 
 
-class PinnMultiBlockAlgorithm(LineInputs, VTKPythonAlgorithmBase):
+class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
     """Multi-block structured grid (SPEC 10) of a boundary, its holes and block edges.
 
     Settings (each setter calls ``Modified()`` when the value changes; values are checked at
@@ -186,18 +186,6 @@ class PinnMultiBlockAlgorithm(LineInputs, VTKPythonAlgorithmBase):
     def GetOutput(self) -> vtkMultiBlockDataSet:
         """The blocks (after ``Update()``); empty when the last update failed."""
         return self.GetOutputDataObject(0)
-
-    def GetLastError(self) -> str:
-        """The line of the last failed update ("" after a successful one)."""
-        return self._last_error
-
-    def GetLastWarning(self) -> str:
-        """The warning line of the last update ("" when it had none)."""
-        return self._last_warning
-
-    def GetLastException(self) -> Exception | None:
-        """The exception of the last failed update (None after a successful one)."""
-        return self._exception
 
     # ---- pipeline ----------------------------------------------------------------------
     def RequestData(self, request, inInfo, outInfo):
