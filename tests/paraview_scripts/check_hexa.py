@@ -2,9 +2,9 @@
 
     scripts/pvenv.sh pvpython tests/paraview_scripts/check_hexa.py EXAMPLE_DIR
 
-The 90-degree bend of example_data by tfi, elliptic and pinn (the default), then a sphere (no FaceId) and the
-bend again on the same filter. Prints one ``RESULT {json}`` line; any failed check raises
-(exit status 1).
+The 90-degree bend of example_data by tfi, elliptic and pinn (the default), then a sphere (no
+FaceId) and the bend again on the same filter. Prints one ``RESULT {json}`` line; any failed
+check raises (exit status 1).
 """
 
 import json
