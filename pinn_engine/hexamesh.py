@@ -10,6 +10,7 @@ import json
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -126,11 +127,6 @@ def refuse(
             f"--orthogonal {','.join(orthogonal)}: use --method elliptic ({method}'s grid lines "
             "do not turn to a patch's normal in this build)"
         )
-    if spacing and method == "pinn":
-        raise InputError(
-            f"--spacing {','.join(f'{k}={v:g}' for k, v in spacing.items())}: use --method "
-            "elliptic or tfi (the 3D pinn trains on uniform node parameters in this build)"
-        )
     for axis, name in enumerate("ijk"):
         if {f"{name}min", f"{name}max"} <= set(orthogonal) and size[axis] < OPPOSITE_NODES:
             raise InputError(
@@ -167,6 +163,41 @@ def volume_grid(
 
     evaluate.steps = 0
     return evaluate
+
+
+def _classical(
+    boundary: Callable[[np.ndarray], np.ndarray],
+    method: str,
+    spacing: dict[str, float],
+    orthogonal: tuple[str, ...],
+    base: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, int]:
+    """The tfi or elliptic grid (:func:`volume_grid`) at uniform node parameters, or with a
+    spacing at the parameters fitted to it (on the cheap TFI grids first: the Winslow grid
+    then needs few rounds); ``base`` is the uniform TFI grid. Returns (params, grid, Picard
+    steps)."""
+    evaluate = volume_grid(boundary, method, spacing, orthogonal)
+    uniform = node_params(base.shape[:3], {})
+    if not spacing:
+        return uniform, evaluate(uniform), evaluate.steps
+    first_guess = None
+    if method == "elliptic":
+        first_guess = fit_params(volume_grid(boundary, "tfi", spacing, orthogonal), spacing, base)[
+            2
+        ]
+    params, g, _ = fit_params(evaluate, spacing, base, first_guess)
+    return params, g, evaluate.steps
+
+
+def spacing_error(g: np.ndarray, spacing: dict[str, float]) -> float:
+    """The largest relative error of the first edges off the spaced patches (their four
+    corners aside, as :func:`wall_figures`)."""
+    worst = 0.0
+    for patch, h in spacing.items():
+        edges = first_edges(g, patch)
+        edges[[0, 0, -1, -1], [0, -1, 0, -1]] = h
+        worst = max(worst, float(np.abs(edges / h - 1.0).max()))
+    return worst
 
 
 def mesh_surface(
@@ -217,7 +248,7 @@ def mesh_polydata(
     refuse(size, method, spacing, orthogonal)
     tell = progress or (lambda phase, fraction: None)
     spacing = spacing or {}
-    start = time.perf_counter()
+    began = time.perf_counter()
     tell("face grids", 0.0)
     surface = surface_of(data, source, sharp_edges)
     topology = find_topology(surface, source)
@@ -227,7 +258,7 @@ def mesh_polydata(
     check_spacing(spacing, base)
     model = None
     if method == "pinn":  # torch only for the network
-        from pinn_engine.blocks.hexa import HexaModel, train
+        from pinn_engine.blocks.hexa import HexaModel, Start, train, winslow_start
 
         def tfi_of(shape: tuple[int, ...]) -> np.ndarray:
             """The TFI grid of ``shape`` nodes, its faces exactly the face grids."""
@@ -235,25 +266,30 @@ def mesh_polydata(
 
         tell("network", 0.2)
         key = surface_key(surface)
-        model = HexaModel.load(load_model, key) if load_model else train(tfi_of, size, key)
-        g, steps = model.grid(tfi_of(size)), 0
+        if load_model:
+            if spacing:
+                raise InputError(
+                    "--load-model with --spacing: a saved map keeps the spacing it was "
+                    "trained with; drop --spacing, or train anew with it"
+                )
+            model, tfi = HexaModel.load(load_model, key), tfi_of(size)
+        else:
+            if spacing:  # the spaced Winslow grid, its node parameters and their controls
+                params, grid, _ = _classical(boundary, "elliptic", spacing, (), base)
+                tfi = tfi_at(boundary, params)
+                start = Start(tfi, grid, params, partial(spacing_error, spacing=spacing))
+            else:
+                start, tfi = winslow_start(tfi_of, size), tfi_of(size)
+            model = train(start, key)
+        g, steps = model.grid(tfi), 0
     else:
         if method == "elliptic":
             tell("3D Winslow", 0.3)
-        evaluate = volume_grid(boundary, method, spacing, orthogonal)
-        if not spacing:
-            g = evaluate(uniform)
-        else:  # fitted on the cheap TFI grids first: the Winslow grid then needs few rounds
-            first_guess = None
-            if method == "elliptic":
-                tfi_grid = volume_grid(boundary, "tfi", spacing, orthogonal)
-                first_guess = fit_params(tfi_grid, spacing, base)[2]
-            g = fit_params(evaluate, spacing, base, first_guess)[1]
-        steps = evaluate.steps
+        _, g, steps = _classical(boundary, method, spacing, orthogonal, base)
     tell("quality", 0.9)
     cells = cell_arrays(g)
     walls = wall_figures(g, spacing, orthogonal)
-    return HexResult(g, cells, time.perf_counter() - start, steps, walls, model)
+    return HexResult(g, cells, time.perf_counter() - began, steps, walls, model)
 
 
 def wall_figures(

@@ -12,10 +12,11 @@ from conftest import ROOT
 
 from pinn_engine.blocks import hexa
 from pinn_engine.hexa import volume
-from pinn_engine.hexa.field import node_points
+from pinn_engine.hexa.field import LatticeField, node_points
+from pinn_engine.hexa.spacing import node_params
 from pinn_engine.hexamesh import mesh_surface
 from pinn_engine.neural.jet import nd
-from pinn_engine.neural.losses import winslow_residual_3d
+from pinn_engine.neural.losses import parameter_controls_3d, winslow_residual_3d
 from pinn_engine.neural.networks import CoordinateNet
 from pinn_engine.routes.cli import main
 
@@ -135,3 +136,20 @@ def test_a_model_of_another_surface_or_method_is_refused(saved_model, tmp_path, 
     assert "trained for a different surface" in capsys.readouterr().err and not out.exists()
     assert main([bend, "--method", "tfi", "--load-model", saved_model, "-o", str(out)]) == 2
     assert "--method tfi trains no network" in capsys.readouterr().err and not out.exists()
+
+
+def test_control_terms_make_a_stretched_box_map_a_solution():
+    """x = D s(xi) with s a spacing's node parameters (tensor-product stretched, as
+    hexa/spacing.py makes them) solves the 3D Winslow equations with the control terms of s
+    (Spekreijse: L x + sum_m P_m x_m = D L s - D T T^-1 L s = 0), not without them."""
+    size = (9, 8, 7)
+    params = node_params(size, {"kmin": np.full((9, 8), 0.01), "imax": np.full((8, 7), 0.03)})
+    dims = np.array([2.0, 1.0, 0.6])
+    x = np.random.default_rng(0).random((200, 3))
+    orders = hexa._orders()
+    jet = torch.as_tensor(LatticeField(params * dims).jet(x, orders))
+    s = torch.as_tensor(LatticeField(params).jet(x, orders))
+    scale = winslow_residual_3d(jet).abs().max()
+    assert scale > 1e-3  # the stretching matters: the plain equations do not hold
+    controlled = winslow_residual_3d(jet, controls=parameter_controls_3d(jet, s))
+    assert controlled.abs().max() < 1e-9 * scale

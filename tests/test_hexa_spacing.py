@@ -56,7 +56,7 @@ def _angle_deviation(g: np.ndarray, patch: str) -> float:
     return worst
 
 
-@pytest.mark.parametrize("method", ["tfi", "elliptic"])
+@pytest.mark.parametrize("method", ["tfi", "elliptic", "pinn"])
 def test_spacing_sets_the_first_edges_on_the_bump_floor(method):
     h = 0.005
     r = mesh_surface(BUMP, SIZE, method, spacing={"kmin": h})
@@ -67,6 +67,10 @@ def test_spacing_sets_the_first_edges_on_the_bump_floor(method):
     assert (np.diff(edges, axis=2) > 0).all()  # growing away from the floor along k
     plain = mesh_surface(BUMP, SIZE, method)
     assert np.median(_first_edge_ratios(plain.grid, "kmin", h)) > 2.0  # not by chance
+    if method == "pinn":  # issue 25's bounds against the spaced Winslow grid
+        ref = mesh_surface(BUMP, SIZE, "elliptic", spacing={"kmin": h}).cells["MaxIncludedAngle"]
+        angles = r.cells["MaxIncludedAngle"]
+        assert angles.mean() <= ref.mean() + 0.5 and angles.max() <= ref.max() + 2.0
 
 
 def test_orthogonal_floor_leaves_the_bump_along_its_normal():
@@ -128,7 +132,7 @@ def _error(capsys, argv: list[str], out) -> str:
     [
         (["--spacing", "bottom=0.01"], "PATCH one of imin, imax, jmin, jmax, kmin, kmax"),
         (["--spacing", "kmin=0.5", "--method", "tfi"], "shorter than half of the shortest edge"),
-        (["--spacing", "kmin=0.01"], "use --method elliptic or tfi (the 3D pinn trains on"),
+        (["--spacing", "kmin=0.01", "--load-model", "m.pt"], "a saved map keeps the spacing"),
         (["--orthogonal", "kmin"], "use --method elliptic (pinn's grid lines"),
         (["--orthogonal", "kmin,floor"], "unknown patch 'floor'"),
         (["--orthogonal", "kmin", "--method", "tfi"], "use --method elliptic"),

@@ -7,7 +7,9 @@ neural/mapping.py in 2D). The start is the converged 3D Winslow grid on the same
 nodes (the output layer starts at zero, so the map starts as that grid), the loss the 3D
 Winslow residual (losses.winslow_residual_3d) at random points, and the guard keeps the last
 L-BFGS state no worse than the start by blocks/quad.py's ``GUARD_TOL``, else the start: the
-grid is never worse than the Winslow grid by more than those tolerances. The trainer
+grid is never worse than the Winslow grid by more than those tolerances. With a spacing
+the start is the spaced Winslow grid, the loss gains its node parameters' control terms
+(losses.parameter_controls_3d) and the guard keeps the first edges near H. The trainer
 (neural/trainer.py) knows nothing of the third dimension.
 """
 
@@ -28,7 +30,7 @@ from pinn_engine.hexa import quality, volume
 from pinn_engine.hexa.field import LatticeField, node_points
 from pinn_engine.io.fileio import atomic_path
 from pinn_engine.neural.jet import nd
-from pinn_engine.neural.losses import winslow_residual_3d
+from pinn_engine.neural.losses import parameter_controls_3d, winslow_residual_3d
 from pinn_engine.neural.model import network_from, network_payload, read_payload
 from pinn_engine.neural.networks import CoordinateNet
 from pinn_engine.neural.trainer import (
@@ -59,6 +61,9 @@ MAX_LATTICE_NODES = 41**3
 # MaxIncludedAngle +0.009 and +0.07 deg over the Winslow grid's after 20, +0.019 and +0.13
 # after 120), while each iteration costs about 40 ms here (400 points, ten jet channels).
 HEXA_SETTINGS = {"lbfgs_iterations": 20}
+# The guard keeps a state only if a spaced patch's first edges stay within this fraction of
+# H: half of SPEC 7's 10 %, as GUARD_TOL is half of the angle bounds (the start's fit: 1 %)
+SPACING_GUARD = 0.05
 
 
 def bubble_jet(x: torch.Tensor) -> nd.Jet:
@@ -165,21 +170,27 @@ class HexaProblem:
         settings: Settings,
         dtype: torch.dtype,
         device: torch.device,
+        params: LatticeField | None = None,
     ) -> None:
-        self.net, self.start, self.settings = net, start, settings
+        self.net, self.start, self.params, self.settings = net, start, params, settings
         self.dtype, self.device = dtype, device
         self.anneals = False  # the boundary is built in: no boundary term to weigh
         self.rng = np.random.default_rng(settings.seed)
         self.orders = _orders()
 
-    def sample(self, n: int) -> tuple[torch.Tensor, torch.Tensor]:
-        """``n`` uniform random points and the start's jet (10, n, 3) there."""
+    def sample(self, n: int) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor | None]:
+        """``n`` uniform random points, the start's jet (10, n, 3) there and, with node
+        parameters (a spacing), their control terms (n, 3) frozen at the start."""
         x = self.rng.random((n, DIMENSIONS))
-        base = self.start.jet(x, self.orders)
-        return (
-            torch.as_tensor(x, dtype=self.dtype, device=self.device),
-            torch.as_tensor(base, dtype=self.dtype, device=self.device),
-        )
+
+        def tensor(a: np.ndarray) -> torch.Tensor:
+            return torch.as_tensor(a, dtype=self.dtype, device=self.device)
+
+        base = tensor(self.start.jet(x, self.orders))
+        controls = None
+        if self.params is not None:
+            controls = parameter_controls_3d(base, tensor(self.params.jet(x, self.orders)))
+        return tensor(x), base, controls
 
     def epoch_batch(self, epoch: int) -> tuple:
         """The points of one Adam epoch."""
@@ -193,12 +204,14 @@ class HexaProblem:
         """No weighted terms: the residual is the loss."""
         return {}
 
-    def terms(self, x: torch.Tensor, base: torch.Tensor) -> dict[str, torch.Tensor]:
-        """The Winslow term at ``x``: the map's jet is the start's plus the bubble's times
-        the network's (Leibniz rule)."""
+    def terms(
+        self, x: torch.Tensor, base: torch.Tensor, controls: torch.Tensor | None
+    ) -> dict[str, torch.Tensor]:
+        """The Winslow term at ``x`` (with the spacing's control terms): the map's jet is
+        the start's plus the bubble's times the network's (Leibniz rule)."""
         net_jet = nd.network_jet(self.net, x)
         jet = base + torch.stack(nd.product(bubble_jet(x), list(net_jet), DIMENSIONS))
-        residual = winslow_residual_3d(jet, self.settings.residual == "scaled")
+        residual = winslow_residual_3d(jet, self.settings.residual == "scaled", controls)
         return {"eqns": residual.pow(2).sum(dim=-1).mean()}
 
     def loss(self, terms: dict[str, torch.Tensor], lambda1: float) -> torch.Tensor:
@@ -219,25 +232,56 @@ def guard_figures(g: np.ndarray) -> dict[str, float]:
     }
 
 
+@dataclass
+class Start:
+    """What the network starts from: ``tfi`` (the map's base, its faces the face grids),
+    ``grid`` (the converged Winslow grid on the same faces: the start and the guard's
+    reference) and, for a spacing, the nodes' ``params`` (their control terms join the loss)
+    and ``spacing_error(grid)`` (the first edges' largest relative error, which the guard
+    keeps within ``SPACING_GUARD``)."""
+
+    tfi: np.ndarray
+    grid: np.ndarray
+    params: np.ndarray | None = None
+    spacing_error: Callable[[np.ndarray], float] | None = None
+
+
+def winslow_start(tfi_of: Callable[[tuple[int, ...]], np.ndarray], size: tuple[int, ...]) -> Start:
+    """The converged Winslow grid on the lattice of ``size`` (``lattice_for``), from
+    ``tfi_of(shape)``, the 3D TFI of the face grids with ``shape`` nodes."""
+    coarse = lattice_for(*size, most=MAX_LATTICE_NODES)
+    # at least 3 nodes a direction, as the grid has: the Winslow start needs an interior
+    tfi = tfi_of(tuple(max(m, min(n, 3)) for m, n in zip(coarse, size, strict=True)))
+    return Start(tfi, volume.winslow(tfi)[0])
+
+
 def train(
-    tfi_of: Callable[[tuple[int, ...]], np.ndarray],
-    size: tuple[int, int, int],
+    start: Start,
     surface_key: str,
     settings: Settings | None = None,
     progress: Progress | None = None,
 ) -> HexaModel:
-    """Train the network for a grid of ``size`` nodes from the converged Winslow grid on the
-    lattice (``lattice_for``), under the guard; ``tfi_of(shape)`` is the 3D TFI of the face
-    grids with ``shape`` nodes; ``settings`` default to ``HEXA_SETTINGS`` over Settings'
-    defaults; ``progress`` is the trainer's callback (neural/trainer.py)."""
+    """Train the network from ``start`` under the guard; ``settings`` default to
+    ``HEXA_SETTINGS`` over Settings' defaults; ``progress`` is the trainer's callback
+    (neural/trainer.py)."""
     settings = settings or Settings(**HEXA_SETTINGS)
     dtype = {"float64": torch.float64, "float32": torch.float32}[settings.dtype]
     device = pick_device(settings.device)
-    coarse = lattice_for(*size, most=MAX_LATTICE_NODES)
-    # at least 3 nodes a direction, as the grid has: the Winslow start needs an interior
-    tfi = tfi_of(tuple(max(m, min(n, 3)) for m, n in zip(coarse, size, strict=True)))
-    start, _ = volume.winslow(tfi)
-    correction = LatticeField(start - tfi)
+    tfi = start.tfi
+    correction = LatticeField(start.grid - tfi)
+    params = None if start.params is None else LatticeField(start.params)
+
+    def figures(g: np.ndarray) -> dict[str, float]:
+        q = guard_figures(g)
+        if start.spacing_error is not None:
+            q["spacing_error"] = start.spacing_error(g)
+        return q
+
+    def accept(q: dict, kept: dict) -> bool:
+        return no_worse(q, reference, *GUARD_TOL[False]) and (
+            q.get("spacing_error", 0.0) <= SPACING_GUARD
+        )
+
     with training_process(device):
         torch.manual_seed(settings.seed)
         net = CoordinateNet(
@@ -251,17 +295,10 @@ def train(
         with torch.no_grad():  # the map starts as the Winslow grid
             net.w_out.zero_()
         model = HexaModel(net, correction, settings, {}, {}, surface_key)
-        problem = HexaProblem(net, LatticeField(start), settings, dtype, device)
-        reference = guard_figures(start)
+        problem = HexaProblem(net, LatticeField(start.grid), settings, dtype, device, params)
+        reference = figures(start.grid)
         diagonal = float(np.linalg.norm(np.ptp(tfi.reshape(-1, DIMENSIONS), axis=0)))
-        guard = Guard(
-            net,
-            lambda: model.grid(tfi),
-            guard_figures,
-            lambda q, kept: no_worse(q, reference, *GUARD_TOL[False]),
-            reference,
-            diagonal,
-        )
+        guard = Guard(net, lambda: model.grid(tfi), figures, accept, reference, diagonal)
         model.history, model.info = fit(problem, settings, guard, progress)
     model.info.update(device=str(device), start="elliptic", elliptic=reference)
     return model

@@ -56,16 +56,41 @@ def scaled_winslow_residual(
     return winslow_residual(jet, controls) / scale.pow(1.5)
 
 
-def winslow_residual_3d(jet: torch.Tensor, scaled: bool = False) -> torch.Tensor:
+def cofactors_3d(first: torch.Tensor) -> torch.Tensor:
+    """Cofactors C (3, 3, B) of the metric tensor from the first derivatives (3, B, 3):
+    C_mn = (x_{m+1} x x_{m+2}) . (x_{n+1} x x_{n+2}) (indices mod 3)."""
+    a = torch.stack([torch.linalg.cross(first[(m + 1) % 3], first[(m + 2) % 3]) for m in range(3)])
+    return torch.einsum("mbk,nbk->mnb", a, a)
+
+
+def parameter_controls_3d(jet: torch.Tensor, params: torch.Tensor) -> torch.Tensor:
+    """Control terms P (B, 3) that keep node parameters s (a spacing's distribution) in the
+    3D Winslow equations: the grid x(s) with s harmonic in x gives
+    ``L x + sum_m P_m x_m = 0`` with ``P = -T^-1 (L s_1, L s_2, L s_3)``, T_km = ds_k/dxi_m,
+    L = sum_mn C_mn d_mn (Spekreijse 1995; hexa/controls.py is the discrete form). ``jet``
+    and ``params``: (10, B, 3) jets of the map and of s."""
+    c = cofactors_3d(jet[1:4])
+    laplace = sum(
+        (1 if m == n else 2) * c[m, n, :, None] * params[second(m, n, 3)] for m, n in pairs(3)
+    )
+    t = params[1:4].permute(1, 2, 0)  # (B, k, m) = ds_k / dxi_m
+    return -torch.linalg.solve(t, laplace)
+
+
+def winslow_residual_3d(
+    jet: torch.Tensor, scaled: bool = False, controls: torch.Tensor | None = None
+) -> torch.Tensor:
     """The 3D Winslow equations' residual sum_mn C_mn x_{xi_m xi_n} (B, 3) from a jet
     (10, B, 3) of ``jet.nd``'s channels; C is the cofactor matrix of the metric tensor
-    g_mn = x_m . x_n, C_mn = (x_{m+1} x x_{m+2}) . (x_{n+1} x x_{n+2}) (indices mod 3;
-    hexa/volume.py's discrete equations). ``scaled``: divided by (sum_m |x_m|^2)^(5/2),
-    as :func:`scaled_winslow_residual` in 2D (the residual is of fifth order in lengths)."""
+    g_mn = x_m . x_n (:func:`cofactors_3d`; hexa/volume.py's discrete equations). With
+    ``controls`` P (B, 3) the terms sum_m P_m x_m are added (:func:`parameter_controls_3d`).
+    ``scaled``: divided by (sum_m |x_m|^2)^(5/2), as :func:`scaled_winslow_residual` in 2D
+    (the residual is of fifth order in lengths)."""
     r = jet[1:4]
-    a = torch.stack([torch.linalg.cross(r[(m + 1) % 3], r[(m + 2) % 3]) for m in range(3)])
-    c = torch.einsum("mbk,nbk->mnb", a, a)
+    c = cofactors_3d(r)
     e = sum((1 if m == n else 2) * c[m, n, :, None] * jet[second(m, n, 3)] for m, n in pairs(3))
+    if controls is not None:
+        e = e + sum(controls[:, m, None] * r[m] for m in range(3))
     if scaled:
         e = e / r.pow(2).sum(dim=(0, 2))[:, None].pow(2.5)
     return e
