@@ -24,7 +24,14 @@ from pinn_engine.hexa import quality, volume
 from pinn_engine.hexa.block import cube_corners
 from pinn_engine.hexa.facegrid import FaceMap
 from pinn_engine.hexa.orthogonal import inner_angles, orthogonal_grid
-from pinn_engine.hexa.spacing import check_spacing, first_edges, fit_params, node_params, tfi_at
+from pinn_engine.hexa.spacing import (
+    PATCH_AXIS,
+    check_spacing,
+    first_edges,
+    fit_params,
+    node_params,
+    tfi_at,
+)
 from pinn_engine.hexa.surface import Surface, Topology, find_topology, surface_of
 from pinn_engine.io import fileio
 from pinn_engine.io.export.patches import BOX_SIDES, add_to_grid, patch_specs
@@ -122,10 +129,10 @@ def refuse(
     problem = size_problem(size)
     if problem:
         raise InputError(f"--size {' '.join(map(str, size))}: {problem}")
-    if orthogonal and method != "elliptic":
+    if orthogonal and method == "tfi":
         raise InputError(
-            f"--orthogonal {','.join(orthogonal)}: use --method elliptic ({method}'s grid lines "
-            "do not turn to a patch's normal in this build)"
+            f"--orthogonal {','.join(orthogonal)}: use --method elliptic or pinn (tfi's grid "
+            "lines cannot turn to a patch's normal)"
         )
     for axis, name in enumerate("ijk"):
         if {f"{name}min", f"{name}max"} <= set(orthogonal) and size[axis] < OPPOSITE_NODES:
@@ -187,6 +194,12 @@ def _classical(
         ]
     params, g, _ = fit_params(evaluate, spacing, base, first_guess)
     return params, g, evaluate.steps
+
+
+def wall_angle(g: np.ndarray, patches: tuple[str, ...]) -> float:
+    """The largest angle in degrees of a grid line from the normal of an orthogonal patch
+    (its rim's nodes aside, as :func:`wall_figures`)."""
+    return max(float(inner_angles(g, patch).max(initial=0.0)) for patch in patches)
 
 
 def spacing_error(g: np.ndarray, spacing: dict[str, float]) -> float:
@@ -267,19 +280,26 @@ def mesh_polydata(
         tell("network", 0.2)
         key = surface_key(surface)
         if load_model:
-            if spacing:
+            if spacing or orthogonal:
                 raise InputError(
-                    "--load-model with --spacing: a saved map keeps the spacing it was "
-                    "trained with; drop --spacing, or train anew with it"
+                    "--load-model with --spacing or --orthogonal: a saved map keeps the "
+                    "spacing and walls it was trained with; drop them, or train anew"
                 )
             model, tfi = HexaModel.load(load_model, key), tfi_of(size)
+        elif spacing or orthogonal:  # the elliptic grid with them, at the full size
+            params, grid, _ = _classical(boundary, "elliptic", spacing, orthogonal, base)
+            tfi = tfi_at(boundary, params)
+            start = Start(
+                tfi,
+                grid,
+                params if spacing else None,
+                partial(spacing_error, spacing=spacing) if spacing else None,
+                tuple((PATCH_AXIS[p][0], float(PATCH_AXIS[p][1] != 0)) for p in orthogonal),
+                partial(wall_angle, patches=orthogonal) if orthogonal else None,
+            )
+            model = train(start, key)
         else:
-            if spacing:  # the spaced Winslow grid, its node parameters and their controls
-                params, grid, _ = _classical(boundary, "elliptic", spacing, (), base)
-                tfi = tfi_at(boundary, params)
-                start = Start(tfi, grid, params, partial(spacing_error, spacing=spacing))
-            else:
-                start, tfi = winslow_start(tfi_of, size), tfi_of(size)
+            start, tfi = winslow_start(tfi_of, size), tfi_of(size)
             model = train(start, key)
         g, steps = model.grid(tfi), 0
     else:

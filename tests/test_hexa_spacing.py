@@ -73,8 +73,9 @@ def test_spacing_sets_the_first_edges_on_the_bump_floor(method):
         assert angles.mean() <= ref.mean() + 0.5 and angles.max() <= ref.max() + 2.0
 
 
-def test_orthogonal_floor_leaves_the_bump_along_its_normal():
-    r = mesh_surface(BUMP, SIZE, "elliptic", spacing={"kmin": 0.005}, orthogonal=("kmin",))
+@pytest.mark.parametrize("method", ["elliptic", "pinn"])
+def test_orthogonal_floor_leaves_the_bump_along_its_normal(method):
+    r = mesh_surface(BUMP, SIZE, method, spacing={"kmin": 0.005}, orthogonal=("kmin",))
     assert _angle_deviation(r.grid, "kmin") <= ANGLE_TOL
     assert np.abs(_first_edge_ratios(r.grid, "kmin", 0.005) - 1.0).max() <= SPACING_TOL
     assert r.cells["Folded"].sum() == 0
@@ -133,7 +134,7 @@ def _error(capsys, argv: list[str], out) -> str:
         (["--spacing", "bottom=0.01"], "PATCH one of imin, imax, jmin, jmax, kmin, kmax"),
         (["--spacing", "kmin=0.5", "--method", "tfi"], "shorter than half of the shortest edge"),
         (["--spacing", "kmin=0.01", "--load-model", "m.pt"], "a saved map keeps the spacing"),
-        (["--orthogonal", "kmin"], "use --method elliptic (pinn's grid lines"),
+        (["--orthogonal", "kmin", "--load-model", "m.pt"], "a saved map keeps the spacing"),
         (["--orthogonal", "kmin,floor"], "unknown patch 'floor'"),
         (["--orthogonal", "kmin", "--method", "tfi"], "use --method elliptic"),
         (["--orthogonal", "kmin,kmax", "--size", "7", "7", "3", "--method", "elliptic"], "along k"),

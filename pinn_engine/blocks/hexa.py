@@ -24,13 +24,17 @@ import numpy as np
 import torch
 
 from pinn_engine import __version__
-from pinn_engine.blocks.quad import GUARD_TOL
+from pinn_engine.blocks.quad import GUARD_TOL, GUARD_WALL_ANGLE
 from pinn_engine.errors import InputError
 from pinn_engine.hexa import quality, volume
 from pinn_engine.hexa.field import LatticeField, node_points
 from pinn_engine.io.fileio import atomic_path
 from pinn_engine.neural.jet import nd
-from pinn_engine.neural.losses import parameter_controls_3d, winslow_residual_3d
+from pinn_engine.neural.losses import (
+    loss_orthogonal,
+    parameter_controls_3d,
+    winslow_residual_3d,
+)
 from pinn_engine.neural.model import network_from, network_payload, read_payload
 from pinn_engine.neural.networks import CoordinateNet
 from pinn_engine.neural.trainer import (
@@ -64,6 +68,9 @@ HEXA_SETTINGS = {"lbfgs_iterations": 20}
 # The guard keeps a state only if a spaced patch's first edges stay within this fraction of
 # H: half of SPEC 7's 10 %, as GUARD_TOL is half of the angle bounds (the start's fit: 1 %)
 SPACING_GUARD = 0.05
+# random points on each orthogonal patch in the orthogonality term (SPEC 7), as many as the
+# interior's L-BFGS points: the guard checks the angle at every patch node anyway
+WALL_POINTS = 400
 
 
 def bubble_jet(x: torch.Tensor) -> nd.Jet:
@@ -171,26 +178,37 @@ class HexaProblem:
         dtype: torch.dtype,
         device: torch.device,
         params: LatticeField | None = None,
+        walls: tuple[tuple[int, float], ...] = (),
     ) -> None:
         self.net, self.start, self.params, self.settings = net, start, params, settings
+        self.walls = walls  # (axis, 0.0 or 1.0) of each orthogonal patch
         self.dtype, self.device = dtype, device
         self.anneals = False  # the boundary is built in: no boundary term to weigh
         self.rng = np.random.default_rng(settings.seed)
         self.orders = _orders()
 
-    def sample(self, n: int) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor | None]:
+    def sample(self, n: int) -> tuple:
         """``n`` uniform random points, the start's jet (10, n, 3) there and, with node
-        parameters (a spacing), their control terms (n, 3) frozen at the start."""
-        x = self.rng.random((n, DIMENSIONS))
+        parameters (a spacing), their control terms (n, 3) frozen at the start; then
+        ``WALL_POINTS`` random points on each orthogonal patch and the start's jet there."""
 
         def tensor(a: np.ndarray) -> torch.Tensor:
             return torch.as_tensor(a, dtype=self.dtype, device=self.device)
 
+        x = self.rng.random((n, DIMENSIONS))
         base = tensor(self.start.jet(x, self.orders))
         controls = None
         if self.params is not None:
             controls = parameter_controls_3d(base, tensor(self.params.jet(x, self.orders)))
-        return tensor(x), base, controls
+        on = []
+        for axis, value in self.walls:
+            w = self.rng.random((WALL_POINTS, DIMENSIONS))
+            w[:, axis] = value
+            on.append(w)
+        if not on:
+            return tensor(x), base, controls, None, None
+        w = np.concatenate(on)
+        return tensor(x), base, controls, tensor(w), tensor(self.start.jet(w, self.orders))
 
     def epoch_batch(self, epoch: int) -> tuple:
         """The points of one Adam epoch."""
@@ -204,18 +222,41 @@ class HexaProblem:
         """No weighted terms: the residual is the loss."""
         return {}
 
-    def terms(
-        self, x: torch.Tensor, base: torch.Tensor, controls: torch.Tensor | None
-    ) -> dict[str, torch.Tensor]:
-        """The Winslow term at ``x`` (with the spacing's control terms): the map's jet is
-        the start's plus the bubble's times the network's (Leibniz rule)."""
+    def _jet(self, x: torch.Tensor, base: torch.Tensor) -> torch.Tensor:
+        """The map's jet at ``x``: the start's plus the bubble's times the network's (Leibniz
+        rule)."""
         net_jet = nd.network_jet(self.net, x)
-        jet = base + torch.stack(nd.product(bubble_jet(x), list(net_jet), DIMENSIONS))
+        return base + torch.stack(nd.product(bubble_jet(x), list(net_jet), DIMENSIONS))
+
+    def terms(
+        self,
+        x: torch.Tensor,
+        base: torch.Tensor,
+        controls: torch.Tensor | None,
+        wall_x: torch.Tensor | None,
+        wall_base: torch.Tensor | None,
+    ) -> dict[str, torch.Tensor]:
+        """The Winslow term at ``x`` (with the spacing's control terms) and, on orthogonal
+        patches, the orthogonality term: the grid line leaving the patch against the
+        patch's two tangents (:func:`losses.loss_orthogonal`, SPEC 7)."""
+        jet = self._jet(x, base)
         residual = winslow_residual_3d(jet, self.settings.residual == "scaled", controls)
-        return {"eqns": residual.pow(2).sum(dim=-1).mean()}
+        terms = {"eqns": residual.pow(2).sum(dim=-1).mean()}
+        if wall_x is not None:
+            wall = self._jet(wall_x, wall_base)
+            orth = []
+            for k, (axis, _) in enumerate(self.walls):
+                at = slice(k * WALL_POINTS, (k + 1) * WALL_POINTS)
+                leave = wall[1 + axis, at]
+                for m in (m for m in range(DIMENSIONS) if m != axis):
+                    orth.append(loss_orthogonal(leave, wall[1 + m, at]))
+            terms["orth"] = torch.stack(orth).mean()
+        return terms
 
     def loss(self, terms: dict[str, torch.Tensor], lambda1: float) -> torch.Tensor:
-        return terms["eqns"]
+        """The Winslow term plus the orthogonality term (weight 1, as the 2D kind's: both
+        are means of order one per point, and the guard decides what is kept)."""
+        return terms["eqns"] + terms.get("orth", 0.0)
 
     def evaluate(self, batch: tuple) -> AutogradEvaluation:
         return AutogradEvaluation(self, batch)
@@ -244,6 +285,8 @@ class Start:
     grid: np.ndarray
     params: np.ndarray | None = None
     spacing_error: Callable[[np.ndarray], float] | None = None
+    walls: tuple[tuple[int, float], ...] = ()
+    wall_angle: Callable[[np.ndarray], float] | None = None
 
 
 def winslow_start(tfi_of: Callable[[tuple[int, ...]], np.ndarray], size: tuple[int, ...]) -> Start:
@@ -275,11 +318,16 @@ def train(
         q = guard_figures(g)
         if start.spacing_error is not None:
             q["spacing_error"] = start.spacing_error(g)
+        if start.wall_angle is not None:
+            q["wall_angle"] = start.wall_angle(g)
         return q
 
     def accept(q: dict, kept: dict) -> bool:
-        return no_worse(q, reference, *GUARD_TOL[False]) and (
-            q.get("spacing_error", 0.0) <= SPACING_GUARD
+        wall_tol = max(GUARD_WALL_ANGLE, reference.get("wall_angle", 0.0))
+        return (
+            no_worse(q, reference, *GUARD_TOL[False])
+            and q.get("spacing_error", 0.0) <= SPACING_GUARD
+            and q.get("wall_angle", 0.0) <= wall_tol
         )
 
     with training_process(device):
@@ -295,7 +343,9 @@ def train(
         with torch.no_grad():  # the map starts as the Winslow grid
             net.w_out.zero_()
         model = HexaModel(net, correction, settings, {}, {}, surface_key)
-        problem = HexaProblem(net, LatticeField(start.grid), settings, dtype, device, params)
+        problem = HexaProblem(
+            net, LatticeField(start.grid), settings, dtype, device, params, start.walls
+        )
         reference = figures(start.grid)
         diagonal = float(np.linalg.norm(np.ptp(tfi.reshape(-1, DIMENSIONS), axis=0)))
         guard = Guard(net, lambda: model.grid(tfi), figures, accept, reference, diagonal)
