@@ -217,7 +217,7 @@ def mesh_surface(
     path: str,
     size: tuple[int, int, int],
     method: str,
-    progress: Callable[[str, float], None] | None = None,
+    progress: Callable[[float, str], None] | None = None,
     *,
     spacing: dict[str, float] | None = None,
     orthogonal: tuple[str, ...] = (),
@@ -246,7 +246,7 @@ def mesh_polydata(
     size: tuple[int, int, int],
     method: str,
     source: str,
-    progress: Callable[[str, float], None] | None = None,
+    progress: Callable[[float, str], None] | None = None,
     *,
     sharp_edges: bool = False,
     spacing: dict[str, float] | None = None,
@@ -257,12 +257,12 @@ def mesh_polydata(
     with ``sharp_edges`` faces found at its sharp edges; the filter's and pyvista's input),
     ``source`` naming it in messages; ``spacing`` (patch -> first edge H) and ``orthogonal``
     (patches) as SPEC 7 on the patches; pinn trains its network, or evaluates the one saved
-    at ``load_model``; ``progress(phase, fraction)`` is told each phase as it starts."""
+    at ``load_model``; ``progress(fraction, phase)`` is told each phase as it starts."""
     refuse(size, method, spacing, orthogonal)
-    tell = progress or (lambda phase, fraction: None)
+    tell = progress or (lambda fraction, phase: None)
     spacing = spacing or {}
     began = time.perf_counter()
-    tell("face grids", 0.0)
+    tell(0.0, "face grids")
     surface = surface_of(data, source, sharp_edges)
     topology = find_topology(surface, source)
     boundary = boundary_map(surface, topology, source)
@@ -277,7 +277,7 @@ def mesh_polydata(
             """The TFI grid of ``shape`` nodes, its faces exactly the face grids."""
             return tfi_at(boundary, node_params(shape, {}))
 
-        tell("network", 0.2)
+        tell(0.2, "network")
         key = surface_key(surface)
         if load_model:
             if spacing or orthogonal:
@@ -304,9 +304,9 @@ def mesh_polydata(
         g, steps = model.grid(tfi), 0
     else:
         if method == "elliptic":
-            tell("3D Winslow", 0.3)
+            tell(0.3, "3D Winslow")
         _, g, steps = _classical(boundary, method, spacing, orthogonal, base)
-    tell("quality", 0.9)
+    tell(0.9, "quality")
     cells = cell_arrays(g)
     walls = wall_figures(g, spacing, orthogonal)
     return HexResult(g, cells, time.perf_counter() - began, steps, walls, model)

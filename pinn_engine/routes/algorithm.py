@@ -47,7 +47,7 @@ from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 from pinn_engine.cache import MeshCache
 from pinn_engine.errors import STOP, grid_warnings
 from pinn_engine.routes.filters import LastOutcome, LineInputs, choice
-from pinn_engine.routes.reporting import announce, message_of
+from pinn_engine.routes.reporting import message_of
 from pinn_engine.settings import (
     METHODS,
     NEURAL,
@@ -94,6 +94,8 @@ class PinnMeshAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
     * ``SetPatchNames(names)``: boundary patch names (four names bottom right top left, or
       ``SIDE=NAME`` items, as a string, sequence or mapping); field data ``PatchNames``
     """
+
+    LABEL = LABEL
 
     def __init__(
         self,
@@ -357,7 +359,7 @@ class PinnMeshAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
         else:
             output.ShallowCopy(grid)
             if warning:
-                self._report_warning(warning)
+                self._report(warning, warning=True)
             self._progress(1.0, "done")
             self.SetProgressText(LABEL)
             return 1
@@ -365,7 +367,7 @@ class PinnMeshAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
         if self.GetAbortExecute():
             self.SetAbortExecute(0)
         self._failed = self._stamp(inInfo)
-        self._report_error(message)
+        self._report(message)
         return 1
 
     def _message(self, exc: Exception) -> str:
@@ -467,12 +469,6 @@ class PinnMeshAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
 
         return progress
 
-    def _progress(self, fraction: float, phase: str) -> None:
-        """Progress with the filter's name and the phase as its text: ParaView's progress bar
-        shows it instead of the class name ("PythonAlgorithm")."""
-        self.SetProgressText(f"{LABEL}: {phase}")
-        self.UpdateProgress(fraction)
-
     def _abort_requested(self) -> bool:
         check = getattr(self, "CheckAbort", None)  # VTK 9.4+
         if check is not None and check():
@@ -501,17 +497,3 @@ class PinnMeshAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
             yield
         finally:
             signal.signal(usr1, previous)
-
-    def _report_error(self, message: str) -> None:
-        line = f"{LABEL}: {' '.join(str(message).split())}"
-        self._last_error = line
-        if self._route != "paraview":  # the caller raises GetLastException() instead
-            return
-        announce(self, line)
-
-    def _report_warning(self, message: str) -> None:
-        line = f"{LABEL}: warning: {' '.join(str(message).split())}"
-        self._last_warning = line
-        if self._route != "paraview":  # the caller warns in its own words
-            return
-        announce(self, line, warning=True)

@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from pinn_engine.errors import ROUTE_WORDS
+from pinn_engine.routes.reporting import announce
 
 
 def choice(value, options: tuple[str, ...], what: str) -> str:
@@ -32,8 +33,11 @@ class ModifiedOnChange:
 
 
 class LastOutcome:
-    """Mixed into a ``VTKPythonAlgorithmBase``: what the last update left (``RequestData``
-    sets ``_last_error``, ``_last_warning`` and ``_exception``), for scripts and pyvista."""
+    """Mixed into a ``VTKPythonAlgorithmBase`` whose class names its ``LABEL``: progress and
+    messages under that name, and what the last update left (``RequestData`` sets
+    ``_last_error``, ``_last_warning`` and ``_exception``), for scripts and pyvista."""
+
+    LABEL = ""  # the filter's name in ParaView's menu, progress bar and Output Messages
 
     def GetLastError(self) -> str:
         """The line of the last failed update ("" after a successful one)."""
@@ -46,6 +50,23 @@ class LastOutcome:
     def GetLastException(self) -> Exception | None:
         """The exception of the last failed update (None after a successful one)."""
         return self._exception
+
+    def _progress(self, fraction: float, phase: str) -> None:
+        """Progress with the filter's name and the phase as its text: ParaView's progress bar
+        shows it instead of the class name ("PythonAlgorithm")."""
+        self.SetProgressText(f"{self.LABEL}: {phase}")
+        self.UpdateProgress(fraction)
+
+    def _report(self, message: str, warning: bool = False) -> None:
+        """Keep ``message`` as the last error (or warning) line, and in ParaView announce it
+        in Output Messages; the other routes raise or warn in their own words."""
+        line = f"{self.LABEL}: {'warning: ' if warning else ''}{' '.join(str(message).split())}"
+        if warning:
+            self._last_warning = line
+        else:
+            self._last_error = line
+        if self._route == "paraview":
+            announce(self, line, warning)
 
 
 class LineInputs(ModifiedOnChange):

@@ -33,7 +33,7 @@ from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 from pinn_engine.errors import ROUTE_WORDS
 from pinn_engine.hexamesh import HEXA_METHOD, HEXA_SIZE, METHODS, size_problem
 from pinn_engine.routes.filters import LastOutcome, ModifiedOnChange, choice, folded_warning
-from pinn_engine.routes.reporting import announce, message_of
+from pinn_engine.routes.reporting import message_of
 
 LABEL = "PINN Hexahedral Mesh"
 
@@ -57,6 +57,8 @@ class PinnHexaAlgorithm(LastOutcome, ModifiedOnChange, VTKPythonAlgorithmBase):
       ``hexamesh.HEXA_METHOD``
     * ``SetGridSize(ni, nj, nk)``: nodes along i, j and k, default 21 21 21
     """
+
+    LABEL = LABEL
 
     def __init__(self, route: str = "paraview") -> None:
         """``route``: whose words messages are in ("paraview"; "pyvista" keeps them off VTK's
@@ -121,8 +123,8 @@ class PinnHexaAlgorithm(LastOutcome, ModifiedOnChange, VTKPythonAlgorithmBase):
             output.ShallowCopy(grid)
             warning = folded_warning(report, self._route, refold_hint(self._route))
             if warning:
-                self._report(f"warning: {warning}", warning=True)
-        self._progress("done", 1.0)
+                self._report(warning, warning=True)
+        self._progress(1.0, "done")
         self.SetProgressText(LABEL)
         return 1
 
@@ -136,20 +138,6 @@ class PinnHexaAlgorithm(LastOutcome, ModifiedOnChange, VTKPythonAlgorithmBase):
             raise ValueError(f"{ROUTE_WORDS[self._route]['size']} {size}: {problem}")
         result = mesh_polydata(surface, self._size, self._method, "input", self._progress)
         return hexa_grid(result, self._method), report(result, self._method)
-
-    def _progress(self, phase: str, fraction: float) -> None:
-        """Progress with the filter's name and the phase as its text (ParaView's bar)."""
-        self.SetProgressText(f"{LABEL}: {phase}")
-        self.UpdateProgress(fraction)
-
-    def _report(self, message: str, warning: bool) -> None:
-        line = f"{LABEL}: {' '.join(str(message).split())}"
-        if warning:
-            self._last_warning = line
-        else:
-            self._last_error = line
-        if self._route == "paraview":  # other routes raise or warn in their own words
-            announce(self, line, warning)
 
 
 __all__ = ["LABEL", "PinnHexaAlgorithm", "refold_hint"]

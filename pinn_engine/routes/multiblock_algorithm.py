@@ -39,7 +39,7 @@ from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkPolyData
 from pinn_engine.errors import InputError
 from pinn_engine.routes.cli import BLOCKS_METHOD
 from pinn_engine.routes.filters import LastOutcome, LineInputs, choice, folded_warning
-from pinn_engine.routes.reporting import announce, message_of
+from pinn_engine.routes.reporting import message_of
 from pinn_engine.settings import MULTIBLOCK_METHODS, PARAMETER_CONSTRAINTS, Settings, make_settings
 
 LABEL = "PINN Multi-Block Mesh"
@@ -122,6 +122,8 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
     item, as the command line's ``--patch``, ``--spacing`` and ``--orthogonal``).
     """
 
+    LABEL = LABEL
+
     def __init__(self, route: str = "paraview") -> None:
         """``route``: whose words messages are in ("paraview"; "pyvista" keeps them off VTK's
         output window, for the caller to raise ``GetLastException()``)."""
@@ -203,7 +205,7 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
             output.ShallowCopy(dataset)
             warning = folded_warning(report, self._route, MOVE_EDGES)
             if warning:
-                self._report(f"warning: {warning}", warning=True)
+                self._report(warning, warning=True)
         self._progress(1.0, "done")
         self.SetProgressText(LABEL)
         return 1
@@ -252,20 +254,6 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
         elliptic grid before it at 0."""
         if info["phase"] == "prepare":
             self._progress(info["step"] / info["total"], info["stage"])
-
-    def _progress(self, fraction: float, phase: str) -> None:
-        """Progress with the filter's name and the phase as its text (ParaView's bar)."""
-        self.SetProgressText(f"{LABEL}: {phase}")
-        self.UpdateProgress(fraction)
-
-    def _report(self, message: str, warning: bool) -> None:
-        line = f"{LABEL}: {' '.join(str(message).split())}"
-        if warning:
-            self._last_warning = line
-        else:
-            self._last_error = line
-        if self._route == "paraview":  # other routes raise or warn in their own words
-            announce(self, line, warning)
 
 
 __all__ = ["MOVE_EDGES", "PinnMultiBlockAlgorithm", "curves_of"]
