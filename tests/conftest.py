@@ -31,6 +31,18 @@ def foam_env() -> dict[str, str]:
     return env
 
 
+def refused(capsys, argv: list[str], out: Path) -> str:
+    """The one-line error of a ``pinn-mesh`` run that must be refused: exit status 2, no
+    file at ``out``, one line on stderr."""
+    from pinn_engine.routes.cli import main
+
+    assert main(argv) == 2
+    assert not out.exists()
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and err.startswith("pinn-mesh: error:")
+    return err
+
+
 def square_ring(n: int = 10, size: float = 1.0) -> np.ndarray:
     """Counter-clockwise square with ``n`` segments per side, starting at (0, 0)."""
     t = np.linspace(0, size, n + 1)[:-1]

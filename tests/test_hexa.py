@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import pyvista as pv
-from conftest import ROOT
+from conftest import ROOT, refused
 
 from pinn_engine.hexa import volume
 from pinn_engine.hexa.sharp import faces_at_sharp_edges
@@ -38,20 +38,11 @@ def _corner_sums(g: np.ndarray) -> np.ndarray:
     return np.array([g[a, b, c].sum() for a in (0, -1) for b in (0, -1) for c in (0, -1)])
 
 
-def _error(capsys, argv: list[str], out) -> str:
-    """The one-line error of a refused run, after checking exit 2 and no file."""
-    assert main(argv) == 2
-    assert not out.exists()
-    err = capsys.readouterr().err.strip()
-    assert err.count("\n") == 0 and err.startswith("pinn-mesh: error:")
-    return err
-
-
 def test_open_surface_is_refused(tmp_path, capsys):
     mesh = pv.read(DATA / "hexa_bump_box.vtp")
     mesh = mesh.remove_cells([0])
     out = tmp_path / "o.vts"
-    err = _error(capsys, [_write(mesh, tmp_path, "open.vtp"), "-o", str(out)], out)
+    err = refused(capsys, [_write(mesh, tmp_path, "open.vtp"), "-o", str(out)], out)
     assert "not closed: 3 open edges" in err
 
 
@@ -61,7 +52,7 @@ def test_wrong_face_count_is_refused(tmp_path, capsys):
     ids[ids == 5] = 4
     mesh.cell_data["FaceId"] = ids
     out = tmp_path / "o.vts"
-    err = _error(capsys, [_write(mesh, tmp_path, "five.vtp"), "-o", str(out)], out)
+    err = refused(capsys, [_write(mesh, tmp_path, "five.vtp"), "-o", str(out)], out)
     assert "5 FaceId values found" in err
 
 
@@ -75,13 +66,13 @@ def test_face_with_a_hole_is_refused(tmp_path, capsys):
     ids[middle] = 5  # a patch inside the floor tagged as the top: the floor is an annulus
     mesh.cell_data["FaceId"] = ids
     out = tmp_path / "o.vts"
-    err = _error(capsys, [_write(mesh, tmp_path, "hole.vtp"), "-o", str(out)], out)
+    err = refused(capsys, [_write(mesh, tmp_path, "hole.vtp"), "-o", str(out)], out)
     assert "face 4 is not a disk (Euler characteristic 0" in err
 
 
 def test_mgnet_is_refused_naming_the_working_methods(tmp_path, capsys):
     out = tmp_path / "o.vts"
-    err = _error(capsys, [str(DATA / EXAMPLES[0]), "--method", "mgnet", "-o", str(out)], out)
+    err = refused(capsys, [str(DATA / EXAMPLES[0]), "--method", "mgnet", "-o", str(out)], out)
     assert "meshed by pinn, tfi, elliptic" in err
 
 
@@ -198,7 +189,7 @@ def test_sharp_edges_split_a_cube_whatever_the_triangles_winding():
 )
 def test_an_stl_without_six_sharp_faces_is_refused(tmp_path, capsys, shape, found):
     out = tmp_path / "o.vts"
-    err = _error(capsys, [_write(shape.triangulate(), tmp_path, "s.stl"), "-o", str(out)], out)
+    err = refused(capsys, [_write(shape.triangulate(), tmp_path, "s.stl"), "-o", str(out)], out)
     assert err.endswith(
         f"found {found} faces at edges sharper than 40 degrees; a six-faced domain needs 6"
     )

@@ -8,8 +8,7 @@ import json
 import numpy as np
 import pytest
 import pyvista as pv
-from conftest import ROOT
-from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
+from conftest import ROOT, OutputMessages
 
 from pinn_engine.errors import InputError
 from pinn_engine.hexamesh import HEXA_METHOD, METHODS, mesh_surface
@@ -82,11 +81,8 @@ def test_accessor_refuses_in_one_line(bend, call, error, text):
 
 
 def test_algorithm_reports_once_in_the_panels_words_and_recovers(bend):
-    window = vtkStringOutputWindow()
-    previous = vtkOutputWindow.GetInstance()
-    vtkOutputWindow.SetInstance(window)
-    try:
-        alg = PinnHexaAlgorithm()
+    alg = PinnHexaAlgorithm()
+    with OutputMessages(alg, "ErrorEvent") as said:
         alg.SetGridSize(*SIZE)
         alg.SetInputDataObject(0, pv.Sphere())
         alg.Update()
@@ -94,7 +90,7 @@ def test_algorithm_reports_once_in_the_panels_words_and_recovers(bend):
         assert alg.GetOutput().GetNumberOfPoints() == 0
         line = "PINN Hexahedral Mesh: input: no FaceId cell array: tag each of the six faces"
         assert alg.GetLastError() == line
-        assert [ln for ln in window.GetOutput().splitlines() if ln.strip()] == [line]
+        assert said.lines == [line]
         alg.SetGridSize(2, 9, 7)
         alg.SetInputDataObject(0, bend)
         alg.Update()
@@ -104,8 +100,6 @@ def test_algorithm_reports_once_in_the_panels_words_and_recovers(bend):
         alg.SetGridSize(*SIZE)
         alg.Update()
         assert alg.GetLastError() == "" and pv.wrap(alg.GetOutput()).dimensions == SIZE
-    finally:
-        vtkOutputWindow.SetInstance(previous)
 
 
 def test_folded_warning_names_each_routes_fix():

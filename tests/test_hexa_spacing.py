@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import ROOT
+from conftest import ROOT, refused
 
 from pinn_engine.hexa import volume
 from pinn_engine.hexa.spacing import node_params
@@ -120,14 +120,6 @@ def test_control_terms_keep_a_stretched_box_grid():
     np.testing.assert_allclose(solved, g, atol=1e-8)
 
 
-def _error(capsys, argv: list[str], out) -> str:
-    assert main(argv) == 2
-    assert not out.exists()
-    err = capsys.readouterr().err.strip()
-    assert err.count("\n") == 0 and err.startswith("pinn-mesh: error:")
-    return err
-
-
 @pytest.mark.parametrize(
     "extra, words",
     [
@@ -142,7 +134,7 @@ def _error(capsys, argv: list[str], out) -> str:
 )
 def test_cli_refuses_bad_patch_options(tmp_path, capsys, extra, words):
     out = tmp_path / "g.vts"
-    err = _error(capsys, [BUMP, "--size", "7", "7", "7", *extra, "-o", str(out)], out)
+    err = refused(capsys, [BUMP, "--size", "7", "7", "7", *extra, "-o", str(out)], out)
     assert words in err
 
 

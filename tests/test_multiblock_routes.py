@@ -8,9 +8,9 @@ import signal
 import numpy as np
 import pytest
 import pyvista as pv
-from conftest import ROOT
+from conftest import ROOT, OutputMessages
 from test_multiblock_spacing import _first_edges, _wall_angles, _walls
-from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
+from vtkmodules.vtkCommonCore import vtkOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
@@ -106,19 +106,12 @@ def test_errors_are_one_line_in_the_panels_words(edges, message):
     alg.SetInputDataObject(0, _read("step.vtp"))
     if edges is not None:
         alg.AddInputDataObject(1, edges)
-    errors = []
-    alg.AddObserver("ErrorEvent", lambda obj, event: errors.append(event))
-    window, previous = vtkStringOutputWindow(), vtkOutputWindow.GetInstance()
-    vtkOutputWindow.SetInstance(window)
-    try:
+    with OutputMessages(alg, "ErrorEvent") as said:
         alg.Update()
-    finally:
-        vtkOutputWindow.SetInstance(previous)
     assert alg.GetLastError().startswith(message)
     assert alg.GetOutput().GetNumberOfBlocks() == 0
-    assert isinstance(alg.GetLastException(), InputError) and len(errors) == 1
-    shown = [ln for ln in window.GetOutput().splitlines() if ln.strip()]
-    assert shown == [alg.GetLastError()]
+    assert isinstance(alg.GetLastException(), InputError) and len(said.events) == 1
+    assert said.lines == [alg.GetLastError()]
 
 
 def test_pyvista_blocks_returns_a_multiblock():
@@ -257,11 +250,7 @@ def test_patch_errors_are_one_line_in_each_routes_words(route, options, message)
     alg.AddInputDataObject(1, edges)
     alg.SetMethod("tfi")
     alg.SetOrthogonal(options["orthogonal"])
-    window, previous = vtkStringOutputWindow(), vtkOutputWindow.GetInstance()
-    vtkOutputWindow.SetInstance(window)
-    try:
+    with OutputMessages(alg, "ErrorEvent") as said:
         alg.Update()
-    finally:
-        vtkOutputWindow.SetInstance(previous)
     assert alg.GetLastError() == message
-    assert [ln for ln in window.GetOutput().splitlines() if ln.strip()] == [message]
+    assert said.lines == [message]
