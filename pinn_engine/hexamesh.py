@@ -10,7 +10,7 @@ import json
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from functools import partial
+from functools import cache, partial
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -273,6 +273,7 @@ def mesh_polydata(
     if method == "pinn":  # torch only for the network
         from pinn_engine.blocks.hexa import HexaModel, Start, train, winslow_start
 
+        @cache  # the start's lattice is often the grid's own size
         def tfi_of(shape: tuple[int, ...]) -> np.ndarray:
             """The TFI grid of ``shape`` nodes, its faces exactly the face grids."""
             return tfi_at(boundary, node_params(shape, {}))
