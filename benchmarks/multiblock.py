@@ -43,7 +43,9 @@ EXAMPLES = {  # name: (file stem, cell size; 0 is SPEC 10's default, the diagona
     "step": ("step", 0.1),
     "tee, tilted branch": ("tee", 0.1),
     "cylinder in channel": ("cylinder_channel", 0.1),
-    "Y-branch": ("ybranch", 0.1),
+    # 0.025: its 3-block centre turns grid lines by about 60 degrees, at 0.1 some 4.5 degrees
+    # a node, over issue 24's kink mean of 2 (docs/multiblock.md; REFINED shows each size)
+    "Y-branch": ("ybranch", 0.025),
 }
 GROWTH = (0.1, 0.05, 0.025)  # the cylinder's cell sizes: 1, 4 and 16 times the cells
 REFINED = (0.1, 0.05, 0.025)  # the Y-branch's cell sizes: its kinks as the cells grow

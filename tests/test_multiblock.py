@@ -195,3 +195,17 @@ def test_kinks_against_the_lines_own_turn(method):
         assert 0.8 * kink["mean"] <= kink["inside_mean"] <= kink["mean"]
     else:
         assert kink["inside_mean"] < 0.1 < 10.0 < kink["mean"]
+
+
+def test_ybranch_kinks_fall_within_the_bound_as_cells_shrink():
+    """The Y-branch's 3-block centre turns its grid lines by about 60 degrees: at a cell size
+    of 0.1 that is over issue 24's kink mean of 2 degrees a node; at 0.025 (16 times the
+    cells, the benchmark's row) the same turn spread over more nodes is within it."""
+    files = EXAMPLES / "ybranch.vtp", [EXAMPLES / "ybranch_blocks.vtp"]
+    kinks = {
+        h: run_blocks(make_settings("elliptic", cell_size=h), *files).result.report
+        for h in (0.1, 0.025)
+    }
+    coarse, fine = (kinks[h]["interface_kink"] for h in (0.1, 0.025))
+    assert coarse["mean"] > 2.0 >= fine["mean"] and fine["max"] <= 15.0
+    assert kinks[0.025]["quality"]["folded_cells"] == 0
