@@ -137,10 +137,12 @@ def mesh_blocks(
     if settings.method == "pinn":
         from pinn_engine.multiblock.network import train_blocks  # torch only when training
 
-        grids, training = train_blocks([points[ids] for ids in lay.ids], settings, progress, lines)
-        points = points.copy()
-        for ids, grid in zip(lay.ids, grids):  # shared nodes are equal in every block
-            points[ids] = grid
+        def kinks(grids: list[np.ndarray]) -> np.ndarray:
+            return interface_kinks(topo, lay, _assembled(points, lay, grids))
+
+        starts = [points[ids] for ids in lay.ids]
+        grids, training = train_blocks(starts, settings, progress, lines, kinks)
+        points = _assembled(points, lay, grids)
     # spacing and orthogonality on patches last: no solve or training moves them after
     points = respace(points, asked)
     if walls.orthogonal:
@@ -176,6 +178,15 @@ def mesh_blocks(
     if training is not None:
         report["training"] = training
     return MultiBlockResult(grids, cells, report, patches)
+
+
+def _assembled(points: np.ndarray, lay: Layout, grids: list[np.ndarray]) -> np.ndarray:
+    """The unique nodes ``points`` with each block's nodes set from its grid (shared nodes
+    are equal in every block)."""
+    out = points.copy()
+    for ids, grid in zip(lay.ids, grids):
+        out[ids] = grid
+    return out
 
 
 def layout_checked(topo: Topology, counts: np.ndarray, h: float) -> Layout:

@@ -5,9 +5,10 @@ The elliptic grid is solved first, on all blocks at once (interfaces free, as
 :func:`pinn_engine.multiblock.elliptic.winslow`). Then each block's map starts as that
 block's grid (the warm start's correction, ``classical/warm.py``) with its four sides held
 at the block's side nodes (hard mode), so nodes on shared sides stay the same point in both
-blocks and the interfaces are crossed as smoothly as in the elliptic grid. The block's guard
-keeps the elliptic block unless a trained state is no worse in folds, mean and worst
-MaxIncludedAngle: the multi-block grid is never worse than the elliptic one. A block with
+blocks. The block's guard keeps the elliptic block unless a trained state is no worse in
+folds, mean and worst MaxIncludedAngle, and in how grid lines cross the interfaces (the
+kink mean and max of the whole grid, the blocks trained so far at their kept grids): the
+multi-block grid is never worse than the elliptic one in issue 24's figures. A block with
 auxiliary lines inside it (``quadblock.block_lines``) fits them as a four-sided domain's
 pinn does, its guard allowing that domain's tolerance above the elliptic block. The trainer
 knows nothing of blocks; the guard and its reference are this module's.
@@ -17,7 +18,7 @@ from __future__ import annotations
 
 import dataclasses
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 import torch
@@ -37,12 +38,39 @@ from pinn_engine.quality import guard_figures, no_worse
 from pinn_engine.settings import Settings
 
 # A block's trained state is kept only if it is no worse than the block's elliptic grid in
-# mean and worst MaxIncludedAngle (degrees above it allowed): block by block no worse, so
-# the whole grid's mean (a cell-weighted mean of the blocks') and worst are no worse either
+# mean and worst MaxIncludedAngle, and than the grid before it in the interface kinks' mean
+# and max (degrees above allowed): block by block no worse, so the whole grid is no worse
 GUARD_TOL = (0.0, 0.0)
 # A block with auxiliary lines trades some quality for following them, as a four-sided
 # domain's pinn does: its guard's tolerance (0.25 / 1 degree, within issue 24's 0.5 / 2)
 AUX_GUARD_TOL = QUAD_GUARD_TOL[True]
+# Following a line bends the grid lines that leave its block: the guard lets the interface
+# kinks' mean and max rise to issue 24's bounds (degrees), or stay at the grid's before if higher
+AUX_KINK_BOUND = (2.0, 15.0)
+
+# The interface kinks (degrees, ``mesh.interface_kinks``) of a multi-block grid given as its
+# blocks' grids
+Kinks = Callable[[list[np.ndarray]], np.ndarray]
+
+
+def kink_figures(kinks: np.ndarray) -> dict[str, float]:
+    """The mean and max of interface kinks (0 where there are none) for a guard."""
+    if not kinks.size:
+        return {"kink_mean": 0.0, "kink_max": 0.0}
+    return {"kink_mean": float(kinks.mean()), "kink_max": float(kinks.max())}
+
+
+def _no_worse(q: dict[str, float], reference: dict[str, float], aux: bool) -> bool:
+    """:func:`quality.no_worse` within the guard's tolerance, and the kinks' mean and max
+    within theirs (``aux``: the block follows auxiliary lines)."""
+    mean, worst = reference["kink_mean"], reference["kink_max"]
+    if aux:
+        mean, worst = max(mean, AUX_KINK_BOUND[0]), max(worst, AUX_KINK_BOUND[1])
+    return (
+        no_worse(q, reference, *(AUX_GUARD_TOL if aux else GUARD_TOL))
+        and q["kink_mean"] <= mean
+        and q["kink_max"] <= worst
+    )
 
 
 @dataclasses.dataclass
@@ -61,15 +89,25 @@ def train_block(
     settings: Settings,
     progress: Progress | None = None,
     aux: Sequence[AuxLine] = (),
+    interfaces: Callable[[np.ndarray], dict[str, float]] | None = None,
 ) -> BlockTraining:
     """Train the four-sided PINN block on the elliptic block grid ``start`` (nj, ni, 2):
     warm-started from it, its sides held at its side nodes, guarded by it; ``aux``: the
     auxiliary lines inside it, in the working frame of ``block_boundary(start)``
-    (``quadblock.block_lines``), fitted as a four-sided domain's are."""
+    (``quadblock.block_lines``), fitted as a four-sided domain's are; ``interfaces``: the
+    :func:`kink_figures` of the whole grid with this block's grid given (none: no kinks)."""
     began = time.perf_counter()
     nj, ni = start.shape[:2]
     boundary = block_boundary(start)
     unit = boundary.frame.to_unit(start)
+    kinks = interfaces or (lambda grid: kink_figures(np.zeros(0)))
+
+    def user(grid: np.ndarray) -> np.ndarray:
+        """A unit-frame grid in user units with the start's side nodes, bit for bit."""
+        out = start.copy()
+        out[1:-1, 1:-1] = boundary.frame.to_user(grid[1:-1, 1:-1])
+        return out
+
     settings = dataclasses.replace(settings, lattice=(ni, nj))
     dtype = {"float64": torch.float64, "float32": torch.float32}[settings.dtype]
     device = pick_device(settings.device)
@@ -84,20 +122,17 @@ def train_block(
         base = tfi_grid(ArcLengthFit(boundary).sample, ni, nj)
         mapping = Mapping(net, boundary, "hard", WarmStart(unit - base))
         problem = QuadProblem(mapping, boundary, aux, settings, dtype, device)
-        reference = guard_figures(unit)
-        tol = AUX_GUARD_TOL if aux else GUARD_TOL
+        reference = {**guard_figures(unit), **kinks(start)}
         guard = Guard(
             net,
             lambda: mapping.grid(ni, nj),
-            guard_figures,
-            lambda q, kept: no_worse(q, reference, *tol),
+            lambda grid: {**guard_figures(grid), **kinks(user(grid))},
+            lambda q, kept: _no_worse(q, reference, bool(aux)),
             reference,
             boundary.diagonal,
         )
         _, info = fit(problem, settings, guard, progress)
-    grid = start.copy()
-    if info["result"] == "network":
-        grid[1:-1, 1:-1] = boundary.frame.to_user(guard.kept_grid[1:-1, 1:-1])
+    grid = user(guard.kept_grid) if info["result"] == "network" else start.copy()
     return BlockTraining(grid, info["result"], time.perf_counter() - began, info)
 
 
@@ -106,9 +141,12 @@ def train_blocks(
     settings: Settings,
     progress: Progress | None = None,
     aux: Sequence[Sequence[AuxLine]] | None = None,
+    kinks: Kinks | None = None,
 ) -> tuple[list[np.ndarray], dict]:
     """Each block of the elliptic grid ``grids`` trained by :func:`train_block` (with its
-    auxiliary lines ``aux[k]``, ``quadblock.block_lines``, if given); returns the
+    auxiliary lines ``aux[k]``, ``quadblock.block_lines``, if given), in turn, its guard
+    judging the ``kinks`` of the whole grid: the blocks before it at their kept grids, those
+    after it at their elliptic grids; returns the
     grids and the report's ``training``: per block the result kept and the seconds, and the
     total. ``progress`` hears a ``prepare`` stage as each block starts, then the trainer's
     steps with ``block`` and ``blocks`` added; once it answers ``errors.STOP`` the blocks
@@ -125,7 +163,9 @@ def train_blocks(
             blocks.append({"result": "start", "seconds": 0.0, "stopped": True})
             continue
         lines = aux[k] if aux is not None else ()
-        trained = train_block(start, settings, heard if progress is not None else None, lines)
+        interfaces = _in_place(kinks, out, grids[k + 1 :]) if kinks is not None else None
+        heard_here = heard if progress is not None else None
+        trained = train_block(start, settings, heard_here, lines, interfaces)
         out.append(trained.grid)
         blocks.append(
             {
@@ -141,6 +181,15 @@ def train_blocks(
         "blocks": blocks,
     }
     return out, report
+
+
+def _in_place(
+    kinks: Kinks, before: list[np.ndarray], after: list[np.ndarray]
+) -> Callable[[np.ndarray], dict[str, float]]:
+    """The :func:`kink_figures` of the whole grid with one block's grid given, between the
+    blocks ``before`` it (at their kept grids) and ``after`` it (at their elliptic grids)."""
+    before = list(before)
+    return lambda grid: kink_figures(kinks([*before, grid, *after]))
 
 
 def _stage(k: int, n: int) -> dict:
