@@ -48,7 +48,8 @@ def test_wheel_holds_the_engine_and_licence_only(wheel):
     path, log = wheel
     assert "deprecat" not in log.lower(), log[-3000:]
     names = zipfile.ZipFile(path).namelist()
-    assert "pinn_engine/routes/cli.py" in names and "pinn_engine/neural/jet/kernels.cpp" in names
+    assert "pinn_engine/routes/cli/__main__.py" in names
+    assert "pinn_engine/neural/jet/kernels.cpp" in names
     assert any(n.endswith(".dist-info/licenses/LICENSE") for n in names)
     assert not [n for n in names if n.startswith(("experiments/", "tests/", "benchmarks/"))]
     metadata = zipfile.ZipFile(path).read(next(n for n in names if n.endswith("METADATA")))

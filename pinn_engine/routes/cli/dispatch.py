@@ -1,0 +1,23 @@
+"""Which run a command line is: multi-block, six-faced 3D, or four-sided domain or body."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from pinn_engine.hexa.surface import is_faced_surface
+from pinn_engine.routes.cli.four_sided import run_four_sided
+from pinn_engine.routes.cli.hexa import run_hexa
+from pinn_engine.routes.cli.multiblock import run_blocks
+
+
+def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
+    """One meshing run: with --blocks a multi-block domain (SPEC 10), for a surface with
+    faces a six-faced 3D domain (SPEC 11), else a four-sided domain or, with --topology, a
+    body (SPEC 5 and 9); appends each output file to ``written`` once it is complete."""
+    written = written if written is not None else []
+    if args.blocks:
+        return run_blocks(args, written)
+    if args.boundary and is_faced_surface(args.boundary):
+        return run_hexa(args, written)
+    return run_four_sided(args, written)

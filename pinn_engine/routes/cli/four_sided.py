@@ -1,0 +1,98 @@
+"""One run of a four-sided domain or, with --topology, a body (SPEC 5 and 9)."""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+from pinn_engine.errors import PinnMeshError, grid_warnings
+from pinn_engine.routes.cli.options import DEFAULT_SIZE, check_options, settings_from
+from pinn_engine.routes.cli.outputs import output_path, refuse_folded, save_model, write_outputs
+from pinn_engine.routes.cli.progress import Progress
+from pinn_engine.routes.cli.summary import grid_summary, warn
+
+
+def check_inputs(args: argparse.Namespace, body: bool) -> None:
+    """Refuse inputs that do not go together, in the command line's words."""
+    if not body:
+        if args.boundary is None:
+            raise PinnMeshError("give a boundary file (or --naca DDDD with --topology o or c)")
+        return
+    if args.topology is None:
+        raise PinnMeshError("an airfoil or body needs --topology o or c")
+    if args.naca and args.boundary:
+        raise PinnMeshError("give either an airfoil file or --naca, not both")
+    if args.naca is None and args.boundary is None:
+        raise PinnMeshError("give an airfoil file (.dat) or --naca DDDD")
+    if args.aux or args.corners:
+        raise PinnMeshError("--aux and --corners apply to four-sided domains, not to --topology")
+    if args.save_model or args.load_model:
+        raise PinnMeshError(
+            "--save-model and --load-model apply to four-sided domains in "
+            "this build, not to --topology"
+        )
+
+
+def run_four_sided(args: argparse.Namespace, written: list[Path]) -> Path:
+    """Mesh a four-sided domain or a body into ``OUT`` (the formats of SPEC 8); appends each
+    output file to ``written`` once it is complete."""
+    from pinn_engine import job
+    from pinn_engine.io import export
+    from pinn_engine.mesher import Mesher
+
+    args.method = args.method or "pinn"
+    args.size = args.size or DEFAULT_SIZE
+    if len(args.size) != len(DEFAULT_SIZE):
+        raise PinnMeshError(
+            f"--size {' '.join(map(str, args.size))}: a 2D domain takes NI NJ "
+            "(NI NJ NK is for a six-faced surface with a FaceId array)"
+        )
+    body = bool(args.topology or args.naca or (args.boundary or "").lower().endswith(".dat"))
+    check_inputs(args, body)
+    name = f"naca{args.naca}" if args.naca else Path(args.boundary).stem
+    kind = f"{args.topology}_" if body else ""
+    out = output_path(args, f"{name}_{kind}{args.method}", "vts")
+    found = export.output_format(out, args.format, args.extrude)  # refuse before meshing
+    if body and found.key == "msh" and args.extrude is not None:
+        raise PinnMeshError(
+            f"{out}: an O- or C-grid is written to Gmsh in 2D in this build; "
+            "drop --extrude (or write .cgns, .xyz or --format openfoam)"
+        )
+    check_options(args)
+    ni, nj = args.size
+    settings = settings_from(args, ni, nj)
+    geometry = job.geometry_from_files(
+        settings, args.boundary, args.aux, args.corners, args.farfield is not None
+    )
+    mesher = Mesher.load(args.load_model, geometry.boundary) if args.load_model else None
+    start = time.perf_counter()
+    with Progress(args.quiet) as progress:
+        outcome = job.run(settings, (ni, nj), geometry, args.patch or None, progress, mesher=mesher)
+    if args.save_model:
+        save_model(outcome.mesher, args.save_model, written)
+    result = outcome.result
+    if not args.quiet:
+        grid_summary(result, settings, ni, nj, time.perf_counter() - start)
+    source = name if body else args.boundary
+    refuse_folded(args, source, result.quality["folded_cells"])
+
+    def write_grid() -> None:
+        export.write(outcome.grid, out, args.format, extrude=args.extrude)
+
+    def draw(tmp: Path) -> None:
+        from pinn_engine.routes.render import render_body_png, render_png
+
+        if not body:
+            render_png(outcome.grid, tmp, title=f"{args.method}: {Path(args.boundary).name}")
+            return
+        le, te = geometry.body.chord_points
+        title = f"{args.method} {args.topology.upper()}-grid {name}"
+        render_body_png(
+            outcome.grid, tmp, title=title, le=le, te=te, zoom=0.08 * geometry.body.chord
+        )
+
+    write_outputs(args, out, written, write_grid, result.report, draw)
+    for warning, _ in grid_warnings(result.report, "cli"):  # printed with --quiet too
+        warn(f"{source}: {warning}")
+    return out

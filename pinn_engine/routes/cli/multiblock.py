@@ -1,0 +1,91 @@
+"""One run of a multi-block domain (SPEC 10)."""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+from pinn_engine.errors import PinnMeshError
+from pinn_engine.routes.cli.options import DEFAULT_SIZE, check_options, settings_from
+from pinn_engine.routes.cli.outputs import output_path, refuse_folded, write_outputs
+from pinn_engine.routes.cli.parser import option_flags
+from pinn_engine.routes.cli.progress import Progress
+from pinn_engine.routes.cli.summary import blocks_summary, warn
+from pinn_engine.settings import MULTIBLOCK_METHODS
+
+BLOCKS_METHOD = "pinn"  # multi-block's default (SPEC 10)
+# Options of four-sided domains and bodies that a multi-block run refuses (SPEC 10)
+NOT_FOR_BLOCKS = (
+    "size", "corners", "topology", "naca", "farfield", "save_model", "load_model",
+)  # fmt: skip
+
+
+def run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
+    """The boundary and its block edges into ``OUT.vtm`` (or a solver format); appends each
+    output file to ``written`` once it is complete."""
+    from pinn_engine import job
+    from pinn_engine.io.export.multiblock import blocks_format, write_blocks
+    from pinn_engine.io.export.vtm import write_vtm
+
+    flags = option_flags()
+    for name in NOT_FOR_BLOCKS:
+        if getattr(args, name, None):
+            raise PinnMeshError(
+                f"{flags[name]} applies to four-sided domains and bodies, not to --blocks"
+            )
+    if args.boundary is None:
+        raise PinnMeshError("give a boundary file (outer boundary and holes) with --blocks")
+    args.method = args.method or BLOCKS_METHOD
+    if args.method not in MULTIBLOCK_METHODS:
+        raise PinnMeshError(
+            f"--method {args.method}: multi-block domains are meshed by "
+            f"{', '.join(MULTIBLOCK_METHODS[:-1])} or {MULTIBLOCK_METHODS[-1]} in this build "
+            f"(default {BLOCKS_METHOD})"
+        )
+    out = output_path(args, f"{Path(args.boundary).stem}_{args.method}", "vtm")
+    vtm = args.format is None and out.suffix.lower() == ".vtm"
+    if vtm and args.extrude is not None:
+        raise PinnMeshError(f"{out}: --extrude applies to .xyz, .cgns and --format openfoam")
+    if not vtm:
+        blocks_format(out, args.format, args.extrude)  # refused before meshing
+    args.size = DEFAULT_SIZE  # checked by check_options, unused by multi-block
+    check_options(args)
+    # patch names, not sides: passed to the run, not to the four-sided settings
+    spacing, orthogonal = args.spacing, [args.orthogonal] if args.orthogonal else []
+    args.spacing, args.orthogonal = [], None
+    settings = settings_from(args, *DEFAULT_SIZE)
+    start = time.perf_counter()
+    with Progress(args.quiet) as progress:
+        outcome = job.run_blocks(
+            settings,
+            args.boundary,
+            args.blocks,
+            args.patch,
+            spacing,
+            orthogonal,
+            progress,
+            args.aux,
+        )
+    report = outcome.result.report
+    folded = report["quality"]["folded_cells"]
+    refuse_folded(args, args.boundary, folded)
+    if not args.quiet:
+        blocks_summary(args.method, report, time.perf_counter() - start)
+
+    def write_grid() -> None:
+        if vtm:
+            write_vtm(outcome.dataset, out)
+        else:
+            write_blocks(outcome.dataset, out, args.format, extrude=args.extrude)
+
+    def draw(tmp: Path) -> None:
+        from pinn_engine.routes.render import render_blocks_png
+
+        title = f"{args.method}: {Path(args.boundary).name}, {report['blocks']} blocks"
+        render_blocks_png(outcome.dataset, tmp, title=title)
+
+    write_outputs(args, out, written, write_grid, report, draw)
+    if folded:
+        warn(f"{args.boundary}: {folded} of {report['cells']} cells are folded")
+    return out

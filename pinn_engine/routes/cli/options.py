@@ -1,0 +1,63 @@
+"""The command line's options as a run's settings: ranges refused in the option's words."""
+
+from __future__ import annotations
+
+import argparse
+import re
+
+from pinn_engine.errors import PinnMeshError
+from pinn_engine.routes.cli.parser import option_flags
+from pinn_engine.settings import (
+    NEURAL,
+    PARAMETER_CONSTRAINTS,
+    Settings,
+    grid_size_problem,
+    make_settings,
+    setting_problem,
+)
+
+DEFAULT_SIZE = (41, 21)  # nodes along xi and eta of a four-sided grid (SPEC 5)
+DEVICE_NAMES = re.compile(r"^(auto|cpu|mps|cuda(:\d+)?)$")  # the torch devices --device takes
+
+
+def check_options(args: argparse.Namespace) -> None:
+    """Refuse option values that are out of range, with a message naming the option."""
+    ni, nj = args.size
+    problem = grid_size_problem(ni, nj)
+    if problem:
+        raise PinnMeshError(f"--size {ni} {nj}: {problem}")
+    flags = option_flags()
+    for name in PARAMETER_CONSTRAINTS:  # each range, named by the option that set it
+        value = getattr(args, name, None)
+        problem = setting_problem(name, value) if value is not None else None
+        if problem and name in flags:
+            raise PinnMeshError(f"{flags[name]} {value}: {problem}")
+    if args.device is not None:
+        if not DEVICE_NAMES.match(args.device):
+            raise PinnMeshError(f"--device {args.device!r}: use auto, cpu, cuda or cuda:N")
+        if args.device.startswith("cuda") and args.method in NEURAL:
+            import torch
+
+            if not torch.cuda.is_available():
+                raise PinnMeshError(
+                    f"--device {args.device}: no CUDA device is available; use --device cpu or auto"
+                )
+
+
+def settings_from(args: argparse.Namespace, ni: int, nj: int) -> Settings:
+    """The settings of the command line's options, with a settings error as a one-line
+    command-line error."""
+    skip = ("method", "preset")  # given first: the preset is the base the others override
+    options = {k: getattr(args, k) for k in PARAMETER_CONSTRAINTS if k not in skip}
+    try:
+        return make_settings(
+            args.method,
+            args.preset,
+            lattice=(ni, nj),
+            spacing=args.spacing,
+            orthogonal=args.orthogonal,
+            device=args.device,
+            **options,
+        )
+    except ValueError as exc:
+        raise PinnMeshError(str(exc)) from exc

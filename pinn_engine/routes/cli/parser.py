@@ -1,0 +1,251 @@
+"""The ``pinn-mesh`` command line's options (SPEC 5): the parser, and each setting's flag."""
+
+from __future__ import annotations
+
+import argparse
+import functools
+
+from pinn_engine.settings import (
+    METHODS,
+    OBJECTIVES,
+    PARAMETER_CONSTRAINTS,
+    PRESETS,
+    Interval,
+    Options,
+)
+
+FORMAT_KEYS = ("vts", "vtk", "xyz", "cgns", "su2", "msh", "openfoam")  # export.FORMATS
+
+
+def _options(name: str) -> tuple:
+    """The values a setting of the constraint table takes (its option's choices)."""
+    return PARAMETER_CONSTRAINTS[name].values
+
+
+class _SizeAction(argparse.Action):
+    """``--size`` takes NI NJ (2D) or NI NJ NK (a six-faced surface), nothing else."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        if len(values) not in (2, 3):
+            parser.error(f"argument {option_string}: expected NI NJ or NI NJ NK")
+        setattr(namespace, self.dest, values)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The parser of one run's command line (the batch reads its manifest rows with it too)."""
+    p = argparse.ArgumentParser(
+        prog="pinn-mesh",
+        description="Structured quadrilateral mesh of a four-sided 2D domain "
+        "(PINN of Chen et al., with TFI, elliptic and MGNet baselines).",
+        epilog="Many cases at once: pinn-mesh batch MANIFEST -o OUTDIR (pinn-mesh batch -h).",
+    )
+    p.add_argument(
+        "boundary",
+        nargs="?",
+        default=None,
+        help="closed boundary: .vtp, .vtk, .csv or .txt; with --topology an "
+        "airfoil .dat (Selig or Lednicer) or a file with two closed "
+        "polylines (body inside far field)",
+    )
+    p.add_argument(
+        "--aux",
+        action="append",
+        default=[],
+        metavar="AUX",
+        help="auxiliary lines (.vtp/.vtk); repeat for several files. With --blocks: each "
+        "line inside one block, from a side to the opposite side (fitted by pinn)",
+    )
+    p.add_argument(
+        "--blocks",
+        action="append",
+        default=[],
+        metavar="EDGES",
+        help="block edges (.vtp/.vtk, several open polylines a file; repeatable): mesh a "
+        "multi-block domain (SPEC 10) into OUT.vtm; with --cell-size, --interfaces, "
+        "--method pinn (the default), elliptic or tfi",
+    )
+    p.add_argument(
+        "--method",
+        choices=METHODS,
+        default=None,
+        help="default pinn (with --blocks too: pinn, elliptic or tfi)",
+    )
+    p.add_argument(
+        "--size",
+        nargs="+",
+        type=int,
+        default=None,
+        action=_SizeAction,
+        metavar="N",
+        help="nodes along xi and eta (default 41 21); NI NJ NK for a six-faced surface "
+        "with a FaceId array (default 21 21 21)",
+    )
+    p.add_argument("--seed", type=int, default=None)
+    p.add_argument(
+        "--preset",
+        choices=PRESETS,
+        default="default",
+        help="'paper' reproduces the paper's section 4 settings exactly",
+    )
+    p.add_argument(
+        "-o",
+        "--output",
+        default=None,
+        metavar="OUT.vts",
+        help="output grid (default out/<boundary>_<method>.vts); the extension "
+        "picks the format: .vts, .vtk, .xyz (PLOT3D), .cgns, .su2, .msh "
+        "(Gmsh 4.1); a folder with --format openfoam",
+    )
+    p.add_argument(
+        "--format",
+        choices=FORMAT_KEYS,
+        default=None,
+        help="output format instead of the extension of -o (openfoam: -o DIR "
+        "gets DIR/constant/polyMesh)",
+    )
+    p.add_argument(
+        "--patch",
+        action="append",
+        default=[],
+        metavar="SIDE=NAME[:TYPE]",
+        help="name the boundary patch of a side (bottom, right, top, left; imin, imax, "
+        "jmin, jmax, kmin, kmax of a six-faced surface; repeatable; equal names form one "
+        "patch) and optionally its type: wall, inflow, outflow, farfield, symmetry, patch "
+        "(default: wall for a patch named wall, else patch); OpenFOAM and CGNS write the "
+        "types. With --blocks: X,Y=NAME[:TYPE] names "
+        "the boundary piece nearest the point (X, Y) (default names: boundary, hole1, ...)",
+    )
+    p.add_argument(
+        "--extrude",
+        type=float,
+        default=None,
+        metavar="T",
+        help="one cell of thickness T in z for .xyz, .cgns, .msh and openfoam",
+    )
+    p.add_argument(
+        "--corners",
+        nargs=4,
+        type=int,
+        metavar="I",
+        help="the four corner point indices, instead of automatic detection",
+    )
+    p.add_argument(
+        "--png",
+        metavar="PATH",
+        help="also render the grid, coloured by MaxIncludedAngle, to this PNG (off-screen)",
+    )
+    p.add_argument("--report", metavar="PATH", help="also write a JSON report")
+    p.add_argument(
+        "--fail-on-folded",
+        action="store_true",
+        help="exit with an error (status 2, no output) if any cell is folded",
+    )
+    p.add_argument(
+        "--spacing",
+        action="append",
+        default=[],
+        metavar="SIDE=H",
+        help="first grid edge leaving SIDE (bottom, right, top, left) has length "
+        "H (your units), growing smoothly away from it; repeat for more sides "
+        "(pinn, tfi, elliptic; SPEC 7). O- and C-grids: bottom=H, the first "
+        "cell off the body wall. With --blocks: NAME=H, a patch (--patch). Six-faced "
+        "surfaces: PATCH=H, PATCH one of imin, imax, jmin, jmax, kmin, kmax",
+    )
+    p.add_argument(
+        "--orthogonal",
+        metavar="SIDE[,SIDE...]",
+        default=None,
+        help="grid lines leave these sides at 90 degrees (pinn: a loss term; "
+        "elliptic: Hilgenstock control functions). O- and C-grids: bottom "
+        "(elliptic and pinn always do; tfi cannot). With --blocks: patch names. "
+        "Six-faced surfaces: imin ... kmax (elliptic)",
+    )
+    p.add_argument(
+        "--quiet",
+        action="store_true",
+        help="no progress output (a warning about folded cells is still printed)",
+    )
+    g = p.add_argument_group("training (pinn, mgnet)")
+    g.add_argument("--epochs", type=int, dest="adam_epochs", help="Adam epochs")
+    g.add_argument("--lbfgs", type=int, dest="lbfgs_iterations", help="L-BFGS iterations")
+    g.add_argument("--layers", type=int, dest="hidden_layers", help="hidden layers")
+    g.add_argument("--neurons", type=int, help="neurons per hidden layer")
+    g.add_argument("--lambda2", type=float, help="weight of the auxiliary-line term")
+    g.add_argument(
+        "--boundary-mode",
+        choices=_options("boundary_mode"),
+        dest="boundary_mode",
+        help="hard: exact boundary by construction; penalty: the paper's term",
+    )
+    g.add_argument("--boundary-fit", choices=_options("boundary_fit"), dest="boundary_fit")
+    g.add_argument(
+        "--warm-start",
+        choices=_options("warm_start"),
+        dest="warm_start",
+        help="elliptic (default): start from the converged elliptic grid and keep "
+        "the last state no worse than it; none: train from TFI (paper)",
+    )
+    g.add_argument(
+        "--objective",
+        choices=OBJECTIVES,
+        dest="objective",
+        help="pinn: winslow (the Winslow equations) or quality (plus a cell-quality "
+        "term that lowers the worst cell's largest angle; SPEC 7)",
+    )
+    g.add_argument("--device", help="torch device: auto, cpu, cuda")
+    g.add_argument("--save-model", metavar="PATH", help="save the trained model")
+    g.add_argument(
+        "--load-model", metavar="PATH", help="evaluate a saved model instead of training"
+    )
+    b = p.add_argument_group("O- and C-grids around a body (SPEC 9)")
+    b.add_argument(
+        "--topology",
+        choices=("o", "c"),
+        default=None,
+        help="o: O-grid (j = 0 on the body, seam at the trailing edge); c: C-grid "
+        "with a wake cut (from a sharp trailing edge or a blunt base's middle)",
+    )
+    b.add_argument(
+        "--naca",
+        metavar="DDDD",
+        default=None,
+        help="NACA 4-digit section of chord 1 instead of a file (blunt trailing "
+        "edge for --topology o, closed for c)",
+    )
+    b.add_argument(
+        "--farfield",
+        type=float,
+        default=None,
+        metavar="R",
+        help="far-field circle of radius R chords about mid-chord (default 15 for a single body)",
+    )
+    e = p.add_argument_group("elliptic")
+    e.add_argument(
+        "--elliptic-iterations",
+        type=int,
+        dest="elliptic_iterations",
+        help="N point-Jacobi sweeps from a zero interior (paper); 0 = converge",
+    )
+    _table_options(p.add_argument_group("more settings"), p)
+    return p
+
+
+def _table_options(group, parser: argparse.ArgumentParser) -> None:
+    """A flag ``--name-with-dashes`` for every setting of the constraint table that has no
+    hand-written option above: a setting added to the table is an option here too."""
+    taken = {action.dest for action in parser._actions}
+    for name, rule in PARAMETER_CONSTRAINTS.items():
+        if name in taken:
+            continue
+        flag = "--" + name.replace("_", "-")
+        if isinstance(rule, Options):
+            group.add_argument(flag, dest=name, choices=rule.values, help=rule.help)
+        else:
+            kind = rule.kind if isinstance(rule, Interval) else str
+            group.add_argument(flag, dest=name, type=kind, help=rule.help)
+
+
+@functools.cache
+def option_flags() -> dict[str, str]:
+    """Each setting's option as the user types it (dest -> the long flag)."""
+    return {a.dest: a.option_strings[-1] for a in build_parser()._actions if a.option_strings}
