@@ -18,3 +18,7 @@ def main(argv: list[str] | None = None) -> int:
     from pinn_engine.routes.cli import main as single
 
     return single(argv)
+
+
+if __name__ == "__main__":  # python -m pinn_engine.command, as the pinn-mesh script
+    sys.exit(main())
