@@ -121,7 +121,8 @@ def refuse(
     size: tuple[int, ...], method: str, spacing: dict | None = None, orthogonal: tuple = ()
 ) -> None:
     """An :class:`InputError` for a method, size, spacing or orthogonality this build cannot
-    mesh."""
+    mesh (spacing and orthogonality in the route's words; the other routes check method and
+    size in their own before)."""
     if method not in METHODS:
         raise InputError(
             f"--method {method}: six-faced 3D domains are meshed by {', '.join(METHODS)}"
@@ -131,14 +132,14 @@ def refuse(
         raise InputError(f"--size {' '.join(map(str, size))}: {problem}")
     if orthogonal and method == "tfi":
         raise InputError(
-            f"--orthogonal {','.join(orthogonal)}: use --method elliptic or pinn (tfi's grid "
-            "lines cannot turn to a patch's normal)"
+            f"{{orthogonal}} {','.join(orthogonal)}: use {{method:elliptic}} or pinn (tfi's "
+            "grid lines cannot turn to a patch's normal)"
         )
     for axis, name in enumerate("ijk"):
         if {f"{name}min", f"{name}max"} <= set(orthogonal) and size[axis] < OPPOSITE_NODES:
             raise InputError(
-                f"--orthogonal {name}min,{name}max: give at least {OPPOSITE_NODES} nodes "
-                f"along {name} (--size), one first layer for each"
+                f"{{orthogonal}} {name}min,{name}max: give at least {OPPOSITE_NODES} nodes "
+                f"along {name} ({{size}}), one first layer for each"
             )
 
 
