@@ -8,7 +8,7 @@ from __future__ import annotations
 import hashlib
 import json
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from functools import cache, partial
 from pathlib import Path
@@ -383,11 +383,16 @@ def report(result: HexResult, method: str) -> dict:
     }
 
 
-def hexa_grid(result: HexResult, method: str) -> vtkStructuredGrid:
+def hexa_grid(
+    result: HexResult,
+    method: str,
+    patches: tuple[Sequence[str], Sequence[str]] | None = None,
+) -> vtkStructuredGrid:
     """The grid with SPEC 11's cell arrays (active scalars MaxIncludedAngle) and field
     data: ``Method``, ``Report`` (JSON, :func:`report`), each figure of its ``quality`` as
-    a number, and the default patches imin ... kmax (SPEC 8's ``PatchNames``, ``PatchTypes``;
-    the writers rename them). What every route hands over."""
+    a number, and SPEC 8's ``PatchNames``, ``PatchTypes``: ``patches`` (the names and types
+    of imin ... kmax, as ``patch_specs`` gives them; default the sides' own names; the
+    writers rename them). What every route hands over."""
     grid = structured_grid(result.grid)
     for name, values in result.cells.items():
         array = numpy_to_vtk(np.ascontiguousarray(values), deep=True)
@@ -396,7 +401,7 @@ def hexa_grid(result: HexResult, method: str) -> vtkStructuredGrid:
     grid.GetCellData().SetActiveScalars("MaxIncludedAngle")
     fd = grid.GetFieldData()
     run = report(result, method)
-    add_to_grid(grid, *patch_specs(None, sides=BOX_SIDES))
+    add_to_grid(grid, *(patches or patch_specs(None, sides=BOX_SIDES)))
     for name, texts in (("Method", [method]), ("Report", [json.dumps(run, default=float)])):
         array = vtkStringArray()
         array.SetName(name)
