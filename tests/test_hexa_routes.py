@@ -226,3 +226,20 @@ def test_accessor_patches_spacing_and_orthogonal_reach_the_grid(bend):
     assert inner_angles(nodes, "kmin").max() < 1.0  # degrees off the floor's normal
     plain = bend.pinn_mesh(size=SIZE, method="elliptic")
     assert _first_edges_off_the_floor(_nodes(plain)).min() > 2 * H  # the spacing did it
+
+
+def test_patch_settings_take_strings_sequences_and_mappings():
+    alg = PinnHexaAlgorithm()
+    assert alg.GetPatchNames() == BOX_SIDES
+    alg.SetPatchNames(PATCHES)
+    assert alg.GetPatchNames() == tuple(NAMED)
+    alg.SetPatchNames(["a", "a", "b", "b", "c", "c"])  # six names, one a face
+    assert alg.GetPatchNames() == ("a", "a", "b", "b", "c", "c")
+    alg.SetSpacing({"kmin": 0.002})
+    assert alg.GetSpacing() == ("kmin=0.002",)
+    alg.SetOrthogonal("kmin,kmax")
+    stamp = alg.GetMTime()
+    alg.SetOrthogonal(["kmin", "kmax"])  # the same faces: no new update
+    assert alg.GetOrthogonal() == ("kmin", "kmax") and alg.GetMTime() == stamp
+    alg.SetSpacing(None)
+    assert alg.GetSpacing() == ()
