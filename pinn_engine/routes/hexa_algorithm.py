@@ -9,6 +9,7 @@ ParaView's own VTK 9.2, which has no pyvista: the engine's hexa route is plain V
 >>> alg = PinnHexaAlgorithm()
 >>> alg.SetInputConnection(0, surface_reader.GetOutputPort())   # closed, FaceId 0..5
 >>> alg.SetGridSize(21, 21, 21)
+>>> alg.SetSpacing("kmin=0.002")                                 # as --spacing kmin=0.002
 >>> alg.Update()
 >>> grid = alg.GetOutput()                                       # vtkStructuredGrid
 
