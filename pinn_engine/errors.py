@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 import math
+import re
 
 from pinn_engine.settings import NEURAL
+
+_ARGUED = re.compile(r"\{(\w+):([^{}]*)\}")  # a token with its argument, {method:elliptic}
 
 
 class PinnMeshError(Exception):
@@ -15,8 +18,9 @@ class InputError(PinnMeshError):
     """Bad boundary, auxiliary line or option; the message names the problem and the source.
 
     A fix that differs between routes is written as a token of ``ROUTE_WORDS`` (e.g.
-    ``{corners}``); the message reads in the command line's words, :meth:`for_route` gives
-    the same error in another route's words.
+    ``{corners}``; one whose words hold ``{}`` takes its argument after a colon,
+    ``{method:elliptic}``); the message reads in the command line's words, :meth:`for_route`
+    gives the same error in another route's words.
     """
 
     def __init__(self, message: str, source: str | None = None) -> None:
@@ -24,8 +28,12 @@ class InputError(PinnMeshError):
         super().__init__(self._text("cli"))
 
     def _text(self, route: str) -> str:
-        text = self.template
-        for key, words in ROUTE_WORDS[route].items():
+        route_words = ROUTE_WORDS[route]
+        text = _ARGUED.sub(
+            lambda m: route_words[m[1]].format(m[2]) if m[1] in route_words else m[0],
+            self.template,
+        )
+        for key, words in route_words.items():
             text = text.replace("{" + key + "}", words)
         return f"{self.source}: {text}" if self.source else text
 
@@ -95,6 +103,9 @@ ROUTE_WORDS = {
         "blocks": "give them with --blocks EDGES",
         "with_blocks": "with --blocks, ",
         "pieces": "--patch X,Y=NAME",
+        "face_patch": "--patch SIDE=NAME",
+        "spacing": "--spacing",
+        "orthogonal": "--orthogonal",
     },
     "pyvista": {
         "corners": "corners=",
@@ -117,6 +128,9 @@ ROUTE_WORDS = {
         "blocks": "give them as blocks=",
         "with_blocks": "",
         "pieces": 'patches=["X,Y=NAME", ...]',
+        "face_patch": 'patches={"imin": "inlet", ...}',
+        "spacing": "spacing=",
+        "orthogonal": "orthogonal=",
     },
     "paraview": {
         "corners": "Corner Indices",
@@ -141,6 +155,9 @@ ROUTE_WORDS = {
         "blocks": "select their source together with the boundary's (or connect it to Block Edges)",
         "with_blocks": "",
         "pieces": "Patch Names' X,Y=NAME items",
+        "face_patch": "Patch Names (imin imax jmin jmax kmin kmax, or SIDE=NAME)",
+        "spacing": "First Edge Spacing",
+        "orthogonal": "Orthogonal Patches",
     },
 }
 _HANDED_OVER = {"cli": "written", "pyvista": "returned", "paraview": "produced"}

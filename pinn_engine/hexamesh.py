@@ -8,7 +8,7 @@ from __future__ import annotations
 import hashlib
 import json
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from functools import cache, partial
 from pathlib import Path
@@ -121,7 +121,8 @@ def refuse(
     size: tuple[int, ...], method: str, spacing: dict | None = None, orthogonal: tuple = ()
 ) -> None:
     """An :class:`InputError` for a method, size, spacing or orthogonality this build cannot
-    mesh."""
+    mesh (spacing and orthogonality in the route's words; the other routes check method and
+    size in their own before)."""
     if method not in METHODS:
         raise InputError(
             f"--method {method}: six-faced 3D domains are meshed by {', '.join(METHODS)}"
@@ -131,14 +132,14 @@ def refuse(
         raise InputError(f"--size {' '.join(map(str, size))}: {problem}")
     if orthogonal and method == "tfi":
         raise InputError(
-            f"--orthogonal {','.join(orthogonal)}: use --method elliptic or pinn (tfi's grid "
-            "lines cannot turn to a patch's normal)"
+            f"{{orthogonal}} {','.join(orthogonal)}: use {{method:elliptic}} or pinn (tfi's "
+            "grid lines cannot turn to a patch's normal)"
         )
     for axis, name in enumerate("ijk"):
         if {f"{name}min", f"{name}max"} <= set(orthogonal) and size[axis] < OPPOSITE_NODES:
             raise InputError(
-                f"--orthogonal {name}min,{name}max: give at least {OPPOSITE_NODES} nodes "
-                f"along {name} (--size), one first layer for each"
+                f"{{orthogonal}} {name}min,{name}max: give at least {OPPOSITE_NODES} nodes "
+                f"along {name} ({{size}}), one first layer for each"
             )
 
 
@@ -382,11 +383,16 @@ def report(result: HexResult, method: str) -> dict:
     }
 
 
-def hexa_grid(result: HexResult, method: str) -> vtkStructuredGrid:
+def hexa_grid(
+    result: HexResult,
+    method: str,
+    patches: tuple[Sequence[str], Sequence[str]] | None = None,
+) -> vtkStructuredGrid:
     """The grid with SPEC 11's cell arrays (active scalars MaxIncludedAngle) and field
     data: ``Method``, ``Report`` (JSON, :func:`report`), each figure of its ``quality`` as
-    a number, and the default patches imin ... kmax (SPEC 8's ``PatchNames``, ``PatchTypes``;
-    the writers rename them). What every route hands over."""
+    a number, and SPEC 8's ``PatchNames``, ``PatchTypes``: ``patches`` (the names and types
+    of imin ... kmax, as ``patch_specs`` gives them; default the sides' own names; the
+    writers rename them). What every route hands over."""
     grid = structured_grid(result.grid)
     for name, values in result.cells.items():
         array = numpy_to_vtk(np.ascontiguousarray(values), deep=True)
@@ -395,7 +401,7 @@ def hexa_grid(result: HexResult, method: str) -> vtkStructuredGrid:
     grid.GetCellData().SetActiveScalars("MaxIncludedAngle")
     fd = grid.GetFieldData()
     run = report(result, method)
-    add_to_grid(grid, *patch_specs(None, sides=BOX_SIDES))
+    add_to_grid(grid, *(patches or patch_specs(None, sides=BOX_SIDES)))
     for name, texts in (("Method", [method]), ("Report", [json.dumps(run, default=float)])):
         array = vtkStringArray()
         array.SetName(name)

@@ -687,8 +687,8 @@ _HEXA_METHOD_DOCS = {
         "the volume grid is made from the six face grids by the chosen method. Corner 0 is "
         "the one with the smallest x + y + z, i leaves it nearest +x, and (i, j, k) is "
         "right-handed. Cells carry MaxIncludedAngle, MinIncludedAngle (the 24 face-corner "
-        "angles), ScaledJacobian and Folded; field data the report and patch names imin ... "
-        "kmax. Guide: docs/hexa.md of the pinn-mesh checkout.",
+        "angles), ScaledJacobian and Folded; field data the report and the patch names "
+        "(Patch Names; default imin ... kmax). Guide: docs/hexa.md of the pinn-mesh checkout.",
     )
 )
 class PINNHexahedralMesh(PinnHexaAlgorithm):
@@ -709,6 +709,42 @@ class PINNHexahedralMesh(PinnHexaAlgorithm):
     @smdomain.xml(_doc("Nodes along i, j and k (at least 3 each)."))
     def P02GridSize(self, ni, nj, nk):
         self.SetGridSize(ni, nj, nk)
+
+    @smproperty.stringvector(name="PatchNames", label="Patch Names", default_values="")
+    @smdomain.xml(
+        _doc(
+            "Boundary patch names of the six faces for solver formats (File > Save Data: "
+            "PLOT3D, CGNS, SU2, Gmsh, OpenFOAM): six names for imin, imax, jmin, jmax, kmin "
+            "and kmax, or SIDE=NAME[:TYPE] items such as 'imin=inlet:inflow kmin=floor:wall' "
+            "(empty: the faces' own names). Faces with the same name form one patch."
+        )
+    )
+    def P03PatchNames(self, text):
+        self.SetPatchNames(text)
+
+    @smproperty.stringvector(name="FirstEdgeSpacing", label="First Edge Spacing", default_values="")
+    @smdomain.xml(
+        _doc(
+            "Length of the first grid edge leaving a face, in the surface's units: PATCH=H "
+            "items separated by spaces, PATCH one of imin, imax, jmin, jmax, kmin, kmax, "
+            "e.g. 'kmin=0.002' (empty: none). The spacing grows smoothly away from the face; "
+            "all methods (docs/hexa.md)."
+        )
+    )
+    def P04FirstEdgeSpacing(self, text):
+        self.SetSpacing(text)
+
+    @smproperty.stringvector(
+        name="OrthogonalPatches", label="Orthogonal Patches", default_values=""
+    )
+    @smdomain.xml(
+        _doc(
+            "Faces that grid lines leave at 90 degrees: imin, imax, jmin, jmax, kmin or kmax "
+            "separated by commas, e.g. 'kmin' (empty: none); elliptic and pinn."
+        )
+    )
+    def P05OrthogonalPatches(self, text):
+        self.SetOrthogonal(text)
 
 
 @smproxy.reader(

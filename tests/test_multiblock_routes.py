@@ -234,6 +234,12 @@ def test_patch_settings_take_strings_sequences_and_mappings():
             "point (X, Y)",
         ),
         ("pyvista", {"spacing": ["cylinder"]}, "spacing 'cylinder': expected NAME=H, a patch"),
+        (
+            "pyvista",
+            {"patches": ["0.5,0=cylinder:hot"]},
+            "patch type 'hot' of 'cylinder': use wall, inflow, outflow, farfield, symmetry, "
+            'patch (patches=["X,Y=NAME", ...])',
+        ),
     ],
 )
 def test_patch_errors_are_one_line_in_each_routes_words(route, options, message):

@@ -406,7 +406,14 @@ def test_hexahedral_filter_on_the_bend(checkout):
     assert result["menu_category"] == "Mesh Generation"
     assert result["representation"] == "Surface With Edges"
     assert 20 < len(result["help"][0]) < len(result["help"][1])
-    assert set(result["properties"]) == {"Input", "Method", "GridSize"}
+    assert set(result["properties"]) == {
+        "Input",
+        "Method",
+        "GridSize",
+        "PatchNames",
+        "FirstEdgeSpacing",
+        "OrthogonalPatches",
+    }
     assert result["methods"] == list(METHODS)
     assert result["progress"] == [0.0, 1.0] and not result["messages"]
     assert "PINN Hexahedral Mesh: face grids" in result["progress_texts"]
@@ -427,6 +434,19 @@ def test_hexahedral_filter_on_the_bend(checkout):
         expected = mesh_surface(str(ROOT / "example_data" / "hexa_bend.vtp"), size, method)
         points = np.array(grid["points"]).transpose(2, 1, 0, 3)  # (nk, nj, ni) -> (ni, nj, nk)
         np.testing.assert_allclose(points, expected.grid, atol=1e-9)
+    spaced = result["spaced"]  # Patch Names and First Edge Spacing: the command line's grid
+    assert spaced["patches"] == ["inlet", "imax", "jmin", "jmax", "floor", "kmax"]
+    assert spaced["types"] == ["inflow", "patch", "patch", "patch", "wall", "patch"]
+    expected = mesh_surface(
+        str(ROOT / "example_data" / "hexa_bend.vtp"), size, "tfi", spacing={"kmin": 0.01}
+    )
+    points = np.array(spaced["points"]).transpose(2, 1, 0, 3)
+    np.testing.assert_allclose(points, expected.grid, atol=1e-9)
+    assert result["orthogonal_tfi_points"] == 0
+    assert [ln for ln in result["orthogonal_tfi_text"].splitlines() if ln.strip()] == [
+        "PINN Hexahedral Mesh: Orthogonal Patches kmin: use Method elliptic or pinn (tfi's "
+        "grid lines cannot turn to a patch's normal)"
+    ]
     messages = [ln for ln in result["bad_vtk_text"].splitlines() if ln.strip()]
     assert messages == [
         "PINN Hexahedral Mesh: input: no FaceId cell array: tag each of the six faces"

@@ -65,3 +65,7 @@ def test_every_route_has_words_for_every_token():
     error = InputError("name them ({corners})", "b.vtp")
     assert str(error) == "b.vtp: name them (--corners)"
     assert str(error.for_route("paraview")) == "b.vtp: name them (Corner Indices)"
+    argued = InputError("use {method:elliptic} or pinn")  # a token taking its argument
+    assert str(argued) == "use --method elliptic or pinn"
+    assert str(argued.for_route("pyvista")) == 'use method="elliptic" or pinn'
+    assert str(argued.for_route("paraview")) == "use Method elliptic or pinn"

@@ -40,7 +40,9 @@ ROOM = 0.5  # H must be shorter than this fraction of the shortest edge leaving 
 
 
 def parse_patches(spacing: list[str], orthogonal: list[str]) -> tuple[dict[str, float], tuple]:
-    """``PATCH=H`` items and ``PATCH[,PATCH...]`` items, checked (one line naming the fix)."""
+    """``PATCH=H`` items and ``PATCH[,PATCH...]`` items, checked (one line naming the fix in
+    the route's words: the command line's ``--spacing`` and ``--orthogonal``, the filter's
+    First Edge Spacing and Orthogonal Patches, pyvista's ``spacing=`` and ``orthogonal=``)."""
     names = ", ".join(PATCH_AXIS)
     out: dict[str, float] = {}
     for item in spacing:
@@ -51,15 +53,15 @@ def parse_patches(spacing: list[str], orthogonal: list[str]) -> tuple[dict[str, 
         except ValueError:
             h = float("nan")
         if not sep or name not in PATCH_AXIS or not (np.isfinite(h) and h > 0):
-            raise InputError(f"--spacing {item}: write PATCH=H with H > 0, PATCH one of {names}")
+            raise InputError(f"{{spacing}} {item}: write PATCH=H with H > 0, PATCH one of {names}")
         if out.setdefault(name, h) != h:
-            raise InputError(f"--spacing {item}: patch {name} is given two spacings")
+            raise InputError(f"{{spacing}} {item}: patch {name} is given two spacings")
     walls = []
     for item in orthogonal:
         for name in item.split(","):
             name = name.strip().lower()
             if name not in PATCH_AXIS:
-                raise InputError(f"--orthogonal {item}: unknown patch {name!r}; use {names}")
+                raise InputError(f"{{orthogonal}} {item}: unknown patch {name!r}; use {names}")
             walls.append(name)
     return out, tuple(dict.fromkeys(walls))
 
@@ -87,7 +89,7 @@ def check_spacing(spacing: dict[str, float], boundary: np.ndarray) -> None:
         room = float(np.linalg.norm(np.diff(lines, axis=1), axis=-1).sum(axis=1).min())
         if h >= ROOM * room:
             raise InputError(
-                f"--spacing {patch}={h:g}: the first edge must be shorter than half of the "
+                f"{{spacing}} {patch}={h:g}: the first edge must be shorter than half of the "
                 f"shortest edge leaving {patch} ({ROOM * room:.4g})"
             )
 

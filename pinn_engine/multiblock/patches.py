@@ -19,6 +19,7 @@ from pinn_engine.multiblock.layout import Layout
 
 OUTER = "boundary"  # SPEC 10: the default name of the outer boundary's pieces
 HOLE = "hole"  # SPEC 10: hole k's pieces are named hole1, hole2, ...
+PIECES = "{pieces}"  # the route token an error about a piece's name or type points to
 # A --patch point farther than this share of the domain's diagonal from every boundary
 # piece is refused: a point meant for a piece lies on or near it; one this far is a typo
 FAR = 0.05
@@ -63,8 +64,8 @@ def parse_patch_points(items: Sequence[str] | None) -> list[PatchPoint]:
                 f"patch {item!r}: {{with_blocks}}expected X,Y=NAME[:TYPE] naming the boundary "
                 "piece nearest the point (X, Y)"
             ) from None
-        name, kind = split_type(named.strip())
-        out.append(PatchPoint(x, y, checked_name(name), kind))
+        name, kind = split_type(named.strip(), PIECES)
+        out.append(PatchPoint(x, y, checked_name(name, PIECES), kind))
     return out
 
 

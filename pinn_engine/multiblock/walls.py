@@ -16,7 +16,7 @@ import numpy as np
 
 from pinn_engine.errors import InputError
 from pinn_engine.io.export.patches import checked_name
-from pinn_engine.multiblock.patches import PatchPiece
+from pinn_engine.multiblock.patches import PIECES, PatchPiece
 
 # Wall nodes this many positions or fewer from a block's corner are left out of the wall
 # angle figures (SPEC 7: "the two nodes nearest each corner excepted")
@@ -49,11 +49,13 @@ def parse_walls(spacing: Sequence[str] = (), orthogonal: Sequence[str] = ()) -> 
                 f"spacing {item!r}: {{with_blocks}}expected NAME=H, a patch name and a first "
                 "edge H > 0 (e.g. cylinder=0.005)"
             ) from None
-        name = checked_name(name.strip())
+        name = checked_name(name.strip(), PIECES)
         if out.setdefault(name, h) != h:
             raise InputError(f"spacing {item!r}: patch {name} is given two spacings")
     names = tuple(
-        dict.fromkeys(checked_name(n.strip()) for item in orthogonal for n in item.split(","))
+        dict.fromkeys(
+            checked_name(n.strip(), PIECES) for item in orthogonal for n in item.split(",")
+        )
     )
     return Walls(out, names)
 

@@ -46,7 +46,7 @@ from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 from pinn_engine.cache import MeshCache
 from pinn_engine.errors import STOP, grid_warnings
-from pinn_engine.routes.filters import LastOutcome, LineInputs, choice
+from pinn_engine.routes.filters import LastOutcome, LineInputs, choice, patch_setting
 from pinn_engine.routes.reporting import message_of
 from pinn_engine.settings import (
     METHODS,
@@ -264,9 +264,7 @@ class PinnMeshAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
         return self._corners
 
     def SetPatchNames(self, names) -> None:
-        if not isinstance(names, str) and names is not None:
-            names = dict(names) if hasattr(names, "items") else " ".join(map(str, names))
-        self._set("_patches", names or "")
+        self._set("_patches", patch_setting(names))
 
     def SetTopology(self, topology) -> None:
         """ "none" (a four-sided domain), "o" (O-grid) or "c" (C-grid), or 0, 1, 2."""

@@ -1,6 +1,6 @@
 """What the VTK filters (four-sided/body, multi-block, hexahedral) share: their input ports,
-their setters, their last update's outcome, how a ParaView enumeration's value is read and
-the folded-cells warning."""
+their setters and how they read a setting's forms (a ParaView enumeration's index, the
+panel's text fields), their last update's outcome and the folded-cells warning."""
 
 from __future__ import annotations
 
@@ -20,6 +20,35 @@ def choice(value, options: tuple[str, ...], what: str) -> str:
     if name not in options:
         raise ValueError(f"unknown {what} {value!r}; use one of {', '.join(options)}")
     return name
+
+
+def setting_items(value, separators: str) -> tuple[str, ...]:
+    """Items of a setting given as one string (split at whitespace and ``separators``: the
+    panel's text field) or as a sequence of strings; None or "" is none."""
+    if value is None:
+        return ()
+    if isinstance(value, str):
+        for sep in separators:
+            value = value.replace(sep, " ")
+        return tuple(value.split())
+    return tuple(str(v).strip() for v in value if str(v).strip())
+
+
+def spacing_items(value) -> tuple[str, ...]:
+    """``NAME=H`` items of a first-edge spacing setting: a string of items, a sequence of
+    them or a mapping ``{NAME: H}``."""
+    if hasattr(value, "items"):
+        value = [f"{name}={float(h)!r}" for name, h in value.items()]
+    return setting_items(value, ",;")
+
+
+def patch_setting(names) -> str | dict:
+    """Patch names as a filter keeps them until its update checks them
+    (``io.export.patches.patch_specs`` reads every form): the panel's string, a mapping,
+    or a sequence joined by spaces; None is ""."""
+    if not isinstance(names, str) and names is not None:
+        names = dict(names) if hasattr(names, "items") else " ".join(map(str, names))
+    return names or ""
 
 
 class ModifiedOnChange:

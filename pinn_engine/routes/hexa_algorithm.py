@@ -9,14 +9,15 @@ ParaView's own VTK 9.2, which has no pyvista: the engine's hexa route is plain V
 >>> alg = PinnHexaAlgorithm()
 >>> alg.SetInputConnection(0, surface_reader.GetOutputPort())   # closed, FaceId 0..5
 >>> alg.SetGridSize(21, 21, 21)
+>>> alg.SetSpacing("kmin=0.002")                                 # as --spacing kmin=0.002
 >>> alg.Update()
 >>> grid = alg.GetOutput()                                       # vtkStructuredGrid
 
 Port: input 0 a ``vtkPolyData``, a closed triangulated (or polygonal) surface with a cell
 array ``FaceId`` of six values. Output 0 the ``vtkStructuredGrid`` ``(ni, nj, nk)`` of the
 command line's ``.vts``: cell arrays ``MaxIncludedAngle``, ``MinIncludedAngle``,
-``ScaledJacobian``, ``Folded``; field data ``Method``, ``Patches``, ``Report`` (JSON) and the
-quality figures (``hexamesh.hexa_grid``).
+``ScaledJacobian``, ``Folded``; field data ``Method``, ``PatchNames``, ``PatchTypes``,
+``Report`` (JSON) and the quality figures (``hexamesh.hexa_grid``).
 
 A failed update leaves the output empty and reports one line ``PINN Hexahedral Mesh:
 <message>`` (the ParaView route: in Output Messages and as an ``ErrorEvent``; other routes
@@ -32,7 +33,16 @@ from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 from pinn_engine.errors import ROUTE_WORDS
 from pinn_engine.hexamesh import HEXA_METHOD, HEXA_SIZE, METHODS, size_problem
-from pinn_engine.routes.filters import LastOutcome, ModifiedOnChange, choice, folded_warning
+from pinn_engine.io.export.patches import BOX_SIDES, patch_specs
+from pinn_engine.routes.filters import (
+    LastOutcome,
+    ModifiedOnChange,
+    choice,
+    folded_warning,
+    patch_setting,
+    setting_items,
+    spacing_items,
+)
 from pinn_engine.routes.reporting import message_of
 
 LABEL = "PINN Hexahedral Mesh"
@@ -56,6 +66,17 @@ class PinnHexaAlgorithm(LastOutcome, ModifiedOnChange, VTKPythonAlgorithmBase):
     * ``SetMethod(name)`` (or its index in ``hexamesh.METHODS``), default
       ``hexamesh.HEXA_METHOD``
     * ``SetGridSize(ni, nj, nk)``: nodes along i, j and k, default 21 21 21
+    * ``SetPatchNames(names)``: the patch names of the six faces, each optionally
+      ``NAME:TYPE`` (six names imin imax jmin jmax kmin kmax, or ``SIDE=NAME`` items, as a
+      string, sequence or mapping; the command line's ``--patch``); field data
+      ``PatchNames`` and ``PatchTypes``
+    * ``SetSpacing(items)``: ``PATCH=H`` items, the first grid edge leaving that face
+      (``"kmin=0.002"``, a sequence of items or a mapping ``{"kmin": 0.002}``; ``--spacing``)
+    * ``SetOrthogonal(names)``: faces that grid lines leave along the normal (``"kmin,kmax"``
+      or a sequence of names; ``--orthogonal``; elliptic and pinn)
+
+    Patch names, spacings and orthogonal faces are checked at the next update, before
+    meshing (one line naming the item, as the command line's).
     """
 
     LABEL = LABEL
@@ -70,6 +91,9 @@ class PinnHexaAlgorithm(LastOutcome, ModifiedOnChange, VTKPythonAlgorithmBase):
         self._route = route
         self._method = HEXA_METHOD
         self._size = HEXA_SIZE
+        self._patches: str | dict = ""  # as given; checked at the update (imin ... kmax)
+        self._spacing: tuple[str, ...] = ()  # PATCH=H items
+        self._orthogonal: tuple[str, ...] = ()  # imin ... kmax
         self._last_error = self._last_warning = ""
         self._exception: Exception | None = None
         self._failed: tuple | None = None  # what the last failed update ran on
@@ -87,6 +111,25 @@ class PinnHexaAlgorithm(LastOutcome, ModifiedOnChange, VTKPythonAlgorithmBase):
     def GetGridSize(self) -> tuple[int, int, int]:
         return self._size
 
+    def SetPatchNames(self, names) -> None:
+        self._set("_patches", patch_setting(names))
+
+    def GetPatchNames(self) -> tuple[str, ...]:
+        """The six patch names (imin ... kmax) the next update uses."""
+        return patch_specs(self._patches, sides=BOX_SIDES)[0]
+
+    def SetSpacing(self, items) -> None:
+        self._set("_spacing", spacing_items(items))
+
+    def GetSpacing(self) -> tuple[str, ...]:
+        return self._spacing
+
+    def SetOrthogonal(self, names) -> None:
+        self._set("_orthogonal", setting_items(names, ",;"))
+
+    def GetOrthogonal(self) -> tuple[str, ...]:
+        return self._orthogonal
+
     # ---- results -----------------------------------------------------------------------
     def GetOutput(self) -> vtkStructuredGrid:
         """The grid (after ``Update()``); empty when the last update failed."""
@@ -103,7 +146,8 @@ class PinnHexaAlgorithm(LastOutcome, ModifiedOnChange, VTKPythonAlgorithmBase):
     def RequestData(self, request, inInfo, outInfo):
         output = vtkStructuredGrid.GetData(outInfo, 0)
         surface = vtkPolyData.GetData(inInfo[0], 0)
-        stamp = (self._method, self._size, surface.GetMTime() if surface else -1)
+        settings = (self._method, self._size, self._patches, self._spacing, self._orthogonal)
+        stamp = (*settings, surface.GetMTime() if surface else -1)
         if stamp == self._failed:
             # Nothing changed since the failure; the executive asks again only because the
             # empty output does not cover the whole extent: say it once.
@@ -130,14 +174,26 @@ class PinnHexaAlgorithm(LastOutcome, ModifiedOnChange, VTKPythonAlgorithmBase):
 
     def _execute(self, surface: vtkPolyData) -> tuple[vtkStructuredGrid, dict]:
         """The grid of the connected surface under the settings, and the run's report."""
+        from pinn_engine.hexa.spacing import parse_patches
         from pinn_engine.hexamesh import hexa_grid, mesh_polydata, report
 
         problem = size_problem(self._size)
         if problem:
             size = " ".join(map(str, self._size))
             raise ValueError(f"{ROUTE_WORDS[self._route]['size']} {size}: {problem}")
-        result = mesh_polydata(surface, self._size, self._method, "input", self._progress)
-        return hexa_grid(result, self._method), report(result, self._method)
+        patches = patch_specs(self._patches, sides=BOX_SIDES)  # refused before meshing
+        orthogonal = [",".join(self._orthogonal)] if self._orthogonal else []
+        spacing, walls = parse_patches(list(self._spacing), orthogonal)
+        result = mesh_polydata(
+            surface,
+            self._size,
+            self._method,
+            "input",
+            self._progress,
+            spacing=spacing,
+            orthogonal=walls,
+        )
+        return hexa_grid(result, self._method, patches), report(result, self._method)
 
 
 __all__ = ["LABEL", "PinnHexaAlgorithm", "refold_hint"]

@@ -38,7 +38,14 @@ from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkPolyData
 
 from pinn_engine.errors import InputError
 from pinn_engine.routes.cli import BLOCKS_METHOD
-from pinn_engine.routes.filters import LastOutcome, LineInputs, choice, folded_warning
+from pinn_engine.routes.filters import (
+    LastOutcome,
+    LineInputs,
+    choice,
+    folded_warning,
+    setting_items,
+    spacing_items,
+)
 from pinn_engine.routes.reporting import message_of
 from pinn_engine.settings import MULTIBLOCK_METHODS, PARAMETER_CONSTRAINTS, Settings, make_settings
 
@@ -85,18 +92,6 @@ def curves_of(
     if not edges:
         raise InputError("no block edges (open polylines) among the inputs; {blocks}", "input")
     return rings, edges, names
-
-
-def _items(value, separators: str) -> tuple[str, ...]:
-    """Items of a setting given as one string (split at whitespace and ``separators``) or as
-    a sequence of strings; None or "" is none."""
-    if value is None:
-        return ()
-    if isinstance(value, str):
-        for sep in separators:
-            value = value.replace(sep, " ")
-        return tuple(value.split())
-    return tuple(str(v).strip() for v in value if str(v).strip())
 
 
 class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
@@ -161,21 +156,19 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
     def SetPatchNames(self, items) -> None:
         if hasattr(items, "items"):
             items = [f"{float(x)!r},{float(y)!r}={name}" for (x, y), name in items.items()]
-        self._set("_patches", _items(items, ";"))
+        self._set("_patches", setting_items(items, ";"))
 
     def GetPatchNames(self) -> tuple[str, ...]:
         return self._patches
 
     def SetSpacing(self, items) -> None:
-        if hasattr(items, "items"):
-            items = [f"{name}={float(h)!r}" for name, h in items.items()]
-        self._set("_spacing", _items(items, ",;"))
+        self._set("_spacing", spacing_items(items))
 
     def GetSpacing(self) -> tuple[str, ...]:
         return self._spacing
 
     def SetOrthogonal(self, names) -> None:
-        self._set("_orthogonal", _items(names, ",;"))
+        self._set("_orthogonal", setting_items(names, ",;"))
 
     def GetOrthogonal(self) -> tuple[str, ...]:
         return self._orthogonal

@@ -60,6 +60,9 @@ from pinn_engine.routes.hexa_algorithm import PinnHexaAlgorithm, refold_hint
 from pinn_engine.routes.multiblock_algorithm import MOVE_EDGES, PinnMultiBlockAlgorithm
 from pinn_engine.settings import Settings, grid_size_problem, make_settings
 
+# pinn_mesh_hexa's keywords besides size and method, taken by the accessor on a surface
+HEXA_OPTIONS = ("patches", "spacing", "orthogonal")
+
 __all__ = [
     "FoldedCellsWarning",
     "PinnMeshAccessor",
@@ -400,7 +403,13 @@ def pinn_mesh_blocks(
 
 
 def pinn_mesh_hexa(
-    surface, size: Sequence[int] = HEXA_SIZE, method: str | None = None
+    surface,
+    size: Sequence[int] = HEXA_SIZE,
+    method: str | None = None,
+    *,
+    patches=None,
+    spacing=None,
+    orthogonal=None,
 ) -> pv.StructuredGrid:
     """Hexahedral structured grid (SPEC 11) of the 3D domain a closed surface bounds.
 
@@ -414,6 +423,17 @@ def pinn_mesh_hexa(
     method : str, optional
         One of ``pinn_engine.hexamesh.METHODS`` (``"tfi"``: 3D transfinite interpolation;
         ``"elliptic"``: 3D Winslow), default ``pinn_engine.hexamesh.HEXA_METHOD``.
+    patches : dict, sequence of six names or str, optional
+        Patch names of the six faces, e.g. ``{"imin": "inlet:inflow", "kmin": "floor:wall"}``
+        (default imin ... kmax; equal names form one patch), each optionally typed as
+        ``"NAME:TYPE"``; stored as field data ``PatchNames`` and ``PatchTypes`` and used by
+        :func:`save_mesh`.
+    spacing : dict or sequence of str, optional
+        First grid edge leaving a face, ``{"kmin": 0.002}`` or ``["kmin=0.002"]`` (faces
+        imin ... kmax; SPEC 7 on the patches, docs/hexa.md).
+    orthogonal : str or sequence of str, optional
+        Faces that grid lines leave along the normal, ``"kmin"`` or ``["kmin", "kmax"]``
+        (elliptic and pinn).
 
     Returns
     -------
@@ -421,11 +441,12 @@ def pinn_mesh_hexa(
         Dimensions ``(ni, nj, nk)``, corner 0 the one with the smallest x + y + z, i leaving
         it nearest +x, (i, j, k) right-handed; cell data ``MaxIncludedAngle``,
         ``MinIncludedAngle``, ``ScaledJacobian``, ``Folded``; field data ``Method``,
-        ``Patches``, ``Report`` (JSON) and the quality figures.
+        ``PatchNames``, ``PatchTypes``, ``Report`` (JSON) and the quality figures.
 
     Warns ``pinn_engine.FoldedCellsWarning`` when cells are folded; raises
     ``pinn_engine.errors.InputError`` (one line) for a surface that is not six-faced,
-    ``ValueError`` for bad settings.
+    ``ValueError`` for bad settings; a bad patch name, spacing or orthogonal face raises
+    ``InputError`` (one line) before meshing.
 
     >>> surface = pv.read("example_data/hexa_bend.vtp")
     >>> grid = pinn_mesh_hexa(surface, size=(21, 11, 9), method="tfi")
@@ -440,6 +461,9 @@ def pinn_mesh_hexa(
     if method is not None:
         alg.SetMethod(method)  # ValueError for an unknown method
     alg.SetGridSize(*size)
+    alg.SetPatchNames(patches)
+    alg.SetSpacing(spacing)
+    alg.SetOrthogonal(orthogonal)
     _run(alg, lambda: _as_polydata(surface, closed=True, what="surface"), None)
     grid = pv.wrap(alg.GetOutput())
     warning = folded_warning(
@@ -553,19 +577,21 @@ class PinnMeshAccessor:
         inside blocks); returns a ``pyvista.MultiBlock``.
 
         A surface with a ``FaceId`` cell array, or ``size=(ni, nj, nk)``: the hexahedral grid
-        of :func:`pinn_mesh_hexa` (``size``, ``method``); returns a
-        ``pyvista.StructuredGrid``.
+        of :func:`pinn_mesh_hexa` (``size``, ``method``, ``patches``, ``spacing``,
+        ``orthogonal``); returns a ``pyvista.StructuredGrid``.
         """
         faced = FACE_ARRAY.decode() in self._mesh.cell_data
         if faced or (size is not None and len(size) == len(HEXA_SIZE)):
             given = {"aux": aux, "blocks": blocks, **options}
             for name, value in given.items():
-                if value is not None:
+                if value is not None and name not in HEXA_OPTIONS:
+                    keywords = ", ".join(f"{n}=" for n in ("size", "method", *HEXA_OPTIONS))
                     raise InputError(
                         f"{name}= applies to 2D domains, not to a six-faced surface; give "
-                        "size= and method="
+                        f"{keywords}"
                     )
-            self.last = pinn_mesh_hexa(self._mesh, size or HEXA_SIZE, method)
+            hexa = {k: v for k, v in options.items() if k in HEXA_OPTIONS}
+            self.last = pinn_mesh_hexa(self._mesh, size or HEXA_SIZE, method, **hexa)
             return self.last
         if blocks is not None:
             if size is not None:

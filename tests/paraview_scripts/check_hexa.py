@@ -2,8 +2,9 @@
 
     scripts/pvenv.sh pvpython tests/paraview_scripts/check_hexa.py EXAMPLE_DIR
 
-The 90-degree bend of example_data by tfi, elliptic and pinn (the default), then a sphere (no
-FaceId) and the bend again on the same filter. Prints one ``RESULT {json}`` line; any failed
+The 90-degree bend of example_data by tfi, elliptic and pinn (the default), by tfi with
+Patch Names and First Edge Spacing, with Orthogonal Patches (refused for tfi), then a sphere
+(no FaceId) and the bend again on the same filter. Prints one ``RESULT {json}`` line; any failed
 check raises (exit status 1).
 """
 
@@ -36,6 +37,7 @@ def grid_of(grid):
         "min_scaled_jacobian": float(vtk_to_numpy(cd.GetArray("ScaledJacobian")).min()),
         "method": fd.GetAbstractArray("Method").GetValue(0),
         "patches": [fd.GetAbstractArray("PatchNames").GetValue(k) for k in range(6)],
+        "types": [fd.GetAbstractArray("PatchTypes").GetValue(k) for k in range(6)],
         "report": json.loads(fd.GetAbstractArray("Report").GetValue(0)),
     }
 
@@ -72,6 +74,17 @@ mesh.Method = "elliptic"
 result["elliptic"] = grid_of(servermanager.Fetch(mesh))
 mesh.Method = "pinn"  # the network trained inside ParaView's Python
 result["pinn"] = grid_of(servermanager.Fetch(mesh))
+
+# the command line's --patch and --spacing from the panel
+mesh.Method = "tfi"
+mesh.PatchNames = "imin=inlet:inflow kmin=floor:wall"
+mesh.FirstEdgeSpacing = "kmin=0.01"
+result["spaced"] = grid_of(servermanager.Fetch(mesh))
+mesh.OrthogonalPatches = "kmin"  # tfi's lines cannot turn: one line in the panel's words
+with captured_errors() as err:
+    result["orthogonal_tfi_points"] = servermanager.Fetch(mesh).GetNumberOfPoints()
+result["orthogonal_tfi_text"] = err["vtk"]
+mesh.OrthogonalPatches = ""
 
 # a surface without FaceId: empty output, one line in the panel's words
 mesh.Input = simple.Sphere()

@@ -20,6 +20,8 @@ from pinn_engine.errors import InputError
 SIDES = ("bottom", "right", "top", "left")
 BOX_SIDES = ("imin", "imax", "jmin", "jmax", "kmin", "kmax")  # a hexahedral grid's (SPEC 11)
 COUNT_WORDS = {len(SIDES): "four", len(BOX_SIDES): "six"}  # side counts as messages say them
+# the route token (errors.ROUTE_WORDS) naming where the patches of that many sides are named
+PATCH_FIX = {len(SIDES): "{patch}", len(BOX_SIDES): "{face_patch}"}
 NAME = re.compile(r"^[A-Za-z0-9_-]{1,32}$")
 FIELD = "PatchNames"
 TYPES_FIELD = "PatchTypes"  # the boundary condition kind of each side, as PatchNames
@@ -40,38 +42,35 @@ def default_type(name: str) -> str:
     return "wall" if name.lower() == "wall" else "patch"
 
 
-def split_type(item: str) -> tuple[str, str | None]:
-    """``NAME`` or ``NAME:TYPE`` -> (name, type or None), the type checked."""
+def split_type(item: str, fix: str = PATCH_FIX[len(SIDES)]) -> tuple[str, str | None]:
+    """``NAME`` or ``NAME:TYPE`` -> (name, type or None), the type checked (``fix``: the
+    route token of ``PATCH_FIX`` an error names)."""
     name, sep, kind = item.partition(":")
     if not sep:
         return name.strip(), None
     kind = kind.strip().lower()
     if kind not in TYPES:
-        raise InputError(
-            f"patch type {kind!r} of {name.strip()!r}: use {', '.join(TYPES)} ({{patch}})"
-        )
+        raise InputError(f"patch type {kind!r} of {name.strip()!r}: use {', '.join(TYPES)} ({fix})")
     return name.strip(), kind
 
 
 FRONT_AND_BACK = "frontAndBack"  # the two ends of an extruded output
 
 
-def _checked_typed(item: str) -> str:
+def _checked_typed(item: str, fix: str) -> str:
     """``NAME`` or ``NAME:TYPE``, both parts checked; returned as given."""
-    name, kind = split_type(item)
-    checked_name(name)
+    name, kind = split_type(item, fix)
+    checked_name(name, fix)
     return item if kind is None else f"{name}:{kind}"
 
 
-def checked_name(name: str) -> str:
+def checked_name(name: str, fix: str = PATCH_FIX[len(SIDES)]) -> str:
     if not NAME.match(name):
-        raise InputError(
-            f"patch name {name!r}: use 1 to 32 letters, digits, '_' or '-' ({{patch}})"
-        )
+        raise InputError(f"patch name {name!r}: use 1 to 32 letters, digits, '_' or '-' ({fix})")
     if name.lower() == FRONT_AND_BACK.lower():
         raise InputError(
             f"patch name {name!r} is reserved for the two ends of extruded "
-            "outputs; choose another ({patch})"
+            f"outputs; choose another ({fix})"
         )
     return name
 
@@ -95,15 +94,15 @@ def parse_patch_options(
     """Patch names of ``sides`` from ``SIDE=NAME`` items (the command line's ``--patch``);
     sides not named keep ``default``'s (the sides' own names when None)."""
     names = dict(zip(sides, default or sides))
+    fix = PATCH_FIX[len(sides)]
     for item in items or ():
         side, sep, name = item.partition("=")
         side = side.strip().lower()
         if not sep or side not in names:
             raise InputError(
-                f"patch {item!r}: expected SIDE=NAME with SIDE one of "
-                f"{', '.join(sides)} ({{patch}})"
+                f"patch {item!r}: expected SIDE=NAME with SIDE one of {', '.join(sides)} ({fix})"
             )
-        names[side] = _checked_typed(name.strip())
+        names[side] = _checked_typed(name.strip(), fix)
     return tuple(names[s] for s in sides)
 
 
@@ -138,9 +137,9 @@ def patch_names(
     if len(names) != len(sides) or any("=" in n for n in names):
         raise InputError(
             f"patch names {' '.join(names)!r}: give {COUNT_WORDS[len(sides)]} names "
-            f"({', '.join(sides)}) or SIDE=NAME items ({{patch}})"
+            f"({', '.join(sides)}) or SIDE=NAME items ({PATCH_FIX[len(sides)]})"
         )
-    return tuple(_checked_typed(n) for n in names)
+    return tuple(_checked_typed(n, PATCH_FIX[len(sides)]) for n in names)
 
 
 def patch_specs(
