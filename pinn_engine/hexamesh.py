@@ -371,7 +371,13 @@ def figures(cells: dict[str, np.ndarray]) -> dict[str, float]:
 
 def report(result: HexResult, method: str) -> dict:
     """What the grid's field data ``Report`` holds: method, size, cells, seconds, Picard
-    steps, :func:`figures` as ``quality`` and the pinn's ``training`` (the trainer's info)."""
+    steps, :func:`figures` as ``quality``, per patch with a spacing or orthogonality its
+    ``walls`` figures (:func:`wall_figures`, in the multi-block report's keys) and the
+    pinn's ``training`` (the trainer's info)."""
+    walls = {
+        patch: {"first_edge": {"min": low, "max": high}, "max_angle_deviation": angle}
+        for patch, (low, high, angle) in result.walls.items()
+    }
     return {
         "method": method,
         "size": list(result.grid.shape[:3]),
@@ -379,6 +385,7 @@ def report(result: HexResult, method: str) -> dict:
         "seconds": result.seconds,
         "iterations": result.iterations,
         "quality": figures(result.cells),
+        **({"walls": walls} if walls else {}),
         **({"training": result.model.info} if result.model else {}),
     }
 

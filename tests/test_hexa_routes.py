@@ -224,6 +224,11 @@ def test_accessor_patches_spacing_and_orthogonal_reach_the_grid(bend):
     nodes = _nodes(grid)
     np.testing.assert_allclose(_first_edges_off_the_floor(nodes), H, rtol=0.01)
     assert inner_angles(nodes, "kmin").max() < 1.0  # degrees off the floor's normal
+    walls = json.loads(grid.field_data["Report"][0])["walls"]  # what the panel can show
+    assert list(walls) == ["kmin"]
+    assert H * 0.99 <= walls["kmin"]["first_edge"]["min"] <= walls["kmin"]["first_edge"]["max"]
+    assert walls["kmin"]["first_edge"]["max"] <= H * 1.01
+    assert walls["kmin"]["max_angle_deviation"] < 1.0
     plain = bend.pinn_mesh(size=SIZE, method="elliptic")
     assert _first_edges_off_the_floor(_nodes(plain)).min() > 2 * H  # the spacing did it
 
