@@ -16,9 +16,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from pinn_engine.geometry.boundary import turning_angles
 from pinn_engine.multiblock.blocks import CORNER_TURN, Topology
 from pinn_engine.multiblock.layout import Layout
-from pinn_engine.multiblock.sliding import turn
 from pinn_engine.multiblock.walls import WallSide
 
 # Rows over which the first row's move onto the normal tapers to zero (the first row moves
@@ -51,7 +51,7 @@ def orthogonal(
         for line in wall.lines[wall.on]:
             node = int(line[0])
             a, b = around[node]
-            if turn(points[a], points[node], points[b]) >= CORNER_TURN:
+            if abs(turning_angles(points[[a, node, b]])[1]) >= CORNER_TURN:
                 continue
             t = points[b] - points[a]
             normal = np.array([-t[1], t[0]]) / np.linalg.norm(t)

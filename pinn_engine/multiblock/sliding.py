@@ -1,13 +1,13 @@
 """Edge ends that slide along the boundary (SPEC 10's free interfaces): an edge ending on
-the boundary or a hole, between two boundary pieces, moves along the drawn boundary as the
-multi-block Winslow grid is solved.
+the boundary or a hole between two boundary pieces that lie on one straight line moves
+along them as the multi-block Winslow grid is solved (SPEC 10: "only where the boundary is
+straight"; on a curved or cornered boundary the end stays where it was drawn).
 
 Each step the end goes to the point of the boundary nearest the edge's next node, so that
 the edge's first grid line meets the wall at right angles (on a straight wall this is a
 symmetry wall's mirror condition), kept a margin from the current far ends of its two
 boundary pieces (which may slide too), and those pieces' nodes are respaced at equal arc
-length along the drawn boundary. Positions on a boundary ring are arc lengths along it, so
-a curved boundary (a cylinder, a curved wall) is followed exactly as drawn.
+length along the drawn boundary. Positions on a boundary ring are arc lengths along it.
 """
 
 from __future__ import annotations
@@ -16,14 +16,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pinn_engine.geometry.boundary import turning_angles
-from pinn_engine.multiblock.blocks import CORNER_TURN, Topology
+from pinn_engine.multiblock.blocks import Topology
 from pinn_engine.multiblock.layout import Layout
 
 SLIDE_MARGIN = 0.25  # a sliding end keeps this share of its shorter piece from its far ends
 # the secant step of :func:`slide` is taken while the next node follows the end by at most
 # this share (a larger one would multiply the move by more than 100: a wild step, not a fit)
 MAX_FOLLOW = 0.99
+# boundary pieces are straight when their drawn points lie this share of their extent or
+# less off one line (float32 files round coordinates to about 6e-8 of their size)
+STRAIGHT_TOL = 1e-6
 
 
 class Ring:
@@ -76,15 +78,21 @@ def _toward(ids: np.ndarray, points: np.ndarray, e: int) -> tuple[np.ndarray, np
     return (ids[::-1], points[::-1]) if e == 0 else (ids, points)
 
 
-def turn(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> float:
-    """Degrees the polyline a, b, c turns by at b (``turning_angles``' at its middle vertex)."""
-    return float(abs(turning_angles(np.array([a, b, c]))[1]))
+def straight(points: np.ndarray) -> bool:
+    """Whether drawn ``points`` (n, 2) lie on one line, within STRAIGHT_TOL of their extent."""
+    centred = points - points.mean(axis=0)
+    extent = float(np.abs(centred).max())
+    if extent == 0.0:
+        return True
+    # the smallest singular value: the points' spread off their best line, times sqrt(n)
+    spread = np.linalg.svd(centred, compute_uv=False)[-1] / np.sqrt(len(points))
+    return spread <= STRAIGHT_TOL * extent
 
 
 def sliders(topo: Topology, lay: Layout) -> tuple[list[Slider], list[Ring], dict[int, float]]:
     """The edge ends that slide (junctions of two boundary pieces and one interface piece
-    where the boundary turns by less than a block corner's turn), the boundary rings, and
-    the arc length on its ring of every boundary junction node."""
+    where both boundary pieces lie on one straight line), the boundary rings, and the arc
+    length on its ring of every boundary junction node."""
     rings = [Ring(r) for r in topo.lines.rings]
     ends: dict[int, list[tuple[int, int]]] = {}
     for k, nodes in enumerate(lay.piece_ids):
@@ -113,8 +121,8 @@ def sliders(topo: Topology, lay: Layout) -> tuple[list[Slider], list[Ring], dict
         if behind[0] > behind[1]:
             runs.reverse()
         (first, before), (second, after) = runs
-        if turn(before[-2], before[-1], after[-2]) >= CORNER_TURN:
-            continue  # a corner of the drawn boundary (the L's inner corner) stays
+        if not straight(np.vstack([before, after])):
+            continue  # a curved or cornered boundary (the L's inner corner): the end stays
         k, e = edges[0]
         nxt = int(lay.piece_ids[k][1 if e == 0 else -2])
         margin = SLIDE_MARGIN * min(topo.pieces[k].length for k, _ in walls)
