@@ -146,9 +146,8 @@ def train_blocks(
     """Each block of the elliptic grid ``grids`` trained by :func:`train_block` (with its
     auxiliary lines ``aux[k]``, ``quadblock.block_lines``, if given), in turn, its guard
     judging the ``kinks`` of the whole grid: the blocks before it at their kept grids, those
-    after it at their elliptic grids; returns the
-    grids and the report's ``training``: per block the result kept and the seconds, and the
-    total. ``progress`` hears a ``prepare`` stage as each block starts, then the trainer's
+    after it at their elliptic grids. Returns the grids and the report's ``training``: per
+    block the result kept and the seconds, and the total. ``progress`` hears a ``prepare`` stage as each block starts, then the trainer's
     steps with ``block`` and ``blocks`` added; once it answers ``errors.STOP`` the blocks
     left keep their elliptic grids, and True cancels (:class:`TrainingCancelled`)."""
     out, blocks = [], []
