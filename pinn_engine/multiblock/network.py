@@ -147,9 +147,10 @@ def train_blocks(
     auxiliary lines ``aux[k]``, ``quadblock.block_lines``, if given), in turn, its guard
     judging the ``kinks`` of the whole grid: the blocks before it at their kept grids, those
     after it at their elliptic grids. Returns the grids and the report's ``training``: per
-    block the result kept and the seconds, and the total. ``progress`` hears a ``prepare`` stage as each block starts, then the trainer's
-    steps with ``block`` and ``blocks`` added; once it answers ``errors.STOP`` the blocks
-    left keep their elliptic grids, and True cancels (:class:`TrainingCancelled`)."""
+    block the result kept and the seconds, and the total. ``progress`` hears a ``prepare``
+    stage as each block starts, then the trainer's steps with ``block`` and ``blocks``
+    added; once it answers ``errors.STOP`` the blocks left keep their elliptic grids, and
+    True cancels (:class:`TrainingCancelled`)."""
     out, blocks = [], []
     heard = _BlockProgress(progress, len(grids))
     began = time.perf_counter()
