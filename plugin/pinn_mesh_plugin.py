@@ -78,9 +78,9 @@ paraview_plugin_version = __version__
 
 _DEFAULTS = Settings()
 _COLOUR_ARRAY = "MaxIncludedAngle"  # what a new grid is coloured by
-_MENU = '<ShowInMenu category="Mesh Generation"/>'  # the filters' and the Airfoil source's
 # whose displays get that colour
 _MESH_FILTERS = ("PINNStructuredMesh", "PINNMultiBlockMesh", "PINNHexahedralMesh")
+_MENU = '<ShowInMenu category="Mesh Generation"/>'  # where the filters and the Airfoil source are
 _OBSERVERS = []  # the display observers (_ColourWhenDataArrives)
 # id(session proxy manager): (it, its RegisterEvent observer, the observer's id); VTK's own
 # reference to a Python observer was not enough in the GUI (a closure crashed on its 2nd call)
@@ -205,8 +205,8 @@ def _proxy_doc(short, text):
 
 def _stack(*decorators):
     """One decorator doing what ``decorators`` written one above the other in this order do
-    (the bottom one first: the order ParaView's XML takes them in); None entries are a part
-    the declaration leaves out."""
+    (the bottom one first: the order ParaView's XML takes them in); a None entry stands for
+    a part the declaration leaves out."""
 
     def decorate(target):
         for decorator in reversed(decorators):
@@ -255,7 +255,8 @@ def _mesh_filter(*inputs, name, label, summary, doc):
     """A filter in Filters > Mesh Generation whose grid is shown with its cells' edges: its
     ``inputs`` (``_polyline_input``, in port order) and its panel help (``_proxy_doc``)."""
     return _stack(
-        smproxy.filter(name=name, label=label, support_reload=False),  # no "Reload" button
+        # support_reload=False: no developer's "Reload Python Module" button
+        smproxy.filter(name=name, label=label, support_reload=False),
         smhint.xml(_MENU),
         smhint.xml('<RepresentationType view="RenderView" type="Surface With Edges"/>'),
         *reversed(inputs),
