@@ -18,11 +18,14 @@ Patch Names (docs/export.md).
 
 Property order: ParaView 5.11 lists a Python plugin's properties alphabetically by method
 name, so the methods below carry a numeric prefix (``P01...``) that keeps the panel in the
-intended order in every version.
+intended order in every version. Each property and input is one call of a helper
+(``_intvector``, ``_polyline_input``, ...) that applies ParaView's decorator stack in its fixed
+order (``_stack``), so the plugin's XML is what the stacks written out would give.
 """
 
 import os
 import sys
+from functools import partial
 from xml.sax.saxutils import escape, quoteattr
 
 _REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -77,6 +80,7 @@ _DEFAULTS = Settings()
 _COLOUR_ARRAY = "MaxIncludedAngle"  # what a new grid is coloured by
 # whose displays get that colour
 _MESH_FILTERS = ("PINNStructuredMesh", "PINNMultiBlockMesh", "PINNHexahedralMesh")
+_MENU = '<ShowInMenu category="Mesh Generation"/>'  # where the filters and the Airfoil source are
 _OBSERVERS = []  # the display observers (_ColourWhenDataArrives)
 # id(session proxy manager): (it, its RegisterEvent observer, the observer's id); VTK's own
 # reference to a Python observer was not enough in the GUI (a closure crashed on its 2nd call)
@@ -199,52 +203,101 @@ def _proxy_doc(short, text):
     )
 
 
-@smproxy.filter(
-    name="PINNStructuredMesh", label="PINN Structured Mesh", support_reload=False
-)  # no developer's "Reload Python Module" button
-@smhint.xml('<ShowInMenu category="Mesh Generation"/>')
-@smhint.xml('<RepresentationType view="RenderView" type="Surface With Edges"/>')  # cells seen
-@smproperty.input(
-    name="AuxiliaryLines",
-    label="Auxiliary Lines",
-    port_index=1,
-    multiple_input=True,
-    clean_command="RemoveAllAuxiliaryLines",
-)
-@smdomain.datatype(dataTypes=["vtkPolyData"], composite_data_supported=False)
-@smdomain.xml(
-    _doc(
-        "Optional open polylines from one side of the boundary to the opposite "
-        "side (several polylines per input and several inputs both work). Used "
-        "by the pinn method only."
+def _stack(*decorators):
+    """One decorator doing what ``decorators`` written one above the other in this order do
+    (the bottom one first: the order ParaView's XML takes them in); a None entry stands for
+    a part the declaration leaves out."""
+
+    def decorate(target):
+        for decorator in reversed(decorators):
+            if decorator is not None:
+                target = decorator(target)
+        return target
+
+    return decorate
+
+
+def _vector_property(
+    vector, range_domain, *, doc, bounds=None, enum=None, inline_domain="", hint=None, **attrs
+):
+    """A panel property's whole decorator stack: the ``vector`` property with ParaView's
+    ``attrs`` (name, label, default_values, panel_visibility), its ``range_domain`` over
+    ``bounds`` (min, max) or its ``enum`` options, its ``doc`` with ``inline_domain`` (a
+    domain's XML written in the same element, ahead of the Documentation) and a visibility
+    ``hint``."""
+    return _stack(
+        vector(**attrs),
+        None if bounds is None else range_domain(**bounds),
+        None if enum is None else smdomain.xml(_enum(enum)),
+        smdomain.xml(inline_domain + _doc(doc)),
+        None if hint is None else smhint.xml(hint),
     )
-)
-@smhint.xml("<Optional/>")
-@smproperty.input(
-    name="Input", port_index=0, multiple_input=True, clean_command="RemoveAllBoundaryInputs"
-)
-@smdomain.datatype(dataTypes=["vtkPolyData"], composite_data_supported=False)
-@smdomain.xml(
-    _doc(
-        "The closed boundary: one closed polyline or polygon with four corners. "
+
+
+_intvector = partial(_vector_property, smproperty.intvector, smdomain.intrange)
+_doublevector = partial(_vector_property, smproperty.doublevector, smdomain.doublerange)
+_stringvector = partial(_vector_property, smproperty.stringvector, None)
+
+
+def _polyline_input(*, doc, optional=False, **attrs):
+    """A vtkPolyData input port with ParaView's ``attrs``; a repeatable one's clean_command
+    must disconnect that port only (the decorator's default, RemoveAllInputs, would
+    disconnect the other ports too)."""
+    return _stack(
+        smproperty.input(**attrs),
+        smdomain.datatype(dataTypes=["vtkPolyData"], composite_data_supported=False),
+        smdomain.xml(_doc(doc)),
+        smhint.xml("<Optional/>") if optional else None,
+    )
+
+
+def _mesh_filter(*inputs, name, label, summary, doc):
+    """A filter in Filters > Mesh Generation whose grid is shown with its cells' edges: its
+    ``inputs`` (``_polyline_input``, in port order) and its panel help (``_proxy_doc``)."""
+    return _stack(
+        # support_reload=False: no developer's "Reload Python Module" button
+        smproxy.filter(name=name, label=label, support_reload=False),
+        smhint.xml(_MENU),
+        smhint.xml('<RepresentationType view="RenderView" type="Surface With Edges"/>'),
+        *reversed(inputs),
+        smproperty.xml(_proxy_doc(summary, doc)),
+    )
+
+
+@_mesh_filter(
+    _polyline_input(
+        name="Input",
+        port_index=0,
+        multiple_input=True,
+        clean_command="RemoveAllBoundaryInputs",
+        doc="The closed boundary: one closed polyline or polygon with four corners. "
         "Select it together with sources of open auxiliary lines and apply the "
         "filter: the closed curve is taken as the boundary, the open ones as "
-        "auxiliary lines."
-    )
-)
-@smproperty.xml(
-    _proxy_doc(
-        "Structured quadrilateral grid from a physics-informed neural network.",
-        "Structured quadrilateral grid of a four-sided 2D domain from a "
-        "physics-informed neural network (pinn), with MGNet, transfinite "
-        "interpolation and elliptic baselines, or an O- or C-grid around an airfoil "
-        "(Topology). Input: the closed boundary with four corners, optionally with "
-        "open auxiliary lines between opposite sides. Cells carry their included "
-        "angles (MaxIncludedAngle, MinIncludedAngle), ScaledJacobian and Folded; "
-        "field data the report and the loss history. A training ends after Time "
-        "Limit seconds or at pkill -USR1 -x paraview with its best grid so far. "
-        "Guide: docs/routes.md of the pinn-mesh checkout.",
-    )
+        "auxiliary lines.",
+    ),
+    _polyline_input(
+        name="AuxiliaryLines",
+        label="Auxiliary Lines",
+        port_index=1,
+        multiple_input=True,
+        clean_command="RemoveAllAuxiliaryLines",
+        optional=True,
+        doc="Optional open polylines from one side of the boundary to the opposite "
+        "side (several polylines per input and several inputs both work). Used "
+        "by the pinn method only.",
+    ),
+    name="PINNStructuredMesh",
+    label="PINN Structured Mesh",
+    summary="Structured quadrilateral grid from a physics-informed neural network.",
+    doc="Structured quadrilateral grid of a four-sided 2D domain from a "
+    "physics-informed neural network (pinn), with MGNet, transfinite "
+    "interpolation and elliptic baselines, or an O- or C-grid around an airfoil "
+    "(Topology). Input: the closed boundary with four corners, optionally with "
+    "open auxiliary lines between opposite sides. Cells carry their included "
+    "angles (MaxIncludedAngle, MinIncludedAngle), ScaledJacobian and Folded; "
+    "field data the report and the loss history. A training ends after Time "
+    "Limit seconds or at pkill -USR1 -x paraview with its best grid so far. "
+    "Guide: docs/routes.md of the pinn-mesh checkout.",
 )
 class PINNStructuredMesh(PinnMeshAlgorithm):
     """The ParaView face of :class:`pinn_engine.routes.algorithm.PinnMeshAlgorithm`."""
@@ -254,319 +307,306 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
         _watch_displays()  # a session made after the plugin was loaded
 
     def RemoveAllBoundaryInputs(self):
-        # clean commands of the two repeatable inputs: the decorator's default,
-        # RemoveAllInputs, would also disconnect the other port
+        # clean commands of the two repeatable inputs (_polyline_input)
         self.RemoveAllInputConnections(0)
 
     def RemoveAllAuxiliaryLines(self):
         self.RemoveAllInputConnections(1)
 
-    @smproperty.intvector(name="Method", default_values=0)
-    @smdomain.xml(_enum(METHODS))
-    @smdomain.xml(
-        _doc(
-            "pinn: the paper's PINN (uses the auxiliary lines); mgnet: plain "
-            "networks, no auxiliary lines; tfi: transfinite interpolation; "
-            "elliptic: the classical elliptic (Winslow) method."
-        )
+    @_intvector(
+        name="Method",
+        default_values=0,
+        enum=METHODS,
+        doc="pinn: the paper's PINN (uses the auxiliary lines); mgnet: plain "
+        "networks, no auxiliary lines; tfi: transfinite interpolation; "
+        "elliptic: the classical elliptic (Winslow) method.",
     )
     def P01Method(self, index):
         self.SetMethod(int(index))
 
-    @smproperty.intvector(name="GridSize", label="Grid Size", default_values=[41, 21])
-    @smdomain.intrange(min=2, max=MAX_SIDE_NODES)
-    @smdomain.xml(
-        _doc(
-            "Nodes along xi and eta. The default PINN starts from the elliptic "
-            "grid of this size and trains anew for a new size (seconds); with "
-            "Preset paper a new size re-evaluates the trained network."
-        )
+    @_intvector(
+        name="GridSize",
+        label="Grid Size",
+        default_values=[41, 21],
+        bounds={"min": 2, "max": MAX_SIDE_NODES},
+        doc="Nodes along xi and eta. The default PINN starts from the elliptic "
+        "grid of this size and trains anew for a new size (seconds); with "
+        "Preset paper a new size re-evaluates the trained network.",
     )
     def P02GridSize(self, ni, nj):
         self.SetGridSize(ni, nj)
 
-    @smproperty.intvector(name="Preset", default_values=0)
-    @smdomain.xml(_enum(PRESETS))
-    @smdomain.xml(
-        _doc(
-            "default: measured defaults (exact boundary, arc-length fit); paper: "
-            "the paper's section 4 (penalty boundary term, decision-tree fit, "
-            "1000 elliptic sweeps). Adam Epochs, L-BFGS Iterations and Lambda2 "
-            "have a field per preset; the panel shows the chosen preset's."
-        )
+    @_intvector(
+        name="Preset",
+        default_values=0,
+        enum=PRESETS,
+        doc="default: measured defaults (exact boundary, arc-length fit); paper: "
+        "the paper's section 4 (penalty boundary term, decision-tree fit, "
+        "1000 elliptic sweeps). Adam Epochs, L-BFGS Iterations and Lambda2 "
+        "have a field per preset; the panel shows the chosen preset's.",
     )
     def P03Preset(self, index):
         self.SetPreset(int(index))
 
-    @smproperty.doublevector(name="TimeLimit", label="Time Limit", default_values=PANEL_TIME_LIMIT)
-    @smdomain.doublerange(min=0.0)
-    @smdomain.xml(
-        _doc(
-            "Seconds of training, then the grid of the best state so far is produced with a "
-            "warning (0: no limit). ParaView handles no event while a filter runs; "
-            "pkill -USR1 -x paraview ends a training early the same way."
-        )
+    @_doublevector(
+        name="TimeLimit",
+        label="Time Limit",
+        default_values=PANEL_TIME_LIMIT,
+        bounds={"min": 0.0},
+        hint=_NEURAL,
+        doc="Seconds of training, then the grid of the best state so far is produced with a "
+        "warning (0: no limit). ParaView handles no event while a filter runs; "
+        "pkill -USR1 -x paraview ends a training early the same way.",
     )
-    @smhint.xml(_NEURAL)
     def P03TimeLimit(self, seconds):
         self.SetPanelSetting("time_limit", float(seconds))
 
-    @smproperty.intvector(
+    @_intvector(
         name="AdamEpochs",
         label="Adam Epochs",
         default_values=_DEFAULTS.adam_epochs,
         panel_visibility="advanced",
+        bounds=_range("adam_epochs"),
+        hint=_for_preset(0, "0 1"),
+        doc="Adam epochs of training under Preset default.",
     )
-    @smdomain.intrange(**_range("adam_epochs"))
-    @smdomain.xml(_doc("Adam epochs of training under Preset default."))
-    @smhint.xml(_for_preset(0, "0 1"))
     def P04AdamEpochs(self, n):
         self.SetPresetSetting("default", "adam_epochs", int(n))
 
-    @smproperty.intvector(
+    @_intvector(
         name="PaperAdamEpochs",
         label="Paper Adam Epochs",
         default_values=_PAPER.adam_epochs,
         panel_visibility="advanced",
+        bounds=_range("adam_epochs"),
+        hint=_for_preset(1, "0 1"),
+        doc="Adam epochs of training under Preset paper (the paper's 5000).",
     )
-    @smdomain.intrange(**_range("adam_epochs"))
-    @smdomain.xml(_doc("Adam epochs of training under Preset paper (the paper's 5000)."))
-    @smhint.xml(_for_preset(1, "0 1"))
     def P04PaperAdamEpochs(self, n):
         self.SetPresetSetting("paper", "adam_epochs", int(n))
 
-    @smproperty.intvector(
+    @_intvector(
         name="LBFGSIterations",
         label="L-BFGS Iterations",
         default_values=_DEFAULTS.lbfgs_iterations,
         panel_visibility="advanced",
+        bounds=_range("lbfgs_iterations"),
+        hint=_for_preset(0, "0 1"),
+        doc="L-BFGS iterations after Adam under Preset default.",
     )
-    @smdomain.intrange(**_range("lbfgs_iterations"))
-    @smdomain.xml(_doc("L-BFGS iterations after Adam under Preset default."))
-    @smhint.xml(_for_preset(0, "0 1"))
     def P05LBFGSIterations(self, n):
         self.SetPresetSetting("default", "lbfgs_iterations", int(n))
 
-    @smproperty.intvector(
+    @_intvector(
         name="PaperLBFGSIterations",
         label="Paper L-BFGS Iterations",
         default_values=_PAPER.lbfgs_iterations,
         panel_visibility="advanced",
+        bounds=_range("lbfgs_iterations"),
+        hint=_for_preset(1, "0 1"),
+        doc="L-BFGS iterations after Adam under Preset paper (the paper's 500).",
     )
-    @smdomain.intrange(**_range("lbfgs_iterations"))
-    @smdomain.xml(_doc("L-BFGS iterations after Adam under Preset paper (the paper's 500)."))
-    @smhint.xml(_for_preset(1, "0 1"))
     def P05PaperLBFGSIterations(self, n):
         self.SetPresetSetting("paper", "lbfgs_iterations", int(n))
 
-    @smproperty.intvector(
+    @_intvector(
         name="HiddenLayers",
         label="Hidden Layers",
         default_values=_DEFAULTS.hidden_layers,
         panel_visibility="advanced",
+        bounds=_range("hidden_layers"),
+        hint=_NEURAL,
+        doc="Hidden layers of each sub-network.",
     )
-    @smdomain.intrange(**_range("hidden_layers"))
-    @smdomain.xml(_doc("Hidden layers of each sub-network."))
-    @smhint.xml(_NEURAL)
     def P06HiddenLayers(self, n):
         self.SetPanelSetting("hidden_layers", int(n))
 
-    @smproperty.intvector(
-        name="Neurons", default_values=_DEFAULTS.neurons, panel_visibility="advanced"
+    @_intvector(
+        name="Neurons",
+        default_values=_DEFAULTS.neurons,
+        panel_visibility="advanced",
+        bounds=_range("neurons"),
+        hint=_NEURAL,
+        doc="Neurons per hidden layer.",
     )
-    @smdomain.intrange(**_range("neurons"))
-    @smdomain.xml(_doc("Neurons per hidden layer."))
-    @smhint.xml(_NEURAL)
     def P07Neurons(self, n):
         self.SetPanelSetting("neurons", int(n))
 
-    @smproperty.doublevector(name="Lambda2", default_values=_DEFAULTS.lambda2)
-    @smdomain.doublerange(min=0.0, max=1000.0)
-    @smdomain.xml(_doc("Weight of the auxiliary-line term of the loss under Preset default."))
-    @smhint.xml(_for_preset(0, "0"))
+    @_doublevector(
+        name="Lambda2",
+        default_values=_DEFAULTS.lambda2,
+        bounds={"min": 0.0, "max": 1000.0},
+        hint=_for_preset(0, "0"),
+        doc="Weight of the auxiliary-line term of the loss under Preset default.",
+    )
     def P08Lambda2(self, value):
         self.SetPresetSetting("default", "lambda2", float(value))
 
-    @smproperty.doublevector(
-        name="PaperLambda2", label="Paper Lambda2", default_values=_PAPER.lambda2
+    @_doublevector(
+        name="PaperLambda2",
+        label="Paper Lambda2",
+        default_values=_PAPER.lambda2,
+        bounds={"min": 0.0, "max": 1000.0},
+        hint=_for_preset(1, "0"),
+        doc="Weight of the auxiliary-line term under Preset paper (the paper's 10).",
     )
-    @smdomain.doublerange(min=0.0, max=1000.0)
-    @smdomain.xml(_doc("Weight of the auxiliary-line term under Preset paper (the paper's 10)."))
-    @smhint.xml(_for_preset(1, "0"))
     def P08PaperLambda2(self, value):
         self.SetPresetSetting("paper", "lambda2", float(value))
 
-    @smproperty.intvector(name="Seed", default_values=_DEFAULTS.seed, panel_visibility="advanced")
-    @smdomain.xml(_doc("Random seed of training (runs are repeatable)."))
-    @smhint.xml(_NEURAL)
+    @_intvector(
+        name="Seed",
+        default_values=_DEFAULTS.seed,
+        panel_visibility="advanced",
+        hint=_NEURAL,
+        doc="Random seed of training (runs are repeatable).",
+    )
     def P09Seed(self, n):
         self.SetPanelSetting("seed", int(n))
 
-    @smproperty.intvector(
-        name="CornerIndices", label="Corner Indices", default_values=[-1, -1, -1, -1]
-    )
-    @smdomain.xml(
-        _doc(
-            "The four corner point indices of the boundary; -1 -1 -1 -1 finds "
-            "them automatically (the four sharpest turns)."
-        )
+    @_intvector(
+        name="CornerIndices",
+        label="Corner Indices",
+        default_values=[-1, -1, -1, -1],
+        doc="The four corner point indices of the boundary; -1 -1 -1 -1 finds "
+        "them automatically (the four sharpest turns).",
     )
     def P10CornerIndices(self, i0, i1, i2, i3):
         self.SetCorners(i0, i1, i2, i3)
 
-    @smproperty.intvector(name="Objective", default_values=OBJECTIVES.index(_DEFAULTS.objective))
-    @smdomain.xml(_enum(OBJECTIVES))
-    @smdomain.xml(
-        _doc(
-            "winslow: train on the Winslow equations; quality: add a cell-quality "
-            "term that lowers the worst cell's largest angle, starting from the "
-            "better of the elliptic and TFI grids (pinn only)."
-        )
+    @_intvector(
+        name="Objective",
+        default_values=OBJECTIVES.index(_DEFAULTS.objective),
+        enum=OBJECTIVES,
+        hint=_PINN_ONLY,
+        doc="winslow: train on the Winslow equations; quality: add a cell-quality "
+        "term that lowers the worst cell's largest angle, starting from the "
+        "better of the elliptic and TFI grids (pinn only).",
     )
-    @smhint.xml(_PINN_ONLY)
     def P11Objective(self, index):
         self.SetPanelSetting("objective", OBJECTIVES[int(index)])
 
-    @smproperty.intvector(name="Topology", default_values=0)
-    @smdomain.xml(
-        _enum(("Four-sided domain", "O-grid", "C-grid"))
-        + _doc(
-            "Four-sided domain: the input is a closed boundary with four corners. O-grid / "
-            "C-grid: the input is a body such as an airfoil (the Airfoil source, or a .dat file "
-            "opened with the Airfoil reader): one curve, meshed out to a far-field circle of Far "
-            "Field Radius chords, or two closed polylines (body inside far field). The C-grid's "
-            "wake cut leaves a sharp trailing edge, or a blunt base's middle. Methods pinn, tfi, "
-            "elliptic (docs/airfoils.md)."
-        )
+    @_intvector(
+        name="Topology",
+        default_values=0,
+        inline_domain=_enum(("Four-sided domain", "O-grid", "C-grid")),
+        doc="Four-sided domain: the input is a closed boundary with four corners. O-grid / "
+        "C-grid: the input is a body such as an airfoil (the Airfoil source, or a .dat file "
+        "opened with the Airfoil reader): one curve, meshed out to a far-field circle of Far "
+        "Field Radius chords, or two closed polylines (body inside far field). The C-grid's "
+        "wake cut leaves a sharp trailing edge, or a blunt base's middle. Methods pinn, tfi, "
+        "elliptic (docs/airfoils.md).",
     )
     def P11Topology(self, index):
         self.SetTopology(int(index))
 
-    @smproperty.doublevector(name="FarFieldRadius", label="Far Field Radius", default_values=15.0)
-    @smdomain.doublerange(min=1.0)
-    @smdomain.xml(_doc("Far-field circle radius in chords about mid-chord."))
-    @smhint.xml(_BODY)
+    @_doublevector(
+        name="FarFieldRadius",
+        label="Far Field Radius",
+        default_values=15.0,
+        bounds={"min": 1.0},
+        hint=_BODY,
+        doc="Far-field circle radius in chords about mid-chord.",
+    )
     def P12FarFieldRadius(self, radius):
         self.SetFarFieldRadius(radius)
 
-    @smproperty.doublevector(name="WallSpacing", label="Wall Spacing", default_values=0.0)
-    @smdomain.doublerange(min=0.0)
-    @smdomain.xml(
-        _doc(
-            "First-layer height off the body wall, in the body's units (0: half "
-            "the mean node spacing along the wall)."
-        )
+    @_doublevector(
+        name="WallSpacing",
+        label="Wall Spacing",
+        default_values=0.0,
+        bounds={"min": 0.0},
+        hint=_BODY,
+        doc="First-layer height off the body wall, in the body's units (0: half "
+        "the mean node spacing along the wall).",
     )
-    @smhint.xml(_BODY)
     def P13WallSpacing(self, h):
         self.SetWallSpacing(h)
 
-    @smproperty.doublevector(
-        name="FirstEdgeSpacing", label="First Edge Spacing", default_values=[0.0, 0.0, 0.0, 0.0]
+    @_doublevector(
+        name="FirstEdgeSpacing",
+        label="First Edge Spacing",
+        default_values=[0.0, 0.0, 0.0, 0.0],
+        hint=_FOUR_SIDED,
+        doc="Length of the first grid edge leaving the bottom, right, top and "
+        "left sides, in the boundary's units (0: that side keeps the even "
+        "distribution). The spacing grows smoothly away from the side "
+        "(Vinokur's stretching); pinn, tfi and elliptic, four-sided domains "
+        "(docs/boundary_layer.md).",
     )
-    @smdomain.xml(
-        _doc(
-            "Length of the first grid edge leaving the bottom, right, top and "
-            "left sides, in the boundary's units (0: that side keeps the even "
-            "distribution). The spacing grows smoothly away from the side "
-            "(Vinokur's stretching); pinn, tfi and elliptic, four-sided domains "
-            "(docs/boundary_layer.md)."
-        )
-    )
-    @smhint.xml(_FOUR_SIDED)
     def P14FirstEdgeSpacing(self, bottom, right, top, left):
         self.SetSpacing(float(bottom), float(right), float(top), float(left))
 
-    @smproperty.intvector(
-        name="OrthogonalSides", label="Orthogonal Sides", default_values=[0, 0, 0, 0]
+    @_intvector(
+        name="OrthogonalSides",
+        label="Orthogonal Sides",
+        default_values=[0, 0, 0, 0],
+        bounds={"min": 0, "max": 1},
+        hint=_FOUR_SIDED,
+        doc="1 for each of the bottom, right, top and left sides that grid lines "
+        "are to leave at 90 degrees (pinn: a loss term; elliptic: "
+        "Hilgenstock control functions; not tfi or mgnet).",
     )
-    @smdomain.intrange(min=0, max=1)
-    @smdomain.xml(
-        _doc(
-            "1 for each of the bottom, right, top and left sides that grid lines "
-            "are to leave at 90 degrees (pinn: a loss term; elliptic: "
-            "Hilgenstock control functions; not tfi or mgnet)."
-        )
-    )
-    @smhint.xml(_FOUR_SIDED)
     def P15OrthogonalSides(self, bottom, right, top, left):
         self.SetOrthogonal(int(bottom), int(right), int(top), int(left))
 
-    @smproperty.stringvector(
-        name="PatchNames", label="Patch Names", default_values="bottom right top left"
-    )
-    @smdomain.xml(
-        _doc(
-            "Boundary patch names for solver formats (File > Save Data: PLOT3D, "
-            "CGNS, SU2, Gmsh, OpenFOAM): four names for the bottom, right, top "
-            "and left sides, or SIDE=NAME items such as 'bottom=wall top=wall'. "
-            "Sides with the same name form one patch."
-        )
+    @_stringvector(
+        name="PatchNames",
+        label="Patch Names",
+        default_values="bottom right top left",
+        doc="Boundary patch names for solver formats (File > Save Data: PLOT3D, "
+        "CGNS, SU2, Gmsh, OpenFOAM): four names for the bottom, right, top "
+        "and left sides, or SIDE=NAME items such as 'bottom=wall top=wall'. "
+        "Sides with the same name form one patch.",
     )
     def P20PatchNames(self, text):
         self.SetPatchNames(text)
 
 
-@smproxy.filter(name="PINNMultiBlockMesh", label="PINN Multi-Block Mesh", support_reload=False)
-@smhint.xml('<ShowInMenu category="Mesh Generation"/>')
-@smhint.xml('<RepresentationType view="RenderView" type="Surface With Edges"/>')
-@smproperty.input(
-    name="AuxiliaryLines",
-    label="Auxiliary Lines",
-    port_index=2,
-    multiple_input=True,
-    clean_command="RemoveAllAuxiliaryLines",
-)
-@smdomain.datatype(dataTypes=["vtkPolyData"], composite_data_supported=False)
-@smdomain.xml(
-    _doc(
-        "Optional auxiliary lines inside blocks: open polylines, each from a side of the "
+@_mesh_filter(
+    _polyline_input(
+        name="Input",
+        port_index=0,
+        multiple_input=True,
+        clean_command="RemoveAllBoundaryInputs",
+        doc="The boundary and the block edges: select the boundary's source together with "
+        "the block edges' and apply the filter. Closed polylines are the outer boundary "
+        "(the largest) and holes, open polylines are block edges.",
+    ),
+    _polyline_input(
+        name="BlockEdges",
+        label="Block Edges",
+        port_index=1,
+        multiple_input=True,
+        clean_command="RemoveAllBlockEdges",
+        optional=True,
+        doc="More block edges: open polylines, each from the boundary, a hole or another "
+        "edge to the boundary, a hole or another edge (several polylines per input and "
+        "several inputs both work).",
+    ),
+    _polyline_input(
+        name="AuxiliaryLines",
+        label="Auxiliary Lines",
+        port_index=2,
+        multiple_input=True,
+        clean_command="RemoveAllAuxiliaryLines",
+        optional=True,
+        doc="Optional auxiliary lines inside blocks: open polylines, each from a side of the "
         "block holding its middle point to the opposite side (several polylines per "
         "input and several inputs both work). Used by the pinn method: its networks "
-        "move the blocks' grid lines onto them."
-    )
-)
-@smhint.xml("<Optional/>")
-@smproperty.input(
-    name="BlockEdges",
-    label="Block Edges",
-    port_index=1,
-    multiple_input=True,
-    clean_command="RemoveAllBlockEdges",
-)
-@smdomain.datatype(dataTypes=["vtkPolyData"], composite_data_supported=False)
-@smdomain.xml(
-    _doc(
-        "More block edges: open polylines, each from the boundary, a hole or another "
-        "edge to the boundary, a hole or another edge (several polylines per input and "
-        "several inputs both work)."
-    )
-)
-@smhint.xml("<Optional/>")
-@smproperty.input(
-    name="Input", port_index=0, multiple_input=True, clean_command="RemoveAllBoundaryInputs"
-)
-@smdomain.datatype(dataTypes=["vtkPolyData"], composite_data_supported=False)
-@smdomain.xml(
-    _doc(
-        "The boundary and the block edges: select the boundary's source together with "
-        "the block edges' and apply the filter. Closed polylines are the outer boundary "
-        "(the largest) and holes, open polylines are block edges."
-    )
-)
-@smproperty.xml(
-    _proxy_doc(
-        "Multi-block structured grid of a domain cut into four-sided blocks.",
-        "Structured quadrilateral grid of a 2D domain that is not four-sided (an L, a "
-        "step, a body in a channel), cut into four-sided blocks by block edges you draw "
-        "(SPEC 10). Inputs: closed polylines (the outer boundary and holes) and open "
-        "polylines (block edges); every block needs four corners (points where its "
-        "outline turns by 30 degrees or more). Opposite sides of a block get the same "
-        "number of cells and a node on a shared side is the same point in both blocks. "
-        "Output: one structured grid a block (block0, block1, ...) with the cells' "
-        "MaxIncludedAngle, MinIncludedAngle, ScaledJacobian and Folded, and the report as "
-        "field data. Guide: docs/multiblock.md of the pinn-mesh checkout.",
-    )
+        "move the blocks' grid lines onto them.",
+    ),
+    name="PINNMultiBlockMesh",
+    label="PINN Multi-Block Mesh",
+    summary="Multi-block structured grid of a domain cut into four-sided blocks.",
+    doc="Structured quadrilateral grid of a 2D domain that is not four-sided (an L, a "
+    "step, a body in a channel), cut into four-sided blocks by block edges you draw "
+    "(SPEC 10). Inputs: closed polylines (the outer boundary and holes) and open "
+    "polylines (block edges); every block needs four corners (points where its "
+    "outline turns by 30 degrees or more). Opposite sides of a block get the same "
+    "number of cells and a node on a shared side is the same point in both blocks. "
+    "Output: one structured grid a block (block0, block1, ...) with the cells' "
+    "MaxIncludedAngle, MinIncludedAngle, ScaledJacobian and Folded, and the report as "
+    "field data. Guide: docs/multiblock.md of the pinn-mesh checkout.",
 )
 class PINNMultiBlockMesh(PinnMultiBlockAlgorithm):
     """The ParaView face of
@@ -577,7 +617,7 @@ class PINNMultiBlockMesh(PinnMultiBlockAlgorithm):
         _watch_displays()
 
     def RemoveAllBoundaryInputs(self):
-        # clean commands of the two repeatable inputs (as PINNStructuredMesh's)
+        # clean commands of the three repeatable inputs (_polyline_input)
         self.RemoveAllInputConnections(0)
 
     def RemoveAllBlockEdges(self):
@@ -586,73 +626,69 @@ class PINNMultiBlockMesh(PinnMultiBlockAlgorithm):
     def RemoveAllAuxiliaryLines(self):
         self.RemoveAllInputConnections(2)
 
-    @smproperty.intvector(name="Method", default_values=MULTIBLOCK_METHODS.index(BLOCKS_METHOD))
-    @smdomain.xml(_enum(MULTIBLOCK_METHODS))
-    @smdomain.xml(
-        _doc(
-            "elliptic: Winslow on all blocks at once (interface nodes move like interior "
-            "nodes); tfi: each block's transfinite interpolation of its side nodes."
-        )
+    @_intvector(
+        name="Method",
+        default_values=MULTIBLOCK_METHODS.index(BLOCKS_METHOD),
+        enum=MULTIBLOCK_METHODS,
+        doc="elliptic: Winslow on all blocks at once (interface nodes move like interior "
+        "nodes); tfi: each block's transfinite interpolation of its side nodes.",
     )
     def P01Method(self, index):
         self.SetMethod(int(index))
 
-    @smproperty.doublevector(name="CellSize", label="Cell Size", default_values=0.0)
-    @smdomain.doublerange(min=PARAMETER_CONSTRAINTS["cell_size"].low)
-    @smdomain.xml(
-        _doc(
-            "Cell length in the boundary's units (0: the domain's diagonal / 40). A chain "
-            "of opposite sides through the blocks takes its longest side over the cell "
-            "size, rounded up, at least 2 cells."
-        )
+    @_doublevector(
+        name="CellSize",
+        label="Cell Size",
+        default_values=0.0,
+        bounds={"min": PARAMETER_CONSTRAINTS["cell_size"].low},
+        doc="Cell length in the boundary's units (0: the domain's diagonal / 40). A chain "
+        "of opposite sides through the blocks takes its longest side over the cell "
+        "size, rounded up, at least 2 cells.",
     )
     def P02CellSize(self, h):
         self.SetCellSize(h)
 
-    @smproperty.intvector(name="Interfaces", default_values=0)
-    @smdomain.xml(_enum(INTERFACES))
-    @smdomain.xml(
-        _doc(
-            "free: interface nodes are solved like interior nodes, so grid lines cross "
-            "the block edges smoothly (elliptic); fixed: they stay on the drawn edges."
-        )
+    @_intvector(
+        name="Interfaces",
+        default_values=0,
+        enum=INTERFACES,
+        doc="free: interface nodes are solved like interior nodes, so grid lines cross "
+        "the block edges smoothly (elliptic); fixed: they stay on the drawn edges.",
     )
     def P03Interfaces(self, index):
         self.SetInterfaces(int(index))
 
-    @smproperty.stringvector(name="PatchNames", label="Patch Names", default_values="")
-    @smdomain.xml(
-        _doc(
-            "Names of boundary pieces (a piece runs between two block corners or "
-            "junctions), for solver formats and for First Edge Spacing and Orthogonal "
-            "Patches: X,Y=NAME[:TYPE] items separated by spaces, each naming the piece "
-            "nearest (X, Y), e.g. '0.5,0=cylinder:wall 0,0.5=cylinder'. Pieces with the "
-            "same name form one patch; unnamed pieces are boundary, hole1, hole2, ..."
-        )
+    @_stringvector(
+        name="PatchNames",
+        label="Patch Names",
+        default_values="",
+        doc="Names of boundary pieces (a piece runs between two block corners or "
+        "junctions), for solver formats and for First Edge Spacing and Orthogonal "
+        "Patches: X,Y=NAME[:TYPE] items separated by spaces, each naming the piece "
+        "nearest (X, Y), e.g. '0.5,0=cylinder:wall 0,0.5=cylinder'. Pieces with the "
+        "same name form one patch; unnamed pieces are boundary, hole1, hole2, ...",
     )
     def P04PatchNames(self, text):
         self.SetPatchNames(text)
 
-    @smproperty.stringvector(name="FirstEdgeSpacing", label="First Edge Spacing", default_values="")
-    @smdomain.xml(
-        _doc(
-            "Length of the first grid edge leaving a patch, in the boundary's units: "
-            "NAME=H items separated by spaces, e.g. 'cylinder=0.005' (empty: none). The "
-            "spacing grows smoothly away from the patch (Vinokur's stretching); all "
-            "methods (docs/multiblock.md)."
-        )
+    @_stringvector(
+        name="FirstEdgeSpacing",
+        label="First Edge Spacing",
+        default_values="",
+        doc="Length of the first grid edge leaving a patch, in the boundary's units: "
+        "NAME=H items separated by spaces, e.g. 'cylinder=0.005' (empty: none). The "
+        "spacing grows smoothly away from the patch (Vinokur's stretching); all "
+        "methods (docs/multiblock.md).",
     )
     def P05FirstEdgeSpacing(self, text):
         self.SetSpacing(text)
 
-    @smproperty.stringvector(
-        name="OrthogonalPatches", label="Orthogonal Patches", default_values=""
-    )
-    @smdomain.xml(
-        _doc(
-            "Patches that grid lines leave at 90 degrees: names separated by commas, "
-            "e.g. 'cylinder' (empty: none); all methods."
-        )
+    @_stringvector(
+        name="OrthogonalPatches",
+        label="Orthogonal Patches",
+        default_values="",
+        doc="Patches that grid lines leave at 90 degrees: names separated by commas, "
+        "e.g. 'cylinder' (empty: none); all methods.",
     )
     def P06OrthogonalPatches(self, text):
         self.SetOrthogonal(text)
@@ -666,30 +702,25 @@ _HEXA_METHOD_DOCS = {
 }  # the Method help of PINN Hexahedral Mesh, for the methods hexamesh.METHODS has
 
 
-@smproxy.filter(name="PINNHexahedralMesh", label="PINN Hexahedral Mesh", support_reload=False)
-@smhint.xml('<ShowInMenu category="Mesh Generation"/>')
-@smhint.xml('<RepresentationType view="RenderView" type="Surface With Edges"/>')
-@smproperty.input(name="Input", port_index=0)
-@smdomain.datatype(dataTypes=["vtkPolyData"], composite_data_supported=False)
-@smdomain.xml(
-    _doc(
-        "A closed triangulated surface whose six faces are tagged by a cell array FaceId "
-        "(six values), e.g. a .vtp or .vtk file; the faces must meet as a cube's do."
-    )
-)
-@smproperty.xml(
-    _proxy_doc(
-        "Hexahedral structured grid of a six-faced 3D domain.",
-        "Hexahedral structured grid (one block, ni x nj x nk nodes) of the 3D domain "
-        "bounded by a closed surface with six faces tagged by a FaceId cell array (SPEC 11): "
-        "a duct, a bend, a nozzle, a box with a bump. The faces' 8 corners and 12 edges are "
-        "found from their adjacency; each face gets a grid on the surface's triangles, and "
-        "the volume grid is made from the six face grids by the chosen method. Corner 0 is "
-        "the one with the smallest x + y + z, i leaves it nearest +x, and (i, j, k) is "
-        "right-handed. Cells carry MaxIncludedAngle, MinIncludedAngle (the 24 face-corner "
-        "angles), ScaledJacobian and Folded; field data the report and the patch names "
-        "(Patch Names; default imin ... kmax). Guide: docs/hexa.md of the pinn-mesh checkout.",
-    )
+@_mesh_filter(
+    _polyline_input(
+        name="Input",
+        port_index=0,
+        doc="A closed triangulated surface whose six faces are tagged by a cell array FaceId "
+        "(six values), e.g. a .vtp or .vtk file; the faces must meet as a cube's do.",
+    ),
+    name="PINNHexahedralMesh",
+    label="PINN Hexahedral Mesh",
+    summary="Hexahedral structured grid of a six-faced 3D domain.",
+    doc="Hexahedral structured grid (one block, ni x nj x nk nodes) of the 3D domain "
+    "bounded by a closed surface with six faces tagged by a FaceId cell array (SPEC 11): "
+    "a duct, a bend, a nozzle, a box with a bump. The faces' 8 corners and 12 edges are "
+    "found from their adjacency; each face gets a grid on the surface's triangles, and "
+    "the volume grid is made from the six face grids by the chosen method. Corner 0 is "
+    "the one with the smallest x + y + z, i leaves it nearest +x, and (i, j, k) is "
+    "right-handed. Cells carry MaxIncludedAngle, MinIncludedAngle (the 24 face-corner "
+    "angles), ScaledJacobian and Folded; field data the report and the patch names "
+    "(Patch Names; default imin ... kmax). Guide: docs/hexa.md of the pinn-mesh checkout.",
 )
 class PINNHexahedralMesh(PinnHexaAlgorithm):
     """The ParaView face of :class:`pinn_engine.routes.hexa_algorithm.PinnHexaAlgorithm`."""
@@ -698,50 +729,55 @@ class PINNHexahedralMesh(PinnHexaAlgorithm):
         super().__init__()
         _watch_displays()
 
-    @smproperty.intvector(name="Method", default_values=HEXA_METHODS.index(HEXA_METHOD))
-    @smdomain.xml(_enum(HEXA_METHODS))
-    @smdomain.xml(_doc("; ".join(f"{m}: {_HEXA_METHOD_DOCS[m]}" for m in HEXA_METHODS) + "."))
+    @_intvector(
+        name="Method",
+        default_values=HEXA_METHODS.index(HEXA_METHOD),
+        enum=HEXA_METHODS,
+        doc="; ".join(f"{m}: {_HEXA_METHOD_DOCS[m]}" for m in HEXA_METHODS) + ".",
+    )
     def P01Method(self, index):
         self.SetMethod(int(index))
 
-    @smproperty.intvector(name="GridSize", label="Grid Size", default_values=list(HEXA_SIZE))
-    @smdomain.intrange(min=MIN_NODES)
-    @smdomain.xml(_doc("Nodes along i, j and k (at least 3 each)."))
+    @_intvector(
+        name="GridSize",
+        label="Grid Size",
+        default_values=list(HEXA_SIZE),
+        bounds={"min": MIN_NODES},
+        doc="Nodes along i, j and k (at least 3 each).",
+    )
     def P02GridSize(self, ni, nj, nk):
         self.SetGridSize(ni, nj, nk)
 
-    @smproperty.stringvector(name="PatchNames", label="Patch Names", default_values="")
-    @smdomain.xml(
-        _doc(
-            "Boundary patch names of the six faces for solver formats (File > Save Data: "
-            "PLOT3D, CGNS, SU2, Gmsh, OpenFOAM): six names for imin, imax, jmin, jmax, kmin "
-            "and kmax, or SIDE=NAME[:TYPE] items such as 'imin=inlet:inflow kmin=floor:wall' "
-            "(empty: the faces' own names). Faces with the same name form one patch."
-        )
+    @_stringvector(
+        name="PatchNames",
+        label="Patch Names",
+        default_values="",
+        doc="Boundary patch names of the six faces for solver formats (File > Save Data: "
+        "PLOT3D, CGNS, SU2, Gmsh, OpenFOAM): six names for imin, imax, jmin, jmax, kmin "
+        "and kmax, or SIDE=NAME[:TYPE] items such as 'imin=inlet:inflow kmin=floor:wall' "
+        "(empty: the faces' own names). Faces with the same name form one patch.",
     )
     def P03PatchNames(self, text):
         self.SetPatchNames(text)
 
-    @smproperty.stringvector(name="FirstEdgeSpacing", label="First Edge Spacing", default_values="")
-    @smdomain.xml(
-        _doc(
-            "Length of the first grid edge leaving a face, in the surface's units: PATCH=H "
-            "items separated by spaces, PATCH one of imin, imax, jmin, jmax, kmin, kmax, "
-            "e.g. 'kmin=0.002' (empty: none). The spacing grows smoothly away from the face; "
-            "all methods (docs/hexa.md)."
-        )
+    @_stringvector(
+        name="FirstEdgeSpacing",
+        label="First Edge Spacing",
+        default_values="",
+        doc="Length of the first grid edge leaving a face, in the surface's units: PATCH=H "
+        "items separated by spaces, PATCH one of imin, imax, jmin, jmax, kmin, kmax, "
+        "e.g. 'kmin=0.002' (empty: none). The spacing grows smoothly away from the face; "
+        "all methods (docs/hexa.md).",
     )
     def P04FirstEdgeSpacing(self, text):
         self.SetSpacing(text)
 
-    @smproperty.stringvector(
-        name="OrthogonalPatches", label="Orthogonal Patches", default_values=""
-    )
-    @smdomain.xml(
-        _doc(
-            "Faces that grid lines leave at 90 degrees: imin, imax, jmin, jmax, kmin or kmax "
-            "separated by commas, e.g. 'kmin' (empty: none); elliptic and pinn."
-        )
+    @_stringvector(
+        name="OrthogonalPatches",
+        label="Orthogonal Patches",
+        default_values="",
+        doc="Faces that grid lines leave at 90 degrees: imin, imax, jmin, jmax, kmin or kmax "
+        "separated by commas, e.g. 'kmin' (empty: none); elliptic and pinn.",
     )
     def P05OrthogonalPatches(self, text):
         self.SetOrthogonal(text)
@@ -771,7 +807,7 @@ class PINNAirfoilReader(AirfoilReader):
 
 
 @smproxy.source(name="PINNAirfoilSource", label="Airfoil", support_reload=False)
-@smhint.xml('<ShowInMenu category="Mesh Generation"/>')
+@smhint.xml(_MENU)
 @smproperty.xml(
     _proxy_doc(
         "A NACA 4-digit airfoil of chord 1 as a polyline.",
@@ -783,15 +819,18 @@ class PINNAirfoilReader(AirfoilReader):
 class PINNAirfoilSource(AirfoilSource):
     """A NACA 4-digit section of chord 1, for PINN Structured Mesh with Topology O/C."""
 
-    @smproperty.stringvector(name="NACA", label="NACA", default_values="0012")
-    @smdomain.xml(_doc("Four digits, e.g. 0012 or 2412."))
+    @_stringvector(
+        name="NACA", label="NACA", default_values="0012", doc="Four digits, e.g. 0012 or 2412."
+    )
     def P01NACA(self, code):
         self.SetNACA(code)
 
-    @smproperty.intvector(name="SharpTrailingEdge", label="Sharp Trailing Edge", default_values=1)
-    @smdomain.xml(
-        '<BooleanDomain name="bool"/>'
-        + _doc("Closed trailing edge (for the C-grid); off: the classical blunt one (O-grid).")
+    @_intvector(
+        name="SharpTrailingEdge",
+        label="Sharp Trailing Edge",
+        default_values=1,
+        inline_domain='<BooleanDomain name="bool"/>',
+        doc="Closed trailing edge (for the C-grid); off: the classical blunt one (O-grid).",
     )
     def P02SharpTrailingEdge(self, sharp):
         self.SetSharpTrailingEdge(sharp)
@@ -817,34 +856,35 @@ def _writer_proxy(key, extension, name, file_type):
 
         if fmt.extrudes:
 
-            @smproperty.doublevector(
-                name="ExtrudeThickness", label="Extrude Thickness", default_values=0.0
+            @_doublevector(
+                name="ExtrudeThickness",
+                label="Extrude Thickness",
+                default_values=0.0,
+                bounds={"min": 0.0},
+                doc=thickness,
             )
-            @smdomain.doublerange(min=0.0)
-            @smdomain.xml(_doc(thickness))
             def SetExtrudeThickness(self, value):
                 GridWriter.SetExtrudeThickness(self, value)
 
     Writer.__name__ = Writer.__qualname__ = name
     Writer.__module__ = __name__
-    Writer = smdomain.datatype(
-        dataTypes=["vtkStructuredGrid"],  # noqa: N806
-        composite_data_supported=False,
-    )(Writer)
-    Writer = smproperty.input(name="Input", port_index=0)(Writer)  # noqa: N806
-    Writer = smproperty.xml(  # noqa: N806
-        _proxy_doc(
-            f"Writes the grid as {fmt.description}.",
-            f"Writes a PINN Structured Mesh grid as {fmt.description}, with the grid's "
-            "Patch Names as boundary patches (docs/export.md).",
-        )
-    )(Writer)
-    return smproxy.writer(
-        name=name,
-        label=name,
-        extensions=extension,
-        file_description=file_type,
-        support_reload=False,
+    return _stack(
+        smproxy.writer(
+            name=name,
+            label=name,
+            extensions=extension,
+            file_description=file_type,
+            support_reload=False,
+        ),
+        smproperty.xml(
+            _proxy_doc(
+                f"Writes the grid as {fmt.description}.",
+                f"Writes a PINN Structured Mesh grid as {fmt.description}, with the grid's "
+                "Patch Names as boundary patches (docs/export.md).",
+            )
+        ),
+        smproperty.input(name="Input", port_index=0),
+        smdomain.datatype(dataTypes=["vtkStructuredGrid"], composite_data_supported=False),
     )(Writer)
 
 

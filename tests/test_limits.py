@@ -59,7 +59,7 @@ def test_the_largest_sizes_pass_and_the_panel_allows_exactly_them():
     assert grid_size_problem(MAX_SIDE_NODES, 2) is None
     assert grid_size_problem(2000, MAX_NODES // 2000) is None
     plugin = (ROOT / "plugin" / "pinn_mesh_plugin.py").read_text()
-    assert "@smdomain.intrange(min=2, max=MAX_SIDE_NODES)" in plugin
+    assert 'bounds={"min": 2, "max": MAX_SIDE_NODES}' in plugin  # the Grid Size range
 
 
 def test_one_table_of_setting_rules_read_by_every_route(tmp_path, capsys):
@@ -82,7 +82,7 @@ def test_one_table_of_setting_rules_read_by_every_route(tmp_path, capsys):
     plugin = (ROOT / "plugin" / "pinn_mesh_plugin.py").read_text()
     ranges = re.findall(
         r'name="(HiddenLayers|Neurons|AdamEpochs|LBFGSIterations)".*?'
-        r"intrange\(\*\*_range\(\"(\w+)\"\)\)",
+        r"bounds=_range\(\"(\w+)\"\)",
         plugin,
         re.S,
     )
