@@ -8,6 +8,7 @@ line warns on stderr, the VTK algorithm (ParaView filter) through ``vtkOutputWin
 from __future__ import annotations
 
 import inspect
+import json
 import re
 import warnings
 
@@ -216,6 +217,45 @@ def test_pyvista_function_and_accessor_warn_at_the_callers_line(folded):
         boundary.pinn_mesh(method="tfi", size=(11, 6))
     assert str(record[0].message).startswith("1 of 50 cells is folded")
     assert record[0].filename == __file__
+
+
+@pytest.mark.parametrize("kind", ["hexa", "blocks"])
+def test_pyvista_hexa_and_blocks_warn_at_the_callers_line(kind, monkeypatch):
+    """Neither example folds, so the filter's report is made to count 2 folded cells: the
+    function and the accessor warn at this file's line, through the package's frames."""
+    from pinn_engine.routes.hexa_algorithm import PinnHexaAlgorithm
+    from pinn_engine.routes.multiblock_algorithm import PinnMultiBlockAlgorithm
+    from pinn_engine.routes.pyvista_accessor import pinn_mesh_blocks, pinn_mesh_hexa
+
+    cls = PinnHexaAlgorithm if kind == "hexa" else PinnMultiBlockAlgorithm
+    made = cls.GetOutput
+
+    def folded_output(self):
+        data = made(self)
+        block = data if kind == "hexa" else data.GetBlock(0)
+        report = block.GetFieldData().GetAbstractArray("Report")
+        figures = json.loads(report.GetValue(0))
+        (figures if kind == "hexa" else figures["multiblock"])["quality"]["folded_cells"] = 2
+        report.SetValue(0, json.dumps(figures))
+        return data
+
+    monkeypatch.setattr(cls, "GetOutput", folded_output)
+    if kind == "hexa":
+        surface = pv.read(EXAMPLES / "hexa_bend.vtp")
+        calls = (
+            lambda: pinn_mesh_hexa(surface, size=(5, 5, 5), method="tfi"),
+            lambda: surface.pinn_mesh(size=(5, 5, 5), method="tfi"),
+        )
+    else:
+        boundary, edges = pv.read(EXAMPLES / "lshape.vtp"), pv.read(EXAMPLES / "lshape_blocks.vtp")
+        calls = (
+            lambda: pinn_mesh_blocks(boundary, edges, cell_size=0.2, method="tfi"),
+            lambda: boundary.pinn_mesh(blocks=edges, cell_size=0.2, method="tfi"),
+        )
+    for call in calls:
+        with pytest.warns(FoldedCellsWarning, match=r"^2 of \d+ cells are folded") as record:
+            call()
+        assert [w.filename for w in record] == [__file__]
 
 
 def test_pyvista_warning_can_be_turned_into_an_error():

@@ -1,0 +1,82 @@
+"""A six-faced 3D domain's hexahedral grid (SPEC 11): ``pinn_mesh_hexa``."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import pyvista as pv
+
+from pinn_engine.hexamesh import HEXA_SIZE, size_problem
+from pinn_engine.routes.hexa_algorithm import PinnHexaAlgorithm, refold_hint
+from pinn_engine.routes.pyvista_accessor.inputs import as_polydata
+from pinn_engine.routes.pyvista_accessor.running import ROUTE, grid_report, run, warn_folded
+
+# pinn_mesh_hexa's keywords besides size and method, taken by the accessor on a surface
+HEXA_OPTIONS = ("patches", "spacing", "orthogonal")
+
+
+def pinn_mesh_hexa(
+    surface,
+    size: Sequence[int] = HEXA_SIZE,
+    method: str | None = None,
+    *,
+    patches=None,
+    spacing=None,
+    orthogonal=None,
+) -> pv.StructuredGrid:
+    """Hexahedral structured grid (SPEC 11) of the 3D domain a closed surface bounds.
+
+    Parameters
+    ----------
+    surface : pyvista.PolyData or vtkPolyData
+        A closed triangulated (or polygonal) surface with a cell array ``FaceId`` of six
+        values whose faces meet as a cube's do.
+    size : (int, int, int)
+        Nodes along i, j and k, default ``(21, 21, 21)``.
+    method : str, optional
+        One of ``pinn_engine.hexamesh.METHODS`` (``"tfi"``: 3D transfinite interpolation;
+        ``"elliptic"``: 3D Winslow), default ``pinn_engine.hexamesh.HEXA_METHOD``.
+    patches : dict, sequence of six names or str, optional
+        Patch names of the six faces, e.g. ``{"imin": "inlet:inflow", "kmin": "floor:wall"}``
+        (default imin ... kmax; equal names form one patch), each optionally typed as
+        ``"NAME:TYPE"``; stored as field data ``PatchNames`` and ``PatchTypes`` and used by
+        :func:`save_mesh`.
+    spacing : dict or sequence of str, optional
+        First grid edge leaving a face, ``{"kmin": 0.002}`` or ``["kmin=0.002"]`` (faces
+        imin ... kmax; SPEC 7 on the patches, docs/hexa.md).
+    orthogonal : str or sequence of str, optional
+        Faces that grid lines leave along the normal, ``"kmin"`` or ``["kmin", "kmax"]``
+        (elliptic and pinn).
+
+    Returns
+    -------
+    pyvista.StructuredGrid
+        Dimensions ``(ni, nj, nk)``, corner 0 the one with the smallest x + y + z, i leaving
+        it nearest +x, (i, j, k) right-handed; cell data ``MaxIncludedAngle``,
+        ``MinIncludedAngle``, ``ScaledJacobian``, ``Folded``; field data ``Method``,
+        ``PatchNames``, ``PatchTypes``, ``Report`` (JSON) and the quality figures.
+
+    Warns ``pinn_engine.FoldedCellsWarning`` when cells are folded; raises
+    ``pinn_engine.errors.InputError`` (one line) for a surface that is not six-faced,
+    ``ValueError`` for bad settings; a bad patch name, spacing or orthogonal face raises
+    ``InputError`` (one line) before meshing.
+
+    >>> surface = pv.read("example_data/hexa_bend.vtp")
+    >>> grid = pinn_mesh_hexa(surface, size=(21, 11, 9), method="tfi")
+    >>> grid.dimensions
+    (21, 11, 9)
+    """
+    size = tuple(int(n) for n in size)
+    problem = size_problem(size)
+    if problem:
+        raise ValueError(f"size={size}: {problem}")
+    alg = PinnHexaAlgorithm(route=ROUTE)
+    if method is not None:
+        alg.SetMethod(method)  # ValueError for an unknown method
+    alg.SetGridSize(*size)
+    alg.SetPatchNames(patches)
+    alg.SetSpacing(spacing)
+    alg.SetOrthogonal(orthogonal)
+    grid = run(alg, lambda: as_polydata(surface, closed=True, what="surface"), None)
+    warn_folded(grid_report(grid), refold_hint(ROUTE))
+    return grid

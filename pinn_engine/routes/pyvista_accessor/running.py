@@ -1,0 +1,73 @@
+"""A VTK algorithm run for pyvista: its inputs on their ports, its exceptions raised in
+pyvista's words, its output wrapped, its report read and its warnings given at the line of
+the caller outside this package."""
+
+from __future__ import annotations
+
+import json
+import sys
+import warnings
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+
+import pyvista as pv
+from vtkmodules.vtkCommonDataModel import vtkPolyData
+
+from pinn_engine.errors import FoldedCellsWarning, InputError, grid_warnings
+from pinn_engine.routes.filters import folded_warning
+from pinn_engine.routes.pyvista_accessor.inputs import polydata_list
+
+ROUTE = "pyvista"  # the route whose words errors and warnings are given in
+
+
+@contextmanager
+def pyvista_words() -> Iterator[None]:
+    """Raise an ``InputError`` of the block in pyvista's words, without the chained one."""
+    try:
+        yield
+    except InputError as exc:
+        raise exc.for_route(ROUTE) from None
+
+
+def run(alg, boundary: Callable[[], vtkPolyData], lines) -> pv.DataObject:
+    """Give a filter the ``boundary`` (port 0) and the ``lines`` (port 1: auxiliary lines or
+    block edges), run it and return its output; its error is raised in pyvista's words."""
+    with pyvista_words():
+        alg.SetInputDataObject(0, boundary())
+        for poly in polydata_list(lines):
+            alg.AddInputDataObject(1, poly)
+    alg.Update()
+    error = alg.GetLastException()
+    if error is not None:
+        raise error.for_route(ROUTE) if isinstance(error, InputError) else error
+    return pv.wrap(alg.GetOutput())
+
+
+def grid_report(grid: pv.DataSet) -> dict:
+    """The ``Report`` field data of a grid the algorithms made, read from its JSON."""
+    return json.loads(grid.field_data["Report"][0])
+
+
+def _caller_level() -> int:
+    """The ``stacklevel`` of the first caller outside this package, for ``warnings.warn``
+    called from the function calling this one."""
+    frame, level = sys._getframe(1), 1
+    while frame is not None and frame.f_globals.get("__package__") == __package__:
+        frame, level = frame.f_back, level + 1
+    return level
+
+
+def warn_about(report: dict) -> None:
+    """A ``TrainingStoppedWarning``, ``FoldedCellsWarning`` and ``WallAngleWarning`` where
+    they apply, attributed to the first caller outside this package."""
+    level = _caller_level()
+    for text, category in grid_warnings(report, ROUTE):
+        warnings.warn(text, category, stacklevel=level)
+
+
+def warn_folded(report: dict, otherwise: str) -> None:
+    """A ``FoldedCellsWarning`` where ``report`` counts folded cells (``otherwise``: the fix
+    of a grid not made by tfi), attributed to the first caller outside this package."""
+    warning = folded_warning(report, ROUTE, otherwise)
+    if warning:
+        warnings.warn(warning, FoldedCellsWarning, stacklevel=_caller_level())
