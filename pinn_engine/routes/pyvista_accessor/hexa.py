@@ -77,6 +77,6 @@ def pinn_mesh_hexa(
     alg.SetPatchNames(patches)
     alg.SetSpacing(spacing)
     alg.SetOrthogonal(orthogonal)
-    grid = run(alg, lambda: as_polydata(surface, closed=True, what="surface"), None)
+    grid = run(alg, lambda: as_polydata(surface, closed=True, what="surface"))
     warn_folded(grid_report(grid), refold_hint(ROUTE))
     return grid

@@ -36,9 +36,10 @@ def as_polydata(obj, closed: bool, what: str) -> vtkPolyData:
     )
 
 
-def polydata_list(lines) -> list[vtkPolyData]:
+def polydata_list(lines, what: str) -> list[vtkPolyData]:
     """Open polylines (auxiliary lines or block edges) given as None, one PolyData, one
-    array of points, or a list or MultiBlock of them, as a list of PolyData."""
+    array of points, or a list or MultiBlock of them, as a list of PolyData; an error names
+    the argument ``what``."""
     if lines is None:
         return []
     if isinstance(lines, vtkPolyData):
@@ -47,4 +48,4 @@ def polydata_list(lines) -> list[vtkPolyData]:
         return [ring_polydata(lines, closed=False)]
     if isinstance(lines, pv.MultiBlock):
         lines = [block for block in lines if block is not None]
-    return [as_polydata(a, closed=False, what="aux") for a in lines]
+    return [as_polydata(a, closed=False, what=what) for a in lines]

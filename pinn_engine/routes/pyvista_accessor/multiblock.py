@@ -92,8 +92,8 @@ def pinn_mesh_blocks(
             setter(value)
     alg.GetSettings()  # ValueError for bad settings, before any input is read
     with pyvista_words():
-        for poly in polydata_list(aux):
+        for poly in polydata_list(aux, "aux"):
             alg.AddInputDataObject(2, poly)
-    out = run(alg, lambda: as_polydata(boundary, closed=True, what="boundary"), blocks)
+    out = run(alg, lambda: as_polydata(boundary, closed=True, what="boundary"), blocks, "blocks")
     warn_folded(grid_report(out[0])["multiblock"], MOVE_EDGES)
     return out

@@ -29,12 +29,13 @@ def pyvista_words() -> Iterator[None]:
         raise exc.for_route(ROUTE) from None
 
 
-def run(alg, boundary: Callable[[], vtkPolyData], lines) -> pv.DataObject:
+def run(alg, boundary: Callable[[], vtkPolyData], lines=None, what: str = "aux") -> pv.DataObject:
     """Give a filter the ``boundary`` (port 0) and the ``lines`` (port 1: auxiliary lines or
-    block edges), run it and return its output; its error is raised in pyvista's words."""
+    block edges, the argument ``what``), run it and return its output; its error is raised
+    in pyvista's words."""
     with pyvista_words():
         alg.SetInputDataObject(0, boundary())
-        for poly in polydata_list(lines):
+        for poly in polydata_list(lines, what):
             alg.AddInputDataObject(1, poly)
     alg.Update()
     error = alg.GetLastException()
