@@ -12,8 +12,8 @@ end nodes only), and one transfinite surface per block (its four corners given),
 recombined into quads: the same cells and the same nodes on every block side, where gmsh
 keeps them (it cannot move an interface). gmsh meshes it twice: its transfinite
 interpolation alone, and with its smoother on the transfinite surfaces (``setSmoothing``:
-N Gauss-Seidel sweeps of the Winslow equations in each block, its sides fixed; N = 100
-as gmsh's tutorial t6 sets ``Mesh.Smoothing = 100``, or ``--smoothing N``). Each block's
+N Gauss-Seidel sweeps of the Winslow equations in each block, its sides fixed; N = 100,
+the figure of gmsh's tutorial t6, or ``--smoothing N``). Each block's
 nodes are read back into pinn-mesh's (nj, ni) orientation (side nodes by position, every
 one of gmsh's boundary nodes checked to be one of ours, the interior by walking gmsh's
 quads from the bottom side) and measured by pinn-mesh's own code: folded cells, mean /
@@ -112,11 +112,8 @@ def _walk(ids: np.ndarray, ours: dict[int, int], quads: np.ndarray) -> np.ndarra
     tags[0] = [ours[n] for n in ids[0]]
     for j in range(1, ids.shape[0]):
         for i in range(ids.shape[1] - 1):
-            (tags[j, i], tags[j, i + 1]), *_ = [
-                p
-                for p in over[(tags[j - 1, i], tags[j - 1, i + 1])]
-                if j < 2 or p[0] != tags[j - 2, i]
-            ]
+            beyond = over[(tags[j - 1, i], tags[j - 1, i + 1])]  # one quad or two
+            [(tags[j, i], tags[j, i + 1])] = [p for p in beyond if j < 2 or p[0] != tags[j - 2, i]]
     sides = np.concatenate([tags[-1], tags[:, 0], tags[:, -1]])
     wanted = [ours[n] for n in np.concatenate([ids[-1], ids[:, 0], ids[:, -1]])]
     assert np.array_equal(sides, wanted), "gmsh's block sides are not ours"
