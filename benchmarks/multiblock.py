@@ -57,14 +57,16 @@ CHECKED = ("elliptic", "pinn")  # the methods issue 24's bounds are checked on
 MARK = "<!-- BENCHMARK {} -->"  # the markers round the table in --out
 
 
-def _run(stem: str, method: str, h: float):
-    settings = make_settings(method, cell_size=h)
+def run(stem: str, method: str, h: float, **overrides):
+    """An example meshed by ``method`` at cell size ``h`` (``overrides``: more settings),
+    and the meshing's time."""
+    settings = make_settings(method, cell_size=h, **overrides)
     start = time.perf_counter()
     out = job.run_blocks(settings, DATA / f"{stem}.vtp", [DATA / f"{stem}_blocks.vtp"])
     return out.result, time.perf_counter() - start
 
 
-def _angles(grids: list[np.ndarray]) -> tuple[float, float, int]:
+def angles(grids: list[np.ndarray]) -> tuple[float, float, int]:
     """Mean and worst MaxIncludedAngle and folded cells over all blocks."""
     cells = [cell_quality(g) for g in grids]
     angles = np.concatenate([c["MaxIncludedAngle"].ravel() for c in cells])
@@ -106,11 +108,11 @@ def rows() -> tuple[list[str], list[str]]:
     """The table's rows and the bound checks' lines."""
     table, checks = [], []
     for name, (stem, h) in EXAMPLES.items():
-        results = {m: _run(stem, m, h) for m in METHODS}
+        results = {m: run(stem, m, h) for m in METHODS}
         ell = results["elliptic"][0]
         ref, ref_time = _reference(ell.grids)
         figures = {
-            m: (*_angles(r.grids), r.report["interface_kink"], t) for m, (r, t) in results.items()
+            m: (*angles(r.grids), r.report["interface_kink"], t) for m, (r, t) in results.items()
         }
         rep = ell.report
         size = f"{rep['cell_size']:.3g}"
@@ -122,7 +124,7 @@ def rows() -> tuple[list[str], list[str]]:
                 f"{kink['max']:.2f} | {kink['inside_mean']:.2f} | {mean:.2f} / {worst:.2f} | "
                 f"{t:.2f} s |"
             )
-        r_mean, r_worst, r_folds = _angles(ref)
+        r_mean, r_worst, r_folds = angles(ref)
         table.append(
             f"| | | | reference | {r_folds} | | | {r_mean:.2f} / {r_worst:.2f} | {ref_time:.2f} s |"
         )
@@ -142,7 +144,7 @@ def growth() -> list[str]:
     cell size of GROWTH."""
     out, base = [], {}
     for h in GROWTH:
-        runs = {m: _run("cylinder_channel", m, h) for m in CHECKED}
+        runs = {m: run("cylinder_channel", m, h) for m in CHECKED}
         cells = runs["elliptic"][0].report["cells"]
         steps = runs["elliptic"][0].report["iterations"]
         times = []
@@ -161,7 +163,7 @@ def refinement() -> list[str]:
     mean / max and the same grid lines' turn one node inside the blocks."""
     out = []
     for h in REFINED:
-        result, t = _run("ybranch", "elliptic", h)
+        result, t = run("ybranch", "elliptic", h)
         kink = result.report["interface_kink"]
         out.append(
             f"| {h:g} | {result.report['cells']} | {kink['mean']:.2f} / {kink['max']:.2f} | "
