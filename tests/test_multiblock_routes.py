@@ -139,6 +139,8 @@ def test_pyvista_blocks_errors_name_its_keywords():
         boundary.pinn_mesh(blocks=edges, cell_size=-1.0)
     with pytest.raises(InputError, match="no closed polyline .* close it"):
         edges.pinn_mesh(blocks=edges)
+    with pytest.raises(InputError, match="^blocks: expected a pyvista/VTK PolyData"):
+        boundary.pinn_mesh(blocks=[edges, "edges.vtp"])
 
 
 def test_folded_cells_warning_in_each_routes_words():
