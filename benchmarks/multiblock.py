@@ -69,9 +69,9 @@ def run(stem: str, method: str, h: float, **overrides):
 def angles(grids: list[np.ndarray]) -> tuple[float, float, int]:
     """Mean and worst MaxIncludedAngle and folded cells over all blocks."""
     cells = [cell_quality(g) for g in grids]
-    angles = np.concatenate([c["MaxIncludedAngle"].ravel() for c in cells])
+    values = np.concatenate([c["MaxIncludedAngle"].ravel() for c in cells])
     folds = int(sum(c["Folded"].sum() for c in cells))
-    return float(angles.mean()), float(angles.max()), folds
+    return float(values.mean()), float(values.max()), folds
 
 
 def _reference(grids: list[np.ndarray]) -> tuple[list[np.ndarray], float]:
