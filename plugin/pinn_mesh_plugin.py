@@ -40,10 +40,10 @@ try:
     from pinn_engine.io.export.algorithm import PARAVIEW_FORMATS, GridWriter
     from pinn_engine.routes.airfoil_algorithm import AirfoilReader, AirfoilSource
     from pinn_engine.routes.algorithm import PinnMeshAlgorithm
-    from pinn_engine.routes.cli import BLOCKS_METHOD
     from pinn_engine.routes.hexa_algorithm import PinnHexaAlgorithm
     from pinn_engine.routes.multiblock_algorithm import INTERFACES, PinnMultiBlockAlgorithm
     from pinn_engine.settings import (
+        BLOCKS_METHOD,
         MAX_SIDE_NODES,
         METHODS,
         MULTIBLOCK_METHODS,

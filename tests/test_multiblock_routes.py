@@ -16,10 +16,9 @@ from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
 from pinn_engine.errors import InputError
 from pinn_engine.job import run_blocks
-from pinn_engine.routes.cli import BLOCKS_METHOD
 from pinn_engine.routes.filters import folded_warning
 from pinn_engine.routes.multiblock_algorithm import MOVE_EDGES, PinnMultiBlockAlgorithm
-from pinn_engine.settings import make_settings
+from pinn_engine.settings import BLOCKS_METHOD, make_settings
 
 DATA = ROOT / "example_data"
 CELL_SIZE = 0.1  # docs/multiblock.md's L-shape and step: well under a second each

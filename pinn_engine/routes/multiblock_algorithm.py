@@ -37,7 +37,6 @@ from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
 from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkPolyData
 
 from pinn_engine.errors import InputError
-from pinn_engine.routes.cli import BLOCKS_METHOD
 from pinn_engine.routes.filters import (
     LastOutcome,
     LineInputs,
@@ -47,7 +46,13 @@ from pinn_engine.routes.filters import (
     spacing_items,
 )
 from pinn_engine.routes.reporting import message_of
-from pinn_engine.settings import MULTIBLOCK_METHODS, PARAMETER_CONSTRAINTS, Settings, make_settings
+from pinn_engine.settings import (
+    BLOCKS_METHOD,
+    MULTIBLOCK_METHODS,
+    PARAMETER_CONSTRAINTS,
+    Settings,
+    make_settings,
+)
 
 LABEL = "PINN Multi-Block Mesh"
 INTERFACES = PARAMETER_CONSTRAINTS["interfaces"].values  # free, fixed (SPEC 10)

@@ -7,11 +7,9 @@
 
 from pinn_engine.routes.cli.dispatch import run
 from pinn_engine.routes.cli.entry import EXIT_ERROR, EXIT_INTERRUPTED, main
-from pinn_engine.routes.cli.multiblock import BLOCKS_METHOD
 from pinn_engine.routes.cli.parser import build_parser
 
 __all__ = [
-    "BLOCKS_METHOD",
     "EXIT_ERROR",
     "EXIT_INTERRUPTED",
     "build_parser",

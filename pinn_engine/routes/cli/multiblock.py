@@ -12,9 +12,8 @@ from pinn_engine.routes.cli.outputs import output_path, refuse_folded, write_out
 from pinn_engine.routes.cli.parser import option_flags
 from pinn_engine.routes.cli.progress import Progress
 from pinn_engine.routes.cli.summary import blocks_summary, warn
-from pinn_engine.settings import MULTIBLOCK_METHODS
+from pinn_engine.settings import BLOCKS_METHOD, MULTIBLOCK_METHODS
 
-BLOCKS_METHOD = "pinn"  # multi-block's default (SPEC 10)
 # Options of four-sided domains and bodies that a multi-block run refuses (SPEC 10)
 NOT_FOR_BLOCKS = (
     "size", "corners", "topology", "naca", "farfield", "save_model", "load_model",
