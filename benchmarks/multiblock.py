@@ -203,6 +203,15 @@ def markdown() -> str:
     return "\n".join(lines) + "\n"
 
 
+def write_between(path: Path, mark: str, text: str) -> None:
+    """Replace the part of the Markdown file ``path`` between ``mark``'s start and end
+    markers (``mark.format("start")``, ``mark.format("end")``) by ``text``."""
+    start, end = mark.format("start"), mark.format("end")
+    head, rest = path.read_text().split(start)
+    _, tail = rest.split(end)
+    path.write_text(f"{head}{start}\n{text}{end}{tail}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, help="a Markdown file with the two BENCHMARK markers")
@@ -210,10 +219,7 @@ def main() -> None:
     text = markdown()
     print(text, end="")
     if args.out:
-        page = args.out.read_text()
-        head, rest = page.split(MARK.format("start"))
-        _, tail = rest.split(MARK.format("end"))
-        args.out.write_text(f"{head}{MARK.format('start')}\n{text}{MARK.format('end')}{tail}")
+        write_between(args.out, MARK, text)
 
 
 if __name__ == "__main__":

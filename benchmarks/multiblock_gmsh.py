@@ -35,12 +35,13 @@ from pathlib import Path
 import gmsh
 import numpy as np
 import torch
-from multiblock import DATA, EXAMPLES, angles, run
+from multiblock import DATA, EXAMPLES, angles, run, write_between
 from scipy.spatial import cKDTree
 
 from pinn_engine.io.fileio import read_aux_lines, read_rings
 from pinn_engine.multiblock.blocks import Topology, topology
 from pinn_engine.multiblock.counts import cell_counts, default_cell_size
+from pinn_engine.multiblock.elliptic import crossings
 from pinn_engine.multiblock.graph import linework
 from pinn_engine.multiblock.layout import Layout
 from pinn_engine.multiblock.mesh import interface_kinks, layout_checked
@@ -150,7 +151,7 @@ def _figures(topo: Topology, lay: Layout, grids: list[np.ndarray]) -> tuple:
     points = lay.points.copy()
     for ids, grid in zip(lay.ids, grids):
         points[ids] = grid
-    return *angles(grids), interface_kinks(topo, lay, points)
+    return *angles(grids), interface_kinks(crossings(topo, lay), lay, points)
 
 
 def rows(smoothing: int) -> list[str]:
@@ -206,10 +207,7 @@ def main() -> None:
     gmsh.finalize()
     print(text, end="")
     if args.out:
-        page = args.out.read_text()
-        head, rest = page.split(MARK.format("start"))
-        _, tail = rest.split(MARK.format("end"))
-        args.out.write_text(f"{head}{MARK.format('start')}\n{text}{MARK.format('end')}{tail}")
+        write_between(args.out, MARK, text)
 
 
 if __name__ == "__main__":

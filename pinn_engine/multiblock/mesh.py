@@ -15,7 +15,7 @@ from pinn_engine.errors import InputError
 from pinn_engine.geometry.auxlines import RawLine, line_distances
 from pinn_engine.multiblock.blocks import Topology, topology
 from pinn_engine.multiblock.counts import cell_counts, default_cell_size
-from pinn_engine.multiblock.elliptic import crossings, winslow
+from pinn_engine.multiblock.elliptic import Crossing, crossings, winslow
 from pinn_engine.multiblock.graph import linework
 from pinn_engine.multiblock.layout import Layout, layout
 from pinn_engine.multiblock.orthogonal import boundary_neighbours, orthogonal
@@ -66,14 +66,17 @@ def _turns(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     return 180.0 - np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
 
 
-def interface_kinks(topo: Topology, lay: Layout, points: np.ndarray, depth: int = 0) -> np.ndarray:
-    """At each interface node (those near a block corner aside), 180 minus the angle in
-    degrees between the two blocks' grid edges leaving it: 0 where a grid line runs
-    straight across the interface. With ``depth`` d > 0, the turn of the same grid lines at
-    their d-th node inside each block (both blocks' values): a smooth grid line turns about
-    as much there as across the interface."""
+def interface_kinks(
+    cross: list[Crossing], lay: Layout, points: np.ndarray, depth: int = 0
+) -> np.ndarray:
+    """At each node of the interfaces ``cross`` (:func:`elliptic.crossings`; those near a
+    block corner aside), 180 minus the angle in degrees between the two blocks' grid edges
+    leaving it: 0 where a grid line runs straight across the interface. With ``depth``
+    d > 0, the turn of the same grid lines at their d-th node inside each block (both
+    blocks' values): a smooth grid line turns about as much there as across the
+    interface."""
     out = []
-    for c in crossings(topo, lay):
+    for c in cross:
         keep = np.ones(len(c.nodes), dtype=bool)
         for b, (side, ks) in zip(c.blocks, c.places):
             n = lay.ids[b].shape[1 if side in ("bottom", "top") else 0]
@@ -132,13 +135,14 @@ def mesh_blocks(
     if settings.method in ("elliptic", "pinn"):
         points, steps = winslow(topo, lay, settings.interfaces == "free")
     lines = block_lines(aux, [points[ids] for ids in lay.ids])  # the method's block sides
+    cross = crossings(topo, lay)  # the interfaces' nodes, for every kink figure below
     frames = [block_boundary(points[ids]) for ids in lay.ids]
     training = None
     if settings.method == "pinn":
         from pinn_engine.multiblock.network import train_blocks  # torch only when training
 
         def kinks(grids: list[np.ndarray]) -> np.ndarray:
-            return interface_kinks(topo, lay, _assembled(points, lay, grids))
+            return interface_kinks(cross, lay, _assembled(points, lay, grids))
 
         starts = [points[ids] for ids in lay.ids]
         grids, training = train_blocks(starts, settings, progress, lines, kinks)
@@ -149,8 +153,8 @@ def mesh_blocks(
         points = orthogonal(points, sides, walls.orthogonal, boundary_neighbours(topo, lay))
     grids = [points[ids] for ids in lay.ids]
     cells = [cell_quality(g) for g in grids]
-    kinks = interface_kinks(topo, lay, points)
-    inside = interface_kinks(topo, lay, points, depth=1)
+    kinks = interface_kinks(cross, lay, points)
+    inside = interface_kinks(cross, lay, points, depth=1)
     report = {
         "method": settings.method,
         "interfaces": settings.interfaces,

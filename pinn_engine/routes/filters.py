@@ -61,6 +61,27 @@ class ModifiedOnChange:
             self.Modified()
 
 
+class PatchWalls(ModifiedOnChange):
+    """Mixed into a filter whose patches are named (multi-block, hexahedral): first-edge
+    spacing (``NAME=H`` items) and orthogonal patches, kept as items until its update checks
+    them (the command line's ``--spacing`` and ``--orthogonal``)."""
+
+    _spacing: tuple[str, ...] = ()  # NAME=H items
+    _orthogonal: tuple[str, ...] = ()  # patch names
+
+    def SetSpacing(self, items) -> None:
+        self._set("_spacing", spacing_items(items))
+
+    def GetSpacing(self) -> tuple[str, ...]:
+        return self._spacing
+
+    def SetOrthogonal(self, names) -> None:
+        self._set("_orthogonal", setting_items(names, ",;"))
+
+    def GetOrthogonal(self) -> tuple[str, ...]:
+        return self._orthogonal
+
+
 class LastOutcome:
     """Mixed into a ``VTKPythonAlgorithmBase`` whose class names its ``LABEL``: progress and
     messages under that name, and what the last update left (``RequestData`` sets

@@ -36,12 +36,10 @@ from pinn_engine.hexamesh import HEXA_METHOD, HEXA_SIZE, METHODS, size_problem
 from pinn_engine.io.export.patches import BOX_SIDES, patch_specs
 from pinn_engine.routes.filters import (
     LastOutcome,
-    ModifiedOnChange,
+    PatchWalls,
     choice,
     folded_warning,
     patch_setting,
-    setting_items,
-    spacing_items,
 )
 from pinn_engine.routes.reporting import message_of
 
@@ -57,7 +55,7 @@ def refold_hint(route: str) -> str:
     )
 
 
-class PinnHexaAlgorithm(LastOutcome, ModifiedOnChange, VTKPythonAlgorithmBase):
+class PinnHexaAlgorithm(LastOutcome, PatchWalls, VTKPythonAlgorithmBase):
     """Hexahedral structured grid (SPEC 11) of a closed surface with six tagged faces.
 
     Settings (each setter calls ``Modified()`` when the value changes; values are checked at
@@ -92,8 +90,6 @@ class PinnHexaAlgorithm(LastOutcome, ModifiedOnChange, VTKPythonAlgorithmBase):
         self._method = HEXA_METHOD
         self._size = HEXA_SIZE
         self._patches: str | dict = ""  # as given; checked at the update (imin ... kmax)
-        self._spacing: tuple[str, ...] = ()  # PATCH=H items
-        self._orthogonal: tuple[str, ...] = ()  # imin ... kmax
         self._last_error = self._last_warning = ""
         self._exception: Exception | None = None
         self._failed: tuple | None = None  # what the last failed update ran on
@@ -117,18 +113,6 @@ class PinnHexaAlgorithm(LastOutcome, ModifiedOnChange, VTKPythonAlgorithmBase):
     def GetPatchNames(self) -> tuple[str, ...]:
         """The six patch names (imin ... kmax) the next update uses."""
         return patch_specs(self._patches, sides=BOX_SIDES)[0]
-
-    def SetSpacing(self, items) -> None:
-        self._set("_spacing", spacing_items(items))
-
-    def GetSpacing(self) -> tuple[str, ...]:
-        return self._spacing
-
-    def SetOrthogonal(self, names) -> None:
-        self._set("_orthogonal", setting_items(names, ",;"))
-
-    def GetOrthogonal(self) -> tuple[str, ...]:
-        return self._orthogonal
 
     # ---- results -----------------------------------------------------------------------
     def GetOutput(self) -> vtkStructuredGrid:

@@ -40,10 +40,10 @@ from pinn_engine.errors import InputError
 from pinn_engine.routes.filters import (
     LastOutcome,
     LineInputs,
+    PatchWalls,
     choice,
     folded_warning,
     setting_items,
-    spacing_items,
 )
 from pinn_engine.routes.reporting import message_of
 from pinn_engine.settings import (
@@ -99,7 +99,7 @@ def curves_of(
     return rings, edges, names
 
 
-class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
+class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgorithmBase):
     """Multi-block structured grid (SPEC 10) of a boundary, its holes and block edges.
 
     Settings (each setter calls ``Modified()`` when the value changes; values are checked at
@@ -134,8 +134,6 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
         self._cell_size = 0.0
         self._interfaces = INTERFACES[0]
         self._patches: tuple[str, ...] = ()  # X,Y=NAME[:TYPE] items, checked at the update
-        self._spacing: tuple[str, ...] = ()  # NAME=H items
-        self._orthogonal: tuple[str, ...] = ()  # patch names
         self._last_error = self._last_warning = ""
         self._exception: Exception | None = None
 
@@ -165,18 +163,6 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
 
     def GetPatchNames(self) -> tuple[str, ...]:
         return self._patches
-
-    def SetSpacing(self, items) -> None:
-        self._set("_spacing", spacing_items(items))
-
-    def GetSpacing(self) -> tuple[str, ...]:
-        return self._spacing
-
-    def SetOrthogonal(self, names) -> None:
-        self._set("_orthogonal", setting_items(names, ",;"))
-
-    def GetOrthogonal(self) -> tuple[str, ...]:
-        return self._orthogonal
 
     def GetSettings(self) -> Settings:
         """The ``Settings`` the next update uses (raises ``ValueError`` if invalid)."""
