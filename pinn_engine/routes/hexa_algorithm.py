@@ -31,7 +31,7 @@ from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
 from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
-from pinn_engine.errors import ROUTE_WORDS
+from pinn_engine.errors import ROUTE_WORDS, SettingsError
 from pinn_engine.hexamesh import HEXA_METHOD, HEXA_SIZE, METHODS, size_problem
 from pinn_engine.io.export.patches import BOX_SIDES, patch_specs
 from pinn_engine.routes.filters import (
@@ -164,7 +164,7 @@ class PinnHexaAlgorithm(LastOutcome, PatchWalls, VTKPythonAlgorithmBase):
         problem = size_problem(self._size)
         if problem:
             size = " ".join(map(str, self._size))
-            raise ValueError(f"{ROUTE_WORDS[self._route]['size']} {size}: {problem}")
+            raise SettingsError(f"{ROUTE_WORDS[self._route]['size']} {size}: {problem}")
         patches = patch_specs(self._patches, sides=BOX_SIDES)  # refused before meshing
         orthogonal = [",".join(self._orthogonal)] if self._orthogonal else []
         spacing, walls = parse_patches(list(self._spacing), orthogonal)
