@@ -52,12 +52,14 @@ class SettingsError(InputError):
     do not go together (the VTK filters' lines begin "invalid settings")."""
 
 
-def unknown_name(name: str, known: Iterable[str], what: str, form: str = "{}") -> SettingsError:
+def unknown_name(
+    name: str, known: Iterable[str], what: str, form: str = "{}", also: Iterable[str] = ()
+) -> SettingsError:
     """The error for an unknown ``what`` (a keyword, a setting) called ``name``: the nearest
-    of the ``known`` names suggested, then all of them, each written as ``form`` (``"{}="``
-    for keyword arguments)."""
+    of the ``known`` names (or of ``also``, names valid but not listed) suggested, then the
+    ``known`` ones listed, each written as ``form`` (``"{}="`` for keyword arguments)."""
     known = list(known)
-    nearest = difflib.get_close_matches(name, known, n=1)
+    nearest = difflib.get_close_matches(name, [*known, *also], n=1)
     hint = f"did you mean {form.format(nearest[0])}? " if nearest else ""
     listing = ", ".join(form.format(k) for k in known)
     return SettingsError(f"unknown {what} {form.format(name)}; {hint}the {what}s: {listing}")
