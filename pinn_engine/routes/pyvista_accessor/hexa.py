@@ -40,8 +40,9 @@ def pinn_mesh_hexa(
         One of ``pinn_engine.hexamesh.METHODS`` (``"tfi"``: 3D transfinite interpolation;
         ``"elliptic"``: 3D Winslow), default ``pinn_engine.hexamesh.HEXA_METHOD``.
     patches : dict, sequence of six names or str, optional
-        Patch names of the six faces, e.g. ``{"imin": "inlet:inflow", "kmin": "floor:wall"}``
-        (default imin ... kmax; equal names form one patch), each optionally typed as
+        Patch names of the six faces, e.g. ``{"imin": "inlet:inflow", "face4": "floor:wall"}``
+        (a side imin ... kmax or ``faceN``, the input face whose ``FaceId`` is N; default
+        imin ... kmax; equal names form one patch), each optionally typed as
         ``"NAME:TYPE"``; stored as field data ``PatchNames`` and ``PatchTypes`` and used by
         :func:`save_mesh`.
     spacing : dict or sequence of str, optional
