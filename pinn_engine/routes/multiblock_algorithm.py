@@ -30,6 +30,7 @@ the same way (``GetLastWarning()``).
 from __future__ import annotations
 
 import dataclasses
+import time
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
@@ -41,14 +42,17 @@ from pinn_engine.routes.filters import (
     LastOutcome,
     LineInputs,
     PatchWalls,
+    Stoppable,
     choice,
     folded_warning,
     setting_items,
 )
 from pinn_engine.routes.reporting import message_of
+from pinn_engine.routes.summary_lines import blocks_lines
 from pinn_engine.settings import (
     BLOCKS_METHOD,
     MULTIBLOCK_METHODS,
+    NO_TIME_LIMIT,
     PARAMETER_CONSTRAINTS,
     Settings,
     make_settings,
@@ -99,7 +103,9 @@ def curves_of(
     return rings, edges, names
 
 
-class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgorithmBase):
+class PinnMultiBlockAlgorithm(
+    LastOutcome, Stoppable, LineInputs, PatchWalls, VTKPythonAlgorithmBase
+):
     """Multi-block structured grid (SPEC 10) of a boundary, its holes and block edges.
 
     Settings (each setter calls ``Modified()`` when the value changes; values are checked at
@@ -117,6 +123,8 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
       (``"cylinder=0.005"``, a sequence of items or a mapping ``{"cylinder": 0.005}``)
     * ``SetOrthogonal(names)``: patches that grid lines leave along the normal
       (``"cylinder,walls"`` or a sequence of names)
+    * ``SetTimeLimit(seconds)``: pinn's training ends after this many seconds with its best
+      grids so far (0: no limit, the default); so does an abort request or SIGUSR1
 
     Patch items, spacings and names are checked at the next update (one line naming the
     item, as the command line's ``--patch``, ``--spacing`` and ``--orthogonal``).
@@ -132,6 +140,7 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
         self._route = route
         self._method = BLOCKS_METHOD
         self._cell_size = 0.0
+        self._time_limit = NO_TIME_LIMIT
         self._interfaces = INTERFACES[0]
         self._patches: tuple[str, ...] = ()  # X,Y=NAME[:TYPE] items, checked at the update
         self._last_error = self._last_warning = ""
@@ -150,6 +159,12 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
     def GetCellSize(self) -> float:
         return self._cell_size
 
+    def SetTimeLimit(self, seconds) -> None:
+        self._set("_time_limit", float(seconds))
+
+    def GetTimeLimit(self) -> float:
+        return self._time_limit
+
     def SetInterfaces(self, interfaces) -> None:
         self._set("_interfaces", choice(interfaces, INTERFACES, "interfaces"))
 
@@ -166,7 +181,12 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
 
     def GetSettings(self) -> Settings:
         """The ``Settings`` the next update uses (raises ``ValueError`` if invalid)."""
-        return make_settings(self._method, cell_size=self._cell_size, interfaces=self._interfaces)
+        return make_settings(
+            self._method,
+            cell_size=self._cell_size,
+            interfaces=self._interfaces,
+            time_limit=self._time_limit,
+        )
 
     # ---- results -----------------------------------------------------------------------
     def GetOutput(self) -> vtkMultiBlockDataSet:
@@ -176,7 +196,7 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
     # ---- pipeline ----------------------------------------------------------------------
     def RequestData(self, request, inInfo, outInfo):
         output = vtkMultiBlockDataSet.GetData(outInfo, 0)
-        self._last_error = self._last_warning = ""
+        self._last_error = self._last_warning = self._last_summary = ""
         self._exception = None
         self._progress(0.0, "meshing")
         try:
@@ -219,25 +239,30 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
         ]
         curves = flat_curves(rings + edges + [line.points for line in aux], "input")
         flat = curves[len(rings) + len(edges) :]
-        result = mesh_blocks(
-            curves[: len(rings)],
-            curves[len(rings) : len(rings) + len(edges)],
-            names,
-            settings,
-            "input",
-            patches,
-            walls,
-            self._block,
-            [dataclasses.replace(line, points=c) for line, c in zip(aux, flat)],
-        )
+        began = time.perf_counter()
+        with self._stop_on_signal():
+            result = mesh_blocks(
+                curves[: len(rings)],
+                curves[len(rings) : len(rings) + len(edges)],
+                names,
+                settings,
+                "input",
+                patches,
+                walls,
+                self._block,
+                [dataclasses.replace(line, points=c) for line, c in zip(aux, flat)],
+            )
+        self._tell(blocks_lines(settings.method, result.report, time.perf_counter() - began))
         dataset = multiblock_dataset(result.grids, result.cells, result.report, result.patches)
         return dataset, result.report
 
-    def _block(self, info: dict) -> None:
+    def _block(self, info: dict) -> str | None:
         """The pinn's progress block by block (``multiblock.network``) on the bar, the
-        elliptic grid before it at 0."""
+        elliptic grid before it at 0; answers ``errors.STOP`` to an abort request or the
+        stop signal (the blocks keep their best grids so far)."""
         if info["phase"] == "prepare":
             self._progress(info["step"] / info["total"], info["stage"])
+        return self._stop_answer()
 
 
 __all__ = ["MOVE_EDGES", "PinnMultiBlockAlgorithm", "curves_of"]
