@@ -19,6 +19,7 @@ from collections.abc import Callable
 import numpy as np
 
 from pinn_engine.classical.tfi import tfi_at
+from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
 from pinn_engine.quality import first_edges, folded_cells
 
@@ -222,8 +223,8 @@ def working_spacing(spacing: tuple[tuple[str, float], ...], boundary) -> dict[st
         unit = h / boundary.frame.scale
         room = min(boundary.side(s).length for s in across[side])
         if unit >= 0.5 * room:
-            raise ValueError(
-                f"spacing {side}={h:g}: the first edge must be shorter than half "
+            raise InputError(
+                f"{{spacing}} {side}={h:g}: the first edge must be shorter than half "
                 f"of the {' and '.join(across[side])} sides "
                 f"({0.5 * room * boundary.frame.scale:.4g})"
             )
