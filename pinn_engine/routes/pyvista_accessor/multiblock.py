@@ -6,9 +6,9 @@ import pyvista as pv
 
 from pinn_engine.routes.multiblock_algorithm import MOVE_EDGES, PinnMultiBlockAlgorithm
 from pinn_engine.routes.pyvista_accessor.inputs import as_polydata, polydata_list
+from pinn_engine.routes.pyvista_accessor.report import report
 from pinn_engine.routes.pyvista_accessor.running import (
     ROUTE,
-    grid_report,
     pyvista_words,
     run,
     warn_folded,
@@ -26,6 +26,7 @@ def pinn_mesh_blocks(
     spacing=None,
     orthogonal=None,
     aux=None,
+    progress_bar: bool = False,
 ) -> pv.MultiBlock:
     """Multi-block structured grid (SPEC 10) of a domain cut into four-sided blocks.
 
@@ -61,6 +62,8 @@ def pinn_mesh_blocks(
         Auxiliary lines inside blocks: open polylines, each from a side of the block holding
         its middle point to the opposite side (SPEC 2 in that block), fitted by the pinn;
         the report's ``aux_line_distance`` says how far the grid is from each.
+    progress_bar : bool, default: False
+        Show a progress bar of the meshing, as pyvista's filters do.
 
     Returns
     -------
@@ -71,7 +74,7 @@ def pinn_mesh_blocks(
         side shared by two blocks is the same point in both.
 
     Warns ``pinn_engine.FoldedCellsWarning`` when cells are folded; raises
-    ``pinn_engine.errors.InputError`` (one line) for bad curves, ``ValueError`` for bad
+    ``pinn_engine.errors.InputError`` (a ``ValueError``, one line) for bad curves or
     settings.
 
     >>> blocks = pinn_mesh_blocks(pv.read("example_data/lshape.vtp"),
@@ -94,6 +97,12 @@ def pinn_mesh_blocks(
     with pyvista_words():
         for poly in polydata_list(aux, "aux"):
             alg.AddInputDataObject(2, poly)
-    out = run(alg, lambda: as_polydata(boundary, closed=True, what="boundary"), blocks, "blocks")
-    warn_folded(grid_report(out[0])["multiblock"], MOVE_EDGES)
+    out = run(
+        alg,
+        lambda: as_polydata(boundary, closed=True, what="boundary"),
+        blocks,
+        "blocks",
+        progress_bar,
+    )
+    warn_folded(report(out), MOVE_EDGES)
     return out
