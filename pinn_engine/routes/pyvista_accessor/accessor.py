@@ -68,11 +68,12 @@ class PinnMeshAccessor:
         (default 41 x 21); ``method``: pinn (default), mgnet, tfi or elliptic. Returns a
         ``pyvista.StructuredGrid`` with MaxIncludedAngle/MinIncludedAngle cells.
 
-        ``blocks``: block edges (PolyData or a list): this PolyData's closed polylines are
-        then the outer boundary and holes of a multi-block domain, and the keywords those of
-        :func:`pinn_mesh_blocks` (``cell_size``, ``method``: pinn, elliptic or tfi,
-        ``interfaces``, ``patches``, ``spacing``, ``orthogonal``; ``aux``: auxiliary lines
-        inside blocks); returns a ``pyvista.MultiBlock``.
+        ``blocks``: block edges (PolyData or a list; ``"auto"``: proposed from the boundary,
+        SPEC 13): this PolyData's closed polylines are then the outer boundary and holes of
+        a multi-block domain, and the keywords those of :func:`pinn_mesh_blocks`
+        (``cell_size``, ``method``: pinn, elliptic or tfi, ``interfaces``, ``patches``,
+        ``spacing``, ``orthogonal``, ``save_blocks``; ``aux``: auxiliary lines inside
+        blocks); returns a ``pyvista.MultiBlock``.
 
         A surface with a ``FaceId`` cell array, or ``size=(ni, nj, nk)``: the hexahedral grid
         of :func:`pinn_mesh_hexa` (``size``, ``method``, ``patches``, ``spacing``,
