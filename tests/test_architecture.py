@@ -3,10 +3,15 @@ a route added without touching the trainer or the other routes."""
 
 from __future__ import annotations
 
+import ast
+import re
+import tokenize
+from pathlib import Path
+
 import numpy as np
 import pytest
 import torch
-from conftest import EXAMPLES
+from conftest import EXAMPLES, ROOT
 
 from pinn_engine import job
 from pinn_engine.blocks import quad
@@ -16,6 +21,8 @@ from pinn_engine.neural import trainer
 from pinn_engine.routes.algorithm import PinnMeshAlgorithm
 from pinn_engine.routes.cli import build_parser, main
 from pinn_engine.settings import PARAMETER_CONSTRAINTS, Interval, Options, make_settings
+
+PACKAGE = ROOT / "pinn_engine"
 
 
 def test_recipe_loss_term(monkeypatch):
@@ -151,3 +158,41 @@ def test_recipe_route(tmp_path):
 
     expected = pv.read(out).points[:, :2].reshape(11, 21, 2)
     np.testing.assert_allclose(grid, expected, atol=1e-12)
+
+
+COMMENT_BLOCK_LINES = 5  # the longest run of comment lines: what a value means, not its history
+HISTORY = re.compile(r"[Ii]ssues? \d|#\d{2}|\bcommit\b|\([0-9a-f]{7,40}\)")
+
+
+def _comments(path: Path) -> list[tuple[int, str]]:
+    """(line, text) of every comment token of a Python file."""
+    with path.open("rb") as f:
+        tokens = tokenize.tokenize(f.readline)
+        return [(t.start[0], t.string) for t in tokens if t.type == tokenize.COMMENT]
+
+
+def test_no_comment_or_docstring_cites_an_issue_or_a_commit():
+    cited = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        tree = ast.parse(path.read_text())
+        texts = _comments(path) + [
+            (node.body[0].lineno, ast.get_docstring(node) or "")
+            for node in ast.walk(tree)
+            if isinstance(node, ast.Module | ast.ClassDef | ast.FunctionDef | ast.AsyncFunctionDef)
+        ]
+        cited += [f"{path.relative_to(ROOT)}:{line}" for line, s in texts if HISTORY.search(s)]
+    assert not cited, f"history belongs in commit messages and docs/tuning.md: {cited}"
+
+
+def test_comment_blocks_are_short():
+    long = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        lines = [line for line, text in _comments(path)]
+        source = path.read_text().splitlines()
+        whole = [n for n in lines if source[n - 1].lstrip().startswith("#")]
+        run = 1
+        for before, n in zip(whole, whole[1:]):
+            run = run + 1 if n == before + 1 else 1
+            if run == COMMENT_BLOCK_LINES + 1:
+                long.append(f"{path.relative_to(ROOT)}:{n - COMMENT_BLOCK_LINES}")
+    assert not long, f"comment blocks of more than {COMMENT_BLOCK_LINES} lines: {long}"

@@ -19,6 +19,7 @@ from collections.abc import Callable
 import numpy as np
 
 from pinn_engine.classical.tfi import tfi_at
+from pinn_engine.errors import InputError
 from pinn_engine.quality import first_edges
 
 SIDE_AXIS = {"bottom": 1, "top": 1, "left": 0, "right": 0}  # parameter that the side stretches
@@ -118,12 +119,10 @@ def exact_stretch(
 EXACT_TOL, EXACT_ITERATIONS = 1e-9, 60  # a first interval of 1e-9 is good to about 1e-7
 
 
-# Lines of one direction share one Vinokur stretching (by the geometric mean of their first
-# spacings); each line's own first spacing is reached by scaling its first intervals, by a
-# factor that decays over about this many cells from the side (and a uniform rescaling of
-# all of them to keep the total), so that a line's far part is hardly moved (rows shifted as
-# a whole along a curved wall would skew its thin first cells into folds) and its spacing
-# still grows monotonically away from the side.
+# Lines of one direction share one Vinokur stretching (the geometric mean of their first
+# spacings); each line reaches its own first spacing by a scaling of its intervals that decays
+# over about this many cells from the side (then rescaled to keep the total): its far part
+# hardly moves (rows shifted along a curved wall would fold its thin first cells).
 LOCAL_CELLS = 6.0
 
 
@@ -223,8 +222,8 @@ def working_spacing(spacing: tuple[tuple[str, float], ...], boundary) -> dict[st
         unit = h / boundary.frame.scale
         room = min(boundary.side(s).length for s in across[side])
         if unit >= 0.5 * room:
-            raise ValueError(
-                f"spacing {side}={h:g}: the first edge must be shorter than half "
+            raise InputError(
+                f"{{spacing}} {side}={h:g}: the first edge must be shorter than half "
                 f"of the {' and '.join(across[side])} sides "
                 f"({0.5 * room * boundary.frame.scale:.4g})"
             )

@@ -33,7 +33,7 @@ from pinn_engine.quality import cell_quality, summary
 from pinn_engine.settings import MAX_NODES, MULTIBLOCK_METHODS, Settings
 
 # Interface nodes this many positions or fewer from a block's corner are left out of the
-# kink figures (the "two nodes nearest each block corner"): at a corner grid lines
+# kink figures (the two nodes nearest each block corner): at a corner grid lines
 # of three or more blocks meet and no line runs straight through
 KINK_CORNER_NODES = 2
 

@@ -1,4 +1,4 @@
-"""The multi-block ``pinn`` (SPEC 10, issue 24 item 2): the four-sided PINN block kind
+"""The multi-block ``pinn`` (SPEC 10): the four-sided PINN block kind
 (:mod:`pinn_engine.blocks.quad`) trained on each block of the multi-block elliptic grid.
 
 The elliptic grid is solved first, on all blocks at once (interfaces free, as
@@ -8,7 +8,7 @@ at the block's side nodes (hard mode), so nodes on shared sides stay the same po
 blocks. The block's guard keeps the elliptic block unless a trained state is no worse in
 folds, mean and worst MaxIncludedAngle, and in how grid lines cross the interfaces (the
 kink mean and max of the whole grid, the blocks trained so far at their kept grids): the
-multi-block grid is never worse than the elliptic one in issue 24's figures. A block with
+multi-block grid is never worse than the elliptic one in those figures. A block with
 auxiliary lines inside it (``quadblock.block_lines``) fits them as a four-sided domain's
 pinn does, its guard allowing that domain's tolerance above the elliptic block. The trainer
 knows nothing of blocks; the guard and its reference are this module's.
@@ -42,10 +42,10 @@ from pinn_engine.settings import Settings
 # and max (degrees above allowed): block by block no worse, so the whole grid is no worse
 GUARD_TOL = (0.0, 0.0)
 # A block with auxiliary lines trades some quality for following them, as a four-sided
-# domain's pinn does: its guard's tolerance (0.25 / 1 degree, within issue 24's 0.5 / 2)
+# domain's pinn does: its guard's tolerance (0.25 / 1 degree, within the bounds 0.5 / 2)
 AUX_GUARD_TOL = QUAD_GUARD_TOL[True]
 # Following a line bends the grid lines that leave its block: the guard lets the interface
-# kinks' mean and max rise to issue 24's bounds (degrees), or stay at the grid's before if higher
+# kinks' mean and max rise to these bounds (degrees), or stay at the grid's before if higher
 AUX_KINK_BOUND = (2.0, 15.0)
 
 # The interface kinks (degrees, ``mesh.interface_kinks``) of a multi-block grid given as its

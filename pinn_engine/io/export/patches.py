@@ -90,18 +90,21 @@ def parse_patch_options(
     items: Sequence[str] | None,
     default: Sequence[str] | None = None,
     sides: Sequence[str] = SIDES,
+    aliases: Mapping[str, str] | None = None,
 ) -> tuple[str, ...]:
     """Patch names of ``sides`` from ``SIDE=NAME`` items (the command line's ``--patch``);
-    sides not named keep ``default``'s (the sides' own names when None)."""
+    sides not named keep ``default``'s (the sides' own names when None). ``aliases``: other
+    names of sides (a hexahedral grid's ``faceN``, the input's own faces)."""
     names = dict(zip(sides, default or sides))
+    aliases = aliases or {}
     fix = PATCH_FIX[len(sides)]
     for item in items or ():
         side, sep, name = item.partition("=")
         side = side.strip().lower()
+        side = aliases.get(side, side)
         if not sep or side not in names:
-            raise InputError(
-                f"patch {item!r}: expected SIDE=NAME with SIDE one of {', '.join(sides)} ({fix})"
-            )
+            known = ", ".join([*sides, *aliases])
+            raise InputError(f"patch {item!r}: expected SIDE=NAME with SIDE one of {known} ({fix})")
         names[side] = _checked_typed(name.strip(), fix)
     return tuple(names[s] for s in sides)
 
@@ -110,6 +113,7 @@ def patch_names(
     patches: Mapping[str, str] | Sequence[str] | str | None,
     default: Sequence[str] | None = None,
     sides: Sequence[str] = SIDES,
+    aliases: Mapping[str, str] | None = None,
 ) -> tuple[str, ...]:
     """The patch names of ``sides`` (bottom, right, top, left; or imin ... kmax) from any
     of the routes' forms.
@@ -118,6 +122,7 @@ def patch_names(
     far field); a mapping ``{"bottom": "wall", ...}`` (sides not named keep their default);
     a sequence of one name a side or of ``SIDE=NAME`` items (``--patch``); or a string of
     such names or items separated by spaces or commas (the ParaView panel's field).
+    ``aliases``: other names of sides in ``SIDE=NAME`` items (:func:`parse_patch_options`).
     """
     default = tuple(default or sides)
     if patches is None:
@@ -127,13 +132,14 @@ def patch_names(
         if not items:
             return default
         if all("=" in t for t in items):
-            return parse_patch_options(items, default, sides)
+            return parse_patch_options(items, default, sides, aliases)
         patches = items
     if isinstance(patches, Mapping):
-        return parse_patch_options([f"{k}={v}" for k, v in patches.items()], default, sides)
+        items = [f"{k}={v}" for k, v in patches.items()]
+        return parse_patch_options(items, default, sides, aliases)
     names = [str(n).strip() for n in patches]
     if names and all("=" in n for n in names):  # the command line's --patch items
-        return parse_patch_options(names, default, sides)
+        return parse_patch_options(names, default, sides, aliases)
     if len(names) != len(sides) or any("=" in n for n in names):
         raise InputError(
             f"patch names {' '.join(names)!r}: give {COUNT_WORDS[len(sides)]} names "
@@ -146,11 +152,13 @@ def patch_specs(
     patches: Mapping[str, str] | Sequence[str] | str | None,
     default: Sequence[str] | None = None,
     sides: Sequence[str] = SIDES,
+    aliases: Mapping[str, str] | None = None,
 ) -> tuple[tuple[str, ...], tuple[str, ...]]:
     """The patch names of ``sides`` and their types from any of the routes' forms, where
     each name may carry ``:TYPE`` (one of ``TYPES``; default: wall for a patch named wall,
-    else patch). Sides of one name must agree on its type."""
-    typed = [split_type(item) for item in patch_names(patches, default, sides)]
+    else patch). Sides of one name must agree on its type; ``aliases`` as
+    :func:`patch_names`."""
+    typed = [split_type(item) for item in patch_names(patches, default, sides, aliases)]
     given: dict[str, str] = {}
     for name, kind in typed:
         if kind is not None and given.setdefault(name, kind) != kind:

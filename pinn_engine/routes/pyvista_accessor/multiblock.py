@@ -9,9 +9,9 @@ import pyvista as pv
 from pinn_engine.io.export.edges import edges_of, write_edges
 from pinn_engine.routes.multiblock_algorithm import BLOCKING, MOVE_EDGES, PinnMultiBlockAlgorithm
 from pinn_engine.routes.pyvista_accessor.inputs import as_polydata, polydata_list
+from pinn_engine.routes.pyvista_accessor.report import report
 from pinn_engine.routes.pyvista_accessor.running import (
     ROUTE,
-    grid_report,
     pyvista_words,
     run,
     warn_folded,
@@ -31,6 +31,7 @@ def pinn_mesh_blocks(
     orthogonal=None,
     aux=None,
     save_blocks=None,
+    progress_bar: bool = False,
 ) -> pv.MultiBlock:
     """Multi-block structured grid (SPEC 10) of a domain cut into four-sided blocks.
 
@@ -70,6 +71,8 @@ def pinn_mesh_blocks(
     save_blocks : str or os.PathLike, optional
         Also write the block edges meshed (the proposal of ``blocks="auto"``) to this
         ``.vtp``, open polylines: passed back as ``blocks=`` they give the same grid.
+    progress_bar : bool, default: False
+        Show a progress bar of the meshing, as pyvista's filters do.
 
     Returns
     -------
@@ -80,7 +83,7 @@ def pinn_mesh_blocks(
         side shared by two blocks is the same point in both.
 
     Warns ``pinn_engine.FoldedCellsWarning`` when cells are folded; raises
-    ``pinn_engine.errors.InputError`` (one line) for bad curves, ``ValueError`` for bad
+    ``pinn_engine.errors.InputError`` (a ``ValueError``, one line) for bad curves or
     settings.
 
     >>> blocks = pinn_mesh_blocks(pv.read("example_data/lshape.vtp"),
@@ -107,9 +110,14 @@ def pinn_mesh_blocks(
     with pyvista_words():
         for poly in polydata_list(aux, "aux"):
             alg.AddInputDataObject(2, poly)
-    boundary_data = lambda: as_polydata(boundary, closed=True, what="boundary")  # noqa: E731
-    out = run(alg, boundary_data, None if auto else blocks, "blocks")
-    warn_folded(grid_report(out[0])["multiblock"], MOVE_EDGES)
+    out = run(
+        alg,
+        lambda: as_polydata(boundary, closed=True, what="boundary"),
+        None if auto else blocks,
+        "blocks",
+        progress_bar,
+    )
+    warn_folded(report(out), MOVE_EDGES)
     if save_blocks is not None:
         write_edges(edges_of(alg.GetBlockEdges()), save_blocks)
     return out
