@@ -225,6 +225,14 @@ def flat_curves(curves: list[np.ndarray], source: str) -> list[np.ndarray]:
     return [np.ascontiguousarray(c[:, :2]) for c in curves]
 
 
+def train_blocks(*args, **kwargs) -> tuple[list[np.ndarray], dict]:
+    """The multi-block pinn's training (``blocks.multiblock.train_blocks``), imported only
+    when a pinn trains: the elliptic and tfi runs never import torch."""
+    from pinn_engine.blocks.multiblock import train_blocks as train
+
+    return train(*args, **kwargs)
+
+
 def run_blocks(
     settings: Settings,
     boundary: str | os.PathLike,
@@ -264,7 +272,16 @@ def run_blocks(
         names = [f"proposed edge {k}" for k in range(len(edge_curves))]
     flat = [replace(r, points=c) for r, c in zip(lines, curves[len(rings) + len(raws) :])]
     result = mesh_blocks(
-        curves[: len(rings)], edge_curves, names, settings, source, points, walls, progress, flat
+        curves[: len(rings)],
+        edge_curves,
+        names,
+        settings,
+        source,
+        points,
+        walls,
+        progress,
+        flat,
+        train_blocks,
     )
     dataset = multiblock_dataset(result.grids, result.cells, result.report, result.patches)
     return BlocksOutcome(result, dataset, edge_curves)

@@ -19,6 +19,8 @@ import numpy as np
 import torch
 
 from pinn_engine.blas import one_blas_thread
+from pinn_engine.blocks.mapping import Mapping
+from pinn_engine.blocks.model import TrainedModel
 from pinn_engine.classical.spacing import chord_tangents, classical_grid, working_spacing
 from pinn_engine.classical.tfi import node_params, tfi_grid
 from pinn_engine.geometry.auxlines import AuxLine
@@ -34,8 +36,6 @@ from pinn_engine.neural.losses import (
     loss_quality,
     total_loss,
 )
-from pinn_engine.neural.mapping import Mapping
-from pinn_engine.neural.model import TrainedModel
 from pinn_engine.neural.networks import CoordinateNet
 from pinn_engine.neural.trainer import (
     AutogradEvaluation,

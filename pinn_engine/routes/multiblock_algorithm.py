@@ -236,7 +236,7 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
         block edges meshed."""
         from pinn_engine.io.export.vtm import multiblock_dataset
         from pinn_engine.io.fileio import aux_lines_of
-        from pinn_engine.job import flat_curves
+        from pinn_engine.job import flat_curves, train_blocks
         from pinn_engine.multiblock.mesh import mesh_blocks
         from pinn_engine.multiblock.patches import parse_patch_points
         from pinn_engine.multiblock.walls import parse_walls
@@ -274,12 +274,13 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
             walls,
             self._block,
             [dataclasses.replace(line, points=c) for line, c in zip(aux, flat)],
+            train_blocks,
         )
         dataset = multiblock_dataset(result.grids, result.cells, result.report, result.patches)
         return dataset, result.report, edges
 
     def _block(self, info: dict) -> None:
-        """The pinn's progress block by block (``multiblock.network``) on the bar, the
+        """The pinn's progress block by block (``blocks.multiblock``) on the bar, the
         elliptic grid before it at 0."""
         if info["phase"] == "prepare":
             self._progress(info["step"] / info["total"], info["stage"])

@@ -23,6 +23,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 import torch
 
+from pinn_engine.blocks.mapping import Mapping
 from pinn_engine.blocks.quad import GUARD_TOL as QUAD_GUARD_TOL
 from pinn_engine.blocks.quad import QuadProblem
 from pinn_engine.classical.tfi import tfi_grid
@@ -31,7 +32,6 @@ from pinn_engine.errors import STOP, TrainingCancelled
 from pinn_engine.geometry.auxlines import AuxLine
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
 from pinn_engine.multiblock.quadblock import block_boundary
-from pinn_engine.neural.mapping import Mapping
 from pinn_engine.neural.networks import CoordinateNet
 from pinn_engine.neural.trainer import Guard, Progress, fit, pick_device, training_process
 from pinn_engine.quality import guard_figures, no_worse
