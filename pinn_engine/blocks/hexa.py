@@ -1,9 +1,9 @@
-"""The hexahedral block kind (SPEC 11, issue 25): the pinn of a six-faced 3D domain.
+"""The hexahedral block kind (SPEC 11): the pinn of a six-faced 3D domain.
 
 Its map (xi, eta, zeta) -> (x, y, z) on the unit cube is the 3D TFI of the six face grids,
 plus the start's correction D (hexa/field.py, zero on the faces), plus a bubble times three
 coordinate sub-networks (neural/networks.py): the faces are built in (hard boundary, as
-neural/mapping.py in 2D). The start is the converged 3D Winslow grid on the same boundary
+blocks/mapping.py in 2D). The start is the converged 3D Winslow grid on the same boundary
 nodes (the output layer starts at zero, so the map starts as that grid), the loss the 3D
 Winslow residual (losses.winslow_residual_3d) at random points, and the guard keeps the last
 L-BFGS state no worse than the start by blocks/quad.py's ``GUARD_TOL``, else the start: the
@@ -24,6 +24,7 @@ import numpy as np
 import torch
 
 from pinn_engine import __version__
+from pinn_engine.blocks.model import network_from, network_payload, read_payload
 from pinn_engine.blocks.quad import GUARD_TOL, GUARD_WALL_ANGLE
 from pinn_engine.errors import InputError
 from pinn_engine.hexa import quality, volume
@@ -35,7 +36,6 @@ from pinn_engine.neural.losses import (
     parameter_controls_3d,
     winslow_residual_3d,
 )
-from pinn_engine.neural.model import network_from, network_payload, read_payload
 from pinn_engine.neural.networks import CoordinateNet
 from pinn_engine.neural.trainer import (
     AutogradEvaluation,
@@ -50,14 +50,11 @@ from pinn_engine.settings import Settings
 from pinn_engine.starts.warmstart import lattice_for
 
 DIMENSIONS = 3  # the block's computational coordinates, and its physical ones
-FORMAT = "pinn-mesh-hexa-model/1"  # a saved hexahedral model (neural/model.py's is 2D)
+FORMAT = "pinn-mesh-hexa-model/1"  # a saved hexahedral model (blocks/model.py's is 2D)
 GRID_CHUNK = 1 << 14  # nodes per forward pass when a grid is evaluated (bounds its memory)
-# The Winslow start is solved on at most this many nodes (a coarser lattice of the same
-# shape above, starts/warmstart.py, and the map evaluated finer): the grid itself up to 41^3,
-# where the multigrid solve takes about 1.4 s and 0.26 GiB (docs/hexa.md, "Speed and
-# memory"), so the default meets issue 25's 41^3 bound against the Winslow grid of its own
-# size; at 81^3 the solve would take about 14 s and 0.85 GiB more, so larger grids start
-# from the 41^3 lattice.
+# The Winslow start is solved on at most this many nodes (larger grids start from a coarser
+# lattice of the same shape, starts/warmstart.py): 41^3 takes about 1.4 s and 0.26 GiB, 81^3
+# about 14 s and 0.85 GiB more (docs/hexa.md, "Speed and memory").
 MAX_LATTICE_NODES = 41**3
 # The 3D default's settings where they differ from the 2D ones (settings.py): 20 L-BFGS
 # iterations, not 120. On the bump box at 21^3 the residual falls from the Winslow start by

@@ -20,6 +20,8 @@ import numpy as np
 import torch
 
 from pinn_engine.blas import one_blas_thread
+from pinn_engine.blocks.mapping import Mapping
+from pinn_engine.blocks.model import TrainedModel
 from pinn_engine.classical.spacing import chord_tangents, classical_grid, working_spacing
 from pinn_engine.classical.tfi import node_params, tfi_grid
 from pinn_engine.classical.warm import WarmStart
@@ -36,8 +38,6 @@ from pinn_engine.neural.losses import (
     loss_quality,
     total_loss,
 )
-from pinn_engine.neural.mapping import Mapping
-from pinn_engine.neural.model import TrainedModel
 from pinn_engine.neural.networks import CoordinateNet
 from pinn_engine.neural.trainer import (
     AutogradEvaluation,
@@ -54,12 +54,8 @@ from pinn_engine.starts.untangle import acceptable, untangled_start
 from pinn_engine.starts.warmstart import elliptic_start, lattice_for, orthogonal_start
 
 # A state is kept if its grid has no more folded cells than the elliptic grid and mean and
-# worst MaxIncludedAngle within (mean, worst) degrees of it: half of issue 11's bounds (0.5,
-# 2), with auxiliary lines or without. The guard decides where training stops, so it keeps a
-# margin below the acceptance bounds (the grid is checked on the lattice, and the output off
-# it may differ). It was the bounds themselves with lines; half of them changed one tuning
-# grid, notch_gauss 161 x 81: mean 99.94 -> 99.76 (bound 100.10), worst 159.64 -> 159.56,
-# line distance 4e-4 -> 6e-4 of the diagonal (docs/holdout.md, "Stopping criteria").
+# worst MaxIncludedAngle within (mean, worst) degrees of it: half the hard shapes' acceptance
+# bounds (0.5, 2), a margin because the guard checks the lattice and the output may differ.
 GUARD_TOL = {False: (0.25, 1.0), True: (0.25, 1.0)}
 GUARD_WALL_ANGLE = 1.0  # degrees off 90 that the guard allows at orthogonal sides (SPEC 7: 2)
 # points per orthogonal side in the orthogonality term (SPEC 7): five per cell at 41 nodes,

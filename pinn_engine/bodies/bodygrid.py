@@ -47,18 +47,14 @@ from scipy.interpolate import CubicSpline
 from pinn_engine.bodies.airfoil import Body, FarField
 from pinn_engine.classical.spacing import exact_stretch
 from pinn_engine.errors import InputError
+from pinn_engine.quality import guard_figures, no_worse, worst_non_orthogonality
 
 TOPOLOGIES = ("o", "c")
-# All of these were set by hand when the body grids were built (4245c22, docs/airfoils.md), checked
-# on NACA 0012 and 4412 O- and C-grids against Construct2D (benchmarks/airfoils.py), not swept; each
-# line says what the value means.
-#
-# Nodes on the body and the wall-normal distribution (:func:`layout`), in units of the mean
-# tangential spacing on the body: the leading-edge spacing (0.2: fine where the curvature is), the
-# sharp trailing edge's (0.6: coarser, the edge is straight), a blunt base's at most 0.1 of its
-# height (about ten intervals across the straight base), the default first edge off the wall
-# (0.5: cells of aspect 2 at the wall); the C-grid's wake nodes a side, a share of ni (0.14: the
-# wake takes about 2 x 14 % of the nodes), and at least 3 intervals on either surface.
+# Set by hand against Construct2D, not swept (docs/tuning.md). Nodes on the body (:func:`layout`),
+# in units of the mean tangential spacing on it: the leading edge's (fine where the curvature is),
+# a sharp trailing edge's (coarser, the edge is straight), a blunt base's at most 0.1 of its height
+# (ten intervals across it); the default first edge off the wall (cells of aspect 2); the C-grid's
+# wake nodes a side as a share of ni; at least 3 intervals on either surface.
 LE_SPACING, TE_SPACING, BLUNT_TE_SPACING = 0.2, 0.6, 0.1
 # A blunt base (drawn straight, SPEC 9) takes at most this share of the wall's intervals (an
 # eighth: a coarse grid keeps most of its nodes on the surface, whose curvature needs them).
@@ -72,37 +68,21 @@ MIN_SURFACE_INTERVALS = 3
 FAR_GAP = 0.25
 MIN_WAKE = 0.1
 OUTFLOW_FIRST = 0.5
-# Marching (:func:`march`): the Laplacian weight of the normals' smoothing per pass away from the
-# wall (0.5: the largest that damps the sawtooth without flipping it), reached with distance as 1 -
-# exp(-d / (NORMAL_REACH chords)) (0.3: 63 % of it 0.3 chords off, the rows near the wall stay on
-# the wall's normals); the O-grid's tangential slide towards equal spacing (0.1: a fifth of the
-# normals' weight, a gentle pull); the row smoothing per unit of a row's shrink (2.0: at 25 %
-# shrink, the largest stable weight), capped at ROW_SMOOTHING_MAX (0.5, as above), reached with
-# distance as the normals' smoothing (near the wall every node steps exactly along its normal, so
-# the thin cells keep equal heights across a column pair: a height that differs by 1 % between the
-# sides of a cell 500 times longer than high moves its centroid by 40 % of its height); sub-steps no
-# longer than SUBSTEP of the row's smallest spacing (a step that outruns the spacing crosses lines
-# off a concave wall before smoothing acts), at most MAX_SUBSTEPS a row (a cap on the marching's
-# cost); smoothing passes a sub-step (2).
+# Marching (:func:`march`): the normals' Laplacian smoothing a pass (the largest that damps the
+# sawtooth without flipping it), reached with distance d as 1 - exp(-d / NORMAL_REACH chords); the
+# O-grid's tangential slide towards equal spacing; the row smoothing per unit of a row's shrink,
+# capped; sub-steps of at most SUBSTEP of the row's smallest spacing (a longer step crosses lines
+# off a concave wall), at most MAX_SUBSTEPS a row; smoothing passes a sub-step (docs/tuning.md).
 NORMAL_SMOOTHING, TANGENT_SMOOTHING, NORMAL_REACH = 0.5, 0.1, 0.3
 CONCAVE_SMOOTHING = 2.0
 ROW_SMOOTHING_MAX = 0.5
 SUBSTEP = 0.5
 MAX_SUBSTEPS = 40
 MARCH_PASSES = 2
-# A blunt C-grid's cut leaves the base's middle, where the wall line turns 90 degrees each way into
-# the cut: two concave corners whose marched lines would cross within the base's height. Around them
-# the normals and rows are smoothed from the wall on, as hyperbolic generators raise their smoothing
-# at concave corners: the normals splay round the corners and the rows' nodes slide apart. The
-# corners' weight, 1 at the middle, decays with a j = 0 node's distance d from it as
-# exp(-d / (CORNER_REACH half-base heights)) (a cut-off instead lets the smoothed columns overtake
-# the first held wake column). The base takes C_BASE_INTERVALS intervals (two a side of the cut):
-# the rows along the cut resolve the flow behind the base (they stack across its height), and every
-# node between the middle and a corner starts a column that the concave corners crowd. Measured on
-# 15 blunt C-grids (bases of 2e-4 to 2e-2 chord; NACA 0012, 2412, 4412, 4417, 0018; 97 x 25 to
-# 350 x 100; first layers 1e-5 to 1e-3 chord): reaches of 4 to 12 leave 2 folding (6 here), 3
-# leaves 3; two or six intervals fold more. The two that fold (a first layer near the base's
-# intervals; a 2 % base on NACA 4412, whose far rows fold) are refused by :func:`layout`.
+# A blunt C-grid's cut leaves the base's middle into two concave corners, around which the normals
+# and rows are smoothed from the wall on (as hyperbolic generators do), with a weight 1 at the
+# middle decaying with a wall node's distance d as exp(-d / (CORNER_REACH half-base heights)). The
+# base takes C_BASE_INTERVALS intervals, two a side of the cut (docs/tuning.md: the measurements).
 CORNER_REACH = 6.0
 C_BASE_INTERVALS = 4
 # C-grid: behind the thickest point the columns turn vertical within 0.02 chords of the wall (the
@@ -124,14 +104,10 @@ CONTROL_DECAY, CONTROL_PASSES = 0.05, 10
 JACOBI_RELAX = 0.5
 ELLIPTIC_SWEEPS = 1000
 HELD_ROWS = 2
-# The sweeps are checked after 10, then after twice as many as before (a check is a whole grid's
-# quality figures: the checks stay few, a run that fails early wastes few sweeps); they stop at the
-# last state with no more folds, mean and worst angles no worse than the reference's (mean, worst
-# tolerances) and a worst non-orthogonality no higher (measured on benchmarks/airfoils.py: with the
-# worst up to 2 degrees above and the mean free, the kept sweeps raised the mean by up to 0.7 degree
-# and, on the C-grids' thin wake cells, made checkMesh's non-orthogonality 89 degrees where the
-# reference's is 17; on the blunt C-grid, whose worst angle is at the base, angles alone let them
-# raise it from 84.9 to 88.9).
+# The sweeps are checked after 10, then after twice as many as before (few whole-grid checks, and a
+# run that fails early wastes few sweeps); they stop at the last state with no more folds, mean and
+# worst angles (mean, worst tolerances) and worst non-orthogonality no worse than the reference's
+# (docs/tuning.md: why the non-orthogonality, and no tolerance).
 FIRST_CHECK, CHECK_TOL = 10, (0.0, 0.0)
 # The body curve: samples of the spline for the leading edge (20001: 5e-5 of the perimeter) and of
 # an arc's length (2001).
@@ -452,8 +428,6 @@ def layout(
     dist = reach * exact_stretch(nj, h / reach)[0]
     reference, outer = reference_grid(inner, far, topology, dist, chord, n_w, base)
     if topology == "c" and base:
-        from pinn_engine.quality import guard_figures
-
         folded = guard_figures(reference)["folded_cells"]
         if folded:
             raise InputError(
@@ -700,8 +674,6 @@ def elliptic(lay: Layout, sweeps: int = ELLIPTIC_SWEEPS) -> tuple[np.ndarray, tu
     drift off a good marched grid, most on thin wall and wake cells, where a worst angle
     held elsewhere, as at a blunt C-grid's base, does not see it; ``lay.sweeps_kept`` says
     how far it went)."""
-    from pinn_engine.quality import guard_figures, no_worse, worst_non_orthogonality
-
     periodic = lay.topology == "o"
     controls = smoothed_controls(lay.reference, periodic)
     ref = guard_figures(lay.reference)

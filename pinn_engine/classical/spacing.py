@@ -19,7 +19,9 @@ from collections.abc import Callable
 import numpy as np
 
 from pinn_engine.classical.tfi import tfi_at
-from pinn_engine.quality import first_edges
+from pinn_engine.errors import InputError
+from pinn_engine.geometry.boundary_fit import ArcLengthFit
+from pinn_engine.quality import first_edges, folded_cells
 
 SIDE_AXIS = {"bottom": 1, "top": 1, "left": 0, "right": 0}  # parameter that the side stretches
 MAX_B = 1e12  # stretching beyond this (first spacing ~1e-12 of a side) is clipped
@@ -118,12 +120,10 @@ def exact_stretch(
 EXACT_TOL, EXACT_ITERATIONS = 1e-9, 60  # a first interval of 1e-9 is good to about 1e-7
 
 
-# Lines of one direction share one Vinokur stretching (by the geometric mean of their first
-# spacings); each line's own first spacing is reached by scaling its first intervals, by a
-# factor that decays over about this many cells from the side (and a uniform rescaling of
-# all of them to keep the total), so that a line's far part is hardly moved (rows shifted as
-# a whole along a curved wall would skew its thin first cells into folds) and its spacing
-# still grows monotonically away from the side.
+# Lines of one direction share one Vinokur stretching (the geometric mean of their first
+# spacings); each line reaches its own first spacing by a scaling of its intervals that decays
+# over about this many cells from the side (then rescaled to keep the total): its far part
+# hardly moves (rows shifted along a curved wall would fold its thin first cells).
 LOCAL_CELLS = 6.0
 
 
@@ -223,8 +223,8 @@ def working_spacing(spacing: tuple[tuple[str, float], ...], boundary) -> dict[st
         unit = h / boundary.frame.scale
         room = min(boundary.side(s).length for s in across[side])
         if unit >= 0.5 * room:
-            raise ValueError(
-                f"spacing {side}={h:g}: the first edge must be shorter than half "
+            raise InputError(
+                f"{{spacing}} {side}={h:g}: the first edge must be shorter than half "
                 f"of the {' and '.join(across[side])} sides "
                 f"({0.5 * room * boundary.frame.scale:.4g})"
             )
@@ -241,7 +241,6 @@ def elliptic_at(boundary, orthogonal: tuple[str, ...] = ()) -> Callable[[np.ndar
     boundary nodes of parameters (nj, ni, 2); each call starts from the previous grid and
     controls. ``evaluate.failed`` turns True when a solve did not converge."""
     from pinn_engine.classical.elliptic import safe_controlled_solve
-    from pinn_engine.quality import folded_cells
 
     tfi = tfi_at(boundary)
     last: list = [None]
@@ -307,7 +306,6 @@ def classical_grid(
     (distribution and Hilgenstock orthogonality); if that fails (no convergence, a folded
     cell or first edges off by more than 10 %), the interpolated elliptic map is evaluated
     at the distribution instead; ``info["elliptic"]`` says which."""
-    from pinn_engine.quality import folded_cells
 
     lengths = side_lengths(boundary)
     if method == "tfi":
@@ -338,7 +336,6 @@ def chord_tangents(
     angle measures, :func:`quality.grid_lines_angle`), not the curve's own tangent, which differs
     from it where the wall bends within a cell. ``along``: the parameters of the side's
     nodes when they are not uniform."""
-    from pinn_engine.geometry.boundary_fit import ArcLengthFit
 
     fit, step = ArcLengthFit(boundary), 1.0 / max(nodes - 1, 1)
     if along is not None:  # the nodes' parameters along the side (a spacing across it)

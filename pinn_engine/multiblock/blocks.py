@@ -22,6 +22,7 @@ from pinn_engine.multiblock.graph import Linework
 # A block's corner is a point of its outline that turns by at least this many degrees
 # (SPEC 10: edge ends, edge junctions, sharp boundary vertices)
 CORNER_TURN = 30.0
+CORNERS = 4  # every block has four corners (SPEC 10)
 
 
 @dataclass
@@ -93,18 +94,26 @@ def _faces(lines: Linework) -> list[Polygon]:
     return faces
 
 
-def _corners(ring: np.ndarray, inside: Point) -> np.ndarray:
+def _corners(ring: np.ndarray, inside: Point, junctions: set) -> np.ndarray:
     """Indices of the four corners of a face's ring, starting at the corner of smallest
-    x + y (ties: smallest y); refused with the count when there are not four."""
+    x + y (ties: smallest y): the points turning by CORNER_TURN or more, then, while fewer
+    than four, the ``junctions`` on the ring, largest turn first (a three-line junction
+    drawn straight through is a corner of the block on its flat side); refused with the
+    count when there are not four."""
     turns = np.abs(turning_angles(ring))
-    found = np.flatnonzero(turns >= CORNER_TURN)
-    if len(found) != 4:
+    found = list(np.flatnonzero(turns >= CORNER_TURN))
+    if len(found) < CORNERS:
+        more = [k for k in range(len(ring)) if _key(ring[k]) in junctions and k not in found]
+        more.sort(key=lambda k: -turns[k])
+        found = sorted(found + more[: CORNERS - len(found)])
+    if len(found) != CORNERS:
         raise InputError(
             f"the block at ({inside.x:.4g}, {inside.y:.4g}) has {len(found)} corners (points "
-            f"where its outline turns by {CORNER_TURN:g} degrees or more); every block needs "
-            "exactly 4: add or move block edges"
+            f"where its outline turns by {CORNER_TURN:g} degrees or more, and junctions "
+            "where it has fewer); every block needs exactly 4: add or move block edges"
         )
-    first = min(range(4), key=lambda k: (ring[found[k]].sum(), ring[found[k], 1]))
+    found = np.array(found)
+    first = min(range(CORNERS), key=lambda k: (ring[found[k]].sum(), ring[found[k], 1]))
     return np.roll(found, -first)
 
 
@@ -120,8 +129,8 @@ def topology(lines: Linework) -> Topology:
         for i, p in enumerate(curve):
             inner = closed or 0 < i < len(curve) - 1
             degree[_key(p)] = degree.get(_key(p), 0) + (2 if inner else 1)
-    cuts = [_corners(r, f.representative_point()) for r, f in zip(rings, faces)]
     junctions = {k for k, d in degree.items() if d != 2}
+    cuts = [_corners(r, f.representative_point(), junctions) for r, f in zip(rings, faces)]
     junctions |= {_key(r[c]) for r, cs in zip(rings, cuts) for c in cs}
     pieces: list[Piece] = []
     index: dict[bytes, int] = {}

@@ -1,6 +1,6 @@
 """A block of a multi-block grid as a four-sided domain (SPEC 1): its boundary through its
 side nodes, for the four-sided PINN that trains on it (``network.py``), and the auxiliary
-lines inside it (SPEC 2 in the block, issue 24 item 2).
+lines inside it (SPEC 2 in the block).
 
 An auxiliary line belongs to the block that holds its middle point (half its length along
 it) and runs, as SPEC 2's lines do, from one side of that block to the opposite side; its

@@ -12,17 +12,11 @@ import torch
 from pinn_engine.neural.jet import ETA, ETAETA, XI, XIETA, XIXI
 from pinn_engine.neural.jet.nd import pairs, second
 
-# loss_quality (``--objective quality``): the soft maximum's temperature, 0.0175 radians = 1 degree.
-# The log-sum-exp exceeds the largest angle by up to tau ln(corners) and weighs every corner within
-# a few tau of it: at 2 degrees (0.035, until issue 22's item 6) it traded the worst angle against
-# the number of nearly worst corners, and left h32_angle_kite 41 x 21's worst at 151.17 (TFI's +
-# 0.5: 151.13); at 1 degree 149.87, 26 of 26 tuning grids still pass, the hold-out 94 of 96 (93
-# before; docs/holdout.md, "Stopping criteria"); the mean term's weight (1: the mean and the soft
-# worst angle count alike, both bounded by issue 14's item 3); the sine below which a corner is
-# barred, 0.05 (177 degrees: nearly flat or reflex, a fold) and the barrier's weight (a reflex
-# corner, sine below 0, costs at least 100 * 0.05^2 = 0.25, as much as 14 degrees of the soft
-# maximum in radians: unfolding comes first). These three were set by hand with the objective
-# (c2c7443), not swept.
+# loss_quality (``--objective quality``): the soft maximum's temperature (1 degree in radians; the
+# log-sum-exp weighs every corner within a few tau of the largest angle); the mean term's weight
+# (the mean and the soft worst angle count alike); the sine below which a corner is barred (177
+# degrees: nearly flat or reflex, a fold) and the barrier's weight (a reflex corner costs at least
+# 0.25, 14 degrees of the soft maximum: unfolding comes first). How they were set: docs/tuning.md.
 QUALITY_TAU = 0.0175
 QUALITY_MEAN_WEIGHT = 1.0
 QUALITY_MIN_SINE = 0.05

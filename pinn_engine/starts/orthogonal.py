@@ -67,13 +67,11 @@ SHEAR_REACH = {False: 1.0, True: 0.5}
 # Worst angles of candidate grids are compared to 0.001 degrees (below that, differences of
 # solves with the same outcome), so that the mean decides between equal ones.
 RANK_DECIMALS = 3
-# Repair of a folded start: the sine of the flattest cell corner the barrier allows (0.1:
-# 174 degrees); (weight of the wall term against the scaled residual, L-BFGS iterations,
-# cells around a folded cell or a wall angle over REPAIR_WALL_TARGET whose nodes move) of
-# its tries, each where the ones before leave a fold or such an angle: first from the
-# solved grid, then (the chain) from the best grid so far, a light wall term that unfolds
-# and a heavier one that straightens the lines at the walls again (measured on the hard
-# shapes in benchmarks/orthogonal.py: no single try does both on all of them).
+# Repair of a folded start: the sine of the flattest cell corner the barrier allows (174
+# degrees); its tries (wall term's weight, L-BFGS iterations, cells around a defect that move),
+# each where the ones before leave a fold or a wall angle over REPAIR_WALL_TARGET, from the solved
+# grid, then (the chain) from the best so far: a light wall term unfolds, a heavier one
+# straightens the lines at the walls again (no single try does both on every hard shape).
 REPAIR_MIN_SINE = 0.1
 # What the repair aims at, and stops at (its stopping criterion, not SPEC 7's acceptance
 # bound errors.WALL_ANGLE_TOL = 2 degrees): lines within 1 degree of 90 at the orthogonal

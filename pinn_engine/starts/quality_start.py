@@ -27,7 +27,7 @@ from pinn_engine.neural.losses import corner_angles, loss_quality, nearest_on_li
 from pinn_engine.quality import folded_cells, guard_figures, orientation, shortest_edges
 from pinn_engine.starts.untangle import untangle
 
-MEAN_TOL = 0.5  # issue 14's bound on the mean MaxIncludedAngle against the elliptic grid
+MEAN_TOL = 0.5  # the objective's bound on the mean MaxIncludedAngle against the elliptic grid
 NODE_ITERATIONS = 100  # L-BFGS iterations of the node optimisation (0: none, an ablation)
 # A grid follows the auxiliary lines when it misses them by at most LINE_TOL (of the
 # diagonal) more than the boundary nodes fix; the line term's weight in the node optimisation

@@ -6,9 +6,8 @@ through D (zero along the four sides, since it interpolates zeros there) is adde
 base of the hard-boundary map, so that with the network's output layer at zero the map *is*
 the elliptic grid at the lattice nodes, and a smooth interpolant of it between them. Training
 on the Winslow and auxiliary-line losses then starts where the classical method ends, not at
-TFI: on
-shapes with sharp features the PINN from TFI stalls halfway or folds (issue 11), the warm
-start does not, and it needs tens of L-BFGS iterations instead of thousands of Adam epochs.
+TFI: on shapes with sharp features the PINN from TFI stalls halfway or folds, the warm start
+does not, and it needs tens of L-BFGS iterations instead of thousands of Adam epochs.
 """
 
 from __future__ import annotations

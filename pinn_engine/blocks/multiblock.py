@@ -1,4 +1,4 @@
-"""The multi-block ``pinn`` (SPEC 10, issue 24 item 2): the four-sided PINN block kind
+"""The multi-block ``pinn`` (SPEC 10): the four-sided PINN block kind
 (:mod:`pinn_engine.blocks.quad`) trained on each block of the multi-block elliptic grid.
 
 The elliptic grid is solved first, on all blocks at once (interfaces free, as
@@ -9,7 +9,7 @@ blocks. A block whose elliptic grid folds starts from it untangled (the same sid
 ``starts/untangle.py``). The block's guard keeps the start unless a trained state is no worse in
 folds, mean and worst MaxIncludedAngle, and in how grid lines cross the interfaces (the
 kink mean and max of the whole grid, the blocks trained so far at their kept grids): the
-multi-block grid is never worse than the elliptic one in issue 24's figures. A block with
+multi-block grid is never worse than the elliptic one in those figures. A block with
 auxiliary lines inside it (``quadblock.block_lines``) fits them as a four-sided domain's
 pinn does, its guard allowing that domain's tolerance above the elliptic block. The trainer
 knows nothing of blocks; the guard and its reference are this module's.
@@ -24,6 +24,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 import torch
 
+from pinn_engine.blocks.mapping import Mapping
 from pinn_engine.blocks.quad import GUARD_TOL as QUAD_GUARD_TOL
 from pinn_engine.blocks.quad import QuadProblem
 from pinn_engine.classical.tfi import tfi_grid
@@ -32,7 +33,6 @@ from pinn_engine.errors import STOP, TrainingCancelled
 from pinn_engine.geometry.auxlines import AuxLine
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
 from pinn_engine.multiblock.quadblock import block_boundary
-from pinn_engine.neural.mapping import Mapping
 from pinn_engine.neural.networks import CoordinateNet
 from pinn_engine.neural.trainer import Guard, Progress, fit, pick_device, training_process
 from pinn_engine.quality import folded_cells, guard_figures, no_worse
@@ -44,10 +44,10 @@ from pinn_engine.starts.untangle import untangle
 # and max (degrees above allowed): block by block no worse, so the whole grid is no worse
 GUARD_TOL = (0.0, 0.0)
 # A block with auxiliary lines trades some quality for following them, as a four-sided
-# domain's pinn does: its guard's tolerance (0.25 / 1 degree, within issue 24's 0.5 / 2)
+# domain's pinn does: its guard's tolerance (0.25 / 1 degree, within the bounds 0.5 / 2)
 AUX_GUARD_TOL = QUAD_GUARD_TOL[True]
 # Following a line bends the grid lines that leave its block: the guard lets the interface
-# kinks' mean and max rise to issue 24's bounds (degrees), or stay at the grid's before if higher
+# kinks' mean and max rise to these bounds (degrees), or stay at the grid's before if higher
 AUX_KINK_BOUND = (2.0, 15.0)
 
 # The interface kinks (degrees, ``mesh.interface_kinks``) of a multi-block grid given as its
