@@ -79,7 +79,7 @@ class Mesher:
     @classmethod
     def load(cls, path: str | os.PathLike, boundary: Boundary) -> Mesher:
         """A fitted mesher from a saved model; ``boundary`` must be the one it was trained on."""
-        from pinn_engine.neural.model import TrainedModel
+        from pinn_engine.blocks.model import TrainedModel
 
         model = TrainedModel.load(path, boundary)
         mesher = cls(model.settings)

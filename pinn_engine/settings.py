@@ -17,6 +17,7 @@ TOPOLOGIES = ("none", "o", "c")  # SPEC 9: a four-sided domain, an O-grid or a C
 BODY_METHODS = ("pinn", "tfi", "elliptic")  # the methods of O- and C-grids
 MULTIBLOCK_METHODS = ("tfi", "elliptic", "pinn")  # SPEC 10's methods in this build
 BLOCKS_METHOD = "pinn"  # multi-block's default method (SPEC 10), on every route
+AUTO_BLOCKS = "auto"  # block edges named so are proposed from the boundary (SPEC 13)
 # Grid sizes accepted on every route (command line, filter and panel, pyvista, Mesher)
 MAX_SIDE_NODES = 20_000
 MAX_NODES = 4_000_000  # about 1.5 GB of memory while meshing and writing

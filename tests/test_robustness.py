@@ -726,7 +726,7 @@ def test_nan_during_lbfgs_falls_back_to_the_adam_result(monkeypatch):
 
 
 def test_non_finite_grid_is_a_clear_error(tmp_path, capsys, monkeypatch):
-    from pinn_engine.neural.model import TrainedModel
+    from pinn_engine.blocks.model import TrainedModel
 
     monkeypatch.setattr(TrainedModel, "grid", lambda self, ni, nj: np.full((nj, ni, 2), np.nan))
     rc, _, err = run_cli([EXAMPLES / "wavy.vtp", *QUICK, "-o", tmp_path / "g.vts"], capsys)

@@ -16,45 +16,15 @@ from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonCore import vtkStringArray
 
 from pinn_engine.errors import InputError
+from pinn_engine.patchnames import SIDE_FIX, checked_name, default_type, split_type
 
 SIDES = ("bottom", "right", "top", "left")
 BOX_SIDES = ("imin", "imax", "jmin", "jmax", "kmin", "kmax")  # a hexahedral grid's (SPEC 11)
 COUNT_WORDS = {len(SIDES): "four", len(BOX_SIDES): "six"}  # side counts as messages say them
 # the route token (errors.ROUTE_WORDS) naming where the patches of that many sides are named
-PATCH_FIX = {len(SIDES): "{patch}", len(BOX_SIDES): "{face_patch}"}
-NAME = re.compile(r"^[A-Za-z0-9_-]{1,32}$")
+PATCH_FIX = {len(SIDES): SIDE_FIX, len(BOX_SIDES): "{face_patch}"}
 FIELD = "PatchNames"
 TYPES_FIELD = "PatchTypes"  # the boundary condition kind of each side, as PatchNames
-# A patch's type (``NAME:TYPE``), as each format writes it: OpenFOAM's patch type, CGNS's
-# BCType. "patch" is the untyped default (OpenFOAM's generic patch, CGNS user-defined).
-TYPES = {
-    "wall": ("wall", "BCWall"),
-    "inflow": ("patch", "BCInflow"),
-    "outflow": ("patch", "BCOutflow"),
-    "farfield": ("patch", "BCFarfield"),
-    "symmetry": ("symmetryPlane", "BCSymmetryPlane"),
-    "patch": ("patch", "BCTypeUserDefined"),
-}
-
-
-def default_type(name: str) -> str:
-    """A patch named ``wall`` (a body's wall, or a side the user calls so) is a wall."""
-    return "wall" if name.lower() == "wall" else "patch"
-
-
-def split_type(item: str, fix: str = PATCH_FIX[len(SIDES)]) -> tuple[str, str | None]:
-    """``NAME`` or ``NAME:TYPE`` -> (name, type or None), the type checked (``fix``: the
-    route token of ``PATCH_FIX`` an error names)."""
-    name, sep, kind = item.partition(":")
-    if not sep:
-        return name.strip(), None
-    kind = kind.strip().lower()
-    if kind not in TYPES:
-        raise InputError(f"patch type {kind!r} of {name.strip()!r}: use {', '.join(TYPES)} ({fix})")
-    return name.strip(), kind
-
-
-FRONT_AND_BACK = "frontAndBack"  # the two ends of an extruded output
 
 
 def _checked_typed(item: str, fix: str) -> str:
@@ -62,17 +32,6 @@ def _checked_typed(item: str, fix: str) -> str:
     name, kind = split_type(item, fix)
     checked_name(name, fix)
     return item if kind is None else f"{name}:{kind}"
-
-
-def checked_name(name: str, fix: str = PATCH_FIX[len(SIDES)]) -> str:
-    if not NAME.match(name):
-        raise InputError(f"patch name {name!r}: use 1 to 32 letters, digits, '_' or '-' ({fix})")
-    if name.lower() == FRONT_AND_BACK.lower():
-        raise InputError(
-            f"patch name {name!r} is reserved for the two ends of extruded "
-            f"outputs; choose another ({fix})"
-        )
-    return name
 
 
 def body_patch_names(topology: str) -> tuple[str, str, str, str]:

@@ -98,7 +98,14 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="EDGES",
         help="block edges (.vtp/.vtk, several open polylines a file; repeatable): mesh a "
         "multi-block domain (SPEC 10) into OUT.vtm; with --cell-size, --interfaces, "
-        "--method pinn (the default), elliptic or tfi",
+        "--method pinn (the default), elliptic or tfi. 'auto': edges proposed from the "
+        "boundary and its holes alone (SPEC 13)",
+    )
+    p.add_argument(
+        "--save-blocks",
+        metavar="PATH",
+        help="with --blocks: also write the block edges meshed (.vtp, open polylines; "
+        "the proposal of --blocks auto, to edit and mesh again with --blocks PATH)",
     )
     p.add_argument(
         "--method",

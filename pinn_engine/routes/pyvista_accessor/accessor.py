@@ -24,8 +24,10 @@ from pinn_engine.settings import Settings
 
 # the keywords of a multi-block domain (besides method and progress_bar), and those that
 # apply to it alone
-BLOCKS_KEYWORDS = ("blocks", "cell_size", "interfaces", "patches", "spacing", "orthogonal", "aux")
-BLOCKS_ONLY = ("blocks", "cell_size", "interfaces")
+BLOCKS_KEYWORDS = (
+    "blocks", "cell_size", "interfaces", "patches", "spacing", "orthogonal", "aux", "save_blocks",
+)  # fmt: skip
+BLOCKS_ONLY = ("blocks", "cell_size", "interfaces", "save_blocks")
 
 
 @pv.register_dataset_accessor("pinn_mesh", pv.PolyData)
@@ -86,6 +88,7 @@ class PinnMeshAccessor:
         farfield: float | None = None,
         cell_size: float | None = None,
         interfaces: str | None = None,
+        save_blocks: str | None = None,
         progress: Callable[[dict], bool | str | None] | None = None,
         progress_bar: bool = False,
         **settings,
@@ -104,9 +107,10 @@ class PinnMeshAccessor:
         method : {"pinn", "mgnet", "tfi", "elliptic"}, optional
             The paper's PINN (default), its MGNet baseline, transfinite interpolation or the
             elliptic (Winslow) grid; blocks and surfaces take pinn, tfi and elliptic.
-        blocks : PolyData, array_like, or a list/MultiBlock of them, optional
+        blocks : PolyData, array_like, a list/MultiBlock of them, or "auto", optional
             Block edges: this PolyData's closed polylines are then the outer boundary and
-            holes of a multi-block domain (SPEC 10, docs/multiblock.md).
+            holes of a multi-block domain (SPEC 10, docs/multiblock.md); ``"auto"``: edges
+            proposed from the boundary and holes alone (SPEC 13, docs/blocking.md).
         patches : dict, sequence of names or str, optional
             Boundary patch names, optionally typed ``"NAME:TYPE"``: ``{"bottom": "wall"}``
             by side (bottom right top left), ``{"imin": "inlet"}`` by face (imin ... kmax),
@@ -149,6 +153,9 @@ class PinnMeshAccessor:
         interfaces : {"free", "fixed"}, optional
             With ``blocks``: interface nodes solved like interior ones (default) or kept on
             the drawn edges.
+        save_blocks : str, optional
+            With ``blocks``: also write the block edges meshed (``.vtp``; the proposal of
+            ``blocks="auto"``), which passed back as ``blocks`` give the same grid.
         progress : callable, optional
             ``progress(info)`` during training (``info``: ``phase``, ``step``, ``total``,
             ``loss``); returning True cancels, ``pinn_engine.errors.STOP`` keeps the best
@@ -202,6 +209,7 @@ class PinnMeshAccessor:
                 farfield=farfield,
                 cell_size=cell_size,
                 interfaces=interfaces,
+                save_blocks=save_blocks,
                 progress=progress,
                 **settings,
             ).items()
