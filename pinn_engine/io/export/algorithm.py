@@ -24,18 +24,14 @@ from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkStructuredGrid
 
 from pinn_engine.errors import InputError, PinnMeshError
+from pinn_engine.io.export import FORMATS, is_box, write
 
 LABEL = "PINN Mesh writer"
-# formats offered in ParaView (its own writers cover .vts and .vtk): key -> (extension,
-# writer proxy name, pvpython: ``servermanager.writers.PINNMeshCGNSWriter(Input=..., ...)``;
-# file type in Save Data's list, short so that the list shows it whole)
-PARAVIEW_FORMATS = {
-    "xyz": ("xyz", "PINNMeshPLOT3DWriter", "PINN Mesh PLOT3D"),
-    "cgns": ("cgns", "PINNMeshCGNSWriter", "PINN Mesh CGNS"),
-    "su2": ("su2", "PINNMeshSU2Writer", "PINN Mesh SU2"),
-    "msh": ("msh", "PINNMeshGmshWriter", "PINN Mesh Gmsh"),
-    "openfoam": ("foam", "PINNMeshOpenFOAMWriter", "PINN Mesh OpenFOAM"),
-}
+# formats offered in ParaView (its own writers cover .vts and .vtk), as each registers
+# itself: key -> (extension, writer proxy name, pvpython:
+# ``servermanager.writers.PINNMeshCGNSWriter(Input=..., ...)``; file type in Save Data's
+# list, short so that the list shows it whole)
+PARAVIEW_FORMATS = {key: f.paraview for key, f in FORMATS.items() if f.paraview}
 
 
 class GridWriter(VTKPythonAlgorithmBase):
@@ -76,8 +72,6 @@ class GridWriter(VTKPythonAlgorithmBase):
     def GetIsThreeD(self) -> int:
         """1 when the connected input is a hexahedral grid (nothing to extrude), else 0:
         what the Save Data panel's Extrude Thickness is hidden by."""
-        from pinn_engine.io.export import is_box
-
         grid = self.GetInputDataObject(0, 0) if self.GetNumberOfInputConnections(0) else None
         return int(
             isinstance(grid, vtkStructuredGrid) and grid.GetNumberOfPoints() > 0 and is_box(grid)
@@ -93,8 +87,7 @@ class GridWriter(VTKPythonAlgorithmBase):
         return 0 if self._last_error else 1
 
     def RequestData(self, request, inInfo, outInfo):
-        from pinn_engine.io.export import write
-        from pinn_engine.io.export.multiblock import write_blocks
+        from pinn_engine.io.export.multiblock import write_blocks  # it imports this package
 
         self._last_error = self._last_message = ""
         try:

@@ -3,8 +3,12 @@
 from __future__ import annotations
 
 import argparse
+import difflib
 import functools
+import sys
+from typing import NoReturn
 
+from pinn_engine._version import __version__
 from pinn_engine.settings import (
     METHODS,
     OBJECTIVES,
@@ -14,7 +18,21 @@ from pinn_engine.settings import (
     Options,
 )
 
-FORMAT_KEYS = ("vts", "vtk", "xyz", "cgns", "su2", "msh", "openfoam")  # export.FORMATS
+
+class _FormatKeys:
+    """``--format``'s choices: the keys of the formats registered in ``io.export``, which
+    is imported only when they are read (``--format`` given, or the help shown)."""
+
+    def _keys(self) -> tuple[str, ...]:
+        from pinn_engine.io.export import FORMATS
+
+        return tuple(FORMATS)
+
+    def __contains__(self, key: object) -> bool:
+        return key in self._keys()
+
+    def __iter__(self):
+        return iter(self._keys())
 
 
 def _options(name: str) -> tuple:
@@ -31,9 +49,41 @@ class _SizeAction(argparse.Action):
         setattr(namespace, self.dest, values)
 
 
+class OneLineParser(argparse.ArgumentParser):
+    """argparse's parser whose complaint is one line with the way to the options (not the
+    usage block), and which names an unknown option, with the nearest known one, before
+    argparse could take the option's values for the boundary."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message} ({self.prog} -h lists the options)\n")
+
+    def parse_known_args(self, args=None, namespace=None):
+        args = sys.argv[1:] if args is None else [str(a) for a in args]
+        for token in args:
+            if token == "--":  # what follows is positional
+                break
+            if self._unknown_option(token):
+                flag = token.split("=", 1)[0]
+                longs = [o for o in self._option_string_actions if o.startswith("--")]
+                nearest = difflib.get_close_matches(flag, longs, n=1)
+                hint = f"; did you mean {nearest[0]}?" if nearest else ""
+                self.error(f"unknown option {flag}{hint}")
+        return super().parse_known_args(args, namespace)
+
+    def _unknown_option(self, token: str) -> bool:
+        """Whether ``token`` looks like an option and names none (nor a unique prefix of
+        one, nor a short option with its value attached)."""
+        if not token.startswith("-") or token == "-" or self._negative_number_matcher.match(token):
+            return False
+        flag = token.split("=", 1)[0]
+        if flag in self._option_string_actions or token[:2] in self._option_string_actions:
+            return False
+        return not any(o.startswith(flag) for o in self._option_string_actions)
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The parser of one run's command line (the batch reads its manifest rows with it too)."""
-    p = argparse.ArgumentParser(
+    p = OneLineParser(
         prog="pinn-mesh",
         description="Structured quadrilateral mesh of a four-sided 2D domain "
         "(PINN of Chen et al., with TFI, elliptic and MGNet baselines).",
@@ -88,6 +138,7 @@ def build_parser() -> argparse.ArgumentParser:
         "with a FaceId array (default 21 21 21)",
     )
     p.add_argument("--seed", type=int, default=None)
+    p.add_argument("--version", action="version", version=f"pinn-mesh {__version__}")
     p.add_argument(
         "--preset",
         choices=PRESETS,
@@ -105,7 +156,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--format",
-        choices=FORMAT_KEYS,
+        choices=_FormatKeys(),
         default=None,
         help="output format instead of the extension of -o (openfoam: -o DIR "
         "gets DIR/constant/polyMesh)",
