@@ -232,21 +232,25 @@ def run_blocks(
     orthogonal: Sequence[str] = (),
     progress: Callable[[dict], bool | str | None] | None = None,
     aux: Sequence[str | os.PathLike] = (),
+    cells: Sequence[str] = (),
 ) -> BlocksOutcome:
     """Mesh a multi-block domain (SPEC 10) from files: ``boundary`` (outer boundary and
     holes) and the block-edge files ``edges``, by ``settings.method`` (tfi, elliptic or
     pinn); ``patches``: ``X,Y=NAME[:TYPE]`` items naming boundary pieces; ``spacing``:
     ``NAME=H`` items, ``orthogonal``: ``NAME[,NAME...]`` items, on those patches;
     ``progress`` hears the pinn's training block by block; ``aux``: auxiliary-line files,
-    each line inside one block (the pinn fits it there)."""
+    each line inside one block (the pinn fits it there); ``cells``: ``X,Y=N`` items, N
+    cells along the chain through the block side nearest (X, Y)."""
     from pinn_engine.io.export.vtm import multiblock_dataset
     from pinn_engine.io.fileio import read_aux_lines, read_rings
+    from pinn_engine.multiblock.chains import parse_cells
     from pinn_engine.multiblock.mesh import mesh_blocks
     from pinn_engine.multiblock.patches import parse_patch_points
     from pinn_engine.multiblock.walls import parse_walls
 
     points = parse_patch_points(patches)  # refused before reading, not after
     walls = parse_walls(spacing, orthogonal)
+    chains = parse_cells(cells)
     source = str(boundary)
     rings = read_rings(boundary)
     raws = [line for path in edges for line in read_aux_lines(path)]
@@ -256,7 +260,16 @@ def run_blocks(
     edge_curves = curves[len(rings) : len(rings) + len(raws)]
     flat = [replace(r, points=c) for r, c in zip(lines, curves[len(rings) + len(raws) :])]
     result = mesh_blocks(
-        curves[: len(rings)], edge_curves, names, settings, source, points, walls, progress, flat
+        curves[: len(rings)],
+        edge_curves,
+        names,
+        settings,
+        source,
+        points,
+        walls,
+        progress,
+        flat,
+        chains,
     )
     dataset = multiblock_dataset(result.grids, result.cells, result.report, result.patches)
     return BlocksOutcome(result, dataset)

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 import functools
+import re
+import sys
 
 from pinn_engine.settings import (
     METHODS,
@@ -15,6 +17,25 @@ from pinn_engine.settings import (
 )
 
 FORMAT_KEYS = ("vts", "vtk", "xyz", "cgns", "su2", "msh", "openfoam")  # export.FORMATS
+# Options whose value may name a point X,Y (multi-block items) and so start with a minus
+PLACE_OPTIONS = ("--patch", "--spacing", "--cells")
+NEGATIVE = re.compile(r"^-\.?\d")  # a value starting with a negative number, not an option
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse, except that ``--patch -0.5,0=wall`` (a point item of a place option) is a
+    value: argparse takes any word starting with a minus, but a plain negative number, for
+    an option."""
+
+    def parse_known_args(self, args=None, namespace=None):
+        words = list(sys.argv[1:] if args is None else args)
+        out: list[str] = []
+        for word in words:
+            if out and out[-1] in PLACE_OPTIONS and NEGATIVE.match(word):
+                out[-1] = f"{out[-1]}={word}"
+            else:
+                out.append(word)
+        return super().parse_known_args(out, namespace)
 
 
 def _options(name: str) -> tuple:
@@ -33,7 +54,7 @@ class _SizeAction(argparse.Action):
 
 def build_parser() -> argparse.ArgumentParser:
     """The parser of one run's command line (the batch reads its manifest rows with it too)."""
-    p = argparse.ArgumentParser(
+    p = _Parser(
         prog="pinn-mesh",
         description="Structured quadrilateral mesh of a four-sided 2D domain "
         "(PINN of Chen et al., with TFI, elliptic and MGNet baselines).",
@@ -113,7 +134,17 @@ def build_parser() -> argparse.ArgumentParser:
         "patch) and optionally its type: wall, inflow, outflow, farfield, symmetry, patch "
         "(default: wall for a patch named wall, else patch); OpenFOAM and CGNS write the "
         "types. With --blocks: X,Y=NAME[:TYPE] names "
-        "the boundary piece nearest the point (X, Y) (default names: boundary, hole1, ...)",
+        "the boundary piece nearest the point (X, Y) (negative X too: --patch -0.5,0=wall), "
+        "boundary=NAME[:TYPE] or holeK=NAME[:TYPE] every piece of the outer boundary or of "
+        "hole K (default names: boundary, hole1, ...)",
+    )
+    p.add_argument(
+        "--cells",
+        action="append",
+        default=[],
+        metavar="X,Y=N",
+        help="with --blocks: N cells along the chain through the block side nearest the "
+        "point (X, Y) (opposite sides of every block share a count; repeatable)",
     )
     p.add_argument(
         "--extrude",
@@ -148,7 +179,9 @@ def build_parser() -> argparse.ArgumentParser:
         help="first grid edge leaving SIDE (bottom, right, top, left) has length "
         "H (your units), growing smoothly away from it; repeat for more sides "
         "(pinn, tfi, elliptic; SPEC 7). O- and C-grids: bottom=H, the first "
-        "cell off the body wall. With --blocks: NAME=H, a patch (--patch). Six-faced "
+        "cell off the body wall. With --blocks: NAME=H, a patch (--patch), or X,Y=H, the "
+        "cells on both sides of the block side nearest (X, Y) H across it, growing along "
+        "the chain by at most 1.25 a cell. Six-faced "
         "surfaces: PATCH=H, PATCH one of imin, imax, jmin, jmax, kmin, kmax",
     )
     p.add_argument(

@@ -71,8 +71,8 @@ class PinnMeshAccessor:
         ``blocks``: block edges (PolyData or a list): this PolyData's closed polylines are
         then the outer boundary and holes of a multi-block domain, and the keywords those of
         :func:`pinn_mesh_blocks` (``cell_size``, ``method``: pinn, elliptic or tfi,
-        ``interfaces``, ``patches``, ``spacing``, ``orthogonal``; ``aux``: auxiliary lines
-        inside blocks); returns a ``pyvista.MultiBlock``.
+        ``interfaces``, ``patches``, ``spacing``, ``orthogonal``, ``cells``; ``aux``:
+        auxiliary lines inside blocks); returns a ``pyvista.MultiBlock``.
 
         A surface with a ``FaceId`` cell array, or ``size=(ni, nj, nk)``: the hexahedral grid
         of :func:`pinn_mesh_hexa` (``size``, ``method``, ``patches``, ``spacing``,
