@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
+import difflib
 import math
 import re
-
-from pinn_engine.settings import NEURAL
+from collections.abc import Iterable
 
 _ARGUED = re.compile(r"\{(\w+):([^{}]*)\}")  # a token with its argument, {method:elliptic}
 
@@ -14,8 +14,11 @@ class PinnMeshError(Exception):
     """Any failure pinn-mesh reports to a user as one line (CLI exit status 2)."""
 
 
-class InputError(PinnMeshError):
+class InputError(PinnMeshError, ValueError):
     """Bad boundary, auxiliary line or option; the message names the problem and the source.
+
+    Also a ``ValueError``, as scikit-learn's input errors are: ``except ValueError`` catches
+    every bad input, ``except InputError`` the same ones and no programming error.
 
     A fix that differs between routes is written as a token of ``ROUTE_WORDS`` (e.g.
     ``{corners}``; one whose words hold ``{}`` takes its argument after a colon,
@@ -39,9 +42,27 @@ class InputError(PinnMeshError):
 
     def for_route(self, route: str) -> InputError:
         """This error worded for ``route``: "cli", "pyvista" or "paraview"."""
-        error = InputError(self.template, self.source)
+        error = type(self)(self.template, self.source)
         error.args = (self._text(route),)
         return error
+
+
+class SettingsError(InputError):
+    """A setting's value is refused: out of its range, an unknown name, or two settings that
+    do not go together (the VTK filters' lines begin "invalid settings")."""
+
+
+def unknown_name(
+    name: str, known: Iterable[str], what: str, form: str = "{}", also: Iterable[str] = ()
+) -> SettingsError:
+    """The error for an unknown ``what`` (a keyword, a setting) called ``name``: the nearest
+    of the ``known`` names (or of ``also``, names valid but not listed) suggested, then the
+    ``known`` ones listed, each written as ``form`` (``"{}="`` for keyword arguments)."""
+    known = list(known)
+    nearest = difflib.get_close_matches(name, [*known, *also], n=1)
+    hint = f"did you mean {form.format(nearest[0])}? " if nearest else ""
+    listing = ", ".join(form.format(k) for k in known)
+    return SettingsError(f"unknown {what} {form.format(name)}; {hint}the {what}s: {listing}")
 
 
 class TrainingError(PinnMeshError):
@@ -103,7 +124,7 @@ ROUTE_WORDS = {
         "blocks": "give them with --blocks EDGES",
         "with_blocks": "with --blocks, ",
         "pieces": "--patch X,Y=NAME",
-        "face_patch": "--patch SIDE=NAME",
+        "face_patch": "--patch SIDE=NAME or faceN=NAME",
         "spacing": "--spacing",
         "orthogonal": "--orthogonal",
     },
@@ -128,7 +149,7 @@ ROUTE_WORDS = {
         "blocks": "give them as blocks=",
         "with_blocks": "",
         "pieces": 'patches=["X,Y=NAME", ...]',
-        "face_patch": 'patches={"imin": "inlet", ...}',
+        "face_patch": 'patches={"imin": "inlet", "face3": "wall", ...}',
         "spacing": "spacing=",
         "orthogonal": "orthogonal=",
     },
@@ -155,7 +176,7 @@ ROUTE_WORDS = {
         "blocks": "select their source together with the boundary's (or connect it to Block Edges)",
         "with_blocks": "",
         "pieces": "Patch Names' X,Y=NAME items",
-        "face_patch": "Patch Names (imin imax jmin jmax kmin kmax, or SIDE=NAME)",
+        "face_patch": "Patch Names (imin imax jmin jmax kmin kmax, or SIDE=NAME or faceN=NAME)",
         "spacing": "First Edge Spacing",
         "orthogonal": "Orthogonal Patches",
     },
@@ -185,14 +206,14 @@ def folded_cells_warning(report: dict, route: str) -> str | None:
             f"{words['size']}: the converged elliptic grid on these boundary nodes folds "
             f"{guard['elliptic']['folded_cells']} cells as well"
         )
-    elif method in NEURAL:
-        fix = f"{words['method'].format('elliptic')}, {words['lbfgs']} or {words['seed']}"
     elif method == "tfi":
         fix = words["method"].format("elliptic")
-    elif report.get("settings", {}).get("elliptic_iterations"):
+    elif method == "elliptic" and report.get("settings", {}).get("elliptic_iterations"):
         fix = f"{words['converge']} or {words['method'].format('pinn')}"
-    else:
+    elif method == "elliptic":
         fix = words["method"].format("pinn")
+    else:  # a method that trains a network
+        fix = f"{words['method'].format('elliptic')}, {words['lbfgs']} or {words['seed']}"
     verb = "is" if folded == 1 else "are"
     return (
         f"{folded} of {cells} cells {verb} folded (a corner's orientation "

@@ -8,7 +8,7 @@ from __future__ import annotations
 import hashlib
 import json
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cache, partial
 from pathlib import Path
@@ -24,6 +24,7 @@ from pinn_engine.hexa import quality, volume
 from pinn_engine.hexa.block import cube_corners
 from pinn_engine.hexa.facegrid import FaceMap
 from pinn_engine.hexa.orthogonal import inner_angles, orthogonal_grid
+from pinn_engine.hexa.sharp import SHARP_ANGLE
 from pinn_engine.hexa.spacing import (
     PATCH_AXIS,
     check_spacing,
@@ -44,12 +45,15 @@ HEXA_METHOD = "pinn"  # SPEC 11's default (blocks/hexa.py; docs/hexa.md has its 
 HEXA_SIZE = (21, 21, 21)  # SPEC 11's default nodes along i, j and k
 MIN_NODES = 3  # fewer nodes along a direction leave no interior to solve for
 OPPOSITE_NODES = 4  # two orthogonal opposite patches each need a first layer of their own
+FACE_PREFIX = "face"  # faceN names the input face whose FaceId is N (SPEC 11's --patch)
+FACE_IDS = "FaceIds"  # field data: the input's FaceId of imin ... kmax
 
 
 @dataclass
 class HexResult:
     """The grid (ni, nj, nk, 3), its cell arrays, the run's seconds, the Winslow solve's
-    Picard steps and, for pinn, the trained model (blocks/hexa.py's HexaModel)."""
+    Picard steps, for pinn the trained model (blocks/hexa.py's HexaModel), the input face
+    of each side and the sides' patch names and types."""
 
     grid: np.ndarray
     cells: dict[str, np.ndarray]
@@ -57,14 +61,16 @@ class HexResult:
     iterations: int
     walls: dict[str, tuple[float, float, float]] = field(default_factory=dict)
     model: HexaModel | None = None
+    faces: dict[str, int] = field(default_factory=dict)  # side -> the input's FaceId
+    patches: tuple[tuple[str, ...], tuple[str, ...]] = patch_specs(None, sides=BOX_SIDES)
 
 
 def boundary_map(
     surface: Surface, topology: Topology, source: str
-) -> Callable[[np.ndarray], np.ndarray]:
+) -> tuple[Callable[[np.ndarray], np.ndarray], tuple[int, ...]]:
     """A function of node parameters (ni, nj, nk, 3) giving an array of that shape whose six
-    faces hold the face grids at those parameters (interior zero); the face maps are built
-    once."""
+    faces hold the face grids at those parameters (interior zero; the face maps are built
+    once), and the face index of each of imin ... kmax."""
     cube = cube_corners(surface, topology, source)
     faces = []
     for axis in range(3):
@@ -87,16 +93,32 @@ def boundary_map(
             at = [slice(None)] * 3
             at[axis] = 0 if value == 0 else -1
             faces.append(
-                (tuple(at), [a, b], FaceMap(surface, topology.face_triangles[face], sides))
+                (tuple(at), [a, b], FaceMap(surface, topology.face_triangles[face], sides), face)
             )
 
     def boundary(params: np.ndarray) -> np.ndarray:
         g = np.zeros(params.shape)
-        for at, axes, face in faces:
+        for at, axes, face, _ in faces:
             g[at] = face.grid(params[at][..., axes])
         return g
 
-    return boundary
+    return boundary, tuple(face for *_, face in faces)
+
+
+def face_names(surface: Surface, faces: Sequence[int]) -> dict[str, int]:
+    """Side (imin ... kmax) -> the input's FaceId of that face, from the face indices of
+    :func:`boundary_map`."""
+    return {side: int(surface.face_ids[f]) for side, f in zip(BOX_SIDES, faces, strict=True)}
+
+
+def named_patches(
+    patches: Mapping[str, str] | Sequence[str] | str | None, faces: dict[str, int]
+) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """The names and types of imin ... kmax from any route's patch setting, ``SIDE=NAME``
+    items naming a side as imin ... kmax or as ``faceN``, the face whose FaceId is N
+    (``faces``: :func:`face_names`)."""
+    aliases = {f"{FACE_PREFIX}{face}": side for side, face in sorted(faces.items(), key=by_face)}
+    return patch_specs(patches, sides=BOX_SIDES, aliases=aliases)
 
 
 def surface_key(surface: Surface) -> str:
@@ -223,6 +245,7 @@ def mesh_surface(
     spacing: dict[str, float] | None = None,
     orthogonal: tuple[str, ...] = (),
     load_model: str | None = None,
+    patches: Mapping[str, str] | Sequence[str] | str | None = None,
 ) -> HexResult:
     """Read ``path`` (an ``.stl``'s faces are found at its sharp edges), check its topology,
     build the face grids and the volume grid (:func:`mesh_polydata`)."""
@@ -239,6 +262,7 @@ def mesh_surface(
         spacing=spacing,
         orthogonal=orthogonal,
         load_model=load_model,
+        patches=patches,
     )
 
 
@@ -253,20 +277,26 @@ def mesh_polydata(
     spacing: dict[str, float] | None = None,
     orthogonal: tuple[str, ...] = (),
     load_model: str | None = None,
+    patches: Mapping[str, str] | Sequence[str] | str | None = None,
+    sharp_angle: float = SHARP_ANGLE,
 ) -> HexResult:
     """The hexahedral grid of a surface in memory (a polydata with a FaceId cell array, or
-    with ``sharp_edges`` faces found at its sharp edges; the filter's and pyvista's input),
-    ``source`` naming it in messages; ``spacing`` (patch -> first edge H) and ``orthogonal``
-    (patches) as SPEC 7 on the patches; pinn trains its network, or evaluates the one saved
-    at ``load_model``; ``progress(fraction, phase)`` is told each phase as it starts."""
+    with ``sharp_edges`` faces found at its edges sharper than ``sharp_angle`` degrees; the
+    filter's and pyvista's input), ``source`` naming it in messages; ``spacing`` (patch ->
+    first edge H) and ``orthogonal`` (patches) as SPEC 7 on the patches; ``patches`` names
+    them (:func:`named_patches`, checked before meshing); pinn trains its network, or
+    evaluates the one saved at ``load_model``; ``progress(fraction, phase)`` is told each
+    phase as it starts."""
     refuse(size, method, spacing, orthogonal)
     tell = progress or (lambda fraction, phase: None)
     spacing = spacing or {}
     began = time.perf_counter()
     tell(0.0, "face grids")
-    surface = surface_of(data, source, sharp_edges)
+    surface = surface_of(data, source, sharp_edges, sharp_angle)
     topology = find_topology(surface, source)
-    boundary = boundary_map(surface, topology, source)
+    boundary, sides = boundary_map(surface, topology, source)
+    faces = face_names(surface, sides)
+    named = named_patches(patches, faces)
     uniform = node_params(size, {})
     base = volume.tfi(boundary(uniform), uniform)
     check_spacing(spacing, base)
@@ -311,7 +341,8 @@ def mesh_polydata(
     tell(0.9, "quality")
     cells = cell_arrays(g)
     walls = wall_figures(g, spacing, orthogonal)
-    return HexResult(g, cells, time.perf_counter() - began, steps, walls, model)
+    seconds = time.perf_counter() - began
+    return HexResult(g, cells, seconds, steps, walls, model, faces, named)
 
 
 def wall_figures(
@@ -370,7 +401,8 @@ def figures(cells: dict[str, np.ndarray]) -> dict[str, float]:
 
 
 def report(result: HexResult, method: str) -> dict:
-    """What the grid's field data ``Report`` holds: method, size, cells, seconds, Picard
+    """What the grid's field data ``Report`` holds: method, size, the input's FaceId of each
+    of imin ... kmax (``faces``), cells, seconds, Picard
     steps, :func:`figures` as ``quality``, per patch with a spacing or orthogonality its
     ``walls`` figures (:func:`wall_figures`, in the multi-block report's keys) and the
     pinn's ``training`` (the trainer's info)."""
@@ -381,6 +413,7 @@ def report(result: HexResult, method: str) -> dict:
     return {
         "method": method,
         "size": list(result.grid.shape[:3]),
+        "faces": dict(result.faces),
         "cells": int(result.cells["Folded"].size),
         "seconds": result.seconds,
         "iterations": result.iterations,
@@ -390,16 +423,12 @@ def report(result: HexResult, method: str) -> dict:
     }
 
 
-def hexa_grid(
-    result: HexResult,
-    method: str,
-    patches: tuple[Sequence[str], Sequence[str]] | None = None,
-) -> vtkStructuredGrid:
+def hexa_grid(result: HexResult, method: str) -> vtkStructuredGrid:
     """The grid with SPEC 11's cell arrays (active scalars MaxIncludedAngle) and field
     data: ``Method``, ``Report`` (JSON, :func:`report`), each figure of its ``quality`` as
-    a number, and SPEC 8's ``PatchNames``, ``PatchTypes``: ``patches`` (the names and types
-    of imin ... kmax, as ``patch_specs`` gives them; default the sides' own names; the
-    writers rename them). What every route hands over."""
+    a number, ``FaceIds`` (the input's FaceId of imin ... kmax) and SPEC 8's
+    ``PatchNames``, ``PatchTypes`` (the result's ``patches``). What every route hands
+    over."""
     grid = structured_grid(result.grid)
     for name, values in result.cells.items():
         array = numpy_to_vtk(np.ascontiguousarray(values), deep=True)
@@ -408,7 +437,11 @@ def hexa_grid(
     grid.GetCellData().SetActiveScalars("MaxIncludedAngle")
     fd = grid.GetFieldData()
     run = report(result, method)
-    add_to_grid(grid, *(patches or patch_specs(None, sides=BOX_SIDES)))
+    add_to_grid(grid, *result.patches)
+    if result.faces:
+        ids = numpy_to_vtk(np.array([result.faces[s] for s in BOX_SIDES]), deep=True)
+        ids.SetName(FACE_IDS)
+        fd.AddArray(ids)
     for name, texts in (("Method", [method]), ("Report", [json.dumps(run, default=float)])):
         array = vtkStringArray()
         array.SetName(name)
@@ -432,8 +465,9 @@ def hexa_grid(
 
 
 def summary(result: HexResult, method: str) -> str:
-    """One line: cells, folds, min ScaledJacobian, mean/worst MaxIncludedAngle, time, and
-    what the network did."""
+    """One line: cells, folds, min ScaledJacobian, mean/worst MaxIncludedAngle, time, which
+    side each input face is (``face3=imin``, in FaceId order: an STL's faces are numbered so)
+    and what the network did."""
     ni, nj, nk = result.grid.shape[:3]
     c = result.cells
     return (
@@ -447,5 +481,18 @@ def summary(result: HexResult, method: str) -> str:
             "of the normal"
             for patch, (low, high, angle) in result.walls.items()
         )
+        + (f"; faces {face_line(result.faces)}" if result.faces else "")
         + (f"; {network_effect({'training': result.model.info})}" if result.model else "")
     )
+
+
+def face_line(faces: dict[str, int]) -> str:
+    """``face0=jmin face1=jmax ...``: each input face (by FaceId) and the side it is."""
+    return " ".join(
+        f"{FACE_PREFIX}{face}={side}" for side, face in sorted(faces.items(), key=by_face)
+    )
+
+
+def by_face(item: tuple[str, int]) -> int:
+    """The FaceId of a (side, FaceId) item: faces are listed in FaceId order."""
+    return item[1]

@@ -13,6 +13,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
+from pathlib import Path
 
 import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkPolyData, vtkStructuredGrid
@@ -21,7 +22,7 @@ from pinn_engine.cache import MeshCache
 from pinn_engine.errors import InputError
 from pinn_engine.mesher import Mesher
 from pinn_engine.result import MeshResult
-from pinn_engine.settings import NEURAL, Settings
+from pinn_engine.settings import AUTO_BLOCKS, NEURAL, Settings
 
 # A multi-block domain's curves must lie in one plane z = const: z may vary by this share
 # of the domain's size (SPEC 10's grids are built in the x, y plane)
@@ -208,6 +209,7 @@ class BlocksOutcome:
 
     result: object  # multiblock.mesh.MultiBlockResult
     dataset: vtkMultiBlockDataSet
+    edges: list[np.ndarray] = field(default_factory=list)  # the block edges meshed, (x, y)
 
 
 def flat_curves(curves: list[np.ndarray], source: str) -> list[np.ndarray]:
@@ -223,6 +225,14 @@ def flat_curves(curves: list[np.ndarray], source: str) -> list[np.ndarray]:
     return [np.ascontiguousarray(c[:, :2]) for c in curves]
 
 
+def train_blocks(*args, **kwargs) -> tuple[list[np.ndarray], dict]:
+    """The multi-block pinn's training (``blocks.multiblock.train_blocks``), imported only
+    when a pinn trains: the elliptic and tfi runs never import torch."""
+    from pinn_engine.blocks.multiblock import train_blocks as train
+
+    return train(*args, **kwargs)
+
+
 def run_blocks(
     settings: Settings,
     boundary: str | os.PathLike,
@@ -235,14 +245,16 @@ def run_blocks(
     cells: Sequence[str] = (),
 ) -> BlocksOutcome:
     """Mesh a multi-block domain (SPEC 10) from files: ``boundary`` (outer boundary and
-    holes) and the block-edge files ``edges``, by ``settings.method`` (tfi, elliptic or
-    pinn); ``patches``: ``X,Y=NAME[:TYPE]`` items naming boundary pieces; ``spacing``:
-    ``NAME=H`` items, ``orthogonal``: ``NAME[,NAME...]`` items, on those patches;
-    ``progress`` hears the pinn's training block by block; ``aux``: auxiliary-line files,
-    each line inside one block (the pinn fits it there); ``cells``: ``X,Y=N`` items, N
-    cells along the chain through the block side nearest (X, Y)."""
+    holes) and the block-edge files ``edges`` (``[AUTO_BLOCKS]``: edges proposed from the
+    boundary alone, SPEC 13), by ``settings.method`` (tfi, elliptic or pinn); ``patches``:
+    ``X,Y=NAME[:TYPE]`` items naming boundary pieces; ``spacing``: ``NAME=H`` items,
+    ``orthogonal``: ``NAME[,NAME...]`` items, on those patches; ``progress`` hears the
+    pinn's training block by block; ``aux``: auxiliary-line files, each line inside one
+    block (the pinn fits it there); ``cells``: ``X,Y=N`` items, N cells along the chain
+    through the block side nearest (X, Y)."""
     from pinn_engine.io.export.vtm import multiblock_dataset
     from pinn_engine.io.fileio import read_aux_lines, read_rings
+    from pinn_engine.multiblock.autoblock import propose_edges
     from pinn_engine.multiblock.chains import parse_cells
     from pinn_engine.multiblock.mesh import mesh_blocks
     from pinn_engine.multiblock.patches import parse_patch_points
@@ -253,11 +265,15 @@ def run_blocks(
     chains = parse_cells(cells)
     source = str(boundary)
     rings = read_rings(boundary)
-    raws = [line for path in edges for line in read_aux_lines(path)]
+    auto = [str(e) for e in edges] == [AUTO_BLOCKS]
+    raws = [] if auto else [line for path in edges for line in read_block_edges(path)]
     lines = [line for path in aux for line in read_aux_lines(path)]
     curves = flat_curves(rings + [r.points for r in raws + lines], source)
     names = [r.name for r in raws]
     edge_curves = curves[len(rings) : len(rings) + len(raws)]
+    if auto:
+        edge_curves = propose_edges(curves[: len(rings)], source)
+        names = [f"proposed edge {k}" for k in range(len(edge_curves))]
     flat = [replace(r, points=c) for r, c in zip(lines, curves[len(rings) + len(raws) :])]
     result = mesh_blocks(
         curves[: len(rings)],
@@ -269,7 +285,20 @@ def run_blocks(
         walls,
         progress,
         flat,
+        train_blocks,
         chains,
     )
     dataset = multiblock_dataset(result.grids, result.cells, result.report, result.patches)
-    return BlocksOutcome(result, dataset)
+    return BlocksOutcome(result, dataset, edge_curves)
+
+
+def read_block_edges(path: str | os.PathLike) -> list:
+    """The open polylines of a block-edge file; none from a file that holds no line (a
+    four-sided domain's saved proposal, SPEC 13)."""
+    from pinn_engine.io.fileio import AUX_FORMATS, _check_file, aux_lines_of, read_polydata
+
+    source = _check_file(Path(path), AUX_FORMATS)
+    poly = read_polydata(Path(path))
+    if not poly.GetNumberOfLines():
+        return []
+    return aux_lines_of(poly, source)

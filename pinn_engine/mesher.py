@@ -11,7 +11,7 @@ import numpy as np
 from pinn_engine.classical.elliptic import winslow_solve, winslow_sweeps
 from pinn_engine.classical.spacing import classical_grid, fit_params, side_lengths, working_spacing
 from pinn_engine.classical.tfi import tfi_grid
-from pinn_engine.errors import NotFittedError, PinnMeshError, TrainingError
+from pinn_engine.errors import NotFittedError, PinnMeshError, SettingsError, TrainingError
 from pinn_engine.geometry.auxlines import AuxLine, line_distances
 from pinn_engine.geometry.boundary import Boundary
 from pinn_engine.geometry.boundary_fit import make_fit
@@ -55,10 +55,7 @@ class Mesher:
 
         ``progress(info)`` is called during training; returning True cancels it.
         """
-        try:
-            working_spacing(self.settings.spacing, boundary)  # checked before any work
-        except ValueError as exc:
-            raise PinnMeshError(str(exc)) from None
+        working_spacing(self.settings.spacing, boundary)  # checked before any work
         self.boundary_ = boundary
         self.aux_lines_ = list(aux_lines) if self.settings.method == "pinn" else []
         self.model_ = None
@@ -82,7 +79,7 @@ class Mesher:
     @classmethod
     def load(cls, path: str | os.PathLike, boundary: Boundary) -> Mesher:
         """A fitted mesher from a saved model; ``boundary`` must be the one it was trained on."""
-        from pinn_engine.neural.model import TrainedModel
+        from pinn_engine.blocks.model import TrainedModel
 
         model = TrainedModel.load(path, boundary)
         mesher = cls(model.settings)
@@ -95,7 +92,7 @@ class Mesher:
         self._check_fitted()
         problem = grid_size_problem(ni, nj)
         if problem:
-            raise ValueError(f"grid size {ni} x {nj}: {problem}")
+            raise SettingsError(f"grid size {ni} x {nj}: {problem}")
         with reuse_freed_memory():
             start = time.perf_counter()
             unit = self._grid_unit(ni, nj)
@@ -145,10 +142,7 @@ class Mesher:
         """The grid under ``spacing``/``orthogonal`` (SPEC 7, spacing.py): node parameters
         iterated until every first edge has its length; the neural map is evaluated there."""
         s = self.settings
-        try:
-            spacing = working_spacing(s.spacing, self.boundary_)
-        except ValueError as exc:
-            raise PinnMeshError(str(exc)) from None
+        spacing = working_spacing(s.spacing, self.boundary_)
         if self.model_ is None:
             return classical_grid(self.boundary_, ni, nj, s.method, spacing, s.orthogonal)[1]
         mapping = self.model_.mapping

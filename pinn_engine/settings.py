@@ -7,6 +7,8 @@ import numbers
 import re
 from dataclasses import asdict, dataclass, fields, replace
 
+from pinn_engine.errors import SettingsError, unknown_name
+
 METHODS = ("pinn", "mgnet", "tfi", "elliptic")
 NEURAL = ("pinn", "mgnet")  # the methods that train a network
 PRESETS = ("default", "paper")
@@ -15,6 +17,7 @@ TOPOLOGIES = ("none", "o", "c")  # SPEC 9: a four-sided domain, an O-grid or a C
 BODY_METHODS = ("pinn", "tfi", "elliptic")  # the methods of O- and C-grids
 MULTIBLOCK_METHODS = ("tfi", "elliptic", "pinn")  # SPEC 10's methods in this build
 BLOCKS_METHOD = "pinn"  # multi-block's default method (SPEC 10), on every route
+AUTO_BLOCKS = "auto"  # block edges named so are proposed from the boundary (SPEC 13)
 # Grid sizes accepted on every route (command line, filter and panel, pyvista, Mesher)
 MAX_SIDE_NODES = 20_000
 MAX_NODES = 4_000_000  # about 1.5 GB of memory while meshing and writing
@@ -45,7 +48,7 @@ def parse_sides(value) -> tuple[str, ...]:
     names = [str(n).strip().lower() for n in names if str(n).strip()]
     bad = [n for n in names if n not in SIDE_NAMES]
     if bad:
-        raise ValueError(f"unknown side {bad[0]!r}; use {', '.join(SIDE_NAMES)}")
+        raise SettingsError(f"unknown side {bad[0]!r}; use {', '.join(SIDE_NAMES)}")
     return tuple(s for s in SIDE_NAMES if s in names)
 
 
@@ -63,7 +66,7 @@ def parse_spacing(value) -> tuple[tuple[str, float], ...]:
             if isinstance(part, str):
                 side, sep, h = part.partition("=")
                 if not sep:
-                    raise ValueError(f"spacing {part!r}: write SIDE=H, e.g. bottom=0.001")
+                    raise SettingsError(f"spacing {part!r}: write SIDE=H, e.g. bottom=0.001")
                 items.append((side, h))
             else:
                 side, h = part
@@ -72,15 +75,15 @@ def parse_spacing(value) -> tuple[tuple[str, float], ...]:
     for side, h in items:
         side = str(side).strip().lower()
         if side not in SIDE_NAMES:
-            raise ValueError(f"spacing: unknown side {side!r}; use {', '.join(SIDE_NAMES)}")
+            raise SettingsError(f"spacing: unknown side {side!r}; use {', '.join(SIDE_NAMES)}")
         if side in out:
-            raise ValueError(f"spacing: side {side} given twice")
+            raise SettingsError(f"spacing: side {side} given twice")
         try:
             h = float(h)
         except (TypeError, ValueError):
-            raise ValueError(f"spacing {side}={h!r}: H must be a number") from None
+            raise SettingsError(f"spacing {side}={h!r}: H must be a number") from None
         if not (0 < h < float("inf")):
-            raise ValueError(f"spacing {side}={h}: H must be a finite length > 0")
+            raise SettingsError(f"spacing {side}={h}: H must be a finite length > 0")
         out[side] = h
     return tuple((s, out[s]) for s in SIDE_NAMES if s in out)
 
@@ -251,26 +254,28 @@ class Settings:
         for name in PARAMETER_CONSTRAINTS:
             problem = setting_problem(name, getattr(self, name))
             if problem:
-                raise ValueError(f"{name} {getattr(self, name)!r}: {problem}")
+                raise SettingsError(f"{name} {getattr(self, name)!r}: {problem}")
         if self.method != "pinn":  # the objective is the pinn's (make_settings says so)
             object.__setattr__(self, "objective", "winslow")
         if self.warm_start == "elliptic" and self.boundary_mode != "hard":
-            raise ValueError(
+            raise SettingsError(
                 "the elliptic warm start needs the hard boundary mode; with the "
                 "penalty boundary set the warm start to none"
             )
         lattice = tuple(int(n) for n in self.lattice)
         if len(lattice) != 2 or min(lattice) < 2:
-            raise ValueError(f"lattice must be two node counts of at least 2, got {self.lattice}")
+            raise SettingsError(
+                f"lattice must be two node counts of at least 2, got {self.lattice}"
+            )
         object.__setattr__(self, "lattice", lattice)  # lists (JSON, saved models) -> tuple
         object.__setattr__(self, "spacing", parse_spacing(self.spacing))
         object.__setattr__(self, "orthogonal", parse_sides(self.orthogonal))
         if self.topology != "none":
             self._check_body()
         elif self.naca:
-            raise ValueError(f"naca {self.naca}: a NACA section needs topology o or c")
+            raise SettingsError(f"naca {self.naca}: a NACA section needs topology o or c")
         if self.orthogonal and self.method not in ("pinn", "elliptic"):
-            raise ValueError(
+            raise SettingsError(
                 f"orthogonal sides need the pinn or elliptic method, not {self.method}"
             )
         if (
@@ -278,7 +283,7 @@ class Settings:
             and self.elliptic_iterations
             and (self.spacing or self.orthogonal)
         ):
-            raise ValueError(
+            raise SettingsError(
                 "spacing and orthogonal sides need the converged elliptic solver "
                 "(elliptic_iterations 0, not the paper's sweeps)"
             )
@@ -287,20 +292,20 @@ class Settings:
         """The rules of O- and C-grids (SPEC 9): their methods, and the wall as the one side
         that spacing and orthogonality apply to."""
         if self.method not in BODY_METHODS:
-            raise ValueError(
+            raise SettingsError(
                 f"method {self.method}: O- and C-grids are made by "
                 f"{', '.join(BODY_METHODS)} ({self.method} meshes four-sided domains only)"
             )
         if self.objective == "quality":
-            raise ValueError("objective quality: for four-sided domains, not O- and C-grids")
+            raise SettingsError("objective quality: for four-sided domains, not O- and C-grids")
         if any(side != "bottom" for side, _ in self.spacing):
-            raise ValueError(
+            raise SettingsError(
                 "spacing: an O- or C-grid takes bottom=H (the first layer off the wall)"
             )
         if any(side != "bottom" for side in self.orthogonal):
-            raise ValueError("orthogonal: an O- or C-grid takes bottom (the body wall)")
+            raise SettingsError("orthogonal: an O- or C-grid takes bottom (the body wall)")
         if self.orthogonal and self.method == "tfi":
-            raise ValueError(
+            raise SettingsError(
                 "orthogonal bottom: tfi's straight columns cannot leave the wall at right "
                 "angles; use method elliptic or pinn"
             )
@@ -364,8 +369,11 @@ def make_settings(method: str = "pinn", preset: str = "default", **overrides) ->
     if preset == "paper":
         base = replace(base, **PAPER)
     given = {k: v for k, v in overrides.items() if v is not None}
+    for name in given:
+        if name not in Settings.__dataclass_fields__:
+            raise unknown_name(name, Settings.__dataclass_fields__, "setting")
     if given.get("objective") == "quality" and method != "pinn":
-        raise ValueError(f"objective quality is for the pinn method, not {method}")
+        raise SettingsError(f"objective quality is for the pinn method, not {method}")
     if given.get("boundary_mode") == "penalty" and "warm_start" not in given:
         given["warm_start"] = "none"
     if given.get("warm_start") == "none" and preset == "default":

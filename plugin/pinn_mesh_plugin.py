@@ -41,7 +41,11 @@ try:
     from pinn_engine.routes.airfoil_algorithm import AirfoilReader, AirfoilSource
     from pinn_engine.routes.algorithm import PinnMeshAlgorithm
     from pinn_engine.routes.hexa_algorithm import PinnHexaAlgorithm
-    from pinn_engine.routes.multiblock_algorithm import INTERFACES, PinnMultiBlockAlgorithm
+    from pinn_engine.routes.multiblock_algorithm import (
+        BLOCKING,
+        INTERFACES,
+        PinnMultiBlockAlgorithm,
+    )
     from pinn_engine.settings import (
         BLOCKS_METHOD,
         MAX_SIDE_NODES,
@@ -606,8 +610,13 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
     "number of cells and a node on a shared side is the same point in both blocks. "
     "Output: one structured grid a block (block0, block1, ...) with the cells' "
     "MaxIncludedAngle, MinIncludedAngle, ScaledJacobian and Folded, and the report as "
-    "field data. Guide: docs/multiblock.md of the pinn-mesh checkout.",
+    "field data. Guide: docs/multiblock.md of the pinn-mesh checkout. Blocking "
+    "Automatic proposes the block edges from the boundary and its holes alone (SPEC 13, "
+    "docs/blocking.md); the second output, Block Edges, holds the edges meshed, to copy, "
+    "edit and connect as block edges.",
 )
+@smproperty.xml('<OutputPort name="Blocks" index="0"/>')
+@smproperty.xml('<OutputPort name="Block Edges" index="1"/>')
 class PINNMultiBlockMesh(PinnMultiBlockAlgorithm):
     """The ParaView face of
     :class:`pinn_engine.routes.multiblock_algorithm.PinnMultiBlockAlgorithm`."""
@@ -625,6 +634,19 @@ class PINNMultiBlockMesh(PinnMultiBlockAlgorithm):
 
     def RemoveAllAuxiliaryLines(self):
         self.RemoveAllInputConnections(2)
+
+    @_intvector(
+        name="Blocking",
+        default_values=0,
+        enum=[b.capitalize() for b in BLOCKING],
+        doc="Manual: the block edges are the open polylines you give (on Input or Block "
+        "Edges). Automatic: they are proposed from the boundary and its holes alone (leave "
+        "Block Edges empty): O-rings round holes, an edge from each concave corner, "
+        "junction centres cut round their middle (docs/blocking.md); the output port Block "
+        "Edges shows them.",
+    )
+    def P00Blocking(self, index):
+        self.SetBlocking(int(index))
 
     @_intvector(
         name="Method",

@@ -5,13 +5,20 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 PYTHON=${PYTHON:-python3}
 stamp=.venv/.installed
-if [ -f "$stamp" ] && [ "$stamp" -nt pyproject.toml ]; then
+# what the install builds from: the package's metadata and the C++ kernels it compiles
+sources=(pyproject.toml setup.py pinn_engine/neural/jet/kernels.cpp)
+fresh=1
+for source in "${sources[@]}"; do
+  [ -f "$stamp" ] && [ "$stamp" -nt "$source" ] || fresh=0
+done
+if [ "$fresh" = 1 ]; then
   exit 0
 fi
 "$PYTHON" -c 'import sys; assert sys.version_info >= (3, 10), "pinn-mesh needs Python 3.10+"'
 [ -x .venv/bin/python ] || "$PYTHON" -m venv .venv
 .venv/bin/python -m pip install --quiet --upgrade pip
 .venv/bin/python -m pip install --quiet "torch==2.13.0"
+echo "installing pinn-mesh: its C++ jet kernels compile now, not at the first run (about 30 s)"
 .venv/bin/python -m pip install --quiet -e ".[test]"
 touch "$stamp"
 echo "pinn-mesh installed in .venv (command: .venv/bin/pinn-mesh)"

@@ -4,6 +4,7 @@ a route added without touching the trainer or the other routes."""
 from __future__ import annotations
 
 import ast
+import itertools
 import re
 import tokenize
 from pathlib import Path
@@ -158,6 +159,63 @@ def test_recipe_route(tmp_path):
 
     expected = pv.read(out).points[:, :2].reshape(11, 21, 2)
     np.testing.assert_allclose(grid, expected, atol=1e-12)
+
+
+def _layers() -> list[set[str]]:
+    """The layers of docs/architecture.md's picture, top first: each line of its first text
+    block that starts one space in names the units (modules or sub-packages) of one layer."""
+    text = (ROOT / "docs" / "architecture.md").read_text()
+    picture = text.split("```text\n", 1)[1].split("```", 1)[0]
+    units = {p.stem for p in PACKAGE.glob("*.py")} | {
+        p.parent.name for p in PACKAGE.glob("*/__init__.py")
+    }
+    layers = []
+    for line in picture.splitlines():
+        if line.startswith(" ") and not line.startswith("  "):
+            words = [w.rstrip("/") for w in line.split()]
+            layers.append(set(itertools.takewhile(lambda w: w in units, words)))
+    return layers
+
+
+def _imports(path: Path) -> list[tuple[int, str]]:
+    """(line, unit) of every import of the package's own units in ``path``, at module level
+    or inside functions alike (a lazy import is still an arrow of the picture)."""
+    out = []
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            names = [f"{node.module}.{a.name}" for a in node.names]
+            if node.module != "pinn_engine":
+                names = [node.module]
+        elif isinstance(node, ast.Import):
+            names = [a.name for a in node.names]
+        else:
+            continue
+        out += [(node.lineno, n.split(".")[1]) for n in names if n.startswith("pinn_engine.")]
+    return out
+
+
+def test_imports_follow_the_architecture_picture():
+    """Every unit is on one layer of the picture, and imports only its own modules, units
+    of lower layers, or (on the ground floor) its neighbours: no arrow runs up or across."""
+    layers = _layers()
+    level = {unit: k for k, layer in enumerate(layers) for unit in layer}
+    ground = len(layers) - 1
+    units = {p.stem for p in PACKAGE.glob("*.py")} | {
+        p.parent.name for p in PACKAGE.glob("*/__init__.py")
+    }
+    assert units - {"__init__"} == set(level), "units missing from the picture or stale there"
+    upward = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        rel = path.relative_to(PACKAGE).parts
+        here = rel[0].removesuffix(".py")
+        if here == "__init__":
+            continue
+        for line, unit in _imports(path):
+            if unit not in level or unit == here:
+                continue
+            if level[unit] < level[here] or (level[unit] == level[here] != ground):
+                upward.append(f"pinn_engine/{'/'.join(rel)}:{line} imports {unit}")
+    assert not upward, f"imports against docs/architecture.md's picture: {upward}"
 
 
 COMMENT_BLOCK_LINES = 5  # the longest run of comment lines: what a value means, not its history

@@ -82,7 +82,8 @@ def test_faceid_chooses_the_3d_route_and_its_defaults(bend):
         (
             lambda s: s.pinn_mesh(size=SIZE, patches={"bottom": "wall"}),
             InputError,
-            'SIDE one of imin, imax, jmin, jmax, kmin, kmax (patches={"imin": "inlet", ...})',
+            "SIDE one of imin, imax, jmin, jmax, kmin, kmax, face0, face1, face2, face3, face4, "
+            'face5 (patches={"imin": "inlet", "face3": "wall", ...})',
         ),
         (
             lambda s: s.pinn_mesh(size=SIZE, method="tfi", orthogonal="kmin"),
@@ -172,13 +173,14 @@ def test_algorithm_takes_the_command_lines_patch_options(
             "SetPatchNames",
             "imin=inlet bottom=wall",
             "patch 'bottom=wall': expected SIDE=NAME with SIDE one of imin, imax, jmin, jmax, "
-            "kmin, kmax (Patch Names (imin imax jmin jmax kmin kmax, or SIDE=NAME))",
+            "kmin, kmax, face0, face1, face2, face3, face4, face5 (Patch Names (imin imax jmin "
+            "jmax kmin kmax, or SIDE=NAME or faceN=NAME))",
         ),
         (
             "SetPatchNames",
             "kmin=floor:hot",
             "patch type 'hot' of 'floor': use wall, inflow, outflow, farfield, symmetry, patch "
-            "(Patch Names (imin imax jmin jmax kmin kmax, or SIDE=NAME))",
+            "(Patch Names (imin imax jmin jmax kmin kmax, or SIDE=NAME or faceN=NAME))",
         ),
         (
             "SetSpacing",

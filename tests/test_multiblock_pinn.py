@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 from conftest import ROOT
 
+from pinn_engine.blocks.multiblock import train_block, train_blocks
 from pinn_engine.classical.tfi import tfi_of_sides
 from pinn_engine.errors import STOP
 from pinn_engine.job import run_blocks
 from pinn_engine.multiblock.mesh import mesh_blocks
-from pinn_engine.multiblock.network import train_block, train_blocks
 from pinn_engine.quality import guard_figures
 from pinn_engine.settings import make_settings
 
@@ -61,7 +61,9 @@ def test_the_guard_keeps_interfaces_as_smooth_as_elliptic(monkeypatch):
     rings, edges = make_multiblock.ybranch()
     names = [f"edge {k}" for k in range(len(edges))]
     kinks = {
-        m: mesh_blocks(rings, edges, names, make_settings(m)).report["interface_kink"]
+        m: mesh_blocks(rings, edges, names, make_settings(m), train=train_blocks).report[
+            "interface_kink"
+        ]
         for m in ("elliptic", "pinn")
     }
     assert kinks["pinn"]["max"] <= kinks["elliptic"]["max"] + ROUNDING

@@ -27,8 +27,10 @@ def _run(net: CoordinateNet, x: torch.Tensor, extra: torch.Tensor) -> list[torch
 
 @pytest.fixture
 def fresh_kernels(monkeypatch, tmp_path):
-    """kernels() rebuilt from scratch in an empty cache, and forgotten afterwards."""
+    """kernels() rebuilt from scratch in an empty cache (the install's library hidden), and
+    forgotten afterwards."""
     monkeypatch.setenv("PINN_MESH_CACHE", str(tmp_path))
+    monkeypatch.setattr(native, "PACKAGED_DIR", tmp_path / "no-package")
     native.kernels.cache_clear()
     yield
     native.kernels.cache_clear()
@@ -162,6 +164,7 @@ def no_build(monkeypatch, tmp_path):
 
     monkeypatch.setattr(native, "_compile", fake_compile)
     monkeypatch.setattr(native.tempfile, "gettempdir", lambda: str(tmp_path / "tmp"))
+    monkeypatch.setattr(native, "PACKAGED_DIR", tmp_path / "package")
     (tmp_path / "tmp").mkdir()
     monkeypatch.setenv("PINN_MESH_CACHE", str(tmp_path / "cache"))
     return built
@@ -249,6 +252,47 @@ def test_the_engine_never_loads_a_planted_library(fresh_kernels, tmp_path, monke
     assert len(loaded) == 1 and Path(loaded[0]).name == planted.name  # the name it wanted
     assert loaded[0] != str(planted) and planted.read_bytes() == b"planted"
     assert stat.S_IMODE(Path(loaded[0]).stat().st_mode) == 0o700
+
+
+# ---------------------------------------------------------------- the install's library
+
+
+def test_the_install_step_builds_the_library_that_runs_load(no_build, tmp_path, monkeypatch):
+    package = tmp_path / "package"
+    package.mkdir()
+    (package / "jet_kernels-0123456789abcdef.so").write_bytes(b"an older source's")
+    built = native.build_packaged(package)
+    assert built == native.packaged_library(package) and no_build == [built]
+    assert list(package.iterdir()) == [built]  # the older source's library is gone
+    loaded = []
+    monkeypatch.setattr(native.ctypes, "CDLL", lambda path: loaded.append(path) or path)
+    monkeypatch.setattr(native, "_bind", lambda lib: lib)
+    native.kernels.cache_clear()
+    try:
+        assert native.kernels() == str(built)
+    finally:
+        native.kernels.cache_clear()
+    assert loaded == [str(built)] and no_build == [built]  # nothing compiled at run time
+    monkeypatch.setattr(native, "_cpu_id", lambda: "another CPU")
+    assert native.packaged_library(package) != built  # never loaded on another CPU
+
+
+def test_without_a_compiler_the_install_goes_on_and_a_run_warns_once(
+    no_build, monkeypatch, capsys, caplog
+):
+    monkeypatch.setattr(native, "_compiler", lambda: None)
+    assert native.build_packaged(native.PACKAGED_DIR) is None and no_build == []
+    assert "built at first use" in capsys.readouterr().out
+    native.kernels.cache_clear()
+    try:
+        with caplog.at_level(logging.INFO, logger=native.log.name):
+            assert native.kernels() is None
+    finally:
+        native.kernels.cache_clear()
+    assert [(r.levelno, r.getMessage().count("\n")) for r in caplog.records] == [
+        (logging.WARNING, 0)
+    ]
+    assert "no C++ compiler found" in caplog.text
 
 
 # ---------------------------------------------------------------- the build key

@@ -332,6 +332,7 @@ def test_multiblock_filter_on_the_step(checkout):
         "Input",
         "BlockEdges",
         "AuxiliaryLines",
+        "Blocking",
         "Method",
         "CellSize",
         "Interfaces",
@@ -393,6 +394,8 @@ def test_multiblock_filter_on_the_step(checkout):
         aux=[ROOT / "example_data" / "lshape_aux.vtp"],
     ).result.report["aux_line_distance"]
     assert distance == pytest.approx(list(expected.values())[0], rel=1e-9)
+    assert result["blockings"] == ["Manual", "Automatic"]
+    assert result["auto_blocks"] == 2 and result["auto_edges"] == 1  # the L's one cut
 
 
 def test_hexahedral_filter_on_the_bend(checkout):

@@ -7,12 +7,12 @@ import pytest
 import torch
 from conftest import EXAMPLES, needs_compiler
 
+from pinn_engine.blocks.mapping import Mapping
 from pinn_engine.blocks.quad import QuadProblem, _FusedEvaluation
 from pinn_engine.io.pipeline import load_aux, load_boundary
 from pinn_engine.mesher import Mesher
 from pinn_engine.neural.jet import input_jet, jet_product, native
 from pinn_engine.neural.losses import annealed_lambda, loss_eqns, winslow_residual
-from pinn_engine.neural.mapping import Mapping
 from pinn_engine.neural.networks import CoordinateNet, autograd_jet
 from pinn_engine.neural.trainer import AutogradEvaluation
 from pinn_engine.routes.cli import main

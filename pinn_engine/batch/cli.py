@@ -8,13 +8,13 @@ import argparse
 import sys
 
 from pinn_engine.errors import PinnMeshError
-from pinn_engine.routes.cli import EXIT_ERROR, EXIT_INTERRUPTED
+from pinn_engine.routes.cli import EXIT_ERROR, EXIT_INTERRUPTED, OneLineParser
 
 EXIT_FAILED = 1  # some cases got an error row; the others were meshed
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
+    p = OneLineParser(
         prog="pinn-mesh batch",
         description="Mesh every case of a manifest (CSV: name,input,aux,options) on a Dask "
         "cluster; each case as the single-run command would mesh it.",

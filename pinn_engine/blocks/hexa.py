@@ -3,7 +3,7 @@
 Its map (xi, eta, zeta) -> (x, y, z) on the unit cube is the 3D TFI of the six face grids,
 plus the start's correction D (hexa/field.py, zero on the faces), plus a bubble times three
 coordinate sub-networks (neural/networks.py): the faces are built in (hard boundary, as
-neural/mapping.py in 2D). The start is the converged 3D Winslow grid on the same boundary
+blocks/mapping.py in 2D). The start is the converged 3D Winslow grid on the same boundary
 nodes (the output layer starts at zero, so the map starts as that grid), the loss the 3D
 Winslow residual (losses.winslow_residual_3d) at random points, and the guard keeps the last
 L-BFGS state no worse than the start by blocks/quad.py's ``GUARD_TOL``, else the start: the
@@ -24,6 +24,7 @@ import numpy as np
 import torch
 
 from pinn_engine import __version__
+from pinn_engine.blocks.model import network_from, network_payload, read_payload
 from pinn_engine.blocks.quad import GUARD_TOL, GUARD_WALL_ANGLE
 from pinn_engine.errors import InputError
 from pinn_engine.hexa import quality, volume
@@ -35,7 +36,6 @@ from pinn_engine.neural.losses import (
     parameter_controls_3d,
     winslow_residual_3d,
 )
-from pinn_engine.neural.model import network_from, network_payload, read_payload
 from pinn_engine.neural.networks import CoordinateNet
 from pinn_engine.neural.trainer import (
     AutogradEvaluation,
@@ -50,7 +50,7 @@ from pinn_engine.settings import Settings
 from pinn_engine.starts.warmstart import lattice_for
 
 DIMENSIONS = 3  # the block's computational coordinates, and its physical ones
-FORMAT = "pinn-mesh-hexa-model/1"  # a saved hexahedral model (neural/model.py's is 2D)
+FORMAT = "pinn-mesh-hexa-model/1"  # a saved hexahedral model (blocks/model.py's is 2D)
 GRID_CHUNK = 1 << 14  # nodes per forward pass when a grid is evaluated (bounds its memory)
 # The Winslow start is solved on at most this many nodes (larger grids start from a coarser
 # lattice of the same shape, starts/warmstart.py): 41^3 takes about 1.4 s and 0.26 GiB, 81^3

@@ -47,6 +47,7 @@ from scipy.interpolate import CubicSpline
 from pinn_engine.bodies.airfoil import Body, FarField
 from pinn_engine.classical.spacing import exact_stretch
 from pinn_engine.errors import InputError
+from pinn_engine.quality import guard_figures, no_worse, worst_non_orthogonality
 
 TOPOLOGIES = ("o", "c")
 # Set by hand against Construct2D, not swept (docs/tuning.md). Nodes on the body (:func:`layout`),
@@ -427,8 +428,6 @@ def layout(
     dist = reach * exact_stretch(nj, h / reach)[0]
     reference, outer = reference_grid(inner, far, topology, dist, chord, n_w, base)
     if topology == "c" and base:
-        from pinn_engine.quality import guard_figures
-
         folded = guard_figures(reference)["folded_cells"]
         if folded:
             raise InputError(
@@ -675,8 +674,6 @@ def elliptic(lay: Layout, sweeps: int = ELLIPTIC_SWEEPS) -> tuple[np.ndarray, tu
     drift off a good marched grid, most on thin wall and wake cells, where a worst angle
     held elsewhere, as at a blunt C-grid's base, does not see it; ``lay.sweeps_kept`` says
     how far it went)."""
-    from pinn_engine.quality import guard_figures, no_worse, worst_non_orthogonality
-
     periodic = lay.topology == "o"
     controls = smoothed_controls(lay.reference, periodic)
     ref = guard_figures(lay.reference)

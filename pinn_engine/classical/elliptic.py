@@ -11,6 +11,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
+from pinn_engine.quality import folded_cells
+
 
 def _coefficients(g: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """alpha, beta, gamma of paper eq. 8 at interior nodes, central differences."""
@@ -268,8 +270,6 @@ def safe_controlled_solve(
     folds a cell, the solve without it (``orthogonal`` cannot always be had: at a sharp
     corner of a narrow notch the controls of facing walls fight). Returns (grid, iterations,
     whether the orthogonality control was kept)."""
-    from pinn_engine.quality import folded_cells
-
     g, it = controlled_solve(grid, params, orthogonal, max_iterations=max_iterations, **kwargs)
     bad = it >= max_iterations or not np.isfinite(g).all() or folded_cells(g).any()
     if orthogonal and bad:

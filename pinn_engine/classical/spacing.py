@@ -19,7 +19,9 @@ from collections.abc import Callable
 import numpy as np
 
 from pinn_engine.classical.tfi import tfi_at
-from pinn_engine.quality import first_edges
+from pinn_engine.errors import InputError
+from pinn_engine.geometry.boundary_fit import ArcLengthFit
+from pinn_engine.quality import first_edges, folded_cells
 
 SIDE_AXIS = {"bottom": 1, "top": 1, "left": 0, "right": 0}  # parameter that the side stretches
 MAX_B = 1e12  # stretching beyond this (first spacing ~1e-12 of a side) is clipped
@@ -221,8 +223,8 @@ def working_spacing(spacing: tuple[tuple[str, float], ...], boundary) -> dict[st
         unit = h / boundary.frame.scale
         room = min(boundary.side(s).length for s in across[side])
         if unit >= 0.5 * room:
-            raise ValueError(
-                f"spacing {side}={h:g}: the first edge must be shorter than half "
+            raise InputError(
+                f"{{spacing}} {side}={h:g}: the first edge must be shorter than half "
                 f"of the {' and '.join(across[side])} sides "
                 f"({0.5 * room * boundary.frame.scale:.4g})"
             )
@@ -239,7 +241,6 @@ def elliptic_at(boundary, orthogonal: tuple[str, ...] = ()) -> Callable[[np.ndar
     boundary nodes of parameters (nj, ni, 2); each call starts from the previous grid and
     controls. ``evaluate.failed`` turns True when a solve did not converge."""
     from pinn_engine.classical.elliptic import safe_controlled_solve
-    from pinn_engine.quality import folded_cells
 
     tfi = tfi_at(boundary)
     last: list = [None]
@@ -305,7 +306,6 @@ def classical_grid(
     (distribution and Hilgenstock orthogonality); if that fails (no convergence, a folded
     cell or first edges off by more than 10 %), the interpolated elliptic map is evaluated
     at the distribution instead; ``info["elliptic"]`` says which."""
-    from pinn_engine.quality import folded_cells
 
     lengths = side_lengths(boundary)
     if method == "tfi":
@@ -336,7 +336,6 @@ def chord_tangents(
     angle measures, :func:`quality.grid_lines_angle`), not the curve's own tangent, which differs
     from it where the wall bends within a cell. ``along``: the parameters of the side's
     nodes when they are not uniform."""
-    from pinn_engine.geometry.boundary_fit import ArcLengthFit
 
     fit, step = ArcLengthFit(boundary), 1.0 / max(nodes - 1, 1)
     if along is not None:  # the nodes' parameters along the side (a spacing across it)

@@ -6,6 +6,8 @@ from collections.abc import Callable
 
 import numpy as np
 
+from pinn_engine.geometry.boundary_fit import ArcLengthFit
+
 SideEval = Callable[[str, np.ndarray, int], np.ndarray]
 
 
@@ -65,10 +67,6 @@ def tfi_grid(
 
 def tfi_at(boundary) -> Callable[[np.ndarray], np.ndarray]:
     """TFI of the exact boundary polylines, evaluated at node parameters (nj, ni, 2)."""
-    from pinn_engine.geometry.boundary_fit import (
-        ArcLengthFit,  # boundary_fit -> geometry; tfi stays a leaf
-    )
-
     fit = ArcLengthFit(boundary)
     return lambda p: transfinite(p[..., 0], p[..., 1], lambda s, t, nu: fit.sample(s, t))[0]
 

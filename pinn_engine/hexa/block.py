@@ -1,6 +1,7 @@
 """Index directions of a six-faced domain (SPEC 11): which input corner is each corner of
-the unit cube, so that corner 0 has the smallest x + y + z, i leaves it nearest +x, and
-(i, j, k) is right-handed."""
+the unit cube, so that corner 0 has the smallest x + y + z (ties within ``TIE`` of the
+diagonal: the smallest x, then y, then z), i leaves it nearest +x, and (i, j, k) is
+right-handed."""
 
 from __future__ import annotations
 
@@ -10,6 +11,8 @@ import numpy as np
 
 from pinn_engine.errors import InputError
 from pinn_engine.hexa.surface import Surface, Topology
+
+TIE = 1e-6  # coordinates within this fraction of the diagonal are equal (SPEC 11)
 
 
 def _neighbours(topology: Topology, corner: int) -> set[int]:
@@ -24,10 +27,24 @@ def _common(topology: Topology, a: int, b: int, other_than: int, source: str) ->
     return found.pop()
 
 
+def first_corner(points: np.ndarray, corners: list[int]) -> int:
+    """Corner 0 of SPEC 11 among ``corners`` (point indices): the smallest x + y + z, ties
+    within ``TIE`` of the diagonal broken by the smallest x, then y, then z (each again
+    within ``TIE``), so that a symmetric shape's corner 0 does not hang on rounding."""
+    xyz = points[corners]
+    tol = TIE * float(np.linalg.norm(np.ptp(points, axis=0)))
+    keys = np.column_stack([xyz.sum(axis=1), xyz])
+    left = np.arange(len(corners))
+    for column in keys.T:
+        values = column[left]
+        left = left[values <= values.min() + tol]
+    return corners[int(left[0])]
+
+
 def cube_corners(surface: Surface, topology: Topology, source: str) -> dict[tuple, int]:
     """Unit-cube corner (a, b, c) in {0, 1}^3 -> the input corner's point index."""
     pts = surface.points
-    c0 = min(topology.corners, key=lambda p: float(pts[p].sum()))
+    c0 = first_corner(pts, topology.corners)
     ends = sorted(_neighbours(topology, c0))
     if len(ends) != 3:
         raise InputError(f"corner 0 has {len(ends)} edges; a hexahedron's have 3", source)

@@ -32,6 +32,7 @@ class Surface:
     points: np.ndarray  # (n, 3)
     triangles: np.ndarray  # (m, 3) point indices
     face_of: np.ndarray  # (m,) face index 0..5 of each triangle
+    face_ids: np.ndarray  # (6,) the input's FaceId of each face index (an STL's: 0..5)
 
 
 @dataclass
@@ -60,11 +61,14 @@ def is_faced_surface(path: str) -> bool:
         return False
 
 
-def surface_of(data: vtkPolyData, source: str, sharp_edges: bool = False) -> Surface:
+def surface_of(
+    data: vtkPolyData, source: str, sharp_edges: bool = False, angle: float = SHARP_ANGLE
+) -> Surface:
     """The triangles of a polydata (polygons are triangulated) with coincident points merged,
     and their faces: the FaceId array, or with ``sharp_edges`` (an STL has no arrays) the
-    regions between its sharp edges (:mod:`pinn_engine.hexa.sharp`). Plain VTK, so that
-    ParaView's Python (no pyvista) can use it."""
+    regions between its edges sharper than ``angle`` degrees (:mod:`pinn_engine.hexa.sharp`),
+    numbered in the order of their first triangle. Plain VTK, so that ParaView's Python (no
+    pyvista) can use it."""
     if not sharp_edges and data.GetCellData().GetArray(FACE_ARRAY.decode()) is None:
         raise InputError("no FaceId cell array: tag each of the six faces", source)
     triangulate = vtkTriangleFilter()
@@ -91,19 +95,19 @@ def surface_of(data: vtkPolyData, source: str, sharp_edges: bool = False) -> Sur
     )
     points, triangles = points[first], triangles[keep]
     if sharp_edges:
-        count, face_of = faces_at_sharp_edges(points, triangles)
+        count, face_of = faces_at_sharp_edges(points, triangles, angle)
         if count != FACES:
             raise InputError(
-                f"found {count} faces at edges sharper than {SHARP_ANGLE:g} degrees; a "
+                f"found {count} faces at edges sharper than {angle:g} degrees; a "
                 "six-faced domain needs 6",
                 source,
             )
-        return Surface(points, triangles, face_of)
+        return Surface(points, triangles, face_of, np.arange(FACES))
     ids = vtk_to_numpy(data.GetCellData().GetArray(FACE_ARRAY.decode())).astype(int)
     values, face_of = np.unique(ids[keep], return_inverse=True)
     if len(values) != FACES:
         raise InputError(f"{len(values)} FaceId values found; a hexahedral block needs 6", source)
-    return Surface(points, triangles, face_of.reshape(-1))
+    return Surface(points, triangles, face_of.reshape(-1), values)
 
 
 def _edge_triangles(triangles: np.ndarray) -> dict[tuple[int, int], list[int]]:

@@ -10,6 +10,7 @@ import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 
+from pinn_engine.bodies.airfoil import body_from_points, circle, polyline_farfield, xy_blocks
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.auxlines import AuxLine, map_lines
 from pinn_engine.geometry.boundary import Boundary
@@ -97,8 +98,6 @@ def body_from_polydata(poly: vtkPolyData, radius: float, source: str = "boundary
     """The body (and far field) of a filter's input: one polyline is the body (closed:
     sharp trailing edge; open: blunt), with a far-field circle of ``radius`` chords; two
     closed polylines are the body inside the far field."""
-    from pinn_engine.bodies.airfoil import body_from_points, circle, polyline_farfield
-
     if poly is None or poly.GetNumberOfPoints() == 0:
         raise InputError("is empty; connect an airfoil (the Airfoil source or a .dat file)", source)
     xyz = vtk_to_numpy(poly.GetPoints().GetData()).astype(float)
@@ -127,8 +126,6 @@ def read_body_and_farfield(path: str | os.PathLike):
     """The body and far field (``bodies.airfoil``'s Body, FarField) of a file with two closed
     polylines, the body inside the far field. ``.vtp``/``.vtk``: two polyline cells;
     ``.csv``/``.txt``: two blocks of ``x,y`` rows separated by a blank line."""
-    from pinn_engine.bodies.airfoil import body_from_points, polyline_farfield, xy_blocks
-
     source = str(path)
     suffix = Path(path).suffix.lower()
 

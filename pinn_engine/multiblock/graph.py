@@ -206,8 +206,6 @@ def linework(
     nothing (naming the edge and the point) or edges cross (naming the place)."""
     rings = order_rings([np.asarray(r, dtype=float)[:, :2] for r in rings], source)
     edges = [np.asarray(e, dtype=float)[:, :2] for e in edges]
-    if not edges:
-        raise InputError("no block edges were given", source)
     diagonal = float(np.linalg.norm(np.ptp(rings[0], axis=0)))
     curves, loose = snap_edges(rings, edges, SNAP * diagonal)
     if loose:
@@ -221,5 +219,6 @@ def linework(
     n_r = len(rings)
     rings = [np.array(c) for c in curves[:n_r]]
     edges = [np.array(c) for c in curves[n_r:]]
-    check_crossings(rings, edges, names)
+    if edges:
+        check_crossings(rings, edges, names)
     return Linework(rings, edges, list(names), diagonal)

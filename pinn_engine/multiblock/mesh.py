@@ -1,7 +1,7 @@
 """Mesh a multi-block domain (SPEC 10): linework, blocks, cell counts, nodes, then the
 method (``tfi``: each block's TFI on the shared side nodes; ``elliptic``: Winslow on all
 blocks at once; ``pinn``: the elliptic grid, then each block's PINN on its side nodes,
-``network.py``), with the quality figures of every block and of the interfaces."""
+``blocks/multiblock.py``), with the quality figures of every block and of the interfaces."""
 
 from __future__ import annotations
 
@@ -45,6 +45,9 @@ from pinn_engine.settings import MAX_NODES, MULTIBLOCK_METHODS, Settings
 KINK_CORNER_NODES = 2
 
 Progress = Callable[[dict], "bool | str | None"]  # trainer.Progress, without importing torch
+# The pinn's training of the blocks' elliptic grids: blocks.multiblock.train_blocks, which the
+# caller passes in (the block kinds are a layer above this package, and import torch)
+TrainBlocks = Callable[..., tuple[list[np.ndarray], dict]]
 
 
 @dataclass
@@ -109,6 +112,7 @@ def mesh_blocks(
     walls: Walls | None = None,
     progress: Progress | None = None,
     aux: Sequence[RawLine] = (),
+    train: TrainBlocks | None = None,
     cells: Sequence[SideItem] = (),
 ) -> MultiBlockResult:
     """The multi-block grid of a boundary's ``rings`` (outer and holes) and block
@@ -116,7 +120,7 @@ def mesh_blocks(
     cells about ``settings.cell_size`` long (0: the diagonal over 40), interfaces free or
     fixed; ``patch_points`` name boundary pieces (``patches.py``); ``walls``: spacing and
     orthogonality on patches (``spacing.py``, ``orthogonal.py``), after the method;
-    ``progress`` hears the pinn's training, block by block (``network.train_blocks``);
+    ``train`` trains the pinn's blocks and ``progress`` hears it, block by block;
     ``aux``: auxiliary lines (user (x, y)) inside blocks, each in the block holding it
     (``quadblock.block_lines``), fitted by the pinn; every method reports how far its grid
     is from them; ``cells``: ``--cells X,Y=N`` items (``chains.py``)."""
@@ -126,6 +130,8 @@ def mesh_blocks(
             f"{', '.join(MULTIBLOCK_METHODS[:-1])} or {MULTIBLOCK_METHODS[-1]} in this build",
             source,
         )
+    if settings.method == "pinn" and train is None:
+        raise ValueError("method pinn: pass train=blocks.multiblock.train_blocks")
     start = time.perf_counter()
     lines = linework(rings, edges, names, source)
     topo = topology(lines)
@@ -161,13 +167,12 @@ def mesh_blocks(
     frames = [block_boundary(points[ids]) for ids in lay.ids]
     training = None
     if settings.method == "pinn":
-        from pinn_engine.multiblock.network import train_blocks  # torch only when training
 
         def kinks(grids: list[np.ndarray]) -> np.ndarray:
             return interface_kinks(cross, lay, _assembled(points, lay, grids))
 
         starts = [points[ids] for ids in lay.ids]
-        grids, training = train_blocks(starts, settings, progress, lines, kinks)
+        grids, training = train(starts, settings, progress, lines, kinks)
         points = _assembled(points, lay, grids)
     # gradings, then spacing and orthogonality on patches last: no solve or training moves
     # them after

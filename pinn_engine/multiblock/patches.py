@@ -15,9 +15,9 @@ import numpy as np
 from shapely.geometry import LineString, Point
 
 from pinn_engine.errors import InputError
-from pinn_engine.io.export.patches import checked_name, default_type, split_type
 from pinn_engine.multiblock.blocks import Topology
 from pinn_engine.multiblock.layout import Layout
+from pinn_engine.patchnames import checked_name, default_type, split_type
 
 OUTER = "boundary"  # SPEC 10: the default name of the outer boundary's pieces
 HOLE = "hole"  # SPEC 10: hole k's pieces are named hole1, hole2, ...
@@ -32,7 +32,7 @@ TIE = 1e-3
 
 @dataclass(frozen=True)
 class PatchPiece:
-    """A boundary piece on one block: its patch ``name`` and ``kind`` (``patches.TYPES``),
+    """A boundary piece on one block: its patch ``name`` and ``kind`` (``patchnames.TYPES``),
     and its 0-based node range ``(i0, j0, i1, j1)`` along one side of the block (i0 <= i1,
     j0 <= j1)."""
 

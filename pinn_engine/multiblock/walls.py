@@ -15,9 +15,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pinn_engine.errors import InputError
-from pinn_engine.io.export.patches import checked_name
 from pinn_engine.multiblock.chains import SideItem
 from pinn_engine.multiblock.patches import PIECES, PatchPiece, point_of
+from pinn_engine.patchnames import checked_name
 
 # Wall nodes this many positions or fewer from a block's corner are left out of the wall
 # angle figures (SPEC 7: "the two nodes nearest each corner excepted")

@@ -45,7 +45,7 @@ from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 from pinn_engine.cache import MeshCache
-from pinn_engine.errors import STOP, grid_warnings
+from pinn_engine.errors import STOP, SettingsError, grid_warnings, unknown_name
 from pinn_engine.routes.filters import LastOutcome, LineInputs, choice, patch_setting
 from pinn_engine.routes.reporting import message_of
 from pinn_engine.settings import (
@@ -226,7 +226,7 @@ class PinnMeshAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
         the preset's own value, or None, is no override."""
         preset = choice(preset, PRESETS, "preset")
         if name not in Settings.__dataclass_fields__:
-            raise ValueError(f"unknown setting {name!r}")
+            raise unknown_name(name, Settings.__dataclass_fields__, "setting")
         if value is not None and value == getattr(make_settings("pinn", preset), name):
             value = None
         key = (preset, name)
@@ -244,7 +244,7 @@ class PinnMeshAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
             getattr(self, f"Set{name.capitalize()}")(value)
             return
         if name not in Settings.__dataclass_fields__:
-            raise ValueError(f"unknown setting {name!r}")
+            raise unknown_name(name, Settings.__dataclass_fields__, "setting")
         self._set_override(name, value)
 
     def SetCorners(self, *indices) -> None:
@@ -254,7 +254,7 @@ class PinnMeshAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
             corners = None
         else:
             if len(indices) != 4:
-                raise ValueError("corners: give four point indices (or None for automatic)")
+                raise SettingsError("corners: give four point indices (or None for automatic)")
             corners = tuple(int(i) for i in indices)
             if min(corners) < 0:
                 corners = None
@@ -401,7 +401,7 @@ class PinnMeshAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
         ni, nj = self._size
         problem = grid_size_problem(ni, nj)
         if problem:
-            raise ValueError(f"Grid Size {ni} {nj}: {problem}")
+            raise SettingsError(f"Grid Size {ni} {nj}: {problem}")
         inputs = [
             vtkPolyData.GetData(inInfo[0], k)
             for k in range(inInfo[0].GetNumberOfInformationObjects())

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pinn_engine.errors import ROUTE_WORDS
+from pinn_engine.errors import ROUTE_WORDS, SettingsError
 from pinn_engine.routes.reporting import announce
 
 
@@ -15,10 +15,10 @@ def choice(value, options: tuple[str, ...], what: str) -> str:
     if isinstance(value, (int, np.integer)) and not isinstance(value, bool):
         if 0 <= int(value) < len(options):
             return options[int(value)]
-        raise ValueError(f"{what} index {value} out of range 0..{len(options) - 1}")
+        raise SettingsError(f"{what} index {value} out of range 0..{len(options) - 1}")
     name = str(value).strip().lower()
     if name not in options:
-        raise ValueError(f"unknown {what} {value!r}; use one of {', '.join(options)}")
+        raise SettingsError(f"unknown {what} {value!r}; use one of {', '.join(options)}")
     return name
 
 

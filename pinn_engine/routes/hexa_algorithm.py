@@ -31,9 +31,8 @@ from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
 from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
-from pinn_engine.errors import ROUTE_WORDS
-from pinn_engine.hexamesh import HEXA_METHOD, HEXA_SIZE, METHODS, size_problem
-from pinn_engine.io.export.patches import BOX_SIDES, patch_specs
+from pinn_engine.errors import ROUTE_WORDS, SettingsError
+from pinn_engine.hexamesh import HEXA_METHOD, HEXA_SIZE, METHODS, named_patches, size_problem
 from pinn_engine.routes.filters import (
     LastOutcome,
     PatchWalls,
@@ -65,8 +64,9 @@ class PinnHexaAlgorithm(LastOutcome, PatchWalls, VTKPythonAlgorithmBase):
       ``hexamesh.HEXA_METHOD``
     * ``SetGridSize(ni, nj, nk)``: nodes along i, j and k, default 21 21 21
     * ``SetPatchNames(names)``: the patch names of the six faces, each optionally
-      ``NAME:TYPE`` (six names imin imax jmin jmax kmin kmax, or ``SIDE=NAME`` items, as a
-      string, sequence or mapping; the command line's ``--patch``); field data
+      ``NAME:TYPE`` (six names imin imax jmin jmax kmin kmax, or ``SIDE=NAME`` items, SIDE
+      one of those or ``faceN``, the input face whose FaceId is N, as a string, sequence or
+      mapping; the command line's ``--patch``); field data
       ``PatchNames`` and ``PatchTypes``
     * ``SetSpacing(items)``: ``PATCH=H`` items, the first grid edge leaving that face
       (``"kmin=0.002"``, a sequence of items or a mapping ``{"kmin": 0.002}``; ``--spacing``)
@@ -90,6 +90,7 @@ class PinnHexaAlgorithm(LastOutcome, PatchWalls, VTKPythonAlgorithmBase):
         self._method = HEXA_METHOD
         self._size = HEXA_SIZE
         self._patches: str | dict = ""  # as given; checked at the update (imin ... kmax)
+        self._faces: dict[str, int] = {}  # side -> the input's FaceId, as last found
         self._last_error = self._last_warning = ""
         self._exception: Exception | None = None
         self._failed: tuple | None = None  # what the last failed update ran on
@@ -111,8 +112,9 @@ class PinnHexaAlgorithm(LastOutcome, PatchWalls, VTKPythonAlgorithmBase):
         self._set("_patches", patch_setting(names))
 
     def GetPatchNames(self) -> tuple[str, ...]:
-        """The six patch names (imin ... kmax) the next update uses."""
-        return patch_specs(self._patches, sides=BOX_SIDES)[0]
+        """The six patch names (imin ... kmax) the next update uses (``faceN`` items as the
+        last update found the input's faces)."""
+        return named_patches(self._patches, self._faces)[0]
 
     # ---- results -----------------------------------------------------------------------
     def GetOutput(self) -> vtkStructuredGrid:
@@ -164,8 +166,7 @@ class PinnHexaAlgorithm(LastOutcome, PatchWalls, VTKPythonAlgorithmBase):
         problem = size_problem(self._size)
         if problem:
             size = " ".join(map(str, self._size))
-            raise ValueError(f"{ROUTE_WORDS[self._route]['size']} {size}: {problem}")
-        patches = patch_specs(self._patches, sides=BOX_SIDES)  # refused before meshing
+            raise SettingsError(f"{ROUTE_WORDS[self._route]['size']} {size}: {problem}")
         orthogonal = [",".join(self._orthogonal)] if self._orthogonal else []
         spacing, walls = parse_patches(list(self._spacing), orthogonal)
         result = mesh_polydata(
@@ -176,8 +177,10 @@ class PinnHexaAlgorithm(LastOutcome, PatchWalls, VTKPythonAlgorithmBase):
             self._progress,
             spacing=spacing,
             orthogonal=walls,
+            patches=self._patches,
         )
-        return hexa_grid(result, self._method, patches), report(result, self._method)
+        self._faces = result.faces
+        return hexa_grid(result, self._method), report(result, self._method)
 
 
 __all__ = ["LABEL", "PinnHexaAlgorithm", "refold_hint"]

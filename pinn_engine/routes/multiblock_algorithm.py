@@ -12,6 +12,10 @@ Mesh, and the pyvista accessor's ``blocks=`` runs it.
 >>> alg.SetCellSize(0.1)
 >>> alg.Update()
 >>> blocks = alg.GetOutput()                                     # vtkMultiBlockDataSet
+>>> edges = alg.GetBlockEdges()                                  # the edges meshed
+
+``SetBlocking("automatic")`` proposes the block edges from the boundary and its holes alone
+(SPEC 13; input 1 left empty, open polylines on input 0 refused).
 
 Ports: input 0 ``vtkPolyData``, repeatable: its closed polylines (or polygons) are the outer
 boundary and the holes, its open polylines block edges (ParaView's GUI connects every
@@ -19,7 +23,9 @@ selected source there); input 1 more block edges (optional, repeatable); input 2
 lines inside blocks (optional, repeatable: open polylines, each from a side of one block to
 the opposite side, fitted by pinn). Output 0 the
 ``vtkMultiBlockDataSet`` of the command line's ``.vtm``: ``vtkStructuredGrid`` blocks named
-``block0``, ``block1``, ... with the cell arrays of SPEC 3 and the run's report.
+``block0``, ``block1``, ... with the cell arrays of SPEC 3 and the run's report; output 1
+the block edges meshed (``vtkPolyData`` of open polylines: the proposal under Automatic,
+which a user can copy, edit and connect as block edges).
 
 A failed update leaves the output empty and reports one line ``PINN Multi-Block Mesh:
 <message>`` (the ParaView route: in Output Messages and as an ``ErrorEvent``; other routes
@@ -34,9 +40,10 @@ import dataclasses
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
-from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkPolyData
+from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkMultiBlockDataSet, vtkPolyData
 
 from pinn_engine.errors import InputError
+from pinn_engine.io.export.edges import edges_polydata
 from pinn_engine.routes.filters import (
     LastOutcome,
     LineInputs,
@@ -56,6 +63,7 @@ from pinn_engine.settings import (
 
 LABEL = "PINN Multi-Block Mesh"
 INTERFACES = PARAMETER_CONSTRAINTS["interfaces"].values  # free, fixed (SPEC 10)
+BLOCKING = ("manual", "automatic")  # block edges drawn, or proposed (SPEC 13)
 # the fix a folded elliptic or pinn multi-block grid is pointed to
 MOVE_EDGES = "moving the block edges near them (the cell array Folded marks them)"
 
@@ -66,10 +74,11 @@ def _name(what: str, k: int, count: int) -> str:
 
 
 def curves_of(
-    boundary_inputs: list[vtkPolyData], edge_inputs: list[vtkPolyData]
+    boundary_inputs: list[vtkPolyData], edge_inputs: list[vtkPolyData], automatic: bool = False
 ) -> tuple[list[np.ndarray], list[np.ndarray], list[str]]:
     """The rings (closed curves: outer boundary and holes), the block edges (open curves)
-    and the edges' names of the two ports' inputs, each curve's points (n, 3)."""
+    and the edges' names of the two ports' inputs, each curve's points (n, 3); with
+    ``automatic`` blocking there must be no edges."""
     from pinn_engine.io.fileio import polylines_of
 
     rings, edges, names = [], [], []
@@ -94,7 +103,13 @@ def curves_of(
             "polylines; {close}",
             "input",
         )
-    if not edges:
+    if automatic and edges:
+        raise InputError(
+            "Blocking Automatic proposes every block edge: leave Block Edges empty and give "
+            "the boundary alone (or set Blocking Manual)",
+            names[0],
+        )
+    if not edges and not automatic:
         raise InputError("no block edges (open polylines) among the inputs; {blocks}", "input")
     return rings, edges, names
 
@@ -105,6 +120,8 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
     Settings (each setter calls ``Modified()`` when the value changes; values are checked at
     the next update against ``settings.PARAMETER_CONSTRAINTS``):
 
+    * ``SetBlocking("manual"|"automatic")`` (or 0/1), default manual: the block edges are
+      the open polylines of inputs 0 and 1, or proposed from the boundary alone (SPEC 13)
     * ``SetMethod("tfi"|"elliptic"|"pinn")`` (or its index in ``MULTIBLOCK_METHODS``),
       default pinn: each block's PINN on the elliptic grid (Winslow on all blocks at once)
     * ``SetCellSize(h)``: cell length in the boundary's units; 0 (default): the diagonal / 40
@@ -133,9 +150,10 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
     def __init__(self, route: str = "paraview") -> None:
         """``route``: whose words messages are in ("paraview"; "pyvista" keeps them off VTK's
         output window, for the caller to raise ``GetLastException()``)."""
-        super().__init__(nInputPorts=3, nOutputPorts=1, outputType="vtkMultiBlockDataSet")
+        super().__init__(nInputPorts=3, nOutputPorts=2, outputType="vtkMultiBlockDataSet")
         self.SetProgressText(LABEL)
         self._route = route
+        self._blocking = BLOCKING[0]
         self._method = BLOCKS_METHOD
         self._cell_size = 0.0
         self._interfaces = INTERFACES[0]
@@ -144,7 +162,19 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
         self._last_error = self._last_warning = ""
         self._exception: Exception | None = None
 
+    def FillOutputPortInformation(self, port, info):
+        """Output 0 the blocks, output 1 the block edges meshed."""
+        kind = "vtkMultiBlockDataSet" if port == 0 else "vtkPolyData"
+        info.Set(vtkDataObject.DATA_TYPE_NAME(), kind)
+        return 1
+
     # ---- settings ----------------------------------------------------------------------
+    def SetBlocking(self, blocking) -> None:
+        self._set("_blocking", choice(blocking, BLOCKING, "blocking"))
+
+    def GetBlocking(self) -> str:
+        return self._blocking
+
     def SetMethod(self, method) -> None:
         self._set("_method", choice(method, MULTIBLOCK_METHODS, "method"))
 
@@ -186,20 +216,27 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
         """The blocks (after ``Update()``); empty when the last update failed."""
         return self.GetOutputDataObject(0)
 
+    def GetBlockEdges(self) -> vtkPolyData:
+        """The block edges meshed (after ``Update()``): the proposal under Automatic."""
+        return self.GetOutputDataObject(1)
+
     # ---- pipeline ----------------------------------------------------------------------
     def RequestData(self, request, inInfo, outInfo):
         output = vtkMultiBlockDataSet.GetData(outInfo, 0)
+        edges_out = vtkPolyData.GetData(outInfo, 1)
         self._last_error = self._last_warning = ""
         self._exception = None
         self._progress(0.0, "meshing")
         try:
-            dataset, report = self._execute(inInfo)
+            dataset, report, edges = self._execute(inInfo)
         except Exception as exc:
             self._exception = exc
             output.Initialize()
+            edges_out.Initialize()
             self._report(message_of(exc, self._route), warning=False)
         else:
             output.ShallowCopy(dataset)
+            edges_out.ShallowCopy(edges_polydata(edges))
             warning = folded_warning(report, self._route, MOVE_EDGES)
             if warning:
                 self._report(warning, warning=True)
@@ -207,11 +244,12 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
         self.SetProgressText(LABEL)
         return 1
 
-    def _execute(self, inInfo) -> tuple[vtkMultiBlockDataSet, dict]:
-        """The blocks of the connected inputs under the settings, and the run's report."""
+    def _execute(self, inInfo) -> tuple[vtkMultiBlockDataSet, dict, list[np.ndarray]]:
+        """The blocks of the connected inputs under the settings, the run's report and the
+        block edges meshed."""
         from pinn_engine.io.export.vtm import multiblock_dataset
         from pinn_engine.io.fileio import aux_lines_of
-        from pinn_engine.job import flat_curves
+        from pinn_engine.job import flat_curves, train_blocks
         from pinn_engine.multiblock.chains import parse_cells
         from pinn_engine.multiblock.mesh import mesh_blocks
         from pinn_engine.multiblock.patches import parse_patch_points
@@ -225,7 +263,8 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
             [vtkPolyData.GetData(port, k) for k in range(port.GetNumberOfInformationObjects())]
             for port in inInfo
         ]
-        rings, edges, names = curves_of(ports[0], ports[1])
+        automatic = self._blocking == "automatic"
+        rings, edges, names = curves_of(ports[0], ports[1], automatic)
         polys = [p for p in ports[2] if p is not None and p.GetNumberOfPoints()]
         aux = [
             line
@@ -234,9 +273,15 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
         ]
         curves = flat_curves(rings + edges + [line.points for line in aux], "input")
         flat = curves[len(rings) + len(edges) :]
+        edges = curves[len(rings) : len(rings) + len(edges)]
+        if automatic:
+            from pinn_engine.multiblock.autoblock import propose_edges
+
+            edges = propose_edges(curves[: len(rings)], "input")
+            names = [f"proposed edge {k}" for k in range(len(edges))]
         result = mesh_blocks(
             curves[: len(rings)],
-            curves[len(rings) : len(rings) + len(edges)],
+            edges,
             names,
             settings,
             "input",
@@ -244,16 +289,17 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
             walls,
             self._block,
             [dataclasses.replace(line, points=c) for line, c in zip(aux, flat)],
+            train_blocks,
             cells,
         )
         dataset = multiblock_dataset(result.grids, result.cells, result.report, result.patches)
-        return dataset, result.report
+        return dataset, result.report, edges
 
     def _block(self, info: dict) -> None:
-        """The pinn's progress block by block (``multiblock.network``) on the bar, the
+        """The pinn's progress block by block (``blocks.multiblock``) on the bar, the
         elliptic grid before it at 0."""
         if info["phase"] == "prepare":
             self._progress(info["step"] / info["total"], info["stage"])
 
 
-__all__ = ["MOVE_EDGES", "PinnMultiBlockAlgorithm", "curves_of"]
+__all__ = ["BLOCKING", "MOVE_EDGES", "PinnMultiBlockAlgorithm", "curves_of"]

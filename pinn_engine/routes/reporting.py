@@ -8,13 +8,15 @@ import sys
 from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
 from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
 
-from pinn_engine.errors import InputError, PinnMeshError, TrainingCancelled
+from pinn_engine.errors import InputError, PinnMeshError, SettingsError, TrainingCancelled
 
 
 def message_of(exc: Exception, route: str) -> str:
     """The one-line message of an update that raised ``exc``, in ``route``'s words."""
     if isinstance(exc, TrainingCancelled):
         return f"{exc}; no grid produced"
+    if isinstance(exc, SettingsError):
+        return f"invalid settings: {exc.for_route(route)}"
     if isinstance(exc, InputError):
         return str(exc.for_route(route))
     if isinstance(exc, PinnMeshError):

@@ -5,7 +5,8 @@
 The backward-facing step of example_data (four blocks), its boundary and block edges selected
 together (both on Input, as the GUI connects them) and on the two inputs; then a block edge
 that ends nowhere; then the cylinder in a channel, its patch named, spaced and orthogonal
-from the panel's fields; then the L-shape with an auxiliary line inside a block. Prints one
+from the panel's fields; then the L-shape with an auxiliary line inside a block; then the
+L-shape alone under Blocking Automatic, its proposed edges on the second output. Prints one
 ``RESULT {json}`` line; any failed check raises (exit status 1).
 """
 
@@ -117,4 +118,10 @@ lined = simple.PINNMultiBlockMesh(
 lined_data = servermanager.Fetch(lined)
 first = lined_data.GetBlock(0).GetFieldData().GetAbstractArray("Report").GetValue(0)
 result["aux_line_distance"] = json.loads(first)["multiblock"]["aux_line_distance"]
+# 7. the L-shape alone under Blocking Automatic: its blocks, and its edges on output 1
+auto = simple.PINNMultiBlockMesh(Input=[lshape], Blocking="Automatic", Method="elliptic")
+result["blockings"] = auto.GetProperty("Blocking").Available
+result["auto_blocks"] = servermanager.Fetch(auto).GetNumberOfBlocks()
+proposed = servermanager.Fetch(auto, idx=1)
+result["auto_edges"] = proposed.GetNumberOfLines()
 print("RESULT " + json.dumps(result))

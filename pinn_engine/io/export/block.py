@@ -23,7 +23,7 @@ class Block:
     normal: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, 1.0]))
     topology: str | None = None  # "o" or "c": an O- or C-grid around a body (bodies.py)
     n_wake: int = 0  # the C-grid's lower trailing-edge node index
-    types: tuple[str, ...] | None = None  # each side's patch type (patches.TYPES)
+    types: tuple[str, ...] | None = None  # each side's patch type (patchnames.TYPES)
 
     @property
     def ni(self) -> int:
@@ -42,7 +42,7 @@ class Block:
         return groups(self.names)
 
     def patch_type(self, name: str) -> str:
-        """The type (``patches.TYPES``) of the patch ``name``: given, or by its name."""
+        """The type (``patchnames.TYPES``) of the patch ``name``: given, or by its name."""
         return type_of(self.names, self.types, name)
 
 
@@ -67,5 +67,5 @@ class Box:
         return groups(self.names, BOX_SIDES)
 
     def patch_type(self, name: str) -> str:
-        """The type (``patches.TYPES``) of the patch ``name``."""
+        """The type (``patchnames.TYPES``) of the patch ``name``."""
         return type_of(self.names, self.types, name)

@@ -24,9 +24,10 @@ from pathlib import Path
 
 import numpy as np
 
+from pinn_engine.errors import InputError
 from pinn_engine.io.export.block import Block, Box
-from pinn_engine.io.export.patches import FRONT_AND_BACK, TYPES
 from pinn_engine.io.export.topology import box_range, index_range
+from pinn_engine.patchnames import FRONT_AND_BACK, TYPES
 
 ROOT = Path(__file__).resolve().parents[2]  # the checkout (its .venv: the helper Python)
 
@@ -63,8 +64,6 @@ def _helper_python() -> str | None:
 def check() -> None:
     """Refuse (one line) where CGNS cannot be written: no h5py and no helper Python."""
     if _h5py() is None and _helper_python() is None:
-        from pinn_engine.errors import InputError
-
         raise InputError(
             "writing CGNS needs a working h5py, which this Python lacks; {h5py}", "cgns"
         )
@@ -238,8 +237,6 @@ def write_zones(
     a ``Family_t`` per patch of ``types`` (name -> type)."""
     h5py = _h5py()
     if h5py is None:
-        from pinn_engine.errors import InputError
-
         raise InputError("writing these CGNS zones needs a working h5py in this Python", "cgns")
     three_d = zones[0].xyz.shape[0] > 1
     extruded = three_d and extruded

@@ -19,8 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
+from pinn_engine.errors import InputError
 from pinn_engine.io.export.block import Block, Box
-from pinn_engine.io.export.patches import FRONT_AND_BACK
 from pinn_engine.io.export.quadmesh import QuadMesh
 from pinn_engine.io.export.text import write_rows
 from pinn_engine.io.export.topology import (
@@ -32,6 +32,7 @@ from pinn_engine.io.export.topology import (
     side_edges,
     side_faces,
 )
+from pinn_engine.patchnames import FRONT_AND_BACK
 
 FLUID = "fluid"
 # entity state of a side per axis (0: first index, 1: interior, 2: last index)
@@ -101,7 +102,6 @@ def write_quadmesh(mesh: QuadMesh, path: Path) -> None:
 
 def write(block: Block, path: Path) -> None:
     if block.topology:  # seam or cut nodes merged (bodies.py)
-        from pinn_engine.errors import InputError
         from pinn_engine.io.export import bodies
 
         if block.thickness is not None:

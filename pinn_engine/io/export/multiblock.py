@@ -40,7 +40,7 @@ Z_UP = np.array([0.0, 0.0, 1.0])  # a multi-block grid lies in a plane z = const
 
 @dataclass(frozen=True)
 class Piece:
-    """A boundary piece of a block: patch ``name``, ``kind`` (``patches.TYPES``), and its
+    """A boundary piece of a block: patch ``name``, ``kind`` (``patchnames.TYPES``), and its
     0-based node range ``(i0, j0, i1, j1)`` along one side."""
 
     name: str

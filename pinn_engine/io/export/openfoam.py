@@ -17,7 +17,6 @@ from pathlib import Path
 import numpy as np
 
 from pinn_engine.io.export.block import Block, Box
-from pinn_engine.io.export.patches import FRONT_AND_BACK, TYPES
 from pinn_engine.io.export.quadmesh import QuadMesh
 from pinn_engine.io.export.text import write_rows
 from pinn_engine.io.export.topology import (
@@ -29,6 +28,7 @@ from pinn_engine.io.export.topology import (
     side_cells,
     side_faces,
 )
+from pinn_engine.patchnames import FRONT_AND_BACK, TYPES
 
 _HEADER = """FoamFile
 {{
@@ -110,7 +110,7 @@ def write_polymesh(block: Block, mesh: Path) -> None:
 
 def write_box_polymesh(box: Box, mesh: Path) -> None:
     """The polyMesh of a hexahedral grid (SPEC 11, no extrusion): a patch per name of its
-    six sides, of the type given (``patches.TYPES``)."""
+    six sides, of the type given (``patchnames.TYPES``)."""
     ni, nj, nk = box.shape
     faces, owner, neighbour = internal_faces(ni, nj, nk)
     patches = [

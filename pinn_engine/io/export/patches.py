@@ -16,45 +16,15 @@ from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonCore import vtkStringArray
 
 from pinn_engine.errors import InputError
+from pinn_engine.patchnames import SIDE_FIX, checked_name, default_type, split_type
 
 SIDES = ("bottom", "right", "top", "left")
 BOX_SIDES = ("imin", "imax", "jmin", "jmax", "kmin", "kmax")  # a hexahedral grid's (SPEC 11)
 COUNT_WORDS = {len(SIDES): "four", len(BOX_SIDES): "six"}  # side counts as messages say them
 # the route token (errors.ROUTE_WORDS) naming where the patches of that many sides are named
-PATCH_FIX = {len(SIDES): "{patch}", len(BOX_SIDES): "{face_patch}"}
-NAME = re.compile(r"^[A-Za-z0-9_-]{1,32}$")
+PATCH_FIX = {len(SIDES): SIDE_FIX, len(BOX_SIDES): "{face_patch}"}
 FIELD = "PatchNames"
 TYPES_FIELD = "PatchTypes"  # the boundary condition kind of each side, as PatchNames
-# A patch's type (``NAME:TYPE``), as each format writes it: OpenFOAM's patch type, CGNS's
-# BCType. "patch" is the untyped default (OpenFOAM's generic patch, CGNS user-defined).
-TYPES = {
-    "wall": ("wall", "BCWall"),
-    "inflow": ("patch", "BCInflow"),
-    "outflow": ("patch", "BCOutflow"),
-    "farfield": ("patch", "BCFarfield"),
-    "symmetry": ("symmetryPlane", "BCSymmetryPlane"),
-    "patch": ("patch", "BCTypeUserDefined"),
-}
-
-
-def default_type(name: str) -> str:
-    """A patch named ``wall`` (a body's wall, or a side the user calls so) is a wall."""
-    return "wall" if name.lower() == "wall" else "patch"
-
-
-def split_type(item: str, fix: str = PATCH_FIX[len(SIDES)]) -> tuple[str, str | None]:
-    """``NAME`` or ``NAME:TYPE`` -> (name, type or None), the type checked (``fix``: the
-    route token of ``PATCH_FIX`` an error names)."""
-    name, sep, kind = item.partition(":")
-    if not sep:
-        return name.strip(), None
-    kind = kind.strip().lower()
-    if kind not in TYPES:
-        raise InputError(f"patch type {kind!r} of {name.strip()!r}: use {', '.join(TYPES)} ({fix})")
-    return name.strip(), kind
-
-
-FRONT_AND_BACK = "frontAndBack"  # the two ends of an extruded output
 
 
 def _checked_typed(item: str, fix: str) -> str:
@@ -62,17 +32,6 @@ def _checked_typed(item: str, fix: str) -> str:
     name, kind = split_type(item, fix)
     checked_name(name, fix)
     return item if kind is None else f"{name}:{kind}"
-
-
-def checked_name(name: str, fix: str = PATCH_FIX[len(SIDES)]) -> str:
-    if not NAME.match(name):
-        raise InputError(f"patch name {name!r}: use 1 to 32 letters, digits, '_' or '-' ({fix})")
-    if name.lower() == FRONT_AND_BACK.lower():
-        raise InputError(
-            f"patch name {name!r} is reserved for the two ends of extruded "
-            f"outputs; choose another ({fix})"
-        )
-    return name
 
 
 def body_patch_names(topology: str) -> tuple[str, str, str, str]:
@@ -90,18 +49,21 @@ def parse_patch_options(
     items: Sequence[str] | None,
     default: Sequence[str] | None = None,
     sides: Sequence[str] = SIDES,
+    aliases: Mapping[str, str] | None = None,
 ) -> tuple[str, ...]:
     """Patch names of ``sides`` from ``SIDE=NAME`` items (the command line's ``--patch``);
-    sides not named keep ``default``'s (the sides' own names when None)."""
+    sides not named keep ``default``'s (the sides' own names when None). ``aliases``: other
+    names of sides (a hexahedral grid's ``faceN``, the input's own faces)."""
     names = dict(zip(sides, default or sides))
+    aliases = aliases or {}
     fix = PATCH_FIX[len(sides)]
     for item in items or ():
         side, sep, name = item.partition("=")
         side = side.strip().lower()
+        side = aliases.get(side, side)
         if not sep or side not in names:
-            raise InputError(
-                f"patch {item!r}: expected SIDE=NAME with SIDE one of {', '.join(sides)} ({fix})"
-            )
+            known = ", ".join([*sides, *aliases])
+            raise InputError(f"patch {item!r}: expected SIDE=NAME with SIDE one of {known} ({fix})")
         names[side] = _checked_typed(name.strip(), fix)
     return tuple(names[s] for s in sides)
 
@@ -110,6 +72,7 @@ def patch_names(
     patches: Mapping[str, str] | Sequence[str] | str | None,
     default: Sequence[str] | None = None,
     sides: Sequence[str] = SIDES,
+    aliases: Mapping[str, str] | None = None,
 ) -> tuple[str, ...]:
     """The patch names of ``sides`` (bottom, right, top, left; or imin ... kmax) from any
     of the routes' forms.
@@ -118,6 +81,7 @@ def patch_names(
     far field); a mapping ``{"bottom": "wall", ...}`` (sides not named keep their default);
     a sequence of one name a side or of ``SIDE=NAME`` items (``--patch``); or a string of
     such names or items separated by spaces or commas (the ParaView panel's field).
+    ``aliases``: other names of sides in ``SIDE=NAME`` items (:func:`parse_patch_options`).
     """
     default = tuple(default or sides)
     if patches is None:
@@ -127,13 +91,14 @@ def patch_names(
         if not items:
             return default
         if all("=" in t for t in items):
-            return parse_patch_options(items, default, sides)
+            return parse_patch_options(items, default, sides, aliases)
         patches = items
     if isinstance(patches, Mapping):
-        return parse_patch_options([f"{k}={v}" for k, v in patches.items()], default, sides)
+        items = [f"{k}={v}" for k, v in patches.items()]
+        return parse_patch_options(items, default, sides, aliases)
     names = [str(n).strip() for n in patches]
     if names and all("=" in n for n in names):  # the command line's --patch items
-        return parse_patch_options(names, default, sides)
+        return parse_patch_options(names, default, sides, aliases)
     if len(names) != len(sides) or any("=" in n for n in names):
         raise InputError(
             f"patch names {' '.join(names)!r}: give {COUNT_WORDS[len(sides)]} names "
@@ -146,11 +111,13 @@ def patch_specs(
     patches: Mapping[str, str] | Sequence[str] | str | None,
     default: Sequence[str] | None = None,
     sides: Sequence[str] = SIDES,
+    aliases: Mapping[str, str] | None = None,
 ) -> tuple[tuple[str, ...], tuple[str, ...]]:
     """The patch names of ``sides`` and their types from any of the routes' forms, where
     each name may carry ``:TYPE`` (one of ``TYPES``; default: wall for a patch named wall,
-    else patch). Sides of one name must agree on its type."""
-    typed = [split_type(item) for item in patch_names(patches, default, sides)]
+    else patch). Sides of one name must agree on its type; ``aliases`` as
+    :func:`patch_names`."""
+    typed = [split_type(item) for item in patch_names(patches, default, sides, aliases)]
     given: dict[str, str] = {}
     for name, kind in typed:
         if kind is not None and given.setdefault(name, kind) != kind:

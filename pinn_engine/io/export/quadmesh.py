@@ -13,7 +13,7 @@ import numpy as np
 class QuadMesh:
     """``points`` (n, 3) in a plane z = const, each written once; ``quads`` (m, 4) node ids
     counter-clockwise in x-y; ``patches`` patch name -> (edges, 2) node ids with the domain
-    on each edge's left; ``types`` patch name -> its type (``patches.TYPES``)."""
+    on each edge's left; ``types`` patch name -> its type (``patchnames.TYPES``)."""
 
     points: np.ndarray
     quads: np.ndarray

@@ -19,7 +19,7 @@ from pinn_engine.io.fileio import write_text_atomic, write_vts
 from pinn_engine.io.vtkgrid import structured_grid
 
 # Field data of each block naming its boundary pieces (SPEC 10's patches; one entry a
-# piece): the patch name, its type (``patches.TYPES``) and the piece's 0-based node range
+# piece): the patch name, its type (``patchnames.TYPES``) and the piece's 0-based node range
 # (i0, j0, i1, j1) along one side of the block
 PIECE_NAMES, PIECE_TYPES, PIECE_RANGES = "PieceNames", "PieceTypes", "PieceRanges"
 

@@ -1,19 +1,23 @@
-"""The networks' jet in C++ (``kernels.cpp``), compiled once with the system compiler.
+"""The networks' jet in C++ (``kernels.cpp``), compiled with the system compiler.
 
-The library is built on first use into a per-user cache (``$PINN_MESH_CACHE``, else
-``$XDG_CACHE_HOME/pinn-mesh`` or ``~/.cache/pinn-mesh``), keyed by the source, the compiler
-(its path and version), the flags and the CPU (``-march=native`` code runs only on the CPU
-it was built for), and loaded with ctypes: no Python or torch headers, a few seconds to
-build. Without a C++ compiler, with ``PINN_MESH_NATIVE=0``, or when the build fails
-(:class:`NativeBuildError`), :func:`kernels` returns None and the networks use the same
-formulas as torch operations (slower, same results).
+Installing the package compiles it into the package (``setup.py``'s ``build_jet`` step:
+:func:`build_packaged`), named by a hash of the source, the flags and the CPU
+(``-march=native`` code runs only on the CPU it was built for): :func:`kernels` loads that
+library when it was built for this source and CPU. Otherwise (a wheel built on another
+machine, a source changed since the install) the library is built once, with a one-line
+warning, into a per-user cache (``$PINN_MESH_CACHE``, else ``$XDG_CACHE_HOME/pinn-mesh`` or
+``~/.cache/pinn-mesh``), keyed as well by the compiler (its path and version). Either is
+loaded with ctypes: no Python or torch headers. Without a C++ compiler, with
+``PINN_MESH_NATIVE=0``, or when the build fails (:class:`NativeBuildError`), :func:`kernels`
+returns None and the networks use the same formulas as torch operations (slower, same
+results); a missing compiler and a failed build each say so in a one-line warning.
 
 Nothing is loaded from a folder that another user could write to. The cache folder is
 created with mode 0700; before a library is loaded, the folder and the file must belong to
 this user and be writable by nobody else (POSIX; on Windows the user's profile and
 temporary folders are private already). Where the cache folder fails that, the per-user
 folder in the temporary directory is tried, then a fresh private folder for this process
-alone, each time with a warning.
+alone, each time with a warning. The package's own library is trusted as its Python code is.
 """
 
 from __future__ import annotations
@@ -32,9 +36,12 @@ from pathlib import Path
 
 log = logging.getLogger(__name__)
 SOURCE = Path(__file__).with_name("kernels.cpp")
+PACKAGED_DIR = SOURCE.parent  # where the install step puts the library (build_packaged)
 FLAGS = ["-O3", "-march=native", "-fno-trapping-math", "-shared", "-fPIC", "-std=c++17", "-pthread"]
 CPUINFO = Path("/proc/cpuinfo")
 COMPILE_TIMEOUT = 120.0  # seconds
+# said once where a run compiles the kernels itself (the install step did not): 15-30 s
+COMPILING = "pinn-mesh: compiling the network's C++ jet kernels into %s once (about 30 s)"
 # /proc/cpuinfo fields (first processor) that name the CPU and what it can run: x86 and ARM
 _CPU_FIELDS = (
     "vendor_id",
@@ -122,18 +129,48 @@ def _cpu_id() -> str:
     return f"{platform.machine() or 'unknown machine'} {system} {model}"
 
 
-def build_key(compiler: str) -> str:
-    """The library's key: a hash of the source, the compiler's path and version, the flags
-    and the CPU (:func:`_cpu_id`); 16 hex digits."""
-    version = _output([compiler, "--version"]).splitlines()[:1] or ["unknown version"]
-    parts = [
-        SOURCE.read_bytes(),
-        str(shutil.which(compiler) or compiler).encode(),
-        version[0].encode(),
-        " ".join(FLAGS).encode(),
-        _cpu_id().encode(),
-    ]
+def _hash(parts: list[bytes]) -> str:
     return hashlib.sha256(b"\0".join(parts)).hexdigest()[:16]
+
+
+def build_key(compiler: str) -> str:
+    """The cached library's key: a hash of the source, the compiler's path and version, the
+    flags and the CPU (:func:`_cpu_id`); 16 hex digits."""
+    version = _output([compiler, "--version"]).splitlines()[:1] or ["unknown version"]
+    compiler_path = str(shutil.which(compiler) or compiler)
+    return _hash([SOURCE.read_bytes(), compiler_path.encode(), version[0].encode()] + _target())
+
+
+def _target() -> list[bytes]:
+    """What the library's code depends on beside its source: the flags and the CPU."""
+    return [" ".join(FLAGS).encode(), _cpu_id().encode()]
+
+
+def packaged_library(folder: Path) -> Path:
+    """The install step's library in ``folder``: named by a hash of the source, the flags
+    and the CPU, so that one built for another CPU or an older source is never loaded."""
+    return folder / f"jet_kernels-{_hash([SOURCE.read_bytes(), *_target()])}.so"
+
+
+def build_packaged(folder: Path) -> Path | None:
+    """Compile the library into the package folder ``folder`` (the install step); the
+    libraries of older sources there are removed. None, with a one-line message on stderr,
+    where there is no compiler or the build fails: the engine then builds it at first use."""
+    compiler = _compiler()
+    if compiler is None:
+        print("pinn-mesh: no C++ compiler found; the jet kernels are built at first use")
+        return None
+    print(COMPILING % folder)
+    target = packaged_library(folder)
+    try:
+        _compile(compiler, folder, target)
+    except NativeBuildError as exc:
+        print(f"pinn-mesh: {_one_line(str(exc))}; the jet kernels are built at first use")
+        return None
+    for old in folder.glob("jet_kernels-*.so"):
+        if old != target:
+            old.unlink()
+    return target
 
 
 def _not_private(path: Path, folder: bool) -> str | None:
@@ -205,6 +242,7 @@ def _built(compiler: str) -> tuple[Path, Path | None]:
                 if why is None:
                     return target, None
                 log.warning("not loading %s: it %s; building it again", target, why)
+            log.warning(COMPILING, folder)
             return _compile(compiler, folder, target), None
         except NotPrivateError as exc:
             log.warning("%s; not using it for the jet kernels", exc)
@@ -238,14 +276,32 @@ def threads() -> int:
     return max(1, int(os.environ.get("PINN_MESH_JET_THREADS") or 1))
 
 
+def _compiler() -> str | None:
+    return os.environ.get("CXX") or shutil.which("c++") or shutil.which("g++")
+
+
+def _one_line(text: str, limit: int = 1000) -> str:
+    """``text`` as one line of at most ``limit`` characters (its end: where errors are)."""
+    return " ".join(text.split())[-limit:]
+
+
 @functools.cache
 def kernels() -> ctypes.CDLL | None:
     """The loaded kernel library, or None where it cannot be built (then torch is used)."""
     if os.environ.get("PINN_MESH_NATIVE", "1") == "0":
         return None
-    compiler = os.environ.get("CXX") or shutil.which("c++") or shutil.which("g++")
+    packaged = packaged_library(PACKAGED_DIR)
+    if packaged.exists():
+        try:
+            return _bind(ctypes.CDLL(str(packaged)))
+        except (OSError, AttributeError) as exc:
+            log.warning("not loading %s (%s); building it again", packaged, _one_line(str(exc)))
+    compiler = _compiler()
     if not compiler:
-        log.info("no C++ compiler found: jet layers run as torch operations")
+        log.warning(
+            "pinn-mesh: no C++ compiler found (install g++ or set CXX): the network's jets "
+            "run as torch operations, slower"
+        )
         return None
     try:
         path, fresh = _built(compiler)
@@ -257,6 +313,6 @@ def kernels() -> ctypes.CDLL | None:
     except (OSError, NativeBuildError, AttributeError) as exc:
         log.warning(
             "could not build the fused jet kernels (%s); using torch operations",
-            str(exc).strip()[-1000:],
+            _one_line(str(exc)),
         )
         return None

@@ -19,6 +19,8 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     written = written if written is not None else []
     if args.cells and not args.blocks:
         raise PinnMeshError("--cells applies to multi-block domains (--blocks); use --size")
+    if args.save_blocks and not args.blocks:
+        raise PinnMeshError("--save-blocks writes the block edges of --blocks (or --blocks auto)")
     if args.blocks:
         return run_blocks(args, written)
     if args.boundary and is_faced_surface(args.boundary):

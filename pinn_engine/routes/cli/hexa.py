@@ -19,7 +19,8 @@ HEXA_OPTIONS = frozenset(
 
 def run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
     """The surface's hexahedral grid into ``OUT`` (the formats and patches of SPEC 8, never
-    extruded; spacing and orthogonality on patches); appends each output file to ``written``
+    extruded; patches named by side or by the input's FaceId; spacing and orthogonality on
+    patches); appends each output file to ``written``
     once it is complete."""
     from pinn_engine.hexa.spacing import parse_patches
     from pinn_engine.hexamesh import (
@@ -48,7 +49,6 @@ def run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
         )
     out = output_path(args, f"{Path(args.boundary).stem}_{method}", "vts")
     export.output_format(out, args.format)  # refused before meshing
-    export.patch_specs(args.patch or None, sides=export.BOX_SIDES)  # as are the patches
     if (args.save_model or args.load_model) and method != "pinn":
         raise PinnMeshError(
             f"--method {method} trains no network: --save-model and --load-model are pinn's"
@@ -61,10 +61,11 @@ def run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
         spacing=spacing,
         orthogonal=orthogonal,
         load_model=args.load_model,
+        patches=args.patch or None,  # checked before meshing
     )
     if args.save_model:
         save_model(result.model, args.save_model, written)
-    export.write(hexa_grid(result, method), out, args.format, patches=args.patch or None)
+    export.write(hexa_grid(result, method), out, args.format)
     written.append(out)
     run = report(result, method)
     if args.report:

@@ -12,7 +12,7 @@ from pinn_engine.routes.cli.outputs import output_path, refuse_folded, write_out
 from pinn_engine.routes.cli.parser import option_flags
 from pinn_engine.routes.cli.progress import Progress
 from pinn_engine.routes.cli.summary import blocks_summary, warn
-from pinn_engine.settings import BLOCKS_METHOD, MULTIBLOCK_METHODS
+from pinn_engine.settings import AUTO_BLOCKS, BLOCKS_METHOD, MULTIBLOCK_METHODS
 
 # Options of four-sided domains and bodies that a multi-block run refuses (SPEC 10)
 NOT_FOR_BLOCKS = (
@@ -24,6 +24,7 @@ def run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
     """The boundary and its block edges into ``OUT.vtm`` (or a solver format); appends each
     output file to ``written`` once it is complete."""
     from pinn_engine import job
+    from pinn_engine.io.export.edges import write_edges
     from pinn_engine.io.export.multiblock import blocks_format, write_blocks
     from pinn_engine.io.export.vtm import write_vtm
 
@@ -35,6 +36,10 @@ def run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
             )
     if args.boundary is None:
         raise PinnMeshError("give a boundary file (outer boundary and holes) with --blocks")
+    if AUTO_BLOCKS in args.blocks and len(args.blocks) > 1:
+        raise PinnMeshError(f"--blocks {AUTO_BLOCKS} proposes every edge: give no other --blocks")
+    if args.save_blocks and Path(args.save_blocks).suffix.lower() != ".vtp":
+        raise PinnMeshError(f"--save-blocks {args.save_blocks}: block edges are saved as .vtp")
     args.method = args.method or BLOCKS_METHOD
     if args.method not in MULTIBLOCK_METHODS:
         raise PinnMeshError(
@@ -86,6 +91,9 @@ def run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
         render_blocks_png(outcome.dataset, tmp, title=title)
 
     write_outputs(args, out, written, write_grid, report, draw)
+    if args.save_blocks:
+        written.append(write_edges(outcome.edges, args.save_blocks))
+        print(f"wrote {args.save_blocks} ({len(outcome.edges)} block edges)")
     if folded:
         warn(f"{args.boundary}: {folded} of {report['cells']} cells are folded")
     return out

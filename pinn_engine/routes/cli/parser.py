@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import difflib
 import functools
 import re
 import sys
+from typing import NoReturn
 
+from pinn_engine._version import __version__
 from pinn_engine.settings import (
     METHODS,
     OBJECTIVES,
@@ -22,20 +25,17 @@ PLACE_OPTIONS = ("--patch", "--spacing", "--cells")
 NEGATIVE = re.compile(r"^-\.?\d")  # a value starting with a negative number, not an option
 
 
-class _Parser(argparse.ArgumentParser):
-    """argparse, except that ``--patch -0.5,0=wall`` (a point item of a place option) is a
-    value: argparse takes any word starting with a minus, but a plain negative number, for
-    an option."""
-
-    def parse_known_args(self, args=None, namespace=None):
-        words = list(sys.argv[1:] if args is None else args)
-        out: list[str] = []
-        for word in words:
-            if out and out[-1] in PLACE_OPTIONS and NEGATIVE.match(word):
-                out[-1] = f"{out[-1]}={word}"
-            else:
-                out.append(word)
-        return super().parse_known_args(out, namespace)
+def _joined_places(words: list[str]) -> list[str]:
+    """``--patch -0.5,0=wall`` as ``--patch=-0.5,0=wall``: a point item of a place option is
+    its value (argparse takes any word starting with a minus, but a plain negative number,
+    for an option)."""
+    out: list[str] = []
+    for word in words:
+        if out and out[-1] in PLACE_OPTIONS and NEGATIVE.match(word):
+            out[-1] = f"{out[-1]}={word}"
+        else:
+            out.append(word)
+    return out
 
 
 def _options(name: str) -> tuple:
@@ -52,9 +52,41 @@ class _SizeAction(argparse.Action):
         setattr(namespace, self.dest, values)
 
 
+class OneLineParser(argparse.ArgumentParser):
+    """argparse's parser whose complaint is one line with the way to the options (not the
+    usage block), and which names an unknown option, with the nearest known one, before
+    argparse could take the option's values for the boundary."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message} ({self.prog} -h lists the options)\n")
+
+    def parse_known_args(self, args=None, namespace=None):
+        args = _joined_places(sys.argv[1:] if args is None else [str(a) for a in args])
+        for token in args:
+            if token == "--":  # what follows is positional
+                break
+            if self._unknown_option(token):
+                flag = token.split("=", 1)[0]
+                longs = [o for o in self._option_string_actions if o.startswith("--")]
+                nearest = difflib.get_close_matches(flag, longs, n=1)
+                hint = f"; did you mean {nearest[0]}?" if nearest else ""
+                self.error(f"unknown option {flag}{hint}")
+        return super().parse_known_args(args, namespace)
+
+    def _unknown_option(self, token: str) -> bool:
+        """Whether ``token`` looks like an option and names none (nor a unique prefix of
+        one, nor a short option with its value attached)."""
+        if not token.startswith("-") or token == "-" or self._negative_number_matcher.match(token):
+            return False
+        flag = token.split("=", 1)[0]
+        if flag in self._option_string_actions or token[:2] in self._option_string_actions:
+            return False
+        return not any(o.startswith(flag) for o in self._option_string_actions)
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The parser of one run's command line (the batch reads its manifest rows with it too)."""
-    p = _Parser(
+    p = OneLineParser(
         prog="pinn-mesh",
         description="Structured quadrilateral mesh of a four-sided 2D domain "
         "(PINN of Chen et al., with TFI, elliptic and MGNet baselines).",
@@ -83,7 +115,14 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="EDGES",
         help="block edges (.vtp/.vtk, several open polylines a file; repeatable): mesh a "
         "multi-block domain (SPEC 10) into OUT.vtm; with --cell-size, --interfaces, "
-        "--method pinn (the default), elliptic or tfi",
+        "--method pinn (the default), elliptic or tfi. 'auto': edges proposed from the "
+        "boundary and its holes alone (SPEC 13)",
+    )
+    p.add_argument(
+        "--save-blocks",
+        metavar="PATH",
+        help="with --blocks: also write the block edges meshed (.vtp, open polylines; "
+        "the proposal of --blocks auto, to edit and mesh again with --blocks PATH)",
     )
     p.add_argument(
         "--method",
@@ -102,6 +141,7 @@ def build_parser() -> argparse.ArgumentParser:
         "with a FaceId array (default 21 21 21)",
     )
     p.add_argument("--seed", type=int, default=None)
+    p.add_argument("--version", action="version", version=f"pinn-mesh {__version__}")
     p.add_argument(
         "--preset",
         choices=PRESETS,

@@ -32,11 +32,14 @@ A six-faced 3D domain (SPEC 11), a closed surface with a ``FaceId`` cell array, 
 same way: ``grid = surface.pinn_mesh(size=(21, 21, 21))`` (or :func:`pinn_mesh_hexa`)
 returns its hexahedral ``pyvista.StructuredGrid``.
 
+``pinn_engine.report(grid)`` (:func:`report`) reads a grid's report as a dict and
+``pinn_engine.save(grid, "x.su2", patches=...)`` (:func:`save_mesh`) writes it for a solver.
+
 The package: ``inputs`` (curves and surfaces in any of their forms as PolyData), ``running``
-(a VTK algorithm run in pyvista's words: errors, output, warnings at the caller's line), one
-module a domain kind (``four_sided`` with ``body``, ``multiblock``, ``hexa``), ``save``
-(``save_mesh``) and ``accessor`` (``PolyData.pinn_mesh``, registered when this package is
-imported).
+(a VTK algorithm run in pyvista's words: errors, output, progress bar, warnings at the
+caller's line), one module a domain kind (``four_sided`` with ``body``, ``multiblock``,
+``hexa``), ``report`` and ``save`` (``save_mesh``), and ``accessor`` (``PolyData.pinn_mesh``,
+registered when this package is imported).
 """
 
 from pinn_engine.errors import FoldedCellsWarning
@@ -44,6 +47,7 @@ from pinn_engine.routes.pyvista_accessor.accessor import PinnMeshAccessor
 from pinn_engine.routes.pyvista_accessor.four_sided import pinn_mesh
 from pinn_engine.routes.pyvista_accessor.hexa import pinn_mesh_hexa
 from pinn_engine.routes.pyvista_accessor.multiblock import pinn_mesh_blocks
+from pinn_engine.routes.pyvista_accessor.report import report
 from pinn_engine.routes.pyvista_accessor.save import save_mesh
 
 __all__ = [
@@ -52,5 +56,6 @@ __all__ = [
     "pinn_mesh",
     "pinn_mesh_blocks",
     "pinn_mesh_hexa",
+    "report",
     "save_mesh",
 ]

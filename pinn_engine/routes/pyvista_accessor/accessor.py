@@ -1,31 +1,44 @@
 """The ``pinn_mesh`` accessor registered on ``pyvista.PolyData``: one call for every domain
-kind (the one a surface's ``FaceId`` array, a three-number ``size`` or ``blocks=`` names),
-the networks it trained kept for the next call, and its last grid saved."""
+kind (the one a surface, a three-number ``size`` or ``blocks=`` names), its keywords explicit
+and checked against that kind, the networks it trained kept for the next call, and its last
+grid saved or read."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import inspect
+from collections.abc import Callable, Sequence
 
 import pyvista as pv
 
 from pinn_engine.cache import MeshCache
-from pinn_engine.errors import InputError
+from pinn_engine.errors import InputError, unknown_name
+from pinn_engine.geometry.plane import Plane
 from pinn_engine.hexa.surface import FACE_ARRAY
 from pinn_engine.hexamesh import HEXA_SIZE
 from pinn_engine.routes.pyvista_accessor.four_sided import pinn_mesh
 from pinn_engine.routes.pyvista_accessor.hexa import HEXA_OPTIONS, pinn_mesh_hexa
 from pinn_engine.routes.pyvista_accessor.multiblock import pinn_mesh_blocks
+from pinn_engine.routes.pyvista_accessor.report import report
 from pinn_engine.routes.pyvista_accessor.save import save_mesh
+from pinn_engine.settings import Settings
+
+# the keywords of a multi-block domain (besides method and progress_bar), and those that
+# apply to it alone
+BLOCKS_KEYWORDS = (
+    "blocks", "cell_size", "interfaces", "patches", "spacing", "orthogonal", "aux", "save_blocks",
+    "cells",
+)  # fmt: skip
+BLOCKS_ONLY = ("blocks", "cell_size", "interfaces", "save_blocks", "cells")
 
 
 @pv.register_dataset_accessor("pinn_mesh", pv.PolyData)
 class PinnMeshAccessor:
-    """``boundary.pinn_mesh(aux=None, size=(41, 21), method="pinn", **settings)``.
+    """``boundary.pinn_mesh(...)``: the structured grid of the domain this PolyData bounds.
 
-    Meshes the four-sided domain bounded by this PolyData (one closed polyline) and returns
-    a ``pyvista.StructuredGrid`` (active cell scalars ``MaxIncludedAngle``). The arguments
-    are those of :func:`pinn_engine.routes.pyvista_accessor.pinn_mesh`; ``help(pinn_mesh)``
-    describes them.
+    One closed polyline with four corners gives a four-sided grid; with ``topology`` an O-
+    or C-grid around a body; with ``blocks=`` a multi-block grid; a closed surface (a
+    ``FaceId`` cell array, or a ``size`` of three numbers) a hexahedral grid.
+    Its keywords are those of ``__call__`` (below); ``progress_bar=True`` shows a bar.
 
     Trained networks are kept per boundary: calling again with settings seen before (or with
     a change training does not depend on) re-evaluates the network instead of training.
@@ -34,11 +47,8 @@ class PinnMeshAccessor:
     >>> fine = boundary.pinn_mesh(aux=lines, size=(161, 81), lattice=(41, 21))  # no retraining
     >>> boundary.pinn_mesh.trainings
     1
-
-    With ``blocks=`` (block edges) it meshes a multi-block domain (SPEC 10) instead and
-    returns a ``pyvista.MultiBlock``; see :func:`pinn_mesh_blocks`. A closed surface with a
-    ``FaceId`` cell array (or a ``size`` of three numbers) gives a hexahedral grid (SPEC 11);
-    see :func:`pinn_mesh_hexa`.
+    >>> boundary.pinn_mesh.report["quality"]["worst_max_angle"]  # the last grid's report, a dict
+    >>> boundary.pinn_mesh.save("out/fig2.su2")  # the last grid, for a CFD solver
 
     >>> lshape = pv.read("example_data/lshape.vtp")
     >>> blocks = lshape.pinn_mesh(blocks=pv.read("example_data/lshape_blocks.vtp"), cell_size=0.1)
@@ -58,52 +68,216 @@ class PinnMeshAccessor:
         method: str | None = None,
         *,
         blocks=None,
-        **options,
+        patches=None,
+        spacing=None,
+        orthogonal=None,
+        preset: str | None = None,
+        corners: Sequence[int] | None = None,
+        objective: str | None = None,
+        adam_epochs: int | None = None,
+        lbfgs_iterations: int | None = None,
+        hidden_layers: int | None = None,
+        neurons: int | None = None,
+        lambda2: float | None = None,
+        seed: int | None = None,
+        lattice: Sequence[int] | None = None,
+        boundary_mode: str | None = None,
+        time_limit: float | None = None,
+        device: str | None = None,
+        topology: str | None = None,
+        naca: str | None = None,
+        farfield: float | None = None,
+        cell_size: float | None = None,
+        interfaces: str | None = None,
+        save_blocks: str | None = None,
+        cells=None,
+        progress: Callable[[dict], bool | str | None] | None = None,
+        progress_bar: bool = False,
+        **settings,
     ) -> pv.StructuredGrid | pv.MultiBlock:
-        """Mesh the domain bounded by this PolyData (or, with ``topology``, around this body);
-        the keyword ``options`` are those of :func:`pinn_mesh` (``help(pinn_mesh)``), with
-        this accessor's networks re-used.
+        """Mesh the domain this PolyData bounds; returns a ``pyvista.StructuredGrid`` (a
+        ``pyvista.MultiBlock`` with ``blocks``).
 
-        ``aux``: auxiliary polylines (PolyData or a list); ``size``: ``(ni, nj)`` nodes
-        (default 41 x 21); ``method``: pinn (default), mgnet, tfi or elliptic. Returns a
-        ``pyvista.StructuredGrid`` with MaxIncludedAngle/MinIncludedAngle cells.
+        Parameters
+        ----------
+        aux : PolyData, array_like, or a list/MultiBlock of them, optional
+            Auxiliary lines: open polylines from one side to the opposite side, which the
+            grid lines follow (``method="pinn"``; with ``blocks``, lines inside blocks).
+        size : (ni, nj) or (ni, nj, nk), optional
+            Nodes along each direction: default ``(41, 21)``; three numbers for a six-faced
+            surface (default ``(21, 21, 21)``).
+        method : {"pinn", "mgnet", "tfi", "elliptic"}, optional
+            The paper's PINN (default), its MGNet baseline, transfinite interpolation or the
+            elliptic (Winslow) grid; blocks and surfaces take pinn, tfi and elliptic.
+        blocks : PolyData, array_like, a list/MultiBlock of them, or "auto", optional
+            Block edges: this PolyData's closed polylines are then the outer boundary and
+            holes of a multi-block domain (SPEC 10, docs/multiblock.md); ``"auto"``: edges
+            proposed from the boundary and holes alone (SPEC 13, docs/blocking.md).
+        patches : dict, sequence of names or str, optional
+            Boundary patch names, optionally typed ``"NAME:TYPE"``: ``{"bottom": "wall"}``
+            by side (bottom right top left), ``{"imin": "inlet"}`` by face (imin ... kmax),
+            or ``["X,Y=NAME"]`` for the block boundary piece nearest (X, Y), ``{"hole1":
+            "NAME"}`` for every piece of a ring; stored as field data and used by
+            :meth:`save`.
+        spacing : dict or sequence of str, optional
+            First grid edge leaving a side or patch, ``{"bottom": 1e-3}`` or
+            ``["bottom=1e-3"]``, growing smoothly away from it (SPEC 7); with ``blocks``
+            also ``{(x, y): h}``, the cells on both sides of the block side nearest (x, y).
+        orthogonal : str or sequence of str, optional
+            Sides or patches that grid lines leave at 90 degrees, ``"bottom"`` or
+            ``["bottom", "top"]`` (pinn and elliptic).
+        preset : {"default", "paper"}, optional
+            ``"paper"`` reproduces the paper's section 4 training settings.
+        corners : four ints, optional
+            The boundary's corner point indices; default: its four sharpest turns.
+        objective : {"winslow", "quality"}, optional
+            pinn: the Winslow equations alone (default), or with a term that lowers the
+            worst cell's largest angle (docs/quality_objective.md).
+        adam_epochs, lbfgs_iterations : int, optional
+            Training steps; default 0 Adam epochs and 120 L-BFGS iterations from the
+            elliptic grid (the paper preset: 5000 and 500 from TFI).
+        hidden_layers, neurons, lambda2, seed : optional
+            The network (default 4 layers of 30), the boundary weight (30) and the seed (0).
+        lattice : (int, int), optional
+            The elliptic grid the pinn starts from (default: ``size``); a network trained
+            on one lattice is re-evaluated at any ``size``.
+        boundary_mode : {"hard", "penalty"}, optional
+            The boundary exact by construction (default) or the paper's penalty term.
+        time_limit : float, optional
+            Seconds of training, then the grid of the best state so far is returned with a
+            ``TrainingStoppedWarning`` (default: no limit).
+        device : str, optional
+            Torch device: ``"auto"`` (default), ``"cpu"``, ``"cuda"``.
+        topology, naca, farfield : optional
+            ``topology="o"`` or ``"c"``: an O- or C-grid around this PolyData as a body (an
+            airfoil curve), ``naca="0012"`` for a NACA section instead, ``farfield`` the
+            far field's radius in chords (default 15; docs/airfoils.md).
+        cell_size : float, optional
+            With ``blocks``: the cells' length (default: the domain's diagonal / 40).
+        interfaces : {"free", "fixed"}, optional
+            With ``blocks``: interface nodes solved like interior ones (default) or kept on
+            the drawn edges.
+        save_blocks : str, optional
+            With ``blocks``: also write the block edges meshed (``.vtp``; the proposal of
+            ``blocks="auto"``), which passed back as ``blocks`` give the same grid.
+        cells : dict or sequence of str, optional
+            With ``blocks``: cells along the chain through the block side nearest (x, y),
+            ``{(x, y): n}`` or ``["X,Y=N"]``.
+        progress : callable, optional
+            ``progress(info)`` during training (``info``: ``phase``, ``step``, ``total``,
+            ``loss``); returning True cancels, ``pinn_engine.errors.STOP`` keeps the best
+            state so far.
+        progress_bar : bool, default: False
+            Show a progress bar of the meshing, as pyvista's filters do.
+        **settings
+            Any other training setting by name, e.g. ``learning_rate=5e-4``.
 
-        ``blocks``: block edges (PolyData or a list): this PolyData's closed polylines are
-        then the outer boundary and holes of a multi-block domain, and the keywords those of
-        :func:`pinn_mesh_blocks` (``cell_size``, ``method``: pinn, elliptic or tfi,
-        ``interfaces``, ``patches``, ``spacing``, ``orthogonal``, ``cells``; ``aux``:
-        auxiliary lines inside blocks); returns a ``pyvista.MultiBlock``.
+        Returns
+        -------
+        pyvista.StructuredGrid or pyvista.MultiBlock
+            Cell data ``MaxIncludedAngle`` (active), ``MinIncludedAngle``,
+            ``ScaledJacobian``, ``Folded``; field data ``Method``, ``PatchNames`` and the
+            report (``pinn_engine.report(grid)`` reads it as a dict).
 
-        A surface with a ``FaceId`` cell array, or ``size=(ni, nj, nk)``: the hexahedral grid
-        of :func:`pinn_mesh_hexa` (``size``, ``method``, ``patches``, ``spacing``,
-        ``orthogonal``); returns a ``pyvista.StructuredGrid``.
+        Raises
+        ------
+        ValueError
+            Every bad input or setting, as ``pinn_engine.errors.InputError`` (a
+            ``ValueError``) with a one-line message; an unknown keyword names the nearest.
+
+        Warns
+        -----
+        pinn_engine.FoldedCellsWarning, pinn_engine.TrainingStoppedWarning
+            Folded cells, or a training ended early; the grid is returned anyway.
         """
+        given = {
+            name: value
+            for name, value in dict(
+                aux=aux,
+                blocks=blocks,
+                patches=patches,
+                spacing=spacing,
+                orthogonal=orthogonal,
+                preset=preset,
+                corners=corners,
+                objective=objective,
+                adam_epochs=adam_epochs,
+                lbfgs_iterations=lbfgs_iterations,
+                hidden_layers=hidden_layers,
+                neurons=neurons,
+                lambda2=lambda2,
+                seed=seed,
+                lattice=lattice,
+                boundary_mode=boundary_mode,
+                time_limit=time_limit,
+                device=device,
+                topology=topology,
+                naca=naca,
+                farfield=farfield,
+                cell_size=cell_size,
+                interfaces=interfaces,
+                save_blocks=save_blocks,
+                cells=cells,
+                progress=progress,
+                **settings,
+            ).items()
+            if value is not None
+        }
+        for name in settings:
+            if name not in Settings.__dataclass_fields__:
+                raise unknown_name(
+                    name, _keywords(), "keyword", "{}=", also=Settings.__dataclass_fields__
+                )
         faced = FACE_ARRAY.decode() in self._mesh.cell_data
         if faced or (size is not None and len(size) == len(HEXA_SIZE)):
-            given = {"aux": aux, "blocks": blocks, **options}
-            for name, value in given.items():
-                if value is not None and name not in HEXA_OPTIONS:
-                    keywords = ", ".join(f"{n}=" for n in ("size", "method", *HEXA_OPTIONS))
-                    raise InputError(
-                        f"{name}= applies to 2D domains, not to a six-faced surface; give "
-                        f"{keywords}"
-                    )
-            hexa = {k: v for k, v in options.items() if k in HEXA_OPTIONS}
-            self.last = pinn_mesh_hexa(self._mesh, size or HEXA_SIZE, method, **hexa)
-            return self.last
-        if blocks is not None:
-            if size is not None:
-                raise InputError("size= applies to four-sided domains, not to blocks=")
-            self.last = pinn_mesh_blocks(self._mesh, blocks, method=method, aux=aux, **options)
-            return self.last
-        if size is not None:
-            options["size"] = size
-        self.last = pinn_mesh(
-            self._mesh, aux, method=method or "pinn", cache=self._cache, **options
-        )
+            self.last = self._hexa(size, method, given, progress_bar)
+        elif blocks is not None:
+            self.last = self._blocks(size, method, given, progress_bar)
+        else:
+            for name in BLOCKS_ONLY:
+                if name in given:
+                    raise InputError(f"{name}= applies to multi-block domains (with blocks=)")
+            self.last = pinn_mesh(
+                self._mesh,
+                size=size or (41, 21),
+                method=method or "pinn",
+                cache=self._cache,
+                progress_bar=progress_bar,
+                **given,
+            )
         return self.last
 
     mesh = __call__  # boundary.pinn_mesh.mesh(...) reads well too
+
+    def _hexa(self, size, method, given: dict, progress_bar: bool) -> pv.StructuredGrid:
+        """A six-faced surface's hexahedral grid, or the error of a 2D curve given three
+        sizes or of keywords for 2D domains."""
+        if FACE_ARRAY.decode() not in self._mesh.cell_data and _is_flat(self._mesh):
+            raise InputError(
+                f"size={tuple(size)}: three sizes need a six-faced surface (a closed surface "
+                "with a FaceId cell array); this PolyData lies in a plane: give size=(ni, nj)"
+            )
+        for name in given:
+            if name not in HEXA_OPTIONS:
+                keywords = ", ".join(f"{n}=" for n in ("size", "method", *HEXA_OPTIONS))
+                raise InputError(
+                    f"{name}= applies to 2D domains, not to a six-faced surface; give {keywords}"
+                )
+        return pinn_mesh_hexa(
+            self._mesh, size or HEXA_SIZE, method, progress_bar=progress_bar, **given
+        )
+
+    def _blocks(self, size, method, given: dict, progress_bar: bool) -> pv.MultiBlock:
+        """A multi-block domain's grid, or the error of keywords for other domains."""
+        if size is not None:
+            raise InputError("size= applies to four-sided domains, not to blocks=")
+        for name in given:
+            if name not in BLOCKS_KEYWORDS:
+                keywords = ", ".join(f"{n}=" for n in ("method", *BLOCKS_KEYWORDS))
+                raise InputError(
+                    f"{name}= applies to four-sided domains, not to blocks=; give {keywords}"
+                )
+        return pinn_mesh_blocks(self._mesh, method=method, progress_bar=progress_bar, **given)
 
     def save(
         self,
@@ -114,8 +288,12 @@ class PinnMeshAccessor:
         patches=None,
         extrude: float | None = None,
     ):
-        """Write ``grid`` (default: the last grid this accessor made) for a CFD solver;
-        the arguments are those of :func:`save_mesh`.
+        """Write ``grid`` (default: the last grid this accessor made) for a CFD solver, the
+        format by the extension of ``path``: ``.vts``, ``.vtk``, ``.xyz`` (PLOT3D),
+        ``.cgns``, ``.su2``, ``.msh`` (Gmsh), or ``format="openfoam"`` for a case folder;
+        ``patches`` renames the boundary patches, ``extrude=T`` makes a 2D grid one cell of
+        thickness T. Returns the path written (``pinn_engine.save`` does the same for any
+        grid).
 
         >>> boundary.pinn_mesh(size=(41, 21), patches={"bottom": "wall", "top": "wall"})
         >>> boundary.pinn_mesh.save("out/channel.su2")
@@ -128,6 +306,14 @@ class PinnMeshAccessor:
         return save_mesh(grid, path, format, patches=patches, extrude=extrude)
 
     @property
+    def report(self) -> dict:
+        """The last grid's report as a dict (sizes, quality figures, training, settings);
+        ``pinn_engine.report(grid)`` reads any grid's."""
+        if self.last is None:
+            raise InputError("no grid made yet; call boundary.pinn_mesh(...) first")
+        return report(self.last)
+
+    @property
     def trainings(self) -> int:
         """Networks trained for this boundary so far."""
         return self._cache.trainings
@@ -135,3 +321,18 @@ class PinnMeshAccessor:
     def clear(self) -> None:
         """Forget the trained networks: the next call trains again."""
         self._cache.clear()
+
+
+def _is_flat(mesh: pv.PolyData) -> bool:
+    """Whether ``mesh`` lies in one plane (a 2D domain's curve, not a closed surface)."""
+    try:
+        Plane.fit(mesh.points)
+    except InputError:
+        return False
+    return True
+
+
+def _keywords() -> list[str]:
+    """The accessor's own keywords, for the error of a misspelt one."""
+    parameters = inspect.signature(PinnMeshAccessor.__call__).parameters.values()
+    return [p.name for p in parameters if p.name != "self" and p.kind != p.VAR_KEYWORD]

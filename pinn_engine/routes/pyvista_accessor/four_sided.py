@@ -2,17 +2,19 @@
 
 from __future__ import annotations
 
+import inspect
 from collections.abc import Callable, Sequence
 
 import pyvista as pv
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 from pinn_engine.cache import MeshCache
-from pinn_engine.errors import InputError
+from pinn_engine.errors import InputError, SettingsError, unknown_name
 from pinn_engine.routes.algorithm import PinnMeshAlgorithm
 from pinn_engine.routes.pyvista_accessor.body import body_input
 from pinn_engine.routes.pyvista_accessor.inputs import as_polydata
-from pinn_engine.routes.pyvista_accessor.running import ROUTE, grid_report, run, warn_about
+from pinn_engine.routes.pyvista_accessor.report import report
+from pinn_engine.routes.pyvista_accessor.running import ROUTE, run, warn_about
 from pinn_engine.settings import Settings, grid_size_problem, make_settings
 
 
@@ -40,6 +42,7 @@ def pinn_mesh(
     farfield: float | None = None,
     spacing: dict | None = None,
     orthogonal=None,
+    progress_bar: bool = False,
     **settings,
 ) -> pv.StructuredGrid:
     """Structured quadrilateral grid of a four-sided 2D domain, or an O- or C-grid around a
@@ -63,9 +66,9 @@ def pinn_mesh(
     corners : four ints, optional
         Corner point indices of the boundary; default: the four sharpest turns.
     adam_epochs, lbfgs_iterations, hidden_layers, neurons, lambda2, seed : optional
-        Training settings (``None``: the preset's value, e.g. 5000 Adam epochs and 500
-        L-BFGS iterations). Short runs such as ``adam_epochs=300, lbfgs_iterations=50``
-        are good for a first look.
+        Training settings (``None``: the preset's value: by default 0 Adam epochs and 120
+        L-BFGS iterations from the elliptic grid, 4 hidden layers of 30 neurons, lambda2
+        30, seed 0; the paper preset 5000 Adam epochs and 500 L-BFGS iterations from TFI).
     boundary_mode : {"hard", "penalty"}, optional
         Exact boundary by construction (default) or the paper's penalty term.
     objective : {"winslow", "quality"}, optional (a ``**settings`` field)
@@ -110,8 +113,11 @@ def pinn_mesh(
         Sides that grid lines leave at 90 degrees, e.g. ``"bottom"`` or ``["bottom",
         "top"]`` (pinn: a loss term; elliptic: Hilgenstock control functions). A body grid
         takes ``"bottom"`` (elliptic and pinn body grids always leave the wall at 90).
+    progress_bar : bool, default: False
+        Show a progress bar of the meshing, as pyvista's filters do.
     **settings
-        Any other field of ``pinn_engine.settings.Settings`` (e.g. ``learning_rate``).
+        Any other training setting by name (e.g. ``learning_rate=5e-4``); an unknown name
+        raises ``InputError`` naming the nearest keyword.
 
     Returns
     -------
@@ -135,11 +141,11 @@ def pinn_mesh(
 
     Raises
     ------
-    pinn_engine.errors.PinnMeshError
-        Bad boundary or auxiliary line (``InputError``), failed training
-        (``TrainingError``); the message is one line.
     ValueError
-        Invalid settings or size.
+        Every bad input: a boundary, auxiliary line, size or setting, as
+        ``pinn_engine.errors.InputError`` (a ``ValueError``); the message is one line.
+    pinn_engine.errors.TrainingError
+        Training failed or was cancelled.
 
     Examples
     --------
@@ -150,10 +156,16 @@ def pinn_mesh(
     >>> grid.dimensions
     (21, 11, 1)
     """
+    if len(size) != 2:
+        raise SettingsError(f"size={tuple(size)}: give two node counts (ni, nj)")
     ni, nj = (int(n) for n in size)
     problem = grid_size_problem(ni, nj)
     if problem:
-        raise ValueError(f"size=({ni}, {nj}): {problem}")
+        raise SettingsError(f"size=({ni}, {nj}): {problem}")
+    for name in settings:
+        if name not in Settings.__dataclass_fields__:
+            keywords = [p for p in inspect.signature(pinn_mesh).parameters if p != "settings"]
+            raise unknown_name(name, keywords, "keyword", "{}=", also=Settings.__dataclass_fields__)
     given = dict(
         adam_epochs=adam_epochs,
         lbfgs_iterations=lbfgs_iterations,
@@ -181,8 +193,13 @@ def pinn_mesh(
     alg.SetCorners(corners)
     if patches is not None:
         alg.SetPatchNames(patches)
-    grid = run(alg, lambda: _boundary_polydata(boundary, config, farfield is not None), aux)
-    warn_about(grid_report(grid))
+    grid = run(
+        alg,
+        lambda: _boundary_polydata(boundary, config, farfield is not None),
+        aux,
+        progress_bar=progress_bar,
+    )
+    warn_about(report(grid))
     return grid
 
 

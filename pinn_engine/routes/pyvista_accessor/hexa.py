@@ -6,10 +6,12 @@ from collections.abc import Sequence
 
 import pyvista as pv
 
+from pinn_engine.errors import SettingsError
 from pinn_engine.hexamesh import HEXA_SIZE, size_problem
 from pinn_engine.routes.hexa_algorithm import PinnHexaAlgorithm, refold_hint
 from pinn_engine.routes.pyvista_accessor.inputs import as_polydata
-from pinn_engine.routes.pyvista_accessor.running import ROUTE, grid_report, run, warn_folded
+from pinn_engine.routes.pyvista_accessor.report import report
+from pinn_engine.routes.pyvista_accessor.running import ROUTE, run, warn_folded
 
 # pinn_mesh_hexa's keywords besides size and method, taken by the accessor on a surface
 HEXA_OPTIONS = ("patches", "spacing", "orthogonal")
@@ -23,6 +25,7 @@ def pinn_mesh_hexa(
     patches=None,
     spacing=None,
     orthogonal=None,
+    progress_bar: bool = False,
 ) -> pv.StructuredGrid:
     """Hexahedral structured grid (SPEC 11) of the 3D domain a closed surface bounds.
 
@@ -37,8 +40,9 @@ def pinn_mesh_hexa(
         One of ``pinn_engine.hexamesh.METHODS`` (``"tfi"``: 3D transfinite interpolation;
         ``"elliptic"``: 3D Winslow), default ``pinn_engine.hexamesh.HEXA_METHOD``.
     patches : dict, sequence of six names or str, optional
-        Patch names of the six faces, e.g. ``{"imin": "inlet:inflow", "kmin": "floor:wall"}``
-        (default imin ... kmax; equal names form one patch), each optionally typed as
+        Patch names of the six faces, e.g. ``{"imin": "inlet:inflow", "face4": "floor:wall"}``
+        (a side imin ... kmax or ``faceN``, the input face whose ``FaceId`` is N; default
+        imin ... kmax; equal names form one patch), each optionally typed as
         ``"NAME:TYPE"``; stored as field data ``PatchNames`` and ``PatchTypes`` and used by
         :func:`save_mesh`.
     spacing : dict or sequence of str, optional
@@ -47,6 +51,8 @@ def pinn_mesh_hexa(
     orthogonal : str or sequence of str, optional
         Faces that grid lines leave along the normal, ``"kmin"`` or ``["kmin", "kmax"]``
         (elliptic and pinn).
+    progress_bar : bool, default: False
+        Show a progress bar of the meshing, as pyvista's filters do.
 
     Returns
     -------
@@ -57,9 +63,8 @@ def pinn_mesh_hexa(
         ``PatchNames``, ``PatchTypes``, ``Report`` (JSON) and the quality figures.
 
     Warns ``pinn_engine.FoldedCellsWarning`` when cells are folded; raises
-    ``pinn_engine.errors.InputError`` (one line) for a surface that is not six-faced,
-    ``ValueError`` for bad settings; a bad patch name, spacing or orthogonal face raises
-    ``InputError`` (one line) before meshing.
+    ``pinn_engine.errors.InputError`` (a ``ValueError``, one line) for a surface that is not
+    six-faced or a bad setting, patch name, spacing or orthogonal face, before meshing.
 
     >>> surface = pv.read("example_data/hexa_bend.vtp")
     >>> grid = pinn_mesh_hexa(surface, size=(21, 11, 9), method="tfi")
@@ -69,7 +74,7 @@ def pinn_mesh_hexa(
     size = tuple(int(n) for n in size)
     problem = size_problem(size)
     if problem:
-        raise ValueError(f"size={size}: {problem}")
+        raise SettingsError(f"size={size}: {problem}")
     alg = PinnHexaAlgorithm(route=ROUTE)
     if method is not None:
         alg.SetMethod(method)  # ValueError for an unknown method
@@ -77,6 +82,8 @@ def pinn_mesh_hexa(
     alg.SetPatchNames(patches)
     alg.SetSpacing(spacing)
     alg.SetOrthogonal(orthogonal)
-    grid = run(alg, lambda: as_polydata(surface, closed=True, what="surface"))
-    warn_folded(grid_report(grid), refold_hint(ROUTE))
+    grid = run(
+        alg, lambda: as_polydata(surface, closed=True, what="surface"), progress_bar=progress_bar
+    )
+    warn_folded(report(grid), refold_hint(ROUTE))
     return grid

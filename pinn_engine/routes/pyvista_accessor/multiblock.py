@@ -2,17 +2,21 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pyvista as pv
 
-from pinn_engine.routes.multiblock_algorithm import MOVE_EDGES, PinnMultiBlockAlgorithm
+from pinn_engine.io.export.edges import edges_of, write_edges
+from pinn_engine.routes.multiblock_algorithm import BLOCKING, MOVE_EDGES, PinnMultiBlockAlgorithm
 from pinn_engine.routes.pyvista_accessor.inputs import as_polydata, polydata_list
+from pinn_engine.routes.pyvista_accessor.report import report
 from pinn_engine.routes.pyvista_accessor.running import (
     ROUTE,
-    grid_report,
     pyvista_words,
     run,
     warn_folded,
 )
+from pinn_engine.settings import AUTO_BLOCKS
 
 
 def pinn_mesh_blocks(
@@ -26,6 +30,8 @@ def pinn_mesh_blocks(
     spacing=None,
     orthogonal=None,
     aux=None,
+    save_blocks=None,
+    progress_bar: bool = False,
     cells=None,
 ) -> pv.MultiBlock:
     """Multi-block structured grid (SPEC 10) of a domain cut into four-sided blocks.
@@ -36,9 +42,10 @@ def pinn_mesh_blocks(
         The outer boundary and its holes: closed polylines (one PolyData may hold several),
         or an ``(n, 2)``/``(n, 3)`` array of the outer boundary's points (closed
         automatically).
-    blocks : PolyData, vtkPolyData, array_like, or a list/MultiBlock of them
+    blocks : PolyData, vtkPolyData, array_like, a list/MultiBlock of them, or "auto"
         Block edges: open polylines from the boundary, a hole or another edge to the
-        boundary, a hole or another edge.
+        boundary, a hole or another edge; ``"auto"``: proposed from the boundary and its
+        holes alone (SPEC 13).
     cell_size : float, optional
         Cell length in the boundary's units (default: the diagonal / 40).
     method : {"pinn", "elliptic", "tfi"}, optional
@@ -68,6 +75,11 @@ def pinn_mesh_blocks(
         Auxiliary lines inside blocks: open polylines, each from a side of the block holding
         its middle point to the opposite side (SPEC 2 in that block), fitted by the pinn;
         the report's ``aux_line_distance`` says how far the grid is from each.
+    save_blocks : str or os.PathLike, optional
+        Also write the block edges meshed (the proposal of ``blocks="auto"``) to this
+        ``.vtp``, open polylines: passed back as ``blocks=`` they give the same grid.
+    progress_bar : bool, default: False
+        Show a progress bar of the meshing, as pyvista's filters do.
 
     Returns
     -------
@@ -78,7 +90,7 @@ def pinn_mesh_blocks(
         side shared by two blocks is the same point in both.
 
     Warns ``pinn_engine.FoldedCellsWarning`` when cells are folded; raises
-    ``pinn_engine.errors.InputError`` (one line) for bad curves, ``ValueError`` for bad
+    ``pinn_engine.errors.InputError`` (a ``ValueError``, one line) for bad curves or
     settings.
 
     >>> blocks = pinn_mesh_blocks(pv.read("example_data/lshape.vtp"),
@@ -87,7 +99,11 @@ def pinn_mesh_blocks(
     ['block0', 'block1']
     """
     alg = PinnMultiBlockAlgorithm(route=ROUTE)
+    auto = isinstance(blocks, str) and blocks == AUTO_BLOCKS
+    if save_blocks is not None and Path(save_blocks).suffix.lower() != ".vtp":
+        raise ValueError(f"save_blocks={str(save_blocks)!r}: block edges are saved as .vtp")
     for setter, value in (
+        (alg.SetBlocking, BLOCKING[1] if auto else None),
         (alg.SetMethod, method),
         (alg.SetCellSize, cell_size),
         (alg.SetInterfaces, interfaces),
@@ -102,6 +118,14 @@ def pinn_mesh_blocks(
     with pyvista_words():
         for poly in polydata_list(aux, "aux"):
             alg.AddInputDataObject(2, poly)
-    out = run(alg, lambda: as_polydata(boundary, closed=True, what="boundary"), blocks, "blocks")
-    warn_folded(grid_report(out[0])["multiblock"], MOVE_EDGES)
+    out = run(
+        alg,
+        lambda: as_polydata(boundary, closed=True, what="boundary"),
+        None if auto else blocks,
+        "blocks",
+        progress_bar,
+    )
+    warn_folded(report(out), MOVE_EDGES)
+    if save_blocks is not None:
+        write_edges(edges_of(alg.GetBlockEdges()), save_blocks)
     return out

@@ -4,7 +4,6 @@ the caller outside this package."""
 
 from __future__ import annotations
 
-import json
 import sys
 import warnings
 from collections.abc import Callable, Iterator
@@ -29,24 +28,29 @@ def pyvista_words() -> Iterator[None]:
         raise exc.for_route(ROUTE) from None
 
 
-def run(alg, boundary: Callable[[], vtkPolyData], lines=None, what: str = "aux") -> pv.DataObject:
+def run(
+    alg,
+    boundary: Callable[[], vtkPolyData],
+    lines=None,
+    what: str = "aux",
+    progress_bar: bool = False,
+) -> pv.DataObject:
     """Give a filter the ``boundary`` (port 0) and the ``lines`` (port 1: auxiliary lines or
-    block edges, the argument ``what``), run it and return its output; its error is raised
-    in pyvista's words."""
+    block edges, the argument ``what``), run it (with pyvista's progress bar where
+    ``progress_bar``) and return its output; its error is raised in pyvista's words."""
     with pyvista_words():
         alg.SetInputDataObject(0, boundary())
         for poly in polydata_list(lines, what):
             alg.AddInputDataObject(1, poly)
-    alg.Update()
+    if progress_bar:
+        with pv.ProgressMonitor(alg, message=alg.LABEL):
+            alg.Update()
+    else:
+        alg.Update()
     error = alg.GetLastException()
     if error is not None:
         raise error.for_route(ROUTE) if isinstance(error, InputError) else error
     return pv.wrap(alg.GetOutput())
-
-
-def grid_report(grid: pv.DataSet) -> dict:
-    """The ``Report`` field data of a grid the algorithms made, read from its JSON."""
-    return json.loads(grid.field_data["Report"][0])
 
 
 def _caller_level() -> int:

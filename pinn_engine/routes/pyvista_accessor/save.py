@@ -6,7 +6,8 @@ from pinn_engine.routes.pyvista_accessor.running import pyvista_words
 
 
 def save_mesh(grid, path, format: str | None = None, *, patches=None, extrude: float | None = None):
-    """Write a grid from :func:`pinn_mesh` for a CFD solver; returns the path written.
+    """Write a grid pinn-mesh made (any domain kind) for a CFD solver; returns the path
+    written. ``pinn_engine.save`` is this function.
 
     The format follows the extension of ``path``: ``.vts``, ``.vtk``, ``.xyz`` (PLOT3D),
     ``.cgns``, ``.su2``, ``.msh`` (Gmsh 4.1); ``format="openfoam"`` writes the case folder
@@ -15,9 +16,10 @@ def save_mesh(grid, path, format: str | None = None, *, patches=None, extrude: f
     thickness T in z (OpenFOAM always is). Atomic: on failure nothing is left behind.
     Raises ``pinn_engine.errors.InputError`` (one line) for bad arguments.
 
-    >>> grid = pinn_mesh(square, size=(21, 11), method="tfi", patches={"bottom": "wall"})
-    >>> save_mesh(grid, "out/square.cgns")
-    >>> save_mesh(grid, "out/square_case", format="openfoam", extrude=0.1)
+    >>> grid = square.pinn_mesh(size=(21, 11), method="tfi", patches={"bottom": "wall"})
+    >>> pinn_engine.save(grid, "out/square.su2")
+    >>> pinn_engine.save(grid, "out/square.cgns", patches={"top": "lid:wall"})
+    >>> pinn_engine.save(grid, "out/square_case", format="openfoam", extrude=0.1)
     """
     from pinn_engine.io.export import write
 

@@ -1,0 +1,137 @@
+"""The faces a set of block edges leaves (SPEC 13): their corners, a face of other than four
+corners cut into four-cornered blocks round a centre, and the layout's cost.
+
+A convex face of 2m corners is cut by spokes from its centre to every other corner into m
+blocks (a Y's hexagonal centre into three: a valence-3 centre); an odd count first gains a
+corner at the middle of a long side; a triangle gets spokes to its three sides' middles.
+The cost of a layout is how far its blocks' corner angles are from right angles, plus a
+price per block: the cheap ranking that the coarse grid's quality then refines.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from shapely.geometry import LineString, Point, Polygon
+
+from pinn_engine.errors import InputError
+from pinn_engine.geometry.boundary import turning_angles
+from pinn_engine.multiblock.blocks import CORNER_TURN, _faces
+from pinn_engine.multiblock.graph import linework
+
+BLOCK_PRICE = 20.0  # degrees of corner-angle deviation one block fewer is worth
+INSIDE_TOL = 1e-9  # share of the diagonal a spoke may stray outside its face (rounding)
+
+
+class NoBlocking(Exception):
+    """A layout that is no blocking: a face with a reflex corner, or too few corners."""
+
+
+def faces_of(rings: list[np.ndarray], edges: list[np.ndarray]) -> tuple[list[np.ndarray], float]:
+    """The faces' outlines (counter-clockwise, not closed) of ``rings`` cut by ``edges``, and
+    the diagonal; NoBlocking when the edges cross or enclose a face with a hole."""
+    try:
+        lines = linework(rings, edges, [f"edge {k}" for k in range(len(edges))], "auto")
+        faces = _faces(lines)
+    except InputError as exc:
+        raise NoBlocking(str(exc)) from exc
+    return [np.asarray(f.exterior.coords)[:-1] for f in faces], lines.diagonal
+
+
+def corners_of(face: np.ndarray) -> np.ndarray:
+    """Indices of the face's corners; NoBlocking if it turns the wrong way anywhere."""
+    turns = turning_angles(face)
+    if np.any(turns <= -CORNER_TURN):
+        where = face[int(np.argmin(turns))]
+        raise NoBlocking(f"a reflex corner at ({where[0]:.4g}, {where[1]:.4g}) is not cut")
+    return np.flatnonzero(turns >= CORNER_TURN)
+
+
+def _middle(face: np.ndarray, a: int, z: int) -> np.ndarray:
+    """The point halfway (by length) along the face's outline from vertex a to vertex z."""
+    walk = np.vstack([face[a:], face[: z + 1]]) if z <= a else face[a : z + 1]
+    line = LineString(walk)
+    return np.array(line.interpolate(0.5 * line.length).coords[0])
+
+
+def _spoke_sets(face: np.ndarray, corners: np.ndarray) -> list[list[np.ndarray]]:
+    """The ways to cut a face with ``corners`` into four-cornered blocks round its centre:
+    each a list of spoke ends."""
+    n = len(corners)
+    points = face[corners]
+    sides = [(corners[k], corners[(k + 1) % n]) for k in range(n)]
+    if n == 3:
+        return [[_middle(face, a, z) for a, z in sides]]
+    if n % 2 == 0:
+        return [list(points[p::2]) for p in (0, 1)]
+    lengths = [LineString(np.vstack([points[k], points[(k + 1) % n]])).length for k in range(n)]
+    out = []
+    for k in np.argsort(lengths)[::-1][:2]:  # the two longest sides gain a middle corner
+        ring = list(points[: k + 1]) + [_middle(face, *sides[k])] + list(points[k + 1 :])
+        out += [ring[p::2] for p in (0, 1)]
+    return out
+
+
+def split_face(face: np.ndarray, corners: np.ndarray, diagonal: float) -> list[list[np.ndarray]]:
+    """Candidate spoke sets (each a list of edges) cutting a face of other than four corners
+    into four-cornered blocks; NoBlocking for fewer than three corners."""
+    if len(corners) < 3:
+        raise NoBlocking(f"a face has {len(corners)} corners")
+    polygon = Polygon(face)
+    centre = face[corners].mean(axis=0)
+    if not polygon.contains(Point(centre)):
+        centre = np.array(polygon.representative_point().coords[0])
+    grown = polygon.buffer(INSIDE_TOL * diagonal)
+    out = []
+    for ends in _spoke_sets(face, corners):
+        spokes = [np.array([centre, e]) for e in ends]
+        if all(grown.contains(LineString(s)) for s in spokes):
+            out.append(spokes)
+    return out
+
+
+def _block_cost(face: np.ndarray, corners: np.ndarray) -> float:
+    """A four-cornered block's cost: its corner angles' distances from 90, and its price."""
+    return float(np.abs(90.0 - turning_angles(face)[corners]).sum()) + BLOCK_PRICE
+
+
+def layout_cost(rings: list[np.ndarray], edges: list[np.ndarray]) -> float:
+    """How far the blocks' corner angles are from 90 degrees (summed) plus BLOCK_PRICE a
+    block; NoBlocking if a face is not four-cornered."""
+    faces, _ = faces_of(rings, edges)
+    cost = 0.0
+    for face in faces:
+        corners = corners_of(face)
+        if len(corners) != 4:
+            raise NoBlocking(f"a face has {len(corners)} corners")
+        cost += _block_cost(face, corners)
+    return cost
+
+
+def completed(rings: list[np.ndarray], edges: list[np.ndarray]) -> tuple[list[np.ndarray], float]:
+    """``edges`` with every face of other than four corners cut round its centre, each face
+    the cheapest way, and the layout's cost (``layout_cost``); NoBlocking where a face
+    cannot be cut."""
+    faces, diagonal = faces_of(rings, edges)
+    out, total = list(edges), 0.0
+    for face in faces:
+        corners = corners_of(face)
+        if len(corners) == 4:
+            total += _block_cost(face, corners)
+            continue
+        best = None
+        for spokes in split_face(face, corners, diagonal):
+            try:
+                cost = layout_cost([face], spokes)
+            except NoBlocking:
+                continue
+            if best is None or cost < best[0]:
+                best = (cost, spokes)
+        if best is None:
+            where = face.mean(axis=0)
+            raise NoBlocking(
+                f"the face at ({where[0]:.4g}, {where[1]:.4g}) with {len(corners)} corners "
+                "cannot be cut round its centre"
+            )
+        out += best[1]
+        total += best[0]
+    return out, total

@@ -1,0 +1,102 @@
+"""Block edges from reflex vertices (SPEC 13): each reflex vertex emits one straight edge,
+a cross field's separatrix, in one of a few directions, traced as in a motorcycle graph.
+
+The directions are those of a cross field aligned with either side at the vertex: each side
+carried on (a 270-degree corner's two separatrices) and each side's normal (a Y's mouth);
+those leaving less than ``MIN_SPLIT`` of the interior angle on one side are dropped.
+Edges are placed shortest first, each stopping where it meets the boundary or an edge placed
+before it; an end near a corner of the boundary or another edge's start goes onto it, so no
+sliver of a block is left between them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pinn_engine.multiblock.autoblock.corners import Reflex
+
+MIN_SPLIT = 45.0  # degrees of the interior angle a direction leaves on each side, at least
+SAME_DIRECTION = 10.0  # degrees: directions closer than this are one
+END_SNAP = 0.15  # an end goes onto a corner or edge start this close (share of its length)
+NEAR_ZERO = 1e-9  # share of the diagonal below which a hit is the ray's own start
+
+
+def _left(d: np.ndarray) -> np.ndarray:
+    return np.array([-d[1], d[0]])
+
+
+def _ccw(frm: np.ndarray, to: np.ndarray) -> float:
+    """The counter-clockwise angle in degrees from direction ``frm`` to ``to``, in [0, 360)."""
+    a = np.degrees(np.arctan2(to[1], to[0]) - np.arctan2(frm[1], frm[0]))
+    return float(a % 360.0)
+
+
+def directions(vertex: Reflex) -> list[np.ndarray]:
+    """The directions an edge may leave ``vertex`` in: the two sides carried on, their
+    normals (duplicates and slivers dropped)."""
+    candidates = [vertex.d_in, -vertex.d_out, _left(vertex.d_in), _left(vertex.d_out)]
+    out: list[np.ndarray] = []
+    for d in candidates:
+        a = _ccw(vertex.d_out, d)  # the interior sweeps from d_out counter-clockwise
+        if not MIN_SPLIT <= a <= vertex.angle - MIN_SPLIT:
+            continue
+        if all(min(_ccw(d, o), _ccw(o, d)) >= SAME_DIRECTION for o in out):
+            out.append(d)
+    return out
+
+
+def trace(start: np.ndarray, d: np.ndarray, segments: np.ndarray, tiny: float) -> np.ndarray:
+    """The first point where the ray from ``start`` along ``d`` meets one of ``segments``
+    (m, 2, 2), farther than ``tiny``; the start itself when it meets none."""
+    a, b = segments[:, 0], segments[:, 1]
+    e = b - a
+    denom = d[0] * e[:, 1] - d[1] * e[:, 0]
+    w = a - start
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (w[:, 0] * e[:, 1] - w[:, 1] * e[:, 0]) / denom
+        s = (w[:, 0] * d[1] - w[:, 1] * d[0]) / denom
+    ok = (np.abs(denom) > 1e-14) & (t > tiny) & (s >= -1e-12) & (s <= 1 + 1e-12)
+    if not ok.any():
+        return start
+    return start + t[ok].min() * d
+
+
+def shortest_first(
+    vertex: Reflex, options: list[np.ndarray], fixed: np.ndarray, diagonal: float
+) -> list[np.ndarray]:
+    """The directions ``options`` of ``vertex`` ordered by how far each runs to the
+    ``fixed`` segments, shortest first (the motorcycle graph's natural choice)."""
+    tiny = NEAR_ZERO * diagonal
+    lengths = [np.linalg.norm(trace(vertex.point, d, fixed, tiny) - vertex.point) for d in options]
+    return [options[k] for k in np.argsort(lengths, kind="stable")]
+
+
+def motorcycles(
+    rays: list[tuple[Reflex, np.ndarray]],
+    fixed: np.ndarray,
+    targets: np.ndarray,
+    diagonal: float,
+) -> list[np.ndarray]:
+    """The edges of ``rays`` (vertex, direction): traced against the ``fixed`` segments
+    alone to order them shortest first, then each against those and the edges placed
+    before it; an end within END_SNAP of its length of one of ``targets`` (corners, the
+    rays' starts) goes onto it; an edge joining two points already joined is dropped."""
+    tiny = NEAR_ZERO * diagonal
+    free = [np.linalg.norm(trace(v.point, d, fixed, tiny) - v.point) for v, d in rays]
+    placed: list[np.ndarray] = []
+    for k in np.argsort(free, kind="stable"):
+        vertex, d = rays[k]
+        segments = np.concatenate([fixed, np.array(placed).reshape(-1, 2, 2)])
+        end = trace(vertex.point, d, segments, tiny)
+        length = np.linalg.norm(end - vertex.point)
+        if length <= tiny:
+            continue
+        near = np.linalg.norm(targets - end, axis=1)
+        near[np.linalg.norm(targets - vertex.point, axis=1) <= tiny] = np.inf
+        if near.size and near.min() <= END_SNAP * length:
+            end = targets[int(np.argmin(near))]
+        edge = np.array([vertex.point, end])
+        if any(np.allclose(edge, e) or np.allclose(edge, e[::-1]) for e in placed):
+            continue
+        placed.append(edge)
+    return placed
