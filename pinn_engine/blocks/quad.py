@@ -39,13 +39,10 @@ from pinn_engine.neural.losses import (
     total_loss,
 )
 from pinn_engine.neural.networks import CoordinateNet
+from pinn_engine.neural.session import GuardRule, train_network
 from pinn_engine.neural.trainer import (
     AutogradEvaluation,
-    Guard,
     Progress,
-    fit,
-    pick_device,
-    training_process,
 )
 from pinn_engine.quality import folded_cells, guard_figures, no_worse, orientation, side_report
 from pinn_engine.settings import Settings
@@ -463,6 +460,13 @@ def _warm_start(
     return QuadStart(warm, elliptic if reference is None else reference, params=params)
 
 
+def network(settings: Settings, dtype: torch.dtype, device: torch.device) -> CoordinateNet:
+    """The four-sided block's network: the shortcut network for pinn, a plain MLP for mgnet."""
+    kind = "shortcut" if settings.method == "pinn" else "mlp"
+    net = CoordinateNet(kind, settings.hidden_layers, settings.neurons, settings.activation)
+    return net.to(device=device, dtype=dtype)
+
+
 def train(
     boundary: Boundary,
     aux: Sequence[AuxLine],
@@ -470,49 +474,49 @@ def train(
     progress: Progress | None = None,
 ) -> TrainedModel:
     """Train the networks for ``boundary`` (working frame) and return the trained model."""
-    dtype = {"float64": torch.float64, "float32": torch.float32}[settings.dtype]
-    device = pick_device(settings.device)
-    with training_process(device):
-        torch.manual_seed(settings.seed)
-        kind = "shortcut" if settings.method == "pinn" else "mlp"
-        net = CoordinateNet(kind, settings.hidden_layers, settings.neurons, settings.activation)
-        net = net.to(device=device, dtype=dtype)
-        aux = aux if settings.method == "pinn" else ()
-        begin = None
-        if settings.warm_start == "elliptic":
-            lattice = lattice_for(*settings.lattice)
-            begin = _warm_start(boundary, settings, lattice, aux)
-            with torch.no_grad():  # the map starts as the warm start's grid
-                net.w_out.zero_()
+    aux = aux if settings.method == "pinn" else ()
+    warm_start = settings.warm_start == "elliptic"
+    lattice = lattice_for(*settings.lattice)
+    built: dict = {}
+
+    def problem(net, dtype, device) -> tuple[QuadProblem, GuardRule | None]:
+        begin = _warm_start(boundary, settings, lattice, aux) if warm_start else None
         warm = None if begin is None else begin.warm
         params = None if begin is None else begin.params
         mapping = Mapping(net, boundary, settings.boundary_mode, warm)
         steps = first_steps(lattice, params) if warm is not None else None
-        problem = QuadProblem(mapping, boundary, aux, settings, dtype, device, steps, params)
-        guard = ref = None
-        if begin is not None:
-            reference = begin.reference
-            size = reference.shape[1], reference.shape[0]
-            figures, accept, kept, ref = guard_rule(
-                reference, bool(aux), begin.start, settings.orthogonal, begin.ranking, begin.winslow
-            )
-            guard = Guard(
-                net,
-                lambda: mapping.grid(*size, params=params),
-                figures,
-                accept,
-                kept,
-                boundary.diagonal,
-            )
-        lambda1 = 1.0 if settings.boundary_mode == "penalty" else 0.0
-        history, info = fit(problem, settings, guard, progress, lambda1)
-    info["device"] = str(device)
-    if guard is not None:
-        info["guard"].update(lattice=list(size), elliptic=ref)
-        info["start"] = warm.start
+        quad = QuadProblem(mapping, boundary, aux, settings, dtype, device, steps, params)
+        built.update(begin=begin, mapping=mapping)
+        if begin is None:
+            return quad, None
+        reference = begin.reference
+        size = reference.shape[1], reference.shape[0]
+        figures, accept, kept, ref = guard_rule(
+            reference, bool(aux), begin.start, settings.orthogonal, begin.ranking, begin.winslow
+        )
+        built.update(size=size, ref=ref)
+        grid = lambda: mapping.grid(*size, params=params)  # noqa: E731
+        return quad, GuardRule(grid, figures, accept, kept, boundary.diagonal)
+
+    lambda1 = 1.0 if settings.boundary_mode == "penalty" else 0.0
+    training = train_network(
+        settings,
+        lambda dtype, device: network(settings, dtype, device),
+        problem,
+        progress,
+        zero_output=warm_start,
+        lambda1=lambda1,
+    )
+    info, begin = training.info, built["begin"]
+    info["device"] = str(training.device)
+    if begin is not None:
+        info["guard"].update(lattice=list(built["size"]), elliptic=built["ref"])
+        info["start"] = begin.warm.start
         if begin.winslow is not None:
             info["untangled"] = {
                 "winslow_folded_cells": int(folded_cells(begin.winslow).sum()),
                 "folded_cells": int(folded_cells(begin.reference).sum()),
             }
-    return TrainedModel(mapping=mapping, settings=settings, history=history, info=info)
+    return TrainedModel(
+        mapping=built["mapping"], settings=settings, history=training.history, info=info
+    )

@@ -19,7 +19,6 @@ from pinn_engine.settings import (
     Options,
 )
 
-FORMAT_KEYS = ("vts", "vtk", "xyz", "cgns", "su2", "msh", "openfoam")  # export.FORMATS
 # Options whose value may name a point X,Y (multi-block items) and so start with a minus
 PLACE_OPTIONS = ("--patch", "--spacing", "--cells")
 NEGATIVE = re.compile(r"^-\.?\d")  # a value starting with a negative number, not an option
@@ -36,6 +35,22 @@ def _joined_places(words: list[str]) -> list[str]:
         else:
             out.append(word)
     return out
+
+
+class _FormatKeys:
+    """``--format``'s choices: the keys of the formats registered in ``io.export``, which
+    is imported only when they are read (``--format`` given, or the help shown)."""
+
+    def _keys(self) -> tuple[str, ...]:
+        from pinn_engine.io.export import FORMATS
+
+        return tuple(FORMATS)
+
+    def __contains__(self, key: object) -> bool:
+        return key in self._keys()
+
+    def __iter__(self):
+        return iter(self._keys())
 
 
 def _options(name: str) -> tuple:
@@ -159,7 +174,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--format",
-        choices=FORMAT_KEYS,
+        choices=_FormatKeys(),
         default=None,
         help="output format instead of the extension of -o (openfoam: -o DIR "
         "gets DIR/constant/polyMesh)",
