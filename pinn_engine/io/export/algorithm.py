@@ -9,7 +9,7 @@ the algorithm itself is plain VTK, so it also works in any VTK pipeline::
     w.Write()
 
 Its input is a grid of the structured filters (``vtkStructuredGrid``) or the multi-block
-filter's blocks (``vtkMultiBlockDataSet``, written by ``multiblock.write_blocks``). Patch
+filter's blocks (``vtkMultiBlockDataSet``, written by ``export.write_blocks``). Patch
 names come from the grid's ``PatchNames`` (the filter's Patch Names field). Errors
 are one line ``PINN Mesh writer: <message>`` through ``vtkOutputWindow`` (ParaView's
 Output Messages) and ``GetLastError()``; nothing is written then.
@@ -24,7 +24,7 @@ from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkStructuredGrid
 
 from pinn_engine.errors import InputError, PinnMeshError
-from pinn_engine.io.export import FORMATS, is_box, write
+from pinn_engine.io.export import FORMATS, is_box, write, write_blocks
 
 LABEL = "PINN Mesh writer"
 # formats offered in ParaView (its own writers cover .vts and .vtk), as each registers
@@ -87,8 +87,6 @@ class GridWriter(VTKPythonAlgorithmBase):
         return 0 if self._last_error else 1
 
     def RequestData(self, request, inInfo, outInfo):
-        from pinn_engine.io.export.multiblock import write_blocks  # it imports this package
-
         self._last_error = self._last_message = ""
         try:
             if not self._file_name:
