@@ -12,7 +12,7 @@ import threading
 import numpy as np
 from vtkmodules.vtkCommonCore import vtkOutputWindow
 
-from pinn_engine.errors import ROUTE_WORDS, STOP, SettingsError
+from pinn_engine.errors import ROUTE_WORDS, STOP, SettingsError, stopped_training_warning
 from pinn_engine.routes.reporting import announce
 
 
@@ -162,6 +162,7 @@ class Stoppable:
     while a filter runs)."""
 
     _stop_signal: int | None = None  # a stop signal received during training
+    _abort_seen = False  # an abort request came during this training
 
     def _abort_requested(self) -> bool:
         check = getattr(self, "CheckAbort", None)  # VTK 9.4+
@@ -176,7 +177,7 @@ class Stoppable:
         handles no GUI event while a filter runs, so its abort button cannot. Only where
         SIGUSR1 has its default action or a Python handler, which is put back afterwards (the
         host is left as it was); main thread only."""
-        self._stop_signal = None
+        self._stop_signal, self._abort_seen = None, False
         usr1 = getattr(signal, "SIGUSR1", None)
         previous = signal.getsignal(usr1) if usr1 is not None else None
         if previous is None or threading.current_thread() is not threading.main_thread():
@@ -192,10 +193,21 @@ class Stoppable:
         finally:
             signal.signal(usr1, previous)
 
+    def _keep_grid(self) -> None:
+        """Clear an abort request taken during the run (and VTK 9.3+'s AbortOutput, which
+        would empty the output): the grid is whole and is handed over."""
+        self.SetAbortExecute(0)
+        if hasattr(self, "SetAbortOutput"):
+            self.SetAbortOutput(0)
+
     def _stop_answer(self) -> str | None:
         """The trainer's answer (``errors.STOP``: end with the best grid) after an abort
-        request or the stop signal, else None."""
-        return STOP if self._stop_signal or self._abort_requested() else None
+        request or the stop signal, else None. The request is taken and cleared, so that the
+        executive keeps the grid the run then hands over."""
+        if self._abort_requested():
+            self.SetAbortExecute(0)
+            self._abort_seen = True
+        return STOP if self._stop_signal or self._abort_seen else None
 
 
 class LineInputs(ModifiedOnChange):
@@ -224,3 +236,11 @@ def folded_warning(report: dict, route: str, otherwise: str) -> str | None:
         fix = otherwise
     verb = "is" if folded == 1 else "are"
     return f"{folded} of {report['cells']} cells {verb} folded; try {fix}"
+
+
+def update_warning(report: dict, route: str, otherwise: str) -> str | None:
+    """The warning line of a multi-block or hexahedral update: a training stopped early
+    (time limit, abort, SIGUSR1) and folded cells (:func:`folded_warning`), joined; None
+    when neither applies."""
+    found = (stopped_training_warning(report, route), folded_warning(report, route, otherwise))
+    return "; ".join(w for w in found if w) or None

@@ -40,8 +40,8 @@ from pinn_engine.routes.filters import (
     PatchWalls,
     Stoppable,
     choice,
-    folded_warning,
     patch_setting,
+    update_warning,
 )
 from pinn_engine.routes.reporting import message_of
 from pinn_engine.settings import NO_TIME_LIMIT
@@ -189,7 +189,8 @@ class PinnHexaAlgorithm(LastOutcome, Stoppable, PatchWalls, VTKPythonAlgorithmBa
             self._report(message_of(exc, self._route), warning=False)
         else:
             output.ShallowCopy(grid)
-            warning = folded_warning(report, self._route, refold_hint(self._route))
+            self._keep_grid()
+            warning = update_warning(report, self._route, refold_hint(self._route))
             if warning:
                 self._report(warning, warning=True)
         self._progress(1.0, "done")

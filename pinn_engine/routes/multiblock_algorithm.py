@@ -43,7 +43,7 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
 from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkMultiBlockDataSet, vtkPolyData
 
-from pinn_engine.errors import InputError
+from pinn_engine.errors import STOP, InputError
 from pinn_engine.io.export.edges import edges_polydata
 from pinn_engine.routes.filters import (
     LastOutcome,
@@ -51,8 +51,8 @@ from pinn_engine.routes.filters import (
     PatchWalls,
     Stoppable,
     choice,
-    folded_warning,
     place_items,
+    update_warning,
 )
 from pinn_engine.routes.reporting import message_of
 from pinn_engine.routes.summary_lines import blocks_lines
@@ -146,8 +146,9 @@ class PinnMultiBlockAlgorithm(
       or a mapping ``{"cylinder": 0.005, (0.3, 0.2): 0.01}``)
     * ``SetOrthogonal(names)``: patches that grid lines leave along the normal
       (``"cylinder,walls"`` or a sequence of names)
-    * ``SetTimeLimit(seconds)``: pinn's training ends after this many seconds with its best
-      grids so far (0: no limit, the default); so does an abort request or SIGUSR1
+    * ``SetTimeLimit(seconds)``: pinn's training (all blocks together) ends after this many
+      seconds with its best grids so far (0: no limit, the default); so does an abort
+      request or SIGUSR1
 
     Patch items, spacings and names are checked at the next update (one line naming the
     item, as the command line's ``--patch``, ``--spacing`` and ``--orthogonal``).
@@ -165,6 +166,7 @@ class PinnMultiBlockAlgorithm(
         self._method = BLOCKS_METHOD
         self._cell_size = 0.0
         self._time_limit = NO_TIME_LIMIT
+        self._began, self._stopped = 0.0, None  # the training's start; why it was stopped
         self._interfaces = INTERFACES[0]
         self._patches: tuple[str, ...] = ()  # X,Y=NAME[:TYPE] items, checked at the update
         self._cells: tuple[str, ...] = ()  # X,Y=N items, checked at the update
@@ -228,7 +230,6 @@ class PinnMultiBlockAlgorithm(
             self._method,
             cell_size=self._cell_size,
             interfaces=self._interfaces,
-            time_limit=self._time_limit,
         )
 
     # ---- results -----------------------------------------------------------------------
@@ -256,8 +257,9 @@ class PinnMultiBlockAlgorithm(
             self._report(message_of(exc, self._route), warning=False)
         else:
             output.ShallowCopy(dataset)
+            self._keep_grid()
             edges_out.ShallowCopy(edges_polydata(edges))
-            warning = folded_warning(report, self._route, MOVE_EDGES)
+            warning = update_warning(report, self._route, MOVE_EDGES)
             if warning:
                 self._report(warning, warning=True)
         self._progress(1.0, "done")
@@ -299,7 +301,8 @@ class PinnMultiBlockAlgorithm(
 
             edges = propose_edges(curves[: len(rings)], "input")
             names = [f"proposed edge {k}" for k in range(len(edges))]
-        began = time.perf_counter()
+        began = self._began = time.perf_counter()
+        self._stopped = None
         with self._stop_on_signal():
             result = mesh_blocks(
                 curves[: len(rings)],
@@ -314,17 +317,30 @@ class PinnMultiBlockAlgorithm(
                 train_blocks,
                 cells,
             )
+        if self._stopped is not None:  # the report's training.stopped, as the trainer's
+            result.report.setdefault("training", {})["stopped"] = self._stopped
         self._tell(blocks_lines(settings.method, result.report, time.perf_counter() - began))
         dataset = multiblock_dataset(result.grids, result.cells, result.report, result.patches)
         return dataset, result.report, edges
 
     def _block(self, info: dict) -> str | None:
         """The pinn's progress block by block (``blocks.multiblock``) on the bar, the
-        elliptic grid before it at 0; answers ``errors.STOP`` to an abort request or the
-        stop signal (the blocks keep their best grids so far)."""
+        elliptic grid before it at 0; answers ``errors.STOP`` once the Time Limit (all
+        blocks together) has run out or on an abort request or the stop signal: the block
+        in training keeps its best grid so far, the blocks after it their elliptic grids."""
         if info["phase"] == "prepare":
             self._progress(info["step"] / info["total"], info["stage"])
-        return self._stop_answer()
+        seconds = time.perf_counter() - self._began
+        late = 0 < self._time_limit < seconds
+        if self._stopped is None and (late or self._stop_answer()):
+            self._stopped = {
+                "reason": "time limit" if late else "request",
+                "phase": info["phase"],
+                "step": info.get("step", 0),
+                "seconds": round(seconds, 2),
+                "time_limit": self._time_limit,
+            }
+        return STOP if self._stopped is not None else None
 
 
 __all__ = ["BLOCKING", "MOVE_EDGES", "PinnMultiBlockAlgorithm", "curves_of"]
