@@ -157,6 +157,16 @@ def angle_floor(grid: np.ndarray) -> tuple[float, float]:
     return float(angle[corners].max()), float(angle[~corners].max() / 2)
 
 
+def largest_area_ratio(grid: np.ndarray) -> float:
+    """The largest ratio of the areas of two cells that share an edge (the larger over the
+    smaller): how smoothly cell sizes change, which untangling a grid must keep."""
+    p = _corners(np.asarray(grid, dtype=float))
+    area = np.abs(_cross(p[2] - p[0], p[3] - p[1])) / 2
+    area = np.maximum(area, DBL_MIN)
+    pairs = [(area[1:], area[:-1]), (area[:, 1:], area[:, :-1])]
+    return float(max((np.maximum(a / b, b / a).max() for a, b in pairs if a.size), default=1.0))
+
+
 def orientation(grid: np.ndarray) -> float:
     """+1 if the grid (nj, ni, 2) runs counter-clockwise (positive signed area), else -1."""
     d1, d2 = grid[1:, 1:] - grid[:-1, :-1], grid[1:, :-1] - grid[:-1, 1:]

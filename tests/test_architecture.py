@@ -7,6 +7,7 @@ import ast
 import itertools
 import re
 import tokenize
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -16,8 +17,13 @@ from conftest import EXAMPLES, ROOT
 
 from pinn_engine import job
 from pinn_engine.blocks import quad
+from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import Boundary
+from pinn_engine.io import export
+from pinn_engine.io.export.algorithm import PARAVIEW_FORMATS
+from pinn_engine.io.export.registry import Format, register
 from pinn_engine.io.fileio import read_boundary_points
+from pinn_engine.io.vtkgrid import structured_grid
 from pinn_engine.neural import trainer
 from pinn_engine.routes.algorithm import PinnMeshAlgorithm
 from pinn_engine.routes.cli import build_parser, main
@@ -159,6 +165,28 @@ def test_recipe_route(tmp_path):
 
     expected = pv.read(out).points[:, :2].reshape(11, 21, 2)
     np.testing.assert_allclose(grid, expected, atol=1e-12)
+
+
+def test_recipe_format(tmp_path, monkeypatch):
+    """The formats register themselves (in --format's order); a suffix taken by another key
+    is refused; a format registered once is written by ``export.write``, taken by --format
+    and named by the multi-block writer's refusal, with no table of its own anywhere."""
+    grid = structured_grid(np.stack(np.meshgrid(np.arange(5.0), np.arange(4.0)), axis=-1))
+    assert list(export.FORMATS) == ["vts", "vtk", "xyz", "cgns", "su2", "msh", "openfoam"]
+    assert set(PARAVIEW_FORMATS) == {"xyz", "cgns", "su2", "msh", "openfoam"}
+    with pytest.raises(ValueError, match="clashes"):
+        register(replace(export.FORMATS["su2"], key="su2b"))
+
+    def write_toy(block, path: Path) -> None:
+        path.write_text(f"{block.ni} {block.nj}\n")
+
+    toy = Format("toy", ".toy", "a toy format", False, name="Toy", block=write_toy)
+    monkeypatch.setitem(export.FORMATS, "toy", toy)
+    assert export.write(grid, tmp_path / "g.toy").read_text() == "5 4\n"
+    action = next(a for a in build_parser()._actions if a.dest == "format")
+    assert "toy" in action.choices and list(action.choices)[-1] == "toy"
+    with pytest.raises(InputError, match=r"--format openfoam, not as a toy format"):
+        export.blocks_format(tmp_path / "g.toy", None, None)
 
 
 def _layers() -> list[set[str]]:

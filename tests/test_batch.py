@@ -86,6 +86,10 @@ def bad_manifest(tmp_path, capsys, text: str) -> str:
         ("name,input,aux,options\n", "holds no case"),
         (f"name,input,aux,options\na,x.vtp,,{TFI}\nb,x.vtp,,--size 11\n", "row 3"),
         ("name,input,aux,options\na,x.vtp,,--frobnicate\n", "row 2: bad options"),
+        (
+            "name,input,aux,options\na,x.vtp,,--sise 41 21\n",
+            "row 2: bad options '--sise 41 21': unknown option --sise; did you mean --size?",
+        ),
         ("name,input,aux,options\na,x.vtp,,--method magic\n", "invalid choice"),
         ("name,input,aux,options\na,x.vtp,,--seed 'open\n", "row 2: bad options"),
         ("name,input,aux,options\na,x.vtp,,--help\n", "row 2: bad options"),

@@ -9,12 +9,13 @@ import sys
 
 from pinn_engine.batch import warm
 from pinn_engine.errors import PinnMeshError
+from pinn_engine.routes.cli import EXIT_ERROR, EXIT_INTERRUPTED, OneLineParser
 
 EXIT_FAILED = 1  # some cases got an error row; the others were meshed
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
+    p = OneLineParser(
         prog="pinn-mesh batch",
         description="Mesh every case of a manifest (CSV: name,input,aux,options) on a Dask "
         "cluster; each case as the single-run command would mesh it.",
@@ -45,7 +46,6 @@ def main(argv: list[str]) -> int:
     from pinn_engine.batch.api import run
     from pinn_engine.batch.cluster import connect, dashboard
     from pinn_engine.batch.manifest import ManifestError, read_manifest
-    from pinn_engine.routes.cli import EXIT_ERROR, EXIT_INTERRUPTED
 
     try:
         cases = read_manifest(args.manifest)

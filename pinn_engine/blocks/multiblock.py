@@ -5,7 +5,8 @@ The elliptic grid is solved first, on all blocks at once (interfaces free, as
 :func:`pinn_engine.multiblock.elliptic.winslow`). Then each block's map starts as that
 block's grid (the warm start's correction, ``classical/warm.py``) with its four sides held
 at the block's side nodes (hard mode), so nodes on shared sides stay the same point in both
-blocks. The block's guard keeps the elliptic block unless a trained state is no worse in
+blocks. A block whose elliptic grid folds starts from it untangled (the same side nodes,
+``starts/untangle.py``). The block's guard keeps the start unless a trained state is no worse in
 folds, mean and worst MaxIncludedAngle, and in how grid lines cross the interfaces (the
 kink mean and max of the whole grid, the blocks trained so far at their kept grids): the
 multi-block grid is never worse than the elliptic one in those figures. A block with
@@ -21,21 +22,21 @@ import time
 from collections.abc import Callable, Sequence
 
 import numpy as np
-import torch
 
 from pinn_engine.blocks.mapping import Mapping
 from pinn_engine.blocks.quad import GUARD_TOL as QUAD_GUARD_TOL
-from pinn_engine.blocks.quad import QuadProblem
+from pinn_engine.blocks.quad import QuadProblem, network
 from pinn_engine.classical.tfi import tfi_grid
 from pinn_engine.classical.warm import WarmStart
 from pinn_engine.errors import STOP, TrainingCancelled
 from pinn_engine.geometry.auxlines import AuxLine
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
 from pinn_engine.multiblock.quadblock import block_boundary
-from pinn_engine.neural.networks import CoordinateNet
-from pinn_engine.neural.trainer import Guard, Progress, fit, pick_device, training_process
-from pinn_engine.quality import guard_figures, no_worse
+from pinn_engine.neural.session import GuardRule, train_network
+from pinn_engine.neural.trainer import Progress
+from pinn_engine.quality import folded_cells, guard_figures, no_worse
 from pinn_engine.settings import Settings
+from pinn_engine.starts.untangle import untangle
 
 # A block's trained state is kept only if it is no worse than the block's elliptic grid in
 # mean and worst MaxIncludedAngle, and than the grid before it in the interface kinks' mean
@@ -91,12 +92,14 @@ def train_block(
     aux: Sequence[AuxLine] = (),
     interfaces: Callable[[np.ndarray], dict[str, float]] | None = None,
 ) -> BlockTraining:
-    """Train the four-sided PINN block on the elliptic block grid ``start`` (nj, ni, 2):
-    warm-started from it, its sides held at its side nodes, guarded by it; ``aux``: the
+    """Train the four-sided PINN block on the elliptic block grid ``start`` (nj, ni, 2),
+    untangled where it folds (untangle.py): warm-started from it, its sides held at its side
+    nodes, guarded by it; ``aux``: the
     auxiliary lines inside it, in the working frame of ``block_boundary(start)``
     (``quadblock.block_lines``), fitted as a four-sided domain's are; ``interfaces``: the
     :func:`kink_figures` of the whole grid with this block's grid given (none: no kinks)."""
     began = time.perf_counter()
+    winslow, start = start, untangle(start)
     nj, ni = start.shape[:2]
     boundary = block_boundary(start)
     unit = boundary.frame.to_unit(start)
@@ -109,30 +112,29 @@ def train_block(
         return out
 
     settings = dataclasses.replace(settings, lattice=(ni, nj))
-    dtype = {"float64": torch.float64, "float32": torch.float32}[settings.dtype]
-    device = pick_device(settings.device)
-    with training_process(device):
-        torch.manual_seed(settings.seed)
-        net = CoordinateNet(
-            "shortcut", settings.hidden_layers, settings.neurons, settings.activation
-        )
-        net = net.to(device=device, dtype=dtype)
-        with torch.no_grad():  # the map starts as the block's elliptic grid
-            net.w_out.zero_()
+    reference = {**guard_figures(unit), **kinks(start)}
+
+    def problem(net, dtype, device) -> tuple[QuadProblem, GuardRule]:
         base = tfi_grid(ArcLengthFit(boundary).sample, ni, nj)
         mapping = Mapping(net, boundary, "hard", WarmStart(unit - base))
-        problem = QuadProblem(mapping, boundary, aux, settings, dtype, device)
-        reference = {**guard_figures(unit), **kinks(start)}
-        guard = Guard(
-            net,
+        return QuadProblem(mapping, boundary, aux, settings, dtype, device), GuardRule(
             lambda: mapping.grid(ni, nj),
             lambda grid: {**guard_figures(grid), **kinks(user(grid))},
             lambda q, kept: _no_worse(q, reference, bool(aux)),
             reference,
             boundary.diagonal,
         )
-        _, info = fit(problem, settings, guard, progress)
+
+    training = train_network(
+        settings, lambda dtype, device: network(settings, dtype, device), problem, progress
+    )
+    info, guard = training.info, training.guard
     grid = user(guard.kept_grid) if info["result"] == "network" else start.copy()
+    if start is not winslow:
+        info["untangled"] = {
+            "winslow_folded_cells": int(folded_cells(winslow).sum()),
+            "folded_cells": int(folded_cells(start).sum()),
+        }
     return BlockTraining(grid, info["result"], time.perf_counter() - began, info)
 
 
@@ -173,6 +175,7 @@ def train_blocks(
                 "seconds": trained.seconds,
                 "lbfgs_iterations": trained.info["lbfgs_iterations"],
                 "largest_node_move": trained.info["largest_node_move"],
+                **{k: trained.info[k] for k in ("untangled",) if k in trained.info},
             }
         )
     report = {

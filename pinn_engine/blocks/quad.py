@@ -14,6 +14,7 @@ against the start's reference, and training ends with the last state that was no
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 import torch
@@ -23,6 +24,7 @@ from pinn_engine.blocks.mapping import Mapping
 from pinn_engine.blocks.model import TrainedModel
 from pinn_engine.classical.spacing import chord_tangents, classical_grid, working_spacing
 from pinn_engine.classical.tfi import node_params, tfi_grid
+from pinn_engine.classical.warm import WarmStart
 from pinn_engine.geometry.auxlines import AuxLine
 from pinn_engine.geometry.boundary import SIDES, Boundary
 from pinn_engine.geometry.boundary_fit import ArcLengthFit, make_fit
@@ -37,17 +39,15 @@ from pinn_engine.neural.losses import (
     total_loss,
 )
 from pinn_engine.neural.networks import CoordinateNet
+from pinn_engine.neural.session import GuardRule, train_network
 from pinn_engine.neural.trainer import (
     AutogradEvaluation,
-    Guard,
     Progress,
-    fit,
-    pick_device,
-    training_process,
 )
-from pinn_engine.quality import guard_figures, no_worse, orientation, side_report
+from pinn_engine.quality import folded_cells, guard_figures, no_worse, orientation, side_report
 from pinn_engine.settings import Settings
 from pinn_engine.starts.quality_start import Ranking, quality_start
+from pinn_engine.starts.untangle import acceptable, untangled_start
 from pinn_engine.starts.warmstart import elliptic_start, lattice_for, orthogonal_start
 
 # A state is kept if its grid has no more folded cells than the elliptic grid and mean and
@@ -368,6 +368,7 @@ def guard_rule(
     start: np.ndarray | None = None,
     walls: tuple[str, ...] = (),
     ranking: Ranking | None = None,
+    winslow: np.ndarray | None = None,
 ) -> tuple[Callable[[np.ndarray], dict], Callable[[dict, dict], bool], dict, dict]:
     """The four-sided block's guard against the start's ``reference`` grid: (figures of a
     grid, whether figures pass given the kept ones, the figures to start from, the
@@ -380,7 +381,9 @@ def guard_rule(
     higher, then fewer folded cells, then closer to the auxiliary lines, and never further
     from them than ``start``, then a smaller worst angle). With orthogonal ``walls`` (SPEC 7)
     a state also passes only if its grid lines leave them within ``GUARD_WALL_ANGLE`` degrees
-    of 90, or no farther off than the reference's."""
+    of 90, or no farther off than the reference's. With the ``winslow`` grid that the
+    reference untangles (untangle.py), a state passes only if it keeps as close to it as
+    the untangled grid must (``untangle.acceptable``)."""
     mean_tol, worst_tol = GUARD_TOL[with_aux]
     if ranking is not None:
         ranking = ranking.against(reference).holding(start)
@@ -388,6 +391,8 @@ def guard_rule(
 
     def figures(grid: np.ndarray) -> dict:
         q = quality(grid)
+        if winslow is not None:
+            q["close_to_winslow"] = acceptable(grid, winslow)
         if walls:
             report = side_report(grid)
             q["wall_angle"] = max(report[side]["max_angle_deviation"] for side in walls)
@@ -401,19 +406,34 @@ def guard_rule(
             ok = ranking.key(q) < ranking.key(kept)
         else:
             ok = no_worse(q, ref, mean_tol, worst_tol)
-        return ok and q.get("wall_angle", 0.0) <= wall_tol
+        close = q.get("close_to_winslow", True)
+        return ok and close and q.get("wall_angle", 0.0) <= wall_tol
 
     return figures, accept, ref if ranking is None else figures(start), ref
 
 
+@dataclass
+class QuadStart:
+    """Where a four-sided block's training starts, on the lattice: the ``warm`` start, the
+    guard's ``reference`` grid, the quality objective's ``start`` grid and ``ranking``, the
+    lattice's node parameters ``params`` (a spacing), and the folded ``winslow`` grid that
+    the start untangles (untangle.py)."""
+
+    warm: WarmStart
+    reference: np.ndarray
+    start: np.ndarray | None = None
+    params: np.ndarray | None = None
+    ranking: Ranking | None = None
+    winslow: np.ndarray | None = None
+
+
 def _warm_start(
     boundary: Boundary, settings: Settings, lattice: tuple[int, int], aux: Sequence[AuxLine]
-) -> tuple:
-    """(warm start, the guard's reference grid, the quality objective's start grid or None,
-    the lattice's node parameters or None, the quality objective's ranking of grids or None)
-    on ``lattice``. The reference is the converged elliptic grid, under the spacing if one is
-    set (its node parameters, spacing.py), or the orthogonal start grid itself under
-    ``--orthogonal`` (orthogonal.py)."""
+) -> QuadStart:
+    """The start on ``lattice``. The reference is the converged elliptic grid (untangled
+    where it folds, untangle.py), under the spacing if one is set (its node parameters,
+    spacing.py), or the orthogonal start grid itself under ``--orthogonal``
+    (orthogonal.py)."""
     spacing = working_spacing(settings.spacing, boundary) if settings.spacing else {}
     params = reference = None
     if spacing:
@@ -422,16 +442,29 @@ def _warm_start(
         heights = {s: h for s, h in spacing.items() if s in settings.orthogonal}
         warm, reference = orthogonal_start(boundary, *lattice, settings.orthogonal, params, heights)
         lattice_params = None if warm.nodes is None else np.stack(np.meshgrid(*warm.nodes), -1)
-        return warm, reference, None, lattice_params, None
+        return QuadStart(warm, reference, params=lattice_params)
     warm, elliptic = elliptic_start(boundary, *lattice)
-    start = ranking = None
-    if settings.objective == "quality" and settings.method == "pinn":
+    if settings.method != "pinn":
+        return QuadStart(warm, elliptic if reference is None else reference, params=params)
+    if settings.objective == "quality":
         tfi = elliptic - warm.correction  # the TFI base plus the new start's correction
         ranking = Ranking.of(elliptic, aux, boundary.diagonal)
         with one_blas_thread():  # its L-BFGS, as _lbfgs's
             warm, ranking = quality_start(warm, elliptic, ranking)
         start = tfi + warm.correction
-    return warm, elliptic if reference is None else reference, start, params, ranking
+        return QuadStart(warm, elliptic if reference is None else reference, start, params, ranking)
+    if reference is None:
+        untangled = untangled_start(warm, elliptic)
+        if untangled is not None:
+            return QuadStart(*untangled, winslow=elliptic)
+    return QuadStart(warm, elliptic if reference is None else reference, params=params)
+
+
+def network(settings: Settings, dtype: torch.dtype, device: torch.device) -> CoordinateNet:
+    """The four-sided block's network: the shortcut network for pinn, a plain MLP for mgnet."""
+    kind = "shortcut" if settings.method == "pinn" else "mlp"
+    net = CoordinateNet(kind, settings.hidden_layers, settings.neurons, settings.activation)
+    return net.to(device=device, dtype=dtype)
 
 
 def train(
@@ -441,41 +474,49 @@ def train(
     progress: Progress | None = None,
 ) -> TrainedModel:
     """Train the networks for ``boundary`` (working frame) and return the trained model."""
-    dtype = {"float64": torch.float64, "float32": torch.float32}[settings.dtype]
-    device = pick_device(settings.device)
-    with training_process(device):
-        torch.manual_seed(settings.seed)
-        kind = "shortcut" if settings.method == "pinn" else "mlp"
-        net = CoordinateNet(kind, settings.hidden_layers, settings.neurons, settings.activation)
-        net = net.to(device=device, dtype=dtype)
-        aux = aux if settings.method == "pinn" else ()
-        warm = reference = start = params = ranking = None
-        if settings.warm_start == "elliptic":
-            lattice = lattice_for(*settings.lattice)
-            warm, reference, start, params, ranking = _warm_start(boundary, settings, lattice, aux)
-            with torch.no_grad():  # the map starts as the warm start's grid
-                net.w_out.zero_()
+    aux = aux if settings.method == "pinn" else ()
+    warm_start = settings.warm_start == "elliptic"
+    lattice = lattice_for(*settings.lattice)
+    built: dict = {}
+
+    def problem(net, dtype, device) -> tuple[QuadProblem, GuardRule | None]:
+        begin = _warm_start(boundary, settings, lattice, aux) if warm_start else None
+        warm = None if begin is None else begin.warm
+        params = None if begin is None else begin.params
         mapping = Mapping(net, boundary, settings.boundary_mode, warm)
         steps = first_steps(lattice, params) if warm is not None else None
-        problem = QuadProblem(mapping, boundary, aux, settings, dtype, device, steps, params)
-        guard = ref = None
-        if reference is not None:
-            size = reference.shape[1], reference.shape[0]
-            figures, accept, kept, ref = guard_rule(
-                reference, bool(aux), start, settings.orthogonal, ranking
-            )
-            guard = Guard(
-                net,
-                lambda: mapping.grid(*size, params=params),
-                figures,
-                accept,
-                kept,
-                boundary.diagonal,
-            )
-        lambda1 = 1.0 if settings.boundary_mode == "penalty" else 0.0
-        history, info = fit(problem, settings, guard, progress, lambda1)
-    info["device"] = str(device)
-    if guard is not None:
-        info["guard"].update(lattice=list(size), elliptic=ref)
-        info["start"] = warm.start
-    return TrainedModel(mapping=mapping, settings=settings, history=history, info=info)
+        quad = QuadProblem(mapping, boundary, aux, settings, dtype, device, steps, params)
+        built.update(begin=begin, mapping=mapping)
+        if begin is None:
+            return quad, None
+        reference = begin.reference
+        size = reference.shape[1], reference.shape[0]
+        figures, accept, kept, ref = guard_rule(
+            reference, bool(aux), begin.start, settings.orthogonal, begin.ranking, begin.winslow
+        )
+        built.update(size=size, ref=ref)
+        grid = lambda: mapping.grid(*size, params=params)  # noqa: E731
+        return quad, GuardRule(grid, figures, accept, kept, boundary.diagonal)
+
+    lambda1 = 1.0 if settings.boundary_mode == "penalty" else 0.0
+    training = train_network(
+        settings,
+        lambda dtype, device: network(settings, dtype, device),
+        problem,
+        progress,
+        zero_output=warm_start,
+        lambda1=lambda1,
+    )
+    info, begin = training.info, built["begin"]
+    info["device"] = str(training.device)
+    if begin is not None:
+        info["guard"].update(lattice=list(built["size"]), elliptic=built["ref"])
+        info["start"] = begin.warm.start
+        if begin.winslow is not None:
+            info["untangled"] = {
+                "winslow_folded_cells": int(folded_cells(begin.winslow).sum()),
+                "folded_cells": int(folded_cells(begin.reference).sum()),
+            }
+    return TrainedModel(
+        mapping=built["mapping"], settings=settings, history=training.history, info=info
+    )

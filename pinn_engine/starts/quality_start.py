@@ -25,6 +25,7 @@ from pinn_engine.classical.warm import WarmStart
 from pinn_engine.geometry.auxlines import AuxLine, line_distances
 from pinn_engine.neural.losses import corner_angles, loss_quality, nearest_on_line
 from pinn_engine.quality import folded_cells, guard_figures, orientation, shortest_edges
+from pinn_engine.starts.untangle import untangle
 
 MEAN_TOL = 0.5  # the objective's bound on the mean MaxIncludedAngle against the elliptic grid
 NODE_ITERATIONS = 100  # L-BFGS iterations of the node optimisation (0: none, an ablation)
@@ -130,7 +131,8 @@ def quality_start(
     warm: WarmStart, elliptic: np.ndarray, ranking: Ranking
 ) -> tuple[WarmStart, Ranking]:
     """The best (``ranking``) of the elliptic grid, the TFI grid (``warm``'s base: a polar
-    grid on an annulus sector, say), blends of them, with auxiliary lines the elliptic grid
+    grid on an annulus sector, say), blends of them, the elliptic grid untangled where it
+    folds (untangle.py), with auxiliary lines the elliptic grid
     moved onto them (:func:`follow_lines`), and the best of these with its interior nodes
     optimised (:func:`optimize_nodes`): the objective's discrete solution, as the converged
     elliptic grid is the Winslow objective's. Also returns the ranking, its mean bound
@@ -139,6 +141,9 @@ def quality_start(
     candidates = [(elliptic, "elliptic"), (tfi, "tfi")] + [
         (elliptic + w * (tfi - elliptic), f"{w:.1f} tfi + elliptic") for w in BLEND_WEIGHTS
     ]
+    untangled = untangle(elliptic)
+    if untangled is not elliptic:
+        candidates.append((untangled, "untangled"))
     if ranking.lines:
         on_lines = follow_lines(elliptic, ranking)
         ranking = ranking.against(on_lines)

@@ -18,6 +18,8 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     faces a six-faced 3D domain (SPEC 11), else a four-sided domain or, with --topology, a
     body (SPEC 5 and 9); appends each output file to ``written`` once it is complete."""
     written = written if written is not None else []
+    if args.cells and not args.blocks:
+        raise PinnMeshError("--cells applies to multi-block domains (--blocks); use --size")
     if args.save_blocks and not args.blocks:
         raise PinnMeshError("--save-blocks writes the block edges of --blocks (or --blocks auto)")
     # the input files read while the run imports the engine

@@ -62,4 +62,5 @@ def write_outputs(
         with atomic_path(args.png, suffix=Path(args.png).suffix or ".png") as tmp:
             draw(tmp)
         written.append(Path(args.png))
-    print(f"wrote {out}" + (f" and {args.png}" if args.png else ""))
+    default = "" if args.output else " (the default place without -o)"
+    print(f"wrote {out}{default}" + (f" and {args.png}" if args.png else ""))

@@ -1,0 +1,244 @@
+"""A fold-free grid on the same boundary nodes where the Winslow grid folds.
+
+The converged elliptic grid solves the Winslow equations, the Euler-Lagrange equations of
+Winslow's functional, the integral of (|x_xi|^2 + |x_eta|^2) / J. Where a boundary turns
+sharply into the domain (a deep notch, a forward step, a spike) the discrete solution folds
+cells. :func:`untangle` minimises the discrete functional itself, summed over the four
+corners of every cell, with the corner's Jacobian J replaced by the regularised
+chi(J, eps) = (J + sqrt(eps^2 + J^2)) / 2 (Garanzha, Kaporin, Kudryavtseva, Protais, Ray,
+Sokolov: "Foldover-free maps in 50 lines of code", 2021). chi is positive for any J, so a
+folded grid has a finite energy to start from; eps shrinks after each round of L-BFGS as
+the smallest Jacobian allows, and as eps goes to zero the energy becomes Winslow's
+functional with a barrier at J = 0: once every corner is positive none turns negative
+again. An area term holds each cell near the Winslow grid's size there. Only the nodes
+near the folded cells move (a band of rings around them, widened while folds remain), so
+the rest of the grid stays the Winslow grid.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.ndimage import binary_dilation
+from scipy.optimize import minimize
+
+from pinn_engine.blas import one_blas_thread
+from pinn_engine.classical.warm import WarmStart
+from pinn_engine.quality import folded_cells, guard_figures, largest_area_ratio, orientation
+
+# Rings of nodes around the folded cells that move: the first band, and the widest before
+# the whole grid moves (each failing round doubles the band)
+FIRST_RINGS = 3
+ROUNDS = 4
+# Rounds of L-BFGS at one eps, and L-BFGS iterations in each (the energy is smooth; a few
+# hundred iterations unfold the grids of the hard-shape set at 161 x 81)
+EPS_ROUNDS = 20
+LBFGS_ITERATIONS = 200
+# eps to start from: this share of the most negative corner Jacobian (Garanzha et al.), at
+# least the floor (Jacobians are in cell areas) so that a grid with a zero corner can move
+START_SHARE = 0.2
+EPS_FLOOR = 1e-6
+# eps once every corner is positive (the barrier proper), in cell areas
+BARRIER_EPS = 1e-9
+# The energy's relative decrease below which a fold-free round ends the rounds
+CONVERGED = 1e-6
+# The area term's share of the energy, and the Jacobi sweeps that fill the areas to hold
+# across the folds (a fold is a few cells across)
+AREA_SHARE = 0.9
+FILL_SWEEPS = 50
+# An untangled grid is kept only with its mean MaxIncludedAngle at most MEAN_TOL degrees
+# above the Winslow grid's and its largest area ratio between neighbouring cells at most
+# AREA_RATIO_TOL times the Winslow grid's: the folds go, the grid stays the Winslow grid
+MEAN_TOL = 1.0
+AREA_RATIO_TOL = 1.5
+# The least share of chi(J) that the next eps keeps below the smallest corner Jacobian
+# (Garanzha et al.'s sigma floor)
+SIGMA_FLOOR = 0.1
+
+
+class _Corners:
+    """The regularised energy over the cell corners of a grid (nj, ni, 2) with some interior
+    nodes ``free``: Winslow's functional, (1 - ``AREA_SHARE``) of it, plus ``AREA_SHARE``
+    of Garanzha et al.'s area term (J^2 + 1) / chi(J), which holds each cell near its
+    ``area`` in the start (the Winslow functional alone lets cells beside a fold grow or
+    shrink by half again). Each corner's Jacobian J is measured in its cell's ``area``."""
+
+    def __init__(self, grid: np.ndarray, free: np.ndarray, area: np.ndarray) -> None:
+        self.grid = np.array(grid, dtype=float)
+        self.free = free
+        nj, ni = grid.shape[:2]
+        self.ratio = (ni - 1) / (nj - 1)  # the computational cell's aspect: d eta / d xi
+        self.turn = orientation(grid)
+        self.area = area
+
+    def with_free(self, x: np.ndarray) -> np.ndarray:
+        g = self.grid.copy()
+        g[self.free] = x.reshape(-1, 2)
+        return g
+
+    def _edges(self, g: np.ndarray):
+        """Per corner k: the edges a (to the next corner) and b (to the previous one), their
+        weights in the functional and the Jacobian det(a, b) in cell areas."""
+        p = _corners(g)
+        for k in range(4):
+            a, b = p[(k + 1) % 4] - p[k], p[k - 1] - p[k]
+            # at corners 0 and 2 the edge a runs along xi, at 1 and 3 along eta
+            wa, wb = (self.ratio, 1 / self.ratio) if k % 2 == 0 else (1 / self.ratio, self.ratio)
+            det = self.turn * (a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]) / self.area
+            yield k, a, b, wa, wb, det
+
+    def least(self, x: np.ndarray) -> float:
+        """The smallest corner Jacobian (in cell areas)."""
+        return min(float(det.min()) for *_, det in self._edges(self.with_free(x)))
+
+    def energy(self, x: np.ndarray, eps: float) -> tuple[float, np.ndarray]:
+        """The regularised energy and its gradient in the free nodes' coordinates."""
+        g = self.with_free(x)
+        grad = [np.zeros(c.shape) for c in _corners(g)]
+        total = 0.0
+        for k, a, b, wa, wb, det in self._edges(g):
+            root = np.sqrt(eps * eps + det * det)
+            chi = _chi(det, root, eps)
+            shape = (wa * (a * a).sum(-1) + wb * (b * b).sum(-1)) / self.area
+            top = (1 - AREA_SHARE) * shape + AREA_SHARE * (det * det + 1)
+            total += float((top / chi).sum())
+            d_shape = ((1 - AREA_SHARE) * 2 / (chi * self.area))[..., None]
+            d_det = (self.turn * (AREA_SHARE * 2 * det / chi - top / (chi * root)) / self.area)[
+                ..., None
+            ]
+            ga = d_shape * wa * a + d_det * np.stack([b[..., 1], -b[..., 0]], axis=-1)
+            gb = d_shape * wb * b + d_det * np.stack([-a[..., 1], a[..., 0]], axis=-1)
+            grad[(k + 1) % 4] += ga
+            grad[k - 1] += gb
+            grad[k] -= ga + gb
+        full = np.zeros_like(g)
+        for target, part in zip(_corners(full), grad):
+            target += part
+        return total, full[self.free].ravel()
+
+
+def _corners(g: np.ndarray) -> list[np.ndarray]:
+    """The four corners of every cell, counter-clockwise in (i, j), as views of ``g``."""
+    return [g[:-1, :-1], g[:-1, 1:], g[1:, 1:], g[1:, :-1]]
+
+
+def _chi(det: np.ndarray, root: np.ndarray, eps: float) -> np.ndarray:
+    """(det + root) / 2 with root = sqrt(eps^2 + det^2), without cancellation for det < 0."""
+    with np.errstate(divide="ignore"):
+        return np.where(det >= 0, 0.5 * (det + root), 0.5 * eps * eps / (root - det))
+
+
+def _areas(grid: np.ndarray, unsure: np.ndarray) -> np.ndarray:
+    """The cells' areas to hold: each cell's own, but in the ``unsure`` cells (the folds and
+    the cells beside them, whose own area says nothing) the smooth continuation of the
+    others' (their logarithm's harmonic fill, ``FILL_SWEEPS`` Jacobi sweeps)."""
+    p = _corners(grid)
+    d1, d2 = p[2] - p[0], p[3] - p[1]
+    area = 0.5 * np.abs(d1[..., 0] * d2[..., 1] - d1[..., 1] * d2[..., 0])
+    log = np.log(np.maximum(area, 1e-300))
+    known = ~unsure
+    if not known.any():
+        return area
+    log[unsure] = log[known].mean()
+    for _ in range(FILL_SWEEPS):
+        padded = np.pad(log, 1, mode="edge")
+        mean = 0.25 * (padded[:-2, 1:-1] + padded[2:, 1:-1] + padded[1:-1, :-2] + padded[1:-1, 2:])
+        log = np.where(unsure, mean, log)
+    return np.exp(log)
+
+
+def _minimise(corners: _Corners) -> np.ndarray:
+    """The grid after rounds of L-BFGS at a shrinking eps (Garanzha et al.'s rule)."""
+    x = corners.grid[corners.free].ravel()
+    least = corners.least(x)
+    eps = max(START_SHARE * max(-least, 0.0), EPS_FLOOR)
+    for _ in range(EPS_ROUNDS):
+        before = corners.energy(x, eps)[0]
+        x = minimize(
+            corners.energy,
+            x,
+            args=(eps,),
+            jac=True,
+            method="L-BFGS-B",
+            options={"maxiter": LBFGS_ITERATIONS, "gtol": 1e-12, "ftol": 1e-15},
+        ).x
+        after = corners.energy(x, eps)[0]
+        least = corners.least(x)
+        if least > 0 and before - after <= CONVERGED * abs(after):
+            break
+        sigma = max(1 - after / before, SIGMA_FLOOR)
+        mu = (1 - sigma) * float(_chi(np.array(least), np.hypot(eps, least), eps))
+        eps = 2 * np.sqrt(mu * (mu - least)) if least < mu else BARRIER_EPS
+    return corners.with_free(x)
+
+
+def _move(grid: np.ndarray, free: np.ndarray) -> np.ndarray:
+    """``grid`` with the ``free`` nodes moved by :func:`_minimise`, on the smallest box of
+    cells around them (the energy of the cells outside it does not change)."""
+    rows, cols = np.nonzero(free)
+    j0, j1 = rows.min() - 1, rows.max() + 2
+    i0, i1 = cols.min() - 1, cols.max() + 2
+    box = grid[j0:j1, i0:i1]
+    out = np.array(grid, dtype=float)
+    unsure = binary_dilation(folded_cells(box), np.ones((3, 3), dtype=bool))
+    out[j0:j1, i0:i1] = _minimise(_Corners(box, free[j0:j1, i0:i1], _areas(box, unsure)))
+    return out
+
+
+def _band(folded: np.ndarray, rings: int) -> np.ndarray:
+    """The interior nodes within ``rings`` rings of the nodes of ``folded`` cells."""
+    nj, ni = folded.shape[0] + 1, folded.shape[1] + 1
+    nodes = np.zeros((nj, ni), dtype=bool)
+    for dj in (0, 1):
+        for di in (0, 1):
+            nodes[dj : dj + nj - 1, di : di + ni - 1] |= folded
+    band = binary_dilation(nodes, np.ones((3, 3), dtype=bool), iterations=rings)
+    band[[0, -1], :] = band[:, [0, -1]] = False
+    return band
+
+
+def untangle(grid: np.ndarray) -> np.ndarray:
+    """``grid`` (nj, ni, 2) with its folded cells undone, its boundary nodes fixed: the nodes
+    within ``FIRST_RINGS`` rings of the folds move first, in twice as many rings while folds
+    remain (``ROUNDS`` times), then every interior node. Of the grids met, the one with the
+    fewest folded cells that keeps :func:`acceptable` against ``grid``; ``grid`` itself if
+    none folds fewer."""
+    folds = int(folded_cells(grid).sum())
+    if not folds or min(grid.shape[:2]) < 3:
+        return grid
+    with one_blas_thread():  # L-BFGS-B's small products: threads cost more than they save
+        return _untangled(grid, folds)
+
+
+def acceptable(grid: np.ndarray, winslow: np.ndarray) -> bool:
+    """Whether an untangled ``grid`` keeps close to the ``winslow`` grid it came from: mean
+    MaxIncludedAngle at most ``MEAN_TOL`` above its, and the largest area ratio of
+    neighbouring cells at most ``AREA_RATIO_TOL`` times its."""
+    mean = guard_figures(grid)["mean_max_angle"]
+    return mean <= guard_figures(winslow)["mean_max_angle"] + MEAN_TOL and largest_area_ratio(
+        grid
+    ) <= AREA_RATIO_TOL * largest_area_ratio(winslow)
+
+
+def _untangled(grid: np.ndarray, folds: int) -> np.ndarray:
+    best, rings = grid, FIRST_RINGS
+    for attempt in range(ROUNDS + 1):
+        folded = folded_cells(best)
+        free = _band(folded, rings) if attempt < ROUNDS else _band(folded, max(grid.shape))
+        moved = _move(best, free)
+        if np.isfinite(moved).all() and acceptable(moved, grid):
+            moved_folds = int(folded_cells(moved).sum())
+            if moved_folds < folds:
+                best, folds = moved, moved_folds
+        if not folds:
+            break
+        rings *= 2
+    return best
+
+
+def untangled_start(warm: WarmStart, winslow: np.ndarray) -> tuple[WarmStart, np.ndarray] | None:
+    """The start ``warm`` from the ``winslow`` grid moved to :func:`untangle`'s grid, and that
+    grid; None where the Winslow grid does not fold or untangling does not help."""
+    grid = untangle(winslow)
+    if grid is winslow:
+        return None
+    return WarmStart(warm.correction + (grid - winslow), start="untangled"), grid

@@ -1,0 +1,76 @@
+"""The default's fold-free grids: where the Winslow grid folds, the default pinn starts from
+it untangled (starts/untangle.py), a four-sided domain and each block of a multi-block grid."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import EXAMPLES
+
+from pinn_engine.blocks.multiblock import train_block
+from pinn_engine.classical.elliptic import winslow_solve
+from pinn_engine.classical.tfi import tfi_grid
+from pinn_engine.geometry.boundary_fit import ArcLengthFit
+from pinn_engine.io.pipeline import load_boundary
+from pinn_engine.mesher import Mesher
+from pinn_engine.quality import folded_cells, guard_figures, largest_area_ratio
+from pinn_engine.settings import make_settings
+from pinn_engine.starts import untangle
+
+SIZE = (41, 21)  # backward_step's Winslow grid folds a cell at the step at this size
+MEAN_OVER, RATIO_TIMES = 1.0, 1.5  # the untangled grid's bounds against the Winslow grid
+
+
+@pytest.fixture(scope="module")
+def step():
+    return load_boundary(EXAMPLES / "hard" / "backward_step.vtp")
+
+
+@pytest.fixture(scope="module")
+def winslow(step):
+    return winslow_solve(tfi_grid(ArcLengthFit(step).sample, *SIZE))[0]
+
+
+def _close(grid: np.ndarray, winslow: np.ndarray) -> bool:
+    return guard_figures(grid)["mean_max_angle"] <= (
+        guard_figures(winslow)["mean_max_angle"] + MEAN_OVER
+    ) and largest_area_ratio(grid) <= RATIO_TIMES * largest_area_ratio(winslow)
+
+
+def test_the_default_is_fold_free_where_the_winslow_grid_folds(step, winslow):
+    """The default pinn's grid has no fold where the elliptic grid has some, keeps its
+    boundary nodes, its mean angle and its cell-size changes, and the report says so."""
+    assert folded_cells(winslow).sum() > 0
+    result = Mesher(make_settings("pinn", lattice=SIZE)).fit(step).predict(*SIZE)
+    unit = step.frame.to_unit(result.points)
+    assert result.quality["folded_cells"] == 0
+    assert _close(unit, winslow)
+    for side in (np.s_[0], np.s_[-1], np.s_[:, 0], np.s_[:, -1]):
+        np.testing.assert_allclose(unit[side], winslow[side], atol=1e-9)
+    training = result.report["training"]
+    assert training["start"] == "untangled"
+    assert training["untangled"] == {
+        "winslow_folded_cells": int(folded_cells(winslow).sum()),
+        "folded_cells": 0,
+    }
+
+
+def test_untangling_never_folds_more_nor_strays(winslow, monkeypatch):
+    """A grid that does not fold comes back as it is; where no untangled grid keeps close
+    enough to the Winslow grid, the Winslow grid comes back, never one with more folds."""
+    plain = np.stack(np.meshgrid(np.linspace(0, 2, 9), np.linspace(0, 1, 5)), axis=-1)
+    assert untangle.untangle(plain) is plain
+    monkeypatch.setattr(untangle, "MEAN_TOL", -90.0)  # nothing is close enough
+    assert untangle.untangle(winslow) is winslow
+
+
+def test_a_folded_block_of_a_multiblock_grid_is_untangled(winslow):
+    """A block of the multi-block pinn whose elliptic grid folds comes out fold-free, with
+    its side nodes bit for bit, and the block's report says it was untangled."""
+    block = winslow * 3.0 + 1.0  # in the user's units
+    trained = train_block(block, make_settings("pinn", lbfgs_iterations=5))
+    assert folded_cells(trained.grid).sum() == 0
+    for side in (np.s_[0], np.s_[-1], np.s_[:, 0], np.s_[:, -1]):
+        assert np.array_equal(trained.grid[side], block[side])
+    assert trained.info["untangled"]["winslow_folded_cells"] > 0
+    assert _close(trained.grid, block)
