@@ -338,6 +338,7 @@ def test_multiblock_filter_on_the_step(checkout):
         "Blocking",
         "Method",
         "CellSize",
+        "CellCounts",
         "Interfaces",
         "PatchNames",
         "FirstEdgeSpacing",
