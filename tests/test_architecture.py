@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import torch
-from conftest import EXAMPLES, ROOT
+from helpers import EXAMPLES, ROOT
 
 from pinn_engine import job
 from pinn_engine.blocks import quad

@@ -41,7 +41,7 @@ def test_own_processes_raise_the_thresholds(monkeypatch):
 
 
 def test_the_command_line_tunes_its_process(monkeypatch, tmp_path):
-    from conftest import EXAMPLES
+    from helpers import EXAMPLES
 
     from pinn_engine.routes.cli import main
 

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 import torch
-from conftest import needs_compiler
+from helpers import needs_compiler
 
 from pinn_engine.neural.jet import layers, native
 from pinn_engine.neural.jet.layers import ACTIVATIONS

@@ -5,7 +5,7 @@ moved; one case where the network improves on the start, one where the start is 
 from __future__ import annotations
 
 import numpy as np
-from conftest import EXAMPLES
+from helpers import EXAMPLES
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
 from pinn_engine.io.pipeline import load_aux, load_boundary
