@@ -8,7 +8,7 @@ import sys
 import numpy as np
 import pytest
 import pyvista as pv
-from conftest import ROOT, refused, square_ring
+from helpers import ROOT, refused, square_ring
 from vtkmodules.vtkIOXML import vtkXMLMultiBlockDataReader, vtkXMLPolyDataReader
 
 from pinn_engine.errors import InputError
