@@ -9,9 +9,14 @@ import multiprocessing
 import os
 from collections.abc import Iterator
 
-import dask
-from distributed import Client, LocalCluster
-from distributed.diagnostics.plugin import WorkerPlugin
+from pinn_engine.errors import MissingExtraError
+
+try:
+    import dask
+    from distributed import Client, LocalCluster
+    from distributed.diagnostics.plugin import WorkerPlugin
+except ModuleNotFoundError as exc:  # installed without the batch extra
+    raise MissingExtraError("batch meshing (Dask)", "batch") from exc
 
 HOST = "127.0.0.1"  # a local cluster listens on this machine only
 DASHBOARD = f"{HOST}:8787"  # Dask's usual dashboard port (another is taken when it is busy)
