@@ -70,6 +70,7 @@ def run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
             orthogonal,
             progress,
             args.aux,
+            args.cells,
         )
     report = outcome.result.report
     folded = report["quality"]["folded_cells"]
