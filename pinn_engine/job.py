@@ -233,8 +233,9 @@ def train_blocks(
     kinks: Callable[[list[np.ndarray]], np.ndarray] | None = None,
 ) -> tuple[list[np.ndarray], dict]:
     """The multi-block pinn's training (``blocks.multiblock.train_blocks``), imported only
-    when a block's network can win (``blocks.untrained.cannot_win``): elsewhere, and in the
-    elliptic and tfi runs, torch is never imported."""
+    when some block's network can win (``blocks.untrained.cannot_win``; else every block
+    keeps its start, ``untrained.untrained_blocks``): the elliptic and tfi runs, and a pinn
+    whose networks cannot win, never import torch."""
     from pinn_engine.blocks.untrained import cannot_win, untrained_blocks
 
     reasons = [cannot_win(settings, lines) for lines in (aux or [()] * len(grids))]

@@ -25,7 +25,8 @@ STAGES = {"start", "training", "mesh", "quality", "read", "write"}
 
 def test_the_decision_follows_the_terms_the_network_could_win():
     """Untrained under the Winslow and quality objectives alone; trained with lines to
-    follow, orthogonal sides, a spacing, without the warm start, or for mgnet."""
+    follow, orthogonal sides, a spacing, without the warm start, for mgnet, or with Adam
+    epochs asked."""
     boundary = load_boundary(EXAMPLES / "fig2.vtp")
     lines = load_aux([EXAMPLES / "fig2_aux.vtp"], boundary)
     assert cannot_win(make_settings("pinn")) == WINSLOW
@@ -35,6 +36,7 @@ def test_the_decision_follows_the_terms_the_network_could_win():
     assert cannot_win(make_settings("pinn", spacing=(("bottom", 0.01),))) is None
     assert cannot_win(make_settings("pinn", "paper")) is None
     assert cannot_win(make_settings("mgnet")) is None
+    assert cannot_win(make_settings("pinn", adam_epochs=60)) is None
 
 
 def test_an_untrained_map_is_the_start_it_would_have_kept():

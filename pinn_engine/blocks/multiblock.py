@@ -26,7 +26,7 @@ import numpy as np
 from pinn_engine.blocks.mapping import Mapping
 from pinn_engine.blocks.quad import GUARD_TOL as QUAD_GUARD_TOL
 from pinn_engine.blocks.quad import QuadProblem, network
-from pinn_engine.blocks.untrained import blocks_report, cannot_win, start_block
+from pinn_engine.blocks.untrained import blocks_report
 from pinn_engine.classical.tfi import tfi_grid
 from pinn_engine.classical.warm import WarmStart
 from pinn_engine.errors import STOP, TrainingCancelled
@@ -146,9 +146,7 @@ def train_blocks(
     aux: Sequence[Sequence[AuxLine]] | None = None,
     kinks: Kinks | None = None,
 ) -> tuple[list[np.ndarray], dict]:
-    """Each block of the elliptic grid ``grids`` trained by :func:`train_block` where its
-    network can win (``untrained.cannot_win``; elsewhere its start, ``untrained.start_block``)
-    (with its
+    """Each block of the elliptic grid ``grids`` trained by :func:`train_block` (with its
     auxiliary lines ``aux[k]``, ``quadblock.block_lines``, if given), in turn, its guard
     judging the ``kinks`` of the whole grid: the blocks before it at their kept grids, those
     after it at their elliptic grids. Returns the grids and the report's ``training``: per
@@ -168,12 +166,6 @@ def train_blocks(
             blocks.append({"result": "start", "seconds": 0.0, "stopped": True})
             continue
         lines = aux[k] if aux is not None else ()
-        reason = cannot_win(settings, lines)
-        if reason:
-            grid, block = start_block(start, reason)
-            out.append(grid)
-            blocks.append(block)
-            continue
         interfaces = _in_place(kinks, out, grids[k + 1 :]) if kinks is not None else None
         heard_here = heard if progress is not None else None
         trained = train_block(start, settings, heard_here, lines, interfaces)

@@ -38,9 +38,10 @@ QUALITY = "the start is the quality objective's own optimum on these nodes"
 
 def cannot_win(settings: Settings, aux: Sequence[AuxLine] = ()) -> str | None:
     """Why the pinn's network cannot beat its start under ``settings`` with the auxiliary
-    lines ``aux``, or None where it may (lines to follow, orthogonal sides, a spacing, or no
-    warm start: the network is the map)."""
-    if settings.method != "pinn" or settings.warm_start != "elliptic":
+    lines ``aux``, or None where it may (lines to follow, orthogonal sides, a spacing, no
+    warm start: the network is the map) or where Adam epochs are asked (a schedule that
+    trains the network whatever it wins)."""
+    if settings.method != "pinn" or settings.warm_start != "elliptic" or settings.adam_epochs:
         return None
     if settings.boundary_mode != "hard" or aux or settings.orthogonal or settings.spacing:
         return None
