@@ -255,6 +255,7 @@ def run_blocks(
     orthogonal: Sequence[str] = (),
     progress: Callable[[dict], bool | str | None] | None = None,
     aux: Sequence[str | os.PathLike] = (),
+    cells: Sequence[str] = (),
 ) -> BlocksOutcome:
     """Mesh a multi-block domain (SPEC 10) from files: ``boundary`` (outer boundary and
     holes) and the block-edge files ``edges`` (``[AUTO_BLOCKS]``: edges proposed from the
@@ -262,16 +263,19 @@ def run_blocks(
     ``X,Y=NAME[:TYPE]`` items naming boundary pieces; ``spacing``: ``NAME=H`` items,
     ``orthogonal``: ``NAME[,NAME...]`` items, on those patches; ``progress`` hears the
     pinn's training block by block; ``aux``: auxiliary-line files, each line inside one
-    block (the pinn fits it there)."""
+    block (the pinn fits it there); ``cells``: ``X,Y=N`` items, N cells along the chain
+    through the block side nearest (X, Y)."""
     from pinn_engine.io.export.vtm import multiblock_dataset
     from pinn_engine.io.fileio import read_aux_lines, read_rings
     from pinn_engine.multiblock.autoblock import propose_edges
+    from pinn_engine.multiblock.chains import parse_cells
     from pinn_engine.multiblock.mesh import mesh_blocks
     from pinn_engine.multiblock.patches import parse_patch_points
     from pinn_engine.multiblock.walls import parse_walls
 
     points = parse_patch_points(patches)  # refused before reading, not after
     walls = parse_walls(spacing, orthogonal)
+    chains = parse_cells(cells)
     source = str(boundary)
     rings = read_rings(boundary)
     auto = [str(e) for e in edges] == [AUTO_BLOCKS]
@@ -295,6 +299,7 @@ def run_blocks(
         progress,
         flat,
         train_blocks,
+        chains,
     )
     dataset = multiblock_dataset(result.grids, result.cells, result.report, result.patches)
     return BlocksOutcome(result, dataset, edge_curves)

@@ -686,9 +686,11 @@ class PINNMultiBlockMesh(PinnMultiBlockAlgorithm):
         default_values="",
         doc="Names of boundary pieces (a piece runs between two block corners or "
         "junctions), for solver formats and for First Edge Spacing and Orthogonal "
-        "Patches: X,Y=NAME[:TYPE] items separated by spaces, each naming the piece "
-        "nearest (X, Y), e.g. '0.5,0=cylinder:wall 0,0.5=cylinder'. Pieces with the "
-        "same name form one patch; unnamed pieces are boundary, hole1, hole2, ...",
+        "Patches: items separated by spaces, X,Y=NAME[:TYPE] naming the piece nearest "
+        "(X, Y) (negative coordinates too), hole1=NAME[:TYPE] or boundary=NAME[:TYPE] "
+        "every piece of that ring, e.g. 'hole1=cylinder:wall -0.5,0=inlet:inflow'. "
+        "Pieces with the same name form one patch; unnamed pieces are boundary, hole1, "
+        "hole2, ...",
     )
     def P04PatchNames(self, text):
         self.SetPatchNames(text)
@@ -698,9 +700,11 @@ class PINNMultiBlockMesh(PinnMultiBlockAlgorithm):
         label="First Edge Spacing",
         default_values="",
         doc="Length of the first grid edge leaving a patch, in the boundary's units: "
-        "NAME=H items separated by spaces, e.g. 'cylinder=0.005' (empty: none). The "
-        "spacing grows smoothly away from the patch (Vinokur's stretching); all "
-        "methods (docs/multiblock.md).",
+        "NAME=H items separated by spaces, e.g. 'cylinder=0.005' (empty: none); X,Y=H "
+        "items grade the blocks across the block side nearest (X, Y), interior ones "
+        "too: the cells on both sides H across it, growing along the chain by at most "
+        "1.25 a cell, e.g. '0.3,0.2=0.005'. The spacing grows smoothly away from the "
+        "patch (Vinokur's stretching); all methods (docs/multiblock.md).",
     )
     def P05FirstEdgeSpacing(self, text):
         self.SetSpacing(text)
@@ -714,6 +718,18 @@ class PINNMultiBlockMesh(PinnMultiBlockAlgorithm):
     )
     def P06OrthogonalPatches(self, text):
         self.SetOrthogonal(text)
+
+    @_stringvector(
+        name="CellCounts",
+        label="Cell Counts",
+        default_values="",
+        doc="Cells along chosen chains of block sides: X,Y=N items separated by spaces, "
+        "each giving the chain through the block side nearest (X, Y) N cells, e.g. "
+        "'1.2,0.41=60' (empty: every chain from Cell Size). Opposite sides of every "
+        "block share a count.",
+    )
+    def P07CellCounts(self, text):
+        self.SetCells(text)
 
 
 _HEXA_METHOD_DOCS = {

@@ -10,11 +10,12 @@ from __future__ import annotations
 import re
 import shutil
 import subprocess
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES, OutputMessages, foam_env, wavy_ring
+from helpers import EXAMPLES, OutputMessages, foam_env, wavy_ring
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkIOLegacy import vtkStructuredGridReader
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader, vtkXMLStructuredGridReader
@@ -348,7 +349,7 @@ def test_failing_writer_leaves_nothing(grid, tmp_path, monkeypatch, ext):
         monkeypatch.setattr(export.vtkfiles, "write_legacy", broken)
         target, fmt = tmp_path / "g.vtk", None
     else:
-        monkeypatch.setitem(export._FILE_WRITERS, ext, broken)
+        monkeypatch.setitem(export.FORMATS, ext, replace(export.FORMATS[ext], block=broken))
         target, fmt = tmp_path / f"g.{ext}", None
     with pytest.raises(OSError, match="disk full"):
         save_mesh(grid, target, fmt)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES
+from helpers import EXAMPLES
 
 from pinn_engine.blocks.multiblock import train_block
 from pinn_engine.blocks.untrained import WINSLOW, start_block

@@ -7,6 +7,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from pinn_engine.batch import warm
 from pinn_engine.errors import PinnMeshError
 from pinn_engine.routes.cli import EXIT_ERROR, EXIT_INTERRUPTED, OneLineParser
 
@@ -36,14 +37,16 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str]) -> int:
     """Run the batch; returns the exit status."""
-    from pinn_engine.batch.api import run
-    from pinn_engine.batch.cluster import connect, dashboard
-    from pinn_engine.batch.manifest import ManifestError, read_manifest
-
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.workers is not None and args.workers < 1:
         parser.error(f"--workers {args.workers}: give at least 1")
+    if not args.scheduler:  # the local workers' server imports while this process does
+        warm.start()
+    from pinn_engine.batch.api import run
+    from pinn_engine.batch.cluster import connect, dashboard
+    from pinn_engine.batch.manifest import ManifestError, read_manifest
+
     try:
         cases = read_manifest(args.manifest)
     except ManifestError as exc:

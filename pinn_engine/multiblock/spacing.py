@@ -21,9 +21,13 @@ from __future__ import annotations
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from pinn_engine.classical.spacing import line_parameters  # one block's per-line stretching
+from pinn_engine.classical.spacing import (  # one block's per-line stretching
+    exact_stretch,
+    line_parameters,
+)
 from pinn_engine.errors import InputError
-from pinn_engine.multiblock.walls import WallSide
+from pinn_engine.multiblock.layout import resample
+from pinn_engine.multiblock.walls import SIDE_NAMES, WallSide, side_lines
 
 # Rounds of correcting the first parameter intervals by the measured first edges, and the
 # share by which every first edge may still be off when they stop (far inside SPEC 7's 10 %)
@@ -32,7 +36,18 @@ FIT_ROUNDS, FIT_TOL = 12, 1e-3
 # block: a first edge shorter than half the sides it runs along)
 MAX_ASKED_SHARE = 0.5
 
-Requests = dict[tuple[int, ...], list]  # a line's ids -> [H at its start, H at its end, patch]
+# a line's ids -> [H at its start, H at its end, the option asking (for messages)]
+Requests = dict[tuple[int, ...], list]
+
+
+def _ask(out: Requests, line: np.ndarray, h: float, label: str) -> None:
+    """Ask the first edge ``h`` at ``line``'s start (ids from its node on the side), the
+    smaller where two ask."""
+    ids = tuple(int(n) for n in line)
+    key = min(ids, ids[::-1])
+    end = 0 if key == ids else 1
+    ask = out.setdefault(key, [None, None, label])
+    ask[end] = h if ask[end] is None else min(ask[end], h)
 
 
 def requests(sides: list[WallSide], spacing: dict[str, float]) -> Requests:
@@ -44,11 +59,35 @@ def requests(sides: list[WallSide], spacing: dict[str, float]) -> Requests:
         if h is None:
             continue
         for line in wall.lines:
-            ids = tuple(int(n) for n in line)
-            key = min(ids, ids[::-1])
-            end = 0 if key == ids else 1
-            ask = out.setdefault(key, [None, None, wall.name])
-            ask[end] = h if ask[end] is None else min(ask[end], h)
+            _ask(out, line, h, f"spacing {wall.name}={h:g}")
+    return out
+
+
+def regrade(
+    points: np.ndarray, ids: list[np.ndarray], graded: set[tuple[int, int]], h: float, label: str
+) -> np.ndarray:
+    """``points`` with the grid lines leaving the graded (block, side) pairs
+    (``chains.graded_sides``) re-placed along themselves at the grading's arc-length
+    fractions: first edge ``h`` at the graded side, the uniform one at the other end (as
+    the layout placed the boundary pieces along the grading, ``chains.graded_params``), so
+    every line starts with ``h`` and a line shared by two blocks is the same in both."""
+    out = points.copy()
+    done: set[tuple[int, ...]] = set()
+    for b, s in graded:
+        for line in side_lines(ids[b], SIDE_NAMES[s]):
+            key = tuple(int(n) for n in line)
+            if key in done or key[::-1] in done:
+                continue
+            done.add(key)
+            p = points[line]
+            n, length = len(line) - 1, _arc(p)[-1]
+            if h >= MAX_ASKED_SHARE * length:
+                raise InputError(
+                    f"{label}: the first edge must be shorter than half of the grid lines "
+                    f"leaving the side (one is {length:.4g} long); choose a smaller H"
+                )
+            t = exact_stretch(n + 1, h / length, 1.0 / n)[0]
+            out[line[1:-1]] = resample(p, n, t)[1:-1]
     return out
 
 
@@ -56,16 +95,16 @@ def _arc(p: np.ndarray) -> np.ndarray:
     return np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
 
 
-def check_room(points: np.ndarray, asked: Requests, spacing: dict[str, float]) -> None:
-    """Refuse a spacing of at least half a line leaving its patch (measured on the start
-    grid, before the solve)."""
-    for ids, (first, last, name) in asked.items():
+def check_room(points: np.ndarray, asked: Requests) -> None:
+    """Refuse a spacing of at least half a line leaving its patch or side (measured on the
+    start grid, before the solve)."""
+    for ids, (first, last, label) in asked.items():
         length = _arc(points[list(ids)])[-1]
         if (first or 0.0) + (last or 0.0) >= MAX_ASKED_SHARE * length:
             raise InputError(
-                f"spacing {name}={spacing[name]:g}: the first edge must be shorter than half "
-                f"of every grid line leaving the patch (one is {length:.4g} long); choose a "
-                "smaller H or a larger cell size"
+                f"{label}: the first edge must be shorter than half of every grid line "
+                f"leaving the patch or side (one is {length:.4g} long); choose a smaller H or "
+                "a larger cell size"
             )
 
 

@@ -34,12 +34,29 @@ def setting_items(value, separators: str) -> tuple[str, ...]:
     return tuple(str(v).strip() for v in value if str(v).strip())
 
 
-def spacing_items(value) -> tuple[str, ...]:
-    """``NAME=H`` items of a first-edge spacing setting: a string of items, a sequence of
-    them or a mapping ``{NAME: H}``."""
+def place_items(value) -> tuple[str, ...]:
+    """``KEY=VALUE`` items of a setting whose keys may be names or points (``X,Y``): a
+    string of items (separated by whitespace, ``;`` or, between items that each hold a
+    ``=``, commas), a sequence of them, or a mapping ``{NAME: VALUE}`` or ``{(x, y):
+    VALUE}``."""
     if hasattr(value, "items"):
-        value = [f"{name}={float(h)!r}" for name, h in value.items()]
-    return setting_items(value, ",;")
+        return tuple(
+            f"{float(key[0])!r},{float(key[1])!r}={v}" if isinstance(key, tuple) else f"{key}={v}"
+            for key, v in value.items()
+        )
+    out: list[str] = []
+    for item in setting_items(value, ";"):
+        parts = [part for part in item.split(",") if part]
+        out += parts if all("=" in part for part in parts) else [item]
+    return tuple(out)
+
+
+def spacing_items(value) -> tuple[str, ...]:
+    """``NAME=H`` or ``X,Y=H`` items of a first-edge spacing setting (:func:`place_items`,
+    the lengths as floats)."""
+    if hasattr(value, "items"):
+        value = {key: repr(float(h)) for key, h in value.items()}
+    return place_items(value)
 
 
 def patch_setting(names) -> str | dict:

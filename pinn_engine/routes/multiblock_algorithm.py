@@ -50,7 +50,7 @@ from pinn_engine.routes.filters import (
     PatchWalls,
     choice,
     folded_warning,
-    setting_items,
+    place_items,
 )
 from pinn_engine.routes.reporting import message_of
 from pinn_engine.settings import (
@@ -128,10 +128,16 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
     * ``SetInterfaces("free"|"fixed")`` (or 0/1): interface nodes solved like interior nodes,
       or kept on the drawn edges
     * ``SetPatchNames(items)``: ``X,Y=NAME[:TYPE]`` items naming the boundary piece nearest
-      (X, Y) (a string of items separated by spaces, a sequence of them, or a mapping
-      ``{(x, y): "NAME[:TYPE]"}``); default names ``boundary``, ``hole1``, ...
-    * ``SetSpacing(items)``: ``NAME=H`` items, the first grid edge leaving that patch
-      (``"cylinder=0.005"``, a sequence of items or a mapping ``{"cylinder": 0.005}``)
+      (X, Y), ``hole1=NAME[:TYPE]`` or ``boundary=NAME[:TYPE]`` every piece of that ring (a
+      string of items separated by spaces, a sequence of them, or a mapping ``{(x, y):
+      "NAME[:TYPE]"}`` or ``{"hole1": "NAME[:TYPE]"}``); default names ``boundary``,
+      ``hole1``, ...
+    * ``SetCells(items)``: ``X,Y=N`` items, N cells along the chain through the block side
+      nearest (X, Y) (a string, a sequence or a mapping ``{(x, y): N}``)
+    * ``SetSpacing(items)``: ``NAME=H`` items, the first grid edge leaving that patch, and
+      ``X,Y=H`` items, the cells on both sides of the block side nearest (X, Y) H across
+      it, growing along the chain (``"cylinder=0.005 0.3,0.2=0.01"``, a sequence of items
+      or a mapping ``{"cylinder": 0.005, (0.3, 0.2): 0.01}``)
     * ``SetOrthogonal(names)``: patches that grid lines leave along the normal
       (``"cylinder,walls"`` or a sequence of names)
 
@@ -152,6 +158,7 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
         self._cell_size = 0.0
         self._interfaces = INTERFACES[0]
         self._patches: tuple[str, ...] = ()  # X,Y=NAME[:TYPE] items, checked at the update
+        self._cells: tuple[str, ...] = ()  # X,Y=N items, checked at the update
         self._last_error = self._last_warning = ""
         self._exception: Exception | None = None
 
@@ -187,12 +194,18 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
         return self._interfaces
 
     def SetPatchNames(self, items) -> None:
-        if hasattr(items, "items"):
-            items = [f"{float(x)!r},{float(y)!r}={name}" for (x, y), name in items.items()]
-        self._set("_patches", setting_items(items, ";"))
+        self._set("_patches", place_items(items))
 
     def GetPatchNames(self) -> tuple[str, ...]:
         return self._patches
+
+    def SetCells(self, items) -> None:
+        if hasattr(items, "items"):
+            items = {key: int(n) for key, n in items.items()}
+        self._set("_cells", place_items(items))
+
+    def GetCells(self) -> tuple[str, ...]:
+        return self._cells
 
     def GetSettings(self) -> Settings:
         """The ``Settings`` the next update uses (raises ``ValueError`` if invalid)."""
@@ -237,6 +250,7 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
         from pinn_engine.io.export.vtm import multiblock_dataset
         from pinn_engine.io.fileio import aux_lines_of
         from pinn_engine.job import flat_curves, train_blocks
+        from pinn_engine.multiblock.chains import parse_cells
         from pinn_engine.multiblock.mesh import mesh_blocks
         from pinn_engine.multiblock.patches import parse_patch_points
         from pinn_engine.multiblock.walls import parse_walls
@@ -244,6 +258,7 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
         settings = self.GetSettings()
         patches = parse_patch_points(self._patches)  # refused before meshing, not after
         walls = parse_walls(self._spacing, self._orthogonal)
+        cells = parse_cells(self._cells)
         ports = [
             [vtkPolyData.GetData(port, k) for k in range(port.GetNumberOfInformationObjects())]
             for port in inInfo
@@ -275,6 +290,7 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
             self._block,
             [dataclasses.replace(line, points=c) for line, c in zip(aux, flat)],
             train_blocks,
+            cells,
         )
         dataset = multiblock_dataset(result.grids, result.cells, result.report, result.patches)
         return dataset, result.report, edges

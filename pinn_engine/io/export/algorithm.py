@@ -22,18 +22,14 @@ from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkStructuredGrid
 
 from pinn_engine.errors import InputError, PinnMeshError
+from pinn_engine.io.export import FORMATS, write
 
 LABEL = "PINN Mesh writer"
-# formats offered in ParaView (its own writers cover .vts and .vtk): key -> (extension,
-# writer proxy name, pvpython: ``servermanager.writers.PINNMeshCGNSWriter(Input=..., ...)``;
-# file type in Save Data's list, short so that the list shows it whole)
-PARAVIEW_FORMATS = {
-    "xyz": ("xyz", "PINNMeshPLOT3DWriter", "PINN Mesh PLOT3D"),
-    "cgns": ("cgns", "PINNMeshCGNSWriter", "PINN Mesh CGNS"),
-    "su2": ("su2", "PINNMeshSU2Writer", "PINN Mesh SU2"),
-    "msh": ("msh", "PINNMeshGmshWriter", "PINN Mesh Gmsh"),
-    "openfoam": ("foam", "PINNMeshOpenFOAMWriter", "PINN Mesh OpenFOAM"),
-}
+# formats offered in ParaView (its own writers cover .vts and .vtk), as each registers
+# itself: key -> (extension, writer proxy name, pvpython:
+# ``servermanager.writers.PINNMeshCGNSWriter(Input=..., ...)``; file type in Save Data's
+# list, short so that the list shows it whole)
+PARAVIEW_FORMATS = {key: f.paraview for key, f in FORMATS.items() if f.paraview}
 
 
 class GridWriter(VTKPythonAlgorithmBase):
@@ -81,8 +77,6 @@ class GridWriter(VTKPythonAlgorithmBase):
         return 0 if self._last_error else 1
 
     def RequestData(self, request, inInfo, outInfo):
-        from pinn_engine.io.export import write
-
         self._last_error = self._last_message = ""
         try:
             if not self._file_name:

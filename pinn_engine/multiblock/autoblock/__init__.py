@@ -15,13 +15,13 @@ from pinn_engine.errors import InputError
 from pinn_engine.multiblock.autoblock.corners import corner_points, reflex_vertices
 from pinn_engine.multiblock.autoblock.faces import NoBlocking, completed
 from pinn_engine.multiblock.autoblock.orings import main_axes, o_ring
-from pinn_engine.multiblock.autoblock.rays import directions, motorcycles, shortest_first
+from pinn_engine.multiblock.autoblock.rays import motorcycles, ray_options
 from pinn_engine.multiblock.autoblock.search import best_meshed, candidates
 from pinn_engine.multiblock.graph import order_rings
 
-SCORE_CELLS = 24  # the coarse grid that judges a layout: its diagonal over this cell size
+SCORE_CELLS = 40  # the grid that judges a layout: its diagonal over this (SPEC 10's default)
 WORST_WEIGHT = 0.1  # a degree of the worst MaxIncludedAngle against one of the mean
-KINK_WEIGHT = 0.5  # a degree of mean interface kink against one of mean MaxIncludedAngle
+KINK_WEIGHT = 1.5  # a degree of mean interface kink against one of mean MaxIncludedAngle
 BLOCK_WEIGHT = 0.25  # degrees of mean MaxIncludedAngle one block fewer is worth
 
 
@@ -72,15 +72,15 @@ def propose_edges(rings: list[np.ndarray], source: str = "boundary") -> list[np.
         boxes.append(ring.box[::-1])  # clockwise: the domain outside it on its left
     vertices = reflex_vertices([rings[0], *boxes])
     fixed = _segments([rings[0], *boxes], True)
-    options = [shortest_first(v, directions(v), fixed, diagonal) for v in vertices]
+    options = [ray_options(v, fixed, diagonal) for v in vertices]
     targets = np.vstack(
         [corner_points(rings[0]), *boxes, np.array([v.point for v in vertices]).reshape(-1, 2)]
     )
 
     def build(rays):
-        return fixed_edges + motorcycles(rays, fixed, targets, diagonal)
+        return motorcycles(rays, fixed, targets, diagonal)
 
-    layouts = candidates(vertices, options, build, rings)
+    layouts = candidates(vertices, options, build, rings, fixed_edges)
     if not layouts:
         raise InputError(_why(rings, fixed_edges) + ": draw the block edges and {blocks}", source)
     if not vertices and len(rings) == 1:
