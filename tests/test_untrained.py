@@ -10,7 +10,7 @@ import sys
 import time
 
 import numpy as np
-from conftest import EXAMPLES, ROOT
+from helpers import EXAMPLES, ROOT
 
 from pinn_engine.blocks.untrained import QUALITY, WINSLOW, cannot_win
 from pinn_engine.io.pipeline import load_aux, load_boundary
