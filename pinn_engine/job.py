@@ -254,7 +254,7 @@ def run_blocks(
     through the block side nearest (X, Y)."""
     from pinn_engine.io.export.vtm import multiblock_dataset
     from pinn_engine.io.fileio import read_aux_lines, read_rings
-    from pinn_engine.multiblock.autoblock import propose_edges
+    from pinn_engine.multiblock.autoblock import proposal
     from pinn_engine.multiblock.chains import parse_cells
     from pinn_engine.multiblock.mesh import mesh_blocks
     from pinn_engine.multiblock.patches import parse_patch_points
@@ -271,9 +271,10 @@ def run_blocks(
     curves = flat_curves(rings + [r.points for r in raws + lines], source)
     names = [r.name for r in raws]
     edge_curves = curves[len(rings) : len(rings) + len(raws)]
+    blocking = {"mode": "manual", "edges": len(edge_curves)}
     if auto:
-        edge_curves = propose_edges(curves[: len(rings)], source)
-        names = [f"proposed edge {k}" for k in range(len(edge_curves))]
+        proposed = proposal(curves[: len(rings)], source)
+        edge_curves, names, blocking = proposed.edges, proposed.names, proposed.report
     flat = [replace(r, points=c) for r, c in zip(lines, curves[len(rings) + len(raws) :])]
     result = mesh_blocks(
         curves[: len(rings)],
@@ -288,6 +289,7 @@ def run_blocks(
         train_blocks,
         chains,
     )
+    result.report["blocking"] = blocking
     dataset = multiblock_dataset(result.grids, result.cells, result.report, result.patches)
     return BlocksOutcome(result, dataset, edge_curves)
 
