@@ -281,6 +281,8 @@ def network_effect(report: dict) -> str | None:
     if not training or "result" not in training:
         return None
     start = training.get("start", "elliptic")
+    if training.get("skipped"):
+        return f"network: not trained ({training['skipped']}); {start} grid kept"
     if training["result"] == "start":
         return f"network: start kept ({start} grid; no trained state passed the quality guard)"
     move = training.get("largest_node_move")
