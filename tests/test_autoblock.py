@@ -62,6 +62,8 @@ def test_four_sided_domain_stays_one_block(tmp_path):
     np.savetxt(path, square_ring(4), delimiter=",")
     out = run_blocks(make_settings("elliptic", cell_size=0.25), path, [AUTO_BLOCKS])
     assert out.edges == [] and out.result.report["blocks"] == 1
+    assert out.result.report["blocking"]["mode"] == "automatic"
+    assert out.result.report["blocking"]["edges"] == 0
 
 
 def test_no_blocking_is_a_one_line_error(tmp_path, capsys):
