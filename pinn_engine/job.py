@@ -225,12 +225,25 @@ def flat_curves(curves: list[np.ndarray], source: str) -> list[np.ndarray]:
     return [np.ascontiguousarray(c[:, :2]) for c in curves]
 
 
-def train_blocks(*args, **kwargs) -> tuple[list[np.ndarray], dict]:
+def train_blocks(
+    grids: list[np.ndarray],
+    settings: Settings,
+    progress: Callable[[dict], bool | str | None] | None = None,
+    aux: Sequence[Sequence] | None = None,
+    kinks: Callable[[list[np.ndarray]], np.ndarray] | None = None,
+) -> tuple[list[np.ndarray], dict]:
     """The multi-block pinn's training (``blocks.multiblock.train_blocks``), imported only
-    when a pinn trains: the elliptic and tfi runs never import torch."""
+    when some block's network can win (``blocks.untrained.cannot_win``; else every block
+    keeps its start, ``untrained.untrained_blocks``): the elliptic and tfi runs, and a pinn
+    whose networks cannot win, never import torch."""
+    from pinn_engine.blocks.untrained import cannot_win, untrained_blocks
+
+    reasons = [cannot_win(settings, lines) for lines in (aux or [()] * len(grids))]
+    if all(reasons):
+        return untrained_blocks(grids, reasons[0])
     from pinn_engine.blocks.multiblock import train_blocks as train
 
-    return train(*args, **kwargs)
+    return train(grids, settings, progress, aux, kinks)
 
 
 def run_blocks(
