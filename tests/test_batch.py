@@ -19,7 +19,7 @@ import dask
 import numpy as np
 import pytest
 import pyvista as pv
-from conftest import EXAMPLES
+from helpers import EXAMPLES
 
 from pinn_engine.batch import mesh_many, read_manifest
 from pinn_engine.batch.cluster import connect

@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from conftest import EXAMPLES
+from helpers import EXAMPLES
 
 from pinn_engine.io import childread
 
@@ -21,7 +21,8 @@ def counted(monkeypatch):
     real = childread.subprocess.Popen
 
     def popen(command, **kwargs):
-        started.append([c.rsplit("/", 1)[-1] for c in command[5:]])
+        if command[2:3] == [childread._CHILD_CODE]:  # not another program's start
+            started.append([c.rsplit("/", 1)[-1] for c in command[5:]])
         return real(command, **kwargs)
 
     monkeypatch.setattr(childread.subprocess, "Popen", popen)
@@ -81,3 +82,11 @@ def test_a_prefetched_file_nobody_reads_ends_with_the_process():
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     assert not Path(f"/proc/{int(done.stdout)}").exists()
+
+
+def test_the_command_reads_its_boundary_and_block_edges_in_one_child(counted, tmp_path):
+    from pinn_engine.routes.cli import main
+
+    argv = [str(EXAMPLES / "lshape.vtp"), "--blocks", str(EXAMPLES / "lshape_blocks.vtp")]
+    assert main([*argv, "--method", "tfi", "-o", str(tmp_path / "g.vtm"), "--quiet"]) == 0
+    assert counted == [["lshape.vtp", "lshape_blocks.vtp"]]

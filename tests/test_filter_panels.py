@@ -9,7 +9,7 @@ import json
 
 import pytest
 import pyvista as pv
-from conftest import EXAMPLES, OutputMessages
+from helpers import EXAMPLES, OutputMessages
 
 from pinn_engine.routes.hexa_algorithm import PinnHexaAlgorithm
 from pinn_engine.routes.multiblock_algorithm import PinnMultiBlockAlgorithm

@@ -8,9 +8,14 @@ import importlib.util
 import os
 from collections.abc import Iterator
 
-import dask
-from distributed import Client, LocalCluster
-from distributed.diagnostics.plugin import WorkerPlugin
+from pinn_engine.errors import MissingExtraError
+
+try:
+    import dask
+    from distributed import Client, LocalCluster
+    from distributed.diagnostics.plugin import WorkerPlugin
+except ModuleNotFoundError as exc:  # installed without the batch extra
+    raise MissingExtraError("batch meshing (Dask)", "batch") from exc
 
 from pinn_engine.batch import warm
 

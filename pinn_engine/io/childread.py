@@ -247,11 +247,11 @@ def _start(paths: list[Path]) -> _Child | None:
 
 def _readable(path: str | os.PathLike) -> Path | None:
     """``path`` where it names a VTK file that a read would get to (else None)."""
-    path = Path(path)
     try:
+        path = Path(path)
         size = path.stat().st_size if path.suffix.lower() in VTK_FORMATS else 0
         return path if path.is_file() and 0 < size <= MAX_FILE_BYTES else None
-    except (OSError, ValueError):
+    except (OSError, ValueError, TypeError):
         return None
 
 

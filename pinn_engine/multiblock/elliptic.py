@@ -152,9 +152,14 @@ def _system(points: np.ndarray, st: np.ndarray, stars: list[Star], column: np.nd
     return mat, rhs
 
 
-def winslow(topo: Topology, lay: Layout, free_interfaces: bool = True) -> tuple[np.ndarray, int]:
-    """Node positions of the converged multi-block Winslow grid from ``lay``'s (TFI) start,
-    and the Picard steps taken."""
+def winslow(
+    topo: Topology,
+    lay: Layout,
+    free_interfaces: bool = True,
+    max_iterations: int = MAX_ITERATIONS,
+) -> tuple[np.ndarray, int]:
+    """Node positions of the converged multi-block Winslow grid from ``lay``'s (TFI) start
+    (or after ``max_iterations`` Picard steps), and the Picard steps taken."""
     points = lay.points.copy()
     st, stars = stencils(topo, lay, free_interfaces)
     solved = np.concatenate([st[:, 1, 1], [star.node for star in stars]]).astype(int)
@@ -164,7 +169,7 @@ def winslow(topo: Topology, lay: Layout, free_interfaces: bool = True) -> tuple[
     last: dict[int, tuple[float, float]] = {}  # each slider's previous position and target
     tol = TOL * topo.lines.diagonal
     solver = ReusedLU()  # a factorisation reused while it still halves the update
-    for step in range(1, MAX_ITERATIONS + 1):
+    for step in range(1, max_iterations + 1):
         before = points.copy()
         mat, rhs = _system(points, st, stars, column)
         points[solved] += solver.solve(mat, rhs - mat @ points[solved])[0]
@@ -172,4 +177,4 @@ def winslow(topo: Topology, lay: Layout, free_interfaces: bool = True) -> tuple[
             slide(points, end, rings[end.ring], at, last)
         if np.abs(points - before).max() <= tol:
             return points, step
-    return points, MAX_ITERATIONS
+    return points, max_iterations

@@ -296,11 +296,12 @@ class PinnMultiBlockAlgorithm(
         curves = flat_curves(rings + edges + [line.points for line in aux], "input")
         flat = curves[len(rings) + len(edges) :]
         edges = curves[len(rings) : len(rings) + len(edges)]
+        blocking = {"mode": "manual", "edges": len(edges)}
         if automatic:
-            from pinn_engine.multiblock.autoblock import propose_edges
+            from pinn_engine.multiblock.autoblock import proposal
 
-            edges = propose_edges(curves[: len(rings)], "input")
-            names = [f"proposed edge {k}" for k in range(len(edges))]
+            proposed = proposal(curves[: len(rings)], "input")
+            edges, names, blocking = proposed.edges, proposed.names, proposed.report
         began = self._began = time.perf_counter()
         self._stopped = None
         with self._stop_on_signal():
@@ -317,6 +318,7 @@ class PinnMultiBlockAlgorithm(
                 train_blocks,
                 cells,
             )
+        result.report["blocking"] = blocking
         if self._stopped is not None:  # the report's training.stopped, as the trainer's
             result.report.setdefault("training", {})["stopped"] = self._stopped
         self._tell(blocks_lines(settings.method, result.report, time.perf_counter() - began))

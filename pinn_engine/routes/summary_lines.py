@@ -87,4 +87,10 @@ def blocks_lines(method: str, report: dict, seconds: float) -> list[str]:
         f"; grid lines cross interfaces with kinks of {kink['mean']:.2f} deg mean, "
         f"{kink['max']:.2f} max{_trained(report)}"
     )
-    return [first, *_aux_lines(report["aux_line_distance"], "their block's diagonal")]
+    blocking = report.get("blocking", {})
+    automatic = (
+        [f"automatic blocking: {blocking['edges']} block edges in {blocking['seconds']:.2f} s"]
+        if blocking.get("mode") == "automatic"
+        else []
+    )
+    return [first, *automatic, *_aux_lines(report["aux_line_distance"], "their block's diagonal")]

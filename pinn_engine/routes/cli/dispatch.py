@@ -23,7 +23,7 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     if args.save_blocks and not args.blocks:
         raise PinnMeshError("--save-blocks writes the block edges of --blocks (or --blocks auto)")
     # the input files read while the run imports the engine
-    childread.prefetch([args.boundary, *(args.aux or []), args.blocks])
+    childread.prefetch([args.boundary, *(args.aux or []), *(args.blocks or [])])
     if args.blocks:
         return run_blocks(args, written)
     if args.boundary and is_faced_surface(args.boundary):
