@@ -83,8 +83,9 @@ def test_an_abort_request_stops_the_hexahedral_training_with_its_best_grid():
 
 def test_the_multiblock_time_limit_ends_the_training_with_its_best_grids():
     alg = PinnMultiBlockAlgorithm()
-    alg.SetInputDataObject(0, pv.read(EXAMPLES / "step.vtp"))
-    alg.AddInputDataObject(0, pv.read(EXAMPLES / "step_blocks.vtp"))
+    alg.SetInputDataObject(0, pv.read(EXAMPLES / "lshape.vtp"))
+    alg.AddInputDataObject(0, pv.read(EXAMPLES / "lshape_blocks.vtp"))
+    alg.SetInputDataObject(2, pv.read(EXAMPLES / "lshape_aux.vtp"))  # a line to follow: trains
     alg.SetMethod("pinn")
     alg.SetCellSize(0.25)
     alg.SetTimeLimit(0.01)  # spent before the first block trains
