@@ -312,3 +312,11 @@ def test_comment_blocks_are_short():
             if run == COMMENT_BLOCK_LINES + 1:
                 long.append(f"{path.relative_to(ROOT)}:{n - COMMENT_BLOCK_LINES}")
     assert not long, f"comment blocks of more than {COMMENT_BLOCK_LINES} lines: {long}"
+
+
+def test_tests_import_their_helpers_not_conftest():
+    """Shared values and functions live in tests/helpers.py; conftest.py is pytest's own."""
+    pattern = re.compile(r"^\s*(from|import) conftest\b", re.M)
+    tests = sorted((ROOT / "tests").glob("*.py"))
+    importing = [p.name for p in tests if pattern.search(p.read_text())]
+    assert not importing, f"import these from helpers instead of conftest: {importing}"
