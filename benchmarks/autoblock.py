@@ -150,7 +150,7 @@ def draw(pictures: list[tuple[str, tuple]], path: Path) -> None:
         ax.set_title(name, fontsize=8)
         ax.set_aspect("equal")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=80)
     plt.close(fig)
 
 

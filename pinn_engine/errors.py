@@ -65,6 +65,14 @@ def unknown_name(
     return SettingsError(f"unknown {what} {form.format(name)}; {hint}the {what}s: {listing}")
 
 
+class MissingExtraError(PinnMeshError, ImportError):
+    """A part of pinn-mesh whose optional dependencies (a pip extra of pyproject.toml) are
+    not installed; the one-line message names the extra to install."""
+
+    def __init__(self, what: str, extra: str) -> None:
+        super().__init__(f"{what} needs the {extra} extra: pip install 'pinn-mesh[{extra}]'")
+
+
 class TrainingError(PinnMeshError):
     """Training diverged or was cancelled; no grid is produced."""
 
@@ -115,7 +123,7 @@ ROUTE_WORDS = {
         "patch": "--patch SIDE=NAME",
         "extrude": "--extrude T",
         "output": "-o with .vts, .vtk, .xyz, .cgns, .su2 or .msh, or --format openfoam -o DIR",
-        "h5py": "pip install h5py",
+        "h5py": "pip install 'pinn-mesh[cgns]'",
         "naca": "--naca DDDD",
         "farfield": "--farfield R",
         "topology": "--topology o",
@@ -140,7 +148,7 @@ ROUTE_WORDS = {
         "patch": 'patches={"bottom": "wall", ...}',
         "extrude": "extrude=",
         "output": 'a path ending in .vts, .vtk, .xyz, .cgns, .su2 or .msh, or format="openfoam"',
-        "h5py": "pip install h5py",
+        "h5py": "pip install 'pinn-mesh[cgns]'",
         "naca": 'naca="DDDD"',
         "farfield": "farfield=R",
         "topology": 'topology="o"',
@@ -273,6 +281,8 @@ def network_effect(report: dict) -> str | None:
     if not training or "result" not in training:
         return None
     start = training.get("start", "elliptic")
+    if training.get("skipped"):
+        return f"network: not trained ({training['skipped']}); {start} grid kept"
     if training["result"] == "start":
         return f"network: start kept ({start} grid; no trained state passed the quality guard)"
     move = training.get("largest_node_move")

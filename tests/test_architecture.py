@@ -6,6 +6,8 @@ from __future__ import annotations
 import ast
 import itertools
 import re
+import subprocess
+import sys
 import tokenize
 from dataclasses import replace
 from pathlib import Path
@@ -13,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import torch
-from conftest import EXAMPLES, ROOT
+from helpers import EXAMPLES, ROOT
 
 from pinn_engine import job
 from pinn_engine.blocks import quad
@@ -246,6 +248,34 @@ def test_imports_follow_the_architecture_picture():
     assert not upward, f"imports against docs/architecture.md's picture: {upward}"
 
 
+FIRST_IMPORT = """
+import importlib, pathlib, sys, warnings
+warnings.simplefilter("ignore")
+failed = []
+for path in sorted(pathlib.Path("pinn_engine").rglob("*.py")):
+    if path.name == "__main__.py":
+        continue
+    name = ".".join(path.with_suffix("").parts).removesuffix(".__init__")
+    for loaded in [m for m in sys.modules if m.split(".")[0] == "pinn_engine"]:
+        del sys.modules[loaded]
+    try:
+        importlib.import_module(name)
+    except Exception as exc:
+        failed.append(f"{name}: {exc!r}")
+print("\\n".join(failed))
+"""
+
+
+@pytest.mark.slow
+def test_every_module_imports_first():
+    """Each module imports in a fresh package, whichever is imported first: no import
+    circle hides behind the order in which the routes happen to import them."""
+    run = subprocess.run(
+        [sys.executable, "-c", FIRST_IMPORT], cwd=ROOT, capture_output=True, text=True, check=True
+    )
+    assert run.stdout.strip() == ""
+
+
 COMMENT_BLOCK_LINES = 5  # the longest run of comment lines: what a value means, not its history
 HISTORY = re.compile(r"[Ii]ssues? \d|#\d{2}|\bcommit\b|\([0-9a-f]{7,40}\)")
 
@@ -282,3 +312,11 @@ def test_comment_blocks_are_short():
             if run == COMMENT_BLOCK_LINES + 1:
                 long.append(f"{path.relative_to(ROOT)}:{n - COMMENT_BLOCK_LINES}")
     assert not long, f"comment blocks of more than {COMMENT_BLOCK_LINES} lines: {long}"
+
+
+def test_tests_import_their_helpers_not_conftest():
+    """Shared values and functions live in tests/helpers.py; conftest.py is pytest's own."""
+    pattern = re.compile(r"^\s*(from|import) conftest\b", re.M)
+    tests = sorted((ROOT / "tests").glob("*.py"))
+    importing = [p.name for p in tests if pattern.search(p.read_text())]
+    assert not importing, f"import these from helpers instead of conftest: {importing}"

@@ -11,7 +11,7 @@ import sys
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES, ROOT
+from helpers import EXAMPLES, ROOT
 
 import pinn_engine
 from pinn_engine.command import main

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import pyvista as pv
-from conftest import ROOT, refused
+from helpers import ROOT, refused
 
 from pinn_engine.hexa import volume
 from pinn_engine.hexa.sharp import faces_at_sharp_edges

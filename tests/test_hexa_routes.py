@@ -8,7 +8,7 @@ import json
 import numpy as np
 import pytest
 import pyvista as pv
-from conftest import ROOT, OutputMessages
+from helpers import ROOT, OutputMessages
 
 from pinn_engine.errors import InputError
 from pinn_engine.hexa.orthogonal import inner_angles

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pyvista as pv
-from conftest import EXAMPLES
+from helpers import EXAMPLES
 
 from pinn_engine.routes.cli import main
 

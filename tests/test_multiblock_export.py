@@ -10,7 +10,7 @@ import subprocess
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES, foam_env
+from helpers import EXAMPLES, foam_env
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 from pinn_engine import job

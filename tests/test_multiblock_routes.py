@@ -8,7 +8,7 @@ import signal
 import numpy as np
 import pytest
 import pyvista as pv
-from conftest import ROOT, OutputMessages
+from helpers import ROOT, OutputMessages
 from test_multiblock_spacing import _first_edges, _wall_angles, _walls
 from vtkmodules.vtkCommonCore import vtkOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import ROOT
+from helpers import ROOT
 
 pytestmark = pytest.mark.paraview
 
@@ -339,6 +339,7 @@ def test_multiblock_filter_on_the_step(checkout):
         "PatchNames",
         "FirstEdgeSpacing",
         "OrthogonalPatches",
+        "CellCounts",
     }
     assert result["methods"] == ["tfi", "elliptic", "pinn"]
     assert result["interfaces"] == ["free", "fixed"]

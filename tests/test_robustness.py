@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES, square_ring, wavy_ring
+from helpers import EXAMPLES, square_ring, wavy_ring
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkPoints
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
@@ -28,7 +28,7 @@ from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter, vtkXMLStructuredGridReader
 
 from pinn_engine.errors import InputError, TrainingError
 from pinn_engine.geometry.boundary import Boundary
-from pinn_engine.io import fileio
+from pinn_engine.io import childread, fileio
 from pinn_engine.io.pipeline import load_boundary
 from pinn_engine.mesher import Mesher
 from pinn_engine.routes.cli import main
@@ -281,8 +281,8 @@ def test_vtk_reader_crash_is_a_clear_error_not_a_crash(tmp_path, capsys):
 def test_a_crash_of_the_reading_child_is_named(tmp_path, capsys, monkeypatch):
     """Whatever kills the reading child is named in the error; the file is not read here."""
     code = "import os, sys; sys.stdout.write('reading\\n'); sys.stdout.flush(); os.abort()"
-    monkeypatch.setattr(fileio, "_CHILD_CODE", code)
-    monkeypatch.setattr(fileio, "_READ", fileio.OrderedDict())
+    monkeypatch.setattr(childread, "_CHILD_CODE", code)
+    monkeypatch.setattr(childread, "_READ", childread.OrderedDict())
     rc, _, err = run_cli(
         [EXAMPLES / "wavy.vtp", "--method", "tfi", "-o", tmp_path / "g.vts"], capsys
     )
@@ -299,15 +299,15 @@ def test_files_are_read_and_written_without_forking(tmp_path, monkeypatch):
 
     monkeypatch.setattr(os, "fork", no_fork)
     monkeypatch.setattr(multiprocessing, "get_context", no_fork)
-    monkeypatch.setattr(fileio, "_READ", fileio.OrderedDict())
+    monkeypatch.setattr(childread, "_READ", childread.OrderedDict())
     started = []
-    real_run = fileio.subprocess.run
+    real_popen = childread.subprocess.Popen
 
-    def counting_run(command, **kwargs):
+    def counting_popen(command, **kwargs):
         started.append(command)
-        return real_run(command, **kwargs)
+        return real_popen(command, **kwargs)
 
-    monkeypatch.setattr(fileio.subprocess, "run", counting_run)
+    monkeypatch.setattr(childread.subprocess, "Popen", counting_popen)
     ring = fileio.read_boundary_points(EXAMPLES / "wavy.vtp")
     assert len(started) == 1 and started[0][0] == sys.executable
     fileio.read_boundary_points(EXAMPLES / "wavy.vtp")  # the same content: read once

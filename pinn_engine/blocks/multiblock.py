@@ -26,6 +26,7 @@ import numpy as np
 from pinn_engine.blocks.mapping import Mapping
 from pinn_engine.blocks.quad import GUARD_TOL as QUAD_GUARD_TOL
 from pinn_engine.blocks.quad import QuadProblem, network
+from pinn_engine.blocks.untrained import blocks_report
 from pinn_engine.classical.tfi import tfi_grid
 from pinn_engine.classical.warm import WarmStart
 from pinn_engine.errors import STOP, TrainingCancelled
@@ -178,11 +179,7 @@ def train_blocks(
                 **{k: trained.info[k] for k in ("untangled",) if k in trained.info},
             }
         )
-    report = {
-        "seconds": time.perf_counter() - began,
-        "network_blocks": sum(b["result"] == "network" for b in blocks),
-        "blocks": blocks,
-    }
+    report = blocks_report(blocks, began)
     return out, report
 
 

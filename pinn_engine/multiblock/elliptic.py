@@ -185,11 +185,12 @@ def winslow(
     topo: Topology,
     lay: Layout,
     free_interfaces: bool = True,
+    max_iterations: int = MAX_ITERATIONS,
     targets: Sequence[Targets] = (),
 ) -> tuple[np.ndarray, int]:
-    """Node positions of the converged multi-block Winslow grid from ``lay``'s (TFI) start,
-    and the Picard steps taken; ``targets``: the gradings' node distances, kept by control
-    functions (:func:`controls`)."""
+    """Node positions of the converged multi-block Winslow grid from ``lay``'s (TFI) start
+    (or after ``max_iterations`` Picard steps), and the Picard steps taken; ``targets``:
+    the gradings' node distances, kept by control functions (:func:`controls`)."""
     points = lay.points.copy()
     st, stars = stencils(topo, lay, free_interfaces)
     pq = controls(st, targets, len(points))
@@ -200,7 +201,7 @@ def winslow(
     last: dict[int, tuple[float, float]] = {}  # each slider's previous position and target
     tol = TOL * topo.lines.diagonal
     solver = ReusedLU()  # a factorisation reused while it still halves the update
-    for step in range(1, MAX_ITERATIONS + 1):
+    for step in range(1, max_iterations + 1):
         before = points.copy()
         mat, rhs = _system(points, st, stars, column, pq)
         points[solved] += solver.solve(mat, rhs - mat @ points[solved])[0]
@@ -208,4 +209,4 @@ def winslow(
             slide(points, end, rings[end.ring], at, last)
         if np.abs(points - before).max() <= tol:
             return points, step
-    return points, MAX_ITERATIONS
+    return points, max_iterations

@@ -274,11 +274,12 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
         curves = flat_curves(rings + edges + [line.points for line in aux], "input")
         flat = curves[len(rings) + len(edges) :]
         edges = curves[len(rings) : len(rings) + len(edges)]
+        blocking = {"mode": "manual", "edges": len(edges)}
         if automatic:
-            from pinn_engine.multiblock.autoblock import propose_edges
+            from pinn_engine.multiblock.autoblock import proposal
 
-            edges = propose_edges(curves[: len(rings)], "input")
-            names = [f"proposed edge {k}" for k in range(len(edges))]
+            proposed = proposal(curves[: len(rings)], "input")
+            edges, names, blocking = proposed.edges, proposed.names, proposed.report
         result = mesh_blocks(
             curves[: len(rings)],
             edges,
@@ -292,6 +293,7 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
             train_blocks,
             cells,
         )
+        result.report["blocking"] = blocking
         dataset = multiblock_dataset(result.grids, result.cells, result.report, result.patches)
         return dataset, result.report, edges
 

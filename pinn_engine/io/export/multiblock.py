@@ -19,9 +19,12 @@ from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet
 from pinn_engine.errors import InputError
 from pinn_engine.io.export.quadmesh import QuadMesh
 from pinn_engine.io.export.topology import quads, side_edges
-from pinn_engine.io.export.vtm import PIECE_NAMES, PIECE_RANGES, PIECE_TYPES
 
 Z_UP = np.array([0.0, 0.0, 1.0])  # a multi-block grid lies in a plane z = const
+# Field data of each block naming its boundary pieces (SPEC 10's patches; one entry a
+# piece): the patch name, its type (``patchnames.TYPES``) and the piece's 0-based node range
+# (i0, j0, i1, j1) along one side of the block
+PIECE_NAMES, PIECE_TYPES, PIECE_RANGES = "PieceNames", "PieceTypes", "PieceRanges"
 
 
 @dataclass(frozen=True)

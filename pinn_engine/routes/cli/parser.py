@@ -103,8 +103,10 @@ def build_parser() -> argparse.ArgumentParser:
     """The parser of one run's command line (the batch reads its manifest rows with it too)."""
     p = OneLineParser(
         prog="pinn-mesh",
-        description="Structured quadrilateral mesh of a four-sided 2D domain "
-        "(PINN of Chen et al., with TFI, elliptic and MGNet baselines).",
+        description="Structured meshes from a physics-informed neural network: four-sided 2D "
+        "blocks, airfoil O- and C-grids (--topology), multi-block 2D domains (--blocks), "
+        "hexahedral 3D grids (a six-faced surface), and batches (pinn-mesh batch). The PINN "
+        "of Chen et al., with TFI, elliptic and MGNet baselines.",
         epilog="Many cases at once: pinn-mesh batch MANIFEST -o OUTDIR (pinn-mesh batch -h).",
     )
     p.add_argument(

@@ -95,4 +95,7 @@ def blocks_summary(method: str, report: dict, seconds: float) -> None:
         + f"; grid lines cross interfaces with kinks of {kink['mean']:.2f} deg mean, "
         f"{kink['max']:.2f} max{_trained(report)}"
     )
+    blocking = report.get("blocking", {})
+    if blocking.get("mode") == "automatic":
+        say(f"automatic blocking: {blocking['edges']} block edges in {blocking['seconds']:.2f} s")
     _aux_lines(report["aux_line_distance"], "their block's diagonal")
