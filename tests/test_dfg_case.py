@@ -13,7 +13,7 @@ import sys
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES, ROOT, foam_env
+from helpers import EXAMPLES, ROOT, foam_env
 
 from pinn_engine.routes.cli import main
 
