@@ -2,8 +2,9 @@
 
 ``tests/paraview_gui/drive.sh`` selects the boundary and the auxiliary-line source in the
 Pipeline Browser, creates the filter from the quick-launch, and later stops a long training
-with SIGUSR1 and another with the panel's Time Limit. Skipped without ParaView, Xvfb, xdotool
-or ImageMagick (``bash scripts/setup_paraview.sh`` installs them).
+with SIGUSR1 and another with the panel's Time Limit; ``tests/paraview_gui/tour.sh`` gives the
+hexahedral filter an STL and a curve and saves its grid from File > Save Data. Skipped without
+ParaView, Xvfb, xdotool or ImageMagick (``bash scripts/setup_paraview.sh`` installs them).
 """
 
 from __future__ import annotations
@@ -82,3 +83,48 @@ def test_a_grid_after_a_failed_apply_is_shown_with_edges_coloured_by_max_angle(g
     assert fixed["colour"] == ["CELLS", "MaxIncludedAngle"]
     log = (gui / "failed.log").read_text()
     assert "SIGSEGV" not in log and "Traceback" not in log
+
+
+@pytest.fixture(scope="module")
+def tour(tmp_path_factory) -> Path:
+    """tests/paraview_gui/tour.sh: the hexahedral filter on the bend's STL and on a curve,
+    Time Limit, File > Save Data as CGNS and OpenFOAM."""
+    out = tmp_path_factory.mktemp("tour")
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "PYTHONPATH")}
+    proc = subprocess.run(
+        ["bash", str(ROOT / "tests" / "paraview_gui" / "tour.sh"), str(out)],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=420,
+    )
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    return out
+
+
+def test_an_stl_meshed_in_the_gui_comes_up_coloured_with_its_input_hidden(tour):
+    stl = json.loads((tour / "stl.json").read_text())
+    assert stl["error"] == "" and stl["points"] == 13 * 11 * 9
+    assert stl["representation"] == "Surface With Edges"
+    assert stl["colour"] == ["CELLS", "MaxIncludedAngle"]
+    assert stl["inputs_visible"] == {"hexa_bend.stl": 0}  # replaced by the grid
+    assert stl["summary"].startswith("elliptic 13x11x9 hexahedral grid")  # Output Messages
+    assert "faces face0=jmin" in stl["summary"]
+
+
+def test_a_curve_given_to_the_hexahedral_filter_stays_in_view_and_is_pointed_on(tour):
+    curve = json.loads((tour / "curve.json").read_text())
+    assert curve["points"] == 0 and curve["inputs_visible"] == {"fig2.vtp": 1}
+    assert "a 2D curve is meshed by PINN Structured Mesh" in curve["error"]
+
+
+def test_save_data_writes_our_cgns_and_an_openfoam_case_of_the_hexahedral_grid(tour):
+    import h5py
+
+    with h5py.File(tour / "bend.cgns", "r") as f:  # ours: a BC_t per side and families
+        assert sorted(f["Base/Zone/ZoneBC"]) == sorted(
+            ["imin", "imax", "jmin", "jmax", "kmin", "kmax"]
+        )
+        assert {"imin", "kmax"} <= set(f["Base"])
+    boundary = (tour / "bend" / "constant" / "polyMesh" / "boundary").read_text()
+    assert "imin" in boundary and "frontAndBack" not in boundary  # not extruded
