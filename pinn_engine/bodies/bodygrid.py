@@ -78,6 +78,9 @@ CONCAVE_SMOOTHING = 2.0
 ROW_SMOOTHING_MAX = 0.5
 SUBSTEP = 0.5
 MAX_SUBSTEPS = 200
+# A row turns at a corner (no tangent: its nodes leave along the bisector) by more than this many
+# degrees between two segments; smooth walls turn by a few degrees a node.
+CORNER_TURN = 45.0
 MARCH_PASSES = 2
 # The rows' spacing is smoothed by this weight a pass (times the reach 1 - exp(-d / NORMAL_REACH
 # chords)), every sub-step: crowded columns spread out along the row (:func:`redistribute`).
@@ -93,11 +96,11 @@ C_BASE_INTERVALS = 4
 # point, fully at the trailing edge (REAR_TURN_START of the turn).
 REAR_TURN = 0.02
 REAR_TURN_START = 0.5
-# The marched rows turn into straight lines to the far field between 0.5 and 2 chords from the wall
+# The marched rows turn into straight lines to the far field between 1 and 3 chords from the wall
 # (C-grid; near the body the marched lines, far off the straight ones); the O-grid's projection onto
 # the far field is blended in as (distance share) ** O_BLEND_POWER (3: the inner rows stay marched,
 # the outer ones end on the far field smoothly).
-BLEND_START, BLEND_END = 0.5, 2.0  # chords
+BLEND_START, BLEND_END = 1.0, 3.0  # chords
 O_BLEND_POWER = 3
 # Elliptic (:func:`elliptic`): the exact controls are kept at the wall and smoothed away from it
 # with weight exp(-0.05 (j - 1)) (half at 14 rows from the wall) over 10 Jacobi passes; the sweeps
@@ -225,21 +228,28 @@ def _row_tangents(p: np.ndarray, topology: str) -> np.ndarray:
 
 
 def _row_normals(p: np.ndarray, topology: str) -> np.ndarray:
-    """Unit normals of a grid row ``p`` (ni, 2), pointing away from the body: at each node
-    the sum of its two segments' unit normals, so that a corner's (a sharp trailing edge, a
-    blunt base's corners) is its bisector whatever the spacing on either side."""
-    e = np.diff(p, axis=0)
+    """Unit normals of a grid row ``p`` (ni, 2), pointing away from the body: normal to the
+    chord between each node's neighbours (:func:`row_chords`), and at a corner, where the
+    row turns by more than ``CORNER_TURN`` (a sharp trailing edge, a blunt base's corners),
+    the corner's bisector, whatever the spacing on either side."""
+    t = _row_tangents(p, topology)
     # i runs counter-clockwise in the O-grid (body on the left), clockwise in the C-grid
     sign = 1.0 if topology == "o" else -1.0
-    seg = sign * np.column_stack([e[:, 1], -e[:, 0]]) / np.linalg.norm(e, axis=1)[:, None]
-    n = np.empty_like(p)
+    n = sign * np.column_stack([t[:, 1], -t[:, 0]])
+    e = np.diff(p, axis=0)
+    u = e / np.linalg.norm(e, axis=1)[:, None]
     if topology == "o":
-        n[:-1] = seg + np.roll(seg, 1, axis=0)
-        n[-1] = n[0]
+        ahead, back = np.concatenate([u, u[:1]]), np.concatenate([u[-1:], u])
     else:
-        n[1:-1] = seg[1:] + seg[:-1]
+        ahead, back = np.concatenate([u, u[-1:]]), np.concatenate([u[:1], u])
+    turn = np.einsum("ik,ik->i", ahead, back) < math.cos(math.radians(CORNER_TURN))
+    b = sign * (
+        np.column_stack([ahead[:, 1], -ahead[:, 0]]) + np.column_stack([back[:, 1], -back[:, 0]])
+    )
+    n[turn] = b[turn] / np.linalg.norm(b[turn], axis=1, keepdims=True)
+    if topology == "c":
         n[0], n[-1] = (0.0, -1.0), (0.0, 1.0)
-    return n / np.linalg.norm(n, axis=1, keepdims=True)
+    return n
 
 
 def _smooth_row(q: np.ndarray, eps, topology: str) -> np.ndarray:
@@ -316,9 +326,11 @@ def march(
     rows = [inner]
     spacing0 = _row_spacing(inner, topology)
     corner = None  # the weight of a blunt C-grid's concave corners at its base
+    free = np.ones(len(inner), dtype=bool)  # the nodes whose spacing limits a sub-step
     if topology == "c" and base > 0:
         distance = np.linalg.norm(inner - inner[n_wake], axis=1)
         corner = np.exp(-distance / (CORNER_REACH * base / 2))[:, None]
+        free = distance > base
     rear = None
     if topology == "c":
         # behind the thickest point the C-grid's columns turn straight down (lower side)
@@ -343,7 +355,7 @@ def march(
                 q[0], q[-1] = inner[0] + (0, -step), inner[-1] + (0, step)
             rows.append(q)
             continue
-        subs = _substeps(q, step, topology)
+        subs = _substeps(q, step, topology, free)
         for k in range(subs):
             d = distances[j - 1] + step * (k + 1) / subs
             grow = 1 - math.exp(-d / (NORMAL_REACH * scale))
@@ -379,17 +391,17 @@ def march(
     return np.stack(rows)
 
 
-def _substeps(q: np.ndarray, step: float, topology: str) -> int:
+def _substeps(q: np.ndarray, step: float, topology: str, free: np.ndarray) -> int:
     """How many sub-steps a step of ``step`` off row ``q`` takes: each at most ``SUBSTEP`` of
     the distance in which the row's most converging neighbours would meet (their spacing
-    over the rate at which their normals close it), and at most ``SUBSTEP`` of the row's
-    median spacing (the smoothing passes of each sub-step damp the rows' sawtooth at a
-    rate per distance marched). A longer step crosses lines off a concave wall before any
-    smoothing acts."""
+    over the rate at which their normals close it), and at most ``SUBSTEP`` of the smallest
+    spacing at the nodes ``free`` (the smoothing passes of each sub-step damp the rows'
+    sawtooth; a blunt C-grid's base, smoothed from the wall on, is not free). A longer step
+    crosses lines off a concave wall before any smoothing acts."""
     n = _row_normals(q, topology)
     e, dn = np.diff(q, axis=0), np.diff(n, axis=0)
     rate = float(np.max(-np.einsum("ik,ik->i", dn, e) / np.einsum("ik,ik->i", e, e)))
-    rate = max(rate, 1.0 / float(_row_spacing(q, topology).min()))
+    rate = max(rate, 1.0 / float(_row_spacing(q, topology)[free].min()))
     return int(min(MAX_SUBSTEPS, max(1, math.ceil(step * rate / SUBSTEP))))
 
 
