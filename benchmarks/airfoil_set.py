@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pinn_engine.bodies.airfoil import circle, inside_polygon, load_body
+from pinn_engine.bodies.airfoil import circle, inside_polygon, load_body, naca4
 from pinn_engine.bodymesh import mesh_body
 from pinn_engine.errors import InputError
 from pinn_engine.quality import cell_quality, summary
@@ -133,13 +133,15 @@ def construct2d(exe: str, path: Path, topology: str, yplus: float, work: Path) -
     return {"class": kind, **q, "seconds": seconds}
 
 
-def calibrate(exe: str, path: Path, work: Path) -> float:
-    """The y+ that gives Construct2D a first layer of ``FIRST_LAYER`` chords: its first
-    layer is proportional to y+ at a given Reynolds number."""
-    construct2d(exe, path, "o", C2D_YPLUS, work)
+def calibrate(exe: str, work: Path) -> float:
+    """The y+ that gives Construct2D a first layer of ``FIRST_LAYER`` chords, from its
+    first layer at ``C2D_YPLUS`` on NACA 0012 (proportional to y+ at a Reynolds number)."""
+    dat = work / "naca0012.dat"
+    dat.write_text("NACA 0012\n" + "".join(f"{x:.8f} {y:.8f}\n" for x, y in naca4("0012")))
+    construct2d(exe, dat, "o", C2D_YPLUS, work)
     g = read_p3d(work / "foil.p3d")
     h = float(np.median(np.linalg.norm(g[1] - g[0], axis=1)))
-    return C2D_YPLUS * FIRST_LAYER * load_body(path).chord / h
+    return C2D_YPLUS * FIRST_LAYER / h
 
 
 def run(folder: Path, exe: str, method: str, only: str | None = None) -> list[dict]:
@@ -150,7 +152,7 @@ def run(folder: Path, exe: str, method: str, only: str | None = None) -> list[di
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
-        yplus = calibrate(exe, files[0], work)
+        yplus = calibrate(exe, work)
         for f in files:
             for topology in SIZES:
                 ours = pinn_mesh(f, topology, method)

@@ -491,8 +491,8 @@ def layout(
         if folded:
             raise InputError(
                 f"the C-grid around this blunt trailing edge (a base of {base / chord:.2g} "
-                f"chords) folds {folded} cells at the base: give more nodes ({{size}}) or a "
-                "thinner first layer, or use {topology}",
+                f"chords) folds {folded} cells at the base; use {{topology}}, whose grid "
+                "keeps the base as wall",
                 body.source,
             )
     first = np.full(ni, h)
