@@ -339,6 +339,7 @@ def test_multiblock_filter_on_the_step(checkout):
         "PatchNames",
         "FirstEdgeSpacing",
         "OrthogonalPatches",
+        "CellCounts",
     }
     assert result["methods"] == ["tfi", "elliptic", "pinn"]
     assert result["interfaces"] == ["free", "fixed"]

@@ -160,8 +160,10 @@ def mesh_blocks(
     check_room(lay.points, asked)
     steps = 0
     points = lay.points
+    timings = {"layout": time.perf_counter() - start}
     if settings.method in ("elliptic", "pinn"):
         points, steps = winslow(topo, lay, settings.interfaces == "free")
+    timings["solve"] = time.perf_counter() - start - timings["layout"]
     lines = block_lines(aux, [points[ids] for ids in lay.ids])  # the method's block sides
     cross = crossings(topo, lay)  # the interfaces' nodes, for every kink figure below
     frames = [block_boundary(points[ids]) for ids in lay.ids]
@@ -174,6 +176,7 @@ def mesh_blocks(
         starts = [points[ids] for ids in lay.ids]
         grids, training = train(starts, settings, progress, lines, kinks)
         points = _assembled(points, lay, grids)
+        timings["training"] = training["seconds"]
     # gradings, then spacing and orthogonality on patches last: no solve or training moves
     # them after
     for item, graded in grades:
@@ -209,6 +212,8 @@ def mesh_blocks(
         },
         "mesh_seconds": time.perf_counter() - start,
     }
+    timings["walls_and_quality"] = report["mesh_seconds"] - sum(timings.values())
+    report["timings"] = timings
     if training is not None:
         report["training"] = training
     return MultiBlockResult(grids, cells, report, patches)
