@@ -8,6 +8,7 @@ import numpy as np
 import pyvista as pv
 from helpers import EXAMPLES
 
+from pinn_engine.multiblock.spacing import CORNER_RAMP as RAMP
 from pinn_engine.routes.cli import main
 
 DFG = [str(EXAMPLES / "dfg.vtp"), "--blocks", str(EXAMPLES / "dfg_blocks.vtp")]
@@ -81,9 +82,9 @@ def _growth(cells: np.ndarray) -> float:
 
 def test_spacing_at_an_interior_side_grades_both_sides(tmp_path):
     """--spacing X,Y=H at the DFG box's right side (an interface): the first cells on both
-    sides are H across it (within 10 %, the lines at the side's corners aside as SPEC 7's
-    corners), the column downstream grows by at most 1.25 a cell along every row (the
-    walls' rows too), and no cell folds."""
+    sides are H across it (within 10 %; the lines at the side's corners, SPEC 7's corners,
+    and the next, where the correction ramps up, aside), the column downstream grows by at
+    most 1.25 a cell along every row (the walls' rows too), and no cell folds."""
     out = _run(
         tmp_path,
         [*DFG, *COARSE, "--spacing", f"0.3,0.2={GRADE}", "--report", str(tmp_path / "r.json")],
@@ -93,11 +94,11 @@ def test_spacing_at_an_interior_side_grades_both_sides(tmp_path):
     for y in (0.05, 0.2, 0.355):
         rows = _block_at(grid, 1.2, y)
         cells = np.linalg.norm(np.diff(rows, axis=1), axis=2)
-        assert np.all(np.abs(cells[1:-1, 0] / GRADE - 1) < 0.1)  # the corners' rows aside
+        assert np.all(np.abs(cells[RAMP:-RAMP, 0] / GRADE - 1) < 0.1)
         assert max(_growth(row) for row in cells) <= 1.25
     ring = _block_at(grid, 0.27, 0.2)  # the O-ring's block right of the cylinder
     lines = ring.transpose(1, 0, 2)  # its radial lines, from the box's side inward
-    first = np.linalg.norm(lines[1:-1, 1] - lines[1:-1, 0], axis=1)
+    first = np.linalg.norm(lines[RAMP:-RAMP, 1] - lines[RAMP:-RAMP, 0], axis=1)
     assert np.all(np.abs(first / GRADE - 1) < 0.1)
 
 
@@ -112,7 +113,7 @@ def test_cells_and_spacing_together_and_the_count_a_grading_needs(tmp_path, caps
     rows = _block_at(pv.read(_run(tmp_path, args)), 1.2, 0.2)
     cells = np.linalg.norm(np.diff(rows, axis=1), axis=2)
     assert rows.shape[1] == 41 and max(_growth(row) for row in cells) <= 1.25
-    assert np.all(np.abs(cells[1:-1, 0] / GRADE - 1) < 0.1)
+    assert np.all(np.abs(cells[RAMP:-RAMP, 0] / GRADE - 1) < 0.1)
 
 
 def test_pyvista_takes_the_same_settings(tmp_path):
