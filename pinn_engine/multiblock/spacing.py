@@ -37,8 +37,10 @@ MAX_ASKED_SHARE = 0.5
 # Neighbouring cells of a grading's first cells differ by at most this factor (SPEC 10
 # asks 1.25; the margin is for the progression's join), and the widest ratio searched
 GROWTH_AIM, MAX_GROWTH_SEARCH = 1.2, 4.0
-# Lines from a graded side's corner over which its first-cell correction ramps up to full
-CORNER_RAMP = 2
+# Lines from a graded side's corner over which its first-cell correction ramps up to full:
+# at least CORNER_RAMP, or this share of the side's lines (a moved corner bends more of
+# them on a finer grid)
+CORNER_RAMP, CORNER_SHARE = 2, 0.25
 # a line's ids -> [H at its start, H at its end, the option asking (for messages)]
 Requests = dict[tuple[int, ...], list]
 
@@ -95,7 +97,8 @@ def first_edges(
         lines = side_lines(ids[b], SIDE_NAMES[s])
         for m, line in enumerate(lines):
             key = tuple(int(n) for n in line)
-            weight = min(1.0, min(m, len(lines) - 1 - m) / CORNER_RAMP)
+            ramp = max(CORNER_RAMP, CORNER_SHARE * len(lines))
+            weight = min(1.0, min(m, len(lines) - 1 - m) / ramp)
             if key in done or key[::-1] in done or weight == 0.0:
                 continue
             done.add(key)
