@@ -285,7 +285,7 @@ def network_effect(report: dict) -> str | None:
         return None
     start = training.get("start", "elliptic")
     if training.get("skipped"):
-        return f"network: not trained ({training['skipped']}); {start} grid kept"
+        return f"network: start kept ({start} grid; not trained: {training['skipped']})"
     if training["result"] == "start":
         return f"network: start kept ({start} grid; no trained state passed the quality guard)"
     move = training.get("largest_node_move")
