@@ -132,6 +132,7 @@ ROUTE_WORDS = {
         "blocks": "give them with --blocks EDGES",
         "with_blocks": "with --blocks, ",
         "pieces": "--patch X,Y=NAME",
+        "face_angle": "a .vtp whose FaceId cell array tags the six faces",
         "face_patch": "--patch SIDE=NAME or faceN=NAME",
         "spacing": "--spacing",
         "orthogonal": "--orthogonal",
@@ -157,6 +158,7 @@ ROUTE_WORDS = {
         "blocks": "give them as blocks=",
         "with_blocks": "",
         "pieces": 'patches=["X,Y=NAME", ...]',
+        "face_angle": "another face_angle= or a FaceId cell array",
         "face_patch": 'patches={"imin": "inlet", "face3": "wall", ...}',
         "spacing": "spacing=",
         "orthogonal": "orthogonal=",
@@ -184,6 +186,7 @@ ROUTE_WORDS = {
         "blocks": "select their source together with the boundary's (or connect it to Block Edges)",
         "with_blocks": "",
         "pieces": "Patch Names' X,Y=NAME items",
+        "face_angle": "another Face Angle or a FaceId cell array",
         "face_patch": "Patch Names (imin imax jmin jmax kmin kmax, or SIDE=NAME or faceN=NAME)",
         "spacing": "First Edge Spacing",
         "orthogonal": "Orthogonal Patches",
@@ -282,7 +285,7 @@ def network_effect(report: dict) -> str | None:
         return None
     start = training.get("start", "elliptic")
     if training.get("skipped"):
-        return f"network: not trained ({training['skipped']}); {start} grid kept"
+        return f"network: start kept ({start} grid; not trained: {training['skipped']})"
     if training["result"] == "start":
         return f"network: start kept ({start} grid; no trained state passed the quality guard)"
     move = training.get("largest_node_move")

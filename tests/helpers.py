@@ -70,9 +70,11 @@ def wavy_ring(n: int = 24) -> np.ndarray:
 
 class OutputMessages:
     """Collects vtkOutputWindow text (ParaView's Output Messages) and the algorithm's events
-    of one kind ("ErrorEvent", "WarningEvent") inside a ``with`` block."""
+    of one kind ("ErrorEvent", "WarningEvent") inside a ``with`` block; ``lines`` are the
+    messages but the summary lines a successful update tells (``told``)."""
 
     def __init__(self, alg, event: str) -> None:
+        self.alg = alg
         self.window, self.old = vtkStringOutputWindow(), vtkOutputWindow.GetInstance()
         self.events: list[str] = []
 
@@ -90,5 +92,11 @@ class OutputMessages:
         vtkOutputWindow.SetInstance(self.old)
 
     @property
+    def told(self) -> list[str]:
+        summary = getattr(self.alg, "GetLastSummary", lambda: "")()
+        return [f"{self.alg.LABEL}: {line}" for line in summary.splitlines()]
+
+    @property
     def lines(self) -> list[str]:
-        return [ln for ln in self.window.GetOutput().splitlines() if ln.strip()]
+        told = set(self.told)
+        return [ln for ln in self.window.GetOutput().splitlines() if ln.strip() and ln not in told]

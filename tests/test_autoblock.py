@@ -121,6 +121,37 @@ def test_proposals_hold_issue_35s_bounds_beside_the_hand_blocking(example, h):
     assert auto["blocks"] <= 2 * hand["blocks"]
 
 
+def _rounded(ring: np.ndarray, radius: float, points: int = 6) -> np.ndarray:
+    """``ring`` (counter-clockwise) with every concave vertex replaced by a quadratic arc
+    from ``radius`` before it to ``radius`` after it (``points`` points)."""
+    out = []
+    for k, p in enumerate(ring):
+        a, b = ring[k - 1], ring[(k + 1) % len(ring)]
+        u, v = p - a, b - p
+        if u[0] * v[1] - u[1] * v[0] >= 0:  # a left turn: convex
+            out.append(p)
+            continue
+        s = p + radius * (a - p) / np.linalg.norm(a - p)
+        e = p + radius * (b - p) / np.linalg.norm(b - p)
+        out += [
+            (1 - t) ** 2 * s + 2 * (1 - t) * t * p + t**2 * e for t in np.linspace(0, 1, points)
+        ]
+    return np.array(out)
+
+
+def test_a_rounded_y_gets_its_three_block_centre():
+    """A Y whose concave corners are drawn as arcs (each vertex turning under 9 degrees,
+    none a reflex vertex alone): each arc emits as one corner, so the arms are cut at their
+    mouths and the centre into three, no fold."""
+    from make_multiblock import ybranch
+
+    (ring,), _ = ybranch()  # counter-clockwise
+    ring = _rounded(ring, 0.15)
+    edges = propose_edges([ring])
+    figures = _figures([ring], edges, 0.2)
+    assert figures["blocks"] == 6 and figures["folds"] == 0
+
+
 def test_algorithm_automatic_gives_blocks_and_the_edges_port():
     alg = PinnMultiBlockAlgorithm()
     alg.SetBlocking("automatic")

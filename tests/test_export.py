@@ -560,3 +560,11 @@ def test_the_openfoam_writer_says_where_the_case_went(tmp_path):
     su2.SetInputConnection(alg.GetOutputPort())
     su2.SetFileName(str(tmp_path / "g.su2"))
     assert su2.Write() == 1 and su2.GetLastMessage() == ""
+
+
+def test_the_cgns_helper_python_is_the_checkouts_venv():
+    """ParaView's Save Data writes CGNS through the checkout's .venv Python (its h5py):
+    ``cgns.ROOT`` must be the checkout, the folder holding pyproject.toml."""
+    from pinn_engine.io.export import cgns
+
+    assert (cgns.ROOT / "pyproject.toml").is_file()

@@ -191,5 +191,6 @@ def test_an_stl_without_six_sharp_faces_is_refused(tmp_path, capsys, shape, foun
     out = tmp_path / "o.vts"
     err = refused(capsys, [_write(shape.triangulate(), tmp_path, "s.stl"), "-o", str(out)], out)
     assert err.endswith(
-        f"found {found} faces at edges sharper than 40 degrees; a six-faced domain needs 6"
+        f"found {found} faces at edges sharper than 40 degrees; a six-faced domain needs 6 "
+        "(try a .vtp whose FaceId cell array tags the six faces)"
     )

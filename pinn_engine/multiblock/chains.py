@@ -21,7 +21,9 @@ from shapely.geometry import LineString, Point
 from pinn_engine.classical.spacing import exact_stretch
 from pinn_engine.errors import InputError
 from pinn_engine.multiblock.blocks import Topology
+from pinn_engine.multiblock.layout import side_lines
 from pinn_engine.multiblock.patches import FAR, TIE, point_of
+from pinn_engine.settings import SIDE_NAMES
 
 MIN_SIDE_CELLS = 2  # SPEC 10: a chain has at least 2 cells
 # Neighbouring cells along a graded chain differ by at most this factor (SPEC 10: 1.25), and
@@ -108,11 +110,11 @@ def _corner_key(xy) -> tuple[float, float]:
     return (float(xy[0]), float(xy[1]))
 
 
-def graded_sides(topo: Topology, piece: int) -> set[tuple[int, int]]:
+def graded_sides(topo: Topology, piece: int) -> dict[tuple[int, int], int]:
     """The (block, side) pairs whose grid lines start at the side with the first edge H of a
-    grading at ``piece``: each block holding the piece, from its side holding it, then
-    through every side along the grading that a neighbour shares whole, the neighbour from
-    its side at the same end."""
+    grading at ``piece``, each with the side of the piece it lies on (+1 or -1): each block
+    holding the piece, from its side holding it, then through every side along the grading
+    that a neighbour shares whole, the neighbour from its side at the same end."""
     pieces_of = {}
     for b, block in enumerate(topo.blocks):
         for s, side in enumerate(block.sides):
@@ -121,7 +123,8 @@ def graded_sides(topo: Topology, piece: int) -> set[tuple[int, int]]:
     for key, pieces in pieces_of.items():
         whole.setdefault(tuple(pieces), []).append(key)
     start = [(b, s) for (b, s), pieces in pieces_of.items() if piece in pieces]
-    seen, todo = set(start), list(start)
+    seen = {key: 1 - 2 * k for k, key in enumerate(start)}
+    todo = list(start)
     while todo:
         b, s = todo.pop()
         corners = topo.blocks[b].corners
@@ -134,7 +137,7 @@ def graded_sides(topo: Topology, piece: int) -> set[tuple[int, int]]:
                 c2 = topo.blocks[b2].corners
                 nxt = (t - 1) % 4 if _corner_key(c2[t]) == at else (t + 1) % 4
                 if (b2, nxt) not in seen:
-                    seen.add((b2, nxt))
+                    seen[(b2, nxt)] = seen[(b, s)]
                     todo.append((b2, nxt))
     return seen
 
@@ -152,7 +155,7 @@ def max_growth(n: int, first: float) -> float:
 
 
 def graded_minimum(
-    topo: Topology, graded: set[tuple[int, int]], h: float, counts: np.ndarray, item: SideItem
+    topo: Topology, graded: dict[tuple[int, int], int], h: float, counts: np.ndarray, item: SideItem
 ) -> dict[int, int]:
     """Cells the pieces along a grading need so that neighbouring cells stay within
     GROWTH_AIM of each other (the first edge ``item.value`` against the uniform cells of
@@ -180,7 +183,7 @@ def graded_minimum(
 
 
 def graded_params(
-    topo: Topology, graded: set[tuple[int, int]], counts: np.ndarray, h: float
+    topo: Topology, graded: dict[tuple[int, int], int], counts: np.ndarray, h: float
 ) -> dict[int, np.ndarray]:
     """The arc-length fractions of the nodes of the pieces along a grading (the sides
     leaving each graded side, one piece each): a first edge ``h`` at the graded side's end,
@@ -198,3 +201,31 @@ def graded_params(
             forward = _corner_key(piece.points[0]) == _corner_key(block.corners[end])
             out[k] = t if forward else 1.0 - t[::-1]
     return out
+
+
+@dataclass(frozen=True)
+class Targets:
+    """Where a grading puts the nodes of the grid lines across its side: ``distance`` per
+    node (the signed arc length from the side, + on one side of it, - on the other; NaN off
+    the graded blocks) and ``steps`` (m, 2), the pairs of neighbouring nodes along those
+    lines."""
+
+    distance: np.ndarray
+    steps: np.ndarray
+
+
+def grading_targets(
+    ids: list[np.ndarray], points: np.ndarray, graded: dict[tuple[int, int], int], h: float
+) -> Targets:
+    """The targets of a grading (each line's stretching: first edge ``h``, the uniform one
+    at its far end, on the layout's ``points``), which the elliptic solve's control
+    functions keep (``elliptic.controls``)."""
+    distance = np.full(len(points), np.nan)
+    steps = []
+    for (b, s), sign in graded.items():
+        for line in side_lines(ids[b], SIDE_NAMES[s]):
+            length = float(np.linalg.norm(np.diff(points[line], axis=0), axis=1).sum())
+            n = len(line) - 1
+            distance[line] = sign * length * exact_stretch(n + 1, h / length, 1.0 / n)[0]
+            steps.append(np.column_stack([line[:-1], line[1:]]))
+    return Targets(distance, np.concatenate(steps))

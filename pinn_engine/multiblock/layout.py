@@ -78,3 +78,8 @@ def layout(
         grid[1:-1, 1:-1] = new(inner).reshape(nj - 2, ni - 2)
         ids.append(grid)
     return Layout(np.concatenate(points), ids, piece_ids, params)
+
+
+def side_lines(ids: np.ndarray, side: str) -> np.ndarray:
+    """The grid lines of a block of node ``ids`` leaving ``side``, each from its node on it."""
+    return {"bottom": ids.T, "top": ids[::-1].T, "left": ids, "right": ids[:, ::-1]}[side]

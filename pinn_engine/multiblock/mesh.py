@@ -19,20 +19,20 @@ from pinn_engine.multiblock.chains import (
     graded_minimum,
     graded_params,
     graded_sides,
+    grading_targets,
     nearest_piece,
 )
 from pinn_engine.multiblock.counts import cell_counts, default_cell_size
 from pinn_engine.multiblock.elliptic import Crossing, crossings, winslow
 from pinn_engine.multiblock.graph import linework
-from pinn_engine.multiblock.layout import Layout, layout
+from pinn_engine.multiblock.layout import Layout, layout, side_lines
 from pinn_engine.multiblock.orthogonal import boundary_neighbours, orthogonal
 from pinn_engine.multiblock.patches import PatchPiece, PatchPoint, PatchRing, block_patches
 from pinn_engine.multiblock.quadblock import block_boundary, block_lines
-from pinn_engine.multiblock.spacing import check_room, regrade, requests, respace
+from pinn_engine.multiblock.spacing import check_room, first_edges, requests, respace
 from pinn_engine.multiblock.walls import (
     Walls,
     check_names,
-    side_lines,
     wall_report,
     wall_sides,
 )
@@ -160,8 +160,13 @@ def mesh_blocks(
     check_room(lay.points, asked)
     steps = 0
     points = lay.points
+    timings = {"layout": time.perf_counter() - start}
     if settings.method in ("elliptic", "pinn"):
-        points, steps = winslow(topo, lay, settings.interfaces == "free")
+        targets = [
+            grading_targets(lay.ids, lay.points, graded, item.value) for item, graded in grades
+        ]
+        points, steps = winslow(topo, lay, settings.interfaces == "free", targets=targets)
+    timings["solve"] = time.perf_counter() - start - timings["layout"]
     lines = block_lines(aux, [points[ids] for ids in lay.ids])  # the method's block sides
     cross = crossings(topo, lay)  # the interfaces' nodes, for every kink figure below
     frames = [block_boundary(points[ids]) for ids in lay.ids]
@@ -174,10 +179,11 @@ def mesh_blocks(
         starts = [points[ids] for ids in lay.ids]
         grids, training = train(starts, settings, progress, lines, kinks)
         points = _assembled(points, lay, grids)
-    # gradings, then spacing and orthogonality on patches last: no solve or training moves
-    # them after
+        timings["training"] = training["seconds"]
+    # first edges of gradings and patches, and orthogonality on patches, last: no solve or
+    # training moves them after
     for item, graded in grades:
-        points = regrade(points, lay.ids, graded, item.value, item.where)
+        points = first_edges(points, lay.ids, graded, item.value)
     points = respace(points, asked)
     if walls.orthogonal:
         points = orthogonal(points, sides, walls.orthogonal, boundary_neighbours(topo, lay))
@@ -209,6 +215,8 @@ def mesh_blocks(
         },
         "mesh_seconds": time.perf_counter() - start,
     }
+    timings["walls_and_quality"] = report["mesh_seconds"] - sum(timings.values())
+    report["timings"] = timings
     if training is not None:
         report["training"] = training
     return MultiBlockResult(grids, cells, report, patches)

@@ -16,15 +16,13 @@ import numpy as np
 
 from pinn_engine.errors import InputError
 from pinn_engine.multiblock.chains import SideItem
+from pinn_engine.multiblock.layout import side_lines
 from pinn_engine.multiblock.patches import PIECES, PatchPiece, point_of
 from pinn_engine.patchnames import checked_name
 
 # Wall nodes this many positions or fewer from a block's corner are left out of the wall
 # angle figures (SPEC 7: "the two nodes nearest each corner excepted")
 ANGLE_CORNER_NODES = 1
-
-
-SIDE_NAMES = ("bottom", "right", "top", "left")  # a block's sides 0..3 (layout.py's order)
 
 
 @dataclass(frozen=True)
@@ -103,11 +101,6 @@ def _side_of(piece: PatchPiece) -> tuple[str, int, int]:
     if j0 == j1 and i0 != i1:
         return ("bottom" if j0 == 0 else "top"), i0, i1
     return ("left" if i0 == 0 else "right"), j0, j1
-
-
-def side_lines(ids: np.ndarray, side: str) -> np.ndarray:
-    """The grid lines of a block of node ``ids`` leaving ``side``, each from its node on it."""
-    return {"bottom": ids.T, "top": ids[::-1].T, "left": ids, "right": ids[:, ::-1]}[side]
 
 
 def wall_sides(ids: list[np.ndarray], patches: list[list[PatchPiece]], names) -> list[WallSide]:

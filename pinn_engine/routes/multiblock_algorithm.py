@@ -36,26 +36,30 @@ the same way (``GetLastWarning()``).
 from __future__ import annotations
 
 import dataclasses
+import time
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
 from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkMultiBlockDataSet, vtkPolyData
 
-from pinn_engine.errors import InputError
+from pinn_engine.errors import STOP, InputError
 from pinn_engine.io.export.edges import edges_polydata
 from pinn_engine.routes.filters import (
     LastOutcome,
     LineInputs,
     PatchWalls,
+    Stoppable,
     choice,
-    folded_warning,
     place_items,
+    update_warning,
 )
 from pinn_engine.routes.reporting import message_of
+from pinn_engine.routes.summary_lines import blocks_lines
 from pinn_engine.settings import (
     BLOCKS_METHOD,
     MULTIBLOCK_METHODS,
+    NO_TIME_LIMIT,
     PARAMETER_CONSTRAINTS,
     Settings,
     make_settings,
@@ -114,7 +118,9 @@ def curves_of(
     return rings, edges, names
 
 
-class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgorithmBase):
+class PinnMultiBlockAlgorithm(
+    LastOutcome, Stoppable, LineInputs, PatchWalls, VTKPythonAlgorithmBase
+):
     """Multi-block structured grid (SPEC 10) of a boundary, its holes and block edges.
 
     Settings (each setter calls ``Modified()`` when the value changes; values are checked at
@@ -140,6 +146,9 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
       or a mapping ``{"cylinder": 0.005, (0.3, 0.2): 0.01}``)
     * ``SetOrthogonal(names)``: patches that grid lines leave along the normal
       (``"cylinder,walls"`` or a sequence of names)
+    * ``SetTimeLimit(seconds)``: pinn's training (all blocks together) ends after this many
+      seconds with its best grids so far (0: no limit, the default); so does an abort
+      request or SIGUSR1
 
     Patch items, spacings and names are checked at the next update (one line naming the
     item, as the command line's ``--patch``, ``--spacing`` and ``--orthogonal``).
@@ -156,6 +165,8 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
         self._blocking = BLOCKING[0]
         self._method = BLOCKS_METHOD
         self._cell_size = 0.0
+        self._time_limit = NO_TIME_LIMIT
+        self._began, self._stopped = 0.0, None  # the training's start; why it was stopped
         self._interfaces = INTERFACES[0]
         self._patches: tuple[str, ...] = ()  # X,Y=NAME[:TYPE] items, checked at the update
         self._cells: tuple[str, ...] = ()  # X,Y=N items, checked at the update
@@ -187,6 +198,12 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
     def GetCellSize(self) -> float:
         return self._cell_size
 
+    def SetTimeLimit(self, seconds) -> None:
+        self._set("_time_limit", float(seconds))
+
+    def GetTimeLimit(self) -> float:
+        return self._time_limit
+
     def SetInterfaces(self, interfaces) -> None:
         self._set("_interfaces", choice(interfaces, INTERFACES, "interfaces"))
 
@@ -209,7 +226,11 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
 
     def GetSettings(self) -> Settings:
         """The ``Settings`` the next update uses (raises ``ValueError`` if invalid)."""
-        return make_settings(self._method, cell_size=self._cell_size, interfaces=self._interfaces)
+        return make_settings(
+            self._method,
+            cell_size=self._cell_size,
+            interfaces=self._interfaces,
+        )
 
     # ---- results -----------------------------------------------------------------------
     def GetOutput(self) -> vtkMultiBlockDataSet:
@@ -224,7 +245,7 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
     def RequestData(self, request, inInfo, outInfo):
         output = vtkMultiBlockDataSet.GetData(outInfo, 0)
         edges_out = vtkPolyData.GetData(outInfo, 1)
-        self._last_error = self._last_warning = ""
+        self._last_error = self._last_warning = self._last_summary = ""
         self._exception = None
         self._progress(0.0, "meshing")
         try:
@@ -236,8 +257,9 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
             self._report(message_of(exc, self._route), warning=False)
         else:
             output.ShallowCopy(dataset)
+            self._keep_grid()
             edges_out.ShallowCopy(edges_polydata(edges))
-            warning = folded_warning(report, self._route, MOVE_EDGES)
+            warning = update_warning(report, self._route, MOVE_EDGES)
             if warning:
                 self._report(warning, warning=True)
         self._progress(1.0, "done")
@@ -280,28 +302,47 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
 
             proposed = proposal(curves[: len(rings)], "input")
             edges, names, blocking = proposed.edges, proposed.names, proposed.report
-        result = mesh_blocks(
-            curves[: len(rings)],
-            edges,
-            names,
-            settings,
-            "input",
-            patches,
-            walls,
-            self._block,
-            [dataclasses.replace(line, points=c) for line, c in zip(aux, flat)],
-            train_blocks,
-            cells,
-        )
+        began = self._began = time.perf_counter()
+        self._stopped = None
+        with self._stop_on_signal():
+            result = mesh_blocks(
+                curves[: len(rings)],
+                edges,
+                names,
+                settings,
+                "input",
+                patches,
+                walls,
+                self._block,
+                [dataclasses.replace(line, points=c) for line, c in zip(aux, flat)],
+                train_blocks,
+                cells,
+            )
         result.report["blocking"] = blocking
+        if self._stopped is not None:  # the report's training.stopped, as the trainer's
+            result.report.setdefault("training", {})["stopped"] = self._stopped
+        self._tell(blocks_lines(settings.method, result.report, time.perf_counter() - began))
         dataset = multiblock_dataset(result.grids, result.cells, result.report, result.patches)
         return dataset, result.report, edges
 
-    def _block(self, info: dict) -> None:
+    def _block(self, info: dict) -> str | None:
         """The pinn's progress block by block (``blocks.multiblock``) on the bar, the
-        elliptic grid before it at 0."""
+        elliptic grid before it at 0; answers ``errors.STOP`` once the Time Limit (all
+        blocks together) has run out or on an abort request or the stop signal: the block
+        in training keeps its best grid so far, the blocks after it their elliptic grids."""
         if info["phase"] == "prepare":
             self._progress(info["step"] / info["total"], info["stage"])
+        seconds = time.perf_counter() - self._began
+        late = 0 < self._time_limit < seconds
+        if self._stopped is None and (late or self._stop_answer()):
+            self._stopped = {
+                "reason": "time limit" if late else "request",
+                "phase": info["phase"],
+                "step": info.get("step", 0),
+                "seconds": round(seconds, 2),
+                "time_limit": self._time_limit,
+            }
+        return STOP if self._stopped is not None else None
 
 
 __all__ = ["BLOCKING", "MOVE_EDGES", "PinnMultiBlockAlgorithm", "curves_of"]

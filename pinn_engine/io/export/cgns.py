@@ -32,7 +32,7 @@ from pinn_engine.io.export.registry import Format, register
 from pinn_engine.io.export.topology import box_range, index_range, layers
 from pinn_engine.patchnames import FRONT_AND_BACK, TYPES
 
-ROOT = Path(__file__).resolve().parents[2]  # the checkout (its .venv: the helper Python)
+ROOT = Path(__file__).resolve().parents[3]  # the checkout (its .venv: the helper Python)
 
 _TYPES = {np.dtype(np.int32): "I4", np.dtype(np.float32): "R4", np.dtype(np.float64): "R8"}
 

@@ -45,7 +45,7 @@ def propose_edges(rings: list[np.ndarray], source: str = "boundary") -> list[np.
         ring = o_ring(hole, [r for j, r in enumerate(rings) if j != k], axes)
         fixed_edges += ring.edges
         boxes.append(ring.box[::-1])  # clockwise: the domain outside it on its left
-    vertices = reflex_vertices([rings[0], *boxes])
+    vertices = reflex_vertices([rings[0], *boxes], diagonal)
     fixed = _segments([rings[0], *boxes], True)
     options = [ray_options(v, fixed, diagonal) for v in vertices]
     targets = np.vstack(

@@ -32,9 +32,9 @@ def score(rings: list[np.ndarray], edges: list[np.ndarray]) -> float:
         topo = topology(lines)
         h = default_cell_size(lines.diagonal)
         lay = layout_checked(topo, cell_counts(topo, h), h)
-    except InputError:
-        return np.inf
-    points, _ = winslow(topo, lay, True, SCORE_ITERATIONS)
+        points, _ = winslow(topo, lay, True, SCORE_ITERATIONS)
+    except (InputError, ArithmeticError, RuntimeError, np.linalg.LinAlgError):
+        return np.inf  # refused, or a solve that breaks down (a singular system): not this one
     cells = [cell_quality(points[ids]) for ids in lay.ids]
     if any(c["Folded"].any() for c in cells):
         return np.inf

@@ -1,7 +1,7 @@
 """The choice among candidate blockings (SPEC 13): every reflex vertex's direction (or none,
 where another edge already ends on it) is tried, each layout completed round face centres
-(``faces.py``), ranked by its blocks' corner angles, and the best few meshed coarsely by the
-elliptic multi-block solver, whose quality (and interface kinks) picks the winner.
+(``faces.py``), ranked by its blocks' corner angles, and the best few meshed by the elliptic
+multi-block solver, whose quality (and interface kinks) picks the winner (``score.py``).
 
 Few reflex vertices (up to ``EXHAUSTIVE`` combinations) are tried in every combination;
 more, coordinate by coordinate from two starts (each needed vertex its shortest edge, the
