@@ -8,7 +8,8 @@ another edge) and ``cylinder_channel.vtp``/``cylinder_channel_blocks.vtp`` (a
 cylinder of diameter 1 in a channel: an O-ring of 4 blocks inside 8 outer blocks),
 ``tee.vtp``/``tee_blocks.vtp`` (a tee whose branch leans downstream: four blocks) and
 ``ybranch.vtp``/``ybranch_blocks.vtp`` (a bifurcation: three arms and a centre of three
-blocks meeting at one point).
+blocks meeting at one point) and ``dfg.vtp``/``dfg_blocks.vtp`` (the DFG 2D-1 benchmark's
+cylinder in a channel, Schaefer and Turek 1996: 12 blocks, docs/dfg.md).
 """
 
 from __future__ import annotations
@@ -22,6 +23,11 @@ Y_ARMS = (-50.0, 50.0, 180.0)  # directions of the Y's daughters and trunk, coun
 Y_WIDTHS = (0.8, 0.8, 1.0)  # the arms' widths (daughters narrower than the trunk)
 Y_MOUTH = 0.8  # distance of each arm's mouth from the Y's centre
 ARM_LENGTH = 3.0  # length of the Y's arms
+# DFG 2D-1 (Schaefer and Turek 1996): the channel [0, 2.2] x [0, 0.41], a cylinder of
+# diameter 0.1 centred at (0.2, 0.2); the O-ring's square reaches half way to the walls
+DFG_LENGTH, DFG_HEIGHT = 2.2, 0.41
+DFG_CENTRE, DFG_RADIUS = (0.2, 0.2), 0.05
+DFG_BOX = 0.1  # half the side of the square around the cylinder
 
 
 def lshape() -> tuple[list[np.ndarray], list[np.ndarray]]:
@@ -92,6 +98,27 @@ def ybranch() -> tuple[list[np.ndarray], list[np.ndarray]]:
     return [np.array(ring)], edges
 
 
+def dfg() -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """The DFG 2D-1 channel and cylinder; a square of half side DFG_BOX around the cylinder
+    cut along its diagonals (the O-ring) and its sides carried on to the walls, the inlet
+    and the outlet (8 outer blocks)."""
+    channel = np.array([(0, 0), (DFG_LENGTH, 0), (DFG_LENGTH, DFG_HEIGHT), (0, DFG_HEIGHT)])
+    a = 2 * np.pi * np.arange(CYLINDER_POINTS) / CYLINDER_POINTS
+    cx, cy = DFG_CENTRE
+    cylinder = np.column_stack([cx + DFG_RADIUS * np.cos(a), cy + DFG_RADIUS * np.sin(a)])
+    x0, x1, y0, y1 = cx - DFG_BOX, cx + DFG_BOX, cy - DFG_BOX, cy + DFG_BOX
+    square = [(x1, y0), (x1, y1), (x0, y1), (x0, y0)]
+    edges = [np.array([square[k - 1], square[k]]) for k in range(4)]
+    for x, y in square:
+        d = np.array([x - cx, y - cy]) / np.hypot(x - cx, y - cy)
+        edges.append(np.array([(cx + DFG_RADIUS * d[0], cy + DFG_RADIUS * d[1]), (x, y)]))
+    for x in (x0, x1):
+        edges += [np.array([(x, 0.0), (x, y0)]), np.array([(x, y1), (x, DFG_HEIGHT)])]
+    for y in (y0, y1):
+        edges += [np.array([(0.0, y), (x0, y)]), np.array([(x1, y), (DFG_LENGTH, y)])]
+    return [channel.astype(float), cylinder], edges
+
+
 def main() -> None:
     for name, make in (
         ("lshape", lshape),
@@ -99,6 +126,7 @@ def main() -> None:
         ("cylinder_channel", cylinder_channel),
         ("tee", tee),
         ("ybranch", ybranch),
+        ("dfg", dfg),
     ):
         rings, edges = make()
         write(polydata(rings, closed=True), f"{name}.vtp")

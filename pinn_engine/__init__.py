@@ -2,12 +2,12 @@
 
 ``pinn_engine.report(grid)`` reads a grid's report as a dict and ``pinn_engine.save(grid,
 path, patches=...)`` writes a grid for a CFD solver (both imported on first use: they need
-pyvista); grids come from ``PolyData.pinn_mesh(...)``.
+pyvista); grids come from ``PolyData.pinn_mesh(...)``. ``__version__`` is read on first use
+too (the installed package's metadata: about 80 ms of a run's start that most runs never use).
 """
 
 from importlib import import_module
 
-from pinn_engine._version import __version__
 from pinn_engine.errors import (
     CrossingCutWarning,
     FoldedCellsWarning,
@@ -34,10 +34,12 @@ __all__ = [
 
 
 def __getattr__(name: str):
+    if name == "__version__":
+        return import_module("pinn_engine._version").__version__
     if name in _PYVISTA:
         return getattr(import_module(_ROUTE), _PYVISTA[name])
     raise AttributeError(f"module 'pinn_engine' has no attribute {name!r}")
 
 
 def __dir__() -> list[str]:
-    return sorted({*globals(), *_PYVISTA})
+    return sorted({*globals(), *_PYVISTA, "__version__"})

@@ -11,7 +11,7 @@ def one_blas_thread():
     each iteration cost about 20 ms instead of 1.4 ms (measured on this 2-core machine with
     other work on it), and competed with the loss evaluations for the cores."""
     try:
-        from threadpoolctl import threadpool_limits  # installed with scikit-learn
+        from threadpoolctl import threadpool_limits
     except ImportError:
         return contextlib.nullcontext()
     return threadpool_limits(1, user_api="blas")

@@ -65,6 +65,14 @@ def unknown_name(
     return SettingsError(f"unknown {what} {form.format(name)}; {hint}the {what}s: {listing}")
 
 
+class MissingExtraError(PinnMeshError, ImportError):
+    """A part of pinn-mesh whose optional dependencies (a pip extra of pyproject.toml) are
+    not installed; the one-line message names the extra to install."""
+
+    def __init__(self, what: str, extra: str) -> None:
+        super().__init__(f"{what} needs the {extra} extra: pip install 'pinn-mesh[{extra}]'")
+
+
 class TrainingError(PinnMeshError):
     """Training diverged or was cancelled; no grid is produced."""
 
@@ -120,7 +128,7 @@ ROUTE_WORDS = {
         "patch": "--patch SIDE=NAME",
         "extrude": "--extrude T",
         "output": "-o with .vts, .vtk, .xyz, .cgns, .su2 or .msh, or --format openfoam -o DIR",
-        "h5py": "pip install h5py",
+        "h5py": "pip install 'pinn-mesh[cgns]'",
         "naca": "--naca DDDD",
         "farfield": "--farfield R",
         "topology": "--topology o",
@@ -129,6 +137,7 @@ ROUTE_WORDS = {
         "blocks": "give them with --blocks EDGES",
         "with_blocks": "with --blocks, ",
         "pieces": "--patch X,Y=NAME",
+        "face_angle": "a .vtp whose FaceId cell array tags the six faces",
         "face_patch": "--patch SIDE=NAME or faceN=NAME",
         "spacing": "--spacing",
         "orthogonal": "--orthogonal",
@@ -145,7 +154,7 @@ ROUTE_WORDS = {
         "patch": 'patches={"bottom": "wall", ...}',
         "extrude": "extrude=",
         "output": 'a path ending in .vts, .vtk, .xyz, .cgns, .su2 or .msh, or format="openfoam"',
-        "h5py": "pip install h5py",
+        "h5py": "pip install 'pinn-mesh[cgns]'",
         "naca": 'naca="DDDD"',
         "farfield": "farfield=R",
         "topology": 'topology="o"',
@@ -154,6 +163,7 @@ ROUTE_WORDS = {
         "blocks": "give them as blocks=",
         "with_blocks": "",
         "pieces": 'patches=["X,Y=NAME", ...]',
+        "face_angle": "another face_angle= or a FaceId cell array",
         "face_patch": 'patches={"imin": "inlet", "face3": "wall", ...}',
         "spacing": "spacing=",
         "orthogonal": "orthogonal=",
@@ -181,6 +191,7 @@ ROUTE_WORDS = {
         "blocks": "select their source together with the boundary's (or connect it to Block Edges)",
         "with_blocks": "",
         "pieces": "Patch Names' X,Y=NAME items",
+        "face_angle": "another Face Angle or a FaceId cell array",
         "face_patch": "Patch Names (imin imax jmin jmax kmin kmax, or SIDE=NAME or faceN=NAME)",
         "spacing": "First Edge Spacing",
         "orthogonal": "Orthogonal Patches",
@@ -278,6 +289,8 @@ def network_effect(report: dict) -> str | None:
     if not training or "result" not in training:
         return None
     start = training.get("start", "elliptic")
+    if training.get("skipped"):
+        return f"network: start kept ({start} grid; not trained: {training['skipped']})"
     if training["result"] == "start":
         return f"network: start kept ({start} grid; no trained state passed the quality guard)"
     move = training.get("largest_node_move")

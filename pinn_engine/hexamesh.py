@@ -36,9 +36,11 @@ from pinn_engine.hexa.spacing import (
 from pinn_engine.hexa.surface import Surface, Topology, find_topology, surface_of
 from pinn_engine.io import fileio
 from pinn_engine.io.export.patches import BOX_SIDES, add_to_grid, patch_specs
+from pinn_engine.settings import NO_TIME_LIMIT, Settings
 
 if TYPE_CHECKING:
     from pinn_engine.blocks.hexa import HexaModel
+    from pinn_engine.neural.trainer import Progress
 
 METHODS = ("pinn", "tfi", "elliptic")  # the methods of this build for six-faced domains
 HEXA_METHOD = "pinn"  # SPEC 11's default (blocks/hexa.py; docs/hexa.md has its figures)
@@ -279,14 +281,18 @@ def mesh_polydata(
     load_model: str | None = None,
     patches: Mapping[str, str] | Sequence[str] | str | None = None,
     sharp_angle: float = SHARP_ANGLE,
+    time_limit: float = NO_TIME_LIMIT,
+    training: Progress | None = None,
 ) -> HexResult:
     """The hexahedral grid of a surface in memory (a polydata with a FaceId cell array, or
     with ``sharp_edges`` faces found at its edges sharper than ``sharp_angle`` degrees; the
     filter's and pyvista's input), ``source`` naming it in messages; ``spacing`` (patch ->
     first edge H) and ``orthogonal`` (patches) as SPEC 7 on the patches; ``patches`` names
-    them (:func:`named_patches`, checked before meshing); pinn trains its network, or
-    evaluates the one saved at ``load_model``; ``progress(fraction, phase)`` is told each
-    phase as it starts."""
+    them (:func:`named_patches`, checked before meshing); pinn trains its network (for at
+    most ``time_limit`` seconds, 0: no limit; ``training`` is the trainer's progress
+    callback, whose ``errors.STOP`` ends it with the best grid so far), or evaluates the one
+    saved at ``load_model``; ``progress(fraction, phase)`` is told each phase as it
+    starts."""
     refuse(size, method, spacing, orthogonal)
     tell = progress or (lambda fraction, phase: None)
     spacing = spacing or {}
@@ -302,7 +308,9 @@ def mesh_polydata(
     check_spacing(spacing, base)
     model = None
     if method == "pinn":  # torch only for the network
-        from pinn_engine.blocks.hexa import HexaModel, Start, train, winslow_start
+        from pinn_engine.blocks.hexa import HEXA_SETTINGS, HexaModel, Start, train, winslow_start
+
+        settings = Settings(**HEXA_SETTINGS, time_limit=time_limit)
 
         @cache  # the start's lattice is often the grid's own size
         def tfi_of(shape: tuple[int, ...]) -> np.ndarray:
@@ -329,10 +337,10 @@ def mesh_polydata(
                 tuple((PATCH_AXIS[p][0], float(PATCH_AXIS[p][1] != 0)) for p in orthogonal),
                 partial(wall_angle, patches=orthogonal) if orthogonal else None,
             )
-            model = train(start, key)
+            model = train(start, key, settings, training)
         else:
             start, tfi = winslow_start(tfi_of, size), tfi_of(size)
-            model = train(start, key)
+            model = train(start, key, settings, training)
         g, steps = model.grid(tfi), 0
     else:
         if method == "elliptic":

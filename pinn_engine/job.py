@@ -225,12 +225,25 @@ def flat_curves(curves: list[np.ndarray], source: str) -> list[np.ndarray]:
     return [np.ascontiguousarray(c[:, :2]) for c in curves]
 
 
-def train_blocks(*args, **kwargs) -> tuple[list[np.ndarray], dict]:
+def train_blocks(
+    grids: list[np.ndarray],
+    settings: Settings,
+    progress: Callable[[dict], bool | str | None] | None = None,
+    aux: Sequence[Sequence] | None = None,
+    kinks: Callable[[list[np.ndarray]], np.ndarray] | None = None,
+) -> tuple[list[np.ndarray], dict]:
     """The multi-block pinn's training (``blocks.multiblock.train_blocks``), imported only
-    when a pinn trains: the elliptic and tfi runs never import torch."""
+    when some block's network can win (``blocks.untrained.cannot_win``; else every block
+    keeps its start, ``untrained.untrained_blocks``): the elliptic and tfi runs, and a pinn
+    whose networks cannot win, never import torch."""
+    from pinn_engine.blocks.untrained import cannot_win, untrained_blocks
+
+    reasons = [cannot_win(settings, lines) for lines in (aux or [()] * len(grids))]
+    if all(reasons):
+        return untrained_blocks(grids, reasons[0])
     from pinn_engine.blocks.multiblock import train_blocks as train
 
-    return train(*args, **kwargs)
+    return train(grids, settings, progress, aux, kinks)
 
 
 def run_blocks(
@@ -242,6 +255,7 @@ def run_blocks(
     orthogonal: Sequence[str] = (),
     progress: Callable[[dict], bool | str | None] | None = None,
     aux: Sequence[str | os.PathLike] = (),
+    cells: Sequence[str] = (),
 ) -> BlocksOutcome:
     """Mesh a multi-block domain (SPEC 10) from files: ``boundary`` (outer boundary and
     holes) and the block-edge files ``edges`` (``[AUTO_BLOCKS]``: edges proposed from the
@@ -249,16 +263,19 @@ def run_blocks(
     ``X,Y=NAME[:TYPE]`` items naming boundary pieces; ``spacing``: ``NAME=H`` items,
     ``orthogonal``: ``NAME[,NAME...]`` items, on those patches; ``progress`` hears the
     pinn's training block by block; ``aux``: auxiliary-line files, each line inside one
-    block (the pinn fits it there)."""
+    block (the pinn fits it there); ``cells``: ``X,Y=N`` items, N cells along the chain
+    through the block side nearest (X, Y)."""
     from pinn_engine.io.export.vtm import multiblock_dataset
     from pinn_engine.io.fileio import read_aux_lines, read_rings
-    from pinn_engine.multiblock.autoblock import propose_edges
+    from pinn_engine.multiblock.autoblock import proposal
+    from pinn_engine.multiblock.chains import parse_cells
     from pinn_engine.multiblock.mesh import mesh_blocks
     from pinn_engine.multiblock.patches import parse_patch_points
     from pinn_engine.multiblock.walls import parse_walls
 
     points = parse_patch_points(patches)  # refused before reading, not after
     walls = parse_walls(spacing, orthogonal)
+    chains = parse_cells(cells)
     source = str(boundary)
     rings = read_rings(boundary)
     auto = [str(e) for e in edges] == [AUTO_BLOCKS]
@@ -267,9 +284,10 @@ def run_blocks(
     curves = flat_curves(rings + [r.points for r in raws + lines], source)
     names = [r.name for r in raws]
     edge_curves = curves[len(rings) : len(rings) + len(raws)]
+    blocking = {"mode": "manual", "edges": len(edge_curves)}
     if auto:
-        edge_curves = propose_edges(curves[: len(rings)], source)
-        names = [f"proposed edge {k}" for k in range(len(edge_curves))]
+        proposed = proposal(curves[: len(rings)], source)
+        edge_curves, names, blocking = proposed.edges, proposed.names, proposed.report
     flat = [replace(r, points=c) for r, c in zip(lines, curves[len(rings) + len(raws) :])]
     result = mesh_blocks(
         curves[: len(rings)],
@@ -282,7 +300,9 @@ def run_blocks(
         progress,
         flat,
         train_blocks,
+        chains,
     )
+    result.report["blocking"] = blocking
     dataset = multiblock_dataset(result.grids, result.cells, result.report, result.patches)
     return BlocksOutcome(result, dataset, edge_curves)
 

@@ -8,6 +8,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
+from pinn_engine.blocks.untrained import StartModel, cannot_win
 from pinn_engine.classical.elliptic import winslow_solve, winslow_sweeps
 from pinn_engine.classical.spacing import classical_grid, fit_params, side_lengths, working_spacing
 from pinn_engine.classical.tfi import tfi_grid
@@ -61,10 +62,16 @@ class Mesher:
         self.model_ = None
         self.train_seconds_ = 0.0
         if self.settings.method in NEURAL:
-            from pinn_engine.blocks.quad import train  # torch is imported only when training
-
             start = time.perf_counter()
-            self.model_ = train(boundary, self.aux_lines_, self.settings, progress)
+            reason = cannot_win(self.settings, self.aux_lines_)
+            if reason:  # the start's map: no network, no torch
+                self.model_ = StartModel.of(boundary, self.aux_lines_, self.settings, reason)
+            else:
+                from pinn_engine.blocks.quad import train  # torch: imported only to train
+
+                imported = time.perf_counter()
+                self.model_ = train(boundary, self.aux_lines_, self.settings, progress)
+                self.model_.info["timings"]["import"] = imported - start
             self.train_seconds_ = time.perf_counter() - start
             self.model_.info["train_seconds"] = self.train_seconds_
         return self
@@ -105,6 +112,7 @@ class Mesher:
             deviation = float(self.boundary_.deviation(boundary_nodes(unit)).max())
             points = self.boundary_.frame.to_user(unit)
             cells = cell_quality(points)
+            quality_seconds = time.perf_counter() - start - mesh_seconds
         report = {
             "method": self.settings.method,
             "size": [ni, nj],
@@ -117,8 +125,11 @@ class Mesher:
             "aux_line_distance": line_distances(unit, self.aux_lines_, self.boundary_.diagonal),
             "sides": side_report(unit, self.boundary_.frame.scale),
         }
+        timings = {"start": 0.0, "training": 0.0}
         if self.model_ is not None:
             report["training"] = self.model_.info
+            timings.update(self.model_.info.get("timings", {}))
+        report["timings"] = {**timings, "mesh": mesh_seconds, "quality": quality_seconds}
         history = self.model_.history if self.model_ is not None else {}
         return MeshResult(
             points=points, report=report, history=history, cells=cells, plane=self.boundary_.plane

@@ -164,7 +164,7 @@ def largest_area_ratio(grid: np.ndarray) -> float:
     area = np.abs(_cross(p[2] - p[0], p[3] - p[1])) / 2
     area = np.maximum(area, DBL_MIN)
     pairs = [(area[1:], area[:-1]), (area[:, 1:], area[:, :-1])]
-    return max((np.maximum(a / b, b / a).max() for a, b in pairs if a.size), default=1.0)
+    return float(max((np.maximum(a / b, b / a).max() for a, b in pairs if a.size), default=1.0))
 
 
 def orientation(grid: np.ndarray) -> float:

@@ -34,6 +34,7 @@ if _REPO not in sys.path:
 
 try:
     from pinn_engine import __version__
+    from pinn_engine.hexa.sharp import SHARP_ANGLE
     from pinn_engine.hexamesh import HEXA_METHOD, HEXA_SIZE, MIN_NODES
     from pinn_engine.hexamesh import METHODS as HEXA_METHODS
     from pinn_engine.io.export import FORMATS
@@ -116,6 +117,27 @@ def _for_preset(preset, methods):
 
 
 _PAPER = make_settings("pinn", "paper")
+_TWO_D_INPUT = (
+    '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
+    'property="IsThreeD" value="0"/>'
+)  # writer settings that only a 2D grid has (a hexahedral grid is not extruded)
+CGNS_FIRST = "CGNSPINNMeshWriter"  # sorts before ParaView's CGNSWriter (see the writers below)
+_TIME_LIMIT_DOC = (
+    "Seconds of training, then the grid of the best state so far is produced with a warning "
+    "(0: no limit). ParaView 5.11 handles no event while a filter runs, so its progress "
+    "bar's abort cannot stop a training: set this before Apply (or stop it with "
+    "pkill -USR1 -x paraview, which also keeps the best grid so far)."
+)
+
+
+def _method_is(methods, name):
+    """Shown only while Method is ``name`` (of ``methods``, the panel's enumeration)."""
+    return (
+        '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
+        f'property="Method" value="{methods.index(name)}"/>'
+    )
+
+
 _PINN_ONLY = (
     '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
     'property="Method" value="0"/>'
@@ -123,14 +145,16 @@ _PINN_ONLY = (
 
 
 class _ColourWhenDataArrives:
-    """Observer of one display of the filter: colour it by MaxIncludedAngle once the filter's
-    output first has cells, if it was shown before that (a failed first Apply). ParaView picks
-    a display's colour array once, when it creates the display, from the data it has then; an
-    empty output carries no arrays to ParaView (vtkPVDataSetAttributesInformation skips the
-    arrays of empty data), so the display stayed in a solid colour for good."""
+    """Observer of one display of a PINN mesh filter. When the filter's output first has
+    cells: colour the display by MaxIncludedAngle if it is in a solid colour, and hide the
+    filter's inputs in its view. ParaView picks a display's colour once, when it creates the
+    display, from the data it has then: an empty output (a failed first Apply) carries no
+    arrays, and a 3D structured grid came up in Solid Color. The filters ask ParaView not to
+    hide their inputs on Apply (``<Visibility replace_input="0"/>``) so that a failed Apply
+    leaves the input in view; the inputs are hidden here once there is a grid to show
+    instead."""
 
     def __init__(self):
-        self.empty = False
         self.settled = False  # (removing an observer inside its own call crashes the GUI)
 
     def __call__(self, repr_proxy, event):
@@ -141,12 +165,10 @@ class _ColourWhenDataArrives:
             return
         info = source.GetDataInformation(vtkSMPropertyHelper(repr_proxy, "Input").GetOutputPort())
         if info.GetNumberOfCells() == 0:
-            self.empty = True
             return
-        self.settled = True  # from here on, the colour is the user's choice
+        self.settled = True  # from here on, the colour and what is shown are the user's
         if (
-            self.empty
-            and not vtkSMPVRepresentationProxy.GetUsingScalarColoring(repr_proxy)
+            not vtkSMPVRepresentationProxy.GetUsingScalarColoring(repr_proxy)
             and info.GetCellDataInformation().GetArrayInformation(_COLOUR_ARRAY) is not None
         ):
             vtkSMPVRepresentationProxy.SetScalarColoring(
@@ -154,6 +176,32 @@ class _ColourWhenDataArrives:
             )
             vtkSMPVRepresentationProxy.RescaleTransferFunctionToDataRange(repr_proxy, False, False)
             repr_proxy.UpdateVTKObjects()
+        _hide_inputs(source, repr_proxy)
+
+
+def _hide_inputs(source, repr_proxy):
+    """Hide the displays of ``source``'s inputs in the view that holds ``repr_proxy``."""
+    pxm = source.GetSessionProxyManager()
+    inputs = {
+        vtkSMPropertyHelper(source, name).GetAsProxy(k).GetGlobalID()
+        for name in ("Input", "BlockEdges", "AuxiliaryLines")
+        if source.GetProperty(name) is not None
+        for k in range(vtkSMPropertyHelper(source, name).GetNumberOfElements())
+        if vtkSMPropertyHelper(source, name).GetAsProxy(k) is not None
+    }
+    for k in range(pxm.GetNumberOfProxies("views")):
+        view = pxm.GetProxy("views", pxm.GetProxyName("views", k))
+        shown = vtkSMPropertyHelper(view, "Representations")
+        members = [shown.GetAsProxy(n) for n in range(shown.GetNumberOfElements())]
+        if repr_proxy not in members:
+            continue
+        for other in members:
+            if other is None or other.GetProperty("Input") is None:
+                continue
+            upstream = vtkSMPropertyHelper(other, "Input").GetAsProxy()
+            if upstream is not None and upstream.GetGlobalID() in inputs:
+                vtkSMPropertyHelper(other, "Visibility").Set(0)
+                other.UpdateVTKObjects()
 
 
 def _watch_displays():
@@ -263,6 +311,8 @@ def _mesh_filter(*inputs, name, label, summary, doc):
         smproxy.filter(name=name, label=label, support_reload=False),
         smhint.xml(_MENU),
         smhint.xml('<RepresentationType view="RenderView" type="Surface With Edges"/>'),
+        # the inputs stay shown until a grid arrives (_ColourWhenDataArrives hides them)
+        smhint.xml('<Visibility replace_input="0"/>'),
         *reversed(inputs),
         smproperty.xml(_proxy_doc(summary, doc)),
     )
@@ -659,6 +709,17 @@ class PINNMultiBlockMesh(PinnMultiBlockAlgorithm):
         self.SetMethod(int(index))
 
     @_doublevector(
+        name="TimeLimit",
+        label="Time Limit",
+        default_values=PANEL_TIME_LIMIT,
+        bounds={"min": 0.0},
+        hint=_method_is(MULTIBLOCK_METHODS, "pinn"),
+        doc=_TIME_LIMIT_DOC,
+    )
+    def P01TimeLimit(self, seconds):
+        self.SetTimeLimit(float(seconds))
+
+    @_doublevector(
         name="CellSize",
         label="Cell Size",
         default_values=0.0,
@@ -686,9 +747,11 @@ class PINNMultiBlockMesh(PinnMultiBlockAlgorithm):
         default_values="",
         doc="Names of boundary pieces (a piece runs between two block corners or "
         "junctions), for solver formats and for First Edge Spacing and Orthogonal "
-        "Patches: X,Y=NAME[:TYPE] items separated by spaces, each naming the piece "
-        "nearest (X, Y), e.g. '0.5,0=cylinder:wall 0,0.5=cylinder'. Pieces with the "
-        "same name form one patch; unnamed pieces are boundary, hole1, hole2, ...",
+        "Patches: items separated by spaces, X,Y=NAME[:TYPE] naming the piece nearest "
+        "(X, Y) (negative coordinates too), hole1=NAME[:TYPE] or boundary=NAME[:TYPE] "
+        "every piece of that ring, e.g. 'hole1=cylinder:wall -0.5,0=inlet:inflow'. "
+        "Pieces with the same name form one patch; unnamed pieces are boundary, hole1, "
+        "hole2, ...",
     )
     def P04PatchNames(self, text):
         self.SetPatchNames(text)
@@ -698,9 +761,11 @@ class PINNMultiBlockMesh(PinnMultiBlockAlgorithm):
         label="First Edge Spacing",
         default_values="",
         doc="Length of the first grid edge leaving a patch, in the boundary's units: "
-        "NAME=H items separated by spaces, e.g. 'cylinder=0.005' (empty: none). The "
-        "spacing grows smoothly away from the patch (Vinokur's stretching); all "
-        "methods (docs/multiblock.md).",
+        "NAME=H items separated by spaces, e.g. 'cylinder=0.005' (empty: none); X,Y=H "
+        "items grade the blocks across the block side nearest (X, Y), interior ones "
+        "too: the cells on both sides H across it, growing along the chain by at most "
+        "1.25 a cell, e.g. '0.3,0.2=0.005'. The spacing grows smoothly away from the "
+        "patch (Vinokur's stretching); all methods (docs/multiblock.md).",
     )
     def P05FirstEdgeSpacing(self, text):
         self.SetSpacing(text)
@@ -714,6 +779,18 @@ class PINNMultiBlockMesh(PinnMultiBlockAlgorithm):
     )
     def P06OrthogonalPatches(self, text):
         self.SetOrthogonal(text)
+
+    @_stringvector(
+        name="CellCounts",
+        label="Cell Counts",
+        default_values="",
+        doc="Cells along chosen chains of block sides: X,Y=N items separated by spaces, "
+        "each giving the chain through the block side nearest (X, Y) N cells, e.g. "
+        "'1.2,0.41=60' (empty: every chain from Cell Size). Opposite sides of every "
+        "block share a count.",
+    )
+    def P07CellCounts(self, text):
+        self.SetCells(text)
 
 
 _HEXA_METHOD_DOCS = {
@@ -729,7 +806,9 @@ _HEXA_METHOD_DOCS = {
         name="Input",
         port_index=0,
         doc="A closed triangulated surface whose six faces are tagged by a cell array FaceId "
-        "(six values), e.g. a .vtp or .vtk file; the faces must meet as a cube's do.",
+        "(six values), e.g. a .vtp or .vtk file, or an untagged one such as an STL file, "
+        "whose faces are found at its edges sharper than Face Angle; the faces must meet as "
+        "a cube's do.",
     ),
     name="PINNHexahedralMesh",
     label="PINN Hexahedral Mesh",
@@ -770,14 +849,39 @@ class PINNHexahedralMesh(PinnHexaAlgorithm):
     def P02GridSize(self, ni, nj, nk):
         self.SetGridSize(ni, nj, nk)
 
+    @_doublevector(
+        name="TimeLimit",
+        label="Time Limit",
+        default_values=PANEL_TIME_LIMIT,
+        bounds={"min": 0.0},
+        hint=_method_is(HEXA_METHODS, "pinn"),
+        doc=_TIME_LIMIT_DOC,
+    )
+    def P02TimeLimit(self, seconds):
+        self.SetTimeLimit(float(seconds))
+
+    @_doublevector(
+        name="FaceAngle",
+        label="Face Angle",
+        default_values=SHARP_ANGLE,
+        bounds={"min": 1.0, "max": 179.0},
+        doc="For a surface without a FaceId cell array (an STL file): its faces are the "
+        "regions between edges where neighbouring triangles' normals differ by more than "
+        "this many degrees; there must be six. Ignored when the input has FaceId.",
+    )
+    def P03FaceAngle(self, degrees):
+        self.SetFaceAngle(float(degrees))
+
     @_stringvector(
         name="PatchNames",
         label="Patch Names",
         default_values="",
         doc="Boundary patch names of the six faces for solver formats (File > Save Data: "
         "PLOT3D, CGNS, SU2, Gmsh, OpenFOAM): six names for imin, imax, jmin, jmax, kmin "
-        "and kmax, or SIDE=NAME[:TYPE] items such as 'imin=inlet:inflow kmin=floor:wall' "
-        "(empty: the faces' own names). Faces with the same name form one patch.",
+        "and kmax, or SIDE=NAME[:TYPE] items, SIDE one of those or faceN (the input face "
+        "whose FaceId is N; Output Messages lists which side each face became), such as "
+        "'face2=inlet:inflow kmin=floor:wall' (empty: the faces' own names). Faces with "
+        "the same name form one patch.",
     )
     def P03PatchNames(self, text):
         self.SetPatchNames(text)
@@ -878,11 +982,16 @@ def _writer_proxy(key, extension, name, file_type):
 
         if fmt.extrudes:
 
+            @smproperty.intvector(name="IsThreeD", information_only="1")
+            def GetIsThreeD(self):
+                return GridWriter.GetIsThreeD(self)
+
             @_doublevector(
                 name="ExtrudeThickness",
                 label="Extrude Thickness",
                 default_values=0.0,
                 bounds={"min": 0.0},
+                hint=_TWO_D_INPUT,
                 doc=thickness,
             )
             def SetExtrudeThickness(self, value):
@@ -901,12 +1010,13 @@ def _writer_proxy(key, extension, name, file_type):
         smproperty.xml(
             _proxy_doc(
                 f"Writes the grid as {fmt.description}.",
-                f"Writes a PINN Structured Mesh grid as {fmt.description}, with the grid's "
-                "Patch Names as boundary patches (docs/export.md).",
+                f"Writes a grid of PINN Structured Mesh, PINN Hexahedral Mesh or PINN "
+                f"Multi-Block Mesh (its blocks) as {fmt.description}, with the grid's Patch "
+                "Names as boundary patches (docs/export.md).",
             )
         ),
         smproperty.input(name="Input", port_index=0),
-        smdomain.datatype(dataTypes=["vtkStructuredGrid"], composite_data_supported=False),
+        smdomain.datatype(dataTypes=["vtkStructuredGrid"], composite_data_supported=True),
     )(Writer)
 
 
@@ -914,6 +1024,12 @@ _watch_displays()
 
 for _key, (_extension, _name, _file_type) in PARAVIEW_FORMATS.items():
     globals()[_name] = _writer_proxy(_key, _extension, _name, _file_type)
+# ParaView 5.11's Save Data creates the first writer (by proxy name) that takes the file's
+# extension, whatever file type was chosen: its own CGNSWriter came before PINNMeshCGNSWriter.
+# The same writer under a name that sorts first makes .cgns files of these grids ours (one
+# entry in the list: the two share their file type).
+_extension, _name, _file_type = PARAVIEW_FORMATS["cgns"]
+globals()[CGNS_FIRST] = _writer_proxy("cgns", _extension, CGNS_FIRST, _file_type)
 del (
     _key,
     _extension,

@@ -8,7 +8,7 @@ import subprocess
 
 import numpy as np
 import pytest
-from conftest import foam_env
+from helpers import foam_env
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 from pinn_engine.bodies import bodygrid

@@ -6,18 +6,26 @@ from __future__ import annotations
 import ast
 import itertools
 import re
+import subprocess
+import sys
 import tokenize
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
 import torch
-from conftest import EXAMPLES, ROOT
+from helpers import EXAMPLES, ROOT
 
 from pinn_engine import job
 from pinn_engine.blocks import quad
+from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import Boundary
+from pinn_engine.io import export
+from pinn_engine.io.export.algorithm import PARAVIEW_FORMATS
+from pinn_engine.io.export.registry import Format, register
 from pinn_engine.io.fileio import read_boundary_points
+from pinn_engine.io.vtkgrid import structured_grid
 from pinn_engine.neural import trainer
 from pinn_engine.routes.algorithm import PinnMeshAlgorithm
 from pinn_engine.routes.cli import build_parser, main
@@ -161,6 +169,28 @@ def test_recipe_route(tmp_path):
     np.testing.assert_allclose(grid, expected, atol=1e-12)
 
 
+def test_recipe_format(tmp_path, monkeypatch):
+    """The formats register themselves (in --format's order); a suffix taken by another key
+    is refused; a format registered once is written by ``export.write``, taken by --format
+    and named by the multi-block writer's refusal, with no table of its own anywhere."""
+    grid = structured_grid(np.stack(np.meshgrid(np.arange(5.0), np.arange(4.0)), axis=-1))
+    assert list(export.FORMATS) == ["vts", "vtk", "xyz", "cgns", "su2", "msh", "openfoam"]
+    assert set(PARAVIEW_FORMATS) == {"xyz", "cgns", "su2", "msh", "openfoam"}
+    with pytest.raises(ValueError, match="clashes"):
+        register(replace(export.FORMATS["su2"], key="su2b"))
+
+    def write_toy(block, path: Path) -> None:
+        path.write_text(f"{block.ni} {block.nj}\n")
+
+    toy = Format("toy", ".toy", "a toy format", False, name="Toy", block=write_toy)
+    monkeypatch.setitem(export.FORMATS, "toy", toy)
+    assert export.write(grid, tmp_path / "g.toy").read_text() == "5 4\n"
+    action = next(a for a in build_parser()._actions if a.dest == "format")
+    assert "toy" in action.choices and list(action.choices)[-1] == "toy"
+    with pytest.raises(InputError, match=r"--format openfoam, not as a toy format"):
+        export.blocks_format(tmp_path / "g.toy", None, None)
+
+
 def _layers() -> list[set[str]]:
     """The layers of docs/architecture.md's picture, top first: each line of its first text
     block that starts one space in names the units (modules or sub-packages) of one layer."""
@@ -218,6 +248,34 @@ def test_imports_follow_the_architecture_picture():
     assert not upward, f"imports against docs/architecture.md's picture: {upward}"
 
 
+FIRST_IMPORT = """
+import importlib, pathlib, sys, warnings
+warnings.simplefilter("ignore")
+failed = []
+for path in sorted(pathlib.Path("pinn_engine").rglob("*.py")):
+    if path.name == "__main__.py":
+        continue
+    name = ".".join(path.with_suffix("").parts).removesuffix(".__init__")
+    for loaded in [m for m in sys.modules if m.split(".")[0] == "pinn_engine"]:
+        del sys.modules[loaded]
+    try:
+        importlib.import_module(name)
+    except Exception as exc:
+        failed.append(f"{name}: {exc!r}")
+print("\\n".join(failed))
+"""
+
+
+@pytest.mark.slow
+def test_every_module_imports_first():
+    """Each module imports in a fresh package, whichever is imported first: no import
+    circle hides behind the order in which the routes happen to import them."""
+    run = subprocess.run(
+        [sys.executable, "-c", FIRST_IMPORT], cwd=ROOT, capture_output=True, text=True, check=True
+    )
+    assert run.stdout.strip() == ""
+
+
 COMMENT_BLOCK_LINES = 5  # the longest run of comment lines: what a value means, not its history
 HISTORY = re.compile(r"[Ii]ssues? \d|#\d{2}|\bcommit\b|\([0-9a-f]{7,40}\)")
 
@@ -254,3 +312,11 @@ def test_comment_blocks_are_short():
             if run == COMMENT_BLOCK_LINES + 1:
                 long.append(f"{path.relative_to(ROOT)}:{n - COMMENT_BLOCK_LINES}")
     assert not long, f"comment blocks of more than {COMMENT_BLOCK_LINES} lines: {long}"
+
+
+def test_tests_import_their_helpers_not_conftest():
+    """Shared values and functions live in tests/helpers.py; conftest.py is pytest's own."""
+    pattern = re.compile(r"^\s*(from|import) conftest\b", re.M)
+    tests = sorted((ROOT / "tests").glob("*.py"))
+    importing = [p.name for p in tests if pattern.search(p.read_text())]
+    assert not importing, f"import these from helpers instead of conftest: {importing}"

@@ -19,7 +19,7 @@ import dask
 import numpy as np
 import pytest
 import pyvista as pv
-from conftest import EXAMPLES
+from helpers import EXAMPLES
 
 from pinn_engine.batch import mesh_many, read_manifest
 from pinn_engine.batch.cluster import connect
@@ -86,6 +86,10 @@ def bad_manifest(tmp_path, capsys, text: str) -> str:
         ("name,input,aux,options\n", "holds no case"),
         (f"name,input,aux,options\na,x.vtp,,{TFI}\nb,x.vtp,,--size 11\n", "row 3"),
         ("name,input,aux,options\na,x.vtp,,--frobnicate\n", "row 2: bad options"),
+        (
+            "name,input,aux,options\na,x.vtp,,--sise 41 21\n",
+            "row 2: bad options '--sise 41 21': unknown option --sise; did you mean --size?",
+        ),
         ("name,input,aux,options\na,x.vtp,,--method magic\n", "invalid choice"),
         ("name,input,aux,options\na,x.vtp,,--seed 'open\n", "row 2: bad options"),
         ("name,input,aux,options\na,x.vtp,,--help\n", "row 2: bad options"),
@@ -300,3 +304,46 @@ def test_the_dashboard_address_is_printed_and_answers(tmp_path, capsys):
         link = dashboard(client)
         with urlopen(link, timeout=30) as page:
             assert page.status == 200 and b"Dask" in page.read()
+
+
+def _imported_after(code: str, before: str) -> str:
+    """What a fresh Python prints after running ``before`` and then ``code``."""
+    done = subprocess.run(
+        [sys.executable, "-c", f"{before}\n{code}"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        cwd=EXAMPLES.parent,
+    )
+    assert done.returncode == 0, done.stderr[-2000:]
+    return done.stdout.strip().splitlines()[-1]
+
+
+def test_the_workers_server_starts_before_dask_and_the_engine_are_imported():
+    printed = _imported_after(
+        "print(sorted({'distributed', 'torch', 'scipy', 'vtkmodules'} & set(sys.modules)))",
+        "import sys\nfrom pinn_engine.batch import warm",
+    )
+    assert printed == "[]"
+
+
+@pytest.mark.slow  # imports the engine in a fresh Python (about 6 s)
+def test_a_case_imports_nothing_the_workers_server_did_not_preload():
+    """Four-sided and body cases that do not train (training imports torch in its worker)."""
+    runs = [
+        ["example_data/wavy.vtp", "--aux", "example_data/wavy_aux.vtp", "--method", "elliptic"],
+        ["--naca", "0012", "--topology", "o", "--size", "33", "9", "--method", "elliptic"],
+    ]
+    code = f"""
+before = set(sys.modules)
+from pinn_engine.routes import cli
+for argv in {runs!r}:
+    cli.run(cli.build_parser().parse_args([*argv, "-o", f"{{tmp}}/grid.vts", "--quiet"]))
+heavy = {{"pinn_engine", "torch", "scipy", "vtkmodules", "numpy", "sklearn", "distributed"}}
+print(sorted(m for m in set(sys.modules) - before if m.split(".")[0] in heavy))
+"""
+    preload = (
+        "import importlib, sys, tempfile\nfrom pinn_engine.batch import warm\n"
+        "tmp = tempfile.mkdtemp()\nfor name in warm.PRELOAD:\n    importlib.import_module(name)"
+    )
+    assert _imported_after(code, preload) == "[]"

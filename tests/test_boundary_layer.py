@@ -6,7 +6,7 @@ import json
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES, wavy_ring
+from helpers import EXAMPLES, wavy_ring
 
 from pinn_engine.classical.elliptic import controlled_solve
 from pinn_engine.classical.spacing import param_grid, stretch, uniform_params

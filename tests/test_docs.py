@@ -13,7 +13,7 @@ import re
 from pathlib import Path
 
 import pytest
-from conftest import ROOT
+from helpers import ROOT
 
 FENCE = re.compile(r"^(?P<indent> *)(?P<fence>`{3,}|~{3,})\s*(?P<lang>[^\s`]*)")
 PYTHON = {"python", "py", "python3"}
@@ -74,3 +74,25 @@ def test_the_docs_index_lists_every_page():
     linked = set(re.findall(r"\]\(([^)#]+\.md)\)", index))
     pages = {p.name for p in (ROOT / "docs").glob("*.md")} - {"index.md"}
     assert pages - linked == set(), "pages missing from docs/index.md"
+
+
+README_LINES = 250  # the README is a user's page; the rest lives in docs/
+# every domain kind, as the README's opening, the package's description and --help name it
+KINDS = ("four-sided", "O- and C-grids", "multi-block", "hexahedral", "batches")
+
+
+def test_the_readme_is_a_short_page_that_opens_with_every_domain_kind():
+    readme = (ROOT / "README.md").read_text()
+    assert len(readme.splitlines()) <= README_LINES
+    opening = " ".join(readme.splitlines()[:6]).replace("**", "")
+    assert all(kind in opening for kind in KINDS), opening
+    assert "make demo" in readme and "make test" in readme
+
+
+def test_the_description_and_help_name_every_domain_kind():
+    from pinn_engine.routes.cli import build_parser
+
+    description = re.search(r'^description = "(.*)"$', (ROOT / "pyproject.toml").read_text(), re.M)
+    help_text = " ".join(build_parser().format_help().split())
+    for text in (description[1], help_text):
+        assert all(kind in text for kind in KINDS), text

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import ROOT
+from helpers import ROOT
 
 from experiments import BUDGETS, build_parser, run_experiments
 from experiments.analysis import (

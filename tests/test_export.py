@@ -10,11 +10,12 @@ from __future__ import annotations
 import re
 import shutil
 import subprocess
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES, OutputMessages, foam_env, wavy_ring
+from helpers import EXAMPLES, OutputMessages, foam_env, wavy_ring
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkIOLegacy import vtkStructuredGridReader
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader, vtkXMLStructuredGridReader
@@ -348,7 +349,7 @@ def test_failing_writer_leaves_nothing(grid, tmp_path, monkeypatch, ext):
         monkeypatch.setattr(export.vtkfiles, "write_legacy", broken)
         target, fmt = tmp_path / "g.vtk", None
     else:
-        monkeypatch.setitem(export._FILE_WRITERS, ext, broken)
+        monkeypatch.setitem(export.FORMATS, ext, replace(export.FORMATS[ext], block=broken))
         target, fmt = tmp_path / f"g.{ext}", None
     with pytest.raises(OSError, match="disk full"):
         save_mesh(grid, target, fmt)
@@ -559,3 +560,11 @@ def test_the_openfoam_writer_says_where_the_case_went(tmp_path):
     su2.SetInputConnection(alg.GetOutputPort())
     su2.SetFileName(str(tmp_path / "g.su2"))
     assert su2.Write() == 1 and su2.GetLastMessage() == ""
+
+
+def test_the_cgns_helper_python_is_the_checkouts_venv():
+    """ParaView's Save Data writes CGNS through the checkout's .venv Python (its h5py):
+    ``cgns.ROOT`` must be the checkout, the folder holding pyproject.toml."""
+    from pinn_engine.io.export import cgns
+
+    assert (cgns.ROOT / "pyproject.toml").is_file()

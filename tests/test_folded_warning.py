@@ -14,7 +14,7 @@ import warnings
 
 import pytest
 import pyvista as pv
-from conftest import EXAMPLES, ROOT, OutputMessages
+from helpers import EXAMPLES, ROOT, OutputMessages
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
 import pinn_engine

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import square_ring, wavy_ring
+from helpers import square_ring, wavy_ring
 
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import Boundary

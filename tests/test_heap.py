@@ -41,7 +41,7 @@ def test_own_processes_raise_the_thresholds(monkeypatch):
 
 
 def test_the_command_line_tunes_its_process(monkeypatch, tmp_path):
-    from conftest import EXAMPLES
+    from helpers import EXAMPLES
 
     from pinn_engine.routes.cli import main
 
@@ -64,10 +64,19 @@ def test_the_command_line_tunes_its_process(monkeypatch, tmp_path):
 
 
 def test_without_glibc_it_does_nothing(monkeypatch):
-    monkeypatch.setattr(heap, "_glibc", lambda: None)
-    with heap.reuse_freed_memory():
-        pass
-    heap.tune_process()
+    """Outside glibc (musl here) no C library is loaded or called, and the block still runs."""
+    monkeypatch.setattr(heap.platform, "libc_ver", lambda: ("musl", "1.2"))
+    monkeypatch.setattr(heap.ctypes, "CDLL", lambda *a: pytest.fail("a C library was loaded"))
+    heap._glibc.cache_clear()
+    ran = []
+    try:
+        assert heap._glibc() is None
+        with heap.reuse_freed_memory():
+            ran.append(True)
+        heap.tune_process()
+    finally:
+        heap._glibc.cache_clear()
+    assert ran == [True]
 
 
 def test_the_real_glibc_accepts_the_settings():

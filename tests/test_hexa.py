@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import pyvista as pv
-from conftest import ROOT, refused
+from helpers import ROOT, refused
 
 from pinn_engine.hexa import volume
 from pinn_engine.hexa.sharp import faces_at_sharp_edges
@@ -191,5 +191,6 @@ def test_an_stl_without_six_sharp_faces_is_refused(tmp_path, capsys, shape, foun
     out = tmp_path / "o.vts"
     err = refused(capsys, [_write(shape.triangulate(), tmp_path, "s.stl"), "-o", str(out)], out)
     assert err.endswith(
-        f"found {found} faces at edges sharper than 40 degrees; a six-faced domain needs 6"
+        f"found {found} faces at edges sharper than 40 degrees; a six-faced domain needs 6 "
+        "(try a .vtp whose FaceId cell array tags the six faces)"
     )

@@ -10,7 +10,7 @@ import shutil
 import numpy as np
 import pytest
 import pyvista as pv
-from conftest import ROOT
+from helpers import ROOT
 from test_export import check_mesh, foam_list, read_cgns, read_plot3d, read_su2
 from vtkmodules.util.numpy_support import vtk_to_numpy
 

@@ -11,7 +11,7 @@ import re
 import numpy as np
 import pytest
 import pyvista as pv
-from conftest import EXAMPLES
+from helpers import EXAMPLES
 from test_export import foam_list
 
 from pinn_engine.errors import InputError

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import pyvista as pv
 import torch
-from conftest import ROOT
+from helpers import ROOT
 
 from pinn_engine.blocks import hexa
 from pinn_engine.hexa import volume

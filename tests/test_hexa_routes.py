@@ -8,7 +8,7 @@ import json
 import numpy as np
 import pytest
 import pyvista as pv
-from conftest import ROOT, OutputMessages
+from helpers import ROOT, OutputMessages
 
 from pinn_engine.errors import InputError
 from pinn_engine.hexa.orthogonal import inner_angles
@@ -77,7 +77,8 @@ def test_faceid_chooses_the_3d_route_and_its_defaults(bend):
         (
             lambda s: pv.Sphere().pinn_mesh(size=(5, 5, 5)),
             InputError,
-            "input: no FaceId cell array: tag each of the six faces",
+            "input: found 1 faces at edges sharper than 40 degrees; a six-faced domain needs 6 "
+            "(try another face_angle= or a FaceId cell array)",
         ),
         (
             lambda s: s.pinn_mesh(size=SIZE, patches={"bottom": "wall"}),
@@ -106,7 +107,10 @@ def test_algorithm_reports_once_in_the_panels_words_and_recovers(bend):
         alg.Update()
         alg.Update()  # nothing changed: not said again
         assert alg.GetOutput().GetNumberOfPoints() == 0
-        line = "PINN Hexahedral Mesh: input: no FaceId cell array: tag each of the six faces"
+        line = (
+            "PINN Hexahedral Mesh: input: found 1 faces at edges sharper than 40 degrees; a "
+            "six-faced domain needs 6 (try another Face Angle or a FaceId cell array)"
+        )
         assert alg.GetLastError() == line
         assert said.lines == [line]
         alg.SetGridSize(2, 9, 7)

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import ROOT
+from helpers import ROOT
 from scipy.sparse.linalg import spsolve
 
 from pinn_engine.hexa import inexact, volume

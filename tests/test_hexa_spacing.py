@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import ROOT, refused
+from helpers import ROOT, refused
 
 from pinn_engine.hexa import volume
 from pinn_engine.hexa.spacing import node_params

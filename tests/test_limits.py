@@ -6,7 +6,7 @@ import re
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES, ROOT, OutputMessages, square_ring
+from helpers import EXAMPLES, ROOT, OutputMessages, square_ring
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
 from pinn_engine.geometry.boundary import Boundary

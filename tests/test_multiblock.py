@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import pyvista as pv
-from conftest import EXAMPLES
+from helpers import EXAMPLES
 from vtkmodules.vtkFiltersVerdict import vtkMeshQuality
 
 from pinn_engine.job import run_blocks

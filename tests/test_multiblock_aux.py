@@ -9,7 +9,7 @@ import json
 import numpy as np
 import pytest
 import pyvista as pv
-from conftest import ROOT
+from helpers import ROOT
 from test_multiblock import _lines
 
 from pinn_engine.job import run_blocks

@@ -10,11 +10,12 @@ import subprocess
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES, foam_env
+from helpers import EXAMPLES, foam_env
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 from pinn_engine import job
-from pinn_engine.io.export.multiblock import blocks_of, write_blocks
+from pinn_engine.io.export import write_blocks
+from pinn_engine.io.export.multiblock import blocks_of
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import Settings
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import ROOT
+from helpers import ROOT
 
 from pinn_engine.blocks.multiblock import train_block, train_blocks
 from pinn_engine.classical.tfi import tfi_of_sides

@@ -8,7 +8,7 @@ import signal
 import numpy as np
 import pytest
 import pyvista as pv
-from conftest import ROOT, OutputMessages
+from helpers import ROOT, OutputMessages
 from test_multiblock_spacing import _first_edges, _wall_angles, _walls
 from vtkmodules.vtkCommonCore import vtkOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet
@@ -205,6 +205,14 @@ def test_patch_settings_take_strings_sequences_and_mappings():
     assert alg.GetSpacing() == ("cylinder=0.005", "walls=0.01")
     alg.SetSpacing({"cylinder": 0.005})
     assert alg.GetSpacing() == ("cylinder=0.005",)
+    alg.SetSpacing("cylinder=0.005 -0.3,0.2=0.01")  # a side's point keeps its comma
+    assert alg.GetSpacing() == ("cylinder=0.005", "-0.3,0.2=0.01")
+    alg.SetSpacing({(0.3, 0.2): 0.01})
+    assert alg.GetSpacing() == ("0.3,0.2=0.01",)
+    alg.SetPatchNames({"hole1": "cylinder:wall"})
+    assert alg.GetPatchNames() == ("hole1=cylinder:wall",)
+    alg.SetCells({(1.2, 0.41): 40})
+    assert alg.GetCells() == ("1.2,0.41=40",)
     alg.SetOrthogonal("cylinder,walls")
     assert alg.GetOrthogonal() == ("cylinder", "walls")
     alg.SetOrthogonal(["cylinder"])

@@ -9,7 +9,7 @@ import json
 import numpy as np
 import pytest
 import pyvista as pv
-from conftest import EXAMPLES
+from helpers import EXAMPLES
 from test_multiblock import _sides, interface_kinks
 
 from pinn_engine.routes.cli import main

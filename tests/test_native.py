@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import logging
 import os
+import re
 import shutil
 import stat
 from pathlib import Path
 
 import pytest
 import torch
-from conftest import needs_compiler
+from helpers import needs_compiler
 
 from pinn_engine.neural.jet import layers, native
 from pinn_engine.neural.jet.layers import ACTIVATIONS
@@ -34,6 +35,32 @@ def fresh_kernels(monkeypatch, tmp_path):
     native.kernels.cache_clear()
     yield
     native.kernels.cache_clear()
+
+
+@pytest.fixture(scope="session")
+def built_library() -> Path:
+    """The kernels library this machine already has (the install's, else the engine's
+    cache; built there once if neither has it)."""
+    assert native.kernels() is not None
+    packaged = native.packaged_library(native.PACKAGED_DIR)
+    return packaged if packaged.exists() else native._built(native._compiler())[0]
+
+
+@pytest.fixture
+def copied_build(built_library, monkeypatch) -> list[Path]:
+    """``_compile`` copies ``built_library`` to its target (0700, as the compiler's output is
+    left): the cache's choices with a real library to load, without compiling again (one
+    test, ``test_the_build_is_cached_per_source_and_reused``, compiles for real)."""
+    built = []
+
+    def copy(compiler, folder, target):
+        shutil.copyfile(built_library, target)
+        target.chmod(0o700)
+        built.append(target)
+        return target
+
+    monkeypatch.setattr(native, "_compile", copy)
+    return built
 
 
 @needs_compiler
@@ -76,10 +103,9 @@ def test_the_build_is_cached_per_source_and_reused(fresh_kernels, tmp_path):
     assert not list(tmp_path.glob("*.tmp*")) and len(list(tmp_path.iterdir())) == 1
 
 
-@pytest.mark.slow  # compiles the kernels afresh (about 30 s)
 @needs_compiler
 def test_an_unusable_cache_directory_builds_in_the_temporary_directory(
-    fresh_kernels, monkeypatch, tmp_path
+    fresh_kernels, copied_build, monkeypatch, tmp_path
 ):
     blocker = tmp_path / "a-file"
     blocker.write_text("not a directory")
@@ -238,7 +264,9 @@ def test_a_library_owned_by_another_user_is_not_loaded(no_build, tmp_path, monke
 
 @needs_compiler
 @pytest.mark.skipif(os.name == "nt", reason="POSIX owners and modes")
-def test_the_engine_never_loads_a_planted_library(fresh_kernels, tmp_path, monkeypatch):
+def test_the_engine_never_loads_a_planted_library(
+    fresh_kernels, copied_build, tmp_path, monkeypatch
+):
     planted = _plant(tmp_path)
     tmp_path.chmod(0o777)
     monkeypatch.setattr(native.tempfile, "gettempdir", lambda: str(tmp_path / "tmp"))
@@ -300,7 +328,7 @@ def test_without_a_compiler_the_install_goes_on_and_a_run_warns_once(
 
 def test_the_build_key_names_the_cpu(monkeypatch):
     key = native.build_key("c++")
-    assert len(key) == 16 and int(key, 16) >= 0
+    assert re.fullmatch(r"[0-9a-f]{16}", key)
     monkeypatch.setattr(native, "_cpu_id", lambda: "x86_64 Linux model name=CPU A")
     a = native.build_key("c++")
     monkeypatch.setattr(native, "_cpu_id", lambda: "x86_64 Linux model name=CPU B")

@@ -16,7 +16,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from conftest import ROOT, foam_env
+from helpers import ROOT, foam_env
 
 from pinn_engine.routes.cli import main
 

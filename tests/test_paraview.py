@@ -11,13 +11,14 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import subprocess
 from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import ROOT
+from helpers import ROOT
 
 pytestmark = pytest.mark.paraview
 
@@ -279,6 +280,8 @@ def test_save_data_offers_the_solver_formats_and_writes_them(checkout, tmp_path)
     check_gmsh(tmp_path / "grid3.msh", reference, 0.25)
     check_cgns(tmp_path / "grid.cgns", reference, None)
     check_cgns(tmp_path / "grid3.cgns", reference, 0.25)
+    assert result["cgns_writer"] == "CGNSPINNMeshWriter" and result["is_three_d"] == 0
+    check_cgns(tmp_path / "saved.cgns", reference, None)  # Save Data's .cgns: ZoneBC, families
     assert [ln for ln in result["no_helper"]["vtk"].splitlines() if ln.strip()] == [
         "PINN Mesh writer: cgns: writing CGNS needs a working h5py, which this Python lacks; "
         "ParaView's HDF5 clashes with pip's h5py, so the writer runs the checkout's .venv "
@@ -335,15 +338,28 @@ def test_multiblock_filter_on_the_step(checkout):
         "Blocking",
         "Method",
         "CellSize",
+        "CellCounts",
         "Interfaces",
         "PatchNames",
         "FirstEdgeSpacing",
         "OrthogonalPatches",
+        "TimeLimit",
     }
     assert result["methods"] == ["tfi", "elliptic", "pinn"]
     assert result["interfaces"] == ["free", "fixed"]
     assert result["class"] == "vtkMultiBlockDataSet" and result["progress"] == [0.0, 1.0]
-    assert not result["together_messages"]
+    told = [ln for ln in result["together_messages"].splitlines() if ln.strip()]
+    assert len(told) == 1 and told[0].startswith("PINN Multi-Block Mesh: pinn 4 blocks, ")
+    assert result["file_types"] == [  # Save Data offers the solver formats for the blocks
+        "PINN Mesh CGNS(*.cgns )",
+        "PINN Mesh Gmsh(*.msh )",
+        "PINN Mesh OpenFOAM(*.foam )",
+        "PINN Mesh PLOT3D(*.xyz )",
+        "PINN Mesh SU2(*.su2 )",
+    ]
+    assert "NELEM= 1748" in result["su2"] and "MARKER_TAG= boundary" in result["su2"]
+    assert re.search(r"boundary\s*\{\s*type\s+patch;", result["foam_boundary"])
+    assert "wrote the OpenFOAM case" in result["save_messages"]
     boundary, edges = ROOT / "example_data" / "step.vtp", ROOT / "example_data" / "step_blocks.vtp"
     for key, method, interfaces in (
         ("together", "pinn", "free"),
@@ -413,12 +429,17 @@ def test_hexahedral_filter_on_the_bend(checkout):
         "Input",
         "Method",
         "GridSize",
+        "TimeLimit",
+        "FaceAngle",
         "PatchNames",
         "FirstEdgeSpacing",
         "OrthogonalPatches",
     }
     assert result["methods"] == list(METHODS)
-    assert result["progress"] == [0.0, 1.0] and not result["messages"]
+    assert result["progress"] == [0.0, 1.0]
+    told = [ln for ln in result["messages"].splitlines() if ln.strip()]  # the summary line
+    assert told == [ln for ln in told if ln.startswith("PINN Hexahedral Mesh: tfi 11x9x7 hexa")]
+    assert len(told) == 1 and "; faces face0=jmin face1=jmax face2=imax face3=imin" in told[0]
     assert "PINN Hexahedral Mesh: face grids" in result["progress_texts"]
     size = (11, 9, 7)
     for method in ("tfi", "elliptic", "pinn"):
@@ -452,7 +473,17 @@ def test_hexahedral_filter_on_the_bend(checkout):
     ]
     messages = [ln for ln in result["bad_vtk_text"].splitlines() if ln.strip()]
     assert messages == [
-        "PINN Hexahedral Mesh: input: no FaceId cell array: tag each of the six faces"
+        "PINN Hexahedral Mesh: input: found 1 faces at edges sharper than 40 degrees; a "
+        "six-faced domain needs 6 (try another Face Angle or a FaceId cell array)"
     ]
     assert result["bad_points"] == 0 and "Traceback" not in result["bad_stderr"]
     assert result["recovered_points"] == 11 * 9 * 7
+    stl = result["stl"]  # the STL's faces found at 40 degrees, named by FaceId
+    assert stl["patches"] == ["outlet", "imax", "inner", "jmax", "kmin", "kmax"]
+    assert "faces face0=jmin face1=jmax face2=imax face3=imin" in result["stl_told"]
+    assert result["curve_points"] == 0
+    assert (
+        "holds no surface triangles: a 2D curve is meshed by PINN Structured Mesh"
+        in (result["curve_text"])
+    )
+    assert result["cgns_writer"] == "CGNSPINNMeshWriter" and result["is_three_d"] == 1

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import torch
-from conftest import EXAMPLES, needs_compiler
+from helpers import EXAMPLES, needs_compiler
 
 from pinn_engine.blocks.mapping import Mapping
 from pinn_engine.blocks.quad import QuadProblem, _FusedEvaluation

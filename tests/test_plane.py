@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import pyvista as pv
-from conftest import EXAMPLES
+from helpers import EXAMPLES
 
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import Boundary

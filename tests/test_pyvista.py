@@ -11,7 +11,7 @@ from importlib.metadata import entry_points
 import numpy as np
 import pytest
 import pyvista as pv
-from conftest import EXAMPLES, ROOT, wavy_ring
+from helpers import EXAMPLES, ROOT, wavy_ring
 
 from pinn_engine.errors import InputError, PinnMeshError
 from pinn_engine.routes.pyvista_accessor import PinnMeshAccessor, pinn_mesh

@@ -12,7 +12,7 @@ import re
 import h5py
 import pytest
 import pyvista as pv
-from conftest import EXAMPLES
+from helpers import EXAMPLES
 
 import pinn_engine
 from pinn_engine.settings import Settings

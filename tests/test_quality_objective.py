@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pytest
 import torch
-from conftest import EXAMPLES, square_ring
+from helpers import EXAMPLES, square_ring
 
 from pinn_engine.classical.tfi import tfi_grid
 from pinn_engine.geometry.boundary_fit import ArcLengthFit

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import pyvista as pv
-from conftest import OutputMessages
+from helpers import OutputMessages
 from vtkmodules.vtkFiltersSources import vtkPolyLineSource
 
 from pinn_engine.errors import ROUTE_WORDS, InputError

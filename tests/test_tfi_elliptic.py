@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES
+from helpers import EXAMPLES
 
 from pinn_engine.classical.elliptic import winslow_residual, winslow_solve, winslow_sweeps
 from pinn_engine.classical.tfi import node_params, tfi_grid

@@ -5,9 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES
+from helpers import EXAMPLES
 
 from pinn_engine.blocks.multiblock import train_block
+from pinn_engine.blocks.untrained import WINSLOW, start_block
 from pinn_engine.classical.elliptic import winslow_solve
 from pinn_engine.classical.tfi import tfi_grid
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
@@ -74,3 +75,14 @@ def test_a_folded_block_of_a_multiblock_grid_is_untangled(winslow):
         assert np.array_equal(trained.grid[side], block[side])
     assert trained.info["untangled"]["winslow_folded_cells"] > 0
     assert _close(trained.grid, block)
+
+
+def test_an_untrained_block_is_untangled_too(winslow):
+    """A block whose network cannot win (no auxiliary line in it) keeps its start untangled,
+    its side nodes bit for bit, as the multi-block pinn's report says."""
+    block = winslow * 3.0 + 1.0
+    grid, report = start_block(block, WINSLOW)
+    assert folded_cells(grid).sum() == 0 and report["untangled"]["folded_cells"] == 0
+    for side in (np.s_[0], np.s_[-1], np.s_[:, 0], np.s_[:, -1]):
+        assert np.array_equal(grid[side], block[side])
+    assert _close(grid, block)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES
+from helpers import EXAMPLES
 
 from pinn_engine.blocks.model import TrainedModel
 from pinn_engine.io.pipeline import load_aux, load_boundary

@@ -16,7 +16,7 @@ import zipfile
 from pathlib import Path
 
 import pytest
-from conftest import EXAMPLES, ROOT, has_compiler
+from helpers import EXAMPLES, ROOT, has_compiler
 
 pytestmark = pytest.mark.slow
 

@@ -7,14 +7,20 @@ from __future__ import annotations
 import argparse
 import sys
 
-from pinn_engine.errors import PinnMeshError
-from pinn_engine.routes.cli import EXIT_ERROR, EXIT_INTERRUPTED
+from pinn_engine.batch import warm
+from pinn_engine.errors import MissingExtraError, PinnMeshError
+from pinn_engine.routes.cli import EXIT_ERROR, EXIT_INTERRUPTED, OneLineParser
 
 EXIT_FAILED = 1  # some cases got an error row; the others were meshed
+# why a cluster shows no dashboard: its scheduler runs without one, or without bokeh
+NO_DASHBOARD = (
+    "none (the scheduler serves no pages: started without a dashboard, or without bokeh; "
+    "pip install 'pinn-mesh[batch]' where it runs)"
+)
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
+    p = OneLineParser(
         prog="pinn-mesh batch",
         description="Mesh every case of a manifest (CSV: name,input,aux,options) on a Dask "
         "cluster; each case as the single-run command would mesh it.",
@@ -36,14 +42,20 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str]) -> int:
     """Run the batch; returns the exit status."""
-    from pinn_engine.batch.api import run
-    from pinn_engine.batch.cluster import connect, dashboard
-    from pinn_engine.batch.manifest import ManifestError, read_manifest
-
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.workers is not None and args.workers < 1:
         parser.error(f"--workers {args.workers}: give at least 1")
+    if not args.scheduler:  # the local workers' server imports while this process does
+        warm.start()
+    from pinn_engine.batch.api import run
+    from pinn_engine.batch.manifest import ManifestError, read_manifest
+
+    try:
+        from pinn_engine.batch.cluster import connect, dashboard
+    except MissingExtraError as exc:
+        print(f"pinn-mesh batch: error: {exc}", file=sys.stderr)
+        return EXIT_ERROR
     try:
         cases = read_manifest(args.manifest)
     except ManifestError as exc:
@@ -51,9 +63,8 @@ def main(argv: list[str]) -> int:
         return EXIT_ERROR
     try:
         with connect(args.workers, args.scheduler) as client:
-            link = dashboard(client)
-            if link:
-                print(f"Dask dashboard: {link}", file=sys.stderr, flush=True)
+            link = dashboard(client) or NO_DASHBOARD
+            print(f"Dask dashboard: {link}", file=sys.stderr, flush=True)
             rows = run(client, cases, args.output, args.force, sys.stderr)
     except KeyboardInterrupt:
         print(

@@ -5,33 +5,41 @@ from __future__ import annotations
 
 import contextlib
 import importlib.util
-import multiprocessing
 import os
+import sys
 from collections.abc import Iterator
 
-import dask
-from distributed import Client, LocalCluster
-from distributed.diagnostics.plugin import WorkerPlugin
+from pinn_engine.errors import MissingExtraError
+
+try:
+    import dask
+    from distributed import Client, LocalCluster
+    from distributed.diagnostics.plugin import WorkerPlugin
+except ModuleNotFoundError as exc:  # installed without the batch extra
+    raise MissingExtraError("batch meshing (Dask)", "batch") from exc
+
+from pinn_engine.batch import warm
 
 HOST = "127.0.0.1"  # a local cluster listens on this machine only
 DASHBOARD = f"{HOST}:8787"  # Dask's usual dashboard port (another is taken when it is busy)
 THREADS_PER_WORKER = 1  # one case at a time a process: cases run side by side in processes
-# How a local cluster starts its worker processes: forked from a server process that has
-# Dask imported, and ended by os._exit, where a spawned process ends by a full interpreter
-# shutdown (about 1 s a worker with torch and VTK loaded, paid at every batch's close)
-START_METHOD = "forkserver"
 
 
 class MeshingWorker(WorkerPlugin):
-    """Set a worker process up as the single-run command sets itself up: one torch thread
-    (cases run in parallel across workers, not inside one) and glibc's heap tuned."""
+    """Set a worker process up as the single-run command sets itself up, glibc's heap tuned,
+    with one thread for torch and the BLAS (cases run in parallel across workers, not inside
+    one). torch is not imported here: only a case that trains needs it, and it reads
+    ``OMP_NUM_THREADS`` when it is imported."""
 
     def setup(self, worker) -> None:  # noqa: ARG002
-        import torch
+        from threadpoolctl import threadpool_limits
 
         from pinn_engine import heap
 
-        torch.set_num_threads(1)
+        if "torch" in sys.modules:
+            sys.modules["torch"].set_num_threads(1)
+        os.environ["OMP_NUM_THREADS"] = "1"
+        threadpool_limits(1)
         heap.tune_process()
 
 
@@ -49,7 +57,8 @@ def connect(workers: int | None = None, scheduler: str | None = None) -> Iterato
             prepare(client)
             yield client
         return
-    method = START_METHOD if START_METHOD in multiprocessing.get_all_start_methods() else None
+    warm.start()
+    method = warm.start_method()
     # for the cluster's life: the nanny starts a worker that died by the same method
     with dask.config.set({"distributed.worker.multiprocessing-method": method} if method else {}):
         cluster = LocalCluster(

@@ -38,7 +38,8 @@ from pinn_engine.neural.jet import ETA, XI
 from pinn_engine.neural.jet.layers import ACTIVATIONS
 from pinn_engine.neural.losses import loss_eqns, loss_orthogonal
 from pinn_engine.neural.networks import autograd_jet
-from pinn_engine.neural.trainer import AutogradEvaluation, Guard, Progress, fit, training_process
+from pinn_engine.neural.session import GuardRule, train_network
+from pinn_engine.neural.trainer import AutogradEvaluation, Progress
 from pinn_engine.quality import guard_figures, no_worse
 from pinn_engine.settings import Settings
 
@@ -191,24 +192,29 @@ def train_body(
     periodic = lay.topology == "o"
     warm = settings.warm_start == "elliptic"
     start = elliptic_grid if warm else bodygrid.tfi(lay, elliptic_grid.shape[0])
-    with training_process(torch.device("cpu")):
-        torch.manual_seed(settings.seed)
-        net = BodyNet(periodic, settings.hidden_layers, settings.neurons, settings.activation)
-        problem = BodyProblem(net, start, controls, periodic, settings)
-        guard = reference = None
-        if warm:
-            reference = guard_figures(elliptic_grid)
-            diagonal = float(np.linalg.norm(np.ptp(start.reshape(-1, 2), axis=0)))
-            guard = Guard(
-                net,
-                problem.grid,
-                guard_figures,
-                lambda q, kept: no_worse(q, reference, *BODY_GUARD_TOL),
-                guard_figures(start),
-                diagonal,
-            )
-        history, info = fit(problem, settings, guard, progress)
-        grid = problem.grid()
+    reference = guard_figures(elliptic_grid) if warm else None
+
+    def problem(net, dtype, device) -> tuple[BodyProblem, GuardRule | None]:
+        body = BodyProblem(net, start, controls, periodic, settings)
+        if not warm:
+            return body, None
+        diagonal = float(np.linalg.norm(np.ptp(start.reshape(-1, 2), axis=0)))
+        return body, GuardRule(
+            body.grid,
+            guard_figures,
+            lambda q, kept: no_worse(q, reference, *BODY_GUARD_TOL),
+            guard_figures(start),
+            diagonal,
+        )
+
+    def network(dtype, device) -> BodyNet:
+        return BodyNet(periodic, settings.hidden_layers, settings.neurons, settings.activation)
+
+    training = train_network(
+        settings, network, problem, progress, zero_output=False, device=torch.device("cpu")
+    )
+    history, info, guard = training.history, training.info, training.guard
+    grid = guard.kept_grid if guard is not None else training.problem.grid()
     info["warm_start"] = settings.warm_start
     if guard is not None:
         info["guard"]["elliptic"] = reference

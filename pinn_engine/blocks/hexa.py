@@ -37,13 +37,10 @@ from pinn_engine.neural.losses import (
     winslow_residual_3d,
 )
 from pinn_engine.neural.networks import CoordinateNet
+from pinn_engine.neural.session import GuardRule, train_network
 from pinn_engine.neural.trainer import (
     AutogradEvaluation,
-    Guard,
     Progress,
-    fit,
-    pick_device,
-    training_process,
 )
 from pinn_engine.quality import no_worse
 from pinn_engine.settings import Settings
@@ -305,8 +302,6 @@ def train(
     ``HEXA_SETTINGS`` over Settings' defaults; ``progress`` is the trainer's callback
     (neural/trainer.py)."""
     settings = settings or Settings(**HEXA_SETTINGS)
-    dtype = {"float64": torch.float64, "float32": torch.float32}[settings.dtype]
-    device = pick_device(settings.device)
     tfi = start.tfi
     correction = LatticeField(start.grid - tfi)
     params = None if start.params is None else LatticeField(start.params)
@@ -327,9 +322,11 @@ def train(
             and q.get("wall_angle", 0.0) <= wall_tol
         )
 
-    with training_process(device):
-        torch.manual_seed(settings.seed)
-        net = CoordinateNet(
+    reference = figures(start.grid)
+    built: list[HexaModel] = []
+
+    def network(dtype: torch.dtype, device: torch.device) -> CoordinateNet:
+        return CoordinateNet(
             "shortcut",
             settings.hidden_layers,
             settings.neurons,
@@ -337,15 +334,17 @@ def train(
             outputs=DIMENSIONS,
             inputs=DIMENSIONS,
         ).to(device=device, dtype=dtype)
-        with torch.no_grad():  # the map starts as the Winslow grid
-            net.w_out.zero_()
+
+    def problem(net, dtype, device) -> tuple[HexaProblem, GuardRule]:
         model = HexaModel(net, correction, settings, {}, {}, surface_key)
-        problem = HexaProblem(
-            net, LatticeField(start.grid), settings, dtype, device, params, start.walls
-        )
-        reference = figures(start.grid)
+        built.append(model)
         diagonal = float(np.linalg.norm(np.ptp(tfi.reshape(-1, DIMENSIONS), axis=0)))
-        guard = Guard(net, lambda: model.grid(tfi), figures, accept, reference, diagonal)
-        model.history, model.info = fit(problem, settings, guard, progress)
+        return HexaProblem(
+            net, LatticeField(start.grid), settings, dtype, device, params, start.walls
+        ), GuardRule(lambda: model.grid(tfi), figures, accept, reference, diagonal)
+
+    training = train_network(settings, network, problem, progress)
+    model, device = built[0], training.device
+    model.history, model.info = training.history, training.info
     model.info.update(device=str(device), start="elliptic", elliptic=reference)
     return model

@@ -22,19 +22,19 @@ import time
 from collections.abc import Callable, Sequence
 
 import numpy as np
-import torch
 
 from pinn_engine.blocks.mapping import Mapping
 from pinn_engine.blocks.quad import GUARD_TOL as QUAD_GUARD_TOL
-from pinn_engine.blocks.quad import QuadProblem
+from pinn_engine.blocks.quad import QuadProblem, network
+from pinn_engine.blocks.untrained import blocks_report
 from pinn_engine.classical.tfi import tfi_grid
 from pinn_engine.classical.warm import WarmStart
 from pinn_engine.errors import STOP, TrainingCancelled
 from pinn_engine.geometry.auxlines import AuxLine
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
 from pinn_engine.multiblock.quadblock import block_boundary
-from pinn_engine.neural.networks import CoordinateNet
-from pinn_engine.neural.trainer import Guard, Progress, fit, pick_device, training_process
+from pinn_engine.neural.session import GuardRule, train_network
+from pinn_engine.neural.trainer import Progress
 from pinn_engine.quality import folded_cells, guard_figures, no_worse
 from pinn_engine.settings import Settings
 from pinn_engine.starts.untangle import untangle
@@ -113,29 +113,23 @@ def train_block(
         return out
 
     settings = dataclasses.replace(settings, lattice=(ni, nj))
-    dtype = {"float64": torch.float64, "float32": torch.float32}[settings.dtype]
-    device = pick_device(settings.device)
-    with training_process(device):
-        torch.manual_seed(settings.seed)
-        net = CoordinateNet(
-            "shortcut", settings.hidden_layers, settings.neurons, settings.activation
-        )
-        net = net.to(device=device, dtype=dtype)
-        with torch.no_grad():  # the map starts as the block's elliptic grid
-            net.w_out.zero_()
+    reference = {**guard_figures(unit), **kinks(start)}
+
+    def problem(net, dtype, device) -> tuple[QuadProblem, GuardRule]:
         base = tfi_grid(ArcLengthFit(boundary).sample, ni, nj)
         mapping = Mapping(net, boundary, "hard", WarmStart(unit - base))
-        problem = QuadProblem(mapping, boundary, aux, settings, dtype, device)
-        reference = {**guard_figures(unit), **kinks(start)}
-        guard = Guard(
-            net,
+        return QuadProblem(mapping, boundary, aux, settings, dtype, device), GuardRule(
             lambda: mapping.grid(ni, nj),
             lambda grid: {**guard_figures(grid), **kinks(user(grid))},
             lambda q, kept: _no_worse(q, reference, bool(aux)),
             reference,
             boundary.diagonal,
         )
-        _, info = fit(problem, settings, guard, progress)
+
+    training = train_network(
+        settings, lambda dtype, device: network(settings, dtype, device), problem, progress
+    )
+    info, guard = training.info, training.guard
     grid = user(guard.kept_grid) if info["result"] == "network" else start.copy()
     if start is not winslow:
         info["untangled"] = {
@@ -185,11 +179,7 @@ def train_blocks(
                 **{k: trained.info[k] for k in ("untangled",) if k in trained.info},
             }
         )
-    report = {
-        "seconds": time.perf_counter() - began,
-        "network_blocks": sum(b["result"] == "network" for b in blocks),
-        "blocks": blocks,
-    }
+    report = blocks_report(blocks, began)
     return out, report
 
 

@@ -13,16 +13,16 @@ against the start's reference, and training ends with the last state that was no
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 import torch
 
-from pinn_engine.blas import one_blas_thread
 from pinn_engine.blocks.mapping import Mapping
 from pinn_engine.blocks.model import TrainedModel
-from pinn_engine.classical.spacing import chord_tangents, classical_grid, working_spacing
+from pinn_engine.blocks.untrained import untangled_report
+from pinn_engine.classical.spacing import chord_tangents
 from pinn_engine.classical.tfi import node_params, tfi_grid
 from pinn_engine.classical.warm import WarmStart
 from pinn_engine.geometry.auxlines import AuxLine
@@ -39,19 +39,17 @@ from pinn_engine.neural.losses import (
     total_loss,
 )
 from pinn_engine.neural.networks import CoordinateNet
+from pinn_engine.neural.session import DTYPES, GuardRule, train_network
 from pinn_engine.neural.trainer import (
     AutogradEvaluation,
-    Guard,
     Progress,
-    fit,
-    pick_device,
-    training_process,
 )
-from pinn_engine.quality import folded_cells, guard_figures, no_worse, orientation, side_report
+from pinn_engine.quality import guard_figures, no_worse, orientation, side_report
 from pinn_engine.settings import Settings
-from pinn_engine.starts.quality_start import Ranking, quality_start
-from pinn_engine.starts.untangle import acceptable, untangled_start
-from pinn_engine.starts.warmstart import elliptic_start, lattice_for, orthogonal_start
+from pinn_engine.starts.quad_start import quad_start
+from pinn_engine.starts.quality_start import Ranking
+from pinn_engine.starts.untangle import acceptable
+from pinn_engine.starts.warmstart import lattice_for
 
 # A state is kept if its grid has no more folded cells than the elliptic grid and mean and
 # worst MaxIncludedAngle within (mean, worst) degrees of it: half the hard shapes' acceptance
@@ -415,52 +413,11 @@ def guard_rule(
     return figures, accept, ref if ranking is None else figures(start), ref
 
 
-@dataclass
-class QuadStart:
-    """Where a four-sided block's training starts, on the lattice: the ``warm`` start, the
-    guard's ``reference`` grid, the quality objective's ``start`` grid and ``ranking``, the
-    lattice's node parameters ``params`` (a spacing), and the folded ``winslow`` grid that
-    the start untangles (untangle.py)."""
-
-    warm: WarmStart
-    reference: np.ndarray
-    start: np.ndarray | None = None
-    params: np.ndarray | None = None
-    ranking: Ranking | None = None
-    winslow: np.ndarray | None = None
-
-
-def _warm_start(
-    boundary: Boundary, settings: Settings, lattice: tuple[int, int], aux: Sequence[AuxLine]
-) -> QuadStart:
-    """The start on ``lattice``. The reference is the converged elliptic grid (untangled
-    where it folds, untangle.py), under the spacing if one is set (its node parameters,
-    spacing.py), or the orthogonal start grid itself under ``--orthogonal``
-    (orthogonal.py)."""
-    spacing = working_spacing(settings.spacing, boundary) if settings.spacing else {}
-    params = reference = None
-    if spacing:
-        params, reference = classical_grid(boundary, *lattice, "elliptic", spacing)
-    if settings.orthogonal:
-        heights = {s: h for s, h in spacing.items() if s in settings.orthogonal}
-        warm, reference = orthogonal_start(boundary, *lattice, settings.orthogonal, params, heights)
-        lattice_params = None if warm.nodes is None else np.stack(np.meshgrid(*warm.nodes), -1)
-        return QuadStart(warm, reference, params=lattice_params)
-    warm, elliptic = elliptic_start(boundary, *lattice)
-    if settings.method != "pinn":
-        return QuadStart(warm, elliptic if reference is None else reference, params=params)
-    if settings.objective == "quality":
-        tfi = elliptic - warm.correction  # the TFI base plus the new start's correction
-        ranking = Ranking.of(elliptic, aux, boundary.diagonal)
-        with one_blas_thread():  # its L-BFGS, as _lbfgs's
-            warm, ranking = quality_start(warm, elliptic, ranking)
-        start = tfi + warm.correction
-        return QuadStart(warm, elliptic if reference is None else reference, start, params, ranking)
-    if reference is None:
-        untangled = untangled_start(warm, elliptic)
-        if untangled is not None:
-            return QuadStart(*untangled, winslow=elliptic)
-    return QuadStart(warm, elliptic if reference is None else reference, params=params)
+def network(settings: Settings, dtype: torch.dtype, device: torch.device) -> CoordinateNet:
+    """The four-sided block's network: the shortcut network for pinn, a plain MLP for mgnet."""
+    kind = "shortcut" if settings.method == "pinn" else "mlp"
+    net = CoordinateNet(kind, settings.hidden_layers, settings.neurons, settings.activation)
+    return net.to(device=device, dtype=dtype)
 
 
 def train(
@@ -470,49 +427,66 @@ def train(
     progress: Progress | None = None,
 ) -> TrainedModel:
     """Train the networks for ``boundary`` (working frame) and return the trained model."""
-    dtype = {"float64": torch.float64, "float32": torch.float32}[settings.dtype]
-    device = pick_device(settings.device)
-    with training_process(device):
-        torch.manual_seed(settings.seed)
-        kind = "shortcut" if settings.method == "pinn" else "mlp"
-        net = CoordinateNet(kind, settings.hidden_layers, settings.neurons, settings.activation)
-        net = net.to(device=device, dtype=dtype)
-        aux = aux if settings.method == "pinn" else ()
-        begin = None
-        if settings.warm_start == "elliptic":
-            lattice = lattice_for(*settings.lattice)
-            begin = _warm_start(boundary, settings, lattice, aux)
-            with torch.no_grad():  # the map starts as the warm start's grid
-                net.w_out.zero_()
+    aux = aux if settings.method == "pinn" else ()
+    warm_start = settings.warm_start == "elliptic"
+    lattice = lattice_for(*settings.lattice)
+    built: dict = {}
+
+    began = time.perf_counter()
+
+    def problem(net, dtype, device) -> tuple[QuadProblem, GuardRule | None]:
+        began_start = time.perf_counter()
+        begin = quad_start(boundary, settings, lattice, aux) if warm_start else None
+        built["start_seconds"] = time.perf_counter() - began_start
         warm = None if begin is None else begin.warm
         params = None if begin is None else begin.params
         mapping = Mapping(net, boundary, settings.boundary_mode, warm)
         steps = first_steps(lattice, params) if warm is not None else None
-        problem = QuadProblem(mapping, boundary, aux, settings, dtype, device, steps, params)
-        guard = ref = None
-        if begin is not None:
-            reference = begin.reference
-            size = reference.shape[1], reference.shape[0]
-            figures, accept, kept, ref = guard_rule(
-                reference, bool(aux), begin.start, settings.orthogonal, begin.ranking, begin.winslow
-            )
-            guard = Guard(
-                net,
-                lambda: mapping.grid(*size, params=params),
-                figures,
-                accept,
-                kept,
-                boundary.diagonal,
-            )
-        lambda1 = 1.0 if settings.boundary_mode == "penalty" else 0.0
-        history, info = fit(problem, settings, guard, progress, lambda1)
-    info["device"] = str(device)
-    if guard is not None:
-        info["guard"].update(lattice=list(size), elliptic=ref)
-        info["start"] = warm.start
+        quad = QuadProblem(mapping, boundary, aux, settings, dtype, device, steps, params)
+        built.update(begin=begin, mapping=mapping)
+        if begin is None:
+            return quad, None
+        reference = begin.reference
+        size = reference.shape[1], reference.shape[0]
+        figures, accept, kept, ref = guard_rule(
+            reference, bool(aux), begin.start, settings.orthogonal, begin.ranking, begin.winslow
+        )
+        built.update(size=size, ref=ref)
+        grid = lambda: mapping.grid(*size, params=params)  # noqa: E731
+        return quad, GuardRule(grid, figures, accept, kept, boundary.diagonal)
+
+    lambda1 = 1.0 if settings.boundary_mode == "penalty" else 0.0
+    training = train_network(
+        settings,
+        lambda dtype, device: network(settings, dtype, device),
+        problem,
+        progress,
+        zero_output=warm_start,
+        lambda1=lambda1,
+    )
+    info, begin = training.info, built["begin"]
+    info["device"] = str(training.device)
+    start_seconds = built["start_seconds"]
+    training_seconds = time.perf_counter() - began - start_seconds
+    info["timings"] = {"start": start_seconds, "training": training_seconds}
+    if begin is not None:
+        info["guard"].update(lattice=list(built["size"]), elliptic=built["ref"])
+        info["start"] = begin.warm.start
         if begin.winslow is not None:
-            info["untangled"] = {
-                "winslow_folded_cells": int(folded_cells(begin.winslow).sum()),
-                "folded_cells": int(folded_cells(begin.reference).sum()),
-            }
-    return TrainedModel(mapping=mapping, settings=settings, history=history, info=info)
+            info["untangled"] = untangled_report(begin.winslow, begin.reference)
+    return TrainedModel(
+        mapping=built["mapping"], settings=settings, history=training.history, info=info
+    )
+
+
+def untrained_model(
+    boundary: Boundary, warm: WarmStart, settings: Settings, info: dict
+) -> TrainedModel:
+    """The trained model a start equals (untrained.StartModel): the seeded network with its
+    output layer at zero on the ``warm`` start, to save and load as any trained model."""
+    torch.manual_seed(settings.seed)
+    net = network(settings, DTYPES[settings.dtype], torch.device("cpu"))
+    with torch.no_grad():
+        net.w_out.zero_()
+    mapping = Mapping(net, boundary, "hard", warm)
+    return TrainedModel(mapping=mapping, settings=settings, history={}, info=info)

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import numpy as np
 from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
 SHARP_ANGLE = 40.0  # degrees between neighbouring triangles' normals that end a face (SPEC 11)
 
@@ -41,5 +40,8 @@ def faces_at_sharp_edges(
     graph = coo_matrix(
         (np.ones(int(smooth.sum())), (owner[a][smooth], owner[b][smooth])), shape=(n, n)
     )
+    # imported here: the command line imports this module for every run, STLs are few
+    from scipy.sparse.csgraph import connected_components
+
     count, face_of = connected_components(graph, directed=False)
     return count, face_of

@@ -99,7 +99,7 @@ def surface_of(
         if count != FACES:
             raise InputError(
                 f"found {count} faces at edges sharper than {angle:g} degrees; a "
-                "six-faced domain needs 6",
+                "six-faced domain needs 6 (try {face_angle})",
                 source,
             )
         return Surface(points, triangles, face_of, np.arange(FACES))

@@ -6,28 +6,23 @@ The library leaves its host process alone: it never forks it (forking a process 
 threads, as ParaView, a notebook, a Dask worker or torch's thread pool do, can deadlock the
 child). Grids are written in this process to a temporary file beside the target that then
 replaces it (:func:`atomic_path`). VTK files (``.vtp``, ``.vtk``), whose readers crash on
-damaged files, are read by a new Python started for the purpose (:func:`_read_in_child`);
+damaged files, are read by a new Python started for the purpose (:mod:`.childread`);
 ``.csv`` and ``.txt`` tables are read here, in Python. What the child costs, measured
 (``read_polydata`` on ``example_data/wavy.vtp``, 240 points, 9 reads each, from a process
 with torch loaded, on a shared 2-core machine at load average 6): 217 ms a read (149-224),
 against 0.3 ms reading in this process and 38 ms (22-46) for the forked probe it replaces;
 on a 200 000-point ring (3.8 MB): 318 ms against 54 ms and 212 ms. Most of it is the child's
-Python and VTK starting; a file of the same content is read once per process.
+Python and VTK starting; a file of the same content is read once per process, and the
+command line reads all of a run's files in one child started before it imports the engine.
 """
 
 from __future__ import annotations
 
 import contextlib
-import hashlib
-import json
 import logging
 import os
-import re
 import signal
-import subprocess
-import sys
 import tempfile
-from collections import OrderedDict
 from pathlib import Path
 
 import numpy as np
@@ -42,11 +37,12 @@ from vtkmodules.vtkIOXML import vtkXMLPolyDataReader, vtkXMLStructuredGridWriter
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.auxlines import RawLine
 from pinn_engine.geometry.boundary import MAX_POINTS
+from pinn_engine.io import childread
+from pinn_engine.io.childread import MAX_FILE_BYTES
 
 log = logging.getLogger(__name__)
 BOUNDARY_FORMATS = (".vtp", ".vtk", ".csv", ".txt")
 AUX_FORMATS = (".vtp", ".vtk")
-MAX_FILE_BYTES = 256 * 1024 * 1024  # larger inputs are refused before reading
 
 
 @contextlib.contextmanager
@@ -86,19 +82,6 @@ def _check_file(path: Path, formats: tuple[str, ...]) -> str:
     return src
 
 
-def _first_error(text: str | bytes | None) -> str | None:
-    """The first error in VTK's output text, as one short printable line; None if none."""
-    text = text or ""
-    if isinstance(text, bytes):  # VTK hands back bytes when the text is not UTF-8
-        text = text.decode("utf-8", errors="replace")
-    found = re.search(r"ERROR:[^\n]*\n[^\n]*?\): ([^\n]*)", text)
-    if not found and "ERROR" not in text:
-        return None
-    message = found.group(1) if found else text
-    message = "".join(c if c.isprintable() and c.isascii() else "?" for c in message)
-    return " ".join(message.split())[:100] or "error"
-
-
 @contextlib.contextmanager
 def _captured_vtk_errors():
     """Collect VTK's error text (also its logger's) instead of printing it; yields a getter."""
@@ -110,174 +93,15 @@ def _captured_vtk_errors():
     vtkObject.GlobalWarningDisplayOn()
     vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
 
-    def first_error() -> str | None:
-        return _first_error(window.GetOutput())
+    def error() -> str | None:
+        return childread.first_error(window.GetOutput())
 
     try:
-        yield first_error
+        yield error
     finally:
         vtkOutputWindow.SetInstance(previous_window)
         vtkObject.SetGlobalWarningDisplay(previous_display)
         vtkLogger.SetStderrVerbosity(previous_verbosity)
-
-
-PROBE_TIMEOUT = 60.0  # seconds reading in the child may take before the file counts as damaged
-PROBE_MEMORY = 2**30  # extra address space the child may take, plus 64 bytes a byte of file
-
-# The child that reads a VTK file: a new Python (started, never forked) that imports VTK
-# alone (without numpy where VTK allows: a third of its start), caps its address space
-# (Linux), says "reading", reads the file and prints the length of VTK's error text, the
-# text, and the polydata read as a binary legacy VTK string. Its arguments: the file, the
-# extra address space, this process's sys.path (JSON: the same VTK is found).
-_CHILD_CODE = """\
-import json, os, sys
-path, extra = sys.argv[1], int(sys.argv[2])
-sys.path[:0] = json.loads(sys.argv[3])
-def vtk():
-    from vtkmodules.vtkCommonCore import vtkLogger, vtkOutputWindow, vtkStringOutputWindow
-    from vtkmodules.vtkIOLegacy import vtkPolyDataReader, vtkPolyDataWriter
-    if path.lower().endswith(".vtp"):
-        from vtkmodules.vtkIOXML import vtkXMLPolyDataReader as Reader
-    elif path.lower().endswith(".stl"):
-        from vtkmodules.vtkIOGeometry import vtkSTLReader as Reader
-    else:
-        Reader = vtkPolyDataReader
-    return vtkLogger, vtkOutputWindow, vtkStringOutputWindow, vtkPolyDataWriter, Reader
-sys.modules["numpy"] = None
-try:
-    vtkLogger, vtkOutputWindow, vtkStringOutputWindow, vtkPolyDataWriter, Reader = vtk()
-except ImportError:  # a VTK that needs numpy
-    del sys.modules["numpy"]
-    vtkLogger, vtkOutputWindow, vtkStringOutputWindow, vtkPolyDataWriter, Reader = vtk()
-from vtkmodules.vtkCommonCore import vtkObject
-window = vtkStringOutputWindow()
-vtkOutputWindow.SetInstance(window)
-vtkObject.GlobalWarningDisplayOn()
-vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
-reader = Reader()
-reader.SetFileName(path)
-try:
-    import resource
-    with open("/proc/self/statm") as f:
-        size = int(f.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
-    hard = resource.getrlimit(resource.RLIMIT_AS)[1]
-    cap = size + extra if hard == resource.RLIM_INFINITY else min(size + extra, hard)
-    resource.setrlimit(resource.RLIMIT_AS, (cap, hard))
-except (ImportError, OSError, ValueError):
-    pass
-out = sys.stdout.buffer
-out.write(b"reading\\n")
-out.flush()
-reader.Update()
-text = window.GetOutput() or ""
-text = text if isinstance(text, bytes) else text.encode("utf-8", "replace")
-data = b""
-if b"ERROR" not in text:
-    writer = vtkPolyDataWriter()
-    writer.SetInputData(reader.GetOutput())
-    writer.SetFileTypeToBinary()
-    writer.WriteToOutputStringOn()
-    writer.Write()
-    data = writer.GetOutputStdString()
-    if isinstance(data, str):  # VTK hands back str when the bytes happen to be UTF-8
-        data = data.encode("utf-8", "surrogateescape")
-    more = window.GetOutput() or ""
-    text = more if isinstance(more, bytes) else more.encode("utf-8", "replace")
-out.write(b"%d\\n" % len(text) + text + data)
-out.flush()
-"""
-_READ: OrderedDict[tuple[str, bytes], bytes] = OrderedDict()  # (reader, digest): clean data
-_READ_KEPT = 16  # files kept, each up to 16 MiB of clean data
-
-
-def _child_python() -> str | None:
-    """The Python to start the reading child with: this one, where it is a Python
-    interpreter; None where Python is embedded in another program (ParaView's GUI:
-    ``sys.executable`` is then that program, or empty)."""
-    exe = sys.executable
-    return exe if exe and Path(exe).name.lower().startswith("python") else None
-
-
-def _digest(path: Path) -> bytes:
-    h = hashlib.sha256()
-    with open(path, "rb") as f:
-        for block in iter(lambda: f.read(1 << 20), b""):
-            h.update(block)
-    return h.digest()
-
-
-def _death(code: int) -> str:
-    """What a child's exit status ``code`` (not 0) says happened to it."""
-    if code < 0:  # POSIX: killed by a signal
-        try:
-            return f"crashed ({signal.Signals(-code).name})"
-        except ValueError:
-            return f"crashed (signal {-code})"
-    if code >= 0xC0000000:  # Windows: an NTSTATUS exception code (access violation ...)
-        return f"crashed (exception 0x{code:08X})"
-    if code == 3 and os.name == "nt":  # Windows: abort()
-        return "crashed (abort)"
-    return f"failed (status {code})"
-
-
-def _read_in_child(path: Path) -> tuple[str | None, bytes] | None:
-    """Read the VTK file ``path`` in a new child process: (what is wrong with it, None if
-    nothing; the polydata as a binary legacy VTK string). None where no child could read
-    it (no Python to start, no VTK there, ``PINN_MESH_NO_CHILD=1``): then this process reads
-    the file itself.
-
-    VTK's readers abort the process (``std::bad_alloc``), crash (SIGSEGV) or stall on
-    damaged files, legacy ``.vtk`` (ASCII and binary) and XML ``.vtp`` alike. Some of these
-    crashes depend on what else is in memory (a damaged offset that reads past an array): a
-    ``.vtp`` that a separate probe read cleanly 20 times in 20 still aborted this process
-    in 4 reads of 5. So the child does the reading, with a memory cap and a timeout, and
-    this process only parses what the child's VTK wrote from the data it read: well-formed.
-    The child is a new Python (``subprocess``), never a fork of this process: forking a
-    process that runs threads (ParaView, a notebook, a Dask worker, torch's thread pool) can
-    deadlock the child.
-    """
-    if os.environ.get("PINN_MESH_NO_CHILD"):
-        return None
-    python = _child_python()
-    if python is None:
-        return None
-    key = (path.suffix.lower(), _digest(path))
-    if key in _READ:
-        _READ.move_to_end(key)
-        return None, _READ[key]
-    memory = PROBE_MEMORY + 64 * path.stat().st_size
-    paths = json.dumps([str(p) for p in sys.path])
-    command = [python, "-c", _CHILD_CODE, str(path), str(memory), paths]
-    try:
-        done = subprocess.run(
-            command,
-            stdin=subprocess.DEVNULL,
-            capture_output=True,
-            timeout=PROBE_TIMEOUT,
-            creationflags=getattr(subprocess, "CREATE_NO_WINDOW", 0),  # no console (Windows)
-        )
-    except subprocess.TimeoutExpired:
-        return f"VTK's reader did not finish in {PROBE_TIMEOUT:g} s on it", b""
-    except OSError as exc:  # the child could not start
-        log.debug("%s read in this process: %s", path, exc)
-        return None
-    marker, out = b"reading\n", done.stdout
-    if not out.startswith(marker):  # the child could not get as far as reading (no VTK?)
-        log.debug("%s read in this process: %s", path, done.stderr[-500:])
-        return None
-    if done.returncode != 0:
-        return f"VTK's reader {_death(done.returncode)} on it", b""
-    head, _, rest = out[len(marker) :].partition(b"\n")
-    size = int(head)
-    error = _first_error(rest[:size])
-    if error:
-        return f"VTK: {error}", b""
-    data = rest[size:]
-    if len(data) <= 16 << 20:
-        _READ[key] = data
-        while len(_READ) > _READ_KEPT:
-            _READ.popitem(last=False)
-    return None, data
 
 
 def _vtk_reader(path: Path):
@@ -290,7 +114,7 @@ def _vtk_reader(path: Path):
 
 def read_polydata(path: Path) -> vtkPolyData:
     """Read a ``.vtp``, legacy ``.vtk`` or ``.stl`` polydata file (in a child process:
-    :func:`_read_in_child`)."""
+    :func:`.childread.read`)."""
     src = str(path)
     reader = _vtk_reader(path)
     with _captured_vtk_errors():
@@ -300,7 +124,7 @@ def read_polydata(path: Path) -> vtkPolyData:
         elif not reader.CanReadFile(src):
             kind = "an STL" if isinstance(reader, vtkSTLReader) else "a VTK XML polydata"
             raise InputError(f"not {kind} file", src)
-    read = _read_in_child(path)
+    read = childread.read(path)
     if read is not None:
         problem, data = read
         if problem:

@@ -12,6 +12,7 @@ on the boundary slides along it (``sliding.py``).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -19,6 +20,7 @@ import scipy.sparse as sp
 
 from pinn_engine.classical.elliptic import ReusedLU
 from pinn_engine.multiblock.blocks import Topology
+from pinn_engine.multiblock.chains import Targets
 from pinn_engine.multiblock.junctions import Star, junction_stencils, star_row
 from pinn_engine.multiblock.layout import Layout
 from pinn_engine.multiblock.sliding import slide, sliders
@@ -120,9 +122,32 @@ def stencils(topo: Topology, lay: Layout, free_interfaces: bool) -> tuple[np.nda
     return out, stars
 
 
-def _system(points: np.ndarray, st: np.ndarray, stars: list[Star], column: np.ndarray):
-    """The frozen-coefficient Winslow system: matrix over the solved nodes (the 3 x 3
-    stencils' centres, then the stars'), right side."""
+def controls(st: np.ndarray, targets: Sequence[Targets], nodes: int) -> np.ndarray:
+    """(n, 2) control functions P, Q of the stencils ``st`` that keep the gradings'
+    ``targets`` (``chains.grading_targets``): a 1D map x = s(xi) solves x_xixi + P x_xi = 0
+    for P = -s''/s' (Thompson, Thames and Mastin's control functions), taken along each
+    stencil direction whose two steps from the centre are steps of a graded line."""
+    out = np.zeros((len(st), 2))
+    for target in targets:
+        a, b = target.steps.T
+        step = sp.csr_matrix((np.ones(len(a)), (a, b)), shape=(nodes, nodes))
+        step = step + step.T
+        s = target.distance
+        for k, line in enumerate((st[:, 1, :], st[:, :, 1])):
+            along = (np.asarray(step[line[:, 0], line[:, 1]]).ravel() > 0) & (
+                np.asarray(step[line[:, 1], line[:, 2]]).ravel() > 0
+            )
+            s0, s1, s2 = (s[line[along, m]] for m in range(3))
+            out[along, k] -= (s2 - 2 * s1 + s0) / (0.5 * (s2 - s0))
+    return out
+
+
+def _system(
+    points: np.ndarray, st: np.ndarray, stars: list[Star], column: np.ndarray, pq: np.ndarray
+):
+    """The frozen-coefficient Winslow system with control functions ``pq`` (:func:`controls`):
+    matrix over the solved nodes (the 3 x 3 stencils' centres, then the stars'), right
+    side."""
     x = points[st]
     x_xi = 0.5 * (x[:, 1, 2] - x[:, 1, 0])
     x_eta = 0.5 * (x[:, 2, 1] - x[:, 0, 1])
@@ -133,6 +158,10 @@ def _system(points: np.ndarray, st: np.ndarray, stars: list[Star], column: np.nd
     w[:, 1, 1] = -2 * (a + c)
     w[:, 1, 0] = w[:, 1, 2] = a
     w[:, 0, 1] = w[:, 2, 1] = c
+    w[:, 1, 2] += 0.5 * a * pq[:, 0]  # alpha P x_xi
+    w[:, 1, 0] -= 0.5 * a * pq[:, 0]
+    w[:, 2, 1] += 0.5 * c * pq[:, 1]  # gamma Q x_eta
+    w[:, 0, 1] -= 0.5 * c * pq[:, 1]
     w[:, 0, 0] = w[:, 2, 2] = -0.5 * b
     w[:, 0, 2] = w[:, 2, 0] = 0.5 * b
     rows = [np.broadcast_to(np.arange(len(st))[:, None, None], st.shape).ravel()]
@@ -152,11 +181,19 @@ def _system(points: np.ndarray, st: np.ndarray, stars: list[Star], column: np.nd
     return mat, rhs
 
 
-def winslow(topo: Topology, lay: Layout, free_interfaces: bool = True) -> tuple[np.ndarray, int]:
-    """Node positions of the converged multi-block Winslow grid from ``lay``'s (TFI) start,
-    and the Picard steps taken."""
+def winslow(
+    topo: Topology,
+    lay: Layout,
+    free_interfaces: bool = True,
+    max_iterations: int = MAX_ITERATIONS,
+    targets: Sequence[Targets] = (),
+) -> tuple[np.ndarray, int]:
+    """Node positions of the converged multi-block Winslow grid from ``lay``'s (TFI) start
+    (or after ``max_iterations`` Picard steps), and the Picard steps taken; ``targets``:
+    the gradings' node distances, kept by control functions (:func:`controls`)."""
     points = lay.points.copy()
     st, stars = stencils(topo, lay, free_interfaces)
+    pq = controls(st, targets, len(points))
     solved = np.concatenate([st[:, 1, 1], [star.node for star in stars]]).astype(int)
     column = np.full(len(points), -1)
     column[solved] = np.arange(len(solved))
@@ -164,12 +201,12 @@ def winslow(topo: Topology, lay: Layout, free_interfaces: bool = True) -> tuple[
     last: dict[int, tuple[float, float]] = {}  # each slider's previous position and target
     tol = TOL * topo.lines.diagonal
     solver = ReusedLU()  # a factorisation reused while it still halves the update
-    for step in range(1, MAX_ITERATIONS + 1):
+    for step in range(1, max_iterations + 1):
         before = points.copy()
-        mat, rhs = _system(points, st, stars, column)
+        mat, rhs = _system(points, st, stars, column, pq)
         points[solved] += solver.solve(mat, rhs - mat @ points[solved])[0]
         for end in slide_ends:
             slide(points, end, rings[end.ring], at, last)
         if np.abs(points - before).max() <= tol:
             return points, step
-    return points, MAX_ITERATIONS
+    return points, max_iterations

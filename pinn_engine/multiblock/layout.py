@@ -14,18 +14,21 @@ from pinn_engine.multiblock.blocks import Topology
 @dataclass
 class Layout:
     """Node positions ``points`` (N, 2), per block its node ids ``ids`` (nj, ni) (i along
-    side 0 from corner 0, j along side 3 backwards), and per piece its node ids in the
-    piece's own direction."""
+    side 0 from corner 0, j along side 3 backwards), per piece its node ids in the piece's
+    own direction, and per piece its nodes' arc-length fractions ``piece_params`` (0 to 1:
+    equal steps, or a grading's)."""
 
     points: np.ndarray
     ids: list[np.ndarray]
     piece_ids: list[np.ndarray]
+    piece_params: list[np.ndarray]
 
 
-def resample(polyline: np.ndarray, cells: int) -> np.ndarray:
-    """``cells + 1`` points along ``polyline`` at equal arc length, its ends exactly."""
+def resample(polyline: np.ndarray, cells: int, params: np.ndarray | None = None) -> np.ndarray:
+    """``cells + 1`` points along ``polyline`` at the arc-length fractions ``params`` (None:
+    equal steps), its ends exactly."""
     s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(polyline, axis=0), axis=1))])
-    t = np.linspace(0.0, s[-1], cells + 1)
+    t = s[-1] * (np.linspace(0.0, 1.0, cells + 1) if params is None else params)
     out = np.column_stack([np.interp(t, s, polyline[:, 0]), np.interp(t, s, polyline[:, 1])])
     out[0], out[-1] = polyline[0], polyline[-1]
     return out
@@ -37,9 +40,12 @@ def _side_ids(side, piece_ids) -> np.ndarray:
     return np.concatenate([runs[0]] + [r[1:] for r in runs[1:]])
 
 
-def layout(topo: Topology, counts: np.ndarray) -> Layout:
-    """Nodes of every piece at equal arc length (``counts`` cells a piece), the piece ends
-    shared by the pieces meeting there, and each block's interior by TFI of its sides."""
+def layout(
+    topo: Topology, counts: np.ndarray, graded: dict[int, np.ndarray] | None = None
+) -> Layout:
+    """Nodes of every piece at equal arc length (``counts`` cells a piece; ``graded``: piece
+    -> its nodes' arc-length fractions instead), the piece ends shared by the pieces meeting
+    there, and each block's interior by TFI of its sides."""
     points: list[np.ndarray] = []
     junction: dict[tuple[float, float], int] = {}
 
@@ -54,9 +60,10 @@ def layout(topo: Topology, counts: np.ndarray) -> Layout:
             junction[key] = int(new(xy)[0])
         return junction[key]
 
-    piece_ids = []
-    for piece, n in zip(topo.pieces, counts):
-        nodes = resample(piece.points, int(n))
+    piece_ids, params = [], []
+    for k, (piece, n) in enumerate(zip(topo.pieces, counts)):
+        params.append((graded or {}).get(k, np.linspace(0.0, 1.0, int(n) + 1)))
+        nodes = resample(piece.points, int(n), params[-1])
         inner = new(nodes[1:-1])
         piece_ids.append(np.concatenate([[end(nodes[0])], inner, [end(nodes[-1])]]))
     ids = []
@@ -70,4 +77,9 @@ def layout(topo: Topology, counts: np.ndarray) -> Layout:
         inner = tfi_of_sides(xy[bottom], xy[right], xy[top], xy[left])[1:-1, 1:-1]
         grid[1:-1, 1:-1] = new(inner).reshape(nj - 2, ni - 2)
         ids.append(grid)
-    return Layout(np.concatenate(points), ids, piece_ids)
+    return Layout(np.concatenate(points), ids, piece_ids, params)
+
+
+def side_lines(ids: np.ndarray, side: str) -> np.ndarray:
+    """The grid lines of a block of node ``ids`` leaving ``side``, each from its node on it."""
+    return {"bottom": ids.T, "top": ids[::-1].T, "left": ids, "right": ids[:, ::-1]}[side]

@@ -14,18 +14,25 @@ import numpy as np
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.auxlines import RawLine, line_distances
 from pinn_engine.multiblock.blocks import Topology, topology
+from pinn_engine.multiblock.chains import (
+    SideItem,
+    graded_minimum,
+    graded_params,
+    graded_sides,
+    grading_targets,
+    nearest_piece,
+)
 from pinn_engine.multiblock.counts import cell_counts, default_cell_size
 from pinn_engine.multiblock.elliptic import Crossing, crossings, winslow
 from pinn_engine.multiblock.graph import linework
-from pinn_engine.multiblock.layout import Layout, layout
+from pinn_engine.multiblock.layout import Layout, layout, side_lines
 from pinn_engine.multiblock.orthogonal import boundary_neighbours, orthogonal
-from pinn_engine.multiblock.patches import PatchPiece, PatchPoint, block_patches
+from pinn_engine.multiblock.patches import PatchPiece, PatchPoint, PatchRing, block_patches
 from pinn_engine.multiblock.quadblock import block_boundary, block_lines
-from pinn_engine.multiblock.spacing import check_room, requests, respace
+from pinn_engine.multiblock.spacing import check_room, first_edges, requests, respace
 from pinn_engine.multiblock.walls import (
     Walls,
     check_names,
-    side_lines,
     wall_report,
     wall_sides,
 )
@@ -101,11 +108,12 @@ def mesh_blocks(
     names: list[str],
     settings: Settings,
     source: str = "boundary",
-    patch_points: Sequence[PatchPoint] = (),
+    patch_points: Sequence[PatchPoint | PatchRing] = (),
     walls: Walls | None = None,
     progress: Progress | None = None,
     aux: Sequence[RawLine] = (),
     train: TrainBlocks | None = None,
+    cells: Sequence[SideItem] = (),
 ) -> MultiBlockResult:
     """The multi-block grid of a boundary's ``rings`` (outer and holes) and block
     ``edges`` (named ``names`` in messages) by ``settings.method`` (tfi, elliptic or pinn),
@@ -115,7 +123,7 @@ def mesh_blocks(
     ``train`` trains the pinn's blocks and ``progress`` hears it, block by block;
     ``aux``: auxiliary lines (user (x, y)) inside blocks, each in the block holding it
     (``quadblock.block_lines``), fitted by the pinn; every method reports how far its grid
-    is from them."""
+    is from them; ``cells``: ``--cells X,Y=N`` items (``chains.py``)."""
     if settings.method not in MULTIBLOCK_METHODS:
         raise InputError(
             f"method {settings.method}: multi-block domains are meshed by "
@@ -128,18 +136,37 @@ def mesh_blocks(
     lines = linework(rings, edges, names, source)
     topo = topology(lines)
     h = settings.cell_size or default_cell_size(lines.diagonal)
-    counts = cell_counts(topo, h)
-    lay = layout_checked(topo, counts, h)
-    patches = block_patches(topo, lay, patch_points)  # refused before the solve, not after
     walls = walls or Walls()
+    fixed = {nearest_piece(topo, item): item for item in cells}
+    counts = cell_counts(topo, h, fixed)
+    grades = [(item, graded_sides(topo, nearest_piece(topo, item))) for item in walls.sides]
+    if grades:
+        minimum: dict[int, tuple[int, SideItem]] = {}
+        for item, graded in grades:
+            for piece, n in graded_minimum(topo, graded, h, counts, item).items():
+                if n > minimum.get(piece, (0, item))[0]:
+                    minimum[piece] = (n, item)
+        counts = cell_counts(topo, h, fixed, minimum)
+    params = {
+        k: t
+        for item, graded in grades
+        for k, t in graded_params(topo, graded, counts, item.value).items()
+    }
+    lay = layout_checked(topo, counts, h, params)
+    patches = block_patches(topo, lay, patch_points)  # refused before the solve, not after
     check_names(walls, patches)
     sides = wall_sides(lay.ids, patches, walls.names)
     asked = requests(sides, walls.spacing)
-    check_room(lay.points, asked, walls.spacing)
+    check_room(lay.points, asked)
     steps = 0
     points = lay.points
+    timings = {"layout": time.perf_counter() - start}
     if settings.method in ("elliptic", "pinn"):
-        points, steps = winslow(topo, lay, settings.interfaces == "free")
+        targets = [
+            grading_targets(lay.ids, lay.points, graded, item.value) for item, graded in grades
+        ]
+        points, steps = winslow(topo, lay, settings.interfaces == "free", targets=targets)
+    timings["solve"] = time.perf_counter() - start - timings["layout"]
     lines = block_lines(aux, [points[ids] for ids in lay.ids])  # the method's block sides
     cross = crossings(topo, lay)  # the interfaces' nodes, for every kink figure below
     frames = [block_boundary(points[ids]) for ids in lay.ids]
@@ -152,7 +179,11 @@ def mesh_blocks(
         starts = [points[ids] for ids in lay.ids]
         grids, training = train(starts, settings, progress, lines, kinks)
         points = _assembled(points, lay, grids)
-    # spacing and orthogonality on patches last: no solve or training moves them after
+        timings["training"] = training["seconds"]
+    # first edges of gradings and patches, and orthogonality on patches, last: no solve or
+    # training moves them after
+    for item, graded in grades:
+        points = first_edges(points, lay.ids, graded, item.value)
     points = respace(points, asked)
     if walls.orthogonal:
         points = orthogonal(points, sides, walls.orthogonal, boundary_neighbours(topo, lay))
@@ -184,6 +215,8 @@ def mesh_blocks(
         },
         "mesh_seconds": time.perf_counter() - start,
     }
+    timings["walls_and_quality"] = report["mesh_seconds"] - sum(timings.values())
+    report["timings"] = timings
     if training is not None:
         report["training"] = training
     return MultiBlockResult(grids, cells, report, patches)
@@ -198,7 +231,9 @@ def _assembled(points: np.ndarray, lay: Layout, grids: list[np.ndarray]) -> np.n
     return out
 
 
-def layout_checked(topo: Topology, counts: np.ndarray, h: float) -> Layout:
+def layout_checked(
+    topo: Topology, counts: np.ndarray, h: float, graded: dict[int, np.ndarray] | None = None
+) -> Layout:
     """:func:`layout`, refused before it is built when the grid would exceed MAX_NODES."""
     nodes = 0
     for block in topo.blocks:
@@ -210,4 +245,4 @@ def layout_checked(topo: Topology, counts: np.ndarray, h: float) -> Layout:
             f"a cell size of {h:g} gives {nodes:,} nodes; at most {MAX_NODES:,}: choose a "
             "larger cell size"
         )
-    return layout(topo, counts)
+    return layout(topo, counts, graded)

@@ -1,11 +1,13 @@
 """Boundary patches of a multi-block domain (SPEC 10): each boundary piece (a stretch of the
 boundary or of a hole between two junctions or block corners) is a patch, named ``boundary``
 (the outer boundary) or ``hole1``, ``hole2``, ... by default; ``--patch X,Y=NAME[:TYPE]``
-names the piece nearest the point (X, Y). Pieces of one name form one patch.
+names the piece nearest the point (X, Y), ``--patch hole1=NAME[:TYPE]`` (or ``boundary=``)
+every piece of that ring. Pieces of one name form one patch.
 """
 
 from __future__ import annotations
 
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -39,6 +41,9 @@ class PatchPiece:
     nodes: tuple[int, int, int, int]
 
 
+RING = re.compile(rf"^({OUTER}|{HOLE}[1-9][0-9]*)$")  # a ring's default name, as items give it
+
+
 @dataclass(frozen=True)
 class PatchPoint:
     """One ``--patch X,Y=NAME[:TYPE]`` item: the point, the name, the type or None."""
@@ -49,23 +54,47 @@ class PatchPoint:
     kind: str | None
 
 
-def parse_patch_points(items: Sequence[str] | None) -> list[PatchPoint]:
-    """``X,Y=NAME[:TYPE]`` items, checked (one line naming the bad item)."""
-    out = []
+@dataclass(frozen=True)
+class PatchRing:
+    """One ``--patch RING=NAME[:TYPE]`` item: the ring (``boundary``, ``hole1``, ...), the
+    name, the type or None."""
+
+    ring: str
+    name: str
+    kind: str | None
+
+
+def point_of(where: str) -> tuple[float, float] | None:
+    """``X,Y`` as two finite numbers, else None (the left side of a ``--patch``,
+    ``--spacing`` or ``--cells`` item that names a place)."""
+    parts = where.split(",")
+    try:
+        x, y = (float(p) for p in parts)
+    except ValueError:
+        return None
+    return (x, y) if np.isfinite(x) and np.isfinite(y) else None
+
+
+def parse_patch_points(items: Sequence[str] | None) -> list[PatchPoint | PatchRing]:
+    """``X,Y=NAME[:TYPE]`` and ``RING=NAME[:TYPE]`` items, checked (one line naming the bad
+    item)."""
+    out: list[PatchPoint | PatchRing] = []
     for item in items or ():
         where, sep, named = item.partition("=")
-        parts = where.split(",")
-        try:
-            x, y = (float(p) for p in parts)
-            if not (sep and np.isfinite(x) and np.isfinite(y)):
-                raise ValueError
-        except ValueError:
+        point = point_of(where)
+        if not sep or (point is None and not RING.match(where.strip())):
             raise InputError(
                 f"patch {item!r}: {{with_blocks}}expected X,Y=NAME[:TYPE] naming the boundary "
-                "piece nearest the point (X, Y)"
-            ) from None
+                f"piece nearest the point (X, Y), or {OUTER}=NAME[:TYPE] or {HOLE}K=NAME[:TYPE] "
+                "naming every piece of the outer boundary or of hole K"
+            )
         name, kind = split_type(named.strip(), PIECES)
-        out.append(PatchPoint(x, y, checked_name(name, PIECES), kind))
+        name = checked_name(name, PIECES)
+        out.append(
+            PatchRing(where.strip(), name, kind)
+            if point is None
+            else PatchPoint(*point, name, kind)
+        )
     return out
 
 
@@ -104,25 +133,50 @@ def _nearest(topo: Topology, point: PatchPoint, candidates: list[int]) -> int:
     return candidates[order[0]]
 
 
-def piece_patches(topo: Topology, points: Sequence[PatchPoint]) -> list[tuple[str, str] | None]:
-    """Each piece's (patch name, type), None for interfaces: defaults, then ``points``.
-    Pieces of one name must agree on its type; a name without a type gets the type given
-    to it elsewhere, else ``default_type``."""
-    names = _default_names(topo)
+def _ring_pieces(topo: Topology, defaults: list[str | None], item: PatchRing) -> list[int]:
+    """The pieces of the ring an item names; refused when the domain has no such ring."""
+    found = [k for k, n in enumerate(defaults) if n == item.ring]
+    if not found:
+        holes = len(topo.lines.rings) - 1
+        known = ", ".join([OUTER] + [f"{HOLE}{k}" for k in range(1, holes + 1)])
+        raise InputError(
+            f"patch {item.ring}={item.name}: the domain has no ring {item.ring} (its rings: "
+            f"{known})"
+        )
+    return found
+
+
+def piece_patches(
+    topo: Topology, items: Sequence[PatchPoint | PatchRing]
+) -> list[tuple[str, str] | None]:
+    """Each piece's (patch name, type), None for interfaces: defaults, then the ring items,
+    then the point items (a point names one piece of a ring named as a whole). Pieces of
+    one name must agree on its type; a name without a type gets the type given to it
+    elsewhere, else ``default_type``."""
+    defaults = _default_names(topo)
+    names = list(defaults)
     boundary = [k for k, n in enumerate(names) if n is not None]
     given: dict[str, str] = {}
     named: dict[int, str] = {}
-    for point in points:
-        k = _nearest(topo, point, boundary)
-        if named.setdefault(k, point.name) != point.name:
+    rings = [item for item in items if isinstance(item, PatchRing)]
+    points = [item for item in items if isinstance(item, PatchPoint)]
+    for item in rings + points:
+        if isinstance(item, PatchRing):
+            where = item.ring
+            for k in _ring_pieces(topo, defaults, item):
+                names[k] = item.name
+        else:
+            where = f"({item.x:g}, {item.y:g})"
+            k = _nearest(topo, item, boundary)
+            if named.setdefault(k, item.name) != item.name:
+                raise InputError(
+                    f"patch {where}={item.name}: that piece is already named {named[k]}"
+                )
+            names[k] = item.name
+        if item.kind is not None and given.setdefault(item.name, item.kind) != item.kind:
             raise InputError(
-                f"patch ({point.x:g}, {point.y:g})={point.name}: that piece is already named "
-                f"{named[k]}"
-            )
-        names[k] = point.name
-        if point.kind is not None and given.setdefault(point.name, point.kind) != point.kind:
-            raise InputError(
-                f"patch {point.name!r} is given two types, {given[point.name]} and {point.kind}"
+                f"patch {item.name!r} is given two types, {given[item.name]} and {item.kind} "
+                f"(at {where})"
             )
     return [None if n is None else (n, given.get(n, default_type(n))) for n in names]
 
@@ -137,7 +191,7 @@ def _range(ids: np.ndarray, nodes: np.ndarray) -> tuple[int, int, int, int]:
 
 
 def block_patches(
-    topo: Topology, lay: Layout, points: Sequence[PatchPoint] = ()
+    topo: Topology, lay: Layout, points: Sequence[PatchPoint | PatchRing] = ()
 ) -> list[list[PatchPiece]]:
     """Per block, its boundary pieces with their patch names, types and node ranges."""
     out: list[list[PatchPiece]] = [[] for _ in topo.blocks]

@@ -7,7 +7,9 @@ Each step the end goes to the point of the boundary nearest the edge's next node
 the edge's first grid line meets the wall at right angles (on a straight wall this is a
 symmetry wall's mirror condition), kept a margin from the current far ends of its two
 boundary pieces (which may slide too), and those pieces' nodes are respaced at equal arc
-length along the drawn boundary. Positions on a boundary ring are arc lengths along it.
+length along the drawn boundary. An end where a grading starts (``--spacing X,Y=H``,
+``chains.py``) stays where it was drawn, as the grading is asked there. Positions on a
+boundary ring are arc lengths along it.
 """
 
 from __future__ import annotations
@@ -78,6 +80,11 @@ def _toward(ids: np.ndarray, points: np.ndarray, e: int) -> tuple[np.ndarray, np
     return (ids[::-1], points[::-1]) if e == 0 else (ids, points)
 
 
+def _even(params: np.ndarray) -> bool:
+    """Whether a piece's node fractions are equal steps (not a grading's)."""
+    return bool(np.allclose(params, np.linspace(0.0, 1.0, len(params))))
+
+
 def straight(points: np.ndarray) -> bool:
     """Whether drawn ``points`` (n, 2) lie on one line, within STRAIGHT_TOL of their extent."""
     centred = points - points.mean(axis=0)
@@ -123,6 +130,8 @@ def sliders(topo: Topology, lay: Layout) -> tuple[list[Slider], list[Ring], dict
         (first, before), (second, after) = runs
         if not straight(np.vstack([before, after])):
             continue  # a curved or cornered boundary (the L's inner corner): the end stays
+        if not all(_even(lay.piece_params[k]) for k, _ in walls):
+            continue  # a grading starts at the end: it stays where the grading is asked
         k, e = edges[0]
         nxt = int(lay.piece_ids[k][1 if e == 0 else -2])
         margin = SLIDE_MARGIN * min(topo.pieces[k].length for k, _ in walls)

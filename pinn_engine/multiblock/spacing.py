@@ -23,7 +23,9 @@ from scipy.interpolate import CubicSpline
 
 from pinn_engine.classical.spacing import line_parameters  # one block's per-line stretching
 from pinn_engine.errors import InputError
+from pinn_engine.multiblock.layout import side_lines
 from pinn_engine.multiblock.walls import WallSide
+from pinn_engine.settings import SIDE_NAMES
 
 # Rounds of correcting the first parameter intervals by the measured first edges, and the
 # share by which every first edge may still be off when they stop (far inside SPEC 7's 10 %)
@@ -32,7 +34,25 @@ FIT_ROUNDS, FIT_TOL = 12, 1e-3
 # block: a first edge shorter than half the sides it runs along)
 MAX_ASKED_SHARE = 0.5
 
-Requests = dict[tuple[int, ...], list]  # a line's ids -> [H at its start, H at its end, patch]
+# Neighbouring cells of a grading's first cells differ by at most this factor (SPEC 10
+# asks 1.25; the margin is for the progression's join), and the widest ratio searched
+GROWTH_AIM, MAX_GROWTH_SEARCH = 1.2, 4.0
+# Lines from a graded side's corner over which its first-cell correction ramps up to full:
+# at least CORNER_RAMP, or this share of the side's lines (a moved corner bends more of
+# them on a finer grid)
+CORNER_RAMP, CORNER_SHARE = 2, 0.25
+# a line's ids -> [H at its start, H at its end, the option asking (for messages)]
+Requests = dict[tuple[int, ...], list]
+
+
+def _ask(out: Requests, line: np.ndarray, h: float, label: str) -> None:
+    """Ask the first edge ``h`` at ``line``'s start (ids from its node on the side), the
+    smaller where two ask."""
+    ids = tuple(int(n) for n in line)
+    key = min(ids, ids[::-1])
+    end = 0 if key == ids else 1
+    ask = out.setdefault(key, [None, None, label])
+    ask[end] = h if ask[end] is None else min(ask[end], h)
 
 
 def requests(sides: list[WallSide], spacing: dict[str, float]) -> Requests:
@@ -44,11 +64,59 @@ def requests(sides: list[WallSide], spacing: dict[str, float]) -> Requests:
         if h is None:
             continue
         for line in wall.lines:
-            ids = tuple(int(n) for n in line)
-            key = min(ids, ids[::-1])
-            end = 0 if key == ids else 1
-            ask = out.setdefault(key, [None, None, wall.name])
-            ask[end] = h if ask[end] is None else min(ask[end], h)
+            _ask(out, line, h, f"spacing {wall.name}={h:g}")
+    return out
+
+
+def _geometric_ratio(h: float, cells: int, total: float) -> float:
+    """The ratio r with h (1 + r + ... + r^(cells - 1)) = total (bisection)."""
+    lo, hi = 1.0 / MAX_GROWTH_SEARCH, MAX_GROWTH_SEARCH
+    for _ in range(60):
+        r = 0.5 * (lo + hi)
+        if h * sum(r**k for k in range(cells)) < total:
+            lo = r
+        else:
+            hi = r
+    return 0.5 * (lo + hi)
+
+
+def first_edges(
+    points: np.ndarray, ids: list[np.ndarray], graded: dict[tuple[int, int], int], h: float
+) -> np.ndarray:
+    """``points`` with the first cells of every grid line leaving the graded (block, side)
+    pairs (``chains.graded_sides``) made a geometric progression from ``h`` that rejoins
+    the line's own cells: the fewest first cells K whose progression (same total length,
+    so node K and all beyond stay) grows by at most GROWTH_AIM a cell and meets cell K
+    within that ratio (else the K nearest that). The lines at the side's corners keep
+    theirs (SPEC 7 excepts corners; a corner where blocks meet moves in the solve) and the
+    next CORNER_RAMP lines move part of the way, so the change does not shear a row; each
+    line once, by its node ids, so shared lines stay shared."""
+    out = points.copy()
+    done: set[tuple[int, ...]] = set()
+    for b, s in graded:
+        lines = side_lines(ids[b], SIDE_NAMES[s])
+        for m, line in enumerate(lines):
+            key = tuple(int(n) for n in line)
+            ramp = max(CORNER_RAMP, CORNER_SHARE * len(lines))
+            weight = min(1.0, min(m, len(lines) - 1 - m) / ramp)
+            if key in done or key[::-1] in done or weight == 0.0:
+                continue
+            done.add(key)
+            p = points[line]
+            arc = _arc(p)
+            cells = np.diff(arc)
+            best = (np.inf, 0, 1.0)
+            for k in range(1, len(cells)):
+                r = _geometric_ratio(h, k, arc[k])
+                join = cells[k] / (h * r ** (k - 1))
+                best = min(best, (max(r, 1 / r, join, 1 / join), k, r))
+                if best[0] <= GROWTH_AIM:
+                    break
+            _, k, r = best
+            at = (1 - weight) * arc[1:k] + weight * h * np.cumsum(r ** np.arange(k - 1))
+            out[line[1:k]] = np.column_stack(
+                [np.interp(at, arc, p[:, 0]), np.interp(at, arc, p[:, 1])]
+            )
     return out
 
 
@@ -56,23 +124,27 @@ def _arc(p: np.ndarray) -> np.ndarray:
     return np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
 
 
-def check_room(points: np.ndarray, asked: Requests, spacing: dict[str, float]) -> None:
-    """Refuse a spacing of at least half a line leaving its patch (measured on the start
-    grid, before the solve)."""
-    for ids, (first, last, name) in asked.items():
+def check_room(points: np.ndarray, asked: Requests) -> None:
+    """Refuse a spacing of at least half a line leaving its patch or side (measured on the
+    start grid, before the solve)."""
+    for ids, (first, last, label) in asked.items():
         length = _arc(points[list(ids)])[-1]
         if (first or 0.0) + (last or 0.0) >= MAX_ASKED_SHARE * length:
             raise InputError(
-                f"spacing {name}={spacing[name]:g}: the first edge must be shorter than half "
-                f"of every grid line leaving the patch (one is {length:.4g} long); choose a "
-                "smaller H or a larger cell size"
+                f"{label}: the first edge must be shorter than half of every grid line "
+                f"leaving the patch or side (one is {length:.4g} long); choose a smaller H or "
+                "a larger cell size"
             )
 
 
 def respace(points: np.ndarray, asked: Requests) -> np.ndarray:
-    """``points`` with every asked line's nodes moved along it (its ends stay)."""
+    """``points`` with every asked line's nodes moved along it (its ends stay). A line
+    asked at one end only is turned to start there, so that the lines stretched together
+    (one length) share the stretching's asked end."""
     groups: dict[int, list] = {}
     for ids, (first, last, _) in asked.items():
+        if first is None:
+            ids, first, last = ids[::-1], last, first
         groups.setdefault(len(ids), []).append((ids, first, last))
     out = points.copy()
     for group in groups.values():

@@ -15,7 +15,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pinn_engine.errors import InputError
-from pinn_engine.multiblock.patches import PIECES, PatchPiece
+from pinn_engine.multiblock.chains import SideItem
+from pinn_engine.multiblock.layout import side_lines
+from pinn_engine.multiblock.patches import PIECES, PatchPiece, point_of
 from pinn_engine.patchnames import checked_name
 
 # Wall nodes this many positions or fewer from a block's corner are left out of the wall
@@ -25,10 +27,12 @@ ANGLE_CORNER_NODES = 1
 
 @dataclass(frozen=True)
 class Walls:
-    """``spacing``: patch name -> first edge H (user units); ``orthogonal``: patch names."""
+    """``spacing``: patch name -> first edge H (user units); ``orthogonal``: patch names;
+    ``sides``: ``--spacing X,Y=H`` items, a first edge H at the block side nearest (X, Y)."""
 
     spacing: dict[str, float] = field(default_factory=dict)
     orthogonal: tuple[str, ...] = ()
+    sides: tuple[SideItem, ...] = ()
 
     @property
     def names(self) -> set[str]:
@@ -36,8 +40,10 @@ class Walls:
 
 
 def parse_walls(spacing: Sequence[str] = (), orthogonal: Sequence[str] = ()) -> Walls:
-    """``NAME=H`` items and ``NAME[,NAME...]`` items, checked (one line naming the item)."""
+    """``NAME=H`` and ``X,Y=H`` items and ``NAME[,NAME...]`` items, checked (one line naming
+    the item)."""
     out: dict[str, float] = {}
+    sides = []
     for item in spacing:
         name, sep, value = item.partition("=")
         try:
@@ -47,8 +53,13 @@ def parse_walls(spacing: Sequence[str] = (), orthogonal: Sequence[str] = ()) -> 
         except ValueError:
             raise InputError(
                 f"spacing {item!r}: {{with_blocks}}expected NAME=H, a patch name and a first "
-                "edge H > 0 (e.g. cylinder=0.005)"
+                "edge H > 0 (e.g. cylinder=0.005), or X,Y=H, the first edge across the block "
+                "side nearest (X, Y)"
             ) from None
+        point = point_of(name)
+        if point is not None:
+            sides.append(SideItem(*point, h, "spacing"))
+            continue
         name = checked_name(name.strip(), PIECES)
         if out.setdefault(name, h) != h:
             raise InputError(f"spacing {item!r}: patch {name} is given two spacings")
@@ -57,7 +68,7 @@ def parse_walls(spacing: Sequence[str] = (), orthogonal: Sequence[str] = ()) -> 
             checked_name(n.strip(), PIECES) for item in orthogonal for n in item.split(",")
         )
     )
-    return Walls(out, names)
+    return Walls(out, names, tuple(sides))
 
 
 def check_names(walls: Walls, patches: list[list[PatchPiece]]) -> None:
@@ -90,11 +101,6 @@ def _side_of(piece: PatchPiece) -> tuple[str, int, int]:
     if j0 == j1 and i0 != i1:
         return ("bottom" if j0 == 0 else "top"), i0, i1
     return ("left" if i0 == 0 else "right"), j0, j1
-
-
-def side_lines(ids: np.ndarray, side: str) -> np.ndarray:
-    """The grid lines of a block of node ``ids`` leaving ``side``, each from its node on it."""
-    return {"bottom": ids.T, "top": ids[::-1].T, "left": ids, "right": ids[:, ::-1]}[side]
 
 
 def wall_sides(ids: list[np.ndarray], patches: list[list[PatchPiece]], names) -> list[WallSide]:

@@ -33,9 +33,7 @@ folded ...`` (a hint in the words of the ParaView panel) through
 
 from __future__ import annotations
 
-import contextlib
-import signal
-import threading
+import time
 from collections.abc import Callable
 
 import numpy as np
@@ -46,8 +44,9 @@ from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 from pinn_engine.cache import MeshCache
 from pinn_engine.errors import STOP, SettingsError, grid_warnings, unknown_name
-from pinn_engine.routes.filters import LastOutcome, LineInputs, choice, patch_setting
+from pinn_engine.routes.filters import LastOutcome, LineInputs, Stoppable, choice, patch_setting
 from pinn_engine.routes.reporting import message_of
+from pinn_engine.routes.summary_lines import grid_lines
 from pinn_engine.settings import (
     METHODS,
     NEURAL,
@@ -72,7 +71,7 @@ def _warning(report: dict) -> str | None:
     return "; ".join(text for text, _ in grid_warnings(report, "paraview")) or None
 
 
-class PinnMeshAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
+class PinnMeshAlgorithm(LastOutcome, Stoppable, LineInputs, VTKPythonAlgorithmBase):
     """Structured quadrilateral grid of a four-sided boundary (pinn, mgnet, tfi, elliptic).
 
     Settings (each setter calls ``Modified()`` when the value changes):
@@ -348,6 +347,7 @@ class PinnMeshAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
             return 1
         self._failed = None
         self._last_error, self._last_warning, self._trained = "", "", False
+        self._last_summary = ""
         self._exception = None
         try:
             grid, warning = self._execute(inInfo)
@@ -414,6 +414,7 @@ class PinnMeshAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
         geometry = job.geometry_from_polydata(settings, inputs, aux, self._corners)
         neural = settings.method in NEURAL
         self._progress(0.0, "training" if neural else "meshing")
+        began = time.perf_counter()
         with self._stop_on_signal():
             outcome = job.run(
                 settings,
@@ -424,6 +425,8 @@ class PinnMeshAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
                 self._cache,
             )
         self._trained = outcome.trained
+        seconds = time.perf_counter() - began
+        self._tell(grid_lines(outcome.result, settings, *self._size, seconds))
         self._progress(0.95, "meshing")
         fd = outcome.grid.GetFieldData()
         for name, value in (
@@ -466,32 +469,3 @@ class PinnMeshAlgorithm(LastOutcome, LineInputs, VTKPythonAlgorithmBase):
             return bool(answer) or self._abort_requested()
 
         return progress
-
-    def _abort_requested(self) -> bool:
-        check = getattr(self, "CheckAbort", None)  # VTK 9.4+
-        if check is not None and check():
-            return True
-        return bool(self.GetAbortExecute())
-
-    @contextlib.contextmanager
-    def _stop_on_signal(self):
-        """While training, SIGUSR1 (``pkill -USR1 -x paraview``) stops the training with the
-        best grid so far (and a warning) instead of ending the host process: ParaView 5.11
-        handles no GUI event while a filter runs, so its abort button cannot. Only where
-        SIGUSR1 has its default action or a Python handler, which is put back afterwards (the
-        host is left as it was); main thread only."""
-        self._stop_signal = None
-        usr1 = getattr(signal, "SIGUSR1", None)
-        previous = signal.getsignal(usr1) if usr1 is not None else None
-        if previous is None or threading.current_thread() is not threading.main_thread():
-            yield  # a handler installed outside Python, or no main thread: leave it alone
-            return
-
-        def stop(signum, frame):  # noqa: ARG001
-            self._stop_signal = signum
-
-        signal.signal(usr1, stop)
-        try:
-            yield
-        finally:
-            signal.signal(usr1, previous)

@@ -1,12 +1,18 @@
 """What the VTK filters (four-sided/body, multi-block, hexahedral) share: their input ports,
 their setters and how they read a setting's forms (a ParaView enumeration's index, the
-panel's text fields), their last update's outcome and the folded-cells warning."""
+panel's text fields), their last update's outcome and summary, how a training is stopped
+(abort request, SIGUSR1) and the folded-cells warning."""
 
 from __future__ import annotations
 
-import numpy as np
+import contextlib
+import signal
+import threading
 
-from pinn_engine.errors import ROUTE_WORDS, SettingsError
+import numpy as np
+from vtkmodules.vtkCommonCore import vtkOutputWindow
+
+from pinn_engine.errors import ROUTE_WORDS, STOP, SettingsError, stopped_training_warning
 from pinn_engine.routes.reporting import announce
 
 
@@ -34,12 +40,29 @@ def setting_items(value, separators: str) -> tuple[str, ...]:
     return tuple(str(v).strip() for v in value if str(v).strip())
 
 
-def spacing_items(value) -> tuple[str, ...]:
-    """``NAME=H`` items of a first-edge spacing setting: a string of items, a sequence of
-    them or a mapping ``{NAME: H}``."""
+def place_items(value) -> tuple[str, ...]:
+    """``KEY=VALUE`` items of a setting whose keys may be names or points (``X,Y``): a
+    string of items (separated by whitespace, ``;`` or, between items that each hold a
+    ``=``, commas), a sequence of them, or a mapping ``{NAME: VALUE}`` or ``{(x, y):
+    VALUE}``."""
     if hasattr(value, "items"):
-        value = [f"{name}={float(h)!r}" for name, h in value.items()]
-    return setting_items(value, ",;")
+        return tuple(
+            f"{float(key[0])!r},{float(key[1])!r}={v}" if isinstance(key, tuple) else f"{key}={v}"
+            for key, v in value.items()
+        )
+    out: list[str] = []
+    for item in setting_items(value, ";"):
+        parts = [part for part in item.split(",") if part]
+        out += parts if all("=" in part for part in parts) else [item]
+    return tuple(out)
+
+
+def spacing_items(value) -> tuple[str, ...]:
+    """``NAME=H`` or ``X,Y=H`` items of a first-edge spacing setting (:func:`place_items`,
+    the lengths as floats)."""
+    if hasattr(value, "items"):
+        value = {key: repr(float(h)) for key, h in value.items()}
+    return place_items(value)
 
 
 def patch_setting(names) -> str | dict:
@@ -101,6 +124,19 @@ class LastOutcome:
         """The exception of the last failed update (None after a successful one)."""
         return self._exception
 
+    def GetLastSummary(self) -> str:
+        """The command line's summary line(s) of the last successful update ("" after a
+        failed one)."""
+        return getattr(self, "_last_summary", "")
+
+    def _tell(self, lines: list[str]) -> None:
+        """Keep the summary ``lines`` and in ParaView show them in Output Messages, one line
+        each under the filter's name (plain text: the window does not pop up for it)."""
+        self._last_summary = "\n".join(lines)
+        if self._route == "paraview":
+            for line in lines:
+                vtkOutputWindow.GetInstance().DisplayText(f"{self.LABEL}: {line}\n")
+
     def _progress(self, fraction: float, phase: str) -> None:
         """Progress with the filter's name and the phase as its text: ParaView's progress bar
         shows it instead of the class name ("PythonAlgorithm")."""
@@ -117,6 +153,61 @@ class LastOutcome:
             self._last_error = line
         if self._route == "paraview":
             announce(self, line, warning)
+
+
+class Stoppable:
+    """Mixed into a ``VTKPythonAlgorithmBase`` that trains: a training ends early, with its
+    best grid so far, on an abort request (``GetAbortExecute()``, checked each time progress
+    is reported) or on SIGUSR1 (``pkill -USR1 -x paraview``: ParaView 5.11 delivers no click
+    while a filter runs)."""
+
+    _stop_signal: int | None = None  # a stop signal received during training
+    _abort_seen = False  # an abort request came during this training
+
+    def _abort_requested(self) -> bool:
+        check = getattr(self, "CheckAbort", None)  # VTK 9.4+
+        if check is not None and check():
+            return True
+        return bool(self.GetAbortExecute())
+
+    @contextlib.contextmanager
+    def _stop_on_signal(self):
+        """While training, SIGUSR1 (``pkill -USR1 -x paraview``) stops the training with the
+        best grid so far (and a warning) instead of ending the host process: ParaView 5.11
+        handles no GUI event while a filter runs, so its abort button cannot. Only where
+        SIGUSR1 has its default action or a Python handler, which is put back afterwards (the
+        host is left as it was); main thread only."""
+        self._stop_signal, self._abort_seen = None, False
+        usr1 = getattr(signal, "SIGUSR1", None)
+        previous = signal.getsignal(usr1) if usr1 is not None else None
+        if previous is None or threading.current_thread() is not threading.main_thread():
+            yield  # a handler installed outside Python, or no main thread: leave it alone
+            return
+
+        def stop(signum, frame):  # noqa: ARG001
+            self._stop_signal = signum
+
+        signal.signal(usr1, stop)
+        try:
+            yield
+        finally:
+            signal.signal(usr1, previous)
+
+    def _keep_grid(self) -> None:
+        """Clear an abort request taken during the run (and VTK 9.3+'s AbortOutput, which
+        would empty the output): the grid is whole and is handed over."""
+        self.SetAbortExecute(0)
+        if hasattr(self, "SetAbortOutput"):
+            self.SetAbortOutput(0)
+
+    def _stop_answer(self) -> str | None:
+        """The trainer's answer (``errors.STOP``: end with the best grid) after an abort
+        request or the stop signal, else None. The request is taken and cleared, so that the
+        executive keeps the grid the run then hands over."""
+        if self._abort_requested():
+            self.SetAbortExecute(0)
+            self._abort_seen = True
+        return STOP if self._stop_signal or self._abort_seen else None
 
 
 class LineInputs(ModifiedOnChange):
@@ -145,3 +236,11 @@ def folded_warning(report: dict, route: str, otherwise: str) -> str | None:
         fix = otherwise
     verb = "is" if folded == 1 else "are"
     return f"{folded} of {report['cells']} cells {verb} folded; try {fix}"
+
+
+def update_warning(report: dict, route: str, otherwise: str) -> str | None:
+    """The warning line of a multi-block or hexahedral update: a training stopped early
+    (time limit, abort, SIGUSR1) and folded cells (:func:`folded_warning`), joined; None
+    when neither applies."""
+    found = (stopped_training_warning(report, route), folded_warning(report, route, otherwise))
+    return "; ".join(w for w in found if w) or None

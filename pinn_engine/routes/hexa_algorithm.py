@@ -31,18 +31,30 @@ from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
 from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
-from pinn_engine.errors import ROUTE_WORDS, SettingsError
+from pinn_engine.errors import ROUTE_WORDS, InputError, SettingsError
+from pinn_engine.hexa.sharp import SHARP_ANGLE
+from pinn_engine.hexa.surface import FACE_ARRAY
 from pinn_engine.hexamesh import HEXA_METHOD, HEXA_SIZE, METHODS, named_patches, size_problem
 from pinn_engine.routes.filters import (
     LastOutcome,
     PatchWalls,
+    Stoppable,
     choice,
-    folded_warning,
     patch_setting,
+    update_warning,
 )
 from pinn_engine.routes.reporting import message_of
+from pinn_engine.settings import NO_TIME_LIMIT
 
 LABEL = "PINN Hexahedral Mesh"
+TRAINING_SHARE = (0.2, 0.9)  # the progress bar's span of pinn's training (face grids before)
+# what a curve given to the hexahedral filter is pointed to, in each route's words
+CURVE_FIX = {
+    "paraview": "a 2D curve is meshed by PINN Structured Mesh (four-sided, or a body with "
+    "Topology O-grid or C-grid) or PINN Multi-Block Mesh; this filter takes a closed surface",
+    "pyvista": "a 2D curve is meshed with size=(ni, nj) or blocks=; size=(ni, nj, nk) takes "
+    "a closed surface",
+}
 
 
 def refold_hint(route: str) -> str:
@@ -54,7 +66,7 @@ def refold_hint(route: str) -> str:
     )
 
 
-class PinnHexaAlgorithm(LastOutcome, PatchWalls, VTKPythonAlgorithmBase):
+class PinnHexaAlgorithm(LastOutcome, Stoppable, PatchWalls, VTKPythonAlgorithmBase):
     """Hexahedral structured grid (SPEC 11) of a closed surface with six tagged faces.
 
     Settings (each setter calls ``Modified()`` when the value changes; values are checked at
@@ -72,6 +84,10 @@ class PinnHexaAlgorithm(LastOutcome, PatchWalls, VTKPythonAlgorithmBase):
       (``"kmin=0.002"``, a sequence of items or a mapping ``{"kmin": 0.002}``; ``--spacing``)
     * ``SetOrthogonal(names)``: faces that grid lines leave along the normal (``"kmin,kmax"``
       or a sequence of names; ``--orthogonal``; elliptic and pinn)
+    * ``SetFaceAngle(degrees)``: a surface without ``FaceId`` (an STL) is split into faces
+      where neighbouring triangles' normals differ by more than this, default 40 (SPEC 11)
+    * ``SetTimeLimit(seconds)``: pinn's training ends after this many seconds with its best
+      grid so far (0: no limit, the default); so does an abort request or SIGUSR1
 
     Patch names, spacings and orthogonal faces are checked at the next update, before
     meshing (one line naming the item, as the command line's).
@@ -91,6 +107,8 @@ class PinnHexaAlgorithm(LastOutcome, PatchWalls, VTKPythonAlgorithmBase):
         self._size = HEXA_SIZE
         self._patches: str | dict = ""  # as given; checked at the update (imin ... kmax)
         self._faces: dict[str, int] = {}  # side -> the input's FaceId, as last found
+        self._face_angle = SHARP_ANGLE
+        self._time_limit = NO_TIME_LIMIT
         self._last_error = self._last_warning = ""
         self._exception: Exception | None = None
         self._failed: tuple | None = None  # what the last failed update ran on
@@ -116,6 +134,18 @@ class PinnHexaAlgorithm(LastOutcome, PatchWalls, VTKPythonAlgorithmBase):
         last update found the input's faces)."""
         return named_patches(self._patches, self._faces)[0]
 
+    def SetFaceAngle(self, degrees) -> None:
+        self._set("_face_angle", float(degrees))
+
+    def GetFaceAngle(self) -> float:
+        return self._face_angle
+
+    def SetTimeLimit(self, seconds) -> None:
+        self._set("_time_limit", float(seconds))
+
+    def GetTimeLimit(self) -> float:
+        return self._time_limit
+
     # ---- results -----------------------------------------------------------------------
     def GetOutput(self) -> vtkStructuredGrid:
         """The grid (after ``Update()``); empty when the last update failed."""
@@ -132,7 +162,15 @@ class PinnHexaAlgorithm(LastOutcome, PatchWalls, VTKPythonAlgorithmBase):
     def RequestData(self, request, inInfo, outInfo):
         output = vtkStructuredGrid.GetData(outInfo, 0)
         surface = vtkPolyData.GetData(inInfo[0], 0)
-        settings = (self._method, self._size, self._patches, self._spacing, self._orthogonal)
+        settings = (
+            self._method,
+            self._size,
+            self._patches,
+            self._spacing,
+            self._orthogonal,
+            self._face_angle,
+            self._time_limit,
+        )
         stamp = (*settings, surface.GetMTime() if surface else -1)
         if stamp == self._failed:
             # Nothing changed since the failure; the executive asks again only because the
@@ -140,7 +178,7 @@ class PinnHexaAlgorithm(LastOutcome, PatchWalls, VTKPythonAlgorithmBase):
             output.Initialize()
             return 1
         self._failed = None
-        self._last_error = self._last_warning = ""
+        self._last_error = self._last_warning = self._last_summary = ""
         self._exception = None
         try:
             grid, report = self._execute(surface)
@@ -151,7 +189,8 @@ class PinnHexaAlgorithm(LastOutcome, PatchWalls, VTKPythonAlgorithmBase):
             self._report(message_of(exc, self._route), warning=False)
         else:
             output.ShallowCopy(grid)
-            warning = folded_warning(report, self._route, refold_hint(self._route))
+            self._keep_grid()
+            warning = update_warning(report, self._route, refold_hint(self._route))
             if warning:
                 self._report(warning, warning=True)
         self._progress(1.0, "done")
@@ -159,9 +198,10 @@ class PinnHexaAlgorithm(LastOutcome, PatchWalls, VTKPythonAlgorithmBase):
         return 1
 
     def _execute(self, surface: vtkPolyData) -> tuple[vtkStructuredGrid, dict]:
-        """The grid of the connected surface under the settings, and the run's report."""
+        """The grid of the connected surface under the settings, and the run's report; the
+        summary line told (``_tell``)."""
         from pinn_engine.hexa.spacing import parse_patches
-        from pinn_engine.hexamesh import hexa_grid, mesh_polydata, report
+        from pinn_engine.hexamesh import hexa_grid, mesh_polydata, report, summary
 
         problem = size_problem(self._size)
         if problem:
@@ -169,18 +209,35 @@ class PinnHexaAlgorithm(LastOutcome, PatchWalls, VTKPythonAlgorithmBase):
             raise SettingsError(f"{ROUTE_WORDS[self._route]['size']} {size}: {problem}")
         orthogonal = [",".join(self._orthogonal)] if self._orthogonal else []
         spacing, walls = parse_patches(list(self._spacing), orthogonal)
-        result = mesh_polydata(
-            surface,
-            self._size,
-            self._method,
-            "input",
-            self._progress,
-            spacing=spacing,
-            orthogonal=walls,
-            patches=self._patches,
-        )
+        if surface is None or surface.GetNumberOfPolys() + surface.GetNumberOfStrips() == 0:
+            raise InputError(f"holds no surface triangles: {CURVE_FIX[self._route]}", "input")
+        faced = surface.GetCellData().GetArray(FACE_ARRAY.decode()) is not None
+        with self._stop_on_signal():
+            result = mesh_polydata(
+                surface,
+                self._size,
+                self._method,
+                "input",
+                self._progress,
+                sharp_edges=not faced,
+                spacing=spacing,
+                orthogonal=walls,
+                patches=self._patches,
+                sharp_angle=self._face_angle,
+                time_limit=self._time_limit,
+                training=self._training,
+            )
         self._faces = result.faces
+        self._tell([summary(result, self._method)])
         return hexa_grid(result, self._method), report(result, self._method)
+
+    def _training(self, info: dict) -> str | None:
+        """The trainer's progress on the bar (training from 0.2 to 0.9), answering
+        ``errors.STOP`` to an abort request or the stop signal."""
+        low, high = TRAINING_SHARE
+        done = info["step"] / max(info["total"], 1)
+        self._progress(low + (high - low) * min(done, 1.0), f"training ({info['phase']})")
+        return self._stop_answer()
 
 
 __all__ = ["LABEL", "PinnHexaAlgorithm", "refold_hint"]

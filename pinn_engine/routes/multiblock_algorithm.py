@@ -36,26 +36,30 @@ the same way (``GetLastWarning()``).
 from __future__ import annotations
 
 import dataclasses
+import time
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
 from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkMultiBlockDataSet, vtkPolyData
 
-from pinn_engine.errors import InputError
+from pinn_engine.errors import STOP, InputError
 from pinn_engine.io.export.edges import edges_polydata
 from pinn_engine.routes.filters import (
     LastOutcome,
     LineInputs,
     PatchWalls,
+    Stoppable,
     choice,
-    folded_warning,
-    setting_items,
+    place_items,
+    update_warning,
 )
 from pinn_engine.routes.reporting import message_of
+from pinn_engine.routes.summary_lines import blocks_lines
 from pinn_engine.settings import (
     BLOCKS_METHOD,
     MULTIBLOCK_METHODS,
+    NO_TIME_LIMIT,
     PARAMETER_CONSTRAINTS,
     Settings,
     make_settings,
@@ -114,7 +118,9 @@ def curves_of(
     return rings, edges, names
 
 
-class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgorithmBase):
+class PinnMultiBlockAlgorithm(
+    LastOutcome, Stoppable, LineInputs, PatchWalls, VTKPythonAlgorithmBase
+):
     """Multi-block structured grid (SPEC 10) of a boundary, its holes and block edges.
 
     Settings (each setter calls ``Modified()`` when the value changes; values are checked at
@@ -128,12 +134,21 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
     * ``SetInterfaces("free"|"fixed")`` (or 0/1): interface nodes solved like interior nodes,
       or kept on the drawn edges
     * ``SetPatchNames(items)``: ``X,Y=NAME[:TYPE]`` items naming the boundary piece nearest
-      (X, Y) (a string of items separated by spaces, a sequence of them, or a mapping
-      ``{(x, y): "NAME[:TYPE]"}``); default names ``boundary``, ``hole1``, ...
-    * ``SetSpacing(items)``: ``NAME=H`` items, the first grid edge leaving that patch
-      (``"cylinder=0.005"``, a sequence of items or a mapping ``{"cylinder": 0.005}``)
+      (X, Y), ``hole1=NAME[:TYPE]`` or ``boundary=NAME[:TYPE]`` every piece of that ring (a
+      string of items separated by spaces, a sequence of them, or a mapping ``{(x, y):
+      "NAME[:TYPE]"}`` or ``{"hole1": "NAME[:TYPE]"}``); default names ``boundary``,
+      ``hole1``, ...
+    * ``SetCells(items)``: ``X,Y=N`` items, N cells along the chain through the block side
+      nearest (X, Y) (a string, a sequence or a mapping ``{(x, y): N}``)
+    * ``SetSpacing(items)``: ``NAME=H`` items, the first grid edge leaving that patch, and
+      ``X,Y=H`` items, the cells on both sides of the block side nearest (X, Y) H across
+      it, growing along the chain (``"cylinder=0.005 0.3,0.2=0.01"``, a sequence of items
+      or a mapping ``{"cylinder": 0.005, (0.3, 0.2): 0.01}``)
     * ``SetOrthogonal(names)``: patches that grid lines leave along the normal
       (``"cylinder,walls"`` or a sequence of names)
+    * ``SetTimeLimit(seconds)``: pinn's training (all blocks together) ends after this many
+      seconds with its best grids so far (0: no limit, the default); so does an abort
+      request or SIGUSR1
 
     Patch items, spacings and names are checked at the next update (one line naming the
     item, as the command line's ``--patch``, ``--spacing`` and ``--orthogonal``).
@@ -150,8 +165,11 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
         self._blocking = BLOCKING[0]
         self._method = BLOCKS_METHOD
         self._cell_size = 0.0
+        self._time_limit = NO_TIME_LIMIT
+        self._began, self._stopped = 0.0, None  # the training's start; why it was stopped
         self._interfaces = INTERFACES[0]
         self._patches: tuple[str, ...] = ()  # X,Y=NAME[:TYPE] items, checked at the update
+        self._cells: tuple[str, ...] = ()  # X,Y=N items, checked at the update
         self._last_error = self._last_warning = ""
         self._exception: Exception | None = None
 
@@ -180,6 +198,12 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
     def GetCellSize(self) -> float:
         return self._cell_size
 
+    def SetTimeLimit(self, seconds) -> None:
+        self._set("_time_limit", float(seconds))
+
+    def GetTimeLimit(self) -> float:
+        return self._time_limit
+
     def SetInterfaces(self, interfaces) -> None:
         self._set("_interfaces", choice(interfaces, INTERFACES, "interfaces"))
 
@@ -187,16 +211,26 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
         return self._interfaces
 
     def SetPatchNames(self, items) -> None:
-        if hasattr(items, "items"):
-            items = [f"{float(x)!r},{float(y)!r}={name}" for (x, y), name in items.items()]
-        self._set("_patches", setting_items(items, ";"))
+        self._set("_patches", place_items(items))
 
     def GetPatchNames(self) -> tuple[str, ...]:
         return self._patches
 
+    def SetCells(self, items) -> None:
+        if hasattr(items, "items"):
+            items = {key: int(n) for key, n in items.items()}
+        self._set("_cells", place_items(items))
+
+    def GetCells(self) -> tuple[str, ...]:
+        return self._cells
+
     def GetSettings(self) -> Settings:
         """The ``Settings`` the next update uses (raises ``ValueError`` if invalid)."""
-        return make_settings(self._method, cell_size=self._cell_size, interfaces=self._interfaces)
+        return make_settings(
+            self._method,
+            cell_size=self._cell_size,
+            interfaces=self._interfaces,
+        )
 
     # ---- results -----------------------------------------------------------------------
     def GetOutput(self) -> vtkMultiBlockDataSet:
@@ -211,7 +245,7 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
     def RequestData(self, request, inInfo, outInfo):
         output = vtkMultiBlockDataSet.GetData(outInfo, 0)
         edges_out = vtkPolyData.GetData(outInfo, 1)
-        self._last_error = self._last_warning = ""
+        self._last_error = self._last_warning = self._last_summary = ""
         self._exception = None
         self._progress(0.0, "meshing")
         try:
@@ -223,8 +257,9 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
             self._report(message_of(exc, self._route), warning=False)
         else:
             output.ShallowCopy(dataset)
+            self._keep_grid()
             edges_out.ShallowCopy(edges_polydata(edges))
-            warning = folded_warning(report, self._route, MOVE_EDGES)
+            warning = update_warning(report, self._route, MOVE_EDGES)
             if warning:
                 self._report(warning, warning=True)
         self._progress(1.0, "done")
@@ -237,6 +272,7 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
         from pinn_engine.io.export.vtm import multiblock_dataset
         from pinn_engine.io.fileio import aux_lines_of
         from pinn_engine.job import flat_curves, train_blocks
+        from pinn_engine.multiblock.chains import parse_cells
         from pinn_engine.multiblock.mesh import mesh_blocks
         from pinn_engine.multiblock.patches import parse_patch_points
         from pinn_engine.multiblock.walls import parse_walls
@@ -244,6 +280,7 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
         settings = self.GetSettings()
         patches = parse_patch_points(self._patches)  # refused before meshing, not after
         walls = parse_walls(self._spacing, self._orthogonal)
+        cells = parse_cells(self._cells)
         ports = [
             [vtkPolyData.GetData(port, k) for k in range(port.GetNumberOfInformationObjects())]
             for port in inInfo
@@ -259,31 +296,53 @@ class PinnMultiBlockAlgorithm(LastOutcome, LineInputs, PatchWalls, VTKPythonAlgo
         curves = flat_curves(rings + edges + [line.points for line in aux], "input")
         flat = curves[len(rings) + len(edges) :]
         edges = curves[len(rings) : len(rings) + len(edges)]
+        blocking = {"mode": "manual", "edges": len(edges)}
         if automatic:
-            from pinn_engine.multiblock.autoblock import propose_edges
+            from pinn_engine.multiblock.autoblock import proposal
 
-            edges = propose_edges(curves[: len(rings)], "input")
-            names = [f"proposed edge {k}" for k in range(len(edges))]
-        result = mesh_blocks(
-            curves[: len(rings)],
-            edges,
-            names,
-            settings,
-            "input",
-            patches,
-            walls,
-            self._block,
-            [dataclasses.replace(line, points=c) for line, c in zip(aux, flat)],
-            train_blocks,
-        )
+            proposed = proposal(curves[: len(rings)], "input")
+            edges, names, blocking = proposed.edges, proposed.names, proposed.report
+        began = self._began = time.perf_counter()
+        self._stopped = None
+        with self._stop_on_signal():
+            result = mesh_blocks(
+                curves[: len(rings)],
+                edges,
+                names,
+                settings,
+                "input",
+                patches,
+                walls,
+                self._block,
+                [dataclasses.replace(line, points=c) for line, c in zip(aux, flat)],
+                train_blocks,
+                cells,
+            )
+        result.report["blocking"] = blocking
+        if self._stopped is not None:  # the report's training.stopped, as the trainer's
+            result.report.setdefault("training", {})["stopped"] = self._stopped
+        self._tell(blocks_lines(settings.method, result.report, time.perf_counter() - began))
         dataset = multiblock_dataset(result.grids, result.cells, result.report, result.patches)
         return dataset, result.report, edges
 
-    def _block(self, info: dict) -> None:
+    def _block(self, info: dict) -> str | None:
         """The pinn's progress block by block (``blocks.multiblock``) on the bar, the
-        elliptic grid before it at 0."""
+        elliptic grid before it at 0; answers ``errors.STOP`` once the Time Limit (all
+        blocks together) has run out or on an abort request or the stop signal: the block
+        in training keeps its best grid so far, the blocks after it their elliptic grids."""
         if info["phase"] == "prepare":
             self._progress(info["step"] / info["total"], info["stage"])
+        seconds = time.perf_counter() - self._began
+        late = 0 < self._time_limit < seconds
+        if self._stopped is None and (late or self._stop_answer()):
+            self._stopped = {
+                "reason": "time limit" if late else "request",
+                "phase": info["phase"],
+                "step": info.get("step", 0),
+                "seconds": round(seconds, 2),
+                "time_limit": self._time_limit,
+            }
+        return STOP if self._stopped is not None else None
 
 
 __all__ = ["BLOCKING", "MOVE_EDGES", "PinnMultiBlockAlgorithm", "curves_of"]

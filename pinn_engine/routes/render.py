@@ -88,6 +88,25 @@ def render_png(
     return path
 
 
+# The colour bar of a body's pictures: whole degrees, on a white ground below the trailing
+# edge; its labels and then its title go under the bar (render_body_png), apart, where
+# VTK's default (both above a short horizontal bar) lets them run into each other
+BODY_BAR = {
+    "title": "MaxIncludedAngle (deg)",
+    "color": "black",
+    "fmt": "%.0f",
+    "n_labels": 5,
+    "title_font_size": 18,
+    "label_font_size": 16,
+    "position_x": 0.1,
+    "position_y": 0.02,
+    "width": 0.8,
+    "height": 0.14,
+    "background_color": "white",
+    "fill": True,
+}
+
+
 def render_body_png(
     grid,
     path: str | os.PathLike,
@@ -101,48 +120,52 @@ def render_body_png(
     ``le`` and the trailing edge ``te`` (boxes ``zoom`` wide, in the grid's units)."""
     import pyvista as pv
 
-    pv.OFF_SCREEN = True
-    mesh = pv.wrap(grid)
-    plotter = pv.Plotter(off_screen=True, shape=(1, 3), window_size=list(window_size), border=False)
-    bounds = mesh.bounds
-    whole = (
-        0.5 * (bounds[0] + bounds[1]),
-        0.5 * (bounds[2] + bounds[3]),
-        0.5 * max(bounds[1] - bounds[0], bounds[3] - bounds[2]),
-    )
-    panels = (
-        ("whole", whole),
-        ("leading edge", (le[0] + 0.25 * zoom, le[1], 0.5 * zoom)),
-        ("trailing edge", (te[0], te[1], 0.5 * zoom)),
-    )
-    for k, (name, (cx, cy, half)) in enumerate(panels):
-        plotter.subplot(0, k)
-        plotter.set_background("white")
-        plotter.add_mesh(
-            mesh.copy(),
-            scalars="MaxIncludedAngle",
-            preference="cell",
-            show_edges=True,
-            edge_color="black",
-            line_width=0.4,
-            cmap="viridis",
-            clim=(90.0, 130.0),
-            show_scalar_bar=k == 2,
-            scalar_bar_args={"title": "MaxIncludedAngle (deg)", "color": "black"},
+    with off_screen():
+        mesh = pv.wrap(grid)
+        plotter = pv.Plotter(
+            off_screen=True, shape=(1, 3), window_size=list(window_size), border=False
         )
-        plotter.add_text(
-            name if not (title and k == 0) else f"{title}: {name}", font_size=10, color="black"
+        bounds = mesh.bounds
+        whole = (
+            0.5 * (bounds[0] + bounds[1]),
+            0.5 * (bounds[2] + bounds[3]),
+            0.5 * max(bounds[1] - bounds[0], bounds[3] - bounds[2]),
         )
-        plotter.view_xy()
-        cam = plotter.camera
-        cam.parallel_projection = True
-        cam.focal_point = (cx, cy, 0.0)
-        cam.position = (cx, cy, 10.0 * max(half, 1.0))
-        cam.parallel_scale = half
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    plotter.screenshot(str(path))
-    plotter.close()
+        panels = (
+            ("whole", whole),
+            ("leading edge", (le[0] + 0.25 * zoom, le[1], 0.5 * zoom)),
+            ("trailing edge", (te[0], te[1], 0.5 * zoom)),
+        )
+        for k, (name, (cx, cy, half)) in enumerate(panels):
+            plotter.subplot(0, k)
+            plotter.set_background("white")
+            plotter.add_mesh(
+                mesh.copy(),
+                scalars="MaxIncludedAngle",
+                preference="cell",
+                show_edges=True,
+                edge_color="black",
+                line_width=0.4,
+                cmap="viridis",
+                clim=(90.0, 130.0),
+                show_scalar_bar=k == 2,
+                scalar_bar_args=BODY_BAR,
+            )
+            if k == 2:
+                plotter.scalar_bar.SetTextPositionToPrecedeScalarBar()
+            plotter.add_text(
+                name if not (title and k == 0) else f"{title}: {name}", font_size=10, color="black"
+            )
+            plotter.view_xy()
+            cam = plotter.camera
+            cam.parallel_projection = True
+            cam.focal_point = (cx, cy, 0.0)
+            cam.position = (cx, cy, 10.0 * max(half, 1.0))
+            cam.parallel_scale = half
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        plotter.screenshot(str(path))
+        plotter.close()
     return path
 
 

@@ -26,7 +26,7 @@ def message_of(exc: Exception, route: str) -> str:
     if isinstance(exc, ImportError):
         return (
             f"cannot import {exc.name or exc} in this Python ({sys.executable}); "
-            "pinn-mesh needs numpy, scipy, scikit-learn, shapely and (to train) torch there"
+            "pinn-mesh needs numpy, scipy, shapely, pyamg and (to train) torch there"
         )
     return f"unexpected {type(exc).__name__}: {exc}"  # never reaches ParaView's executive
 

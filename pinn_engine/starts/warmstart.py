@@ -22,7 +22,6 @@ from pinn_engine.classical.warm import WarmStart
 from pinn_engine.errors import TrainingError
 from pinn_engine.geometry.boundary import Boundary
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
-from pinn_engine.starts.orthogonal import orthogonal_grid
 
 # The warm start's elliptic solve grows faster than linearly with the nodes (measured on the
 # V notch, 2 busy cores: 1 s at 161 x 81, 16 s at 321 x 161, 106 s at 641 x 321); above this
@@ -74,6 +73,8 @@ def orthogonal_start(
     this size): the boundary nodes are there, the interior follows ``params`` through
     the control functions, and the first rows are ``heights`` from the spaced orthogonal
     sides. A spline on a rectilinear lattice keeps the map smooth between the nodes."""
+    from pinn_engine.starts.orthogonal import orthogonal_grid  # torch: the default needs none
+
     if params is None:
         base = tfi_grid(ArcLengthFit(boundary).sample, ni, nj)
         grid = orthogonal_grid(_finite(winslow_solve(base)[0]), sides, tfi=base)

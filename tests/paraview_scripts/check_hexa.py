@@ -4,8 +4,9 @@
 
 The 90-degree bend of example_data by tfi, elliptic and pinn (the default), by tfi with
 Patch Names and First Edge Spacing, with Orthogonal Patches (refused for tfi), then a sphere
-(no FaceId) and the bend again on the same filter. Prints one ``RESULT {json}`` line; any failed
-check raises (exit status 1).
+(no FaceId) and the bend again on the same filter, the bend's STL with faces named by FaceId,
+a 2D curve (refused, pointing to the 2D filters) and the writer Save Data picks for a .cgns
+file of the grid. Prints one ``RESULT {json}`` line; any failed check raises (exit status 1).
 """
 
 import json
@@ -14,6 +15,7 @@ import sys
 
 import paraview.simple as simple
 from paraview import servermanager
+from paraview.modules.vtkRemotingServerManager import vtkSMPropertyHelper, vtkSMProxyManager
 from paraview.simple import XMLPolyDataReader
 from pvcommon import captured_errors
 from vtkmodules.util.numpy_support import vtk_to_numpy
@@ -97,4 +99,28 @@ result["bad_stderr"] = err["stderr"]
 # ParaView goes on: the bend again
 mesh.Input = surface
 result["recovered_points"] = servermanager.Fetch(mesh).GetNumberOfPoints()
+
+# the STL: faces found at Face Angle, named by the summary line's numbers
+mesh.Input = simple.STLReader(FileNames=[os.path.join(EXAMPLES, "hexa_bend.stl")])
+mesh.PatchNames = "face0=inner:wall face3=outlet"
+with captured_errors() as told:
+    result["stl"] = grid_of(servermanager.Fetch(mesh))
+result["stl_told"] = told["vtk"]
+
+# a 2D curve: pointed to the filters that mesh it
+mesh.Input = XMLPolyDataReader(FileName=[os.path.join(EXAMPLES, "fig2.vtp")])
+with captured_errors() as err:
+    result["curve_points"] = servermanager.Fetch(mesh).GetNumberOfPoints()
+result["curve_text"] = err["vtk"]
+
+# File > Save Data as .cgns: the writer ParaView 5.11 picks by the extension, and whether its
+# panel hides Extrude Thickness (a hexahedral grid is not extruded)
+mesh.Input = surface
+servermanager.Fetch(mesh)
+factory = vtkSMProxyManager.GetProxyManager().GetWriterFactory()
+factory.UpdateAvailableWriters()
+writer = factory.CreateWriter(os.path.join(EXAMPLES, "unwritten.cgns"), mesh.SMProxy, 0)
+writer.UpdatePropertyInformation()
+result["cgns_writer"] = writer.GetXMLName()
+result["is_three_d"] = vtkSMPropertyHelper(writer, "IsThreeD").GetAsInt()
 print("RESULT " + json.dumps(result))

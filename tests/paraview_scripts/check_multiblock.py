@@ -13,9 +13,11 @@ L-shape alone under Blocking Automatic, its proposed edges on the second output.
 import json
 import os
 import sys
+import tempfile
 
 import paraview.simple as simple
 from paraview import servermanager
+from paraview.modules.vtkRemotingServerManager import vtkSMProxyManager
 from paraview.simple import XMLPolyDataReader
 from pvcommon import captured_errors
 from vtkmodules.util.numpy_support import vtk_to_numpy
@@ -71,6 +73,22 @@ result["interfaces"] = mesh.GetProperty("Interfaces").Available
 result["together"] = blocks_of(dataset)
 result["together_messages"] = quiet["vtk"]
 result["progress"] = [min(progress), max(progress)] if progress else []
+
+# File > Save Data: the solver formats for the blocks (SU2 and OpenFOAM written here)
+factory = vtkSMProxyManager.GetProxyManager().GetWriterFactory()
+factory.UpdateAvailableWriters()
+result["file_types"] = sorted(
+    t for t in factory.GetSupportedFileTypes(mesh.SMProxy, 0).split(";;") if "PINN" in t
+)
+saved = tempfile.mkdtemp()
+with captured_errors() as wrote:
+    simple.SaveData(os.path.join(saved, "blocks.su2"), proxy=mesh)
+    simple.SaveData(os.path.join(saved, "case.foam"), proxy=mesh)
+result["su2"] = open(os.path.join(saved, "blocks.su2")).read()
+result["foam_boundary"] = open(
+    os.path.join(saved, "case", "constant", "polyMesh", "boundary")
+).read()
+result["save_messages"] = wrote["vtk"]
 
 # 2. the block edges on their own input, Block Edges; tfi, interfaces fixed
 apart = simple.PINNMultiBlockMesh(

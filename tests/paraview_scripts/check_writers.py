@@ -14,7 +14,7 @@ import sys
 
 import paraview.simple as simple
 from paraview import servermanager
-from paraview.modules.vtkRemotingServerManager import vtkSMProxyManager
+from paraview.modules.vtkRemotingServerManager import vtkSMPropertyHelper, vtkSMProxyManager
 from pvcommon import captured_errors
 
 EXAMPLES, OUT = sys.argv[1], sys.argv[2]
@@ -61,6 +61,16 @@ for proxy_name, file_name, props in jobs:
         writer.UpdatePipeline()
     result["errors"][file_name] = err["vtk"].strip()
     del writer
+
+# File > Save Data by the file name alone, as ParaView 5.11's dialog does: ours for .cgns
+writer = factory.CreateWriter(os.path.join(OUT, "unwritten.cgns"), mesh.SMProxy, 0)
+writer.UpdatePropertyInformation()
+result["cgns_writer"] = writer.GetXMLName()
+result["is_three_d"] = vtkSMPropertyHelper(writer, "IsThreeD").GetAsInt()
+del writer
+with captured_errors() as err:
+    simple.SaveData(os.path.join(OUT, "saved.cgns"), proxy=mesh)
+result["errors"]["saved.cgns"] = err["vtk"].strip()
 
 os.environ["PINN_MESH_PYTHON"] = "/nonexistent/python"  # no helper: CGNS cannot be written
 writer = servermanager.writers.PINNMeshCGNSWriter(

@@ -29,17 +29,22 @@ import os
 import shutil
 import tempfile
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkCommonDataModel import vtkStructuredGrid
+from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkStructuredGrid
 
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.plane import Plane
-from pinn_engine.io.export import bodies, cgns, gmsh, openfoam, plot3d, su2, vtkfiles
+
+# isort: off
+# each format registers itself when imported (registry.py), in this order: --format's choices
+from pinn_engine.io.export import vtkfiles, plot3d, cgns, su2, gmsh, openfoam  # noqa: F401
+
+# isort: on
 from pinn_engine.io.export.block import Block, Box
+from pinn_engine.io.export.multiblock import blocks_of
 from pinn_engine.io.export.patches import (
     BOX_SIDES,
     FIELD,
@@ -50,38 +55,9 @@ from pinn_engine.io.export.patches import (
     patch_names,
     patch_specs,
 )
+from pinn_engine.io.export.registry import FORMATS, Format
 from pinn_engine.io.export.topology import mean_edge, side_nodes
 from pinn_engine.io.fileio import atomic_path, write_text_atomic
-
-
-@dataclass(frozen=True)
-class Format:
-    key: str
-    suffix: str  # "" for a directory
-    description: str
-    extrudes: bool
-
-
-FORMATS = {
-    f.key: f
-    for f in (
-        Format("vts", ".vts", "VTK XML structured grid", False),
-        Format("vtk", ".vtk", "VTK legacy structured grid", False),
-        Format("xyz", ".xyz", "PLOT3D grid (multi-grid, whole, double)", True),
-        Format("cgns", ".cgns", "CGNS/HDF5 with boundary patches", True),
-        Format("su2", ".su2", "SU2 mesh with markers", False),
-        Format("msh", ".msh", "Gmsh 4.1 mesh with physical groups", True),
-        Format("openfoam", "", "OpenFOAM case (constant/polyMesh)", True),
-    )
-}
-_BY_SUFFIX = {f.suffix: f for f in FORMATS.values() if f.suffix}
-_FILE_WRITERS = {"xyz": plot3d.write, "cgns": cgns.write, "su2": su2.write, "msh": gmsh.write}
-_BOX_WRITERS = {
-    "xyz": plot3d.write_box,
-    "cgns": cgns.write_box,
-    "su2": su2.write_box,
-    "msh": gmsh.write_box,
-}
 
 
 def output_format(
@@ -95,7 +71,8 @@ def output_format(
         if found is None:
             raise InputError(f"unknown format {fmt!r}; use {{output}}", str(path))
     else:
-        found = _BY_SUFFIX.get(path.suffix.lower())
+        by_suffix = {f.suffix: f for f in FORMATS.values() if f.suffix}
+        found = by_suffix.get(path.suffix.lower())
         if found is None:
             raise InputError(
                 f"unknown output format {path.suffix or '(no extension)'!r}; use {{output}}",
@@ -107,17 +84,18 @@ def output_format(
         raise InputError("exists and is not a directory; an OpenFOAM case is a folder", str(path))
     if extrude is not None:
         if not found.extrudes:
+            extruding = [f.suffix or f.name for f in FORMATS.values() if f.extrudes]
             raise InputError(
                 f"{found.description} is 2D only; drop {{extrude}} (it applies "
-                "to .xyz, .cgns, .msh and OpenFOAM)",
+                f"to {', '.join(extruding[:-1])} and {extruding[-1]})",
                 str(path),
             )
         if not (math.isfinite(extrude) and extrude > 0):
             raise InputError(
                 f"extrusion thickness {extrude}: must be a number > 0 ({{extrude}})", str(path)
             )
-    if found.key == "cgns":
-        cgns.check()
+    if found.check is not None:
+        found.check()
     return found
 
 
@@ -218,34 +196,62 @@ def write(
         points, normal, n_wake = _body_points(grid, topology, path)
     else:
         (points, normal), n_wake = grid_points(grid), 0
-    if found.key in ("vts", "vtk"):
+    if found.grid is not None:
         copy = vtkStructuredGrid()
         copy.ShallowCopy(grid)
         add_to_grid(copy, names, types)
-        if found.key == "vts":
-            return vtkfiles.write_vts(copy, path)
-        with atomic_path(path, suffix=found.suffix) as tmp:
-            vtkfiles.write_legacy(copy, tmp)
+        found.grid(copy, path)
         return path
     if box:
-        return _write_box(Box(xyz, names, types), path, found)
-    if extrude is None and found.key == "openfoam":  # OpenFOAM meshes are always 3D
+        return _written(found, path, lambda to: found.box(Box(xyz, names, types), to))
+    if extrude is None and found.solid:
         extrude = mean_edge(points)
     block = Block(points, names, extrude, normal, topology, n_wake, types)
-    if found.key == "openfoam":
-        polymesh = bodies.write_polymesh if block.topology else openfoam.write_polymesh
-        return write_case(path, lambda folder: polymesh(block, folder))
-    with atomic_path(path, suffix=found.suffix) as tmp:
-        _FILE_WRITERS[found.key](block, tmp)
-    return path
+    return _written(found, path, lambda to: found.block(block, to))
 
 
-def _write_box(box: Box, path: Path, found: Format) -> Path:
-    """A hexahedral grid in a solver format (SPEC 11)."""
-    if found.key == "openfoam":
-        return write_case(path, lambda folder: openfoam.write_box_polymesh(box, folder))
+def blocks_format(path: str | os.PathLike, fmt: str | None, extrude: float | None) -> Format:
+    """The export format of a multi-block grid (SPEC 10) for ``path`` (or ``fmt``),
+    refused (one line) before meshing where it does not apply."""
+    found = output_format(path, fmt, extrude)
+    if found.blocks is None:
+        named = [f.suffix or f"--format {f.key}" for f in FORMATS.values() if f.blocks]
+        raise InputError(
+            f"a multi-block grid is written as .vtm, {', '.join(named[:-1])} or {named[-1]}, "
+            f"not as {found.description}",
+            str(path),
+        )
+    if extrude is not None and not found.blocks_extrude:
+        raise InputError(
+            f"a multi-block grid is written to {found.name} in 2D in this build; drop {{extrude}}",
+            str(path),
+        )
+    return found
+
+
+def write_blocks(
+    dataset: vtkMultiBlockDataSet,
+    path: str | os.PathLike,
+    fmt: str | None = None,
+    *,
+    extrude: float | None = None,
+) -> Path:
+    """Write a multi-block grid (``vtm.multiblock_dataset``) to ``path`` in the format of
+    its extension (or ``fmt``); ``extrude``: one cell of this thickness in z (PLOT3D, CGNS,
+    OpenFOAM; OpenFOAM's default: the mean edge length). Atomic, as every writer."""
+    path = Path(path)
+    found = blocks_format(path, fmt, extrude)
+    blocks = blocks_of(dataset)
+    return _written(found, path, lambda to: found.blocks(blocks, to, extrude))
+
+
+def _written(found: Format, path: Path, write_to: Callable[[Path], None]) -> Path:
+    """``path`` written atomically by ``write_to``: a temporary file renamed over it, or
+    for a folder format an OpenFOAM case whose new polyMesh ``write_to`` fills."""
+    if not found.suffix:
+        return write_case(path, write_to)
     with atomic_path(path, suffix=found.suffix) as tmp:
-        _BOX_WRITERS[found.key](box, tmp)
+        write_to(tmp)
     return path
 
 
@@ -323,6 +329,7 @@ __all__ = [
     "Block",
     "Box",
     "Format",
+    "blocks_format",
     "box_points",
     "grid_points",
     "is_box",
@@ -331,5 +338,6 @@ __all__ = [
     "patch_names",
     "patch_specs",
     "write",
+    "write_blocks",
     "write_case",
 ]

@@ -8,7 +8,9 @@ the algorithm itself is plain VTK, so it also works in any VTK pipeline::
     w.SetFileName("out/grid.cgns")
     w.Write()
 
-Patch names come from the grid's ``PatchNames`` (the filter's Patch Names field). Errors
+Its input is a grid of the structured filters (``vtkStructuredGrid``) or the multi-block
+filter's blocks (``vtkMultiBlockDataSet``, written by ``export.write_blocks``). Patch
+names come from the grid's ``PatchNames`` (the filter's Patch Names field). Errors
 are one line ``PINN Mesh writer: <message>`` through ``vtkOutputWindow`` (ParaView's
 Output Messages) and ``GetLastError()``; nothing is written then.
 """
@@ -19,21 +21,17 @@ from pathlib import Path
 
 from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
 from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
-from vtkmodules.vtkCommonDataModel import vtkStructuredGrid
+from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkStructuredGrid
 
 from pinn_engine.errors import InputError, PinnMeshError
+from pinn_engine.io.export import FORMATS, is_box, write, write_blocks
 
 LABEL = "PINN Mesh writer"
-# formats offered in ParaView (its own writers cover .vts and .vtk): key -> (extension,
-# writer proxy name, pvpython: ``servermanager.writers.PINNMeshCGNSWriter(Input=..., ...)``;
-# file type in Save Data's list, short so that the list shows it whole)
-PARAVIEW_FORMATS = {
-    "xyz": ("xyz", "PINNMeshPLOT3DWriter", "PINN Mesh PLOT3D"),
-    "cgns": ("cgns", "PINNMeshCGNSWriter", "PINN Mesh CGNS"),
-    "su2": ("su2", "PINNMeshSU2Writer", "PINN Mesh SU2"),
-    "msh": ("msh", "PINNMeshGmshWriter", "PINN Mesh Gmsh"),
-    "openfoam": ("foam", "PINNMeshOpenFOAMWriter", "PINN Mesh OpenFOAM"),
-}
+# formats offered in ParaView (its own writers cover .vts and .vtk), as each registers
+# itself: key -> (extension, writer proxy name, pvpython:
+# ``servermanager.writers.PINNMeshCGNSWriter(Input=..., ...)``; file type in Save Data's
+# list, short so that the list shows it whole)
+PARAVIEW_FORMATS = {key: f.paraview for key, f in FORMATS.items() if f.paraview}
 
 
 class GridWriter(VTKPythonAlgorithmBase):
@@ -48,7 +46,7 @@ class GridWriter(VTKPythonAlgorithmBase):
     FORMAT = "vts"
 
     def __init__(self, fmt: str | None = None) -> None:
-        super().__init__(nInputPorts=1, nOutputPorts=0, inputType="vtkStructuredGrid")
+        super().__init__(nInputPorts=1, nOutputPorts=0, inputType="vtkDataObject")
         self._format = fmt or self.FORMAT
         self._file_name = ""
         self._extrude = 0.0
@@ -71,6 +69,14 @@ class GridWriter(VTKPythonAlgorithmBase):
     def GetLastError(self) -> str:
         return self._last_error
 
+    def GetIsThreeD(self) -> int:
+        """1 when the connected input is a hexahedral grid (nothing to extrude), else 0:
+        what the Save Data panel's Extrude Thickness is hidden by."""
+        grid = self.GetInputDataObject(0, 0) if self.GetNumberOfInputConnections(0) else None
+        return int(
+            isinstance(grid, vtkStructuredGrid) and grid.GetNumberOfPoints() > 0 and is_box(grid)
+        )
+
     def GetLastMessage(self) -> str:
         """What the last write told Output Messages besides errors (where a case went)."""
         return self._last_message
@@ -81,8 +87,6 @@ class GridWriter(VTKPythonAlgorithmBase):
         return 0 if self._last_error else 1
 
     def RequestData(self, request, inInfo, outInfo):
-        from pinn_engine.io.export import write
-
         self._last_error = self._last_message = ""
         try:
             if not self._file_name:
@@ -90,12 +94,15 @@ class GridWriter(VTKPythonAlgorithmBase):
             path = Path(self._file_name)
             if self._format == "openfoam":
                 path = path.with_suffix("") if path.suffix.lower() == ".foam" else path
-            written = write(
-                vtkStructuredGrid.GetData(inInfo[0], 0),
-                path,
-                self._format,
-                extrude=self._extrude if self._extrude > 0 else None,
-            )
+            data = inInfo[0].GetInformationObject(0).Get(vtkMultiBlockDataSet.DATA_OBJECT())
+            extrude = self._extrude if self._extrude > 0 else None
+            if isinstance(data, vtkMultiBlockDataSet):
+                written = write_blocks(data, path, self._format, extrude=extrude)
+            elif isinstance(data, vtkStructuredGrid):
+                written = write(data, path, self._format, extrude=extrude)
+            else:
+                kind = "nothing" if data is None else f"a {data.GetClassName()}"
+                raise InputError(f"writes the grids of the PINN filters, not {kind}")
             if self._format == "openfoam":  # a folder appears: say where (Output Messages)
                 self._last_message = (
                     f"{LABEL}: wrote the OpenFOAM case {written} "

@@ -73,15 +73,6 @@ def patch_edges(
     return {name: np.vstack(e) for name, e in out.items()}
 
 
-def write_polymesh(block, mesh) -> None:
-    """OpenFOAM polyMesh of an O- or C-grid extruded one cell in z (``block.thickness``):
-    the seam or cut nodes merged, so its faces are internal faces like any other; patches
-    wall, farfield (outflow) and ``frontAndBack`` (empty)."""
-    from pinn_engine.io.export.openfoam import write_quadmesh_polymesh
-
-    write_quadmesh_polymesh(quad_mesh(block), block.thickness, mesh)
-
-
 def quad_mesh(block) -> QuadMesh:
     """An O- or C-grid (a ``block.Block``) with its seam or cut nodes merged."""
     ni, nj, topo, nw = block.ni, block.nj, block.topology, block.n_wake

@@ -26,10 +26,13 @@ import numpy as np
 
 from pinn_engine.errors import InputError
 from pinn_engine.io.export.block import Block, Box
-from pinn_engine.io.export.topology import box_range, index_range
+from pinn_engine.io.export.joins import Join, joins
+from pinn_engine.io.export.multiblock import Z_UP, Blocks
+from pinn_engine.io.export.registry import Format, register
+from pinn_engine.io.export.topology import box_range, index_range, layers
 from pinn_engine.patchnames import FRONT_AND_BACK, TYPES
 
-ROOT = Path(__file__).resolve().parents[2]  # the checkout (its .venv: the helper Python)
+ROOT = Path(__file__).resolve().parents[3]  # the checkout (its .venv: the helper Python)
 
 _TYPES = {np.dtype(np.int32): "I4", np.dtype(np.float32): "R4", np.dtype(np.float64): "R8"}
 
@@ -150,19 +153,6 @@ def _node(parent, name: str, label: str, value=None):
     _attr(group, "type", kind, 3)
     group.create_dataset(" data", data=np.ascontiguousarray(data))
     return group
-
-
-@dataclass(frozen=True)
-class Join:
-    """A ``GridConnectivity1to1_t``: its name, the donor zone, the 1-based 2D (i, j) point
-    ranges here and in the donor (begin to end, the donor's begin matching ours) and the
-    2D ``Transform`` (signed donor axis of each of our axes)."""
-
-    name: str
-    donor: str
-    here: tuple[tuple[int, int], tuple[int, int]]
-    there: tuple[tuple[int, int], tuple[int, int]]
-    transform: tuple[int, int]
 
 
 @dataclass(frozen=True)
@@ -328,6 +318,45 @@ def _body_joins(block: Block) -> list[Join]:
         a, b, transform = ((1, 1), (nw + 1, 1)), ((ni, 1), (ni - nw, 1)), (-1, -2)
     name = "seam" if block.topology == "o" else "wake_cut"
     return [Join(f"{name}_a", "Zone", a, b, transform), Join(f"{name}_b", "Zone", b, a, transform)]
+
+
+def zones(blocks: Blocks, thickness: float | None) -> list[Zone]:
+    """A CGNS zone a block (named ``block0``, ...): its BCs and its joins."""
+    out = []
+    for k, (pts, pieces) in enumerate(zip(blocks.points, blocks.pieces)):
+        count = {}
+        for p in pieces:
+            count[p.name] = count.get(p.name, 0) + 1
+        bcs = []
+        for n, p in enumerate(pieces):
+            i0, j0, i1, j1 = p.nodes
+            label = f"{p.name[:28]}_{n}" if count[p.name] > 1 else p.name
+            bcs.append((label, p.name, ((i0 + 1, j0 + 1), (i1 + 1, j1 + 1))))
+        xyz = layers(pts, thickness, Z_UP)
+        out.append(Zone(f"block{k}", xyz, bcs, joins(blocks.points, k)))
+    return out
+
+
+def write_blocks(blocks: Blocks, path: Path, extrude: float | None) -> None:
+    """A multi-block grid (SPEC 10): a zone a block with its joins, a ``BC_t`` a piece."""
+    write_zones(zones(blocks, extrude), blocks.types(), path)
+
+
+register(
+    Format(
+        "cgns",
+        ".cgns",
+        "CGNS/HDF5 with boundary patches",
+        True,
+        name="CGNS",
+        block=write,
+        box=write_box,
+        blocks=write_blocks,
+        blocks_extrude=True,
+        check=check,
+        paraview=("cgns", "PINNMeshCGNSWriter", "PINN Mesh CGNS"),
+    )
+)
 
 
 if __name__ == "__main__":

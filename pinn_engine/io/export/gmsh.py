@@ -20,8 +20,11 @@ from pathlib import Path
 import numpy as np
 
 from pinn_engine.errors import InputError
+from pinn_engine.io.export import bodies
 from pinn_engine.io.export.block import Block, Box
+from pinn_engine.io.export.multiblock import Blocks, merged
 from pinn_engine.io.export.quadmesh import QuadMesh
+from pinn_engine.io.export.registry import Format, register
 from pinn_engine.io.export.text import write_rows
 from pinn_engine.io.export.topology import (
     BOX_SIDES,
@@ -102,8 +105,6 @@ def write_quadmesh(mesh: QuadMesh, path: Path) -> None:
 
 def write(block: Block, path: Path) -> None:
     if block.topology:  # seam or cut nodes merged (bodies.py)
-        from pinn_engine.io.export import bodies
-
         if block.thickness is not None:
             raise InputError(
                 "an O- or C-grid is written to Gmsh in 2D in this build; drop {extrude}", str(path)
@@ -214,3 +215,23 @@ def _write_structured(
 
 def _num(x) -> str:
     return f"{float(x):.17g}" if not isinstance(x, int) else str(x)
+
+
+def write_blocks(blocks: Blocks, path: Path, extrude: None) -> None:
+    """A multi-block grid (SPEC 10), in 2D: one mesh, each shared node once."""
+    write_quadmesh(merged(blocks), path)
+
+
+register(
+    Format(
+        "msh",
+        ".msh",
+        "Gmsh 4.1 mesh with physical groups",
+        True,
+        name="Gmsh",
+        block=write,
+        box=write_box,
+        blocks=write_blocks,
+        paraview=("msh", "PINNMeshGmshWriter", "PINN Mesh Gmsh"),
+    )
+)

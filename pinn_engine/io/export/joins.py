@@ -4,13 +4,26 @@ with the ``Transform`` of CGNS SIDS (each of our index axes as a signed donor ax
 
 from __future__ import annotations
 
-import numpy as np
+from dataclasses import dataclass
 
-from pinn_engine.io.export.cgns import Join
+import numpy as np
 
 # Each side: the index axis it runs along (0: i, 1: j) and whether it lies at the largest
 # index of the other axis (top, right) or the smallest (bottom, left)
 SIDE_AXES = {"bottom": (0, False), "right": (1, True), "top": (0, True), "left": (1, False)}
+
+
+@dataclass(frozen=True)
+class Join:
+    """A ``GridConnectivity1to1_t``: its name, the donor zone, the 1-based 2D (i, j) point
+    ranges here and in the donor (begin to end, the donor's begin matching ours) and the
+    2D ``Transform`` (signed donor axis of each of our axes)."""
+
+    name: str
+    donor: str
+    here: tuple[tuple[int, int], tuple[int, int]]
+    there: tuple[tuple[int, int], tuple[int, int]]
+    transform: tuple[int, int]
 
 
 def _side_ij(ni: int, nj: int, side: str) -> np.ndarray:

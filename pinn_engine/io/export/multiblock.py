@@ -1,41 +1,30 @@
-"""A multi-block grid in the solver formats (SPEC 10): ``.cgns`` a zone a block with 1-to-1
-joins and a ``BC_t`` per boundary piece, ``.xyz`` a PLOT3D grid a block, and one merged mesh
-(each shared node once) for ``.su2``, ``.msh`` (2D) and ``--format openfoam``.
+"""A multi-block grid (SPEC 10) as the solver formats' writers take it: each format writes
+it in its own way (``.cgns`` a zone a block with 1-to-1 joins and a ``BC_t`` per boundary
+piece, ``.xyz`` a PLOT3D grid a block, and the unstructured formats the one merged mesh of
+:func:`merged`, each shared node once).
 
-The writers read the ``vtkMultiBlockDataSet`` (``vtm.multiblock_dataset``): each block's
+The blocks come from the ``vtkMultiBlockDataSet`` (``vtm.multiblock_dataset``): each block's
 points and its boundary pieces (field data ``PieceNames``, ``PieceTypes``, ``PieceRanges``),
-so any route that holds the dataset can write it.
+so any route that holds the dataset can write it (``export.write_blocks``).
 """
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet
 
 from pinn_engine.errors import InputError
-from pinn_engine.io.export import (
-    Format,
-    cgns,
-    gmsh,
-    openfoam,
-    output_format,
-    plot3d,
-    su2,
-    write_case,
-)
-from pinn_engine.io.export.joins import joins
 from pinn_engine.io.export.quadmesh import QuadMesh
-from pinn_engine.io.export.topology import layers, mean_edge, quads, side_edges
-from pinn_engine.io.export.vtm import PIECE_NAMES, PIECE_RANGES, PIECE_TYPES
-from pinn_engine.io.fileio import atomic_path
+from pinn_engine.io.export.topology import quads, side_edges
 
-BLOCK_FORMATS = ("xyz", "cgns", "su2", "msh", "openfoam")  # SPEC 10's exports
 Z_UP = np.array([0.0, 0.0, 1.0])  # a multi-block grid lies in a plane z = const
+# Field data of each block naming its boundary pieces (SPEC 10's patches; one entry a
+# piece): the patch name, its type (``patchnames.TYPES``) and the piece's 0-based node range
+# (i0, j0, i1, j1) along one side of the block
+PIECE_NAMES, PIECE_TYPES, PIECE_RANGES = "PieceNames", "PieceTypes", "PieceRanges"
 
 
 @dataclass(frozen=True)
@@ -144,69 +133,4 @@ def _check_boundary(mesh: QuadMesh) -> None:
         )
 
 
-def zones(blocks: Blocks, thickness: float | None) -> list[cgns.Zone]:
-    """A CGNS zone a block (named ``block0``, ...): its BCs and its joins."""
-    out = []
-    for k, (pts, pieces) in enumerate(zip(blocks.points, blocks.pieces)):
-        count = {}
-        for p in pieces:
-            count[p.name] = count.get(p.name, 0) + 1
-        bcs = []
-        for n, p in enumerate(pieces):
-            i0, j0, i1, j1 = p.nodes
-            label = f"{p.name[:28]}_{n}" if count[p.name] > 1 else p.name
-            bcs.append((label, p.name, ((i0 + 1, j0 + 1), (i1 + 1, j1 + 1))))
-        xyz = layers(pts, thickness, Z_UP)
-        out.append(cgns.Zone(f"block{k}", xyz, bcs, joins(blocks.points, k)))
-    return out
-
-
-def blocks_format(path: str | os.PathLike, fmt: str | None, extrude: float | None) -> Format:
-    """The export format of a multi-block grid for ``path`` (or ``fmt``), refused (one
-    line) before meshing where it does not apply."""
-    found = output_format(path, fmt, extrude)
-    if found.key not in BLOCK_FORMATS:
-        raise InputError(
-            f"a multi-block grid is written as .vtm, .xyz, .cgns, .su2, .msh or --format "
-            f"openfoam, not as {found.description}",
-            str(path),
-        )
-    if found.key == "msh" and extrude is not None:
-        raise InputError(
-            "a multi-block grid is written to Gmsh in 2D in this build; drop {extrude}", str(path)
-        )
-    return found
-
-
-def write_blocks(
-    dataset: vtkMultiBlockDataSet,
-    path: str | os.PathLike,
-    fmt: str | None = None,
-    *,
-    extrude: float | None = None,
-) -> Path:
-    """Write a multi-block grid to ``path`` in the format of its extension (or ``fmt``);
-    ``extrude``: one cell of this thickness in z (PLOT3D, CGNS, OpenFOAM; OpenFOAM's
-    default: the mean edge length). Atomic, as every writer."""
-    path = Path(path)
-    found = blocks_format(path, fmt, extrude)
-    blocks = blocks_of(dataset)
-    if found.key == "openfoam":
-        mesh = merged(blocks)
-        thickness = extrude or float(np.mean([mean_edge(p) for p in blocks.points]))
-        return write_case(
-            path, lambda folder: openfoam.write_quadmesh_polymesh(mesh, thickness, folder)
-        )
-    with atomic_path(path, suffix=found.suffix) as tmp:
-        if found.key == "xyz":
-            plot3d.write_grids([layers(p, extrude, Z_UP) for p in blocks.points], tmp)
-        elif found.key == "cgns":
-            cgns.write_zones(zones(blocks, extrude), blocks.types(), tmp)
-        elif found.key == "su2":
-            su2.write_quadmesh(merged(blocks), tmp, f"{len(blocks.points)} blocks merged")
-        else:
-            gmsh.write_quadmesh(merged(blocks), tmp)
-    return path
-
-
-__all__ = ["BLOCK_FORMATS", "Blocks", "blocks_format", "merged", "write_blocks"]
+__all__ = ["Z_UP", "Blocks", "Piece", "blocks_of", "merged"]

@@ -16,14 +16,18 @@ from pathlib import Path
 
 import numpy as np
 
+from pinn_engine.io.export import bodies
 from pinn_engine.io.export.block import Block, Box
+from pinn_engine.io.export.multiblock import Blocks, merged
 from pinn_engine.io.export.quadmesh import QuadMesh
+from pinn_engine.io.export.registry import Format, register
 from pinn_engine.io.export.text import write_rows
 from pinn_engine.io.export.topology import (
     box_cells,
     box_faces,
     end_faces,
     inner_faces,
+    mean_edge,
     quads,
     side_cells,
     side_faces,
@@ -209,3 +213,35 @@ def case_files(title: str) -> dict[str, str]:
     }
     files[f"{title}.foam"] = ""
     return files
+
+
+def write_block(block: Block, folder: Path) -> None:
+    """A 2D grid extruded one cell in z; an O- or C-grid with its seam or cut merged."""
+    if block.topology:
+        write_quadmesh_polymesh(bodies.quad_mesh(block), block.thickness, folder)
+    else:
+        write_polymesh(block, folder)
+
+
+def write_blocks(blocks: Blocks, folder: Path, extrude: float | None) -> None:
+    """A multi-block grid (SPEC 10), one cell in z (``extrude``, else the blocks' mean edge
+    length): one mesh, each shared node once."""
+    thickness = extrude or float(np.mean([mean_edge(p) for p in blocks.points]))
+    write_quadmesh_polymesh(merged(blocks), thickness, folder)
+
+
+register(
+    Format(
+        "openfoam",
+        "",
+        "OpenFOAM case (constant/polyMesh)",
+        True,
+        name="OpenFOAM",
+        block=write_block,
+        box=write_box_polymesh,
+        blocks=write_blocks,
+        blocks_extrude=True,
+        solid=True,
+        paraview=("foam", "PINNMeshOpenFOAMWriter", "PINN Mesh OpenFOAM"),
+    )
+)

@@ -14,6 +14,9 @@ from pathlib import Path
 import numpy as np
 
 from pinn_engine.io.export.block import Block, Box
+from pinn_engine.io.export.multiblock import Z_UP, Blocks
+from pinn_engine.io.export.registry import Format, register
+from pinn_engine.io.export.topology import layers
 
 
 def _record(f, data: np.ndarray) -> None:
@@ -38,3 +41,24 @@ def write(block: Block, path: Path) -> None:
 
 def write_box(box: Box, path: Path) -> None:
     write_grids([box.xyz], path)
+
+
+def write_blocks(blocks: Blocks, path: Path, extrude: float | None) -> None:
+    """A multi-block grid (SPEC 10): a grid a block."""
+    write_grids([layers(p, extrude, Z_UP) for p in blocks.points], path)
+
+
+register(
+    Format(
+        "xyz",
+        ".xyz",
+        "PLOT3D grid (multi-grid, whole, double)",
+        True,
+        name="PLOT3D",
+        block=write,
+        box=write_box,
+        blocks=write_blocks,
+        blocks_extrude=True,
+        paraview=("xyz", "PINNMeshPLOT3DWriter", "PINN Mesh PLOT3D"),
+    )
+)

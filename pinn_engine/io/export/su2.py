@@ -14,7 +14,9 @@ import numpy as np
 from pinn_engine.errors import InputError
 from pinn_engine.io.export import bodies
 from pinn_engine.io.export.block import Block, Box
+from pinn_engine.io.export.multiblock import Blocks, merged
 from pinn_engine.io.export.quadmesh import QuadMesh
+from pinn_engine.io.export.registry import Format, register
 from pinn_engine.io.export.text import write_rows
 from pinn_engine.io.export.topology import box_faces, hexahedra, quads, side_edges
 
@@ -74,3 +76,23 @@ def write_box(box: Box, path: Path) -> None:
         for name, sides in box.patches().items()
     }
     _write(path, " (hexahedral grid)", box.xyz.reshape(-1, 3), hexahedra(*shape), markers)
+
+
+def write_blocks(blocks: Blocks, path: Path, extrude: None) -> None:
+    """A multi-block grid (SPEC 10): one mesh, each shared node once."""
+    write_quadmesh(merged(blocks), path, f"{len(blocks.points)} blocks merged")
+
+
+register(
+    Format(
+        "su2",
+        ".su2",
+        "SU2 mesh with markers",
+        False,
+        name="SU2",
+        block=write,
+        box=write_box,
+        blocks=write_blocks,
+        paraview=("su2", "PINNMeshSU2Writer", "PINN Mesh SU2"),
+    )
+)

@@ -6,7 +6,8 @@ from pathlib import Path
 
 from vtkmodules.vtkIOLegacy import vtkStructuredGridWriter
 
-from pinn_engine.io.fileio import _quiet_vtk, write_vts
+from pinn_engine.io.export.registry import Format, register
+from pinn_engine.io.fileio import _quiet_vtk, atomic_path, write_vts
 
 
 def write_legacy(grid, path: Path) -> None:
@@ -21,4 +22,14 @@ def write_legacy(grid, path: Path) -> None:
         raise OSError(f"VTK could not write {path} (disk full or not writable?)")
 
 
-__all__ = ["write_legacy", "write_vts"]
+def write_vtk(grid, path: Path) -> None:
+    """Write ``grid`` as a legacy ``.vtk`` file atomically."""
+    with atomic_path(path, suffix=".vtk") as tmp:
+        write_legacy(grid, tmp)
+
+
+register(Format("vts", ".vts", "VTK XML structured grid", False, name="VTK XML", grid=write_vts))
+register(Format("vtk", ".vtk", "VTK legacy structured grid", False, name="VTK", grid=write_vtk))
+
+
+__all__ = ["write_legacy", "write_vtk", "write_vts"]

@@ -14,14 +14,10 @@ from vtkmodules.vtkCommonCore import vtkStringArray
 from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet, vtkMultiBlockDataSet
 
 from pinn_engine.errors import InputError
+from pinn_engine.io.export.multiblock import PIECE_NAMES, PIECE_RANGES, PIECE_TYPES
 from pinn_engine.io.export.patches import FIELD, TYPES_FIELD
 from pinn_engine.io.fileio import write_text_atomic, write_vts
 from pinn_engine.io.vtkgrid import structured_grid
-
-# Field data of each block naming its boundary pieces (SPEC 10's patches; one entry a
-# piece): the patch name, its type (``patchnames.TYPES``) and the piece's 0-based node range
-# (i0, j0, i1, j1) along one side of the block
-PIECE_NAMES, PIECE_TYPES, PIECE_RANGES = "PieceNames", "PieceTypes", "PieceRanges"
 
 
 def _add_pieces(grid, pieces: Sequence) -> None:

@@ -3,11 +3,14 @@
 ``propose_edges`` is the entry: O-rings round holes (``orings.py``), one edge from each
 reflex vertex of the boundary and the boxes (``rays.py``: a motorcycle graph of the cross
 field's separatrices), faces of other than four corners cut round their centres
-(``faces.py``), the choice among them by the coarse elliptic grid's quality
-(``search.py``). docs/blocking.md explains the method.
+(``faces.py``), the choice among them (``search.py``) by their elliptic grids' quality
+(``score.py``). docs/blocking.md explains the method.
 """
 
 from __future__ import annotations
+
+import time
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -15,14 +18,10 @@ from pinn_engine.errors import InputError
 from pinn_engine.multiblock.autoblock.corners import corner_points, reflex_vertices
 from pinn_engine.multiblock.autoblock.faces import NoBlocking, completed
 from pinn_engine.multiblock.autoblock.orings import main_axes, o_ring
-from pinn_engine.multiblock.autoblock.rays import directions, motorcycles, shortest_first
+from pinn_engine.multiblock.autoblock.rays import motorcycles, ray_options
+from pinn_engine.multiblock.autoblock.score import score
 from pinn_engine.multiblock.autoblock.search import best_meshed, candidates
 from pinn_engine.multiblock.graph import order_rings
-
-SCORE_CELLS = 24  # the coarse grid that judges a layout: its diagonal over this cell size
-WORST_WEIGHT = 0.1  # a degree of the worst MaxIncludedAngle against one of the mean
-KINK_WEIGHT = 0.5  # a degree of mean interface kink against one of mean MaxIncludedAngle
-BLOCK_WEIGHT = 0.25  # degrees of mean MaxIncludedAngle one block fewer is worth
 
 
 def _segments(curves: list[np.ndarray], closed: bool) -> np.ndarray:
@@ -32,30 +31,6 @@ def _segments(curves: list[np.ndarray], closed: bool) -> np.ndarray:
         a = c if closed else c[:-1]
         out.append(np.stack([a, b], axis=1))
     return np.concatenate(out) if out else np.zeros((0, 2, 2))
-
-
-def _score(rings: list[np.ndarray], edges: list[np.ndarray]) -> float:
-    """The coarse elliptic grid's mean MaxIncludedAngle, with the worst, the mean interface
-    kink and the block count weighed in; infinite when it folds or cannot be meshed."""
-    from pinn_engine.multiblock.mesh import mesh_blocks
-    from pinn_engine.settings import make_settings
-
-    diagonal = float(np.linalg.norm(np.ptp(rings[0], axis=0)))
-    settings = make_settings("elliptic", cell_size=diagonal / SCORE_CELLS)
-    names = [f"edge {k}" for k in range(len(edges))]
-    try:
-        report = mesh_blocks(rings, edges, names, settings, "auto").report
-    except InputError:
-        return np.inf
-    q = report["quality"]
-    if q["folded_cells"]:
-        return np.inf
-    return (
-        q["mean_max_angle"]
-        + WORST_WEIGHT * q["worst_max_angle"]
-        + KINK_WEIGHT * report["interface_kink"]["mean"]
-        + BLOCK_WEIGHT * report["blocks"]
-    )
 
 
 def propose_edges(rings: list[np.ndarray], source: str = "boundary") -> list[np.ndarray]:
@@ -70,22 +45,22 @@ def propose_edges(rings: list[np.ndarray], source: str = "boundary") -> list[np.
         ring = o_ring(hole, [r for j, r in enumerate(rings) if j != k], axes)
         fixed_edges += ring.edges
         boxes.append(ring.box[::-1])  # clockwise: the domain outside it on its left
-    vertices = reflex_vertices([rings[0], *boxes])
+    vertices = reflex_vertices([rings[0], *boxes], diagonal)
     fixed = _segments([rings[0], *boxes], True)
-    options = [shortest_first(v, directions(v), fixed, diagonal) for v in vertices]
+    options = [ray_options(v, fixed, diagonal) for v in vertices]
     targets = np.vstack(
         [corner_points(rings[0]), *boxes, np.array([v.point for v in vertices]).reshape(-1, 2)]
     )
 
     def build(rays):
-        return fixed_edges + motorcycles(rays, fixed, targets, diagonal)
+        return motorcycles(rays, fixed, targets, diagonal)
 
-    layouts = candidates(vertices, options, build, rings)
+    layouts = candidates(vertices, options, build, rings, fixed_edges)
     if not layouts:
         raise InputError(_why(rings, fixed_edges) + ": draw the block edges and {blocks}", source)
     if not vertices and len(rings) == 1:
         return layouts[0][1]  # four-sided (or cut round its centre): nothing to choose
-    best = best_meshed(layouts, lambda edges: _score(rings, edges))
+    best = best_meshed(layouts, lambda edges: score(rings, edges))
     if best is None:
         raise InputError(
             "automatic blocking found no layout that meshes without folds: draw the block "
@@ -93,6 +68,25 @@ def propose_edges(rings: list[np.ndarray], source: str = "boundary") -> list[np.
             source,
         )
     return best
+
+
+@dataclass
+class Proposal:
+    """The edges proposed for a domain, their names in messages, and what the run's report
+    says of the blocking (``mode``, ``edges``, ``seconds``)."""
+
+    edges: list[np.ndarray]
+    names: list[str]
+    report: dict
+
+
+def proposal(rings: list[np.ndarray], source: str = "boundary") -> Proposal:
+    """:func:`propose_edges`, named and timed for a run's report."""
+    start = time.perf_counter()
+    edges = propose_edges(rings, source)
+    seconds = time.perf_counter() - start
+    names = [f"proposed edge {k}" for k in range(len(edges))]
+    return Proposal(edges, names, {"mode": "automatic", "edges": len(edges), "seconds": seconds})
 
 
 def _why(rings: list[np.ndarray], edges: list[np.ndarray]) -> str:
@@ -104,4 +98,4 @@ def _why(rings: list[np.ndarray], edges: list[np.ndarray]) -> str:
     return "automatic blocking found no four-cornered blocks"
 
 
-__all__ = ["propose_edges"]
+__all__ = ["Proposal", "proposal", "propose_edges"]

@@ -19,6 +19,8 @@ from pinn_engine.multiblock.blocks import CORNER_TURN
 
 MILD_TURN = 12.0  # degrees: a vertex turning the wrong way by this much may emit an edge
 # (below it a sampled curve's vertices, which stay inside blocks)
+FILLET_SPAN = 0.05  # share of the diagonal: weaker turns this close together are one corner
+# (a rounded corner; a bend's inner wall or a bump spans more)
 
 
 @dataclass(frozen=True)
@@ -38,9 +40,31 @@ def _unit(v: np.ndarray) -> np.ndarray:
     return v / np.linalg.norm(v, axis=-1, keepdims=True)
 
 
-def reflex_vertices(rings: list[np.ndarray]) -> list[Reflex]:
+def _fillets(turns: np.ndarray, ring: np.ndarray, span: float) -> list[np.ndarray]:
+    """Runs of consecutive vertices that each turn the wrong way by less than MILD_TURN,
+    within ``span`` of each other end to end: a rounded concave corner drawn as an arc."""
+    weak = (turns < 0) & (turns > -MILD_TURN)
+    if weak.all() or not weak.any():
+        return []
+    start = int(np.flatnonzero(~weak)[0])  # walk the ring from a vertex outside every run
+    order = np.roll(np.arange(len(ring)), -start)
+    runs, run = [], []
+    for i in [*order, order[0]]:
+        # a run ends at a vertex that is not weak, or one a straight stretch away
+        if run and (not weak[i] or np.linalg.norm(ring[i] - ring[run[-1]]) > 0.5 * span):
+            runs.append(np.array(run))
+            run = []
+        if weak[i]:
+            run.append(i)
+    return [r for r in runs if len(r) > 1 and np.linalg.norm(ring[r[-1]] - ring[r[0]]) <= span]
+
+
+def reflex_vertices(rings: list[np.ndarray], diagonal: float) -> list[Reflex]:
     """The vertices of ``rings`` turning the wrong way by MILD_TURN or more (each ring with
-    the domain on its left: the outer ring counter-clockwise, holes clockwise)."""
+    the domain on its left: the outer ring counter-clockwise, holes clockwise), and the
+    middles of rounded concave corners (runs of weaker turns within FILLET_SPAN of the
+    ``diagonal``) that turn as much in all, with the directions arriving at and leaving the
+    run."""
     out = []
     for ring in rings:
         turns = turning_angles(ring)
@@ -49,6 +73,14 @@ def reflex_vertices(rings: list[np.ndarray]) -> list[Reflex]:
         for i in np.flatnonzero(turns <= -MILD_TURN):
             needed = bool(turns[i] <= -CORNER_TURN)
             out.append(Reflex(ring[i].copy(), d_in[i], d_out[i], 180.0 - turns[i], needed))
+        for run in _fillets(turns, ring, FILLET_SPAN * diagonal):
+            total = float(turns[run].sum())
+            if total <= -MILD_TURN:
+                middle = run[len(run) // 2]
+                needed = total <= -CORNER_TURN
+                out.append(
+                    Reflex(ring[middle].copy(), d_in[run[0]], d_out[run[-1]], 180.0 - total, needed)
+                )
     return out
 
 

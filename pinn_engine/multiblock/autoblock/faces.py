@@ -11,6 +11,7 @@ price per block: the cheap ranking that the coarse grid's quality then refines.
 from __future__ import annotations
 
 import numpy as np
+from shapely.errors import GEOSException
 from shapely.geometry import LineString, Point, Polygon
 
 from pinn_engine.errors import InputError
@@ -32,7 +33,7 @@ def faces_of(rings: list[np.ndarray], edges: list[np.ndarray]) -> tuple[list[np.
     try:
         lines = linework(rings, edges, [f"edge {k}" for k in range(len(edges))], "auto")
         faces = _faces(lines)
-    except InputError as exc:
+    except (InputError, GEOSException) as exc:  # crossing edges; geometry shapely refuses
         raise NoBlocking(str(exc)) from exc
     return [np.asarray(f.exterior.coords)[:-1] for f in faces], lines.diagonal
 

@@ -20,6 +20,7 @@ from pinn_engine.multiblock.autoblock.corners import corner_points
 RING_SHARE = 1.0  # the ring's thickness over the hole's half-size (a cylinder's box: 2 D wide)
 GAP_SHARE = 0.45  # the most of the gap beyond a box side that the ring takes (two boxes facing
 # each other across a gap leave a tenth of it between them)
+SHRINKS = 6  # times the ring's thickness is halved to keep a box off a slanted wall
 SPOKE_SNAP = 0.25  # a spoke ends on a sharp vertex of the hole this close (share of its half-size)
 
 
@@ -76,6 +77,10 @@ def o_ring(hole: np.ndarray, others: list[np.ndarray], axes: np.ndarray) -> ORin
         [[-margins[0], -margins[2]], [margins[1], -margins[2]], [margins[1], margins[3]],
          [-margins[0], margins[3]]]
     )  # fmt: skip
+    for _ in range(SHRINKS):  # a corner past a slanted wall: the ring thinner until inside
+        if not Polygon((box + grow) @ axes).intersects(obstacles):
+            break
+        grow = 0.5 * grow
     box = (box + grow) @ axes
     centre = 0.5 * (lo + hi) @ axes
     edges = [np.array([box[k - 1], box[k]]) for k in range(4)]

@@ -61,14 +61,19 @@ def trace(start: np.ndarray, d: np.ndarray, segments: np.ndarray, tiny: float) -
     return start + t[ok].min() * d
 
 
-def shortest_first(
-    vertex: Reflex, options: list[np.ndarray], fixed: np.ndarray, diagonal: float
-) -> list[np.ndarray]:
-    """The directions ``options`` of ``vertex`` ordered by how far each runs to the
-    ``fixed`` segments, shortest first (the motorcycle graph's natural choice)."""
+def ray_options(vertex: Reflex, fixed: np.ndarray, diagonal: float) -> list[list[np.ndarray]]:
+    """The ways ``vertex`` may emit edges, each a list of directions: one direction each,
+    ordered by how far it runs to the ``fixed`` segments (shortest first, the motorcycle
+    graph's natural choice), then both sides carried on where both are directions (a
+    270-degree corner's two separatrices: no T-junction left at it)."""
     tiny = NEAR_ZERO * diagonal
-    lengths = [np.linalg.norm(trace(vertex.point, d, fixed, tiny) - vertex.point) for d in options]
-    return [options[k] for k in np.argsort(lengths, kind="stable")]
+    single = directions(vertex)
+    lengths = [np.linalg.norm(trace(vertex.point, d, fixed, tiny) - vertex.point) for d in single]
+    out = [[single[k]] for k in np.argsort(lengths, kind="stable")]
+    carried = [d for d in single if np.allclose(d, vertex.d_in) or np.allclose(d, -vertex.d_out)]
+    if len(carried) == 2:
+        out.append(carried)
+    return out
 
 
 def motorcycles(

@@ -1,12 +1,12 @@
 """The choice among candidate blockings (SPEC 13): every reflex vertex's direction (or none,
 where another edge already ends on it) is tried, each layout completed round face centres
-(``faces.py``), ranked by its blocks' corner angles, and the best few meshed coarsely by the
-elliptic multi-block solver, whose quality (and interface kinks) picks the winner.
+(``faces.py``), ranked by its blocks' corner angles, and the best few meshed by the elliptic
+multi-block solver, whose quality (and interface kinks) picks the winner (``score.py``).
 
 Few reflex vertices (up to ``EXHAUSTIVE`` combinations) are tried in every combination;
-more, coordinate by coordinate from the motorcycle graph's own start (each needed vertex its
-shortest edge, the others none), each vertex in turn taking the choice that lowers the
-layout cost, the others held, until no choice improves.
+more, coordinate by coordinate from two starts (each needed vertex its shortest edge, the
+others none; every vertex its shortest edge), each vertex in turn taking the choice that
+lowers the layout cost, the others held, until no choice improves.
 """
 
 from __future__ import annotations
@@ -20,11 +20,12 @@ from pinn_engine.multiblock.autoblock.corners import Reflex
 from pinn_engine.multiblock.autoblock.faces import NoBlocking, completed
 
 EXHAUSTIVE = 256  # combinations tried one by one; more go coordinate by coordinate
-SHORTLIST = 6  # layouts (cheapest by corner angles) meshed to choose among
+SHORTLIST = 2  # layouts of each edge count (the cheapest by corner angles) meshed
+MAX_MESHED = 8  # layouts meshed at most (the shortlist's cheapest)
 MAX_SWEEPS = 4  # passes of the coordinate search over all vertices
 SAME_POINT = 1e-12  # relative: an edge's end is a vertex (edges start exactly at vertices)
 
-Choice = tuple[int, ...]  # per reflex vertex: index into its directions, or -1 for none
+Choice = tuple[int, ...]  # per reflex vertex: index into its ray options, or -1 for none
 
 
 def _combinations(sizes: list[int]) -> Iterable[Choice]:
@@ -34,22 +35,24 @@ def _combinations(sizes: list[int]) -> Iterable[Choice]:
 
 def candidates(
     vertices: list[Reflex],
-    options: list[list[np.ndarray]],
+    options: list[list[list[np.ndarray]]],
     build: Callable[[list[tuple[Reflex, np.ndarray]]], list[np.ndarray]],
     rings: list[np.ndarray],
+    fixed: list[np.ndarray],
 ) -> list[tuple[float, list[np.ndarray]]]:
-    """The feasible completed layouts (cost, edges), cheapest first, of the vertices'
-    direction ``options`` (each vertex's shortest first); ``build`` turns (vertex,
-    direction) rays into edges."""
+    """The feasible completed layouts (cost, edges), cheapest first, of the ``fixed`` edges
+    (the O-rings) and the vertices' ray ``options`` (each a list of directions, the
+    shortest edge first); ``build`` turns (vertex, direction) rays into edges."""
     seen: dict[bytes, tuple[float, list[np.ndarray]]] = {}
     needed = [v.point for v in vertices if v.needed]
 
     def cost_of(choice: Choice) -> float:
-        rays = [(v, opts[c]) for v, opts, c in zip(vertices, options, choice) if c >= 0]
-        edges = build(rays)
-        if not _all_cut(needed, edges):
+        rays = [(v, d) for v, opts, c in zip(vertices, options, choice) if c >= 0 for d in opts[c]]
+        cuts = build(rays)
+        if not _all_cut(needed, cuts):
             return np.inf
-        key = np.concatenate([e.ravel() for e in edges] or [np.zeros(0)]).round(9).tobytes()
+        edges = fixed + cuts
+        key = _key(edges)
         if key not in seen:
             try:
                 done, cost = completed(rings, edges)
@@ -63,19 +66,30 @@ def candidates(
         for choice in _combinations(sizes):
             cost_of(choice)
     else:
-        choice = [0 if n and v.needed else -1 for v, n in zip(vertices, sizes)]
-        best = cost_of(tuple(choice))
-        for _ in range(MAX_SWEEPS):
-            improved = False
-            for k, n in enumerate(sizes):
-                for c in range(-1, n):
-                    trial = tuple(choice[:k] + [c] + choice[k + 1 :])
-                    cost = cost_of(trial)
-                    if cost < best:
-                        best, choice, improved = cost, list(trial), True
-            if not improved:
-                break
+        starts = (  # the needed vertices' shortest edges; every vertex's shortest edge
+            [0 if n and v.needed else -1 for v, n in zip(vertices, sizes)],
+            [0 if n else -1 for n in sizes],
+        )
+        for choice in starts:
+            best = cost_of(tuple(choice))
+            for _ in range(MAX_SWEEPS):
+                improved = False
+                for k, n in enumerate(sizes):
+                    for c in range(-1, n):
+                        trial = tuple(choice[:k] + [c] + choice[k + 1 :])
+                        cost = cost_of(trial)
+                        if cost < best:
+                            best, choice, improved = cost, list(trial), True
+                if not improved:
+                    break
     return sorted((v for v in seen.values() if np.isfinite(v[0])), key=lambda item: item[0])
+
+
+def _key(edges: list[np.ndarray]) -> bytes:
+    """The same bytes for the same set of edges, whatever their order and direction."""
+    rounded = [np.round(e, 9) for e in edges]
+    ends = [e if tuple(e[0]) <= tuple(e[-1]) else e[::-1] for e in rounded]
+    return repr(sorted(tuple(map(tuple, e)) for e in ends)).encode()
 
 
 def _all_cut(points: list[np.ndarray], edges: list[np.ndarray]) -> bool:
@@ -89,14 +103,27 @@ def _all_cut(points: list[np.ndarray], edges: list[np.ndarray]) -> bool:
     return max(near) <= SAME_POINT
 
 
+def shortlist(layouts: list[tuple[float, list[np.ndarray]]]) -> list[list[np.ndarray]]:
+    """The SHORTLIST cheapest of ``layouts`` (cheapest first) with each number of edges, at
+    most MAX_MESHED: fewer blocks and more both get meshed, whatever the corner angles'
+    ranking."""
+    taken: dict[int, int] = {}
+    out = []
+    for _, edges in layouts:
+        if taken.get(len(edges), 0) < SHORTLIST:
+            taken[len(edges)] = taken.get(len(edges), 0) + 1
+            out.append(edges)
+    return out[:MAX_MESHED]
+
+
 def best_meshed(
     layouts: list[tuple[float, list[np.ndarray]]],
     score: Callable[[list[np.ndarray]], float],
 ) -> list[np.ndarray] | None:
-    """Of the SHORTLIST cheapest ``layouts``, the edges whose coarse grid ``score``s lowest
-    (None when none can be meshed)."""
+    """Of the ``shortlist`` of ``layouts``, the edges whose grid ``score``s lowest (None
+    when none can be meshed)."""
     best = None
-    for _, edges in layouts[:SHORTLIST]:
+    for edges in shortlist(layouts):
         value = score(edges)
         if np.isfinite(value) and (best is None or value < best[0]):
             best = (value, edges)

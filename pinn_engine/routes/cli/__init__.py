@@ -7,11 +7,12 @@
 
 from pinn_engine.routes.cli.dispatch import run
 from pinn_engine.routes.cli.entry import EXIT_ERROR, EXIT_INTERRUPTED, main
-from pinn_engine.routes.cli.parser import build_parser
+from pinn_engine.routes.cli.parser import OneLineParser, build_parser
 
 __all__ = [
     "EXIT_ERROR",
     "EXIT_INTERRUPTED",
+    "OneLineParser",
     "build_parser",
     "main",
     "run",

@@ -7,6 +7,7 @@ from pathlib import Path
 
 from pinn_engine.errors import PinnMeshError
 from pinn_engine.hexa.surface import is_faced_surface
+from pinn_engine.io import childread
 from pinn_engine.routes.cli.four_sided import run_four_sided
 from pinn_engine.routes.cli.hexa import run_hexa
 from pinn_engine.routes.cli.multiblock import run_blocks
@@ -17,8 +18,12 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     faces a six-faced 3D domain (SPEC 11), else a four-sided domain or, with --topology, a
     body (SPEC 5 and 9); appends each output file to ``written`` once it is complete."""
     written = written if written is not None else []
+    if args.cells and not args.blocks:
+        raise PinnMeshError("--cells applies to multi-block domains (--blocks); use --size")
     if args.save_blocks and not args.blocks:
         raise PinnMeshError("--save-blocks writes the block edges of --blocks (or --blocks auto)")
+    # the input files read while the run imports the engine
+    childread.prefetch([args.boundary, *(args.aux or []), *(args.blocks or [])])
     if args.blocks:
         return run_blocks(args, written)
     if args.boundary and is_faced_surface(args.boundary):

@@ -62,9 +62,11 @@ def run_four_sided(args: argparse.Namespace, written: list[Path]) -> Path:
     check_options(args)
     ni, nj = args.size
     settings = settings_from(args, ni, nj)
+    began = time.perf_counter()
     geometry = job.geometry_from_files(
         settings, args.boundary, args.aux, args.corners, args.farfield is not None
     )
+    read_seconds = time.perf_counter() - began
     mesher = Mesher.load(args.load_model, geometry.boundary) if args.load_model else None
     start = time.perf_counter()
     with Progress(args.quiet) as progress:
@@ -72,6 +74,8 @@ def run_four_sided(args: argparse.Namespace, written: list[Path]) -> Path:
     if args.save_model:
         save_model(outcome.mesher, args.save_model, written)
     result = outcome.result
+    if "timings" in result.report:
+        result.report["timings"]["read"] = read_seconds
     if not args.quiet:
         grid_summary(result, settings, ni, nj, time.perf_counter() - start)
     source = name if body else args.boundary

@@ -24,8 +24,8 @@ def run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
     """The boundary and its block edges into ``OUT.vtm`` (or a solver format); appends each
     output file to ``written`` once it is complete."""
     from pinn_engine import job
+    from pinn_engine.io.export import blocks_format, write_blocks
     from pinn_engine.io.export.edges import write_edges
-    from pinn_engine.io.export.multiblock import blocks_format, write_blocks
     from pinn_engine.io.export.vtm import write_vtm
 
     flags = option_flags()
@@ -70,6 +70,7 @@ def run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
             orthogonal,
             progress,
             args.aux,
+            args.cells,
         )
     report = outcome.result.report
     folded = report["quality"]["folded_cells"]

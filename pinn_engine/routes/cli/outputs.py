@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import time
 from collections.abc import Callable
 from pathlib import Path
 
@@ -50,11 +51,15 @@ def write_outputs(
     report: dict,
     draw: Callable[[Path], None],
 ) -> None:
-    """The grid (``write_grid()`` into ``out``), then the report and the picture
-    (``draw(tmp)``) if asked, then the line saying what was written."""
+    """The grid (``write_grid()`` into ``out``), then the report (with the grid's writing
+    among its ``timings``, if it has them) and the picture (``draw(tmp)``) if asked, then
+    the line saying what was written."""
     from pinn_engine.io.fileio import atomic_path
 
+    began = time.perf_counter()
     write_grid()
+    if "timings" in report:
+        report["timings"]["write"] = time.perf_counter() - began
     written.append(out)
     if args.report:
         write_report(args.report, report, written)
@@ -62,4 +67,5 @@ def write_outputs(
         with atomic_path(args.png, suffix=Path(args.png).suffix or ".png") as tmp:
             draw(tmp)
         written.append(Path(args.png))
-    print(f"wrote {out}" + (f" and {args.png}" if args.png else ""))
+    default = "" if args.output else " (the default place without -o)"
+    print(f"wrote {out}{default}" + (f" and {args.png}" if args.png else ""))

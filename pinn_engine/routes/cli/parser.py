@@ -3,8 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import difflib
 import functools
+import re
+import sys
+from typing import NoReturn
 
+from pinn_engine._version import __version__
 from pinn_engine.settings import (
     METHODS,
     OBJECTIVES,
@@ -14,7 +19,38 @@ from pinn_engine.settings import (
     Options,
 )
 
-FORMAT_KEYS = ("vts", "vtk", "xyz", "cgns", "su2", "msh", "openfoam")  # export.FORMATS
+# Options whose value may name a point X,Y (multi-block items) and so start with a minus
+PLACE_OPTIONS = ("--patch", "--spacing", "--cells")
+NEGATIVE = re.compile(r"^-\.?\d")  # a value starting with a negative number, not an option
+
+
+def _joined_places(words: list[str]) -> list[str]:
+    """``--patch -0.5,0=wall`` as ``--patch=-0.5,0=wall``: a point item of a place option is
+    its value (argparse takes any word starting with a minus, but a plain negative number,
+    for an option)."""
+    out: list[str] = []
+    for word in words:
+        if out and out[-1] in PLACE_OPTIONS and NEGATIVE.match(word):
+            out[-1] = f"{out[-1]}={word}"
+        else:
+            out.append(word)
+    return out
+
+
+class _FormatKeys:
+    """``--format``'s choices: the keys of the formats registered in ``io.export``, which
+    is imported only when they are read (``--format`` given, or the help shown)."""
+
+    def _keys(self) -> tuple[str, ...]:
+        from pinn_engine.io.export import FORMATS
+
+        return tuple(FORMATS)
+
+    def __contains__(self, key: object) -> bool:
+        return key in self._keys()
+
+    def __iter__(self):
+        return iter(self._keys())
 
 
 def _options(name: str) -> tuple:
@@ -31,12 +67,46 @@ class _SizeAction(argparse.Action):
         setattr(namespace, self.dest, values)
 
 
+class OneLineParser(argparse.ArgumentParser):
+    """argparse's parser whose complaint is one line with the way to the options (not the
+    usage block), and which names an unknown option, with the nearest known one, before
+    argparse could take the option's values for the boundary."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message} ({self.prog} -h lists the options)\n")
+
+    def parse_known_args(self, args=None, namespace=None):
+        args = _joined_places(sys.argv[1:] if args is None else [str(a) for a in args])
+        for token in args:
+            if token == "--":  # what follows is positional
+                break
+            if self._unknown_option(token):
+                flag = token.split("=", 1)[0]
+                longs = [o for o in self._option_string_actions if o.startswith("--")]
+                nearest = difflib.get_close_matches(flag, longs, n=1)
+                hint = f"; did you mean {nearest[0]}?" if nearest else ""
+                self.error(f"unknown option {flag}{hint}")
+        return super().parse_known_args(args, namespace)
+
+    def _unknown_option(self, token: str) -> bool:
+        """Whether ``token`` looks like an option and names none (nor a unique prefix of
+        one, nor a short option with its value attached)."""
+        if not token.startswith("-") or token == "-" or self._negative_number_matcher.match(token):
+            return False
+        flag = token.split("=", 1)[0]
+        if flag in self._option_string_actions or token[:2] in self._option_string_actions:
+            return False
+        return not any(o.startswith(flag) for o in self._option_string_actions)
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The parser of one run's command line (the batch reads its manifest rows with it too)."""
-    p = argparse.ArgumentParser(
+    p = OneLineParser(
         prog="pinn-mesh",
-        description="Structured quadrilateral mesh of a four-sided 2D domain "
-        "(PINN of Chen et al., with TFI, elliptic and MGNet baselines).",
+        description="Structured meshes from a physics-informed neural network: four-sided 2D "
+        "blocks, airfoil O- and C-grids (--topology), multi-block 2D domains (--blocks), "
+        "hexahedral 3D grids (a six-faced surface), and batches (pinn-mesh batch). The PINN "
+        "of Chen et al., with TFI, elliptic and MGNet baselines.",
         epilog="Many cases at once: pinn-mesh batch MANIFEST -o OUTDIR (pinn-mesh batch -h).",
     )
     p.add_argument(
@@ -88,6 +158,7 @@ def build_parser() -> argparse.ArgumentParser:
         "with a FaceId array (default 21 21 21)",
     )
     p.add_argument("--seed", type=int, default=None)
+    p.add_argument("--version", action="version", version=f"pinn-mesh {__version__}")
     p.add_argument(
         "--preset",
         choices=PRESETS,
@@ -105,7 +176,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--format",
-        choices=FORMAT_KEYS,
+        choices=_FormatKeys(),
         default=None,
         help="output format instead of the extension of -o (openfoam: -o DIR "
         "gets DIR/constant/polyMesh)",
@@ -120,7 +191,17 @@ def build_parser() -> argparse.ArgumentParser:
         "patch) and optionally its type: wall, inflow, outflow, farfield, symmetry, patch "
         "(default: wall for a patch named wall, else patch); OpenFOAM and CGNS write the "
         "types. With --blocks: X,Y=NAME[:TYPE] names "
-        "the boundary piece nearest the point (X, Y) (default names: boundary, hole1, ...)",
+        "the boundary piece nearest the point (X, Y) (negative X too: --patch -0.5,0=wall), "
+        "boundary=NAME[:TYPE] or holeK=NAME[:TYPE] every piece of the outer boundary or of "
+        "hole K (default names: boundary, hole1, ...)",
+    )
+    p.add_argument(
+        "--cells",
+        action="append",
+        default=[],
+        metavar="X,Y=N",
+        help="with --blocks: N cells along the chain through the block side nearest the "
+        "point (X, Y) (opposite sides of every block share a count; repeatable)",
     )
     p.add_argument(
         "--extrude",
@@ -155,7 +236,9 @@ def build_parser() -> argparse.ArgumentParser:
         help="first grid edge leaving SIDE (bottom, right, top, left) has length "
         "H (your units), growing smoothly away from it; repeat for more sides "
         "(pinn, tfi, elliptic; SPEC 7). O- and C-grids: bottom=H, the first "
-        "cell off the body wall. With --blocks: NAME=H, a patch (--patch). Six-faced "
+        "cell off the body wall. With --blocks: NAME=H, a patch (--patch), or X,Y=H, the "
+        "cells on both sides of the block side nearest (X, Y) H across it, growing along "
+        "the chain by at most 1.25 a cell. Six-faced "
         "surfaces: PATCH=H, PATCH one of imin, imax, jmin, jmax, kmin, kmax",
     )
     p.add_argument(

@@ -26,8 +26,9 @@ from pinn_engine.settings import Settings
 # apply to it alone
 BLOCKS_KEYWORDS = (
     "blocks", "cell_size", "interfaces", "patches", "spacing", "orthogonal", "aux", "save_blocks",
+    "cells",
 )  # fmt: skip
-BLOCKS_ONLY = ("blocks", "cell_size", "interfaces", "save_blocks")
+BLOCKS_ONLY = ("blocks", "cell_size", "interfaces", "save_blocks", "cells")
 
 
 @pv.register_dataset_accessor("pinn_mesh", pv.PolyData)
@@ -89,6 +90,7 @@ class PinnMeshAccessor:
         cell_size: float | None = None,
         interfaces: str | None = None,
         save_blocks: str | None = None,
+        cells=None,
         progress: Callable[[dict], bool | str | None] | None = None,
         progress_bar: bool = False,
         **settings,
@@ -114,11 +116,13 @@ class PinnMeshAccessor:
         patches : dict, sequence of names or str, optional
             Boundary patch names, optionally typed ``"NAME:TYPE"``: ``{"bottom": "wall"}``
             by side (bottom right top left), ``{"imin": "inlet"}`` by face (imin ... kmax),
-            or ``["X,Y=NAME"]`` for the block boundary piece nearest (X, Y); stored as
-            field data and used by :meth:`save`.
+            or ``["X,Y=NAME"]`` for the block boundary piece nearest (X, Y), ``{"hole1":
+            "NAME"}`` for every piece of a ring; stored as field data and used by
+            :meth:`save`.
         spacing : dict or sequence of str, optional
             First grid edge leaving a side or patch, ``{"bottom": 1e-3}`` or
-            ``["bottom=1e-3"]``, growing smoothly away from it (SPEC 7).
+            ``["bottom=1e-3"]``, growing smoothly away from it (SPEC 7); with ``blocks``
+            also ``{(x, y): h}``, the cells on both sides of the block side nearest (x, y).
         orthogonal : str or sequence of str, optional
             Sides or patches that grid lines leave at 90 degrees, ``"bottom"`` or
             ``["bottom", "top"]`` (pinn and elliptic).
@@ -156,6 +160,9 @@ class PinnMeshAccessor:
         save_blocks : str, optional
             With ``blocks``: also write the block edges meshed (``.vtp``; the proposal of
             ``blocks="auto"``), which passed back as ``blocks`` give the same grid.
+        cells : dict or sequence of str, optional
+            With ``blocks``: cells along the chain through the block side nearest (x, y),
+            ``{(x, y): n}`` or ``["X,Y=N"]``.
         progress : callable, optional
             ``progress(info)`` during training (``info``: ``phase``, ``step``, ``total``,
             ``loss``); returning True cancels, ``pinn_engine.errors.STOP`` keeps the best
@@ -210,6 +217,7 @@ class PinnMeshAccessor:
                 cell_size=cell_size,
                 interfaces=interfaces,
                 save_blocks=save_blocks,
+                cells=cells,
                 progress=progress,
                 **settings,
             ).items()

@@ -7,6 +7,7 @@ from collections.abc import Sequence
 import pyvista as pv
 
 from pinn_engine.errors import SettingsError
+from pinn_engine.hexa.sharp import SHARP_ANGLE
 from pinn_engine.hexamesh import HEXA_SIZE, size_problem
 from pinn_engine.routes.hexa_algorithm import PinnHexaAlgorithm, refold_hint
 from pinn_engine.routes.pyvista_accessor.inputs import as_polydata
@@ -14,7 +15,7 @@ from pinn_engine.routes.pyvista_accessor.report import report
 from pinn_engine.routes.pyvista_accessor.running import ROUTE, run, warn_folded
 
 # pinn_mesh_hexa's keywords besides size and method, taken by the accessor on a surface
-HEXA_OPTIONS = ("patches", "spacing", "orthogonal")
+HEXA_OPTIONS = ("patches", "spacing", "orthogonal", "face_angle")
 
 
 def pinn_mesh_hexa(
@@ -25,6 +26,7 @@ def pinn_mesh_hexa(
     patches=None,
     spacing=None,
     orthogonal=None,
+    face_angle: float = SHARP_ANGLE,
     progress_bar: bool = False,
 ) -> pv.StructuredGrid:
     """Hexahedral structured grid (SPEC 11) of the 3D domain a closed surface bounds.
@@ -33,7 +35,8 @@ def pinn_mesh_hexa(
     ----------
     surface : pyvista.PolyData or vtkPolyData
         A closed triangulated (or polygonal) surface with a cell array ``FaceId`` of six
-        values whose faces meet as a cube's do.
+        values whose faces meet as a cube's do; without ``FaceId`` (an STL's surface) its
+        faces are found where it bends by more than ``face_angle`` degrees.
     size : (int, int, int)
         Nodes along i, j and k, default ``(21, 21, 21)``.
     method : str, optional
@@ -51,6 +54,9 @@ def pinn_mesh_hexa(
     orthogonal : str or sequence of str, optional
         Faces that grid lines leave along the normal, ``"kmin"`` or ``["kmin", "kmax"]``
         (elliptic and pinn).
+    face_angle : float, optional
+        Neighbouring triangles whose normals differ by more than this many degrees lie on
+        two faces (a surface without ``FaceId``); default 40 (SPEC 11).
     progress_bar : bool, default: False
         Show a progress bar of the meshing, as pyvista's filters do.
 
@@ -82,6 +88,7 @@ def pinn_mesh_hexa(
     alg.SetPatchNames(patches)
     alg.SetSpacing(spacing)
     alg.SetOrthogonal(orthogonal)
+    alg.SetFaceAngle(face_angle)
     grid = run(
         alg, lambda: as_polydata(surface, closed=True, what="surface"), progress_bar=progress_bar
     )

@@ -32,6 +32,7 @@ def pinn_mesh_blocks(
     aux=None,
     save_blocks=None,
     progress_bar: bool = False,
+    cells=None,
 ) -> pv.MultiBlock:
     """Multi-block structured grid (SPEC 10) of a domain cut into four-sided blocks.
 
@@ -55,12 +56,18 @@ def pinn_mesh_blocks(
     patches : dict or sequence of str, optional
         Names of boundary pieces (a stretch of the boundary or a hole between two block
         corners or junctions; default names ``boundary``, ``hole1``, ...): ``{(x, y):
-        "NAME[:TYPE]"}`` or ``["X,Y=NAME[:TYPE]", ...]`` names the piece nearest (x, y);
-        pieces of one name form one patch. Each block's field data ``PieceNames``,
-        ``PieceTypes`` and ``PieceRanges`` carry them.
+        "NAME[:TYPE]"}`` or ``["X,Y=NAME[:TYPE]", ...]`` names the piece nearest (x, y),
+        ``{"hole1": "NAME[:TYPE]"}`` or ``["hole1=NAME[:TYPE]"]`` (or ``boundary``) every
+        piece of that ring; pieces of one name form one patch. Each block's field data
+        ``PieceNames``, ``PieceTypes`` and ``PieceRanges`` carry them.
     spacing : dict or sequence of str, optional
         First grid edge leaving a patch, ``{"cylinder": 0.005}`` or ``["cylinder=0.005"]``
-        (SPEC 7 on patches; docs/multiblock.md).
+        (SPEC 7 on patches; docs/multiblock.md), and at a block side, interior ones too,
+        ``{(x, y): h}`` or ``["X,Y=H"]``: the cells on both sides of the side nearest (x, y)
+        h across it, growing along the chain by at most 1.25 a cell.
+    cells : dict or sequence of str, optional
+        Cells along the chain through the block side nearest (x, y), ``{(x, y): n}`` or
+        ``["X,Y=N"]`` (opposite sides of every block share a count).
     orthogonal : str or sequence of str, optional
         Patches that grid lines leave along the normal, ``"cylinder"`` or ``["cylinder",
         "walls"]``.
@@ -103,6 +110,7 @@ def pinn_mesh_blocks(
         (alg.SetPatchNames, patches),
         (alg.SetSpacing, spacing),
         (alg.SetOrthogonal, orthogonal),
+        (alg.SetCells, cells),
     ):
         if value is not None:
             setter(value)

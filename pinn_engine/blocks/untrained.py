@@ -1,0 +1,130 @@
+"""Training only where the network can win: the decision, and the map it leaves untrained.
+
+The default pinn's network starts as its start grid and trains the Winslow equations, plus
+the terms the user asked for: auxiliary lines to follow, orthogonal sides, a spacing. The
+start already solves the Winslow equations on its nodes (the converged elliptic grid, or it
+untangled, where nothing better exists on those nodes without folds), and under the quality
+objective it is that objective's own optimum on the nodes. Without another term the network
+has nothing to win, and its guard has always ended with the start, or with a state that moves
+nodes by discretisation error only (docs/speed.md). :func:`cannot_win` says so before any
+network is built or torch imported; the block's map is then its start (:class:`StartModel`),
+the map a trained model has with its output layer at zero.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from pinn_engine.classical.tfi import tfi_grid
+from pinn_engine.classical.warm import WarmStart
+from pinn_engine.geometry.auxlines import AuxLine
+from pinn_engine.geometry.boundary import Boundary
+from pinn_engine.geometry.boundary_fit import ArcLengthFit
+from pinn_engine.quality import folded_cells, guard_figures
+from pinn_engine.settings import Settings
+from pinn_engine.starts.quad_start import quad_start
+from pinn_engine.starts.untangle import untangle
+from pinn_engine.starts.warmstart import lattice_for
+
+WINSLOW = "the start already solves the Winslow equations the network trains on"
+QUALITY = "the start is the quality objective's own optimum on these nodes"
+
+
+def cannot_win(settings: Settings, aux: Sequence[AuxLine] = ()) -> str | None:
+    """Why the pinn's network cannot beat its start under ``settings`` with the auxiliary
+    lines ``aux``, or None where it may (lines to follow, orthogonal sides, a spacing, no
+    warm start: the network is the map) or where Adam epochs are asked (a schedule that
+    trains the network whatever it wins)."""
+    if settings.method != "pinn" or settings.warm_start != "elliptic" or settings.adam_epochs:
+        return None
+    if settings.boundary_mode != "hard" or aux or settings.orthogonal or settings.spacing:
+        return None
+    return QUALITY if settings.objective == "quality" else WINSLOW
+
+
+@dataclass
+class StartModel:
+    """A four-sided block's map where its network is not trained: the TFI base plus the
+    start's correction, the network's part zero."""
+
+    boundary: Boundary
+    warm: WarmStart
+    settings: Settings
+    info: dict
+    history: dict = field(default_factory=dict)
+
+    @classmethod
+    def of(cls, boundary: Boundary, aux: Sequence[AuxLine], settings: Settings, reason: str):
+        """The start of ``boundary`` (working frame) on ``settings.lattice``, and what the
+        report says about it: not trained, and why (``reason``)."""
+        began = time.perf_counter()
+        lattice = lattice_for(*settings.lattice)
+        begin = quad_start(boundary, settings, lattice, aux)
+        info = {
+            "result": "start",
+            "start": begin.warm.start,
+            "skipped": reason,
+            "largest_node_move": 0.0,
+            "adam_epochs": 0,
+            "lbfgs_iterations": 0,
+            "guard": {"lattice": list(lattice), "elliptic": guard_figures(begin.reference)},
+            "timings": {"start": time.perf_counter() - began, "training": 0.0},
+        }
+        if begin.winslow is not None:
+            info["untangled"] = untangled_report(begin.winslow, begin.reference)
+        return cls(boundary, begin.warm, settings, info)
+
+    def grid(self, ni: int, nj: int) -> np.ndarray:
+        """Grid (nj, ni, 2) in the working frame: the start, between the lattice's nodes its
+        spline."""
+        return tfi_grid(ArcLengthFit(self.boundary).sample, ni, nj) + self.warm.grid(ni, nj)
+
+    def save(self, path: str | os.PathLike) -> Path:
+        """Saved as the trained model it equals: the seeded network, its output layer zero."""
+        from pinn_engine.blocks.quad import untrained_model
+
+        return untrained_model(self.boundary, self.warm, self.settings, self.info).save(path)
+
+
+def untangled_report(winslow: np.ndarray, grid: np.ndarray) -> dict[str, int]:
+    """The report's ``untangled``: folded cells of the Winslow grid and of its untangling."""
+    return {
+        "winslow_folded_cells": int(folded_cells(winslow).sum()),
+        "folded_cells": int(folded_cells(grid).sum()),
+    }
+
+
+def start_block(start: np.ndarray, reason: str) -> tuple[np.ndarray, dict]:
+    """A multi-block grid's block whose network cannot win: its elliptic grid ``start``,
+    untangled where it folds (its side nodes bit for bit), and the block's report."""
+    began = time.perf_counter()
+    grid = untangle(start)
+    report = {"result": "start", "skipped": reason, "largest_node_move": 0.0}
+    if grid is not start:
+        report["untangled"] = untangled_report(start, grid)
+    report.update(seconds=time.perf_counter() - began, lbfgs_iterations=0)
+    return (grid if grid is not start else start.copy()), report
+
+
+def blocks_report(blocks: list[dict], began: float) -> dict:
+    """The multi-block report's ``training`` from each block's report: the seconds since
+    ``began`` (``time.perf_counter``), the blocks whose network's grid was kept, the blocks."""
+    return {
+        "seconds": time.perf_counter() - began,
+        "network_blocks": sum(b["result"] == "network" for b in blocks),
+        "blocks": blocks,
+    }
+
+
+def untrained_blocks(grids: list[np.ndarray], reason: str) -> tuple[list[np.ndarray], dict]:
+    """Every block of a multi-block grid at its start (:func:`start_block`), where no block's
+    network can win; the grids and the report's ``training``."""
+    began = time.perf_counter()
+    done = [start_block(grid, reason) for grid in grids]
+    return [grid for grid, _ in done], blocks_report([block for _, block in done], began)

@@ -1,0 +1,48 @@
+"""A layout judged by its grid (SPEC 13): the elliptic multi-block grid of the boundary cut by
+the layout's edges, at SPEC 10's default cell size, its quality and interface kinks weighed
+into one figure (lower is better).
+
+The solve stops after ``SCORE_ITERATIONS`` Picard steps: the examples converge in under 100,
+and a layout whose sliding ends still move after that is judged where they are.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pinn_engine.errors import InputError
+from pinn_engine.multiblock.blocks import topology
+from pinn_engine.multiblock.counts import cell_counts, default_cell_size
+from pinn_engine.multiblock.elliptic import crossings, winslow
+from pinn_engine.multiblock.graph import linework
+from pinn_engine.multiblock.mesh import interface_kinks, layout_checked
+from pinn_engine.quality import cell_quality
+
+SCORE_ITERATIONS = 200  # Picard steps at most for a layout's grid
+WORST_WEIGHT = 0.1  # a degree of the worst MaxIncludedAngle against one of the mean
+KINK_WEIGHT = 1.5  # a degree of mean interface kink against one of mean MaxIncludedAngle
+BLOCK_WEIGHT = 0.25  # degrees of mean MaxIncludedAngle one block fewer is worth
+
+
+def score(rings: list[np.ndarray], edges: list[np.ndarray]) -> float:
+    """The grid's mean MaxIncludedAngle, with the worst, the mean interface kink and the
+    block count weighed in; infinite when it folds or cannot be meshed."""
+    try:
+        lines = linework(rings, edges, [f"edge {k}" for k in range(len(edges))], "auto")
+        topo = topology(lines)
+        h = default_cell_size(lines.diagonal)
+        lay = layout_checked(topo, cell_counts(topo, h), h)
+        points, _ = winslow(topo, lay, True, SCORE_ITERATIONS)
+    except (InputError, ArithmeticError, RuntimeError, np.linalg.LinAlgError):
+        return np.inf  # refused, or a solve that breaks down (a singular system): not this one
+    cells = [cell_quality(points[ids]) for ids in lay.ids]
+    if any(c["Folded"].any() for c in cells):
+        return np.inf
+    angles = np.concatenate([c["MaxIncludedAngle"].ravel() for c in cells])
+    kinks = interface_kinks(crossings(topo, lay), lay, points)
+    return (
+        float(angles.mean())
+        + WORST_WEIGHT * float(angles.max())
+        + KINK_WEIGHT * (float(kinks.mean()) if kinks.size else 0.0)
+        + BLOCK_WEIGHT * len(lay.ids)
+    )

@@ -1,0 +1,231 @@
+"""Chains of block sides (SPEC 10): ``--cells X,Y=N`` gives the chain through the block side
+nearest (X, Y) N cells, and ``--spacing X,Y=H`` grades the blocks across that side, H at it
+on both sides of an interface, growing smoothly along the chain.
+
+A *chain* is what shares one cell count: a piece and, where a block's side is that one piece,
+the piece of the opposite side, and so on through the blocks. A *graded* block side is one
+from which a block's grid lines start with a first edge H: the blocks on both sides of the
+named side, and, so that no block is graded on one side only, every block that shares a
+whole side with a graded block's side along the grading (a column of blocks downstream of a
+cylinder's box is graded as a column, as a blockMesh user grades it).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from shapely.geometry import LineString, Point
+
+from pinn_engine.classical.spacing import exact_stretch
+from pinn_engine.errors import InputError
+from pinn_engine.multiblock.blocks import Topology
+from pinn_engine.multiblock.layout import side_lines
+from pinn_engine.multiblock.patches import FAR, TIE, point_of
+from pinn_engine.settings import SIDE_NAMES
+
+MIN_SIDE_CELLS = 2  # SPEC 10: a chain has at least 2 cells
+# Neighbouring cells along a graded chain differ by at most this factor (SPEC 10: 1.25), and
+# the counts are raised until the straight line's stretching stays within GROWTH_AIM, a
+# margin for the map's curved lines
+MAX_GROWTH, GROWTH_AIM = 1.25, 1.2
+# A graded chain's count is raised at most to this many times its count from the cell size
+# before the grading is refused (H far from the cell size needs cells no count gives)
+MAX_RAISE = 20
+
+
+@dataclass(frozen=True)
+class SideItem:
+    """One ``X,Y=VALUE`` item of ``--cells`` (VALUE a count) or ``--spacing`` (a length)."""
+
+    x: float
+    y: float
+    value: float
+    flag: str  # "cells" or "spacing", for messages
+
+    @property
+    def where(self) -> str:
+        return f"{self.flag} {self.x:g},{self.y:g}={self.value:g}"
+
+
+def parse_cells(items: Sequence[str] | None) -> list[SideItem]:
+    """``X,Y=N`` items (N a whole number of at least 2), checked (one line naming the item)."""
+    out = []
+    for item in items or ():
+        where, sep, value = item.partition("=")
+        point = point_of(where)
+        try:
+            n = int(value)
+            if not (sep and point is not None and n >= MIN_SIDE_CELLS):
+                raise ValueError
+        except ValueError:
+            raise InputError(
+                f"cells {item!r}: {{with_blocks}}expected X,Y=N, N cells (at least 2) along "
+                "the chain through the block side nearest the point (X, Y)"
+            ) from None
+        out.append(SideItem(*point, n, "cells"))
+    return out
+
+
+def nearest_piece(topo: Topology, item: SideItem) -> int:
+    """The piece (boundary or interface) nearest the item's point; refused when it is far
+    from all or when two are about as near."""
+    p = Point(item.x, item.y)
+    dist = np.array([LineString(piece.points).distance(p) for piece in topo.pieces])
+    order = np.argsort(dist)
+    far, tie = FAR * topo.lines.diagonal, TIE * topo.lines.diagonal
+    if dist[order[0]] > far:
+        raise InputError(
+            f"{item.where}: the point is {dist[order[0]]:.3g} from the nearest block side (at "
+            f"most {far:.3g}); put it on the side"
+        )
+    if len(order) > 1 and dist[order[1]] - dist[order[0]] <= tie:
+        raise InputError(
+            f"{item.where}: the point is as near to two block sides (a corner or junction); "
+            "put it inside the side"
+        )
+    return int(order[0])
+
+
+def piece_chains(topo: Topology) -> np.ndarray:
+    """Each piece's chain (an id shared by the pieces that must have one count): opposite
+    sides of a block that are one piece each are joined."""
+    root = list(range(len(topo.pieces)))
+
+    def find(a: int) -> int:
+        while root[a] != a:
+            root[a] = root[root[a]]
+            a = root[a]
+        return a
+
+    for block in topo.blocks:
+        for a, b in ((0, 2), (1, 3)):
+            if len(block.sides[a]) == 1 and len(block.sides[b]) == 1:
+                root[find(block.sides[a][0][0])] = find(block.sides[b][0][0])
+    return np.array([find(k) for k in range(len(topo.pieces))])
+
+
+def _corner_key(xy) -> tuple[float, float]:
+    return (float(xy[0]), float(xy[1]))
+
+
+def graded_sides(topo: Topology, piece: int) -> dict[tuple[int, int], int]:
+    """The (block, side) pairs whose grid lines start at the side with the first edge H of a
+    grading at ``piece``, each with the side of the piece it lies on (+1 or -1): each block
+    holding the piece, from its side holding it, then through every side along the grading
+    that a neighbour shares whole, the neighbour from its side at the same end."""
+    pieces_of = {}
+    for b, block in enumerate(topo.blocks):
+        for s, side in enumerate(block.sides):
+            pieces_of[(b, s)] = sorted(p for p, _ in side)
+    whole: dict[tuple, list[tuple[int, int]]] = {}
+    for key, pieces in pieces_of.items():
+        whole.setdefault(tuple(pieces), []).append(key)
+    start = [(b, s) for (b, s), pieces in pieces_of.items() if piece in pieces]
+    seen = {key: 1 - 2 * k for k, key in enumerate(start)}
+    todo = list(start)
+    while todo:
+        b, s = todo.pop()
+        corners = topo.blocks[b].corners
+        # the sides along the grading: s + 1 leaves corner s + 1, s - 1 ends at corner s
+        for along, end in (((s + 1) % 4, (s + 1) % 4), ((s - 1) % 4, s)):
+            at = _corner_key(corners[end])
+            for b2, t in whole[tuple(pieces_of[(b, along)])]:
+                if b2 == b:
+                    continue
+                c2 = topo.blocks[b2].corners
+                nxt = (t - 1) % 4 if _corner_key(c2[t]) == at else (t + 1) % 4
+                if (b2, nxt) not in seen:
+                    seen[(b2, nxt)] = seen[(b, s)]
+                    todo.append((b2, nxt))
+    return seen
+
+
+def _side_length(topo: Topology, b: int, s: int) -> float:
+    return sum(topo.pieces[p].length for p, _ in topo.blocks[b].sides[s])
+
+
+def max_growth(n: int, first: float) -> float:
+    """The largest ratio of neighbouring cells of the stretching of ``n`` cells whose first
+    cell is ``first`` (a share of the line) and whose last is the uniform n-th."""
+    cells = np.diff(exact_stretch(n + 1, first, 1.0 / n)[0])
+    ratio = cells[1:] / cells[:-1]
+    return float(max(ratio.max(), (1.0 / ratio).max()))
+
+
+def graded_minimum(
+    topo: Topology, graded: dict[tuple[int, int], int], h: float, counts: np.ndarray, item: SideItem
+) -> dict[int, int]:
+    """Cells the pieces along a grading need so that neighbouring cells stay within
+    GROWTH_AIM of each other (the first edge ``item.value`` against the uniform cells of
+    ``counts``): per piece along, the least such count of its side (one piece a side; a
+    side of several pieces keeps its counts)."""
+    out: dict[int, int] = {}
+    for b, s in graded:
+        along = topo.blocks[b].sides[(s + 1) % 4]
+        if len(along) != 1:
+            continue
+        piece = along[0][0]
+        length = _side_length(topo, b, (s + 1) % 4)
+        n = int(counts[piece])
+        top = max(n, int(np.ceil(length / h))) * MAX_RAISE
+        while max_growth(n, item.value / length) > GROWTH_AIM:
+            n += 1
+            if n > top:
+                raise InputError(
+                    f"{item.where}: no cell count keeps neighbouring cells within "
+                    f"{MAX_GROWTH:g} of each other from a first edge of {item.value:g} along a "
+                    f"side {length:.4g} long; choose H nearer the cell size ({h:.4g})"
+                )
+        out[piece] = max(out.get(piece, 0), n)
+    return out
+
+
+def graded_params(
+    topo: Topology, graded: dict[tuple[int, int], int], counts: np.ndarray, h: float
+) -> dict[int, np.ndarray]:
+    """The arc-length fractions of the nodes of the pieces along a grading (the sides
+    leaving each graded side, one piece each): a first edge ``h`` at the graded side's end,
+    the uniform one at the other, so that the solve starts from, and its sliding ends keep,
+    the grading."""
+    out: dict[int, np.ndarray] = {}
+    for b, s in graded:
+        block = topo.blocks[b]
+        for along, end in (((s + 1) % 4, (s + 1) % 4), ((s - 1) % 4, s)):
+            if len(block.sides[along]) != 1:
+                continue
+            k = block.sides[along][0][0]
+            piece, n = topo.pieces[k], int(counts[k])
+            t = exact_stretch(n + 1, h / piece.length, 1.0 / n)[0]
+            forward = _corner_key(piece.points[0]) == _corner_key(block.corners[end])
+            out[k] = t if forward else 1.0 - t[::-1]
+    return out
+
+
+@dataclass(frozen=True)
+class Targets:
+    """Where a grading puts the nodes of the grid lines across its side: ``distance`` per
+    node (the signed arc length from the side, + on one side of it, - on the other; NaN off
+    the graded blocks) and ``steps`` (m, 2), the pairs of neighbouring nodes along those
+    lines."""
+
+    distance: np.ndarray
+    steps: np.ndarray
+
+
+def grading_targets(
+    ids: list[np.ndarray], points: np.ndarray, graded: dict[tuple[int, int], int], h: float
+) -> Targets:
+    """The targets of a grading (each line's stretching: first edge ``h``, the uniform one
+    at its far end, on the layout's ``points``), which the elliptic solve's control
+    functions keep (``elliptic.controls``)."""
+    distance = np.full(len(points), np.nan)
+    steps = []
+    for (b, s), sign in graded.items():
+        for line in side_lines(ids[b], SIDE_NAMES[s]):
+            length = float(np.linalg.norm(np.diff(points[line], axis=0), axis=1).sum())
+            n = len(line) - 1
+            distance[line] = sign * length * exact_stretch(n + 1, h / length, 1.0 / n)[0]
+            steps.append(np.column_stack([line[:-1], line[1:]]))
+    return Targets(distance, np.concatenate(steps))

@@ -1,0 +1,96 @@
+"""The summary lines of a run: what the command line prints after a grid and the ParaView
+filters show in Output Messages after an Apply (the same words on both routes)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from pinn_engine.errors import network_effect
+from pinn_engine.settings import Settings
+
+if TYPE_CHECKING:  # the result's module (numpy, the plane) is loaded by the run, not here
+    from pinn_engine.result import MeshResult
+
+
+def _quality(grid: str, seconds: float, q: dict) -> str:
+    """The summary's start: the grid, its time and its cells' quality."""
+    return (
+        f"{grid} in {seconds:.2f} s: mean MaxIncludedAngle {q['mean_max_angle']:.2f}, "
+        f"worst {q['worst_max_angle']:.2f} deg, {q['folded_cells']} folded cells"
+    )
+
+
+def _aux_lines(distances: dict, diagonal: str) -> list[str]:
+    """How close the grid lines came to the auxiliary lines' ``diagonal``, if there are any."""
+    if not distances:
+        return []
+    return [
+        f"auxiliary lines: grid lines within {max(distances.values()):.2e} of {diagonal} "
+        "of the drawn lines"
+    ]
+
+
+def grid_lines(
+    result: MeshResult, settings: Settings, ni: int, nj: int, seconds: float
+) -> list[str]:
+    """A four-sided grid's or a body's summary: quality, the wall or the sides asked for, the
+    auxiliary lines, and what the network did."""
+    q = result.quality
+    t = result.report.get("topology")
+    grid = f"{settings.topology.upper()}-grid" if t else "grid"
+    lines = [
+        _quality(f"{settings.method} {ni}x{nj} {grid}", seconds, q)
+        + (
+            f"; first layer {t['first_layer']['min']:.3g} .. {t['first_layer']['max']:.3g}, "
+            f"wall angles within {t['wall_angle_deviation']:.2f} deg of 90"
+            if t
+            else f", boundary deviation {q['boundary_deviation']:.1e}"
+        )
+    ]
+    effect = network_effect(result.report)
+    if effect:
+        lines.append(effect)
+    if t:
+        return lines
+    spaced = tuple(k for k, _ in settings.spacing if k not in settings.orthogonal)
+    for side in settings.orthogonal + spaced:
+        r = result.report["sides"][side]
+        lines.append(
+            f"{side}: first edges {r['first_edge_min']:.3g}..{r['first_edge_max']:.3g}, "
+            f"wall angles within {r['max_angle_deviation']:.2f} deg of 90, growth "
+            f"ratio up to {r['max_growth_ratio']:.3f}"
+        )
+    return lines + _aux_lines(result.report["aux_line_distance"], "the diagonal")
+
+
+def _trained(report: dict) -> str:
+    """The multi-block pinn's training in the summary: in how many blocks the network's
+    grid was kept (the elliptic block elsewhere) and the training's seconds."""
+    training = report.get("training")
+    if training is None:
+        return ""
+    return (
+        f"; the network's grid kept in {training['network_blocks']} of {report['blocks']} "
+        f"blocks, the elliptic grid elsewhere ({training['seconds']:.2f} s training)"
+    )
+
+
+def blocks_lines(method: str, report: dict, seconds: float) -> list[str]:
+    """A multi-block grid's summary: quality, the kinks at the interfaces, what the network
+    did and the auxiliary lines."""
+    kink = report["interface_kink"]
+    first = _quality(
+        f"{method} {report['blocks']} blocks, {report['cells']} cells",
+        seconds,
+        report["quality"],
+    ) + (
+        f"; grid lines cross interfaces with kinks of {kink['mean']:.2f} deg mean, "
+        f"{kink['max']:.2f} max{_trained(report)}"
+    )
+    blocking = report.get("blocking", {})
+    automatic = (
+        [f"automatic blocking: {blocking['edges']} block edges in {blocking['seconds']:.2f} s"]
+        if blocking.get("mode") == "automatic"
+        else []
+    )
+    return [first, *automatic, *_aux_lines(report["aux_line_distance"], "their block's diagonal")]

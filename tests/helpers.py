@@ -1,0 +1,102 @@
+"""What the tests share: the example data folder, small boundaries, the one-line refusal of
+a command, OpenFOAM's environment and ParaView's output messages (imported as ``helpers``;
+conftest.py holds only the session's set-up)."""
+
+from __future__ import annotations
+
+import os
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+from vtkmodules.util.misc import calldata_type
+from vtkmodules.vtkCommonCore import VTK_STRING, vtkOutputWindow, vtkStringOutputWindow
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = ROOT / "example_data"
+CASES = ("wavy", "fig2", "concave")
+# the fused jet kernels need a C++ compiler; without one the torch-operation path is tested
+has_compiler = bool(os.environ.get("CXX") or shutil.which("c++") or shutil.which("g++"))
+needs_compiler = pytest.mark.skipif(
+    not has_compiler,
+    reason="no C++ compiler: the fused jet kernels cannot be built here",
+)
+
+
+def foam_env() -> dict[str, str]:
+    """The environment OpenFOAM's commands run in (Debian's openfoam package keeps its etc/
+    files under /usr/share/openfoam; elsewhere its etc/bashrc sets WM_PROJECT_DIR)."""
+    env = dict(os.environ)
+    env.setdefault("WM_PROJECT_DIR", "/usr/share/openfoam")
+    return env
+
+
+def refused(capsys, argv: list[str], out: Path) -> str:
+    """The one-line error of a ``pinn-mesh`` run that must be refused: exit status 2, no
+    file at ``out``, one line on stderr."""
+    from pinn_engine.routes.cli import main
+
+    assert main(argv) == 2
+    assert not out.exists()
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and err.startswith("pinn-mesh: error:")
+    return err
+
+
+def square_ring(n: int = 10, size: float = 1.0) -> np.ndarray:
+    """Counter-clockwise square with ``n`` segments per side, starting at (0, 0)."""
+    t = np.linspace(0, size, n + 1)[:-1]
+    z, s = np.zeros_like(t), np.full_like(t, size)
+    return np.vstack(
+        [
+            np.column_stack([t, z]),
+            np.column_stack([s, t]),
+            np.column_stack([size - t, s]),
+            np.column_stack([z, size - t]),
+        ]
+    )
+
+
+def wavy_ring(n: int = 24) -> np.ndarray:
+    """A four-sided domain with wavy sides (2 x 1), CCW from (0, 0)."""
+    s = np.linspace(0, 1, n + 1)[:-1]
+    bottom = np.column_stack([2 * s, 0.1 * np.sin(2 * np.pi * s)])
+    right = np.column_stack([2 + 0.1 * np.sin(np.pi * s), s])
+    top = np.column_stack([2 - 2 * s, 1 + 0.1 * np.sin(3 * np.pi * s)])
+    left = np.column_stack([-0.05 * np.sin(np.pi * s), 1 - s])
+    return np.vstack([bottom, right, top, left])
+
+
+class OutputMessages:
+    """Collects vtkOutputWindow text (ParaView's Output Messages) and the algorithm's events
+    of one kind ("ErrorEvent", "WarningEvent") inside a ``with`` block; ``lines`` are the
+    messages but the summary lines a successful update tells (``told``)."""
+
+    def __init__(self, alg, event: str) -> None:
+        self.alg = alg
+        self.window, self.old = vtkStringOutputWindow(), vtkOutputWindow.GetInstance()
+        self.events: list[str] = []
+
+        @calldata_type(VTK_STRING)
+        def on_event(obj, name, message):
+            self.events.append(message)
+
+        alg.AddObserver(event, on_event)
+
+    def __enter__(self):
+        vtkOutputWindow.SetInstance(self.window)
+        return self
+
+    def __exit__(self, *exc):
+        vtkOutputWindow.SetInstance(self.old)
+
+    @property
+    def told(self) -> list[str]:
+        summary = getattr(self.alg, "GetLastSummary", lambda: "")()
+        return [f"{self.alg.LABEL}: {line}" for line in summary.splitlines()]
+
+    @property
+    def lines(self) -> list[str]:
+        told = set(self.told)
+        return [ln for ln in self.window.GetOutput().splitlines() if ln.strip() and ln not in told]

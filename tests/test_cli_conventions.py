@@ -1,0 +1,92 @@
+"""The command line as pip users expect it: ``--version``, a bad option in one line naming
+the nearest option (in a batch manifest too, before its values could pass for the
+boundary), a grid written without ``-o`` said to be where it went, and a body's picture
+whose colour-bar labels and title stand apart."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from helpers import EXAMPLES, ROOT
+
+import pinn_engine
+from pinn_engine.command import main
+
+ONE_LINE_HINT = "(pinn-mesh -h lists the options)"
+
+
+def test_version_prints_the_package_version(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["--version"])
+    assert exc.value.code == 0
+    assert capsys.readouterr().out == f"pinn-mesh {pinn_engine.__version__}\n"
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--sise", "41", "21"], "unknown option --sise; did you mean --size?"),
+        ([str(EXAMPLES / "wavy.vtp"), "--sise", "41", "21"], "unknown option --sise"),
+        ([str(EXAMPLES / "wavy.vtp"), "--methd=tfi"], "did you mean --method?"),
+        ([str(EXAMPLES / "wavy.vtp"), "--method", "magic"], "argument --method: invalid choice"),
+    ],
+)
+def test_a_bad_option_is_one_line_with_the_way_to_the_options(argv, message, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(argv)
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert err.startswith("pinn-mesh: error: ") and err.endswith(f" {ONE_LINE_HINT}\n")
+    assert err.count("\n") == 1 and message in err
+
+
+def test_values_that_look_like_options_are_still_values(tmp_path, capsys):
+    out = tmp_path / "g.vts"
+    argv = [str(EXAMPLES / "wavy.vtp"), "--method", "tfi", "--size", "11", "6"]
+    assert main([*argv, "-o", str(out), "--seed", "-3"]) == 2  # reaches the range check
+    assert "pinn-mesh: error: --seed -3: must be" in capsys.readouterr().err
+    assert main([*argv, f"-o{out}", "--meth", "tfi"]) == 0  # attached value, unique prefix
+    assert out.is_file()
+
+
+def test_without_o_the_line_says_where_the_grid_went(tmp_path):
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    proc = subprocess.run(
+        [sys.executable, "-m", "pinn_engine.command", str(EXAMPLES / "fig2.vtp")]
+        + ["--method", "tfi", "--size", "11", "6", "--quiet"],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout == "wrote out/fig2_tfi.vts (the default place without -o)\n"
+    assert (tmp_path / "out" / "fig2_tfi.vts").is_file()
+
+
+@pytest.mark.slow  # a 1800 x 640 picture: about 5 s
+def test_the_body_picture_keeps_bar_labels_and_title_apart(tmp_path):
+    from PIL import Image
+
+    from pinn_engine.routes.pyvista_accessor import pinn_mesh
+    from pinn_engine.routes.render import BODY_BAR, render_body_png
+
+    grid = pinn_mesh(None, size=(40, 12), method="tfi", topology="o", naca="0012")
+    path = render_body_png(grid, tmp_path / "o.png")  # the documented pictures' size
+    pixels = np.asarray(Image.open(path).convert("RGB")).astype(int)
+    height, width = pixels.shape[0], pixels.shape[1] // 3  # the trailing-edge panel's bar
+    left, right = BODY_BAR["position_x"], BODY_BAR["position_x"] + BODY_BAR["width"]
+    top, bottom = 1 - BODY_BAR["position_y"] - BODY_BAR["height"], 1 - BODY_BAR["position_y"]
+    inset = 3  # pixels inside the bar's white ground
+    box = pixels[
+        int(top * height) + inset : int(bottom * height) - inset,
+        2 * width + int(left * width) + inset : 2 * width + int(right * width) - inset,
+    ]
+    text = (box.max(axis=2) < 80).any(axis=1)  # rows with black (text) pixels
+    starts = np.flatnonzero(np.diff(text.astype(int)) == 1)  # where a run of text rows starts
+    assert len(starts) + int(text[0]) == 2  # the labels' rows, then apart the title's

@@ -1,0 +1,146 @@
+"""Multi-block set-up as CFD users do it (SPEC 10): a whole ring named in one --patch item,
+negative patch points, --cells X,Y=N on a chain, --spacing X,Y=H at any block side (an
+interior one too) growing along the chain, in the command line and in pyvista."""
+
+from __future__ import annotations
+
+import numpy as np
+import pyvista as pv
+from helpers import EXAMPLES
+
+from pinn_engine.multiblock.spacing import CORNER_RAMP, CORNER_SHARE
+from pinn_engine.routes.cli import main
+
+DFG = [str(EXAMPLES / "dfg.vtp"), "--blocks", str(EXAMPLES / "dfg_blocks.vtp")]
+CYLINDER = [str(EXAMPLES / "cylinder_channel.vtp"), "--blocks"]
+CYLINDER += [str(EXAMPLES / "cylinder_channel_blocks.vtp"), "--cell-size", "0.25"]
+COARSE = ["--cell-size", "0.02", "--method", "elliptic", "--quiet"]
+GRADE = 0.005  # a first edge at the DFG cylinder's box, half the cell size of COARSE
+
+
+def _run(tmp_path, args, name="grid.vtm"):
+    out = tmp_path / name
+    assert main([*args, "-o", str(out)]) == 0
+    return out
+
+
+def _markers(path) -> list[str]:
+    return [
+        line.split("=")[1].strip() for line in path.read_text().splitlines() if "MARKER_TAG" in line
+    ]
+
+
+def test_a_ring_is_named_in_one_item_and_is_one_patch(tmp_path):
+    """hole1= and boundary= name every piece of their ring; a point item still names one
+    piece over its ring's name; the SU2 export has one marker a name."""
+    su2 = _run(
+        tmp_path,
+        [*DFG, *COARSE, "--patch", "hole1=cylinder:wall", "--patch", "boundary=walls:wall",
+         "--patch", "0,0.2=inlet:inflow"],
+        "dfg.su2",
+    )  # fmt: skip
+    assert sorted(_markers(su2)) == ["cylinder", "inlet", "walls"]
+
+
+def test_a_negative_patch_point_and_a_ring_that_does_not_exist(tmp_path, capsys):
+    """--patch -0.5,0=NAME is a value, not an option; hole2 of a domain with one hole is
+    refused in one line naming its rings."""
+    su2 = _run(
+        tmp_path, [*CYLINDER, "--method", "tfi", "--patch", "-0.5,0=back", "--quiet"], "c.su2"
+    )
+    assert sorted(_markers(su2)) == ["back", "boundary", "hole1"]
+    assert main([*CYLINDER, "--patch", "hole2=x", "-o", str(tmp_path / "x.vtm")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "no ring hole2 (its rings: boundary, hole1)" in err
+
+
+def _block_at(grid: pv.MultiBlock, x: float, y: float) -> np.ndarray:
+    """The nodes (nj, ni, 2) of the block whose nodes' mean is nearest (x, y)."""
+    block = min(grid, key=lambda b: np.linalg.norm(b.points[:, :2].mean(axis=0) - (x, y)))
+    ni, nj, _ = block.dimensions
+    return block.points[:, :2].reshape(nj, ni, 2)
+
+
+def test_cells_set_a_chain_and_a_negative_point_works(tmp_path):
+    """--cells X,Y=N gives the chain through the side nearest (X, Y) N cells: the three
+    blocks downstream of the DFG box and, through the cylinder channel's inlet (a negative
+    x), the block at the inlet; that chain ends at the cylinder (the O-ring's blocks join
+    the arc to the box's side), so the block downstream keeps its count from the cell size
+    (2 / 0.25)."""
+    grid = pv.read(_run(tmp_path, [*DFG, *COARSE, "--cells", "1.2,0.41=17"]))
+    for y in (0.05, 0.2, 0.355):
+        assert _block_at(grid, 1.2, y).shape[1] == 18
+    grid = pv.read(_run(tmp_path, [*CYLINDER, "--method", "tfi", "--cells", "-3,0=9", "--quiet"]))
+    assert _block_at(grid, -2, 0).shape[0] == 10
+    assert _block_at(grid, 3, 0).shape[0] == 9
+
+
+def _middle(first: np.ndarray) -> np.ndarray:
+    """The first edges of a side's lines but those near its corners, where the first-cell
+    correction ramps in (``spacing.first_edges``)."""
+    ramp = int(np.ceil(max(CORNER_RAMP, CORNER_SHARE * len(first))))
+    return first[ramp:-ramp]
+
+
+def _growth(cells: np.ndarray) -> float:
+    ratio = cells[1:] / cells[:-1]
+    return float(max(ratio.max(), (1 / ratio).max()))
+
+
+def test_spacing_at_an_interior_side_grades_both_sides(tmp_path):
+    """--spacing X,Y=H at the DFG box's right side (an interface): the first cells on both
+    sides are H across it (within 10 %; the lines near the side's corners, where the
+    correction ramps in, aside), the column downstream grows by at most 1.25 a cell along
+    every row (the walls' rows too), and no cell folds."""
+    out = _run(
+        tmp_path,
+        [*DFG, *COARSE, "--spacing", f"0.3,0.2={GRADE}", "--report", str(tmp_path / "r.json")],
+    )
+    grid = pv.read(out)
+    assert sum(int(b.cell_data["Folded"].sum()) for b in grid) == 0
+    for y in (0.05, 0.2, 0.355):
+        rows = _block_at(grid, 1.2, y)
+        cells = np.linalg.norm(np.diff(rows, axis=1), axis=2)
+        assert np.all(np.abs(_middle(cells[:, 0]) / GRADE - 1) < 0.1)
+        assert max(_growth(row) for row in cells) <= 1.25
+    ring = _block_at(grid, 0.27, 0.2)  # the O-ring's block right of the cylinder
+    lines = ring.transpose(1, 0, 2)  # its radial lines, from the box's side inward
+    first = np.linalg.norm(lines[:, 1] - lines[:, 0], axis=1)
+    assert np.all(np.abs(_middle(first) / GRADE - 1) < 0.1)
+
+
+def test_cells_and_spacing_together_and_the_count_a_grading_needs(tmp_path, capsys):
+    """A graded chain given too few cells is refused in one line saying how many it needs;
+    with enough, the downstream rows start at H and grow by at most 1.25."""
+    bad = [*DFG, *COARSE, "--cells", "1.2,0.41=12", "--spacing", f"0.3,0.2={GRADE / 5}"]
+    assert main([*bad, "-o", str(tmp_path / "x.vtm")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "needs at least" in err and "cells 1.2,0.41=12" in err
+    args = [*DFG, *COARSE, "--cells", "1.2,0.41=40", "--spacing", f"0.3,0.2={GRADE}"]
+    rows = _block_at(pv.read(_run(tmp_path, args)), 1.2, 0.2)
+    cells = np.linalg.norm(np.diff(rows, axis=1), axis=2)
+    assert rows.shape[1] == 41 and max(_growth(row) for row in cells) <= 1.25
+    assert np.all(np.abs(_middle(cells[:, 0]) / GRADE - 1) < 0.1)
+
+
+def test_pyvista_takes_the_same_settings(tmp_path):
+    """pyvista's patches={"hole1": ...}, cells={(x, y): n} and spacing={(x, y): h} give the
+    command line's grid."""
+    out = _run(
+        tmp_path,
+        [*DFG, *COARSE, "--patch", "hole1=cylinder:wall", "--cells", "1.2,0.41=40",
+         "--spacing", f"0.3,0.2={GRADE}", "--spacing", "cylinder=0.002"],
+    )  # fmt: skip
+    cli = pv.read(out)
+    boundary = pv.read(EXAMPLES / "dfg.vtp")
+    grid = boundary.pinn_mesh(
+        blocks=pv.read(EXAMPLES / "dfg_blocks.vtp"),
+        cell_size=0.02,
+        method="elliptic",
+        patches={"hole1": "cylinder:wall"},
+        cells={(1.2, 0.41): 40},
+        spacing={(0.3, 0.2): GRADE, "cylinder": 0.002},
+    )
+    assert len(grid) == len(cli)
+    for a, b in zip(grid, cli):
+        assert np.allclose(a.points, b.points, atol=1e-12)

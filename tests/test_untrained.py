@@ -1,0 +1,93 @@
+"""Training only where the network can win: without a term the start leaves to win (lines
+to follow, orthogonal sides, a spacing) the pinn's map is its start, decided before torch is
+imported; the report says so and times each stage."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import time
+
+import numpy as np
+from helpers import EXAMPLES, ROOT
+
+from pinn_engine.blocks.untrained import QUALITY, WINSLOW, cannot_win
+from pinn_engine.io.pipeline import load_aux, load_boundary
+from pinn_engine.job import run_blocks
+from pinn_engine.mesher import Mesher
+from pinn_engine.routes.cli import main
+from pinn_engine.settings import make_settings
+
+NOTCH = EXAMPLES / "hard" / "notch_v_sharp.vtp"
+SIZE = (21, 11)
+STAGES = {"start", "training", "mesh", "quality", "read", "write"}
+
+
+def test_the_decision_follows_the_terms_the_network_could_win():
+    """Untrained under the Winslow and quality objectives alone; trained with lines to
+    follow, orthogonal sides, a spacing, without the warm start, for mgnet, or with Adam
+    epochs asked."""
+    boundary = load_boundary(EXAMPLES / "fig2.vtp")
+    lines = load_aux([EXAMPLES / "fig2_aux.vtp"], boundary)
+    assert cannot_win(make_settings("pinn")) == WINSLOW
+    assert cannot_win(make_settings("pinn", objective="quality")) == QUALITY
+    assert cannot_win(make_settings("pinn"), lines) is None
+    assert cannot_win(make_settings("pinn", orthogonal=("bottom",))) is None
+    assert cannot_win(make_settings("pinn", spacing=(("bottom", 0.01),))) is None
+    assert cannot_win(make_settings("pinn", "paper")) is None
+    assert cannot_win(make_settings("mgnet")) is None
+    assert cannot_win(make_settings("pinn", adam_epochs=60)) is None
+
+
+def test_an_untrained_map_is_the_start_it_would_have_kept():
+    """The untrained default's grid is the trained default's with no L-BFGS iteration (its
+    start, to round-off), the report says why it was not trained, and torch stays out."""
+    boundary = load_boundary(NOTCH)
+    skipped = Mesher(make_settings("pinn", lattice=SIZE)).fit(boundary).predict(*SIZE)
+    training = skipped.report["training"]
+    assert training["skipped"] == WINSLOW and training["result"] == "start"
+    forced = make_settings("pinn", lattice=SIZE, lbfgs_iterations=0)
+    from pinn_engine.blocks.quad import train
+
+    start = train(boundary, [], forced).grid(*SIZE)
+    np.testing.assert_allclose(boundary.frame.to_unit(skipped.points), start, atol=1e-12)
+    code = (
+        "import sys; from pinn_engine.io.pipeline import load_boundary;"
+        "from pinn_engine.mesher import Mesher; from pinn_engine.settings import make_settings;"
+        f"b = load_boundary({str(NOTCH)!r});"
+        f"Mesher(make_settings('pinn', lattice={SIZE})).fit(b).predict(*{SIZE});"
+        "print('torch' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert out.stdout.strip() == "False", out.stderr
+
+
+def test_the_report_times_every_stage(tmp_path):
+    """--report has the seconds of every stage, the network's training included (zero where
+    it was not trained), and says why it was not trained."""
+    report = tmp_path / "r.json"
+    args = [str(NOTCH), "-o", str(tmp_path / "g.vts"), "--report", str(report)]
+    began = time.perf_counter()
+    assert main([*args, "--size", *map(str, SIZE)]) == 0
+    wall = time.perf_counter() - began
+    written = json.loads(report.read_text())
+    assert set(written["timings"]) >= STAGES
+    assert 0 < sum(written["timings"].values()) <= wall
+    assert written["timings"]["start"] > 0 and written["timings"]["training"] == 0.0
+    assert written["training"]["skipped"] == WINSLOW
+
+
+def test_a_multiblock_pinn_whose_networks_cannot_win_keeps_its_starts():
+    """Without auxiliary lines every block keeps its start (the elliptic grid, as fine as
+    the elliptic run's), the report says why and times the stages."""
+    files = EXAMPLES / "lshape.vtp", [EXAMPLES / "lshape_blocks.vtp"]
+    runs = {
+        m: run_blocks(make_settings(m, cell_size=0.1), *files).result for m in ("elliptic", "pinn")
+    }
+    for ell, pinn in zip(runs["elliptic"].grids, runs["pinn"].grids):
+        assert np.array_equal(ell, pinn)
+    report = runs["pinn"].report
+    assert {b["skipped"] for b in report["training"]["blocks"]} == {WINSLOW}
+    assert set(report["timings"]) == {"layout", "solve", "training", "walls_and_quality"}
+    assert 0 < sum(report["timings"].values()) <= report["mesh_seconds"] + 1e-9
