@@ -264,7 +264,7 @@ def real_set(args: argparse.Namespace) -> int:
     lines = table(rows, args.method)
     print("\n".join(lines))
     if args.write:
-        write_block(args.write, "airfoil-set", lines)
+        write_block(args.write, "airfoil-set" + (f"-{args.half}" if args.half else ""), lines)
     return 0
 
 
