@@ -67,6 +67,18 @@ def test_a_crossing_cusp_is_never_inside_out(topology):
     assert _inside_out(r) == 0
 
 
+def test_an_inside_out_grid_is_refused(monkeypatch):
+    """Whatever the march does, a grid whose first rows lie inside the body is not
+    written: the march's normals turned into the body must give a one-line refusal."""
+    from pinn_engine.bodies import bodygrid
+
+    normals = bodygrid._row_normals
+    monkeypatch.setattr(bodygrid, "_row_normals", lambda p, t: -normals(p, t))
+    body = load_body(naca="0012")
+    with pytest.raises(InputError, match="inside out"):
+        mesh_body(body, circle(body, 15), "o", "tfi", 97, 25, wall_spacing=1e-4)
+
+
 def test_lednicer_without_count_line_is_read(tmp_path):
     """mdolab/prefoil's NACA 0012: no name, no counts; upper then lower surface, each from
     the leading edge (it was read as a body enclosing no area)."""
