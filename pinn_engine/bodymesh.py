@@ -138,6 +138,8 @@ def mesh_body(
         "topology": topology_metrics(grid, topology, lay.n_wake, far, body.sharp),
     }
     report["topology"]["wall_spacing"] = lay.wall_spacing
+    if body.cut is not None:  # crossing surfaces cut at the crossing (SPEC 9)
+        report["topology"]["cut"] = list(body.cut)
     if method != "tfi":
         report["topology"]["elliptic_sweeps"] = lay.sweeps_kept
     if training is not None:
