@@ -211,15 +211,28 @@ class Layout:
         return np.arange(self.n_wake, self.ni - self.n_wake)
 
 
+def _before(u: np.ndarray) -> np.ndarray:
+    """Each entry's predecessor along a closed row (np.roll by 1 along axis 0, cheaper)."""
+    return np.concatenate([u[-1:], u[:-1]])
+
+
+def _after(u: np.ndarray) -> np.ndarray:
+    """Each entry's successor along a closed row (np.roll by -1 along axis 0)."""
+    return np.concatenate([u[1:], u[:1]])
+
+
 def row_chords(p: np.ndarray, topology: str) -> np.ndarray:
     """Half the chord between each node's two neighbours along a grid row ``p`` (ni, 2), in
     the direction of i (wrapped across the O-grid's seam; one-sided at the C-grid's ends):
     the row's tangents, as long as its local spacing."""
     if topology == "o":
         q = p[:-1]
-        t = 0.5 * (np.roll(q, -1, axis=0) - np.roll(q, 1, axis=0))
+        t = 0.5 * (_after(q) - _before(q))
         return np.concatenate([t, t[:1]])
-    return np.gradient(p, axis=0)
+    t = np.empty_like(p)
+    t[1:-1] = (p[2:] - p[:-2]) / 2.0
+    t[0], t[-1] = p[1] - p[0], p[-1] - p[-2]
+    return t
 
 
 def _row_tangents(p: np.ndarray, topology: str) -> np.ndarray:
@@ -259,7 +272,7 @@ def _smooth_row(q: np.ndarray, eps, topology: str) -> np.ndarray:
     eps = np.broadcast_to(np.asarray(eps, dtype=float), (len(q), 1))
     if topology == "o":
         u = q[:-1]
-        out[:-1] = u + eps[:-1] * (0.5 * (np.roll(u, 1, axis=0) + np.roll(u, -1, axis=0)) - u)
+        out[:-1] = u + eps[:-1] * (0.5 * (_before(u) + _after(u)) - u)
         out[-1] = out[0]
     else:
         out[1:-1] = q[1:-1] + eps[1:-1] * (0.5 * (q[:-2] + q[2:]) - q[1:-1])
@@ -274,14 +287,15 @@ def redistribute(q: np.ndarray, eps: float, topology: str, passes: int) -> np.nd
     columns cannot cross within a row, and a crowd of columns spreads out however strongly
     the lines converge (off a concave wall, under an aft surface)."""
     seg = np.linalg.norm(np.diff(q, axis=0), axis=1)
-    s_old = np.r_[0.0, np.cumsum(seg)]
+    s_old = np.concatenate([[0.0], np.cumsum(seg)])
     ds = seg.copy()
     for _ in range(passes):
         if topology == "o":
-            ds = ds + eps * (0.5 * (np.roll(ds, 1) + np.roll(ds, -1)) - ds)
+            ds = ds + eps * (0.5 * (_before(ds) + _after(ds)) - ds)
         else:
-            ds = ds + eps * (0.5 * (np.r_[ds[:1], ds[:-1]] + np.r_[ds[1:], ds[-1:]]) - ds)
-    s_new = np.r_[0.0, np.cumsum(ds)] * (s_old[-1] / ds.sum())
+            back = np.concatenate([ds[:1], ds[:-1]])
+            ds = ds + eps * (0.5 * (back + np.concatenate([ds[1:], ds[-1:]])) - ds)
+    s_new = np.concatenate([[0.0], np.cumsum(ds)]) * (s_old[-1] / ds.sum())
     out = np.column_stack([np.interp(s_new, s_old, q[:, k]) for k in range(2)])
     out[0], out[-1] = q[0], q[-1]
     return out
@@ -377,9 +391,10 @@ def march(
                 eps = np.maximum(eps, corner * concave)
             for _ in range(passes):
                 q = _smooth_row(q, eps, topology)
-                target = _smooth_row(q, tangent * grow, topology)
-                t = _row_tangents(q, topology)
-                q = q + np.einsum("ik,ik->i", target - q, t)[:, None] * t
+                if tangent:
+                    target = _smooth_row(q, tangent * grow, topology)
+                    t = _row_tangents(q, topology)
+                    q = q + np.einsum("ik,ik->i", target - q, t)[:, None] * t
             if topology == "o":
                 q = redistribute(q, SPREAD * grow, topology, passes)
             else:  # the body's columns (the wake's run straight)
