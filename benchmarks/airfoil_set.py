@@ -144,11 +144,15 @@ def calibrate(exe: str, work: Path) -> float:
     return C2D_YPLUS * FIRST_LAYER / h
 
 
-def run(folder: Path, exe: str, method: str, only: str | None = None) -> list[dict]:
-    """Every file of ``folder`` (of the half ``only`` if given), both topologies, both tools."""
+def run(
+    folder: Path, exe: str, method: str, only: str | None = None, limit: int | None = None
+) -> list[dict]:
+    """Every file of ``folder`` (of the half ``only`` if given; the first ``limit`` if
+    given), both topologies, both tools."""
     files = sorted(folder.glob("*.dat"))
     if only:
         files = [f for f in files if half(f.name) == only]
+    files = files[:limit]
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)

@@ -260,11 +260,12 @@ def real_set(args: argparse.Namespace) -> int:
     """``--set``: the real files' pass rates beside Construct2D (benchmarks/airfoil_set.py)."""
     from airfoil_set import run, table
 
-    rows = run(Path(args.set), args.construct2d, args.method, args.half)
+    rows = run(Path(args.set), args.construct2d, args.method, args.half, args.limit)
     lines = table(rows, args.method)
     print("\n".join(lines))
     if args.write:
-        write_block(args.write, "airfoil-set" + (f"-{args.half}" if args.half else ""), lines)
+        name = "airfoil-set" + (f"-{args.half}" if args.half else "")
+        write_block(args.write, name + ("-quick" if args.limit else ""), lines)
     return 0
 
 
@@ -285,6 +286,7 @@ def main() -> int:
     )
     p.add_argument("--method", default="pinn", help="pinn-mesh's method for --set")
     p.add_argument("--half", choices=("tuning", "report"), help="only this half of --set")
+    p.add_argument("--limit", type=int, help="only the first LIMIT files of --set (a quick run)")
     args = p.parse_args()
     if not args.construct2d:
         print("construct2d not found: build it (make) and pass --construct2d PATH", file=sys.stderr)
