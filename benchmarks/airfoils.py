@@ -242,6 +242,33 @@ def compare(
     return lines
 
 
+def write_block(path: str, name: str, lines: list[str]) -> None:
+    """Write ``lines`` into the Markdown file ``path`` between its ``name`` markers."""
+    md = Path(path)
+    text = md.read_text() if md.exists() else ""
+    start, end = f"<!-- {name}:begin -->", f"<!-- {name}:end -->"
+    block = start + "\n" + "\n".join(lines) + "\n" + end
+    if start in text and end in text:
+        text = text[: text.index(start)] + block + text[text.index(end) + len(end) :]
+    else:
+        text += "\n" + block + "\n"
+    md.write_text(text)
+    print(f"wrote {md}")
+
+
+def real_set(args: argparse.Namespace) -> int:
+    """``--set``: the real files' pass rates beside Construct2D (benchmarks/airfoil_set.py)."""
+    from airfoil_set import run, table
+
+    rows = run(Path(args.set), args.construct2d, args.method, args.half, args.limit)
+    lines = table(rows, args.method)
+    print("\n".join(lines))
+    if args.write:
+        name = "airfoil-set" + (f"-{args.half}" if args.half else "")
+        write_block(args.write, name + ("-quick" if args.limit else ""), lines)
+    return 0
+
+
 def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument(
@@ -251,10 +278,21 @@ def main() -> int:
     )
     p.add_argument("--write", metavar="MD", help="also write the table to this Markdown file")
     p.add_argument("--cases", nargs="*", default=[c[0] for c in CASES])
+    p.add_argument(
+        "--set",
+        metavar="DIR",
+        help="mesh every .dat file of DIR (e.g. shared/airfoils) instead of the NACA cases: "
+        "pass rates O and C beside Construct2D (benchmarks/airfoil_set.py)",
+    )
+    p.add_argument("--method", default="pinn", help="pinn-mesh's method for --set")
+    p.add_argument("--half", choices=("tuning", "report"), help="only this half of --set")
+    p.add_argument("--limit", type=int, help="only the first LIMIT files of --set (a quick run)")
     args = p.parse_args()
     if not args.construct2d:
         print("construct2d not found: build it (make) and pass --construct2d PATH", file=sys.stderr)
         return 2
+    if args.set:
+        return real_set(args)
     lines, verdicts = [], []
     header = (
         "| grid | mean MaxIncludedAngle | worst | folded | wall angle, max deviation "

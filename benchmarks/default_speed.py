@@ -80,6 +80,13 @@ def multi_block(folder: Path) -> list[dict]:
     return rows
 
 
+def trained(row: dict) -> bool:
+    """Whether the default's run trained a network (in some block, for a multi-block grid)."""
+    training = row.get("training") or {}
+    parts = training.get("blocks", [training] if training else [])
+    return any(not part.get("skipped") for part in parts)
+
+
 def table(title: str, rows: list[dict]) -> str:
     """The rows as markdown, with the median ratio and the default's stages."""
     lines = [
@@ -99,8 +106,7 @@ def table(title: str, rows: list[dict]) -> str:
         names = sorted({k for s in stages for k in s})
         parts = [f"{k} {statistics.median(s.get(k, 0.0) for s in stages):.3f} s" for k in names]
         lines.append(f"The default's stages, medians: {', '.join(parts)}.")
-    trained = [r for r in rows if r.get("training") and not r["training"].get("skipped")]
-    lines.append(f"Runs that trained a network: {len(trained)} of {len(rows)}.")
+    lines.append(f"Runs that trained a network: {sum(map(trained, rows))} of {len(rows)}.")
     return "\n".join(lines)
 
 

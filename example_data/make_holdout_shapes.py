@@ -1,4 +1,4 @@
-"""Regenerate the hold-out hard four-sided shapes of ``example_data/holdout/`` (issue 22, item 6).
+"""Regenerate the hold-out hard four-sided shapes of ``holdout/``, which no code is tuned on.
 
 Run ``.venv/bin/python example_data/make_holdout_shapes.py``. ``example_data/hard/`` is the set
 the code was tuned on; this one is drawn at random from a fixed seed and no code is tuned on it.
@@ -37,7 +37,7 @@ from pinn_engine.errors import InputError  # noqa: E402
 from pinn_engine.geometry.boundary import Boundary, turning_angles  # noqa: E402
 
 OUT = HERE / "holdout"
-SEED = 226  # issue 22, item 6: any fixed number; a new one draws a new hold-out set
+SEED = 226  # any fixed number; a new one draws a new hold-out set
 # How many shapes of each family (48 in all: at least 40 asked, notches and corners weighted up
 # because they are what breaks structured meshers).
 FAMILY_COUNTS = {"wavy": 8, "notch": 12, "step": 8, "angle": 10, "combo": 10}

@@ -9,6 +9,7 @@ too (the installed package's metadata: about 80 ms of a run's start that most ru
 from importlib import import_module
 
 from pinn_engine.errors import (
+    CrossingCutWarning,
     FoldedCellsWarning,
     InputError,
     PinnMeshError,
@@ -21,6 +22,7 @@ _PYVISTA = {"report": "report", "save": "save_mesh"}
 _ROUTE = "pinn_engine.routes.pyvista_accessor"
 
 __all__ = [
+    "CrossingCutWarning",
     "FoldedCellsWarning",
     "InputError",
     "PinnMeshError",

@@ -15,7 +15,7 @@ from collections.abc import Callable
 import numpy as np
 
 from pinn_engine.bodies import bodygrid
-from pinn_engine.bodies.airfoil import Body, FarField
+from pinn_engine.bodies.airfoil import Body, FarField, inside_polygon
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import segment_distance
 from pinn_engine.quality import angle_deviation, cell_quality, summary
@@ -33,6 +33,15 @@ def _stage(progress: Callable[[dict], object] | None, stage: str) -> None:
     if progress is not None:
         step = STAGES.index(stage)
         progress({"phase": "prepare", "stage": stage, "step": step, "total": len(STAGES)})
+
+
+def inside_out(grid: np.ndarray, lay: bodygrid.Layout) -> bool:
+    """Whether nodes of the first row off the wall lie inside the body (the wall's nodes as
+    a polygon): such a grid is never written (SPEC 9)."""
+    cols = lay.wall_columns()
+    wall = grid[0][cols]
+    ring = wall[:-1] if lay.topology == "o" else wall
+    return bool(inside_polygon(grid[1][cols], ring).any())
 
 
 def wall_metrics(grid: np.ndarray, topology: str, n_wake: int, sharp: bool) -> dict:
@@ -120,6 +129,12 @@ def mesh_body(
     mesh_seconds = time.perf_counter() - start - train_seconds
     if not np.isfinite(grid).all():
         raise InputError(f"the {method} grid has non-finite nodes; try another --size")
+    if inside_out(grid, lay):
+        raise InputError(
+            f"the {method} grid's first rows lie inside the body (inside out); nothing is "
+            "written: try another {size}",
+            body.source,
+        )
     cells = cell_quality(grid)
     ring = body.ring()
     wall = grid[0][lay.wall_columns()]
@@ -138,6 +153,8 @@ def mesh_body(
         "topology": topology_metrics(grid, topology, lay.n_wake, far, body.sharp),
     }
     report["topology"]["wall_spacing"] = lay.wall_spacing
+    if body.cut is not None:  # crossing surfaces cut at the crossing (SPEC 9)
+        report["topology"]["cut"] = list(body.cut)
     if method != "tfi":
         report["topology"]["elliptic_sweeps"] = lay.sweeps_kept
     if training is not None:

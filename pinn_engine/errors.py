@@ -100,6 +100,11 @@ class TrainingStoppedWarning(UserWarning):
     callback's ``STOP`` answer (pyvista route): the best state so far."""
 
 
+class CrossingCutWarning(UserWarning):
+    """The body's upper and lower surfaces crossed near the trailing edge and were cut at
+    the crossing and closed there (SPEC 9): the grid's wall ends there (pyvista route)."""
+
+
 class FoldedCellsWarning(UserWarning):
     """A grid was produced although some of its cells are folded (pyvista route).
 
@@ -285,7 +290,7 @@ def network_effect(report: dict) -> str | None:
         return None
     start = training.get("start", "elliptic")
     if training.get("skipped"):
-        return f"network: not trained ({training['skipped']}); {start} grid kept"
+        return f"network: start kept ({start} grid; not trained: {training['skipped']})"
     if training["result"] == "start":
         return f"network: start kept ({start} grid; no trained state passed the quality guard)"
     move = training.get("largest_node_move")
@@ -297,10 +302,24 @@ def network_effect(report: dict) -> str | None:
     )
 
 
+def crossing_cut_warning(report: dict, route: str) -> str | None:
+    """The warning for a body whose crossing surfaces were cut (``report["topology"]["cut"]``,
+    the crossing's x, y), or None; the same words on every route."""
+    cut = (report.get("topology") or {}).get("cut")
+    if not cut:
+        return None
+    return (
+        f"the upper and lower surfaces cross near the trailing edge: cut at the crossing "
+        f"(x = {cut[0]:.6g}, y = {cut[1]:.6g}) and closed there"
+    )
+
+
 def grid_warnings(report: dict, route: str) -> list[tuple[str, type[UserWarning]]]:
     """Every warning a produced grid carries, in ``route``'s words, with the category the
-    pyvista route warns with: a stopped training, folded cells, lines off an orthogonal side."""
+    pyvista route warns with: crossing surfaces cut, a stopped training, folded cells, lines
+    off an orthogonal side."""
     found = (
+        (crossing_cut_warning(report, route), CrossingCutWarning),
         (stopped_training_warning(report, route), TrainingStoppedWarning),
         (folded_cells_warning(report, route), FoldedCellsWarning),
         (wall_angle_warning(report, route), WallAngleWarning),

@@ -8,6 +8,7 @@ import numpy as np
 import pyvista as pv
 from helpers import EXAMPLES
 
+from pinn_engine.multiblock.spacing import CORNER_RAMP, CORNER_SHARE
 from pinn_engine.routes.cli import main
 
 DFG = [str(EXAMPLES / "dfg.vtp"), "--blocks", str(EXAMPLES / "dfg_blocks.vtp")]
@@ -74,6 +75,13 @@ def test_cells_set_a_chain_and_a_negative_point_works(tmp_path):
     assert _block_at(grid, 3, 0).shape[0] == 9
 
 
+def _middle(first: np.ndarray) -> np.ndarray:
+    """The first edges of a side's lines but those near its corners, where the first-cell
+    correction ramps in (``spacing.first_edges``)."""
+    ramp = int(np.ceil(max(CORNER_RAMP, CORNER_SHARE * len(first))))
+    return first[ramp:-ramp]
+
+
 def _growth(cells: np.ndarray) -> float:
     ratio = cells[1:] / cells[:-1]
     return float(max(ratio.max(), (1 / ratio).max()))
@@ -81,9 +89,9 @@ def _growth(cells: np.ndarray) -> float:
 
 def test_spacing_at_an_interior_side_grades_both_sides(tmp_path):
     """--spacing X,Y=H at the DFG box's right side (an interface): the first cells on both
-    sides are H across it (within 10 %, the lines at the side's corners aside as SPEC 7's
-    corners), the column downstream grows by at most 1.25 a cell along every row (the
-    walls' rows too), and no cell folds."""
+    sides are H across it (within 10 %; the lines near the side's corners, where the
+    correction ramps in, aside), the column downstream grows by at most 1.25 a cell along
+    every row (the walls' rows too), and no cell folds."""
     out = _run(
         tmp_path,
         [*DFG, *COARSE, "--spacing", f"0.3,0.2={GRADE}", "--report", str(tmp_path / "r.json")],
@@ -93,12 +101,12 @@ def test_spacing_at_an_interior_side_grades_both_sides(tmp_path):
     for y in (0.05, 0.2, 0.355):
         rows = _block_at(grid, 1.2, y)
         cells = np.linalg.norm(np.diff(rows, axis=1), axis=2)
-        assert np.all(np.abs(cells[1:-1, 0] / GRADE - 1) < 0.1)  # the corners' rows aside
+        assert np.all(np.abs(_middle(cells[:, 0]) / GRADE - 1) < 0.1)
         assert max(_growth(row) for row in cells) <= 1.25
     ring = _block_at(grid, 0.27, 0.2)  # the O-ring's block right of the cylinder
     lines = ring.transpose(1, 0, 2)  # its radial lines, from the box's side inward
-    first = np.linalg.norm(lines[1:-1, 1] - lines[1:-1, 0], axis=1)
-    assert np.all(np.abs(first / GRADE - 1) < 0.1)
+    first = np.linalg.norm(lines[:, 1] - lines[:, 0], axis=1)
+    assert np.all(np.abs(_middle(first) / GRADE - 1) < 0.1)
 
 
 def test_cells_and_spacing_together_and_the_count_a_grading_needs(tmp_path, capsys):
@@ -112,7 +120,7 @@ def test_cells_and_spacing_together_and_the_count_a_grading_needs(tmp_path, caps
     rows = _block_at(pv.read(_run(tmp_path, args)), 1.2, 0.2)
     cells = np.linalg.norm(np.diff(rows, axis=1), axis=2)
     assert rows.shape[1] == 41 and max(_growth(row) for row in cells) <= 1.25
-    assert np.all(np.abs(cells[1:-1, 0] / GRADE - 1) < 0.1)
+    assert np.all(np.abs(_middle(cells[:, 0]) / GRADE - 1) < 0.1)
 
 
 def test_pyvista_takes_the_same_settings(tmp_path):

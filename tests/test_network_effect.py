@@ -63,7 +63,7 @@ def test_command_line_and_filter_say_it(tmp_path, capsys):
     assert main([*notch, "-o", str(out)]) == 0
     assert "network: start kept (elliptic grid" in capsys.readouterr().err
     assert main([str(HARD / "notch_v_sharp.vtp"), "-o", str(out)]) == 0
-    assert "network: not trained (the start already solves" in capsys.readouterr().err
+    assert "network: start kept (elliptic grid; not trained: the start" in capsys.readouterr().err
     assert main([str(HARD / "notch_v_sharp.vtp"), "-o", str(out), "--method", "tfi"]) == 0
     assert "network:" not in capsys.readouterr().err
 

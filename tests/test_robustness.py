@@ -780,6 +780,7 @@ def wait_for(predicate, timeout: float) -> bool:
 PROMPT = 15.0
 
 
+@pytest.mark.slow  # two commands started, trained and interrupted (5 to 10 s)
 def test_interrupt_during_training_ends_promptly_without_output(tmp_path):
     """Ctrl-C (SIGINT) and SIGTERM, each sent to a run that is training (in parallel)."""
     runs = {}
@@ -819,6 +820,7 @@ def test_interrupt_during_training_ends_promptly_without_output(tmp_path):
         assert list(folder.iterdir()) == []  # no grid, no report, no temporary file
 
 
+@pytest.mark.slow  # a 1200 x 1200 grid, so that the writing can be interrupted (4 to 6 s)
 def test_interrupt_during_writing_leaves_no_partial_file(tmp_path):
     out = tmp_path / "g.vts"
     out.write_bytes(b"the previous grid")

@@ -6,6 +6,7 @@ from __future__ import annotations
 import contextlib
 import importlib.util
 import os
+import sys
 from collections.abc import Iterator
 
 from pinn_engine.errors import MissingExtraError
@@ -25,15 +26,20 @@ THREADS_PER_WORKER = 1  # one case at a time a process: cases run side by side i
 
 
 class MeshingWorker(WorkerPlugin):
-    """Set a worker process up as the single-run command sets itself up: one torch thread
-    (cases run in parallel across workers, not inside one) and glibc's heap tuned."""
+    """Set a worker process up as the single-run command sets itself up, glibc's heap tuned,
+    with one thread for torch and the BLAS (cases run in parallel across workers, not inside
+    one). torch is not imported here: only a case that trains needs it, and it reads
+    ``OMP_NUM_THREADS`` when it is imported."""
 
     def setup(self, worker) -> None:  # noqa: ARG002
-        import torch
+        from threadpoolctl import threadpool_limits
 
         from pinn_engine import heap
 
-        torch.set_num_threads(1)
+        if "torch" in sys.modules:
+            sys.modules["torch"].set_num_threads(1)
+        os.environ["OMP_NUM_THREADS"] = "1"
+        threadpool_limits(1)
         heap.tune_process()
 
 

@@ -1,8 +1,10 @@
 """Warm worker processes for a local cluster: the forkserver that forks them imports, once,
-what a case runs, and is started as soon as a batch knows it runs locally.
+what a case runs, and is started as soon as a batch knows it runs locally. Each worker then
+starts with it loaded, where each imported it at its start (about 1.5 s), side by side on
+the same cores.
 
 Stdlib only, so that the batch command starts the server before it imports Dask itself: the
-server's imports (about 3 s: torch, VTK, SciPy, the engine) then overlap the command's own.
+server's imports (Dask, VTK, SciPy, the engine) then overlap the command's own.
 """
 
 from __future__ import annotations
@@ -14,21 +16,16 @@ from multiprocessing import forkserver
 # by os._exit, where a spawned process ends by a full interpreter shutdown (about 1 s a
 # worker with torch and VTK loaded, paid at every batch's close)
 START_METHOD = "forkserver"
-# What the server imports before it forks the workers: Dask's worker and a four-sided or
-# body case's run, training included (the orchestrator, reading and writing, the bodies'
-# grids, both block kinds and the trainer). Every worker starts with them loaded, where
-# each paid about 3 s of imports at its start otherwise, side by side on the same cores.
+# What the server imports before it forks the workers: Dask's worker and what every
+# four-sided or body case runs. Training's modules (torch, 1.5 s more) are left to the
+# worker whose case trains: on the server they delayed every worker's start.
 PRELOAD = (
     "distributed",
-    "torch",
     "pinn_engine.batch.task",
     "pinn_engine.job",
     "pinn_engine.io.pipeline",
     "pinn_engine.io.export",
     "pinn_engine.bodymesh",
-    "pinn_engine.blocks.quad",
-    "pinn_engine.blocks.body",
-    "pinn_engine.neural.trainer",
 )
 
 

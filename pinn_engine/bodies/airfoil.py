@@ -3,7 +3,8 @@
 - Selig ``.dat``: a name line, then ``x y`` rows from the trailing edge over the upper
   surface to the leading edge and back along the lower surface (counter-clockwise).
 - Lednicer ``.dat``: a name line, a row ``NU NL`` (point counts), then the upper surface
-  from leading to trailing edge and the lower surface likewise (blank lines between).
+  from leading to trailing edge and the lower surface likewise (blank lines between); the
+  count line may be missing (the points then start at the leading edge).
 - ``naca4("2412")``: the NACA 4-digit section of chord 1. ``te="sharp"`` (default) closes the
   trailing edge (thickness coefficient -0.1036, so the C-grid applies); ``te="blunt"`` is the
   classical formula (-0.1015), whose trailing edge of thickness 0.21 % t/c (0.25 % chord for
@@ -29,29 +30,60 @@ _NUMBER = re.compile(
     r"^[\s]*[-+]?(\d+\.?\d*|\.\d+)([eEdD][-+]?\d+)?[\s,;]+"
     r"[-+]?(\d+\.?\d*|\.\d+)([eEdD][-+]?\d+)?[\s,;]*$"
 )
+_LEADING_NUMBER = re.compile(r"^[-+]?(\d|\.\d)")
+# Lednicer's order without its count line: the points start within this share of the chord
+# from the leading edge (Selig's start at the trailing edge), and x falls back by at least
+# this share of the chord where the second surface starts at the leading edge again
+LEDNICER_START, LEDNICER_RESTART = 0.25, 0.5
 
 
 def xy_blocks(text: str, source: str) -> tuple[list[list[tuple[float, float]]], str]:
-    """Blocks of numeric ``x y`` rows separated by blank or text lines, and the name line."""
+    """Blocks of numeric ``x y`` rows separated by blank lines, and the name line (the first
+    line). Text lines before the first row (a header of several lines) and after the last
+    (a note or a source) are skipped; a line that begins with a number but is no ``x y``
+    row, or text between the rows, is refused."""
     blocks: list[list[tuple[float, float]]] = [[]]
     name = ""
-    for k, line in enumerate(text.splitlines()):
+    lines = text.splitlines()
+    rows = [k for k, line in enumerate(lines) if _NUMBER.match(line)]
+    for k, line in enumerate(lines):
         if _NUMBER.match(line):
             a, b = re.split(r"[\s,;]+", line.strip().replace("d", "e").replace("D", "e"))[:2]
             blocks[-1].append((float(a), float(b)))
-        else:
-            if k == 0:
-                name = line.strip()
-            elif line.strip():
-                raise InputError(f"line {k + 1} is not an 'x y' row: {line.strip()[:40]!r}", source)
-            if blocks[-1]:
-                blocks.append([])
+            continue
+        if k == 0:
+            name = line.strip()
+        stripped = line.strip()
+        after = bool(rows) and k > rows[0]
+        if stripped and after and (k < rows[-1] or _LEADING_NUMBER.match(stripped)):
+            raise InputError(f"line {k + 1} is not an 'x y' row: {stripped[:40]!r}", source)
+        if blocks[-1]:
+            blocks.append([])
     return [b for b in blocks if b], name
 
 
+def _lednicer_surfaces(xy: np.ndarray) -> np.ndarray | None:
+    """Selig order of points that run as two surfaces, each from the leading edge to the
+    trailing edge (Lednicer's order without its count line), or None for points that run
+    once around the body: such a file starts at the leading edge (the smallest x), not at
+    the trailing edge, and x falls back to the leading edge once, by at least half the
+    chord, where the second surface begins."""
+    x = xy[:, 0]
+    span = float(np.ptp(x))
+    if span <= 0 or x[0] - x.min() > LEDNICER_START * span:
+        return None
+    drops = x[:-1] - x[1:]
+    k = int(np.argmax(drops)) + 1
+    if drops[k - 1] < LEDNICER_RESTART * span:
+        return None
+    upper, lower = xy[:k], xy[k:]
+    return np.concatenate([upper[::-1], lower[1:] if np.allclose(lower[0], upper[0]) else lower])
+
+
 def read_dat(path: str | os.PathLike) -> tuple[np.ndarray, str]:
-    """Airfoil coordinates of a Selig or Lednicer ``.dat`` file, in Selig order (upper
-    trailing edge -> leading edge -> lower trailing edge), and the airfoil's name."""
+    """Airfoil coordinates of a Selig or Lednicer ``.dat`` file (Lednicer with or without
+    its count line), in Selig order (upper trailing edge -> leading edge -> lower trailing
+    edge), and the airfoil's name."""
     source = str(path)
     try:
         text = Path(path).read_text(errors="replace")
@@ -83,6 +115,8 @@ def read_dat(path: str | os.PathLike) -> tuple[np.ndarray, str]:
         xy = np.concatenate([upper[::-1], lower[1:] if np.allclose(lower[0], upper[0]) else lower])
     else:
         xy = np.array([p for b in blocks for p in b])
+        surfaces = _lednicer_surfaces(xy) if len(xy) >= 5 else None
+        xy = xy if surfaces is None else surfaces
     if len(xy) < 5:
         raise InputError(f"has {len(xy)} coordinate rows; an airfoil needs at least 5", source)
     if not np.isfinite(xy).all():
@@ -136,11 +170,13 @@ class Body:
     """A closed body curve: ``surface`` (Selig order, upper trailing edge to lower trailing
     edge, at least 5 points), whether its trailing edge is ``sharp`` (the two ends coincide)
     and where it came from. Without a base, a blunt trailing edge is closed by the straight
-    segment between the surface's two ends."""
+    segment between the surface's two ends. ``cut``: the point where the two surfaces of
+    the input crossed near the trailing edge, there cut and closed (SPEC 9), or None."""
 
     surface: np.ndarray
     sharp: bool
     source: str
+    cut: tuple[float, float] | None = None  # where crossing surfaces were cut and closed
 
     @property
     def chord_points(self) -> tuple[np.ndarray, np.ndarray]:
@@ -173,11 +209,46 @@ class Body:
         return np.concatenate([mid[None], s, mid[None]])
 
 
+def _segment_crossings(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Where the polylines ``a`` (n, 2) and ``b`` (m, 2) cross: the parameters (along a's
+    segments, k + t) and (along b's) of every proper crossing, vectorised over the pairs."""
+    p, r = a[:-1, None], (a[1:] - a[:-1])[:, None]
+    q, s = b[None, :-1], (b[1:] - b[:-1])[None]
+    cross = r[..., 0] * s[..., 1] - r[..., 1] * s[..., 0]
+    d = q - p
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (d[..., 0] * s[..., 1] - d[..., 1] * s[..., 0]) / cross
+        u = (d[..., 0] * r[..., 1] - d[..., 1] * r[..., 0]) / cross
+    hit = (cross != 0) & (t > 0) & (t < 1) & (u > 0) & (u < 1)
+    k, m = np.nonzero(hit)
+    return k + t[k, m], m + u[k, m]
+
+
+def cut_crossing(surface: np.ndarray) -> tuple[np.ndarray, tuple[float, float] | None]:
+    """A Selig-order surface whose upper and lower surfaces cross (a cusped trailing edge
+    whose last point lies above the first): cut at the crossing nearest the leading edge
+    and closed there, the loops behind it dropped (SPEC 9); the surface unchanged and None
+    where they do not cross."""
+    le = int(np.argmin(surface[:, 0]))
+    upper, lower = surface[: le + 1], surface[le:]
+    tu, tl = _segment_crossings(upper, lower)
+    keep = (tu < le - 1) & (tl > 1)  # not the segments that meet at the leading edge
+    if not keep.any():
+        return surface, None
+    k = int(np.argmax(np.where(keep, tu, -1.0)))  # the crossing nearest the leading edge
+    iu, fu = int(tu[k]), tu[k] - int(tu[k])
+    il = int(tl[k])
+    x = upper[iu] + fu * (upper[iu + 1] - upper[iu])
+    cut = np.concatenate([x[None], upper[iu + 1 :], lower[1 : il + 1], x[None]])
+    return cut, (float(x[0]), float(x[1]))
+
+
 def body_from_points(xy: np.ndarray, source: str, sharp_tol: float = SHARP_GAP) -> Body:
     """A :class:`Body` from airfoil-like points in either orientation, starting anywhere
     near the trailing edge: reordered to Selig order (counter-clockwise, from the point of
     largest x). A closed ring (last point = first) is accepted; ends at most ``sharp_tol``
-    of the chord apart are one sharp trailing edge, closed at their mean point (SPEC 9)."""
+    of the chord apart are one sharp trailing edge, closed at their mean point; surfaces
+    that cross near the trailing edge are cut at the crossing (:func:`cut_crossing`, SPEC 9)."""
     xy = np.asarray(xy, dtype=float)
     if xy.ndim != 2 or xy.shape[1] < 2 or len(xy) < 5:
         raise InputError("a body needs at least 5 points (x y)", source)
@@ -203,14 +274,11 @@ def body_from_points(xy: np.ndarray, source: str, sharp_tol: float = SHARP_GAP) 
         k = int(np.argmax(ring[:, 0]))
         ring = np.roll(ring, -k, axis=0)
         surface = np.concatenate([ring, ring[:1]])
-    else:  # an open trailing edge: the ends are the two trailing-edge points
-        if area < 0:
-            pass
-        surface = ring
-        if surface[0, 1] < surface[-1, 1]:  # Selig: starts on the upper surface
-            surface = surface[::-1]
+    else:  # an open trailing edge: the ends are the two trailing-edge points, and the
+        surface = ring  # counter-clockwise ring starts on the upper surface (Selig)
+    surface, cut = cut_crossing(surface)
     sharp = bool(np.linalg.norm(surface[0] - surface[-1]) <= sharp_tol * size)
-    return Body(surface=surface, sharp=sharp, source=source)
+    return Body(surface=surface, sharp=sharp, source=source, cut=cut)
 
 
 def load_body(
@@ -289,6 +357,7 @@ __all__ = [
     "FarField",
     "body_from_points",
     "circle",
+    "cut_crossing",
     "load_body",
     "naca4",
     "polyline_farfield",

@@ -71,14 +71,24 @@ OUTFLOW_FIRST = 0.5
 # Marching (:func:`march`): the normals' Laplacian smoothing a pass (the largest that damps the
 # sawtooth without flipping it), reached with distance d as 1 - exp(-d / NORMAL_REACH chords); the
 # O-grid's tangential slide towards equal spacing; the row smoothing per unit of a row's shrink,
-# capped; sub-steps of at most SUBSTEP of the row's smallest spacing (a longer step crosses lines
-# off a concave wall), at most MAX_SUBSTEPS a row; smoothing passes a sub-step (docs/tuning.md).
+# capped; sub-steps of at most SUBSTEP of the distance in which converging lines would meet
+# (:func:`_substeps`) and at most SUBSTEP / SPACING_RATE of the row's smallest spacing: one in the
+# O-grid (half of it took 40 % more time for the same clean grids on 12 of the hardest files),
+# half in the C-grid (one raised the non-orthogonality where its rows turn straight above 20
+# degrees); at most MAX_SUBSTEPS a row (a bound on time); smoothing passes a sub-step.
 NORMAL_SMOOTHING, TANGENT_SMOOTHING, NORMAL_REACH = 0.5, 0.1, 0.3
 CONCAVE_SMOOTHING = 2.0
 ROW_SMOOTHING_MAX = 0.5
 SUBSTEP = 0.5
-MAX_SUBSTEPS = 40
+SPACING_RATE = {"o": 0.5, "c": 1.0}
+MAX_SUBSTEPS = 200
+# A row turns at a corner (no tangent: its nodes leave along the bisector) by more than this many
+# degrees between two segments; smooth walls turn by a few degrees a node.
+CORNER_TURN = 45.0
 MARCH_PASSES = 2
+# The rows' spacing is smoothed by this weight a pass (times the reach 1 - exp(-d / NORMAL_REACH
+# chords)), every sub-step: crowded columns spread out along the row (:func:`redistribute`).
+SPREAD = 0.5
 # A blunt C-grid's cut leaves the base's middle into two concave corners, around which the normals
 # and rows are smoothed from the wall on (as hyperbolic generators do), with a weight 1 at the
 # middle decaying with a wall node's distance d as exp(-d / (CORNER_REACH half-base heights)). The
@@ -90,11 +100,11 @@ C_BASE_INTERVALS = 4
 # point, fully at the trailing edge (REAR_TURN_START of the turn).
 REAR_TURN = 0.02
 REAR_TURN_START = 0.5
-# The marched rows turn into straight lines to the far field between 0.5 and 2 chords from the wall
+# The marched rows turn into straight lines to the far field between 1 and 3 chords from the wall
 # (C-grid; near the body the marched lines, far off the straight ones); the O-grid's projection onto
 # the far field is blended in as (distance share) ** O_BLEND_POWER (3: the inner rows stay marched,
 # the outer ones end on the far field smoothly).
-BLEND_START, BLEND_END = 0.5, 2.0  # chords
+BLEND_START, BLEND_END = 1.0, 3.0  # chords
 O_BLEND_POWER = 3
 # Elliptic (:func:`elliptic`): the exact controls are kept at the wall and smoothed away from it
 # with weight exp(-0.05 (j - 1)) (half at 14 rows from the wall) over 10 Jacobi passes; the sweeps
@@ -205,15 +215,28 @@ class Layout:
         return np.arange(self.n_wake, self.ni - self.n_wake)
 
 
+def _before(u: np.ndarray) -> np.ndarray:
+    """Each entry's predecessor along a closed row (np.roll by 1 along axis 0, cheaper)."""
+    return np.concatenate([u[-1:], u[:-1]])
+
+
+def _after(u: np.ndarray) -> np.ndarray:
+    """Each entry's successor along a closed row (np.roll by -1 along axis 0)."""
+    return np.concatenate([u[1:], u[:1]])
+
+
 def row_chords(p: np.ndarray, topology: str) -> np.ndarray:
     """Half the chord between each node's two neighbours along a grid row ``p`` (ni, 2), in
     the direction of i (wrapped across the O-grid's seam; one-sided at the C-grid's ends):
     the row's tangents, as long as its local spacing."""
     if topology == "o":
         q = p[:-1]
-        t = 0.5 * (np.roll(q, -1, axis=0) - np.roll(q, 1, axis=0))
+        t = 0.5 * (_after(q) - _before(q))
         return np.concatenate([t, t[:1]])
-    return np.gradient(p, axis=0)
+    t = np.empty_like(p)
+    t[1:-1] = (p[2:] - p[:-2]) / 2.0
+    t[0], t[-1] = p[1] - p[0], p[-1] - p[-2]
+    return t
 
 
 def _row_tangents(p: np.ndarray, topology: str) -> np.ndarray:
@@ -222,12 +245,27 @@ def _row_tangents(p: np.ndarray, topology: str) -> np.ndarray:
 
 
 def _row_normals(p: np.ndarray, topology: str) -> np.ndarray:
-    """Unit normals of a grid row ``p`` (ni, 2), pointing away from the body."""
+    """Unit normals of a grid row ``p`` (ni, 2), pointing away from the body: normal to the
+    chord between each node's neighbours (:func:`row_chords`), and at a corner, where the
+    row turns by more than ``CORNER_TURN`` (a sharp trailing edge, a blunt base's corners),
+    the corner's bisector, whatever the spacing on either side."""
     t = _row_tangents(p, topology)
+    # i runs counter-clockwise in the O-grid (body on the left), clockwise in the C-grid
+    sign = 1.0 if topology == "o" else -1.0
+    n = sign * np.column_stack([t[:, 1], -t[:, 0]])
+    e = np.diff(p, axis=0)
+    u = e / np.linalg.norm(e, axis=1)[:, None]
     if topology == "o":
-        return np.column_stack([t[:, 1], -t[:, 0]])  # i runs counter-clockwise: body on the left
-    n = np.column_stack([-t[:, 1], t[:, 0]])  # i runs clockwise: body on the right
-    n[0], n[-1] = (0.0, -1.0), (0.0, 1.0)
+        ahead, back = np.concatenate([u, u[:1]]), np.concatenate([u[-1:], u])
+    else:
+        ahead, back = np.concatenate([u, u[-1:]]), np.concatenate([u[:1], u])
+    turn = np.einsum("ik,ik->i", ahead, back) < math.cos(math.radians(CORNER_TURN))
+    b = sign * (
+        np.column_stack([ahead[:, 1], -ahead[:, 0]]) + np.column_stack([back[:, 1], -back[:, 0]])
+    )
+    n[turn] = b[turn] / np.linalg.norm(b[turn], axis=1, keepdims=True)
+    if topology == "c":
+        n[0], n[-1] = (0.0, -1.0), (0.0, 1.0)
     return n
 
 
@@ -238,10 +276,32 @@ def _smooth_row(q: np.ndarray, eps, topology: str) -> np.ndarray:
     eps = np.broadcast_to(np.asarray(eps, dtype=float), (len(q), 1))
     if topology == "o":
         u = q[:-1]
-        out[:-1] = u + eps[:-1] * (0.5 * (np.roll(u, 1, axis=0) + np.roll(u, -1, axis=0)) - u)
+        out[:-1] = u + eps[:-1] * (0.5 * (_before(u) + _after(u)) - u)
         out[-1] = out[0]
     else:
         out[1:-1] = q[1:-1] + eps[1:-1] * (0.5 * (q[:-2] + q[2:]) - q[1:-1])
+    return out
+
+
+def redistribute(q: np.ndarray, eps: float, topology: str, passes: int) -> np.ndarray:
+    """The row ``q`` (ni, 2) with its nodes slid along it so that its spacing is smoothed:
+    ``passes`` Laplacian passes of weight ``eps`` over the lengths of its segments, the
+    nodes then placed at the smoothed lengths' cumulative sums along the row (node 0 and, for
+    the C-grid, the last node held). Sliding along the row keeps the nodes in order, so the
+    columns cannot cross within a row, and a crowd of columns spreads out however strongly
+    the lines converge (off a concave wall, under an aft surface)."""
+    seg = np.linalg.norm(np.diff(q, axis=0), axis=1)
+    s_old = np.concatenate([[0.0], np.cumsum(seg)])
+    ds = seg.copy()
+    for _ in range(passes):
+        if topology == "o":
+            ds = ds + eps * (0.5 * (_before(ds) + _after(ds)) - ds)
+        else:
+            back = np.concatenate([ds[:1], ds[:-1]])
+            ds = ds + eps * (0.5 * (back + np.concatenate([ds[1:], ds[-1:]])) - ds)
+    s_new = np.concatenate([[0.0], np.cumsum(ds)]) * (s_old[-1] / ds.sum())
+    out = np.column_stack([np.interp(s_new, s_old, q[:, k]) for k in range(2)])
+    out[0], out[-1] = q[0], q[-1]
     return out
 
 
@@ -284,9 +344,11 @@ def march(
     rows = [inner]
     spacing0 = _row_spacing(inner, topology)
     corner = None  # the weight of a blunt C-grid's concave corners at its base
+    free = np.ones(len(inner), dtype=bool)  # the nodes whose spacing limits a sub-step
     if topology == "c" and base > 0:
         distance = np.linalg.norm(inner - inner[n_wake], axis=1)
         corner = np.exp(-distance / (CORNER_REACH * base / 2))[:, None]
+        free = distance > base
     rear = None
     if topology == "c":
         # behind the thickest point the C-grid's columns turn straight down (lower side)
@@ -305,17 +367,13 @@ def march(
     q = inner
     for j in range(1, len(distances)):
         step = distances[j] - distances[j - 1]
-        # sub-steps no longer than half the row's smallest spacing: a step that outruns the
-        # spacing can cross lines off a concave wall before any smoothing acts
         if j == 1:  # the first layer: straight along the wall's normals, height h exactly
             q = q + step * _row_normals(q, topology)
             if topology == "c":
                 q[0], q[-1] = inner[0] + (0, -step), inner[-1] + (0, step)
             rows.append(q)
             continue
-        subs = int(
-            min(MAX_SUBSTEPS, max(1, math.ceil(step / (SUBSTEP * _row_spacing(q, topology).min()))))
-        )
+        subs = _substeps(q, step, topology, free)
         for k in range(subs):
             d = distances[j - 1] + step * (k + 1) / subs
             grow = 1 - math.exp(-d / (NORMAL_REACH * scale))
@@ -337,13 +395,33 @@ def march(
                 eps = np.maximum(eps, corner * concave)
             for _ in range(passes):
                 q = _smooth_row(q, eps, topology)
-                target = _smooth_row(q, tangent * grow, topology)
-                t = _row_tangents(q, topology)
-                q = q + np.einsum("ik,ik->i", target - q, t)[:, None] * t
+                if tangent:
+                    target = _smooth_row(q, tangent * grow, topology)
+                    t = _row_tangents(q, topology)
+                    q = q + np.einsum("ik,ik->i", target - q, t)[:, None] * t
+            if topology == "o":
+                q = redistribute(q, SPREAD * grow, topology, passes)
+            else:  # the body's columns (the wake's run straight)
+                body = slice(n_wake, len(q) - n_wake)
+                q[body] = redistribute(q[body], SPREAD * grow, topology, passes)
             if topology == "c":  # the outflow columns march straight
                 q[0], q[-1] = inner[0] + (0, -d), inner[-1] + (0, d)
         rows.append(q)
     return np.stack(rows)
+
+
+def _substeps(q: np.ndarray, step: float, topology: str, free: np.ndarray) -> int:
+    """How many sub-steps a step of ``step`` off row ``q`` takes: each at most ``SUBSTEP`` of
+    the distance in which the row's most converging neighbours would meet (their spacing
+    over the rate at which their normals close it), and at most ``SUBSTEP / SPACING_RATE``
+    of the smallest spacing at the nodes ``free`` (the smoothing passes of each sub-step
+    damp the rows' sawtooth; a blunt C-grid's base, smoothed from the wall on, is not free).
+    A longer step crosses lines off a concave wall before any smoothing acts."""
+    n = _row_normals(q, topology)
+    e, dn = np.diff(q, axis=0), np.diff(n, axis=0)
+    rate = float(np.max(-np.einsum("ik,ik->i", dn, e) / np.einsum("ik,ik->i", e, e)))
+    rate = max(rate, SPACING_RATE[topology] / float(_row_spacing(q, topology)[free].min()))
+    return int(min(MAX_SUBSTEPS, max(1, math.ceil(step * rate / SUBSTEP))))
 
 
 def _row_spacing(p: np.ndarray, topology: str) -> np.ndarray:
@@ -432,8 +510,8 @@ def layout(
         if folded:
             raise InputError(
                 f"the C-grid around this blunt trailing edge (a base of {base / chord:.2g} "
-                f"chords) folds {folded} cells at the base: give more nodes ({{size}}) or a "
-                "thinner first layer, or use {topology}",
+                f"chords) folds {folded} cells at the base; use {{topology}}, whose grid "
+                "keeps the base as wall",
                 body.source,
             )
     first = np.full(ni, h)
@@ -456,12 +534,14 @@ def reference_grid(
     n_wake: int,
     base: float = 0.0,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """The wall-orthogonal reference grid and its far-field nodes: rows marched off the
-    wall to ``BLEND_END`` chords, turning over ``BLEND_START`` .. ``BLEND_END`` chords into
-    straight lines from the row at ``BLEND_START`` to that row's projection onto the far
-    field (radially about the far field's centre; straight up or down behind mid-chord in
-    a C-grid), so that every column ends on the far field."""
-    if topology == "o":  # marched all the way, the far-field projection blended in
+    """The wall-orthogonal reference grid and its far-field nodes. O-grid: rows marched off
+    the wall all the way (:func:`march`), the last one projected radially onto the far
+    field, the projection blended in over the outer rows. C-grid: rows marched to
+    ``BLEND_END`` chords, turning over ``BLEND_START`` .. ``BLEND_END`` chords into straight
+    lines from the row at ``BLEND_START`` to that row's projection onto the far field
+    (radially about its centre, straight up or down behind the thickest point: lines that
+    cannot cross), so that every column ends on the far field."""
+    if topology == "o":
         marched = march(inner, topology, dist, chord, n_wake, tangent=TANGENT_SMOOTHING)
         outer = _project(marched[-1], far, topology, inner)
         outer[-1] = outer[0]
@@ -474,7 +554,7 @@ def reference_grid(
     a, b = min(a, len(dist) - 2), min(max(b, a + 1), len(dist) - 1)
     marched = march(inner, topology, dist[: b + 1], chord, n_wake, tangent=0.0, base=base)
     start = marched[a]
-    outer = _project(start, far, topology, inner, marched[a] - marched[a - 1], n_wake)
+    outer = _project(start, far, topology, inner, n_wake)
     t = ((dist - dist[a]) / (dist[-1] - dist[a])).clip(0.0, 1.0)
     straight = start[None] + t[:, None, None] * (outer - start)[None]
     w = np.clip((dist - dist[a]) / max(dist[b] - dist[a], 1e-300), 0.0, 1.0)
@@ -495,25 +575,15 @@ def _far_distance(inner: np.ndarray, far: FarField, topology: str) -> float:
 
 
 def _project(
-    row: np.ndarray,
-    far: FarField,
-    topology: str,
-    inner: np.ndarray,
-    direction: np.ndarray | None = None,
-    n_wake: int = 0,
+    row: np.ndarray, far: FarField, topology: str, inner: np.ndarray, n_wake: int = 0
 ) -> np.ndarray:
     """Points of the far field for a marched row: radially about the far field's centre
-    onto the circle (or polyline); for the C-grid, behind mid-chord, straight up or down
-    onto the lines y = y_c -+ R."""
+    onto the circle (or polyline); for the C-grid, the row's nodes behind the centre
+    straight up or down onto the lines y = y_c -+ R (both maps keep the nodes' order, so
+    straight lines to them cannot cross)."""
     c = far.center
     ang = np.arctan2(row[:, 1] - c[1], row[:, 0] - c[0])
-    if far.radius is not None and direction is not None:  # along the rows' direction
-        u = direction / np.linalg.norm(direction, axis=1, keepdims=True)
-        p = row - c
-        pu = np.einsum("ik,ik->i", p, u)
-        t = -pu + np.sqrt(pu * pu - np.einsum("ik,ik->i", p, p) + far.radius**2)
-        out = row + t[:, None] * u
-    elif far.radius is not None:
+    if far.radius is not None:
         out = c + far.radius * np.column_stack([np.cos(ang), np.sin(ang)])
     else:
         ring = far.polyline
@@ -523,11 +593,11 @@ def _project(
         pa = np.r_[pa[-1] - 2 * np.pi, pa, pa[0] + 2 * np.pi]
         pts = np.concatenate([pts[-1:], pts, pts[:1]])
         out = np.column_stack([np.interp(ang, pa, pts[:, k]) for k in range(2)])
-    if topology == "c":  # the D-shaped far field: behind mid-chord, the lines y_c -+ R
+    if topology == "c":  # the D-shaped far field: behind its centre, the lines y_c -+ R
         half = len(row) // 2
         sign = np.where(np.arange(len(row)) < half, -1.0, 1.0)
-        rear = inner[:, 0] >= rear_start(inner, n_wake)
         x = row[:, 0]
+        rear = x > c[0]  # radially in front of the centre, straight up or down behind it
         on_circle = np.sqrt(np.maximum(far.radius**2 - (x - c[0]) ** 2, 0.0))
         line = np.column_stack([x, c[1] + sign * np.where(x < c[0], on_circle, far.radius)])
         out[rear] = line[rear]

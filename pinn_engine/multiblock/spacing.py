@@ -37,6 +37,10 @@ MAX_ASKED_SHARE = 0.5
 # Neighbouring cells of a grading's first cells differ by at most this factor (SPEC 10
 # asks 1.25; the margin is for the progression's join), and the widest ratio searched
 GROWTH_AIM, MAX_GROWTH_SEARCH = 1.2, 4.0
+# Lines from a graded side's corner over which its first-cell correction ramps up to full:
+# at least CORNER_RAMP, or this share of the side's lines (a moved corner bends more of
+# them on a finer grid)
+CORNER_RAMP, CORNER_SHARE = 2, 0.25
 # a line's ids -> [H at its start, H at its end, the option asking (for messages)]
 Requests = dict[tuple[int, ...], list]
 
@@ -83,15 +87,19 @@ def first_edges(
     pairs (``chains.graded_sides``) made a geometric progression from ``h`` that rejoins
     the line's own cells: the fewest first cells K whose progression (same total length,
     so node K and all beyond stay) grows by at most GROWTH_AIM a cell and meets cell K
-    within that ratio (else the K nearest that), the lines at the side's corners aside
-    (SPEC 7 excepts corners; a corner where blocks meet moves in the solve); each line
-    once, by its node ids, so shared lines stay shared."""
+    within that ratio (else the K nearest that). The lines at the side's corners keep
+    theirs (SPEC 7 excepts corners; a corner where blocks meet moves in the solve) and the
+    next CORNER_RAMP lines move part of the way, so the change does not shear a row; each
+    line once, by its node ids, so shared lines stay shared."""
     out = points.copy()
     done: set[tuple[int, ...]] = set()
     for b, s in graded:
-        for line in side_lines(ids[b], SIDE_NAMES[s])[1:-1]:
+        lines = side_lines(ids[b], SIDE_NAMES[s])
+        for m, line in enumerate(lines):
             key = tuple(int(n) for n in line)
-            if key in done or key[::-1] in done:
+            ramp = max(CORNER_RAMP, CORNER_SHARE * len(lines))
+            weight = min(1.0, min(m, len(lines) - 1 - m) / ramp)
+            if key in done or key[::-1] in done or weight == 0.0:
                 continue
             done.add(key)
             p = points[line]
@@ -105,7 +113,7 @@ def first_edges(
                 if best[0] <= GROWTH_AIM:
                     break
             _, k, r = best
-            at = h * np.cumsum(r ** np.arange(k - 1))
+            at = (1 - weight) * arc[1:k] + weight * h * np.cumsum(r ** np.arange(k - 1))
             out[line[1:k]] = np.column_stack(
                 [np.interp(at, arc, p[:, 0]), np.interp(at, arc, p[:, 1])]
             )
