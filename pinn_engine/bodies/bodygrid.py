@@ -68,17 +68,15 @@ MIN_SURFACE_INTERVALS = 3
 FAR_GAP = 0.25
 MIN_WAKE = 0.1
 OUTFLOW_FIRST = 0.5
-# Marching (:func:`march`): the normals' Laplacian smoothing a pass (the largest that damps the
-# sawtooth without flipping it), reached with distance d as 1 - exp(-d / NORMAL_REACH chords); the
-# O-grid's tangential slide towards equal spacing; the row smoothing per unit of a row's shrink,
-# capped; sub-steps of at most SUBSTEP of the distance in which converging lines would meet
-# (:func:`_substeps`) and at most SUBSTEP / SPACING_RATE of the row's smallest spacing: one in the
-# O-grid (half of it took 40 % more time for the same clean grids on 12 of the hardest files),
-# half in the C-grid (one raised the non-orthogonality where its rows turn straight above 20
-# degrees); at most MAX_SUBSTEPS a row (a bound on time); smoothing passes a sub-step.
+# Marching (:func:`march`): the normals' Laplacian smoothing a pass, reached with distance d as
+# 1 - exp(-d / NORMAL_REACH chords); the O-grid's tangential slide towards equal spacing.
 NORMAL_SMOOTHING, TANGENT_SMOOTHING, NORMAL_REACH = 0.5, 0.1, 0.3
+# The row smoothing per unit of a row's shrink, capped at ROW_SMOOTHING_MAX.
 CONCAVE_SMOOTHING = 2.0
 ROW_SMOOTHING_MAX = 0.5
+# Sub-steps: at most SUBSTEP of the distance in which converging lines would meet and at most
+# SUBSTEP / SPACING_RATE of the row's smallest spacing (:func:`_substeps`); MAX_SUBSTEPS bounds
+# a row's time.
 SUBSTEP = 0.5
 SPACING_RATE = {"o": 0.5, "c": 1.0}
 MAX_SUBSTEPS = 200
