@@ -21,7 +21,6 @@ import torch
 
 from pinn_engine.blocks.mapping import Mapping
 from pinn_engine.blocks.model import TrainedModel
-from pinn_engine.blocks.untrained import untangled_report
 from pinn_engine.classical.spacing import chord_tangents
 from pinn_engine.classical.tfi import node_params, tfi_grid
 from pinn_engine.classical.warm import WarmStart
@@ -48,7 +47,7 @@ from pinn_engine.quality import guard_figures, no_worse, orientation, side_repor
 from pinn_engine.settings import Settings
 from pinn_engine.starts.quad_start import quad_start
 from pinn_engine.starts.quality_start import Ranking
-from pinn_engine.starts.untangle import acceptable
+from pinn_engine.starts.untangle import acceptable, untangled_report
 from pinn_engine.starts.warmstart import lattice_for
 
 # A state is kept if its grid has no more folded cells than the elliptic grid and mean and

@@ -26,10 +26,10 @@ from pinn_engine.classical.warm import WarmStart
 from pinn_engine.geometry.auxlines import AuxLine
 from pinn_engine.geometry.boundary import Boundary
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
-from pinn_engine.quality import folded_cells, guard_figures
+from pinn_engine.quality import guard_figures
 from pinn_engine.settings import Settings
 from pinn_engine.starts.quad_start import quad_start
-from pinn_engine.starts.untangle import untangle
+from pinn_engine.starts.untangle import untangle, untangled_report
 from pinn_engine.starts.warmstart import lattice_for
 
 WINSLOW = "the start already solves the Winslow equations the network trains on"
@@ -90,14 +90,6 @@ class StartModel:
         from pinn_engine.blocks.quad import untrained_model
 
         return untrained_model(self.boundary, self.warm, self.settings, self.info).save(path)
-
-
-def untangled_report(winslow: np.ndarray, grid: np.ndarray) -> dict[str, int]:
-    """The report's ``untangled``: folded cells of the Winslow grid and of its untangling."""
-    return {
-        "winslow_folded_cells": int(folded_cells(winslow).sum()),
-        "folded_cells": int(folded_cells(grid).sum()),
-    }
 
 
 def start_block(start: np.ndarray, reason: str) -> tuple[np.ndarray, dict]:

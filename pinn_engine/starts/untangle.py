@@ -242,3 +242,11 @@ def untangled_start(warm: WarmStart, winslow: np.ndarray) -> tuple[WarmStart, np
     if grid is winslow:
         return None
     return WarmStart(warm.correction + (grid - winslow), start="untangled"), grid
+
+
+def untangled_report(winslow: np.ndarray, grid: np.ndarray) -> dict[str, int]:
+    """The report's ``untangled``: folded cells of the Winslow grid and of its untangling."""
+    return {
+        "winslow_folded_cells": int(folded_cells(winslow).sum()),
+        "folded_cells": int(folded_cells(grid).sum()),
+    }
