@@ -315,24 +315,7 @@ def main() -> int:
             verdicts.append(speed(args.construct2d, dat))
     print("\n" + "\n".join(verdicts))
     if args.write:
-        md = Path(args.write)
-        text = md.read_text() if md.exists() else ""
-        start, end = "<!-- airfoils-table:begin -->", "<!-- airfoils-table:end -->"
-        block = (
-            start
-            + "\n"
-            + "\n".join(lines)
-            + "\n\n"
-            + "\n".join(f"- {v}" for v in verdicts)
-            + "\n"
-            + end
-        )
-        if start in text and end in text:
-            text = text[: text.index(start)] + block + text[text.index(end) + len(end) :]
-        else:
-            text += "\n" + block + "\n"
-        md.write_text(text)
-        print(f"wrote {md}")
+        write_block(args.write, "airfoils-table", [*lines, "", *(f"- {v}" for v in verdicts)])
     return 0
 
 
