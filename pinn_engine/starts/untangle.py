@@ -84,44 +84,39 @@ class _Corners:
         g[self.free] = x.reshape(-1, 2)
         return g
 
-    def _edges(self, g: np.ndarray):
-        """Per corner k: the edges a (to the next corner) and b (to the previous one) and the
-        Jacobian det(a, b) in cell areas."""
-        p = _corners(g)
-        for k in range(4):
-            a, b = p[(k + 1) % 4] - p[k], p[k - 1] - p[k]
-            det = self.turn * (a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]) / self.area
-            yield k, a, b, det
+    def _edges(self, g: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """At the four corners k of every cell (axis 0): the edges a (to corner k + 1) and b
+        (to corner k - 1) and the Jacobian det(a, b) in cell areas."""
+        p = np.stack(_corners(g))
+        a, b = np.roll(p, -1, axis=0) - p, np.roll(p, 1, axis=0) - p
+        return a, b, self.turn * (a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]) / self.area
 
     def least(self, x: np.ndarray) -> float:
         """The smallest corner Jacobian (in cell areas)."""
-        return min(float(det.min()) for *_, det in self._edges(self.with_free(x)))
+        return float(self._edges(self.with_free(x))[2].min())
 
     def energy(self, x: np.ndarray, eps: float) -> tuple[float, np.ndarray]:
         """The regularised energy and its gradient in the free nodes' coordinates."""
         g = self.with_free(x)
-        grad = [np.zeros(c.shape) for c in _corners(g)]
-        total = 0.0
-        for k, a, b, det in self._edges(g):
-            root = np.sqrt(eps * eps + det * det)
-            chi = _chi(det, root, eps)
-            la = np.maximum(np.hypot(a[..., 0], a[..., 1]), DBL_MIN)
-            lb = np.maximum(np.hypot(b[..., 0], b[..., 1]), DBL_MIN)
-            top = (1 - AREA_SHARE) * 2 * la * lb / self.area + AREA_SHARE * (det * det + 1)
-            total += float((top / chi).sum())
-            d_shape = (1 - AREA_SHARE) * 2 / (chi * self.area)
-            d_det = (self.turn * (AREA_SHARE * 2 * det / chi - top / (chi * root)) / self.area)[
-                ..., None
-            ]
-            ga = (d_shape * lb / la)[..., None] * a + d_det * np.stack([b[..., 1], -b[..., 0]], -1)
-            gb = (d_shape * la / lb)[..., None] * b + d_det * np.stack([-a[..., 1], a[..., 0]], -1)
-            grad[(k + 1) % 4] += ga
-            grad[k - 1] += gb
-            grad[k] -= ga + gb
+        a, b, det = self._edges(g)
+        root = np.sqrt(eps * eps + det * det)
+        chi = _chi(det, root, eps)
+        la = np.maximum(np.hypot(a[..., 0], a[..., 1]), DBL_MIN)
+        lb = np.maximum(np.hypot(b[..., 0], b[..., 1]), DBL_MIN)
+        top = (1 - AREA_SHARE) * 2 * la * lb / self.area + AREA_SHARE * (det * det + 1)
+        d_shape = (1 - AREA_SHARE) * 2 / (chi * self.area)
+        d_det = (self.turn * (AREA_SHARE * 2 * det / chi - top / (chi * root)) / self.area)[
+            ..., None
+        ]
+        ga = (d_shape * lb / la)[..., None] * a + d_det * np.stack([b[..., 1], -b[..., 0]], -1)
+        gb = (d_shape * la / lb)[..., None] * b + d_det * np.stack([-a[..., 1], a[..., 0]], -1)
+        # a runs to corner k + 1, b to corner k - 1: each corner gets its own and its
+        # neighbours' parts
+        per_corner = np.roll(ga, 1, axis=0) + np.roll(gb, -1, axis=0) - ga - gb
         full = np.zeros_like(g)
-        for target, part in zip(_corners(full), grad):
+        for target, part in zip(_corners(full), per_corner):
             target += part
-        return total, full[self.free].ravel()
+        return float((top / chi).sum()), full[self.free].ravel()
 
 
 def _corners(g: np.ndarray) -> list[np.ndarray]:
