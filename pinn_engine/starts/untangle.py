@@ -202,9 +202,10 @@ def _band(folded: np.ndarray, rings: int) -> np.ndarray:
 def untangle(grid: np.ndarray) -> np.ndarray:
     """``grid`` (nj, ni, 2) with its folded cells undone, its boundary nodes fixed: the nodes
     within ``FIRST_RINGS`` rings of the folds move first, in twice as many rings while folds
-    remain (``ROUNDS`` times), then every interior node. Of the grids met, the one with the
-    fewest folded cells that keeps :func:`acceptable` against ``grid``; ``grid`` itself if
-    none folds fewer."""
+    remain or the grid is not :func:`acceptable` against ``grid`` (``ROUNDS`` times), then
+    every interior node. Of the grids met, the one with the fewest folded cells, of those
+    one that is acceptable if any (a fold-free grid outside the bounds is still one that a
+    solver takes); ``grid`` itself if none folds fewer."""
     folds = int(folded_cells(grid).sum())
     if not folds or min(grid.shape[:2]) < 3:
         return grid
@@ -223,36 +224,49 @@ def acceptable(grid: np.ndarray, winslow: np.ndarray) -> bool:
 
 
 def _untangled(grid: np.ndarray, folds: int) -> np.ndarray:
+    """:func:`untangle`'s rounds: each moves the band around the folds of the best acceptable
+    grid so far; ``fewest`` is the grid with the fewest folds met, acceptable or not."""
     best, rings = grid, FIRST_RINGS
+    fewest, fewest_folds = grid, folds
     for attempt in range(ROUNDS + 1):
         folded = folded_cells(best)
         free = _band(folded, rings) if attempt < ROUNDS else _band(folded, max(grid.shape))
         moved = _move(best, free)
-        if np.isfinite(moved).all() and acceptable(moved, grid):
+        if np.isfinite(moved).all():
             moved_folds = int(folded_cells(moved).sum())
-            if moved_folds < folds:
+            if moved_folds < folds and acceptable(moved, grid):
                 best, folds = moved, moved_folds
+            if moved_folds < fewest_folds:
+                fewest, fewest_folds = moved, moved_folds
         if not folds:
             break
         rings *= 2
-    return best
+    return best if folds <= fewest_folds else fewest
 
 
 def untangled_start(warm: WarmStart, winslow: np.ndarray) -> tuple[WarmStart, np.ndarray] | None:
-    """The start ``warm`` from the ``winslow`` grid moved to :func:`untangle`'s grid, and that
-    grid; None where the Winslow grid does not fold or untangling does not help."""
+    """The start ``warm`` from the folded ``winslow`` grid moved to :func:`untangle`'s grid,
+    and that grid (``warm`` and ``winslow`` themselves where untangling does not help); None
+    where the Winslow grid does not fold."""
     grid = untangle(winslow)
     if grid is winslow:
-        return None
+        return (warm, winslow) if folded_cells(winslow).any() else None
     return WarmStart(warm.correction + (grid - winslow), start="untangled"), grid
 
 
-def untangled_report(winslow: np.ndarray, grid: np.ndarray) -> dict[str, int]:
-    """The report's ``untangled``: folded cells of the Winslow grid and of its untangling."""
-    return {
+def untangled_report(winslow: np.ndarray, grid: np.ndarray) -> dict:
+    """The report's ``untangled``: folded cells of the Winslow grid and of its untangling,
+    whether that keeps :func:`acceptable` and, where it still folds and the boundary nodes
+    force a fold, why (:func:`fold_forced`)."""
+    report = {
         "winslow_folded_cells": int(folded_cells(winslow).sum()),
         "folded_cells": int(folded_cells(grid).sum()),
+        "within_bounds": bool(acceptable(grid, winslow)),
     }
+    forced = fold_forced(winslow) if report["folded_cells"] else None
+    if forced:
+        report["forced"] = forced
+    return report
 
 
 def fold_forced(grid: np.ndarray) -> str | None:
