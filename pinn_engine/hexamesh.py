@@ -36,10 +36,12 @@ from pinn_engine.hexa.spacing import (
 from pinn_engine.hexa.surface import Surface, Topology, find_topology, surface_of
 from pinn_engine.io import fileio
 from pinn_engine.io.export.patches import BOX_SIDES, add_to_grid, patch_specs
-from pinn_engine.settings import NO_TIME_LIMIT, Settings
+from pinn_engine.settings import HEXA_SETTINGS, NO_TIME_LIMIT, Settings
+from pinn_engine.starts.volume_start import Start, winslow_start
 
 if TYPE_CHECKING:
     from pinn_engine.blocks.hexa import HexaModel
+    from pinn_engine.blocks.untrained import VolumeStartModel
     from pinn_engine.neural.trainer import Progress
 
 METHODS = ("pinn", "tfi", "elliptic")  # the methods of this build for six-faced domains
@@ -54,7 +56,7 @@ FACE_IDS = "FaceIds"  # field data: the input's FaceId of imin ... kmax
 @dataclass
 class HexResult:
     """The grid (ni, nj, nk, 3), its cell arrays, the run's seconds, the Winslow solve's
-    Picard steps, for pinn the trained model (blocks/hexa.py's HexaModel), the input face
+    Picard steps, for pinn its map (the trained HexaModel, or the untrained start's), the input face
     of each side and the sides' patch names and types."""
 
     grid: np.ndarray
@@ -62,9 +64,10 @@ class HexResult:
     seconds: float
     iterations: int
     walls: dict[str, tuple[float, float, float]] = field(default_factory=dict)
-    model: HexaModel | None = None
+    model: HexaModel | VolumeStartModel | None = None
     faces: dict[str, int] = field(default_factory=dict)  # side -> the input's FaceId
     patches: tuple[tuple[str, ...], tuple[str, ...]] = patch_specs(None, sides=BOX_SIDES)
+    timings: dict[str, float] = field(default_factory=dict)  # seconds per stage
 
 
 def boundary_map(
@@ -98,10 +101,15 @@ def boundary_map(
                 (tuple(at), [a, b], FaceMap(surface, topology.face_triangles[face], sides), face)
             )
 
+    last: list[np.ndarray] = []  # the last parameters and their grid: runs ask for them again
+
     def boundary(params: np.ndarray) -> np.ndarray:
+        if last and last[0].shape == params.shape and np.array_equal(last[0], params):
+            return last[1].copy()
         g = np.zeros(params.shape)
         for at, axes, face, _ in faces:
             g[at] = face.grid(params[at][..., axes])
+        last[:] = [params.copy(), g.copy()]
         return g
 
     return boundary, tuple(face for *_, face in faces)
@@ -252,9 +260,11 @@ def mesh_surface(
     """Read ``path`` (an ``.stl``'s faces are found at its sharp edges), check its topology,
     build the face grids and the volume grid (:func:`mesh_polydata`)."""
     refuse(size, method, spacing, orthogonal)
+    began = time.perf_counter()
     data = fileio.read_polydata(Path(path))
+    read = time.perf_counter() - began
     stl = str(path).lower().endswith(".stl")
-    return mesh_polydata(
+    result = mesh_polydata(
         data,
         size,
         method,
@@ -266,6 +276,8 @@ def mesh_surface(
         load_model=load_model,
         patches=patches,
     )
+    result.timings["read"] = read
+    return result
 
 
 def mesh_polydata(
@@ -297,6 +309,12 @@ def mesh_polydata(
     tell = progress or (lambda fraction, phase: None)
     spacing = spacing or {}
     began = time.perf_counter()
+    timings = {}
+
+    def lap(stage: str) -> None:
+        """Record the seconds since the last stage as ``stage``'s."""
+        timings[stage] = time.perf_counter() - began - sum(timings.values())
+
     tell(0.0, "face grids")
     surface = surface_of(data, source, sharp_edges, sharp_angle)
     topology = find_topology(surface, source)
@@ -304,53 +322,70 @@ def mesh_polydata(
     faces = face_names(surface, sides)
     named = named_patches(patches, faces)
     uniform = node_params(size, {})
-    base = volume.tfi(boundary(uniform), uniform)
+    base = tfi_at(boundary, uniform)
     check_spacing(spacing, base)
+    lap("faces")
     model = None
-    if method == "pinn":  # torch only for the network
-        from pinn_engine.blocks.hexa import HEXA_SETTINGS, HexaModel, Start, train, winslow_start
+    if method == "pinn":  # the elliptic and tfi runs import no training modules
+        from pinn_engine.blocks.untrained import VolumeStartModel, cannot_win
 
         settings = Settings(**HEXA_SETTINGS, time_limit=time_limit)
 
         @cache  # the start's lattice is often the grid's own size
         def tfi_of(shape: tuple[int, ...]) -> np.ndarray:
             """The TFI grid of ``shape`` nodes, its faces exactly the face grids."""
-            return tfi_at(boundary, node_params(shape, {}))
+            return base if shape == tuple(size) else tfi_at(boundary, node_params(shape, {}))
 
         tell(0.2, "network")
         key = surface_key(surface)
-        if load_model:
+        # the network's terms are the Winslow equations' alone without walls (cannot_win)
+        reason = None if load_model or spacing or orthogonal else cannot_win(settings)
+        tfi = base
+        if reason:  # the start's map: no network, no torch
+            start = winslow_start(tfi_of, size)
+            lap("start")
+            model = VolumeStartModel.of(start, settings, key, reason, timings["start"])
+        elif load_model:
+            from pinn_engine.blocks.hexa import HexaModel  # torch: only for a saved network
+
             if spacing or orthogonal:
                 raise InputError(
                     "--load-model with --spacing or --orthogonal: a saved map keeps the "
                     "spacing and walls it was trained with; drop them, or train anew"
                 )
-            model, tfi = HexaModel.load(load_model, key), tfi_of(size)
-        elif spacing or orthogonal:  # the elliptic grid with them, at the full size
-            params, grid, _ = _classical(boundary, "elliptic", spacing, orthogonal, base)
-            tfi = tfi_at(boundary, params)
-            start = Start(
-                tfi,
-                grid,
-                params if spacing else None,
-                partial(spacing_error, spacing=spacing) if spacing else None,
-                tuple((PATCH_AXIS[p][0], float(PATCH_AXIS[p][1] != 0)) for p in orthogonal),
-                partial(wall_angle, patches=orthogonal) if orthogonal else None,
-            )
-            model = train(start, key, settings, training)
+            model = HexaModel.load(load_model, key)
+            lap("start")
         else:
-            start, tfi = winslow_start(tfi_of, size), tfi_of(size)
+            from pinn_engine.blocks.hexa import train  # torch: imported only to train
+
+            if spacing or orthogonal:  # the elliptic grid with them, at the full size
+                params, grid, _ = _classical(boundary, "elliptic", spacing, orthogonal, base)
+                tfi = tfi_at(boundary, params)
+                start = Start(
+                    tfi,
+                    grid,
+                    params if spacing else None,
+                    partial(spacing_error, spacing=spacing) if spacing else None,
+                    tuple((PATCH_AXIS[p][0], float(PATCH_AXIS[p][1] != 0)) for p in orthogonal),
+                    partial(wall_angle, patches=orthogonal) if orthogonal else None,
+                )
+            else:
+                start = winslow_start(tfi_of, size)
+            lap("start")
             model = train(start, key, settings, training)
         g, steps = model.grid(tfi), 0
+        lap("training")
     else:
         if method == "elliptic":
             tell(0.3, "3D Winslow")
         _, g, steps = _classical(boundary, method, spacing, orthogonal, base)
+        lap("volume")
     tell(0.9, "quality")
     cells = cell_arrays(g)
     walls = wall_figures(g, spacing, orthogonal)
+    lap("quality")
     seconds = time.perf_counter() - began
-    return HexResult(g, cells, seconds, steps, walls, model, faces, named)
+    return HexResult(g, cells, seconds, steps, walls, model, faces, named, timings)
 
 
 def wall_figures(
@@ -410,8 +445,8 @@ def figures(cells: dict[str, np.ndarray]) -> dict[str, float]:
 
 def report(result: HexResult, method: str) -> dict:
     """What the grid's field data ``Report`` holds: method, size, the input's FaceId of each
-    of imin ... kmax (``faces``), cells, seconds, Picard
-    steps, :func:`figures` as ``quality``, per patch with a spacing or orthogonality its
+    of imin ... kmax (``faces``), cells, seconds (and per stage, ``timings``), Picard steps,
+    :func:`figures` as ``quality``, per patch with a spacing or orthogonality its
     ``walls`` figures (:func:`wall_figures`, in the multi-block report's keys) and the
     pinn's ``training`` (the trainer's info)."""
     walls = {
@@ -424,6 +459,7 @@ def report(result: HexResult, method: str) -> dict:
         "faces": dict(result.faces),
         "cells": int(result.cells["Folded"].size),
         "seconds": result.seconds,
+        "timings": dict(result.timings),
         "iterations": result.iterations,
         "quality": figures(result.cells),
         **({"walls": walls} if walls else {}),

@@ -13,6 +13,7 @@ import numpy as np
 from helpers import EXAMPLES, ROOT
 
 from pinn_engine.blocks.untrained import QUALITY, WINSLOW, cannot_win
+from pinn_engine.hexamesh import mesh_surface
 from pinn_engine.io.pipeline import load_aux, load_boundary
 from pinn_engine.job import run_blocks
 from pinn_engine.mesher import Mesher
@@ -91,3 +92,25 @@ def test_a_multiblock_pinn_whose_networks_cannot_win_keeps_its_starts():
     assert {b["skipped"] for b in report["training"]["blocks"]} == {WINSLOW}
     assert set(report["timings"]) == {"layout", "solve", "training", "walls_and_quality"}
     assert 0 < sum(report["timings"].values()) <= report["mesh_seconds"] + 1e-9
+
+
+def test_a_hexahedral_pinn_whose_network_cannot_win_keeps_its_start(tmp_path):
+    """Without a spacing or orthogonal patch the six-faced pinn's map is the elliptic run's
+    grid, untrained and without torch; the report says why and times the stages."""
+    surface = EXAMPLES / "hexa_bump_box.vtp"
+    size = (7, 6, 5)
+    runs = {m: mesh_surface(str(surface), size, m) for m in ("elliptic", "pinn")}
+    np.testing.assert_allclose(runs["pinn"].grid, runs["elliptic"].grid, atol=1e-12)
+    assert runs["pinn"].model.info["skipped"] == WINSLOW
+    written = tmp_path / "r.json"
+    code = (
+        "import sys, json; from pinn_engine.routes.cli import main;"
+        f"main([{str(surface)!r}, '--size', '7', '6', '5', '-o', {str(tmp_path / 'g.vts')!r},"
+        f" '--report', {str(written)!r}, '--quiet']);"
+        "print('torch' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert out.stdout.strip() == "False", out.stderr
+    report = json.loads(written.read_text())
+    assert report["training"]["skipped"] == WINSLOW
+    assert set(report["timings"]) >= {"read", "faces", "start", "training", "quality", "write"}

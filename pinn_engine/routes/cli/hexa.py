@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import time
 from pathlib import Path
 
 from pinn_engine.errors import PinnMeshError, grid_warnings
@@ -65,9 +66,11 @@ def run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
     )
     if args.save_model:
         save_model(result.model, args.save_model, written)
+    began = time.perf_counter()
     export.write(hexa_grid(result, method), out, args.format)
     written.append(out)
     run = report(result, method)
+    run["timings"]["write"] = time.perf_counter() - began
     if args.report:
         write_report(args.report, run, written)
     if not args.quiet:
