@@ -27,6 +27,10 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     from pinn_engine.job import kind_of
 
     kind = kind_of(args.boundary, bool(args.blocks), body=bool(args.topology or args.naca))
+    if args.face_angle is not None and kind != "hexa":
+        raise PinnMeshError(
+            "--face-angle applies to six-faced surfaces (an .stl), not to 2D domains"
+        )
     if kind == "blocks":
         return run_blocks(args, written)
     if kind == "hexa":
