@@ -1,4 +1,4 @@
-"""Start-up figures of the command (issue 33), each a whole ``pinn-mesh`` process.
+"""Start-up figures of the command, each a whole ``pinn-mesh`` process.
 
 Usage: ``.venv/bin/python benchmarks/startup.py [--runs 5]``
 
@@ -31,7 +31,7 @@ DEMO = [
     "--aux",
     str(ROOT / "example_data" / "wavy_aux.vtp"),
 ]
-FIRST_RUN_TARGET = 1.5  # issue 33: a first run at most 1.5x a warm one
+FIRST_RUN_TARGET = 1.5  # a first run at most 1.5x a warm one
 
 
 def seconds(argv: list[str], **env: str) -> float:
