@@ -47,6 +47,7 @@ try:
         INTERFACES,
         PinnMultiBlockAlgorithm,
     )
+    from pinn_engine.routes.paraview_help import register_in_gui
     from pinn_engine.settings import (
         BLOCKS_METHOD,
         MAX_SIDE_NODES,
@@ -66,6 +67,7 @@ except ImportError as _exc:  # a clear line in ParaView's output instead of a ba
         "numpy, scipy and scikit-learn (see scripts/pvenv.sh)"
     ) from _exc
 
+from paraview.detail.pythonalgorithm import get_plugin_xmls  # noqa: E402
 from paraview.util.vtkAlgorithm import smdomain, smhint, smproperty, smproxy  # noqa: E402
 
 try:  # the client side, where displays are made (absent from a data-server-only build)
@@ -1036,3 +1038,6 @@ del (
     _name,
     _file_type,
 )  # one module name per proxy: ParaView registers every one it finds
+
+# the proxies' help pages, for the panel's "?" and the help's search (docs/paraview_gui.md)
+register_in_gui(get_plugin_xmls(globals()))
