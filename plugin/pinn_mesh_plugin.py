@@ -816,10 +816,11 @@ _HEXA_METHOD_DOCS = {
     label="PINN Hexahedral Mesh",
     summary="Hexahedral structured grid of a six-faced 3D domain.",
     doc="Hexahedral structured grid (one block, ni x nj x nk nodes) of the 3D domain "
-    "bounded by a closed surface with six faces tagged by a FaceId cell array (SPEC 11): "
-    "a duct, a bend, a nozzle, a box with a bump. The faces' 8 corners and 12 edges are "
-    "found from their adjacency; each face gets a grid on the surface's triangles, and "
-    "the volume grid is made from the six face grids by the chosen method. Corner 0 is "
+    "bounded by a closed surface with six faces, tagged by a FaceId cell array (SPEC 11) or "
+    "found at Face Angle (an STL file): a duct, a bend, a nozzle, a box with a bump. The "
+    "faces' 8 corners and 12 edges are found from their adjacency; each face gets a grid "
+    "on the surface's triangles, and the volume grid is made from the six face grids by "
+    "the chosen method. Corner 0 is "
     "the one with the smallest x + y + z, i leaves it nearest +x, and (i, j, k) is "
     "right-handed. Cells carry MaxIncludedAngle, MinIncludedAngle (the 24 face-corner "
     "angles), ScaledJacobian and Folded; field data the report and the patch names "
