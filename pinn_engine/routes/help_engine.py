@@ -8,14 +8,16 @@ plugin carries none, and Qt is not wrapped in ParaView's Python. So this calls, 
 what ``pqPluginDocumentationBehavior`` calls: ``pqApplicationCore::registerDocumentation``,
 then the help engine's ``setupData`` and its search engine's ``reindexDocumentation`` (without
 which 5.11's help search finds nothing at all: nothing else builds its index). The symbols
-are those of the GUI's own libraries (libpqCore, libQt5Help, libQt5Core); where they are
-absent (pvpython, pvbatch, a server) nothing is done."""
+are those of the GUI's own libraries (libpqCore, libQt5Help, libQt5Core); where one is
+absent (pvpython, pvbatch, a server, a build without Qt help or on another Qt) nothing is
+done."""
 
 from __future__ import annotations
 
 import atexit
 import ctypes
 import os
+import sys
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
@@ -45,8 +47,10 @@ def _function(name: str):
 
 
 def in_gui() -> bool:
-    """Whether this process is a ParaView GUI (its application core's library is loaded)."""
-    return hasattr(ctypes.CDLL(None), _FUNCTIONS["core"][0])
+    """Whether this process is a ParaView GUI with Qt help whose functions are the ones
+    called here (ParaView 5.11's, Qt 5's): all their symbols are loaded."""
+    process = ctypes.CDLL(None)
+    return all(hasattr(process, symbol) for symbol, _, _ in _FUNCTIONS.values())
 
 
 def _qstring(text: str):
@@ -65,15 +69,24 @@ def _register_now(write: Callable[[Path], None]) -> bool:
     core = _function("core")()
     if _REGISTERED or not core:
         return bool(_REGISTERED)
-    handle, name = tempfile.mkstemp(prefix="pinn-mesh-help-", suffix=".qch")
-    os.close(handle)
-    path = Path(name)
-    atexit.register(path.unlink, missing_ok=True)  # as ParaView removes its own copies
-    write(path)
+    try:
+        handle, name = tempfile.mkstemp(prefix="pinn-mesh-help-", suffix=".qch")
+        os.close(handle)
+        path = Path(name)
+        atexit.register(path.unlink, missing_ok=True)  # as ParaView removes its own copies
+        write(path)
+    except OSError as exc:  # the filters work on without their help pages
+        print(
+            f"PINN Mesh plugin: its help pages were not written ({exc}); set TMPDIR to a "
+            "writable folder",
+            file=sys.stderr,
+        )
+        return False
     _function("register")(core, _qstring(str(path)))
     engine = _function("engine")(core)
-    _function("setup")(engine)
-    _function("reindex")(_function("search")(engine))
+    if engine:  # (none where ParaView was built without Qt help)
+        _function("setup")(engine)
+        _function("reindex")(_function("search")(engine))
     _REGISTERED.append(path)
     return True
 
