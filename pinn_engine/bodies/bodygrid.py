@@ -42,11 +42,11 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from pinn_engine.bodies.airfoil import Body, FarField
 from pinn_engine.classical.spacing import exact_stretch
 from pinn_engine.errors import InputError
+from pinn_engine.geometry.spline import CurveSpline
 from pinn_engine.quality import guard_figures, no_worse, worst_non_orthogonality
 
 TOPOLOGIES = ("o", "c")
@@ -135,7 +135,7 @@ class BodyCurve:
         pts = body.surface
         t = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))]
         self.length = float(t[-1])
-        self.spline = CubicSpline(t, pts, axis=0, bc_type="not-a-knot")
+        self.spline = CurveSpline(t, pts)
         self.body = body
         dense = np.linspace(0.0, self.length, CURVE_SAMPLES)
         te = 0.5 * (pts[0] + pts[-1])

@@ -9,7 +9,6 @@ so that an STL whose triangles disagree on their winding still splits where it b
 from __future__ import annotations
 
 import numpy as np
-from scipy.sparse import coo_matrix
 
 SHARP_ANGLE = 40.0  # degrees between neighbouring triangles' normals that end a face (SPEC 11)
 
@@ -19,6 +18,10 @@ def faces_at_sharp_edges(
 ) -> tuple[int, np.ndarray]:
     """The number of faces and the face index of each triangle; edges held by other than two
     triangles join nothing (the topology check reports an open surface)."""
+    # imported here: only an STL's faces are found at its edges
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
     normal = np.cross(
         points[triangles[:, 1]] - points[triangles[:, 0]],
         points[triangles[:, 2]] - points[triangles[:, 0]],
@@ -40,8 +43,5 @@ def faces_at_sharp_edges(
     graph = coo_matrix(
         (np.ones(int(smooth.sum())), (owner[a][smooth], owner[b][smooth])), shape=(n, n)
     )
-    # imported here: the command line imports this module for every run, STLs are few
-    from scipy.sparse.csgraph import connected_components
-
     count, face_of = connected_components(graph, directed=False)
     return count, face_of

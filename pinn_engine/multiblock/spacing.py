@@ -19,7 +19,6 @@ identical.
 from __future__ import annotations
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from pinn_engine.classical.spacing import line_parameters  # one block's per-line stretching
 from pinn_engine.errors import InputError
@@ -157,6 +156,8 @@ def respace(points: np.ndarray, asked: Requests) -> np.ndarray:
 def _stretched(p: np.ndarray, first: np.ndarray, last: np.ndarray) -> np.ndarray:
     """Lines ``p`` (m, n, 2) of the map evaluated at stretched parameters whose first and
     last edges are ``first`` and ``last`` (m,) (NaN: the map's own interval there)."""
+    from scipy.interpolate import CubicSpline  # only asked spacings get here
+
     m, n = p.shape[:2]
     index = np.arange(n)
     splines = [CubicSpline(index, line, axis=0) for line in p]
