@@ -1,4 +1,4 @@
-"""Six-faced 3D domains (issue 25, SPEC 11): quality, time and peak memory of every method
+"""Six-faced 3D domains (SPEC 11): quality, time and peak memory of every method
 of ``hexamesh.METHODS`` on the five example shapes of ``example_data/make_hexa.py``.
 
 Usage: ``.venv/bin/python benchmarks/hexa.py [--size NI NJ NK] [--out docs/hexa.md]``
@@ -8,7 +8,7 @@ that its peak resident memory (``ru_maxrss``) is that run's alone: the interpret
 imports (numpy, scipy, VTK; torch for a network) included. The time is the meshing's
 (``HexResult.seconds``: reading the surface, face grids, volume grid, quality), one run each
 on whatever machine runs it. The ``elliptic`` row is the converged 3D Winslow grid on the
-same boundary nodes: the reference of issue 25's bound, checked for every other method (no
+same boundary nodes: the reference of the 3D bound, checked for every other method (no
 folded cell, mean / worst MaxIncludedAngle at most 0.5 / 2 degrees above the reference's).
 With ``--out`` the table replaces the part of that file between the two BENCHMARK markers of
 its size (``<!-- BENCHMARK 21x21x21 start -->`` ... ``end -->``).
@@ -33,8 +33,8 @@ SHAPES = {  # name: file stem of make_hexa.py's surface
     "contracting nozzle": "hexa_nozzle",
     "sheared, wavy top": "hexa_sheared_wavy",
 }
-REFERENCE = "elliptic"  # the converged 3D Winslow grid: issue 25's reference
-MEAN_OVER, WORST_OVER = 0.5, 2.0  # issue 25: degrees above the reference allowed
+REFERENCE = "elliptic"  # the converged 3D Winslow grid: the bound's reference
+MEAN_OVER, WORST_OVER = 0.5, 2.0  # degrees above the reference allowed
 MARK = "<!-- BENCHMARK {} {} -->"  # the markers round a size's table in --out (size, start/end)
 KIB = 1024  # ru_maxrss is in KiB on Linux
 
@@ -94,7 +94,7 @@ def markdown(size: tuple[int, int, int]) -> str:
         "|---|---|---|---|---|---|---|",
         *table,
         "",
-        f"Issue 25's bound against the reference (the default must meet it; {HEXA_METHOD} is "
+        f"The 3D bound against the reference (the default must meet it; {HEXA_METHOD} is "
         "the default here):",
         "",
         *checks,

@@ -1,4 +1,4 @@
-"""Six-faced 3D domains (SPEC 11, issue 25): topology errors, an .stl's faces found at its
+"""Six-faced 3D domains (SPEC 11): topology errors, an .stl's faces found at its
 sharp edges, face nodes on the surface, orientation and right-handedness of tfi and
 elliptic grids, the 3D Winslow equations, and the command line writing a readable .vts."""
 

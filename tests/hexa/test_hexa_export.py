@@ -1,4 +1,4 @@
-"""Solver formats of a hexahedral grid (SPEC 8 and 11, issue 25): each export of a small grid
+"""Solver formats of a hexahedral grid (SPEC 8 and 11): each export of a small grid
 read back by an independent reader (VTK's PLOT3D and CGNS readers, h5py, Gmsh's API, a parse
 of the SU2 text, OpenFOAM's checkMesh) with its hexahedra, positive volumes and patches."""
 

@@ -1,4 +1,4 @@
-"""The pinn of six-faced 3D domains (SPEC 11, issue 25 item 3): the 3D Winslow residual and
+"""The pinn of six-faced 3D domains (SPEC 11): the 3D Winslow residual and
 the network's jets, the grid within the bounds of the converged Winslow grid, right-handed,
 and a saved model evaluated finer with its faces on the surface."""
 
@@ -24,7 +24,7 @@ DATA = ROOT / "example_data"
 EXAMPLES = ("hexa_bump_box.vtp", "hexa_bend.vtp")
 SIZE = (9, 9, 9)
 FINER = (13, 11, 15)  # unequal: a swapped direction in the evaluation shows as a shape error
-BOUNDS = (0.5, 2.0)  # issue 25: mean and worst MaxIncludedAngle above the Winslow grid's
+BOUNDS = (0.5, 2.0)  # mean and worst MaxIncludedAngle above the Winslow grid's
 ON_SURFACE = 1e-6  # SPEC 11: boundary nodes within 1e-6 of the surface's diagonal
 
 

@@ -1,4 +1,4 @@
-"""The six-faced 3D routes (issue 25 item 4): the VTK algorithm behind PINN Hexahedral Mesh
+"""The six-faced 3D routes: the VTK algorithm behind PINN Hexahedral Mesh
 and pyvista's ``surface.pinn_mesh(size=(ni, nj, nk))``."""
 
 from __future__ import annotations

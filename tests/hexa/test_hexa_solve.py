@@ -1,4 +1,4 @@
-"""The 3D Winslow solve (issue 25 point 5): the inexact AMG-preconditioned Picard steps reach
+"""The 3D Winslow solve: the inexact AMG-preconditioned Picard steps reach
 the grid that exact sparse solves of the same steps reach, and each inexact solve meets its
 forcing tolerance."""
 

@@ -162,7 +162,7 @@ def test_kinks_against_the_lines_own_turn(method):
 
 def test_ybranch_kinks_fall_within_the_bound_as_cells_shrink():
     """The Y-branch's 3-block centre turns its grid lines by about 60 degrees: at a cell size
-    of 0.1 that is over issue 24's kink mean of 2 degrees a node; at 0.025 (16 times the
+    of 0.1 that is over the bound of a 2-degree mean kink a node; at 0.025 (16 times the
     cells, the benchmark's row) the same turn spread over more nodes is within it."""
     files = EXAMPLES / "ybranch.vtp", [EXAMPLES / "ybranch_blocks.vtp"]
     kinks = {

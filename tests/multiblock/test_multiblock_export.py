@@ -1,4 +1,4 @@
-"""Multi-block patches and exports (SPEC 10, issue 24 items 4 and 5): the --patch X,Y naming
+"""Multi-block patches and exports (SPEC 10): the --patch X,Y naming
 and its errors, CGNS zones with 1-to-1 joins checked node by node, PLOT3D multi-grid, the
 merged SU2, Gmsh and OpenFOAM meshes (checkMesh, and icoFoam on the cylinder in a channel)."""
 

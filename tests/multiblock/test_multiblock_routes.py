@@ -1,4 +1,4 @@
-"""The multi-block routes (issue 24 item 6): the VTK algorithm and pyvista's ``blocks=``."""
+"""The multi-block routes: the VTK algorithm and pyvista's ``blocks=``."""
 
 from __future__ import annotations
 
@@ -161,13 +161,14 @@ def test_folded_cells_warning_in_each_routes_words():
 
 CYLINDER = {(0.5, 0): "cylinder:wall", (0, 0.5): "cylinder", (-0.5, 0): "cylinder"}
 CYLINDER[(0, -0.5)] = "cylinder"
-H = 0.005  # issue 24: the first cell at the cylinder's wall
+H = 0.005  # the first cell at the cylinder's wall
 
 
 def test_pyvista_blocks_spacing_and_orthogonal_on_a_patch():
-    """Issue 24 item 4 through pyvista: the cylinder's pieces named by ``patches=``, a first
-    cell of 0.005 within 10 % and lines within 2 degrees of the normal there, node for node
-    the command line's grid with the same ``--patch``, ``--spacing`` and ``--orthogonal``."""
+    """Spacing and orthogonality at a patch through pyvista: the cylinder's pieces named by
+    ``patches=``, a first cell of 0.005 within 10 % and lines within 2 degrees of the normal
+    there, node for node the command line's grid with the same ``--patch``, ``--spacing``
+    and ``--orthogonal``."""
     boundary = pv.read(DATA / "cylinder_channel.vtp")
     edges = pv.read(DATA / "cylinder_channel_blocks.vtp")
     blocks = boundary.pinn_mesh(

@@ -195,7 +195,7 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
         "PatchNames",
     ]
     assert result["methods"] == ["pinn", "mgnet", "tfi", "elliptic"]
-    # issue 23 item 10: the network settings behind the gear; "NACA", not "N ACA"
+    # the network settings behind the gear; "NACA", not "N ACA"
     assert result["advanced"] == [
         "AdamEpochs",
         "HiddenLayers",
@@ -205,7 +205,7 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
         "PaperLBFGSIterations",
         "Seed",
     ]
-    # issue 23 item 10: the panel shows what runs: the chosen preset's field, which is used
+    # the panel shows what runs: the chosen preset's field, which is used
     assert result["presets"] == [[5000, 500, 10.0], [5000, 90, 10.0], [7, 120, 30.0]]
     shown_under = {
         key: [value for prop, value in pairs if prop == "Preset"]
@@ -218,7 +218,7 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
         "PaperLambda2": ["1"],
     }
     assert result["naca_label"] == "NACA"
-    # issue 23 item 10: "?" help for every proxy; the grid shows its cells from the first show
+    # "?" help for every proxy; the grid shows its cells from the first show
     for name, (short, long) in result["help"].items():
         assert 20 < len(short) < len(long), name
     # its help page for the GUI (docs/paraview_gui.md point 4): one per proxy, each named by a
@@ -326,7 +326,7 @@ def _side_nodes(points: np.ndarray) -> list[np.ndarray]:
 
 
 def test_multiblock_filter_on_the_step(checkout):
-    """PINN Multi-Block Mesh (issue 24 item 6): the step's four blocks as the command line
+    """PINN Multi-Block Mesh: the step's four blocks as the command line
     makes them, a side shared node for node, the quality arrays, one line for an edge that
     ends nowhere."""
     from scipy.spatial.distance import cdist
@@ -404,7 +404,7 @@ def test_multiblock_filter_on_the_step(checkout):
     ]
     assert result["bad_blocks"] == 0 and "Traceback" not in result["bad_stderr"]
     assert result["recovered_blocks"] == 4
-    wall = result["walls"]["cylinder"]  # issue 24 item 4 from the panel: 0.005 within 10 %
+    wall = result["walls"]["cylinder"]  # the spacing from the panel: 0.005 within 10 %
     assert abs(wall["first_edge"]["min"] / 0.005 - 1) <= 0.1
     assert abs(wall["first_edge"]["max"] / 0.005 - 1) <= 0.1
     assert wall["max_angle_deviation"] <= 2.0
@@ -422,7 +422,7 @@ def test_multiblock_filter_on_the_step(checkout):
 
 
 def test_hexahedral_filter_on_the_bend(checkout):
-    """PINN Hexahedral Mesh (issue 25 item 4): the bend's grid as the command line makes it
+    """PINN Hexahedral Mesh: the bend's grid as the command line makes it
     (the same nodes, arrays and field data), for every method; one line for a surface
     without FaceId, and ParaView goes on."""
     from pinn_engine.hexamesh import METHODS, mesh_surface

@@ -74,7 +74,7 @@ def test_the_time_limit_ends_a_long_training_with_its_best_grid(gui):
 
 
 def test_a_grid_after_a_failed_apply_is_shown_with_edges_coloured_by_max_angle(gui):
-    # issue 23 item 10: ParaView picks a display's colour array when it creates the display;
+    # ParaView picks a display's colour array when it creates the display;
     # after a failed first Apply (an empty output) the plugin colours it when the grid comes
     failed = json.loads((gui / "failed_display.json").read_text())
     assert failed["points"] == 0 and "boundary input" in failed["error"]

@@ -76,7 +76,7 @@ result["grid"] = {
     "max_angle": grid.GetCellData().GetArray("MaxIncludedAngle") is not None,
     "method": grid.GetFieldData().GetAbstractArray("Method").GetValue(0),
 }
-# issue 23 item 10: a field per preset for the settings the presets differ in; the chosen
+# a field per preset for the settings the presets differ in; the chosen
 # preset's is used (and shown), the other's is not
 presets = PINNStructuredMesh(Input=boundary, Preset="paper", AdamEpochs=7)  # noqa: F821
 presets.UpdateVTKObjects()
