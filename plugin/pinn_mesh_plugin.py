@@ -44,6 +44,7 @@ try:
         INTERFACES,
         PinnMultiBlockAlgorithm,
     )
+    from pinn_engine.routes.paraview_help import register_in_gui
     from pinn_engine.settings import (
         BLOCKS_METHOD,
         FACE_ANGLE,
@@ -68,6 +69,7 @@ except ImportError as _exc:  # a clear line in ParaView's output instead of a ba
         "numpy, scipy and scikit-learn (see scripts/pvenv.sh)"
     ) from _exc
 
+from paraview.detail.pythonalgorithm import get_plugin_xmls  # noqa: E402
 from paraview.util.vtkAlgorithm import smdomain, smhint, smproperty, smproxy  # noqa: E402
 
 try:  # the client side, where displays are made (absent from a data-server-only build)
@@ -816,10 +818,11 @@ _HEXA_METHOD_DOCS = {
     label="PINN Hexahedral Mesh",
     summary="Hexahedral structured grid of a six-faced 3D domain.",
     doc="Hexahedral structured grid (one block, ni x nj x nk nodes) of the 3D domain "
-    "bounded by a closed surface with six faces tagged by a FaceId cell array (SPEC 11): "
-    "a duct, a bend, a nozzle, a box with a bump. The faces' 8 corners and 12 edges are "
-    "found from their adjacency; each face gets a grid on the surface's triangles, and "
-    "the volume grid is made from the six face grids by the chosen method. Corner 0 is "
+    "bounded by a closed surface with six faces, tagged by a FaceId cell array (SPEC 11) or "
+    "found at Face Angle (an STL file): a duct, a bend, a nozzle, a box with a bump. The "
+    "faces' 8 corners and 12 edges are found from their adjacency; each face gets a grid "
+    "on the surface's triangles, and the volume grid is made from the six face grids by "
+    "the chosen method. Corner 0 is "
     "the one with the smallest x + y + z, i leaves it nearest +x, and (i, j, k) is "
     "right-handed. Cells carry MaxIncludedAngle, MinIncludedAngle (the 24 face-corner "
     "angles), ScaledJacobian and Folded; field data the report and the patch names "
@@ -1038,3 +1041,6 @@ del (
     _name,
     _file_type,
 )  # one module name per proxy: ParaView registers every one it finds
+
+# the proxies' help pages, for the panel's "?" and the help's search (docs/paraview_gui.md)
+register_in_gui(get_plugin_xmls(globals()))

@@ -47,6 +47,7 @@ from pinn_engine.bodies.airfoil import Body, FarField
 from pinn_engine.classical.elliptic import winslow_coefficients, winslow_operator
 from pinn_engine.classical.spacing import exact_stretch
 from pinn_engine.errors import InputError
+from pinn_engine.geometry.boundary import arc_lengths
 from pinn_engine.geometry.spline import CurveSpline
 from pinn_engine.quality import guard_figures, no_worse, worst_non_orthogonality
 
@@ -134,7 +135,7 @@ class BodyCurve:
 
     def __init__(self, body: Body) -> None:
         pts = body.surface
-        t = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))]
+        t = arc_lengths(pts)
         self.length = float(t[-1])
         self.spline = CurveSpline(t, pts)
         self.body = body

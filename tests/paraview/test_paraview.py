@@ -221,6 +221,13 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
     # "?" help for every proxy; the grid shows its cells from the first show
     for name, (short, long) in result["help"].items():
         assert 20 < len(short) < len(long), name
+    # its help page for the GUI (docs/paraview_gui.md point 4): one per proxy, each named by a
+    # (group, proxy name) ParaView knows, the 3 filters and the Airfoil source among them
+    assert len(result["help_pages"]) == 12 and result["help_pages_unknown"] == []
+    for name in ("PINNStructuredMesh", "PINNMultiBlockMesh", "PINNHexahedralMesh"):
+        assert f"filters.{name}.html" in result["help_pages"]
+    assert "sources.PINNAirfoilSource.html" in result["help_pages"]
+    assert result["help_registered"] == []  # pvpython: no help engine
     assert result["representation"] == "Surface With Edges"
     assert result["aux_optional"]
     assert result["grid"] == {
