@@ -42,7 +42,7 @@ from pinn_engine.neural.trainer import (
     Progress,
 )
 from pinn_engine.quality import no_worse
-from pinn_engine.settings import HEXA_SETTINGS, Settings
+from pinn_engine.settings import Settings
 from pinn_engine.starts.volume_start import Start
 
 DIMENSIONS = 3  # the block's computational coordinates, and its physical ones
@@ -284,13 +284,12 @@ def untrained_model(
 def train(
     start: Start,
     surface_key: str,
-    settings: Settings | None = None,
+    settings: Settings,
     progress: Progress | None = None,
 ) -> HexaModel:
-    """Train the network from ``start`` under the guard; ``settings`` default to
-    ``HEXA_SETTINGS`` over Settings' defaults; ``progress`` is the trainer's callback
+    """Train the network from ``start`` under the guard and ``settings`` (a six-faced
+    domain's: ``settings.make_settings(size=...)``); ``progress`` is the trainer's callback
     (neural/trainer.py)."""
-    settings = settings or Settings(**HEXA_SETTINGS)
     tfi = start.tfi
     correction = LatticeField(start.grid - tfi)
     params = None if start.params is None else LatticeField(start.params)

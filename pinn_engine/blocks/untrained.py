@@ -106,6 +106,7 @@ class VolumeStartModel:
     settings: Settings
     info: dict
     surface_key: str
+    history: dict = field(default_factory=dict)
 
     @classmethod
     def of(cls, start: Start, settings: Settings, surface_key: str, reason: str, seconds: float):

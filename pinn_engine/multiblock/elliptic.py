@@ -1,7 +1,7 @@
 """Winslow's equations on all blocks at once (SPEC 10): one sparse system over the unique
 nodes, interface nodes moving as interior nodes, solved by Picard iterations (coefficients
-frozen per step) with a sparse direct solve, its factorisation reused while it pays, as
-``classical.elliptic`` does for one block.
+frozen per step), each step's update solved inexactly by defect correction with a sparse LU
+factorisation kept over the steps (:class:`InexactLU`).
 
 A node inside an interface piece has a full 3 x 3 stencil: its own block's rows, and across
 the interface the row of the block on the other side (the two blocks' index directions
@@ -19,6 +19,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
+from pinn_engine.classical.elliptic import winslow_coefficients
 from pinn_engine.multiblock.blocks import Topology
 from pinn_engine.multiblock.chains import Targets
 from pinn_engine.multiblock.junctions import Star, junction_stencils, star_row
@@ -180,9 +181,7 @@ class Operator:
         st = self.st
         x_xi = 0.5 * (points[st[:, 1, 2]] - points[st[:, 1, 0]])
         x_eta = 0.5 * (points[st[:, 2, 1]] - points[st[:, 0, 1]])
-        a = np.einsum("nk,nk->n", x_eta, x_eta)
-        b = np.einsum("nk,nk->n", x_xi, x_eta)
-        c = np.einsum("nk,nk->n", x_xi, x_xi)
+        a, b, c = winslow_coefficients(x_xi, x_eta)
         w = np.empty(self.st.shape)
         w[:, 1, 1] = -2 * (a + c)
         w[:, 1, 2] = a * (1 + 0.5 * pq[:, 0])  # alpha (x_xixi + P x_xi)

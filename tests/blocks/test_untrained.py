@@ -10,12 +10,11 @@ import sys
 import time
 
 import numpy as np
-from helpers import EXAMPLES, ROOT
+from helpers import EXAMPLES, ROOT, run_blocks
 
 from pinn_engine.blocks.untrained import QUALITY, WINSLOW, cannot_win
 from pinn_engine.hexamesh import mesh_surface
 from pinn_engine.io.pipeline import load_aux, load_boundary
-from pinn_engine.job import run_blocks
 from pinn_engine.mesher import Mesher
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
@@ -83,9 +82,7 @@ def test_a_multiblock_pinn_whose_networks_cannot_win_keeps_its_starts():
     """Without auxiliary lines every block keeps its start (the elliptic grid, as fine as
     the elliptic run's), the report says why and times the stages."""
     files = EXAMPLES / "lshape.vtp", [EXAMPLES / "lshape_blocks.vtp"]
-    runs = {
-        m: run_blocks(make_settings(m, cell_size=0.1), *files).result for m in ("elliptic", "pinn")
-    }
+    runs = {m: run_blocks(make_settings(m, cell_size=0.1), *files) for m in ("elliptic", "pinn")}
     for ell, pinn in zip(runs["elliptic"].grids, runs["pinn"].grids):
         assert np.array_equal(ell, pinn)
     report = runs["pinn"].report
@@ -99,7 +96,9 @@ def test_a_hexahedral_pinn_whose_network_cannot_win_keeps_its_start(tmp_path):
     grid, untrained and without torch; the report says why and times the stages."""
     surface = EXAMPLES / "hexa_bump_box.vtp"
     size = (7, 6, 5)
-    runs = {m: mesh_surface(str(surface), size, m) for m in ("elliptic", "pinn")}
+    runs = {
+        m: mesh_surface(str(surface), make_settings(m, size=size)) for m in ("elliptic", "pinn")
+    }
     np.testing.assert_allclose(runs["pinn"].grid, runs["elliptic"].grid, atol=1e-12)
     assert runs["pinn"].model.info["skipped"] == WINSLOW
     written = tmp_path / "r.json"

@@ -1,4 +1,4 @@
-"""The pinn of six-faced 3D domains (SPEC 11, issue 25 item 3): the 3D Winslow residual and
+"""The pinn of six-faced 3D domains (SPEC 11): the 3D Winslow residual and
 the network's jets, the grid within the bounds of the converged Winslow grid, right-handed,
 and a saved model evaluated finer with its faces on the surface."""
 
@@ -13,7 +13,6 @@ from helpers import ROOT
 from pinn_engine.blocks import hexa
 from pinn_engine.hexa import quality, volume
 from pinn_engine.hexa.field import LatticeField, node_points
-from pinn_engine.hexa.sharp import SHARP_ANGLE
 from pinn_engine.hexa.spacing import node_params, tfi_at
 from pinn_engine.hexa.surface import find_topology, surface_of
 from pinn_engine.hexamesh import boundary_map, cell_arrays, mesh_surface, surface_key
@@ -22,13 +21,14 @@ from pinn_engine.neural.jet import nd
 from pinn_engine.neural.losses import parameter_controls_3d, winslow_residual_3d
 from pinn_engine.neural.networks import CoordinateNet
 from pinn_engine.routes.cli import main
+from pinn_engine.settings import FACE_ANGLE, make_settings
 from pinn_engine.starts.volume_start import winslow_start
 
 DATA = ROOT / "example_data"
 EXAMPLES = ("hexa_bump_box.vtp", "hexa_bend.vtp")
 SIZE = (9, 9, 9)
 FINER = (13, 11, 15)  # unequal: a swapped direction in the evaluation shows as a shape error
-BOUNDS = (0.5, 2.0)  # issue 25: mean and worst MaxIncludedAngle above the Winslow grid's
+BOUNDS = (0.5, 2.0)  # mean and worst MaxIncludedAngle above the Winslow grid's
 ON_SURFACE = 1e-6  # SPEC 11: boundary nodes within 1e-6 of the surface's diagonal
 
 
@@ -89,11 +89,12 @@ def pinn_and_elliptic(request):
     """The network trained from the Winslow start (the default keeps that start untrained,
     tests/blocks/test_untrained.py) and the elliptic run's grid."""
     path = str(DATA / request.param)
-    surface = surface_of(read_polydata(DATA / request.param), path, False, SHARP_ANGLE)
+    surface = surface_of(read_polydata(DATA / request.param), path, False, FACE_ANGLE)
     boundary, _ = boundary_map(surface, find_topology(surface, path), path)
     start = winslow_start(lambda shape: tfi_at(boundary, node_params(shape, {})), SIZE)
-    trained = hexa.train(start, surface_key(surface)).grid(start.tfi)
-    return trained, mesh_surface(path, SIZE, "elliptic")
+    settings = make_settings("pinn", size=SIZE)
+    trained = hexa.train(start, surface_key(surface), settings).grid(start.tfi)
+    return trained, mesh_surface(path, make_settings("elliptic", size=SIZE))
 
 
 def test_pinn_is_within_the_bounds_of_the_winslow_grid(pinn_and_elliptic):
