@@ -9,6 +9,14 @@ has nothing to win, and its guard has always ended with the start, or with a sta
 nodes by discretisation error only (docs/speed.md). :func:`cannot_win` says so before any
 network is built or torch imported; the block's map is then its start (:class:`StartModel`),
 the map a trained model has with its output layer at zero.
+
+A body (O- or C-grid) network trains the same controlled Winslow equations as the elliptic
+sweeps that made its start, and its guard accepts only a grid with no more folds and mean
+and worst angles no worse than the start's. Where those sweeps stopped because their next
+state failed that same test, descending those equations from the start makes the grid worse
+(measured: the guard then kept the start on every real airfoil, docs/speed.md);
+:func:`body_cannot_win` says so before torch is imported, and :func:`body_start` is the
+report of the start kept.
 """
 
 from __future__ import annotations
@@ -34,6 +42,7 @@ from pinn_engine.starts.warmstart import lattice_for
 
 WINSLOW = "the start already solves the Winslow equations the network trains on"
 QUALITY = "the start is the quality objective's own optimum on these nodes"
+SWEEPS_WORSE = "the elliptic sweeps down the same equations made this start worse"
 
 
 def cannot_win(settings: Settings, aux: Sequence[AuxLine] = ()) -> str | None:
@@ -46,6 +55,34 @@ def cannot_win(settings: Settings, aux: Sequence[AuxLine] = ()) -> str | None:
     if settings.boundary_mode != "hard" or aux or settings.orthogonal or settings.spacing:
         return None
     return QUALITY if settings.objective == "quality" else WINSLOW
+
+
+def body_cannot_win(settings: Settings, sweeps_worse: bool) -> str | None:
+    """Why a body grid's network cannot beat its elliptic start under ``settings``, or None
+    where it may: the sweeps that made the start stopped where folds or angles got worse
+    (``sweeps_worse``, bodygrid.Layout), and neither the TFI start (``warm_start`` none) nor
+    Adam epochs (a schedule that trains whatever it wins) are asked."""
+    if settings.method != "pinn" or settings.warm_start != "elliptic" or settings.adam_epochs:
+        return None
+    return SWEEPS_WORSE if sweeps_worse else None
+
+
+def body_start(start: np.ndarray, reason: str) -> dict:
+    """The body report's ``training`` where its network is not trained (``reason``): the
+    elliptic ``start`` kept, its guard figures."""
+    began = time.perf_counter()
+    figures = guard_figures(start)
+    return {
+        "result": "start",
+        "start": "elliptic",
+        "skipped": reason,
+        "largest_node_move": 0.0,
+        "adam_epochs": 0,
+        "lbfgs_iterations": 0,
+        "warm_start": "elliptic",
+        "guard": {"kept": figures, "elliptic": figures},
+        "timings": {"start": time.perf_counter() - began, "training": 0.0},
+    }
 
 
 @dataclass
