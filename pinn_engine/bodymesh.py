@@ -126,7 +126,7 @@ def mesh_body(
         began = time.perf_counter()
         from pinn_engine.blocks.untrained import body_cannot_win, body_start
 
-        skipped = body_cannot_win(settings, lay.sweeps_worse)
+        skipped = body_cannot_win(settings, lay.wall_aspect())
         if skipped:
             training = body_start(grid, skipped)
         else:

@@ -201,11 +201,16 @@ class Layout:
     wall_spacing: float = 0.0
     reference: np.ndarray | None = None
     sweeps_kept: int = 0
-    sweeps_worse: bool = False  # the sweeps stopped where folds or angles got worse
 
     @property
     def ni(self) -> int:
         return len(self.inner)
+
+    def wall_aspect(self) -> float:
+        """The wall cells' median aspect ratio: the spacing along the wall over the first
+        layer's height."""
+        along = lengths(np.diff(self.inner[self.wall_columns()], axis=0))
+        return float(np.median(along) / self.wall_spacing)
 
     def wall_columns(self) -> np.ndarray:
         """Indices of the j = 0 nodes on the body."""
@@ -761,20 +766,19 @@ def elliptic(lay: Layout, sweeps: int = ELLIPTIC_SWEEPS) -> tuple[np.ndarray, tu
     non-orthogonality no higher (the relaxed Jacobi iteration with smoothed controls can
     drift off a good marched grid, most on thin wall and wake cells, where a worst angle
     held elsewhere, as at a blunt C-grid's base, does not see it; ``lay.sweeps_kept`` says
-    how far it went, ``lay.sweeps_worse`` whether folds or angles stopped it)."""
+    how far it went)."""
     periodic = lay.topology == "o"
     controls = smoothed_controls(lay.reference, periodic)
     ref = guard_figures(lay.reference)
     ref_non_orthogonality = worst_non_orthogonality(lay.reference)
     g, kept, done = lay.reference, lay.reference, 0
-    lay.sweeps_kept, lay.sweeps_worse = 0, False
+    lay.sweeps_kept = 0
     step = FIRST_CHECK
     while done < sweeps:
         n = min(step, sweeps - done)
         g = jacobi(g, periodic, *controls, n)
         done, step = done + n, 2 * step
         if not no_worse(guard_figures(g), ref, *CHECK_TOL):
-            lay.sweeps_worse = True
             break
         if worst_non_orthogonality(g) > ref_non_orthogonality:
             break

@@ -10,11 +10,13 @@ import sys
 import time
 
 import numpy as np
+import pytest
 from helpers import EXAMPLES, ROOT
 
 from pinn_engine.blocks.untrained import (
     QUALITY,
-    SWEEPS_WORSE,
+    THIN,
+    THIN_WALL,
     WINSLOW,
     body_cannot_win,
     cannot_win,
@@ -102,36 +104,40 @@ def test_a_multiblock_pinn_whose_networks_cannot_win_keeps_its_starts():
     assert 0 < sum(report["timings"].values()) <= report["mesh_seconds"] + 1e-9
 
 
-def test_a_body_network_is_trained_only_where_its_sweeps_did_not_make_the_start_worse():
-    """Untrained where the elliptic sweeps, on the same equations, made the start worse; trained
-    where they did not, without the elliptic start, or with Adam epochs asked."""
-    assert body_cannot_win(make_settings("pinn"), sweeps_worse=True) == SWEEPS_WORSE
-    assert body_cannot_win(make_settings("pinn"), sweeps_worse=False) is None
-    assert body_cannot_win(make_settings("pinn", "paper"), sweeps_worse=True) is None
-    assert body_cannot_win(make_settings("pinn", adam_epochs=60), sweeps_worse=True) is None
+def test_a_body_network_is_trained_only_where_its_wall_cells_are_not_too_thin():
+    """Untrained on a boundary-layer grid (wall cells of aspect ratio THIN_WALL or more);
+    trained on coarser wall cells, without the elliptic start, or with Adam epochs asked."""
+    assert body_cannot_win(make_settings("pinn"), THIN_WALL) == THIN
+    assert body_cannot_win(make_settings("pinn"), THIN_WALL / 2) is None
+    assert body_cannot_win(make_settings("pinn", "paper"), 10 * THIN_WALL) is None
+    assert body_cannot_win(make_settings("pinn", adam_epochs=60), 10 * THIN_WALL) is None
 
 
+@pytest.mark.slow
 def test_an_untrained_body_grid_is_the_start_its_trained_network_kept():
-    """On a small NACA 0012 C-grid the trained network's guard keeps the elliptic start; the
-    untrained default writes that grid bit for bit, says why, times its stages and imports no
-    torch."""
+    """On a small NACA 0012 C-grid with a first layer of 1e-5 chord the trained network's
+    guard keeps the elliptic start; the untrained default writes that grid bit for bit, says
+    why, times its stages and imports no torch."""
     body = load_body(naca="0012")
-    far, size = circle(body, 12), (97, 25)
-    settings = make_settings("pinn", lattice=size)
-    skipped = mesh_body(body, far, "c", "pinn", *size, settings)
+    far, size, wall = circle(body, 12), (97, 25), 1e-5
+    settings = make_settings("pinn", lattice=size, lbfgs_points=200)
+    skipped = mesh_body(body, far, "c", "pinn", *size, settings, wall_spacing=wall)
     from pinn_engine.blocks.body import train_body
 
-    lay = layout(body, far, "c", *size)
+    lay = layout(body, far, "c", *size, wall_spacing=wall)
     trained, _, info = train_body(lay, *elliptic(lay), settings)
     assert info["result"] == "start" and info["lbfgs_iterations"] > 0
     assert np.array_equal(skipped.points, trained)
     report = skipped.report
-    assert report["training"]["skipped"] == SWEEPS_WORSE
+    assert report["training"]["skipped"] == THIN
     assert set(report["timings"]) == {"layout", "elliptic", "training", "quality"}
     code = (
         "import sys; from pinn_engine.bodies.airfoil import circle, load_body;"
         "from pinn_engine.bodymesh import mesh_body; b = load_body(naca='0012');"
-        f"mesh_body(b, circle(b, 12), 'c', 'pinn', *{size}); print('torch' in sys.modules)"
+        f"mesh_body(b, circle(b, 12), 'c', 'pinn', *{size}, wall_spacing={wall});"
+        "print('torch' in sys.modules)"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
     assert out.stdout.strip() == "False", out.stderr
+    coarse = layout(body, far, "c", *size)  # the default first layer: cells of aspect 2
+    assert body_cannot_win(settings, coarse.wall_aspect()) is None
