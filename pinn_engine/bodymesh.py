@@ -138,6 +138,14 @@ def mesh_body(
             train_seconds = time.perf_counter() - t0
         timings["training"] = time.perf_counter() - began
     mesh_seconds = time.perf_counter() - start - train_seconds
+    if not np.isfinite(grid).all():
+        raise InputError(f"the {method} grid has non-finite nodes; try another --size")
+    if inside_out(grid, lay):
+        raise InputError(
+            f"the {method} grid's first rows lie inside the body (inside out); nothing is "
+            "written: try another {size}",
+            body.source,
+        )
     quality_began = time.perf_counter()
     cells = cell_quality(grid)
     ring = body.ring()
