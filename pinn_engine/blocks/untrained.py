@@ -48,7 +48,7 @@ QUALITY = "the start is the quality objective's own optimum on these nodes"
 # grids, on the real airfoils and NACA sections; below, some did (a NACA 0012 C-grid at the
 # default first layer, aspect 2: worst angle 107.5 -> 97.8 degrees)
 THIN_WALL = 20.0
-THIN = "its wall cells are too thin for its correction (aspect ratio over 20)"
+THIN = "its wall cells, of aspect ratio 20 or more, are too thin for its correction"
 
 
 def cannot_win(settings: Settings, aux: Sequence[AuxLine] = ()) -> str | None:
