@@ -11,7 +11,7 @@ import time
 
 import numpy as np
 import pytest
-from helpers import EXAMPLES, ROOT
+from helpers import EXAMPLES, ROOT, run_blocks
 
 from pinn_engine.blocks.untrained import (
     QUALITY,
@@ -25,7 +25,6 @@ from pinn_engine.bodies.airfoil import circle, load_body
 from pinn_engine.bodies.bodygrid import elliptic, layout
 from pinn_engine.bodymesh import mesh_body
 from pinn_engine.io.pipeline import load_aux, load_boundary
-from pinn_engine.job import run_blocks
 from pinn_engine.mesher import Mesher
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
@@ -93,9 +92,7 @@ def test_a_multiblock_pinn_whose_networks_cannot_win_keeps_its_starts():
     """Without auxiliary lines every block keeps its start (the elliptic grid, as fine as
     the elliptic run's), the report says why and times the stages."""
     files = EXAMPLES / "lshape.vtp", [EXAMPLES / "lshape_blocks.vtp"]
-    runs = {
-        m: run_blocks(make_settings(m, cell_size=0.1), *files).result for m in ("elliptic", "pinn")
-    }
+    runs = {m: run_blocks(make_settings(m, cell_size=0.1), *files) for m in ("elliptic", "pinn")}
     for ell, pinn in zip(runs["elliptic"].grids, runs["pinn"].grids):
         assert np.array_equal(ell, pinn)
     report = runs["pinn"].report
