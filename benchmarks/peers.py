@@ -1,4 +1,4 @@
-"""pinn-mesh against the classical tools in one run (issue 33): the whole ``pinn-mesh``
+"""pinn-mesh against the classical tools in one run: the whole ``pinn-mesh``
 command (Python's start, imports and file reading included, as a user meets it), its default
 and ``--method elliptic``, against Construct2D, blockMesh and gmsh on the same jobs.
 
@@ -50,7 +50,7 @@ PINN_MESH = str(Path(sys.executable).with_name("pinn-mesh"))
 CONSTRUCT2D = os.environ.get("CONSTRUCT2D", "/work/tools/Construct2D/construct2d")
 OPENFOAM = Path("/usr/share/openfoam/etc/bashrc")
 SAMPLES = Path(CONSTRUCT2D).parent / "sample_airfoils"
-C_SIZE, O_SIZE = (320, 90), (250, 80)  # issue 33's grids
+C_SIZE, O_SIZE = (320, 90), (250, 80)  # the O- and C-grids compared
 FARFIELD = 15.0  # chords: Construct2D's default far field
 DFG_CELL = 0.0053  # the DFG cylinder's cell size: about 34 000 cells in 12 blocks
 DUCT_CELLS = (80, 20, 20)  # the square duct's hexahedra along x, y, z (32 000)

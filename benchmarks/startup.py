@@ -1,4 +1,4 @@
-"""Start-up figures of the command (issue 33), each a whole ``pinn-mesh`` process.
+"""Start-up figures of the command, each a whole ``pinn-mesh`` process.
 
 Usage: ``.venv/bin/python benchmarks/startup.py [--runs 3] [--against DIR] [--demo]``
 
@@ -39,7 +39,7 @@ DEMO = [
     "--aux",
     str(EXAMPLES / "wavy_aux.vtp"),
 ]
-FIRST_RUN_TARGET = 1.5  # issue 33: a first run at most 1.5x a warm one
+FIRST_RUN_TARGET = 1.5  # a first run at most 1.5x a warm one
 KINDS = {  # the domain kinds' runs: the command's inputs and output extension
     "four-sided, auxiliary lines": (DEMO, "vts"),
     "four-sided": ([str(EXAMPLES / "holdout" / "h00_wavy.vtp"), "--size", "61", "31"], "vts"),

@@ -44,8 +44,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from pinn_engine.bodies.airfoil import Body, FarField
+from pinn_engine.classical.elliptic import winslow_coefficients, winslow_operator
 from pinn_engine.classical.spacing import exact_stretch
 from pinn_engine.errors import InputError
+from pinn_engine.geometry.boundary import arc_lengths
 from pinn_engine.geometry.spline import CurveSpline
 from pinn_engine.quality import guard_figures, no_worse, worst_non_orthogonality
 
@@ -133,7 +135,7 @@ class BodyCurve:
 
     def __init__(self, body: Body) -> None:
         pts = body.surface
-        t = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))]
+        t = arc_lengths(pts)
         self.length = float(t[-1])
         self.spline = CurveSpline(t, pts)
         self.body = body
@@ -635,18 +637,13 @@ def _d(g: np.ndarray, periodic: bool) -> tuple[np.ndarray, ...]:
     return (0.5 * (e - w), 0.5 * (n - s), e - 2 * c + w, n - 2 * c + s, 0.25 * (ne - nw - se + sw))
 
 
-def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return np.einsum("...k,...k->...", a, b)
-
-
 def residual(
     g: np.ndarray, periodic: bool, s_xi: np.ndarray | None = None, s_eta: np.ndarray | None = None
 ) -> np.ndarray:
     """alpha x_xixi - 2 beta x_xieta + gamma x_etaeta + s_xi x_xi + s_eta x_eta at the
     unknown nodes."""
     x_xi, x_eta, x_xixi, x_etaeta, x_xieta = _d(g, periodic)
-    a, b, c = _dot(x_eta, x_eta), _dot(x_xi, x_eta), _dot(x_xi, x_xi)
-    r = a[..., None] * x_xixi - 2 * b[..., None] * x_xieta + c[..., None] * x_etaeta
+    r = winslow_operator(x_xi, x_eta, x_xixi, x_etaeta, x_xieta)
     if s_xi is not None:
         r = r + s_xi[..., None] * x_xi + s_eta[..., None] * x_eta
     return r
@@ -706,11 +703,7 @@ def jacobi(
     sx, se = s_xi[..., None], s_eta[..., None]
     for _ in range(sweeps):
         x_xi, x_eta, _, _, x_xieta = _d(g, periodic)
-        a, b, c = (
-            _dot(x_eta, x_eta)[..., None],
-            _dot(x_xi, x_eta)[..., None],
-            _dot(x_xi, x_xi)[..., None],
-        )
+        a, b, c = (v[..., None] for v in winslow_coefficients(x_xi, x_eta))
         if periodic:
             u = g[:, :-1]
             ew = np.roll(u, -1, axis=1)[1:-1] + np.roll(u, 1, axis=1)[1:-1]

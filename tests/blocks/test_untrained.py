@@ -10,11 +10,10 @@ import sys
 import time
 
 import numpy as np
-from helpers import EXAMPLES, ROOT
+from helpers import EXAMPLES, ROOT, run_blocks
 
 from pinn_engine.blocks.untrained import QUALITY, WINSLOW, cannot_win
 from pinn_engine.io.pipeline import load_aux, load_boundary
-from pinn_engine.job import run_blocks
 from pinn_engine.mesher import Mesher
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
@@ -82,9 +81,7 @@ def test_a_multiblock_pinn_whose_networks_cannot_win_keeps_its_starts():
     """Without auxiliary lines every block keeps its start (the elliptic grid, as fine as
     the elliptic run's), the report says why and times the stages."""
     files = EXAMPLES / "lshape.vtp", [EXAMPLES / "lshape_blocks.vtp"]
-    runs = {
-        m: run_blocks(make_settings(m, cell_size=0.1), *files).result for m in ("elliptic", "pinn")
-    }
+    runs = {m: run_blocks(make_settings(m, cell_size=0.1), *files) for m in ("elliptic", "pinn")}
     for ell, pinn in zip(runs["elliptic"].grids, runs["pinn"].grids):
         assert np.array_equal(ell, pinn)
     report = runs["pinn"].report
