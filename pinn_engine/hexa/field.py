@@ -11,11 +11,14 @@ nodes of any finer grid.
 from __future__ import annotations
 
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy.interpolate import NdBSpline, make_interp_spline
 
 from pinn_engine.classical.tfi import node_params
+
+if TYPE_CHECKING:
+    from scipy.interpolate import NdBSpline
 
 CUBIC = 3  # the spline's degree where a direction has enough nodes
 
@@ -34,7 +37,10 @@ class LatticeField:
 
     @cached_property
     def spline(self) -> NdBSpline:
-        """The spline, built when first needed (the lattice's own nodes need none)."""
+        """The spline, built when first needed (the lattice's own nodes need none, nor
+        SciPy's splines)."""
+        from scipy.interpolate import NdBSpline, make_interp_spline
+
         degrees = tuple(min(CUBIC, n - 1) for n in self.values.shape[:3])
         c, knots = self.values, []
         for axis, k in enumerate(degrees):  # interpolate along one direction at a time
