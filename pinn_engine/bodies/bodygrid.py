@@ -98,6 +98,10 @@ C_BASE_INTERVALS = 4
 # point, fully at the trailing edge (REAR_TURN_START of the turn).
 REAR_TURN = 0.02
 REAR_TURN_START = 0.5
+# Their turn's remainder decays as exp(-d / REAR_REACH chords): a column turned part way drifts
+# sideways with d, and beside a fully turned neighbour a few 1e-3 chords off it crossed it 1 to 2
+# chords out; the drift stays within the column spacing (docs/tuning.md)
+REAR_REACH = 1.0
 # The marched rows turn into straight lines to the far field between 1 and 3 chords from the wall
 # (C-grid; near the body the marched lines, far off the straight ones); the O-grid's projection onto
 # the far field is blended in as (distance share) ** O_BLEND_POWER (3: the inner rows stay marched,
@@ -372,18 +376,26 @@ def march(
             rows.append(q)
             continue
         subs = _substeps(q, step, topology, free)
-        for k in range(subs):
-            d = distances[j - 1] + step * (k + 1) / subs
-            grow = 1 - math.exp(-d / (NORMAL_REACH * scale))
+        start, length, k = distances[j - 1], step, 0
+        while k < subs:
             n = _row_normals(q, topology)
+            more = _converging_substeps(q, n, length * (subs - k) / subs)
+            if more > subs - k:  # the lines converge faster than at the step's start
+                start, length = start + length * k / subs, length * (subs - k) / subs
+                subs, k = min(more, MAX_SUBSTEPS), 0
+            k += 1
+            d = start + length * k / subs
+            grow = 1 - math.exp(-d / (NORMAL_REACH * scale))
             weight = grow if corner is None else np.maximum(corner, grow)
             for _ in range(passes):
                 n = _smooth_normals(n, NORMAL_SMOOTHING * weight, topology)
             if rear is not None:
                 turn = rear * min(1.0, (d - distances[1]) / (REAR_TURN * scale))
+                fade = math.exp(-d / (REAR_REACH * scale))
+                turn = np.where(rear > 0, 1 - (1 - turn) * fade, 0.0)
                 n = (1 - turn) * n + turn * vertical
                 n /= np.linalg.norm(n, axis=1, keepdims=True)
-            q = q + (step / subs) * n
+            q = q + (length / subs) * n
             shrink = np.clip(1 - _row_spacing(q, topology) / spacing0, 0.0, 1.0)
             concave = np.minimum(ROW_SMOOTHING_MAX, CONCAVE_SMOOTHING * shrink)[:, None]
             eps = grow * concave
@@ -406,6 +418,16 @@ def march(
                 q[0], q[-1] = inner[0] + (0, -d), inner[-1] + (0, d)
         rows.append(q)
     return np.stack(rows)
+
+
+def _converging_substeps(q: np.ndarray, n: np.ndarray, step: float) -> int:
+    """How many sub-steps a step of ``step`` off row ``q`` with normals ``n`` takes by the
+    converging lines alone (see :func:`_substeps`): checked before every sub-step, since the
+    lines under a concave wall converge faster as the row nears their focus, and a step split
+    by the rate at its start could carry the row past it (turned inside out)."""
+    e, dn = np.diff(q, axis=0), np.diff(n, axis=0)
+    rate = float(np.max(-np.einsum("ik,ik->i", dn, e) / np.einsum("ik,ik->i", e, e)))
+    return int(min(MAX_SUBSTEPS, max(1, math.ceil(step * rate / SUBSTEP))))
 
 
 def _substeps(q: np.ndarray, step: float, topology: str, free: np.ndarray) -> int:
