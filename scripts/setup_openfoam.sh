@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Install OpenFOAM's checkMesh and simpleFoam (Debian's `openfoam` package) for the OpenFOAM
-# export tests and tests/test_openfoam_case.py.
+# export tests and tests/io/test_openfoam_case.py.
 # Idempotent: does nothing when checkMesh is already on PATH. The test runs
 # `checkMesh -case DIR` with WM_PROJECT_DIR=/usr/share/openfoam (Debian's layout).
 set -euo pipefail

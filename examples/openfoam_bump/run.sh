@@ -2,7 +2,7 @@
 # Laminar flow (Re 100) over the bump on a channel floor (docs/openfoam.md): meshes a copy of
 # this case with pinn-mesh from example_data/bump_channel.vtp, runs checkMesh and simpleFoam
 # to convergence (seconds) and prints the fluxes through inlet and outlet and the pressure
-# drop. tests/test_openfoam_case.py runs this script.
+# drop. tests/io/test_openfoam_case.py runs this script.
 #
 #   bash examples/openfoam_bump/run.sh [CASE_DIR]     # default out/openfoam_bump
 #

@@ -1,0 +1,145 @@
+"""Real airfoil files (SPEC 9, issue 32): crossing surfaces cut, never inside-out, Lednicer
+without its count line, no stray warnings, refusal advice that works, real files clean."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from helpers import ROOT
+
+from pinn_engine.bodies.airfoil import (
+    body_from_points,
+    circle,
+    inside_polygon,
+    load_body,
+    naca4,
+    read_dat,
+)
+from pinn_engine.bodymesh import mesh_body
+from pinn_engine.errors import InputError, grid_warnings
+
+# The real set is fetched data, kept in the checkout's shared/ and never committed.
+AIRFOILS = ROOT / "shared" / "airfoils"
+real_files = pytest.mark.skipif(
+    not AIRFOILS.is_dir(), reason="the real airfoil set (shared/airfoils, not committed) is absent"
+)
+
+
+def _inside_out(r) -> int:
+    """Nodes of the first row off the wall that lie inside the body."""
+    n_w = r.report["topology"]["wake_nodes"]
+    ni = r.points.shape[1]
+    wall, row = r.points[0][n_w : ni - n_w], r.points[1][n_w : ni - n_w]
+    return int(inside_polygon(row, wall[:-1] if n_w == 0 else wall).sum())
+
+
+def _crossing_cusp() -> np.ndarray:
+    """NACA 2412 whose surfaces are bent across each other over the last 20 % of the
+    chord: the last point lies above the first (as RAE 2822's and NLF(1)-0416's files)."""
+    xy = naca4("2412", 61)
+    upper = np.arange(len(xy)) <= len(xy) // 2
+    bend = 0.004 * np.clip((xy[:, 0] - 0.8) / 0.2, 0.0, 1.0) ** 2
+    xy[:, 1] += np.where(upper, -bend, bend)
+    return xy
+
+
+def test_crossing_surfaces_are_cut_at_the_crossing_and_reported():
+    xy = _crossing_cusp()
+    assert xy[-1, 1] > xy[0, 1]  # the surfaces cross
+    body = body_from_points(xy, "cusp")
+    assert body.cut is not None and body.sharp
+    assert 0.9 < body.cut[0] < 1.0  # at the crossing, ahead of the drawn trailing edge
+    assert np.allclose(body.surface[0], body.cut) and np.allclose(body.surface[-1], body.cut)
+    r = mesh_body(body, circle(body, 15), "o", "elliptic", 97, 25, wall_spacing=1e-4)
+    assert r.report["topology"]["cut"] == pytest.approx(list(body.cut))
+    texts = [text for text, _ in grid_warnings(r.report, "cli")]
+    assert any("cut at the crossing" in t for t in texts)
+    assert _inside_out(r) == 0 and r.quality["folded_cells"] == 0
+
+
+def test_surfaces_that_do_not_cross_are_not_cut():
+    assert body_from_points(naca4("2412", 61), "naca").cut is None
+
+
+@pytest.mark.parametrize("topology", ["o", "c"])
+def test_a_crossing_cusp_is_never_inside_out(topology):
+    body = body_from_points(_crossing_cusp(), "cusp")
+    size = (97, 25) if topology == "o" else (121, 25)
+    r = mesh_body(body, circle(body, 15), topology, "elliptic", *size, wall_spacing=1e-4)
+    assert _inside_out(r) == 0
+
+
+def test_an_inside_out_grid_is_refused(monkeypatch):
+    """Whatever the march does, a grid whose first rows lie inside the body is not
+    written: the march's normals turned into the body must give a one-line refusal."""
+    from pinn_engine.bodies import bodygrid
+
+    normals = bodygrid._row_normals
+    monkeypatch.setattr(bodygrid, "_row_normals", lambda p, t: -normals(p, t))
+    body = load_body(naca="0012")
+    with pytest.raises(InputError, match="inside out"):
+        mesh_body(body, circle(body, 15), "o", "tfi", 97, 25, wall_spacing=1e-4)
+
+
+def test_lednicer_without_count_line_is_read(tmp_path):
+    """Lednicer order with no name and no counts (as mdolab/prefoil's NACA 0012): upper then
+    lower surface, each from the leading edge (it was read as a body enclosing no area)."""
+    selig = naca4("0012", 41)
+    le = int(np.argmin(selig[:, 0]))
+    bare = tmp_path / "bare.dat"
+    lednicer = np.vstack([selig[: le + 1][::-1], selig[le:]])
+    bare.write_text("\n".join(f"{x:.7f} {y:.7f}" for x, y in lednicer) + "\n")
+    xy, _ = read_dat(bare)
+    np.testing.assert_allclose(xy, selig, atol=1e-7)
+    assert xy[0, 1] >= 0 >= xy[-1, 1]  # Selig order: the upper surface first
+    with_counts = tmp_path / "counts.dat"
+    upper, lower = xy[: le + 1][::-1], xy[le:]
+    rows = [f"{x:.7f} {y:.7f}" for x, y in upper] + [""] + [f"{x:.7f} {y:.7f}" for x, y in lower]
+    with_counts.write_text(f"NACA 0012\n{len(upper)}. {len(lower)}.\n\n" + "\n".join(rows))
+    np.testing.assert_allclose(read_dat(with_counts)[0], xy, atol=1e-7)
+
+
+@real_files
+def test_notes_after_the_coordinates_are_skipped():
+    xy, name = read_dat(AIRFOILS / "ag24.dat")
+    assert name.startswith("AG24") and len(xy) > 100
+
+
+@real_files
+def test_no_stray_numpy_warning():
+    """lwk80100's C-grid printed 'invalid value encountered in sqrt' from bodygrid.py."""
+    body = load_body(AIRFOILS / "lwk80100.dat")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for topology, size in (("o", (250, 80)), ("c", (300, 80))):
+            mesh_body(body, circle(body, 15), topology, "elliptic", *size, wall_spacing=1e-5)
+
+
+@real_files
+def test_refusal_advice_followed_gives_a_grid():
+    """A C-grid around a base of 23 % chord is refused in one line that names
+    ``--topology o``; that O-grid, same size and first layer, has no fold."""
+    body = load_body(AIRFOILS / "ah93w480b.dat")
+    far = circle(body, 15)
+    with pytest.raises(InputError, match="--topology o") as info:
+        mesh_body(body, far, "c", "elliptic", 300, 80, wall_spacing=1e-5)
+    assert "\n" not in str(info.value)
+    r = mesh_body(body, far, "o", "elliptic", 300, 80, wall_spacing=1e-5)
+    assert r.quality["folded_cells"] == 0 and r.quality["worst_max_angle"] < 180
+    assert _inside_out(r) == 0
+
+
+@real_files
+@pytest.mark.parametrize("name", ["e387", "rae2822", "s1223", "goe464", "ag13"])
+@pytest.mark.parametrize("topology", ["o", "c"])
+def test_real_files_mesh_clean(name, topology):
+    """Issue 32's settings on real files (high-lift, cusped, blunt): no folded cell, no cell
+    of 180 degrees or more, not inside out."""
+    body = load_body(AIRFOILS / f"{name}.dat")
+    size = (250, 80) if topology == "o" else (300, 80)
+    r = mesh_body(body, circle(body, 15), topology, "elliptic", *size, wall_spacing=1e-5)
+    assert r.quality["folded_cells"] == 0
+    assert r.quality["worst_max_angle"] < 180
+    assert _inside_out(r) == 0
