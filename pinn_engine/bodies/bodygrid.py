@@ -98,10 +98,10 @@ C_BASE_INTERVALS = 4
 # point, fully at the trailing edge (REAR_TURN_START of the turn).
 REAR_TURN = 0.02
 REAR_TURN_START = 0.5
-# Their turn's remainder decays as exp(-d / REAR_REACH chords): a column turned part way drifts
-# sideways with d, and beside a fully turned neighbour a few 1e-3 chords off it crossed it 1 to 2
-# chords out; the drift stays within the column spacing (docs/tuning.md)
-REAR_REACH = 1.0
+# The turn's remainder decays as exp(-d / REAR_REACH chords): a column turned part way drifts
+# sideways with d and crossed a fully turned neighbour 1e-3 chords off (1 to 2 chords out); 1 and 3
+# raised the sharp C-grids' non-orthogonality or the worst angle (docs/tuning.md)
+REAR_REACH = 2.0
 # The marched rows turn into straight lines to the far field between 1 and 3 chords from the wall
 # (C-grid; near the body the marched lines, far off the straight ones); the O-grid's projection onto
 # the far field is blended in as (distance share) ** O_BLEND_POWER (3: the inner rows stay marched,
