@@ -30,7 +30,8 @@ _NUMBER = re.compile(
     r"^[\s]*[-+]?(\d+\.?\d*|\.\d+)([eEdD][-+]?\d+)?[\s,;]+"
     r"[-+]?(\d+\.?\d*|\.\d+)([eEdD][-+]?\d+)?[\s,;]*$"
 )
-_LEADING_NUMBER = re.compile(r"^[-+]?(\d|\.\d)")
+# A line whose first word is a number (a coordinate row gone wrong, not a note such as a date)
+_LEADING_NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eEdD][-+]?\d+)?(\s|$)")
 # Lednicer's order without its count line: the points start within this share of the chord
 # from the leading edge (Selig's start at the trailing edge), and x falls back by at least
 # this share of the chord where the second surface starts at the leading edge again

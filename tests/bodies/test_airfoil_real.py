@@ -115,6 +115,19 @@ def test_lednicer_blocks_are_the_surfaces_whatever_the_counts(tmp_path):
     np.testing.assert_allclose(xy, selig[:-3], atol=1e-7)
 
 
+def test_a_note_after_the_rows_starting_with_a_date_is_skipped(tmp_path):
+    """AZ 2003's file ends with a note that starts with a date ("28/12/2005 modif ..."):
+    a note, skipped; a row gone wrong there ("1.0000 (-0.0013)") is still refused."""
+    rows = "".join(f"{x:.7f} {y:.7f}\n" for x, y in naca4("0012", 21))
+    noted = tmp_path / "noted.dat"
+    noted.write_text("AZ\n" + rows + "\npour Corde 365 mm\n28/12/2005 modif 08/05/2006\n")
+    assert len(read_dat(noted)[0]) == 41
+    broken = tmp_path / "broken.dat"
+    broken.write_text("NACA\n" + rows + "1.0000     (-0.0013)\n")
+    with pytest.raises(InputError, match="line 43 is not an 'x y' row"):
+        read_dat(broken)
+
+
 def _short_lower_surface() -> np.ndarray:
     """NACA 2412 whose lower surface ends 2 % chord short of the trailing edge, so that the
     segment closing the drawn points continues it along the chord (as STE 871-514's file)."""
