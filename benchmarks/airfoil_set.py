@@ -1,4 +1,4 @@
-"""Real airfoil files, O- and C-grids, pinn-mesh beside Construct2D (issue 32, SPEC 9).
+"""Real airfoil files, O- and C-grids, pinn-mesh beside Construct2D (SPEC 9).
 
 Every ``.dat`` file of a folder (default ``shared/airfoils``: 243 UIUC-derived sections, see
 its README) is meshed as an O-grid of 250 x 80 and a C-grid of 300 x 80 nodes, first layer
@@ -37,7 +37,7 @@ from pinn_engine.errors import InputError
 from pinn_engine.quality import cell_quality, summary
 from pinn_engine.settings import make_settings
 
-# issue 32's settings: sizes (ni, nj) per topology, first layer in chords, far field in chords
+# the settings: sizes (ni, nj) per topology, first layer in chords, far field in chords
 SIZES = {"o": (250, 80), "c": (300, 80)}
 FIRST_LAYER, FAR_FIELD = 1e-5, 15.0
 # Construct2D's C-grid puts this many nodes on each side of its wake (its default), the rest on

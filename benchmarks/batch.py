@@ -1,4 +1,4 @@
-"""`pinn-mesh batch` at scale (issue 26 item 5; SPEC 12): 32 cases with 1 and 2 workers.
+"""`pinn-mesh batch` at scale (SPEC 12): 32 cases with 1 and 2 workers.
 
 Usage: ``.venv/bin/python benchmarks/batch.py [--out docs/batch.md] [--workdir DIR]
 [--repeat 2] [--small]``
@@ -16,7 +16,7 @@ seconds, over the cases: the worker time not spent meshing, the cluster's start 
 and checks that every batch grid is the single command's grid and that the 1- and 2-worker
 summaries agree.
 
-``--small``: issue 33's small batch instead, the first 14 hold-out shapes at 61 x 31, each
+``--small``: the small batch instead, the first 14 hold-out shapes at 61 x 31, each
 run as its own ``pinn-mesh batch --workers N`` command (a new process: the local cluster's
 start included, as a user meets it), 1 and 2 workers alternately ``--repeat`` times; it
 prints each wall time and the speed-up of 2 workers over 1 (best against best).
@@ -42,11 +42,11 @@ from pinn_engine.batch.manifest import read_manifest
 
 ROOT = Path(__file__).resolve().parents[1]
 HARD = ROOT / "example_data" / "hard"
-HARD_SIZE = "--size 81 41"  # issue 26 item 5
+HARD_SIZE = "--size 81 41"
 NACA = (
     "0006 0008 0009 0010 0012 0015 0018 0021 0024 1408 1412 2408 2412 2415 2418 4412 4415 4418 6412"
 ).split()  # 19 sections: with the 13 hard shapes the issue's 32 cases
-SMALL_CASES, SMALL_SIZE = 14, "--size 61 31"  # issue 33's small batch
+SMALL_CASES, SMALL_SIZE = 14, "--size 61 31"  # the small batch
 HOLDOUT = ROOT / "example_data" / "holdout"
 BEGIN, END = "<!-- batch benchmark: begin -->", "<!-- batch benchmark: end -->"
 PINN_MESH = str(Path(sys.executable).with_name("pinn-mesh"))
@@ -142,7 +142,7 @@ def write(page: Path, text: str) -> None:
 
 
 def small(work: Path, repeat: int) -> None:
-    """Issue 33's small batch through the command, 1 and 2 workers alternately; prints the
+    """The small batch through the command, 1 and 2 workers alternately; prints the
     wall times and the speed-up."""
     shapes = sorted(p for p in HOLDOUT.glob("h*.vtp") if not p.stem.endswith("_aux"))
     manifest = work / "small.csv"
@@ -170,7 +170,7 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=ROOT / "docs" / "batch.md")
     parser.add_argument("--workdir", type=Path, default=ROOT / "out" / "bench_batch")
     parser.add_argument("--repeat", type=int, default=2, help="runs of each worker count")
-    parser.add_argument("--small", action="store_true", help="issue 33's 14 small cases")
+    parser.add_argument("--small", action="store_true", help="the 14 small cases")
     opts = parser.parse_args()
     work = opts.workdir.resolve()
     shutil.rmtree(work, ignore_errors=True)

@@ -11,7 +11,6 @@ nodes, and a smooth interpolant of it between them.
 from __future__ import annotations
 
 import numpy as np
-from scipy.interpolate import RectBivariateSpline
 
 from pinn_engine.classical.tfi import node_params
 
@@ -38,6 +37,9 @@ class WarmStart:
     ) -> None:
         """``nodes``: the (xi, eta) parameters of the lattice's columns and rows when they
         are not uniform (a boundary-layer lattice, spacing.py)."""
+        # only a network's start builds one: the elliptic and TFI grids never import this
+        from scipy.interpolate import RectBivariateSpline
+
         self.correction = np.asarray(correction, dtype=float)
         self.start = start  # the grid it starts from: "elliptic", or under --objective quality
         # "tfi" (zero correction), a blend, ... (quality_start.quality_start)

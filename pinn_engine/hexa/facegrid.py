@@ -13,6 +13,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import spsolve
 
+from pinn_engine.geometry.boundary import arc_lengths
 from pinn_engine.hexa.surface import Surface
 
 LOCATE_BATCH = 4_000_000  # query-triangle pairs per batch: bounds the memory of the search
@@ -21,7 +22,7 @@ DEGENERATE = 1e-300  # a mapped triangle with |det| below this holds no node
 
 def arc_fractions(points: np.ndarray) -> np.ndarray:
     """Normalised cumulative arc length along a polyline (0 at its start, 1 at its end)."""
-    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
+    s = arc_lengths(points)
     return s / s[-1]
 
 

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from pinn_engine.classical.elliptic import ReusedLU
+from pinn_engine.classical.elliptic import ReusedLU, winslow_coefficients
 from pinn_engine.multiblock.blocks import Topology
 from pinn_engine.multiblock.chains import Targets
 from pinn_engine.multiblock.junctions import Star, junction_stencils, star_row
@@ -151,9 +151,7 @@ def _system(
     x = points[st]
     x_xi = 0.5 * (x[:, 1, 2] - x[:, 1, 0])
     x_eta = 0.5 * (x[:, 2, 1] - x[:, 0, 1])
-    a = np.einsum("nk,nk->n", x_eta, x_eta)
-    b = np.einsum("nk,nk->n", x_xi, x_eta)
-    c = np.einsum("nk,nk->n", x_xi, x_xi)
+    a, b, c = winslow_coefficients(x_xi, x_eta)
     w = np.zeros(st.shape)
     w[:, 1, 1] = -2 * (a + c)
     w[:, 1, 0] = w[:, 1, 2] = a

@@ -29,7 +29,7 @@ from pinn_engine.multiblock.layout import Layout, layout, side_lines
 from pinn_engine.multiblock.orthogonal import boundary_neighbours, orthogonal
 from pinn_engine.multiblock.patches import PatchPiece, PatchPoint, PatchRing, block_patches
 from pinn_engine.multiblock.quadblock import block_boundary, block_lines
-from pinn_engine.multiblock.spacing import check_room, first_edges, requests, respace
+from pinn_engine.multiblock.spacing import check_room, graded_first_cells, requests, respace
 from pinn_engine.multiblock.walls import (
     Walls,
     check_names,
@@ -183,7 +183,7 @@ def mesh_blocks(
     # first edges of gradings and patches, and orthogonality on patches, last: no solve or
     # training moves them after
     for item, graded in grades:
-        points = first_edges(points, lay.ids, graded, item.value)
+        points = graded_first_cells(points, lay.ids, graded, item.value)
     points = respace(points, asked)
     if walls.orthogonal:
         points = orthogonal(points, sides, walls.orthogonal, boundary_neighbours(topo, lay))

@@ -19,10 +19,10 @@ identical.
 from __future__ import annotations
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from pinn_engine.classical.spacing import line_parameters  # one block's per-line stretching
 from pinn_engine.errors import InputError
+from pinn_engine.geometry.boundary import arc_lengths
 from pinn_engine.multiblock.layout import side_lines
 from pinn_engine.multiblock.walls import WallSide
 from pinn_engine.settings import SIDE_NAMES
@@ -80,7 +80,7 @@ def _geometric_ratio(h: float, cells: int, total: float) -> float:
     return 0.5 * (lo + hi)
 
 
-def first_edges(
+def graded_first_cells(
     points: np.ndarray, ids: list[np.ndarray], graded: dict[tuple[int, int], int], h: float
 ) -> np.ndarray:
     """``points`` with the first cells of every grid line leaving the graded (block, side)
@@ -103,7 +103,7 @@ def first_edges(
                 continue
             done.add(key)
             p = points[line]
-            arc = _arc(p)
+            arc = arc_lengths(p)
             cells = np.diff(arc)
             best = (np.inf, 0, 1.0)
             for k in range(1, len(cells)):
@@ -120,15 +120,11 @@ def first_edges(
     return out
 
 
-def _arc(p: np.ndarray) -> np.ndarray:
-    return np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
-
-
 def check_room(points: np.ndarray, asked: Requests) -> None:
     """Refuse a spacing of at least half a line leaving its patch or side (measured on the
     start grid, before the solve)."""
     for ids, (first, last, label) in asked.items():
-        length = _arc(points[list(ids)])[-1]
+        length = arc_lengths(points[list(ids)])[-1]
         if (first or 0.0) + (last or 0.0) >= MAX_ASKED_SHARE * length:
             raise InputError(
                 f"{label}: the first edge must be shorter than half of every grid line "
@@ -157,6 +153,8 @@ def respace(points: np.ndarray, asked: Requests) -> np.ndarray:
 def _stretched(p: np.ndarray, first: np.ndarray, last: np.ndarray) -> np.ndarray:
     """Lines ``p`` (m, n, 2) of the map evaluated at stretched parameters whose first and
     last edges are ``first`` and ``last`` (m,) (NaN: the map's own interval there)."""
+    from scipy.interpolate import CubicSpline  # only asked spacings get here
+
     m, n = p.shape[:2]
     index = np.arange(n)
     splines = [CubicSpline(index, line, axis=0) for line in p]

@@ -40,6 +40,7 @@ from pinn_engine.classical.elliptic import (
     stencil_matrix,
     winslow_solve,
 )
+from pinn_engine.classical.shear import shear_weights
 from pinn_engine.errors import WALL_ANGLE_TOL
 from pinn_engine.neural.losses import corner_angles, loss_orthogonal
 from pinn_engine.quality import (
@@ -61,9 +62,6 @@ OPPOSITE = {"bottom": "top", "top": "bottom", "left": "right", "right": "left"}
 SHEAR_TAPER = 0.03  # 3 % of the side: about one cell at 41 nodes
 SHEAR_WALL_TOL = 1.0  # half SPEC 7's 2 degrees, as the guard's GUARD_WALL_ANGLE
 SHEAR_GROWTH = 1.1  # 10 %: the shear may not turn a smooth spacing into a visible kink
-# The parameter distance over which a side's shear goes back to zero: across the domain,
-# or half of it when the opposite side is sheared too (the two shears must not overlap).
-SHEAR_REACH = {False: 1.0, True: 0.5}
 # Worst angles of candidate grids are compared to 0.001 degrees (below that, differences of
 # solves with the same outcome), so that the mean decides between equal ones.
 RANK_DECIMALS = 3
@@ -452,9 +450,7 @@ def sheared_grid(
         shift = -np.einsum("ij,ij->i", g[1] - wall, tau)[:, None] * tau  # (nodes, 2)
         t = np.linspace(0.0, 1.0, len(wall))
         shift *= (np.tanh(t / SHEAR_TAPER) * np.tanh((1 - t) / SHEAR_TAPER))[:, None]
-        reach = SHEAR_REACH[OPPOSITE[side] in sides]
-        w = np.where(p < reach, p * (1 - p / reach) ** 2, 0.0)  # (rows, nodes)
-        moved = shift[None] * (w / np.maximum(w[1:2], 1e-300))[..., None]
+        moved = shift[None] * shear_weights(p, OPPOSITE[side] in sides)[..., None]
         if not near:
             moved = moved[::-1]
         out += moved if along_xi else moved.transpose(1, 0, 2)

@@ -1,4 +1,4 @@
-"""Real airfoil files (SPEC 9, issue 32): crossing surfaces cut, never inside-out, Lednicer
+"""Real airfoil files (SPEC 9): crossing surfaces cut, never inside-out, Lednicer
 without its count line, no stray warnings, refusal advice that works, real files clean."""
 
 from __future__ import annotations
@@ -192,8 +192,8 @@ def test_refusal_advice_followed_gives_a_grid():
 @pytest.mark.parametrize("name", ["e387", "rae2822", "s1223", "goe464", "ag13"])
 @pytest.mark.parametrize("topology", ["o", "c"])
 def test_real_files_mesh_clean(name, topology):
-    """Issue 32's settings on real files (high-lift, cusped, blunt): no folded cell, no cell
-    of 180 degrees or more, not inside out."""
+    """Elliptic grids at a 1e-5 wall spacing on real files (high-lift, cusped, blunt): no
+    folded cell, no cell of 180 degrees or more, not inside out."""
     body = load_body(AIRFOILS / f"{name}.dat")
     size = (250, 80) if topology == "o" else (300, 80)
     r = mesh_body(body, circle(body, 15), topology, "elliptic", *size, wall_spacing=1e-5)

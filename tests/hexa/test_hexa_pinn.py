@@ -1,4 +1,4 @@
-"""The pinn of six-faced 3D domains (SPEC 11, issue 25 item 3): the 3D Winslow residual and
+"""The pinn of six-faced 3D domains (SPEC 11): the 3D Winslow residual and
 the network's jets, the grid within the bounds of the converged Winslow grid, right-handed,
 and a saved model evaluated finer with its faces on the surface."""
 
@@ -19,12 +19,13 @@ from pinn_engine.neural.jet import nd
 from pinn_engine.neural.losses import parameter_controls_3d, winslow_residual_3d
 from pinn_engine.neural.networks import CoordinateNet
 from pinn_engine.routes.cli import main
+from pinn_engine.settings import make_settings
 
 DATA = ROOT / "example_data"
 EXAMPLES = ("hexa_bump_box.vtp", "hexa_bend.vtp")
 SIZE = (9, 9, 9)
 FINER = (13, 11, 15)  # unequal: a swapped direction in the evaluation shows as a shape error
-BOUNDS = (0.5, 2.0)  # issue 25: mean and worst MaxIncludedAngle above the Winslow grid's
+BOUNDS = (0.5, 2.0)  # mean and worst MaxIncludedAngle above the Winslow grid's
 ON_SURFACE = 1e-6  # SPEC 11: boundary nodes within 1e-6 of the surface's diagonal
 
 
@@ -83,7 +84,9 @@ def test_network_jet_matches_autograd():
 @pytest.fixture(scope="module", params=EXAMPLES)
 def pinn_and_elliptic(request):
     path = str(DATA / request.param)
-    return mesh_surface(path, SIZE, "pinn"), mesh_surface(path, SIZE, "elliptic")
+    return mesh_surface(path, make_settings("pinn", size=SIZE)), mesh_surface(
+        path, make_settings("elliptic", size=SIZE)
+    )
 
 
 def test_pinn_is_within_the_bounds_of_the_winslow_grid(pinn_and_elliptic):

@@ -1,4 +1,4 @@
-"""Spacing and orthogonality on multi-block patches (SPEC 10 with SPEC 7, issue 24 item 4):
+"""Spacing and orthogonality on multi-block patches (SPEC 10 with SPEC 7):
 the cylinder of diameter 1 in its channel with a first cell of 0.005 at its wall, within
 10 %, grid lines within 2 degrees of its normal, no folds, shared nodes identical."""
 
@@ -18,7 +18,7 @@ BOUNDARY = str(EXAMPLES / "cylinder_channel.vtp")
 EDGES = str(EXAMPLES / "cylinder_channel_blocks.vtp")
 CYLINDER = ["--patch=0.5,0=cylinder:wall", "--patch=0,0.5=cylinder"]
 CYLINDER += ["--patch=-0.5,0=cylinder", "--patch=0,-0.5=cylinder"]
-H = 0.005  # issue 24: the first cell at the cylinder's wall
+H = 0.005  # the first cell at the cylinder's wall
 WALL = ["--spacing", f"cylinder={H}", "--orthogonal", "cylinder"]
 
 
@@ -36,7 +36,7 @@ def cylinder(tmp_path_factory):
 
 
 def test_cylinder_first_cell_and_normal_lines(cylinder):
-    """Issue 24: a first cell of 0.005 within 10 % and grid lines within 2 degrees of the
+    """A first cell of 0.005 within 10 % and grid lines within 2 degrees of the
     normal at the cylinder; no folds; shared nodes are the same point in every block; lines
     still cross interfaces smoothly; the report says the same."""
     grid, report = cylinder

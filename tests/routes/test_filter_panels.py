@@ -1,5 +1,5 @@
-"""What the multi-block and hexahedral filters tell and how they stop (issue 34, the ParaView
-GUI): the command line's summary line after an update, an untagged surface's faces found at
+"""What the multi-block and hexahedral filters tell and how they stop in the ParaView
+GUI: the command line's summary line after an update, an untagged surface's faces found at
 Face Angle, a 2D curve pointed to the 2D filters, and a training stopped by an abort
 request or the Time Limit with its best grid kept and one warning line."""
 
