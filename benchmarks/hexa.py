@@ -1,5 +1,5 @@
 """Six-faced 3D domains (SPEC 11): quality, time and peak memory of every method
-of ``hexamesh.METHODS`` on the five example shapes of ``example_data/make_hexa.py``.
+of ``settings.HEXA_METHODS`` on the five example shapes of ``example_data/make_hexa.py``.
 
 Usage: ``.venv/bin/python benchmarks/hexa.py [--size NI NJ NK] [--out docs/hexa.md]``
 
@@ -42,8 +42,9 @@ KIB = 1024  # ru_maxrss is in KiB on Linux
 def one(stem: str, method: str, size: tuple[int, int, int]) -> dict:
     """Mesh ``stem`` by ``method`` in this process: its figures, seconds and peak memory."""
     from pinn_engine.hexamesh import figures, mesh_surface
+    from pinn_engine.settings import make_settings
 
-    result = mesh_surface(str(DATA / f"{stem}.vtp"), size, method)
+    result = mesh_surface(str(DATA / f"{stem}.vtp"), make_settings(method, size=size))
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / KIB
     return {**figures(result.cells), "seconds": result.seconds, "peak_mib": peak}
 
@@ -60,7 +61,8 @@ def measure(stem: str, method: str, size: tuple[int, int, int]) -> dict:
 
 def markdown(size: tuple[int, int, int]) -> str:
     """The table of every shape and method at ``size``, and the bound checks' lines."""
-    from pinn_engine.hexamesh import HEXA_METHOD, METHODS
+    from pinn_engine.settings import HEXA_METHOD
+    from pinn_engine.settings import HEXA_METHODS as METHODS
 
     table, checks = [], []
     for name, stem in SHAPES.items():

@@ -31,6 +31,7 @@ def _one(surface: str, n: int) -> dict:
     """One elliptic run at n^3 in this process, with the Winslow solve timed apart."""
     from pinn_engine import hexamesh as mesh
     from pinn_engine.hexa import volume
+    from pinn_engine.settings import make_settings
 
     solve = {}
     winslow = volume.winslow
@@ -42,7 +43,9 @@ def _one(surface: str, n: int) -> dict:
         return out
 
     volume.winslow = timed
-    result = mesh.mesh_surface(str(ROOT / "example_data" / surface), (n, n, n), "elliptic")
+    result = mesh.mesh_surface(
+        str(ROOT / "example_data" / surface), make_settings("elliptic", size=(n, n, n))
+    )
     return {
         "seconds": result.seconds,
         "solve": solve["seconds"],

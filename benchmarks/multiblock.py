@@ -62,8 +62,8 @@ def run(stem: str, method: str, h: float, **overrides):
     and the meshing's time."""
     settings = make_settings(method, cell_size=h, **overrides)
     start = time.perf_counter()
-    out = job.run_blocks(settings, DATA / f"{stem}.vtp", [DATA / f"{stem}_blocks.vtp"])
-    return out.result, time.perf_counter() - start
+    geometry = job.blocks_from_files(DATA / f"{stem}.vtp", [DATA / f"{stem}_blocks.vtp"])
+    return job.run(settings, geometry), time.perf_counter() - start
 
 
 def angles(grids: list[np.ndarray]) -> tuple[float, float, int]:

@@ -34,9 +34,6 @@ if _REPO not in sys.path:
 
 try:
     from pinn_engine import __version__
-    from pinn_engine.hexa.sharp import SHARP_ANGLE
-    from pinn_engine.hexamesh import HEXA_METHOD, HEXA_SIZE, MIN_NODES
-    from pinn_engine.hexamesh import METHODS as HEXA_METHODS
     from pinn_engine.io.export import FORMATS
     from pinn_engine.io.export.algorithm import PARAVIEW_FORMATS, GridWriter
     from pinn_engine.routes.airfoil_algorithm import AirfoilReader, AirfoilSource
@@ -50,8 +47,13 @@ try:
     from pinn_engine.routes.paraview_help import register_in_gui
     from pinn_engine.settings import (
         BLOCKS_METHOD,
+        FACE_ANGLE,
+        HEXA_METHOD,
+        HEXA_METHODS,
+        HEXA_SIZE,
         MAX_SIDE_NODES,
         METHODS,
+        MIN_HEXA_NODES,
         MULTIBLOCK_METHODS,
         OBJECTIVES,
         PANEL_TIME_LIMIT,
@@ -800,7 +802,7 @@ _HEXA_METHOD_DOCS = {
     "elliptic": "the 3D Winslow equations solved to convergence from the TFI grid",
     "pinn": "a physics-informed network trained on the 3D Winslow equations, the face "
     "grids built in",
-}  # the Method help of PINN Hexahedral Mesh, for the methods hexamesh.METHODS has
+}  # the Method help of PINN Hexahedral Mesh, for the methods settings.HEXA_METHODS has
 
 
 @_mesh_filter(
@@ -846,7 +848,7 @@ class PINNHexahedralMesh(PinnHexaAlgorithm):
         name="GridSize",
         label="Grid Size",
         default_values=list(HEXA_SIZE),
-        bounds={"min": MIN_NODES},
+        bounds={"min": MIN_HEXA_NODES},
         doc="Nodes along i, j and k (at least 3 each).",
     )
     def P02GridSize(self, ni, nj, nk):
@@ -866,7 +868,7 @@ class PINNHexahedralMesh(PinnHexaAlgorithm):
     @_doublevector(
         name="FaceAngle",
         label="Face Angle",
-        default_values=SHARP_ANGLE,
+        default_values=FACE_ANGLE,
         bounds={"min": 1.0, "max": 179.0},
         doc="For a surface without a FaceId cell array (an STL file): its faces are the "
         "regions between edges where neighbouring triangles' normals differ by more than "

@@ -53,12 +53,6 @@ GRID_CHUNK = 1 << 14  # nodes per forward pass when a grid is evaluated (bounds 
 # lattice of the same shape, starts/warmstart.py): 41^3 takes about 1.4 s and 0.26 GiB, 81^3
 # about 14 s and 0.85 GiB more (docs/hexa.md, "Speed and memory").
 MAX_LATTICE_NODES = 41**3
-# The 3D default's settings where they differ from the 2D ones (settings.py): 20 L-BFGS
-# iterations, not 120. On the bump box at 21^3 the residual falls from the Winslow start by
-# a quarter in 20 and a third in 120, and the grids differ little (mean and worst
-# MaxIncludedAngle +0.009 and +0.07 deg over the Winslow grid's after 20, +0.019 and +0.13
-# after 120), while each iteration costs about 40 ms here (400 points, ten jet channels).
-HEXA_SETTINGS = {"lbfgs_iterations": 20}
 # The guard keeps a state only if a spaced patch's first edges stay within this fraction of
 # H: half of SPEC 7's 10 %, as GUARD_TOL is half of the angle bounds (the start's fit: 1 %)
 SPACING_GUARD = 0.05
@@ -295,13 +289,12 @@ def winslow_start(tfi_of: Callable[[tuple[int, ...]], np.ndarray], size: tuple[i
 def train(
     start: Start,
     surface_key: str,
-    settings: Settings | None = None,
+    settings: Settings,
     progress: Progress | None = None,
 ) -> HexaModel:
-    """Train the network from ``start`` under the guard; ``settings`` default to
-    ``HEXA_SETTINGS`` over Settings' defaults; ``progress`` is the trainer's callback
+    """Train the network from ``start`` under the guard and ``settings`` (a six-faced
+    domain's: ``settings.make_settings(size=...)``); ``progress`` is the trainer's callback
     (neural/trainer.py)."""
-    settings = settings or Settings(**HEXA_SETTINGS)
     tfi = start.tfi
     correction = LatticeField(start.grid - tfi)
     params = None if start.params is None else LatticeField(start.params)

@@ -1,7 +1,8 @@
 """Faces of an untagged surface (an ``.stl``, SPEC 11): the regions its sharp edges bound.
 
 Two neighbouring triangles are in one face unless their normals differ by more than
-``SHARP_ANGLE``; the faces are the connected regions of triangles so joined. The normals are
+``settings.FACE_ANGLE`` (SPEC 11's 40 degrees, or the run's ``face_angle``); the faces are the
+connected regions of triangles so joined. The normals are
 compared as the shared edge orients them (a triangle wound the other way round is turned),
 so that an STL whose triangles disagree on their winding still splits where it bends.
 """
@@ -10,11 +11,11 @@ from __future__ import annotations
 
 import numpy as np
 
-SHARP_ANGLE = 40.0  # degrees between neighbouring triangles' normals that end a face (SPEC 11)
+from pinn_engine.settings import FACE_ANGLE
 
 
 def faces_at_sharp_edges(
-    points: np.ndarray, triangles: np.ndarray, angle: float = SHARP_ANGLE
+    points: np.ndarray, triangles: np.ndarray, angle: float = FACE_ANGLE
 ) -> tuple[int, np.ndarray]:
     """The number of faces and the face index of each triangle; edges held by other than two
     triangles join nothing (the topology check reports an open surface)."""

@@ -19,6 +19,7 @@ from pinn_engine.neural.jet import nd
 from pinn_engine.neural.losses import parameter_controls_3d, winslow_residual_3d
 from pinn_engine.neural.networks import CoordinateNet
 from pinn_engine.routes.cli import main
+from pinn_engine.settings import make_settings
 
 DATA = ROOT / "example_data"
 EXAMPLES = ("hexa_bump_box.vtp", "hexa_bend.vtp")
@@ -83,7 +84,9 @@ def test_network_jet_matches_autograd():
 @pytest.fixture(scope="module", params=EXAMPLES)
 def pinn_and_elliptic(request):
     path = str(DATA / request.param)
-    return mesh_surface(path, SIZE, "pinn"), mesh_surface(path, SIZE, "elliptic")
+    return mesh_surface(path, make_settings("pinn", size=SIZE)), mesh_surface(
+        path, make_settings("elliptic", size=SIZE)
+    )
 
 
 def test_pinn_is_within_the_bounds_of_the_winslow_grid(pinn_and_elliptic):

@@ -6,11 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import pyvista as pv
-from helpers import EXAMPLES
+from helpers import EXAMPLES, run_blocks
 from multiblock_checks import block_sides, interface_kinks, write_polylines
 from vtkmodules.vtkFiltersVerdict import vtkMeshQuality
 
-from pinn_engine.job import run_blocks
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
 
@@ -153,7 +152,7 @@ def test_kinks_against_the_lines_own_turn(method):
     blocks and bent at the interfaces."""
     settings = make_settings(method, cell_size=0.1)
     files = EXAMPLES / "ybranch.vtp", [EXAMPLES / "ybranch_blocks.vtp"]
-    kink = run_blocks(settings, *files).result.report["interface_kink"]
+    kink = run_blocks(settings, *files).report["interface_kink"]
     if method == "elliptic":
         assert 0.8 * kink["mean"] <= kink["inside_mean"] <= kink["mean"]
     else:
@@ -166,8 +165,7 @@ def test_ybranch_kinks_fall_within_the_bound_as_cells_shrink():
     cells, the benchmark's row) the same turn spread over more nodes is within it."""
     files = EXAMPLES / "ybranch.vtp", [EXAMPLES / "ybranch_blocks.vtp"]
     kinks = {
-        h: run_blocks(make_settings("elliptic", cell_size=h), *files).result.report
-        for h in (0.1, 0.025)
+        h: run_blocks(make_settings("elliptic", cell_size=h), *files).report for h in (0.1, 0.025)
     }
     coarse, fine = (kinks[h]["interface_kink"] for h in (0.1, 0.025))
     assert coarse["mean"] > 2.0 >= fine["mean"] and fine["max"] <= 15.0

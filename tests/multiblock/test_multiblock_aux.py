@@ -9,10 +9,9 @@ import json
 import numpy as np
 import pytest
 import pyvista as pv
-from helpers import ROOT
+from helpers import ROOT, run_blocks
 from multiblock_checks import write_polylines
 
-from pinn_engine.job import run_blocks
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
 
@@ -31,7 +30,7 @@ def block_sides(grid: np.ndarray) -> list[np.ndarray]:
 def runs():
     """The L-shape with its line, elliptic and pinn, at a cell size of 0.1."""
     return {
-        m: run_blocks(make_settings(m, cell_size=0.1), *FILES, aux=[AUX]).result
+        m: run_blocks(make_settings(m, cell_size=0.1), *FILES, aux=[AUX])
         for m in ("elliptic", "pinn")
     }
 

@@ -10,10 +10,9 @@ import subprocess
 
 import numpy as np
 import pytest
-from helpers import EXAMPLES, foam_env
+from helpers import EXAMPLES, foam_env, run_blocks
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
-from pinn_engine import job
 from pinn_engine.io.export import write_blocks
 from pinn_engine.io.export.multiblock import blocks_of
 from pinn_engine.routes.cli import main
@@ -44,7 +43,7 @@ def _on_cylinder(xy: np.ndarray) -> bool:
 @pytest.fixture(scope="module")
 def dataset():
     settings = Settings(method="elliptic", cell_size=CELL)
-    return job.run_blocks(settings, BOUNDARY, [EDGES], PATCHES).dataset
+    return run_blocks(settings, BOUNDARY, [EDGES], PATCHES).data
 
 
 @pytest.fixture(scope="module")
@@ -59,7 +58,7 @@ def _unique_nodes(blocks) -> int:
 def test_default_patch_names(tmp_path):
     """Without --patch: ``boundary`` on the outer boundary, ``hole1`` on the cylinder."""
     settings = Settings(method="tfi", cell_size=CELL)
-    pieces = blocks_of(job.run_blocks(settings, BOUNDARY, [EDGES]).dataset).pieces
+    pieces = blocks_of(run_blocks(settings, BOUNDARY, [EDGES]).data).pieces
     names = [p.name for block in pieces for p in block]
     assert sorted(set(names)) == ["boundary", "hole1"]
     assert names.count("hole1") == 4 and names.count("boundary") == 12

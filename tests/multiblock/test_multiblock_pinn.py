@@ -5,12 +5,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from helpers import ROOT
+from helpers import ROOT, run_blocks
 
 from pinn_engine.blocks.multiblock import train_block, train_blocks
 from pinn_engine.classical.tfi import tfi_of_sides
 from pinn_engine.errors import STOP
-from pinn_engine.job import run_blocks
 from pinn_engine.multiblock.mesh import mesh_blocks
 from pinn_engine.quality import guard_figures
 from pinn_engine.settings import make_settings
@@ -29,9 +28,7 @@ def _sides(grid: np.ndarray) -> list[np.ndarray]:
 def runs(request):
     """The example's elliptic and default pinn grids at a cell size of 0.1."""
     files = DATA / f"{request.param}.vtp", [DATA / f"{request.param}_blocks.vtp"]
-    return {
-        m: run_blocks(make_settings(m, cell_size=0.1), *files).result for m in ("elliptic", "pinn")
-    }
+    return {m: run_blocks(make_settings(m, cell_size=0.1), *files) for m in ("elliptic", "pinn")}
 
 
 def test_pinn_is_never_worse_than_elliptic(runs):

@@ -329,9 +329,9 @@ def test_multiblock_filter_on_the_step(checkout):
     """PINN Multi-Block Mesh: the step's four blocks as the command line
     makes them, a side shared node for node, the quality arrays, one line for an edge that
     ends nowhere."""
+    from helpers import run_blocks
     from scipy.spatial.distance import cdist
 
-    from pinn_engine.job import run_blocks
     from pinn_engine.settings import make_settings
 
     result = run_pvpython(checkout, "check_multiblock.py", str(checkout / "example_data"))
@@ -374,7 +374,7 @@ def test_multiblock_filter_on_the_step(checkout):
     ):
         blocks = result[key]
         settings = make_settings(method, cell_size=0.1, interfaces=interfaces)
-        expected = run_blocks(settings, boundary, [edges]).result.grids
+        expected = run_blocks(settings, boundary, [edges]).grids
         assert [b["name"] for b in blocks] == ["block0", "block1", "block2", "block3"]
         for block, grid in zip(blocks, expected):
             assert block["class"] == "vtkStructuredGrid" and block["folded"] == 0
@@ -415,7 +415,7 @@ def test_multiblock_filter_on_the_step(checkout):
         ROOT / "example_data" / "lshape.vtp",
         [ROOT / "example_data" / "lshape_blocks.vtp"],
         aux=[ROOT / "example_data" / "lshape_aux.vtp"],
-    ).result.report["aux_line_distance"]
+    ).report["aux_line_distance"]
     assert distance == pytest.approx(list(expected.values())[0], rel=1e-9)
     assert result["blockings"] == ["Manual", "Automatic"]
     assert result["auto_blocks"] == 2 and result["auto_edges"] == 1  # the L's one cut
@@ -425,7 +425,8 @@ def test_hexahedral_filter_on_the_bend(checkout):
     """PINN Hexahedral Mesh: the bend's grid as the command line makes it
     (the same nodes, arrays and field data), for every method; one line for a surface
     without FaceId, and ParaView goes on."""
-    from pinn_engine.hexamesh import METHODS, mesh_surface
+    from pinn_engine.hexamesh import mesh_surface
+    from pinn_engine.settings import HEXA_METHODS, make_settings
 
     result = run_pvpython(checkout, "check_hexa.py", str(checkout / "example_data"))
     assert result["label"] == "PINN Hexahedral Mesh"
@@ -442,7 +443,7 @@ def test_hexahedral_filter_on_the_bend(checkout):
         "FirstEdgeSpacing",
         "OrthogonalPatches",
     }
-    assert result["methods"] == list(METHODS)
+    assert result["methods"] == list(HEXA_METHODS)
     assert result["progress"] == [0.0, 1.0]
     told = [ln for ln in result["messages"].splitlines() if ln.strip()]  # the summary line
     assert told == [ln for ln in told if ln.startswith("PINN Hexahedral Mesh: tfi 11x9x7 hexa")]
@@ -462,14 +463,17 @@ def test_hexahedral_filter_on_the_bend(checkout):
         assert grid["folded"] == 0 and grid["min_scaled_jacobian"] > 0.5  # right-handed
         assert grid["method"] == method and grid["report"]["size"] == list(size)
         assert grid["patches"] == ["imin", "imax", "jmin", "jmax", "kmin", "kmax"]
-        expected = mesh_surface(str(ROOT / "example_data" / "hexa_bend.vtp"), size, method)
+        expected = mesh_surface(
+            str(ROOT / "example_data" / "hexa_bend.vtp"), make_settings(method, size=size)
+        )
         points = np.array(grid["points"]).transpose(2, 1, 0, 3)  # (nk, nj, ni) -> (ni, nj, nk)
         np.testing.assert_allclose(points, expected.grid, atol=1e-9)
     spaced = result["spaced"]  # Patch Names and First Edge Spacing: the command line's grid
     assert spaced["patches"] == ["inlet", "imax", "jmin", "jmax", "floor", "kmax"]
     assert spaced["types"] == ["inflow", "patch", "patch", "patch", "wall", "patch"]
     expected = mesh_surface(
-        str(ROOT / "example_data" / "hexa_bend.vtp"), size, "tfi", spacing={"kmin": 0.01}
+        str(ROOT / "example_data" / "hexa_bend.vtp"),
+        make_settings("tfi", size=size, spacing={"kmin": 0.01}),
     )
     points = np.array(spaced["points"]).transpose(2, 1, 0, 3)
     np.testing.assert_allclose(points, expected.grid, atol=1e-9)
