@@ -10,8 +10,9 @@ from pathlib import Path
 
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 
+from pinn_engine.errors import SettingsError
 from pinn_engine.job.outcome import Outcome
-from pinn_engine.settings import Settings
+from pinn_engine.settings import Settings, hexa_size_problem
 
 PERCENT = 100  # a stage's progress dict counts the share of the run done in per cent
 
@@ -57,6 +58,10 @@ def run_hexa(
     PERCENT}``, k the share of the run done) and the training; ``model``: a saved pinn to
     evaluate instead of training."""
     from pinn_engine.hexamesh import hexa_grid, mesh_polydata, report
+
+    problem = hexa_size_problem(settings.size)
+    if problem:
+        raise SettingsError(f"size {settings.size}: {problem} (make_settings(..., size=...))")
 
     def stage(fraction: float, phase: str) -> None:
         if progress is not None:
