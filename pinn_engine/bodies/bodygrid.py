@@ -208,6 +208,12 @@ class Layout:
     def ni(self) -> int:
         return len(self.inner)
 
+    def wall_aspect(self) -> float:
+        """The wall cells' median aspect ratio: the spacing along the wall over the first
+        layer's height."""
+        along = lengths(np.diff(self.inner[self.wall_columns()], axis=0))
+        return float(np.median(along) / self.wall_spacing)
+
     def wall_columns(self) -> np.ndarray:
         """Indices of the j = 0 nodes on the body."""
         if self.topology == "o":
@@ -215,33 +221,49 @@ class Layout:
         return np.arange(self.n_wake, self.ni - self.n_wake)
 
 
-def _before(u: np.ndarray) -> np.ndarray:
-    """Each entry's predecessor along a closed row (np.roll by 1 along axis 0, cheaper)."""
-    return np.concatenate([u[-1:], u[:-1]])
+def lengths(v: np.ndarray) -> np.ndarray:
+    """The length of each vector (n, 2): np.linalg.norm(v, axis=1) in one call, the march's
+    most frequent operation."""
+    return np.hypot(v[:, 0], v[:, 1])
 
 
-def _after(u: np.ndarray) -> np.ndarray:
-    """Each entry's successor along a closed row (np.roll by -1 along axis 0)."""
-    return np.concatenate([u[1:], u[:1]])
+def _units(v: np.ndarray) -> np.ndarray:
+    """Each vector (n, 2) divided by its length."""
+    return v / lengths(v)[:, None]
+
+
+def _neighbour_sums(u: np.ndarray, closed: bool) -> np.ndarray:
+    """Each entry's predecessor plus successor along a row (n, ...): wrapped where ``closed``,
+    else the end entry counted for its missing neighbour."""
+    out = np.empty_like(u)
+    out[1:-1] = u[:-2] + u[2:]
+    if closed:
+        out[0], out[-1] = u[-1] + u[1], u[-2] + u[0]
+    else:
+        out[0], out[-1] = u[0] + u[1], u[-2] + u[-1]
+    return out
 
 
 def row_chords(p: np.ndarray, topology: str) -> np.ndarray:
     """Half the chord between each node's two neighbours along a grid row ``p`` (ni, 2), in
     the direction of i (wrapped across the O-grid's seam; one-sided at the C-grid's ends):
     the row's tangents, as long as its local spacing."""
-    if topology == "o":
-        q = p[:-1]
-        t = 0.5 * (_after(q) - _before(q))
-        return np.concatenate([t, t[:1]])
     t = np.empty_like(p)
-    t[1:-1] = (p[2:] - p[:-2]) / 2.0
-    t[0], t[-1] = p[1] - p[0], p[-1] - p[-2]
+    t[1:-1] = 0.5 * (p[2:] - p[:-2])
+    if topology == "o":  # p[-1] repeats p[0]: the seam's neighbours are p[1] and p[-2]
+        t[0] = t[-1] = 0.5 * (p[1] - p[-2])
+    else:
+        t[0], t[-1] = p[1] - p[0], p[-1] - p[-2]
     return t
 
 
 def _row_tangents(p: np.ndarray, topology: str) -> np.ndarray:
-    t = row_chords(p, topology)
-    return t / np.linalg.norm(t, axis=1, keepdims=True)
+    return _units(row_chords(p, topology))
+
+
+# the cosine of CORNER_TURN: two segments whose unit vectors' dot product is below it meet at
+# a corner
+CORNER_COS = math.cos(math.radians(CORNER_TURN))
 
 
 def _row_normals(p: np.ndarray, topology: str) -> np.ndarray:
@@ -252,34 +274,33 @@ def _row_normals(p: np.ndarray, topology: str) -> np.ndarray:
     t = _row_tangents(p, topology)
     # i runs counter-clockwise in the O-grid (body on the left), clockwise in the C-grid
     sign = 1.0 if topology == "o" else -1.0
-    n = sign * np.column_stack([t[:, 1], -t[:, 0]])
-    e = np.diff(p, axis=0)
-    u = e / np.linalg.norm(e, axis=1)[:, None]
+    n = np.empty_like(t)
+    n[:, 0], n[:, 1] = sign * t[:, 1], -sign * t[:, 0]
+    u = _units(np.diff(p, axis=0))  # segment i runs from node i to node i + 1
+    cos = np.ones(len(p))  # the C-grid's end nodes have one segment: no corner
+    cos[1:-1] = u[1:, 0] * u[:-1, 0] + u[1:, 1] * u[:-1, 1]
     if topology == "o":
-        ahead, back = np.concatenate([u, u[:1]]), np.concatenate([u[-1:], u])
-    else:
-        ahead, back = np.concatenate([u, u[-1:]]), np.concatenate([u[:1], u])
-    turn = np.einsum("ik,ik->i", ahead, back) < math.cos(math.radians(CORNER_TURN))
-    b = sign * (
-        np.column_stack([ahead[:, 1], -ahead[:, 0]]) + np.column_stack([back[:, 1], -back[:, 0]])
-    )
-    n[turn] = b[turn] / np.linalg.norm(b[turn], axis=1, keepdims=True)
+        cos[0] = cos[-1] = u[0, 0] * u[-1, 0] + u[0, 1] * u[-1, 1]
+    corners = np.flatnonzero(cos < CORNER_COS)
+    if len(corners):  # the bisector of the segments ahead and behind (wrapped in the O-grid)
+        ahead = u[np.minimum(corners, len(u) - 1) if topology == "c" else corners % len(u)]
+        back = u[np.maximum(corners - 1, 0) if topology == "c" else corners - 1]
+        b = ahead + back
+        n[corners] = _units(sign * np.column_stack([b[:, 1], -b[:, 0]]))
     if topology == "c":
         n[0], n[-1] = (0.0, -1.0), (0.0, 1.0)
     return n
 
 
 def _smooth_row(q: np.ndarray, eps, topology: str) -> np.ndarray:
-    """One Laplacian pass along a row (ends held for the C-grid, wrapped for the O-grid);
-    ``eps`` a number or one per node (ni, 1)."""
+    """One Laplacian pass along a row (ends held for the C-grid, wrapped for the O-grid, whose
+    last node repeats its first); ``eps`` a number or one per node (ni, 1)."""
     out = q.copy()
-    eps = np.broadcast_to(np.asarray(eps, dtype=float), (len(q), 1))
+    inner = eps if np.ndim(eps) == 0 else eps[1:-1]
+    out[1:-1] = q[1:-1] + inner * (0.5 * (q[:-2] + q[2:]) - q[1:-1])
     if topology == "o":
-        u = q[:-1]
-        out[:-1] = u + eps[:-1] * (0.5 * (_before(u) + _after(u)) - u)
-        out[-1] = out[0]
-    else:
-        out[1:-1] = q[1:-1] + eps[1:-1] * (0.5 * (q[:-2] + q[2:]) - q[1:-1])
+        first = eps if np.ndim(eps) == 0 else eps[0]
+        out[0] = out[-1] = q[0] + first * (0.5 * (q[-2] + q[1]) - q[0])
     return out
 
 
@@ -290,17 +311,20 @@ def redistribute(q: np.ndarray, eps: float, topology: str, passes: int) -> np.nd
     the C-grid, the last node held). Sliding along the row keeps the nodes in order, so the
     columns cannot cross within a row, and a crowd of columns spreads out however strongly
     the lines converge (off a concave wall, under an aft surface)."""
-    seg = np.linalg.norm(np.diff(q, axis=0), axis=1)
-    s_old = np.concatenate([[0.0], np.cumsum(seg)])
-    ds = seg.copy()
+    seg = lengths(np.diff(q, axis=0))
+    s_old = np.empty(len(q))
+    s_old[0] = 0.0
+    np.cumsum(seg, out=s_old[1:])
+    ds = seg
     for _ in range(passes):
-        if topology == "o":
-            ds = ds + eps * (0.5 * (_before(ds) + _after(ds)) - ds)
-        else:
-            back = np.concatenate([ds[:1], ds[:-1]])
-            ds = ds + eps * (0.5 * (back + np.concatenate([ds[1:], ds[-1:]])) - ds)
-    s_new = np.concatenate([[0.0], np.cumsum(ds)]) * (s_old[-1] / ds.sum())
-    out = np.column_stack([np.interp(s_new, s_old, q[:, k]) for k in range(2)])
+        ds = ds + eps * (0.5 * _neighbour_sums(ds, topology == "o") - ds)
+    s_new = np.empty(len(q))
+    s_new[0] = 0.0
+    np.cumsum(ds, out=s_new[1:])
+    s_new *= s_old[-1] / s_new[-1]
+    out = np.empty_like(q)
+    out[:, 0] = np.interp(s_new, s_old, q[:, 0])
+    out[:, 1] = np.interp(s_new, s_old, q[:, 1])
     out[0], out[-1] = q[0], q[-1]
     return out
 
@@ -309,7 +333,7 @@ def _smooth_normals(n: np.ndarray, eps, topology: str) -> np.ndarray:
     m = _smooth_row(n, eps, topology)
     if topology == "c":
         m[0], m[-1] = n[0], n[-1]
-    return m / np.linalg.norm(m, axis=1, keepdims=True)
+    return _units(m)
 
 
 def rear_start(inner: np.ndarray, n_wake: int) -> np.ndarray:
@@ -383,11 +407,11 @@ def march(
                 n = _smooth_normals(n, NORMAL_SMOOTHING * weight, topology)
             if rear is not None:
                 turn = rear * min(1.0, (d - distances[1]) / (REAR_TURN * scale))
-                n = (1 - turn) * n + turn * vertical
-                n /= np.linalg.norm(n, axis=1, keepdims=True)
+                n = _units((1 - turn) * n + turn * vertical)
             q = q + (step / subs) * n
-            shrink = np.clip(1 - _row_spacing(q, topology) / spacing0, 0.0, 1.0)
-            concave = np.minimum(ROW_SMOOTHING_MAX, CONCAVE_SMOOTHING * shrink)[:, None]
+            shrink = 1 - _row_spacing(q, topology) / spacing0  # clipped to 0 .. 1 below
+            concave = np.maximum(np.minimum(ROW_SMOOTHING_MAX, CONCAVE_SMOOTHING * shrink), 0.0)
+            concave = concave[:, None]
             eps = grow * concave
             if topology == "c":  # the wake's columns run straight: no sliding along rows
                 eps[:n_wake] = eps[len(q) - n_wake :] = 0.0
@@ -398,7 +422,8 @@ def march(
                 if tangent:
                     target = _smooth_row(q, tangent * grow, topology)
                     t = _row_tangents(q, topology)
-                    q = q + np.einsum("ik,ik->i", target - q, t)[:, None] * t
+                    slide = target - q
+                    q = q + (slide[:, 0] * t[:, 0] + slide[:, 1] * t[:, 1])[:, None] * t
             if topology == "o":
                 q = redistribute(q, SPREAD * grow, topology, passes)
             else:  # the body's columns (the wake's run straight)
@@ -426,7 +451,7 @@ def _substeps(q: np.ndarray, step: float, topology: str, free: np.ndarray) -> in
 
 def _row_spacing(p: np.ndarray, topology: str) -> np.ndarray:
     """Half the distance between each node's two neighbours along a row."""
-    return np.linalg.norm(row_chords(p, topology), axis=1)
+    return lengths(row_chords(p, topology))
 
 
 def layout(

@@ -53,6 +53,8 @@ def _restrictions(prop) -> str:
                 parts.append(f"<p>The value must be from {low} to {high}.</p>")
             elif low is not None:
                 parts.append(f"<p>The value must be at least {low}.</p>")
+            elif high is not None:
+                parts.append(f"<p>The value must be at most {high}.</p>")
         elif domain.tag == "DataTypeDomain":
             kinds = "".join(
                 f"<li>{escape(d.get('value', ''))}</li>" for d in domain.iter("DataType")

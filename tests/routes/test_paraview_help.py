@@ -4,7 +4,9 @@ Python plugin's decorators write; nothing registered outside the GUI."""
 
 from __future__ import annotations
 
+import os
 import sqlite3
+import subprocess
 
 from pinn_engine.routes import help_engine, paraview_help
 
@@ -20,6 +22,8 @@ FILTER_XML = """<ServerManagerConfiguration><ProxyGroup name="filters">
 <IntVectorProperty name="GridSize" default_values="41 21" command="P02" number_of_elements="2">
 <IntRangeDomain name="range" min="2" max="99"/><Documentation>Nodes.</Documentation>
 </IntVectorProperty>
+<DoubleVectorProperty name="Angle" label="Face Angle" default_values="40" command="P03">
+<DoubleRangeDomain name="range" max="179"/></DoubleVectorProperty>
 <StringVectorProperty name="FileName" command="SetFileName" panel_visibility="never"/>
 <IntVectorProperty name="IsThreeD" command="GetIsThreeD" information_only="1"/>
 </SourceProxy></ProxyGroup></ServerManagerConfiguration>"""
@@ -53,12 +57,13 @@ def test_the_page_holds_the_property_table_as_the_panel_shows_it():
         "Input",
         "Method",
         "Grid Size",  # the label a property without one is shown with
+        "Face Angle",
     ]  # FileName and IsThreeD: not on the panel
     method = rows[1]
     assert "<td>tfi</td>" in method  # the default's text
     assert "<li>pinn</li><li>tfi</li>" in method
     assert "from 2 to 99" in rows[2] and "<td>41 21</td>" in rows[2]
-    assert "vtkPolyData" in rows[0]
+    assert "vtkPolyData" in rows[0] and "at most 179" in rows[3]
     assert set(page.keywords) == {"PINN Thing", "PINNThing"}
 
 
@@ -77,3 +82,16 @@ def test_write_help_gives_a_qch_of_the_pages(tmp_path):
         namespace = db.execute("SELECT Name FROM NamespaceTable").fetchone()[0]
     assert names == ["index.html", "filters.PINNThing.html"]
     assert namespace == paraview_help.NAMESPACE
+
+
+def test_the_help_files_of_ended_guis_are_removed(tmp_path):
+    ended = subprocess.Popen(["true"])
+    ended.wait()
+    for pid in (ended.pid, os.getpid()):
+        (tmp_path / f"pinn-mesh-help-{pid}.qch").write_bytes(b"")
+    (tmp_path / "pinn-mesh-help-notes.qch").write_bytes(b"")
+    help_engine._remove_ended(tmp_path)
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        f"pinn-mesh-help-{os.getpid()}.qch",
+        "pinn-mesh-help-notes.qch",
+    ]

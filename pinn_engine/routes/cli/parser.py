@@ -19,6 +19,9 @@ from pinn_engine.settings import (
     Options,
 )
 
+EXIT_ERROR = 2  # the input or an option is refused (argparse's own status for a bad option)
+EXIT_INTERNAL = 3  # a bug: the run failed where no input could make it
+EXIT_INTERRUPTED = 130  # Ctrl-C or SIGTERM: the shell's 128 + SIGINT
 # Options whose value may name a point X,Y (multi-block items) and so start with a minus
 PLACE_OPTIONS = ("--patch", "--spacing", "--cells")
 NEGATIVE = re.compile(r"^-\.?\d")  # a value starting with a negative number, not an option
@@ -73,7 +76,7 @@ class OneLineParser(argparse.ArgumentParser):
     argparse could take the option's values for the boundary."""
 
     def error(self, message: str) -> NoReturn:
-        self.exit(2, f"{self.prog}: error: {message} ({self.prog} -h lists the options)\n")
+        self.exit(EXIT_ERROR, f"{self.prog}: error: {message} ({self.prog} -h lists the options)\n")
 
     def parse_known_args(self, args=None, namespace=None):
         args = _joined_places(sys.argv[1:] if args is None else [str(a) for a in args])
