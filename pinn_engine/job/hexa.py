@@ -81,7 +81,7 @@ def run_hexa(
     method = settings.method
     nodes = result.grid.transpose(2, 1, 0, 3)  # (ni, nj, nk, 3) as VTK orders them: i fastest
     history = result.model.history if result.model else {}
-    trained = method == "pinn" and model is None
+    trained = model is None and result.model is not None and not result.model.info.get("skipped")
     return Outcome(
         "hexa",
         hexa_grid(result, method),
