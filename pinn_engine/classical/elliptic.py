@@ -7,11 +7,14 @@ invariant to the spacing of xi and eta, so index space is exact, not an approxim
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.linalg import splu
 
 from pinn_engine.quality import folded_cells
+
+if TYPE_CHECKING:  # SciPy's sparse solver is imported where it solves: the body grids use
+    import scipy.sparse as sp  # this module's Winslow coefficients alone
 
 
 def winslow_coefficients(
@@ -78,6 +81,8 @@ def stencil_matrix(
 ) -> tuple[sp.csc_matrix, np.ndarray]:
     """Linear system of the Winslow equations with alpha, beta, gamma frozen at ``g``; with
     ``cp``, ``cq`` (interior nodes) the control terms ``cp x_xi + cq x_eta`` are added."""
+    import scipy.sparse as sp
+
     nj, ni = g.shape[:2]
     a, b, c = _coefficients(g)
     # 9-point stencil weights, offsets (dj, di)
@@ -123,6 +128,8 @@ class ReusedLU:
 
     def solve(self, mat, defect: np.ndarray) -> tuple[np.ndarray, float]:
         """The update for ``defect`` and its largest component."""
+        from scipy.sparse.linalg import splu
+
         if self.lu is None:
             self.lu = splu(mat, permc_spec="MMD_AT_PLUS_A")
         step = self.lu.solve(defect)

@@ -20,15 +20,15 @@ RUNS = (  # runs without a network (four-sided, body, multi-block; exports), the
 UNUSED = ("torch", "scipy.interpolate", "scipy.optimize", "scipy.ndimage", "sklearn", "pyvista")
 
 
-def _imported_after(runs, tmp_path) -> list[str]:
-    """Which of :data:`UNUSED` are in ``sys.modules`` after ``runs`` (arguments, output
-    file) in a fresh Python, as it prints."""
+def _imported_after(runs, tmp_path, names=UNUSED) -> list[str]:
+    """Which of ``names`` are in ``sys.modules`` after ``runs`` (arguments, output file) in
+    a fresh Python, as it prints."""
     code = f"""
 import sys
 from pinn_engine.routes.cli import main
 for argv, out in {runs!r}:
     assert main([*argv, "--quiet", "-o", {str(tmp_path)!r} + "/" + out]) == 0, argv
-print("imported:" + ",".join(name for name in {UNUSED!r} if name in sys.modules))
+print("imported:" + ",".join(name for name in {names!r} if name in sys.modules))
 """
     done = subprocess.run(
         [sys.executable, "-c", code], capture_output=True, text=True, cwd=EXAMPLES, timeout=300
@@ -40,6 +40,14 @@ print("imported:" + ",".join(name for name in {UNUSED!r} if name in sys.modules)
 
 def test_classical_grids_and_exports_import_only_what_they_use(tmp_path):
     assert _imported_after(RUNS, tmp_path) == []
+
+
+def test_a_body_grid_imports_no_scipy(tmp_path):
+    """An airfoil's C-grid, by the default method on a boundary-layer grid (its network not
+    trained) and by elliptic, runs on NumPy alone."""
+    run = ["--naca", "0012", "--topology", "c", "--size", "97", "17", "--spacing", "bottom=1e-5"]
+    runs = [(run, "f.vts"), ([*run, "--method", "elliptic"], "g.vts")]
+    assert _imported_after(runs, tmp_path, ("scipy", "torch")) == []
 
 
 @pytest.mark.slow  # trains a small network in a fresh Python (about 5 s)
