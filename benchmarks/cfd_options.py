@@ -314,7 +314,11 @@ def check_2d(name: str, d: dict, work: Path, method: str) -> list[tuple[str, str
             found = sorted(mesh["markers"])
             ok = off < ON_CURVE
             rows.append(
-                (name, "su2 markers", f"{'ok' if ok else 'BAD'}: {found}; {wall_name} off {off:.1e}")
+                (
+                    name,
+                    "su2 markers",
+                    f"{'ok' if ok else 'BAD'}: {found}; {wall_name} off {off:.1e}",
+                )
             )
         else:
             fams = cgns_families(path)
@@ -324,28 +328,136 @@ def check_2d(name: str, d: dict, work: Path, method: str) -> list[tuple[str, str
     chain = [f"--cells={c}" for c in d["cells"]] + [
         "--spacing={},{}={}".format(*d["graded"], d["graded_h"])
     ]
+    graded = "{},{}".format(*d["graded"])
     rc, out = cli([*base, *chain, "-o", str(work / f"{name}_chain.vtm")])
     if rc != 0:
         return [*rows, (name, "chain run", f"FAILED: {out.splitlines()[-1]}")]
     grid = pv.read(work / f"{name}_chain.vtm")
     lines = block_side_lines(grid, d["graded"])
     first = np.concatenate([np.linalg.norm(v[:, 1] - v[:, 0], axis=1) for v in lines])
-    mid = np.concatenate(
-        [np.linalg.norm(v[len(v) // 4 : -len(v) // 4 or None, 1] - v[len(v) // 4 : -len(v) // 4 or None, 0], axis=1) for v in lines]
-    ) / d["graded_h"]
+    mid = (
+        np.concatenate(
+            [
+                np.linalg.norm(
+                    v[len(v) // 4 : -len(v) // 4 or None, 1]
+                    - v[len(v) // 4 : -len(v) // 4 or None, 0],
+                    axis=1,
+                )
+                for v in lines
+            ]
+        )
+        / d["graded_h"]
+    )
     first /= d["graded_h"]
     worst = max(ratios(v).max() for v in lines)
     ok = abs(mid - 1).max() <= SPACING_TOL and worst <= RATIO_MAX and folded(grid) == 0
     rows.append(
         (
             name,
-            f"--cells {' '.join(d['cells'])} --spacing {d['graded'][0]},{d['graded'][1]}={d['graded_h']}"
-            f" ({len(lines)} sides)",
+            f"--cells {' '.join(d['cells'])} --spacing {graded}={d['graded_h']} "
+            f"({len(lines)} sides)",
             f"{'ok' if ok else 'BAD'}: first edge {first.min():.2f}-{first.max():.2f} H "
             f"(middle half {mid.min():.2f}-{mid.max():.2f}), neighbour ratio {worst:.3f}, "
             f"{folded(grid)} folded; {out.splitlines()[-1][:60]}",
         )
     )
+    return rows
+
+
+def tilted_box(u, v, w):
+    """A box 2 x 1 x 0.6 turned 155 degrees about z and 10 about x, reaching negative
+    coordinates."""
+    p = np.stack([2.0 * u - 1.2, v - 0.7, 0.6 * w - 0.2], axis=-1)
+    a, b = np.radians(155.0), np.radians(10.0)
+    rz = np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]])
+    rx = np.array([[1, 0, 0], [0, np.cos(b), -np.sin(b)], [0, np.sin(b), np.cos(b)]])
+    return p @ (rx @ rz).T
+
+
+def sector(u, v, w):
+    """An annular sector: radii 0.8 to 1.5, 10 to 70 degrees, z from -0.3 to 0.4."""
+    r, t = 0.8 + 0.7 * u, np.radians(10.0 + 60.0 * v)
+    return np.stack([r * np.cos(t), r * np.sin(t), 0.7 * w - 0.3], axis=-1)
+
+
+# the 3D domains: shape, file suffix, names of faces 0..5 (the surface's FaceId order:
+# u = 0, u = 1, v = 0, v = 1, w = 0, w = 1; an STL's faces are numbered in that order too)
+SOLIDS = {
+    "tilted_box": (
+        tilted_box,
+        "vtp",
+        ["inlet:inflow", "outlet:outflow", "side:wall"]
+        + ["side:wall", "floor:wall", "lid:symmetry"],
+    ),
+    "sector_stl": (
+        sector,
+        "stl",
+        ["inner:wall", "outer:wall", "start:inflow", "end:outflow"] + ["floor:wall", "top:wall"],
+    ),
+}
+
+
+def check_3d(name: str, work: Path) -> list[tuple[str, str, str]]:
+    shape, ext, names = SOLIDS[name]
+    tagged = surface(shape)
+    path = work / f"{name}.{ext}"
+    tagged.save(path)
+    diag = tagged.length
+    patches = [f"--patch=face{k}={n}" for k, n in enumerate(names)]
+    base = [str(path), "--size", "9", "8", "7", "--method", "elliptic", *patches]
+    rows = []
+    case = work / f"{name}_case"
+    rc, out = cli([*base, "--format", "openfoam", "-o", str(case)])
+    if rc != 0:
+        return [(name, "openfoam", f"FAILED: {out.splitlines()[-1]}")]
+    summary = out.splitlines()[-1]
+    found = foam_patches(case)
+    wrong, kinds = [], {}
+    for patch, (kind, centres) in found.items():
+        kinds[patch] = kind
+        faces = {k for k, n in enumerate(names) if n.split(":")[0] == patch}
+        ids = tagged.cell_data["FaceId"][tagged.find_closest_cell(centres)]
+        wrong += [patch] * int(np.sum(~np.isin(ids, list(faces))))
+    want = {n.split(":")[0]: n.split(":")[1] for n in names}
+    types = {"inflow": "patch", "outflow": "patch", "wall": "wall", "symmetry": "symmetryPlane"}
+    ok = not wrong and kinds == {k: types[v] for k, v in want.items()}
+    rows.append(
+        (
+            name,
+            "faceN patches in openfoam",
+            f"{'ok' if ok else 'BAD'}: {' '.join(f'{k}:{v}' for k, v in kinds.items())}; "
+            f"{len(wrong)} faces on another face than asked; {summary.split(';')[-1].strip()}",
+        )
+    )
+    rows.append((name, "checkMesh", check_mesh(case)))
+    grid_path = work / f"{name}.vts"
+    rc, out = cli([*base, "-o", str(grid_path)])
+    grid = pv.read(grid_path)
+    outer = grid.extract_surface().points
+    _, closest = tagged.find_closest_cell(outer, return_closest_point=True)
+    off = np.linalg.norm(outer - closest, axis=1).max() / diag
+    rows.append(
+        (
+            name,
+            "face nodes on the surface",
+            f"{'ok' if off <= ON_FACE else 'BAD'}: {off:.1e} of the diagonal, "
+            f"{int(grid.cell_data['Folded'].sum())} folded",
+        )
+    )
+    for ext in ("su2", "cgns"):
+        path = work / f"{name}.{ext}"
+        rc, out = cli([*base, "-o", str(path)])
+        if rc != 0:
+            rows.append((name, ext, f"FAILED: {out.splitlines()[-1]}"))
+        elif ext == "su2":
+            got = sorted(read_su2(path)["markers"])
+            rows.append((name, "su2 markers", f"{'ok' if got == sorted(want) else 'BAD'}: {got}"))
+        else:
+            fams = cgns_families(path)
+            cgns = {"inflow": "BCInflow", "outflow": "BCOutflow", "wall": "BCWall"}
+            cgns["symmetry"] = "BCSymmetryPlane"
+            ok = fams == {k: cgns[v] for k, v in want.items()}
+            rows.append((name, "cgns families", f"{'ok' if ok else 'BAD'}: {fams}"))
     return rows
 
 
@@ -361,6 +473,12 @@ def main() -> None:
                 continue
             rows += check_2d(name, d, Path(tmp), args.method)
             for row in rows[-6:]:
+                print(" | ".join(row), flush=True)
+        for name in SOLIDS:
+            if args.only and name != args.only:
+                continue
+            rows += check_3d(name, Path(tmp))
+            for row in rows[-5:]:
                 print(" | ".join(row), flush=True)
     print("| domain | check | result |\n|---|---|---|")
     for row in rows:
