@@ -192,7 +192,9 @@ def mesh_blocks(
         points = graded_first_cells(points, lay.ids, graded, item.value)
     points = respace(points, asked)
     if walls.orthogonal:
-        points = orthogonal(points, sides, walls.orthogonal, boundary_neighbours(topo, lay))
+        points = orthogonal(
+            points, sides, walls.orthogonal, boundary_neighbours(topo, lay), lay.ids
+        )
     grids = [points[ids] for ids in lay.ids]
     cells = [cell_quality(g) for g in grids]
     kinks = interface_kinks(cross, lay, points)
