@@ -167,6 +167,8 @@ def mesh_body(
     report["topology"]["wall_spacing"] = lay.wall_spacing
     if body.cut is not None:  # crossing surfaces cut at the crossing (SPEC 9)
         report["topology"]["cut"] = list(body.cut)
+    if body.continued is not None:  # a closing segment that is no base (SPEC 9)
+        report["topology"]["closing_segment_continues"] = body.continued
     if method != "tfi":
         report["topology"]["elliptic_sweeps"] = lay.sweeps_kept
     if training is not None:

@@ -100,6 +100,10 @@ C_BASE_INTERVALS = 4
 # point, fully at the trailing edge (REAR_TURN_START of the turn).
 REAR_TURN = 0.02
 REAR_TURN_START = 0.5
+# The turn's remainder decays as exp(-d / REAR_REACH chords): a column turned part way drifts
+# sideways with d and crossed a fully turned neighbour 1e-3 chords off (1 to 2 chords out); 1 and 3
+# raised the sharp C-grids' non-orthogonality or the worst angle (docs/tuning.md)
+REAR_REACH = 2.0
 # The marched rows turn into straight lines to the far field between 1 and 3 chords from the wall
 # (C-grid; near the body the marched lines, far off the straight ones); the O-grid's projection onto
 # the far field is blended in as (distance share) ** O_BLEND_POWER (3: the inner rows stay marched,
@@ -398,17 +402,25 @@ def march(
             rows.append(q)
             continue
         subs = _substeps(q, step, topology, free)
-        for k in range(subs):
-            d = distances[j - 1] + step * (k + 1) / subs
-            grow = 1 - math.exp(-d / (NORMAL_REACH * scale))
+        start, length, k = distances[j - 1], step, 0
+        while k < subs:
             n = _row_normals(q, topology)
+            more = _converging_substeps(q, n, length * (subs - k) / subs)
+            if more > subs - k:  # the lines converge faster than at the step's start
+                start, length = start + length * k / subs, length * (subs - k) / subs
+                subs, k = min(more, MAX_SUBSTEPS), 0
+            k += 1
+            d = start + length * k / subs
+            grow = 1 - math.exp(-d / (NORMAL_REACH * scale))
             weight = grow if corner is None else np.maximum(corner, grow)
             for _ in range(passes):
                 n = _smooth_normals(n, NORMAL_SMOOTHING * weight, topology)
             if rear is not None:
                 turn = rear * min(1.0, (d - distances[1]) / (REAR_TURN * scale))
+                fade = math.exp(-d / (REAR_REACH * scale))
+                turn = np.where(rear > 0, 1 - (1 - turn) * fade, 0.0)
                 n = _units((1 - turn) * n + turn * vertical)
-            q = q + (step / subs) * n
+            q = q + (length / subs) * n
             shrink = 1 - _row_spacing(q, topology) / spacing0  # clipped to 0 .. 1 below
             concave = np.maximum(np.minimum(ROW_SMOOTHING_MAX, CONCAVE_SMOOTHING * shrink), 0.0)
             concave = concave[:, None]
@@ -435,6 +447,27 @@ def march(
     return np.stack(rows)
 
 
+def _converging_rate(q: np.ndarray, n: np.ndarray) -> float:
+    """The rate at which the row ``q``'s most converging neighbours, leaving along the
+    normals ``n``, close their gap, per unit of their gap and of the distance marched."""
+    e, dn = np.diff(q, axis=0), np.diff(n, axis=0)
+    return float(np.max(-np.einsum("ik,ik->i", dn, e) / np.einsum("ik,ik->i", e, e)))
+
+
+def _count(step: float, rate: float) -> int:
+    """Sub-steps of at most ``SUBSTEP`` / ``rate`` in a step of ``step`` (at most
+    ``MAX_SUBSTEPS``, which bounds a row's time)."""
+    return int(min(MAX_SUBSTEPS, max(1, math.ceil(step * rate / SUBSTEP))))
+
+
+def _converging_substeps(q: np.ndarray, n: np.ndarray, step: float) -> int:
+    """How many sub-steps a step of ``step`` off row ``q`` with normals ``n`` takes by the
+    converging lines alone (see :func:`_substeps`): checked before every sub-step, since the
+    lines under a concave wall converge faster as the row nears their focus, and a step split
+    by the rate at its start could carry the row past it (turned inside out)."""
+    return _count(step, _converging_rate(q, n))
+
+
 def _substeps(q: np.ndarray, step: float, topology: str, free: np.ndarray) -> int:
     """How many sub-steps a step of ``step`` off row ``q`` takes: each at most ``SUBSTEP`` of
     the distance in which the row's most converging neighbours would meet (their spacing
@@ -442,11 +475,9 @@ def _substeps(q: np.ndarray, step: float, topology: str, free: np.ndarray) -> in
     of the smallest spacing at the nodes ``free`` (the smoothing passes of each sub-step
     damp the rows' sawtooth; a blunt C-grid's base, smoothed from the wall on, is not free).
     A longer step crosses lines off a concave wall before any smoothing acts."""
-    n = _row_normals(q, topology)
-    e, dn = np.diff(q, axis=0), np.diff(n, axis=0)
-    rate = float(np.max(-np.einsum("ik,ik->i", dn, e) / np.einsum("ik,ik->i", e, e)))
+    rate = _converging_rate(q, _row_normals(q, topology))
     rate = max(rate, SPACING_RATE[topology] / float(_row_spacing(q, topology)[free].min()))
-    return int(min(MAX_SUBSTEPS, max(1, math.ceil(step * rate / SUBSTEP))))
+    return _count(step, rate)
 
 
 def _row_spacing(p: np.ndarray, topology: str) -> np.ndarray:

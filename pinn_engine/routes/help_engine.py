@@ -15,6 +15,7 @@ done."""
 from __future__ import annotations
 
 import atexit
+import contextlib
 import ctypes
 import os
 import sys
@@ -35,6 +36,7 @@ _FUNCTIONS = {
     # QString(const QChar *unicode, int size): a constructor, its object first
     "qstring": ("_ZN7QStringC1EPK5QChari", (_P, ctypes.c_char_p, ctypes.c_int), None),
 }
+_PREFIX = "pinn-mesh-help-"  # a GUI's help file: PREFIX<its process id>.qch, in the temp folder
 _REGISTERED = []  # the .qch registered with this process's help engine
 _KEPT = []  # what lives as long as the GUI: the file name's QString, the session observer
 
@@ -63,18 +65,37 @@ def _qstring(text: str):
     return qstring
 
 
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)  # no signal: only whether the process exists
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # another user's
+        return True
+    return True
+
+
+def _remove_ended(folder: Path) -> None:
+    """Remove the help files of GUIs that have ended: a GUI that is killed leaves its own."""
+    for old in folder.glob(f"{_PREFIX}*.qch"):
+        pid = old.stem.removeprefix(_PREFIX)
+        if pid.isdigit() and not _alive(int(pid)):
+            with contextlib.suppress(OSError):  # (another user's, in a shared folder)
+                old.unlink()
+
+
 def _register_now(write: Callable[[Path], None]) -> bool:
     """Write the .qch with ``write`` and register it, if the application core exists and it
     is not registered yet; whether it is registered."""
     core = _function("core")()
     if _REGISTERED or not core:
         return bool(_REGISTERED)
+    folder = Path(tempfile.gettempdir())
+    _remove_ended(folder)
+    path = folder / f"{_PREFIX}{os.getpid()}.qch"
     try:
-        handle, name = tempfile.mkstemp(prefix="pinn-mesh-help-", suffix=".qch")
-        os.close(handle)
-        path = Path(name)
-        atexit.register(path.unlink, missing_ok=True)  # as ParaView removes its own copies
         write(path)
+        atexit.register(path.unlink, missing_ok=True)  # as ParaView removes its own copies
     except OSError as exc:  # the filters work on without their help pages
         print(
             f"PINN Mesh plugin: its help pages were not written ({exc}); set TMPDIR to a "

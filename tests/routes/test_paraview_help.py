@@ -4,7 +4,9 @@ Python plugin's decorators write; nothing registered outside the GUI."""
 
 from __future__ import annotations
 
+import os
 import sqlite3
+import subprocess
 
 from pinn_engine.routes import help_engine, paraview_help
 
@@ -80,3 +82,16 @@ def test_write_help_gives_a_qch_of_the_pages(tmp_path):
         namespace = db.execute("SELECT Name FROM NamespaceTable").fetchone()[0]
     assert names == ["index.html", "filters.PINNThing.html"]
     assert namespace == paraview_help.NAMESPACE
+
+
+def test_the_help_files_of_ended_guis_are_removed(tmp_path):
+    ended = subprocess.Popen(["true"])
+    ended.wait()
+    for pid in (ended.pid, os.getpid()):
+        (tmp_path / f"pinn-mesh-help-{pid}.qch").write_bytes(b"")
+    (tmp_path / "pinn-mesh-help-notes.qch").write_bytes(b"")
+    help_engine._remove_ended(tmp_path)
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        f"pinn-mesh-help-{os.getpid()}.qch",
+        "pinn-mesh-help-notes.qch",
+    ]
