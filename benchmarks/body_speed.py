@@ -1,4 +1,4 @@
-"""Where an airfoil grid's seconds go (issue 33): the whole ``pinn-mesh`` command, its default
+"""Where an airfoil grid's seconds go: the whole ``pinn-mesh`` command, its default
 and ``--method elliptic``, stage by stage, beside Construct2D's whole run.
 
 Usage: ``.venv/bin/python benchmarks/body_speed.py [--runs 3] [--out docs/speed.md]``

@@ -1,5 +1,5 @@
-"""Where a body grid's network wins (issue 33): the network trained on every grid, as the
-default did before ``blocks.untrained.body_cannot_win``, and what its guard kept.
+"""Where a body grid's network wins: the network trained on every grid, also where the
+default does not train it (``blocks.untrained.body_cannot_win``), and what its guard kept.
 
 Usage::
 

@@ -29,6 +29,7 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -42,8 +43,10 @@ from pinn_engine.quality import guard_figures
 from pinn_engine.settings import Settings
 from pinn_engine.starts.quad_start import quad_start
 from pinn_engine.starts.untangle import untangle, untangled_report
-from pinn_engine.starts.volume_start import Start
 from pinn_engine.starts.warmstart import lattice_for
+
+if TYPE_CHECKING:  # a type only: the 3D solver (and SciPy) stay out of the 2D and body runs
+    from pinn_engine.starts.volume_start import Start
 
 WINSLOW = "the start already solves the Winslow equations the network trains on"
 QUALITY = "the start is the quality objective's own optimum on these nodes"
