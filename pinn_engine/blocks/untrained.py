@@ -45,7 +45,7 @@ from pinn_engine.starts.quad_start import quad_start
 from pinn_engine.starts.untangle import untangle, untangled_report
 from pinn_engine.starts.warmstart import lattice_for
 
-if TYPE_CHECKING:  # a type only: the 3D solver (and SciPy) stay out of the 2D and body runs
+if TYPE_CHECKING:
     from pinn_engine.starts.volume_start import Start
 
 WINSLOW = "the start already solves the Winslow equations the network trains on"
