@@ -36,9 +36,11 @@ from pinn_engine.hexa.surface import Surface, Topology, find_topology, surface_o
 from pinn_engine.io import fileio
 from pinn_engine.io.export.patches import BOX_SIDES, add_to_grid, named_patches, patch_specs
 from pinn_engine.settings import Settings
+from pinn_engine.starts.volume_start import Start, winslow_start
 
 if TYPE_CHECKING:
     from pinn_engine.blocks.hexa import HexaModel
+    from pinn_engine.blocks.untrained import VolumeStartModel
     from pinn_engine.neural.trainer import Progress
 
 FACE_IDS = "FaceIds"  # field data: the input's FaceId of imin ... kmax
@@ -47,17 +49,18 @@ FACE_IDS = "FaceIds"  # field data: the input's FaceId of imin ... kmax
 @dataclass
 class HexResult:
     """The grid (ni, nj, nk, 3), its cell arrays, the run's seconds, the Winslow solve's
-    Picard steps, for pinn the trained model (blocks/hexa.py's HexaModel), the input face
-    of each side and the sides' patch names and types."""
+    Picard steps, for pinn its map (the trained HexaModel, or the untrained start's), the
+    input face of each side, the sides' patch names and types and the seconds per stage."""
 
     grid: np.ndarray
     cells: dict[str, np.ndarray]
     seconds: float
     iterations: int
     walls: dict[str, tuple[float, float, float]] = field(default_factory=dict)
-    model: HexaModel | None = None
+    model: HexaModel | VolumeStartModel | None = None
     faces: dict[str, int] = field(default_factory=dict)  # side -> the input's FaceId
     patches: tuple[tuple[str, ...], tuple[str, ...]] = patch_specs(None, sides=BOX_SIDES)
+    timings: dict[str, float] = field(default_factory=dict)  # seconds per stage
 
 
 def boundary_map(
@@ -91,10 +94,15 @@ def boundary_map(
                 (tuple(at), [a, b], FaceMap(surface, topology.face_triangles[face], sides), face)
             )
 
+    last: list[np.ndarray] = []  # the last parameters and their grid: runs ask for them again
+
     def boundary(params: np.ndarray) -> np.ndarray:
+        if last and last[0].shape == params.shape and np.array_equal(last[0], params):
+            return last[1].copy()
         g = np.zeros(params.shape)
         for at, axes, face, _ in faces:
             g[at] = face.grid(params[at][..., axes])
+        last[:] = [params.copy(), g.copy()]
         return g
 
     return boundary, tuple(face for *_, face in faces)
@@ -216,58 +224,79 @@ def mesh_polydata(
     method, size = settings.method, settings.size
     spacing, orthogonal = dict(settings.spacing), settings.orthogonal
     began = time.perf_counter()
+    timings: dict[str, float] = {}
+
+    def lap(stage: str) -> None:
+        """Record the seconds since the last stage as ``stage``'s."""
+        timings[stage] = time.perf_counter() - began - sum(timings.values())
+
     tell(0.0, "face grids")
     surface = surface_of(data, source, sharp_edges, settings.face_angle)
     topology = find_topology(surface, source)
     boundary, sides = boundary_map(surface, topology, source)
     faces = face_names(surface, sides)
     named = named_patches(patches, faces)
-    uniform = node_params(size, {})
-    base = volume.tfi(boundary(uniform), uniform)
+    base = tfi_at(boundary, node_params(size, {}))
     check_spacing(spacing, base)
+    lap("faces")
     model = None
-    if method == "pinn":  # torch only for the network
-        from pinn_engine.blocks.hexa import HexaModel, Start, train, winslow_start
+    if method == "pinn":  # the elliptic and tfi runs import no training modules
+        from pinn_engine.blocks.untrained import VolumeStartModel, cannot_win
 
         @cache  # the start's lattice is often the grid's own size
         def tfi_of(shape: tuple[int, ...]) -> np.ndarray:
             """The TFI grid of ``shape`` nodes, its faces exactly the face grids."""
-            return tfi_at(boundary, node_params(shape, {}))
+            return base if shape == tuple(size) else tfi_at(boundary, node_params(shape, {}))
 
         tell(0.2, "network")
         key = surface_key(surface)
-        if load_model:
+        reason = None if load_model else cannot_win(settings)
+        tfi = base
+        if reason:  # the start's map: no network, no torch
+            start = winslow_start(tfi_of, size)
+            lap("start")
+            model = VolumeStartModel.of(start, settings, key, reason, timings["start"])
+        elif load_model:
+            from pinn_engine.blocks.hexa import HexaModel  # torch: only for a saved network
+
             if spacing or orthogonal:
                 raise InputError(
                     "--load-model with --spacing or --orthogonal: a saved map keeps the "
                     "spacing and walls it was trained with; drop them, or train anew"
                 )
-            model, tfi = HexaModel.load(load_model, key), tfi_of(size)
-        elif spacing or orthogonal:  # the elliptic grid with them, at the full size
-            params, grid, _ = _classical(boundary, "elliptic", spacing, orthogonal, base)
-            tfi = tfi_at(boundary, params)
-            start = Start(
-                tfi,
-                grid,
-                params if spacing else None,
-                partial(spacing_error, spacing=spacing) if spacing else None,
-                tuple((PATCH_AXIS[p][0], float(PATCH_AXIS[p][1] != 0)) for p in orthogonal),
-                partial(wall_angle, patches=orthogonal) if orthogonal else None,
-            )
-            model = train(start, key, settings, training)
+            model = HexaModel.load(load_model, key)
+            lap("start")
         else:
-            start, tfi = winslow_start(tfi_of, size), tfi_of(size)
+            from pinn_engine.blocks.hexa import train  # torch: imported only to train
+
+            if spacing or orthogonal:  # the elliptic grid with them, at the full size
+                params, grid, _ = _classical(boundary, "elliptic", spacing, orthogonal, base)
+                tfi = tfi_at(boundary, params)
+                start = Start(
+                    tfi,
+                    grid,
+                    params if spacing else None,
+                    partial(spacing_error, spacing=spacing) if spacing else None,
+                    tuple((PATCH_AXIS[p][0], float(PATCH_AXIS[p][1] != 0)) for p in orthogonal),
+                    partial(wall_angle, patches=orthogonal) if orthogonal else None,
+                )
+            else:
+                start = winslow_start(tfi_of, size)
+            lap("start")
             model = train(start, key, settings, training)
         g, steps = model.grid(tfi), 0
+        lap("training")
     else:
         if method == "elliptic":
             tell(0.3, "3D Winslow")
         _, g, steps = _classical(boundary, method, spacing, orthogonal, base)
+        lap("volume")
     tell(0.9, "quality")
     cells = cell_arrays(g)
     walls = wall_figures(g, spacing, orthogonal)
+    lap("quality")
     seconds = time.perf_counter() - began
-    return HexResult(g, cells, seconds, steps, walls, model, faces, named)
+    return HexResult(g, cells, seconds, steps, walls, model, faces, named, timings)
 
 
 def wall_figures(
@@ -327,8 +356,8 @@ def figures(cells: dict[str, np.ndarray]) -> dict[str, float]:
 
 def report(result: HexResult, method: str) -> dict:
     """What the grid's field data ``Report`` holds: method, size, the input's FaceId of each
-    of imin ... kmax (``faces``), cells, seconds, Picard
-    steps, :func:`figures` as ``quality``, per patch with a spacing or orthogonality its
+    of imin ... kmax (``faces``), cells, seconds (and per stage, ``timings``), Picard steps,
+    :func:`figures` as ``quality``, per patch with a spacing or orthogonality its
     ``walls`` figures (:func:`wall_figures`, in the multi-block report's keys) and the
     pinn's ``training`` (the trainer's info)."""
     walls = {
@@ -341,6 +370,7 @@ def report(result: HexResult, method: str) -> dict:
         "faces": dict(result.faces),
         "cells": int(result.cells["Folded"].size),
         "seconds": result.seconds,
+        "timings": dict(result.timings),
         "iterations": result.iterations,
         "quality": figures(result.cells),
         **({"walls": walls} if walls else {}),

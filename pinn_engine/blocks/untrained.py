@@ -7,8 +7,10 @@ untangled, where nothing better exists on those nodes without folds), and under 
 objective it is that objective's own optimum on the nodes. Without another term the network
 has nothing to win, and its guard has always ended with the start, or with a state that moves
 nodes by discretisation error only (docs/speed.md). :func:`cannot_win` says so before any
-network is built or torch imported; the block's map is then its start (:class:`StartModel`),
-the map a trained model has with its output layer at zero.
+network is built or torch imported; the block's map is then its start (:class:`StartModel`,
+:class:`VolumeStartModel` for a six-faced 3D block, whose network trains the 3D Winslow
+equations alone unless a patch has a spacing or is orthogonal), the map a trained model has
+with its output layer at zero.
 
 A body's (O- or C-grid's) network corrects its elliptic start by a bubble eta^3 (1 - eta)
 times a smooth function of the grid's indices, and its guard keeps only a grid with no more
@@ -27,6 +29,7 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -35,11 +38,15 @@ from pinn_engine.classical.warm import WarmStart
 from pinn_engine.geometry.auxlines import AuxLine
 from pinn_engine.geometry.boundary import Boundary
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
+from pinn_engine.hexa.field import LatticeField
 from pinn_engine.quality import guard_figures
 from pinn_engine.settings import Settings
 from pinn_engine.starts.quad_start import quad_start
 from pinn_engine.starts.untangle import untangle, untangled_report
 from pinn_engine.starts.warmstart import lattice_for
+
+if TYPE_CHECKING:
+    from pinn_engine.starts.volume_start import Start
 
 WINSLOW = "the start already solves the Winslow equations the network trains on"
 QUALITY = "the start is the quality objective's own optimum on these nodes"
@@ -133,6 +140,46 @@ class StartModel:
         from pinn_engine.blocks.quad import untrained_model
 
         return untrained_model(self.boundary, self.warm, self.settings, self.info).save(path)
+
+
+@dataclass
+class VolumeStartModel:
+    """A six-faced block's map where its network is not trained: the 3D TFI of the face
+    grids plus the start's correction (a spline through it where the grid is finer than the
+    start's lattice), the network's part zero."""
+
+    correction: LatticeField
+    settings: Settings
+    info: dict
+    surface_key: str
+    history: dict = field(default_factory=dict)
+
+    @classmethod
+    def of(cls, start: Start, settings: Settings, surface_key: str, reason: str, seconds: float):
+        """The map of ``start`` (the Winslow grid of the surface of ``surface_key``, solved in
+        ``seconds``) and what the report says about it: not trained, and why (``reason``)."""
+        info = {
+            "result": "start",
+            "start": "elliptic",
+            "skipped": reason,
+            "largest_node_move": 0.0,
+            "adam_epochs": 0,
+            "lbfgs_iterations": 0,
+            "guard": {"lattice": list(start.grid.shape[:3])},
+            "timings": {"start": seconds, "training": 0.0},
+        }
+        return cls(LatticeField(start.grid - start.tfi), settings, info, surface_key)
+
+    def grid(self, tfi: np.ndarray) -> np.ndarray:
+        """The grid (ni, nj, nk, 3) whose faces are those of ``tfi`` (the 3D TFI of the face
+        grids at the wanted size)."""
+        return tfi + self.correction.at_nodes(tfi.shape[:3])
+
+    def save(self, path: str | os.PathLike) -> None:
+        """Saved as the trained model it equals: the seeded network, its output layer zero."""
+        from pinn_engine.blocks.hexa import untrained_model
+
+        untrained_model(self.correction, self.settings, self.info, self.surface_key).save(path)
 
 
 def start_block(start: np.ndarray, reason: str) -> tuple[np.ndarray, dict]:

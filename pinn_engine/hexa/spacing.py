@@ -121,15 +121,19 @@ def tfi_at(boundary: Callable[[np.ndarray], np.ndarray], params: np.ndarray) -> 
     consistently only when each direction's parameters are the same on every line, so: TFI
     at each direction's mean distribution, each line's nodes moved along it to their own
     parameters, and the six faces set to the face grids at the nodes' parameters."""
-    common = []
+    common, spread = [], 0.0
     for axis in range(3):
         others = tuple(a for a in range(3) if a != axis)
         common.append(params[..., axis].mean(axis=others))
+        spread = max(spread, float(np.ptp(params[..., axis], axis=others).max()))
     mean = np.stack(np.meshgrid(*common, indexing="ij"), axis=-1)
-    g = volume.tfi(boundary(mean), mean)
-    for axis in range(3):
-        g = _along(g, axis, common[axis], params[..., axis])
     faces = boundary(params)
+    if spread == 0.0:  # every line has the same parameters: the Boolean sum at them
+        g = volume.tfi(faces, params)
+    else:
+        g = volume.tfi(boundary(mean), mean)
+        for axis in range(3):
+            g = _along(g, axis, common[axis], params[..., axis])
     for axis in range(3):
         for end in (0, -1):
             at = tuple(end if a == axis else slice(None) for a in range(3))

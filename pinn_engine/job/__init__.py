@@ -3,12 +3,11 @@ geometry)``.
 
 Every route (the command line and its batches, the VTK algorithms, and through them pyvista
 and ParaView) builds a :class:`~pinn_engine.settings.Settings`, turns its inputs into a
-geometry by the adapter of their kind (from files or from VTK data: :class:`Geometry` of a
-four-sided domain or a body, :class:`BlocksGeometry` of a multi-block domain,
-:class:`HexaGeometry` of a six-faced 3D domain) and calls
-:func:`run`, which meshes it by its kind's pipeline and returns one :class:`Outcome`. What
-differs between routes is only how they read inputs and present the outcome, in their own
-words.
+geometry by the adapter of their kind (:func:`kind_of` names it; from files or from VTK
+data: :class:`Geometry` of a four-sided domain or a body, :class:`BlocksGeometry` of a
+multi-block domain, :class:`HexaGeometry` of a six-faced 3D domain) and calls :func:`run`,
+which meshes it by its kind's pipeline and returns one :class:`Outcome`. What differs
+between routes is only how they read inputs and present the outcome, in their own words.
 """
 
 from __future__ import annotations

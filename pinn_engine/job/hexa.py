@@ -10,8 +10,9 @@ from pathlib import Path
 
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 
+from pinn_engine.errors import SettingsError
 from pinn_engine.job.outcome import Outcome
-from pinn_engine.settings import Settings
+from pinn_engine.settings import Settings, hexa_size_problem
 
 PERCENT = 100  # a stage's progress dict counts the share of the run done in per cent
 
@@ -58,6 +59,10 @@ def run_hexa(
     evaluate instead of training."""
     from pinn_engine.hexamesh import hexa_grid, mesh_polydata, report
 
+    problem = hexa_size_problem(settings.size)
+    if problem:
+        raise SettingsError(f"size {settings.size}: {problem} (make_settings(..., size=...))")
+
     def stage(fraction: float, phase: str) -> None:
         if progress is not None:
             step = round(fraction * PERCENT)
@@ -76,7 +81,7 @@ def run_hexa(
     method = settings.method
     nodes = result.grid.transpose(2, 1, 0, 3)  # (ni, nj, nk, 3) as VTK orders them: i fastest
     history = result.model.history if result.model else {}
-    trained = method == "pinn" and model is None
+    trained = model is None and result.model is not None and not result.model.info.get("skipped")
     return Outcome(
         "hexa",
         hexa_grid(result, method),

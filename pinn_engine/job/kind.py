@@ -7,14 +7,13 @@ from collections.abc import Sequence
 
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 
+from pinn_engine.hexa.surface import FACE_ARRAY, is_faced_surface
 from pinn_engine.settings import HEXA_SIZE
 
 
 def _faced(boundary: str | os.PathLike | vtkPolyData | None) -> bool:
     """Whether ``boundary`` is a six-faced domain's surface: a file (an ``.stl``, or a
     ``.vtp``/``.vtk`` naming a FaceId array) or VTK data with a FaceId cell array."""
-    from pinn_engine.hexa.surface import FACE_ARRAY, is_faced_surface
-
     if isinstance(boundary, vtkPolyData):
         return boundary.GetCellData().GetArray(FACE_ARRAY.decode()) is not None
     return boundary is not None and is_faced_surface(boundary)

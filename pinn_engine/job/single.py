@@ -13,7 +13,8 @@ from vtkmodules.vtkCommonDataModel import vtkPolyData
 from pinn_engine.cache import MeshCache
 from pinn_engine.errors import InputError
 from pinn_engine.job.outcome import Outcome
-from pinn_engine.settings import NEURAL, Settings
+from pinn_engine.mesher import Mesher
+from pinn_engine.settings import DEFAULT_SIZE, NEURAL, Settings
 
 # A curve that fails as a four-sided boundary is called a body (and the user pointed to the
 # O- and C-grids) when its ends are at most this share of its size apart (a blunt trailing
@@ -174,21 +175,19 @@ def run_single(
     cache: MeshCache | None = None,
     model: str | os.PathLike | None = None,
 ) -> Outcome:
-    """Mesh ``geometry`` at ``settings.size`` nodes: a four-sided block through the
-    fitted-network ``cache`` (or the saved model at ``model``, evaluated on this boundary),
-    a body through its block kind."""
+    """Mesh ``geometry`` at ``settings.size`` nodes (default ``DEFAULT_SIZE``): a four-sided
+    block through the fitted-network ``cache`` (or the saved model at ``model``, evaluated on
+    this boundary), a body through its block kind."""
     from pinn_engine.bodymesh import mesh_body
     from pinn_engine.io.export import patch_names
     from pinn_engine.io.export.patches import body_patch_names as body_patches
     from pinn_engine.io.pipeline import to_vtk
 
-    ni, nj = settings.size
+    ni, nj = settings.size or DEFAULT_SIZE
     if settings.topology == "none":
         names = patch_names(geometry.patches)  # refused before meshing, not after
         trained = False
         if model is not None:
-            from pinn_engine.mesher import Mesher
-
             mesher = Mesher.load(model, geometry.boundary)
         else:
             cache = cache if cache is not None else MeshCache(capacity=1)

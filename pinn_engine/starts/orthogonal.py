@@ -41,6 +41,7 @@ from pinn_engine.classical.elliptic import (
     winslow_solve,
 )
 from pinn_engine.classical.shear import shear_weights
+from pinn_engine.classical.spacing import ACROSS
 from pinn_engine.errors import WALL_ANGLE_TOL
 from pinn_engine.neural.losses import corner_angles, loss_orthogonal
 from pinn_engine.quality import (
@@ -51,6 +52,7 @@ from pinn_engine.quality import (
     shortest_edges,
     side_report,
     summary,
+    wall_and_row,
 )
 
 SIDES = ("bottom", "right", "top", "left")
@@ -106,16 +108,6 @@ MIN_NODES = 5
 PARALLEL_SINE = 1e-12
 
 
-def _wall_and_row(g, side: str):
-    """Views of a side's nodes and of the first row or column inside it."""
-    return {
-        "bottom": (g[0], g[1]),
-        "top": (g[-1], g[-2]),
-        "left": (g[:, 0], g[:, 1]),
-        "right": (g[:, -1], g[:, -2]),
-    }[side]
-
-
 def _chord_tangents(wall):
     """Tangents of a side at its nodes as the wall angle measures them: central chords,
     one-sided at the ends (works on numpy arrays and torch tensors)."""
@@ -125,19 +117,10 @@ def _chord_tangents(wall):
     return cat([ends[0], inner, ends[1]])
 
 
-# the sides at the first and the last node of each side's row of nodes
-_ENDS = {
-    "bottom": ("left", "right"),
-    "top": ("left", "right"),
-    "left": ("bottom", "top"),
-    "right": ("bottom", "top"),
-}
-
-
 def _free(side: str, sides: tuple[str, ...], n: int) -> slice:
     """The nodes of a side whose first row is set: all but the corners, and but the node
     next to a corner whose other side is orthogonal too (it belongs to both rows)."""
-    first, last = _ENDS[side]
+    first, last = ACROSS[side]
     return slice(2 if first in sides else 1, n - (2 if last in sides else 1))
 
 
@@ -159,7 +142,7 @@ _INSIDE = {"bottom": 1.0, "right": 1.0, "top": -1.0, "left": -1.0}
 def _inward_normals(g: np.ndarray, side: str) -> np.ndarray:
     """Unit normals of a side at its nodes, into the domain (nodes, 2); the grid's orientation
     says which way that is (a folded cell at a wall does not turn its normal round)."""
-    t = _chord_tangents(_wall_and_row(g, side)[0])
+    t = _chord_tangents(wall_and_row(g, side)[0])
     t = t / np.linalg.norm(t, axis=1, keepdims=True)
     return np.column_stack([-t[:, 1], t[:, 0]]) * (_INSIDE[side] * orientation(g))
 
@@ -213,7 +196,7 @@ def normal_rows(
     normals = {side: _inward_normals(out, side) for side in sides}
     shared: dict[tuple[int, int], list[tuple]] = {}  # node: (turn, place, distance)
     for side in sides:
-        wall, row = _wall_and_row(out, side)
+        wall, row = wall_and_row(out, side)
         k = _free(side, sides, len(wall))
         moved = np.zeros(len(wall), dtype=bool)
         moved[k] = True
@@ -228,7 +211,7 @@ def normal_rows(
         h = np.where(moved, heights.get(side, h), np.inf)
         h = row_heights(wall, ways, h) if limit else h
         row[k] = wall[k] + h[k, None] * ways[k]
-        for end, other in zip((1, -2), _ENDS[side]):  # the nodes next to the corners
+        for end, other in zip((1, -2), ACROSS[side]):  # the nodes next to the corners
             node = _row_node(side, end)
             if other not in sides:  # turned part way, or all the way if its cells are better
                 full = wall[end] + h[end] * normals[side][end]
@@ -462,7 +445,7 @@ def _wall_term(g: torch.Tensor, sides: tuple[str, ...]) -> torch.Tensor:
     nodes of ``sides`` but the two nearest each corner."""
     leave, tangent = [], []
     for side in sides:
-        wall, row = _wall_and_row(g, side)
+        wall, row = wall_and_row(g, side)
         leave.append((row - wall)[2:-2])
         tangent.append(_chord_tangents(wall)[2:-2])
     return loss_orthogonal(torch.cat(leave), torch.cat(tangent))
@@ -478,7 +461,7 @@ def _to_move(grid: np.ndarray, sides: tuple[str, ...], reach: int) -> np.ndarray
             nodes[dj : dj + cells.shape[0], di : di + cells.shape[1]] |= cells
     angles = grid_lines_angle(grid)
     for side in sides:
-        _, row = _wall_and_row(nodes, side)
+        _, row = wall_and_row(nodes, side)
         row[2:-2] |= angles[side][2:-2] > REPAIR_WALL_TARGET
     return binary_dilation(nodes, iterations=reach)[1:-1, 1:-1]
 

@@ -24,6 +24,7 @@ from pinn_engine.blocks.untrained import (
 from pinn_engine.bodies.airfoil import circle, load_body
 from pinn_engine.bodies.bodygrid import elliptic, layout
 from pinn_engine.bodymesh import mesh_body
+from pinn_engine.hexamesh import mesh_surface
 from pinn_engine.io.pipeline import load_aux, load_boundary
 from pinn_engine.mesher import Mesher
 from pinn_engine.routes.cli import main
@@ -138,3 +139,27 @@ def test_an_untrained_body_grid_is_the_start_its_trained_network_kept():
     assert out.stdout.strip() == "False", out.stderr
     coarse = layout(body, far, "c", *size)  # the default first layer: cells of aspect 2
     assert body_cannot_win(settings, coarse.wall_aspect()) is None
+
+
+def test_a_hexahedral_pinn_whose_network_cannot_win_keeps_its_start(tmp_path):
+    """Without a spacing or orthogonal patch the six-faced pinn's map is the elliptic run's
+    grid, untrained and without torch; the report says why and times the stages."""
+    surface = EXAMPLES / "hexa_bump_box.vtp"
+    size = (7, 6, 5)
+    runs = {
+        m: mesh_surface(str(surface), make_settings(m, size=size)) for m in ("elliptic", "pinn")
+    }
+    np.testing.assert_allclose(runs["pinn"].grid, runs["elliptic"].grid, atol=1e-12)
+    assert runs["pinn"].model.info["skipped"] == WINSLOW
+    written = tmp_path / "r.json"
+    code = (
+        "import sys, json; from pinn_engine.routes.cli import main;"
+        f"main([{str(surface)!r}, '--size', '7', '6', '5', '-o', {str(tmp_path / 'g.vts')!r},"
+        f" '--report', {str(written)!r}, '--quiet']);"
+        "print('torch' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert out.stdout.strip() == "False", out.stderr
+    report = json.loads(written.read_text())
+    assert report["training"]["skipped"] == WINSLOW
+    assert set(report["timings"]) >= {"read", "faces", "start", "training", "quality", "write"}

@@ -64,6 +64,7 @@ def test_an_stl_surface_is_split_at_face_angle_and_a_curve_is_pointed_to_the_2d_
 @pytest.mark.slow
 def test_an_abort_request_stops_the_hexahedral_training_with_its_best_grid():
     alg = _hexa(pv.read(EXAMPLES / "hexa_bend.vtp"), "pinn")
+    alg.SetOrthogonal("kmin")  # a term the Winslow start leaves to win: the network trains
 
     asked = []
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import time
 from pathlib import Path
 
 from pinn_engine.errors import PinnMeshError, grid_warnings
@@ -49,12 +50,16 @@ def run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
         )
     check_options(args)
     settings = settings_from(args, args.size)
+    began = time.perf_counter()
     geometry = job.hexa_from_file(args.boundary, args.patch or None)
+    read = time.perf_counter() - began
     outcome = job.run(settings, geometry, model=args.load_model)
     if args.save_model:
         save_model(outcome.model, args.save_model, written)
+    began = time.perf_counter()
     export.write(outcome.data, out, args.format)
     written.append(out)
+    outcome.report["timings"].update(read=read, write=time.perf_counter() - began)
     if args.report:
         write_report(args.report, outcome.report, written)
     if not args.quiet:
