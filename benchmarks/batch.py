@@ -166,6 +166,7 @@ def small(work: Path, repeat: int, against: Path | None) -> None:
                     check=True,
                     capture_output=True,
                     env=env,
+                    cwd=checkout,  # Dask's workers import from their folder first
                 )
                 wall = time.perf_counter() - start
                 times.setdefault((name, workers), []).append(wall)

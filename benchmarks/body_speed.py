@@ -1,4 +1,4 @@
-"""Where an airfoil grid's seconds go (issue 33): the whole ``pinn-mesh`` command, its default
+"""Where an airfoil grid's seconds go: the whole ``pinn-mesh`` command, its default
 and ``--method elliptic``, stage by stage, beside Construct2D's whole run.
 
 Usage: ``.venv/bin/python benchmarks/body_speed.py [--runs 3] [--out docs/speed.md]``
@@ -12,6 +12,11 @@ whether it can win, and where it can, torch's import and the training), the qual
 and writing the grid. The rest of the command's wall time is Python's start and the imports.
 Runs alternate between the tools; the table shows the median run of each (by wall time).
 With ``--out`` the table replaces the part of that page between the BODY-STAGES markers.
+
+``--in-process N`` times instead the grid's own work in this process, the CPU seconds of the
+layout (``bodygrid.layout``: the wall's nodes and the marched reference grid) and of the
+elliptic sweeps (``bodygrid.elliptic``), the best of N runs each: figures that other work
+on the cores disturbs less than wall times.
 """
 
 from __future__ import annotations
@@ -45,6 +50,28 @@ def run(args: list[str], report: Path) -> dict[str, float]:
     return {"wall": wall, **stages, "start-up": wall - sum(stages.values())}
 
 
+def in_process(args: list[str], runs: int) -> tuple[float, float]:
+    """The best CPU seconds of the layout and of the elliptic sweeps of the job ``args``
+    (pinn-mesh's arguments: the file, then ``--topology``, ``--size``, ``--spacing
+    bottom=H`` and ``--farfield``)."""
+    from pinn_engine.bodies import bodygrid
+    from pinn_engine.bodies.airfoil import circle, load_body
+
+    option = {args[k]: args[k + 1 : k + 3] for k in range(1, len(args)) if args[k][:2] == "--"}
+    body = load_body(args[0])
+    far = circle(body, float(option["--farfield"][0]))
+    ni, nj = map(int, option["--size"])
+    wall = float(option["--spacing"][0].split("=")[1])
+    best = [float("inf"), float("inf")]
+    for _ in range(runs):
+        start = time.process_time()
+        lay = bodygrid.layout(body, far, option["--topology"][0], ni, nj, wall)
+        laid = time.process_time()
+        bodygrid.elliptic(lay)
+        best = [min(best[0], laid - start), min(best[1], time.process_time() - laid)]
+    return best[0], best[1]
+
+
 def table(rows: list[tuple[str, str, dict[str, float], float]], runs: int, load: tuple) -> str:
     """The Markdown table: a row a job and method, its stages and Construct2D's time."""
     head = ("wall", "start-up", *STAGES)
@@ -65,7 +92,14 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--runs", type=int, default=3, help="runs of each tool on each job")
     parser.add_argument("--out", type=Path, help="the page whose BODY-STAGES table to replace")
+    parser.add_argument("--in-process", type=int, metavar="N", help="the grid's own CPU seconds")
     opts = parser.parse_args()
+    if opts.in_process:
+        with tempfile.TemporaryDirectory(prefix="pinn-mesh-body-speed-") as scratch:
+            for name, args, _ in airfoil_jobs(Path(scratch)):
+                layout, elliptic = in_process(args, opts.in_process)
+                print(f"{name:28s} layout {layout:.3f} s, elliptic {elliptic:.3f} s (CPU)")
+        return
     before = os.getloadavg()[0]
     rows = []
     with tempfile.TemporaryDirectory(prefix="pinn-mesh-body-speed-") as scratch:

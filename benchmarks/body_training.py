@@ -1,16 +1,16 @@
-"""Where a body grid's network wins (issue 33): the network trained on every grid, as the
-default did before ``blocks.untrained.body_cannot_win``, and what its guard kept.
+"""Where a body grid's network wins: the network trained on every grid, also where the
+default does not train it (``blocks.untrained.body_cannot_win``), and what its guard kept.
 
 Usage::
 
-    .venv/bin/python benchmarks/body_training.py [--set shared/airfoils] [--half tuning]
-        [--first 1e-5 ...] [--naca 0012 4412] [--limit N]
+    .venv/bin/python benchmarks/body_training.py [FILE.dat ...] [--set shared/airfoils]
+        [--half tuning] [--first 1e-5 ...] [--naca 0012 4412] [--limit N]
 
-Each airfoil (the ``.dat`` files of ``--set``, of one half if given, and the NACA sections
-``--naca``, sharp) is meshed as an O-grid of 250 x 80 and a C-grid of 300 x 80 nodes, far
-field 15 chords, at each first layer ``--first`` (chords; ``default``: the default first
-layer), by the elliptic method, then its network is trained from that grid
-(``blocks.body.train_body``, the default settings). Per grid: its wall cells' aspect ratio
+Each airfoil (the files given, the ``.dat`` files of ``--set``, of one half if given, and
+the NACA sections ``--naca``, sharp) is meshed as an O-grid of 250 x 80 and a C-grid of
+300 x 80 nodes, far field 15 chords, at each first layer ``--first`` (chords; ``default``:
+the default first layer), by the elliptic method, then its network is trained from that
+grid (``blocks.body.train_body``, the default settings). Per grid: its wall cells' aspect ratio
 (``Layout.wall_aspect``), whether the guard kept the network's grid or the start, and the
 mean and worst MaxIncludedAngle before and after. The summary counts the grids whose
 network's grid was kept, by the aspect ratio's side of ``untrained.THIN_WALL``.
@@ -70,6 +70,7 @@ def grids(path: Path, first: list[str]) -> list[dict]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("files", nargs="*", type=Path, help="airfoil .dat files")
     parser.add_argument("--set", type=Path, help="a folder of airfoil .dat files")
     parser.add_argument("--half", choices=("tuning", "report"), help="only this half of --set")
     parser.add_argument("--limit", type=int, help="only the first LIMIT files of --set")
@@ -78,6 +79,7 @@ def main() -> None:
     opts = parser.parse_args()
     files = sorted(opts.set.glob("*.dat")) if opts.set else []
     files = [f for f in files if not opts.half or half(f.name) == opts.half][: opts.limit]
+    files = [*opts.files, *files]
     rows = []
     with tempfile.TemporaryDirectory() as scratch:
         for code in opts.naca:
