@@ -258,9 +258,11 @@ def write_block(path: str, name: str, lines: list[str]) -> None:
 
 def real_set(args: argparse.Namespace) -> int:
     """``--set``: the real files' pass rates beside Construct2D (benchmarks/airfoil_set.py)."""
-    from airfoil_set import run, table
+    from airfoil_set import run_in_processes, table
 
-    rows = run(Path(args.set), args.construct2d, args.method, args.half, args.limit)
+    rows = run_in_processes(
+        Path(args.set), args.construct2d, args.method, args.half, args.limit, args.jobs
+    )
     lines = table(rows, args.method)
     print("\n".join(lines))
     if args.write:
@@ -287,6 +289,9 @@ def main() -> int:
     p.add_argument("--method", default="pinn", help="pinn-mesh's method for --set")
     p.add_argument("--half", choices=("tuning", "report"), help="only this half of --set")
     p.add_argument("--limit", type=int, help="only the first LIMIT files of --set (a quick run)")
+    p.add_argument(
+        "--jobs", type=int, default=1, help="--set's files split over JOBS processes (default 1)"
+    )
     args = p.parse_args()
     if not args.construct2d:
         print("construct2d not found: build it (make) and pass --construct2d PATH", file=sys.stderr)

@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import argparse
 import multiprocessing
+import os
+import signal
 from collections import Counter
 from collections.abc import Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
@@ -24,6 +26,7 @@ from pinn_engine.batch import warm
 # is then a small share of the batch and whose dashboard shows its progress)
 SMALL_BATCH = 24
 ALLOWED_FAILURES = 3  # Dask's default for a task whose workers die (allowed-failures)
+INTERRUPTED = 130  # a worker's exit status on Ctrl-C: the shell's 128 + SIGINT
 Todo = list[tuple[str, argparse.Namespace]]
 
 _started = None  # in a worker: the queue on which it names each case it starts
@@ -36,9 +39,12 @@ def small(cases: int, scheduler: str | None) -> bool:
 
 
 def _setup(started) -> None:
-    """A pool worker's set-up: the queue it names its cases on, then as a Dask worker's."""
+    """A pool worker's set-up: the queue it names its cases on, then as a Dask worker's. A
+    Ctrl-C (which reaches every process of the terminal's group) ends it quietly: the batch
+    stops, and says so, in its own process."""
     global _started
     _started = started
+    signal.signal(signal.SIGINT, lambda signum, frame: os._exit(INTERRUPTED))
     warm.setup_worker()
 
 
@@ -101,6 +107,10 @@ class WarmPool:
                     names.add(started.get())
                 for name in (names or set(todo)) - finished:
                     deaths[name] += 1
+        except BaseException:  # interrupted, or the caller stopped asking: drop the cases
+            for process in list((getattr(pool, "_processes", None) or {}).values()):
+                process.kill()
+            raise
         finally:
             pool.shutdown(wait=True, cancel_futures=True)
             started.close()

@@ -401,15 +401,22 @@ def march(
                 q[0], q[-1] = inner[0] + (0, -step), inner[-1] + (0, step)
             rows.append(q)
             continue
-        subs = _substeps(q, step, topology, free)
-        start, length, k = distances[j - 1], step, 0
+        n = _row_normals(q, topology)
+        subs, rate = _substeps(q, n, step, topology, free)
+        start, length, k, marched = distances[j - 1], step, 0, 0.0
         while k < subs:
-            n = _row_normals(q, topology)
-            more = _converging_substeps(q, n, length * (subs - k) / subs)
-            if more > subs - k:  # the lines converge faster than at the step's start
-                start, length = start + length * k / subs, length * (subs - k) / subs
-                subs, k = min(more, MAX_SUBSTEPS), 0
+            if k:
+                n = _row_normals(q, topology)
+            if rate > 0 and marched > 1 / rate - length / subs / SUBSTEP:
+                # the row may have neared the converging lines' focus (1 / rate ahead at
+                # the last check): the rest of the step re-split if they converge faster
+                rate, marched = _converging_rate(q, n), 0.0
+                more = _count(length * (subs - k) / subs, rate)
+                if more > subs - k:
+                    start, length = start + length * k / subs, length * (subs - k) / subs
+                    subs, k = min(more, MAX_SUBSTEPS), 0
             k += 1
+            marched += length / subs
             d = start + length * k / subs
             grow = 1 - math.exp(-d / (NORMAL_REACH * scale))
             weight = grow if corner is None else np.maximum(corner, grow)
@@ -460,24 +467,21 @@ def _count(step: float, rate: float) -> int:
     return int(min(MAX_SUBSTEPS, max(1, math.ceil(step * rate / SUBSTEP))))
 
 
-def _converging_substeps(q: np.ndarray, n: np.ndarray, step: float) -> int:
-    """How many sub-steps a step of ``step`` off row ``q`` with normals ``n`` takes by the
-    converging lines alone (see :func:`_substeps`): checked before every sub-step, since the
-    lines under a concave wall converge faster as the row nears their focus, and a step split
-    by the rate at its start could carry the row past it (turned inside out)."""
-    return _count(step, _converging_rate(q, n))
-
-
-def _substeps(q: np.ndarray, step: float, topology: str, free: np.ndarray) -> int:
+def _substeps(
+    q: np.ndarray, n: np.ndarray, step: float, topology: str, free: np.ndarray
+) -> tuple[int, float]:
     """How many sub-steps a step of ``step`` off row ``q`` takes: each at most ``SUBSTEP`` of
     the distance in which the row's most converging neighbours would meet (their spacing
     over the rate at which their normals close it), and at most ``SUBSTEP / SPACING_RATE``
     of the smallest spacing at the nodes ``free`` (the smoothing passes of each sub-step
     damp the rows' sawtooth; a blunt C-grid's base, smoothed from the wall on, is not free).
-    A longer step crosses lines off a concave wall before any smoothing acts."""
-    rate = _converging_rate(q, _row_normals(q, topology))
-    rate = max(rate, SPACING_RATE[topology] / float(_row_spacing(q, topology)[free].min()))
-    return _count(step, rate)
+    A longer step crosses lines off a concave wall before any smoothing acts. Also the
+    converging rate alone (``n``: the row's normals), which :func:`march` checks again as the
+    row nears the lines' focus: under a deep concave wall they converge faster there, and a
+    step split by the rate at its start carried the row past it, turned inside out."""
+    rate = _converging_rate(q, n)
+    spacing = SPACING_RATE[topology] / float(_row_spacing(q, topology)[free].min())
+    return _count(step, max(rate, spacing)), rate
 
 
 def _row_spacing(p: np.ndarray, topology: str) -> np.ndarray:
