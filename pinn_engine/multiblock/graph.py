@@ -45,10 +45,12 @@ def _inside(point: np.ndarray, ring: np.ndarray) -> bool:
 
 
 def order_rings(rings: list[np.ndarray], source: str) -> list[np.ndarray]:
-    """The outer boundary first (the ring of largest area), then the holes; the outer ring
-    counter-clockwise, holes clockwise (the domain on the left of every ring)."""
+    """The outer boundary first (the ring of largest area), then the holes in the order
+    given (so ``hole1`` is the first hole drawn); the outer ring counter-clockwise, holes
+    clockwise (the domain on the left of every ring)."""
     rings = [r[:-1] if np.array_equal(r[0], r[-1]) else r for r in rings]
-    rings.sort(key=lambda r: -abs(_area(r)))
+    outer = max(range(len(rings)), key=lambda k: abs(_area(rings[k])))
+    rings = [rings[outer], *rings[:outer], *rings[outer + 1 :]]
     out = []
     for k, ring in enumerate(rings):
         if k and not _inside(ring[0], rings[0]):

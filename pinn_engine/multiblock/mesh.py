@@ -30,7 +30,13 @@ from pinn_engine.multiblock.layout import Layout, layout, side_lines
 from pinn_engine.multiblock.orthogonal import boundary_neighbours, orthogonal
 from pinn_engine.multiblock.patches import PatchPiece, PatchPoint, PatchRing, block_patches
 from pinn_engine.multiblock.quadblock import block_boundary, block_lines
-from pinn_engine.multiblock.spacing import check_room, graded_first_cells, requests, respace
+from pinn_engine.multiblock.spacing import (
+    check_room,
+    graded_first_cells,
+    requests,
+    respace,
+    spread,
+)
 from pinn_engine.multiblock.walls import (
     Walls,
     check_names,
@@ -157,7 +163,7 @@ def mesh_blocks(
     patches = block_patches(topo, lay, patch_points)  # refused before the solve, not after
     check_names(walls, patches)
     sides = wall_sides(lay.ids, patches, walls.names)
-    asked = requests(sides, walls.spacing)
+    asked = spread(requests(sides, walls.spacing), lay.ids)
     check_room(lay.points, asked)
     steps = 0
     points = lay.points
@@ -187,7 +193,9 @@ def mesh_blocks(
         points = graded_first_cells(points, lay.ids, graded, item.value)
     points = respace(points, asked)
     if walls.orthogonal:
-        points = orthogonal(points, sides, walls.orthogonal, boundary_neighbours(topo, lay))
+        points = orthogonal(
+            points, sides, walls.orthogonal, boundary_neighbours(topo, lay), lay.ids
+        )
     grids = [points[ids] for ids in lay.ids]
     cells = [cell_quality(g) for g in grids]
     kinks = interface_kinks(cross, lay, points)

@@ -339,6 +339,10 @@ def test_a_small_local_batch_runs_on_the_warm_pool_and_a_worker_that_dies_is_nam
     rows = dict(pool.WarmPool(2).results(todo))
     assert rows["wavy"]["message"] == DIED and rows["fig2"]["status"] == "ok"
     assert (tmp_path / "pool" / "fig2.vts").exists()
+    records = [{"name": "a", "input": str(EXAMPLES / "fig2.vtp"), "options": TFI}]
+    table = mesh_many(records, outdir=tmp_path / "py", workers=1)  # mesh_many's local pool
+    table = table.to_dict("records") if hasattr(table, "to_dict") else table
+    assert [(r["name"], r["status"], r["cells"]) for r in table] == [("a", "ok", 60)]
 
 
 def _imported_after(code: str, before: str) -> str:

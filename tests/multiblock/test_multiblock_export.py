@@ -10,7 +10,9 @@ import subprocess
 
 import numpy as np
 import pytest
+from export_checks import read_su2
 from helpers import EXAMPLES, foam_env, run_blocks
+from multiblock_checks import write_polylines
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 from pinn_engine.io.export import write_blocks
@@ -64,6 +66,27 @@ def test_default_patch_names(tmp_path):
     assert names.count("hole1") == 4 and names.count("boundary") == 12
     on_cylinder = [p for block in pieces for p in block if p.name == "hole1"]
     assert all(p.kind == "patch" for p in on_cylinder)
+
+
+def test_holes_are_numbered_as_drawn(tmp_path):
+    """``hole1`` is the first hole in the file, whatever the holes' sizes: a small square
+    drawn before a larger one, each in a block of its own channel part, is hole1."""
+    outer = [(0, 0), (4, 0), (4, 1), (0, 1)]
+    small = [(0.8, 0.4), (0.8, 0.6), (1.2, 0.6), (1.2, 0.4)]
+    large = [(2.6, 0.3), (2.6, 0.7), (3.4, 0.7), (3.4, 0.3)]
+    edges = [[(x, 0.0), (x, y)] for x, y in ((0.8, 0.4), (1.2, 0.4), (2.6, 0.3), (3.4, 0.3))]
+    edges += [[(x, y), (x, 1.0)] for x, y in ((0.8, 0.6), (1.2, 0.6), (2.6, 0.7), (3.4, 0.7))]
+    boundary = write_polylines(tmp_path / "holes.vtp", [outer, small, large], closed=True)
+    blocks = write_polylines(tmp_path / "holes_blocks.vtp", edges)
+    out = tmp_path / "holes.su2"
+    args = [boundary, "--blocks", blocks, "--cell-size", "0.1", "--method", "tfi", "--quiet"]
+    assert main([*args, "-o", str(out)]) == 0
+    mesh = read_su2(out)
+    assert sorted(mesh["markers"]) == ["boundary", "hole1", "hole2"]
+    centre = {
+        k: mesh["points"][np.unique(v[:, 1:])].mean(axis=0) for k, v in mesh["markers"].items()
+    }
+    assert centre["hole1"][0] == pytest.approx(1.0) and centre["hole2"][0] == pytest.approx(3.0)
 
 
 def test_patch_points_name_the_nearest_pieces(blocks):

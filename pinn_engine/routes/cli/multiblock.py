@@ -63,9 +63,11 @@ def run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
     geometry = job.blocks_from_files(
         args.boundary, args.blocks, args.aux, args.patch, spacing, orthogonal, args.cells
     )
+    read = time.perf_counter() - start
     with Progress(args.quiet) as progress:
         outcome = job.run(settings, geometry, progress)
     report = outcome.report
+    report["timings"]["read"] = read
     folded = report["quality"]["folded_cells"]
     refuse_folded(args, args.boundary, folded)
     if not args.quiet:
