@@ -86,7 +86,7 @@ def domains() -> dict[str, dict]:
         + ["-1,0=inlet", "-1,0.5=inlet", "2.5,-0.5=outlet:outflow", "2.5,0=outlet"]
         + ["2.5,0.5=outlet"],
         wall_h=0.004,
-        cells=["1.6,0.6=24"],
+        cells=["1.6,0.6=30"],
         graded=(0.8, 0.05),
         graded_h=0.01,
         cell_size=0.05,

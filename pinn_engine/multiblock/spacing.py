@@ -173,14 +173,22 @@ def check_room(points: np.ndarray, asked: Requests) -> None:
 def respace(points: np.ndarray, asked: Requests) -> np.ndarray:
     """``points`` with every asked line's nodes moved along it (its ends stay). A line
     asked at one end only is turned to start there, so that the lines stretched together
-    (one length) share the stretching's asked end."""
+    (one length) share the stretching's asked end. Lines that share a node (a block's rows
+    and columns, where two of its sides are walls) are stretched one after the other, each
+    from the nodes the ones before left, so the block keeps both stretchings."""
     groups: dict[int, list] = {}
     for ids, (first, last, _) in asked.items():
         if first is None:
             ids, first, last = ids[::-1], last, first
-        groups.setdefault(len(ids), []).append((ids, first, last))
+        parts = groups.setdefault(len(ids), [])
+        part = next((p for p in parts if not p[0].intersection(ids)), None)
+        if part is None:
+            part = (set(), [])
+            parts.append(part)
+        part[0].update(ids)
+        part[1].append((ids, first, last))
     out = points.copy()
-    for group in groups.values():
+    for group in (members for parts in groups.values() for _, members in parts):
         lines = np.array([ids for ids, _, _ in group])
         asks = [np.array([np.nan if g[k] is None else g[k] for g in group]) for k in (1, 2)]
         out[lines[:, 1:-1]] = _stretched(out[lines], *asks)[:, 1:-1]

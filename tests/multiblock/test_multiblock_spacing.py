@@ -159,3 +159,24 @@ def test_orthogonal_folds_no_cell_beside_leaning_corner_lines(tmp_path):
     for side, inside in patch_walls(grid, "body"):
         angles = wall_angles([(side, inside)])
         assert angles[len(angles) // 4 : -len(angles) // 4].max() <= 2.0
+
+
+def test_a_block_with_two_wall_sides_keeps_both_stretchings(tmp_path):
+    """An L-shaped duct of three blocks, every boundary piece one spaced wall: the corner
+    block's rows leave one wall and its columns the other; both are stretched (the second
+    once stretched from the nodes the first left: before, one undid the other, first
+    edges up to 44 H)."""
+    ring = [(-2, -2), (1, -2), (1, -1), (-1, -1), (-1, 1), (-2, 1)]
+    edges = [[(-1.0, -1.0), (-2.0, -1.0)], [(-1.0, -1.0), (-1.0, -2.0)]]
+    boundary = write_polylines(tmp_path / "duct.vtp", [ring], closed=True)
+    blocks = write_polylines(tmp_path / "duct_blocks.vtp", edges)
+    out, h = tmp_path / "grid.vtm", 0.01
+    args = [boundary, "--blocks", blocks, "--cell-size", "0.1", "--method", "elliptic"]
+    args += ["--patch", "boundary=duct:wall", "--spacing", f"duct={h}", "--orthogonal", "duct"]
+    assert main([*args, "-o", str(out), "--quiet"]) == 0
+    grid = pv.read(out)
+    walls = patch_walls(grid, "duct")
+    assert len(walls) == 8
+    assert np.abs(first_edges(walls) / h - 1).max() <= 0.1
+    assert wall_angles(walls).max() <= 2.0
+    assert max(float(b.cell_data["MaxIncludedAngle"].max()) for b in grid) < 100.0
