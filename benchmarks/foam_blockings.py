@@ -177,7 +177,7 @@ class Section:
                 f"gradings whose cells grow up to {self.steepest:.3g} a cell left out "
                 f"(SPEC 10: at most {MAX_GROWTH})"
             )
-        self.curves = self._curves(d.get("edges", []), verts, keep)
+        self.curves = self._curves(d.get("edges", []), scale, keep)
         self.patches = self._patches(d)
 
     def _blocks(self, items: list, verts: np.ndarray) -> None:
@@ -239,7 +239,7 @@ class Section:
         if any(low < FINE_CELL * even and low < end_min * 0.999 for low, end_min in smallest):
             self.notes.append("grading clusters cells inside a block (not expressible)")
 
-    def _curves(self, items: list, verts: np.ndarray, keep: list[int]) -> dict:
+    def _curves(self, items: list, scale: float, keep: list[int]) -> dict:
         curves, i = {}, 0
         while i < len(items):
             kind, a, b = items[i], int(items[i + 1]), int(items[i + 2])
@@ -250,10 +250,10 @@ class Section:
             if kind == "arc":
                 if isinstance(arg, str):  # arc a b origin (x y z): not in this reader
                     raise ValueError(f"arc {a} {b} {arg}: only arcs through a point are read")
-                mid = np.array([float(c) for c in arg])[keep]
+                mid = scale * np.array([float(c) for c in arg])[keep]
                 pts = arc_points(pa, mid, pb)
             else:
-                inner = np.array([[float(c) for c in p] for p in arg])[:, keep]
+                inner = scale * np.array([[float(c) for c in p] for p in arg])[:, keep]
                 pts = np.vstack([pa, inner, pb])
                 if kind.lower() != "polyline":
                     self.notes.append(f"{kind} edges drawn as polylines through their points")

@@ -29,6 +29,7 @@ ENGINE = (
     "pinn_engine.io.pipeline",
     "pinn_engine.io.export",
     "pinn_engine.bodymesh",
+    "scipy.sparse.linalg",  # the elliptic solves' sparse LU, which their modules import late
 )
 DASK = ("distributed",)  # a Dask worker's own modules (0.5 s of CPU), for a Dask cluster
 DASK_EXTRA = ("batch meshing (Dask)", "batch")  # what needs Dask, and the extra it comes with

@@ -16,6 +16,7 @@ from pinn_engine.geometry.auxlines import RawLine, line_distances
 from pinn_engine.multiblock.blocks import Topology, topology
 from pinn_engine.multiblock.chains import (
     SideItem,
+    graded_ends,
     graded_minimum,
     graded_params,
     graded_sides,
@@ -153,11 +154,11 @@ def mesh_blocks(
                 if n > minimum.get(piece, (0, item))[0]:
                     minimum[piece] = (n, item)
         counts = cell_counts(topo, h, fixed, minimum)
-    params = {
-        k: t
-        for item, graded in grades
-        for k, t in graded_params(topo, graded, counts, item.value).items()
-    }
+    ends: dict[tuple[int, int], float] = {}
+    for item, graded in grades:
+        for end, first in graded_ends(topo, graded, item.value).items():
+            ends[end] = min(first, ends.get(end, first))
+    params = graded_params(topo, ends, counts)
     lay = layout_checked(topo, counts, h, params)
     patches = block_patches(topo, lay, patch_points)  # refused before the solve, not after
     check_names(walls, patches)

@@ -43,11 +43,13 @@ RECTANGLE = [(0, 0), (2, 0), (2, 2), (0, 2)]
         (RECTANGLE, [[(1, 0), (1, 2)], [(0, 1), (2, 1)]], "edges.vtp line 1 at (1, 1)"),
         # out through the top and back onto it
         (RECTANGLE, [[(1, 0), (1, 3), (1.5, 3), (1.5, 2)]], "crosses the boundary at (1, 2)"),
+        # a boundary drawn as a bow tie: its faces were not found (an internal error)
+        ([(0, 0), (2, 0), (0, 2), (2, 2)], [[(1, 0), (1, 1)]], "crosses itself at (1, 1)"),
     ],
 )
 def test_topology_errors(tmp_path, capsys, ring, edges, expected):
-    """A block with other than four corners, an edge ending nowhere, crossing edges: one
-    line naming the place, exit status 2, no file."""
+    """A block with other than four corners, an edge ending nowhere, crossing edges, a
+    boundary crossing itself: one line naming the place, exit status 2, no file."""
     boundary = write_polylines(tmp_path / "ring.vtp", [ring], closed=True)
     blocks = write_polylines(tmp_path / "edges.vtp", edges)
     out = tmp_path / "grid.vtm"
