@@ -1,4 +1,4 @@
-"""Real airfoil files, O- and C-grids, pinn-mesh beside Construct2D (issue 32, SPEC 9).
+"""Real airfoil files, O- and C-grids, pinn-mesh beside Construct2D (SPEC 9).
 
 Every ``.dat`` file of a folder (default ``shared/airfoils``: 243 UIUC-derived sections, see
 its README) is meshed as an O-grid of 250 x 80 and a C-grid of 300 x 80 nodes, first layer
@@ -16,7 +16,7 @@ name (:func:`half`). Times: pinn-mesh's meshing in this process (no Python or to
 Construct2D's whole run; their ratio per file, the median over the clean pairs.
 
     python benchmarks/airfoils.py --set shared/airfoils --construct2d PATH \\
-        [--write docs/airfoils.md]
+        [--write docs/airfoils.md] [--jobs N]
 """
 
 from __future__ import annotations
@@ -27,6 +27,7 @@ import tempfile
 import time
 import warnings
 from collections import Counter
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -37,7 +38,7 @@ from pinn_engine.errors import InputError
 from pinn_engine.quality import cell_quality, summary
 from pinn_engine.settings import make_settings
 
-# issue 32's settings: sizes (ni, nj) per topology, first layer in chords, far field in chords
+# the settings: sizes (ni, nj) per topology, first layer in chords, far field in chords
 SIZES = {"o": (250, 80), "c": (300, 80)}
 FIRST_LAYER, FAR_FIELD = 1e-5, 15.0
 # Construct2D's C-grid puts this many nodes on each side of its wake (its default), the rest on
@@ -145,14 +146,20 @@ def calibrate(exe: str, work: Path) -> float:
 
 
 def run(
-    folder: Path, exe: str, method: str, only: str | None = None, limit: int | None = None
+    folder: Path,
+    exe: str,
+    method: str,
+    only: str | None = None,
+    limit: int | None = None,
+    shard: tuple[int, int] = (0, 1),
 ) -> list[dict]:
     """Every file of ``folder`` (of the half ``only`` if given; the first ``limit`` if
-    given), both topologies, both tools."""
+    given; of those, every ``shard[1]``-th from the ``shard[0]``-th), both topologies, both
+    tools."""
     files = sorted(folder.glob("*.dat"))
     if only:
         files = [f for f in files if half(f.name) == only]
-    files = files[:limit]
+    files = files[:limit][shard[0] :: shard[1]]
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
@@ -178,6 +185,19 @@ def run(
                     flush=True,
                 )
     return rows
+
+
+def run_in_processes(
+    folder: Path, exe: str, method: str, only: str | None, limit: int | None, jobs: int
+) -> list[dict]:
+    """:func:`run` split over ``jobs`` processes (every ``jobs``-th file each), the rows in
+    :func:`run`'s order; each file's times are still taken in one process."""
+    with ProcessPoolExecutor(max_workers=jobs) as pool:
+        parts = pool.map(
+            run, *zip(*[(folder, exe, method, only, limit, (k, jobs)) for k in range(jobs)])
+        )
+        rows = [r for part in parts for r in part]
+    return sorted(rows, key=lambda r: (r["file"], list(SIZES).index(r["topology"])))
 
 
 def table(rows: list[dict], method: str) -> list[str]:

@@ -1,4 +1,4 @@
-"""O- and C-grids around NACA sections, side by side with Construct2D (issue 16).
+"""O- and C-grids around NACA sections, side by side with Construct2D.
 
 Construct2D (https://github.com/furstj/Construct2D, GPL; used here as an external program
 only) is built from its source with gfortran (``make``) and run non-interactively with its
@@ -16,13 +16,13 @@ height (``--spacing bottom=H``) and a far-field circle of 15 chords.
 The airfoil files are written by pinn-mesh's NACA generator (201 points per surface):
 ``naca0012.dat`` (blunt trailing edge, the classical formula), ``naca0012_sharp.dat`` and
 ``naca4412_sharp.dat`` (closed trailing edge), ``naca4412.dat`` (blunt),
-``naca4417_base07.dat`` (a blunt base of 0.7 % chord, as the LS(1)-0417 file of issue 23) and
+``naca4417_base07.dat`` (a blunt base of 0.7 % chord, as the LS(1)-0417 file) and
 ``naca0012_gap1e5.dat`` (open by 1e-5 chord, as many public files). The blunt base of 0.7 %
 is meshed as an O-grid and as a C-grid (the cut leaving the base's middle; Construct2D's
 C-grid asked for with its TOPO option). Besides the quality
 figures, each grid's largest face non-orthogonality (checkMesh's, quality.non_orthogonality)
 and its wall nodes' largest distance from the drawn polyline; and the default C-grid's time
-at 320 x 90 beside Construct2D's at the same size (issue 23 item 6).
+at 320 x 90 beside Construct2D's at the same size.
 """
 
 from __future__ import annotations
@@ -56,9 +56,9 @@ CASES = (  # file stem, NACA code, trailing edge: blunt, sharp or a gap in chord
     ("naca0012_gap1e5", "0012", 1e-5),  # open by 1e-5 chord, as many public files
 )
 METHODS = ("tfi", "elliptic", "pinn")
-# blunt trailing edges also meshed as C-grids (issue 23 item 4: the cut leaves the base's middle)
+# blunt trailing edges also meshed as C-grids (the cut leaves the base's middle)
 BLUNT_C_GRIDS = ("naca4417_base07",)
-# Issue 23 item 6: the default C-grid at 320 x 90 (first layer as Construct2D's, 1.04e-5),
+# The default C-grid at 320 x 90 (first layer as Construct2D's, 1.04e-5),
 # timed over SPEED_RUNS runs (the median), against at most SPEED_TARGET seconds
 SPEED_SIZE, SPEED_RUNS, SPEED_TARGET = (320, 90), 3, 1.0
 # the worst cell may exceed the bound that the wall's corners force by this much (the corner
@@ -151,7 +151,7 @@ def row(name: str, q: dict, seconds: float) -> str:
 
 
 def speed(exe: str, dat: Path) -> str:
-    """Issue 23 item 6: the default C-grid at ``SPEED_SIZE`` in the engine and as a whole
+    """The default C-grid at ``SPEED_SIZE`` in the engine and as a whole
     command, and Construct2D's at the same size (medians of ``SPEED_RUNS`` runs)."""
     c2d = [run_construct2d(exe, dat, SPEED_SIZE) for _ in range(SPEED_RUNS)]
     g = c2d[0][0]
@@ -258,9 +258,11 @@ def write_block(path: str, name: str, lines: list[str]) -> None:
 
 def real_set(args: argparse.Namespace) -> int:
     """``--set``: the real files' pass rates beside Construct2D (benchmarks/airfoil_set.py)."""
-    from airfoil_set import run, table
+    from airfoil_set import run_in_processes, table
 
-    rows = run(Path(args.set), args.construct2d, args.method, args.half, args.limit)
+    rows = run_in_processes(
+        Path(args.set), args.construct2d, args.method, args.half, args.limit, args.jobs
+    )
     lines = table(rows, args.method)
     print("\n".join(lines))
     if args.write:
@@ -287,6 +289,9 @@ def main() -> int:
     p.add_argument("--method", default="pinn", help="pinn-mesh's method for --set")
     p.add_argument("--half", choices=("tuning", "report"), help="only this half of --set")
     p.add_argument("--limit", type=int, help="only the first LIMIT files of --set (a quick run)")
+    p.add_argument(
+        "--jobs", type=int, default=1, help="--set's files split over JOBS processes (default 1)"
+    )
     args = p.parse_args()
     if not args.construct2d:
         print("construct2d not found: build it (make) and pass --construct2d PATH", file=sys.stderr)

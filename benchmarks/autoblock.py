@@ -1,4 +1,4 @@
-"""Automatic blocking (SPEC 13, issue 35): the proposal of ``--blocks auto`` against a careful
+"""Automatic blocking (SPEC 13): the proposal of ``--blocks auto`` against a careful
 hand blocking of each domain of ``benchmarks/autoblock_domains.py``, and gmsh's transfinite
 grid on the proposed blocks.
 
@@ -39,11 +39,11 @@ from pinn_engine.settings import make_settings
 
 CELLS_ACROSS = 8  # cells across a channel of width 1: the cell size is 1 / this
 # the Y-branches' cell size: a 3-block centre turns grid lines by about 60 degrees, so their
-# interface kinks fall under issue 35's mean only at docs/multiblock.md's size for the Y
+# interface kinks fall under the mean bound only at docs/multiblock.md's size for the Y
 FINER = {"Y-branch": 0.025, "Y-branch, asymmetric": 0.025}
-MEAN_OVER, WORST_OVER = 1.5, 10.0  # issue 35: degrees above the hand-blocked grid allowed
-KINK_MEAN, KINK_MAX = 3.0, 20.0  # issue 35: interface kink bounds (degrees)
-BLOCKS_OVER = 2.0  # issue 35: at most this many times the hand blocking's blocks
+MEAN_OVER, WORST_OVER = 1.5, 10.0  # degrees above the hand-blocked grid allowed
+KINK_MEAN, KINK_MAX = 3.0, 20.0  # interface kink bounds (degrees)
+BLOCKS_OVER = 2.0  # at most this many times the hand blocking's blocks
 MARK = "<!-- AUTOBLOCK {} -->"  # the markers round the table in --out
 PANELS = 6  # proposals drawn a row
 
@@ -82,7 +82,7 @@ def gmsh_figures(rings, edges, h) -> tuple[dict, float]:
 
 
 def checks(auto: dict, hand: dict) -> list[str]:
-    """Issue 35's bounds that the proposal misses (none: it holds them all)."""
+    """The bounds that the proposal misses (none: it holds them all)."""
     failed = []
     if auto["folds"]:
         failed.append("folds")
@@ -105,7 +105,7 @@ def _cell(f: dict) -> str:
 
 
 def run_domain(name: str, make) -> tuple[list[str], bool, tuple]:
-    """The table rows of one domain, whether the proposal holds issue 35's bounds, and what
+    """The table rows of one domain, whether the proposal holds the bounds, and what
     to draw (rings, proposed edges, proposed grids)."""
     rings, hand_edges = make()
     h = FINER.get(name, 1.0 / CELLS_ACROSS)
@@ -169,7 +169,7 @@ def markdown(images: Path | None) -> str:
             f"**{half}** ({held} of {len(domains)} domains hold every bound):",
             "",
             "| domain | blocking | blocks | mean / worst MaxIncludedAngle | folds | interface "
-            "kink mean / max | time | issue 35's bounds |",
+            "kink mean / max | time | bounds |",
             "|---|---|---|---|---|---|---|---|",
             *rows,
             "",

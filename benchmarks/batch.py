@@ -1,4 +1,4 @@
-"""`pinn-mesh batch` at scale (issue 26 item 5; SPEC 12): 32 cases with 1 and 2 workers.
+"""`pinn-mesh batch` at scale (SPEC 12): 32 cases with 1 and 2 workers.
 
 Usage: ``.venv/bin/python benchmarks/batch.py [--out docs/batch.md] [--workdir DIR]
 [--repeat 2] [--small]``
@@ -16,10 +16,12 @@ seconds, over the cases: the worker time not spent meshing, the cluster's start 
 and checks that every batch grid is the single command's grid and that the 1- and 2-worker
 summaries agree.
 
-``--small``: issue 33's small batch instead, the first 14 hold-out shapes at 61 x 31, each
-run as its own ``pinn-mesh batch --workers N`` command (a new process: the local cluster's
-start included, as a user meets it), 1 and 2 workers alternately ``--repeat`` times; it
-prints each wall time and the speed-up of 2 workers over 1 (best against best).
+``--small``: the small batch instead, the first 14 hold-out shapes at 61 x 31, each
+run as its own ``pinn-mesh batch --workers N`` command (a new process: the workers' start
+included, as a user meets it), 1 and 2 workers alternately ``--repeat`` times; it prints
+each wall time with the load average, and the speed-up of 2 workers over 1 (best against
+best, and each pair's). ``--against DIR``: the same with the package of the checkout at DIR
+(``git worktree add --detach DIR COMMIT``) in turn, for a before and after in one run.
 """
 
 from __future__ import annotations
@@ -42,11 +44,11 @@ from pinn_engine.batch.manifest import read_manifest
 
 ROOT = Path(__file__).resolve().parents[1]
 HARD = ROOT / "example_data" / "hard"
-HARD_SIZE = "--size 81 41"  # issue 26 item 5
+HARD_SIZE = "--size 81 41"
 NACA = (
     "0006 0008 0009 0010 0012 0015 0018 0021 0024 1408 1412 2408 2412 2415 2418 4412 4415 4418 6412"
 ).split()  # 19 sections: with the 13 hard shapes the issue's 32 cases
-SMALL_CASES, SMALL_SIZE = 14, "--size 61 31"  # issue 33's small batch
+SMALL_CASES, SMALL_SIZE = 14, "--size 61 31"  # the small batch
 HOLDOUT = ROOT / "example_data" / "holdout"
 BEGIN, END = "<!-- batch benchmark: begin -->", "<!-- batch benchmark: end -->"
 PINN_MESH = str(Path(sys.executable).with_name("pinn-mesh"))
@@ -141,28 +143,46 @@ def write(page: Path, text: str) -> None:
     page.write_text(f"{head}{BEGIN}\n{text}\n{END}{tail}")
 
 
-def small(work: Path, repeat: int) -> None:
-    """Issue 33's small batch through the command, 1 and 2 workers alternately; prints the
-    wall times and the speed-up."""
+def small(work: Path, repeat: int, against: Path | None) -> None:
+    """The small batch through the command, 1 and 2 workers alternately (with
+    ``against``, that checkout's package in turn with this one's); prints the wall times, the
+    speed-ups and the load average."""
     shapes = sorted(p for p in HOLDOUT.glob("h*.vtp") if not p.stem.endswith("_aux"))
     manifest = work / "small.csv"
     with manifest.open("w", newline="") as f:
         rows = [(p.stem, str(p), "", SMALL_SIZE) for p in shapes[:SMALL_CASES]]
         csv.writer(f).writerows([("name", "input", "aux", "options"), *rows])
-    best = {}
+    checkouts = {"this": ROOT, **({against.name: against.resolve()} if against else {})}
+    times: dict[tuple[str, int], list[float]] = {}
     print(f"load average {os.getloadavg()[0]:.1f} before", flush=True)
     for _ in range(repeat):
-        for workers in (1, 2):
-            command = [PINN_MESH, "batch", str(manifest), "-o", str(work / f"small{workers}")]
-            start = time.perf_counter()
-            subprocess.run([*command, "--workers", str(workers), "--force"], check=True)
-            wall = time.perf_counter() - start
-            print(f"{SMALL_CASES} cases, {workers} worker(s): {wall:.1f} s", flush=True)
-            best[workers] = min(wall, best.get(workers, wall))
-    print(
-        f"2 workers against 1: {best[1] / best[2]:.2f}x (best of {repeat}: {best[1]:.1f} s "
-        f"and {best[2]:.1f} s); load average {os.getloadavg()[0]:.1f} after"
-    )
+        for name, checkout in checkouts.items():
+            for workers in (1, 2):
+                command = [PINN_MESH, "batch", str(manifest), "-o", str(work / f"small{workers}")]
+                env = {**os.environ, "PYTHONPATH": str(checkout)}
+                start = time.perf_counter()
+                subprocess.run(
+                    [*command, "--workers", str(workers), "--force"],
+                    check=True,
+                    capture_output=True,
+                    env=env,
+                    cwd=checkout,  # Dask's workers import from their folder first
+                )
+                wall = time.perf_counter() - start
+                times.setdefault((name, workers), []).append(wall)
+                print(
+                    f"{name}: {SMALL_CASES} cases, {workers} worker(s): {wall:.1f} s "
+                    f"(load average {os.getloadavg()[0]:.1f})",
+                    flush=True,
+                )
+    for name in checkouts:
+        one, two = times[(name, 1)], times[(name, 2)]
+        ratios = ", ".join(f"{a / b:.2f}x" for a, b in zip(one, two))
+        print(
+            f"{name}: 2 workers against 1: {min(one) / min(two):.2f}x (best of {repeat}: "
+            f"{min(one):.1f} s and {min(two):.1f} s); each pair: {ratios}"
+        )
+    print(f"load average {os.getloadavg()[0]:.1f} after")
 
 
 def main() -> None:
@@ -170,13 +190,14 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=ROOT / "docs" / "batch.md")
     parser.add_argument("--workdir", type=Path, default=ROOT / "out" / "bench_batch")
     parser.add_argument("--repeat", type=int, default=2, help="runs of each worker count")
-    parser.add_argument("--small", action="store_true", help="issue 33's 14 small cases")
+    parser.add_argument("--small", action="store_true", help="the 14 small cases")
+    parser.add_argument("--against", type=Path, help="--small: another checkout, in turn")
     opts = parser.parse_args()
     work = opts.workdir.resolve()
     shutil.rmtree(work, ignore_errors=True)
     work.mkdir(parents=True)
     if opts.small:
-        small(work, opts.repeat)
+        small(work, opts.repeat, opts.against)
         return
     rows = cases()
     manifest = work / "cases.csv"

@@ -1,11 +1,11 @@
-"""Every method on the hard four-sided shapes of ``example_data/hard/`` (issue 11's table).
+"""Every method on the hard four-sided shapes of ``example_data/hard/`` (docs/hard_shapes.md).
 
 Usage: ``.venv/bin/python benchmarks/bench_hard.py [--sizes 41x21 161x81] [--no-speed]
 [--variants]``
 
 For each shape and size it meshes with ``tfi``, ``elliptic`` (converged), ``mgnet`` and the
 default ``pinn`` and prints mean and worst ``MaxIncludedAngle``, folded cells and time
-(fit + grid, torch imported beforehand). For the neural methods it checks issue 11's bounds
+(fit + grid, torch imported beforehand). For the neural methods it checks the default's bounds
 against the converged elliptic grid on the same boundary nodes: mean <= elliptic + 0.5,
 worst <= elliptic worst + 2, no folded cell where the elliptic grid has none (where it has
 some: no more than it). Shapes with auxiliary lines also get the largest distance of the
@@ -19,9 +19,9 @@ residual), and writes ``<out>_variants.md`` instead of the main table.
 
 ``--objective`` compares the pinn's two objectives (SPEC 7): ``tfi``, ``elliptic``, ``pinn``
 with ``--objective winslow``, ``pinn, quality`` with ``--objective quality`` and its ablation
-``pinn, quality, network only`` (no node optimisation of the start: the network trained on
-the quality term from the best of the elliptic grid, TFI and their blends), and checks
-issue 14's item 3 on each pinn grid: no folded cell, mean <= elliptic + 0.5, worst <= TFI's
+``pinn, quality, network only`` (no node optimisation of the start: the network trained on the
+quality term from the best of the elliptic grid, TFI and their blends), and checks the quality
+objective's bounds on each pinn grid: no folded cell, mean <= elliptic + 0.5, worst <= TFI's
 worst + 0.5, and worst below the elliptic grid's or at the floor the boundary nodes fix
 (``quality.angle_floor``: the largest angle at a domain corner, or half the largest interior
 angle at another boundary node). It also runs the example shapes with auxiliary lines outside
@@ -88,8 +88,8 @@ def inputs(name: str, folder: Path = HARD):
 
 
 def within(q: dict, ref: dict) -> bool:
-    """Issue 11's bounds for a neural grid ``q`` against the elliptic grid ``ref``; where
-    ``q`` has fewer folded cells than a folded ``ref`` (it untangled it), issue 32's mean
+    """The default's bounds for a neural grid ``q`` against the elliptic grid ``ref``; where
+    ``q`` has fewer folded cells than a folded ``ref`` (it untangled it), the untangled grid's mean
     bound, ``UNTANGLED_MEAN_BOUND``."""
     untangled = q["folded_cells"] < ref["folded_cells"]
     return (
@@ -101,7 +101,7 @@ def within(q: dict, ref: dict) -> bool:
 
 
 def item3(q: dict, ell: dict, tfi: dict, floor: float) -> bool:
-    """Issue 14's item 3 for a pinn grid ``q`` against the elliptic and TFI grids."""
+    """The quality objective's bounds for a pinn grid ``q`` against the elliptic and TFI grids."""
     return (
         q["folded_cells"] == 0
         and q["mean_max_angle"] <= ell["mean_max_angle"] + MEAN_BOUND
@@ -230,7 +230,7 @@ def markdown(rows: list[dict], fast: dict | None, variants: bool) -> str:
         f"Made by `.venv/bin/python {command}` on the shapes of `example_data/hard/` "
         "(`example_data/make_hard_shapes.py` draws them). Quality is VTK's Verdict quad "
         "`MaxIncludedAngle`; time is fit plus grid in one process with torch imported "
-        "(a few seconds of start-up are not in it). The bounds are issue 11's, against the "
+        "(a few seconds of start-up are not in it). The bounds are the default's, against the "
         "converged elliptic grid on the same boundary nodes: mean <= elliptic + 0.5, worst <= "
         "elliptic worst + 2 degrees, and no more folded cells than it (none where it has "
         "none). The aux-line distance is the largest distance of the grid line through an "
@@ -240,7 +240,7 @@ def markdown(rows: list[dict], fast: dict | None, variants: bool) -> str:
         "the bounds.**",
         "",
         "| shape | size | method | mean MaxIncludedAngle | worst MaxIncludedAngle | folded | "
-        "time (s) | aux-line distance | issue 11 bounds |",
+        "time (s) | aux-line distance | bounds |",
         "|" + "---|" * 9,
     ]
     for r in rows:
@@ -292,14 +292,14 @@ def _cell(r: dict, extra: bool = True) -> str:
 
 
 def _quality_table(runs: dict[tuple, dict]) -> list[str]:
-    """Issue 14's item 3 on the hard shapes: one row per shape and size."""
+    """The quality objective's bounds on the hard shapes: one row per shape and size."""
     pinn = [r[m] for r in runs.values() for m in QUALITY_RUNS]
     count = {
         m: (sum(r["item3"] for r in pinn if r["method"] == m), sum(r["method"] == m for r in pinn))
         for m in QUALITY_RUNS
     }
     lines = [
-        "# The pinn's objectives: winslow and quality (issue 14, item 3)",
+        "# The pinn's objectives: winslow and quality",
         "",
         "Made by `.venv/bin/python benchmarks/bench_hard.py --objective` on the shapes of "
         "`example_data/hard/`. Each cell: mean / worst `MaxIncludedAngle` (VTK's Verdict "
@@ -381,7 +381,7 @@ def main() -> None:
     p.add_argument(
         "--objective",
         action="store_true",
-        help="the pinn's objectives winslow and quality (issue 14, item 3)",
+        help="the pinn's objectives winslow and quality",
     )
     p.add_argument("--out", default=str(ROOT / "docs" / "hard_shapes"))
     args = p.parse_args()
@@ -405,7 +405,7 @@ def main() -> None:
     neural = [r for r in rows if "within_bounds" in r]
     print(
         f"\n{sum(r['within_bounds'] for r in neural)} of {len(neural)} neural grids within "
-        "issue 11's bounds"
+        "the default's bounds"
     )
     fast = None if args.no_speed or args.variants or args.objective else speed()
     out = Path(args.out + ("_variants" if args.variants else "_quality" if args.objective else ""))

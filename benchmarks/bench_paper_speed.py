@@ -3,7 +3,7 @@
 Usage: ``.venv/bin/python benchmarks/bench_paper_speed.py [--pairs 3] [--shape bump]
 [--plain-threads 1]``
 
-Issue 11's comparison: ``benchmarks/plain_pinn.py`` (nn.Linear, nested autograd, torch's
+The comparison: ``benchmarks/plain_pinn.py`` (nn.Linear, nested autograd, torch's
 Adam in float32, torch's L-BFGS in float64) and the ``paper`` preset (the same recipe through
 pinn-mesh's fast path) train on ``example_data/hard/<shape>.vtp`` with its auxiliary line.
 Each training runs in a fresh process (torch imported before the clock starts), plain and

@@ -1,5 +1,5 @@
-"""Six-faced 3D domains (issue 25, SPEC 11): quality, time and peak memory of every method
-of ``hexamesh.METHODS`` on the five example shapes of ``example_data/make_hexa.py``.
+"""Six-faced 3D domains (SPEC 11): quality, time and peak memory of every method
+of ``settings.HEXA_METHODS`` on the five example shapes of ``example_data/make_hexa.py``.
 
 Usage: ``.venv/bin/python benchmarks/hexa.py [--size NI NJ NK] [--out docs/hexa.md]``
 
@@ -8,7 +8,7 @@ that its peak resident memory (``ru_maxrss``) is that run's alone: the interpret
 imports (numpy, scipy, VTK; torch for a network) included. The time is the meshing's
 (``HexResult.seconds``: reading the surface, face grids, volume grid, quality), one run each
 on whatever machine runs it. The ``elliptic`` row is the converged 3D Winslow grid on the
-same boundary nodes: the reference of issue 25's bound, checked for every other method (no
+same boundary nodes: the reference of the 3D bound, checked for every other method (no
 folded cell, mean / worst MaxIncludedAngle at most 0.5 / 2 degrees above the reference's).
 With ``--out`` the table replaces the part of that file between the two BENCHMARK markers of
 its size (``<!-- BENCHMARK 21x21x21 start -->`` ... ``end -->``).
@@ -33,8 +33,8 @@ SHAPES = {  # name: file stem of make_hexa.py's surface
     "contracting nozzle": "hexa_nozzle",
     "sheared, wavy top": "hexa_sheared_wavy",
 }
-REFERENCE = "elliptic"  # the converged 3D Winslow grid: issue 25's reference
-MEAN_OVER, WORST_OVER = 0.5, 2.0  # issue 25: degrees above the reference allowed
+REFERENCE = "elliptic"  # the converged 3D Winslow grid: the bound's reference
+MEAN_OVER, WORST_OVER = 0.5, 2.0  # degrees above the reference allowed
 MARK = "<!-- BENCHMARK {} {} -->"  # the markers round a size's table in --out (size, start/end)
 KIB = 1024  # ru_maxrss is in KiB on Linux
 
@@ -42,8 +42,9 @@ KIB = 1024  # ru_maxrss is in KiB on Linux
 def one(stem: str, method: str, size: tuple[int, int, int]) -> dict:
     """Mesh ``stem`` by ``method`` in this process: its figures, seconds and peak memory."""
     from pinn_engine.hexamesh import figures, mesh_surface
+    from pinn_engine.settings import make_settings
 
-    result = mesh_surface(str(DATA / f"{stem}.vtp"), size, method)
+    result = mesh_surface(str(DATA / f"{stem}.vtp"), make_settings(method, size=size))
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / KIB
     return {**figures(result.cells), "seconds": result.seconds, "peak_mib": peak}
 
@@ -60,7 +61,8 @@ def measure(stem: str, method: str, size: tuple[int, int, int]) -> dict:
 
 def markdown(size: tuple[int, int, int]) -> str:
     """The table of every shape and method at ``size``, and the bound checks' lines."""
-    from pinn_engine.hexamesh import HEXA_METHOD, METHODS
+    from pinn_engine.settings import HEXA_METHOD
+    from pinn_engine.settings import HEXA_METHODS as METHODS
 
     table, checks = [], []
     for name, stem in SHAPES.items():
@@ -94,7 +96,7 @@ def markdown(size: tuple[int, int, int]) -> str:
         "|---|---|---|---|---|---|---|",
         *table,
         "",
-        f"Issue 25's bound against the reference (the default must meet it; {HEXA_METHOD} is "
+        f"The 3D bound against the reference (the default must meet it; {HEXA_METHOD} is "
         "the default here):",
         "",
         *checks,

@@ -28,6 +28,7 @@ os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 from pinn_engine.hexa.orthogonal import inner_angles  # noqa: E402
 from pinn_engine.hexa.spacing import first_edges  # noqa: E402
 from pinn_engine.hexamesh import mesh_surface  # noqa: E402
+from pinn_engine.settings import make_settings  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 CASE = ROOT / "example_data" / "hexa_bump_box.vtp"
@@ -64,7 +65,9 @@ def _cut(g: np.ndarray, cells: np.ndarray):
 def measure(method: str, spacing: dict, orthogonal: tuple) -> tuple[dict, object]:
     """One run's figures and result."""
     start = time.perf_counter()
-    r = mesh_surface(str(CASE), SIZE, method, spacing=spacing, orthogonal=orthogonal)
+    r = mesh_surface(
+        str(CASE), make_settings(method, size=SIZE, spacing=spacing, orthogonal=orthogonal)
+    )
     seconds = time.perf_counter() - start
     edges = first_edges(r.grid, "kmin")
     edges[[0, 0, -1, -1], [0, -1, 0, -1]] = np.nan
@@ -89,7 +92,9 @@ def main() -> None:
     parser.add_argument("--no-images", action="store_true")
     args = parser.parse_args()
     torch.set_num_threads(1)
-    mesh_surface(str(CASE), WARM_UP, "elliptic")  # imports and first calls out of the times
+    mesh_surface(
+        str(CASE), make_settings("elliptic", size=WARM_UP)
+    )  # imports and first calls out of the times
     lines = [
         "| run | time (s) | first edge / H: min, median, max | largest angle from the "
         "normal (deg) | largest growth ratio | MaxIncludedAngle mean / worst (deg) | "

@@ -1,4 +1,4 @@
-"""Pass rates on the hold-out hard shapes, next to the tuning set's (issue 22, item 6).
+"""Pass rates on the hold-out hard shapes, next to the tuning set's.
 
 Usage: ``.venv/bin/python benchmarks/holdout.py [--with-tuning] [--sizes 41x21 81x41]
 [--shapes NAME ...] [--processes 2] [--out docs/holdout] [--from-json]``
@@ -10,11 +10,11 @@ elliptic``), TFI (for the quality criteria's references), the default ``pinn``, 
 --orthogonal bottom,top`` (walls) and ``pinn --objective quality``, and checks each pinn grid
 with the criteria the tuning set's benchmarks use, imported from them, not rewritten:
 
-* default pinn: issue 11's bounds, ``bench_hard.within`` (mean <= elliptic + 0.5, worst <=
+* default pinn: the default's bounds, ``bench_hard.within`` (mean <= elliptic + 0.5, worst <=
   elliptic worst + 2, no more folded cells than the elliptic grid);
 * walls: SPEC 7, ``orthogonal.spec7`` (grid lines within 2 degrees of normal at the bottom and
   top sides, no folded cell);
-* quality objective: issue 14's item 3, ``bench_hard.item3`` (no folded cell, mean <= elliptic
+* quality objective: its bounds, ``bench_hard.item3`` (no folded cell, mean <= elliptic
   + 0.5, worst <= TFI's worst + 0.5, worst below the elliptic grid's or at the floor).
 
 The meshing runs are ``bench_hard.run_shape`` and ``orthogonal.run`` themselves. The tuning
@@ -52,9 +52,9 @@ RUNS = {  # bench_hard.run_shape's runs: the references first, then the two pinn
 }
 WALLS = "walls"  # orthogonal.CASES' bottom-and-top case
 METHODS = {  # what the page calls each checked grid, and its criterion
-    "pinn": "issue 11 bounds (`bench_hard.within`)",
+    "pinn": "the default's bounds (`bench_hard.within`)",
     "walls": "SPEC 7, 2 degrees, no fold (`orthogonal.spec7`)",
-    "quality": "issue 14 item 3 (`bench_hard.item3`)",
+    "quality": "the quality objective's bounds (`bench_hard.item3`)",
 }
 LABELS = {
     "pinn": "default `pinn`",
@@ -207,7 +207,7 @@ def _over(text: str, broken: bool) -> str:
 
 def _folds(records: list[dict], which: str) -> str:
     """Where the grids fold, and the default's closest approach to its mean and worst bounds:
-    issue 11's bounds let the default fold where the elliptic grid folds as much."""
+    its bounds let the default fold where the elliptic grid folds as much."""
     rs = [r for r in records if "error" not in r]
     folding = {
         m: sum(r[m][k] > 0 for r in rs)
@@ -228,7 +228,7 @@ def _folds(records: list[dict], which: str) -> str:
     )
     return (
         f"On the {which} set, grids with folded cells: elliptic {folding['elliptic']} of "
-        f"{len(rs)}, default pinn {folding['pinn']} (issue 11's bounds allow a fold where the "
+        f"{len(rs)}, default pinn {folding['pinn']} (its bounds allow a fold where the "
         f"elliptic grid has as many), walls {folding['walls']}, quality "
         f"{folding['quality']}. The default pinn's smallest margins to its bounds: "
         f"{mean_margin:.2f} degrees on the mean, {worst_margin:.2f} on the worst angle."
@@ -272,7 +272,7 @@ def markdown(
     page_sizes = " and ".join(s.replace("x", " x ") for s in pages["sizes"])
     command = COMMAND + (" --with-tuning" if with_tuning else "")
     lines = [
-        "# Hold-out hard shapes: pass rates next to the tuning set's (issue 22, item 6)",
+        "# Hold-out hard shapes: pass rates next to the tuning set's",
         "",
         "The benchmarks' pass rates on `example_data/hard/` are on the set the code was tuned "
         f"on. `example_data/holdout/` holds {n_shapes} hard four-sided shapes drawn at random "
@@ -288,11 +288,11 @@ def markdown(
         f"Each shape is meshed at {size_text} with the converged elliptic grid, TFI, the "
         "default `pinn`, `pinn --orthogonal bottom,top` and `pinn --objective quality`, "
         "through `bench_hard.run_shape` and `orthogonal.run`, and each pinn grid is checked "
-        "with the tuning benchmarks' own functions: issue 11's bounds for the default "
+        "with the tuning benchmarks' own functions: the default's bounds "
         "(`bench_hard.within`: mean <= elliptic + 0.5, worst <= elliptic worst + 2 degrees, "
         "no more folded cells than the elliptic grid), SPEC 7 for the walls "
         "(`orthogonal.spec7`: lines within 2 degrees of normal at the bottom and top, no "
-        "fold), issue 14's item 3 for the quality objective (`bench_hard.item3`: no fold, "
+        "fold), the quality objective's bounds (`bench_hard.item3`: no fold, "
         "mean <= elliptic + 0.5, worst <= TFI's worst + 0.5, worst below the elliptic "
         "grid's or at the floor the boundary nodes fix). Angles are VTK's Verdict quad "
         "`MaxIncludedAngle` in degrees.",

@@ -1,4 +1,4 @@
-"""Multi-block grids against gmsh (issue 24, SPEC 10): the same blocks with the same drawn
+"""Multi-block grids against gmsh (SPEC 10): the same blocks with the same drawn
 nodes meshed by gmsh's transfinite surfaces, beside pinn-mesh's grids.
 
 Usage: ``.venv/bin/python benchmarks/multiblock_gmsh.py [--out docs/multiblock.md]

@@ -1,10 +1,10 @@
-"""Wall orthogonality on hard shapes (issue 14, item 2; SPEC 7): pinn and elliptic.
+"""Wall orthogonality on hard shapes (SPEC 7): pinn and elliptic.
 
 Usage: ``.venv/bin/python benchmarks/orthogonal.py [--sizes 41x21 161x81]
 [--elliptic-sizes 41x21] [--shapes ...] [--cases NAME ...] [--out docs/orthogonal.md]``
 
 Each shape of ``example_data/hard/``, the two examples ``wavy`` and ``fig2`` and the annular
-sector ``annulus_270`` (radii 1 and 2.5, issue 23 item 7) is meshed with
+sector ``annulus_270`` (radii 1 and 2.5) is meshed with
 orthogonal sides in four cases: the two walls of a channel (bottom, top), two adjacent sides
 (bottom, left), all four sides, and the two walls with a first edge of 1/200 of the domain's
 diagonal on each (spacing). For ``pinn`` (the default network, its orthogonal start in
@@ -39,9 +39,9 @@ CASES = {
 }
 SPACING = 1 / 200  # of the diagonal
 TOL = 2.0  # SPEC 7
-# Issue 23 item 7: orthogonality may cost cells only where the boundary forces it; the pinn
+# Orthogonality may cost cells only where the boundary forces it; the pinn
 # grid's worst MaxIncludedAngle is compared with the better of the elliptic and TFI grids on
-# the same nodes (no orthogonality), allowing issue 11's 2 degrees above the reference
+# the same nodes (no orthogonality), allowing the default's 2 degrees above the reference
 COST_TOL = 2.0
 
 
@@ -134,14 +134,14 @@ def main() -> None:
     )
     print(summary)
     args.out.write_text(
-        "# Wall orthogonality on hard shapes (SPEC 7, issue 14 item 2)\n\n"
+        "# Wall orthogonality on hard shapes (SPEC 7)\n\n"
         f"Made by `.venv/bin/python benchmarks/orthogonal.py {' '.join(sys.argv[1:])}`: "
         "the largest deviation from 90 "
         "degrees of the grid lines leaving the orthogonal sides (the two nodes nearest each "
         "corner excepted); **x**: a pinn grid off by more than 2 degrees or folded. "
         "*worst - plain*: the worst MaxIncludedAngle minus the better of the tfi and elliptic "
         "grids' on the same nodes without orthogonality; **c**: more than 2 degrees above it "
-        "(issue 23 item 7: orthogonality may cost cells only where the boundary forces it).\n\n"
+        "(orthogonality may cost cells only where the boundary forces it).\n\n"
         + "\n".join(lines)
         + f"\n\n{summary}.\n"
     )

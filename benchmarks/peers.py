@@ -1,4 +1,4 @@
-"""pinn-mesh against the classical tools in one run (issue 33): the whole ``pinn-mesh``
+"""pinn-mesh against the classical tools in one run: the whole ``pinn-mesh``
 command (Python's start, imports and file reading included, as a user meets it), its default
 and ``--method elliptic``, against Construct2D, blockMesh and gmsh on the same jobs.
 
@@ -50,7 +50,7 @@ PINN_MESH = str(Path(sys.executable).with_name("pinn-mesh"))
 CONSTRUCT2D = os.environ.get("CONSTRUCT2D", "/work/tools/Construct2D/construct2d")
 OPENFOAM = Path("/usr/share/openfoam/etc/bashrc")
 SAMPLES = Path(CONSTRUCT2D).parent / "sample_airfoils"
-C_SIZE, O_SIZE = (320, 90), (250, 80)  # issue 33's grids
+C_SIZE, O_SIZE = (320, 90), (250, 80)  # the O- and C-grids compared
 FARFIELD = 15.0  # chords: Construct2D's default far field
 DFG_CELL = 0.0053  # the DFG cylinder's cell size: about 34 000 cells in 12 blocks
 DUCT_CELLS = (80, 20, 20)  # the square duct's hexahedra along x, y, z (32 000)
@@ -182,18 +182,20 @@ def gmsh_timer(lay) -> Callable[[], float]:
 Timers = dict[str, Callable[[], float]]  # pinn-mesh's default and elliptic, or the peers
 
 
-def jobs(work: Path) -> list[tuple[str, Timers, Timers]]:
-    """Each job's name, pinn-mesh's two timers and its peers' (by name)."""
-    from multiblock_gmsh import drawn
-
+def airfoil_jobs(work: Path) -> list[tuple[str, list[str], Callable[[], float]]]:
+    """The airfoil jobs: each one's name, pinn-mesh's arguments (Construct2D's first layer and
+    far field) and Construct2D's timer."""
     out = []
     dat = work / "naca0012.dat"
     write_dat(dat, "0012", "sharp")
     peer, h = construct2d(dat, C_SIZE, "c")
     size = ["--size", *map(str, C_SIZE), "--spacing", f"bottom={h:.6g}"]
-    args = [str(dat), "--topology", "c", *size, "--farfield", str(FARFIELD)]
     out.append(
-        ("NACA 0012 C-grid 320 x 90", pinn_mesh(args, work / "c.vts"), {"Construct2D": peer})
+        (
+            "NACA 0012 C-grid 320 x 90",
+            [str(dat), "--topology", "c", *size, "--farfield", str(FARFIELD)],
+            peer,
+        )
     )
     for sample in sorted(SAMPLES.glob("*.dat")):
         if sample.stem in ("bullet", "naca0012", "naca0012_sharp"):
@@ -203,8 +205,18 @@ def jobs(work: Path) -> list[tuple[str, Timers, Timers]]:
         peer, h = construct2d(dat, O_SIZE, "o")
         size = ["--size", *map(str, O_SIZE), "--spacing", f"bottom={h:.6g}"]
         args = [str(dat), "--topology", "o", *size, "--farfield", str(FARFIELD)]
-        name = f"{sample.stem} O-grid 250 x 80"
-        out.append((name, pinn_mesh(args, work / "o.vts"), {"Construct2D": peer}))
+        out.append((f"{sample.stem} O-grid 250 x 80", args, peer))
+    return out
+
+
+def jobs(work: Path) -> list[tuple[str, Timers, Timers]]:
+    """Each job's name, pinn-mesh's two timers and its peers' (by name)."""
+    from multiblock_gmsh import drawn
+
+    out = [
+        (name, pinn_mesh(args, work / f"{name.split()[0]}.vts"), {"Construct2D": peer})
+        for name, args, peer in airfoil_jobs(work)
+    ]
     _, lay = drawn("dfg", DFG_CELL)
     cells = sum((i.shape[0] - 1) * (i.shape[1] - 1) for i in lay.ids)
     dfg = [str(ROOT / "example_data" / "dfg.vtp"), "--blocks"]

@@ -1,4 +1,4 @@
-"""Issue 26 item 6, measured: does a network started from a similar case's trained network
+"""Measured: does a network started from a similar case's trained network
 (same block kind and size) reach the same quality in less training?
 
 Usage: ``.venv/bin/python benchmarks/warm_similar.py [--lbfgs 120 60 30] [--repeat 2]

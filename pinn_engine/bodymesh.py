@@ -110,22 +110,33 @@ def mesh_body(
     start = time.perf_counter()
     _stage(progress, "body layout")
     lay = bodygrid.layout(body, far, topology, ni, nj, wall_spacing=wall_spacing)
+    timings = {"layout": time.perf_counter() - start}
     history: dict[str, list[float]] = {}
     training: dict | None = None
     train_seconds = 0.0
     if method == "tfi":
         grid = bodygrid.tfi(lay, nj)
+        timings["tfi"] = time.perf_counter() - start - timings["layout"]
     else:
         sweeps = settings.elliptic_iterations or bodygrid.ELLIPTIC_SWEEPS
         _stage(progress, "elliptic grid")
         grid, controls = bodygrid.elliptic(lay, sweeps)
-        if method == "pinn":
+        timings["elliptic"] = time.perf_counter() - start - timings["layout"]
+    if method == "pinn":
+        began = time.perf_counter()
+        from pinn_engine.blocks.untrained import body_cannot_win, body_start
+
+        skipped = body_cannot_win(settings, lay.wall_aspect())
+        if skipped:
+            training = body_start(grid, skipped)
+        else:
             _stage(progress, "network set-up")
             from pinn_engine.blocks.body import train_body
 
             t0 = time.perf_counter()
             grid, history, training = train_body(lay, grid, controls, settings, progress)
             train_seconds = time.perf_counter() - t0
+        timings["training"] = time.perf_counter() - began
     mesh_seconds = time.perf_counter() - start - train_seconds
     if not np.isfinite(grid).all():
         raise InputError(f"the {method} grid has non-finite nodes; try another --size")
@@ -135,6 +146,7 @@ def mesh_body(
             "written: try another {size}",
             body.source,
         )
+    quality_began = time.perf_counter()
     cells = cell_quality(grid)
     ring = body.ring()
     wall = grid[0][lay.wall_columns()]
@@ -155,10 +167,13 @@ def mesh_body(
     report["topology"]["wall_spacing"] = lay.wall_spacing
     if body.cut is not None:  # crossing surfaces cut at the crossing (SPEC 9)
         report["topology"]["cut"] = list(body.cut)
+    if body.continued is not None:  # a closing segment that is no base (SPEC 9)
+        report["topology"]["closing_segment_continues"] = body.continued
     if method != "tfi":
         report["topology"]["elliptic_sweeps"] = lay.sweeps_kept
     if training is not None:
         report["training"] = training
+    report["timings"] = {**timings, "quality": time.perf_counter() - quality_began}
     return MeshResult(points=grid, report=report, history=history, cells=cells)
 
 

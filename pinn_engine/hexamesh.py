@@ -19,12 +19,11 @@ from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonCore import vtkPoints, vtkStringArray
 from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 
-from pinn_engine.errors import InputError, network_effect
+from pinn_engine.errors import InputError
 from pinn_engine.hexa import quality, volume
 from pinn_engine.hexa.block import cube_corners
 from pinn_engine.hexa.facegrid import FaceMap
 from pinn_engine.hexa.orthogonal import inner_angles, orthogonal_grid
-from pinn_engine.hexa.sharp import SHARP_ANGLE
 from pinn_engine.hexa.spacing import (
     PATCH_AXIS,
     check_spacing,
@@ -35,36 +34,34 @@ from pinn_engine.hexa.spacing import (
 )
 from pinn_engine.hexa.surface import Surface, Topology, find_topology, surface_of
 from pinn_engine.io import fileio
-from pinn_engine.io.export.patches import BOX_SIDES, add_to_grid, patch_specs
-from pinn_engine.settings import NO_TIME_LIMIT, Settings
+from pinn_engine.io.export.patches import BOX_SIDES, add_to_grid, named_patches, patch_specs
+from pinn_engine.patchnames import FACE_PREFIX
+from pinn_engine.settings import Settings
+from pinn_engine.starts.volume_start import Start, winslow_start
 
 if TYPE_CHECKING:
     from pinn_engine.blocks.hexa import HexaModel
+    from pinn_engine.blocks.untrained import VolumeStartModel
     from pinn_engine.neural.trainer import Progress
 
-METHODS = ("pinn", "tfi", "elliptic")  # the methods of this build for six-faced domains
-HEXA_METHOD = "pinn"  # SPEC 11's default (blocks/hexa.py; docs/hexa.md has its figures)
-HEXA_SIZE = (21, 21, 21)  # SPEC 11's default nodes along i, j and k
-MIN_NODES = 3  # fewer nodes along a direction leave no interior to solve for
-OPPOSITE_NODES = 4  # two orthogonal opposite patches each need a first layer of their own
-FACE_PREFIX = "face"  # faceN names the input face whose FaceId is N (SPEC 11's --patch)
 FACE_IDS = "FaceIds"  # field data: the input's FaceId of imin ... kmax
 
 
 @dataclass
 class HexResult:
     """The grid (ni, nj, nk, 3), its cell arrays, the run's seconds, the Winslow solve's
-    Picard steps, for pinn the trained model (blocks/hexa.py's HexaModel), the input face
-    of each side and the sides' patch names and types."""
+    Picard steps, for pinn its map (the trained HexaModel, or the untrained start's), the
+    input face of each side, the sides' patch names and types and the seconds per stage."""
 
     grid: np.ndarray
     cells: dict[str, np.ndarray]
     seconds: float
     iterations: int
     walls: dict[str, tuple[float, float, float]] = field(default_factory=dict)
-    model: HexaModel | None = None
+    model: HexaModel | VolumeStartModel | None = None
     faces: dict[str, int] = field(default_factory=dict)  # side -> the input's FaceId
     patches: tuple[tuple[str, ...], tuple[str, ...]] = patch_specs(None, sides=BOX_SIDES)
+    timings: dict[str, float] = field(default_factory=dict)  # seconds per stage
 
 
 def boundary_map(
@@ -98,10 +95,15 @@ def boundary_map(
                 (tuple(at), [a, b], FaceMap(surface, topology.face_triangles[face], sides), face)
             )
 
+    last: list[np.ndarray] = []  # the last parameters and their grid: runs ask for them again
+
     def boundary(params: np.ndarray) -> np.ndarray:
+        if last and last[0].shape == params.shape and np.array_equal(last[0], params):
+            return last[1].copy()
         g = np.zeros(params.shape)
         for at, axes, face, _ in faces:
             g[at] = face.grid(params[at][..., axes])
+        last[:] = [params.copy(), g.copy()]
         return g
 
     return boundary, tuple(face for *_, face in faces)
@@ -113,14 +115,29 @@ def face_names(surface: Surface, faces: Sequence[int]) -> dict[str, int]:
     return {side: int(surface.face_ids[f]) for side, f in zip(BOX_SIDES, faces, strict=True)}
 
 
-def named_patches(
-    patches: Mapping[str, str] | Sequence[str] | str | None, faces: dict[str, int]
-) -> tuple[tuple[str, ...], tuple[str, ...]]:
-    """The names and types of imin ... kmax from any route's patch setting, ``SIDE=NAME``
-    items naming a side as imin ... kmax or as ``faceN``, the face whose FaceId is N
-    (``faces``: :func:`face_names`)."""
-    aliases = {f"{FACE_PREFIX}{face}": side for side, face in sorted(faces.items(), key=by_face)}
-    return patch_specs(patches, sides=BOX_SIDES, aliases=aliases)
+def by_side(
+    spacing: dict[str, float], orthogonal: tuple[str, ...], faces: dict[str, int]
+) -> tuple[dict[str, float], tuple[str, ...]]:
+    """``spacing`` and ``orthogonal`` with their ``faceN`` patches (the input face whose
+    FaceId is N) named by the side that face became (``faces``: :func:`face_names`)."""
+    side_of = {f"{FACE_PREFIX}{face}": side for side, face in faces.items()}
+    listed = ", ".join(sorted(side_of, key=lambda name: int(name[len(FACE_PREFIX) :])))
+
+    def side(name: str, flag: str) -> str:
+        if name in BOX_SIDES:
+            return name
+        if name not in side_of:
+            raise InputError(f"{flag} {name}: the surface has no {name} (its faces: {listed})")
+        return side_of[name]
+
+    out: dict[str, float] = {}
+    for name, h in spacing.items():
+        if out.setdefault(side(name, "{spacing}"), h) != h:
+            raise InputError(
+                f"{{spacing}} {name}={h:g}: patch {side(name, '')} is given two spacings"
+            )
+    walls = tuple(dict.fromkeys(side(name, "{orthogonal}") for name in orthogonal))
+    return out, walls
 
 
 def surface_key(surface: Surface) -> str:
@@ -129,42 +146,6 @@ def surface_key(surface: Surface) -> str:
     digest = hashlib.sha256(np.ascontiguousarray(surface.points).tobytes())
     digest.update(np.ascontiguousarray(surface.triangles).tobytes())
     return digest.hexdigest()
-
-
-def size_problem(size: tuple[int, ...]) -> str | None:
-    """Why ``size`` is not a grid size of a six-faced domain (each route names its own
-    setting before it), or None."""
-    if len(size) != len(HEXA_SIZE):
-        return "a six-faced surface takes three sizes (nodes along i, j and k)"
-    if min(size) < MIN_NODES:
-        return f"each needs at least {MIN_NODES} nodes"
-    return None
-
-
-def refuse(
-    size: tuple[int, ...], method: str, spacing: dict | None = None, orthogonal: tuple = ()
-) -> None:
-    """An :class:`InputError` for a method, size, spacing or orthogonality this build cannot
-    mesh (spacing and orthogonality in the route's words; the other routes check method and
-    size in their own before)."""
-    if method not in METHODS:
-        raise InputError(
-            f"--method {method}: six-faced 3D domains are meshed by {', '.join(METHODS)}"
-        )
-    problem = size_problem(size)
-    if problem:
-        raise InputError(f"--size {' '.join(map(str, size))}: {problem}")
-    if orthogonal and method == "tfi":
-        raise InputError(
-            f"{{orthogonal}} {','.join(orthogonal)}: use {{method:elliptic}} or pinn (tfi's "
-            "grid lines cannot turn to a patch's normal)"
-        )
-    for axis, name in enumerate("ijk"):
-        if {f"{name}min", f"{name}max"} <= set(orthogonal) and size[axis] < OPPOSITE_NODES:
-            raise InputError(
-                f"{{orthogonal}} {name}min,{name}max: give at least {OPPOSITE_NODES} nodes "
-                f"along {name} ({{size}}), one first layer for each"
-            )
 
 
 def volume_grid(
@@ -238,119 +219,111 @@ def spacing_error(g: np.ndarray, spacing: dict[str, float]) -> float:
     return worst
 
 
-def mesh_surface(
-    path: str,
-    size: tuple[int, int, int],
-    method: str,
-    progress: Callable[[float, str], None] | None = None,
-    *,
-    spacing: dict[str, float] | None = None,
-    orthogonal: tuple[str, ...] = (),
-    load_model: str | None = None,
-    patches: Mapping[str, str] | Sequence[str] | str | None = None,
-) -> HexResult:
-    """Read ``path`` (an ``.stl``'s faces are found at its sharp edges), check its topology,
-    build the face grids and the volume grid (:func:`mesh_polydata`)."""
-    refuse(size, method, spacing, orthogonal)
+def mesh_surface(path: str, settings: Settings) -> HexResult:
+    """Read ``path`` (an ``.stl``'s faces are found at its sharp edges) and mesh it under
+    ``settings`` (:func:`mesh_polydata`)."""
     data = fileio.read_polydata(Path(path))
-    stl = str(path).lower().endswith(".stl")
-    return mesh_polydata(
-        data,
-        size,
-        method,
-        path,
-        progress,
-        sharp_edges=stl,
-        spacing=spacing,
-        orthogonal=orthogonal,
-        load_model=load_model,
-        patches=patches,
-    )
+    return mesh_polydata(data, settings, path, sharp_edges=str(path).lower().endswith(".stl"))
 
 
 def mesh_polydata(
     data: vtkPolyData,
-    size: tuple[int, int, int],
-    method: str,
+    settings: Settings,
     source: str,
     progress: Callable[[float, str], None] | None = None,
     *,
     sharp_edges: bool = False,
-    spacing: dict[str, float] | None = None,
-    orthogonal: tuple[str, ...] = (),
     load_model: str | None = None,
     patches: Mapping[str, str] | Sequence[str] | str | None = None,
-    sharp_angle: float = SHARP_ANGLE,
-    time_limit: float = NO_TIME_LIMIT,
     training: Progress | None = None,
 ) -> HexResult:
     """The hexahedral grid of a surface in memory (a polydata with a FaceId cell array, or
-    with ``sharp_edges`` faces found at its edges sharper than ``sharp_angle`` degrees; the
-    filter's and pyvista's input), ``source`` naming it in messages; ``spacing`` (patch ->
-    first edge H) and ``orthogonal`` (patches) as SPEC 7 on the patches; ``patches`` names
-    them (:func:`named_patches`, checked before meshing); pinn trains its network (for at
-    most ``time_limit`` seconds, 0: no limit; ``training`` is the trainer's progress
-    callback, whose ``errors.STOP`` ends it with the best grid so far), or evaluates the one
-    saved at ``load_model``; ``progress(fraction, phase)`` is told each phase as it
-    starts."""
-    refuse(size, method, spacing, orthogonal)
+    with ``sharp_edges`` faces found at its edges sharper than ``settings.face_angle``
+    degrees), ``source`` naming it in messages, by ``settings.method`` at ``settings.size``
+    nodes, with ``settings.spacing`` (patch -> first edge H) and ``settings.orthogonal``
+    (patches) as SPEC 7 on the patches; ``patches`` names them (:func:`named_patches`,
+    checked before meshing); pinn trains its network (for at most ``settings.time_limit``
+    seconds; ``training`` is the trainer's progress callback, whose ``errors.STOP`` ends it
+    with the best grid so far), or evaluates the one saved at ``load_model``;
+    ``progress(fraction, phase)`` is told each phase as it starts."""
     tell = progress or (lambda fraction, phase: None)
-    spacing = spacing or {}
+    method, size = settings.method, settings.size
+    spacing, orthogonal = dict(settings.spacing), settings.orthogonal
     began = time.perf_counter()
+    timings: dict[str, float] = {}
+
+    def lap(stage: str) -> None:
+        """Record the seconds since the last stage as ``stage``'s."""
+        timings[stage] = time.perf_counter() - began - sum(timings.values())
+
     tell(0.0, "face grids")
-    surface = surface_of(data, source, sharp_edges, sharp_angle)
+    surface = surface_of(data, source, sharp_edges, settings.face_angle)
     topology = find_topology(surface, source)
     boundary, sides = boundary_map(surface, topology, source)
     faces = face_names(surface, sides)
     named = named_patches(patches, faces)
-    uniform = node_params(size, {})
-    base = volume.tfi(boundary(uniform), uniform)
+    spacing, orthogonal = by_side(spacing, orthogonal, faces)
+    base = tfi_at(boundary, node_params(size, {}))
     check_spacing(spacing, base)
+    lap("faces")
     model = None
-    if method == "pinn":  # torch only for the network
-        from pinn_engine.blocks.hexa import HEXA_SETTINGS, HexaModel, Start, train, winslow_start
-
-        settings = Settings(**HEXA_SETTINGS, time_limit=time_limit)
+    if method == "pinn":  # the elliptic and tfi runs import no training modules
+        from pinn_engine.blocks.untrained import VolumeStartModel, cannot_win
 
         @cache  # the start's lattice is often the grid's own size
         def tfi_of(shape: tuple[int, ...]) -> np.ndarray:
             """The TFI grid of ``shape`` nodes, its faces exactly the face grids."""
-            return tfi_at(boundary, node_params(shape, {}))
+            return base if shape == tuple(size) else tfi_at(boundary, node_params(shape, {}))
 
         tell(0.2, "network")
         key = surface_key(surface)
-        if load_model:
+        reason = None if load_model else cannot_win(settings)
+        tfi = base
+        if reason:  # the start's map: no network, no torch
+            start = winslow_start(tfi_of, size)
+            lap("start")
+            model = VolumeStartModel.of(start, settings, key, reason, timings["start"])
+        elif load_model:
+            from pinn_engine.blocks.hexa import HexaModel  # torch: only for a saved network
+
             if spacing or orthogonal:
                 raise InputError(
                     "--load-model with --spacing or --orthogonal: a saved map keeps the "
                     "spacing and walls it was trained with; drop them, or train anew"
                 )
-            model, tfi = HexaModel.load(load_model, key), tfi_of(size)
-        elif spacing or orthogonal:  # the elliptic grid with them, at the full size
-            params, grid, _ = _classical(boundary, "elliptic", spacing, orthogonal, base)
-            tfi = tfi_at(boundary, params)
-            start = Start(
-                tfi,
-                grid,
-                params if spacing else None,
-                partial(spacing_error, spacing=spacing) if spacing else None,
-                tuple((PATCH_AXIS[p][0], float(PATCH_AXIS[p][1] != 0)) for p in orthogonal),
-                partial(wall_angle, patches=orthogonal) if orthogonal else None,
-            )
-            model = train(start, key, settings, training)
+            model = HexaModel.load(load_model, key)
+            lap("start")
         else:
-            start, tfi = winslow_start(tfi_of, size), tfi_of(size)
+            from pinn_engine.blocks.hexa import train  # torch: imported only to train
+
+            if spacing or orthogonal:  # the elliptic grid with them, at the full size
+                params, grid, _ = _classical(boundary, "elliptic", spacing, orthogonal, base)
+                tfi = tfi_at(boundary, params)
+                start = Start(
+                    tfi,
+                    grid,
+                    params if spacing else None,
+                    partial(spacing_error, spacing=spacing) if spacing else None,
+                    tuple((PATCH_AXIS[p][0], float(PATCH_AXIS[p][1] != 0)) for p in orthogonal),
+                    partial(wall_angle, patches=orthogonal) if orthogonal else None,
+                )
+            else:
+                start = winslow_start(tfi_of, size)
+            lap("start")
             model = train(start, key, settings, training)
         g, steps = model.grid(tfi), 0
+        lap("training")
     else:
         if method == "elliptic":
             tell(0.3, "3D Winslow")
         _, g, steps = _classical(boundary, method, spacing, orthogonal, base)
+        lap("volume")
     tell(0.9, "quality")
     cells = cell_arrays(g)
     walls = wall_figures(g, spacing, orthogonal)
+    lap("quality")
     seconds = time.perf_counter() - began
-    return HexResult(g, cells, seconds, steps, walls, model, faces, named)
+    return HexResult(g, cells, seconds, steps, walls, model, faces, named, timings)
 
 
 def wall_figures(
@@ -410,8 +383,8 @@ def figures(cells: dict[str, np.ndarray]) -> dict[str, float]:
 
 def report(result: HexResult, method: str) -> dict:
     """What the grid's field data ``Report`` holds: method, size, the input's FaceId of each
-    of imin ... kmax (``faces``), cells, seconds, Picard
-    steps, :func:`figures` as ``quality``, per patch with a spacing or orthogonality its
+    of imin ... kmax (``faces``), cells, seconds (and per stage, ``timings``), Picard steps,
+    :func:`figures` as ``quality``, per patch with a spacing or orthogonality its
     ``walls`` figures (:func:`wall_figures`, in the multi-block report's keys) and the
     pinn's ``training`` (the trainer's info)."""
     walls = {
@@ -424,6 +397,7 @@ def report(result: HexResult, method: str) -> dict:
         "faces": dict(result.faces),
         "cells": int(result.cells["Folded"].size),
         "seconds": result.seconds,
+        "timings": dict(result.timings),
         "iterations": result.iterations,
         "quality": figures(result.cells),
         **({"walls": walls} if walls else {}),
@@ -470,37 +444,3 @@ def hexa_grid(result: HexResult, method: str) -> vtkStructuredGrid:
         array.SetName(name)
         fd.AddArray(array)
     return grid
-
-
-def summary(result: HexResult, method: str) -> str:
-    """One line: cells, folds, min ScaledJacobian, mean/worst MaxIncludedAngle, time, which
-    side each input face is (``face3=imin``, in FaceId order: an STL's faces are numbered so)
-    and what the network did."""
-    ni, nj, nk = result.grid.shape[:3]
-    c = result.cells
-    return (
-        f"{method} {ni}x{nj}x{nk} hexahedral grid, {c['Folded'].size} cells in "
-        f"{result.seconds:.2f} s: {int(c['Folded'].sum())} folded, min ScaledJacobian "
-        f"{c['ScaledJacobian'].min():.3f}, mean MaxIncludedAngle "
-        f"{c['MaxIncludedAngle'].mean():.2f} deg, worst {c['MaxIncludedAngle'].max():.2f} deg"
-        + (f" ({result.iterations} Picard steps)" if result.iterations else "")
-        + "".join(
-            f"; {patch}: first edges {low:.3g}..{high:.3g}, grid lines within {angle:.2f} deg "
-            "of the normal"
-            for patch, (low, high, angle) in result.walls.items()
-        )
-        + (f"; faces {face_line(result.faces)}" if result.faces else "")
-        + (f"; {network_effect({'training': result.model.info})}" if result.model else "")
-    )
-
-
-def face_line(faces: dict[str, int]) -> str:
-    """``face0=jmin face1=jmax ...``: each input face (by FaceId) and the side it is."""
-    return " ".join(
-        f"{FACE_PREFIX}{face}={side}" for side, face in sorted(faces.items(), key=by_face)
-    )
-
-
-def by_face(item: tuple[str, int]) -> int:
-    """The FaceId of a (side, FaceId) item: faces are listed in FaceId order."""
-    return item[1]

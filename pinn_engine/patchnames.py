@@ -7,6 +7,7 @@ import re
 
 from pinn_engine.errors import InputError
 
+FACE_PREFIX = "face"  # faceN names the input face whose FaceId is N (SPEC 11's --patch)
 SIDE_FIX = "{patch}"  # the route token (errors.ROUTE_WORDS) where a grid's side names are set
 NAME = re.compile(r"^[A-Za-z0-9_-]{1,32}$")
 FRONT_AND_BACK = "frontAndBack"  # the two ends of an extruded output

@@ -193,18 +193,28 @@ def shortest_edges(grid: np.ndarray) -> np.ndarray:
 # SPEC 7's figures per side: first edges, wall angles, growth
 
 
+def wall_and_row(grid, side: str) -> tuple:
+    """Views of a side's nodes and of the first row or column inside it (numpy arrays and
+    torch tensors alike)."""
+    return {
+        "bottom": (grid[0], grid[1]),
+        "top": (grid[-1], grid[-2]),
+        "left": (grid[:, 0], grid[:, 1]),
+        "right": (grid[:, -1], grid[:, -2]),
+    }[side]
+
+
+# the sides in the order the per-side figures are listed
+FIGURE_SIDES = ("bottom", "top", "left", "right")
+
+
 def first_edges(grid: np.ndarray) -> dict[str, np.ndarray]:
     """Length of the first grid edge leaving each node of each side (along the side)."""
-
-    def norm(a, b):
-        return np.linalg.norm(a - b, axis=-1)
-
-    return {
-        "bottom": norm(grid[1], grid[0]),
-        "top": norm(grid[-2], grid[-1]),
-        "left": norm(grid[:, 1], grid[:, 0]),
-        "right": norm(grid[:, -2], grid[:, -1]),
-    }
+    edges = {}
+    for side in FIGURE_SIDES:
+        wall, row = wall_and_row(grid, side)
+        edges[side] = np.linalg.norm(row - wall, axis=-1)
+    return edges
 
 
 def angle_deviation(tangent: np.ndarray, leave: np.ndarray) -> np.ndarray:
@@ -255,15 +265,11 @@ def grid_lines_angle(grid: np.ndarray) -> dict[str, np.ndarray]:
     """Deviation from 90 degrees of the first grid edge leaving each node of each side, from
     the side's tangent (central difference along the side; one-sided at its corners)."""
 
-    def dev(side_nodes, inner_nodes):
-        return angle_deviation(np.gradient(side_nodes, axis=0), inner_nodes - side_nodes)
-
-    return {
-        "bottom": dev(grid[0], grid[1]),
-        "top": dev(grid[-1], grid[-2]),
-        "left": dev(grid[:, 0], grid[:, 1]),
-        "right": dev(grid[:, -1], grid[:, -2]),
-    }
+    angles = {}
+    for side in FIGURE_SIDES:
+        wall, row = wall_and_row(grid, side)
+        angles[side] = angle_deviation(np.gradient(wall, axis=0), row - wall)
+    return angles
 
 
 def growth_ratios(grid: np.ndarray) -> dict[str, float]:

@@ -7,7 +7,8 @@ import numbers
 import re
 from dataclasses import asdict, dataclass, fields, replace
 
-from pinn_engine.errors import SettingsError, unknown_name
+from pinn_engine.errors import InputError, SettingsError, unknown_name
+from pinn_engine.patchnames import FACE_PREFIX
 
 METHODS = ("pinn", "mgnet", "tfi", "elliptic")
 NEURAL = ("pinn", "mgnet")  # the methods that train a network
@@ -18,9 +19,21 @@ BODY_METHODS = ("pinn", "tfi", "elliptic")  # the methods of O- and C-grids
 MULTIBLOCK_METHODS = ("tfi", "elliptic", "pinn")  # SPEC 10's methods in this build
 BLOCKS_METHOD = "pinn"  # multi-block's default method (SPEC 10), on every route
 AUTO_BLOCKS = "auto"  # block edges named so are proposed from the boundary (SPEC 13)
+HEXA_METHODS = ("pinn", "tfi", "elliptic")  # SPEC 11's methods, in the filter's order
+HEXA_METHOD = "pinn"  # SPEC 11's default (blocks/hexa.py; docs/hexa.md has its figures)
+BOX_SIDES = ("imin", "imax", "jmin", "jmax", "kmin", "kmax")  # a six-faced domain's patches
+FACE_ANGLE = 40.0  # degrees between neighbouring triangles' normals that end a face (SPEC 11)
+OPPOSITE_NODES = 4  # two orthogonal opposite patches each need a first layer of their own
+# A six-faced domain's L-BFGS iterations: its residual falls from the Winslow start by a
+# quarter in 20 and a third in 120 at nearly the same grid (docs/hexa.md), each costing
+# about 40 ms at 21^3
+HEXA_LBFGS_ITERATIONS = 20
 # Grid sizes accepted on every route (command line, filter and panel, pyvista, Mesher)
 MAX_SIDE_NODES = 20_000
 MAX_NODES = 4_000_000  # about 1.5 GB of memory while meshing and writing
+DEFAULT_SIZE = (41, 21)  # nodes along xi and eta of a four-sided grid or a body (SPEC 5)
+HEXA_SIZE = (21, 21, 21)  # SPEC 11's default nodes along i, j and k
+MIN_HEXA_NODES = 3  # fewer nodes along a direction leave no interior to solve for
 # Training's wall-clock limit in seconds, after which the best state so far is kept
 NO_TIME_LIMIT = 0.0  # command line, pyvista, VTK: a limit would tie the grid to machine speed
 PANEL_TIME_LIMIT = 60.0  # ParaView 5.11 freezes while a filter runs; the paper preset (~33 s) fits
@@ -34,6 +47,21 @@ def grid_size_problem(ni: int, nj: int) -> str | None:
             f"each side must have 2 to {MAX_SIDE_NODES:,} nodes and the grid at most "
             f"{MAX_NODES:,} nodes"
         )
+    return None
+
+
+def size_problem(size: tuple[int, ...]) -> str | None:
+    """What is wrong with a grid size of two node counts (a 2D domain) or more (a six-faced
+    3D domain's, :func:`hexa_size_problem`), or None; each route prefixes its own name."""
+    return grid_size_problem(*size) if len(size) == 2 else hexa_size_problem(size)
+
+
+def hexa_size_problem(size: tuple[int, ...]) -> str | None:
+    """What is wrong with a six-faced 3D domain's grid size, or None."""
+    if len(size) != len(HEXA_SIZE):
+        return "a six-faced surface takes three sizes (nodes along i, j and k)"
+    if min(size) < MIN_HEXA_NODES:
+        return f"each needs at least {MIN_HEXA_NODES} nodes"
     return None
 
 
@@ -86,6 +114,46 @@ def parse_spacing(value) -> tuple[tuple[str, float], ...]:
             raise SettingsError(f"spacing {side}={h}: H must be a finite length > 0")
         out[side] = h
     return tuple((s, out[s]) for s in SIDE_NAMES if s in out)
+
+
+# a six-faced domain's patch as --spacing and --orthogonal name it: a side, or faceN (the
+# input face whose FaceId is N, resolved to its side once the surface is read)
+HEXA_PATCH = re.compile(rf"^({'|'.join(BOX_SIDES)}|{FACE_PREFIX}[0-9]+)$")
+HEXA_PATCH_NAMES = ", ".join(BOX_SIDES) + " or faceN"
+
+
+def parse_patch_spacing(items) -> tuple[tuple[str, float], ...]:
+    """A six-faced domain's ``PATCH=H`` items (or (PATCH, H) pairs), checked, in the route's
+    words: the first edge H > 0 leaving each patch imin ... kmax (or faceN) given."""
+    names = HEXA_PATCH_NAMES
+    out: dict[str, float] = {}
+    for part in items.items() if hasattr(items, "items") else items or ():
+        item = part if isinstance(part, str) else f"{part[0]}={part[1]}"
+        name, sep, value = item.partition("=")
+        name = name.strip().lower()
+        try:
+            h = float(value)
+        except ValueError:
+            h = math.nan
+        if not sep or not HEXA_PATCH.match(name) or not (math.isfinite(h) and h > 0):
+            raise InputError(f"{{spacing}} {item}: write PATCH=H with H > 0, PATCH one of {names}")
+        if out.setdefault(name, h) != h:
+            raise InputError(f"{{spacing}} {item}: patch {name} is given two spacings")
+    return tuple(out.items())
+
+
+def parse_patch_walls(items) -> tuple[str, ...]:
+    """A six-faced domain's orthogonal patches from ``PATCH[,PATCH...]`` items (imin ...
+    kmax or faceN), checked."""
+    names = HEXA_PATCH_NAMES
+    walls = []
+    for item in ([items] if items else []) if isinstance(items, str) else items or ():
+        for name in item.split(","):
+            name = name.strip().lower()
+            if not HEXA_PATCH.match(name):
+                raise InputError(f"{{orthogonal}} {item}: unknown patch {name!r}; use {names}")
+            walls.append(name)
+    return tuple(dict.fromkeys(walls))
 
 
 @dataclass(frozen=True)
@@ -183,6 +251,13 @@ PARAMETER_CONSTRAINTS: dict[str, Options | Interval] = {
         ("free", "fixed"),
         "multi-block: free (interface nodes solved like interior nodes) or fixed (as drawn)",
     ),
+    "face_angle": Interval(
+        float,
+        0.0,
+        180.0,
+        "six-faced surface without FaceId (an STL): faces end where neighbouring triangles' "
+        "normals differ by more than this many degrees",
+    ),
 }
 
 
@@ -206,6 +281,9 @@ class Settings:
     # last state no worse than it there (starts/warmstart.py); "none": start from TFI (paper)
     warm_start: str = "elliptic"
     lattice: tuple[int, int] = (41, 21)  # nodes of the warm start; routes use the output size
+    # the grid's nodes along i, j (and k: a six-faced 3D domain); () for a multi-block domain,
+    # whose counts come from cell_size
+    size: tuple[int, ...] = ()
     residual: str = "scaled"  # Winslow residual: "paper" (eq. 13) or "scaled" (losses.py)
     # pinn: "winslow" (the Winslow equations) or "quality" (plus a cell-quality term, and the
     # start and guard keep the best worst angle; blocks/quad.py); other methods: "winslow"
@@ -249,6 +327,10 @@ class Settings:
     # stay on the drawn edges ("fixed")
     cell_size: float = 0.0
     interfaces: str = "free"
+    # SPEC 11, a six-faced 3D domain (three sizes): a surface without FaceId is split into
+    # faces where it bends by more than this many degrees; spacing and orthogonal then name
+    # the patches imin ... kmax
+    face_angle: float = FACE_ANGLE
 
     def __post_init__(self) -> None:
         for name in PARAMETER_CONSTRAINTS:
@@ -268,6 +350,10 @@ class Settings:
                 f"lattice must be two node counts of at least 2, got {self.lattice}"
             )
         object.__setattr__(self, "lattice", lattice)  # lists (JSON, saved models) -> tuple
+        object.__setattr__(self, "size", tuple(int(n) for n in self.size))
+        if len(self.size) == len(HEXA_SIZE):
+            self._check_hexa()
+            return
         object.__setattr__(self, "spacing", parse_spacing(self.spacing))
         object.__setattr__(self, "orthogonal", parse_sides(self.orthogonal))
         if self.topology != "none":
@@ -287,6 +373,30 @@ class Settings:
                 "spacing and orthogonal sides need the converged elliptic solver "
                 "(elliptic_iterations 0, not the paper's sweeps)"
             )
+
+    def _check_hexa(self) -> None:
+        """The rules of six-faced 3D domains (SPEC 11): their methods, spacing and
+        orthogonality on the patches imin ... kmax (in the route's words)."""
+        if self.method not in HEXA_METHODS:
+            raise InputError(
+                f"{{method:{self.method}}}: six-faced 3D domains are meshed by "
+                f"{', '.join(HEXA_METHODS)}"
+            )
+        spacing = parse_patch_spacing(self.spacing)
+        orthogonal = parse_patch_walls(self.orthogonal)
+        object.__setattr__(self, "spacing", spacing)
+        object.__setattr__(self, "orthogonal", orthogonal)
+        if orthogonal and self.method == "tfi":
+            raise InputError(
+                f"{{orthogonal}} {','.join(orthogonal)}: use {{method:elliptic}} or pinn (tfi's "
+                "grid lines cannot turn to a patch's normal)"
+            )
+        for axis, name in enumerate("ijk"):
+            if {f"{name}min", f"{name}max"} <= set(orthogonal) and self.size[axis] < OPPOSITE_NODES:
+                raise InputError(
+                    f"{{orthogonal}} {name}min,{name}max: give at least {OPPOSITE_NODES} nodes "
+                    f"along {name} ({{size}}), one first layer for each"
+                )
 
     def _check_body(self) -> None:
         """The rules of O- and C-grids (SPEC 9): their methods, and the wall as the one side
@@ -320,7 +430,7 @@ class Settings:
 
     def training_key(self) -> tuple:
         """The settings that change the trained network (not the output resolution)."""
-        skip = {"preset", "device", "time_limit", "cell_size", "interfaces"} | (
+        skip = {"preset", "device", "time_limit", "cell_size", "interfaces", "size"} | (
             {"lattice"} if self.warm_start == "none" and self.objective == "winslow" else set()
         )
         return tuple((f.name, getattr(self, f.name)) for f in fields(self) if f.name not in skip)
@@ -363,7 +473,8 @@ def make_settings(method: str = "pinn", preset: str = "default", **overrides) ->
 
     The elliptic warm start needs the hard boundary: asking for the penalty boundary without
     naming a warm start turns it off, and a run without warm start gets the schedule and
-    losses of ``FROM_TFI`` unless they are given.
+    losses of ``FROM_TFI`` unless they are given. A six-faced domain (three sizes) trains
+    ``HEXA_LBFGS_ITERATIONS`` unless told otherwise.
     """
     base = Settings(method=method, preset=preset)
     if preset == "paper":
@@ -378,4 +489,6 @@ def make_settings(method: str = "pinn", preset: str = "default", **overrides) ->
         given["warm_start"] = "none"
     if given.get("warm_start") == "none" and preset == "default":
         given = {**FROM_TFI, **given}
+    if len(given.get("size", ())) == len(HEXA_SIZE):
+        given = {"lbfgs_iterations": HEXA_LBFGS_ITERATIONS, **given}
     return replace(base, **given)

@@ -34,9 +34,6 @@ if _REPO not in sys.path:
 
 try:
     from pinn_engine import __version__
-    from pinn_engine.hexa.sharp import SHARP_ANGLE
-    from pinn_engine.hexamesh import HEXA_METHOD, HEXA_SIZE, MIN_NODES
-    from pinn_engine.hexamesh import METHODS as HEXA_METHODS
     from pinn_engine.io.export import FORMATS
     from pinn_engine.io.export.algorithm import PARAVIEW_FORMATS, GridWriter
     from pinn_engine.routes.airfoil_algorithm import AirfoilReader, AirfoilSource
@@ -47,10 +44,16 @@ try:
         INTERFACES,
         PinnMultiBlockAlgorithm,
     )
+    from pinn_engine.routes.paraview_help import register_in_gui
     from pinn_engine.settings import (
         BLOCKS_METHOD,
+        FACE_ANGLE,
+        HEXA_METHOD,
+        HEXA_METHODS,
+        HEXA_SIZE,
         MAX_SIDE_NODES,
         METHODS,
+        MIN_HEXA_NODES,
         MULTIBLOCK_METHODS,
         OBJECTIVES,
         PANEL_TIME_LIMIT,
@@ -66,6 +69,7 @@ except ImportError as _exc:  # a clear line in ParaView's output instead of a ba
         "numpy, scipy and scikit-learn (see scripts/pvenv.sh)"
     ) from _exc
 
+from paraview.detail.pythonalgorithm import get_plugin_xmls  # noqa: E402
 from paraview.util.vtkAlgorithm import smdomain, smhint, smproperty, smproxy  # noqa: E402
 
 try:  # the client side, where displays are made (absent from a data-server-only build)
@@ -798,7 +802,7 @@ _HEXA_METHOD_DOCS = {
     "elliptic": "the 3D Winslow equations solved to convergence from the TFI grid",
     "pinn": "a physics-informed network trained on the 3D Winslow equations, the face "
     "grids built in",
-}  # the Method help of PINN Hexahedral Mesh, for the methods hexamesh.METHODS has
+}  # the Method help of PINN Hexahedral Mesh, for the methods settings.HEXA_METHODS has
 
 
 @_mesh_filter(
@@ -814,10 +818,11 @@ _HEXA_METHOD_DOCS = {
     label="PINN Hexahedral Mesh",
     summary="Hexahedral structured grid of a six-faced 3D domain.",
     doc="Hexahedral structured grid (one block, ni x nj x nk nodes) of the 3D domain "
-    "bounded by a closed surface with six faces tagged by a FaceId cell array (SPEC 11): "
-    "a duct, a bend, a nozzle, a box with a bump. The faces' 8 corners and 12 edges are "
-    "found from their adjacency; each face gets a grid on the surface's triangles, and "
-    "the volume grid is made from the six face grids by the chosen method. Corner 0 is "
+    "bounded by a closed surface with six faces, tagged by a FaceId cell array (SPEC 11) or "
+    "found at Face Angle (an STL file): a duct, a bend, a nozzle, a box with a bump. The "
+    "faces' 8 corners and 12 edges are found from their adjacency; each face gets a grid "
+    "on the surface's triangles, and the volume grid is made from the six face grids by "
+    "the chosen method. Corner 0 is "
     "the one with the smallest x + y + z, i leaves it nearest +x, and (i, j, k) is "
     "right-handed. Cells carry MaxIncludedAngle, MinIncludedAngle (the 24 face-corner "
     "angles), ScaledJacobian and Folded; field data the report and the patch names "
@@ -843,7 +848,7 @@ class PINNHexahedralMesh(PinnHexaAlgorithm):
         name="GridSize",
         label="Grid Size",
         default_values=list(HEXA_SIZE),
-        bounds={"min": MIN_NODES},
+        bounds={"min": MIN_HEXA_NODES},
         doc="Nodes along i, j and k (at least 3 each).",
     )
     def P02GridSize(self, ni, nj, nk):
@@ -863,7 +868,7 @@ class PINNHexahedralMesh(PinnHexaAlgorithm):
     @_doublevector(
         name="FaceAngle",
         label="Face Angle",
-        default_values=SHARP_ANGLE,
+        default_values=FACE_ANGLE,
         bounds={"min": 1.0, "max": 179.0},
         doc="For a surface without a FaceId cell array (an STL file): its faces are the "
         "regions between edges where neighbouring triangles' normals differ by more than "
@@ -1036,3 +1041,6 @@ del (
     _name,
     _file_type,
 )  # one module name per proxy: ParaView registers every one it finds
+
+# the proxies' help pages, for the panel's "?" and the help's search (docs/paraview_gui.md)
+register_in_gui(get_plugin_xmls(globals()))

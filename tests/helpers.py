@@ -100,3 +100,22 @@ class OutputMessages:
     def lines(self) -> list[str]:
         told = set(self.told)
         return [ln for ln in self.window.GetOutput().splitlines() if ln.strip() and ln not in told]
+
+
+def run_blocks(
+    settings,
+    boundary,
+    edges,
+    patches=(),
+    spacing=(),
+    orthogonal=(),
+    progress=None,
+    aux=(),
+    cells=(),
+):
+    """The multi-block job of files, as the command line runs it (``job.blocks_from_files``
+    then ``job.run``)."""
+    from pinn_engine import job
+
+    geometry = job.blocks_from_files(boundary, edges, aux, patches, spacing, orthogonal, cells)
+    return job.run(settings, geometry, progress)

@@ -7,14 +7,15 @@ import os
 import sys
 import time
 import uuid
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
 from typing import TextIO
 
-from pinn_engine.batch import summary
+from pinn_engine.batch import pool, summary, warm
 from pinn_engine.batch.manifest import Case, cases_of, read_manifest
+from pinn_engine.batch.pool import Todo, WarmPool
 from pinn_engine.batch.progress import Bar
-from pinn_engine.batch.task import error_row, prepared, run_case
+from pinn_engine.batch.task import DIED, error_row, prepared, run_case
 
 SUMMARY_EVERY = 2.0  # seconds between rewrites of summary.csv while cases finish
 Cases = str | os.PathLike | Iterable[Case | Mapping[str, str]]
@@ -43,8 +44,29 @@ def _failure(name: str, exc: BaseException) -> dict:
     from distributed import KilledWorker
 
     if isinstance(exc, KilledWorker):
-        return error_row(name, "the worker meshing it died each time it was tried")
+        return error_row(name, DIED)
     return error_row(name, f"{type(exc).__name__}: {exc}")
+
+
+def _dask_results(client, todo: Todo) -> Iterator[tuple[str, dict]]:
+    """Each case's name and summary row from ``client``'s workers, as the cases finish; the
+    cases left are cancelled when the caller stops asking."""
+    from distributed import as_completed
+
+    token = uuid.uuid4().hex[:8]  # this run's task keys differ from an earlier run's
+    futures = {
+        client.submit(run_case, name, args, key=f"pinn-mesh-{name}-{token}"): name
+        for name, args in todo
+    }
+    try:
+        for future in as_completed(futures):
+            name = futures[future]
+            try:
+                yield name, future.result()
+            except Exception as exc:  # the task, not the case, failed
+                yield name, _failure(name, exc)
+    finally:
+        client.cancel([f for f in futures if not f.done()])
 
 
 def run(
@@ -54,11 +76,10 @@ def run(
     force: bool = False,
     stream: TextIO | None = None,
 ) -> list[dict]:
-    """Mesh ``cases`` on ``client``'s workers into ``outdir``; the summary rows in the cases'
-    order. A case whose grid exists and whose earlier row is done is skipped unless
-    ``force``; ``stream`` gets the progress line (None: no progress)."""
-    from distributed import as_completed
-
+    """Mesh ``cases`` on ``client``'s workers (a Dask client, or a :class:`.pool.WarmPool`)
+    into ``outdir``; the summary rows in the cases' order. A case whose grid exists and whose
+    earlier row is done is skipped unless ``force``; ``stream`` gets the progress line (None:
+    no progress)."""
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     earlier = summary.read_rows(outdir)
@@ -76,26 +97,18 @@ def run(
         summary.write_rows(outdir, [rows[c.name] for c in cases if c.name in rows])
 
     bar = Bar(len(cases), len(cases) - len(todo), stream) if stream else None
-    token = uuid.uuid4().hex[:8]  # this run's task keys differ from an earlier run's
-    futures = {
-        client.submit(run_case, name, args, key=f"pinn-mesh-{name}-{token}"): name
-        for name, args in todo
-    }
+    results = client.results(todo) if isinstance(client, WarmPool) else _dask_results(client, todo)
     written = time.perf_counter()
     try:
-        for future in as_completed(futures):
-            name = futures[future]
-            try:
-                rows[name] = future.result()
-            except Exception as exc:  # the task, not the case, failed
-                rows[name] = _failure(name, exc)
+        for name, row in results:
+            rows[name] = row
             if bar:
-                bar.update(rows[name]["status"] == "error")
+                bar.update(row["status"] == "error")
             if time.perf_counter() - written > SUMMARY_EVERY:
                 write()
                 written = time.perf_counter()
     finally:
-        client.cancel([f for f in futures if not f.done()])
+        results.close()
         write()
         if bar:
             bar.close()
@@ -126,14 +139,18 @@ def mesh_many(
     a pandas DataFrame when pandas is installed.
 
     ``client``: a ``distributed.Client`` to run on (its workers are set up for meshing);
-    without one, a local cluster of ``workers`` processes (default: one per core) or the
-    scheduler at ``scheduler`` is used for this call. ``force`` redoes cases done by an
+    without one, ``workers`` local processes (default: one per core; a warm process pool for
+    at most ``pool.SMALL_BATCH`` cases, a local Dask cluster for more) or the scheduler at
+    ``scheduler`` is used for this call. ``force`` redoes cases done by an
     earlier call; ``progress`` draws the progress line on stderr.
     """
-    from pinn_engine.batch.cluster import connect, prepare
-
     todo = as_cases(cases)
     stream = sys.stderr if progress else None
+    if client is None and pool.small(len(todo), scheduler):
+        warm.require_dask()
+        return _table(run(WarmPool(workers), todo, outdir, force, stream))
+    from pinn_engine.batch.cluster import connect, prepare
+
     if client is not None:
         prepare(client)
         return _table(run(client, todo, outdir, force, stream))

@@ -7,9 +7,10 @@ from __future__ import annotations
 import argparse
 import sys
 
-from pinn_engine.batch import warm
+from pinn_engine.batch import pool, warm
+from pinn_engine.batch.manifest import ManifestError, read_manifest
 from pinn_engine.errors import MissingExtraError, PinnMeshError
-from pinn_engine.routes.cli import EXIT_ERROR, EXIT_INTERRUPTED, OneLineParser
+from pinn_engine.routes.cli.parser import EXIT_ERROR, EXIT_INTERRUPTED, OneLineParser
 
 EXIT_FAILED = 1  # some cases got an error row; the others were meshed
 # why a cluster shows no dashboard: its scheduler runs without one, or without bokeh
@@ -17,6 +18,8 @@ NO_DASHBOARD = (
     "none (the scheduler serves no pages: started without a dashboard, or without bokeh; "
     "pip install 'pinn-mesh[batch]' where it runs)"
 )
+# why a small local batch shows none
+POOL_DASHBOARD = f"none (up to {pool.SMALL_BATCH} cases run on local processes, without Dask)"
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -46,26 +49,28 @@ def main(argv: list[str]) -> int:
     args = parser.parse_args(argv)
     if args.workers is not None and args.workers < 1:
         parser.error(f"--workers {args.workers}: give at least 1")
-    if not args.scheduler:  # the local workers' server imports while this process does
-        warm.start()
-    from pinn_engine.batch.api import run
-    from pinn_engine.batch.manifest import ManifestError, read_manifest
-
-    try:
-        from pinn_engine.batch.cluster import connect, dashboard
-    except MissingExtraError as exc:
-        print(f"pinn-mesh batch: error: {exc}", file=sys.stderr)
-        return EXIT_ERROR
     try:
         cases = read_manifest(args.manifest)
-    except ManifestError as exc:
+        warm.require_dask()
+    except (ManifestError, MissingExtraError) as exc:
         print(f"pinn-mesh batch: error: {exc}", file=sys.stderr)
         return EXIT_ERROR
+    small = pool.small(len(cases), args.scheduler)
+    if not args.scheduler:  # the local workers' server imports while this process does
+        warm.start(dask=not small)
+    from pinn_engine.batch.api import run
+
     try:
-        with connect(args.workers, args.scheduler) as client:
-            link = dashboard(client) or NO_DASHBOARD
-            print(f"Dask dashboard: {link}", file=sys.stderr, flush=True)
-            rows = run(client, cases, args.output, args.force, sys.stderr)
+        if small:
+            print(f"Dask dashboard: {POOL_DASHBOARD}", file=sys.stderr, flush=True)
+            rows = run(pool.WarmPool(args.workers), cases, args.output, args.force, sys.stderr)
+        else:
+            from pinn_engine.batch.cluster import connect, dashboard
+
+            with connect(args.workers, args.scheduler) as client:
+                link = dashboard(client) or NO_DASHBOARD
+                print(f"Dask dashboard: {link}", file=sys.stderr, flush=True)
+                rows = run(client, cases, args.output, args.force, sys.stderr)
     except KeyboardInterrupt:
         print(
             f"pinn-mesh batch: interrupted; the cases done are in {args.output}/summary.csv",

@@ -5,10 +5,9 @@ from __future__ import annotations
 
 import contextlib
 import importlib.util
-import os
-import sys
 from collections.abc import Iterator
 
+from pinn_engine.batch import warm
 from pinn_engine.errors import MissingExtraError
 
 try:
@@ -16,9 +15,7 @@ try:
     from distributed import Client, LocalCluster
     from distributed.diagnostics.plugin import WorkerPlugin
 except ModuleNotFoundError as exc:  # installed without the batch extra
-    raise MissingExtraError("batch meshing (Dask)", "batch") from exc
-
-from pinn_engine.batch import warm
+    raise MissingExtraError(*warm.DASK_EXTRA) from exc
 
 HOST = "127.0.0.1"  # a local cluster listens on this machine only
 DASHBOARD = f"{HOST}:8787"  # Dask's usual dashboard port (another is taken when it is busy)
@@ -26,26 +23,10 @@ THREADS_PER_WORKER = 1  # one case at a time a process: cases run side by side i
 
 
 class MeshingWorker(WorkerPlugin):
-    """Set a worker process up as the single-run command sets itself up, glibc's heap tuned,
-    with one thread for torch and the BLAS (cases run in parallel across workers, not inside
-    one). torch is not imported here: only a case that trains needs it, and it reads
-    ``OMP_NUM_THREADS`` when it is imported."""
+    """Set a worker process up for meshing (:func:`.warm.setup_worker`)."""
 
     def setup(self, worker) -> None:  # noqa: ARG002
-        from threadpoolctl import threadpool_limits
-
-        from pinn_engine import heap
-
-        if "torch" in sys.modules:
-            sys.modules["torch"].set_num_threads(1)
-        os.environ["OMP_NUM_THREADS"] = "1"
-        threadpool_limits(1)
-        heap.tune_process()
-
-
-def default_workers() -> int:
-    """One worker process per core (SPEC 12)."""
-    return os.cpu_count() or 1
+        warm.setup_worker()
 
 
 @contextlib.contextmanager
@@ -57,12 +38,12 @@ def connect(workers: int | None = None, scheduler: str | None = None) -> Iterato
             prepare(client)
             yield client
         return
-    warm.start()
+    warm.start(dask=True)
     method = warm.start_method()
     # for the cluster's life: the nanny starts a worker that died by the same method
     with dask.config.set({"distributed.worker.multiprocessing-method": method} if method else {}):
         cluster = LocalCluster(
-            n_workers=workers or default_workers(),
+            n_workers=workers or warm.default_workers(),
             threads_per_worker=THREADS_PER_WORKER,
             processes=True,
             host=HOST,

@@ -14,7 +14,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from pinn_engine.routes.cli import build_parser
+from pinn_engine.routes.cli.parser import build_parser
 
 COLUMNS = ("name", "input", "aux", "options")
 REQUIRED = ("name", "input")  # aux and options may be left out of the header

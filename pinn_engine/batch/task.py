@@ -15,11 +15,11 @@ from pathlib import Path
 
 from pinn_engine.batch.manifest import Case
 from pinn_engine.errors import PinnMeshError, grid_warnings
-from pinn_engine.routes import cli
 
 # Paths of the options that name more outputs are relative to OUTDIR, beside the case's grid
 OUTPUT_PATHS = ("report", "png", "save_model")
 MESSAGE_CHARS = 300  # a summary message is one line of at most this many characters
+DIED = "the worker meshing it died each time it was tried"  # the row of a case that kills
 
 
 def output_of(args: argparse.Namespace, outdir: Path, name: str) -> Path:
@@ -34,7 +34,7 @@ def output_of(args: argparse.Namespace, outdir: Path, name: str) -> Path:
 
 def prepared(case: Case, outdir: Path) -> argparse.Namespace:
     """The case's single-run arguments with the batch's output and quiet progress (a copy:
-    ``cli.run`` fills in defaults)."""
+    the run fills in defaults)."""
     args = copy.deepcopy(case.args)
     args.output = str(output_of(args, outdir, case.name))
     args.quiet = True
@@ -83,8 +83,11 @@ def _row(name: str, report: dict, seconds: float) -> dict:
 
 
 def run_case(name: str, args: argparse.Namespace) -> dict:
-    """Mesh one case as ``pinn-mesh`` would (``cli.run``) and return its summary row; its
+    """Mesh one case as ``pinn-mesh`` would (``dispatch.run``) and return its summary row; its
     printed lines are kept out of the worker's output."""
+    # the workers' server imported it (warm.ENGINE): the batch's own process meshes nothing
+    from pinn_engine.routes.cli.dispatch import run
+
     start = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="pinn-mesh-batch-") as scratch:
         report = Path(args.report or Path(scratch) / "report.json")
@@ -92,7 +95,7 @@ def run_case(name: str, args: argparse.Namespace) -> dict:
         quiet = io.StringIO()
         try:
             with contextlib.redirect_stdout(quiet), contextlib.redirect_stderr(quiet):
-                cli.run(args)
+                run(args)
             return _row(name, json.loads(report.read_text()), time.perf_counter() - start)
         except PinnMeshError as exc:
             return error_row(name, str(exc), time.perf_counter() - start)

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import copy
 import os
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,7 +26,7 @@ from pinn_engine import __version__
 from pinn_engine.blocks.model import network_from, network_payload, read_payload
 from pinn_engine.blocks.quad import GUARD_TOL, GUARD_WALL_ANGLE
 from pinn_engine.errors import InputError
-from pinn_engine.hexa import quality, volume
+from pinn_engine.hexa import quality
 from pinn_engine.hexa.field import LatticeField, node_points
 from pinn_engine.io.fileio import atomic_path
 from pinn_engine.neural.jet import nd
@@ -37,28 +36,18 @@ from pinn_engine.neural.losses import (
     winslow_residual_3d,
 )
 from pinn_engine.neural.networks import CoordinateNet
-from pinn_engine.neural.session import GuardRule, train_network
+from pinn_engine.neural.session import DTYPES, GuardRule, train_network
 from pinn_engine.neural.trainer import (
     AutogradEvaluation,
     Progress,
 )
 from pinn_engine.quality import no_worse
 from pinn_engine.settings import Settings
-from pinn_engine.starts.warmstart import lattice_for
+from pinn_engine.starts.volume_start import Start
 
 DIMENSIONS = 3  # the block's computational coordinates, and its physical ones
 FORMAT = "pinn-mesh-hexa-model/1"  # a saved hexahedral model (blocks/model.py's is 2D)
 GRID_CHUNK = 1 << 14  # nodes per forward pass when a grid is evaluated (bounds its memory)
-# The Winslow start is solved on at most this many nodes (larger grids start from a coarser
-# lattice of the same shape, starts/warmstart.py): 41^3 takes about 1.4 s and 0.26 GiB, 81^3
-# about 14 s and 0.85 GiB more (docs/hexa.md, "Speed and memory").
-MAX_LATTICE_NODES = 41**3
-# The 3D default's settings where they differ from the 2D ones (settings.py): 20 L-BFGS
-# iterations, not 120. On the bump box at 21^3 the residual falls from the Winslow start by
-# a quarter in 20 and a third in 120, and the grids differ little (mean and worst
-# MaxIncludedAngle +0.009 and +0.07 deg over the Winslow grid's after 20, +0.019 and +0.13
-# after 120), while each iteration costs about 40 ms here (400 points, ten jet channels).
-HEXA_SETTINGS = {"lbfgs_iterations": 20}
 # The guard keeps a state only if a spaced patch's first edges stay within this fraction of
 # H: half of SPEC 7's 10 %, as GUARD_TOL is half of the angle bounds (the start's fit: 1 %)
 SPACING_GUARD = 0.05
@@ -267,41 +256,40 @@ def guard_figures(g: np.ndarray) -> dict[str, float]:
     }
 
 
-@dataclass
-class Start:
-    """What the network starts from: ``tfi`` (the map's base, its faces the face grids),
-    ``grid`` (the converged Winslow grid on the same faces: the start and the guard's
-    reference) and, for a spacing, the nodes' ``params`` (their control terms join the loss)
-    and ``spacing_error(grid)`` (the first edges' largest relative error, which the guard
-    keeps within ``SPACING_GUARD``)."""
-
-    tfi: np.ndarray
-    grid: np.ndarray
-    params: np.ndarray | None = None
-    spacing_error: Callable[[np.ndarray], float] | None = None
-    walls: tuple[tuple[int, float], ...] = ()
-    wall_angle: Callable[[np.ndarray], float] | None = None
+def coordinate_net(settings: Settings, dtype: torch.dtype, device: torch.device) -> CoordinateNet:
+    """The block's network of ``settings``' shape: three sub-networks of three inputs."""
+    return CoordinateNet(
+        "shortcut",
+        settings.hidden_layers,
+        settings.neurons,
+        settings.activation,
+        outputs=DIMENSIONS,
+        inputs=DIMENSIONS,
+    ).to(device=device, dtype=dtype)
 
 
-def winslow_start(tfi_of: Callable[[tuple[int, ...]], np.ndarray], size: tuple[int, ...]) -> Start:
-    """The converged Winslow grid on the lattice of ``size`` (``lattice_for``), from
-    ``tfi_of(shape)``, the 3D TFI of the face grids with ``shape`` nodes."""
-    coarse = lattice_for(*size, most=MAX_LATTICE_NODES)
-    # at least 3 nodes a direction, as the grid has: the Winslow start needs an interior
-    tfi = tfi_of(tuple(max(m, min(n, 3)) for m, n in zip(coarse, size, strict=True)))
-    return Start(tfi, volume.winslow(tfi)[0])
+def untrained_model(
+    correction: LatticeField, settings: Settings, info: dict, surface_key: str
+) -> HexaModel:
+    """The trained model a start equals (untrained.HexaStartModel): the seeded network with
+    its output layer at zero on the start's ``correction``, to save and load as any trained
+    model."""
+    torch.manual_seed(settings.seed)
+    net = coordinate_net(settings, DTYPES[settings.dtype], torch.device("cpu"))
+    with torch.no_grad():
+        net.w_out.zero_()
+    return HexaModel(net, correction, settings, {}, info, surface_key)
 
 
 def train(
     start: Start,
     surface_key: str,
-    settings: Settings | None = None,
+    settings: Settings,
     progress: Progress | None = None,
 ) -> HexaModel:
-    """Train the network from ``start`` under the guard; ``settings`` default to
-    ``HEXA_SETTINGS`` over Settings' defaults; ``progress`` is the trainer's callback
+    """Train the network from ``start`` under the guard and ``settings`` (a six-faced
+    domain's: ``settings.make_settings(size=...)``); ``progress`` is the trainer's callback
     (neural/trainer.py)."""
-    settings = settings or Settings(**HEXA_SETTINGS)
     tfi = start.tfi
     correction = LatticeField(start.grid - tfi)
     params = None if start.params is None else LatticeField(start.params)
@@ -326,14 +314,7 @@ def train(
     built: list[HexaModel] = []
 
     def network(dtype: torch.dtype, device: torch.device) -> CoordinateNet:
-        return CoordinateNet(
-            "shortcut",
-            settings.hidden_layers,
-            settings.neurons,
-            settings.activation,
-            outputs=DIMENSIONS,
-            inputs=DIMENSIONS,
-        ).to(device=device, dtype=dtype)
+        return coordinate_net(settings, dtype, device)
 
     def problem(net, dtype, device) -> tuple[HexaProblem, GuardRule]:
         model = HexaModel(net, correction, settings, {}, {}, surface_key)

@@ -7,8 +7,19 @@ untangled, where nothing better exists on those nodes without folds), and under 
 objective it is that objective's own optimum on the nodes. Without another term the network
 has nothing to win, and its guard has always ended with the start, or with a state that moves
 nodes by discretisation error only (docs/speed.md). :func:`cannot_win` says so before any
-network is built or torch imported; the block's map is then its start (:class:`StartModel`),
-the map a trained model has with its output layer at zero.
+network is built or torch imported; the block's map is then its start (:class:`StartModel`,
+:class:`VolumeStartModel` for a six-faced 3D block, whose network trains the 3D Winslow
+equations alone unless a patch has a spacing or is orthogonal), the map a trained model has
+with its output layer at zero.
+
+A body's (O- or C-grid's) network corrects its elliptic start by a bubble eta^3 (1 - eta)
+times a smooth function of the grid's indices, and its guard keeps only a grid with no more
+folds and mean and worst angles no worse than the start's. Where the first layer off the wall
+is much thinner than the wall's spacing along it (a boundary-layer grid: ``THIN_WALL``), no
+correction the bubble allows has improved the outer cells without shearing the thin ones
+near the wall, and the guard has kept the start on every airfoil measured (docs/speed.md);
+:func:`body_cannot_win` says so before torch is imported, and :func:`body_start` is the report
+of the start kept.
 """
 
 from __future__ import annotations
@@ -18,6 +29,7 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -26,14 +38,24 @@ from pinn_engine.classical.warm import WarmStart
 from pinn_engine.geometry.auxlines import AuxLine
 from pinn_engine.geometry.boundary import Boundary
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
+from pinn_engine.hexa.field import LatticeField
 from pinn_engine.quality import guard_figures
 from pinn_engine.settings import Settings
 from pinn_engine.starts.quad_start import quad_start
 from pinn_engine.starts.untangle import untangle, untangled_report
 from pinn_engine.starts.warmstart import lattice_for
 
+if TYPE_CHECKING:
+    from pinn_engine.starts.volume_start import Start
+
 WINSLOW = "the start already solves the Winslow equations the network trains on"
 QUALITY = "the start is the quality objective's own optimum on these nodes"
+# A body's wall cells (spacing along the wall over the first layer's height) at least this
+# stretched: measured (benchmarks/body_training.py), no trained state passed the guard on such
+# grids, on the real airfoils and NACA sections; below, some did (a NACA 0012 C-grid at the
+# default first layer, aspect 2: worst angle 107.93 -> 106.80 degrees)
+THIN_WALL = 20.0
+THIN = "its wall cells, of aspect ratio 20 or more, are too thin for its correction"
 
 
 def cannot_win(settings: Settings, aux: Sequence[AuxLine] = ()) -> str | None:
@@ -46,6 +68,34 @@ def cannot_win(settings: Settings, aux: Sequence[AuxLine] = ()) -> str | None:
     if settings.boundary_mode != "hard" or aux or settings.orthogonal or settings.spacing:
         return None
     return QUALITY if settings.objective == "quality" else WINSLOW
+
+
+def body_cannot_win(settings: Settings, wall_aspect: float) -> str | None:
+    """Why a body grid's network cannot beat its elliptic start under ``settings``, or None
+    where it may: its wall cells' aspect ratio (bodygrid.Layout.wall_aspect) is at least
+    ``THIN_WALL``, and neither the TFI start (``warm_start`` none) nor Adam epochs (a
+    schedule that trains whatever it wins) are asked."""
+    if settings.method != "pinn" or settings.warm_start != "elliptic" or settings.adam_epochs:
+        return None
+    return THIN if wall_aspect >= THIN_WALL else None
+
+
+def body_start(start: np.ndarray, reason: str) -> dict:
+    """The body report's ``training`` where its network is not trained (``reason``): the
+    elliptic ``start`` kept, its guard figures."""
+    began = time.perf_counter()
+    figures = guard_figures(start)
+    return {
+        "result": "start",
+        "start": "elliptic",
+        "skipped": reason,
+        "largest_node_move": 0.0,
+        "adam_epochs": 0,
+        "lbfgs_iterations": 0,
+        "warm_start": "elliptic",
+        "guard": {"kept": figures, "elliptic": figures},
+        "timings": {"start": time.perf_counter() - began, "training": 0.0},
+    }
 
 
 @dataclass
@@ -90,6 +140,46 @@ class StartModel:
         from pinn_engine.blocks.quad import untrained_model
 
         return untrained_model(self.boundary, self.warm, self.settings, self.info).save(path)
+
+
+@dataclass
+class VolumeStartModel:
+    """A six-faced block's map where its network is not trained: the 3D TFI of the face
+    grids plus the start's correction (a spline through it where the grid is finer than the
+    start's lattice), the network's part zero."""
+
+    correction: LatticeField
+    settings: Settings
+    info: dict
+    surface_key: str
+    history: dict = field(default_factory=dict)
+
+    @classmethod
+    def of(cls, start: Start, settings: Settings, surface_key: str, reason: str, seconds: float):
+        """The map of ``start`` (the Winslow grid of the surface of ``surface_key``, solved in
+        ``seconds``) and what the report says about it: not trained, and why (``reason``)."""
+        info = {
+            "result": "start",
+            "start": "elliptic",
+            "skipped": reason,
+            "largest_node_move": 0.0,
+            "adam_epochs": 0,
+            "lbfgs_iterations": 0,
+            "guard": {"lattice": list(start.grid.shape[:3])},
+            "timings": {"start": seconds, "training": 0.0},
+        }
+        return cls(LatticeField(start.grid - start.tfi), settings, info, surface_key)
+
+    def grid(self, tfi: np.ndarray) -> np.ndarray:
+        """The grid (ni, nj, nk, 3) whose faces are those of ``tfi`` (the 3D TFI of the face
+        grids at the wanted size)."""
+        return tfi + self.correction.at_nodes(tfi.shape[:3])
+
+    def save(self, path: str | os.PathLike) -> None:
+        """Saved as the trained model it equals: the seeded network, its output layer zero."""
+        from pinn_engine.blocks.hexa import untrained_model
+
+        untrained_model(self.correction, self.settings, self.info, self.surface_key).save(path)
 
 
 def start_block(start: np.ndarray, reason: str) -> tuple[np.ndarray, dict]:

@@ -30,7 +30,8 @@ _NUMBER = re.compile(
     r"^[\s]*[-+]?(\d+\.?\d*|\.\d+)([eEdD][-+]?\d+)?[\s,;]+"
     r"[-+]?(\d+\.?\d*|\.\d+)([eEdD][-+]?\d+)?[\s,;]*$"
 )
-_LEADING_NUMBER = re.compile(r"^[-+]?(\d|\.\d)")
+# A line whose first word is a number (a coordinate row gone wrong, not a note such as a date)
+_LEADING_NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eEdD][-+]?\d+)?(\s|$)")
 # Lednicer's order without its count line: the points start within this share of the chord
 # from the leading edge (Selig's start at the trailing edge), and x falls back by at least
 # this share of the chord where the second surface starts at the leading edge again
@@ -103,15 +104,19 @@ def read_dat(path: str | os.PathLike) -> tuple[np.ndarray, str]:
     )
     if lednicer:
         nu, nl = int(first[0]), int(first[1])
-        pts = [p for b in blocks for p in b][1:]
-        if len(blocks[0]) > 1:  # counts and coordinates in one block
-            pts = blocks[0][1:] + [p for b in blocks[1:] for p in b]
+        surfaces = [b for b in [blocks[0][1:], *blocks[1:]] if b]
+        pts = [p for b in surfaces for p in b]
         if len(pts) != nu + nl:
             raise InputError(
                 f"Lednicer header announces {nu} + {nl} points but the file holds {len(pts)}",
                 source,
             )
-        upper, lower = np.array(pts[:nu]), np.array(pts[nu:])
+        # two blocks are the two surfaces, whatever counts they announce (some files swap them)
+        upper, lower = (
+            (np.array(surfaces[0]), np.array(surfaces[1]))
+            if len(surfaces) == 2
+            else (np.array(pts[:nu]), np.array(pts[nu:]))
+        )
         xy = np.concatenate([upper[::-1], lower[1:] if np.allclose(lower[0], upper[0]) else lower])
     else:
         xy = np.array([p for b in blocks for p in b])
@@ -127,6 +132,9 @@ def read_dat(path: str | os.PathLike) -> tuple[np.ndarray, str]:
 # SPEC 9: a trailing-edge gap of at most this many chords counts as sharp (many public .dat
 # files leave one of about 1e-5: a rounding of the last digit, not a drawn base)
 SHARP_GAP = 1e-4
+# A base's end is one of its two corners (SPEC 9) where the wall turns there by at least this
+# many degrees; a closing segment that turns by less at one end continues that surface
+BASE_CORNER = 45.0
 
 
 def naca4(code: str, points: int = 201, te: str = "sharp") -> np.ndarray:
@@ -171,12 +179,15 @@ class Body:
     edge, at least 5 points), whether its trailing edge is ``sharp`` (the two ends coincide)
     and where it came from. Without a base, a blunt trailing edge is closed by the straight
     segment between the surface's two ends. ``cut``: the point where the two surfaces of
-    the input crossed near the trailing edge, there cut and closed (SPEC 9), or None."""
+    the input crossed near the trailing edge, there cut and closed (SPEC 9), or None;
+    ``continued``: "upper" or "lower" where the segment closing the input continued that
+    surface (:func:`close_continued`), or None."""
 
     surface: np.ndarray
     sharp: bool
     source: str
     cut: tuple[float, float] | None = None  # where crossing surfaces were cut and closed
+    continued: str | None = None  # the surface a closing segment continues (no base)
 
     @property
     def chord_points(self) -> tuple[np.ndarray, np.ndarray]:
@@ -243,6 +254,29 @@ def cut_crossing(surface: np.ndarray) -> tuple[np.ndarray, tuple[float, float] |
     return cut, (float(x[0]), float(x[1]))
 
 
+def _turn(a: np.ndarray, b: np.ndarray) -> float:
+    """The angle in degrees between the directions ``a`` and ``b``."""
+    cos = float(a @ b) / float(np.linalg.norm(a) * np.linalg.norm(b))
+    return float(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
+
+
+def close_continued(surface: np.ndarray) -> tuple[np.ndarray, str | None]:
+    """An open Selig-order surface whose closing segment (from the lower end to the upper
+    end) continues one surface, turning by less than ``BASE_CORNER`` from it, and meets the
+    other at a corner (a lower surface drawn ending short of the upper, along the chord):
+    no base, whose ends are two corners (SPEC 9), but that surface's last piece, so the
+    trailing edge is the corner, sharp; the wall is the drawn polyline either way. Also
+    which surface it continues; the surface unchanged and None otherwise."""
+    base = surface[0] - surface[-1]
+    lower = _turn(surface[-1] - surface[-2], base)
+    upper = _turn(base, surface[1] - surface[0])
+    if lower < BASE_CORNER <= upper:
+        return np.concatenate([surface, surface[:1]]), "lower"
+    if upper < BASE_CORNER <= lower:
+        return np.concatenate([surface[-1:], surface]), "upper"
+    return surface, None
+
+
 def body_from_points(xy: np.ndarray, source: str, sharp_tol: float = SHARP_GAP) -> Body:
     """A :class:`Body` from airfoil-like points in either orientation, starting anywhere
     near the trailing edge: reordered to Selig order (counter-clockwise, from the point of
@@ -278,7 +312,11 @@ def body_from_points(xy: np.ndarray, source: str, sharp_tol: float = SHARP_GAP) 
         surface = ring  # counter-clockwise ring starts on the upper surface (Selig)
     surface, cut = cut_crossing(surface)
     sharp = bool(np.linalg.norm(surface[0] - surface[-1]) <= sharp_tol * size)
-    return Body(surface=surface, sharp=sharp, source=source, cut=cut)
+    continued = None
+    if not sharp:
+        surface, continued = close_continued(surface)
+        sharp = continued is not None
+    return Body(surface=surface, sharp=sharp, source=source, cut=cut, continued=continued)
 
 
 def load_body(
@@ -357,6 +395,7 @@ __all__ = [
     "FarField",
     "body_from_points",
     "circle",
+    "close_continued",
     "cut_crossing",
     "load_body",
     "naca4",

@@ -42,11 +42,13 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from pinn_engine.bodies.airfoil import Body, FarField
+from pinn_engine.classical.elliptic import winslow_coefficients, winslow_operator
 from pinn_engine.classical.spacing import exact_stretch
 from pinn_engine.errors import InputError
+from pinn_engine.geometry.boundary import arc_lengths
+from pinn_engine.geometry.spline import CurveSpline
 from pinn_engine.quality import guard_figures, no_worse, worst_non_orthogonality
 
 TOPOLOGIES = ("o", "c")
@@ -98,6 +100,10 @@ C_BASE_INTERVALS = 4
 # point, fully at the trailing edge (REAR_TURN_START of the turn).
 REAR_TURN = 0.02
 REAR_TURN_START = 0.5
+# The turn's remainder decays as exp(-d / REAR_REACH chords): a column turned part way drifts
+# sideways with d and crossed a fully turned neighbour 1e-3 chords off (1 to 2 chords out); 1 and 3
+# raised the sharp C-grids' non-orthogonality or the worst angle (docs/tuning.md)
+REAR_REACH = 2.0
 # The marched rows turn into straight lines to the far field between 1 and 3 chords from the wall
 # (C-grid; near the body the marched lines, far off the straight ones); the O-grid's projection onto
 # the far field is blended in as (distance share) ** O_BLEND_POWER (3: the inner rows stay marched,
@@ -133,9 +139,9 @@ class BodyCurve:
 
     def __init__(self, body: Body) -> None:
         pts = body.surface
-        t = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))]
+        t = arc_lengths(pts)
         self.length = float(t[-1])
-        self.spline = CubicSpline(t, pts, axis=0, bc_type="not-a-knot")
+        self.spline = CurveSpline(t, pts)
         self.body = body
         dense = np.linspace(0.0, self.length, CURVE_SAMPLES)
         te = 0.5 * (pts[0] + pts[-1])
@@ -206,6 +212,12 @@ class Layout:
     def ni(self) -> int:
         return len(self.inner)
 
+    def wall_aspect(self) -> float:
+        """The wall cells' median aspect ratio: the spacing along the wall over the first
+        layer's height."""
+        along = lengths(np.diff(self.inner[self.wall_columns()], axis=0))
+        return float(np.median(along) / self.wall_spacing)
+
     def wall_columns(self) -> np.ndarray:
         """Indices of the j = 0 nodes on the body."""
         if self.topology == "o":
@@ -213,33 +225,49 @@ class Layout:
         return np.arange(self.n_wake, self.ni - self.n_wake)
 
 
-def _before(u: np.ndarray) -> np.ndarray:
-    """Each entry's predecessor along a closed row (np.roll by 1 along axis 0, cheaper)."""
-    return np.concatenate([u[-1:], u[:-1]])
+def lengths(v: np.ndarray) -> np.ndarray:
+    """The length of each vector (n, 2): np.linalg.norm(v, axis=1) in one call, the march's
+    most frequent operation."""
+    return np.hypot(v[:, 0], v[:, 1])
 
 
-def _after(u: np.ndarray) -> np.ndarray:
-    """Each entry's successor along a closed row (np.roll by -1 along axis 0)."""
-    return np.concatenate([u[1:], u[:1]])
+def _units(v: np.ndarray) -> np.ndarray:
+    """Each vector (n, 2) divided by its length."""
+    return v / lengths(v)[:, None]
+
+
+def _neighbour_sums(u: np.ndarray, closed: bool) -> np.ndarray:
+    """Each entry's predecessor plus successor along a row (n, ...): wrapped where ``closed``,
+    else the end entry counted for its missing neighbour."""
+    out = np.empty_like(u)
+    out[1:-1] = u[:-2] + u[2:]
+    if closed:
+        out[0], out[-1] = u[-1] + u[1], u[-2] + u[0]
+    else:
+        out[0], out[-1] = u[0] + u[1], u[-2] + u[-1]
+    return out
 
 
 def row_chords(p: np.ndarray, topology: str) -> np.ndarray:
     """Half the chord between each node's two neighbours along a grid row ``p`` (ni, 2), in
     the direction of i (wrapped across the O-grid's seam; one-sided at the C-grid's ends):
     the row's tangents, as long as its local spacing."""
-    if topology == "o":
-        q = p[:-1]
-        t = 0.5 * (_after(q) - _before(q))
-        return np.concatenate([t, t[:1]])
     t = np.empty_like(p)
-    t[1:-1] = (p[2:] - p[:-2]) / 2.0
-    t[0], t[-1] = p[1] - p[0], p[-1] - p[-2]
+    t[1:-1] = 0.5 * (p[2:] - p[:-2])
+    if topology == "o":  # p[-1] repeats p[0]: the seam's neighbours are p[1] and p[-2]
+        t[0] = t[-1] = 0.5 * (p[1] - p[-2])
+    else:
+        t[0], t[-1] = p[1] - p[0], p[-1] - p[-2]
     return t
 
 
 def _row_tangents(p: np.ndarray, topology: str) -> np.ndarray:
-    t = row_chords(p, topology)
-    return t / np.linalg.norm(t, axis=1, keepdims=True)
+    return _units(row_chords(p, topology))
+
+
+# the cosine of CORNER_TURN: two segments whose unit vectors' dot product is below it meet at
+# a corner
+CORNER_COS = math.cos(math.radians(CORNER_TURN))
 
 
 def _row_normals(p: np.ndarray, topology: str) -> np.ndarray:
@@ -250,34 +278,33 @@ def _row_normals(p: np.ndarray, topology: str) -> np.ndarray:
     t = _row_tangents(p, topology)
     # i runs counter-clockwise in the O-grid (body on the left), clockwise in the C-grid
     sign = 1.0 if topology == "o" else -1.0
-    n = sign * np.column_stack([t[:, 1], -t[:, 0]])
-    e = np.diff(p, axis=0)
-    u = e / np.linalg.norm(e, axis=1)[:, None]
+    n = np.empty_like(t)
+    n[:, 0], n[:, 1] = sign * t[:, 1], -sign * t[:, 0]
+    u = _units(np.diff(p, axis=0))  # segment i runs from node i to node i + 1
+    cos = np.ones(len(p))  # the C-grid's end nodes have one segment: no corner
+    cos[1:-1] = u[1:, 0] * u[:-1, 0] + u[1:, 1] * u[:-1, 1]
     if topology == "o":
-        ahead, back = np.concatenate([u, u[:1]]), np.concatenate([u[-1:], u])
-    else:
-        ahead, back = np.concatenate([u, u[-1:]]), np.concatenate([u[:1], u])
-    turn = np.einsum("ik,ik->i", ahead, back) < math.cos(math.radians(CORNER_TURN))
-    b = sign * (
-        np.column_stack([ahead[:, 1], -ahead[:, 0]]) + np.column_stack([back[:, 1], -back[:, 0]])
-    )
-    n[turn] = b[turn] / np.linalg.norm(b[turn], axis=1, keepdims=True)
+        cos[0] = cos[-1] = u[0, 0] * u[-1, 0] + u[0, 1] * u[-1, 1]
+    corners = np.flatnonzero(cos < CORNER_COS)
+    if len(corners):  # the bisector of the segments ahead and behind (wrapped in the O-grid)
+        ahead = u[np.minimum(corners, len(u) - 1) if topology == "c" else corners % len(u)]
+        back = u[np.maximum(corners - 1, 0) if topology == "c" else corners - 1]
+        b = ahead + back
+        n[corners] = _units(sign * np.column_stack([b[:, 1], -b[:, 0]]))
     if topology == "c":
         n[0], n[-1] = (0.0, -1.0), (0.0, 1.0)
     return n
 
 
 def _smooth_row(q: np.ndarray, eps, topology: str) -> np.ndarray:
-    """One Laplacian pass along a row (ends held for the C-grid, wrapped for the O-grid);
-    ``eps`` a number or one per node (ni, 1)."""
+    """One Laplacian pass along a row (ends held for the C-grid, wrapped for the O-grid, whose
+    last node repeats its first); ``eps`` a number or one per node (ni, 1)."""
     out = q.copy()
-    eps = np.broadcast_to(np.asarray(eps, dtype=float), (len(q), 1))
+    inner = eps if np.ndim(eps) == 0 else eps[1:-1]
+    out[1:-1] = q[1:-1] + inner * (0.5 * (q[:-2] + q[2:]) - q[1:-1])
     if topology == "o":
-        u = q[:-1]
-        out[:-1] = u + eps[:-1] * (0.5 * (_before(u) + _after(u)) - u)
-        out[-1] = out[0]
-    else:
-        out[1:-1] = q[1:-1] + eps[1:-1] * (0.5 * (q[:-2] + q[2:]) - q[1:-1])
+        first = eps if np.ndim(eps) == 0 else eps[0]
+        out[0] = out[-1] = q[0] + first * (0.5 * (q[-2] + q[1]) - q[0])
     return out
 
 
@@ -288,17 +315,20 @@ def redistribute(q: np.ndarray, eps: float, topology: str, passes: int) -> np.nd
     the C-grid, the last node held). Sliding along the row keeps the nodes in order, so the
     columns cannot cross within a row, and a crowd of columns spreads out however strongly
     the lines converge (off a concave wall, under an aft surface)."""
-    seg = np.linalg.norm(np.diff(q, axis=0), axis=1)
-    s_old = np.concatenate([[0.0], np.cumsum(seg)])
-    ds = seg.copy()
+    seg = lengths(np.diff(q, axis=0))
+    s_old = np.empty(len(q))
+    s_old[0] = 0.0
+    np.cumsum(seg, out=s_old[1:])
+    ds = seg
     for _ in range(passes):
-        if topology == "o":
-            ds = ds + eps * (0.5 * (_before(ds) + _after(ds)) - ds)
-        else:
-            back = np.concatenate([ds[:1], ds[:-1]])
-            ds = ds + eps * (0.5 * (back + np.concatenate([ds[1:], ds[-1:]])) - ds)
-    s_new = np.concatenate([[0.0], np.cumsum(ds)]) * (s_old[-1] / ds.sum())
-    out = np.column_stack([np.interp(s_new, s_old, q[:, k]) for k in range(2)])
+        ds = ds + eps * (0.5 * _neighbour_sums(ds, topology == "o") - ds)
+    s_new = np.empty(len(q))
+    s_new[0] = 0.0
+    np.cumsum(ds, out=s_new[1:])
+    s_new *= s_old[-1] / s_new[-1]
+    out = np.empty_like(q)
+    out[:, 0] = np.interp(s_new, s_old, q[:, 0])
+    out[:, 1] = np.interp(s_new, s_old, q[:, 1])
     out[0], out[-1] = q[0], q[-1]
     return out
 
@@ -307,7 +337,7 @@ def _smooth_normals(n: np.ndarray, eps, topology: str) -> np.ndarray:
     m = _smooth_row(n, eps, topology)
     if topology == "c":
         m[0], m[-1] = n[0], n[-1]
-    return m / np.linalg.norm(m, axis=1, keepdims=True)
+    return _units(m)
 
 
 def rear_start(inner: np.ndarray, n_wake: int) -> np.ndarray:
@@ -371,21 +401,36 @@ def march(
                 q[0], q[-1] = inner[0] + (0, -step), inner[-1] + (0, step)
             rows.append(q)
             continue
-        subs = _substeps(q, step, topology, free)
-        for k in range(subs):
-            d = distances[j - 1] + step * (k + 1) / subs
+        n = _row_normals(q, topology)
+        subs, rate = _substeps(q, n, step, topology, free)
+        start, length, k, marched = distances[j - 1], step, 0, 0.0
+        while k < subs:
+            if k:
+                n = _row_normals(q, topology)
+            if rate > 0 and marched > 1 / rate - length / subs / SUBSTEP:
+                # the row may have neared the converging lines' focus (1 / rate ahead at
+                # the last check): the rest of the step re-split if they converge faster
+                rate, marched = _converging_rate(q, n), 0.0
+                more = _count(length * (subs - k) / subs, rate)
+                if more > subs - k:
+                    start, length = start + length * k / subs, length * (subs - k) / subs
+                    subs, k = min(more, MAX_SUBSTEPS), 0
+            k += 1
+            marched += length / subs
+            d = start + length * k / subs
             grow = 1 - math.exp(-d / (NORMAL_REACH * scale))
-            n = _row_normals(q, topology)
             weight = grow if corner is None else np.maximum(corner, grow)
             for _ in range(passes):
                 n = _smooth_normals(n, NORMAL_SMOOTHING * weight, topology)
             if rear is not None:
                 turn = rear * min(1.0, (d - distances[1]) / (REAR_TURN * scale))
-                n = (1 - turn) * n + turn * vertical
-                n /= np.linalg.norm(n, axis=1, keepdims=True)
-            q = q + (step / subs) * n
-            shrink = np.clip(1 - _row_spacing(q, topology) / spacing0, 0.0, 1.0)
-            concave = np.minimum(ROW_SMOOTHING_MAX, CONCAVE_SMOOTHING * shrink)[:, None]
+                fade = math.exp(-d / (REAR_REACH * scale))
+                turn = np.where(rear > 0, 1 - (1 - turn) * fade, 0.0)
+                n = _units((1 - turn) * n + turn * vertical)
+            q = q + (length / subs) * n
+            shrink = 1 - _row_spacing(q, topology) / spacing0  # clipped to 0 .. 1 below
+            concave = np.maximum(np.minimum(ROW_SMOOTHING_MAX, CONCAVE_SMOOTHING * shrink), 0.0)
+            concave = concave[:, None]
             eps = grow * concave
             if topology == "c":  # the wake's columns run straight: no sliding along rows
                 eps[:n_wake] = eps[len(q) - n_wake :] = 0.0
@@ -396,7 +441,8 @@ def march(
                 if tangent:
                     target = _smooth_row(q, tangent * grow, topology)
                     t = _row_tangents(q, topology)
-                    q = q + np.einsum("ik,ik->i", target - q, t)[:, None] * t
+                    slide = target - q
+                    q = q + (slide[:, 0] * t[:, 0] + slide[:, 1] * t[:, 1])[:, None] * t
             if topology == "o":
                 q = redistribute(q, SPREAD * grow, topology, passes)
             else:  # the body's columns (the wake's run straight)
@@ -408,23 +454,39 @@ def march(
     return np.stack(rows)
 
 
-def _substeps(q: np.ndarray, step: float, topology: str, free: np.ndarray) -> int:
+def _converging_rate(q: np.ndarray, n: np.ndarray) -> float:
+    """The rate at which the row ``q``'s most converging neighbours, leaving along the
+    normals ``n``, close their gap, per unit of their gap and of the distance marched."""
+    e, dn = np.diff(q, axis=0), np.diff(n, axis=0)
+    return float(np.max(-np.einsum("ik,ik->i", dn, e) / np.einsum("ik,ik->i", e, e)))
+
+
+def _count(step: float, rate: float) -> int:
+    """Sub-steps of at most ``SUBSTEP`` / ``rate`` in a step of ``step`` (at most
+    ``MAX_SUBSTEPS``, which bounds a row's time)."""
+    return int(min(MAX_SUBSTEPS, max(1, math.ceil(step * rate / SUBSTEP))))
+
+
+def _substeps(
+    q: np.ndarray, n: np.ndarray, step: float, topology: str, free: np.ndarray
+) -> tuple[int, float]:
     """How many sub-steps a step of ``step`` off row ``q`` takes: each at most ``SUBSTEP`` of
     the distance in which the row's most converging neighbours would meet (their spacing
     over the rate at which their normals close it), and at most ``SUBSTEP / SPACING_RATE``
     of the smallest spacing at the nodes ``free`` (the smoothing passes of each sub-step
     damp the rows' sawtooth; a blunt C-grid's base, smoothed from the wall on, is not free).
-    A longer step crosses lines off a concave wall before any smoothing acts."""
-    n = _row_normals(q, topology)
-    e, dn = np.diff(q, axis=0), np.diff(n, axis=0)
-    rate = float(np.max(-np.einsum("ik,ik->i", dn, e) / np.einsum("ik,ik->i", e, e)))
-    rate = max(rate, SPACING_RATE[topology] / float(_row_spacing(q, topology)[free].min()))
-    return int(min(MAX_SUBSTEPS, max(1, math.ceil(step * rate / SUBSTEP))))
+    A longer step crosses lines off a concave wall before any smoothing acts. Also the
+    converging rate alone (``n``: the row's normals), which :func:`march` checks again as the
+    row nears the lines' focus: under a deep concave wall they converge faster there, and a
+    step split by the rate at its start carried the row past it, turned inside out."""
+    rate = _converging_rate(q, n)
+    spacing = SPACING_RATE[topology] / float(_row_spacing(q, topology)[free].min())
+    return _count(step, max(rate, spacing)), rate
 
 
 def _row_spacing(p: np.ndarray, topology: str) -> np.ndarray:
     """Half the distance between each node's two neighbours along a row."""
-    return np.linalg.norm(row_chords(p, topology), axis=1)
+    return lengths(row_chords(p, topology))
 
 
 def layout(
@@ -635,18 +697,13 @@ def _d(g: np.ndarray, periodic: bool) -> tuple[np.ndarray, ...]:
     return (0.5 * (e - w), 0.5 * (n - s), e - 2 * c + w, n - 2 * c + s, 0.25 * (ne - nw - se + sw))
 
 
-def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return np.einsum("...k,...k->...", a, b)
-
-
 def residual(
     g: np.ndarray, periodic: bool, s_xi: np.ndarray | None = None, s_eta: np.ndarray | None = None
 ) -> np.ndarray:
     """alpha x_xixi - 2 beta x_xieta + gamma x_etaeta + s_xi x_xi + s_eta x_eta at the
     unknown nodes."""
     x_xi, x_eta, x_xixi, x_etaeta, x_xieta = _d(g, periodic)
-    a, b, c = _dot(x_eta, x_eta), _dot(x_xi, x_eta), _dot(x_xi, x_xi)
-    r = a[..., None] * x_xixi - 2 * b[..., None] * x_xieta + c[..., None] * x_etaeta
+    r = winslow_operator(x_xi, x_eta, x_xixi, x_etaeta, x_xieta)
     if s_xi is not None:
         r = r + s_xi[..., None] * x_xi + s_eta[..., None] * x_eta
     return r
@@ -706,11 +763,7 @@ def jacobi(
     sx, se = s_xi[..., None], s_eta[..., None]
     for _ in range(sweeps):
         x_xi, x_eta, _, _, x_xieta = _d(g, periodic)
-        a, b, c = (
-            _dot(x_eta, x_eta)[..., None],
-            _dot(x_xi, x_eta)[..., None],
-            _dot(x_xi, x_xi)[..., None],
-        )
+        a, b, c = (v[..., None] for v in winslow_coefficients(x_xi, x_eta))
         if periodic:
             u = g[:, :-1]
             ew = np.roll(u, -1, axis=1)[1:-1] + np.roll(u, 1, axis=1)[1:-1]

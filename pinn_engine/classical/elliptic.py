@@ -7,30 +7,56 @@ invariant to the spacing of xi and eta, so index space is exact, not an approxim
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.linalg import splu
 
 from pinn_engine.quality import folded_cells
 
+if TYPE_CHECKING:  # SciPy's sparse solver is imported where it solves: the body grids use
+    import scipy.sparse as sp  # this module's Winslow coefficients alone
+
+
+def winslow_coefficients(
+    x_xi: np.ndarray, x_eta: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """alpha, beta, gamma of paper eq. 8 from the first derivatives (..., 2): the one
+    definition of every 2D Winslow solver (this module's, the body grids', multi-block's)."""
+    alpha = np.einsum("...k,...k->...", x_eta, x_eta)
+    beta = np.einsum("...k,...k->...", x_xi, x_eta)
+    gamma = np.einsum("...k,...k->...", x_xi, x_xi)
+    return alpha, beta, gamma
+
+
+def winslow_operator(
+    x_xi: np.ndarray,
+    x_eta: np.ndarray,
+    x_xixi: np.ndarray,
+    x_etaeta: np.ndarray,
+    x_xieta: np.ndarray,
+) -> np.ndarray:
+    """alpha x_xixi - 2 beta x_xieta + gamma x_etaeta (paper eq. 7) from the derivatives
+    (..., 2), however they were differenced (plain here, periodic in xi for O-grids)."""
+    a, b, c = (v[..., None] for v in winslow_coefficients(x_xi, x_eta))
+    return a * x_xixi - 2 * b * x_xieta + c * x_etaeta
+
+
+def _first(g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """x_xi and x_eta at interior nodes, central differences."""
+    return 0.5 * (g[1:-1, 2:] - g[1:-1, :-2]), 0.5 * (g[2:, 1:-1] - g[:-2, 1:-1])
+
 
 def _coefficients(g: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """alpha, beta, gamma of paper eq. 8 at interior nodes, central differences."""
-    g_xi = 0.5 * (g[1:-1, 2:] - g[1:-1, :-2])
-    g_eta = 0.5 * (g[2:, 1:-1] - g[:-2, 1:-1])
-    alpha = np.einsum("...k,...k->...", g_eta, g_eta)
-    beta = np.einsum("...k,...k->...", g_xi, g_eta)
-    gamma = np.einsum("...k,...k->...", g_xi, g_xi)
-    return alpha, beta, gamma
+    """alpha, beta, gamma at interior nodes, central differences."""
+    return winslow_coefficients(*_first(g))
 
 
 def winslow_residual(g: np.ndarray) -> np.ndarray:
     """Discrete Winslow residual (paper eq. 7) at interior nodes, shape (nj-2, ni-2, 2)."""
-    a, b, c = (v[..., None] for v in _coefficients(g))
     g_xixi = g[1:-1, 2:] - 2 * g[1:-1, 1:-1] + g[1:-1, :-2]
     g_etaeta = g[2:, 1:-1] - 2 * g[1:-1, 1:-1] + g[:-2, 1:-1]
     g_xieta = 0.25 * (g[2:, 2:] - g[:-2, 2:] - g[2:, :-2] + g[:-2, :-2])
-    return a * g_xixi - 2 * b * g_xieta + c * g_etaeta
+    return winslow_operator(*_first(g), g_xixi, g_etaeta, g_xieta)
 
 
 def winslow_sweeps(
@@ -55,6 +81,8 @@ def stencil_matrix(
 ) -> tuple[sp.csc_matrix, np.ndarray]:
     """Linear system of the Winslow equations with alpha, beta, gamma frozen at ``g``; with
     ``cp``, ``cq`` (interior nodes) the control terms ``cp x_xi + cq x_eta`` are added."""
+    import scipy.sparse as sp
+
     nj, ni = g.shape[:2]
     a, b, c = _coefficients(g)
     # 9-point stencil weights, offsets (dj, di)
@@ -100,6 +128,8 @@ class ReusedLU:
 
     def solve(self, mat, defect: np.ndarray) -> tuple[np.ndarray, float]:
         """The update for ``defect`` and its largest component."""
+        from scipy.sparse.linalg import splu
+
         if self.lu is None:
             self.lu = splu(mat, permc_spec="MMD_AT_PLUS_A")
         step = self.lu.solve(defect)

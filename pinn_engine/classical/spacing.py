@@ -24,6 +24,14 @@ from pinn_engine.geometry.boundary_fit import ArcLengthFit
 from pinn_engine.quality import first_edges, folded_cells
 
 SIDE_AXIS = {"bottom": 1, "top": 1, "left": 0, "right": 0}  # parameter that the side stretches
+# the sides a side's first edges run along (their lengths bound the spacing): the sides at
+# its first and its last node
+ACROSS = {
+    "bottom": ("left", "right"),
+    "top": ("left", "right"),
+    "left": ("bottom", "top"),
+    "right": ("bottom", "top"),
+}
 MAX_B = 1e12  # stretching beyond this (first spacing ~1e-12 of a side) is clipped
 
 
@@ -159,73 +167,84 @@ def uniform_params(ni: int, nj: int) -> np.ndarray:
     return param_grid(ni, nj, {})
 
 
+# Rounds of the fit (each one grid evaluation), the share by which every first edge may
+# still be off when it stops (SPEC 7 asks for 10 %), and the most a round changes a line's
+# spacing by (the first edge is nearly linear in it, but not far from the last guess)
+FIT_ROUNDS, FIT_TOL, STEP_CLIP = 12, 0.01, (0.2, 5.0)
+# the bounds of a per-line parameter spacing: positive, and under most of the line
+PARAM_RANGE = (1e-14, 0.9)
+
+
+def fit_first_spacings(
+    evaluate: Callable[[np.ndarray], np.ndarray],
+    node_params: Callable[[dict[str, np.ndarray]], np.ndarray],
+    measured: Callable[[np.ndarray, str], np.ndarray],
+    spacing: dict[str, float],
+    par: dict[str, np.ndarray],
+    checked: Callable[[np.ndarray], np.ndarray],
+) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
+    """The fit of every kind with a first-edge spacing (four-sided 2D, six-faced 3D): each
+    round evaluates the grid at ``node_params(par)`` and scales each side's per-line
+    parameter spacings ``par[side]`` by target / ``measured(grid, side)`` (a one-parameter
+    secant step), until every first edge that ``checked`` keeps of a side's ratios (its
+    nodes but the corners) is H within ``FIT_TOL``, or ``evaluate.failed`` turns True.
+    Returns (params, grid, per-line parameter spacings)."""
+    for _ in range(FIT_ROUNDS):
+        params = node_params(par)
+        grid = evaluate(params)
+        if getattr(evaluate, "failed", False):
+            break
+        worst = 0.0
+        for side, h in spacing.items():
+            ratio = h / np.maximum(measured(grid, side), 1e-300)
+            worst = max(worst, float(np.abs(checked(ratio) - 1.0).max(initial=0.0)))
+            par[side] = np.clip(par[side] * np.clip(ratio, *STEP_CLIP), *PARAM_RANGE)
+        if worst <= FIT_TOL:
+            break
+    return params, grid, par
+
+
 def fit_params(
     evaluate: Callable[[np.ndarray], np.ndarray],
     spacing: dict[str, float],
     ni: int,
     nj: int,
     side_lengths: dict[str, float],
-    iterations: int = 12,
-    tol: float = 0.01,
-    start: dict[str, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
     """Parameters whose grid ``evaluate(params)`` has first edges ``spacing[side]`` (working
-    frame) within ``tol`` at every node of those sides (corners included when they can be).
-
-    Each round scales a line's parameter spacing by target / measured (a one-parameter
-    secant step; the first edge is nearly linear in it). ``side_lengths``: the lengths of the
-    four sides, for the first guess. Returns (params, grid, per-line parameter spacings).
+    frame) within ``FIT_TOL`` at every node of those sides but the corners
+    (:func:`fit_first_spacings`). ``side_lengths``: the lengths of the four sides, for the
+    first guess. Returns (params, grid, per-line parameter spacings).
     """
     if not spacing:
         params = uniform_params(ni, nj)
         return params, evaluate(params), {}
-    across = {
-        "bottom": ("left", "right"),
-        "top": ("left", "right"),
-        "left": ("bottom", "top"),
-        "right": ("bottom", "top"),
-    }
     count = {"bottom": ni, "top": ni, "left": nj, "right": nj}
-    if start is not None:
-        par = {s: np.array(v, dtype=float) for s, v in start.items()}
-    else:
-        par = {
-            s: np.full(count[s], h / (0.5 * sum(side_lengths[o] for o in across[s])))
-            for s, h in spacing.items()
-        }
-    for _ in range(iterations):
-        params = param_grid(ni, nj, par)
-        grid = evaluate(params)
-        if getattr(evaluate, "failed", False):
-            break
-        edges = first_edges(grid)
-        worst = 0.0
-        for side, h in spacing.items():
-            ratio = h / np.maximum(edges[side], 1e-300)
-            worst = max(worst, float(np.abs(ratio - 1.0)[1:-1].max(initial=0.0)))
-            par[side] = np.clip(par[side] * np.clip(ratio, 0.2, 5.0), 1e-14, 0.9)
-        if worst <= tol:
-            break
-    return params, grid, par
+    par = {
+        s: np.full(count[s], h / (0.5 * sum(side_lengths[o] for o in ACROSS[s])))
+        for s, h in spacing.items()
+    }
+    return fit_first_spacings(
+        evaluate,
+        lambda par: param_grid(ni, nj, par),
+        lambda grid, side: first_edges(grid)[side],
+        spacing,
+        par,
+        lambda ratio: ratio[1:-1],
+    )
 
 
 def working_spacing(spacing: tuple[tuple[str, float], ...], boundary) -> dict[str, float]:
     """``Settings.spacing`` (user units) in the working frame, checked against the domain: a
     first edge must be shorter than half the sides it runs along."""
     out = {}
-    across = {
-        "bottom": ("left", "right"),
-        "top": ("left", "right"),
-        "left": ("bottom", "top"),
-        "right": ("bottom", "top"),
-    }
     for side, h in spacing:
         unit = h / boundary.frame.scale
-        room = min(boundary.side(s).length for s in across[side])
+        room = min(boundary.side(s).length for s in ACROSS[side])
         if unit >= 0.5 * room:
             raise InputError(
                 f"{{spacing}} {side}={h:g}: the first edge must be shorter than half "
-                f"of the {' and '.join(across[side])} sides "
+                f"of the {' and '.join(ACROSS[side])} sides "
                 f"({0.5 * room * boundary.frame.scale:.4g})"
             )
         out[side] = unit

@@ -10,8 +10,9 @@ nodes, and a smooth interpolant of it between them.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
-from scipy.interpolate import RectBivariateSpline
 
 from pinn_engine.classical.tfi import node_params
 
@@ -42,15 +43,22 @@ class WarmStart:
         self.start = start  # the grid it starts from: "elliptic", or under --objective quality
         # "tfi" (zero correction), a blend, ... (quality_start.quality_start)
         self.nodes = None if nodes is None else tuple(np.asarray(n, dtype=float) for n in nodes)
+
+    @functools.cached_property
+    def _splines(self) -> list:
+        """The bicubic splines of the two coordinates, built at their first use: a start that
+        is only asked for its own lattice's nodes (an untrained map at the lattice's size)
+        needs none, and imports no ``scipy.interpolate``."""
+        from scipy.interpolate import RectBivariateSpline
+
         if self.nodes is not None and min(self.correction.shape[:2]) >= 4:
-            self._splines = [
+            return [
                 RectBivariateSpline(self.nodes[1], self.nodes[0], self.correction[..., k], s=0)
                 for k in range(2)
             ]
-            return
         d = _at_least_4(_at_least_4(self.correction, 0), 1)
         eta, xi = node_params(d.shape[0]), node_params(d.shape[1])
-        self._splines = [RectBivariateSpline(eta, xi, d[..., k], s=0) for k in range(2)]
+        return [RectBivariateSpline(eta, xi, d[..., k], s=0) for k in range(2)]
 
     def jet(self, x: np.ndarray) -> np.ndarray:
         """Jet (6, B, 2) of the correction at points ``x`` (B, 2) = (xi, eta)."""
@@ -68,6 +76,9 @@ class WarmStart:
         return np.stack([s.ev(x[:, 1], x[:, 0]) for s in self._splines], axis=-1)
 
     def grid(self, ni: int, nj: int, rows: slice = slice(None)) -> np.ndarray:
-        """The correction at the nodes of an ``ni`` x ``nj`` grid (only ``rows`` if given)."""
+        """The correction at the nodes of an ``ni`` x ``nj`` grid (only ``rows`` if given);
+        on the lattice's own uniform nodes, its values there (the splines interpolate them)."""
+        if self.nodes is None and self.correction.shape[:2] == (nj, ni):
+            return self.correction[rows].copy()
         xi, eta = node_params(ni), node_params(nj)[rows]
         return np.stack([s(eta, xi) for s in self._splines], axis=-1)

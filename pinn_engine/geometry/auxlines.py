@@ -5,7 +5,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.interpolate import RegularGridInterpolator
 
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import Boundary, Polyline, segment_distance, segments_cross
@@ -187,11 +186,23 @@ def line_distances(grid: np.ndarray, lines: list[AuxLine], diagonal: float) -> d
     """How far the grid follows each auxiliary line: the largest distance from the drawn line
     of the grid's curve through the line's (xi, eta) (bilinear in the grid's cells), relative
     to the boundary's diagonal. ``grid`` (nj, ni, 2) and the lines share one frame."""
-    nj, ni = grid.shape[:2]
-    along = RegularGridInterpolator((np.linspace(0, 1, nj), np.linspace(0, 1, ni)), grid)
     return {
         line.name: float(
-            segment_distance(along(line.xi_eta[:, ::-1]), line.xy, closed=False).max() / diagonal
+            segment_distance(bilinear(grid, line.xi_eta), line.xy, closed=False).max() / diagonal
         )
         for line in lines
     }
+
+
+def bilinear(grid: np.ndarray, xi_eta: np.ndarray) -> np.ndarray:
+    """The points (m, 2) of ``grid`` (nj, ni, 2), bilinear in its cells, at ``xi_eta`` (m, 2)
+    in the unit square (its nodes uniform in xi and eta)."""
+    nj, ni = grid.shape[:2]
+    u = np.clip(xi_eta[:, 0], 0.0, 1.0) * (ni - 1)
+    v = np.clip(xi_eta[:, 1], 0.0, 1.0) * (nj - 1)
+    i = np.minimum(u.astype(int), ni - 2)
+    j = np.minimum(v.astype(int), nj - 2)
+    a, b = (u - i)[:, None], (v - j)[:, None]
+    low = (1 - a) * grid[j, i] + a * grid[j, i + 1]
+    high = (1 - a) * grid[j + 1, i] + a * grid[j + 1, i + 1]
+    return (1 - b) * low + b * high

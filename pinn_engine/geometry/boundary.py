@@ -26,14 +26,18 @@ MAX_POINTS = 200_000
 MAX_COORDINATE = 1e100
 
 
+def arc_lengths(points: np.ndarray) -> np.ndarray:
+    """The length along a polyline (n, d) from its first point to each of its points, (n,)."""
+    return np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
+
+
 class Polyline:
     """An open polyline parametrised by its arc-length fraction t in [0, 1]."""
 
     def __init__(self, points: np.ndarray) -> None:
         self.points = np.asarray(points, dtype=float)
-        seg = np.linalg.norm(np.diff(self.points, axis=0), axis=1)
-        self.length = float(seg.sum())
-        self.t = np.concatenate([[0.0], np.cumsum(seg)]) / self.length
+        self.length = float(np.linalg.norm(np.diff(self.points, axis=0), axis=1).sum())
+        self.t = arc_lengths(self.points) / self.length
         self.t[-1] = 1.0
 
     def at(self, t: np.ndarray) -> np.ndarray:

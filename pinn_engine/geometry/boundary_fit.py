@@ -7,7 +7,6 @@ auxiliary-line coordinates (SPEC 2) and boundary samples agree.
 from __future__ import annotations
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from pinn_engine.errors import MissingExtraError
 from pinn_engine.geometry.boundary import SIDES, Boundary
@@ -58,6 +57,8 @@ class SplineFit:
     """
 
     def __init__(self, boundary: Boundary) -> None:
+        from scipy.interpolate import CubicSpline  # only the hard-boundary network needs it
+
         self.splines = {}
         for s in SIDES:
             line = boundary.side(s)

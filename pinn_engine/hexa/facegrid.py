@@ -13,6 +13,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import spsolve
 
+from pinn_engine.geometry.boundary import arc_lengths
 from pinn_engine.hexa.surface import Surface
 
 LOCATE_BATCH = 4_000_000  # query-triangle pairs per batch: bounds the memory of the search
@@ -21,7 +22,7 @@ DEGENERATE = 1e-300  # a mapped triangle with |det| below this holds no node
 
 def arc_fractions(points: np.ndarray) -> np.ndarray:
     """Normalised cumulative arc length along a polyline (0 at its start, 1 at its end)."""
-    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
+    s = arc_lengths(points)
     return s / s[-1]
 
 
@@ -67,33 +68,72 @@ def square_map(points: np.ndarray, tris: np.ndarray, fixed: dict[int, np.ndarray
     return uv
 
 
+def _bucketed(uv: np.ndarray, tris: np.ndarray, queries: np.ndarray) -> np.ndarray:
+    """For each query (m, 2), the mapped triangles whose bounding box holds it (m, k), -1
+    padded, ascending: a triangle that holds a query is among them. Boxes are filed in a
+    square grid of about one cell a triangle over the queries' and triangles' extent."""
+    corners = uv[tris]
+    lo = np.minimum(corners.min(axis=1).min(axis=0), queries.min(axis=0))
+    span = np.maximum(np.maximum(corners.max(axis=1).max(axis=0), queries.max(axis=0)) - lo, 1e-300)
+    side = max(1, int(np.sqrt(len(tris))))
+
+    def cell(x: np.ndarray) -> np.ndarray:
+        return np.clip(((x - lo) / span * side).astype(int), 0, side - 1)
+
+    first, last = cell(corners.min(axis=1)), cell(corners.max(axis=1))
+    wide = last - first + 1
+    counts = wide[:, 0] * wide[:, 1]
+    tri = np.repeat(np.arange(len(tris)), counts)
+    k = np.arange(len(tri)) - np.repeat(np.cumsum(counts) - counts, counts)
+    x = first[tri, 0] + k % wide[tri, 0]
+    y = first[tri, 1] + k // wide[tri, 0]
+    order = np.argsort(y * side + x, kind="stable")  # by cell, triangles ascending within
+    filed, tri = (y * side + x)[order], tri[order]
+    starts = np.searchsorted(filed, np.arange(side * side + 1))
+    at = cell(queries)
+    q = at[:, 1] * side + at[:, 0]
+    held = starts[q + 1] - starts[q]
+    slot = starts[q][:, None] + np.arange(held.max(initial=0))[None, :]
+    return np.where(slot < starts[q + 1][:, None], tri[np.minimum(slot, len(tri) - 1)], -1)
+
+
 def carry_back(
     uv: np.ndarray, tris: np.ndarray, points: np.ndarray, queries: np.ndarray
 ) -> np.ndarray:
     """3D points of ``queries`` (m, 2) in the square, by the barycentric coordinates of the
-    mapped triangle holding each (the one whose smallest coordinate is largest, clipped)."""
+    mapped triangle holding each (the one whose smallest coordinate is largest, clipped):
+    searched among the triangles whose bounding box holds the query (:func:`_bucketed`),
+    among all where none holds it (a query off the mapped square by round-off)."""
     p0 = uv[tris[:, 0]]
     e1, e2 = uv[tris[:, 1]] - p0, uv[tris[:, 2]] - p0
     det = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
     ok = np.abs(det) > DEGENERATE
     inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
-    out = np.empty((len(queries), 3))
-    batch = max(1, LOCATE_BATCH // len(tris))
-    for start in range(0, len(queries), batch):
-        q = queries[start : start + batch, None, :] - p0[None]
-        l1 = (q[..., 0] * e2[:, 1] - q[..., 1] * e2[:, 0]) * inv
-        l2 = (e1[:, 0] * q[..., 1] - e1[:, 1] * q[..., 0]) * inv
-        worst = np.where(ok, np.minimum(np.minimum(l1, l2), 1.0 - l1 - l2), -np.inf)
-        best = worst.argmax(axis=1)
-        rows = np.arange(len(best))
-        lam = np.clip(
-            np.stack([1 - l1[rows, best] - l2[rows, best], l1[rows, best], l2[rows, best]], axis=1),
-            0.0,
-            None,
+
+    def locate(q: np.ndarray, cand: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The best of the candidate triangles ``cand`` (m, k; -1 none) of queries ``q``:
+        its index, its smallest barycentric coordinate and the coordinates l1, l2."""
+        t = np.maximum(cand, 0)
+        d = q[:, None, :] - p0[t]
+        l1 = (d[..., 0] * e2[t, 1] - d[..., 1] * e2[t, 0]) * inv[t]
+        l2 = (e1[t, 0] * d[..., 1] - e1[t, 1] * d[..., 0]) * inv[t]
+        worst = np.where(
+            ok[t] & (cand >= 0), np.minimum(np.minimum(l1, l2), 1.0 - l1 - l2), -np.inf
         )
-        lam /= lam.sum(axis=1, keepdims=True)
-        out[start : start + batch] = np.einsum("qc,qcd->qd", lam, points[tris[best]])
-    return out
+        best = worst.argmax(axis=1)
+        rows = np.arange(len(q))
+        return t[rows, best], worst[rows, best], np.stack([l1[rows, best], l2[rows, best]], 1)
+
+    found, worst, lam = locate(queries, _bucketed(uv, tris, queries))
+    lost = np.flatnonzero(worst < 0.0)  # held by no candidate: the best of all triangles
+    batch = max(1, LOCATE_BATCH // len(tris))
+    for start in range(0, len(lost), batch):
+        rows = lost[start : start + batch]
+        every = np.broadcast_to(np.arange(len(tris)), (len(rows), len(tris)))
+        found[rows], _, lam[rows] = locate(queries[rows], every)
+    bary = np.clip(np.column_stack([1 - lam[:, 0] - lam[:, 1], lam]), 0.0, None)
+    bary /= bary.sum(axis=1, keepdims=True)
+    return np.einsum("qc,qcd->qd", bary, points[tris[found]])
 
 
 class FaceMap:

@@ -10,10 +10,15 @@ nodes of any finer grid.
 
 from __future__ import annotations
 
+from functools import cached_property
+from typing import TYPE_CHECKING
+
 import numpy as np
-from scipy.interpolate import NdBSpline, make_interp_spline
 
 from pinn_engine.classical.tfi import node_params
+
+if TYPE_CHECKING:
+    from scipy.interpolate import NdBSpline
 
 CUBIC = 3  # the spline's degree where a direction has enough nodes
 
@@ -29,13 +34,20 @@ class LatticeField:
 
     def __init__(self, values: np.ndarray) -> None:
         self.values = np.asarray(values, dtype=float)
+
+    @cached_property
+    def spline(self) -> NdBSpline:
+        """The spline, built when first needed (the lattice's own nodes need none, nor
+        SciPy's splines)."""
+        from scipy.interpolate import NdBSpline, make_interp_spline
+
         degrees = tuple(min(CUBIC, n - 1) for n in self.values.shape[:3])
         c, knots = self.values, []
         for axis, k in enumerate(degrees):  # interpolate along one direction at a time
             along = make_interp_spline(node_params(c.shape[axis]), c, k=k, axis=axis)
             c = np.moveaxis(along.c, 0, axis)
             knots.append(along.t)
-        self.spline = NdBSpline(tuple(knots), c, degrees)
+        return NdBSpline(tuple(knots), c, degrees)
 
     def jet(self, x: np.ndarray, orders: list[tuple[int, int, int]]) -> np.ndarray:
         """The derivatives of the given ``orders`` (d/dxi, d/deta, d/dzeta counts) at points

@@ -6,9 +6,7 @@ and 2.2 GiB at 41^3); the multigrid hierarchy grows like the nodes."""
 from __future__ import annotations
 
 import numpy as np
-import pyamg
 import scipy.sparse as sp
-from pyamg.krylov import fgmres
 
 # inexact Picard: each update solves its system to this fraction of its defect only, since
 # the next step's coefficients change the system by about as much (measured on the bump box
@@ -34,6 +32,9 @@ class InexactSolve:
     def solve(self, mat: sp.csr_matrix, rhs: np.ndarray) -> np.ndarray:
         """The update ``x`` (columns as ``rhs``) with ``|mat x - rhs| <= FORCING |rhs|`` per
         column; ``mat`` has a positive diagonal, as the multigrid setup expects."""
+        import pyamg  # imported where a system is solved (a box's TFI grid needs none)
+        from pyamg.krylov import fgmres
+
         if self.preconditioner is None:
             hierarchy = pyamg.ruge_stuben_solver(mat, max_coarse=COARSEST, coarse_solver="splu")
             self.preconditioner, self.baseline = hierarchy.aspreconditioner(), None

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from pinn_engine.classical.shear import shear_weights
 from pinn_engine.hexa import volume
 from pinn_engine.hexa.quality import folded
 from pinn_engine.hexa.spacing import PATCH_AXIS, first_edges, leaving
@@ -78,13 +79,11 @@ def sheared(
     for patch in patches:
         axis, end = PATCH_AXIS[patch]
         opposite = next(p for p, v in PATCH_AXIS.items() if v == (axis, -1 - end))
-        reach = 0.5 if opposite in patches else 1.0
         wall, first = leaving(out, patch)
         offset = _heights(wall, first, normals(wall, first), heights.get(patch)) - first
         s = np.moveaxis(params[..., axis], axis, 0)
         s = s if end == 0 else (1.0 - s)[::-1]
-        w = s * np.clip(1.0 - s / reach, 0.0, None) ** 2
-        shift = offset[None] * (w / np.maximum(w[1], 1e-300))[..., None]
+        shift = offset[None] * shear_weights(s, opposite in patches)[..., None]
         moved = np.moveaxis(out, axis, 0)
         moved = moved if end == 0 else moved[::-1]
         moved[1:-1, 1:-1, 1:-1] += shift[1:-1, 1:-1, 1:-1]

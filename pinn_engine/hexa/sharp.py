@@ -1,7 +1,8 @@
 """Faces of an untagged surface (an ``.stl``, SPEC 11): the regions its sharp edges bound.
 
 Two neighbouring triangles are in one face unless their normals differ by more than
-``SHARP_ANGLE``; the faces are the connected regions of triangles so joined. The normals are
+``settings.FACE_ANGLE`` (SPEC 11's 40 degrees, or the run's ``face_angle``); the faces are the
+connected regions of triangles so joined. The normals are
 compared as the shared edge orients them (a triangle wound the other way round is turned),
 so that an STL whose triangles disagree on their winding still splits where it bends.
 """
@@ -9,16 +10,19 @@ so that an STL whose triangles disagree on their winding still splits where it b
 from __future__ import annotations
 
 import numpy as np
-from scipy.sparse import coo_matrix
 
-SHARP_ANGLE = 40.0  # degrees between neighbouring triangles' normals that end a face (SPEC 11)
+from pinn_engine.settings import FACE_ANGLE
 
 
 def faces_at_sharp_edges(
-    points: np.ndarray, triangles: np.ndarray, angle: float = SHARP_ANGLE
+    points: np.ndarray, triangles: np.ndarray, angle: float = FACE_ANGLE
 ) -> tuple[int, np.ndarray]:
     """The number of faces and the face index of each triangle; edges held by other than two
     triangles join nothing (the topology check reports an open surface)."""
+    # imported here: only an STL's faces are found at its edges
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
     normal = np.cross(
         points[triangles[:, 1]] - points[triangles[:, 0]],
         points[triangles[:, 2]] - points[triangles[:, 0]],
@@ -40,8 +44,5 @@ def faces_at_sharp_edges(
     graph = coo_matrix(
         (np.ones(int(smooth.sum())), (owner[a][smooth], owner[b][smooth])), shape=(n, n)
     )
-    # imported here: the command line imports this module for every run, STLs are few
-    from scipy.sparse.csgraph import connected_components
-
     count, face_of = connected_components(graph, directed=False)
     return count, face_of

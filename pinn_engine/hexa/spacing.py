@@ -1,18 +1,18 @@
 """First-cell spacing on the patches of a six-faced domain (SPEC 7 on SPEC 11's patches).
 
 ``--spacing PATCH=H`` stretches the nodes along the direction that leaves the patch (i for
-``imin``/``imax``, j for ``jmin``/``jmax``, k for ``kmin``/``kmax``) as 2D does: the lines of
-that direction share a Vinokur stretching and each line's first intervals are scaled to its
-own first spacing (``classical.spacing.line_parameters``), those spacings iterated against
-the measured first edges of the grid the method produces until every first edge is H within
-``FIT_TOL`` (2D's fit). The shared stretching matters more in 3D: a face line and the line
-next to it inside need different spacings (the face's Floater parameters are not the
-interior's), and whole per-line stretchings then shift their far nodes apart, leaning the
-thin cells off another patch into folds (the bend with three spaced patches at 21^3 folded
-1458 cells). The lines on the four faces around the patch are lines of the same direction,
-so the face grids take the same distribution (the faces stay conforming), and the volume
-follows by TFI at the parameters (:func:`tfi_at`), or by the Winslow equations with the
-distribution's control terms (``controls``).
+``imin``/``imax``, j for ``jmin``/``jmax``, k for ``kmin``/``kmax``) as 2D does: the lines
+of that direction share a Vinokur stretching and each line's first intervals are scaled to
+its own first spacing (``classical.spacing.line_parameters``), those spacings iterated
+against the measured first edges of the grid the method produces until every first edge is H
+within 1 % (2D's fit, ``classical.spacing.fit_first_spacings``). The shared stretching
+matters more in 3D: a face line and the line next to it inside need different spacings (the
+face's Floater parameters are not the interior's), and whole per-line stretchings then shift
+their far nodes apart, leaning the thin cells off another patch into folds (the bend with
+three spaced patches at 21^3 folded 1458 cells). The lines on the four faces around the
+patch are lines of the same direction, so the face grids take the same distribution (the
+faces stay conforming), and the volume follows by TFI at the parameters (:func:`tfi_at`), or
+by the Winslow equations with the distribution's control terms (``controls``).
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from pinn_engine.classical.spacing import line_parameters
+from pinn_engine.classical.spacing import fit_first_spacings, line_parameters
 from pinn_engine.errors import InputError
 from pinn_engine.hexa import volume
 
@@ -33,37 +33,7 @@ PATCH_AXIS = {  # each patch: the index direction leaving it, and which end it i
     "kmin": (2, 0),
     "kmax": (2, -1),
 }
-FIT_TOL = 0.01  # first edges within 1 % of H, as 2D's fit (SPEC 7 asks for 10 %)
-FIT_ROUNDS = 12  # rounds of the fit (each one grid evaluation); 2D's count
-STEP_CLIP = (0.2, 5.0)  # a round changes a line's spacing by at most this factor (2D's)
 ROOM = 0.5  # H must be shorter than this fraction of the shortest edge leaving the patch
-
-
-def parse_patches(spacing: list[str], orthogonal: list[str]) -> tuple[dict[str, float], tuple]:
-    """``PATCH=H`` items and ``PATCH[,PATCH...]`` items, checked (one line naming the fix in
-    the route's words: the command line's ``--spacing`` and ``--orthogonal``, the filter's
-    First Edge Spacing and Orthogonal Patches, pyvista's ``spacing=`` and ``orthogonal=``)."""
-    names = ", ".join(PATCH_AXIS)
-    out: dict[str, float] = {}
-    for item in spacing:
-        name, sep, value = item.partition("=")
-        name = name.strip().lower()
-        try:
-            h = float(value)
-        except ValueError:
-            h = float("nan")
-        if not sep or name not in PATCH_AXIS or not (np.isfinite(h) and h > 0):
-            raise InputError(f"{{spacing}} {item}: write PATCH=H with H > 0, PATCH one of {names}")
-        if out.setdefault(name, h) != h:
-            raise InputError(f"{{spacing}} {item}: patch {name} is given two spacings")
-    walls = []
-    for item in orthogonal:
-        for name in item.split(","):
-            name = name.strip().lower()
-            if name not in PATCH_AXIS:
-                raise InputError(f"{{orthogonal}} {item}: unknown patch {name!r}; use {names}")
-            walls.append(name)
-    return out, tuple(dict.fromkeys(walls))
 
 
 def leaving(g: np.ndarray, patch: str) -> tuple[np.ndarray, np.ndarray]:
@@ -124,15 +94,19 @@ def tfi_at(boundary: Callable[[np.ndarray], np.ndarray], params: np.ndarray) -> 
     consistently only when each direction's parameters are the same on every line, so: TFI
     at each direction's mean distribution, each line's nodes moved along it to their own
     parameters, and the six faces set to the face grids at the nodes' parameters."""
-    common = []
+    common, spread = [], 0.0
     for axis in range(3):
         others = tuple(a for a in range(3) if a != axis)
         common.append(params[..., axis].mean(axis=others))
+        spread = max(spread, float(np.ptp(params[..., axis], axis=others).max()))
     mean = np.stack(np.meshgrid(*common, indexing="ij"), axis=-1)
-    g = volume.tfi(boundary(mean), mean)
-    for axis in range(3):
-        g = _along(g, axis, common[axis], params[..., axis])
     faces = boundary(params)
+    if spread == 0.0:  # every line has the same parameters: the Boolean sum at them
+        g = volume.tfi(faces, params)
+    else:
+        g = volume.tfi(boundary(mean), mean)
+        for axis in range(3):
+            g = _along(g, axis, common[axis], params[..., axis])
     for axis in range(3):
         for end in (0, -1):
             at = tuple(end if a == axis else slice(None) for a in range(3))
@@ -147,12 +121,11 @@ def fit_params(
     start: dict[str, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
     """Parameters whose grid ``evaluate(params)`` has first edges ``spacing[patch]`` within
-    ``FIT_TOL`` at every node of those patches (their four corners aside), and that grid.
-
-    Each round scales a line's parameter spacing by target / measured (the first edge is
-    nearly linear in it), as 2D's ``classical.spacing.fit_params``; ``uniform`` (the TFI
-    grid of uniform parameters) gives the first guess, H over the length of each line, unless
-    ``start`` (a previous fit's per-line spacings) does. Returns (params, grid, spacings).
+    1 % at every node of those patches (their four corners aside), and that grid:
+    2D's fit (``classical.spacing.fit_first_spacings``) on the patches' (na, nb) spacings.
+    ``uniform`` (the TFI grid of uniform parameters) gives the first guess, H over the length
+    of each line, unless ``start`` (a previous fit's per-line spacings) does. Returns
+    (params, grid, spacings).
     """
     size = uniform.shape[:3]
     par = {} if start is None else {p: v.copy() for p, v in start.items()}
@@ -162,16 +135,13 @@ def fit_params(
         axis, _ = PATCH_AXIS[patch]
         length = np.linalg.norm(np.diff(uniform, axis=axis), axis=-1).sum(axis=axis)
         par[patch] = h / np.maximum(length, h)
-    for _ in range(FIT_ROUNDS):
-        params = node_params(size, par)
-        grid = evaluate(params)
-        worst = 0.0
-        for patch, h in spacing.items():
-            ratio = h / np.maximum(first_edges(grid, patch), 1e-300)
-            inner = ratio.copy()
-            inner[[0, 0, -1, -1], [0, -1, 0, -1]] = 1.0
-            worst = max(worst, float(np.abs(inner - 1.0).max()))
-            par[patch] = np.clip(par[patch] * np.clip(ratio, *STEP_CLIP), 1e-14, 0.9)
-        if worst <= FIT_TOL:
-            break
-    return params, grid, par
+    return fit_first_spacings(
+        evaluate, lambda par: node_params(size, par), first_edges, spacing, par, _inner
+    )
+
+
+def _inner(ratio: np.ndarray) -> np.ndarray:
+    """A patch's (na, nb) ratios with its four corners set to 1 (left out of the fit)."""
+    inner = ratio.copy()
+    inner[[0, 0, -1, -1], [0, -1, 0, -1]] = 1.0
+    return inner

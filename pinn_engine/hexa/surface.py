@@ -16,7 +16,8 @@ from vtkmodules.vtkCommonDataModel import vtkPolyData
 from vtkmodules.vtkFiltersCore import vtkTriangleFilter
 
 from pinn_engine.errors import InputError
-from pinn_engine.hexa.sharp import SHARP_ANGLE, faces_at_sharp_edges
+from pinn_engine.hexa.sharp import faces_at_sharp_edges
+from pinn_engine.settings import FACE_ANGLE
 
 FACES = 6  # a hexahedral block has six faces
 CORNERS = 8  # ... eight corners
@@ -62,7 +63,7 @@ def is_faced_surface(path: str) -> bool:
 
 
 def surface_of(
-    data: vtkPolyData, source: str, sharp_edges: bool = False, angle: float = SHARP_ANGLE
+    data: vtkPolyData, source: str, sharp_edges: bool = False, angle: float = FACE_ANGLE
 ) -> Surface:
     """The triangles of a polydata (polygons are triangulated) with coincident points merged,
     and their faces: the FaceId array, or with ``sharp_edges`` (an STL has no arrays) the

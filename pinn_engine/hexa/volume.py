@@ -60,6 +60,8 @@ def _cofactors(g: np.ndarray) -> dict[tuple[int, int], np.ndarray]:
     }
 
 
+# a residual within this many machine epsilons of the sum of its terms' sizes is round-off
+ROUND_OFF = 64
 # the 19 offsets of the stencil (none along all three axes at once), lexicographic
 _OFFSETS = [o for o in itertools.product((-1, 0, 1), repeat=3) if np.count_nonzero(o) < 3]
 
@@ -137,9 +139,22 @@ class InteriorStencil:
         expects) and the Winslow residual of ``g``: the Picard update solves ``matrix @
         update = residual``."""
         w = _weights(g, params)
+        return self.matrix(w), _apply(w, g)
+
+    def matrix(self, w: dict[tuple[int, int, int], np.ndarray]) -> sp.csr_matrix:
+        """Minus the operator of the stencil weights ``w`` over the interior nodes."""
         data = -np.stack([w[off].reshape(-1) for off in _OFFSETS], axis=1)[self.inner]
         n = self.indptr.size - 1
-        return sp.csr_matrix((data, self.indices, self.indptr), shape=(n, n)), _apply(w, g)
+        return sp.csr_matrix((data, self.indices, self.indptr), shape=(n, n))
+
+
+def round_off(
+    w: dict[tuple[int, int, int], np.ndarray], g: np.ndarray, residual: np.ndarray
+) -> bool:
+    """Whether the ``residual`` of ``g`` under the weights ``w`` is round-off of its terms
+    (a box's TFI grid, for one): no Picard step can improve it."""
+    size = _apply({off: np.abs(v) for off, v in w.items()}, np.abs(g))
+    return bool((np.abs(residual) <= ROUND_OFF * np.finfo(float).eps * size).all())
 
 
 def winslow(
@@ -153,7 +168,8 @@ def winslow(
     one BLAS thread (GMRES's vector operations gain nothing from OpenBLAS's spinning threads:
     at 41^3 they nearly doubled the CPU time for no wall time). ``params``: node parameters
     whose distribution the grid keeps (control terms). Stops when no node moves more than
-    ``tol`` times the grid's extent; returns the grid and the number of steps."""
+    ``tol`` times the grid's extent, or before the first step where the start's residual is
+    round-off (:func:`round_off`); returns the grid and the number of steps."""
     g = np.array(start, dtype=float)
     if min(g.shape[:3]) < 3:
         return g, 0
@@ -163,7 +179,11 @@ def winslow(
     solver = InexactSolve()
     with one_blas_thread():
         for it in range(1, max_iterations + 1):
-            step = solver.solve(*pattern.system(g, params))
+            w = _weights(g, params)
+            residual = _apply(w, g)
+            if it == 1 and round_off(w, g, residual):
+                return g, 0
+            step = solver.solve(pattern.matrix(w), residual)
             g[1:-1, 1:-1, 1:-1] += step.reshape(*inner_shape, 3)
             if float(np.abs(step).max()) <= tol * extent:
                 return g, it

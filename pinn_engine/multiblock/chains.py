@@ -182,24 +182,36 @@ def graded_minimum(
     return out
 
 
-def graded_params(
-    topo: Topology, graded: dict[tuple[int, int], int], counts: np.ndarray, h: float
-) -> dict[int, np.ndarray]:
-    """The arc-length fractions of the nodes of the pieces along a grading (the sides
-    leaving each graded side, one piece each): a first edge ``h`` at the graded side's end,
-    the uniform one at the other, so that the solve starts from, and its sliding ends keep,
-    the grading."""
-    out: dict[int, np.ndarray] = {}
+def graded_ends(
+    topo: Topology, graded: dict[tuple[int, int], int], h: float
+) -> dict[tuple[int, int], float]:
+    """The ends of the pieces along a grading (the sides leaving each graded side, one
+    piece each) where it asks the first edge ``h``: (piece, 0) at the piece's first point,
+    (piece, 1) at its last."""
+    out: dict[tuple[int, int], float] = {}
     for b, s in graded:
         block = topo.blocks[b]
         for along, end in (((s + 1) % 4, (s + 1) % 4), ((s - 1) % 4, s)):
             if len(block.sides[along]) != 1:
                 continue
             k = block.sides[along][0][0]
-            piece, n = topo.pieces[k], int(counts[k])
-            t = exact_stretch(n + 1, h / piece.length, 1.0 / n)[0]
-            forward = _corner_key(piece.points[0]) == _corner_key(block.corners[end])
-            out[k] = t if forward else 1.0 - t[::-1]
+            forward = _corner_key(topo.pieces[k].points[0]) == _corner_key(block.corners[end])
+            out[(k, 0 if forward else 1)] = h
+    return out
+
+
+def graded_params(
+    topo: Topology, ends: dict[tuple[int, int], float], counts: np.ndarray
+) -> dict[int, np.ndarray]:
+    """The arc-length fractions of the nodes of the pieces along gradings, from every
+    grading's ``ends`` (:func:`graded_ends`, merged, the finer first edge where two ask
+    one end): the first edges asked at either end or both, the uniform one at an end none
+    asks, so that the solve starts from, and its sliding ends keep, the gradings."""
+    out: dict[int, np.ndarray] = {}
+    for k in sorted({k for k, _ in ends}):
+        length, n = topo.pieces[k].length, int(counts[k])
+        first, last = (ends.get((k, e), length / n) / length for e in (0, 1))
+        out[k] = exact_stretch(n + 1, first, last)[0]
     return out
 
 

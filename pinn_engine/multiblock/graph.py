@@ -10,6 +10,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import shapely
+from shapely.validation import explain_validity
 
 from pinn_engine.errors import InputError
 
@@ -45,10 +47,12 @@ def _inside(point: np.ndarray, ring: np.ndarray) -> bool:
 
 
 def order_rings(rings: list[np.ndarray], source: str) -> list[np.ndarray]:
-    """The outer boundary first (the ring of largest area), then the holes; the outer ring
-    counter-clockwise, holes clockwise (the domain on the left of every ring)."""
+    """The outer boundary first (the ring of largest area), then the holes in the order
+    given (so ``hole1`` is the first hole drawn); the outer ring counter-clockwise, holes
+    clockwise (the domain on the left of every ring)."""
     rings = [r[:-1] if np.array_equal(r[0], r[-1]) else r for r in rings]
-    rings.sort(key=lambda r: -abs(_area(r)))
+    outer = max(range(len(rings)), key=lambda k: abs(_area(rings[k])))
+    rings = [rings[outer], *rings[:outer], *rings[outer + 1 :]]
     out = []
     for k, ring in enumerate(rings):
         if k and not _inside(ring[0], rings[0]):
@@ -59,6 +63,22 @@ def order_rings(rings: list[np.ndarray], source: str) -> list[np.ndarray]:
         ccw = _area(ring) > 0
         out.append(ring if ccw == (k == 0) else ring[::-1].copy())
     return out
+
+
+def check_simple(rings: list[np.ndarray], source: str) -> None:
+    """Refuse a ring that crosses or touches itself (its faces would not be found), naming
+    the ring (``boundary``, ``hole1``, ...) and the place."""
+    for k, ring in enumerate(rings):
+        if shapely.LinearRing(ring).is_simple:
+            continue
+        why = explain_validity(shapely.Polygon(ring))  # e.g. "Self-intersection[x y]"
+        x, y = (float(v) for v in why[why.index("[") + 1 : why.index("]")].split()[:2])
+        name = f"hole{k}" if k else "the boundary"
+        raise InputError(
+            f"{name} crosses itself at ({x:.4g}, {y:.4g}); draw each closed curve without "
+            "crossings",
+            source,
+        )
 
 
 def _nearest_on(polyline: np.ndarray, closed: bool, p: np.ndarray) -> tuple[float, int, float]:
@@ -203,8 +223,10 @@ def linework(
 ) -> Linework:
     """The checked linework of a boundary's ``rings`` (any order and orientation) and the
     block ``edges``: ends snapped (:func:`snap_edges`), then refused if an end lies on
-    nothing (naming the edge and the point) or edges cross (naming the place)."""
+    nothing (naming the edge and the point), a ring crosses itself or edges cross (naming
+    the place)."""
     rings = order_rings([np.asarray(r, dtype=float)[:, :2] for r in rings], source)
+    check_simple(rings, source)
     edges = [np.asarray(e, dtype=float)[:, :2] for e in edges]
     diagonal = float(np.linalg.norm(np.ptp(rings[0], axis=0)))
     curves, loose = snap_edges(rings, edges, SNAP * diagonal)

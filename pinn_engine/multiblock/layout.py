@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pinn_engine.classical.tfi import tfi_of_sides
+from pinn_engine.geometry.boundary import arc_lengths
 from pinn_engine.multiblock.blocks import Topology
 
 
@@ -27,7 +28,7 @@ class Layout:
 def resample(polyline: np.ndarray, cells: int, params: np.ndarray | None = None) -> np.ndarray:
     """``cells + 1`` points along ``polyline`` at the arc-length fractions ``params`` (None:
     equal steps), its ends exactly."""
-    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(polyline, axis=0), axis=1))])
+    s = arc_lengths(polyline)
     t = s[-1] * (np.linspace(0.0, 1.0, cells + 1) if params is None else params)
     out = np.column_stack([np.interp(t, s, polyline[:, 0]), np.interp(t, s, polyline[:, 1])])
     out[0], out[-1] = polyline[0], polyline[-1]

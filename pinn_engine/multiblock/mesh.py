@@ -16,6 +16,7 @@ from pinn_engine.geometry.auxlines import RawLine, line_distances
 from pinn_engine.multiblock.blocks import Topology, topology
 from pinn_engine.multiblock.chains import (
     SideItem,
+    graded_ends,
     graded_minimum,
     graded_params,
     graded_sides,
@@ -29,7 +30,13 @@ from pinn_engine.multiblock.layout import Layout, layout, side_lines
 from pinn_engine.multiblock.orthogonal import boundary_neighbours, orthogonal
 from pinn_engine.multiblock.patches import PatchPiece, PatchPoint, PatchRing, block_patches
 from pinn_engine.multiblock.quadblock import block_boundary, block_lines
-from pinn_engine.multiblock.spacing import check_room, first_edges, requests, respace
+from pinn_engine.multiblock.spacing import (
+    check_room,
+    graded_first_cells,
+    requests,
+    respace,
+    spread,
+)
 from pinn_engine.multiblock.walls import (
     Walls,
     check_names,
@@ -147,16 +154,16 @@ def mesh_blocks(
                 if n > minimum.get(piece, (0, item))[0]:
                     minimum[piece] = (n, item)
         counts = cell_counts(topo, h, fixed, minimum)
-    params = {
-        k: t
-        for item, graded in grades
-        for k, t in graded_params(topo, graded, counts, item.value).items()
-    }
+    ends: dict[tuple[int, int], float] = {}
+    for item, graded in grades:
+        for end, first in graded_ends(topo, graded, item.value).items():
+            ends[end] = min(first, ends.get(end, first))
+    params = graded_params(topo, ends, counts)
     lay = layout_checked(topo, counts, h, params)
     patches = block_patches(topo, lay, patch_points)  # refused before the solve, not after
     check_names(walls, patches)
     sides = wall_sides(lay.ids, patches, walls.names)
-    asked = requests(sides, walls.spacing)
+    asked = spread(requests(sides, walls.spacing), lay.ids)
     check_room(lay.points, asked)
     steps = 0
     points = lay.points
@@ -183,10 +190,12 @@ def mesh_blocks(
     # first edges of gradings and patches, and orthogonality on patches, last: no solve or
     # training moves them after
     for item, graded in grades:
-        points = first_edges(points, lay.ids, graded, item.value)
+        points = graded_first_cells(points, lay.ids, graded, item.value)
     points = respace(points, asked)
     if walls.orthogonal:
-        points = orthogonal(points, sides, walls.orthogonal, boundary_neighbours(topo, lay))
+        points = orthogonal(
+            points, sides, walls.orthogonal, boundary_neighbours(topo, lay), lay.ids
+        )
     grids = [points[ids] for ids in lay.ids]
     cells = [cell_quality(g) for g in grids]
     kinks = interface_kinks(cross, lay, points)

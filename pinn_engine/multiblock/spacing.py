@@ -19,10 +19,10 @@ identical.
 from __future__ import annotations
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from pinn_engine.classical.spacing import line_parameters  # one block's per-line stretching
 from pinn_engine.errors import InputError
+from pinn_engine.geometry.boundary import arc_lengths
 from pinn_engine.multiblock.layout import side_lines
 from pinn_engine.multiblock.walls import WallSide
 from pinn_engine.settings import SIDE_NAMES
@@ -68,6 +68,43 @@ def requests(sides: list[WallSide], spacing: dict[str, float]) -> Requests:
     return out
 
 
+def spread(asked: Requests, ids: list[np.ndarray]) -> Requests:
+    """``asked`` with the stretching carried into every block that has an asked line as a
+    whole side without asking its own lines along it (a corner block beside a square
+    hole's wall blocks): that block's lines parallel to the side are asked the same first
+    edge at the same end, and so on through the blocks, as a grading runs through every
+    block sharing a side along it. Without it such a block keeps its own distribution
+    next to a stretched side, and its cells there shear."""
+    out = {key: list(ask) for key, ask in asked.items()}
+    sides: dict[tuple[int, ...], list[tuple[int, str]]] = {}
+    for b, block in enumerate(ids):
+        for side in SIDE_NAMES:
+            nodes = tuple(int(n) for n in side_lines(block, side)[:, 0])
+            sides.setdefault(min(nodes, nodes[::-1]), []).append((b, side))
+    across = {"bottom": ("left", "right"), "top": ("left", "right")}
+    across |= {"left": ("bottom", "top"), "right": ("bottom", "top")}
+    queue = list(out)
+    while queue:
+        key = queue.pop()
+        first, last, label = out[key]
+        for b, side in sides.get(key, ()):
+            for node, h in ((key[0], first), (key[-1], last)):
+                if h is None:
+                    continue
+                start = next(
+                    t for t in across[side] if node in side_lines(ids[b], t)[:, 0].tolist()
+                )
+                for line in side_lines(ids[b], start):
+                    line_key = tuple(int(n) for n in line)
+                    key2 = min(line_key, line_key[::-1])
+                    end = 0 if key2 == line_key else 1
+                    if key2 in out and out[key2][end] is not None:
+                        continue
+                    _ask(out, line, h, label)
+                    queue.append(key2)
+    return out
+
+
 def _geometric_ratio(h: float, cells: int, total: float) -> float:
     """The ratio r with h (1 + r + ... + r^(cells - 1)) = total (bisection)."""
     lo, hi = 1.0 / MAX_GROWTH_SEARCH, MAX_GROWTH_SEARCH
@@ -80,7 +117,7 @@ def _geometric_ratio(h: float, cells: int, total: float) -> float:
     return 0.5 * (lo + hi)
 
 
-def first_edges(
+def graded_first_cells(
     points: np.ndarray, ids: list[np.ndarray], graded: dict[tuple[int, int], int], h: float
 ) -> np.ndarray:
     """``points`` with the first cells of every grid line leaving the graded (block, side)
@@ -103,7 +140,7 @@ def first_edges(
                 continue
             done.add(key)
             p = points[line]
-            arc = _arc(p)
+            arc = arc_lengths(p)
             cells = np.diff(arc)
             best = (np.inf, 0, 1.0)
             for k in range(1, len(cells)):
@@ -120,15 +157,11 @@ def first_edges(
     return out
 
 
-def _arc(p: np.ndarray) -> np.ndarray:
-    return np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
-
-
 def check_room(points: np.ndarray, asked: Requests) -> None:
     """Refuse a spacing of at least half a line leaving its patch or side (measured on the
     start grid, before the solve)."""
     for ids, (first, last, label) in asked.items():
-        length = _arc(points[list(ids)])[-1]
+        length = arc_lengths(points[list(ids)])[-1]
         if (first or 0.0) + (last or 0.0) >= MAX_ASKED_SHARE * length:
             raise InputError(
                 f"{label}: the first edge must be shorter than half of every grid line "
@@ -140,23 +173,33 @@ def check_room(points: np.ndarray, asked: Requests) -> None:
 def respace(points: np.ndarray, asked: Requests) -> np.ndarray:
     """``points`` with every asked line's nodes moved along it (its ends stay). A line
     asked at one end only is turned to start there, so that the lines stretched together
-    (one length) share the stretching's asked end."""
+    (one length) share the stretching's asked end. Lines that share a node (a block's rows
+    and columns, where two of its sides are walls) are stretched one after the other, each
+    from the nodes the ones before left, so the block keeps both stretchings."""
     groups: dict[int, list] = {}
     for ids, (first, last, _) in asked.items():
         if first is None:
             ids, first, last = ids[::-1], last, first
-        groups.setdefault(len(ids), []).append((ids, first, last))
+        parts = groups.setdefault(len(ids), [])
+        part = next((p for p in parts if not p[0].intersection(ids)), None)
+        if part is None:
+            part = (set(), [])
+            parts.append(part)
+        part[0].update(ids)
+        part[1].append((ids, first, last))
     out = points.copy()
-    for group in groups.values():
+    for group in (members for parts in groups.values() for _, members in parts):
         lines = np.array([ids for ids, _, _ in group])
         asks = [np.array([np.nan if g[k] is None else g[k] for g in group]) for k in (1, 2)]
-        out[lines[:, 1:-1]] = _stretched(points[lines], *asks)[:, 1:-1]
+        out[lines[:, 1:-1]] = _stretched(out[lines], *asks)[:, 1:-1]
     return out
 
 
 def _stretched(p: np.ndarray, first: np.ndarray, last: np.ndarray) -> np.ndarray:
     """Lines ``p`` (m, n, 2) of the map evaluated at stretched parameters whose first and
     last edges are ``first`` and ``last`` (m,) (NaN: the map's own interval there)."""
+    from scipy.interpolate import CubicSpline  # only asked spacings get here
+
     m, n = p.shape[:2]
     index = np.arange(n)
     splines = [CubicSpline(index, line, axis=0) for line in p]

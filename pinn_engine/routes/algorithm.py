@@ -303,10 +303,9 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, LineInputs, VTKPythonAlgorithmBa
             overrides.pop("objective", None)
         if self._wall_spacing and overrides.get("topology", "none") != "none":
             overrides["spacing"] = (("bottom", self._wall_spacing),)  # the body's wall
+        lattice = tuple(max(n, 2) for n in self._size)
         return make_settings(
-            self._method,
-            self._preset,
-            **{"lattice": tuple(max(n, 2) for n in self._size), **overrides},
+            self._method, self._preset, **{"lattice": lattice, "size": self._size, **overrides}
         )
 
     # ---- results -----------------------------------------------------------------------
@@ -411,24 +410,19 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, LineInputs, VTKPythonAlgorithmBa
             for port in inInfo[1:]
             for k in range(port.GetNumberOfInformationObjects())
         ]
-        geometry = job.geometry_from_polydata(settings, inputs, aux, self._corners)
+        geometry = job.geometry_from_polydata(
+            settings, inputs, aux, self._corners, patches=self._panel_patches()
+        )
         neural = settings.method in NEURAL
         self._progress(0.0, "training" if neural else "meshing")
         began = time.perf_counter()
         with self._stop_on_signal():
-            outcome = job.run(
-                settings,
-                self._size,
-                geometry,
-                self._panel_patches(),
-                self._training_progress(settings),
-                self._cache,
-            )
+            outcome = job.run(settings, geometry, self._training_progress(settings), self._cache)
         self._trained = outcome.trained
         seconds = time.perf_counter() - began
-        self._tell(grid_lines(outcome.result, settings, *self._size, seconds))
+        self._tell(grid_lines(outcome.report, settings, *self._size, seconds))
         self._progress(0.95, "meshing")
-        fd = outcome.grid.GetFieldData()
+        fd = outcome.data.GetFieldData()
         for name, value in (
             ("Trained", int(self._trained)),
             ("TrainingCount", self._cache.trainings),
@@ -437,7 +431,7 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, LineInputs, VTKPythonAlgorithmBa
             arr.SetName(name)
             arr.InsertNextValue(value)
             fd.AddArray(arr)
-        return outcome.grid, _warning(outcome.result.report)
+        return outcome.data, _warning(outcome.report)
 
     def _panel_patches(self):
         """The patch names as given, None for the panel's default text (so that a body grid

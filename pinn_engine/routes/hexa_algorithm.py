@@ -32,9 +32,7 @@ from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 from pinn_engine.errors import ROUTE_WORDS, InputError, SettingsError
-from pinn_engine.hexa.sharp import SHARP_ANGLE
-from pinn_engine.hexa.surface import FACE_ARRAY
-from pinn_engine.hexamesh import HEXA_METHOD, HEXA_SIZE, METHODS, named_patches, size_problem
+from pinn_engine.io.export.patches import named_patches
 from pinn_engine.routes.filters import (
     LastOutcome,
     PatchWalls,
@@ -44,7 +42,16 @@ from pinn_engine.routes.filters import (
     update_warning,
 )
 from pinn_engine.routes.reporting import message_of
-from pinn_engine.settings import NO_TIME_LIMIT
+from pinn_engine.routes.summary_lines import hexa_line
+from pinn_engine.settings import (
+    FACE_ANGLE,
+    HEXA_METHOD,
+    HEXA_METHODS,
+    HEXA_SIZE,
+    NO_TIME_LIMIT,
+    hexa_size_problem,
+    make_settings,
+)
 
 LABEL = "PINN Hexahedral Mesh"
 TRAINING_SHARE = (0.2, 0.9)  # the progress bar's span of pinn's training (face grids before)
@@ -72,8 +79,8 @@ class PinnHexaAlgorithm(LastOutcome, Stoppable, PatchWalls, VTKPythonAlgorithmBa
     Settings (each setter calls ``Modified()`` when the value changes; values are checked at
     the next update):
 
-    * ``SetMethod(name)`` (or its index in ``hexamesh.METHODS``), default
-      ``hexamesh.HEXA_METHOD``
+    * ``SetMethod(name)`` (or its index in ``settings.HEXA_METHODS``), default
+      ``settings.HEXA_METHOD``
     * ``SetGridSize(ni, nj, nk)``: nodes along i, j and k, default 21 21 21
     * ``SetPatchNames(names)``: the patch names of the six faces, each optionally
       ``NAME:TYPE`` (six names imin imax jmin jmax kmin kmax, or ``SIDE=NAME`` items, SIDE
@@ -107,7 +114,7 @@ class PinnHexaAlgorithm(LastOutcome, Stoppable, PatchWalls, VTKPythonAlgorithmBa
         self._size = HEXA_SIZE
         self._patches: str | dict = ""  # as given; checked at the update (imin ... kmax)
         self._faces: dict[str, int] = {}  # side -> the input's FaceId, as last found
-        self._face_angle = SHARP_ANGLE
+        self._face_angle = FACE_ANGLE
         self._time_limit = NO_TIME_LIMIT
         self._last_error = self._last_warning = ""
         self._exception: Exception | None = None
@@ -115,7 +122,7 @@ class PinnHexaAlgorithm(LastOutcome, Stoppable, PatchWalls, VTKPythonAlgorithmBa
 
     # ---- settings ----------------------------------------------------------------------
     def SetMethod(self, method) -> None:
-        self._set("_method", choice(method, METHODS, "method"))
+        self._set("_method", choice(method, HEXA_METHODS, "method"))
 
     def GetMethod(self) -> str:
         return self._method
@@ -200,36 +207,35 @@ class PinnHexaAlgorithm(LastOutcome, Stoppable, PatchWalls, VTKPythonAlgorithmBa
     def _execute(self, surface: vtkPolyData) -> tuple[vtkStructuredGrid, dict]:
         """The grid of the connected surface under the settings, and the run's report; the
         summary line told (``_tell``)."""
-        from pinn_engine.hexa.spacing import parse_patches
-        from pinn_engine.hexamesh import hexa_grid, mesh_polydata, report, summary
+        from pinn_engine import job
 
-        problem = size_problem(self._size)
+        problem = hexa_size_problem(self._size)
         if problem:
             size = " ".join(map(str, self._size))
             raise SettingsError(f"{ROUTE_WORDS[self._route]['size']} {size}: {problem}")
-        orthogonal = [",".join(self._orthogonal)] if self._orthogonal else []
-        spacing, walls = parse_patches(list(self._spacing), orthogonal)
+        settings = make_settings(
+            self._method,
+            size=self._size,
+            spacing=list(self._spacing),
+            orthogonal=",".join(self._orthogonal),
+            face_angle=self._face_angle,
+            time_limit=self._time_limit,
+        )
         if surface is None or surface.GetNumberOfPolys() + surface.GetNumberOfStrips() == 0:
             raise InputError(f"holds no surface triangles: {CURVE_FIX[self._route]}", "input")
-        faced = surface.GetCellData().GetArray(FACE_ARRAY.decode()) is not None
+        geometry = job.hexa_from_polydata(surface, "input", self._patches)
         with self._stop_on_signal():
-            result = mesh_polydata(
-                surface,
-                self._size,
-                self._method,
-                "input",
-                self._progress,
-                sharp_edges=not faced,
-                spacing=spacing,
-                orthogonal=walls,
-                patches=self._patches,
-                sharp_angle=self._face_angle,
-                time_limit=self._time_limit,
-                training=self._training,
-            )
-        self._faces = result.faces
-        self._tell([summary(result, self._method)])
-        return hexa_grid(result, self._method), report(result, self._method)
+            outcome = job.run(settings, geometry, self._hexa_progress)
+        self._faces = outcome.report["faces"]
+        self._tell([hexa_line(outcome.report)])
+        return outcome.data, outcome.report
+
+    def _hexa_progress(self, info: dict) -> str | None:
+        """The run's stages on the bar, and its training (:meth:`_training`)."""
+        if info["phase"] == "prepare":
+            self._progress(info["step"] / info["total"], info["stage"])
+            return None
+        return self._training(info)
 
     def _training(self, info: dict) -> str | None:
         """The trainer's progress on the bar (training from 0.2 to 0.9), answering

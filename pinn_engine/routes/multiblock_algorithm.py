@@ -35,15 +35,12 @@ the same way (``GetLastWarning()``).
 
 from __future__ import annotations
 
-import dataclasses
 import time
 
 import numpy as np
-from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
 from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkMultiBlockDataSet, vtkPolyData
 
-from pinn_engine.errors import STOP, InputError
 from pinn_engine.io.export.edges import edges_polydata
 from pinn_engine.routes.filters import (
     LastOutcome,
@@ -70,52 +67,6 @@ INTERFACES = PARAMETER_CONSTRAINTS["interfaces"].values  # free, fixed (SPEC 10)
 BLOCKING = ("manual", "automatic")  # block edges drawn, or proposed (SPEC 13)
 # the fix a folded elliptic or pinn multi-block grid is pointed to
 MOVE_EDGES = "moving the block edges near them (the cell array Folded marks them)"
-
-
-def _name(what: str, k: int, count: int) -> str:
-    """An input's name in messages: ``what``, numbered from 1 when its port has several."""
-    return what if count == 1 else f"{what} {k + 1}"
-
-
-def curves_of(
-    boundary_inputs: list[vtkPolyData], edge_inputs: list[vtkPolyData], automatic: bool = False
-) -> tuple[list[np.ndarray], list[np.ndarray], list[str]]:
-    """The rings (closed curves: outer boundary and holes), the block edges (open curves)
-    and the edges' names of the two ports' inputs, each curve's points (n, 3); with
-    ``automatic`` blocking there must be no edges."""
-    from pinn_engine.io.fileio import polylines_of
-
-    rings, edges, names = [], [], []
-    ports = (("input", boundary_inputs), ("block edges input", edge_inputs))
-    for what, polys in ports:
-        polys = [p for p in polys if p is not None and p.GetNumberOfPoints()]
-        for k, poly in enumerate(polys):
-            source = _name(what, k, len(polys))
-            xyz = vtk_to_numpy(poly.GetPoints().GetData()).astype(float)
-            for j, (ids, closed) in enumerate(polylines_of(poly, source)):
-                points = xyz[ids]
-                if not np.all(np.isfinite(points)):
-                    raise InputError(f"line {j} has a non-finite point", source)
-                if closed:
-                    rings.append(points[:-1] if ids[0] == ids[-1] else points)
-                else:
-                    edges.append(points)
-                    names.append(f"{source} line {j}")
-    if not rings:
-        raise InputError(
-            "no closed polyline among the inputs: the outer boundary and its holes are closed "
-            "polylines; {close}",
-            "input",
-        )
-    if automatic and edges:
-        raise InputError(
-            "Blocking Automatic proposes every block edge: leave Block Edges empty and give "
-            "the boundary alone (or set Blocking Manual)",
-            names[0],
-        )
-    if not edges and not automatic:
-        raise InputError("no block edges (open polylines) among the inputs; {blocks}", "input")
-    return rings, edges, names
 
 
 class PinnMultiBlockAlgorithm(
@@ -166,7 +117,6 @@ class PinnMultiBlockAlgorithm(
         self._method = BLOCKS_METHOD
         self._cell_size = 0.0
         self._time_limit = NO_TIME_LIMIT
-        self._began, self._stopped = 0.0, None  # the training's start; why it was stopped
         self._interfaces = INTERFACES[0]
         self._patches: tuple[str, ...] = ()  # X,Y=NAME[:TYPE] items, checked at the update
         self._cells: tuple[str, ...] = ()  # X,Y=N items, checked at the update
@@ -230,6 +180,7 @@ class PinnMultiBlockAlgorithm(
             self._method,
             cell_size=self._cell_size,
             interfaces=self._interfaces,
+            time_limit=self._time_limit,
         )
 
     # ---- results -----------------------------------------------------------------------
@@ -269,80 +220,35 @@ class PinnMultiBlockAlgorithm(
     def _execute(self, inInfo) -> tuple[vtkMultiBlockDataSet, dict, list[np.ndarray]]:
         """The blocks of the connected inputs under the settings, the run's report and the
         block edges meshed."""
-        from pinn_engine.io.export.vtm import multiblock_dataset
-        from pinn_engine.io.fileio import aux_lines_of
-        from pinn_engine.job import flat_curves, train_blocks
-        from pinn_engine.multiblock.chains import parse_cells
-        from pinn_engine.multiblock.mesh import mesh_blocks
-        from pinn_engine.multiblock.patches import parse_patch_points
-        from pinn_engine.multiblock.walls import parse_walls
+        from pinn_engine import job
 
         settings = self.GetSettings()
-        patches = parse_patch_points(self._patches)  # refused before meshing, not after
-        walls = parse_walls(self._spacing, self._orthogonal)
-        cells = parse_cells(self._cells)
         ports = [
             [vtkPolyData.GetData(port, k) for k in range(port.GetNumberOfInformationObjects())]
             for port in inInfo
         ]
-        automatic = self._blocking == "automatic"
-        rings, edges, names = curves_of(ports[0], ports[1], automatic)
-        polys = [p for p in ports[2] if p is not None and p.GetNumberOfPoints()]
-        aux = [
-            line
-            for k, poly in enumerate(polys)
-            for line in aux_lines_of(poly, _name("auxiliary lines input", k, len(polys)))
-        ]
-        curves = flat_curves(rings + edges + [line.points for line in aux], "input")
-        flat = curves[len(rings) + len(edges) :]
-        edges = curves[len(rings) : len(rings) + len(edges)]
-        blocking = {"mode": "manual", "edges": len(edges)}
-        if automatic:
-            from pinn_engine.multiblock.autoblock import proposal
-
-            proposed = proposal(curves[: len(rings)], "input")
-            edges, names, blocking = proposed.edges, proposed.names, proposed.report
-        began = self._began = time.perf_counter()
-        self._stopped = None
+        geometry = job.blocks_from_polydata(
+            *ports,
+            automatic=self._blocking == "automatic",
+            patches=self._patches,
+            spacing=self._spacing,
+            orthogonal=self._orthogonal,
+            cells=self._cells,
+        )
+        began = time.perf_counter()
         with self._stop_on_signal():
-            result = mesh_blocks(
-                curves[: len(rings)],
-                edges,
-                names,
-                settings,
-                "input",
-                patches,
-                walls,
-                self._block,
-                [dataclasses.replace(line, points=c) for line, c in zip(aux, flat)],
-                train_blocks,
-                cells,
-            )
-        result.report["blocking"] = blocking
-        if self._stopped is not None:  # the report's training.stopped, as the trainer's
-            result.report.setdefault("training", {})["stopped"] = self._stopped
-        self._tell(blocks_lines(settings.method, result.report, time.perf_counter() - began))
-        dataset = multiblock_dataset(result.grids, result.cells, result.report, result.patches)
-        return dataset, result.report, edges
+            outcome = job.run(settings, geometry, self._block)
+        self._tell(blocks_lines(settings.method, outcome.report, time.perf_counter() - began))
+        return outcome.data, outcome.report, outcome.edges
 
     def _block(self, info: dict) -> str | None:
         """The pinn's progress block by block (``blocks.multiblock``) on the bar, the
-        elliptic grid before it at 0; answers ``errors.STOP`` once the Time Limit (all
-        blocks together) has run out or on an abort request or the stop signal: the block
-        in training keeps its best grid so far, the blocks after it their elliptic grids."""
+        elliptic grid before it at 0; answers ``errors.STOP`` on an abort request or the
+        stop signal (the Time Limit is the job's: ``settings.time_limit``, all blocks
+        together)."""
         if info["phase"] == "prepare":
             self._progress(info["step"] / info["total"], info["stage"])
-        seconds = time.perf_counter() - self._began
-        late = 0 < self._time_limit < seconds
-        if self._stopped is None and (late or self._stop_answer()):
-            self._stopped = {
-                "reason": "time limit" if late else "request",
-                "phase": info["phase"],
-                "step": info.get("step", 0),
-                "seconds": round(seconds, 2),
-                "time_limit": self._time_limit,
-            }
-        return STOP if self._stopped is not None else None
+        return self._stop_answer()
 
 
-__all__ = ["BLOCKING", "MOVE_EDGES", "PinnMultiBlockAlgorithm", "curves_of"]
+__all__ = ["BLOCKING", "MOVE_EDGES", "PinnMultiBlockAlgorithm"]

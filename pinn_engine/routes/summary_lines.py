@@ -3,13 +3,9 @@ filters show in Output Messages after an Apply (the same words on both routes)."
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from pinn_engine.errors import network_effect
+from pinn_engine.patchnames import FACE_PREFIX
 from pinn_engine.settings import Settings
-
-if TYPE_CHECKING:  # the result's module (numpy, the plane) is loaded by the run, not here
-    from pinn_engine.result import MeshResult
 
 
 def _quality(grid: str, seconds: float, q: dict) -> str:
@@ -30,13 +26,11 @@ def _aux_lines(distances: dict, diagonal: str) -> list[str]:
     ]
 
 
-def grid_lines(
-    result: MeshResult, settings: Settings, ni: int, nj: int, seconds: float
-) -> list[str]:
-    """A four-sided grid's or a body's summary: quality, the wall or the sides asked for, the
-    auxiliary lines, and what the network did."""
-    q = result.quality
-    t = result.report.get("topology")
+def grid_lines(report: dict, settings: Settings, ni: int, nj: int, seconds: float) -> list[str]:
+    """A four-sided grid's or a body's summary (of its ``report``): quality, the wall or the
+    sides asked for, the auxiliary lines, and what the network did."""
+    q = report["quality"]
+    t = report.get("topology")
     grid = f"{settings.topology.upper()}-grid" if t else "grid"
     lines = [
         _quality(f"{settings.method} {ni}x{nj} {grid}", seconds, q)
@@ -47,20 +41,20 @@ def grid_lines(
             else f", boundary deviation {q['boundary_deviation']:.1e}"
         )
     ]
-    effect = network_effect(result.report)
+    effect = network_effect(report)
     if effect:
         lines.append(effect)
     if t:
         return lines
     spaced = tuple(k for k, _ in settings.spacing if k not in settings.orthogonal)
     for side in settings.orthogonal + spaced:
-        r = result.report["sides"][side]
+        r = report["sides"][side]
         lines.append(
             f"{side}: first edges {r['first_edge_min']:.3g}..{r['first_edge_max']:.3g}, "
             f"wall angles within {r['max_angle_deviation']:.2f} deg of 90, growth "
             f"ratio up to {r['max_growth_ratio']:.3f}"
         )
-    return lines + _aux_lines(result.report["aux_line_distance"], "the diagonal")
+    return lines + _aux_lines(report["aux_line_distance"], "the diagonal")
 
 
 def _trained(report: dict) -> str:
@@ -94,3 +88,29 @@ def blocks_lines(method: str, report: dict, seconds: float) -> list[str]:
         else []
     )
     return [first, *automatic, *_aux_lines(report["aux_line_distance"], "their block's diagonal")]
+
+
+def hexa_line(report: dict) -> str:
+    """A hexahedral grid's summary (of its ``report``), one line: cells, folds, min
+    ScaledJacobian, mean/worst MaxIncludedAngle, time, the Picard steps, the walls asked
+    for, which side each input face is (``face3=imin``, in FaceId order: an STL's faces are
+    numbered so) and what the network did."""
+    ni, nj, nk = report["size"]
+    q = report["quality"]
+    walls = report.get("walls", {})
+    faces = sorted(report["faces"].items(), key=lambda item: item[1])
+    effect = network_effect(report) if "training" in report else ""
+    return (
+        f"{report['method']} {ni}x{nj}x{nk} hexahedral grid, {report['cells']} cells in "
+        f"{report['seconds']:.2f} s: {q['folded_cells']} folded, min ScaledJacobian "
+        f"{q['min_scaled_jacobian']:.3f}, mean MaxIncludedAngle "
+        f"{q['mean_max_angle']:.2f} deg, worst {q['worst_max_angle']:.2f} deg"
+        + (f" ({report['iterations']} Picard steps)" if report["iterations"] else "")
+        + "".join(
+            f"; {patch}: first edges {w['first_edge']['min']:.3g}..{w['first_edge']['max']:.3g}"
+            f", grid lines within {w['max_angle_deviation']:.2f} deg of the normal"
+            for patch, w in walls.items()
+        )
+        + ("; faces " + " ".join(f"{FACE_PREFIX}{f}={side}" for side, f in faces) if faces else "")
+        + (f"; {effect}" if effect else "")
+    )

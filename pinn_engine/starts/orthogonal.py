@@ -40,6 +40,8 @@ from pinn_engine.classical.elliptic import (
     stencil_matrix,
     winslow_solve,
 )
+from pinn_engine.classical.shear import shear_weights
+from pinn_engine.classical.spacing import ACROSS
 from pinn_engine.errors import WALL_ANGLE_TOL
 from pinn_engine.neural.losses import corner_angles, loss_orthogonal
 from pinn_engine.quality import (
@@ -50,6 +52,7 @@ from pinn_engine.quality import (
     shortest_edges,
     side_report,
     summary,
+    wall_and_row,
 )
 
 SIDES = ("bottom", "right", "top", "left")
@@ -61,9 +64,6 @@ OPPOSITE = {"bottom": "top", "top": "bottom", "left": "right", "right": "left"}
 SHEAR_TAPER = 0.03  # 3 % of the side: about one cell at 41 nodes
 SHEAR_WALL_TOL = 1.0  # half SPEC 7's 2 degrees, as the guard's GUARD_WALL_ANGLE
 SHEAR_GROWTH = 1.1  # 10 %: the shear may not turn a smooth spacing into a visible kink
-# The parameter distance over which a side's shear goes back to zero: across the domain,
-# or half of it when the opposite side is sheared too (the two shears must not overlap).
-SHEAR_REACH = {False: 1.0, True: 0.5}
 # Worst angles of candidate grids are compared to 0.001 degrees (below that, differences of
 # solves with the same outcome), so that the mean decides between equal ones.
 RANK_DECIMALS = 3
@@ -108,16 +108,6 @@ MIN_NODES = 5
 PARALLEL_SINE = 1e-12
 
 
-def _wall_and_row(g, side: str):
-    """Views of a side's nodes and of the first row or column inside it."""
-    return {
-        "bottom": (g[0], g[1]),
-        "top": (g[-1], g[-2]),
-        "left": (g[:, 0], g[:, 1]),
-        "right": (g[:, -1], g[:, -2]),
-    }[side]
-
-
 def _chord_tangents(wall):
     """Tangents of a side at its nodes as the wall angle measures them: central chords,
     one-sided at the ends (works on numpy arrays and torch tensors)."""
@@ -127,19 +117,10 @@ def _chord_tangents(wall):
     return cat([ends[0], inner, ends[1]])
 
 
-# the sides at the first and the last node of each side's row of nodes
-_ENDS = {
-    "bottom": ("left", "right"),
-    "top": ("left", "right"),
-    "left": ("bottom", "top"),
-    "right": ("bottom", "top"),
-}
-
-
 def _free(side: str, sides: tuple[str, ...], n: int) -> slice:
     """The nodes of a side whose first row is set: all but the corners, and but the node
     next to a corner whose other side is orthogonal too (it belongs to both rows)."""
-    first, last = _ENDS[side]
+    first, last = ACROSS[side]
     return slice(2 if first in sides else 1, n - (2 if last in sides else 1))
 
 
@@ -161,7 +142,7 @@ _INSIDE = {"bottom": 1.0, "right": 1.0, "top": -1.0, "left": -1.0}
 def _inward_normals(g: np.ndarray, side: str) -> np.ndarray:
     """Unit normals of a side at its nodes, into the domain (nodes, 2); the grid's orientation
     says which way that is (a folded cell at a wall does not turn its normal round)."""
-    t = _chord_tangents(_wall_and_row(g, side)[0])
+    t = _chord_tangents(wall_and_row(g, side)[0])
     t = t / np.linalg.norm(t, axis=1, keepdims=True)
     return np.column_stack([-t[:, 1], t[:, 0]]) * (_INSIDE[side] * orientation(g))
 
@@ -215,7 +196,7 @@ def normal_rows(
     normals = {side: _inward_normals(out, side) for side in sides}
     shared: dict[tuple[int, int], list[tuple]] = {}  # node: (turn, place, distance)
     for side in sides:
-        wall, row = _wall_and_row(out, side)
+        wall, row = wall_and_row(out, side)
         k = _free(side, sides, len(wall))
         moved = np.zeros(len(wall), dtype=bool)
         moved[k] = True
@@ -230,7 +211,7 @@ def normal_rows(
         h = np.where(moved, heights.get(side, h), np.inf)
         h = row_heights(wall, ways, h) if limit else h
         row[k] = wall[k] + h[k, None] * ways[k]
-        for end, other in zip((1, -2), _ENDS[side]):  # the nodes next to the corners
+        for end, other in zip((1, -2), ACROSS[side]):  # the nodes next to the corners
             node = _row_node(side, end)
             if other not in sides:  # turned part way, or all the way if its cells are better
                 full = wall[end] + h[end] * normals[side][end]
@@ -452,9 +433,7 @@ def sheared_grid(
         shift = -np.einsum("ij,ij->i", g[1] - wall, tau)[:, None] * tau  # (nodes, 2)
         t = np.linspace(0.0, 1.0, len(wall))
         shift *= (np.tanh(t / SHEAR_TAPER) * np.tanh((1 - t) / SHEAR_TAPER))[:, None]
-        reach = SHEAR_REACH[OPPOSITE[side] in sides]
-        w = np.where(p < reach, p * (1 - p / reach) ** 2, 0.0)  # (rows, nodes)
-        moved = shift[None] * (w / np.maximum(w[1:2], 1e-300))[..., None]
+        moved = shift[None] * shear_weights(p, OPPOSITE[side] in sides)[..., None]
         if not near:
             moved = moved[::-1]
         out += moved if along_xi else moved.transpose(1, 0, 2)
@@ -466,7 +445,7 @@ def _wall_term(g: torch.Tensor, sides: tuple[str, ...]) -> torch.Tensor:
     nodes of ``sides`` but the two nearest each corner."""
     leave, tangent = [], []
     for side in sides:
-        wall, row = _wall_and_row(g, side)
+        wall, row = wall_and_row(g, side)
         leave.append((row - wall)[2:-2])
         tangent.append(_chord_tangents(wall)[2:-2])
     return loss_orthogonal(torch.cat(leave), torch.cat(tangent))
@@ -482,7 +461,7 @@ def _to_move(grid: np.ndarray, sides: tuple[str, ...], reach: int) -> np.ndarray
             nodes[dj : dj + cells.shape[0], di : di + cells.shape[1]] |= cells
     angles = grid_lines_angle(grid)
     for side in sides:
-        _, row = _wall_and_row(nodes, side)
+        _, row = wall_and_row(nodes, side)
         row[2:-2] |= angles[side][2:-2] > REPAIR_WALL_TARGET
     return binary_dilation(nodes, iterations=reach)[1:-1, 1:-1]
 

@@ -18,8 +18,6 @@ the rest of the grid stays the Winslow grid.
 from __future__ import annotations
 
 import numpy as np
-from scipy.ndimage import binary_dilation
-from scipy.optimize import minimize
 
 from pinn_engine.blas import one_blas_thread
 from pinn_engine.classical.warm import WarmStart
@@ -151,6 +149,8 @@ def _areas(grid: np.ndarray, unsure: np.ndarray) -> np.ndarray:
 
 def _minimise(corners: _Corners) -> np.ndarray:
     """The grid after rounds of L-BFGS at a shrinking eps (Garanzha et al.'s rule)."""
+    from scipy.optimize import minimize  # only a folded grid gets here
+
     x = corners.grid[corners.free].ravel()
     least = corners.least(x)
     eps = max(START_SHARE * max(-least, 0.0), EPS_FLOOR)
@@ -180,6 +180,8 @@ def _move(grid: np.ndarray, free: np.ndarray) -> np.ndarray:
     rows, cols = np.nonzero(free)
     j0, j1 = rows.min() - 1, rows.max() + 2
     i0, i1 = cols.min() - 1, cols.max() + 2
+    from scipy.ndimage import binary_dilation  # only a folded grid gets here
+
     box = grid[j0:j1, i0:i1]
     out = np.array(grid, dtype=float)
     unsure = binary_dilation(folded_cells(box), np.ones((3, 3), dtype=bool))
@@ -189,6 +191,8 @@ def _move(grid: np.ndarray, free: np.ndarray) -> np.ndarray:
 
 def _band(folded: np.ndarray, rings: int) -> np.ndarray:
     """The interior nodes within ``rings`` rings of the nodes of ``folded`` cells."""
+    from scipy.ndimage import binary_dilation  # only a folded grid gets here
+
     nj, ni = folded.shape[0] + 1, folded.shape[1] + 1
     nodes = np.zeros((nj, ni), dtype=bool)
     for dj in (0, 1):

@@ -289,14 +289,17 @@ def test_the_progress_line_counts_and_redraws_in_place_on_a_terminal():
     assert terminal.getvalue() == "\ra long first line\rshort            \rdone \n"
 
 
-def test_the_dashboard_address_is_printed_and_answers(tmp_path, capsys):
-    """With bokeh installed (the test extra), the local cluster serves Dask's dashboard; the
-    command prints its address and the address answers."""
+def test_the_dashboard_address_is_printed_and_answers(tmp_path, capsys, monkeypatch):
+    """With bokeh installed (the test extra), a local cluster serves Dask's dashboard (a
+    batch above ``pool.SMALL_BATCH`` cases: none here); the command prints its address and
+    the address answers."""
     from urllib.request import urlopen
 
+    from pinn_engine.batch import pool
     from pinn_engine.batch.cluster import dashboard
 
     path = manifest(tmp_path / "in", CASES[:1])
+    monkeypatch.setattr(pool, "SMALL_BATCH", 0)
     assert main(["batch", str(path), "-o", str(tmp_path / "out"), "--workers", "1"]) == 0
     printed = [x for x in capsys.readouterr().err.splitlines() if x.startswith("Dask dashboard")]
     assert len(printed) == 1 and printed[0].startswith("Dask dashboard: http://127.0.0.1:")
@@ -304,6 +307,42 @@ def test_the_dashboard_address_is_printed_and_answers(tmp_path, capsys):
         link = dashboard(client)
         with urlopen(link, timeout=30) as page:
             assert page.status == 200 and b"Dask" in page.read()
+
+
+class _AbortWhenSent:
+    """An argument whose unpickling aborts the process it is sent to: a worker that dies."""
+
+    def __reduce__(self):
+        return os.abort, ()
+
+
+def test_a_small_local_batch_runs_on_the_warm_pool_and_a_worker_that_dies_is_named(
+    tmp_path, capsys
+):
+    """At most ``pool.SMALL_BATCH`` local cases run on the warm pool (no Dask cluster): the
+    rows the command gives; a case that kills its worker each time is retried alone, then
+    gets the error row, and the others are meshed."""
+    from pinn_engine.batch import pool
+    from pinn_engine.batch.manifest import read_manifest
+    from pinn_engine.batch.task import DIED, prepared
+
+    path = manifest(tmp_path / "in", CASES[:2] + CASES[-2:])
+    assert main(["batch", str(path), "-o", str(tmp_path / "out"), "--workers", "2"]) == 1
+    err = capsys.readouterr().err
+    assert "Dask dashboard: none (up to" in err and "[4/4] 2 failed" in err
+    assert [r["status"] for r in summary(tmp_path / "out").values()] == [
+        "ok", "ok", "error", "error"
+    ]  # fmt: skip
+    cases = read_manifest(path)[:2]
+    todo = [(c.name, prepared(c, tmp_path / "pool")) for c in cases]
+    todo[0][1].report = _AbortWhenSent()
+    rows = dict(pool.WarmPool(2).results(todo))
+    assert rows["wavy"]["message"] == DIED and rows["fig2"]["status"] == "ok"
+    assert (tmp_path / "pool" / "fig2.vts").exists()
+    records = [{"name": "a", "input": str(EXAMPLES / "fig2.vtp"), "options": TFI}]
+    table = mesh_many(records, outdir=tmp_path / "py", workers=1)  # mesh_many's local pool
+    table = table.to_dict("records") if hasattr(table, "to_dict") else table
+    assert [(r["name"], r["status"], r["cells"]) for r in table] == [("a", "ok", 60)]
 
 
 def _imported_after(code: str, before: str) -> str:
@@ -322,7 +361,7 @@ def _imported_after(code: str, before: str) -> str:
 def test_the_workers_server_starts_before_dask_and_the_engine_are_imported():
     printed = _imported_after(
         "print(sorted({'distributed', 'torch', 'scipy', 'vtkmodules'} & set(sys.modules)))",
-        "import sys\nfrom pinn_engine.batch import warm",
+        "import sys\nfrom pinn_engine.batch import cli, pool, warm",
     )
     assert printed == "[]"
 
@@ -344,6 +383,6 @@ print(sorted(m for m in set(sys.modules) - before if m.split(".")[0] in heavy))
 """
     preload = (
         "import importlib, sys, tempfile\nfrom pinn_engine.batch import warm\n"
-        "tmp = tempfile.mkdtemp()\nfor name in warm.PRELOAD:\n    importlib.import_module(name)"
+        "tmp = tempfile.mkdtemp()\nfor name in warm.ENGINE:\n    importlib.import_module(name)"
     )
     assert _imported_after(code, preload) == "[]"

@@ -1,4 +1,4 @@
-"""Say what the network did (issue 22, item 5): the report, the command line's summary line and
+"""Say what the network did: the report, the command line's summary line and
 the filter's output tell whether the network's grid or the start was kept, and how far nodes
 moved; one case where the network improves on the start, one where the start is kept."""
 

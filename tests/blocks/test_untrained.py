@@ -10,11 +10,22 @@ import sys
 import time
 
 import numpy as np
-from helpers import EXAMPLES, ROOT
+import pytest
+from helpers import EXAMPLES, ROOT, run_blocks
 
-from pinn_engine.blocks.untrained import QUALITY, WINSLOW, cannot_win
+from pinn_engine.blocks.untrained import (
+    QUALITY,
+    THIN,
+    THIN_WALL,
+    WINSLOW,
+    body_cannot_win,
+    cannot_win,
+)
+from pinn_engine.bodies.airfoil import circle, load_body
+from pinn_engine.bodies.bodygrid import elliptic, layout
+from pinn_engine.bodymesh import mesh_body
+from pinn_engine.hexamesh import mesh_surface
 from pinn_engine.io.pipeline import load_aux, load_boundary
-from pinn_engine.job import run_blocks
 from pinn_engine.mesher import Mesher
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
@@ -82,12 +93,73 @@ def test_a_multiblock_pinn_whose_networks_cannot_win_keeps_its_starts():
     """Without auxiliary lines every block keeps its start (the elliptic grid, as fine as
     the elliptic run's), the report says why and times the stages."""
     files = EXAMPLES / "lshape.vtp", [EXAMPLES / "lshape_blocks.vtp"]
-    runs = {
-        m: run_blocks(make_settings(m, cell_size=0.1), *files).result for m in ("elliptic", "pinn")
-    }
+    runs = {m: run_blocks(make_settings(m, cell_size=0.1), *files) for m in ("elliptic", "pinn")}
     for ell, pinn in zip(runs["elliptic"].grids, runs["pinn"].grids):
         assert np.array_equal(ell, pinn)
     report = runs["pinn"].report
     assert {b["skipped"] for b in report["training"]["blocks"]} == {WINSLOW}
     assert set(report["timings"]) == {"layout", "solve", "training", "walls_and_quality"}
     assert 0 < sum(report["timings"].values()) <= report["mesh_seconds"] + 1e-9
+
+
+def test_a_body_network_is_trained_only_where_its_wall_cells_are_not_too_thin():
+    """Untrained on a boundary-layer grid (wall cells of aspect ratio THIN_WALL or more);
+    trained on coarser wall cells, without the elliptic start, or with Adam epochs asked."""
+    assert body_cannot_win(make_settings("pinn"), THIN_WALL) == THIN
+    assert body_cannot_win(make_settings("pinn"), THIN_WALL / 2) is None
+    assert body_cannot_win(make_settings("pinn", "paper"), 10 * THIN_WALL) is None
+    assert body_cannot_win(make_settings("pinn", adam_epochs=60), 10 * THIN_WALL) is None
+
+
+@pytest.mark.slow
+def test_an_untrained_body_grid_is_the_start_its_trained_network_kept():
+    """On a small NACA 0012 C-grid with a first layer of 1e-5 chord the trained network's
+    guard keeps the elliptic start; the untrained default writes that grid bit for bit, says
+    why, times its stages and imports no torch."""
+    body = load_body(naca="0012")
+    far, size, wall = circle(body, 12), (97, 25), 1e-5
+    settings = make_settings("pinn", lattice=size, lbfgs_points=200)
+    skipped = mesh_body(body, far, "c", "pinn", *size, settings, wall_spacing=wall)
+    from pinn_engine.blocks.body import train_body
+
+    lay = layout(body, far, "c", *size, wall_spacing=wall)
+    trained, _, info = train_body(lay, *elliptic(lay), settings)
+    assert info["result"] == "start" and info["lbfgs_iterations"] > 0
+    assert np.array_equal(skipped.points, trained)
+    report = skipped.report
+    assert report["training"]["skipped"] == THIN
+    assert set(report["timings"]) == {"layout", "elliptic", "training", "quality"}
+    code = (
+        "import sys; from pinn_engine.bodies.airfoil import circle, load_body;"
+        "from pinn_engine.bodymesh import mesh_body; b = load_body(naca='0012');"
+        f"mesh_body(b, circle(b, 12), 'c', 'pinn', *{size}, wall_spacing={wall});"
+        "print('torch' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert out.stdout.strip() == "False", out.stderr
+    coarse = layout(body, far, "c", *size)  # the default first layer: cells of aspect 2
+    assert body_cannot_win(settings, coarse.wall_aspect()) is None
+
+
+def test_a_hexahedral_pinn_whose_network_cannot_win_keeps_its_start(tmp_path):
+    """Without a spacing or orthogonal patch the six-faced pinn's map is the elliptic run's
+    grid, untrained and without torch; the report says why and times the stages."""
+    surface = EXAMPLES / "hexa_bump_box.vtp"
+    size = (7, 6, 5)
+    runs = {
+        m: mesh_surface(str(surface), make_settings(m, size=size)) for m in ("elliptic", "pinn")
+    }
+    np.testing.assert_allclose(runs["pinn"].grid, runs["elliptic"].grid, atol=1e-12)
+    assert runs["pinn"].model.info["skipped"] == WINSLOW
+    written = tmp_path / "r.json"
+    code = (
+        "import sys, json; from pinn_engine.routes.cli import main;"
+        f"main([{str(surface)!r}, '--size', '7', '6', '5', '-o', {str(tmp_path / 'g.vts')!r},"
+        f" '--report', {str(written)!r}, '--quiet']);"
+        "print('torch' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert out.stdout.strip() == "False", out.stderr
+    report = json.loads(written.read_text())
+    assert report["training"]["skipped"] == WINSLOW
+    assert set(report["timings"]) >= {"read", "faces", "start", "training", "quality", "write"}

@@ -145,7 +145,7 @@ def test_every_method_gives_an_unfolded_grid(topology, code):
 
 @pytest.mark.parametrize("code", ["0012", "4412"])
 def test_c_grid_wake_cells_are_smooth_enough_for_a_solver(code):
-    """Issue 23 item 2: on a y+ ~ 1 C-grid the wake's cells are a chord long and 1e-5 high;
+    """On a y+ ~ 1 C-grid the wake's cells are a chord long and 1e-5 high;
     row heights that wiggle from column to column gave checkMesh 89 degrees there."""
     body = load_body(naca=code, te="sharp")
     r = mesh_body(body, circle(body, 15), "c", "pinn", 320, 90, wall_spacing=1e-5)
@@ -155,7 +155,7 @@ def test_c_grid_wake_cells_are_smooth_enough_for_a_solver(code):
 
 
 def test_a_blunt_base_stays_as_drawn(tmp_path):
-    """Issue 23 item 4: a Selig file with a 0.7 % chord base (as LS(1)-0417's): the base is a
+    """A Selig file with a 0.7 % chord base (as LS(1)-0417's): the base is a
     straight piece of wall with its corners as nodes, no wall node farther than 0.1 % chord
     from the drawn polyline (the periodic spline put them up to 0.36 % off)."""
     body = _base07(tmp_path)
@@ -189,14 +189,14 @@ def test_paper_preset_trains_from_tfi():
 
 
 def _base07(tmp_path):
-    """A Selig file of NACA 4417 opened to a 0.7 % chord base, as LS(1)-0417's (issue 23)."""
+    """A Selig file of NACA 4417 opened to a 0.7 % chord base, as LS(1)-0417's."""
     xy = naca4("4417", te="sharp")
     xy[:, 1] += np.where(np.arange(len(xy)) <= len(xy) // 2, 0.5, -0.5) * 0.007 * xy[:, 0]
     return load_body(_selig(tmp_path / "base07.dat", xy))
 
 
 def test_a_blunt_c_grid_leaves_the_base_middle_unfolded(tmp_path):
-    """Issue 23 item 4: the C-grid of a blunt trailing edge: the cut leaves the base's middle
+    """The C-grid of a blunt trailing edge: the cut leaves the base's middle
     in +x, the base is wall as drawn (corners as nodes), and the two concave corners where
     the cut meets the base fold no cell."""
     body = _base07(tmp_path)
@@ -396,7 +396,7 @@ def test_inside_polygon_needs_no_matplotlib():
 
 @pytest.mark.parametrize("gap, sharp", [(1e-5, True), (1e-4, True), (1e-3, False)])
 def test_a_trailing_edge_open_by_at_most_1e4_chord_is_sharp(tmp_path, capsys, gap, sharp):
-    """SPEC 9 (issue 23, item 5): a .dat whose trailing edge is open by 1e-5 chord, as many
+    """SPEC 9: a .dat whose trailing edge is open by 1e-5 chord, as many
     public files are, gets a C-grid, closed at the mean point of its two ends; 1e-3 is a
     drawn base, whose C-grid folds at this coarse size and is refused."""
     xy = naca4("0012", points=81)
@@ -418,7 +418,7 @@ def test_a_trailing_edge_open_by_at_most_1e4_chord_is_sharp(tmp_path, capsys, ga
 
 @pytest.mark.parametrize("te", ["sharp", "blunt"])
 def test_an_airfoil_meshed_as_a_four_sided_domain_is_told_to_choose_a_topology(te):
-    """Issue 23 item 9: the filter with its default topology says the input looks like a
+    """The filter with its default topology says the input looks like a
     body and names Topology O-grid or C-grid (not Closed or Corner Indices); pyvista names
     its keyword; an open four-sided outline keeps its own message."""
     pv = pytest.importorskip("pyvista")

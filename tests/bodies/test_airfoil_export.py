@@ -175,7 +175,7 @@ def test_openfoam_joins_the_seam_or_cut(case, tmp_path):
     patches = {k: v for k, v in re.findall(r"(\w+)\s*\{([^}]*)\}", boundary) if "nFaces" in v}
     faces = {name: int(re.search(r"nFaces\s+(\d+);", patches[name])[1]) for name in patches}
     kinds = {name: re.search(r"type\s+(\w+);", patches[name])[1] for name in patches}
-    assert (kinds["wall"], kinds["farfield"]) == ("wall", "patch")  # issue 23 item 1
+    assert (kinds["wall"], kinds["farfield"]) == ("wall", "patch")
     assert faces["farfield"] == ni - 1
     assert faces["wall"] == (ni - 1 if topology == "o" else ni - 1 - 2 * nw)
     # internal faces: all shared cell sides, the seam or cut included
@@ -190,14 +190,14 @@ def test_openfoam_joins_the_seam_or_cut(case, tmp_path):
             timeout=300,
         )
         assert "Mesh OK" in proc.stdout, proc.stdout[-2000:] + proc.stderr[-2000:]
-        # quality.non_orthogonality is checkMesh's figure (issue 23 item 2)
+        # quality.non_orthogonality is checkMesh's figure
         reported = float(re.search(r"non-orthogonality Max: ([\d.eE+-]+)", proc.stdout)[1])
         ours = max(a.max() for a in non_orthogonality(result.points).values())
         assert reported == pytest.approx(ours, abs=0.01)
 
 
 def test_a_blunt_c_grid_exports_its_base_as_wall_and_joins_its_cut(tmp_path):
-    """Issue 23 item 4: a blunt trailing edge's C-grid (the cut leaving the base's middle):
+    """A blunt trailing edge's C-grid (the cut leaving the base's middle):
     the base's edges belong to the wall patch, and the cut's nodes, the base's middle
     included, are merged in SU2 and OpenFOAM (checkMesh, where installed, finds no fault but
     the wake's aspect ratio) and joined in CGNS."""

@@ -1,4 +1,4 @@
-"""Real airfoil files (SPEC 9, issue 32): crossing surfaces cut, never inside-out, Lednicer
+"""Real airfoil files (SPEC 9): crossing surfaces cut, never inside-out, Lednicer
 without its count line, no stray warnings, refusal advice that works, real files clean."""
 
 from __future__ import annotations
@@ -101,6 +101,63 @@ def test_lednicer_without_count_line_is_read(tmp_path):
     np.testing.assert_allclose(read_dat(with_counts)[0], xy, atol=1e-7)
 
 
+def test_lednicer_blocks_are_the_surfaces_whatever_the_counts(tmp_path):
+    """A count line naming the two blocks the other way round (E850's file as published:
+    "33 35" above blocks of 35 and 33 rows) cut the upper surface short and meshed a
+    crossed wall: the blank-line blocks are the surfaces."""
+    selig = naca4("2412", 41)
+    le = int(np.argmin(selig[:, 0]))
+    upper, lower = selig[: le + 1][::-1], selig[le:-3]  # the lower surface 3 rows shorter
+    rows = [f"{x:.7f} {y:.7f}" for x, y in upper] + [""] + [f"{x:.7f} {y:.7f}" for x, y in lower]
+    swapped = tmp_path / "swapped.dat"
+    swapped.write_text(f"SWAPPED\n{len(lower)}. {len(upper)}.\n\n" + "\n".join(rows))
+    xy, _ = read_dat(swapped)
+    np.testing.assert_allclose(xy, selig[:-3], atol=1e-7)
+
+
+def test_a_note_after_the_rows_starting_with_a_date_is_skipped(tmp_path):
+    """AZ 2003's file ends with a note that starts with a date ("28/12/2005 modif ..."):
+    a note, skipped; a row gone wrong there ("1.0000 (-0.0013)") is still refused."""
+    rows = "".join(f"{x:.7f} {y:.7f}\n" for x, y in naca4("0012", 21))
+    noted = tmp_path / "noted.dat"
+    noted.write_text("AZ\n" + rows + "\npour Corde 365 mm\n28/12/2005 modif 08/05/2006\n")
+    assert len(read_dat(noted)[0]) == 41
+    broken = tmp_path / "broken.dat"
+    broken.write_text("NACA\n" + rows + "1.0000     (-0.0013)\n")
+    with pytest.raises(InputError, match="line 43 is not an 'x y' row"):
+        read_dat(broken)
+
+
+def _short_lower_surface() -> np.ndarray:
+    """NACA 2412 whose lower surface ends 2 % chord short of the trailing edge, so that the
+    segment closing the drawn points continues it along the chord (as STE 871-514's file)."""
+    xy = naca4("2412", 61)
+    lower = xy[61:]
+    return np.vstack([xy[:61], lower[lower[:, 0] < 0.98]])
+
+
+def test_a_closing_segment_that_continues_a_surface_is_no_base():
+    """Such a segment has one corner, not a base's two (SPEC 9): the trailing edge is that
+    corner, sharp, and the C-grid's cut leaves it (as the base's middle it folded the C-grid
+    along the chord); the wall keeps every drawn point."""
+    xy = _short_lower_surface()
+    body = body_from_points(xy, "short")
+    assert body.sharp and body.continued == "lower"
+    np.testing.assert_allclose(body.surface[0], xy[0])
+    np.testing.assert_allclose(body.surface[-1], xy[0])
+    np.testing.assert_allclose(body.surface[:-1], xy)
+    r = mesh_body(body, circle(body, 15), "c", "elliptic", 121, 25, wall_spacing=1e-4)
+    assert r.report["topology"]["closing_segment_continues"] == "lower"
+    assert r.quality["folded_cells"] == 0 and _inside_out(r) == 0
+    te = r.points[0][r.report["topology"]["wake_nodes"]]
+    np.testing.assert_allclose(te, xy[0], atol=1e-12)  # the cut leaves the corner
+
+
+def test_a_base_keeps_its_two_corners():
+    body = load_body(naca="4417", te="blunt")
+    assert not body.sharp and body.continued is None
+
+
 @real_files
 def test_notes_after_the_coordinates_are_skipped():
     xy, name = read_dat(AIRFOILS / "ag24.dat")
@@ -135,8 +192,28 @@ def test_refusal_advice_followed_gives_a_grid():
 @pytest.mark.parametrize("name", ["e387", "rae2822", "s1223", "goe464", "ag13"])
 @pytest.mark.parametrize("topology", ["o", "c"])
 def test_real_files_mesh_clean(name, topology):
-    """Issue 32's settings on real files (high-lift, cusped, blunt): no folded cell, no cell
-    of 180 degrees or more, not inside out."""
+    """Elliptic grids at a 1e-5 wall spacing on real files (high-lift, cusped, blunt): no
+    folded cell, no cell of 180 degrees or more, not inside out."""
+    body = load_body(AIRFOILS / f"{name}.dat")
+    size = (250, 80) if topology == "o" else (300, 80)
+    r = mesh_body(body, circle(body, 15), topology, "elliptic", *size, wall_spacing=1e-5)
+    assert r.quality["folded_cells"] == 0
+    assert r.quality["worst_max_angle"] < 180
+    assert _inside_out(r) == 0
+
+
+@real_files
+@pytest.mark.parametrize(
+    "name, topology",
+    [
+        ("e850", "o"),  # counts swapped: read as a crossed wall, refused inside out
+        ("e850", "c"),
+        ("ste87151", "c"),  # a closing segment along the chord: folded as a base
+        ("trainer60", "c"),  # columns behind an aft thickest point crossing 1 to 2 chords out
+        ("goe462", "o"),  # rows under a deep concave lower surface turned inside out
+    ],
+)
+def test_files_that_failed_mesh_clean(name, topology):
     body = load_body(AIRFOILS / f"{name}.dat")
     size = (250, 80) if topology == "o" else (300, 80)
     r = mesh_body(body, circle(body, 15), topology, "elliptic", *size, wall_spacing=1e-5)

@@ -1,4 +1,4 @@
-"""Bad inputs, failing training, interruption and damaged models (issue #7).
+"""Bad inputs, failing training, interruption and damaged models.
 
 Every row of the robustness table (docs/robustness.md) names the test here that backs it.
 Error rows run the command in-process and check: exit status 2, one ``pinn-mesh: error:``

@@ -119,7 +119,7 @@ def test_bad_named_corners():
 
 
 def test_a_self_intersecting_boundary_says_where_and_what_to_change():
-    """Issue 23 item 9: the crossing's point in the user's units, and the fix."""
+    """The crossing's point in the user's units, and the fix."""
     bowtie = np.array([[0.0, 0.0], [4.0, 2.0], [4.0, 0.0], [0.0, 2.0]]) + [10.0, 5.0]
     with pytest.raises(InputError, match=r"cross at \(12, 6\); move those points") as info:
         Boundary.from_points(bowtie)

@@ -1,4 +1,4 @@
-"""Property-based tests (hypothesis) of boundary handling (issue #7, point 2).
+"""Property-based tests (hypothesis) of boundary handling.
 
 Random valid four-sided boundaries (star-shaped quadrilaterals with curved sides, and C-shaped
 annular sectors that are not star-shaped), in random orientation, start vertex, scale and

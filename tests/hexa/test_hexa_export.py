@@ -1,4 +1,4 @@
-"""Solver formats of a hexahedral grid (SPEC 8 and 11, issue 25): each export of a small grid
+"""Solver formats of a hexahedral grid (SPEC 8 and 11): each export of a small grid
 read back by an independent reader (VTK's PLOT3D and CGNS readers, h5py, Gmsh's API, a parse
 of the SU2 text, OpenFOAM's checkMesh) with its hexahedra, positive volumes and patches."""
 
@@ -18,6 +18,7 @@ from pinn_engine.errors import InputError
 from pinn_engine.hexamesh import hexa_grid, mesh_surface
 from pinn_engine.io import export
 from pinn_engine.routes.cli import main
+from pinn_engine.settings import make_settings
 
 SURFACE = ROOT / "example_data" / "hexa_bend.vtp"
 NI, NJ, NK = 5, 4, 3
@@ -31,7 +32,9 @@ HEX_FACES = ((0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6
 
 @pytest.fixture(scope="module")
 def grid():
-    return pv.wrap(hexa_grid(mesh_surface(str(SURFACE), (NI, NJ, NK), "tfi"), "tfi"))
+    return pv.wrap(
+        hexa_grid(mesh_surface(str(SURFACE), make_settings("tfi", size=(NI, NJ, NK))), "tfi")
+    )
 
 
 def corner_volumes(points: np.ndarray, hexes: np.ndarray) -> np.ndarray:

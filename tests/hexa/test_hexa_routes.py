@@ -1,4 +1,4 @@
-"""The six-faced 3D routes (issue 25 item 4): the VTK algorithm behind PINN Hexahedral Mesh
+"""The six-faced 3D routes: the VTK algorithm behind PINN Hexahedral Mesh
 and pyvista's ``surface.pinn_mesh(size=(ni, nj, nk))``."""
 
 from __future__ import annotations
@@ -13,11 +13,12 @@ from helpers import ROOT, OutputMessages
 from pinn_engine.errors import InputError
 from pinn_engine.hexa.orthogonal import inner_angles
 from pinn_engine.hexa.spacing import first_edges
-from pinn_engine.hexamesh import HEXA_METHOD, METHODS, mesh_surface
+from pinn_engine.hexamesh import mesh_surface
 from pinn_engine.io.export import BOX_SIDES
 from pinn_engine.routes.cli import main
 from pinn_engine.routes.filters import folded_warning
 from pinn_engine.routes.hexa_algorithm import PinnHexaAlgorithm, refold_hint
+from pinn_engine.settings import HEXA_METHOD, HEXA_METHODS, make_settings
 
 BEND = ROOT / "example_data" / "hexa_bend.vtp"
 SIZE = (11, 9, 7)  # small and unequal: a swapped direction shows in the dimensions
@@ -37,11 +38,13 @@ def _nodes(grid: pv.StructuredGrid) -> np.ndarray:
     return np.asarray(grid.points).reshape(*grid.dimensions[::-1], 3).transpose(2, 1, 0, 3)
 
 
-@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("method", HEXA_METHODS)
 def test_accessor_gives_the_command_lines_grid(bend, method):
     grid = bend.pinn_mesh(size=SIZE, method=method)
     assert isinstance(grid, pv.StructuredGrid) and grid.dimensions == SIZE
-    np.testing.assert_allclose(_nodes(grid), mesh_surface(str(BEND), SIZE, method).grid)
+    np.testing.assert_allclose(
+        _nodes(grid), mesh_surface(str(BEND), make_settings(method, size=SIZE)).grid
+    )
     for name in ("MaxIncludedAngle", "MinIncludedAngle", "ScaledJacobian", "Folded"):
         assert grid.cell_data[name].shape == (grid.n_cells,)
     assert grid.cell_data["Folded"].sum() == 0 and grid.cell_data["ScaledJacobian"].min() > 0.5
@@ -190,7 +193,7 @@ def test_algorithm_takes_the_command_lines_patch_options(
             "SetSpacing",
             "floor=0.01",
             "First Edge Spacing floor=0.01: write PATCH=H with H > 0, PATCH one of imin, imax, "
-            "jmin, jmax, kmin, kmax",
+            "jmin, jmax, kmin, kmax or faceN",
         ),
         (
             "SetSpacing",

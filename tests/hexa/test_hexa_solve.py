@@ -1,4 +1,4 @@
-"""The 3D Winslow solve (issue 25 point 5): the inexact AMG-preconditioned Picard steps reach
+"""The 3D Winslow solve: the inexact AMG-preconditioned Picard steps reach
 the grid that exact sparse solves of the same steps reach, and each inexact solve meets its
 forcing tolerance."""
 
@@ -11,6 +11,7 @@ from scipy.sparse.linalg import spsolve
 
 from pinn_engine.hexa import inexact, volume
 from pinn_engine.hexamesh import mesh_surface
+from pinn_engine.settings import make_settings
 
 DATA = ROOT / "example_data"
 SIZE = (15, 13, 11)  # small for the direct solves, yet a hierarchy of 3 multigrid levels
@@ -25,7 +26,7 @@ class _DirectSolve:
 
 
 def _tfi(name: str) -> np.ndarray:
-    return mesh_surface(str(DATA / name), SIZE, "tfi").grid
+    return mesh_surface(str(DATA / name), make_settings("tfi", size=SIZE)).grid
 
 
 @pytest.mark.parametrize("name", ["hexa_bump_box.vtp", "hexa_bend.vtp"])

@@ -273,7 +273,7 @@ def test_vtk_writer_algorithm_after_the_filter(tmp_path):
 
 
 def test_patch_types_reach_openfoam_and_cgns(tmp_path, capsys):
-    """Issue 23 item 1: ``--patch SIDE=NAME:TYPE`` types the patches (a patch named wall is a
+    """``--patch SIDE=NAME:TYPE`` types the patches (a patch named wall is a
     wall without one): OpenFOAM's wall, symmetryPlane and patch, CGNS's BCWall, BCInflow,
     BCOutflow, BCSymmetryPlane; the grid carries PatchTypes; a bad or a doubled type is a
     one-line error before meshing."""
@@ -312,7 +312,7 @@ def test_patch_types_reach_openfoam_and_cgns(tmp_path, capsys):
 
 
 def test_the_openfoam_writer_says_where_the_case_went(tmp_path):
-    """Issue 23 item 11: Save Data as OpenFOAM makes a folder; the writer says which one
+    """Save Data as OpenFOAM makes a folder; the writer says which one
     (a text line in Output Messages, ``GetLastMessage()``); other formats say nothing."""
     reader = vtkXMLPolyDataReader()
     reader.SetFileName(str(EXAMPLES / "fig2.vtp"))

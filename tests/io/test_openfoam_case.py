@@ -1,4 +1,4 @@
-"""The OpenFOAM examples of ``examples/`` run on pinn-mesh's grids (issue 23 item 3).
+"""The OpenFOAM examples of ``examples/`` run on pinn-mesh's grids.
 
 The laminar bump channel runs to convergence through its own ``run.sh``; the NACA 0012
 Spalart-Allmaras case (minutes) runs a few iterations on a coarse C-grid, which checks that

@@ -8,12 +8,11 @@ import sys
 import numpy as np
 import pytest
 import pyvista as pv
-from helpers import ROOT, refused, square_ring
+from helpers import ROOT, refused, run_blocks, square_ring
 from vtkmodules.vtkIOXML import vtkXMLMultiBlockDataReader, vtkXMLPolyDataReader
 
 from pinn_engine.errors import InputError
 from pinn_engine.io.export.edges import edges_of
-from pinn_engine.job import run_blocks
 from pinn_engine.multiblock.autoblock import propose_edges
 from pinn_engine.multiblock.mesh import mesh_blocks
 from pinn_engine.routes.cli import main
@@ -61,9 +60,9 @@ def test_four_sided_domain_stays_one_block(tmp_path):
     path = tmp_path / "square.csv"
     np.savetxt(path, square_ring(4), delimiter=",")
     out = run_blocks(make_settings("elliptic", cell_size=0.25), path, [AUTO_BLOCKS])
-    assert out.edges == [] and out.result.report["blocks"] == 1
-    assert out.result.report["blocking"]["mode"] == "automatic"
-    assert out.result.report["blocking"]["edges"] == 0
+    assert out.edges == [] and out.report["blocks"] == 1
+    assert out.report["blocking"]["mode"] == "automatic"
+    assert out.report["blocking"]["edges"] == 0
 
 
 def test_no_blocking_is_a_one_line_error(tmp_path, capsys):
@@ -177,7 +176,7 @@ def test_pyvista_auto_matches_the_command_line(tmp_path):
     expected = run_blocks(
         make_settings("elliptic", cell_size=CELL_SIZE), DATA / "lshape.vtp", [AUTO_BLOCKS]
     )
-    for grid, points in zip(blocks, expected.result.grids):
+    for grid, points in zip(blocks, expected.grids):
         assert np.array_equal(np.asarray(grid.points)[:, :2], points.reshape(-1, 2))
     again = boundary.pinn_mesh(blocks=pv.read(saved), method="elliptic", cell_size=CELL_SIZE)
     assert all(np.array_equal(a.points, b.points) for a, b in zip(blocks, again))

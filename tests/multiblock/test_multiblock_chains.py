@@ -77,7 +77,7 @@ def test_cells_set_a_chain_and_a_negative_point_works(tmp_path):
 
 def _middle(first: np.ndarray) -> np.ndarray:
     """The first edges of a side's lines but those near its corners, where the first-cell
-    correction ramps in (``spacing.first_edges``)."""
+    correction ramps in (``spacing.graded_first_cells``)."""
     ramp = int(np.ceil(max(CORNER_RAMP, CORNER_SHARE * len(first))))
     return first[ramp:-ramp]
 

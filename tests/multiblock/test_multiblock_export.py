@@ -1,4 +1,4 @@
-"""Multi-block patches and exports (SPEC 10, issue 24 items 4 and 5): the --patch X,Y naming
+"""Multi-block patches and exports (SPEC 10): the --patch X,Y naming
 and its errors, CGNS zones with 1-to-1 joins checked node by node, PLOT3D multi-grid, the
 merged SU2, Gmsh and OpenFOAM meshes (checkMesh, and icoFoam on the cylinder in a channel)."""
 
@@ -10,10 +10,11 @@ import subprocess
 
 import numpy as np
 import pytest
-from helpers import EXAMPLES, foam_env
+from export_checks import read_su2
+from helpers import EXAMPLES, foam_env, run_blocks
+from multiblock_checks import write_polylines
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
-from pinn_engine import job
 from pinn_engine.io.export import write_blocks
 from pinn_engine.io.export.multiblock import blocks_of
 from pinn_engine.routes.cli import main
@@ -44,7 +45,7 @@ def _on_cylinder(xy: np.ndarray) -> bool:
 @pytest.fixture(scope="module")
 def dataset():
     settings = Settings(method="elliptic", cell_size=CELL)
-    return job.run_blocks(settings, BOUNDARY, [EDGES], PATCHES).dataset
+    return run_blocks(settings, BOUNDARY, [EDGES], PATCHES).data
 
 
 @pytest.fixture(scope="module")
@@ -59,12 +60,33 @@ def _unique_nodes(blocks) -> int:
 def test_default_patch_names(tmp_path):
     """Without --patch: ``boundary`` on the outer boundary, ``hole1`` on the cylinder."""
     settings = Settings(method="tfi", cell_size=CELL)
-    pieces = blocks_of(job.run_blocks(settings, BOUNDARY, [EDGES]).dataset).pieces
+    pieces = blocks_of(run_blocks(settings, BOUNDARY, [EDGES]).data).pieces
     names = [p.name for block in pieces for p in block]
     assert sorted(set(names)) == ["boundary", "hole1"]
     assert names.count("hole1") == 4 and names.count("boundary") == 12
     on_cylinder = [p for block in pieces for p in block if p.name == "hole1"]
     assert all(p.kind == "patch" for p in on_cylinder)
+
+
+def test_holes_are_numbered_as_drawn(tmp_path):
+    """``hole1`` is the first hole in the file, whatever the holes' sizes: a small square
+    drawn before a larger one, each in a block of its own channel part, is hole1."""
+    outer = [(0, 0), (4, 0), (4, 1), (0, 1)]
+    small = [(0.8, 0.4), (0.8, 0.6), (1.2, 0.6), (1.2, 0.4)]
+    large = [(2.6, 0.3), (2.6, 0.7), (3.4, 0.7), (3.4, 0.3)]
+    edges = [[(x, 0.0), (x, y)] for x, y in ((0.8, 0.4), (1.2, 0.4), (2.6, 0.3), (3.4, 0.3))]
+    edges += [[(x, y), (x, 1.0)] for x, y in ((0.8, 0.6), (1.2, 0.6), (2.6, 0.7), (3.4, 0.7))]
+    boundary = write_polylines(tmp_path / "holes.vtp", [outer, small, large], closed=True)
+    blocks = write_polylines(tmp_path / "holes_blocks.vtp", edges)
+    out = tmp_path / "holes.su2"
+    args = [boundary, "--blocks", blocks, "--cell-size", "0.1", "--method", "tfi", "--quiet"]
+    assert main([*args, "-o", str(out)]) == 0
+    mesh = read_su2(out)
+    assert sorted(mesh["markers"]) == ["boundary", "hole1", "hole2"]
+    centre = {
+        k: mesh["points"][np.unique(v[:, 1:])].mean(axis=0) for k, v in mesh["markers"].items()
+    }
+    assert centre["hole1"][0] == pytest.approx(1.0) and centre["hole2"][0] == pytest.approx(3.0)
 
 
 def test_patch_points_name_the_nearest_pieces(blocks):

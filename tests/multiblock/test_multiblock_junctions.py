@@ -15,6 +15,7 @@ from pinn_engine.multiblock.junctions import Star, star_row
 from pinn_engine.multiblock.layout import layout
 
 ARC_POINTS = 41  # vertices of the arched top wall
+CONVERGED = 1e-5  # a converged grid's Winslow residual against its TFI start's
 
 
 def _solve(rings, edges, h):
@@ -58,8 +59,9 @@ def test_junctions_move_and_satisfy_their_rows():
     for x, y in ((-3, -1), (-3, 1)):
         edges += [np.array([(x, y), (-1.0, y)]), np.array([(1.0, y), (6.0, y)])]
     topo, lay, points = _solve([channel, cylinder], edges, 0.2)
+    start = max(np.abs(winslow_residual(lay.points[ids])).max() for ids in lay.ids)
     for ids in lay.ids:  # every block's interior is its own converged Winslow grid
-        assert np.abs(winslow_residual(points[ids])).max() < 1e-9
+        assert np.abs(winslow_residual(points[ids])).max() < CONVERGED * start
     _, stars = stencils(topo, lay, True)
     assert sorted(len(s.edges) for s in stars) == [5, 5, 5, 5]
     for star in stars:

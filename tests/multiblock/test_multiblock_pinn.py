@@ -1,22 +1,21 @@
-"""The multi-block pinn (issue 24 item 2): each block's PINN on the elliptic grid, its sides
+"""The multi-block pinn: each block's PINN on the elliptic grid, its sides
 held, kept only where no worse; never worse than the elliptic grid."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-from helpers import ROOT
+from helpers import ROOT, run_blocks
 
 from pinn_engine.blocks.multiblock import train_block, train_blocks
 from pinn_engine.classical.tfi import tfi_of_sides
 from pinn_engine.errors import STOP
-from pinn_engine.job import run_blocks
 from pinn_engine.multiblock.mesh import mesh_blocks
 from pinn_engine.quality import guard_figures
 from pinn_engine.settings import make_settings
 
 DATA = ROOT / "example_data"
-MEAN_OVER, WORST_OVER = 0.5, 2.0  # issue 24: degrees above the elliptic grid allowed
+MEAN_OVER, WORST_OVER = 0.5, 2.0  # degrees above the elliptic grid allowed
 ROUNDING = 1e-9  # degrees: the guard checks the working frame's grid, the output is in yours
 QUICK = {"lbfgs_iterations": 20}  # a short training: the guard's rule, not its reach, is tested
 
@@ -29,20 +28,18 @@ def _sides(grid: np.ndarray) -> list[np.ndarray]:
 def runs(request):
     """The example's elliptic and default pinn grids at a cell size of 0.1."""
     files = DATA / f"{request.param}.vtp", [DATA / f"{request.param}_blocks.vtp"]
-    return {
-        m: run_blocks(make_settings(m, cell_size=0.1), *files).result for m in ("elliptic", "pinn")
-    }
+    return {m: run_blocks(make_settings(m, cell_size=0.1), *files) for m in ("elliptic", "pinn")}
 
 
 def test_pinn_is_never_worse_than_elliptic(runs):
-    """No fold; mean and worst MaxIncludedAngle no more than issue 24's 0.5 / 2 degrees
+    """No fold; mean and worst MaxIncludedAngle no more than 0.5 / 2 degrees
     above the elliptic grid's, and by the guard's rule no more than rounding above them."""
     ell, pinn = runs["elliptic"].report["quality"], runs["pinn"].report["quality"]
     assert pinn["folded_cells"] == 0
     assert pinn["mean_max_angle"] <= ell["mean_max_angle"] + min(MEAN_OVER, ROUNDING)
     assert pinn["worst_max_angle"] <= ell["worst_max_angle"] + min(WORST_OVER, ROUNDING)
     kink = runs["pinn"].report["interface_kink"]
-    assert kink["mean"] <= 2.0 and kink["max"] <= 15.0  # issue 24's interface bounds
+    assert kink["mean"] <= 2.0 and kink["max"] <= 15.0  # the interface bounds
     ell_kink = runs["elliptic"].report["interface_kink"]
     assert kink["mean"] <= ell_kink["mean"] + ROUNDING and kink["max"] <= ell_kink["max"] + ROUNDING
 

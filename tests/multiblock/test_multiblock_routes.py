@@ -1,4 +1,4 @@
-"""The multi-block routes (issue 24 item 6): the VTK algorithm and pyvista's ``blocks=``."""
+"""The multi-block routes: the VTK algorithm and pyvista's ``blocks=``."""
 
 from __future__ import annotations
 
@@ -8,14 +8,13 @@ import signal
 import numpy as np
 import pytest
 import pyvista as pv
-from helpers import ROOT, OutputMessages
+from helpers import ROOT, OutputMessages, run_blocks
 from multiblock_checks import first_edges, patch_walls, wall_angles
 from vtkmodules.vtkCommonCore import vtkOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
 from pinn_engine.errors import InputError
-from pinn_engine.job import run_blocks
 from pinn_engine.routes.filters import folded_warning
 from pinn_engine.routes.multiblock_algorithm import MOVE_EDGES, PinnMultiBlockAlgorithm
 from pinn_engine.settings import BLOCKS_METHOD, make_settings
@@ -57,8 +56,8 @@ def test_algorithm_gives_the_command_lines_blocks_with_progress():
     assert alg.GetLastError() == "" and min(progress) == 0.0 and max(progress) == 1.0
     out = alg.GetOutput()
     expected = _cli_grids("step")
-    assert out.GetNumberOfBlocks() == len(expected.result.grids) == 4
-    for k, grid in enumerate(expected.result.grids):
+    assert out.GetNumberOfBlocks() == len(expected.grids) == 4
+    for k, grid in enumerate(expected.grids):
         block = out.GetBlock(k)
         assert out.GetMetaData(k).Get(vtkCompositeDataSet.NAME()) == f"block{k}"
         assert np.array_equal(_points(block)[..., :2], grid)
@@ -77,7 +76,7 @@ def test_boundary_and_edges_on_one_input_and_the_settings():
     alg.SetInterfaces("fixed")
     assert alg.GetSettings().method == "tfi" and alg.GetSettings().interfaces == "fixed"
     alg.Update()
-    expected = _cli_grids("lshape", "tfi", "fixed").result.grids
+    expected = _cli_grids("lshape", "tfi", "fixed").grids
     out = alg.GetOutput()
     assert out.GetNumberOfBlocks() == 2
     for k, grid in enumerate(expected):
@@ -119,7 +118,7 @@ def test_pyvista_blocks_returns_a_multiblock():
     blocks = boundary.pinn_mesh(blocks=edges, cell_size=CELL_SIZE)
     assert isinstance(blocks, pv.MultiBlock) and blocks.keys() == ["block0", "block1"]
     assert boundary.pinn_mesh.last is blocks
-    for grid, expected in zip(blocks, _cli_grids("lshape").result.grids):
+    for grid, expected in zip(blocks, _cli_grids("lshape").grids):
         assert isinstance(grid, pv.StructuredGrid)
         assert np.array_equal(_points(grid)[..., :2], expected)
         assert {"MaxIncludedAngle", "Folded"} <= set(grid.cell_data.keys())
@@ -161,13 +160,14 @@ def test_folded_cells_warning_in_each_routes_words():
 
 CYLINDER = {(0.5, 0): "cylinder:wall", (0, 0.5): "cylinder", (-0.5, 0): "cylinder"}
 CYLINDER[(0, -0.5)] = "cylinder"
-H = 0.005  # issue 24: the first cell at the cylinder's wall
+H = 0.005  # the first cell at the cylinder's wall
 
 
 def test_pyvista_blocks_spacing_and_orthogonal_on_a_patch():
-    """Issue 24 item 4 through pyvista: the cylinder's pieces named by ``patches=``, a first
-    cell of 0.005 within 10 % and lines within 2 degrees of the normal there, node for node
-    the command line's grid with the same ``--patch``, ``--spacing`` and ``--orthogonal``."""
+    """Spacing and orthogonality at a patch through pyvista: the cylinder's pieces named by
+    ``patches=``, a first cell of 0.005 within 10 % and lines within 2 degrees of the normal
+    there, node for node the command line's grid with the same ``--patch``, ``--spacing``
+    and ``--orthogonal``."""
     boundary = pv.read(DATA / "cylinder_channel.vtp")
     edges = pv.read(DATA / "cylinder_channel_blocks.vtp")
     blocks = boundary.pinn_mesh(
@@ -190,7 +190,7 @@ def test_pyvista_blocks_spacing_and_orthogonal_on_a_patch():
         [item.removeprefix("--patch=") for item in items],
         [f"cylinder={H}"],
         ["cylinder"],
-    ).result.grids
+    ).grids
     for grid, points in zip(blocks, expected):
         assert np.array_equal(_points(grid)[..., :2], points)
 

@@ -195,7 +195,7 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
         "PatchNames",
     ]
     assert result["methods"] == ["pinn", "mgnet", "tfi", "elliptic"]
-    # issue 23 item 10: the network settings behind the gear; "NACA", not "N ACA"
+    # the network settings behind the gear; "NACA", not "N ACA"
     assert result["advanced"] == [
         "AdamEpochs",
         "HiddenLayers",
@@ -205,7 +205,7 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
         "PaperLBFGSIterations",
         "Seed",
     ]
-    # issue 23 item 10: the panel shows what runs: the chosen preset's field, which is used
+    # the panel shows what runs: the chosen preset's field, which is used
     assert result["presets"] == [[5000, 500, 10.0], [5000, 90, 10.0], [7, 120, 30.0]]
     shown_under = {
         key: [value for prop, value in pairs if prop == "Preset"]
@@ -218,9 +218,16 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
         "PaperLambda2": ["1"],
     }
     assert result["naca_label"] == "NACA"
-    # issue 23 item 10: "?" help for every proxy; the grid shows its cells from the first show
+    # "?" help for every proxy; the grid shows its cells from the first show
     for name, (short, long) in result["help"].items():
         assert 20 < len(short) < len(long), name
+    # its help page for the GUI (docs/paraview_gui.md point 4): one per proxy, each named by a
+    # (group, proxy name) ParaView knows, the 3 filters and the Airfoil source among them
+    assert len(result["help_pages"]) == 12 and result["help_pages_unknown"] == []
+    for name in ("PINNStructuredMesh", "PINNMultiBlockMesh", "PINNHexahedralMesh"):
+        assert f"filters.{name}.html" in result["help_pages"]
+    assert "sources.PINNAirfoilSource.html" in result["help_pages"]
+    assert result["help_registered"] == []  # pvpython: no help engine
     assert result["representation"] == "Surface With Edges"
     assert result["aux_optional"]
     assert result["grid"] == {
@@ -319,12 +326,12 @@ def _side_nodes(points: np.ndarray) -> list[np.ndarray]:
 
 
 def test_multiblock_filter_on_the_step(checkout):
-    """PINN Multi-Block Mesh (issue 24 item 6): the step's four blocks as the command line
+    """PINN Multi-Block Mesh: the step's four blocks as the command line
     makes them, a side shared node for node, the quality arrays, one line for an edge that
     ends nowhere."""
+    from helpers import run_blocks
     from scipy.spatial.distance import cdist
 
-    from pinn_engine.job import run_blocks
     from pinn_engine.settings import make_settings
 
     result = run_pvpython(checkout, "check_multiblock.py", str(checkout / "example_data"))
@@ -367,7 +374,7 @@ def test_multiblock_filter_on_the_step(checkout):
     ):
         blocks = result[key]
         settings = make_settings(method, cell_size=0.1, interfaces=interfaces)
-        expected = run_blocks(settings, boundary, [edges]).result.grids
+        expected = run_blocks(settings, boundary, [edges]).grids
         assert [b["name"] for b in blocks] == ["block0", "block1", "block2", "block3"]
         for block, grid in zip(blocks, expected):
             assert block["class"] == "vtkStructuredGrid" and block["folded"] == 0
@@ -397,7 +404,7 @@ def test_multiblock_filter_on_the_step(checkout):
     ]
     assert result["bad_blocks"] == 0 and "Traceback" not in result["bad_stderr"]
     assert result["recovered_blocks"] == 4
-    wall = result["walls"]["cylinder"]  # issue 24 item 4 from the panel: 0.005 within 10 %
+    wall = result["walls"]["cylinder"]  # the spacing from the panel: 0.005 within 10 %
     assert abs(wall["first_edge"]["min"] / 0.005 - 1) <= 0.1
     assert abs(wall["first_edge"]["max"] / 0.005 - 1) <= 0.1
     assert wall["max_angle_deviation"] <= 2.0
@@ -408,17 +415,18 @@ def test_multiblock_filter_on_the_step(checkout):
         ROOT / "example_data" / "lshape.vtp",
         [ROOT / "example_data" / "lshape_blocks.vtp"],
         aux=[ROOT / "example_data" / "lshape_aux.vtp"],
-    ).result.report["aux_line_distance"]
+    ).report["aux_line_distance"]
     assert distance == pytest.approx(list(expected.values())[0], rel=1e-9)
     assert result["blockings"] == ["Manual", "Automatic"]
     assert result["auto_blocks"] == 2 and result["auto_edges"] == 1  # the L's one cut
 
 
 def test_hexahedral_filter_on_the_bend(checkout):
-    """PINN Hexahedral Mesh (issue 25 item 4): the bend's grid as the command line makes it
+    """PINN Hexahedral Mesh: the bend's grid as the command line makes it
     (the same nodes, arrays and field data), for every method; one line for a surface
     without FaceId, and ParaView goes on."""
-    from pinn_engine.hexamesh import METHODS, mesh_surface
+    from pinn_engine.hexamesh import mesh_surface
+    from pinn_engine.settings import HEXA_METHODS, make_settings
 
     result = run_pvpython(checkout, "check_hexa.py", str(checkout / "example_data"))
     assert result["label"] == "PINN Hexahedral Mesh"
@@ -435,7 +443,7 @@ def test_hexahedral_filter_on_the_bend(checkout):
         "FirstEdgeSpacing",
         "OrthogonalPatches",
     }
-    assert result["methods"] == list(METHODS)
+    assert result["methods"] == list(HEXA_METHODS)
     assert result["progress"] == [0.0, 1.0]
     told = [ln for ln in result["messages"].splitlines() if ln.strip()]  # the summary line
     assert told == [ln for ln in told if ln.startswith("PINN Hexahedral Mesh: tfi 11x9x7 hexa")]
@@ -455,14 +463,17 @@ def test_hexahedral_filter_on_the_bend(checkout):
         assert grid["folded"] == 0 and grid["min_scaled_jacobian"] > 0.5  # right-handed
         assert grid["method"] == method and grid["report"]["size"] == list(size)
         assert grid["patches"] == ["imin", "imax", "jmin", "jmax", "kmin", "kmax"]
-        expected = mesh_surface(str(ROOT / "example_data" / "hexa_bend.vtp"), size, method)
+        expected = mesh_surface(
+            str(ROOT / "example_data" / "hexa_bend.vtp"), make_settings(method, size=size)
+        )
         points = np.array(grid["points"]).transpose(2, 1, 0, 3)  # (nk, nj, ni) -> (ni, nj, nk)
         np.testing.assert_allclose(points, expected.grid, atol=1e-9)
     spaced = result["spaced"]  # Patch Names and First Edge Spacing: the command line's grid
     assert spaced["patches"] == ["inlet", "imax", "jmin", "jmax", "floor", "kmax"]
     assert spaced["types"] == ["inflow", "patch", "patch", "patch", "wall", "patch"]
     expected = mesh_surface(
-        str(ROOT / "example_data" / "hexa_bend.vtp"), size, "tfi", spacing={"kmin": 0.01}
+        str(ROOT / "example_data" / "hexa_bend.vtp"),
+        make_settings("tfi", size=size, spacing={"kmin": 0.01}),
     )
     points = np.array(spaced["points"]).transpose(2, 1, 0, 3)
     np.testing.assert_allclose(points, expected.grid, atol=1e-9)

@@ -3,8 +3,9 @@
 ``tests/paraview/gui/drive.sh`` selects the boundary and the auxiliary-line source in the
 Pipeline Browser, creates the filter from the quick-launch, and later stops a long training
 with SIGUSR1 and another with the panel's Time Limit; ``tests/paraview/gui/tour.sh`` gives the
-hexahedral filter an STL and a curve and saves its grid from File > Save Data. Skipped without
-ParaView, Xvfb, xdotool or ImageMagick (``bash scripts/setup_paraview.sh`` installs them).
+hexahedral filter an STL and a curve, saves its grid from File > Save Data and opens its "?"
+help and the help's search. Skipped without ParaView, Xvfb, xdotool or ImageMagick
+(``bash scripts/setup_paraview.sh`` installs them).
 """
 
 from __future__ import annotations
@@ -73,7 +74,7 @@ def test_the_time_limit_ends_a_long_training_with_its_best_grid(gui):
 
 
 def test_a_grid_after_a_failed_apply_is_shown_with_edges_coloured_by_max_angle(gui):
-    # issue 23 item 10: ParaView picks a display's colour array when it creates the display;
+    # ParaView picks a display's colour array when it creates the display;
     # after a failed first Apply (an empty output) the plugin colours it when the grid comes
     failed = json.loads((gui / "failed_display.json").read_text())
     assert failed["points"] == 0 and "boundary input" in failed["error"]
@@ -88,7 +89,7 @@ def test_a_grid_after_a_failed_apply_is_shown_with_edges_coloured_by_max_angle(g
 @pytest.fixture(scope="module")
 def tour(tmp_path_factory) -> Path:
     """tests/paraview/gui/tour.sh: the hexahedral filter on the bend's STL and on a curve,
-    Time Limit, File > Save Data as CGNS and OpenFOAM."""
+    Time Limit, File > Save Data as CGNS and OpenFOAM, the panel's "?" and the help's search."""
     out = tmp_path_factory.mktemp("tour")
     env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "PYTHONPATH")}
     proc = subprocess.run(
@@ -128,3 +129,15 @@ def test_save_data_writes_our_cgns_and_an_openfoam_case_of_the_hexahedral_grid(t
         assert {"imin", "kmax"} <= set(f["Base"])
     boundary = (tour / "bend" / "constant" / "polyMesh" / "boundary").read_text()
     assert "imin" in boundary and "frontAndBack" not in boundary  # not extruded
+
+
+def test_the_plugin_registers_a_help_page_for_each_of_its_filters(tour):
+    # the panel's "?" opens qthelp://<namespace>/<folder>/filters.<proxy name>.html
+    registered = json.loads((tour / "result.help.json").read_text())
+    assert len(registered) == 1
+    pages = next(iter(registered.values()))
+    for name in ("PINNStructuredMesh", "PINNMultiBlockMesh", "PINNHexahedralMesh"):
+        assert f"filters.{name}.html" in pages
+    assert "sources.PINNAirfoilSource.html" in pages and "index.html" in pages
+    assert (tour / "help.png").stat().st_size > 10_000
+    assert (tour / "help_search.png").stat().st_size > 10_000

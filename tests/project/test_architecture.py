@@ -153,10 +153,9 @@ def test_recipe_route(tmp_path):
     line's grid for the same options."""
 
     def numpy_route(points: np.ndarray, size: tuple[int, int], **options) -> np.ndarray:
-        settings = make_settings(options.pop("method", "pinn"), lattice=size, **options)
+        settings = make_settings(options.pop("method", "pinn"), lattice=size, size=size, **options)
         ring = Boundary.from_points(points, source="points")
-        outcome = job.run(settings, size, job.Geometry(boundary=ring))
-        return outcome.result.points
+        return job.run(settings, job.Geometry(boundary=ring)).grids[0]
 
     points = read_boundary_points(EXAMPLES / "fig2.vtp")
     grid = numpy_route(points, (21, 11), method="elliptic")
@@ -248,6 +247,52 @@ def test_imports_follow_the_architecture_picture():
     assert not upward, f"imports against docs/architecture.md's picture: {upward}"
 
 
+# What a route (the command line, its batches, the VTK algorithms, pyvista, the ParaView
+# plugin) may import of the package: the job and its settings and outcome, inputs and outputs
+# (io, the airfoil reader, the plane of a curve), the messages, and the routes themselves
+ROUTE_IMPORTS = (
+    "pinn_engine.job", "pinn_engine.settings", "pinn_engine.result", "pinn_engine.cache",
+    "pinn_engine.errors", "pinn_engine.io", "pinn_engine.patchnames", "pinn_engine.heap",
+    "pinn_engine._version", "pinn_engine.__version__", "pinn_engine.geometry.plane",
+    "pinn_engine.bodies.airfoil", "pinn_engine.routes", "pinn_engine.batch",
+)  # fmt: skip
+ROUTES = ("pinn_engine/routes", "pinn_engine/batch", "pinn_engine/command.py", "plugin")
+
+
+def _modules(path: Path) -> list[tuple[int, str]]:
+    """(line, module) of every import of the package in ``path``, wherever it stands."""
+    out = []
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            names = [f"{node.module}.{a.name}" for a in node.names]
+            if node.module != "pinn_engine":
+                names = [node.module]
+        elif isinstance(node, ast.Import):
+            names = [a.name for a in node.names]
+        else:
+            continue
+        out += [(node.lineno, n) for n in names if n.split(".")[0] == "pinn_engine"]
+    return out
+
+
+def test_no_route_runs_a_kind_of_its_own():
+    """The routes mesh only through ``job.run``: none imports a domain kind's pipeline
+    (mesher, bodymesh, hexamesh, blocks/, multiblock/, hexa/, ...), so none can call one or
+    decide a kind by itself."""
+    paths = []
+    for route in ROUTES:
+        top = ROOT / route
+        paths += sorted(top.rglob("*.py")) if top.is_dir() else [top]
+    assert len(paths) > 20
+    stray = [
+        f"{path.relative_to(ROOT)}:{line} imports {module}"
+        for path in paths
+        for line, module in _modules(path)
+        if not any(module == a or module.startswith(a + ".") for a in ROUTE_IMPORTS)
+    ]
+    assert not stray, f"routes that reach past the job: {stray}"
+
+
 FIRST_IMPORT = """
 import importlib, pathlib, sys, warnings
 warnings.simplefilter("ignore")
@@ -287,9 +332,12 @@ def _comments(path: Path) -> list[tuple[int, str]]:
         return [(t.start[0], t.string) for t in tokens if t.type == tokenize.COMMENT]
 
 
-def test_no_comment_or_docstring_cites_an_issue_or_a_commit():
+@pytest.mark.parametrize("folder", ["pinn_engine", "tests", "benchmarks"])
+def test_no_comment_or_docstring_cites_an_issue_or_a_commit(folder):
+    """Comments and docstrings of the package, the tests and the benchmarks say what is
+    meant, checked or measured now."""
     cited = []
-    for path in sorted(PACKAGE.rglob("*.py")):
+    for path in sorted((ROOT / folder).rglob("*.py")):
         tree = ast.parse(path.read_text())
         texts = _comments(path) + [
             (node.body[0].lineno, ast.get_docstring(node) or "")

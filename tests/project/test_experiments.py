@@ -1,4 +1,4 @@
-"""The experiments of the paper's section 4 (issue #6): quick mode end to end, and the logic
+"""The experiments of the paper's section 4: quick mode end to end, and the logic
 that turns numbers into verdicts."""
 
 from __future__ import annotations
@@ -97,7 +97,7 @@ def test_quick_mode_numbers_are_sane(quick):
         if r["method"] == "tfi":
             assert mean > e_mean, r["key"]  # the elliptic grid is the smoother one
         if r["preset"] == "default" and r["method"] in NEURAL:
-            # the warm start and its guard: issue 11's bounds against the elliptic grid
+            # the warm start and its guard: within 0.5 / 2 degrees of the elliptic grid
             assert mean <= e_mean + 0.5 and worst <= e_worst + 2.0, r["key"]
         if r["method"] in NEURAL:
             assert float(r["train_seconds"]) > 0

@@ -1,4 +1,4 @@
-"""The hold-out hard shapes (issue 22, item 6): a deterministic generator, valid committed
+"""The hold-out hard shapes: a deterministic generator, valid committed
 files with their four corners found, and the benchmark's checks able to fail."""
 
 from __future__ import annotations

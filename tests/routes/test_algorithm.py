@@ -149,7 +149,7 @@ def test_panel_values_left_at_their_defaults_follow_the_preset():
 
 
 def test_per_preset_values_are_used_only_under_their_preset():
-    # issue 23 item 10: the panel's Adam Epochs (default) and Paper Adam Epochs (paper)
+    # the panel's Adam Epochs (default) and Paper Adam Epochs (paper)
     alg = PinnMeshAlgorithm()
     alg.SetPresetSetting("default", "adam_epochs", 700)
     alg.SetPresetSetting("paper", "lbfgs_iterations", 90)

@@ -1,5 +1,5 @@
-"""What the multi-block and hexahedral filters tell and how they stop (issue 34, the ParaView
-GUI): the command line's summary line after an update, an untagged surface's faces found at
+"""What the multi-block and hexahedral filters tell and how they stop in the ParaView
+GUI: the command line's summary line after an update, an untagged surface's faces found at
 Face Angle, a 2D curve pointed to the 2D filters, and a training stopped by an abort
 request or the Time Limit with its best grid kept and one warning line."""
 
@@ -64,6 +64,7 @@ def test_an_stl_surface_is_split_at_face_angle_and_a_curve_is_pointed_to_the_2d_
 @pytest.mark.slow
 def test_an_abort_request_stops_the_hexahedral_training_with_its_best_grid():
     alg = _hexa(pv.read(EXAMPLES / "hexa_bend.vtp"), "pinn")
+    alg.SetOrthogonal("kmin")  # a term the Winslow start leaves to win: the network trains
 
     asked = []
 

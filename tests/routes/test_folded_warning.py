@@ -1,4 +1,4 @@
-"""A grid with folded cells is never handed over silently (issue 11 item 4).
+"""A grid with folded cells is never handed over silently.
 
 TFI folds cells on the L-shaped ``concave`` example and on none of ``fig2``: the command
 line warns on stderr, the VTK algorithm (ParaView filter) through ``vtkOutputWindow`` and a

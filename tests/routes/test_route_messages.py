@@ -1,4 +1,4 @@
-"""Input errors name the fix in the words of the route that raised them (issue 12)."""
+"""Input errors name the fix in the words of the route that raised them."""
 
 from __future__ import annotations
 

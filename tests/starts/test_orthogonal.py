@@ -190,7 +190,7 @@ def test_wall_angles_off_an_orthogonal_side_are_warned_on_every_route(capsys, tm
 
 @pytest.mark.parametrize("sides", [("bottom", "top"), FOUR])
 def test_orthogonality_costs_few_cells_on_a_sector_that_tfi_meshes_polar(sides):
-    """Issue 23 item 7: on a 270-degree annulus (radii 1 and 2.5) at 81 x 41 the TFI grid is
+    """On a 270-degree annulus (radii 1 and 2.5) at 81 x 41 the TFI grid is
     polar, orthogonal but for the chords of its arcs (3.4 degrees off); the orthogonal start
     gave a worst cell of 151.8 (bottom, top) and 164.9 (four sides). The lines now turn by
     those 3.4 degrees within the two nodes SPEC 7 excepts at each corner: a few degrees more

@@ -1,4 +1,4 @@
-"""The default PINN's elliptic warm start and quality guard (issue 11) on hard shapes."""
+"""The default PINN's elliptic warm start and quality guard on hard shapes."""
 
 from __future__ import annotations
 
@@ -25,7 +25,7 @@ def inputs(name: str):
 @pytest.mark.parametrize("name", ["notch_gauss", "notch_v_sharp"])
 def test_default_pinn_keeps_to_the_elliptic_grid_on_sharp_notches(name):
     """No fold, mean within 0.5 and worst within 2 degrees of the converged elliptic grid on
-    the same boundary nodes, boundary exact (issue 11, item 1)."""
+    the same boundary nodes, boundary exact."""
     boundary, aux = inputs(name)
     pinn = Mesher(make_settings("pinn", lattice=(41, 21))).fit(boundary, aux).predict(41, 21)
     ell = Mesher(make_settings("elliptic")).fit(boundary).predict(41, 21).quality
@@ -41,7 +41,7 @@ def test_default_pinn_keeps_to_the_elliptic_grid_on_sharp_notches(name):
 
 def test_paper_loss_from_tfi_folds_where_the_warm_start_does_not():
     """Why the warm start exists: the paper's recipe from TFI, on the deep narrow slot, ends
-    with folded cells (short budget here; the full one folds too, issue 11)."""
+    with folded cells (short budget here; the full one folds too)."""
     boundary, aux = inputs("notch_narrow_deep")
     cold = make_settings("pinn", warm_start="none", adam_epochs=300, lbfgs_iterations=30)
     warm = make_settings("pinn", lattice=(41, 21))
@@ -88,7 +88,7 @@ def test_saved_model_keeps_its_warm_start(tmp_path):
 
 def test_annealing_takes_the_weight_matrices_only():
     """Wang et al.'s Algorithm 1: gradient statistics of the weight matrices, no biases and
-    no U/V encoders (issue 11, item 5)."""
+    no U/V encoders."""
     net = CoordinateNet("shortcut", 4, 8)
     mats = net.weight_matrices()
     assert [tuple(m.shape) for m in mats] == [(2, 2, 8), (2, 8, 8), (2, 8, 8), (2, 8, 8), (2, 8, 1)]

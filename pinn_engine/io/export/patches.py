@@ -16,10 +16,10 @@ from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonCore import vtkStringArray
 
 from pinn_engine.errors import InputError
-from pinn_engine.patchnames import SIDE_FIX, checked_name, default_type, split_type
+from pinn_engine.patchnames import FACE_PREFIX, SIDE_FIX, checked_name, default_type, split_type
+from pinn_engine.settings import BOX_SIDES
 
 SIDES = ("bottom", "right", "top", "left")
-BOX_SIDES = ("imin", "imax", "jmin", "jmax", "kmin", "kmax")  # a hexahedral grid's (SPEC 11)
 COUNT_WORDS = {len(SIDES): "four", len(BOX_SIDES): "six"}  # side counts as messages say them
 # the route token (errors.ROUTE_WORDS) naming where the patches of that many sides are named
 PATCH_FIX = {len(SIDES): SIDE_FIX, len(BOX_SIDES): "{face_patch}"}
@@ -173,3 +173,18 @@ def of_grid(grid, sides: Sequence[str] = SIDES) -> tuple[tuple[str, ...], tuple[
     if kinds is not None and kinds.GetNumberOfValues() == n:
         names = [f"{name}:{kinds.GetValue(k)}" for k, name in enumerate(names)]
     return patch_specs(names, sides=sides)
+
+
+def named_patches(
+    patches: Mapping[str, str] | Sequence[str] | str | None, faces: dict[str, int]
+) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """The names and types of imin ... kmax from any route's patch setting, ``SIDE=NAME``
+    items naming a side as imin ... kmax or as ``faceN``, the face whose FaceId is N
+    (``faces``: :func:`face_names`)."""
+    aliases = {f"{FACE_PREFIX}{face}": side for side, face in sorted(faces.items(), key=by_face)}
+    return patch_specs(patches, sides=BOX_SIDES, aliases=aliases)
+
+
+def by_face(item: tuple[str, int]) -> int:
+    """The FaceId of a (side, FaceId) item: faces are listed in FaceId order."""
+    return item[1]

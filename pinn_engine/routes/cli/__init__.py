@@ -1,19 +1,32 @@
 """The ``pinn-mesh`` command of one run (SPEC 5, 9, 10, 11).
 
-``parser`` (the options), ``options`` (their values as settings), ``progress``, ``summary``
-(the lines on stderr), ``outputs`` (the files written), one module per domain kind's run
-(``four_sided``, ``hexa``, ``multiblock``), ``dispatch`` (which of them) and ``entry``
-(``main``: the exit status)."""
+``parser`` (the options and exit statuses), ``options`` (their values as settings),
+``progress``, ``summary`` (the lines on stderr), ``outputs`` (the files written), one module
+per domain kind's run (``four_sided``, ``hexa``, ``multiblock``), ``dispatch`` (which of
+them) and ``entry`` (``main``: the exit status). The names below are imported on first use,
+so that ``pinn-mesh batch`` parses its manifest's options without importing the engine.
+"""
 
-from pinn_engine.routes.cli.dispatch import run
-from pinn_engine.routes.cli.entry import EXIT_ERROR, EXIT_INTERRUPTED, main
-from pinn_engine.routes.cli.parser import OneLineParser, build_parser
+from importlib import import_module
 
-__all__ = [
-    "EXIT_ERROR",
-    "EXIT_INTERRUPTED",
-    "OneLineParser",
-    "build_parser",
-    "main",
-    "run",
-]
+# each public name and the module that defines it
+_PUBLIC = {
+    "EXIT_ERROR": "parser",
+    "EXIT_INTERRUPTED": "parser",
+    "OneLineParser": "parser",
+    "build_parser": "parser",
+    "main": "entry",
+    "run": "dispatch",
+}
+
+__all__ = sorted(_PUBLIC)
+
+
+def __getattr__(name: str):
+    if name in _PUBLIC:
+        return getattr(import_module(f"{__name__}.{_PUBLIC[name]}"), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_PUBLIC})

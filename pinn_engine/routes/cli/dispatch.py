@@ -6,7 +6,6 @@ import argparse
 from pathlib import Path
 
 from pinn_engine.errors import PinnMeshError
-from pinn_engine.hexa.surface import is_faced_surface
 from pinn_engine.io import childread
 from pinn_engine.routes.cli.four_sided import run_four_sided
 from pinn_engine.routes.cli.hexa import run_hexa
@@ -14,9 +13,10 @@ from pinn_engine.routes.cli.multiblock import run_blocks
 
 
 def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
-    """One meshing run: with --blocks a multi-block domain (SPEC 10), for a surface with
-    faces a six-faced 3D domain (SPEC 11), else a four-sided domain or, with --topology, a
-    body (SPEC 5 and 9); appends each output file to ``written`` once it is complete."""
+    """One meshing run of the domain kind ``job.kind_of`` names: with --blocks a multi-block
+    domain (SPEC 10), for a surface with faces a six-faced 3D domain (SPEC 11), else a
+    four-sided domain or, with --topology, --naca or a .dat, a body (SPEC 5 and 9); appends
+    each output file to ``written`` once it is complete."""
     written = written if written is not None else []
     if args.cells and not args.blocks:
         raise PinnMeshError("--cells applies to multi-block domains (--blocks); use --size")
@@ -24,8 +24,15 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
         raise PinnMeshError("--save-blocks writes the block edges of --blocks (or --blocks auto)")
     # the input files read while the run imports the engine
     childread.prefetch([args.boundary, *(args.aux or []), *(args.blocks or [])])
-    if args.blocks:
+    from pinn_engine.job import kind_of
+
+    kind = kind_of(args.boundary, bool(args.blocks), body=bool(args.topology or args.naca))
+    if args.face_angle is not None and kind != "hexa":
+        raise PinnMeshError(
+            "--face-angle applies to six-faced surfaces (an .stl), not to 2D domains"
+        )
+    if kind == "blocks":
         return run_blocks(args, written)
-    if args.boundary and is_faced_surface(args.boundary):
+    if kind == "hexa":
         return run_hexa(args, written)
-    return run_four_sided(args, written)
+    return run_four_sided(args, written, kind == "body")

@@ -10,11 +10,7 @@ from pathlib import Path
 from pinn_engine import heap
 from pinn_engine.errors import PinnMeshError
 from pinn_engine.routes.cli.dispatch import run
-from pinn_engine.routes.cli.parser import build_parser
-
-EXIT_ERROR = 2  # the input or an option is refused (argparse's own status for a bad option)
-EXIT_INTERNAL = 3  # a bug: the run failed where no input could make it
-EXIT_INTERRUPTED = 130  # Ctrl-C or SIGTERM: the shell's 128 + SIGINT
+from pinn_engine.routes.cli.parser import EXIT_ERROR, EXIT_INTERNAL, EXIT_INTERRUPTED, build_parser
 
 
 def _raise_interrupt(signum, frame):  # noqa: ARG001

@@ -7,10 +7,11 @@ import time
 from pathlib import Path
 
 from pinn_engine.errors import PinnMeshError, grid_warnings
-from pinn_engine.routes.cli.options import DEFAULT_SIZE, check_options, settings_from
+from pinn_engine.routes.cli.options import check_options, settings_from
 from pinn_engine.routes.cli.outputs import output_path, refuse_folded, save_model, write_outputs
 from pinn_engine.routes.cli.progress import Progress
 from pinn_engine.routes.cli.summary import grid_summary, warn
+from pinn_engine.settings import DEFAULT_SIZE
 
 
 def check_inputs(args: argparse.Namespace, body: bool) -> None:
@@ -34,12 +35,11 @@ def check_inputs(args: argparse.Namespace, body: bool) -> None:
         )
 
 
-def run_four_sided(args: argparse.Namespace, written: list[Path]) -> Path:
-    """Mesh a four-sided domain or a body into ``OUT`` (the formats of SPEC 8); appends each
-    output file to ``written`` once it is complete."""
+def run_four_sided(args: argparse.Namespace, written: list[Path], body: bool) -> Path:
+    """Mesh a four-sided domain or (``body``) a body into ``OUT`` (the formats of SPEC 8);
+    appends each output file to ``written`` once it is complete."""
     from pinn_engine import job
     from pinn_engine.io import export
-    from pinn_engine.mesher import Mesher
 
     args.method = args.method or "pinn"
     args.size = args.size or DEFAULT_SIZE
@@ -48,7 +48,6 @@ def run_four_sided(args: argparse.Namespace, written: list[Path]) -> Path:
             f"--size {' '.join(map(str, args.size))}: a 2D domain takes NI NJ "
             "(NI NJ NK is for a six-faced surface with a FaceId array)"
         )
-    body = bool(args.topology or args.naca or (args.boundary or "").lower().endswith(".dat"))
     check_inputs(args, body)
     name = f"naca{args.naca}" if args.naca else Path(args.boundary).stem
     kind = f"{args.topology}_" if body else ""
@@ -61,42 +60,46 @@ def run_four_sided(args: argparse.Namespace, written: list[Path]) -> Path:
         )
     check_options(args)
     ni, nj = args.size
-    settings = settings_from(args, ni, nj)
+    settings = settings_from(args, (ni, nj))
     began = time.perf_counter()
     geometry = job.geometry_from_files(
-        settings, args.boundary, args.aux, args.corners, args.farfield is not None
+        settings,
+        args.boundary,
+        args.aux,
+        args.corners,
+        args.farfield is not None,
+        args.patch or None,
     )
     read_seconds = time.perf_counter() - began
-    mesher = Mesher.load(args.load_model, geometry.boundary) if args.load_model else None
     start = time.perf_counter()
     with Progress(args.quiet) as progress:
-        outcome = job.run(settings, (ni, nj), geometry, args.patch or None, progress, mesher=mesher)
+        outcome = job.run(settings, geometry, progress, model=args.load_model)
     if args.save_model:
-        save_model(outcome.mesher, args.save_model, written)
-    result = outcome.result
-    if "timings" in result.report:
-        result.report["timings"]["read"] = read_seconds
+        save_model(outcome.model, args.save_model, written)
+    report = outcome.report
+    if "timings" in report:
+        report["timings"]["read"] = read_seconds
     if not args.quiet:
-        grid_summary(result, settings, ni, nj, time.perf_counter() - start)
+        grid_summary(report, settings, ni, nj, time.perf_counter() - start)
     source = name if body else args.boundary
-    refuse_folded(args, source, result.quality["folded_cells"])
+    refuse_folded(args, source, outcome.quality["folded_cells"])
 
     def write_grid() -> None:
-        export.write(outcome.grid, out, args.format, extrude=args.extrude)
+        export.write(outcome.data, out, args.format, extrude=args.extrude)
 
     def draw(tmp: Path) -> None:
         from pinn_engine.routes.render import render_body_png, render_png
 
         if not body:
-            render_png(outcome.grid, tmp, title=f"{args.method}: {Path(args.boundary).name}")
+            render_png(outcome.data, tmp, title=f"{args.method}: {Path(args.boundary).name}")
             return
         le, te = geometry.body.chord_points
         title = f"{args.method} {args.topology.upper()}-grid {name}"
         render_body_png(
-            outcome.grid, tmp, title=title, le=le, te=te, zoom=0.08 * geometry.body.chord
+            outcome.data, tmp, title=title, le=le, te=te, zoom=0.08 * geometry.body.chord
         )
 
-    write_outputs(args, out, written, write_grid, result.report, draw)
-    for warning, _ in grid_warnings(result.report, "cli"):  # printed with --quiet too
+    write_outputs(args, out, written, write_grid, report, draw)
+    for warning, _ in grid_warnings(report, "cli"):  # printed with --quiet too
         warn(f"{source}: {warning}")
     return out

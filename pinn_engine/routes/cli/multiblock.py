@@ -7,12 +7,12 @@ import time
 from pathlib import Path
 
 from pinn_engine.errors import PinnMeshError
-from pinn_engine.routes.cli.options import DEFAULT_SIZE, check_options, settings_from
+from pinn_engine.routes.cli.options import check_options, settings_from
 from pinn_engine.routes.cli.outputs import output_path, refuse_folded, write_outputs
 from pinn_engine.routes.cli.parser import option_flags
 from pinn_engine.routes.cli.progress import Progress
 from pinn_engine.routes.cli.summary import blocks_summary, warn
-from pinn_engine.settings import AUTO_BLOCKS, BLOCKS_METHOD, MULTIBLOCK_METHODS
+from pinn_engine.settings import AUTO_BLOCKS, BLOCKS_METHOD, DEFAULT_SIZE, MULTIBLOCK_METHODS
 
 # Options of four-sided domains and bodies that a multi-block run refuses (SPEC 10)
 NOT_FOR_BLOCKS = (
@@ -58,21 +58,16 @@ def run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
     # patch names, not sides: passed to the run, not to the four-sided settings
     spacing, orthogonal = args.spacing, [args.orthogonal] if args.orthogonal else []
     args.spacing, args.orthogonal = [], None
-    settings = settings_from(args, *DEFAULT_SIZE)
+    settings = settings_from(args)
     start = time.perf_counter()
+    geometry = job.blocks_from_files(
+        args.boundary, args.blocks, args.aux, args.patch, spacing, orthogonal, args.cells
+    )
+    read = time.perf_counter() - start
     with Progress(args.quiet) as progress:
-        outcome = job.run_blocks(
-            settings,
-            args.boundary,
-            args.blocks,
-            args.patch,
-            spacing,
-            orthogonal,
-            progress,
-            args.aux,
-            args.cells,
-        )
-    report = outcome.result.report
+        outcome = job.run(settings, geometry, progress)
+    report = outcome.report
+    report["timings"]["read"] = read
     folded = report["quality"]["folded_cells"]
     refuse_folded(args, args.boundary, folded)
     if not args.quiet:
@@ -80,15 +75,15 @@ def run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
 
     def write_grid() -> None:
         if vtm:
-            write_vtm(outcome.dataset, out)
+            write_vtm(outcome.data, out)
         else:
-            write_blocks(outcome.dataset, out, args.format, extrude=args.extrude)
+            write_blocks(outcome.data, out, args.format, extrude=args.extrude)
 
     def draw(tmp: Path) -> None:
         from pinn_engine.routes.render import render_blocks_png
 
         title = f"{args.method}: {Path(args.boundary).name}, {report['blocks']} blocks"
-        render_blocks_png(outcome.dataset, tmp, title=title)
+        render_blocks_png(outcome.data, tmp, title=title)
 
     write_outputs(args, out, written, write_grid, report, draw)
     if args.save_blocks:

@@ -11,21 +11,19 @@ from pinn_engine.settings import (
     NEURAL,
     PARAMETER_CONSTRAINTS,
     Settings,
-    grid_size_problem,
     make_settings,
     setting_problem,
+    size_problem,
 )
 
-DEFAULT_SIZE = (41, 21)  # nodes along xi and eta of a four-sided grid (SPEC 5)
 DEVICE_NAMES = re.compile(r"^(auto|cpu|mps|cuda(:\d+)?)$")  # the torch devices --device takes
 
 
 def check_options(args: argparse.Namespace) -> None:
     """Refuse option values that are out of range, with a message naming the option."""
-    ni, nj = args.size
-    problem = grid_size_problem(ni, nj)
+    problem = size_problem(tuple(args.size))
     if problem:
-        raise PinnMeshError(f"--size {ni} {nj}: {problem}")
+        raise PinnMeshError(f"--size {' '.join(map(str, args.size))}: {problem}")
     flags = option_flags()
     for name in PARAMETER_CONSTRAINTS:  # each range, named by the option that set it
         value = getattr(args, name, None)
@@ -44,16 +42,17 @@ def check_options(args: argparse.Namespace) -> None:
                 )
 
 
-def settings_from(args: argparse.Namespace, ni: int, nj: int) -> Settings:
-    """The settings of the command line's options, with a settings error as a one-line
-    command-line error."""
+def settings_from(args: argparse.Namespace, size: tuple[int, ...] = ()) -> Settings:
+    """The settings of the command line's options for a grid of ``size`` nodes (() for
+    multi-block), with a settings error as a one-line command-line error."""
     skip = ("method", "preset")  # given first: the preset is the base the others override
     options = {k: getattr(args, k) for k in PARAMETER_CONSTRAINTS if k not in skip}
     try:
         return make_settings(
             args.method,
             args.preset,
-            lattice=(ni, nj),
+            lattice=size if len(size) == 2 else None,
+            size=size,
             spacing=args.spacing,
             orthogonal=args.orthogonal,
             device=args.device,

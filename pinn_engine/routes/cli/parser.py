@@ -9,7 +9,6 @@ import re
 import sys
 from typing import NoReturn
 
-from pinn_engine._version import __version__
 from pinn_engine.settings import (
     METHODS,
     OBJECTIVES,
@@ -19,6 +18,9 @@ from pinn_engine.settings import (
     Options,
 )
 
+EXIT_ERROR = 2  # the input or an option is refused (argparse's own status for a bad option)
+EXIT_INTERNAL = 3  # a bug: the run failed where no input could make it
+EXIT_INTERRUPTED = 130  # Ctrl-C or SIGTERM: the shell's 128 + SIGINT
 # Options whose value may name a point X,Y (multi-block items) and so start with a minus
 PLACE_OPTIONS = ("--patch", "--spacing", "--cells")
 NEGATIVE = re.compile(r"^-\.?\d")  # a value starting with a negative number, not an option
@@ -67,13 +69,27 @@ class _SizeAction(argparse.Action):
         setattr(namespace, self.dest, values)
 
 
+class _VersionAction(argparse.Action):
+    """``--version``: the package's version, read from its metadata only when asked for
+    (0.03 s of CPU that every run paid)."""
+
+    def __init__(self, option_strings, dest, help="print the version and exit"):  # noqa: A002
+        super().__init__(option_strings, dest, nargs=0, default=argparse.SUPPRESS, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from pinn_engine._version import __version__
+
+        print(f"pinn-mesh {__version__}")  # on stdout, as argparse's own version action
+        parser.exit()
+
+
 class OneLineParser(argparse.ArgumentParser):
     """argparse's parser whose complaint is one line with the way to the options (not the
     usage block), and which names an unknown option, with the nearest known one, before
     argparse could take the option's values for the boundary."""
 
     def error(self, message: str) -> NoReturn:
-        self.exit(2, f"{self.prog}: error: {message} ({self.prog} -h lists the options)\n")
+        self.exit(EXIT_ERROR, f"{self.prog}: error: {message} ({self.prog} -h lists the options)\n")
 
     def parse_known_args(self, args=None, namespace=None):
         args = _joined_places(sys.argv[1:] if args is None else [str(a) for a in args])
@@ -158,7 +174,7 @@ def build_parser() -> argparse.ArgumentParser:
         "with a FaceId array (default 21 21 21)",
     )
     p.add_argument("--seed", type=int, default=None)
-    p.add_argument("--version", action="version", version=f"pinn-mesh {__version__}")
+    p.add_argument("--version", action=_VersionAction)
     p.add_argument(
         "--preset",
         choices=PRESETS,

@@ -3,13 +3,9 @@
 from __future__ import annotations
 
 import sys
-from typing import TYPE_CHECKING
 
 from pinn_engine.routes.summary_lines import blocks_lines, grid_lines
 from pinn_engine.settings import Settings
-
-if TYPE_CHECKING:  # the result's module (numpy, the plane) is loaded by the run, not here
-    from pinn_engine.result import MeshResult
 
 
 def say(text: str) -> None:
@@ -22,9 +18,9 @@ def warn(text: str) -> None:
     say(f"pinn-mesh: warning: {text}")
 
 
-def grid_summary(result: MeshResult, settings: Settings, ni: int, nj: int, seconds: float) -> None:
+def grid_summary(report: dict, settings: Settings, ni: int, nj: int, seconds: float) -> None:
     """A four-sided grid's or a body's summary lines (``summary_lines.grid_lines``)."""
-    for line in grid_lines(result, settings, ni, nj, seconds):
+    for line in grid_lines(report, settings, ni, nj, seconds):
         say(line)
 
 

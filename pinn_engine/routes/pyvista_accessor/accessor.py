@@ -13,14 +13,12 @@ import pyvista as pv
 from pinn_engine.cache import MeshCache
 from pinn_engine.errors import InputError, unknown_name
 from pinn_engine.geometry.plane import Plane
-from pinn_engine.hexa.surface import FACE_ARRAY
-from pinn_engine.hexamesh import HEXA_SIZE
 from pinn_engine.routes.pyvista_accessor.four_sided import pinn_mesh
 from pinn_engine.routes.pyvista_accessor.hexa import HEXA_OPTIONS, pinn_mesh_hexa
 from pinn_engine.routes.pyvista_accessor.multiblock import pinn_mesh_blocks
 from pinn_engine.routes.pyvista_accessor.report import report
 from pinn_engine.routes.pyvista_accessor.save import save_mesh
-from pinn_engine.settings import Settings
+from pinn_engine.settings import HEXA_SIZE, Settings
 
 # the keywords of a multi-block domain (besides method and progress_bar), and those that
 # apply to it alone
@@ -228,10 +226,12 @@ class PinnMeshAccessor:
                 raise unknown_name(
                     name, _keywords(), "keyword", "{}=", also=Settings.__dataclass_fields__
                 )
-        faced = FACE_ARRAY.decode() in self._mesh.cell_data
-        if faced or (size is not None and len(size) == len(HEXA_SIZE)):
+        from pinn_engine.job import kind_of
+
+        kind = kind_of(self._mesh, blocks is not None, size or ())
+        if kind == "hexa":
             self.last = self._hexa(size, method, given, progress_bar)
-        elif blocks is not None:
+        elif kind == "blocks":
             self.last = self._blocks(size, method, given, progress_bar)
         else:
             for name in BLOCKS_ONLY:
@@ -252,7 +252,9 @@ class PinnMeshAccessor:
     def _hexa(self, size, method, given: dict, progress_bar: bool) -> pv.StructuredGrid:
         """A six-faced surface's hexahedral grid, or the error of a 2D curve given three
         sizes or of keywords for 2D domains."""
-        if FACE_ARRAY.decode() not in self._mesh.cell_data and _is_flat(self._mesh):
+        from pinn_engine.job import kind_of
+
+        if kind_of(self._mesh) != "hexa" and _is_flat(self._mesh):
             raise InputError(
                 f"size={tuple(size)}: three sizes need a six-faced surface (a closed surface "
                 "with a FaceId cell array); this PolyData lies in a plane: give size=(ni, nj)"

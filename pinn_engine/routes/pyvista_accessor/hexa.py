@@ -7,12 +7,11 @@ from collections.abc import Sequence
 import pyvista as pv
 
 from pinn_engine.errors import SettingsError
-from pinn_engine.hexa.sharp import SHARP_ANGLE
-from pinn_engine.hexamesh import HEXA_SIZE, size_problem
 from pinn_engine.routes.hexa_algorithm import PinnHexaAlgorithm, refold_hint
 from pinn_engine.routes.pyvista_accessor.inputs import as_polydata
 from pinn_engine.routes.pyvista_accessor.report import report
 from pinn_engine.routes.pyvista_accessor.running import ROUTE, run, warn_folded
+from pinn_engine.settings import FACE_ANGLE, HEXA_SIZE, hexa_size_problem
 
 # pinn_mesh_hexa's keywords besides size and method, taken by the accessor on a surface
 HEXA_OPTIONS = ("patches", "spacing", "orthogonal", "face_angle")
@@ -26,7 +25,7 @@ def pinn_mesh_hexa(
     patches=None,
     spacing=None,
     orthogonal=None,
-    face_angle: float = SHARP_ANGLE,
+    face_angle: float = FACE_ANGLE,
     progress_bar: bool = False,
 ) -> pv.StructuredGrid:
     """Hexahedral structured grid (SPEC 11) of the 3D domain a closed surface bounds.
@@ -40,8 +39,8 @@ def pinn_mesh_hexa(
     size : (int, int, int)
         Nodes along i, j and k, default ``(21, 21, 21)``.
     method : str, optional
-        One of ``pinn_engine.hexamesh.METHODS`` (``"tfi"``: 3D transfinite interpolation;
-        ``"elliptic"``: 3D Winslow), default ``pinn_engine.hexamesh.HEXA_METHOD``.
+        One of ``pinn_engine.settings.HEXA_METHODS`` (``"tfi"``: 3D transfinite interpolation;
+        ``"elliptic"``: 3D Winslow), default ``pinn_engine.settings.HEXA_METHOD``.
     patches : dict, sequence of six names or str, optional
         Patch names of the six faces, e.g. ``{"imin": "inlet:inflow", "face4": "floor:wall"}``
         (a side imin ... kmax or ``faceN``, the input face whose ``FaceId`` is N; default
@@ -78,7 +77,7 @@ def pinn_mesh_hexa(
     (21, 11, 9)
     """
     size = tuple(int(n) for n in size)
-    problem = size_problem(size)
+    problem = hexa_size_problem(size)
     if problem:
         raise SettingsError(f"size={size}: {problem}")
     alg = PinnHexaAlgorithm(route=ROUTE)

@@ -4,15 +4,19 @@ Opens example_data/hexa_bend.stl and fig2.vtp (both shown), turns on auto-apply,
 PINN Hexahedral Mesh filters default to Method elliptic (a quick grid), writes what each
 update of a PINN filter gave (points, error, summary, the inputs' visibility, the display's
 colouring) to PINN_GUI_RESULT.NAME.json (NAME: the filter's registration name), and writes
-PINN_GUI_READY when the GUI may be driven.
+PINN_GUI_READY when the GUI may be driven; PINN_GUI_RESULT.help.json: the help files the
+plugin registered with the GUI's help engine and their pages.
 """
 
 import json
 import os
+import sqlite3
 import traceback
 
 import paraview.simple as simple
 from paraview import servermanager
+
+from pinn_engine.routes import help_engine
 
 RESULT = os.environ["PINN_GUI_RESULT"]
 DATA = os.path.join(os.environ["PINN_GUI_REPO"], "example_data")
@@ -70,7 +74,18 @@ def on_register(obj, event):
             alg.AddObserver("EndEvent", ended)
 
 
+def write_help_state():
+    """The .qch files the plugin registered (one) and the pages each holds."""
+    pages = {}
+    for path in help_engine.registered():
+        with sqlite3.connect(path) as db:
+            pages[str(path)] = [r[0] for r in db.execute("SELECT Name FROM FileNameTable")]
+    with open(f"{RESULT}.help.json", "w") as f:
+        json.dump(pages, f)
+
+
 def main():
+    write_help_state()
     view = simple.GetActiveViewOrCreate("RenderView")
     view.OrientationAxesVisibility = 0
     stl = simple.STLReader(

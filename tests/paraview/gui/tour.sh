@@ -9,7 +9,9 @@
 #    OUTDIR/curve.png (the curve still shown, the message pointing to the 2D filters);
 # 3. the first grid selected, Method pinn: OUTDIR/time_limit.png shows Time Limit;
 # 4. File > Save Data of that grid as OUTDIR/bend.cgns and OUTDIR/bend.foam (no options
-#    dialog: a hexahedral grid has no Extrude Thickness).
+#    dialog: a hexahedral grid has no Extrude Thickness);
+# 5. the grid's "?" in the Properties panel: OUTDIR/help.png (its page, the property table);
+#    the help's Search tab, "PINN": OUTDIR/help_search.png.
 # Needs paraview, xvfb-run, xdotool and ImageMagick's import (scripts/setup_paraview.sh).
 set -euo pipefail
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../../.." && pwd)"
@@ -90,3 +92,12 @@ for name in bend.cgns bend.foam; do
     xdotool key Return; sleep 8
 done
 import -window root "$OUT/saved.png"
+
+# 5. the panel's "?" opens the filter's page; the help's search finds the plugin's pages
+xdotool mousemove 139 218 click 1; sleep 0.5                 # PINNHexahedralMesh1
+xdotool mousemove 268 508 click 1; sleep 4                   # the Properties panel's "?"
+import -window root "$OUT/help.png"
+xdotool mousemove 117 14 click 1; sleep 1                    # the help's Search tab
+xdotool mousemove 92 69 click 1; sleep 0.3
+xdotool type --delay 80 "PINN"; xdotool key Return; sleep 4
+import -window root "$OUT/help_search.png"

@@ -50,6 +50,18 @@ result["help"] = {  # the panel's "?": every proxy of the plugin documented
         ("writers", "PINNMeshOpenFOAMWriter"),
     ]
 }
+# the help pages the GUI is given (routes/paraview_help.py): one per proxy, named by a
+# (group, proxy name) ParaView knows; pvpython has no help engine to register them with
+from paraview.detail.pythonalgorithm import get_plugin_xmls  # noqa: E402
+
+from pinn_engine.routes import help_engine, paraview_help  # noqa: E402
+
+pages = paraview_help.help_pages(get_plugin_xmls(sys.modules["pinn_mesh_plugin"]))[0]
+result["help_pages"] = [page.name for page in pages]
+result["help_pages_unknown"] = [
+    page.name for page in pages[1:] if not pxm.GetPrototypeProxy(*page.name.split(".")[:2])
+]
+result["help_registered"] = [str(path) for path in help_engine.registered()]
 shown = proto.GetHints().FindNestedElementByName("RepresentationType")
 result["representation"] = shown.GetAttribute("type") if shown else None
 aux_hints = proto.GetProperty("AuxiliaryLines").GetHints()
@@ -64,7 +76,7 @@ result["grid"] = {
     "max_angle": grid.GetCellData().GetArray("MaxIncludedAngle") is not None,
     "method": grid.GetFieldData().GetAbstractArray("Method").GetValue(0),
 }
-# issue 23 item 10: a field per preset for the settings the presets differ in; the chosen
+# a field per preset for the settings the presets differ in; the chosen
 # preset's is used (and shown), the other's is not
 presets = PINNStructuredMesh(Input=boundary, Preset="paper", AdamEpochs=7)  # noqa: F821
 presets.UpdateVTKObjects()

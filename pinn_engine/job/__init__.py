@@ -1,0 +1,71 @@
+"""One meshing job, whichever route asks and whatever the domain kind: ``run(settings,
+geometry)``.
+
+Every route (the command line and its batches, the VTK algorithms, and through them pyvista
+and ParaView) builds a :class:`~pinn_engine.settings.Settings`, turns its inputs into a
+geometry by the adapter of their kind (:func:`kind_of` names it; from files or from VTK
+data: :class:`Geometry` of a four-sided domain or a body, :class:`BlocksGeometry` of a
+multi-block domain, :class:`HexaGeometry` of a six-faced 3D domain) and calls :func:`run`,
+which meshes it by its kind's pipeline and returns one :class:`Outcome`. What differs
+between routes is only how they read inputs and present the outcome, in their own words.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+
+from pinn_engine.cache import MeshCache
+from pinn_engine.job.blocks import (
+    BlocksGeometry,
+    blocks_from_files,
+    blocks_from_polydata,
+    run_blocks,
+)
+from pinn_engine.job.hexa import HexaGeometry, hexa_from_file, hexa_from_polydata, run_hexa
+from pinn_engine.job.kind import kind_of
+from pinn_engine.job.outcome import KINDS, Outcome
+from pinn_engine.job.single import (
+    Geometry,
+    geometry_from_files,
+    geometry_from_polydata,
+    run_single,
+)
+from pinn_engine.settings import Settings
+
+
+def run(
+    settings: Settings,
+    geometry: Geometry | BlocksGeometry | HexaGeometry,
+    progress: Callable[[dict], object] | None = None,
+    cache: MeshCache | None = None,
+    model: str | os.PathLike | None = None,
+) -> Outcome:
+    """Mesh ``geometry`` under ``settings`` by its kind's pipeline; ``progress`` hears the
+    stages and the training (returning True cancels, ``errors.STOP`` ends the training with
+    its best state so far); a four-sided domain's fitted networks are kept in ``cache``
+    (re-used when only the size changes), or the model saved at ``model`` (a four-sided
+    domain's or a six-faced domain's) is evaluated instead of training."""
+    if isinstance(geometry, BlocksGeometry):
+        return run_blocks(settings, geometry, progress)
+    if isinstance(geometry, HexaGeometry):
+        return run_hexa(settings, geometry, progress, model)
+    return run_single(settings, geometry, progress, cache, model)
+
+
+__all__ = [
+    "KINDS",
+    "BlocksGeometry",
+    "Geometry",
+    "HexaGeometry",
+    "MeshCache",
+    "Outcome",
+    "blocks_from_files",
+    "blocks_from_polydata",
+    "geometry_from_files",
+    "geometry_from_polydata",
+    "hexa_from_file",
+    "hexa_from_polydata",
+    "kind_of",
+    "run",
+]

@@ -1,0 +1,37 @@
+"""Which domain kind a run's inputs are: the one rule every route follows."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+
+from vtkmodules.vtkCommonDataModel import vtkPolyData
+
+from pinn_engine.hexa.surface import FACE_ARRAY, is_faced_surface
+from pinn_engine.settings import HEXA_SIZE
+
+
+def _faced(boundary: str | os.PathLike | vtkPolyData | None) -> bool:
+    """Whether ``boundary`` is a six-faced domain's surface: a file (an ``.stl``, or a
+    ``.vtp``/``.vtk`` naming a FaceId array) or VTK data with a FaceId cell array."""
+    if isinstance(boundary, vtkPolyData):
+        return boundary.GetCellData().GetArray(FACE_ARRAY.decode()) is not None
+    return boundary is not None and is_faced_surface(boundary)
+
+
+def kind_of(
+    boundary: str | os.PathLike | vtkPolyData | None,
+    blocks: bool = False,
+    size: Sequence[int] = (),
+    body: bool = False,
+) -> str:
+    """The kind (``outcome.KINDS``) of a run: ``blocks`` when block edges are given (SPEC
+    10), ``hexa`` for a six-faced surface or three sizes (SPEC 11), ``body`` when a
+    topology, a NACA section or an airfoil ``.dat`` is given (SPEC 9), else ``four-sided``
+    (SPEC 5)."""
+    if blocks:
+        return "blocks"
+    if len(size) == len(HEXA_SIZE) or _faced(boundary):
+        return "hexa"
+    dat = isinstance(boundary, str | os.PathLike) and str(boundary).lower().endswith(".dat")
+    return "body" if body or dat else "four-sided"

@@ -1,0 +1,36 @@
+"""What a job gives, whatever the domain kind: the one result every route presents."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from vtkmodules.vtkCommonDataModel import vtkDataObject
+
+# The domain kinds (SPEC 5, 9, 10, 11): a four-sided block, an O- or C-grid round a body,
+# a multi-block 2D domain, a six-faced 3D domain
+KINDS = ("four-sided", "body", "blocks", "hexa")
+
+
+@dataclass
+class Outcome:
+    """A job's result: its VTK data (the ``vtkStructuredGrid`` of SPEC 3 and 11, or the
+    ``vtkMultiBlockDataSet`` of SPEC 10), the run's report (what ``--report`` writes), each
+    block's nodes in VTK's index order (i fastest: ``(nj, ni, 2)`` in-plane, ``(nk, nj, ni,
+    3)`` in 3D), the loss history, whether this run trained a network (not re-used one),
+    the model ``--save-model`` writes (a fitted ``Mesher`` or a ``HexaModel``; None when no
+    network) and, for blocks, the block edges meshed."""
+
+    kind: str
+    data: vtkDataObject
+    report: dict
+    grids: list[np.ndarray]
+    history: dict[str, list[float]] = field(default_factory=dict)
+    trained: bool = False
+    model: object | None = None
+    edges: list[np.ndarray] = field(default_factory=list)
+
+    @property
+    def quality(self) -> dict:
+        """The quality figures of SPEC 6 over every cell."""
+        return self.report["quality"]
