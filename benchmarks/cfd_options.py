@@ -88,6 +88,7 @@ def domains() -> dict[str, dict]:
         wall_h=0.004,
         cells=["1.6,0.6=30"],
         graded=(0.8, 0.05),
+        edge=(2.5, 0.0),
         graded_h=0.01,
         cell_size=0.05,
     )
@@ -116,6 +117,7 @@ def domains() -> dict[str, dict]:
         wall_h=0.004,
         cells=["2,1=30"],
         graded=(0.9, 0.8),
+        edge=(0.0, 0.4),
         graded_h=0.01,
         cell_size=0.04,
     )
@@ -136,6 +138,7 @@ def domains() -> dict[str, dict]:
         wall_h=0.003,
         cells=["3.7,1=10"],
         graded=(1.85, 0.5),
+        edge=(0.0, 0.0),
         graded_h=0.01,
         cell_size=0.05,
     )
@@ -147,8 +150,9 @@ def domains() -> dict[str, dict]:
         wall="boundary",
         patches=["boundary=duct:wall", "-1.5,1=inlet:inflow", "1,-1.5=outlet:outflow"],
         wall_h=0.005,
-        cells=["0,-2=25"],
+        cells=["0,-2=30"],
         graded=(-1, -1.5),
+        edge=(-1.5, 1.0),
         graded_h=0.01,
         cell_size=0.05,
     )
@@ -251,15 +255,16 @@ def folded(grid: pv.MultiBlock) -> int:
     return int(sum(np.asarray(b.cell_data["Folded"]).sum() for b in grid))
 
 
-def check_2d(name: str, d: dict, work: Path, method: str) -> list[tuple[str, str, str]]:
+def check_2d(name: str, d: dict, work: Path, method: str | None) -> list[tuple[str, str, str]]:
     rows = []
     boundary = write_polylines(work / f"{name}.vtp", d["rings"], closed=True)
     blocks = write_polylines(work / f"{name}_blocks.vtp", d["edges"])
     diag = float(np.linalg.norm(np.ptp(np.vstack(d["rings"]), axis=0)))
-    base = [boundary, "--blocks", blocks, "--cell-size", str(d["cell_size"]), "--method", method]
+    base = [boundary, "--blocks", blocks, "--cell-size", str(d["cell_size"])]
+    base += ["--method", method] if method else []
     wall_name = next(p.split("=")[1].split(":")[0] for p in d["patches"] if p.startswith(d["wall"]))
     ring = d["rings"][0 if d["wall"] == "boundary" else int(d["wall"][4:])]
-    wall = [f"--patch={p}" for p in d["patches"]]
+    wall = [arg for p in d["patches"] for arg in ("--patch", p)]  # as typed: -1,0=... too
     wall += ["--spacing", f"{wall_name}={d['wall_h']}", "--orthogonal", wall_name]
 
     rc, out = cli([*base, *wall, "-o", str(work / f"{name}.vtm")])
@@ -325,43 +330,34 @@ def check_2d(name: str, d: dict, work: Path, method: str) -> list[tuple[str, str
             ok = fams.get(wall_name) == "BCWall"
             rows.append((name, "cgns families", f"{'ok' if ok else 'BAD'}: {fams}"))
 
-    chain = [f"--cells={c}" for c in d["cells"]] + [
-        "--spacing={},{}={}".format(*d["graded"], d["graded_h"])
-    ]
-    graded = "{},{}".format(*d["graded"])
-    rc, out = cli([*base, *chain, "-o", str(work / f"{name}_chain.vtm")])
+    rows.append(graded_row(name, base, work, d["cells"], d["graded"], d["graded_h"]))
+    return [*rows, graded_row(name, base, work, [], d["edge"], d["graded_h"])]
+
+
+def graded_row(name, base, work, cells, point, h) -> tuple[str, str, str]:
+    """A run with ``--cells`` items and ``--spacing X,Y=H`` at ``point``: the first edges
+    across the side (all, and the middle half of each side's lines), the largest ratio of
+    neighbouring cells along the lines leaving it, folds."""
+    where = "{:g},{:g}".format(*point)
+    args = [arg for c in cells for arg in ("--cells", c)] + ["--spacing", f"{where}={h}"]
+    label = " ".join(args)
+    rc, out = cli([*base, *args, "-o", str(work / f"{name}_graded.vtm")])
     if rc != 0:
-        return [*rows, (name, "chain run", f"FAILED: {out.splitlines()[-1]}")]
-    grid = pv.read(work / f"{name}_chain.vtm")
-    lines = block_side_lines(grid, d["graded"])
-    first = np.concatenate([np.linalg.norm(v[:, 1] - v[:, 0], axis=1) for v in lines])
-    mid = (
-        np.concatenate(
-            [
-                np.linalg.norm(
-                    v[len(v) // 4 : -len(v) // 4 or None, 1]
-                    - v[len(v) // 4 : -len(v) // 4 or None, 0],
-                    axis=1,
-                )
-                for v in lines
-            ]
-        )
-        / d["graded_h"]
-    )
-    first /= d["graded_h"]
+        return (name, label, f"FAILED: {out.splitlines()[-1]}")
+    grid = pv.read(work / f"{name}_graded.vtm")
+    lines = block_side_lines(grid, point)
+    first = np.concatenate([np.linalg.norm(v[:, 1] - v[:, 0], axis=1) for v in lines]) / h
+    mid = [v[len(v) // 4 : len(v) - len(v) // 4] for v in lines]
+    mid = np.concatenate([np.linalg.norm(v[:, 1] - v[:, 0], axis=1) for v in mid]) / h
     worst = max(ratios(v).max() for v in lines)
     ok = abs(mid - 1).max() <= SPACING_TOL and worst <= RATIO_MAX and folded(grid) == 0
-    rows.append(
-        (
-            name,
-            f"--cells {' '.join(d['cells'])} --spacing {graded}={d['graded_h']} "
-            f"({len(lines)} sides)",
-            f"{'ok' if ok else 'BAD'}: first edge {first.min():.2f}-{first.max():.2f} H "
-            f"(middle half {mid.min():.2f}-{mid.max():.2f}), neighbour ratio {worst:.3f}, "
-            f"{folded(grid)} folded; {out.splitlines()[-1][:60]}",
-        )
+    return (
+        name,
+        f"{label} ({len(lines)} sides)",
+        f"{'ok' if ok else 'BAD'}: first edge {first.min():.2f}-{first.max():.2f} H "
+        f"(middle half {mid.min():.2f}-{mid.max():.2f}), neighbour ratio {worst:.3f}, "
+        f"{folded(grid)} folded",
     )
-    return rows
 
 
 def tilted_box(u, v, w):
@@ -403,7 +399,7 @@ def check_3d(name: str, work: Path) -> list[tuple[str, str, str]]:
     path = work / f"{name}.{ext}"
     tagged.save(path)
     diag = tagged.length
-    patches = [f"--patch=face{k}={n}" for k, n in enumerate(names)]
+    patches = [arg for k, n in enumerate(names) for arg in ("--patch", f"face{k}={n}")]
     base = [str(path), "--size", "9", "8", "7", "--method", "elliptic", *patches]
     rows = []
     case = work / f"{name}_case"
@@ -464,7 +460,7 @@ def check_3d(name: str, work: Path) -> list[tuple[str, str, str]]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--only", help="one domain by name")
-    parser.add_argument("--method", default="elliptic")
+    parser.add_argument("--method", help="the 2D runs' method (default: the command's)")
     args = parser.parse_args()
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -472,7 +468,7 @@ def main() -> None:
             if args.only and name != args.only:
                 continue
             rows += check_2d(name, d, Path(tmp), args.method)
-            for row in rows[-6:]:
+            for row in rows[-7:]:
                 print(" | ".join(row), flush=True)
         for name in SOLIDS:
             if args.only and name != args.only:

@@ -35,6 +35,7 @@ from pinn_engine.hexa.spacing import (
 from pinn_engine.hexa.surface import Surface, Topology, find_topology, surface_of
 from pinn_engine.io import fileio
 from pinn_engine.io.export.patches import BOX_SIDES, add_to_grid, named_patches, patch_specs
+from pinn_engine.patchnames import FACE_PREFIX
 from pinn_engine.settings import Settings
 from pinn_engine.starts.volume_start import Start, winslow_start
 
@@ -112,6 +113,31 @@ def face_names(surface: Surface, faces: Sequence[int]) -> dict[str, int]:
     """Side (imin ... kmax) -> the input's FaceId of that face, from the face indices of
     :func:`boundary_map`."""
     return {side: int(surface.face_ids[f]) for side, f in zip(BOX_SIDES, faces, strict=True)}
+
+
+def by_side(
+    spacing: dict[str, float], orthogonal: tuple[str, ...], faces: dict[str, int]
+) -> tuple[dict[str, float], tuple[str, ...]]:
+    """``spacing`` and ``orthogonal`` with their ``faceN`` patches (the input face whose
+    FaceId is N) named by the side that face became (``faces``: :func:`face_names`)."""
+    side_of = {f"{FACE_PREFIX}{face}": side for side, face in faces.items()}
+    listed = ", ".join(sorted(side_of, key=lambda name: int(name[len(FACE_PREFIX) :])))
+
+    def side(name: str, flag: str) -> str:
+        if name in BOX_SIDES:
+            return name
+        if name not in side_of:
+            raise InputError(f"{flag} {name}: the surface has no {name} (its faces: {listed})")
+        return side_of[name]
+
+    out: dict[str, float] = {}
+    for name, h in spacing.items():
+        if out.setdefault(side(name, "{spacing}"), h) != h:
+            raise InputError(
+                f"{{spacing}} {name}={h:g}: patch {side(name, '')} is given two spacings"
+            )
+    walls = tuple(dict.fromkeys(side(name, "{orthogonal}") for name in orthogonal))
+    return out, walls
 
 
 def surface_key(surface: Surface) -> str:
@@ -236,6 +262,7 @@ def mesh_polydata(
     boundary, sides = boundary_map(surface, topology, source)
     faces = face_names(surface, sides)
     named = named_patches(patches, faces)
+    spacing, orthogonal = by_side(spacing, orthogonal, faces)
     base = tfi_at(boundary, node_params(size, {}))
     check_spacing(spacing, base)
     lap("faces")

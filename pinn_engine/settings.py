@@ -8,6 +8,7 @@ import re
 from dataclasses import asdict, dataclass, fields, replace
 
 from pinn_engine.errors import InputError, SettingsError, unknown_name
+from pinn_engine.patchnames import FACE_PREFIX
 
 METHODS = ("pinn", "mgnet", "tfi", "elliptic")
 NEURAL = ("pinn", "mgnet")  # the methods that train a network
@@ -115,10 +116,16 @@ def parse_spacing(value) -> tuple[tuple[str, float], ...]:
     return tuple((s, out[s]) for s in SIDE_NAMES if s in out)
 
 
+# a six-faced domain's patch as --spacing and --orthogonal name it: a side, or faceN (the
+# input face whose FaceId is N, resolved to its side once the surface is read)
+HEXA_PATCH = re.compile(rf"^({'|'.join(BOX_SIDES)}|{FACE_PREFIX}[0-9]+)$")
+HEXA_PATCH_NAMES = ", ".join(BOX_SIDES) + " or faceN"
+
+
 def parse_patch_spacing(items) -> tuple[tuple[str, float], ...]:
     """A six-faced domain's ``PATCH=H`` items (or (PATCH, H) pairs), checked, in the route's
-    words: the first edge H > 0 leaving each patch imin ... kmax given."""
-    names = ", ".join(BOX_SIDES)
+    words: the first edge H > 0 leaving each patch imin ... kmax (or faceN) given."""
+    names = HEXA_PATCH_NAMES
     out: dict[str, float] = {}
     for part in items.items() if hasattr(items, "items") else items or ():
         item = part if isinstance(part, str) else f"{part[0]}={part[1]}"
@@ -128,7 +135,7 @@ def parse_patch_spacing(items) -> tuple[tuple[str, float], ...]:
             h = float(value)
         except ValueError:
             h = math.nan
-        if not sep or name not in BOX_SIDES or not (math.isfinite(h) and h > 0):
+        if not sep or not HEXA_PATCH.match(name) or not (math.isfinite(h) and h > 0):
             raise InputError(f"{{spacing}} {item}: write PATCH=H with H > 0, PATCH one of {names}")
         if out.setdefault(name, h) != h:
             raise InputError(f"{{spacing}} {item}: patch {name} is given two spacings")
@@ -136,13 +143,14 @@ def parse_patch_spacing(items) -> tuple[tuple[str, float], ...]:
 
 
 def parse_patch_walls(items) -> tuple[str, ...]:
-    """A six-faced domain's orthogonal patches from ``PATCH[,PATCH...]`` items, checked."""
-    names = ", ".join(BOX_SIDES)
+    """A six-faced domain's orthogonal patches from ``PATCH[,PATCH...]`` items (imin ...
+    kmax or faceN), checked."""
+    names = HEXA_PATCH_NAMES
     walls = []
     for item in ([items] if items else []) if isinstance(items, str) else items or ():
         for name in item.split(","):
             name = name.strip().lower()
-            if name not in BOX_SIDES:
+            if not HEXA_PATCH.match(name):
                 raise InputError(f"{{orthogonal}} {item}: unknown patch {name!r}; use {names}")
             walls.append(name)
     return tuple(dict.fromkeys(walls))

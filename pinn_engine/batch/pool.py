@@ -102,12 +102,17 @@ class WarmPool:
                         finished.add(name)
                         yield name, future.result() if error is None else _failure(name, error)
             if broken:  # charged to the cases that had started; all, where none had
+                for future in pending:  # finished before the death, not yet asked for
+                    if future.done() and future.exception() is None:
+                        finished.add(futures[future])
+                        yield futures[future], future.result()
                 names = set()
                 while not started.empty():
                     names.add(started.get())
                 for name in (names or set(todo)) - finished:
                     deaths[name] += 1
         except BaseException:  # interrupted, or the caller stopped asking: drop the cases
+            # the executor's processes: no public way to end them before Python 3.14
             for process in list((getattr(pool, "_processes", None) or {}).values()):
                 process.kill()
             raise

@@ -36,33 +36,6 @@ PATCH_AXIS = {  # each patch: the index direction leaving it, and which end it i
 ROOM = 0.5  # H must be shorter than this fraction of the shortest edge leaving the patch
 
 
-def parse_patches(spacing: list[str], orthogonal: list[str]) -> tuple[dict[str, float], tuple]:
-    """``PATCH=H`` items and ``PATCH[,PATCH...]`` items, checked (one line naming the fix in
-    the route's words: the command line's ``--spacing`` and ``--orthogonal``, the filter's
-    First Edge Spacing and Orthogonal Patches, pyvista's ``spacing=`` and ``orthogonal=``)."""
-    names = ", ".join(PATCH_AXIS)
-    out: dict[str, float] = {}
-    for item in spacing:
-        name, sep, value = item.partition("=")
-        name = name.strip().lower()
-        try:
-            h = float(value)
-        except ValueError:
-            h = float("nan")
-        if not sep or name not in PATCH_AXIS or not (np.isfinite(h) and h > 0):
-            raise InputError(f"{{spacing}} {item}: write PATCH=H with H > 0, PATCH one of {names}")
-        if out.setdefault(name, h) != h:
-            raise InputError(f"{{spacing}} {item}: patch {name} is given two spacings")
-    walls = []
-    for item in orthogonal:
-        for name in item.split(","):
-            name = name.strip().lower()
-            if name not in PATCH_AXIS:
-                raise InputError(f"{{orthogonal}} {item}: unknown patch {name!r}; use {names}")
-            walls.append(name)
-    return out, tuple(dict.fromkeys(walls))
-
-
 def leaving(g: np.ndarray, patch: str) -> tuple[np.ndarray, np.ndarray]:
     """The patch's nodes and the next layer's, each (na, nb, 3) over the other two
     indices in order."""

@@ -13,7 +13,6 @@ from vtkmodules.vtkCommonDataModel import vtkPolyData
 from pinn_engine.cache import MeshCache
 from pinn_engine.errors import InputError
 from pinn_engine.job.outcome import Outcome
-from pinn_engine.mesher import Mesher
 from pinn_engine.settings import DEFAULT_SIZE, NEURAL, Settings
 
 # A curve that fails as a four-sided boundary is called a body (and the user pointed to the
@@ -188,6 +187,8 @@ def run_single(
         names = patch_names(geometry.patches)  # refused before meshing, not after
         trained = False
         if model is not None:
+            from pinn_engine.mesher import Mesher  # a four-sided run's: not a body's import
+
             mesher = Mesher.load(model, geometry.boundary)
         else:
             cache = cache if cache is not None else MeshCache(capacity=1)

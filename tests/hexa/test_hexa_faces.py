@@ -118,3 +118,22 @@ def test_an_unknown_face_is_refused_in_each_routes_words(tmp_path, capsys):
     assert not out.exists()
     with pytest.raises(InputError, match=r"face5 \(patches="):
         pv.read(BEND).pinn_mesh(size=(5, 4, 3), method="tfi", patches={"face7": "wall"})
+
+
+def test_spacing_and_orthogonal_take_faces_by_their_faceid(tmp_path, capsys):
+    """``--spacing face3=H --orthogonal face3`` act on the side the input's face 3 became
+    (the bend's end at x = 0, imin): the grid of ``imin=H``; a face the surface lacks is
+    one line naming its faces."""
+    grids = []
+    for name in ("face3", "imin"):
+        out = tmp_path / f"{name}.vts"
+        argv = [str(BEND), "--method", "elliptic", "--size", *SIZE, "-o", str(out), "--quiet"]
+        assert main([*argv, "--spacing", f"{name}=0.05", "--orthogonal", name]) == 0
+        grids.append(pv.read(out).points)
+    np.testing.assert_array_equal(grids[0], grids[1])
+    out = tmp_path / "g.vts"
+    argv = [str(BEND), "--method", "tfi", "--size", *SIZE, "-o", str(out)]
+    assert main([*argv, "--spacing", "face9=0.05"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "--spacing face9: the surface has no face9 (its faces: face0, face1" in err
+    assert "\n" not in err and not out.exists()

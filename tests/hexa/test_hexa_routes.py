@@ -193,7 +193,7 @@ def test_algorithm_takes_the_command_lines_patch_options(
             "SetSpacing",
             "floor=0.01",
             "First Edge Spacing floor=0.01: write PATCH=H with H > 0, PATCH one of imin, imax, "
-            "jmin, jmax, kmin, kmax",
+            "jmin, jmax, kmin, kmax or faceN",
         ),
         (
             "SetSpacing",
