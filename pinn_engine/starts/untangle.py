@@ -75,7 +75,11 @@ class _Corners:
         self.grid = np.array(grid, dtype=float)
         self.free = free
         self.turn = orientation(grid)
-        self.area = area
+        # only the cells with a free corner change: the four corners' node indices of each
+        moving = np.logical_or.reduce(_corners(free))
+        nodes = np.arange(free.size).reshape(free.shape)
+        self.index = np.stack([corner[moving] for corner in _corners(nodes)])
+        self.area = area[moving]
 
     def with_free(self, x: np.ndarray) -> np.ndarray:
         g = self.grid.copy()
@@ -83,9 +87,9 @@ class _Corners:
         return g
 
     def _edges(self, g: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """At the four corners k of every cell (axis 0): the edges a (to corner k + 1) and b
-        (to corner k - 1) and the Jacobian det(a, b) in cell areas."""
-        p = np.stack(_corners(g))
+        """At the four corners k (axis 0) of every cell with a free corner: the edges a (to
+        corner k + 1) and b (to corner k - 1) and the Jacobian det(a, b) in cell areas."""
+        p = g.reshape(-1, 2)[self.index]
         a, b = np.roll(p, -1, axis=0) - p, np.roll(p, 1, axis=0) - p
         return a, b, self.turn * (a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]) / self.area
 
@@ -111,9 +115,13 @@ class _Corners:
         # a runs to corner k + 1, b to corner k - 1: each corner gets its own and its
         # neighbours' parts
         per_corner = np.roll(ga, 1, axis=0) + np.roll(gb, -1, axis=0) - ga - gb
-        full = np.zeros_like(g)
-        for target, part in zip(_corners(full), per_corner):
-            target += part
+        full = np.stack(
+            [
+                np.bincount(self.index.ravel(), per_corner[..., c].ravel(), self.free.size)
+                for c in (0, 1)
+            ],
+            axis=-1,
+        ).reshape(g.shape)
         return float((top / chi).sum()), full[self.free].ravel()
 
 
