@@ -419,8 +419,9 @@ def run_case(folder: Path) -> list[dict]:
         (work / "blockmesh" / rel).write_text(text)
     expanded = foam("foamDictionary -expand system/blockMeshDict", work / "blockmesh")
     if expanded.returncode:
-        reason = expanded.stderr.strip().splitlines() or ["foamDictionary failed"]
-        return [{"case": name, "method": "-", "result": "not read: " + reason[-1][:90]}]
+        log = (expanded.stdout + expanded.stderr).split("FOAM FATAL", 1)[-1].splitlines()
+        reason = next((line.strip() for line in log[1:] if line.strip()), "no message")
+        return [{"case": name, "method": "-", "result": f"not read by foamDictionary: {reason}"}]
     try:
         sec = Section(parse(expanded.stdout))
         args = write_inputs(sec, work / "inputs")

@@ -215,8 +215,18 @@ def folded_cells_warning(report: dict, route: str) -> str | None:
     cells = report.get("cells") or math.prod(n - 1 for n in report["size"])
     words = ROUTE_WORDS[route]
     method = report.get("method", "")
-    guard = report.get("training", {}).get("guard") or {}
-    if guard.get("elliptic", {}).get("folded_cells"):  # the warm start's elliptic grid folds too
+    training = report.get("training", {})
+    guard = training.get("guard") or {}
+    parts = [training, *training.get("blocks", [])]
+    forced = next(
+        (p["untangled"]["forced"] for p in parts if "forced" in p.get("untangled", {})), None
+    )
+    if forced:  # the boundary nodes themselves fold a cell (untangle.fold_forced)
+        fix = (
+            f"rounding the boundary there or another {words['size']}: no grid on these "
+            f"boundary nodes is fold-free, as {forced}"
+        )
+    elif guard.get("elliptic", {}).get("folded_cells"):  # the warm start's elliptic grid folds too
         fix = (
             f"rounding the boundary where it turns sharply between nodes or another "
             f"{words['size']}: the converged elliptic grid on these boundary nodes folds "

@@ -138,10 +138,10 @@ def boundary_nodes(grid: np.ndarray) -> np.ndarray:
     return np.concatenate([grid[0], grid[-1], grid[1:-1, 0], grid[1:-1, -1]])
 
 
-def angle_floor(grid: np.ndarray) -> tuple[float, float]:
-    """The lower bounds that a grid's boundary nodes put on its worst MaxIncludedAngle:
-    (the largest angle at a domain corner between the first boundary edges, the largest
-    half interior angle at another boundary node, where two cells share that angle)."""
+def boundary_angles(grid: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The boundary nodes of a grid as a ring counter-clockwise in (i, j) from node (0, 0),
+    the interior angle (degrees, in [0, 360)) between the boundary edges at each, and which
+    of them are the domain's four corners."""
     g = np.asarray(grid, dtype=float)
     nj, ni = g.shape[:2]
     ring = np.concatenate([g[0, :-1], g[:-1, -1], g[-1, :0:-1], g[:0:-1, 0]])
@@ -154,6 +154,14 @@ def angle_floor(grid: np.ndarray) -> tuple[float, float]:
     )
     corners = np.zeros(len(ring), dtype=bool)
     corners[[0, ni - 1, ni + nj - 2, 2 * ni + nj - 3]] = True
+    return ring, angle, corners
+
+
+def angle_floor(grid: np.ndarray) -> tuple[float, float]:
+    """The lower bounds that a grid's boundary nodes put on its worst MaxIncludedAngle:
+    (the largest angle at a domain corner between the first boundary edges, the largest
+    half interior angle at another boundary node, where two cells share that angle)."""
+    _, angle, corners = boundary_angles(grid)
     return float(angle[corners].max()), float(angle[~corners].max() / 2)
 
 

@@ -35,9 +35,9 @@ from pinn_engine.geometry.boundary_fit import ArcLengthFit
 from pinn_engine.multiblock.quadblock import block_boundary
 from pinn_engine.neural.session import GuardRule, train_network
 from pinn_engine.neural.trainer import Progress
-from pinn_engine.quality import folded_cells, guard_figures, no_worse
+from pinn_engine.quality import guard_figures, no_worse
 from pinn_engine.settings import Settings
-from pinn_engine.starts.untangle import untangle
+from pinn_engine.starts.untangle import untangle, untangled_report
 
 # A block's trained state is kept only if it is no worse than the block's elliptic grid in
 # mean and worst MaxIncludedAngle, and than the grid before it in the interface kinks' mean
@@ -132,10 +132,7 @@ def train_block(
     info, guard = training.info, training.guard
     grid = user(guard.kept_grid) if info["result"] == "network" else start.copy()
     if start is not winslow:
-        info["untangled"] = {
-            "winslow_folded_cells": int(folded_cells(winslow).sum()),
-            "folded_cells": int(folded_cells(start).sum()),
-        }
+        info["untangled"] = untangled_report(winslow, start)
     return BlockTraining(grid, info["result"], time.perf_counter() - began, info)
 
 

@@ -21,7 +21,14 @@ import numpy as np
 
 from pinn_engine.blas import one_blas_thread
 from pinn_engine.classical.warm import WarmStart
-from pinn_engine.quality import folded_cells, guard_figures, largest_area_ratio, orientation
+from pinn_engine.quality import (
+    DBL_MIN,
+    boundary_angles,
+    folded_cells,
+    guard_figures,
+    largest_area_ratio,
+    orientation,
+)
 
 # Rings of nodes around the folded cells that move: the first band, and the widest before
 # the whole grid moves (each failing round doubles the band)
@@ -39,15 +46,18 @@ EPS_FLOOR = 1e-6
 BARRIER_EPS = 1e-9
 # The energy's relative decrease below which a fold-free round ends the rounds
 CONVERGED = 1e-6
-# The area term's share of the energy, and the Jacobi sweeps that fill the areas to hold
-# across the folds (a fold is a few cells across)
-AREA_SHARE = 0.9
+# The area term's share of the energy (the angle term has the rest), and the Jacobi sweeps
+# that fill the areas to hold across the folds (a fold is a few cells across)
+AREA_SHARE = 0.5
 FILL_SWEEPS = 50
 # An untangled grid is kept only with its mean MaxIncludedAngle at most MEAN_TOL degrees
 # above the Winslow grid's and its largest area ratio between neighbouring cells at most
 # AREA_RATIO_TOL times the Winslow grid's: the folds go, the grid stays the Winslow grid
 MEAN_TOL = 1.0
 AREA_RATIO_TOL = 1.5
+# Degrees within which a side node's boundary edges lie on one another (a needle: both its
+# cells would have a flat or zero corner there)
+NEEDLE = 1e-9
 # The least share of chi(J) that the next eps keeps below the smallest corner Jacobian
 # (Garanzha et al.'s sigma floor)
 SIGMA_FLOOR = 0.1
@@ -55,16 +65,15 @@ SIGMA_FLOOR = 0.1
 
 class _Corners:
     """The regularised energy over the cell corners of a grid (nj, ni, 2) with some interior
-    nodes ``free``: Winslow's functional, (1 - ``AREA_SHARE``) of it, plus ``AREA_SHARE``
-    of Garanzha et al.'s area term (J^2 + 1) / chi(J), which holds each cell near its
-    ``area`` in the start (the Winslow functional alone lets cells beside a fold grow or
-    shrink by half again). Each corner's Jacobian J is measured in its cell's ``area``."""
+    nodes ``free``: ``1 - AREA_SHARE`` of the angle term 2 |a| |b| / chi(J) (|a|, |b| the
+    corner's edges: 2 / sin of its angle where J > 0, least at 90 degrees), plus
+    ``AREA_SHARE`` of Garanzha et al.'s area term (J^2 + 1) / chi(J), which holds each cell
+    near its ``area`` in the start. Each corner's Jacobian J is measured in its cell's
+    ``area``."""
 
     def __init__(self, grid: np.ndarray, free: np.ndarray, area: np.ndarray) -> None:
         self.grid = np.array(grid, dtype=float)
         self.free = free
-        nj, ni = grid.shape[:2]
-        self.ratio = (ni - 1) / (nj - 1)  # the computational cell's aspect: d eta / d xi
         self.turn = orientation(grid)
         self.area = area
 
@@ -73,45 +82,39 @@ class _Corners:
         g[self.free] = x.reshape(-1, 2)
         return g
 
-    def _edges(self, g: np.ndarray):
-        """Per corner k: the edges a (to the next corner) and b (to the previous one), their
-        weights in the functional and the Jacobian det(a, b) in cell areas."""
-        p = _corners(g)
-        for k in range(4):
-            a, b = p[(k + 1) % 4] - p[k], p[k - 1] - p[k]
-            # at corners 0 and 2 the edge a runs along xi, at 1 and 3 along eta
-            wa, wb = (self.ratio, 1 / self.ratio) if k % 2 == 0 else (1 / self.ratio, self.ratio)
-            det = self.turn * (a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]) / self.area
-            yield k, a, b, wa, wb, det
+    def _edges(self, g: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """At the four corners k of every cell (axis 0): the edges a (to corner k + 1) and b
+        (to corner k - 1) and the Jacobian det(a, b) in cell areas."""
+        p = np.stack(_corners(g))
+        a, b = np.roll(p, -1, axis=0) - p, np.roll(p, 1, axis=0) - p
+        return a, b, self.turn * (a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]) / self.area
 
     def least(self, x: np.ndarray) -> float:
         """The smallest corner Jacobian (in cell areas)."""
-        return min(float(det.min()) for *_, det in self._edges(self.with_free(x)))
+        return float(self._edges(self.with_free(x))[2].min())
 
     def energy(self, x: np.ndarray, eps: float) -> tuple[float, np.ndarray]:
         """The regularised energy and its gradient in the free nodes' coordinates."""
         g = self.with_free(x)
-        grad = [np.zeros(c.shape) for c in _corners(g)]
-        total = 0.0
-        for k, a, b, wa, wb, det in self._edges(g):
-            root = np.sqrt(eps * eps + det * det)
-            chi = _chi(det, root, eps)
-            shape = (wa * (a * a).sum(-1) + wb * (b * b).sum(-1)) / self.area
-            top = (1 - AREA_SHARE) * shape + AREA_SHARE * (det * det + 1)
-            total += float((top / chi).sum())
-            d_shape = ((1 - AREA_SHARE) * 2 / (chi * self.area))[..., None]
-            d_det = (self.turn * (AREA_SHARE * 2 * det / chi - top / (chi * root)) / self.area)[
-                ..., None
-            ]
-            ga = d_shape * wa * a + d_det * np.stack([b[..., 1], -b[..., 0]], axis=-1)
-            gb = d_shape * wb * b + d_det * np.stack([-a[..., 1], a[..., 0]], axis=-1)
-            grad[(k + 1) % 4] += ga
-            grad[k - 1] += gb
-            grad[k] -= ga + gb
+        a, b, det = self._edges(g)
+        root = np.sqrt(eps * eps + det * det)
+        chi = _chi(det, root, eps)
+        la = np.maximum(np.hypot(a[..., 0], a[..., 1]), DBL_MIN)
+        lb = np.maximum(np.hypot(b[..., 0], b[..., 1]), DBL_MIN)
+        top = (1 - AREA_SHARE) * 2 * la * lb / self.area + AREA_SHARE * (det * det + 1)
+        d_shape = (1 - AREA_SHARE) * 2 / (chi * self.area)
+        d_det = (self.turn * (AREA_SHARE * 2 * det / chi - top / (chi * root)) / self.area)[
+            ..., None
+        ]
+        ga = (d_shape * lb / la)[..., None] * a + d_det * np.stack([b[..., 1], -b[..., 0]], -1)
+        gb = (d_shape * la / lb)[..., None] * b + d_det * np.stack([-a[..., 1], a[..., 0]], -1)
+        # a runs to corner k + 1, b to corner k - 1: each corner gets its own and its
+        # neighbours' parts
+        per_corner = np.roll(ga, 1, axis=0) + np.roll(gb, -1, axis=0) - ga - gb
         full = np.zeros_like(g)
-        for target, part in zip(_corners(full), grad):
+        for target, part in zip(_corners(full), per_corner):
             target += part
-        return total, full[self.free].ravel()
+        return float((top / chi).sum()), full[self.free].ravel()
 
 
 def _corners(g: np.ndarray) -> list[np.ndarray]:
@@ -203,9 +206,10 @@ def _band(folded: np.ndarray, rings: int) -> np.ndarray:
 def untangle(grid: np.ndarray) -> np.ndarray:
     """``grid`` (nj, ni, 2) with its folded cells undone, its boundary nodes fixed: the nodes
     within ``FIRST_RINGS`` rings of the folds move first, in twice as many rings while folds
-    remain (``ROUNDS`` times), then every interior node. Of the grids met, the one with the
-    fewest folded cells that keeps :func:`acceptable` against ``grid``; ``grid`` itself if
-    none folds fewer."""
+    remain or the grid is not :func:`acceptable` against ``grid`` (``ROUNDS`` times), then
+    every interior node. Of the grids met, the one with the fewest folded cells, of those
+    one that is acceptable if any (a fold-free grid outside the bounds is still one that a
+    solver takes); ``grid`` itself if none folds fewer."""
     folds = int(folded_cells(grid).sum())
     if not folds or min(grid.shape[:2]) < 3:
         return grid
@@ -224,33 +228,71 @@ def acceptable(grid: np.ndarray, winslow: np.ndarray) -> bool:
 
 
 def _untangled(grid: np.ndarray, folds: int) -> np.ndarray:
+    """:func:`untangle`'s rounds: each moves the band around the folds of the best acceptable
+    grid so far; ``fewest`` is the grid with the fewest folds met, acceptable or not."""
     best, rings = grid, FIRST_RINGS
+    fewest, fewest_folds = grid, folds
     for attempt in range(ROUNDS + 1):
         folded = folded_cells(best)
         free = _band(folded, rings) if attempt < ROUNDS else _band(folded, max(grid.shape))
         moved = _move(best, free)
-        if np.isfinite(moved).all() and acceptable(moved, grid):
+        if np.isfinite(moved).all():
             moved_folds = int(folded_cells(moved).sum())
-            if moved_folds < folds:
+            if moved_folds < folds and acceptable(moved, grid):
                 best, folds = moved, moved_folds
+            if moved_folds < fewest_folds:
+                fewest, fewest_folds = moved, moved_folds
         if not folds:
             break
         rings *= 2
-    return best
+    return best if folds <= fewest_folds else fewest
 
 
 def untangled_start(warm: WarmStart, winslow: np.ndarray) -> tuple[WarmStart, np.ndarray] | None:
-    """The start ``warm`` from the ``winslow`` grid moved to :func:`untangle`'s grid, and that
-    grid; None where the Winslow grid does not fold or untangling does not help."""
+    """The start ``warm`` from the folded ``winslow`` grid moved to :func:`untangle`'s grid,
+    and that grid (``warm`` and ``winslow`` themselves where untangling does not help); None
+    where the Winslow grid does not fold."""
     grid = untangle(winslow)
     if grid is winslow:
-        return None
+        return (warm, winslow) if folded_cells(winslow).any() else None
     return WarmStart(warm.correction + (grid - winslow), start="untangled"), grid
 
 
-def untangled_report(winslow: np.ndarray, grid: np.ndarray) -> dict[str, int]:
-    """The report's ``untangled``: folded cells of the Winslow grid and of its untangling."""
-    return {
+def untangled_report(winslow: np.ndarray, grid: np.ndarray) -> dict:
+    """The report's ``untangled``: folded cells of the Winslow grid and of its untangling,
+    whether that keeps :func:`acceptable` and, where it still folds and the boundary nodes
+    force a fold, why (:func:`fold_forced`)."""
+    report = {
         "winslow_folded_cells": int(folded_cells(winslow).sum()),
         "folded_cells": int(folded_cells(grid).sum()),
+        "within_bounds": bool(acceptable(grid, winslow)),
     }
+    forced = fold_forced(winslow) if report["folded_cells"] else None
+    if forced:
+        report["forced"] = forced
+    return report
+
+
+def fold_forced(grid: np.ndarray) -> str | None:
+    """Why every grid on the boundary nodes of ``grid`` folds a cell, or None where they do
+    not force one: a domain corner whose boundary edges make 180 degrees or more (its one
+    cell has that angle), or a side node whose two edges lie on one another (its two cells
+    share an angle of 0 or 360 degrees, so one has a corner of 0 or 180)."""
+    nj, ni = grid.shape[:2]
+    _, angle, corners = boundary_angles(grid)
+    ij = [(i, 0) for i in range(ni - 1)] + [(ni - 1, j) for j in range(nj - 1)]
+    ij += [(i, nj - 1) for i in range(ni - 1, 0, -1)] + [(0, j) for j in range(nj - 1, 0, -1)]
+    reflex = np.flatnonzero(corners & (angle >= 180.0))
+    if reflex.size:
+        k = int(reflex[np.argmax(angle[reflex])])
+        return (
+            f"the boundary edges at the domain corner (i, j) = {ij[k]} make {angle[k]:.1f} "
+            f"degrees, and its one cell cannot have a corner of 180 or more"
+        )
+    needle = np.flatnonzero(~corners & ((angle < NEEDLE) | (angle > 360.0 - NEEDLE)))
+    if needle.size:
+        return (
+            f"the boundary edges at the node (i, j) = {ij[int(needle[0])]} lie on one "
+            f"another, so one of its two cells has a flat corner there"
+        )
+    return None

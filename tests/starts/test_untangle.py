@@ -11,6 +11,7 @@ from pinn_engine.blocks.multiblock import train_block
 from pinn_engine.blocks.untrained import WINSLOW, start_block
 from pinn_engine.classical.elliptic import winslow_solve
 from pinn_engine.classical.tfi import tfi_grid
+from pinn_engine.errors import folded_cells_warning
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
 from pinn_engine.io.pipeline import load_boundary
 from pinn_engine.mesher import Mesher
@@ -53,16 +54,52 @@ def test_the_default_is_fold_free_where_the_winslow_grid_folds(step, winslow):
     assert training["untangled"] == {
         "winslow_folded_cells": int(folded_cells(winslow).sum()),
         "folded_cells": 0,
+        "within_bounds": True,
     }
 
 
-def test_untangling_never_folds_more_nor_strays(winslow, monkeypatch):
+def test_untangling_never_folds_more(winslow, monkeypatch):
     """A grid that does not fold comes back as it is; where no untangled grid keeps close
-    enough to the Winslow grid, the Winslow grid comes back, never one with more folds."""
+    enough to the Winslow grid, the one with the fewest folds comes back (a solver takes a
+    fold-free grid outside the bounds, not a folded one), and the report says it is outside
+    them; where every grid met folds more, the Winslow grid itself."""
     plain = np.stack(np.meshgrid(np.linspace(0, 2, 9), np.linspace(0, 1, 5)), axis=-1)
     assert untangle.untangle(plain) is plain
     monkeypatch.setattr(untangle, "MEAN_TOL", -90.0)  # nothing is close enough
+    outside = untangle.untangle(winslow)
+    assert folded_cells(outside).sum() == 0
+    assert untangle.untangled_report(winslow, outside)["within_bounds"] is False
+    monkeypatch.setattr(untangle, "_move", lambda grid, free: grid[:, ::-1])  # all folded
     assert untangle.untangle(winslow) is winslow
+
+
+def test_coarse_narrow_slots_are_untangled_within_the_bounds():
+    """The hard set's staggered slots at 21 x 11: the boundary nodes cut across the slots,
+    and the angle term finds a fold-free grid within the bounds (the Winslow functional's
+    weighted edge lengths gave none)."""
+    boundary = load_boundary(EXAMPLES / "hard" / "two_slots.vtp")
+    slots = winslow_solve(tfi_grid(ArcLengthFit(boundary).sample, 21, 11))[0]
+    assert folded_cells(slots).sum() > 0 and untangle.fold_forced(slots) is None
+    grid = untangle.untangle(slots)
+    assert folded_cells(grid).sum() == 0 and _close(grid, slots)
+
+
+def test_a_fold_that_the_boundary_nodes_force_is_said():
+    """A domain corner whose boundary edges make more than 180 degrees folds its one cell
+    in every grid on those nodes: ``fold_forced`` says so, the report carries it and the
+    folded-cells warning gives it in one line."""
+    grid = np.stack(np.meshgrid(np.linspace(0, 2, 9), np.linspace(0, 1, 5)), axis=-1)
+    grid[0, 0] = (0.5, 0.5)  # inside: the corner's edges open to 270 degrees
+    reason = untangle.fold_forced(grid)
+    assert reason and "(i, j) = (0, 0)" in reason
+    report = untangle.untangled_report(grid, grid)
+    assert report["forced"] == reason
+    warning = folded_cells_warning(
+        {"quality": {"folded_cells": 1}, "size": [9, 5], "training": {"untangled": report}},
+        "cli",
+    )
+    assert "no grid on these boundary nodes is fold-free" in warning and "\n" not in warning
+    assert untangle.fold_forced(np.stack(np.meshgrid(np.arange(4.0), np.arange(3.0)), -1)) is None
 
 
 def test_a_folded_block_of_a_multiblock_grid_is_untangled(winslow):

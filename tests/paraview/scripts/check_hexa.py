@@ -74,7 +74,7 @@ result["progress_texts"] = sorted(texts)
 
 mesh.Method = "elliptic"
 result["elliptic"] = grid_of(servermanager.Fetch(mesh))
-mesh.Method = "pinn"  # the network trained inside ParaView's Python
+mesh.Method = "pinn"  # the default: the start kept untrained (no spacing or orthogonal patch)
 result["pinn"] = grid_of(servermanager.Fetch(mesh))
 
 # the command line's --patch and --spacing from the panel
