@@ -1,18 +1,18 @@
 """A fold-free grid on the same boundary nodes where the Winslow grid folds.
 
-The converged elliptic grid solves the Winslow equations, the Euler-Lagrange equations of
-Winslow's functional, the integral of (|x_xi|^2 + |x_eta|^2) / J. Where a boundary turns
-sharply into the domain (a deep notch, a forward step, a spike) the discrete solution folds
-cells. :func:`untangle` minimises the discrete functional itself, summed over the four
-corners of every cell, with the corner's Jacobian J replaced by the regularised
-chi(J, eps) = (J + sqrt(eps^2 + J^2)) / 2 (Garanzha, Kaporin, Kudryavtseva, Protais, Ray,
-Sokolov: "Foldover-free maps in 50 lines of code", 2021). chi is positive for any J, so a
-folded grid has a finite energy to start from; eps shrinks after each round of L-BFGS as
-the smallest Jacobian allows, and as eps goes to zero the energy becomes Winslow's
-functional with a barrier at J = 0: once every corner is positive none turns negative
-again. An area term holds each cell near the Winslow grid's size there. Only the nodes
-near the folded cells move (a band of rings around them, widened while folds remain), so
-the rest of the grid stays the Winslow grid.
+Where a boundary turns sharply into the domain (a deep notch, a forward step, a spike) the
+converged elliptic (Winslow) grid folds cells. :func:`untangle` moves the interior nodes near
+the folds to minimise an energy summed over the four corners of every cell, with the
+corner's Jacobian J replaced by the regularised chi(J, eps) = (J + sqrt(eps^2 + J^2)) / 2
+(Garanzha, Kaporin, Kudryavtseva, Protais, Ray, Sokolov: "Foldover-free maps in 50 lines of
+code", 2021): an angle term 2 |a| |b| / chi(J) (2 / sin of the corner's angle once J > 0)
+and an area term (J^2 + 1) / chi(J) that holds each cell near the Winslow grid's size there.
+chi is positive for any J, so a folded grid has a finite energy to start from; eps shrinks
+after each round of L-BFGS as the smallest Jacobian allows, and as eps goes to zero the
+energy gets a barrier at J = 0: once every corner is positive none turns negative again.
+Only the nodes near the folded cells move (a band of rings around them, widened while folds
+remain), so the rest of the grid stays the Winslow grid. :func:`fold_forced` says where the
+boundary nodes themselves leave no fold-free grid.
 """
 
 from __future__ import annotations
