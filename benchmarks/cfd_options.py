@@ -100,6 +100,21 @@ def domains() -> dict[str, dict]:
         + ["2.5,0=outlet:outflow"],
         cells=["0.3,0.6=30"],
     )
+    # a circle off-centre in a square, two O-rings (the outer one's corners joined to the
+    # square's): 8 blocks
+    lo, hi = (-1.0, -1.0), (1.0, 1.0)
+    out["oring8"] = dict(
+        rings=[channel(lo, hi), ellipse(0.1, 0.05, 0.25, 0.25)],
+        edges=ring_box((-0.35, -0.3), (0.55, 0.4), (0.1, 0.05), (0.25, 0.25), lo, hi, True),
+        wall="hole1",
+        patches=["hole1=cyl:wall", "boundary=far:farfield"],
+        wall_h=0.003,
+        cells=["0,1=40"],
+        graded=(0.55, 0.05),
+        edge=(1.0, 0.0),
+        graded_h=0.01,
+        cell_size=0.04,
+    )
     # a square hole off-centre, its sides carried on to the walls: 8 blocks
     lo, hi = (0.0, 0.0), (3.0, 1.0)
     square = np.array([(0.5, 0.2), (0.5, 0.55), (0.9, 0.55), (0.9, 0.2)])[::-1]
