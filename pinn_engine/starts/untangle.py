@@ -183,8 +183,9 @@ def _minimise(corners: _Corners) -> np.ndarray:
 
 
 def _move(grid: np.ndarray, free: np.ndarray) -> np.ndarray:
-    """``grid`` with the ``free`` nodes moved by :func:`_minimise`, on the smallest box of
-    cells around them (the energy of the cells outside it does not change)."""
+    """``grid`` with the ``free`` nodes moved by :func:`_minimise`: the areas to hold are
+    filled on the smallest box of cells around them, the energy counts the cells with a free
+    corner (the others' does not change)."""
     rows, cols = np.nonzero(free)
     j0, j1 = rows.min() - 1, rows.max() + 2
     i0, i1 = cols.min() - 1, cols.max() + 2
