@@ -3,7 +3,7 @@
 Usage: ``.venv/bin/python benchmarks/fold_sweep.py [--set tuning|heldout] [--sizes 21x11 ...]
 [--per-family 4] [--families NAME ...] [--cases]``
 
-Issue 32's hidden shapes are of five families where the Winslow grid folds: deep rectangular
+The shapes are of five families where the Winslow grid folds: deep rectangular
 notches, sharp forward steps, narrow slots, inward spikes and stairs. This draws shapes of
 those families from a fixed seed per set, with their own depths, widths, tip angles, numbers
 of teeth and domain aspects (``tuning``: the set the untangling may be tuned on; ``heldout``:
