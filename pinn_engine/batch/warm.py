@@ -29,7 +29,14 @@ ENGINE = (
     "pinn_engine.io.pipeline",
     "pinn_engine.io.export",
     "pinn_engine.bodymesh",
+    "pinn_engine.blocks.untrained",  # the decision and the start a case keeps untrained
+    "pinn_engine.mesher",
+    "pinn_engine.heap",
     "scipy.sparse.linalg",  # the elliptic solves' sparse LU, which their modules import late
+    # VTK's polydata readers and stripper, which io.fileio imports where a file is read
+    "vtkmodules.vtkIOGeometry",
+    "vtkmodules.vtkIOLegacy",
+    "vtkmodules.vtkFiltersCore",
 )
 DASK = ("distributed",)  # a Dask worker's own modules (0.5 s of CPU), for a Dask cluster
 DASK_EXTRA = ("batch meshing (Dask)", "batch")  # what needs Dask, and the extra it comes with
