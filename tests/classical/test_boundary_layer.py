@@ -81,6 +81,7 @@ def test_tfi_first_edges_on_a_curved_floor(bump):
     assert result.report["sides"]["top"]["first_edge_median"] > 10 * H
 
 
+@pytest.mark.slow  # a fine elliptic solve with spacing (about 2.5 s)
 def test_elliptic_first_edges_and_orthogonality_on_a_curved_floor(bump):
     result = (
         Mesher(make_settings("elliptic", spacing={"bottom": H}, orthogonal="bottom"))

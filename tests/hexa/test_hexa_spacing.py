@@ -57,7 +57,10 @@ def _angle_deviation(g: np.ndarray, patch: str) -> float:
     return worst
 
 
-@pytest.mark.parametrize("method", ["tfi", "elliptic", "pinn"])
+TRAINED = pytest.param("pinn", marks=pytest.mark.slow)  # the network trains: 2 to 3 s
+
+
+@pytest.mark.parametrize("method", ["tfi", "elliptic", TRAINED])
 def test_spacing_sets_the_first_edges_on_the_bump_floor(method):
     h = 0.005
     r = mesh_surface(BUMP, make_settings(method, size=SIZE, spacing={"kmin": h}))
@@ -75,7 +78,7 @@ def test_spacing_sets_the_first_edges_on_the_bump_floor(method):
         assert angles.mean() <= ref.mean() + 0.5 and angles.max() <= ref.max() + 2.0
 
 
-@pytest.mark.parametrize("method", ["elliptic", "pinn"])
+@pytest.mark.parametrize("method", ["elliptic", TRAINED])
 def test_orthogonal_floor_leaves_the_bump_along_its_normal(method):
     r = mesh_surface(
         BUMP, make_settings(method, size=SIZE, spacing={"kmin": 0.005}, orthogonal=("kmin",))

@@ -347,6 +347,7 @@ def test_inputs_connected_together_are_told_apart():
     assert "2 of the 2 connected inputs hold a closed curve" in two.GetLastError()
 
 
+@pytest.mark.slow  # trains until the signal comes (about 3 s)
 def test_sigusr1_stops_a_training_with_its_best_grid_and_the_handler_is_restored():
     """ParaView 5.11 runs no GUI event during a filter: ``pkill -USR1 -x paraview`` stops it,
     and the grid of the training so far comes with a warning (not an empty output)."""
@@ -369,6 +370,7 @@ def test_sigusr1_stops_a_training_with_its_best_grid_and_the_handler_is_restored
     assert signal.getsignal(signal.SIGUSR1) == before
 
 
+@pytest.mark.slow  # trains until the limit (about 3 s)
 def test_time_limit_gives_the_best_grid_so_far_with_a_warning_and_is_not_cached():
     alg = make_alg(adam_epochs=200_000, lbfgs_iterations=0, warm_start="none", time_limit=1.5)
     with OutputMessages(alg, "WarningEvent") as warnings:
