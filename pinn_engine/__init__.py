@@ -6,8 +6,6 @@ pyvista); grids come from ``PolyData.pinn_mesh(...)``. ``__version__`` is read o
 too (the installed package's metadata: about 80 ms of a run's start that most runs never use).
 """
 
-from importlib import import_module
-
 from pinn_engine.errors import (
     CrossingCutWarning,
     FoldedCellsWarning,
@@ -16,10 +14,14 @@ from pinn_engine.errors import (
     TrainingStoppedWarning,
     WallAngleWarning,
 )
+from pinn_engine.lazy import lazy_names
 
-# the public functions of the pyvista route, by their name there
-_PYVISTA = {"report": "report", "save": "save_mesh"}
-_ROUTE = "pinn_engine.routes.pyvista_accessor"
+# the version, and the public functions of the pyvista route by their name there
+_LAZY = {
+    "__version__": "pinn_engine._version",
+    "report": "pinn_engine.routes.pyvista_accessor:report",
+    "save": "pinn_engine.routes.pyvista_accessor:save_mesh",
+}
 
 __all__ = [
     "CrossingCutWarning",
@@ -29,17 +31,7 @@ __all__ = [
     "TrainingStoppedWarning",
     "WallAngleWarning",
     "__version__",
-    *_PYVISTA,
+    "report",
+    "save",
 ]
-
-
-def __getattr__(name: str):
-    if name == "__version__":
-        return import_module("pinn_engine._version").__version__
-    if name in _PYVISTA:
-        return getattr(import_module(_ROUTE), _PYVISTA[name])
-    raise AttributeError(f"module 'pinn_engine' has no attribute {name!r}")
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *_PYVISTA, "__version__"})
+__getattr__, __dir__ = lazy_names(__name__, _LAZY)

@@ -6,24 +6,15 @@ single-run command's code path, with a ``summary.csv`` of one row a case.
 command starts its local workers' server (:mod:`.warm`) before it imports the engine.
 """
 
-from importlib import import_module
+from pinn_engine.lazy import lazy_names
 
 # each public name and the module that defines it
 _PUBLIC = {
-    "Case": "manifest",
-    "ManifestError": "manifest",
-    "mesh_many": "api",
-    "read_manifest": "manifest",
+    "Case": ".manifest",
+    "ManifestError": ".manifest",
+    "mesh_many": ".api",
+    "read_manifest": ".manifest",
 }
 
 __all__ = sorted(_PUBLIC)
-
-
-def __getattr__(name: str):
-    if name in _PUBLIC:
-        return getattr(import_module(f"{__name__}.{_PUBLIC[name]}"), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *_PUBLIC})
+__getattr__, __dir__ = lazy_names(__name__, _PUBLIC)

@@ -253,6 +253,7 @@ def test_imports_follow_the_architecture_picture():
 ROUTE_IMPORTS = (
     "pinn_engine.job", "pinn_engine.settings", "pinn_engine.result", "pinn_engine.cache",
     "pinn_engine.errors", "pinn_engine.io", "pinn_engine.patchnames", "pinn_engine.heap",
+    "pinn_engine.lazy",
     "pinn_engine._version", "pinn_engine.__version__", "pinn_engine.geometry.plane",
     "pinn_engine.bodies.airfoil", "pinn_engine.routes", "pinn_engine.batch",
 )  # fmt: skip

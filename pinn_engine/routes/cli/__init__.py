@@ -7,26 +7,17 @@ them) and ``entry`` (``main``: the exit status). The names below are imported on
 so that ``pinn-mesh batch`` parses its manifest's options without importing the engine.
 """
 
-from importlib import import_module
+from pinn_engine.lazy import lazy_names
 
 # each public name and the module that defines it
 _PUBLIC = {
-    "EXIT_ERROR": "parser",
-    "EXIT_INTERRUPTED": "parser",
-    "OneLineParser": "parser",
-    "build_parser": "parser",
-    "main": "entry",
-    "run": "dispatch",
+    "EXIT_ERROR": ".parser",
+    "EXIT_INTERRUPTED": ".parser",
+    "OneLineParser": ".parser",
+    "build_parser": ".parser",
+    "main": ".entry",
+    "run": ".dispatch",
 }
 
 __all__ = sorted(_PUBLIC)
-
-
-def __getattr__(name: str):
-    if name in _PUBLIC:
-        return getattr(import_module(f"{__name__}.{_PUBLIC[name]}"), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *_PUBLIC})
+__getattr__, __dir__ = lazy_names(__name__, _PUBLIC)
