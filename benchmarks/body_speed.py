@@ -33,7 +33,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from peers import PINN_MESH, airfoil_jobs  # noqa: E402
+from peers import PINN_MESH, airfoil_jobs, write_between  # noqa: E402
 
 STAGES = ("read", "layout", "elliptic", "training", "quality", "write")
 MARK = "<!-- BODY-STAGES {} -->"  # the markers round the table in --out
@@ -119,10 +119,7 @@ def main() -> None:
     text = table(rows, opts.runs, (before, os.getloadavg()[0]))
     print(text)
     if opts.out:
-        page = opts.out.read_text()
-        begin, end = MARK.format("begin"), MARK.format("end")
-        head, rest = page.split(begin, 1)
-        opts.out.write_text(f"{head}{begin}\n{text}\n{end}{rest.split(end, 1)[1]}")
+        write_between(opts.out, MARK, text)
 
 
 if __name__ == "__main__":

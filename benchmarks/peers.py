@@ -244,6 +244,13 @@ def jobs(work: Path) -> list[tuple[str, Timers, Timers]]:
     return out
 
 
+def write_between(page: Path, mark: str, text: str) -> None:
+    """Replace what lies between ``mark``'s begin and end markers in ``page`` by ``text``."""
+    begin, end = mark.format("begin"), mark.format("end")
+    head, rest = page.read_text().split(begin, 1)
+    page.write_text(f"{head}{begin}\n{text}\n{end}{rest.split(end, 1)[1]}")
+
+
 def table(rows: list[tuple[str, str, dict[str, float]]], runs: int, load: tuple) -> str:
     """The Markdown table: a row a job and peer, the medians and the ratios."""
     lines = [
@@ -283,10 +290,7 @@ def main() -> None:
     text = table(rows, opts.runs, (before, os.getloadavg()[0]))
     print(text)
     if opts.out:
-        page = opts.out.read_text()
-        begin, end = MARK.format("begin"), MARK.format("end")
-        head, rest = page.split(begin, 1)
-        opts.out.write_text(f"{head}{begin}\n{text}\n{end}{rest.split(end, 1)[1]}")
+        write_between(opts.out, MARK, text)
 
 
 if __name__ == "__main__":

@@ -209,18 +209,7 @@ def _layers() -> list[set[str]]:
 def _imports(path: Path) -> list[tuple[int, str]]:
     """(line, unit) of every import of the package's own units in ``path``, at module level
     or inside functions alike (a lazy import is still an arrow of the picture)."""
-    out = []
-    for node in ast.walk(ast.parse(path.read_text())):
-        if isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
-            names = [f"{node.module}.{a.name}" for a in node.names]
-            if node.module != "pinn_engine":
-                names = [node.module]
-        elif isinstance(node, ast.Import):
-            names = [a.name for a in node.names]
-        else:
-            continue
-        out += [(node.lineno, n.split(".")[1]) for n in names if n.startswith("pinn_engine.")]
-    return out
+    return [(line, name.split(".")[1]) for line, name in _modules(path) if "." in name]
 
 
 def test_imports_follow_the_architecture_picture():
