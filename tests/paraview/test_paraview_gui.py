@@ -31,12 +31,11 @@ if missing or not (Path(os.environ.get("PINN_PV_VENV", ROOT / ".venv-pv")) / "bi
     )
 
 
-@pytest.fixture(scope="module")
-def gui(tmp_path_factory) -> Path:
-    out = tmp_path_factory.mktemp("gui")
+def _drive(script: str, out: Path) -> Path:
+    """Run ``tests/paraview/gui/SCRIPT`` (a GUI driven under Xvfb) writing into ``out``."""
     env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "PYTHONPATH")}
     proc = subprocess.run(
-        ["bash", str(ROOT / "tests" / "paraview" / "gui" / "drive.sh"), str(out)],
+        ["bash", str(ROOT / "tests" / "paraview" / "gui" / script), str(out)],
         env=env,
         capture_output=True,
         text=True,
@@ -44,6 +43,11 @@ def gui(tmp_path_factory) -> Path:
     )
     assert proc.returncode == 0, proc.stderr[-3000:]
     return out
+
+
+@pytest.fixture(scope="module")
+def gui(tmp_path_factory) -> Path:
+    return _drive("drive.sh", tmp_path_factory.mktemp("gui"))
 
 
 def test_both_sources_selected_give_a_grid_with_aux_lines(gui):
@@ -90,17 +94,7 @@ def test_a_grid_after_a_failed_apply_is_shown_with_edges_coloured_by_max_angle(g
 def tour(tmp_path_factory) -> Path:
     """tests/paraview/gui/tour.sh: the hexahedral filter on the bend's STL and on a curve,
     Time Limit, File > Save Data as CGNS and OpenFOAM, the panel's "?" and the help's search."""
-    out = tmp_path_factory.mktemp("tour")
-    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "PYTHONPATH")}
-    proc = subprocess.run(
-        ["bash", str(ROOT / "tests" / "paraview" / "gui" / "tour.sh"), str(out)],
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=420,
-    )
-    assert proc.returncode == 0, proc.stderr[-3000:]
-    return out
+    return _drive("tour.sh", tmp_path_factory.mktemp("tour"))
 
 
 def test_an_stl_meshed_in_the_gui_comes_up_coloured_with_its_input_hidden(tour):
