@@ -21,9 +21,7 @@ from shapely.geometry import LineString, Point
 from pinn_engine.classical.spacing import exact_stretch
 from pinn_engine.errors import InputError
 from pinn_engine.multiblock.blocks import Topology
-from pinn_engine.multiblock.layout import side_lines
 from pinn_engine.multiblock.patches import FAR, TIE, point_of
-from pinn_engine.settings import SIDE_NAMES
 
 MIN_SIDE_CELLS = 2  # SPEC 10: a chain has at least 2 cells
 # Neighbouring cells along a graded chain differ by at most this factor (SPEC 10: 1.25), and
@@ -114,7 +112,10 @@ def graded_sides(topo: Topology, piece: int) -> dict[tuple[int, int], int]:
     """The (block, side) pairs whose grid lines start at the side with the first edge H of a
     grading at ``piece``, each with the side of the piece it lies on (+1 or -1): each block
     holding the piece, from its side holding it, then through every side along the grading
-    that a neighbour shares whole, the neighbour from its side at the same end."""
+    that a neighbour shares whole, the neighbour from its side at the same end; and where a
+    graded side is an interface that the block across has whole as a side and that block's
+    sides along the grading lie on the boundary, that block from that side too (a grading
+    carried to an interface grades the block across as well, where that grades no other)."""
     pieces_of = {}
     for b, block in enumerate(topo.blocks):
         for s, side in enumerate(block.sides):
@@ -122,11 +123,19 @@ def graded_sides(topo: Topology, piece: int) -> dict[tuple[int, int], int]:
     whole: dict[tuple, list[tuple[int, int]]] = {}
     for key, pieces in pieces_of.items():
         whole.setdefault(tuple(pieces), []).append(key)
+
+    def on_boundary(b: int, s: int) -> bool:
+        return not any(topo.pieces[p].interface for p in pieces_of[(b, s)])
+
     start = [(b, s) for (b, s), pieces in pieces_of.items() if piece in pieces]
     seen = {key: 1 - 2 * k for k, key in enumerate(start)}
     todo = list(start)
     while todo:
         b, s = todo.pop()
+        for b2, t in whole[tuple(pieces_of[(b, s)])]:
+            alone = on_boundary(b2, (t + 1) % 4) and on_boundary(b2, (t - 1) % 4)
+            if (b2, t) not in seen and alone:
+                seen[(b2, t)] = -seen[(b, s)]
         corners = topo.blocks[b].corners
         # the sides along the grading: s + 1 leaves corner s + 1, s - 1 ends at corner s
         for along, end in (((s + 1) % 4, (s + 1) % 4), ((s - 1) % 4, s)):
@@ -213,31 +222,3 @@ def graded_params(
         first, last = (ends.get((k, e), length / n) / length for e in (0, 1))
         out[k] = exact_stretch(n + 1, first, last)[0]
     return out
-
-
-@dataclass(frozen=True)
-class Targets:
-    """Where a grading puts the nodes of the grid lines across its side: ``distance`` per
-    node (the signed arc length from the side, + on one side of it, - on the other; NaN off
-    the graded blocks) and ``steps`` (m, 2), the pairs of neighbouring nodes along those
-    lines."""
-
-    distance: np.ndarray
-    steps: np.ndarray
-
-
-def grading_targets(
-    ids: list[np.ndarray], points: np.ndarray, graded: dict[tuple[int, int], int], h: float
-) -> Targets:
-    """The targets of a grading (each line's stretching: first edge ``h``, the uniform one
-    at its far end, on the layout's ``points``), which the elliptic solve's control
-    functions keep (``elliptic.controls``)."""
-    distance = np.full(len(points), np.nan)
-    steps = []
-    for (b, s), sign in graded.items():
-        for line in side_lines(ids[b], SIDE_NAMES[s]):
-            length = float(np.linalg.norm(np.diff(points[line], axis=0), axis=1).sum())
-            n = len(line) - 1
-            distance[line] = sign * length * exact_stretch(n + 1, h / length, 1.0 / n)[0]
-            steps.append(np.column_stack([line[:-1], line[1:]]))
-    return Targets(distance, np.concatenate(steps))

@@ -12,7 +12,6 @@ on the boundary slides along it (``sliding.py``).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -21,7 +20,6 @@ from scipy.sparse.linalg import splu
 
 from pinn_engine.classical.elliptic import winslow_coefficients
 from pinn_engine.multiblock.blocks import Topology
-from pinn_engine.multiblock.chains import Targets
 from pinn_engine.multiblock.junctions import Star, junction_stencils, star_row
 from pinn_engine.multiblock.layout import Layout
 from pinn_engine.multiblock.sliding import slide, sliders
@@ -130,26 +128,6 @@ def stencils(topo: Topology, lay: Layout, free_interfaces: bool) -> tuple[np.nda
     return out, stars
 
 
-def controls(st: np.ndarray, targets: Sequence[Targets], nodes: int) -> np.ndarray:
-    """(n, 2) control functions P, Q of the stencils ``st`` that keep the gradings'
-    ``targets`` (``chains.grading_targets``): a 1D map x = s(xi) solves x_xixi + P x_xi = 0
-    for P = -s''/s' (Thompson, Thames and Mastin's control functions), taken along each
-    stencil direction whose two steps from the centre are steps of a graded line."""
-    out = np.zeros((len(st), 2))
-    for target in targets:
-        a, b = target.steps.T
-        step = sp.csr_matrix((np.ones(len(a)), (a, b)), shape=(nodes, nodes))
-        step = step + step.T
-        s = target.distance
-        for k, line in enumerate((st[:, 1, :], st[:, :, 1])):
-            along = (np.asarray(step[line[:, 0], line[:, 1]]).ravel() > 0) & (
-                np.asarray(step[line[:, 1], line[:, 2]]).ravel() > 0
-            )
-            s0, s1, s2 = (s[line[along, m]] for m in range(3))
-            out[along, k] -= (s2 - 2 * s1 + s0) / (0.5 * (s2 - s0))
-    return out
-
-
 class Operator:
     """The frozen-coefficient Winslow operator over the stencils ``st`` and ``stars``: its
     sparsity pattern, assembled once, and its weights at the nodes of each Picard step.
@@ -174,20 +152,18 @@ class Operator:
         self.rows_ptr = np.searchsorted(rows, np.arange(n + 1)).astype(np.int32)
         self.ids, self.n, self.nodes = ids.astype(np.int32), n, len(column)
 
-    def weights(self, points: np.ndarray, pq: np.ndarray) -> np.ndarray:
-        """Every entry's weight with alpha, beta, gamma frozen at ``points`` and the control
-        functions ``pq`` (:func:`controls`): the 3 x 3 stencils' (Winslow's nine-point
-        weights), then the stars' (:func:`junctions.star_row`)."""
+    def weights(self, points: np.ndarray) -> np.ndarray:
+        """Every entry's weight with alpha, beta, gamma frozen at ``points``: the 3 x 3
+        stencils' (Winslow's nine-point weights), then the stars'
+        (:func:`junctions.star_row`)."""
         st = self.st
         x_xi = 0.5 * (points[st[:, 1, 2]] - points[st[:, 1, 0]])
         x_eta = 0.5 * (points[st[:, 2, 1]] - points[st[:, 0, 1]])
         a, b, c = winslow_coefficients(x_xi, x_eta)
         w = np.empty(self.st.shape)
         w[:, 1, 1] = -2 * (a + c)
-        w[:, 1, 2] = a * (1 + 0.5 * pq[:, 0])  # alpha (x_xixi + P x_xi)
-        w[:, 1, 0] = a * (1 - 0.5 * pq[:, 0])
-        w[:, 2, 1] = c * (1 + 0.5 * pq[:, 1])  # gamma (x_etaeta + Q x_eta)
-        w[:, 0, 1] = c * (1 - 0.5 * pq[:, 1])
+        w[:, 1, 2] = w[:, 1, 0] = a
+        w[:, 2, 1] = w[:, 0, 1] = c
         w[:, 0, 0] = w[:, 2, 2] = -0.5 * b
         w[:, 0, 2] = w[:, 2, 0] = 0.5 * b
         return np.concatenate([w.reshape(-1), *(star_row(points, s)[1] for s in self.stars)])
@@ -241,14 +217,11 @@ def winslow(
     lay: Layout,
     free_interfaces: bool = True,
     max_iterations: int = MAX_ITERATIONS,
-    targets: Sequence[Targets] = (),
 ) -> tuple[np.ndarray, int]:
     """Node positions of the converged multi-block Winslow grid from ``lay``'s (TFI) start
-    (or after ``max_iterations`` Picard steps), and the Picard steps taken; ``targets``:
-    the gradings' node distances, kept by control functions (:func:`controls`)."""
+    (or after ``max_iterations`` Picard steps), and the Picard steps taken."""
     points = lay.points.copy()
     st, stars = stencils(topo, lay, free_interfaces)
-    pq = controls(st, targets, len(points))
     solved = np.concatenate([st[:, 1, 1], [star.node for star in stars]]).astype(int)
     column = np.full(len(points), -1)
     column[solved] = np.arange(len(solved))
@@ -259,7 +232,7 @@ def winslow(
     solver = InexactLU(op, solved)
     for step in range(1, max_iterations + 1):
         before = points.copy()
-        points[solved] += solver.update(op.weights(points, pq), points)
+        points[solved] += solver.update(op.weights(points), points)
         for end in slide_ends:
             slide(points, end, rings[end.ring], at, last)
         if np.abs(points - before).max() <= tol:

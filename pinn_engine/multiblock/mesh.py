@@ -20,7 +20,6 @@ from pinn_engine.multiblock.chains import (
     graded_minimum,
     graded_params,
     graded_sides,
-    grading_targets,
     nearest_piece,
 )
 from pinn_engine.multiblock.counts import cell_counts, default_cell_size
@@ -32,10 +31,11 @@ from pinn_engine.multiblock.patches import PatchPiece, PatchPoint, PatchRing, bl
 from pinn_engine.multiblock.quadblock import block_boundary, block_lines
 from pinn_engine.multiblock.spacing import (
     check_room,
-    graded_first_cells,
+    graded_lines,
     requests,
     respace,
     spread,
+    untangled_blocks,
 )
 from pinn_engine.multiblock.walls import (
     Walls,
@@ -169,10 +169,7 @@ def mesh_blocks(
     points = lay.points
     timings = {"layout": time.perf_counter() - start}
     if settings.method in ("elliptic", "pinn"):
-        targets = [
-            grading_targets(lay.ids, lay.points, graded, item.value) for item, graded in grades
-        ]
-        points, steps = winslow(topo, lay, settings.interfaces == "free", targets=targets)
+        points, steps = winslow(topo, lay, settings.interfaces == "free")
     timings["solve"] = time.perf_counter() - start - timings["layout"]
     lines = block_lines(aux, [points[ids] for ids in lay.ids])  # the method's block sides
     cross = crossings(topo, lay)  # the interfaces' nodes, for every kink figure below
@@ -187,11 +184,15 @@ def mesh_blocks(
         grids, training = train(starts, settings, progress, lines, kinks)
         points = _assembled(points, lay, grids)
         timings["training"] = training["seconds"]
-    # first edges of gradings and patches, and orthogonality on patches, last: no solve or
-    # training moves them after
-    for item, graded in grades:
-        points = graded_first_cells(points, lay.ids, graded, item.value)
+    # gradings along chains, first edges of patches, blocks these fold untangled, and
+    # orthogonality on patches, last: no solve or training moves them after
+    on_boundary = np.zeros(len(points), dtype=bool)
+    for piece, nodes in zip(topo.pieces, lay.piece_ids):
+        on_boundary[nodes] |= not piece.interface
+    points = graded_lines(points, lay.ids, [(g, item.value) for item, g in grades], on_boundary)
     points = respace(points, asked)
+    if grades or asked:
+        points = untangled_blocks(points, lay.ids)
     if walls.orthogonal:
         points = orthogonal(
             points, sides, walls.orthogonal, boundary_neighbours(topo, lay), lay.ids

@@ -20,11 +20,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from pinn_engine.classical.spacing import line_parameters  # one block's per-line stretching
+from pinn_engine.classical.spacing import exact_stretch, line_parameters
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import arc_lengths
 from pinn_engine.multiblock.layout import side_lines
 from pinn_engine.multiblock.walls import WallSide
+from pinn_engine.quality import folded_cells
 from pinn_engine.settings import SIDE_NAMES
 
 # Rounds of correcting the first parameter intervals by the measured first edges, and the
@@ -34,13 +35,6 @@ FIT_ROUNDS, FIT_TOL = 12, 1e-3
 # block: a first edge shorter than half the sides it runs along)
 MAX_ASKED_SHARE = 0.5
 
-# Neighbouring cells of a grading's first cells differ by at most this factor (SPEC 10
-# asks 1.25; the margin is for the progression's join), and the widest ratio searched
-GROWTH_AIM, MAX_GROWTH_SEARCH = 1.2, 4.0
-# Lines from a graded side's corner over which its first-cell correction ramps up to full:
-# at least CORNER_RAMP, or this share of the side's lines (a moved corner bends more of
-# them on a finer grid)
-CORNER_RAMP, CORNER_SHARE = 2, 0.25
 # a line's ids -> [H at its start, H at its end, the option asking (for messages)]
 Requests = dict[tuple[int, ...], list]
 
@@ -105,55 +99,51 @@ def spread(asked: Requests, ids: list[np.ndarray]) -> Requests:
     return out
 
 
-def _geometric_ratio(h: float, cells: int, total: float) -> float:
-    """The ratio r with h (1 + r + ... + r^(cells - 1)) = total (bisection)."""
-    lo, hi = 1.0 / MAX_GROWTH_SEARCH, MAX_GROWTH_SEARCH
-    for _ in range(60):
-        r = 0.5 * (lo + hi)
-        if h * sum(r**k for k in range(cells)) < total:
-            lo = r
-        else:
-            hi = r
-    return 0.5 * (lo + hi)
-
-
-def graded_first_cells(
-    points: np.ndarray, ids: list[np.ndarray], graded: dict[tuple[int, int], int], h: float
+def graded_lines(
+    points: np.ndarray,
+    ids: list[np.ndarray],
+    grades: list[tuple[dict[tuple[int, int], int], float]],
+    boundary: np.ndarray,
 ) -> np.ndarray:
-    """``points`` with the first cells of every grid line leaving the graded (block, side)
-    pairs (``chains.graded_sides``) made a geometric progression from ``h`` that rejoins
-    the line's own cells: the fewest first cells K whose progression (same total length,
-    so node K and all beyond stay) grows by at most GROWTH_AIM a cell and meets cell K
-    within that ratio (else the K nearest that). The lines at the side's corners keep
-    theirs (SPEC 7 excepts corners; a corner where blocks meet moves in the solve) and the
-    next CORNER_RAMP lines move part of the way, so the change does not shear a row; each
-    line once, by its node ids, so shared lines stay shared."""
+    """``points`` with every grid line leaving a graded (block, side) pair of ``grades``
+    (``chains.graded_sides`` with its first edge H) moved along itself, as a blockMesh
+    grading places a block's nodes: at the arc lengths of a two-sided stretching
+    (``classical.spacing.exact_stretch``) whose first edge is H at each graded end and the
+    line's even cell (its length over its cells) at an end no grading asks, the same rule
+    as the layout's boundary pieces along the grading (``chains.graded_params``), which
+    keep their nodes (``boundary``: a mask of the boundary's nodes). Each line once, by its
+    node ids, so a line shared by two blocks stays shared."""
+    asked: Requests = {}
+    for graded, h in grades:
+        for b, s in graded:
+            for line in side_lines(ids[b], SIDE_NAMES[s]):
+                _ask(asked, line, h, "")
     out = points.copy()
-    done: set[tuple[int, ...]] = set()
-    for b, s in graded:
-        lines = side_lines(ids[b], SIDE_NAMES[s])
-        for m, line in enumerate(lines):
-            key = tuple(int(n) for n in line)
-            ramp = max(CORNER_RAMP, CORNER_SHARE * len(lines))
-            weight = min(1.0, min(m, len(lines) - 1 - m) / ramp)
-            if key in done or key[::-1] in done or weight == 0.0:
-                continue
-            done.add(key)
-            p = points[line]
-            arc = arc_lengths(p)
-            cells = np.diff(arc)
-            best = (np.inf, 0, 1.0)
-            for k in range(1, len(cells)):
-                r = _geometric_ratio(h, k, arc[k])
-                join = cells[k] / (h * r ** (k - 1))
-                best = min(best, (max(r, 1 / r, join, 1 / join), k, r))
-                if best[0] <= GROWTH_AIM:
-                    break
-            _, k, r = best
-            at = (1 - weight) * arc[1:k] + weight * h * np.cumsum(r ** np.arange(k - 1))
-            out[line[1:k]] = np.column_stack(
-                [np.interp(at, arc, p[:, 0]), np.interp(at, arc, p[:, 1])]
-            )
+    for key, (first, last, _) in asked.items():
+        line = np.array(key)
+        if boundary[line].all():
+            continue
+        p = out[line]
+        arc = arc_lengths(p)
+        n = len(line) - 1
+        even = arc[-1] / n
+        at = arc[-1] * exact_stretch(n + 1, (first or even) / arc[-1], (last or even) / arc[-1])[0]
+        out[line[1:-1]] = np.column_stack(
+            [np.interp(at[1:-1], arc, p[:, 0]), np.interp(at[1:-1], arc, p[:, 1])]
+        )
+    return out
+
+
+def untangled_blocks(points: np.ndarray, ids: list[np.ndarray]) -> np.ndarray:
+    """``points`` with the interior nodes of every block that folds untangled
+    (``starts.untangle``, its sides held): moving nodes along lines never folds more cells
+    than the method's grid had."""
+    from pinn_engine.starts.untangle import untangle  # only a folded block gets here
+
+    out = points.copy()
+    for block in ids:
+        if folded_cells(out[block]).any():
+            out[block[1:-1, 1:-1]] = untangle(out[block])[1:-1, 1:-1]
     return out
 
 

@@ -8,7 +8,6 @@ import numpy as np
 import pyvista as pv
 from helpers import EXAMPLES
 
-from pinn_engine.multiblock.spacing import CORNER_RAMP, CORNER_SHARE
 from pinn_engine.routes.cli import main
 
 DFG = [str(EXAMPLES / "dfg.vtp"), "--blocks", str(EXAMPLES / "dfg_blocks.vtp")]
@@ -76,10 +75,9 @@ def test_cells_set_a_chain_and_a_negative_point_works(tmp_path):
 
 
 def _middle(first: np.ndarray) -> np.ndarray:
-    """The first edges of a side's lines but those near its corners, where the first-cell
-    correction ramps in (``spacing.graded_first_cells``)."""
-    ramp = int(np.ceil(max(CORNER_RAMP, CORNER_SHARE * len(first))))
-    return first[ramp:-ramp]
+    """The first edges of a side's lines but the two at its corners (SPEC 7 excepts
+    corners)."""
+    return first[1:-1]
 
 
 def _growth(cells: np.ndarray) -> float:
@@ -89,8 +87,7 @@ def _growth(cells: np.ndarray) -> float:
 
 def test_spacing_at_an_interior_side_grades_both_sides(tmp_path):
     """--spacing X,Y=H at the DFG box's right side (an interface): the first cells on both
-    sides are H across it (within 10 %; the lines near the side's corners, where the
-    correction ramps in, aside), the column downstream grows by at most 1.25 a cell along
+    sides are H across it (within 10 %; the lines at the side's corners aside), the column downstream grows by at most 1.25 a cell along
     every row (the walls' rows too), and no cell folds."""
     out = _run(
         tmp_path,
