@@ -1,0 +1,85 @@
+"""SPEC 10's --spacing X,Y=H graded along chains on blockings the examples do not use: an
+interior side of an 8-block O-ring star (a box round a circle, its corners joined to the
+square's) and a step whose grading reaches an interface (pitzDaily's blocks)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pyvista as pv
+from multiblock_checks import write_polylines
+
+from pinn_engine.routes.cli import main
+
+H = 0.01
+FIRST_TOL, MAX_RATIO = 0.10, 1.25  # SPEC 7's 10 % on first edges, SPEC 10's growth
+
+
+def _mesh(tmp_path, rings, edges, args) -> pv.MultiBlock:
+    boundary = write_polylines(tmp_path / "b.vtp", rings, closed=True)
+    blocks = write_polylines(tmp_path / "e.vtp", edges)
+    out = tmp_path / "g.vtm"
+    assert main([boundary, "--blocks", blocks, "--method", "elliptic", "--quiet", *args,
+                 "-o", str(out)]) == 0  # fmt: skip
+    return pv.read(out)
+
+
+def _lines_from(grid: pv.MultiBlock, point) -> list[np.ndarray]:
+    """The grid lines leaving the block sides whose nodes come nearest ``point`` (one
+    block's side, or both blocks' at an interface), from the side inward, the two at the
+    side's corners aside."""
+    found = []
+    for block in grid:
+        ni, nj, _ = block.dimensions
+        g = block.points[:, :2].reshape(nj, ni, 2)
+        for side, lines in ((g[0], g.transpose(1, 0, 2)), (g[-1], g[::-1].transpose(1, 0, 2)),
+                            (g[:, 0], g), (g[:, -1], g[:, ::-1])):  # fmt: skip
+            found.append((np.linalg.norm(side - point, axis=1).min(), lines[1:-1]))
+    best = min(d for d, _ in found)
+    return [lines for d, lines in found if d < best + 1e-9]
+
+
+def _check(lines: list[np.ndarray]) -> None:
+    for v in lines:
+        edges = np.linalg.norm(np.diff(v, axis=1), axis=2)
+        assert np.all(np.abs(edges[:, 0] / H - 1) <= FIRST_TOL), edges[:, 0] / H
+        ratio = edges[:, 1:] / edges[:, :-1]
+        assert np.maximum(ratio, 1 / ratio).max() <= MAX_RATIO
+
+
+def _folded(grid: pv.MultiBlock) -> int:
+    return sum(int(b.cell_data["Folded"].sum()) for b in grid)
+
+
+def test_an_interior_side_of_an_oring_star_is_graded_on_both_sides_to_its_ends(tmp_path):
+    """--spacing at the box's right side: every line leaving it on both sides (those next
+    to the box's corners too, where the star's diagonals meet) starts at H and grows by at
+    most 1.25 a cell, and no cell folds."""
+    t = 2 * np.pi * np.arange(40) / 40
+    circle = np.column_stack([0.1 + 0.25 * np.cos(t), 0.05 + 0.25 * np.sin(t)])
+    square = np.array([(-1, -1), (1, -1), (1, 1), (-1, 1)], dtype=float)
+    box = [(0.55, -0.3), (0.55, 0.4), (-0.35, 0.4), (-0.35, -0.3)]
+    edges = [[box[k - 1], box[k]] for k in range(4)]
+    for (x, y), corner in zip(box, [(1, -1), (1, 1), (-1, 1), (-1, -1)]):
+        a = np.arctan2(y - 0.05, x - 0.1)
+        edges += [[(0.1 + 0.25 * np.cos(a), 0.05 + 0.25 * np.sin(a)), (x, y)], [(x, y), corner]]
+    grid = _mesh(tmp_path, [square, circle], edges, ["--cell-size", "0.08",
+                 "--spacing", f"0.55,0.05={H}"])  # fmt: skip
+    lines = _lines_from(grid, (0.55, 0.05))
+    assert len(lines) == 2
+    _check(lines)
+    assert _folded(grid) == 0
+
+
+def test_a_grading_reaching_an_interface_grades_the_block_across(tmp_path):
+    """--spacing on the inlet's floor of a step grades the inlet and the channel above the
+    lip's line (one chain); that line is an interface, so the channel below it starts at
+    H too (it would otherwise meet H with its even cells and fold at the lip)."""
+    ring = np.array([(-1, 0), (0, 0), (0, -1), (8, -1), (8, 1), (-1, 1)], dtype=float)
+    edges = [[(0.0, 0.0), (0.0, 1.0)], [(0.0, 0.0), (8.0, 0.0)]]
+    cells = ["-0.5,1=20", "0,-0.5=30", "-1,0.5=30", "4,1=60"]
+    args = [arg for c in cells for arg in ("--cells", c)] + ["--spacing", f"-0.5,0={H}"]
+    grid = _mesh(tmp_path, [ring], edges, args)
+    lines = _lines_from(grid, (4.0, 0.0))
+    assert len(lines) == 2  # the channel above the lip's line and the one below
+    _check(lines)
+    assert _folded(grid) == 0
