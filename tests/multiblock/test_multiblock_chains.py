@@ -87,8 +87,9 @@ def _growth(cells: np.ndarray) -> float:
 
 def test_spacing_at_an_interior_side_grades_both_sides(tmp_path):
     """--spacing X,Y=H at the DFG box's right side (an interface): the first cells on both
-    sides are H across it (within 10 %; the lines at the side's corners aside), the column downstream grows by at most 1.25 a cell along
-    every row (the walls' rows too), and no cell folds."""
+    sides are H across it (within 10 %; the lines at the side's corners aside), the column
+    downstream grows by at most 1.25 a cell along every row (the walls' rows too), and no
+    cell folds."""
     out = _run(
         tmp_path,
         [*DFG, *COARSE, "--spacing", f"0.3,0.2={GRADE}", "--report", str(tmp_path / "r.json")],
