@@ -1,6 +1,7 @@
 """First-edge spacing on multi-block patches (SPEC 10 with SPEC 7's ``--spacing``): the
 nodes of every grid line that leaves a spaced patch are redistributed along the line, so
-that its first edge is H.
+that its first edge is H. Gradings along chains (``--spacing X,Y=H``) place every line of
+their blocks by one stretching instead (:func:`graded_lines`).
 
 The method's grid (TFI or the all-block Winslow solve) is a smooth map of index space; a
 spacing evaluates that map at stretched parameters, as ``classical.spacing``'s interpolated
