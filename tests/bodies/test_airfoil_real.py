@@ -175,20 +175,6 @@ def test_no_stray_numpy_warning():
 
 
 @real_files
-def test_refusal_advice_followed_gives_a_grid():
-    """A C-grid around a base of 23 % chord is refused in one line that names
-    ``--topology o``; that O-grid, same size and first layer, has no fold."""
-    body = load_body(AIRFOILS / "ah93w480b.dat")
-    far = circle(body, 15)
-    with pytest.raises(InputError, match="--topology o") as info:
-        mesh_body(body, far, "c", "elliptic", 300, 80, wall_spacing=1e-5)
-    assert "\n" not in str(info.value)
-    r = mesh_body(body, far, "o", "elliptic", 300, 80, wall_spacing=1e-5)
-    assert r.quality["folded_cells"] == 0 and r.quality["worst_max_angle"] < 180
-    assert _inside_out(r) == 0
-
-
-@real_files
 @pytest.mark.parametrize("name", ["e387", "rae2822", "s1223", "goe464", "ag13"])
 @pytest.mark.parametrize("topology", ["o", "c"])
 def test_real_files_mesh_clean(name, topology):
@@ -211,6 +197,7 @@ def test_real_files_mesh_clean(name, topology):
         ("ste87151", "c"),  # a closing segment along the chord: folded as a base
         ("trainer60", "c"),  # columns behind an aft thickest point crossing 1 to 2 chords out
         ("goe462", "o"),  # rows under a deep concave lower surface turned inside out
+        ("ah93w480b", "c"),  # a 23 % base: its columns turned to run along it and folded
     ],
 )
 def test_files_that_failed_mesh_clean(name, topology):
