@@ -402,10 +402,8 @@ def march(
     q = inner
     for j in range(1, len(distances)):
         step = distances[j] - distances[j - 1]
-        if j == 1:  # the first layer: straight along the wall's normals, height h exactly
-            q = q + step * _row_normals(q, topology)
-            if topology == "c":
-                q[0], q[-1] = inner[0] + (0, -step), inner[-1] + (0, step)
+        if j == 1:
+            q = first_row(inner, topology, step)
             rows.append(q)
             continue
         n = _row_normals(q, topology)
@@ -459,6 +457,16 @@ def march(
                 q[0], q[-1] = inner[0] + (0, -d), inner[-1] + (0, d)
         rows.append(q)
     return np.stack(rows)
+
+
+def first_row(inner: np.ndarray, topology: str, h: float) -> np.ndarray:
+    """The first row off the line j = 0 ``inner`` (ni, 2): straight along the wall's normals,
+    height ``h`` exactly (the C-grid's outflow columns straight down and up). The elliptic and
+    pinn grids hold it."""
+    q = inner + h * _row_normals(inner, topology)
+    if topology == "c":
+        q[0], q[-1] = inner[0] + (0, -h), inner[-1] + (0, h)
+    return q
 
 
 def _converging_rate(q: np.ndarray, n: np.ndarray) -> float:
@@ -826,6 +834,7 @@ __all__ = [
     "BodyCurve",
     "Layout",
     "elliptic",
+    "first_row",
     "jacobi",
     "layout",
     "march",

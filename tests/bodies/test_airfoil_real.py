@@ -3,6 +3,7 @@ without its count line, no stray warnings, refusal advice that works, real files
 
 from __future__ import annotations
 
+import re
 import warnings
 
 import numpy as np
@@ -81,6 +82,42 @@ def test_an_inside_out_grid_is_refused(monkeypatch):
     body = load_body(naca="0012")
     with pytest.raises(InputError, match="inside out"):
         mesh_body(body, circle(body, 15), "o", "tfi", 97, 25, wall_spacing=1e-4)
+
+
+def _notched(depth: float, half: float) -> np.ndarray:
+    """NACA 0012 opened to two prongs 2 * ``half`` apart at x = 1, a V notch between them
+    reaching ``depth`` into the trailing edge (a fishtail edge)."""
+    xy = naca4("0012", 101)
+    xy[:, 1] += np.where(np.arange(len(xy)) <= len(xy) // 2, 1, -1) * half * xy[:, 0]
+    apex = np.array([[1 - depth, 0.0]])
+    return np.vstack([apex, xy, apex])
+
+
+def test_an_inside_out_tfi_grid_is_refused_and_the_advice_works():
+    """tfi's straight columns enter a notched trailing edge: refused in one line naming
+    --method elliptic, whose grid (first rows along the wall's normals) is clean."""
+    body = body_from_points(_notched(0.004, 0.003), "notched")
+    far = circle(body, 15)
+    with pytest.raises(InputError, match="inside out.*use --method elliptic") as info:
+        mesh_body(body, far, "o", "tfi", 121, 33, wall_spacing=1e-4)
+    assert "\n" not in str(info.value)
+    r = mesh_body(body, far, "o", "elliptic", 121, 33, wall_spacing=1e-4)
+    assert r.quality["folded_cells"] == 0 and r.quality["worst_max_angle"] < 180
+    assert _inside_out(r) == 0
+
+
+def test_a_first_layer_wider_than_a_notch_is_refused_and_the_advice_works():
+    """The elliptic grid's first row leaves the wall along its normals at the first layer's
+    height: wider than the notch, it crosses into the opposite prong. The refusal names a
+    first layer that keeps the row outside; with it the grid is written, not inside out."""
+    body = body_from_points(_notched(0.02, 0.008), "notched")
+    far = circle(body, 15)
+    with pytest.raises(InputError, match=r"inside out.*at most (\S+) \(--spacing") as info:
+        mesh_body(body, far, "o", "elliptic", 161, 41)
+    h = float(re.search(r"bottom=(\S+)\)", str(info.value))[1])
+    r = mesh_body(body, far, "o", "elliptic", 161, 41, wall_spacing=h)
+    assert _inside_out(r) == 0
+    assert r.report["topology"]["first_layer"]["min"] == pytest.approx(h)
 
 
 def test_lednicer_without_count_line_is_read(tmp_path):
