@@ -240,7 +240,7 @@ def _flatback(code: str, base: float):
 def test_a_thick_base_c_grid_fans_out_unfolded(code, base, size, first):
     """A C-grid around a base of 5 to 20 % chord: the base's columns leave it normal and
     fan out (turned along the base within 0.02 chords, they ran along it: refused, or cells
-    of 167 to 179 degrees); no fold, no cell near 180 degrees."""
+    of 167 to 178 degrees); no fold, no cell near 180 degrees."""
     body = _flatback(code, base)
     r = mesh_body(body, circle(body, 15), "c", "elliptic", *size, wall_spacing=first)
     assert r.quality["folded_cells"] == 0
