@@ -1,5 +1,6 @@
-"""ParaView plugin: Filters > Mesh Generation > PINN Structured Mesh, PINN Multi-Block Mesh and
-PINN Hexahedral Mesh.
+"""ParaView plugin: Filters > Mesh Generation > PINN Structured Mesh, PINN Structured Mesh
+(Multi-Block) and PINN Structured Mesh (Hexahedral); the last two keep their old Python names,
+PINNMultiBlockMesh and PINNHexahedralMesh, out of the menus (``_mesh_filter``).
 
 A thin layer of ``paraview.util.vtkAlgorithm`` decorators over
 ``pinn_engine.routes.algorithm.PinnMeshAlgorithm``,
@@ -26,6 +27,7 @@ order (``_stack``), so the plugin's XML is what the stacks written out would giv
 import os
 import sys
 from functools import partial
+from xml.etree import ElementTree as ET
 from xml.sax.saxutils import escape, quoteattr
 
 _REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -87,8 +89,8 @@ paraview_plugin_version = __version__
 
 _DEFAULTS = Settings()
 _COLOUR_ARRAY = "MaxIncludedAngle"  # what a new grid is coloured by
-# whose displays get that colour
-_MESH_FILTERS = ("PINNStructuredMesh", "PINNMultiBlockMesh", "PINNHexahedralMesh")
+_MESH_FILTERS = set()  # whose displays get that colour: the proxy names _mesh_filter made
+_OLD_NAMES = []  # (old proxy name, its definition): the filters' old names (_mesh_filter)
 _MENU = '<ShowInMenu category="Mesh Generation"/>'  # where the filters and the Airfoil source are
 _OBSERVERS = []  # the display observers (_ColourWhenDataArrives)
 # id(session proxy manager): (it, its RegisterEvent observer, the observer's id); VTK's own
@@ -307,19 +309,65 @@ def _polyline_input(*, doc, optional=False, **attrs):
     )
 
 
-def _mesh_filter(*inputs, name, label, summary, doc):
+def _mesh_filter(*inputs, names, summary, doc):
     """A filter in Filters > Mesh Generation whose grid is shown with its cells' edges: its
-    ``inputs`` (``_polyline_input``, in port order) and its panel help (``_proxy_doc``)."""
-    return _stack(
-        # support_reload=False: no developer's "Reload Python Module" button
-        smproxy.filter(name=name, label=label, support_reload=False),
-        smhint.xml(_MENU),
-        smhint.xml('<RepresentationType view="RenderView" type="Surface With Edges"/>'),
-        # the inputs stay shown until a grid arrives (_ColourWhenDataArrives hides them)
-        smhint.xml('<Visibility replace_input="0"/>'),
-        *reversed(inputs),
-        smproperty.xml(_proxy_doc(summary, doc)),
+    ``inputs`` (``_polyline_input``, in port order) and its panel help (``_proxy_doc``).
+    ``names`` are (proxy name, label) pairs: the first names the filter of the menus and the
+    quick launch; each further one an old name that scripts and saved states keep using, the
+    same filter under that name and label but in neither (``_OLD_NAMES``)."""
+    (name, label), *old_names = names
+
+    def decorate(cls):
+        _MESH_FILTERS.update(n for n, _ in names)
+        proxy = _stack(
+            # support_reload=False: no developer's "Reload Python Module" button
+            smproxy.filter(name=name, label=label, support_reload=False),
+            smhint.xml(_MENU),
+            smhint.xml('<RepresentationType view="RenderView" type="Surface With Edges"/>'),
+            # the inputs stay shown until a grid arrives (_ColourWhenDataArrives hides them)
+            smhint.xml('<Visibility replace_input="0"/>'),
+            *reversed(inputs),
+            smproperty.xml(_proxy_doc(summary, doc)),
+        )(cls)
+        (xml,) = get_plugin_xmls({name: proxy})
+        _OLD_NAMES.extend((old, _old_name_xml(xml, old, text, label)) for old, text in old_names)
+        return proxy
+
+    return decorate
+
+
+def _old_name_xml(xml, name, label, new_label):
+    """The definition ``xml`` (a filter's ServerManagerConfiguration) under the old ``name``
+    and ``label`` (its Python name in ``paraview.simple``), without the ShowInMenu hint; its
+    short help names the filter's label now, ``new_label``."""
+    root = ET.fromstring(xml)
+    proxy = root.find("ProxyGroup/SourceProxy")
+    proxy.set("name", name)
+    proxy.set("label", label)
+    hints = proxy.find("Hints")
+    for hint in hints.findall("ShowInMenu"):
+        hints.remove(hint)
+    proxy.find("Documentation").set(
+        "short_help", f"The old name of {new_label}, kept for scripts and saved states."
     )
+    return ET.tostring(root, encoding="unicode")
+
+
+def _define_old_names(*_):
+    """Define the filters' old names (``_OLD_NAMES``) in the active session, once a session.
+    ParaView 5.11 gives every source and filter of a plugin's XML the ShowInMenu hint (so
+    they are in the Filters menu and the quick launch); loaded here by themselves, as
+    ParaView's own definitions are, they get none. Runs at load and at each new session
+    (``ActiveSessionChanged``: a plugin on PV_PLUGIN_PATH loads before the first one)."""
+    if vtkSMProxyManager is None:
+        return
+    pxm = vtkSMProxyManager.GetProxyManager().GetActiveSessionProxyManager()
+    if pxm is None:
+        return
+    definitions = pxm.GetProxyDefinitionManager()
+    for name, xml in _OLD_NAMES:
+        if not definitions.HasDefinition("filters", name):
+            definitions.LoadConfigurationXMLFromString(xml)
 
 
 @_mesh_filter(
@@ -344,8 +392,7 @@ def _mesh_filter(*inputs, name, label, summary, doc):
         "side (several polylines per input and several inputs both work). Used "
         "by the pinn method only.",
     ),
-    name="PINNStructuredMesh",
-    label="PINN Structured Mesh",
+    names=[("PINNStructuredMesh", "PINN Structured Mesh")],
     summary="Structured quadrilateral grid from a physics-informed neural network.",
     doc="Structured quadrilateral grid of a four-sided 2D domain from a "
     "physics-informed neural network (pinn), with MGNet, transfinite "
@@ -653,8 +700,10 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
         "input and several inputs both work). Used by the pinn method: its networks "
         "move the blocks' grid lines onto them.",
     ),
-    name="PINNMultiBlockMesh",
-    label="PINN Multi-Block Mesh",
+    names=[
+        ("PINNStructuredMeshMultiBlock", "PINN Structured Mesh (Multi-Block)"),
+        ("PINNMultiBlockMesh", "PINN Multi-Block Mesh"),
+    ],
     summary="Multi-block structured grid of a domain cut into four-sided blocks.",
     doc="Structured quadrilateral grid of a 2D domain that is not four-sided (an L, a "
     "step, a body in a channel), cut into four-sided blocks by block edges you draw "
@@ -671,7 +720,7 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
 )
 @smproperty.xml('<OutputPort name="Blocks" index="0"/>')
 @smproperty.xml('<OutputPort name="Block Edges" index="1"/>')
-class PINNMultiBlockMesh(PinnMultiBlockAlgorithm):
+class PINNStructuredMeshMultiBlock(PinnMultiBlockAlgorithm):
     """The ParaView face of
     :class:`pinn_engine.routes.multiblock_algorithm.PinnMultiBlockAlgorithm`."""
 
@@ -802,7 +851,7 @@ _HEXA_METHOD_DOCS = {
     "elliptic": "the 3D Winslow equations solved to convergence from the TFI grid",
     "pinn": "a physics-informed network trained on the 3D Winslow equations, the face "
     "grids built in",
-}  # the Method help of PINN Hexahedral Mesh, for the methods settings.HEXA_METHODS has
+}  # the Method help of PINN Structured Mesh (Hexahedral), for the methods settings.HEXA_METHODS has
 
 
 @_mesh_filter(
@@ -814,8 +863,10 @@ _HEXA_METHOD_DOCS = {
         "whose faces are found at its edges sharper than Face Angle; the faces must meet as "
         "a cube's do.",
     ),
-    name="PINNHexahedralMesh",
-    label="PINN Hexahedral Mesh",
+    names=[
+        ("PINNStructuredMeshHexahedral", "PINN Structured Mesh (Hexahedral)"),
+        ("PINNHexahedralMesh", "PINN Hexahedral Mesh"),
+    ],
     summary="Hexahedral structured grid of a six-faced 3D domain.",
     doc="Hexahedral structured grid (one block, ni x nj x nk nodes) of the 3D domain "
     "bounded by a closed surface with six faces, tagged by a FaceId cell array (SPEC 11) or "
@@ -828,7 +879,7 @@ _HEXA_METHOD_DOCS = {
     "angles), ScaledJacobian and Folded; field data the report and the patch names "
     "(Patch Names; default imin ... kmax). Guide: docs/hexa.md of the pinn-mesh checkout.",
 )
-class PINNHexahedralMesh(PinnHexaAlgorithm):
+class PINNStructuredMeshHexahedral(PinnHexaAlgorithm):
     """The ParaView face of :class:`pinn_engine.routes.hexa_algorithm.PinnHexaAlgorithm`."""
 
     def __init__(self):
@@ -1015,8 +1066,8 @@ def _writer_proxy(key, extension, name, file_type):
         smproperty.xml(
             _proxy_doc(
                 f"Writes the grid as {fmt.description}.",
-                f"Writes a grid of PINN Structured Mesh, PINN Hexahedral Mesh or PINN "
-                f"Multi-Block Mesh (its blocks) as {fmt.description}, with the grid's Patch "
+                f"Writes a grid of the PINN Structured Mesh filters (Multi-Block: its blocks) "
+                f"as {fmt.description}, with the grid's Patch "
                 "Names as boundary patches (docs/export.md).",
             )
         ),
@@ -1026,6 +1077,11 @@ def _writer_proxy(key, extension, name, file_type):
 
 
 _watch_displays()
+_define_old_names()
+if vtkSMProxyManager is not None:
+    vtkSMProxyManager.GetProxyManager().AddObserver(
+        vtkSMProxyManager.ActiveSessionChanged, _define_old_names
+    )
 
 for _key, (_extension, _name, _file_type) in PARAVIEW_FORMATS.items():
     globals()[_name] = _writer_proxy(_key, _extension, _name, _file_type)

@@ -3,7 +3,7 @@ faces in, its hexahedral grid out.
 
 ``PinnHexaAlgorithm`` is a plain ``VTKPythonAlgorithmBase`` subclass (pip ``vtk``, pyvista,
 ParaView's own VTK 9.2, which has no pyvista: the engine's hexa route is plain VTK);
-``plugin/`` decorates it as the filter PINN Hexahedral Mesh, and the pyvista accessor's
+``plugin/`` decorates it as the filter PINN Structured Mesh (Hexahedral), and the pyvista accessor's
 ``size=(ni, nj, nk)`` on a surface with ``FaceId`` runs it.
 
 >>> alg = PinnHexaAlgorithm()
@@ -19,7 +19,7 @@ command line's ``.vts``: cell arrays ``MaxIncludedAngle``, ``MinIncludedAngle``,
 ``ScaledJacobian``, ``Folded``; field data ``Method``, ``PatchNames``, ``PatchTypes``,
 ``Report`` (JSON) and the quality figures (``hexamesh.hexa_grid``).
 
-A failed update leaves the output empty and reports one line ``PINN Hexahedral Mesh:
+A failed update leaves the output empty and reports one line ``PINN Structured Mesh (Hexahedral):
 <message>`` (the ParaView route: in Output Messages and as an ``ErrorEvent``; other routes
 read ``GetLastError()`` and raise ``GetLastException()``). Folded cells give one warning line
 the same way (``GetLastWarning()``).
@@ -53,12 +53,13 @@ from pinn_engine.settings import (
     make_settings,
 )
 
-LABEL = "PINN Hexahedral Mesh"
+LABEL = "PINN Structured Mesh (Hexahedral)"
 TRAINING_SHARE = (0.2, 0.9)  # the progress bar's span of pinn's training (face grids before)
 # what a curve given to the hexahedral filter is pointed to, in each route's words
 CURVE_FIX = {
     "paraview": "a 2D curve is meshed by PINN Structured Mesh (four-sided, or a body with "
-    "Topology O-grid or C-grid) or PINN Multi-Block Mesh; this filter takes a closed surface",
+    "Topology O-grid or C-grid) or by PINN Structured Mesh (Multi-Block); this filter takes a "
+    "closed surface",
     "pyvista": "a 2D curve is meshed with size=(ni, nj) or blocks=; size=(ni, nj, nk) takes "
     "a closed surface",
 }

@@ -27,7 +27,7 @@ the opposite side, fitted by pinn). Output 0 the
 the block edges meshed (``vtkPolyData`` of open polylines: the proposal under Automatic,
 which a user can copy, edit and connect as block edges).
 
-A failed update leaves the output empty and reports one line ``PINN Multi-Block Mesh:
+A failed update leaves the output empty and reports one line ``PINN Structured Mesh (Multi-Block):
 <message>`` (the ParaView route: in Output Messages and as an ``ErrorEvent``; other routes
 read ``GetLastError()`` and raise ``GetLastException()``). Folded cells give one warning line
 the same way (``GetLastWarning()``).
@@ -62,7 +62,7 @@ from pinn_engine.settings import (
     make_settings,
 )
 
-LABEL = "PINN Multi-Block Mesh"
+LABEL = "PINN Structured Mesh (Multi-Block)"
 INTERFACES = PARAMETER_CONSTRAINTS["interfaces"].values  # free, fixed (SPEC 10)
 BLOCKING = ("manual", "automatic")  # block edges drawn, or proposed (SPEC 13)
 # the fix a folded elliptic or pinn multi-block grid is pointed to

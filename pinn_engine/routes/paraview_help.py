@@ -126,7 +126,7 @@ def help_pages(xmls: list[str]) -> tuple[list[Page], Entry]:
         TITLE,
         f"<html><head><title>{TITLE}</title></head><body><h2>{TITLE}</h2>"
         "<p>Structured meshes from a physics-informed neural network: filters in "
-        "Filters &gt; Mesh Generation (Ctrl+Space, then PINN S, PINN M or PINN H), the "
+        "Filters &gt; Mesh Generation (Ctrl+Space, then PINN, PINN multi or PINN hex), the "
         "Airfoil source and reader, and the PINN Mesh writers of File &gt; Save Data. The "
         f"guides are in the docs/ folder of the pinn-mesh checkout.</p><ul>{links}</ul>"
         "</body></html>",

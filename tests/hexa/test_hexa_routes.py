@@ -1,4 +1,4 @@
-"""The six-faced 3D routes: the VTK algorithm behind PINN Hexahedral Mesh
+"""The six-faced 3D routes: the VTK algorithm behind PINN Structured Mesh (Hexahedral)
 and pyvista's ``surface.pinn_mesh(size=(ni, nj, nk))``."""
 
 from __future__ import annotations
@@ -111,8 +111,8 @@ def test_algorithm_reports_once_in_the_panels_words_and_recovers(bend):
         alg.Update()  # nothing changed: not said again
         assert alg.GetOutput().GetNumberOfPoints() == 0
         line = (
-            "PINN Hexahedral Mesh: input: found 1 faces at edges sharper than 40 degrees; a "
-            "six-faced domain needs 6 (try another Face Angle or a FaceId cell array)"
+            "PINN Structured Mesh (Hexahedral): input: found 1 faces at edges sharper than 40 "
+            "degrees; a six-faced domain needs 6 (try another Face Angle or a FaceId cell array)"
         )
         assert alg.GetLastError() == line
         assert said.lines == [line]
@@ -120,7 +120,8 @@ def test_algorithm_reports_once_in_the_panels_words_and_recovers(bend):
         alg.SetInputDataObject(0, bend)
         alg.Update()
         assert alg.GetLastError() == (
-            "PINN Hexahedral Mesh: invalid settings: Grid Size 2 9 7: each needs at least 3 nodes"
+            "PINN Structured Mesh (Hexahedral): invalid settings: Grid Size 2 9 7: each needs at "
+            "least 3 nodes"
         )
         alg.SetGridSize(*SIZE)
         alg.Update()
@@ -217,7 +218,7 @@ def test_algorithm_refuses_patch_options_in_the_panels_words(bend, setter, value
     with OutputMessages(alg, "ErrorEvent") as said:
         getattr(alg, setter)(value)
         alg.Update()
-    assert said.lines == [f"PINN Hexahedral Mesh: {line}"] == [alg.GetLastError()]
+    assert said.lines == [f"PINN Structured Mesh (Hexahedral): {line}"] == [alg.GetLastError()]
     assert alg.GetOutput().GetNumberOfPoints() == 0
     getattr(alg, setter)("")  # the setting cleared: a grid again
     alg.Update()

@@ -90,12 +90,14 @@ def test_boundary_and_edges_on_one_input_and_the_settings():
     [
         (
             pv.Line((1.0, 0.6, 0.0), (1.5, 0.7, 0.0)),
-            "PINN Multi-Block Mesh: block edges input line 0: ends nowhere at (1, 0.6)",
+            "PINN Structured Mesh (Multi-Block): block edges input line 0: ends nowhere at "
+            "(1, 0.6)",
         ),
         (
             None,
-            "PINN Multi-Block Mesh: input: no block edges (open polylines) among the inputs; "
-            "select their source together with the boundary's (or connect it to Block Edges)",
+            "PINN Structured Mesh (Multi-Block): input: no block edges (open polylines) among the "
+            "inputs; select their source together with the boundary's (or connect it to Block "
+            "Edges)",
         ),
     ],
 )
@@ -233,8 +235,9 @@ def test_patch_settings_take_strings_sequences_and_mappings():
         (
             "paraview",
             {"orthogonal": "cylinder"},
-            "PINN Multi-Block Mesh: orthogonal cylinder: no patch named 'cylinder'; the patches "
-            "are boundary, hole1 (name boundary pieces with Patch Names' X,Y=NAME items)",
+            "PINN Structured Mesh (Multi-Block): orthogonal cylinder: no patch named 'cylinder'; "
+            "the patches are boundary, hole1 (name boundary pieces with Patch Names' X,Y=NAME "
+            "items)",
         ),
         (
             "pyvista",

@@ -169,6 +169,7 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
         PINN_PV_PLUGIN_PATH=str(empty),
     )
     assert not result["before_load"] and result["after_load"]
+    assert result["old_names_after_load"] == [True, True]  # defined in the session it loads in
     assert result["property_order"] == [  # no "Reload Python Module" button for users
         "Input",
         "AuxiliaryLines",
@@ -224,7 +225,11 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
     # its help page for the GUI (docs/paraview_gui.md point 4): one per proxy, each named by a
     # (group, proxy name) ParaView knows, the 3 filters and the Airfoil source among them
     assert len(result["help_pages"]) == 12 and result["help_pages_unknown"] == []
-    for name in ("PINNStructuredMesh", "PINNMultiBlockMesh", "PINNHexahedralMesh"):
+    for name in (
+        "PINNStructuredMesh",
+        "PINNStructuredMeshMultiBlock",
+        "PINNStructuredMeshHexahedral",
+    ):
         assert f"filters.{name}.html" in result["help_pages"]
     assert "sources.PINNAirfoilSource.html" in result["help_pages"]
     assert result["help_registered"] == []  # pvpython: no help engine
@@ -325,8 +330,23 @@ def _side_nodes(points: np.ndarray) -> list[np.ndarray]:
     return [xy[0], xy[-1], xy[:, 0], xy[:, -1]]
 
 
+def test_the_old_names_still_make_the_filters_and_stay_out_of_the_menus(checkout):
+    """PINNMultiBlockMesh and PINNHexahedralMesh, the names before the filters were
+    labelled PINN Structured Mesh (Multi-Block) and (Hexahedral), in scripts and saved
+    states: the same filter class and the same grid, without the menus' hint."""
+    result = run_pvpython(checkout, "check_old_names.py", str(checkout / "example_data"))
+    for old, label, nodes in (
+        ("PINNMultiBlockMesh", "PINN Multi-Block Mesh", 390),
+        ("PINNHexahedralMesh", "PINN Hexahedral Mesh", 5 * 4 * 3),
+    ):
+        run = result[old]
+        assert run["label"] == label and run["class"] == run["new_class"]
+        assert run["in_menu"] == [False, True]  # the new name in the menus, the old one not
+        assert run["nodes"] == nodes and run["same_grid"]
+
+
 def test_multiblock_filter_on_the_step(checkout):
-    """PINN Multi-Block Mesh: the step's four blocks as the command line
+    """PINN Structured Mesh (Multi-Block): the step's four blocks as the command line
     makes them, a side shared node for node, the quality arrays, one line for an edge that
     ends nowhere."""
     from helpers import run_blocks
@@ -335,7 +355,7 @@ def test_multiblock_filter_on_the_step(checkout):
     from pinn_engine.settings import make_settings
 
     result = run_pvpython(checkout, "check_multiblock.py", str(checkout / "example_data"))
-    assert result["label"] == "PINN Multi-Block Mesh"
+    assert result["label"] == "PINN Structured Mesh (Multi-Block)"
     assert result["menu_category"] == "Mesh Generation"
     assert 20 < len(result["help"][0]) < len(result["help"][1])
     assert set(result["properties"]) == {
@@ -356,7 +376,9 @@ def test_multiblock_filter_on_the_step(checkout):
     assert result["interfaces"] == ["free", "fixed"]
     assert result["class"] == "vtkMultiBlockDataSet" and result["progress"] == [0.0, 1.0]
     told = [ln for ln in result["together_messages"].splitlines() if ln.strip()]
-    assert len(told) == 1 and told[0].startswith("PINN Multi-Block Mesh: pinn 4 blocks, ")
+    assert len(told) == 1 and told[0].startswith(
+        "PINN Structured Mesh (Multi-Block): pinn 4 blocks, "
+    )
     assert result["file_types"] == [  # Save Data offers the solver formats for the blocks
         "PINN Mesh CGNS(*.cgns )",
         "PINN Mesh Gmsh(*.msh )",
@@ -399,8 +421,9 @@ def test_multiblock_filter_on_the_step(checkout):
     assert whole_sides >= 2  # a side shared whole, seen from both blocks
     messages = [ln for ln in result["bad_vtk_text"].splitlines() if ln.strip()]
     assert messages == [
-        "PINN Multi-Block Mesh: block edges input line 0: ends nowhere at (1, 0.6): each end "
-        "must lie on the boundary, a hole or another block edge (within 0.001 of the diagonal)"
+        "PINN Structured Mesh (Multi-Block): block edges input line 0: ends nowhere at (1, 0.6): "
+        "each end must lie on the boundary, a hole or another block edge (within 0.001 of the "
+        "diagonal)"
     ]
     assert result["bad_blocks"] == 0 and "Traceback" not in result["bad_stderr"]
     assert result["recovered_blocks"] == 4
@@ -422,14 +445,14 @@ def test_multiblock_filter_on_the_step(checkout):
 
 
 def test_hexahedral_filter_on_the_bend(checkout):
-    """PINN Hexahedral Mesh: the bend's grid as the command line makes it
+    """PINN Structured Mesh (Hexahedral): the bend's grid as the command line makes it
     (the same nodes, arrays and field data), for every method; one line for a surface
     without FaceId, and ParaView goes on."""
     from pinn_engine.hexamesh import mesh_surface
     from pinn_engine.settings import HEXA_METHODS, make_settings
 
     result = run_pvpython(checkout, "check_hexa.py", str(checkout / "example_data"))
-    assert result["label"] == "PINN Hexahedral Mesh"
+    assert result["label"] == "PINN Structured Mesh (Hexahedral)"
     assert result["menu_category"] == "Mesh Generation"
     assert result["representation"] == "Surface With Edges"
     assert 20 < len(result["help"][0]) < len(result["help"][1])
@@ -446,9 +469,11 @@ def test_hexahedral_filter_on_the_bend(checkout):
     assert result["methods"] == list(HEXA_METHODS)
     assert result["progress"] == [0.0, 1.0]
     told = [ln for ln in result["messages"].splitlines() if ln.strip()]  # the summary line
-    assert told == [ln for ln in told if ln.startswith("PINN Hexahedral Mesh: tfi 11x9x7 hexa")]
+    assert told == [
+        ln for ln in told if ln.startswith("PINN Structured Mesh (Hexahedral): tfi 11x9x7 hexa")
+    ]
     assert len(told) == 1 and "; faces face0=jmin face1=jmax face2=imax face3=imin" in told[0]
-    assert "PINN Hexahedral Mesh: face grids" in result["progress_texts"]
+    assert "PINN Structured Mesh (Hexahedral): face grids" in result["progress_texts"]
     size = (11, 9, 7)
     for method in ("tfi", "elliptic", "pinn"):
         grid = result[method]
@@ -479,13 +504,14 @@ def test_hexahedral_filter_on_the_bend(checkout):
     np.testing.assert_allclose(points, expected.grid, atol=1e-9)
     assert result["orthogonal_tfi_points"] == 0
     assert [ln for ln in result["orthogonal_tfi_text"].splitlines() if ln.strip()] == [
-        "PINN Hexahedral Mesh: Orthogonal Patches kmin: use Method elliptic or pinn (tfi's "
+        "PINN Structured Mesh (Hexahedral): Orthogonal Patches kmin: use Method elliptic or pinn "
+        "(tfi's "
         "grid lines cannot turn to a patch's normal)"
     ]
     messages = [ln for ln in result["bad_vtk_text"].splitlines() if ln.strip()]
     assert messages == [
-        "PINN Hexahedral Mesh: input: found 1 faces at edges sharper than 40 degrees; a "
-        "six-faced domain needs 6 (try another Face Angle or a FaceId cell array)"
+        "PINN Structured Mesh (Hexahedral): input: found 1 faces at edges sharper than 40 degrees; "
+        "a six-faced domain needs 6 (try another Face Angle or a FaceId cell array)"
     ]
     assert result["bad_points"] == 0 and "Traceback" not in result["bad_stderr"]
     assert result["recovered_points"] == 11 * 9 * 7

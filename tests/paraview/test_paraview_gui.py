@@ -1,10 +1,11 @@
 """The ParaView GUI as a user drives it (Xvfb, xdotool): auxiliary lines and stopping.
 
 ``tests/paraview/gui/drive.sh`` selects the boundary and the auxiliary-line source in the
-Pipeline Browser, creates the filter from the quick-launch, and later stops a long training
-with SIGUSR1 and another with the panel's Time Limit; ``tests/paraview/gui/tour.sh`` gives the
-hexahedral filter an STL and a curve, saves its grid from File > Save Data and opens its "?"
-help and the help's search. Skipped without ParaView, Xvfb, xdotool or ImageMagick
+Pipeline Browser, types "PINN" in the quick-launch (PINN Structured Mesh must be the one it
+picks), and later stops a long training with SIGUSR1 and another with the panel's Time Limit;
+``tests/paraview/gui/tour.sh`` gives the hexahedral filter ("PINN hex" in the quick-launch)
+an STL and a curve, saves its grid from File > Save Data and opens its "?" help and the
+help's search. Skipped without ParaView, Xvfb, xdotool or ImageMagick
 (``bash scripts/setup_paraview.sh`` installs them).
 """
 
@@ -50,13 +51,14 @@ def gui(tmp_path_factory) -> Path:
     return _drive("drive.sh", tmp_path_factory.mktemp("gui"))
 
 
-def test_both_sources_selected_give_a_grid_with_aux_lines(gui):
+def test_pinn_in_the_quick_launch_meshes_both_selected_sources_with_aux_lines(gui):
     result = json.loads((gui / "aux_lines.json").read_text())
     assert result["error"] == ""
     assert result["inputs"] == ["fig2.vtp", "fig2_aux.vtp"]
     assert result["points"] == 41 * 21
     assert len(result["aux_lines"]) == 2  # fig2_aux.vtp holds two polylines
     assert (gui / "aux_lines.png").stat().st_size > 10_000
+    assert (gui / "quick_launch.png").stat().st_size > 10_000  # Ctrl+Space "PINN": the list
     # ParaView started without an error of its own (a plugin XML slip opens Output Messages
     # over the window, as a wrongly placed widget decorator once did)
     assert "ERR|" not in (gui / "aux_lines.log").read_text()
@@ -130,7 +132,11 @@ def test_the_plugin_registers_a_help_page_for_each_of_its_filters(tour):
     registered = json.loads((tour / "result.help.json").read_text())
     assert len(registered) == 1
     pages = next(iter(registered.values()))
-    for name in ("PINNStructuredMesh", "PINNMultiBlockMesh", "PINNHexahedralMesh"):
+    for name in (
+        "PINNStructuredMesh",
+        "PINNStructuredMeshMultiBlock",
+        "PINNStructuredMeshHexahedral",
+    ):
         assert f"filters.{name}.html" in pages
     assert "sources.PINNAirfoilSource.html" in pages and "index.html" in pages
     assert (tour / "help.png").stat().st_size > 10_000

@@ -30,7 +30,9 @@ def test_the_hexahedral_filter_tells_the_command_lines_summary_line():
     with OutputMessages(alg, "ErrorEvent") as said:
         alg.Update()
     assert said.lines == [] and len(said.told) == 1
-    assert said.told[0].startswith("PINN Hexahedral Mesh: tfi 7x6x5 hexahedral grid, 120 cells")
+    assert said.told[0].startswith(
+        "PINN Structured Mesh (Hexahedral): tfi 7x6x5 hexahedral grid, 120 cells"
+    )
     assert said.told[0].endswith(
         "faces face0=jmin face1=jmax face2=imax face3=imin face4=kmin face5=kmax"
     )
@@ -49,15 +51,15 @@ def test_an_stl_surface_is_split_at_face_angle_and_a_curve_is_pointed_to_the_2d_
     alg.SetFaceAngle(95.0)  # the bend's edges turn by 90 degrees: one face
     alg.Update()
     assert alg.GetLastError() == (
-        "PINN Hexahedral Mesh: input: found 1 faces at edges sharper than 95 degrees; a "
-        "six-faced domain needs 6 (try another Face Angle or a FaceId cell array)"
+        "PINN Structured Mesh (Hexahedral): input: found 1 faces at edges sharper than 95 degrees; "
+        "a six-faced domain needs 6 (try another Face Angle or a FaceId cell array)"
     )
     alg = _hexa(pv.read(EXAMPLES / "fig2.vtp"))
     alg.Update()
     assert alg.GetLastError() == (
-        "PINN Hexahedral Mesh: input: holds no surface triangles: a 2D curve is meshed by "
-        "PINN Structured Mesh (four-sided, or a body with Topology O-grid or C-grid) or PINN "
-        "Multi-Block Mesh; this filter takes a closed surface"
+        "PINN Structured Mesh (Hexahedral): input: holds no surface triangles: a 2D curve is "
+        "meshed by PINN Structured Mesh (four-sided, or a body with Topology O-grid or C-grid) "
+        "or by PINN Structured Mesh (Multi-Block); this filter takes a closed surface"
     )
 
 

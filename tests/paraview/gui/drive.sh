@@ -2,9 +2,9 @@
 # Drives Debian's ParaView 5.11 GUI as a user would, under its own Xvfb screen:
 #   bash tests/paraview/gui/drive.sh OUTDIR
 # 1. select fig2.vtp and fig2_aux.vtp in the Pipeline Browser (click, ctrl+click), open the
-#    quick-launch (Ctrl+Space), type "PINN Structured", press Return: the filter is created
-#    on both sources and auto-applied; OUTDIR/aux_lines.json holds what its update gave and
-#    OUTDIR/aux_lines.png the screen;
+#    quick-launch (Ctrl+Space), type "PINN" (OUTDIR/quick_launch.png: the list it offers),
+#    press Return: PINN Structured Mesh is created on both sources and auto-applied;
+#    OUTDIR/aux_lines.json holds what its update gave and OUTDIR/aux_lines.png the screen;
 # 2. the same with a long training (Preset paper, 200000 Adam epochs): once the filter's
 #    progress says it trains (the GUI is frozen then, as ParaView 5.11 handles no event while
 #    a filter runs), `kill -USR1` stops it with the best grid so far;
@@ -53,12 +53,17 @@ session() {  # session NAME LONG: start ParaView, wait until the session script 
     sleep 3
 }
 
+quick_launch_pinn() {  # quick_launch_pinn [SCREENSHOT]: Ctrl+Space, "PINN", Return
+    xdotool key ctrl+space; sleep 1
+    xdotool type --delay 50 "PINN"; sleep 1
+    [ -z "${1:-}" ] || import -window root "$1"
+    xdotool key Return
+}
+
 select_both_and_apply() {  # rows of the Pipeline Browser in ParaView 5.11's default layout
     xdotool mousemove 91 196 click 1; sleep 0.5                           # fig2.vtp
     xdotool keydown ctrl mousemove 106 218 click 1 keyup ctrl; sleep 0.5  # + fig2_aux.vtp
-    xdotool key ctrl+space; sleep 1
-    xdotool type --delay 50 "PINN Structured"; sleep 1
-    xdotool key Return
+    quick_launch_pinn "${1:-}"
 }
 
 wait_for() {  # wait_for FILE SECONDS
@@ -68,7 +73,7 @@ wait_for() {  # wait_for FILE SECONDS
 
 # 1. both sources selected, filter from the quick-launch
 session aux_lines 0
-select_both_and_apply
+select_both_and_apply "$OUT/quick_launch.png"
 wait_for "$PINN_GUI_RESULT" 120 || { echo "no result from the filter" >&2; kill "$PV"; exit 1; }
 sleep 3
 xdotool mousemove 1590 990
@@ -100,9 +105,7 @@ kill "$PV"; wait "$PV" 2>/dev/null || true
 unset PINN_GUI_TIME_LIMIT
 session failed 0
 xdotool mousemove 106 218 click 1; sleep 0.5                           # fig2_aux.vtp only
-xdotool key ctrl+space; sleep 1
-xdotool type --delay 50 "PINN Structured"; sleep 1
-xdotool key Return
+quick_launch_pinn
 wait_for "$PINN_GUI_RESULT" 60 || { echo "no result from the failing filter" >&2; kill "$PV"; exit 1; }
 sleep 2
 echo "$OUT/failed_display.json" >"$PINN_GUI_RESULT.probe"

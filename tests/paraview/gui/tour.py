@@ -1,11 +1,12 @@
 """Runs inside the ParaView GUI (``paraview --script=...``) for tests/paraview/gui/tour.sh.
 
 Opens example_data/hexa_bend.stl and fig2.vtp (both shown), turns on auto-apply, makes new
-PINN Hexahedral Mesh filters default to Method elliptic (a quick grid), writes what each
-update of a PINN filter gave (points, error, summary, the inputs' visibility, the display's
-colouring) to PINN_GUI_RESULT.NAME.json (NAME: the filter's registration name), and writes
-PINN_GUI_READY when the GUI may be driven; PINN_GUI_RESULT.help.json: the help files the
-plugin registered with the GUI's help engine and their pages.
+PINN Structured Mesh filters default to Method elliptic (a quick grid; the hexahedral one's
+grid small), writes what each update of a PINN filter gave (points, error, summary, the
+inputs' visibility, the display's colouring) to PINN_GUI_RESULT.NAME.json (NAME: the
+filter's registration name), and writes PINN_GUI_READY when the GUI may be driven;
+PINN_GUI_RESULT.help.json: the help files the plugin registered with the GUI's help engine
+and their pages.
 """
 
 import json
@@ -20,7 +21,11 @@ from pinn_engine.routes import help_engine
 
 RESULT = os.environ["PINN_GUI_RESULT"]
 DATA = os.path.join(os.environ["PINN_GUI_REPO"], "example_data")
-MESH_FILTERS = ("PINNStructuredMesh", "PINNMultiBlockMesh", "PINNHexahedralMesh")
+MESH_FILTERS = (
+    "PINNStructuredMesh",
+    "PINNStructuredMeshMultiBlock",
+    "PINNStructuredMeshHexahedral",
+)
 watched = {}
 
 
@@ -100,9 +105,9 @@ def main():
     simple.Render()
     simple.GetSettingsProxy("GeneralSettings").AutoApply = 1
     settings = servermanager.vtkSMSettings.GetInstance()
-    settings.SetSetting("filters.PINNHexahedralMesh.Method", 2)  # elliptic: quick
+    settings.SetSetting("filters.PINNStructuredMeshHexahedral.Method", 2)  # elliptic: quick
     for axis, nodes in enumerate((13, 11, 9)):
-        settings.SetSetting("filters.PINNHexahedralMesh.GridSize", axis, nodes)
+        settings.SetSetting("filters.PINNStructuredMeshHexahedral.GridSize", axis, nodes)
     servermanager.ProxyManager().SMProxyManager.AddObserver("RegisterEvent", on_register)
     interactor = view.GetRenderWindow().GetInteractor()
     interactor.AddObserver("TimerEvent", on_timer)

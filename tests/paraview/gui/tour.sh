@@ -2,8 +2,8 @@
 # Drives Debian's ParaView 5.11 GUI through the hexahedral filter as a new user would, under
 # its own Xvfb screen (tests/paraview/gui/tour.py is the session script):
 #   bash tests/paraview/gui/tour.sh OUTDIR
-# 1. select hexa_bend.stl in the Pipeline Browser, Ctrl+Space, type "PINN Hexa", Return: the
-#    filter meshes the STL (faces found at Face Angle); View > Output Messages;
+# 1. select hexa_bend.stl in the Pipeline Browser, Ctrl+Space, type "PINN hex", Return: PINN
+#    Structured Mesh (Hexahedral) meshes the STL (faces found at Face Angle); View > Output Messages;
 #    OUTDIR/stl.json holds what the update gave and how it is shown, OUTDIR/stl.png the screen;
 # 2. select fig2.vtp (a 2D curve) and the same: a failed Apply; OUTDIR/curve.json,
 #    OUTDIR/curve.png (the curve still shown, the message pointing to the 2D filters);
@@ -61,28 +61,28 @@ quick_launch() {  # quick_launch TEXT: Ctrl+Space, type, Return (ParaView 5.11's
 
 # 1. the STL meshed; Output Messages opened from the View menu
 xdotool mousemove 112 196 click 1; sleep 0.5                 # hexa_bend.stl
-quick_launch "PINN Hexa"
-wait_for "$PINN_GUI_RESULT.PINNHexahedralMesh1.json" 120
-cp "$PINN_GUI_RESULT.PINNHexahedralMesh1.json" "$OUT/stl.json"
+quick_launch "PINN hex"
+wait_for "$PINN_GUI_RESULT.PINNStructuredMeshHexahedral1.json" 120
+cp "$PINN_GUI_RESULT.PINNStructuredMeshHexahedral1.json" "$OUT/stl.json"
 xdotool mousemove 100 10 click 1; sleep 1                    # View
 xdotool mousemove 166 311 click 1; sleep 2                   # Output Messages
 import -window root "$OUT/stl.png"
 
 # 2. a 2D curve given to the hexahedral filter: a failed Apply
 xdotool mousemove 91 240 click 1; sleep 0.5                  # fig2.vtp
-quick_launch "PINN Hexa"
-wait_for "$PINN_GUI_RESULT.PINNHexahedralMesh2.json" 60
-cp "$PINN_GUI_RESULT.PINNHexahedralMesh2.json" "$OUT/curve.json"
+quick_launch "PINN hex"
+wait_for "$PINN_GUI_RESULT.PINNStructuredMeshHexahedral2.json" 60
+cp "$PINN_GUI_RESULT.PINNStructuredMeshHexahedral2.json" "$OUT/curve.json"
 sleep 2
 import -window root "$OUT/curve.png"
 
 # 3. the grid again, Method pinn: Time Limit under Grid Size
-xdotool mousemove 139 218 click 1; sleep 1                   # PINNHexahedralMesh1
-rm -f "$PINN_GUI_RESULT.PINNHexahedralMesh1.json"
+xdotool mousemove 139 218 click 1; sleep 1                   # PINNStructuredMeshHexahedral1
+rm -f "$PINN_GUI_RESULT.PINNStructuredMeshHexahedral1.json"
 xdotool mousemove 205 602 click 1; sleep 1                   # Method
 xdotool mousemove 162 554 click 1; sleep 3                   # pinn (auto-apply trains)
 import -window root "$OUT/time_limit.png"
-wait_for "$PINN_GUI_RESULT.PINNHexahedralMesh1.json" 120
+wait_for "$PINN_GUI_RESULT.PINNStructuredMeshHexahedral1.json" 120
 
 # 4. File > Save Data by file name: CGNS, then OpenFOAM (no options dialog for 3D)
 for name in bend.cgns bend.foam; do
@@ -94,7 +94,7 @@ done
 import -window root "$OUT/saved.png"
 
 # 5. the panel's "?" opens the filter's page; the help's search finds the plugin's pages
-xdotool mousemove 139 218 click 1; sleep 0.5                 # PINNHexahedralMesh1
+xdotool mousemove 139 218 click 1; sleep 0.5                 # PINNStructuredMeshHexahedral1
 xdotool mousemove 268 508 click 1; sleep 4                   # the Properties panel's "?"
 import -window root "$OUT/help.png"
 xdotool mousemove 117 14 click 1; sleep 1                    # the help's Search tab

@@ -1,4 +1,5 @@
-"""pvpython check of the PINN Hexahedral Mesh filter (run by tests/paraview/test_paraview.py).
+"""pvpython check of the PINN Structured Mesh (Hexahedral) filter (run by
+tests/paraview/test_paraview.py).
 
     scripts/pvenv.sh pvpython tests/paraview/scripts/check_hexa.py EXAMPLE_DIR
 
@@ -44,7 +45,7 @@ def grid_of(grid):
     }
 
 
-proto = servermanager.ProxyManager().GetPrototypeProxy("filters", "PINNHexahedralMesh")
+proto = servermanager.ProxyManager().GetPrototypeProxy("filters", "PINNStructuredMeshHexahedral")
 result["label"] = proto.GetXMLLabel()
 result["menu_category"] = (
     proto.GetHints().FindNestedElementByName("ShowInMenu").GetAttribute("category")
@@ -54,7 +55,7 @@ result["representation"] = shown.GetAttribute("type")
 result["help"] = [proto.GetDocumentation().GetShortHelp(), proto.GetDocumentation().GetLongHelp()]
 
 surface = XMLPolyDataReader(FileName=[os.path.join(EXAMPLES, "hexa_bend.vtp")])
-mesh = simple.PINNHexahedralMesh(Input=surface, GridSize=SIZE, Method="tfi")
+mesh = simple.PINNStructuredMeshHexahedral(Input=surface, GridSize=SIZE, Method="tfi")
 progress, texts = [], set()
 
 

@@ -18,6 +18,9 @@ PLUGIN, EXAMPLES = sys.argv[1], sys.argv[2]
 result = {"before_load": hasattr(simple, "PINNStructuredMesh")}
 LoadPlugin(PLUGIN, remote=False, ns=globals())
 result["after_load"] = "PINNStructuredMesh" in globals()
+result["old_names_after_load"] = [
+    n in globals() for n in ("PINNMultiBlockMesh", "PINNHexahedralMesh")
+]
 result["torch_after_load"] = "torch" in sys.modules
 
 proto = servermanager.ProxyManager().GetPrototypeProxy("filters", "PINNStructuredMesh")

@@ -1,4 +1,5 @@
-"""pvpython check of the PINN Multi-Block Mesh filter (run by tests/paraview/test_paraview.py).
+"""pvpython check of the PINN Structured Mesh (Multi-Block) filter (run by
+tests/paraview/test_paraview.py).
 
     scripts/pvenv.sh pvpython tests/paraview/scripts/check_multiblock.py EXAMPLE_DIR
 
@@ -48,7 +49,7 @@ def blocks_of(dataset):
     return out
 
 
-proto = servermanager.ProxyManager().GetPrototypeProxy("filters", "PINNMultiBlockMesh")
+proto = servermanager.ProxyManager().GetPrototypeProxy("filters", "PINNStructuredMeshMultiBlock")
 result["label"] = proto.GetXMLLabel()
 result["menu_category"] = (
     proto.GetHints().FindNestedElementByName("ShowInMenu").GetAttribute("category")
@@ -59,7 +60,7 @@ boundary = XMLPolyDataReader(FileName=[os.path.join(EXAMPLES, "step.vtp")])
 edges = XMLPolyDataReader(FileName=[os.path.join(EXAMPLES, "step_blocks.vtp")])
 
 # 1. boundary and block edges selected together: both on Input
-mesh = simple.PINNMultiBlockMesh(Input=[boundary, edges], CellSize=CELL_SIZE)
+mesh = simple.PINNStructuredMeshMultiBlock(Input=[boundary, edges], CellSize=CELL_SIZE)
 progress = []
 mesh.GetClientSideObject().AddObserver(
     "ProgressEvent", lambda obj, event: progress.append(obj.GetProgress())
@@ -91,14 +92,16 @@ result["foam_boundary"] = open(
 result["save_messages"] = wrote["vtk"]
 
 # 2. the block edges on their own input, Block Edges; tfi, interfaces fixed
-apart = simple.PINNMultiBlockMesh(
+apart = simple.PINNStructuredMeshMultiBlock(
     Input=boundary, BlockEdges=[edges], CellSize=CELL_SIZE, Method="tfi", Interfaces="fixed"
 )
 result["apart_tfi"] = blocks_of(servermanager.Fetch(apart))
 
 # 3. a block edge that ends nowhere: empty output, one line in the panel's words
 stray = simple.Line(Point1=[1.0, 0.6, 0.0], Point2=[1.5, 0.7, 0.0])
-bad = simple.PINNMultiBlockMesh(Input=[boundary, edges], BlockEdges=[stray], CellSize=CELL_SIZE)
+bad = simple.PINNStructuredMeshMultiBlock(
+    Input=[boundary, edges], BlockEdges=[stray], CellSize=CELL_SIZE
+)
 with captured_errors() as err:
     bad_data = servermanager.Fetch(bad)
 result["bad_blocks"] = bad_data.GetNumberOfBlocks()
@@ -112,7 +115,7 @@ result["recovered_blocks"] = servermanager.Fetch(bad).GetNumberOfBlocks()
 # 5. the cylinder's patch named, spaced and orthogonal from the panel's fields (elliptic)
 cylinder = XMLPolyDataReader(FileName=[os.path.join(EXAMPLES, "cylinder_channel.vtp")])
 cut = XMLPolyDataReader(FileName=[os.path.join(EXAMPLES, "cylinder_channel_blocks.vtp")])
-walled = simple.PINNMultiBlockMesh(
+walled = simple.PINNStructuredMeshMultiBlock(
     Input=[cylinder, cut],
     CellSize=CELL_SIZE,
     Method="elliptic",
@@ -130,14 +133,14 @@ result["piece_names"] = sorted({a.GetValue(k) for a in names for k in range(a.Ge
 lshape = XMLPolyDataReader(FileName=[os.path.join(EXAMPLES, "lshape.vtp")])
 lshape_edges = XMLPolyDataReader(FileName=[os.path.join(EXAMPLES, "lshape_blocks.vtp")])
 line = XMLPolyDataReader(FileName=[os.path.join(EXAMPLES, "lshape_aux.vtp")])
-lined = simple.PINNMultiBlockMesh(
+lined = simple.PINNStructuredMeshMultiBlock(
     Input=[lshape, lshape_edges], AuxiliaryLines=[line], CellSize=CELL_SIZE, Method="elliptic"
 )
 lined_data = servermanager.Fetch(lined)
 first = lined_data.GetBlock(0).GetFieldData().GetAbstractArray("Report").GetValue(0)
 result["aux_line_distance"] = json.loads(first)["multiblock"]["aux_line_distance"]
 # 7. the L-shape alone under Blocking Automatic: its blocks, and its edges on output 1
-auto = simple.PINNMultiBlockMesh(Input=[lshape], Blocking="Automatic", Method="elliptic")
+auto = simple.PINNStructuredMeshMultiBlock(Input=[lshape], Blocking="Automatic", Method="elliptic")
 result["blockings"] = auto.GetProperty("Blocking").Available
 result["auto_blocks"] = servermanager.Fetch(auto).GetNumberOfBlocks()
 proposed = servermanager.Fetch(auto, idx=1)
