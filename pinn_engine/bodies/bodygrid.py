@@ -91,13 +91,13 @@ MARCH_PASSES = 2
 SPREAD = 0.5
 # A blunt C-grid's cut leaves the base's middle into two concave corners, around which the normals
 # and rows are smoothed from the wall on (as hyperbolic generators do), with a weight 1 at the
-# middle decaying with a wall node's distance d as exp(-d / reach): the reach is CORNER_REACH
-# half-base heights, at most CORNER_REACH_MAX chords (that of a 2 % base; 0.7 chords on a 23 % base
-# smoothed the rows over the aft surface from the wall on and folded them at the base's convex
-# corners). The base takes C_BASE_INTERVALS intervals, two a side of the cut (docs/tuning.md).
+# middle decaying with a wall node's distance d as exp(-d / reach), the reach CORNER_REACH
+# half-base heights. The base takes C_BASE_INTERVALS intervals, two a side of the cut.
 CORNER_REACH = 6.0
-CORNER_REACH_MAX = 0.06
 C_BASE_INTERVALS = 4
+# The reach is at most CORNER_REACH_MAX chords (a 2 % base's): 0.7 chords on a 23 % base smoothed
+# the rows over the aft surface from the wall on, folding them at its convex corners (tuning.md)
+CORNER_REACH_MAX = 0.06
 # C-grid: behind the thickest point the columns turn vertical within 0.02 chords of the wall (the
 # aft normals lean downstream and would overtake the wake's columns), half way at the thickest
 # point, fully at the trailing edge (REAR_TURN_START of the turn); a base's columns within the
