@@ -106,6 +106,19 @@ def test_an_inside_out_tfi_grid_is_refused_and_the_advice_works():
     assert _inside_out(r) == 0
 
 
+@real_files
+@pytest.mark.parametrize("name, size", [("kenmar", (61, 17)), ("s1210", (121, 25))])
+def test_real_inside_out_tfi_grids_are_refused_and_the_advice_works(name, size):
+    """Real files whose coarse tfi O-grids are inside out: the advice's method is clean."""
+    body = load_body(AIRFOILS / f"{name}.dat")
+    far = circle(body, 15)
+    with pytest.raises(InputError, match="inside out.*use --method elliptic"):
+        mesh_body(body, far, "o", "tfi", *size)
+    r = mesh_body(body, far, "o", "elliptic", *size)
+    assert r.quality["folded_cells"] == 0 and r.quality["worst_max_angle"] < 180
+    assert _inside_out(r) == 0
+
+
 def test_a_first_layer_wider_than_a_notch_is_refused_and_the_advice_works():
     """The elliptic grid's first row leaves the wall along its normals at the first layer's
     height: wider than the notch, it crosses into the opposite prong. The refusal names a
