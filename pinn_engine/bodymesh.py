@@ -9,6 +9,7 @@ degrees of the grid lines leaving the wall.
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable
 
@@ -35,13 +36,58 @@ def _stage(progress: Callable[[dict], object] | None, stage: str) -> None:
         progress({"phase": "prepare", "stage": stage, "step": step, "total": len(STAGES)})
 
 
+# The search for a first layer whose first row lies outside the body tries round values (1, 2
+# and 5 times a power of ten) over this many decades below the given one: 1e-12 of it is far below
+# any wall's notch (no such value: the normals, not the notch, are at fault).
+ROUND_STEPS, SEARCH_DECADES = (5, 2, 1), 12
+
+
 def inside_out(grid: np.ndarray, lay: bodygrid.Layout) -> bool:
     """Whether nodes of the first row off the wall lie inside the body (the wall's nodes as
     a polygon): such a grid is never written (SPEC 9)."""
+    return _row_inside(grid[0], grid[1], lay)
+
+
+def _row_inside(wall_line: np.ndarray, row: np.ndarray, lay: bodygrid.Layout) -> bool:
     cols = lay.wall_columns()
-    wall = grid[0][cols]
+    wall = wall_line[cols]
     ring = wall[:-1] if lay.topology == "o" else wall
-    return bool(inside_polygon(grid[1][cols], ring).any())
+    return bool(inside_polygon(row[cols], ring).any())
+
+
+def outside_first_layer(lay: bodygrid.Layout) -> float | None:
+    """The largest round first layer below the given one whose wall-normal first row (the
+    one the elliptic and pinn grids hold) lies outside the body, or None."""
+    top = math.floor(math.log10(lay.wall_spacing))
+    for power in range(top, top - SEARCH_DECADES, -1):
+        for step in ROUND_STEPS:
+            h = step * 10.0**power
+            row = bodygrid.first_row(lay.inner, lay.topology, h)
+            if h < lay.wall_spacing and not _row_inside(lay.inner, row, lay):
+                return h
+    return None
+
+
+def inside_out_error(method: str, lay: bodygrid.Layout, source: str | None) -> InputError:
+    """The refusal of an inside-out grid, with the fix that keeps its first row outside:
+    tfi's straight columns can enter the body (at a notch, a thin trailing edge) where the
+    other methods' first rows leave along the wall's normals; theirs lie inside only where the
+    first layer is wider than a notch of the wall, and a thinner one keeps them out."""
+    if method == "tfi":
+        fix = (
+            "its straight columns enter the body; use {method:elliptic} or pinn, whose "
+            "first rows leave the wall along its normals"
+        )
+    else:
+        h = outside_first_layer(lay)
+        fix = "its first rows lie inside the body"
+        if h is not None:
+            fix = (
+                f"the first layer ({lay.wall_spacing:.3g}) is wider than a notch of the wall, "
+                f"so its first rows lie inside the body; give one of at most {h:g} "
+                f"({{spacing}} bottom={h:g})"
+            )
+    return InputError(f"the {method} grid is inside out: {fix}; nothing is written", source)
 
 
 def wall_metrics(grid: np.ndarray, topology: str, n_wake: int, sharp: bool) -> dict:
@@ -141,11 +187,7 @@ def mesh_body(
     if not np.isfinite(grid).all():
         raise InputError(f"the {method} grid has non-finite nodes; try another --size")
     if inside_out(grid, lay):
-        raise InputError(
-            f"the {method} grid's first rows lie inside the body (inside out); nothing is "
-            "written: try another {size}",
-            body.source,
-        )
+        raise inside_out_error(method, lay, body.source)
     quality_began = time.perf_counter()
     cells = cell_quality(grid)
     ring = body.ring()

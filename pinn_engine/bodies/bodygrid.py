@@ -91,13 +91,17 @@ MARCH_PASSES = 2
 SPREAD = 0.5
 # A blunt C-grid's cut leaves the base's middle into two concave corners, around which the normals
 # and rows are smoothed from the wall on (as hyperbolic generators do), with a weight 1 at the
-# middle decaying with a wall node's distance d as exp(-d / (CORNER_REACH half-base heights)). The
-# base takes C_BASE_INTERVALS intervals, two a side of the cut (docs/tuning.md: the measurements).
+# middle decaying with a wall node's distance d as exp(-d / reach), the reach CORNER_REACH
+# half-base heights. The base takes C_BASE_INTERVALS intervals, two a side of the cut.
 CORNER_REACH = 6.0
 C_BASE_INTERVALS = 4
+# The reach is at most CORNER_REACH_MAX chords (a 2 % base's): 0.7 chords on a 23 % base smoothed
+# the rows over the aft surface from the wall on, folding them at its convex corners (tuning.md)
+CORNER_REACH_MAX = 0.06
 # C-grid: behind the thickest point the columns turn vertical within 0.02 chords of the wall (the
 # aft normals lean downstream and would overtake the wake's columns), half way at the thickest
-# point, fully at the trailing edge (REAR_TURN_START of the turn).
+# point, fully at the trailing edge (REAR_TURN_START of the turn); a base's columns within the
+# larger of that and the base's height (turned sooner, a tall base's columns ran along it).
 REAR_TURN = 0.02
 REAR_TURN_START = 0.5
 # The turn's remainder decays as exp(-d / REAR_REACH chords): a column turned part way drifts
@@ -375,13 +379,16 @@ def march(
     free = np.ones(len(inner), dtype=bool)  # the nodes whose spacing limits a sub-step
     if topology == "c" and base > 0:
         distance = np.linalg.norm(inner - inner[n_wake], axis=1)
-        corner = np.exp(-distance / (CORNER_REACH * base / 2))[:, None]
+        reach = min(CORNER_REACH * base / 2, CORNER_REACH_MAX * scale)
+        corner = np.exp(-distance / reach)[:, None]
         free = distance > base
     rear = None
     if topology == "c":
         # behind the thickest point the C-grid's columns turn straight down (lower side)
-        # or up (upper side) within ``REAR_TURN`` chords of the wall, as the wake's do: the
-        # aft surface's normals lean downstream and would overtake the wake's columns
+        # or up (upper side) within ``REAR_TURN`` chords of the wall, as the wake's do (the
+        # aft surface's normals lean downstream and would overtake the wake's columns); the
+        # base's columns (the nodes not ``free``) within the base's height if it is larger
+        turn_length = np.where(free, REAR_TURN * scale, max(REAR_TURN * scale, base))[:, None]
         ni = len(inner)
         x = inner[:, 0]
         x_t = rear_start(inner, n_wake)
@@ -395,10 +402,8 @@ def march(
     q = inner
     for j in range(1, len(distances)):
         step = distances[j] - distances[j - 1]
-        if j == 1:  # the first layer: straight along the wall's normals, height h exactly
-            q = q + step * _row_normals(q, topology)
-            if topology == "c":
-                q[0], q[-1] = inner[0] + (0, -step), inner[-1] + (0, step)
+        if j == 1:
+            q = first_row(inner, topology, step)
             rows.append(q)
             continue
         n = _row_normals(q, topology)
@@ -423,7 +428,7 @@ def march(
             for _ in range(passes):
                 n = _smooth_normals(n, NORMAL_SMOOTHING * weight, topology)
             if rear is not None:
-                turn = rear * min(1.0, (d - distances[1]) / (REAR_TURN * scale))
+                turn = rear * np.minimum(1.0, (d - distances[1]) / turn_length)
                 fade = math.exp(-d / (REAR_REACH * scale))
                 turn = np.where(rear > 0, 1 - (1 - turn) * fade, 0.0)
                 n = _units((1 - turn) * n + turn * vertical)
@@ -452,6 +457,16 @@ def march(
                 q[0], q[-1] = inner[0] + (0, -d), inner[-1] + (0, d)
         rows.append(q)
     return np.stack(rows)
+
+
+def first_row(inner: np.ndarray, topology: str, h: float) -> np.ndarray:
+    """The first row off the line j = 0 ``inner`` (ni, 2): straight along the wall's normals,
+    height ``h`` exactly (the C-grid's outflow columns straight down and up). The elliptic and
+    pinn grids hold it."""
+    q = inner + h * _row_normals(inner, topology)
+    if topology == "c":
+        q[0], q[-1] = inner[0] + (0, -h), inner[-1] + (0, h)
+    return q
 
 
 def _converging_rate(q: np.ndarray, n: np.ndarray) -> float:
@@ -819,6 +834,7 @@ __all__ = [
     "BodyCurve",
     "Layout",
     "elliptic",
+    "first_row",
     "jacobi",
     "layout",
     "march",

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from vtkmodules.vtkIOXML import vtkXMLStructuredGridReader
 
-from pinn_engine.bodies.airfoil import circle, load_body, naca4, read_dat
+from pinn_engine.bodies.airfoil import body_from_points, circle, load_body, naca4, read_dat
 from pinn_engine.bodies.bodygrid import C_BASE_INTERVALS
 from pinn_engine.bodymesh import mesh_body
 from pinn_engine.classical.spacing import exact_stretch
@@ -221,10 +221,43 @@ def test_a_blunt_c_grid_leaves_the_base_middle_unfolded(tmp_path):
     assert worst_non_orthogonality(g) < 85.0
 
 
-def test_a_blunt_c_grid_that_would_fold_is_refused(tmp_path):
+def _flatback(code: str, base: float):
+    """NACA ``code`` opened linearly to a base of ``base`` chords (a flatback section, as
+    AH 93-W-480B's 23 % base)."""
+    xy = naca4(code, te="sharp")
+    xy[:, 1] += np.where(np.arange(len(xy)) <= len(xy) // 2, 0.5, -0.5) * base * xy[:, 0]
+    return body_from_points(xy, f"flatback {code}")
+
+
+@pytest.mark.parametrize(
+    "code, base, size, first",
+    [
+        ("4417", 0.2, (121, 33), 1e-4),
+        ("0018", 0.15, (161, 41), 1e-5),
+        ("0012", 0.05, (161, 41), 1e-5),
+    ],
+)
+def test_a_thick_base_c_grid_fans_out_unfolded(code, base, size, first):
+    """A C-grid around a base of 5 to 20 % chord: the base's columns leave it normal and
+    fan out (turned along the base within 0.02 chords, they ran along it: refused, or cells
+    of 167 to 178 degrees); no fold, no cell near 180 degrees."""
+    body = _flatback(code, base)
+    r = mesh_body(body, circle(body, 15), "c", "elliptic", *size, wall_spacing=first)
+    assert r.quality["folded_cells"] == 0
+    assert r.quality["worst_max_angle"] < 160.0
+
+
+def test_a_blunt_c_grid_that_would_fold_is_refused_and_the_advice_works(tmp_path):
+    """A first layer (here the default, half the mean spacing) taller than the base's half
+    and its first wake interval: the base's and the cut's columns, leaving the wall normal,
+    cross. The refusal names --topology o, whose grid of the same size has no fold."""
     body = _base07(tmp_path)
-    with pytest.raises(InputError, match="blunt trailing edge.*use --topology o"):
+    with pytest.raises(InputError, match="blunt trailing edge.*use --topology o") as info:
         mesh_body(body, circle(body, 10), "c", "tfi", 121, 21)
+    assert "\n" not in str(info.value)
+    for method in ("tfi", "elliptic"):
+        r = mesh_body(body, circle(body, 10), "o", method, 121, 21)
+        assert r.quality["folded_cells"] == 0 and r.quality["worst_max_angle"] < 180
 
 
 def test_farfield_must_enclose_the_body():

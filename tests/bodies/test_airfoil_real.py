@@ -3,6 +3,7 @@ without its count line, no stray warnings, refusal advice that works, real files
 
 from __future__ import annotations
 
+import re
 import warnings
 
 import numpy as np
@@ -81,6 +82,55 @@ def test_an_inside_out_grid_is_refused(monkeypatch):
     body = load_body(naca="0012")
     with pytest.raises(InputError, match="inside out"):
         mesh_body(body, circle(body, 15), "o", "tfi", 97, 25, wall_spacing=1e-4)
+
+
+def _notched(depth: float, half: float) -> np.ndarray:
+    """NACA 0012 opened to two prongs 2 * ``half`` apart at x = 1, a V notch between them
+    reaching ``depth`` into the trailing edge (a fishtail edge)."""
+    xy = naca4("0012", 101)
+    xy[:, 1] += np.where(np.arange(len(xy)) <= len(xy) // 2, 1, -1) * half * xy[:, 0]
+    apex = np.array([[1 - depth, 0.0]])
+    return np.vstack([apex, xy, apex])
+
+
+def test_an_inside_out_tfi_grid_is_refused_and_the_advice_works():
+    """tfi's straight columns enter a notched trailing edge: refused in one line naming
+    --method elliptic, whose grid (first rows along the wall's normals) is clean."""
+    body = body_from_points(_notched(0.004, 0.003), "notched")
+    far = circle(body, 15)
+    with pytest.raises(InputError, match="inside out.*use --method elliptic") as info:
+        mesh_body(body, far, "o", "tfi", 121, 33, wall_spacing=1e-4)
+    assert "\n" not in str(info.value)
+    r = mesh_body(body, far, "o", "elliptic", 121, 33, wall_spacing=1e-4)
+    assert r.quality["folded_cells"] == 0 and r.quality["worst_max_angle"] < 180
+    assert _inside_out(r) == 0
+
+
+@real_files
+@pytest.mark.parametrize("name, size", [("kenmar", (61, 17)), ("s1210", (121, 25))])
+def test_real_inside_out_tfi_grids_are_refused_and_the_advice_works(name, size):
+    """Real files whose coarse tfi O-grids are inside out: the advice's method is clean."""
+    body = load_body(AIRFOILS / f"{name}.dat")
+    far = circle(body, 15)
+    with pytest.raises(InputError, match="inside out.*use --method elliptic"):
+        mesh_body(body, far, "o", "tfi", *size)
+    r = mesh_body(body, far, "o", "elliptic", *size)
+    assert r.quality["folded_cells"] == 0 and r.quality["worst_max_angle"] < 180
+    assert _inside_out(r) == 0
+
+
+def test_a_first_layer_wider_than_a_notch_is_refused_and_the_advice_works():
+    """The elliptic grid's first row leaves the wall along its normals at the first layer's
+    height: wider than the notch, it crosses into the opposite prong. The refusal names a
+    first layer that keeps the row outside; with it the grid is written, not inside out."""
+    body = body_from_points(_notched(0.02, 0.008), "notched")
+    far = circle(body, 15)
+    with pytest.raises(InputError, match=r"inside out.*at most (\S+) \(--spacing") as info:
+        mesh_body(body, far, "o", "elliptic", 161, 41)
+    h = float(re.search(r"bottom=(\S+)\)", str(info.value))[1])
+    r = mesh_body(body, far, "o", "elliptic", 161, 41, wall_spacing=h)
+    assert _inside_out(r) == 0
+    assert r.report["topology"]["first_layer"]["min"] == pytest.approx(h)
 
 
 def test_lednicer_without_count_line_is_read(tmp_path):
@@ -175,20 +225,6 @@ def test_no_stray_numpy_warning():
 
 
 @real_files
-def test_refusal_advice_followed_gives_a_grid():
-    """A C-grid around a base of 23 % chord is refused in one line that names
-    ``--topology o``; that O-grid, same size and first layer, has no fold."""
-    body = load_body(AIRFOILS / "ah93w480b.dat")
-    far = circle(body, 15)
-    with pytest.raises(InputError, match="--topology o") as info:
-        mesh_body(body, far, "c", "elliptic", 300, 80, wall_spacing=1e-5)
-    assert "\n" not in str(info.value)
-    r = mesh_body(body, far, "o", "elliptic", 300, 80, wall_spacing=1e-5)
-    assert r.quality["folded_cells"] == 0 and r.quality["worst_max_angle"] < 180
-    assert _inside_out(r) == 0
-
-
-@real_files
 @pytest.mark.parametrize("name", ["e387", "rae2822", "s1223", "goe464", "ag13"])
 @pytest.mark.parametrize("topology", ["o", "c"])
 def test_real_files_mesh_clean(name, topology):
@@ -211,6 +247,7 @@ def test_real_files_mesh_clean(name, topology):
         ("ste87151", "c"),  # a closing segment along the chord: folded as a base
         ("trainer60", "c"),  # columns behind an aft thickest point crossing 1 to 2 chords out
         ("goe462", "o"),  # rows under a deep concave lower surface turned inside out
+        ("ah93w480b", "c"),  # a 23 % base: its columns turned to run along it and folded
     ],
 )
 def test_files_that_failed_mesh_clean(name, topology):
