@@ -264,6 +264,7 @@ def run_blocks(
     all blocks' training together)."""
     from pinn_engine.io.export.vtm import multiblock_dataset
     from pinn_engine.multiblock.mesh import mesh_blocks
+    from pinn_engine.starts.untangle import untangle
 
     g = geometry
     clock = Clock(settings.time_limit, progress)
@@ -279,6 +280,7 @@ def run_blocks(
         g.aux,
         train_blocks,
         g.cells,
+        untangle,
     )
     result.report["blocking"] = g.blocking
     if clock.stopped is not None:

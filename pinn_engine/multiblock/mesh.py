@@ -55,6 +55,9 @@ Progress = Callable[[dict], "bool | str | None"]  # trainer.Progress, without im
 # The pinn's training of the blocks' elliptic grids: blocks.multiblock.train_blocks, which the
 # caller passes in (the block kinds are a layer above this package, and import torch)
 TrainBlocks = Callable[..., tuple[list[np.ndarray], dict]]
+# A block's grid (nj, ni, 2) with its folds undone and its sides held (starts.untangle, a
+# layer above this package)
+Untangle = Callable[[np.ndarray], np.ndarray]
 
 
 @dataclass
@@ -121,6 +124,7 @@ def mesh_blocks(
     aux: Sequence[RawLine] = (),
     train: TrainBlocks | None = None,
     cells: Sequence[SideItem] = (),
+    untangle: Untangle | None = None,
 ) -> MultiBlockResult:
     """The multi-block grid of a boundary's ``rings`` (outer and holes) and block
     ``edges`` (named ``names`` in messages) by ``settings.method`` (tfi, elliptic or pinn),
@@ -130,7 +134,9 @@ def mesh_blocks(
     ``train`` trains the pinn's blocks and ``progress`` hears it, block by block;
     ``aux``: auxiliary lines (user (x, y)) inside blocks, each in the block holding it
     (``quadblock.block_lines``), fitted by the pinn; every method reports how far its grid
-    is from them; ``cells``: ``--cells X,Y=N`` items (``chains.py``)."""
+    is from them; ``cells``: ``--cells X,Y=N`` items (``chains.py``); ``untangle``: undoes a
+    block's folds after gradings and patch spacings move its nodes
+    (``starts.untangle.untangle``, passed in by the caller)."""
     if settings.method not in MULTIBLOCK_METHODS:
         raise InputError(
             f"method {settings.method}: multi-block domains are meshed by "
@@ -191,8 +197,8 @@ def mesh_blocks(
         on_boundary[nodes] |= not piece.interface
     points = graded_lines(points, lay.ids, [(g, item.value) for item, g in grades], on_boundary)
     points = respace(points, asked)
-    if grades or asked:
-        points = untangled_blocks(points, lay.ids)
+    if (grades or asked) and untangle is not None:
+        points = untangled_blocks(points, lay.ids, untangle)
     if walls.orthogonal:
         points = orthogonal(
             points, sides, walls.orthogonal, boundary_neighbours(topo, lay), lay.ids

@@ -19,6 +19,8 @@ identical.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from pinn_engine.classical.spacing import exact_stretch, line_parameters
@@ -135,12 +137,12 @@ def graded_lines(
     return out
 
 
-def untangled_blocks(points: np.ndarray, ids: list[np.ndarray]) -> np.ndarray:
-    """``points`` with the interior nodes of every block that folds untangled
-    (``starts.untangle``, its sides held): moving nodes along lines never folds more cells
-    than the method's grid had."""
-    from pinn_engine.starts.untangle import untangle  # only a folded block gets here
-
+def untangled_blocks(
+    points: np.ndarray, ids: list[np.ndarray], untangle: Callable[[np.ndarray], np.ndarray]
+) -> np.ndarray:
+    """``points`` with the interior nodes of every block that folds moved by ``untangle``
+    (``starts.untangle.untangle``, passed in from the layer above: a block's grid with its
+    sides held), so that moving nodes along lines folds no cell the method's grid had not."""
     out = points.copy()
     for block in ids:
         if folded_cells(out[block]).any():
