@@ -83,3 +83,24 @@ def test_a_grading_reaching_an_interface_grades_the_block_across(tmp_path):
     assert len(lines) == 2  # the channel above the lip's line and the one below
     _check(lines)
     assert _folded(grid) == 0
+
+
+def test_a_block_folded_by_moving_nodes_along_lines_is_untangled_its_sides_held():
+    """spacing.untangled_blocks: a block whose interior node lies outside its cells is
+    untangled, its side nodes kept; an unfolded block is left as it is."""
+    from pinn_engine.multiblock.spacing import untangled_blocks
+    from pinn_engine.quality import folded_cells
+    from pinn_engine.starts.untangle import untangle
+
+    y, x = np.mgrid[0:5, 0:5] / 4.0
+    points = np.column_stack([x.ravel(), y.ravel()])
+    ids = [np.arange(25).reshape(5, 5)]
+    bent = points.copy()
+    bent[12] = (0.9, 0.9)  # the centre node past its neighbours: its cells fold
+    assert folded_cells(bent[ids[0]]).any()
+    out = untangled_blocks(bent, ids, untangle)
+    assert not folded_cells(out[ids[0]]).any()
+    side = np.ones((5, 5), dtype=bool)
+    side[1:-1, 1:-1] = False
+    assert np.array_equal(out[ids[0][side]], bent[ids[0][side]])
+    assert np.array_equal(untangled_blocks(points, ids, untangle), points)
