@@ -24,6 +24,7 @@ from pinn_engine.multiblock.chains import (
 )
 from pinn_engine.multiblock.counts import cell_counts, default_cell_size
 from pinn_engine.multiblock.elliptic import Crossing, crossings, winslow
+from pinn_engine.multiblock.grading import graded_lines
 from pinn_engine.multiblock.graph import linework
 from pinn_engine.multiblock.layout import Layout, layout, side_lines
 from pinn_engine.multiblock.orthogonal import boundary_neighbours, orthogonal
@@ -31,7 +32,6 @@ from pinn_engine.multiblock.patches import PatchPiece, PatchPoint, PatchRing, bl
 from pinn_engine.multiblock.quadblock import block_boundary, block_lines
 from pinn_engine.multiblock.spacing import (
     check_room,
-    graded_lines,
     requests,
     respace,
     spread,

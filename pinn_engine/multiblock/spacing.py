@@ -1,7 +1,7 @@
 """First-edge spacing on multi-block patches (SPEC 10 with SPEC 7's ``--spacing``): the
 nodes of every grid line that leaves a spaced patch are redistributed along the line, so
-that its first edge is H. Gradings along chains (``--spacing X,Y=H``) place every line of
-their blocks by one stretching instead (:func:`graded_lines`).
+that its first edge is H. Gradings along chains (``--spacing X,Y=H``) place their lines
+by ``grading.py`` instead.
 
 The method's grid (TFI or the all-block Winslow solve) is a smooth map of index space; a
 spacing evaluates that map at stretched parameters, as ``classical.spacing``'s interpolated
@@ -23,7 +23,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from pinn_engine.classical.spacing import exact_stretch, line_parameters
+from pinn_engine.classical.spacing import line_parameters
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import arc_lengths
 from pinn_engine.multiblock.layout import side_lines
@@ -99,41 +99,6 @@ def spread(asked: Requests, ids: list[np.ndarray]) -> Requests:
                         continue
                     _ask(out, line, h, label)
                     queue.append(key2)
-    return out
-
-
-def graded_lines(
-    points: np.ndarray,
-    ids: list[np.ndarray],
-    grades: list[tuple[dict[tuple[int, int], int], float]],
-    boundary: np.ndarray,
-) -> np.ndarray:
-    """``points`` with every grid line leaving a graded (block, side) pair of ``grades``
-    (``chains.graded_sides`` with its first edge H) moved along itself, as a blockMesh
-    grading places a block's nodes: at the arc lengths of a two-sided stretching
-    (``classical.spacing.exact_stretch``) whose first edge is H at each graded end and the
-    line's even cell (its length over its cells) at an end no grading asks, the same rule
-    as the layout's boundary pieces along the grading (``chains.graded_params``), which
-    keep their nodes (``boundary``: a mask of the boundary's nodes). Each line once, by its
-    node ids, so a line shared by two blocks stays shared."""
-    asked: Requests = {}
-    for graded, h in grades:
-        for b, s in graded:
-            for line in side_lines(ids[b], SIDE_NAMES[s]):
-                _ask(asked, line, h, "")
-    out = points.copy()
-    for key, (first, last, _) in asked.items():
-        line = np.array(key)
-        if boundary[line].all():
-            continue
-        p = out[line]
-        arc = arc_lengths(p)
-        n = len(line) - 1
-        even = arc[-1] / n
-        at = arc[-1] * exact_stretch(n + 1, (first or even) / arc[-1], (last or even) / arc[-1])[0]
-        out[line[1:-1]] = np.column_stack(
-            [np.interp(at[1:-1], arc, p[:, 0]), np.interp(at[1:-1], arc, p[:, 1])]
-        )
     return out
 
 

@@ -1,0 +1,162 @@
+"""The nodes of gradings along chains (SPEC 10's ``--spacing X,Y=H``), placed after the
+method's grid: every grid line of a graded block that leaves its graded side (the blocks of
+``chains.graded_sides``) keeps its shape and has its nodes moved along it.
+
+- **The stretching.** Each line's nodes go to the arc lengths of a two-sided Vinokur
+  stretching (``classical.spacing.exact_stretch``) whose first edge is H at each graded end
+  and the line's even cell (its length over its cells) at the other, as blockMesh places a
+  graded block's nodes and as the layout places the boundary pieces along the grading
+  (``chains.graded_params``), which keep their nodes.
+- **The rows.** Lines of one block that differ in length (a side bent by the solve, a
+  junction the solve moved) put one stretching's nodes at different distances, so the rows
+  across them would carry the graded side's bends all along the block. The rows are then
+  smoothed along the lines: each node (not the first one off a graded end) moves along its
+  line toward the mean of its two neighbours on the lines beside it (across an interface
+  for a line two graded blocks share), by Gauss-Seidel sweeps over alternate nodes, and
+  never so far that two neighbouring cells of its line differ by more than ROW_GROWTH.
+
+So every line leaving the side starts at H, up to the side's corners, and its cells grow by
+at most ROW_GROWTH; a line shared by two blocks is moved once, by its node ids.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+
+import numpy as np
+
+from pinn_engine.classical.spacing import exact_stretch
+from pinn_engine.geometry.boundary import arc_lengths
+from pinn_engine.multiblock.layout import side_lines
+from pinn_engine.settings import SIDE_NAMES
+
+# Neighbouring cells along a graded line differ by at most this factor after the rows'
+# smoothing (SPEC 10: 1.25; the stretching itself stays within chains.GROWTH_AIM, 1.2)
+ROW_GROWTH = 1.22
+# Sweeps of the rows' smoothing, and the share of the way to its target a node moves in one
+# (the bends decay over a few tens of lines; more sweeps changed no figure of the benchmarks)
+ROW_SWEEPS, ROW_PULL = 40, 0.5
+
+Grades = list[tuple[dict[tuple[int, int], int], float]]  # (chains.graded_sides, H) each
+
+
+def _key(line: np.ndarray) -> tuple[tuple[int, ...], bool]:
+    """A line's node ids in one direction, the same read either way, and whether that
+    reverses ``line``."""
+    ids = tuple(int(n) for n in line)
+    key = min(ids, ids[::-1])
+    return key, key != ids
+
+
+def _lines(ids: list[np.ndarray], grades: Grades):
+    """Each graded line once: its key -> [H at its first node or None, H at its last], and
+    its key -> the node ids of the lines beside it in the blocks listing it, aligned, each
+    once."""
+    asked: dict[tuple[int, ...], list] = {}
+    beside: dict[tuple[int, ...], dict[tuple[int, ...], np.ndarray]] = defaultdict(dict)
+    for graded, h in grades:
+        for b, s in graded:
+            lines = side_lines(ids[b], SIDE_NAMES[s])
+            for m, line in enumerate(lines):
+                key, flip = _key(line)
+                ask = asked.setdefault(key, [None, None])
+                ask[int(flip)] = h if ask[int(flip)] is None else min(ask[int(flip)], h)
+                for other in lines[max(m - 1, 0) : m + 2 : 2] if m else lines[1:2]:
+                    aligned = other[::-1] if flip else other
+                    beside[key][tuple(int(n) for n in aligned)] = aligned
+    return asked, {key: list(found.values()) for key, found in beside.items()}
+
+
+def graded_lines(
+    points: np.ndarray, ids: list[np.ndarray], grades: Grades, boundary: np.ndarray
+) -> np.ndarray:
+    """``points`` with the nodes of every line of ``grades`` placed along it (the module's
+    rule); ``boundary`` masks the boundary's nodes, which stay (the layout placed them)."""
+    asked, beside = _lines(ids, grades)
+    keys = [key for key in asked if not boundary[list(key)].all()]
+    lines_of = np.zeros(len(points), dtype=int)
+    for key in keys:
+        lines_of[list(key)] += 1
+    out = points.copy()
+    groups: dict[int, list] = defaultdict(list)
+    for key in keys:
+        groups[len(key)].append(key)
+    stacks = [_Stack(out, np.array(g), asked, beside, boundary, lines_of) for g in groups.values()]
+    for stack in stacks:
+        stack.place(out)
+    for _ in range(ROW_SWEEPS):
+        for parity in (0, 1):
+            for stack in stacks:
+                stack.sweep(out, parity)
+    return out
+
+
+class _Stack:
+    """The graded lines of one node count: their shapes (the method's nodes), their nodes'
+    arc lengths along them, which of those move in the rows' smoothing, and the lines
+    beside each."""
+
+    def __init__(self, points, lines, asked, beside, boundary, lines_of) -> None:
+        self.lines = lines
+        self.shape = points[lines]  # (m, n, 2): the lines' polylines, kept
+        self.arc = np.array([arc_lengths(p) for p in self.shape])
+        m, n = lines.shape
+        total = self.arc[:, -1]
+        self.s = np.empty((m, n))
+        self.free = ~boundary[lines] & (lines_of[lines] == 1)
+        self.free[:, [0, -1]] = False
+        for r, key in enumerate(map(tuple, lines.tolist())):
+            first, last = asked[key]
+            even = total[r] / (n - 1)
+            self.s[r] = (
+                total[r]
+                * exact_stretch(n, (first or even) / total[r], (last or even) / total[r])[0]
+            )
+            self.free[r, 1] &= first is None
+            self.free[r, -2] &= last is None
+        pairs = [beside[key] for key in map(tuple, lines.tolist())]
+        two = np.array([len(p) == 2 for p in pairs])
+        self.free &= two[:, None]
+        self.beside = np.array([p if len(p) == 2 else [lines[r]] * 2 for r, p in enumerate(pairs)])
+        # the arc lengths of all lines in one increasing array, for one search over all
+        self.offset = np.cumsum(np.concatenate([[0.0], total[:-1] + 1.0]))[:, None]
+
+    def _at(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Points at arc lengths ``s`` (m, n) along the lines, and the lines' unit tangents
+        there."""
+        m, n = s.shape
+        flat = (self.arc + self.offset).ravel()
+        seg = np.searchsorted(flat, (s + self.offset).ravel(), side="right") - 1
+        seg = np.clip(seg.reshape(m, n) - np.arange(m)[:, None] * n, 0, n - 2)
+        rows = np.arange(m)[:, None]
+        a, b = self.shape[rows, seg], self.shape[rows, seg + 1]
+        length = self.arc[rows, seg + 1] - self.arc[rows, seg]
+        tangent = (b - a) / np.maximum(length, 1e-300)[..., None]
+        return a + (s - self.arc[rows, seg])[..., None] * tangent, tangent
+
+    def place(self, out: np.ndarray) -> None:
+        out[self.lines] = self._at(self.s)[0]
+
+    def sweep(self, out: np.ndarray, parity: int) -> None:
+        """Move the free nodes of one parity toward their row neighbours' mean, each within
+        the ROW_GROWTH bounds its line's fixed nodes leave it."""
+        s, g = self.s, ROW_GROWTH
+        at, tangent = self._at(s)
+        target = 0.5 * (out[self.beside[:, 0]] + out[self.beside[:, 1]])
+        want = s + ROW_PULL * np.einsum("mnk,mnk->mn", target - at, tangent)
+        k = np.arange(s.shape[1])
+        move = self.free & (k % 2 == parity)
+        prev, nxt = np.roll(s, 1, axis=1), np.roll(s, -1, axis=1)
+        span = nxt - prev
+        lo, hi = prev + span / (1 + g), prev + span * g / (1 + g)
+        before = prev - np.roll(s, 2, axis=1)  # the cell before the previous node
+        after = np.roll(s, -2, axis=1) - nxt
+        inner = k >= 2
+        lo = np.where(inner, np.maximum(lo, prev + before / g), lo)
+        hi = np.where(inner, np.minimum(hi, prev + before * g), hi)
+        inner = k <= s.shape[1] - 3
+        lo = np.where(inner, np.maximum(lo, nxt - after * g), lo)
+        hi = np.where(inner, np.minimum(hi, nxt - after / g), hi)
+        move &= lo <= hi
+        s[move] = np.clip(want, lo, hi)[move]
+        out[self.lines] = self._at(s)[0]
