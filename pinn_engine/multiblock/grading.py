@@ -78,12 +78,10 @@ def graded_lines(
     for key in keys:
         lines_of[list(key)] += 1
     out = points.copy()
-    groups: dict[int, list] = defaultdict(list)
-    for key in keys:
-        groups[len(key)].append(key)
-    stacks = [_Stack(out, np.array(g), asked, beside, boundary, lines_of) for g in groups.values()]
-    for stack in stacks:
-        stack.place(out)
+    stacks = []
+    for part in _parts(keys):  # lines crossing others placed after them, along their nodes
+        stacks.append(_Stack(out, np.array(part), asked, beside, boundary, lines_of))
+        stacks[-1].place(out)
     for _ in range(ROW_SWEEPS):
         for parity in (0, 1):
             for stack in stacks:
@@ -91,10 +89,26 @@ def graded_lines(
     return out
 
 
+def _parts(keys: list[tuple[int, ...]]) -> list[list[tuple[int, ...]]]:
+    """``keys`` in groups of one node count whose lines share no node (a block graded in
+    both directions: its rows in one group, its columns in a later one)."""
+    parts: list[tuple[set, list]] = []
+    for key in keys:
+        part = next(
+            (p for p in parts if len(p[1][0]) == len(key) and not p[0].intersection(key)), None
+        )
+        if part is None:
+            part = (set(), [])
+            parts.append(part)
+        part[0].update(key)
+        part[1].append(key)
+    return [members for _, members in parts]
+
+
 class _Stack:
-    """The graded lines of one node count: their shapes (the method's nodes), their nodes'
-    arc lengths along them, which of those move in the rows' smoothing, and the lines
-    beside each."""
+    """Graded lines of one node count that share no node: their shapes (their nodes when
+    they are placed), their nodes' arc lengths along them, which of those move in the rows'
+    smoothing (none that another graded line holds too), and the lines beside each."""
 
     def __init__(self, points, lines, asked, beside, boundary, lines_of) -> None:
         self.lines = lines
@@ -159,4 +173,4 @@ class _Stack:
         hi = np.where(inner, np.minimum(hi, nxt - after / g), hi)
         move &= lo <= hi
         s[move] = np.clip(want, lo, hi)[move]
-        out[self.lines] = self._at(s)[0]
+        out[self.lines[move]] = self._at(s)[0][move]
