@@ -8,7 +8,7 @@ from which a block's grid lines start with a first edge H: the blocks on both si
 named side, and, so that no block is graded on one side only, every block that shares a
 whole side with a graded block's side along the grading (a column of blocks downstream of a
 cylinder's box is graded as a column, as a blockMesh user grades it), and the block across a
-graded interface where that grades no other block. ``spacing.graded_lines`` places the
+graded interface where that grades no other block. ``grading.graded_lines`` places the
 nodes of their lines.
 """
 

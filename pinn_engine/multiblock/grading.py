@@ -28,6 +28,7 @@ import numpy as np
 from pinn_engine.classical.spacing import exact_stretch
 from pinn_engine.geometry.boundary import arc_lengths
 from pinn_engine.multiblock.layout import side_lines
+from pinn_engine.multiblock.spacing import Requests
 from pinn_engine.settings import SIDE_NAMES
 
 # Neighbouring cells along a graded line differ by at most this factor after the rows'
@@ -68,11 +69,22 @@ def _lines(ids: list[np.ndarray], grades: Grades):
 
 
 def graded_lines(
-    points: np.ndarray, ids: list[np.ndarray], grades: Grades, boundary: np.ndarray
-) -> np.ndarray:
+    points: np.ndarray,
+    ids: list[np.ndarray],
+    grades: Grades,
+    boundary: np.ndarray,
+    patches: Requests,
+) -> tuple[np.ndarray, Requests]:
     """``points`` with the nodes of every line of ``grades`` placed along it (the module's
-    rule); ``boundary`` masks the boundary's nodes, which stay (the layout placed them)."""
+    rule), and the ``patches``' first edges (``spacing.requests``) left to
+    ``spacing.respace``: a graded line that a patch asks too takes the patch's first edge
+    at that end in its one stretching, so neither end undoes the other; ``boundary`` masks
+    the boundary's nodes, which stay (the layout placed them)."""
     asked, beside = _lines(ids, grades)
+    for key, ends in asked.items():
+        if key in patches:
+            ends[:] = [g if p is None else p for g, p in zip(ends, patches[key][:2])]
+    rest = {key: ask for key, ask in patches.items() if key not in asked}
     keys = [key for key in asked if not boundary[list(key)].all()]
     lines_of = np.zeros(len(points), dtype=int)
     for key in keys:
@@ -86,7 +98,7 @@ def graded_lines(
         for parity in (0, 1):
             for stack in stacks:
                 stack.sweep(out, parity)
-    return out
+    return out, rest
 
 
 def _parts(keys: list[tuple[int, ...]]) -> list[list[tuple[int, ...]]]:

@@ -195,8 +195,9 @@ def mesh_blocks(
     on_boundary = np.zeros(len(points), dtype=bool)
     for piece, nodes in zip(topo.pieces, lay.piece_ids):
         on_boundary[nodes] |= not piece.interface
-    points = graded_lines(points, lay.ids, [(g, item.value) for item, g in grades], on_boundary)
-    points = respace(points, asked)
+    grading = [(g, item.value) for item, g in grades]
+    points, rest = graded_lines(points, lay.ids, grading, on_boundary, asked)
+    points = respace(points, rest)
     if (grades or asked) and untangle is not None:
         points = untangled_blocks(points, lay.ids, untangle)
     if walls.orthogonal:

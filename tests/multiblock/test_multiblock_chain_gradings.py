@@ -50,10 +50,9 @@ def _folded(grid: pv.MultiBlock) -> int:
     return sum(int(b.cell_data["Folded"].sum()) for b in grid)
 
 
-def test_an_interior_side_of_an_oring_star_is_graded_on_both_sides_to_its_ends(tmp_path):
-    """--spacing at the box's right side: every line leaving it on both sides (those next
-    to the box's corners too, where the star's diagonals meet) starts at H and grows by at
-    most 1.25 a cell, and no cell folds."""
+def _oring_star() -> tuple[list[np.ndarray], list]:
+    """A circle in a square round which a box is cut along its diagonals, the box's corners
+    joined to the square's: 8 blocks."""
     t = 2 * np.pi * np.arange(40) / 40
     circle = np.column_stack([0.1 + 0.25 * np.cos(t), 0.05 + 0.25 * np.sin(t)])
     square = np.array([(-1, -1), (1, -1), (1, 1), (-1, 1)], dtype=float)
@@ -62,11 +61,34 @@ def test_an_interior_side_of_an_oring_star_is_graded_on_both_sides_to_its_ends(t
     for (x, y), corner in zip(box, [(1, -1), (1, 1), (-1, 1), (-1, -1)]):
         a = np.arctan2(y - 0.05, x - 0.1)
         edges += [[(0.1 + 0.25 * np.cos(a), 0.05 + 0.25 * np.sin(a)), (x, y)], [(x, y), corner]]
-    grid = _mesh(tmp_path, [square, circle], edges, ["--cell-size", "0.08",
-                 "--spacing", f"0.55,0.05={H}"])  # fmt: skip
+    return [square, circle], edges
+
+
+def test_an_interior_side_of_an_oring_star_is_graded_on_both_sides_to_its_ends(tmp_path):
+    """--spacing at the box's right side: every line leaving it on both sides (those next
+    to the box's corners too, where the star's diagonals meet) starts at H and grows by at
+    most 1.25 a cell, and no cell folds."""
+    rings, edges = _oring_star()
+    grid = _mesh(tmp_path, rings, edges, ["--cell-size", "0.08", "--spacing", f"0.55,0.05={H}"])
     lines = _lines_from(grid, (0.55, 0.05))
     assert len(lines) == 2
     _check(lines)
+    assert _folded(grid) == 0
+
+
+def test_a_graded_line_leaving_a_spaced_wall_keeps_both_first_edges(tmp_path):
+    """The box's right side graded and the circle a spaced wall: the O-ring's lines between
+    them start at H at the box and at the wall's first edge at the circle (one stretching
+    with both ends, neither undoing the other)."""
+    rings, edges = _oring_star()
+    wall = 0.003
+    args = ["--cell-size", "0.04", "--spacing", f"0.55,0.05={H}", "--spacing", f"hole1={wall}"]
+    grid = _mesh(tmp_path, rings, edges, args)
+    inner = [v for v in _lines_from(grid, (0.55, 0.05)) if v[0, -1, 0] < 0.55]
+    assert len(inner) == 1
+    edges = np.linalg.norm(np.diff(inner[0], axis=1), axis=2)
+    assert np.all(np.abs(edges[:, 0] / H - 1) <= FIRST_TOL), edges[:, 0] / H
+    assert np.all(np.abs(edges[:, -1] / wall - 1) <= FIRST_TOL), edges[:, -1] / wall
     assert _folded(grid) == 0
 
 
