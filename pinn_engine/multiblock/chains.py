@@ -157,21 +157,40 @@ def _side_length(topo: Topology, b: int, s: int) -> float:
     return sum(topo.pieces[p].length for p, _ in topo.blocks[b].sides[s])
 
 
-def max_growth(n: int, first: float) -> float:
+def max_growth(n: int, first: float, last: float | None = None) -> float:
     """The largest ratio of neighbouring cells of the stretching of ``n`` cells whose first
-    cell is ``first`` (a share of the line) and whose last is the uniform n-th."""
-    cells = np.diff(exact_stretch(n + 1, first, 1.0 / n)[0])
+    cell is ``first`` (a share of the line) and whose last is ``last`` (default: the
+    uniform n-th)."""
+    cells = np.diff(exact_stretch(n + 1, first, 1.0 / n if last is None else last)[0])
     ratio = cells[1:] / cells[:-1]
     return float(max(ratio.max(), (1.0 / ratio).max()))
 
 
+def _least_count(n: int, top: int, first: float, last: float | None) -> int | None:
+    """The least count from ``n`` to ``top`` whose stretching (``max_growth``) stays within
+    GROWTH_AIM, or None."""
+    while max_growth(n, first, last) > GROWTH_AIM:
+        n += 1
+        if n > top:
+            return None
+    return n
+
+
 def graded_minimum(
-    topo: Topology, graded: dict[tuple[int, int], int], h: float, counts: np.ndarray, item: SideItem
+    topo: Topology,
+    graded: dict[tuple[int, int], int],
+    h: float,
+    counts: np.ndarray,
+    item: SideItem,
+    walls: dict[int, float],
 ) -> dict[int, int]:
     """Cells the pieces along a grading need so that neighbouring cells stay within
     GROWTH_AIM of each other (the first edge ``item.value`` against the uniform cells of
-    ``counts``): per piece along, the least such count of its side (one piece a side; a
-    side of several pieces keeps its counts)."""
+    ``counts``, or against the first edge of a spaced patch on the opposite side, ``walls``:
+    piece -> H, where the lines are stretched to both; where no count does that, a wall too
+    near the graded side, against the uniform cells as without the wall): per piece along,
+    the least such count of its side (one piece a side; a side of several pieces keeps its
+    counts)."""
     out: dict[int, int] = {}
     for b, s in graded:
         along = topo.blocks[b].sides[(s + 1) % 4]
@@ -179,17 +198,18 @@ def graded_minimum(
             continue
         piece = along[0][0]
         length = _side_length(topo, b, (s + 1) % 4)
-        n = int(counts[piece])
+        opposite = [walls.get(k) for k, _ in topo.blocks[b].sides[(s + 2) % 4]]
+        first, n = item.value / length, int(counts[piece])
         top = max(n, int(np.ceil(length / h))) * MAX_RAISE
-        while max_growth(n, item.value / length) > GROWTH_AIM:
-            n += 1
-            if n > top:
-                raise InputError(
-                    f"{item.where}: no cell count keeps neighbouring cells within "
-                    f"{MAX_GROWTH:g} of each other from a first edge of {item.value:g} along a "
-                    f"side {length:.4g} long; choose H nearer the cell size ({h:.4g})"
-                )
-        out[piece] = max(out.get(piece, 0), n)
+        least = None if None in opposite else _least_count(n, top, first, min(opposite) / length)
+        least = least or _least_count(n, top, first, None)
+        if least is None:
+            raise InputError(
+                f"{item.where}: no cell count keeps neighbouring cells within "
+                f"{MAX_GROWTH:g} of each other from a first edge of {item.value:g} along a "
+                f"side {length:.4g} long; choose H nearer the cell size ({h:.4g})"
+            )
+        out[piece] = max(out.get(piece, 0), least)
     return out
 
 

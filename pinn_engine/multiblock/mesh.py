@@ -28,7 +28,13 @@ from pinn_engine.multiblock.grading import graded_lines
 from pinn_engine.multiblock.graph import linework
 from pinn_engine.multiblock.layout import Layout, layout, side_lines
 from pinn_engine.multiblock.orthogonal import boundary_neighbours, orthogonal
-from pinn_engine.multiblock.patches import PatchPiece, PatchPoint, PatchRing, block_patches
+from pinn_engine.multiblock.patches import (
+    PatchPiece,
+    PatchPoint,
+    PatchRing,
+    block_patches,
+    piece_patches,
+)
 from pinn_engine.multiblock.quadblock import block_boundary, block_lines
 from pinn_engine.multiblock.spacing import (
     check_room,
@@ -154,9 +160,14 @@ def mesh_blocks(
     counts = cell_counts(topo, h, fixed)
     grades = [(item, graded_sides(topo, nearest_piece(topo, item))) for item in walls.sides]
     if grades:
+        spaced = {
+            k: walls.spacing[spec[0]]
+            for k, spec in enumerate(piece_patches(topo, patch_points))
+            if spec is not None and spec[0] in walls.spacing
+        }
         minimum: dict[int, tuple[int, SideItem]] = {}
         for item, graded in grades:
-            for piece, n in graded_minimum(topo, graded, h, counts, item).items():
+            for piece, n in graded_minimum(topo, graded, h, counts, item, spaced).items():
                 if n > minimum.get(piece, (0, item))[0]:
                     minimum[piece] = (n, item)
         counts = cell_counts(topo, h, fixed, minimum)

@@ -79,7 +79,8 @@ def test_an_interior_side_of_an_oring_star_is_graded_on_both_sides_to_its_ends(t
 def test_a_graded_line_leaving_a_spaced_wall_keeps_both_first_edges(tmp_path):
     """The box's right side graded and the circle a spaced wall: the O-ring's lines between
     them start at H at the box and at the wall's first edge at the circle (one stretching
-    with both ends, neither undoing the other)."""
+    with both ends, neither undoing the other), and the chain has the cells to grow from
+    one to the other by at most 1.25 a cell."""
     rings, edges = _oring_star()
     wall = 0.003
     args = ["--cell-size", "0.04", "--spacing", f"0.55,0.05={H}", "--spacing", f"hole1={wall}"]
@@ -89,6 +90,8 @@ def test_a_graded_line_leaving_a_spaced_wall_keeps_both_first_edges(tmp_path):
     edges = np.linalg.norm(np.diff(inner[0], axis=1), axis=2)
     assert np.all(np.abs(edges[:, 0] / H - 1) <= FIRST_TOL), edges[:, 0] / H
     assert np.all(np.abs(edges[:, -1] / wall - 1) <= FIRST_TOL), edges[:, -1] / wall
+    ratio = edges[:, 1:] / edges[:, :-1]
+    assert np.maximum(ratio, 1 / ratio).max() <= MAX_RATIO
     assert _folded(grid) == 0
 
 
