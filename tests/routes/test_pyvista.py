@@ -61,7 +61,7 @@ def test_inputs_as_vtk_arrays_and_lists(fig2):
     ring = wavy_ring()
     grid = pinn_mesh(ring, size=(11, 6), method="tfi")  # (n, 2) array, closed automatically
     assert grid.dimensions == (11, 6, 1)
-    lines = [aux.extract_cells(k).extract_surface() for k in range(aux.n_cells)]
+    lines = [aux.extract_cells(k) for k in range(aux.n_cells)]  # unstructured grids of lines
     one = pinn_mesh(boundary, aux=aux, size=(11, 6), **SHORT)
     two = pinn_mesh(boundary, aux=lines, size=(11, 6), **SHORT)  # a list of polylines
     np.testing.assert_allclose(one.points, two.points, atol=1e-9)

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 import pyvista as pv
-from vtkmodules.vtkCommonDataModel import vtkPolyData
+from vtkmodules.vtkCommonDataModel import vtkDataSet, vtkPolyData
+from vtkmodules.vtkFiltersGeometry import vtkDataSetSurfaceFilter
 
 from pinn_engine.errors import InputError
 
@@ -29,8 +30,15 @@ def as_polydata(obj, closed: bool, what: str) -> vtkPolyData:
         return obj
     if isinstance(obj, np.ndarray | list | tuple):
         return ring_polydata(obj, closed)
-    if hasattr(obj, "extract_surface"):  # another pyvista dataset holding lines
-        return obj.extract_surface()
+    if isinstance(obj, pv.MultiBlock):
+        obj = obj.combine()
+    if isinstance(obj, vtkDataSet):
+        # another dataset holding lines, through VTK's surface filter (pyvista's
+        # extract_surface warns that its default algorithm will change)
+        surface = vtkDataSetSurfaceFilter()
+        surface.SetInputData(obj)
+        surface.Update()
+        return pv.wrap(surface.GetOutput())
     raise InputError(
         f"{what}: expected a pyvista/VTK PolyData or an array of points, got {type(obj).__name__}"
     )
