@@ -185,7 +185,9 @@ def mesh_body(
         timings["training"] = time.perf_counter() - began
     mesh_seconds = time.perf_counter() - start - train_seconds
     if not np.isfinite(grid).all():
-        raise InputError(f"the {method} grid has non-finite nodes; try another --size")
+        raise InputError(
+            f"the {method} grid has non-finite nodes; try another {{size}}", body.source
+        )
     if inside_out(grid, lay):
         raise inside_out_error(method, lay, body.source)
     quality_began = time.perf_counter()
