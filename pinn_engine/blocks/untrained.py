@@ -98,6 +98,21 @@ def body_start(start: np.ndarray, reason: str) -> dict:
     }
 
 
+def _start_info(start: str, reason: str, guard: dict, seconds: float) -> dict:
+    """What the report says of a block whose network is not trained: its ``start``, why
+    (``reason``), the ``guard``'s figures and the start's ``seconds``."""
+    return {
+        "result": "start",
+        "start": start,
+        "skipped": reason,
+        "largest_node_move": 0.0,
+        "adam_epochs": 0,
+        "lbfgs_iterations": 0,
+        "guard": guard,
+        "timings": {"start": seconds, "training": 0.0},
+    }
+
+
 @dataclass
 class StartModel:
     """A four-sided block's map where its network is not trained: the TFI base plus the
@@ -116,16 +131,8 @@ class StartModel:
         began = time.perf_counter()
         lattice = lattice_for(*settings.lattice)
         begin = quad_start(boundary, settings, lattice, aux)
-        info = {
-            "result": "start",
-            "start": begin.warm.start,
-            "skipped": reason,
-            "largest_node_move": 0.0,
-            "adam_epochs": 0,
-            "lbfgs_iterations": 0,
-            "guard": {"lattice": list(lattice), "elliptic": guard_figures(begin.reference)},
-            "timings": {"start": time.perf_counter() - began, "training": 0.0},
-        }
+        guard = {"lattice": list(lattice), "elliptic": guard_figures(begin.reference)}
+        info = _start_info(begin.warm.start, reason, guard, time.perf_counter() - began)
         if begin.winslow is not None:
             info["untangled"] = untangled_report(begin.winslow, begin.reference)
         return cls(boundary, begin.warm, settings, info)
@@ -158,16 +165,7 @@ class VolumeStartModel:
     def of(cls, start: Start, settings: Settings, surface_key: str, reason: str, seconds: float):
         """The map of ``start`` (the Winslow grid of the surface of ``surface_key``, solved in
         ``seconds``) and what the report says about it: not trained, and why (``reason``)."""
-        info = {
-            "result": "start",
-            "start": "elliptic",
-            "skipped": reason,
-            "largest_node_move": 0.0,
-            "adam_epochs": 0,
-            "lbfgs_iterations": 0,
-            "guard": {"lattice": list(start.grid.shape[:3])},
-            "timings": {"start": seconds, "training": 0.0},
-        }
+        info = _start_info("elliptic", reason, {"lattice": list(start.grid.shape[:3])}, seconds)
         return cls(LatticeField(start.grid - start.tfi), settings, info, surface_key)
 
     def grid(self, tfi: np.ndarray) -> np.ndarray:

@@ -35,6 +35,13 @@ SIZE = (21, 11)
 STAGES = {"start", "training", "mesh", "quality", "read", "write"}
 
 
+def _assert_torch_not_imported(code: str) -> None:
+    """Run ``code`` (which ends by printing whether torch is in sys.modules) in a fresh
+    interpreter: it must not have imported torch."""
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert out.stdout.strip() == "False", out.stderr
+
+
 def test_the_decision_follows_the_terms_the_network_could_win():
     """Untrained under the Winslow and quality objectives alone; trained with lines to
     follow, orthogonal sides, a spacing, without the warm start, for mgnet, or with Adam
@@ -70,8 +77,7 @@ def test_an_untrained_map_is_the_start_it_would_have_kept():
         f"Mesher(make_settings('pinn', lattice={SIZE})).fit(b).predict(*{SIZE});"
         "print('torch' in sys.modules)"
     )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
-    assert out.stdout.strip() == "False", out.stderr
+    _assert_torch_not_imported(code)
 
 
 def test_the_report_times_every_stage(tmp_path):
@@ -135,8 +141,7 @@ def test_an_untrained_body_grid_is_the_start_its_trained_network_kept():
         f"mesh_body(b, circle(b, 12), 'c', 'pinn', *{size}, wall_spacing={wall});"
         "print('torch' in sys.modules)"
     )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
-    assert out.stdout.strip() == "False", out.stderr
+    _assert_torch_not_imported(code)
     coarse = layout(body, far, "c", *size)  # the default first layer: cells of aspect 2
     assert body_cannot_win(settings, coarse.wall_aspect()) is None
 
@@ -158,8 +163,7 @@ def test_a_hexahedral_pinn_whose_network_cannot_win_keeps_its_start(tmp_path):
         f" '--report', {str(written)!r}, '--quiet']);"
         "print('torch' in sys.modules)"
     )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
-    assert out.stdout.strip() == "False", out.stderr
+    _assert_torch_not_imported(code)
     report = json.loads(written.read_text())
     assert report["training"]["skipped"] == WINSLOW
     assert set(report["timings"]) >= {"read", "faces", "start", "training", "quality", "write"}
