@@ -23,7 +23,6 @@ from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
 from pinn_engine.quality import first_edges, folded_cells
 
-SIDE_AXIS = {"bottom": 1, "top": 1, "left": 0, "right": 0}  # parameter that the side stretches
 # the sides a side's first edges run along (their lengths bound the spacing): the sides at
 # its first and its last node
 ACROSS = {
