@@ -43,7 +43,7 @@ AUX_FORMATS = (".vtp", ".vtk")
 
 
 @contextlib.contextmanager
-def _quiet_vtk():
+def quiet_vtk():
     """Silence VTK's own error printing; we report problems ourselves, once."""
     previous = vtkObject.GetGlobalWarningDisplay()
     vtkObject.GlobalWarningDisplayOff()
@@ -199,7 +199,7 @@ def polylines_of(poly: vtkPolyData, source: str = "input") -> list[tuple[np.ndar
         stripper = vtkStripper()
         stripper.SetInputData(only_lines)
         stripper.JoinContiguousSegmentsOn()
-        with _quiet_vtk():
+        with quiet_vtk():
             stripper.Update()
         strips = stripper.GetOutput()
         xyz = vtk_to_numpy(strips.GetPoints().GetData())  # the stripper keeps point ids
@@ -357,7 +357,8 @@ def _signals_deferred():
         signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
-def _umask() -> int:
+def umask() -> int:
+    """The process's file mode mask (read by setting it and setting it back)."""
     mask = os.umask(0o022)
     os.umask(mask)
     return mask
@@ -391,7 +392,7 @@ def atomic_path(path: str | os.PathLike, suffix: str = ".part"):
         yield Path(tmp)
         with open(tmp, "rb+") as f:  # on disk before it takes the target's name
             os.fsync(f.fileno())
-        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; give the usual permissions
+        os.chmod(tmp, 0o666 & ~umask())  # mkstemp makes 0600; give the usual permissions
         with _signals_deferred():
             os.replace(tmp, path)
     finally:
@@ -424,7 +425,7 @@ def write_vts(grid: vtkStructuredGrid, path: str | os.PathLike) -> Path:
         writer.SetInputData(grid)
         writer.SetDataModeToAppended()
         writer.SetCompressorTypeToZLib()
-        with _quiet_vtk():
+        with quiet_vtk():
             ok = writer.Write() == 1
         if not ok:
             raise OSError(f"VTK could not write {path} (disk full or not writable?)")

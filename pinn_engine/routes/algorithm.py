@@ -321,12 +321,6 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, LineInputs, VTKPythonAlgorithmBa
         """Whether the last update trained a network (False: re-used or classical method)."""
         return self._trained
 
-    def ClearCache(self) -> None:
-        """Forget trained networks (and a failure): the next update trains again."""
-        self._cache.clear()
-        self._failed = None
-        self.Modified()
-
     # ---- pipeline ----------------------------------------------------------------------
     def RequestInformation(self, request, inInfo, outInfo):
         ni, nj = (max(n, 1) for n in self._size)

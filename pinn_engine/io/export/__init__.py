@@ -57,7 +57,7 @@ from pinn_engine.io.export.patches import (
 )
 from pinn_engine.io.export.registry import FORMATS, Format
 from pinn_engine.io.export.topology import mean_edge, side_nodes
-from pinn_engine.io.fileio import atomic_path, write_text_atomic
+from pinn_engine.io.fileio import atomic_path, umask, write_text_atomic
 
 
 def output_format(
@@ -285,7 +285,7 @@ def write_case(case: Path, write_mesh: Callable[[Path], None]) -> Path:
             for rel, text in files.items():
                 (tmp / rel).parent.mkdir(parents=True, exist_ok=True)
                 (tmp / rel).write_text(text)
-            os.chmod(tmp, 0o777 & ~_umask())
+            os.chmod(tmp, 0o777 & ~umask())
             os.rename(tmp, case)
         finally:
             shutil.rmtree(tmp, ignore_errors=True)
@@ -296,7 +296,7 @@ def write_case(case: Path, write_mesh: Callable[[Path], None]) -> Path:
     target, old, moved = constant / "polyMesh", None, False
     try:
         write_mesh(tmp)
-        os.chmod(tmp, 0o777 & ~_umask())
+        os.chmod(tmp, 0o777 & ~umask())
         if target.exists():
             old = Path(tempfile.mkdtemp(prefix=".polyMesh.", suffix=".old", dir=constant))
             os.rename(target, old / "polyMesh")
@@ -313,12 +313,6 @@ def write_case(case: Path, write_mesh: Callable[[Path], None]) -> Path:
         if not (case / rel).exists():
             write_text_atomic(case / rel, text)
     return case
-
-
-def _umask() -> int:
-    mask = os.umask(0o022)
-    os.umask(mask)
-    return mask
 
 
 __all__ = [

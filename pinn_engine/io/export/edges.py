@@ -13,7 +13,7 @@ from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
 from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
 
 from pinn_engine.errors import InputError
-from pinn_engine.io.fileio import _quiet_vtk, atomic_path
+from pinn_engine.io.fileio import atomic_path, quiet_vtk
 
 
 def edges_polydata(edges: list[np.ndarray]) -> vtkPolyData:
@@ -53,7 +53,7 @@ def write_edges(edges: list[np.ndarray], path: str | os.PathLike) -> Path:
         writer.SetFileName(str(tmp))
         writer.SetInputData(edges_polydata(edges))
         writer.SetDataModeToBinary()  # every bit kept: the edges read back are these points
-        with _quiet_vtk():
+        with quiet_vtk():
             ok = writer.Write() == 1
         if not ok:
             raise OSError(f"VTK could not write {path} (disk full or not writable?)")

@@ -137,11 +137,6 @@ def end_faces(ni: int, nj: int, end: str) -> np.ndarray:
     return q[:, ::-1] if end == "back" else q + ni * nj
 
 
-def side_size(ni: int, nj: int, side: str) -> int:
-    """Nodes along a side."""
-    return ni if side in ("bottom", "top") else nj
-
-
 def box_range(ni: int, nj: int, nk: int, side: str) -> tuple[tuple[int, ...], tuple[int, ...]]:
     """1-based ((imin, jmin, kmin), (imax, jmax, kmax)) of a side of a hexahedral grid."""
     axis, end = divmod(BOX_SIDES.index(side), 2)
@@ -178,5 +173,4 @@ __all__ = [
     "side_edges",
     "side_faces",
     "side_nodes",
-    "side_size",
 ]

@@ -7,7 +7,7 @@ from pathlib import Path
 from vtkmodules.vtkIOLegacy import vtkStructuredGridWriter
 
 from pinn_engine.io.export.registry import Format, register
-from pinn_engine.io.fileio import _quiet_vtk, atomic_path, write_vts
+from pinn_engine.io.fileio import atomic_path, quiet_vtk, write_vts
 
 
 def write_legacy(grid, path: Path) -> None:
@@ -16,7 +16,7 @@ def write_legacy(grid, path: Path) -> None:
     writer.SetFileName(str(path))
     writer.SetInputData(grid)
     writer.SetFileTypeToBinary()
-    with _quiet_vtk():
+    with quiet_vtk():
         ok = writer.Write() == 1
     if not ok:
         raise OSError(f"VTK could not write {path} (disk full or not writable?)")
