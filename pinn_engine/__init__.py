@@ -1,8 +1,9 @@
 """pinn-mesh: structured quadrilateral meshes from a physics-informed neural network.
 
 ``pinn_engine.report(grid)`` reads a grid's report as a dict and ``pinn_engine.save(grid,
-path, patches=...)`` writes a grid for a CFD solver (both imported on first use: they need
-pyvista); grids come from ``PolyData.pinn_mesh(...)``. ``__version__`` is read on first use
+path, patches=...)`` writes a grid for a CFD solver and ``pinn_engine.read_airfoil(path)``
+reads an airfoil ``.dat`` file (each imported on first use: they need pyvista); grids come
+from ``PolyData.pinn_mesh(...)``. ``__version__`` is read on first use
 too (the installed package's metadata: about 80 ms of a run's start that most runs never use).
 """
 
@@ -10,6 +11,8 @@ from pinn_engine.errors import (
     CrossingCutWarning,
     FoldedCellsWarning,
     InputError,
+    KeywordError,
+    MissingExtraError,
     PinnMeshError,
     TrainingStoppedWarning,
     WallAngleWarning,
@@ -19,6 +22,7 @@ from pinn_engine.lazy import lazy_names
 # the version, and the public functions of the pyvista route by their name there
 _LAZY = {
     "__version__": "pinn_engine._version",
+    "read_airfoil": "pinn_engine.routes.pyvista_accessor:read_airfoil",
     "report": "pinn_engine.routes.pyvista_accessor:report",
     "save": "pinn_engine.routes.pyvista_accessor:save_mesh",
 }
@@ -27,10 +31,13 @@ __all__ = [
     "CrossingCutWarning",
     "FoldedCellsWarning",
     "InputError",
+    "KeywordError",
+    "MissingExtraError",
     "PinnMeshError",
     "TrainingStoppedWarning",
     "WallAngleWarning",
     "__version__",
+    "read_airfoil",
     "report",
     "save",
 ]

@@ -65,12 +65,47 @@ def unknown_name(
     return SettingsError(f"unknown {what} {form.format(name)}; {hint}the {what}s: {listing}")
 
 
+def unknown_keyword(name: str, known: Iterable[str], function: str) -> KeywordError:
+    """The error for an unknown keyword ``name`` of the public ``function`` (as users call
+    it): the nearest of the ``known`` keywords suggested, else where they are listed."""
+    nearest = difflib.get_close_matches(name, list(known), n=1)
+    hint = f"did you mean {nearest[0]}=?" if nearest else f"help({function}) lists them"
+    return KeywordError(f"{function}: unknown keyword {name}=; {hint}")
+
+
 class MissingExtraError(PinnMeshError, ImportError):
     """A part of pinn-mesh whose optional dependencies (a pip extra of pyproject.toml) are
-    not installed; the one-line message names the extra to install."""
+    not installed; the one-line message names the extra to install (``source``: what the
+    message is about, as ``InputError``'s). ``paraview``: the fix inside ParaView instead,
+    whose Python takes no pip install (:meth:`for_route`)."""
 
-    def __init__(self, what: str, extra: str) -> None:
-        super().__init__(f"{what} needs the {extra} extra: pip install 'pinn-mesh[{extra}]'")
+    def __init__(
+        self, what: str, extra: str, source: str | None = None, paraview: str | None = None
+    ) -> None:
+        self.what, self.extra, self.source, self.paraview = what, extra, source, paraview
+        super().__init__(self._prefixed(f"needs the {extra} extra: {install_extra(extra)}"))
+
+    def _prefixed(self, fix: str) -> str:
+        text = f"{self.what} {fix}"
+        return f"{self.source}: {text}" if self.source else text
+
+    def for_route(self, route: str) -> MissingExtraError:
+        """This error worded for ``route`` (only ParaView's words differ)."""
+        error = type(self)(self.what, self.extra, self.source, self.paraview)
+        if route == "paraview" and self.paraview:
+            error.msg = self._prefixed(f"needs {self.paraview}")  # what str() shows
+            error.args = (error.msg,)
+        return error
+
+
+def install_extra(extra: str) -> str:
+    """The pip command that installs the extra ``extra``."""
+    return f"pip install 'pinn-mesh[{extra}]'"
+
+
+class KeywordError(PinnMeshError, TypeError):
+    """An unknown keyword argument of a public function: a ``TypeError``, as Python and
+    pyvista raise for one, with the nearest keyword suggested."""
 
 
 class TrainingError(PinnMeshError):

@@ -102,12 +102,12 @@ _NEURAL = (
 )  # training settings: pinn and mgnet only
 _FOUR_SIDED = (
     '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
-    'property="Topology" value="0"/>'
-)  # SPEC 7 settings: four-sided domains
+    'property="Topology" values="0 3"/>'
+)  # SPEC 7 settings: four-sided domains (and Automatic, which may pick one)
 _BODY = (
     '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
-    'property="Topology" values="1 2"/>'
-)  # O- and C-grid settings
+    'property="Topology" values="1 2 3"/>'
+)  # O- and C-grid settings (and Automatic, which may pick an O-grid)
 
 
 def _for_preset(preset, methods):
@@ -592,9 +592,12 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
 
     @_intvector(
         name="Topology",
-        default_values=0,
-        inline_domain=_enum(("Four-sided domain", "O-grid", "C-grid")),
-        doc="Four-sided domain: the input is a closed boundary with four corners. O-grid / "
+        default_values=3,
+        inline_domain=_enum(("Four-sided domain", "O-grid", "C-grid", "Automatic")),
+        doc="Automatic (default): an O-grid for a body (the Airfoil source or reader's "
+        "curve, one curve that turns sharply at two points at most, or two closed "
+        "polylines: body inside far field), else a four-sided domain. "
+        "Four-sided domain: the input is a closed boundary with four corners. O-grid / "
         "C-grid: the input is a body such as an airfoil (the Airfoil source, or a .dat file "
         "opened with the Airfoil reader): one curve, meshed out to a far-field circle of Far "
         "Field Radius chords, or two closed polylines (body inside far field). The C-grid's "
@@ -743,10 +746,10 @@ class PINNStructuredMeshMultiBlock(PinnMultiBlockAlgorithm):
         default_values=0,
         enum=[b.capitalize() for b in BLOCKING],
         doc="Manual: the block edges are the open polylines you give (on Input or Block "
-        "Edges). Automatic: they are proposed from the boundary and its holes alone (leave "
-        "Block Edges empty): O-rings round holes, an edge from each concave corner, "
-        "junction centres cut round their middle (docs/blocking.md); the output port Block "
-        "Edges shows them.",
+        "Edges); with none given, they are proposed as by Automatic. Automatic: they are "
+        "proposed from the boundary and its holes alone (leave Block Edges empty): O-rings "
+        "round holes, an edge from each concave corner, junction centres cut round their "
+        "middle (docs/blocking.md); the output port Block Edges shows them.",
     )
     def P00Blocking(self, index):
         self.SetBlocking(int(index))
@@ -755,8 +758,11 @@ class PINNStructuredMeshMultiBlock(PinnMultiBlockAlgorithm):
         name="Method",
         default_values=MULTIBLOCK_METHODS.index(BLOCKS_METHOD),
         enum=MULTIBLOCK_METHODS,
-        doc="elliptic: Winslow on all blocks at once (interface nodes move like interior "
-        "nodes); tfi: each block's transfinite interpolation of its side nodes.",
+        doc="pinn (default): each block's network trained on the Winslow equations from "
+        "the elliptic grid of all blocks, its sides held, kept where it is no worse (and "
+        "fitted to auxiliary lines, if given; Time Limit bounds the training); elliptic: "
+        "Winslow on all blocks at once (interface nodes move like interior nodes); tfi: "
+        "each block's transfinite interpolation of its side nodes.",
     )
     def P01Method(self, index):
         self.SetMethod(int(index))

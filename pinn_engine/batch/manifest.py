@@ -14,6 +14,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from pinn_engine.errors import PinnMeshError
 from pinn_engine.routes.cli.parser import build_parser
 
 COLUMNS = ("name", "input", "aux", "options")
@@ -23,7 +24,7 @@ AUX_SEPARATOR = ";"  # several auxiliary-line files in one field (SPEC 12)
 INPUT_PATHS = ("aux", "blocks", "load_model")
 
 
-class ManifestError(ValueError):
+class ManifestError(PinnMeshError, ValueError):
     """A manifest that cannot be run: the one-line message names the file and the row."""
 
 

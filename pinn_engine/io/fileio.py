@@ -364,6 +364,25 @@ def umask() -> int:
     return mask
 
 
+def check_writable(path: str | os.PathLike) -> None:
+    """Refuse (one line, before any meshing) a ``path`` that cannot be written: the nearest
+    existing folder above it must take a new file."""
+    place = Path(path).absolute().parent
+    while not place.exists() and place != place.parent:
+        place = place.parent
+    if not place.is_dir():
+        raise InputError(f"cannot be written: {str(place)!r} is not a folder", str(path))
+    try:  # a file made and removed at once: what os.access cannot tell (root, /proc)
+        with tempfile.TemporaryFile(dir=place):
+            pass
+    except OSError as exc:
+        raise InputError(
+            f"cannot be written: the folder {str(place)!r} takes no new file "
+            f"({exc.strerror or exc})",
+            str(path),
+        ) from None
+
+
 @contextlib.contextmanager
 def atomic_path(path: str | os.PathLike, suffix: str = ".part"):
     """Yield a temporary name next to ``path``; on success it replaces ``path`` atomically.

@@ -30,6 +30,7 @@ from pinn_engine.job.single import (
     geometry_from_files,
     geometry_from_polydata,
     run_single,
+    topology_of,
 )
 from pinn_engine.settings import Settings
 
@@ -68,4 +69,5 @@ __all__ = [
     "hexa_from_polydata",
     "kind_of",
     "run",
+    "topology_of",
 ]

@@ -140,11 +140,13 @@ def _name(what: str, k: int, count: int) -> str:
 
 
 def curves_of(
-    boundary_inputs: list[vtkPolyData], edge_inputs: list[vtkPolyData], automatic: bool = False
+    boundary_inputs: list[vtkPolyData],
+    edge_inputs: list[vtkPolyData],
+    automatic: bool | None = False,
 ) -> tuple[list[np.ndarray], list[np.ndarray], list[str]]:
     """The rings (closed curves: outer boundary and holes), the block edges (open curves)
     and the edges' names of the two ports' inputs, each curve's points (n, 3); with
-    ``automatic`` blocking there must be no edges."""
+    ``automatic`` blocking there must be no edges, without it some (None: either)."""
     from pinn_engine.io.fileio import polylines_of
 
     rings, edges, names = [], [], []
@@ -175,7 +177,7 @@ def curves_of(
             "the boundary alone (or set Blocking Manual)",
             names[0],
         )
-    if not edges and not automatic:
+    if not edges and automatic is False:
         raise InputError("no block edges (open polylines) among the inputs; {blocks}", "input")
     return rings, edges, names
 
@@ -184,7 +186,7 @@ def blocks_from_polydata(
     boundary_inputs: list[vtkPolyData],
     edge_inputs: list[vtkPolyData],
     aux_inputs: list[vtkPolyData] = (),
-    automatic: bool = False,
+    automatic: bool | None = False,
     patches: Sequence[str] = (),
     spacing: Sequence[str] = (),
     orthogonal: Sequence[str] = (),
@@ -192,11 +194,12 @@ def blocks_from_polydata(
 ) -> BlocksGeometry:
     """The multi-block domain of VTK inputs (:func:`curves_of`: the rings and edges of the
     boundary and block-edge ports; the auxiliary lines of ``aux_inputs``), the edges proposed
-    when ``automatic``; the items as :func:`blocks_from_files`'."""
+    when ``automatic`` (None: when no edge is given); the items as :func:`blocks_from_files`'."""
     from pinn_engine.io.fileio import aux_lines_of
 
     places = _places(patches, spacing, orthogonal, cells)  # refused before meshing
     rings, edges, names = curves_of(boundary_inputs, edge_inputs, automatic)
+    automatic = not edges if automatic is None else automatic
     polys = [p for p in aux_inputs if p is not None and p.GetNumberOfPoints()]
     aux = [
         line

@@ -87,6 +87,23 @@ def _from_files(
     return Geometry(body=body, far=far)
 
 
+def topology_of(inputs: Sequence[vtkPolyData | None]) -> str:
+    """The topology VTK inputs ask for when none is chosen: "o" for a body (one input
+    holding an airfoil-like curve, as the Airfoil source and reader give, or two closed
+    polylines, a body inside its far field), else "none" (a four-sided domain)."""
+    from pinn_engine.io.fileio import polylines_of
+
+    polys = [p for p in inputs if p is not None and p.GetNumberOfPoints()]
+    if len(polys) != 1:
+        return "none"
+    try:
+        lines = polylines_of(polys[0])
+    except InputError:
+        return "none"
+    rings = len(lines) == 2 and all(closed for _, closed in lines)
+    return "o" if rings or _looks_like_body(polys[0]) else "none"
+
+
 def _looks_like_body(poly: vtkPolyData | None) -> bool:
     """Whether a curve that is no four-sided boundary is a body: one polyline, closed or
     open by at most ``BODY_GAP`` of its size (a blunt trailing edge), that turns by more

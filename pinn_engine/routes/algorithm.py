@@ -43,7 +43,7 @@ from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 from pinn_engine.cache import MeshCache
-from pinn_engine.errors import STOP, SettingsError, grid_warnings, unknown_name
+from pinn_engine.errors import STOP, InputError, SettingsError, grid_warnings, unknown_name
 from pinn_engine.routes.filters import LastOutcome, LineInputs, Stoppable, choice, patch_setting
 from pinn_engine.routes.reporting import message_of
 from pinn_engine.routes.summary_lines import grid_lines
@@ -62,6 +62,7 @@ from pinn_engine.settings import (
 )
 
 LABEL = "PINN Structured Mesh"
+AUTO_TOPOLOGY = "auto"  # the topology picked from the input (job.topology_of), the default
 PREPARE_SHARE = 0.3  # of the progress bar for a body's stages before training (elliptic grid)
 
 
@@ -118,6 +119,7 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, LineInputs, VTKPythonAlgorithmBa
         self._corners: tuple[int, int, int, int] | None = None
         self._patches = ""  # as given; checked at the update (default names when empty)
         self._wall_spacing = 0.0  # first-layer height off a body's wall; 0: the default
+        self._auto_topology = False  # topology from the input (AUTO_TOPOLOGY)
         self._cache = cache if cache is not None else MeshCache()
         self._last_error = ""
         self._last_warning = ""
@@ -266,12 +268,17 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, LineInputs, VTKPythonAlgorithmBa
         self._set("_patches", patch_setting(names))
 
     def SetTopology(self, topology) -> None:
-        """ "none" (a four-sided domain), "o" (O-grid) or "c" (C-grid), or 0, 1, 2."""
-        kind = choice(topology, TOPOLOGIES, "topology")
-        self._set_override("topology", None if kind == "none" else kind)
+        """ "none" (a four-sided domain, the default), "o" (O-grid), "c" (C-grid) or
+        "auto" (a four-sided domain, or an O-grid where the input is none but a body: the
+        Airfoil source's curve or two closed polylines; the ParaView panel's default), or
+        0, 1, 2, 3."""
+        kind = choice(topology, (*TOPOLOGIES, AUTO_TOPOLOGY), "topology")
+        self._set("_auto_topology", kind == AUTO_TOPOLOGY)
+        self._set_override("topology", None if kind in ("none", AUTO_TOPOLOGY) else kind)
 
     def GetTopology(self) -> str:
-        return self._overrides.get("topology", "none")
+        fallback = AUTO_TOPOLOGY if self._auto_topology else "none"
+        return self._overrides.get("topology", fallback)
 
     def SetFarFieldRadius(self, radius) -> None:
         """Far-field circle radius in chords about mid-chord (one body curve)."""
@@ -288,17 +295,20 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, LineInputs, VTKPythonAlgorithmBa
         from pinn_engine.io.export.patches import patch_specs
 
         topology = self.GetTopology()
-        default = body_patches(topology) if topology != "none" else SIDE_NAMES
+        default = body_patches(topology) if topology in ("o", "c") else SIDE_NAMES
         return patch_specs(self._panel_patches(), default)[0]
 
-    def GetSettings(self) -> Settings:
-        """The ``Settings`` the next update uses (raises ``ValueError`` if invalid)."""
+    def GetSettings(self, topology: str | None = None) -> Settings:
+        """The ``Settings`` the next update uses (raises ``ValueError`` if invalid);
+        ``topology``: the one picked from the input under topology auto."""
         overrides = {
             name: value
             for (preset, name), value in self._preset_values.items()
             if preset == self._preset
         }
         overrides.update(self._overrides)
+        if topology in ("o", "c") and "topology" not in overrides:
+            overrides["topology"] = topology
         if self._method != "pinn":  # the panel hides Objective for the other methods
             overrides.pop("objective", None)
         if self._wall_spacing and overrides.get("topology", "none") != "none":
@@ -379,6 +389,7 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, LineInputs, VTKPythonAlgorithmBa
             tuple(sorted(self._preset_values.items(), key=repr)),
             repr(self._patches),
             self._wall_spacing,
+            self._auto_topology,
         ]
         for port in inInfo:
             for k in range(port.GetNumberOfInformationObjects()):
@@ -390,7 +401,6 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, LineInputs, VTKPythonAlgorithmBa
         """The grid and its warning (folded cells, wall angles; None when neither)."""
         from pinn_engine import job
 
-        settings = self.GetSettings()
         ni, nj = self._size
         problem = grid_size_problem(ni, nj)
         if problem:
@@ -404,9 +414,19 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, LineInputs, VTKPythonAlgorithmBa
             for port in inInfo[1:]
             for k in range(port.GetNumberOfInformationObjects())
         ]
-        geometry = job.geometry_from_polydata(
-            settings, inputs, aux, self._corners, patches=self._panel_patches()
-        )
+        settings, picked = self.GetSettings(), []
+        try:
+            geometry = job.geometry_from_polydata(
+                settings, inputs, aux, self._corners, patches=self._panel_patches()
+            )
+        except InputError:  # no four-sided domain: under Automatic, a body is one too
+            if self.GetTopology() != AUTO_TOPOLOGY or job.topology_of(inputs) != "o":
+                raise
+            settings = self.GetSettings("o")
+            geometry = job.geometry_from_polydata(
+                settings, inputs, aux, patches=self._panel_patches()
+            )
+            picked = ["Topology Automatic: the input is a body, meshed as an O-grid"]
         neural = settings.method in NEURAL
         self._progress(0.0, "training" if neural else "meshing")
         began = time.perf_counter()
@@ -414,7 +434,7 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, LineInputs, VTKPythonAlgorithmBa
             outcome = job.run(settings, geometry, self._training_progress(settings), self._cache)
         self._trained = outcome.trained
         seconds = time.perf_counter() - began
-        self._tell(grid_lines(outcome.report, settings, *self._size, seconds))
+        self._tell([*picked, *grid_lines(outcome.report, settings, *self._size, seconds)])
         self._progress(0.95, "meshing")
         fd = outcome.data.GetFieldData()
         for name, value in (

@@ -78,7 +78,8 @@ class PinnMultiBlockAlgorithm(
     the next update against ``settings.PARAMETER_CONSTRAINTS``):
 
     * ``SetBlocking("manual"|"automatic")`` (or 0/1), default manual: the block edges are
-      the open polylines of inputs 0 and 1, or proposed from the boundary alone (SPEC 13)
+      the open polylines of inputs 0 and 1 (in ParaView proposed as by automatic where
+      there are none), or proposed from the boundary alone (SPEC 13)
     * ``SetMethod("tfi"|"elliptic"|"pinn")`` (or its index in ``MULTIBLOCK_METHODS``),
       default pinn: each block's PINN on the elliptic grid (Winslow on all blocks at once)
     * ``SetCellSize(h)``: cell length in the boundary's units; 0 (default): the diagonal / 40
@@ -229,7 +230,7 @@ class PinnMultiBlockAlgorithm(
         ]
         geometry = job.blocks_from_polydata(
             *ports,
-            automatic=self._blocking == "automatic",
+            automatic=self._automatic(),
             patches=self._patches,
             spacing=self._spacing,
             orthogonal=self._orthogonal,
@@ -240,6 +241,14 @@ class PinnMultiBlockAlgorithm(
             outcome = job.run(settings, geometry, self._block)
         self._tell(blocks_lines(settings.method, outcome.report, time.perf_counter() - began))
         return outcome.data, outcome.report, outcome.edges
+
+    def _automatic(self) -> bool | None:
+        """Whether the block edges are proposed: under Blocking Automatic, and in ParaView
+        under Manual where none are connected (None: the panel's first Apply meshes); the
+        other routes asked for blocks= or --blocks and are told when none came."""
+        if self._blocking == "automatic":
+            return True
+        return None if self._route == "paraview" else False
 
     def _block(self, info: dict) -> str | None:
         """The pinn's progress block by block (``blocks.multiblock``) on the bar, the

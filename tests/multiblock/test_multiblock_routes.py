@@ -93,12 +93,6 @@ def test_boundary_and_edges_on_one_input_and_the_settings():
             "PINN Structured Mesh (Multi-Block): block edges input line 0: ends nowhere at "
             "(1, 0.6)",
         ),
-        (
-            None,
-            "PINN Structured Mesh (Multi-Block): input: no block edges (open polylines) among the "
-            "inputs; select their source together with the boundary's (or connect it to Block "
-            "Edges)",
-        ),
     ],
 )
 def test_errors_are_one_line_in_the_panels_words(edges, message):
@@ -112,6 +106,22 @@ def test_errors_are_one_line_in_the_panels_words(edges, message):
     assert alg.GetOutput().GetNumberOfBlocks() == 0
     assert isinstance(alg.GetLastException(), InputError) and len(said.events) == 1
     assert said.lines == [alg.GetLastError()]
+
+
+def test_manual_blocking_without_edges_proposes_them_in_paraview():
+    """The panel's first Apply (Blocking Manual, the default, and no edges connected) meshes
+    with the proposed edges, and says so; a script asking for Manual is told."""
+    alg = PinnMultiBlockAlgorithm()
+    alg.SetMethod("elliptic")
+    alg.SetInputDataObject(0, _read("lshape.vtp"))
+    alg.Update()
+    assert alg.GetLastError() == "" and alg.GetOutput().GetNumberOfBlocks() >= 2
+    assert "automatic blocking:" in alg.GetLastSummary()
+    assert alg.GetBlockEdges().GetNumberOfCells() >= 1
+    script = PinnMultiBlockAlgorithm(route="pyvista")
+    script.SetInputDataObject(0, _read("lshape.vtp"))
+    script.Update()
+    assert "no block edges (open polylines) among the inputs" in str(script.GetLastException())
 
 
 def test_pyvista_blocks_returns_a_multiblock():

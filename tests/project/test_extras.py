@@ -61,7 +61,7 @@ def test_cgns_without_its_extra_is_one_line(tmp_path):
     proc = run_without(EXTRAS["cgns"], command(*argv), tmp_path, PINN_MESH_PYTHON="/nowhere")
     assert proc.returncode == 2 and not out.exists()
     assert proc.stderr.endswith(
-        "needs a working h5py, which this Python lacks; pip install 'pinn-mesh[cgns]'\n"
+        "cgns: writing CGNS (h5py) needs the cgns extra: pip install 'pinn-mesh[cgns]'\n"
     )
     assert proc.stderr.count("\n") == 1
 

@@ -420,3 +420,35 @@ def test_an_airfoil_o_grid_reports_its_stages_before_training():
     assert texts.index("network set-up") < texts.index("training (L-BFGS)")
     fractions = [f for f, t in steps if t.endswith(tuple(stages))]
     assert fractions == sorted(fractions) and fractions[-1] < PREPARE_SHARE
+
+
+def test_topology_automatic_meshes_a_body_as_an_o_grid_and_a_boundary_as_four_sided():
+    """The panel's default Topology (Automatic, index 3): the Airfoil source's curve and two
+    closed rings (body inside far field) give O-grids at the first Apply; a four-sided
+    boundary stays one."""
+    from vtkmodules.vtkFiltersCore import vtkAppendPolyData
+
+    from pinn_engine.routes.airfoil_algorithm import AirfoilSource
+    from pinn_engine.routes.pyvista_accessor.inputs import ring_polydata
+
+    source = AirfoilSource()
+    t = np.linspace(0, 2 * np.pi, 64, endpoint=False)
+    rings = vtkAppendPolyData()
+    rings.AddInputData(ring_polydata(np.column_stack([0.5 * np.cos(t), 0.2 * np.sin(t)]), True))
+    rings.AddInputData(ring_polydata(np.column_stack([8 * np.cos(t), 8 * np.sin(t)]), True))
+    for body in (source, rings):
+        alg = PinnMeshAlgorithm()
+        alg.SetTopology(3)
+        alg.SetMethod("elliptic")
+        alg.SetGridSize(65, 9)
+        alg.SetInputConnection(0, body.GetOutputPort())
+        alg.Update()
+        assert alg.GetLastError() == "", alg.GetLastError()
+        topology = alg.GetOutput().GetFieldData().GetAbstractArray("Topology")
+        assert topology is not None and topology.GetValue(0) == "o"
+        assert alg.GetLastSummary().startswith("Topology Automatic: the input is a body")
+    four = make_alg(aux=False, method="tfi")
+    four.SetTopology("auto")
+    four.Update()
+    assert four.GetOutput().GetFieldData().GetAbstractArray("Topology") is None
+    assert four.GetOutput().GetNumberOfPoints() == 41 * 21

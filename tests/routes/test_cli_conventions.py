@@ -6,8 +6,10 @@ whose colour-bar labels and title stand apart."""
 from __future__ import annotations
 
 import os
+import re
 import subprocess
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -90,3 +92,30 @@ def test_the_body_picture_keeps_bar_labels_and_title_apart(tmp_path):
     text = (box.max(axis=2) < 80).any(axis=1)  # rows with black (text) pixels
     starts = np.flatnonzero(np.diff(text.astype(int)) == 1)  # where a run of text rows starts
     assert len(starts) + int(text[0]) == 2  # the labels' rows, then apart the title's
+
+
+@pytest.mark.parametrize("flag", ["-o", "--report", "--png"])
+def test_an_output_that_cannot_be_written_is_refused_before_meshing(flag, tmp_path, capsys):
+    blocked = tmp_path / "file"
+    blocked.write_text("not a folder")
+    argv = [str(EXAMPLES / "fig2.vtp"), "-o", str(tmp_path / "g.vts"), "--quiet"]
+    argv += [flag, "/proc/nope/x.vts" if flag == "-o" else str(blocked / "x")]
+    began = time.perf_counter()
+    assert main(argv) == 2
+    assert time.perf_counter() - began < 1.0  # no training: refused before meshing
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "cannot be written" in err
+    assert not (tmp_path / "g.vts").exists()
+
+
+def test_help_is_one_screen_without_spec_citations(capsys):
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    short = capsys.readouterr().out
+    assert len(short.splitlines()) <= 85 and "SPEC" not in short
+    assert re.search(r"--seed SEED\s+\S", short) and "--help-all" in short
+    with pytest.raises(SystemExit):
+        main(["--help-all"])
+    full = capsys.readouterr().out
+    assert "SPEC" not in full and re.search(r"--boundary-fit \{[a-z,]+\}\s+\S", full)
+    assert len(full.splitlines()) > len(short.splitlines())

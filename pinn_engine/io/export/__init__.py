@@ -57,14 +57,15 @@ from pinn_engine.io.export.patches import (
 )
 from pinn_engine.io.export.registry import FORMATS, Format
 from pinn_engine.io.export.topology import mean_edge, side_nodes
-from pinn_engine.io.fileio import atomic_path, umask, write_text_atomic
+from pinn_engine.io.fileio import atomic_path, check_writable, umask, write_text_atomic
 
 
 def output_format(
     path: str | os.PathLike, fmt: str | None = None, extrude: float | None = None
 ) -> Format:
-    """The format for ``path`` (its extension, or ``fmt``); checks ``extrude`` and, for
-    CGNS, that h5py is there, so that a route can refuse before meshing."""
+    """The format for ``path`` (its extension, or ``fmt``); checks ``extrude``, that
+    ``path`` can be written and, for CGNS, that h5py is there, so that a route can refuse
+    before meshing."""
     path = Path(path)
     if fmt is not None:
         found = FORMATS.get(str(fmt).strip().lower())
@@ -94,6 +95,7 @@ def output_format(
             raise InputError(
                 f"extrusion thickness {extrude}: must be a number > 0 ({{extrude}})", str(path)
             )
+    check_writable(path)
     if found.check is not None:
         found.check()
     return found
@@ -173,7 +175,8 @@ def write(
     patches: Mapping[str, str] | Sequence[str] | str | None = None,
     extrude: float | None = None,
 ) -> Path:
-    """Write ``grid`` to ``path`` in the format of its extension (or ``fmt``).
+    """Write ``grid`` to ``path`` in the format of its extension (or ``fmt``); a
+    multi-block grid (``vtkMultiBlockDataSet``) by :func:`write_blocks` (or as ``.vtm``).
 
     ``patches``: the patch names of the grid's sides (see :func:`patches.patch_names`:
     bottom, right, top, left; imin ... kmax for a hexahedral grid); None keeps the grid's
@@ -183,6 +186,21 @@ def write(
     and ``OSError`` when the file system refuses.
     """
     path = Path(path)
+    if isinstance(grid, vtkMultiBlockDataSet):
+        if patches is not None:
+            raise InputError(
+                "a multi-block grid's patches are named when it is meshed ({pieces}); "
+                "drop patches here",
+                str(path),
+            )
+        if fmt is None and path.suffix.lower() == ".vtm":
+            from pinn_engine.io.export.vtm import write_vtm  # vtm imports vtkgrid, which this
+
+            return write_vtm(grid, path)
+        return write_blocks(grid, path, fmt, extrude=extrude)
+    if grid is not None and not isinstance(grid, vtkStructuredGrid):
+        kind = type(grid).__name__
+        raise InputError(f"writes the grids pinn-mesh makes, not a {kind}", str(path))
     found = output_format(path, fmt, extrude)
     box = is_box(grid)
     sides = BOX_SIDES if box else SIDES

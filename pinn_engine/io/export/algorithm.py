@@ -23,7 +23,7 @@ from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
 from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkStructuredGrid
 
-from pinn_engine.errors import InputError, PinnMeshError
+from pinn_engine.errors import InputError, MissingExtraError, PinnMeshError
 from pinn_engine.io.export import FORMATS, is_box, write, write_blocks
 
 LABEL = "PINN Mesh writer"
@@ -78,7 +78,8 @@ class GridWriter(VTKPythonAlgorithmBase):
         )
 
     def GetLastMessage(self) -> str:
-        """What the last write told Output Messages besides errors (where a case went)."""
+        """What the last write told Output Messages besides errors: the file written (or
+        where an OpenFOAM case went)."""
         return self._last_message
 
     def Write(self) -> int:
@@ -103,13 +104,15 @@ class GridWriter(VTKPythonAlgorithmBase):
             else:
                 kind = "nothing" if data is None else f"a {data.GetClassName()}"
                 raise InputError(f"writes the grids of the PINN filters, not {kind}")
-            if self._format == "openfoam":  # a folder appears: say where (Output Messages)
+            if self._format == "openfoam":  # a folder appears: say where
                 self._last_message = (
                     f"{LABEL}: wrote the OpenFOAM case {written} "
                     f"(mesh in {written / 'constant' / 'polyMesh'}; open {written.name}.foam)"
                 )
-                vtkOutputWindow.GetInstance().DisplayText(self._last_message + "\n")
-        except InputError as exc:
+            else:
+                self._last_message = f"{LABEL}: wrote {written} ({FORMATS[self._format].name})"
+            vtkOutputWindow.GetInstance().DisplayText(self._last_message + "\n")
+        except (InputError, MissingExtraError) as exc:
             self._report(str(exc.for_route("paraview")))
         except PinnMeshError as exc:
             self._report(str(exc))

@@ -16,6 +16,8 @@ order (so an array of Fortran shape (ni, nj) is an HDF5 dataset of shape (nj, ni
 
 from __future__ import annotations
 
+import dataclasses
+import json
 import os
 import subprocess
 import sys
@@ -24,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pinn_engine.errors import InputError
+from pinn_engine.errors import MissingExtraError
 from pinn_engine.io.export.block import Block, Box
 from pinn_engine.io.export.joins import Join, joins
 from pinn_engine.io.export.multiblock import Z_UP, Blocks
@@ -64,35 +66,38 @@ def _helper_python() -> str | None:
     return None
 
 
+# the fix inside ParaView, whose Python takes no pip install (MissingExtraError.for_route)
+PARAVIEW_FIX = (
+    "the writer's helper Python: ParaView's HDF5 clashes with pip's h5py, so the writer "
+    "runs the checkout's .venv Python: make it with bash scripts/setup.sh (or set "
+    "PINN_MESH_PYTHON to a Python with h5py)"
+)
+
+
 def check() -> None:
     """Refuse (one line) where CGNS cannot be written: no h5py and no helper Python."""
     if _h5py() is None and _helper_python() is None:
-        raise InputError(
-            "writing CGNS needs a working h5py, which this Python lacks; {h5py}", "cgns"
-        )
+        raise MissingExtraError("writing CGNS (h5py)", "cgns", "cgns", PARAVIEW_FIX)
 
 
-def _write_in_helper(shape: Block | Box, path: Path) -> None:
-    """Write ``shape`` through the helper Python (:func:`_helper_python`), its fields handed
-    over in an ``.npz`` beside ``path``."""
+def _write_in_helper(zones: list[Zone], types: dict[str, str], path: Path, extruded: bool) -> None:
+    """Write the ``zones`` through the helper Python (:func:`_helper_python`): their arrays
+    in an ``.npz`` beside ``path``, the rest (names, ranges, joins) as its JSON entry."""
     python = _helper_python()
     if python is None:
         check()
     data = path.with_name(path.name + ".npz")
-    common = {"names": np.array(shape.names), "types": np.array(shape.types or ())}
-    if isinstance(shape, Box):
-        fields = {"xyz": shape.xyz}
-    else:
-        thickness = np.nan if shape.thickness is None else shape.thickness
-        fields = {
-            "points": shape.points,
-            "thickness": np.array(thickness),
-            "normal": shape.normal,
-            "topology": np.array(shape.topology or ""),
-            "n_wake": np.array(shape.n_wake),
-        }
+    meta = {
+        "types": types,
+        "extruded": extruded,
+        "zones": [
+            {"name": z.name, "bcs": z.bcs, "joins": [dataclasses.astuple(j) for j in z.joins]}
+            for z in zones
+        ],
+    }
+    arrays = {f"xyz{k}": z.xyz for k, z in enumerate(zones)}
     try:
-        np.savez(data, **common, **fields)
+        np.savez(data, meta=np.array(json.dumps(meta)), **arrays)
         env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME")}
         env["PYTHONPATH"] = str(ROOT)
         proc = subprocess.run(
@@ -109,27 +114,25 @@ def _write_in_helper(shape: Block | Box, path: Path) -> None:
         raise OSError(f"the CGNS helper ({python}) failed: {last}")
 
 
+def _ranges(rng) -> tuple:
+    """A point range read back from JSON (lists) as the tuples it was."""
+    return tuple(tuple(corner) for corner in rng)
+
+
 def _main() -> None:
     """``python -m pinn_engine.io.export.cgns DATA.npz OUT.cgns`` (the helper's side)."""
     data = np.load(sys.argv[1])
-    names = tuple(str(n) for n in data["names"])
-    types = tuple(str(t) for t in data["types"]) or None
-    if "xyz" in data:
-        write_box(Box(data["xyz"], names, types), Path(sys.argv[2]))
-        return
-    thickness = float(data["thickness"])
-    write(
-        Block(
-            data["points"],
-            names,
-            None if np.isnan(thickness) else thickness,
-            data["normal"],
-            str(data["topology"]) or None,
-            int(data["n_wake"]),
-            types,
-        ),
-        Path(sys.argv[2]),
-    )
+    meta = json.loads(str(data["meta"]))
+    zones = [
+        Zone(
+            z["name"],
+            data[f"xyz{k}"],
+            [(label, name, _ranges(rng)) for label, name, rng in z["bcs"]],
+            [Join(n, d, _ranges(a), _ranges(b), tuple(t)) for n, d, a, b, t in z["joins"]],
+        )
+        for k, z in enumerate(meta["zones"])
+    ]
+    write_zones(zones, meta["types"], Path(sys.argv[2]), meta["extruded"])
 
 
 def _attr(node, key: str, text: str, size: int) -> None:
@@ -188,9 +191,8 @@ def _side_bcs(ranges: dict[str, list]) -> list:
 
 
 def write(block: Block, path: Path) -> None:
-    if _h5py() is None:
-        _write_in_helper(block, path)
-        return
+    """A 2D grid (extruded where asked) as one zone, a ``BC_t`` per side; an O- or C-grid
+    with the joins of its seam or wake cut."""
     ni, nj = block.ni, block.nj
     if block.topology:
         ranges = _body_ranges(block)
@@ -207,9 +209,6 @@ def write(block: Block, path: Path) -> None:
 
 def write_box(box: Box, path: Path) -> None:
     """A hexahedral grid as one 3D zone, a ``BC_t`` per side (SPEC 11)."""
-    if _h5py() is None:
-        _write_in_helper(box, path)
-        return
     shape = box.shape
     ranges = {
         name: [(side, box_range(*shape, side)) for side in sides]
@@ -226,8 +225,9 @@ def write_zones(
     the ends in the family ``frontAndBack``, unless not ``extruded``: hexahedral grids),
     a ``Family_t`` per patch of ``types`` (name -> type)."""
     h5py = _h5py()
-    if h5py is None:
-        raise InputError("writing these CGNS zones needs a working h5py in this Python", "cgns")
+    if h5py is None:  # ParaView's Python: the helper Python writes them
+        _write_in_helper(zones, types, path, extruded)
+        return
     three_d = zones[0].xyz.shape[0] > 1
     extruded = three_d and extruded
     dim = 3 if three_d else 2

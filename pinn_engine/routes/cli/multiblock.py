@@ -27,6 +27,7 @@ def run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
     from pinn_engine.io.export import blocks_format, write_blocks
     from pinn_engine.io.export.edges import write_edges
     from pinn_engine.io.export.vtm import write_vtm
+    from pinn_engine.io.fileio import check_writable
 
     flags = option_flags()
     for name in NOT_FOR_BLOCKS:
@@ -51,7 +52,9 @@ def run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
     vtm = args.format is None and out.suffix.lower() == ".vtm"
     if vtm and args.extrude is not None:
         raise PinnMeshError(f"{out}: --extrude applies to .xyz, .cgns and --format openfoam")
-    if not vtm:
+    if vtm:
+        check_writable(out)  # refused before meshing
+    else:
         blocks_format(out, args.format, args.extrude)  # refused before meshing
     args.size = DEFAULT_SIZE  # checked by check_options, unused by multi-block
     check_options(args)

@@ -20,7 +20,13 @@ DEVICE_NAMES = re.compile(r"^(auto|cpu|mps|cuda(:\d+)?)$")  # the torch devices 
 
 
 def check_options(args: argparse.Namespace) -> None:
-    """Refuse option values that are out of range, with a message naming the option."""
+    """Refuse option values that are out of range, with a message naming the option, and
+    a --report or --png path that cannot be written (before any meshing)."""
+    from pinn_engine.io.fileio import check_writable
+
+    for extra in (args.report, args.png):
+        if extra:
+            check_writable(extra)
     problem = size_problem(tuple(args.size))
     if problem:
         raise PinnMeshError(f"--size {' '.join(map(str, args.size))}: {problem}")

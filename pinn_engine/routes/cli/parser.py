@@ -83,6 +83,21 @@ class _VersionAction(argparse.Action):
         parser.exit()
 
 
+# option groups shown by --help-all only, so that --help is one screen of the common ones
+EXPERT_GROUPS = ("training (pinn, mgnet)", "elliptic", "more settings")
+
+
+class _HelpAllAction(argparse.Action):
+    """``--help-all``: every option, the expert groups too."""
+
+    def __init__(self, option_strings, dest, help="show every option and exit"):  # noqa: A002
+        super().__init__(option_strings, dest, nargs=0, default=argparse.SUPPRESS, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        parser.print_help(everything=True)
+        parser.exit()
+
+
 class OneLineParser(argparse.ArgumentParser):
     """argparse's parser whose complaint is one line with the way to the options (not the
     usage block), and which names an unknown option, with the nearest known one, before
@@ -90,6 +105,25 @@ class OneLineParser(argparse.ArgumentParser):
 
     def error(self, message: str) -> NoReturn:
         self.exit(EXIT_ERROR, f"{self.prog}: error: {message} ({self.prog} -h lists the options)\n")
+
+    def format_help(self, everything: bool = False) -> str:
+        """The help; without ``everything`` the groups of ``EXPERT_GROUPS`` are counted,
+        not listed."""
+        if everything:
+            return super().format_help()
+        groups = self._action_groups
+        hidden = [g for g in groups if g.title in EXPERT_GROUPS]
+        self._action_groups = [g for g in groups if g not in hidden]
+        try:
+            text = super().format_help()
+        finally:
+            self._action_groups = groups
+        count = sum(len(g._group_actions) for g in hidden)
+        titles = ", ".join(g.title for g in hidden)
+        return f"{text}\n{count} more options ({titles}): {self.prog} --help-all\n"
+
+    def print_help(self, file=None, everything: bool = False) -> None:
+        self._print_message(self.format_help(everything), file or sys.stdout)
 
     def parse_known_args(self, args=None, namespace=None):
         args = _joined_places(sys.argv[1:] if args is None else [str(a) for a in args])
@@ -124,38 +158,37 @@ def build_parser() -> argparse.ArgumentParser:
         "hexahedral 3D grids (a six-faced surface), and batches (pinn-mesh batch). The PINN "
         "of Chen et al., with TFI, elliptic and MGNet baselines.",
         epilog="Many cases at once: pinn-mesh batch MANIFEST -o OUTDIR (pinn-mesh batch -h).",
+        usage="%(prog)s BOUNDARY [--aux LINES] [--size NI NJ [NK]] [-o OUT] [options]",
     )
+    p.add_argument("--help-all", action=_HelpAllAction)
     p.add_argument(
         "boundary",
         nargs="?",
         default=None,
-        help="closed boundary: .vtp, .vtk, .csv or .txt; with --topology an "
-        "airfoil .dat (Selig or Lednicer) or a file with two closed "
-        "polylines (body inside far field)",
+        help="closed boundary (.vtp .vtk .csv .txt; a six-faced surface .vtp .stl), or "
+        "a body: an airfoil .dat or two closed polylines",
     )
     p.add_argument(
         "--aux",
         action="append",
         default=[],
         metavar="AUX",
-        help="auxiliary lines (.vtp/.vtk); repeat for several files. With --blocks: each "
-        "line inside one block, from a side to the opposite side (fitted by pinn)",
+        help="auxiliary lines (.vtp/.vtk, repeatable), each from a side to the opposite "
+        "one (of a block, with --blocks): the pinn's grid lines follow them",
     )
     p.add_argument(
         "--blocks",
         action="append",
         default=[],
         metavar="EDGES",
-        help="block edges (.vtp/.vtk, several open polylines a file; repeatable): mesh a "
-        "multi-block domain (SPEC 10) into OUT.vtm; with --cell-size, --interfaces, "
-        "--method pinn (the default), elliptic or tfi. 'auto': edges proposed from the "
-        "boundary and its holes alone (SPEC 13)",
+        help="block edges (.vtp/.vtk, repeatable): mesh a multi-block domain (OUT.vtm); "
+        "'auto': edges proposed from the boundary and its holes",
     )
     p.add_argument(
         "--save-blocks",
         metavar="PATH",
-        help="with --blocks: also write the block edges meshed (.vtp, open polylines; "
-        "the proposal of --blocks auto, to edit and mesh again with --blocks PATH)",
+        help="with --blocks: also write the block edges meshed (.vtp, to edit and give "
+        "back as --blocks)",
     )
     p.add_argument(
         "--method",
@@ -173,7 +206,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="nodes along xi and eta (default 41 21); NI NJ NK for a six-faced surface "
         "with a FaceId array (default 21 21 21)",
     )
-    p.add_argument("--seed", type=int, default=None)
+    p.add_argument(
+        "--seed",
+        type=int,
+        default=None,
+        help="the network's random seed (default 0): the same seed, the same grid",
+    )
     p.add_argument("--version", action=_VersionAction)
     p.add_argument(
         "--preset",
@@ -186,38 +224,30 @@ def build_parser() -> argparse.ArgumentParser:
         "--output",
         default=None,
         metavar="OUT.vts",
-        help="output grid (default out/<boundary>_<method>.vts); the extension "
-        "picks the format: .vts, .vtk, .xyz (PLOT3D), .cgns, .su2, .msh "
-        "(Gmsh 4.1); a folder with --format openfoam",
+        help="output grid (default out/<boundary>_<method>.vts), its format by the "
+        "extension: .vts .vtk .xyz .cgns .su2 .msh",
     )
     p.add_argument(
         "--format",
         choices=_FormatKeys(),
         default=None,
-        help="output format instead of the extension of -o (openfoam: -o DIR "
-        "gets DIR/constant/polyMesh)",
+        help="output format instead of the extension (openfoam: -o DIR/ is a case)",
     )
     p.add_argument(
         "--patch",
         action="append",
         default=[],
         metavar="SIDE=NAME[:TYPE]",
-        help="name the boundary patch of a side (bottom, right, top, left; imin, imax, "
-        "jmin, jmax, kmin, kmax of a six-faced surface; repeatable; equal names form one "
-        "patch) and optionally its type: wall, inflow, outflow, farfield, symmetry, patch "
-        "(default: wall for a patch named wall, else patch); OpenFOAM and CGNS write the "
-        "types. With --blocks: X,Y=NAME[:TYPE] names "
-        "the boundary piece nearest the point (X, Y) (negative X too: --patch -0.5,0=wall), "
-        "boundary=NAME[:TYPE] or holeK=NAME[:TYPE] every piece of the outer boundary or of "
-        "hole K (default names: boundary, hole1, ...)",
+        help="name a side's patch (bottom right top left; imin ... kmax in 3D), TYPE one "
+        "of wall inflow outflow farfield symmetry patch; repeatable. With --blocks: "
+        "X,Y=NAME (the piece nearest X,Y), boundary=NAME or holeK=NAME",
     )
     p.add_argument(
         "--cells",
         action="append",
         default=[],
         metavar="X,Y=N",
-        help="with --blocks: N cells along the chain through the block side nearest the "
-        "point (X, Y) (opposite sides of every block share a count; repeatable)",
+        help="with --blocks: N cells along the chain through the block side nearest X,Y",
     )
     p.add_argument(
         "--extrude",
@@ -249,22 +279,16 @@ def build_parser() -> argparse.ArgumentParser:
         action="append",
         default=[],
         metavar="SIDE=H",
-        help="first grid edge leaving SIDE (bottom, right, top, left) has length "
-        "H (your units), growing smoothly away from it; repeat for more sides "
-        "(pinn, tfi, elliptic; SPEC 7). O- and C-grids: bottom=H, the first "
-        "cell off the body wall. With --blocks: NAME=H, a patch (--patch), or X,Y=H, the "
-        "cells on both sides of the block side nearest (X, Y) H across it, growing along "
-        "the chain by at most 1.25 a cell. Six-faced "
-        "surfaces: PATCH=H, PATCH one of imin, imax, jmin, jmax, kmin, kmax",
+        help="the first grid edge leaving SIDE is H long, growing smoothly away; "
+        "repeatable. O- and C-grids: bottom=H; --blocks: PATCH=H or X,Y=H (a block side); "
+        "3D: imin ... kmax",
     )
     p.add_argument(
         "--orthogonal",
         metavar="SIDE[,SIDE...]",
         default=None,
-        help="grid lines leave these sides at 90 degrees (pinn: a loss term; "
-        "elliptic: Hilgenstock control functions). O- and C-grids: bottom "
-        "(elliptic and pinn always do; tfi cannot). With --blocks: patch names. "
-        "Six-faced surfaces: imin ... kmax (elliptic)",
+        help="grid lines leave these sides at 90 degrees (pinn, elliptic); --blocks: "
+        "patch names; 3D: imin ... kmax",
     )
     p.add_argument(
         "--quiet",
@@ -283,7 +307,14 @@ def build_parser() -> argparse.ArgumentParser:
         dest="boundary_mode",
         help="hard: exact boundary by construction; penalty: the paper's term",
     )
-    g.add_argument("--boundary-fit", choices=_options("boundary_fit"), dest="boundary_fit")
+    g.add_argument(
+        "--boundary-fit",
+        choices=_options("boundary_fit"),
+        dest="boundary_fit",
+        help="with --boundary-mode penalty: the boundary the penalty term samples: "
+        "arclength (default: the input polyline exactly) or tree (the paper's decision-tree "
+        "fit; the paper extra)",
+    )
     g.add_argument(
         "--warm-start",
         choices=_options("warm_start"),
@@ -296,14 +327,14 @@ def build_parser() -> argparse.ArgumentParser:
         choices=OBJECTIVES,
         dest="objective",
         help="pinn: winslow (the Winslow equations) or quality (plus a cell-quality "
-        "term that lowers the worst cell's largest angle; SPEC 7)",
+        "term that lowers the worst cell's largest angle)",
     )
     g.add_argument("--device", help="torch device: auto, cpu, cuda")
     g.add_argument("--save-model", metavar="PATH", help="save the trained model")
     g.add_argument(
         "--load-model", metavar="PATH", help="evaluate a saved model instead of training"
     )
-    b = p.add_argument_group("O- and C-grids around a body (SPEC 9)")
+    b = p.add_argument_group("O- and C-grids around a body")
     b.add_argument(
         "--topology",
         choices=("o", "c"),

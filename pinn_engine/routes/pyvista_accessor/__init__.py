@@ -32,8 +32,9 @@ A six-faced 3D domain (SPEC 11), a closed surface with a ``FaceId`` cell array, 
 same way: ``grid = surface.pinn_mesh(size=(21, 21, 21))`` (or :func:`pinn_mesh_hexa`)
 returns its hexahedral ``pyvista.StructuredGrid``.
 
-``pinn_engine.report(grid)`` (:func:`report`) reads a grid's report as a dict and
-``pinn_engine.save(grid, "x.su2", patches=...)`` (:func:`save_mesh`) writes it for a solver.
+``pinn_engine.report(grid)`` (:func:`report`) reads a grid's report as a dict,
+``pinn_engine.save(grid, "x.su2", patches=...)`` (:func:`save_mesh`) writes it for a solver
+and ``pinn_engine.read_airfoil("naca0012.dat")`` (:func:`read_airfoil`) reads an airfoil.
 
 The package: ``inputs`` (curves and surfaces in any of their forms as PolyData), ``running``
 (a VTK algorithm run in pyvista's words: errors, output, progress bar, warnings at the
@@ -44,6 +45,7 @@ registered when this package is imported).
 
 from pinn_engine.errors import FoldedCellsWarning
 from pinn_engine.routes.pyvista_accessor.accessor import PinnMeshAccessor
+from pinn_engine.routes.pyvista_accessor.body import read_airfoil
 from pinn_engine.routes.pyvista_accessor.four_sided import pinn_mesh
 from pinn_engine.routes.pyvista_accessor.hexa import pinn_mesh_hexa
 from pinn_engine.routes.pyvista_accessor.multiblock import pinn_mesh_blocks
@@ -56,6 +58,7 @@ __all__ = [
     "pinn_mesh",
     "pinn_mesh_blocks",
     "pinn_mesh_hexa",
+    "read_airfoil",
     "report",
     "save_mesh",
 ]

@@ -5,18 +5,18 @@ grid saved or read."""
 
 from __future__ import annotations
 
-import inspect
 from collections.abc import Callable, Sequence
 
 import pyvista as pv
 
 from pinn_engine.cache import MeshCache
-from pinn_engine.errors import InputError, unknown_name
+from pinn_engine.errors import InputError
 from pinn_engine.geometry.plane import Plane
 from pinn_engine.routes.pyvista_accessor.four_sided import pinn_mesh
 from pinn_engine.routes.pyvista_accessor.hexa import HEXA_OPTIONS, pinn_mesh_hexa
 from pinn_engine.routes.pyvista_accessor.multiblock import pinn_mesh_blocks
 from pinn_engine.routes.pyvista_accessor.report import report
+from pinn_engine.routes.pyvista_accessor.running import node_counts, public
 from pinn_engine.routes.pyvista_accessor.save import save_mesh
 from pinn_engine.settings import HEXA_SIZE, Settings
 
@@ -59,6 +59,7 @@ class PinnMeshAccessor:
         self._cache = MeshCache()
         self.last: pv.StructuredGrid | pv.MultiBlock | None = None  # the last grid made
 
+    @public("pinn_mesh", also=Settings.__dataclass_fields__)
     def __call__(
         self,
         aux=None,
@@ -149,7 +150,9 @@ class PinnMeshAccessor:
         topology, naca, farfield : optional
             ``topology="o"`` or ``"c"``: an O- or C-grid around this PolyData as a body (an
             airfoil curve), ``naca="0012"`` for a NACA section instead, ``farfield`` the
-            far field's radius in chords (default 15; docs/airfoils.md).
+            far field's radius in chords (default 15; docs/airfoils.md); with ``naca``
+            the PolyData may be empty: ``pv.PolyData().pinn_mesh(naca="0012",
+            topology="o")``.
         cell_size : float, optional
             With ``blocks``: the cells' length (default: the domain's diagonal / 40).
         interfaces : {"free", "fixed"}, optional
@@ -181,7 +184,9 @@ class PinnMeshAccessor:
         ------
         ValueError
             Every bad input or setting, as ``pinn_engine.errors.InputError`` (a
-            ``ValueError``) with a one-line message; an unknown keyword names the nearest.
+            ``ValueError``) with a one-line message.
+        TypeError
+            An unknown keyword, as ``pinn_engine.errors.KeywordError``: it names the nearest.
 
         Warns
         -----
@@ -221,11 +226,7 @@ class PinnMeshAccessor:
             ).items()
             if value is not None
         }
-        for name in settings:
-            if name not in Settings.__dataclass_fields__:
-                raise unknown_name(
-                    name, _keywords(), "keyword", "{}=", also=Settings.__dataclass_fields__
-                )
+        size = None if size is None else node_counts(size)
         from pinn_engine.job import kind_of
 
         kind = kind_of(self._mesh, blocks is not None, size or ())
@@ -237,8 +238,9 @@ class PinnMeshAccessor:
             for name in BLOCKS_ONLY:
                 if name in given:
                     raise InputError(f"{name}= applies to multi-block domains (with blocks=)")
+            body_free = naca is not None and self._mesh.n_points == 0  # pv.PolyData()
             self.last = pinn_mesh(
-                self._mesh,
+                None if body_free else self._mesh,
                 size=size or (41, 21),
                 method=method or "pinn",
                 cache=self._cache,
@@ -281,6 +283,7 @@ class PinnMeshAccessor:
                 )
         return pinn_mesh_blocks(self._mesh, method=method, progress_bar=progress_bar, **given)
 
+    @public("boundary.pinn_mesh.save")
     def save(
         self,
         path,
@@ -294,8 +297,9 @@ class PinnMeshAccessor:
         format by the extension of ``path``: ``.vts``, ``.vtk``, ``.xyz`` (PLOT3D),
         ``.cgns``, ``.su2``, ``.msh`` (Gmsh), or ``format="openfoam"`` for a case folder;
         ``patches`` renames the boundary patches, ``extrude=T`` makes a 2D grid one cell of
-        thickness T. Returns the path written (``pinn_engine.save`` does the same for any
-        grid).
+        thickness T. A multi-block grid (``blocks=``) goes to ``.vtm``, ``.xyz``, ``.cgns``,
+        ``.su2``, ``.msh`` or OpenFOAM. Returns the path written (``pinn_engine.save`` does
+        the same for any grid).
 
         >>> boundary.pinn_mesh(size=(41, 21), patches={"bottom": "wall", "top": "wall"})
         >>> boundary.pinn_mesh.save("out/channel.su2")
@@ -332,9 +336,3 @@ def _is_flat(mesh: pv.PolyData) -> bool:
     except InputError:
         return False
     return True
-
-
-def _keywords() -> list[str]:
-    """The accessor's own keywords, for the error of a misspelt one."""
-    parameters = inspect.signature(PinnMeshAccessor.__call__).parameters.values()
-    return [p.name for p in parameters if p.name != "self" and p.kind != p.VAR_KEYWORD]

@@ -2,22 +2,28 @@
 
 from __future__ import annotations
 
-import inspect
 from collections.abc import Callable, Sequence
 
 import pyvista as pv
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 from pinn_engine.cache import MeshCache
-from pinn_engine.errors import InputError, SettingsError, unknown_name
+from pinn_engine.errors import InputError, SettingsError
 from pinn_engine.routes.algorithm import PinnMeshAlgorithm
 from pinn_engine.routes.pyvista_accessor.body import body_input
 from pinn_engine.routes.pyvista_accessor.inputs import as_polydata
 from pinn_engine.routes.pyvista_accessor.report import report
-from pinn_engine.routes.pyvista_accessor.running import ROUTE, run, warn_about
+from pinn_engine.routes.pyvista_accessor.running import (
+    ROUTE,
+    node_counts,
+    public,
+    run,
+    warn_about,
+)
 from pinn_engine.settings import Settings, grid_size_problem, make_settings
 
 
+@public("pinn_mesh", also=Settings.__dataclass_fields__)
 def pinn_mesh(
     boundary,
     aux=None,
@@ -117,7 +123,7 @@ def pinn_mesh(
         Show a progress bar of the meshing, as pyvista's filters do.
     **settings
         Any other training setting by name (e.g. ``learning_rate=5e-4``); an unknown name
-        raises ``InputError`` naming the nearest keyword.
+        raises ``pinn_engine.errors.KeywordError`` (a ``TypeError``) naming the nearest.
 
     Returns
     -------
@@ -156,16 +162,13 @@ def pinn_mesh(
     >>> grid.dimensions
     (21, 11, 1)
     """
+    size = node_counts(size)
     if len(size) != 2:
-        raise SettingsError(f"size={tuple(size)}: give two node counts (ni, nj)")
-    ni, nj = (int(n) for n in size)
+        raise SettingsError(f"size={size}: give two node counts (ni, nj)")
+    ni, nj = size
     problem = grid_size_problem(ni, nj)
     if problem:
         raise SettingsError(f"size=({ni}, {nj}): {problem}")
-    for name in settings:
-        if name not in Settings.__dataclass_fields__:
-            keywords = [p for p in inspect.signature(pinn_mesh).parameters if p != "settings"]
-            raise unknown_name(name, keywords, "keyword", "{}=", also=Settings.__dataclass_fields__)
     given = dict(
         adam_epochs=adam_epochs,
         lbfgs_iterations=lbfgs_iterations,

@@ -10,13 +10,20 @@ from pinn_engine.errors import SettingsError
 from pinn_engine.routes.hexa_algorithm import PinnHexaAlgorithm, refold_hint
 from pinn_engine.routes.pyvista_accessor.inputs import as_polydata
 from pinn_engine.routes.pyvista_accessor.report import report
-from pinn_engine.routes.pyvista_accessor.running import ROUTE, run, warn_folded
+from pinn_engine.routes.pyvista_accessor.running import (
+    ROUTE,
+    node_counts,
+    public,
+    run,
+    warn_folded,
+)
 from pinn_engine.settings import FACE_ANGLE, HEXA_SIZE, hexa_size_problem
 
 # pinn_mesh_hexa's keywords besides size and method, taken by the accessor on a surface
 HEXA_OPTIONS = ("patches", "spacing", "orthogonal", "face_angle")
 
 
+@public("pinn_mesh_hexa")
 def pinn_mesh_hexa(
     surface,
     size: Sequence[int] = HEXA_SIZE,
@@ -76,7 +83,7 @@ def pinn_mesh_hexa(
     >>> grid.dimensions
     (21, 11, 9)
     """
-    size = tuple(int(n) for n in size)
+    size = node_counts(size)
     problem = hexa_size_problem(size)
     if problem:
         raise SettingsError(f"size={size}: {problem}")

@@ -56,4 +56,9 @@ def polydata_list(lines, what: str) -> list[vtkPolyData]:
         return [ring_polydata(lines, closed=False)]
     if isinstance(lines, pv.MultiBlock):
         lines = [block for block in lines if block is not None]
+    if not isinstance(lines, list | tuple):
+        raise InputError(
+            f"{what}: expected a pyvista/VTK PolyData, an array of points or a list of them, "
+            f"got {type(lines).__name__}"
+        )
     return [as_polydata(a, closed=False, what=what) for a in lines]

@@ -12,6 +12,7 @@ from pinn_engine.routes.pyvista_accessor.inputs import as_polydata, polydata_lis
 from pinn_engine.routes.pyvista_accessor.report import report
 from pinn_engine.routes.pyvista_accessor.running import (
     ROUTE,
+    public,
     pyvista_words,
     run,
     warn_folded,
@@ -19,6 +20,7 @@ from pinn_engine.routes.pyvista_accessor.running import (
 from pinn_engine.settings import AUTO_BLOCKS
 
 
+@public("pinn_mesh_blocks")
 def pinn_mesh_blocks(
     boundary,
     blocks,

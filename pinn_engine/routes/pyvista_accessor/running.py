@@ -4,15 +4,25 @@ the caller outside this package."""
 
 from __future__ import annotations
 
+import functools
+import inspect
+import numbers
 import sys
 import warnings
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 
 import pyvista as pv
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 
-from pinn_engine.errors import FoldedCellsWarning, InputError, grid_warnings
+from pinn_engine.errors import (
+    FoldedCellsWarning,
+    InputError,
+    KeywordError,
+    SettingsError,
+    grid_warnings,
+    unknown_keyword,
+)
 from pinn_engine.routes.filters import folded_warning
 from pinn_engine.routes.pyvista_accessor.inputs import polydata_list
 
@@ -26,6 +36,54 @@ def pyvista_words() -> Iterator[None]:
         yield
     except InputError as exc:
         raise exc.for_route(ROUTE) from None
+
+
+def public(name: str, also: Iterable[str] = ()) -> Callable:
+    """A public function of this route with its keywords checked as pyvista users expect:
+    an unknown one (none of its parameters, nor of ``also``, the names its ``**kwargs``
+    take) or a wrong count of arguments is a ``KeywordError`` (a ``TypeError``) in one line
+    that names the function as users call it, ``name``, and the nearest keyword."""
+
+    def decorate(func: Callable) -> Callable:
+        signature = inspect.signature(func)
+        named = [
+            p.name
+            for p in signature.parameters.values()
+            if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY) and p.name != "self"
+        ]
+        known = {*named, *also}
+
+        @functools.wraps(func)
+        def checked(*args, **kwargs):
+            for keyword in kwargs:
+                if keyword not in known:
+                    raise unknown_keyword(keyword, [*named, *also], name)
+            try:
+                signature.bind(*args, **kwargs)
+            except TypeError as exc:
+                raise KeywordError(f"{name}: {exc}") from None
+            return func(*args, **kwargs)
+
+        return checked
+
+    return decorate
+
+
+def node_counts(value, keyword: str = "size") -> tuple[int, ...]:
+    """``value`` (a sequence of node counts, as ``size=(41, 21)``) as ints; a string, a
+    count that is not whole or not a number is refused in one line naming ``keyword``."""
+    example = f"e.g. {keyword}=(41, 21)"
+    if isinstance(value, str | bytes) or not isinstance(value, Iterable):
+        raise SettingsError(f"{keyword}={value!r}: give the node counts as a tuple, {example}")
+    counts = tuple(value)
+    for n in counts:
+        whole = isinstance(n, numbers.Integral) or (
+            isinstance(n, numbers.Real) and float(n).is_integer()
+        )
+        if isinstance(n, bool) or not whole:
+            shown = tuple(c.item() if hasattr(c, "item") else c for c in counts)
+            raise SettingsError(f"{keyword}={shown}: node counts are whole numbers, {example}")
+    return tuple(int(n) for n in counts)
 
 
 def run(
