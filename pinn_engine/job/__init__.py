@@ -5,7 +5,8 @@ Every route (the command line and its batches, the VTK algorithms, and through t
 and ParaView) builds a :class:`~pinn_engine.settings.Settings`, turns its inputs into a
 geometry by the adapter of their kind (:func:`kind_of` names it; from files or from VTK
 data: :class:`Geometry` of a four-sided domain or a body, :class:`BlocksGeometry` of a
-multi-block domain, :class:`HexaGeometry` of a six-faced 3D domain) and calls :func:`run`,
+multi-block domain, :class:`HexaGeometry` of a six-faced 3D domain,
+:class:`DictionaryGeometry` of a blockMeshDict) and calls :func:`run`,
 which meshes it by its kind's pipeline and returns one :class:`Outcome`. What differs
 between routes is only how they read inputs and present the outcome, in their own words.
 """
@@ -22,6 +23,12 @@ from pinn_engine.job.blocks import (
     blocks_from_polydata,
     run_blocks,
 )
+from pinn_engine.job.dictionary import (
+    DictionaryGeometry,
+    dictionary_from_file,
+    dictionary_from_text,
+    run_dictionary,
+)
 from pinn_engine.job.hexa import HexaGeometry, hexa_from_file, hexa_from_polydata, run_hexa
 from pinn_engine.job.kind import kind_of
 from pinn_engine.job.outcome import KINDS, Outcome
@@ -37,7 +44,7 @@ from pinn_engine.settings import Settings
 
 def run(
     settings: Settings,
-    geometry: Geometry | BlocksGeometry | HexaGeometry,
+    geometry: Geometry | BlocksGeometry | HexaGeometry | DictionaryGeometry,
     progress: Callable[[dict], object] | None = None,
     cache: MeshCache | None = None,
     model: str | os.PathLike | None = None,
@@ -51,18 +58,23 @@ def run(
         return run_blocks(settings, geometry, progress)
     if isinstance(geometry, HexaGeometry):
         return run_hexa(settings, geometry, progress, model)
+    if isinstance(geometry, DictionaryGeometry):
+        return run_dictionary(settings, geometry, progress)
     return run_single(settings, geometry, progress, cache, model)
 
 
 __all__ = [
     "KINDS",
     "BlocksGeometry",
+    "DictionaryGeometry",
     "Geometry",
     "HexaGeometry",
     "MeshCache",
     "Outcome",
     "blocks_from_files",
     "blocks_from_polydata",
+    "dictionary_from_file",
+    "dictionary_from_text",
     "geometry_from_files",
     "geometry_from_polydata",
     "hexa_from_file",

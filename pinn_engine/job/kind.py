@@ -7,6 +7,7 @@ from collections.abc import Sequence
 
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 
+from pinn_engine.blocks3d.dictionary import is_blockmeshdict
 from pinn_engine.hexa.surface import FACE_ARRAY, is_faced_surface
 from pinn_engine.settings import HEXA_SIZE
 
@@ -25,10 +26,12 @@ def kind_of(
     size: Sequence[int] = (),
     body: bool = False,
 ) -> str:
-    """The kind (``outcome.KINDS``) of a run: ``blocks`` when block edges are given (SPEC
-    10), ``hexa`` for a six-faced surface or three sizes (SPEC 11), ``body`` when a
-    topology, a NACA section or an airfoil ``.dat`` is given (SPEC 9), else ``four-sided``
-    (SPEC 5)."""
+    """The kind (``outcome.KINDS``) of a run: ``dictionary`` for a blockMeshDict (SPEC 15),
+    ``blocks`` when block edges are given (SPEC 10), ``hexa`` for a six-faced surface or
+    three sizes (SPEC 11), ``body`` when a topology, a NACA section or an airfoil ``.dat``
+    is given (SPEC 9), else ``four-sided`` (SPEC 5)."""
+    if isinstance(boundary, str | os.PathLike) and is_blockmeshdict(boundary):
+        return "dictionary"
     if blocks:
         return "blocks"
     if len(size) == len(HEXA_SIZE) or _faced(boundary):

@@ -8,8 +8,8 @@ import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkDataObject
 
 # The domain kinds (SPEC 5, 9, 10, 11): a four-sided block, an O- or C-grid round a body,
-# a multi-block 2D domain, a six-faced 3D domain
-KINDS = ("four-sided", "body", "blocks", "hexa")
+# a multi-block 2D domain, a six-faced 3D domain, a blockMeshDict's blocks (SPEC 15)
+KINDS = ("four-sided", "body", "blocks", "hexa", "dictionary")
 
 
 @dataclass
@@ -19,7 +19,7 @@ class Outcome:
     block's nodes in VTK's index order (i fastest: ``(nj, ni, 2)`` in-plane, ``(nk, nj, ni,
     3)`` in 3D), the loss history, whether this run trained a network (not re-used one),
     the model ``--save-model`` writes (a fitted ``Mesher`` or a ``HexaModel``; None when no
-    network) and, for blocks, the block edges meshed."""
+    network), for blocks the block edges meshed and for a dictionary its merged mesh."""
 
     kind: str
     data: vtkDataObject
@@ -29,6 +29,7 @@ class Outcome:
     trained: bool = False
     model: object | None = None
     edges: list[np.ndarray] = field(default_factory=list)
+    mesh: object | None = None  # a dictionary's merged hexahedra (``blocks3d.mesh.DictResult``)
 
     @property
     def quality(self) -> dict:

@@ -90,6 +90,22 @@ def blocks_lines(method: str, report: dict, seconds: float) -> list[str]:
     return [first, *automatic, *_aux_lines(report["aux_line_distance"], "their block's diagonal")]
 
 
+def dictionary_line(report: dict) -> str:
+    """A blockMeshDict's summary (of its ``report``), one line: the grid kept, blocks,
+    cells, patches, checkMesh's figures beside blockMesh's placement, time."""
+    q, tfi = report["quality"], report["candidates"]["tfi"]
+    patches = ", ".join(f"{n} ({p['type']}, {p['faces']})" for n, p in report["patches"].items())
+    return (
+        f"{report['method']}: {report['kept']} grid of {report['blocks']} blocks, "
+        f"{report['cells']} cells, patches {patches}; checkMesh non-orthogonality max "
+        f"{q['max_non_orthogonality']:.2f} deg (blockMesh's placement "
+        f"{tfi['max_non_orthogonality']:.2f}), skewness max {q['max_skewness']:.3f} "
+        f"({tfi['max_skewness']:.3f}), {q['folded_cells']} folded, "
+        f"{report['timings']['total']:.2f} s"
+        + (f" ({report['winslow_steps']} Winslow steps)" if report["winslow_steps"] else "")
+    )
+
+
 def hexa_line(report: dict) -> str:
     """A hexahedral grid's summary (of its ``report``), one line: cells, folds, min
     ScaledJacobian, mean/worst MaxIncludedAngle, time, the Picard steps, the walls asked

@@ -169,6 +169,41 @@ def write_quadmesh_polymesh(mesh: QuadMesh, thickness: float, folder: Path) -> N
     write_mesh_files(folder, points, faces, owner, neighbour, patches)
 
 
+# OpenFOAM's hexahedron: its six faces by corner, each with its normal out of the cell
+HEX_FACES = np.array(
+    [[0, 4, 7, 3], [1, 2, 6, 5], [0, 1, 5, 4], [3, 7, 6, 2], [0, 3, 2, 1], [4, 5, 6, 7]]
+)
+
+
+def write_hex_polymesh(
+    points: np.ndarray, cells: np.ndarray, patches: list[tuple[str, str, np.ndarray]], mesh: Path
+) -> None:
+    """The polyMesh of hexahedra ``cells`` (m, 8; OpenFOAM's corner order) over merged
+    ``points``: a face of two cells is internal (owned by the lower), every other face is
+    in the patch (name, OpenFOAM type, its faces (k, 4) of point ids) listing it, with its
+    normal out of its cell. A boundary face no patch lists is a programming error."""
+    quads = cells[:, HEX_FACES].reshape(-1, 4)
+    key = np.sort(quads, axis=1)
+    _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    inverse = inverse.ravel()
+    order = np.argsort(inverse, kind="stable")
+    two = counts[inverse[order]] == 2
+    pairs = order[two].reshape(-1, 2)  # each internal face's two copies, lower cell first
+    owner, neighbour = pairs[:, 0] // 6, pairs[:, 1] // 6
+    faces = quads[pairs[:, 0]]
+    sort = np.lexsort((neighbour, owner))
+    faces, owner, neighbour = faces[sort], owner[sort], neighbour[sort]
+    single = order[counts[inverse[order]] == 1]
+    where = {tuple(k): f for k, f in zip(key[single].tolist(), single.tolist())}
+    out = []
+    for name, kind, pf in patches:
+        found = np.array([where.pop(tuple(sorted(f))) for f in pf.tolist()], dtype=int)
+        out.append((name, kind, quads[found], found // 6))
+    if where:
+        raise ValueError(f"{len(where)} boundary faces are in no patch")
+    write_mesh_files(mesh, points, faces, owner, neighbour, out)
+
+
 def write_mesh_files(
     mesh: Path,
     points: np.ndarray,

@@ -7,13 +7,15 @@ from pathlib import Path
 
 from pinn_engine.errors import PinnMeshError
 from pinn_engine.io import childread
+from pinn_engine.routes.cli.dictionary import run_dictionary
 from pinn_engine.routes.cli.four_sided import run_four_sided
 from pinn_engine.routes.cli.hexa import run_hexa
 from pinn_engine.routes.cli.multiblock import run_blocks
 
 
 def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
-    """One meshing run of the domain kind ``job.kind_of`` names: with --blocks a multi-block
+    """One meshing run of the domain kind ``job.kind_of`` names: a blockMeshDict's blocks
+    (SPEC 15), with --blocks a multi-block
     domain (SPEC 10), for a surface with faces a six-faced 3D domain (SPEC 11), else a
     four-sided domain or, with --topology, --naca or a .dat, a body (SPEC 5 and 9); appends
     each output file to ``written`` once it is complete."""
@@ -27,6 +29,8 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     from pinn_engine.job import kind_of
 
     kind = kind_of(args.boundary, bool(args.blocks), body=bool(args.topology or args.naca))
+    if kind == "dictionary":
+        return run_dictionary(args, written)
     if args.face_angle is not None and kind != "hexa":
         raise PinnMeshError(
             "--face-angle applies to six-faced surfaces (an .stl), not to 2D domains"

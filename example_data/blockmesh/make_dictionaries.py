@@ -1,0 +1,180 @@
+"""Writes the three blockMeshDicts of SPEC 15's aims, each in its own case folder
+(``<name>/system/blockMeshDict``), as a user would write them by hand:
+
+- ``pipe``: a round pipe (radius 0.05, length 0.5) in the butterfly (O-grid) blocking, a
+  centre square and four blocks round it, cells graded toward the wall;
+- ``bend``: a square duct (0.1 x 0.1) turning 90 degrees (inner radius 0.1) between two
+  straight legs, three blocks;
+- ``dfg3d``: the DFG 3D-1Z channel (2.5 x 0.41 x 0.41, a cylinder of D = 0.1 at x = 0.5,
+  y = 0.2 spanning z), an O-ring of four blocks round the cylinder and eight blocks round it.
+
+    .venv/bin/python example_data/blockmesh/make_dictionaries.py
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+HEADER = """FoamFile
+{
+    version     2.0;
+    format      ascii;
+    class       dictionary;
+    object      blockMeshDict;
+}
+
+"""
+
+
+def _vec(p) -> str:
+    return "(" + " ".join(f"{v:.10g}" for v in p) + ")"
+
+
+def _write(name: str, vertices, blocks, edges, patches, scale: float = 1.0) -> None:
+    lines = [HEADER, f"scale {scale:g};\n\nvertices\n(\n"]
+    lines += [f"    {_vec(v)} // {k}\n" for k, v in enumerate(vertices)]
+    lines.append(");\n\nblocks\n(\n")
+    lines += [f"    {b}\n" for b in blocks]
+    lines.append(");\n\nedges\n(\n")
+    lines += [f"    {e}\n" for e in edges]
+    lines.append(");\n\nboundary\n(\n")
+    for pname, kind, faces in patches:
+        body = "\n".join(f"            ({' '.join(map(str, f))})" for f in faces)
+        lines.append(
+            f"    {pname}\n    {{\n        type {kind};\n        faces\n        (\n{body}\n"
+            "        );\n    }\n"
+        )
+    lines.append(");\n\nmergePatchPairs\n(\n);\n")
+    out = HERE / name / "system" / "blockMeshDict"
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text("".join(lines))
+
+
+def extruded(base, z0: float, z1: float):
+    """Vertices of a 2D blocking at z0, then the same at z1."""
+    return [(x, y, z0) for x, y in base] + [(x, y, z1) for x, y in base]
+
+
+def hexes(quads, n: int, counts, grading):
+    """Hex blocks of 2D quads (counter-clockwise) extruded between the two vertex layers."""
+    out = []
+    for q, c, g in zip(quads, counts, grading):
+        ids = " ".join(map(str, [*q, *(v + n for v in q)]))
+        out.append(f"hex ({ids}) ({' '.join(map(str, c))}) simpleGrading ({' '.join(map(str, g))})")
+    return out
+
+
+def pipe() -> None:
+    r, a, length = 0.05, 0.02, 0.5
+    c = r / math.sqrt(2)
+    base = [(-a, -a), (a, -a), (a, a), (-a, a), (-c, -c), (c, -c), (c, c), (-c, c)]
+    n = len(base)
+    verts = extruded(base, 0.0, length)
+    quads = [(0, 1, 2, 3), (4, 5, 1, 0), (5, 6, 2, 1), (6, 7, 3, 2), (7, 4, 0, 3)]
+    nc, nr, nz = 12, 10, 40
+    counts = [(nc, nc, nz)] + [(nc, nr, nz)] * 4
+    grading = [(1, 1, 1)] + [(1, 3, 1)] * 4  # j runs wall to square: cells grow inward
+    blocks = hexes(quads, n, counts, grading)
+    mids = [(0, -r), (r, 0), (0, r), (-r, 0)]
+    ring = [(4, 5), (5, 6), (6, 7), (7, 4)]
+    edges = []
+    for layer, z in ((0, 0.0), (n, length)):
+        for (p, q), m in zip(ring, mids):
+            edges.append(f"arc {p + layer} {q + layer} {_vec((*m, z))}")
+    inlet = [tuple(reversed(q)) for q in quads]
+    outlet = [tuple(v + n for v in q) for q in quads]
+    wall = [(p, q, q + n, p + n) for p, q in ring]
+    patches = [("inlet", "patch", inlet), ("outlet", "patch", outlet), ("wall", "wall", wall)]
+    _write("pipe", verts, blocks, edges, patches)
+
+
+def bend() -> None:
+    ri, ro, leg, depth = 0.1, 0.2, 0.4, 0.1
+    base = [(-leg, -ro), (0, -ro), (0, -ri), (-leg, -ri), (ro, 0), (ri, 0), (ro, leg), (ri, leg)]
+    n = len(base)
+    verts = extruded(base, 0.0, depth)
+    quads = [(0, 1, 2, 3), (1, 4, 5, 2), (4, 6, 7, 5)]
+    nx, ny, nz, nb = 30, 12, 12, 24
+    counts = [(nx, ny, nz), (nb, ny, nz), (nx, ny, nz)]
+    grading = [(1, 1, 1)] * 3
+    blocks = hexes(quads, n, counts, grading)
+    edges = []
+    for layer, z in ((0, 0.0), (n, depth)):
+        h = math.sqrt(0.5)
+        edges.append(f"arc {1 + layer} {4 + layer} {_vec((ro * h, -ro * h, z))}")
+        edges.append(f"arc {2 + layer} {5 + layer} {_vec((ri * h, -ri * h, z))}")
+    sides = [(0, 1), (1, 4), (4, 6), (7, 5), (5, 2), (2, 3)]
+    walls = [(p, q, q + n, p + n) for p, q in sides]
+    ends = [tuple(reversed(q)) for q in quads] + [tuple(v + n for v in q) for q in quads]
+    patches = [
+        ("inlet", "patch", [(3, 0, 0 + n, 3 + n)]),
+        ("outlet", "patch", [(6, 7, 7 + n, 6 + n)]),
+        ("walls", "wall", walls + ends),
+    ]
+    _write("bend", verts, blocks, edges, patches)
+
+
+def dfg3d() -> None:
+    length, height, xc, yc, rad = 2.5, 0.41, 0.5, 0.2, 0.05
+    s = 0.1  # half-width of the square round the cylinder
+    h = rad / math.sqrt(2)
+    x0, x1 = xc - s, xc + s
+    y0, y1 = yc - s, yc + s
+    base = [
+        (xc - h, yc - h), (xc + h, yc - h), (xc + h, yc + h), (xc - h, yc + h),  # 0-3 cylinder
+        (x0, y0), (x1, y0), (x1, y1), (x0, y1),  # 4-7 square
+        (0, 0), (x0, 0), (x1, 0), (length, 0),  # 8-11 bottom wall
+        (0, y0), (length, y0), (0, y1), (length, y1),  # 12-15
+        (0, height), (x0, height), (x1, height), (length, height),  # 16-19 top wall
+    ]  # fmt: skip
+    n = len(base)
+    verts = extruded(base, 0.0, height)
+    quads = [
+        (4, 5, 1, 0), (5, 6, 2, 1), (6, 7, 3, 2), (7, 4, 0, 3),  # O-ring
+        (8, 9, 4, 12), (9, 10, 5, 4), (10, 11, 13, 5),  # below
+        (12, 4, 7, 14), (5, 13, 15, 6),  # beside
+        (14, 7, 17, 16), (7, 6, 18, 17), (6, 15, 19, 18),  # above
+    ]  # fmt: skip
+    nc, nr, nu, nd, nw, nz = 16, 16, 12, 60, 8, 24
+    counts = [
+        (nc, nr, nz), (nc, nr, nz), (nc, nr, nz), (nc, nr, nz),
+        (nu, nw, nz), (nc, nw, nz), (nd, nw, nz),
+        (nu, nc, nz), (nd, nc, nz),
+        (nu, nw, nz), (nc, nw, nz), (nd, nw, nz),
+    ]  # fmt: skip
+    ring_grade = (1, 0.25, 1)  # j runs square to cylinder: cells shrink toward it
+    grading = [ring_grade] * 4 + [(1, 1, 1)] * 3 + [(1, 1, 1), (3, 1, 1)] + [(1, 1, 1)] * 3
+    grading[6] = (3, 1, 1)
+    grading[11] = (3, 1, 1)
+    blocks = hexes(quads, n, counts, grading)
+    edges = []
+    for layer, z in ((0, 0.0), (n, height)):
+        for (p, q), ang in zip(((0, 1), (1, 2), (2, 3), (3, 0)), (270, 0, 90, 180)):
+            t = math.radians(ang)
+            mid = (xc + rad * math.cos(t), yc + rad * math.sin(t), z)
+            edges.append(f"arc {p + layer} {q + layer} {_vec(mid)}")
+
+    def side(p, q):
+        return (p, q, q + n, p + n)
+
+    patches = [
+        ("inlet", "patch", [side(12, 8), side(14, 12), side(16, 14)]),
+        ("outlet", "patch", [side(11, 13), side(13, 15), side(15, 19)]),
+        (
+            "walls",
+            "wall",
+            [side(8, 9), side(9, 10), side(10, 11), side(19, 18), side(18, 17), side(17, 16)]
+            + [tuple(reversed(q)) for q in quads]
+            + [tuple(v + n for v in q) for q in quads],
+        ),
+        ("cylinder", "wall", [side(1, 0), side(2, 1), side(3, 2), side(0, 3)]),
+    ]
+    _write("dfg3d", verts, blocks, edges, patches)
+
+
+if __name__ == "__main__":
+    pipe()
+    bend()
+    dfg3d()

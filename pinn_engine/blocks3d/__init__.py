@@ -1,0 +1,1 @@
+"""Multi-block 3D domains from an OpenFOAM blockMeshDict (SPEC 15)."""

@@ -1,0 +1,133 @@
+"""checkMesh's figures of a hexahedral mesh, computed as OpenFOAM computes them, so that
+the method that meets SPEC 15's aims can be chosen without OpenFOAM.
+
+- Face centres and area vectors: triangles from each face's mean point, centres weighted by
+  the triangles' areas; cell centres: pyramids from the mean of the cell's face centres,
+  weighted by their volumes (OpenFOAM's ``primitiveMesh``).
+- Non-orthogonality of an internal face: the angle between its area vector and the line
+  between the two cell centres; checkMesh reports the largest and, as its "average", the
+  angle whose cosine is the faces' mean cosine.
+- Skewness: the distance from the face centre to where the line between the two cell
+  centres crosses the face, over the face's extent in that direction (at least a fifth of
+  the centres' distance); on boundary faces the owner's centre and its mirror image.
+- Folded cells: a hexahedron corner whose three edges make a non-positive triple product.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+# OpenFOAM's hexahedron: its six faces (normals out of the cell) by corner
+HEX_FACES = np.array(
+    [[0, 4, 7, 3], [1, 2, 6, 5], [0, 1, 5, 4], [3, 7, 6, 2], [0, 3, 2, 1], [4, 5, 6, 7]]
+)
+# each corner's three edge neighbours, in an order making the triple product the volume's sign
+CORNER_EDGES = np.array(
+    [[1, 3, 4], [2, 0, 5], [3, 1, 6], [0, 2, 7], [7, 5, 0], [4, 6, 1], [5, 7, 2], [6, 4, 3]]
+)
+TINY = 1e-300  # OpenFOAM's ROOTVSMALL: keeps the divisions finite on degenerate faces
+
+
+@dataclass
+class Figures:
+    """checkMesh's figures: largest and mean non-orthogonality (degrees), largest skewness,
+    and cells with a folded corner."""
+
+    max_non_orthogonality: float
+    mean_non_orthogonality: float
+    max_skewness: float
+    folded: int
+
+    def as_dict(self) -> dict:
+        return {
+            "max_non_orthogonality": self.max_non_orthogonality,
+            "mean_non_orthogonality": self.mean_non_orthogonality,
+            "max_skewness": self.max_skewness,
+            "folded_cells": self.folded,
+        }
+
+
+def hexes(ids: np.ndarray) -> np.ndarray:
+    """The cells (m, 8) of a block's node ids (ni+1, nj+1, nk+1), OpenFOAM's corner order,
+    i fastest (blockMesh's cell order)."""
+    a = ids
+    corners = [
+        a[:-1, :-1, :-1], a[1:, :-1, :-1], a[1:, 1:, :-1], a[:-1, 1:, :-1],
+        a[:-1, :-1, 1:], a[1:, :-1, 1:], a[1:, 1:, 1:], a[:-1, 1:, 1:],
+    ]  # fmt: skip
+    return np.stack([c.transpose(2, 1, 0).ravel() for c in corners], axis=1)
+
+
+def _faces(points: np.ndarray, quads: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Centres and area vectors of quad faces (m, 4)."""
+    p = points[quads]
+    mid = p.mean(axis=1)
+    nxt = np.roll(p, -1, axis=1)
+    n = np.cross(nxt - p, mid[:, None] - p)
+    a = np.linalg.norm(n, axis=-1)
+    c = p + nxt + mid[:, None]
+    centre = (a[..., None] * c).sum(axis=1) / (3 * np.maximum(a.sum(axis=1), TINY))[:, None]
+    degenerate = a.sum(axis=1) <= TINY
+    centre[degenerate] = mid[degenerate]
+    return centre, 0.5 * n.sum(axis=1)
+
+
+def figures(points: np.ndarray, cells: np.ndarray) -> Figures:
+    """checkMesh's figures of the hexahedra ``cells`` (m, 8) over ``points``."""
+    quads = cells[:, HEX_FACES].reshape(-1, 4)
+    fc, fa = _faces(points, quads)
+    fc, fa = fc.reshape(-1, 6, 3), fa.reshape(-1, 6, 3)
+    guess = fc.mean(axis=1)
+    vol = np.einsum("nfk,nfk->nf", fa, fc - guess[:, None])
+    pc = 0.75 * fc + 0.25 * guess[:, None]
+    total = vol.sum(axis=1)
+    cc = (vol[..., None] * pc).sum(axis=1) / np.where(np.abs(total) > TINY, total, 1.0)[:, None]
+    cc[np.abs(total) <= TINY] = guess[np.abs(total) <= TINY]
+    key = np.sort(quads, axis=1)
+    _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    inverse = inverse.ravel()
+    order = np.argsort(inverse, kind="stable")
+    shared = counts[inverse[order]] == 2
+    pairs = order[shared].reshape(-1, 2)
+    own, nei = pairs[:, 0] // 6, pairs[:, 1] // 6
+    f = pairs[:, 0]
+    centre, area = fc.reshape(-1, 3)[f], fa.reshape(-1, 3)[f]
+    d = cc[nei] - cc[own]
+    cos = np.einsum("nk,nk->n", area, d) / np.maximum(
+        np.linalg.norm(area, axis=1) * np.linalg.norm(d, axis=1), TINY
+    )
+    angles = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+    skew = _skewness(points, quads[f], centre, area, cc[own], d, 0.2)
+    single = order[counts[inverse[order]] == 1]
+    bcentre, barea = fc.reshape(-1, 3)[single], fa.reshape(-1, 3)[single]
+    cpf = bcentre - cc[single // 6]
+    normal = barea / np.maximum(np.linalg.norm(barea, axis=1), TINY)[:, None]
+    bd = normal * np.einsum("nk,nk->n", normal, cpf)[:, None]
+    bskew = _skewness(points, quads[single], bcentre, barea, cc[single // 6], bd, 0.4)
+    return Figures(
+        float(angles.max(initial=0.0)),
+        float(np.degrees(np.arccos(np.clip(cos.mean(), -1.0, 1.0)))) if len(cos) else 0.0,
+        float(max(skew.max(initial=0.0), bskew.max(initial=0.0))),
+        folded(points, cells),
+    )
+
+
+def _skewness(points, quads, centre, area, owner_centre, d, least) -> np.ndarray:
+    cpf = centre - owner_centre
+    t = np.einsum("nk,nk->n", area, cpf) / (np.einsum("nk,nk->n", area, d) + TINY)
+    sv = cpf - t[:, None] * d
+    mag = np.linalg.norm(sv, axis=1)
+    hat = sv / (mag + TINY)[:, None]
+    reach = np.abs(np.einsum("nk,nqk->nq", hat, points[quads] - centre[:, None])).max(axis=1)
+    fd = np.maximum(least * np.linalg.norm(d, axis=1) + TINY, reach)
+    return mag / fd
+
+
+def folded(points: np.ndarray, cells: np.ndarray) -> int:
+    """Cells with a corner whose three edges make a non-positive triple product."""
+    p = points[cells]
+    e = p[:, CORNER_EDGES] - p[:, :, None]
+    triple = np.einsum("nck,nck->nc", e[:, :, 0], np.cross(e[:, :, 1], e[:, :, 2]))
+    return int((triple <= 0).any(axis=1).sum())

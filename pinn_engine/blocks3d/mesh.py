@@ -1,0 +1,197 @@
+"""A blockMeshDict meshed (SPEC 15): blockMesh's placement, the Winslow grid over all
+blocks, the choice between them, and the result as VTK blocks with SPEC 11's arrays.
+
+The methods: ``tfi`` is blockMesh's placement; ``elliptic`` the 3D Winslow grid over all
+blocks (``winslow.py``; refused where it folds); ``pinn`` (the default) the better of the
+two by SPEC 15's aims, checkMesh's largest non-orthogonality and skewness no worse than
+blockMesh's: the network would train on the Winslow equations alone, which the elliptic
+grid already solves, so none is trained (the report's ``training.skipped`` says so, as for
+a hexahedral block without spacing or orthogonal patches). The blocks are coupled through
+their interfaces, so the choice is made for the grid as a whole.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+from vtkmodules.util.numpy_support import numpy_to_vtk
+from vtkmodules.vtkCommonCore import vtkPoints, vtkStringArray
+from vtkmodules.vtkCommonDataModel import (
+    vtkCompositeDataSet,
+    vtkMultiBlockDataSet,
+    vtkStructuredGrid,
+)
+
+from pinn_engine.blocks3d.checks import Figures, figures, hexes
+from pinn_engine.blocks3d.dictionary import BlockMeshDict
+from pinn_engine.blocks3d.placement import Placement, place
+from pinn_engine.blocks3d.winslow import winslow
+from pinn_engine.errors import InputError
+from pinn_engine.hexa.quality import folded, included_angles, scaled_jacobian
+
+METHODS = ("pinn", "elliptic", "tfi")
+# a figure within this many degrees (non-orthogonality) or this much (skewness) of
+# blockMesh's counts as no worse: round-off of grids that are the same
+SAME_ANGLE, SAME_SKEW = 1e-6, 1e-9
+SKIPPED = "the network would train on the Winslow equations alone, which the elliptic grid solves"
+
+
+@dataclass
+class DictResult:
+    """A meshed dictionary: the placement (ids, patches), the chosen ``points``, the
+    ``method`` given and the grid ``kept`` (``elliptic`` or ``tfi``), each candidate's
+    checkMesh figures and the report."""
+
+    place: Placement
+    points: np.ndarray
+    method: str
+    kept: str
+    candidates: dict[str, Figures]
+    report: dict = field(default_factory=dict)
+
+    @property
+    def cells(self) -> np.ndarray:
+        """Every block's hexahedra (OpenFOAM's corner order), block by block."""
+        return np.vstack([hexes(ids) for ids in self.place.ids])
+
+    def block_nodes(self) -> list[np.ndarray]:
+        """Each block's nodes (ni+1, nj+1, nk+1, 3)."""
+        return [self.points[ids] for ids in self.place.ids]
+
+
+def no_worse(a: Figures, b: Figures) -> bool:
+    """Whether ``a`` meets SPEC 15's aims against ``b``: no fold, largest non-orthogonality
+    and skewness no worse."""
+    return (
+        a.folded == 0
+        and a.max_non_orthogonality <= b.max_non_orthogonality + SAME_ANGLE
+        and a.max_skewness <= b.max_skewness + SAME_SKEW
+    )
+
+
+def mesh_dictionary(
+    d: BlockMeshDict,
+    method: str = "pinn",
+    free_interfaces: bool = True,
+    progress: Callable[[str, float], object] | None = None,
+) -> DictResult:
+    """The grid of ``d`` by ``method`` (see the module); ``progress(stage, fraction)``
+    hears the stages."""
+    if method not in METHODS:
+        raise InputError(f"--method {method}: a blockMeshDict takes {', '.join(METHODS)}")
+    timings: dict[str, float] = {}
+    began = time.perf_counter()
+
+    def stage(name: str, fraction: float) -> None:
+        if progress is not None:
+            progress(name, fraction)
+
+    stage("placing the blocks", 0.0)
+    placed = place(d)
+    cells = np.vstack([hexes(ids) for ids in placed.ids])
+    timings["place"] = time.perf_counter() - began
+    candidates = {"tfi": figures(placed.points, cells)}
+    if candidates["tfi"].folded:
+        raise InputError(
+            f"blockMesh's placement folds {candidates['tfi'].folded} cells: check the "
+            "vertex order of the blocks (each right-handed) and the curved edges",
+            d.source,
+        )
+    points, kept, steps = placed.points, "tfi", 0
+    if method != "tfi":
+        stage("solving the Winslow equations over all blocks", 0.1)
+        t0 = time.perf_counter()
+
+        def step(k: int, moved: float) -> None:
+            stage(f"Winslow step {k} (largest move {moved:.2e} of the diagonal)", 0.1)
+
+        solved, steps = winslow(placed, free_interfaces=free_interfaces, progress=step)
+        timings["solve"] = time.perf_counter() - t0
+        candidates["elliptic"] = figures(solved, cells)
+        if method == "elliptic":
+            if candidates["elliptic"].folded:
+                raise InputError(
+                    f"the elliptic grid folds {candidates['elliptic'].folded} cells; "
+                    "use --method tfi (blockMesh's placement)",
+                    d.source,
+                )
+            points, kept = solved, "elliptic"
+        elif no_worse(candidates["elliptic"], candidates["tfi"]):
+            points, kept = solved, "elliptic"
+    timings["total"] = time.perf_counter() - began
+    result = DictResult(placed, points, method, kept, candidates)
+    result.report = _report(d, result, steps, timings, free_interfaces)
+    stage("done", 1.0)
+    return result
+
+
+def _report(d, result: DictResult, steps: int, timings: dict, free: bool) -> dict:
+    chosen = result.candidates[result.kept]
+    report = {
+        "method": result.method,
+        "kept": result.kept,
+        "source": d.source,
+        "blocks": len(d.blocks),
+        "cells": int(len(result.cells)),
+        "points": int(len(result.points)),
+        "interfaces": "free" if free else "fixed",
+        "patches": {
+            name: {"type": kind, "faces": len(f)} for name, kind, f in result.place.patches
+        },
+        "candidates": {k: v.as_dict() for k, v in result.candidates.items()},
+        "quality": chosen.as_dict(),
+        "winslow_steps": steps,
+        "timings": timings,
+    }
+    if result.method == "pinn":
+        report["training"] = {"skipped": SKIPPED, "result": "start"}
+    return report
+
+
+def _string(fd, name: str, value: str) -> None:
+    arr = vtkStringArray()
+    arr.SetName(name)
+    arr.InsertNextValue(value)
+    fd.AddArray(arr)
+
+
+def dataset(result: DictResult) -> vtkMultiBlockDataSet:
+    """The blocks as a ``vtkMultiBlockDataSet`` of ``vtkStructuredGrid`` (``block0``, ...)
+    with SPEC 11's cell arrays and the run's figures as field data."""
+    import json
+
+    out = vtkMultiBlockDataSet()
+    blocks = result.block_nodes()
+    out.SetNumberOfBlocks(len(blocks))
+    for k, g in enumerate(blocks):
+        grid = vtkStructuredGrid()
+        grid.SetDimensions(*g.shape[:3])
+        pts = vtkPoints()
+        flat = np.ascontiguousarray(g.transpose(2, 1, 0, 3).reshape(-1, 3))
+        pts.SetData(numpy_to_vtk(flat, deep=True))
+        grid.SetPoints(pts)
+        biggest, smallest = included_angles(g)
+        arrays = {
+            "MaxIncludedAngle": biggest,
+            "MinIncludedAngle": smallest,
+            "ScaledJacobian": scaled_jacobian(grid),
+            "Folded": folded(g).astype(float),
+        }
+        for name, values in arrays.items():
+            arr = numpy_to_vtk(np.ascontiguousarray(values, dtype=float), deep=True)
+            arr.SetName(name)
+            grid.GetCellData().AddArray(arr)
+        grid.GetCellData().SetActiveScalars("MaxIncludedAngle")
+        fd = grid.GetFieldData()
+        _string(fd, "Method", result.kept)
+        _string(fd, "Report", json.dumps({**result.report, "block": k}, default=float))
+        for name, value in result.report["quality"].items():
+            arr = numpy_to_vtk(np.array([value], dtype=float), deep=True)
+            arr.SetName(name)
+            fd.AddArray(arr)
+        out.SetBlock(k, grid)
+        out.GetMetaData(k).Set(vtkCompositeDataSet.NAME(), f"block{k}")
+    return out

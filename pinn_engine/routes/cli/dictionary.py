@@ -1,0 +1,72 @@
+"""One run of a blockMeshDict (SPEC 15): ``pinn-mesh system/blockMeshDict -o CASE --format
+openfoam``, or ``-o OUT.vtm``."""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+from pinn_engine.errors import PinnMeshError
+from pinn_engine.routes.cli.outputs import output_path, write_report
+from pinn_engine.routes.cli.parser import build_parser, option_flags
+from pinn_engine.routes.cli.summary import say
+from pinn_engine.routes.summary_lines import dictionary_line
+
+# The options a dictionary takes; any other given is refused, not silently ignored
+DICTIONARY_OPTIONS = frozenset(
+    {"boundary", "method", "output", "quiet", "format", "report", "interfaces"}
+)
+
+
+def run_dictionary(args: argparse.Namespace, written: list[Path]) -> Path:
+    """The dictionary's grid into ``OUT.vtm`` or, with ``--format openfoam``, an OpenFOAM
+    case with the dictionary's patches; appends each output file to ``written`` once it is
+    complete."""
+    from pinn_engine import job
+    from pinn_engine.io.export import write_case
+    from pinn_engine.io.export.openfoam import write_hex_polymesh
+    from pinn_engine.io.export.vtm import write_vtm
+    from pinn_engine.settings import make_settings
+
+    defaults = vars(build_parser().parse_args([]))
+    flags = option_flags()
+    for name, value in vars(args).items():
+        if name not in DICTIONARY_OPTIONS and value != defaults.get(name):
+            raise PinnMeshError(
+                f"{flags.get(name, name)} does not apply to a blockMeshDict: its blocks, "
+                "counts, gradings and patches are the dictionary's"
+            )
+    method = args.method or job.dictionary.DICTIONARY_METHODS[0]
+    stem = Path(args.boundary).resolve().parent.parent.name or "blockMeshDict"
+    out = output_path(args, f"{stem}_{method}", "vtm")
+    foam = args.format == "openfoam"
+    if not foam and (args.format not in (None, "vtm") or out.suffix.lower() != ".vtm"):
+        raise PinnMeshError(
+            f"{out}: a blockMeshDict's grid is written as .vtm or --format openfoam in this build"
+        )
+    try:
+        settings = make_settings(method, interfaces=args.interfaces)
+    except ValueError as exc:
+        raise PinnMeshError(str(exc)) from exc
+    began = time.perf_counter()
+    geometry = job.dictionary_from_file(args.boundary)
+    outcome = job.run(settings, geometry)
+    result = outcome.mesh
+    if foam:
+        write_case(
+            out,
+            lambda mesh: write_hex_polymesh(
+                result.points, result.cells, result.place.patches, mesh
+            ),
+        )
+    else:
+        write_vtm(outcome.data, out)
+    written.append(out)
+    outcome.report["timings"]["run"] = time.perf_counter() - began
+    if args.report:
+        write_report(args.report, outcome.report, written)
+    if not args.quiet:
+        say(dictionary_line(outcome.report))
+        print(f"wrote {out}" + ("" if args.output else " (the default place without -o)"))
+    return out

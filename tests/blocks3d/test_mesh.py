@@ -1,0 +1,151 @@
+"""A blockMeshDict meshed (SPEC 15): blockMesh's placement, the Winslow grid over all blocks
+and the choice between them, on each route; cells and patches as blockMesh's (where
+OpenFOAM is installed), no fold, checkMesh's figures no worse."""
+
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+from helpers import EXAMPLES, foam_env
+
+from pinn_engine import job
+from pinn_engine.blocks3d.checks import figures, hexes
+from pinn_engine.blocks3d.dictionary import from_text
+from pinn_engine.blocks3d.mesh import mesh_dictionary
+from pinn_engine.blocks3d.placement import place
+from pinn_engine.routes.cli import main
+from pinn_engine.settings import make_settings
+
+PIPE = EXAMPLES / "blockmesh" / "pipe" / "system" / "blockMeshDict"
+needs_openfoam = pytest.mark.skipif(
+    shutil.which("blockMesh") is None or shutil.which("checkMesh") is None,
+    reason="OpenFOAM's blockMesh is missing (apt-get install openfoam; .ci/run installs it)",
+)
+
+
+def small_pipe() -> str:
+    """The example pipe's dictionary with few cells (fast)."""
+    text = PIPE.read_text()
+    return text.replace("(12 12 40)", "(6 6 3)").replace("(12 10 40)", "(6 5 3)")
+
+
+BOX = """
+vertices ( (0 0 0) (2 0 0) (2 1 0) (0 1 0) (0 0 0.5) (2 0 0.5) (2 1 0.5) (0 1 0.5)
+           (3 0 0) (3 1 0) (3 0 0.5) (3 1 0.5) );
+blocks ( hex (0 1 2 3 4 5 6 7) (8 4 2) simpleGrading (3 0.5 1)
+         hex (1 8 9 2 5 10 11 6) (4 4 2) simpleGrading (1 0.5 1) );
+boundary ( walls { type wall; faces ((0 1 5 4) (1 8 10 5)); } );
+"""
+
+
+def test_a_graded_box_keeps_blockmesh_grid():
+    """Straight edges, simpleGrading: blockMesh's grid is orthogonal, and the Winslow grid
+    over both blocks in the dictionary's graded coordinates is that grid."""
+    d = from_text(BOX)
+    placed = place(d)
+    x = np.unique(np.round(placed.points[:, 0], 12))
+    cells = np.diff(x)
+    assert len(x) == 13 and cells[7] / cells[0] == pytest.approx(3.0)
+    result = mesh_dictionary(d, "elliptic")
+    assert np.allclose(result.points, placed.points, atol=1e-9)
+    assert [p[0] for p in placed.patches] == ["walls", "defaultFaces"]
+    assert result.place.patches[1][1] == "empty"
+
+
+def test_the_pipe_interfaces_are_solved():
+    """The butterfly pipe: the Winslow grid, its centre square's corners moving as star
+    nodes, is far less non-orthogonal than blockMesh's, with no fold; the wall stays on the
+    cylinder and the inlet in its plane."""
+    d = from_text(small_pipe())
+    result = mesh_dictionary(d)
+    tfi, ell = result.candidates["tfi"], result.candidates["elliptic"]
+    assert result.kept == "elliptic" and ell.folded == 0
+    assert ell.max_non_orthogonality < tfi.max_non_orthogonality - 5
+    assert ell.max_skewness <= tfi.max_skewness
+    wall = np.unique(result.place.patches[2][2])
+    assert np.allclose(np.hypot(*result.points[wall, :2].T), 0.05)
+    inlet = np.unique(result.place.patches[0][2])
+    assert np.allclose(result.points[inlet, 2], 0.0)
+    fixed = mesh_dictionary(d, "elliptic", free_interfaces=False)
+    for ids in fixed.place.ids:  # block faces where blockMesh puts them
+        for face in (ids[0], ids[-1], ids[:, 0], ids[:, -1], ids[:, :, 0], ids[:, :, -1]):
+            assert np.allclose(fixed.points[face], fixed.place.points[face])
+
+
+def test_the_default_keeps_blockmesh_placement_where_it_is_better():
+    """A grid the Winslow solve cannot improve on (orthogonal already) keeps blockMesh's
+    placement, so no figure is ever worse than blockMesh's."""
+    d = from_text(small_pipe())
+    result = mesh_dictionary(d, "tfi")
+    assert result.kept == "tfi" and "elliptic" not in result.candidates
+    assert figures(result.points, result.cells) == result.candidates["tfi"]
+
+
+def test_the_job_gives_blocks_with_spec11_arrays():
+    outcome = job.run(make_settings("pinn"), job.dictionary_from_text(small_pipe()))
+    assert outcome.kind == "dictionary" and outcome.data.GetNumberOfBlocks() == 5
+    grid = outcome.data.GetBlock(1)
+    assert grid.GetExtent() == (0, 6, 0, 5, 0, 3)
+    for name in ("MaxIncludedAngle", "MinIncludedAngle", "ScaledJacobian", "Folded"):
+        assert grid.GetCellData().GetArray(name) is not None
+    assert outcome.report["training"]["skipped"]
+    assert outcome.grids[1].shape == (4, 6, 7, 3)
+
+
+def test_the_command_line_writes_vtm(tmp_path):
+    dict_path = tmp_path / "pipe" / "system" / "blockMeshDict"
+    dict_path.parent.mkdir(parents=True)
+    dict_path.write_text(small_pipe())
+    out = tmp_path / "pipe.vtm"
+    assert main([str(dict_path), "-o", str(out), "--quiet"]) == 0
+    assert len(list((tmp_path / "pipe").glob("block*.vts"))) == 5
+    assert main([str(dict_path), "-o", str(tmp_path / "x.su2"), "--quiet"]) == 2
+
+
+@needs_openfoam
+def test_cells_and_patches_are_blockmesh_and_checkmesh_passes(tmp_path):
+    """blockMesh and ``pinn-mesh DICT --format openfoam`` on the same dictionary: the same
+    cells and patches; checkMesh passes ours, with no larger non-orthogonality."""
+    env = foam_env()
+    ref = tmp_path / "ref"
+    (ref / "system").mkdir(parents=True)
+    (ref / "system" / "blockMeshDict").write_text(small_pipe())
+    ours = tmp_path / "ours"
+    assert (
+        main(
+            [
+                str(ref / "system" / "blockMeshDict"),
+                "-o",
+                str(ours),
+                "--format",
+                "openfoam",
+                "--quiet",
+            ]
+        )
+        == 0
+    )
+    for name in ("controlDict", "fvSchemes", "fvSolution"):
+        shutil.copy(ours / "system" / name, ref / "system" / name)
+    subprocess.run(["blockMesh"], cwd=ref, env=env, capture_output=True, check=True)
+
+    def check(case):
+        log = subprocess.run(
+            ["checkMesh"], cwd=case, env=env, capture_output=True, text=True
+        ).stdout
+        cells = int(re.search(r"^\s*cells:\s+(\d+)", log, re.M).group(1))
+        nonorth = float(re.search(r"non-orthogonality Max:\s*([\d.eE+-]+)", log).group(1))
+        return cells, nonorth, "Mesh OK." in log
+
+    def patches(case):
+        text = (case / "constant" / "polyMesh" / "boundary").read_text()
+        found = re.findall(r"(\w+)\s*\{\s*type\s+(\w+);.*?nFaces\s+(\d+);", text, re.S)
+        return sorted(found)
+
+    (cells, nonorth, ok), (ref_cells, ref_nonorth, _) = check(ours), check(ref)
+    assert ok and cells == ref_cells and nonorth < ref_nonorth
+    assert patches(ours) == patches(ref)
+    assert sum(len(hexes(ids)) for ids in place(from_text(small_pipe())).ids) == cells
