@@ -18,6 +18,7 @@ from pinn_engine.settings import make_settings
 
 FIG2, BEND = EXAMPLES / "fig2.vtp", EXAMPLES / "hexa_bend.vtp"
 LSHAPE, LSHAPE_EDGES = EXAMPLES / "lshape.vtp", EXAMPLES / "lshape_blocks.vtp"
+PIPE = EXAMPLES / "blockmesh" / "pipe" / "system" / "blockMeshDict"
 
 
 def _geometries(kind: str):
@@ -35,6 +36,10 @@ def _geometries(kind: str):
         settings = make_settings("tfi", cell_size=0.25)
         files = job.blocks_from_files(LSHAPE, [LSHAPE_EDGES])
         data = job.blocks_from_polydata([read_polydata(LSHAPE)], [read_polydata(LSHAPE_EDGES)])
+    elif kind == "dictionary":
+        settings = make_settings("tfi")
+        files = job.dictionary_from_file(PIPE)
+        data = job.dictionary_from_text(PIPE.read_text())
     else:
         settings = make_settings("tfi", size=(7, 6, 5))
         files = job.hexa_from_file(BEND)
@@ -57,13 +62,14 @@ def _points(grid) -> np.ndarray:
         (FIG2, {"size": (5, 5, 5)}, "hexa"),
         (BEND, {}, "hexa"),
         (EXAMPLES / "hexa_bend.stl", {}, "hexa"),
+        (PIPE, {}, "dictionary"),
     ],
 )
 def test_kind_of_names_each_kind_from_files_and_data(boundary, options, kind):
     """A file's kind, and its data's (an STL's triangles carry no FaceId: three sizes name
     them)."""
     assert job.kind_of(boundary, **options) == kind
-    if boundary.exists() and boundary.suffix != ".stl":
+    if boundary.exists() and boundary.suffix not in (".stl", ""):
         assert job.kind_of(read_polydata(boundary), **options) == kind
 
 
