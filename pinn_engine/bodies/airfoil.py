@@ -135,6 +135,10 @@ SHARP_GAP = 1e-4
 # A base's end is one of its two corners (SPEC 9) where the wall turns there by at least this
 # many degrees; a closing segment that turns by less at one end continues that surface
 BASE_CORNER = 45.0
+# A base drawn as part of a closed ring is a straight piece (no vertex along it turning by
+# this many degrees or more) between two corners, at most this share of the body's size
+# (the thickest flatbacks' bases are about 40 % of the chord)
+STRAIGHT_TURN, MAX_BASE = 5.0, 0.45
 
 
 def naca4(code: str, points: int = 201, te: str = "sharp") -> np.ndarray:
@@ -181,13 +185,16 @@ class Body:
     segment between the surface's two ends. ``cut``: the point where the two surfaces of
     the input crossed near the trailing edge, there cut and closed (SPEC 9), or None;
     ``continued``: "upper" or "lower" where the segment closing the input continued that
-    surface (:func:`close_continued`), or None."""
+    surface (:func:`close_continued`), or None; ``rounded``: a closed curve with no corner
+    (a round trailing edge, as a circular root section), started at its point of largest
+    x."""
 
     surface: np.ndarray
     sharp: bool
     source: str
     cut: tuple[float, float] | None = None  # where crossing surfaces were cut and closed
     continued: str | None = None  # the surface a closing segment continues (no base)
+    rounded: bool = False  # a closed curve without a corner: no trailing edge to leave
 
     @property
     def chord_points(self) -> tuple[np.ndarray, np.ndarray]:
@@ -277,6 +284,65 @@ def close_continued(surface: np.ndarray) -> tuple[np.ndarray, str | None]:
     return surface, None
 
 
+def _rear_corners(ring: np.ndarray) -> tuple[int, int]:
+    """The trailing edge of a closed counter-clockwise ring, from its shape: the indices
+    (lower end, upper end) of its rear-most corner (a vertex turning by at least
+    ``BASE_CORNER``; a sharp edge, the two equal) or, where the next corner along the ring
+    follows it, or it follows the previous one, along a straight piece no longer than
+    ``MAX_BASE`` of the body's size that turns the same way (a blunt base drawn as part of
+    the ring, whose middle is where some files start), that base's two corners. (-1, -1)
+    where the ring has no corner: a round trailing edge."""
+    n = len(ring)
+    e_in = ring - np.roll(ring, 1, axis=0)
+    e_out = np.roll(ring, -1, axis=0) - ring
+    cross = e_in[:, 0] * e_out[:, 1] - e_in[:, 1] * e_out[:, 0]
+    turn = np.degrees(np.arctan2(cross, np.einsum("ij,ij->i", e_in, e_out)))
+    corners = np.flatnonzero(turn >= BASE_CORNER)
+    if not len(corners):
+        return -1, -1
+    size = float(np.ptp(ring, axis=0).max())
+    rear = int(corners[np.argmax(ring[corners, 0])])
+
+    def base_to(k: int, step: int) -> int | None:
+        """The corner reached from ``k`` along a straight piece (step +1: forward)."""
+        length, j = 0.0, k
+        while True:
+            nxt = (j + step) % n
+            length += float(np.linalg.norm(ring[nxt] - ring[j]))
+            if length > MAX_BASE * size or nxt == k:
+                return None
+            if turn[nxt] >= BASE_CORNER:
+                return nxt
+            if abs(turn[nxt]) >= STRAIGHT_TURN:
+                return None
+            j = nxt
+
+    # counter-clockwise, a base runs from its lower corner to its upper one
+    upper, lower = base_to(rear, 1), base_to(rear, -1)
+    found = ([(rear, upper)] if upper is not None else []) + (
+        [(lower, rear)] if lower is not None else []
+    )
+    if not found:
+        return rear, rear
+    # the base whose other corner lies farther back
+    return max(found, key=lambda ab: ring[ab[0], 0] + ring[ab[1], 0])
+
+
+def _from_trailing_edge(ring: np.ndarray) -> tuple[np.ndarray, bool]:
+    """A closed counter-clockwise ring as a Selig-order surface: from the upper end of its
+    trailing edge (:func:`_rear_corners`) round to the lower end, the base between them
+    left out (a sharp edge: the ring from its corner, closed); and whether the edge is
+    round (no corner: the ring from its point of largest x)."""
+    lower, upper = _rear_corners(ring)
+    rounded = lower < 0
+    if rounded:
+        lower = upper = int(np.argmax(ring[:, 0]))
+    rolled = np.roll(ring, -upper, axis=0)
+    if lower == upper:
+        return np.concatenate([rolled, rolled[:1]]), rounded
+    return rolled[: (lower - upper) % len(ring) + 1], rounded
+
+
 def body_from_points(xy: np.ndarray, source: str, sharp_tol: float = SHARP_GAP) -> Body:
     """A :class:`Body` from airfoil-like points in either orientation, starting anywhere
     near the trailing edge: reordered to Selig order (counter-clockwise, from the point of
@@ -304,10 +370,9 @@ def body_from_points(xy: np.ndarray, source: str, sharp_tol: float = SHARP_GAP) 
         raise InputError("the body encloses no area", source)
     if area < 0:
         ring = ring[::-1]
-    if closed:  # restart the ring at the point of largest x
-        k = int(np.argmax(ring[:, 0]))
-        ring = np.roll(ring, -k, axis=0)
-        surface = np.concatenate([ring, ring[:1]])
+    rounded = False
+    if closed:  # the trailing edge found from the shape, wherever the file starts
+        surface, rounded = _from_trailing_edge(ring)
     else:  # an open trailing edge: the ends are the two trailing-edge points, and the
         surface = ring  # counter-clockwise ring starts on the upper surface (Selig)
     surface, cut = cut_crossing(surface)
@@ -316,7 +381,7 @@ def body_from_points(xy: np.ndarray, source: str, sharp_tol: float = SHARP_GAP) 
     if not sharp:
         surface, continued = close_continued(surface)
         sharp = continued is not None
-    return Body(surface=surface, sharp=sharp, source=source, cut=cut, continued=continued)
+    return Body(surface, sharp, source, cut, continued, rounded and cut is None)
 
 
 def load_body(

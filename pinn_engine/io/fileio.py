@@ -233,8 +233,8 @@ def boundary_points(poly: vtkPolyData, source: str = "boundary input") -> np.nda
     return _checked(pts, source)
 
 
-def read_table(path: Path) -> np.ndarray:
-    """Read ``x,y[,z]`` rows (comma or whitespace separated, optional header)."""
+def _table_text(path: Path) -> str:
+    """A text table's contents, refused when it cannot be read or is not UTF-8 text."""
     src = str(path)
     try:
         data = path.read_bytes()
@@ -243,35 +243,64 @@ def read_table(path: Path) -> np.ndarray:
     if b"\0" in data:
         raise InputError("is a binary file, not a text table of x,y rows", src)
     try:
-        text = data.decode("utf-8-sig")
+        return data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise InputError("is not UTF-8 text; expected rows of x,y", src) from exc
-    rows: list[list[float]] = []
+
+
+def _table_groups(text: str, src: str) -> list[list[list[float]]]:
+    """The ``x,y[,z]`` rows of a table (comma or whitespace separated, optional header),
+    in groups that blank lines separate."""
+    groups: list[list[list[float]]] = [[]]
     header = False
+    count = 0
     for number, line in enumerate(text.splitlines(), start=1):
         line = line.strip()
-        if not line or line.startswith("#"):
+        if not line:
+            if groups[-1]:
+                groups.append([])
+            continue
+        if line.startswith("#"):
             continue
         fields = [f for f in line.replace(",", " ").replace(";", " ").split() if f]
         try:
             values = [float(f) for f in fields]
         except ValueError:
-            if not rows and not header:
+            if not count and not header:
                 header = True  # one header row before the data
                 continue
             raise InputError(f"line {number} is not numeric: {line[:40]!r}", src) from None
         if len(values) not in (2, 3):
             raise InputError(f"line {number} has {len(values)} columns; expected x,y or x,y,z", src)
-        if rows and len(values) != len(rows[0]):
+        first = next((g[0] for g in groups if g), None)
+        if first is not None and len(values) != len(first):
             raise InputError(
-                f"line {number} has {len(values)} columns, earlier lines {len(rows[0])}", src
+                f"line {number} has {len(values)} columns, earlier lines {len(first)}", src
             )
-        rows.append(values)
-        if len(rows) > MAX_POINTS:
+        groups[-1].append(values)
+        count += 1
+        if count > MAX_POINTS:
             raise InputError(f"holds more than {MAX_POINTS} rows; resample it", src)
-    if not rows:
+    groups = [g for g in groups if g]
+    if not groups:
         raise InputError("holds no x,y rows", src)
+    return groups
+
+
+def read_table(path: Path) -> np.ndarray:
+    """Read ``x,y[,z]`` rows (comma or whitespace separated, optional header; blank lines
+    are skipped)."""
+    src = str(path)
+    rows = [row for group in _table_groups(_table_text(path), src) for row in group]
     return _checked(np.array(rows, dtype=float), src)
+
+
+def read_table_lines(path: Path) -> list[np.ndarray]:
+    """The polylines of a text table: ``x,y[,z]`` rows, one polyline a group of rows that
+    blank lines separate (gnuplot's convention)."""
+    src = str(path)
+    groups = _table_groups(_table_text(path), src)
+    return [_checked(np.array(g, dtype=float), src) for g in groups]
 
 
 def read_boundary_points(path: str | os.PathLike) -> np.ndarray:

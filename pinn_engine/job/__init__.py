@@ -23,6 +23,7 @@ from pinn_engine.job.blocks import (
     blocks_from_polydata,
     run_blocks,
 )
+from pinn_engine.job.cover import covered
 from pinn_engine.job.dictionary import (
     DictionaryGeometry,
     dictionary_from_file,
@@ -55,12 +56,12 @@ def run(
     (re-used when only the size changes), or the model saved at ``model`` (a four-sided
     domain's or a six-faced domain's) is evaluated instead of training."""
     if isinstance(geometry, BlocksGeometry):
-        return run_blocks(settings, geometry, progress)
+        return covered(run_blocks(settings, geometry, progress), geometry)
     if isinstance(geometry, HexaGeometry):
         return run_hexa(settings, geometry, progress, model)
     if isinstance(geometry, DictionaryGeometry):
         return run_dictionary(settings, geometry, progress)
-    return run_single(settings, geometry, progress, cache, model)
+    return covered(run_single(settings, geometry, progress, cache, model), geometry)
 
 
 __all__ = [

@@ -123,11 +123,26 @@ def blocks_from_files(
 
 
 def read_block_edges(path: str | os.PathLike) -> list:
-    """The open polylines of a block-edge file; none from a file that holds no line (a
-    four-sided domain's saved proposal, SPEC 13)."""
-    from pinn_engine.io.fileio import AUX_FORMATS, _check_file, aux_lines_of, read_polydata
+    """The open polylines of a block-edge file (``.vtp``, ``.vtk``, or a ``.csv``/``.txt``
+    table, one polyline a group of rows that blank lines separate, as the boundary's
+    tables); none from a file that holds no line (a four-sided domain's saved proposal,
+    SPEC 13)."""
+    from pinn_engine.geometry.auxlines import RawLine
+    from pinn_engine.io.fileio import (
+        BOUNDARY_FORMATS,
+        _check_file,
+        aux_lines_of,
+        read_polydata,
+        read_table_lines,
+    )
 
-    source = _check_file(Path(path), AUX_FORMATS)
+    source = _check_file(Path(path), BOUNDARY_FORMATS)
+    if Path(path).suffix.lower() in (".csv", ".txt"):
+        lines = read_table_lines(Path(path))
+        for k, points in enumerate(lines):
+            if len(points) < 2:
+                raise InputError(f"line {k} has fewer than 2 points", source)
+        return [RawLine(p, None, f"{source} line {k}") for k, p in enumerate(lines)]
     poly = read_polydata(Path(path))
     if not poly.GetNumberOfLines():
         return []

@@ -38,10 +38,12 @@ from pinn_engine.multiblock.patches import (
 from pinn_engine.multiblock.quadblock import block_boundary, block_lines
 from pinn_engine.multiblock.spacing import (
     check_room,
+    held_pieces,
     requests,
     respace,
     spread,
     untangled_blocks,
+    wall_nodes,
 )
 from pinn_engine.multiblock.walls import (
     Walls,
@@ -180,7 +182,15 @@ def mesh_blocks(
     patches = block_patches(topo, lay, patch_points)  # refused before the solve, not after
     check_names(walls, patches)
     sides = wall_sides(lay.ids, patches, walls.names)
-    asked = spread(requests(sides, walls.spacing), lay.ids)
+    held = {
+        int(nodes[end])
+        for piece, nodes in zip(topo.pieces, lay.piece_ids)
+        if not piece.interface
+        for end in (0, -1)
+    }
+    asked = held_pieces(
+        spread(requests(sides, walls.spacing), lay.ids), held, wall_nodes(sides, walls.spacing)
+    )
     check_room(lay.points, asked)
     steps = 0
     points = lay.points

@@ -102,6 +102,40 @@ def spread(asked: Requests, ids: list[np.ndarray]) -> Requests:
     return out
 
 
+def wall_nodes(sides: list[WallSide], spacing: dict[str, float]) -> dict[int, float]:
+    """The first edge asked at each node of a spaced patch (the smaller where two ask)."""
+    out: dict[int, float] = {}
+    for wall in sides:
+        h = spacing.get(wall.name)
+        if h is None:
+            continue
+        for node in wall.lines[wall.on, 0].tolist():
+            out[node] = min(h, out.get(node, h))
+    return out
+
+
+def held_pieces(asked: Requests, held: set[int], walls: dict[int, float]) -> Requests:
+    """``asked`` with every line cut at its inner nodes in ``held`` (the ends of boundary
+    pieces: sharp corners and the places edges meet the boundary, which fix the domain
+    drawn and must stay grid nodes where they are), each piece stretched on its own: asked
+    at a cut the first edge of the wall there (``walls``: a reflex corner's lines leave it
+    as they leave the rest of the wall), else the map's own interval; a piece asked at
+    neither end is left as it is."""
+    out: Requests = {}
+    for key, (first, last, label) in asked.items():
+        cuts = [0, *(k for k in range(1, len(key) - 1) if key[k] in held), len(key) - 1]
+        for a, b in zip(cuts, cuts[1:]):
+            h0 = first if a == 0 else walls.get(key[a])
+            h1 = last if b == len(key) - 1 else walls.get(key[b])
+            if b - a < 2 or (h0 is None and h1 is None):
+                continue
+            piece = np.asarray(key[a : b + 1])
+            for node_end, h in ((0, h0), (-1, h1)):
+                if h is not None:
+                    _ask(out, piece if node_end == 0 else piece[::-1], h, label)
+    return out
+
+
 def untangled_blocks(
     points: np.ndarray, ids: list[np.ndarray], untangle: Callable[[np.ndarray], np.ndarray]
 ) -> np.ndarray:

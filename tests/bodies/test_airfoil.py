@@ -475,3 +475,29 @@ def test_an_airfoil_meshed_as_a_four_sided_domain_is_told_to_choose_a_topology(t
     with pytest.raises(InputError, match="open") as info:
         pinn_mesh(pv.lines_from_points(np.c_[three_sides, np.zeros(4)]), method="tfi")
     assert "body" not in str(info.value)
+
+
+def _flatback_ring(start_mid_base: bool) -> np.ndarray:
+    """NACA 0030 opened to a flatback base of 0.2 chord, closed by its base drawn as part
+    of the ring: from the base's middle (1, 0) as NuMAD files start, or from its corner."""
+    xy = naca4("0030", 101)
+    n = len(xy) // 2
+    xy[:, 1] += np.where(np.arange(len(xy)) <= n, 0.5, -0.5) * 0.2 * xy[:, 0]
+    if start_mid_base:
+        return np.vstack([[[1.0, 0.0], [1.0, 0.05]], xy, [[1.0, -0.05], [1.0, 0.0]]])
+    return np.vstack([xy, [[1.0, 0.0]], xy[:1]])
+
+
+@pytest.mark.parametrize("start_mid_base", [True, False])
+def test_the_trailing_edge_is_found_from_the_shape_not_the_file_start(start_mid_base):
+    body = body_from_points(_flatback_ring(start_mid_base), "numad")
+    assert not body.sharp and not body.rounded
+    assert np.allclose(body.surface[0], (1.0, 0.1)) and np.allclose(body.surface[-1], (1.0, -0.1))
+    assert body.te_gap == pytest.approx(0.2)
+
+
+def test_a_sharp_trailing_edge_is_its_corner_where_the_file_starts_elsewhere():
+    xy = naca4("2412", 81)
+    ring = np.vstack([xy[30:-1], xy[:31]])  # starts on the upper surface, closed
+    body = body_from_points(ring, "shifted")
+    assert body.sharp and np.allclose(body.surface[0], (1.0, 0.0))

@@ -282,3 +282,38 @@ def test_patch_errors_are_one_line_in_each_routes_words(route, options, message)
         alg.Update()
     assert alg.GetLastError() == message
     assert said.lines == [message]
+
+
+def test_block_edges_from_a_table_mesh_as_from_their_vtp(tmp_path, capsys):
+    """``--blocks`` reads .csv/.txt tables as the boundary does, a blank line between
+    polylines; ``-q`` is ``--quiet``."""
+    from pinn_engine.io.fileio import aux_lines_of
+    from pinn_engine.routes.cli import main
+
+    edges = [line.points[:, :2] for line in aux_lines_of(_read("step_blocks.vtp"))]
+    table = tmp_path / "edges.csv"
+    table.write_text(
+        "x,y\n" + "\n\n".join("\n".join(f"{float(x)!r},{float(y)!r}" for x, y in e) for e in edges)
+    )
+    grids = []
+    for name, blocks in (("csv", table), ("vtp", DATA / "step_blocks.vtp")):
+        out = tmp_path / f"{name}.vtm"
+        argv = [str(DATA / "step.vtp"), "--blocks", str(blocks), "-o", str(out), "-q"]
+        assert main([*argv, "--method", "elliptic", "--cell-size", str(CELL_SIZE)]) == 0
+        grids.append(pv.read(out))
+    assert capsys.readouterr().err == ""
+    assert grids[0].n_blocks == grids[1].n_blocks == 4
+    for a, b in zip(grids[0], grids[1]):
+        assert np.allclose(a.points, b.points)
+
+
+def test_the_summary_comes_after_the_grid_is_written(tmp_path, monkeypatch):
+    """A reader that stops at the first line (``| head -1``) cannot leave an old grid."""
+    from pinn_engine.routes.cli import main, summary
+
+    out = tmp_path / "step.vtm"
+    said = []
+    monkeypatch.setattr(summary, "say", lambda text: said.append(out.exists()))
+    argv = [str(DATA / "step.vtp"), "--blocks", str(DATA / "step_blocks.vtp"), "-o", str(out)]
+    assert main([*argv, "--method", "elliptic", "--cell-size", str(CELL_SIZE)]) == 0
+    assert said and all(said)

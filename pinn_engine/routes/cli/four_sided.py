@@ -79,8 +79,7 @@ def run_four_sided(args: argparse.Namespace, written: list[Path], body: bool) ->
     report = outcome.report
     if "timings" in report:
         report["timings"]["read"] = read_seconds
-    if not args.quiet:
-        grid_summary(report, settings, ni, nj, time.perf_counter() - start)
+    seconds = time.perf_counter() - start
     source = name if body else args.boundary
     refuse_folded(args, source, outcome.quality["folded_cells"])
 
@@ -100,6 +99,8 @@ def run_four_sided(args: argparse.Namespace, written: list[Path], body: bool) ->
         )
 
     write_outputs(args, out, written, write_grid, report, draw)
+    if not args.quiet:  # after the files: a reader that stops early cannot stop a write
+        grid_summary(report, settings, ni, nj, seconds)
     for warning, _ in grid_warnings(report, "cli"):  # printed with --quiet too
         warn(f"{source}: {warning}")
     return out

@@ -73,8 +73,7 @@ def run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
     report["timings"]["read"] = read
     folded = report["quality"]["folded_cells"]
     refuse_folded(args, args.boundary, folded)
-    if not args.quiet:
-        blocks_summary(args.method, report, time.perf_counter() - start)
+    seconds = time.perf_counter() - start
 
     def write_grid() -> None:
         if vtm:
@@ -89,6 +88,8 @@ def run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
         render_blocks_png(outcome.data, tmp, title=title)
 
     write_outputs(args, out, written, write_grid, report, draw)
+    if not args.quiet:  # after the files: a reader that stops early cannot stop a write
+        blocks_summary(args.method, report, seconds)
     if args.save_blocks:
         written.append(write_edges(outcome.edges, args.save_blocks))
         print(f"wrote {args.save_blocks} ({len(outcome.edges)} block edges)")

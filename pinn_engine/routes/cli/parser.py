@@ -181,8 +181,9 @@ def build_parser() -> argparse.ArgumentParser:
         action="append",
         default=[],
         metavar="EDGES",
-        help="block edges (.vtp/.vtk, repeatable): mesh a multi-block domain (OUT.vtm); "
-        "'auto': edges proposed from the boundary and its holes",
+        help="block edges (.vtp/.vtk, or .csv/.txt with a blank line between polylines; "
+        "repeatable): mesh a multi-block domain (OUT.vtm); 'auto': edges proposed from the "
+        "boundary and its holes",
     )
     p.add_argument(
         "--save-blocks",
@@ -291,6 +292,7 @@ def build_parser() -> argparse.ArgumentParser:
         "patch names; 3D: imin ... kmax",
     )
     p.add_argument(
+        "-q",
         "--quiet",
         action="store_true",
         help="no progress output (a warning about folded cells is still printed)",

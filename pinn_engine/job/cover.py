@@ -1,0 +1,182 @@
+"""The rule every written 2D grid keeps: it covers exactly the domain drawn.
+
+:func:`check_cover` runs on every job's grid before any route sees it (``job.run``), so no
+route writes a grid that breaks it: every sharp corner of the drawn boundary is a grid node,
+every boundary node lies on the drawn boundary (a body's wall within SPEC 9's tolerance), and
+the cells cover the region the boundary nodes enclose once, with no overlap between blocks
+and nothing outside. A grid that breaks it is refused in one line that names the fix.
+Folded cells are judged by the routes (a warning, or ``--fail-on-folded``); the area test
+runs on fold-free grids, where it measures overlaps and gaps alone.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pinn_engine.errors import InputError
+from pinn_engine.geometry.boundary import segment_distance, signed_area, turning_angles
+
+# A vertex of a multi-block boundary is a sharp corner where the outline turns by this many
+# degrees or more: SPEC 10's rule for a block corner, so each is a block corner and a node
+SHARP_TURN = 30.0
+# A vertex of a body is a sharp corner where it turns by more than this (a trailing edge, a
+# blunt base's corners; a leading edge's vertex turns far less): the body rule of job.single
+BODY_CORNER_TURN = 45.0
+# A node is on the drawn boundary, or at a corner, within this share of the domain's
+# diagonal: the nodes are placed there exactly, so only rounding separates them
+NODE_TOL = 1e-7
+# A body's wall follows a smooth interpolant through the file's points, no node farther
+# than this share of the chord from the drawn polyline (SPEC 9)
+WALL_TOL = 1e-3
+# A body's corner node may sit this share of the chord off the drawn corner: a trailing-edge
+# gap of at most 1e-4 chord is closed at its mean point (SPEC 9)
+BODY_CORNER_TOL = 1e-4
+# The cells' area may differ from the area the boundary nodes enclose by this share (the
+# rounding of summing many cells' areas)
+AREA_TOL = 1e-7
+
+
+def _cell_areas(grid: np.ndarray) -> np.ndarray:
+    """Each cell's signed area (the shoelace of its four corners) of a grid (nj, ni, 2)."""
+    a, b, c, d = grid[:-1, :-1], grid[:-1, 1:], grid[1:, 1:], grid[1:, :-1]
+    ac, bd = c - a, d - b
+    return 0.5 * (ac[..., 0] * bd[..., 1] - ac[..., 1] * bd[..., 0])
+
+
+def _perimeter(grid: np.ndarray) -> np.ndarray:
+    """The nodes on a grid's four sides."""
+    return np.vstack([grid[0], grid[-1], grid[:, 0], grid[:, -1]])
+
+
+def _arc_positions(points: np.ndarray, ring: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each point's arc position along the closed ``ring`` at its nearest place, and its
+    distance there."""
+    a, b = ring, np.roll(ring, -1, axis=0)
+    ab = b - a
+    length = np.linalg.norm(ab, axis=1)
+    start = np.concatenate([[0.0], np.cumsum(length)[:-1]])
+    ab2 = np.maximum(length**2, 1e-300)
+    s, d = np.empty(len(points)), np.empty(len(points))
+    for k in range(0, len(points), 256):
+        q = points[k : k + 256, None, :]
+        u = np.clip(np.einsum("pmj,mj->pm", q - a, ab) / ab2, 0.0, 1.0)
+        dist = np.linalg.norm(a + u[..., None] * ab - q, axis=2)
+        near = dist.argmin(axis=1)
+        rows = np.arange(len(near))
+        s[k : k + 256] = start[near] + u[rows, near] * length[near]
+        d[k : k + 256] = dist[rows, near]
+    return s, d
+
+
+def sharp_corners(ring: np.ndarray, turn: float = SHARP_TURN) -> np.ndarray:
+    """The vertices of a closed ``ring`` (either orientation) where it turns by ``turn``
+    degrees or more."""
+    return ring[np.abs(turning_angles(ring)) >= turn]
+
+
+def _missed_corner(nodes: np.ndarray, corners: np.ndarray, tol: float) -> np.ndarray | None:
+    """The first of ``corners`` with no node within ``tol``, or None."""
+    for corner in corners:  # a few corners: one pass over the nodes each
+        if np.linalg.norm(nodes - corner, axis=1).min() > tol:
+            return corner
+    return None
+
+
+def check_blocks_cover(
+    grids: list[np.ndarray], rings: list[np.ndarray], source: str, fix: str
+) -> dict:
+    """Refuse a multi-block grid (blocks (nj, ni, 2)) that does not cover the domain of
+    ``rings`` (outer boundary first, then holes) exactly; ``fix`` ends the refusal. Returns
+    the figures of the report's ``domain`` entry."""
+    rings = [np.asarray(r, dtype=float)[:, :2] for r in rings]
+    diagonal = float(np.linalg.norm(np.ptp(rings[0], axis=0)))
+    tol = NODE_TOL * diagonal
+    nodes = np.vstack([g.reshape(-1, 2) for g in grids])
+    corners = np.vstack([sharp_corners(r) for r in rings])
+    missed = _missed_corner(nodes, corners, tol)
+    if missed is not None:
+        raise InputError(
+            f"the grid does not cover the domain drawn: its sharp corner at "
+            f"({missed[0]:.6g}, {missed[1]:.6g}) is no grid node; {fix}",
+            source,
+        )
+    perimeter = np.vstack([_perimeter(g) for g in grids])
+    enclosed = 0.0
+    for k, ring in enumerate(rings):
+        s, d = _arc_positions(perimeter, ring)
+        on = d <= tol
+        ring_nodes = perimeter[on][np.unique(np.round(s[on] / tol), return_index=True)[1]]
+        if len(ring_nodes) < 3:
+            raise InputError(
+                f"the grid does not cover the domain drawn: no grid side runs along "
+                f"{'its outer boundary' if k == 0 else f'hole {k}'}; {fix}",
+                source,
+            )
+        area = abs(signed_area(ring_nodes))
+        enclosed += area if k == 0 else -area
+    areas = [_cell_areas(g) for g in grids]
+    cells = float(sum(np.abs(a).sum() for a in areas))
+    folded = any((np.sign(a) != np.sign(a.sum())).any() for a in areas)
+    domain = abs(signed_area(rings[0])) - sum(abs(signed_area(r)) for r in rings[1:])
+    if not folded and abs(cells - enclosed) > AREA_TOL * abs(domain):
+        more = "more" if cells > enclosed else "less"
+        raise InputError(
+            f"the grid does not cover the domain drawn: its cells cover "
+            f"{abs(cells - enclosed) / abs(domain):.2g} of its area {more} than the boundary "
+            f"encloses (blocks overlap or leave a gap); {fix}",
+            source,
+        )
+    return {
+        "area": domain,
+        "cells_area": cells,
+        "sharp_corners": len(corners),
+    }
+
+
+def check_body_cover(
+    grid: np.ndarray, surface: np.ndarray, chord: float, wall: slice, source: str, fix: str
+) -> dict:
+    """Refuse a body grid whose wall (``grid[0][wall]``) leaves the body's closed polyline
+    ``surface`` by more than ``WALL_TOL`` chord, or misses one of its sharp corners;
+    ``fix`` ends the refusal. Returns the figures of the report's ``domain`` entry."""
+    ring = np.asarray(surface, dtype=float)[:, :2]
+    if np.allclose(ring[0], ring[-1]):
+        ring = ring[:-1]
+    nodes = grid[0][wall]
+    corners = sharp_corners(ring, BODY_CORNER_TURN)
+    missed = _missed_corner(nodes, corners, BODY_CORNER_TOL * chord)
+    if missed is not None:
+        raise InputError(
+            f"the grid does not cover the body drawn: its sharp corner at "
+            f"({missed[0]:.6g}, {missed[1]:.6g}) is no wall node; {fix}",
+            source,
+        )
+    off = segment_distance(nodes, ring) / chord
+    worst = int(np.argmax(off))
+    if off[worst] > WALL_TOL:
+        x, y = nodes[worst]
+        raise InputError(
+            f"the grid's wall leaves the body drawn by {off[worst]:.2g} chord at "
+            f"({x:.6g}, {y:.6g}) (at most {WALL_TOL:g}); {fix}",
+            source,
+        )
+    return {"wall_deviation": float(off.max()), "sharp_corners": len(corners)}
+
+
+def covered(outcome, geometry):
+    """``outcome`` (a ``job.Outcome`` of a multi-block domain or a body) once its grid is
+    checked to cover ``geometry``'s domain, the figures in its report's ``domain``; refused
+    (``InputError``) otherwise. A four-sided domain's grid is returned as it is."""
+    if outcome.kind == "blocks":
+        fix = "draw the block edges (a block corner at every sharp corner) and {blocks}"
+        figures = check_blocks_cover(outcome.grids, geometry.rings, geometry.source, fix)
+    elif outcome.kind == "body":
+        body, grid = geometry.body, outcome.grids[0]
+        n_wake = outcome.report["topology"]["wake_nodes"]
+        wall = slice(0, grid.shape[1]) if n_wake == 0 else slice(n_wake, grid.shape[1] - n_wake)
+        fix = "give the body's corners as points of the file or try {topology}"
+        figures = check_body_cover(grid, body.ring(), body.chord, wall, body.source, fix)
+    else:
+        return outcome
+    outcome.report["domain"] = figures
+    return outcome

@@ -1,0 +1,93 @@
+"""The rule every written 2D grid keeps (``job.cover``): it covers exactly the domain drawn,
+every sharp corner a node; otherwise one line that names the fix, and no file."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from pinn_engine import job
+from pinn_engine.errors import InputError
+from pinn_engine.job.cover import check_blocks_cover, check_body_cover
+from pinn_engine.routes.cli import main
+from pinn_engine.settings import make_settings
+
+L_RING = np.array([[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2]], dtype=float)
+FIX = "draw the block edges"
+
+
+def _block(x0: float, x1: float, y0: float, y1: float, n: int = 5) -> np.ndarray:
+    x, y = np.meshgrid(np.linspace(x0, x1, n), np.linspace(y0, y1, n))
+    return np.stack([x, y], axis=-1)
+
+
+def _l_blocks() -> list[np.ndarray]:
+    """The L of ``L_RING`` as three blocks."""
+    return [_block(0, 1, 0, 1), _block(1, 2, 0, 1), _block(0, 1, 1, 2)]
+
+
+def test_three_blocks_that_tile_the_l_cover_it():
+    figures = check_blocks_cover(_l_blocks(), [L_RING], "l", FIX)
+    assert figures["area"] == pytest.approx(3.0)
+    assert figures["cells_area"] == pytest.approx(3.0)
+    assert figures["sharp_corners"] == 6
+
+
+def test_a_reflex_corner_moved_off_the_grid_is_refused_with_the_fix():
+    blocks = _l_blocks()
+    for b, (j, i) in ((0, (-1, -1)), (1, (-1, 0)), (2, (0, -1))):
+        blocks[b][j, i] = (0.98, 1.0)  # the reflex corner (1, 1), moved as one node
+    with pytest.raises(InputError, match=r"^l: .*sharp corner at \(1, 1\) is no grid node; draw"):
+        check_blocks_cover(blocks, [L_RING], "l", FIX)
+
+
+def test_blocks_that_overlap_are_refused_though_no_cell_folds():
+    blocks = _l_blocks()
+    blocks[2] = _block(0, 1, 0.5, 2)  # the upper arm reaches down into the corner block
+    with pytest.raises(InputError, match="cover 0.17 of its area more than the boundary"):
+        check_blocks_cover(blocks, [L_RING], "l", FIX)
+
+
+def test_a_hole_must_be_a_grid_side():
+    outer = np.array([[-2, -2], [2, -2], [2, 2], [-2, 2]], dtype=float)
+    hole = np.array([[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]])
+    with pytest.raises(InputError, match="sharp corner at \\(-0.5, -0.5\\)"):
+        check_blocks_cover([_block(-2, 2, -2, 2)], [outer, hole], "box", FIX)
+
+
+def test_a_body_wall_off_the_file_is_refused():
+    t = np.linspace(0, 2 * np.pi, 65)
+    surface = np.c_[np.cos(t), np.sin(t)]
+    r = np.linspace(1, 3, 4)[:, None, None]
+    grid = r * np.stack([np.cos(t), np.sin(t)], axis=-1)[None]
+    assert check_body_cover(grid, surface, 2.0, slice(None), "c", "fix")["sharp_corners"] == 0
+    grid[0, 10] *= 1.01  # 1 % of the radius: 0.5 % of the chord
+    with pytest.raises(InputError, match="wall leaves the body drawn by 0.005 chord"):
+        check_body_cover(grid, surface, 2.0, slice(None), "c", "fix")
+
+
+def test_the_step_with_automatic_blocking_and_wall_spacing_keeps_its_lip():
+    """The lip (0, 1) of example_data/step.vtp is a reflex corner: it stays a node when the
+    wall spacing stretches the lines that run through it."""
+    geometry = job.blocks_from_files(
+        "example_data/step.vtp", ["auto"], patches=["-2,1.5=inlet", "6,1.5=outlet"],
+        spacing=["boundary=0.01"],
+    )  # fmt: skip
+    outcome = job.run(make_settings("elliptic"), geometry)
+    nodes = np.vstack([g.reshape(-1, 2) for g in outcome.grids])
+    assert np.linalg.norm(nodes - (0.0, 1.0), axis=1).min() == 0.0
+    assert outcome.report["domain"]["cells_area"] == pytest.approx(14.0, rel=1e-12)
+    assert outcome.report["quality"]["folded_cells"] == 0
+
+
+def test_a_round_trailing_edge_gets_no_c_grid_but_an_o_grid(tmp_path, capsys):
+    t = np.linspace(0, 2 * np.pi, 81)
+    path = tmp_path / "root.dat"
+    path.write_text("root\n" + "".join(f"{x:.8f} {y:.8f}\n" for x, y in zip(np.cos(t), np.sin(t))))
+    base = [str(path), "--size", "64", "24", "--method", "elliptic", "-q"]
+    out = tmp_path / "c.vts"
+    assert main([*base, "--topology", "c", "-o", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "round trailing edge" in err and "--topology o" in err and "\n" not in err
+    assert not out.exists()
+    assert main([*base, "--topology", "o", "-o", str(tmp_path / "o.vts")]) == 0
