@@ -74,9 +74,27 @@ def _faces(points: np.ndarray, quads: np.ndarray) -> tuple[np.ndarray, np.ndarra
     return centre, 0.5 * n.sum(axis=1)
 
 
-def figures(points: np.ndarray, cells: np.ndarray) -> Figures:
-    """checkMesh's figures of the hexahedra ``cells`` (m, 8) over ``points``."""
+def pairing(quads: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The faces (m, 4) met twice, as pairs (k, 2) of their indices (the lower first), and
+    those met once."""
+    key = np.sort(quads, axis=1)
+    order = np.lexsort(key.T[::-1])
+    key = key[order]
+    same = (key[1:] == key[:-1]).all(axis=1)
+    first = np.flatnonzero(same)
+    pairs = np.sort(np.column_stack([order[first], order[first + 1]]), axis=1)
+    paired = np.zeros(len(quads), dtype=bool)
+    paired[pairs.ravel()] = True
+    return pairs[np.argsort(pairs[:, 0])], np.flatnonzero(~paired)
+
+
+def figures(
+    points: np.ndarray, cells: np.ndarray, paired: tuple[np.ndarray, np.ndarray] | None = None
+) -> Figures:
+    """checkMesh's figures of the hexahedra ``cells`` (m, 8) over ``points`` (``paired``:
+    :func:`pairing` of their faces, when known)."""
     quads = cells[:, HEX_FACES].reshape(-1, 4)
+    pairs, single = pairing(quads) if paired is None else paired
     fc, fa = _faces(points, quads)
     fc, fa = fc.reshape(-1, 6, 3), fa.reshape(-1, 6, 3)
     guess = fc.mean(axis=1)
@@ -85,12 +103,6 @@ def figures(points: np.ndarray, cells: np.ndarray) -> Figures:
     total = vol.sum(axis=1)
     cc = (vol[..., None] * pc).sum(axis=1) / np.where(np.abs(total) > TINY, total, 1.0)[:, None]
     cc[np.abs(total) <= TINY] = guess[np.abs(total) <= TINY]
-    key = np.sort(quads, axis=1)
-    _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-    inverse = inverse.ravel()
-    order = np.argsort(inverse, kind="stable")
-    shared = counts[inverse[order]] == 2
-    pairs = order[shared].reshape(-1, 2)
     own, nei = pairs[:, 0] // 6, pairs[:, 1] // 6
     f = pairs[:, 0]
     centre, area = fc.reshape(-1, 3)[f], fa.reshape(-1, 3)[f]
@@ -100,7 +112,6 @@ def figures(points: np.ndarray, cells: np.ndarray) -> Figures:
     )
     angles = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
     skew = _skewness(points, quads[f], centre, area, cc[own], d, 0.2)
-    single = order[counts[inverse[order]] == 1]
     bcentre, barea = fc.reshape(-1, 3)[single], fa.reshape(-1, 3)[single]
     cpf = bcentre - cc[single // 6]
     normal = barea / np.maximum(np.linalg.norm(barea, axis=1), TINY)[:, None]

@@ -25,7 +25,7 @@ from vtkmodules.vtkCommonDataModel import (
     vtkStructuredGrid,
 )
 
-from pinn_engine.blocks3d.checks import Figures, figures, hexes
+from pinn_engine.blocks3d.checks import HEX_FACES, Figures, figures, hexes, pairing
 from pinn_engine.blocks3d.dictionary import BlockMeshDict
 from pinn_engine.blocks3d.placement import Placement, place
 from pinn_engine.blocks3d.winslow import winslow
@@ -93,7 +93,8 @@ def mesh_dictionary(
     placed = place(d)
     cells = np.vstack([hexes(ids) for ids in placed.ids])
     timings["place"] = time.perf_counter() - began
-    candidates = {"tfi": figures(placed.points, cells)}
+    paired = pairing(cells[:, HEX_FACES].reshape(-1, 4))
+    candidates = {"tfi": figures(placed.points, cells, paired)}
     if candidates["tfi"].folded:
         raise InputError(
             f"blockMesh's placement folds {candidates['tfi'].folded} cells: check the "
@@ -110,7 +111,7 @@ def mesh_dictionary(
 
         solved, steps = winslow(placed, free_interfaces=free_interfaces, progress=step)
         timings["solve"] = time.perf_counter() - t0
-        candidates["elliptic"] = figures(solved, cells)
+        candidates["elliptic"] = figures(solved, cells, paired)
         if method == "elliptic":
             if candidates["elliptic"].folded:
                 raise InputError(

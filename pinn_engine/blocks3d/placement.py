@@ -11,7 +11,8 @@ numbering over all blocks, and the patches' faces.
 - **Shared nodes.** Blocks share a face where they share its four vertices (blockMesh's
   rule); the face's nodes are matched by position and merged, so every node is one id.
 - **Patches.** A patch face is a block face with the same four vertices; faces of one
-  block that no patch names and no other block shares go to the default patch.
+  block that no patch names and no other block shares go to the default patch (the
+  dictionary's patch of that name, if it lists one).
 """
 
 from __future__ import annotations
@@ -232,17 +233,17 @@ def _patches(d: BlockMeshDict, ids, faces, interfaces) -> list[tuple[str, str, n
                 )
             named[key] = (p.name, p.type)
     collected: dict[tuple[str, str], list[np.ndarray]] = {k: [] for k in order}
-    default = []
+    default = [k for k in order if k[0] == d.default_patch[0]]  # named: it takes the rest
+    rest = collected.setdefault(default[0] if default else d.default_patch, [])
     for key, owners in faces.items():
         if len(owners) != 1:
             continue
         b, axis, end = owners[0]
         quads = block_faces(ids[b], axis, end)
-        if key in named:
-            collected[named[key]].append(quads)
-        else:
-            default.append(quads)
-    out = [(name, kind, np.vstack(q)) for (name, kind), q in collected.items() if q]
-    if default:
-        out.append((*d.default_patch, np.vstack(default)))
-    return out
+        (collected[named[key]] if key in named else rest).append(quads)
+    # a patch the dictionary names is kept even with no faces (blockMesh keeps it)
+    return [
+        (name, kind, np.vstack(q) if q else np.zeros((0, 4), dtype=int))
+        for (name, kind), q in collected.items()
+        if q or (name, kind) in order
+    ]

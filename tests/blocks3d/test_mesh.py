@@ -149,3 +149,18 @@ def test_cells_and_patches_are_blockmesh_and_checkmesh_passes(tmp_path):
     assert ok and cells == ref_cells and nonorth < ref_nonorth
     assert patches(ours) == patches(ref)
     assert sum(len(hexes(ids)) for ids in place(from_text(small_pipe())).ids) == cells
+
+
+def test_a_listed_default_patch_takes_the_rest_and_empty_patches_stay():
+    """As blockMesh: faces no patch lists go to the listed patch of the default's name, of
+    its type; a listed patch without faces is kept (zero faces)."""
+    text = BOX.replace(
+        "boundary (",
+        "boundary ( spare { type patch; faces (); } defaultFaces { type wall; faces (); }",
+    )
+    patches = place(from_text(text)).patches
+    assert [(n, k, len(f)) for n, k, f in patches] == [
+        ("spare", "patch", 0),
+        ("defaultFaces", "wall", 2 * 4 * 2 + 12 * 2 + 2 * 12 * 4),  # ends, y = 1, z faces
+        ("walls", "wall", 8 * 2 + 4 * 2),
+    ]
