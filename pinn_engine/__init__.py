@@ -2,7 +2,8 @@
 
 ``pinn_engine.report(grid)`` reads a grid's report as a dict and ``pinn_engine.save(grid,
 path, patches=...)`` writes a grid for a CFD solver and ``pinn_engine.read_airfoil(path)``
-reads an airfoil ``.dat`` file (each imported on first use: they need pyvista); grids come
+reads an airfoil ``.dat`` file and ``pinn_engine.read_blockmeshdict(path)`` meshes an
+OpenFOAM blockMeshDict's blocks (each imported on first use: they need pyvista); grids come
 from ``PolyData.pinn_mesh(...)``. ``__version__`` is read on first use
 too (the installed package's metadata: about 80 ms of a run's start that most runs never use).
 """
@@ -23,6 +24,7 @@ from pinn_engine.lazy import lazy_names
 _LAZY = {
     "__version__": "pinn_engine._version",
     "read_airfoil": "pinn_engine.routes.pyvista_accessor:read_airfoil",
+    "read_blockmeshdict": "pinn_engine.routes.pyvista_accessor:read_blockmeshdict",
     "report": "pinn_engine.routes.pyvista_accessor:report",
     "save": "pinn_engine.routes.pyvista_accessor:save_mesh",
 }
@@ -38,6 +40,7 @@ __all__ = [
     "WallAngleWarning",
     "__version__",
     "read_airfoil",
+    "read_blockmeshdict",
     "report",
     "save",
 ]

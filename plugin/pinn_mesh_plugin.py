@@ -40,6 +40,7 @@ try:
     from pinn_engine.io.export.algorithm import PARAVIEW_FORMATS, GridWriter
     from pinn_engine.routes.airfoil_algorithm import AirfoilReader, AirfoilSource
     from pinn_engine.routes.algorithm import PinnMeshAlgorithm
+    from pinn_engine.routes.dictionary_algorithm import PinnBlockMeshDictReader
     from pinn_engine.routes.hexa_algorithm import PinnHexaAlgorithm
     from pinn_engine.routes.multiblock_algorithm import (
         BLOCKING,
@@ -992,6 +993,54 @@ class PINNAirfoilReader(AirfoilReader):
     @smdomain.filelist()
     def SetFileName(self, name):
         AirfoilReader.SetFileName(self, name)
+
+
+@smproxy.reader(
+    name="PINNBlockMeshDictReader",
+    label="PINN blockMeshDict Reader",
+    filename_patterns="blockMeshDict*",
+    file_description="OpenFOAM blockMeshDict (meshed by pinn-mesh)",
+    support_reload=False,
+)
+@smproperty.xml(
+    _proxy_doc(
+        "An OpenFOAM blockMeshDict's blocks, meshed.",
+        "Reads an OpenFOAM blockMeshDict and meshes its blocks with the dictionary's "
+        "counts, gradings and patches: Method pinn (default) keeps the better of the 3D "
+        "Winslow grid over all blocks and blockMesh's placement by checkMesh's largest "
+        "non-orthogonality and skewness, elliptic the Winslow grid, tfi blockMesh's "
+        "placement (docs/blockmesh.md).",
+    )
+)
+class PINNBlockMeshDictReader(PinnBlockMeshDictReader):
+    """An OpenFOAM blockMeshDict's blocks as a multi-block dataset (SPEC 15)."""
+
+    @smproperty.stringvector(name="FileName", panel_visibility="never")
+    @smdomain.filelist()
+    def SetFileName(self, name):
+        PinnBlockMeshDictReader.SetFileName(self, name)
+
+    @smproperty.xml(
+        """<IntVectorProperty name="Method" command="SetMethod" number_of_elements="1"
+        default_values="0"><EnumerationDomain name="enum">
+        <Entry value="0" text="pinn"/><Entry value="1" text="elliptic"/>
+        <Entry value="2" text="tfi"/></EnumerationDomain><Documentation>pinn: the better
+        of the Winslow grid and blockMesh's placement; elliptic: the 3D Winslow grid over
+        all blocks; tfi: blockMesh's placement.</Documentation></IntVectorProperty>"""
+    )
+    def SetMethod(self, method):
+        PinnBlockMeshDictReader.SetMethod(self, method)
+
+    @smproperty.xml(
+        """<IntVectorProperty name="Interfaces" command="SetInterfaces"
+        number_of_elements="1" default_values="0"><EnumerationDomain name="enum">
+        <Entry value="0" text="free"/><Entry value="1" text="fixed"/></EnumerationDomain>
+        <Documentation>free: nodes on faces between blocks solved like interior nodes;
+        fixed: blockMesh's placement of those faces kept.</Documentation>
+        </IntVectorProperty>"""
+    )
+    def SetInterfaces(self, interfaces):
+        PinnBlockMeshDictReader.SetInterfaces(self, interfaces)
 
 
 @smproxy.source(name="PINNAirfoilSource", label="Airfoil", support_reload=False)

@@ -164,3 +164,20 @@ def test_a_listed_default_patch_takes_the_rest_and_empty_patches_stay():
         ("defaultFaces", "wall", 2 * 4 * 2 + 12 * 2 + 2 * 12 * 4),  # ends, y = 1, z faces
         ("walls", "wall", 8 * 2 + 4 * 2),
     ]
+
+
+def test_pyvista_reads_a_dictionary_as_blocks(tmp_path):
+    import pinn_engine
+    from pinn_engine.errors import SettingsError
+
+    dict_path = tmp_path / "system" / "blockMeshDict"
+    dict_path.parent.mkdir()
+    dict_path.write_text(small_pipe())
+    blocks = pinn_engine.read_blockmeshdict(dict_path, "elliptic", interfaces="fixed")
+    assert blocks.keys() == [f"block{k}" for k in range(5)]
+    assert blocks[0].n_cells == 6 * 6 * 3 and "ScaledJacobian" in blocks[0].cell_data
+    with pytest.raises(SettingsError, match="unknown method"):
+        pinn_engine.read_blockmeshdict(dict_path, "mgnet")
+    dict_path.write_text(small_pipe().replace("mergePatchPairs\n(\n);", "mergePatchPairs ((a b));"))
+    with pytest.raises(ValueError, match="'mergePatchPairs'"):
+        pinn_engine.read_blockmeshdict(dict_path)

@@ -39,13 +39,14 @@ and ``pinn_engine.read_airfoil("naca0012.dat")`` (:func:`read_airfoil`) reads an
 The package: ``inputs`` (curves and surfaces in any of their forms as PolyData), ``running``
 (a VTK algorithm run in pyvista's words: errors, output, progress bar, warnings at the
 caller's line), one module a domain kind (``four_sided`` with ``body``, ``multiblock``,
-``hexa``), ``report`` and ``save`` (``save_mesh``), and ``accessor`` (``PolyData.pinn_mesh``,
-registered when this package is imported).
+``hexa``, ``dictionary``), ``report`` and ``save`` (``save_mesh``), and ``accessor``
+(``PolyData.pinn_mesh``, registered when this package is imported).
 """
 
 from pinn_engine.errors import FoldedCellsWarning
 from pinn_engine.routes.pyvista_accessor.accessor import PinnMeshAccessor
 from pinn_engine.routes.pyvista_accessor.body import read_airfoil
+from pinn_engine.routes.pyvista_accessor.dictionary import read_blockmeshdict
 from pinn_engine.routes.pyvista_accessor.four_sided import pinn_mesh
 from pinn_engine.routes.pyvista_accessor.hexa import pinn_mesh_hexa
 from pinn_engine.routes.pyvista_accessor.multiblock import pinn_mesh_blocks
@@ -59,6 +60,7 @@ __all__ = [
     "pinn_mesh_blocks",
     "pinn_mesh_hexa",
     "read_airfoil",
+    "read_blockmeshdict",
     "report",
     "save_mesh",
 ]
