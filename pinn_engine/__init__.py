@@ -4,12 +4,15 @@
 path, patches=...)`` writes a grid for a CFD solver and ``pinn_engine.read_airfoil(path)``
 reads an airfoil ``.dat`` file and ``pinn_engine.read_blockmeshdict(path)`` meshes an
 OpenFOAM blockMeshDict's blocks (each imported on first use: they need pyvista); grids come
-from ``PolyData.pinn_mesh(...)``. ``__version__`` is read on first use
+from ``PolyData.pinn_mesh(...)``. ``pinn_engine.fit_family(boundaries, size=...)`` fits one
+model on a family of shapes (SPEC 16) whose ``mesh(boundary)`` meshes a new member in a
+forward pass; ``load_family(path)`` reads a saved one. ``__version__`` is read on first use
 too (the installed package's metadata: about 80 ms of a run's start that most runs never use).
 """
 
 from pinn_engine.errors import (
     CrossingCutWarning,
+    FamilyFallbackWarning,
     FoldedCellsWarning,
     InputError,
     KeywordError,
@@ -27,10 +30,15 @@ _LAZY = {
     "read_blockmeshdict": "pinn_engine.routes.pyvista_accessor:read_blockmeshdict",
     "report": "pinn_engine.routes.pyvista_accessor:report",
     "save": "pinn_engine.routes.pyvista_accessor:save_mesh",
+    "fit_family": "pinn_engine.batch.family:fit_family",
+    "load_family": "pinn_engine.batch.family:load_family",
+    "FamilyMesher": "pinn_engine.batch.family:FamilyMesher",
 }
 
 __all__ = [
     "CrossingCutWarning",
+    "FamilyFallbackWarning",
+    "FamilyMesher",
     "FoldedCellsWarning",
     "InputError",
     "KeywordError",
@@ -39,6 +47,8 @@ __all__ = [
     "TrainingStoppedWarning",
     "WallAngleWarning",
     "__version__",
+    "fit_family",
+    "load_family",
     "read_airfoil",
     "read_blockmeshdict",
     "report",

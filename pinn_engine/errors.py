@@ -130,6 +130,11 @@ class WallAngleWarning(UserWarning):
     ``WALL_ANGLE_TOL`` degrees off 90 (pyvista route); filter it like any warning."""
 
 
+class FamilyFallbackWarning(UserWarning):
+    """A family model's grid failed the guard (a fold, or a worst cell above the member's
+    own start's + 2 degrees; SPEC 16): the member's own start was produced instead."""
+
+
 class TrainingStoppedWarning(UserWarning):
     """A grid was produced from a training stopped early, by ``time_limit`` or a progress
     callback's ``STOP`` answer (pyvista route): the best state so far."""
@@ -334,6 +339,12 @@ def network_effect(report: dict) -> str | None:
     if not training or "result" not in training:
         return None
     start = training.get("start", "elliptic")
+    if "model" in training:  # a family model's grid (SPEC 16)
+        if training["result"] == "start":
+            return f"family model {training['model']}: the member's {start} start kept (guard)"
+        steps = training.get("winslow_steps")
+        done = f", then {steps} linearised Winslow steps" if steps else ""
+        return f"family model {training['model']}: its grid kept (a forward pass{done})"
     if training.get("skipped"):
         return f"network: start kept ({start} grid; not trained: {training['skipped']})"
     if training["result"] == "start":
@@ -345,6 +356,12 @@ def network_effect(report: dict) -> str | None:
         f"network: its grid kept, nodes moved up to {move:.1e} of the diagonal from the "
         f"{start} start"
     )
+
+
+def family_fallback_warning(report: dict, route: str) -> str | None:  # noqa: ARG001
+    """The warning for a member whose family model's grid failed the guard (the report's
+    ``training.fallback``), or None; the same words on every route."""
+    return report.get("training", {}).get("fallback")
 
 
 def crossing_cut_warning(report: dict, route: str) -> str | None:
@@ -368,5 +385,6 @@ def grid_warnings(report: dict, route: str) -> list[tuple[str, type[UserWarning]
         (stopped_training_warning(report, route), TrainingStoppedWarning),
         (folded_cells_warning(report, route), FoldedCellsWarning),
         (wall_angle_warning(report, route), WallAngleWarning),
+        (family_fallback_warning(report, route), FamilyFallbackWarning),
     )
     return [(text, category) for text, category in found if text]

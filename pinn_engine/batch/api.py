@@ -48,14 +48,15 @@ def _failure(name: str, exc: BaseException) -> dict:
     return error_row(name, f"{type(exc).__name__}: {exc}")
 
 
-def _dask_results(client, todo: Todo) -> Iterator[tuple[str, dict]]:
-    """Each case's name and summary row from ``client``'s workers, as the cases finish; the
-    cases left are cancelled when the caller stops asking."""
+def dask_results(client, todo: Todo, task=run_case) -> Iterator[tuple[str, dict]]:
+    """Each case's name and row (``task``'s, default the summary row of
+    :func:`.task.run_case`) from ``client``'s workers, as the cases finish; the cases left
+    are cancelled when the caller stops asking."""
     from distributed import as_completed
 
     token = uuid.uuid4().hex[:8]  # this run's task keys differ from an earlier run's
     futures = {
-        client.submit(run_case, name, args, key=f"pinn-mesh-{name}-{token}"): name
+        client.submit(task, name, args, key=f"pinn-mesh-{name}-{token}"): name
         for name, args in todo
     }
     try:
@@ -97,7 +98,7 @@ def run(
         summary.write_rows(outdir, [rows[c.name] for c in cases if c.name in rows])
 
     bar = Bar(len(cases), len(cases) - len(todo), stream) if stream else None
-    results = client.results(todo) if isinstance(client, WarmPool) else _dask_results(client, todo)
+    results = client.results(todo) if isinstance(client, WarmPool) else dask_results(client, todo)
     written = time.perf_counter()
     try:
         for name, row in results:

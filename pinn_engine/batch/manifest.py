@@ -21,7 +21,7 @@ COLUMNS = ("name", "input", "aux", "options")
 REQUIRED = ("name", "input")  # aux and options may be left out of the header
 AUX_SEPARATOR = ";"  # several auxiliary-line files in one field (SPEC 12)
 # Paths of the options that name inputs are relative to the manifest's folder, like `input`
-INPUT_PATHS = ("aux", "blocks", "load_model")
+INPUT_PATHS = ("aux", "blocks", "load_model", "model")
 
 
 class ManifestError(PinnMeshError, ValueError):

@@ -16,7 +16,7 @@ import multiprocessing
 import os
 import signal
 from collections import Counter
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 
@@ -28,6 +28,7 @@ SMALL_BATCH = 24
 ALLOWED_FAILURES = 3  # Dask's default for a task whose workers die (allowed-failures)
 INTERRUPTED = 130  # a worker's exit status on Ctrl-C: the shell's 128 + SIGINT
 Todo = list[tuple[str, argparse.Namespace]]
+Task = Callable[[str, argparse.Namespace], dict]  # a case's work in a worker: its row
 
 _started = None  # in a worker: the queue on which it names each case it starts
 
@@ -48,21 +49,24 @@ def _setup(started) -> None:
     warm.setup_worker()
 
 
-def _mesh(name: str, args: argparse.Namespace) -> dict:
-    """One case in a worker (:func:`.task.run_case`), its start named to the batch first."""
+def _mesh(name: str, args: argparse.Namespace, task: Task | None = None) -> dict:
+    """One case in a worker (``task``, default :func:`.task.run_case`), its start named to
+    the batch first."""
     from pinn_engine.batch.task import run_case
 
     _started.put(name)
-    return run_case(name, args)
+    return (task or run_case)(name, args)
 
 
 class WarmPool:
     """``workers`` local processes (default: one per core) forked from the warm server, whose
-    start begins here."""
+    start begins here; each case runs ``task`` (a module's function; default: the batch's
+    :func:`.task.run_case`)."""
 
-    def __init__(self, workers: int | None = None) -> None:
+    def __init__(self, workers: int | None = None, task: Task | None = None) -> None:
         warm.start(dask=False)
         self.workers = workers or warm.default_workers()
+        self.task = task
         self.context = multiprocessing.get_context(warm.start_method() or "spawn")
 
     def results(self, todo: Todo) -> Iterator[tuple[str, dict]]:
@@ -89,7 +93,9 @@ class WarmPool:
         where none had: a worker that died before its first case)."""
         started = self.context.SimpleQueue()
         pool = ProcessPoolExecutor(min(self.workers, len(todo)), self.context, _setup, (started,))
-        futures: dict[Future, str] = {pool.submit(_mesh, n, a): n for n, a in todo.items()}
+        futures: dict[Future, str] = {
+            pool.submit(_mesh, n, a, self.task): n for n, a in todo.items()
+        }
         finished: set[str] = set()
         try:
             pending, broken = set(futures), False

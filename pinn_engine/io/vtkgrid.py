@@ -104,6 +104,8 @@ def structured_grid(
     training = report.get("training", {})
     if "result" in training:  # what the network did (the start kept, or its own grid)
         _add_string(fd, "NetworkResult", training["result"])
+        if "model" in training:  # a family model's grid (SPEC 16): the model's file
+            _add_string(fd, "FamilyModel", str(training["model"]))
         if training.get("largest_node_move") is not None:
             _add_scalar(fd, "LargestNodeMove", training["largest_node_move"])
     if history:

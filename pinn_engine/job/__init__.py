@@ -17,6 +17,7 @@ import os
 from collections.abc import Callable
 
 from pinn_engine.cache import MeshCache
+from pinn_engine.errors import InputError
 from pinn_engine.job.blocks import (
     BlocksGeometry,
     blocks_from_files,
@@ -29,6 +30,13 @@ from pinn_engine.job.dictionary import (
     dictionary_from_file,
     dictionary_from_text,
     run_dictionary,
+)
+from pinn_engine.job.family import (
+    family_member,
+    family_size,
+    fit_family_model,
+    load_family,
+    member_target,
 )
 from pinn_engine.job.hexa import HexaGeometry, hexa_from_file, hexa_from_polydata, run_hexa
 from pinn_engine.job.kind import kind_of
@@ -49,19 +57,27 @@ def run(
     progress: Callable[[dict], object] | None = None,
     cache: MeshCache | None = None,
     model: str | os.PathLike | None = None,
+    family: str | os.PathLike | None = None,
 ) -> Outcome:
     """Mesh ``geometry`` under ``settings`` by its kind's pipeline; ``progress`` hears the
     stages and the training (returning True cancels, ``errors.STOP`` ends the training with
     its best state so far); a four-sided domain's fitted networks are kept in ``cache``
     (re-used when only the size changes), or the model saved at ``model`` (a four-sided
-    domain's or a six-faced domain's) is evaluated instead of training."""
+    domain's or a six-faced domain's) is evaluated instead of training; a four-sided domain
+    or a body is meshed by the family model saved at ``family`` (SPEC 16) where given."""
+    if family is not None and not isinstance(geometry, Geometry):
+        raise InputError(
+            "a family model meshes four-sided domains and O- and C-grids in this build, "
+            "not multi-block or six-faced domains; mesh without the model",
+            str(family),
+        )
     if isinstance(geometry, BlocksGeometry):
         return covered(run_blocks(settings, geometry, progress), geometry)
     if isinstance(geometry, HexaGeometry):
         return run_hexa(settings, geometry, progress, model)
     if isinstance(geometry, DictionaryGeometry):
         return run_dictionary(settings, geometry, progress)
-    return covered(run_single(settings, geometry, progress, cache, model), geometry)
+    return covered(run_single(settings, geometry, progress, cache, model, family), geometry)
 
 
 __all__ = [
@@ -73,6 +89,11 @@ __all__ = [
     "MeshCache",
     "Outcome",
     "blocks_from_files",
+    "family_member",
+    "family_size",
+    "fit_family_model",
+    "load_family",
+    "member_target",
     "blocks_from_polydata",
     "dictionary_from_file",
     "dictionary_from_text",

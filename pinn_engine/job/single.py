@@ -190,16 +190,20 @@ def run_single(
     progress: Callable[[dict], bool | None] | None = None,
     cache: MeshCache | None = None,
     model: str | os.PathLike | None = None,
+    family: str | os.PathLike | None = None,
 ) -> Outcome:
     """Mesh ``geometry`` at ``settings.size`` nodes (default ``DEFAULT_SIZE``): a four-sided
     block through the fitted-network ``cache`` (or the saved model at ``model``, evaluated on
-    this boundary), a body through its block kind."""
+    this boundary), a body through its block kind; or, with ``family``, by the family model
+    saved there (SPEC 16)."""
     from pinn_engine.bodymesh import mesh_body
     from pinn_engine.io.export import patch_names
     from pinn_engine.io.export.patches import body_patch_names as body_patches
     from pinn_engine.io.pipeline import to_vtk
 
     ni, nj = settings.size or DEFAULT_SIZE
+    if family is not None:
+        return _run_family(settings, geometry, family)
     if settings.topology == "none":
         names = patch_names(geometry.patches)  # refused before meshing, not after
         trained = False
@@ -230,3 +234,22 @@ def run_single(
     grid = to_vtk(result, names)
     trained = settings.method in NEURAL
     return Outcome("body", grid, result.report, [result.points], result.history, trained)
+
+
+def _run_family(settings: Settings, geometry: Geometry, family: str | os.PathLike) -> Outcome:
+    """Mesh a four-sided domain or a body by the family model saved at ``family``."""
+    from pinn_engine.family import mesh_member
+    from pinn_engine.io.export import patch_names
+    from pinn_engine.io.export.patches import body_patch_names as body_patches
+    from pinn_engine.io.pipeline import to_vtk
+
+    if settings.topology == "none":
+        names = patch_names(geometry.patches)
+    else:
+        names = patch_names(geometry.patches, body_patches(settings.topology))
+    result = mesh_member(
+        family, settings, geometry.boundary, geometry.aux, geometry.body, geometry.far
+    )
+    kind = "four-sided" if settings.topology == "none" else "body"
+    grid = to_vtk(result, names)
+    return Outcome(kind, grid, result.report, [result.points], result.history, False)

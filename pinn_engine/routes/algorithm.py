@@ -120,6 +120,7 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, LineInputs, VTKPythonAlgorithmBa
         self._patches = ""  # as given; checked at the update (default names when empty)
         self._wall_spacing = 0.0  # first-layer height off a body's wall; 0: the default
         self._auto_topology = False  # topology from the input (AUTO_TOPOLOGY)
+        self._model = None  # a family model (SPEC 16): its file, or a fitted model
         self._cache = cache if cache is not None else MeshCache()
         self._last_error = ""
         self._last_warning = ""
@@ -289,6 +290,14 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, LineInputs, VTKPythonAlgorithmBa
         along the wall); with Topology O or C it is the spacing of the wall, side bottom."""
         self._set("_wall_spacing", float(h))
 
+    def SetModel(self, model) -> None:
+        """A family model (SPEC 16: ``pinn-mesh fit``'s file, or a fitted model) that meshes
+        the boundary in a forward pass instead of its own run; ``None`` or "": none."""
+        self._set("_model", model or None)
+
+    def GetModel(self):
+        return self._model
+
     def GetPatchNames(self) -> tuple[str, ...]:
         """The four patch names (bottom, right, top, left) the next update uses."""
         from pinn_engine.io.export.patches import body_patch_names as body_patches
@@ -390,6 +399,7 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, LineInputs, VTKPythonAlgorithmBa
             repr(self._patches),
             self._wall_spacing,
             self._auto_topology,
+            self._model if isinstance(self._model, str) else id(self._model),
         ]
         for port in inInfo:
             for k in range(port.GetNumberOfInformationObjects()):
@@ -431,7 +441,13 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, LineInputs, VTKPythonAlgorithmBa
         self._progress(0.0, "training" if neural else "meshing")
         began = time.perf_counter()
         with self._stop_on_signal():
-            outcome = job.run(settings, geometry, self._training_progress(settings), self._cache)
+            outcome = job.run(
+                settings,
+                geometry,
+                self._training_progress(settings),
+                self._cache,
+                family=self._model,
+            )
         self._trained = outcome.trained
         seconds = time.perf_counter() - began
         self._tell([*picked, *grid_lines(outcome.report, settings, *self._size, seconds)])

@@ -42,7 +42,12 @@ def run_four_sided(args: argparse.Namespace, written: list[Path], body: bool) ->
     from pinn_engine.io import export
 
     args.method = args.method or "pinn"
-    args.size = args.size or DEFAULT_SIZE
+    if args.model and (args.load_model or args.save_model):
+        raise PinnMeshError(
+            "--model meshes by a family model: it loads no other model and trains none to "
+            "save; drop --load-model and --save-model"
+        )
+    args.size = args.size or (job.family_size(args.model) if args.model else DEFAULT_SIZE)
     if len(args.size) != len(DEFAULT_SIZE):
         raise PinnMeshError(
             f"--size {' '.join(map(str, args.size))}: a 2D domain takes NI NJ "
@@ -73,7 +78,7 @@ def run_four_sided(args: argparse.Namespace, written: list[Path], body: bool) ->
     read_seconds = time.perf_counter() - began
     start = time.perf_counter()
     with Progress(args.quiet) as progress:
-        outcome = job.run(settings, geometry, progress, model=args.load_model)
+        outcome = job.run(settings, geometry, progress, model=args.load_model, family=args.model)
     if args.save_model:
         save_model(outcome.model, args.save_model, written)
     report = outcome.report

@@ -16,7 +16,7 @@ from pinn_engine.settings import AUTO_BLOCKS, BLOCKS_METHOD, DEFAULT_SIZE, MULTI
 
 # Options of four-sided domains and bodies that a multi-block run refuses (SPEC 10)
 NOT_FOR_BLOCKS = (
-    "size", "corners", "topology", "naca", "farfield", "save_model", "load_model",
+    "size", "corners", "topology", "naca", "farfield", "save_model", "load_model", "model",
 )  # fmt: skip
 
 

@@ -92,6 +92,7 @@ class PinnMeshAccessor:
         cells=None,
         progress: Callable[[dict], bool | str | None] | None = None,
         progress_bar: bool = False,
+        model=None,
         **settings,
     ) -> pv.StructuredGrid | pv.MultiBlock:
         """Mesh the domain this PolyData bounds; returns a ``pyvista.StructuredGrid`` (a
@@ -170,6 +171,10 @@ class PinnMeshAccessor:
             state so far.
         progress_bar : bool, default: False
             Show a progress bar of the meshing, as pyvista's filters do.
+        model : str, path or fitted family model, optional
+            A family model (SPEC 16, ``pinn-mesh fit`` or ``pinn_engine.fit_family``) that
+            meshes a four-sided domain or a body in a forward pass (default ``size``: the
+            family's).
         **settings
             Any other training setting by name, e.g. ``learning_rate=5e-4``.
 
@@ -222,6 +227,7 @@ class PinnMeshAccessor:
                 save_blocks=save_blocks,
                 cells=cells,
                 progress=progress,
+                model=model,
                 **settings,
             ).items()
             if value is not None
@@ -230,6 +236,11 @@ class PinnMeshAccessor:
         from pinn_engine.job import kind_of
 
         kind = kind_of(self._mesh, blocks is not None, size or ())
+        if model is not None and kind in ("hexa", "blocks"):
+            raise InputError(
+                "model= (a family model) meshes four-sided domains and O- and C-grids in "
+                "this build, not multi-block or six-faced domains"
+            )
         if kind == "hexa":
             self.last = self._hexa(size, method, given, progress_bar)
         elif kind == "blocks":
@@ -241,7 +252,7 @@ class PinnMeshAccessor:
             body_free = naca is not None and self._mesh.n_points == 0  # pv.PolyData()
             self.last = pinn_mesh(
                 None if body_free else self._mesh,
-                size=size or (41, 21),
+                size=size,
                 method=method or "pinn",
                 cache=self._cache,
                 progress_bar=progress_bar,

@@ -27,7 +27,7 @@ from pinn_engine.settings import Settings, grid_size_problem, make_settings
 def pinn_mesh(
     boundary,
     aux=None,
-    size: Sequence[int] = (41, 21),
+    size: Sequence[int] | None = None,
     method: str = "pinn",
     *,
     preset: str = "default",
@@ -49,6 +49,7 @@ def pinn_mesh(
     spacing: dict | None = None,
     orthogonal=None,
     progress_bar: bool = False,
+    model=None,
     **settings,
 ) -> pv.StructuredGrid:
     """Structured quadrilateral grid of a four-sided 2D domain, or an O- or C-grid around a
@@ -62,8 +63,9 @@ def pinn_mesh(
     aux : PolyData, vtkPolyData, array_like, or a list/MultiBlock of them, optional
         Auxiliary lines: open polylines from one side to the opposite side. One PolyData
         may hold several polylines. Used by ``method="pinn"`` only.
-    size : (int, int)
-        Nodes along xi and eta (``ni``, ``nj``), default ``(41, 21)``.
+    size : (int, int), optional
+        Nodes along xi and eta (``ni``, ``nj``), default ``(41, 21)`` (with ``model``, the
+        family's).
     method : {"pinn", "mgnet", "tfi", "elliptic"}
         The paper's PINN (default), its MGNet baseline, transfinite interpolation, or the
         elliptic (Winslow) method.
@@ -121,6 +123,11 @@ def pinn_mesh(
         takes ``"bottom"`` (elliptic and pinn body grids always leave the wall at 90).
     progress_bar : bool, default: False
         Show a progress bar of the meshing, as pyvista's filters do.
+    model : str, path or fitted family model, optional
+        Mesh by a family model (SPEC 16: ``pinn-mesh fit``'s file, or
+        ``pinn_engine.fit_family(...)``'s ``model_``) in a forward pass instead of the
+        boundary's own run; field data ``NetworkResult`` ``family`` (``start`` where the
+        guard kept the member's own start, with a warning) and ``FamilyModel``.
     **settings
         Any other training setting by name (e.g. ``learning_rate=5e-4``); an unknown name
         raises ``pinn_engine.errors.KeywordError`` (a ``TypeError``) naming the nearest.
@@ -162,6 +169,8 @@ def pinn_mesh(
     >>> grid.dimensions
     (21, 11, 1)
     """
+    if size is None:
+        size = _family_size(model) if model is not None else (41, 21)
     size = node_counts(size)
     if len(size) != 2:
         raise SettingsError(f"size={size}: give two node counts (ni, nj)")
@@ -196,6 +205,7 @@ def pinn_mesh(
     alg.SetCorners(corners)
     if patches is not None:
         alg.SetPatchNames(patches)
+    alg.SetModel(model)
     grid = run(
         alg,
         lambda: _boundary_polydata(boundary, config, farfield is not None),
@@ -204,6 +214,13 @@ def pinn_mesh(
     )
     warn_about(report(grid))
     return grid
+
+
+def _family_size(model) -> tuple[int, int]:
+    """The node counts of a family model (a fitted one, or its file)."""
+    from pinn_engine import job
+
+    return tuple(model.size) if hasattr(model, "size") else job.family_size(model)
 
 
 def _boundary_polydata(boundary, settings: Settings, farfield_given: bool) -> vtkPolyData:

@@ -1,0 +1,139 @@
+"""Families of shapes for the family models (SPEC 16, docs/family.md), with their manifests.
+
+``.venv/bin/python example_data/make_families.py OUTDIR [--train N] [--unseen N] [--seed S]``
+writes, for each family, ``OUTDIR/<family>/`` with one input file a member and two manifests
+(SPEC 12): ``train.csv`` and ``unseen.csv`` (members drawn from the same ranges, none of them a
+training member). ``--wide`` draws the unseen members from ranges 25 % wider on each side, to
+measure how the error grows outside the training ranges.
+
+- ``channels``: a channel of length 3 and height 1 with a Gaussian bump on its floor (height,
+  centre, width) and a waving roof (amplitude, wavelength, phase), meshed at 41 x 21.
+- ``naca``: NACA 4-digit-like sections (camber, its position and thickness as real numbers, the
+  4-digit formula's blunt trailing edge) as Selig ``.dat`` files, O-grids at 129 x 41.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+# Parameter ranges (low, high) of each family: wide enough that the members differ visibly,
+# narrow enough that every member meshes without a fold by the default run.
+CHANNEL_RANGES = {
+    "bump_height": (0.08, 0.3),
+    "bump_centre": (1.1, 1.9),
+    "bump_width": (0.2, 0.45),
+    "roof_amplitude": (0.02, 0.1),
+    "roof_waves": (1.0, 3.0),
+    "roof_phase": (0.0, 2 * np.pi),
+}
+NACA_RANGES = {"camber": (0.0, 0.06), "camber_at": (0.25, 0.6), "thickness": (0.08, 0.2)}
+CHANNEL_LENGTH, CHANNEL_HEIGHT = 3.0, 1.0
+CHANNEL_OPTIONS, NACA_OPTIONS = "--size 41 21", "--topology o --size 129 41"
+WIDER = 0.25  # --wide: each range grows by this share of its width on each side
+SIDE_POINTS = 161  # points on each curved side (the inputs are polylines: dense enough to be smooth
+SURFACE_POINTS = 121  # points on each airfoil surface, cosine-spaced
+
+
+def draw(ranges: dict, rng: np.random.Generator, wide: bool = False) -> dict:
+    """One member's parameters, uniform in ``ranges`` (widened by ``WIDER`` with ``wide``)."""
+    out = {}
+    for name, (low, high) in ranges.items():
+        grow = WIDER * (high - low) if wide and name != "roof_phase" else 0.0
+        out[name] = float(rng.uniform(low - grow, high + grow))
+    return out
+
+
+def channel(p: dict) -> np.ndarray:
+    """The counter-clockwise ring of a bump-and-roof channel from (0, 0)."""
+    x = np.linspace(0.0, CHANNEL_LENGTH, SIDE_POINTS)
+    floor = p["bump_height"] * np.exp(-(((x - p["bump_centre"]) / p["bump_width"]) ** 2))
+    wave = 2 * np.pi * p["roof_waves"] / CHANNEL_LENGTH
+    roof = CHANNEL_HEIGHT + p["roof_amplitude"] * np.sin(wave * x + p["roof_phase"])
+    bottom = np.column_stack([x, floor])
+    top = np.column_stack([x, roof])[::-1]
+    right = np.linspace(bottom[-1], top[0], 21)
+    left = np.linspace(top[-1], bottom[0], 21)
+    return np.vstack([bottom[:-1], right[:-1], top[:-1], left[:-1]])
+
+
+def naca_like(p: dict) -> np.ndarray:
+    """A NACA 4-digit-like section (chord 1, blunt trailing edge), Selig order."""
+    m, k, t = p["camber"], p["camber_at"], p["thickness"]
+    x = 0.5 * (1 - np.cos(np.linspace(0.0, np.pi, SURFACE_POINTS)))
+    yt = 5 * t * (0.2969 * np.sqrt(x) - 0.1260 * x - 0.3516 * x**2 + 0.2843 * x**3 - 0.1015 * x**4)
+    yc = np.where(
+        x < k, m / k**2 * (2 * k * x - x**2), m / (1 - k) ** 2 * (1 - 2 * k + 2 * k * x - x**2)
+    )
+    dyc = np.where(x < k, 2 * m / k**2 * (k - x), 2 * m / (1 - k) ** 2 * (k - x))
+    th = np.arctan(dyc)
+    upper = np.column_stack([x - yt * np.sin(th), yc + yt * np.cos(th)])
+    lower = np.column_stack([x + yt * np.sin(th), yc - yt * np.cos(th)])
+    return np.concatenate([upper[::-1], lower[1:]])
+
+
+def write_vtp(points: np.ndarray, path: Path) -> None:
+    """A closed polyline as ``.vtp``."""
+    from make_examples import polydata
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
+
+    writer = vtkXMLPolyDataWriter()
+    writer.SetFileName(str(path))
+    writer.SetInputData(polydata([points], closed=True))
+    writer.Write()
+
+
+def write_dat(points: np.ndarray, path: Path, title: str) -> None:
+    """Selig ``.dat``: a title line, then x y rows."""
+    rows = "\n".join(f"{x:.7f} {y:.7f}" for x, y in points)
+    path.write_text(f"{title}\n{rows}\n")
+
+
+FAMILIES: dict[str, tuple[dict, Callable, str, str]] = {
+    "channels": (CHANNEL_RANGES, channel, ".vtp", CHANNEL_OPTIONS),
+    "naca": (NACA_RANGES, naca_like, ".dat", NACA_OPTIONS),
+}
+
+
+def make_family(name: str, out: Path, train: int, unseen: int, seed: int, wide: bool) -> None:
+    """Write family ``name``'s members and its two manifests under ``out / name``."""
+    ranges, shape, suffix, options = FAMILIES[name]
+    folder = out / name
+    folder.mkdir(parents=True, exist_ok=True)
+    rng = np.random.default_rng(seed)
+    for split, count in (("train", train), ("unseen", unseen)):
+        rows = []
+        for k in range(count):
+            params = draw(ranges, rng, wide and split == "unseen")
+            member = f"{split}{k:02d}"
+            path = folder / f"{member}{suffix}"
+            if suffix == ".dat":
+                write_dat(shape(params), path, member)
+            else:
+                write_vtp(shape(params), path)
+            rows.append({"name": member, "input": path.name, "aux": "", "options": options})
+        with (folder / f"{split}.csv").open("w", newline="") as f:
+            writer = csv.DictWriter(f, ["name", "input", "aux", "options"])
+            writer.writeheader()
+            writer.writerows(rows)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("outdir", type=Path)
+    parser.add_argument("--train", type=int, default=24)
+    parser.add_argument("--unseen", type=int, default=8)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--wide", action="store_true", help="unseen members from wider ranges")
+    parser.add_argument("--family", choices=sorted(FAMILIES), action="append")
+    args = parser.parse_args()
+    for name in args.family or sorted(FAMILIES):
+        make_family(name, args.outdir, args.train, args.unseen, args.seed, args.wide)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,102 @@
+"""A member of a family as its model sees it: its kind, its boundary nodes placed exactly as
+its own run places them, and a base grid on them, in the family's frame.
+
+- Four-sided: the arc-length TFI of the boundary (the nodes and base of the default run,
+  ``blocks.untrained.StartModel``), in the boundary's unit-box working frame.
+- Body (O- or C-grid): the member's elliptic grid (``bodymesh.mesh_body``: the wall and far
+  field nodes of ``bodygrid.layout``, the start of the default run), in the frame of its
+  chord: mid-chord at the origin, chord 1.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from pinn_engine.classical.tfi import tfi_grid
+from pinn_engine.errors import InputError
+from pinn_engine.geometry.boundary import Frame
+from pinn_engine.geometry.boundary_fit import ArcLengthFit
+from pinn_engine.result import MeshResult
+from pinn_engine.settings import DEFAULT_SIZE, Settings
+
+KINDS = ("four-sided", "body")
+# The settings that make a family: its members share them, and a member meshed by its model
+# must ask for the same (its counts, its kind and what places its nodes)
+FAMILY_KEYS = ("topology", "size", "farfield", "spacing", "orthogonal", "objective", "method")
+
+
+def family_settings(settings: Settings) -> dict:
+    """The settings of ``settings`` that a family's members share (``FAMILY_KEYS``), as
+    lists and numbers (what a saved model holds)."""
+    out = {}
+    for key in FAMILY_KEYS:
+        value = getattr(settings, key)
+        if key == "size":
+            value = settings.size or DEFAULT_SIZE
+        if isinstance(value, tuple):
+            value = [list(v) if isinstance(v, tuple) else v for v in value]
+        out[key] = value
+    return out
+
+
+@dataclass
+class Member:
+    """A member: ``kind``, ``topology`` (``none``, ``o`` or ``c``), ``base`` (nj, ni, 2) in the
+    family's frame, ``frame`` (to the user's coordinates), ``source``, and what its kind keeps:
+    the four-sided ``boundary``, or the body's elliptic ``start`` (a :class:`MeshResult`),
+    ``body`` and far field ``far``; ``settings``: the run's settings that make a family
+    (``model.FAMILY_KEYS``)."""
+
+    kind: str
+    topology: str
+    base: np.ndarray
+    frame: Frame
+    source: str
+    boundary: object | None = None  # geometry.boundary.Boundary
+    start: MeshResult | None = None
+    body: object | None = None  # bodies.airfoil.Body
+    far: object | None = None  # bodies.airfoil.FarField
+    settings: dict | None = None  # the run's settings that a family's members share
+
+    @property
+    def size(self) -> tuple[int, int]:
+        return self.base.shape[1], self.base.shape[0]
+
+
+def member_of(
+    settings: Settings,
+    boundary=None,
+    aux: Sequence = (),
+    body=None,
+    far=None,
+) -> Member:
+    """The member of a run's geometry under ``settings``: a four-sided ``boundary`` or a
+    ``body`` in its far field ``far``. Auxiliary lines, a spacing or orthogonal sides of a
+    four-sided domain are refused in one line (their grids place nodes otherwise)."""
+    ni, nj = settings.size or DEFAULT_SIZE
+    if settings.topology == "none":
+        if aux or settings.spacing or settings.orthogonal:
+            raise InputError(
+                "a family model meshes four-sided domains without auxiliary lines, "
+                "{spacing} or {orthogonal} in this build; drop them (or mesh without the model)",
+                boundary.source,
+            )
+        base = tfi_grid(ArcLengthFit(boundary).sample, ni, nj)
+        shared = family_settings(settings)
+        return Member(
+            "four-sided", "none", base, boundary.frame, boundary.source, boundary, settings=shared
+        )
+    from pinn_engine.bodymesh import mesh_body
+
+    start = mesh_body(
+        body, far, settings.topology, "elliptic", ni, nj, settings, settings.wall_spacing
+    )
+    frame = Frame(origin=np.asarray(body.mid_chord, dtype=float), scale=float(body.chord))
+    base = frame.to_unit(start.points)
+    shared = family_settings(settings)
+    return Member(
+        "body", settings.topology, base, frame, body.source, None, start, body, far, shared
+    )

@@ -1,0 +1,195 @@
+"""A member meshed by a family model: the model's grid, the guard, and the report.
+
+The guard is section 4's: a grid with a folded cell, or whose worst cell is more than
+``WORST_TOL`` degrees above the member's own start's, falls back to that start with a
+warning. A body's start (its elliptic grid) is the base the model corrects, so it is always
+at hand. A four-sided member's start (its converged Winslow grid) costs what the default
+run costs, so it is solved (from the model's grid) only where the model cannot vouch for its
+grid without it:
+
+- a family of Winslow grids vouches for a grid that one more linearised Winslow step moves
+  by at most ``DEFECT_TOL`` of the shortest edge at any node, and keeps that step (the steps
+  contract towards the member's own Winslow grid, by a factor of about 0.2 a step measured
+  on the channels of docs/family.md, so the step's cells' angles are within a fraction of a
+  degree of it); up to ``DEFECT_STEPS`` steps are taken to get there;
+- another family (grids the Winslow step does not keep) vouches for a grid of a member in
+  the family's range (``encoding.Encoding.in_range``) whose worst cell is at most
+  ``WORST_TOL`` above the worst of every member the model was fitted on.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections import OrderedDict
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from pinn_engine.family.members import Member, member_of
+from pinn_engine.family.model import FamilyModel, load_family
+from pinn_engine.quality import boundary_nodes, cell_quality, guard_figures, side_report, summary
+from pinn_engine.result import MeshResult
+from pinn_engine.settings import Settings
+
+WORST_TOL = 2.0  # SPEC 16: degrees the worst cell may exceed the member's start's
+# One more linearised step moves no node by more than this share of its shortest edge: a
+# corner's angle then moves by at most about four times it in radians, 1.2 degrees
+DEFECT_TOL = 0.005
+DEFECT_STEPS = 6  # chord steps tried (0.3 ms each at 41 x 21; the default solve takes 15 ms)
+KEPT_MODELS = 4  # family models kept loaded in a process (a batch worker meshes many members)
+_LOADED: OrderedDict[tuple, FamilyModel] = OrderedDict()
+
+
+def _model(path: str | os.PathLike | FamilyModel) -> FamilyModel:
+    """The family model at ``path`` (or ``path`` itself, a fitted model), loaded once per
+    process while the file is unchanged."""
+    if isinstance(path, FamilyModel):
+        return path
+    p = Path(path)
+    stat = p.stat() if p.is_file() else None
+    key = (str(p.resolve()), stat.st_mtime_ns if stat else 0, stat.st_size if stat else 0)
+    if key not in _LOADED:
+        model = load_family(path)
+        model.path = str(path)
+        _LOADED[key] = model
+        while len(_LOADED) > KEPT_MODELS:
+            _LOADED.popitem(last=False)
+    _LOADED.move_to_end(key)
+    return _LOADED[key]
+
+
+def family_size(path: str | os.PathLike) -> tuple[int, int]:
+    """The node counts of the family model at ``path`` (a run that names none takes them)."""
+    return tuple(_model(path).size)
+
+
+def _start(member: Member, guess: np.ndarray | None) -> np.ndarray:
+    """The member's own start (family frame): a body's elliptic grid, a four-sided member's
+    converged Winslow grid (solved from ``guess`` when given)."""
+    if member.start is not None:
+        return member.base
+    from pinn_engine.classical.elliptic import winslow_solve
+
+    return winslow_solve(member.base, initial=guess)[0]
+
+
+def mesh_member(
+    path: str | os.PathLike | FamilyModel,
+    settings: Settings,
+    boundary=None,
+    aux: Sequence = (),
+    body=None,
+    far=None,
+) -> MeshResult:
+    """The grid of a member (a four-sided ``boundary``, or a ``body`` in ``far``) by the
+    family model at ``path`` (or a fitted model), under ``settings`` (which must be the
+    family's)."""
+    began = time.perf_counter()
+    model = _model(path)
+    member = member_of(settings, boundary, aux, body, far)
+    model.check(member, settings)
+    placed = time.perf_counter()
+    grid, info = model.predict(member)
+    predicted = time.perf_counter()
+    figures = guard_figures(member.frame.to_user(grid))
+    start, defect, steps = None, None, 0
+    if model.winslow:
+        while steps < DEFECT_STEPS:
+            grid, defect = model.frozen().step(grid)
+            steps += 1
+            if defect <= DEFECT_TOL:
+                break
+        figures = guard_figures(member.frame.to_user(grid))
+        vouched = defect is not None and defect <= DEFECT_TOL
+    else:
+        worst = model.report["worst_target"] + WORST_TOL
+        vouched = info["in_range"] and figures["worst_max_angle"] <= worst
+    if member.start is not None or figures["folded_cells"] or not vouched:
+        start = _start(member, None if figures["folded_cells"] else grid)
+        reference = guard_figures(member.frame.to_user(start))
+        passed = not figures["folded_cells"] and (
+            figures["worst_max_angle"] <= reference["worst_max_angle"] + WORST_TOL
+        )
+    else:
+        reference, passed = None, True
+    guarded = time.perf_counter()
+    kept = grid if passed else start
+    points = member.frame.to_user(kept)
+    cells = cell_quality(points)
+    move = 0.0 if start is None else float(np.abs(grid - start).max())
+    training = {
+        "result": "family" if passed else "start",
+        "model": model.path or "(not saved)",
+        "start": "elliptic",
+        "largest_node_move": move * member.frame.scale / _diagonal(points),
+        "adam_epochs": 0,
+        "lbfgs_iterations": 0,
+        "guard": {"family": figures, "start": reference, "in_range": info["in_range"]},
+        "start_solved": start is not None,
+        "winslow_defect": defect,
+        "winslow_steps": steps,
+        "timings": {
+            "place": placed - began,
+            "predict": predicted - placed,
+            "guard": guarded - predicted,
+        },
+    }
+    if not passed:
+        why = (
+            "folded cells"
+            if figures["folded_cells"]
+            else (
+                f"worst cell {figures['worst_max_angle']:.1f} degrees, above the start's "
+                f"{reference['worst_max_angle']:.1f} + {WORST_TOL:g}"
+            )
+        )
+        training["fallback"] = f"the family model's grid had {why}: the member's own start is kept"
+    report = _report(member, model, settings, points, cells, kept)
+    report["training"] = training
+    report["mesh_seconds"] = time.perf_counter() - began
+    report["timings"] = {**training["timings"], "quality": time.perf_counter() - guarded}
+    plane = member.boundary.plane if member.boundary is not None else member.start.plane
+    return MeshResult(points=points, report=report, cells=cells, plane=plane)
+
+
+def _diagonal(points: np.ndarray) -> float:
+    return max(float(np.linalg.norm(np.ptp(points.reshape(-1, 2), axis=0))), 1e-300)
+
+
+def _report(
+    member: Member,
+    model: FamilyModel,
+    settings: Settings,
+    points: np.ndarray,
+    cells: dict,
+    unit: np.ndarray,
+) -> dict:
+    """The run's report as its kind's pipeline words it (SPEC 3 and 9)."""
+    ni, nj = member.size
+    report = {
+        "method": settings.method,
+        "size": [ni, nj],
+        "settings": settings.to_dict(),
+        "train_seconds": 0.0,
+        "source": member.source,
+        "aux_lines": [],
+        "aux_line_distance": {},
+    }
+    if member.start is None:
+        deviation = float(member.boundary.deviation(boundary_nodes(unit)).max())
+        report["sides"] = side_report(unit, member.frame.scale)
+    else:
+        from pinn_engine.bodymesh import topology_metrics
+
+        deviation = member.start.report["quality"]["boundary_deviation"]
+        start_topology = member.start.report["topology"]
+        report["topology"] = {
+            **start_topology,
+            **topology_metrics(
+                points, member.topology, start_topology["wake_nodes"], member.far, member.body.sharp
+            ),
+        }
+    report["quality"] = summary(cells, deviation)
+    return report

@@ -1,0 +1,245 @@
+"""The family model: fit on members and their default grids, predict a member's grid, save
+and load (docs/family.md).
+
+A member's grid is its base (members.py) on its exact boundary nodes, plus a correction that
+vanishes on the boundary: a combination of the family's correction modes (the principal
+components of the training members' corrections, each zero on the boundary) whose
+coefficients the network computes from the member's boundary encoding. For a four-sided
+family the base is the family's linearised elliptic grid (physics.py: the Winslow system
+frozen at the members' mean grid, solved with the member's boundary nodes), and where the
+family's grids solve the Winslow equations, one more linearised solve at the predicted grid
+takes it to second order towards the member's own.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from pinn_engine.errors import InputError
+from pinn_engine.family.encoding import Encoding, boundary_vector
+from pinn_engine.family.members import FAMILY_KEYS, Member, family_settings
+from pinn_engine.family.network import forward
+from pinn_engine.family.physics import FrozenWinslow, solves_winslow
+from pinn_engine.quality import guard_figures
+from pinn_engine.settings import Settings
+
+FORMAT = "pinn-mesh-family/1"
+# The correction modes carry all but this share of the training corrections' energy
+KEPT_ENERGY = 1e-8
+EPOCHS = 1500  # Adam's full-batch epochs: about 1 s for 24 members on one core
+MIN_MEMBERS = 3  # fewer members span no family
+
+
+def _describe(kind: str, topology: str, size: Sequence[int]) -> str:
+    shape = {"o": "O-grids", "c": "C-grids"}.get(topology, "four-sided grids")
+    return f"{shape} of {size[0]} x {size[1]} nodes"
+
+
+@dataclass(eq=False)  # compared by identity: a route's setting holds one
+class FamilyModel:
+    """A fitted family model: its ``kind``, ``topology`` and ``size``, the members' shared
+    ``settings`` (``FAMILY_KEYS``) and ``options``, and the fitted parts (``encoding``,
+    ``mean_grid``, ``modes``, ``params``, ``winslow``) with the ``report`` of its fit."""
+
+    kind: str
+    topology: str
+    size: tuple[int, int]
+    settings: dict
+    options: str
+    encoding: Encoding
+    mean_grid: np.ndarray | None
+    modes: np.ndarray
+    params: dict[str, np.ndarray]
+    winslow: bool
+    report: dict = field(default_factory=dict)
+    history: dict = field(default_factory=dict)
+    path: str | None = None
+
+    @classmethod
+    def fit(
+        cls,
+        members: Sequence[Member],
+        targets: Sequence[np.ndarray],
+        options: str = "",
+        epochs: int = EPOCHS,
+        seed: int = 0,
+        progress: Callable[[dict], object] | None = None,
+    ) -> FamilyModel:
+        """Fit on ``members`` and their default grids ``targets`` (each in its member's
+        family frame); ``options``: the members' options as the user wrote them."""
+        began = time.perf_counter()
+        if len(members) < MIN_MEMBERS:
+            raise InputError(f"a family needs at least {MIN_MEMBERS} members, not {len(members)}")
+        first = members[0]
+        for m in members[1:]:
+            if (m.kind, m.topology, m.size) != (first.kind, first.topology, first.size):
+                raise InputError(
+                    f"is one of {_describe(m.kind, m.topology, m.size)}, where the family's "
+                    f"first member makes {_describe(first.kind, first.topology, first.size)}",
+                    m.source,
+                )
+            other = [k for k in FAMILY_KEYS if m.settings[k] != first.settings[k]]
+            if other:
+                diff = ", ".join(f"{k} {m.settings[k]}" for k in other)
+                shared = ", ".join(f"{k} {first.settings[k]}" for k in other)
+                raise InputError(
+                    f"asks for {diff}, where the family's first member asks for {shared}; "
+                    "a family's members share their options",
+                    m.source,
+                )
+        encoding = Encoding.fit(np.array([boundary_vector(m.base, m.kind) for m in members]))
+        targets = [np.asarray(t, dtype=float) for t in targets]
+        mean_grid = np.mean(targets, axis=0) if first.kind == "four-sided" else None
+        model = cls(
+            first.kind, first.topology, first.size, first.settings, options,
+            encoding, mean_grid, np.zeros((0, first.base.size)), {}, False,
+        )  # fmt: skip
+        bases = [model.base(m) for m in members]
+        corrections = np.array([(t - b).ravel() for t, b in zip(targets, bases)])
+        _, s, vt = np.linalg.svd(corrections, full_matrices=False)
+        energy = s**2
+        kept = int((np.cumsum(energy) < (1 - KEPT_ENERGY) * energy.sum()).sum() + 1)
+        model.modes = vt[:kept] if energy.sum() > 0 else vt[:0]
+        z = np.array([model.encoding.encode(boundary_vector(m.base, m.kind)) for m in members])
+        coeffs = corrections @ model.modes.T
+        if len(model.modes):
+            from pinn_engine.family.train import fit_network  # torch: imported only to fit
+
+            model.params, model.history = fit_network(z, coeffs, epochs, seed, progress)
+        model.winslow = first.kind == "four-sided" and solves_winslow(targets)
+        errors = [float(np.abs(model.predict(m)[0] - t).max()) for m, t in zip(members, targets)]
+        model.report = {
+            "members": len(members),
+            "kind": first.kind,
+            "topology": first.topology,
+            "size": list(first.size),
+            "encoding_components": int(len(encoding.axes)),
+            "correction_modes": int(len(model.modes)),
+            "epochs": epochs if len(model.modes) else 0,
+            "winslow_step": model.winslow,
+            "largest_training_error": max(errors),
+            "worst_target": max(guard_figures(t)["worst_max_angle"] for t in targets),
+            "fit_seconds": time.perf_counter() - began,
+        }
+        return model
+
+    def base(self, member: Member) -> np.ndarray:
+        """The base grid of ``member`` (family frame): the linearised elliptic grid of a
+        four-sided member, a body's elliptic grid."""
+        if self.mean_grid is None:
+            return member.base
+        start = np.array(self.mean_grid)
+        start[0], start[-1] = member.base[0], member.base[-1]
+        start[:, 0], start[:, -1] = member.base[:, 0], member.base[:, -1]
+        return self.frozen().step(start)[0]
+
+    def frozen(self) -> FrozenWinslow:
+        """The Winslow system frozen at the mean grid, factorised once per loaded model."""
+        if getattr(self, "_frozen", None) is None:
+            self._frozen = FrozenWinslow(self.mean_grid)
+        return self._frozen
+
+    def predict(self, member: Member) -> tuple[np.ndarray, dict]:
+        """The model's grid of ``member`` (family frame) and what the guard needs to know:
+        whether its encoding lies in the family's range."""
+        self.check(member)
+        vector = boundary_vector(member.base, member.kind)
+        z = self.encoding.encode(vector)
+        grid = self.base(member)
+        if len(self.modes):
+            grid = grid + (forward(self.params, z) @ self.modes).reshape(grid.shape)
+        return grid, {"in_range": self.encoding.in_range(vector)}
+
+    def check(self, member: Member, settings: Settings | None = None) -> None:
+        """Refuse, in one line, a member outside the family: another kind, other counts or
+        other settings that place its nodes."""
+        where = self.path or "the family model"
+        ours = (self.kind, self.topology, tuple(self.size))
+        theirs = (member.kind, member.topology, tuple(member.size))
+        if theirs != ours:
+            raise InputError(
+                f"outside the family of {where} ({_describe(*ours)}): this member makes "
+                f"{_describe(*theirs)}; mesh it without the model, or fit a family of its "
+                "kind and counts",
+                member.source,
+            )
+        if settings is not None:
+            asked = family_settings(settings)
+            other = [k for k in FAMILY_KEYS if k != "size" and asked[k] != self.settings[k]]
+            if other:
+                diff = ", ".join(
+                    f"{k} {asked[k]} (the family's: {self.settings[k]})" for k in other
+                )
+                raise InputError(
+                    f"outside the family of {where}: {diff}; mesh it with the family's "
+                    f"options ({self.options or 'the defaults'}) or without the model",
+                    member.source,
+                )
+
+    def save(self, path: str | os.PathLike) -> Path:
+        """Write the model to ``path`` (a torch file) atomically."""
+        import torch
+
+        from pinn_engine import __version__
+        from pinn_engine.io.fileio import atomic_path
+
+        def t(a):
+            return torch.as_tensor(np.asarray(a, dtype=float))
+
+        payload = {
+            "format": FORMAT,
+            "version": __version__,
+            "kind": self.kind,
+            "topology": self.topology,
+            "size": list(self.size),
+            "settings": self.settings,
+            "options": self.options,
+            "encoding": {
+                k: t(v) if isinstance(v, np.ndarray) else v
+                for k, v in self.encoding.state().items()
+            },
+            "mean_grid": None if self.mean_grid is None else t(self.mean_grid),
+            "modes": t(self.modes),
+            "params": {k: t(v) for k, v in self.params.items()},
+            "winslow": self.winslow,
+            "report": self.report,
+            "history": self.history,
+        }
+        with atomic_path(path) as tmp:
+            torch.save(payload, tmp)
+        return Path(path)
+
+
+def load_family(path: str | os.PathLike) -> FamilyModel:
+    """The family model saved at ``path``; a missing, damaged or other file is one line."""
+    import torch
+
+    src = str(path)
+    if not Path(path).is_file():
+        raise InputError("family model file not found", src)
+    try:
+        payload = torch.load(path, map_location="cpu", weights_only=True)
+    except Exception as exc:  # torch raises many types for a damaged file
+        raise InputError(f"not a readable family model ({type(exc).__name__})", src) from None
+    if not isinstance(payload, dict) or payload.get("format") != FORMAT:
+        raise InputError(
+            f"not a family model (format {FORMAT}): give a file written by pinn-mesh fit", src
+        )
+
+    def n(v):
+        return v.numpy() if hasattr(v, "numpy") else v
+
+    enc = Encoding(**{k: n(v) for k, v in payload["encoding"].items()})
+    mean = payload["mean_grid"]
+    return FamilyModel(
+        payload["kind"], payload["topology"], tuple(payload["size"]), payload["settings"],
+        payload["options"], enc, None if mean is None else mean.numpy(),
+        payload["modes"].numpy(), {k: v.numpy() for k, v in payload["params"].items()},
+        bool(payload["winslow"]), payload["report"], payload["history"], src,
+    )  # fmt: skip

@@ -1,0 +1,138 @@
+"""Family models (SPEC 16): fit on members, save, load and mesh a new member; the guard's
+fallback to the member's own start; a member outside the family refused in one line."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from pinn_engine import job
+from pinn_engine.errors import InputError
+from pinn_engine.family import mesh as family_mesh
+from pinn_engine.geometry.boundary import Boundary
+from pinn_engine.settings import make_settings
+
+SIZE = (21, 11)
+EPOCHS = 40  # a few: the round trip, not the model's accuracy (benchmarks/family.py)
+
+
+def channel(height: float, amplitude: float) -> np.ndarray:
+    """A channel of length 3 with a bump of ``height`` on its floor and a roof waving by
+    ``amplitude``, counter-clockwise from (0, 0)."""
+    x = np.linspace(0.0, 3.0, 61)
+    bottom = np.column_stack([x, height * np.exp(-(((x - 1.5) / 0.4) ** 2))])
+    top = np.column_stack([x, 1 + amplitude * np.sin(2 * np.pi * x / 3)])[::-1]
+    right = np.linspace(bottom[-1], top[0], 11)
+    left = np.linspace(top[-1], bottom[0], 11)
+    return np.vstack([bottom[:-1], right[:-1], top[:-1], left[:-1]])
+
+
+def geometry(points: np.ndarray) -> job.Geometry:
+    return job.Geometry(boundary=Boundary.from_points(points, source="channel"))
+
+
+SETTINGS = make_settings("pinn", size=SIZE, lattice=SIZE)
+TRAIN = [(h, a) for h in (0.1, 0.2, 0.3) for a in (0.02, 0.08)]
+
+
+@pytest.fixture(scope="module")
+def fitted(tmp_path_factory):
+    """A model fitted on six channels, saved."""
+    members, targets = [], []
+    for h, a in TRAIN:
+        g = geometry(channel(h, a))
+        member = job.family_member(SETTINGS, g)
+        members.append(member)
+        targets.append(job.member_target(member, job.run(SETTINGS, g)))
+    model = job.fit_family_model(members, targets, "--size 21 11", epochs=EPOCHS)
+    path = tmp_path_factory.mktemp("family") / "channels.pt"
+    model.save(path)
+    return path
+
+
+def test_a_saved_model_meshes_a_new_member_as_its_own_run_would(fitted):
+    """The round trip: the loaded model's grid of an unseen member has the member's own
+    boundary nodes, no fold, and its own grid's quality (worst within 2 degrees, mean within
+    0.5); the report says family and names the model's file."""
+    g = geometry(channel(0.25, 0.05))
+    own = job.run(SETTINGS, g)
+    by_model = job.run(SETTINGS, g, family=fitted)
+    a, b = own.grids[0], by_model.grids[0]
+    for side in (np.s_[0], np.s_[-1], np.s_[:, 0], np.s_[:, -1]):
+        np.testing.assert_allclose(b[side], a[side], atol=1e-12)
+    q, ref = by_model.quality, own.quality
+    assert q["folded_cells"] == 0
+    assert q["worst_max_angle"] <= ref["worst_max_angle"] + 2
+    assert q["mean_max_angle"] <= ref["mean_max_angle"] + 0.5
+    training = by_model.report["training"]
+    assert training["result"] == "family" and training["model"] == str(fitted)
+    fd = by_model.data.GetFieldData()
+    assert fd.GetAbstractArray("NetworkResult").GetValue(0) == "family"
+    assert fd.GetAbstractArray("FamilyModel").GetValue(0) == str(fitted)
+
+
+def test_a_folded_prediction_falls_back_to_the_members_start(fitted, monkeypatch):
+    """The guard: a model grid with a folded cell gives the member's own start (its Winslow
+    grid), with a warning that says so."""
+    from pinn_engine.errors import grid_warnings
+    from pinn_engine.family.model import FamilyModel
+
+    real = FamilyModel.predict
+
+    def folded(self, member):
+        grid, info = real(self, member)
+        grid = grid.copy()
+        grid[5, 10], grid[5, 11] = grid[5, 11].copy(), grid[5, 10].copy()  # two nodes swapped
+        return grid, info
+
+    monkeypatch.setattr(FamilyModel, "predict", folded)
+    monkeypatch.setattr(family_mesh, "DEFECT_STEPS", 0)  # no Winslow step to unfold it
+    g = geometry(channel(0.25, 0.05))
+    by_model = job.run(SETTINGS, g, family=fitted)
+    elliptic = job.run(make_settings("elliptic", size=SIZE), g)
+    assert by_model.report["training"]["result"] == "start"
+    np.testing.assert_allclose(by_model.grids[0], elliptic.grids[0], atol=1e-9)
+    warnings = [text for text, _ in grid_warnings(by_model.report, "cli")]
+    assert any("family model" in text and "start" in text for text in warnings)
+
+
+@pytest.mark.parametrize(
+    "settings, words",
+    [
+        (make_settings("pinn", size=(31, 11)), "31 x 11"),
+        (make_settings("elliptic", size=SIZE), "method elliptic"),
+    ],
+)
+def test_a_member_outside_the_family_is_one_line(fitted, settings, words):
+    """Other counts or other node-placing options: a one-line error naming both."""
+    with pytest.raises(InputError, match=words) as err:
+        job.run(settings, geometry(channel(0.2, 0.05)), family=fitted)
+    assert "\n" not in str(err.value) and "outside the family" in str(err.value)
+
+
+def test_a_body_is_outside_a_four_sided_family(fitted):
+    from pinn_engine.bodies.airfoil import circle, load_body
+
+    body = load_body(naca="0012", te="blunt")
+    settings = make_settings("pinn", size=SIZE, topology="o")
+    g = job.Geometry(body=body, far=circle(body, settings.farfield))
+    with pytest.raises(InputError, match="O-grids of 21 x 11 nodes"):
+        job.run(settings, g, family=fitted)
+
+
+def test_members_of_other_counts_are_refused_at_the_fit():
+    members = []
+    for size in (SIZE, SIZE, (31, 11)):
+        s = make_settings("pinn", size=size)
+        members.append(job.family_member(s, geometry(channel(0.2, 0.05))))
+    targets = [m.base for m in members]
+    with pytest.raises(InputError, match="31 x 11"):
+        job.fit_family_model(members, targets, epochs=1)
+
+
+def test_a_model_file_that_is_no_family_model_is_one_line(tmp_path):
+    bad = tmp_path / "bad.pt"
+    bad.write_text("not a model")
+    with pytest.raises(InputError, match="not a readable family model"):
+        job.run(SETTINGS, geometry(channel(0.2, 0.05)), family=bad)
+    assert family_mesh.KEPT_MODELS >= 1
