@@ -339,7 +339,7 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument(
         "--model",
         metavar="FAMILY",
-        help="mesh by a family model (pinn-mesh fit; SPEC 16): the member's boundary nodes, "
+        help="mesh by a family model (made by pinn-mesh fit): the member's boundary nodes, "
         "its interior in a forward pass; the size defaults to the family's",
     )
     b = p.add_argument_group("O- and C-grids around a body")
