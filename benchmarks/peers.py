@@ -13,7 +13,9 @@ Usage: ``.venv/bin/python benchmarks/peers.py [--construct2d PATH] [--runs 3]
   (``example_data/dfg*.vtp``, 12 blocks) at a cell size giving about 34 000 cells, blockMesh
   given pinn-mesh's blocks, cell counts and its drawn nodes along each curved block side (a
   ``polyLine`` edge), one cell thick; and a straight 1 x 1 x 4 square duct of 80 x 20 x 20
-  hexahedra, one block.
+  hexahedra, one block; and two of ``example_data/blockmesh``'s dictionaries (the butterfly
+  pipe and the DFG 3D channel), pinn-mesh reading the dictionary itself
+  (``pinn-mesh DICT --format openfoam``, SPEC 15) and blockMesh meshing it.
 - **gmsh** (its Python API, the test extra): the same DFG blocks with the same nodes on every
   block side, each a transfinite surface smoothed by 100 Winslow sweeps (as
   ``benchmarks/multiblock_gmsh.py``); the model's build and meshing in this process, without
@@ -28,6 +30,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import shutil
 import statistics
 import subprocess
@@ -241,7 +244,29 @@ def jobs(work: Path) -> list[tuple[str, Timers, Timers]]:
     peer = block_mesh(work / "duct", cells, box, [(list(range(8)), DUCT_CELLS)], [])
     name = f"square duct, {cells} hexahedra"
     out.append((name, pinn_mesh(args, work / "duct.vts"), {"blockMesh": peer}))
+    for case, label in (("pipe", "butterfly pipe"), ("dfg3d", "DFG 3D channel")):
+        out.append(dictionary_job(work, case, label))
     return out
+
+
+def dictionary_job(work: Path, case: str, label: str) -> tuple[str, Timers, Timers]:
+    """pinn-mesh and blockMesh on one of ``example_data/blockmesh``'s dictionaries."""
+    source = ROOT / "example_data" / "blockmesh" / case / "system" / "blockMeshDict"
+    folder = work / f"{case}_blockmesh"
+    (folder / "system").mkdir(parents=True)
+    shutil.copy(source, folder / "system" / "blockMeshDict")
+    (folder / "system" / "controlDict").write_text(
+        "FoamFile { version 2.0; format ascii; class dictionary; object controlDict; }\n"
+        "application blockMesh; startFrom startTime; startTime 0; stopAt endTime;\n"
+        "endTime 1; deltaT 1; writeControl timeStep; writeInterval 1;\n"
+    )
+    env = openfoam_env()
+    log = subprocess.run(["blockMesh", "-case", str(folder)], env=env, capture_output=True)
+    cells = re.search(rb"nCells:\s*(\d+)", log.stdout)
+    name = f"blockMeshDict: {label}, {int(cells.group(1)) if cells else '?'} cells"
+    args = [str(source), "--format", "openfoam"]
+    peer = {"blockMesh": lambda: seconds(["blockMesh", "-case", str(folder)], env=env)}
+    return name, pinn_mesh(args, work / f"{case}_case"), peer
 
 
 def write_between(page: Path, mark: str, text: str) -> None:

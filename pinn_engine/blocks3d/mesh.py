@@ -43,7 +43,7 @@ SKIPPED = "the network would train on the Winslow equations alone, which the ell
 class DictResult:
     """A meshed dictionary: the placement (ids, patches), the chosen ``points``, the
     ``method`` given and the grid ``kept`` (``elliptic`` or ``tfi``), each candidate's
-    checkMesh figures and the report."""
+    checkMesh figures, the report and each block's largest and smallest face angles."""
 
     place: Placement
     points: np.ndarray
@@ -51,6 +51,7 @@ class DictResult:
     kept: str
     candidates: dict[str, Figures]
     report: dict = field(default_factory=dict)
+    angles: list[tuple[np.ndarray, np.ndarray]] = field(default_factory=list)
 
     @property
     def cells(self) -> np.ndarray:
@@ -131,7 +132,7 @@ def mesh_dictionary(
 
 def _report(d, result: DictResult, steps: int, timings: dict, free: bool) -> dict:
     chosen = result.candidates[result.kept]
-    angles = [included_angles(g) for g in result.block_nodes()]
+    angles = result.angles = [included_angles(g) for g in result.block_nodes()]
     biggest = np.concatenate([a[0] for a in angles])
     spec6 = {  # SPEC 6's figures, over every cell
         "mean_max_angle": float(biggest.mean()),
@@ -174,14 +175,13 @@ def dataset(result: DictResult) -> vtkMultiBlockDataSet:
     out = vtkMultiBlockDataSet()
     blocks = result.block_nodes()
     out.SetNumberOfBlocks(len(blocks))
-    for k, g in enumerate(blocks):
+    for k, (g, (biggest, smallest)) in enumerate(zip(blocks, result.angles)):
         grid = vtkStructuredGrid()
         grid.SetDimensions(*g.shape[:3])
         pts = vtkPoints()
         flat = np.ascontiguousarray(g.transpose(2, 1, 0, 3).reshape(-1, 3))
         pts.SetData(numpy_to_vtk(flat, deep=True))
         grid.SetPoints(pts)
-        biggest, smallest = included_angles(g)
         arrays = {
             "MaxIncludedAngle": biggest,
             "MinIncludedAngle": smallest,

@@ -40,6 +40,7 @@ MAX_ITERATIONS = 60  # Picard steps at most
 PLANE_TOL = 1e-9  # a boundary face is a coordinate plane when it spreads this share of the diagonal
 OFFSETS = [o for o in itertools.product((-1, 0, 1), repeat=3) if np.count_nonzero(o) < 3]
 CENTRE = (1, 1, 1)
+REGULAR = 4  # cells round an edge of an ordinary grid node (Q != 4 makes a star)
 
 
 @dataclass
@@ -282,15 +283,35 @@ def _mirror(frame: np.ndarray, h: np.ndarray) -> bool:
 def _star(node: int, cells: list, place: Placement, logical, normal: int | None) -> Star | None:
     """The star of a node on an edge round which Q != 4 blocks meet (Knupp's irregular
     node, as ``multiblock.junctions`` in 2D): the cells' fan across the edge mapped to a
-    regular Q-gon in a logical plane, the edge along the third logical axis, each cell's
-    nodes at those logical offsets; a node on a boundary plane (``normal``: its axis) has
-    its one layer mirrored across it. None where the cells form no such fan."""
+    Q-gon in a logical plane (equal angles, each side neighbour at its logical distance),
+    the edge along the third logical axis, each cell's nodes at those logical offsets; a
+    node on a boundary plane (``normal``: its axis) has its one layer mirrored across it.
+    None where the cells form no such fan."""
+
+    def neighbour(b, c, o, a) -> int:
+        e = np.array(o)
+        e[a] = 1 - e[a]
+        return int(place.ids[b][tuple(c + e)])
+
+    # a block vertex inside the domain: the edge runs to the neighbours that the cells of
+    # one layer share (Q each), the fan's side neighbours are shared by four cells
+    shared: dict[int, int] = {}
+    for b, c, o in cells:
+        for a in range(3):
+            n = neighbour(b, c, o, a)
+            shared[n] = shared.get(n, 0) + 1
     axes = []
     for b, c, o in cells:
         index = np.array(c) + np.array(o)
         inner = [a for a in range(3) if 0 < index[a] < place.ids[b].shape[a] - 1]
+        counts = [shared[neighbour(b, c, o, a)] for a in range(3)]
         if len(inner) == 1:
             axes.append(inner[0])
+        elif not inner and normal is None:
+            along = [a for a in range(3) if counts[a] == len(cells) // 2 != REGULAR]
+            if len(along) != 1 or sorted(counts) != sorted([REGULAR, REGULAR, counts[along[0]]]):
+                return None
+            axes.append(along[0])
         elif not inner and normal is not None:
             ids = place.ids[b]
             step = []
@@ -334,11 +355,17 @@ def _star(node: int, cells: list, place: Placement, logical, normal: int | None)
     q = len(ring)
     if q == 4 or links[ring[-1]].count(ring[0]) == 0:
         return None
-    radius = float(
-        np.mean([ln[a] for layer in layers.values() for _, _, pl, ln in layer for a in pl])
-    )
+    # each side neighbour at its cells' logical edge length from the node
+    reach: dict[int, list[float]] = {}
+    for layer in layers.values():
+        for at, _, plane, lengths in layer:
+            for a in plane:
+                reach.setdefault(at([a]), []).append(lengths[a])
     angle = 2 * np.pi * np.arange(q) / q
-    side = {n: radius * np.array([np.cos(t), np.sin(t), 0.0]) for n, t in zip(ring, angle)}
+    side = {
+        n: float(np.mean(reach[n])) * np.array([np.cos(t), np.sin(t), 0.0])
+        for n, t in zip(ring, angle)
+    }
     offsets: dict[int, np.ndarray] = dict(side)
     for sign, layer in zip((1.0, -1.0), layers.values()):
         height = sign * float(np.mean([ln[al] for _, al, _, ln in layer]))
