@@ -624,7 +624,7 @@ def test_unwritable_output_is_a_clear_error(tmp_path, capsys):
     out_dir = tmp_path / "out.vts"
     out_dir.mkdir()
     for out, pattern in (
-        (blocker / "g.vts", "g.vts: cannot create its folder .*file.txt"),
+        (blocker / "g.vts", "g.vts: cannot be written: .*file.txt. is not a folder"),
         (out_dir, "is a directory"),
     ):
         rc, _, err = run_cli(
