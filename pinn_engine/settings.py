@@ -36,6 +36,9 @@ HEXA_SIZE = (21, 21, 21)  # SPEC 11's default nodes along i, j and k
 MIN_HEXA_NODES = 3  # fewer nodes along a direction leave no interior to solve for
 # Training's wall-clock limit in seconds, after which the best state so far is kept
 NO_TIME_LIMIT = 0.0  # command line, pyvista, VTK: a limit would tie the grid to machine speed
+# SPEC 14's monitor strength beta with --adapt (docs/adaptation.md: the analytic fields'
+# interpolation error on the tuning shapes, benchmarks/adapt.py)
+ADAPT_STRENGTH = 20.0
 PANEL_TIME_LIMIT = 60.0  # ParaView 5.11 freezes while a filter runs; the paper preset (~33 s) fits
 
 
@@ -251,6 +254,9 @@ PARAMETER_CONSTRAINTS: dict[str, Options | Interval] = {
         ("free", "fixed"),
         "multi-block: free (interface nodes solved like interior nodes) or fixed (as drawn)",
     ),
+    "adapt_strength": Interval(
+        float, 0.0, help="with --adapt: the monitor's strength beta (SPEC 14); 0: not adapted"
+    ),
     "face_angle": Interval(
         float,
         0.0,
@@ -327,6 +333,8 @@ class Settings:
     # stay on the drawn edges ("fixed")
     cell_size: float = 0.0
     interfaces: str = "free"
+    # SPEC 14, a grid adapted to a field (given beside the settings): the monitor's strength
+    adapt_strength: float = ADAPT_STRENGTH
     # SPEC 11, a six-faced 3D domain (three sizes): a surface without FaceId is split into
     # faces where it bends by more than this many degrees; spacing and orthogonal then name
     # the patches imin ... kmax
@@ -430,9 +438,15 @@ class Settings:
 
     def training_key(self) -> tuple:
         """The settings that change the trained network (not the output resolution)."""
-        skip = {"preset", "device", "time_limit", "cell_size", "interfaces", "size"} | (
-            {"lattice"} if self.warm_start == "none" and self.objective == "winslow" else set()
-        )
+        skip = {
+            "preset",
+            "device",
+            "time_limit",
+            "cell_size",
+            "interfaces",
+            "size",
+            "adapt_strength",
+        } | ({"lattice"} if self.warm_start == "none" and self.objective == "winslow" else set())
         return tuple((f.name, getattr(self, f.name)) for f in fields(self) if f.name not in skip)
 
 

@@ -16,6 +16,9 @@ from __future__ import annotations
 import os
 from collections.abc import Callable
 
+import numpy as np
+
+from pinn_engine.adapt import Field, read_field, read_field_file
 from pinn_engine.cache import MeshCache
 from pinn_engine.errors import InputError
 from pinn_engine.job.blocks import (
@@ -58,30 +61,44 @@ def run(
     cache: MeshCache | None = None,
     model: str | os.PathLike | None = None,
     family: str | os.PathLike | None = None,
+    field: Field | None = None,
 ) -> Outcome:
     """Mesh ``geometry`` under ``settings`` by its kind's pipeline; ``progress`` hears the
     stages and the training (returning True cancels, ``errors.STOP`` ends the training with
     its best state so far); a four-sided domain's fitted networks are kept in ``cache``
     (re-used when only the size changes), or the model saved at ``model`` (a four-sided
     domain's or a six-faced domain's) is evaluated instead of training; a four-sided domain
-    or a body is meshed by the family model saved at ``family`` (SPEC 16) where given."""
+    or a body is meshed by the family model saved at ``family`` (SPEC 16) where given. With
+    ``field`` (``adapt.Field``) the 2D grid is then adapted to it (SPEC 14, ``job.adapted``)."""
     if family is not None and not isinstance(geometry, Geometry):
         raise InputError(
             "a family model meshes four-sided domains and O- and C-grids in this build, "
             "not multi-block or six-faced domains; mesh without the model",
             str(family),
         )
+    if field is not None and isinstance(geometry, HexaGeometry):
+        raise InputError("adapting to a field (SPEC 14) applies to 2D domains in this build")
     if isinstance(geometry, BlocksGeometry):
-        return covered(run_blocks(settings, geometry, progress), geometry)
-    if isinstance(geometry, HexaGeometry):
+        outcome = covered(run_blocks(settings, geometry, progress), geometry)
+    elif isinstance(geometry, HexaGeometry):
         return run_hexa(settings, geometry, progress, model)
-    if isinstance(geometry, DictionaryGeometry):
-        return run_dictionary(settings, geometry, progress)
-    return covered(run_single(settings, geometry, progress, cache, model, family), geometry)
+    elif isinstance(geometry, DictionaryGeometry):
+        outcome = run_dictionary(settings, geometry, progress)
+    else:
+        outcome = covered(run_single(settings, geometry, progress, cache, model, family), geometry)
+    if field is None or settings.adapt_strength == 0:
+        return outcome
+    from pinn_engine.job.adapted import adapted
+
+    field.check_covers(np.vstack([g.reshape(-1, 2) for g in outcome.grids]))
+    if progress is not None:
+        progress({"phase": "prepare", "stage": "adapting to the field", "step": 0, "total": 1})
+    return adapted(outcome, settings, field, getattr(geometry, "walls", None))
 
 
 __all__ = [
     "KINDS",
+    "Field",
     "BlocksGeometry",
     "DictionaryGeometry",
     "Geometry",
@@ -102,6 +119,8 @@ __all__ = [
     "hexa_from_file",
     "hexa_from_polydata",
     "kind_of",
+    "read_field",
+    "read_field_file",
     "run",
     "topology_of",
 ]

@@ -44,6 +44,7 @@ def grid_lines(report: dict, settings: Settings, ni: int, nj: int, seconds: floa
     effect = network_effect(report)
     if effect:
         lines.append(effect)
+    lines += adaptation_lines(report)
     if t:
         return lines
     spaced = tuple(k for k, _ in settings.spacing if k not in settings.orthogonal)
@@ -55,6 +56,33 @@ def grid_lines(report: dict, settings: Settings, ni: int, nj: int, seconds: floa
             f"ratio up to {r['max_growth_ratio']:.3f}"
         )
     return lines + _aux_lines(report["aux_line_distance"], "the diagonal")
+
+
+def adaptation_lines(report: dict) -> list[str]:
+    """What adapting to a field did (SPEC 14), if it was asked: the strength used, the
+    field's interpolation error and the equidistribution before and after, the largest move
+    and the worst cell."""
+    a = report.get("adaptation")
+    if not a:
+        return []
+    cv, error, worst = a["equidistribution_cv"], a["interpolation_error"], a["worst_max_angle"]
+    if not a["strength_used"]:
+        return [
+            f"adapted to {a['array']}: kept unadapted (no strength up to {a['strength']:g} lowered "
+            f"the field's interpolation error {error['before']:.3g} within the worst cell's "
+            f"bound of {worst['limit']:.1f} deg)"
+        ]
+    less = (
+        f", adapted less than asked ({a['strength']:g}) where the worst cell's bound needs it"
+        if a["adapted_less"]
+        else ""
+    )
+    return [
+        f"adapted to {a['array']} at strength {a['strength_used']:g}{less}: interpolation error "
+        f"{error['before']:.3g} -> {error['after']:.3g}, equidistribution CV {cv['before']:.2f} "
+        f"-> {cv['after']:.2f}, largest node move {a['largest_node_move']:.3g}, worst "
+        f"MaxIncludedAngle {worst['before']:.2f} -> {worst['after']:.2f} deg"
+    ]
 
 
 def _trained(report: dict) -> str:
@@ -87,7 +115,12 @@ def blocks_lines(method: str, report: dict, seconds: float) -> list[str]:
         if blocking.get("mode") == "automatic"
         else []
     )
-    return [first, *automatic, *_aux_lines(report["aux_line_distance"], "their block's diagonal")]
+    return [
+        first,
+        *automatic,
+        *adaptation_lines(report),
+        *_aux_lines(report["aux_line_distance"], "their block's diagonal"),
+    ]
 
 
 def dictionary_line(report: dict) -> str:

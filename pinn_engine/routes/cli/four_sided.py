@@ -7,7 +7,7 @@ import time
 from pathlib import Path
 
 from pinn_engine.errors import PinnMeshError, grid_warnings
-from pinn_engine.routes.cli.options import check_options, settings_from
+from pinn_engine.routes.cli.options import check_options, read_adapt_field, settings_from
 from pinn_engine.routes.cli.outputs import output_path, refuse_folded, save_model, write_outputs
 from pinn_engine.routes.cli.progress import Progress
 from pinn_engine.routes.cli.summary import grid_summary, warn
@@ -67,6 +67,7 @@ def run_four_sided(args: argparse.Namespace, written: list[Path], body: bool) ->
     ni, nj = args.size
     settings = settings_from(args, (ni, nj))
     began = time.perf_counter()
+    field = read_adapt_field(args)
     geometry = job.geometry_from_files(
         settings,
         args.boundary,
@@ -78,7 +79,9 @@ def run_four_sided(args: argparse.Namespace, written: list[Path], body: bool) ->
     read_seconds = time.perf_counter() - began
     start = time.perf_counter()
     with Progress(args.quiet) as progress:
-        outcome = job.run(settings, geometry, progress, model=args.load_model, family=args.model)
+        outcome = job.run(
+            settings, geometry, progress, model=args.load_model, family=args.model, field=field
+        )
     if args.save_model:
         save_model(outcome.model, args.save_model, written)
     report = outcome.report

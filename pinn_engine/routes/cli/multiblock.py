@@ -7,7 +7,7 @@ import time
 from pathlib import Path
 
 from pinn_engine.errors import PinnMeshError
-from pinn_engine.routes.cli.options import check_options, settings_from
+from pinn_engine.routes.cli.options import check_options, read_adapt_field, settings_from
 from pinn_engine.routes.cli.outputs import output_path, refuse_folded, write_outputs
 from pinn_engine.routes.cli.parser import option_flags
 from pinn_engine.routes.cli.progress import Progress
@@ -63,12 +63,13 @@ def run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
     args.spacing, args.orthogonal = [], None
     settings = settings_from(args)
     start = time.perf_counter()
+    field = read_adapt_field(args)
     geometry = job.blocks_from_files(
         args.boundary, args.blocks, args.aux, args.patch, spacing, orthogonal, args.cells
     )
     read = time.perf_counter() - start
     with Progress(args.quiet) as progress:
-        outcome = job.run(settings, geometry, progress)
+        outcome = job.run(settings, geometry, progress, field=field)
     report = outcome.report
     report["timings"]["read"] = read
     folded = report["quality"]["folded_cells"]

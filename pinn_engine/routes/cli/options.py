@@ -48,6 +48,15 @@ def check_options(args: argparse.Namespace) -> None:
                 )
 
 
+def read_adapt_field(args: argparse.Namespace):
+    """The field of ``--adapt FILE:ARRAY`` (``adapt.Field``), or None without it."""
+    if not getattr(args, "adapt", None):
+        return None
+    from pinn_engine.job import read_field
+
+    return read_field(args.adapt)
+
+
 def settings_from(args: argparse.Namespace, size: tuple[int, ...] = ()) -> Settings:
     """The settings of the command line's options for a grid of ``size`` nodes (() for
     multi-block), with a settings error as a one-line command-line error."""

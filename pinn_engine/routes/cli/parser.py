@@ -271,6 +271,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--report", metavar="PATH", help="also write a JSON report")
     p.add_argument(
+        "--adapt",
+        metavar="FILE:ARRAY",
+        help="adapt the grid to ARRAY of a solution FILE (any dataset VTK reads: an OpenFOAM "
+        "case's .foam, .vtu, .vts, .vtm, ...; a point or cell array, a vector by its "
+        "magnitude): cells small where the field changes fast, kind, counts, corners and "
+        "patches kept (SPEC 14); --adapt-strength sets the monitor's strength",
+    )
+    p.add_argument(
         "--fail-on-folded",
         action="store_true",
         help="exit with an error (status 2, no output) if any cell is folded",

@@ -1,0 +1,238 @@
+"""Grids adapted to analytic fields (SPEC 14): the field's interpolation error before and
+after, the worst cell, the time.
+
+Each shape's unadapted grid (the elliptic grid at ``--size``; a NACA 0012 C-grid; the
+cylinder-channel multi-block grid) is adapted to fields given on a fine image (``FINE``
+points a side over the shape's box, as a solver's result would be): a curved tanh front, a
+straight oblique one, a boundary layer along the lowest wall and a Lamb-Oseen vortex's
+speed, each scaled to the shape's box. The interpolation error is the bilinear interpolant
+of the nodes' values against the field at ``QUAD`` x ``QUAD`` points inside every cell:
+the L2 norm (cells weighted by area) and the largest. The tuning shapes are the examples,
+the held-out ones ``example_data/holdout`` (no constant was set on them).
+
+    .venv/bin/python benchmarks/adapt.py [--set tuning|holdout|bodies|all] [--beta 5 10 20]
+        [--size 41 31] [--speed]
+
+``--speed`` times adapting a 201 x 201 four-sided grid (40 000 cells) against meshing it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+import numpy as np
+from vtkmodules.util.numpy_support import numpy_to_vtk
+from vtkmodules.vtkCommonDataModel import vtkImageData
+
+from pinn_engine.adapt import Field
+from pinn_engine.adapt.grids import DEFAULT_STRENGTH, adapt_grids
+from pinn_engine.geometry.boundary import Boundary
+from pinn_engine.io.fileio import read_boundary_points
+from pinn_engine.mesher import Mesher
+from pinn_engine.quality import cell_quality
+from pinn_engine.settings import make_settings
+
+ROOT = Path(__file__).resolve().parent.parent
+TUNING = ["wavy.vtp", "bump_channel.vtp", "concave.vtp", "fig2.vtp"]
+HOLDOUT = [f"holdout/h0{k}_wavy.vtp" for k in range(0, 8, 2)] + [
+    "holdout/h08_notch_rect.vtp",
+    "holdout/h11_notch_round_v.vtp",
+]
+FINE = 801  # points a side of the field's image
+QUAD = 4  # sample points a cell side for the interpolation error
+
+
+def fields(box: np.ndarray) -> dict:
+    """The analytic fields on a shape's box ((x0, y0), (x1, y1)), as f(x, y)."""
+    (x0, y0), (x1, y1) = box
+    size = max(x1 - x0, y1 - y0)
+
+    def unit(x, y):
+        return (x - x0) / size, (y - y0) / size
+
+    def front(x, y):
+        u, v = unit(x, y)
+        return np.tanh((np.hypot(u - 0.1, v - 0.1) - 0.55) / 0.02)
+
+    def oblique(x, y):
+        u, v = unit(x, y)
+        return np.tanh((0.8 * u + 0.6 * v - 0.5) / 0.02)
+
+    def layer(x, y):
+        _, v = unit(x, y)
+        return 1.0 - np.exp(-v / 0.03)
+
+    def vortex(x, y):
+        u, v = unit(x, y)
+        cu, cv = 0.5 * (x1 - x0) / size, 0.5 * (y1 - y0) / size
+        r2 = np.maximum((u - cu) ** 2 + (v - cv) ** 2, 1e-12)
+        return (1.0 - np.exp(-r2 / 0.04**2)) / np.sqrt(r2)
+
+    return {"front": front, "oblique": oblique, "layer": layer, "vortex": vortex}
+
+
+def image(f, box: np.ndarray, name: str = "u") -> vtkImageData:
+    """``f`` on a FINE x FINE image over ``box`` (a little larger)."""
+    (x0, y0), (x1, y1) = box
+    pad = 0.01 * max(x1 - x0, y1 - y0)
+    x0, y0, x1, y1 = x0 - pad, y0 - pad, x1 + pad, y1 + pad
+    im = vtkImageData()
+    im.SetDimensions(FINE, FINE, 1)
+    im.SetOrigin(x0, y0, 0.0)
+    im.SetSpacing((x1 - x0) / (FINE - 1), (y1 - y0) / (FINE - 1), 1.0)
+    x, y = np.meshgrid(np.linspace(x0, x1, FINE), np.linspace(y0, y1, FINE))
+    arr = numpy_to_vtk(np.ascontiguousarray(f(x.ravel(), y.ravel())), deep=True)
+    arr.SetName(name)
+    im.GetPointData().AddArray(arr)
+    return im
+
+
+def interpolation_error(grids: list[np.ndarray], f) -> tuple[float, float]:
+    """L2 (area-weighted) and largest error of the bilinear interpolant of ``f``'s node
+    values, at QUAD x QUAD points inside every cell of every block."""
+    u = (np.arange(QUAD) + 0.5) / QUAD
+    uu, vv = (a.ravel() for a in np.meshgrid(u, u))
+    weights = [(1 - uu) * (1 - vv), uu * (1 - vv), uu * vv, (1 - uu) * vv]
+    total, area, largest = 0.0, 0.0, 0.0
+    for g in grids:
+        corners = [g[:-1, :-1], g[:-1, 1:], g[1:, 1:], g[1:, :-1]]
+        values = f(g[..., 0], g[..., 1])
+        fc = [values[:-1, :-1], values[:-1, 1:], values[1:, 1:], values[1:, :-1]]
+        p = sum(w[None, None, :, None] * c[..., None, :] for w, c in zip(weights, corners))
+        interp = sum(w[None, None, :] * c[..., None] for w, c in zip(weights, fc))
+        e = interp - f(p[..., 0], p[..., 1])
+        d1, d2 = corners[2] - corners[0], corners[3] - corners[1]
+        a = 0.5 * np.abs(d1[..., 0] * d2[..., 1] - d1[..., 1] * d2[..., 0])
+        total += float((a * (e**2).mean(axis=-1)).sum())
+        area += float(a.sum())
+        largest = max(largest, float(np.abs(e).max()))
+    return float(np.sqrt(total / area)), largest
+
+
+def four_sided(path: str, size: tuple[int, int]) -> list[np.ndarray]:
+    """The elliptic grid of a four-sided example."""
+    boundary = Boundary.from_points(read_boundary_points(ROOT / "example_data" / path))
+    mesher = Mesher(make_settings("elliptic", lattice=size)).fit(boundary)
+    return [mesher.predict(*size).points]
+
+
+def c_grid() -> list[np.ndarray]:
+    """A NACA 0012 C-grid (the body kind's elliptic grid), 161 x 41, far field 5 chords."""
+    from pinn_engine.bodies.airfoil import circle, load_body
+    from pinn_engine.bodymesh import mesh_body
+
+    settings = make_settings("elliptic", topology="c", farfield=5.0)
+    body = load_body(naca="0012", te="sharp")
+    result = mesh_body(body, circle(body, 5.0), "c", "elliptic", 161, 41, settings, 1e-3, None)
+    return [result.points]
+
+
+def cylinder_blocks() -> list[np.ndarray]:
+    """The cylinder-in-channel multi-block elliptic grid (cell size 0.05)."""
+    from pinn_engine.job import blocks_from_files, run
+
+    geometry = blocks_from_files(
+        ROOT / "example_data/cylinder_channel.vtp",
+        [ROOT / "example_data/cylinder_channel_blocks.vtp"],
+    )
+    return run(make_settings("elliptic", cell_size=0.05), geometry).grids
+
+
+def measure(name: str, grids: list[np.ndarray], betas: list[float], rows: list) -> None:
+    """Adapt ``grids`` to every field at every strength; print and collect a row each."""
+    flat = np.vstack([g.reshape(-1, 2) for g in grids])
+    box = np.array([flat.min(axis=0), flat.max(axis=0)])
+    for field_name, f in fields(box).items():
+        field = Field(image(f, box), "u", field_name)
+        before = interpolation_error(grids, f)
+        for beta in betas:
+            start = time.perf_counter()
+            out = adapt_grids(grids, field, beta)
+            seconds = time.perf_counter() - start
+            after = interpolation_error(out.grids, f)
+            r = out.report
+            worst = r["worst_max_angle"]
+            folded = sum(int(cell_quality(g)["Folded"].sum()) for g in out.grids)
+            row = (
+                name,
+                field_name,
+                beta,
+                after[0] / before[0],
+                after[1] / before[1],
+                worst["before"],
+                worst["after"],
+                folded,
+                r["equidistribution_cv"]["before"],
+                r["equidistribution_cv"]["after"],
+                r["strength_used"],
+                seconds,
+            )
+            rows.append(row)
+            print(
+                f"| {name} | {field_name} | {beta:g} | {row[3]:.2f} | {row[4]:.2f} | "
+                f"{row[5]:.1f} | {row[6]:.1f} | {folded} | {row[8]:.2f} | {row[9]:.2f} | "
+                f"{row[10]:.2f} | {seconds:.1f} |",
+                flush=True,
+            )
+
+
+def speed() -> None:
+    """Adapting a 201 x 201 grid (40 000 cells) against meshing it, by the default method
+    and by the elliptic one."""
+    boundary = Boundary.from_points(read_boundary_points(ROOT / "example_data/wavy.vtp"))
+    size = (201, 201)
+    times = {}
+    for method in ("pinn", "elliptic"):
+        start = time.perf_counter()
+        grid = Mesher(make_settings(method, lattice=size)).fit(boundary).predict(*size).points
+        times[method] = time.perf_counter() - start
+    flat = grid.reshape(-1, 2)
+    box = np.array([flat.min(axis=0), flat.max(axis=0)])
+    f = fields(box)["front"]
+    field = Field(image(f, box), "u", "front")
+    start = time.perf_counter()
+    out = adapt_grids([grid], field, DEFAULT_STRENGTH)
+    adapt = time.perf_counter() - start
+    print(
+        f"201 x 201 wavy: meshing pinn {times['pinn']:.1f} s, elliptic {times['elliptic']:.1f} s;"
+        f" adapting {adapt:.1f} s ({out.report['solves']})"
+    )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--set", default="all", choices=("tuning", "holdout", "bodies", "all"))
+    parser.add_argument("--beta", type=float, nargs="+", default=[DEFAULT_STRENGTH])
+    parser.add_argument("--size", type=int, nargs=2, default=(41, 31))
+    parser.add_argument("--speed", action="store_true")
+    args = parser.parse_args()
+    if args.speed:
+        speed()
+        return
+    print(
+        "| shape | field | beta | L2 error after/before | max error after/before | worst "
+        "before | worst after | folded | CV before | CV after | strength used | seconds |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    rows: list = []
+    shapes = {"tuning": TUNING, "holdout": HOLDOUT}
+    for key in ("tuning", "holdout"):
+        if args.set in (key, "all"):
+            for path in shapes[key]:
+                measure(
+                    f"{key}: {Path(path).stem}", four_sided(path, tuple(args.size)), args.beta, rows
+                )
+    if args.set in ("bodies", "all"):
+        measure("C-grid NACA 0012", c_grid(), args.beta, rows)
+        measure("cylinder channel blocks", cylinder_blocks(), args.beta, rows)
+    ratios = np.array([r[3] for r in rows])
+    print(
+        f"\nL2 error after/before: median {np.median(ratios):.2f}, worst {ratios.max():.2f}; "
+        f"at most 0.5 in {int((ratios <= 0.5).sum())} of {len(rows)}"
+    )
+
+
+if __name__ == "__main__":
+    main()

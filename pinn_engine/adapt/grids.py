@@ -1,0 +1,112 @@
+"""The adaptation of a 2D grid's blocks to a field (SPEC 14): the monitor's strength tried
+and weakened, each try's grid guarded, the one that carries the field best kept, and its
+report."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from pinn_engine.adapt.error import interpolation_error
+from pinn_engine.adapt.field import Field
+from pinn_engine.adapt.guard import GUARD_DEGREES, guarded
+from pinn_engine.adapt.monitor import equidistribution, gradient_size, monitor_values
+from pinn_engine.adapt.nodes import NodeGraph, node_graph
+from pinn_engine.quality import cell_quality
+from pinn_engine.settings import ADAPT_STRENGTH
+
+DEFAULT_STRENGTH = ADAPT_STRENGTH  # the default strength beta (settings, measured there)
+# The strengths tried, each WEAKER than the last (kept only where better: the grid with the
+# lowest interpolation error of the field is the result, the unadapted grid if none is lower;
+# the tries stop once one is no better than the one before a kept grid)
+STRENGTHS = 3
+WEAKER = 0.5
+
+
+@dataclass
+class Adapted:
+    """Each block's adapted grid (nj, ni, 2), its monitor at the nodes (nj, ni) and the
+    report of SPEC 14 (strength asked and used, equidistribution before and after, the
+    largest node move, the worst cell before and after)."""
+
+    grids: list[np.ndarray]
+    monitor: list[np.ndarray]
+    report: dict
+
+
+def _worst(graph: NodeGraph, points: np.ndarray) -> tuple[float, int]:
+    """The worst MaxIncludedAngle and the folded cells of the blocks at ``points``."""
+    cells = [cell_quality(g) for g in graph.grids(points)]
+    return (
+        max(float(c["MaxIncludedAngle"].max()) for c in cells),
+        sum(int(c["Folded"].sum()) for c in cells),
+    )
+
+
+def adapt_grids(
+    grids: list[np.ndarray],
+    field: Field,
+    strength: float = DEFAULT_STRENGTH,
+    held: list[np.ndarray] | None = None,
+) -> Adapted:
+    """``grids`` (each block (nj, ni, 2)) adapted to ``field`` with the monitor's
+    ``strength`` beta; ``held``: per block, a mask (nj, ni) of nodes that stay (a wall's
+    nodes and its first row, where a first edge or wall angle was asked)."""
+    began = time.perf_counter()
+    graph = node_graph([np.asarray(g, dtype=float) for g in grids], held)
+    field.check_covers(graph.points)
+
+    def sample(points: np.ndarray) -> np.ndarray:
+        return field.sample(points)[0]
+
+    start = graph.points
+    gradient = gradient_size(start, graph.cells, sample(start))
+    largest = float(gradient.max())
+    worst0, folded0 = _worst(graph, start)
+    limit = worst0 + GUARD_DEGREES
+    error0 = interpolation_error(start, graph.cells, sample)
+    points, share, rounds, error, used = start, np.zeros(len(start)), [], error0, 0.0
+    beta, last = strength, np.inf
+    for _ in range(STRENGTHS if largest > 0 else 0):
+        found = guarded(graph, sample, beta, largest, limit)
+        now = interpolation_error(found.solved.points, graph.cells, sample)
+        rounds.append({"strength": beta, "error": now, "solves": found.rounds})
+        if now < error:
+            points, share, error, used = found.solved.points, found.share * found.kept, now, beta
+        elif used > 0 and now >= last:
+            break  # weaker than a kept grid and no better than the last: the rest moves less
+        last, beta = now, beta * WEAKER
+    final = gradient_size(points, graph.cells, sample(points))
+    m_used = monitor_values(final, strength * share, largest)
+    m_start = monitor_values(gradient, strength, largest)
+    m_after = monitor_values(final, strength, largest)
+    worst, folded = _worst(graph, points)
+    moves = np.linalg.norm(points - start, axis=1)
+    report = {
+        "field": field.source,
+        "array": field.array,
+        "method": "elliptic",
+        "strength": strength,
+        "strength_used": used,
+        "adapted_less": bool(used < strength or (share < 1.0).any()),
+        "strength_share": {
+            "min": float(share.min()),
+            "mean": float(share.mean()),
+            "nodes_below_full": int((share < 1.0).sum()),
+        },
+        "equidistribution_cv": {
+            "before": equidistribution(start, graph.cells, m_start),
+            "after": equidistribution(points, graph.cells, m_after),
+        },
+        "largest_node_move": float(moves.max()),
+        "largest_node_move_share": float(moves.max() / graph.diagonal),
+        "worst_max_angle": {"before": worst0, "after": worst, "limit": limit},
+        "folded_cells": {"before": folded0, "after": folded},
+        "interpolation_error": {"before": error0, "after": error},
+        "tries": rounds,
+        "held_nodes": int(graph.held.sum()),
+        "seconds": time.perf_counter() - began,
+    }
+    return Adapted(graph.grids(points), [m_used[ids] for ids in graph.ids], report)

@@ -1,0 +1,107 @@
+"""SPEC 14's guard: no fold, and no cell whose MaxIncludedAngle exceeds the unadapted
+grid's worst by more than ``GUARD_DEGREES``. Where the adapted grid breaks it, the strength
+is lowered where it breaks (the monitor flattened round the offending cells) and the grid
+solved again from where it was; what still breaks after ``ROUNDS`` is drawn back toward
+the unadapted grid (each node's move, a boundary node's along its curve, scaled down
+round the offending cells) until it holds."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pinn_engine.adapt.monitor import to_nodes
+from pinn_engine.adapt.nodes import NodeGraph
+from pinn_engine.adapt.winslow import Solved, adaptive_winslow, pieces_of
+from pinn_engine.quality import cell_quality
+
+GUARD_DEGREES = 10.0  # SPEC 14: the worst cell may exceed the unadapted grid's by this much
+ROUNDS = 4  # solves with the strength lowered round the offending cells, at most
+LOWER = 0.6  # each round multiplies the strength round an offending cell by this
+# the lowering reaches this many rings of cells round an offending cell, fading: a strength
+# cut at one node alone would crease the monitor there
+SPREAD = 3
+DRAWBACKS = 40  # rounds of drawing moves back, at most (each scales moves by at most LOWER)
+
+
+@dataclass
+class Guarded:
+    """The grid that keeps the guard, each node's share of the strength asked (1: all of
+    it), the share of each node's move kept by the draw-back, and the solves made."""
+
+    solved: Solved
+    share: np.ndarray
+    kept: np.ndarray
+    rounds: list[dict] = field(default_factory=list)
+
+
+def offending(graph: NodeGraph, points: np.ndarray, limit: float) -> np.ndarray:
+    """Which cells fold or have a MaxIncludedAngle over ``limit``, in ``graph.cells`` order."""
+    bad = []
+    for grid in graph.grids(points):
+        q = cell_quality(grid)
+        bad.append(((q["MaxIncludedAngle"] > limit) | q["Folded"]).ravel())
+    return np.concatenate(bad)
+
+
+def _round(graph: NodeGraph, bad: np.ndarray) -> np.ndarray:
+    """1 at the nodes of offending cells, fading over ``SPREAD`` rings round them."""
+    n = len(graph.points)
+    near = to_nodes(graph.cells, bad.astype(float), n) > 0
+    weight = near.astype(float)
+    for ring in range(1, SPREAD + 1):
+        grown = to_nodes(graph.cells, weight[graph.cells].max(axis=1), n) > 0
+        weight = np.maximum(weight, np.where(grown, 1.0 - ring / (SPREAD + 1), 0.0))
+    return weight
+
+
+def guarded(
+    graph: NodeGraph,
+    sample: Callable[[np.ndarray], np.ndarray],
+    strength: float,
+    largest: float,
+    limit: float,
+) -> Guarded:
+    """The grid adapted with ``strength`` lowered where the guard (``limit`` degrees, no
+    fold) needs it."""
+    n = len(graph.points)
+    share = np.ones(n)
+    solved = None
+    rounds = []
+    for _ in range(ROUNDS):
+        solved = adaptive_winslow(graph, sample, strength * share, largest, solved)
+        bad = offending(graph, solved.points, limit)
+        rounds.append({"steps": solved.steps, "offending_cells": int(bad.sum())})
+        if not bad.any():
+            return Guarded(solved, share, np.ones(n), rounds)
+        share = share * (1.0 - (1.0 - LOWER) * _round(graph, bad))
+    return _drawn_back(graph, solved, share, limit, rounds)
+
+
+def _drawn_back(
+    graph: NodeGraph, solved: Solved, share: np.ndarray, limit: float, rounds: list[dict]
+) -> Guarded:
+    """``solved`` with its moves scaled down round the offending cells until none is left
+    (the unadapted grid, all moves undone, keeps the guard)."""
+    pieces = pieces_of(graph)
+    start_params = [p.s.copy() for p in pieces]
+    kept = np.ones(len(graph.points))
+    points = solved.points
+    for _ in range(DRAWBACKS):
+        points = graph.points + kept[:, None] * (solved.points - graph.points)
+        params = []
+        for piece, s0, s1 in zip(pieces, start_params, solved.params):
+            s = s0 + kept[piece.ids] * (s1 - s0)
+            points[piece.ids] = piece.curve(s)
+            params.append(s)
+        bad = offending(graph, points, limit)
+        if not bad.any():
+            return Guarded(
+                Solved(points, params, solved.monitor, solved.steps), share, kept, rounds
+            )
+        kept = kept * (1.0 - (1.0 - LOWER) * _round(graph, bad))
+    return Guarded(
+        Solved(graph.points.copy(), start_params, solved.monitor, 0), share * 0, kept * 0, rounds
+    )

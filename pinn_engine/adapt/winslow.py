@@ -1,0 +1,176 @@
+"""The adaptive equations of SPEC 14, solved classically: Winslow's variable-diffusion
+equations (Winslow 1981, "Adaptive-mesh zoning by the equipotential method"), the grid's
+computational coordinates harmonic in the weight 1/M,
+
+    div( (1/M) grad xi ) = 0,   div( (1/M) grad eta ) = 0,
+
+inverted as the elliptic grid's equations are, with m = ln M:
+
+    alpha x_xixi - 2 beta x_xieta + gamma x_etaeta
+        + (alpha m_xi - beta m_eta) x_xi + (gamma m_eta - beta m_xi) x_eta = 0,
+
+the Winslow operator of every solver here plus first-order control terms. In one dimension
+it is M x_xi = const: cells are small where M is large, M times cell size equidistributed.
+The system is the multi-block solver's (``multiblock.elliptic``: a row a node, junctions of
+other than four cells by ``multiblock.junctions``' stars), over the unique nodes of any 2D
+grid (``nodes.py``), solved by Picard steps with M sampled at the current nodes each step;
+boundary nodes slide along their piece so that grid lines leave it at right angles (the
+equations' natural condition on a free boundary), a step that would fold a cell is halved.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from pinn_engine.adapt.monitor import gradient_size, monitor_values
+from pinn_engine.adapt.nodes import NodeGraph
+from pinn_engine.classical.elliptic import winslow_coefficients
+from pinn_engine.multiblock.elliptic import InexactLU, Operator
+
+STEPS = 80  # Picard steps at most (the benchmark's grids settle in 20 to 60)
+TOL = 1e-4  # settled when no node moves more than this share of the diagonal in a step
+HALVINGS = 8  # a step that folds a cell is halved this many times, then the grid stays
+# each step moves the nodes this share of the Picard update: M follows the nodes, and a full
+# step overshoots the front and oscillates (a tanh front: no settling in 150 full steps,
+# 37 halved ones)
+RELAX = 0.5
+FOOT_STEPS = 3  # Newton steps to a grid line's foot on a boundary curve, from the node
+# a sliding node keeps this share of its piece's smallest unadapted step from its neighbours
+MIN_GAP = 0.05
+
+
+class Piece:
+    """A boundary piece's curve (a not-a-knot spline through its unadapted nodes in arc
+    length: a straight piece stays straight, a curve is followed to fourth order), its
+    nodes' arc lengths now, and the node inside the domain each of its nodes' grid line
+    leads to (-1 where there is none: a node with other than two cells)."""
+
+    def __init__(self, ids: np.ndarray, points: np.ndarray, inward: np.ndarray) -> None:
+        self.ids, self.inward = ids, inward
+        steps = np.linalg.norm(np.diff(points, axis=0), axis=1)
+        self.s = np.concatenate([[0.0], np.cumsum(steps)])
+        kind = "not-a-knot" if len(ids) > 3 else "natural"
+        self.curve = CubicSpline(self.s, points, bc_type=kind)
+        self.d1, self.d2 = self.curve.derivative(1), self.curve.derivative(2)
+
+    def foot(self, p: np.ndarray, s: np.ndarray) -> np.ndarray:
+        """Arc lengths of the feet on the curve of points ``p`` near arc lengths ``s``
+        (Newton's steps on the squared distance)."""
+        for _ in range(FOOT_STEPS):
+            r = self.curve(s) - p
+            t, c = self.d1(s), self.d2(s)
+            s = s - np.einsum("nk,nk->n", r, t) / np.maximum(
+                np.einsum("nk,nk->n", t, t) + np.einsum("nk,nk->n", r, c), 1e-300
+            )
+            s = np.clip(s, self.s[0], self.s[-1])
+        return s
+
+    def slide(self, points: np.ndarray, relax: float) -> np.ndarray:
+        """Move the nodes ``relax`` of the way to the feet of their grid lines' next nodes
+        (grid lines leave a sliding boundary at right angles: the natural condition of the
+        adaptive equations where the boundary is free), kept in order; their new
+        positions."""
+        inner = np.flatnonzero(self.inward[1:-1] >= 0) + 1
+        target = self.s.copy()
+        target[inner] = self.foot(points[self.inward[inner]], self.s[inner])
+        s = self.s + relax * (target - self.s)
+        gap = MIN_GAP * np.diff(self.s).min(initial=0.0)  # no node passes its neighbour
+        k = np.arange(len(s)) * gap
+        s = np.maximum.accumulate(s - k) + k  # each at least gap past the one before
+        s = np.minimum.accumulate((s + k)[::-1])[::-1] - k  # and gap short of the next
+        s[0], s[-1] = self.s[0], self.s[-1]
+        self.s = s
+        return self.curve(s)
+
+
+def _controls(points: np.ndarray, st: np.ndarray, m: np.ndarray) -> tuple[np.ndarray, ...]:
+    """The control terms' coefficients (alpha m_xi - beta m_eta, gamma m_eta - beta m_xi)
+    at the stencils' centres, m = ln M at the nodes."""
+    x_xi = 0.5 * (points[st[:, 1, 2]] - points[st[:, 1, 0]])
+    x_eta = 0.5 * (points[st[:, 2, 1]] - points[st[:, 0, 1]])
+    a, b, c = winslow_coefficients(x_xi, x_eta)
+    m_xi = 0.5 * (m[st[:, 1, 2]] - m[st[:, 1, 0]])
+    m_eta = 0.5 * (m[st[:, 2, 1]] - m[st[:, 0, 1]])
+    return a * m_xi - b * m_eta, c * m_eta - b * m_xi
+
+
+def corner_areas(points: np.ndarray, cells: np.ndarray) -> np.ndarray:
+    """The signed area at each corner of each cell (m, 4): positive while counter-clockwise."""
+    p = points[cells]
+    e = np.roll(p, -1, axis=1) - p
+    prev = np.roll(e, 1, axis=1)
+    return prev[..., 0] * e[..., 1] - prev[..., 1] * e[..., 0]
+
+
+@dataclass
+class Solved:
+    """An adapted grid's unique nodes, its boundary pieces' arc lengths (``Piece.s``), its
+    monitor at the nodes and the Picard steps taken."""
+
+    points: np.ndarray
+    params: list[np.ndarray]
+    monitor: np.ndarray
+    steps: int
+
+
+def pieces_of(graph: NodeGraph) -> list[Piece]:
+    """The boundary pieces of ``graph`` on the curves of its unadapted nodes."""
+    return [Piece(ids, graph.points[ids], graph.inward[ids]) for ids in graph.pieces]
+
+
+def adaptive_winslow(
+    graph: NodeGraph,
+    sample: Callable[[np.ndarray], np.ndarray],
+    strength: np.ndarray,
+    largest: float,
+    initial: Solved | None = None,
+) -> Solved:
+    """The grid of ``graph`` adapted to the field ``sample`` gives at points (n, 2), with
+    the monitor of ``strength`` (at each node) scaled by the field's largest gradient
+    ``largest``, from the unadapted grid or ``initial``."""
+    points = graph.points.copy() if initial is None else initial.points.copy()
+    st, stars = graph.stencils, graph.stars
+    solved = np.concatenate([st[:, 1, 1], [s.node for s in stars]]).astype(int)
+    column = np.full(len(points), -1)
+    column[solved] = np.arange(len(solved))
+    op = Operator(st, stars, column)
+    solver = InexactLU(op, solved)
+    pieces = pieces_of(graph)
+    if initial is not None:
+        for piece, s in zip(pieces, initial.params):
+            piece.s = s.copy()
+    tol = TOL * graph.diagonal
+    centre = slice(0, 9 * len(st))
+    m = np.zeros(len(points))
+    convex = corner_areas(graph.points, graph.cells) > 0  # the corners that must stay so
+    steps = 0
+    while steps < STEPS:
+        steps += 1
+        gradient = gradient_size(points, graph.cells, sample(points))
+        m = np.log(monitor_values(gradient, strength, largest))
+        weights = op.weights(points)
+        w = weights[centre].reshape(-1, 3, 3)
+        cp, cq = _controls(points, st, m)
+        w[:, 1, 2] += 0.5 * cp
+        w[:, 1, 0] -= 0.5 * cp
+        w[:, 2, 1] += 0.5 * cq
+        w[:, 0, 1] -= 0.5 * cq
+        move = np.zeros_like(points)
+        move[solved] = RELAX * solver.update(weights, points)
+        for piece in pieces:
+            move[piece.ids] = piece.slide(points, RELAX) - points[piece.ids]
+        for _ in range(HALVINGS):
+            if (corner_areas(points + move, graph.cells)[convex] > 0).all():
+                break
+            move *= 0.5
+        else:
+            break
+        points = points + move
+        if np.abs(move).max() <= tol:
+            break
+    m = monitor_values(gradient_size(points, graph.cells, sample(points)), strength, largest)
+    return Solved(points, [piece.s for piece in pieces], m, steps)
