@@ -255,7 +255,7 @@ PARAMETER_CONSTRAINTS: dict[str, Options | Interval] = {
         "multi-block: free (interface nodes solved like interior nodes) or fixed (as drawn)",
     ),
     "adapt_strength": Interval(
-        float, 0.0, help="with --adapt: the monitor's strength beta (SPEC 14); 0: not adapted"
+        float, 0.0, help="with --adapt: the monitor's strength beta; 0: not adapted"
     ),
     "face_angle": Interval(
         float,

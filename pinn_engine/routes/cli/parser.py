@@ -273,10 +273,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--adapt",
         metavar="FILE:ARRAY",
-        help="adapt the grid to ARRAY of a solution FILE (any dataset VTK reads: an OpenFOAM "
-        "case's .foam, .vtu, .vts, .vtm, ...; a point or cell array, a vector by its "
-        "magnitude): cells small where the field changes fast, kind, counts, corners and "
-        "patches kept (SPEC 14); --adapt-strength sets the monitor's strength",
+        help="move the nodes to where ARRAY of a solution FILE (.foam, .vtu, .vts, .vtm, ...) "
+        "changes fast; counts, corners and patches kept (--adapt-strength)",
     )
     p.add_argument(
         "--fail-on-folded",
