@@ -4,10 +4,11 @@ their counts and gradings, curved edges, patches and the default patch.
 The file's grammar is the small part of OpenFOAM's dictionary syntax blockMesh uses:
 keyword entries ending in ``;``, sub-dictionaries in braces and lists in parentheses. It is
 tokenised and read into nested dicts and lists of string tokens; ``$name`` is replaced by a
-top-level entry of that name. Entries blockMesh reads that this reader does not (projection
-``geometry`` and projected ``faces``, a non-empty ``mergePatchPairs``, ``#include``,
-``#calc``, ``#codeStream``, blocks other than ``hex``, edges other than ``arc``, ``spline``
-and ``polyLine``) are refused in one line naming the entry.
+top-level entry of that name and ``#include "file"`` by the file's text. Entries blockMesh
+reads that this reader does not (projection ``geometry`` and projected ``faces``, a
+non-empty ``mergePatchPairs``, ``#calc``, ``#eval``, ``#codeStream``, blocks other than
+``hex``, edges other than ``arc``, ``spline`` and ``polyLine``) are refused in one line
+naming the entry.
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ UNSUPPORTED = {
     "faces": "projected faces are not supported; remove the 'faces' entry",
     "mergePatchPairs": "merging patch pairs is not supported; give the blocks shared vertices",
 }
-DIRECTIVES = ("#include", "#includeEtc", "#includeFunc", "#calc", "#codeStream", "#eval")
+MAX_INCLUDES = 8  # nested #include files at most (a file including itself is refused)
 
 
 @dataclass
@@ -79,18 +80,31 @@ class BlockMeshDict:
     source: str
 
 
-def _tokens(text: str, source: str) -> list[str]:
-    """The dictionary's tokens, comments removed; a directive it cannot follow refused."""
+def _expanded(text: str, source: str, depth: int = 0) -> str:
+    """``text`` without comments, each ``#include "file"`` replaced by that file's text
+    (relative to ``source``'s folder); any other directive refused, naming it."""
     text = re.sub(r"/\*.*?\*/", " ", text, flags=re.S)
     text = re.sub(r"//[^\n]*", " ", text)
-    for directive in DIRECTIVES:
-        if re.search(re.escape(directive) + r"\b", text):
+    while found := re.search(r"#(\w+)", text):
+        name = found.group(1)
+        include = re.match(r'#include\s+"([^"]+)"', text[found.start() :])
+        if name != "include" or include is None or depth >= MAX_INCLUDES:
             raise InputError(
-                f"'{directive}' is not supported; expand the dictionary first "
+                f"'#{name}' is not supported; expand the dictionary first "
                 "(foamDictionary -expand system/blockMeshDict)",
                 source,
             )
-    return re.findall(r'"[^"]*"|[(){};]|[^\s(){};]+', text)
+        path = Path(source).parent / include.group(1)
+        if not path.is_file():
+            raise InputError(f'#include "{include.group(1)}": no file {path}', source)
+        inner = _expanded(path.read_text(errors="replace"), str(path), depth + 1)
+        text = text[: found.start()] + inner + text[found.start() + include.end() :]
+    return text
+
+
+def _tokens(text: str, source: str) -> list[str]:
+    """The dictionary's tokens, comments removed and included files spliced in."""
+    return re.findall(r'"[^"]*"|[(){};]|[^\s(){};]+', _expanded(text, source))
 
 
 def parse(text: str, source: str = "blockMeshDict") -> dict:

@@ -74,7 +74,8 @@ def test_curves_pass_through_their_points():
     [
         (("edges (", "geometry { s { type sphere; } }\nedges ("), "'geometry'"),
         (("mergePatchPairs ( );", "mergePatchPairs ( (a b) );"), "'mergePatchPairs'"),
-        (("n 4;", '#include "params"\nn 4;'), "'#include'"),
+        (("n 4;", '#includeEtc "caseDicts/x"\nn 4;'), "'#includeEtc'"),
+        (("n 4;", '#include "nowhere"\nn 4;'), "no file"),
         (("n 4;", 'n #calc "2*2";'), "'#calc'"),
         (("spline 3 2", "BSpline 3 2"), "edge 'BSpline'"),
         (("hex (0 1 2 3 4 5 6 7)", "prism (0 1 2 3 4 5 6 7)"), "only 'hex' blocks"),
@@ -99,3 +100,10 @@ def test_the_boundary_form_and_the_file_name():
         ("outlet", "patch", 5),
         ("wall", "wall", 4),
     ]
+
+
+def test_include_splices_a_file(tmp_path):
+    (tmp_path / "params").write_text("n 4; // the cells along x\n")
+    dict_path = tmp_path / "blockMeshDict"
+    dict_path.write_text(BOX.replace("n 4;", '#include "params"'))
+    assert read(dict_path).blocks[0].counts == (4, 3, 2)
