@@ -2,6 +2,7 @@
 
     .venv/bin/python benchmarks/blockmesh3d.py                 # every set
     .venv/bin/python benchmarks/blockmesh3d.py --set report    # one set
+    .venv/bin/python benchmarks/blockmesh3d.py --out docs/blockmesh.md   # its table too
 
 Each dictionary is meshed by ``pinn-mesh DICT -o CASE --format openfoam`` (the default:
 the better of the Winslow grid and blockMesh's placement) and by blockMesh; checkMesh
@@ -11,8 +12,9 @@ non-orthogonality and largest skewness (ours / blockMesh's), the grid kept, and 
 of the whole commands with their ratio. A dictionary pinn-mesh refuses shows its one line.
 
 The sets: ``own`` (``example_data/blockmesh``: the butterfly pipe, the duct bend and the DFG
-3D channel), ``tuning`` (OpenFOAM's tutorials the method was tuned on) and ``report`` (held
-out: never looked at while tuning). The tutorials are read from OpenFOAM's examples
+3D channel), ``tuning`` (OpenFOAM's tutorials the method was tuned on), ``variants`` (the
+pipe with another centre square, grading or blocks along its axis; tuned on too) and
+``report`` (held out: not tuned on). The tutorials are read from OpenFOAM's examples
 (``/usr/share/doc/openfoam-examples/examples``, Debian's openfoam package; gzipped ones
 unpacked). Needs OpenFOAM (blockMesh, checkMesh).
 """
@@ -31,6 +33,10 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "example_data" / "blockmesh"))
+
+from make_dictionaries import pipe  # noqa: E402
+
 PINN_MESH = str(Path(sys.executable).with_name("pinn-mesh"))
 TUTORIALS = Path("/usr/share/doc/openfoam-examples/examples")
 OWN = ROOT / "example_data" / "blockmesh"
@@ -41,6 +47,15 @@ SETS = {
         "cavity": "incompressible/icoFoam/cavity/cavity",
         "squareBend": "incompressible/simpleFoam/squareBend",
         "TJunction": "incompressible/pimpleFoam/RAS/TJunction",
+    },
+    "variants": {  # the butterfly pipe drawn otherwise: how robust the gain is
+        "pipe, square 0.3 R": lambda: pipe(square=0.3),
+        "pipe, square 0.5 R": lambda: pipe(square=0.5),
+        "pipe, square 0.6 R": lambda: pipe(square=0.6),
+        "pipe, no grading": lambda: pipe(grade=1),
+        "pipe, grading 8": lambda: pipe(grade=8),
+        "pipe, grading 0.3": lambda: pipe(grade=0.3),
+        "pipe, 4 blocks along": lambda: pipe(layers=4),
     },
     "report": {
         "pipeCyclic": "incompressible/simpleFoam/pipeCyclic",
@@ -56,6 +71,7 @@ SETS = {
 }
 SYSTEM = ("controlDict", "fvSchemes", "fvSolution")
 RUN_LIMIT = 600  # seconds a run may take before it counts as failed
+MARK = "<!-- BLOCKMESH3D {} -->"  # the markers round the table in --out
 
 
 def env() -> dict[str, str]:
@@ -64,8 +80,11 @@ def env() -> dict[str, str]:
     return out
 
 
-def dictionary(where: Path | str) -> str | None:
-    """A dictionary's text: a file, or a tutorial's ``system/blockMeshDict`` (or its .gz)."""
+def dictionary(where) -> str | None:
+    """A dictionary's text: made by a function, a file, or a tutorial's
+    ``system/blockMeshDict`` (or its .gz)."""
+    if callable(where):
+        return where()
     path = Path(where)
     if not path.is_absolute():
         path = TUTORIALS / path / "system" / "blockMeshDict"
@@ -175,7 +194,9 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--set", choices=tuple(SETS), action="append", help="default: all")
     parser.add_argument("--only", nargs="*", help="dictionary names to run (default all)")
+    parser.add_argument("--out", type=Path, help="the page whose BLOCKMESH3D table to replace")
     opts = parser.parse_args()
+    before = os.getloadavg()[0]
     rows = []
     with tempfile.TemporaryDirectory(prefix="pinn-mesh-blockmesh3d-") as scratch:
         for set_name in opts.set or SETS:
@@ -189,7 +210,14 @@ def main() -> None:
                 rows.append(run_case(name, text, Path(scratch) / set_name / name))
                 rows[-1]["case"] = f"{name} ({set_name})"
                 print(table(rows[-1:]).splitlines()[-1], flush=True)
-    print(table(rows))
+    text = table(rows)
+    load = f"Load average {before:.1f} before, {os.getloadavg()[0]:.1f} after, on 2 shared cores."
+    print(text)
+    if opts.out:
+        begin, end = MARK.format("begin"), MARK.format("end")
+        head, rest = opts.out.read_text().split(begin, 1)
+        body = f"{load}\n\n{text}"
+        opts.out.write_text(f"{head}{begin}\n{body}\n{end}{rest.split(end, 1)[1]}")
 
 
 if __name__ == "__main__":

@@ -32,7 +32,8 @@ def _vec(p) -> str:
     return "(" + " ".join(f"{v:.10g}" for v in p) + ")"
 
 
-def _write(name: str, vertices, blocks, edges, patches, scale: float = 1.0) -> None:
+def text(vertices, blocks, edges, patches, scale: float = 1.0) -> str:
+    """A blockMeshDict's text."""
     lines = [HEADER, f"scale {scale:g};\n\nvertices\n(\n"]
     lines += [f"    {_vec(v)} // {k}\n" for k, v in enumerate(vertices)]
     lines.append(");\n\nblocks\n(\n")
@@ -47,9 +48,13 @@ def _write(name: str, vertices, blocks, edges, patches, scale: float = 1.0) -> N
             "        );\n    }\n"
         )
     lines.append(");\n\nmergePatchPairs\n(\n);\n")
+    return "".join(lines)
+
+
+def _write(name: str, dictionary: str) -> None:
     out = HERE / name / "system" / "blockMeshDict"
     out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text("".join(lines))
+    out.write_text(dictionary)
 
 
 def extruded(base, z0: float, z1: float):
@@ -66,28 +71,37 @@ def hexes(quads, n: int, counts, grading):
     return out
 
 
-def pipe() -> None:
-    r, a, length = 0.05, 0.02, 0.5
-    c = r / math.sqrt(2)
+def pipe(square: float = 0.4, grade: float = 3.0, layers: int = 1) -> str:
+    """The butterfly pipe's dictionary: the centre square's half-side ``square`` radii, the
+    outer blocks' cells growing ``grade`` times from the wall to the square, ``layers``
+    blocks along the axis."""
+    r, length = 0.05, 0.5
+    a, c = square * r, r / math.sqrt(2)
     base = [(-a, -a), (a, -a), (a, a), (-a, a), (-c, -c), (c, -c), (c, c), (-c, c)]
     n = len(base)
-    verts = extruded(base, 0.0, length)
+    zs = [length * k / layers for k in range(layers + 1)]
+    verts = [(x, y, z) for z in zs for x, y in base]
     quads = [(0, 1, 2, 3), (4, 5, 1, 0), (5, 6, 2, 1), (6, 7, 3, 2), (7, 4, 0, 3)]
-    nc, nr, nz = 12, 10, 40
+    nc, nr, nz = 12, 10, 40 // layers
     counts = [(nc, nc, nz)] + [(nc, nr, nz)] * 4
-    grading = [(1, 1, 1)] + [(1, 3, 1)] * 4  # j runs wall to square: cells grow inward
-    blocks = hexes(quads, n, counts, grading)
+    grading = [(1, 1, 1)] + [(1, f"{grade:g}", 1)] * 4  # j runs wall to square
+    blocks = []
+    for layer in range(layers):
+        ids = [[v + n * layer for v in q] for q in quads]
+        blocks += hexes(ids, n, counts, grading)
     mids = [(0, -r), (r, 0), (0, r), (-r, 0)]
     ring = [(4, 5), (5, 6), (6, 7), (7, 4)]
     edges = []
-    for layer, z in ((0, 0.0), (n, length)):
+    for layer, z in enumerate(zs):
         for (p, q), m in zip(ring, mids):
-            edges.append(f"arc {p + layer} {q + layer} {_vec((*m, z))}")
+            edges.append(f"arc {p + n * layer} {q + n * layer} {_vec((*m, z))}")
+    top = n * layers
     inlet = [tuple(reversed(q)) for q in quads]
-    outlet = [tuple(v + n for v in q) for q in quads]
-    wall = [(p, q, q + n, p + n) for p, q in ring]
+    outlet = [tuple(v + top for v in q) for q in quads]
+    wall = [(p + n * k, q + n * k, q + n * (k + 1), p + n * (k + 1)) for k in range(layers)
+            for p, q in ring]  # fmt: skip
     patches = [("inlet", "patch", inlet), ("outlet", "patch", outlet), ("wall", "wall", wall)]
-    _write("pipe", verts, blocks, edges, patches)
+    return text(verts, blocks, edges, patches)
 
 
 def bend() -> None:
@@ -113,7 +127,7 @@ def bend() -> None:
         ("outlet", "patch", [(6, 7, 7 + n, 6 + n)]),
         ("walls", "wall", walls + ends),
     ]
-    _write("bend", verts, blocks, edges, patches)
+    _write("bend", text(verts, blocks, edges, patches))
 
 
 def dfg3d() -> None:
@@ -171,10 +185,10 @@ def dfg3d() -> None:
         ),
         ("cylinder", "wall", [side(1, 0), side(2, 1), side(3, 2), side(0, 3)]),
     ]
-    _write("dfg3d", verts, blocks, edges, patches)
+    _write("dfg3d", text(verts, blocks, edges, patches))
 
 
 if __name__ == "__main__":
-    pipe()
+    _write("pipe", pipe())
     bend()
     dfg3d()
