@@ -216,11 +216,13 @@ def block_faces(ids: np.ndarray, axis: int, end: int) -> np.ndarray:
 
 
 def _patches(d: BlockMeshDict, ids, faces, interfaces) -> list[tuple[str, str, np.ndarray]]:
-    named: dict[frozenset, tuple[str, str]] = {}
-    order: list[tuple[str, str]] = []
+    """The patches' faces in the dictionary's order (a patch's faces as it lists them, as
+    blockMesh orders them: a cyclic pair's faces then correspond one to one), the faces no
+    patch lists in the default patch (the listed patch of its name, if any)."""
+    collected: dict[tuple[str, str], list[np.ndarray]] = {}
+    listed: set[frozenset] = set()
     for p in d.patches:
-        if (p.name, p.type) not in order:
-            order.append((p.name, p.type))
+        got = collected.setdefault((p.name, p.type), [])
         for f in p.faces:
             key = frozenset(f)
             if key not in faces:
@@ -231,16 +233,16 @@ def _patches(d: BlockMeshDict, ids, faces, interfaces) -> list[tuple[str, str, n
                     "not supported)",
                     d.source,
                 )
-            named[key] = (p.name, p.type)
-    collected: dict[tuple[str, str], list[np.ndarray]] = {k: [] for k in order}
+            b, axis, end = faces[key][0]
+            got.append(block_faces(ids[b], axis, end))
+            listed.add(key)
+    order = list(collected)
     default = [k for k in order if k[0] == d.default_patch[0]]  # named: it takes the rest
     rest = collected.setdefault(default[0] if default else d.default_patch, [])
     for key, owners in faces.items():
-        if len(owners) != 1:
-            continue
-        b, axis, end = owners[0]
-        quads = block_faces(ids[b], axis, end)
-        (collected[named[key]] if key in named else rest).append(quads)
+        if len(owners) == 1 and key not in listed:
+            b, axis, end = owners[0]
+            rest.append(block_faces(ids[b], axis, end))
     # a patch the dictionary names is kept even with no faces (blockMesh keeps it)
     return [
         (name, kind, np.vstack(q) if q else np.zeros((0, 4), dtype=int))

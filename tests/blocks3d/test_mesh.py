@@ -181,3 +181,38 @@ def test_pyvista_reads_a_dictionary_as_blocks(tmp_path):
     dict_path.write_text(small_pipe().replace("mergePatchPairs\n(\n);", "mergePatchPairs ((a b));"))
     with pytest.raises(ValueError, match="'mergePatchPairs'"):
         pinn_engine.read_blockmeshdict(dict_path)
+
+
+def test_a_2d_dictionary_keeps_its_edges_across_aligned():
+    """One cell across between two empty patches (the pipe's section): the Winslow grid
+    solves the section as SPEC 10's, each node pair across on the planes' normal to
+    round-off, as checkMesh's 2D check wants."""
+    text = small_pipe().replace(" 3)", " 1)").replace("type patch", "type empty")
+    result = mesh_dictionary(from_text(text))
+    assert result.kept == "elliptic"
+    assert [k for _, k, _ in result.place.patches] == ["empty", "empty", "wall"]
+    for ids in result.place.ids:
+        front, back = result.points[ids[..., 0]], result.points[ids[..., 1]]
+        assert np.abs(front[..., :2] - back[..., :2]).max() < 1e-14
+        assert np.allclose(front[..., 2], 0.0) and np.allclose(back[..., 2], 0.5)
+
+
+@needs_openfoam
+def test_a_cyclic_pair_keeps_its_neighbour_and_face_order(tmp_path):
+    """Cyclic patches: their neighbourPatch is written and their faces correspond one to
+    one (the dictionary's face order), so checkMesh passes."""
+    text = small_pipe()
+    for name, other in (("inlet", "outlet"), ("outlet", "inlet")):
+        text = text.replace(
+            f"    {name}\n    {{\n        type patch;",
+            f"    {name}\n    {{\n        type cyclic;\n        neighbourPatch {other};",
+        )
+    dict_path = tmp_path / "system" / "blockMeshDict"
+    dict_path.parent.mkdir()
+    dict_path.write_text(text)
+    case = tmp_path / "case"
+    assert main([str(dict_path), "-o", str(case), "--format", "openfoam", "--quiet"]) == 0
+    boundary = (case / "constant" / "polyMesh" / "boundary").read_text()
+    assert boundary.count("neighbourPatch") == 2
+    log = subprocess.run(["checkMesh"], cwd=case, env=foam_env(), capture_output=True, text=True)
+    assert "Mesh OK." in log.stdout

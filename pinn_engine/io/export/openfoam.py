@@ -176,12 +176,17 @@ HEX_FACES = np.array(
 
 
 def write_hex_polymesh(
-    points: np.ndarray, cells: np.ndarray, patches: list[tuple[str, str, np.ndarray]], mesh: Path
+    points: np.ndarray,
+    cells: np.ndarray,
+    patches: list[tuple[str, str, np.ndarray]],
+    mesh: Path,
+    entries: dict[str, dict[str, str]] | None = None,
 ) -> None:
     """The polyMesh of hexahedra ``cells`` (m, 8; OpenFOAM's corner order) over merged
     ``points``: a face of two cells is internal (owned by the lower), every other face is
     in the patch (name, OpenFOAM type, its faces (k, 4) of point ids) listing it, with its
-    normal out of its cell. A boundary face no patch lists is a programming error."""
+    normal out of its cell; ``entries``: a patch's further boundary entries by name (a
+    cyclic's ``neighbourPatch``). A boundary face no patch lists is a programming error."""
     quads = cells[:, HEX_FACES].reshape(-1, 4)
     key = np.sort(quads, axis=1)
     _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
@@ -201,7 +206,7 @@ def write_hex_polymesh(
         out.append((name, kind, quads[found], found // 6))
     if where:
         raise ValueError(f"{len(where)} boundary faces are in no patch")
-    write_mesh_files(mesh, points, faces, owner, neighbour, out)
+    write_mesh_files(mesh, points, faces, owner, neighbour, out, entries)
 
 
 def write_mesh_files(
@@ -211,9 +216,11 @@ def write_mesh_files(
     owner: np.ndarray,
     neighbour: np.ndarray,
     patches: list,
+    entries: dict[str, dict[str, str]] | None = None,
 ) -> None:
     """The five polyMesh files from the points, the internal faces (owner-ordered) and the
-    patches as (name, type, faces, owner cells), in ``mesh``."""
+    patches as (name, type, faces, owner cells), in ``mesh``; ``entries``: further
+    entries of a patch's boundary dictionary, by patch name."""
     all_faces = np.vstack([faces] + [p[2] for p in patches])
     all_owner = np.concatenate([owner] + [p[3] for p in patches])
     n_cells = int(max(owner.max(initial=-1), all_owner.max(initial=-1))) + 1
@@ -229,6 +236,9 @@ def write_mesh_files(
     start = len(faces)
     for name, kind, pf, _ in patches:
         group = "        inGroups        List<word> 1(empty);\n" if kind == "empty" else ""
+        group += "".join(
+            f"        {key:<16}{value};\n" for key, value in (entries or {}).get(name, {}).items()
+        )
         text.append(
             f"    {name}\n    {{\n        type            {kind};\n{group}"
             f"        nFaces          {len(pf)};\n        startFace       {start};\n"

@@ -19,6 +19,17 @@ DICTIONARY_OPTIONS = frozenset(
 )
 
 
+def _entries(extra: dict) -> dict[str, str]:
+    """A patch's further entries (``neighbourPatch``, ``transform`` ...) as OpenFOAM text."""
+
+    def text(value) -> str:
+        if isinstance(value, list):
+            return "(" + " ".join(text(v) for v in value) + ")"
+        return str(value)
+
+    return {k: text(v) for k, v in extra.items() if not isinstance(v, dict)}
+
+
 def run_dictionary(args: argparse.Namespace, written: list[Path]) -> Path:
     """The dictionary's grid into ``OUT.vtm`` or, with ``--format openfoam``, an OpenFOAM
     case with the dictionary's patches; appends each output file to ``written`` once it is
@@ -54,10 +65,11 @@ def run_dictionary(args: argparse.Namespace, written: list[Path]) -> Path:
     outcome = job.run(settings, geometry)
     result = outcome.mesh
     if foam:
+        entries = {p.name: _entries(p.extra) for p in geometry.dictionary.patches if p.extra}
         write_case(
             out,
             lambda mesh: write_hex_polymesh(
-                result.points, result.cells, result.place.patches, mesh
+                result.points, result.cells, result.place.patches, mesh, entries
             ),
         )
     else:
