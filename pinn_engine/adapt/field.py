@@ -110,15 +110,28 @@ def _dimension(leaf: vtkDataSet) -> int:
     return leaf.GetCell(0).GetCellDimension() if leaf.GetNumberOfCells() else 0
 
 
-class Field:
-    """``array`` of the VTK data ``data`` as point values (cell values averaged to the
-    points, vectors by their magnitude); ``source`` names it in messages."""
+def _first_array(leaves: list[vtkDataSet], source: str) -> str:
+    """The first point array of the datasets, else their first cell array."""
+    for kind in ("point", "cell"):
+        for leaf in leaves:
+            fd = leaf.GetPointData() if kind == "point" else leaf.GetCellData()
+            for k in range(fd.GetNumberOfArrays()):
+                if fd.GetArrayName(k):
+                    return fd.GetArrayName(k)
+    raise InputError("holds no point or cell array to adapt to", source)
 
-    def __init__(self, data: vtkDataObject, array: str, source: str = "field") -> None:
+
+class Field:
+    """``array`` of the VTK data ``data`` (None: its first point array, else its first
+    cell array) as point values (cell values averaged to the points, vectors by their
+    magnitude); ``source`` names it in messages."""
+
+    def __init__(self, data: vtkDataObject, array: str | None, source: str = "field") -> None:
         from vtkmodules.vtkFiltersCore import vtkAppendFilter, vtkCellDataToPointData
 
-        self.array, self.source = array, source
         leaves = _leaves(data)
+        array = array or _first_array(leaves, source)
+        self.array, self.source = array, source
         having = [
             leaf
             for leaf in leaves

@@ -21,7 +21,8 @@ COLUMNS = ("name", "input", "aux", "options")
 REQUIRED = ("name", "input")  # aux and options may be left out of the header
 AUX_SEPARATOR = ";"  # several auxiliary-line files in one field (SPEC 12)
 # Paths of the options that name inputs are relative to the manifest's folder, like `input`
-INPUT_PATHS = ("aux", "blocks", "load_model", "model")
+# (--adapt FILE:ARRAY too: the array's name stays at its end)
+INPUT_PATHS = ("aux", "blocks", "load_model", "model", "adapt")
 
 
 class ManifestError(PinnMeshError, ValueError):

@@ -44,7 +44,14 @@ from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 from pinn_engine.cache import MeshCache
 from pinn_engine.errors import STOP, InputError, SettingsError, grid_warnings, unknown_name
-from pinn_engine.routes.filters import LastOutcome, LineInputs, Stoppable, choice, patch_setting
+from pinn_engine.routes.filters import (
+    FieldInput,
+    LastOutcome,
+    LineInputs,
+    Stoppable,
+    choice,
+    patch_setting,
+)
 from pinn_engine.routes.reporting import message_of
 from pinn_engine.routes.summary_lines import grid_lines
 from pinn_engine.settings import (
@@ -72,7 +79,7 @@ def _warning(report: dict) -> str | None:
     return "; ".join(text for text, _ in grid_warnings(report, "paraview")) or None
 
 
-class PinnMeshAlgorithm(LastOutcome, Stoppable, LineInputs, VTKPythonAlgorithmBase):
+class PinnMeshAlgorithm(LastOutcome, Stoppable, FieldInput, LineInputs, VTKPythonAlgorithmBase):
     """Structured quadrilateral grid of a four-sided boundary (pinn, mgnet, tfi, elliptic).
 
     Settings (each setter calls ``Modified()`` when the value changes):
@@ -93,7 +100,12 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, LineInputs, VTKPythonAlgorithmBa
       (e.g. ``"device"``, ``"boundary_mode"``, ``"elliptic_iterations"``)
     * ``SetPatchNames(names)``: boundary patch names (four names bottom right top left, or
       ``SIDE=NAME`` items, as a string, sequence or mapping); field data ``PatchNames``
+    * input port 2 (optional), a Field: any dataset (a solver's result); the grid is then
+      adapted to its array ``SetAdaptArray(name)`` (default: its first point array) with
+      ``SetAdaptStrength(beta)`` (SPEC 14); point array ``Monitor``
     """
+
+    FIELD_PORT = 2
 
     LABEL = LABEL
 
@@ -107,7 +119,7 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, LineInputs, VTKPythonAlgorithmBa
         output window, for the caller to raise ``GetLastException()``); ``cache``: fitted
         networks to share (default: this algorithm's own); ``progress``: the caller's
         training callback, as the pyvista route's (returning True cancels)."""
-        super().__init__(nInputPorts=2, nOutputPorts=1, outputType="vtkStructuredGrid")
+        super().__init__(nInputPorts=3, nOutputPorts=1, outputType="vtkStructuredGrid")
         self.SetProgressText(LABEL)  # also what the executive's own progress events show
         self._route, self._user_progress = route, progress
         self._exception: Exception | None = None
@@ -400,6 +412,8 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, LineInputs, VTKPythonAlgorithmBa
             self._wall_spacing,
             self._auto_topology,
             self._model if isinstance(self._model, str) else id(self._model),
+            self._adapt_array,
+            self._adapt_strength,
         ]
         for port in inInfo:
             for k in range(port.GetNumberOfInformationObjects()):
@@ -421,10 +435,11 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, LineInputs, VTKPythonAlgorithmBa
         ]
         aux = [
             vtkPolyData.GetData(port, k)
-            for port in inInfo[1:]
+            for port in inInfo[1 : self.FIELD_PORT]
             for k in range(port.GetNumberOfInformationObjects())
         ]
-        settings, picked = self.GetSettings(), []
+        field = self._field(inInfo)
+        settings, picked = self._adapting(self.GetSettings()), []
         try:
             geometry = job.geometry_from_polydata(
                 settings, inputs, aux, self._corners, patches=self._panel_patches()
@@ -432,7 +447,7 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, LineInputs, VTKPythonAlgorithmBa
         except InputError:  # no four-sided domain: under Automatic, a body is one too
             if self.GetTopology() != AUTO_TOPOLOGY or job.topology_of(inputs) != "o":
                 raise
-            settings = self.GetSettings("o")
+            settings = self._adapting(self.GetSettings("o"))
             geometry = job.geometry_from_polydata(
                 settings, inputs, aux, patches=self._panel_patches()
             )
@@ -447,6 +462,7 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, LineInputs, VTKPythonAlgorithmBa
                 self._training_progress(settings),
                 self._cache,
                 family=self._model,
+                field=field,
             )
         self._trained = outcome.trained
         seconds = time.perf_counter() - began

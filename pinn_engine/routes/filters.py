@@ -8,12 +8,14 @@ from __future__ import annotations
 import contextlib
 import signal
 import threading
+from dataclasses import replace
 
 import numpy as np
 from vtkmodules.vtkCommonCore import vtkOutputWindow
 
 from pinn_engine.errors import ROUTE_WORDS, STOP, SettingsError, stopped_training_warning
 from pinn_engine.routes.reporting import announce
+from pinn_engine.settings import setting_problem
 
 
 def choice(value, options: tuple[str, ...], what: str) -> str:
@@ -221,6 +223,59 @@ class LineInputs(ModifiedOnChange):
         if port >= 1:
             info.Set(self.INPUT_IS_OPTIONAL(), 1)
         return 1
+
+
+class FieldInput(ModifiedOnChange):
+    """Mixed into the 2D filters before ``LineInputs``: the optional Field port
+    ``FIELD_PORT`` (any dataset: a solver's result, the OpenFOAM reader's output) whose
+    array the grid is adapted to (SPEC 14), that array's name and the monitor's strength."""
+
+    FIELD_PORT = -1  # set by each filter: its last input port
+    _adapt_array = ""  # the array's name; "": the Field input's first point (else cell) array
+    _adapt_strength: float | None = None  # None: the settings' default
+
+    def FillInputPortInformation(self, port, info):
+        if port != self.FIELD_PORT:
+            return super().FillInputPortInformation(port, info)
+        info.Set(self.INPUT_REQUIRED_DATA_TYPE(), "vtkDataObject")
+        info.Set(self.INPUT_IS_OPTIONAL(), 1)
+        return 1
+
+    def SetAdaptArray(self, *name) -> None:
+        """The array to adapt to by name (ParaView's array selection passes five values,
+        the name last)."""
+        self._set("_adapt_array", str(name[-1]) if name and name[-1] is not None else "")
+
+    def GetAdaptArray(self) -> str:
+        return self._adapt_array
+
+    def SetAdaptStrength(self, beta) -> None:
+        problem = None if beta is None else setting_problem("adapt_strength", beta)
+        if problem:
+            raise SettingsError(f"Adapt Strength {beta}: {problem}")
+        self._set("_adapt_strength", None if beta is None else float(beta))
+
+    def _adapting(self, settings):
+        """``settings`` with the strength set here, if any."""
+        if self._adapt_strength is None:
+            return settings
+        return replace(settings, adapt_strength=self._adapt_strength)
+
+    def _field(self, inInfo):
+        """The Field input's array as a ``job.Field``, or None without a Field input."""
+        from vtkmodules.vtkCommonDataModel import vtkDataObject
+
+        from pinn_engine.job import Field
+
+        port = inInfo[self.FIELD_PORT]
+        data = (
+            port.GetInformationObject(0).Get(vtkDataObject.DATA_OBJECT())
+            if (port.GetNumberOfInformationObjects())
+            else None
+        )
+        if data is None:
+            return None
+        return Field(data, self._adapt_array or None, "field input")
 
 
 def folded_warning(report: dict, route: str, otherwise: str) -> str | None:

@@ -43,6 +43,7 @@ from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkMultiBlockDataSet, v
 
 from pinn_engine.io.export.edges import edges_polydata
 from pinn_engine.routes.filters import (
+    FieldInput,
     LastOutcome,
     LineInputs,
     PatchWalls,
@@ -70,7 +71,7 @@ MOVE_EDGES = "moving the block edges near them (the cell array Folded marks them
 
 
 class PinnMultiBlockAlgorithm(
-    LastOutcome, Stoppable, LineInputs, PatchWalls, VTKPythonAlgorithmBase
+    LastOutcome, Stoppable, FieldInput, LineInputs, PatchWalls, VTKPythonAlgorithmBase
 ):
     """Multi-block structured grid (SPEC 10) of a boundary, its holes and block edges.
 
@@ -107,11 +108,12 @@ class PinnMultiBlockAlgorithm(
     """
 
     LABEL = LABEL
+    FIELD_PORT = 3  # a Field input (optional): the grid adapted to its array (SPEC 14)
 
     def __init__(self, route: str = "paraview") -> None:
         """``route``: whose words messages are in ("paraview"; "pyvista" keeps them off VTK's
         output window, for the caller to raise ``GetLastException()``)."""
-        super().__init__(nInputPorts=3, nOutputPorts=2, outputType="vtkMultiBlockDataSet")
+        super().__init__(nInputPorts=4, nOutputPorts=2, outputType="vtkMultiBlockDataSet")
         self.SetProgressText(LABEL)
         self._route = route
         self._blocking = BLOCKING[0]
@@ -223,11 +225,12 @@ class PinnMultiBlockAlgorithm(
         block edges meshed."""
         from pinn_engine import job
 
-        settings = self.GetSettings()
+        settings = self._adapting(self.GetSettings())
         ports = [
             [vtkPolyData.GetData(port, k) for k in range(port.GetNumberOfInformationObjects())]
-            for port in inInfo
+            for port in inInfo[: self.FIELD_PORT]
         ]
+        field = self._field(inInfo)
         geometry = job.blocks_from_polydata(
             *ports,
             automatic=self._automatic(),
@@ -238,7 +241,7 @@ class PinnMultiBlockAlgorithm(
         )
         began = time.perf_counter()
         with self._stop_on_signal():
-            outcome = job.run(settings, geometry, self._block)
+            outcome = job.run(settings, geometry, self._block, field=field)
         self._tell(blocks_lines(settings.method, outcome.report, time.perf_counter() - began))
         return outcome.data, outcome.report, outcome.edges
 

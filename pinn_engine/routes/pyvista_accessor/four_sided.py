@@ -15,6 +15,7 @@ from pinn_engine.routes.pyvista_accessor.inputs import as_polydata
 from pinn_engine.routes.pyvista_accessor.report import report
 from pinn_engine.routes.pyvista_accessor.running import (
     ROUTE,
+    give_field,
     node_counts,
     public,
     run,
@@ -50,6 +51,7 @@ def pinn_mesh(
     orthogonal=None,
     progress_bar: bool = False,
     model=None,
+    adapt=None,
     **settings,
 ) -> pv.StructuredGrid:
     """Structured quadrilateral grid of a four-sided 2D domain, or an O- or C-grid around a
@@ -128,6 +130,14 @@ def pinn_mesh(
         ``pinn_engine.fit_family(...)``'s ``model_``) in a forward pass instead of the
         boundary's own run; field data ``NetworkResult`` ``family`` (``start`` where the
         guard kept the member's own start, with a warning) and ``FamilyModel``.
+    adapt : (dataset, str), optional
+        Adapt the grid to a solution (SPEC 14): a dataset (or a file pyvista reads, an
+        OpenFOAM case's ``.foam`` too) and the name of its point or cell array (a vector by
+        its magnitude). Nodes move to where the field changes fast; counts, corners and
+        patches are kept, boundary nodes slide along their side, the sides given a
+        ``spacing`` or ``orthogonal`` stay with their first row. ``adapt_strength=beta``
+        (a ``**settings`` field, default 20) sets the monitor ``sqrt(1 + beta^2 |grad f|^2
+        / max |grad f|^2)``. Point data ``Monitor``; the report's ``adaptation``.
     **settings
         Any other training setting by name (e.g. ``learning_rate=5e-4``); an unknown name
         raises ``pinn_engine.errors.KeywordError`` (a ``TypeError``) naming the nearest.
@@ -206,6 +216,7 @@ def pinn_mesh(
     if patches is not None:
         alg.SetPatchNames(patches)
     alg.SetModel(model)
+    give_field(alg, adapt)
     grid = run(
         alg,
         lambda: _boundary_polydata(boundary, config, farfield is not None),

@@ -12,6 +12,7 @@ from pinn_engine.routes.pyvista_accessor.inputs import as_polydata, polydata_lis
 from pinn_engine.routes.pyvista_accessor.report import report
 from pinn_engine.routes.pyvista_accessor.running import (
     ROUTE,
+    give_field,
     public,
     pyvista_words,
     run,
@@ -35,6 +36,8 @@ def pinn_mesh_blocks(
     save_blocks=None,
     progress_bar: bool = False,
     cells=None,
+    adapt=None,
+    adapt_strength: float | None = None,
 ) -> pv.MultiBlock:
     """Multi-block structured grid (SPEC 10) of a domain cut into four-sided blocks.
 
@@ -82,6 +85,12 @@ def pinn_mesh_blocks(
         ``.vtp``, open polylines: passed back as ``blocks=`` they give the same grid.
     progress_bar : bool, default: False
         Show a progress bar of the meshing, as pyvista's filters do.
+    adapt : (dataset, str), optional
+        Adapt the grid to a solution's array (SPEC 14; ``pinn_mesh``'s ``adapt``): block
+        corners on the boundary stay, interfaces are solved, patches with a ``spacing`` or
+        ``orthogonal`` stay with their first row. Point data ``Monitor``.
+    adapt_strength : float, optional
+        The monitor's strength beta (default 20).
 
     Returns
     -------
@@ -113,10 +122,12 @@ def pinn_mesh_blocks(
         (alg.SetSpacing, spacing),
         (alg.SetOrthogonal, orthogonal),
         (alg.SetCells, cells),
+        (alg.SetAdaptStrength, adapt_strength),
     ):
         if value is not None:
             setter(value)
     alg.GetSettings()  # ValueError for bad settings, before any input is read
+    give_field(alg, adapt)
     with pyvista_words():
         for poly in polydata_list(aux, "aux"):
             alg.AddInputDataObject(2, poly)

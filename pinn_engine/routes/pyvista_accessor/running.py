@@ -7,10 +7,12 @@ from __future__ import annotations
 import functools
 import inspect
 import numbers
+import os
 import sys
 import warnings
 from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
+from pathlib import Path
 
 import pyvista as pv
 from vtkmodules.vtkCommonDataModel import vtkPolyData
@@ -109,6 +111,25 @@ def run(
     if error is not None:
         raise error.for_route(ROUTE) if isinstance(error, InputError) else error
     return pv.wrap(alg.GetOutput())
+
+
+def give_field(alg, adapt) -> None:
+    """Connect ``adapt=(dataset, "ARRAY")`` (a dataset, or a file pyvista reads: an
+    OpenFOAM case's ``.foam`` too) to the filter's Field input (SPEC 14)."""
+    if adapt is None:
+        return
+    if not (isinstance(adapt, (tuple, list)) and len(adapt) == 2 and isinstance(adapt[1], str)):
+        raise SettingsError(
+            f'adapt={type(adapt).__name__}: give (dataset, "ARRAY"), e.g. '
+            '(pv.read("case.foam"), "U")'
+        )
+    data, array = adapt
+    if isinstance(data, (str, os.PathLike)):
+        if not Path(data).is_file():
+            raise InputError("file not found", str(data))
+        data = pv.read(data)
+    alg.SetInputDataObject(alg.FIELD_PORT, data)
+    alg.SetAdaptArray(array)
 
 
 def _caller_level() -> int:
