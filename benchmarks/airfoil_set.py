@@ -32,9 +32,11 @@ from pathlib import Path
 
 import numpy as np
 
-from pinn_engine.bodies.airfoil import circle, inside_polygon, load_body, naca4
+from pinn_engine.bodies.airfoil import circle, inside_polygon, load_body, naca4, read_dat
 from pinn_engine.bodymesh import mesh_body
 from pinn_engine.errors import InputError
+from pinn_engine.job import Geometry, Outcome
+from pinn_engine.job.cover import covered
 from pinn_engine.quality import cell_quality, summary
 from pinn_engine.settings import make_settings
 
@@ -75,9 +77,10 @@ def pinn_mesh(path: Path, topology: str, method: str) -> dict:
             warnings.simplefilter("error", RuntimeWarning)  # a stray warning is a failure
             body = load_body(path)
             ni, nj = SIZES[topology]
+            far = circle(body, FAR_FIELD)
             r = mesh_body(
                 body,
-                circle(body, FAR_FIELD),
+                far,
                 topology,
                 method,
                 ni,
@@ -85,6 +88,8 @@ def pinn_mesh(path: Path, topology: str, method: str) -> dict:
                 make_settings(method, lattice=(ni, nj)),
                 wall_spacing=FIRST_LAYER * body.chord,
             )
+        # the check every written grid passes (job.run's): a grid it refuses is not written
+        covered(Outcome("body", None, r.report, [r.points]), Geometry(body=body, far=far))
     except InputError as exc:
         return {"class": "refused", "why": str(exc), "seconds": time.perf_counter() - t0}
     seconds = time.perf_counter() - t0
@@ -109,7 +114,11 @@ def construct2d(exe: str, path: Path, topology: str, yplus: float, work: Path) -
         f"VOPT\nJMAX\n{nj}\nYPLS\n{yplus}\nTOPO\n{topo}\nQUIT\nGRID\nSMTH\nQUIT\n"
     )
     dat = work / "foil.dat"
-    dat.write_bytes(path.read_bytes())
+    try:  # Construct2D reads a name line and x y rows: the points pinn-mesh reads, in order
+        xy, name = read_dat(path)
+    except InputError as exc:
+        return {"class": "failed", "why": str(exc), "seconds": 0.0}
+    dat.write_text(f"{name}\n" + "".join(f"{x:.10f} {y:.10f}\n" for x, y in xy))
     out = dat.with_suffix(".p3d")
     out.unlink(missing_ok=True)
     t0 = time.perf_counter()

@@ -266,7 +266,9 @@ def real_set(args: argparse.Namespace) -> int:
     lines = table(rows, args.method)
     print("\n".join(lines))
     if args.write:
-        name = "airfoil-set" + (f"-{args.half}" if args.half else "")
+        folder = Path(args.set).name
+        name = "airfoil-set" + ("" if folder == "airfoils" else f"-{folder}")
+        name += f"-{args.half}" if args.half else ""
         write_block(args.write, name + ("-quick" if args.limit else ""), lines)
     return 0
 

@@ -2,6 +2,8 @@
 
 - Selig ``.dat``: a name line, then ``x y`` rows from the trailing edge over the upper
   surface to the leading edge and back along the lower surface (counter-clockwise).
+- OpenFAST (AeroDyn) airfoil files (``*_Coords.txt``): ``N NumCoords``, ``!`` comments,
+  the reference point (skipped), then the coordinates in either sense.
 - Lednicer ``.dat``: a name line, a row ``NU NL`` (point counts), then the upper surface
   from leading to trailing edge and the lower surface likewise (blank lines between); the
   count line may be missing (the points then start at the leading edge).
@@ -32,6 +34,9 @@ _NUMBER = re.compile(
 )
 # A line whose first word is a number (a coordinate row gone wrong, not a note such as a date)
 _LEADING_NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eEdD][-+]?\d+)?(\s|$)")
+# An OpenFAST airfoil file (AeroDyn's): a "N NumCoords" line, '!' comments, then the
+# airfoil's reference point (its aerodynamic centre) before the coordinates
+_OPENFAST = re.compile(r"^\s*\d+\s+NumCoords\b", re.MULTILINE)
 # Lednicer's order without its count line: the points start within this share of the chord
 # from the leading edge (Selig's start at the trailing edge), and x falls back by at least
 # this share of the chord where the second surface starts at the leading edge again
@@ -90,7 +95,13 @@ def read_dat(path: str | os.PathLike) -> tuple[np.ndarray, str]:
         text = Path(path).read_text(errors="replace")
     except OSError as exc:
         raise InputError(f"cannot read the file ({exc.strerror or exc})", source) from None
+    openfast = _OPENFAST.search(text) is not None
+    if openfast:  # '!' starts a comment; the first row is the airfoil's reference point
+        text = "\n".join("" if s.lstrip().startswith("!") else s for s in text.splitlines())
     blocks, name = xy_blocks(text, source)
+    if openfast and blocks and len(blocks[0]) == 1:
+        blocks = blocks[1:]
+        name = Path(path).stem
     if not blocks:
         raise InputError(
             "holds no 'x y' coordinate rows (expected a Selig or Lednicer airfoil file)", source
@@ -135,10 +146,9 @@ SHARP_GAP = 1e-4
 # A base's end is one of its two corners (SPEC 9) where the wall turns there by at least this
 # many degrees; a closing segment that turns by less at one end continues that surface
 BASE_CORNER = 45.0
-# A base drawn as part of a closed ring is a straight piece (no vertex along it turning by
-# this many degrees or more) between two corners, at most this share of the body's size
-# (the thickest flatbacks' bases are about 40 % of the chord)
-STRAIGHT_TURN, MAX_BASE = 5.0, 0.45
+# A base drawn as part of a closed ring is a straight piece between two corners: no vertex
+# along it turns by this many degrees or more
+STRAIGHT_TURN = 5.0
 
 
 def naca4(code: str, points: int = 201, te: str = "sharp") -> np.ndarray:
@@ -288,9 +298,9 @@ def _rear_corners(ring: np.ndarray) -> tuple[int, int]:
     """The trailing edge of a closed counter-clockwise ring, from its shape: the indices
     (lower end, upper end) of its rear-most corner (a vertex turning by at least
     ``BASE_CORNER``; a sharp edge, the two equal) or, where the next corner along the ring
-    follows it, or it follows the previous one, along a straight piece no longer than
-    ``MAX_BASE`` of the body's size that turns the same way (a blunt base drawn as part of
-    the ring, whose middle is where some files start), that base's two corners. (-1, -1)
+    follows it, or it follows the previous one, along a straight piece facing downstream
+    (a blunt base drawn as part of the ring, whose middle is where some files start), that
+    base's two corners. (-1, -1)
     where the ring has no corner: a round trailing edge."""
     n = len(ring)
     e_in = ring - np.roll(ring, 1, axis=0)
@@ -300,19 +310,20 @@ def _rear_corners(ring: np.ndarray) -> tuple[int, int]:
     corners = np.flatnonzero(turn >= BASE_CORNER)
     if not len(corners):
         return -1, -1
-    size = float(np.ptp(ring, axis=0).max())
     rear = int(corners[np.argmax(ring[corners, 0])])
 
     def base_to(k: int, step: int) -> int | None:
-        """The corner reached from ``k`` along a straight piece (step +1: forward)."""
-        length, j = 0.0, k
+        """The corner reached from ``k`` along a straight piece (step +1: forward) that
+        faces downstream: its outward normal within ``BASE_CORNER`` of +x."""
+        j = k
         while True:
             nxt = (j + step) % n
-            length += float(np.linalg.norm(ring[nxt] - ring[j]))
-            if length > MAX_BASE * size or nxt == k:
+            if nxt == k:
                 return None
             if turn[nxt] >= BASE_CORNER:
-                return nxt
+                up = (ring[nxt] - ring[k]) * step  # counter-clockwise: lower to upper
+                normal = np.array([up[1], -up[0]]) / max(float(np.linalg.norm(up)), 1e-300)
+                return nxt if normal[0] >= np.cos(np.radians(BASE_CORNER)) else None
             if abs(turn[nxt]) >= STRAIGHT_TURN:
                 return None
             j = nxt
@@ -381,6 +392,10 @@ def body_from_points(xy: np.ndarray, source: str, sharp_tol: float = SHARP_GAP) 
     if not sharp:
         surface, continued = close_continued(surface)
         sharp = continued is not None
+    if not sharp:  # a gap whose ends are no corners is a gap in a round edge
+        base = surface[0] - surface[-1]
+        turns = _turn(surface[-1] - surface[-2], base), _turn(base, surface[1] - surface[0])
+        rounded = rounded or max(turns) < BASE_CORNER
     return Body(surface, sharp, source, cut, continued, rounded and cut is None)
 
 

@@ -62,6 +62,9 @@ LE_SPACING, TE_SPACING, BLUNT_TE_SPACING = 0.2, 0.6, 0.1
 # eighth: a coarse grid keeps most of its nodes on the surface, whose curvature needs them).
 MAX_BASE_SHARE = 0.125
 WALL_SPACING = 0.5
+# The wall is the spline through the file's points, held within this share of the chord of
+# the drawn polyline (half SPEC 9's 0.1 %: the polyline between the parameters' points)
+WALL_HOLD = 5e-4
 WAKE_SHARE = 0.14
 MIN_SURFACE_INTERVALS = 3
 # The marched rows end this many chords inside the far field (room for the blend onto it); the
@@ -146,13 +149,23 @@ class BodyCurve:
         t = arc_lengths(pts)
         self.length = float(t[-1])
         self.spline = CurveSpline(t, pts)
+        self.knots, self.points, self.chord = t, np.asarray(pts, dtype=float), body.chord
         self.body = body
         dense = np.linspace(0.0, self.length, CURVE_SAMPLES)
         te = 0.5 * (pts[0] + pts[-1])
         self.t_le = float(dense[np.argmax(np.linalg.norm(self.at(dense) - te, axis=1))])
 
     def at(self, t: np.ndarray) -> np.ndarray:
-        return self.spline(np.clip(np.asarray(t, dtype=float), 0.0, self.length))
+        """The wall at arc parameters ``t``: the spline, drawn back towards the polyline at
+        the same parameter where it swings farther than ``WALL_HOLD`` chord from it (sparse
+        points round a tight bend: the spline would leave SPEC 9's tolerance there)."""
+        t = np.clip(np.asarray(t, dtype=float), 0.0, self.length)
+        out = self.spline(t)
+        line = np.stack([np.interp(t, self.knots, self.points[:, k]) for k in (0, 1)], axis=-1)
+        off = out - line
+        size = np.linalg.norm(off, axis=-1, keepdims=True)
+        cap = WALL_HOLD * self.chord
+        return np.where(size > cap, line + off * (cap / np.maximum(size, 1e-300)), out)
 
     def arc(self, t0: float, t1: float) -> float:
         s = self.at(np.linspace(t0, t1, ARC_SAMPLES))

@@ -19,9 +19,6 @@ from pinn_engine.geometry.boundary import segment_distance, signed_area, turning
 # A vertex of a multi-block boundary is a sharp corner where the outline turns by this many
 # degrees or more: SPEC 10's rule for a block corner, so each is a block corner and a node
 SHARP_TURN = 30.0
-# A vertex of a body is a sharp corner where it turns by more than this (a trailing edge, a
-# blunt base's corners; a leading edge's vertex turns far less): the body rule of job.single
-BODY_CORNER_TURN = 45.0
 # A node is on the drawn boundary, or at a corner, within this share of the domain's
 # diagonal: the nodes are placed there exactly, so only rounding separates them
 NODE_TOL = 1e-7
@@ -134,20 +131,28 @@ def check_blocks_cover(
 
 
 def check_body_cover(
-    grid: np.ndarray, surface: np.ndarray, chord: float, wall: slice, source: str, fix: str
+    grid: np.ndarray,
+    surface: np.ndarray,
+    edge: np.ndarray,
+    chord: float,
+    wall: slice,
+    source: str,
+    fix: str,
 ) -> dict:
-    """Refuse a body grid whose wall (``grid[0][wall]``) leaves the body's closed polyline
-    ``surface`` by more than ``WALL_TOL`` chord, or misses one of its sharp corners;
-    ``fix`` ends the refusal. Returns the figures of the report's ``domain`` entry."""
+    """Refuse a body grid whose wall (``grid[0][wall]``) misses a corner of the trailing
+    ``edge`` (its points: a sharp edge's one, a base's two), or has a node farther than
+    ``WALL_TOL`` chord from the body's closed polyline ``surface`` (the wall is a spline
+    through every point of the file: where it rounds a corner off, or swings between
+    sparse points, its nodes leave the polyline); ``fix`` ends the refusal. Returns the
+    figures of the report's ``domain`` entry."""
     ring = np.asarray(surface, dtype=float)[:, :2]
     if np.allclose(ring[0], ring[-1]):
         ring = ring[:-1]
     nodes = grid[0][wall]
-    corners = sharp_corners(ring, BODY_CORNER_TURN)
-    missed = _missed_corner(nodes, corners, BODY_CORNER_TOL * chord)
+    missed = _missed_corner(nodes, np.asarray(edge, dtype=float), BODY_CORNER_TOL * chord)
     if missed is not None:
         raise InputError(
-            f"the grid does not cover the body drawn: its sharp corner at "
+            f"the grid does not cover the body drawn: its trailing-edge corner at "
             f"({missed[0]:.6g}, {missed[1]:.6g}) is no wall node; {fix}",
             source,
         )
@@ -160,7 +165,8 @@ def check_body_cover(
             f"({x:.6g}, {y:.6g}) (at most {WALL_TOL:g}); {fix}",
             source,
         )
-    return {"wall_deviation": float(off.max()), "sharp_corners": len(corners)}
+    deviation = float(off.max())
+    return {"wall_deviation": deviation, "sharp_corners": len(edge)}
 
 
 def covered(outcome, geometry):
@@ -174,8 +180,9 @@ def covered(outcome, geometry):
         body, grid = geometry.body, outcome.grids[0]
         n_wake = outcome.report["topology"]["wake_nodes"]
         wall = slice(0, grid.shape[1]) if n_wake == 0 else slice(n_wake, grid.shape[1] - n_wake)
-        fix = "give the body's corners as points of the file or try {topology}"
-        figures = check_body_cover(grid, body.ring(), body.chord, wall, body.source, fix)
+        edge = body.surface[:1] if body.sharp else body.surface[[0, -1]]
+        fix = "give the file more points where the wall bends most"
+        figures = check_body_cover(grid, body.ring(), edge, body.chord, wall, body.source, fix)
     else:
         return outcome
     outcome.report["domain"] = figures

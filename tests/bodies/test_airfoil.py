@@ -501,3 +501,51 @@ def test_a_sharp_trailing_edge_is_its_corner_where_the_file_starts_elsewhere():
     ring = np.vstack([xy[30:-1], xy[:31]])  # starts on the upper surface, closed
     body = body_from_points(ring, "shifted")
     assert body.sharp and np.allclose(body.surface[0], (1.0, 0.0))
+
+
+def _openfast_file(path, xy, reference=(0.25, 0.0)):
+    """An OpenFAST (AeroDyn) airfoil file: NumCoords, '!' comments, the reference point."""
+    rows = "".join(f" {x:.12e} {y:.12e}\n" for x, y in xy)
+    path.write_text(
+        f"  {len(xy) + 1}   NumCoords   ! The number of coordinates (incl. the reference)\n"
+        "! x-y coordinate of airfoil reference\n!  x/c        y/c\n"
+        f" {reference[0]:.6f}       {reference[1]:g}\n"
+        "! coordinates of airfoil shape\n! interpolation to 200 points\n!  x/c        y/c\n" + rows
+    )
+    return path
+
+
+def test_an_openfast_coords_file_is_read_without_its_reference_point(tmp_path):
+    xy = naca4("2412", 81)[::-1]  # clockwise, as many OpenFAST files run
+    got, name = read_dat(_openfast_file(tmp_path / "AF05_Coords.txt", xy))
+    assert name == "AF05_Coords" and np.allclose(got, xy)
+    body = load_body(tmp_path / "AF05_Coords.txt")
+    assert body.sharp and np.allclose(body.surface[0], (1.0, 0.0))
+
+
+def test_a_gap_in_a_round_trailing_edge_is_round_and_gets_no_c_grid(tmp_path):
+    """A circle left open by 0.4 % at x = 1 (the IEA root sections): the gap's ends are no
+    corners, so there is no trailing edge for a C-grid's cut; the O-grid meshes it."""
+    t = np.linspace(0.004, 2 * np.pi - 0.004, 121)
+    body = body_from_points(np.c_[0.5 + 0.5 * np.cos(t), 0.5 * np.sin(t)], "root")
+    assert body.rounded and not body.sharp
+    with pytest.raises(InputError, match="round trailing edge.*O-grid \\(--topology o\\)"):
+        mesh_body(body, circle(body, 15.0), "c", "elliptic", 64, 24)
+    grid = mesh_body(body, circle(body, 15.0), "o", "elliptic", 64, 24).points
+    assert not np.isnan(grid).any()
+
+
+def test_the_wall_stays_within_the_tolerance_of_sparse_points_round_a_bend():
+    """A section drawn with few points, evenly in x, round a blunt nose: the spline through
+    them swings 1.1 % chord off the polyline there; the wall is held within 0.05 %."""
+    from pinn_engine.bodies.bodygrid import WALL_HOLD, BodyCurve
+
+    x = np.linspace(0.0, 1.0, 41)
+    upper = np.c_[x, 0.3 * np.sqrt(x) * (1 - x) + 0.02 * (1 - x)]
+    xy = np.vstack([upper[::-1], (upper * (1, -1))[1:]])
+    xy[0] = xy[-1] = (1.0, 0.0)
+    body = body_from_points(xy, "wedge")
+    curve = BodyCurve(body)
+    wall = curve.at(np.linspace(0, curve.length, 4001))
+    off = segment_distance(wall, body.ring()[:-1]) / body.chord
+    assert off.max() <= WALL_HOLD * (1 + 1e-9)

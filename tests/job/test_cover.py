@@ -55,15 +55,20 @@ def test_a_hole_must_be_a_grid_side():
         check_blocks_cover([_block(-2, 2, -2, 2)], [outer, hole], "box", FIX)
 
 
-def test_a_body_wall_off_the_file_is_refused():
+def test_a_body_wall_off_the_file_or_a_trailing_edge_missed_is_refused():
     t = np.linspace(0, 2 * np.pi, 65)
     surface = np.c_[np.cos(t), np.sin(t)]
+    edge = surface[:1]
     r = np.linspace(1, 3, 4)[:, None, None]
     grid = r * np.stack([np.cos(t), np.sin(t)], axis=-1)[None]
-    assert check_body_cover(grid, surface, 2.0, slice(None), "c", "fix")["sharp_corners"] == 0
-    grid[0, 10] *= 1.01  # 1 % of the radius: 0.5 % of the chord
+    figures = check_body_cover(grid, surface, edge, 2.0, slice(None), "c", "fix")
+    assert figures["wall_deviation"] < 1e-12 and figures["sharp_corners"] == 1
+    moved = grid.copy()
+    moved[0, 10] *= 1.01  # 1 % of the radius: 0.5 % of the chord
     with pytest.raises(InputError, match="wall leaves the body drawn by 0.005 chord"):
-        check_body_cover(grid, surface, 2.0, slice(None), "c", "fix")
+        check_body_cover(moved, surface, edge, 2.0, slice(None), "c", "fix")
+    with pytest.raises(InputError, match="trailing-edge corner at \\(1.1, 0\\) is no wall"):
+        check_body_cover(grid, surface, np.array([[1.1, 0.0]]), 2.0, slice(None), "c", "fix")
 
 
 def test_the_step_with_automatic_blocking_and_wall_spacing_keeps_its_lip():
