@@ -7,13 +7,14 @@ IEA-22-280-RWT), every blade section:
 
 - the OpenFAST (AeroDyn) airfoil files ``*_Coords.txt``, copied as they are (``N NumCoords``,
   ``!`` comments, the reference point, then the coordinates; pinn-mesh reads the format):
-  ``<turbine>_AFnn.dat``;
+  ``<turbine>_AFnn.dat``, every ``EVERY``-th along the span (default 3: the files
+  interpolate between the masters, so neighbours differ little);
 - the windIO ontology's airfoils (``airfoils: - name, coordinates: {x: [...], y: [...]}``),
   written as Selig-style files in the ontology's point order: ``<turbine>_<name>.dat``.
 
 The files are not committed (about 1.5 MB); this script makes them again::
 
-    python benchmarks/wind_sections.py OUT_FOLDER [MIRROR_ROOT]
+    python benchmarks/wind_sections.py OUT_FOLDER [MIRROR_ROOT] [EVERY]
 
 ``MIRROR_ROOT`` (default ``/work/.mirror``) holds ``IEAWindTask37+<repo>/repo``.
 """
@@ -41,8 +42,9 @@ def _git(repo: Path, *args: str) -> str:
     ).stdout
 
 
-def extract(out: Path, mirrors: Path) -> list[Path]:
-    """Every section of every turbine found under ``mirrors``, written into ``out``."""
+def extract(out: Path, mirrors: Path, every: int = 3) -> list[Path]:
+    """The sections of every turbine found under ``mirrors`` (every ``every``-th OpenFAST
+    file, every windIO airfoil), written into ``out``."""
     out.mkdir(parents=True, exist_ok=True)
     written = []
     for repo, (short, ontology) in TURBINES.items():
@@ -51,7 +53,7 @@ def extract(out: Path, mirrors: Path) -> list[Path]:
             print(f"{git}: missing (fetch github:IEAWindTask37/{repo})", file=sys.stderr)
             continue
         files = _git(git, "ls-tree", "-r", "--name-only", "HEAD").splitlines()
-        for name in sorted(f for f in files if f.endswith("_Coords.txt")):
+        for name in sorted(f for f in files if f.endswith("_Coords.txt"))[::every]:
             number = re.search(r"AF(\d+)_Coords", name)
             target = out / f"{short}_AF{number[1]}.dat"
             target.write_text(_git(git, "show", f"HEAD:{name}"))
@@ -75,5 +77,7 @@ def extract(out: Path, mirrors: Path) -> list[Path]:
 
 
 if __name__ == "__main__":
-    found = extract(Path(sys.argv[1]), Path(sys.argv[2] if len(sys.argv) > 2 else "/work/.mirror"))
+    args = sys.argv[1:]
+    mirrors = Path(args[1] if len(args) > 1 else "/work/.mirror")
+    found = extract(Path(args[0]), mirrors, int(args[2]) if len(args) > 2 else 3)
     print(f"{len(found)} sections written to {sys.argv[1]}")

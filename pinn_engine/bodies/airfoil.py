@@ -133,13 +133,17 @@ def read_dat(path: str | os.PathLike) -> tuple[np.ndarray, str]:
         xy = np.array([p for b in blocks for p in b])
         surfaces = _lednicer_surfaces(xy) if len(xy) >= 5 else None
         xy = xy if surfaces is None else surfaces
-    if len(xy) < 5:
-        raise InputError(f"has {len(xy)} coordinate rows; an airfoil needs at least 5", source)
+    if len(xy) < MIN_POINTS:
+        raise InputError(
+            f"has {len(xy)} coordinate rows; a body needs at least {MIN_POINTS}", source
+        )
     if not np.isfinite(xy).all():
         raise InputError("has non-finite coordinates", source)
     return xy, name or Path(path).stem
 
 
+# A body is at least a triangle: three points (a closed wedge)
+MIN_POINTS = 3
 # SPEC 9: a trailing-edge gap of at most this many chords counts as sharp (many public .dat
 # files leave one of about 1e-5: a rounding of the last digit, not a drawn base)
 SHARP_GAP = 1e-4
@@ -190,7 +194,7 @@ def naca4(code: str, points: int = 201, te: str = "sharp") -> np.ndarray:
 @dataclass(frozen=True)
 class Body:
     """A closed body curve: ``surface`` (Selig order, upper trailing edge to lower trailing
-    edge, at least 5 points), whether its trailing edge is ``sharp`` (the two ends coincide)
+    edge, at least ``MIN_POINTS``), whether its trailing edge is ``sharp`` (the two ends coincide)
     and where it came from. Without a base, a blunt trailing edge is closed by the straight
     segment between the surface's two ends. ``cut``: the point where the two surfaces of
     the input crossed near the trailing edge, there cut and closed (SPEC 9), or None;
@@ -361,8 +365,8 @@ def body_from_points(xy: np.ndarray, source: str, sharp_tol: float = SHARP_GAP) 
     of the chord apart are one sharp trailing edge, closed at their mean point; surfaces
     that cross near the trailing edge are cut at the crossing (:func:`cut_crossing`, SPEC 9)."""
     xy = np.asarray(xy, dtype=float)
-    if xy.ndim != 2 or xy.shape[1] < 2 or len(xy) < 5:
-        raise InputError("a body needs at least 5 points (x y)", source)
+    if xy.ndim != 2 or xy.shape[1] < 2 or len(xy) < MIN_POINTS:
+        raise InputError(f"a body needs at least {MIN_POINTS} points (x y)", source)
     xy = xy[:, :2]
     keep = np.r_[True, np.linalg.norm(np.diff(xy, axis=0), axis=1) > 0]
     xy = xy[keep]

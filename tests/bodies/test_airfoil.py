@@ -64,7 +64,7 @@ def test_selig_and_lednicer_give_the_same_airfoil(tmp_path):
     "text, words",
     [
         ("name\n1 0\n0.5 x\n", "not an 'x y' row"),
-        ("name\n1 0\n0 0\n1 0\n", "at least 5"),
+        ("name\n1 0\n0 0\n", "at least 3"),
         ("just a name\n", "no 'x y' coordinate rows"),
     ],
 )
@@ -549,3 +549,12 @@ def test_the_wall_stays_within_the_tolerance_of_sparse_points_round_a_bend():
     wall = curve.at(np.linspace(0, curve.length, 4001))
     off = segment_distance(wall, body.ring()[:-1]) / body.chord
     assert off.max() <= WALL_HOLD * (1 + 1e-9)
+
+
+@pytest.mark.parametrize("topology", ["o", "c"])
+def test_a_three_point_closed_wedge_is_a_body(tmp_path, topology):
+    path = _selig(tmp_path / "wedge.dat", [(1, 0), (0, 0.05), (0, -0.05), (1, 0)])
+    body = load_body(path)
+    assert body.sharp and np.allclose(body.surface[0], (1, 0))
+    grid = mesh_body(body, circle(body, 15.0), topology, "elliptic", 64, 24).points
+    assert np.isfinite(grid).all()
