@@ -121,8 +121,9 @@ def test_real_inside_out_tfi_grids_are_refused_and_the_advice_works(name, size):
 
 def test_a_first_layer_wider_than_a_notch_is_refused_and_the_advice_works():
     """The elliptic grid's first row leaves the wall along its normals at the first layer's
-    height: wider than the notch (0.01 chord), it crosses into the opposite prong. The refusal names a
-    first layer that keeps the row outside; with it the grid is written, not inside out."""
+    height: wider than the notch (0.01 chord), it crosses into the opposite prong. The
+    refusal names a first layer that keeps the row outside; with it the grid is written,
+    not inside out."""
     body = body_from_points(_notched(0.02, 0.008), "notched")
     far = circle(body, 15)
     with pytest.raises(InputError, match=r"inside out.*at most (\S+) \(--spacing") as info:
