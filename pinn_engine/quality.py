@@ -95,6 +95,9 @@ def cell_quality(grid: np.ndarray) -> dict[str, np.ndarray]:
     grid = np.asarray(grid, dtype=float)
     n_cells = (grid.shape[0] - 1) * (grid.shape[1] - 1)
     bands = int(min(os.cpu_count() or 1, grid.shape[0] - 1, max(1, n_cells // BAND_CELLS)))
+    if bands == 1:  # one band: no thread to start (a grid of up to 100,000 cells)
+        cells = _Cells(grid)
+        return cells.quality(cells.orientation)
     cuts = np.linspace(0, grid.shape[0] - 1, bands + 1).astype(int)
     with ThreadPoolExecutor(max_workers=bands) as pool:
         parts = list(pool.map(_Cells, [grid[a : b + 1] for a, b in zip(cuts[:-1], cuts[1:])]))

@@ -670,6 +670,22 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
     def P20PatchNames(self, text):
         self.SetPatchNames(text)
 
+    @_stack(
+        smproperty.stringvector(name="Model", label="Model", default_values=""),
+        smdomain.filelist(),
+        smhint.filechooser(extensions="pt", file_description="pinn-mesh family models"),
+        smdomain.xml(
+            _doc(
+                "A family model (a .pt file made by pinn-mesh fit, docs/family.md): the "
+                "boundary is meshed as a member of its family, its interior in a forward "
+                "pass instead of its own run, and its Grid Size must be the family's. "
+                "Empty: no model."
+            )
+        ),
+    )
+    def P21Model(self, path):
+        self.SetModel(path or None)
+
 
 @_mesh_filter(
     _polyline_input(

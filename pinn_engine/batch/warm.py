@@ -86,3 +86,6 @@ def setup_worker() -> None:
     os.environ["OMP_NUM_THREADS"] = "1"
     threadpool_limits(1)
     heap.tune_process()
+    from pinn_engine.io import childread
+
+    childread.serve()  # one reading child for the worker's cases, not one a case

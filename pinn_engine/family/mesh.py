@@ -29,7 +29,7 @@ import numpy as np
 
 from pinn_engine.family.members import Member, member_of
 from pinn_engine.family.model import FamilyModel, load_family
-from pinn_engine.quality import boundary_nodes, cell_quality, guard_figures, side_report, summary
+from pinn_engine.quality import boundary_nodes, cell_quality, side_report, summary
 from pinn_engine.result import MeshResult
 from pinn_engine.settings import Settings
 
@@ -93,31 +93,36 @@ def mesh_member(
     placed = time.perf_counter()
     grid, info = model.predict(member)
     predicted = time.perf_counter()
-    figures = guard_figures(member.frame.to_user(grid))
-    start, defect, steps = None, None, 0
+    defect, steps = None, 0
+    while model.winslow and steps < DEFECT_STEPS:
+        grid, defect = model.frozen().step(grid)
+        steps += 1
+        if defect <= DEFECT_TOL:
+            break
+    points = member.frame.to_user(grid)
+    cells = cell_quality(points)
+    figures = _figures(cells)
     if model.winslow:
-        while steps < DEFECT_STEPS:
-            grid, defect = model.frozen().step(grid)
-            steps += 1
-            if defect <= DEFECT_TOL:
-                break
-        figures = guard_figures(member.frame.to_user(grid))
         vouched = defect is not None and defect <= DEFECT_TOL
     else:
         worst = model.report["worst_target"] + WORST_TOL
         vouched = info["in_range"] and figures["worst_max_angle"] <= worst
+    start, reference, passed = None, None, True
     if member.start is not None or figures["folded_cells"] or not vouched:
         start = _start(member, None if figures["folded_cells"] else grid)
-        reference = guard_figures(member.frame.to_user(start))
+        start_points = member.frame.to_user(start)
+        if member.start is not None:  # a body's start: its cells are measured
+            start_cells = member.start.cells
+        else:
+            start_cells = cell_quality(start_points)
+        reference = _figures(start_cells)
         passed = not figures["folded_cells"] and (
             figures["worst_max_angle"] <= reference["worst_max_angle"] + WORST_TOL
         )
-    else:
-        reference, passed = None, True
+        if not passed:
+            points, cells = start_points, start_cells
     guarded = time.perf_counter()
     kept = grid if passed else start
-    points = member.frame.to_user(kept)
-    cells = cell_quality(points)
     move = 0.0 if start is None else float(np.abs(grid - start).max())
     training = {
         "result": "family" if passed else "start",
@@ -152,6 +157,12 @@ def mesh_member(
     report["timings"] = {**training["timings"], "quality": time.perf_counter() - guarded}
     plane = member.boundary.plane if member.boundary is not None else member.start.plane
     return MeshResult(points=points, report=report, cells=cells, plane=plane)
+
+
+def _figures(cells: dict) -> dict:
+    """:func:`quality.guard_figures` of a grid from its cell arrays."""
+    q = summary(cells, 0.0)
+    return {k: q[k] for k in ("mean_max_angle", "worst_max_angle", "folded_cells")}
 
 
 def _diagonal(points: np.ndarray) -> float:

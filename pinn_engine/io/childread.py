@@ -13,7 +13,8 @@ the child's VTK wrote from the data it read: well-formed. The child is a new Pyt
 The child costs about 0.18 s, mostly its Python and VTK starting. :func:`prefetch` starts
 one child for all the files a run names (a boundary and its auxiliary lines: one start, not
 one a file) before the run imports the engine, so that the child reads while this process
-imports. Stdlib only, for that reason.
+imports. Stdlib only, for that reason. A process that reads the files of many runs (a batch
+worker) asks for one long-lived child instead (:func:`serve`), which reads file after file.
 """
 
 from __future__ import annotations
@@ -47,12 +48,14 @@ Read = tuple[str | None, bytes]  # what is wrong with a file (None: nothing), it
 # where VTK allows: a third of its start), caps its address space (Linux) and, for each
 # file, says "reading", reads it and prints the lengths of VTK's error text and of the
 # polydata read (a binary legacy VTK string), then both. Its arguments: the extra address
-# space, this process's sys.path (JSON: the same VTK is found), the files.
+# space, this process's sys.path (JSON: the same VTK is found), the files; or "--serve": the
+# files then come one a line on stdin, each after its own extra address space and a tab.
 _CHILD_CODE = """\
 import json, os, sys
 extra, paths = int(sys.argv[1]), sys.argv[3:]
 sys.path[:0] = json.loads(sys.argv[2])
-kinds = {os.path.splitext(path)[1].lower() for path in paths}
+serving = paths == ["--serve"]
+kinds = {".vtp", ".stl"} if serving else {os.path.splitext(path)[1].lower() for path in paths}
 def vtk():
     from vtkmodules.vtkCommonCore import vtkLogger, vtkOutputWindow, vtkStringOutputWindow
     from vtkmodules.vtkIOLegacy import vtkPolyDataReader, vtkPolyDataWriter
@@ -74,20 +77,21 @@ from vtkmodules.vtkIOLegacy import vtkPolyDataReader as Legacy
 from vtkmodules.vtkCommonCore import vtkObject
 vtkObject.GlobalWarningDisplayOn()
 vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
-try:
-    import resource
-    with open("/proc/self/statm") as f:
-        size = int(f.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
-    hard = resource.getrlimit(resource.RLIMIT_AS)[1]
-    cap = size + extra if hard == resource.RLIM_INFINITY else min(size + extra, hard)
-    resource.setrlimit(resource.RLIMIT_AS, (cap, hard))
-except (ImportError, OSError, ValueError):
-    pass
+def cap(extra):
+    try:
+        import resource
+        with open("/proc/self/statm") as f:
+            size = int(f.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
+        hard = resource.getrlimit(resource.RLIMIT_AS)[1]
+        cap = size + extra if hard == resource.RLIM_INFINITY else min(size + extra, hard)
+        resource.setrlimit(resource.RLIMIT_AS, (cap, hard))
+    except (ImportError, OSError, ValueError):
+        pass
 def text_of(window):
     text = window.GetOutput() or ""
     return text if isinstance(text, bytes) else text.encode("utf-8", "replace")
 out = sys.stdout.buffer
-for path in paths:
+def one(path):
     window = vtkStringOutputWindow()
     vtkOutputWindow.SetInstance(window)
     reader = readers.get(os.path.splitext(path)[1].lower(), Legacy)()
@@ -108,6 +112,15 @@ for path in paths:
         text = text_of(window)
     out.write(b"%d %d\\n" % (len(text), len(data)) + text + data)
     out.flush()
+if serving:
+    for line in sys.stdin:
+        extra, path = line.rstrip("\\n").split("\\t", 1)
+        cap(int(extra))
+        one(path)
+else:
+    cap(extra)
+    for path in paths:
+        one(path)
 """
 _MARKER = b"reading\n"
 _READ: OrderedDict[Key, bytes] = OrderedDict()  # clean data of the files read, newest last
@@ -206,11 +219,7 @@ class _Child:
         self.output.seek(0)
         results = _parse(self.output.read(), self.keys, status)
         self.output.close()
-        for key, (problem, data) in results.items():
-            if problem is None and len(data) <= _KEPT_BYTES:
-                _READ[key] = data
-                while len(_READ) > _READ_KEPT:
-                    _READ.popitem(last=False)
+        _keep(results)
         return results
 
     def stop(self) -> None:
@@ -219,6 +228,113 @@ class _Child:
 
 
 _PENDING: list[_Child] = []  # children started by prefetch, not asked for yet
+
+
+def _keep(results: dict[Key, Read]) -> None:
+    """Keep the clean files' data for later reads of the same content."""
+    for key, (problem, data) in results.items():
+        if problem is None and len(data) <= _KEPT_BYTES:
+            _READ[key] = data
+            while len(_READ) > _READ_KEPT:
+                _READ.popitem(last=False)
+
+
+class _Server:
+    """One child that reads file after file for a process that reads many (a batch worker:
+    one start, not one a case), in the order they were asked for; a file it dies or stalls
+    on is named as a one-file child's would be, and the child is not used again."""
+
+    def __init__(self, python: str) -> None:
+        self.process = subprocess.Popen(
+            [python, "-c", _CHILD_CODE, "0", json.dumps(sys.path), "--serve"],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.DEVNULL,
+        )
+        self.pending: list[Key] = []
+        self.buffer = b""
+        self.dead = False
+
+    def ask(self, path: Path) -> Key:
+        """Ask for ``path`` (once while it is pending); its key."""
+        key = _key(path)
+        if key not in self.pending:
+            extra = PROBE_MEMORY + 64 * path.stat().st_size
+            try:
+                self.process.stdin.write(f"{extra}\t{path}\n".encode())
+                self.process.stdin.flush()
+            except OSError:  # the child is gone: the next read starts another
+                self.dead = True
+                return key
+            self.pending.append(key)
+        return key
+
+    def take(self, key: Key) -> Read | None:
+        """The result of ``key`` (asked for), those asked before it kept on the way; None
+        where the child died before it got to it."""
+        import select
+
+        while self.pending and not self.dead:
+            first = self.pending[0]
+            deadline = time.monotonic() + PROBE_TIMEOUT
+            while not self._whole():
+                left = deadline - time.monotonic()
+                ready = select.select([self.process.stdout], [], [], max(left, 0.0))[0]
+                chunk = os.read(self.process.stdout.fileno(), 1 << 20) if ready else None
+                if not chunk:  # stalled (None) or died (b"")
+                    if chunk is None:
+                        self.process.kill()
+                    status = None if chunk is None else self.process.wait()
+                    self.dead = True
+                    found = _parse(self.buffer, [first], status).get(first)
+                    return found if first == key else None
+                self.buffer += chunk
+            size = self._whole()
+            results = _parse(self.buffer[:size], [first], 0)
+            self.buffer = self.buffer[size:]
+            self.pending.pop(0)
+            _keep(results)
+            if first == key:
+                return results.get(key)
+        return None
+
+    def _whole(self) -> int:
+        """The length of the first whole record in the buffer, 0 if there is none yet."""
+        if not self.buffer.startswith(_MARKER):
+            return 0
+        end = self.buffer.find(b"\n", len(_MARKER))
+        sizes = self.buffer[len(_MARKER) : end].split() if end >= 0 else []
+        whole = end + 1 + sum(map(int, sizes)) if len(sizes) == 2 else 0
+        return whole if whole and whole <= len(self.buffer) else 0
+
+    def stop(self) -> None:
+        self.process.kill()
+        self.process.wait()
+
+
+_SERVER: list[_Server] = []  # the serving child of a process that asked for one (serve)
+
+
+def serve() -> None:
+    """Read this process's VTK files by one long-lived child from now on (a batch worker's
+    cases: the child's start, about 0.2 s, once a worker instead of once a case). POSIX only
+    (the replies are waited for with ``select``); elsewhere a child a run stays."""
+    if os.name == "posix" and not _SERVER and not os.environ.get("PINN_MESH_NO_CHILD"):
+        python = _child_python()
+        if python is not None:
+            try:
+                _SERVER.append(_Server(python))
+            except OSError as exc:  # no child could start: a child a run, as before
+                log.debug("no serving child: %s", exc)
+
+
+def _server() -> _Server | None:
+    """The serving child, a new one where the last died; None where this process does not
+    serve (:func:`serve`)."""
+    if _SERVER and _SERVER[0].dead:
+        _SERVER.pop().stop()
+        serve()
+    return _SERVER[0] if _SERVER else None
 
 
 def _start(paths: list[Path]) -> _Child | None:
@@ -261,6 +377,12 @@ def prefetch(paths: Iterable[str | os.PathLike | None]) -> None:
     if os.environ.get("PINN_MESH_NO_CHILD"):
         return
     files = [path for path in map(_readable, filter(None, paths)) if path is not None]
+    server = _server()
+    if server is not None:  # asked of the serving child, which reads them in order
+        for path in files:
+            if _key(path) not in _READ:
+                server.ask(path)
+        return
     try:
         child = _start([path for path in files if _key(path) not in _READ])
     except OSError:  # changed under us: the reads report it
@@ -286,6 +408,11 @@ def read(path: Path) -> Read | None:
     if key in _READ:
         _READ.move_to_end(key)
         return None, _READ[key]
+    server = _server()
+    if server is not None:
+        found = server.take(server.ask(path))
+        if found is not None or not server.dead:
+            return found
     child = _start([path])
     return None if child is None else child.finish().get(key)
 
@@ -297,3 +424,5 @@ def _stop_pending() -> None:
         child = _PENDING.pop()
         child.stop()
         child.output.close()
+    while _SERVER:
+        _SERVER.pop().stop()

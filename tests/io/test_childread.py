@@ -90,3 +90,30 @@ def test_the_command_reads_its_boundary_and_block_edges_in_one_child(counted, tm
     argv = [str(EXAMPLES / "lshape.vtp"), "--blocks", str(EXAMPLES / "lshape_blocks.vtp")]
     assert main([*argv, "--method", "tfi", "-o", str(tmp_path / "g.vtm"), "--quiet"]) == 0
     assert counted == [["lshape.vtp", "lshape_blocks.vtp"]]
+
+
+@pytest.fixture
+def serving(monkeypatch):
+    """This process reading by one long-lived child (:func:`childread.serve`), stopped after."""
+    monkeypatch.setattr(childread, "_SERVER", [])
+    childread.serve()
+    yield childread._SERVER
+    while childread._SERVER:
+        childread._SERVER.pop().stop()
+
+
+@pytest.mark.skipif(not Path("/proc/self").exists(), reason="POSIX's select on pipes")
+def test_a_serving_child_reads_file_after_file_and_names_a_crash(counted, serving, tmp_path):
+    """A batch worker's child: the files of several runs read by one child, each as a child
+    of its own reads it; a file that crashes it is named, and the next read starts another."""
+    first = serving[0]
+    files = [EXAMPLES / "wavy.vtp", EXAMPLES / "fig2.vtp", EXAMPLES / "concave.vtp"]
+    childread.prefetch(files[:2])
+    served = [childread.read(path) for path in files]
+    assert serving == [first] and all(problem is None for problem, _ in served)
+    childread._READ.clear()
+    alone = [childread._start([path]).finish()[childread._key(path)] for path in files]
+    assert served == alone
+    problem, data = childread.read(_damaged(tmp_path))
+    assert data == b"" and problem.startswith(("VTK's reader crashed (SIGABRT)", "VTK: "))
+    assert childread.read(EXAMPLES / "wavy_aux.vtp")[0] is None
