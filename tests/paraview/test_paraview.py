@@ -319,6 +319,13 @@ def test_airfoil_reader_source_and_topology(checkout):
     assert result["opened_with"] == "PINNAirfoilReader"
 
 
+def test_the_filters_model_property_meshes_by_a_family_model(checkout, tmp_path):
+    """SPEC 16's Model file property: the grid of a family model, its field data saying so."""
+    result = run_pvpython(checkout, "check_family.py", str(tmp_path))
+    assert result["points"] == 21 * 11 and result["result"] == "family"
+    assert result["model"] == result["expected_model"]
+
+
 def test_boundary_layer_panel_fields(filter_run):
     layer = filter_run["layer"]
     assert {"FirstEdgeSpacing", "OrthogonalSides"} <= set(layer["properties"])
