@@ -44,12 +44,11 @@ PROBE_MEMORY = 2**30  # extra address space the child may take, plus 64 bytes a 
 Key = tuple[str, bytes]  # a file's reader (its extension) and the digest of its content
 Read = tuple[str | None, bytes]  # what is wrong with a file (None: nothing), its polydata
 
-# The child: a new Python (started, never forked) that imports VTK alone (without numpy
-# where VTK allows: a third of its start), caps its address space (Linux) and, for each
-# file, says "reading", reads it and prints the lengths of VTK's error text and of the
-# polydata read (a binary legacy VTK string), then both. Its arguments: the extra address
-# space, this process's sys.path (JSON: the same VTK is found), the files; or "--serve": the
-# files then come one a line on stdin, each after its own extra address space and a tab.
+# The child: a new Python (started, never forked) that imports VTK alone (without numpy where
+# VTK allows), caps its address space (Linux) and, for each file, says "reading", reads it and
+# prints the lengths of VTK's error text and of the polydata (binary legacy VTK), then both.
+# Arguments: the extra address space, this process's sys.path (JSON), the files; or "--serve"
+# and the files on stdin, one a line, each after its own extra address space and a tab.
 _CHILD_CODE = """\
 import json, os, sys
 extra, paths = int(sys.argv[1]), sys.argv[3:]
