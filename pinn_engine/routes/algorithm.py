@@ -380,6 +380,7 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, FieldInput, LineInputs, VTKPytho
             message = self._message(exc)
         else:
             output.ShallowCopy(grid)
+            self._keep_grid()
             if warning:
                 self._report(warning, warning=True)
             self._progress(1.0, "done")
@@ -455,15 +456,14 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, FieldInput, LineInputs, VTKPytho
         neural = settings.method in NEURAL
         self._progress(0.0, "training" if neural else "meshing")
         began = time.perf_counter()
-        with self._stop_on_signal():
-            outcome = job.run(
-                settings,
-                geometry,
-                self._training_progress(settings),
-                self._cache,
-                family=self._model,
-                field=field,
-            )
+        outcome = self._run_job(
+            settings,
+            geometry,
+            self._training_progress(settings),
+            self._cache,
+            family=self._model,
+            field=field,
+        )
         self._trained = outcome.trained
         seconds = time.perf_counter() - began
         self._tell([*picked, *grid_lines(outcome.report, settings, *self._size, seconds)])
@@ -504,8 +504,8 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, FieldInput, LineInputs, VTKPytho
                 fraction = PREPARE_SHARE + (0.9 - PREPARE_SHARE) * min(done / total, 1.0)
                 self._progress(fraction, f"training ({phase})")
             answer = self._user_progress(info) if self._user_progress is not None else None
-            if self._stop_signal or (isinstance(answer, str) and answer == STOP):
+            if isinstance(answer, str) and answer == STOP:
                 return STOP
-            return bool(answer) or self._abort_requested()
+            return bool(answer) or self._stop_answer()
 
         return progress

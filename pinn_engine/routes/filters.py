@@ -8,6 +8,7 @@ from __future__ import annotations
 import contextlib
 import signal
 import threading
+from collections.abc import Callable
 from dataclasses import replace
 
 import numpy as np
@@ -15,6 +16,7 @@ from vtkmodules.vtkCommonCore import vtkOutputWindow
 
 from pinn_engine.errors import ROUTE_WORDS, STOP, SettingsError, stopped_training_warning
 from pinn_engine.routes.reporting import announce
+from pinn_engine.routes.responsive import run_polled
 from pinn_engine.settings import setting_problem
 
 
@@ -166,7 +168,11 @@ class Stoppable:
     _stop_signal: int | None = None  # a stop signal received during training
     _abort_seen = False  # an abort request came during this training
 
+    _abort_pressed = False  # the GUI's abort button was pressed during this run
+
     def _abort_requested(self) -> bool:
+        if self._abort_pressed:
+            return True
         check = getattr(self, "CheckAbort", None)  # VTK 9.4+
         if check is not None and check():
             return True
@@ -179,7 +185,7 @@ class Stoppable:
         handles no GUI event while a filter runs, so its abort button cannot. Only where
         SIGUSR1 has its default action or a Python handler, which is put back afterwards (the
         host is left as it was); main thread only."""
-        self._stop_signal, self._abort_seen = None, False
+        self._stop_signal, self._abort_seen, self._abort_pressed = None, False, False
         usr1 = getattr(signal, "SIGUSR1", None)
         previous = signal.getsignal(usr1) if usr1 is not None else None
         if previous is None or threading.current_thread() is not threading.main_thread():
@@ -194,6 +200,27 @@ class Stoppable:
             yield
         finally:
             signal.signal(usr1, previous)
+
+    def _run_job(self, settings, geometry, progress: Callable[[dict], object], *more, **named):
+        """``job.run(settings, geometry, progress, *more, **named)`` with the stop signal
+        taken; in ParaView in a worker thread polled by this one
+        (``responsive.run_polled``), so that the GUI stays alive and its abort button is
+        honoured."""
+        from pinn_engine import job
+
+        with self._stop_on_signal():
+            if self._route != "paraview":
+                return job.run(settings, geometry, progress, *more, **named)
+            return run_polled(
+                lambda report: job.run(settings, geometry, report, *more, **named),
+                progress,
+                self._press_abort,
+            )
+
+    def _press_abort(self) -> None:
+        """The abort button, as an abort request (not ``SetAbortExecute``, whose
+        ``Modified()`` would have the pipeline run the filter again afterwards)."""
+        self._abort_pressed = True
 
     def _keep_grid(self) -> None:
         """Clear an abort request taken during the run (and VTK 9.3+'s AbortOutput, which

@@ -225,8 +225,7 @@ class PinnHexaAlgorithm(LastOutcome, Stoppable, PatchWalls, VTKPythonAlgorithmBa
         if surface is None or surface.GetNumberOfPolys() + surface.GetNumberOfStrips() == 0:
             raise InputError(f"holds no surface triangles: {CURVE_FIX[self._route]}", "input")
         geometry = job.hexa_from_polydata(surface, "input", self._patches)
-        with self._stop_on_signal():
-            outcome = job.run(settings, geometry, self._hexa_progress)
+        outcome = self._run_job(settings, geometry, self._hexa_progress)
         self._faces = outcome.report["faces"]
         self._tell([hexa_line(outcome.report)])
         return outcome.data, outcome.report

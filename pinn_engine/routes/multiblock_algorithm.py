@@ -240,8 +240,7 @@ class PinnMultiBlockAlgorithm(
             cells=self._cells,
         )
         began = time.perf_counter()
-        with self._stop_on_signal():
-            outcome = job.run(settings, geometry, self._block, field=field)
+        outcome = self._run_job(settings, geometry, self._block, field=field)
         self._tell(blocks_lines(settings.method, outcome.report, time.perf_counter() - began))
         return outcome.data, outcome.report, outcome.edges
 

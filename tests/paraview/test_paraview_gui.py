@@ -1,4 +1,5 @@
-"""The ParaView GUI as a user drives it (Xvfb, xdotool): auxiliary lines and stopping.
+"""The ParaView GUI as a user drives it (Xvfb, xdotool): auxiliary lines, stopping and
+the abort button.
 
 ``tests/paraview/gui/drive.sh`` selects the boundary and the auxiliary-line source in the
 Pipeline Browser, types "PINN" in the quick-launch (PINN Structured Mesh must be the one it
@@ -141,3 +142,17 @@ def test_the_plugin_registers_a_help_page_for_each_of_its_filters(tour):
     assert "sources.PINNAirfoilSource.html" in pages and "index.html" in pages
     assert (tour / "help.png").stat().st_size > 10_000
     assert (tour / "help_search.png").stat().st_size > 10_000
+
+
+def test_the_abort_button_stops_the_training_and_no_click_is_replayed(gui):
+    """The training runs in a worker thread while ParaView's event loop goes on: the window
+    repaints, the progress bar's abort button ends the training at once with its best
+    grid, and a click on another source's row made meanwhile is dropped, not replayed."""
+    result = json.loads((gui / "abort.json").read_text())
+    assert result["error"] == "" and result["points"] == 41 * 21
+    assert "a stop was asked" in result["warning"]
+    clicked, done = (float((gui / name).read_text()) for name in ("abort_clicked", "abort_done"))
+    assert done - clicked < 15  # at the first training report after the click
+    display = json.loads((gui / "abort_display.json").read_text())
+    assert display["selected"] == "PINNStructuredMesh"  # the click on fig2_aux.vtp dropped
+    assert (gui / "training.png").stat().st_size > 10_000

@@ -6,10 +6,14 @@
 #    press Return: PINN Structured Mesh is created on both sources and auto-applied;
 #    OUTDIR/aux_lines.json holds what its update gave and OUTDIR/aux_lines.png the screen;
 # 2. the same with a long training (Preset paper, 200000 Adam epochs): once the filter's
-#    progress says it trains (the GUI is frozen then, as ParaView 5.11 handles no event while
-#    a filter runs), `kill -USR1` stops it with the best grid so far;
+#    progress says it trains, `kill -USR1` stops it with the best grid so far;
 #    OUTDIR/stop.json holds the filter's result, OUTDIR/alive whether ParaView still runs
 #    afterwards and OUTDIR/stopped.png the screen with the grid and the warning;
+#    2b. the same long training stopped by the progress bar's abort button (clicked at
+#    its place in ParaView 5.11's status bar), after a click on fig2_aux.vtp's row:
+#    OUTDIR/abort.json, OUTDIR/abort_display.json (the source still selected afterwards),
+#    OUTDIR/abort_clicked and abort_done (the times), OUTDIR/training.png (the window
+#    repainted during the training) and OUTDIR/aborted.png;
 # 3. the same long training with a Time Limit of 4 s: OUTDIR/limit.json, OUTDIR/limit.png;
 # 4. a failed first Apply (only fig2_aux.vtp selected: no closed boundary), then the input
 #    fixed (both sources) and Apply pressed: OUTDIR/failed_display.json and
@@ -90,6 +94,25 @@ wait_for "$PINN_GUI_RESULT" 60 || { echo "the training did not stop" >&2; kill "
 sleep 2
 if kill -0 "$PV" 2>/dev/null; then echo yes >"$OUT/alive"; else echo no >"$OUT/alive"; fi
 import -window root "$OUT/stopped.png"
+kill "$PV"; wait "$PV" 2>/dev/null || true
+
+# 2b. a long training stopped by the progress bar's abort button, a click on another
+#     source's row made meanwhile (dropped, never replayed: the filter stays selected)
+session abort 1
+select_both_and_apply
+wait_for "$PINN_GUI_RESULT.training" 120 || { echo "the training did not start" >&2; kill "$PV"; exit 1; }
+sleep 4    # into the training: the window repaints meanwhile
+import -window root "$OUT/training.png"
+xdotool mousemove 106 218 click 1; sleep 0.5                       # fig2_aux.vtp's row
+date +%s.%N >"$OUT/abort_clicked"
+xdotool mousemove 533 985 click 1                                  # the progress bar's abort
+wait_for "$PINN_GUI_RESULT" 60 || { echo "abort did not stop the training" >&2; kill "$PV"; exit 1; }
+date +%s.%N >"$OUT/abort_done"
+sleep 5    # any click replayed would have acted by now
+echo "$OUT/abort_display.json" >"$PINN_GUI_RESULT.probe"
+wait_for "$OUT/abort_display.json" 10 || { echo "no display state" >&2; kill "$PV"; exit 1; }
+xdotool mousemove 1590 990
+import -window root "$OUT/aborted.png"
 kill "$PV"; wait "$PV" 2>/dev/null || true
 
 # 3. a long training under a time limit

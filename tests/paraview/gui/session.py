@@ -63,7 +63,8 @@ def on_register(obj, event):
 
 
 def display_state():
-    """The filter's display in the active view: representation, colour array, points."""
+    """The filter's display in the active view: representation, colour array, points, and
+    the selected source's proxy name."""
     view = simple.GetActiveView()
     for proxy in simple.GetSources().values():
         if proxy.GetXMLName() == "PINNStructuredMesh":
@@ -74,6 +75,7 @@ def display_state():
                 "colour": [str(c) for c in display.ColorArrayName],
                 "points": alg.GetOutput().GetNumberOfPoints(),
                 "error": alg.GetLastError(),
+                "selected": simple.GetActiveSource().GetXMLName(),
             }
     return {}
 
