@@ -9,6 +9,7 @@ library at first use, as before. The wheel is then specific to this platform.
 from __future__ import annotations
 
 import importlib.util
+import sys
 from pathlib import Path
 
 from setuptools import Command, setup
@@ -20,7 +21,9 @@ JET = Path("pinn_engine", "neural", "jet")
 
 def _native():
     """``native.py`` loaded by its path: the build environment has setuptools alone, and the
-    package's ``__init__`` imports numpy."""
+    jet package's ``__init__`` imports torch (``native.py`` itself imports the package's
+    ``errors``, standard library only: the source folder goes on the path)."""
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
     spec = importlib.util.spec_from_file_location("_pinn_native", JET / "native.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)

@@ -125,6 +125,13 @@ class TrainingCancelled(TrainingError):
 STOP = "stop"
 
 
+class JetKernelsWarning(UserWarning):
+    """The C++ jet kernels are not used (no compiler, or their build failed): the networks'
+    jets run as torch operations, the same results, slower. A Python warning, so that
+    ``warnings.filterwarnings("ignore", category=JetKernelsWarning)`` (or ``-W``) quiets
+    it; the command line's ``--quiet`` does."""
+
+
 class WallAngleWarning(UserWarning):
     """A grid was produced although its lines leave an orthogonal side (SPEC 7) more than
     ``WALL_ANGLE_TOL`` degrees off 90 (pyvista route); filter it like any warning."""

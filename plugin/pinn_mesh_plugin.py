@@ -1108,8 +1108,11 @@ def _writer_proxy(key, extension, name, file_type):
             GridWriter.SetFileName(self, name)
 
         if fmt.extrudes:
-
-            @smproperty.intvector(name="IsThreeD", information_only="1")
+            # default 0: Save Data's writer dialog asks whether it has anything to show
+            # before the information is read, and an empty IsThreeD hid Extrude Thickness
+            @smproperty.intvector(
+                name="IsThreeD", information_only="1", number_of_elements=1, default_values=0
+            )
             def GetIsThreeD(self):
                 return GridWriter.GetIsThreeD(self)
 

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Create .venv in the repository root with everything pinn-mesh needs (idempotent).
-# torch is pinned to the CPU wheel first: an unpinned torch would pull GBs of CUDA packages.
+# torch first: torch==2.13.0 is the CPU wheel this project's machines hold on disk. Elsewhere
+# install PyTorch's CPU build from its index (docs/install.md):
+#   pip install torch --index-url https://download.pytorch.org/whl/cpu
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PYTHON=${PYTHON:-python3}
@@ -18,7 +20,7 @@ fi
 [ -x .venv/bin/python ] || "$PYTHON" -m venv .venv
 .venv/bin/python -m pip install --quiet --upgrade pip
 .venv/bin/python -m pip install --quiet "torch==2.13.0"
-echo "installing pinn-mesh: its C++ jet kernels compile now, not at the first run (about 30 s)"
+echo "installing pinn-mesh: its C++ jet kernels compile now, not at the first run (a minute or two)"
 .venv/bin/python -m pip install --quiet -e ".[test]"
 touch "$stamp"
 echo "pinn-mesh installed in .venv (command: .venv/bin/pinn-mesh)"

@@ -7,12 +7,14 @@ import os
 import re
 import shutil
 import stat
+import warnings
 from pathlib import Path
 
 import pytest
 import torch
 from helpers import needs_compiler
 
+from pinn_engine.errors import JetKernelsWarning
 from pinn_engine.neural.jet import layers, native
 from pinn_engine.neural.jet.layers import ACTIVATIONS
 from pinn_engine.neural.networks import CoordinateNet
@@ -53,7 +55,7 @@ def copied_build(built_library, monkeypatch) -> list[Path]:
     test, ``test_the_build_is_cached_per_source_and_reused``, compiles for real)."""
     built = []
 
-    def copy(compiler, folder, target):
+    def copy(compiler, folder, target, flags=native.FLAGS):
         shutil.copyfile(built_library, target)
         target.chmod(0o700)
         built.append(target)
@@ -122,9 +124,8 @@ def test_a_failing_compiler_falls_back_to_torch_with_a_warning(
     broken.write_text("#!/bin/sh\necho 'fatal error: simulated' >&2\nexit 1\n")
     broken.chmod(0o755)
     monkeypatch.setenv("CXX", str(broken))
-    with caplog.at_level(logging.WARNING, logger="pinn_engine.native"):
+    with pytest.warns(JetKernelsWarning, match="simulated"):
         assert native.kernels() is None
-    assert "simulated" in caplog.text
     assert list(tmp_path.glob("*.so")) == []  # no half-written library left behind
     net = CoordinateNet("shortcut", 2, 5).double()
     x = torch.rand(6, 2, dtype=torch.float64)
@@ -182,7 +183,7 @@ def no_build(monkeypatch, tmp_path):
     ``tmp_path/tmp``: the cache's choices without a compiler."""
     built = []
 
-    def fake_compile(compiler, folder, target):
+    def fake_compile(compiler, folder, target, flags=native.FLAGS):
         target.write_bytes(b"built")
         target.chmod(0o700)
         built.append(target)
@@ -313,14 +314,56 @@ def test_without_a_compiler_the_install_goes_on_and_a_run_warns_once(
     assert "built at first use" in capsys.readouterr().out
     native.kernels.cache_clear()
     try:
-        with caplog.at_level(logging.INFO, logger=native.log.name):
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
+            with caplog.at_level(logging.INFO, logger=native.log.name):
+                assert native.kernels() is None
+    finally:
+        native.kernels.cache_clear()
+    assert [(w.category, str(w.message).count("\n")) for w in said] == [(JetKernelsWarning, 0)]
+    assert "no C++ compiler found" in str(said[0].message) and not caplog.records
+    native.kernels.cache_clear()
+    try:  # Python's filters reach it: quiet, as the command line's --quiet makes it
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
+            warnings.simplefilter("ignore", JetKernelsWarning)
             assert native.kernels() is None
     finally:
         native.kernels.cache_clear()
-    assert [(r.levelno, r.getMessage().count("\n")) for r in caplog.records] == [
-        (logging.WARNING, 0)
-    ]
-    assert "no C++ compiler found" in caplog.text
+    assert said == []
+
+
+def test_a_second_install_reuses_the_first_ones_library(no_build, tmp_path, capsys):
+    """pip builds the package anew for each extra installed after the core: the library of
+    the same source and CPU is compiled once and copied from the user's cache after."""
+    first, second = tmp_path / "first", tmp_path / "second"
+    first.mkdir(), second.mkdir()
+    built = native.build_packaged(first)
+    again = native.build_packaged(second)
+    assert no_build == [built] and again.name == built.name  # compiled once
+    assert again.read_bytes() == built.read_bytes()
+    assert "built before" in capsys.readouterr().out
+
+
+def test_a_portable_build_is_loaded_where_no_build_for_this_cpu_is(no_build, monkeypatch):
+    """PINN_MESH_PORTABLE=1 at the install (a wheel for other machines): the library is
+    compiled for any CPU of the platform and named by the source and flags alone."""
+    package = native.PACKAGED_DIR
+    package.mkdir()
+    monkeypatch.setenv("PINN_MESH_PORTABLE", "1")
+    built = native.build_packaged(package)
+    assert built == native.packaged_library(package, portable=True)
+    monkeypatch.setattr(native, "_cpu_id", lambda: "another CPU")
+    assert native.packaged_library(package, portable=True) == built  # any CPU's
+    loaded = []
+    monkeypatch.setattr(native.ctypes, "CDLL", lambda path: loaded.append(path) or path)
+    monkeypatch.setattr(native, "_bind", lambda lib: lib)
+    native.kernels.cache_clear()
+    try:
+        assert native.kernels() == str(built)
+    finally:
+        native.kernels.cache_clear()
+    assert "-march=native" not in native.PORTABLE_FLAGS and "-O3" in native.PORTABLE_FLAGS
 
 
 # ---------------------------------------------------------------- the build key
@@ -373,9 +416,8 @@ def test_a_failing_compile_raises_and_the_engine_falls_back(
         native._compile(compiler, tmp_path, tmp_path / "lib.so")
     assert list(tmp_path.iterdir()) == []  # no temporary file left
     monkeypatch.setenv("CXX", compiler)
-    with caplog.at_level(logging.WARNING):
+    with pytest.warns(JetKernelsWarning, match="could not build the fused jet kernels.*false"):
         assert native.kernels() is None
-    assert "could not build the fused jet kernels" in caplog.text and "false" in caplog.text
     net = CoordinateNet("shortcut", 2, 5).double()
     x = torch.rand(6, 2, dtype=torch.float64)
     torch.testing.assert_close(net.jet(x)[0][0], net(x))  # through torch operations

@@ -295,6 +295,7 @@ def test_save_data_offers_the_solver_formats_and_writes_them(checkout, tmp_path)
     check_cgns(tmp_path / "grid.cgns", reference, None)
     check_cgns(tmp_path / "grid3.cgns", reference, 0.25)
     assert result["cgns_writer"] == "CGNSPINNMeshWriter" and result["is_three_d"] == 0
+    assert result["is_three_d_unread"] == [0]  # the writer dialog shows Extrude Thickness
     check_cgns(tmp_path / "saved.cgns", reference, None)  # Save Data's .cgns: ZoneBC, families
     assert [ln for ln in result["no_helper"]["vtk"].splitlines() if ln.strip()] == [
         "PINN Mesh writer: cgns: writing CGNS (h5py) needs the writer's helper Python: "

@@ -119,3 +119,21 @@ def test_help_is_one_screen_without_spec_citations(capsys):
     full = capsys.readouterr().out
     assert "SPEC" not in full and re.search(r"--boundary-fit \{[a-z,]+\}\s+\S", full)
     assert len(full.splitlines()) > len(short.splitlines())
+
+
+@pytest.mark.slow  # trains (two L-BFGS iterations) twice
+def test_the_no_compiler_warning_is_one_line_and_quiet_under_quiet(tmp_path, monkeypatch, capsys):
+    from pinn_engine.neural.jet import native
+
+    monkeypatch.setattr(native, "PACKAGED_DIR", tmp_path / "no-package")
+    monkeypatch.setattr(native, "_compiler", lambda: None)
+    aux = ["--aux", str(EXAMPLES / "fig2_aux.vtp"), "--lbfgs", "2", "--size", "11", "6"]
+    said = {}
+    for quiet in ([], ["--quiet"]):
+        native.kernels.cache_clear()
+        out = tmp_path / f"g{len(quiet)}.vts"
+        assert main([str(EXAMPLES / "fig2.vtp"), *aux, "-o", str(out), *quiet]) == 0
+        said[bool(quiet)] = [ln for ln in capsys.readouterr().err.splitlines() if "C++" in ln]
+    native.kernels.cache_clear()
+    assert len(said[False]) == 1 and said[False][0].startswith("pinn-mesh: no C++ compiler")
+    assert said[True] == []

@@ -10,7 +10,10 @@ warning, into a per-user cache (``$PINN_MESH_CACHE``, else ``$XDG_CACHE_HOME/pin
 loaded with ctypes: no Python or torch headers. Without a C++ compiler, with
 ``PINN_MESH_NATIVE=0``, or when the build fails (:class:`NativeBuildError`), :func:`kernels`
 returns None and the networks use the same formulas as torch operations (slower, same
-results); a missing compiler and a failed build each say so in a one-line warning.
+results); a missing compiler and a failed build each say so in a one-line
+``errors.JetKernelsWarning`` (Python's warnings filters reach it). ``PINN_MESH_PORTABLE=1``
+at the install builds the library for any CPU of the platform (a wheel for other machines,
+docs/install.md), loaded where no library for this CPU is.
 
 Nothing is loaded from a folder that another user could write to. The cache folder is
 created with mode 0700; before a library is loaded, the folder and the file must belong to
@@ -32,16 +35,29 @@ import shutil
 import stat
 import subprocess
 import tempfile
+import warnings
 from pathlib import Path
+
+from pinn_engine.errors import JetKernelsWarning
 
 log = logging.getLogger(__name__)
 SOURCE = Path(__file__).with_name("kernels.cpp")
 PACKAGED_DIR = SOURCE.parent  # where the install step puts the library (build_packaged)
 FLAGS = ["-O3", "-march=native", "-fno-trapping-math", "-shared", "-fPIC", "-std=c++17", "-pthread"]
+# a wheel for other machines (PINN_MESH_PORTABLE=1 at its build): the compiler's default
+# target instead of this CPU's, so that it runs on any CPU of the platform
+PORTABLE_FLAGS = [f for f in FLAGS if f != "-march=native"]
+PORTABLE = "portable"  # the library's CPU key when built so
 CPUINFO = Path("/proc/cpuinfo")
 COMPILE_TIMEOUT = 120.0  # seconds
-# said once where a run compiles the kernels itself (the install step did not): 15-30 s
-COMPILING = "pinn-mesh: compiling the network's C++ jet kernels into %s once (about 30 s)"
+# what training without the kernels costs (docs/install.md: fig2's default training)
+NO_COMPILER_COST = "slower"
+# said where the kernels are compiled (the install, or a run the install did not build for):
+# 93 s measured on 2 busy cores (docs/install.md)
+COMPILING = (
+    "pinn-mesh: compiling the network's C++ jet kernels into %s, once per source and CPU "
+    "(a minute or two)"
+)
 # /proc/cpuinfo fields (first processor) that name the CPU and what it can run: x86 and ARM
 _CPU_FIELDS = (
     "vendor_id",
@@ -141,15 +157,24 @@ def build_key(compiler: str) -> str:
     return _hash([SOURCE.read_bytes(), compiler_path.encode(), version[0].encode()] + _target())
 
 
-def _target() -> list[bytes]:
-    """What the library's code depends on beside its source: the flags and the CPU."""
+def _target(portable: bool = False) -> list[bytes]:
+    """What the library's code depends on beside its source: the flags and the CPU (none
+    for a portable build)."""
+    if portable:
+        return [" ".join(PORTABLE_FLAGS).encode(), PORTABLE.encode()]
     return [" ".join(FLAGS).encode(), _cpu_id().encode()]
 
 
-def packaged_library(folder: Path) -> Path:
+def packaged_library(folder: Path, portable: bool = False) -> Path:
     """The install step's library in ``folder``: named by a hash of the source, the flags
-    and the CPU, so that one built for another CPU or an older source is never loaded."""
-    return folder / f"jet_kernels-{_hash([SOURCE.read_bytes(), *_target()])}.so"
+    and the CPU, so that one built for another CPU or an older source is never loaded (a
+    portable one, by the source and its flags alone)."""
+    return folder / f"jet_kernels-{_hash([SOURCE.read_bytes(), *_target(portable)])}.so"
+
+
+def _portable_build() -> bool:
+    """Whether this build is for other machines: ``PINN_MESH_PORTABLE=1`` (docs/install.md)."""
+    return os.environ.get("PINN_MESH_PORTABLE", "0") == "1"
 
 
 def build_packaged(folder: Path) -> Path | None:
@@ -160,17 +185,48 @@ def build_packaged(folder: Path) -> Path | None:
     if compiler is None:
         print("pinn-mesh: no C++ compiler found; the jet kernels are built at first use")
         return None
-    print(COMPILING % folder)
-    target = packaged_library(folder)
-    try:
-        _compile(compiler, folder, target)
-    except NativeBuildError as exc:
-        print(f"pinn-mesh: {_one_line(str(exc))}; the jet kernels are built at first use")
-        return None
+    portable = _portable_build()
+    target = packaged_library(folder, portable)
+    kept = _kept_build(target.name)
+    if kept is not None:  # an earlier install's (the core, then each extra): no compiling
+        print(f"pinn-mesh: the jet kernels for this source and CPU, built before: {kept}")
+        shutil.copyfile(kept, target)
+    else:
+        print(COMPILING % folder)
+        try:
+            _compile(compiler, folder, target, PORTABLE_FLAGS if portable else FLAGS)
+        except NativeBuildError as exc:
+            print(f"pinn-mesh: {_one_line(str(exc))}; the jet kernels are built at first use")
+            return None
+        _keep_build(target)
     for old in folder.glob("jet_kernels-*.so"):
         if old != target:
             old.unlink()
     return target
+
+
+def _kept_build(name: str) -> Path | None:
+    """The library ``name`` an earlier install kept in the user's cache, if it is private."""
+    try:
+        folder = _private_dir(_cache_dir())
+    except OSError:
+        return None
+    kept = folder / name
+    return kept if kept.is_file() and _not_private(kept, folder=False) is None else None
+
+
+def _keep_build(library: Path) -> None:
+    """A copy of an install's library in the user's cache, for the next install (pip builds
+    anew for each extra); nothing where the cache cannot take it."""
+    try:
+        folder = _private_dir(_cache_dir())
+        fd, tmp = tempfile.mkstemp(suffix=".so.part", dir=folder)
+        os.close(fd)
+        shutil.copyfile(library, tmp)
+        os.chmod(tmp, 0o700)
+        os.replace(tmp, folder / library.name)
+    except OSError:
+        pass
 
 
 def _not_private(path: Path, folder: bool) -> str | None:
@@ -203,12 +259,12 @@ def _private_dir(path: Path) -> Path:
     return path
 
 
-def _compile(compiler: str, folder: Path, target: Path) -> Path:
-    """Build the library into ``target`` in ``folder``: complete or absent, even if two
-    processes build at once; readable and writable by this user alone."""
+def _compile(compiler: str, folder: Path, target: Path, flags: list[str] = FLAGS) -> Path:
+    """Build the library into ``target`` in ``folder`` with ``flags``: complete or absent,
+    even if two processes build at once; readable and writable by this user alone."""
     fd, tmp = tempfile.mkstemp(suffix=".so.part", dir=folder)
     os.close(fd)
-    command = [compiler, *FLAGS, "-o", tmp, str(SOURCE)]
+    command = [compiler, *flags, "-o", tmp, str(SOURCE)]
     shown = " ".join(command)
     try:
         try:
@@ -290,17 +346,20 @@ def kernels() -> ctypes.CDLL | None:
     """The loaded kernel library, or None where it cannot be built (then torch is used)."""
     if os.environ.get("PINN_MESH_NATIVE", "1") == "0":
         return None
-    packaged = packaged_library(PACKAGED_DIR)
-    if packaged.exists():
-        try:
-            return _bind(ctypes.CDLL(str(packaged)))
-        except (OSError, AttributeError) as exc:
-            log.warning("not loading %s (%s); building it again", packaged, _one_line(str(exc)))
+    for portable in (False, True):  # this CPU's build, else a portable wheel's
+        packaged = packaged_library(PACKAGED_DIR, portable)
+        if packaged.exists():
+            try:
+                return _bind(ctypes.CDLL(str(packaged)))
+            except (OSError, AttributeError) as exc:
+                log.warning("not loading %s (%s)", packaged, _one_line(str(exc)))
     compiler = _compiler()
     if not compiler:
-        log.warning(
+        warnings.warn(
             "pinn-mesh: no C++ compiler found (install g++ or set CXX): the network's jets "
-            "run as torch operations, slower"
+            f"run as torch operations, {NO_COMPILER_COST}",
+            JetKernelsWarning,
+            stacklevel=2,
         )
         return None
     try:
@@ -311,8 +370,10 @@ def kernels() -> ctypes.CDLL | None:
             if fresh is not None:  # loaded: the file can go (POSIX; Windows keeps it)
                 shutil.rmtree(fresh, ignore_errors=True)
     except (OSError, NativeBuildError, AttributeError) as exc:
-        log.warning(
-            "could not build the fused jet kernels (%s); using torch operations",
-            _one_line(str(exc)),
+        warnings.warn(
+            f"pinn-mesh: could not build the fused jet kernels ({_one_line(str(exc))}); "
+            "using torch operations",
+            JetKernelsWarning,
+            stacklevel=2,
         )
         return None

@@ -5,16 +5,23 @@ from __future__ import annotations
 import os
 import signal
 import sys
+import warnings
 from pathlib import Path
 
 from pinn_engine import heap
-from pinn_engine.errors import PinnMeshError
+from pinn_engine.errors import JetKernelsWarning, PinnMeshError
 from pinn_engine.routes.cli.dispatch import run
 from pinn_engine.routes.cli.parser import EXIT_ERROR, EXIT_INTERNAL, EXIT_INTERRUPTED, build_parser
 
 
 def _raise_interrupt(signum, frame):  # noqa: ARG001
     raise KeyboardInterrupt
+
+
+def _one_line_warning(message, category, filename, lineno, file=None, line=None):  # noqa: ARG001
+    """A Python warning on the command line: its one line (it names pinn-mesh), on stderr."""
+    text = str(message)
+    print(text if text.startswith("pinn-mesh") else f"pinn-mesh: warning: {text}", file=sys.stderr)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -29,7 +36,11 @@ def main(argv: list[str] | None = None) -> int:
     previous = signal.signal(signal.SIGTERM, _raise_interrupt)
     written: list[Path] = []
     try:
-        run(args, written)
+        with warnings.catch_warnings():
+            warnings.showwarning = _one_line_warning
+            if args.quiet:
+                warnings.simplefilter("ignore", JetKernelsWarning)
+            run(args, written)
     except PinnMeshError as exc:
         print(f"pinn-mesh: error: {exc}", file=sys.stderr)
         return EXIT_ERROR

@@ -58,15 +58,15 @@ session() {  # session NAME LONG: start ParaView, wait until the session script 
 }
 
 quick_launch_pinn() {  # quick_launch_pinn [SCREENSHOT]: Ctrl+Space, "PINN", Return
-    xdotool key ctrl+space; sleep 1
-    xdotool type --delay 50 "PINN"; sleep 1
+    xdotool key ctrl+space; sleep 2  # (a loaded machine's GUI answers slowly)
+    xdotool type --delay 80 "PINN"; sleep 2
     [ -z "${1:-}" ] || import -window root "$1"
     xdotool key Return
 }
 
 select_both_and_apply() {  # rows of the Pipeline Browser in ParaView 5.11's default layout
-    xdotool mousemove 91 196 click 1; sleep 0.5                           # fig2.vtp
-    xdotool keydown ctrl mousemove 106 218 click 1 keyup ctrl; sleep 0.5  # + fig2_aux.vtp
+    xdotool mousemove 91 196 click 1; sleep 1                             # fig2.vtp
+    xdotool keydown ctrl mousemove 106 218 click 1 keyup ctrl; sleep 2    # + fig2_aux.vtp
     quick_launch_pinn "${1:-}"
 }
 

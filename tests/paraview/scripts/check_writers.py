@@ -64,6 +64,10 @@ for proxy_name, file_name, props in jobs:
 
 # File > Save Data by the file name alone, as ParaView 5.11's dialog does: ours for .cgns
 writer = factory.CreateWriter(os.path.join(OUT, "unwritten.cgns"), mesh.SMProxy, 0)
+# what Save Data's writer dialog sees before the information is read: a value, so that
+# Extrude Thickness (shown where IsThreeD is 0) makes the dialog appear for a 2D grid
+before = writer.GetProperty("IsThreeD")
+result["is_three_d_unread"] = [before.GetElement(k) for k in range(before.GetNumberOfElements())]
 writer.UpdatePropertyInformation()
 result["cgns_writer"] = writer.GetXMLName()
 result["is_three_d"] = vtkSMPropertyHelper(writer, "IsThreeD").GetAsInt()
