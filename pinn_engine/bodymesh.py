@@ -17,7 +17,7 @@ import numpy as np
 
 from pinn_engine.bodies import bodygrid
 from pinn_engine.bodies.airfoil import Body, FarField, inside_polygon
-from pinn_engine.errors import InputError
+from pinn_engine.errors import InputError, network_effect
 from pinn_engine.geometry.boundary import segment_distance
 from pinn_engine.quality import angle_deviation, cell_quality, summary
 from pinn_engine.result import MeshResult
@@ -225,6 +225,9 @@ def mesh_body(
     if training is not None:
         report["training"] = training
     report["timings"] = {**timings, "quality": time.perf_counter() - quality_began}
+    choice = network_effect(report)
+    if choice:  # the summary's line, in the report for the routes without one (pyvista)
+        report["choice"] = choice
     return MeshResult(points=grid, report=report, history=history, cells=cells)
 
 

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pinn_engine.settings import NEURAL, Settings
+from pinn_engine.settings import Settings
 
 if TYPE_CHECKING:  # the engine's numerics are imported on first use (fast plugin loading)
     from pinn_engine.geometry.auxlines import AuxLine
@@ -55,7 +55,7 @@ class MeshCache:
 
     def __init__(self, capacity: int = 4) -> None:
         self.capacity = capacity
-        self.trainings = 0  # networks trained (pinn, mgnet) through this cache
+        self.trainings = 0  # networks trained (pinn, mgnet) through this cache; no start kept
         self._entries: OrderedDict[tuple, Mesher] = OrderedDict()
 
     def key(self, boundary: Boundary, aux_lines: Sequence[AuxLine], settings: Settings) -> tuple:
@@ -69,7 +69,8 @@ class MeshCache:
         settings: Settings,
         progress: Callable[[dict], bool | None] | None = None,
     ) -> tuple[Mesher, bool]:
-        """A mesher fitted to these inputs and whether a network was trained for it now."""
+        """A mesher fitted to these inputs and whether a network was trained for it now (not
+        where the network could not win and its start is the map: ``blocks.untrained``)."""
         key = self.key(boundary, aux_lines, settings)
         mesher = self._entries.get(key)
         if mesher is not None:
@@ -79,7 +80,7 @@ class MeshCache:
         from pinn_engine.mesher import Mesher
 
         mesher = Mesher(settings).fit(boundary, aux_lines, progress)
-        trained = settings.method in NEURAL
+        trained = mesher.model_ is not None and not mesher.model_.info.get("skipped")
         self.trainings += int(trained)
         if mesher.model_ is None or "stopped" not in mesher.model_.info:
             self._entries[key] = mesher  # a stopped training is not the asked one: train again

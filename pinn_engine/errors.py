@@ -339,30 +339,43 @@ def wall_angle_warning(report: dict, route: str) -> str | None:
 
 
 def network_effect(report: dict) -> str | None:
-    """What the network did, for the summary line of every route: whether its grid was kept
-    or the start's (the guard found no better state), and the largest node move between
-    the start and the result relative to the diagonal; None for a method without network."""
+    """What the default chose, for the summary line of every route (and the report's
+    ``choice``): the grid returned (the network's, or the start it kept: the elliptic grid,
+    the quality objective's, ...), whether a network was trained and for how long, and the
+    worst cell of the grid returned against the elliptic grid's on the same boundary nodes;
+    None for a method without network."""
     training = report.get("training")
     if not training or "result" not in training:
         return None
     start = training.get("start", "elliptic")
+    worst = report.get("quality", {}).get("worst_max_angle")
+    elliptic = ((training.get("guard") or {}).get("elliptic") or {}).get("worst_max_angle")
+    gain = (
+        f"; worst cell {worst:.2f} deg, the elliptic grid's {elliptic:.2f}"
+        if worst is not None and elliptic is not None
+        else ""
+    )
     if "model" in training:  # a family model's grid (SPEC 16)
         if training["result"] == "start":
-            return f"family model {training['model']}: the member's {start} start kept (guard)"
+            return (
+                f"family model {training['model']}: the member's {start} start kept "
+                f"(guard){gain}"
+            )
         steps = training.get("winslow_steps")
         done = f", then {steps} linearised Winslow steps" if steps else ""
-        return f"family model {training['model']}: its grid kept (a forward pass{done})"
+        return f"family model {training['model']}: its grid kept (a forward pass{done}){gain}"
     if training.get("skipped"):
-        return f"network: start kept ({start} grid; not trained: {training['skipped']})"
+        return f"chose the {start} grid{gain} (no network trained: {training['skipped']})"
+    seconds = report.get("train_seconds", (training.get("timings") or {}).get("training", 0.0))
     if training["result"] == "start":
-        return f"network: start kept ({start} grid; no trained state passed the quality guard)"
+        return (
+            f"chose the {start} grid{gain} (the network trained {seconds:.2f} s; no trained "
+            "state passed the quality guard)"
+        )
     move = training.get("largest_node_move")
-    if move is None:
-        return "network: trained from TFI, its grid kept"
-    return (
-        f"network: its grid kept, nodes moved up to {move:.1e} of the diagonal from the "
-        f"{start} start"
-    )
+    moved = "" if move is None else f", nodes moved up to {move:.1e} of the diagonal"
+    origin = "TFI" if move is None else f"the {start} grid"
+    return f"chose the network's grid (trained {seconds:.2f} s from {origin}{moved}){gain}"
 
 
 def family_fallback_warning(report: dict, route: str) -> str | None:  # noqa: ARG001

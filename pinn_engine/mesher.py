@@ -12,7 +12,13 @@ from pinn_engine.blocks.untrained import StartModel, cannot_win
 from pinn_engine.classical.elliptic import winslow_solve, winslow_sweeps
 from pinn_engine.classical.spacing import classical_grid, fit_params, side_lengths, working_spacing
 from pinn_engine.classical.tfi import tfi_grid
-from pinn_engine.errors import NotFittedError, PinnMeshError, SettingsError, TrainingError
+from pinn_engine.errors import (
+    NotFittedError,
+    PinnMeshError,
+    SettingsError,
+    TrainingError,
+    network_effect,
+)
 from pinn_engine.geometry.auxlines import AuxLine, line_distances
 from pinn_engine.geometry.boundary import Boundary
 from pinn_engine.geometry.boundary_fit import make_fit
@@ -62,17 +68,19 @@ class Mesher:
         self.model_ = None
         self.train_seconds_ = 0.0
         if self.settings.method in NEURAL:
-            start = time.perf_counter()
             reason = cannot_win(self.settings, self.aux_lines_)
             if reason:  # the start's map: no network, no torch
                 self.model_ = StartModel.of(boundary, self.aux_lines_, self.settings, reason)
             else:
+                start = time.perf_counter()
                 from pinn_engine.blocks.quad import train  # torch: imported only to train
 
                 imported = time.perf_counter()
                 self.model_ = train(boundary, self.aux_lines_, self.settings, progress)
                 self.model_.info["timings"]["import"] = imported - start
-            self.train_seconds_ = time.perf_counter() - start
+            # the network's training alone: 0 where none was trained (its start's time is
+            # the report's timings["start"])
+            self.train_seconds_ = float(self.model_.info["timings"]["training"])
             self.model_.info["train_seconds"] = self.train_seconds_
         return self
 
@@ -130,6 +138,9 @@ class Mesher:
             report["training"] = self.model_.info
             timings.update(self.model_.info.get("timings", {}))
         report["timings"] = {**timings, "mesh": mesh_seconds, "quality": quality_seconds}
+        choice = network_effect(report)
+        if choice:  # the summary's line, in the report for the routes without one (pyvista)
+            report["choice"] = choice
         history = self.model_.history if self.model_ is not None else {}
         return MeshResult(
             points=points, report=report, history=history, cells=cells, plane=self.boundary_.plane

@@ -11,6 +11,19 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
+# The quality objective's cell-quality term (neural.losses.loss_quality, and its NumPy twin
+# with its gradient, starts.quality_start.quality_loss): the soft maximum's temperature (1
+# degree in radians; the log-sum-exp weighs every corner within a few tau of the largest
+# angle); the mean term's weight (the mean and the soft worst angle count alike); the sine below
+# which a corner is barred (177 degrees: nearly flat or reflex, a fold) and the barrier's weight
+# (a reflex corner costs at least 0.25, 14 degrees of the soft maximum: unfolding comes first).
+# How they were set: docs/tuning.md.
+QUALITY_TAU = 0.0175
+QUALITY_MEAN_WEIGHT = 1.0
+QUALITY_MIN_SINE = 0.05
+QUALITY_BARRIER_WEIGHT = 100.0
+
+
 DBL_MIN = np.finfo(float).tiny
 BAND_CELLS = 100_000  # cells per thread below which threads cost more than they save
 

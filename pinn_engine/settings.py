@@ -13,7 +13,9 @@ from pinn_engine.patchnames import FACE_PREFIX
 METHODS = ("pinn", "mgnet", "tfi", "elliptic")
 NEURAL = ("pinn", "mgnet")  # the methods that train a network
 PRESETS = ("default", "paper")
-OBJECTIVES = ("winslow", "quality")  # SPEC 7, --objective (pinn)
+# SPEC 7, --objective (pinn): best (the default: the quality objective's grid where it applies,
+# the Winslow equations' elsewhere), winslow, quality
+OBJECTIVES = ("best", "winslow", "quality")
 TOPOLOGIES = ("none", "o", "c")  # SPEC 9: a four-sided domain, an O-grid or a C-grid
 BODY_METHODS = ("pinn", "tfi", "elliptic")  # the methods of O- and C-grids
 MULTIBLOCK_METHODS = ("tfi", "elliptic", "pinn")  # SPEC 10's methods in this build
@@ -31,6 +33,12 @@ HEXA_LBFGS_ITERATIONS = 20
 # Grid sizes accepted on every route (command line, filter and panel, pyvista, Mesher)
 MAX_SIDE_NODES = 20_000
 MAX_NODES = 4_000_000  # about 1.5 GB of memory while meshing and writing
+# The warm start's elliptic solve grows faster than linearly with the nodes (measured on the
+# V notch, 2 busy cores: 1 s at 161 x 81, 16 s at 321 x 161, 106 s at 641 x 321); above this
+# many nodes it runs on a coarser lattice of the same shape, and the network is evaluated finer
+# (starts/warmstart.py). The default takes the quality objective only up to it: the spline of
+# an optimised coarser lattice can fold cells of the finer grid (a bump at 641 x 321: 54).
+MAX_LATTICE_NODES = 161 * 81
 DEFAULT_SIZE = (41, 21)  # nodes along xi and eta of a four-sided grid or a body (SPEC 5)
 HEXA_SIZE = (21, 21, 21)  # SPEC 11's default nodes along i, j and k
 MIN_HEXA_NODES = 3  # fewer nodes along a direction leave no interior to solve for
@@ -291,9 +299,11 @@ class Settings:
     # whose counts come from cell_size
     size: tuple[int, ...] = ()
     residual: str = "scaled"  # Winslow residual: "paper" (eq. 13) or "scaled" (losses.py)
-    # pinn: "winslow" (the Winslow equations) or "quality" (plus a cell-quality term, and the
-    # start and guard keep the best worst angle; blocks/quad.py); other methods: "winslow"
-    objective: str = "winslow"
+    # pinn: "winslow" (the Winslow equations), "quality" (plus a cell-quality term, and the
+    # start and guard keep the best worst angle; blocks/quad.py) or "best" (quality on a
+    # four-sided block without spacing or orthogonal sides, winslow elsewhere:
+    # ``quality_objective``); other methods: "winslow"
+    objective: str = "best"
     hidden_layers: int = 4
     neurons: int = 30
     activation: str = "tanh"
@@ -429,6 +439,24 @@ class Settings:
             )
 
     @property
+    def quality_objective(self) -> bool:
+        """Whether a four-sided pinn block takes the quality objective (its start, term and
+        ranking: starts/quality_start.py; a multi-block run makes ``best`` winslow,
+        job.blocks): asked, or by default (``best``) from the elliptic
+        warm start where no spacing or orthogonal side is asked (there the spacing's and the
+        orthogonal start's grids, which the quality start does not keep, are the start) and
+        the lattice is the grid itself (``MAX_LATTICE_NODES``)."""
+        if self.method != "pinn" or self.topology != "none" or len(self.size) == len(HEXA_SIZE):
+            return False
+        if self.objective == "best":
+            return (
+                self.warm_start == "elliptic"
+                and not (self.spacing or self.orthogonal)
+                and math.prod(self.lattice) <= MAX_LATTICE_NODES
+            )
+        return self.objective == "quality"
+
+    @property
     def wall_spacing(self) -> float | None:
         """The first-layer height off a body's wall (``spacing`` of bottom), or None."""
         return dict(self.spacing).get("bottom")
@@ -446,7 +474,7 @@ class Settings:
             "interfaces",
             "size",
             "adapt_strength",
-        } | ({"lattice"} if self.warm_start == "none" and self.objective == "winslow" else set())
+        } | ({"lattice"} if self.warm_start == "none" and not self.quality_objective else set())
         return tuple((f.name, getattr(self, f.name)) for f in fields(self) if f.name not in skip)
 
 

@@ -165,7 +165,7 @@ class QuadProblem:
                 )
             )
         self.lattice = None
-        if settings.objective == "quality" and settings.method == "pinn" and self.hard:
+        if settings.quality_objective and self.hard:
             ni, nj = lattice_for(*settings.lattice)
             base = tfi_grid(ArcLengthFit(boundary).sample, ni, nj)  # the grid's exact base
             if mapping.warm is not None:

@@ -60,14 +60,20 @@ THIN = "its wall cells, of aspect ratio 20 or more, are too thin for its correct
 
 def cannot_win(settings: Settings, aux: Sequence[AuxLine] = ()) -> str | None:
     """Why the pinn's network cannot beat its start under ``settings`` with the auxiliary
-    lines ``aux``, or None where it may (lines to follow, orthogonal sides, a spacing, no
-    warm start: the network is the map) or where Adam epochs are asked (a schedule that
-    trains the network whatever it wins)."""
+    lines ``aux``, or None where it may (under the Winslow equations: lines to follow,
+    orthogonal sides, a spacing; no warm start: the network is the map) or where Adam epochs
+    are asked (a schedule that trains the network whatever it wins).
+
+    The quality objective's start is its optimum on the nodes, with the lines followed: on
+    the tuning set's shapes with lines its trained network never ranked better
+    (docs/quality_objective.md), so it is not trained there either."""
     if settings.method != "pinn" or settings.warm_start != "elliptic" or settings.adam_epochs:
         return None
-    if settings.boundary_mode != "hard" or aux or settings.orthogonal or settings.spacing:
+    if settings.boundary_mode != "hard" or settings.orthogonal or settings.spacing:
         return None
-    return QUALITY if settings.objective == "quality" else WINSLOW
+    if settings.quality_objective:
+        return QUALITY
+    return None if aux else WINSLOW
 
 
 def body_cannot_win(settings: Settings, wall_aspect: float) -> str | None:

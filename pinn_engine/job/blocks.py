@@ -285,6 +285,8 @@ def run_blocks(
     from pinn_engine.starts.untangle import untangle
 
     g = geometry
+    if settings.objective == "best":  # the quality objective's start is a four-sided block's
+        settings = replace(settings, objective="winslow")
     clock = Clock(settings.time_limit, progress)
     result = mesh_blocks(
         g.rings,
@@ -304,5 +306,7 @@ def run_blocks(
     if clock.stopped is not None:
         result.report.setdefault("training", {})["stopped"] = clock.stopped
     dataset = multiblock_dataset(result.grids, result.cells, result.report, result.patches)
-    trained = "training" in result.report
+    trained = any(
+        not block.get("skipped") for block in result.report.get("training", {}).get("blocks", [])
+    )
     return Outcome("blocks", dataset, result.report, result.grids, {}, trained, None, g.edges)

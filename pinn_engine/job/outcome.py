@@ -35,3 +35,10 @@ class Outcome:
     def quality(self) -> dict:
         """The quality figures of SPEC 6 over every cell."""
         return self.report["quality"]
+
+
+def network_trained(report: dict) -> bool:
+    """Whether the run of ``report`` trained a network: it has a training whose network was
+    not skipped (``blocks.untrained``: the start kept untrained, no training time spent)."""
+    training = report.get("training")
+    return bool(training) and not training.get("skipped")

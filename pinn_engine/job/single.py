@@ -12,8 +12,8 @@ from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 from pinn_engine.cache import MeshCache
 from pinn_engine.errors import InputError
-from pinn_engine.job.outcome import Outcome
-from pinn_engine.settings import DEFAULT_SIZE, NEURAL, Settings
+from pinn_engine.job.outcome import Outcome, network_trained
+from pinn_engine.settings import DEFAULT_SIZE, Settings
 
 # A curve that fails as a four-sided boundary is called a body (and the user pointed to the
 # O- and C-grids) when its ends are at most this share of its size apart (a blunt trailing
@@ -232,8 +232,9 @@ def run_single(
         progress,
     )
     grid = to_vtk(result, names)
-    trained = settings.method in NEURAL
-    return Outcome("body", grid, result.report, [result.points], result.history, trained)
+    return Outcome(
+        "body", grid, result.report, [result.points], result.history, network_trained(result.report)
+    )
 
 
 def _run_family(settings: Settings, geometry: Geometry, family: str | os.PathLike) -> Outcome:

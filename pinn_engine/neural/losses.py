@@ -11,16 +11,12 @@ import torch
 
 from pinn_engine.neural.jet import ETA, ETAETA, XI, XIETA, XIXI
 from pinn_engine.neural.jet.nd import pairs, second
-
-# loss_quality (``--objective quality``): the soft maximum's temperature (1 degree in radians; the
-# log-sum-exp weighs every corner within a few tau of the largest angle); the mean term's weight
-# (the mean and the soft worst angle count alike); the sine below which a corner is barred (177
-# degrees: nearly flat or reflex, a fold) and the barrier's weight (a reflex corner costs at least
-# 0.25, 14 degrees of the soft maximum: unfolding comes first). How they were set: docs/tuning.md.
-QUALITY_TAU = 0.0175
-QUALITY_MEAN_WEIGHT = 1.0
-QUALITY_MIN_SINE = 0.05
-QUALITY_BARRIER_WEIGHT = 100.0
+from pinn_engine.quality import (
+    QUALITY_BARRIER_WEIGHT,
+    QUALITY_MEAN_WEIGHT,
+    QUALITY_MIN_SINE,
+    QUALITY_TAU,
+)
 
 
 def winslow_residual(jet: torch.Tensor, controls: torch.Tensor | None = None) -> torch.Tensor:

@@ -94,7 +94,7 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, FieldInput, LineInputs, VTKPytho
       ``SetOrthogonal(b, r, t, l)``: 0/1 per side (SPEC 7; also names or a dict)
     * ``SetCorners(i0, i1, i2, i3)``: the four corner point indices of the boundary;
       ``SetCorners(None)`` or any negative index: automatic detection
-    * ``SetObjective("winslow"|"quality")`` (or 0/1): the pinn's objective (SPEC 7)
+    * ``SetObjective("best"|"winslow"|"quality")`` (or 0/1/2): the pinn's objective (SPEC 7)
     * ``SetPresetSetting(preset, name, value)``: a value used only under that preset
     * ``SetSetting(name, value)``: any other field of ``pinn_engine.settings.Settings``
       (e.g. ``"device"``, ``"boundary_mode"``, ``"elliptic_iterations"``)
@@ -223,7 +223,8 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, FieldInput, LineInputs, VTKPytho
         return self._overrides.get("orthogonal", ())
 
     def SetObjective(self, objective) -> None:
-        """The pinn's objective: winslow or quality (or its index); None: the preset's."""
+        """The pinn's objective: best, winslow or quality (or its index); None: the
+        preset's."""
         self._set_override(
             "objective", None if objective is None else choice(objective, OBJECTIVES, "objective")
         )

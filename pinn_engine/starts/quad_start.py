@@ -1,6 +1,6 @@
 """Where a four-sided block's network starts (blocks/quad.py): the start grid on the lattice,
-the guard's reference, and what the quality objective ranks by; torch is imported only for
-the quality objective's start (its node optimisation)."""
+the guard's reference, and what the quality objective ranks by (its start in NumPy: no
+torch)."""
 
 from __future__ import annotations
 
@@ -57,8 +57,8 @@ def quad_start(
     warm, elliptic = elliptic_start(boundary, *lattice)
     if settings.method != "pinn":
         return QuadStart(warm, elliptic if reference is None else reference, params=params)
-    if settings.objective == "quality":
-        from pinn_engine.starts.quality_start import Ranking, quality_start  # torch: its L-BFGS
+    if settings.quality_objective:
+        from pinn_engine.starts.quality_start import Ranking, quality_start
 
         tfi = elliptic - warm.correction  # the TFI base plus the new start's correction
         ranking = Ranking.of(elliptic, aux, boundary.diagonal)

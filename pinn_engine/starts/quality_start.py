@@ -16,15 +16,22 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.sparse as sp
-import torch
 from scipy.optimize import minimize
 from scipy.sparse.linalg import splu, spsolve
 
 from pinn_engine.classical.elliptic import stencil_matrix
 from pinn_engine.classical.warm import WarmStart
 from pinn_engine.geometry.auxlines import AuxLine, line_distances
-from pinn_engine.neural.losses import corner_angles, loss_quality, nearest_on_line
-from pinn_engine.quality import folded_cells, guard_figures, orientation, shortest_edges
+from pinn_engine.quality import (
+    QUALITY_BARRIER_WEIGHT,
+    QUALITY_MEAN_WEIGHT,
+    QUALITY_MIN_SINE,
+    QUALITY_TAU,
+    folded_cells,
+    guard_figures,
+    orientation,
+    shortest_edges,
+)
 from pinn_engine.starts.untangle import untangle
 
 MEAN_TOL = 0.5  # the objective's bound on the mean MaxIncludedAngle against the elliptic grid
@@ -170,10 +177,9 @@ class _Samples:
         self.weight = np.stack([(1 - a) * (1 - b), a * (1 - b), a * b, (1 - a) * b], axis=1)
         self.a, self.b = a[:, None], b[:, None]
 
-    def at(self, grid: np.ndarray | torch.Tensor) -> np.ndarray | torch.Tensor:
-        """The grid's values at the points, (n, 2) (numpy or torch, as ``grid``)."""
-        weight = torch.as_tensor(self.weight) if isinstance(grid, torch.Tensor) else self.weight
-        return (grid.reshape(-1, 2)[self.index] * weight[..., None]).sum(1)
+    def at(self, grid: np.ndarray) -> np.ndarray:
+        """The grid's values at the points, (n, 2)."""
+        return (grid.reshape(-1, 2)[self.index] * self.weight[..., None]).sum(1)
 
     def jacobian(self, grid: np.ndarray) -> np.ndarray:
         """d(x, y) / d(xi, eta) of the grid's bilinear map at the points, (n, 2, 2)."""
@@ -326,80 +332,145 @@ def relax_on_lines(grid: np.ndarray, ranking: Ranking) -> np.ndarray:
 
 
 def _nearest(points: np.ndarray, line: np.ndarray) -> np.ndarray:
-    """``losses.nearest_on_line`` on arrays."""
-    return nearest_on_line(torch.from_numpy(points), torch.from_numpy(line)).numpy()
+    """The nearest point (n, 2) of the polyline ``line`` (m, 2) to each of ``points`` (n, 2):
+    ``losses.nearest_on_line`` on arrays."""
+
+    def foot(a: np.ndarray, ab: np.ndarray, p: np.ndarray) -> np.ndarray:
+        along = ((p - a) * ab).sum(-1) / np.maximum((ab * ab).sum(-1), 1e-300)
+        return a + np.clip(along, 0.0, 1.0)[..., None] * ab
+
+    a, ab = line[:-1], line[1:] - line[:-1]
+    nearest = ((foot(a, ab, points[:, None]) - points[:, None]) ** 2).sum(-1).argmin(1)
+    return foot(a[nearest], ab[nearest], points)
+
+
+# The corners of every cell of a grid (nj, ni, 2) as slices, counter-clockwise in (i, j)
+# (``losses.corner_angles``' order)
+_CORNERS = (
+    (slice(None, -1), slice(None, -1)),
+    (slice(None, -1), slice(1, None)),
+    (slice(1, None), slice(1, None)),
+    (slice(1, None), slice(None, -1)),
+)
+
+
+def quality_loss(grid: np.ndarray, turn: float) -> tuple[float, np.ndarray, np.ndarray]:
+    """``losses.loss_quality`` of ``losses.corner_angles(grid, turn)`` in NumPy, with its
+    gradient by the grid's nodes (nj, ni, 2) and the corner angles (4, nj - 1, ni - 1): the
+    node optimisation's objective without torch."""
+    parts, theta = [], []
+    for k in range(4):
+        p = grid[_CORNERS[k]]
+        a, b = grid[_CORNERS[(k + 1) % 4]] - p, grid[_CORNERS[k - 1]] - p
+        cross = turn * (a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0])
+        dot = (a * b).sum(-1)
+        parts.append((a, b, cross, dot))
+        theta.append(np.pi + np.arctan2(-cross, -dot))
+    theta = np.stack(theta)
+    scaled = theta / QUALITY_TAU
+    top = scaled.max()
+    every = np.exp(scaled - top)
+    soft_max = QUALITY_TAU * (top + np.log(every.sum()))
+    cell_top = scaled.max(0)
+    cells = np.exp(scaled - cell_top)
+    cell_max = QUALITY_TAU * (cell_top + np.log(cells.sum(0)))
+    short = np.maximum(QUALITY_MIN_SINE - np.sin(theta), 0.0)
+    loss = soft_max + QUALITY_MEAN_WEIGHT * cell_max.mean()
+    loss += QUALITY_BARRIER_WEIGHT * float((short**2).sum())
+    d_theta = (
+        every / every.sum()
+        + QUALITY_MEAN_WEIGHT * cells / cells.sum(0) / cell_max.size
+        - 2 * QUALITY_BARRIER_WEIGHT * short * np.cos(theta)
+    )
+    grad = np.zeros_like(grid)
+    for k, (a, b, cross, dot) in enumerate(parts):
+        square = cross**2 + dot**2
+        d_cross, d_dot = (
+            (d_theta[k] * dot / square)[..., None],
+            (-d_theta[k] * cross / square)[..., None],
+        )
+        d_a = d_cross * turn * np.stack([b[..., 1], -b[..., 0]], -1) + d_dot * b
+        d_b = d_cross * turn * np.stack([-a[..., 1], a[..., 0]], -1) + d_dot * a
+        grad[_CORNERS[(k + 1) % 4]] += d_a
+        grad[_CORNERS[k - 1]] += d_b
+        grad[_CORNERS[k]] -= d_a + d_b
+    return float(loss), grad, theta
 
 
 def optimize_nodes(grid: np.ndarray, ranking: Ranking, iterations: int) -> np.ndarray:
-    """``grid`` with its interior nodes moved to minimise ``losses.loss_quality`` (L-BFGS in
-    float64, at most ``iterations``), with auxiliary lines from the grid moved onto them
-    (:func:`follow_lines`, unless it follows them) and plus ``LINE_WEIGHT`` times the line term
-    (:func:`_line_term`); the boundary nodes stay. Returns the evaluated state that ranks
-    best (``ranking``, on the corner angles): the soft maximum is a surrogate of the worst
-    angle, not the same. Each node moves in units of its shortest edge (a diagonal
-    preconditioner: angles change with a node's move relative to its cells, 100 times
-    smaller at a notch than in the open)."""
+    """``grid`` with its interior nodes moved to minimise ``losses.loss_quality``
+    (:func:`quality_loss`; L-BFGS in float64, at most ``iterations``), with auxiliary lines
+    from the grid moved onto them (:func:`follow_lines`, unless it follows them) and plus
+    ``LINE_WEIGHT`` times the line term (:func:`_line_term`); the boundary nodes stay.
+    Returns the evaluated state that ranks best (``ranking``, on the corner angles): the soft
+    maximum is a surrogate of the worst angle, not the same. Each node moves in units of its
+    shortest edge (a diagonal preconditioner: angles change with a node's move relative to
+    its cells, 100 times smaller at a notch than in the open)."""
     if ranking.key(ranking.quality(grid))[2] > 0:  # it misses the lines
         grid = follow_lines(grid, ranking)
-    fixed = torch.as_tensor(grid, dtype=torch.float64)
+    grid = np.asarray(grid, dtype=float)
     turn = orientation(grid)
-    inner0 = fixed[1:-1, 1:-1]
-    unit = torch.as_tensor(shortest_edges(grid))[..., None]
-    line_term = _line_term(grid, ranking, float(unit.median()))
-    best = [(math.inf,), np.zeros(inner0.numel())]
+    inner0 = grid[1:-1, 1:-1].copy()
+    unit = shortest_edges(grid)[..., None]
+    line_term = _line_term(grid, ranking, float(np.median(unit)))
+    best = [(math.inf,), np.zeros(inner0.size)]
 
     def loss_and_grad(x: np.ndarray) -> tuple[float, np.ndarray]:
-        u = torch.from_numpy(x).view(inner0.shape).requires_grad_(True)
-        inner = inner0 + unit * u
-        g = torch.cat(
-            [fixed[:1], torch.cat([fixed[1:-1, :1], inner, fixed[1:-1, -1:]], dim=1), fixed[-1:]]
-        )
-        theta = corner_angles(g, turn)
-        loss = loss_quality(theta)
+        g = grid.copy()
+        g[1:-1, 1:-1] = inner0 + unit * x.reshape(inner0.shape)
+        loss, grad, theta = quality_loss(g, turn)
         q = {}
         if line_term is not None:
-            term, q["aux_distance"] = line_term(g)
-            loss = loss + LINE_WEIGHT * term
-        loss.backward()
-        with torch.no_grad():
-            largest = torch.rad2deg(theta.max(dim=0).values)
-            q.update(
-                folded_cells=int((largest > FOLDED_ANGLE).sum()),
-                mean_max_angle=float(largest.mean()),
-                worst_max_angle=float(largest.max()),
-            )
-            key = ranking.key(q)
-            if key < best[0]:
-                best[:] = key, x.copy()
-        return loss.item(), u.grad.numpy().ravel()
+            term, d_term, q["aux_distance"] = line_term(g)
+            loss += LINE_WEIGHT * term
+            grad += LINE_WEIGHT * d_term
+        largest = np.rad2deg(theta.max(0))
+        q.update(
+            folded_cells=int((largest > FOLDED_ANGLE).sum()),
+            mean_max_angle=float(largest.mean()),
+            worst_max_angle=float(largest.max()),
+        )
+        key = ranking.key(q)
+        if key < best[0]:
+            best[:] = key, x.copy()
+        return loss, (grad[1:-1, 1:-1] * unit).ravel()
 
     minimize(
         loss_and_grad,
-        np.zeros(inner0.numel()),
+        np.zeros(inner0.size),
         jac=True,
         method="L-BFGS-B",
         options={"maxiter": iterations, "maxfun": NODE_EVALUATIONS * iterations, **NODE_LBFGS},
     )
-    out = np.array(grid, dtype=float)
-    out[1:-1, 1:-1] += (unit * torch.from_numpy(best[1]).view(inner0.shape)).numpy()
+    out = grid.copy()
+    out[1:-1, 1:-1] += unit * best[1].reshape(inner0.shape)
     return out
 
 
 def _line_term(grid: np.ndarray, ranking: Ranking, scale: float):
-    """``g -> (term, distance)`` for grids shaped like ``grid``: the mean squared distance (in
-    units of ``scale``) of the grid's curves through the auxiliary lines from the drawn lines
-    (``losses.nearest_on_line``), and the largest distance (relative to the diagonal); None
-    without lines."""
+    """``g -> (term, gradient, distance)`` for grids shaped like ``grid``: the mean squared
+    distance (in units of ``scale``) of the grid's curves through the auxiliary lines from the
+    drawn lines (the nearest point chosen without gradient: ``losses.nearest_on_line``), its
+    gradient by the nodes, and the largest distance (relative to the diagonal); None without
+    lines."""
     if not ranking.lines:
         return None
-    curves = [
-        (samples, torch.as_tensor(xy, dtype=torch.float64) / scale)
-        for samples, xy in _curves(ranking, grid.shape[1], grid.shape[0])
-    ]
+    curves = _curves(ranking, grid.shape[1], grid.shape[0])
+    picks = _picks(curves) / scale
+    lines = [xy / scale for _, xy in curves]
+    counts = np.cumsum([0] + [len(s.index) for s, _ in curves])
 
-    def term(g: torch.Tensor) -> tuple[torch.Tensor, float]:
-        points = [(s.at(g) / scale, xy) for s, xy in curves]
-        squared = torch.cat([(nearest_on_line(p, xy) - p).pow(2).sum(-1) for p, xy in points])
-        return squared.mean(), float(squared.detach().max().sqrt()) * scale / ranking.diagonal
+    def term(g: np.ndarray) -> tuple[float, np.ndarray, float]:
+        points = picks @ g.reshape(-1, 2)
+        miss = np.concatenate(
+            [
+                points[lo:hi] - _nearest(points[lo:hi], xy)
+                for lo, hi, xy in zip(counts[:-1], counts[1:], lines, strict=True)
+            ]
+        )
+        squared = (miss**2).sum(-1)
+        gradient = (picks.T @ (2 * miss / len(miss))).reshape(g.shape)
+        distance = float(np.sqrt(squared.max())) * scale / ranking.diagonal
+        return float(squared.mean()), gradient, distance
 
     return term

@@ -22,11 +22,7 @@ from pinn_engine.classical.warm import WarmStart
 from pinn_engine.errors import TrainingError
 from pinn_engine.geometry.boundary import Boundary
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
-
-# The warm start's elliptic solve grows faster than linearly with the nodes (measured on the
-# V notch, 2 busy cores: 1 s at 161 x 81, 16 s at 321 x 161, 106 s at 641 x 321); above this
-# many nodes it runs on a coarser lattice of the same shape, and the network is evaluated finer.
-MAX_LATTICE_NODES = 161 * 81
+from pinn_engine.settings import MAX_LATTICE_NODES
 
 
 def lattice_for(*nodes: int, most: int = MAX_LATTICE_NODES) -> tuple[int, ...]:

@@ -43,14 +43,17 @@ def _assert_torch_not_imported(code: str) -> None:
 
 
 def test_the_decision_follows_the_terms_the_network_could_win():
-    """Untrained under the Winslow and quality objectives alone; trained with lines to
-    follow, orthogonal sides, a spacing, without the warm start, for mgnet, or with Adam
-    epochs asked."""
+    """Untrained under the default (the quality objective's start) with or without lines,
+    and under the Winslow equations alone; trained under the Winslow equations with lines to
+    follow, with orthogonal sides, a spacing, without the warm start, for mgnet, or with
+    Adam epochs asked."""
     boundary = load_boundary(EXAMPLES / "fig2.vtp")
     lines = load_aux([EXAMPLES / "fig2_aux.vtp"], boundary)
-    assert cannot_win(make_settings("pinn")) == WINSLOW
-    assert cannot_win(make_settings("pinn", objective="quality")) == QUALITY
-    assert cannot_win(make_settings("pinn"), lines) is None
+    assert cannot_win(make_settings("pinn")) == QUALITY
+    assert cannot_win(make_settings("pinn"), lines) == QUALITY
+    assert cannot_win(make_settings("pinn", objective="quality"), lines) == QUALITY
+    assert cannot_win(make_settings("pinn", objective="winslow")) == WINSLOW
+    assert cannot_win(make_settings("pinn", objective="winslow"), lines) is None
     assert cannot_win(make_settings("pinn", orthogonal=("bottom",))) is None
     assert cannot_win(make_settings("pinn", spacing=(("bottom", 0.01),))) is None
     assert cannot_win(make_settings("pinn", "paper")) is None
@@ -62,10 +65,11 @@ def test_an_untrained_map_is_the_start_it_would_have_kept():
     """The untrained default's grid is the trained default's with no L-BFGS iteration (its
     start, to round-off), the report says why it was not trained, and torch stays out."""
     boundary = load_boundary(NOTCH)
-    skipped = Mesher(make_settings("pinn", lattice=SIZE)).fit(boundary).predict(*SIZE)
+    winslow = make_settings("pinn", lattice=SIZE, objective="winslow")
+    skipped = Mesher(winslow).fit(boundary).predict(*SIZE)
     training = skipped.report["training"]
     assert training["skipped"] == WINSLOW and training["result"] == "start"
-    forced = make_settings("pinn", lattice=SIZE, lbfgs_iterations=0)
+    forced = make_settings("pinn", lattice=SIZE, objective="winslow", lbfgs_iterations=0)
     from pinn_engine.blocks.quad import train
 
     start = train(boundary, [], forced).grid(*SIZE)
@@ -92,7 +96,8 @@ def test_the_report_times_every_stage(tmp_path):
     assert set(written["timings"]) >= STAGES
     assert 0 < sum(written["timings"].values()) <= wall
     assert written["timings"]["start"] > 0 and written["timings"]["training"] == 0.0
-    assert written["training"]["skipped"] == WINSLOW
+    assert written["training"]["skipped"] == QUALITY
+    assert written["train_seconds"] == 0.0
 
 
 def test_a_multiblock_pinn_whose_networks_cannot_win_keeps_its_starts():

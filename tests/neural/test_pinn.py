@@ -18,7 +18,8 @@ from pinn_engine.neural.trainer import AutogradEvaluation
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
 
-QUICK = {"adam_epochs": 200, "lbfgs_iterations": 20}
+# a short training of the Winslow objective's network (the default trains none)
+QUICK = {"adam_epochs": 200, "lbfgs_iterations": 20, "objective": "winslow"}
 
 
 @pytest.fixture(scope="module")
@@ -134,7 +135,9 @@ def test_data_term_sees_the_auxiliary_line_points(fig2):
 def test_same_seed_same_grid_and_another_seed_another_grid(fig2):
     boundary, aux = fig2
     grids = [
-        Mesher(make_settings("pinn", seed=s, adam_epochs=60, lbfgs_iterations=5))
+        Mesher(
+            make_settings("pinn", seed=s, adam_epochs=60, lbfgs_iterations=5, objective="winslow")
+        )
         .fit(boundary, aux)
         .predict(21, 11)
         .points

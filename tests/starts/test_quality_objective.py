@@ -139,8 +139,20 @@ def test_settings_rules_for_the_objective():
     assert make_settings("mgnet").objective == "winslow"
     with pytest.raises(ValueError, match="pinn method"):
         make_settings("mgnet", objective="quality")
-    with pytest.raises(ValueError, match="objective 'smooth': use winslow, quality"):
+    with pytest.raises(ValueError, match="objective 'smooth': use best, winslow, quality"):
         make_settings("pinn", objective="smooth")
+    # the default, best: the quality objective on a four-sided block without a spacing or
+    # orthogonal sides, the Winslow equations elsewhere
+    assert make_settings("pinn").objective == "best" and make_settings("pinn").quality_objective
+    for other in (
+        make_settings("pinn", orthogonal=("bottom",)),
+        make_settings("pinn", spacing=(("bottom", 0.01),)),
+        make_settings("pinn", topology="c", naca="0012"),
+        make_settings("pinn", size=(5, 5, 5)),
+        make_settings("pinn", objective="winslow"),
+        make_settings("elliptic"),
+    ):
+        assert not other.quality_objective
     key = dict(make_settings("pinn", warm_start="none", objective="quality").training_key())
     assert "lattice" in key  # the quality term is computed on the lattice
 
@@ -185,7 +197,8 @@ def test_objective_in_the_accessor_and_the_filter():
     report = json.loads(str(grid.field_data["Report"][0]))
     assert isinstance(grid, pv.StructuredGrid) and report["settings"]["objective"] == "quality"
     alg = PinnMeshAlgorithm()
-    alg.SetObjective(1)
+    assert alg.GetSettings().objective == "best"
+    alg.SetObjective(2)
     assert alg.GetSettings().objective == "quality"
     alg.SetMethod("tfi")  # the panel keeps Objective set when the method changes
     assert alg.GetSettings().objective == "winslow"

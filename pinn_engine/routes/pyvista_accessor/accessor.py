@@ -130,9 +130,13 @@ class PinnMeshAccessor:
             ``"paper"`` reproduces the paper's section 4 training settings.
         corners : four ints, optional
             The boundary's corner point indices; default: its four sharpest turns.
-        objective : {"winslow", "quality"}, optional
-            pinn: the Winslow equations alone (default), or with a term that lowers the
-            worst cell's largest angle (docs/quality_objective.md).
+        objective : {"best", "winslow", "quality"}, optional
+            pinn: ``"best"`` (default) the grid of lowest worst cell among TFI, the
+            elliptic grid, their blends and the quality-optimised grid, mean at most 0.5
+            degrees above the elliptic grid's, lines followed (the Winslow equations under
+            a spacing or orthogonal sides); ``"winslow"`` the Winslow equations alone;
+            ``"quality"`` with a term that lowers the worst cell's largest angle
+            (docs/quality_objective.md).
         adam_epochs, lbfgs_iterations : int, optional
             Training steps; default 0 Adam epochs and 120 L-BFGS iterations from the
             elliptic grid (the paper preset: 5000 and 500 from TFI).

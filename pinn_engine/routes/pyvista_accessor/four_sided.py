@@ -81,9 +81,11 @@ def pinn_mesh(
         30, seed 0; the paper preset 5000 Adam epochs and 500 L-BFGS iterations from TFI).
     boundary_mode : {"hard", "penalty"}, optional
         Exact boundary by construction (default) or the paper's penalty term.
-    objective : {"winslow", "quality"}, optional (a ``**settings`` field)
-        ``method="pinn"``: the Winslow equations alone, or with a cell-quality term that
-        lowers the worst cell's largest angle (SPEC 7; ``docs/quality_objective.md``).
+    objective : {"best", "winslow", "quality"}, optional (a ``**settings`` field)
+        ``method="pinn"``: the best grid (default: the quality objective's where no spacing
+        or orthogonal side is asked), the Winslow equations alone, or with a cell-quality
+        term that lowers the worst cell's largest angle (SPEC 7;
+        ``docs/quality_objective.md``).
     device : str, optional
         Torch device: ``"auto"`` (default), ``"cpu"``, ``"cuda"``.
     progress : callable, optional

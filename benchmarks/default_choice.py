@@ -1,0 +1,148 @@
+"""What the default pinn chooses on four-sided shapes, beside the converged elliptic grid
+(docs/default_choice.md).
+
+Usage: ``.venv/bin/python benchmarks/default_choice.py [--sizes 41x21] [--set tuning holdout]
+[--train-lines] [--out docs/default_choice]``
+
+For each shape of the tuning set (``example_data/hard/``, and the examples with lines
+``concave``, ``fig2``, ``wavy``) and the hold-out set (``example_data/holdout/``, nothing tuned
+on it) this meshes the converged elliptic grid (``method elliptic``) and the default pinn
+(``objective best``) on the same boundary nodes, with the shape's auxiliary lines where it has
+some, and prints mean and worst ``MaxIncludedAngle``, folded cells, the largest distance of a
+drawn line's grid line from it (of the diagonal), which grid the default chose, whether it
+trained, and seconds (fit plus grid, one process). The target: worst at least ``GAIN``
+degrees below the elliptic grid's on most shapes, never more than ``MEAN_TOL`` above it, mean
+never more than ``MEAN_TOL`` above.
+
+``--train-lines`` also trains the quality objective's network from its start on the shapes
+with lines (what ``blocks.untrained.cannot_win`` skips), and says whether its guard kept a
+trained state (``network``) or the start, and the seconds spent: the rule's measurement.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+
+from pinn_engine.io.pipeline import load_aux, load_boundary
+from pinn_engine.mesher import Mesher
+from pinn_engine.settings import make_settings
+
+ROOT = Path(__file__).resolve().parents[1]
+DATA = ROOT / "example_data"
+SETS = {
+    "tuning": sorted((DATA / "hard").glob("*.vtp"))
+    + [DATA / f"{name}.vtp" for name in ("concave", "fig2", "wavy")],
+    "holdout": sorted((DATA / "holdout").glob("h*.vtp")),
+}
+GAIN = 5.0  # degrees: the worst cell's drop below the elliptic grid's that counts as a gain
+MEAN_TOL = 0.5  # degrees: the most the mean (and the worst) may be above the elliptic grid's
+
+
+def shapes(name: str) -> list[tuple[Path, list[Path]]]:
+    """The boundaries of set ``name`` with their auxiliary-line files."""
+    found = []
+    for path in SETS[name]:
+        if path.stem.endswith("_aux"):
+            continue
+        aux = path.with_name(f"{path.stem}_aux.vtp")
+        found.append((path, [aux] if aux.exists() else []))
+    return found
+
+
+def mesh(method: str, path: Path, aux: list[Path], size: tuple[int, int], **options) -> dict:
+    """One grid's figures: quality, lines' distance, what was chosen, seconds."""
+    boundary = load_boundary(path)
+    lines = load_aux(aux, boundary)
+    began = time.perf_counter()
+    settings = make_settings(method, lattice=size, size=size, **options)
+    result = Mesher(settings).fit(boundary, lines).predict(*size)
+    seconds = time.perf_counter() - began
+    report = result.report
+    training = report.get("training", {})
+    return {
+        "mean": report["quality"]["mean_max_angle"],
+        "worst": report["quality"]["worst_max_angle"],
+        "folded": report["quality"]["folded_cells"],
+        "lines": max(report["aux_line_distance"].values(), default=0.0),
+        "chosen": training.get("start", method),
+        "network": training.get("result") == "network",
+        "trained": bool(training) and not training.get("skipped"),
+        "train_seconds": report["train_seconds"],
+        "seconds": seconds,
+    }
+
+
+def trained_lines(path: Path, aux: list[Path], size: tuple[int, int]) -> dict:
+    """The quality objective's network trained from its start with the lines (the run the
+    default skips): whether the guard kept a trained state, and the training's seconds."""
+    from pinn_engine.blocks.quad import train
+
+    boundary = load_boundary(path)
+    lines = load_aux(aux, boundary)
+    settings = make_settings("pinn", lattice=size, size=size, objective="quality")
+    began = time.perf_counter()
+    model = train(boundary, lines, settings, None)
+    kept = model.info["result"]
+    return {"kept": kept, "seconds": time.perf_counter() - began}
+
+
+def run_row(name: str, path: Path, aux: list[Path], size_text: str, train: bool) -> dict:
+    """The elliptic grid and the default on one shape (with the lines ``aux``), printed."""
+    size = tuple(int(n) for n in size_text.split("x"))
+    row = {"set": name, "shape": path.stem, "size": size_text, "lines": bool(aux)}
+    row["elliptic"] = mesh("elliptic", path, aux, size)
+    row["default"] = mesh("pinn", path, aux, size)
+    if train and aux:
+        row["trained"] = trained_lines(path, aux, size)
+    e, d = row["elliptic"], row["default"]
+    print(
+        f"{name:8s} {path.stem + (' + lines' if aux else ''):34s} {size_text:7s} elliptic "
+        f"{e['mean']:7.2f} / {e['worst']:7.2f} ({e['folded']}) {e['lines']:.5f} | default "
+        f"{d['mean']:7.2f} / {d['worst']:7.2f} ({d['folded']}) {d['lines']:.5f} "
+        f"{'network' if d['network'] else d['chosen']:22s} "
+        f"trained {d['trained']!s:5s} {d['train_seconds']:.2f} s, "
+        f"{d['seconds']:.2f} s (elliptic {e['seconds']:.2f} s)"
+        + (
+            f" | trained: {row['trained']['kept']} {row['trained']['seconds']:.2f} s"
+            if "trained" in row
+            else ""
+        ),
+        flush=True,
+    )
+    return row
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sizes", nargs="+", default=["41x21"])
+    parser.add_argument("--set", nargs="+", default=["tuning", "holdout"], dest="sets")
+    parser.add_argument("--train-lines", action="store_true")
+    parser.add_argument("--out", default=None)
+    args = parser.parse_args()
+    rows = []
+    for name in args.sets:
+        for size_text in args.sizes:
+            for path, aux in shapes(name):
+                for lines in ([], aux) if aux else ([],):
+                    row = run_row(name, path, lines, size_text, args.train_lines)
+                    rows.append(row)
+    for name in args.sets:
+        plain = [r for r in rows if r["set"] == name and not r["lines"]]
+        gains = sum(r["default"]["worst"] <= r["elliptic"]["worst"] - GAIN for r in plain)
+        worse = sum(r["default"]["worst"] > r["elliptic"]["worst"] + MEAN_TOL for r in plain)
+        mean = sum(r["default"]["mean"] > r["elliptic"]["mean"] + MEAN_TOL for r in plain)
+        folds = sum(r["default"]["folded"] > 0 for r in plain)
+        print(
+            f"{name}: {len(plain)} grids without lines: worst >= {GAIN} below elliptic on "
+            f"{gains}, worst > {MEAN_TOL} above on {worse}, mean > {MEAN_TOL} above on {mean}, "
+            f"folded on {folds}"
+        )
+    if args.out:
+        Path(args.out).with_suffix(".json").write_text(json.dumps(rows, indent=1))
+
+
+if __name__ == "__main__":
+    main()
