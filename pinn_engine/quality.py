@@ -11,13 +11,11 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-# The quality objective's cell-quality term (neural.losses.loss_quality, and its NumPy twin
-# with its gradient, starts.quality_start.quality_loss): the soft maximum's temperature (1
-# degree in radians; the log-sum-exp weighs every corner within a few tau of the largest
-# angle); the mean term's weight (the mean and the soft worst angle count alike); the sine below
-# which a corner is barred (177 degrees: nearly flat or reflex, a fold) and the barrier's weight
-# (a reflex corner costs at least 0.25, 14 degrees of the soft maximum: unfolding comes first).
-# How they were set: docs/tuning.md.
+# The cell-quality term (losses.loss_quality, quality_start.quality_loss; docs/tuning.md): the
+# soft maximum's temperature (1 degree in radians; the log-sum-exp weighs every corner within a
+# few tau of the largest), the mean term's weight (mean and soft worst count alike), the sine
+# below which a corner is barred (177 degrees: flat or reflex, a fold) and the barrier's weight
+# (a reflex corner costs at least 0.25, 14 degrees of the soft maximum: unfolding comes first)
 QUALITY_TAU = 0.0175
 QUALITY_MEAN_WEIGHT = 1.0
 QUALITY_MIN_SINE = 0.05

@@ -1,6 +1,7 @@
 """Start-up: a run imports only what it uses. The classical grids and the exports never
 import torch (2 s of a run's start) nor the SciPy packages they do not call (interpolation,
-optimisation, images: 0.2 to 0.45 s of CPU); the network's runs do import torch."""
+optimisation, images: 0.2 to 0.45 s of CPU); the default four-sided grid no torch (it trains
+no network); the network's runs do import torch."""
 
 from __future__ import annotations
 
@@ -15,7 +16,6 @@ RUNS = (  # runs without a network (four-sided, body, multi-block; exports), the
     (["fig2.vtp", "--method", "tfi", "--size", "11", "7"], "b.su2"),
     (["--naca", "0012", "--topology", "o", "--method", "elliptic", "--size", "33", "9"], "c.msh"),
     (["lshape.vtp", "--blocks", "lshape_blocks.vtp", "--method", "elliptic"], "d.cgns"),
-    (["fig2.vtp", "--size", "21", "11"], "e.vts"),  # the default, no line to win on: untrained
 )
 UNUSED = (  # pinn_engine._version: the package metadata, read for --version only
     "torch", "scipy.interpolate", "scipy.optimize", "scipy.ndimage", "sklearn", "pyvista",
@@ -43,6 +43,17 @@ print("imported:" + ",".join(name for name in {names!r} if name in sys.modules))
 
 def test_classical_grids_and_exports_import_only_what_they_use(tmp_path):
     assert _imported_after(RUNS, tmp_path) == []
+
+
+def test_the_default_four_sided_grid_imports_no_torch(tmp_path):
+    """The default pinn on a four-sided domain, with and without lines: the quality
+    objective's start (its node optimisation is SciPy's L-BFGS-B on NumPy), no network."""
+    runs = [
+        (["fig2.vtp", "--size", "21", "11"], "e.vts"),
+        (["wavy.vtp", "--aux", "wavy_aux.vtp", "--size", "21", "11"], "f.vts"),
+    ]
+    names = ("torch", "sklearn", "pyvista", "scipy.optimize")
+    assert _imported_after(runs, tmp_path, names) == ["scipy.optimize"]
 
 
 def test_a_body_grid_imports_no_scipy(tmp_path):
