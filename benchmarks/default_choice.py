@@ -2,7 +2,7 @@
 (docs/default_choice.md).
 
 Usage: ``.venv/bin/python benchmarks/default_choice.py [--sizes 41x21] [--set tuning holdout]
-[--train-lines] [--out docs/default_choice]``
+[--train-lines] [--out docs/default_choice] [--from-json]``
 
 For each shape of the tuning set (``example_data/hard/``, and the examples with lines
 ``concave``, ``fig2``, ``wavy``) and the hold-out set (``example_data/holdout/``, nothing tuned
@@ -10,9 +10,10 @@ on it) this meshes the converged elliptic grid (``method elliptic``) and the def
 (``objective best``) on the same boundary nodes, with the shape's auxiliary lines where it has
 some, and prints mean and worst ``MaxIncludedAngle``, folded cells, the largest distance of a
 drawn line's grid line from it (of the diagonal), which grid the default chose, whether it
-trained, and seconds (fit plus grid, one process). The target: worst at least ``GAIN``
-degrees below the elliptic grid's on most shapes, never more than ``MEAN_TOL`` above it, mean
-never more than ``MEAN_TOL`` above.
+trained, and seconds (fit plus grid, one process). Writes ``<out>.json`` and ``<out>.md``
+(``--from-json``: the page again from the json, without running). The target: worst at least
+``GAIN`` degrees below the elliptic grid's on most shapes, never more than ``MEAN_TOL`` above
+it, mean never more than ``MEAN_TOL`` above.
 
 ``--train-lines`` also trains the quality objective's network from its start on the shapes
 with lines (what ``blocks.untrained.cannot_win`` skips), and says whether its guard kept a
@@ -121,27 +122,68 @@ def main() -> None:
     parser.add_argument("--set", nargs="+", default=["tuning", "holdout"], dest="sets")
     parser.add_argument("--train-lines", action="store_true")
     parser.add_argument("--out", default=None)
+    parser.add_argument("--from-json", action="store_true", help="rewrite the page from <out>.json")
     args = parser.parse_args()
     rows = []
-    for name in args.sets:
+    if args.from_json:
+        rows = json.loads(Path(args.out).with_suffix(".json").read_text())
+    for name in args.sets if not args.from_json else ():
         for size_text in args.sizes:
             for path, aux in shapes(name):
                 for lines in ([], aux) if aux else ([],):
                     row = run_row(name, path, lines, size_text, args.train_lines)
                     rows.append(row)
-    for name in args.sets:
-        plain = [r for r in rows if r["set"] == name and not r["lines"]]
-        gains = sum(r["default"]["worst"] <= r["elliptic"]["worst"] - GAIN for r in plain)
-        worse = sum(r["default"]["worst"] > r["elliptic"]["worst"] + MEAN_TOL for r in plain)
-        mean = sum(r["default"]["mean"] > r["elliptic"]["mean"] + MEAN_TOL for r in plain)
-        folds = sum(r["default"]["folded"] > 0 for r in plain)
-        print(
-            f"{name}: {len(plain)} grids without lines: worst >= {GAIN} below elliptic on "
-            f"{gains}, worst > {MEAN_TOL} above on {worse}, mean > {MEAN_TOL} above on {mean}, "
-            f"folded on {folds}"
-        )
+    summaries = [summary(rows, name) for name in args.sets]
+    print("\n".join(summaries))
     if args.out:
-        Path(args.out).with_suffix(".json").write_text(json.dumps(rows, indent=1))
+        out = Path(args.out)
+        out.with_suffix(".json").write_text(json.dumps(rows, indent=1))
+        out.with_suffix(".md").write_text(page(rows, summaries))
+
+
+def summary(rows: list[dict], name: str) -> str:
+    """The target's counts on set ``name``'s grids without lines."""
+    plain = [r for r in rows if r["set"] == name and not r["lines"]]
+    gains = sum(r["default"]["worst"] <= r["elliptic"]["worst"] - GAIN for r in plain)
+    worse = sum(r["default"]["worst"] > r["elliptic"]["worst"] + MEAN_TOL for r in plain)
+    mean = sum(r["default"]["mean"] > r["elliptic"]["mean"] + MEAN_TOL for r in plain)
+    folds = sum(r["default"]["folded"] > 0 for r in plain)
+    return (
+        f"{name}: {len(plain)} grids without lines: worst >= {GAIN} below elliptic on "
+        f"{gains}, worst > {MEAN_TOL} above on {worse}, mean > {MEAN_TOL} above on {mean}, "
+        f"folded on {folds}"
+    )
+
+
+def page(rows: list[dict], summaries: list[str]) -> str:
+    """docs/default_choice.md: the summaries, then one row a grid."""
+    lines = [
+        "# What the default chooses, beside the elliptic grid",
+        "",
+        "Made by `.venv/bin/python benchmarks/default_choice.py --sizes 41x21 81x41 --out "
+        "docs/default_choice` (its docstring says what it runs). Each grid: mean / worst "
+        "`MaxIncludedAngle` (degrees), folded cells in brackets; the largest distance of a "
+        "drawn line's grid line from it, of the diagonal; the grid the default returned "
+        "(`optimized`: the quality objective's node-optimised grid); seconds of fit plus grid "
+        "in one process (2 cores shared with other sessions).",
+        "",
+        *[f"- {s}" for s in summaries],
+        "",
+        "| set | shape | size | elliptic | default | lines' distance | chosen | "
+        "trained | seconds (elliptic / default) |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        e, d = r["elliptic"], r["default"]
+        chosen = "network" if d["network"] else d["chosen"]
+        lines.append(
+            f"| {r['set']} | {r['shape']}{' + lines' if r['lines'] else ''} | {r['size']} | "
+            f"{e['mean']:.2f} / {e['worst']:.2f} ({e['folded']}) | "
+            f"{d['mean']:.2f} / {d['worst']:.2f} ({d['folded']}) | "
+            f"{d['lines']:.5f} | {chosen} | "
+            f"{'yes' if d['trained'] else 'no'} | {e['seconds']:.2f} / {d['seconds']:.2f} |"
+        )
+    return "\n".join(lines) + "\n"
 
 
 if __name__ == "__main__":
