@@ -7,13 +7,14 @@ Usage: ``.venv/bin/python benchmarks/default_choice.py [--sizes 41x21] [--set tu
 For each shape of the tuning set (``example_data/hard/``, and the examples with lines
 ``concave``, ``fig2``, ``wavy``) and the hold-out set (``example_data/holdout/``, nothing tuned
 on it) this meshes the converged elliptic grid (``method elliptic``) and the default pinn
-(``objective best``) on the same boundary nodes, with the shape's auxiliary lines where it has
-some, and prints mean and worst ``MaxIncludedAngle``, folded cells, the largest distance of a
-drawn line's grid line from it (of the diagonal), which grid the default chose, whether it
-trained, and seconds (fit plus grid, one process). Writes ``<out>.json`` and ``<out>.md``
-(``--from-json``: the page again from the json, without running). The target: worst at least
-``GAIN`` degrees below the elliptic grid's on most shapes, never more than ``MEAN_TOL`` above
-it, mean never more than ``MEAN_TOL`` above.
+(``objective best``) on the same boundary nodes, without lines and, where the shape has some,
+with its auxiliary lines. It prints mean and worst ``MaxIncludedAngle``, folded cells, the
+largest distance of a drawn line's grid line from it (of the diagonal), how much the grid
+lines crossing a drawn line turn there (``auxlines.crossing_turns``, the largest line's mean),
+which grid the default chose, whether it trained, and seconds (fit plus grid, one process).
+Writes ``<out>.json`` and ``<out>.md`` (``--from-json``: the page again from the json). The
+target: worst at least ``GAIN`` degrees below the elliptic grid's on most shapes, never more
+than ``MEAN_TOL`` above it, mean never more than ``MEAN_TOL`` above.
 
 ``--train-lines`` also trains the quality objective's network from its start on the shapes
 with lines (what ``blocks.untrained.cannot_win`` skips), and says whether its guard kept a
@@ -27,6 +28,7 @@ import json
 import time
 from pathlib import Path
 
+from pinn_engine.geometry.auxlines import crossing_turns
 from pinn_engine.io.pipeline import load_aux, load_boundary
 from pinn_engine.mesher import Mesher
 from pinn_engine.settings import make_settings
@@ -63,11 +65,13 @@ def mesh(method: str, path: Path, aux: list[Path], size: tuple[int, int], **opti
     seconds = time.perf_counter() - began
     report = result.report
     training = report.get("training", {})
+    turns = crossing_turns(boundary.frame.to_unit(result.points), lines)
     return {
         "mean": report["quality"]["mean_max_angle"],
         "worst": report["quality"]["worst_max_angle"],
         "folded": report["quality"]["folded_cells"],
         "lines": max(report["aux_line_distance"].values(), default=0.0),
+        "turn": max(turns.values(), default=0.0),
         "chosen": training.get("start", method),
         "network": training.get("result") == "network",
         "trained": bool(training) and not training.get("skipped"),
@@ -163,15 +167,18 @@ def page(rows: list[dict], summaries: list[str]) -> str:
         "Made by `.venv/bin/python benchmarks/default_choice.py --sizes 41x21 81x41 --out "
         "docs/default_choice` (its docstring says what it runs). Each grid: mean / worst "
         "`MaxIncludedAngle` (degrees), folded cells in brackets; the largest distance of a "
-        "drawn line's grid line from it, of the diagonal; the grid the default returned "
+        "drawn line's grid line from it, of the diagonal; the turn of the grid lines crossing a "
+        "drawn line at their node nearest it (degrees, mean over them, the largest line's); "
+        "the grid the default returned "
         "(`optimized`: the quality objective's node-optimised grid); seconds of fit plus grid "
         "in one process (2 cores shared with other sessions).",
         "",
         *[f"- {s}" for s in summaries],
         "",
-        "| set | shape | size | elliptic | default | lines' distance | chosen | "
+        "| set | shape | size | elliptic | default | lines' distance | crossing turn "
+        "(elliptic / default) | chosen | "
         "trained | seconds (elliptic / default) |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
         e, d = r["elliptic"], r["default"]
@@ -180,7 +187,7 @@ def page(rows: list[dict], summaries: list[str]) -> str:
             f"| {r['set']} | {r['shape']}{' + lines' if r['lines'] else ''} | {r['size']} | "
             f"{e['mean']:.2f} / {e['worst']:.2f} ({e['folded']}) | "
             f"{d['mean']:.2f} / {d['worst']:.2f} ({d['folded']}) | "
-            f"{d['lines']:.5f} | {chosen} | "
+            f"{d['lines']:.5f} | {e.get('turn', 0.0):.2f} / {d.get('turn', 0.0):.2f} | {chosen} | "
             f"{'yes' if d['trained'] else 'no'} | {e['seconds']:.2f} / {d['seconds']:.2f} |"
         )
     return "\n".join(lines) + "\n"

@@ -19,7 +19,7 @@ from pinn_engine.errors import (
     TrainingError,
     network_effect,
 )
-from pinn_engine.geometry.auxlines import AuxLine, line_distances
+from pinn_engine.geometry.auxlines import AuxLine, crossing_turns, line_distances
 from pinn_engine.geometry.boundary import Boundary
 from pinn_engine.geometry.boundary_fit import make_fit
 from pinn_engine.heap import reuse_freed_memory
@@ -131,6 +131,7 @@ class Mesher:
             "source": self.boundary_.source,
             "aux_lines": [a.name for a in self.aux_lines_],
             "aux_line_distance": line_distances(unit, self.aux_lines_, self.boundary_.diagonal),
+            "aux_line_turn": crossing_turns(unit, self.aux_lines_),
             "sides": side_report(unit, self.boundary_.frame.scale),
         }
         timings = {"start": 0.0, "training": 0.0}

@@ -206,3 +206,30 @@ def bilinear(grid: np.ndarray, xi_eta: np.ndarray) -> np.ndarray:
     low = (1 - a) * grid[j, i] + a * grid[j, i + 1]
     high = (1 - a) * grid[j + 1, i] + a * grid[j + 1, i + 1]
     return (1 - b) * low + b * high
+
+
+def crossing_turns(grid: np.ndarray, lines: list[AuxLine]) -> dict[str, float]:
+    """How smoothly the grid lines cross each auxiliary line: the mean, over the grid lines of
+    the other family (rows for a line from bottom to top, columns for one from left to right),
+    of the angle in degrees by which each turns at its node nearest the line's (xi, eta).
+    A grid line that does not bend there turns 0; a split-block grid whose interface is the
+    line kinks there. ``grid`` (nj, ni, 2)."""
+    nj, ni = grid.shape[:2]
+    turns = {}
+    for line in lines:
+        vertical = line.sides is None or line.sides[0] == "bottom"
+        rows = grid if vertical else grid.transpose(1, 0, 2)  # (lines crossing, along, 2)
+        count, along = rows.shape[:2]
+        across = line.xi_eta[:, 0] if vertical else line.xi_eta[:, 1]
+        param = line.xi_eta[:, 1] if vertical else line.xi_eta[:, 0]
+        k = np.arange(1, count - 1)
+        order = np.argsort(param)
+        at = np.interp(k / (count - 1), param[order], across[order]) * (along - 1)
+        node = np.clip(np.rint(at).astype(int), 1, along - 2)
+        before = rows[k, node] - rows[k, node - 1]
+        after = rows[k, node + 1] - rows[k, node]
+        cos = (before * after).sum(-1) / (
+            np.linalg.norm(before, axis=-1) * np.linalg.norm(after, axis=-1)
+        )
+        turns[line.name] = float(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))).mean())
+    return turns

@@ -16,13 +16,20 @@ def _quality(grid: str, seconds: float, q: dict) -> str:
     )
 
 
-def _aux_lines(distances: dict, diagonal: str) -> list[str]:
-    """How close the grid lines came to the auxiliary lines' ``diagonal``, if there are any."""
+def _aux_lines(distances: dict, diagonal: str, turns: dict | None = None) -> list[str]:
+    """How close the grid lines came to the auxiliary lines' ``diagonal``, if there are any,
+    and how much the grid lines crossing them turn there."""
     if not distances:
         return []
+    crossing = (
+        f", the grid lines crossing them turning {max(turns.values()):.2f} deg there (mean, "
+        "largest of the lines)"
+        if turns
+        else ""
+    )
     return [
         f"auxiliary lines: grid lines within {max(distances.values()):.2e} of {diagonal} "
-        "of the drawn lines"
+        f"of the drawn lines{crossing}"
     ]
 
 
@@ -55,7 +62,9 @@ def grid_lines(report: dict, settings: Settings, ni: int, nj: int, seconds: floa
             f"wall angles within {r['max_angle_deviation']:.2f} deg of 90, growth "
             f"ratio up to {r['max_growth_ratio']:.3f}"
         )
-    return lines + _aux_lines(report["aux_line_distance"], "the diagonal")
+    return lines + _aux_lines(
+        report["aux_line_distance"], "the diagonal", report.get("aux_line_turn")
+    )
 
 
 def adaptation_lines(report: dict) -> list[str]:

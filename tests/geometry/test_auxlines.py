@@ -7,7 +7,7 @@ import pytest
 from helpers import square_ring
 
 from pinn_engine.errors import InputError
-from pinn_engine.geometry.auxlines import RawLine, map_line
+from pinn_engine.geometry.auxlines import RawLine, crossing_turns, map_line
 from pinn_engine.geometry.boundary import Boundary
 
 
@@ -30,6 +30,22 @@ def test_bottom_to_top_line_hand_checked(square):
     mid = len(t) // 2
     np.testing.assert_allclose(square.frame.to_user(aux.xy[mid]), [1.0, 1.0], atol=1e-12)
     assert aux.sides == ("bottom", "top")
+
+
+def test_crossing_turns_measure_the_kink_at_the_line(square):
+    """A straight lattice's rows cross a line at xi = 0.5 without turning; rows bent by 10
+    degrees at that column turn 10 there; a left-right line is crossed by the columns."""
+    xi, eta = np.meshgrid(np.linspace(0, 1, 11), np.linspace(0, 1, 5))
+    grid = np.stack([xi, eta], axis=-1)
+    vertical = map_line(line([[1.0, 0.0], [1.0, 2.0]], name="v"), square)
+    across = map_line(line([[0.0, 1.0], [2.0, 1.0]], name="h"), square)
+    assert crossing_turns(grid, [vertical, across]) == pytest.approx(
+        {vertical.name: 0.0, across.name: 0.0}, abs=1e-6
+    )
+    bent = grid.copy()
+    rise = np.tan(np.radians(10.0)) * np.clip(xi - 0.5, 0.0, None)
+    bent[..., 1] += rise * (eta > 0) * (eta < 1)  # the interior rows only
+    assert crossing_turns(bent, [vertical])[vertical.name] == pytest.approx(10.0, abs=1e-6)
 
 
 def test_line_drawn_the_other_way_and_left_right(square):
