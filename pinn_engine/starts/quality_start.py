@@ -21,7 +21,7 @@ from scipy.sparse.linalg import splu, spsolve
 
 from pinn_engine.classical.elliptic import stencil_matrix
 from pinn_engine.classical.warm import WarmStart
-from pinn_engine.geometry.auxlines import AuxLine, line_distances
+from pinn_engine.geometry.auxlines import AuxLine, crossing_turns, line_distances
 from pinn_engine.quality import (
     QUALITY_BARRIER_WEIGHT,
     QUALITY_MEAN_WEIGHT,
@@ -35,6 +35,12 @@ from pinn_engine.quality import (
 from pinn_engine.starts.untangle import untangle
 
 MEAN_TOL = 0.5  # the objective's bound on the mean MaxIncludedAngle against the elliptic grid
+# The grid lines crossing an auxiliary line may turn there by this many degrees (mean over
+# them) more than the elliptic grid's do at the same nodes: a grid that follows the line with
+# crossing lines as smooth as the elliptic grid's (a split-block grid whose interface is the
+# line kinks them by 8.7 and 7.9 degrees mean on wavy and fig2; auxlines.crossing_turns)
+TURN_TOL = 2.0
+TURN_STEP = 0.01  # the ranking's step of the crossing turn, degrees
 NODE_ITERATIONS = 100  # L-BFGS iterations of the node optimisation (0: none, an ablation)
 # A grid follows the auxiliary lines when it misses them by at most LINE_TOL (of the
 # diagonal) more than the boundary nodes fix; the line term's weight in the node optimisation
@@ -82,6 +88,7 @@ class Ranking:
     lines: tuple[AuxLine, ...] = ()
     diagonal: float = 1.0
     line_tol: float = 0.0
+    turns: tuple[float, ...] = ()  # the elliptic grid's crossing turn at each line
 
     @classmethod
     def of(cls, elliptic: np.ndarray, aux: Sequence[AuxLine], diagonal: float) -> Ranking:
@@ -94,7 +101,8 @@ class Ranking:
         ]
         ends = [e for e in ends if len(e.xi_eta)]
         floor = max(line_distances(elliptic, ends, diagonal).values(), default=0.0)
-        return cls(-math.inf, tuple(aux), diagonal, floor + LINE_TOL).against(elliptic)
+        turns = tuple(_turns(elliptic, aux))
+        return cls(-math.inf, tuple(aux), diagonal, floor + LINE_TOL, turns).against(elliptic)
 
     def against(self, elliptic: np.ndarray) -> Ranking:
         """This ranking with the mean bound raised to ``MEAN_TOL`` above another elliptic
@@ -108,6 +116,9 @@ class Ranking:
         q = guard_figures(grid)
         if self.lines:
             q["aux_distance"] = max(line_distances(grid, list(self.lines), self.diagonal).values())
+            q["aux_turn"] = max(
+                t - e for t, e in zip(_turns(grid, self.lines), self.turns, strict=True)
+            )
         return q
 
     def holding(self, grid: np.ndarray) -> Ranking:
@@ -117,16 +128,23 @@ class Ranking:
             return self
         return replace(self, line_tol=min(self.line_tol, self.quality(grid)["aux_distance"]))
 
-    def key(self, q: dict[str, float]) -> tuple[float, int, float, float]:
+    def key(self, q: dict[str, float]) -> tuple[float, int, float, float, float]:
         """A mean less above the bound (in steps of 0.01 degrees), then fewer folded cells,
         then a smaller distance from the lines beyond ``line_tol`` (in steps of 1e-5 of the
-        diagonal), then a smaller worst angle (to 0.001 degrees)."""
+        diagonal), then crossing lines turning less at them beyond ``TURN_TOL`` more than
+        the elliptic grid's (0.01 degrees), then a smaller worst angle (to 0.001 degrees)."""
         return (
             _steps_above(q["mean_max_angle"], self.mean_bound, MEAN_STEP),
             q["folded_cells"],
             _steps_above(q.get("aux_distance", 0.0), self.line_tol, LINE_STEP),
+            _steps_above(q.get("aux_turn", 0.0), TURN_TOL, TURN_STEP),
             round(q["worst_max_angle"], WORST_DECIMALS),
         )
+
+
+def _turns(grid: np.ndarray, lines: Sequence[AuxLine]) -> list[float]:
+    """``auxlines.crossing_turns`` of each line, in order (names may repeat)."""
+    return [crossing_turns(grid, [line])[line.name] for line in lines]
 
 
 def _steps_above(value: float, bound: float, step: float) -> float:
@@ -246,10 +264,86 @@ def _interior(ni: int, nj: int) -> np.ndarray:
 
 
 def follow_lines(grid: np.ndarray, ranking: Ranking) -> np.ndarray:
-    """``grid`` moved onto the auxiliary lines: pulled (:func:`pull_onto_lines`), relaxed as
-    an elliptic grid that keeps to them (:func:`relax_on_lines`), pulled again."""
-    pulled = pull_onto_lines(grid, ranking)
+    """``grid`` moved onto the auxiliary lines: its nodes slid along the grid lines that cross
+    them (:func:`slide_onto_lines`), which keeps those lines as smooth as ``grid``'s; where
+    that does not reach them, pulled (:func:`pull_onto_lines`), relaxed as an elliptic grid
+    that keeps to them (:func:`relax_on_lines`), pulled again."""
+    slid = slide_onto_lines(grid, ranking)
+    if ranking.quality(slid)["aux_distance"] <= ranking.line_tol:
+        return slid
+    pulled = pull_onto_lines(slid, ranking)
     return pull_onto_lines(relax_on_lines(pulled, ranking), ranking)
+
+
+def slide_onto_lines(grid: np.ndarray, ranking: Ranking) -> np.ndarray:
+    """``grid`` with its interior nodes slid along the grid lines that cross the auxiliary
+    lines (rows for a line from bottom to top, columns for one from left to right) until the
+    grid line through each drawn line's (xi, eta) lies on it: each round moves every curve
+    sample, along its crossing grid line, to where that meets the drawn line (a move of xi
+    alone, or of eta), and the smoothest field of such moves over the nodes (least squares,
+    the squared Laplacian, each direction on its own lines' samples only) moves every node
+    within the old grid, in up to ``PULL_ROUNDS`` rounds, halving a step that folds or comes
+    no closer. The crossing grid lines keep their shape; their nodes only move along them."""
+    nj, ni = grid.shape[:2]
+    curves = _curves(ranking, ni, nj)
+    inner = _interior(ni, nj)
+    axes = [0 if line.sides is None or line.sides[0] == "bottom" else 1 for line in ranking.lines]
+    smooth = (ni - 1) * (nj - 1) * _smoothing(ni, nj)
+    solvers = []
+    for axis in (0, 1):
+        mine = [c for c, a in zip(curves, axes, strict=True) if a == axis]
+        if not mine:
+            solvers.append(None)
+            continue
+        picks = _picks(mine)[:, inner]
+        weight = PULL_WEIGHT / picks.shape[0]
+        solve = splu((smooth + weight * picks.T @ picks).tocsc()).solve
+        solvers.append((solve, weight * picks.T, [curves.index(c) for c in mine]))
+
+    def smoothest(moves: list[np.ndarray]) -> np.ndarray:
+        field = np.zeros((len(inner), 2))
+        for axis, solver in enumerate(solvers):
+            if solver is not None:
+                solve, spread, which = solver
+                field[:, axis] = solve(spread @ np.concatenate([moves[k] for k in which]))
+        return field
+
+    q, step = ranking.quality(grid), 1.0
+    for _ in range(PULL_ROUNDS):
+        if q["aux_distance"] <= ranking.line_tol or step < PULL_MIN_STEP:
+            break
+        moved = _slide_round(grid, curves, axes, smoothest, step)
+        q_moved = ranking.quality(moved)
+        if (
+            q_moved["folded_cells"] > q["folded_cells"]
+            or q_moved["aux_distance"] >= q["aux_distance"]
+        ):
+            step /= 2
+            continue
+        grid, q = moved, q_moved
+    return grid
+
+
+def _slide_round(grid: np.ndarray, curves: list, axes: list, smoothest, step: float):
+    """One round of :func:`slide_onto_lines`: each curve sample's move of xi (``axes`` 0) or
+    eta (1) along its crossing grid line to the drawn line, to first order (the move along
+    the line's tangent direction r_xi or r_eta that covers the miss towards the nearest
+    point), turned by ``smoothest`` into the nodes' moves."""
+    nj, ni = grid.shape[:2]
+    moves = []
+    for (samples, xy), axis in zip(curves, axes, strict=True):
+        at = samples.at(grid)
+        miss = _nearest(at, xy) - at
+        along = samples.jacobian(grid)[:, :, axis]  # d(x, y)/d(xi or eta)
+        squared, towards = (miss * miss).sum(-1), (miss * along).sum(-1)
+        ok = np.abs(towards) > SINGULAR_SHARE * (along * along).sum(-1)
+        moves.append(np.where(ok, squared / np.where(ok, towards, 1.0), 0.0))
+    params = np.stack(np.meshgrid(np.linspace(0, 1, ni), np.linspace(0, 1, nj)), axis=-1)
+    inner = _interior(ni, nj)
+    params = np.clip(params.reshape(-1, 2)[inner] + step * smoothest(moves), 0, 1)
+    out = grid.reshape(-1, 2).copy()
+    out[inner] = _Samples(params, ni, nj).at(grid)
+    return out.reshape(grid.shape)
 
 
 def pull_onto_lines(grid: np.ndarray, ranking: Ranking) -> np.ndarray:
