@@ -358,8 +358,7 @@ def network_effect(report: dict) -> str | None:
     if "model" in training:  # a family model's grid (SPEC 16)
         if training["result"] == "start":
             return (
-                f"family model {training['model']}: the member's {start} start kept "
-                f"(guard){gain}"
+                f"family model {training['model']}: the member's {start} start kept (guard){gain}"
             )
         steps = training.get("winslow_steps")
         done = f", then {steps} linearised Winslow steps" if steps else ""
