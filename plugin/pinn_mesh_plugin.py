@@ -1175,5 +1175,13 @@ del (
     _file_type,
 )  # one module name per proxy: ParaView registers every one it finds
 
+
+def help_xmls():
+    """The XML of the proxies with a help page: every one, the CGNS writer once, by the name
+    Save Data creates (``CGNS_FIRST``)."""
+    twin = PARAVIEW_FORMATS["cgns"][1]
+    return get_plugin_xmls({k: v for k, v in globals().items() if k != twin})
+
+
 # the proxies' help pages, for the panel's "?" and the help's search (docs/paraview_gui.md)
-register_in_gui(get_plugin_xmls(globals()))
+register_in_gui(help_xmls())

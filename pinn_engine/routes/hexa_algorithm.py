@@ -42,7 +42,7 @@ from pinn_engine.routes.filters import (
     update_warning,
 )
 from pinn_engine.routes.reporting import message_of
-from pinn_engine.routes.summary_lines import hexa_line
+from pinn_engine.routes.summary_lines import hexa_lines
 from pinn_engine.settings import (
     FACE_ANGLE,
     HEXA_METHOD,
@@ -227,7 +227,7 @@ class PinnHexaAlgorithm(LastOutcome, Stoppable, PatchWalls, VTKPythonAlgorithmBa
         geometry = job.hexa_from_polydata(surface, "input", self._patches)
         outcome = self._run_job(settings, geometry, self._hexa_progress)
         self._faces = outcome.report["faces"]
-        self._tell([hexa_line(outcome.report)])
+        self._tell(hexa_lines(outcome.report))
         return outcome.data, outcome.report
 
     def _hexa_progress(self, info: dict) -> str | None:

@@ -148,27 +148,31 @@ def dictionary_line(report: dict) -> str:
     )
 
 
-def hexa_line(report: dict) -> str:
-    """A hexahedral grid's summary (of its ``report``), one line: cells, folds, min
-    ScaledJacobian, mean/worst MaxIncludedAngle, time, the Picard steps, the walls asked
-    for, which side each input face is (``face3=imin``, in FaceId order: an STL's faces are
-    numbered so) and what the network did."""
+def hexa_lines(report: dict) -> list[str]:
+    """A hexahedral grid's summary (of its ``report``), a short line each: cells, time, folds
+    and the Picard steps; min ScaledJacobian, mean/worst MaxIncludedAngle; each wall asked
+    for; which side each input face is (``face3=imin``, in FaceId order: an STL's faces are
+    numbered so); what the network did (one line of all was cut by ParaView's Output
+    Messages)."""
     ni, nj, nk = report["size"]
     q = report["quality"]
     walls = report.get("walls", {})
     faces = sorted(report["faces"].items(), key=lambda item: item[1])
     effect = network_effect(report) if "training" in report else ""
-    return (
+    first = (
         f"{report['method']} {ni}x{nj}x{nk} hexahedral grid, {report['cells']} cells in "
-        f"{report['seconds']:.2f} s: {q['folded_cells']} folded, min ScaledJacobian "
-        f"{q['min_scaled_jacobian']:.3f}, mean MaxIncludedAngle "
-        f"{q['mean_max_angle']:.2f} deg, worst {q['worst_max_angle']:.2f} deg"
+        f"{report['seconds']:.2f} s: {q['folded_cells']} folded"
         + (f" ({report['iterations']} Picard steps)" if report["iterations"] else "")
-        + "".join(
-            f"; {patch}: first edges {w['first_edge']['min']:.3g}..{w['first_edge']['max']:.3g}"
-            f", grid lines within {w['max_angle_deviation']:.2f} deg of the normal"
-            for patch, w in walls.items()
-        )
-        + ("; faces " + " ".join(f"{FACE_PREFIX}{f}={side}" for side, f in faces) if faces else "")
-        + (f"; {effect}" if effect else "")
     )
+    figures = (
+        f"min ScaledJacobian {q['min_scaled_jacobian']:.3f}, mean MaxIncludedAngle "
+        f"{q['mean_max_angle']:.2f} deg, worst {q['worst_max_angle']:.2f} deg"
+    )
+    walls_lines = [
+        f"{patch}: first edges {w['first_edge']['min']:.3g}..{w['first_edge']['max']:.3g}"
+        f", grid lines within {w['max_angle_deviation']:.2f} deg of the normal"
+        for patch, w in walls.items()
+    ]
+    sides = " ".join(f"{FACE_PREFIX}{f}={side}" for side, f in faces)
+    faces_lines = [f"faces {sides}"] if faces else []
+    return [first, figures, *walls_lines, *faces_lines, *([effect] if effect else [])]

@@ -11,7 +11,7 @@ from pinn_engine.routes.cli.options import check_options, settings_from
 from pinn_engine.routes.cli.outputs import output_path, save_model, write_report
 from pinn_engine.routes.cli.parser import build_parser, option_flags
 from pinn_engine.routes.cli.summary import warn
-from pinn_engine.routes.summary_lines import hexa_line
+from pinn_engine.routes.summary_lines import hexa_lines
 from pinn_engine.settings import HEXA_METHOD, HEXA_SIZE
 
 # The options a six-faced surface takes; any other given is refused, not silently ignored
@@ -63,7 +63,7 @@ def run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
     if args.report:
         write_report(args.report, outcome.report, written)
     if not args.quiet:
-        print(hexa_line(outcome.report))
+        print("\n".join(hexa_lines(outcome.report)))
     for warning, _ in grid_warnings(outcome.report, "cli"):  # printed with --quiet too
         warn(warning)
     return out

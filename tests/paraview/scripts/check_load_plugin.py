@@ -55,11 +55,10 @@ result["help"] = {  # the panel's "?": every proxy of the plugin documented
 }
 # the help pages the GUI is given (routes/paraview_help.py): one per proxy, named by a
 # (group, proxy name) ParaView knows; pvpython has no help engine to register them with
-from paraview.detail.pythonalgorithm import get_plugin_xmls  # noqa: E402
 
 from pinn_engine.routes import help_engine, paraview_help  # noqa: E402
 
-pages = paraview_help.help_pages(get_plugin_xmls(sys.modules["pinn_mesh_plugin"]))[0]
+pages = paraview_help.help_pages(sys.modules["pinn_mesh_plugin"].help_xmls())[0]
 result["help_pages"] = [page.name for page in pages]
 result["help_pages_unknown"] = [
     page.name for page in pages[1:] if not pxm.GetPrototypeProxy(*page.name.split(".")[:2])
