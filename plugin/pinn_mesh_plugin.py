@@ -49,6 +49,7 @@ try:
     )
     from pinn_engine.routes.paraview_help import register_in_gui
     from pinn_engine.settings import (
+        ADAPT_STRENGTH,
         BLOCKS_METHOD,
         FACE_ANGLE,
         HEXA_METHOD,
@@ -310,6 +311,60 @@ def _polyline_input(*, doc, optional=False, **attrs):
     )
 
 
+def _field_input(port_index):
+    """The optional Field input of SPEC 14 at ``port_index``: any dataset (a solver's
+    result: connect the OpenFOAM reader's output), whose arrays Field Array lists."""
+    return _stack(
+        smproperty.input(name="Field", label="Field", port_index=port_index),
+        smdomain.datatype(dataTypes=["vtkDataObject"], composite_data_supported=True),
+        smdomain.xml(
+            '<InputArrayDomain name="field_arrays" attribute_type="any" optional="1"/>'
+            + _doc(
+                "Optional: a solution on this domain (any dataset: connect the OpenFOAM "
+                "reader's or another reader's output). The grid's nodes then move to where "
+                "Field Array changes fast, its counts, corners and patches kept."
+            )
+        ),
+        smhint.xml("<Optional/>"),
+    )
+
+
+# The Field Array and Adapt Strength properties of the 2D filters (SPEC 14)
+_FIELD_ARRAY = """
+<StringVectorProperty name="FieldArray" label="Field Array" command="SetAdaptArray"
+    number_of_elements="5" element_types="0 0 0 0 2" animateable="0">
+  <ArrayListDomain name="array_list" attribute_type="Scalars" input_domain_name="field_arrays">
+    <RequiredProperties><Property name="Field" function="Input"/></RequiredProperties>
+  </ArrayListDomain>
+  <Documentation>The array of the Field input the grid is adapted to: a point or cell
+  array, a vector (velocity) by its magnitude.</Documentation>
+</StringVectorProperty>"""
+
+
+def _adapt_properties(cls):
+    """Field Array and Adapt Strength on a 2D filter's panel, after its other properties."""
+
+    @smproperty.xml(_FIELD_ARRAY)
+    def P90FieldArray(self, *selection):
+        self.SetAdaptArray(*selection)
+
+    @_doublevector(
+        name="AdaptStrength",
+        label="Adapt Strength",
+        default_values=ADAPT_STRENGTH,
+        bounds={"min": 0.0, "max": 100.0},
+        doc="With a Field input: the monitor's strength beta, M = sqrt(1 + beta^2 |grad f|^2 "
+        "/ max |grad f|^2); cells where M is large get smaller. The grid is adapted less "
+        "where the worst cell would exceed the unadapted one's by more than 10 degrees, "
+        "and kept unadapted where that carries the field no better.",
+    )
+    def P91AdaptStrength(self, beta):
+        self.SetAdaptStrength(float(beta))
+
+    cls.P90FieldArray, cls.P91AdaptStrength = P90FieldArray, P91AdaptStrength
+    return cls
+
+
 def _mesh_filter(*inputs, names, summary, doc):
     """A filter in Filters > Mesh Generation whose grid is shown with its cells' edges: its
     ``inputs`` (``_polyline_input``, in port order) and its panel help (``_proxy_doc``).
@@ -393,6 +448,7 @@ def _define_old_names(*_):
         "side (several polylines per input and several inputs both work). Used "
         "by the pinn method only.",
     ),
+    _field_input(2),
     names=[("PINNStructuredMesh", "PINN Structured Mesh")],
     summary="Structured quadrilateral grid from a physics-informed neural network.",
     doc="Structured quadrilateral grid of a four-sided 2D domain from a "
@@ -405,6 +461,7 @@ def _define_old_names(*_):
     "Limit seconds or at pkill -USR1 -x paraview with its best grid so far. "
     "Guide: docs/routes.md of the pinn-mesh checkout.",
 )
+@_adapt_properties
 class PINNStructuredMesh(PinnMeshAlgorithm):
     """The ParaView face of :class:`pinn_engine.routes.algorithm.PinnMeshAlgorithm`."""
 
@@ -723,6 +780,7 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
         "input and several inputs both work). Used by the pinn method: its networks "
         "move the blocks' grid lines onto them.",
     ),
+    _field_input(3),
     names=[
         ("PINNStructuredMeshMultiBlock", "PINN Structured Mesh (Multi-Block)"),
         ("PINNMultiBlockMesh", "PINN Multi-Block Mesh"),
@@ -743,6 +801,7 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
 )
 @smproperty.xml('<OutputPort name="Blocks" index="0"/>')
 @smproperty.xml('<OutputPort name="Block Edges" index="1"/>')
+@_adapt_properties
 class PINNStructuredMeshMultiBlock(PinnMultiBlockAlgorithm):
     """The ParaView face of
     :class:`pinn_engine.routes.multiblock_algorithm.PinnMultiBlockAlgorithm`."""

@@ -8,7 +8,8 @@
 #   bash examples/openfoam_dfg/run.sh [CASE_DIR] [CELL_SIZE]   # default out/openfoam_dfg 0.01
 #
 # PINN_MESH overrides the command (default: the checkout's .venv/bin/pinn-mesh), PYTHON
-# the interpreter that runs dfg.py (default: the checkout's .venv/bin/python).
+# the interpreter that runs dfg.py (default: the checkout's .venv/bin/python), ADAPT
+# another case's solution the grid is adapted to (--adapt ADAPT, e.g. out/a/case.foam:U).
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$HERE/../.." && pwd)
@@ -36,6 +37,9 @@ BLOCKS=("$ROOT/example_data/dfg.vtp" --blocks "$ROOT/example_data/dfg_blocks.vtp
     --patch 0,0.05=inlet:inflow --patch 0,0.2=inlet --patch 0,0.355=inlet
     --patch 2.2,0.05=outlet:outflow --patch 2.2,0.2=outlet --patch 2.2,0.355=outlet
     --spacing cylinder="$WALL" --orthogonal cylinder --quiet)
+if [ -n "${ADAPT:-}" ]; then
+    BLOCKS+=(--adapt "$ADAPT")
+fi
 if [ "$MESHER" = blockmesh ]; then
     # the same blocks, counts and gradings: pinn-mesh's grid of them gives the counts
     "$PINN_MESH" "${BLOCKS[@]}" -o "$CASE/pinn.vtm"
@@ -50,5 +54,6 @@ grep -E "Failed|Mesh OK" "$CASE/log.checkMesh"
 "$PYTHON" "$HERE/dfg.py" inlet "$CASE"
 
 simpleFoam -case "$CASE" >"$CASE/log.simpleFoam"
+touch "$CASE/case.foam"  # what VTK's and ParaView's OpenFOAM readers open
 grep -E "SIMPLE solution converged" "$CASE/log.simpleFoam" || echo "residualControl not met by endTime"
 "$PYTHON" "$HERE/dfg.py" coefficients "$CASE"

@@ -59,7 +59,7 @@ def adapt_grids(
     field.check_covers(graph.points)
 
     def sample(points: np.ndarray) -> np.ndarray:
-        return field.sample(points)[0]
+        return field.sample(points)
 
     start = graph.points
     gradient = gradient_size(start, graph.cells, sample(start))

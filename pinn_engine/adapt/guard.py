@@ -18,8 +18,8 @@ from pinn_engine.adapt.winslow import Solved, adaptive_winslow, pieces_of
 from pinn_engine.quality import cell_quality
 
 GUARD_DEGREES = 10.0  # SPEC 14: the worst cell may exceed the unadapted grid's by this much
-ROUNDS = 4  # solves with the strength lowered round the offending cells, at most
-LOWER = 0.6  # each round multiplies the strength round an offending cell by this
+ROUNDS = 6  # solves with the strength lowered round the offending cells, at most
+LOWER = 0.5  # each round multiplies the strength round an offending cell by this
 # the lowering reaches this many rings of cells round an offending cell, fading: a strength
 # cut at one node alone would crease the monitor there
 SPREAD = 3

@@ -7,15 +7,18 @@ computational coordinates harmonic in the weight 1/M,
 inverted as the elliptic grid's equations are, with m = ln M:
 
     alpha x_xixi - 2 beta x_xieta + gamma x_etaeta
-        + (alpha m_xi - beta m_eta) x_xi + (gamma m_eta - beta m_xi) x_eta = 0,
+        + (alpha (m_xi + p) - beta m_eta) x_xi + (gamma (m_eta + q) - beta m_xi) x_eta = 0,
 
-the Winslow operator of every solver here plus first-order control terms. In one dimension
-it is M x_xi = const: cells are small where M is large, M times cell size equidistributed.
-The system is the multi-block solver's (``multiblock.elliptic``: a row a node, junctions of
-other than four cells by ``multiblock.junctions``' stars), over the unique nodes of any 2D
-grid (``nodes.py``), solved by Picard steps with M sampled at the current nodes each step;
-boundary nodes slide along their piece so that grid lines leave it at right angles (the
-equations' natural condition on a free boundary), a step that would fold a cell is halved.
+the Winslow operator of every solver here plus first-order control terms; p and q are the
+unadapted grid's own (:func:`own_controls`): with M = 1 it solves the equations as it is,
+its gradings and wall spacings kept. In one dimension it is M x_xi = const times the
+unadapted spacing: cells shrink where M is large, M times cell size equidistributed. The
+system is the multi-block solver's (``multiblock.elliptic``: a row a node), over the unique
+nodes of any 2D grid (``nodes.py``; junctions of other than four cells stay), solved by
+Picard steps with M sampled at the current nodes each step; boundary nodes slide along
+their piece with the feet of their grid lines (on a free boundary the equations' natural
+condition is grid lines at right angles; each node keeps its unadapted distance from its
+foot), a step that would fold a cell is halved.
 """
 
 from __future__ import annotations
@@ -51,11 +54,23 @@ class Piece:
 
     def __init__(self, ids: np.ndarray, points: np.ndarray, inward: np.ndarray) -> None:
         self.ids, self.inward = ids, inward
-        steps = np.linalg.norm(np.diff(points, axis=0), axis=1)
+        steps = np.linalg.norm(np.diff(points[ids], axis=0), axis=1)
         self.s = np.concatenate([[0.0], np.cumsum(steps)])
         kind = "not-a-knot" if len(ids) > 3 else "natural"
-        self.curve = CubicSpline(self.s, points, bc_type=kind)
+        self.curve = CubicSpline(self.s, points[ids], bc_type=kind)
         self.d1, self.d2 = self.curve.derivative(1), self.curve.derivative(2)
+        # each node's distance along the curve from its grid line's foot in the unadapted
+        # grid: kept, so that the unadapted grid is where the sliding starts from and stays
+        self.offset = np.zeros(len(ids))
+        self.offset = self.s - self._feet(points)
+
+    def _feet(self, points: np.ndarray) -> np.ndarray:
+        """Arc lengths of the feet of the nodes' grid lines' next nodes (a node without
+        one: its own arc length, less its offset)."""
+        inner = np.flatnonzero(self.inward >= 0)
+        feet = self.s - self.offset
+        feet[inner] = self.foot(points[self.inward[inner]], self.s[inner] - self.offset[inner])
+        return feet
 
     def foot(self, p: np.ndarray, s: np.ndarray) -> np.ndarray:
         """Arc lengths of the feet on the curve of points ``p`` near arc lengths ``s``
@@ -74,28 +89,53 @@ class Piece:
         (grid lines leave a sliding boundary at right angles: the natural condition of the
         adaptive equations where the boundary is free), kept in order; their new
         positions."""
-        inner = np.flatnonzero(self.inward[1:-1] >= 0) + 1
-        target = self.s.copy()
-        target[inner] = self.foot(points[self.inward[inner]], self.s[inner])
+        target = self._feet(points) + self.offset
         s = self.s + relax * (target - self.s)
         gap = MIN_GAP * np.diff(self.s).min(initial=0.0)  # no node passes its neighbour
         k = np.arange(len(s)) * gap
         s = np.maximum.accumulate(s - k) + k  # each at least gap past the one before
-        s = np.minimum.accumulate((s + k)[::-1])[::-1] - k  # and gap short of the next
+        s = np.minimum.accumulate((s - k)[::-1])[::-1] + k  # and gap short of the next
         s[0], s[-1] = self.s[0], self.s[-1]
         self.s = s
         return self.curve(s)
 
 
-def _controls(points: np.ndarray, st: np.ndarray, m: np.ndarray) -> tuple[np.ndarray, ...]:
-    """The control terms' coefficients (alpha m_xi - beta m_eta, gamma m_eta - beta m_xi)
-    at the stencils' centres, m = ln M at the nodes."""
-    x_xi = 0.5 * (points[st[:, 1, 2]] - points[st[:, 1, 0]])
-    x_eta = 0.5 * (points[st[:, 2, 1]] - points[st[:, 0, 1]])
-    a, b, c = winslow_coefficients(x_xi, x_eta)
+def _first(points: np.ndarray, st: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """x_xi and x_eta at the stencils' centres, central differences."""
+    return (
+        0.5 * (points[st[:, 1, 2]] - points[st[:, 1, 0]]),
+        0.5 * (points[st[:, 2, 1]] - points[st[:, 0, 1]]),
+    )
+
+
+def _controls(
+    points: np.ndarray, st: np.ndarray, m: np.ndarray, own: tuple[np.ndarray, np.ndarray]
+) -> tuple[np.ndarray, ...]:
+    """The control terms' coefficients at the stencils' centres: the monitor's (alpha m_xi
+    - beta m_eta, gamma m_eta - beta m_xi), m = ln M at the nodes, plus the unadapted
+    grid's own (alpha p, gamma q) (:func:`own_controls`)."""
+    a, b, c = winslow_coefficients(*_first(points, st))
     m_xi = 0.5 * (m[st[:, 1, 2]] - m[st[:, 1, 0]])
     m_eta = 0.5 * (m[st[:, 2, 1]] - m[st[:, 0, 1]])
-    return a * m_xi - b * m_eta, c * m_eta - b * m_xi
+    return a * (m_xi + own[0]) - b * m_eta, c * (m_eta + own[1]) - b * m_xi
+
+
+def own_controls(points: np.ndarray, st: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Control functions p, q that make the unadapted grid an exact solution with M = 1
+    (Thompson's sources taken from a given grid, scaled as Hilgenstock's by alpha and
+    gamma): alpha p x_xi + gamma q x_eta = -(alpha x_xixi - 2 beta x_xieta + gamma
+    x_etaeta). Its gradings, wall spacings and angles are then what the monitor moves from,
+    not what the solve undoes."""
+    x_xi, x_eta = _first(points, st)
+    a, b, c = winslow_coefficients(x_xi, x_eta)
+    p = points[st]
+    x_xixi = p[:, 1, 2] - 2 * p[:, 1, 1] + p[:, 1, 0]
+    x_etaeta = p[:, 2, 1] - 2 * p[:, 1, 1] + p[:, 0, 1]
+    x_xieta = 0.25 * (p[:, 2, 2] - p[:, 0, 2] - p[:, 2, 0] + p[:, 0, 0])
+    rhs = -(a[:, None] * x_xixi - 2 * b[:, None] * x_xieta + c[:, None] * x_etaeta)
+    cols = np.stack([a[:, None] * x_xi, c[:, None] * x_eta], axis=-1)  # (k, 2, 2)
+    pq = np.linalg.solve(cols, rhs[..., None])[..., 0]
+    return pq[:, 0], pq[:, 1]
 
 
 def corner_areas(points: np.ndarray, cells: np.ndarray) -> np.ndarray:
@@ -119,7 +159,7 @@ class Solved:
 
 def pieces_of(graph: NodeGraph) -> list[Piece]:
     """The boundary pieces of ``graph`` on the curves of its unadapted nodes."""
-    return [Piece(ids, graph.points[ids], graph.inward[ids]) for ids in graph.pieces]
+    return [Piece(ids, graph.points, graph.inward[ids]) for ids in graph.pieces]
 
 
 def adaptive_winslow(
@@ -133,8 +173,8 @@ def adaptive_winslow(
     the monitor of ``strength`` (at each node) scaled by the field's largest gradient
     ``largest``, from the unadapted grid or ``initial``."""
     points = graph.points.copy() if initial is None else initial.points.copy()
-    st, stars = graph.stencils, graph.stars
-    solved = np.concatenate([st[:, 1, 1], [s.node for s in stars]]).astype(int)
+    st, stars = graph.stencils, []  # junctions of other than four cells stay
+    solved = st[:, 1, 1].astype(int)
     column = np.full(len(points), -1)
     column[solved] = np.arange(len(solved))
     op = Operator(st, stars, column)
@@ -147,6 +187,7 @@ def adaptive_winslow(
     centre = slice(0, 9 * len(st))
     m = np.zeros(len(points))
     convex = corner_areas(graph.points, graph.cells) > 0  # the corners that must stay so
+    own = own_controls(graph.points, st)
     steps = 0
     while steps < STEPS:
         steps += 1
@@ -154,7 +195,7 @@ def adaptive_winslow(
         m = np.log(monitor_values(gradient, strength, largest))
         weights = op.weights(points)
         w = weights[centre].reshape(-1, 3, 3)
-        cp, cq = _controls(points, st, m)
+        cp, cq = _controls(points, st, m, own)
         w[:, 1, 2] += 0.5 * cp
         w[:, 1, 0] -= 0.5 * cp
         w[:, 2, 1] += 0.5 * cq

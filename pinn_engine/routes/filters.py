@@ -268,6 +268,20 @@ class FieldInput(ModifiedOnChange):
         info.Set(self.INPUT_IS_OPTIONAL(), 1)
         return 1
 
+    def RequestUpdateExtent(self, request, inInfo, outInfo):
+        """The whole Field input, one piece (the executive would ask a structured field
+        for the grid's own extent)."""
+        from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline as sddp
+
+        port = inInfo[self.FIELD_PORT]
+        for k in range(port.GetNumberOfInformationObjects()):
+            info = port.GetInformationObject(k)
+            if info.Has(sddp.WHOLE_EXTENT()):
+                info.Set(sddp.UPDATE_EXTENT(), info.Get(sddp.WHOLE_EXTENT()), 6)
+            info.Set(sddp.UPDATE_PIECE_NUMBER(), 0)
+            info.Set(sddp.UPDATE_NUMBER_OF_PIECES(), 1)
+        return 1
+
     def SetAdaptArray(self, *name) -> None:
         """The array to adapt to by name (ParaView's array selection passes five values,
         the name last)."""

@@ -173,6 +173,7 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
     assert result["property_order"] == [  # no "Reload Python Module" button for users
         "Input",
         "AuxiliaryLines",
+        "Field",
         "Method",
         "GridSize",
         "Preset",
@@ -194,6 +195,8 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
         "FirstEdgeSpacing",
         "OrthogonalSides",
         "PatchNames",
+        "FieldArray",
+        "AdaptStrength",
     ]
     assert result["methods"] == ["pinn", "mgnet", "tfi", "elliptic"]
     # the network settings behind the gear; "NACA", not "N ACA"
@@ -383,6 +386,9 @@ def test_multiblock_filter_on_the_step(checkout):
         "FirstEdgeSpacing",
         "OrthogonalPatches",
         "TimeLimit",
+        "Field",
+        "FieldArray",
+        "AdaptStrength",
     }
     assert result["methods"] == ["tfi", "elliptic", "pinn"]
     assert result["interfaces"] == ["free", "fixed"]
@@ -534,3 +540,17 @@ def test_hexahedral_filter_on_the_bend(checkout):
         in (result["curve_text"])
     )
     assert result["cgns_writer"] == "CGNSPINNMeshWriter" and result["is_three_d"] == 1
+
+
+def test_a_readers_solution_on_the_field_input_adapts_the_grid(checkout, tmp_path):
+    """SPEC 14 in ParaView: a reader's output on the Field port, its array picked."""
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "adapt"))
+    from test_adapt import front, image, write
+
+    field = write(image(front, (-0.3, -0.4), (4.4, 2.5)), tmp_path / "field.vti")
+    result = run_pvpython(checkout, "check_field.py", str(checkout / "example_data"), field)
+    assert "p" in result["arrays"] and result["points"] == 21 * 11
+    assert result["array"] == "p" and result["strength"] == 10.0
+    assert result["error"]["after"] < result["error"]["before"]
