@@ -17,6 +17,7 @@ from pinn_engine.blocks.untrained import (
     QUALITY,
     THIN,
     THIN_WALL,
+    WALL,
     WINSLOW,
     body_cannot_win,
     cannot_win,
@@ -114,10 +115,12 @@ def test_a_multiblock_pinn_whose_networks_cannot_win_keeps_its_starts():
 
 
 def test_a_body_network_is_trained_only_where_its_wall_cells_are_not_too_thin():
-    """Untrained on a boundary-layer grid (wall cells of aspect ratio THIN_WALL or more);
-    trained on coarser wall cells, without the elliptic start, or with Adam epochs asked."""
+    """Untrained on a boundary-layer grid (wall cells of aspect ratio THIN_WALL or more) and
+    under the default objective; trained on coarser wall cells under --objective winslow,
+    without the elliptic start, or with Adam epochs asked."""
     assert body_cannot_win(make_settings("pinn"), THIN_WALL) == THIN
-    assert body_cannot_win(make_settings("pinn"), THIN_WALL / 2) is None
+    assert body_cannot_win(make_settings("pinn"), THIN_WALL / 2) == WALL  # the default
+    assert body_cannot_win(make_settings("pinn", objective="winslow"), THIN_WALL / 2) is None
     assert body_cannot_win(make_settings("pinn", "paper"), 10 * THIN_WALL) is None
     assert body_cannot_win(make_settings("pinn", adam_epochs=60), 10 * THIN_WALL) is None
 
@@ -148,7 +151,9 @@ def test_an_untrained_body_grid_is_the_start_its_trained_network_kept():
     )
     _assert_torch_not_imported(code)
     coarse = layout(body, far, "c", *size)  # the default first layer: cells of aspect 2
-    assert body_cannot_win(settings, coarse.wall_aspect()) is None
+    assert body_cannot_win(settings, coarse.wall_aspect()) == WALL
+    winslow = make_settings("pinn", lattice=size, objective="winslow")
+    assert body_cannot_win(winslow, coarse.wall_aspect()) is None
 
 
 def test_a_hexahedral_pinn_whose_network_cannot_win_keeps_its_start(tmp_path):
