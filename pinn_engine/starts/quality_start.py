@@ -518,6 +518,9 @@ def optimize_nodes(grid: np.ndarray, ranking: Ranking, iterations: int) -> np.nd
             term, d_term, q["aux_distance"] = line_term(g)
             loss += LINE_WEIGHT * term
             grad += LINE_WEIGHT * d_term
+            q["aux_turn"] = max(
+                t - e for t, e in zip(_turns(g, ranking.lines), ranking.turns, strict=True)
+            )
         largest = np.rad2deg(theta.max(0))
         q.update(
             folded_cells=int((largest > FOLDED_ANGLE).sum()),
