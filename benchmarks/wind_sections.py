@@ -7,7 +7,7 @@ IEA-22-280-RWT), every blade section:
 
 - the OpenFAST (AeroDyn) airfoil files ``*_Coords.txt``, copied as they are (``N NumCoords``,
   ``!`` comments, the reference point, then the coordinates; pinn-mesh reads the format):
-  ``<turbine>_AFnn.dat``, every ``EVERY``-th along the span (default 3: the files
+  ``<turbine>_AFnn.dat``, every ``EVERY``-th along the span (default 2: the files
   interpolate between the masters, so neighbours differ little);
 - the windIO ontology's airfoils (``airfoils: - name, coordinates: {x: [...], y: [...]}``),
   written as Selig-style files in the ontology's point order: ``<turbine>_<name>.dat``.
@@ -42,7 +42,7 @@ def _git(repo: Path, *args: str) -> str:
     ).stdout
 
 
-def extract(out: Path, mirrors: Path, every: int = 3) -> list[Path]:
+def extract(out: Path, mirrors: Path, every: int = 2) -> list[Path]:
     """The sections of every turbine found under ``mirrors`` (every ``every``-th OpenFAST
     file, every windIO airfoil), written into ``out``."""
     out.mkdir(parents=True, exist_ok=True)
@@ -53,10 +53,12 @@ def extract(out: Path, mirrors: Path, every: int = 3) -> list[Path]:
             print(f"{git}: missing (fetch github:IEAWindTask37/{repo})", file=sys.stderr)
             continue
         files = _git(git, "ls-tree", "-r", "--name-only", "HEAD").splitlines()
-        for name in sorted(f for f in files if f.endswith("_Coords.txt"))[::every]:
-            number = re.search(r"AF(\d+)_Coords", name)
-            target = out / f"{short}_AF{number[1]}.dat"
-            target.write_text(_git(git, "show", f"HEAD:{name}"))
+        coords: dict[str, str] = {}  # one file a section number (some repositories hold two)
+        for name in sorted(f for f in files if f.endswith("_Coords.txt")):
+            coords.setdefault(re.search(r"AF(\d+)_Coords", name)[1], name)
+        for number in sorted(coords)[::every]:
+            target = out / f"{short}_AF{number}.dat"
+            target.write_text(_git(git, "show", f"HEAD:{coords[number]}"))
             written.append(target)
         if ontology in files:
             # some ontologies repeat an anchor name (YAML refuses that): anchors dropped,
@@ -79,5 +81,5 @@ def extract(out: Path, mirrors: Path, every: int = 3) -> list[Path]:
 if __name__ == "__main__":
     args = sys.argv[1:]
     mirrors = Path(args[1] if len(args) > 1 else "/work/.mirror")
-    found = extract(Path(args[0]), mirrors, int(args[2]) if len(args) > 2 else 3)
+    found = extract(Path(args[0]), mirrors, int(args[2]) if len(args) > 2 else 2)
     print(f"{len(found)} sections written to {sys.argv[1]}")

@@ -199,6 +199,14 @@ def mesh_body(
         raise inside_out_error(method, lay, body.source)
     quality_began = time.perf_counter()
     cells = cell_quality(grid)
+    folded = int(np.count_nonzero(cells["Folded"]))
+    if topology == "c" and folded:  # the O-grid follows any section without a cut
+        raise InputError(
+            f"the {method} C-grid folds {folded} cells (a trailing edge too thick or "
+            "blunt for a wake cut); an O-grid ({topology}) is the natural topology for "
+            "this section",
+            body.source,
+        )
     ring = body.ring()
     wall = grid[0][lay.wall_columns()]
     scale = float(np.linalg.norm(np.ptp(grid.reshape(-1, 2), axis=0)))
