@@ -41,6 +41,7 @@ class BlocksGeometry:
     patches: tuple = ()
     walls: object | None = None  # multiblock.walls.Walls
     cells: tuple = ()
+    gradings: tuple = ()
 
 
 def flat_curves(curves: list[np.ndarray], source: str) -> list[np.ndarray]:
@@ -57,10 +58,15 @@ def flat_curves(curves: list[np.ndarray], source: str) -> list[np.ndarray]:
 
 
 def _places(
-    patches: Sequence[str], spacing: Sequence[str], orthogonal: Sequence[str], cells: Sequence[str]
+    patches: Sequence[str],
+    spacing: Sequence[str],
+    orthogonal: Sequence[str],
+    cells: Sequence[str],
+    gradings: Sequence[str] = (),
 ) -> dict:
-    """The options' items checked (before the inputs are read): patches, walls, cells."""
-    from pinn_engine.multiblock.chains import parse_cells
+    """The options' items checked (before the inputs are read): patches, walls, cells,
+    expansion ratios."""
+    from pinn_engine.multiblock.chains import parse_cells, parse_gradings
     from pinn_engine.multiblock.patches import parse_patch_points
     from pinn_engine.multiblock.walls import parse_walls
 
@@ -68,6 +74,7 @@ def _places(
         "patches": tuple(parse_patch_points(patches)),
         "walls": parse_walls(spacing, orthogonal),
         "cells": tuple(parse_cells(cells)),
+        "gradings": tuple(parse_gradings(gradings)),
     }
 
 
@@ -103,16 +110,18 @@ def blocks_from_files(
     spacing: Sequence[str] = (),
     orthogonal: Sequence[str] = (),
     cells: Sequence[str] = (),
+    gradings: Sequence[str] = (),
 ) -> BlocksGeometry:
     """The multi-block domain of files: ``boundary`` (outer boundary and holes), the
     block-edge files ``edges`` (``[AUTO_BLOCKS]``: edges proposed from the boundary alone,
     SPEC 13) and auxiliary-line files ``aux`` (each line inside one block); ``patches``:
     ``X,Y=NAME[:TYPE]`` items naming boundary pieces; ``spacing``: ``NAME=H`` or ``X,Y=H``
     items, ``orthogonal``: ``NAME[,NAME...]`` items; ``cells``: ``X,Y=N`` items, N cells
-    along the chain through the block side nearest (X, Y)."""
+    along the chain through the block side nearest (X, Y); ``gradings``: ``X,Y=R`` items,
+    an expansion ratio R along that chain."""
     from pinn_engine.io.fileio import read_aux_lines, read_rings
 
-    places = _places(patches, spacing, orthogonal, cells)  # refused before reading
+    places = _places(patches, spacing, orthogonal, cells, gradings)  # refused before reading
     rings = read_rings(boundary)
     automatic = [str(e) for e in edges] == [AUTO_BLOCKS]
     raws = [] if automatic else [line for path in edges for line in read_block_edges(path)]
@@ -301,6 +310,7 @@ def run_blocks(
         train_blocks,
         g.cells,
         untangle,
+        g.gradings,
     )
     result.report["blocking"] = g.blocking
     if clock.stopped is not None:

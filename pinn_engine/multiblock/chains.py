@@ -42,7 +42,7 @@ class SideItem:
     x: float
     y: float
     value: float
-    flag: str  # "cells" or "spacing", for messages
+    flag: str  # "cells", "spacing" or "grading", for messages
 
     @property
     def where(self) -> str:
@@ -65,6 +65,122 @@ def parse_cells(items: Sequence[str] | None) -> list[SideItem]:
                 "the chain through the block side nearest the point (X, Y)"
             ) from None
         out.append(SideItem(*point, n, "cells"))
+    return out
+
+
+def parse_gradings(items: Sequence[str] | None) -> list[SideItem]:
+    """``X,Y=R`` items (R a positive ratio), checked (one line naming the item)."""
+    out = []
+    for item in items or ():
+        where, sep, value = item.partition("=")
+        point = point_of(where)
+        try:
+            r = float(value)
+            if not (sep and point is not None and np.isfinite(r) and r > 0):
+                raise ValueError
+        except ValueError:
+            raise InputError(
+                f"grading {item!r}: {{with_blocks}}expected X,Y=R, R > 0 the ratio of the "
+                "last cell to the first along the chain through the block side nearest the "
+                "point (X, Y), the first at the side's end nearest it"
+            ) from None
+        out.append(SideItem(*point, r, "grading"))
+    return out
+
+
+def _index_forward(side: int, backwards: bool) -> bool:
+    """Whether a piece on a block's ``side`` (0-3, counter-clockwise from corner 0), walked
+    ``backwards`` or not, runs along its block's index (i on sides 0 and 2, j on 1 and 3)."""
+    return (side in (0, 1)) != backwards
+
+
+def chain_senses(topo: Topology, piece: int) -> dict[int, bool]:
+    """Every piece of ``piece``'s chain, and whether it runs the same way as ``piece`` (as
+    the blocks' index runs across them)."""
+    senses = {piece: True}
+    queue = [piece]
+    while queue:
+        k = queue.pop()
+        for block in topo.blocks:
+            for a, b in ((0, 2), (1, 3)):
+                if len(block.sides[a]) != 1 or len(block.sides[b]) != 1:
+                    continue
+                (pa, ba), (pb, bb) = block.sides[a][0], block.sides[b][0]
+                same = _index_forward(a, ba) == _index_forward(b, bb)
+                for this, other in ((pa, pb), (pb, pa)):
+                    if this == k and other not in senses:
+                        senses[other] = senses[k] == same
+                        queue.append(other)
+    return senses
+
+
+def ratio_params(
+    topo: Topology, items: Sequence[SideItem], counts: np.ndarray, graded: set[int]
+) -> dict[int, np.ndarray]:
+    """The arc-length fractions of the nodes of every piece along each expansion ratio's
+    chain (``--grading X,Y=R``: cells growing geometrically, the last R times the first,
+    the first at the named side's end nearest the point, every piece of the chain the same
+    way); refused on a chain that a spacing also grades (``graded``)."""
+    out: dict[int, np.ndarray] = {}
+    for item in items:
+        named = nearest_piece(topo, item)
+        points = topo.pieces[named].points
+        at_start = np.hypot(*(points[0] - (item.x, item.y))) <= np.hypot(
+            *(points[-1] - (item.x, item.y))
+        )
+        senses = chain_senses(topo, named)
+        for block in topo.blocks:
+            for a in range(4):
+                side, opposite = block.sides[a], block.sides[(a + 2) % 4]
+                if any(k in senses for k, _ in side) and (len(side) > 1 or len(opposite) > 1):
+                    x, y = block.inside
+                    raise InputError(
+                        f"{item.where}: the block at ({x:.3g}, {y:.3g}) along the chain has a "
+                        "side of several pieces there, whose grid lines one ratio cannot "
+                        "grade; draw its block edges so that its sides along the chain are "
+                        "one piece each, or grade with --spacing X,Y=H"
+                    )
+        for k, same in senses.items():
+            if k in graded or k in out:
+                raise InputError(
+                    f"{item.where}: its chain is graded twice (by another --grading or a "
+                    "--spacing X,Y=H); give one grading a chain"
+                )
+            n = int(counts[k])
+            growth = item.value ** (1.0 / (n - 1)) if n > 1 else 1.0
+            cells = growth ** np.arange(n)
+            fractions = np.concatenate([[0.0], np.cumsum(cells)]) / cells.sum()
+            out[k] = fractions if same == at_start else 1.0 - fractions[::-1]
+    return out
+
+
+def ratio_lines(
+    topo: Topology, ids: list[np.ndarray], ratios: dict[int, np.ndarray], points: np.ndarray
+) -> dict[tuple[int, ...], list]:
+    """The grid lines of every block between two pieces of an expansion ratio's chain
+    (``ratios``: :func:`ratio_params`' fractions), each asked its first and last edge so
+    that its cells grow by the chain's ratio (``spacing.respace``'s requests): the method
+    moves the nodes inside the blocks, and this puts the ratio back on every line."""
+    from pinn_engine.multiblock.layout import side_lines
+
+    out: dict[tuple[int, ...], list] = {}
+    for block, block_ids in zip(topo.blocks, ids):
+        for a, across in ((0, "left"), (1, "bottom")):
+            (k, backwards), opposite = block.sides[a][0], block.sides[a + 2]
+            if len(block.sides[a]) != 1 or len(opposite) != 1 or k not in ratios:
+                continue
+            f = np.diff(ratios[k])
+            ratio = f[-1] / f[0]
+            if _index_forward(a, backwards) is False:
+                ratio = 1.0 / ratio  # the block's index runs against the piece
+            for line in side_lines(block_ids, across):
+                n = len(line) - 1
+                length = float(np.linalg.norm(np.diff(points[line], axis=0), axis=1).sum())
+                growth = ratio ** (1.0 / (n - 1)) if n > 1 else 1.0
+                cells = growth ** np.arange(n)
+                first, last = length * cells[0] / cells.sum(), length * cells[-1] / cells.sum()
+                key = tuple(int(i) for i in line)
+                out[key] = [first, last, "grading"]
     return out
 
 

@@ -21,6 +21,8 @@ from pinn_engine.multiblock.chains import (
     graded_params,
     graded_sides,
     nearest_piece,
+    ratio_lines,
+    ratio_params,
 )
 from pinn_engine.multiblock.counts import cell_counts, default_cell_size
 from pinn_engine.multiblock.elliptic import Crossing, crossings, winslow
@@ -133,6 +135,7 @@ def mesh_blocks(
     train: TrainBlocks | None = None,
     cells: Sequence[SideItem] = (),
     untangle: Untangle | None = None,
+    gradings: Sequence[SideItem] = (),
 ) -> MultiBlockResult:
     """The multi-block grid of a boundary's ``rings`` (outer and holes) and block
     ``edges`` (named ``names`` in messages) by ``settings.method`` (tfi, elliptic or pinn),
@@ -144,7 +147,8 @@ def mesh_blocks(
     (``quadblock.block_lines``), fitted by the pinn; every method reports how far its grid
     is from them; ``cells``: ``--cells X,Y=N`` items (``chains.py``); ``untangle``: undoes a
     block's folds after gradings and patch spacings move its nodes
-    (``starts.untangle.untangle``, passed in by the caller)."""
+    (``starts.untangle.untangle``, passed in by the caller); ``gradings``: ``--grading
+    X,Y=R`` items, expansion ratios along chains (``chains.ratio_params``)."""
     if settings.method not in MULTIBLOCK_METHODS:
         raise InputError(
             f"method {settings.method}: multi-block domains are meshed by "
@@ -178,6 +182,8 @@ def mesh_blocks(
         for end, first in graded_ends(topo, graded, item.value).items():
             ends[end] = min(first, ends.get(end, first))
     params = graded_params(topo, ends, counts)
+    ratios = ratio_params(topo, gradings, counts, set(params))
+    params.update(ratios)
     lay = layout_checked(topo, counts, h, params)
     patches = block_patches(topo, lay, patch_points)  # refused before the solve, not after
     check_names(walls, patches)
@@ -218,6 +224,7 @@ def mesh_blocks(
         on_boundary[nodes] |= not piece.interface
     grading = [(g, item.value) for item, g in grades]
     points, rest = graded_lines(points, lay.ids, grading, on_boundary, asked)
+    points = respace(points, ratio_lines(topo, lay.ids, ratios, points))
     points = respace(points, rest)
     if (grades or asked) and untangle is not None:
         points = untangled_blocks(points, lay.ids, untangle)

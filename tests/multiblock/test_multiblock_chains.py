@@ -142,3 +142,28 @@ def test_pyvista_takes_the_same_settings(tmp_path):
     assert len(grid) == len(cli)
     for a, b in zip(grid, cli):
         assert np.allclose(a.points, b.points, atol=1e-12)
+
+
+def _ratios(path) -> list[tuple[float, float]]:
+    """Each block's ratio of its last cell to its first along i, on its first and last rows."""
+    out = []
+    for grid in pv.read(path):
+        ni, nj, _ = grid.dimensions
+        nodes = grid.points[:, :2].reshape(nj, ni, 2)
+        d = [np.linalg.norm(np.diff(nodes[j], axis=0), axis=1) for j in (0, -1)]
+        out.append((d[0][-1] / d[0][0], d[1][-1] / d[1][0]))
+    return out
+
+
+def test_an_expansion_ratio_grades_every_block_along_its_chain(tmp_path, capsys):
+    """``--grading X,Y=R`` as blockMesh's expansion ratio: the wake column behind the
+    cylinder (three blocks) grows 4 times from the box to the outlet, every row of it."""
+    out = _run(tmp_path, [*CYLINDER, "--method", "elliptic", "-q", "--grading", "1.5,-2=4"])
+    graded = [b for b, rows in enumerate(_ratios(out)) if np.allclose(rows, 4.0, rtol=1e-3)]
+    assert len(graded) == 3  # the wake column, each of its rows
+    argv = [str(EXAMPLES / "lshape.vtp"), "--blocks", str(EXAMPLES / "lshape_blocks.vtp")]
+    assert main([*argv, "--grading", "1.9,0=5", "-o", str(tmp_path / "l.vtm"), "-q"]) == 2
+    err = capsys.readouterr().err
+    assert "side of several pieces" in err and err.count("\n") == 1
+    assert main([*argv, "--grading", "1.9,0=-1", "-o", str(tmp_path / "l.vtm"), "-q"]) == 2
+    assert "expected X,Y=R, R > 0" in capsys.readouterr().err

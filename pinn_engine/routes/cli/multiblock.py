@@ -65,7 +65,14 @@ def run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
     start = time.perf_counter()
     field = read_adapt_field(args)
     geometry = job.blocks_from_files(
-        args.boundary, args.blocks, args.aux, args.patch, spacing, orthogonal, args.cells
+        args.boundary,
+        args.blocks,
+        args.aux,
+        args.patch,
+        spacing,
+        orthogonal,
+        args.cells,
+        args.grading,
     )
     read = time.perf_counter() - start
     with Progress(args.quiet) as progress:

@@ -22,7 +22,7 @@ EXIT_ERROR = 2  # the input or an option is refused (argparse's own status for a
 EXIT_INTERNAL = 3  # a bug: the run failed where no input could make it
 EXIT_INTERRUPTED = 130  # Ctrl-C or SIGTERM: the shell's 128 + SIGINT
 # Options whose value may name a point X,Y (multi-block items) and so start with a minus
-PLACE_OPTIONS = ("--patch", "--spacing", "--cells")
+PLACE_OPTIONS = ("--patch", "--spacing", "--cells", "--grading")
 NEGATIVE = re.compile(r"^-\.?\d")  # a value starting with a negative number, not an option
 
 
@@ -249,6 +249,15 @@ def build_parser() -> argparse.ArgumentParser:
         default=[],
         metavar="X,Y=N",
         help="with --blocks: N cells along the chain through the block side nearest X,Y",
+    )
+    p.add_argument(
+        "--grading",
+        action="append",
+        default=[],
+        metavar="X,Y=R",
+        help="with --blocks: an expansion ratio, as blockMesh's: along the chain through "
+        "the block side nearest X,Y, the cell at the side's far end is R times the cell at "
+        "its end nearest X,Y",
     )
     p.add_argument(
         "--extrude",
