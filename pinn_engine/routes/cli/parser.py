@@ -181,9 +181,8 @@ def build_parser() -> argparse.ArgumentParser:
         action="append",
         default=[],
         metavar="EDGES",
-        help="block edges (.vtp/.vtk, or .csv/.txt with a blank line between polylines; "
-        "repeatable): mesh a multi-block domain (OUT.vtm); 'auto': edges proposed from the "
-        "boundary and its holes",
+        help="block edges (.vtp/.vtk/.csv/.txt, repeatable): mesh a multi-block domain "
+        "(OUT.vtm); 'auto': edges proposed from the boundary and its holes",
     )
     p.add_argument(
         "--save-blocks",
@@ -249,15 +248,6 @@ def build_parser() -> argparse.ArgumentParser:
         default=[],
         metavar="X,Y=N",
         help="with --blocks: N cells along the chain through the block side nearest X,Y",
-    )
-    p.add_argument(
-        "--grading",
-        action="append",
-        default=[],
-        metavar="X,Y=R",
-        help="with --blocks: an expansion ratio, as blockMesh's: along the chain through "
-        "the block side nearest X,Y, the cell at the side's far end is R times the cell at "
-        "its end nearest X,Y",
     )
     p.add_argument(
         "--extrude",
@@ -389,7 +379,17 @@ def build_parser() -> argparse.ArgumentParser:
         dest="elliptic_iterations",
         help="N point-Jacobi sweeps from a zero interior (paper); 0 = converge",
     )
-    _table_options(p.add_argument_group("more settings"), p)
+    more = p.add_argument_group("more settings")
+    more.add_argument(
+        "--grading",
+        action="append",
+        default=[],
+        metavar="X,Y=R",
+        help="with --blocks: an expansion ratio, as blockMesh's: along the chain through "
+        "the block side nearest X,Y, the cell at the side's far end is R times the cell at "
+        "its end nearest X,Y",
+    )
+    _table_options(more, p)
     return p
 
 
