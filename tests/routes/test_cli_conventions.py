@@ -121,13 +121,13 @@ def test_help_is_one_screen_without_spec_citations(capsys):
     assert len(full.splitlines()) > len(short.splitlines())
 
 
-@pytest.mark.slow  # trains (two L-BFGS iterations) twice
+@pytest.mark.slow  # trains (MGNet, two L-BFGS iterations) twice
 def test_the_no_compiler_warning_is_one_line_and_quiet_under_quiet(tmp_path, monkeypatch, capsys):
     from pinn_engine.neural.jet import native
 
     monkeypatch.setattr(native, "PACKAGED_DIR", tmp_path / "no-package")
     monkeypatch.setattr(native, "_compiler", lambda: None)
-    aux = ["--aux", str(EXAMPLES / "fig2_aux.vtp"), "--lbfgs", "2", "--size", "11", "6"]
+    aux = ["--method", "mgnet", "--lbfgs", "2", "--size", "11", "6"]  # a network trains
     said = {}
     for quiet in ([], ["--quiet"]):
         native.kernels.cache_clear()
