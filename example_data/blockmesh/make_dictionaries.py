@@ -130,9 +130,11 @@ def bend() -> None:
     _write("bend", text(verts, blocks, edges, patches))
 
 
-def dfg3d() -> None:
+def dfg3d(s: float = 0.1, ring: float = 0.25, layers: int = 1) -> str:
+    """The DFG 3D-1Z channel's dictionary: the square round the cylinder of half-width
+    ``s``, the O-ring's cells shrinking ``1 / ring`` times toward the cylinder, ``layers``
+    blocks along z."""
     length, height, xc, yc, rad = 2.5, 0.41, 0.5, 0.2, 0.05
-    s = 0.1  # half-width of the square round the cylinder
     h = rad / math.sqrt(2)
     x0, x1 = xc - s, xc + s
     y0, y1 = yc - s, yc + s
@@ -144,51 +146,58 @@ def dfg3d() -> None:
         (0, height), (x0, height), (x1, height), (length, height),  # 16-19 top wall
     ]  # fmt: skip
     n = len(base)
-    verts = extruded(base, 0.0, height)
+    zs = [height * k / layers for k in range(layers + 1)]
+    verts = [(x, y, z) for z in zs for x, y in base]
     quads = [
         (4, 5, 1, 0), (5, 6, 2, 1), (6, 7, 3, 2), (7, 4, 0, 3),  # O-ring
         (8, 9, 4, 12), (9, 10, 5, 4), (10, 11, 13, 5),  # below
         (12, 4, 7, 14), (5, 13, 15, 6),  # beside
         (14, 7, 17, 16), (7, 6, 18, 17), (6, 15, 19, 18),  # above
     ]  # fmt: skip
-    nc, nr, nu, nd, nw, nz = 16, 16, 12, 60, 8, 24
+    nc, nr, nu, nd, nw, nz = 16, 16, 12, 60, 8, 24 // layers
     counts = [
         (nc, nr, nz), (nc, nr, nz), (nc, nr, nz), (nc, nr, nz),
         (nu, nw, nz), (nc, nw, nz), (nd, nw, nz),
         (nu, nc, nz), (nd, nc, nz),
         (nu, nw, nz), (nc, nw, nz), (nd, nw, nz),
     ]  # fmt: skip
-    ring_grade = (1, 0.25, 1)  # j runs square to cylinder: cells shrink toward it
+    ring_grade = (1, f"{ring:g}", 1)  # j runs square to cylinder: cells shrink toward it
     grading = [ring_grade] * 4 + [(1, 1, 1)] * 3 + [(1, 1, 1), (3, 1, 1)] + [(1, 1, 1)] * 3
     grading[6] = (3, 1, 1)
     grading[11] = (3, 1, 1)
-    blocks = hexes(quads, n, counts, grading)
+    blocks = []
+    for layer in range(layers):
+        blocks += hexes([[v + n * layer for v in q] for q in quads], n, counts, grading)
     edges = []
-    for layer, z in ((0, 0.0), (n, height)):
+    for layer, z in enumerate(zs):
         for (p, q), ang in zip(((0, 1), (1, 2), (2, 3), (3, 0)), (270, 0, 90, 180)):
             t = math.radians(ang)
             mid = (xc + rad * math.cos(t), yc + rad * math.sin(t), z)
-            edges.append(f"arc {p + layer} {q + layer} {_vec(mid)}")
+            edges.append(f"arc {p + n * layer} {q + n * layer} {_vec(mid)}")
 
     def side(p, q):
-        return (p, q, q + n, p + n)
+        return [(p + n * k, q + n * k, q + n * (k + 1), p + n * (k + 1)) for k in range(layers)]
 
+    def sides(*pairs):
+        return [f for p, q in pairs for f in side(p, q)]
+
+    top = n * layers
     patches = [
-        ("inlet", "patch", [side(12, 8), side(14, 12), side(16, 14)]),
-        ("outlet", "patch", [side(11, 13), side(13, 15), side(15, 19)]),
+        ("inlet", "patch", sides((12, 8), (14, 12), (16, 14))),
+        ("outlet", "patch", sides((11, 13), (13, 15), (15, 19))),
         (
             "walls",
             "wall",
-            [side(8, 9), side(9, 10), side(10, 11), side(19, 18), side(18, 17), side(17, 16)]
+            sides((8, 9), (9, 10), (10, 11), (19, 18), (18, 17), (17, 16))
             + [tuple(reversed(q)) for q in quads]
-            + [tuple(v + n for v in q) for q in quads],
+            + [tuple(v + top for v in q) for q in quads],
         ),
-        ("cylinder", "wall", [side(1, 0), side(2, 1), side(3, 2), side(0, 3)]),
+        ("cylinder", "wall", sides((1, 0), (2, 1), (3, 2), (0, 3))),
     ]
-    _write("dfg3d", text(verts, blocks, edges, patches))
+    return text(verts, blocks, edges, patches)
 
 
 if __name__ == "__main__":
     _write("pipe", pipe())
     bend()
-    dfg3d()
+    _write("dfg3d", dfg3d())

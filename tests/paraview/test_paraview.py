@@ -332,6 +332,16 @@ def test_the_filters_model_property_meshes_by_a_family_model(checkout, tmp_path)
     assert result["model"] == result["expected_model"]
 
 
+def test_blockmeshdict_reader(checkout):
+    """ParaView's reader of a blockMeshDict: the bend's three blocks and their cells as the
+    command line's, SPEC 11's arrays, and File > Open picks the reader by the file's name."""
+    result = run_pvpython(checkout, "check_blockmesh.py", str(checkout / "example_data"))
+    assert result["bend"]["blocks"] == 3 and result["bend"]["cells"] == 12096
+    for name in ("MaxIncludedAngle", "MinIncludedAngle", "ScaledJacobian", "Folded"):
+        assert name in result["bend"]["arrays"]
+    assert result["opened_with"] == "PINNBlockMeshDictReader"
+
+
 def test_boundary_layer_panel_fields(filter_run):
     layer = filter_run["layer"]
     assert {"FirstEdgeSpacing", "OrthogonalSides"} <= set(layer["properties"])
