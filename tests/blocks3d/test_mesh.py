@@ -216,3 +216,30 @@ def test_a_cyclic_pair_keeps_its_neighbour_and_face_order(tmp_path):
     assert boundary.count("neighbourPatch") == 2
     log = subprocess.run(["checkMesh"], cwd=case, env=foam_env(), capture_output=True, text=True)
     assert "Mesh OK." in log.stdout
+
+
+def test_cgns_has_a_zone_a_block_its_bcs_and_joins(tmp_path):
+    """.cgns: a structured zone a block, a BC_t a boundary face in its patch's family, and
+    each of the pipe's 8 shared faces a GridConnectivity1to1_t from both sides, whose
+    donor range starts at the donor's node of our first node."""
+    h5py = pytest.importorskip("h5py")
+    dict_path = tmp_path / "system" / "blockMeshDict"
+    dict_path.parent.mkdir()
+    dict_path.write_text(small_pipe())
+    out = tmp_path / "pipe.cgns"
+    assert main([str(dict_path), "-o", str(out), "--quiet"]) == 0
+    result = mesh_dictionary(from_text(small_pipe()))
+    with h5py.File(out) as f:
+        base = f["Base"]
+        zones = [k for k in base if isinstance(base[k], h5py.Group) and "ZoneType" in base[k]]
+        assert zones == [f"block{k}" for k in range(5)]
+        joins = [(z, j) for z in zones for j in base[z]["ZoneGridConnectivity"]]
+        assert len(joins) == 16
+        assert {n for n in base if n in ("inlet", "outlet", "wall")} == {"inlet", "outlet", "wall"}
+        z, name = joins[0]
+        conn = base[z]["ZoneGridConnectivity"][name]
+        donor = bytes(conn[" data"][()]).decode()
+        here = conn["PointRange"][" data"][()][0] - 1  # first node, 0-based (i, j, k)
+        there = conn["PointRangeDonor"][" data"][()][0] - 1
+        ids = result.place.ids
+        assert ids[int(z[5:])][tuple(here)] == ids[int(donor[5:])][tuple(there)]

@@ -1,5 +1,5 @@
 """One run of a blockMeshDict (SPEC 15): ``pinn-mesh system/blockMeshDict -o CASE --format
-openfoam``, or ``-o OUT.vtm``."""
+openfoam``, or ``-o OUT.vtm`` or ``-o OUT.cgns``."""
 
 from __future__ import annotations
 
@@ -17,6 +17,30 @@ from pinn_engine.routes.summary_lines import dictionary_line
 DICTIONARY_OPTIONS = frozenset(
     {"boundary", "method", "output", "quiet", "format", "report", "interfaces"}
 )
+
+
+def write_cgns(result, out: Path) -> None:
+    """A zone a block (``block0`` ...), a ``BC_t`` a boundary face (family: its patch) and
+    each shared face a ``GridConnectivity1to1_t`` from both sides (SPEC 15)."""
+    from pinn_engine.blocks3d.connect import boundary_faces, joins
+    from pinn_engine.io.export.cgns import Zone, write_zones
+    from pinn_engine.io.export.joins import Join
+    from pinn_engine.io.fileio import atomic_path
+
+    kinds = {"wall": "wall", "symmetryPlane": "symmetry", "symmetry": "symmetry"}
+    types = {name: kinds.get(kind, "patch") for name, kind, _ in result.place.patches}
+    links = joins(result.place)
+    zones = []
+    for b, (ids, faces) in enumerate(zip(result.place.ids, boundary_faces(result.place))):
+        bcs = [(f"{name[:24]}_{k}", name, rng) for k, (name, rng) in enumerate(faces)]
+        mine = [j for j in links if j.block == b]
+        conn = [
+            Join(f"join{k}_block{j.donor}", f"block{j.donor}", j.here, j.there, j.transform)
+            for k, j in enumerate(mine)
+        ]
+        zones.append(Zone(f"block{b}", result.points[ids].transpose(2, 1, 0, 3), bcs, conn))
+    with atomic_path(out, suffix=".cgns") as tmp:
+        write_zones(zones, types, tmp, extruded=False)
 
 
 def _entries(extra: dict) -> dict[str, str]:
@@ -52,9 +76,11 @@ def run_dictionary(args: argparse.Namespace, written: list[Path]) -> Path:
     stem = Path(args.boundary).resolve().parent.parent.name or "blockMeshDict"
     out = output_path(args, f"{stem}_{method}", "vtm")
     foam = args.format == "openfoam"
-    if not foam and (args.format not in (None, "vtm") or out.suffix.lower() != ".vtm"):
+    kind = "openfoam" if foam else (args.format or out.suffix.lower().lstrip("."))
+    if kind not in ("openfoam", "vtm", "cgns") or (not foam and out.suffix.lower() != f".{kind}"):
         raise PinnMeshError(
-            f"{out}: a blockMeshDict's grid is written as .vtm or --format openfoam in this build"
+            f"{out}: a blockMeshDict's grid is written as .vtm, .cgns or --format openfoam "
+            "in this build"
         )
     try:
         settings = make_settings(method, interfaces=args.interfaces)
@@ -72,6 +98,8 @@ def run_dictionary(args: argparse.Namespace, written: list[Path]) -> Path:
                 result.points, result.cells, result.place.patches, mesh, entries
             ),
         )
+    elif kind == "cgns":
+        write_cgns(result, out)
     else:
         write_vtm(outcome.data, out)
     written.append(out)
