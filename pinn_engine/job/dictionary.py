@@ -64,3 +64,27 @@ def run_dictionary(
     )
     grids = [g.transpose(2, 1, 0, 3) for g in result.block_nodes()]
     return Outcome("dictionary", dataset(result), result.report, grids, mesh=result)
+
+
+def write_cgns(result, out: str | os.PathLike) -> None:
+    """A zone a block (``block0`` ...), a ``BC_t`` a boundary face (family: its patch) and
+    each shared face a ``GridConnectivity1to1_t`` from both sides (SPEC 15)."""
+    from pinn_engine.blocks3d.connect import boundary_faces, joins
+    from pinn_engine.io.export.cgns import Zone, write_zones
+    from pinn_engine.io.export.joins import Join
+    from pinn_engine.io.fileio import atomic_path
+
+    kinds = {"wall": "wall", "symmetryPlane": "symmetry", "symmetry": "symmetry"}
+    types = {name: kinds.get(kind, "patch") for name, kind, _ in result.place.patches}
+    links = joins(result.place)
+    zones = []
+    for b, (ids, faces) in enumerate(zip(result.place.ids, boundary_faces(result.place))):
+        bcs = [(f"{name[:24]}_{k}", name, rng) for k, (name, rng) in enumerate(faces)]
+        mine = [j for j in links if j.block == b]
+        conn = [
+            Join(f"join{k}_block{j.donor}", f"block{j.donor}", j.here, j.there, j.transform)
+            for k, j in enumerate(mine)
+        ]
+        zones.append(Zone(f"block{b}", result.points[ids].transpose(2, 1, 0, 3), bcs, conn))
+    with atomic_path(out, suffix=".cgns") as tmp:
+        write_zones(zones, types, tmp, extruded=False)
