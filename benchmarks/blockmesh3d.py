@@ -71,7 +71,7 @@ SETS = {
         "backwardFacingStep2D": "incompressible/simpleFoam/backwardFacingStep2D",
         "injectorPipe": "compressible/rhoSimpleFoam/gasMixing/injectorPipe",
         "sloshingCylinder": "multiphase/interFoam/laminar/sloshingCylinder",
-        "elbow-free squareBendLiq": "compressible/rhoSimpleFoam/squareBendLiq",
+        "squareBendLiq": "compressible/rhoSimpleFoam/squareBendLiq",
     },
 }
 SYSTEM = ("controlDict", "fvSchemes", "fvSolution")
@@ -138,7 +138,8 @@ def run_case(name: str, text: str, work: Path) -> dict:
     )
     row["ours_s"] = time.perf_counter() - start
     if proc.returncode:
-        row["result"] = "refused: " + (proc.stderr.strip().splitlines() or ["?"])[-1]
+        line = (proc.stderr.strip().splitlines() or ["?"])[-1]
+        row["result"] = "refused: " + line.split("blockMeshDict: ", 1)[-1]  # not the temp path
     for sysfile in SYSTEM:
         source = ours / "system" / sysfile
         if source.exists():
