@@ -157,7 +157,7 @@ def quality_start(
 ) -> tuple[WarmStart, Ranking]:
     """The best (``ranking``) of the elliptic grid, the TFI grid (``warm``'s base: a polar
     grid on an annulus sector, say), blends of them, the elliptic grid untangled where it
-    folds (untangle.py), with auxiliary lines the elliptic grid
+    folds (untangle.py), with auxiliary lines the elliptic grid (and the untangled one)
     moved onto them (:func:`follow_lines`), and the best of these with its interior nodes
     optimised (:func:`optimize_nodes`): the objective's discrete solution, as the converged
     elliptic grid is the Winslow objective's. Also returns the ranking, its mean bound
@@ -173,6 +173,8 @@ def quality_start(
         on_lines = follow_lines(elliptic, ranking)
         ranking = ranking.against(on_lines)
         candidates.append((on_lines, "elliptic on the lines"))
+        if untangled is not elliptic:  # the fold-free grid on the lines
+            candidates.append((follow_lines(untangled, ranking), "untangled on the lines"))
     best = min(candidates, key=lambda c: ranking.key(ranking.quality(c[0])))
     if NODE_ITERATIONS:
         optimized = (optimize_nodes(best[0], ranking, NODE_ITERATIONS), "optimized")
