@@ -413,6 +413,7 @@ def test_an_airfoil_o_grid_reports_its_stages_before_training():
     alg = PinnMeshAlgorithm()
     connect(alg, 0, AirfoilSource())
     alg.SetTopology("o")
+    alg.SetObjective("winslow")  # the default objective trains no body network
     alg.SetGridSize(65, 25)
     steps: list[tuple[float, str]] = []
     alg.AddObserver(
