@@ -176,7 +176,7 @@ def _floats(item, what: str, source: str, n: int = 3) -> np.ndarray:
     return out
 
 
-def _sections(spec, n: int, what: str, source: str) -> list[tuple[float, float, float]]:
+def _sections(spec, what: str, source: str) -> list[tuple[float, float, float]]:
     """One edge's grading: a ratio, or a list of (length share, cell share, ratio), shares
     normalised to one."""
     if isinstance(spec, str):
@@ -214,11 +214,11 @@ def _blocks(items: list, source: str) -> list[Block]:
         if kind == "simpleGrading":
             if len(spec) != 3:
                 raise InputError(f"{what}: simpleGrading takes three gradings", source)
-            grading = [_sections(spec[e // 4], counts[e // 4], what, source) for e in range(12)]
+            grading = [_sections(spec[e // 4], what, source) for e in range(12)]
         elif kind == "edgeGrading":
             if len(spec) != 12:
                 raise InputError(f"{what}: edgeGrading takes twelve gradings", source)
-            grading = [_sections(spec[e], counts[e // 4], what, source) for e in range(12)]
+            grading = [_sections(spec[e], what, source) for e in range(12)]
         else:
             raise InputError(f"{what}: unknown grading '{kind}'", source)
         blocks.append(Block(ids, counts, grading, zone))

@@ -187,7 +187,7 @@ def place(d: BlockMeshDict) -> Placement:
     np.add.at(points, index, xyz)
     points /= np.bincount(index, minlength=count)[:, None]
     ids = [index[lo] for lo in local]
-    patches = _patches(d, ids, faces, interfaces)
+    patches = _patches(d, ids, faces)
     return Placement(points, ids, params, patches, interfaces)
 
 
@@ -215,7 +215,7 @@ def block_faces(ids: np.ndarray, axis: int, end: int) -> np.ndarray:
     return quads
 
 
-def _patches(d: BlockMeshDict, ids, faces, interfaces) -> list[tuple[str, str, np.ndarray]]:
+def _patches(d: BlockMeshDict, ids, faces) -> list[tuple[str, str, np.ndarray]]:
     """The patches' faces in the dictionary's order (a patch's faces as it lists them, as
     blockMesh orders them: a cyclic pair's faces then correspond one to one), the faces no
     patch lists in the default patch (the listed patch of its name, if any)."""
