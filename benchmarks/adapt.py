@@ -195,9 +195,11 @@ def speed() -> None:
     start = time.perf_counter()
     out = adapt_grids([grid], field, DEFAULT_STRENGTH)
     adapt = time.perf_counter() - start
+    print(f"meshing {times}, adapting {adapt:.1f} s", flush=True)
     print(
         f"201 x 201 wavy: meshing pinn {times['pinn']:.1f} s, elliptic {times['elliptic']:.1f} s;"
-        f" adapting {adapt:.1f} s ({out.report['solves']})"
+        f" adapting {adapt:.1f} s (strength used {out.report['strength_used']:g}, "
+        f"{sum(len(t['solves']) for t in out.report['tries'])} solves)"
     )
 
 

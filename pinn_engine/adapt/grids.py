@@ -37,10 +37,11 @@ class Adapted:
 
 
 def _worst(graph: NodeGraph, points: np.ndarray) -> tuple[float, int]:
-    """The worst MaxIncludedAngle and the folded cells of the blocks at ``points``."""
+    """The worst MaxIncludedAngle of the cells that do not fold (the guard's base) and the
+    folded cells of the blocks at ``points``."""
     cells = [cell_quality(g) for g in graph.grids(points)]
     return (
-        max(float(c["MaxIncludedAngle"].max()) for c in cells),
+        max(float(c["MaxIncludedAngle"][~c["Folded"]].max(initial=0.0)) for c in cells),
         sum(int(c["Folded"].sum()) for c in cells),
     )
 

@@ -38,11 +38,13 @@ class Guarded:
 
 
 def offending(graph: NodeGraph, points: np.ndarray, limit: float) -> np.ndarray:
-    """Which cells fold or have a MaxIncludedAngle over ``limit``, in ``graph.cells`` order."""
+    """Which cells fold (that the unadapted grid does not fold) or have a MaxIncludedAngle
+    over ``limit``, in ``graph.cells`` order."""
     bad = []
-    for grid in graph.grids(points):
-        q = cell_quality(grid)
-        bad.append(((q["MaxIncludedAngle"] > limit) | q["Folded"]).ravel())
+    for grid, start in zip(graph.grids(points), graph.grids(graph.points)):
+        q, q0 = cell_quality(grid), cell_quality(start)
+        new = q["Folded"] & ~q0["Folded"]
+        bad.append(((q["MaxIncludedAngle"] > limit) & ~q0["Folded"] | new).ravel())
     return np.concatenate(bad)
 
 
