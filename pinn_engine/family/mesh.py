@@ -37,6 +37,9 @@ WORST_TOL = 2.0  # SPEC 16: degrees the worst cell may exceed the member's start
 # One more linearised step moves no node by more than this share of its shortest edge: a
 # corner's angle then moves by at most about four times it in radians, 1.2 degrees
 DEFECT_TOL = 0.005
+# A family whose grids are no Winslow grids (a quality objective's) is guarded against the
+# member's elliptic grid, converged by the same steps to this share of the shortest edge
+ELLIPTIC_TOL, ELLIPTIC_STEPS = 1e-6, 40
 DEFECT_STEPS = 6  # chord steps tried (0.3 ms each at 41 x 21; the default solve takes 15 ms)
 KEPT_MODELS = 4  # family models kept loaded in a process (a batch worker meshes many members)
 _LOADED: OrderedDict[tuple, FamilyModel] = OrderedDict()
@@ -65,14 +68,16 @@ def family_size(path: str | os.PathLike) -> tuple[int, int]:
     return tuple(_model(path).size)
 
 
-def _start(member: Member, guess: np.ndarray | None) -> np.ndarray:
-    """The member's own start (family frame): a body's elliptic grid, a four-sided member's
-    converged Winslow grid (solved from ``guess`` when given)."""
+def _start(member: Member, settings: Settings) -> np.ndarray:
+    """The member's own start (family frame): a body's elliptic grid; a four-sided member's
+    start under ``settings`` (``blocks.untrained.StartModel``: the grid its own run starts
+    from, and keeps where no network trains)."""
     if member.start is not None:
         return member.base
-    from pinn_engine.classical.elliptic import winslow_solve
+    from pinn_engine.blocks.untrained import StartModel
 
-    return winslow_solve(member.base, initial=guess)[0]
+    start = StartModel.of(member.boundary, (), settings, "the family model's grid failed")
+    return start.grid(*member.size)
 
 
 def mesh_member(
@@ -102,25 +107,23 @@ def mesh_member(
     points = member.frame.to_user(grid)
     cells = cell_quality(points)
     figures = _figures(cells)
-    if model.winslow:
-        vouched = defect is not None and defect <= DEFECT_TOL
-    else:
-        worst = model.report["worst_target"] + WORST_TOL
-        vouched = info["in_range"] and figures["worst_max_angle"] <= worst
-    start, reference, passed = None, None, True
-    if member.start is not None or figures["folded_cells"] or not vouched:
-        start = _start(member, None if figures["folded_cells"] else grid)
-        start_points = member.frame.to_user(start)
-        if member.start is not None:  # a body's start: its cells are measured
-            start_cells = member.start.cells
-        else:
-            start_cells = cell_quality(start_points)
+    reference = None
+    if member.start is not None:  # a body's start is its base: its cells are measured
+        reference = _figures(member.start.cells)
+    elif not model.winslow:  # the member's elliptic grid, by the frozen system's steps
+        reference = _figures(cell_quality(member.frame.to_user(_elliptic(model, member))))
+    vouched = model.winslow and defect is not None and defect <= DEFECT_TOL
+    start = None
+    if reference is None and not vouched:  # steps that did not settle: the start decides
+        start, start_points, start_cells = _start_grid(member, settings)
         reference = _figures(start_cells)
-        passed = not figures["folded_cells"] and (
-            figures["worst_max_angle"] <= reference["worst_max_angle"] + WORST_TOL
-        )
-        if not passed:
-            points, cells = start_points, start_cells
+    passed = not figures["folded_cells"] and (
+        vouched or figures["worst_max_angle"] <= reference["worst_max_angle"] + WORST_TOL
+    )
+    if not passed:
+        if start is None:
+            start, start_points, start_cells = _start_grid(member, settings)
+        points, cells = start_points, start_cells
     guarded = time.perf_counter()
     kept = grid if passed else start
     move = 0.0 if start is None else float(np.abs(grid - start).max())
@@ -157,6 +160,26 @@ def mesh_member(
     report["timings"] = {**training["timings"], "quality": time.perf_counter() - guarded}
     plane = member.boundary.plane if member.boundary is not None else member.start.plane
     return MeshResult(points=points, report=report, cells=cells, plane=plane)
+
+
+def _start_grid(member: Member, settings: Settings) -> tuple[np.ndarray, np.ndarray, dict]:
+    """The member's own start (:func:`_start`; family frame), in the user's coordinates and
+    its cell arrays."""
+    start = _start(member, settings)
+    points = member.frame.to_user(start)
+    cells = member.start.cells if member.start is not None else cell_quality(points)
+    return start, points, cells
+
+
+def _elliptic(model: FamilyModel, member: Member) -> np.ndarray:
+    """The member's converged Winslow grid (family frame): the frozen system's steps from
+    its linearised elliptic grid, to ``ELLIPTIC_TOL`` of the shortest edge."""
+    grid = model.base(member)
+    for _ in range(ELLIPTIC_STEPS):
+        grid, move = model.frozen().step(grid)
+        if move <= ELLIPTIC_TOL:
+            break
+    return grid
 
 
 def _figures(cells: dict) -> dict:

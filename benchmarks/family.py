@@ -1,0 +1,247 @@
+"""Family models (SPEC 16, docs/family.md): fit time, time a member and quality on unseen
+members against their own default grids and the elliptic grids.
+
+Usage: ``.venv/bin/python benchmarks/family.py [--out docs/family.md] [--workdir DIR]
+[--family channels naca]``
+
+For each family of ``example_data/make_families.py`` (24 training members, 8 unseen members
+from the same ranges, 8 from ranges 25 % wider on each side):
+
+- ``pinn-mesh fit train.csv --workers 2``: its wall time, the members' default grids' and
+  the model's;
+- in this process (warm, as a batch worker or pyvista): each unseen member's default grid,
+  elliptic grid and family grid, their times (the median of 3) and figures; the family grid
+  must have no fold, the default grid's boundary nodes, the worst cell within 2 degrees and
+  the mean within 0.5 of the default grid's;
+- ``pinn-mesh batch --workers 1`` over the unseen members with and without ``--model``: the
+  median of the summary's seconds a member;
+- the models fitted on the first 6 and 12 training members (targets reused): the largest
+  node error and worst-cell excess on the unseen members, and the wider members.
+
+It prints the tables and writes them between the markers of ``--out``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import os
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+PINN = str(ROOT / ".venv" / "bin" / "pinn-mesh")
+BEGIN, END = "<!-- family benchmark: begin -->", "<!-- family benchmark: end -->"
+REPEAT = 3  # timings a member: the median
+SUBSETS = (6, 12)  # training members of the smaller models
+
+
+def generate(workdir: Path, family: str) -> tuple[Path, Path]:
+    """The family's members (seed 0) and the wider unseen members (seed 1)."""
+    make = [sys.executable, str(ROOT / "example_data" / "make_families.py")]
+    subprocess.run([*make, str(workdir / "same"), "--family", family], check=True)
+    subprocess.run(
+        [*make, str(workdir / "wide"), "--family", family, "--train", "0", "--seed", "1", "--wide"],
+        check=True,
+    )
+    return workdir / "same" / family, workdir / "wide" / family
+
+
+def rows_of(manifest: Path) -> list[dict]:
+    with manifest.open() as f:
+        return list(csv.DictReader(f))
+
+
+def settings_and_geometry(folder: Path, row: dict, method: str = "pinn"):
+    """A member's settings and geometry as the command line makes them."""
+    from pinn_engine.batch.manifest import parse_case
+    from pinn_engine.batch.members import member_inputs
+
+    case = parse_case(row["name"], row["input"], [], row["options"], folder, row["name"])
+    case.args.method = method
+    return member_inputs(case.args)
+
+
+def timed(run, *args, **kwargs) -> tuple[object, float]:
+    """``run(*args, **kwargs)``'s result and its median time over ``REPEAT`` runs."""
+    times, out = [], None
+    for _ in range(REPEAT):
+        began = time.perf_counter()
+        out = run(*args, **kwargs)
+        times.append(time.perf_counter() - began)
+    return out, statistics.median(times)
+
+
+def compare(folder: Path, rows: list[dict], model) -> list[dict]:
+    """Each member's default, elliptic and family grids: times and figures."""
+    from pinn_engine import job
+
+    out = []
+    for row in rows:
+        settings, geometry = settings_and_geometry(folder, row)
+        e_settings, e_geometry = settings_and_geometry(folder, row, "elliptic")
+        own, t_own = timed(job.run, settings, geometry)
+        ell, t_ell = timed(job.run, e_settings, e_geometry)
+        fam, t_fam = timed(job.run, settings, geometry, family=model)
+        a, b = own.grids[0], fam.grids[0]
+        sides = [np.s_[0], np.s_[-1], np.s_[:, 0], np.s_[:, -1]]
+        same = max(float(np.abs(a[s] - b[s]).max()) for s in sides)
+        q, d, e = fam.quality, own.quality, ell.quality
+        out.append(
+            {
+                "name": row["name"],
+                "t_default": t_own,
+                "t_elliptic": t_ell,
+                "t_family": t_fam,
+                "worst_excess": q["worst_max_angle"] - d["worst_max_angle"],
+                "mean_excess": q["mean_max_angle"] - d["mean_max_angle"],
+                "worst_vs_elliptic": q["worst_max_angle"] - e["worst_max_angle"],
+                "mean_vs_elliptic": q["mean_max_angle"] - e["mean_max_angle"],
+                "folds": q["folded_cells"],
+                "boundary": same,
+                "result": fam.report["training"]["result"],
+                "start_solved": fam.report["training"]["start_solved"],
+            }
+        )
+    return out
+
+
+def batch_median(folder: Path, manifest: Path, outdir: Path, model: Path | None) -> float:
+    """The median seconds a member of ``pinn-mesh batch --workers 1`` (with ``--model``)."""
+    if model is not None:
+        rows = rows_of(manifest)
+        manifest = folder / "unseen_model.csv"
+        with manifest.open("w", newline="") as f:
+            w = csv.DictWriter(f, ["name", "input", "aux", "options"])
+            w.writeheader()
+            for row in rows:
+                w.writerow({**row, "options": f"{row['options']} --model {model}"})
+    subprocess.run(
+        [PINN, "batch", str(manifest), "-o", str(outdir), "--workers", "1", "--force"],
+        check=True,
+        capture_output=True,
+    )
+    return statistics.median(float(r["seconds"]) for r in rows_of(outdir / "summary.csv"))
+
+
+def subset_errors(folder: Path, wide: Path, n: int) -> dict:
+    """A model fitted on the first ``n`` training members: its grids' largest worst-cell
+    excess over the default grid on the unseen and the wider members."""
+    from pinn_engine import job
+
+    members, targets = [], []
+    for row in rows_of(folder / "train.csv")[:n]:
+        settings, geometry = settings_and_geometry(folder, row)
+        member = job.family_member(settings, geometry)
+        members.append(member)
+        targets.append(job.member_target(member, job.run(settings, geometry)))
+    model = job.fit_family_model(members, targets)
+    out = {}
+    for name, where in (("unseen", folder), ("wide", wide)):
+        excess, fallbacks = [], 0
+        for row in rows_of(where / "unseen.csv"):
+            settings, geometry = settings_and_geometry(where, row)
+            own = job.run(settings, geometry)
+            fam = job.run(settings, geometry, family=model)
+            excess.append(fam.quality["worst_max_angle"] - own.quality["worst_max_angle"])
+            fallbacks += fam.report["training"]["result"] == "start"
+        out[name] = (max(excess), fallbacks)
+    return out
+
+
+def run_family(family: str, workdir: Path) -> list[str]:
+    folder, wide = generate(workdir, family)
+    model = workdir / f"{family}.pt"
+    began = time.perf_counter()
+    fit = subprocess.run(
+        [PINN, "fit", str(folder / "train.csv"), "-o", str(model), "--workers", "2"],
+        check=True,
+        capture_output=True,
+        text=True,
+    )
+    wall = time.perf_counter() - began
+    print(fit.stdout.strip())
+    from pinn_engine import job
+
+    loaded = job.load_family(model)
+    unseen = compare(folder, rows_of(folder / "unseen.csv"), loaded)
+    wider = compare(wide, rows_of(wide / "unseen.csv"), loaded)
+    b_default = batch_median(folder, folder / "unseen.csv", workdir / "b_default", None)
+    b_family = batch_median(folder, folder / "unseen.csv", workdir / "b_family", model)
+    r = loaded.report
+    lines = [
+        f"### {family}: {r['members']} members, {r['size'][0]} x {r['size'][1]}",
+        "",
+        f"`pinn-mesh fit --workers 2`: {wall:.1f} s wall ({r['targets_seconds']:.1f} s the "
+        f"members' default grids, {r['fit_seconds']:.1f} s the model: encoding "
+        f"{r['encoding_components']} components, {r['correction_modes']} correction modes, "
+        f"Winslow steps {'yes' if r['winslow_step'] else 'no'}).",
+        "",
+        f"`pinn-mesh batch --workers 1`, median seconds a member: {b_default:.3f} default, "
+        f"{b_family:.3f} with `--model` ({b_family / b_default:.2f} of the default).",
+        "",
+        "| members | time default / elliptic / family (s, median) | worst - default (max) | "
+        "mean - default (max) | worst - elliptic (max) | folds | boundary nodes (max diff) | "
+        "fell back | start solved |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for label, rows in (("unseen, same ranges", unseen), ("unseen, 25 % wider", wider)):
+        med = {
+            k: statistics.median(x[k] for x in rows)
+            for k in ("t_default", "t_elliptic", "t_family")
+        }
+        lines.append(
+            f"| {label} ({len(rows)}) | {med['t_default']:.4f} / {med['t_elliptic']:.4f} / "
+            f"{med['t_family']:.4f} | {max(x['worst_excess'] for x in rows):+.3f} | "
+            f"{max(x['mean_excess'] for x in rows):+.4f} | "
+            f"{max(x['worst_vs_elliptic'] for x in rows):+.3f} | "
+            f"{sum(x['folds'] for x in rows)} | {max(x['boundary'] for x in rows):.1e} | "
+            f"{sum(x['result'] == 'start' for x in rows)} | "
+            f"{sum(bool(x['start_solved']) for x in rows)} |"
+        )
+    lines += ["", "| training members | worst - default, unseen (max; fell back) | "
+              "worst - default, 25 % wider (max; fell back) |", "|---|---|---|"]  # fmt: skip
+    for n in SUBSETS:
+        errors = subset_errors(folder, wide, n)
+        lines.append(
+            f"| {n} | {errors['unseen'][0]:+.3f}; {errors['unseen'][1]} | "
+            f"{errors['wide'][0]:+.3f}; {errors['wide'][1]} |"
+        )
+    lines.append(
+        f"| {r['members']} | {max(x['worst_excess'] for x in unseen):+.3f}; "
+        f"{sum(x['result'] == 'start' for x in unseen)} | "
+        f"{max(x['worst_excess'] for x in wider):+.3f}; "
+        f"{sum(x['result'] == 'start' for x in wider)} |"
+    )
+    return lines
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path)
+    parser.add_argument("--workdir", type=Path, default=ROOT / "out" / "family_bench")
+    parser.add_argument("--family", nargs="+", default=["channels", "naca"])
+    args = parser.parse_args()
+    import torch
+
+    torch.set_num_threads(1)
+    load = os.getloadavg()[0]
+    lines = [f"Measured on a shared 2-core machine (load average {load:.1f} at the start)."]
+    for family in args.family:
+        lines += ["", *run_family(family, args.workdir / family)]
+    lines.append(f"\nload average {os.getloadavg()[0]:.1f} at the end.")
+    text = "\n".join(lines)
+    print(text)
+    if args.out:
+        page = args.out.read_text()
+        head, rest = page.split(BEGIN, 1)
+        args.out.write_text(head + BEGIN + "\n" + text + "\n" + END + rest.split(END, 1)[1])
+
+
+if __name__ == "__main__":
+    main()
