@@ -3,18 +3,18 @@
 The guard is section 4's: a grid with a folded cell, or whose worst cell is more than
 ``WORST_TOL`` degrees above the member's own start's, falls back to that start with a
 warning. A body's start (its elliptic grid) is the base the model corrects, so it is always
-at hand. A four-sided member's start (its converged Winslow grid) costs what the default
-run costs, so it is solved (from the model's grid) only where the model cannot vouch for its
-grid without it:
+at hand. A four-sided member's start (the grid its own run starts from) costs what the
+default run costs, so it is solved only where the model cannot vouch for its grid without
+it:
 
 - a family of Winslow grids vouches for a grid that one more linearised Winslow step moves
   by at most ``DEFECT_TOL`` of the shortest edge at any node, and keeps that step (the steps
   contract towards the member's own Winslow grid, by a factor of about 0.2 a step measured
   on the channels of docs/family.md, so the step's cells' angles are within a fraction of a
   degree of it); up to ``DEFECT_STEPS`` steps are taken to get there;
-- another family (grids the Winslow step does not keep) vouches for a grid of a member in
-  the family's range (``encoding.Encoding.in_range``) whose worst cell is at most
-  ``WORST_TOL`` above the worst of every member the model was fitted on.
+- another family's grid (a quality objective's, which no cheap certificate bounds) is
+  compared with the member's own start, solved: it is kept where it passes, and the member
+  gains nothing in time (docs/family.md).
 """
 
 from __future__ import annotations
@@ -37,9 +37,6 @@ WORST_TOL = 2.0  # SPEC 16: degrees the worst cell may exceed the member's start
 # One more linearised step moves no node by more than this share of its shortest edge: a
 # corner's angle then moves by at most about four times it in radians, 1.2 degrees
 DEFECT_TOL = 0.005
-# A family whose grids are no Winslow grids (a quality objective's) is guarded against the
-# member's elliptic grid, converged by the same steps to this share of the shortest edge
-ELLIPTIC_TOL, ELLIPTIC_STEPS = 1e-6, 40
 DEFECT_STEPS = 6  # chord steps tried (0.3 ms each at 41 x 21; the default solve takes 15 ms)
 KEPT_MODELS = 4  # family models kept loaded in a process (a batch worker meshes many members)
 _LOADED: OrderedDict[tuple, FamilyModel] = OrderedDict()
@@ -110,11 +107,9 @@ def mesh_member(
     reference = None
     if member.start is not None:  # a body's start is its base: its cells are measured
         reference = _figures(member.start.cells)
-    elif not model.winslow:  # the member's elliptic grid, by the frozen system's steps
-        reference = _figures(cell_quality(member.frame.to_user(_elliptic(model, member))))
     vouched = model.winslow and defect is not None and defect <= DEFECT_TOL
     start = None
-    if reference is None and not vouched:  # steps that did not settle: the start decides
+    if reference is None and not vouched:  # no certificate: the member's start decides
         start, start_points, start_cells = _start_grid(member, settings)
         reference = _figures(start_cells)
     passed = not figures["folded_cells"] and (
@@ -169,17 +164,6 @@ def _start_grid(member: Member, settings: Settings) -> tuple[np.ndarray, np.ndar
     points = member.frame.to_user(start)
     cells = member.start.cells if member.start is not None else cell_quality(points)
     return start, points, cells
-
-
-def _elliptic(model: FamilyModel, member: Member) -> np.ndarray:
-    """The member's converged Winslow grid (family frame): the frozen system's steps from
-    its linearised elliptic grid, to ``ELLIPTIC_TOL`` of the shortest edge."""
-    grid = model.base(member)
-    for _ in range(ELLIPTIC_STEPS):
-        grid, move = model.frozen().step(grid)
-        if move <= ELLIPTIC_TOL:
-            break
-    return grid
 
 
 def _figures(cells: dict) -> dict:

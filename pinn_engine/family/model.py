@@ -108,10 +108,12 @@ class FamilyModel:
         model.modes = vt[:kept] if energy.sum() > 0 else vt[:0]
         z = np.array([model.encoding.encode(boundary_vector(m.base, m.kind)) for m in members])
         coeffs = corrections @ model.modes.T
+        network = time.perf_counter()
         if len(model.modes):
             from pinn_engine.family.train import fit_network  # torch: imported only to fit
 
             model.params, model.history = fit_network(z, coeffs, epochs, seed, progress)
+        network = time.perf_counter() - network
         model.winslow = first.kind == "four-sided" and solves_winslow(targets)
         errors = [float(np.abs(model.predict(m)[0] - t).max()) for m, t in zip(members, targets)]
         model.report = {
@@ -125,6 +127,7 @@ class FamilyModel:
             "winslow_step": model.winslow,
             "largest_training_error": max(errors),
             "worst_target": max(guard_figures(t)["worst_max_angle"] for t in targets),
+            "network_seconds": network,
             "fit_seconds": time.perf_counter() - began,
         }
         return model
