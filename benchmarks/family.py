@@ -225,7 +225,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path)
     parser.add_argument("--workdir", type=Path, default=ROOT / "out" / "family_bench")
-    parser.add_argument("--family", nargs="+", default=["channels", "naca"])
+    parser.add_argument("--family", nargs="+", default=["channels", "channels_winslow", "naca"])
     args = parser.parse_args()
     import torch
 

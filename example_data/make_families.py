@@ -8,6 +8,8 @@ measure how the error grows outside the training ranges.
 
 - ``channels``: a channel of length 3 and height 1 with a Gaussian bump on its floor (height,
   centre, width) and a waving roof (amplitude, wavelength, phase), meshed at 41 x 21.
+- ``channels_winslow``: the same channels meshed by the Winslow objective (``--objective
+  winslow``): a family of Winslow grids.
 - ``naca``: NACA 4-digit-like sections (camber, its position and thickness as real numbers, the
   4-digit formula's blunt trailing edge) as Selig ``.dat`` files, O-grids at 129 x 41.
 """
@@ -95,6 +97,7 @@ def write_dat(points: np.ndarray, path: Path, title: str) -> None:
 
 FAMILIES: dict[str, tuple[dict, Callable, str, str]] = {
     "channels": (CHANNEL_RANGES, channel, ".vtp", CHANNEL_OPTIONS),
+    "channels_winslow": (CHANNEL_RANGES, channel, ".vtp", f"{CHANNEL_OPTIONS} --objective winslow"),
     "naca": (NACA_RANGES, naca_like, ".dat", NACA_OPTIONS),
 }
 
