@@ -50,14 +50,18 @@ def test_fit_then_mesh_by_the_model_on_every_route(tmp_path, capsys):
     import pyvista as pv
 
     model = tmp_path / "channels.pt"
-    manifest = family(tmp_path / "train", TRAIN, f"--size {' '.join(SIZE)}")
+    winslow = f"--size {' '.join(SIZE)} --objective winslow"  # a family of Winslow grids
+    manifest = family(tmp_path / "train", TRAIN, winslow)
     assert main(["fit", str(manifest), "-o", str(model), "--workers", "1", "--epochs", "20"]) == 0
     out = capsys.readouterr()
     assert model.is_file() and "a family of 6 four-sided grids (21 x 11)" in out.out
     assert "fitting the network" in out.err
-    unseen = family(tmp_path / "unseen", {"u0": (0.25, 0.05)}, f"--model {model}")
+    unseen = family(
+        tmp_path / "unseen", {"u0": (0.25, 0.05)}, f"--model {model} --objective winslow"
+    )
     grid = tmp_path / "u0.vts"
-    assert main([str(tmp_path / "unseen" / "u0.csv"), "--model", str(model), "-o", str(grid)]) == 0
+    argv = [str(tmp_path / "unseen" / "u0.csv"), "--model", str(model), "--objective", "winslow"]
+    assert main([*argv, "-o", str(grid)]) == 0
     read = pv.read(grid)
     assert read.dimensions == (21, 11, 1)
     assert read.field_data["NetworkResult"][0] == "family"
@@ -67,7 +71,7 @@ def test_fit_then_mesh_by_the_model_on_every_route(tmp_path, capsys):
     assert rows[0]["status"] == "ok" and rows[0]["folded_cells"] == "0"
     from pinn_engine.routes.pyvista_accessor import pinn_mesh
 
-    by_pyvista = pinn_mesh(channel(0.25, 0.05), model=str(model))
+    by_pyvista = pinn_mesh(channel(0.25, 0.05), model=str(model), objective="winslow")
     assert by_pyvista.field_data["NetworkResult"][0] == "family"
     np.testing.assert_allclose(by_pyvista.points, read.points, atol=1e-12)
 

@@ -16,7 +16,7 @@ from paraview import servermanager
 
 from pinn_engine import job
 from pinn_engine.geometry.boundary import Boundary
-from pinn_engine.settings import make_settings
+from pinn_engine.settings import OBJECTIVES, make_settings
 
 WORK = Path(sys.argv[1])
 SIZE = (21, 11)
@@ -30,7 +30,7 @@ def channel(height):
                       np.linspace(top[-1], bottom[0], 11)[:-1]])  # fmt: skip
 
 
-settings = make_settings("pinn", size=SIZE, lattice=SIZE)
+settings = make_settings("pinn", size=SIZE, lattice=SIZE, objective="winslow")
 members, targets = [], []
 for h in (0.1, 0.15, 0.25, 0.3):
     g = job.Geometry(boundary=Boundary.from_points(channel(h), source="channel"))
@@ -46,6 +46,7 @@ source = simple.PolyLineSource(
 mesh = simple.PINNStructuredMesh(Input=source)
 mesh.GridSize = list(SIZE)
 mesh.Model = str(model)
+mesh.Objective = OBJECTIVES.index("winslow")  # the family's: a family of Winslow grids
 mesh.UpdatePipeline()
 grid = servermanager.Fetch(mesh)
 fd = grid.GetFieldData()
