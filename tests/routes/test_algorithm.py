@@ -395,15 +395,18 @@ def test_time_limit_gives_the_best_grid_so_far_with_a_warning_and_is_not_cached(
 
 
 def test_time_limit_in_lbfgs_keeps_the_state_the_guard_kept():
-    """From the elliptic warm start the guard's kept state is the result of a stopped
-    L-BFGS, never a line search's trial point."""
-    alg = make_alg(lbfgs_iterations=100_000, time_limit=1.0)
+    """A time limit that ends L-BFGS (the Winslow objective, no Adam) gives the grid of the
+    state the guard kept, never a line search's trial point: the grid written has the kept
+    state's figures (the guard's lattice is the output's size)."""
+    alg = make_alg(adam_epochs=0, lbfgs_iterations=100_000, time_limit=1.0, objective="winslow")
     alg.Update()
     report = json.loads(alg.GetOutput().GetFieldData().GetAbstractArray("Report").GetValue(0))
-    training = report["training"]
-    assert training["stopped"]["phase"] == "lbfgs" or "guard" in training
-    assert training["result"] in ("network", "start") and report["quality"]["folded_cells"] == 0
-    assert training["lbfgs_iterations"] < 100_000
+    training, quality = report["training"], report["quality"]
+    assert training["stopped"]["phase"] == "lbfgs" and training["lbfgs_iterations"] < 100_000
+    kept = training["guard"]["kept"]
+    assert training["guard"]["lattice"] == [41, 21] and quality["folded_cells"] == 0
+    for name in ("mean_max_angle", "worst_max_angle"):
+        assert quality[name] == pytest.approx(kept[name], abs=1e-6), name
 
 
 def test_an_airfoil_o_grid_reports_its_stages_before_training():
