@@ -195,6 +195,7 @@ def test_load_plugin_and_classical_method_without_torch(checkout, tmp_path):
         "FirstEdgeSpacing",
         "OrthogonalSides",
         "PatchNames",
+        "Model",
         "FieldArray",
         "AdaptStrength",
     ]
