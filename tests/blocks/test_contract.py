@@ -107,8 +107,16 @@ def test_the_report_says_the_method_and_the_figures_of_the_whole_grid(run):
     whole = _figures(grids)
     for name in FIGURES:
         assert report["quality"][name] == pytest.approx(whole[name], abs=1e-9), name
-    if method == "pinn":
-        assert report["training"]
+    if method == "pinn":  # each grid's (one a block) kept state, and a kept start moved no node
+        training = report["training"]
+        entries = training["blocks"] if "blocks" in training else [training]
+        for entry in entries:
+            assert entry["result"] in ("network", "start")
+            assert (entry["result"] == "start") == (entry["largest_node_move"] == 0.0)
+            assert "skipped" not in entry or entry["result"] == "start"
+        if "blocks" in training:
+            kept = sum(entry["result"] == "network" for entry in entries)
+            assert training["network_blocks"] == kept
 
 
 def test_a_warning_comes_exactly_with_folded_cells(run):
