@@ -305,7 +305,7 @@ def train(
     def accept(q: dict, kept: dict) -> bool:
         wall_tol = max(GUARD_WALL_ANGLE, reference.get("wall_angle", 0.0))
         return (
-            no_worse(q, reference, *GUARD_TOL[False])
+            no_worse(q, reference, *GUARD_TOL)
             and q.get("spacing_error", 0.0) <= SPACING_GUARD
             and q.get("wall_angle", 0.0) <= wall_tol
         )

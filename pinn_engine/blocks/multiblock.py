@@ -45,7 +45,7 @@ from pinn_engine.starts.untangle import untangle, untangled_report
 GUARD_TOL = (0.0, 0.0)
 # A block with auxiliary lines trades some quality for following them, as a four-sided
 # domain's pinn does: its guard's tolerance (0.25 / 1 degree, within the bounds 0.5 / 2)
-AUX_GUARD_TOL = QUAD_GUARD_TOL[True]
+AUX_GUARD_TOL = QUAD_GUARD_TOL
 # Following a line bends the grid lines that leave its block: the guard lets the interface
 # kinks' mean and max rise to these bounds (degrees), or stay at the grid's before if higher
 AUX_KINK_BOUND = (2.0, 15.0)

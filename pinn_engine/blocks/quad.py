@@ -52,8 +52,9 @@ from pinn_engine.starts.warmstart import lattice_for
 
 # A state is kept if its grid has no more folded cells than the elliptic grid and mean and
 # worst MaxIncludedAngle within (mean, worst) degrees of it: half the hard shapes' acceptance
-# bounds (0.5, 2), a margin because the guard checks the lattice and the output may differ.
-GUARD_TOL = {False: (0.25, 1.0), True: (0.25, 1.0)}
+# bounds (0.5, 2), a margin because the guard checks the lattice and the output may differ;
+# the same with auxiliary lines or without.
+GUARD_TOL = (0.25, 1.0)
 GUARD_WALL_ANGLE = 1.0  # degrees off 90 that the guard allows at orthogonal sides (SPEC 7: 2)
 # points per orthogonal side in the orthogonality term (SPEC 7): five per cell at 41 nodes,
 # more than one per cell up to 201 (the guard checks the wall angle at every node anyway)
@@ -364,7 +365,6 @@ class _FusedEvaluation(AutogradEvaluation):
 
 def guard_rule(
     reference: np.ndarray,
-    with_aux: bool,
     start: np.ndarray | None = None,
     walls: tuple[str, ...] = (),
     ranking: Ranking | None = None,
@@ -384,7 +384,7 @@ def guard_rule(
     of 90, or no farther off than the reference's. With the ``winslow`` grid that the
     reference untangles (untangle.py), a state passes only if it keeps as close to it as
     the untangled grid must (``untangle.acceptable``)."""
-    mean_tol, worst_tol = GUARD_TOL[with_aux]
+    mean_tol, worst_tol = GUARD_TOL
     if ranking is not None:
         ranking = ranking.against(reference).holding(start)
     quality = guard_figures if ranking is None else ranking.quality
@@ -448,7 +448,7 @@ def train(
         reference = begin.reference
         size = reference.shape[1], reference.shape[0]
         figures, accept, kept, ref = guard_rule(
-            reference, bool(aux), begin.start, settings.orthogonal, begin.ranking, begin.winslow
+            reference, begin.start, settings.orthogonal, begin.ranking, begin.winslow
         )
         built.update(size=size, ref=ref)
         grid = lambda: mapping.grid(*size, params=params)  # noqa: E731
