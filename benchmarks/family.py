@@ -112,7 +112,8 @@ def compare(folder: Path, rows: list[dict], model) -> list[dict]:
 
 
 def batch_median(folder: Path, manifest: Path, outdir: Path, model: Path | None) -> float:
-    """The median seconds a member of ``pinn-mesh batch --workers 1`` (with ``--model``)."""
+    """The median seconds a member of ``pinn-mesh batch --workers 1`` (with ``--model``);
+    the summary stays in ``outdir``."""
     if model is not None:
         rows = rows_of(manifest)
         manifest = folder / "unseen_model.csv"
@@ -173,6 +174,13 @@ def run_family(family: str, workdir: Path) -> list[str]:
     wider = compare(wide, rows_of(wide / "unseen.csv"), loaded)
     b_default = batch_median(folder, folder / "unseen.csv", workdir / "b_default", None)
     b_family = batch_median(folder, folder / "unseen.csv", workdir / "b_family", model)
+    own = {r["name"]: r for r in rows_of(workdir / "b_default" / "summary.csv")}
+    by_model = rows_of(workdir / "b_family" / "summary.csv")
+    excess = [
+        (float(r[k]) - float(own[r["name"]][k]) for k in ("worst_max_angle", "mean_max_angle"))
+        for r in by_model
+    ]
+    worst_excess, mean_excess = (max(x) for x in zip(*[tuple(e) for e in excess]))
     r = loaded.report
     lines = [
         f"### {family}: {r['members']} members, {r['size'][0]} x {r['size'][1]}",
@@ -183,7 +191,9 @@ def run_family(family: str, workdir: Path) -> list[str]:
         f"Winslow steps {'yes' if r['winslow_step'] else 'no'}).",
         "",
         f"`pinn-mesh batch --workers 1`, median seconds a member: {b_default:.3f} default, "
-        f"{b_family:.3f} with `--model` ({b_family / b_default:.2f} of the default).",
+        f"{b_family:.3f} with `--model` ({b_family / b_default:.2f} of the default); the "
+        f"grids against the default command's: worst {worst_excess:+.3f}, mean "
+        f"{mean_excess:+.4f} (largest excess).",
         "",
         "| members | time default / elliptic / family (s, median) | worst - default (max) | "
         "mean - default (max) | worst - elliptic (max) | folds | boundary nodes (max diff) | "

@@ -7,7 +7,6 @@ import argparse
 import copy
 import time
 from collections.abc import Iterator
-from dataclasses import replace
 from typing import TextIO
 
 from pinn_engine.batch import pool
@@ -42,8 +41,6 @@ def member_inputs(args: argparse.Namespace):
     check_inputs(args, kind == "body")
     check_options(args)
     settings = settings_from(args, tuple(args.size))
-    if settings.objective == "best":  # a family's grids are its members' Winslow grids
-        settings = replace(settings, objective="winslow")
     geometry = job.geometry_from_files(
         settings, args.boundary, args.aux, args.corners, args.farfield is not None
     )

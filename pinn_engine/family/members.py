@@ -36,8 +36,6 @@ def family_settings(settings: Settings) -> dict:
         value = getattr(settings, key)
         if key == "size":
             value = settings.size or DEFAULT_SIZE
-        if key == "objective" and value == "best":  # a family's physics is Winslow's
-            value = "winslow"
         if isinstance(value, tuple):
             value = [list(v) if isinstance(v, tuple) else v for v in value]
         out[key] = value
