@@ -22,22 +22,42 @@ NO_DASHBOARD = (
 POOL_DASHBOARD = f"none (up to {pool.SMALL_BATCH} cases run on local processes, without Dask)"
 
 
-def build_parser() -> argparse.ArgumentParser:
-    p = OneLineParser(
-        prog="pinn-mesh batch",
-        description="Mesh every case of a manifest (CSV: name,input,aux,options) on a Dask "
-        "cluster; each case as the single-run command would mesh it.",
-    )
+def manifest_parser(prog: str, description: str, output: str, output_help: str) -> OneLineParser:
+    """The arguments every manifest command takes: the manifest, ``-o`` and where it runs."""
+    p = OneLineParser(prog=prog, description=description)
     p.add_argument("manifest", help="CSV with the header name,input,aux,options")
-    p.add_argument(
-        "-o", "--output", required=True, metavar="OUTDIR", help="the grids and summary.csv"
-    )
+    p.add_argument("-o", "--output", required=True, metavar=output, help=output_help)
     where = p.add_mutually_exclusive_group()
     where.add_argument(
         "--workers", type=int, metavar="N", help="local worker processes (default: the cores)"
     )
     where.add_argument(
         "--scheduler", metavar="ADDRESS", help="run on the Dask scheduler at tcp://host:port"
+    )
+    return p
+
+
+def read_cases(parser: argparse.ArgumentParser, args: argparse.Namespace) -> list | None:
+    """The manifest's cases once the worker count is checked and Dask is there; None after a
+    one-line error (exit status ``EXIT_ERROR``)."""
+    if args.workers is not None and args.workers < 1:
+        parser.error(f"--workers {args.workers}: give at least 1")
+    try:
+        cases = read_manifest(args.manifest)
+        warm.require_dask()
+    except (ManifestError, MissingExtraError) as exc:
+        print(f"{parser.prog}: error: {exc}", file=sys.stderr)
+        return None
+    return cases
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = manifest_parser(
+        "pinn-mesh batch",
+        "Mesh every case of a manifest (CSV: name,input,aux,options) on a Dask "
+        "cluster; each case as the single-run command would mesh it.",
+        "OUTDIR",
+        "the grids and summary.csv",
     )
     p.add_argument("--force", action="store_true", help="redo the cases an earlier run did")
     return p
@@ -47,13 +67,8 @@ def main(argv: list[str]) -> int:
     """Run the batch; returns the exit status."""
     parser = build_parser()
     args = parser.parse_args(argv)
-    if args.workers is not None and args.workers < 1:
-        parser.error(f"--workers {args.workers}: give at least 1")
-    try:
-        cases = read_manifest(args.manifest)
-        warm.require_dask()
-    except (ManifestError, MissingExtraError) as exc:
-        print(f"pinn-mesh batch: error: {exc}", file=sys.stderr)
+    cases = read_cases(parser, args)
+    if cases is None:
         return EXIT_ERROR
     small = pool.small(len(cases), args.scheduler)
     if not args.scheduler:  # the local workers' server imports while this process does

@@ -9,28 +9,20 @@ import argparse
 import sys
 
 from pinn_engine.batch import pool, warm
-from pinn_engine.batch.cli import EXIT_FAILED
-from pinn_engine.batch.manifest import ManifestError, read_manifest
-from pinn_engine.errors import MissingExtraError, PinnMeshError
-from pinn_engine.routes.cli.parser import EXIT_ERROR, EXIT_INTERRUPTED, OneLineParser
+from pinn_engine.batch.cli import EXIT_FAILED, manifest_parser, read_cases
+from pinn_engine.errors import PinnMeshError
+from pinn_engine.routes.cli.parser import EXIT_ERROR, EXIT_INTERRUPTED
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = OneLineParser(
-        prog="pinn-mesh fit",
-        description="Fit one family model on the members of a manifest (CSV: "
+    p = manifest_parser(
+        "pinn-mesh fit",
+        "Fit one family model on the members of a manifest (CSV: "
         "name,input,aux,options; the same options for every member): each member meshed by "
         "its own default run, then the network; pinn-mesh BOUNDARY --model FAMILY.pt meshes "
         "a new member in a forward pass.",
-    )
-    p.add_argument("manifest", help="CSV with the header name,input,aux,options")
-    p.add_argument("-o", "--output", required=True, metavar="FAMILY.pt", help="the model file")
-    where = p.add_mutually_exclusive_group()
-    where.add_argument(
-        "--workers", type=int, metavar="N", help="local worker processes (default: the cores)"
-    )
-    where.add_argument(
-        "--scheduler", metavar="ADDRESS", help="run on the Dask scheduler at tcp://host:port"
+        "FAMILY.pt",
+        "the model file",
     )
     p.add_argument("--epochs", type=int, metavar="N", help="the network's training epochs")
     p.add_argument("--seed", type=int, default=0, metavar="N", help="the network's seed")
@@ -43,15 +35,10 @@ def main(argv: list[str]) -> int:
 
     parser = build_parser()
     args = parser.parse_args(argv)
-    if args.workers is not None and args.workers < 1:
-        parser.error(f"--workers {args.workers}: give at least 1")
     if args.epochs is not None and args.epochs < 1:
         parser.error(f"--epochs {args.epochs}: give at least 1")
-    try:
-        cases = read_manifest(args.manifest)
-        warm.require_dask()
-    except (ManifestError, MissingExtraError) as exc:
-        print(f"pinn-mesh fit: error: {exc}", file=sys.stderr)
+    cases = read_cases(parser, args)
+    if cases is None:
         return EXIT_ERROR
     if not args.scheduler:  # the local workers' server imports while this process does
         warm.start(dask=not pool.small(len(cases), args.scheduler))

@@ -32,6 +32,7 @@ import scipy.sparse as sp
 from pinn_engine.blas import one_blas_thread
 from pinn_engine.blocks3d.placement import HEX_FACES, Placement, face_slice
 from pinn_engine.hexa.inexact import InexactSolve
+from pinn_engine.hexa.volume import cofactor_terms
 
 # converged when no node moves more than this share of the diagonal in a step (checkMesh's
 # figures of the pipe and the DFG 3D channel are those of 1e-6 to three digits)
@@ -412,7 +413,7 @@ def star_row(points: np.ndarray, star: Star) -> tuple[np.ndarray, np.ndarray]:
     offsets = points[star.around] - points[star.node]
     d = star.slope @ offsets
     m = d @ d.T
-    c = _cofactor_terms([[m[a, b] for b in range(3)] for a in range(3)])
+    c = cofactor_terms([[m[a, b] for b in range(3)] for a in range(3)])
     w = sum(
         (1.0 if len(t) == 1 or t[0] == t[1] else 2.0) * c[t] * star.fit[k]
         for k, t in enumerate(FIT_TERMS)
@@ -420,18 +421,6 @@ def star_row(points: np.ndarray, star: Star) -> tuple[np.ndarray, np.ndarray]:
     )
     centre = -w.sum()
     return np.concatenate([[star.node], star.around]), np.concatenate([[centre], w]) / -centre
-
-
-def _cofactor_terms(m) -> dict[tuple[int, int], np.ndarray]:
-    """Cofactors of the metric tensor m (3 x 3 of arrays or numbers), by (a, b), a <= b."""
-    return {
-        (0, 0): m[1][1] * m[2][2] - m[1][2] ** 2,
-        (1, 1): m[0][0] * m[2][2] - m[0][2] ** 2,
-        (2, 2): m[0][0] * m[1][1] - m[0][1] ** 2,
-        (0, 1): m[0][2] * m[1][2] - m[0][1] * m[2][2],
-        (0, 2): m[0][1] * m[1][2] - m[0][2] * m[1][1],
-        (1, 2): m[0][1] * m[0][2] - m[0][0] * m[1][2],
-    }
 
 
 def stencils(place: Placement) -> tuple[Stencils, list[Star], np.ndarray]:
@@ -502,7 +491,7 @@ def _weights(points: np.ndarray, st: Stencils) -> np.ndarray:
         # across a mirror plane the ghost is the neighbour itself: one-sided there
         one_sided = (points[ip] - x0) / h[:, a, 1, None]
         d.append(np.where((ip == im)[:, None], one_sided, central))
-    c = _cofactor_terms([[np.einsum("nk,nk->n", d[a], d[b]) for b in range(3)] for a in range(3)])
+    c = cofactor_terms([[np.einsum("nk,nk->n", d[a], d[b]) for b in range(3)] for a in range(3)])
     w = np.zeros((len(ids), len(OFFSETS)))
     centre = OFFSETS.index((0, 0, 0))
     for k, off in enumerate(OFFSETS):

@@ -49,7 +49,13 @@ def _cofactors(g: np.ndarray) -> dict[tuple[int, int], np.ndarray]:
         plus = tuple(slice(2, None) if a == m else slice(1, -1) for a in range(3))
         minus = tuple(slice(None, -2) if a == m else slice(1, -1) for a in range(3))
         d.append(0.5 * (g[plus] - g[minus]))
-    m = [[np.einsum("...k,...k->...", d[a], d[b]) for b in range(3)] for a in range(3)]
+    return cofactor_terms(
+        [[np.einsum("...k,...k->...", d[a], d[b]) for b in range(3)] for a in range(3)]
+    )
+
+
+def cofactor_terms(m) -> dict[tuple[int, int], np.ndarray]:
+    """Cofactors of the metric tensor m (3 x 3 of arrays or numbers), by (a, b), a <= b."""
     return {
         (0, 0): m[1][1] * m[2][2] - m[1][2] ** 2,
         (1, 1): m[0][0] * m[2][2] - m[0][2] ** 2,

@@ -6,9 +6,8 @@ import os
 
 import pyvista as pv
 
-from pinn_engine.errors import InputError
 from pinn_engine.routes.dictionary_algorithm import PinnBlockMeshDictReader
-from pinn_engine.routes.pyvista_accessor.running import ROUTE, public, pyvista_words
+from pinn_engine.routes.pyvista_accessor.running import ROUTE, public, pyvista_words, update
 
 
 @public("read_blockmeshdict")
@@ -57,12 +56,4 @@ def read_blockmeshdict(
             if value is not None:
                 setter(value)
     alg.SetFileName(os.fspath(path))
-    if progress_bar:
-        with pv.ProgressMonitor(alg, message=alg.LABEL):
-            alg.Update()
-    else:
-        alg.Update()
-    error = alg.GetLastException()
-    if error is not None:
-        raise error.for_route(ROUTE) if isinstance(error, InputError) else error
-    return pv.wrap(alg.GetOutputDataObject(0))
+    return update(alg, progress_bar)

@@ -102,6 +102,12 @@ def run(
         alg.SetInputDataObject(0, boundary())
         for poly in polydata_list(lines, what):
             alg.AddInputDataObject(1, poly)
+    return update(alg, progress_bar)
+
+
+def update(alg, progress_bar: bool) -> pv.DataObject:
+    """Run a filter or reader (with pyvista's progress bar where ``progress_bar``) and return
+    its output; its error is raised in pyvista's words."""
     if progress_bar:
         with pv.ProgressMonitor(alg, message=alg.LABEL):
             alg.Update()
@@ -110,7 +116,7 @@ def run(
     error = alg.GetLastException()
     if error is not None:
         raise error.for_route(ROUTE) if isinstance(error, InputError) else error
-    return pv.wrap(alg.GetOutput())
+    return pv.wrap(alg.GetOutputDataObject(0))
 
 
 def give_field(alg, adapt) -> None:
