@@ -172,9 +172,9 @@ def quality_start(
     if ranking.lines:
         on_lines = follow_lines(elliptic, ranking)
         ranking = ranking.against(on_lines)
-        candidates.append((on_lines, "elliptic on the lines"))
+        candidates.append((on_lines, "line-following elliptic"))
         if untangled is not elliptic:  # the fold-free grid on the lines
-            candidates.append((follow_lines(untangled, ranking), "untangled on the lines"))
+            candidates.append((follow_lines(untangled, ranking), "line-following untangled"))
     best = min(candidates, key=lambda c: ranking.key(ranking.quality(c[0])))
     if NODE_ITERATIONS:
         optimized = (optimize_nodes(best[0], ranking, NODE_ITERATIONS), "optimized")
