@@ -84,11 +84,14 @@ xdotool mousemove 162 554 click 1; sleep 3                   # pinn (auto-apply 
 import -window root "$OUT/time_limit.png"
 wait_for "$PINN_GUI_RESULT.PINNStructuredMeshHexahedral1.json" 120
 
-# 4. File > Save Data by file name: CGNS, then OpenFOAM (no options dialog for 3D)
+# 4. File > Save Data by file name: CGNS, then OpenFOAM; Return again takes the writer's
+#    options dialog as it is (its Extrude Thickness is shown before the writer knows the grid
+#    is 3D, and a 3D grid ignores it)
 for name in bend.cgns bend.foam; do
     xdotool mousemove 139 218 click 1; sleep 0.5
     xdotool key ctrl+s; sleep 2
     xdotool type --delay 30 "$OUT/$name"; sleep 0.5
+    xdotool key Return; sleep 2
     xdotool key Return; sleep 8
 done
 import -window root "$OUT/saved.png"
