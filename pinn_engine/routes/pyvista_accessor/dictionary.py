@@ -56,4 +56,5 @@ def read_blockmeshdict(
             if value is not None:
                 setter(value)
     alg.SetFileName(os.fspath(path))
-    return update(alg, progress_bar)
+    update(alg, progress_bar)
+    return pv.wrap(alg.GetOutputDataObject(0))

@@ -102,12 +102,13 @@ def run(
         alg.SetInputDataObject(0, boundary())
         for poly in polydata_list(lines, what):
             alg.AddInputDataObject(1, poly)
-    return update(alg, progress_bar)
+    update(alg, progress_bar)
+    return pv.wrap(alg.GetOutput())
 
 
-def update(alg, progress_bar: bool) -> pv.DataObject:
-    """Run a filter or reader (with pyvista's progress bar where ``progress_bar``) and return
-    its output; its error is raised in pyvista's words."""
+def update(alg, progress_bar: bool) -> None:
+    """Run a filter or reader (with pyvista's progress bar where ``progress_bar``); its error
+    is raised in pyvista's words."""
     if progress_bar:
         with pv.ProgressMonitor(alg, message=alg.LABEL):
             alg.Update()
@@ -116,7 +117,6 @@ def update(alg, progress_bar: bool) -> pv.DataObject:
     error = alg.GetLastException()
     if error is not None:
         raise error.for_route(ROUTE) if isinstance(error, InputError) else error
-    return pv.wrap(alg.GetOutputDataObject(0))
 
 
 def give_field(alg, adapt) -> None:
