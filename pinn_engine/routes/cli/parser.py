@@ -230,8 +230,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--format",
         choices=_FormatKeys(),
+        metavar="FORMAT",  # argparse would list (and so import) the formats at every start
         default=None,
-        help="output format instead of the extension (openfoam: -o DIR/ is a case)",
+        help="output format instead of the extension, one of %(choices)s (openfoam: -o DIR/ is a "
+        "case)",
     )
     p.add_argument(
         "--patch",
