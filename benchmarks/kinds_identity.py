@@ -1,8 +1,8 @@
 """Every domain kind meshed by its default and other methods, and a hash of each grid's points:
 a refactoring that must not change behaviour leaves every line of this script's output the same.
 
-    .venv/bin/python benchmarks/kinds_identity.py > before.txt   # on the base commit
-    .venv/bin/python benchmarks/kinds_identity.py > after.txt    # on the change
+    .venv/bin/python benchmarks/kinds_identity.py > before.txt   # before the change
+    .venv/bin/python benchmarks/kinds_identity.py > after.txt    # after it
     diff before.txt after.txt                                   # nothing
 
 Each case runs the command line in-process (``routes.cli.main``), so the routes' option

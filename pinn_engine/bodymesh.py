@@ -177,18 +177,24 @@ def mesh_body(
         timings["elliptic"] = time.perf_counter() - start - timings["layout"]
     if method == "pinn":
         began = time.perf_counter()
-        from pinn_engine.blocks.untrained import body_cannot_win, body_start
+        from pinn_engine.blocks.untrained import body_cannot_win, body_start, start_or_train
 
-        skipped = body_cannot_win(settings, lay.wall_aspect())
-        if skipped:
-            training = body_start(grid, skipped)
-        else:
+        def kept(reason: str) -> tuple[np.ndarray, dict, dict, float]:
+            """The elliptic start, its report, no history and no training seconds."""
+            return grid, {}, body_start(grid, reason), 0.0
+
+        def trained() -> tuple[np.ndarray, dict, dict, float]:
+            """The trained grid, its history and report, and the training's seconds."""
             _stage(progress, "network set-up")
-            from pinn_engine.blocks.body import train_body
+            from pinn_engine.blocks.body import train_body  # torch: imported only to train
 
             t0 = time.perf_counter()
-            grid, history, training = train_body(lay, grid, controls, settings, progress)
-            train_seconds = time.perf_counter() - t0
+            out = train_body(lay, grid, controls, settings, progress)
+            return (*out, time.perf_counter() - t0)
+
+        grid, history, training, train_seconds = start_or_train(
+            body_cannot_win(settings, lay.wall_aspect()), kept, trained
+        )
         timings["training"] = time.perf_counter() - began
     mesh_seconds = time.perf_counter() - start - train_seconds
     if not np.isfinite(grid).all():

@@ -268,34 +268,24 @@ def mesh_polydata(
     lap("faces")
     model = None
     if method == "pinn":  # the elliptic and tfi runs import no training modules
-        from pinn_engine.blocks.untrained import VolumeStartModel, cannot_win
+        from pinn_engine.blocks.untrained import VolumeStartModel, cannot_win, start_or_train
 
         @cache  # the start's lattice is often the grid's own size
         def tfi_of(shape: tuple[int, ...]) -> np.ndarray:
             """The TFI grid of ``shape`` nodes, its faces exactly the face grids."""
             return base if shape == tuple(size) else tfi_at(boundary, node_params(shape, {}))
 
-        tell(0.2, "network")
-        key = surface_key(surface)
-        reason = None if load_model else cannot_win(settings)
-        tfi = base
-        if reason:  # the start's map: no network, no torch
+        def kept(reason: str) -> tuple[VolumeStartModel, np.ndarray]:
+            """The start's map (no network, no torch) and the TFI grid it corrects."""
             start = winslow_start(tfi_of, size)
             lap("start")
-            model = VolumeStartModel.of(start, settings, key, reason, timings["start"])
-        elif load_model:
-            from pinn_engine.blocks.hexa import HexaModel  # torch: only for a saved network
+            return VolumeStartModel.of(start, settings, key, reason, timings["start"]), base
 
-            if spacing or orthogonal:
-                raise InputError(
-                    "--load-model with --spacing or --orthogonal: a saved map keeps the "
-                    "spacing and walls it was trained with; drop them, or train anew"
-                )
-            model = HexaModel.load(load_model, key)
-            lap("start")
-        else:
+        def trained() -> tuple[HexaModel, np.ndarray]:
+            """The trained map and the TFI grid it corrects."""
             from pinn_engine.blocks.hexa import train  # torch: imported only to train
 
+            tfi = base
             if spacing or orthogonal:  # the elliptic grid with them, at the full size
                 params, grid, _ = _classical(boundary, "elliptic", spacing, orthogonal, base)
                 tfi = tfi_at(boundary, params)
@@ -310,7 +300,22 @@ def mesh_polydata(
             else:
                 start = winslow_start(tfi_of, size)
             lap("start")
-            model = train(start, key, settings, training)
+            return train(start, key, settings, training), tfi
+
+        tell(0.2, "network")
+        key = surface_key(surface)
+        if load_model:  # a saved network evaluated
+            from pinn_engine.blocks.hexa import HexaModel  # torch: only for a saved network
+
+            if spacing or orthogonal:
+                raise InputError(
+                    "--load-model with --spacing or --orthogonal: a saved map keeps the "
+                    "spacing and walls it was trained with; drop them, or train anew"
+                )
+            model, tfi = HexaModel.load(load_model, key), base
+            lap("start")
+        else:
+            model, tfi = start_or_train(cannot_win(settings), kept, trained)
         g, steps = model.grid(tfi), 0
         lap("training")
     else:

@@ -5,10 +5,11 @@ from __future__ import annotations
 import os
 import time
 from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pinn_engine.blocks.untrained import StartModel, cannot_win
+from pinn_engine.blocks.untrained import StartModel, cannot_win, start_or_train
 from pinn_engine.classical.elliptic import winslow_solve, winslow_sweeps
 from pinn_engine.classical.spacing import classical_grid, fit_params, side_lengths, working_spacing
 from pinn_engine.classical.tfi import tfi_grid
@@ -26,6 +27,9 @@ from pinn_engine.heap import reuse_freed_memory
 from pinn_engine.quality import boundary_nodes, cell_quality, side_report, summary
 from pinn_engine.result import MeshResult
 from pinn_engine.settings import NEURAL, Settings, grid_size_problem, make_settings
+
+if TYPE_CHECKING:
+    from pinn_engine.blocks.model import TrainedModel
 
 Progress = Callable[[dict], bool | None]
 
@@ -68,16 +72,22 @@ class Mesher:
         self.model_ = None
         self.train_seconds_ = 0.0
         if self.settings.method in NEURAL:
-            reason = cannot_win(self.settings, self.aux_lines_)
-            if reason:  # the start's map: no network, no torch
-                self.model_ = StartModel.of(boundary, self.aux_lines_, self.settings, reason)
-            else:
-                start = time.perf_counter()
+            aux, settings = self.aux_lines_, self.settings
+
+            def trained() -> TrainedModel:
+                began = time.perf_counter()
                 from pinn_engine.blocks.quad import train  # torch: imported only to train
 
                 imported = time.perf_counter()
-                self.model_ = train(boundary, self.aux_lines_, self.settings, progress)
-                self.model_.info["timings"]["import"] = imported - start
+                model = train(boundary, aux, settings, progress)
+                model.info["timings"]["import"] = imported - began
+                return model
+
+            self.model_ = start_or_train(
+                cannot_win(settings, aux),
+                lambda reason: StartModel.of(boundary, aux, settings, reason),
+                trained,
+            )
             # the network's training alone: 0 where none was trained (its start's time is
             # the report's timings["start"])
             self.train_seconds_ = float(self.model_.info["timings"]["training"])

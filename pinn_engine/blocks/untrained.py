@@ -20,16 +20,20 @@ correction the bubble allows has improved the outer cells without shearing the t
 near the wall, and the guard has kept the start on every airfoil measured (docs/speed.md);
 :func:`body_cannot_win` says so before torch is imported, and :func:`body_start` is the report
 of the start kept.
+
+Every kind runs the same sequence once its start is known, :func:`start_or_train`: where the
+network cannot win, the start is kept; else the kind's training module (torch) is imported and
+the network trained from the start under the kind's guard (``neural.session.train_network``).
 """
 
 from __future__ import annotations
 
 import os
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TypeVar
 
 import numpy as np
 
@@ -47,6 +51,8 @@ from pinn_engine.starts.warmstart import lattice_for
 
 if TYPE_CHECKING:
     from pinn_engine.starts.volume_start import Start
+
+Map = TypeVar("Map")  # what a kind's pinn leaves: its map, or its grid and report
 
 WINSLOW = "the start already solves the Winslow equations the network trains on"
 QUALITY = "the start is the quality objective's own optimum on these nodes"
@@ -80,6 +86,15 @@ def cannot_win(settings: Settings, aux: Sequence[AuxLine] = ()) -> str | None:
     if settings.quality_objective:
         return QUALITY
     return None if aux else WINSLOW
+
+
+def start_or_train(reason: str | None, keep: Callable[[str], Map], train: Callable[[], Map]) -> Map:
+    """The one sequence of every kind's pinn, start -> skip -> train -> guard: where its
+    network cannot win (``reason``, from :func:`cannot_win` or :func:`body_cannot_win`), the
+    start kept, ``keep(reason)``, with no network built and no torch imported; else
+    ``train()``, which imports the kind's training module and trains the network from the
+    start under the kind's guard, the start kept unless a trained state is no worse."""
+    return keep(reason) if reason else train()
 
 
 def body_cannot_win(settings: Settings, wall_aspect: float) -> str | None:

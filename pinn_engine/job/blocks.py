@@ -244,14 +244,19 @@ def train_blocks(
     when some block's network can win (``blocks.untrained.cannot_win``; else every block
     keeps its start, ``untrained.untrained_blocks``): the elliptic and tfi runs, and a pinn
     whose networks cannot win, never import torch."""
-    from pinn_engine.blocks.untrained import cannot_win, untrained_blocks
+    from pinn_engine.blocks.untrained import cannot_win, start_or_train, untrained_blocks
+
+    def trained() -> tuple[list[np.ndarray], dict]:
+        from pinn_engine.blocks.multiblock import train_blocks as train  # torch: only to train
+
+        return train(grids, settings, progress, aux, kinks)
 
     reasons = [cannot_win(settings, lines) for lines in (aux or [()] * len(grids))]
-    if all(reasons):
-        return untrained_blocks(grids, reasons[0])
-    from pinn_engine.blocks.multiblock import train_blocks as train
-
-    return train(grids, settings, progress, aux, kinks)
+    return start_or_train(
+        reasons[0] if all(reasons) else None,
+        lambda reason: untrained_blocks(grids, reason),
+        trained,
+    )
 
 
 class Clock:

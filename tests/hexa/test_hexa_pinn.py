@@ -4,6 +4,8 @@ and a saved model evaluated finer with its faces on the surface."""
 
 from __future__ import annotations
 
+from functools import cache
+
 import numpy as np
 import pytest
 import pyvista as pv
@@ -21,6 +23,7 @@ from pinn_engine.neural.jet import nd
 from pinn_engine.neural.losses import parameter_controls_3d, winslow_residual_3d
 from pinn_engine.neural.networks import CoordinateNet
 from pinn_engine.routes.cli import main
+from pinn_engine.routes.cli.outputs import save_model
 from pinn_engine.settings import FACE_ANGLE, make_settings
 from pinn_engine.starts.volume_start import winslow_start
 
@@ -84,17 +87,23 @@ def test_network_jet_matches_autograd():
     torch.testing.assert_close(bubble[nd.second(0, 2, 3)][:, 0], second)
 
 
-@pytest.fixture(scope="module", params=EXAMPLES)
-def pinn_and_elliptic(request):
-    """The network trained from the Winslow start (the default keeps that start untrained,
-    tests/blocks/test_untrained.py) and the elliptic run's grid."""
-    path = str(DATA / request.param)
-    surface = surface_of(read_polydata(DATA / request.param), path, False, FACE_ANGLE)
+@cache
+def _trained(name: str) -> tuple[hexa.HexaModel, np.ndarray]:
+    """The network of example ``name`` trained from its Winslow start at ``SIZE`` (the
+    default keeps that start untrained, tests/blocks/test_untrained.py) and its TFI grid."""
+    path = str(DATA / name)
+    surface = surface_of(read_polydata(DATA / name), path, False, FACE_ANGLE)
     boundary, _ = boundary_map(surface, find_topology(surface, path), path)
     start = winslow_start(lambda shape: tfi_at(boundary, node_params(shape, {})), SIZE)
-    settings = make_settings("pinn", size=SIZE)
-    trained = hexa.train(start, surface_key(surface), settings).grid(start.tfi)
-    return trained, mesh_surface(path, make_settings("elliptic", size=SIZE))
+    return hexa.train(start, surface_key(surface), make_settings("pinn", size=SIZE)), start.tfi
+
+
+@pytest.fixture(scope="module", params=EXAMPLES)
+def pinn_and_elliptic(request):
+    """The trained network's grid (:func:`_trained`) and the elliptic run's grid."""
+    model, tfi = _trained(request.param)
+    path = str(DATA / request.param)
+    return model.grid(tfi), mesh_surface(path, make_settings("elliptic", size=SIZE))
 
 
 def test_pinn_is_within_the_bounds_of_the_winslow_grid(pinn_and_elliptic):
@@ -117,22 +126,27 @@ def test_pinn_grid_is_right_handed(pinn_and_elliptic):
 
 @pytest.fixture(scope="module")
 def saved_model(tmp_path_factory) -> str:
-    """A pinn model of the bump box at ``SIZE``, saved by the command line."""
-    folder = tmp_path_factory.mktemp("model")
-    model = folder / "m" / "bump.pt"  # a folder to be made
-    argv = [str(DATA / "hexa_bump_box.vtp"), "--size", *map(str, SIZE)]
-    assert main([*argv, "--save-model", str(model), "--quiet", "-o", str(folder / "a.vts")]) == 0
-    return str(model)
+    """The bump box's trained network (:func:`_trained`, its guard keeping a network state),
+    saved as the command line saves a model, into a folder to be made."""
+    model, _ = _trained("hexa_bump_box.vtp")
+    assert model.info["result"] == "network"
+    path = tmp_path_factory.mktemp("model") / "m" / "bump.pt"
+    save_model(model, str(path), [])
+    return str(path)
 
 
 def test_saved_model_evaluates_finer_with_faces_on_the_surface(saved_model, tmp_path, capsys):
-    surface, out = DATA / "hexa_bump_box.vtp", tmp_path / "fine.vts"
-    argv = [str(surface), "--size", *map(str, FINER), "--load-model", saved_model]
-    assert main([*argv, "-o", str(out)]) == 0
+    surface, out, start = DATA / "hexa_bump_box.vtp", tmp_path / "fine.vts", tmp_path / "s.vts"
+    argv = [str(surface), "--size", *map(str, FINER)]
+    assert main([*argv, "--load-model", saved_model, "-o", str(out)]) == 0
     assert "pinn 13x11x15 hexahedral grid" in capsys.readouterr().out
     grid = pv.read(out)
     assert tuple(grid.dimensions) == FINER and grid.cell_data["Folded"].sum() == 0
-    assert grid.field_data["NetworkResult"][0] in ("network", "start")
+    assert grid.field_data["NetworkResult"][0] == "network"
+    # the network is evaluated: the default run (its start, untrained) differs inside
+    assert main([*argv, "--quiet", "-o", str(start)]) == 0
+    assert pv.read(start).field_data["NetworkResult"][0] == "start"
+    assert not np.allclose(grid.points, pv.read(start).points, atol=0, rtol=1e-9)
     g = np.asarray(grid.points).reshape(*FINER[::-1], 3).transpose(2, 1, 0, 3)
     faces = [g[0], g[-1], g[:, 0], g[:, -1], g[:, :, 0], g[:, :, -1]]
     nodes = np.concatenate([f.reshape(-1, 3) for f in faces])
