@@ -275,6 +275,71 @@ PARAMETER_CONSTRAINTS: dict[str, Options | Interval] = {
 }
 
 
+@dataclass(frozen=True)
+class Counts:
+    """Node counts: a tuple of one of ``lengths`` whole numbers, each at least ``low``."""
+
+    lengths: tuple[int, ...]
+    low: int
+    help: str = ""
+
+    def problem(self, value) -> str | None:
+        whole = isinstance(value, tuple) and all(
+            isinstance(n, numbers.Integral) and not isinstance(n, bool) for n in value
+        )
+        if whole and len(value) in self.lengths and all(n >= self.low for n in value):
+            return None
+        lengths = " or ".join(map(str, self.lengths))
+        return f"must be {lengths} whole numbers of at least {self.low}"
+
+
+def _place(name) -> bool:
+    """Whether ``name`` is a side (bottom ... left) or a six-faced domain's patch."""
+    return isinstance(name, str) and (name in SIDE_NAMES or bool(HEXA_PATCH.match(name)))
+
+
+@dataclass(frozen=True)
+class Places:
+    """Sides (bottom ... left) or a six-faced domain's patches (imin ... kmax, faceN), each
+    at most once; ``spaced``: each paired with its first edge, a finite length > 0."""
+
+    spaced: bool
+    help: str = ""
+
+    def problem(self, value) -> str | None:
+        items = value if isinstance(value, tuple) else None
+        if items is not None and self.spaced:
+            pairs = all(isinstance(i, tuple) and len(i) == 2 for i in items)
+            items = [n for n, h in items if _positive(h)] if pairs else None
+            items = items if items is not None and len(items) == len(value) else None
+        if items is not None and all(map(_place, items)) and len(set(items)) == len(items):
+            return None
+        what = "(SIDE, H) pairs, H > 0" if self.spaced else "sides"
+        return f"must be {what}, each side once: {', '.join(SIDE_NAMES)} or {HEXA_PATCH_NAMES}"
+
+
+def _positive(h) -> bool:
+    """Whether ``h`` is a finite real number > 0."""
+    real = isinstance(h, numbers.Real) and not isinstance(h, bool)
+    return real and math.isfinite(h) and h > 0
+
+
+# The torch devices a run takes (torch.device's names; auto: cuda where there is one)
+DEVICE_NAMES = re.compile(r"^(auto|cpu|mps|cuda(:\d+)?)$")
+
+# The rules of the settings each route gives by options of their own shape (node counts, side
+# lists, SIDE=H items, a torch device): checked once Settings has read them (lists from JSON
+# and saved models made tuples, SIDE=H strings parsed), and not iterated by the routes' generic
+# options as PARAMETER_CONSTRAINTS is. With it every field of Settings has one rule.
+SHAPED_CONSTRAINTS: dict[str, Counts | Places | Pattern] = {
+    "lattice": Counts((2,), 2, "nodes of the warm start's lattice"),
+    "size": Counts((0, 2, 3), 1, "nodes along i, j (and k); none for a multi-block domain"),
+    "spacing": Places(True, "first-edge length per side or patch"),
+    "orthogonal": Places(False, "sides or patches that grid lines leave at 90 degrees"),
+    "device": Pattern(DEVICE_NAMES.pattern[1:-1], "auto, cpu, cuda or cuda:N", "torch device"),
+}
+
+
 def setting_problem(name: str, value) -> str | None:
     """What is wrong with ``value`` for the setting ``name`` (None: nothing); each route
     prefixes its own name for the setting."""
@@ -355,6 +420,16 @@ class Settings:
             problem = setting_problem(name, getattr(self, name))
             if problem:
                 raise SettingsError(f"{name} {getattr(self, name)!r}: {problem}")
+        self._read()
+        for name, rule in SHAPED_CONSTRAINTS.items():
+            problem = rule.problem(getattr(self, name))
+            if problem:
+                raise SettingsError(f"{name} {getattr(self, name)!r}: {problem}")
+
+    def _read(self) -> None:
+        """The rules between settings, with the shaped settings read (lists made tuples,
+        SIDE=H strings parsed) in their kind's terms: a six-faced domain's (three sizes) or
+        a 2D domain's."""
         if self.method != "pinn":  # the objective is the pinn's (make_settings says so)
             object.__setattr__(self, "objective", "winslow")
         if self.warm_start == "elliptic" and self.boundary_mode != "hard":

@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import re
 
 from pinn_engine.errors import PinnMeshError
 from pinn_engine.routes.cli.parser import option_flags
 from pinn_engine.settings import (
+    DEVICE_NAMES,
     NEURAL,
     PARAMETER_CONSTRAINTS,
     Settings,
@@ -15,8 +15,6 @@ from pinn_engine.settings import (
     setting_problem,
     size_problem,
 )
-
-DEVICE_NAMES = re.compile(r"^(auto|cpu|mps|cuda(:\d+)?)$")  # the torch devices --device takes
 
 
 def check_options(args: argparse.Namespace) -> None:
