@@ -21,6 +21,7 @@ from pinn_engine.blocks.untrained import (
     WINSLOW,
     body_cannot_win,
     cannot_win,
+    start_or_train,
 )
 from pinn_engine.bodies.airfoil import circle, load_body
 from pinn_engine.bodies.bodygrid import elliptic, layout
@@ -41,6 +42,24 @@ def _assert_torch_not_imported(code: str) -> None:
     interpreter: it must not have imported torch."""
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
     assert out.stdout.strip() == "False", out.stderr
+
+
+def test_one_sequence_keeps_the_start_or_trains_never_both():
+    """``start_or_train``: with a reason the start is kept and the training (which would
+    import torch) never called; without one the training's map is the result."""
+    called = []
+
+    def keep(reason: str) -> str:
+        called.append(("keep", reason))
+        return "start"
+
+    def train() -> str:
+        called.append(("train",))
+        return "network"
+
+    assert start_or_train(WINSLOW, keep, train) == "start" and called == [("keep", WINSLOW)]
+    called.clear()
+    assert start_or_train(None, keep, train) == "network" and called == [("train",)]
 
 
 def test_the_decision_follows_the_terms_the_network_could_win():
