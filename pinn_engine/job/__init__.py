@@ -7,7 +7,8 @@ geometry by the adapter of their kind (:func:`kind_of` names it; from files or f
 data: :class:`Geometry` of a four-sided domain or a body, :class:`BlocksGeometry` of a
 multi-block domain, :class:`HexaGeometry` of a six-faced 3D domain,
 :class:`DictionaryGeometry` of a blockMeshDict) and calls :func:`run`,
-which meshes it by its kind's pipeline and returns one :class:`Outcome`. What differs
+which finds the geometry's kind in the registry (:data:`REGISTRY`), meshes it by that kind's
+run and returns one :class:`Outcome`. What differs
 between routes is only how they read inputs and present the outcome, in their own words.
 """
 
@@ -21,18 +22,12 @@ import numpy as np
 from pinn_engine.adapt import Field, read_field, read_field_file
 from pinn_engine.cache import MeshCache
 from pinn_engine.errors import InputError
-from pinn_engine.job.blocks import (
-    BlocksGeometry,
-    blocks_from_files,
-    blocks_from_polydata,
-    run_blocks,
-)
+from pinn_engine.job.blocks import BlocksGeometry, blocks_from_files, blocks_from_polydata
 from pinn_engine.job.cover import covered
 from pinn_engine.job.dictionary import (
     DictionaryGeometry,
     dictionary_from_file,
     dictionary_from_text,
-    run_dictionary,
 )
 from pinn_engine.job.family import (
     family_member,
@@ -41,14 +36,14 @@ from pinn_engine.job.family import (
     load_family,
     member_target,
 )
-from pinn_engine.job.hexa import HexaGeometry, hexa_from_file, hexa_from_polydata, run_hexa
+from pinn_engine.job.hexa import HexaGeometry, hexa_from_file, hexa_from_polydata
 from pinn_engine.job.kind import kind_of
-from pinn_engine.job.outcome import KINDS, Outcome
+from pinn_engine.job.outcome import Outcome
+from pinn_engine.job.registry import KINDS, REGISTRY, Kind, kind_of_geometry
 from pinn_engine.job.single import (
     Geometry,
     geometry_from_files,
     geometry_from_polydata,
-    run_single,
     topology_of,
 )
 from pinn_engine.settings import Settings
@@ -70,22 +65,18 @@ def run(
     domain's or a six-faced domain's) is evaluated instead of training; a four-sided domain
     or a body is meshed by the family model saved at ``family`` (SPEC 16) where given. With
     ``field`` (``adapt.Field``) the 2D grid is then adapted to it (SPEC 14, ``job.adapted``)."""
-    if family is not None and not isinstance(geometry, Geometry):
+    kind = kind_of_geometry(geometry)
+    if family is not None and not kind.family:
         raise InputError(
             "a family model meshes four-sided domains and O- and C-grids in this build, "
             "not multi-block or six-faced domains; mesh without the model",
             str(family),
         )
-    if field is not None and isinstance(geometry, HexaGeometry):
+    if field is not None and not kind.adapts:
         raise InputError("adapting to a field (SPEC 14) applies to 2D domains in this build")
-    if isinstance(geometry, BlocksGeometry):
-        outcome = covered(run_blocks(settings, geometry, progress), geometry)
-    elif isinstance(geometry, HexaGeometry):
-        return run_hexa(settings, geometry, progress, model)
-    elif isinstance(geometry, DictionaryGeometry):
-        outcome = run_dictionary(settings, geometry, progress)
-    else:
-        outcome = covered(run_single(settings, geometry, progress, cache, model, family), geometry)
+    outcome = kind.run(settings, geometry, progress, cache, model, family)
+    if kind.covered:
+        outcome = covered(outcome, geometry)
     if field is None or settings.adapt_strength == 0:
         return outcome
     from pinn_engine.job.adapted import adapted
@@ -98,6 +89,9 @@ def run(
 
 __all__ = [
     "KINDS",
+    "REGISTRY",
+    "Kind",
+    "kind_of_geometry",
     "Field",
     "BlocksGeometry",
     "DictionaryGeometry",

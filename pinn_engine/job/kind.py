@@ -26,7 +26,7 @@ def kind_of(
     size: Sequence[int] = (),
     body: bool = False,
 ) -> str:
-    """The kind (``outcome.KINDS``) of a run: ``dictionary`` for a blockMeshDict (SPEC 15),
+    """The kind (``registry.KINDS``) of a run: ``dictionary`` for a blockMeshDict (SPEC 15),
     ``blocks`` when block edges are given (SPEC 10), ``hexa`` for a six-faced surface or
     three sizes (SPEC 11), ``body`` when a topology, a NACA section or an airfoil ``.dat``
     is given (SPEC 9), else ``four-sided`` (SPEC 5)."""

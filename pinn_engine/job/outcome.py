@@ -7,10 +7,6 @@ from dataclasses import dataclass, field
 import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkDataObject
 
-# The domain kinds (SPEC 5, 9, 10, 11): a four-sided block, an O- or C-grid round a body,
-# a multi-block 2D domain, a six-faced 3D domain, a blockMeshDict's blocks (SPEC 15)
-KINDS = ("four-sided", "body", "blocks", "hexa", "dictionary")
-
 
 @dataclass
 class Outcome:

@@ -13,6 +13,7 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet
 
 from pinn_engine import job
+from pinn_engine.errors import InputError
 from pinn_engine.io.fileio import read_polydata
 from pinn_engine.settings import make_settings
 
@@ -99,3 +100,18 @@ def test_every_kind_gives_one_outcome_in_one_index_order(kind):
     again = job.run(settings, data)
     for a, b in zip(outcome.grids, again.grids, strict=True):
         np.testing.assert_allclose(a, b, atol=1e-12)
+
+
+@pytest.mark.parametrize("kind", job.KINDS)
+def test_the_registry_holds_every_kind_and_refuses_what_it_does_not_take(kind, tmp_path):
+    """Each kind's geometry finds its one registry entry, which names the kind; a family
+    model or a field is refused, before meshing, by a kind that does not take it."""
+    settings, files, _ = _geometries(kind)
+    entry = job.kind_of_geometry(files)
+    assert kind in entry.names and [k for k in job.REGISTRY if kind in k.names] == [entry]
+    if not entry.family:
+        with pytest.raises(InputError, match="mesh without the model"):
+            job.run(settings, files, family=tmp_path / "none.family")
+    if not entry.adapts:
+        with pytest.raises(ValueError, match="applies to 2D domains"):
+            job.run(settings, files, field=object())
