@@ -30,13 +30,14 @@ MESHERS = ("pinn-mesh", "blockmesh")
 MARK = "<!-- DFG {} -->"  # the markers round the table in --out
 
 
-def run(mesher: str, h: float) -> dict:
-    """One case: its cells, checkMesh's largest non-orthogonality, the SIMPLE iterations,
-    seconds of simpleFoam, and Cd, Cl, dp."""
-    case = ROOT / "out" / f"dfg_{mesher}_{h:g}"
+def run(mesher: str, h: float, example: str = "openfoam_dfg", name: str = "dfg") -> dict:
+    """One case of ``examples/<example>/run.sh`` (in ``out/<name>_<mesher>_<h>``): its
+    cells, checkMesh's largest non-orthogonality, the SIMPLE iterations, seconds of
+    simpleFoam, and Cd, Cl, dp."""
+    case = ROOT / "out" / f"{name}_{mesher}_{h:g}"
     env = {**os.environ, "MESHER": mesher}
     proc = subprocess.run(
-        ["bash", str(ROOT / "examples" / "openfoam_dfg" / "run.sh"), str(case), str(h)],
+        ["bash", str(ROOT / "examples" / example / "run.sh"), str(case), str(h)],
         capture_output=True,
         text=True,
         env=env,

@@ -130,10 +130,10 @@ def bend() -> None:
     _write("bend", text(verts, blocks, edges, patches))
 
 
-def dfg3d(s: float = 0.1, ring: float = 0.25, layers: int = 1) -> str:
+def dfg3d(s: float = 0.1, ring: float = 0.25, layers: int = 1, size: float = 1.0) -> str:
     """The DFG 3D-1Z channel's dictionary: the square round the cylinder of half-width
     ``s``, the O-ring's cells shrinking ``1 / ring`` times toward the cylinder, ``layers``
-    blocks along z."""
+    blocks along z, every block's cell counts ``size`` times the default's (rounded)."""
     length, height, xc, yc, rad = 2.5, 0.41, 0.5, 0.2, 0.05
     h = rad / math.sqrt(2)
     x0, x1 = xc - s, xc + s
@@ -154,7 +154,7 @@ def dfg3d(s: float = 0.1, ring: float = 0.25, layers: int = 1) -> str:
         (12, 4, 7, 14), (5, 13, 15, 6),  # beside
         (14, 7, 17, 16), (7, 6, 18, 17), (6, 15, 19, 18),  # above
     ]  # fmt: skip
-    nc, nr, nu, nd, nw, nz = 16, 16, 12, 60, 8, 24 // layers
+    nc, nr, nu, nd, nw, nz = (round(size * c) for c in (16, 16, 12, 60, 8, 24 // layers))
     counts = [
         (nc, nr, nz), (nc, nr, nz), (nc, nr, nz), (nc, nr, nz),
         (nu, nw, nz), (nc, nw, nz), (nd, nw, nz),
