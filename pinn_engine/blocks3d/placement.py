@@ -22,7 +22,6 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
-from scipy.spatial import cKDTree
 
 from pinn_engine.blocks3d.curves import curves, divisions, edge_points
 from pinn_engine.blocks3d.dictionary import BlockMeshDict
@@ -163,22 +162,21 @@ def place(d: BlockMeshDict) -> Placement:
         if len(owners) < 2:
             continue
         (a, ax, ea), (b, bx, eb) = owners
-        ida, idb = local[a][face_slice(ax, ea)].ravel(), local[b][face_slice(bx, eb)].ravel()
-        if len(ida) != len(idb):
+        ida, idb = local[a][face_slice(ax, ea)], local[b][face_slice(bx, eb)]
+        if ida.size != idb.size:
             raise InputError(
                 f"blocks {a} and {b} share a face but not its cell counts; give both the same",
                 d.source,
             )
-        tree = cKDTree(xyz[ida])
-        dist, near = tree.query(xyz[idb])
         cell = min(_smallest_edge(grids[a]), _smallest_edge(grids[b]))
-        if dist.max() > MATCH * cell or len(set(near.tolist())) != len(near):
+        dist, near = _matched(xyz, ida, idb)
+        if dist > MATCH * cell:
             raise InputError(
                 f"blocks {a} and {b} share a face whose nodes do not match (its gradings or "
                 "curved edges differ between them)",
                 d.source,
             )
-        pairs.append(np.column_stack([ida[near], idb]))
+        pairs.append(np.column_stack([near, idb.ravel()]))
         interfaces |= {(a, ax, ea), (b, bx, eb)}
     pairs = np.vstack(pairs) if pairs else np.zeros((0, 2), int)
     graph = sp.coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), (len(xyz),) * 2)
@@ -189,6 +187,21 @@ def place(d: BlockMeshDict) -> Placement:
     ids = [index[lo] for lo in local]
     patches = _patches(d, ids, faces)
     return Placement(points, ids, params, patches, interfaces)
+
+
+def _matched(xyz: np.ndarray, ida: np.ndarray, idb: np.ndarray) -> tuple[float, np.ndarray]:
+    """The node of face ``ida`` (a 2D array of ids) at each node of face ``idb``: of the
+    face grid's eight orientations (flips and the transpose) the one whose largest distance
+    between matched nodes is smallest, and that distance."""
+    best, near = np.inf, ida.ravel()
+    for grid in (ida, ida.T):
+        for flipped in (grid, grid[::-1], grid[:, ::-1], grid[::-1, ::-1]):
+            if flipped.shape != idb.shape:
+                continue
+            dist = float(np.linalg.norm(xyz[flipped] - xyz[idb], axis=-1).max())
+            if dist < best:
+                best, near = dist, flipped.ravel()
+    return best, near
 
 
 def _smallest_edge(g: np.ndarray) -> float:

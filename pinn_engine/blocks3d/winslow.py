@@ -170,12 +170,13 @@ def _edge_nodes(place: Placement) -> dict[int, list]:
             + at_end[1][None, :, None]
             + at_end[2][None, None, :]
         ) >= 2
-        for i, j, k in zip(*np.nonzero(mask)):
-            node = int(ids[i, j, k])
-            for o in itertools.product((0, 1), repeat=3):
-                c = np.array((i, j, k)) - np.array(o)
-                if (c >= 0).all() and (c < n).all():
-                    out.setdefault(node, []).append((b, c, np.array(o)))
+        octants = [np.array(o) for o in itertools.product((0, 1), repeat=3)]
+        for index in np.argwhere(mask):
+            node = int(ids[tuple(index)])
+            for o in octants:
+                c = index - o
+                if 0 <= c.min() and (c < n).all():
+                    out.setdefault(node, []).append((b, c, o))
     return out
 
 
@@ -385,7 +386,7 @@ def _star(node: int, cells: list, place: Placement, logical, normal: int | None)
                 at([along, *plane]): side[s] + side[t] + [0.0, 0.0, height],
             }
             for n, pos in found.items():
-                if n in offsets and not np.allclose(offsets[n], pos):
+                if n in offsets and not _close(offsets[n], pos):
                     return None
                 offsets[n] = pos
     around = np.array(list(offsets))
@@ -399,6 +400,11 @@ def _star(node: int, cells: list, place: Placement, logical, normal: int | None)
     return Star(node, around, np.linalg.pinv(_design(logical_pos)), slope)
 
 
+def _close(a: np.ndarray, b: np.ndarray) -> bool:
+    """``np.allclose(a, b)`` of two 3-vectors, without its overhead (called per star node)."""
+    return all(abs(x - y) <= 1e-8 + 1e-5 * abs(y) for x, y in zip(a.tolist(), b.tolist()))
+
+
 def _design(pos: np.ndarray) -> np.ndarray:
     """The quadratic fit's design matrix at logical offsets ``pos`` (m, 3)."""
     xi, eta, zeta = pos.T
@@ -407,20 +413,46 @@ def _design(pos: np.ndarray) -> np.ndarray:
     )
 
 
-def star_row(points: np.ndarray, star: Star) -> tuple[np.ndarray, np.ndarray]:
-    """A star's frozen-coefficient Winslow row: node ids (the node first) and weights,
-    normalised so that the node's is -1."""
-    offsets = points[star.around] - points[star.node]
-    d = star.slope @ offsets
-    m = d @ d.T
-    c = cofactor_terms([[m[a, b] for b in range(3)] for a in range(3)])
-    w = sum(
-        (1.0 if len(t) == 1 or t[0] == t[1] else 2.0) * c[t] * star.fit[k]
-        for k, t in enumerate(FIT_TERMS)
-        if len(t) == 2
-    )
-    centre = -w.sum()
-    return np.concatenate([[star.node], star.around]), np.concatenate([[centre], w]) / -centre
+class StarRows:
+    """The stars' frozen-coefficient Winslow rows, computed together for the stars of one
+    fan size: per star its node ids (the node first) and weights, normalised so that the
+    node's is -1."""
+
+    def __init__(self, stars: list[Star]) -> None:
+        sizes: dict[int, list[int]] = {}
+        for k, star in enumerate(stars):
+            sizes.setdefault(len(star.around), []).append(k)
+        self.count = len(stars)
+        self.groups = [
+            (
+                np.array(ks),
+                np.array([stars[k].node for k in ks]),
+                np.stack([stars[k].around for k in ks]),
+                np.stack([stars[k].slope for k in ks]),
+                np.stack([stars[k].fit for k in ks]),
+            )
+            for ks in sizes.values()
+        ]
+        self.ids = [np.concatenate([[s.node], s.around]) for s in stars]
+
+    def weights(self, points: np.ndarray) -> list[np.ndarray]:
+        """Each star's row weights at the nodes ``points``, in the stars' order."""
+        out: list[np.ndarray] = [np.empty(0)] * self.count
+        for ks, node, around, slope, fit in self.groups:
+            offsets = points[around] - points[node][:, None]
+            d = slope @ offsets
+            m = d @ d.transpose(0, 2, 1)
+            c = cofactor_terms([[m[:, a, b] for b in range(3)] for a in range(3)])
+            w = sum(
+                (1.0 if len(t) == 1 or t[0] == t[1] else 2.0) * c[t][:, None] * fit[:, k]
+                for k, t in enumerate(FIT_TERMS)
+                if len(t) == 2
+            )
+            centre = -w.sum(axis=1)
+            rows = np.concatenate([centre[:, None], w], axis=1) / -centre[:, None]
+            for k, row in zip(ks.tolist(), rows):
+                out[k] = row
+        return out
 
 
 def stencils(place: Placement) -> tuple[Stencils, list[Star], np.ndarray]:
@@ -571,7 +603,8 @@ def winslow(
     rows = np.concatenate(
         [np.repeat(centre, cols.shape[1])] + [np.full(len(s.around) + 1, s.node) for s in stars]
     )
-    entries = np.concatenate([cols.ravel()] + [np.r_[s.node, s.around] for s in stars])
+    star_rows = StarRows(stars)
+    entries = np.concatenate([cols.ravel()] + star_rows.ids)
     systems = [
         _System(owners[~held[owners, comp]], rows, entries, len(points)) for comp in range(3)
     ]
@@ -579,9 +612,7 @@ def winslow(
     steps = 0
     with one_blas_thread():
         for steps in range(1, max_iterations + 1):
-            v = np.concatenate(
-                [_weights(points, st).ravel()] + [star_row(points, s)[1] for s in stars]
-            )
+            v = np.concatenate([_weights(points, st).ravel()] + star_rows.weights(points))
             if steps == 1 and all(
                 np.abs(system.residual(v, points[:, comp])).max(initial=0.0) <= SOLVED * diag
                 for comp, system in enumerate(systems)
