@@ -88,3 +88,18 @@ def write_cgns(result, out: str | os.PathLike) -> None:
         zones.append(Zone(f"block{b}", result.points[ids].transpose(2, 1, 0, 3), bcs, conn))
     with atomic_path(out, suffix=".cgns") as tmp:
         write_zones(zones, types, tmp, extruded=False)
+
+
+def write_unstructured(result, out: str | os.PathLike, kind: str) -> None:
+    """SU2 (``kind`` ``su2``) or Gmsh 4.1 (``msh``): the blocks merged into one hexahedral
+    mesh, each node once, a marker (SU2) or physical surface (Gmsh) per patch with faces."""
+    from pinn_engine.io.export import gmsh, su2
+    from pinn_engine.io.fileio import atomic_path
+
+    patches = {name: faces for name, _, faces in result.place.patches if len(faces)}
+    note = f"{len(result.place.ids)} blocks of a blockMeshDict merged"
+    with atomic_path(out, suffix=f".{kind}") as tmp:
+        if kind == "su2":
+            su2.write_hexes(result.points, result.cells, patches, tmp, note)
+        else:
+            gmsh.write_unstructured(result.points, result.cells, patches, tmp, 3)

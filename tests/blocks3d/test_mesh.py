@@ -103,7 +103,57 @@ def test_the_command_line_writes_vtm(tmp_path):
     out = tmp_path / "pipe.vtm"
     assert main([str(dict_path), "-o", str(out), "--quiet"]) == 0
     assert len(list((tmp_path / "pipe").glob("block*.vts"))) == 5
-    assert main([str(dict_path), "-o", str(tmp_path / "x.su2"), "--quiet"]) == 2
+    assert main([str(dict_path), "-o", str(tmp_path / "x.xyz"), "--quiet"]) == 2
+
+
+def test_su2_and_gmsh_hold_the_merged_hexahedra_and_the_patches(tmp_path):
+    """``-o OUT.su2`` / ``OUT.msh``: every cell once as a hexahedron of positive volume over
+    the merged nodes, a marker (physical surface) per patch with its faces facing out."""
+    dict_path = tmp_path / "pipe" / "system" / "blockMeshDict"
+    dict_path.parent.mkdir(parents=True)
+    dict_path.write_text(small_pipe())
+    result = mesh_dictionary(from_text(small_pipe()))
+    faces = {name: len(f) for name, _, f in result.place.patches}
+    out = tmp_path / "pipe.su2"
+    assert main([str(dict_path), "-o", str(out), "--quiet"]) == 0
+    lines = out.read_text().splitlines()
+    at = {line.split("=")[0]: k for k, line in enumerate(lines) if "=" in line}
+    n_cells = int(lines[at["NELEM"]].split()[1])
+    cells = np.array([[int(v) for v in lines[at["NELEM"] + 1 + k].split()[1:9]]
+                      for k in range(n_cells)])  # fmt: skip
+    n_points = int(lines[at["NPOIN"]].split()[1])
+    points = np.array([[float(v) for v in lines[at["NPOIN"] + 1 + k].split()[:3]]
+                       for k in range(n_points)])  # fmt: skip
+    assert n_cells == len(result.cells) and n_points == len(result.points)
+    assert figures(points, cells).folded == 0
+    markers = re.findall(r"MARKER_TAG= (\w+)\nMARKER_ELEMS= (\d+)", out.read_text())
+    assert {name: int(n) for name, n in markers} == faces
+    centre = points.mean(axis=0)
+    start = next(k for k, line in enumerate(lines) if line.startswith("MARKER_TAG= wall"))
+    quads = np.array([[int(v) for v in lines[start + 2 + k].split()[1:]]
+                      for k in range(faces["wall"])])  # fmt: skip
+    p = points[quads]
+    normal = np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 1])
+    outward = np.einsum("nk,nk->n", normal[:, :2], p.mean(axis=1)[:, :2] - centre[:2])
+    assert (outward > 0).all()  # the pipe's wall faces point away from its axis
+    gmsh = pytest.importorskip("gmsh")
+    msh = tmp_path / "pipe.msh"
+    assert main([str(dict_path), "-o", str(msh), "--quiet"]) == 0
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.open(str(msh))
+        groups = {
+            gmsh.model.getPhysicalName(d, t): (d, t) for d, t in gmsh.model.getPhysicalGroups()
+        }
+        assert set(groups) == {*faces, "fluid"}
+        kinds, tags, _ = gmsh.model.mesh.getElements(3)
+        assert list(kinds) == [5] and len(tags[0]) == n_cells
+        for name, count in faces.items():
+            entity = gmsh.model.getEntitiesForPhysicalGroup(*groups[name])[0]
+            assert len(gmsh.model.mesh.getElements(2, entity)[1][0]) == count
+    finally:
+        gmsh.finalize()
 
 
 @needs_openfoam

@@ -66,16 +66,28 @@ def _boundary(state: tuple[int, ...]) -> list[tuple[tuple[int, ...], int]]:
 def write_quadmesh(mesh: QuadMesh, path: Path) -> None:
     """An unstructured quad mesh (merged nodes), 2D: one discrete surface (physical
     ``fluid``) and one discrete curve per patch, all nodes on the surface."""
-    coords = mesh.points
-    names = list(mesh.patches)
+    write_unstructured(mesh.points, mesh.quads, mesh.patches, path, 2)
+
+
+def write_unstructured(
+    coords: np.ndarray, cells: np.ndarray, patches: dict[str, np.ndarray], path: Path, dim: int
+) -> None:
+    """An unstructured mesh (merged nodes) of quads (``dim`` 2) or hexahedra (3, VTK's
+    node order): one discrete entity of dimension ``dim`` (physical ``fluid``) holding every
+    node, and one of dimension ``dim - 1`` per patch, its elements the patch's lines or
+    quads."""
+    names = list(patches)
     fluid_tag = len(names) + 1
     lo, hi = coords.min(axis=0), coords.max(axis=0)
     box = " ".join(_num(v) for v in (*lo, *hi))
+    counts = [0, 0, 0, 0]
+    counts[dim - 1], counts[dim] = len(names), 1
     lines = ["$MeshFormat", "4.1 0 8", "$EndMeshFormat", "$PhysicalNames", str(len(names) + 1)]
-    lines += [f'1 {k + 1} "{name}"' for k, name in enumerate(names)]
-    lines += [f'2 {fluid_tag} "{FLUID}"', "$EndPhysicalNames", "$Entities", f"0 {len(names)} 1 0"]
+    lines += [f'{dim - 1} {k + 1} "{name}"' for k, name in enumerate(names)]
+    lines += [f'{dim} {fluid_tag} "{FLUID}"', "$EndPhysicalNames", "$Entities"]
+    lines.append(" ".join(map(str, counts)))
     for k, name in enumerate(names):
-        pts = coords[np.unique(mesh.patches[name])]
+        pts = coords[np.unique(patches[name])]
         bb = " ".join(_num(v) for v in (*pts.min(axis=0), *pts.max(axis=0)))
         lines.append(f"{k + 1} {bb} 1 {k + 1} 0")
     lines += [
@@ -83,20 +95,21 @@ def write_quadmesh(mesh: QuadMesh, path: Path) -> None:
         "$EndEntities",
         "$Nodes",
         f"1 {len(coords)} 1 {len(coords)}",
-        f"2 1 0 {len(coords)}",
+        f"{dim} 1 0 {len(coords)}",
     ]
+    cell_kind, face_kind = (3, 1) if dim == 2 else (5, 3)  # Gmsh's quad, line; hexahedron, quad
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")
         write_rows(f, np.arange(1, len(coords) + 1), "%d")
         write_rows(f, coords, "%.17g %.17g %.17g")
         f.write("$EndNodes\n")
-        blocks = [(2, 1, 3, mesh.quads)]
-        blocks += [(1, k + 1, 1, mesh.patches[n]) for k, n in enumerate(names)]
+        blocks = [(dim, 1, cell_kind, cells)]
+        blocks += [(dim - 1, k + 1, face_kind, patches[n]) for k, n in enumerate(names)]
         total = sum(len(e) for *_, e in blocks)
         f.write(f"$Elements\n{len(blocks)} {total} 1 {total}\n")
         first = 1
-        for dim, tag, kind, elems in blocks:
-            f.write(f"{dim} {tag} {kind} {len(elems)}\n")
+        for d, tag, kind, elems in blocks:
+            f.write(f"{d} {tag} {kind} {len(elems)}\n")
             rows = np.column_stack([np.arange(first, first + len(elems)), elems + 1])
             write_rows(f, rows, " ".join(["%d"] * rows.shape[1]))
             first += len(elems)

@@ -78,6 +78,14 @@ def write_box(box: Box, path: Path) -> None:
     _write(path, " (hexahedral grid)", box.xyz.reshape(-1, 3), hexahedra(*shape), markers)
 
 
+def write_hexes(
+    points: np.ndarray, cells: np.ndarray, markers: dict[str, np.ndarray], path: Path, note: str
+) -> None:
+    """An unstructured hexahedral mesh (merged nodes; cells in VTK's node order), a marker
+    per patch of quads facing out, ``note`` saying what it is."""
+    _write(path, f" ({note})", points, cells, markers)
+
+
 def write_blocks(blocks: Blocks, path: Path, extrude: None) -> None:
     """A multi-block grid (SPEC 10): one mesh, each shared node once."""
     write_quadmesh(merged(blocks), path, f"{len(blocks.points)} blocks merged")

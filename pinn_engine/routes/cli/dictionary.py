@@ -1,5 +1,5 @@
 """One run of a blockMeshDict (SPEC 15): ``pinn-mesh system/blockMeshDict -o CASE --format
-openfoam``, or ``-o OUT.vtm`` or ``-o OUT.cgns``."""
+openfoam``, or ``-o OUT.vtm``, ``.cgns``, ``.su2`` or ``.msh``."""
 
 from __future__ import annotations
 
@@ -17,6 +17,9 @@ from pinn_engine.routes.summary_lines import dictionary_line
 DICTIONARY_OPTIONS = frozenset(
     {"boundary", "method", "output", "quiet", "format", "report", "interfaces"}
 )
+
+# The outputs a dictionary's grid is written to (--format or the extension)
+DICTIONARY_FORMATS = ("openfoam", "vtm", "cgns", "su2", "msh")
 
 
 def _entries(extra: dict) -> dict[str, str]:
@@ -53,10 +56,10 @@ def run_dictionary(args: argparse.Namespace, written: list[Path]) -> Path:
     out = output_path(args, f"{stem}_{method}", "vtm")
     foam = args.format == "openfoam"
     kind = "openfoam" if foam else (args.format or out.suffix.lower().lstrip("."))
-    if kind not in ("openfoam", "vtm", "cgns") or (not foam and out.suffix.lower() != f".{kind}"):
+    if kind not in DICTIONARY_FORMATS or (not foam and out.suffix.lower() != f".{kind}"):
         raise PinnMeshError(
-            f"{out}: a blockMeshDict's grid is written as .vtm, .cgns or --format openfoam "
-            "in this build"
+            f"{out}: a blockMeshDict's grid is written as .vtm, .cgns, .su2, .msh or "
+            "--format openfoam in this build"
         )
     try:
         settings = make_settings(method, interfaces=args.interfaces)
@@ -76,6 +79,8 @@ def run_dictionary(args: argparse.Namespace, written: list[Path]) -> Path:
         )
     elif kind == "cgns":
         job.dictionary.write_cgns(result, out)
+    elif kind in ("su2", "msh"):
+        job.dictionary.write_unstructured(result, out, kind)
     else:
         write_vtm(outcome.data, out)
     written.append(out)
