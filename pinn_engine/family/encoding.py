@@ -32,8 +32,9 @@ def boundary_vector(grid: np.ndarray, kind: str) -> np.ndarray:
 class Encoding:
     """The family's boundary encoding: mean vector, principal axes, the coefficients' scale
     (their standard deviation over the members), the number of ``leading`` axes and the
-    largest norm of a training member's leading coefficients (``reach``), and the largest
-    share of a training member's vector the leading axes leave out (its ``rest``)."""
+    largest norm of a training member's leading coefficients (``reach``), the largest share
+    of a training member's vector the leading axes leave out (its ``rest``), and the range
+    of the training members' scaled coefficients (``low``, ``high``)."""
 
     mean: np.ndarray
     axes: np.ndarray
@@ -41,6 +42,8 @@ class Encoding:
     leading: int
     reach: float
     rest: float
+    low: np.ndarray | None = None
+    high: np.ndarray | None = None
 
     @classmethod
     def fit(cls, vectors: np.ndarray) -> Encoding:
@@ -55,6 +58,7 @@ class Encoding:
         coeffs = (vectors - mean) @ axes.T
         scale = np.maximum(coeffs.std(axis=0), np.finfo(float).eps)
         enc = cls(mean, axes, scale, min(leading, keep), 0.0, 0.0)
+        enc.low, enc.high = (coeffs / scale).min(axis=0), (coeffs / scale).max(axis=0)
         enc.reach = max(enc.distance(v) for v in vectors)
         enc.rest = max(enc.rest_of(v) for v in vectors)
         return enc
@@ -62,6 +66,11 @@ class Encoding:
     def encode(self, vector: np.ndarray) -> np.ndarray:
         """The scaled coefficients of ``vector``: the network's input."""
         return (self.axes @ (vector - self.mean)) / self.scale
+
+    def clamped(self, vector: np.ndarray) -> np.ndarray:
+        """:meth:`encode` of ``vector``, each coefficient clamped to the training members'
+        range: a linear map is not extrapolated beyond the members it was fitted on."""
+        return np.clip(self.encode(vector), self.low, self.high)
 
     def distance(self, vector: np.ndarray) -> float:
         """The norm of ``vector``'s scaled leading coefficients: its distance from the
@@ -82,5 +91,5 @@ class Encoding:
         return near and self.rest_of(vector) <= 2 * self.rest + 1e-12
 
     def state(self) -> dict:
-        names = ("mean", "axes", "scale", "leading", "reach", "rest")
+        names = ("mean", "axes", "scale", "leading", "reach", "rest", "low", "high")
         return {k: getattr(self, k) for k in names}

@@ -48,7 +48,8 @@ class Member:
     family's frame, ``frame`` (to the user's coordinates), ``source``, and what its kind keeps:
     the four-sided ``boundary``, or the body's elliptic ``start`` (a :class:`MeshResult`),
     ``body`` and far field ``far``; ``settings``: the run's settings that make a family
-    (``model.FAMILY_KEYS``)."""
+    (``model.FAMILY_KEYS``); ``optimised``: whether its own run's grid is its nodes'
+    optimum under the quality objective (the default's, ``Settings.quality_objective``)."""
 
     kind: str
     topology: str
@@ -60,6 +61,8 @@ class Member:
     body: object | None = None  # bodies.airfoil.Body
     far: object | None = None  # bodies.airfoil.FarField
     settings: dict | None = None  # the run's settings that a family's members share
+    optimised: bool = False  # its own run optimises its nodes (the quality objective's start)
+    elliptic: np.ndarray | None = None  # a four-sided member's elliptic grid, once solved
 
     @property
     def size(self) -> tuple[int, int]:
@@ -87,8 +90,9 @@ def member_of(
         base = tfi_grid(ArcLengthFit(boundary).sample, ni, nj)
         shared = family_settings(settings)
         return Member(
-            "four-sided", "none", base, boundary.frame, boundary.source, boundary, settings=shared
-        )
+            "four-sided", "none", base, boundary.frame, boundary.source, boundary,
+            settings=shared, optimised=settings.quality_objective,
+        )  # fmt: skip
     from pinn_engine.bodymesh import mesh_body
 
     start = mesh_body(

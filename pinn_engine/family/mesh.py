@@ -12,9 +12,15 @@ it:
   contract towards the member's own Winslow grid, by a factor of about 0.2 a step measured
   on the channels of docs/family.md, so the step's cells' angles are within a fraction of a
   degree of it); up to ``DEFECT_STEPS`` steps are taken to get there;
-- another family's grid (a quality objective's, which no cheap certificate bounds) is
-  compared with the member's own start, solved: it is kept where it passes, and the member
-  gains nothing in time (docs/family.md).
+- a family of node optima (the default's four-sided grids: the quality objective's best
+  start, its nodes optimised) finishes the model's grid by ``model.polish`` iterations of
+  the member's own node optimisation (quality_start.optimize_nodes, under the member's own
+  ranking), and vouches for a polished grid that ranks no worse than the grid the member's
+  own optimisation starts from (the best of its elliptic, TFI and blended grids, which cost
+  milliseconds once its elliptic grid, the model's base, is solved): what its own run would
+  keep were its optimisation stopped there;
+- another family's grid (no cheap certificate) is compared with the member's own start,
+  solved: it is kept where it passes, and the member gains nothing in time.
 """
 
 from __future__ import annotations
@@ -101,15 +107,17 @@ def mesh_member(
         steps += 1
         if defect <= DEFECT_TOL:
             break
+    reference, polished_from = None, None
+    vouched = model.winslow and defect is not None and defect <= DEFECT_TOL
+    if model.polish:
+        grid, reference, vouched, polished_from = _polished(model, member, grid)
     points = member.frame.to_user(grid)
     cells = cell_quality(points)
     figures = _figures(cells)
-    reference = None
     if member.start is not None:  # a body's start is its base: its cells are measured
         reference = _figures(member.start.cells)
-    vouched = model.winslow and defect is not None and defect <= DEFECT_TOL
     start = None
-    if reference is None and not vouched:  # no certificate: the member's start decides
+    if member.start is None and not vouched:  # no certificate: the member's start decides
         start, start_points, start_cells = _start_grid(member, settings)
         reference = _figures(start_cells)
     passed = not figures["folded_cells"] and (
@@ -133,6 +141,8 @@ def mesh_member(
         "start_solved": start is not None,
         "winslow_defect": defect,
         "winslow_steps": steps,
+        "polish_iterations": model.polish,
+        "polished_against": polished_from,
         "timings": {
             "place": placed - began,
             "predict": predicted - placed,
@@ -157,6 +167,26 @@ def mesh_member(
     return MeshResult(points=points, report=report, cells=cells, plane=plane)
 
 
+def _polished(
+    model: FamilyModel, member: Member, grid: np.ndarray
+) -> tuple[np.ndarray, dict, bool, str]:
+    """``grid`` after ``model.polish`` iterations of the member's own node optimisation, the
+    figures of the grid its own run optimises from (quality_start.best_candidate, with the
+    member's ranking), whether the polished grid ranks no worse than that grid, and its
+    name."""
+    from pinn_engine.blas import one_blas_thread
+    from pinn_engine.starts.quality_start import Ranking, best_candidate, optimize_nodes
+
+    elliptic = model.base(member)
+    ranking = Ranking.of(elliptic, (), member.boundary.diagonal)
+    (begin, name), ranking = best_candidate(elliptic, member.base, ranking)
+    with one_blas_thread():  # its L-BFGS, as the member's own run's
+        polished = optimize_nodes(grid, ranking, model.polish)
+    ranks = ranking.key(ranking.quality(polished)) <= ranking.key(ranking.quality(begin))
+    begin_figures = {k: v for k, v in ranking.quality(begin).items() if k in _FIGURES}
+    return polished, begin_figures, ranks, name
+
+
 def _start_grid(member: Member, settings: Settings) -> tuple[np.ndarray, np.ndarray, dict]:
     """The member's own start (:func:`_start`; family frame), in the user's coordinates and
     its cell arrays."""
@@ -166,10 +196,13 @@ def _start_grid(member: Member, settings: Settings) -> tuple[np.ndarray, np.ndar
     return start, points, cells
 
 
+_FIGURES = ("mean_max_angle", "worst_max_angle", "folded_cells")
+
+
 def _figures(cells: dict) -> dict:
     """:func:`quality.guard_figures` of a grid from its cell arrays."""
     q = summary(cells, 0.0)
-    return {k: q[k] for k in ("mean_max_angle", "worst_max_angle", "folded_cells")}
+    return {k: q[k] for k in _FIGURES}
 
 
 def _diagonal(points: np.ndarray) -> float:

@@ -163,6 +163,20 @@ def quality_start(
     elliptic grid is the Winslow objective's. Also returns the ranking, its mean bound
     raised to the elliptic grid on the lines'."""
     tfi = elliptic - warm.correction
+    best, ranking = best_candidate(elliptic, tfi, ranking)
+    if NODE_ITERATIONS:
+        optimized = (optimize_nodes(best[0], ranking, NODE_ITERATIONS), "optimized")
+        best = min([best, optimized], key=lambda c: ranking.key(ranking.quality(c[0])))
+    return WarmStart(best[0] - tfi, start=best[1]), ranking
+
+
+def best_candidate(
+    elliptic: np.ndarray, tfi: np.ndarray, ranking: Ranking
+) -> tuple[tuple[np.ndarray, str], Ranking]:
+    """The best (``ranking``) of the grids :func:`quality_start` optimises from, with its
+    name: the elliptic grid, the TFI grid, blends of them, the elliptic grid untangled where
+    it folds, with auxiliary lines these moved onto them; and the ranking, its mean bound
+    raised to the elliptic grid on the lines'."""
     candidates = [(elliptic, "elliptic"), (tfi, "tfi")] + [
         (elliptic + w * (tfi - elliptic), f"{w:.1f} tfi + elliptic") for w in BLEND_WEIGHTS
     ]
@@ -175,11 +189,7 @@ def quality_start(
         candidates.append((on_lines, "line-following elliptic"))
         if untangled is not elliptic:  # the fold-free grid on the lines
             candidates.append((follow_lines(untangled, ranking), "line-following untangled"))
-    best = min(candidates, key=lambda c: ranking.key(ranking.quality(c[0])))
-    if NODE_ITERATIONS:
-        optimized = (optimize_nodes(best[0], ranking, NODE_ITERATIONS), "optimized")
-        best = min([best, optimized], key=lambda c: ranking.key(ranking.quality(c[0])))
-    return WarmStart(best[0] - tfi, start=best[1]), ranking
+    return min(candidates, key=lambda c: ranking.key(ranking.quality(c[0]))), ranking
 
 
 class _Samples:
