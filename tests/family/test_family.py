@@ -138,3 +138,63 @@ def test_a_model_file_that_is_no_family_model_is_one_line(tmp_path):
     with pytest.raises(InputError, match="not a readable family model"):
         job.run(SETTINGS, geometry(channel(0.2, 0.05)), family=bad)
     assert family_mesh.KEPT_MODELS >= 1
+
+
+# a family of node optima (the default objective's four-sided grids): the model's grid is
+# polished by the member's own node optimisation and vouched for by its own ranking
+DEFAULT = make_settings("pinn", size=SIZE, lattice=SIZE)
+
+
+@pytest.fixture(scope="module")
+def optima():
+    """A model fitted on six channels' default grids (not saved: the round trip is above)."""
+    members, targets = [], []
+    for h, a in TRAIN:
+        g = geometry(channel(h, a))
+        member = job.family_member(DEFAULT, g)
+        members.append(member)
+        targets.append(job.member_target(member, job.run(DEFAULT, g)))
+    return job.fit_family_model(members, targets, "--size 21 11")
+
+
+def test_a_family_of_node_optima_is_polished_and_kept_without_its_start(optima):
+    """The model of default grids: the linear branch, its member's grid polished by its own
+    node optimisation, kept without solving its start, on its own boundary nodes, no fold,
+    within the default's tolerances of its own default grid."""
+    assert optima.polish > 0 and optima.report["ridge_components"] >= 1
+    g = geometry(channel(0.25, 0.05))
+    own = job.run(DEFAULT, g)
+    by_model = job.run(DEFAULT, g, family=optima)
+    training = by_model.report["training"]
+    assert training["result"] == "family" and not training["start_solved"]
+    assert training["polish_iterations"] == optima.polish
+    a, b = own.grids[0], by_model.grids[0]
+    for side in (np.s_[0], np.s_[-1], np.s_[:, 0], np.s_[:, -1]):
+        np.testing.assert_allclose(b[side], a[side], atol=1e-12)
+    q, ref = by_model.quality, own.quality
+    assert q["folded_cells"] == 0
+    assert q["worst_max_angle"] <= ref["worst_max_angle"] + 2
+    assert q["mean_max_angle"] <= ref["mean_max_angle"] + 0.5
+
+
+def test_a_polished_grid_below_the_members_own_start_falls_back(optima, monkeypatch):
+    """The guard of a family of node optima: a polished grid that ranks below the grid the
+    member's own optimisation starts from (here: none of its iterations taken, a folded
+    prediction) gives the member's own default grid, its start solved."""
+    from pinn_engine.family.model import FamilyModel
+
+    real = FamilyModel.predict
+
+    def folded(self, member):
+        grid, info = real(self, member)
+        grid = grid.copy()
+        grid[5, 10], grid[5, 11] = grid[5, 11].copy(), grid[5, 10].copy()  # two nodes swapped
+        return grid, info
+
+    monkeypatch.setattr(FamilyModel, "predict", folded)
+    monkeypatch.setattr(optima, "polish", 1)
+    g = geometry(channel(0.25, 0.05))
+    by_model = job.run(DEFAULT, g, family=optima)
+    training = by_model.report["training"]
+    assert training["result"] == "start" and training["start_solved"]
+    np.testing.assert_allclose(by_model.grids[0], job.run(DEFAULT, g).grids[0], atol=1e-12)
