@@ -42,6 +42,13 @@ EPOCHS = 1500  # Adam's full-batch epochs: about 1 s for 24 members on one core
 # of its own default grid's worst angle and mean (50 left one 0.67 above on the mean), where
 # its own run takes 100 (up to 300 evaluations) from its best start
 POLISH_ITERATIONS = 60
+# A node-optimum family's member's elliptic grid by chord steps (FamilyModel._elliptic): they
+# stop when no node moves more than ELLIPTIC_TOL of the extent (a grid that far from the
+# converged one changes no angle by a thousandth of the ranking's 0.01-degree step; the
+# classical solver's 1e-12 took the chord steps 18 to over 30 steps on the channels), and
+# the classical solver takes over after ELLIPTIC_STEPS (the channels took 11 to 23, one more)
+ELLIPTIC_TOL = 1e-9
+ELLIPTIC_STEPS = 40
 MIN_MEMBERS = 3  # fewer members span no family
 
 
@@ -106,14 +113,22 @@ class FamilyModel:
                 )
         encoding = Encoding.fit(np.array([boundary_vector(m.base, m.kind) for m in members]))
         targets = [np.asarray(t, dtype=float) for t in targets]
-        mean_grid = np.mean(targets, axis=0) if first.kind == "four-sided" else None
+        winslow = first.kind == "four-sided" and solves_winslow(targets)
+        polish = POLISH_ITERATIONS if first.optimised and not winslow else 0
+        mean_grid = None
+        if polish:  # the base: each member's own elliptic grid, solved here
+            from pinn_engine.starts.warmstart import elliptic_start
+
+            for m in members:
+                m.elliptic = elliptic_start(m.boundary, *m.size)[1]
+            mean_grid = np.mean([m.elliptic for m in members], axis=0)
+        elif first.kind == "four-sided":
+            mean_grid = np.mean(targets, axis=0)
         model = cls(
             first.kind, first.topology, first.size, first.settings, options,
-            encoding, mean_grid, np.zeros((0, first.base.size)), {}, False,
+            encoding, mean_grid, np.zeros((0, first.base.size)), {}, winslow,
         )  # fmt: skip
-        model.winslow = first.kind == "four-sided" and solves_winslow(targets)
-        if first.optimised and not model.winslow:
-            model.polish = POLISH_ITERATIONS
+        model.polish = polish
         bases = [model.base(m) for m in members]
         corrections = np.array([(t - b).ravel() for t, b in zip(targets, bases)])
         _, s, vt = np.linalg.svd(corrections, full_matrices=False)
@@ -158,14 +173,34 @@ class FamilyModel:
             return member.base
         if self.polish:
             if member.elliptic is None:
-                from pinn_engine.starts.warmstart import elliptic_start
-
-                member.elliptic = elliptic_start(member.boundary, *member.size)[1]
+                member.elliptic = self._elliptic(member)
             return member.elliptic
+        return self._linearised(member)
+
+    def _linearised(self, member: Member) -> np.ndarray:
+        """The family's linearised elliptic grid on ``member``'s boundary nodes: one step
+        of the system frozen at the mean grid, from the mean grid's interior."""
         start = np.array(self.mean_grid)
         start[0], start[-1] = member.base[0], member.base[-1]
         start[:, 0], start[:, -1] = member.base[:, 0], member.base[:, -1]
         return self.frozen().step(start)[0]
+
+    def _elliptic(self, member: Member) -> np.ndarray:
+        """``member``'s elliptic grid: chord steps of its Winslow equations (the system
+        frozen at the members' mean elliptic grid, factorised once) from the linearised
+        grid, until no node moves more than ``ELLIPTIC_TOL`` of the extent; the classical
+        solver where ``ELLIPTIC_STEPS`` do not get there."""
+        grid = self._linearised(member)
+        extent = float(np.ptp(grid.reshape(-1, 2), axis=0).max())
+        for _ in range(ELLIPTIC_STEPS):
+            new = self.frozen().step(grid)[0]
+            moved = float(np.abs(new - grid).max())
+            grid = new
+            if moved <= ELLIPTIC_TOL * extent:
+                return grid
+        from pinn_engine.starts.warmstart import elliptic_start
+
+        return elliptic_start(member.boundary, *member.size)[1]
 
     def frozen(self) -> FrozenWinslow:
         """The Winslow system frozen at the mean grid, factorised once per loaded model."""
