@@ -180,8 +180,12 @@ def mesh_body(
         from pinn_engine.blocks.untrained import body_cannot_win, body_start, start_or_train
 
         def kept(reason: str) -> tuple[np.ndarray, dict, dict, float]:
-            """The elliptic start, its report, no history and no training seconds."""
-            return grid, {}, body_start(grid, reason), 0.0
+            """The elliptic start (under the default objective, wall cells not thin: its
+            nodes beyond the first layer optimised where that ranks better), its report, no
+            history and no training seconds."""
+            optimize = settings.objective == "best"
+            chosen, training = body_start(grid, reason, optimize, topology == "o")
+            return chosen, {}, training, 0.0
 
         def trained() -> tuple[np.ndarray, dict, dict, float]:
             """The trained grid, its history and report, and the training's seconds."""

@@ -110,20 +110,29 @@ def body_cannot_win(settings: Settings, wall_aspect: float) -> str | None:
     return WALL if settings.objective == "best" else None
 
 
-def body_start(start: np.ndarray, reason: str) -> dict:
-    """The body report's ``training`` where its network is not trained (``reason``): the
-    elliptic ``start`` kept, its guard figures."""
+def body_start(
+    start: np.ndarray, reason: str, optimize: bool, seam: bool
+) -> tuple[np.ndarray, dict]:
+    """The grid and the body report's ``training`` where its network is not trained
+    (``reason``): the elliptic ``start``, or with ``optimize`` (the default objective) the
+    better of it and its nodes off the wall and first layer optimised
+    (``quality_start.body_quality_start``; ``seam``: an O-grid's), with the guard figures."""
     began = time.perf_counter()
     figures = guard_figures(start)
-    return {
+    grid, name = start, "elliptic"
+    if optimize:
+        from pinn_engine.starts.quality_start import body_quality_start
+
+        grid, name = body_quality_start(start, seam)
+    return grid, {
         "result": "start",
-        "start": "elliptic",
+        "start": name,
         "skipped": reason,
         "largest_node_move": 0.0,
         "adam_epochs": 0,
         "lbfgs_iterations": 0,
         "warm_start": "elliptic",
-        "guard": {"kept": figures, "elliptic": figures},
+        "guard": {"kept": guard_figures(grid), "elliptic": figures},
         "timings": {"start": time.perf_counter() - began, "training": 0.0},
     }
 

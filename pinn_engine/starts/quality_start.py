@@ -42,6 +42,9 @@ MEAN_TOL = 0.5  # the objective's bound on the mean MaxIncludedAngle against the
 TURN_TOL = 2.0
 TURN_STEP = 0.01  # the ranking's step of the crossing turn, degrees
 NODE_ITERATIONS = 100  # L-BFGS iterations of the node optimisation (0: none, an ablation)
+# A body grid's rows held by its node optimisation: the wall's and the first layer's, which
+# fix the first edges off the wall and the angles at which grid lines leave it (90 degrees)
+BODY_HELD_ROWS = 2
 # A grid follows the auxiliary lines when it misses them by at most LINE_TOL (of the
 # diagonal) more than the boundary nodes fix; the line term's weight in the node optimisation
 # (squared distance in units of the lattice's median shortest edge)
@@ -190,6 +193,17 @@ def best_candidate(
         if untangled is not elliptic:  # the fold-free grid on the lines
             candidates.append((follow_lines(untangled, ranking), "line-following untangled"))
     return min(candidates, key=lambda c: ranking.key(ranking.quality(c[0]))), ranking
+
+
+def body_quality_start(elliptic: np.ndarray, seam: bool) -> tuple[np.ndarray, str]:
+    """The better ranked (no lines) of a body's (O- or C-grid's) elliptic grid and that grid
+    with its nodes optimised (:func:`optimize_nodes`), the wall's row and the first layer
+    held (``BODY_HELD_ROWS``), with its name; ``seam``: an O-grid's (column ni - 1 is
+    column 0)."""
+    ranking = Ranking.of(elliptic, [], 1.0)
+    optimized = optimize_nodes(elliptic, ranking, NODE_ITERATIONS, BODY_HELD_ROWS, seam)
+    candidates = [(elliptic, "elliptic"), (optimized, "optimized")]
+    return min(candidates, key=lambda c: ranking.key(ranking.quality(c[0])))
 
 
 class _Samples:
@@ -503,11 +517,15 @@ def quality_loss(grid: np.ndarray, turn: float) -> tuple[float, np.ndarray, np.n
     return float(loss), grad, theta
 
 
-def optimize_nodes(grid: np.ndarray, ranking: Ranking, iterations: int) -> np.ndarray:
+def optimize_nodes(
+    grid: np.ndarray, ranking: Ranking, iterations: int, held_rows: int = 1, seam: bool = False
+) -> np.ndarray:
     """``grid`` with its interior nodes moved to minimise ``losses.loss_quality``
     (:func:`quality_loss`; L-BFGS in float64, at most ``iterations``), with auxiliary lines
     from the grid moved onto them (:func:`follow_lines`, unless it follows them) and plus
-    ``LINE_WEIGHT`` times the line term (:func:`_line_term`); the boundary nodes stay.
+    ``LINE_WEIGHT`` times the line term (:func:`_line_term`); the boundary nodes stay, and the
+    first ``held_rows`` rows from j = 0 (a body's wall and first layer: its first edges and
+    wall angles). ``seam``: column ni - 1 is column 0 (an O-grid's seam), which moves with it.
     Returns the evaluated state that ranks best (``ranking``, on the corner angles): the soft
     maximum is a surrogate of the worst angle, not the same. Each node moves in units of its
     shortest edge (a diagonal preconditioner: angles change with a node's move relative to
@@ -516,15 +534,25 @@ def optimize_nodes(grid: np.ndarray, ranking: Ranking, iterations: int) -> np.nd
         grid = follow_lines(grid, ranking)
     grid = np.asarray(grid, dtype=float)
     turn = orientation(grid)
-    inner0 = grid[1:-1, 1:-1].copy()
-    unit = shortest_edges(grid)[..., None]
+    nj, ni = grid.shape[:2]
+    free = (slice(held_rows, nj - 1), slice(0 if seam else 1, ni - 1))
+    inner0 = grid[free].copy()
+    unit = _node_units(grid, seam)[held_rows - 1 :, :, None]
     line_term = _line_term(grid, ranking, float(np.median(unit)))
     best = [(math.inf,), np.zeros(inner0.size)]
 
-    def loss_and_grad(x: np.ndarray) -> tuple[float, np.ndarray]:
+    def moved(x: np.ndarray) -> np.ndarray:
         g = grid.copy()
-        g[1:-1, 1:-1] = inner0 + unit * x.reshape(inner0.shape)
+        g[free] = inner0 + unit * x.reshape(inner0.shape)
+        if seam:
+            g[:, -1] = g[:, 0]
+        return g
+
+    def loss_and_grad(x: np.ndarray) -> tuple[float, np.ndarray]:
+        g = moved(x)
         loss, grad, theta = quality_loss(g, turn)
+        if seam:
+            grad[:, 0] += grad[:, -1]
         q = {}
         if line_term is not None:
             term, d_term, q["aux_distance"] = line_term(g)
@@ -542,7 +570,7 @@ def optimize_nodes(grid: np.ndarray, ranking: Ranking, iterations: int) -> np.nd
         key = ranking.key(q)
         if key < best[0]:
             best[:] = key, x.copy()
-        return loss, (grad[1:-1, 1:-1] * unit).ravel()
+        return loss, (grad[free] * unit).ravel()
 
     minimize(
         loss_and_grad,
@@ -551,9 +579,17 @@ def optimize_nodes(grid: np.ndarray, ranking: Ranking, iterations: int) -> np.nd
         method="L-BFGS-B",
         options={"maxiter": iterations, "maxfun": NODE_EVALUATIONS * iterations, **NODE_LBFGS},
     )
-    out = grid.copy()
-    out[1:-1, 1:-1] += unit * best[1].reshape(inner0.shape)
-    return out
+    return moved(best[1])
+
+
+def _node_units(grid: np.ndarray, seam: bool) -> np.ndarray:
+    """``quality.shortest_edges`` of the nodes off the boundary rows, (nj - 2, ni - 2); with a
+    ``seam`` (column ni - 1 is column 0) of columns 0 .. ni - 2, (nj - 2, ni - 1), the seam's
+    nodes with their neighbours across it."""
+    if not seam:
+        return shortest_edges(grid)
+    around = np.concatenate([grid[:, -2:-1], grid, grid[:, 1:2]], axis=1)
+    return shortest_edges(around)[:, :-1]
 
 
 def _line_term(grid: np.ndarray, ranking: Ranking, scale: float):
