@@ -147,12 +147,14 @@ def test_a_body_network_is_trained_only_where_its_wall_cells_are_not_too_thin():
 @pytest.mark.slow
 def test_an_untrained_body_grid_is_the_start_its_trained_network_kept():
     """On a small NACA 0012 C-grid with a first layer of 1e-5 chord the trained network's
-    guard keeps the elliptic start; the untrained default writes that grid bit for bit, says
-    why, times its stages and imports no torch."""
+    guard keeps the elliptic start; the untrained run (the Winslow objective: the default
+    also optimises the nodes off the first layer) writes that grid bit for bit, says why,
+    times its stages and imports no torch."""
     body = load_body(naca="0012")
     far, size, wall = circle(body, 12), (97, 25), 1e-5
     settings = make_settings("pinn", lattice=size, lbfgs_points=200)
-    skipped = mesh_body(body, far, "c", "pinn", *size, settings, wall_spacing=wall)
+    winslow = make_settings("pinn", lattice=size, lbfgs_points=200, objective="winslow")
+    skipped = mesh_body(body, far, "c", "pinn", *size, winslow, wall_spacing=wall)
     from pinn_engine.blocks.body import train_body
 
     lay = layout(body, far, "c", *size, wall_spacing=wall)
@@ -196,3 +198,27 @@ def test_a_hexahedral_pinn_whose_network_cannot_win_keeps_its_start(tmp_path):
     report = json.loads(written.read_text())
     assert report["training"]["skipped"] == WINSLOW
     assert set(report["timings"]) >= {"read", "faces", "start", "training", "quality", "write"}
+
+
+@pytest.mark.parametrize("topology", ["o", "c"])
+def test_the_default_body_grid_has_a_lower_worst_cell_with_the_wall_rows_kept(topology):
+    """The NACA 0012 O- and C-grids at the default size: the default returns the elliptic
+    grid with its nodes off the first layer optimised, whose worst cell is below the elliptic
+    grid's and mean no higher, with the wall's and the first layer's rows (first edges, wall
+    angles) and the seam or cut as the elliptic grid's; nothing trained. (The command's
+    sections: an O-grid's with a blunt trailing edge, a C-grid's closed.)"""
+    body = load_body(naca="0012", te="blunt" if topology == "o" else "sharp")
+    far, size = circle(body, 15), (41, 21)
+    runs = {m: mesh_body(body, far, topology, m, *size) for m in ("elliptic", "pinn")}
+    ell, best = runs["elliptic"], runs["pinn"]
+    assert best.report["quality"]["worst_max_angle"] < ell.report["quality"]["worst_max_angle"]
+    assert best.report["quality"]["mean_max_angle"] <= ell.report["quality"]["mean_max_angle"]
+    assert best.report["quality"]["folded_cells"] == 0
+    np.testing.assert_array_equal(best.points[:2], ell.points[:2])
+    np.testing.assert_array_equal(best.points[-1], ell.points[-1])
+    gap = "seam_gap" if topology == "o" else "cut_gap"
+    assert best.report["topology"][gap] == 0.0
+    assert best.report["topology"]["wall_angle_deviation"] < 1e-3
+    assert best.report["training"]["start"] == "optimized"
+    assert best.report["train_seconds"] == 0.0
+    assert best.report["choice"].startswith("chose the optimized grid")
