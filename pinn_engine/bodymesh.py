@@ -177,13 +177,13 @@ def mesh_body(
         timings["elliptic"] = time.perf_counter() - start - timings["layout"]
     if method == "pinn":
         began = time.perf_counter()
-        from pinn_engine.blocks.untrained import body_cannot_win, body_start, start_or_train
+        from pinn_engine.blocks.untrained import WALL, body_cannot_win, body_start, start_or_train
 
         def kept(reason: str) -> tuple[np.ndarray, dict, dict, float]:
             """The elliptic start (under the default objective, wall cells not thin: its
             nodes beyond the first layer optimised where that ranks better), its report, no
             history and no training seconds."""
-            optimize = settings.objective == "best"
+            optimize = reason == WALL  # the default objective, wall cells not thin
             chosen, training = body_start(grid, reason, optimize, topology == "o")
             return chosen, {}, training, 0.0
 

@@ -345,7 +345,7 @@ def network_effect(report: dict) -> str | None:
     worst cell of the grid returned against the elliptic grid's on the same boundary nodes;
     None for a method without network."""
     training = report.get("training")
-    if not training or "result" not in training:
+    if not training or ("result" not in training and "blocks" not in training):
         return None
     start = training.get("start", "elliptic")
     worst = report.get("quality", {}).get("worst_max_angle")
@@ -355,6 +355,8 @@ def network_effect(report: dict) -> str | None:
         if worst is not None and elliptic is not None
         else ""
     )
+    if "blocks" in training:  # a multi-block grid's blocks
+        return _blocks_choice(training, gain)
     if "model" in training:  # a family model's grid (SPEC 16)
         if training["result"] == "start":
             return (
@@ -375,6 +377,27 @@ def network_effect(report: dict) -> str | None:
     moved = "" if move is None else f", nodes moved up to {move:.1e} of the diagonal"
     origin = "TFI" if move is None else f"the {start} grid"
     return f"chose the network's grid (trained {seconds:.2f} s from {origin}{moved}){gain}"
+
+
+def _blocks_choice(training: dict, gain: str) -> str:
+    """:func:`network_effect` of a multi-block grid: in how many blocks the network's grid
+    was kept, the elliptic grid (untangled where it folds) elsewhere, and ``gain``."""
+    blocks = training["blocks"]
+    kept = training.get("network_blocks", 0)
+    untangled = sum("untangled" in b for b in blocks)
+    elliptic = f"the elliptic grid{f' (untangled in {untangled})' if untangled else ''}"
+    if kept:
+        return (
+            f"chose the network's grid in {kept} of {len(blocks)} blocks, {elliptic} elsewhere "
+            f"(trained {training['seconds']:.2f} s){gain}"
+        )
+    reasons = {b.get("skipped") for b in blocks}
+    why = (
+        f" (no network trained: {reasons.pop()})"
+        if len(reasons) == 1 and None not in reasons
+        else ""
+    )
+    return f"chose {elliptic} in every block{gain}{why}"
 
 
 def family_fallback_warning(report: dict, route: str) -> str | None:  # noqa: ARG001

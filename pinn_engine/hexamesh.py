@@ -19,7 +19,7 @@ from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonCore import vtkPoints, vtkStringArray
 from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 
-from pinn_engine.errors import InputError
+from pinn_engine.errors import InputError, network_effect
 from pinn_engine.hexa import quality, volume
 from pinn_engine.hexa.block import cube_corners
 from pinn_engine.hexa.facegrid import FaceMap
@@ -266,7 +266,7 @@ def mesh_polydata(
     base = tfi_at(boundary, node_params(size, {}))
     check_spacing(spacing, base)
     lap("faces")
-    model = None
+    model, elliptic = None, []  # the untrained start's grid: the elliptic run's
     if method == "pinn":  # the elliptic and tfi runs import no training modules
         from pinn_engine.blocks.untrained import VolumeStartModel, cannot_win, start_or_train
 
@@ -279,6 +279,7 @@ def mesh_polydata(
             """The start's map (no network, no torch) and the TFI grid it corrects."""
             start = winslow_start(tfi_of, size)
             lap("start")
+            elliptic.append(start.grid)
             return VolumeStartModel.of(start, settings, key, reason, timings["start"]), base
 
         def trained() -> tuple[HexaModel, np.ndarray]:
@@ -325,6 +326,9 @@ def mesh_polydata(
         lap("volume")
     tell(0.9, "quality")
     cells = cell_arrays(g)
+    if elliptic:  # an untrained start: the elliptic run's grid
+        same = elliptic[0].shape == g.shape and np.array_equal(elliptic[0], g)
+        model.info["guard"]["elliptic"] = figures(cells if same else cell_arrays(elliptic[0]))
     walls = wall_figures(g, spacing, orthogonal)
     lap("quality")
     seconds = time.perf_counter() - began
@@ -396,7 +400,7 @@ def report(result: HexResult, method: str) -> dict:
         patch: {"first_edge": {"min": low, "max": high}, "max_angle_deviation": angle}
         for patch, (low, high, angle) in result.walls.items()
     }
-    return {
+    out = {
         "method": method,
         "size": list(result.grid.shape[:3]),
         "faces": dict(result.faces),
@@ -408,6 +412,8 @@ def report(result: HexResult, method: str) -> dict:
         **({"walls": walls} if walls else {}),
         **({"training": result.model.info} if result.model else {}),
     }
+    choice = network_effect(out)
+    return {**out, **({"choice": choice} if choice else {})}
 
 
 def hexa_grid(result: HexResult, method: str) -> vtkStructuredGrid:

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pinn_engine.errors import InputError
+from pinn_engine.errors import InputError, network_effect
 from pinn_engine.geometry.auxlines import RawLine, line_distances
 from pinn_engine.multiblock.blocks import Topology, topology
 from pinn_engine.multiblock.chains import (
@@ -208,6 +208,7 @@ def mesh_blocks(
     cross = crossings(topo, lay)  # the interfaces' nodes, for every kink figure below
     frames = [block_boundary(points[ids]) for ids in lay.ids]
     training = None
+    elliptic = points
     if settings.method == "pinn":
 
         def kinks(grids: list[np.ndarray]) -> np.ndarray:
@@ -217,23 +218,32 @@ def mesh_blocks(
         grids, training = train(starts, settings, progress, lines, kinks)
         points = _assembled(points, lay, grids)
         timings["training"] = training["seconds"]
-    # gradings along chains, first edges of patches, blocks these fold untangled, and
-    # orthogonality on patches, last: no solve or training moves them after
     on_boundary = np.zeros(len(points), dtype=bool)
     for piece, nodes in zip(topo.pieces, lay.piece_ids):
         on_boundary[nodes] |= not piece.interface
-    grading = [(g, item.value) for item, g in grades]
-    points, rest = graded_lines(points, lay.ids, grading, on_boundary, asked)
-    points = respace(points, ratio_lines(topo, lay.ids, ratios, points))
-    points = respace(points, rest)
-    if (grades or asked) and untangle is not None:
-        points = untangled_blocks(points, lay.ids, untangle)
-    if walls.orthogonal:
-        points = orthogonal(
-            points, sides, walls.orthogonal, boundary_neighbours(topo, lay), lay.ids
-        )
+
+    def finished(points: np.ndarray) -> np.ndarray:
+        """Gradings along chains, first edges of patches, blocks these fold untangled, and
+        orthogonality on patches, last: no solve or training moves them after."""
+        grading = [(g, item.value) for item, g in grades]
+        points, rest = graded_lines(points, lay.ids, grading, on_boundary, asked)
+        points = respace(points, ratio_lines(topo, lay.ids, ratios, points))
+        points = respace(points, rest)
+        if (grades or asked) and untangle is not None:
+            points = untangled_blocks(points, lay.ids, untangle)
+        if walls.orthogonal:
+            points = orthogonal(
+                points, sides, walls.orthogonal, boundary_neighbours(topo, lay), lay.ids
+            )
+        return points
+
+    points = finished(points)
     grids = [points[ids] for ids in lay.ids]
     cells = [cell_quality(g) for g in grids]
+    if training is not None:  # the elliptic run's figures, for what the pinn chose
+        changed = training["network_blocks"] or any("untangled" in b for b in training["blocks"])
+        done = finished(elliptic) if changed else points
+        training["guard"] = {"elliptic": _figures([cell_quality(done[ids]) for ids in lay.ids])}
     kinks = interface_kinks(cross, lay, points)
     inside = interface_kinks(cross, lay, points, depth=1)
     report = {
@@ -264,6 +274,7 @@ def mesh_blocks(
     report["timings"] = timings
     if training is not None:
         report["training"] = training
+        report["choice"] = network_effect(report)
     return MultiBlockResult(grids, cells, report, patches)
 
 

@@ -94,18 +94,6 @@ def adaptation_lines(report: dict) -> list[str]:
     ]
 
 
-def _trained(report: dict) -> str:
-    """The multi-block pinn's training in the summary: in how many blocks the network's
-    grid was kept (the elliptic block elsewhere) and the training's seconds."""
-    training = report.get("training")
-    if training is None:
-        return ""
-    return (
-        f"; the network's grid kept in {training['network_blocks']} of {report['blocks']} "
-        f"blocks, the elliptic grid elsewhere ({training['seconds']:.2f} s training)"
-    )
-
-
 def blocks_lines(method: str, report: dict, seconds: float) -> list[str]:
     """A multi-block grid's summary: quality, the kinks at the interfaces, what the network
     did and the auxiliary lines."""
@@ -116,8 +104,9 @@ def blocks_lines(method: str, report: dict, seconds: float) -> list[str]:
         report["quality"],
     ) + (
         f"; grid lines cross interfaces with kinks of {kink['mean']:.2f} deg mean, "
-        f"{kink['max']:.2f} max{_trained(report)}"
+        f"{kink['max']:.2f} max"
     )
+    effect = network_effect(report)
     blocking = report.get("blocking", {})
     automatic = (
         [f"automatic blocking: {blocking['edges']} block edges in {blocking['seconds']:.2f} s"]
@@ -126,6 +115,7 @@ def blocks_lines(method: str, report: dict, seconds: float) -> list[str]:
     )
     return [
         first,
+        *([effect] if effect else []),
         *automatic,
         *adaptation_lines(report),
         *_aux_lines(report["aux_line_distance"], "their block's diagonal"),

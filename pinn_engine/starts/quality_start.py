@@ -31,6 +31,7 @@ from pinn_engine.quality import (
     guard_figures,
     orientation,
     shortest_edges,
+    worst_non_orthogonality,
 )
 from pinn_engine.starts.untangle import untangle
 
@@ -202,6 +203,8 @@ def body_quality_start(elliptic: np.ndarray, seam: bool) -> tuple[np.ndarray, st
     column 0)."""
     ranking = Ranking.of(elliptic, [], 1.0)
     optimized = optimize_nodes(elliptic, ranking, NODE_ITERATIONS, BODY_HELD_ROWS, seam)
+    if worst_non_orthogonality(optimized) > worst_non_orthogonality(elliptic):
+        return elliptic, "elliptic"  # less orthogonal where a solver's faces meet
     candidates = [(elliptic, "elliptic"), (optimized, "optimized")]
     return min(candidates, key=lambda c: ranking.key(ranking.quality(c[0])))
 
