@@ -30,12 +30,20 @@ MESHERS = ("pinn-mesh", "blockmesh")
 MARK = "<!-- DFG {} -->"  # the markers round the table in --out
 
 
-def run(mesher: str, h: float, example: str = "openfoam_dfg", name: str = "dfg") -> dict:
-    """One case of ``examples/<example>/run.sh`` (in ``out/<name>_<mesher>_<h>``): its
+def run(
+    mesher: str,
+    h: float,
+    example: str = "openfoam_dfg",
+    name: str = "dfg",
+    case: Path | None = None,
+    extra: dict | None = None,
+) -> dict:
+    """One case of ``examples/<example>/run.sh`` (in ``case``, default
+    ``out/<name>_<mesher>_<h>``; ``extra``: more of run.sh's variables, e.g. ADAPT): its
     cells, checkMesh's largest non-orthogonality, the SIMPLE iterations, seconds of
     simpleFoam, and Cd, Cl, dp."""
-    case = ROOT / "out" / f"{name}_{mesher}_{h:g}"
-    env = {**os.environ, "MESHER": mesher}
+    case = case or ROOT / "out" / f"{name}_{mesher}_{h:g}"
+    env = {**os.environ, "MESHER": mesher, **(extra or {})}
     proc = subprocess.run(
         ["bash", str(ROOT / "examples" / example / "run.sh"), str(case), str(h)],
         capture_output=True,
