@@ -150,13 +150,6 @@ def mesh_body(
             f"method {method}: O- and C-grids are made by "
             f"{', '.join(METHODS)} (mgnet meshes four-sided domains only)"
         )
-    if topology == "c" and body.rounded:
-        raise InputError(
-            "has no trailing-edge corner (a round trailing edge, as a circular root "
-            "section): a C-grid's wake cut needs one to leave from; an O-grid ({topology}) "
-            "is the natural topology for it",
-            body.source,
-        )
     settings = settings or make_settings(method, lattice=(ni, nj))
     if wall_spacing is not None and not (np.isfinite(wall_spacing) and wall_spacing > 0):
         raise InputError(f"wall spacing {wall_spacing}: must be a number > 0 (--spacing bottom=H)")

@@ -98,6 +98,12 @@ SPREAD = 0.5
 # half-base heights. The base takes C_BASE_INTERVALS intervals, two a side of the cut.
 CORNER_REACH = 6.0
 C_BASE_INTERVALS = 4
+# A round trailing edge (no corner) faces downstream like a base where its wall's normal lies
+# within ROUND_FACING degrees of +x (BASE_CORNER, the turn that makes a base's corner): its C-grid
+# is smoothed as around a base of that height, halved up to ROUND_HALVINGS times while the
+# reference folds (the full height gave a circle's worst cell 152.8 degrees; none, 175.2)
+ROUND_FACING = 45.0
+ROUND_HALVINGS = 3
 # The reach is at most CORNER_REACH_MAX chords (a 2 % base's): 0.7 chords on a 23 % base smoothed
 # the rows over the aft surface from the wall on, folding them at its convex corners (tuning.md)
 CORNER_REACH_MAX = 0.06
@@ -285,6 +291,7 @@ def _row_tangents(p: np.ndarray, topology: str) -> np.ndarray:
 # the cosine of CORNER_TURN: two segments whose unit vectors' dot product is below it meet at
 # a corner
 CORNER_COS = math.cos(math.radians(CORNER_TURN))
+ROUND_FACING_COS = math.cos(math.radians(ROUND_FACING))
 
 
 def _row_normals(p: np.ndarray, topology: str) -> np.ndarray:
@@ -592,14 +599,24 @@ def layout(
     # far field, the projection blended in over the outer rows
     reach = _far_distance(inner, far, topology) - FAR_GAP * chord
     dist = reach * exact_stretch(nj, h / reach)[0]
-    reference, outer = reference_grid(inner, far, topology, dist, chord, n_w, base)
-    if topology == "c" and base:
+    tries = _corner_heights(inner, topology, n_w, base, body.rounded)
+    for corner in tries:  # the first whose reference has no fold, else the first
+        reference, outer = reference_grid(inner, far, topology, dist, chord, n_w, corner)
+        if len(tries) == 1 or not guard_figures(reference)["folded_cells"]:
+            break
+    else:
+        reference, outer = reference_grid(inner, far, topology, dist, chord, n_w, tries[0])
+    if topology == "c" and tries[0]:
         folded = guard_figures(reference)["folded_cells"]
         if folded:
+            what = (
+                f"round trailing edge (facing downstream over {tries[0] / chord:.2g} chords)"
+                if body.rounded
+                else f"blunt trailing edge (a base of {base / chord:.2g} chords)"
+            )
             raise InputError(
-                f"the C-grid around this blunt trailing edge (a base of {base / chord:.2g} "
-                f"chords) folds {folded} cells at the base; use {{topology}}, whose grid "
-                "keeps the base as wall",
+                f"the C-grid around this {what} folds {folded} cells at the wake cut; use "
+                "{topology}, whose grid keeps the whole edge as wall",
                 body.source,
             )
     first = np.full(ni, h)
@@ -611,6 +628,36 @@ def layout(
         body_nodes = (idx >= n_w) & (idx <= ni - 1 - n_w)
         first = np.where(body_nodes, h, h * (max(far_first, h) / h) ** frac)
     return Layout(topology, inner, outer, first, n_w, h, reference)
+
+
+def facing_height(inner: np.ndarray, n_wake: int) -> float:
+    """The height over which a C-grid's wall (line j = 0 ``inner``, the lower trailing-edge
+    node ``n_wake``) faces downstream about its trailing edge: the span in y of the wall
+    nodes on either side of it whose outward normal lies within ``ROUND_FACING`` degrees of
+    +x (a round edge's "base": a circle's is 0.71 of its diameter)."""
+    ni = len(inner)
+    n = _row_normals(inner, "c")
+    facing = n[:, 0] >= ROUND_FACING_COS
+    lower, upper = n_wake + 1, ni - n_wake - 2
+    while lower < ni // 2 and facing[lower]:
+        lower += 1
+    while upper > ni // 2 and facing[upper]:
+        upper -= 1
+    return float(inner[upper, 1] - inner[lower, 1])
+
+
+def _corner_heights(
+    inner: np.ndarray, topology: str, n_wake: int, base: float, rounded: bool
+) -> list[float]:
+    """The heights tried, in order, for the smoothing around a C-grid's cut (``march``'s
+    ``base``) until the reference grid has no fold: the base's (0 for a sharp edge), then
+    the height facing downstream (:func:`facing_height`), halved ``ROUND_HALVINGS``
+    times; for a round trailing edge (no corner, SPEC 9), the facing heights first."""
+    if topology != "c":
+        return [base]
+    tall = facing_height(inner, n_wake)
+    tries = [max(base, tall / 2**k) for k in range(ROUND_HALVINGS + 1)]
+    return list(dict.fromkeys([*tries, base] if rounded else [base, *tries]))
 
 
 def reference_grid(
