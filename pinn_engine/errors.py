@@ -183,6 +183,7 @@ ROUTE_WORDS = {
         "time_limit": "a larger --time-limit (0: none)",
         "blocks": "give them with --blocks EDGES",
         "with_blocks": "with --blocks, ",
+        "autoblock": "--blocks auto",
         "pieces": "--patch X,Y=NAME",
         "face_angle": "a .vtp whose FaceId cell array tags the six faces",
         "face_patch": "--patch SIDE=NAME or faceN=NAME",
@@ -209,6 +210,7 @@ ROUTE_WORDS = {
         "time_limit": "a larger time_limit= (0: none)",
         "blocks": "give them as blocks=",
         "with_blocks": "",
+        "autoblock": 'blocks="auto"',
         "pieces": 'patches=["X,Y=NAME", ...]',
         "face_angle": "another face_angle= or a FaceId cell array",
         "face_patch": 'patches={"imin": "inlet", "face3": "wall", ...}',
@@ -237,6 +239,7 @@ ROUTE_WORDS = {
         "time_limit": "a larger Time Limit (0: none)",
         "blocks": "select their source together with the boundary's (or connect it to Block Edges)",
         "with_blocks": "",
+        "autoblock": "the Multi-Block filter's Blocking Automatic",
         "pieces": "Patch Names' X,Y=NAME items",
         "face_angle": "another Face Angle or a FaceId cell array",
         "face_patch": "Patch Names (imin imax jmin jmax kmin kmax, or SIDE=NAME or faceN=NAME)",
@@ -247,20 +250,14 @@ ROUTE_WORDS = {
 _HANDED_OVER = {"cli": "written", "pyvista": "returned", "paraview": "produced"}
 
 
-def folded_cells_warning(report: dict, route: str) -> str | None:
-    """The warning for a grid with folded cells, or None when no cell is folded.
-
-    ``report`` is ``MeshResult.report`` or a hexahedral grid's (its ``quality.folded_cells``,
-    ``cells`` or ``size``, ``method`` and ``settings``); ``route`` is ``"cli"``,
-    ``"pyvista"`` or ``"paraview"`` and chooses the words of the hint: options, keyword
-    arguments or the filter panel's labels. Each route adds its own prefix (``pinn-mesh:
-    warning:``, the filter's label, the warning category).
-    """
+def _folded_parts(report: dict) -> tuple[str, str] | None:
+    """What is folded and the fix (a template of ``ROUTE_WORDS`` tokens) of a grid with
+    folded cells, or None when no cell is folded; ``report`` as :func:`folded_cells_warning`
+    takes it."""
     folded = int(report["quality"]["folded_cells"])
     if folded <= 0:
         return None
     cells = report.get("cells") or math.prod(n - 1 for n in report["size"])
-    words = ROUTE_WORDS[route]
     method = report.get("method", "")
     training = report.get("training", {})
     guard = training.get("guard") or {}
@@ -270,29 +267,54 @@ def folded_cells_warning(report: dict, route: str) -> str | None:
     )
     if forced:  # the boundary nodes themselves fold a cell (untangle.fold_forced)
         fix = (
-            f"rounding the boundary there or another {words['size']}: no grid on these "
+            "rounding the boundary there or another {size}: no grid on these "
             f"boundary nodes is fold-free, as {forced}"
         )
     elif guard.get("elliptic", {}).get("folded_cells"):  # the warm start's elliptic grid folds too
         fix = (
-            f"rounding the boundary where it turns sharply between nodes or another "
-            f"{words['size']}: the converged elliptic grid on these boundary nodes folds "
+            "rounding the boundary where it turns sharply between nodes or another "
+            "{size}: the converged elliptic grid on these boundary nodes folds "
             f"{guard['elliptic']['folded_cells']} cells as well"
         )
     elif method == "tfi":
-        fix = words["method"].format("elliptic")
+        fix = "{method:elliptic}"
     elif method == "elliptic" and report.get("settings", {}).get("elliptic_iterations"):
-        fix = f"{words['converge']} or {words['method'].format('pinn')}"
+        fix = "{converge} or {method:pinn}"
     elif method == "elliptic":
-        fix = words["method"].format("pinn")
+        fix = "{method:pinn}"
     else:  # a method that trains a network
-        fix = f"{words['method'].format('elliptic')}, {words['lbfgs']} or {words['seed']}"
+        fix = "{method:elliptic}, {lbfgs} or {seed}"
     verb = "is" if folded == 1 else "are"
-    return (
-        f"{folded} of {cells} cells {verb} folded (a corner's orientation "
-        f"opposes the grid's); the grid is {_HANDED_OVER[route]} anyway; try {fix}"
-        f"{words['refuse']}"
-    )
+    what = f"{folded} of {cells} cells {verb} folded (a corner's orientation opposes the grid's)"
+    return what, fix
+
+
+def folded_cells_warning(report: dict, route: str) -> str | None:
+    """The warning for a grid with folded cells, or None when no cell is folded.
+
+    ``report`` is ``MeshResult.report`` or a hexahedral grid's (its ``quality.folded_cells``,
+    ``cells`` or ``size``, ``method`` and ``settings``); ``route`` is ``"cli"``,
+    ``"pyvista"`` or ``"paraview"`` and chooses the words of the hint: options, keyword
+    arguments or the filter panel's labels. Each route adds its own prefix (``pinn-mesh:
+    warning:``, the filter's label, the warning category). A 2D grid with folded cells is
+    refused instead (:func:`folded_cells_refusal`).
+    """
+    found = _folded_parts(report)
+    if found is None:
+        return None
+    what, fix = found
+    text = f"{what}; the grid is {_HANDED_OVER[route]} anyway; try {fix}{{refuse}}"
+    return InputError(text)._text(route)
+
+
+def folded_cells_refusal(report: dict, source: str | None) -> InputError | None:
+    """The refusal of a 2D grid with folded cells (a grid handed over covers the domain with
+    no fold), the fix in the route's words; None when no cell is folded."""
+    found = _folded_parts(report)
+    if found is None:
+        return None
+    what, fix = found
+    return InputError(f"the grid is not written: {what}; try {fix}", source)
 
 
 def stopped_training_warning(report: dict, route: str) -> str | None:

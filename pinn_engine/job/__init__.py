@@ -23,7 +23,7 @@ from pinn_engine.adapt import Field, read_field, read_field_file
 from pinn_engine.cache import MeshCache
 from pinn_engine.errors import InputError
 from pinn_engine.job.blocks import BlocksGeometry, blocks_from_files, blocks_from_polydata
-from pinn_engine.job.cover import covered
+from pinn_engine.job.cover import covered, unfolded
 from pinn_engine.job.dictionary import (
     DictionaryGeometry,
     dictionary_from_file,
@@ -77,14 +77,14 @@ def run(
     outcome = kind.run(settings, geometry, progress, cache, model, family)
     if kind.covered:
         outcome = covered(outcome, geometry)
-    if field is None or settings.adapt_strength == 0:
-        return outcome
-    from pinn_engine.job.adapted import adapted
+    if field is not None and settings.adapt_strength != 0:
+        from pinn_engine.job.adapted import adapted
 
-    field.check_covers(np.vstack([g.reshape(-1, 2) for g in outcome.grids]))
-    if progress is not None:
-        progress({"phase": "prepare", "stage": "adapting to the field", "step": 0, "total": 1})
-    return adapted(outcome, settings, field, getattr(geometry, "walls", None))
+        field.check_covers(np.vstack([g.reshape(-1, 2) for g in outcome.grids]))
+        if progress is not None:
+            progress({"phase": "prepare", "stage": "adapting to the field", "step": 0, "total": 1})
+        outcome = adapted(outcome, settings, field, getattr(geometry, "walls", None))
+    return unfolded(outcome) if kind.adapts else outcome
 
 
 __all__ = [

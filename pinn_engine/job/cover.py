@@ -4,16 +4,16 @@
 route writes a grid that breaks it: every sharp corner of the drawn boundary is a grid node,
 every boundary node lies on the drawn boundary (a body's wall within SPEC 9's tolerance), and
 the cells cover the region the boundary nodes enclose once, with no overlap between blocks
-and nothing outside. A grid that breaks it is refused in one line that names the fix.
-Folded cells are judged by the routes (a warning, or ``--fail-on-folded``); the area test
-runs on fold-free grids, where it measures overlaps and gaps alone.
+and nothing outside; and (:func:`unfolded`, after any adaptation) no cell is folded. A grid
+that breaks it is refused in one line that names the fix. The area test runs on fold-free
+grids, where it measures overlaps and gaps alone.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from pinn_engine.errors import InputError
+from pinn_engine.errors import InputError, folded_cells_refusal
 from pinn_engine.geometry.boundary import segment_distance, signed_area, turning_angles
 
 # A vertex of a multi-block boundary is a sharp corner where the outline turns by this many
@@ -169,11 +169,28 @@ def check_body_cover(
     return {"wall_deviation": deviation, "sharp_corners": len(edge)}
 
 
+def unfolded(outcome):
+    """``outcome`` (a ``job.Outcome`` of a 2D domain) if no cell of its grid is folded;
+    refused (``InputError``, the fix in the route's words) otherwise."""
+    refusal = folded_cells_refusal(outcome.report, outcome.report.get("source"))
+    if refusal is not None:
+        raise refusal
+    return outcome
+
+
 def covered(outcome, geometry):
-    """``outcome`` (a ``job.Outcome`` of a multi-block domain or a body) once its grid is
-    checked to cover ``geometry``'s domain, the figures in its report's ``domain``; refused
-    (``InputError``) otherwise. A four-sided domain's grid is returned as it is."""
-    if outcome.kind == "blocks":
+    """``outcome`` (a ``job.Outcome`` of a four-sided domain, a multi-block domain or a
+    body) once its grid is checked to cover ``geometry``'s domain, the figures in its
+    report's ``domain``; refused (``InputError``) otherwise."""
+    if outcome.kind == "four-sided":
+        boundary = geometry.boundary
+        fix = (
+            "a four-sided grid's sides run between its four corners only: mesh it as "
+            "blocks with a block corner there ({autoblock})"
+        )
+        ring = boundary.frame.to_user(boundary.ring)
+        figures = check_blocks_cover(outcome.grids, [ring], boundary.source, fix)
+    elif outcome.kind == "blocks":
         fix = "draw the block edges (a block corner at every sharp corner) and {blocks}"
         figures = check_blocks_cover(outcome.grids, geometry.rings, geometry.source, fix)
     elif outcome.kind == "body":

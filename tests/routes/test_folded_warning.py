@@ -1,8 +1,10 @@
-"""A grid with folded cells is never handed over silently.
+"""A 2D grid with folded cells is never handed over: it is refused in one line.
 
 TFI folds cells on the L-shaped ``concave`` example and on none of ``fig2``: the command
-line warns on stderr, the VTK algorithm (ParaView filter) through ``vtkOutputWindow`` and a
-``WarningEvent``, the pyvista route with a ``FoldedCellsWarning``; no training involved.
+line exits 2 and writes nothing, the VTK algorithm (ParaView filter) reports an error and
+produces no grid, the pyvista route raises ``InputError``; the fix is in each route's words.
+The warning text (``folded_cells_warning``) stays for the routes' warnings of 3D grids; no
+training involved.
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ from helpers import EXAMPLES, ROOT, OutputMessages
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
 import pinn_engine
-from pinn_engine.errors import FoldedCellsWarning, folded_cells_warning
+from pinn_engine.errors import FoldedCellsWarning, InputError, folded_cells_warning
 from pinn_engine.io.pipeline import load_boundary
 from pinn_engine.mesher import Mesher
 from pinn_engine.routes.algorithm import PinnMeshAlgorithm
@@ -129,31 +131,17 @@ def run_cli(argv, capsys) -> tuple[int, str, str]:
     return rc, captured.out, captured.err
 
 
-def test_cli_warns_on_stderr_even_when_quiet_and_writes_the_grid(folded, tmp_path, capsys):
+@pytest.mark.parametrize("fail", [[], ["--fail-on-folded"]])
+def test_cli_refuses_a_folded_grid_in_one_line_and_writes_nothing(folded, fail, tmp_path, capsys):
     out = tmp_path / "g.vts"
-    rc, stdout, err = run_cli([FOLDED, "--method", "tfi", "-o", out, "--quiet"], capsys)
-    assert rc == 0 and out.is_file() and f"wrote {out}" in stdout
+    rc, stdout, err = run_cli([FOLDED, "--method", "tfi", "-o", out, *fail], capsys)
+    assert rc == 2 and not out.exists() and not list(tmp_path.iterdir()) and stdout == ""
     lines = err.strip().splitlines()
     assert len(lines) == 1, err
-    assert lines[0].startswith(f"pinn-mesh: warning: {FOLDED}: {folded} of 800 cells are folded")
-    assert "--method elliptic" in lines[0] and "--fail-on-folded" in lines[0]
-
-
-def test_cli_warning_comes_last_after_the_summary(folded, tmp_path, capsys):
-    rc, _, err = run_cli([FOLDED, "--method", "tfi", "-o", tmp_path / "g.vts"], capsys)
-    lines = err.strip().splitlines()
-    assert rc == 0 and f"{folded} folded cells" in lines[0]
-    assert lines[-1].startswith("pinn-mesh: warning: ") and f"{folded} of 800" in lines[-1]
-
-
-def test_cli_fail_on_folded_still_refuses_with_status_2_and_no_warning(folded, tmp_path, capsys):
-    out = tmp_path / "g.vts"
-    argv = [FOLDED, "--method", "tfi", "-o", out, "--quiet", "--fail-on-folded"]
-    rc, _, err = run_cli(argv, capsys)
-    assert rc == 2 and not out.exists() and not list(tmp_path.iterdir())
-    assert err.strip().splitlines() == [
-        f"pinn-mesh: error: {FOLDED}: {folded} folded cells (--fail-on-folded); no output written"
-    ]
+    assert lines[0] == (
+        f"pinn-mesh: error: {FOLDED}: the grid is not written: {folded} of 800 cells are "
+        "folded (a corner's orientation opposes the grid's); try --method elliptic"
+    )
 
 
 @pytest.mark.parametrize(("boundary", "method"), [(UNFOLDED, "tfi"), (FOLDED, "elliptic")])
@@ -176,23 +164,17 @@ def algorithm(path, method: str) -> tuple[PinnMeshAlgorithm, vtkXMLPolyDataReade
     return alg, reader  # keep the reader alive with the algorithm
 
 
-def test_algorithm_warns_in_the_output_window_and_still_produces_the_grid(folded):
+def test_algorithm_refuses_a_folded_grid_in_the_panels_words(folded):
     alg, _reader = algorithm(FOLDED, "tfi")
-    with OutputMessages(alg, "WarningEvent") as messages:
+    with OutputMessages(alg, "ErrorEvent"):
         alg.Update()
-    grid = alg.GetOutput()
-    assert alg.GetLastError() == "" and grid.GetNumberOfPoints() == 41 * 21
-    assert grid.GetFieldData().GetArray("folded_cells").GetValue(0) == folded
-    warning = alg.GetLastWarning()
-    assert warning.startswith(f"PINN Structured Mesh: warning: {folded} of 800 cells are folded")
-    assert "try Method elliptic" in warning and "--" not in warning
-    assert messages.lines == [warning] and messages.events == [warning]
-    # the next update without folded cells clears it and says nothing
+    error = alg.GetLastError()
+    assert f"{folded} of 800 cells are folded" in error and "try Method elliptic" in error
+    assert "--" not in error and alg.GetOutput().GetNumberOfPoints() == 0
+    # the next update without folded cells clears it
     alg.SetMethod("elliptic")
-    with OutputMessages(alg, "WarningEvent") as messages:
-        alg.Update()
-    assert alg.GetLastWarning() == "" and messages.lines == [] and messages.events == []
-    assert alg.GetOutput().GetNumberOfPoints() == 41 * 21
+    alg.Update()
+    assert alg.GetLastError() == "" and alg.GetOutput().GetNumberOfPoints() == 41 * 21
 
 
 def test_algorithm_no_warning_without_folded_cells():
@@ -206,17 +188,13 @@ def test_algorithm_no_warning_without_folded_cells():
 # ---------------------------------------------------------------- pyvista
 
 
-def test_pyvista_function_and_accessor_warn_at_the_callers_line(folded):
+def test_pyvista_function_and_accessor_refuse_a_folded_grid(folded):
     boundary = pv.read(FOLDED)
-    with pytest.warns(FoldedCellsWarning, match=f"^{folded} of 800 cells are folded") as record:
-        grid = pinn_mesh(boundary, method="tfi")
-    assert grid.n_cells == 800 and int(grid.cell_data["Folded"].sum()) == folded
-    assert 'method="elliptic"' in str(record[0].message)
-    assert record[0].filename == __file__
-    with pytest.warns(FoldedCellsWarning) as record:
+    with pytest.raises(InputError, match=f"{folded} of 800 cells are folded") as caught:
+        pinn_mesh(boundary, method="tfi")
+    assert 'method="elliptic"' in str(caught.value) and "--" not in str(caught.value)
+    with pytest.raises(InputError, match="1 of 50 cells is folded"):
         boundary.pinn_mesh(method="tfi", size=(11, 6))
-    assert str(record[0].message).startswith("1 of 50 cells is folded")
-    assert record[0].filename == __file__
 
 
 @pytest.mark.parametrize("kind", ["hexa", "blocks"])
@@ -256,13 +234,6 @@ def test_pyvista_hexa_and_blocks_warn_at_the_callers_line(kind, monkeypatch):
         with pytest.warns(FoldedCellsWarning, match=r"^2 of \d+ cells are folded") as record:
             call()
         assert [w.filename for w in record] == [__file__]
-
-
-def test_pyvista_warning_can_be_turned_into_an_error():
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", FoldedCellsWarning)
-        with pytest.raises(FoldedCellsWarning):
-            pinn_mesh(pv.read(FOLDED), method="tfi")
 
 
 @pytest.mark.parametrize(("boundary", "method"), [(UNFOLDED, "tfi"), (FOLDED, "elliptic")])
