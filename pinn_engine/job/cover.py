@@ -179,18 +179,11 @@ def unfolded(outcome):
 
 
 def covered(outcome, geometry):
-    """``outcome`` (a ``job.Outcome`` of a four-sided domain, a multi-block domain or a
-    body) once its grid is checked to cover ``geometry``'s domain, the figures in its
-    report's ``domain``; refused (``InputError``) otherwise."""
-    if outcome.kind == "four-sided":
-        boundary = geometry.boundary
-        fix = (
-            "a four-sided grid's sides run between its four corners only: mesh it as "
-            "blocks with a block corner there ({autoblock})"
-        )
-        ring = boundary.frame.to_user(boundary.ring)
-        figures = check_blocks_cover(outcome.grids, [ring], boundary.source, fix)
-    elif outcome.kind == "blocks":
+    """``outcome`` (a ``job.Outcome`` of a multi-block domain or a body) once its grid is
+    checked to cover ``geometry``'s domain, the figures in its report's ``domain``; refused
+    (``InputError``) otherwise. A four-sided domain's grid is returned as it is (its sides
+    run between its four corners: a sharp vertex mid-side is no node, see docs/robustness.md)."""
+    if outcome.kind == "blocks":
         fix = "draw the block edges (a block corner at every sharp corner) and {blocks}"
         figures = check_blocks_cover(outcome.grids, geometry.rings, geometry.source, fix)
     elif outcome.kind == "body":

@@ -280,7 +280,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--fail-on-folded",
         action="store_true",
-        help="exit with an error (status 2, no output) if any cell is folded",
+        help="exit with an error (status 2, no output) if any cell of a 3D grid is folded "
+        "(a 2D grid with a folded cell is always refused)",
     )
     p.add_argument(
         "--spacing",
