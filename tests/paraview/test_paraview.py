@@ -405,9 +405,10 @@ def test_multiblock_filter_on_the_step(checkout):
     assert result["interfaces"] == ["free", "fixed"]
     assert result["class"] == "vtkMultiBlockDataSet" and result["progress"] == [0.0, 1.0]
     told = [ln for ln in result["together_messages"].splitlines() if ln.strip()]
-    assert len(told) == 1 and told[0].startswith(
+    assert len(told) == 2 and told[0].startswith(
         "PINN Structured Mesh (Multi-Block): pinn 4 blocks, "
     )
+    assert told[1].startswith("PINN Structured Mesh (Multi-Block): chose the ")  # the choice
     assert result["file_types"] == [  # Save Data offers the solver formats for the blocks
         "PINN Mesh CGNS(*.cgns )",
         "PINN Mesh Gmsh(*.msh )",
