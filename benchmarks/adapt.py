@@ -30,7 +30,7 @@ from pinn_engine.adapt import Field
 from pinn_engine.adapt.grids import DEFAULT_STRENGTH, adapt_grids
 from pinn_engine.geometry.boundary import Boundary
 from pinn_engine.io.fileio import read_boundary_points
-from pinn_engine.mesher import Mesher
+from pinn_engine.kinds.four_sided.mesher import Mesher
 from pinn_engine.quality import cell_quality
 from pinn_engine.settings import make_settings
 
@@ -121,7 +121,7 @@ def four_sided(path: str, size: tuple[int, int]) -> list[np.ndarray]:
 def c_grid() -> list[np.ndarray]:
     """A NACA 0012 C-grid (the body kind's elliptic grid), 161 x 41, far field 5 chords."""
     from pinn_engine.bodies.airfoil import circle, load_body
-    from pinn_engine.bodymesh import mesh_body
+    from pinn_engine.kinds.body.mesh import mesh_body
 
     settings = make_settings("elliptic", topology="c", farfield=5.0)
     body = load_body(naca="0012", te="sharp")

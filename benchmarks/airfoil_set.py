@@ -33,10 +33,10 @@ from pathlib import Path
 import numpy as np
 
 from pinn_engine.bodies.airfoil import circle, inside_polygon, load_body, naca4, read_dat
-from pinn_engine.bodymesh import mesh_body
 from pinn_engine.errors import InputError
 from pinn_engine.job import Geometry, Outcome
 from pinn_engine.job.cover import covered
+from pinn_engine.kinds.body.mesh import mesh_body
 from pinn_engine.quality import cell_quality, summary
 from pinn_engine.settings import make_settings
 

@@ -42,8 +42,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from pinn_engine.bodies.airfoil import SHARP_GAP, circle, load_body, naca4  # noqa: E402
-from pinn_engine.bodymesh import mesh_body, wall_metrics  # noqa: E402
 from pinn_engine.geometry.boundary import segment_distance  # noqa: E402
+from pinn_engine.kinds.body.mesh import mesh_body, wall_metrics  # noqa: E402
 from pinn_engine.quality import cell_quality, summary, worst_non_orthogonality  # noqa: E402
 from pinn_engine.settings import make_settings  # noqa: E402
 

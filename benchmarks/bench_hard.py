@@ -48,7 +48,7 @@ from pathlib import Path
 
 from pinn_engine.geometry.auxlines import line_distances
 from pinn_engine.io.pipeline import load_aux, load_boundary
-from pinn_engine.mesher import Mesher
+from pinn_engine.kinds.four_sided.mesher import Mesher
 from pinn_engine.quality import angle_floor
 from pinn_engine.settings import make_settings
 from pinn_engine.starts import quality_start

@@ -35,7 +35,7 @@ def job(kind: str, shape: str, threads: int) -> dict:
     from plain_pinn import train_plain
 
     from pinn_engine.io.pipeline import load_aux, load_boundary
-    from pinn_engine.mesher import Mesher
+    from pinn_engine.kinds.four_sided.mesher import Mesher
     from pinn_engine.settings import make_settings
 
     torch.optim.Adam([torch.zeros(1, requires_grad=True)])  # its first use imports more

@@ -48,7 +48,7 @@ def _inputs(case: str):
 
 def job_train(case: str, path: str, epochs: int, lbfgs: int) -> dict:
     """Train the paper preset; returns per-phase times from the history lengths."""
-    from pinn_engine.mesher import Mesher
+    from pinn_engine.kinds.four_sided.mesher import Mesher
     from pinn_engine.settings import make_settings
 
     boundary, aux = _inputs(case)
@@ -91,7 +91,7 @@ def job_train(case: str, path: str, epochs: int, lbfgs: int) -> dict:
 def job_evaluate(case: str, n: int) -> dict:
     """Train briefly, then time a feed-forward n x n grid with its quality arrays."""
     from pinn_engine.io.pipeline import to_vtk
-    from pinn_engine.mesher import Mesher
+    from pinn_engine.kinds.four_sided.mesher import Mesher
     from pinn_engine.settings import make_settings
 
     boundary, aux = _inputs(case)
@@ -105,7 +105,7 @@ def job_evaluate(case: str, n: int) -> dict:
 
 
 def job_elliptic(case: str, n: int) -> dict:
-    from pinn_engine.mesher import Mesher
+    from pinn_engine.kinds.four_sided.mesher import Mesher
     from pinn_engine.settings import make_settings
 
     boundary, _ = _inputs(case)

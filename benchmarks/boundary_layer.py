@@ -22,7 +22,7 @@ from pathlib import Path
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 
 from pinn_engine.io.pipeline import load_boundary, to_vtk  # noqa: E402
-from pinn_engine.mesher import Mesher  # noqa: E402
+from pinn_engine.kinds.four_sided.mesher import Mesher  # noqa: E402
 from pinn_engine.settings import make_settings  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -22,7 +22,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 import bench_hard  # noqa: E402
 
-from pinn_engine.mesher import Mesher  # noqa: E402
+from pinn_engine.kinds.four_sided.mesher import Mesher  # noqa: E402
 from pinn_engine.quality import largest_area_ratio  # noqa: E402
 from pinn_engine.settings import make_settings  # noqa: E402
 

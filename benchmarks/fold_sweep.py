@@ -33,7 +33,7 @@ sys.path.insert(0, str(ROOT / "example_data"))
 from make_hard_shapes import resample, slot, step  # noqa: E402
 
 from pinn_engine.geometry.boundary import Boundary  # noqa: E402
-from pinn_engine.mesher import Mesher  # noqa: E402
+from pinn_engine.kinds.four_sided.mesher import Mesher  # noqa: E402
 from pinn_engine.settings import make_settings  # noqa: E402
 from pinn_engine.starts.untangle import fold_forced  # noqa: E402
 

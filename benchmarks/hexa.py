@@ -41,7 +41,7 @@ KIB = 1024  # ru_maxrss is in KiB on Linux
 
 def one(stem: str, method: str, size: tuple[int, int, int]) -> dict:
     """Mesh ``stem`` by ``method`` in this process: its figures, seconds and peak memory."""
-    from pinn_engine.hexamesh import figures, mesh_surface
+    from pinn_engine.kinds.hexa.mesh import figures, mesh_surface
     from pinn_engine.settings import make_settings
 
     result = mesh_surface(str(DATA / f"{stem}.vtp"), make_settings(method, size=size))

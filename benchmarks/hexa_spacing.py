@@ -27,7 +27,7 @@ os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 
 from pinn_engine.hexa.orthogonal import inner_angles  # noqa: E402
 from pinn_engine.hexa.spacing import first_edges  # noqa: E402
-from pinn_engine.hexamesh import mesh_surface  # noqa: E402
+from pinn_engine.kinds.hexa.mesh import mesh_surface  # noqa: E402
 from pinn_engine.settings import make_settings  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -29,8 +29,8 @@ BOUND_SIZE, BOUND_SECONDS = 21, 3.0  # elliptic at 21^3 in at most 3 s
 
 def _one(surface: str, n: int) -> dict:
     """One elliptic run at n^3 in this process, with the Winslow solve timed apart."""
-    from pinn_engine import hexamesh as mesh
     from pinn_engine.hexa import volume
+    from pinn_engine.kinds.hexa import mesh
     from pinn_engine.settings import make_settings
 
     solve = {}

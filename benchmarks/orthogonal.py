@@ -25,7 +25,7 @@ import time
 from pathlib import Path
 
 from pinn_engine.io.pipeline import load_boundary
-from pinn_engine.mesher import Mesher
+from pinn_engine.kinds.four_sided.mesher import Mesher
 from pinn_engine.settings import make_settings
 
 ROOT = Path(__file__).resolve().parents[1]

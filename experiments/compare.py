@@ -24,7 +24,7 @@ from pathlib import Path
 from pinn_engine.classical.elliptic import winslow_solve
 from pinn_engine.geometry.auxlines import line_distances
 from pinn_engine.io.pipeline import load_aux, load_boundary
-from pinn_engine.mesher import Mesher
+from pinn_engine.kinds.four_sided.mesher import Mesher
 from pinn_engine.quality import cell_quality, summary
 from pinn_engine.settings import NEURAL, make_settings
 

@@ -208,7 +208,7 @@ def run_job(
 ) -> dict:
     """Run ``job``; ``progress(fraction)`` is called during training. Never raises."""
     from pinn_engine.io.pipeline import load_aux, load_boundary
-    from pinn_engine.mesher import Mesher
+    from pinn_engine.kinds.four_sided.mesher import Mesher
     from pinn_engine.quality import included_angles
 
     out: dict = job.record()

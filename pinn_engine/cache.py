@@ -14,7 +14,7 @@ from pinn_engine.settings import Settings
 if TYPE_CHECKING:  # the engine's numerics are imported on first use (fast plugin loading)
     from pinn_engine.geometry.auxlines import AuxLine
     from pinn_engine.geometry.boundary import Boundary
-    from pinn_engine.mesher import Mesher
+    from pinn_engine.kinds.four_sided.mesher import Mesher
 
 
 def _digest(*arrays) -> str:
@@ -77,7 +77,7 @@ class MeshCache:
             self._entries.move_to_end(key)
             mesher.settings = settings  # same training key; refreshes preset/device in reports
             return mesher, False
-        from pinn_engine.mesher import Mesher
+        from pinn_engine.kinds.four_sided.mesher import Mesher
 
         mesher = Mesher(settings).fit(boundary, aux_lines, progress)
         trained = mesher.model_ is not None and not mesher.model_.info.get("skipped")

@@ -28,9 +28,9 @@ ENGINE = (
     "pinn_engine.job",
     "pinn_engine.io.pipeline",
     "pinn_engine.io.export",
-    "pinn_engine.bodymesh",
+    "pinn_engine.kinds.body.mesh",
     "pinn_engine.blocks.untrained",  # the decision and the start a case keeps untrained
-    "pinn_engine.mesher",
+    "pinn_engine.kinds.four_sided.mesher",
     "pinn_engine.heap",
     "scipy.sparse.linalg",  # the elliptic solves' sparse LU, which their modules import late
     # VTK's polydata readers and stripper, which io.fileio imports where a file is read

@@ -3,7 +3,7 @@ its own run places them, and a base grid on them, in the family's frame.
 
 - Four-sided: the arc-length TFI of the boundary (the nodes and base of the default run,
   ``blocks.untrained.StartModel``), in the boundary's unit-box working frame.
-- Body (O- or C-grid): the member's elliptic grid (``bodymesh.mesh_body``: the wall and far
+- Body (O- or C-grid): the member's elliptic grid (``kinds.body.mesh.mesh_body``: the wall and far
   field nodes of ``bodygrid.layout``, the start of the default run), in the frame of its
   chord: mid-chord at the origin, chord 1.
 """
@@ -93,7 +93,7 @@ def member_of(
             "four-sided", "none", base, boundary.frame, boundary.source, boundary,
             settings=shared, optimised=settings.quality_objective,
         )  # fmt: skip
-    from pinn_engine.bodymesh import mesh_body
+    from pinn_engine.kinds.body.mesh import mesh_body
 
     start = mesh_body(
         body, far, settings.topology, "elliptic", ni, nj, settings, settings.wall_spacing

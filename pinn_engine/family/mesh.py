@@ -232,7 +232,7 @@ def _report(
         deviation = float(member.boundary.deviation(boundary_nodes(unit)).max())
         report["sides"] = side_report(unit, member.frame.scale)
     else:
-        from pinn_engine.bodymesh import topology_metrics
+        from pinn_engine.kinds.body.mesh import topology_metrics
 
         deviation = member.start.report["quality"]["boundary_deviation"]
         start_topology = member.start.report["topology"]

@@ -53,11 +53,11 @@ def run_hexa(
     progress: Callable[[dict], object] | None = None,
     model: str | os.PathLike | None = None,
 ) -> Outcome:
-    """The hexahedral grid of ``geometry`` under ``settings`` (``hexamesh.mesh_polydata``);
+    """The hexahedral grid of ``geometry`` under ``settings`` (``kinds.hexa.mesh.mesh_polydata``);
     ``progress`` hears each stage (``{"phase": "prepare", "stage": ..., "step": k, "total":
     PERCENT}``, k the share of the run done) and the training; ``model``: a saved pinn to
     evaluate instead of training."""
-    from pinn_engine.hexamesh import hexa_grid, mesh_polydata, report
+    from pinn_engine.kinds.hexa.mesh import hexa_grid, mesh_polydata, report
 
     problem = hexa_size_problem(settings.size)
     if problem:

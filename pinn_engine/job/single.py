@@ -196,10 +196,10 @@ def run_single(
     block through the fitted-network ``cache`` (or the saved model at ``model``, evaluated on
     this boundary), a body through its block kind; or, with ``family``, by the family model
     saved there (SPEC 16)."""
-    from pinn_engine.bodymesh import mesh_body
     from pinn_engine.io.export import patch_names
     from pinn_engine.io.export.patches import body_patch_names as body_patches
     from pinn_engine.io.pipeline import to_vtk
+    from pinn_engine.kinds.body.mesh import mesh_body
 
     ni, nj = settings.size or DEFAULT_SIZE
     if family is not None:
@@ -208,7 +208,8 @@ def run_single(
         names = patch_names(geometry.patches)  # refused before meshing, not after
         trained = False
         if model is not None:
-            from pinn_engine.mesher import Mesher  # a four-sided run's: not a body's import
+            # a four-sided run's: not a body's import
+            from pinn_engine.kinds.four_sided.mesher import Mesher
 
             mesher = Mesher.load(model, geometry.boundary)
         else:

@@ -17,7 +17,7 @@ Port: input 0 a ``vtkPolyData``, a closed triangulated (or polygonal) surface wi
 array ``FaceId`` of six values. Output 0 the ``vtkStructuredGrid`` ``(ni, nj, nk)`` of the
 command line's ``.vts``: cell arrays ``MaxIncludedAngle``, ``MinIncludedAngle``,
 ``ScaledJacobian``, ``Folded``; field data ``Method``, ``PatchNames``, ``PatchTypes``,
-``Report`` (JSON) and the quality figures (``hexamesh.hexa_grid``).
+``Report`` (JSON) and the quality figures (``kinds.hexa.mesh.hexa_grid``).
 
 A failed update leaves the output empty and reports one line ``PINN Structured Mesh (Hexahedral):
 <message>`` (the ParaView route: in Output Messages and as an ``ErrorEvent``; other routes

@@ -109,7 +109,7 @@ def test_boundary_nodes_stay_on_their_side(tmp_path):
 
     boundary = Boundary.from_points(read_boundary_points(EXAMPLES / "wavy.vtp"))
     field = Field(image(front, (-0.3, -0.4), (4.4, 2.5)), "p")
-    from pinn_engine.mesher import Mesher
+    from pinn_engine.kinds.four_sided.mesher import Mesher
     from pinn_engine.settings import make_settings
 
     grid = Mesher(make_settings("elliptic", lattice=(41, 21))).fit(boundary).predict(41, 21)

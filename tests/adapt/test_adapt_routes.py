@@ -69,7 +69,7 @@ def test_a_c_grid_keeps_its_wall_rows_and_wake_cut():
     wake cut's two sides stay one line, counts are kept, no fold, worst within + 10."""
     from pinn_engine.adapt.grids import adapt_grids
     from pinn_engine.bodies.airfoil import circle, load_body
-    from pinn_engine.bodymesh import mesh_body
+    from pinn_engine.kinds.body.mesh import mesh_body
     from pinn_engine.settings import make_settings
 
     settings = make_settings("elliptic", topology="c", farfield=3.0)

@@ -11,7 +11,7 @@ from helpers import EXAMPLES
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
 from pinn_engine.io.pipeline import load_aux, load_boundary
-from pinn_engine.mesher import Mesher
+from pinn_engine.kinds.four_sided.mesher import Mesher
 from pinn_engine.routes.algorithm import PinnMeshAlgorithm
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings

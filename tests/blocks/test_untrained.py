@@ -25,10 +25,10 @@ from pinn_engine.blocks.untrained import (
 )
 from pinn_engine.bodies.airfoil import circle, load_body
 from pinn_engine.bodies.bodygrid import elliptic, layout
-from pinn_engine.bodymesh import mesh_body
-from pinn_engine.hexamesh import mesh_surface
 from pinn_engine.io.pipeline import load_aux, load_boundary
-from pinn_engine.mesher import Mesher
+from pinn_engine.kinds.body.mesh import mesh_body
+from pinn_engine.kinds.four_sided.mesher import Mesher
+from pinn_engine.kinds.hexa.mesh import mesh_surface
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
 
@@ -96,7 +96,8 @@ def test_an_untrained_map_is_the_start_it_would_have_kept():
     np.testing.assert_allclose(boundary.frame.to_unit(skipped.points), start, atol=1e-12)
     code = (
         "import sys; from pinn_engine.io.pipeline import load_boundary;"
-        "from pinn_engine.mesher import Mesher; from pinn_engine.settings import make_settings;"
+        "from pinn_engine.kinds.four_sided.mesher import Mesher;"
+        "from pinn_engine.settings import make_settings;"
         f"b = load_boundary({str(NOTCH)!r});"
         f"Mesher(make_settings('pinn', lattice={SIZE})).fit(b).predict(*{SIZE});"
         "print('torch' in sys.modules)"
@@ -166,7 +167,7 @@ def test_an_untrained_body_grid_is_the_start_its_trained_network_kept():
     assert set(report["timings"]) == {"layout", "elliptic", "training", "quality"}
     code = (
         "import sys; from pinn_engine.bodies.airfoil import circle, load_body;"
-        "from pinn_engine.bodymesh import mesh_body; b = load_body(naca='0012');"
+        "from pinn_engine.kinds.body.mesh import mesh_body; b = load_body(naca='0012');"
         f"mesh_body(b, circle(b, 12), 'c', 'pinn', *{size}, wall_spacing={wall});"
         "print('torch' in sys.modules)"
     )

@@ -10,11 +10,11 @@ from vtkmodules.vtkIOXML import vtkXMLStructuredGridReader
 
 from pinn_engine.bodies.airfoil import body_from_points, circle, load_body, naca4, read_dat
 from pinn_engine.bodies.bodygrid import C_BASE_INTERVALS
-from pinn_engine.bodymesh import mesh_body
 from pinn_engine.classical.spacing import exact_stretch
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import segment_distance
 from pinn_engine.io.pipeline import read_body_and_farfield
+from pinn_engine.kinds.body.mesh import mesh_body
 from pinn_engine.quality import non_orthogonality, worst_non_orthogonality
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings

@@ -13,11 +13,11 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 
 from pinn_engine.bodies import bodygrid
 from pinn_engine.bodies.airfoil import body_from_points, circle, load_body, naca4
-from pinn_engine.bodymesh import mesh_body
 from pinn_engine.errors import InputError
 from pinn_engine.io.export import write
 from pinn_engine.io.export.patches import body_patch_names as patch_names
 from pinn_engine.io.pipeline import to_vtk
+from pinn_engine.kinds.body.mesh import mesh_body
 from pinn_engine.quality import non_orthogonality
 
 NI, NJ = {"o": 41, "c": 61}, 13

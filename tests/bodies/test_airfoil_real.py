@@ -18,8 +18,8 @@ from pinn_engine.bodies.airfoil import (
     naca4,
     read_dat,
 )
-from pinn_engine.bodymesh import mesh_body
 from pinn_engine.errors import InputError, grid_warnings
+from pinn_engine.kinds.body.mesh import mesh_body
 
 # The real set is fetched data, kept in the checkout's shared/ and never committed.
 AIRFOILS = ROOT / "shared" / "airfoils"

@@ -13,7 +13,7 @@ from pinn_engine.classical.spacing import param_grid, stretch, uniform_params
 from pinn_engine.classical.tfi import tfi_at
 from pinn_engine.errors import PinnMeshError
 from pinn_engine.io.pipeline import load_boundary
-from pinn_engine.mesher import Mesher
+from pinn_engine.kinds.four_sided.mesher import Mesher
 from pinn_engine.quality import boundary_nodes, first_edges, folded_cells, grid_lines_angle
 from pinn_engine.routes.algorithm import PinnMeshAlgorithm
 from pinn_engine.routes.cli import main

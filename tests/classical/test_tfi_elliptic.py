@@ -109,7 +109,7 @@ def test_converged_solver_is_fast_on_a_200_by_200_grid():
 def test_mesher_fitted_attributes_the_scikit_learn_way():
     from pinn_engine.errors import NotFittedError
     from pinn_engine.io.pipeline import load_boundary
-    from pinn_engine.mesher import Mesher
+    from pinn_engine.kinds.four_sided.mesher import Mesher
     from pinn_engine.settings import make_settings
 
     mesher = Mesher(make_settings("elliptic"))

@@ -10,7 +10,7 @@ from helpers import EXAMPLES, ROOT, OutputMessages, square_ring
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
 from pinn_engine.geometry.boundary import Boundary
-from pinn_engine.mesher import Mesher
+from pinn_engine.kinds.four_sided.mesher import Mesher
 from pinn_engine.routes.algorithm import PinnMeshAlgorithm
 from pinn_engine.routes.cli import main
 from pinn_engine.routes.pyvista_accessor import pinn_mesh

@@ -30,7 +30,7 @@ from pinn_engine.errors import InputError, TrainingError
 from pinn_engine.geometry.boundary import Boundary
 from pinn_engine.io import childread, fileio
 from pinn_engine.io.pipeline import load_boundary
-from pinn_engine.mesher import Mesher
+from pinn_engine.kinds.four_sided.mesher import Mesher
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
 
@@ -868,7 +868,7 @@ import os, signal
 from pathlib import Path
 from vtkmodules.vtkIOXML import vtkXMLStructuredGridWriter
 from pinn_engine.io import fileio
-from pinn_engine.mesher import Mesher
+from pinn_engine.kinds.four_sided.mesher import Mesher
 from pinn_engine.io.pipeline import load_boundary, to_vtk
 from pinn_engine.settings import make_settings
 

@@ -11,7 +11,7 @@ from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import Boundary
 from pinn_engine.geometry.plane import Plane
 from pinn_engine.io.pipeline import load_aux, load_boundary
-from pinn_engine.mesher import Mesher
+from pinn_engine.kinds.four_sided.mesher import Mesher
 from pinn_engine.routes.cli import main
 from pinn_engine.routes.pyvista_accessor import pinn_mesh
 from pinn_engine.settings import make_settings

@@ -24,7 +24,7 @@ from hypothesis import strategies as st
 
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import Boundary, segment_distance, signed_area
-from pinn_engine.mesher import Mesher
+from pinn_engine.kinds.four_sided.mesher import Mesher
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
 

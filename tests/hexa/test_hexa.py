@@ -11,7 +11,7 @@ from helpers import ROOT, refused
 
 from pinn_engine.hexa import volume
 from pinn_engine.hexa.sharp import faces_at_sharp_edges
-from pinn_engine.hexamesh import mesh_surface
+from pinn_engine.kinds.hexa.mesh import mesh_surface
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import HEXA_METHODS, make_settings
 

@@ -15,8 +15,8 @@ from helpers import ROOT
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 from pinn_engine.errors import InputError
-from pinn_engine.hexamesh import hexa_grid, mesh_surface
 from pinn_engine.io import export
+from pinn_engine.kinds.hexa.mesh import hexa_grid, mesh_surface
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
 

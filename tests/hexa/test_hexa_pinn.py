@@ -17,8 +17,8 @@ from pinn_engine.hexa import quality, volume
 from pinn_engine.hexa.field import LatticeField, node_points
 from pinn_engine.hexa.spacing import node_params, tfi_at
 from pinn_engine.hexa.surface import find_topology, surface_of
-from pinn_engine.hexamesh import boundary_map, cell_arrays, mesh_surface, surface_key
 from pinn_engine.io.fileio import read_polydata
+from pinn_engine.kinds.hexa.mesh import boundary_map, cell_arrays, mesh_surface, surface_key
 from pinn_engine.neural.jet import nd
 from pinn_engine.neural.losses import parameter_controls_3d, winslow_residual_3d
 from pinn_engine.neural.networks import CoordinateNet

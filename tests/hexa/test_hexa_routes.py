@@ -13,8 +13,8 @@ from helpers import ROOT, OutputMessages
 from pinn_engine.errors import InputError
 from pinn_engine.hexa.orthogonal import inner_angles
 from pinn_engine.hexa.spacing import first_edges
-from pinn_engine.hexamesh import mesh_surface
 from pinn_engine.io.export import BOX_SIDES
+from pinn_engine.kinds.hexa.mesh import mesh_surface
 from pinn_engine.routes.cli import main
 from pinn_engine.routes.filters import folded_warning
 from pinn_engine.routes.hexa_algorithm import PinnHexaAlgorithm, refold_hint

@@ -10,7 +10,7 @@ from helpers import ROOT
 from scipy.sparse.linalg import spsolve
 
 from pinn_engine.hexa import inexact, volume
-from pinn_engine.hexamesh import mesh_surface
+from pinn_engine.kinds.hexa.mesh import mesh_surface
 from pinn_engine.settings import make_settings
 
 DATA = ROOT / "example_data"

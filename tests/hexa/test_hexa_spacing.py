@@ -11,7 +11,7 @@ from helpers import ROOT, refused
 
 from pinn_engine.hexa import volume
 from pinn_engine.hexa.spacing import node_params
-from pinn_engine.hexamesh import mesh_surface
+from pinn_engine.kinds.hexa.mesh import mesh_surface
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
 

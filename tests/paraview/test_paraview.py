@@ -478,7 +478,7 @@ def test_hexahedral_filter_on_the_bend(checkout):
     """PINN Structured Mesh (Hexahedral): the bend's grid as the command line makes it
     (the same nodes, arrays and field data), for every method; one line for a surface
     without FaceId, and ParaView goes on."""
-    from pinn_engine.hexamesh import mesh_surface
+    from pinn_engine.kinds.hexa.mesh import mesh_surface
     from pinn_engine.settings import HEXA_METHODS, make_settings
 
     result = run_pvpython(checkout, "check_hexa.py", str(checkout / "example_data"))

@@ -267,7 +267,7 @@ def _modules(path: Path) -> list[tuple[int, str]]:
 
 def test_no_route_runs_a_kind_of_its_own():
     """The routes mesh only through ``job.run``: none imports a domain kind's pipeline
-    (mesher, bodymesh, hexamesh, blocks/, multiblock/, hexa/, ...), so none can call one or
+    (kinds/, blocks/, multiblock/, hexa/, ...), so none can call one or
     decide a kind by itself."""
     paths = []
     for route in ROUTES:

@@ -234,7 +234,7 @@ def test_bad_aux_line_is_named():
 
 
 def test_failed_training_reported(monkeypatch):
-    from pinn_engine import mesher
+    from pinn_engine.kinds.four_sided import mesher
 
     def fail(self, boundary, aux_lines=(), progress=None):
         raise TrainingError("training diverged (loss nan at Adam epoch 3)")

@@ -22,7 +22,7 @@ from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 import pinn_engine
 from pinn_engine.errors import FoldedCellsWarning, InputError, folded_cells_warning
 from pinn_engine.io.pipeline import load_boundary
-from pinn_engine.mesher import Mesher
+from pinn_engine.kinds.four_sided.mesher import Mesher
 from pinn_engine.routes.algorithm import PinnMeshAlgorithm
 from pinn_engine.routes.cli import build_parser, main
 from pinn_engine.routes.pyvista_accessor import pinn_mesh

@@ -11,7 +11,7 @@ from pinn_engine.classical.spacing import classical_grid, working_spacing
 from pinn_engine.classical.tfi import tfi_grid
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
 from pinn_engine.io.pipeline import load_boundary
-from pinn_engine.mesher import Mesher
+from pinn_engine.kinds.four_sided.mesher import Mesher
 from pinn_engine.quality import (
     boundary_nodes,
     cell_quality,

@@ -13,7 +13,7 @@ from pinn_engine.classical.tfi import tfi_grid
 from pinn_engine.geometry.auxlines import crossing_turns
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
 from pinn_engine.io.pipeline import load_aux, load_boundary
-from pinn_engine.mesher import Mesher
+from pinn_engine.kinds.four_sided.mesher import Mesher
 from pinn_engine.neural.losses import corner_angles, loss_quality, nearest_on_line
 from pinn_engine.quality import angle_floor, folded_cells, guard_figures, orientation
 from pinn_engine.routes.algorithm import PinnMeshAlgorithm

@@ -8,7 +8,7 @@ from helpers import EXAMPLES
 
 from pinn_engine.blocks.model import TrainedModel
 from pinn_engine.io.pipeline import load_aux, load_boundary
-from pinn_engine.mesher import Mesher
+from pinn_engine.kinds.four_sided.mesher import Mesher
 from pinn_engine.neural.networks import CoordinateNet
 from pinn_engine.settings import make_settings
 from pinn_engine.starts.warmstart import MAX_LATTICE_NODES, elliptic_start, lattice_for

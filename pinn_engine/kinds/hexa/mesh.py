@@ -1,6 +1,6 @@
 """A hexahedral grid of a six-faced surface, from file to vtkStructuredGrid (SPEC 11): the
 ``hexa`` package's face grids and volume grids, or the hexahedral block kind for pinn (above
-``blocks``, as ``bodymesh`` is for bodies); the solver formats write it through
+``blocks``, as ``kinds.body.mesh`` is for bodies); the solver formats write it through
 :func:`pinn_engine.io.export.write`."""
 
 from __future__ import annotations

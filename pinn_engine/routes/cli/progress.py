@@ -19,7 +19,7 @@ class Progress:
             return
         done = info["step"] / max(info["total"], 1)
         decile = int(done * 10)
-        if info["phase"] == "prepare":  # a stage before training (bodymesh.STAGES)
+        if info["phase"] == "prepare":  # a stage before training (kinds.body.mesh.STAGES)
             text = f"[{info['stage']}]"
         else:
             text = f"[{info['phase']:5s} {info['step']:5d}/{info['total']}] loss {info['loss']:.3e}"
