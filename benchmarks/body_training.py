@@ -1,5 +1,5 @@
 """Where a body grid's network wins: the network trained on every grid, also where the
-default does not train it (``blocks.untrained.body_cannot_win``), and what its guard kept.
+default does not train it (``kinds.untrained.body_cannot_win``), and what its guard kept.
 
 Usage::
 
@@ -10,9 +10,9 @@ Each airfoil (the files given, the ``.dat`` files of ``--set``, of one half if g
 the NACA sections ``--naca``, sharp) is meshed as an O-grid of 250 x 80 and a C-grid of
 300 x 80 nodes, far field 15 chords, at each first layer ``--first`` (chords; ``default``:
 the default first layer), by the elliptic method, then its network is trained from that
-grid (``blocks.body.train_body``, the default settings). Per grid: its wall cells' aspect ratio
-(``Layout.wall_aspect``), whether the guard kept the network's grid or the start, and the
-mean and worst MaxIncludedAngle before and after. The summary counts the grids whose
+grid (``kinds.body.problem.train_body``, the default settings). Per grid: its wall cells'
+aspect ratio (``Layout.wall_aspect``), whether the guard kept the network's grid or the
+start, and the mean and worst MaxIncludedAngle before and after. The summary counts the grids whose
 network's grid was kept, by the aspect ratio's side of ``untrained.THIN_WALL``.
 """
 
@@ -28,11 +28,11 @@ sys.path.insert(0, str(HERE))
 
 from airfoil_set import FAR_FIELD, SIZES, half  # noqa: E402
 
-from pinn_engine.blocks.body import train_body  # noqa: E402
-from pinn_engine.blocks.untrained import THIN_WALL  # noqa: E402
 from pinn_engine.bodies import bodygrid  # noqa: E402
 from pinn_engine.bodies.airfoil import circle, load_body, naca4  # noqa: E402
 from pinn_engine.errors import InputError  # noqa: E402
+from pinn_engine.kinds.body.problem import train_body  # noqa: E402
+from pinn_engine.kinds.untrained import THIN_WALL  # noqa: E402
 from pinn_engine.quality import guard_figures  # noqa: E402
 from pinn_engine.settings import make_settings  # noqa: E402
 

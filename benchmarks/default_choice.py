@@ -17,7 +17,7 @@ target: worst at least ``GAIN`` degrees below the elliptic grid's on most shapes
 than ``MEAN_TOL`` above it, mean never more than ``MEAN_TOL`` above.
 
 ``--train-lines`` also trains the quality objective's network from its start on the shapes
-with lines (what ``blocks.untrained.cannot_win`` skips), and says whether its guard kept a
+with lines (what ``kinds.untrained.cannot_win`` skips), and says whether its guard kept a
 trained state (``network``) or the start, and the seconds spent: the rule's measurement.
 """
 
@@ -83,7 +83,7 @@ def mesh(method: str, path: Path, aux: list[Path], size: tuple[int, int], **opti
 def trained_lines(path: Path, aux: list[Path], size: tuple[int, int]) -> dict:
     """The quality objective's network trained from its start with the lines (the run the
     default skips): whether the guard kept a trained state, and the training's seconds."""
-    from pinn_engine.blocks.quad import train
+    from pinn_engine.kinds.four_sided.problem import train
 
     boundary = load_boundary(path)
     lines = load_aux(aux, boundary)

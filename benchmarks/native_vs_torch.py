@@ -3,7 +3,8 @@
 Usage: ``.venv/bin/python benchmarks/native_vs_torch.py [--repeats 20] [--no-compile]``
 
 What is timed is what the paper preset's training does at each L-BFGS evaluation
-(``blocks.quad._FusedLoss``): the default network (``CoordinateNet("shortcut", 4, 30, "tanh")``,
+(``kinds.four_sided.problem._FusedLoss``): the default network
+(``CoordinateNet("shortcut", 4, 30, "tanh")``,
 both sub-networks), 1000 collocation points where the Winslow residual needs the map's first
 and second derivatives (L_eqns, paper eq. 11 and 13), 1000 boundary points (250 a side) with
 their targets (L_bcs), and the gradient of L_eqns + lambda1 L_bcs with respect to all 6182

@@ -28,10 +28,10 @@ import numpy as np
 import torch
 from torch import nn
 
-from pinn_engine.blocks.quad import side_points
 from pinn_engine.geometry.auxlines import AuxLine
 from pinn_engine.geometry.boundary import SIDES, Boundary
 from pinn_engine.geometry.boundary_fit import make_fit
+from pinn_engine.kinds.four_sided.problem import side_points
 
 HIDDEN_LAYERS, NEURONS = 4, 30
 LEARNING_RATE, LR_DECAY, LR_DECAY_EVERY = 1e-3, 0.9, 1000

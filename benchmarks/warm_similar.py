@@ -32,7 +32,8 @@ from pathlib import Path
 from batch import ROOT, cases  # the sibling benchmark's case list
 
 from pinn_engine import heap
-from pinn_engine.blocks import body, quad
+from pinn_engine.kinds.body import problem as body
+from pinn_engine.kinds.four_sided import problem as quad
 from pinn_engine.routes import cli
 
 BEGIN, END = "<!-- warm from similar: begin -->", "<!-- warm from similar: end -->"

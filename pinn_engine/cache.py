@@ -70,7 +70,7 @@ class MeshCache:
         progress: Callable[[dict], bool | None] | None = None,
     ) -> tuple[Mesher, bool]:
         """A mesher fitted to these inputs and whether a network was trained for it now (not
-        where the network could not win and its start is the map: ``blocks.untrained``)."""
+        where the network could not win and its start is the map: ``kinds.untrained``)."""
         key = self.key(boundary, aux_lines, settings)
         mesher = self._entries.get(key)
         if mesher is not None:

@@ -22,7 +22,7 @@ MULTIBLOCK_METHODS = ("tfi", "elliptic", "pinn")  # SPEC 10's methods in this bu
 BLOCKS_METHOD = "pinn"  # multi-block's default method (SPEC 10), on every route
 AUTO_BLOCKS = "auto"  # block edges named so are proposed from the boundary (SPEC 13)
 HEXA_METHODS = ("pinn", "tfi", "elliptic")  # SPEC 11's methods, in the filter's order
-HEXA_METHOD = "pinn"  # SPEC 11's default (blocks/hexa.py; docs/hexa.md has its figures)
+HEXA_METHOD = "pinn"  # SPEC 11's default (kinds/hexa/problem.py; docs/hexa.md has its figures)
 BOX_SIDES = ("imin", "imax", "jmin", "jmax", "kmin", "kmax")  # a six-faced domain's patches
 FACE_ANGLE = 40.0  # degrees between neighbouring triangles' normals that end a face (SPEC 11)
 OPPOSITE_NODES = 4  # two orthogonal opposite patches each need a first layer of their own
@@ -365,7 +365,7 @@ class Settings:
     size: tuple[int, ...] = ()
     residual: str = "scaled"  # Winslow residual: "paper" (eq. 13) or "scaled" (losses.py)
     # pinn: "winslow" (the Winslow equations), "quality" (plus a cell-quality term, and the
-    # start and guard keep the best worst angle; blocks/quad.py) or "best" (quality on a
+    # start and guard keep the best worst angle; kinds.four_sided.problem) or "best" (quality on a
     # four-sided block without spacing or orthogonal sides, winslow elsewhere:
     # ``quality_objective``); other methods: "winslow"
     objective: str = "best"

@@ -29,7 +29,7 @@ ENGINE = (
     "pinn_engine.io.pipeline",
     "pinn_engine.io.export",
     "pinn_engine.kinds.body.mesh",
-    "pinn_engine.blocks.untrained",  # the decision and the start a case keeps untrained
+    "pinn_engine.kinds.untrained",  # the decision and the start a case keeps untrained
     "pinn_engine.kinds.four_sided.mesher",
     "pinn_engine.heap",
     "scipy.sparse.linalg",  # the elliptic solves' sparse LU, which their modules import late

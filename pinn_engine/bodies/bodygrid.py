@@ -31,7 +31,7 @@ nodes for every method. Then:
   point-Jacobi sweeps from the reference (:func:`jacobi`), periodic across the O-grid's
   seam, the C-grid's cut held on its line, the first rows held (first edge and wall angle
   exact); the sweeps stop at the last state no worse than the reference (:func:`elliptic`).
-- ``pinn``: blocks/body.py: a network of (cos 2 pi xi, sin 2 pi xi, eta) for the O-grid
+- ``pinn``: kinds/body/problem.py: a network of (cos 2 pi xi, sin 2 pi xi, eta) for the O-grid
   (periodic in xi exactly), a correction vanishing on j = 0 and j = nj - 1 (and on the
   C-grid's outflow columns), added to the elliptic grid and trained on the same equations.
 """

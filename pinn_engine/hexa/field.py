@@ -1,6 +1,6 @@
 """A smooth field through the nodes of a hexahedral lattice: the 3D pinn's start.
 
-The pinn of a six-faced domain (blocks/hexa.py) starts as the converged Winslow grid E on a
+The pinn of a six-faced domain (kinds/hexa/problem.py) starts as the converged Winslow grid E on a
 lattice, and its map is TFI + D + bubble * network with D = E - TFI, zero on the six faces
 (classical/warm.py is the 2D form). A tricubic tensor-product spline through a lattice's
 values (cubic along a direction with 4 nodes or more, else of degree nodes - 1) gives the

@@ -240,14 +240,14 @@ def train_blocks(
     aux: Sequence[Sequence] | None = None,
     kinks: Callable[[list[np.ndarray]], np.ndarray] | None = None,
 ) -> tuple[list[np.ndarray], dict]:
-    """The multi-block pinn's training (``blocks.multiblock.train_blocks``), imported only
-    when some block's network can win (``blocks.untrained.cannot_win``; else every block
+    """The multi-block pinn's training (``kinds.blocks.problem.train_blocks``), imported only
+    when some block's network can win (``kinds.untrained.cannot_win``; else every block
     keeps its start, ``untrained.untrained_blocks``): the elliptic and tfi runs, and a pinn
     whose networks cannot win, never import torch."""
-    from pinn_engine.blocks.untrained import cannot_win, start_or_train, untrained_blocks
+    from pinn_engine.kinds.untrained import cannot_win, start_or_train, untrained_blocks
 
     def trained() -> tuple[list[np.ndarray], dict]:
-        from pinn_engine.blocks.multiblock import train_blocks as train  # torch: only to train
+        from pinn_engine.kinds.blocks.problem import train_blocks as train  # torch: only to train
 
         return train(grids, settings, progress, aux, kinks)
 

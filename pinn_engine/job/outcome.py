@@ -35,6 +35,6 @@ class Outcome:
 
 def network_trained(report: dict) -> bool:
     """Whether the run of ``report`` trained a network: it has a training whose network was
-    not skipped (``blocks.untrained``: the start kept untrained, no training time spent)."""
+    not skipped (``kinds.untrained``: the start kept untrained, no training time spent)."""
     training = report.get("training")
     return bool(training) and not training.get("skipped")

@@ -50,7 +50,7 @@ from pinn_engine.starts.untangle import untangle, untangled_report
 from pinn_engine.starts.warmstart import lattice_for
 
 if TYPE_CHECKING:
-    from pinn_engine.starts.volume_start import Start
+    from pinn_engine.kinds.hexa.start import Start
 
 Map = TypeVar("Map")  # what a kind's pinn leaves: its map, or its grid and report
 
@@ -186,7 +186,7 @@ class StartModel:
 
     def save(self, path: str | os.PathLike) -> Path:
         """Saved as the trained model it equals: the seeded network, its output layer zero."""
-        from pinn_engine.blocks.quad import untrained_model
+        from pinn_engine.kinds.four_sided.problem import untrained_model
 
         return untrained_model(self.boundary, self.warm, self.settings, self.info).save(path)
 
@@ -217,7 +217,7 @@ class VolumeStartModel:
 
     def save(self, path: str | os.PathLike) -> None:
         """Saved as the trained model it equals: the seeded network, its output layer zero."""
-        from pinn_engine.blocks.hexa import untrained_model
+        from pinn_engine.kinds.hexa.problem import untrained_model
 
         untrained_model(self.correction, self.settings, self.info, self.surface_key).save(path)
 

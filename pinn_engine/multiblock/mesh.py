@@ -1,7 +1,7 @@
 """Mesh a multi-block domain (SPEC 10): linework, blocks, cell counts, nodes, then the
 method (``tfi``: each block's TFI on the shared side nodes; ``elliptic``: Winslow on all
 blocks at once; ``pinn``: the elliptic grid, then each block's PINN on its side nodes,
-``blocks/multiblock.py``), with the quality figures of every block and of the interfaces."""
+``kinds/blocks/problem.py``), with the quality figures of every block and of the interfaces."""
 
 from __future__ import annotations
 
@@ -62,7 +62,7 @@ from pinn_engine.settings import MAX_NODES, MULTIBLOCK_METHODS, Settings
 KINK_CORNER_NODES = 2
 
 Progress = Callable[[dict], "bool | str | None"]  # trainer.Progress, without importing torch
-# The pinn's training of the blocks' elliptic grids: blocks.multiblock.train_blocks, which the
+# The pinn's training of the blocks' elliptic grids: kinds.blocks.problem.train_blocks, which the
 # caller passes in (the block kinds are a layer above this package, and import torch)
 TrainBlocks = Callable[..., tuple[list[np.ndarray], dict]]
 # A block's grid (nj, ni, 2) with its folds undone and its sides held (starts.untangle, a
@@ -156,7 +156,7 @@ def mesh_blocks(
             source,
         )
     if settings.method == "pinn" and train is None:
-        raise ValueError("method pinn: pass train=blocks.multiblock.train_blocks")
+        raise ValueError("method pinn: pass train=kinds.blocks.problem.train_blocks")
     start = time.perf_counter()
     lines = linework(rings, edges, names, source)
     topo = topology(lines)

@@ -253,7 +253,7 @@ class PinnMultiBlockAlgorithm(
         return None if self._route == "paraview" else False
 
     def _block(self, info: dict) -> str | None:
-        """The pinn's progress block by block (``blocks.multiblock``) on the bar, the
+        """The pinn's progress block by block (``kinds.blocks.problem``) on the bar, the
         elliptic grid before it at 0; answers ``errors.STOP`` on an abort request or the
         stop signal (the Time Limit is the job's: ``settings.time_limit``, all blocks
         together)."""

@@ -1,6 +1,6 @@
-"""Where a four-sided block's network starts (blocks/quad.py): the start grid on the lattice,
-the guard's reference, and what the quality objective ranks by (its start in NumPy: no
-torch)."""
+"""Where a four-sided block's network starts (kinds.four_sided.problem): the start grid on
+the lattice, the guard's reference, and what the quality objective ranks by (its start in
+NumPy: no torch)."""
 
 from __future__ import annotations
 

@@ -652,7 +652,7 @@ def nan_after(real, calls: set[int]):
 
 
 def test_nan_loss_during_adam_recovers(tmp_path, capsys, monkeypatch):
-    from pinn_engine.blocks import quad as training
+    from pinn_engine.kinds.four_sided import problem as training
 
     monkeypatch.setattr(training, "total_loss", nan_after(training.total_loss, {20, 21}))
     report = tmp_path / "r.json"
@@ -667,7 +667,7 @@ def test_nan_loss_during_adam_recovers(tmp_path, capsys, monkeypatch):
 
 
 def test_exploding_loss_during_adam_recovers(monkeypatch):
-    from pinn_engine.blocks import quad as training
+    from pinn_engine.kinds.four_sided import problem as training
 
     real, count = training.total_loss, [0]
 
@@ -684,7 +684,7 @@ def test_exploding_loss_during_adam_recovers(monkeypatch):
 
 
 def test_persistent_nan_ends_with_a_clear_error_and_no_output(tmp_path, capsys, monkeypatch):
-    from pinn_engine.blocks import quad as training
+    from pinn_engine.kinds.four_sided import problem as training
 
     monkeypatch.setattr(
         training, "total_loss", nan_after(training.total_loss, set(range(10, 10_000)))
@@ -714,7 +714,7 @@ def test_nan_in_lambda1_annealing_recovers(monkeypatch):
 
 
 def test_nan_during_lbfgs_falls_back_to_the_adam_result(monkeypatch):
-    from pinn_engine.blocks import quad as training
+    from pinn_engine.kinds.four_sided import problem as training
 
     monkeypatch.setattr(
         training, "total_loss", nan_after(training.total_loss, set(range(41, 10_000)))
@@ -726,7 +726,7 @@ def test_nan_during_lbfgs_falls_back_to_the_adam_result(monkeypatch):
 
 
 def test_non_finite_grid_is_a_clear_error(tmp_path, capsys, monkeypatch):
-    from pinn_engine.blocks.model import TrainedModel
+    from pinn_engine.kinds.four_sided.model import TrainedModel
 
     monkeypatch.setattr(TrainedModel, "grid", lambda self, ni, nj: np.full((nj, ni, 2), np.nan))
     rc, _, err = run_cli([EXAMPLES / "wavy.vtp", *QUICK, "-o", tmp_path / "g.vts"], capsys)

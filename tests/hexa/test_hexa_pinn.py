@@ -12,20 +12,20 @@ import pyvista as pv
 import torch
 from helpers import ROOT
 
-from pinn_engine.blocks import hexa
 from pinn_engine.hexa import quality, volume
 from pinn_engine.hexa.field import LatticeField, node_points
 from pinn_engine.hexa.spacing import node_params, tfi_at
 from pinn_engine.hexa.surface import find_topology, surface_of
 from pinn_engine.io.fileio import read_polydata
+from pinn_engine.kinds.hexa import problem as hexa
 from pinn_engine.kinds.hexa.mesh import boundary_map, cell_arrays, mesh_surface, surface_key
+from pinn_engine.kinds.hexa.start import winslow_start
 from pinn_engine.neural.jet import nd
 from pinn_engine.neural.losses import parameter_controls_3d, winslow_residual_3d
 from pinn_engine.neural.networks import CoordinateNet
 from pinn_engine.routes.cli import main
 from pinn_engine.routes.cli.outputs import save_model
 from pinn_engine.settings import FACE_ANGLE, make_settings
-from pinn_engine.starts.volume_start import winslow_start
 
 DATA = ROOT / "example_data"
 EXAMPLES = ("hexa_bump_box.vtp", "hexa_bend.vtp")
@@ -90,7 +90,7 @@ def test_network_jet_matches_autograd():
 @cache
 def _trained(name: str) -> tuple[hexa.HexaModel, np.ndarray]:
     """The network of example ``name`` trained from its Winslow start at ``SIZE`` (the
-    default keeps that start untrained, tests/blocks/test_untrained.py) and its TFI grid."""
+    default keeps that start untrained, tests/kinds/test_untrained.py) and its TFI grid."""
     path = str(DATA / name)
     surface = surface_of(read_polydata(DATA / name), path, False, FACE_ANGLE)
     boundary, _ = boundary_map(surface, find_topology(surface, path), path)

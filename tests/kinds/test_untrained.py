@@ -13,7 +13,13 @@ import numpy as np
 import pytest
 from helpers import EXAMPLES, ROOT, run_blocks
 
-from pinn_engine.blocks.untrained import (
+from pinn_engine.bodies.airfoil import circle, load_body
+from pinn_engine.bodies.bodygrid import elliptic, layout
+from pinn_engine.io.pipeline import load_aux, load_boundary
+from pinn_engine.kinds.body.mesh import mesh_body
+from pinn_engine.kinds.four_sided.mesher import Mesher
+from pinn_engine.kinds.hexa.mesh import mesh_surface
+from pinn_engine.kinds.untrained import (
     QUALITY,
     THIN,
     THIN_WALL,
@@ -23,12 +29,6 @@ from pinn_engine.blocks.untrained import (
     cannot_win,
     start_or_train,
 )
-from pinn_engine.bodies.airfoil import circle, load_body
-from pinn_engine.bodies.bodygrid import elliptic, layout
-from pinn_engine.io.pipeline import load_aux, load_boundary
-from pinn_engine.kinds.body.mesh import mesh_body
-from pinn_engine.kinds.four_sided.mesher import Mesher
-from pinn_engine.kinds.hexa.mesh import mesh_surface
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
 
@@ -90,7 +90,7 @@ def test_an_untrained_map_is_the_start_it_would_have_kept():
     training = skipped.report["training"]
     assert training["skipped"] == WINSLOW and training["result"] == "start"
     forced = make_settings("pinn", lattice=SIZE, objective="winslow", lbfgs_iterations=0)
-    from pinn_engine.blocks.quad import train
+    from pinn_engine.kinds.four_sided.problem import train
 
     start = train(boundary, [], forced).grid(*SIZE)
     np.testing.assert_allclose(boundary.frame.to_unit(skipped.points), start, atol=1e-12)
@@ -156,7 +156,7 @@ def test_an_untrained_body_grid_is_the_start_its_trained_network_kept():
     settings = make_settings("pinn", lattice=size, lbfgs_points=200)
     winslow = make_settings("pinn", lattice=size, lbfgs_points=200, objective="winslow")
     skipped = mesh_body(body, far, "c", "pinn", *size, winslow, wall_spacing=wall)
-    from pinn_engine.blocks.body import train_body
+    from pinn_engine.kinds.body.problem import train_body
 
     lay = layout(body, far, "c", *size, wall_spacing=wall)
     trained, _, info = train_body(lay, *elliptic(lay), settings)

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 from helpers import ROOT, run_blocks
 
-from pinn_engine.blocks.multiblock import train_block, train_blocks
 from pinn_engine.classical.tfi import tfi_of_sides
 from pinn_engine.errors import STOP
+from pinn_engine.kinds.blocks.problem import train_block, train_blocks
 from pinn_engine.multiblock.mesh import mesh_blocks
 from pinn_engine.quality import guard_figures
 from pinn_engine.settings import make_settings

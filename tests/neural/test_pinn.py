@@ -7,10 +7,10 @@ import pytest
 import torch
 from helpers import EXAMPLES, needs_compiler
 
-from pinn_engine.blocks.mapping import Mapping
-from pinn_engine.blocks.quad import QuadProblem, _FusedEvaluation
 from pinn_engine.io.pipeline import load_aux, load_boundary
+from pinn_engine.kinds.four_sided.mapping import Mapping
 from pinn_engine.kinds.four_sided.mesher import Mesher
+from pinn_engine.kinds.four_sided.problem import QuadProblem, _FusedEvaluation
 from pinn_engine.neural.jet import input_jet, jet_product, native
 from pinn_engine.neural.losses import annealed_lambda, loss_eqns, winslow_residual
 from pinn_engine.neural.networks import CoordinateNet, autograd_jet

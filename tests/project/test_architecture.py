@@ -18,7 +18,6 @@ import torch
 from helpers import EXAMPLES, ROOT
 
 from pinn_engine import job
-from pinn_engine.blocks import quad
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import Boundary
 from pinn_engine.io import export
@@ -26,6 +25,7 @@ from pinn_engine.io.export.algorithm import PARAVIEW_FORMATS
 from pinn_engine.io.export.registry import Format, register
 from pinn_engine.io.fileio import read_boundary_points
 from pinn_engine.io.vtkgrid import structured_grid
+from pinn_engine.kinds.four_sided import problem as quad
 from pinn_engine.neural import trainer
 from pinn_engine.routes.algorithm import PinnMeshAlgorithm
 from pinn_engine.routes.cli import build_parser, main

@@ -7,14 +7,14 @@ import numpy as np
 import pytest
 from helpers import EXAMPLES
 
-from pinn_engine.blocks.multiblock import train_block
-from pinn_engine.blocks.untrained import WINSLOW, start_block
 from pinn_engine.classical.elliptic import winslow_solve
 from pinn_engine.classical.tfi import tfi_grid
 from pinn_engine.errors import folded_cells_warning
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
 from pinn_engine.io.pipeline import load_boundary
+from pinn_engine.kinds.blocks.problem import train_block
 from pinn_engine.kinds.four_sided.mesher import Mesher
+from pinn_engine.kinds.untrained import WINSLOW, start_block
 from pinn_engine.quality import folded_cells, guard_figures, largest_area_ratio
 from pinn_engine.settings import make_settings
 from pinn_engine.starts import untangle

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from helpers import EXAMPLES
 
-from pinn_engine.blocks.model import TrainedModel
 from pinn_engine.io.pipeline import load_aux, load_boundary
 from pinn_engine.kinds.four_sided.mesher import Mesher
+from pinn_engine.kinds.four_sided.model import TrainedModel
 from pinn_engine.neural.networks import CoordinateNet
 from pinn_engine.settings import make_settings
 from pinn_engine.starts.warmstart import MAX_LATTICE_NODES, elliptic_start, lattice_for

@@ -1,5 +1,6 @@
 """The multi-block ``pinn`` (SPEC 10): the four-sided PINN block kind
-(:mod:`pinn_engine.blocks.quad`) trained on each block of the multi-block elliptic grid.
+(:mod:`pinn_engine.kinds.four_sided.problem`) trained on each block of the multi-block
+elliptic grid.
 
 The elliptic grid is solved first, on all blocks at once (interfaces free, as
 :func:`pinn_engine.multiblock.elliptic.winslow`). Then each block's map starts as that
@@ -23,15 +24,15 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from pinn_engine.blocks.mapping import Mapping
-from pinn_engine.blocks.quad import GUARD_TOL as QUAD_GUARD_TOL
-from pinn_engine.blocks.quad import QuadProblem, network
-from pinn_engine.blocks.untrained import blocks_report
 from pinn_engine.classical.tfi import tfi_grid
 from pinn_engine.classical.warm import WarmStart
 from pinn_engine.errors import STOP, TrainingCancelled
 from pinn_engine.geometry.auxlines import AuxLine
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
+from pinn_engine.kinds.four_sided.mapping import Mapping
+from pinn_engine.kinds.four_sided.problem import GUARD_TOL as QUAD_GUARD_TOL
+from pinn_engine.kinds.four_sided.problem import QuadProblem, network
+from pinn_engine.kinds.untrained import blocks_report
 from pinn_engine.multiblock.quadblock import block_boundary
 from pinn_engine.neural.session import GuardRule, train_network
 from pinn_engine.neural.trainer import Progress

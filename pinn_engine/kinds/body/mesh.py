@@ -170,7 +170,7 @@ def mesh_body(
         timings["elliptic"] = time.perf_counter() - start - timings["layout"]
     if method == "pinn":
         began = time.perf_counter()
-        from pinn_engine.blocks.untrained import WALL, body_cannot_win, body_start, start_or_train
+        from pinn_engine.kinds.untrained import WALL, body_cannot_win, body_start, start_or_train
 
         def kept(reason: str) -> tuple[np.ndarray, dict, dict, float]:
             """The elliptic start (under the default objective, wall cells not thin: its
@@ -183,7 +183,7 @@ def mesh_body(
         def trained() -> tuple[np.ndarray, dict, dict, float]:
             """The trained grid, its history and report, and the training's seconds."""
             _stage(progress, "network set-up")
-            from pinn_engine.blocks.body import train_body  # torch: imported only to train
+            from pinn_engine.kinds.body.problem import train_body  # torch: imported only to train
 
             t0 = time.perf_counter()
             out = train_body(lay, grid, controls, settings, progress)

@@ -45,7 +45,7 @@ from pinn_engine.settings import Settings
 
 PAD = 3  # columns of the neighbouring periods on each side of the O-grid's spline
 # A state is kept if its grid has no more folded cells than the elliptic grid and mean and
-# worst MaxIncludedAngle no worse (measured: with blocks/quad.py's tolerances, 0.25 and 1
+# worst MaxIncludedAngle no worse (measured: with the four-sided problem's tolerances, 0.25 and 1
 # degree, the kept states were up to 0.25 degree worse than the elliptic grid on every
 # airfoil of benchmarks/airfoils.py; with none, the PINN never loses to it)
 BODY_GUARD_TOL = (0.0, 0.0)

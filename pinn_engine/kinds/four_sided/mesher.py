@@ -9,7 +9,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pinn_engine.blocks.untrained import StartModel, cannot_win, start_or_train
 from pinn_engine.classical.elliptic import winslow_solve, winslow_sweeps
 from pinn_engine.classical.spacing import classical_grid, fit_params, side_lengths, working_spacing
 from pinn_engine.classical.tfi import tfi_grid
@@ -24,12 +23,13 @@ from pinn_engine.geometry.auxlines import AuxLine, crossing_turns, line_distance
 from pinn_engine.geometry.boundary import Boundary
 from pinn_engine.geometry.boundary_fit import make_fit
 from pinn_engine.heap import reuse_freed_memory
+from pinn_engine.kinds.untrained import StartModel, cannot_win, start_or_train
 from pinn_engine.quality import boundary_nodes, cell_quality, side_report, summary
 from pinn_engine.result import MeshResult
 from pinn_engine.settings import NEURAL, Settings, grid_size_problem, make_settings
 
 if TYPE_CHECKING:
-    from pinn_engine.blocks.model import TrainedModel
+    from pinn_engine.kinds.four_sided.model import TrainedModel
 
 Progress = Callable[[dict], bool | None]
 
@@ -76,7 +76,9 @@ class Mesher:
 
             def trained() -> TrainedModel:
                 began = time.perf_counter()
-                from pinn_engine.blocks.quad import train  # torch: imported only to train
+                from pinn_engine.kinds.four_sided.problem import (
+                    train,  # torch: imported only to train
+                )
 
                 imported = time.perf_counter()
                 model = train(boundary, aux, settings, progress)
@@ -104,7 +106,7 @@ class Mesher:
     @classmethod
     def load(cls, path: str | os.PathLike, boundary: Boundary) -> Mesher:
         """A fitted mesher from a saved model; ``boundary`` must be the one it was trained on."""
-        from pinn_engine.blocks.model import TrainedModel
+        from pinn_engine.kinds.four_sided.model import TrainedModel
 
         model = TrainedModel.load(path, boundary)
         mesher = cls(model.settings)

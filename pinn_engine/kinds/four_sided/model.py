@@ -11,12 +11,12 @@ import numpy as np
 import torch
 
 from pinn_engine import __version__
-from pinn_engine.blocks.mapping import Mapping
 from pinn_engine.classical.warm import WarmStart
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import Boundary, Frame
 from pinn_engine.geometry.plane import Plane
 from pinn_engine.io.fileio import atomic_path
+from pinn_engine.kinds.four_sided.mapping import Mapping
 from pinn_engine.neural.networks import CoordinateNet
 from pinn_engine.settings import Settings
 

@@ -19,14 +19,14 @@ from collections.abc import Callable, Sequence
 import numpy as np
 import torch
 
-from pinn_engine.blocks.mapping import Mapping
-from pinn_engine.blocks.model import TrainedModel
 from pinn_engine.classical.spacing import chord_tangents
 from pinn_engine.classical.tfi import node_params, tfi_grid
 from pinn_engine.classical.warm import WarmStart
 from pinn_engine.geometry.auxlines import AuxLine
 from pinn_engine.geometry.boundary import SIDES, Boundary
 from pinn_engine.geometry.boundary_fit import ArcLengthFit, make_fit
+from pinn_engine.kinds.four_sided.mapping import Mapping
+from pinn_engine.kinds.four_sided.model import TrainedModel
 from pinn_engine.neural.jet.layers import native_jet
 from pinn_engine.neural.losses import (
     corner_angles,

@@ -35,13 +35,13 @@ from pinn_engine.hexa.spacing import (
 from pinn_engine.hexa.surface import Surface, Topology, find_topology, surface_of
 from pinn_engine.io import fileio
 from pinn_engine.io.export.patches import BOX_SIDES, add_to_grid, named_patches, patch_specs
+from pinn_engine.kinds.hexa.start import Start, winslow_start
 from pinn_engine.patchnames import FACE_PREFIX
 from pinn_engine.settings import Settings
-from pinn_engine.starts.volume_start import Start, winslow_start
 
 if TYPE_CHECKING:
-    from pinn_engine.blocks.hexa import HexaModel
-    from pinn_engine.blocks.untrained import VolumeStartModel
+    from pinn_engine.kinds.hexa.problem import HexaModel
+    from pinn_engine.kinds.untrained import VolumeStartModel
     from pinn_engine.neural.trainer import Progress
 
 FACE_IDS = "FaceIds"  # field data: the input's FaceId of imin ... kmax
@@ -268,7 +268,7 @@ def mesh_polydata(
     lap("faces")
     model, elliptic = None, []  # the untrained start's grid: the elliptic run's
     if method == "pinn":  # the elliptic and tfi runs import no training modules
-        from pinn_engine.blocks.untrained import VolumeStartModel, cannot_win, start_or_train
+        from pinn_engine.kinds.untrained import VolumeStartModel, cannot_win, start_or_train
 
         @cache  # the start's lattice is often the grid's own size
         def tfi_of(shape: tuple[int, ...]) -> np.ndarray:
@@ -284,7 +284,7 @@ def mesh_polydata(
 
         def trained() -> tuple[HexaModel, np.ndarray]:
             """The trained map and the TFI grid it corrects."""
-            from pinn_engine.blocks.hexa import train  # torch: imported only to train
+            from pinn_engine.kinds.hexa.problem import train  # torch: imported only to train
 
             tfi = base
             if spacing or orthogonal:  # the elliptic grid with them, at the full size
@@ -306,7 +306,7 @@ def mesh_polydata(
         tell(0.2, "network")
         key = surface_key(surface)
         if load_model:  # a saved network evaluated
-            from pinn_engine.blocks.hexa import HexaModel  # torch: only for a saved network
+            from pinn_engine.kinds.hexa.problem import HexaModel  # torch: only for a saved network
 
             if spacing or orthogonal:
                 raise InputError(

@@ -3,10 +3,10 @@
 Its map (xi, eta, zeta) -> (x, y, z) on the unit cube is the 3D TFI of the six face grids,
 plus the start's correction D (hexa/field.py, zero on the faces), plus a bubble times three
 coordinate sub-networks (neural/networks.py): the faces are built in (hard boundary, as
-blocks/mapping.py in 2D). The start is the converged 3D Winslow grid on the same boundary
+kinds/four_sided/mapping.py in 2D). The start is the converged 3D Winslow grid on the same boundary
 nodes (the output layer starts at zero, so the map starts as that grid), the loss the 3D
 Winslow residual (losses.winslow_residual_3d) at random points, and the guard keeps the last
-L-BFGS state no worse than the start by blocks/quad.py's ``GUARD_TOL``, else the start: the
+L-BFGS state no worse than the start by the four-sided ``problem.GUARD_TOL``, else the start: the
 grid is never worse than the Winslow grid by more than those tolerances. With a spacing
 the start is the spaced Winslow grid, the loss gains its node parameters' control terms
 (losses.parameter_controls_3d) and the guard keeps the first edges near H. The trainer
@@ -23,12 +23,13 @@ import numpy as np
 import torch
 
 from pinn_engine import __version__
-from pinn_engine.blocks.model import network_from, network_payload, read_payload
-from pinn_engine.blocks.quad import GUARD_TOL, GUARD_WALL_ANGLE
 from pinn_engine.errors import InputError
 from pinn_engine.hexa import quality
 from pinn_engine.hexa.field import LatticeField, node_points
 from pinn_engine.io.fileio import atomic_path
+from pinn_engine.kinds.four_sided.model import network_from, network_payload, read_payload
+from pinn_engine.kinds.four_sided.problem import GUARD_TOL, GUARD_WALL_ANGLE
+from pinn_engine.kinds.hexa.start import Start
 from pinn_engine.neural.jet import nd
 from pinn_engine.neural.losses import (
     loss_orthogonal,
@@ -43,10 +44,9 @@ from pinn_engine.neural.trainer import (
 )
 from pinn_engine.quality import no_worse
 from pinn_engine.settings import Settings
-from pinn_engine.starts.volume_start import Start
 
 DIMENSIONS = 3  # the block's computational coordinates, and its physical ones
-FORMAT = "pinn-mesh-hexa-model/1"  # a saved hexahedral model (blocks/model.py's is 2D)
+FORMAT = "pinn-mesh-hexa-model/1"  # a saved hexahedral model (kinds/four_sided/model.py's is 2D)
 GRID_CHUNK = 1 << 14  # nodes per forward pass when a grid is evaluated (bounds its memory)
 # The guard keeps a state only if a spaced patch's first edges stay within this fraction of
 # H: half of SPEC 7's 10 %, as GUARD_TOL is half of the angle bounds (the start's fit: 1 %)

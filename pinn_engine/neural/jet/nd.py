@@ -1,6 +1,6 @@
 """Derivative jets for any number of inputs: values, first and second derivatives of a
 :class:`~pinn_engine.neural.networks.CoordinateNet` in one forward pass, as plain torch
-operations that autograd differentiates (the hexahedral block's, blocks/hexa.py).
+operations that autograd differentiates (the hexahedral block's, kinds/hexa/problem.py).
 
 A jet of ``d`` inputs is a list of ``channels(d)`` tensors: the value, the ``d`` first
 derivatives, then the second derivatives in the order of :func:`pairs` (for ``d`` = 2 the
