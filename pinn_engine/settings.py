@@ -517,7 +517,7 @@ class Settings:
     def quality_objective(self) -> bool:
         """Whether a four-sided pinn block takes the quality objective (its start, term and
         ranking: starts/quality_start.py; a multi-block run makes ``best`` winslow,
-        job.blocks): asked, or by default (``best``) from the elliptic
+        kinds.blocks.run): asked, or by default (``best``) from the elliptic
         warm start where no spacing or orthogonal side is asked (there the spacing's and the
         orthogonal start's grids, which the quality start does not keep, are the start) and
         the lattice is the grid itself (``MAX_LATTICE_NODES``)."""

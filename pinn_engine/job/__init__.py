@@ -20,27 +20,31 @@ from collections.abc import Callable
 import numpy as np
 
 from pinn_engine.adapt import Field, read_field, read_field_file
-from pinn_engine.cache import MeshCache
 from pinn_engine.errors import InputError
-from pinn_engine.job.blocks import BlocksGeometry, blocks_from_files, blocks_from_polydata
 from pinn_engine.job.cover import covered, unfolded
-from pinn_engine.job.dictionary import (
-    DictionaryGeometry,
-    dictionary_from_file,
-    dictionary_from_text,
-)
 from pinn_engine.job.family import (
     family_member,
     family_size,
     fit_family_model,
     load_family,
     member_target,
+    run_family,
 )
-from pinn_engine.job.hexa import HexaGeometry, hexa_from_file, hexa_from_polydata
 from pinn_engine.job.kind import kind_of
-from pinn_engine.job.outcome import Outcome
 from pinn_engine.job.registry import KINDS, REGISTRY, Kind, kind_of_geometry
-from pinn_engine.job.single import (
+from pinn_engine.kinds.blocks.run import BlocksGeometry, blocks_from_files, blocks_from_polydata
+from pinn_engine.kinds.blocks3d.run import (
+    DICTIONARY_METHODS,
+    DictionaryGeometry,
+    dictionary_from_file,
+    dictionary_from_text,
+    write_cgns,
+    write_unstructured,
+)
+from pinn_engine.kinds.four_sided.cache import MeshCache
+from pinn_engine.kinds.hexa.run import HexaGeometry, hexa_from_file, hexa_from_polydata
+from pinn_engine.kinds.outcome import Outcome
+from pinn_engine.kinds.single import (
     Geometry,
     geometry_from_files,
     geometry_from_polydata,
@@ -74,7 +78,10 @@ def run(
         )
     if field is not None and not kind.adapts:
         raise InputError("adapting to a field (SPEC 14) applies to 2D domains in this build")
-    outcome = kind.run(settings, geometry, progress, cache, model, family)
+    if family is not None:
+        outcome = run_family(settings, geometry, family)
+    else:
+        outcome = kind.run(settings, geometry, progress, cache, model)
     if kind.covered:
         outcome = covered(outcome, geometry)
     if field is not None and settings.adapt_strength != 0:
@@ -88,6 +95,7 @@ def run(
 
 
 __all__ = [
+    "DICTIONARY_METHODS",
     "KINDS",
     "REGISTRY",
     "Kind",
@@ -116,5 +124,8 @@ __all__ = [
     "read_field",
     "read_field_file",
     "run",
+    "run_family",
     "topology_of",
+    "write_cgns",
+    "write_unstructured",
 ]

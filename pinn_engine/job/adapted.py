@@ -15,7 +15,7 @@ from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkStructuredGri
 from pinn_engine.adapt import Field
 from pinn_engine.adapt.grids import Adapted, adapt_grids
 from pinn_engine.errors import InputError
-from pinn_engine.job.outcome import Outcome
+from pinn_engine.kinds.outcome import Outcome
 from pinn_engine.quality import cell_quality, summary
 from pinn_engine.settings import Settings
 

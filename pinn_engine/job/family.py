@@ -8,8 +8,8 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from pinn_engine.job.outcome import Outcome
-from pinn_engine.job.single import Geometry
+from pinn_engine.kinds.outcome import Outcome
+from pinn_engine.kinds.single import Geometry
 from pinn_engine.settings import Settings
 
 
@@ -54,3 +54,22 @@ def family_size(path: str | os.PathLike) -> tuple[int, int]:
     from pinn_engine.family import family_size as size
 
     return size(path)
+
+
+def run_family(settings: Settings, geometry: Geometry, family: str | os.PathLike) -> Outcome:
+    """Mesh a four-sided domain or a body by the family model saved at ``family``."""
+    from pinn_engine.family import mesh_member
+    from pinn_engine.io.export import patch_names
+    from pinn_engine.io.export.patches import body_patch_names as body_patches
+    from pinn_engine.io.pipeline import to_vtk
+
+    if settings.topology == "none":
+        names = patch_names(geometry.patches)
+    else:
+        names = patch_names(geometry.patches, body_patches(settings.topology))
+    result = mesh_member(
+        family, settings, geometry.boundary, geometry.aux, geometry.body, geometry.far
+    )
+    kind = "four-sided" if settings.topology == "none" else "body"
+    grid = to_vtk(result, names)
+    return Outcome(kind, grid, result.report, [result.points], result.history, False)

@@ -11,13 +11,13 @@ import os
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from pinn_engine.cache import MeshCache
 from pinn_engine.errors import InputError
-from pinn_engine.job.blocks import BlocksGeometry, run_blocks
-from pinn_engine.job.dictionary import DictionaryGeometry, run_dictionary
-from pinn_engine.job.hexa import HexaGeometry, run_hexa
-from pinn_engine.job.outcome import Outcome
-from pinn_engine.job.single import Geometry, run_single
+from pinn_engine.kinds.blocks.run import BlocksGeometry, run_blocks
+from pinn_engine.kinds.blocks3d.run import DictionaryGeometry, run_dictionary
+from pinn_engine.kinds.four_sided.cache import MeshCache
+from pinn_engine.kinds.hexa.run import HexaGeometry, run_hexa
+from pinn_engine.kinds.outcome import Outcome
+from pinn_engine.kinds.single import Geometry, run_single
 from pinn_engine.settings import Settings
 
 Progress = Callable[[dict], object] | None
@@ -33,10 +33,7 @@ class Kind:
 
     names: tuple[str, ...]
     geometry: type
-    run: Callable[
-        [Settings, object, Progress, MeshCache | None, str | os.PathLike | None, object],
-        Outcome,
-    ]
+    run: Callable[[Settings, object, Progress, MeshCache | None, str | os.PathLike | None], Outcome]
     covered: bool
     family: bool
     adapts: bool
@@ -47,9 +44,7 @@ REGISTRY = (
     Kind(
         ("blocks",),
         BlocksGeometry,
-        lambda settings, geometry, progress, cache, model, family: run_blocks(
-            settings, geometry, progress
-        ),
+        lambda settings, geometry, progress, cache, model: run_blocks(settings, geometry, progress),
         True,
         False,
         True,
@@ -57,7 +52,7 @@ REGISTRY = (
     Kind(
         ("hexa",),
         HexaGeometry,
-        lambda settings, geometry, progress, cache, model, family: run_hexa(
+        lambda settings, geometry, progress, cache, model: run_hexa(
             settings, geometry, progress, model
         ),
         False,
@@ -67,7 +62,7 @@ REGISTRY = (
     Kind(
         ("dictionary",),
         DictionaryGeometry,
-        lambda settings, geometry, progress, cache, model, family: run_dictionary(
+        lambda settings, geometry, progress, cache, model: run_dictionary(
             settings, geometry, progress
         ),
         False,

@@ -10,9 +10,9 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 
-from pinn_engine.cache import MeshCache
 from pinn_engine.errors import InputError
-from pinn_engine.job.outcome import Outcome, network_trained
+from pinn_engine.kinds.four_sided.cache import MeshCache
+from pinn_engine.kinds.outcome import Outcome, network_trained
 from pinn_engine.settings import DEFAULT_SIZE, Settings
 
 # A curve that fails as a four-sided boundary is called a body (and the user pointed to the
@@ -190,20 +190,16 @@ def run_single(
     progress: Callable[[dict], bool | None] | None = None,
     cache: MeshCache | None = None,
     model: str | os.PathLike | None = None,
-    family: str | os.PathLike | None = None,
 ) -> Outcome:
     """Mesh ``geometry`` at ``settings.size`` nodes (default ``DEFAULT_SIZE``): a four-sided
     block through the fitted-network ``cache`` (or the saved model at ``model``, evaluated on
-    this boundary), a body through its block kind; or, with ``family``, by the family model
-    saved there (SPEC 16)."""
+    this boundary), a body through its block kind."""
     from pinn_engine.io.export import patch_names
     from pinn_engine.io.export.patches import body_patch_names as body_patches
     from pinn_engine.io.pipeline import to_vtk
     from pinn_engine.kinds.body.mesh import mesh_body
 
     ni, nj = settings.size or DEFAULT_SIZE
-    if family is not None:
-        return _run_family(settings, geometry, family)
     if settings.topology == "none":
         names = patch_names(geometry.patches)  # refused before meshing, not after
         trained = False
@@ -236,22 +232,3 @@ def run_single(
     return Outcome(
         "body", grid, result.report, [result.points], result.history, network_trained(result.report)
     )
-
-
-def _run_family(settings: Settings, geometry: Geometry, family: str | os.PathLike) -> Outcome:
-    """Mesh a four-sided domain or a body by the family model saved at ``family``."""
-    from pinn_engine.family import mesh_member
-    from pinn_engine.io.export import patch_names
-    from pinn_engine.io.export.patches import body_patch_names as body_patches
-    from pinn_engine.io.pipeline import to_vtk
-
-    if settings.topology == "none":
-        names = patch_names(geometry.patches)
-    else:
-        names = patch_names(geometry.patches, body_patches(settings.topology))
-    result = mesh_member(
-        family, settings, geometry.boundary, geometry.aux, geometry.body, geometry.far
-    )
-    kind = "four-sided" if settings.topology == "none" else "body"
-    grid = to_vtk(result, names)
-    return Outcome(kind, grid, result.report, [result.points], result.history, False)

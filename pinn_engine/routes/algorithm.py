@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 import numpy as np
 from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
@@ -42,7 +43,6 @@ from vtkmodules.vtkCommonCore import vtkIntArray
 from vtkmodules.vtkCommonDataModel import vtkPolyData, vtkStructuredGrid
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
-from pinn_engine.cache import MeshCache
 from pinn_engine.errors import STOP, InputError, SettingsError, grid_warnings, unknown_name
 from pinn_engine.routes.filters import (
     FieldInput,
@@ -67,6 +67,9 @@ from pinn_engine.settings import (
     parse_sides,
     parse_spacing,
 )
+
+if TYPE_CHECKING:
+    from pinn_engine.job import MeshCache
 
 LABEL = "PINN Structured Mesh"
 AUTO_TOPOLOGY = "auto"  # the topology picked from the input (job.topology_of), the default
@@ -133,7 +136,11 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, FieldInput, LineInputs, VTKPytho
         self._wall_spacing = 0.0  # first-layer height off a body's wall; 0: the default
         self._auto_topology = False  # topology from the input (AUTO_TOPOLOGY)
         self._model = None  # a family model (SPEC 16): its file, or a fitted model
-        self._cache = cache if cache is not None else MeshCache()
+        if cache is None:
+            from pinn_engine.job import MeshCache  # the job's modules: at the first filter
+
+            cache = MeshCache()
+        self._cache = cache
         self._last_error = ""
         self._last_warning = ""
         self._trained = False

@@ -28,7 +28,7 @@ from pinn_engine.routes.reporting import message_of
 from pinn_engine.routes.summary_lines import dictionary_line
 
 LABEL = "PINN blockMeshDict Reader"
-METHODS = ("pinn", "elliptic", "tfi")  # job.dictionary.DICTIONARY_METHODS, the default first
+METHODS = ("pinn", "elliptic", "tfi")  # job.DICTIONARY_METHODS, the default first
 INTERFACES = ("free", "fixed")
 
 

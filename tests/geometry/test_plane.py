@@ -140,7 +140,7 @@ def test_saved_model_keeps_its_plane(tmp_path, fig2):
 
 
 def test_a_cached_mesher_is_not_reused_for_another_plane(fig2):
-    from pinn_engine.cache import MeshCache
+    from pinn_engine.kinds.four_sided.cache import MeshCache
 
     boundary, _ = fig2
     cache = MeshCache()

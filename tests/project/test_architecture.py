@@ -240,7 +240,7 @@ def test_imports_follow_the_architecture_picture():
 # plugin) may import of the package: the job and its settings and outcome, inputs and outputs
 # (io, the airfoil reader, the plane of a curve), the messages, and the routes themselves
 ROUTE_IMPORTS = (
-    "pinn_engine.job", "pinn_engine.settings", "pinn_engine.result", "pinn_engine.cache",
+    "pinn_engine.job", "pinn_engine.settings", "pinn_engine.result",
     "pinn_engine.errors", "pinn_engine.io", "pinn_engine.patchnames", "pinn_engine.heap",
     "pinn_engine.lazy",
     "pinn_engine._version", "pinn_engine.__version__", "pinn_engine.geometry.plane",

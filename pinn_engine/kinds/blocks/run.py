@@ -15,7 +15,7 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 from pinn_engine.errors import STOP, InputError
-from pinn_engine.job.outcome import Outcome
+from pinn_engine.kinds.outcome import Outcome
 from pinn_engine.settings import AUTO_BLOCKS, NO_TIME_LIMIT, Settings
 
 # A multi-block domain's curves must lie in one plane z = const: z may vary by this share

@@ -7,7 +7,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from pinn_engine.errors import InputError
-from pinn_engine.job.outcome import Outcome
+from pinn_engine.kinds.outcome import Outcome
 from pinn_engine.settings import Settings
 
 PERCENT = 100  # a stage's progress dict counts the share of the run done in per cent

@@ -11,7 +11,7 @@ from pathlib import Path
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 from pinn_engine.errors import SettingsError
-from pinn_engine.job.outcome import Outcome
+from pinn_engine.kinds.outcome import Outcome
 from pinn_engine.settings import Settings, hexa_size_problem
 
 PERCENT = 100  # a stage's progress dict counts the share of the run done in per cent

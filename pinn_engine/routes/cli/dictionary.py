@@ -51,7 +51,7 @@ def run_dictionary(args: argparse.Namespace, written: list[Path]) -> Path:
                 f"{flags.get(name, name)} does not apply to a blockMeshDict: its blocks, "
                 "counts, gradings and patches are the dictionary's"
             )
-    method = args.method or job.dictionary.DICTIONARY_METHODS[0]
+    method = args.method or job.DICTIONARY_METHODS[0]
     stem = Path(args.boundary).resolve().parent.parent.name or "blockMeshDict"
     out = output_path(args, f"{stem}_{method}", "vtm")
     foam = args.format == "openfoam"
@@ -78,9 +78,9 @@ def run_dictionary(args: argparse.Namespace, written: list[Path]) -> Path:
             ),
         )
     elif kind == "cgns":
-        job.dictionary.write_cgns(result, out)
+        job.write_cgns(result, out)
     elif kind in ("su2", "msh"):
-        job.dictionary.write_unstructured(result, out, kind)
+        job.write_unstructured(result, out, kind)
     else:
         write_vtm(outcome.data, out)
     written.append(out)

@@ -9,7 +9,6 @@ from collections.abc import Callable, Sequence
 
 import pyvista as pv
 
-from pinn_engine.cache import MeshCache
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.plane import Plane
 from pinn_engine.routes.pyvista_accessor.four_sided import pinn_mesh
@@ -56,6 +55,8 @@ class PinnMeshAccessor:
 
     def __init__(self, mesh: pv.PolyData) -> None:
         self._mesh = mesh
+        from pinn_engine.job import MeshCache
+
         self._cache = MeshCache()
         self.last: pv.StructuredGrid | pv.MultiBlock | None = None  # the last grid made
 

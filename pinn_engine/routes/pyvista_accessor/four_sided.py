@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
 
 import pyvista as pv
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 
-from pinn_engine.cache import MeshCache
 from pinn_engine.errors import InputError, SettingsError
 from pinn_engine.routes.algorithm import PinnMeshAlgorithm
 from pinn_engine.routes.pyvista_accessor.body import body_input
@@ -22,6 +22,9 @@ from pinn_engine.routes.pyvista_accessor.running import (
     warn_about,
 )
 from pinn_engine.settings import Settings, grid_size_problem, make_settings
+
+if TYPE_CHECKING:
+    from pinn_engine.job import MeshCache
 
 
 @public("pinn_mesh", also=Settings.__dataclass_fields__)
@@ -97,7 +100,7 @@ def pinn_mesh(
         and a ``TrainingStoppedWarning``.
     time_limit : float, optional (a ``**settings`` field)
         Seconds of training, then the same as a ``STOP`` answer (default: no limit).
-    cache : pinn_engine.cache.MeshCache, optional
+    cache : pinn_engine.job.MeshCache, optional
         Re-use networks trained earlier on the same inputs and training settings.
     patches : dict, sequence of four names or str, optional
         Boundary patch names, e.g. ``{"bottom": "wall", "top": "wall"}`` (default: bottom,
@@ -208,6 +211,8 @@ def pinn_mesh(
     )
     given = {k: v for k, v in given.items() if v is not None}
     config = make_settings(method, preset, **{"lattice": (ni, nj), **given})  # or ValueError
+    from pinn_engine.job import MeshCache
+
     alg = PinnMeshAlgorithm(route=ROUTE, cache=cache or MeshCache(capacity=1), progress=progress)
     alg.SetMethod(method)
     alg.SetPreset(preset)
