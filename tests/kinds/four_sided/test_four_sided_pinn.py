@@ -1,4 +1,6 @@
-"""The PINN of the paper: Winslow residual, shortcut network, annealing, data term, training."""
+"""The four-sided block kind's PINN (the paper's): its Winslow residual through the training
+path, data term, training, the fused loss against autograd; called as the kind
+(``Mesher``, ``QuadProblem``), not through a route."""
 
 from __future__ import annotations
 
@@ -11,11 +13,10 @@ from pinn_engine.io.pipeline import load_aux, load_boundary
 from pinn_engine.kinds.four_sided.mapping import Mapping
 from pinn_engine.kinds.four_sided.mesher import Mesher
 from pinn_engine.kinds.four_sided.problem import QuadProblem, _FusedEvaluation
-from pinn_engine.neural.jet import input_jet, jet_product, native
-from pinn_engine.neural.losses import annealed_lambda, loss_eqns, winslow_residual
-from pinn_engine.neural.networks import CoordinateNet, autograd_jet
+from pinn_engine.neural.jet import native
+from pinn_engine.neural.losses import loss_eqns, winslow_residual
+from pinn_engine.neural.networks import CoordinateNet
 from pinn_engine.neural.trainer import AutogradEvaluation
-from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
 
 # a short training of the Winslow objective's network (the default trains none)
@@ -53,63 +54,6 @@ def test_winslow_residual_of_a_harmonic_map_is_zero_through_the_training_path(fi
     square = exp_map_jet(x)
     square[3] = 1.0  # x_xixi = 1
     assert loss_eqns(mapping.jet(x, square)[0]) > 1e-2
-
-
-def test_z_squared_jet_from_the_jet_algebra_is_harmonic():
-    x = torch.rand(32, 2, dtype=torch.float64)
-    xi_eta = input_jet(x)
-    xi = tuple(c[:, :1] for c in xi_eta)
-    eta = tuple(c[:, 1:] for c in xi_eta)
-    re = [a - b for a, b in zip(jet_product(xi, xi), jet_product(eta, eta))]
-    im = [2 * a for a in jet_product(xi, eta)]
-    jet = torch.stack([torch.cat([a, b], dim=1) for a, b in zip(re, im)])
-    assert winslow_residual(jet).abs().max() < 1e-14
-
-
-def test_shortcut_network_shapes_and_gating_on_a_hand_set_network():
-    net = CoordinateNet("shortcut", hidden_layers=2, neurons=2)
-    with torch.no_grad():
-        for p in net.parameters():
-            p.zero_()
-        net.w_in[0] = torch.tensor([[1.0, 0.0], [0.0, 1.0]])  # H1 = tanh(x)
-        net.w_u[0] = torch.tensor([[0.5, 0.0], [0.0, 0.5]])  # U = tanh(x / 2)
-        net.w_v[0] = torch.tensor([[0.0, 1.0], [1.0, 0.0]])  # V = tanh(swap(x))
-        net.w_hidden[0][0] = torch.tensor([[2.0, 0.0], [0.0, -1.0]])
-        net.b_hidden[0][0] = torch.tensor([[0.1, 0.2]])
-        net.w_out[0] = torch.tensor([[1.0], [3.0]])
-        net.b_out[0] = torch.tensor([[0.25]])
-    x = torch.tensor([[0.3, 0.7], [0.9, 0.1]], dtype=torch.float64)
-    h1 = torch.tanh(x)
-    u, v = torch.tanh(x / 2), torch.tanh(x.flip(1))
-    z = torch.tanh(h1 * torch.tensor([2.0, -1.0]).double() + torch.tensor([0.1, 0.2]).double())
-    h2 = (1 - z) * u + z * v  # paper eq. 14
-    expected = h2 @ torch.tensor([1.0, 3.0]).double() + 0.25
-    out = net(x)
-    assert out.shape == (2, 2)
-    torch.testing.assert_close(out[:, 0], expected)
-    torch.testing.assert_close(out[:, 1], torch.zeros(2, dtype=torch.float64))  # y-net is 0
-    jet, values = net.jet(x, x)
-    assert jet.shape == (6, 2, 2)
-    torch.testing.assert_close(jet, autograd_jet(net, x))
-    torch.testing.assert_close(values, out)
-
-
-def test_annealing_weight_against_a_hand_computation():
-    g_eqns = [torch.tensor([[1.0, -3.0], [2.0, 0.5]]), torch.tensor([[0.2]])]
-    g_bcs = [torch.tensor([[0.5, -1.0], [0.0, 0.5]]), torch.tensor([[-0.5]])]
-    # lambda_hat = max|g_eqns| / mean|lambda1 g_bcs| = 3 / (2 * 2.5 / 5) = 3
-    assert annealed_lambda(g_eqns, g_bcs, lambda1=2.0, momentum=0.9) == pytest.approx(
-        0.9 * 2.0 + 0.1 * 3.0
-    )
-
-
-def test_annealing_on_a_toy_loss_via_autograd():
-    w = torch.tensor([1.0, 2.0], requires_grad=True)
-    l_eqns = (w**2).sum()  # grad 2w = [2, 4]
-    l_bcs = (3 * w).sum()  # grad [3, 3]
-    g_e = torch.autograd.grad(l_eqns, [w])
-    g_b = torch.autograd.grad(l_bcs, [w])
-    assert annealed_lambda(g_e, g_b, 1.0, 0.9) == pytest.approx(0.9 + 0.1 * 4 / 3)
 
 
 def test_data_term_sees_the_auxiliary_line_points(fig2):
@@ -173,46 +117,6 @@ def test_paper_preset_and_mgnet_train_with_penalty_terms(fig2):
     assert h["lambda1"][-1] != 1.0  # the annealing moved lambda1
     mg = Mesher(make_settings("mgnet", adam_epochs=60, lbfgs_iterations=5)).fit(boundary, aux)
     assert mg.aux_lines_ == [] and mg.model_.mapping.net.kind == "mlp"
-
-
-def test_cli_pinn_with_save_and_load(tmp_path, capsys):
-    model = tmp_path / "m.pt"
-    args = [
-        str(EXAMPLES / "wavy.vtp"),
-        "--aux",
-        str(EXAMPLES / "wavy_aux.vtp"),
-        "--epochs",
-        "60",
-        "--lbfgs",
-        "5",
-        "--quiet",
-    ]
-    assert main(args + ["-o", str(tmp_path / "a.vts"), "--save-model", str(model)]) == 0
-    assert (
-        main(
-            [
-                str(EXAMPLES / "wavy.vtp"),
-                "--load-model",
-                str(model),
-                "--size",
-                "101",
-                "51",
-                "-o",
-                str(tmp_path / "b.vts"),
-                "--quiet",
-            ]
-        )
-        == 0
-    )
-    assert (tmp_path / "b.vts").stat().st_size > 0
-    # a model for another boundary is refused with a clear error
-    assert (
-        main(
-            [str(EXAMPLES / "fig2.vtp"), "--load-model", str(model), "-o", str(tmp_path / "c.vts")]
-        )
-        == 2
-    )
-    assert "different boundary" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize("backend", [pytest.param("native", marks=needs_compiler), "torch"])
