@@ -60,15 +60,22 @@ def hexes(ids: np.ndarray) -> np.ndarray:
     return np.stack([c.transpose(2, 1, 0).ravel() for c in corners], axis=1)
 
 
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``np.cross`` of (..., 3) arrays, by components (several times faster on many rows)."""
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
+
+
 def _faces(points: np.ndarray, quads: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Centres and area vectors of quad faces (m, 4)."""
     p = points[quads]
     mid = p.mean(axis=1)
     nxt = np.roll(p, -1, axis=1)
-    n = np.cross(nxt - p, mid[:, None] - p)
-    a = np.linalg.norm(n, axis=-1)
+    n = _cross(nxt - p, mid[:, None] - p)
+    a = np.sqrt(np.einsum("nqk,nqk->nq", n, n))
     c = p + nxt + mid[:, None]
-    centre = (a[..., None] * c).sum(axis=1) / (3 * np.maximum(a.sum(axis=1), TINY))[:, None]
+    centre = np.einsum("nq,nqk->nk", a, c) / (3 * np.maximum(a.sum(axis=1), TINY))[:, None]
     degenerate = a.sum(axis=1) <= TINY
     centre[degenerate] = mid[degenerate]
     return centre, 0.5 * n.sum(axis=1)
@@ -95,8 +102,17 @@ def figures(
     :func:`pairing` of their faces, when known)."""
     quads = cells[:, HEX_FACES].reshape(-1, 4)
     pairs, single = pairing(quads) if paired is None else paired
-    fc, fa = _faces(points, quads)
-    fc, fa = fc.reshape(-1, 6, 3), fa.reshape(-1, 6, 3)
+    # each face once, as its owner sees it (OpenFOAM's faces): the neighbour's copy is the
+    # same face with its area vector reversed
+    once = np.concatenate([pairs[:, 0], single])
+    face_of = np.empty(len(quads), dtype=np.int64)
+    face_of[once] = np.arange(len(once))
+    face_of[pairs[:, 1]] = np.arange(len(pairs))
+    sign = np.ones(len(quads))
+    sign[pairs[:, 1]] = -1.0
+    centres, areas = _faces(points, quads[once])
+    fc = centres[face_of].reshape(-1, 6, 3)
+    fa = (areas[face_of] * sign[:, None]).reshape(-1, 6, 3)
     guess = fc.mean(axis=1)
     vol = np.einsum("nfk,nfk->nf", fa, fc - guess[:, None])
     pc = 0.75 * fc + 0.25 * guess[:, None]
@@ -105,14 +121,14 @@ def figures(
     cc[np.abs(total) <= TINY] = guess[np.abs(total) <= TINY]
     own, nei = pairs[:, 0] // 6, pairs[:, 1] // 6
     f = pairs[:, 0]
-    centre, area = fc.reshape(-1, 3)[f], fa.reshape(-1, 3)[f]
+    centre, area = centres[: len(pairs)], areas[: len(pairs)]
     d = cc[nei] - cc[own]
     cos = np.einsum("nk,nk->n", area, d) / np.maximum(
         np.linalg.norm(area, axis=1) * np.linalg.norm(d, axis=1), TINY
     )
     angles = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
     skew = _skewness(points, quads[f], centre, area, cc[own], d, 0.2)
-    bcentre, barea = fc.reshape(-1, 3)[single], fa.reshape(-1, 3)[single]
+    bcentre, barea = centres[len(pairs) :], areas[len(pairs) :]
     cpf = bcentre - cc[single // 6]
     normal = barea / np.maximum(np.linalg.norm(barea, axis=1), TINY)[:, None]
     bd = normal * np.einsum("nk,nk->n", normal, cpf)[:, None]
@@ -138,7 +154,14 @@ def _skewness(points, quads, centre, area, owner_centre, d, least) -> np.ndarray
 
 def folded(points: np.ndarray, cells: np.ndarray) -> int:
     """Cells with a corner whose three edges make a non-positive triple product."""
-    p = points[cells]
-    e = p[:, CORNER_EDGES] - p[:, :, None]
-    triple = np.einsum("nck,nck->nc", e[:, :, 0], np.cross(e[:, :, 1], e[:, :, 2]))
-    return int((triple <= 0).any(axis=1).sum())
+    p = points[cells].transpose(1, 2, 0)  # (corner, xyz, cell): each a contiguous row
+    bad = np.zeros(len(cells), dtype=bool)
+    for corner, (a, b, c) in enumerate(CORNER_EDGES):
+        e0, e1, e2 = p[a] - p[corner], p[b] - p[corner], p[c] - p[corner]
+        triple = (
+            e0[0] * (e1[1] * e2[2] - e1[2] * e2[1])
+            + e0[1] * (e1[2] * e2[0] - e1[0] * e2[2])
+            + e0[2] * (e1[0] * e2[1] - e1[1] * e2[0])
+        )
+        bad |= triple <= 0
+    return int(bad.sum())
