@@ -189,16 +189,18 @@ def write_hex_polymesh(
     cyclic's ``neighbourPatch``). A boundary face no patch lists is a programming error."""
     quads = cells[:, HEX_FACES].reshape(-1, 4)
     key = np.sort(quads, axis=1)
-    _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-    inverse = inverse.ravel()
-    order = np.argsort(inverse, kind="stable")
-    two = counts[inverse[order]] == 2
+    order = np.lexsort(key.T[::-1])  # copies of one face together, lower cell first
+    ordered = key[order]
+    starts = np.flatnonzero(np.r_[True, (ordered[1:] != ordered[:-1]).any(axis=1)])
+    sizes = np.diff(np.r_[starts, len(order)])
+    copies = np.repeat(sizes, sizes)  # per entry of ``order``: how many cells have its face
+    two = copies == 2
     pairs = order[two].reshape(-1, 2)  # each internal face's two copies, lower cell first
     owner, neighbour = pairs[:, 0] // 6, pairs[:, 1] // 6
     faces = quads[pairs[:, 0]]
     sort = np.lexsort((neighbour, owner))
     faces, owner, neighbour = faces[sort], owner[sort], neighbour[sort]
-    single = order[counts[inverse[order]] == 1]
+    single = order[copies == 1]
     where = {tuple(k): f for k, f in zip(key[single].tolist(), single.tolist())}
     out = []
     for name, kind, pf in patches:
