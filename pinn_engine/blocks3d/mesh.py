@@ -4,10 +4,12 @@ blocks, the choice between them, and the result as VTK blocks with SPEC 11's arr
 The methods: ``tfi`` is blockMesh's placement; ``elliptic`` the 3D Winslow grid over all
 blocks (``winslow.py``; refused where it folds); ``pinn`` (the default) the better of the
 two by SPEC 15's aims, checkMesh's largest non-orthogonality and skewness no worse than
-blockMesh's: the network would train on the Winslow equations alone, which the elliptic
-grid already solves, so none is trained (the report's ``training.skipped`` says so, as for
-a hexahedral block without spacing or orthogonal patches). The blocks are coupled through
-their interfaces, so the choice is made for the grid as a whole.
+blockMesh's (a placement orthogonal to within ``ORTHOGONAL`` everywhere is kept unsolved:
+the solve could gain no figure that matters); the network would train on the Winslow
+equations alone, which the elliptic grid already solves, so none is trained (the report's
+``training.skipped`` says so, as for a hexahedral block without spacing or orthogonal
+patches). The blocks are coupled through their interfaces, so the choice is made for the
+grid as a whole.
 """
 
 from __future__ import annotations
@@ -36,6 +38,11 @@ METHODS = ("pinn", "elliptic", "tfi")
 # a figure within this many degrees (non-orthogonality) or this much (skewness) of
 # blockMesh's counts as no worse: round-off of grids that are the same
 SAME_ANGLE, SAME_SKEW = 1e-6, 1e-9
+# blockMesh's placement no more non-orthogonal than this (degrees) anywhere is kept by the
+# default without solving: the solve could gain at most this, where OpenFOAM's
+# non-orthogonal correction (tan 1 deg < 0.02 of a face's flux) is already negligible
+ORTHOGONAL = 1.0
+UNSOLVED = f"blockMesh's placement is within {ORTHOGONAL:g} deg of orthogonal everywhere"
 SKIPPED = "the network would train on the Winslow equations alone, which the elliptic grid solves"
 
 
@@ -103,7 +110,8 @@ def mesh_dictionary(
             d.source,
         )
     points, kept, steps = placed.points, "tfi", 0
-    if method != "tfi":
+    orthogonal = candidates["tfi"].max_non_orthogonality <= ORTHOGONAL
+    if method == "elliptic" or (method == "pinn" and not orthogonal):
         stage("solving the Winslow equations over all blocks", 0.1)
         t0 = time.perf_counter()
 
@@ -127,6 +135,8 @@ def mesh_dictionary(
     timings["total"] = time.perf_counter() - began
     result = DictResult(placed, points, method, kept, candidates)
     result.report = _report(d, result, steps, timings, free_interfaces)
+    if method == "pinn" and orthogonal:
+        result.report["unsolved"] = UNSOLVED
     stage("done", 1.0)
     return result
 

@@ -85,6 +85,17 @@ def test_the_default_keeps_blockmesh_placement_where_it_is_better():
     assert figures(result.points, result.cells) == result.candidates["tfi"]
 
 
+def test_the_default_keeps_an_orthogonal_placement_unsolved():
+    """blockMesh's grid within ``ORTHOGONAL`` of orthogonal everywhere (a graded box) is
+    kept by the default with no solve; ``elliptic`` still solves it."""
+    d = from_text(BOX)
+    result = mesh_dictionary(d)
+    assert result.kept == "tfi" and "elliptic" not in result.candidates
+    assert result.report["unsolved"] and result.report["winslow_steps"] == 0
+    assert "elliptic" in mesh_dictionary(d, "elliptic").candidates
+    assert "unsolved" not in mesh_dictionary(from_text(small_pipe())).report
+
+
 def test_the_job_gives_blocks_with_spec11_arrays():
     outcome = job.run(make_settings("pinn"), job.dictionary_from_text(small_pipe()))
     assert outcome.kind == "dictionary" and outcome.data.GetNumberOfBlocks() == 5
