@@ -545,40 +545,56 @@ def _columns(st: Stencils) -> np.ndarray:
     return np.stack([st.ids[:, 1 + o[0], 1 + o[1], 1 + o[2]] for o in OFFSETS], axis=1)
 
 
-class _System:
-    """One coordinate's Picard system: the free ``nodes`` (whose rows are solved), the
-    sparsity pattern of their rows over them assembled once (entries of ``rows``, ``cols``
-    the matrix takes, summed where a mirror repeats a column), and its inexact solver."""
+class _Systems:
+    """The three coordinates' Picard systems over one sparsity pattern, assembled once: the
+    rows of the ``nodes`` free in some coordinate over every node (entries ``rows``,
+    ``cols``, summed where a mirror repeats a column). A coordinate's matrix is the rows and
+    columns of its free nodes (``free``), solved by its own inexact solver."""
 
-    def __init__(self, nodes: np.ndarray, rows: np.ndarray, cols: np.ndarray, n: int) -> None:
-        self.nodes, self.solver = nodes, InexactSolve()
+    def __init__(
+        self, owners: np.ndarray, held: np.ndarray, rows: np.ndarray, cols: np.ndarray
+    ) -> None:
+        n = len(held)
+        self.nodes = owners[~held[owners].all(axis=1)]
+        self.free = ~held[self.nodes]
+        m = len(self.nodes)
         index = np.full(n, -1)
-        index[nodes] = np.arange(len(nodes))
-        ri, ci = index[rows], index[cols]
-        self.mine = np.flatnonzero(ri >= 0)
-        self.row_of, self.col_of = ri[self.mine], cols[self.mine]
-        inside = ci[self.mine] >= 0
-        self.inside = self.mine[inside]
-        keys = ri[self.inside].astype(np.int64) * len(nodes) + ci[self.inside]
+        index[self.nodes] = np.arange(m)
+        self.mine = np.flatnonzero(index[rows] >= 0)
+        keys = index[rows[self.mine]].astype(np.int64) * n + cols[self.mine]
         unique, self.slot = np.unique(keys, return_inverse=True)
-        self.indices = (unique % len(nodes)).astype(np.int32)
-        self.indptr = np.searchsorted(unique // len(nodes), np.arange(len(nodes) + 1))
+        row, col = unique // n, unique % n
+        self.pattern = (col.astype(np.int32), np.searchsorted(row, np.arange(m + 1)), (m, n))
+        inner = index[col]  # an entry's column among the rows, -1 for a held node's column
+        self.parts = [self._part(row, inner, self.free[:, comp]) for comp in range(3)]
+        self.solvers = [InexactSolve() for _ in range(3)]
 
-    def residual(self, v: np.ndarray, x: np.ndarray) -> np.ndarray:
-        """The free nodes' Winslow residuals of the coordinate ``x`` under the weights ``v``
-        (rows normalised: a length)."""
-        return np.bincount(self.row_of, v[self.mine] * x[self.col_of], minlength=len(self.nodes))
+    @staticmethod
+    def _part(row: np.ndarray, inner: np.ndarray, free: np.ndarray) -> tuple:
+        """The entries, column indices, row pointers and rows of the matrix of the rows and
+        columns ``free`` among the pattern's rows."""
+        local = np.cumsum(free) - 1
+        keep = np.flatnonzero(free[row] & (inner >= 0) & free[np.maximum(inner, 0)])
+        rows = np.flatnonzero(free)
+        indptr = np.searchsorted(local[row[keep]], np.arange(len(rows) + 1))
+        return keep, local[inner[keep]].astype(np.int32), indptr, rows
 
-    def update(self, v: np.ndarray, x: np.ndarray) -> np.ndarray | None:
-        """The update of the free nodes' coordinate ``x`` toward the frozen system's
-        solution under the entries' weights ``v``."""
-        n = len(self.nodes)
-        if not n:
-            return None
-        residual = self.residual(v, x)
-        data = np.bincount(self.slot.ravel(), -v[self.inside], minlength=len(self.indices))
-        mat = sp.csr_matrix((data, self.indices, self.indptr), shape=(n, n))
-        return self.solver.solve(mat, residual[:, None])[:, 0]
+    def residuals(self, v: np.ndarray, points: np.ndarray) -> np.ndarray:
+        """(m, 3) Winslow residuals of the rows' nodes under the entries' weights ``v``
+        (rows normalised: a length), and keeps the weights for :meth:`updates`."""
+        indices, indptr, shape = self.pattern
+        self.data = np.bincount(self.slot, v[self.mine], minlength=len(indices))
+        return sp.csr_matrix((self.data, indices, indptr), shape=shape) @ points
+
+    def updates(self, residual: np.ndarray) -> list[np.ndarray]:
+        """Per coordinate, the update of its free nodes toward the frozen system's solution
+        (``residual``: :meth:`residuals`)."""
+        out = []
+        for comp, (keep, indices, indptr, rows) in enumerate(self.parts):
+            mat = sp.csr_matrix((-self.data[keep], indices, indptr), shape=(len(rows),) * 2)
+            rhs = residual[rows, comp][:, None]
+            out.append(self.solvers[comp].solve(mat, rhs)[:, 0] if len(rows) else rhs[:0, 0])
+        return out
 
 
 def winslow(
@@ -605,27 +621,19 @@ def winslow(
     )
     star_rows = StarRows(stars)
     entries = np.concatenate([cols.ravel()] + star_rows.ids)
-    systems = [
-        _System(owners[~held[owners, comp]], rows, entries, len(points)) for comp in range(3)
-    ]
+    systems = _Systems(owners, held, rows, entries)
     diag = float(np.linalg.norm(np.ptp(points, axis=0)))
     steps = 0
     with one_blas_thread():
         for steps in range(1, max_iterations + 1):
             v = np.concatenate([_weights(points, st).ravel()] + star_rows.weights(points))
-            if steps == 1 and all(
-                np.abs(system.residual(v, points[:, comp])).max(initial=0.0) <= SOLVED * diag
-                for comp, system in enumerate(systems)
-            ):
+            residual = systems.residuals(v, points)
+            if steps == 1 and np.abs(residual[systems.free]).max(initial=0.0) <= SOLVED * diag:
                 return points, 0  # blockMesh's grid solves the equations already
             moved = 0.0
-            update = np.zeros_like(points)
-            for comp, system in enumerate(systems):
-                delta = system.update(v, points[:, comp])
-                if delta is not None:
-                    update[system.nodes, comp] = delta
-                    moved = max(moved, float(np.abs(delta).max()))
-            points += update
+            for comp, delta in enumerate(systems.updates(residual)):
+                points[systems.nodes[systems.parts[comp][3]], comp] += delta
+                moved = max(moved, float(np.abs(delta).max(initial=0.0)))
             if progress is not None:
                 progress(steps, moved / diag)
             if moved <= TOL * diag:
