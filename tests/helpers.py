@@ -119,3 +119,9 @@ def run_blocks(
 
     geometry = job.blocks_from_files(boundary, edges, aux, patches, spacing, orthogonal, cells)
     return job.run(settings, geometry, progress)
+
+
+def write_selig(path: Path, xy, name: str = "TEST") -> Path:
+    """An airfoil's points ``xy`` written to ``path`` as a Selig .dat file named ``name``."""
+    path.write_text(name + "\n" + "\n".join(f"{x:.7f} {y:.7f}" for x, y in xy) + "\n")
+    return path
