@@ -30,7 +30,6 @@ from vtkmodules.vtkCommonDataModel import (
 from pinn_engine.blocks3d.checks import HEX_FACES, Figures, figures, hexes, pairing
 from pinn_engine.blocks3d.dictionary import BlockMeshDict
 from pinn_engine.blocks3d.placement import Placement, place
-from pinn_engine.blocks3d.winslow import winslow
 from pinn_engine.errors import InputError
 from pinn_engine.hexa.quality import folded, included_angles, scaled_jacobian
 
@@ -112,6 +111,8 @@ def mesh_dictionary(
     points, kept, steps = placed.points, "tfi", 0
     orthogonal = candidates["tfi"].max_non_orthogonality <= ORTHOGONAL
     if method == "elliptic" or (method == "pinn" and not orthogonal):
+        from pinn_engine.blocks3d.winslow import winslow  # scipy: only where it solves
+
         stage("solving the Winslow equations over all blocks", 0.1)
         t0 = time.perf_counter()
 

@@ -20,8 +20,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
 
 from pinn_engine.blocks3d.curves import curves, divisions, edge_points
 from pinn_engine.blocks3d.dictionary import BlockMeshDict
@@ -179,14 +177,29 @@ def place(d: BlockMeshDict) -> Placement:
         pairs.append(np.column_stack([near, idb.ravel()]))
         interfaces |= {(a, ax, ea), (b, bx, eb)}
     pairs = np.vstack(pairs) if pairs else np.zeros((0, 2), int)
-    graph = sp.coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), (len(xyz),) * 2)
-    count, index = connected_components(graph, directed=False)
+    index = _merged(len(xyz), pairs)
+    count = int(index.max(initial=-1)) + 1
     points = np.zeros((count, 3))
     np.add.at(points, index, xyz)
     points /= np.bincount(index, minlength=count)[:, None]
     ids = [index[lo] for lo in local]
     patches = _patches(d, ids, faces)
     return Placement(points, ids, params, patches, interfaces)
+
+
+def _merged(n: int, pairs: np.ndarray) -> np.ndarray:
+    """The merged id of each of ``n`` nodes joined by ``pairs`` (k, 2): the groups of nodes
+    joined directly or through others, numbered by their lowest node in node order
+    (scipy's ``connected_components`` numbering, without importing scipy)."""
+    low = np.arange(n)
+    while True:
+        least = np.minimum(low[pairs[:, 0]], low[pairs[:, 1]])
+        before = low.copy()
+        np.minimum.at(low, pairs[:, 0], least)
+        np.minimum.at(low, pairs[:, 1], least)
+        low = low[low]  # each node to its group's lowest node found so far
+        if np.array_equal(low, before):
+            return np.unique(low, return_inverse=True)[1]
 
 
 def _matched(xyz: np.ndarray, ida: np.ndarray, idb: np.ndarray) -> tuple[float, np.ndarray]:

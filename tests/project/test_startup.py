@@ -68,3 +68,18 @@ def test_a_body_grid_imports_no_scipy(tmp_path):
 def test_a_network_run_does_import_torch(tmp_path):
     run = ["concave.vtp", "--size", "11", "7", "--epochs", "20", "--lbfgs", "2"]
     assert "torch" in _imported_after([(run, "f.vts")], tmp_path)  # the check above can see it
+
+
+def test_an_orthogonal_dictionary_imports_no_scipy(tmp_path):
+    """A blockMeshDict whose placement is orthogonal (kept unsolved by the default) is
+    placed, checked and written on NumPy alone: SciPy's sparse matrices and multigrid are
+    imported only where the Winslow equations are solved."""
+    folder = tmp_path / "box" / "system"
+    folder.mkdir(parents=True)
+    (folder / "blockMeshDict").write_text(
+        "vertices ((0 0 0) (2 0 0) (2 1 0) (0 1 0) (0 0 1) (2 0 1) (2 1 1) (0 1 1));\n"
+        "blocks (hex (0 1 2 3 4 5 6 7) (8 4 2) simpleGrading (3 1 1));\n"
+        "boundary ( walls { type wall; faces ((0 3 2 1)); } );\n"
+    )
+    run = ([str(folder / "blockMeshDict"), "--format", "openfoam"], "box_case")
+    assert _imported_after([run], tmp_path, ("scipy", "pyamg", "torch")) == []
