@@ -23,6 +23,7 @@
 
 from __future__ import annotations
 
+import functools
 import itertools
 from dataclasses import dataclass
 
@@ -44,6 +45,12 @@ SOLVED = 1e-12
 PLANE_TOL = 1e-9  # a boundary face is a coordinate plane when it spreads this share of the diagonal
 OFFSETS = [o for o in itertools.product((-1, 0, 1), repeat=3) if np.count_nonzero(o) < 3]
 CENTRE = (1, 1, 1)
+FRAME_OFFSETS = tuple(np.array(OFFSETS).T + 1)  # OFFSETS as indices into a 3 x 3 x 3 frame
+# a frame's first and last layer along each axis, as indices
+FRAME_SIDES = [
+    tuple(tuple(end if a == axis else slice(None) for a in range(3)) for end in (0, 2))
+    for axis in range(3)
+]
 REGULAR = 4  # cells round an edge of an ordinary grid node (Q != 4 makes a star)
 
 
@@ -160,8 +167,10 @@ def _faces(place: Placement, logical, across: dict) -> list[Stencils]:
 
 def _edge_nodes(place: Placement) -> dict[int, list]:
     """Nodes on block edges and vertices: each with its incident cells as (block, cell
-    index (3,), node's corner in the cell (3,))."""
+    index, node's corner in the cell), each a tuple of three."""
     out: dict[int, list] = {}
+    corners = list(itertools.product((0, 1), repeat=3))
+    octants = np.array(corners)
     for b, ids in enumerate(place.ids):
         n = np.array(ids.shape) - 1
         at_end = [np.isin(np.arange(m + 1), (0, m)) for m in n]
@@ -170,21 +179,38 @@ def _edge_nodes(place: Placement) -> dict[int, list]:
             + at_end[1][None, :, None]
             + at_end[2][None, None, :]
         ) >= 2
-        octants = [np.array(o) for o in itertools.product((0, 1), repeat=3)]
-        for index in np.argwhere(mask):
-            node = int(ids[tuple(index)])
-            for o in octants:
-                c = index - o
-                if 0 <= c.min() and (c < n).all():
-                    out.setdefault(node, []).append((b, c, o))
+        index = np.argwhere(mask)
+        cells = index[:, None, :] - octants[None]  # (nodes, 8, 3)
+        inside = ((cells >= 0) & (cells < n)).all(axis=2)
+        nodes = ids[tuple(index.T)].tolist()
+        for node, cs, ok in zip(nodes, cells.tolist(), inside.tolist()):
+            for c, o, good in zip(cs, corners, ok):
+                if good:
+                    out.setdefault(node, []).append((b, tuple(c), o))
     return out
 
 
+@functools.cache
+def _spots(perm: tuple, sign: tuple, o: tuple) -> tuple | None:
+    """Where a cell's corners (i, j, k) fall in the frame of its corner ``o``, its local
+    axis a along the frame's ``perm[a]`` with ``sign[a]``; None where one falls outside."""
+    out = []
+    for off in itertools.product((0, 1), repeat=3):
+        pos = [1, 1, 1]
+        for a in range(3):
+            pos[perm[a]] += sign[a] * (off[a] - o[a])
+        if min(pos) < 0 or max(pos) > 2:
+            return None
+        out.append((off, tuple(pos)))
+    return tuple(out)
+
+
 def _glue(
-    node: int, cells: list, place: Placement, logical
+    node: int, cells: list, place: Placement, steps: list
 ) -> tuple[np.ndarray, np.ndarray] | None:
     """The 3 x 3 x 3 frame of ``node`` glued from its cells (-1 where no cell reaches), and
-    the spacings; None where the cells do not fit one frame (an irregular edge).
+    the spacings (``steps``: each block direction's logical cell lengths); None where the
+    cells do not fit one frame (an irregular edge).
 
     Each cell's local axis a maps to a frame axis ``perm[a]`` with a sign: read from two of
     its edge neighbours of the node already placed, the third by right-handedness (every
@@ -192,7 +218,7 @@ def _glue(
     corners = []
     for b, c, o in cells:
         box = place.ids[b][c[0] : c[0] + 2, c[1] : c[1] + 2, c[2] : c[2] + 2].tolist()
-        corners.append((box, tuple(int(v) for v in o)))
+        corners.append((box, o))
     where: dict[int, tuple[int, int, int]] = {node: CENTRE}
     maps: list = [None] * len(cells)
     maps[0] = ((0, 1, 2), (1, 1, 1))
@@ -230,30 +256,28 @@ def _glue(
                 if sorted(perm) != [0, 1, 2] or _det(perm, sign) != 1:
                     return None
                 maps[q] = (tuple(perm), tuple(sign))
-            perm, sign = maps[q]
-            for off in itertools.product((0, 1), repeat=3):
-                pos = [1, 1, 1]
-                for a in range(3):
-                    pos[perm[a]] += sign[a] * (off[a] - o[a])
-                pos = tuple(pos)
-                nb = box[off[0]][off[1]][off[2]]
-                if min(pos) < 0 or max(pos) > 2 or where.get(nb, pos) != pos:
+            spots = _spots(*maps[q], o)
+            if spots is None:
+                return None
+            for (i, j, k), pos in spots:
+                nb = box[i][j][k]
+                if where.get(nb, pos) != pos:
                     return None
                 where[nb] = pos
             placed[q] = progress = True
     if not all(placed):
         return None
-    frame = np.full((3, 3, 3), -1)
-    for nb, pos in where.items():
-        if frame[pos] != -1:
+    flat = [-1] * 27
+    for nb, (i, j, k) in where.items():
+        if flat[9 * i + 3 * j + k] != -1:
             return None
-        frame[pos] = nb
+        flat[9 * i + 3 * j + k] = nb
+    frame = np.array(flat).reshape(3, 3, 3)
     h_sum, h_n = np.zeros((3, 2)), np.zeros((3, 2))
     for (b, c, o), (perm, sign) in zip(cells, maps):
-        u = logical[b]
         for a in range(3):
             side = 1 if sign[a] * (1 - 2 * int(o[a])) > 0 else 0
-            h_sum[perm[a], side] += abs(float(u[a][c[a] + 1] - u[a][c[a]]))
+            h_sum[perm[a], side] += steps[b][a][c[a]]
             h_n[perm[a], side] += 1
     h = np.where(h_n > 0, h_sum / np.maximum(h_n, 1), 0.0)
     return frame, h
@@ -268,21 +292,15 @@ def _det(perm, sign) -> int:
 def _mirror(frame: np.ndarray, h: np.ndarray) -> bool:
     """Fill the missing half of a boundary node's frame by mirroring it across the frame's
     axes whose one side is empty; whether the frame is then complete."""
-    for axis in range(3):
-        lo = np.take(frame, 0, axis=axis)
-        hi = np.take(frame, 2, axis=axis)
+    for axis, (first, last) in enumerate(FRAME_SIDES):
+        lo, hi = frame[first], frame[last]
         if (lo < 0).all() and (hi >= 0).any():
-            idx = [slice(None)] * 3
-            idx[axis] = 0
-            frame[tuple(idx)] = hi
+            frame[first] = hi
             h[axis, 0] = h[axis, 1]
         elif (hi < 0).all() and (lo >= 0).any():
-            idx = [slice(None)] * 3
-            idx[axis] = 2
-            frame[tuple(idx)] = lo
+            frame[last] = lo
             h[axis, 1] = h[axis, 0]
-    used = np.array([frame[tuple(np.add(o, 1))] for o in OFFSETS])
-    return bool((used >= 0).all())
+    return bool((frame[FRAME_OFFSETS] >= 0).all())
 
 
 def _star(node: int, cells: list, place: Placement, logical, normal: int | None) -> Star | None:
@@ -294,9 +312,9 @@ def _star(node: int, cells: list, place: Placement, logical, normal: int | None)
     None where the cells form no such fan."""
 
     def neighbour(b, c, o, a) -> int:
-        e = np.array(o)
+        e = list(o)
         e[a] = 1 - e[a]
-        return int(place.ids[b][tuple(c + e)])
+        return int(place.ids[b][c[0] + e[0], c[1] + e[1], c[2] + e[2]])
 
     # a block vertex inside the domain: the edge runs to the neighbours that the cells of
     # one layer share (Q each), the fan's side neighbours are shared by four cells
@@ -333,10 +351,10 @@ def _star(node: int, cells: list, place: Placement, logical, normal: int | None)
         ids = place.ids[b]
 
         def at(flip, c=c, o=o, ids=ids):
-            e = np.array(o)
+            e = list(o)
             for a in flip:
                 e[a] = 1 - e[a]
-            return int(ids[tuple(c + e)])
+            return int(ids[c[0] + e[0], c[1] + e[1], c[2] + e[2]])
 
         plane = [a for a in range(3) if a != along]
         u = logical[b]
@@ -485,11 +503,12 @@ def stencils(place: Placement) -> tuple[Stencils, list[Star], np.ndarray]:
             else:
                 held[nodes.ravel()] = True
     parts = _interior(place, logical) + _faces(place, logical, across)
+    steps = [[np.abs(np.diff(u)).tolist() for u in block] for block in logical]
     glued_ids, glued_h, stars = [], [], []
     for node, cells in _edge_nodes(place).items():
         if held[node].all():
             continue
-        got = _glue(node, cells, place, logical)
+        got = _glue(node, cells, place, steps)
         if got is not None and _mirror(*got) and (got[1] > 0).all():
             glued_ids.append(got[0])
             glued_h.append(got[1])
