@@ -1,5 +1,5 @@
 """Where a body grid's network wins: the network trained on every grid, also where the
-default does not train it (``kinds.untrained.body_cannot_win``), and what its guard kept.
+default does not train it (``kinds.body.untrained.body_cannot_win``), and what its guard kept.
 
 Usage::
 
@@ -32,7 +32,7 @@ from pinn_engine.bodies import bodygrid  # noqa: E402
 from pinn_engine.bodies.airfoil import circle, load_body, naca4  # noqa: E402
 from pinn_engine.errors import InputError  # noqa: E402
 from pinn_engine.kinds.body.problem import train_body  # noqa: E402
-from pinn_engine.kinds.untrained import THIN_WALL  # noqa: E402
+from pinn_engine.kinds.body.untrained import THIN_WALL  # noqa: E402
 from pinn_engine.quality import guard_figures  # noqa: E402
 from pinn_engine.settings import make_settings  # noqa: E402
 

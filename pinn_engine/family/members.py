@@ -2,7 +2,7 @@
 its own run places them, and a base grid on them, in the family's frame.
 
 - Four-sided: the arc-length TFI of the boundary (the nodes and base of the default run,
-  ``kinds.untrained.StartModel``), in the boundary's unit-box working frame.
+  ``kinds.four_sided.untrained.StartModel``), in the boundary's unit-box working frame.
 - Body (O- or C-grid): the member's elliptic grid (``kinds.body.mesh.mesh_body``: the wall and far
   field nodes of ``bodygrid.layout``, the start of the default run), in the frame of its
   chord: mid-chord at the origin, chord 1.

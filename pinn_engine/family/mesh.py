@@ -73,11 +73,11 @@ def family_size(path: str | os.PathLike) -> tuple[int, int]:
 
 def _start(member: Member, settings: Settings) -> np.ndarray:
     """The member's own start (family frame): a body's elliptic grid; a four-sided member's
-    start under ``settings`` (``kinds.untrained.StartModel``: the grid its own run starts
+    start under ``settings`` (``kinds.four_sided.untrained.StartModel``: the grid its own run starts
     from, and keeps where no network trains)."""
     if member.start is not None:
         return member.base
-    from pinn_engine.kinds.untrained import StartModel
+    from pinn_engine.kinds.four_sided.untrained import StartModel
 
     start = StartModel.of(member.boundary, (), settings, "the family model's grid failed")
     return start.grid(*member.size)

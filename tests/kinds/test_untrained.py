@@ -17,18 +17,10 @@ from pinn_engine.bodies.airfoil import circle, load_body
 from pinn_engine.bodies.bodygrid import elliptic, layout
 from pinn_engine.io.pipeline import load_aux, load_boundary
 from pinn_engine.kinds.body.mesh import mesh_body
+from pinn_engine.kinds.body.untrained import THIN, THIN_WALL, WALL, body_cannot_win
 from pinn_engine.kinds.four_sided.mesher import Mesher
 from pinn_engine.kinds.hexa.mesh import mesh_surface
-from pinn_engine.kinds.untrained import (
-    QUALITY,
-    THIN,
-    THIN_WALL,
-    WALL,
-    WINSLOW,
-    body_cannot_win,
-    cannot_win,
-    start_or_train,
-)
+from pinn_engine.kinds.untrained import QUALITY, WINSLOW, cannot_win, start_or_train
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
 

@@ -13,8 +13,9 @@ from pinn_engine.errors import folded_cells_warning
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
 from pinn_engine.io.pipeline import load_boundary
 from pinn_engine.kinds.blocks.problem import train_block
+from pinn_engine.kinds.blocks.untrained import start_block
 from pinn_engine.kinds.four_sided.mesher import Mesher
-from pinn_engine.kinds.untrained import WINSLOW, start_block
+from pinn_engine.kinds.untrained import WINSLOW
 from pinn_engine.quality import folded_cells, guard_figures, largest_area_ratio
 from pinn_engine.settings import make_settings
 from pinn_engine.starts import untangle

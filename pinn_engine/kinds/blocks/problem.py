@@ -29,10 +29,10 @@ from pinn_engine.classical.warm import WarmStart
 from pinn_engine.errors import STOP, TrainingCancelled
 from pinn_engine.geometry.auxlines import AuxLine
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
+from pinn_engine.kinds.blocks.untrained import blocks_report
 from pinn_engine.kinds.four_sided.mapping import Mapping
 from pinn_engine.kinds.four_sided.problem import GUARD_TOL as QUAD_GUARD_TOL
 from pinn_engine.kinds.four_sided.problem import QuadProblem, network
-from pinn_engine.kinds.untrained import blocks_report
 from pinn_engine.multiblock.quadblock import block_boundary
 from pinn_engine.neural.session import GuardRule, train_network
 from pinn_engine.neural.trainer import Progress

@@ -242,9 +242,10 @@ def train_blocks(
 ) -> tuple[list[np.ndarray], dict]:
     """The multi-block pinn's training (``kinds.blocks.problem.train_blocks``), imported only
     when some block's network can win (``kinds.untrained.cannot_win``; else every block
-    keeps its start, ``untrained.untrained_blocks``): the elliptic and tfi runs, and a pinn
+    keeps its start, ``blocks.untrained.untrained_blocks``): the elliptic and tfi runs, and a pinn
     whose networks cannot win, never import torch."""
-    from pinn_engine.kinds.untrained import cannot_win, start_or_train, untrained_blocks
+    from pinn_engine.kinds.blocks.untrained import untrained_blocks
+    from pinn_engine.kinds.untrained import cannot_win, start_or_train
 
     def trained() -> tuple[list[np.ndarray], dict]:
         from pinn_engine.kinds.blocks.problem import train_blocks as train  # torch: only to train

@@ -170,7 +170,8 @@ def mesh_body(
         timings["elliptic"] = time.perf_counter() - start - timings["layout"]
     if method == "pinn":
         began = time.perf_counter()
-        from pinn_engine.kinds.untrained import WALL, body_cannot_win, body_start, start_or_train
+        from pinn_engine.kinds.body.untrained import WALL, body_cannot_win, body_start
+        from pinn_engine.kinds.untrained import start_or_train
 
         def kept(reason: str) -> tuple[np.ndarray, dict, dict, float]:
             """The elliptic start (under the default objective, wall cells not thin: its

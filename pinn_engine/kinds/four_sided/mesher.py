@@ -23,7 +23,8 @@ from pinn_engine.geometry.auxlines import AuxLine, crossing_turns, line_distance
 from pinn_engine.geometry.boundary import Boundary
 from pinn_engine.geometry.boundary_fit import make_fit
 from pinn_engine.heap import reuse_freed_memory
-from pinn_engine.kinds.untrained import StartModel, cannot_win, start_or_train
+from pinn_engine.kinds.four_sided.untrained import StartModel
+from pinn_engine.kinds.untrained import cannot_win, start_or_train
 from pinn_engine.quality import boundary_nodes, cell_quality, side_report, summary
 from pinn_engine.result import MeshResult
 from pinn_engine.settings import NEURAL, Settings, grid_size_problem, make_settings

@@ -41,7 +41,7 @@ from pinn_engine.settings import Settings
 
 if TYPE_CHECKING:
     from pinn_engine.kinds.hexa.problem import HexaModel
-    from pinn_engine.kinds.untrained import VolumeStartModel
+    from pinn_engine.kinds.hexa.untrained import VolumeStartModel
     from pinn_engine.neural.trainer import Progress
 
 FACE_IDS = "FaceIds"  # field data: the input's FaceId of imin ... kmax
@@ -268,7 +268,8 @@ def mesh_polydata(
     lap("faces")
     model, elliptic = None, []  # the untrained start's grid: the elliptic run's
     if method == "pinn":  # the elliptic and tfi runs import no training modules
-        from pinn_engine.kinds.untrained import VolumeStartModel, cannot_win, start_or_train
+        from pinn_engine.kinds.hexa.untrained import VolumeStartModel
+        from pinn_engine.kinds.untrained import cannot_win, start_or_train
 
         @cache  # the start's lattice is often the grid's own size
         def tfi_of(shape: tuple[int, ...]) -> np.ndarray:
