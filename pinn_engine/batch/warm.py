@@ -30,6 +30,7 @@ ENGINE = (
     "pinn_engine.io.export",
     "pinn_engine.kinds.body.mesh",
     "pinn_engine.kinds.untrained",  # the decision and the start a case keeps untrained
+    "pinn_engine.kinds.body.untrained",  # a body's decision and the grid it keeps
     "pinn_engine.kinds.four_sided.mesher",
     "pinn_engine.heap",
     "scipy.sparse.linalg",  # the elliptic solves' sparse LU, which their modules import late
