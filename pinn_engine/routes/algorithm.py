@@ -462,7 +462,9 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, FieldInput, LineInputs, VTKPytho
             )
             picked = ["Topology Automatic: the input is a body, meshed as an O-grid"]
         neural = settings.method in NEURAL
-        self._progress(0.0, "training" if neural else "meshing")
+        # "training" only once a step has run: a process's first training first imports torch
+        # and builds the start grid (seconds), and the abort button is answered at each step
+        self._progress(0.0, "preparing to train" if neural else "meshing")
         began = time.perf_counter()
         outcome = self._run_job(
             settings,

@@ -43,6 +43,12 @@ def test_every_bad_input_is_a_value_error_in_one_line(boundary, keywords, messag
     assert "\n" not in text and "Settings" not in text and "__init__" not in text
 
 
+def test_a_surface_without_face_ids_given_two_sizes_is_told_to_give_three():
+    surface = pv.read(EXAMPLES / "hexa_bend.stl")  # an STL: no FaceId array
+    with pytest.raises(ValueError, match=r"^size=\(21, 21\): a six-faced surface takes three"):
+        surface.pinn_mesh(size=(21, 21))
+
+
 def test_a_bad_curve_is_a_value_error_too():
     open_line = pv.Line((0, 0, 0), (1, 0, 0))
     with pytest.raises(ValueError, match="close"):

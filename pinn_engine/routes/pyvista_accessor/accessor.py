@@ -33,8 +33,9 @@ class PinnMeshAccessor:
     """``boundary.pinn_mesh(...)``: the structured grid of the domain this PolyData bounds.
 
     One closed polyline with four corners gives a four-sided grid; with ``topology`` an O-
-    or C-grid around a body; with ``blocks=`` a multi-block grid; a closed surface (a
-    ``FaceId`` cell array, or a ``size`` of three numbers) a hexahedral grid.
+    or C-grid around a body; with ``blocks=`` a multi-block grid; a closed surface (not in
+    one plane, or with a ``FaceId`` cell array, or given a ``size`` of three numbers) a
+    hexahedral grid.
     Its keywords are those of ``__call__`` (below); ``progress_bar=True`` shows a bar.
 
     Trained networks are kept per boundary: calling again with settings seen before (or with
@@ -241,6 +242,8 @@ class PinnMeshAccessor:
         from pinn_engine.job import kind_of
 
         kind = kind_of(self._mesh, blocks is not None, size or ())
+        if kind == "four-sided" and self._mesh.GetNumberOfPolys() and not _is_flat(self._mesh):
+            kind = "hexa"  # a surface without FaceId: its size is checked as a 3D domain's
         if model is not None and kind in ("hexa", "blocks"):
             raise InputError(
                 "model= (a family model) meshes four-sided domains and O- and C-grids in "
