@@ -152,7 +152,9 @@ def test_the_abort_button_stops_the_training_and_no_click_is_replayed(gui):
     assert result["error"] == "" and result["points"] == 41 * 21
     assert "a stop was asked" in result["warning"]
     clicked, done = (float((gui / name).read_text()) for name in ("abort_clicked", "abort_done"))
-    assert done - clicked < 15  # at the first training report after the click
+    # at the next progress step (50 Adam epochs; drive.sh clicks once the bar says
+    # "training"): 1.2 s measured at load average 4-6
+    assert done - clicked < 5
     display = json.loads((gui / "abort_display.json").read_text())
     assert display["selected"] == "PINNStructuredMesh"  # the click on fig2_aux.vtp dropped
     assert (gui / "training.png").stat().st_size > 10_000

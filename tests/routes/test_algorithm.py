@@ -95,6 +95,10 @@ def test_progress_text_names_the_filter_and_the_phase():
     alg.Update()
     assert texts and all(t.startswith("PINN Structured Mesh") for t in texts)
     assert "PINN Structured Mesh: training (Adam)" in texts  # the phase, as training goes
+    # "training" only once a step has run (before it, torch's import and the start grid)
+    first_step = texts.index("PINN Structured Mesh: training (Adam)")
+    assert "PINN Structured Mesh: preparing to train" in texts[:first_step]
+    assert not any("training" in t for t in texts[:first_step])
     assert texts.index("PINN Structured Mesh: meshing") < texts.index("PINN Structured Mesh: done")
 
 
