@@ -37,6 +37,9 @@ METHODS = ("pinn", "elliptic", "tfi")
 # a figure within this many degrees (non-orthogonality) or this much (skewness) of
 # blockMesh's counts as no worse: round-off of grids that are the same
 SAME_ANGLE, SAME_SKEW = 1e-6, 1e-9
+# a cyclic pair's nodes correspond where blockMesh places them this close (share of the
+# diagonal) to one side translated
+CONGRUENT = 1e-8
 # blockMesh's placement no more non-orthogonal than this (degrees) anywhere is kept by the
 # default without solving: the solve could gain at most this, where OpenFOAM's
 # non-orthogonal correction (tan 1 deg < 0.02 of a face's flux) is already negligible
@@ -120,7 +123,7 @@ def mesh_dictionary(
             stage(f"Winslow step {k} (largest move {moved:.2e} of the diagonal)", 0.1)
 
         solved, steps = winslow(placed, free_interfaces=free_interfaces, progress=step)
-        solved = _through_empty(placed, solved)
+        solved = _cyclic_congruent(d, placed, _through_empty(placed, solved))
         timings["solve"] = time.perf_counter() - t0
         candidates["elliptic"] = figures(solved, cells, paired)
         if method == "elliptic":
@@ -165,6 +168,33 @@ def _through_empty(placed: Placement, points: np.ndarray) -> np.ndarray:
             slip = 0.5 * (gap - np.outer(gap @ normal, normal))
             out[front] = points[front] + slip
             out[back] = points[back] - slip
+    return out
+
+
+def _cyclic_congruent(d: BlockMeshDict, placed: Placement, points: np.ndarray) -> np.ndarray:
+    """A grid with each translational cyclic pair's two sides congruent: the solve slides
+    their nodes apart by up to its tolerance, while OpenFOAM matches the pair's faces to
+    1e-4 of their size. The nodes are paired where blockMesh's placement has one side the
+    other translated, and each pair keeps its placed offset."""
+    faces = {name: f for name, _, f in placed.patches}
+    diag = float(np.linalg.norm(np.ptp(placed.points, axis=0)))
+    out = points.copy()
+    for patch in d.patches:
+        other = patch.extra.get("neighbourPatch")
+        if patch.type != "cyclic" or other not in faces or str(other) <= patch.name:
+            continue  # each pair once
+        a, b = np.unique(faces[patch.name]), np.unique(faces[other])
+        if len(a) != len(b):
+            continue
+        shift = placed.points[b].mean(axis=0) - placed.points[a].mean(axis=0)
+        ia = a[np.lexsort(np.round((placed.points[a] + shift) / (CONGRUENT * diag)).T)]
+        ib = b[np.lexsort(np.round(placed.points[b] / (CONGRUENT * diag)).T)]
+        if np.abs(placed.points[ia] + shift - placed.points[ib]).max() > CONGRUENT * diag:
+            continue  # not a translation (a rotational pair): left as solved
+        # each side moved by half the pair's departure from its placed offset: a held
+        # coordinate (the sides' planes) departs by nothing and stays as it is
+        half = 0.5 * ((points[ib] - points[ia]) - (placed.points[ib] - placed.points[ia]))
+        out[ia], out[ib] = points[ia] + half, points[ib] - half
     return out
 
 

@@ -258,6 +258,24 @@ def test_a_2d_dictionary_keeps_its_edges_across_aligned():
         assert np.allclose(front[..., 2], 0.0) and np.allclose(back[..., 2], 0.5)
 
 
+def test_a_cyclic_pair_stays_congruent():
+    """The two sides of a cyclic pair, each solved in its plane, are one the other
+    translated to round-off (OpenFOAM matches their faces to 1e-4 of their size)."""
+    text = small_pipe()
+    for name, other in (("inlet", "outlet"), ("outlet", "inlet")):
+        text = text.replace(
+            f"    {name}\n    {{\n        type patch;",
+            f"    {name}\n    {{\n        type cyclic;\n        neighbourPatch {other};",
+        )
+    result = mesh_dictionary(from_text(text))
+    sides = {name: np.unique(f) for name, _, f in result.place.patches}
+    inlet, outlet = (result.points[sides[n]] for n in ("inlet", "outlet"))
+    assert result.kept == "elliptic" and not np.allclose(inlet, result.place.points[sides["inlet"]])
+    inlet, outlet = (p[np.lexsort(np.round(p[:, :2], 9).T)] for p in (inlet, outlet))
+    assert np.abs(inlet[:, :2] - outlet[:, :2]).max() < 1e-15
+    assert (inlet[:, 2] == 0.0).all()
+
+
 @needs_openfoam
 def test_a_cyclic_pair_keeps_its_neighbour_and_face_order(tmp_path):
     """Cyclic patches: their neighbourPatch is written and their faces correspond one to
