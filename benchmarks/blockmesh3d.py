@@ -8,8 +8,9 @@ Each dictionary is meshed by ``pinn-mesh DICT -o CASE --format openfoam`` (the d
 the better of the Winslow grid and blockMesh's placement) and by blockMesh; checkMesh
 measures both. Printed per dictionary: its blocks, whether curved edges are given, cells and
 patches (ours / blockMesh's), checkMesh's verdict, its largest and mean
-non-orthogonality and largest skewness (ours / blockMesh's), the grid kept, and the times
-of the whole commands with their ratio. A dictionary pinn-mesh refuses shows its one line.
+non-orthogonality and largest skewness (ours / blockMesh's), the grid kept, and the CPU
+times of the whole commands (``--runs``' medians) with their ratio. A dictionary pinn-mesh
+refuses shows its one line.
 
 The sets: ``own`` (``example_data/blockmesh``: the butterfly pipe, the duct bend and the DFG
 3D channel), ``tuning`` (OpenFOAM's tutorials the method was tuned on), ``variants`` (the
@@ -26,11 +27,12 @@ import argparse
 import gzip
 import os
 import re
+import resource
 import shutil
+import statistics
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -120,7 +122,20 @@ def checkmesh(case: Path) -> dict:
     }
 
 
-def run_case(name: str, text: str, work: Path) -> dict:
+def timed(command: list[str], runs: int, **kwargs) -> tuple[subprocess.CompletedProcess, float]:
+    """``command`` run ``runs`` times: its last run and the median of its CPU times (user
+    and system, the OS's accounting of the finished process: on shared cores the wall time
+    counts the other sessions' load too)."""
+    times = []
+    for _ in range(runs):
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        done = subprocess.run(command, capture_output=True, text=True, **kwargs)
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        times.append(after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime)
+    return done, statistics.median(times)
+
+
+def run_case(name: str, text: str, work: Path, runs: int) -> dict:
     row: dict = {"case": name}
     ref, ours = work / "blockmesh", work / "pinn"
     (ref / "system").mkdir(parents=True)
@@ -128,15 +143,12 @@ def run_case(name: str, text: str, work: Path) -> dict:
     row["blocks"] = len(re.findall(r"\bhex\s*\(", text))
     row["curved"] = bool(re.search(r"\b(arc|spline|polyLine)\b", text))
     report = work / "report.json"
-    start = time.perf_counter()
-    proc = subprocess.run(
+    proc, row["ours_s"] = timed(
         [PINN_MESH, str(ref / "system" / "blockMeshDict"), "-o", str(ours)]
         + ["--format", "openfoam", "--quiet", "--report", str(report)],
-        capture_output=True,
-        text=True,
+        runs,
         timeout=RUN_LIMIT,
     )
-    row["ours_s"] = time.perf_counter() - start
     if proc.returncode:
         line = (proc.stderr.strip().splitlines() or ["?"])[-1]
         row["result"] = "refused: " + line.split("blockMeshDict: ", 1)[-1]  # not the temp path
@@ -154,9 +166,7 @@ def run_case(name: str, text: str, work: Path) -> dict:
                     else ""
                 )
             )
-    start = time.perf_counter()
-    done = subprocess.run(["blockMesh"], cwd=ref, env=env(), capture_output=True, text=True)
-    row["blockmesh_s"] = time.perf_counter() - start
+    done, row["blockmesh_s"] = timed(["blockMesh"], runs, cwd=ref, env=env())
     if done.returncode:
         row["blockmesh"] = "failed"
         return row
@@ -201,6 +211,7 @@ def main() -> None:
     parser.add_argument("--set", choices=tuple(SETS), action="append", help="default: all")
     parser.add_argument("--only", nargs="*", help="dictionary names to run (default all)")
     parser.add_argument("--out", type=Path, help="the page whose BLOCKMESH3D table to replace")
+    parser.add_argument("--runs", type=int, default=1, help="runs of each tool (their median)")
     opts = parser.parse_args()
     before = os.getloadavg()[0]
     rows = []
@@ -214,11 +225,14 @@ def main() -> None:
                     print(f"{name}: no dictionary at {where}", flush=True)
                     continue
                 folder = Path(scratch) / set_name / re.sub(r"\W+", "_", name)  # OpenFOAM's paths
-                rows.append(run_case(name, text, folder))
+                rows.append(run_case(name, text, folder, opts.runs))
                 rows[-1]["case"] = f"{name} ({set_name})"
                 print(table(rows[-1:]).splitlines()[-1], flush=True)
     text = table(rows)
-    load = f"Load average {before:.1f} before, {os.getloadavg()[0]:.1f} after, on 2 shared cores."
+    load = (
+        f"CPU seconds (user and system), medians of {opts.runs} runs; load average "
+        f"{before:.1f} before, {os.getloadavg()[0]:.1f} after, on 2 shared cores."
+    )
     print(text)
     if opts.out:
         begin, end = MARK.format("begin"), MARK.format("end")
