@@ -3,7 +3,7 @@ command (Python's start, imports and file reading included, as a user meets it),
 and ``--method elliptic``, against Construct2D, blockMesh and gmsh on the same jobs.
 
 Usage: ``.venv/bin/python benchmarks/peers.py [--construct2d PATH] [--runs 3]
-[--out docs/speed.md]``
+[--out docs/speed.md] [--only airfoils|blocks|dictionaries]``
 
 - **Airfoils against Construct2D** (built from its source with ``make``; default
   ``/work/tools/Construct2D/construct2d``, or ``$CONSTRUCT2D``): a NACA 0012 C-grid of 320 x
@@ -60,6 +60,9 @@ DUCT_CELLS = (80, 20, 20)  # the square duct's hexahedra along x, y, z (32 000)
 DUCT_LENGTH = 4.0  # its length along x (the section is 1 x 1)
 SMOOTHING = 100  # gmsh's Winslow sweeps (its tutorial t6's figure)
 MARK = "<!-- PEERS {} -->"  # the markers round the table in --out
+# the jobs' groups: Construct2D's airfoils, the DFG blocks and the duct (blockMesh and gmsh
+# given pinn-mesh's blocks), the blockMeshDicts read by both
+GROUPS = ("airfoils", "blocks", "dictionaries")
 
 
 def seconds(command: list[str], **kwargs) -> float:
@@ -218,14 +221,20 @@ def airfoil_jobs(work: Path) -> list[tuple[str, list[str], Callable[[], float]]]
     return out
 
 
-def jobs(work: Path) -> list[tuple[str, Timers, Timers]]:
-    """Each job's name, pinn-mesh's two timers and its peers' (by name)."""
+def jobs(work: Path, groups: set[str]) -> list[tuple[str, Timers, Timers]]:
+    """Each job's name, pinn-mesh's two timers and its peers' (by name), of ``groups``
+    (``GROUPS``)."""
     from multiblock_gmsh import drawn
 
     out = [
         (name, pinn_mesh(args, work / f"{name.split()[0]}.vts"), {"Construct2D": peer})
-        for name, args, peer in airfoil_jobs(work)
+        for name, args, peer in (airfoil_jobs(work) if "airfoils" in groups else [])
     ]
+    if "dictionaries" in groups:
+        for case, label in (("pipe", "butterfly pipe"), ("dfg3d", "DFG 3D channel")):
+            out.append(dictionary_job(work, case, label))
+    if "blocks" not in groups:
+        return out
     _, lay = drawn("dfg", DFG_CELL)
     cells = sum((i.shape[0] - 1) * (i.shape[1] - 1) for i in lay.ids)
     dfg = [str(ROOT / "example_data" / "dfg.vtp"), "--blocks"]
@@ -244,8 +253,6 @@ def jobs(work: Path) -> list[tuple[str, Timers, Timers]]:
     peer = block_mesh(work / "duct", cells, box, [(list(range(8)), DUCT_CELLS)], [])
     name = f"square duct, {cells} hexahedra"
     out.append((name, pinn_mesh(args, work / "duct.vts"), {"blockMesh": peer}))
-    for case, label in (("pipe", "butterfly pipe"), ("dfg3d", "DFG 3D channel")):
-        out.append(dictionary_job(work, case, label))
     return out
 
 
@@ -298,11 +305,16 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--runs", type=int, default=3, help="runs of each tool on each job")
     parser.add_argument("--out", type=Path, help="the page whose PEERS table to replace")
+    parser.add_argument(
+        "--only", choices=GROUPS, action="append", help="these groups of jobs (default: all)"
+    )
     opts = parser.parse_args()
+    if opts.out and opts.only:
+        parser.error("--out replaces the whole table: run every group (no --only)")
     before = os.getloadavg()[0]
     rows = []
     with tempfile.TemporaryDirectory(prefix="pinn-mesh-peers-") as scratch:
-        for name, ours, peers in jobs(Path(scratch)):
+        for name, ours, peers in jobs(Path(scratch), set(opts.only or GROUPS)):
             timers = {**ours, **peers}
             times = {key: [] for key in timers}
             for _ in range(opts.runs):
