@@ -1,7 +1,9 @@
 """One contract for every domain kind, as scikit-learn's estimator checks are one for every
-estimator: the four-sided block, the O- and C-grids around a body, the multi-block domain
-and the hexahedral grid each go through the command line, and the same checks run on what
-comes out: the grids' arrays (SPEC 3 and 11), the report, and the warnings."""
+estimator: the kinds of the registry (``job.KINDS``: the four-sided block, the O- and
+C-grids around a body, the multi-block domain and the hexahedral grid; ``OUTSIDE`` says why a
+blockMeshDict's blocks are not yet under it) go through the command line, and the same
+checks run on what comes out: the grids' arrays (SPEC 3 and 11), the report, and the
+warnings."""
 
 from __future__ import annotations
 
@@ -14,13 +16,14 @@ import pytest
 import pyvista as pv
 from helpers import EXAMPLES
 
+from pinn_engine import job
 from pinn_engine.routes.cli import main
 
 CELL_ARRAYS = ("MaxIncludedAngle", "MinIncludedAngle", "ScaledJacobian", "Folded")
 FIGURES = ("mean_max_angle", "worst_max_angle", "worst_min_angle", "folded_cells")
 QUICK = ["--lbfgs", "10"]  # a short training: the contract is about the output, not its quality
 
-# each kind: its input arguments (small grids), the output's suffix, its index arrays
+# each case: its input arguments (small grids), the output's suffix, its index arrays
 KINDS = {
     "four-sided": (
         [str(EXAMPLES / "fig2.vtp"), "--aux", str(EXAMPLES / "fig2_aux.vtp"), "--size", "21", "11"],
@@ -40,6 +43,19 @@ KINDS = {
         ".vts",
         ("i", "j", "k"),
     ),
+}
+# the registered kind (``job.KINDS``) each case is
+REGISTERED = {
+    "four-sided": "four-sided",
+    "o-grid": "body",
+    "c-grid": "body",
+    "multi-block": "blocks",
+    "hexahedral": "hexa",
+}
+# registered kinds whose output breaks the contract, and how (each a fix to make)
+OUTSIDE = {
+    "dictionary": "each block's field-data figures are not its own cells', a pinn run's "
+    "blocks name the method elliptic, and its report's training has no largest_node_move",
 }
 METHODS = ["elliptic", pytest.param("pinn", marks=pytest.mark.slow)]
 
@@ -126,3 +142,10 @@ def test_a_warning_comes_exactly_with_folded_cells(run):
     folded = _figures(grids)["folded_cells"]
     assert folded == report["quality"]["folded_cells"] == 0
     assert ("pinn-mesh: warning:" in err) == (folded > 0)
+
+
+def test_the_contract_covers_every_registered_kind():
+    """A kind added to the registry is one case here too: the cases and ``OUTSIDE`` are every
+    kind of ``job.KINDS``, no more."""
+    assert set(REGISTERED) == set(KINDS) and not set(REGISTERED.values()) & set(OUTSIDE)
+    assert set(REGISTERED.values()) | set(OUTSIDE) == set(job.KINDS)
