@@ -30,17 +30,18 @@ def _fortran(block: np.ndarray) -> np.ndarray:
 def included_angles(g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Largest and smallest of each cell's 24 face corner angles, in degrees."""
     v = _corners(g)
-    angles = []
+    cosines = []
     for face in HEX_FACES:
         for n in range(4):
             prev, here, nxt = v[face[n - 1]], v[face[n]], v[face[(n + 1) % 4]]
             a, b = prev - here, nxt - here
-            cos = np.einsum("ij,ij->i", a, b) / np.maximum(
-                np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1), 1e-300
+            cosines.append(
+                np.einsum("ij,ij->i", a, b)
+                / np.maximum(np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1), 1e-300)
             )
-            angles.append(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
-    stacked = np.stack(angles, axis=1)
-    return stacked.max(axis=1), stacked.min(axis=1)
+    stacked = np.clip(np.stack(cosines, axis=1), -1.0, 1.0)
+    # the angle falls as its cosine rises: the largest angle is the smallest cosine's
+    return np.degrees(np.arccos(stacked.min(axis=1))), np.degrees(np.arccos(stacked.max(axis=1)))
 
 
 def folded(g: np.ndarray) -> np.ndarray:
