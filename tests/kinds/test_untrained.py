@@ -7,7 +7,6 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
-import time
 
 import numpy as np
 import pytest
@@ -21,12 +20,10 @@ from pinn_engine.kinds.body.untrained import THIN, THIN_WALL, WALL, body_cannot_
 from pinn_engine.kinds.four_sided.mesher import Mesher
 from pinn_engine.kinds.hexa.mesh import mesh_surface
 from pinn_engine.kinds.untrained import QUALITY, WINSLOW, cannot_win, start_or_train
-from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
 
 NOTCH = EXAMPLES / "hard" / "notch_v_sharp.vtp"
 SIZE = (21, 11)
-STAGES = {"start", "training", "mesh", "quality", "read", "write"}
 
 
 def _assert_torch_not_imported(code: str) -> None:
@@ -95,22 +92,6 @@ def test_an_untrained_map_is_the_start_it_would_have_kept():
         "print('torch' in sys.modules)"
     )
     _assert_torch_not_imported(code)
-
-
-def test_the_report_times_every_stage(tmp_path):
-    """--report has the seconds of every stage, the network's training included (zero where
-    it was not trained), and says why it was not trained."""
-    report = tmp_path / "r.json"
-    args = [str(NOTCH), "-o", str(tmp_path / "g.vts"), "--report", str(report)]
-    began = time.perf_counter()
-    assert main([*args, "--size", *map(str, SIZE)]) == 0
-    wall = time.perf_counter() - began
-    written = json.loads(report.read_text())
-    assert set(written["timings"]) >= STAGES
-    assert 0 < sum(written["timings"].values()) <= wall
-    assert written["timings"]["start"] > 0 and written["timings"]["training"] == 0.0
-    assert written["training"]["skipped"] == QUALITY
-    assert written["train_seconds"] == 0.0
 
 
 def test_a_multiblock_pinn_whose_networks_cannot_win_keeps_its_starts():

@@ -6,17 +6,23 @@ training, one where nothing is trained."""
 
 from __future__ import annotations
 
+import json
+import time
+
 import numpy as np
 from helpers import EXAMPLES
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
 from pinn_engine.io.pipeline import load_aux, load_boundary
 from pinn_engine.kinds.four_sided.mesher import Mesher
+from pinn_engine.kinds.untrained import QUALITY
 from pinn_engine.routes.algorithm import PinnMeshAlgorithm
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
 
 HARD = EXAMPLES / "hard"
+# the stages --report times: the kind's and the command line's (read, write)
+STAGES = {"start", "training", "mesh", "quality", "read", "write"}
 
 
 def _mesh(method: str, path, aux=(), **settings):
@@ -105,3 +111,19 @@ def test_command_line_and_filter_say_it(tmp_path, capsys):
     alg.SetMethod("elliptic")
     alg.Update()
     assert alg.GetOutput().GetFieldData().GetAbstractArray("NetworkResult") is None
+
+
+def test_the_report_times_every_stage(tmp_path):
+    """--report has the seconds of every stage, the network's training included (zero where
+    it was not trained), and says why it was not trained."""
+    report = tmp_path / "r.json"
+    args = [str(HARD / "notch_v_sharp.vtp"), "-o", str(tmp_path / "g.vts"), "--report", str(report)]
+    began = time.perf_counter()
+    assert main([*args, "--size", "21", "11"]) == 0
+    wall = time.perf_counter() - began
+    written = json.loads(report.read_text())
+    assert set(written["timings"]) >= STAGES
+    assert 0 < sum(written["timings"].values()) <= wall
+    assert written["timings"]["start"] > 0 and written["timings"]["training"] == 0.0
+    assert written["training"]["skipped"] == QUALITY
+    assert written["train_seconds"] == 0.0
