@@ -4,6 +4,7 @@ conftest.py holds only the session's set-up)."""
 
 from __future__ import annotations
 
+import functools
 import os
 import shutil
 from pathlib import Path
@@ -125,3 +126,23 @@ def write_selig(path: Path, xy, name: str = "TEST") -> Path:
     """An airfoil's points ``xy`` written to ``path`` as a Selig .dat file named ``name``."""
     path.write_text(name + "\n" + "\n".join(f"{x:.7f} {y:.7f}" for x, y in xy) + "\n")
     return path
+
+
+@functools.cache
+def trained_hexa(name: str, size: tuple[int, int, int]):
+    """The hexahedral network of example ``name`` trained from its Winslow start at ``size``
+    (the default keeps that start untrained, tests/kinds/test_untrained.py), and its TFI grid;
+    trained once a session for the kind's tests and the routes' saved-model tests."""
+    from pinn_engine.hexa.spacing import node_params, tfi_at
+    from pinn_engine.hexa.surface import find_topology, surface_of
+    from pinn_engine.io.fileio import read_polydata
+    from pinn_engine.kinds.hexa import problem
+    from pinn_engine.kinds.hexa.mesh import boundary_map, surface_key
+    from pinn_engine.kinds.hexa.start import winslow_start
+    from pinn_engine.settings import FACE_ANGLE, make_settings
+
+    path = str(EXAMPLES / name)
+    surface = surface_of(read_polydata(EXAMPLES / name), path, False, FACE_ANGLE)
+    boundary, _ = boundary_map(surface, find_topology(surface, path), path)
+    start = winslow_start(lambda shape: tfi_at(boundary, node_params(shape, {})), size)
+    return problem.train(start, surface_key(surface), make_settings("pinn", size=size)), start.tfi

@@ -1,31 +1,23 @@
-"""The pinn of six-faced 3D domains (SPEC 11): the 3D Winslow residual and
-the network's jets, the grid within the bounds of the converged Winslow grid, right-handed,
-and a saved model evaluated finer with its faces on the surface."""
+"""The pinn of six-faced 3D domains (SPEC 11), called as the kind: the 3D Winslow residual
+and the network's jets, the grid within the bounds of the converged Winslow grid,
+right-handed, the control terms of a spacing."""
 
 from __future__ import annotations
 
-from functools import cache
-
 import numpy as np
 import pytest
-import pyvista as pv
 import torch
-from helpers import ROOT
+from helpers import ROOT, trained_hexa
 
 from pinn_engine.hexa import quality, volume
 from pinn_engine.hexa.field import LatticeField, node_points
-from pinn_engine.hexa.spacing import node_params, tfi_at
-from pinn_engine.hexa.surface import find_topology, surface_of
-from pinn_engine.io.fileio import read_polydata
+from pinn_engine.hexa.spacing import node_params
 from pinn_engine.kinds.hexa import problem as hexa
-from pinn_engine.kinds.hexa.mesh import boundary_map, cell_arrays, mesh_surface, surface_key
-from pinn_engine.kinds.hexa.start import winslow_start
+from pinn_engine.kinds.hexa.mesh import cell_arrays, mesh_surface
 from pinn_engine.neural.jet import nd
 from pinn_engine.neural.losses import parameter_controls_3d, winslow_residual_3d
 from pinn_engine.neural.networks import CoordinateNet
-from pinn_engine.routes.cli import main
-from pinn_engine.routes.cli.outputs import save_model
-from pinn_engine.settings import FACE_ANGLE, make_settings
+from pinn_engine.settings import make_settings
 
 DATA = ROOT / "example_data"
 EXAMPLES = ("hexa_bump_box.vtp", "hexa_bend.vtp")
@@ -87,21 +79,10 @@ def test_network_jet_matches_autograd():
     torch.testing.assert_close(bubble[nd.second(0, 2, 3)][:, 0], second)
 
 
-@cache
-def _trained(name: str) -> tuple[hexa.HexaModel, np.ndarray]:
-    """The network of example ``name`` trained from its Winslow start at ``SIZE`` (the
-    default keeps that start untrained, tests/kinds/test_untrained.py) and its TFI grid."""
-    path = str(DATA / name)
-    surface = surface_of(read_polydata(DATA / name), path, False, FACE_ANGLE)
-    boundary, _ = boundary_map(surface, find_topology(surface, path), path)
-    start = winslow_start(lambda shape: tfi_at(boundary, node_params(shape, {})), SIZE)
-    return hexa.train(start, surface_key(surface), make_settings("pinn", size=SIZE)), start.tfi
-
-
 @pytest.fixture(scope="module", params=EXAMPLES)
 def pinn_and_elliptic(request):
-    """The trained network's grid (:func:`_trained`) and the elliptic run's grid."""
-    model, tfi = _trained(request.param)
+    """The trained network's grid (``helpers.trained_hexa``) and the elliptic run's grid."""
+    model, tfi = trained_hexa(request.param, SIZE)
     path = str(DATA / request.param)
     return model.grid(tfi), mesh_surface(path, make_settings("elliptic", size=SIZE))
 
@@ -122,45 +103,6 @@ def test_pinn_grid_is_right_handed(pinn_and_elliptic):
     assert cell_arrays(g)["ScaledJacobian"].min() > 0.5
     leaving = np.array([g[1, 0, 0], g[0, 1, 0], g[0, 0, 1]]) - g[0, 0, 0]
     assert np.linalg.det(leaving) > 0
-
-
-@pytest.fixture(scope="module")
-def saved_model(tmp_path_factory) -> str:
-    """The bump box's trained network (:func:`_trained`, its guard keeping a network state),
-    saved as the command line saves a model, into a folder to be made."""
-    model, _ = _trained("hexa_bump_box.vtp")
-    assert model.info["result"] == "network"
-    path = tmp_path_factory.mktemp("model") / "m" / "bump.pt"
-    save_model(model, str(path), [])
-    return str(path)
-
-
-def test_saved_model_evaluates_finer_with_faces_on_the_surface(saved_model, tmp_path, capsys):
-    surface, out, start = DATA / "hexa_bump_box.vtp", tmp_path / "fine.vts", tmp_path / "s.vts"
-    argv = [str(surface), "--size", *map(str, FINER)]
-    assert main([*argv, "--load-model", saved_model, "-o", str(out)]) == 0
-    assert "pinn 13x11x15 hexahedral grid" in capsys.readouterr().out
-    grid = pv.read(out)
-    assert tuple(grid.dimensions) == FINER and grid.cell_data["Folded"].sum() == 0
-    assert grid.field_data["NetworkResult"][0] == "network"
-    # the network is evaluated: the default run (its start, untrained) differs inside
-    assert main([*argv, "--quiet", "-o", str(start)]) == 0
-    assert pv.read(start).field_data["NetworkResult"][0] == "start"
-    assert not np.allclose(grid.points, pv.read(start).points, atol=0, rtol=1e-9)
-    g = np.asarray(grid.points).reshape(*FINER[::-1], 3).transpose(2, 1, 0, 3)
-    faces = [g[0], g[-1], g[:, 0], g[:, -1], g[:, :, 0], g[:, :, -1]]
-    nodes = np.concatenate([f.reshape(-1, 3) for f in faces])
-    mesh = pv.read(surface)
-    _, closest = mesh.find_closest_cell(nodes, return_closest_point=True)
-    assert np.linalg.norm(nodes - closest, axis=1).max() < ON_SURFACE * mesh.length
-
-
-def test_a_model_of_another_surface_or_method_is_refused(saved_model, tmp_path, capsys):
-    bend, out = str(DATA / "hexa_bend.vtp"), tmp_path / "b.vts"
-    assert main([bend, "--load-model", saved_model, "-o", str(out)]) == 2
-    assert "trained for a different surface" in capsys.readouterr().err and not out.exists()
-    assert main([bend, "--method", "tfi", "--load-model", saved_model, "-o", str(out)]) == 2
-    assert "--method tfi trains no network" in capsys.readouterr().err and not out.exists()
 
 
 def test_control_terms_make_a_stretched_box_map_a_solution():
