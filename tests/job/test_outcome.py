@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers import EXAMPLES
+from helpers import EXAMPLES, ROOT
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet
 
@@ -115,3 +115,19 @@ def test_the_registry_holds_every_kind_and_refuses_what_it_does_not_take(kind, t
     if not entry.adapts:
         with pytest.raises(ValueError, match="applies to 2D domains"):
             job.run(settings, files, field=object())
+
+
+def test_the_registry_points_at_the_kinds_packages():
+    """Each registry entry's geometry (with its adapters and run) is a kind's, in ``kinds/``:
+    a package of its own, or ``kinds.single`` for the four-sided domain and the body, which
+    share one geometry; every package of ``kinds/`` is reached by one entry."""
+    packages = {p.parent.name for p in (ROOT / "pinn_engine" / "kinds").glob("*/__init__.py")}
+    reached = set()
+    for entry in job.REGISTRY:
+        home = entry.geometry.__module__.split(".")
+        assert home[:2] == ["pinn_engine", "kinds"], entry
+        if home[2] == "single":
+            reached |= {name.replace("-", "_") for name in entry.names}
+        else:
+            reached.add(home[2])
+    assert reached == packages
