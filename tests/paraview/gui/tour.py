@@ -4,7 +4,8 @@ Opens example_data/hexa_bend.stl and fig2.vtp (both shown), turns on auto-apply,
 PINN Structured Mesh filters default to Method elliptic (a quick grid; the hexahedral one's
 grid small), writes what each update of a PINN filter gave (points, error, summary, the
 inputs' visibility, the display's colouring) to PINN_GUI_RESULT.NAME.json (NAME: the
-filter's registration name), and writes PINN_GUI_READY when the GUI may be driven;
+filter's registration name; PINN_GUI_RESULT.NAME.created as soon as it exists), and writes
+PINN_GUI_READY when the GUI may be driven;
 PINN_GUI_RESULT.help.json: the help files the plugin registered with the GUI's help engine
 and their pages.
 """
@@ -77,6 +78,7 @@ def on_register(obj, event):
                 watched[k] = (p, a, True)  # written by the timer, after the display exists
 
             alg.AddObserver("EndEvent", ended)
+            open(f"{RESULT}.{key[0]}.created", "w").close()  # tour.sh: the quick-launch acted
 
 
 def write_help_state():
