@@ -360,3 +360,120 @@ def graded_params(
         first, last = (ends.get((k, e), length / n) / length for e in (0, 1))
         out[k] = exact_stretch(n + 1, first, last)[0]
     return out
+
+
+def _leaving(topo: Topology, k: int, e: int) -> np.ndarray:
+    """The unit direction in which piece ``k`` leaves its end ``e`` (0: first point)."""
+    p = topo.pieces[k].points
+    d = p[1] - p[0] if e == 0 else p[-2] - p[-1]
+    return d / max(float(np.linalg.norm(d)), 1e-300)
+
+
+def joint_ends(
+    topo: Topology, ends: dict[tuple[int, int], float], walls: dict[int, float]
+) -> dict[tuple[int, int], float]:
+    """The gradings' ``ends`` (:func:`graded_ends`, merged) solved jointly with the spaced
+    patches ``walls`` (boundary piece -> H): each piece end takes the smallest first edge
+    asked of it, where a first edge is asked of an end
+
+    - by a spaced wall that the piece leaves there (meets at a block corner, not as its
+      continuation: the wall's first edge runs along the piece),
+    - by any piece of its chain at the same end (every block side of a chain is graded
+      alike, as blockMesh grades a chain),
+    - by the piece that continues it through the node (turning by less than CORNER_TURN),
+      so the cells on both sides of a node match (a step's lip: the inlet wall's cells
+      meet the step line's cells),
+
+    until no end changes (each change only lowers a first edge, so it ends). So two
+    gradings meeting at one chain's end give it the finer one, on every side of the
+    chain, instead of one at each side and a shear between them."""
+    from pinn_engine.multiblock.blocks import CORNER_TURN
+
+    out = dict(ends)
+    at: dict[tuple[float, float], list[tuple[int, int]]] = {}
+    for k, piece in enumerate(topo.pieces):
+        for e in (0, 1):
+            at.setdefault(_corner_key(piece.points[-e]), []).append((k, e))
+    straight = float(np.cos(np.radians(CORNER_TURN)))
+    senses = {}
+
+    def ask(k: int, e: int, h: float) -> bool:
+        if h < out.get((k, e), np.inf):
+            out[(k, e)] = h
+            return True
+        return False
+
+    changed = True
+    while changed:
+        changed = False
+        for k, e in list(out):
+            if senses.get(k) is None:
+                senses[k] = chain_senses(topo, k)
+            for k2, same in senses[k].items():
+                changed |= ask(k2, e if same else 1 - e, out[(k, e)])
+            for e in (0, 1):
+                for k2, e2 in at[_corner_key(topo.pieces[k].points[-e])]:
+                    if k2 != k and k2 in walls and not topo.pieces[k].interface:
+                        cos = float(_leaving(topo, k, e) @ _leaving(topo, k2, e2))
+                        if cos >= -straight:
+                            changed |= ask(k, e, walls[k2])
+    return out
+
+
+def joint_minimum(
+    topo: Topology, ends: dict[tuple[int, int], float], counts: np.ndarray, h: float
+) -> dict[int, int]:
+    """Cells each piece with asked ``ends`` (:func:`joint_ends`) needs so that its
+    stretching's neighbouring cells stay within GROWTH_AIM of each other: from both first
+    edges, else (an end too near, whose stretching no count bounds) from the finer one
+    against the uniform cells, as :func:`graded_minimum` counts; a piece that neither
+    bounds keeps its count (its gradings' own minimum has refused what they cannot do)."""
+    out: dict[int, int] = {}
+    for k in sorted({k for k, _ in ends}):
+        length, n = topo.pieces[k].length, int(counts[k])
+        asked = sorted(ends[(k, e)] / length for e in (0, 1) if (k, e) in ends)
+        top = max(n, int(np.ceil(length / h))) * MAX_RAISE
+        least = _least_count(n, top, *asked) if len(asked) == 2 else None
+        least = least or _least_count(n, top, asked[0], None)
+        if least is not None:
+            out[k] = least
+    return out
+
+
+def side_first(topo: Topology, b: int, s: int, ends: dict[tuple[int, int], float]) -> float | None:
+    """The smallest first edge ``ends`` asks of block ``b``'s sides along the grading at
+    its side ``s`` (None: none asks)."""
+    block, found = topo.blocks[b], []
+    for along, end in (((s + 1) % 4, (s + 1) % 4), ((s - 1) % 4, s)):
+        if len(block.sides[along]) != 1:
+            continue
+        k = block.sides[along][0][0]
+        forward = _corner_key(topo.pieces[k].points[0]) == _corner_key(block.corners[end])
+        if (k, 0 if forward else 1) in ends:
+            found.append(ends[(k, 0 if forward else 1)])
+    return min(found) if found else None
+
+
+def from_corner(topo: Topology, k: int) -> bool:
+    """Whether piece ``k`` is an interface with an end at a sharp corner of the boundary
+    (two boundary pieces meeting there turn by CORNER_TURN or more): a line drawn from a
+    step's lip or a blunt base, where a grading places a shear layer, which the solve
+    keeps where it is drawn (free, the Winslow map draws it off the corner into the
+    larger angle and the graded cells with it)."""
+    from pinn_engine.multiblock.blocks import CORNER_TURN
+
+    if not topo.pieces[k].interface:
+        return False
+    straight = float(np.cos(np.radians(CORNER_TURN)))
+    for e in (0, 1):
+        node = _corner_key(topo.pieces[k].points[-e])
+        walls = [
+            _leaving(topo, k2, e2)
+            for k2, piece in enumerate(topo.pieces)
+            if not piece.interface
+            for e2 in (0, 1)
+            if _corner_key(piece.points[-e2]) == node
+        ]
+        if len(walls) == 2 and float(walls[0] @ walls[1]) > -straight:
+            return True
+    return False

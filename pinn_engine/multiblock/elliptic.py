@@ -66,11 +66,11 @@ class Crossing:
     places: tuple[tuple[str, np.ndarray], tuple[str, np.ndarray]]
 
 
-def crossings(topo: Topology, lay: Layout) -> list[Crossing]:
-    """Every interface piece with the nodes on both sides of it."""
+def crossings(topo: Topology, lay: Layout, held: frozenset[int] = frozenset()) -> list[Crossing]:
+    """Every interface piece (but those ``held``) with the nodes on both sides of it."""
     out = []
-    for piece, nodes in zip(topo.pieces, lay.piece_ids):
-        if not piece.interface:
+    for k, (piece, nodes) in enumerate(zip(topo.pieces, lay.piece_ids)):
+        if not piece.interface or k in held:
             continue
         places = tuple(_place(lay.ids[b], nodes) for b in piece.blocks)
         inward = tuple(
@@ -98,12 +98,14 @@ def _ghost_slot(ext: np.ndarray, name: str, ks: np.ndarray) -> tuple:
     }[name]
 
 
-def stencils(topo: Topology, lay: Layout, free_interfaces: bool) -> tuple[np.ndarray, list[Star]]:
+def stencils(
+    topo: Topology, lay: Layout, free_interfaces: bool, held: frozenset[int] = frozenset()
+) -> tuple[np.ndarray, list[Star]]:
     """The 3 x 3 neighbourhoods (n, 3, 3) of node ids, ``[:, 1, 1]`` the node solved for:
     every block's interior nodes and, with ``free_interfaces``, the nodes inside interface
     pieces (each once, in its first block's index directions) and the junctions inside the
     domain with four quadrants; with ``free_interfaces`` also the stars of the junctions
-    with other quadrant counts."""
+    with other quadrant counts. The ``held`` pieces and their ends stay where drawn."""
     ext = [_ghosted(ids) for ids in lay.ids]
     found = []
     for e in ext:  # the windows centred on each block's interior nodes
@@ -112,7 +114,7 @@ def stencils(topo: Topology, lay: Layout, free_interfaces: bool) -> tuple[np.nda
         )
     if not free_interfaces:
         return np.concatenate(found), []
-    for c in crossings(topo, lay):
+    for c in crossings(topo, lay, held):
         (a, b), (place_a, place_b) = c.blocks, c.places
         ghost, _ = _ghost_slot(ext[a], *place_a)
         ext[a][ghost] = c.inward[1]
@@ -121,7 +123,8 @@ def stencils(topo: Topology, lay: Layout, free_interfaces: bool) -> tuple[np.nda
         _, own = _ghost_slot(ext[a], place_a[0], place_a[1][1:-1])
         for j, i in zip(*np.broadcast_arrays(*own)):
             found.append(ext[a][j - 1 : j + 2, i - 1 : i + 2][None])
-    ends = sorted({int(n) for ids in lay.piece_ids for n in (ids[0], ids[-1])})
+    kept = {int(lay.piece_ids[k][e]) for k in held for e in (0, -1)}
+    ends = sorted({int(n) for ids in lay.piece_ids for n in (ids[0], ids[-1])} - kept)
     regular, stars = junction_stencils(lay, ends)
     out = np.concatenate([*found, regular])
     assert (out >= 0).all(), "an interface node lacks a neighbour"
@@ -217,15 +220,19 @@ def winslow(
     lay: Layout,
     free_interfaces: bool = True,
     max_iterations: int = MAX_ITERATIONS,
+    held: frozenset[int] = frozenset(),
 ) -> tuple[np.ndarray, int]:
     """Node positions of the converged multi-block Winslow grid from ``lay``'s (TFI) start
-    (or after ``max_iterations`` Picard steps), and the Picard steps taken."""
+    (or after ``max_iterations`` Picard steps), and the Picard steps taken; the ``held``
+    interface pieces (those a spacing names) and their ends stay where drawn."""
     points = lay.points.copy()
-    st, stars = stencils(topo, lay, free_interfaces)
+    st, stars = stencils(topo, lay, free_interfaces, held)
     solved = np.concatenate([st[:, 1, 1], [star.node for star in stars]]).astype(int)
     column = np.full(len(points), -1)
     column[solved] = np.arange(len(solved))
     slide_ends, rings, at = sliders(topo, lay) if free_interfaces else ([], [], {})
+    kept = {int(lay.piece_ids[k][e]) for k in held for e in (0, -1)}
+    slide_ends = [end for end in slide_ends if end.node not in kept]
     last: dict[int, tuple[float, float]] = {}  # each slider's previous position and target
     tol = TOL * topo.lines.diagonal
     op = Operator(st, stars, column)

@@ -16,13 +16,17 @@ from pinn_engine.geometry.auxlines import RawLine, line_distances
 from pinn_engine.multiblock.blocks import Topology, topology
 from pinn_engine.multiblock.chains import (
     SideItem,
+    from_corner,
     graded_ends,
     graded_minimum,
     graded_params,
     graded_sides,
+    joint_ends,
+    joint_minimum,
     nearest_piece,
     ratio_lines,
     ratio_params,
+    side_first,
 )
 from pinn_engine.multiblock.counts import cell_counts, default_cell_size
 from pinn_engine.multiblock.elliptic import Crossing, crossings, winslow
@@ -164,6 +168,7 @@ def mesh_blocks(
     walls = walls or Walls()
     fixed = {nearest_piece(topo, item): item for item in cells}
     counts = cell_counts(topo, h, fixed)
+    sized = _cells(topo, counts)  # the cells of the cell size alone, before any grading
     grades = [(item, graded_sides(topo, nearest_piece(topo, item))) for item in walls.sides]
     if grades:
         spaced = {
@@ -176,11 +181,16 @@ def mesh_blocks(
             for piece, n in graded_minimum(topo, graded, h, counts, item, spaced).items():
                 if n > minimum.get(piece, (0, item))[0]:
                     minimum[piece] = (n, item)
-        counts = cell_counts(topo, h, fixed, minimum)
     ends: dict[tuple[int, int], float] = {}
     for item, graded in grades:
         for end, first in graded_ends(topo, graded, item.value).items():
             ends[end] = min(first, ends.get(end, first))
+    if grades:
+        ends = joint_ends(topo, ends, spaced)
+        for piece, n in joint_minimum(topo, ends, counts, h).items():
+            if n > minimum.get(piece, (0, None))[0]:
+                minimum[piece] = (n, grades[0][0])
+        counts = cell_counts(topo, h, fixed, minimum)
     params = graded_params(topo, ends, counts)
     ratios = ratio_params(topo, gradings, counts, set(params))
     params.update(ratios)
@@ -195,14 +205,19 @@ def mesh_blocks(
         for end in (0, -1)
     }
     asked = held_pieces(
-        spread(requests(sides, walls.spacing), lay.ids), held, wall_nodes(sides, walls.spacing)
+        spread(requests(sides, walls.spacing), lay.ids, lay.points),
+        held,
+        wall_nodes(sides, walls.spacing),
     )
     check_room(lay.points, asked)
     steps = 0
     points = lay.points
     timings = {"layout": time.perf_counter() - start}
     if settings.method in ("elliptic", "pinn"):
-        points, steps = winslow(topo, lay, settings.interfaces == "free")
+        held_sides = frozenset(
+            k for item, _ in grades if from_corner(topo, k := nearest_piece(topo, item))
+        )
+        points, steps = winslow(topo, lay, settings.interfaces == "free", held=held_sides)
     timings["solve"] = time.perf_counter() - start - timings["layout"]
     lines = block_lines(aux, [points[ids] for ids in lay.ids])  # the method's block sides
     cross = crossings(topo, lay)  # the interfaces' nodes, for every kink figure below
@@ -225,7 +240,11 @@ def mesh_blocks(
     def finished(points: np.ndarray) -> np.ndarray:
         """Gradings along chains, first edges of patches, blocks these fold untangled, and
         orthogonality on patches, last: no solve or training moves them after."""
-        grading = [(g, item.value) for item, g in grades]
+        grading = [
+            ({side: sign}, min(item.value, side_first(topo, *side, ends) or item.value))
+            for item, g in grades
+            for side, sign in g.items()
+        ]
         points, rest = graded_lines(points, lay.ids, grading, on_boundary, asked)
         points = respace(points, ratio_lines(topo, lay.ids, ratios, points))
         points = respace(points, rest)
@@ -260,6 +279,7 @@ def mesh_blocks(
             "nodes": int(kinks.size),
             "inside_mean": float(inside.mean()) if inside.size else 0.0,
         },
+        "graded_cells": {"from": sized, "to": _cells(topo, counts)},
         "iterations": steps,
         "walls": wall_report(points, sides),
         "aux_lines": [line.name for block in lines for line in block],
@@ -276,6 +296,16 @@ def mesh_blocks(
         report["training"] = training
         report["choice"] = network_effect(report)
     return MultiBlockResult(grids, cells, report, patches)
+
+
+def _cells(topo: Topology, counts: np.ndarray) -> int:
+    """The cells of all blocks for the pieces' cell ``counts``."""
+    return int(
+        sum(
+            sum(counts[p] for p, _ in block.sides[0]) * sum(counts[p] for p, _ in block.sides[1])
+            for block in topo.blocks
+        )
+    )
 
 
 def _assembled(points: np.ndarray, lay: Layout, grids: list[np.ndarray]) -> np.ndarray:

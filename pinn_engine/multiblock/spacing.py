@@ -26,6 +26,7 @@ import numpy as np
 from pinn_engine.classical.spacing import line_parameters
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import arc_lengths
+from pinn_engine.multiblock.blocks import CORNER_TURN
 from pinn_engine.multiblock.layout import side_lines
 from pinn_engine.multiblock.walls import WallSide
 from pinn_engine.quality import folded_cells
@@ -65,19 +66,34 @@ def requests(sides: list[WallSide], spacing: dict[str, float]) -> Requests:
     return out
 
 
-def spread(asked: Requests, ids: list[np.ndarray]) -> Requests:
-    """``asked`` with the stretching carried into every block that has an asked line as a
-    whole side without asking its own lines along it (a corner block beside a square
-    hole's wall blocks): that block's lines parallel to the side are asked the same first
-    edge at the same end, and so on through the blocks, as a grading runs through every
-    block sharing a side along it. Without it such a block keeps its own distribution
-    next to a stretched side, and its cells there shear."""
+def spread(asked: Requests, ids: list[np.ndarray], points: np.ndarray) -> Requests:
+    """``asked`` with the stretching carried, end by end, to the lines that must share it
+    (an end already asked keeps its first edge), until no line gains one:
+
+    - **along a chain:** into every block that has an asked line as a whole side without
+      asking its own lines along it (a corner block beside a square hole's wall blocks):
+      that block's lines parallel to the side are asked the same first edge at the same
+      end, as a grading runs through every block sharing a side along it. Without it such
+      a block keeps its own distribution next to a stretched side, and its cells there
+      shear;
+    - **through a node:** an asked line passes its first edge at an end to every line
+      that leaves that node continuing it (turning by less than a block corner's
+      ``CORNER_TURN``; ``points``: the layout's nodes): across an interface, or on along the
+      boundary past a block corner, so the cells on both sides match (a step's lip: the
+      spacing of the step's face reaches the inlet's wall beyond it, and the inlet's wall
+      spacing the lines above and below the step's line). Without it the cells jump by the
+      ratio of the spacing to the cell size across the interface."""
     out = {key: list(ask) for key, ask in asked.items()}
     sides: dict[tuple[int, ...], list[tuple[int, str]]] = {}
+    leaving: dict[int, list[np.ndarray]] = {}  # node -> the lines leaving it, once each
     for b, block in enumerate(ids):
         for side in SIDE_NAMES:
-            nodes = tuple(int(n) for n in side_lines(block, side)[:, 0])
+            lines = side_lines(block, side)
+            nodes = tuple(int(n) for n in lines[:, 0])
             sides.setdefault(min(nodes, nodes[::-1]), []).append((b, side))
+            for line in lines:
+                leaving.setdefault(int(line[0]), []).append(line)
+    straight = np.cos(np.radians(CORNER_TURN))
     across = {"bottom": ("left", "right"), "top": ("left", "right")}
     across |= {"left": ("bottom", "top"), "right": ("bottom", "top")}
     queue = list(out)
@@ -97,6 +113,19 @@ def spread(asked: Requests, ids: list[np.ndarray]) -> Requests:
                     end = 0 if key2 == line_key else 1
                     if key2 in out and out[key2][end] is not None:
                         continue
+                    _ask(out, line, h, label)
+                    queue.append(key2)
+        for node, before, h in ((key[0], key[1], first), (key[-1], key[-2], last)):
+            if h is None:
+                continue
+            arrive = points[node] - points[before]
+            for line in leaving.get(node, ()):
+                leave = points[line[1]] - points[node]
+                cos = arrive @ leave / max(np.linalg.norm(arrive) * np.linalg.norm(leave), 1e-300)
+                line_key = tuple(int(n) for n in line)
+                key2 = min(line_key, line_key[::-1])
+                end = 0 if key2 == line_key else 1
+                if cos > straight and (key2 not in out or out[key2][end] is None):
                     _ask(out, line, h, label)
                     queue.append(key2)
     return out

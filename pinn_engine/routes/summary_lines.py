@@ -113,9 +113,19 @@ def blocks_lines(method: str, report: dict, seconds: float) -> list[str]:
         if blocking.get("mode") == "automatic"
         else []
     )
+    graded = report.get("graded_cells", {})
+    raised = (
+        [
+            f"gradings: {graded['from']} cells from the cell size raised to {graded['to']}, so "
+            "that neighbouring cells along each graded chain differ by at most 1.25"
+        ]
+        if graded.get("to", 0) > graded.get("from", 0)
+        else []
+    )
     return [
         first,
         *([effect] if effect else []),
+        *raised,
         *automatic,
         *adaptation_lines(report),
         *_aux_lines(report["aux_line_distance"], "their block's diagonal"),
