@@ -930,6 +930,18 @@ class PINNStructuredMeshMultiBlock(PinnMultiBlockAlgorithm):
     def P07CellCounts(self, text):
         self.SetCells(text)
 
+    @_stringvector(
+        name="Gradings",
+        label="Gradings",
+        default_values="",
+        doc="Expansion ratios along chosen chains of block sides, as blockMesh grades: "
+        "X,Y=R items separated by spaces, each growing the cells along the chain through "
+        "the block side nearest (X, Y) geometrically, the last R times the first (the first "
+        "at that side's end nearest the point), e.g. '1.5,-2=4' (empty: none).",
+    )
+    def P08Gradings(self, text):
+        self.SetGradings(text)
+
 
 _HEXA_METHOD_DOCS = {
     "tfi": "3D transfinite interpolation of the six face grids",

@@ -421,15 +421,20 @@ def joint_ends(
 
 
 def joint_minimum(
-    topo: Topology, ends: dict[tuple[int, int], float], counts: np.ndarray, h: float
+    topo: Topology,
+    finer: dict[tuple[int, int], float],
+    ends: dict[tuple[int, int], float],
+    counts: np.ndarray,
+    h: float,
 ) -> dict[int, int]:
-    """Cells each piece with asked ``ends`` (:func:`joint_ends`) needs so that its
-    stretching's neighbouring cells stay within GROWTH_AIM of each other: from both first
-    edges, else (an end too near, whose stretching no count bounds) from the finer one
-    against the uniform cells, as :func:`graded_minimum` counts; a piece that neither
-    bounds keeps its count (its gradings' own minimum has refused what they cannot do)."""
+    """Cells each piece with an end made ``finer`` by :func:`joint_ends` (than its
+    gradings alone asked; ``ends``: all of them) needs so that its stretching's
+    neighbouring cells stay within GROWTH_AIM of each other: from both first edges, else
+    (an end too near, whose stretching no count bounds) from the finer one against the
+    uniform cells, as :func:`graded_minimum` counts; a piece that neither bounds keeps its
+    count (its gradings' own minimum has refused what they cannot do)."""
     out: dict[int, int] = {}
-    for k in sorted({k for k, _ in ends}):
+    for k in sorted({k for k, _ in finer}):
         length, n = topo.pieces[k].length, int(counts[k])
         asked = sorted(ends[(k, e)] / length for e in (0, 1) if (k, e) in ends)
         top = max(n, int(np.ceil(length / h))) * MAX_RAISE

@@ -24,6 +24,7 @@ from pinn_engine.multiblock.chains import (
     joint_ends,
     joint_minimum,
     nearest_piece,
+    piece_chains,
     ratio_lines,
     ratio_params,
     side_first,
@@ -186,8 +187,15 @@ def mesh_blocks(
         for end, first in graded_ends(topo, graded, item.value).items():
             ends[end] = min(first, ends.get(end, first))
     if grades:
-        ends = joint_ends(topo, ends, spaced)
-        for piece, n in joint_minimum(topo, ends, counts, h).items():
+        alone, ends = ends, joint_ends(topo, ends, spaced)
+        chain = piece_chains(topo)
+        held_chains = {chain[p] for p in fixed}  # --cells counts stay as given
+        finer = {
+            end: first
+            for end, first in ends.items()
+            if first < alone.get(end, np.inf) and chain[end[0]] not in held_chains
+        }
+        for piece, n in joint_minimum(topo, finer, ends, counts, h).items():
             if n > minimum.get(piece, (0, None))[0]:
                 minimum[piece] = (n, grades[0][0])
         counts = cell_counts(topo, h, fixed, minimum)

@@ -93,6 +93,10 @@ class PinnMultiBlockAlgorithm(
       ``hole1``, ...
     * ``SetCells(items)``: ``X,Y=N`` items, N cells along the chain through the block side
       nearest (X, Y) (a string, a sequence or a mapping ``{(x, y): N}``)
+    * ``SetGradings(items)``: ``X,Y=R`` items, cells growing geometrically along the chain
+      through the block side nearest (X, Y), the last R times the first (blockMesh's
+      expansion ratio), the first at that side's end nearest the point (a string, a
+      sequence or a mapping ``{(x, y): R}``)
     * ``SetSpacing(items)``: ``NAME=H`` items, the first grid edge leaving that patch, and
       ``X,Y=H`` items, the cells on both sides of the block side nearest (X, Y) H across
       it, growing along the chain (``"cylinder=0.005 0.3,0.2=0.01"``, a sequence of items
@@ -123,6 +127,7 @@ class PinnMultiBlockAlgorithm(
         self._interfaces = INTERFACES[0]
         self._patches: tuple[str, ...] = ()  # X,Y=NAME[:TYPE] items, checked at the update
         self._cells: tuple[str, ...] = ()  # X,Y=N items, checked at the update
+        self._gradings: tuple[str, ...] = ()  # X,Y=R items, checked at the update
         self._last_error = self._last_warning = ""
         self._exception: Exception | None = None
 
@@ -176,6 +181,14 @@ class PinnMultiBlockAlgorithm(
 
     def GetCells(self) -> tuple[str, ...]:
         return self._cells
+
+    def SetGradings(self, items) -> None:
+        if hasattr(items, "items"):
+            items = {key: float(r) for key, r in items.items()}
+        self._set("_gradings", place_items(items))
+
+    def GetGradings(self) -> tuple[str, ...]:
+        return self._gradings
 
     def GetSettings(self) -> Settings:
         """The ``Settings`` the next update uses (raises ``ValueError`` if invalid)."""
@@ -238,6 +251,7 @@ class PinnMultiBlockAlgorithm(
             spacing=self._spacing,
             orthogonal=self._orthogonal,
             cells=self._cells,
+            gradings=self._gradings,
         )
         began = time.perf_counter()
         outcome = self._run_job(settings, geometry, self._block, field=field)

@@ -48,3 +48,65 @@ def test_both_walls_graded_give_both_first_edges_on_every_side(tmp_path):
                 assert np.all(np.abs(ends / WALL - 1) < 0.02), ends
                 checked += 1
     assert checked == 2
+
+
+STEP = [(-2, 1), (0, 1), (0, 0), (6, 0), (6, 2), (-2, 2)]  # example_data/step.vtp
+STEP_LINES = [[(0, 1), (0, 2)], [(0, 1), (6, 1)]]  # the lip's two lines: three blocks
+STEP_PATCHES = ["--patch=boundary=walls:wall", "--patch=-2,1.5=inlet:inflow"]
+STEP_PATCHES += ["--patch=6,0.5=outlet:outflow", "--patch=6,1.5=outlet"]
+
+
+def _step(tmp_path, *args) -> tuple[list[np.ndarray], dict]:
+    _polydata([STEP], True).save(tmp_path / "step.vtp")
+    _polydata(STEP_LINES, False).save(tmp_path / "lines.vtp")
+    out, report = tmp_path / "step.vtm", tmp_path / "report.json"
+    argv = [str(tmp_path / "step.vtp"), "--blocks", str(tmp_path / "lines.vtp"), *STEP_PATCHES]
+    argv += ["--cell-size", "0.1", "--method", "elliptic", *args, "--quiet"]
+    assert main([*argv, "--report", str(report), "-o", str(out)]) == 0
+    grids = [b.points[:, :2].reshape(b.dimensions[1], b.dimensions[0], 2) for b in pv.read(out)]
+    return grids, json.loads(report.read_text())
+
+
+def _across_step_line(grids: list[np.ndarray]) -> np.ndarray:
+    """The first edges below and above the step's line (y = 1, x > 0) at each of its
+    nodes."""
+    near = np.isclose  # the points as written (float32)
+    below = next(g for g in grids if near(g[0, 0, 1], 0.0))  # the block under the step's line
+    above = next(g for g in grids if near(g[0, 0, 0], 0.0) and near(g[0, 0, 1], 1.0))
+    assert np.allclose(below[-1, :, 1], 1.0) and np.allclose(above[0, :, 1], 1.0)
+    return np.array([below[-1, :, 1] - below[-2, :, 1], above[1, :, 1] - above[0, :, 1]])
+
+
+def test_wall_spacing_carries_across_the_step_line(tmp_path):
+    """Walls at 5e-5: the inlet's wall spacing reaches the lines above and below the step's
+    line through the lip (the cells there were 400:1 across it, and checkMesh's
+    non-orthogonality 89.9 degrees); every cell a rectangle."""
+    grids, report = _step(tmp_path, "--spacing=walls=5e-5")
+    edges = _across_step_line(grids)
+    assert np.all(np.abs(edges / 5e-5 - 1) < 0.1), edges
+    assert report["quality"]["worst_max_angle"] < 90.5
+
+
+def test_a_step_line_graded_beside_spaced_walls_keeps_the_finer_first_edge(tmp_path):
+    """Walls at 5e-5 and the step's line at 1e-4 meet at the lip: every side of the chains
+    through it takes 5e-5 (the inlet's face kept its wall spacing at the top, and the grid
+    sheared to 177.6 degrees), the cells stay rectangles, and the report says how far the
+    gradings raised the cell count."""
+    grids, report = _step(tmp_path, "--spacing=walls=5e-5", "--spacing=3,1=1e-4")
+    edges = _across_step_line(grids)
+    assert np.all(np.abs(edges / 5e-5 - 1) < 0.1), edges
+    assert report["quality"]["worst_max_angle"] < 90.5
+    inlet = next(g for g in grids if np.isclose(g[0, 0, 0], -2.0))[:, 0, 1]  # the inlet's face
+    assert abs((inlet[1] - inlet[0]) / 5e-5 - 1) < 0.1
+    assert abs((inlet[-1] - inlet[-2]) / 5e-5 - 1) < 0.1
+    assert report["graded_cells"]["to"] > report["graded_cells"]["from"]
+    assert report["cells"] == report["graded_cells"]["to"]
+
+
+def test_a_graded_line_from_the_lip_stays_where_it_is_drawn(tmp_path):
+    """The step's line alone graded: the solve keeps it on y = 1 (free, it left the lip 0.08
+    upward and the graded cells sheared to 148 degrees)."""
+    grids, report = _step(tmp_path, "--spacing=3,1=1e-4")
+    edges = _across_step_line(grids)
+    assert np.all(np.abs(edges / 1e-4 - 1) < 0.1), edges
+    assert report["quality"]["worst_max_angle"] < 90.5

@@ -392,6 +392,7 @@ def test_multiblock_filter_on_the_step(checkout):
         "Method",
         "CellSize",
         "CellCounts",
+        "Gradings",
         "Interfaces",
         "PatchNames",
         "FirstEdgeSpacing",

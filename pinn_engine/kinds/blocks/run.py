@@ -215,13 +215,14 @@ def blocks_from_polydata(
     spacing: Sequence[str] = (),
     orthogonal: Sequence[str] = (),
     cells: Sequence[str] = (),
+    gradings: Sequence[str] = (),
 ) -> BlocksGeometry:
     """The multi-block domain of VTK inputs (:func:`curves_of`: the rings and edges of the
     boundary and block-edge ports; the auxiliary lines of ``aux_inputs``), the edges proposed
     when ``automatic`` (None: when no edge is given); the items as :func:`blocks_from_files`'."""
     from pinn_engine.io.fileio import aux_lines_of
 
-    places = _places(patches, spacing, orthogonal, cells)  # refused before meshing
+    places = _places(patches, spacing, orthogonal, cells, gradings)  # refused before meshing
     rings, edges, names = curves_of(boundary_inputs, edge_inputs, automatic)
     automatic = not edges if automatic is None else automatic
     polys = [p for p in aux_inputs if p is not None and p.GetNumberOfPoints()]

@@ -23,9 +23,9 @@ from pinn_engine.settings import HEXA_SIZE, Settings
 # apply to it alone
 BLOCKS_KEYWORDS = (
     "blocks", "cell_size", "interfaces", "patches", "spacing", "orthogonal", "aux", "save_blocks",
-    "cells",
+    "cells", "grading",
 )  # fmt: skip
-BLOCKS_ONLY = ("blocks", "cell_size", "interfaces", "save_blocks", "cells")
+BLOCKS_ONLY = ("blocks", "cell_size", "interfaces", "save_blocks", "cells", "grading")
 
 
 @pv.register_dataset_accessor("pinn_mesh", pv.PolyData)
@@ -92,6 +92,7 @@ class PinnMeshAccessor:
         interfaces: str | None = None,
         save_blocks: str | None = None,
         cells=None,
+        grading=None,
         progress: Callable[[dict], bool | str | None] | None = None,
         progress_bar: bool = False,
         model=None,
@@ -171,6 +172,10 @@ class PinnMeshAccessor:
         cells : dict or sequence of str, optional
             With ``blocks``: cells along the chain through the block side nearest (x, y),
             ``{(x, y): n}`` or ``["X,Y=N"]``.
+        grading : dict or sequence of str, optional
+            With ``blocks``: cells growing geometrically along the chain through the block
+            side nearest (x, y), the last r times the first (blockMesh's expansion ratio),
+            ``{(x, y): r}`` or ``["X,Y=R"]``.
         progress : callable, optional
             ``progress(info)`` during training (``info``: ``phase``, ``step``, ``total``,
             ``loss``); returning True cancels, ``pinn_engine.errors.STOP`` keeps the best
@@ -232,6 +237,7 @@ class PinnMeshAccessor:
                 interfaces=interfaces,
                 save_blocks=save_blocks,
                 cells=cells,
+                grading=grading,
                 progress=progress,
                 model=model,
                 **settings,

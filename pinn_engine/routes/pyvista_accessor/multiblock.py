@@ -36,6 +36,7 @@ def pinn_mesh_blocks(
     save_blocks=None,
     progress_bar: bool = False,
     cells=None,
+    grading=None,
     adapt=None,
     adapt_strength: float | None = None,
 ) -> pv.MultiBlock:
@@ -73,6 +74,10 @@ def pinn_mesh_blocks(
     cells : dict or sequence of str, optional
         Cells along the chain through the block side nearest (x, y), ``{(x, y): n}`` or
         ``["X,Y=N"]`` (opposite sides of every block share a count).
+    grading : dict or sequence of str, optional
+        Cells growing geometrically along the chain through the block side nearest (x, y),
+        the last r times the first (blockMesh's expansion ratio; the first at that side's
+        end nearest the point), ``{(x, y): r}`` or ``["X,Y=R"]``.
     orthogonal : str or sequence of str, optional
         Patches that grid lines leave along the normal, ``"cylinder"`` or ``["cylinder",
         "walls"]``.
@@ -122,6 +127,7 @@ def pinn_mesh_blocks(
         (alg.SetSpacing, spacing),
         (alg.SetOrthogonal, orthogonal),
         (alg.SetCells, cells),
+        (alg.SetGradings, grading),
         (alg.SetAdaptStrength, adapt_strength),
     ):
         if value is not None:
