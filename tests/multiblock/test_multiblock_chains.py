@@ -167,3 +167,9 @@ def test_an_expansion_ratio_grades_every_block_along_its_chain(tmp_path, capsys)
     assert "side of several pieces" in err and err.count("\n") == 1
     assert main([*argv, "--grading", "1.9,0=-1", "-o", str(tmp_path / "l.vtm"), "-q"]) == 2
     assert "expected X,Y=R, R > 0" in capsys.readouterr().err
+    boundary, edges = (pv.read(EXAMPLES / f) for f in CYLINDER[0:3:2])
+    grid = boundary.pinn_mesh(
+        blocks=edges, cell_size=0.25, method="elliptic", grading={(1.5, -2): 4}
+    )
+    assert len(grid) == 12  # pyvista's grading= gives the command line's grid
+    assert all(np.allclose(a.points, b.points, atol=1e-12) for a, b in zip(grid, pv.read(out)))

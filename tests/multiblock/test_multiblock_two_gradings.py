@@ -110,3 +110,16 @@ def test_a_graded_line_from_the_lip_stays_where_it_is_drawn(tmp_path):
     edges = _across_step_line(grids)
     assert np.all(np.abs(edges / 1e-4 - 1) < 0.1), edges
     assert report["quality"]["worst_max_angle"] < 90.5
+
+
+def test_automatic_blocking_with_wall_spacing_cuts_both_of_the_lips_lines(tmp_path):
+    """--blocks auto with the walls spaced: the lip emits both of its lines (three blocks),
+    so the inlet wall's spacing runs on along the step's line; with the one line drawn
+    without spacing, the lip's cells ended mid-side of the block beyond and sheared to
+    177 degrees."""
+    _polydata([STEP], True).save(tmp_path / "step.vtp")
+    out, report = tmp_path / "step.vtm", tmp_path / "report.json"
+    argv = [str(tmp_path / "step.vtp"), "--blocks", "auto", "--spacing=boundary=0.01"]
+    assert main([*argv, "--quiet", "--report", str(report), "-o", str(out)]) == 0
+    figures = json.loads(report.read_text())
+    assert figures["blocks"] == 3 and figures["quality"]["worst_max_angle"] < 90.5

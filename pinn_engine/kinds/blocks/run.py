@@ -96,7 +96,7 @@ def _laid_out(
     if automatic:
         from pinn_engine.multiblock.autoblock import proposal
 
-        proposed = proposal(curves[: len(rings)], source)
+        proposed = proposal(curves[: len(rings)], source, layers=bool(places["walls"].spacing))
         edges, names, blocking = proposed.edges, proposed.names, proposed.report
     lines = [replace(line, points=c) for line, c in zip(aux, flat)]
     return BlocksGeometry(curves[: len(rings)], edges, names, source, lines, blocking, **places)

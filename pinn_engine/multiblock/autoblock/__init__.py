@@ -33,10 +33,17 @@ def _segments(curves: list[np.ndarray], closed: bool) -> np.ndarray:
     return np.concatenate(out) if out else np.zeros((0, 2, 2))
 
 
-def propose_edges(rings: list[np.ndarray], source: str = "boundary") -> list[np.ndarray]:
+def propose_edges(
+    rings: list[np.ndarray], source: str = "boundary", layers: bool = False
+) -> list[np.ndarray]:
     """Block edges (straight polylines (2, 2)) that cut the domain of ``rings`` (the outer
     boundary and holes, any order and orientation) into four-cornered blocks; none for a
-    four-sided domain. A one-line InputError says why when no blocking is found."""
+    four-sided domain. With ``layers`` (walls with a first-edge spacing), a reflex vertex
+    whose two sides both carry on into the domain (a step's lip, an L's inner corner)
+    emits both: each wall's boundary layer then runs on along a block edge, so its spacing
+    has a chain to run along on both sides of the corner (with one edge, the lip's layer
+    ends mid-side of the block beyond and its rows fan out across the block). A one-line
+    InputError says why when no blocking is found."""
     rings = order_rings([np.asarray(r, dtype=float)[:, :2] for r in rings], source)
     diagonal = float(np.linalg.norm(np.ptp(rings[0], axis=0)))
     axes = main_axes(rings[0])
@@ -48,6 +55,8 @@ def propose_edges(rings: list[np.ndarray], source: str = "boundary") -> list[np.
     vertices = reflex_vertices([rings[0], *boxes], diagonal)
     fixed = _segments([rings[0], *boxes], True)
     options = [ray_options(v, fixed, diagonal) for v in vertices]
+    if layers:
+        options = [[o for o in opts if len(o) == 2] or opts for opts in options]
     targets = np.vstack(
         [corner_points(rings[0]), *boxes, np.array([v.point for v in vertices]).reshape(-1, 2)]
     )
@@ -80,10 +89,10 @@ class Proposal:
     report: dict
 
 
-def proposal(rings: list[np.ndarray], source: str = "boundary") -> Proposal:
+def proposal(rings: list[np.ndarray], source: str = "boundary", layers: bool = False) -> Proposal:
     """:func:`propose_edges`, named and timed for a run's report."""
     start = time.perf_counter()
-    edges = propose_edges(rings, source)
+    edges = propose_edges(rings, source, layers)
     seconds = time.perf_counter() - start
     names = [f"proposed edge {k}" for k in range(len(edges))]
     return Proposal(edges, names, {"mode": "automatic", "edges": len(edges), "seconds": seconds})
