@@ -29,6 +29,7 @@ import os
 import shutil
 import tempfile
 from collections.abc import Callable, Mapping, Sequence
+from importlib import import_module
 from pathlib import Path
 
 import numpy as np
@@ -37,12 +38,7 @@ from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkStructuredGri
 
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.plane import Plane
-
-# isort: off
-# each format registers itself when imported (registry.py), in this order: --format's choices
-from pinn_engine.io.export import vtkfiles, plot3d, cgns, su2, gmsh, openfoam  # noqa: F401
-
-# isort: on
+from pinn_engine.io.atomic import atomic_path, check_writable, umask, write_text_atomic
 from pinn_engine.io.export.block import Block, Box
 from pinn_engine.io.export.multiblock import blocks_of
 from pinn_engine.io.export.patches import (
@@ -55,9 +51,28 @@ from pinn_engine.io.export.patches import (
     patch_names,
     patch_specs,
 )
-from pinn_engine.io.export.registry import FORMATS, Format
+from pinn_engine.io.export.registry import FORMATS as _REGISTERED
+from pinn_engine.io.export.registry import Format
 from pinn_engine.io.export.topology import mean_edge, side_nodes
-from pinn_engine.io.fileio import atomic_path, check_writable, umask, write_text_atomic
+
+# the format modules, each registering itself when imported (registry.py), in this order:
+# --format's choices; imported on the first use of ``FORMATS``
+FORMAT_MODULES = ("vtkfiles", "plot3d", "cgns", "su2", "gmsh", "openfoam")
+
+
+def formats() -> dict[str, Format]:
+    """Every export format by key (``FORMATS``), their modules imported on the first call."""
+    for name in FORMAT_MODULES:
+        import_module(f"{__name__}.{name}")
+    return _REGISTERED
+
+
+def __getattr__(name: str) -> object:
+    """``FORMATS``: :func:`formats`, so that importing the package registers nothing it does
+    not write (PEP 562)."""
+    if name == "FORMATS":
+        return formats()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def output_format(
@@ -68,11 +83,11 @@ def output_format(
     before meshing."""
     path = Path(path)
     if fmt is not None:
-        found = FORMATS.get(str(fmt).strip().lower())
+        found = formats().get(str(fmt).strip().lower())
         if found is None:
             raise InputError(f"unknown format {fmt!r}; use {{output}}", str(path))
     else:
-        by_suffix = {f.suffix: f for f in FORMATS.values() if f.suffix}
+        by_suffix = {f.suffix: f for f in formats().values() if f.suffix}
         found = by_suffix.get(path.suffix.lower())
         if found is None:
             raise InputError(
@@ -85,7 +100,7 @@ def output_format(
         raise InputError("exists and is not a directory; an OpenFOAM case is a folder", str(path))
     if extrude is not None:
         if not found.extrudes:
-            extruding = [f.suffix or f.name for f in FORMATS.values() if f.extrudes]
+            extruding = [f.suffix or f.name for f in formats().values() if f.extrudes]
             raise InputError(
                 f"{found.description} is 2D only; drop {{extrude}} (it applies "
                 f"to {', '.join(extruding[:-1])} and {extruding[-1]})",
@@ -233,7 +248,7 @@ def blocks_format(path: str | os.PathLike, fmt: str | None, extrude: float | Non
     refused (one line) before meshing where it does not apply."""
     found = output_format(path, fmt, extrude)
     if found.blocks is None:
-        named = [f.suffix or f"--format {f.key}" for f in FORMATS.values() if f.blocks]
+        named = [f.suffix or f"--format {f.key}" for f in formats().values() if f.blocks]
         raise InputError(
             f"a multi-block grid is written as .vtm, {', '.join(named[:-1])} or {named[-1]}, "
             f"not as {found.description}",
@@ -291,8 +306,10 @@ def write_case(case: Path, write_mesh: Callable[[Path], None]) -> Path:
     case is built in a temporary folder and renamed; in an existing case only
     ``constant/polyMesh`` is replaced (built beside it, then swapped) and missing case
     files are added."""
+    from pinn_engine.io.export.openfoam import case_files
+
     title = case.name or "case"
-    files = openfoam.case_files(title)
+    files = case_files(title)
     if not case.exists():
         case.parent.mkdir(parents=True, exist_ok=True)
         tmp = Path(tempfile.mkdtemp(prefix=f".{title}.", suffix=".part", dir=case.parent))
@@ -343,6 +360,7 @@ __all__ = [
     "Format",
     "blocks_format",
     "box_points",
+    "formats",
     "grid_points",
     "is_box",
     "output_format",

@@ -1,17 +1,29 @@
-"""The VTK formats: ``.vts`` (XML, through ``fileio.write_vts``) and ``.vtk`` (legacy)."""
+"""The VTK formats: ``.vts`` (XML, through ``fileio.write_vts``) and ``.vtk`` (legacy).
+
+VTK's writers and ``io.fileio`` (its readers too) are imported where a grid is written, so
+that registering these formats (``--format``'s choices) costs no start-up."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from vtkmodules.vtkIOLegacy import vtkStructuredGridWriter
-
+from pinn_engine.io.atomic import atomic_path
 from pinn_engine.io.export.registry import Format, register
-from pinn_engine.io.fileio import atomic_path, quiet_vtk, write_vts
+
+
+def write_vts(grid, path: Path) -> Path:
+    """Write ``grid`` as an XML ``.vts`` file atomically (``fileio.write_vts``)."""
+    from pinn_engine.io import fileio
+
+    return fileio.write_vts(grid, path)
 
 
 def write_legacy(grid, path: Path) -> None:
     """Write ``grid`` as a binary legacy ``.vtk`` structured grid to ``path``."""
+    from vtkmodules.vtkIOLegacy import vtkStructuredGridWriter
+
+    from pinn_engine.io.fileio import quiet_vtk
+
     writer = vtkStructuredGridWriter()
     writer.SetFileName(str(path))
     writer.SetInputData(grid)

@@ -40,7 +40,6 @@ def run_dictionary(args: argparse.Namespace, written: list[Path]) -> Path:
     from pinn_engine import job
     from pinn_engine.io.export import write_case
     from pinn_engine.io.export.openfoam import write_hex_polymesh
-    from pinn_engine.io.export.vtm import write_vtm
     from pinn_engine.settings import make_settings
 
     defaults = vars(build_parser().parse_args([]))
@@ -82,6 +81,8 @@ def run_dictionary(args: argparse.Namespace, written: list[Path]) -> Path:
     elif kind in ("su2", "msh"):
         job.write_unstructured(result, out, kind)
     else:
+        from pinn_engine.io.export.vtm import write_vtm  # VTK's XML writer: for .vtm only
+
         write_vtm(outcome.data, out)
     written.append(out)
     outcome.report["timings"]["run"] = time.perf_counter() - began
