@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from pinn_engine.blas import one_blas_thread
+from pinn_engine.blas import one_thread
 from pinn_engine.blocks3d.placement import HEX_FACES, Placement, face_slice
 from pinn_engine.hexa.inexact import InexactSolve
 from pinn_engine.hexa.volume import cofactor_terms
@@ -643,7 +643,7 @@ def winslow(
     systems = _Systems(owners, held, rows, entries)
     diag = float(np.linalg.norm(np.ptp(points, axis=0)))
     steps = 0
-    with one_blas_thread():
+    with one_thread():
         for steps in range(1, max_iterations + 1):
             v = np.concatenate([_weights(points, st).ravel()] + star_rows.weights(points))
             residual = systems.residuals(v, points)

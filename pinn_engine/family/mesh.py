@@ -174,13 +174,13 @@ def _polished(
     figures of the grid its own run optimises from (quality_start.best_candidate, with the
     member's ranking), whether the polished grid ranks no worse than that grid, and its
     name."""
-    from pinn_engine.blas import one_blas_thread
+    from pinn_engine.blas import one_thread
     from pinn_engine.starts.quality_start import Ranking, best_candidate, optimize_nodes
 
     elliptic = model.base(member)
     ranking = Ranking.of(elliptic, (), member.boundary.diagonal)
     (begin, name), ranking = best_candidate(elliptic, member.base, ranking)
-    with one_blas_thread():  # its L-BFGS, as the member's own run's
+    with one_thread():  # its L-BFGS, as the member's own run's
         polished = optimize_nodes(grid, ranking, model.polish)
     ranks = ranking.key(ranking.quality(polished)) <= ranking.key(ranking.quality(begin))
     begin_figures = {k: v for k, v in ranking.quality(begin).items() if k in _FIGURES}

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from pinn_engine.blas import one_blas_thread
+from pinn_engine.blas import one_thread
 from pinn_engine.hexa.controls import parameter_controls
 from pinn_engine.hexa.inexact import InexactSolve
 
@@ -183,7 +183,7 @@ def winslow(
     inner_shape = tuple(n - 2 for n in g.shape[:3])
     pattern = InteriorStencil.of(inner_shape)
     solver = InexactSolve()
-    with one_blas_thread():
+    with one_thread():
         for it in range(1, max_iterations + 1):
             w = _weights(g, params)
             residual = _apply(w, g)

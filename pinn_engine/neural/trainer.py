@@ -26,7 +26,7 @@ from typing import Protocol
 import numpy as np
 import torch
 
-from pinn_engine.blas import one_blas_thread
+from pinn_engine.blas import one_thread
 from pinn_engine.errors import STOP, TrainingCancelled, TrainingError
 from pinn_engine.heap import reuse_freed_memory
 from pinn_engine.neural.losses import annealed_lambda
@@ -449,7 +449,7 @@ def _lbfgs(
 
     before = history.values["total"][-1] if history.values else math.inf
     theta = torch.cat([p.detach().flatten() for p in params]).double().cpu().numpy()
-    with one_blas_thread():
+    with one_thread():
         result = minimize(
             loss_and_grad,
             theta,

@@ -33,7 +33,7 @@ import torch
 from scipy.ndimage import binary_dilation
 from scipy.optimize import minimize
 
-from pinn_engine.blas import one_blas_thread
+from pinn_engine.blas import one_thread
 from pinn_engine.classical.elliptic import (
     controlled_solve,
     parameter_controls,
@@ -516,7 +516,7 @@ def repair(
         return value + float(term.detach()), (grad[free] * edges).ravel()
 
     x, left = np.zeros(2 * int(free.sum())), iterations
-    with one_blas_thread():
+    with one_thread():
         while left > 0:  # restarted where the line search gives up (a barrier's wall)
             result = minimize(
                 loss_and_grad,

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pinn_engine.blas import one_blas_thread
+from pinn_engine.blas import one_thread
 from pinn_engine.classical.spacing import classical_grid, working_spacing
 from pinn_engine.classical.warm import WarmStart
 from pinn_engine.geometry.auxlines import AuxLine
@@ -62,7 +62,7 @@ def quad_start(
 
         tfi = elliptic - warm.correction  # the TFI base plus the new start's correction
         ranking = Ranking.of(elliptic, aux, boundary.diagonal)
-        with one_blas_thread():  # its L-BFGS, as _lbfgs's
+        with one_thread():  # its L-BFGS, as _lbfgs's
             warm, ranking = quality_start(warm, elliptic, ranking)
         start = tfi + warm.correction
         return QuadStart(warm, elliptic if reference is None else reference, start, params, ranking)

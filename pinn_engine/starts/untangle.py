@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pinn_engine.blas import one_blas_thread
+from pinn_engine.blas import one_thread
 from pinn_engine.classical.warm import WarmStart
 from pinn_engine.quality import (
     DBL_MIN,
@@ -222,7 +222,7 @@ def untangle(grid: np.ndarray) -> np.ndarray:
     folds = int(folded_cells(grid).sum())
     if not folds or min(grid.shape[:2]) < 3:
         return grid
-    with one_blas_thread():  # L-BFGS-B's small products: threads cost more than they save
+    with one_thread():  # L-BFGS-B's small products: threads cost more than they save
         return _untangled(grid, folds)
 
 
