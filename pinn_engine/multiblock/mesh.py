@@ -212,8 +212,12 @@ def mesh_blocks(
         if not piece.interface
         for end in (0, -1)
     }
+    ends_of_pieces = {int(nodes[e]) for nodes in lay.piece_ids for e in (0, -1)}
+    boundary_nodes = np.zeros(len(lay.points), dtype=bool)
+    for piece, nodes in zip(topo.pieces, lay.piece_ids):
+        boundary_nodes[nodes] |= not piece.interface
     asked = held_pieces(
-        spread(requests(sides, walls.spacing), lay.ids, lay.points),
+        spread(requests(sides, walls.spacing), lay.ids, lay.points, ends_of_pieces, boundary_nodes),
         held,
         wall_nodes(sides, walls.spacing),
     )
@@ -241,9 +245,6 @@ def mesh_blocks(
         grids, training = train(starts, settings, progress, lines, kinks)
         points = _assembled(points, lay, grids)
         timings["training"] = training["seconds"]
-    on_boundary = np.zeros(len(points), dtype=bool)
-    for piece, nodes in zip(topo.pieces, lay.piece_ids):
-        on_boundary[nodes] |= not piece.interface
 
     def finished(points: np.ndarray) -> np.ndarray:
         """Gradings along chains, first edges of patches, blocks these fold untangled, and
@@ -253,7 +254,7 @@ def mesh_blocks(
             for item, g in grades
             for side, sign in g.items()
         ]
-        points, rest = graded_lines(points, lay.ids, grading, on_boundary, asked)
+        points, rest = graded_lines(points, lay.ids, grading, boundary_nodes, asked)
         points = respace(points, ratio_lines(topo, lay.ids, ratios, points))
         points = respace(points, rest)
         if (grades or asked) and untangle is not None:

@@ -66,7 +66,13 @@ def requests(sides: list[WallSide], spacing: dict[str, float]) -> Requests:
     return out
 
 
-def spread(asked: Requests, ids: list[np.ndarray], points: np.ndarray) -> Requests:
+def spread(
+    asked: Requests,
+    ids: list[np.ndarray],
+    points: np.ndarray,
+    corners: set[int] = frozenset(),
+    boundary: np.ndarray | None = None,
+) -> Requests:
     """``asked`` with the stretching carried, end by end, to the lines that must share it
     (an end already asked keeps its first edge), until no line gains one:
 
@@ -76,23 +82,29 @@ def spread(asked: Requests, ids: list[np.ndarray], points: np.ndarray) -> Reques
       end, as a grading runs through every block sharing a side along it. Without it such
       a block keeps its own distribution next to a stretched side, and its cells there
       shear;
-    - **through a node:** an asked line passes its first edge at an end to every line
-      that leaves that node continuing it (turning by less than a block corner's
-      ``CORNER_TURN``; ``points``: the layout's nodes): across an interface, or on along the
-      boundary past a block corner, so the cells on both sides match (a step's lip: the
-      spacing of the step's face reaches the inlet's wall beyond it, and the inlet's wall
-      spacing the lines above and below the step's line). Without it the cells jump by the
-      ratio of the spacing to the cell size across the interface."""
+    - **through a node:** an asked line passes its first edge at an end to the lines that
+      leave that node continuing it (turning by less than a block corner's
+      ``CORNER_TURN``; ``points``: the layout's nodes). Inside an interface that is a whole
+      side of both its blocks, every line of the block across leaving that side takes it
+      (its corner lines too, so its sides keep its rows' distribution): a step cut at its
+      lip's lines has the inlet's wall spacing on the lines above and below the step's
+      line. At a block corner (``corners``: the pieces' ends) only a ``boundary`` line
+      passes it on, to the boundary line beyond (a wall's row past the corner). Without it
+      the cells jump by the ratio of the spacing to the cell size across the interface.
+    """
     out = {key: list(ask) for key, ask in asked.items()}
     sides: dict[tuple[int, ...], list[tuple[int, str]]] = {}
-    leaving: dict[int, list[np.ndarray]] = {}  # node -> the lines leaving it, once each
+    # node -> the lines leaving it, each with the side it leaves
+    leaving: dict[int, list[tuple[np.ndarray, tuple[int, ...], int, str]]] = {}
     for b, block in enumerate(ids):
         for side in SIDE_NAMES:
             lines = side_lines(block, side)
             nodes = tuple(int(n) for n in lines[:, 0])
             sides.setdefault(min(nodes, nodes[::-1]), []).append((b, side))
             for line in lines:
-                leaving.setdefault(int(line[0]), []).append(line)
+                leaving.setdefault(int(line[0]), []).append(
+                    (line, min(nodes, nodes[::-1]), b, side)
+                )
     straight = np.cos(np.radians(CORNER_TURN))
     across = {"bottom": ("left", "right"), "top": ("left", "right")}
     across |= {"left": ("bottom", "top"), "right": ("bottom", "top")}
@@ -115,19 +127,29 @@ def spread(asked: Requests, ids: list[np.ndarray], points: np.ndarray) -> Reques
                         continue
                     _ask(out, line, h, label)
                     queue.append(key2)
+        along = boundary is not None and bool(boundary[list(key)].all())
         for node, before, h in ((key[0], key[1], first), (key[-1], key[-2], last)):
-            if h is None:
+            if h is None or (node in corners and not along):
                 continue
             arrive = points[node] - points[before]
-            for line in leaving.get(node, ()):
+            for line, whole, b2, side2 in leaving.get(node, ()):
+                if node not in corners and len(sides[whole]) < 2:
+                    continue  # an interface that is not a whole side of both blocks
+                if node in corners and not bool(boundary[line].all()):
+                    continue
                 leave = points[line[1]] - points[node]
                 cos = arrive @ leave / max(np.linalg.norm(arrive) * np.linalg.norm(leave), 1e-300)
-                line_key = tuple(int(n) for n in line)
-                key2 = min(line_key, line_key[::-1])
-                end = 0 if key2 == line_key else 1
-                if cos > straight and (key2 not in out or out[key2][end] is None):
-                    _ask(out, line, h, label)
-                    queue.append(key2)
+                if cos <= straight:
+                    continue
+                # inside an interface every line of the block across leaving it, corner
+                # lines too, so the block's sides keep its rows' distribution
+                for line2 in [line] if node in corners else side_lines(ids[b2], side2):
+                    line_key = tuple(int(n) for n in line2)
+                    key2 = min(line_key, line_key[::-1])
+                    end = 0 if key2 == line_key else 1
+                    if key2 not in out or out[key2][end] is None:
+                        _ask(out, line2, h, label)
+                        queue.append(key2)
     return out
 
 
