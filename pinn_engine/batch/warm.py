@@ -28,6 +28,7 @@ ENGINE = (
     "pinn_engine.job",
     "pinn_engine.io.pipeline",
     "pinn_engine.io.export",
+    "pinn_engine.io.export.registered",  # every format's writer (io.export imports them late)
     "pinn_engine.kinds.body.mesh",
     "pinn_engine.kinds.untrained",  # the decision and the start a case keeps untrained
     "pinn_engine.kinds.body.untrained",  # a body's decision and the grid it keeps

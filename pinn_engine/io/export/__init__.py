@@ -55,15 +55,11 @@ from pinn_engine.io.export.registry import FORMATS as _REGISTERED
 from pinn_engine.io.export.registry import Format
 from pinn_engine.io.export.topology import mean_edge, side_nodes
 
-# the format modules, each registering itself when imported (registry.py), in this order:
-# --format's choices; imported on the first use of ``FORMATS``
-FORMAT_MODULES = ("vtkfiles", "plot3d", "cgns", "su2", "gmsh", "openfoam")
-
 
 def formats() -> dict[str, Format]:
-    """Every export format by key (``FORMATS``), their modules imported on the first call."""
-    for name in FORMAT_MODULES:
-        import_module(f"{__name__}.{name}")
+    """Every export format by key (``FORMATS``), their modules imported on the first call
+    (``registered.py``)."""
+    import_module(f"{__name__}.registered")
     return _REGISTERED
 
 
