@@ -1,9 +1,10 @@
 """The export formats (SPEC 8), each registered once by its own module, as meshio's are.
 
-A format module calls :func:`register` with its :class:`Format` when it is imported; the
-package (``io/export/__init__.py``) imports every format module, so ``FORMATS`` then holds
-them all, and the writers, the command line's ``--format``, the multi-block writer and the
-ParaView writers read it instead of tables of their own.
+A format module calls :func:`register` with its :class:`Format` when it is imported;
+``registered.py`` imports every format module, on the first use of the package's
+``io.export.FORMATS`` (``formats()``), which then holds them all: the writers, the command
+line's ``--format``, the multi-block writer and the ParaView writers read it instead of
+tables of their own. This module's own ``FORMATS`` holds only the formats imported so far.
 """
 
 from __future__ import annotations
