@@ -19,8 +19,13 @@ lint: $(STAMP)
 	$(VENV)/bin/ruff check .
 	$(VENV)/bin/ruff format --check .
 
+# the tests run in two processes (pytest-xdist), one a core of the 2-core machines they are
+# timed on; the ParaView ones after them in one process (they share ParaView's GUI and X screens)
+JOBS := 2
+
 check: lint
-	$(VENV)/bin/python -m pytest -x -q -m "not slow and not paraview"
+	$(VENV)/bin/python -m pytest -x -q -n $(JOBS) -m "not slow and not paraview"
 
 test: lint
-	$(VENV)/bin/python -m pytest
+	$(VENV)/bin/python -m pytest -n $(JOBS) -m "not paraview"
+	$(VENV)/bin/python -m pytest -m paraview

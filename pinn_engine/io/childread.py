@@ -416,12 +416,18 @@ def read(path: Path) -> Read | None:
     return None if child is None else child.finish().get(key)
 
 
-@atexit.register
-def _stop_pending() -> None:
-    """Children that no read asked for end with this process."""
+def stop_pending() -> None:
+    """End the children that :func:`prefetch` started and no read asked for (a run refused
+    before it read its files): a later run in this process reads afresh."""
     while _PENDING:
         child = _PENDING.pop()
         child.stop()
         child.output.close()
+
+
+@atexit.register
+def _stop_children() -> None:
+    """The unread and the serving children end with this process."""
+    stop_pending()
     while _SERVER:
         _SERVER.pop().stop()

@@ -289,6 +289,16 @@ def test_a_crash_of_the_reading_child_is_named(tmp_path, capsys, monkeypatch):
     assert_clean_error(rc, err, tmp_path, r"VTK's reader crashed \(SIGABRT\) on it", "wavy.vtp")
 
 
+def test_a_refused_run_leaves_no_reading_child_for_the_next(tmp_path, capsys, monkeypatch):
+    """A run refused before it reads its files ends the child that started reading them: the
+    next run in this process (a notebook, the test session) reads by a child of its own."""
+    monkeypatch.setattr(childread, "_READ", childread.OrderedDict())
+    refused = [EXAMPLES / "wavy.vtp", "--adapt", "field.vti", "-o", tmp_path / "a.vts"]
+    assert run_cli(refused, capsys)[0] == 2
+    assert childread._PENDING == []
+    test_a_crash_of_the_reading_child_is_named(tmp_path, capsys, monkeypatch)
+
+
 def test_files_are_read_and_written_without_forking(tmp_path, monkeypatch):
     """No fork of this process (it may run threads: ParaView, a notebook, torch): VTK files
     are read by a new Python, the grid is written here."""

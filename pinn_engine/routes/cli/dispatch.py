@@ -26,6 +26,14 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
         raise PinnMeshError("--save-blocks writes the block edges of --blocks (or --blocks auto)")
     # the input files read while the run imports the engine
     childread.prefetch([args.boundary, *(args.aux or []), *(args.blocks or [])])
+    try:
+        return _run_kind(args, written)
+    finally:
+        childread.stop_pending()  # what a refused run prefetched and never read
+
+
+def _run_kind(args: argparse.Namespace, written: list[Path]) -> Path:
+    """The run of the domain kind ``job.kind_of`` names."""
     from pinn_engine.job import kind_of
 
     kind = kind_of(args.boundary, bool(args.blocks), body=bool(args.topology or args.naca))
