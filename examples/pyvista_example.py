@@ -8,8 +8,8 @@ a network fitted once and evaluated at another size; the default objective gives
 grid of the classical and quality-optimised ones without training (README).
 
 Most of a run's time is importing torch, VTK and pyvista and rendering the picture, not
-training: ``--quick`` took 6.5 CPU seconds, 0.3-0.6 of them training, and 14-16 s wall on
-the shared 2-core machine at load average 5-6 (docs/routes.md, "Time to a first grid").
+training: ``--quick`` took 5.0-5.6 s wall (5.3-5.5 CPU seconds, 0.3-0.6 of them training) on
+the quiet 2-core machine (docs/routes.md, "Time to a first grid").
 
 The domain is a quarter annulus with an elliptic outer arc; one auxiliary line runs from the
 inner arc to the outer arc. ``boundary.pinn_mesh(...)`` is the pyvista accessor that
