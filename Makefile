@@ -20,7 +20,8 @@ lint: $(STAMP)
 	$(VENV)/bin/ruff format --check .
 
 # the tests run in two processes (pytest-xdist), one a core of the 2-core machines they are
-# timed on; the ParaView ones after them in one process (they share ParaView's GUI and X screens)
+# timed on; the ParaView ones after them in one process (each GUI test drives a whole ParaView,
+# and their bounds on how soon the GUI answers assume the cores are theirs)
 JOBS := 2
 
 check: lint
