@@ -223,8 +223,13 @@ def _report(d, result: DictResult, steps: int, timings: dict, free: bool) -> dic
         "winslow_steps": steps,
         "timings": timings,
     }
-    if result.method == "pinn":
-        report["training"] = {"skipped": SKIPPED, "result": "start"}
+    if result.method == "pinn":  # the kept start moved no node: no network was trained
+        report["training"] = {
+            "skipped": SKIPPED,
+            "result": "start",
+            "start": result.kept,
+            "largest_node_move": 0.0,
+        }
     return report
 
 
@@ -235,9 +240,21 @@ def _string(fd, name: str, value: str) -> None:
     fd.AddArray(arr)
 
 
+def _own_figures(biggest: np.ndarray, smallest: np.ndarray, folds: np.ndarray) -> dict:
+    """SPEC 6's figures of one block's own cells."""
+    return {
+        "mean_max_angle": float(biggest.mean()),
+        "worst_max_angle": float(biggest.max()),
+        "worst_min_angle": float(smallest.min()),
+        "folded_cells": int(folds.sum()),
+    }
+
+
 def dataset(result: DictResult) -> vtkMultiBlockDataSet:
     """The blocks as a ``vtkMultiBlockDataSet`` of ``vtkStructuredGrid`` (``block0``, ...)
-    with SPEC 11's cell arrays and the run's figures as field data."""
+    with SPEC 11's cell arrays, the structured indices ``i``, ``j``, ``k`` as point arrays,
+    the method asked as ``Method``, the figures of each block's own cells as field data, and
+    the whole run's report (the grid kept, checkMesh's figures) as ``Report``."""
     import json
 
     out = vtkMultiBlockDataSet()
@@ -250,21 +267,27 @@ def dataset(result: DictResult) -> vtkMultiBlockDataSet:
         flat = np.ascontiguousarray(g.transpose(2, 1, 0, 3).reshape(-1, 3))
         pts.SetData(numpy_to_vtk(flat, deep=True))
         grid.SetPoints(pts)
+        folds = folded(g).astype(float)
         arrays = {
             "MaxIncludedAngle": biggest,
             "MinIncludedAngle": smallest,
             "ScaledJacobian": scaled_jacobian(grid),
-            "Folded": folded(g).astype(float),
+            "Folded": folds,
         }
         for name, values in arrays.items():
             arr = numpy_to_vtk(np.ascontiguousarray(values, dtype=float), deep=True)
             arr.SetName(name)
             grid.GetCellData().AddArray(arr)
         grid.GetCellData().SetActiveScalars("MaxIncludedAngle")
+        kk, jj, ii = np.indices(g.shape[2::-1])  # i fastest, as the points
+        for name, values in (("i", ii), ("j", jj), ("k", kk)):
+            arr = numpy_to_vtk(np.ascontiguousarray(values.ravel(), dtype=np.int32), deep=True)
+            arr.SetName(name)
+            grid.GetPointData().AddArray(arr)
         fd = grid.GetFieldData()
-        _string(fd, "Method", result.kept)
+        _string(fd, "Method", result.method)
         _string(fd, "Report", json.dumps({**result.report, "block": k}, default=float))
-        for name, value in result.report["quality"].items():
+        for name, value in _own_figures(biggest, smallest, folds).items():
             arr = numpy_to_vtk(np.array([value], dtype=float), deep=True)
             arr.SetName(name)
             fd.AddArray(arr)
