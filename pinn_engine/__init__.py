@@ -23,6 +23,7 @@ from pinn_engine.errors import (
     WallAngleWarning,
 )
 from pinn_engine.lazy import lazy_names
+from pinn_engine.routes import names as _names  # noqa: F401  the routes' words for errors
 
 # the version, and the public functions of the pyvista route by their name there
 _LAZY = {

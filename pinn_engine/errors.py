@@ -160,90 +160,17 @@ class FoldedCellsWarning(UserWarning):
     """
 
 
-# Fixes worded for each route: command-line options, pyvista keyword arguments, the ParaView
-# filter panel's property labels (and the properties of ParaView's own sources)
-ROUTE_WORDS = {
-    "cli": {
-        "corners": "--corners",
-        "close": "close it (repeat its first point at its end)",
-        "method": "--method {}",
-        "lbfgs": "more --lbfgs iterations",
-        "seed": "another --seed",
-        "converge": "--elliptic-iterations 0 (solve to convergence)",
-        "refuse": "; --fail-on-folded refuses such grids",
-        "size": "--size",
-        "patch": "--patch SIDE=NAME",
-        "extrude": "--extrude T",
-        "output": "-o with .vts, .vtk, .xyz, .cgns, .su2 or .msh, or --format openfoam -o DIR",
-        "h5py": "pip install 'pinn-mesh[cgns]'",
-        "naca": "--naca DDDD",
-        "farfield": "--farfield R",
-        "topology": "--topology o",
-        "topologies": "--topology o or c",
-        "time_limit": "a larger --time-limit (0: none)",
-        "blocks": "give them with --blocks EDGES",
-        "with_blocks": "with --blocks, ",
-        "pieces": "--patch X,Y=NAME",
-        "face_angle": "a .vtp whose FaceId cell array tags the six faces",
-        "face_patch": "--patch SIDE=NAME or faceN=NAME",
-        "spacing": "--spacing",
-        "orthogonal": "--orthogonal",
-    },
-    "pyvista": {
-        "corners": "corners=",
-        "close": "close it (a closed line cell, or repeat its first point at its end)",
-        "method": 'method="{}"',
-        "lbfgs": "a larger lbfgs_iterations=",
-        "seed": "another seed=",
-        "converge": "elliptic_iterations=0 (solve to convergence)",
-        "refuse": "",
-        "size": "size=",
-        "patch": 'patches={"bottom": "wall", ...}',
-        "extrude": "extrude=",
-        "output": 'a path ending in .vts, .vtk, .xyz, .cgns, .su2 or .msh, or format="openfoam"',
-        "h5py": "pip install 'pinn-mesh[cgns]'",
-        "naca": 'naca="DDDD"',
-        "farfield": "farfield=R",
-        "topology": 'topology="o"',
-        "topologies": 'topology="o" or "c"',
-        "time_limit": "a larger time_limit= (0: none)",
-        "blocks": "give them as blocks=",
-        "with_blocks": "",
-        "pieces": 'patches=["X,Y=NAME", ...]',
-        "face_angle": "another face_angle= or a FaceId cell array",
-        "face_patch": 'patches={"imin": "inlet", "face3": "wall", ...}',
-        "spacing": "spacing=",
-        "orthogonal": "orthogonal=",
-    },
-    "paraview": {
-        "corners": "Corner Indices",
-        "close": "tick Closed in the Poly Line Source's properties (or close the polyline)",
-        "method": "Method {}",
-        "lbfgs": "more L-BFGS Iterations",
-        "seed": "another Seed",
-        "converge": "Preset default (solves to convergence)",
-        "refuse": "",
-        "size": "Grid Size",
-        "patch": "Patch Names (bottom right top left, or SIDE=NAME)",
-        "extrude": "Extrude Thickness",
-        "output": "File > Save Data with a PINN Mesh file type",
-        "h5py": "ParaView's HDF5 clashes with pip's h5py, so the writer runs the "
-        "checkout's .venv Python: make it with bash scripts/setup.sh (or set "
-        "PINN_MESH_PYTHON to a Python with h5py)",
-        "naca": "the Airfoil source's NACA field",
-        "farfield": "Far Field Radius",
-        "topology": "Topology O-grid",
-        "topologies": "Topology O-grid or C-grid",
-        "time_limit": "a larger Time Limit (0: none)",
-        "blocks": "select their source together with the boundary's (or connect it to Block Edges)",
-        "with_blocks": "",
-        "pieces": "Patch Names' X,Y=NAME items",
-        "face_angle": "another Face Angle or a FaceId cell array",
-        "face_patch": "Patch Names (imin imax jmin jmax kmin kmax, or SIDE=NAME or faceN=NAME)",
-        "spacing": "First Edge Spacing",
-        "orthogonal": "Orthogonal Patches",
-    },
-}
+# Fixes worded for each route ("cli", "pyvista", "paraview": command-line options, pyvista
+# keyword arguments, the ParaView panel's labels), by token; each route's words are its own
+# (``routes.names``, which registers them here when ``pinn_engine`` is imported)
+ROUTE_WORDS: dict[str, dict[str, str]] = {"cli": {}, "pyvista": {}, "paraview": {}}
+
+
+def register_route_words(route: str, words: dict[str, str]) -> None:
+    """Give ``route``'s words to the tokens of ``InputError`` templates."""
+    ROUTE_WORDS[route] = dict(words)
+
+
 _HANDED_OVER = {"cli": "written", "pyvista": "returned", "paraview": "produced"}
 
 

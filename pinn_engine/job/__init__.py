@@ -31,7 +31,7 @@ from pinn_engine.job.family import (
     run_family,
 )
 from pinn_engine.job.kind import kind_of
-from pinn_engine.job.registry import KINDS, REGISTRY, Kind, kind_of_geometry
+from pinn_engine.job.registry import KINDS, OPTIONS, REGISTRY, Kind, kind_of_geometry, only_for
 from pinn_engine.kinds.blocks.run import BlocksGeometry, blocks_from_files, blocks_from_polydata
 from pinn_engine.kinds.blocks3d.run import (
     DICTIONARY_METHODS,
@@ -97,9 +97,11 @@ def run(
 __all__ = [
     "DICTIONARY_METHODS",
     "KINDS",
+    "OPTIONS",
     "REGISTRY",
     "Kind",
     "kind_of_geometry",
+    "only_for",
     "Field",
     "BlocksGeometry",
     "DictionaryGeometry",

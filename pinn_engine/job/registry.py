@@ -12,6 +12,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from pinn_engine.errors import InputError
+from pinn_engine.kinds import blocks, blocks3d, body, four_sided, hexa
 from pinn_engine.kinds.blocks.run import BlocksGeometry, run_blocks
 from pinn_engine.kinds.blocks3d.run import DictionaryGeometry, run_dictionary
 from pinn_engine.kinds.four_sided.cache import MeshCache
@@ -28,8 +29,9 @@ class Kind:
     """A domain kind (or two sharing a geometry: four-sided and body) as ``job.run`` meshes
     it: its ``names`` (what ``Outcome.kind`` says), the ``geometry`` type its ``run`` takes,
     whether its outcome is checked to fill the domain drawn (``covered``, ``job.cover``),
-    and whether it is meshed by a family model (``family``, SPEC 16) and adapted to a field
-    (``adapts``, SPEC 14)."""
+    whether it is meshed by a family model (``family``, SPEC 16) and adapted to a field
+    (``adapts``, SPEC 14), and the options each of its ``names`` takes (``options``: their
+    packages' ``OPTIONS``)."""
 
     names: tuple[str, ...]
     geometry: type
@@ -37,10 +39,19 @@ class Kind:
     covered: bool
     family: bool
     adapts: bool
+    options: tuple[frozenset[str], ...]
 
 
 REGISTRY = (
-    Kind(("four-sided", "body"), Geometry, run_single, True, True, True),
+    Kind(
+        ("four-sided", "body"),
+        Geometry,
+        run_single,
+        True,
+        True,
+        True,
+        (four_sided.OPTIONS, body.OPTIONS),
+    ),
     Kind(
         ("blocks",),
         BlocksGeometry,
@@ -48,6 +59,7 @@ REGISTRY = (
         True,
         False,
         True,
+        (blocks.OPTIONS,),
     ),
     Kind(
         ("hexa",),
@@ -58,6 +70,7 @@ REGISTRY = (
         False,
         False,
         False,
+        (hexa.OPTIONS,),
     ),
     Kind(
         ("dictionary",),
@@ -68,11 +81,20 @@ REGISTRY = (
         False,
         False,
         False,
+        (blocks3d.OPTIONS,),
     ),
 )
 # The domain kinds (SPEC 5, 9, 10, 11, 15): a four-sided block, an O- or C-grid round a body,
 # a multi-block 2D domain, a six-faced 3D domain, a blockMeshDict's blocks
 KINDS = tuple(name for kind in REGISTRY for name in kind.names)
+# The options each kind takes, by its one name (settings' and the inputs'; routes/names.py
+# words them on each route)
+OPTIONS = {name: opts for kind in REGISTRY for name, opts in zip(kind.names, kind.options)}
+
+
+def only_for(kind: str, *others: str) -> list[str]:
+    """The options ``kind`` takes and none of ``others`` does, sorted."""
+    return sorted(OPTIONS[kind].difference(*(OPTIONS[o] for o in others)))
 
 
 def kind_of_geometry(geometry: object) -> Kind:

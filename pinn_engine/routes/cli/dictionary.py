@@ -8,15 +8,10 @@ import time
 from pathlib import Path
 
 from pinn_engine.errors import PinnMeshError
+from pinn_engine.routes.cli.options import refuse_others
 from pinn_engine.routes.cli.outputs import output_path, write_report
-from pinn_engine.routes.cli.parser import build_parser, option_flags
 from pinn_engine.routes.cli.summary import say
 from pinn_engine.routes.summary_lines import dictionary_line
-
-# The options a dictionary takes; any other given is refused, not silently ignored
-DICTIONARY_OPTIONS = frozenset(
-    {"boundary", "method", "output", "quiet", "format", "report", "interfaces"}
-)
 
 # The outputs a dictionary's grid is written to (--format or the extension)
 DICTIONARY_FORMATS = ("openfoam", "vtm", "cgns", "su2", "msh")
@@ -42,14 +37,13 @@ def run_dictionary(args: argparse.Namespace, written: list[Path]) -> Path:
     from pinn_engine.io.export.openfoam import write_hex_polymesh
     from pinn_engine.settings import make_settings
 
-    defaults = vars(build_parser().parse_args([]))
-    flags = option_flags()
-    for name, value in vars(args).items():
-        if name not in DICTIONARY_OPTIONS and value != defaults.get(name):
-            raise PinnMeshError(
-                f"{flags.get(name, name)} does not apply to a blockMeshDict: its blocks, "
-                "counts, gradings and patches are the dictionary's"
-            )
+    # any option the kind does not take is refused, not silently ignored
+    refuse_others(
+        args,
+        "dictionary",
+        "{} does not apply to a blockMeshDict: its blocks, counts, gradings and patches are "
+        "the dictionary's",
+    )
     method = args.method or job.DICTIONARY_METHODS[0]
     stem = Path(args.boundary).resolve().parent.parent.name or "blockMeshDict"
     out = output_path(args, f"{stem}_{method}", "vtm")

@@ -11,6 +11,7 @@ from pinn_engine.routes.cli.dictionary import run_dictionary
 from pinn_engine.routes.cli.four_sided import run_four_sided
 from pinn_engine.routes.cli.hexa import run_hexa
 from pinn_engine.routes.cli.multiblock import run_blocks
+from pinn_engine.routes.cli.options import refuse_options
 
 
 def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
@@ -34,14 +35,22 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
 
 def _run_kind(args: argparse.Namespace, written: list[Path]) -> Path:
     """The run of the domain kind ``job.kind_of`` names."""
-    from pinn_engine.job import kind_of
+    from pinn_engine.job import kind_of, only_for
 
     kind = kind_of(args.boundary, bool(args.blocks), body=bool(args.topology or args.naca))
     if kind == "dictionary":
         return run_dictionary(args, written)
-    if args.face_angle is not None and kind != "hexa":
-        raise PinnMeshError(
-            "--face-angle applies to six-faced surfaces (an .stl), not to 2D domains"
+    if kind != "hexa":
+        refuse_options(
+            args,
+            only_for("hexa", "four-sided", "body", "blocks"),
+            "{} applies to six-faced surfaces (an .stl), not to 2D domains",
+        )
+    if kind in ("four-sided", "body"):
+        refuse_options(
+            args,
+            only_for("blocks", "four-sided", "body"),
+            "{} applies to multi-block domains (--blocks)",
         )
     if kind == "blocks":
         return run_blocks(args, written)

@@ -7,7 +7,12 @@ import time
 from pathlib import Path
 
 from pinn_engine.errors import PinnMeshError, grid_warnings
-from pinn_engine.routes.cli.options import check_options, read_adapt_field, settings_from
+from pinn_engine.routes.cli.options import (
+    check_options,
+    read_adapt_field,
+    refuse_options,
+    settings_from,
+)
 from pinn_engine.routes.cli.outputs import output_path, refuse_folded, save_model, write_outputs
 from pinn_engine.routes.cli.progress import Progress
 from pinn_engine.routes.cli.summary import grid_summary, warn
@@ -26,13 +31,11 @@ def check_inputs(args: argparse.Namespace, body: bool) -> None:
         raise PinnMeshError("give either an airfoil file or --naca, not both")
     if args.naca is None and args.boundary is None:
         raise PinnMeshError("give an airfoil file (.dat) or --naca DDDD")
-    if args.aux or args.corners:
-        raise PinnMeshError("--aux and --corners apply to four-sided domains, not to --topology")
-    if args.save_model or args.load_model:
-        raise PinnMeshError(
-            "--save-model and --load-model apply to four-sided domains in "
-            "this build, not to --topology"
-        )
+    from pinn_engine.job import only_for
+
+    refuse_options(
+        args, only_for("four-sided", "body"), "{} applies to four-sided domains, not to --topology"
+    )
 
 
 def run_four_sided(args: argparse.Namespace, written: list[Path], body: bool) -> Path:

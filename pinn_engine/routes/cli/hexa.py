@@ -7,18 +7,11 @@ import time
 from pathlib import Path
 
 from pinn_engine.errors import PinnMeshError, grid_warnings
-from pinn_engine.routes.cli.options import check_options, settings_from
+from pinn_engine.routes.cli.options import check_options, refuse_others, settings_from
 from pinn_engine.routes.cli.outputs import output_path, save_model, write_report
-from pinn_engine.routes.cli.parser import build_parser, option_flags
 from pinn_engine.routes.cli.summary import warn
 from pinn_engine.routes.summary_lines import hexa_lines
 from pinn_engine.settings import HEXA_METHOD, HEXA_SIZE
-
-# The options a six-faced surface takes; any other given is refused, not silently ignored
-HEXA_OPTIONS = frozenset(
-    {"boundary", "method", "size", "output", "quiet", "format", "patch"}
-    | {"spacing", "orthogonal", "report", "save_model", "load_model", "face_angle"}
-)
 
 
 def run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
@@ -28,14 +21,8 @@ def run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
     from pinn_engine import job
     from pinn_engine.io import export
 
-    defaults = vars(build_parser().parse_args([]))
-    flags = option_flags()
-    for name, value in vars(args).items():
-        if name not in HEXA_OPTIONS and value != defaults.get(name):
-            raise PinnMeshError(
-                f"{flags.get(name, name)} applies to 2D domains, not to six-faced surfaces "
-                "in this build"
-            )
+    # any option the kind does not take is refused, not silently ignored
+    refuse_others(args, "hexa", "{} applies to 2D domains, not to six-faced surfaces in this build")
     args.method = args.method or HEXA_METHOD
     args.size = tuple(args.size or HEXA_SIZE)
     if len(args.size) != len(HEXA_SIZE):

@@ -7,17 +7,16 @@ import time
 from pathlib import Path
 
 from pinn_engine.errors import PinnMeshError
-from pinn_engine.routes.cli.options import check_options, read_adapt_field, settings_from
+from pinn_engine.routes.cli.options import (
+    check_options,
+    read_adapt_field,
+    refuse_options,
+    settings_from,
+)
 from pinn_engine.routes.cli.outputs import output_path, refuse_folded, write_outputs
-from pinn_engine.routes.cli.parser import option_flags
 from pinn_engine.routes.cli.progress import Progress
 from pinn_engine.routes.cli.summary import blocks_summary, warn
 from pinn_engine.settings import AUTO_BLOCKS, BLOCKS_METHOD, DEFAULT_SIZE, MULTIBLOCK_METHODS
-
-# Options of four-sided domains and bodies that a multi-block run refuses (SPEC 10)
-NOT_FOR_BLOCKS = (
-    "size", "corners", "topology", "naca", "farfield", "save_model", "load_model", "model",
-)  # fmt: skip
 
 
 def run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
@@ -29,12 +28,11 @@ def run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
     from pinn_engine.io.export.vtm import write_vtm
     from pinn_engine.io.fileio import check_writable
 
-    flags = option_flags()
-    for name in NOT_FOR_BLOCKS:
-        if getattr(args, name, None):
-            raise PinnMeshError(
-                f"{flags[name]} applies to four-sided domains and bodies, not to --blocks"
-            )
+    refuse_options(  # SPEC 10: what four-sided domains and bodies take and blocks do not
+        args,
+        set(job.only_for("four-sided", "blocks")) | set(job.only_for("body", "blocks")),
+        "{} applies to four-sided domains and bodies, not to --blocks",
+    )
     if args.boundary is None:
         raise PinnMeshError("give a boundary file (outer boundary and holes) with --blocks")
     if AUTO_BLOCKS in args.blocks and len(args.blocks) > 1:

@@ -1,11 +1,13 @@
-"""The command line's options as a run's settings: ranges refused in the option's words."""
+"""The command line's options as a run's settings: ranges refused in the option's words, and
+options a domain kind does not take (``job.OPTIONS``) refused by their flags."""
 
 from __future__ import annotations
 
 import argparse
 
 from pinn_engine.errors import PinnMeshError
-from pinn_engine.routes.cli.parser import option_flags
+from pinn_engine.routes.cli.parser import build_parser, option_flags
+from pinn_engine.routes.names import cli_option
 from pinn_engine.settings import (
     DEVICE_NAMES,
     NEURAL,
@@ -15,6 +17,35 @@ from pinn_engine.settings import (
     setting_problem,
     size_problem,
 )
+
+# What every kind's run takes: its input, where its output goes and in which format, the
+# report, quiet
+ROUTE_OPTIONS = frozenset({"boundary", "output", "format", "report", "quiet"})
+
+
+def given_options(args: argparse.Namespace) -> list[str]:
+    """The parsed names (dests) of the options given a value other than their default."""
+    defaults = vars(build_parser().parse_args([]))
+    return [dest for dest, value in vars(args).items() if value != defaults.get(dest)]
+
+
+def refuse_options(args: argparse.Namespace, options, refusal: str) -> None:
+    """Refuse the first option given (by its one name) of ``options``: ``refusal`` with its
+    flag for ``{}``."""
+    flags = option_flags()
+    for dest in given_options(args):
+        if cli_option(dest) in options:
+            raise PinnMeshError(refusal.format(flags.get(dest, dest)))
+
+
+def refuse_others(args: argparse.Namespace, kind: str, refusal: str) -> None:
+    """Refuse the first option given that the domain ``kind`` does not take (``job.OPTIONS``
+    and ``ROUTE_OPTIONS``): ``refusal`` with its flag for ``{}``."""
+    from pinn_engine.job import OPTIONS
+
+    takes = OPTIONS[kind] | ROUTE_OPTIONS
+    others = {cli_option(dest) for dest in vars(args)} - takes
+    refuse_options(args, others, refusal)
 
 
 def check_options(args: argparse.Namespace) -> None:

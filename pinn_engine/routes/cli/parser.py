@@ -9,6 +9,7 @@ import re
 import sys
 from typing import NoReturn
 
+from pinn_engine.routes.names import NAMES, cli_aliases
 from pinn_engine.settings import (
     METHODS,
     OBJECTIVES,
@@ -22,7 +23,9 @@ EXIT_ERROR = 2  # the input or an option is refused (argparse's own status for a
 EXIT_INTERNAL = 3  # a bug: the run failed where no input could make it
 EXIT_INTERRUPTED = 130  # Ctrl-C or SIGTERM: the shell's 128 + SIGINT
 # Options whose value may name a point X,Y (multi-block items) and so start with a minus
-PLACE_OPTIONS = ("--patch", "--spacing", "--cells", "--grading")
+PLACE_OPTIONS = tuple(
+    flag for option in ("patches", "spacing", "cells", "grading") for flag in cli_aliases(option)
+)
 NEGATIVE = re.compile(r"^-\.?\d")  # a value starting with a negative number, not an option
 
 
@@ -236,7 +239,8 @@ def build_parser() -> argparse.ArgumentParser:
         "case)",
     )
     p.add_argument(
-        "--patch",
+        *cli_aliases("patches"),
+        dest=NAMES["patches"].dest,
         action="append",
         default=[],
         metavar="SIDE=NAME[:TYPE]",
@@ -306,9 +310,16 @@ def build_parser() -> argparse.ArgumentParser:
         help="no progress output (a warning about folded cells is still printed)",
     )
     g = p.add_argument_group("training (pinn, mgnet)")
-    g.add_argument("--epochs", type=int, dest="adam_epochs", help="Adam epochs")
-    g.add_argument("--lbfgs", type=int, dest="lbfgs_iterations", help="L-BFGS iterations")
-    g.add_argument("--layers", type=int, dest="hidden_layers", help="hidden layers")
+    g.add_argument(*cli_aliases("adam_epochs"), type=int, dest="adam_epochs", help="Adam epochs")
+    g.add_argument(
+        *cli_aliases("lbfgs_iterations"),
+        type=int,
+        dest="lbfgs_iterations",
+        help="L-BFGS iterations",
+    )
+    g.add_argument(
+        *cli_aliases("hidden_layers"), type=int, dest="hidden_layers", help="hidden layers"
+    )
     g.add_argument("--neurons", type=int, help="neurons per hidden layer")
     g.add_argument("--lambda2", type=float, help="weight of the auxiliary-line term")
     g.add_argument(
@@ -413,5 +424,10 @@ def _table_options(group, parser: argparse.ArgumentParser) -> None:
 
 @functools.cache
 def option_flags() -> dict[str, str]:
-    """Each setting's option as the user types it (dest -> the long flag)."""
-    return {a.dest: a.option_strings[-1] for a in build_parser()._actions if a.option_strings}
+    """Each option's flag as the command line names it (dest -> its first long flag: SPEC
+    5's, ``--epochs`` where ``--adam-epochs`` works too)."""
+    return {
+        a.dest: next(o for o in a.option_strings if o.startswith("--"))
+        for a in build_parser()._actions
+        if a.option_strings
+    }

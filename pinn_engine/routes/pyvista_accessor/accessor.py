@@ -5,6 +5,7 @@ grid saved or read."""
 
 from __future__ import annotations
 
+import inspect
 from collections.abc import Callable, Sequence
 
 import pyvista as pv
@@ -12,20 +13,20 @@ import pyvista as pv
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.plane import Plane
 from pinn_engine.routes.pyvista_accessor.four_sided import pinn_mesh
-from pinn_engine.routes.pyvista_accessor.hexa import HEXA_OPTIONS, pinn_mesh_hexa
+from pinn_engine.routes.pyvista_accessor.hexa import pinn_mesh_hexa
 from pinn_engine.routes.pyvista_accessor.multiblock import pinn_mesh_blocks
 from pinn_engine.routes.pyvista_accessor.report import report
 from pinn_engine.routes.pyvista_accessor.running import node_counts, public
 from pinn_engine.routes.pyvista_accessor.save import save_mesh
 from pinn_engine.settings import HEXA_SIZE, Settings
 
-# the keywords of a multi-block domain (besides method and progress_bar), and those that
-# apply to it alone
-BLOCKS_KEYWORDS = (
-    "blocks", "cell_size", "interfaces", "patches", "spacing", "orthogonal", "aux", "save_blocks",
-    "cells", "grading",
-)  # fmt: skip
-BLOCKS_ONLY = ("blocks", "cell_size", "interfaces", "save_blocks", "cells", "grading")
+
+def _offered(kind: str, function: Callable) -> list[str]:
+    """The keywords of ``function`` (this route's function of the domain ``kind``) that the
+    kind takes (``job.OPTIONS``), in its signature's order."""
+    from pinn_engine.job import OPTIONS
+
+    return [name for name in inspect.signature(function).parameters if name in OPTIONS[kind]]
 
 
 @pv.register_dataset_accessor("pinn_mesh", pv.PolyData)
@@ -245,12 +246,12 @@ class PinnMeshAccessor:
             if value is not None
         }
         size = None if size is None else node_counts(size)
-        from pinn_engine.job import kind_of
+        from pinn_engine.job import OPTIONS, kind_of, only_for
 
         kind = kind_of(self._mesh, blocks is not None, size or ())
         if kind == "four-sided" and self._mesh.GetNumberOfPolys() and not _is_flat(self._mesh):
             kind = "hexa"  # a surface without FaceId: its size is checked as a 3D domain's
-        if model is not None and kind in ("hexa", "blocks"):
+        if model is not None and "model" not in OPTIONS[kind]:
             raise InputError(
                 "model= (a family model) meshes four-sided domains and O- and C-grids in "
                 "this build, not multi-block or six-faced domains"
@@ -260,7 +261,7 @@ class PinnMeshAccessor:
         elif kind == "blocks":
             self.last = self._blocks(size, method, given, progress_bar)
         else:
-            for name in BLOCKS_ONLY:
+            for name in only_for("blocks", "four-sided", "body"):
                 if name in given:
                     raise InputError(f"{name}= applies to multi-block domains (with blocks=)")
             body_free = naca is not None and self._mesh.n_points == 0  # pv.PolyData()
@@ -286,9 +287,10 @@ class PinnMeshAccessor:
                 f"size={tuple(size)}: three sizes need a six-faced surface (a closed surface "
                 "with a FaceId cell array); this PolyData lies in a plane: give size=(ni, nj)"
             )
+        offered = _offered("hexa", pinn_mesh_hexa)
         for name in given:
-            if name not in HEXA_OPTIONS:
-                keywords = ", ".join(f"{n}=" for n in ("size", "method", *HEXA_OPTIONS))
+            if name not in offered:
+                keywords = ", ".join(f"{n}=" for n in offered)
                 raise InputError(
                     f"{name}= applies to 2D domains, not to a six-faced surface; give {keywords}"
                 )
@@ -300,12 +302,18 @@ class PinnMeshAccessor:
         """A multi-block domain's grid, or the error of keywords for other domains."""
         if size is not None:
             raise InputError("size= applies to four-sided domains, not to blocks=")
+        from pinn_engine.job import OPTIONS
+
+        offered = _offered("blocks", pinn_mesh_blocks)
         for name in given:
-            if name not in BLOCKS_KEYWORDS:
-                keywords = ", ".join(f"{n}=" for n in ("method", *BLOCKS_KEYWORDS))
-                raise InputError(
-                    f"{name}= applies to four-sided domains, not to blocks=; give {keywords}"
+            if name not in offered:
+                keywords = ", ".join(f"{n}=" for n in offered)
+                where = (
+                    "is not one of pinn_mesh_blocks' keywords in this build"
+                    if name in OPTIONS["blocks"]
+                    else "applies to four-sided domains, not to blocks="
                 )
+                raise InputError(f"{name}= {where}; give {keywords}")
         return pinn_mesh_blocks(self._mesh, method=method, progress_bar=progress_bar, **given)
 
     @public("boundary.pinn_mesh.save")

@@ -19,9 +19,6 @@ from pinn_engine.routes.pyvista_accessor.running import (
 )
 from pinn_engine.settings import FACE_ANGLE, HEXA_SIZE, hexa_size_problem
 
-# pinn_mesh_hexa's keywords besides size and method, taken by the accessor on a surface
-HEXA_OPTIONS = ("patches", "spacing", "orthogonal", "face_angle")
-
 
 @public("pinn_mesh_hexa")
 def pinn_mesh_hexa(
