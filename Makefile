@@ -20,13 +20,13 @@ lint: $(STAMP)
 	$(VENV)/bin/ruff format --check .
 
 # the tests run in two processes (pytest-xdist), one a core of the 2-core machines they are
-# timed on; the ParaView ones after them in one process (each GUI test drives a whole ParaView,
-# and their bounds on how soon the GUI answers assume the cores are theirs)
+# timed on; the ParaView GUI ones after them in one process (each drives a whole ParaView, and
+# their bounds on how soon the GUI answers assume the cores are theirs)
 JOBS := 2
 
 check: lint
 	$(VENV)/bin/python -m pytest -x -q -n $(JOBS) -m "not slow and not paraview"
 
 test: lint
-	$(VENV)/bin/python -m pytest -n $(JOBS) -m "not paraview"
-	$(VENV)/bin/python -m pytest -m paraview
+	$(VENV)/bin/python -m pytest -n $(JOBS) -m "not gui"
+	$(VENV)/bin/python -m pytest -m gui

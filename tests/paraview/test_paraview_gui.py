@@ -21,7 +21,7 @@ from pathlib import Path
 import pytest
 from helpers import ROOT
 
-pytestmark = pytest.mark.paraview
+pytestmark = [pytest.mark.paraview, pytest.mark.gui]
 
 TOOLS = ("paraview", "xvfb-run", "Xvfb", "xdotool", "import")
 missing = [t for t in TOOLS if shutil.which(t) is None]
