@@ -303,6 +303,15 @@ def network_effect(report: dict) -> str | None:
     )
     if "blocks" in training:  # a multi-block grid's blocks
         return _blocks_choice(training, gain)
+    resize = report.get("resized")
+    if resize and resize["result"] == "network":  # a network trained at another size
+        (ti, tj), (ni, nj) = resize["trained_at"], resize["size"]
+        start = resize["guard"]["start"]["worst_max_angle"]  # this size's start: its guard's
+        gain = "" if worst is None else f"; worst cell {worst:.2f} deg, the start's {start:.2f}"
+        return (
+            f"chose the network trained at {ti} x {tj}, evaluated at {ni} x {nj} (a forward "
+            f"pass; this size's guard passed, no training){gain}"
+        )
     if "model" in training:  # a family model's grid (SPEC 16)
         if training["result"] == "start":
             return (
@@ -314,15 +323,19 @@ def network_effect(report: dict) -> str | None:
     if training.get("skipped"):
         return f"chose the {start} grid{gain} (no network trained: {training['skipped']})"
     seconds = report.get("train_seconds", (training.get("timings") or {}).get("training", 0.0))
+    anew = ""
+    if resize:  # the network trained at another size failed this one's guard
+        (ti, tj) = resize["trained_at"]
+        anew = f"; the network trained at {ti} x {tj} failed this size's guard: {resize['why']}"
     if training["result"] == "start":
         return (
             f"chose the {start} grid{gain} (the network trained {seconds:.2f} s; no trained "
-            "state passed the quality guard)"
+            f"state passed the quality guard{anew})"
         )
     move = training.get("largest_node_move")
     moved = "" if move is None else f", nodes moved up to {move:.1e} of the diagonal"
     origin = "TFI" if move is None else f"the {start} grid"
-    return f"chose the network's grid (trained {seconds:.2f} s from {origin}{moved}){gain}"
+    return f"chose the network's grid (trained {seconds:.2f} s from {origin}{moved}{anew}){gain}"
 
 
 def _blocks_choice(training: dict, gain: str) -> str:

@@ -210,8 +210,9 @@ def run_single(
             mesher = Mesher.load(model, geometry.boundary)
         else:
             cache = cache if cache is not None else MeshCache(capacity=1)
-            mesher, trained = cache.fitted(geometry.boundary, geometry.aux, settings, progress)
-        result = mesher.predict(ni, nj)
+            mesher, trained, result = _cached(cache, geometry, settings, ni, nj, progress)
+        if result is None:
+            result = mesher.predict(ni, nj)
         grid = to_vtk(result, names)
         return Outcome(
             "four-sided", grid, result.report, [result.points], result.history, trained, mesher
@@ -232,3 +233,31 @@ def run_single(
     return Outcome(
         "body", grid, result.report, [result.points], result.history, network_trained(result.report)
     )
+
+
+def _cached(
+    cache: MeshCache,
+    geometry: Geometry,
+    settings: Settings,
+    ni: int,
+    nj: int,
+    progress: Callable[[dict], bool | None] | None,
+) -> tuple[object, bool, object]:
+    """A four-sided run through ``cache``: (its mesher, whether a network was trained now,
+    its grid where already made). A network trained at another size is evaluated at this one
+    and kept where it passes this size's guard (kinds.four_sided.resize); else the mesher
+    fitted for these settings, trained if new, with the failed guard in its report."""
+    other = cache.trained_elsewhere(geometry.boundary, geometry.aux, settings)
+    resize = None
+    if other is not None:
+        from pinn_engine.kinds.four_sided.resize import noted, resized
+
+        result, resize = resized(other, geometry.aux, settings, ni, nj)
+        if result is not None:
+            return other, False, result
+    mesher, trained = cache.fitted(geometry.boundary, geometry.aux, settings, progress)
+    if resize is None:
+        return mesher, trained, None
+    result = mesher.predict(ni, nj)
+    noted(result, resize)
+    return mesher, trained, result

@@ -44,12 +44,18 @@ def data_key(boundary: Boundary, aux_lines: Sequence[AuxLine]) -> tuple[str, str
     return b, f"{len(aux_lines)}:{a}"
 
 
+def _sizeless(key: tuple) -> tuple:
+    """A cache key without its lattice: the same inputs and network at any size."""
+    return (*key[:2], tuple(item for item in key[2] if item[0] != "lattice"))
+
+
 class MeshCache:
     """Fitted meshers keyed by (boundary, auxiliary lines, ``Settings.training_key()``).
 
     ``fitted`` trains only when that key is new; a change of anything training does not depend
     on re-uses the trained network through ``Mesher.predict``. The grid size is part of the
-    key under the elliptic warm start (``Settings.lattice``), not otherwise. A training
+    key under the elliptic warm start (``Settings.lattice``), not otherwise; there a network
+    trained at another size is tried first (``trained_elsewhere``, resize.py). A training
     stopped early (time limit, stop request) is not kept.
     """
 
@@ -87,6 +93,27 @@ class MeshCache:
         while len(self._entries) > self.capacity:
             self._entries.popitem(last=False)
         return mesher, trained
+
+    def trained_elsewhere(
+        self, boundary: Boundary, aux_lines: Sequence[AuxLine], settings: Settings
+    ) -> Mesher | None:
+        """The newest mesher of these inputs whose network was trained on another lattice,
+        every other training setting the same: what a size change re-evaluates (resize.py).
+        None where these settings are cached themselves, where the lattice is no part of the
+        key, or where the asked size's own run trains no network (``cannot_win``)."""
+        from pinn_engine.kinds.untrained import cannot_win
+
+        key = self.key(boundary, aux_lines, settings)
+        if key in self._entries or all(name != "lattice" for name, _ in key[2]):
+            return None
+        if cannot_win(settings, aux_lines):
+            return None
+        for other in reversed(self._entries):
+            mesher = self._entries[other]
+            trained = mesher.model_ is not None and not mesher.model_.info.get("skipped")
+            if trained and _sizeless(other) == _sizeless(key):
+                return mesher
+        return None
 
     def clear(self) -> None:
         self._entries.clear()

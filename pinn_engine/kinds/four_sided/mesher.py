@@ -115,15 +115,16 @@ class Mesher:
         mesher.train_seconds_ = float(model.info.get("train_seconds", 0.0))
         return mesher
 
-    def predict(self, ni: int, nj: int) -> MeshResult:
-        """The grid at ``ni`` x ``nj`` nodes; feed-forward for the neural methods."""
+    def predict(self, ni: int, nj: int, unit: np.ndarray | None = None) -> MeshResult:
+        """The grid at ``ni`` x ``nj`` nodes; feed-forward for the neural methods. ``unit``:
+        that grid (working frame) where already evaluated (a size change's guard)."""
         self._check_fitted()
         problem = grid_size_problem(ni, nj)
         if problem:
             raise SettingsError(f"grid size {ni} x {nj}: {problem}")
         with reuse_freed_memory():
             start = time.perf_counter()
-            unit = self._grid_unit(ni, nj)
+            unit = self._grid_unit(ni, nj) if unit is None else unit
             mesh_seconds = time.perf_counter() - start
             if not np.all(np.isfinite(unit)):
                 raise TrainingError(

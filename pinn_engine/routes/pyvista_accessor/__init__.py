@@ -10,13 +10,15 @@ entry point; no import needed)::
     grid = boundary.pinn_mesh(aux=lines, size=(41, 21))
     grid.plot(scalars="MaxIncludedAngle", show_edges=True, cpos="xy")
 
-    finer = boundary.pinn_mesh(aux=lines, size=(161, 81))   # trains from the 161 x 81 elliptic grid
-    again = boundary.pinn_mesh(aux=lines, size=(41, 21))    # the first network, no retraining
+    finer = boundary.pinn_mesh(aux=lines, size=(161, 81))   # made for 161 x 81
+    again = boundary.pinn_mesh(aux=lines, size=(41, 21))    # the first grid, from the cache
 
 The accessor keeps the networks it trained for that boundary, so calling it again with
 settings it has seen only re-evaluates the network. The default PINN starts from the
-elliptic grid of ``size`` (``lattice``), so a new size trains anew; ``lattice=(41, 21)``
-evaluates the network trained for 41 x 21 at any ``size``. ``boundary.pinn_mesh.trainings``
+elliptic grid of ``size`` (``lattice``): a network trained at another size is evaluated at
+the new one and kept where that size's own guard passes (``report(grid)["resized"]``),
+else the new size trains anew; ``lattice=(41, 21)`` evaluates the network trained for
+41 x 21 at any ``size``, unchecked. ``boundary.pinn_mesh.trainings``
 counts the trainings and ``boundary.pinn_mesh.clear()`` forgets them. ``pinn_mesh(boundary,
 ...)`` is the same as a plain function (no cache unless you pass one).
 
