@@ -42,6 +42,7 @@ def _case(tmp_path):
     return case
 
 
+@pytest.mark.slow  # checkMesh and simpleFoam started (about 8 s CPU)
 def test_the_case_is_set_up_from_a_few_items(tmp_path):
     """Five patches from eight items (the channel's walls and the cylinder each one ring),
     the inlet's values the parabola at its face centres (peak 0.3, mean 0.2), and, with
@@ -82,6 +83,7 @@ def test_the_case_is_set_up_from_a_few_items(tmp_path):
     assert set(found) == {"Cd", "Cl", "dp"} and all(np.isfinite(v) for v in found.values())
 
 
+@pytest.mark.slow  # blockMesh started on the 12 blocks (about 8 s CPU)
 def test_blockmesh_gets_the_same_blocks_and_counts(tmp_path):
     """dfg.py blockmesh writes the 12 blocks with pinn-mesh's counts, the cylinder's four
     sides as arcs, the O-ring graded outward and the column downstream graded to the

@@ -5,6 +5,7 @@ square's) and a step whose grading reaches an interface (pitzDaily's blocks)."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import pyvista as pv
 from multiblock_checks import write_polylines
 
@@ -64,6 +65,7 @@ def _oring_star() -> tuple[list[np.ndarray], list]:
     return [square, circle], edges
 
 
+@pytest.mark.slow  # the O-ring star with a graded side, both sides solved (about 5 s CPU)
 def test_an_interior_side_of_an_oring_star_is_graded_on_both_sides_to_its_ends(tmp_path):
     """--spacing at the box's right side: every line leaving it on both sides (those next
     to the box's corners too, where the star's diagonals meet) starts at H and grows by at
@@ -76,6 +78,7 @@ def test_an_interior_side_of_an_oring_star_is_graded_on_both_sides_to_its_ends(t
     assert _folded(grid) == 0
 
 
+@pytest.mark.slow  # the O-ring at 0.04 a cell, where both ends' first edges fit (about 7 s CPU)
 def test_a_graded_line_leaving_a_spaced_wall_keeps_both_first_edges(tmp_path):
     """The box's right side graded and the circle a spaced wall: the O-ring's lines between
     them start at H at the box and at the wall's first edge at the circle (one stretching

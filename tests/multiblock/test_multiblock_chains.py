@@ -5,6 +5,7 @@ interior one too) growing along the chain, in the command line and in pyvista.""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import pyvista as pv
 from helpers import EXAMPLES
 
@@ -107,6 +108,7 @@ def test_spacing_at_an_interior_side_grades_both_sides(tmp_path):
     assert np.all(np.abs(_middle(first) / GRADE - 1) < 0.1)
 
 
+@pytest.mark.slow  # the DFG channel twice, refused then graded (about 5 s CPU)
 def test_cells_and_spacing_together_and_the_count_a_grading_needs(tmp_path, capsys):
     """A graded chain given too few cells is refused in one line saying how many it needs;
     with enough, the downstream rows start at H and grow by at most 1.25."""
@@ -121,6 +123,7 @@ def test_cells_and_spacing_together_and_the_count_a_grading_needs(tmp_path, caps
     assert np.all(np.abs(_middle(cells[:, 0]) / GRADE - 1) < 0.1)
 
 
+@pytest.mark.slow  # the DFG channel on two routes (about 5 s CPU)
 def test_pyvista_takes_the_same_settings(tmp_path):
     """pyvista's patches={"hole1": ...}, cells={(x, y): n} and spacing={(x, y): h} give the
     command line's grid."""

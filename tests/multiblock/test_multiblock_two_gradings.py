@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pytest
 import pyvista as pv
 
 from pinn_engine.routes.cli import main
@@ -87,6 +88,7 @@ def test_wall_spacing_carries_across_the_step_line(tmp_path):
     assert report["quality"]["worst_max_angle"] < 90.5
 
 
+@pytest.mark.slow  # the step at 5e-5 walls, where the raised counts are the case (9 s CPU)
 def test_a_step_line_graded_beside_spaced_walls_keeps_the_finer_first_edge(tmp_path):
     """Walls at 5e-5 and the step's line at 1e-4 meet at the lip: every side of the chains
     through it takes 5e-5 (the inlet's face kept its wall spacing at the top, and the grid

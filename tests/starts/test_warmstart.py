@@ -39,6 +39,7 @@ def test_default_pinn_keeps_to_the_elliptic_grid_on_sharp_notches(name):
     assert guard["elliptic"]["mean_max_angle"] == pytest.approx(ell["mean_max_angle"])
 
 
+@pytest.mark.slow  # two trainings on the deep slot (about 4 s CPU)
 def test_paper_loss_from_tfi_folds_where_the_warm_start_does_not():
     """Why the warm start exists: the paper's recipe from TFI, on the deep narrow slot, ends
     with folded cells (short budget here; the full one folds too)."""

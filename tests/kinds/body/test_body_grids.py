@@ -220,6 +220,7 @@ def test_two_polylines_file(tmp_path):
     assert np.abs(((last[:, 0] - 0.5) / 8) ** 2 + (last[:, 1] / 6) ** 2 - 1).max() < 0.02
 
 
+@pytest.mark.slow  # the 300 x 80 C-grid at 1e-5 walls where the fold appeared (about 6 s CPU)
 def test_a_gap_in_a_round_trailing_edge_is_round_and_gets_a_c_grid(tmp_path):
     """A circle left open by 0.4 % at x = 1 (the IEA root sections): the gap's ends are no
     corners, so the edge is round; the C-grid's cut leaves the gap's middle, smoothed round
