@@ -8,13 +8,17 @@ For each shape of the tuning set (``example_data/hard/``, and the examples with 
 ``concave``, ``fig2``, ``wavy``) and the hold-out set (``example_data/holdout/``, nothing tuned
 on it) this meshes the converged elliptic grid (``method elliptic``) and the default pinn
 (``objective best``) on the same boundary nodes, without lines and, where the shape has some,
-with its auxiliary lines. It prints mean and worst ``MaxIncludedAngle``, folded cells, the
-largest distance of a drawn line's grid line from it (of the diagonal), how much the grid
-lines crossing a drawn line turn there (``auxlines.crossing_turns``, the largest line's mean),
-which grid the default chose, whether it trained, and seconds (fit plus grid, one process).
-Writes ``<out>.json`` and ``<out>.md`` (``--from-json``: the page again from the json). The
-target: worst at least ``GAIN`` degrees below the elliptic grid's on most shapes, never more
-than ``MEAN_TOL`` above it, mean never more than ``MEAN_TOL`` above.
+with its auxiliary lines; each hold-out shape also with one drawn line, straight and slanted,
+from 0.35 of its bottom side to 0.65 of its top (or, where that leaves the domain, from 0.65 of
+its left side to 0.35 of its right; none where both do: ``drawn_line``). It prints mean and
+worst ``MaxIncludedAngle``, folded cells, the largest distance of a drawn line's grid line from
+it (of the diagonal), how much the grid lines crossing a drawn line turn there
+(``auxlines.crossing_turns``, the largest line's mean), which grid the default chose, whether
+it trained, and seconds (fit plus grid, one process). Writes ``<out>.json`` and ``<out>.md``
+(``--from-json``: the page again from the json). The target: worst at least ``GAIN`` degrees
+below the elliptic grid's on most shapes, never more than ``MEAN_TOL`` above it, mean never
+more than ``MEAN_TOL`` above; with lines, every line within ``LINE_TOL`` of the diagonal and
+the crossing lines turning at most ``TURN_TOL`` more than the elliptic grid's.
 
 ``--train-lines`` also trains the quality objective's network from its start on the shapes
 with lines (what ``kinds.untrained.cannot_win`` skips), and says whether its guard kept a
@@ -28,7 +32,11 @@ import json
 import time
 from pathlib import Path
 
-from pinn_engine.geometry.auxlines import crossing_turns
+import numpy as np
+
+from pinn_engine.errors import InputError
+from pinn_engine.geometry.auxlines import RawLine, crossing_turns, map_lines
+from pinn_engine.geometry.boundary import Boundary
 from pinn_engine.io.pipeline import load_aux, load_boundary
 from pinn_engine.kinds.four_sided.mesher import Mesher
 from pinn_engine.settings import make_settings
@@ -42,23 +50,55 @@ SETS = {
 }
 GAIN = 5.0  # degrees: the worst cell's drop below the elliptic grid's that counts as a gain
 MEAN_TOL = 0.5  # degrees: the most the mean (and the worst) may be above the elliptic grid's
+LINE_TOL = 2e-3  # of the diagonal: the farthest a drawn line's grid line may be from it
+TURN_TOL = 2.0  # degrees: the most the crossing lines may turn beyond the elliptic grid's
+# The hold-out shapes' drawn line: from a fraction of one side to another of the opposite
+# side (slanted, so that no symmetry follows it), each pair tried in turn
+DRAWN = (("bottom", 0.35, "top", 0.65), ("left", 0.65, "right", 0.35))
+DRAWN_POINTS = 21  # points of the drawn line
 
 
-def shapes(name: str) -> list[tuple[Path, list[Path]]]:
-    """The boundaries of set ``name`` with their auxiliary-line files."""
+def shapes(name: str) -> list[tuple[Path, list[Path] | str]]:
+    """The boundaries of set ``name`` with their auxiliary-line files (the hold-out set's:
+    ``"drawn"``, :func:`drawn_line`)."""
     found = []
     for path in SETS[name]:
         if path.stem.endswith("_aux"):
             continue
         aux = path.with_name(f"{path.stem}_aux.vtp")
-        found.append((path, [aux] if aux.exists() else []))
+        if aux.exists():
+            found.append((path, [aux]))
+        elif name == "holdout" and drawn_line(load_boundary(path)):
+            found.append((path, "drawn"))
+        else:
+            found.append((path, []))
     return found
 
 
-def mesh(method: str, path: Path, aux: list[Path], size: tuple[int, int], **options) -> dict:
+def drawn_line(boundary: Boundary) -> list:
+    """The first of ``DRAWN``'s straight lines that stays inside ``boundary`` (mapped,
+    SPEC 2), in a list; empty if none does."""
+    for first, t0, second, t1 in DRAWN:
+        a = boundary.side(first).at(np.array([t0]))[0]
+        b = boundary.side(second).at(np.array([t1]))[0]
+        unit = a + np.linspace(0.0, 1.0, DRAWN_POINTS)[:, None] * (b - a)
+        raw = RawLine(boundary.plane.lift(boundary.frame.to_user(unit)), None, f"{first} line")
+        try:
+            return map_lines([raw], boundary)
+        except InputError:
+            continue
+    return []
+
+
+def lines_of(boundary: Boundary, aux: list[Path] | str) -> list:
+    """The auxiliary lines of files ``aux``, or ``"drawn"``: :func:`drawn_line`'s."""
+    return drawn_line(boundary) if aux == "drawn" else load_aux(aux, boundary)
+
+
+def mesh(method: str, path: Path, aux: list[Path] | str, size: tuple[int, int], **options) -> dict:
     """One grid's figures: quality, lines' distance, what was chosen, seconds."""
     boundary = load_boundary(path)
-    lines = load_aux(aux, boundary)
+    lines = lines_of(boundary, aux)
     began = time.perf_counter()
     settings = make_settings(method, lattice=size, size=size, **options)
     result = Mesher(settings).fit(boundary, lines).predict(*size)
@@ -80,13 +120,13 @@ def mesh(method: str, path: Path, aux: list[Path], size: tuple[int, int], **opti
     }
 
 
-def trained_lines(path: Path, aux: list[Path], size: tuple[int, int]) -> dict:
+def trained_lines(path: Path, aux: list[Path] | str, size: tuple[int, int]) -> dict:
     """The quality objective's network trained from its start with the lines (the run the
     default skips): whether the guard kept a trained state, and the training's seconds."""
     from pinn_engine.kinds.four_sided.problem import train
 
     boundary = load_boundary(path)
-    lines = load_aux(aux, boundary)
+    lines = lines_of(boundary, aux)
     settings = make_settings("pinn", lattice=size, size=size, objective="quality")
     began = time.perf_counter()
     model = train(boundary, lines, settings, None)
@@ -94,7 +134,7 @@ def trained_lines(path: Path, aux: list[Path], size: tuple[int, int]) -> dict:
     return {"kept": kept, "seconds": time.perf_counter() - began}
 
 
-def run_row(name: str, path: Path, aux: list[Path], size_text: str, train: bool) -> dict:
+def run_row(name: str, path: Path, aux: list[Path] | str, size_text: str, train: bool) -> dict:
     """The elliptic grid and the default on one shape (with the lines ``aux``), printed."""
     size = tuple(int(n) for n in size_text.split("x"))
     row = {"set": name, "shape": path.stem, "size": size_text, "lines": bool(aux)}
@@ -105,8 +145,10 @@ def run_row(name: str, path: Path, aux: list[Path], size_text: str, train: bool)
     e, d = row["elliptic"], row["default"]
     print(
         f"{name:8s} {path.stem + (' + lines' if aux else ''):34s} {size_text:7s} elliptic "
-        f"{e['mean']:7.2f} / {e['worst']:7.2f} ({e['folded']}) {e['lines']:.5f} | default "
+        f"{e['mean']:7.2f} / {e['worst']:7.2f} ({e['folded']}) {e['lines']:.5f} "
+        f"turn {e['turn']:5.2f} | default "
         f"{d['mean']:7.2f} / {d['worst']:7.2f} ({d['folded']}) {d['lines']:.5f} "
+        f"turn {d['turn']:5.2f} "
         f"{'network' if d['network'] else d['chosen']:22s} "
         f"trained {d['trained']!s:5s} {d['train_seconds']:.2f} s, "
         f"{d['seconds']:.2f} s (elliptic {e['seconds']:.2f} s)"
@@ -125,6 +167,7 @@ def main() -> None:
     parser.add_argument("--sizes", nargs="+", default=["41x21"])
     parser.add_argument("--set", nargs="+", default=["tuning", "holdout"], dest="sets")
     parser.add_argument("--train-lines", action="store_true")
+    parser.add_argument("--lines-only", action="store_true", help="only the grids with lines")
     parser.add_argument("--out", default=None)
     parser.add_argument("--from-json", action="store_true", help="rewrite the page from <out>.json")
     args = parser.parse_args()
@@ -134,10 +177,11 @@ def main() -> None:
     for name in args.sets if not args.from_json else ():
         for size_text in args.sizes:
             for path, aux in shapes(name):
-                for lines in ([], aux) if aux else ([],):
+                for lines in ([], aux) if aux and not args.lines_only else ([aux] if aux else []):
                     row = run_row(name, path, lines, size_text, args.train_lines)
                     rows.append(row)
     summaries = [summary(rows, name) for name in args.sets]
+    summaries += [lines_summary(rows, name) for name in args.sets]
     print("\n".join(summaries))
     if args.out:
         out = Path(args.out)
@@ -156,6 +200,18 @@ def summary(rows: list[dict], name: str) -> str:
         f"{name}: {len(plain)} grids without lines: worst >= {GAIN} below elliptic on "
         f"{gains}, worst > {MEAN_TOL} above on {worse}, mean > {MEAN_TOL} above on {mean}, "
         f"folded on {folds}"
+    )
+
+
+def lines_summary(rows: list[dict], name: str) -> str:
+    """The target's counts on set ``name``'s grids with lines."""
+    drawn = [r for r in rows if r["set"] == name and r["lines"]]
+    near = sum(r["default"]["lines"] <= LINE_TOL for r in drawn)
+    turn = sum(r["default"]["turn"] > r["elliptic"]["turn"] + TURN_TOL for r in drawn)
+    folds = sum(r["default"]["folded"] > 0 for r in drawn)
+    return (
+        f"{name}: {len(drawn)} grids with lines: lines within {LINE_TOL:g} of the diagonal on "
+        f"{near}, crossing turn > {TURN_TOL} beyond elliptic's on {turn}, folded on {folds}"
     )
 
 

@@ -208,28 +208,34 @@ def bilinear(grid: np.ndarray, xi_eta: np.ndarray) -> np.ndarray:
     return (1 - b) * low + b * high
 
 
+def crossing_nodes(shape: tuple[int, ...], line: AuxLine) -> np.ndarray:
+    """Where the grid lines of the other family cross ``line`` (rows for a line from bottom
+    to top, columns for one from left to right): for each interior one its node nearest the
+    line's (xi, eta) with the nodes before and after it, as flat indices (3, n) into a grid of
+    ``shape`` (nj, ni, ...) reshaped to (nj ni, ...)."""
+    nj, ni = shape[:2]
+    vertical = line.sides is None or line.sides[0] == "bottom"
+    count, along = (nj, ni) if vertical else (ni, nj)
+    across = line.xi_eta[:, 0] if vertical else line.xi_eta[:, 1]
+    param = line.xi_eta[:, 1] if vertical else line.xi_eta[:, 0]
+    k = np.arange(1, count - 1)
+    order = np.argsort(param)
+    at = np.interp(k / (count - 1), param[order], across[order]) * (along - 1)
+    node = np.clip(np.rint(at).astype(int), 1, along - 2)
+    nodes = np.stack([node - 1, node, node + 1])
+    return k * ni + nodes if vertical else nodes * ni + k
+
+
 def crossing_turns(grid: np.ndarray, lines: list[AuxLine]) -> dict[str, float]:
     """How smoothly the grid lines cross each auxiliary line: the mean, over the grid lines of
-    the other family (rows for a line from bottom to top, columns for one from left to right),
-    of the angle in degrees by which each turns at its node nearest the line's (xi, eta).
-    A grid line that does not bend there turns 0; a split-block grid whose interface is the
-    line kinks there. ``grid`` (nj, ni, 2)."""
-    nj, ni = grid.shape[:2]
+    the other family (:func:`crossing_nodes`), of the angle in degrees by which each turns at
+    its node nearest the line's (xi, eta). A grid line that does not bend there turns 0; a
+    split-block grid whose interface is the line kinks there. ``grid`` (nj, ni, 2)."""
+    flat = grid.reshape(-1, 2)
     turns = {}
     for line in lines:
-        vertical = line.sides is None or line.sides[0] == "bottom"
-        rows = grid if vertical else grid.transpose(1, 0, 2)  # (lines crossing, along, 2)
-        count, along = rows.shape[:2]
-        across = line.xi_eta[:, 0] if vertical else line.xi_eta[:, 1]
-        param = line.xi_eta[:, 1] if vertical else line.xi_eta[:, 0]
-        k = np.arange(1, count - 1)
-        order = np.argsort(param)
-        at = np.interp(k / (count - 1), param[order], across[order]) * (along - 1)
-        node = np.clip(np.rint(at).astype(int), 1, along - 2)
-        before = rows[k, node] - rows[k, node - 1]
-        after = rows[k, node + 1] - rows[k, node]
-        cos = (before * after).sum(-1) / (
-            np.linalg.norm(before, axis=-1) * np.linalg.norm(after, axis=-1)
-        )
+        before, at, after = flat[crossing_nodes(grid.shape, line)]
+        a, b = at - before, after - at
+        cos = (a * b).sum(-1) / (np.linalg.norm(a, axis=-1) * np.linalg.norm(b, axis=-1))
         turns[line.name] = float(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))).mean())
     return turns

@@ -21,8 +21,9 @@ from scipy.sparse.linalg import splu, spsolve
 
 from pinn_engine.classical.elliptic import stencil_matrix
 from pinn_engine.classical.warm import WarmStart
-from pinn_engine.geometry.auxlines import AuxLine, crossing_turns, line_distances
+from pinn_engine.geometry.auxlines import AuxLine, crossing_nodes, crossing_turns, line_distances
 from pinn_engine.quality import (
+    DBL_MIN,
     QUALITY_BARRIER_WEIGHT,
     QUALITY_MEAN_WEIGHT,
     QUALITY_MIN_SINE,
@@ -54,6 +55,13 @@ BODY_STALL = 10
 # (squared distance in units of the lattice's median shortest edge)
 LINE_TOL = 1e-4
 LINE_WEIGHT = 100.0
+# The crossing-turn term's weight in the node optimisation (its squared mean excess in
+# radians): a degree beyond its aim costs 0.03, as about two degrees of the worst angle do in
+# the soft maximum (tau 0.0175 rad); and its aim, this much above the elliptic grid's turn:
+# half the ranking's bound, so that grids well within it are left to the quality terms and
+# the optimisation keeps inside it (aimed at the bound itself, it ends just beyond)
+TURN_WEIGHT = 100.0
+TURN_AIM = TURN_TOL / 2
 PULL_ROUNDS = 15  # rounds of pull_onto_lines at most
 PULL_WEIGHT = 1e5  # of the lines against the smoothness of the pull's moves (more: folds)
 RELAX_ITERATIONS = 10  # Winslow iterations of relax_on_lines
@@ -167,12 +175,21 @@ def quality_start(
     folds (untangle.py), with auxiliary lines the elliptic grid (and the untangled one)
     moved onto them (:func:`follow_lines`), and the best of these with its interior nodes
     optimised (:func:`optimize_nodes`): the objective's discrete solution, as the converged
-    elliptic grid is the Winslow objective's. Also returns the ranking, its mean bound
-    raised to the elliptic grid on the lines'."""
+    elliptic grid is the Winslow objective's. Where that grid's crossing lines turn beyond
+    the ranking's bound, the elliptic grid on the lines is optimised too: it turns as the
+    elliptic grid does, and the optimisation removes its folds (its barrier), where from a
+    fold-free start whose lines fan out round a notch's tip it keeps the fan. Also returns
+    the ranking, its mean bound raised to the elliptic grid on the lines'."""
     tfi = elliptic - warm.correction
-    best, ranking = best_candidate(elliptic, tfi, ranking)
+    found, ranking = candidates(elliptic, tfi, ranking)
+    best = min(found, key=lambda c: ranking.key(ranking.quality(c[0])))
     if NODE_ITERATIONS:
         optimized = (optimize_nodes(best[0], ranking, NODE_ITERATIONS), "optimized")
+        turning = ranking.key(ranking.quality(optimized[0]))[3] > 0
+        if turning and best[1] != "line-following elliptic":
+            on_lines = next(g for g, name in found if name == "line-following elliptic")
+            again = (optimize_nodes(on_lines, ranking, NODE_ITERATIONS), "optimized")
+            optimized = min([optimized, again], key=lambda c: ranking.key(ranking.quality(c[0])))
         best = min([best, optimized], key=lambda c: ranking.key(ranking.quality(c[0])))
     return WarmStart(best[0] - tfi, start=best[1]), ranking
 
@@ -180,23 +197,33 @@ def quality_start(
 def best_candidate(
     elliptic: np.ndarray, tfi: np.ndarray, ranking: Ranking
 ) -> tuple[tuple[np.ndarray, str], Ranking]:
-    """The best (``ranking``) of the grids :func:`quality_start` optimises from, with its
-    name: the elliptic grid, the TFI grid, blends of them, the elliptic grid untangled where
-    it folds, with auxiliary lines these moved onto them; and the ranking, its mean bound
-    raised to the elliptic grid on the lines'."""
-    candidates = [(elliptic, "elliptic"), (tfi, "tfi")] + [
+    """The best (``ranking``) of the grids :func:`quality_start` optimises from
+    (:func:`candidates`), with its name, and the ranking, its mean bound raised to the
+    elliptic grid on the lines'."""
+    found, ranking = candidates(elliptic, tfi, ranking)
+    return min(found, key=lambda c: ranking.key(ranking.quality(c[0]))), ranking
+
+
+def candidates(
+    elliptic: np.ndarray, tfi: np.ndarray, ranking: Ranking
+) -> tuple[list[tuple[np.ndarray, str]], Ranking]:
+    """The grids :func:`quality_start` optimises from, each with its name: the elliptic grid,
+    the TFI grid, blends of them, the elliptic grid untangled where it folds, with auxiliary
+    lines these moved onto them; and the ranking, its mean bound raised to the elliptic grid
+    on the lines'."""
+    found = [(elliptic, "elliptic"), (tfi, "tfi")] + [
         (elliptic + w * (tfi - elliptic), f"{w:.1f} tfi + elliptic") for w in BLEND_WEIGHTS
     ]
     untangled = untangle(elliptic)
     if untangled is not elliptic:
-        candidates.append((untangled, "untangled"))
+        found.append((untangled, "untangled"))
     if ranking.lines:
         on_lines = follow_lines(elliptic, ranking)
         ranking = ranking.against(on_lines)
-        candidates.append((on_lines, "line-following elliptic"))
+        found.append((on_lines, "line-following elliptic"))
         if untangled is not elliptic:  # the fold-free grid on the lines
-            candidates.append((follow_lines(untangled, ranking), "line-following untangled"))
-    return min(candidates, key=lambda c: ranking.key(ranking.quality(c[0]))), ranking
+            found.append((follow_lines(untangled, ranking), "line-following untangled"))
+    return found, ranking
 
 
 def body_quality_start(elliptic: np.ndarray, seam: bool) -> tuple[np.ndarray, str]:
@@ -551,6 +578,7 @@ def optimize_nodes(
     inner0 = grid[free].copy()
     unit = _node_units(grid, seam)[held_rows - 1 :, :, None]
     line_term = _line_term(grid, ranking, float(np.median(unit)))
+    turn_term = _turn_term(grid, ranking)
     best = [(math.inf,), np.zeros(inner0.size)]
     since = [0]  # iterations since the best state was found
 
@@ -574,6 +602,9 @@ def optimize_nodes(
             q["aux_turn"] = max(
                 t - e for t, e in zip(_turns(g, ranking.lines), ranking.turns, strict=True)
             )
+            term, d_term = turn_term(g)
+            loss += TURN_WEIGHT * term
+            grad += TURN_WEIGHT * d_term
         largest = np.rad2deg(theta.max(0))
         q.update(
             folded_cells=int((largest > FOLDED_ANGLE).sum()),
@@ -637,5 +668,39 @@ def _line_term(grid: np.ndarray, ranking: Ranking, scale: float):
         gradient = (picks.T @ (2 * miss / len(miss))).reshape(g.shape)
         distance = float(np.sqrt(squared.max())) * scale / ranking.diagonal
         return float(squared.mean()), gradient, distance
+
+    return term
+
+
+def _turn_term(grid: np.ndarray, ranking: Ranking):
+    """``g -> (term, gradient)`` for grids shaped like ``grid``: over the auxiliary lines, the
+    squared excess (radians) of the mean turn of the grid lines crossing each
+    (``auxlines.crossing_turns``) over the elliptic grid's there plus ``TURN_AIM``, and its
+    gradient by the nodes; None without lines."""
+    if not ranking.lines:
+        return None
+    nodes = [crossing_nodes(grid.shape, line) for line in ranking.lines]
+    targets = np.radians(np.asarray(ranking.turns) + TURN_AIM)
+
+    def term(g: np.ndarray) -> tuple[float, np.ndarray]:
+        flat = g.reshape(-1, 2)
+        total, grad = 0.0, np.zeros_like(flat)
+        for (before, at, after), target in zip(nodes, targets, strict=True):
+            a, b = flat[at] - flat[before], flat[after] - flat[at]
+            cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+            dot = (a * b).sum(-1)
+            excess = float(np.arctan2(np.abs(cross), dot).mean()) - target
+            if excess <= 0:
+                continue
+            total += excess**2
+            square = np.maximum(cross**2 + dot**2, DBL_MIN)
+            d_cross = (2 * excess / len(dot) * np.sign(cross) * dot / square)[:, None]
+            d_dot = (-2 * excess / len(dot) * np.abs(cross) / square)[:, None]
+            d_a = d_cross * np.stack([b[:, 1], -b[:, 0]], -1) + d_dot * b
+            d_b = d_cross * np.stack([-a[:, 1], a[:, 0]], -1) + d_dot * a
+            np.add.at(grad, before, -d_a)
+            np.add.at(grad, at, d_a - d_b)
+            np.add.at(grad, after, d_b)
+        return total, grad.reshape(g.shape)
 
     return term
