@@ -17,11 +17,15 @@ It also registers File > Save Data writers for the filter's output (``pinn_engin
 PLOT3D, CGNS with boundary conditions, SU2, Gmsh 4.1 and OpenFOAM, each using the grid's
 Patch Names (docs/export.md).
 
-Property order: ParaView 5.11 lists a Python plugin's properties alphabetically by method
-name, so the methods below carry a numeric prefix (``P01...``) that keeps the panel in the
-intended order in every version. Each property and input is one call of a helper
-(``_intvector``, ``_polyline_input``, ...) that applies ParaView's decorator stack in its fixed
-order (``_stack``), so the plugin's XML is what the stacks written out would give.
+The mesh filters' panels are generated: each property of ``pinn_engine.routes.panel.PANELS``
+(its name, label, default, range, choices, help and the algorithm's method it sets, with
+the labels of ``routes.names`` and the ranges and defaults of the constraint table) becomes
+one decorated method (``_panel``, ``_property``). Property order: ParaView 5.11 lists a
+Python plugin's properties alphabetically by method name, so the methods carry a numeric
+prefix (``P01...``) that keeps the panel in the intended order in every version. Each
+property and input is one call of a helper (``_intvector``, ``_polyline_input``, ...) that
+applies ParaView's decorator stack in its fixed order (``_stack``), so the plugin's XML is
+what the stacks written out would give.
 """
 
 import os
@@ -42,30 +46,9 @@ try:
     from pinn_engine.routes.algorithm import PinnMeshAlgorithm
     from pinn_engine.routes.dictionary_algorithm import PinnBlockMeshDictReader
     from pinn_engine.routes.hexa_algorithm import PinnHexaAlgorithm
-    from pinn_engine.routes.multiblock_algorithm import (
-        BLOCKING,
-        INTERFACES,
-        PinnMultiBlockAlgorithm,
-    )
+    from pinn_engine.routes.multiblock_algorithm import PinnMultiBlockAlgorithm
+    from pinn_engine.routes.panel import PANELS
     from pinn_engine.routes.paraview_help import register_in_gui
-    from pinn_engine.settings import (
-        ADAPT_STRENGTH,
-        BLOCKS_METHOD,
-        FACE_ANGLE,
-        HEXA_METHOD,
-        HEXA_METHODS,
-        HEXA_SIZE,
-        MAX_SIDE_NODES,
-        METHODS,
-        MIN_HEXA_NODES,
-        MULTIBLOCK_METHODS,
-        OBJECTIVES,
-        PANEL_TIME_LIMIT,
-        PARAMETER_CONSTRAINTS,
-        PRESETS,
-        Settings,
-        make_settings,
-    )
 except ImportError as _exc:  # a clear line in ParaView's output instead of a bare traceback
     raise ImportError(
         f"PINN Structured Mesh plugin: cannot import pinn_engine from {_REPO} ({_exc}); keep "
@@ -89,7 +72,6 @@ except ImportError:
 paraview_plugin_name = "PINN Mesh"
 paraview_plugin_version = __version__
 
-_DEFAULTS = Settings()
 _COLOUR_ARRAY = "MaxIncludedAngle"  # what a new grid is coloured by
 _MESH_FILTERS = set()  # whose displays get that colour: the proxy names _mesh_filter made
 _OLD_NAMES = []  # (old proxy name, its definition): the filters' old names (_mesh_filter)
@@ -98,58 +80,11 @@ _OBSERVERS = []  # the display observers (_ColourWhenDataArrives)
 # id(session proxy manager): (it, its RegisterEvent observer, the observer's id); VTK's own
 # reference to a Python observer was not enough in the GUI (a closure crashed on its 2nd call)
 _WATCHED_SESSIONS = {}
-_NEURAL = (
-    '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
-    'property="Method" values="0 1"/>'
-)  # training settings: pinn and mgnet only
-_FOUR_SIDED = (
-    '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
-    'property="Topology" values="0 3"/>'
-)  # SPEC 7 settings: four-sided domains (and Automatic, which may pick one)
-_BODY = (
-    '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
-    'property="Topology" values="1 2 3"/>'
-)  # O- and C-grid settings (and Automatic, which may pick an O-grid)
-
-
-def _for_preset(preset, methods):
-    """Shown only under Preset ``preset`` (index) and for the Method indices ``methods``."""
-    return (
-        '<PropertyWidgetDecorator type="CompositeDecorator"><Expression type="and">'
-        '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
-        f'property="Method" values="{methods}"/>'
-        '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
-        f'property="Preset" value="{preset}"/>'
-        "</Expression></PropertyWidgetDecorator>"
-    )
-
-
-_PAPER = make_settings("pinn", "paper")
 _TWO_D_INPUT = (
     '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
     'property="IsThreeD" value="0"/>'
 )  # writer settings that only a 2D grid has (a hexahedral grid is not extruded)
 CGNS_FIRST = "CGNSPINNMeshWriter"  # sorts before ParaView's CGNSWriter (see the writers below)
-_TIME_LIMIT_DOC = (
-    "Seconds of training, then the grid of the best state so far is produced with a warning "
-    "(0: no limit). ParaView 5.11 handles no event while a filter runs, so its progress "
-    "bar's abort cannot stop a training: set this before Apply (or stop it with "
-    "pkill -USR1 -x paraview, which also keeps the best grid so far)."
-)
-
-
-def _method_is(methods, name):
-    """Shown only while Method is ``name`` (of ``methods``, the panel's enumeration)."""
-    return (
-        '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
-        f'property="Method" value="{methods.index(name)}"/>'
-    )
-
-
-_PINN_ONLY = (
-    '<PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
-    'property="Method" value="0"/>'
-)
 
 
 class _ColourWhenDataArrives:
@@ -238,12 +173,6 @@ def _watch_displays():
                 proxy.AddObserver("UpdateDataEvent", observer)
 
     _WATCHED_SESSIONS[id(pxm)] = (pxm, on_register, pxm.AddObserver("RegisterEvent", on_register))
-
-
-def _range(name):
-    """The panel range of a whole-number setting, from settings.PARAMETER_CONSTRAINTS."""
-    rule = PARAMETER_CONSTRAINTS[name]
-    return {"min": int(rule.low), "max": int(rule.high)}
 
 
 def _enum(options):
@@ -341,28 +270,56 @@ _FIELD_ARRAY = """
 </StringVectorProperty>"""
 
 
-def _adapt_properties(cls):
-    """Field Array and Adapt Strength on a 2D filter's panel, after its other properties."""
+def _field_array(cls):
+    """Field Array on a 2D filter's panel (its Adapt Strength is in ``PANELS``)."""
 
     @smproperty.xml(_FIELD_ARRAY)
     def P90FieldArray(self, *selection):
         self.SetAdaptArray(*selection)
 
-    @_doublevector(
-        name="AdaptStrength",
-        label="Adapt Strength",
-        default_values=ADAPT_STRENGTH,
-        bounds={"min": 0.0, "max": 100.0},
-        doc="With a Field input: the monitor's strength beta, M = sqrt(1 + beta^2 |grad f|^2 "
-        "/ max |grad f|^2); cells where M is large get smaller. The grid is adapted less "
-        "where the worst cell would exceed the unadapted one's by more than 10 degrees, "
-        "and kept unadapted where that carries the field no better.",
-    )
-    def P91AdaptStrength(self, beta):
-        self.SetAdaptStrength(float(beta))
-
-    cls.P90FieldArray, cls.P91AdaptStrength = P90FieldArray, P91AdaptStrength
+    cls.P90FieldArray = P90FieldArray
     return cls
+
+
+_VECTORS = {"int": _intvector, "double": _doublevector, "string": _stringvector}
+
+
+def _property(prop):
+    """The decorated method of one panel property (``routes.panel.Property``): its values,
+    each by ``prop.convert``, to the algorithm's ``prop.call`` after ``prop.before``."""
+
+    def method(self, *values):
+        getattr(self, prop.call)(*prop.before, *map(prop.convert, values))
+
+    method.__name__ = method.__qualname__ = prop.method  # the property's command
+    attrs = {
+        "name": prop.name,
+        "label": prop.shown,
+        "default_values": prop.default,
+        "number_of_elements": len(prop.default) if isinstance(prop.default, list) else 1,
+        "panel_visibility": "advanced" if prop.advanced else None,
+    }
+    if prop.files:
+        extensions, description = prop.files
+        return _stack(
+            smproperty.stringvector(**attrs),
+            smdomain.filelist(),
+            smhint.filechooser(extensions=extensions, file_description=description),
+            smdomain.xml(_doc(prop.doc)),
+        )(method)
+    vector = _VECTORS[prop.vector]
+    return vector(bounds=prop.bounds, enum=prop.enum, hint=prop.hint, doc=prop.doc, **attrs)(method)
+
+
+def _panel(kind):
+    """The properties of the filter of ``kind``'s panel (``routes.panel.PANELS``)."""
+
+    def decorate(cls):
+        for prop in PANELS[kind]:
+            setattr(cls, prop.method, _property(prop))
+        return cls
+
+    return decorate
 
 
 def _mesh_filter(*inputs, names, summary, doc):
@@ -461,7 +418,8 @@ def _define_old_names(*_):
     "Limit seconds or at pkill -USR1 -x paraview with its best grid so far. "
     "Guide: docs/routes.md of the pinn-mesh checkout.",
 )
-@_adapt_properties
+@_field_array
+@_panel("four-sided")
 class PINNStructuredMesh(PinnMeshAlgorithm):
     """The ParaView face of :class:`pinn_engine.routes.algorithm.PinnMeshAlgorithm`."""
 
@@ -475,276 +433,6 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
 
     def RemoveAllAuxiliaryLines(self):
         self.RemoveAllInputConnections(1)
-
-    @_intvector(
-        name="Method",
-        default_values=0,
-        enum=METHODS,
-        doc="pinn: the paper's PINN (uses the auxiliary lines); mgnet: plain "
-        "networks, no auxiliary lines; tfi: transfinite interpolation; "
-        "elliptic: the classical elliptic (Winslow) method.",
-    )
-    def P01Method(self, index):
-        self.SetMethod(int(index))
-
-    @_intvector(
-        name="GridSize",
-        label="Grid Size",
-        default_values=[41, 21],
-        bounds={"min": 2, "max": MAX_SIDE_NODES},
-        doc="Nodes along xi and eta. The default PINN starts from the elliptic "
-        "grid of this size and trains anew for a new size (seconds); with "
-        "Preset paper a new size re-evaluates the trained network.",
-    )
-    def P02GridSize(self, ni, nj):
-        self.SetGridSize(ni, nj)
-
-    @_intvector(
-        name="Preset",
-        default_values=0,
-        enum=PRESETS,
-        doc="default: measured defaults (exact boundary, arc-length fit); paper: "
-        "the paper's section 4 (penalty boundary term, decision-tree fit, "
-        "1000 elliptic sweeps). Adam Epochs, L-BFGS Iterations and Lambda2 "
-        "have a field per preset; the panel shows the chosen preset's.",
-    )
-    def P03Preset(self, index):
-        self.SetPreset(int(index))
-
-    @_doublevector(
-        name="TimeLimit",
-        label="Time Limit",
-        default_values=PANEL_TIME_LIMIT,
-        bounds={"min": 0.0},
-        hint=_NEURAL,
-        doc="Seconds of training, then the grid of the best state so far is produced with a "
-        "warning (0: no limit). ParaView handles no event while a filter runs; "
-        "pkill -USR1 -x paraview ends a training early the same way.",
-    )
-    def P03TimeLimit(self, seconds):
-        self.SetPanelSetting("time_limit", float(seconds))
-
-    @_intvector(
-        name="AdamEpochs",
-        label="Adam Epochs",
-        default_values=_DEFAULTS.adam_epochs,
-        panel_visibility="advanced",
-        bounds=_range("adam_epochs"),
-        hint=_for_preset(0, "0 1"),
-        doc="Adam epochs of training under Preset default.",
-    )
-    def P04AdamEpochs(self, n):
-        self.SetPresetSetting("default", "adam_epochs", int(n))
-
-    @_intvector(
-        name="PaperAdamEpochs",
-        label="Paper Adam Epochs",
-        default_values=_PAPER.adam_epochs,
-        panel_visibility="advanced",
-        bounds=_range("adam_epochs"),
-        hint=_for_preset(1, "0 1"),
-        doc="Adam epochs of training under Preset paper (the paper's 5000).",
-    )
-    def P04PaperAdamEpochs(self, n):
-        self.SetPresetSetting("paper", "adam_epochs", int(n))
-
-    @_intvector(
-        name="LBFGSIterations",
-        label="L-BFGS Iterations",
-        default_values=_DEFAULTS.lbfgs_iterations,
-        panel_visibility="advanced",
-        bounds=_range("lbfgs_iterations"),
-        hint=_for_preset(0, "0 1"),
-        doc="L-BFGS iterations after Adam under Preset default.",
-    )
-    def P05LBFGSIterations(self, n):
-        self.SetPresetSetting("default", "lbfgs_iterations", int(n))
-
-    @_intvector(
-        name="PaperLBFGSIterations",
-        label="Paper L-BFGS Iterations",
-        default_values=_PAPER.lbfgs_iterations,
-        panel_visibility="advanced",
-        bounds=_range("lbfgs_iterations"),
-        hint=_for_preset(1, "0 1"),
-        doc="L-BFGS iterations after Adam under Preset paper (the paper's 500).",
-    )
-    def P05PaperLBFGSIterations(self, n):
-        self.SetPresetSetting("paper", "lbfgs_iterations", int(n))
-
-    @_intvector(
-        name="HiddenLayers",
-        label="Hidden Layers",
-        default_values=_DEFAULTS.hidden_layers,
-        panel_visibility="advanced",
-        bounds=_range("hidden_layers"),
-        hint=_NEURAL,
-        doc="Hidden layers of each sub-network.",
-    )
-    def P06HiddenLayers(self, n):
-        self.SetPanelSetting("hidden_layers", int(n))
-
-    @_intvector(
-        name="Neurons",
-        default_values=_DEFAULTS.neurons,
-        panel_visibility="advanced",
-        bounds=_range("neurons"),
-        hint=_NEURAL,
-        doc="Neurons per hidden layer.",
-    )
-    def P07Neurons(self, n):
-        self.SetPanelSetting("neurons", int(n))
-
-    @_doublevector(
-        name="Lambda2",
-        default_values=_DEFAULTS.lambda2,
-        bounds={"min": 0.0, "max": 1000.0},
-        hint=_for_preset(0, "0"),
-        doc="Weight of the auxiliary-line term of the loss under Preset default.",
-    )
-    def P08Lambda2(self, value):
-        self.SetPresetSetting("default", "lambda2", float(value))
-
-    @_doublevector(
-        name="PaperLambda2",
-        label="Paper Lambda2",
-        default_values=_PAPER.lambda2,
-        bounds={"min": 0.0, "max": 1000.0},
-        hint=_for_preset(1, "0"),
-        doc="Weight of the auxiliary-line term under Preset paper (the paper's 10).",
-    )
-    def P08PaperLambda2(self, value):
-        self.SetPresetSetting("paper", "lambda2", float(value))
-
-    @_intvector(
-        name="Seed",
-        default_values=_DEFAULTS.seed,
-        panel_visibility="advanced",
-        hint=_NEURAL,
-        doc="Random seed of training (runs are repeatable).",
-    )
-    def P09Seed(self, n):
-        self.SetPanelSetting("seed", int(n))
-
-    @_intvector(
-        name="CornerIndices",
-        label="Corner Indices",
-        default_values=[-1, -1, -1, -1],
-        doc="The four corner point indices of the boundary; -1 -1 -1 -1 finds "
-        "them automatically (the four sharpest turns).",
-    )
-    def P10CornerIndices(self, i0, i1, i2, i3):
-        self.SetCorners(i0, i1, i2, i3)
-
-    @_intvector(
-        name="Objective",
-        default_values=OBJECTIVES.index(_DEFAULTS.objective),
-        enum=OBJECTIVES,
-        hint=_PINN_ONLY,
-        doc="best (default): the grid of lowest worst cell among TFI, the elliptic grid, "
-        "their blends and the quality-optimised grid, its mean at most 0.5 degrees above "
-        "the elliptic grid's, auxiliary lines followed (winslow under a spacing or "
-        "orthogonal sides); winslow: train on the Winslow equations; quality: add a "
-        "cell-quality term that lowers the worst cell's largest angle, starting from the "
-        "better of the elliptic and TFI grids (pinn only).",
-    )
-    def P11Objective(self, index):
-        self.SetPanelSetting("objective", OBJECTIVES[int(index)])
-
-    @_intvector(
-        name="Topology",
-        default_values=3,
-        inline_domain=_enum(("Four-sided domain", "O-grid", "C-grid", "Automatic")),
-        doc="Automatic (default): an O-grid for a body (the Airfoil source or reader's "
-        "curve, one curve that turns sharply at two points at most, or two closed "
-        "polylines: body inside far field), else a four-sided domain. "
-        "Four-sided domain: the input is a closed boundary with four corners. O-grid / "
-        "C-grid: the input is a body such as an airfoil (the Airfoil source, or a .dat file "
-        "opened with the Airfoil reader): one curve, meshed out to a far-field circle of Far "
-        "Field Radius chords, or two closed polylines (body inside far field). The C-grid's "
-        "wake cut leaves a sharp trailing edge, or a blunt base's middle. Methods pinn, tfi, "
-        "elliptic (docs/airfoils.md).",
-    )
-    def P11Topology(self, index):
-        self.SetTopology(int(index))
-
-    @_doublevector(
-        name="FarFieldRadius",
-        label="Far Field Radius",
-        default_values=15.0,
-        bounds={"min": 1.0},
-        hint=_BODY,
-        doc="Far-field circle radius in chords about mid-chord.",
-    )
-    def P12FarFieldRadius(self, radius):
-        self.SetFarFieldRadius(radius)
-
-    @_doublevector(
-        name="WallSpacing",
-        label="Wall Spacing",
-        default_values=0.0,
-        bounds={"min": 0.0},
-        hint=_BODY,
-        doc="First-layer height off the body wall, in the body's units (0: half "
-        "the mean node spacing along the wall).",
-    )
-    def P13WallSpacing(self, h):
-        self.SetWallSpacing(h)
-
-    @_doublevector(
-        name="FirstEdgeSpacing",
-        label="First Edge Spacing",
-        default_values=[0.0, 0.0, 0.0, 0.0],
-        hint=_FOUR_SIDED,
-        doc="Length of the first grid edge leaving the bottom, right, top and "
-        "left sides, in the boundary's units (0: that side keeps the even "
-        "distribution). The spacing grows smoothly away from the side "
-        "(Vinokur's stretching); pinn, tfi and elliptic, four-sided domains "
-        "(docs/boundary_layer.md).",
-    )
-    def P14FirstEdgeSpacing(self, bottom, right, top, left):
-        self.SetSpacing(float(bottom), float(right), float(top), float(left))
-
-    @_intvector(
-        name="OrthogonalSides",
-        label="Orthogonal Sides",
-        default_values=[0, 0, 0, 0],
-        bounds={"min": 0, "max": 1},
-        hint=_FOUR_SIDED,
-        doc="1 for each of the bottom, right, top and left sides that grid lines "
-        "are to leave at 90 degrees (pinn: a loss term; elliptic: "
-        "Hilgenstock control functions; not tfi or mgnet).",
-    )
-    def P15OrthogonalSides(self, bottom, right, top, left):
-        self.SetOrthogonal(int(bottom), int(right), int(top), int(left))
-
-    @_stringvector(
-        name="PatchNames",
-        label="Patch Names",
-        default_values="bottom right top left",
-        doc="Boundary patch names for solver formats (File > Save Data: PLOT3D, "
-        "CGNS, SU2, Gmsh, OpenFOAM): four names for the bottom, right, top "
-        "and left sides, or SIDE=NAME items such as 'bottom=wall top=wall'. "
-        "Sides with the same name form one patch.",
-    )
-    def P20PatchNames(self, text):
-        self.SetPatchNames(text)
-
-    @_stack(
-        smproperty.stringvector(name="Model", label="Model", default_values=""),
-        smdomain.filelist(),
-        smhint.filechooser(extensions="pt", file_description="pinn-mesh family models"),
-        smdomain.xml(
-            _doc(
-                "A family model (a .pt file made by pinn-mesh fit, docs/family.md): the "
-                "boundary is meshed as a member of its family, its interior in a forward "
-                "pass instead of its own run, and its Grid Size must be the family's. "
-                "Empty: no model."
-            )
-        ),
-    )
-    def P21Model(self, path):
-        self.SetModel(path or None)
 
 
 @_mesh_filter(
@@ -801,7 +489,8 @@ class PINNStructuredMesh(PinnMeshAlgorithm):
 )
 @smproperty.xml('<OutputPort name="Blocks" index="0"/>')
 @smproperty.xml('<OutputPort name="Block Edges" index="1"/>')
-@_adapt_properties
+@_field_array
+@_panel("blocks")
 class PINNStructuredMeshMultiBlock(PinnMultiBlockAlgorithm):
     """The ParaView face of
     :class:`pinn_engine.routes.multiblock_algorithm.PinnMultiBlockAlgorithm`."""
@@ -819,136 +508,6 @@ class PINNStructuredMeshMultiBlock(PinnMultiBlockAlgorithm):
 
     def RemoveAllAuxiliaryLines(self):
         self.RemoveAllInputConnections(2)
-
-    @_intvector(
-        name="Blocking",
-        default_values=0,
-        enum=[b.capitalize() for b in BLOCKING],
-        doc="Manual: the block edges are the open polylines you give (on Input or Block "
-        "Edges); with none given, they are proposed as by Automatic. Automatic: they are "
-        "proposed from the boundary and its holes alone (leave Block Edges empty): O-rings "
-        "round holes, an edge from each concave corner, junction centres cut round their "
-        "middle (docs/blocking.md); the output port Block Edges shows them.",
-    )
-    def P00Blocking(self, index):
-        self.SetBlocking(int(index))
-
-    @_intvector(
-        name="Method",
-        default_values=MULTIBLOCK_METHODS.index(BLOCKS_METHOD),
-        enum=MULTIBLOCK_METHODS,
-        doc="pinn (default): each block's network trained on the Winslow equations from "
-        "the elliptic grid of all blocks, its sides held, kept where it is no worse (and "
-        "fitted to auxiliary lines, if given; Time Limit bounds the training); elliptic: "
-        "Winslow on all blocks at once (interface nodes move like interior nodes); tfi: "
-        "each block's transfinite interpolation of its side nodes.",
-    )
-    def P01Method(self, index):
-        self.SetMethod(int(index))
-
-    @_doublevector(
-        name="TimeLimit",
-        label="Time Limit",
-        default_values=PANEL_TIME_LIMIT,
-        bounds={"min": 0.0},
-        hint=_method_is(MULTIBLOCK_METHODS, "pinn"),
-        doc=_TIME_LIMIT_DOC,
-    )
-    def P01TimeLimit(self, seconds):
-        self.SetTimeLimit(float(seconds))
-
-    @_doublevector(
-        name="CellSize",
-        label="Cell Size",
-        default_values=0.0,
-        bounds={"min": PARAMETER_CONSTRAINTS["cell_size"].low},
-        doc="Cell length in the boundary's units (0: the domain's diagonal / 40). A chain "
-        "of opposite sides through the blocks takes its longest side over the cell "
-        "size, rounded up, at least 2 cells.",
-    )
-    def P02CellSize(self, h):
-        self.SetCellSize(h)
-
-    @_intvector(
-        name="Interfaces",
-        default_values=0,
-        enum=INTERFACES,
-        doc="free: interface nodes are solved like interior nodes, so grid lines cross "
-        "the block edges smoothly (elliptic); fixed: they stay on the drawn edges.",
-    )
-    def P03Interfaces(self, index):
-        self.SetInterfaces(int(index))
-
-    @_stringvector(
-        name="PatchNames",
-        label="Patch Names",
-        default_values="",
-        doc="Names of boundary pieces (a piece runs between two block corners or "
-        "junctions), for solver formats and for First Edge Spacing and Orthogonal "
-        "Patches: items separated by spaces, X,Y=NAME[:TYPE] naming the piece nearest "
-        "(X, Y) (negative coordinates too), hole1=NAME[:TYPE] or boundary=NAME[:TYPE] "
-        "every piece of that ring, e.g. 'hole1=cylinder:wall -0.5,0=inlet:inflow'. "
-        "Pieces with the same name form one patch; unnamed pieces are boundary, hole1, "
-        "hole2, ...",
-    )
-    def P04PatchNames(self, text):
-        self.SetPatchNames(text)
-
-    @_stringvector(
-        name="FirstEdgeSpacing",
-        label="First Edge Spacing",
-        default_values="",
-        doc="Length of the first grid edge leaving a patch, in the boundary's units: "
-        "NAME=H items separated by spaces, e.g. 'cylinder=0.005' (empty: none); X,Y=H "
-        "items grade the blocks across the block side nearest (X, Y), interior ones "
-        "too: the cells on both sides H across it, growing along the chain by at most "
-        "1.25 a cell, e.g. '0.3,0.2=0.005'. The spacing grows smoothly away from the "
-        "patch (Vinokur's stretching); all methods (docs/multiblock.md).",
-    )
-    def P05FirstEdgeSpacing(self, text):
-        self.SetSpacing(text)
-
-    @_stringvector(
-        name="OrthogonalPatches",
-        label="Orthogonal Patches",
-        default_values="",
-        doc="Patches that grid lines leave at 90 degrees: names separated by commas, "
-        "e.g. 'cylinder' (empty: none); all methods.",
-    )
-    def P06OrthogonalPatches(self, text):
-        self.SetOrthogonal(text)
-
-    @_stringvector(
-        name="CellCounts",
-        label="Cell Counts",
-        default_values="",
-        doc="Cells along chosen chains of block sides: X,Y=N items separated by spaces, "
-        "each giving the chain through the block side nearest (X, Y) N cells, e.g. "
-        "'1.2,0.41=60' (empty: every chain from Cell Size). Opposite sides of every "
-        "block share a count.",
-    )
-    def P07CellCounts(self, text):
-        self.SetCells(text)
-
-    @_stringvector(
-        name="Gradings",
-        label="Gradings",
-        default_values="",
-        doc="Expansion ratios along chosen chains of block sides, as blockMesh grades: "
-        "X,Y=R items separated by spaces, each growing the cells along the chain through "
-        "the block side nearest (X, Y) geometrically, the last R times the first (the first "
-        "at that side's end nearest the point), e.g. '1.5,-2=4' (empty: none).",
-    )
-    def P08Gradings(self, text):
-        self.SetGradings(text)
-
-
-_HEXA_METHOD_DOCS = {
-    "tfi": "3D transfinite interpolation of the six face grids",
-    "elliptic": "the 3D Winslow equations solved to convergence from the TFI grid",
-    "pinn": "a physics-informed network trained on the 3D Winslow equations, the face "
-    "grids built in",
-}  # the Method help of PINN Structured Mesh (Hexahedral), for the methods settings.HEXA_METHODS has
 
 
 @_mesh_filter(
@@ -976,90 +535,13 @@ _HEXA_METHOD_DOCS = {
     "angles), ScaledJacobian and Folded; field data the report and the patch names "
     "(Patch Names; default imin ... kmax). Guide: docs/hexa.md of the pinn-mesh checkout.",
 )
+@_panel("hexa")
 class PINNStructuredMeshHexahedral(PinnHexaAlgorithm):
     """The ParaView face of :class:`pinn_engine.routes.hexa_algorithm.PinnHexaAlgorithm`."""
 
     def __init__(self):
         super().__init__()
         _watch_displays()
-
-    @_intvector(
-        name="Method",
-        default_values=HEXA_METHODS.index(HEXA_METHOD),
-        enum=HEXA_METHODS,
-        doc="; ".join(f"{m}: {_HEXA_METHOD_DOCS[m]}" for m in HEXA_METHODS) + ".",
-    )
-    def P01Method(self, index):
-        self.SetMethod(int(index))
-
-    @_intvector(
-        name="GridSize",
-        label="Grid Size",
-        default_values=list(HEXA_SIZE),
-        bounds={"min": MIN_HEXA_NODES},
-        doc="Nodes along i, j and k (at least 3 each).",
-    )
-    def P02GridSize(self, ni, nj, nk):
-        self.SetGridSize(ni, nj, nk)
-
-    @_doublevector(
-        name="TimeLimit",
-        label="Time Limit",
-        default_values=PANEL_TIME_LIMIT,
-        bounds={"min": 0.0},
-        hint=_method_is(HEXA_METHODS, "pinn"),
-        doc=_TIME_LIMIT_DOC,
-    )
-    def P02TimeLimit(self, seconds):
-        self.SetTimeLimit(float(seconds))
-
-    @_doublevector(
-        name="FaceAngle",
-        label="Face Angle",
-        default_values=FACE_ANGLE,
-        bounds={"min": 1.0, "max": 179.0},
-        doc="For a surface without a FaceId cell array (an STL file): its faces are the "
-        "regions between edges where neighbouring triangles' normals differ by more than "
-        "this many degrees; there must be six. Ignored when the input has FaceId.",
-    )
-    def P03FaceAngle(self, degrees):
-        self.SetFaceAngle(float(degrees))
-
-    @_stringvector(
-        name="PatchNames",
-        label="Patch Names",
-        default_values="",
-        doc="Boundary patch names of the six faces for solver formats (File > Save Data: "
-        "PLOT3D, CGNS, SU2, Gmsh, OpenFOAM): six names for imin, imax, jmin, jmax, kmin "
-        "and kmax, or SIDE=NAME[:TYPE] items, SIDE one of those or faceN (the input face "
-        "whose FaceId is N; Output Messages lists which side each face became), such as "
-        "'face2=inlet:inflow kmin=floor:wall' (empty: the faces' own names). Faces with "
-        "the same name form one patch.",
-    )
-    def P03PatchNames(self, text):
-        self.SetPatchNames(text)
-
-    @_stringvector(
-        name="FirstEdgeSpacing",
-        label="First Edge Spacing",
-        default_values="",
-        doc="Length of the first grid edge leaving a face, in the surface's units: PATCH=H "
-        "items separated by spaces, PATCH one of imin, imax, jmin, jmax, kmin, kmax, "
-        "e.g. 'kmin=0.002' (empty: none). The spacing grows smoothly away from the face; "
-        "all methods (docs/hexa.md).",
-    )
-    def P04FirstEdgeSpacing(self, text):
-        self.SetSpacing(text)
-
-    @_stringvector(
-        name="OrthogonalPatches",
-        label="Orthogonal Patches",
-        default_values="",
-        doc="Faces that grid lines leave at 90 degrees: imin, imax, jmin, jmax, kmin or kmax "
-        "separated by commas, e.g. 'kmin' (empty: none); elliptic and pinn.",
-    )
-    def P05OrthogonalPatches(self, text):
-        self.SetOrthogonal(text)
 
 
 @smproxy.reader(

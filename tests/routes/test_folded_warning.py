@@ -25,6 +25,7 @@ from pinn_engine.io.pipeline import load_boundary
 from pinn_engine.kinds.four_sided.mesher import Mesher
 from pinn_engine.routes.algorithm import PinnMeshAlgorithm
 from pinn_engine.routes.cli import build_parser, main
+from pinn_engine.routes.panel import PANELS
 from pinn_engine.routes.pyvista_accessor import pinn_mesh
 from pinn_engine.settings import METHODS, Settings, make_settings
 
@@ -108,8 +109,10 @@ def test_paraview_hint_names_labels_of_the_filter_panel(method, settings):
     text = folded_cells_warning(report(method, **settings), "paraview")
     assert "the grid is produced anyway" in text and "--" not in text and "=" not in text
     plugin = (ROOT / "plugin" / "pinn_mesh_plugin.py").read_text()
-    labels = set(re.findall(r'label="([^"]+)"', plugin))
+    labels = set(re.findall(r'label="([^"]+)"', plugin))  # the inputs' and sources' labels
     labels |= set(re.findall(r'name="(\w+)"', plugin))  # no label: ParaView shows the name
+    panels = [prop for panel in PANELS.values() for prop in panel]  # the filters' properties
+    labels |= {prop.shown or prop.name for prop in panels}
     hint = text.split("; try ", 1)[1]
     named = re.findall(r"[A-Z][\w-]*(?: [A-Z][\w-]*)*", hint)  # capitalised: the labels
     assert named and all(label in labels for label in named), named
