@@ -147,6 +147,28 @@ def _per_preset(setting: str, vector: str, number: str, **kw) -> tuple[Property,
     return out[0], out[1]
 
 
+def _text(method: str, name: str, doc: str, call: str, option: str) -> Property:
+    """A property of ``option`` typed as text (items the algorithm's ``call`` parses),
+    empty by default."""
+    return Property(method, name, "string", "", doc, call, option=option, convert=str)
+
+
+def _time_limit(method: str, methods: tuple[str, ...]) -> Property:
+    """The Time Limit of a filter whose Method enumerates ``methods``: shown for pinn."""
+    return Property(
+        method,
+        "TimeLimit",
+        "double",
+        PANEL_TIME_LIMIT,
+        _TIME_LIMIT_DOC,
+        "SetTimeLimit",
+        option="time_limit",
+        convert=float,
+        bounds={"min": 0.0},
+        hint=method_is(methods, "pinn"),
+    )
+
+
 _TIME_LIMIT_DOC = (
     "Seconds of training, then the grid of the best state so far is produced with a warning "
     "(0: no limit). ParaView 5.11 handles no event while a filter runs, so its progress "
@@ -420,18 +442,7 @@ BLOCKS_PANEL = (
         "SetMethod",
         enum=MULTIBLOCK_METHODS,
     ),
-    Property(
-        "P01TimeLimit",
-        "TimeLimit",
-        "double",
-        PANEL_TIME_LIMIT,
-        _TIME_LIMIT_DOC,
-        "SetTimeLimit",
-        option="time_limit",
-        convert=float,
-        bounds={"min": 0.0},
-        hint=method_is(MULTIBLOCK_METHODS, "pinn"),
-    ),
+    _time_limit("P01TimeLimit", MULTIBLOCK_METHODS),
     Property(
         "P02CellSize",
         "CellSize",
@@ -455,11 +466,9 @@ BLOCKS_PANEL = (
         "SetInterfaces",
         enum=INTERFACES,
     ),
-    Property(
+    _text(
         "P04PatchNames",
         "PatchNames",
-        "string",
-        "",
         "Names of boundary pieces (a piece runs between two block corners or junctions), for "
         "solver formats and for First Edge Spacing and Orthogonal Patches: items separated "
         "by spaces, X,Y=NAME[:TYPE] naming the piece nearest (X, Y) (negative coordinates "
@@ -467,14 +476,11 @@ BLOCKS_PANEL = (
         "'hole1=cylinder:wall -0.5,0=inlet:inflow'. Pieces with the same name form one "
         "patch; unnamed pieces are boundary, hole1, hole2, ...",
         "SetPatchNames",
-        option="patches",
-        convert=lambda text: text,
+        "patches",
     ),
-    Property(
+    _text(
         "P05FirstEdgeSpacing",
         "FirstEdgeSpacing",
-        "string",
-        "",
         "Length of the first grid edge leaving a patch, in the boundary's units: NAME=H items "
         "separated by spaces, e.g. 'cylinder=0.005' (empty: none); X,Y=H items grade the "
         "blocks across the block side nearest (X, Y), interior ones too: the cells on both "
@@ -482,44 +488,34 @@ BLOCKS_PANEL = (
         "'0.3,0.2=0.005'. The spacing grows smoothly away from the patch (Vinokur's "
         "stretching); all methods (docs/multiblock.md).",
         "SetSpacing",
-        option="spacing",
-        convert=lambda text: text,
+        "spacing",
     ),
-    Property(
+    _text(
         "P06OrthogonalPatches",
         "OrthogonalPatches",
-        "string",
-        "",
         "Patches that grid lines leave at 90 degrees: names separated by commas, e.g. "
         "'cylinder' (empty: none); all methods.",
         "SetOrthogonal",
-        option="orthogonal",
-        convert=lambda text: text,
+        "orthogonal",
     ),
-    Property(
+    _text(
         "P07CellCounts",
         "CellCounts",
-        "string",
-        "",
         "Cells along chosen chains of block sides: X,Y=N items separated by spaces, each "
         "giving the chain through the block side nearest (X, Y) N cells, e.g. '1.2,0.41=60' "
         "(empty: every chain from Cell Size). Opposite sides of every block share a count.",
         "SetCells",
-        option="cells",
-        convert=lambda text: text,
+        "cells",
     ),
-    Property(
+    _text(
         "P08Gradings",
         "Gradings",
-        "string",
-        "",
         "Expansion ratios along chosen chains of block sides, as blockMesh grades: X,Y=R "
         "items separated by spaces, each growing the cells along the chain through the block "
         "side nearest (X, Y) geometrically, the last R times the first (the first at that "
         "side's end nearest the point), e.g. '1.5,-2=4' (empty: none).",
         "SetGradings",
-        option="grading",
-        convert=lambda text: text,
+        "grading",
     ),
 )
 
@@ -553,18 +549,7 @@ HEXA_PANEL = (
         convert=lambda n: n,
         bounds={"min": MIN_HEXA_NODES},
     ),
-    Property(
-        "P02TimeLimit",
-        "TimeLimit",
-        "double",
-        PANEL_TIME_LIMIT,
-        _TIME_LIMIT_DOC,
-        "SetTimeLimit",
-        option="time_limit",
-        convert=float,
-        bounds={"min": 0.0},
-        hint=method_is(HEXA_METHODS, "pinn"),
-    ),
+    _time_limit("P02TimeLimit", HEXA_METHODS),
     Property(
         "P03FaceAngle",
         "FaceAngle",
@@ -578,11 +563,9 @@ HEXA_PANEL = (
         convert=float,
         bounds={"min": 1.0, "max": 179.0},
     ),
-    Property(
+    _text(
         "P03PatchNames",
         "PatchNames",
-        "string",
-        "",
         "Boundary patch names of the six faces for solver formats (File > Save Data: PLOT3D, "
         "CGNS, SU2, Gmsh, OpenFOAM): six names for imin, imax, jmin, jmax, kmin and kmax, or "
         "SIDE=NAME[:TYPE] items, SIDE one of those or faceN (the input face whose FaceId is "
@@ -590,32 +573,25 @@ HEXA_PANEL = (
         "'face2=inlet:inflow kmin=floor:wall' (empty: the faces' own names). Faces with the "
         "same name form one patch.",
         "SetPatchNames",
-        option="patches",
-        convert=lambda text: text,
+        "patches",
     ),
-    Property(
+    _text(
         "P04FirstEdgeSpacing",
         "FirstEdgeSpacing",
-        "string",
-        "",
         "Length of the first grid edge leaving a face, in the surface's units: PATCH=H items "
         "separated by spaces, PATCH one of imin, imax, jmin, jmax, kmin, kmax, e.g. "
         "'kmin=0.002' (empty: none). The spacing grows smoothly away from the face; all "
         "methods (docs/hexa.md).",
         "SetSpacing",
-        option="spacing",
-        convert=lambda text: text,
+        "spacing",
     ),
-    Property(
+    _text(
         "P05OrthogonalPatches",
         "OrthogonalPatches",
-        "string",
-        "",
         "Faces that grid lines leave at 90 degrees: imin, imax, jmin, jmax, kmin or kmax "
         "separated by commas, e.g. 'kmin' (empty: none); elliptic and pinn.",
         "SetOrthogonal",
-        option="orthogonal",
-        convert=lambda text: text,
+        "orthogonal",
     ),
 )
 
