@@ -249,7 +249,7 @@ class FamilyModel:
         """Write the model to ``path`` (a torch file) atomically."""
         import torch
 
-        from pinn_engine import __version__
+        from pinn_engine._version import __version__
         from pinn_engine.io.fileio import atomic_path
 
         def t(a):

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from pinn_engine import __version__
+from pinn_engine._version import __version__
 from pinn_engine.classical.warm import WarmStart
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import Boundary, Frame

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
-from pinn_engine import __version__
+from pinn_engine._version import __version__
 from pinn_engine.errors import InputError
 from pinn_engine.hexa import quality
 from pinn_engine.hexa.field import LatticeField, node_points
