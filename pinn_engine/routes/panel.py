@@ -39,6 +39,12 @@ _PAPER = make_settings("pinn", "paper")
 TOPOLOGY_ENTRIES = ("Four-sided domain", "O-grid", "C-grid", "Automatic")  # SetTopology's order
 
 
+def as_given(value):
+    """A value as ParaView passes it (the algorithm's method converts it itself; an emptied
+    text comes as None)."""
+    return value
+
+
 def _visible(prop: str, values: str, key: str = "values") -> str:
     """Shown only while the property ``prop`` has one of ``values`` (indices)."""
     return (
@@ -120,37 +126,34 @@ def _setting(setting: str, vector: str, **kw) -> Property:
     return Property(vector=vector, **{**base, **kw})
 
 
-def _per_preset(setting: str, vector: str, number: str, **kw) -> tuple[Property, Property]:
+def _per_preset(setting: str, vector: str, number: str, **kw) -> tuple[Property, ...]:
     """The two properties of ``setting``, one per preset (default, paper), each shown under
-    its own; ``number`` orders them."""
-    convert = {"int": int, "double": float}[vector]
-    option = NAMES[setting]
-    names = (option.label.replace(" ", "").replace("-", ""), None)
-    out = []
-    for index, (preset, settings) in enumerate((("default", _DEFAULTS), ("paper", _PAPER))):
-        prefix = "" if preset == "default" else "Paper"
-        label = None if preset == "default" else f"Paper {option.label}"
-        out.append(
-            Property(
-                method=f"P{number}{prefix}{names[0]}",
-                name=f"{prefix}{names[0]}",
-                vector=vector,
-                default=getattr(settings, setting),
-                call="SetPresetSetting",
-                before=(preset, setting),
-                convert=convert,
-                option=setting,
-                label=label,
-                **{k: v[index] if isinstance(v, tuple) else v for k, v in kw.items()},
-            )
+    its own (its label then "Paper ..."); ``number`` orders them, and a pair ``(default's,
+    paper's)`` among ``kw`` gives each its own."""
+    label = NAMES[setting].label
+    name = label.replace(" ", "").replace("-", "")  # Adam Epochs: AdamEpochs
+    presets = (("", "default", _DEFAULTS), ("Paper", "paper", _PAPER))
+    return tuple(
+        Property(
+            method=f"P{number}{prefix}{name}",
+            name=f"{prefix}{name}",
+            vector=vector,
+            default=getattr(settings, setting),
+            call="SetPresetSetting",
+            before=(preset, setting),
+            convert={"int": int, "double": float}[vector],
+            option=setting,
+            label=f"{prefix} {label}" if prefix else None,
+            **{k: v[index] if isinstance(v, tuple) else v for k, v in kw.items()},
         )
-    return out[0], out[1]
+        for index, (prefix, preset, settings) in enumerate(presets)
+    )
 
 
 def _text(method: str, name: str, doc: str, call: str, option: str) -> Property:
     """A property of ``option`` typed as text (items the algorithm's ``call`` parses),
     empty by default."""
-    return Property(method, name, "string", "", doc, call, option=option, convert=str)
+    return Property(method, name, "string", "", doc, call, option=option, convert=as_given)
 
 
 def _time_limit(method: str, methods: tuple[str, ...]) -> Property:
@@ -200,7 +203,7 @@ FOUR_SIDED_PANEL = (
         "SetGridSize",
         option="size",
         bounds={"min": 2, "max": MAX_SIDE_NODES},
-        convert=lambda n: n,
+        convert=as_given,
     ),
     Property(
         "P03Preset",
@@ -299,7 +302,7 @@ FOUR_SIDED_PANEL = (
         "automatically (the four sharpest turns).",
         "SetCorners",
         option="corners",
-        convert=lambda i: i,
+        convert=as_given,
     ),
     _setting(
         "objective",
@@ -341,7 +344,7 @@ FOUR_SIDED_PANEL = (
         "Far-field circle radius in chords about mid-chord.",
         "SetFarFieldRadius",
         option="farfield",
-        convert=lambda r: r,
+        convert=as_given,
         bounds={"min": PARAMETER_CONSTRAINTS["farfield"].low},
         hint=BODY,
     ),
@@ -355,7 +358,7 @@ FOUR_SIDED_PANEL = (
         "SetWallSpacing",
         option="spacing",
         label="Wall Spacing",
-        convert=lambda h: h,
+        convert=as_given,
         bounds={"min": 0.0},
         hint=BODY,
     ),
@@ -397,7 +400,7 @@ FOUR_SIDED_PANEL = (
         "such as 'bottom=wall top=wall'. Sides with the same name form one patch.",
         "SetPatchNames",
         option="patches",
-        convert=lambda text: text,
+        convert=as_given,
     ),
     Property(
         "P21Model",
@@ -453,7 +456,7 @@ BLOCKS_PANEL = (
         "rounded up, at least 2 cells.",
         "SetCellSize",
         option="cell_size",
-        convert=lambda h: h,
+        convert=as_given,
         bounds={"min": PARAMETER_CONSTRAINTS["cell_size"].low},
     ),
     Property(
@@ -546,7 +549,7 @@ HEXA_PANEL = (
         f"Nodes along i, j and k (at least {MIN_HEXA_NODES} each).",
         "SetGridSize",
         option="size",
-        convert=lambda n: n,
+        convert=as_given,
         bounds={"min": MIN_HEXA_NODES},
     ),
     _time_limit("P02TimeLimit", HEXA_METHODS),
