@@ -207,7 +207,7 @@ def run_single(
             # a four-sided run's: not a body's import
             from pinn_engine.kinds.four_sided.mesher import Mesher
 
-            mesher = Mesher.load(model, geometry.boundary)
+            mesher, result = Mesher.load(model, geometry.boundary), None
         else:
             cache = cache if cache is not None else MeshCache(capacity=1)
             mesher, trained, result = _cached(cache, geometry, settings, ni, nj, progress)
