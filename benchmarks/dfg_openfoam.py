@@ -52,6 +52,12 @@ def run(
         check=True,
     )
     found = dict(zip(*[iter(proc.stdout.split("\n")[-2].split())] * 2))
+    return {**logged(case), **{k: float(v) for k, v in found.items()}}
+
+
+def logged(case: Path) -> dict:
+    """A solved case's cells, checkMesh's largest non-orthogonality, the SIMPLE iterations
+    (None: not converged) and seconds of simpleFoam, from its logs."""
     check = (case / "log.checkMesh").read_text()
     log = (case / "log.simpleFoam").read_text()
     times = re.findall(r"ExecutionTime = ([0-9.]+) s", log)
@@ -61,7 +67,6 @@ def run(
         "non_orthogonality": float(re.search(r"non-orthogonality Max: ([0-9.]+)", check)[1]),
         "iterations": int(done[1]) if done else None,
         "seconds": float(times[-1]) if times else float("nan"),
-        **{k: float(v) for k, v in found.items()},
     }
 
 

@@ -10,8 +10,8 @@ import numpy as np
 SMOOTHING_PASSES = 2
 
 
-def cell_gradients(points: np.ndarray, cells: np.ndarray, f: np.ndarray) -> np.ndarray:
-    """|grad f| at each cell's centre (the bilinear map's Jacobian there), cells (m, 4)
+def cell_gradient_vectors(points: np.ndarray, cells: np.ndarray, f: np.ndarray) -> np.ndarray:
+    """grad f (m, 2) at each cell's centre (the bilinear map's Jacobian there), cells (m, 4)
     counter-clockwise."""
     p, v = points[cells], f[cells]
     x_xi = 0.5 * (p[:, 1] - p[:, 0] + p[:, 2] - p[:, 3])
@@ -22,7 +22,13 @@ def cell_gradients(points: np.ndarray, cells: np.ndarray, f: np.ndarray) -> np.n
     jac = np.where(np.abs(jac) > 1e-300, jac, 1e-300)
     gx = (f_xi * x_eta[:, 1] - f_eta * x_xi[:, 1]) / jac
     gy = (-f_xi * x_eta[:, 0] + f_eta * x_xi[:, 0]) / jac
-    return np.hypot(gx, gy)
+    return np.column_stack([gx, gy])
+
+
+def cell_gradients(points: np.ndarray, cells: np.ndarray, f: np.ndarray) -> np.ndarray:
+    """|grad f| at each cell's centre."""
+    g = cell_gradient_vectors(points, cells, f)
+    return np.hypot(g[:, 0], g[:, 1])
 
 
 def to_nodes(cells: np.ndarray, values: np.ndarray, n: int) -> np.ndarray:
