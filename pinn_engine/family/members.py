@@ -61,7 +61,7 @@ class Member:
     body: object | None = None  # bodies.airfoil.Body
     far: object | None = None  # bodies.airfoil.FarField
     settings: dict | None = None  # the run's settings that a family's members share
-    optimised: bool = False  # its own run optimises its nodes (the quality objective's start)
+    optimised: bool = False  # its own run optimises its nodes (the default objective)
     elliptic: np.ndarray | None = None  # a four-sided member's elliptic grid, once solved
 
     @property
@@ -98,9 +98,16 @@ def member_of(
     start = mesh_body(
         body, far, settings.topology, "elliptic", ni, nj, settings, settings.wall_spacing
     )
+    from pinn_engine.kinds.body.untrained import WALL, body_cannot_win
+
     frame = Frame(origin=np.asarray(body.mid_chord, dtype=float), scale=float(body.chord))
     base = frame.to_unit(start.points)
     shared = family_settings(settings)
+    # its own run optimises its nodes (the default objective); the wall cells' aspect is not
+    # known here, so a thin-walled member (whose run keeps its elliptic grid) is optimised
+    # too, and its ranking keeps it no worse than that grid
+    optimised = body_cannot_win(settings, 0.0) == WALL
     return Member(
-        "body", settings.topology, base, frame, body.source, None, start, body, far, shared
-    )
+        "body", settings.topology, base, frame, body.source, None, start, body, far, shared,
+        optimised,
+    )  # fmt: skip

@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from pinn_engine.family.members import Member, member_of
-from pinn_engine.family.model import FamilyModel, load_family
+from pinn_engine.family.model import POLISH_STALL, FamilyModel, load_family
 from pinn_engine.quality import boundary_nodes, cell_quality, side_report, summary
 from pinn_engine.result import MeshResult
 from pinn_engine.settings import Settings
@@ -109,7 +109,10 @@ def mesh_member(
             break
     reference, polished_from = None, None
     vouched = model.winslow and defect is not None and defect <= DEFECT_TOL
-    if model.polish:
+    if model.polish and member.start is not None:
+        grid, polished_from = _body_polished(member, grid)
+        vouched = True  # its ranking keeps it no worse than the member's elliptic start
+    elif model.polish:
         grid, reference, vouched, polished_from = _polished(model, member, grid)
     points = member.frame.to_user(grid)
     cells = cell_quality(points)
@@ -181,10 +184,21 @@ def _polished(
     ranking = Ranking.of(elliptic, (), member.boundary.diagonal)
     (begin, name), ranking = best_candidate(elliptic, member.base, ranking)
     with one_thread():  # its L-BFGS, as the member's own run's
-        polished = optimize_nodes(grid, ranking, model.polish)
+        polished = optimize_nodes(grid, ranking, model.polish, stall=POLISH_STALL)
     ranks = ranking.key(ranking.quality(polished)) <= ranking.key(ranking.quality(begin))
     begin_figures = {k: v for k, v in ranking.quality(begin).items() if k in _FIGURES}
     return polished, begin_figures, ranks, name
+
+
+def _body_polished(member: Member, grid: np.ndarray) -> tuple[np.ndarray, str]:
+    """A body's grid as its own run chooses it (quality_start.body_quality_start: its
+    elliptic grid, or that optimised where it ranks better), the optimisation started from
+    the model's ``grid``, and the name of the grid chosen."""
+    from pinn_engine.blas import one_thread
+    from pinn_engine.starts.quality_start import body_quality_start
+
+    with one_thread():  # its L-BFGS, as the member's own run's
+        return body_quality_start(member.base, member.topology == "o", begin=grid)
 
 
 def _start_grid(member: Member, settings: Settings) -> tuple[np.ndarray, np.ndarray, dict]:

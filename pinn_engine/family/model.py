@@ -9,9 +9,10 @@ family the base is the family's linearised elliptic grid (physics.py: the Winslo
 frozen at the members' mean grid, solved with the member's boundary nodes), and where the
 family's grids solve the Winslow equations, one more linearised solve at the predicted grid
 takes it to second order towards the member's own. Where they are node optima (the default's
-four-sided grids) the base is the member's own elliptic grid, the network the linear map alone
-(network.fit_linear), and the member's own node optimisation finishes the grid in
-``POLISH_ITERATIONS`` iterations (mesh.py).
+four-sided grids and bodies) the base is the member's own elliptic grid, the network the
+linear map alone (network.fit_linear), and the member's own node optimisation finishes the
+grid: ``POLISH_ITERATIONS`` iterations of a four-sided member's, a body's own run's
+optimisation from the model's grid (mesh.py).
 """
 
 from __future__ import annotations
@@ -42,6 +43,11 @@ EPOCHS = 1500  # Adam's full-batch epochs: about 1 s for 24 members on one core
 # of its own default grid's worst angle and mean (50 left one 0.67 above on the mean), where
 # its own run takes 100 (up to 300 evaluations) from its best start
 POLISH_ITERATIONS = 60
+# ... and it stops once this many iterations found no better-ranked state, as a body's own
+# optimisation does (quality_start.BODY_STALL): from the model's grid, near the optimum,
+# measured on the 16 unseen channels of docs/family.md, the polish took about 0.8 of the
+# time of all 60, every worst and mean still within the bounds of the member's own grid
+POLISH_STALL = 10
 # A node-optimum family's member's elliptic grid by chord steps (FamilyModel._elliptic): they
 # stop when no node moves more than ELLIPTIC_TOL of the extent (a grid that far from the
 # converged one changes no angle by a thousandth of the ranking's 0.01-degree step; the
@@ -114,9 +120,13 @@ class FamilyModel:
         encoding = Encoding.fit(np.array([boundary_vector(m.base, m.kind) for m in members]))
         targets = [np.asarray(t, dtype=float) for t in targets]
         winslow = first.kind == "four-sided" and solves_winslow(targets)
-        polish = POLISH_ITERATIONS if first.optimised and not winslow else 0
+        polish = 0
+        if first.optimised and not winslow:  # a body: its own run's optimisation, its stop
+            from pinn_engine.starts.quality_start import NODE_ITERATIONS
+
+            polish = POLISH_ITERATIONS if first.kind == "four-sided" else NODE_ITERATIONS
         mean_grid = None
-        if polish:  # the base: each member's own elliptic grid, solved here
+        if polish and first.kind == "four-sided":  # the base: each member's elliptic grid
             from pinn_engine.starts.warmstart import elliptic_start
 
             for m in members:

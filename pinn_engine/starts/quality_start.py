@@ -226,13 +226,17 @@ def candidates(
     return found, ranking
 
 
-def body_quality_start(elliptic: np.ndarray, seam: bool) -> tuple[np.ndarray, str]:
+def body_quality_start(
+    elliptic: np.ndarray, seam: bool, begin: np.ndarray | None = None
+) -> tuple[np.ndarray, str]:
     """The better ranked (no lines) of a body's (O- or C-grid's) elliptic grid and that grid
     with its nodes optimised (:func:`optimize_nodes`), the wall's row and the first layer
     held (``BODY_HELD_ROWS``), with its name; ``seam``: an O-grid's (column ni - 1 is
-    column 0)."""
+    column 0); ``begin``: the grid the optimisation starts from instead (a family model's,
+    on the same wall, first layer and far field)."""
     ranking = Ranking.of(elliptic, [], 1.0)
-    optimized = optimize_nodes(elliptic, ranking, NODE_ITERATIONS, BODY_HELD_ROWS, seam, BODY_STALL)
+    begin = elliptic if begin is None else begin
+    optimized = optimize_nodes(begin, ranking, NODE_ITERATIONS, BODY_HELD_ROWS, seam, BODY_STALL)
     if worst_non_orthogonality(optimized) > worst_non_orthogonality(elliptic):
         return elliptic, "elliptic"  # less orthogonal where a solver's faces meet
     candidates = [(elliptic, "elliptic"), (optimized, "optimized")]

@@ -198,3 +198,41 @@ def test_a_polished_grid_below_the_members_own_start_falls_back(optima, monkeypa
     training = by_model.report["training"]
     assert training["result"] == "start" and training["start_solved"]
     np.testing.assert_allclose(by_model.grids[0], job.run(DEFAULT, g).grids[0], atol=1e-12)
+
+
+# a family of O-grids under the default (its members' nodes optimised where that ranks
+# better): the model's grid is the start of the member's own optimisation
+BODY_SIZE = (65, 17)
+SECTIONS = ("0010", "1412", "2412", "2415", "4412", "4415")
+
+
+def naca(code: str) -> tuple:
+    settings = make_settings("pinn", size=BODY_SIZE, topology="o", naca=code)
+    return settings, job.geometry_from_files(settings, None)
+
+
+def test_a_body_family_polishes_as_its_members_own_run_chooses():
+    """An O-grid family: the member's own choice (its elliptic grid, or that optimised where
+    it ranks better), its optimisation started from the model's grid; the wall and far field
+    are its own run's nodes, no fold, its own grid's quality within the check's bounds."""
+    members, targets = [], []
+    for code in SECTIONS:
+        settings, g = naca(code)
+        member = job.family_member(settings, g)
+        members.append(member)
+        targets.append(job.member_target(member, job.run(settings, g)))
+    model = job.fit_family_model(members, targets, "--topology o --size 65 17")
+    assert model.polish > 0 and model.report["polish_iterations"] == model.polish
+    settings, g = naca("3413")
+    own = job.run(settings, g)
+    by_model = job.run(settings, g, family=model)
+    training = by_model.report["training"]
+    assert training["result"] == "family"
+    assert training["polished_against"] in ("elliptic", "optimized")
+    a, b = own.grids[0], by_model.grids[0]
+    np.testing.assert_allclose(b[0], a[0], atol=1e-12)  # the wall
+    np.testing.assert_allclose(b[-1], a[-1], atol=1e-12)  # the far field
+    q, ref = by_model.quality, own.quality
+    assert q["folded_cells"] == 0
+    assert q["worst_max_angle"] <= ref["worst_max_angle"] + 2
+    assert q["mean_max_angle"] <= ref["mean_max_angle"] + 0.5
