@@ -8,6 +8,7 @@ from __future__ import annotations
 import inspect
 
 import pytest
+import pyvista as pv
 from helpers import EXAMPLES
 
 from pinn_engine import job
@@ -70,7 +71,7 @@ def test_the_messages_words_are_the_tables():
 
 def test_an_option_a_kind_does_not_take_is_refused_on_each_route(tmp_path, capsys):
     """--cells is a multi-block option (``job.only_for``): refused on a four-sided run; a
-    body refuses the four-sided domain's --corners; the keyword refusals are pyvista's."""
+    body refuses the four-sided domain's --corners, and pyvista's corners=."""
     assert "cells" in job.only_for("blocks", "four-sided", "body")
     assert "corners" in job.only_for("four-sided", "body")
     out = tmp_path / "g.vts"
@@ -82,3 +83,5 @@ def test_an_option_a_kind_does_not_take_is_refused_on_each_route(tmp_path, capsy
     assert main(argv) == 2
     assert "--corners applies to four-sided domains, not to --topology" in capsys.readouterr().err
     assert not out.exists()
+    with pytest.raises(InputError, match=r"^corners= applies to four-sided domains, not to topo"):
+        pv.PolyData().pinn_mesh(naca="0012", topology="o", corners=[0, 1, 2, 3], method="tfi")

@@ -264,6 +264,10 @@ class PinnMeshAccessor:
             for name in only_for("blocks", "four-sided", "body"):
                 if name in given:
                     raise InputError(f"{name}= applies to multi-block domains (with blocks=)")
+            body = topology in ("o", "c") or naca is not None
+            for name in only_for("four-sided", "body") if body else ():
+                if name in given:
+                    raise InputError(f"{name}= applies to four-sided domains, not to topology=")
             body_free = naca is not None and self._mesh.n_points == 0  # pv.PolyData()
             self.last = pinn_mesh(
                 None if body_free else self._mesh,
