@@ -69,8 +69,9 @@ def verdict(grid: np.ndarray, topology: str, n_wake: int) -> tuple[str, dict]:
     return ("non-convex" if q["worst_max_angle"] >= 180 else "clean"), q
 
 
-def pinn_mesh(path: Path, topology: str, method: str) -> dict:
-    """pinn-mesh's grid of ``path``: class, figures, seconds, the report's cut (if any)."""
+def pinn_mesh(path: Path, topology: str, method: str, keep: bool = False) -> dict:
+    """pinn-mesh's grid of ``path``: class, figures, seconds, the report's cut (if any), and
+    with ``keep`` the grid (nj, ni, 2)."""
     t0 = time.perf_counter()
     try:
         with warnings.catch_warnings():
@@ -94,7 +95,8 @@ def pinn_mesh(path: Path, topology: str, method: str) -> dict:
         return {"class": "refused", "why": str(exc), "seconds": time.perf_counter() - t0}
     seconds = time.perf_counter() - t0
     kind, q = verdict(r.points, topology, r.report["topology"]["wake_nodes"])
-    return {"class": kind, **q, "seconds": seconds, "cut": r.report["topology"].get("cut")}
+    out = {"class": kind, **q, "seconds": seconds, "cut": r.report["topology"].get("cut")}
+    return {**out, "grid": r.points} if keep else out
 
 
 def read_p3d(path: Path) -> np.ndarray:
@@ -104,8 +106,11 @@ def read_p3d(path: Path) -> np.ndarray:
     return np.stack([v[: ni * nj].reshape(nj, ni), v[ni * nj :].reshape(nj, ni)], axis=-1)
 
 
-def construct2d(exe: str, path: Path, topology: str, yplus: float, work: Path) -> dict:
-    """Construct2D's grid of ``path`` at the topology's size: class, figures, seconds."""
+def construct2d(
+    exe: str, path: Path, topology: str, yplus: float, work: Path, keep: bool = False
+) -> dict:
+    """Construct2D's grid of ``path`` at the topology's size: class, figures, seconds, and
+    with ``keep`` the grid (nj, ni, 2)."""
     ni, nj = SIZES[topology]
     nsrf = ni if topology == "o" else ni - 2 * C2D_WAKE
     topo = "OGRD" if topology == "o" else "CGRD"
@@ -140,7 +145,7 @@ def construct2d(exe: str, path: Path, topology: str, yplus: float, work: Path) -
         same = np.all(np.isclose(row, row[::-1], atol=1e-12), axis=1)
         n_wake = int(np.argmin(same[: len(row) // 2])) - 1
     kind, q = verdict(g, topology, max(n_wake, 0))
-    return {"class": kind, **q, "seconds": seconds}
+    return {"class": kind, **q, "seconds": seconds, **({"grid": g} if keep else {})}
 
 
 def calibrate(exe: str, work: Path) -> float:
