@@ -27,7 +27,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.interpolate import CubicSpline
+from scipy.interpolate import CubicSpline, PPoly
 
 from pinn_engine.adapt.monitor import gradient_size, monitor_values
 from pinn_engine.adapt.nodes import NodeGraph
@@ -46,6 +46,18 @@ FOOT_STEPS = 3  # Newton steps to a grid line's foot on a boundary curve, from t
 MIN_GAP = 0.05
 
 
+def _jet(curve: CubicSpline) -> PPoly:
+    """One piecewise polynomial of ``curve``'s point, first and second derivative side by
+    side (n, 6): a Newton step of :meth:`Piece.foot` evaluates it once, not three splines
+    (the sliding's cost is the calls). The derivatives' coefficients are padded with zeros
+    at the highest powers, which adds exact zeros: the values are the splines' own."""
+    c = np.zeros(curve.c.shape[:2] + (6,))
+    c[..., :2] = curve.c
+    for k, order in ((2, 1), (4, 2)):
+        c[order:, :, k : k + 2] = curve.derivative(order).c
+    return PPoly(c, curve.x)
+
+
 class Piece:
     """A boundary piece's curve (a not-a-knot spline through its unadapted nodes in arc
     length: a straight piece stays straight, a curve is followed to fourth order), its
@@ -58,7 +70,7 @@ class Piece:
         self.s = np.concatenate([[0.0], np.cumsum(steps)])
         kind = "not-a-knot" if len(ids) > 3 else "natural"
         self.curve = CubicSpline(self.s, points[ids], bc_type=kind)
-        self.d1, self.d2 = self.curve.derivative(1), self.curve.derivative(2)
+        self.jet = _jet(self.curve)
         # each node's distance along the curve from its grid line's foot in the unadapted
         # grid: kept, so that the unadapted grid is where the sliding starts from and stays
         self.offset = np.zeros(len(ids))
@@ -76,8 +88,8 @@ class Piece:
         """Arc lengths of the feet on the curve of points ``p`` near arc lengths ``s``
         (Newton's steps on the squared distance)."""
         for _ in range(FOOT_STEPS):
-            r = self.curve(s) - p
-            t, c = self.d1(s), self.d2(s)
+            jet = self.jet(s)
+            r, t, c = jet[:, :2] - p, jet[:, 2:4], jet[:, 4:]
             s = s - np.einsum("nk,nk->n", r, t) / np.maximum(
                 np.einsum("nk,nk->n", t, t) + np.einsum("nk,nk->n", r, c), 1e-300
             )
