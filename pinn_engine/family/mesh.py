@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from pinn_engine.family.members import Member, member_of
-from pinn_engine.family.model import POLISH_STALL, FamilyModel, load_family
+from pinn_engine.family.model import FamilyModel, load_family
 from pinn_engine.quality import boundary_nodes, cell_quality, side_report, summary
 from pinn_engine.result import MeshResult
 from pinn_engine.settings import Settings
@@ -184,7 +184,7 @@ def _polished(
     ranking = Ranking.of(elliptic, (), member.boundary.diagonal)
     (begin, name), ranking = best_candidate(elliptic, member.base, ranking)
     with one_thread():  # its L-BFGS, as the member's own run's
-        polished = optimize_nodes(grid, ranking, model.polish, stall=POLISH_STALL)
+        polished = optimize_nodes(grid, ranking, model.polish)
     ranks = ranking.key(ranking.quality(polished)) <= ranking.key(ranking.quality(begin))
     begin_figures = {k: v for k, v in ranking.quality(begin).items() if k in _FIGURES}
     return polished, begin_figures, ranks, name

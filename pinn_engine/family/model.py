@@ -43,11 +43,6 @@ EPOCHS = 1500  # Adam's full-batch epochs: about 1 s for 24 members on one core
 # of its own default grid's worst angle and mean (50 left one 0.67 above on the mean), where
 # its own run takes 100 (up to 300 evaluations) from its best start
 POLISH_ITERATIONS = 60
-# ... and it stops once this many iterations found no better-ranked state, as a body's own
-# optimisation does (quality_start.BODY_STALL): from the model's grid, near the optimum,
-# measured on the 16 unseen channels of docs/family.md, the polish took about 0.8 of the
-# time of all 60, every worst and mean still within the bounds of the member's own grid
-POLISH_STALL = 10
 # A node-optimum family's member's elliptic grid by chord steps (FamilyModel._elliptic): they
 # stop when no node moves more than ELLIPTIC_TOL of the extent (a grid that far from the
 # converged one changes no angle by a thousandth of the ranking's 0.01-degree step; the
