@@ -211,17 +211,23 @@ def naca(code: str) -> tuple:
     return settings, job.geometry_from_files(settings, None)
 
 
-def test_a_body_family_polishes_as_its_members_own_run_chooses():
-    """An O-grid family: the member's own choice (its elliptic grid, or that optimised where
-    it ranks better), its optimisation started from the model's grid; the wall and far field
-    are its own run's nodes, no fold, its own grid's quality within the check's bounds."""
+@pytest.fixture(scope="module")
+def sections():
+    """A model fitted on six NACA O-grids' default grids."""
     members, targets = [], []
     for code in SECTIONS:
         settings, g = naca(code)
         member = job.family_member(settings, g)
         members.append(member)
         targets.append(job.member_target(member, job.run(settings, g)))
-    model = job.fit_family_model(members, targets, "--topology o --size 65 17")
+    return job.fit_family_model(members, targets, "--topology o --size 65 17")
+
+
+def test_a_body_family_polishes_as_its_members_own_run_chooses(sections):
+    """An O-grid family: the member's own choice (its elliptic grid, or that optimised where
+    it ranks better), its optimisation started from the model's grid; the wall and far field
+    are its own run's nodes, no fold, its own grid's quality within the check's bounds."""
+    model = sections
     assert model.polish > 0 and model.report["polish_iterations"] == model.polish
     settings, g = naca("3413")
     own = job.run(settings, g)
@@ -236,3 +242,33 @@ def test_a_body_family_polishes_as_its_members_own_run_chooses():
     assert q["folded_cells"] == 0
     assert q["worst_max_angle"] <= ref["worst_max_angle"] + 2
     assert q["mean_max_angle"] <= ref["mean_max_angle"] + 0.5
+
+
+def test_a_body_model_grid_below_the_elliptic_grid_is_not_the_optimisations_start(
+    sections, monkeypatch
+):
+    """A model's grid that ranks below the member's elliptic grid (here folded: two nodes
+    swapped) is not where the optimisation starts: the member's own run's start and choice,
+    so its own run's grid."""
+    from pinn_engine.family.model import FamilyModel
+
+    real = FamilyModel.predict
+
+    def folded(self, member):
+        grid, info = real(self, member)
+        grid = grid.copy()
+        grid[8, 30], grid[8, 31] = grid[8, 31].copy(), grid[8, 30].copy()
+        return grid, info
+
+    monkeypatch.setattr(FamilyModel, "predict", folded)
+    settings, g = naca("3413")
+    own = job.run(settings, g)
+    by_model = job.run(settings, g, family=sections)
+    assert by_model.report["training"]["result"] == "family"
+    assert by_model.quality["folded_cells"] == 0
+    assert by_model.quality["worst_max_angle"] == pytest.approx(
+        own.quality["worst_max_angle"], abs=1e-3
+    )
+    assert by_model.quality["mean_max_angle"] == pytest.approx(
+        own.quality["mean_max_angle"], abs=1e-3
+    )
