@@ -33,16 +33,19 @@ EXAMPLES = ROOT / "example_data"
 SIZES = ("41x21", "81x41")  # the hold-out page's sizes
 CELL_SIZE = "0.05"  # the multi-block examples' cell size (docs/multiblock.md's finer runs)
 COMMAND = [sys.executable, "-m", "pinn_engine.command"]
+FOLDED = "the grid is not written"  # the refusal of a folded grid, made after the meshing
 
 
 def timed(args: list[str], folder: Path, report: bool) -> tuple[float, dict]:
-    """Wall seconds of one command in a fresh process, and its report (``--report``)."""
+    """Wall seconds of one command in a fresh process, and its report (``--report``). A
+    folded grid refused after meshing (``FOLDED``: the elliptic grid on several hold-out
+    shapes) counts: its command did all the work."""
     path = folder / "report.json"
     extra = ["--report", str(path)] if report else []
     began = time.perf_counter()
     done = subprocess.run([*COMMAND, *args, *extra], capture_output=True, text=True, cwd=ROOT)
     seconds = time.perf_counter() - began
-    if done.returncode:
+    if done.returncode and (report or FOLDED not in done.stderr):
         raise RuntimeError(f"{' '.join(args)}: {done.stderr.strip()}")
     return seconds, json.loads(path.read_text()) if report else {}
 
