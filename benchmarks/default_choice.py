@@ -2,7 +2,7 @@
 (docs/default_choice.md).
 
 Usage: ``.venv/bin/python benchmarks/default_choice.py [--sizes 41x21] [--set tuning holdout]
-[--train-lines] [--out docs/default_choice] [--from-json]``
+[--train-lines] [--lines-only] [--out docs/default_choice] [--from-json [--load TEXT]]``
 
 For each shape of the tuning set (``example_data/hard/``, and the examples with lines
 ``concave``, ``fig2``, ``wavy``) and the hold-out set (``example_data/holdout/``, nothing tuned
@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import time
 from pathlib import Path
 
@@ -170,23 +171,30 @@ def main() -> None:
     parser.add_argument("--lines-only", action="store_true", help="only the grids with lines")
     parser.add_argument("--out", default=None)
     parser.add_argument("--from-json", action="store_true", help="rewrite the page from <out>.json")
+    parser.add_argument("--load", help="with --from-json: the load average its run met")
     args = parser.parse_args()
+    before = os.getloadavg()[0]
     rows = []
     if args.from_json:
         rows = json.loads(Path(args.out).with_suffix(".json").read_text())
     for name in args.sets if not args.from_json else ():
         for size_text in args.sizes:
             for path, aux in shapes(name):
-                for lines in ([], aux) if aux and not args.lines_only else ([aux] if aux else []):
-                    row = run_row(name, path, lines, size_text, args.train_lines)
-                    rows.append(row)
+                variants = ([] if args.lines_only else [[]]) + ([aux] if aux else [])
+                for lines in variants:
+                    rows.append(run_row(name, path, lines, size_text, args.train_lines))
     summaries = [summary(rows, name) for name in args.sets]
     summaries += [lines_summary(rows, name) for name in args.sets]
     print("\n".join(summaries))
     if args.out:
         out = Path(args.out)
         out.with_suffix(".json").write_text(json.dumps(rows, indent=1))
-        out.with_suffix(".md").write_text(page(rows, summaries))
+        load = args.load or (
+            "not recorded"
+            if args.from_json
+            else f"{before:.1f} before, {os.getloadavg()[0]:.1f} after"
+        )
+        out.with_suffix(".md").write_text(page(rows, summaries, load))
 
 
 def summary(rows: list[dict], name: str) -> str:
@@ -215,19 +223,22 @@ def lines_summary(rows: list[dict], name: str) -> str:
     )
 
 
-def page(rows: list[dict], summaries: list[str]) -> str:
+def page(rows: list[dict], summaries: list[str], load: str) -> str:
     """docs/default_choice.md: the summaries, then one row a grid."""
     lines = [
         "# What the default chooses, beside the elliptic grid",
         "",
         "Made by `.venv/bin/python benchmarks/default_choice.py --sizes 41x21 81x41 --out "
-        "docs/default_choice` (its docstring says what it runs). Each grid: mean / worst "
+        "docs/default_choice` (its docstring says what it runs; each hold-out shape is also "
+        "meshed with one drawn line, straight and slanted, from 0.35 of its bottom side to "
+        "0.65 of its top, or from 0.65 of its left side to 0.35 of its right where that "
+        "leaves the domain). Each grid: mean / worst "
         "`MaxIncludedAngle` (degrees), folded cells in brackets; the largest distance of a "
         "drawn line's grid line from it, of the diagonal; the turn of the grid lines crossing a "
         "drawn line at their node nearest it (degrees, mean over them, the largest line's); "
         "the grid the default returned "
         "(`optimized`: the quality objective's node-optimised grid); seconds of fit plus grid "
-        "in one process (2 cores shared with other sessions).",
+        f"in one process (2 cores shared with other sessions; load average {load}).",
         "",
         *[f"- {s}" for s in summaries],
         "",
