@@ -209,14 +209,17 @@ def fit_params(
     ni: int,
     nj: int,
     side_lengths: dict[str, float],
+    pin: Callable[[np.ndarray], np.ndarray] = lambda params: params,
 ) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
     """Parameters whose grid ``evaluate(params)`` has first edges ``spacing[side]`` (working
     frame) within ``FIT_TOL`` at every node of those sides but the corners
     (:func:`fit_first_spacings`). ``side_lengths``: the lengths of the four sides, for the
-    first guess. Returns (params, grid, per-line parameter spacings).
+    first guess; ``pin``: the nodes' parameters moved onto sharp vertices
+    (``pins.pin_sharp``), fitted as they are. Returns (params, grid, per-line parameter
+    spacings).
     """
     if not spacing:
-        params = uniform_params(ni, nj)
+        params = pin(uniform_params(ni, nj))
         return params, evaluate(params), {}
     count = {"bottom": ni, "top": ni, "left": nj, "right": nj}
     par = {
@@ -225,7 +228,7 @@ def fit_params(
     }
     return fit_first_spacings(
         evaluate,
-        lambda par: param_grid(ni, nj, par),
+        lambda par: pin(param_grid(ni, nj, par)),
         lambda grid, side: first_edges(grid)[side],
         spacing,
         par,
@@ -318,19 +321,21 @@ def classical_grid(
     spacing: dict[str, float],
     orthogonal: tuple[str, ...] = (),
     info: dict | None = None,
+    pin: Callable[[np.ndarray], np.ndarray] = lambda params: params,
 ) -> tuple[np.ndarray, np.ndarray]:
     """(params, grid) of the tfi or (converged) elliptic method under the spacing (working
     frame) and orthogonality settings. The elliptic grid is solved with control functions
     (distribution and Hilgenstock orthogonality); if that fails (no convergence, a folded
     cell or first edges off by more than 10 %), the interpolated elliptic map is evaluated
-    at the distribution instead; ``info["elliptic"]`` says which."""
+    at the distribution instead; ``info["elliptic"]`` says which. ``pin``: as
+    :func:`fit_params`."""
 
     lengths = side_lengths(boundary)
     if method == "tfi":
-        params, grid, _ = fit_params(tfi_at(boundary), spacing, ni, nj, lengths)
+        params, grid, _ = fit_params(tfi_at(boundary), spacing, ni, nj, lengths, pin)
         return params, grid
     evaluate = elliptic_at(boundary, orthogonal)
-    params, grid, _ = fit_params(evaluate, spacing, ni, nj, lengths)
+    params, grid, _ = fit_params(evaluate, spacing, ni, nj, lengths, pin)
     edges = first_edges(grid)
     off = max(
         (float(np.abs(edges[s][1:-1] / h - 1).max(initial=0.0)) for s, h in spacing.items()),
@@ -339,7 +344,7 @@ def classical_grid(
     ok = not evaluate.failed and off <= 0.1 and not folded_cells(grid).any()
     if not ok and spacing:
         evaluate = interpolated_elliptic_at(boundary, ni, nj, orthogonal)
-        params, grid, _ = fit_params(evaluate, spacing, ni, nj, lengths)
+        params, grid, _ = fit_params(evaluate, spacing, ni, nj, lengths, pin)
     if info is not None:
         info["elliptic"] = "control functions" if ok or not spacing else "interpolated"
         info["orthogonality_control"] = bool(orthogonal) and getattr(evaluate, "orthogonal", True)

@@ -14,6 +14,9 @@ SIDES = ("bottom", "right", "top", "left")
 # A corner must turn by at least this much, and clearly more than any other vertex.
 MIN_CORNER_TURN_DEG = 20.0
 CORNER_MARGIN = 0.75  # the 5th-largest turn must be below this fraction of the 4th
+# A vertex where the outline turns by this many degrees or more is a sharp corner, a grid
+# node of any grid written (SPEC 10's rule for a block corner)
+SHARP_TURN = 30.0
 # Consecutive points closer than this (relative to the bounding-box diagonal) are one point:
 # duplicates and CAD micro-segments are merged (a documented repair).
 DUPLICATE_TOL = 1e-7
@@ -40,8 +43,17 @@ class Polyline:
         self.t = arc_lengths(self.points) / self.length
         self.t[-1] = 1.0
 
+    def reparametrized(self, arc: np.ndarray, param: np.ndarray) -> Polyline:
+        """The same polyline with its parameter the piecewise-linear map of the arc-length
+        fraction through the knots (``arc``, ``param``), both increasing from 0 to 1."""
+        line = Polyline.__new__(Polyline)
+        line.points, line.length = self.points, self.length
+        line.t = np.interp(self.t, arc, param)
+        return line
+
     def at(self, t: np.ndarray) -> np.ndarray:
-        """Points at arc-length fractions ``t`` (exact linear interpolation)."""
+        """Points at parameters ``t`` (the arc-length fractions unless reparametrized; exact
+        linear interpolation)."""
         t = np.clip(np.asarray(t, dtype=float), 0.0, 1.0)
         return np.stack(
             [np.interp(t, self.t, self.points[:, 0]), np.interp(t, self.t, self.points[:, 1])],
@@ -376,6 +388,10 @@ class Boundary:
     frame: Frame  # user's in-plane (u, v) <-> working frame
     source: str | None = None
     plane: Plane = field(default_factory=Plane.horizontal)  # user's 3D <-> in-plane (u, v)
+    # sides parametrized other than by their arc-length fraction: (side, arc-length
+    # fractions, parameters), knots of a piecewise-linear map (a grid node on each sharp
+    # vertex inside a side, pins.pinned_boundary)
+    knots: tuple[tuple[str, np.ndarray, np.ndarray], ...] = ()
 
     @classmethod
     def from_points(
@@ -430,7 +446,16 @@ class Boundary:
         return float(np.linalg.norm(self.ring.max(axis=0) - self.ring.min(axis=0)))
 
     def side(self, name: str) -> Polyline:
-        """Side polyline oriented along increasing xi (bottom, top) or eta (left, right)."""
+        """Side polyline oriented along increasing xi (bottom, top) or eta (left, right),
+        parametrized by its ``knots`` where it has them."""
+        line = self.arc_side(name)
+        for side, arc, param in self.knots:
+            if side == name:
+                return line.reparametrized(arc, param)
+        return line
+
+    def arc_side(self, name: str) -> Polyline:
+        """Side polyline as :meth:`side`, parametrized by its arc-length fraction."""
         c0, c1, c2, c3 = self.corners
         closed = np.vstack([self.ring, self.ring[:1]])
         if name == "bottom":

@@ -14,11 +14,13 @@ from __future__ import annotations
 import numpy as np
 
 from pinn_engine.errors import InputError, folded_cells_refusal
-from pinn_engine.geometry.boundary import segment_distance, signed_area, turning_angles
+from pinn_engine.geometry.boundary import (
+    SHARP_TURN,
+    segment_distance,
+    signed_area,
+    turning_angles,
+)
 
-# A vertex of a multi-block boundary is a sharp corner where the outline turns by this many
-# degrees or more: SPEC 10's rule for a block corner, so each is a block corner and a node
-SHARP_TURN = 30.0
 # A node is on the drawn boundary, or at a corner, within this share of the domain's
 # diagonal: the nodes are placed there exactly, so only rounding separates them
 NODE_TOL = 1e-7
@@ -179,11 +181,17 @@ def unfolded(outcome):
 
 
 def covered(outcome, geometry):
-    """``outcome`` (a ``job.Outcome`` of a multi-block domain or a body) once its grid is
-    checked to cover ``geometry``'s domain, the figures in its report's ``domain``; refused
-    (``InputError``) otherwise. A four-sided domain's grid is returned as it is (its sides
-    run between its four corners: a sharp vertex mid-side is no node, see docs/robustness.md)."""
-    if outcome.kind == "blocks":
+    """``outcome`` (a ``job.Outcome`` of a 2D domain: four-sided, multi-block or a body)
+    once its grid is checked to cover ``geometry``'s domain, the figures in its report's
+    ``domain``; refused (``InputError``) otherwise."""
+    if outcome.kind == "four-sided":
+        # a side's sharp vertices are nodes where its nodes allow (pins.pin_sharp): more
+        # sharp vertices close together than nodes between them need more nodes
+        fix = "a larger {size} (a node for each sharp corner along a side)"
+        boundary = geometry.boundary
+        ring = boundary.frame.to_user(boundary.ring)
+        figures = check_blocks_cover(outcome.grids, [ring], boundary.source, fix)
+    elif outcome.kind == "blocks":
         fix = "draw the block edges (a block corner at every sharp corner) and {blocks}"
         figures = check_blocks_cover(outcome.grids, geometry.rings, geometry.source, fix)
     elif outcome.kind == "body":

@@ -101,3 +101,39 @@ def test_a_round_trailing_edge_gets_a_fold_free_c_grid(tmp_path, capsys):
         grid = pv.read(out)
         assert grid["Folded"].sum() == 0 and grid["MaxIncludedAngle"].max() < 180
     assert capsys.readouterr().err == ""
+
+
+def _bump_file(tmp_path) -> str:
+    """A four-sided domain whose bottom side climbs a trapezoidal bump: four vertices inside
+    the side turning 45 degrees, none at a uniform node."""
+    ring = [(0, 0), (1.03, 0), (1.33, 0.3), (1.73, 0.3), (2.03, 0), (3, 0), (3, 1.5), (0, 1.5)]
+    path = tmp_path / "bump.csv"
+    path.write_text("x,y\n" + "".join(f"{x},{y}\n" for x, y in ring))
+    return str(path)
+
+
+@pytest.mark.parametrize(
+    "options",
+    [
+        ["--method", "tfi"],
+        ["--method", "elliptic"],
+        [],  # the default
+        ["--method", "elliptic", "--spacing", "left=0.01"],
+        ["--spacing", "top=0.02"],
+    ],
+)
+def test_a_sharp_vertex_inside_a_side_is_a_node_of_the_four_sided_grid(tmp_path, options):
+    out = tmp_path / "g.vts"
+    args = [_bump_file(tmp_path), "--size", "33", "17", "-o", str(out), "-q", *options]
+    assert main(args) == 0
+    nodes = np.asarray(pv.read(out).points)[:, :2]
+    for vertex in [(1.03, 0), (1.33, 0.3), (1.73, 0.3), (2.03, 0)]:
+        assert np.linalg.norm(nodes - vertex, axis=1).min() < 1e-12
+
+
+def test_more_sharp_vertices_than_nodes_along_a_side_is_refused_with_the_size(tmp_path, capsys):
+    out = tmp_path / "g.vts"
+    assert main([_bump_file(tmp_path), "--size", "5", "5", "--method", "tfi", "-o", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and not out.exists()
+    assert "sharp corner at (1.03, 0) is no grid node; a larger --size" in err

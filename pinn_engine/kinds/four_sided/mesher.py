@@ -10,8 +10,15 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from pinn_engine.classical.elliptic import winslow_solve, winslow_sweeps
-from pinn_engine.classical.spacing import classical_grid, fit_params, side_lengths, working_spacing
-from pinn_engine.classical.tfi import tfi_grid
+from pinn_engine.classical.pins import pin_sharp, pinned_boundary, pinned_lines
+from pinn_engine.classical.spacing import (
+    classical_grid,
+    fit_params,
+    side_lengths,
+    uniform_params,
+    working_spacing,
+)
+from pinn_engine.classical.tfi import tfi_at, tfi_grid
 from pinn_engine.errors import (
     NotFittedError,
     PinnMeshError,
@@ -28,6 +35,7 @@ from pinn_engine.kinds.untrained import cannot_win, start_or_train
 from pinn_engine.quality import boundary_nodes, cell_quality, side_report, summary
 from pinn_engine.result import MeshResult
 from pinn_engine.settings import NEURAL, Settings, grid_size_problem, make_settings
+from pinn_engine.starts.warmstart import lattice_for
 
 if TYPE_CHECKING:
     from pinn_engine.kinds.four_sided.model import TrainedModel
@@ -68,8 +76,11 @@ class Mesher:
         ``progress(info)`` is called during training; returning True cancels it.
         """
         working_spacing(self.settings.spacing, boundary)  # checked before any work
+        # a node on every sharp vertex inside a side, at the start's lattice
+        boundary = pinned_boundary(boundary, *lattice_for(*self.settings.lattice))
         self.boundary_ = boundary
-        self.aux_lines_ = list(aux_lines) if self.settings.method == "pinn" else []
+        pinn = self.settings.method == "pinn"
+        self.aux_lines_ = pinned_lines(aux_lines, boundary) if pinn else []
         self.model_ = None
         self.train_seconds_ = 0.0
         if self.settings.method in NEURAL:
@@ -111,7 +122,7 @@ class Mesher:
 
         model = TrainedModel.load(path, boundary)
         mesher = cls(model.settings)
-        mesher.boundary_, mesher.aux_lines_, mesher.model_ = boundary, [], model
+        mesher.boundary_, mesher.aux_lines_, mesher.model_ = model.mapping.boundary, [], model
         mesher.train_seconds_ = float(model.info.get("train_seconds", 0.0))
         return mesher
 
@@ -162,13 +173,21 @@ class Mesher:
         )
 
     def _grid_unit(self, ni: int, nj: int) -> np.ndarray:
+        """The grid (working frame) with a node on every sharp vertex inside a side where
+        the side's nodes allow it (``pins.pin_sharp``)."""
         s = self.settings
         if s.spacing or (s.orthogonal and s.method == "elliptic"):
             return self._spaced_grid_unit(ni, nj)
+        uniform = uniform_params(ni, nj)
+        params = pin_sharp(self.boundary_, uniform)
+        at = None if params is uniform else params
         if self.model_ is not None:
-            return self.model_.grid(ni, nj)
+            return self.model_.grid(ni, nj, params=at)
         # classical methods always place boundary nodes exactly on the input polyline
-        base = tfi_grid(make_fit("arclength", self.boundary_).sample, ni, nj)
+        if at is None:
+            base = tfi_grid(make_fit("arclength", self.boundary_).sample, ni, nj)
+        else:
+            base = tfi_at(self.boundary_)(at)
         if s.method == "tfi":
             return base
         if s.elliptic_iterations:
@@ -180,14 +199,25 @@ class Mesher:
         iterated until every first edge has its length; the neural map is evaluated there."""
         s = self.settings
         spacing = working_spacing(s.spacing, self.boundary_)
+
+        def pin(params: np.ndarray) -> np.ndarray:
+            return pin_sharp(self.boundary_, params)
+
         if self.model_ is None:
-            return classical_grid(self.boundary_, ni, nj, s.method, spacing, s.orthogonal)[1]
+            return classical_grid(self.boundary_, ni, nj, s.method, spacing, s.orthogonal, pin=pin)[
+                1
+            ]
         mapping = self.model_.mapping
         nodes = None if mapping.warm is None else mapping.warm.nodes
         if nodes is not None and (len(nodes[0]), len(nodes[1])) == (ni, nj):
             # the nodes of the orthogonal start (starts/warmstart.py): first rows normal to the
             # walls and as far from them as the spacing asks
-            return mapping.grid(ni, nj, params=np.stack(np.meshgrid(*nodes), axis=-1))
+            return mapping.grid(ni, nj, params=pin(np.stack(np.meshgrid(*nodes), axis=-1)))
         return fit_params(
-            lambda p: mapping.grid(ni, nj, params=p), spacing, ni, nj, side_lengths(self.boundary_)
+            lambda p: mapping.grid(ni, nj, params=p),
+            spacing,
+            ni,
+            nj,
+            side_lengths(self.boundary_),
+            pin,
         )[1]

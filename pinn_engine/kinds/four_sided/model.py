@@ -11,6 +11,7 @@ import numpy as np
 import torch
 
 from pinn_engine._version import __version__
+from pinn_engine.classical.pins import pinned_boundary
 from pinn_engine.classical.warm import WarmStart
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import Boundary, Frame
@@ -19,6 +20,7 @@ from pinn_engine.io.fileio import atomic_path
 from pinn_engine.kinds.four_sided.mapping import Mapping
 from pinn_engine.neural.networks import CoordinateNet
 from pinn_engine.settings import Settings
+from pinn_engine.starts.warmstart import lattice_for
 
 FORMAT = "pinn-mesh-model/1"
 
@@ -32,9 +34,10 @@ class TrainedModel:
     history: dict[str, list[float]]
     info: dict
 
-    def grid(self, ni: int, nj: int) -> np.ndarray:
-        """Grid (nj, ni, 2) in the working frame: one forward pass, no training."""
-        return self.mapping.grid(ni, nj)
+    def grid(self, ni: int, nj: int, params: np.ndarray | None = None) -> np.ndarray:
+        """Grid (nj, ni, 2) in the working frame: one forward pass, no training; at node
+        parameters ``params`` (nj, ni, 2) where given, else the uniform nodes."""
+        return self.mapping.grid(ni, nj, params=params)
 
     def save(self, path: str | os.PathLike) -> Path:
         """Write the model (weights, settings, boundary, history) to ``path`` atomically."""
@@ -113,6 +116,8 @@ class TrainedModel:
             if not same:
                 raise InputError("model was trained for a different boundary", src)
             saved = dataclasses.replace(saved, source=boundary.source, plane=boundary.plane)
+        # the sides as the model was trained on them (Mesher.fit)
+        saved = pinned_boundary(saved, *lattice_for(*settings.lattice))
         return cls(
             Mapping(net, saved, settings.boundary_mode, warm),
             settings,

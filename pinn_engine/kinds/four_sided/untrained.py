@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pinn_engine.classical.tfi import tfi_grid
+from pinn_engine.classical.tfi import tfi_at, tfi_grid
 from pinn_engine.classical.warm import WarmStart
 from pinn_engine.geometry.auxlines import AuxLine
 from pinn_engine.geometry.boundary import Boundary
@@ -48,10 +48,13 @@ class StartModel:
             info["untangled"] = untangled_report(begin.winslow, begin.reference)
         return cls(boundary, begin.warm, settings, info)
 
-    def grid(self, ni: int, nj: int) -> np.ndarray:
+    def grid(self, ni: int, nj: int, params: np.ndarray | None = None) -> np.ndarray:
         """Grid (nj, ni, 2) in the working frame: the start, between the lattice's nodes its
-        spline."""
-        return tfi_grid(ArcLengthFit(self.boundary).sample, ni, nj) + self.warm.grid(ni, nj)
+        spline; at node parameters ``params`` (nj, ni, 2) where given."""
+        if params is None:
+            return tfi_grid(ArcLengthFit(self.boundary).sample, ni, nj) + self.warm.grid(ni, nj)
+        correction = self.warm.at(params.reshape(-1, 2)).reshape(params.shape)
+        return tfi_at(self.boundary)(params) + correction
 
     def save(self, path: str | os.PathLike) -> Path:
         """Saved as the trained model it equals: the seeded network, its output layer zero."""

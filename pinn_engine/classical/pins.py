@@ -1,0 +1,155 @@
+"""Sharp vertices inside a side as grid nodes (a grid covers exactly the domain drawn).
+
+A four-sided grid's boundary nodes sit at the node parameters of its sides; a vertex where a
+side turns by ``SHARP_TURN`` or more between two nodes would be cut off by the cell edge
+joining them. Two steps tie each such vertex to a node, both by one assignment
+(:func:`assign`: the vertices onto inner nodes, in order, with the least total move):
+
+- :func:`pinned_boundary` reparametrizes each side, piecewise linearly in arc length
+  between its sharp vertices, so that the uniform nodes of the start's lattice land on
+  them: the start, the training and the guard all see them as nodes;
+- :func:`pin_sharp` moves the nodes of a grid of another size or distribution (a
+  spacing's) onto them, only the nodes assigned (the spacing asked at the corners' walls
+  stays), the move spread into the domain as TFI blends the sides.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+
+import numpy as np
+
+from pinn_engine.geometry.auxlines import AuxLine
+from pinn_engine.geometry.boundary import SHARP_TURN, SIDES, Boundary, turning_angles
+
+
+def side_sharp_params(points: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """The arc-length parameters ``t`` of the inner vertices of an open polyline ``points``
+    that turn by ``SHARP_TURN`` degrees or more."""
+    if len(points) < 3:
+        return np.empty(0)
+    turn = turning_angles(points)[1:-1]  # the ends' wrap-around turns are not the side's
+    return t[1:-1][np.abs(turn) >= SHARP_TURN]
+
+
+def _running_min(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The least of ``values[: q + 1]`` for each q, and where it is."""
+    where = np.zeros(len(values), dtype=int)
+    for q in range(1, len(values)):
+        where[q] = q if values[q] < values[where[q - 1]] else where[q - 1]
+    return values[where], where
+
+
+def assign(nodes: np.ndarray, vertices: np.ndarray) -> np.ndarray | None:
+    """Indices (strictly increasing, inside ``1 .. len(nodes) - 2``) of the nodes moved onto
+    ``vertices`` (sorted parameters) with the least total move |nodes[k] - vertex| such that
+    the moved sequence stays strictly increasing; None where there is no such assignment
+    (more sharp vertices than inner nodes between them). Dynamic programming over
+    (vertex, node)."""
+    n, m = len(nodes), len(vertices)
+    if m == 0:
+        return np.empty(0, dtype=int)
+    k = np.arange(n)
+    inner = (k >= 1) & (k <= n - 2)
+    move = np.abs(nodes[None, :] - vertices[:, None])
+    # an unmoved node k - 1 stays below vertex a; an unmoved node q + 1 above vertex a
+    cost = np.full((m, n), np.inf)  # the least move of vertices 0..a with vertex a on node k
+    back = np.zeros((m, n), dtype=int)
+    cost[0] = np.where(inner & (nodes[np.maximum(k - 1, 0)] < vertices[0]), move[0], np.inf)
+    for a in range(1, m):
+        prev = cost[a - 1]
+        # vertex a - 1 on node q < k - 1: node q + 1 unmoved, above it, and node k - 1 below a
+        apart = np.where(nodes[np.minimum(k + 1, n - 1)] > vertices[a - 1], prev, np.inf)
+        least, where = _running_min(apart)
+        far = np.full(n, np.inf)
+        far[2:] = least[:-2]
+        far = np.where(nodes[np.maximum(k - 1, 0)] < vertices[a], far, np.inf)
+        near = np.concatenate([[np.inf], prev[:-1]])  # vertex a - 1 on node k - 1
+        take_near = near <= far
+        cost[a] = np.where(inner, np.where(take_near, near, far) + move[a], np.inf)
+        back[a] = np.where(take_near, k - 1, np.concatenate([[0, 0], where[:-2]]))
+    above = (nodes[np.minimum(k + 1, n - 1)] > vertices[-1]) | (k == n - 2)
+    last = np.where(above, cost[-1], np.inf)
+    if not np.isfinite(last).any():
+        return None
+    picks = [int(np.argmin(last))]
+    for a in range(m - 1, 0, -1):
+        picks.append(int(back[a, picks[-1]]))
+    return np.asarray(picks[::-1])
+
+
+def _side_map(nodes: np.ndarray, vertices: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """Knots (nodes, moved nodes) of the piecewise-linear map of a side's parameter that
+    takes its nodes onto its sharp vertices; None where nothing moves or no assignment
+    exists."""
+    picks = assign(nodes, vertices)
+    if picks is None or not len(picks):
+        return None
+    moved = nodes.copy()
+    moved[picks] = vertices
+    if np.array_equal(moved, nodes):
+        return None
+    return nodes, moved
+
+
+def _blend(params: np.ndarray, maps: dict[str, tuple[np.ndarray, np.ndarray]]) -> np.ndarray:
+    """Parameters (..., 2) under each side's piecewise-linear map (``maps[side]``: its
+    knots; identity where absent), blended across the domain as TFI blends the sides: on a
+    side, its own map exactly."""
+
+    def mapped(side: str, x: np.ndarray) -> np.ndarray:
+        return np.interp(x, *maps[side]) if side in maps else x
+
+    xi, eta = params[..., 0], params[..., 1]
+    out = params.copy()  # a direction whose two sides keep their nodes keeps its parameter
+    if "bottom" in maps or "top" in maps:
+        out[..., 0] = (1 - eta) * mapped("bottom", xi) + eta * mapped("top", xi)
+    if "left" in maps or "right" in maps:
+        out[..., 1] = (1 - xi) * mapped("left", eta) + xi * mapped("right", eta)
+    return out
+
+
+def pinned_boundary(boundary: Boundary, ni: int, nj: int) -> Boundary:
+    """``boundary`` with each side whose sharp inner vertices are not all at uniform nodes
+    of an ``ni`` x ``nj`` lattice reparametrized so that they are (``Boundary.knots``);
+    ``boundary`` itself where none needs it."""
+    knots = []
+    for side in SIDES:
+        line = boundary.arc_side(side)
+        vertices = side_sharp_params(line.points, line.t)
+        nodes = np.linspace(0.0, 1.0, ni if side in ("bottom", "top") else nj)
+        picks = assign(nodes, vertices)
+        if picks is None or np.array_equal(nodes[picks], vertices):
+            continue
+        ends = np.array([0.0, 1.0])
+        knots.append((side, np.insert(ends, 1, vertices), np.insert(ends, 1, nodes[picks])))
+    return dataclasses.replace(boundary, knots=tuple(knots)) if knots else boundary
+
+
+def pinned_lines(lines: Sequence[AuxLine], boundary: Boundary) -> list[AuxLine]:
+    """Auxiliary lines mapped on the arc-length sides, their (xi, eta) on ``boundary``'s
+    reparametrized sides (:func:`pinned_boundary`): an end on a side keeps its point."""
+    if not boundary.knots:
+        return list(lines)
+    maps = {side: (arc, param) for side, arc, param in boundary.knots}
+    return [dataclasses.replace(line, xi_eta=_blend(line.xi_eta, maps)) for line in lines]
+
+
+def pin_sharp(boundary: Boundary, params: np.ndarray) -> np.ndarray:
+    """Node parameters ``params`` (nj, ni, 2) with a node of each side on each of its sharp
+    inner vertices (where :func:`assign` finds one); ``params`` itself where no node
+    moves."""
+    rows = {
+        "bottom": params[0, :, 0],
+        "top": params[-1, :, 0],
+        "left": params[:, 0, 1],
+        "right": params[:, -1, 1],
+    }
+    maps = {}
+    for side, nodes in rows.items():
+        line = boundary.side(side)
+        found = _side_map(nodes, side_sharp_params(line.points, line.t))
+        if found is not None:
+            maps[side] = found
+    return _blend(params, maps) if maps else params

@@ -1,0 +1,70 @@
+"""Sharp vertices inside a side as grid nodes (``classical.pins``): the assignment of
+vertices to nodes, the reparametrized sides and the moved nodes of other distributions."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+
+from pinn_engine.classical.pins import assign, pin_sharp, pinned_boundary
+from pinn_engine.classical.spacing import param_grid
+from pinn_engine.geometry.boundary import Boundary
+
+# a 3 x 1.5 box whose bottom side climbs a trapezoidal bump: four vertices turning 45 degrees
+BUMP = np.array(
+    [[0, 0], [1.03, 0], [1.33, 0.3], [1.73, 0.3], [2.03, 0], [3, 0], [3, 1.5], [0, 1.5]],
+    dtype=float,
+)
+
+
+def _least_move(nodes: np.ndarray, vertices: np.ndarray) -> float | None:
+    """The least total move over every order-keeping assignment, by enumeration."""
+    best = None
+    for picks in itertools.combinations(range(1, len(nodes) - 1), len(vertices)):
+        moved = nodes.copy()
+        moved[list(picks)] = vertices
+        if np.all(np.diff(moved) > 0):
+            cost = float(np.abs(nodes[list(picks)] - vertices).sum())
+            best = cost if best is None else min(best, cost)
+    return best
+
+
+def test_the_assignment_moves_least_and_keeps_the_order():
+    rng = np.random.default_rng(3)
+    for trial in range(400):
+        n = int(rng.integers(3, 9))
+        nodes = np.linspace(0, 1, n) if trial % 2 else np.r_[0, np.sort(rng.random(n - 2)), 1]
+        vertices = np.sort(rng.random(int(rng.integers(1, 4))))
+        if trial % 3 == 0:  # two vertices closer than any two nodes
+            vertices = np.sort(np.r_[vertices, vertices[0] + 1e-3])
+        picks, best = assign(nodes, vertices), _least_move(nodes, vertices)
+        assert (picks is None) == (best is None)
+        if picks is not None:
+            assert np.abs(nodes[picks] - vertices).sum() == pytest.approx(best, abs=1e-12)
+
+
+def test_the_reparametrized_side_puts_a_lattice_node_on_each_sharp_vertex():
+    boundary = Boundary.from_points(BUMP)
+    pinned = pinned_boundary(boundary, 21, 11)
+    assert [side for side, _, _ in pinned.knots] == ["bottom"]
+    nodes = pinned.side("bottom").at(np.linspace(0, 1, 21))
+    for vertex in boundary.frame.to_unit(BUMP[1:5]):
+        assert np.linalg.norm(nodes - vertex, axis=1).min() == 0.0
+    # the other sides keep their arc-length parameter
+    assert pinned.side("top").t.tolist() == boundary.side("top").t.tolist()
+
+
+def test_nodes_of_another_distribution_move_onto_the_vertices_the_walls_keep_their_first_edge():
+    boundary = pinned_boundary(Boundary.from_points(BUMP), 21, 11)
+    params = param_grid(33, 17, {"left": np.full(17, 1e-3), "bottom": np.full(33, 1e-2)})
+    moved = pin_sharp(boundary, params)
+    nodes = boundary.side("bottom").at(moved[0, :, 0])
+    for vertex in boundary.frame.to_unit(BUMP[1:5]):
+        assert np.linalg.norm(nodes - vertex, axis=1).min() == 0.0
+    assert np.all(np.diff(moved[..., 0], axis=1) > 0)
+    # only the assigned nodes of the bottom row move; the left wall's first column stays
+    assert np.count_nonzero(moved[0, :, 0] != params[0, :, 0]) == 4
+    assert np.array_equal(moved[:, :2], params[:, :2])
+    assert pin_sharp(boundary, moved) is moved  # nothing left to move
