@@ -8,6 +8,7 @@ import pytest
 from helpers import EXAMPLES
 
 from pinn_engine.classical.elliptic import winslow_solve
+from pinn_engine.classical.pins import pinned_boundary
 from pinn_engine.classical.tfi import tfi_grid
 from pinn_engine.errors import folded_cells_warning
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
@@ -31,7 +32,9 @@ def step():
 
 @pytest.fixture(scope="module")
 def winslow(step):
-    return winslow_solve(tfi_grid(ArcLengthFit(step).sample, *SIZE))[0]
+    """The Winslow grid on the default's boundary nodes: a node on each sharp vertex of the
+    step's sides (``pins.pinned_boundary``)."""
+    return winslow_solve(tfi_grid(ArcLengthFit(pinned_boundary(step, *SIZE)).sample, *SIZE))[0]
 
 
 def _close(grid: np.ndarray, winslow: np.ndarray) -> bool:
