@@ -30,6 +30,9 @@ WALL_TOL = 1e-3
 # A body's corner node may sit this share of the chord off the drawn corner: a trailing-edge
 # gap of at most 1e-4 chord is closed at its mean point (SPEC 9)
 BODY_CORNER_TOL = 1e-4
+# ... or within this share of its largest coordinate: the rounding that coordinates far from
+# the origin carry (a domain 1e-6 wide at 1e5: 2e-11 a coordinate), sixteen-fold
+ROUNDING = 16 * np.finfo(float).eps
 # The cells' area may differ from the area the boundary nodes enclose by this share (the
 # rounding of summing many cells' areas)
 AREA_TOL = 1e-7
@@ -89,11 +92,17 @@ def check_blocks_cover(
     the figures of the report's ``domain`` entry."""
     rings = [np.asarray(r, dtype=float)[:, :2] for r in rings]
     diagonal = float(np.linalg.norm(np.ptp(rings[0], axis=0)))
-    tol = NODE_TOL * diagonal
+    tol = max(NODE_TOL * diagonal, ROUNDING * float(np.abs(np.vstack(rings)).max()))
+    # areas from coordinates relative to the domain (sums of products of large coordinates
+    # far from the origin would cancel); equal coordinates stay equal
+    origin = rings[0].min(axis=0)
+    rings = [r - origin for r in rings]
+    grids = [g[..., :2] - origin for g in grids]
     nodes = np.vstack([g.reshape(-1, 2) for g in grids])
     corners = np.vstack([sharp_corners(r) for r in rings])
     missed = _missed_corner(nodes, corners, tol)
     if missed is not None:
+        missed = missed + origin
         raise InputError(
             f"the grid does not cover the domain drawn: its sharp corner at "
             f"({missed[0]:.6g}, {missed[1]:.6g}) is no grid node; {fix}",

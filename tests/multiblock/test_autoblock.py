@@ -182,3 +182,40 @@ def test_pyvista_auto_matches_the_command_line(tmp_path):
     assert all(np.array_equal(a.points, b.points) for a, b in zip(blocks, again))
     with pytest.raises(InputError, match="draw the block edges and give them as blocks=$"):
         pv.Circle(radius=1.0, resolution=40).pinn_mesh(blocks="auto")
+
+
+DIAMOND = 0.5 * np.sqrt(2.0) * np.array([[1, 0], [0, 1], [-1, 0], [0, -1]], dtype=float)
+CHANNEL = np.array([[-3, -2], [6, -2], [6, 2], [-3, 2]], dtype=float)
+
+
+def test_a_hole_s_sharp_corner_off_the_spokes_gets_a_spoke_along_its_bisector():
+    """A square turned 45 degrees in a channel: the O-ring's spokes cross its sides, so each
+    of its corners gets a spoke of its own, straight out along the bisector to the box
+    (every ring block four-cornered); a round hole gets none."""
+    from pinn_engine.multiblock.autoblock.orings import main_axes, o_ring
+
+    ring = o_ring(DIAMOND[::-1], [CHANNEL], main_axes(CHANNEL))
+    extra = ring.edges[8:]
+    assert len(extra) == 4
+    for edge in extra:
+        corner, end = edge
+        assert np.linalg.norm(DIAMOND - corner, axis=1).min() == 0.0
+        direction = (end - corner) / np.linalg.norm(end - corner)
+        assert np.allclose(direction, corner / np.linalg.norm(corner))
+    a = np.linspace(0, 2 * np.pi, 48, endpoint=False)
+    assert len(o_ring(np.c_[np.cos(a), -np.sin(a)], [CHANNEL], main_axes(CHANNEL)).edges) == 8
+
+
+@pytest.mark.slow
+def test_a_square_turned_45_degrees_in_a_channel_meshes_with_its_corners_as_nodes(tmp_path):
+    path = tmp_path / "diamond.vtp"
+    lines = [np.r_[CHANNEL, CHANNEL[:1]], np.r_[DIAMOND, DIAMOND[:1]]]
+    poly = pv.PolyData()
+    poly.points = np.vstack([np.c_[r, np.zeros(len(r))] for r in lines])
+    poly.lines = np.r_[5, 0, 1, 2, 3, 4, 5, 5, 6, 7, 8, 9]
+    poly.save(path)
+    out = tmp_path / "g.vtm"
+    assert main([str(path), "--blocks", "auto", *FAST, "-o", str(out)]) == 0
+    nodes = np.vstack(_vtm_points(out))[:, :2]
+    for corner in DIAMOND:
+        assert np.linalg.norm(nodes - corner, axis=1).min() < 1e-12

@@ -182,7 +182,7 @@ class Mesher:
         params = pin_sharp(self.boundary_, uniform)
         at = None if params is uniform else params
         if self.model_ is not None:
-            return self.model_.grid(ni, nj, params=at)
+            return self.model_.grid(ni, nj) if at is None else self.model_.grid(ni, nj, params=at)
         # classical methods always place boundary nodes exactly on the input polyline
         if at is None:
             base = tfi_grid(make_fit("arclength", self.boundary_).sample, ni, nj)

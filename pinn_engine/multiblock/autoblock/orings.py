@@ -15,7 +15,9 @@ from dataclasses import dataclass
 import numpy as np
 from shapely.geometry import LineString, MultiLineString, Point, Polygon
 
+from pinn_engine.geometry.boundary import turning_angles
 from pinn_engine.multiblock.autoblock.corners import corner_points
+from pinn_engine.multiblock.blocks import CORNER_TURN
 
 RING_SHARE = 1.0  # the ring's thickness over the hole's half-size (a cylinder's box: 2 D wide)
 GAP_SHARE = 0.45  # the most of the gap beyond a box side that the ring takes (two boxes facing
@@ -84,5 +86,46 @@ def o_ring(hole: np.ndarray, others: list[np.ndarray], axes: np.ndarray) -> ORin
     box = (box + grow) @ axes
     centre = 0.5 * (lo + hi) @ axes
     edges = [np.array([box[k - 1], box[k]]) for k in range(4)]
-    edges += [np.array([_spoke_end(hole, centre, c, half), c]) for c in box]
-    return ORing(box, edges)
+    spokes = [np.array([_spoke_end(hole, centre, c, half), c]) for c in box]
+    return ORing(box, edges + spokes + _corner_spokes(hole, box, spokes))
+
+
+def _corner_spokes(hole: np.ndarray, box: np.ndarray, spokes: list[np.ndarray]) -> list:
+    """A spoke from each sharp corner of ``hole`` that no spoke ends at, along the
+    bisector of its angle outside the hole to the ``box``: a ring block's side on the
+    hole then runs between two corners of its own, none inside it (a block corner at
+    every sharp corner, SPEC 10). A spoke that would cross the hole or another spoke is
+    left out (the blocking is then refused)."""
+    solid = Polygon(hole)
+    frame = LineString(np.vstack([box, box[:1]]))
+    size = float(np.linalg.norm(np.ptp(box, axis=0)))
+    ends = [s[0] for s in spokes]
+    out: list[np.ndarray] = []
+    turn = turning_angles(hole)
+    for i in np.flatnonzero(np.abs(turn) >= CORNER_TURN):
+        p = hole[i]
+        if min(np.linalg.norm(e - p) for e in ends) <= 1e-12 * size:
+            continue
+        a, b = hole[i - 1] - p, hole[(i + 1) % len(hole)] - p
+        bisector = a / np.linalg.norm(a) + b / np.linalg.norm(b)
+        if np.linalg.norm(bisector) < 1e-9:  # a straight vertex: no corner
+            continue
+        bisector /= np.linalg.norm(bisector)
+        step = 1e-6 * size
+        if solid.contains(Point(p - step * bisector)) or not solid.contains(
+            Point(p + step * bisector)
+        ):
+            bisector = -bisector  # the bisector that leaves the hole
+        hit = frame.intersection(LineString([p, p - 2 * size * bisector]))
+        points = np.array([g.coords[0] for g in getattr(hit, "geoms", [hit]) if not g.is_empty])
+        if not len(points):
+            continue
+        end = points[np.argmin(np.linalg.norm(points - p, axis=1))]
+        spoke = LineString([p, end])
+        others = [LineString(e) for e in spokes + out]
+        if spoke.crosses(solid.exterior) or solid.contains(spoke.interpolate(0.5, True)):
+            continue
+        if any(spoke.crosses(o) or spoke.distance(o) <= 1e-12 * size for o in others):
+            continue
+        out.append(np.array([p, end]))
+    return out
