@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 from autoblock import CELLS_ACROSS, FINER
-from autoblock_domains import REPORT, TUNING, Domain, _a, _arc, tee_upstream
+from autoblock_domains import REPORT, TUNING, Domain, _a, tee_upstream
 from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonCore import vtkPoints
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData

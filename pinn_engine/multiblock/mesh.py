@@ -46,6 +46,7 @@ from pinn_engine.multiblock.quadblock import block_boundary, block_lines
 from pinn_engine.multiblock.spacing import (
     check_room,
     held_pieces,
+    on_drawn,
     requests,
     respace,
     spread,
@@ -257,6 +258,8 @@ def mesh_blocks(
         points, rest = graded_lines(points, lay.ids, grading, boundary_nodes, asked)
         points = respace(points, ratio_lines(topo, lay.ids, ratios, points))
         points = respace(points, rest)
+        if grades or asked or ratios:
+            points = on_drawn(points, boundary_nodes, rings)
         if (grades or asked) and untangle is not None:
             points = untangled_blocks(points, lay.ids, untangle)
         if walls.orthogonal:

@@ -187,6 +187,36 @@ def held_pieces(asked: Requests, held: set[int], walls: dict[int, float]) -> Req
     return out
 
 
+# A boundary node this share of the diagonal off the drawn boundary has been moved off it
+# (a node placed on it is within rounding)
+OFF_DRAWN = 1e-12
+
+
+def on_drawn(points: np.ndarray, boundary: np.ndarray, rings: list[np.ndarray]) -> np.ndarray:
+    """``points`` with each boundary node (mask ``boundary``) that a stretching moved off
+    the drawn ``rings`` put back at its nearest point of them: a line along a curved wall
+    is a spline of its nodes, which cuts across the drawn polyline's chords (by their
+    sagitta), and the grid must cover the domain drawn."""
+    ids = np.flatnonzero(boundary)
+    a = np.vstack([np.asarray(r, dtype=float)[:, :2] for r in rings])
+    b = np.vstack([np.roll(np.asarray(r, dtype=float)[:, :2], -1, axis=0) for r in rings])
+    ab = b - a
+    ab2 = np.maximum(np.einsum("mj,mj->m", ab, ab), 1e-300)
+    tol = OFF_DRAWN * float(np.linalg.norm(np.ptp(a, axis=0)))
+    out = points.copy()
+    for k in range(0, len(ids), 256):
+        chunk = ids[k : k + 256]
+        q = points[chunk][:, None, :]
+        u = np.clip(np.einsum("pmj,mj->pm", q - a, ab) / ab2, 0.0, 1.0)
+        foot = a + u[..., None] * ab
+        dist = np.linalg.norm(foot - q, axis=2)
+        near = dist.argmin(axis=1)
+        rows = np.arange(len(chunk))
+        off = dist[rows, near] > tol
+        out[chunk[off]] = foot[rows, near][off]
+    return out
+
+
 def untangled_blocks(
     points: np.ndarray, ids: list[np.ndarray], untangle: Callable[[np.ndarray], np.ndarray]
 ) -> np.ndarray:

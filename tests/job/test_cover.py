@@ -9,6 +9,7 @@ import pyvista as pv
 
 from pinn_engine import job
 from pinn_engine.errors import InputError
+from pinn_engine.geometry.boundary import segment_distance
 from pinn_engine.job.cover import check_blocks_cover, check_body_cover
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
@@ -137,3 +138,19 @@ def test_more_sharp_vertices_than_nodes_along_a_side_is_refused_with_the_size(tm
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and not out.exists()
     assert "sharp corner at (1.03, 0) is no grid node; a larger --size" in err
+
+
+def test_a_curved_wall_with_a_spacing_keeps_its_nodes_on_the_drawn_polyline(tmp_path):
+    """A quarter annulus drawn by 33 points a wall, meshed as blocks with a wall spacing:
+    the lines along the curved walls are stretched as splines of their nodes, which cut the
+    drawn chords; the nodes go back onto the polyline, and the cells cover the domain."""
+    t = np.linspace(0, np.pi / 2, 33)
+    ring = np.vstack([np.c_[2 * np.cos(t), 2 * np.sin(t)], np.c_[np.cos(t), np.sin(t)][::-1]])
+    path = tmp_path / "bend.csv"
+    np.savetxt(path, ring, delimiter=",")
+    geometry = job.blocks_from_files(str(path), ["auto"], spacing=["boundary=0.01"])
+    outcome = job.run(make_settings("elliptic", cell_size=0.125), geometry)  # not refused
+    grid = outcome.grids[0]
+    walls = np.vstack([grid[0], grid[-1]]) if grid.shape[0] < grid.shape[1] else grid[:, [0, -1]]
+    assert segment_distance(walls.reshape(-1, 2), ring).max() < 1e-12
+    assert outcome.report["quality"]["folded_cells"] == 0
