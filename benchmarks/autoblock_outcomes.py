@@ -179,7 +179,9 @@ def markdown(rows: list[dict]) -> str:
         "|---|---|---|---|---|---|---|",
     ]
     for r in rows:
-        detail = r.get("checkmesh") or r["error"].removeprefix("pinn-mesh: error: ")
+        # a refusal's own line (a BAD run's warnings before it are counted, not shown)
+        detail = r.get("checkmesh") or r["error"].splitlines()[-1]
+        detail = detail.removeprefix("pinn-mesh: error: ")
         blocks = r.get("blocks", "")
         worst = f"{r['worst']:.1f}" if "worst" in r else ""
         wall = f"{SPACING:g}" if r["spacing"] else "none"

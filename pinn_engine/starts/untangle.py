@@ -164,14 +164,17 @@ def _minimise(corners: _Corners) -> np.ndarray:
     eps = max(START_SHARE * max(-least, 0.0), EPS_FLOOR)
     for _ in range(EPS_ROUNDS):
         before = corners.energy(x, eps)[0]
-        x = minimize(
-            corners.energy,
-            x,
-            args=(eps,),
-            jac=True,
-            method="L-BFGS-B",
-            options={"maxiter": LBFGS_ITERATIONS, "gtol": 1e-12, "ftol": 1e-15},
-        ).x
+        # a trial step far off (an edge of length ~0) overflows the energy: the line
+        # search steps back from it, and no warning reaches the user
+        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+            x = minimize(
+                corners.energy,
+                x,
+                args=(eps,),
+                jac=True,
+                method="L-BFGS-B",
+                options={"maxiter": LBFGS_ITERATIONS, "gtol": 1e-12, "ftol": 1e-15},
+            ).x
         after = corners.energy(x, eps)[0]
         least = corners.least(x)
         if least > 0 and before - after <= CONVERGED * abs(after):
