@@ -162,11 +162,12 @@ def _minimise(corners: _Corners) -> np.ndarray:
     x = corners.grid[corners.free].ravel()
     least = corners.least(x)
     eps = max(START_SHARE * max(-least, 0.0), EPS_FLOOR)
-    for _ in range(EPS_ROUNDS):
-        before = corners.energy(x, eps)[0]
-        # a trial step far off (an edge of length ~0) overflows the energy: the line
-        # search steps back from it, and no warning reaches the user
-        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+    # a step far off (an edge of length ~0) overflows the energy: the line search steps
+    # back from it, a round that ends there leaves a fold the caller sees, and no warning
+    # reaches the user
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+        for _ in range(EPS_ROUNDS):
+            before = corners.energy(x, eps)[0]
             x = minimize(
                 corners.energy,
                 x,
@@ -175,13 +176,13 @@ def _minimise(corners: _Corners) -> np.ndarray:
                 method="L-BFGS-B",
                 options={"maxiter": LBFGS_ITERATIONS, "gtol": 1e-12, "ftol": 1e-15},
             ).x
-        after = corners.energy(x, eps)[0]
-        least = corners.least(x)
-        if least > 0 and before - after <= CONVERGED * abs(after):
-            break
-        sigma = max(1 - after / before, SIGMA_FLOOR)
-        mu = (1 - sigma) * float(_chi(np.array(least), np.hypot(eps, least), eps))
-        eps = 2 * np.sqrt(mu * (mu - least)) if least < mu else BARRIER_EPS
+            after = corners.energy(x, eps)[0]
+            least = corners.least(x)
+            if least > 0 and before - after <= CONVERGED * abs(after):
+                break
+            sigma = max(1 - after / before, SIGMA_FLOOR)
+            mu = (1 - sigma) * float(_chi(np.array(least), np.hypot(eps, least), eps))
+            eps = 2 * np.sqrt(mu * (mu - least)) if least < mu else BARRIER_EPS
     return corners.with_free(x)
 
 
