@@ -21,7 +21,7 @@ import numpy as np
 
 from pinn_engine.adapt import Field, read_field, read_field_file
 from pinn_engine.errors import InputError
-from pinn_engine.job.cover import covered, unfolded
+from pinn_engine.job.cover import covered, followed, unfolded
 from pinn_engine.job.family import (
     family_member,
     family_size,
@@ -84,6 +84,8 @@ def run(
         outcome = kind.run(settings, geometry, progress, cache, model)
     if kind.covered:
         outcome = covered(outcome, geometry)
+    if outcome.kind == "four-sided" and family is None and model is None:
+        outcome = followed(outcome, settings)
     if field is not None and settings.adapt_strength != 0:
         from pinn_engine.job.adapted import adapted
 

@@ -36,6 +36,9 @@ ROUNDING = 16 * np.finfo(float).eps
 # The cells' area may differ from the area the boundary nodes enclose by this share (the
 # rounding of summing many cells' areas)
 AREA_TOL = 1e-7
+# A drawn line is an instruction: the default four-sided grid's line through it (SPEC 2's
+# measure) keeps within this share of the diagonal, a tenth of a cell of a 41 x 21 grid
+LINE_TOL = 2e-3
 
 
 def _cell_areas(grid: np.ndarray) -> np.ndarray:
@@ -187,6 +190,26 @@ def unfolded(outcome):
     if refusal is not None:
         raise refusal
     return outcome
+
+
+def followed(outcome, settings):
+    """``outcome`` (a four-sided ``job.Outcome``) if its grid follows every auxiliary line
+    within ``LINE_TOL`` where the default promises it (``settings.objective`` best, taking
+    the quality objective's line-following start); refused (``InputError``) otherwise."""
+    if not (settings.objective == "best" and settings.quality_objective):
+        return outcome
+    distances = outcome.report.get("aux_line_distance") or {}
+    missed = {name: d for name, d in distances.items() if d > LINE_TOL}
+    if not missed:
+        return outcome
+    name, distance = max(missed.items(), key=lambda item: item[1])
+    raise InputError(
+        f"the grid is not written: it follows auxiliary line {name} only to {distance:.1e} "
+        f"of the diagonal ({LINE_TOL:g} asked) without folding; try a line the grid lines "
+        "can reach (one that stays clear of the boundary's notches and steps), or "
+        "{method:elliptic} to mesh without following the lines",
+        outcome.report.get("source"),
+    )
 
 
 def covered(outcome, geometry):

@@ -6,10 +6,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import pyvista as pv
+from helpers import EXAMPLES
 
 from pinn_engine import job
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import segment_distance
+from pinn_engine.io.pipeline import load_boundary
 from pinn_engine.job.cover import check_blocks_cover, check_body_cover
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
@@ -154,3 +156,21 @@ def test_a_curved_wall_with_a_spacing_keeps_its_nodes_on_the_drawn_polyline(tmp_
     walls = np.vstack([grid[0], grid[-1]]) if grid.shape[0] < grid.shape[1] else grid[:, [0, -1]]
     assert segment_distance(walls.reshape(-1, 2), ring).max() < 1e-12
     assert outcome.report["quality"]["folded_cells"] == 0
+
+
+def test_a_drawn_line_the_default_cannot_follow_is_refused_in_one_line(tmp_path, capsys):
+    """A line across the rounded notch of a hold-out shape, which the default's grid lines
+    cannot reach within 2e-3 of the diagonal without folding: no grid is written, and the
+    one line names the line, how far it was missed and the fixes."""
+    shape = EXAMPLES / "holdout" / "h11_notch_round_v.vtp"
+    boundary = load_boundary(shape)  # from 0.35 of the bottom side to 0.65 of the top
+    ends = [boundary.side(s).at(np.array([t]))[0] for s, t in (("bottom", 0.35), ("top", 0.65))]
+    unit = ends[0] + np.linspace(0.0, 1.0, 21)[:, None] * (ends[1] - ends[0])
+    line = boundary.plane.lift(boundary.frame.to_user(unit))
+    aux = tmp_path / "line.vtp"
+    pv.lines_from_points(line).save(aux)
+    out = tmp_path / "g.vts"
+    assert main([str(shape), "--aux", str(aux), "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "only to" in err and "--method elliptic" in err
+    assert not out.exists()
