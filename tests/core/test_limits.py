@@ -6,7 +6,7 @@ import re
 
 import numpy as np
 import pytest
-from helpers import EXAMPLES, ROOT, OutputMessages, square_ring
+from helpers import EXAMPLES, OutputMessages, square_ring
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
 from pinn_engine.geometry.boundary import Boundary
@@ -58,14 +58,15 @@ def test_every_route_refuses_the_same_sizes_in_its_own_words(ni, nj, tmp_path, c
 def test_the_largest_sizes_pass_and_the_panel_allows_exactly_them():
     assert grid_size_problem(MAX_SIDE_NODES, 2) is None
     assert grid_size_problem(2000, MAX_NODES // 2000) is None
-    plugin = (ROOT / "plugin" / "pinn_mesh_plugin.py").read_text()
-    assert 'bounds={"min": 2, "max": MAX_SIDE_NODES}' in plugin  # the Grid Size range
+    from pinn_engine.routes.panel import FOUR_SIDED_PANEL  # the plugin's panel, as data
+
+    size = next(p for p in FOUR_SIDED_PANEL if p.name == "GridSize")
+    assert size.bounds == {"min": 2, "max": MAX_SIDE_NODES}  # the Grid Size range
 
 
 def test_one_table_of_setting_rules_read_by_every_route(tmp_path, capsys):
     """settings.PARAMETER_CONSTRAINTS: the same range on the command line, in the panel, in
     Settings (pyvista, the VTK filter)."""
-    import re
 
     from pinn_engine.routes.cli import main
     from pinn_engine.settings import PARAMETER_CONSTRAINTS, make_settings
@@ -79,16 +80,17 @@ def test_one_table_of_setting_rules_read_by_every_route(tmp_path, capsys):
         == 2
     )
     assert f"--layers {top + 1}: must be a whole number from 1 to {top}" in capsys.readouterr().err
-    plugin = (ROOT / "plugin" / "pinn_mesh_plugin.py").read_text()
-    ranges = re.findall(
-        r'name="(HiddenLayers|Neurons|AdamEpochs|LBFGSIterations)".*?'
-        r"bounds=_range\(\"(\w+)\"\)",
-        plugin,
-        re.S,
-    )
-    assert {field for _, field in ranges} == {
-        "hidden_layers",
-        "neurons",
-        "adam_epochs",
-        "lbfgs_iterations",
+    from pinn_engine.routes.panel import FOUR_SIDED_PANEL, whole_range
+
+    ranges = {
+        p.name: p.bounds
+        for p in FOUR_SIDED_PANEL
+        if p.name in ("HiddenLayers", "Neurons", "AdamEpochs", "LBFGSIterations")
     }
+    assert ranges == {
+        "HiddenLayers": whole_range("hidden_layers"),
+        "Neurons": whole_range("neurons"),
+        "AdamEpochs": whole_range("adam_epochs"),
+        "LBFGSIterations": whole_range("lbfgs_iterations"),
+    }
+    assert ranges["HiddenLayers"]["max"] == top
