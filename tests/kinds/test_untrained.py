@@ -79,10 +79,13 @@ def test_an_untrained_map_is_the_start_it_would_have_kept():
     training = skipped.report["training"]
     assert training["skipped"] == WINSLOW and training["result"] == "start"
     forced = make_settings("pinn", lattice=SIZE, objective="winslow", lbfgs_iterations=0)
+    from pinn_engine.classical.pins import pinned_boundary
     from pinn_engine.kinds.four_sided.problem import train
+    from pinn_engine.starts.warmstart import lattice_for
 
-    start = train(boundary, [], forced).grid(*SIZE)
-    np.testing.assert_allclose(boundary.frame.to_unit(skipped.points), start, atol=1e-12)
+    pinned = pinned_boundary(boundary, *lattice_for(*SIZE))  # as Mesher.fit pins its sides
+    start = train(pinned, [], forced).grid(*SIZE)
+    np.testing.assert_allclose(pinned.frame.to_unit(skipped.points), start, atol=1e-12)
     code = (
         "import sys; from pinn_engine.io.pipeline import load_boundary;"
         "from pinn_engine.kinds.four_sided.mesher import Mesher;"
