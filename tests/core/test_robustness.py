@@ -760,6 +760,13 @@ def test_folded_cells_are_refused_with_or_without_fail_on_folded(tmp_path, capsy
 # ---------------------------------------------------------------- interruption, atomic writes
 
 
+def _answer_ctrl_c() -> None:
+    """In the child before it runs the command: Ctrl-C's default action, which a suite run in
+    the background (a shell's ``&``) has set to ignored and a child would inherit, as any
+    program started so keeps ignoring it."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def start(args: list, tmp_path: Path) -> subprocess.Popen:
     env = dict(os.environ, PYTHONUNBUFFERED="1")
     return subprocess.Popen(
@@ -769,6 +776,7 @@ def start(args: list, tmp_path: Path) -> subprocess.Popen:
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
+        preexec_fn=_answer_ctrl_c,
     )
 
 
