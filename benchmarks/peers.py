@@ -114,9 +114,9 @@ def openfoam_env() -> dict[str, str]:
     return dict(line.split("=", 1) for line in done.stdout.decode().split("\0") if "=" in line)
 
 
-def block_mesh(case: Path, cells: int, vertices, blocks, edges) -> Callable[[], float]:
-    """A blockMesh case of ``vertices`` (x, y, z), ``blocks`` (8 vertex ids, 3 counts) and
-    ``edges`` (a, b, interior points): its timer, once it made ``cells`` cells."""
+def write_dictionary(case: Path, vertices, body: list[str]) -> None:
+    """A blockMesh case's ``controlDict`` and ``blockMeshDict``: ``vertices`` (x, y, z), then
+    the ``body`` lines (blocks, edges, boundary)."""
     (case / "system").mkdir(parents=True)
     (case / "system" / "controlDict").write_text(
         "FoamFile { version 2.0; format ascii; class dictionary; object controlDict; }\n"
@@ -126,17 +126,23 @@ def block_mesh(case: Path, cells: int, vertices, blocks, edges) -> Callable[[], 
     lines = ["FoamFile { version 2.0; format ascii; class dictionary; object blockMeshDict; }"]
     lines += ["convertToMeters 1;", "vertices ("]
     lines += [f"  ({x:.12g} {y:.12g} {z:.12g})" for x, y, z in vertices]
-    lines += [");", "blocks ("]
-    lines += [
+    (case / "system" / "blockMeshDict").write_text("\n".join([*lines, ");", *body]) + "\n")
+
+
+def block_mesh(case: Path, cells: int, vertices, blocks, edges) -> Callable[[], float]:
+    """A blockMesh case of ``vertices`` (x, y, z), ``blocks`` (8 vertex ids, 3 counts) and
+    ``edges`` (a, b, interior points): its timer, once it made ``cells`` cells."""
+    body = ["blocks ("]
+    body += [
         f"  hex ({' '.join(map(str, ids))}) ({' '.join(map(str, n))}) simpleGrading (1 1 1)"
         for ids, n in blocks
     ]
-    lines += [");", "edges ("]
+    body += [");", "edges ("]
     for a, b, points in edges:
         inner = " ".join(f"({x:.12g} {y:.12g} {z:.12g})" for x, y, z in points)
-        lines.append(f"  polyLine {a} {b} ({inner})")
-    lines += [");", "boundary ();"]
-    (case / "system" / "blockMeshDict").write_text("\n".join(lines) + "\n")
+        body.append(f"  polyLine {a} {b} ({inner})")
+    body += [");", "boundary ();"]
+    write_dictionary(case, vertices, body)
     env = openfoam_env()
     done = subprocess.run(["blockMesh", "-case", str(case)], env=env, capture_output=True)
     assert f"nCells: {cells}" in done.stdout.decode(), done.stdout.decode()[-2000:]

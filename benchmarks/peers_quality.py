@@ -47,7 +47,7 @@ sys.path.insert(0, str(HERE))
 from airfoil_set import calibrate, construct2d, half, pinn_mesh  # noqa: E402
 from blockmesh3d import checkmesh, run_case  # noqa: E402
 from default_choice import SETS  # noqa: E402
-from peers import CONSTRUCT2D, block_mesh, openfoam_env  # noqa: E402
+from peers import CONSTRUCT2D, block_mesh, openfoam_env, write_dictionary  # noqa: E402
 
 from pinn_engine.blocks3d.checks import figures  # noqa: E402
 from pinn_engine.bodies.airfoil import read_dat  # noqa: E402
@@ -229,22 +229,13 @@ def bend_surface(work: Path) -> list[tuple[str, dict]]:
 def block_mesh_arcs(case: Path, vertices: list, counts: tuple, arcs: list, height: float):
     """A blockMesh case of one block over ``vertices`` with circular ``arcs`` (a, b, the
     coordinate of their midpoint on the diagonal) at both ends, meshed."""
-    (case / "system").mkdir(parents=True)
-    (case / "system" / "controlDict").write_text(
-        "FoamFile { version 2.0; format ascii; class dictionary; object controlDict; }\n"
-        "application blockMesh; startFrom startTime; startTime 0; stopAt endTime;\n"
-        "endTime 1; deltaT 1; writeControl timeStep; writeInterval 1;\n"
-    )
-    lines = ["FoamFile { version 2.0; format ascii; class dictionary; object blockMeshDict; }"]
-    lines += ["convertToMeters 1;", "vertices ("]
-    lines += [f"  ({x:.12g} {y:.12g} {z:.12g})" for x, y, z in vertices]
-    lines += [");", f"blocks ( hex (0 1 2 3 4 5 6 7) ({' '.join(map(str, counts))}) "]
-    lines += ["simpleGrading (1 1 1) );", "edges ("]
+    body = [f"blocks ( hex (0 1 2 3 4 5 6 7) ({' '.join(map(str, counts))}) "]
+    body += ["simpleGrading (1 1 1) );", "edges ("]
     for a, b, m in arcs:
         for shift, z in ((0, 0.0), (4, height)):
-            lines.append(f"  arc {a + shift} {b + shift} ({m:.12g} {m:.12g} {z:.12g})")
-    lines += [");", "boundary ();", "defaultPatch { name walls; type wall; }"]
-    (case / "system" / "blockMeshDict").write_text("\n".join(lines) + "\n")
+            body.append(f"  arc {a + shift} {b + shift} ({m:.12g} {m:.12g} {z:.12g})")
+    body += [");", "boundary ();", "defaultPatch { name walls; type wall; }"]
+    write_dictionary(case, vertices, body)
     subprocess.run(
         ["blockMesh", "-case", str(case)], env=openfoam_env(), check=True, capture_output=True
     )
