@@ -52,7 +52,7 @@ def run_case(case: str, size: tuple[int, int], quick: bool) -> list[dict]:
         budget = {"adam_epochs": 300, "lbfgs_iterations": 30} if quick else {}
         settings = make_settings(method, preset, lattice=size, **budget, **overrides)
         start = time.perf_counter()
-        result = Mesher(settings).fit(boundary, aux).predict(*size)
+        result = Mesher(settings).fit(boundary, aux).predict(*size, on_boundary=False)
         unit = boundary.frame.to_unit(result.points)
         row = {
             "case": case,

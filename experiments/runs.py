@@ -230,7 +230,7 @@ def run_job(
         aux = load_aux([apath], boundary)
         callback = _training_callback(settings, progress) if job.method in NEURAL else None
         mesher = Mesher(settings).fit(boundary, aux, callback)
-        result = mesher.predict(*job.size)
+        result = mesher.predict(*job.size, on_boundary=False)
     except Exception as exc:  # noqa: BLE001 - a failed run is a result, recorded and reported
         out["error"] = f"{type(exc).__name__}: {exc}"
         out["traceback"] = traceback.format_exc(limit=4)

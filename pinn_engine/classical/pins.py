@@ -153,3 +153,30 @@ def pin_sharp(boundary: Boundary, params: np.ndarray) -> np.ndarray:
         if found is not None:
             maps[side] = found
     return _blend(params, maps) if maps else params
+
+
+def placed_on_boundary(grid: np.ndarray, boundary: Boundary) -> np.ndarray:
+    """``grid`` (nj, ni, 2, working frame) with its boundary rows on ``boundary``: each node
+    at the closest point of its own side (a side's parameters kept in order, its ends on the
+    corners), the nodes nearest each sharp vertex on it (:func:`pin_sharp`); the interior
+    as it was. A grid of the soft boundary mode, whose network only approaches the sides,
+    so covers exactly the domain drawn."""
+    nj, ni = grid.shape[:2]
+    rows = {
+        "bottom": (np.s_[0, :], 0),
+        "top": (np.s_[-1, :], 0),
+        "left": (np.s_[:, 0], 1),
+        "right": (np.s_[:, -1], 1),
+    }
+    params = np.stack(np.meshgrid(np.linspace(0, 1, ni), np.linspace(0, 1, nj)), axis=-1)
+    for side, (row, axis) in rows.items():
+        line = boundary.side(side)
+        t = np.array([line.project(p)[0] for p in grid[row]])
+        t = np.maximum.accumulate(np.clip(t, 0.0, 1.0))
+        t[0], t[-1] = 0.0, 1.0
+        params[row + (axis,)] = t
+    params = pin_sharp(boundary, params)
+    out = grid.copy()
+    for side, (row, axis) in rows.items():
+        out[row] = boundary.side(side).at(params[row + (axis,)])
+    return out

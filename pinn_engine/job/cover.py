@@ -217,10 +217,6 @@ def covered(outcome, geometry):
     once its grid is checked to cover ``geometry``'s domain, the figures in its report's
     ``domain``; refused (``InputError``) otherwise."""
     if outcome.kind == "four-sided":
-        if outcome.report.get("settings", {}).get("boundary_mode") == "penalty":
-            # the paper's soft boundary (SPEC 4's preset) was asked: its nodes sit off the
-            # boundary by the deviation the summary reports, which the user chose
-            return outcome
         # a side's sharp vertices are nodes where its nodes allow (pins.pin_sharp): more
         # sharp vertices close together than nodes between them need more nodes
         fix = "a larger {size} (a node for each sharp corner along a side)"

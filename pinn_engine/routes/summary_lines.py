@@ -48,6 +48,12 @@ def grid_lines(report: dict, settings: Settings, ni: int, nj: int, seconds: floa
             else f", boundary deviation {q['boundary_deviation']:.1e}"
         )
     ]
+    placed = report.get("boundary_placed")
+    if placed:
+        lines.append(
+            "boundary nodes placed on the boundary: the soft boundary's network reached it "
+            f"to {placed['network_deviation']:.1e} of the diagonal"
+        )
     effect = network_effect(report)
     if effect:
         lines.append(effect)

@@ -8,8 +8,9 @@ import itertools
 import numpy as np
 import pytest
 
-from pinn_engine.classical.pins import assign, pin_sharp, pinned_boundary
+from pinn_engine.classical.pins import assign, pin_sharp, pinned_boundary, placed_on_boundary
 from pinn_engine.classical.spacing import param_grid
+from pinn_engine.classical.tfi import tfi_at
 from pinn_engine.geometry.boundary import Boundary
 
 # a 3 x 1.5 box whose bottom side climbs a trapezoidal bump: four vertices turning 45 degrees
@@ -68,3 +69,20 @@ def test_nodes_of_another_distribution_move_onto_the_vertices_the_walls_keep_the
     assert np.count_nonzero(moved[0, :, 0] != params[0, :, 0]) == 4
     assert np.array_equal(moved[:, :2], params[:, :2])
     assert pin_sharp(boundary, moved) is moved  # nothing left to move
+
+
+def test_a_grid_near_the_boundary_is_placed_on_it_with_every_sharp_vertex_a_node():
+    boundary = pinned_boundary(Boundary.from_points(BUMP), 21, 11)
+    exact = tfi_at(boundary)(param_grid(21, 11, {}))
+    rng = np.random.default_rng(0)
+    near = exact + rng.normal(scale=2e-3, size=exact.shape)  # a soft boundary's network
+    placed = placed_on_boundary(near, boundary)
+    edge = np.concatenate([placed[0], placed[-1], placed[:, 0], placed[:, -1]])
+    assert boundary.deviation(edge).max() < 1e-12
+    assert np.array_equal(placed[1:-1, 1:-1], near[1:-1, 1:-1])  # the interior as it was
+    assert np.array_equal(
+        placed[[0, 0, -1, -1], [0, -1, 0, -1]], boundary.corner_points()[[0, 1, 3, 2]]
+    )
+    for vertex in boundary.frame.to_unit(BUMP[1:5]):
+        assert np.linalg.norm(placed[0] - vertex, axis=1).min() == 0.0
+    assert np.all(np.diff(placed[0, :, 0]) > 0)

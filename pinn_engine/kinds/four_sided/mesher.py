@@ -10,7 +10,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from pinn_engine.classical.elliptic import winslow_solve, winslow_sweeps
-from pinn_engine.classical.pins import pin_sharp, pinned_boundary, pinned_lines
+from pinn_engine.classical.pins import (
+    pin_sharp,
+    pinned_boundary,
+    pinned_lines,
+    placed_on_boundary,
+)
 from pinn_engine.classical.spacing import (
     classical_grid,
     fit_params,
@@ -126,9 +131,13 @@ class Mesher:
         mesher.train_seconds_ = float(model.info.get("train_seconds", 0.0))
         return mesher
 
-    def predict(self, ni: int, nj: int, unit: np.ndarray | None = None) -> MeshResult:
+    def predict(
+        self, ni: int, nj: int, unit: np.ndarray | None = None, *, on_boundary: bool = True
+    ) -> MeshResult:
         """The grid at ``ni`` x ``nj`` nodes; feed-forward for the neural methods. ``unit``:
-        that grid (working frame) where already evaluated (a size change's guard)."""
+        that grid (working frame) where already evaluated (a size change's guard).
+        ``on_boundary``: the soft boundary mode's nodes placed on the boundary (the grid a
+        route writes); False gives that network's own map, as the paper measures it."""
         self._check_fitted()
         problem = grid_size_problem(ni, nj)
         if problem:
@@ -142,6 +151,10 @@ class Mesher:
                     f"the {self.settings.method} grid has non-finite grid "
                     "points (training failed); try another seed or fewer epochs"
                 )
+            placed = None
+            if on_boundary and self.model_ is not None and self.settings.boundary_mode == "penalty":
+                placed = float(self.boundary_.deviation(boundary_nodes(unit)).max())
+                unit = placed_on_boundary(unit, self.boundary_)
             deviation = float(self.boundary_.deviation(boundary_nodes(unit)).max())
             points = self.boundary_.frame.to_user(unit)
             cells = cell_quality(points)
@@ -159,6 +172,8 @@ class Mesher:
             "aux_line_turn": crossing_turns(unit, self.aux_lines_),
             "sides": side_report(unit, self.boundary_.frame.scale),
         }
+        if placed is not None:  # the soft boundary's network only approached the sides
+            report["boundary_placed"] = {"network_deviation": placed}
         timings = {"start": 0.0, "training": 0.0}
         if self.model_ is not None:
             report["training"] = self.model_.info
