@@ -223,6 +223,7 @@ def sections():
     return job.fit_family_model(members, targets, "--topology o --size 65 17")
 
 
+@pytest.mark.slow  # a body family fitted, then each member's own run beside it
 def test_a_body_family_polishes_as_its_members_own_run_chooses(sections):
     """An O-grid family: the member's own choice (its elliptic grid, or that optimised where
     it ranks better), its optimisation started from the model's grid; the wall and far field

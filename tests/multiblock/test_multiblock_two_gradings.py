@@ -105,6 +105,7 @@ def test_a_step_line_graded_beside_spaced_walls_keeps_the_finer_first_edge(tmp_p
     assert report["cells"] == report["graded_cells"]["to"]
 
 
+@pytest.mark.slow  # a graded multi-block step at the cell size at which the lip's line moved
 def test_a_graded_line_from_the_lip_stays_where_it_is_drawn(tmp_path):
     """The step's line alone graded: the solve keeps it on y = 1 (free, it left the lip 0.08
     upward and the graded cells sheared to 148 degrees)."""

@@ -272,6 +272,7 @@ def test_invalid_settings_reported():
     ]
 
 
+@pytest.mark.slow  # two trainings through the filter, one stopped part-way
 def test_abort_stops_training_with_its_best_grid_and_next_update_trains():
     """The progress bar's abort button (AbortExecute, read at the worker's next progress
     report) ends the training at once with the grid of its best state and a warning; the
@@ -339,6 +340,7 @@ def test_import_needs_no_torch_nor_pyvista():
     assert out.strip() == "[]"
 
 
+@pytest.mark.slow  # the filter run once per way of connecting its inputs
 def test_inputs_connected_together_are_told_apart():
     """ParaView's GUI connects every selected source to port 0: the closed curve is the
     boundary, the open polylines are auxiliary lines; two closed curves are an error."""

@@ -10,6 +10,7 @@ import json
 import time
 
 import numpy as np
+import pytest
 from helpers import EXAMPLES
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
@@ -77,6 +78,7 @@ def test_the_default_trains_nothing_and_says_what_it_chose():
     )
 
 
+@pytest.mark.slow  # a network trained on two routes, the command line in its own process
 def test_command_line_and_filter_say_it(tmp_path, capsys):
     """The command's summary has a ``chose ...`` line; the filter's grid carries
     ``NetworkResult`` and ``LargestNodeMove`` field data and ``Trained`` says whether a network

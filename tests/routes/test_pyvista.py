@@ -56,6 +56,7 @@ def test_accessor_trains_once_per_training_key(fig2):
     assert boundary.pinn_mesh.trainings == 3
 
 
+@pytest.mark.slow  # the same training through each input type the accessor takes
 def test_inputs_as_vtk_arrays_and_lists(fig2):
     boundary, aux = fig2
     ring = wavy_ring()

@@ -138,6 +138,7 @@ def test_pinn_adjacent_orthogonal_sides_with_spacing_on_a_nozzle():
         assert 0.9 * h <= figures["first_edge_min"] <= figures["first_edge_max"] <= 1.1 * h
 
 
+@pytest.mark.slow  # one orthogonal-side run on each of three routes
 def test_wall_angles_off_an_orthogonal_side_are_warned_on_every_route(capsys, tmp_path):
     """The elliptic solve drops Hilgenstock's control on the 30-degree dart (60 degrees off):
     the command line, pyvista and the filter say so, in their own words."""

@@ -30,6 +30,7 @@ from pinn_engine.starts.warmstart import elliptic_start
 HARD = EXAMPLES / "hard"
 
 
+@pytest.mark.slow  # the node optimisation on a deep notch, at the size its fan appears
 def test_quality_objective_beats_the_elliptic_grid_on_a_deep_notch():
     """On the narrow deep notch (41 x 21, its auxiliary line), where the converged elliptic
     grid folds 2 cells: no fold, worst angle below the elliptic grid's and within 0.5 degrees
