@@ -62,6 +62,40 @@ class Stencils:
     ids: np.ndarray
     h: np.ndarray
 
+    @functools.cached_property
+    def rows(self) -> RowGeometry:
+        """What the Winslow rows take from the stencils alone, for every Picard step."""
+        return RowGeometry(self)
+
+
+class RowGeometry:
+    """The parts of the stencils' Winslow rows that do not move with the nodes: the centre
+    and its two neighbours per axis (``mirrored`` where they are one node), the spacings,
+    and per offset of ``OFFSETS`` its cofactor and the factor and divisor of its weight."""
+
+    def __init__(self, st: Stencils) -> None:
+        ids, h = st.ids, st.h
+        span = h[:, :, 0] + h[:, :, 1]
+        self.centre = ids[:, 1, 1, 1]
+        self.plus = [ids[:, 2, 1, 1], ids[:, 1, 2, 1], ids[:, 1, 1, 2]]
+        self.minus = [ids[:, 0, 1, 1], ids[:, 1, 0, 1], ids[:, 1, 1, 0]]
+        self.mirrored = [np.flatnonzero(p == m) for p, m in zip(self.plus, self.minus)]
+        self.span = [span[:, a] for a in range(3)]
+        self.ahead = [h[:, a, 1] for a in range(3)]
+        self.centre_column = OFFSETS.index((0, 0, 0))
+        self.terms: list = []
+        for off in OFFSETS:
+            axes = [a for a in range(3) if off[a]]
+            if len(axes) == 1:
+                a = axes[0]
+                side = h[:, a, 1] if off[a] > 0 else h[:, a, 0]
+                self.terms.append(((a, a), (2.0, side * span[:, a])))
+            elif len(axes) == 2:
+                a, b = axes
+                self.terms.append(((a, b), (2.0 * off[a] * off[b], span[:, a] * span[:, b])))
+            else:
+                self.terms.append((None, None))
+
 
 @dataclass
 class Star:
@@ -530,33 +564,28 @@ def stencils(place: Placement) -> tuple[Stencils, list[Star], np.ndarray]:
 def _weights(points: np.ndarray, st: Stencils) -> np.ndarray:
     """(m, 19) weights of each node's frozen-coefficient Winslow row over ``OFFSETS``,
     normalised so that the centre's is -1."""
-    ids, h = st.ids, st.h
-    span = h[:, :, 0] + h[:, :, 1]
-    x0 = points[ids[:, 1, 1, 1]]
+    g = st.rows
+    x0 = points[g.centre]
     d = []
     for a in range(3):
-        plus, minus = [1, 1, 1], [1, 1, 1]
-        plus[a], minus[a] = 2, 0
-        ip, im = ids[:, plus[0], plus[1], plus[2]], ids[:, minus[0], minus[1], minus[2]]
-        central = (points[ip] - points[im]) / span[:, a, None]
+        ahead = points[g.plus[a]]
+        slope = (ahead - points[g.minus[a]]) / g.span[a][:, None]
         # across a mirror plane the ghost is the neighbour itself: one-sided there
-        one_sided = (points[ip] - x0) / h[:, a, 1, None]
-        d.append(np.where((ip == im)[:, None], one_sided, central))
-    c = cofactor_terms([[np.einsum("nk,nk->n", d[a], d[b]) for b in range(3)] for a in range(3)])
-    w = np.zeros((len(ids), len(OFFSETS)))
-    centre = OFFSETS.index((0, 0, 0))
-    for k, off in enumerate(OFFSETS):
-        axes = [a for a in range(3) if off[a]]
-        if len(axes) == 1:
-            a = axes[0]
-            side = h[:, a, 1] if off[a] > 0 else h[:, a, 0]
-            w[:, k] = c[(a, a)] * 2.0 / (side * span[:, a])
-            w[:, centre] -= w[:, k]
-        elif len(axes) == 2:
-            a, b = axes
-            w[:, k] = 2.0 * off[a] * off[b] * c[(a, b)] / (span[:, a] * span[:, b])
-    scale = -w[:, centre]
-    return w / scale[:, None]
+        at = g.mirrored[a]
+        slope[at] = (ahead[at] - x0[at]) / g.ahead[a][at][:, None]
+        d.append(slope)
+    upper = {(a, b): np.einsum("nk,nk->n", d[a], d[b]) for a in range(3) for b in range(a, 3)}
+    c = cofactor_terms([[upper[min(a, b), max(a, b)] for b in range(3)] for a in range(3)])
+    w = np.empty((len(x0), len(OFFSETS)))
+    centre = np.zeros(len(x0))
+    for k, (terms, scale) in enumerate(g.terms):
+        if terms is None:
+            continue
+        w[:, k] = c[terms] * scale[0] / scale[1]
+        if terms[0] == terms[1]:
+            centre -= w[:, k]
+    w[:, g.centre_column] = centre
+    return w / -centre[:, None]
 
 
 def _columns(st: Stencils) -> np.ndarray:
@@ -581,19 +610,31 @@ class _Systems:
         index[self.nodes] = np.arange(m)
         self.mine = np.flatnonzero(index[rows] >= 0)
         keys = index[rows[self.mine]].astype(np.int64) * n + cols[self.mine]
-        unique, self.slot = np.unique(keys, return_inverse=True)
+        # np.unique with its inverse, by a stable sort: the keys come row by row with each
+        # row's columns nearly in order, runs that the stable sort merges in a pass or two
+        order = np.argsort(keys, kind="stable")
+        ordered = keys[order]
+        first = np.empty(len(keys), dtype=bool)
+        first[:1] = True
+        np.not_equal(ordered[1:], ordered[:-1], out=first[1:])
+        unique = ordered[first]
+        self.slot = np.empty(len(keys), dtype=np.intp)
+        self.slot[order] = np.cumsum(first) - 1
         row, col = unique // n, unique % n
         self.pattern = (col.astype(np.int32), np.searchsorted(row, np.arange(m + 1)), (m, n))
         inner = index[col]  # an entry's column among the rows, -1 for a held node's column
-        self.parts = [self._part(row, inner, self.free[:, comp]) for comp in range(3)]
+        ruled = inner >= 0
+        inner[~ruled] = 0
+        self.parts = [self._part(row, inner, ruled, self.free[:, comp]) for comp in range(3)]
         self.solvers = [InexactSolve() for _ in range(3)]
 
     @staticmethod
-    def _part(row: np.ndarray, inner: np.ndarray, free: np.ndarray) -> tuple:
+    def _part(row: np.ndarray, inner: np.ndarray, ruled: np.ndarray, free: np.ndarray) -> tuple:
         """The entries, column indices, row pointers and rows of the matrix of the rows and
-        columns ``free`` among the pattern's rows."""
+        columns ``free`` among the pattern's rows (``inner``: an entry's column among them,
+        where ``ruled``)."""
         local = np.cumsum(free) - 1
-        keep = np.flatnonzero(free[row] & (inner >= 0) & free[np.maximum(inner, 0)])
+        keep = np.flatnonzero(free[row] & ruled & free[inner])
         rows = np.flatnonzero(free)
         indptr = np.searchsorted(local[row[keep]], np.arange(len(rows) + 1))
         return keep, local[inner[keep]].astype(np.int32), indptr, rows
