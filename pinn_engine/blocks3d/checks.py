@@ -156,14 +156,17 @@ def _skewness(points, quads, centre, area, owner_centre, d, least) -> np.ndarray
     sv = cpf - t[:, None] * d
     mag = np.linalg.norm(sv, axis=1)
     hat = sv / (mag + TINY)[:, None]
-    reach = np.abs(np.einsum("nk,nqk->nq", hat, points[quads] - centre[:, None])).max(axis=1)
+    reach = np.zeros(len(quads))
+    for q in range(4):
+        corner = np.abs(np.einsum("nk,nk->n", hat, points[quads[:, q]] - centre))
+        np.maximum(reach, corner, out=reach)
     fd = np.maximum(least * np.linalg.norm(d, axis=1) + TINY, reach)
     return mag / fd
 
 
 def folded(points: np.ndarray, cells: np.ndarray) -> int:
     """Cells with a corner whose three edges make a non-positive triple product."""
-    p = points[cells].transpose(1, 2, 0)  # (corner, xyz, cell): each a contiguous row
+    p = [points[cells[:, corner]].T for corner in range(8)]  # (xyz, cell) views a corner
     bad = np.zeros(len(cells), dtype=bool)
     for corner, (a, b, c) in enumerate(CORNER_EDGES):
         e0, e1, e2 = p[a] - p[corner], p[b] - p[corner], p[c] - p[corner]
