@@ -12,12 +12,16 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import spsolve
+from scipy.spatial import cKDTree
 
 from pinn_engine.geometry.boundary import arc_lengths
 from pinn_engine.hexa.surface import Surface
 
 LOCATE_BATCH = 4_000_000  # query-triangle pairs per batch: bounds the memory of the search
 DEGENERATE = 1e-300  # a mapped triangle with |det| below this holds no node
+# The triangles searched for a point's closest point on the face: those of the nearest
+# centroids (a face's triangles are of like size, so the closest lies among a few)
+NEAREST_TRIANGLES = 8
 
 
 def arc_fractions(points: np.ndarray) -> np.ndarray:
@@ -136,6 +140,64 @@ def carry_back(
     return np.einsum("qc,qcd->qd", bary, points[tris[found]])
 
 
+def _closest_on_segments(q: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The closest points to ``q`` on the segments ``a``-``b`` (broadcast, ... x 3)."""
+    ab = b - a
+    t = np.einsum("...d,...d->...", q - a, ab) / np.maximum(
+        np.einsum("...d,...d->...", ab, ab), DEGENERATE
+    )
+    return a + np.clip(t, 0.0, 1.0)[..., None] * ab
+
+
+def closest_points(points: np.ndarray, tris: np.ndarray, queries: np.ndarray) -> np.ndarray:
+    """The closest point to each of ``queries`` (m, 3) on the triangles ``tris`` of
+    ``points``, searched among the ``NEAREST_TRIANGLES`` of nearest centroid: the point's
+    projection on a triangle's plane where that falls inside it, else the closest point of
+    its edges."""
+    a, b, c = (points[tris[:, n]] for n in range(3))
+    k = min(NEAREST_TRIANGLES, len(tris))
+    _, near = cKDTree((a + b + c) / 3.0).query(queries, k=k)
+    near = near.reshape(len(queries), k)
+    a, b, c, q = a[near], b[near], c[near], queries[:, None, :]
+    normal = np.cross(b - a, c - a)
+    area = np.einsum("...d,...d->...", normal, normal)
+    on_plane = (
+        q
+        - (np.einsum("...d,...d->...", q - a, normal) / np.maximum(area, DEGENERATE))[..., None]
+        * normal
+    )
+    inside = np.ones(near.shape, dtype=bool)
+    for p0, p1 in ((a, b), (b, c), (c, a)):
+        inside &= np.einsum("...d,...d->...", np.cross(p1 - p0, on_plane - p0), normal) >= 0.0
+    edges = np.stack(
+        [_closest_on_segments(q, p0, p1) for p0, p1 in ((a, b), (b, c), (c, a))], axis=-2
+    )
+    nearest_edge = np.take_along_axis(
+        edges, np.linalg.norm(edges - q[..., None, :], axis=-1).argmin(-1)[..., None, None], -2
+    )[..., 0, :]
+    best = np.where(inside[..., None], on_plane, nearest_edge)
+    pick = np.linalg.norm(best - q, axis=-1).argmin(axis=1)
+    return best[np.arange(len(queries)), pick]
+
+
+def corner_angles(grid: np.ndarray) -> np.ndarray:
+    """The largest corner angle (degrees) of each quad of a face grid (na, nb, 3), and 180
+    where the quad turns over against the face's mean normal (a fold)."""
+    p00, p10, p11, p01 = grid[:-1, :-1], grid[1:, :-1], grid[1:, 1:], grid[:-1, 1:]
+    ring = (p00, p10, p11, p01)
+    cosines = []
+    for n in range(4):
+        u, w = ring[n - 1] - ring[n], ring[(n + 1) % 4] - ring[n]
+        cosines.append(
+            np.einsum("...d,...d->...", u, w)
+            / np.maximum(np.linalg.norm(u, axis=-1) * np.linalg.norm(w, axis=-1), DEGENERATE)
+        )
+    worst = np.degrees(np.arccos(np.clip(np.min(cosines, axis=0), -1.0, 1.0)))
+    normal = np.cross(p11 - p00, p01 - p10)
+    facing = np.einsum("...d,d->...", normal, normal.sum(axis=(0, 1)))
+    return np.where(facing > 0.0, worst, 180.0)
+
+
 class FaceMap:
     """One face's map to the unit square, built once and evaluated at node parameters.
 
@@ -173,4 +235,34 @@ class FaceMap:
         queries = params[1:-1, 1:-1].reshape(-1, 2)
         inner = carry_back(self.uv, self.tris, self.points, queries)
         grid[1:-1, 1:-1] = inner.reshape(na - 2, nb - 2, 3)
-        return grid
+        transfinite = self._transfinite(grid, params)
+        better = corner_angles(transfinite).max() < corner_angles(grid).max()
+        return transfinite if better else grid
+
+    def _transfinite(self, grid: np.ndarray, params: np.ndarray) -> np.ndarray:
+        """``grid`` with its inner nodes at the 3D transfinite interpolation of its sides
+        (at the nodes' parameters) moved to their closest points on the face: where the
+        square map's grid bends its lines (a face of a polar bend, whose harmonic map puts
+        the rows off its arcs), TFI keeps them on the arcs and at right angles."""
+        u, v = params[1:-1, 1:-1, 0, None], params[1:-1, 1:-1, 1, None]
+        side = {n: self.sides[n] for n in ("a0", "a1", "b0", "b1")}
+        along = {
+            n: edge_nodes(side[n], x.ravel()).reshape(*x.shape[:2], 3)
+            for n, x in (("a0", u), ("a1", u), ("b0", v), ("b1", v))
+        }
+        c00, c10, c01, c11 = grid[0, 0], grid[-1, 0], grid[0, -1], grid[-1, -1]
+        inner = (
+            (1 - v) * along["a0"]
+            + v * along["a1"]
+            + (1 - u) * along["b0"]
+            + u * along["b1"]
+            - (1 - u) * (1 - v) * c00
+            - u * (1 - v) * c10
+            - (1 - u) * v * c01
+            - u * v * c11
+        )
+        out = grid.copy()
+        out[1:-1, 1:-1] = closest_points(self.points, self.tris, inner.reshape(-1, 3)).reshape(
+            inner.shape
+        )
+        return out

@@ -32,6 +32,7 @@ Map = TypeVar("Map")  # what a kind's pinn leaves: its map, or its grid and repo
 
 WINSLOW = "the start already solves the Winslow equations the network trains on"
 QUALITY = "the start is the quality objective's own optimum on these nodes"
+TFI_START = "the start, the TFI grid, ranks above the Winslow grid the network trains toward"
 
 
 def cannot_win(settings: Settings, aux: Sequence[AuxLine] = ()) -> str | None:

@@ -35,7 +35,7 @@ from pinn_engine.hexa.spacing import (
 from pinn_engine.hexa.surface import Surface, Topology, find_topology, surface_of
 from pinn_engine.io import fileio
 from pinn_engine.io.export.patches import BOX_SIDES, add_to_grid, named_patches, patch_specs
-from pinn_engine.kinds.hexa.start import Start, winslow_start
+from pinn_engine.kinds.hexa.start import Start, better_start, winslow_start
 from pinn_engine.patchnames import FACE_PREFIX
 from pinn_engine.settings import Settings
 
@@ -269,7 +269,7 @@ def mesh_polydata(
     model, elliptic = None, []  # the untrained start's grid: the elliptic run's
     if method == "pinn":  # the elliptic and tfi runs import no training modules
         from pinn_engine.kinds.hexa.untrained import VolumeStartModel
-        from pinn_engine.kinds.untrained import cannot_win, start_or_train
+        from pinn_engine.kinds.untrained import TFI_START, WINSLOW, cannot_win, start_or_train
 
         @cache  # the start's lattice is often the grid's own size
         def tfi_of(shape: tuple[int, ...]) -> np.ndarray:
@@ -278,9 +278,11 @@ def mesh_polydata(
 
         def kept(reason: str) -> tuple[VolumeStartModel, np.ndarray]:
             """The start's map (no network, no torch) and the TFI grid it corrects."""
-            start = winslow_start(tfi_of, size)
+            winslow = winslow_start(tfi_of, size)
             lap("start")
-            elliptic.append(start.grid)
+            elliptic.append(winslow.grid)
+            start = better_start(winslow)
+            reason = TFI_START if start.name == "tfi" and reason == WINSLOW else reason
             return VolumeStartModel.of(start, settings, key, reason, timings["start"]), base
 
         def trained() -> tuple[HexaModel, np.ndarray]:
@@ -300,7 +302,7 @@ def mesh_polydata(
                     partial(wall_angle, patches=orthogonal) if orthogonal else None,
                 )
             else:
-                start = winslow_start(tfi_of, size)
+                start = better_start(winslow_start(tfi_of, size))
             lap("start")
             return train(start, key, settings, training), tfi
 

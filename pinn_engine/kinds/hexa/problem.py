@@ -327,5 +327,5 @@ def train(
     training = train_network(settings, network, problem, progress)
     model, device = built[0], training.device
     model.history, model.info = training.history, training.info
-    model.info.update(device=str(device), start="elliptic", elliptic=reference)
+    model.info.update(device=str(device), start=start.name, elliptic=reference)
     return model

@@ -1,5 +1,5 @@
 """A six-faced block's map where its network is not trained (``kinds.untrained.cannot_win``):
-the 3D Winslow start, the map a trained model has with its output layer at zero."""
+the best start (3D Winslow or TFI), the map a trained model has with its output layer at zero."""
 
 from __future__ import annotations
 
@@ -28,9 +28,9 @@ class VolumeStartModel:
 
     @classmethod
     def of(cls, start: Start, settings: Settings, surface_key: str, reason: str, seconds: float):
-        """The map of ``start`` (the Winslow grid of the surface of ``surface_key``, solved in
+        """The map of ``start`` (the best start of the surface of ``surface_key``, solved in
         ``seconds``) and what the report says about it: not trained, and why (``reason``)."""
-        info = start_info("elliptic", reason, {"lattice": list(start.grid.shape[:3])}, seconds)
+        info = start_info(start.name, reason, {"lattice": list(start.grid.shape[:3])}, seconds)
         return cls(LatticeField(start.grid - start.tfi), settings, info, surface_key)
 
     def grid(self, tfi: np.ndarray) -> np.ndarray:
