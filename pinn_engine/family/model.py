@@ -11,8 +11,8 @@ family's grids solve the Winslow equations, one more linearised solve at the pre
 takes it to second order towards the member's own. Where they are node optima (the default's
 four-sided grids and bodies) the base is the member's own elliptic grid, the network the
 linear map alone (network.fit_linear), and the member's own node optimisation finishes the
-grid: ``POLISH_ITERATIONS`` iterations of a four-sided member's, a body's own run's
-optimisation from the model's grid (mesh.py).
+grid: a four-sided member's until it settles (at most ``POLISH_ITERATIONS``), a body's own
+run's optimisation from the model's grid (mesh.py).
 """
 
 from __future__ import annotations
@@ -38,11 +38,9 @@ FORMAT = "pinn-mesh-family/1"
 KEPT_ENERGY = 1e-8
 EPOCHS = 1500  # Adam's full-batch epochs: about 1 s for 24 members on one core
 # Iterations of the member's own node optimisation that finish a model's grid where the
-# family's grids are node optima (the default's four-sided grids): measured on the channels
-# of docs/family.md, from the model's grid 60 bring every unseen member within 0.1 degrees
-# of its own default grid's worst angle and mean (50 left one 0.67 above on the mean), where
-# its own run takes 100 (up to 300 evaluations) from its best start
-POLISH_ITERATIONS = 60
+# family's grids are node optima (the default's four-sided grids), at most: its own run's
+# (quality_start.NODE_ITERATIONS), stopped where it has settled (mesh.POLISH_SETTLE)
+POLISH_ITERATIONS = 100
 # A node-optimum family's member's elliptic grid by chord steps (FamilyModel._elliptic): they
 # stop when no node moves more than ELLIPTIC_TOL of the extent (a grid that far from the
 # converged one changes no angle by a thousandth of the ranking's 0.01-degree step; the

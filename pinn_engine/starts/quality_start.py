@@ -94,6 +94,20 @@ FOLDED_ANGLE = 180.0  # degrees: a corner above it is reflex, its cell folded (q
 
 
 @dataclass(frozen=True)
+class Settle:
+    """When a node optimisation has settled, and the state it returns (:func:`optimize_nodes`):
+    its last ``window`` iterations left the best-ranked state's ranking above its worst angle
+    and lowered that by less than ``worst`` degrees; it returns, of the states ranked as the
+    best but for their worst angle within ``spare`` degrees of its, the one of least mean (a
+    worst angle stuck at a boundary corner leaves every state tied, and the first met is the
+    best ranked); none ranked below the state it started from."""
+
+    window: int
+    worst: float
+    spare: float
+
+
+@dataclass(frozen=True)
 class Ranking:
     """The order of grids on a lattice under ``--objective quality`` (:meth:`key`), with the
     auxiliary lines (working frame) they are to follow within ``line_tol`` of the boundary's
@@ -561,6 +575,7 @@ def optimize_nodes(
     held_rows: int = 1,
     seam: bool = False,
     stall: int | None = None,
+    settle: Settle | None = None,
 ) -> np.ndarray:
     """``grid`` with its interior nodes moved to minimise ``losses.loss_quality``
     (:func:`quality_loss`; L-BFGS in float64, at most ``iterations``), with auxiliary lines
@@ -569,6 +584,7 @@ def optimize_nodes(
     first ``held_rows`` rows from j = 0 (a body's wall and first layer: its first edges and
     wall angles). ``seam``: column ni - 1 is column 0 (an O-grid's seam), which moves with it.
     ``stall``: stop once that many iterations have not found a better-ranked state.
+    ``settle``: stop once it has settled, and return its state (:class:`Settle`).
     Returns the evaluated state that ranks best (``ranking``, on the corner angles): the soft
     maximum is a surrogate of the worst angle, not the same. Each node moves in units of its
     shortest edge (a diagonal preconditioner: angles change with a node's move relative to
@@ -585,6 +601,8 @@ def optimize_nodes(
     turn_term = _turn_term(grid, ranking)
     best = [(math.inf,), np.zeros(inner0.size)]
     since = [0]  # iterations since the best state was found
+    keys: list[tuple] = []  # with settle: the best state's key after each iteration
+    met: list[tuple[tuple, float, np.ndarray]] = []  # with settle: each state's key, mean, x
 
     def moved(x: np.ndarray) -> np.ndarray:
         g = grid.copy()
@@ -619,12 +637,20 @@ def optimize_nodes(
         if key < best[0]:
             best[:] = key, x.copy()
             since[0] = 0
+        if settle is not None:
+            met.append((key, q["mean_max_angle"], x.copy()))
         return loss, (grad[free] * unit).ravel()
 
     def stalled(_) -> None:
         since[0] += 1
         if stall is not None and since[0] > stall:
             raise StopIteration
+        if settle is not None:
+            keys.append(best[0])
+            then = keys[-1 - settle.window] if len(keys) > settle.window else None
+            if then is not None and then[:-1] == best[0][:-1]:
+                if then[-1] - best[0][-1] < settle.worst:
+                    raise StopIteration
 
     minimize(
         loss_and_grad,
@@ -634,6 +660,15 @@ def optimize_nodes(
         callback=stalled,
         options={"maxiter": iterations, "maxfun": NODE_EVALUATIONS * iterations, **NODE_LBFGS},
     )
+    if settle is not None:
+        near = [  # ranked no worse than the start, whose key is the first met
+            (mean, x)
+            for key, mean, x in met
+            if key[:-1] == best[0][:-1]
+            and key[-1] <= best[0][-1] + settle.spare
+            and key <= met[0][0]
+        ]
+        return moved(min(near, key=lambda m: m[0])[1])
     return moved(best[1])
 
 

@@ -177,10 +177,11 @@ def test_a_family_of_node_optima_is_polished_and_kept_without_its_start(optima):
     assert q["mean_max_angle"] <= ref["mean_max_angle"] + 0.5
 
 
-def test_a_polished_grid_below_the_members_own_start_falls_back(optima, monkeypatch):
-    """The guard of a family of node optima: a polished grid that ranks below the grid the
-    member's own optimisation starts from (here: none of its iterations taken, a folded
-    prediction) gives the member's own default grid, its start solved."""
+def test_a_model_grid_below_the_members_own_start_is_not_polished(optima, monkeypatch):
+    """A family of node optima: a model's grid that ranks below the grid the member's own
+    optimisation starts from (here a folded prediction) is not where the polish starts; the
+    member's start is, and the grid kept ranks no worse than it: no fold, its own default
+    grid's boundary nodes, within the check's bounds of that grid."""
     from pinn_engine.family.model import FamilyModel
 
     real = FamilyModel.predict
@@ -192,12 +193,40 @@ def test_a_polished_grid_below_the_members_own_start_falls_back(optima, monkeypa
         return grid, info
 
     monkeypatch.setattr(FamilyModel, "predict", folded)
-    monkeypatch.setattr(optima, "polish", 1)
     g = geometry(channel(0.25, 0.05))
     by_model = job.run(DEFAULT, g, family=optima)
+    own = job.run(DEFAULT, g)
     training = by_model.report["training"]
-    assert training["result"] == "start" and training["start_solved"]
-    np.testing.assert_allclose(by_model.grids[0], job.run(DEFAULT, g).grids[0], atol=1e-12)
+    assert training["result"] == "family" and not training["start_solved"]
+    assert "the model's grid ranked below it" in training["polished_against"]
+    q, ref = by_model.quality, own.quality
+    assert q["folded_cells"] == 0
+    assert q["worst_max_angle"] <= ref["worst_max_angle"] + 2
+    assert q["mean_max_angle"] <= ref["mean_max_angle"] + 0.5
+    np.testing.assert_allclose(by_model.grids[0][0], own.grids[0][0], atol=1e-12)
+
+
+def test_a_settled_polish_stops_early_and_never_ranks_below_its_start():
+    """quality_start.optimize_nodes with a Settle: it stops once its window has not lowered
+    the worst angle by the step (far fewer iterations than asked on a grid whose worst angle
+    no interior node changes), and the state it returns ranks no worse than its start."""
+    from pinn_engine.starts import quality_start as qs
+
+    ni, nj = 11, 7
+    x, y = np.meshgrid(np.linspace(0, 1, ni), np.linspace(0, 1, nj))
+    grid = np.stack([x + 0.3 * y, y], -1)  # a sheared box: 73.3-degree corners, fixed
+    grid[3, 5] += (0.02, 0.03)
+    ranking = qs.Ranking.of(grid, (), 1.0)
+    calls = []
+    real = qs.quality_loss
+    monkeypatch = pytest.MonkeyPatch()
+    monkeypatch.setattr(qs, "quality_loss", lambda g, t: calls.append(1) or real(g, t))
+    try:
+        settled = qs.optimize_nodes(grid, ranking, 100, settle=qs.Settle(5, 0.05, 0.25))
+    finally:
+        monkeypatch.undo()
+    assert len(calls) < 3 * 20
+    assert ranking.key(ranking.quality(settled)) <= ranking.key(ranking.quality(grid))
 
 
 # a family of O-grids under the default (its members' nodes optimised where that ranks

@@ -4,6 +4,7 @@ options a domain kind does not take (``job.OPTIONS``) refused by their flags."""
 from __future__ import annotations
 
 import argparse
+import functools
 
 from pinn_engine.errors import PinnMeshError
 from pinn_engine.routes.cli.parser import build_parser, option_flags
@@ -23,9 +24,16 @@ from pinn_engine.settings import (
 ROUTE_OPTIONS = frozenset({"boundary", "output", "format", "report", "quiet"})
 
 
+@functools.cache
+def _defaults() -> dict:
+    """Each option's default as the parser gives it (built once a process: a batch worker
+    asks for every case)."""
+    return vars(build_parser().parse_args([]))
+
+
 def given_options(args: argparse.Namespace) -> list[str]:
     """The parsed names (dests) of the options given a value other than their default."""
-    defaults = vars(build_parser().parse_args([]))
+    defaults = _defaults()
     return [dest for dest, value in vars(args).items() if value != defaults.get(dest)]
 
 
