@@ -1,8 +1,9 @@
 """A member of a family as its model sees it: its kind, its boundary nodes placed exactly as
 its own run places them, and a base grid on them, in the family's frame.
 
-- Four-sided: the arc-length TFI of the boundary (the nodes and base of the default run,
-  ``kinds.four_sided.untrained.StartModel``), in the boundary's unit-box working frame.
+- Four-sided: the arc-length TFI of the boundary, each sharp vertex inside a side a node (the
+  nodes and base of the default run, ``kinds.four_sided.untrained.StartModel``), in the
+  boundary's unit-box working frame.
 - Body (O- or C-grid): the member's elliptic grid (``kinds.body.mesh.mesh_body``: the wall and far
   field nodes of ``bodygrid.layout``, the start of the default run), in the frame of its
   chord: mid-chord at the origin, chord 1.
@@ -15,12 +16,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pinn_engine.classical.pins import pinned_boundary
 from pinn_engine.classical.tfi import tfi_grid
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import Frame
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
 from pinn_engine.result import MeshResult
 from pinn_engine.settings import DEFAULT_SIZE, Settings
+from pinn_engine.starts.warmstart import lattice_for
 
 KINDS = ("four-sided", "body")
 # The settings that make a family: its members share them, and a member meshed by its model
@@ -87,6 +90,9 @@ def member_of(
                 "{spacing} or {orthogonal} in this build; drop them (or mesh without the model)",
                 boundary.source,
             )
+        # a node on every sharp vertex inside a side, as the member's own run places them
+        # (Mesher.fit: classical/pins.py at the start's lattice)
+        boundary = pinned_boundary(boundary, *lattice_for(*settings.lattice))
         base = tfi_grid(ArcLengthFit(boundary).sample, ni, nj)
         shared = family_settings(settings)
         return Member(

@@ -302,3 +302,40 @@ def test_a_body_model_grid_below_the_elliptic_grid_is_not_the_optimisations_star
     assert by_model.quality["mean_max_angle"] == pytest.approx(
         own.quality["mean_max_angle"], abs=1e-3
     )
+
+
+def ramp(height: float, apex: float) -> np.ndarray:
+    """A channel of length 3 whose floor rises straight to a sharp apex of ``height`` at x =
+    ``apex`` and falls again (three sharp vertices inside the bottom side)."""
+    bottom = np.array(
+        [[0, 0], [apex - 0.5, 0], [apex, height], [apex + 0.5, 0], [3, 0]], dtype=float
+    )
+    x = np.linspace(0.0, 3.0, 61)
+    top = np.column_stack([x, np.ones_like(x)])[::-1]
+    right = np.linspace(bottom[-1], top[0], 11)
+    left = np.linspace(top[-1], bottom[0], 11)
+    return np.vstack([bottom[:-1], right[:-1], top[:-1], left[:-1]])
+
+
+def test_a_family_of_sharp_sided_domains_keeps_each_sharp_vertex_a_node():
+    """Members whose sides turn sharply between their corners: the model's grid has a node on
+    each sharp vertex, placed as the member's own run places it (its boundary nodes), and is
+    written (the cover check refuses a grid that cuts one)."""
+    members, targets = [], []
+    for h in (0.15, 0.25, 0.35):
+        for c in (1.2, 1.6):
+            g = geometry(ramp(h, c))
+            member = job.family_member(DEFAULT, g)
+            members.append(member)
+            targets.append(job.member_target(member, job.run(DEFAULT, g)))
+    model = job.fit_family_model(members, targets, "--size 21 11")
+    g = geometry(ramp(0.3, 1.43))
+    own = job.run(DEFAULT, g)
+    by_model = job.run(DEFAULT, g, family=model)
+    assert by_model.report["training"]["result"] == "family"
+    bottom = by_model.grids[0][0]
+    np.testing.assert_allclose(bottom, own.grids[0][0], atol=1e-12)
+    for vertex in ((0.93, 0.0), (1.43, 0.3), (1.93, 0.0)):
+        assert np.linalg.norm(bottom - vertex, axis=1).min() < 1e-12
+    assert by_model.quality["folded_cells"] == 0
+    assert by_model.quality["worst_max_angle"] <= own.quality["worst_max_angle"] + 2
