@@ -2,7 +2,7 @@
 members against their own default grids and the elliptic grids.
 
 Usage: ``.venv/bin/python benchmarks/family.py [--out docs/family.md] [--workdir DIR]
-[--family channels naca]``
+[--family channels naca] [--repeat N] [--subsets 6 12]``
 
 For each family of ``example_data/make_families.py`` (24 training members, 8 unseen members
 from the same ranges, 8 from ranges 25 % wider on each side):
@@ -10,13 +10,13 @@ from the same ranges, 8 from ranges 25 % wider on each side):
 - ``pinn-mesh fit train.csv --workers 2``: its wall time, the members' default grids' and
   the model's;
 - in this process (warm, as a batch worker or pyvista): each unseen member's default grid,
-  elliptic grid and family grid, their times (the median of 3) and figures; the family grid
-  must have no fold, the default grid's boundary nodes, the worst cell within 2 degrees and
-  the mean within 0.5 of the default grid's;
+  elliptic grid and family grid, their times (the median of ``--repeat``, 3) and figures;
+  the family grid must have no fold, the default grid's boundary nodes, the worst cell
+  within 2 degrees and the mean within 0.5 of the default grid's;
 - ``pinn-mesh batch --workers 1`` over the unseen members with and without ``--model``: the
   median of the summary's seconds a member;
-- the models fitted on the first 6 and 12 training members (targets reused): the largest
-  node error and worst-cell excess on the unseen members, and the wider members.
+- the models fitted on the first 6 and 12 training members (``--subsets``; targets
+  recomputed): the worst-cell excess on the unseen members, and the wider members.
 
 It prints the tables and writes them between the markers of ``--out``.
 """
@@ -37,8 +37,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 PINN = str(ROOT / ".venv" / "bin" / "pinn-mesh")
 BEGIN, END = "<!-- family benchmark: begin -->", "<!-- family benchmark: end -->"
-REPEAT = 3  # timings a member: the median
-SUBSETS = (6, 12)  # training members of the smaller models
+REPEAT = 3  # timings a member: the median (--repeat)
+SUBSETS = (6, 12)  # training members of the smaller models (--subsets)
 
 
 def generate(workdir: Path, family: str) -> tuple[Path, Path]:
@@ -67,27 +67,28 @@ def settings_and_geometry(folder: Path, row: dict, method: str = "pinn"):
     return member_inputs(case.args)
 
 
-def timed(run, *args, **kwargs) -> tuple[object, float]:
-    """``run(*args, **kwargs)``'s result and its median time over ``REPEAT`` runs."""
+def timed(run, *args, repeat: int = REPEAT, **kwargs) -> tuple[object, float]:
+    """``run(*args, **kwargs)``'s result and its median time over ``repeat`` runs."""
     times, out = [], None
-    for _ in range(REPEAT):
+    for _ in range(repeat):
         began = time.perf_counter()
         out = run(*args, **kwargs)
         times.append(time.perf_counter() - began)
     return out, statistics.median(times)
 
 
-def compare(folder: Path, rows: list[dict], model) -> list[dict]:
-    """Each member's default, elliptic and family grids: times and figures."""
+def compare(folder: Path, rows: list[dict], model, repeat: int = REPEAT) -> list[dict]:
+    """Each member's default, elliptic and family grids: times (the median of ``repeat``)
+    and figures."""
     from pinn_engine import job
 
     out = []
     for row in rows:
         settings, geometry = settings_and_geometry(folder, row)
         e_settings, e_geometry = settings_and_geometry(folder, row, "elliptic")
-        own, t_own = timed(job.run, settings, geometry)
-        ell, t_ell = timed(job.run, e_settings, e_geometry)
-        fam, t_fam = timed(job.run, settings, geometry, family=model)
+        own, t_own = timed(job.run, settings, geometry, repeat=repeat)
+        ell, t_ell = timed(job.run, e_settings, e_geometry, repeat=repeat)
+        fam, t_fam = timed(job.run, settings, geometry, family=model, repeat=repeat)
         a, b = own.grids[0], fam.grids[0]
         sides = [np.s_[0], np.s_[-1], np.s_[:, 0], np.s_[:, -1]]
         same = max(float(np.abs(a[s] - b[s]).max()) for s in sides)
@@ -155,7 +156,9 @@ def subset_errors(folder: Path, wide: Path, n: int) -> dict:
     return out
 
 
-def run_family(family: str, workdir: Path) -> list[str]:
+def run_family(
+    family: str, workdir: Path, repeat: int = REPEAT, subsets: tuple[int, ...] = SUBSETS
+) -> list[str]:
     folder, wide = generate(workdir, family)
     model = workdir / f"{family}.pt"
     began = time.perf_counter()
@@ -170,8 +173,8 @@ def run_family(family: str, workdir: Path) -> list[str]:
     from pinn_engine import job
 
     loaded = job.load_family(model)
-    unseen = compare(folder, rows_of(folder / "unseen.csv"), loaded)
-    wider = compare(wide, rows_of(wide / "unseen.csv"), loaded)
+    unseen = compare(folder, rows_of(folder / "unseen.csv"), loaded, repeat)
+    wider = compare(wide, rows_of(wide / "unseen.csv"), loaded, repeat)
     b_default = batch_median(folder, folder / "unseen.csv", workdir / "b_default", None)
     b_family = batch_median(folder, folder / "unseen.csv", workdir / "b_family", model)
     own = {r["name"]: r for r in rows_of(workdir / "b_default" / "summary.csv")}
@@ -216,7 +219,7 @@ def run_family(family: str, workdir: Path) -> list[str]:
         )
     lines += ["", "| training members | worst - default, unseen (max; fell back) | "
               "worst - default, 25 % wider (max; fell back) |", "|---|---|---|"]  # fmt: skip
-    for n in SUBSETS:
+    for n in subsets:
         errors = subset_errors(folder, wide, n)
         lines.append(
             f"| {n} | {errors['unseen'][0]:+.3f}; {errors['unseen'][1]} | "
@@ -235,15 +238,20 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path)
     parser.add_argument("--workdir", type=Path, default=ROOT / "out" / "family_bench")
-    parser.add_argument("--family", nargs="+", default=["channels", "channels_winslow", "naca"])
+    parser.add_argument(
+        "--family", nargs="+", default=["channels", "channels_winslow", "naca", "naca_c"]
+    )
+    parser.add_argument("--repeat", type=int, default=REPEAT, help="timings a member")
+    parser.add_argument("--subsets", type=int, nargs="*", default=list(SUBSETS))
     args = parser.parse_args()
+    args.workdir = args.workdir.resolve()
     import torch
 
     torch.set_num_threads(1)
     load = os.getloadavg()[0]
     lines = [f"Measured on a shared 2-core machine (load average {load:.1f} at the start)."]
     for family in args.family:
-        lines += ["", *run_family(family, args.workdir / family)]
+        lines += ["", *run_family(family, args.workdir / family, args.repeat, args.subsets)]
     lines.append(f"\nload average {os.getloadavg()[0]:.1f} at the end.")
     text = "\n".join(lines)
     print(text)

@@ -12,6 +12,8 @@ measure how the error grows outside the training ranges.
   winslow``): a family of Winslow grids.
 - ``naca``: NACA 4-digit-like sections (camber, its position and thickness as real numbers, the
   4-digit formula's blunt trailing edge) as Selig ``.dat`` files, O-grids at 129 x 41.
+- ``naca_c``: the same sections with the modified formula's closed trailing edge, C-grids at
+  129 x 41.
 """
 
 from __future__ import annotations
@@ -36,6 +38,10 @@ CHANNEL_RANGES = {
 NACA_RANGES = {"camber": (0.0, 0.06), "camber_at": (0.25, 0.6), "thickness": (0.08, 0.2)}
 CHANNEL_LENGTH, CHANNEL_HEIGHT = 3.0, 1.0
 CHANNEL_OPTIONS, NACA_OPTIONS = "--size 41 21", "--topology o --size 129 41"
+NACA_C_OPTIONS = "--topology c --size 129 41"
+# The thickness formula's x^4 coefficient: the classical one leaves a blunt trailing edge
+# (0.21 % of the thickness), which a C-grid refuses; the modified one closes it
+BLUNT_A4, SHARP_A4 = -0.1015, -0.1036
 WIDER = 0.25  # --wide: each range grows by this share of its width on each side
 SIDE_POINTS = 161  # points on each curved side (the inputs are polylines: dense enough to be smooth
 SURFACE_POINTS = 121  # points on each airfoil surface, cosine-spaced
@@ -63,11 +69,12 @@ def channel(p: dict) -> np.ndarray:
     return np.vstack([bottom[:-1], right[:-1], top[:-1], left[:-1]])
 
 
-def naca_like(p: dict) -> np.ndarray:
-    """A NACA 4-digit-like section (chord 1, blunt trailing edge), Selig order."""
+def naca_like(p: dict, closing: float = BLUNT_A4) -> np.ndarray:
+    """A NACA 4-digit-like section (chord 1, a blunt trailing edge; with ``SHARP_A4`` a
+    closed one), Selig order."""
     m, k, t = p["camber"], p["camber_at"], p["thickness"]
     x = 0.5 * (1 - np.cos(np.linspace(0.0, np.pi, SURFACE_POINTS)))
-    yt = 5 * t * (0.2969 * np.sqrt(x) - 0.1260 * x - 0.3516 * x**2 + 0.2843 * x**3 - 0.1015 * x**4)
+    yt = 5 * t * (0.2969 * np.sqrt(x) - 0.1260 * x - 0.3516 * x**2 + 0.2843 * x**3 + closing * x**4)
     yc = np.where(
         x < k, m / k**2 * (2 * k * x - x**2), m / (1 - k) ** 2 * (1 - 2 * k + 2 * k * x - x**2)
     )
@@ -76,6 +83,11 @@ def naca_like(p: dict) -> np.ndarray:
     upper = np.column_stack([x - yt * np.sin(th), yc + yt * np.cos(th)])
     lower = np.column_stack([x + yt * np.sin(th), yc - yt * np.cos(th)])
     return np.concatenate([upper[::-1], lower[1:]])
+
+
+def naca_closed(p: dict) -> np.ndarray:
+    """:func:`naca_like` with the closed trailing edge a C-grid's wake cut leaves from."""
+    return naca_like(p, SHARP_A4)
 
 
 def write_vtp(points: np.ndarray, path: Path) -> None:
@@ -99,6 +111,7 @@ FAMILIES: dict[str, tuple[dict, Callable, str, str]] = {
     "channels": (CHANNEL_RANGES, channel, ".vtp", CHANNEL_OPTIONS),
     "channels_winslow": (CHANNEL_RANGES, channel, ".vtp", f"{CHANNEL_OPTIONS} --objective winslow"),
     "naca": (NACA_RANGES, naca_like, ".dat", NACA_OPTIONS),
+    "naca_c": (NACA_RANGES, naca_closed, ".dat", NACA_C_OPTIONS),
 }
 
 
