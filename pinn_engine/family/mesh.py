@@ -45,16 +45,11 @@ WORST_TOL = 2.0  # SPEC 16: degrees the worst cell may exceed the member's start
 # corner's angle then moves by at most about four times it in radians, 1.2 degrees
 DEFECT_TOL = 0.005
 DEFECT_STEPS = 6  # chord steps tried (0.3 ms each at 41 x 21; the default solve takes 15 ms)
-# A four-sided member's polish stops once 20 iterations have lowered its best-ranked state's
-# worst angle by less than 0.05 degrees, and returns the state of least mean within 0.25
-# degrees of that worst angle (quality_start.Settle). Chosen on 16 channels drawn apart from
-# the members of docs/family.md (seed 2) and checked on 16 more (seed 3), each polished from
-# the better ranked of the model's grid and its own run's start: every one within 0.3 of its
-# own default grid's worst angle and 0.1 of its mean, at a median 54-86 evaluations (its own
-# run: about 200). A fixed 60 iterations from the model's grid left one 10.0 degrees above
-# (a model's grid folded 25 % out of the members' range), a 15-iteration window one 21
-# above (it settled while unfolding), and the best-ranked state alone (no spare) one 0.67
-# above on the mean (its worst angle reached early, the mean falling after)
+# A four-sided member's polish stops once 20 iterations lowered its best-ranked worst angle
+# by under 0.05 degrees, and keeps the state of least mean within 0.25 of it (Settle): on 32
+# channels of two draws apart from docs/family.md's it left each within 0.3 of its own worst
+# and 0.1 of its mean at a median 54-86 evaluations (its own run: about 200); what shorter
+# windows, fixed counts and no spare left is in docs/family.md
 POLISH_SETTLE = (20, 0.05, 0.25)
 KEPT_MODELS = 4  # family models kept loaded in a process (a batch worker meshes many members)
 _LOADED: OrderedDict[tuple, FamilyModel] = OrderedDict()
