@@ -344,7 +344,8 @@ def _blocks_choice(training: dict, gain: str) -> str:
     blocks = training["blocks"]
     kept = training.get("network_blocks", 0)
     untangled = sum("untangled" in b for b in blocks)
-    elliptic = f"the elliptic grid{f' (untangled in {untangled})' if untangled else ''}"
+    start = training.get("start", "elliptic")
+    elliptic = f"the {start} grid{f' (untangled in {untangled})' if untangled else ''}"
     if kept:
         return (
             f"chose the network's grid in {kept} of {len(blocks)} blocks, {elliptic} elsewhere "

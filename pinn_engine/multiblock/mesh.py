@@ -66,6 +66,9 @@ from pinn_engine.settings import MAX_NODES, MULTIBLOCK_METHODS, Settings
 # kink figures (the two nodes nearest each block corner): at a corner grid lines
 # of three or more blocks meet and no line runs straight through
 KINK_CORNER_NODES = 2
+# The default's bound on its start's mean MaxIncludedAngle above the elliptic grid's (as the
+# four-sided quality objective's, starts.quality_start.MEAN_TOL)
+MEAN_TOL = 0.5
 
 Progress = Callable[[dict], "bool | str | None"]  # trainer.Progress, without importing torch
 # The pinn's training of the blocks' elliptic grids: kinds.blocks.problem.train_blocks, which the
@@ -93,6 +96,25 @@ def _figures(cells: list[dict[str, np.ndarray]]) -> dict[str, float]:
     figures = summary(joined, 0.0)
     figures.pop("boundary_deviation")
     return figures
+
+
+def _tfi_ranks_better(
+    lay: Layout, cross: list[Crossing], tfi: np.ndarray, elliptic: np.ndarray
+) -> bool:
+    """Whether the blocks' TFI grid (the interfaces as drawn) folds no more cells, has the
+    lower worst MaxIncludedAngle, a mean at most ``MEAN_TOL`` above and grid lines kinking
+    no more across the interfaces (mean) than the elliptic grid's: the default's start then
+    (a step's rectangles: TFI is orthogonal, where the solve with free interfaces shears the
+    cells round the step's lip)."""
+    t, e = (_figures([cell_quality(p[ids]) for ids in lay.ids]) for p in (tfi, elliptic))
+    kinks = [interface_kinks(cross, lay, p) for p in (tfi, elliptic)]
+    return (
+        t["folded_cells"] <= e["folded_cells"]
+        and t["worst_max_angle"] < e["worst_max_angle"]
+        and t["mean_max_angle"] <= e["mean_max_angle"] + MEAN_TOL
+        and (kinks[0].mean() if kinks[0].size else 0.0)
+        <= (kinks[1].mean() if kinks[1].size else 0.0)
+    )
 
 
 def _turns(u: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -238,12 +260,15 @@ def mesh_blocks(
     training = None
     elliptic = points
     if settings.method == "pinn":
+        chosen = "tfi" if _tfi_ranks_better(lay, cross, lay.points, points) else "elliptic"
+        points = lay.points if chosen == "tfi" else points
 
         def kinks(grids: list[np.ndarray]) -> np.ndarray:
             return interface_kinks(cross, lay, _assembled(points, lay, grids))
 
         starts = [points[ids] for ids in lay.ids]
         grids, training = train(starts, settings, progress, lines, kinks)
+        training["start"] = chosen
         points = _assembled(points, lay, grids)
         timings["training"] = training["seconds"]
 
@@ -272,7 +297,11 @@ def mesh_blocks(
     grids = [points[ids] for ids in lay.ids]
     cells = [cell_quality(g) for g in grids]
     if training is not None:  # the elliptic run's figures, for what the pinn chose
-        changed = training["network_blocks"] or any("untangled" in b for b in training["blocks"])
+        changed = (
+            training["network_blocks"]
+            or any("untangled" in b for b in training["blocks"])
+            or training["start"] != "elliptic"
+        )
         done = finished(elliptic) if changed else points
         training["guard"] = {"elliptic": _figures([cell_quality(done[ids]) for ids in lay.ids])}
     kinks = interface_kinks(cross, lay, points)

@@ -176,3 +176,36 @@ def test_an_expansion_ratio_grades_every_block_along_its_chain(tmp_path, capsys)
     )
     assert len(grid) == 12  # pyvista's grading= gives the command line's grid
     assert all(np.allclose(a.points, b.points, atol=1e-12) for a, b in zip(grid, pv.read(out)))
+
+
+def _polylines(path, lines, closed=False):
+    """``lines`` (lists of (x, y)) written as one polydata of polylines."""
+    points, cells = [], []
+    for line in lines:
+        ids = list(range(len(points), len(points) + len(line)))
+        points += [(x, y, 0.0) for x, y in line]
+        cells += [len(ids) + closed, *ids, *ids[:1]] if closed else [len(ids), *ids]
+    pv.PolyData(np.array(points), lines=np.array(cells)).save(path)
+    return str(path)
+
+
+def test_the_default_keeps_a_step_s_orthogonal_tfi_grid_over_a_sheared_solve(tmp_path, capsys):
+    """A backward-facing step of three rectangles with --cells: TFI is orthogonal, while the
+    solve with free interfaces shears the cells round the lip (worst 165 degrees at this
+    size); the default starts from the better grid and says so."""
+    ring = [(-1, 0), (0, 0), (0, -1), (8, -1), (8, 1), (-1, 1)]
+    boundary = _polylines(tmp_path / "step.vtp", [ring], closed=True)
+    blocks = _polylines(tmp_path / "blocks.vtp", [[(0, 0), (0, 1)], [(0, 0), (8, 0)]])
+    cells = ["--cells=-0.5,1=10", "--cells", "0,-0.5=15", "--cells=-1,0.5=15", "--cells", "4,1=30"]
+    out = tmp_path / "step.vtm"
+    assert main([boundary, "--blocks", blocks, *cells, "-o", str(out)]) == 0
+    summary = "".join(capsys.readouterr())
+    assert "worst 90.00 deg" in summary and "chose the tfi grid in every block" in summary
+    assert "ranks above the Winslow grid" in summary
+    elliptic = tmp_path / "elliptic.vtm"
+    assert (
+        main([boundary, "--blocks", blocks, *cells, "--method", "elliptic", "-o", str(elliptic)])
+        == 0
+    )
+    worst = "".join(capsys.readouterr()).split("worst ")[1].split(" deg")[0]
+    assert float(worst) > 120.0  # the check can fail: the solve shears this step

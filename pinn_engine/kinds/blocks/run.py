@@ -16,6 +16,7 @@ from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 from pinn_engine.errors import STOP, InputError
 from pinn_engine.kinds.outcome import Outcome
+from pinn_engine.kinds.untrained import TFI_START, WINSLOW, cannot_win, start_or_train
 from pinn_engine.settings import AUTO_BLOCKS, NO_TIME_LIMIT, Settings
 
 # A multi-block domain's curves must lie in one plane z = const: z may vary by this share
@@ -246,7 +247,6 @@ def train_blocks(
     keeps its start, ``blocks.untrained.untrained_blocks``): the elliptic and tfi runs, and a pinn
     whose networks cannot win, never import torch."""
     from pinn_engine.kinds.blocks.untrained import untrained_blocks
-    from pinn_engine.kinds.untrained import cannot_win, start_or_train
 
     def trained() -> tuple[list[np.ndarray], dict]:
         from pinn_engine.kinds.blocks.problem import train_blocks as train  # torch: only to train
@@ -320,6 +320,11 @@ def run_blocks(
         g.gradings,
     )
     result.report["blocking"] = g.blocking
+    training = result.report.get("training", {})
+    if training.get("start") == "tfi":  # the networks train toward the elliptic grid
+        for block in training["blocks"]:
+            if block.get("skipped") == WINSLOW:
+                block["skipped"] = TFI_START
     if clock.stopped is not None:
         result.report.setdefault("training", {})["stopped"] = clock.stopped
     dataset = multiblock_dataset(result.grids, result.cells, result.report, result.patches)
