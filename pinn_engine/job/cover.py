@@ -36,6 +36,9 @@ ROUNDING = 16 * np.finfo(float).eps
 # The cells' area may differ from the area the boundary nodes enclose by this share (the
 # rounding of summing many cells' areas)
 AREA_TOL = 1e-7
+# checkMesh's limit on a face's skewness (OpenFOAM's primitiveMesh::skewThreshold_): a
+# multi-block grid with a face beyond it fails checkMesh, so it is not written
+SKEW_LIMIT = 4.0
 # A drawn line is an instruction: the default four-sided grid's line through it (SPEC 2's
 # measure) keeps within this share of the diagonal, a tenth of a cell of a 41 x 21 grid
 LINE_TOL = 2e-3
@@ -144,6 +147,44 @@ def check_blocks_cover(
     }
 
 
+def check_blocks_skewness(grids: list[np.ndarray], source: str, fix: str) -> dict:
+    """Refuse a multi-block grid (blocks (nj, ni, 2)) with a face that OpenFOAM's checkMesh
+    finds skewed beyond ``SKEW_LIMIT``: the grid as one layer of hexahedra, shared nodes
+    merged, measured as checkMesh measures it (``blocks3d.checks``; a cell squeezed to a
+    near-180-degree corner beside a thin wall row has such a face); ``fix`` ends the
+    refusal. Returns the figures of the report's ``checkmesh`` entry."""
+    from pinn_engine.blocks3d.checks import figures, hexes
+
+    planar = [np.asarray(g, dtype=float)[..., :2] for g in grids]
+    # each block counter-clockwise in (i, j), so that every hexahedron's volume is positive
+    planar = [g if _cell_areas(g).sum() >= 0 else g[:, ::-1] for g in planar]
+    flat = np.vstack([g.reshape(-1, 2) for g in planar])
+    unique, inverse = np.unique(flat, axis=0, return_inverse=True)
+    inverse, start, cells = inverse.ravel(), 0, []
+    depth = float(np.linalg.norm(np.ptp(unique, axis=0)))  # any depth: the figures are planar
+    for g in planar:
+        ids = inverse[start : start + g.shape[0] * g.shape[1]].reshape(g.shape[:2])
+        start += ids.size
+        cells.append(hexes(np.stack([ids.T, ids.T + len(unique)], axis=-1)))
+    points = np.vstack(
+        [
+            np.column_stack([unique, np.zeros(len(unique))]),
+            np.column_stack([unique, np.full(len(unique), depth)]),
+        ]
+    )
+    found = figures(points, np.vstack(cells))
+    if found.max_skewness > SKEW_LIMIT:
+        raise InputError(
+            f"the grid is not written: a face is skewed {found.max_skewness:.3g} (checkMesh's "
+            f"limit {SKEW_LIMIT:g}), a cell squeezed beside a thin row; {fix}",
+            source,
+        )
+    return {
+        "max_skewness": found.max_skewness,
+        "max_non_orthogonality": found.max_non_orthogonality,
+    }
+
+
 def check_body_cover(
     grid: np.ndarray,
     surface: np.ndarray,
@@ -226,6 +267,15 @@ def covered(outcome, geometry):
     elif outcome.kind == "blocks":
         fix = "draw the block edges (a block corner at every sharp corner) and {blocks}"
         figures = check_blocks_cover(outcome.grids, geometry.rings, geometry.source, fix)
+        if not outcome.report["quality"]["folded_cells"]:  # a fold is refused as such
+            walls = geometry.walls
+            spaced = walls is not None and (walls.spacing or walls.sides)
+            fix = (
+                "draw the block edges (a block corner at every reflex corner, on both "
+                "sides) and {blocks}"
+            )
+            fix = f"a larger first edge in {{spacing}}, or {fix}" if spaced else fix
+            outcome.report["checkmesh"] = check_blocks_skewness(outcome.grids, geometry.source, fix)
     elif outcome.kind == "body":
         body, grid = geometry.body, outcome.grids[0]
         n_wake = outcome.report["topology"]["wake_nodes"]

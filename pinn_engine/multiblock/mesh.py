@@ -239,11 +239,13 @@ def mesh_blocks(
     boundary_nodes = np.zeros(len(lay.points), dtype=bool)
     for piece, nodes in zip(topo.pieces, lay.piece_ids):
         boundary_nodes[nodes] |= not piece.interface
-    asked = held_pieces(
+    pieces, asked = held_pieces(
         spread(requests(sides, walls.spacing), lay.ids, lay.points, ends_of_pieces, boundary_nodes),
         held,
         wall_nodes(sides, walls.spacing),
+        lay.ids,
     )
+    asked = pieces | asked
     check_room(lay.points, asked)
     steps = 0
     points = lay.points
@@ -282,7 +284,8 @@ def mesh_blocks(
         ]
         points, rest = graded_lines(points, lay.ids, grading, boundary_nodes, asked)
         points = respace(points, ratio_lines(topo, lay.ids, ratios, points))
-        points = respace(points, rest)
+        points = respace(points, {key: ask for key, ask in rest.items() if key in pieces})
+        points = respace(points, {key: ask for key, ask in rest.items() if key not in pieces})
         if grades or asked or ratios:
             points = on_drawn(points, boundary_nodes, rings)
         if (grades or asked) and untangle is not None:

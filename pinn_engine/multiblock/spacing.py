@@ -165,26 +165,91 @@ def wall_nodes(sides: list[WallSide], spacing: dict[str, float]) -> dict[int, fl
     return out
 
 
-def held_pieces(asked: Requests, held: set[int], walls: dict[int, float]) -> Requests:
+def held_pieces(
+    asked: Requests, held: set[int], walls: dict[int, float], ids: list[np.ndarray]
+) -> tuple[Requests, Requests]:
     """``asked`` with every line cut at its inner nodes in ``held`` (the ends of boundary
     pieces: sharp corners and the places edges meet the boundary, which fix the domain
     drawn and must stay grid nodes where they are), each piece stretched on its own: asked
     at a cut the first edge of the wall there (``walls``: a reflex corner's lines leave it
     as they leave the rest of the wall), else the map's own interval; a piece asked at
-    neither end is left as it is."""
-    out: Requests = {}
+    neither end is left as it is.
+
+    A cut asked a first edge is carried through the block (``ids``: each block's node
+    ids) whose line it cuts: every line of the block parallel to it is cut at the same
+    index and asked the same first edge there, as a block side beyond a reflex corner would
+    pass it on (``spread``). Without it only the wall row beyond the corner crowds its nodes
+    against the corner, over the block's next row, and the cells between them shear to
+    nearly 180 degrees."""
+    # the first edge asked from a node towards its neighbour along a line: at the lines'
+    # asked ends, and both ways from every cut asked the wall's first edge
+    edge: dict[tuple[int, int], tuple[float, str]] = {}
+
+    def ask(node: int, towards: int, h: float | None, label: str) -> bool:
+        if h is None or h >= edge.get((node, towards), (np.inf, ""))[0]:
+            return False
+        edge[node, towards] = (h, label)
+        return True
+
+    lines = {key: label for key, (_, _, label) in asked.items()}
+    cuts: set[tuple[int, int]] = set()  # (node, neighbour) of each line cut at the node
     for key, (first, last, label) in asked.items():
-        cuts = [0, *(k for k in range(1, len(key) - 1) if key[k] in held), len(key) - 1]
-        for a, b in zip(cuts, cuts[1:]):
-            h0 = first if a == 0 else walls.get(key[a])
-            h1 = last if b == len(key) - 1 else walls.get(key[b])
+        ask(key[0], key[1], first, label)
+        ask(key[-1], key[-2], last, label)
+        for k in range(1, len(key) - 1):
+            if key[k] in held:
+                cuts.update({(key[k], key[k + 1]), (key[k], key[k - 1])})
+                ask(key[k], key[k - 1], walls.get(key[k]), label)
+                ask(key[k], key[k + 1], walls.get(key[k]), label)
+    families = [f for block in ids for f in (block, block.T)]
+    changed = True
+    while changed:
+        changed = False
+        for family in families:
+            n = family.shape[1]
+            carried: dict[tuple[int, int], tuple[float, str]] = {}
+            for k, d in ((k, d) for k in range(n) for d in (-1, 1) if 0 <= k + d < n):
+                pairs = zip(family[:, k].tolist(), family[:, k + d].tolist())
+                here = [edge[p] for p in pairs if p in edge]
+                if here:
+                    carried[k, d] = min(here)
+            inner = {
+                k
+                for k, _ in carried
+                if 0 < k < n - 1
+                and cuts.intersection(zip(family[:, k].tolist(), family[:, k + 1].tolist()))
+            }
+            if not inner:
+                continue  # no cut inside the block: its lines keep their own ends
+            for k in inner:
+                cuts.update(zip(family[:, k].tolist(), family[:, k + 1].tolist()))
+                cuts.update(zip(family[:, k].tolist(), family[:, k - 1].tolist()))
+            for line in family:
+                lines.setdefault(_key(line), next(iter(carried.values()))[1])
+                for (k, d), (h, label) in carried.items():
+                    changed |= ask(int(line[k]), int(line[k + d]), h, label)
+    pieces: Requests = {}
+    whole: Requests = {}
+    for key, label in lines.items():
+        inner = range(1, len(key) - 1)
+        cut = [0, *(k for k in inner if (key[k], key[k + 1]) in cuts), len(key) - 1]
+        out = pieces if len(cut) > 2 else whole
+        for a, b in zip(cut, cut[1:]):
+            h0 = edge.get((key[a], key[a + 1]), (None, ""))[0]
+            h1 = edge.get((key[b], key[b - 1]), (None, ""))[0]
             if b - a < 2 or (h0 is None and h1 is None):
                 continue
             piece = np.asarray(key[a : b + 1])
             for node_end, h in ((0, h0), (-1, h1)):
                 if h is not None:
                     _ask(out, piece if node_end == 0 else piece[::-1], h, label)
-    return out
+    return pieces, whole
+
+
+def _key(line: np.ndarray) -> tuple[int, ...]:
+    """A line's ids from its lower end, as :data:`Requests` keys it."""
+    ids = tuple(int(n) for n in line)
+    return min(ids, ids[::-1])
 
 
 # A boundary node this share of the diagonal off the drawn boundary has been moved off it

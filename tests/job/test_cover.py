@@ -12,7 +12,12 @@ from pinn_engine import job
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import segment_distance
 from pinn_engine.io.pipeline import load_boundary
-from pinn_engine.job.cover import check_blocks_cover, check_body_cover
+from pinn_engine.job.cover import (
+    SKEW_LIMIT,
+    check_blocks_cover,
+    check_blocks_skewness,
+    check_body_cover,
+)
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
 
@@ -87,6 +92,45 @@ def test_the_step_with_automatic_blocking_and_wall_spacing_keeps_its_lip():
     assert np.linalg.norm(nodes - (0.0, 1.0), axis=1).min() == 0.0
     assert outcome.report["domain"]["cells_area"] == pytest.approx(14.0, rel=1e-12)
     assert outcome.report["quality"]["folded_cells"] == 0
+
+
+def _thin_row_blocks(crowd: bool) -> list[np.ndarray]:
+    """Two unit squares side by side, 9 x 9 nodes each, a first row 0.01 off the floor;
+    with ``crowd`` the floor's nodes of the right block crowd against the shared side
+    (a wall row stretched alone) while its first row keeps equal steps."""
+    y = np.r_[0.0, 0.01, np.linspace(0.01, 1.0, 8)[1:]]
+    blocks = []
+    for x0 in (0.0, 1.0):
+        x, yy = np.meshgrid(np.linspace(x0, x0 + 1.0, 9), y)
+        blocks.append(np.stack([x, yy], axis=-1))
+    if crowd:
+        blocks[1][0, 1:-1, 0] = 1.0 + np.linspace(0, 1, 9)[1:-1] ** 3
+    return blocks
+
+
+def test_a_multi_block_grid_that_checkmesh_finds_skewed_is_refused_with_the_fix():
+    """A thin row beside a crowded wall row squeezes cells to near 180 degrees: checkMesh's
+    skewness exceeds its limit there (the same figure checkMesh prints, 89.08 on the
+    upright tee this rule was written for), so the grid is refused, not written."""
+    figures = check_blocks_skewness(_thin_row_blocks(False), "two", FIX)
+    assert figures["max_skewness"] < 1e-9
+    with pytest.raises(InputError, match=f"skewed .* \\(checkMesh's limit {SKEW_LIMIT:g}\\)"):
+        check_blocks_skewness(_thin_row_blocks(True), "two", FIX)
+
+
+def test_a_wall_spacing_beyond_a_reflex_corner_runs_through_the_block(tmp_path):
+    """The upright tee's automatic blocking leaves its branch's corner (3.5, 1) inside the
+    side of the block beneath; with a wall spacing every row of that block is cut there and
+    stretched alike, so the grid stays rectangular (it had cells of 179.5 degrees)."""
+    ring = [(0, 0), (6, 0), (6, 1), (3.5, 1), (3.5, 3), (2.5, 3), (2.5, 1), (0, 1)]
+    path = tmp_path / "tee.csv"
+    path.write_text("x,y\n" + "".join(f"{x},{y}\n" for x, y in ring))
+    geometry = job.blocks_from_files(path, ["auto"], spacing=["boundary=0.01"])
+    outcome = job.run(make_settings("elliptic", cell_size=0.125), geometry)
+    assert outcome.report["quality"]["worst_max_angle"] < 90.01
+    assert outcome.report["checkmesh"]["max_skewness"] < 0.01
+    firsts = [g[1, :, 1] - g[0, :, 1] for g in outcome.grids if g[0, 0, 1] == 0.0]
+    assert np.allclose(np.concatenate(firsts), 0.01, rtol=0.1)
 
 
 def test_a_round_trailing_edge_gets_a_fold_free_c_grid(tmp_path, capsys):
