@@ -1,5 +1,6 @@
 """What ``--blocks auto`` does with every domain of ``benchmarks/autoblock_domains.py`` and
-the domains users bring (sharp-cornered bodies in channels, a round U-bend, steeper tees),
+the domains users bring (sharp-cornered bodies in channels, a round U-bend, steeper tees, and
+those of ``benchmarks/autoblock_users.py``),
 with and without a wall spacing: each run is either a clean grid or a one-line refusal.
 
 Usage: ``.venv/bin/python benchmarks/autoblock_outcomes.py [--out docs/blocking.md]
@@ -35,6 +36,8 @@ from pathlib import Path
 import numpy as np
 from autoblock import CELLS_ACROSS, FINER
 from autoblock_domains import REPORT, TUNING, Domain, _a, tee_upstream
+from autoblock_users import REPORT as USERS_REPORT
+from autoblock_users import TUNING as USERS_TUNING
 from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonCore import vtkPoints
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
@@ -96,7 +99,7 @@ USERS: dict[str, Callable[[], Domain]] = {
     "tee, branch leaning 60 upstream": tee_steep,
     "tee, branch leaning 45 upstream": tee_upstream,
 }
-DOMAINS = {**TUNING, **REPORT, **USERS}
+DOMAINS = {**TUNING, **REPORT, **USERS, **USERS_TUNING, **USERS_REPORT}
 
 
 def _write(rings: list[np.ndarray], path: Path) -> None:

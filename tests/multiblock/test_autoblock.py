@@ -219,3 +219,32 @@ def test_a_square_turned_45_degrees_in_a_channel_meshes_with_its_corners_as_node
     nodes = np.vstack(_vtm_points(out))[:, :2]
     for corner in DIAMOND:
         assert np.linalg.norm(nodes - corner, axis=1).min() < 1e-12
+
+
+def _naca_0012(points: int = 41) -> np.ndarray:
+    """A NACA 0012 of chord 1 with a sharp trailing edge, counter-clockwise from it."""
+    x = 0.5 * (1 - np.cos(np.linspace(0, np.pi, points)))
+    y = 0.6 * (0.2969 * np.sqrt(x) - 0.126 * x - 0.3516 * x**2 + 0.2843 * x**3 - 0.1036 * x**4)
+    y[-1] = 0.0
+    return np.vstack([np.column_stack([x, y])[::-1], np.column_stack([x, -y])[1:-1]])
+
+
+@pytest.mark.slow  # the search meshes both rings' shortlisted layouts: about 10 s
+def test_an_airfoil_in_a_channel_gets_c_shaped_ring_blocks_round_its_trailing_edge():
+    """The trailing edge's spoke leaves 171.7 degrees on each side, no block corner: the two
+    box corners' spokes beside it give way (the ring's C-shaped choice), the others end
+    where they divide the airfoil's perimeter as their corners divide the box's, and the
+    airfoil in a channel meshes (it was refused), its trailing edge a node."""
+    from pinn_engine.multiblock.autoblock.orings import main_axes, o_ring
+
+    airfoil = _naca_0012()
+    ring = o_ring(airfoil, [CHANNEL], main_axes(CHANNEL))
+    assert ring.c_shaped is not None and len(ring.c_shaped) == len(ring.edges) - 2
+    trailing = [e for e in ring.c_shaped if np.allclose(e[0], (1.0, 0.0))]
+    assert len(trailing) == 1 and trailing[0][1][1] == 0.0  # along the bisector, downstream
+    assert o_ring(DIAMOND[::-1], [CHANNEL], main_axes(CHANNEL)).c_shaped is None
+    edges = propose_edges([CHANNEL, airfoil])
+    result = mesh_blocks([CHANNEL, airfoil], edges, [""] * len(edges), make_settings("elliptic"))
+    assert result.report["quality"]["folded_cells"] == 0
+    nodes = np.vstack([g.reshape(-1, 2) for g in result.grids])
+    assert np.linalg.norm(nodes - (1.0, 0.0), axis=1).min() < 1e-12

@@ -9,6 +9,7 @@ field's separatrices), faces of other than four corners cut round their centres
 
 from __future__ import annotations
 
+import itertools
 import time
 from dataclasses import dataclass
 
@@ -47,11 +48,15 @@ def propose_edges(
     rings = order_rings([np.asarray(r, dtype=float)[:, :2] for r in rings], source)
     diagonal = float(np.linalg.norm(np.ptp(rings[0], axis=0)))
     axes = main_axes(rings[0])
-    fixed_edges, boxes = [], []
-    for k, hole in enumerate(rings[1:], start=1):
-        ring = o_ring(hole, [r for j, r in enumerate(rings) if j != k], axes)
-        fixed_edges += ring.edges
-        boxes.append(ring.box[::-1])  # clockwise: the domain outside it on its left
+    orings = [
+        o_ring(hole, [r for j, r in enumerate(rings) if j != k], axes)
+        for k, hole in enumerate(rings[1:], start=1)
+    ]
+    boxes = [ring.box[::-1] for ring in orings]  # clockwise: the domain outside on its left
+    # each hole's ring, or its C-shaped one where it has one: every combination is searched
+    rings_edges = [[r.edges] + ([r.c_shaped] if r.c_shaped is not None else []) for r in orings]
+    fixed_choices = [sum(choice, []) for choice in itertools.product(*rings_edges)]
+    fixed_edges = fixed_choices[0]
     vertices = reflex_vertices([rings[0], *boxes], diagonal)
     fixed = _segments([rings[0], *boxes], True)
     options = [ray_options(v, fixed, diagonal) for v in vertices]
@@ -64,7 +69,14 @@ def propose_edges(
     def build(rays):
         return motorcycles(rays, fixed, targets, diagonal)
 
-    layouts = candidates(vertices, options, build, rings, fixed_edges)
+    layouts = sorted(
+        (
+            layout
+            for fixed_choice in fixed_choices
+            for layout in candidates(vertices, options, build, rings, fixed_choice)
+        ),
+        key=lambda layout: layout[0],
+    )
     if not layouts:
         raise InputError(_why(rings, fixed_edges) + ": draw the block edges and {blocks}", source)
     if not vertices and len(rings) == 1:

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from shapely.geometry import LineString, MultiLineString, Point, Polygon
+from shapely.geometry.polygon import orient
 
 from pinn_engine.geometry.boundary import turning_angles
 from pinn_engine.multiblock.autoblock.corners import corner_points
@@ -29,10 +30,14 @@ SPOKE_SNAP = 0.25  # a spoke ends on a sharp vertex of the hole this close (shar
 @dataclass
 class ORing:
     """A hole's ``box`` (4, 2), counter-clockwise, and its eight ``edges``: the box's four
-    sides and four spokes from the hole to the box's corners."""
+    sides and four spokes from the hole to the box's corners (and one from each sharp
+    corner no spoke ends at); ``c_shaped``: the same box with C-shaped ring blocks beside
+    a corner too sharp for its spoke to leave block corners (:func:`_beside_sharp_edges`),
+    the search's other choice, or None."""
 
     box: np.ndarray
     edges: list[np.ndarray]
+    c_shaped: list[np.ndarray] | None = None
 
 
 def main_axes(outer: np.ndarray) -> np.ndarray:
@@ -87,7 +92,54 @@ def o_ring(hole: np.ndarray, others: list[np.ndarray], axes: np.ndarray) -> ORin
     centre = 0.5 * (lo + hi) @ axes
     edges = [np.array([box[k - 1], box[k]]) for k in range(4)]
     spokes = [np.array([_spoke_end(hole, centre, c, half), c]) for c in box]
-    return ORing(box, edges + spokes + _corner_spokes(hole, box, spokes))
+    own = _corner_spokes(hole, box, spokes)
+    beside = _beside_sharp_edges(spokes, own, hole, box, centre)
+    c_shaped = None if beside is None else edges + beside + own
+    return ORing(box, edges + spokes + own, c_shaped)
+
+
+def _beside_sharp_edges(
+    spokes: list[np.ndarray],
+    own: list[np.ndarray],
+    hole: np.ndarray,
+    box: np.ndarray,
+    centre: np.ndarray,
+) -> list[np.ndarray] | None:
+    """The box corners' ``spokes`` less the two on either side of a spoke of ``own`` from a
+    corner of the ``hole`` so sharp that its spoke leaves both of its angles flatter than a
+    block corner (an airfoil's trailing edge: 171.7 degrees on each side); None where the
+    hole has no such corner. That corner then lies inside the sides of the two ring blocks
+    beside its spoke, as a C-grid's trailing edge lies inside its block's side; each of
+    those blocks takes the box's corner beyond it, the spoke's end on the box and the other
+    spoke's ends as its four corners (with both spokes it may have three). The spokes kept
+    end where they divide the hole's perimeter, from the sharp corner, in the proportions
+    their box corners divide the box's from the spoke's end, so each ring block's sides on
+    the hole and on the box keep one ratio (a spoke from the centre of a thin hole meets it
+    at a glancing angle, no block corner)."""
+    turn = dict(zip(map(tuple, hole), np.abs(turning_angles(hole))))
+    angle = [np.arctan2(*(s[1] - centre)[::-1]) for s in spokes]
+    drop: set[int] = set()
+    sharp = None
+    for spoke in own:
+        if 90.0 - 0.5 * turn.get(tuple(spoke[0]), 0.0) >= CORNER_TURN:
+            continue  # its two angles are block corners
+        a = np.arctan2(*(spoke[1] - centre)[::-1])
+        ahead = [(b - a) % (2 * np.pi) for b in angle]
+        drop.update({int(np.argmin(ahead)), int(np.argmax(ahead))})
+        sharp = spoke
+    if sharp is None:
+        return None
+    inner = orient(Polygon(hole)).exterior  # both counter-clockwise
+    outer = orient(Polygon(box)).exterior
+    start_in, start_out = inner.project(Point(sharp[0])), outer.project(Point(sharp[1]))
+    kept = []
+    for k, (_, corner) in enumerate(spokes):
+        if k in drop:
+            continue
+        share = ((outer.project(Point(corner)) - start_out) % outer.length) / outer.length
+        foot = inner.interpolate((start_in + share * inner.length) % inner.length)
+        kept.append(np.array([np.array(foot.coords)[0], corner]))
+    return kept
 
 
 def _corner_spokes(hole: np.ndarray, box: np.ndarray, spokes: list[np.ndarray]) -> list:

@@ -1,0 +1,313 @@
+"""Automatic blocking on domains users bring (SPEC 13), beside gmsh's automatic quads and
+a hand blocking: bodies with sharp corners in channels and near walls, bends, tilted tees,
+expansions, a cavity and airfoils in channels, in a tuning half and a report half.
+
+Usage: ``.venv/bin/python benchmarks/autoblock_users.py [--out docs/blocking.md]
+[--domains NAME ...]``
+
+Per domain, at ``autoblock.CELLS_ACROSS`` cells across a channel of width 1:
+
+- **auto**: ``--blocks auto``'s proposal and its elliptic grid (``autoblock.meshed``), or
+  the one-line refusal;
+- **hand**: the elliptic grid of a careful hand blocking drawn here (bodies: the O-ring of
+  ``autoblock_domains._box_blocks``, whose four spokes end on a square's or a plate's
+  corners); none is drawn for the triangle, the diamond (their corners are not on the
+  box's diagonals), the airfoils and the two rectangles;
+- **gmsh quads**: gmsh's automatic quadrilaterals on the whole domain (Frontal-Delaunay for
+  quads, ``Mesh.Algorithm`` 8, recombined by Blossom, every boundary point at the same
+  cell size), measured by pinn-mesh's own MaxIncludedAngle; triangles gmsh leaves are
+  counted.
+
+The bounds column is SPEC 13's aims against the hand blocking (``autoblock.checks``). With
+``--out`` the tables replace the part of that file between the two AUTOBLOCK-USERS markers.
+Times: one run each, on whatever machine runs it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import gmsh
+import numpy as np
+from autoblock import CELLS_ACROSS, _cell, checks, figures, meshed
+from autoblock_domains import Domain, _a, _box_blocks
+from multiblock import write_between
+
+from pinn_engine.errors import InputError
+from pinn_engine.multiblock.autoblock import propose_edges
+
+MARK = "<!-- AUTOBLOCK-USERS {} -->"  # the markers round the tables in --out
+GMSH_QUADS = 8  # gmsh's Mesh.Algorithm: Frontal-Delaunay for quads
+NACA_POINTS = 61  # points per surface of an airfoil
+
+
+def _turned(points: np.ndarray, degrees: float, about=(0.0, 0.0)) -> np.ndarray:
+    c, s = np.cos(np.radians(degrees)), np.sin(np.radians(degrees))
+    return (np.asarray(points) - about) @ np.array([[c, s], [-s, c]]) + about
+
+
+def _naca(thickness: float, chord: float = 1.0) -> np.ndarray:
+    """A symmetric NACA 00xx of ``chord`` from (0, 0), its trailing edge closed to a point,
+    counter-clockwise from the trailing edge."""
+    x = 0.5 * (1 - np.cos(np.linspace(0, np.pi, NACA_POINTS)))
+    y = 5 * thickness * (0.2969 * np.sqrt(x) - 0.126 * x - 0.3516 * x**2 + 0.2843 * x**3)
+    y -= 5 * thickness * 0.1036 * x**4
+    y[-1] = 0.0
+    upper = np.column_stack([x, y])[::-1]
+    lower = np.column_stack([x, -y])[1:-1]
+    return chord * np.vstack([upper, lower])
+
+
+def bend_60() -> Domain:
+    """A channel of width 1 turning left by 60 degrees at a sharp outer corner (3, 0)."""
+    d = _a(np.cos(np.pi / 3), np.sin(np.pi / 3))
+    n = _a(-d[1], d[0])
+    outer = _a(3.0, 0.0)
+    inner = _a(outer[0] + n[0] + (1 - n[1]) / d[1] * d[0], 1.0)
+    end = outer + 3 * d
+    ring = np.array([(0, 0), outer, end, end + n, inner, (0, 1)])
+    return [ring], [np.array([inner, outer])]
+
+
+def square_near_floor() -> Domain:
+    """A square of side 0.5 whose bottom is 0.25 above the floor of [-2, 5] x [0, 2]."""
+    channel = _a((-2, 0), (5, 0), (5, 2), (-2, 2))
+    body = _a((1, 0.25), (1.5, 0.25), (1.5, 0.75), (1, 0.75))
+    return [channel, body], _box_blocks(body, (0.75, 0.1, 1.75, 1.0), (-2, 0, 5, 2))
+
+
+def plate_at_10() -> Domain:
+    """A plate 1 x 0.2 at 10 degrees of incidence in the channel [-2, 4] x [-1.5, 1.5]."""
+    channel = _a((-2, -1.5), (4, -1.5), (4, 1.5), (-2, 1.5))
+    plate = _turned(_a((-0.5, -0.1), (0.5, -0.1), (0.5, 0.1), (-0.5, 0.1)), 10.0)
+    return [channel, plate], _box_blocks(plate, (-0.9, -0.6, 0.9, 0.6), (-2, -1.5, 4, 1.5))
+
+
+def tee_15_upstream() -> Domain:
+    """The tee [0, 6] x [0, 1] with its branch of width 1 leaning 15 degrees upstream."""
+    up = 2.0 * _a(-np.sin(np.pi / 12), np.cos(np.pi / 12))
+    left, right = _a(2.5, 1.0), _a(3.5, 1.0)
+    ring = np.array([(0, 0), (6, 0), (6, 1), right, right + up, left + up, left, (0, 1)])
+    return [ring], [_a(left, (2.5, 0)), _a(right, (3.5, 0)), np.array([left, right])]
+
+
+def expansion() -> Domain:
+    """A channel of width 1 opening suddenly to width 3 at x = 3 (both walls step out)."""
+    ring = _a((0, 1), (3, 1), (3, 0), (10, 0), (10, 3), (3, 3), (3, 2), (0, 2))
+    return [ring], [_a((3, 1), (3, 2)), _a((3, 1), (10, 1)), _a((3, 2), (10, 2))]
+
+
+def cavity() -> Domain:
+    """A channel [0, 6] x [0, 1] over an open square cavity [2, 3] x [-1, 0]."""
+    ring = _a((0, 0), (2, 0), (2, -1), (3, -1), (3, 0), (6, 0), (6, 1), (0, 1))
+    return [ring], [_a((2, 0), (3, 0)), _a((2, 0), (2, 1)), _a((3, 0), (3, 1))]
+
+
+def naca_at_5() -> Domain:
+    """A NACA 0012 of chord 1 at 5 degrees of incidence in the channel [-3, 6] x [-2, 2]."""
+    channel = _a((-3, -2), (6, -2), (6, 2), (-3, 2))
+    return [channel, _turned(_naca(0.12), 5.0, (0.25, 0.0))], []
+
+
+def three_elements() -> Domain:
+    """A three-element high-lift section built from NACA sections (a slat 0.15 at -25
+    degrees, a main NACA 0012 of chord 1 and a flap 0.3 at 30 degrees, gaps of about 0.02
+    chord) in the channel [-3, 6] x [-2, 2]: 30P30N's kind, not its coordinates."""
+    channel = _a((-3, -2), (6, -2), (6, 2), (-3, 2))
+    main = _naca(0.12)
+    slat = _turned(_naca(0.10, 0.15), -25.0) + (-0.16, -0.02)
+    flap = _turned(_naca(0.10, 0.3), 30.0) + (1.02, -0.05)
+    return [channel, slat, main, flap], []
+
+
+def triangle_near_floor() -> Domain:
+    """An equilateral triangle of side 0.6 pointing up, its base 0.2 above the floor."""
+    channel = _a((-2, 0), (5, 0), (5, 2), (-2, 2))
+    body = _a((0.7, 0.2), (1.3, 0.2), (1.0, 0.2 + 0.3 * np.sqrt(3)))
+    return [channel, body], []
+
+
+def diamond_near_floor() -> Domain:
+    """A square of side 0.5 turned 45 degrees, its lowest corner 0.2 above the floor."""
+    channel = _a((-2, 0), (5, 0), (5, 2), (-2, 2))
+    r = 0.25 * np.sqrt(2.0)
+    c = _a(1.0, 0.2 + r)
+    body = np.array([c + (r, 0), c + (0, r), c - (r, 0), c - (0, r)])
+    return [channel, body], []
+
+
+def s_bend() -> Domain:
+    """A channel of width 1 that turns up and back along x through two sharp bends."""
+    ring = _a((0, 0), (3, 0), (3, 2), (6, 2), (6, 3), (2, 3), (2, 1), (0, 1))
+    edges = [_a((2, 1), (2, 0)), _a((2, 1), (3, 1)), _a((3, 2), (2, 2)), _a((3, 2), (3, 3))]
+    return [ring], edges
+
+
+def rectangles_across() -> Domain:
+    """Two rectangles 1 x 0.4 one above the other across the channel [-3, 6] x [-2, 2]."""
+    channel = _a((-3, -2), (6, -2), (6, 2), (-3, 2))
+    upper = _a((0, 0.4), (1, 0.4), (1, 0.8), (0, 0.8))
+    lower = upper * (1, -1)
+    lower = lower[::-1]
+    return [channel, upper, lower], []
+
+
+def tee_wide_branch() -> Domain:
+    """The tee [0, 8] x [0, 1] with a branch of width 2 leaning 30 degrees downstream."""
+    up = 2.0 * _a(np.sin(np.pi / 6), np.cos(np.pi / 6))
+    left, right = _a(2.5, 1.0), _a(4.5, 1.0)
+    ring = np.array([(0, 0), (8, 0), (8, 1), right, right + up, left + up, left, (0, 1)])
+    return [ring], [_a(left, (2.5, 0)), _a(right, (4.5, 0)), np.array([left, right])]
+
+
+TUNING: dict[str, Callable[[], Domain]] = {
+    "sharp 60-degree bend": bend_60,
+    "square near the floor": square_near_floor,
+    "plate 1 x 0.2 at 10 degrees": plate_at_10,
+    "tee, branch leaning 15 upstream": tee_15_upstream,
+    "sudden expansion": expansion,
+    "open cavity": cavity,
+}
+REPORT: dict[str, Callable[[], Domain]] = {
+    "NACA 0012 at 5 degrees in channel": naca_at_5,
+    "three-element section": three_elements,
+    "triangle near the floor": triangle_near_floor,
+    "diamond near the floor": diamond_near_floor,
+    "S-bend": s_bend,
+    "two rectangles across": rectangles_across,
+    "tee, wide branch leaning 30 downstream": tee_wide_branch,
+}
+
+
+def gmsh_quads(rings: list[np.ndarray], h: float) -> tuple[dict | None, float, int]:
+    """gmsh's automatic quads of the domain: mean / worst MaxIncludedAngle of its quads
+    (None when gmsh fails), its ``generate`` time and the triangles it leaves."""
+    gmsh.model.add("users")
+    geo = gmsh.model.geo
+    loops = []
+    for ring in rings:
+        points = [geo.addPoint(float(x), float(y), 0.0, h) for x, y in ring]
+        lines = [geo.addLine(points[k], points[(k + 1) % len(points)]) for k in range(len(points))]
+        loops.append(geo.addCurveLoop(lines))
+    geo.addPlaneSurface(loops)
+    geo.synchronize()
+    gmsh.option.setNumber("Mesh.Algorithm", GMSH_QUADS)
+    gmsh.option.setNumber("Mesh.RecombineAll", 1)
+    start = time.perf_counter()
+    try:
+        gmsh.model.mesh.generate(2)
+    except Exception:  # gmsh's own failure is a finding of the table
+        gmsh.model.remove()
+        return None, time.perf_counter() - start, 0
+    seconds = time.perf_counter() - start
+    tags, coords, _ = gmsh.model.mesh.getNodes()
+    xy = np.zeros((int(tags.max()) + 1, 2))
+    xy[tags.astype(int)] = coords.reshape(-1, 3)[:, :2]
+    types, _, nodes = gmsh.model.mesh.getElements(2)
+    quads = np.zeros((0, 4), dtype=int)
+    triangles = 0
+    for kind, ids in zip(types, nodes):
+        if kind == 3:
+            quads = ids.astype(int).reshape(-1, 4)
+        elif kind == 2:
+            triangles = len(ids) // 3
+    gmsh.model.remove()
+    p = xy[quads]
+    e_in, e_out = p - np.roll(p, 1, axis=1), np.roll(p, -1, axis=1) - p
+    cos = -np.einsum("qck,qck->qc", e_in, e_out) / (
+        np.linalg.norm(e_in, axis=2) * np.linalg.norm(e_out, axis=2)
+    )
+    angle = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+    cross = e_in[..., 0] * e_out[..., 1] - e_in[..., 1] * e_out[..., 0]
+    sign = np.sign(cross.sum(axis=1, keepdims=True))
+    angle = np.where(sign * cross < 0, 360.0 - angle, angle)  # a reflex corner: a fold
+    worst = angle.max(axis=1)
+    folds = int((sign * cross < 0).any(axis=1).sum())
+    quality = {"blocks": len(quads), "mean": float(worst.mean()), "worst": float(worst.max())}
+    return quality | {"folds": folds}, seconds, triangles
+
+
+def run_domain(name: str, make) -> list[str]:
+    """The table rows of one domain: auto, hand (where drawn), gmsh's quads."""
+    rings, hand_edges = make()
+    h = 1.0 / CELLS_ACROSS
+    start = time.perf_counter()
+    try:
+        edges = propose_edges(rings)
+        propose = time.perf_counter() - start
+        auto_result, auto_time = meshed(rings, edges, h)
+        auto = figures(auto_result)
+    except InputError as refusal:
+        auto, why = None, str(refusal).splitlines()[0].split(": ", 1)[-1]
+    rows = []
+    hand = None
+    if hand_edges:
+        hand_result, hand_time = meshed(rings, hand_edges, h)
+        hand = figures(hand_result)
+    if auto is None:
+        rows.append(f"| {name} | auto | refused: {why} | | | | | |")
+    else:
+        bounds = ("; ".join(checks(auto, hand)) or "hold") if hand else "(no hand blocking)"
+        if auto["folds"]:  # job.run refuses it on every route
+            bounds = f"folds: refused in one line; {bounds}"
+        rows.append(
+            f"| {name} | auto | {_cell(auto)} | {propose:.2f} + {auto_time:.2f} s | {bounds} |"
+        )
+    if hand is not None:
+        rows.append(f"| | hand | {_cell(hand)} | {hand_time:.2f} s | |")
+    quads, seconds, triangles = gmsh_quads(rings, h)
+    if quads is None:
+        rows.append("| | gmsh quads | failed | | | | | |")
+    else:
+        left = f", {triangles} triangles left" if triangles else ""
+        rows.append(
+            f"| | gmsh quads{left} | {quads['blocks']} quads | {quads['mean']:.2f} / "
+            f"{quads['worst']:.2f} | {quads['folds']} | | {seconds:.2f} s | |"
+        )
+    return rows
+
+
+def markdown(names: list[str]) -> str:
+    lines = []
+    for half, domains in (("tuning half", TUNING), ("report half", REPORT)):
+        rows = []
+        for name, make in domains.items():
+            if name in names:
+                mine = run_domain(name, make)
+                print("\n".join(mine), flush=True)
+                rows += mine
+        lines += [
+            f"**{half}**:",
+            "",
+            "| domain | grid | blocks | mean / worst MaxIncludedAngle | folds | interface "
+            "kink mean / max | time | bounds |",
+            "|---|---|---|---|---|---|---|---|",
+            *rows,
+            "",
+        ]
+    return "\n".join(lines)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, help="a Markdown file with the AUTOBLOCK-USERS markers")
+    parser.add_argument("--domains", nargs="+", default=[*TUNING, *REPORT])
+    args = parser.parse_args()
+    gmsh.initialize()
+    gmsh.option.setNumber("General.Terminal", 0)
+    gmsh.option.setNumber("General.NumThreads", 1)
+    text = markdown(args.domains)
+    gmsh.finalize()
+    print(text, end="")
+    if args.out:
+        write_between(args.out, MARK, text)
+
+
+if __name__ == "__main__":
+    import torch
+
+    torch.set_num_threads(1)
+    main()
