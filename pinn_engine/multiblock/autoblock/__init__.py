@@ -42,9 +42,9 @@ def propose_edges(
     four-sided domain. With ``layers`` (walls with a first-edge spacing), a reflex vertex
     whose two sides both carry on into the domain (a step's lip, an L's inner corner)
     emits both: each wall's boundary layer then runs on along a block edge, so its spacing
-    has a chain to run along on both sides of the corner (with one edge, the lip's layer
-    ends mid-side of the block beyond and its rows fan out across the block). A one-line
-    InputError says why when no blocking is found."""
+    has a chain to run along on both sides of the corner; where no layout has both at every
+    such vertex (a sharp step's lip facing a wall two cells away), the layouts without
+    spacing are searched. A one-line InputError says why when no blocking is found."""
     rings = order_rings([np.asarray(r, dtype=float)[:, :2] for r in rings], source)
     diagonal = float(np.linalg.norm(np.ptp(rings[0], axis=0)))
     axes = main_axes(rings[0])
@@ -60,8 +60,11 @@ def propose_edges(
     vertices = reflex_vertices([rings[0], *boxes], diagonal)
     fixed = _segments([rings[0], *boxes], True)
     options = [ray_options(v, fixed, diagonal) for v in vertices]
-    if layers:
-        options = [[o for o in opts if len(o) == 2] or opts for opts in options]
+    # with layers, both continuations where a vertex has them; where no layout has them
+    # all, the layouts of no spacing (a reflex corner left inside a block's side carries the
+    # spacing through that block: spacing.held_pieces)
+    both = [[o for o in opts if len(o) == 2] or opts for opts in options]
+    tries = [both, options] if layers and both != options else [options]
     targets = np.vstack(
         [corner_points(rings[0]), *boxes, np.array([v.point for v in vertices]).reshape(-1, 2)]
     )
@@ -69,14 +72,17 @@ def propose_edges(
     def build(rays):
         return motorcycles(rays, fixed, targets, diagonal)
 
-    layouts = sorted(
-        (
-            layout
-            for fixed_choice in fixed_choices
-            for layout in candidates(vertices, options, build, rings, fixed_choice)
-        ),
-        key=lambda layout: layout[0],
-    )
+    for choices in tries:
+        layouts = sorted(
+            (
+                layout
+                for fixed_choice in fixed_choices
+                for layout in candidates(vertices, choices, build, rings, fixed_choice)
+            ),
+            key=lambda layout: layout[0],
+        )
+        if layouts:
+            break
     if not layouts:
         raise InputError(_why(rings, fixed_edges) + ": draw the block edges and {blocks}", source)
     if not vertices and len(rings) == 1:
