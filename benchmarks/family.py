@@ -180,10 +180,10 @@ def run_family(
     own = {r["name"]: r for r in rows_of(workdir / "b_default" / "summary.csv")}
     by_model = rows_of(workdir / "b_family" / "summary.csv")
     excess = [
-        (float(r[k]) - float(own[r["name"]][k]) for k in ("worst_max_angle", "mean_max_angle"))
+        [float(r[k]) - float(own[r["name"]][k]) for k in ("worst_max_angle", "mean_max_angle")]
         for r in by_model
     ]
-    worst_excess, mean_excess = (max(x) for x in zip(*[tuple(e) for e in excess]))
+    worst_excess, mean_excess = (max(x) for x in zip(*excess))
     r = loaded.report
     lines = [
         f"### {family}: {r['members']} members, {r['size'][0]} x {r['size'][1]}",
