@@ -1,0 +1,120 @@
+"""How a four-sided family model's grid is finished (docs/family.md, "The polish"): where the
+member's own node optimisation starts and when it stops, against the member's own default
+grid, on channels drawn apart from the model's members.
+
+Usage: ``.venv/bin/python benchmarks/family_polish.py MODEL.pt [--seeds 2 3 4] [--members 16]
+[--workdir DIR]``
+
+``MODEL.pt``: a model of ``example_data/make_families.py``'s ``channels`` (``pinn-mesh fit``,
+as ``benchmarks/family.py`` writes it). For each seed, ``--members`` unseen channels of that
+draw are meshed by their own default run and finished from the model's grid by each rule;
+the table gives the largest excess of the finished grid's worst angle and mean over the
+default grid's, and the median number of evaluations of the optimisation's objective.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "benchmarks"))
+
+# (label, start: the model's grid or the better ranked of it and the member's own start,
+# iterations at most, Settle's window, worst step and spare, or None: a fixed count)
+RULES = (
+    ("model's grid, 60 iterations", "model", 60, None),
+    ("better start, 60 iterations", "better", 60, None),
+    ("model's grid, settled (15, 0.05, no spare)", "model", 100, (15, 0.05, 0.0)),
+    ("better start, settled (15, 0.05, spare 0.25)", "better", 100, (15, 0.05, 0.25)),
+    ("better start, settled (20, 0.05, spare 0.25)", "better", 100, (20, 0.05, 0.25)),
+)
+
+
+def draw(workdir: Path, seed: int, members: int) -> Path:
+    """``members`` unseen channels of draw ``seed`` (no training members)."""
+    out = workdir / f"seed{seed}"
+    make = [sys.executable, str(ROOT / "example_data" / "make_families.py"), str(out)]
+    options = ["--family", "channels", "--train", "0", "--unseen", str(members)]
+    subprocess.run([*make, *options, "--seed", str(seed)], check=True)
+    return out / "channels"
+
+
+def finish(model, member, rule, counted: list) -> np.ndarray:
+    """The member's grid finished from the model's by ``rule`` (the user's coordinates)."""
+    from pinn_engine.starts.quality_start import Ranking, Settle, best_candidate, optimize_nodes
+
+    _, start, iterations, settle = rule
+    grid, _ = model.predict(member)
+    elliptic = model.base(member)
+    ranking = Ranking.of(elliptic, (), member.boundary.diagonal)
+    (begin, _), ranking = best_candidate(elliptic, member.base, ranking)
+    if start == "better" and ranking.key(ranking.quality(grid)) > ranking.key(
+        ranking.quality(begin)
+    ):
+        grid = begin
+    counted.clear()
+    done = optimize_nodes(grid, ranking, iterations, settle=settle and Settle(*settle))
+    return member.frame.to_user(done)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("model", type=Path)
+    parser.add_argument("--seeds", type=int, nargs="+", default=[2, 3, 4])
+    parser.add_argument("--members", type=int, default=16)
+    parser.add_argument("--workdir", type=Path, default=ROOT / "out" / "family_polish")
+    args = parser.parse_args()
+    import torch
+
+    torch.set_num_threads(1)
+    from family import rows_of, settings_and_geometry
+
+    from pinn_engine import job
+    from pinn_engine.quality import guard_figures
+    from pinn_engine.starts import quality_start
+
+    counted: list = []
+    real = quality_start.quality_loss
+
+    def counting(grid, turn):
+        counted.append(1)
+        return real(grid, turn)
+
+    quality_start.quality_loss = counting
+    model = job.load_family(args.model)
+    table = {rule[0]: {} for rule in RULES}
+    for seed in args.seeds:
+        folder = draw(args.workdir.resolve(), seed, args.members)
+        found = {rule[0]: [] for rule in RULES}
+        for row in rows_of(folder / "unseen.csv"):
+            settings, geometry = settings_and_geometry(folder, row)
+            own = job.run(settings, geometry).quality
+            member = job.family_member(settings, geometry)
+            for rule in RULES:
+                q = guard_figures(finish(model, member, rule, counted))
+                found[rule[0]].append(
+                    (
+                        q["worst_max_angle"] - own["worst_max_angle"],
+                        q["mean_max_angle"] - own["mean_max_angle"],
+                        len(counted),
+                    )
+                )
+        for label, rows in found.items():
+            worst, mean, evaluations = zip(*rows)
+            table[label][seed] = (max(worst), max(mean), statistics.median(evaluations))
+    head = " | ".join(f"seed {s}: worst / mean - default (max), evaluations" for s in args.seeds)
+    print(f"| rule | {head} |")
+    print("|---" * (1 + len(args.seeds)) + "|")
+    for label, by_seed in table.items():
+        cells = " | ".join(f"{w:+.2f} / {m:+.2f}, {e:.0f}" for w, m, e in by_seed.values())
+        print(f"| {label} | {cells} |")
+
+
+if __name__ == "__main__":
+    main()
