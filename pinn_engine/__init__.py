@@ -22,6 +22,7 @@ from pinn_engine.errors import (
     TrainingStoppedWarning,
     WallAngleWarning,
 )
+from pinn_engine.kinds import registered as _registered  # noqa: F401  each kind's settings
 from pinn_engine.lazy import lazy_names
 from pinn_engine.routes import names as _names  # noqa: F401  the routes' words for errors
 

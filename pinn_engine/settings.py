@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import functools
 import math
 import numbers
 import re
-from dataclasses import asdict, dataclass, fields, replace
+from dataclasses import asdict, dataclass, fields
+from typing import ClassVar
 
 from pinn_engine.errors import InputError, SettingsError, unknown_name
 from pinn_engine.patchnames import FACE_PREFIX
@@ -220,11 +222,12 @@ class Pattern:
         return f"use {self.hint}"
 
 
-# Every setting's rule, in one place (scikit-learn's ``_parameter_constraints``): the Settings
-# dataclass checks them, and the command line, the VTK filter, the plugin panel and the
-# pyvista accessor take their choices and ranges from here. Rules between settings are in
-# ``Settings.__post_init__`` and ``make_settings``.
-PARAMETER_CONSTRAINTS: dict[str, Options | Interval] = {
+# The shared core's rules (scikit-learn's ``_parameter_constraints``): the method, the preset,
+# the network, its training and the elliptic start, which every kind's settings carry. Each
+# kind's settings class (``kinds/<kind>/settings.py``) has one table: these, narrowed where
+# the kind takes less, and the rules of its own settings. Rules between settings are each
+# class's ``check``.
+CORE_CONSTRAINTS: dict[str, Options | Interval] = {
     "method": Options(METHODS),
     "preset": Options(PRESETS),
     "boundary_mode": Options(("hard", "penalty")),
@@ -252,25 +255,8 @@ PARAMETER_CONSTRAINTS: dict[str, Options | Interval] = {
     "derivatives": Options(("jets", "autograd"), "derivatives: forward jets or autograd"),
     "elliptic_iterations": Interval(int, 0, 1_000_000),
     "lambda_orthogonal": Interval(float, 0.0, help="weight of the orthogonality term"),
-    "topology": Options(TOPOLOGIES),
-    "naca": Pattern(r"(\d{4})?", "a NACA 4-digit code such as 0012"),
-    "farfield": Interval(float, 1.0),  # chords: a far field inside the body is no domain
-    "cell_size": Interval(
-        float, 0.0, help="multi-block: cell size in your units; 0: the diagonal / 40"
-    ),
-    "interfaces": Options(
-        ("free", "fixed"),
-        "multi-block: free (interface nodes solved like interior nodes) or fixed (as drawn)",
-    ),
     "adapt_strength": Interval(
         float, 0.0, help="with --adapt: the monitor's strength beta; 0: not adapted"
-    ),
-    "face_angle": Interval(
-        float,
-        0.0,
-        180.0,
-        "six-faced surface without FaceId (an STL): faces end where neighbouring triangles' "
-        "normals differ by more than this many degrees",
     ),
 }
 
@@ -293,17 +279,19 @@ class Counts:
         return f"must be {lengths} whole numbers of at least {self.low}"
 
 
-def _place(name) -> bool:
-    """Whether ``name`` is a side (bottom ... left) or a six-faced domain's patch."""
-    return isinstance(name, str) and (name in SIDE_NAMES or bool(HEXA_PATCH.match(name)))
+def _patch(name) -> bool:
+    """Whether ``name`` is a six-faced domain's patch (imin ... kmax, faceN)."""
+    return isinstance(name, str) and bool(HEXA_PATCH.match(name))
 
 
 @dataclass(frozen=True)
 class Places:
-    """Sides (bottom ... left) or a six-faced domain's patches (imin ... kmax, faceN), each
-    at most once; ``spaced``: each paired with its first edge, a finite length > 0."""
+    """Places of ``names`` (the sides a 2D kind takes; empty: a six-faced domain's patches
+    imin ... kmax, faceN), each at most once; ``spaced``: each paired with its first edge, a
+    finite length > 0."""
 
     spaced: bool
+    names: tuple[str, ...] = ()
     help: str = ""
 
     def problem(self, value) -> str | None:
@@ -312,10 +300,12 @@ class Places:
             pairs = all(isinstance(i, tuple) and len(i) == 2 for i in items)
             items = [n for n, h in items if _positive(h)] if pairs else None
             items = items if items is not None and len(items) == len(value) else None
-        if items is not None and all(map(_place, items)) and len(set(items)) == len(items):
+        known = (lambda n: n in self.names) if self.names else _patch
+        if items is not None and all(map(known, items)) and len(set(items)) == len(items):
             return None
-        what = "(SIDE, H) pairs, H > 0" if self.spaced else "sides"
-        return f"must be {what}, each side once: {', '.join(SIDE_NAMES)} or {HEXA_PATCH_NAMES}"
+        what = "(PLACE, H) pairs, H > 0" if self.spaced else "places"
+        places = ", ".join(self.names) if self.names else HEXA_PATCH_NAMES
+        return f"must be {what}, each once, of {places}"
 
 
 def _positive(h) -> bool:
@@ -327,29 +317,34 @@ def _positive(h) -> bool:
 # The torch devices a run takes (torch.device's names; auto: cuda where there is one)
 DEVICE_NAMES = re.compile(r"^(auto|cpu|mps|cuda(:\d+)?)$")
 
-# The rules of the settings each route gives by options of their own shape (node counts, side
-# lists, SIDE=H items, a torch device): checked once Settings has read them (lists from JSON
-# and saved models made tuples, SIDE=H strings parsed), and not iterated by the routes' generic
-# options as PARAMETER_CONSTRAINTS is. With it every field of Settings has one rule.
+# The rules of the core's settings that routes give by options of their own shape (node
+# counts, side lists, SIDE=H items, a torch device): checked once ``Settings.read`` has read
+# them (lists from JSON and saved models made tuples, SIDE=H strings parsed), and not
+# iterated by the routes' generic options as the scalar rules are. A 2D kind's node counts and
+# places; a six-faced domain's are its own (kinds/hexa/settings.py).
 SHAPED_CONSTRAINTS: dict[str, Counts | Places | Pattern] = {
     "lattice": Counts((2,), 2, "nodes of the warm start's lattice"),
-    "size": Counts((0, 2, 3), 1, "nodes along i, j (and k); none for a multi-block domain"),
-    "spacing": Places(True, "first-edge length per side or patch"),
-    "orthogonal": Places(False, "sides or patches that grid lines leave at 90 degrees"),
+    "size": Counts((0, 2), 1, "nodes along i and j; none: the lattice's, or a multi-block's"),
+    "spacing": Places(True, SIDE_NAMES, "first-edge length per side"),
+    "orthogonal": Places(False, SIDE_NAMES, "sides that grid lines leave at 90 degrees"),
     "device": Pattern(DEVICE_NAMES.pattern[1:-1], "auto, cpu, cuda or cuda:N", "torch device"),
 }
 
 
-def setting_problem(name: str, value) -> str | None:
-    """What is wrong with ``value`` for the setting ``name`` (None: nothing); each route
-    prefixes its own name for the setting."""
-    rule = PARAMETER_CONSTRAINTS.get(name)
-    return rule.problem(value) if rule is not None else None
-
-
 @dataclass(frozen=True)
 class Settings:
-    """Every setting of a run; ``training_key`` is the part that training depends on."""
+    """The settings every kind's run carries (the shared core): the method, the preset, the
+    network, its training and the elliptic start, and the grid's size and the places of its
+    spacing and orthogonal lines, which each kind reads and rules its own way. A kind's
+    settings class adds its own settings and rules (``kinds/<kind>/settings.py``); this core
+    is a four-sided domain's. ``training_key`` is the part that training depends on."""
+
+    # Every field's rule, and the words a refusal of one takes where the kind has its own
+    # (``refusal``); the kinds' classes replace them
+    CONSTRAINTS: ClassVar[dict] = {**CORE_CONSTRAINTS, **SHAPED_CONSTRAINTS}
+    REFUSALS: ClassVar[dict[str, str]] = {}
+    # settings a kind takes over every preset (a six-faced domain's shorter L-BFGS run)
+    OVER_PRESET: ClassVar[dict] = {}
 
     method: str = "pinn"
     preset: str = "default"
@@ -359,7 +354,7 @@ class Settings:
     # "elliptic": start from the converged elliptic grid on ``lattice`` and stop L-BFGS at the
     # last state no worse than it there (starts/warmstart.py); "none": start from TFI (paper)
     warm_start: str = "elliptic"
-    lattice: tuple[int, int] = (41, 21)  # nodes of the warm start; routes use the output size
+    lattice: tuple[int, int] = DEFAULT_SIZE  # nodes of the warm start; routes use the output size
     # the grid's nodes along i, j (and k: a six-faced 3D domain); () for a multi-block domain,
     # whose counts come from cell_size
     size: tuple[int, ...] = ()
@@ -391,68 +386,68 @@ class Settings:
     # torch.autograd.grad, the reference)
     derivatives: str = "jets"
     elliptic_iterations: int = 0  # 0: iterate to convergence; N: the paper's N sweeps from 0
-    # SPEC 7: first-edge length per side in user units, e.g. (("bottom", 1e-3),), and the
-    # sides that grid lines leave at right angles (pinn: loss term, elliptic: control functions)
+    # SPEC 7: first-edge length per place in user units, e.g. (("bottom", 1e-3),), and the
+    # places that grid lines leave at right angles (pinn: loss term, elliptic: control
+    # functions); a 2D domain's places are its sides, a six-faced domain's its patches
     spacing: tuple[tuple[str, float], ...] = ()
     orthogonal: tuple[str, ...] = ()
     lambda_orthogonal: float = 300.0  # weight of the orthogonality term (pinn)
-    # SPEC 9, a body instead of a four-sided domain: "o" or "c" ("none": four-sided), a NACA
-    # 4-digit section instead of a body file ("": none), the far-field circle's radius in
-    # chords about mid-chord (a body given with its own far-field curve ignores it); the
-    # first-layer height off the wall is ``spacing`` of the side "bottom"
-    topology: str = "none"
-    naca: str = ""
-    farfield: float = 15.0
-    # SPEC 10, a multi-block domain (block edges given): the cells' length in user units
-    # (0: the domain's diagonal / 40), and whether interface nodes are solved ("free") or
-    # stay on the drawn edges ("fixed")
-    cell_size: float = 0.0
-    interfaces: str = "free"
     # SPEC 14, a grid adapted to a field (given beside the settings): the monitor's strength
     adapt_strength: float = ADAPT_STRENGTH
-    # SPEC 11, a six-faced 3D domain (three sizes): a surface without FaceId is split into
-    # faces where it bends by more than this many degrees; spacing and orthogonal then name
-    # the patches imin ... kmax
-    face_angle: float = FACE_ANGLE
 
     def __post_init__(self) -> None:
-        for name in PARAMETER_CONSTRAINTS:
-            problem = setting_problem(name, getattr(self, name))
+        """Each field against its rule, then the rules between fields; nothing is rewritten
+        here (``read`` reads a route's or a saved model's values first)."""
+        for f in fields(self):
+            value = getattr(self, f.name)
+            problem = self.CONSTRAINTS[f.name].problem(value)
             if problem:
-                raise SettingsError(f"{name} {getattr(self, name)!r}: {problem}")
-        self._read()
-        for name, rule in SHAPED_CONSTRAINTS.items():
-            problem = rule.problem(getattr(self, name))
-            if problem:
-                raise SettingsError(f"{name} {getattr(self, name)!r}: {problem}")
+                raise self.refusal(f.name, value, problem)
+        self.check()
 
-    def _read(self) -> None:
-        """The rules between settings, with the shaped settings read (lists made tuples,
-        SIDE=H strings parsed) in their kind's terms: a six-faced domain's (three sizes) or
-        a 2D domain's."""
-        if self.method != "pinn":  # the objective is the pinn's (make_settings says so)
-            object.__setattr__(self, "objective", "winslow")
-        if self.warm_start == "elliptic" and self.boundary_mode != "hard":
-            raise SettingsError(
-                "the elliptic warm start needs the hard boundary mode; with the "
-                "penalty boundary set the warm start to none"
-            )
-        lattice = tuple(int(n) for n in self.lattice)
-        if len(lattice) != 2 or min(lattice) < 2:
-            raise SettingsError(
-                f"lattice must be two node counts of at least 2, got {self.lattice}"
-            )
-        object.__setattr__(self, "lattice", lattice)  # lists (JSON, saved models) -> tuple
-        object.__setattr__(self, "size", tuple(int(n) for n in self.size))
-        if len(self.size) == len(HEXA_SIZE):
-            self._check_hexa()
-            return
-        object.__setattr__(self, "spacing", parse_spacing(self.spacing))
-        object.__setattr__(self, "orthogonal", parse_sides(self.orthogonal))
-        if self.topology != "none":
-            self._check_body()
-        elif self.naca:
-            raise SettingsError(f"naca {self.naca}: a NACA section needs topology o or c")
+    @classmethod
+    def refusal(cls, name: str, value, problem: str) -> Exception:
+        """The error refusing ``value`` for ``name``: the kind's words where it has them."""
+        words = cls.REFUSALS.get(name)
+        if words is not None:
+            return SettingsError(words.format(value=value))
+        return SettingsError(f"{name} {value!r}: {problem}")
+
+    @classmethod
+    def read(cls, **values) -> Settings:
+        """Settings from a route's or a saved model's values: lists made tuples, places read
+        from ``SIDE=H`` strings, dicts or pairs (``read_places``), and a method other than
+        the pinn given the Winslow objective (the objective is the pinn's)."""
+        for name in ("lattice", "size"):
+            if name in values and not isinstance(values[name], str):
+                values[name] = tuple(int(n) for n in values[name])
+        values.update(cls.read_places(values.get("spacing", ()), values.get("orthogonal", ())))
+        if values.get("method", "pinn") != "pinn":
+            values["objective"] = "winslow"
+        return cls(**values)
+
+    @classmethod
+    def read_places(cls, spacing, orthogonal) -> dict:
+        """``spacing`` and ``orthogonal`` read as a 2D domain's sides."""
+        return {"spacing": parse_spacing(spacing), "orthogonal": parse_sides(orthogonal)}
+
+    @classmethod
+    def adopt(cls, settings: Settings) -> Settings:
+        """``settings`` as this kind's: the fields they share, this kind's defaults for the
+        rest (a route that built the core's settings for a kind's geometry)."""
+        if isinstance(settings, cls):
+            return settings
+        theirs = {f.name for f in fields(settings)}
+        return cls(**{f.name: getattr(settings, f.name) for f in fields(cls) if f.name in theirs})
+
+    def check(self) -> None:
+        """The rules between a 2D domain's settings: the start's, the places'."""
+        self.check_start()
+        self.check_places()
+
+    def check_places(self) -> None:
+        """Orthogonal sides need a method that turns grid lines, and spacing the converged
+        elliptic solver."""
         if self.orthogonal and self.method not in ("pinn", "elliptic"):
             raise SettingsError(
                 f"orthogonal sides need the pinn or elliptic method, not {self.method}"
@@ -467,51 +462,18 @@ class Settings:
                 "(elliptic_iterations 0, not the paper's sweeps)"
             )
 
-    def _check_hexa(self) -> None:
-        """The rules of six-faced 3D domains (SPEC 11): their methods, spacing and
-        orthogonality on the patches imin ... kmax (in the route's words)."""
-        if self.method not in HEXA_METHODS:
-            raise InputError(
-                f"{{method:{self.method}}}: six-faced 3D domains are meshed by "
-                f"{', '.join(HEXA_METHODS)}"
+    def check_start(self) -> None:
+        """The elliptic warm start needs the hard boundary (every kind's rule)."""
+        if self.warm_start == "elliptic" and self.boundary_mode != "hard":
+            raise SettingsError(
+                "the elliptic warm start needs the hard boundary mode; with the "
+                "penalty boundary set the warm start to none"
             )
-        spacing = parse_patch_spacing(self.spacing)
-        orthogonal = parse_patch_walls(self.orthogonal)
-        object.__setattr__(self, "spacing", spacing)
-        object.__setattr__(self, "orthogonal", orthogonal)
-        if orthogonal and self.method == "tfi":
-            raise InputError(
-                f"{{orthogonal}} {','.join(orthogonal)}: use {{method:elliptic}} or pinn (tfi's "
-                "grid lines cannot turn to a patch's normal)"
-            )
-        for axis, name in enumerate("ijk"):
-            if {f"{name}min", f"{name}max"} <= set(orthogonal) and self.size[axis] < OPPOSITE_NODES:
-                raise InputError(
-                    f"{{orthogonal}} {name}min,{name}max: give at least {OPPOSITE_NODES} nodes "
-                    f"along {name} ({{size}}), one first layer for each"
-                )
 
-    def _check_body(self) -> None:
-        """The rules of O- and C-grids (SPEC 9): their methods, and the wall as the one side
-        that spacing and orthogonality apply to."""
-        if self.method not in BODY_METHODS:
-            raise SettingsError(
-                f"method {self.method}: O- and C-grids are made by "
-                f"{', '.join(BODY_METHODS)} ({self.method} meshes four-sided domains only)"
-            )
-        if self.objective == "quality":
-            raise SettingsError("objective quality: for four-sided domains, not O- and C-grids")
-        if any(side != "bottom" for side, _ in self.spacing):
-            raise SettingsError(
-                "spacing: an O- or C-grid takes bottom=H (the first layer off the wall)"
-            )
-        if any(side != "bottom" for side in self.orthogonal):
-            raise SettingsError("orthogonal: an O- or C-grid takes bottom (the body wall)")
-        if self.orthogonal and self.method == "tfi":
-            raise SettingsError(
-                "orthogonal bottom: tfi's straight columns cannot leave the wall at right "
-                "angles; use method elliptic or pinn"
-            )
+    @property
+    def topology(self) -> str:
+        """A body's grid, o or c (``kinds.body.settings``); none for the other kinds."""
+        return "none"
 
     @property
     def quality_objective(self) -> bool:
@@ -553,6 +515,91 @@ class Settings:
         return tuple((f.name, getattr(self, f.name)) for f in fields(self) if f.name not in skip)
 
 
+# Each kind's settings class by its name (``register``): its package registers it on import,
+# as meshio's formats register their readers, so that ``make_settings`` and ``read_settings``
+# find the class of the kind their values describe
+KIND_SETTINGS: dict[str, type[Settings]] = {}
+
+
+def register(kind: str):
+    """A class decorator: ``cls`` is the settings class of ``kind``."""
+
+    def add(cls: type[Settings]) -> type[Settings]:
+        KIND_SETTINGS[kind] = cls
+        return cls
+
+    return add
+
+
+def settings_kind(values: dict) -> str:
+    """The kind whose settings ``values`` describe, where a route or a saved model did not
+    name it: three sizes a six-faced domain, a topology o or c a body, a cell size or
+    interfaces a multi-block domain, else a four-sided domain."""
+    if len(values.get("size") or ()) == len(HEXA_SIZE) or "face_angle" in values:
+        return "hexa"
+    if values.get("topology", "none") != "none":
+        return "body"
+    if "cell_size" in values or "interfaces" in values:
+        return "blocks"
+    return "four_sided"
+
+
+@functools.cache
+def option_constraints() -> dict[str, Options | Interval | Pattern]:
+    """The rules of the settings the routes take as generic options (the command line's
+    flags, the VTK algorithms' ``SetSetting``): the core's, then each kind's own scalar
+    settings' from its table; a route's topology none is the four-sided domain."""
+    rules = dict(CORE_CONSTRAINTS)
+    for cls in KIND_SETTINGS.values():
+        for name, rule in cls.CONSTRAINTS.items():
+            if name not in CORE_CONSTRAINTS and name not in SHAPED_CONSTRAINTS:
+                rules.setdefault(name, rule)
+    return {**rules, "topology": Options(TOPOLOGIES)}
+
+
+def setting_problem(name: str, value) -> str | None:
+    """What is wrong with ``value`` for the setting ``name`` (None: nothing); each route
+    prefixes its own name for the setting."""
+    rule = option_constraints().get(name)
+    return rule.problem(value) if rule is not None else None
+
+
+def setting_names() -> frozenset[str]:
+    """Every kind's settings' names."""
+    return frozenset(f.name for cls in KIND_SETTINGS.values() for f in fields(cls))
+
+
+def _kind_values(cls: type[Settings], values: dict) -> dict:
+    """``values`` less the settings ``cls`` does not carry, where they say no more than that
+    (a topology none, no NACA code); another kind's setting refused in one line."""
+    own = {f.name for f in fields(cls)}
+    out = {}
+    for name, value in values.items():
+        if name in own:
+            out[name] = value
+        elif name == "naca" and value:
+            raise SettingsError(f"naca {value}: a NACA section needs topology o or c")
+        elif (name, value) not in (("topology", "none"), ("naca", "")):
+            kinds = [k for k, c in KIND_SETTINGS.items() if name in c.__dataclass_fields__]
+            if not kinds:
+                raise unknown_name(name, setting_names(), "setting")
+            raise SettingsError(f"{name}: a setting of {' and '.join(kinds)} domains, not this one")
+    return out
+
+
+def read_settings(values: dict, kind: str | None = None) -> Settings:
+    """The settings a saved model or report holds (``Settings.to_dict``), as the class of
+    ``kind`` (or the kind they describe); other kinds' settings, which a file of an older
+    build holds at their defaults, are dropped, and a name no kind has is refused."""
+    shape = {name: values[name] for name in ("size", "topology") if name in values}
+    cls = KIND_SETTINGS[kind or settings_kind(shape)]
+    own, known = {f.name for f in fields(cls)}, setting_names()
+    unknown = sorted(values.keys() - known)
+    if unknown:
+        raise unknown_name(unknown[0], sorted(known), "setting")
+    return cls.read(**{k: v for k, v in values.items() if k in own})
+
+
 PAPER = {
     "boundary_mode": "penalty",
     "boundary_fit": "tree",
@@ -585,27 +632,27 @@ FROM_TFI = {
 }
 
 
-def make_settings(method: str = "pinn", preset: str = "default", **overrides) -> Settings:
-    """Settings for ``method`` under ``preset``, then ``overrides`` (None values ignored).
+def make_settings(
+    method: str = "pinn", preset: str = "default", kind: str | None = None, **overrides
+) -> Settings:
+    """Settings of ``kind`` (``KIND_SETTINGS``; None: the kind ``overrides`` describe,
+    ``settings_kind``) for ``method`` under ``preset``, then ``overrides`` (None values
+    ignored).
 
     The elliptic warm start needs the hard boundary: asking for the penalty boundary without
     naming a warm start turns it off, and a run without warm start gets the schedule and
-    losses of ``FROM_TFI`` unless they are given. A six-faced domain (three sizes) trains
-    ``HEXA_LBFGS_ITERATIONS`` unless told otherwise.
+    losses of ``FROM_TFI`` unless they are given. A kind's ``OVER_PRESET`` settings (a
+    six-faced domain's L-BFGS iterations) apply unless told otherwise.
     """
-    base = Settings(method=method, preset=preset)
-    if preset == "paper":
-        base = replace(base, **PAPER)
     given = {k: v for k, v in overrides.items() if v is not None}
-    for name in given:
-        if name not in Settings.__dataclass_fields__:
-            raise unknown_name(name, Settings.__dataclass_fields__, "setting")
+    cls = KIND_SETTINGS[kind or settings_kind(given)]
+    given = _kind_values(cls, given)
     if given.get("objective") == "quality" and method != "pinn":
         raise SettingsError(f"objective quality is for the pinn method, not {method}")
     if given.get("boundary_mode") == "penalty" and "warm_start" not in given:
         given["warm_start"] = "none"
     if given.get("warm_start") == "none" and preset == "default":
         given = {**FROM_TFI, **given}
-    if len(given.get("size", ())) == len(HEXA_SIZE):
-        given = {"lbfgs_iterations": HEXA_LBFGS_ITERATIONS, **given}
-    return replace(base, **given)
+    base = cls.read(method=method, preset=preset)
+    values = {**asdict(base), **(PAPER if preset == "paper" else {})}
+    return cls.read(**{**values, **cls.OVER_PRESET, **given})

@@ -21,6 +21,7 @@ from pinn_engine.classical.tfi import tfi_grid
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import Frame
 from pinn_engine.geometry.boundary_fit import ArcLengthFit
+from pinn_engine.kinds.body.settings import BodySettings
 from pinn_engine.result import MeshResult
 from pinn_engine.settings import DEFAULT_SIZE, Settings
 from pinn_engine.starts.warmstart import lattice_for
@@ -33,10 +34,11 @@ FAMILY_KEYS = ("topology", "size", "farfield", "spacing", "orthogonal", "objecti
 
 def family_settings(settings: Settings) -> dict:
     """The settings of ``settings`` that a family's members share (``FAMILY_KEYS``), as
-    lists and numbers (what a saved model holds)."""
+    lists and numbers (what a saved model holds); a four-sided member's far field is a
+    body's default, as saved models hold it."""
     out = {}
     for key in FAMILY_KEYS:
-        value = getattr(settings, key)
+        value = getattr(settings, key, getattr(BodySettings, key))
         if key == "size":
             value = settings.size or DEFAULT_SIZE
         if isinstance(value, tuple):

@@ -7,15 +7,12 @@ takes by that name (``aux``, ``blocks``, ``patches`` ...)."""
 
 from __future__ import annotations
 
-from pinn_engine.settings import PARAMETER_CONSTRAINTS
+from pinn_engine.settings import CORE_CONSTRAINTS
 
-# The settings of the kinds' own inputs, which each kind that takes one declares itself
-KIND_SETTINGS = frozenset(
-    {"method", "topology", "naca", "farfield", "cell_size", "interfaces", "adapt_strength"}
-    | {"face_angle"}
-)
-# The network, its training and the elliptic start: every 2D kind trains its blocks' pinn
-TRAINING = frozenset(PARAMETER_CONSTRAINTS) - KIND_SETTINGS | {"device"}
+# The network, its training and the elliptic start (the core's settings less the method and
+# the adaptation's strength, which each kind that takes one declares itself): every 2D kind
+# trains its blocks' pinn
+TRAINING = frozenset(CORE_CONSTRAINTS) - {"method", "adapt_strength"} | {"device"}
 # A 2D grid adapted to a field (SPEC 14) and written extruded, drawn, or refused folded
 GRID_2D = frozenset({"adapt", "adapt_strength", "extrude", "png", "fail_on_folded"})
 # What every 2D kind takes: the method, patch names, spacing and orthogonal places (sides,

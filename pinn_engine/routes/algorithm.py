@@ -55,6 +55,7 @@ from pinn_engine.routes.filters import (
 from pinn_engine.routes.reporting import message_of
 from pinn_engine.routes.summary_lines import grid_lines
 from pinn_engine.settings import (
+    KIND_SETTINGS,
     METHODS,
     NEURAL,
     OBJECTIVES,
@@ -66,6 +67,7 @@ from pinn_engine.settings import (
     make_settings,
     parse_sides,
     parse_spacing,
+    setting_names,
 )
 
 if TYPE_CHECKING:
@@ -240,15 +242,17 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, FieldInput, LineInputs, VTKPytho
         """A value from the ParaView panel: one equal to the default preset's is no override,
         so that a panel left at its defaults follows the chosen preset (with Preset paper,
         the paper's 5000 Adam epochs rather than the default's 0)."""
-        self.SetSetting(name, None if value == getattr(Settings(), name) else value)
+        self.SetSetting(
+            name, None if value == getattr(KIND_SETTINGS["four_sided"](), name) else value
+        )
 
     def SetPresetSetting(self, preset, name: str, value) -> None:
         """A value used only while ``preset`` is chosen (the panel's per-preset fields, such as
         Adam Epochs and Paper Adam Epochs, so that the panel shows what runs); one equal to
         the preset's own value, or None, is no override."""
         preset = choice(preset, PRESETS, "preset")
-        if name not in Settings.__dataclass_fields__:
-            raise unknown_name(name, Settings.__dataclass_fields__, "setting")
+        if name not in setting_names():
+            raise unknown_name(name, setting_names(), "setting")
         if value is not None and value == getattr(make_settings("pinn", preset), name):
             value = None
         key = (preset, name)
@@ -265,8 +269,8 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, FieldInput, LineInputs, VTKPytho
         if name in ("method", "preset"):
             getattr(self, f"Set{name.capitalize()}")(value)
             return
-        if name not in Settings.__dataclass_fields__:
-            raise unknown_name(name, Settings.__dataclass_fields__, "setting")
+        if name not in setting_names():
+            raise unknown_name(name, setting_names(), "setting")
         self._set_override(name, value)
 
     def SetCorners(self, *indices) -> None:
@@ -340,7 +344,9 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, FieldInput, LineInputs, VTKPytho
             overrides["topology"] = topology
         if self._method != "pinn":  # the panel hides Objective for the other methods
             overrides.pop("objective", None)
-        if self._wall_spacing and overrides.get("topology", "none") != "none":
+        if overrides.get("topology", "none") == "none":
+            overrides.pop("farfield", None)  # the panel always sets it; a body's setting
+        elif self._wall_spacing:
             overrides["spacing"] = (("bottom", self._wall_spacing),)  # the body's wall
         lattice = tuple(max(n, 2) for n in self._size)
         return make_settings(

@@ -84,7 +84,7 @@ class PinnBlockMeshDictReader(LastOutcome, VTKPythonAlgorithmBase):
         try:
             if not self._filename:
                 raise InputError("no file name set")
-            settings = make_settings(self._method, interfaces=self._interfaces)
+            settings = make_settings(self._method, kind="blocks3d", interfaces=self._interfaces)
             geometry = job.dictionary_from_file(self._filename)
             outcome = job.run(settings, geometry, self._stage)
         except Exception as exc:

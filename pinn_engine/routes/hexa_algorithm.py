@@ -216,6 +216,7 @@ class PinnHexaAlgorithm(LastOutcome, Stoppable, PatchWalls, VTKPythonAlgorithmBa
             raise SettingsError(f"{ROUTE_WORDS[self._route]['size']} {size}: {problem}")
         settings = make_settings(
             self._method,
+            kind="hexa",
             size=self._size,
             spacing=list(self._spacing),
             orthogonal=",".join(self._orthogonal),

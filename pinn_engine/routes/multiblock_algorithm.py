@@ -58,13 +58,13 @@ from pinn_engine.settings import (
     BLOCKS_METHOD,
     MULTIBLOCK_METHODS,
     NO_TIME_LIMIT,
-    PARAMETER_CONSTRAINTS,
     Settings,
     make_settings,
+    option_constraints,
 )
 
 LABEL = "PINN Structured Mesh (Multi-Block)"
-INTERFACES = PARAMETER_CONSTRAINTS["interfaces"].values  # free, fixed (SPEC 10)
+INTERFACES = option_constraints()["interfaces"].values  # free, fixed (SPEC 10)
 BLOCKING = ("manual", "automatic")  # block edges drawn, or proposed (SPEC 13)
 # the fix a folded elliptic or pinn multi-block grid is pointed to
 MOVE_EDGES = "moving the block edges near them (the cell array Folded marks them)"
@@ -76,7 +76,7 @@ class PinnMultiBlockAlgorithm(
     """Multi-block structured grid (SPEC 10) of a boundary, its holes and block edges.
 
     Settings (each setter calls ``Modified()`` when the value changes; values are checked at
-    the next update against ``settings.PARAMETER_CONSTRAINTS``):
+    the next update against the kinds' tables (``settings.option_constraints``)):
 
     * ``SetBlocking("manual"|"automatic")`` (or 0/1), default manual: the block edges are
       the open polylines of inputs 0 and 1 (in ParaView proposed as by automatic where
@@ -194,6 +194,7 @@ class PinnMultiBlockAlgorithm(
         """The ``Settings`` the next update uses (raises ``ValueError`` if invalid)."""
         return make_settings(
             self._method,
+            kind="blocks",
             cell_size=self._cell_size,
             interfaces=self._interfaces,
             time_limit=self._time_limit,

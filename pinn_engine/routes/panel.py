@@ -22,16 +22,17 @@ from pinn_engine.settings import (
     HEXA_METHOD,
     HEXA_METHODS,
     HEXA_SIZE,
+    KIND_SETTINGS,
     MAX_SIDE_NODES,
     METHODS,
     MIN_HEXA_NODES,
     MULTIBLOCK_METHODS,
     OBJECTIVES,
     PANEL_TIME_LIMIT,
-    PARAMETER_CONSTRAINTS,
     PRESETS,
     Settings,
     make_settings,
+    option_constraints,
 )
 
 _DEFAULTS = Settings()
@@ -75,8 +76,9 @@ def method_is(methods: tuple[str, ...], name: str) -> str:
 
 
 def whole_range(name: str) -> dict:
-    """The panel range of a whole-number setting, from settings.PARAMETER_CONSTRAINTS."""
-    rule = PARAMETER_CONSTRAINTS[name]
+    """The panel range of a whole-number setting, from the kinds' tables
+    (settings.option_constraints)."""
+    rule = option_constraints()[name]
     return {"min": int(rule.low), "max": int(rule.high)}
 
 
@@ -340,12 +342,12 @@ FOUR_SIDED_PANEL = (
         "P12FarFieldRadius",
         "FarFieldRadius",
         "double",
-        _DEFAULTS.farfield,
+        KIND_SETTINGS["body"]().farfield,
         "Far-field circle radius in chords about mid-chord.",
         "SetFarFieldRadius",
         option="farfield",
         convert=as_given,
-        bounds={"min": PARAMETER_CONSTRAINTS["farfield"].low},
+        bounds={"min": option_constraints()["farfield"].low},
         hint=BODY,
     ),
     Property(
@@ -450,20 +452,20 @@ BLOCKS_PANEL = (
         "P02CellSize",
         "CellSize",
         "double",
-        _DEFAULTS.cell_size,
+        KIND_SETTINGS["blocks"]().cell_size,
         "Cell length in the boundary's units (0: the domain's diagonal / 40). A chain of "
         "opposite sides through the blocks takes its longest side over the cell size, "
         "rounded up, at least 2 cells.",
         "SetCellSize",
         option="cell_size",
         convert=as_given,
-        bounds={"min": PARAMETER_CONSTRAINTS["cell_size"].low},
+        bounds={"min": option_constraints()["cell_size"].low},
     ),
     Property(
         "P03Interfaces",
         "Interfaces",
         "int",
-        INTERFACES.index(_DEFAULTS.interfaces),
+        INTERFACES.index(KIND_SETTINGS["blocks"]().interfaces),
         "free: interface nodes are solved like interior nodes, so grid lines cross the block "
         "edges smoothly (elliptic); fixed: they stay on the drawn edges.",
         "SetInterfaces",

@@ -65,13 +65,13 @@ def test_the_largest_sizes_pass_and_the_panel_allows_exactly_them():
 
 
 def test_one_table_of_setting_rules_read_by_every_route(tmp_path, capsys):
-    """settings.PARAMETER_CONSTRAINTS: the same range on the command line, in the panel, in
+    """settings.option_constraints(): the same range on the command line, in the panel, in
     Settings (pyvista, the VTK filter)."""
 
     from pinn_engine.routes.cli import main
-    from pinn_engine.settings import PARAMETER_CONSTRAINTS, make_settings
+    from pinn_engine.settings import make_settings, option_constraints
 
-    top = PARAMETER_CONSTRAINTS["hidden_layers"].high
+    top = option_constraints()["hidden_layers"].high
     assert make_settings("pinn", hidden_layers=top).hidden_layers == top
     with pytest.raises(ValueError, match=f"hidden_layers {top + 1}: must be a whole number"):
         make_settings("pinn", hidden_layers=top + 1)

@@ -18,7 +18,7 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 from pinn_engine.io.export import write_blocks
 from pinn_engine.io.export.multiblock import blocks_of
 from pinn_engine.routes.cli import main
-from pinn_engine.settings import Settings
+from pinn_engine.settings import make_settings
 
 BOUNDARY = str(EXAMPLES / "cylinder_channel.vtp")
 EDGES = str(EXAMPLES / "cylinder_channel_blocks.vtp")
@@ -44,7 +44,7 @@ def _on_cylinder(xy: np.ndarray) -> bool:
 
 @pytest.fixture(scope="module")
 def dataset():
-    settings = Settings(method="elliptic", cell_size=CELL)
+    settings = make_settings("elliptic", cell_size=CELL)
     return run_blocks(settings, BOUNDARY, [EDGES], PATCHES).data
 
 
@@ -59,7 +59,7 @@ def _unique_nodes(blocks) -> int:
 
 def test_default_patch_names(tmp_path):
     """Without --patch: ``boundary`` on the outer boundary, ``hole1`` on the cylinder."""
-    settings = Settings(method="tfi", cell_size=CELL)
+    settings = make_settings("tfi", cell_size=CELL)
     pieces = blocks_of(run_blocks(settings, BOUNDARY, [EDGES]).data).pieces
     names = [p.name for block in pieces for p in block]
     assert sorted(set(names)) == ["boundary", "hole1"]

@@ -30,7 +30,12 @@ from pinn_engine.neural import trainer
 from pinn_engine.routes.algorithm import PinnMeshAlgorithm
 from pinn_engine.routes.cli import build_parser, main
 from pinn_engine.routes.cli.parser import option_flags
-from pinn_engine.settings import PARAMETER_CONSTRAINTS, Interval, Options, make_settings
+from pinn_engine.settings import (
+    Interval,
+    Options,
+    make_settings,
+    option_constraints,
+)
 
 PACKAGE = ROOT / "pinn_engine"
 
@@ -128,11 +133,11 @@ def test_recipe_block_kind():
     assert history["eqns"][-1] < 1e-3 * history["eqns"][0]
 
 
-@pytest.mark.parametrize("name", sorted(PARAMETER_CONSTRAINTS))
+@pytest.mark.parametrize("name", sorted(option_constraints()))
 def test_recipe_option(name, capsys):
     """Every setting of the constraint table reaches every route: the command line's flag
     (out-of-range values refused in one line naming it), the VTK algorithm's SetSetting."""
-    rule = PARAMETER_CONSTRAINTS[name]
+    rule = option_constraints()[name]
     flags = {a.dest: a.option_strings for a in build_parser()._actions}
     assert name in flags
     alg = PinnMeshAlgorithm()

@@ -11,7 +11,7 @@ from pinn_engine.routes.hexa_algorithm import PinnHexaAlgorithm
 from pinn_engine.routes.multiblock_algorithm import PinnMultiBlockAlgorithm
 from pinn_engine.routes.names import NAMES
 from pinn_engine.routes.panel import PANELS
-from pinn_engine.settings import PARAMETER_CONSTRAINTS, Interval, Settings
+from pinn_engine.settings import Interval, Settings, option_constraints
 
 ALGORITHMS = {"four-sided": PinnMeshAlgorithm, "blocks": PinnMultiBlockAlgorithm}
 ALGORITHMS["hexa"] = PinnHexaAlgorithm
@@ -35,7 +35,7 @@ def test_a_property_of_an_option_shows_its_label_range_and_default(kind, prop):
         assert prop.shown is None  # ParaView shows its name
         return
     assert prop.shown == (prop.label or NAMES[prop.option].label)
-    rule = PARAMETER_CONSTRAINTS.get(prop.option)
+    rule = option_constraints().get(prop.option)
     if prop.call in ("SetPanelSetting", "SetPresetSetting") and "paper" not in prop.before:
         default = prop.enum[prop.default] if prop.enum else prop.default
         assert default == getattr(Settings(), prop.option) or prop.option == "time_limit"

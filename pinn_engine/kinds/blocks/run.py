@@ -15,6 +15,7 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 from pinn_engine.errors import STOP, InputError
+from pinn_engine.kinds.blocks.settings import BlocksSettings
 from pinn_engine.kinds.outcome import Outcome
 from pinn_engine.kinds.untrained import TFI_START, WINSLOW, cannot_win, start_or_train
 from pinn_engine.settings import AUTO_BLOCKS, NO_TIME_LIMIT, Settings
@@ -300,7 +301,7 @@ def run_blocks(
     from pinn_engine.multiblock.mesh import mesh_blocks
     from pinn_engine.starts.untangle import untangle
 
-    g = geometry
+    g, settings = geometry, BlocksSettings.adopt(settings)  # a route's core settings
     if settings.objective == "best":  # the quality objective's start is a four-sided block's
         settings = replace(settings, objective="winslow")
     clock = Clock(settings.time_limit, progress)

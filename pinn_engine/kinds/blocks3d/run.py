@@ -7,6 +7,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from pinn_engine.errors import InputError
+from pinn_engine.kinds.blocks3d.settings import DictionarySettings
 from pinn_engine.kinds.outcome import Outcome
 from pinn_engine.settings import Settings
 
@@ -47,6 +48,7 @@ def run_dictionary(
     ``settings.interfaces``; ``progress`` hears each stage."""
     from pinn_engine.blocks3d.mesh import dataset, mesh_dictionary
 
+    settings = DictionarySettings.adopt(settings)  # a route's core settings
     if settings.method not in DICTIONARY_METHODS:
         raise InputError(
             f"--method {settings.method}: a blockMeshDict is meshed by "

@@ -19,7 +19,7 @@ from pinn_engine.geometry.plane import Plane
 from pinn_engine.io.fileio import atomic_path
 from pinn_engine.kinds.four_sided.mapping import Mapping
 from pinn_engine.neural.networks import CoordinateNet
-from pinn_engine.settings import Settings
+from pinn_engine.settings import Settings, read_settings
 from pinn_engine.starts.warmstart import lattice_for
 
 FORMAT = "pinn-mesh-model/1"
@@ -171,4 +171,4 @@ def _settings_of(saved: dict) -> Settings:
         saved["boundary_mode"] = saved.pop("boundary")
     if "fast" in saved:
         saved["derivatives"] = "jets" if saved.pop("fast") else "autograd"
-    return Settings(**saved)
+    return read_settings(saved)

@@ -43,7 +43,7 @@ from pinn_engine.neural.trainer import (
     Progress,
 )
 from pinn_engine.quality import no_worse
-from pinn_engine.settings import Settings
+from pinn_engine.settings import Settings, read_settings
 
 DIMENSIONS = 3  # the block's computational coordinates, and its physical ones
 FORMAT = "pinn-mesh-hexa-model/1"  # a saved hexahedral model (kinds/four_sided/model.py's is 2D)
@@ -134,7 +134,7 @@ class HexaModel:
         """Read a model; it must have been trained on the surface of ``surface_key``."""
         payload = read_payload(path, FORMAT)
         try:
-            settings = Settings(**payload["settings"])
+            settings = read_settings(payload["settings"], "hexa")
             net = network_from(payload)
             correction = LatticeField(payload["correction"].numpy())
             saved_key = payload["surface_key"]

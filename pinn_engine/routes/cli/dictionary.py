@@ -55,7 +55,7 @@ def run_dictionary(args: argparse.Namespace, written: list[Path]) -> Path:
             "--format openfoam in this build"
         )
     try:
-        settings = make_settings(method, interfaces=args.interfaces)
+        settings = make_settings(method, kind="blocks3d", interfaces=args.interfaces)
     except ValueError as exc:
         raise PinnMeshError(str(exc)) from exc
     began = time.perf_counter()

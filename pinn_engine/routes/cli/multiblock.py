@@ -59,7 +59,7 @@ def run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
     # patch names, not sides: passed to the run, not to the four-sided settings
     spacing, orthogonal = args.spacing, [args.orthogonal] if args.orthogonal else []
     args.spacing, args.orthogonal = [], None
-    settings = settings_from(args)
+    settings = settings_from(args, kind="blocks")
     start = time.perf_counter()
     field = read_adapt_field(args)
     geometry = job.blocks_from_files(

@@ -12,9 +12,9 @@ from pinn_engine.routes.names import cli_option
 from pinn_engine.settings import (
     DEVICE_NAMES,
     NEURAL,
-    PARAMETER_CONSTRAINTS,
     Settings,
     make_settings,
+    option_constraints,
     setting_problem,
     size_problem,
 )
@@ -68,7 +68,7 @@ def check_options(args: argparse.Namespace) -> None:
     if problem:
         raise PinnMeshError(f"--size {' '.join(map(str, args.size))}: {problem}")
     flags = option_flags()
-    for name in PARAMETER_CONSTRAINTS:  # each range, named by the option that set it
+    for name in option_constraints():  # each range, named by the option that set it
         value = getattr(args, name, None)
         problem = setting_problem(name, value) if value is not None else None
         if problem and name in flags:
@@ -94,15 +94,19 @@ def read_adapt_field(args: argparse.Namespace):
     return read_field(args.adapt)
 
 
-def settings_from(args: argparse.Namespace, size: tuple[int, ...] = ()) -> Settings:
+def settings_from(
+    args: argparse.Namespace, size: tuple[int, ...] = (), kind: str | None = None
+) -> Settings:
     """The settings of the command line's options for a grid of ``size`` nodes (() for
-    multi-block), with a settings error as a one-line command-line error."""
+    multi-block) of ``kind`` (None: the one they describe, ``settings.settings_kind``), with
+    a settings error as a one-line command-line error."""
     skip = ("method", "preset")  # given first: the preset is the base the others override
-    options = {k: getattr(args, k) for k in PARAMETER_CONSTRAINTS if k not in skip}
+    options = {k: getattr(args, k) for k in option_constraints() if k not in skip}
     try:
         return make_settings(
             args.method,
             args.preset,
+            kind,
             lattice=size if len(size) == 2 else None,
             size=size,
             spacing=args.spacing,

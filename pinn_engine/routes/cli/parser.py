@@ -13,10 +13,10 @@ from pinn_engine.routes.names import NAMES, cli_aliases
 from pinn_engine.settings import (
     METHODS,
     OBJECTIVES,
-    PARAMETER_CONSTRAINTS,
     PRESETS,
     Interval,
     Options,
+    option_constraints,
 )
 
 EXIT_ERROR = 2  # the input or an option is refused (argparse's own status for a bad option)
@@ -60,7 +60,7 @@ class _FormatKeys:
 
 def _options(name: str) -> tuple:
     """The values a setting of the constraint table takes (its option's choices)."""
-    return PARAMETER_CONSTRAINTS[name].values
+    return option_constraints()[name].values
 
 
 class _SizeAction(argparse.Action):
@@ -411,7 +411,7 @@ def _table_options(group, parser: argparse.ArgumentParser) -> None:
     """A flag ``--name-with-dashes`` for every setting of the constraint table that has no
     hand-written option above: a setting added to the table is an option here too."""
     taken = {action.dest for action in parser._actions}
-    for name, rule in PARAMETER_CONSTRAINTS.items():
+    for name, rule in option_constraints().items():
         if name in taken:
             continue
         flag = "--" + name.replace("_", "-")

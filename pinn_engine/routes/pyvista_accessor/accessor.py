@@ -18,7 +18,7 @@ from pinn_engine.routes.pyvista_accessor.multiblock import pinn_mesh_blocks
 from pinn_engine.routes.pyvista_accessor.report import report
 from pinn_engine.routes.pyvista_accessor.running import node_counts, public
 from pinn_engine.routes.pyvista_accessor.save import save_mesh
-from pinn_engine.settings import HEXA_SIZE, Settings
+from pinn_engine.settings import HEXA_SIZE, setting_names
 
 
 def _offered(kind: str, function: Callable) -> list[str]:
@@ -62,7 +62,7 @@ class PinnMeshAccessor:
         self._cache = MeshCache()
         self.last: pv.StructuredGrid | pv.MultiBlock | None = None  # the last grid made
 
-    @public("pinn_mesh", also=Settings.__dataclass_fields__)
+    @public("pinn_mesh", also=setting_names())
     def __call__(
         self,
         aux=None,

@@ -21,13 +21,13 @@ from pinn_engine.routes.pyvista_accessor.running import (
     run,
     warn_about,
 )
-from pinn_engine.settings import Settings, grid_size_problem, make_settings
+from pinn_engine.settings import Settings, grid_size_problem, make_settings, setting_names
 
 if TYPE_CHECKING:
     from pinn_engine.job import MeshCache
 
 
-@public("pinn_mesh", also=Settings.__dataclass_fields__)
+@public("pinn_mesh", also=setting_names())
 def pinn_mesh(
     boundary,
     aux=None,

@@ -58,9 +58,9 @@ def test_the_guard_keeps_interfaces_as_smooth_as_elliptic(monkeypatch):
     rings, edges = make_multiblock.ybranch()
     names = [f"edge {k}" for k in range(len(edges))]
     kinks = {
-        m: mesh_blocks(rings, edges, names, make_settings(m), train=train_blocks).report[
-            "interface_kink"
-        ]
+        m: mesh_blocks(
+            rings, edges, names, make_settings(m, kind="blocks"), train=train_blocks
+        ).report["interface_kink"]
         for m in ("elliptic", "pinn")
     }
     assert kinks["pinn"]["max"] <= kinks["elliptic"]["max"] + ROUNDING
