@@ -24,6 +24,7 @@ MULTIBLOCK_METHODS = ("tfi", "elliptic", "pinn")  # SPEC 10's methods in this bu
 BLOCKS_METHOD = "pinn"  # multi-block's default method (SPEC 10), on every route
 AUTO_BLOCKS = "auto"  # block edges named so are proposed from the boundary (SPEC 13)
 HEXA_METHODS = ("pinn", "tfi", "elliptic")  # SPEC 11's methods, in the filter's order
+DICTIONARY_METHODS = ("pinn", "elliptic", "tfi")  # SPEC 15's methods, the default first
 HEXA_METHOD = "pinn"  # SPEC 11's default (kinds/hexa/problem.py; docs/hexa.md has its figures)
 BOX_SIDES = ("imin", "imax", "jmin", "jmax", "kmin", "kmax")  # a six-faced domain's patches
 FACE_ANGLE = 40.0  # degrees between neighbouring triangles' normals that end a face (SPEC 11)

@@ -17,7 +17,8 @@ It also registers File > Save Data writers for the filter's output (``pinn_engin
 PLOT3D, CGNS with boundary conditions, SU2, Gmsh 4.1 and OpenFOAM, each using the grid's
 Patch Names (docs/export.md).
 
-The mesh filters' panels are generated: each property of ``pinn_engine.routes.panel.PANELS``
+The panels of the mesh filters, the blockMeshDict reader and the Airfoil source are
+generated: each property of ``pinn_engine.routes.panel.PANELS``
 (its name, label, default, range, choices, help and the algorithm's method it sets, with
 the labels of ``routes.names`` and the ranges and defaults of the constraint table) becomes
 one decorated method (``_panel``, ``_property``). Property order: ParaView 5.11 lists a
@@ -308,11 +309,20 @@ def _property(prop):
             smdomain.xml(_doc(prop.doc)),
         )(method)
     vector = _VECTORS[prop.vector]
-    return vector(bounds=prop.bounds, enum=prop.enum, hint=prop.hint, doc=prop.doc, **attrs)(method)
+    check_box = '<BooleanDomain name="bool"/>' if prop.boolean else ""
+    return vector(
+        bounds=prop.bounds,
+        enum=prop.enum,
+        hint=prop.hint,
+        doc=prop.doc,
+        inline_domain=check_box,
+        **attrs,
+    )(method)
 
 
 def _panel(kind):
-    """The properties of the filter of ``kind``'s panel (``routes.panel.PANELS``)."""
+    """The properties of ``kind``'s panel (``routes.panel.PANELS``): a mesh filter's, the
+    blockMeshDict reader's or the Airfoil source's."""
 
     def decorate(cls):
         for prop in PANELS[kind]:
@@ -584,6 +594,7 @@ class PINNAirfoilReader(AirfoilReader):
         "placement (docs/blockmesh.md).",
     )
 )
+@_panel("dictionary")
 class PINNBlockMeshDictReader(PinnBlockMeshDictReader):
     """An OpenFOAM blockMeshDict's blocks as a multi-block dataset (SPEC 15)."""
 
@@ -591,28 +602,6 @@ class PINNBlockMeshDictReader(PinnBlockMeshDictReader):
     @smdomain.filelist()
     def SetFileName(self, name):
         PinnBlockMeshDictReader.SetFileName(self, name)
-
-    @smproperty.xml(
-        """<IntVectorProperty name="Method" command="SetMethod" number_of_elements="1"
-        default_values="0"><EnumerationDomain name="enum">
-        <Entry value="0" text="pinn"/><Entry value="1" text="elliptic"/>
-        <Entry value="2" text="tfi"/></EnumerationDomain><Documentation>pinn: the better
-        of the Winslow grid and blockMesh's placement; elliptic: the 3D Winslow grid over
-        all blocks; tfi: blockMesh's placement.</Documentation></IntVectorProperty>"""
-    )
-    def SetMethod(self, method):
-        PinnBlockMeshDictReader.SetMethod(self, method)
-
-    @smproperty.xml(
-        """<IntVectorProperty name="Interfaces" command="SetInterfaces"
-        number_of_elements="1" default_values="0"><EnumerationDomain name="enum">
-        <Entry value="0" text="free"/><Entry value="1" text="fixed"/></EnumerationDomain>
-        <Documentation>free: nodes on faces between blocks solved like interior nodes;
-        fixed: blockMesh's placement of those faces kept.</Documentation>
-        </IntVectorProperty>"""
-    )
-    def SetInterfaces(self, interfaces):
-        PinnBlockMeshDictReader.SetInterfaces(self, interfaces)
 
 
 @smproxy.source(name="PINNAirfoilSource", label="Airfoil", support_reload=False)
@@ -625,24 +614,9 @@ class PINNBlockMeshDictReader(PinnBlockMeshDictReader):
         "Mesh with Topology O-grid or C-grid (docs/airfoils.md).",
     )
 )
+@_panel("airfoil")
 class PINNAirfoilSource(AirfoilSource):
     """A NACA 4-digit section of chord 1, for PINN Structured Mesh with Topology O/C."""
-
-    @_stringvector(
-        name="NACA", label="NACA", default_values="0012", doc="Four digits, e.g. 0012 or 2412."
-    )
-    def P01NACA(self, code):
-        self.SetNACA(code)
-
-    @_intvector(
-        name="SharpTrailingEdge",
-        label="Sharp Trailing Edge",
-        default_values=1,
-        inline_domain='<BooleanDomain name="bool"/>',
-        doc="Closed trailing edge (for the C-grid); off: the classical blunt one (O-grid).",
-    )
-    def P02SharpTrailingEdge(self, sharp):
-        self.SetSharpTrailingEdge(sharp)
 
 
 def _writer_proxy(key, extension, name, file_type):

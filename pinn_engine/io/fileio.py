@@ -55,7 +55,9 @@ def quiet_vtk():
         vtkObject.SetGlobalWarningDisplay(previous)
 
 
-def _check_file(path: Path, formats: tuple[str, ...]) -> str:
+def check_file(path: Path, formats: tuple[str, ...]) -> str:
+    """``path`` as the name messages give it, once it is a readable, non-empty file of one
+    of ``formats`` no larger than ``MAX_FILE_BYTES``; else an ``InputError`` saying which."""
     src = str(path)
     if not path.exists():
         raise InputError("file not found", src)
@@ -308,7 +310,7 @@ def read_table_lines(path: Path) -> list[np.ndarray]:
 def read_boundary_points(path: str | os.PathLike) -> np.ndarray:
     """The boundary ring (n, 2) or (n, 3) of a ``.vtp``, ``.vtk``, ``.csv`` or ``.txt`` file."""
     path = Path(path)
-    src = _check_file(path, BOUNDARY_FORMATS)
+    src = check_file(path, BOUNDARY_FORMATS)
     if path.suffix.lower() in (".csv", ".txt"):
         return read_table(path)
     return boundary_points(read_polydata(path), src)
@@ -318,7 +320,7 @@ def read_rings(path: str | os.PathLike) -> list[np.ndarray]:
     """Every closed curve (n, 2) or (n, 3) of a ``.vtp``/``.vtk`` file, or the one ring of a
     ``.csv``/``.txt`` table: a multi-block domain's boundary and holes (SPEC 10)."""
     path = Path(path)
-    src = _check_file(path, BOUNDARY_FORMATS)
+    src = check_file(path, BOUNDARY_FORMATS)
     if path.suffix.lower() in (".csv", ".txt"):
         return [read_table(path)]
     poly = read_polydata(path)
@@ -369,7 +371,7 @@ def aux_lines_of(poly: vtkPolyData, source: str = "auxiliary input") -> list[Raw
 def read_aux_lines(path: str | os.PathLike) -> list[RawLine]:
     """Auxiliary polylines from a ``.vtp`` or ``.vtk`` file."""
     path = Path(path)
-    src = _check_file(path, AUX_FORMATS)
+    src = check_file(path, AUX_FORMATS)
     return aux_lines_of(read_polydata(path), src)
 
 

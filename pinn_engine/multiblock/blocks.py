@@ -66,7 +66,7 @@ def _key(p) -> tuple[float, float]:
     return (float(p[0]), float(p[1]))
 
 
-def _faces(lines: Linework) -> list[Polygon]:
+def polygon_faces(lines: Linework) -> list[Polygon]:
     """The faces of the linework inside the domain, each oriented counter-clockwise;
     refused: a face with a hole or loop inside it, and one outside the boundary."""
     segs = []
@@ -121,7 +121,7 @@ def topology(lines: Linework) -> Topology:
     """Blocks and pieces of checked linework: each face a block with four corners, its sides
     cut into pieces at every junction (a point where three or more curves meet, or any
     block's corner), a piece shared by the blocks on both sides of it."""
-    faces = _faces(lines)
+    faces = polygon_faces(lines)
     rings = [np.asarray(f.exterior.coords)[:-1] for f in faces]
     degree: dict[tuple, int] = {}
     for k, curve in enumerate(lines.rings + lines.edges):

@@ -95,6 +95,9 @@ class AirfoilReader(_AirfoilBase):
         return load_body(self._filename)
 
 
+NACA, SHARP = "0012", True  # the source's section at first: NACA 0012, a sharp trailing edge
+
+
 class AirfoilSource(_AirfoilBase):
     """A NACA 4-digit section of chord 1 (``SetNACA("2412")``; ``SetSharpTrailingEdge``:
     closed trailing edge, for the C-grid, or the classical blunt one, for the O-grid)."""
@@ -103,7 +106,7 @@ class AirfoilSource(_AirfoilBase):
 
     def __init__(self) -> None:
         super().__init__()
-        self._code, self._sharp = "0012", True
+        self._code, self._sharp = NACA, SHARP
 
     def SetNACA(self, code) -> None:
         if str(code) != self._code:

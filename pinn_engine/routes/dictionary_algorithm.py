@@ -26,18 +26,20 @@ from pinn_engine.errors import InputError
 from pinn_engine.routes.filters import LastOutcome, choice
 from pinn_engine.routes.reporting import message_of
 from pinn_engine.routes.summary_lines import dictionary_line
+from pinn_engine.settings import DICTIONARY_METHODS, KIND_SETTINGS
 
 LABEL = "PINN blockMeshDict Reader"
-METHODS = ("pinn", "elliptic", "tfi")  # job.DICTIONARY_METHODS, the default first
-INTERFACES = ("free", "fixed")
+INTERFACES = KIND_SETTINGS["blocks3d"].CONSTRAINTS["interfaces"].values  # free, fixed
+DEFAULT = KIND_SETTINGS["blocks3d"]()  # its method and interfaces at first
 
 
 class PinnBlockMeshDictReader(LastOutcome, VTKPythonAlgorithmBase):
     """The blocks of an OpenFOAM blockMeshDict, meshed (SPEC 15).
 
     * ``SetFileName(path)``: the dictionary
-    * ``SetMethod(name)`` (or its index in ``METHODS``): ``pinn`` (default: the better of
-      the Winslow grid and blockMesh's placement), ``elliptic`` or ``tfi``
+    * ``SetMethod(name)`` (or its index in ``settings.DICTIONARY_METHODS``): ``pinn``
+      (default: the better of the Winslow grid and blockMesh's placement), ``elliptic`` or
+      ``tfi``
     * ``SetInterfaces(name)``: ``free`` (default: interfaces solved) or ``fixed``
       (blockMesh's placement of the block faces kept)
     """
@@ -47,7 +49,11 @@ class PinnBlockMeshDictReader(LastOutcome, VTKPythonAlgorithmBase):
     def __init__(self, route: str = "paraview") -> None:
         super().__init__(nInputPorts=0, nOutputPorts=1, outputType="vtkMultiBlockDataSet")
         self._route = route
-        self._filename, self._method, self._interfaces = "", METHODS[0], INTERFACES[0]
+        self._filename, self._method, self._interfaces = (
+            "",
+            DICTIONARY_METHODS[0],
+            DEFAULT.interfaces,
+        )
         self._last_error = self._last_warning = ""
         self._exception: Exception | None = None
 
@@ -63,7 +69,7 @@ class PinnBlockMeshDictReader(LastOutcome, VTKPythonAlgorithmBase):
         return self._filename
 
     def SetMethod(self, method) -> None:
-        self._set("_method", choice(method, METHODS, "method"))
+        self._set("_method", choice(method, DICTIONARY_METHODS, "method"))
 
     def GetMethod(self) -> str:
         return self._method

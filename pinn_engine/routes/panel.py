@@ -1,8 +1,9 @@
-"""The ParaView panels of the mesh filters as data: each property's name, label, default,
-range, choices, help and the algorithm's method its values go to, one ``Property`` each, by
-filter (``PANELS``). The plugin turns each into its decorators; the labels of options come
-from ``routes.names``, the ranges and defaults from the constraint table and ``Settings``,
-so the panel, the command line and pyvista cannot drift apart.
+"""The ParaView panels of the mesh filters, the blockMeshDict reader and the Airfoil source
+as data: each property's name, label, default, range, choices, help and the algorithm's
+method its values go to, one ``Property`` each, by panel (``PANELS``). The plugin turns each
+into its decorators; the labels of options come from ``routes.names``, the ranges, choices
+and defaults from the kinds' settings and their tables, so the panel, the command line and
+pyvista cannot drift apart.
 
 Nothing here imports ParaView: the visibility hints are ParaView's XML as text.
 """
@@ -12,12 +13,14 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from pinn_engine.routes import airfoil_algorithm, dictionary_algorithm
 from pinn_engine.routes.multiblock_algorithm import BLOCKING, INTERFACES
 from pinn_engine.routes.names import NAMES
 from pinn_engine.settings import (
     ADAPT_STRENGTH,
     BLOCKS_METHOD,
     DEFAULT_SIZE,
+    DICTIONARY_METHODS,
     FACE_ANGLE,
     HEXA_METHOD,
     HEXA_METHODS,
@@ -30,12 +33,11 @@ from pinn_engine.settings import (
     OBJECTIVES,
     PANEL_TIME_LIMIT,
     PRESETS,
-    Settings,
     make_settings,
     option_constraints,
 )
 
-_DEFAULTS = Settings()
+_DEFAULTS = KIND_SETTINGS["four_sided"]()
 _PAPER = make_settings("pinn", "paper")
 TOPOLOGY_ENTRIES = ("Four-sided domain", "O-grid", "C-grid", "Automatic")  # SetTopology's order
 
@@ -90,8 +92,8 @@ class Property:
     ``call``, the algorithm's method that takes ``before`` then each value by ``convert``.
     ``option``: the option it sets, whose label (``routes.names``) it shows unless ``label``
     gives the panel's own; ``bounds``, ``enum``, ``hint`` (a visibility decorator's XML),
-    ``advanced`` and ``files`` (a file chooser's extension and description) as ParaView
-    takes them."""
+    ``advanced``, ``files`` (a file chooser's extension and description) and ``boolean`` (a
+    check box) as ParaView takes them."""
 
     method: str
     name: str
@@ -108,6 +110,7 @@ class Property:
     hint: str | None = None
     advanced: bool = False
     files: tuple[str, str] | None = None
+    boolean: bool = False
 
     @property
     def shown(self) -> str | None:
@@ -617,9 +620,61 @@ ADAPT_STRENGTH_PROPERTY = Property(
     bounds={"min": 0.0, "max": 100.0},
 )
 
-# Each mesh filter's panel, by the kind(s) it meshes
+# The blockMeshDict reader's panel (SPEC 15): its methods and interfaces the blocks3d kind's
+_DICTIONARY = dictionary_algorithm.DEFAULT
+DICTIONARY_PANEL = (
+    Property(
+        "P01Method",
+        "Method",
+        "int",
+        DICTIONARY_METHODS.index(_DICTIONARY.method),
+        "pinn: the better of the Winslow grid and blockMesh's placement; elliptic: the 3D "
+        "Winslow grid over all blocks; tfi: blockMesh's placement.",
+        "SetMethod",
+        "method",
+        enum=DICTIONARY_METHODS,
+    ),
+    Property(
+        "P02Interfaces",
+        "Interfaces",
+        "int",
+        dictionary_algorithm.INTERFACES.index(_DICTIONARY.interfaces),
+        "free: nodes on faces between blocks solved like interior nodes; fixed: blockMesh's "
+        "placement of those faces kept.",
+        "SetInterfaces",
+        "interfaces",
+        enum=dictionary_algorithm.INTERFACES,
+    ),
+)
+
+# The Airfoil source's panel: a NACA section (SPEC 9)
+AIRFOIL_PANEL = (
+    Property(
+        "P01NACA",
+        "NACA",
+        "string",
+        airfoil_algorithm.NACA,
+        "Four digits, e.g. 0012 or 2412.",
+        "SetNACA",
+        "naca",
+        convert=as_given,
+    ),
+    Property(
+        "P02SharpTrailingEdge",
+        "SharpTrailingEdge",
+        "int",
+        int(airfoil_algorithm.SHARP),
+        "Closed trailing edge (for the C-grid); off: the classical blunt one (O-grid).",
+        "SetSharpTrailingEdge",
+        boolean=True,
+    ),
+)
+
+# Each panel: a mesh filter's by the kind(s) it meshes, the reader's and the source's
 PANELS = {
     "four-sided": (*FOUR_SIDED_PANEL, ADAPT_STRENGTH_PROPERTY),
     "blocks": (*BLOCKS_PANEL, ADAPT_STRENGTH_PROPERTY),
     "hexa": HEXA_PANEL,
+    "dictionary": DICTIONARY_PANEL,
+    "airfoil": AIRFOIL_PANEL,
 }

@@ -6,15 +6,24 @@ from __future__ import annotations
 
 import pytest
 
+from pinn_engine.routes.airfoil_algorithm import AirfoilSource
 from pinn_engine.routes.algorithm import PinnMeshAlgorithm
+from pinn_engine.routes.dictionary_algorithm import PinnBlockMeshDictReader
 from pinn_engine.routes.hexa_algorithm import PinnHexaAlgorithm
 from pinn_engine.routes.multiblock_algorithm import PinnMultiBlockAlgorithm
 from pinn_engine.routes.names import NAMES
 from pinn_engine.routes.panel import PANELS
-from pinn_engine.settings import Interval, Settings, option_constraints
+from pinn_engine.settings import (
+    DICTIONARY_METHODS,
+    KIND_SETTINGS,
+    Interval,
+    Settings,
+    option_constraints,
+)
 
 ALGORITHMS = {"four-sided": PinnMeshAlgorithm, "blocks": PinnMultiBlockAlgorithm}
-ALGORITHMS["hexa"] = PinnHexaAlgorithm
+ALGORITHMS |= {"hexa": PinnHexaAlgorithm, "dictionary": PinnBlockMeshDictReader}
+ALGORITHMS["airfoil"] = AirfoilSource
 CASES = [(kind, prop) for kind, panel in PANELS.items() for prop in panel]
 
 
@@ -50,3 +59,15 @@ def test_the_panels_order_their_properties_once():
         methods = [prop.method for prop in panel]
         assert len(set(methods)) == len(methods)
         assert all(m[0] == "P" and m[1:3].isdigit() for m in methods)
+
+
+def test_the_reader_and_source_panels_take_the_kinds_choices_and_defaults():
+    """The blockMeshDict reader's choices are the blocks3d kind's (its methods, its table's
+    interfaces) and the Airfoil source's defaults its algorithm's."""
+    method, interfaces = PANELS["dictionary"]
+    assert method.enum == DICTIONARY_METHODS and method.enum[method.default] == "pinn"
+    rule = KIND_SETTINGS["blocks3d"].CONSTRAINTS["interfaces"]
+    assert interfaces.enum == rule.values and interfaces.enum[interfaces.default] == "free"
+    naca, sharp = PANELS["airfoil"]
+    source = AirfoilSource()
+    assert (naca.default, bool(sharp.default)) == (source._code, source._sharp)

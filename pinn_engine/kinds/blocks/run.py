@@ -141,13 +141,13 @@ def read_block_edges(path: str | os.PathLike) -> list:
     from pinn_engine.geometry.auxlines import RawLine
     from pinn_engine.io.fileio import (
         BOUNDARY_FORMATS,
-        _check_file,
         aux_lines_of,
+        check_file,
         read_polydata,
         read_table_lines,
     )
 
-    source = _check_file(Path(path), BOUNDARY_FORMATS)
+    source = check_file(Path(path), BOUNDARY_FORMATS)
     if Path(path).suffix.lower() in (".csv", ".txt"):
         lines = read_table_lines(Path(path))
         for k, points in enumerate(lines):

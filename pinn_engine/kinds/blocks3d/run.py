@@ -9,11 +9,9 @@ from dataclasses import dataclass
 from pinn_engine.errors import InputError
 from pinn_engine.kinds.blocks3d.settings import DictionarySettings
 from pinn_engine.kinds.outcome import Outcome
-from pinn_engine.settings import Settings
+from pinn_engine.settings import DICTIONARY_METHODS, Settings
 
 PERCENT = 100  # a stage's progress dict counts the share of the run done in per cent
-# the methods a dictionary takes (SPEC 15), the default first
-DICTIONARY_METHODS = ("pinn", "elliptic", "tfi")
 
 
 @dataclass

@@ -16,7 +16,7 @@ from shapely.geometry import LineString, Point, Polygon
 
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import turning_angles
-from pinn_engine.multiblock.blocks import CORNER_TURN, _faces
+from pinn_engine.multiblock.blocks import CORNER_TURN, polygon_faces
 from pinn_engine.multiblock.graph import linework
 
 BLOCK_PRICE = 20.0  # degrees of corner-angle deviation one block fewer is worth
@@ -32,7 +32,7 @@ def faces_of(rings: list[np.ndarray], edges: list[np.ndarray]) -> tuple[list[np.
     the diagonal; NoBlocking when the edges cross or enclose a face with a hole."""
     try:
         lines = linework(rings, edges, [f"edge {k}" for k in range(len(edges))], "auto")
-        faces = _faces(lines)
+        faces = polygon_faces(lines)
     except (InputError, GEOSException) as exc:  # crossing edges; geometry shapely refuses
         raise NoBlocking(str(exc)) from exc
     return [np.asarray(f.exterior.coords)[:-1] for f in faces], lines.diagonal
