@@ -41,6 +41,7 @@ import numpy as np
 from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
 from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkMultiBlockDataSet, vtkPolyData
 
+from pinn_engine.errors import unknown_name
 from pinn_engine.io.export.edges import edges_polydata
 from pinn_engine.routes.filters import (
     FieldInput,
@@ -61,12 +62,16 @@ from pinn_engine.settings import (
     Settings,
     make_settings,
     option_constraints,
+    setting_names,
 )
 
 LABEL = "PINN Structured Mesh (Multi-Block)"
 INTERFACES = option_constraints()["interfaces"].values  # free, fixed (SPEC 10)
 BLOCKING = ("manual", "automatic")  # block edges drawn, or proposed (SPEC 13)
 # the fix a folded elliptic or pinn multi-block grid is pointed to
+# the settings with a setter of their own (``SetSetting`` takes the multi-block kind's others)
+OWN_SETTERS = frozenset({"method", "cell_size", "interfaces", "time_limit", "spacing"})
+OWN_SETTERS |= {"orthogonal", "adapt_strength"}
 MOVE_EDGES = "moving the block edges near them (the cell array Folded marks them)"
 
 
@@ -106,6 +111,9 @@ class PinnMultiBlockAlgorithm(
     * ``SetTimeLimit(seconds)``: pinn's training (all blocks together) ends after this many
       seconds with its best grids so far (0: no limit, the default); so does an abort
       request or SIGUSR1
+    * ``SetSetting(name, value)``: any other setting of the multi-block kind by its name (its
+      blocks' training: ``adam_epochs``, ``lbfgs_iterations``, ``hidden_layers``, ``preset``
+      ...); None: the default
 
     Patch items, spacings and names are checked at the next update (one line naming the
     item, as the command line's ``--patch``, ``--spacing`` and ``--orthogonal``).
@@ -128,6 +136,7 @@ class PinnMultiBlockAlgorithm(
         self._patches: tuple[str, ...] = ()  # X,Y=NAME[:TYPE] items, checked at the update
         self._cells: tuple[str, ...] = ()  # X,Y=N items, checked at the update
         self._gradings: tuple[str, ...] = ()  # X,Y=R items, checked at the update
+        self._settings: dict = {}  # SetSetting's, checked at the update
         self._last_error = self._last_warning = ""
         self._exception: Exception | None = None
 
@@ -190,14 +199,28 @@ class PinnMultiBlockAlgorithm(
     def GetGradings(self) -> tuple[str, ...]:
         return self._gradings
 
+    def SetSetting(self, name: str, value) -> None:
+        """A setting of the multi-block kind (``job.OPTIONS``) that no other setter sets: its
+        blocks' training (``adam_epochs=...``) or ``preset``; None restores the default."""
+        from pinn_engine.job import OPTIONS
+
+        names = OPTIONS["blocks"] & setting_names() - OWN_SETTERS
+        if name not in names:
+            raise unknown_name(name, sorted(names), "setting")
+        settings = {k: v for k, v in {**self._settings, name: value}.items() if v is not None}
+        self._set("_settings", settings)
+
     def GetSettings(self) -> Settings:
         """The ``Settings`` the next update uses (raises ``ValueError`` if invalid)."""
+        settings = dict(self._settings)
         return make_settings(
             self._method,
+            settings.pop("preset", "default"),
             kind="blocks",
             cell_size=self._cell_size,
             interfaces=self._interfaces,
             time_limit=self._time_limit,
+            **settings,
         )
 
     # ---- results -----------------------------------------------------------------------

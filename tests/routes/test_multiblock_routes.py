@@ -317,3 +317,27 @@ def test_the_summary_comes_after_the_grid_is_written(tmp_path, monkeypatch):
     argv = [str(DATA / "step.vtp"), "--blocks", str(DATA / "step_blocks.vtp"), "-o", str(out)]
     assert main([*argv, "--method", "elliptic", "--cell-size", str(CELL_SIZE)]) == 0
     assert said and all(said)
+
+
+def test_the_vtk_and_pyvista_routes_take_the_blocks_training_settings():
+    """The multi-block VTK algorithm's SetSetting and pinn_mesh_blocks' keywords reach the
+    blocks' settings, as the command line's flags do; another kind's setting is refused."""
+    from pinn_engine.errors import SettingsError
+    from pinn_engine.routes.pyvista_accessor.multiblock import pinn_mesh_blocks
+
+    alg = PinnMultiBlockAlgorithm()
+    alg.SetSetting("adam_epochs", 50)
+    alg.SetSetting("hidden_layers", 3)
+    settings = alg.GetSettings()
+    assert (settings.adam_epochs, settings.hidden_layers) == (50, 3)
+    alg.SetSetting("preset", "paper")
+    assert alg.GetSettings().lbfgs_iterations == make_settings(preset="paper").lbfgs_iterations
+    alg.SetSetting("adam_epochs", None)
+    assert alg.GetSettings().adam_epochs == make_settings(preset="paper").adam_epochs
+    with pytest.raises(SettingsError, match="unknown setting topology"):
+        alg.SetSetting("topology", "o")
+    boundary, edges = pv.read(DATA / "lshape.vtp"), pv.read(DATA / "lshape_blocks.vtp")
+    with pytest.raises(ValueError, match="hidden_layers 0"):
+        pinn_mesh_blocks(boundary, edges, cell_size=CELL_SIZE, hidden_layers=0)
+    grid = boundary.pinn_mesh(blocks=edges, cell_size=CELL_SIZE, method="elliptic", seed=3)
+    assert grid.n_blocks == 2

@@ -23,10 +23,15 @@ from pinn_engine.settings import HEXA_SIZE, setting_names
 
 def _offered(kind: str, function: Callable) -> list[str]:
     """The keywords of ``function`` (this route's function of the domain ``kind``) that the
-    kind takes (``job.OPTIONS``), in its signature's order."""
+    kind takes (``job.OPTIONS``), in its signature's order, then, where it takes
+    ``**settings``, the kind's other settings."""
     from pinn_engine.job import OPTIONS
 
-    return [name for name in inspect.signature(function).parameters if name in OPTIONS[kind]]
+    parameters = inspect.signature(function).parameters
+    named = [name for name in parameters if name in OPTIONS[kind]]
+    if any(p.kind is p.VAR_KEYWORD for p in parameters.values()):
+        named += sorted(OPTIONS[kind] & setting_names() - set(named))
+    return named
 
 
 @pv.register_dataset_accessor("pinn_mesh", pv.PolyData)

@@ -18,10 +18,10 @@ from pinn_engine.routes.pyvista_accessor.running import (
     run,
     warn_folded,
 )
-from pinn_engine.settings import AUTO_BLOCKS
+from pinn_engine.settings import AUTO_BLOCKS, setting_names
 
 
-@public("pinn_mesh_blocks")
+@public("pinn_mesh_blocks", also=setting_names())
 def pinn_mesh_blocks(
     boundary,
     blocks,
@@ -39,6 +39,7 @@ def pinn_mesh_blocks(
     grading=None,
     adapt=None,
     adapt_strength: float | None = None,
+    **settings,
 ) -> pv.MultiBlock:
     """Multi-block structured grid (SPEC 10) of a domain cut into four-sided blocks.
 
@@ -96,6 +97,11 @@ def pinn_mesh_blocks(
         ``orthogonal`` stay with their first row. Point data ``Monitor``.
     adapt_strength : float, optional
         The monitor's strength beta (default 20).
+    **settings
+        The blocks' training settings by name, as ``pinn_mesh`` takes them (e.g.
+        ``adam_epochs=500``, ``lbfgs_iterations=60``, ``hidden_layers=3``, ``preset="paper"``;
+        the pinn trains a block with auxiliary lines); another setting raises
+        ``pinn_engine.errors.SettingsError`` (a ``ValueError``) naming the nearest.
 
     Returns
     -------
@@ -132,6 +138,8 @@ def pinn_mesh_blocks(
     ):
         if value is not None:
             setter(value)
+    for name, value in settings.items():
+        alg.SetSetting(name, value)
     alg.GetSettings()  # ValueError for bad settings, before any input is read
     give_field(alg, adapt)
     with pyvista_words():
