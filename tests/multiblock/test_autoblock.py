@@ -248,3 +248,21 @@ def test_an_airfoil_in_a_channel_gets_c_shaped_ring_blocks_round_its_trailing_ed
     assert result.report["quality"]["folded_cells"] == 0
     nodes = np.vstack([g.reshape(-1, 2) for g in result.grids])
     assert np.linalg.norm(nodes - (1.0, 0.0), axis=1).min() < 1e-12
+
+
+def test_a_round_u_bend_is_cut_where_its_bends_begin():
+    """A channel turning back through a half annulus is four-sided (its legs end square),
+    so it was one block; its walls' straight runs meet the bend at x = 4, where the search
+    now may cut it, and it keeps the cuts: three blocks (one block's mean was 118.5)."""
+    from pinn_engine.multiblock.autoblock.bends import junctions
+
+    t = np.linspace(-np.pi / 2, np.pi / 2, 33)
+    outer = np.column_stack([4 + 1.5 * np.cos(t), 1.5 * np.sin(t)])
+    inner = np.column_stack([4 + 0.5 * np.cos(t), 0.5 * np.sin(t)])[::-1]
+    ring = np.vstack([[(0, -1.5)], outer, [(0, 1.5), (0, 0.5)], inner, [(0, -0.5)]])
+    assert len(junctions(ring, 5.0)) == 4
+    edges = propose_edges([ring])
+    assert sorted(sorted(e[:, 1].tolist()) for e in edges) == [[-1.5, -0.5], [0.5, 1.5]]
+    assert all(np.allclose(e[:, 0], 4.0) for e in edges)
+    quarter = np.vstack([outer[16:], inner[:17]])  # a quarter annulus: no straight run
+    assert propose_edges([quarter]) == []

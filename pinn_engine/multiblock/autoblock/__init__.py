@@ -1,6 +1,7 @@
 """Automatic blocking (SPEC 13): block edges proposed from the boundary and its holes alone.
 
-``propose_edges`` is the entry: O-rings round holes (``orings.py``), one edge from each
+``propose_edges`` is the entry: O-rings round holes (``orings.py``), cuts where a one-block
+domain's bends begin (``bends.py``), one edge from each
 reflex vertex of the boundary and the boxes (``rays.py``: a motorcycle graph of the cross
 field's separatrices), faces of other than four corners cut round their centres
 (``faces.py``), the choice among them (``search.py``) by their elliptic grids' quality
@@ -16,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pinn_engine.errors import InputError
+from pinn_engine.multiblock.autoblock.bends import bend_cuts, cut_choices
 from pinn_engine.multiblock.autoblock.corners import corner_points, reflex_vertices
 from pinn_engine.multiblock.autoblock.faces import NoBlocking, completed
 from pinn_engine.multiblock.autoblock.orings import main_axes, o_ring
@@ -58,6 +60,8 @@ def propose_edges(
     fixed_choices = [sum(choice, []) for choice in itertools.product(*rings_edges)]
     fixed_edges = fixed_choices[0]
     vertices = reflex_vertices([rings[0], *boxes], diagonal)
+    if not vertices and len(rings) == 1:  # one block, unless cut where its bends begin
+        fixed_choices = cut_choices(bend_cuts(rings, diagonal))
     fixed = _segments([rings[0], *boxes], True)
     options = [ray_options(v, fixed, diagonal) for v in vertices]
     # with layers, both continuations where a vertex has them; where no layout has them
@@ -85,7 +89,7 @@ def propose_edges(
             break
     if not layouts:
         raise InputError(_why(rings, fixed_edges) + ": draw the block edges and {blocks}", source)
-    if not vertices and len(rings) == 1:
+    if not vertices and len(rings) == 1 and len(fixed_choices) == 1:
         return layouts[0][1]  # four-sided (or cut round its centre): nothing to choose
     best = best_meshed(layouts, lambda edges: score(rings, edges))
     if best is None:
