@@ -34,7 +34,7 @@ import scipy.sparse as sp
 
 from pinn_engine.blas import one_thread
 from pinn_engine.blocks3d.placement import HEX_FACES, Placement, face_slice
-from pinn_engine.hexa.inexact import InexactSolve, plain_aggregation
+from pinn_engine.hexa.inexact import InexactSolve, gmres, plain_aggregation
 from pinn_engine.hexa.volume import cofactor_terms
 
 # converged when no node moves more than this share of the diagonal in a step (checkMesh's
@@ -632,7 +632,7 @@ class _Systems:
         ruled = inner >= 0
         inner[~ruled] = 0
         self.parts = [self._part(row, inner, ruled, self.free[:, comp]) for comp in range(3)]
-        self.solvers = [InexactSolve(plain_aggregation, FORCING) for _ in range(3)]
+        self.solvers = [InexactSolve(plain_aggregation, FORCING, gmres) for _ in range(3)]
 
     @staticmethod
     def _part(row: np.ndarray, inner: np.ndarray, ruled: np.ndarray, free: np.ndarray) -> tuple:
