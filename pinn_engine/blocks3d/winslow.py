@@ -51,10 +51,18 @@ SOLVED = 1e-12
 PLANE_TOL = 1e-9  # a boundary face is a coordinate plane when it spreads this share of the diagonal
 OFFSETS = [o for o in itertools.product((-1, 0, 1), repeat=3) if np.count_nonzero(o) < 3]
 CENTRE = (1, 1, 1)
-FRAME_OFFSETS = tuple(np.array(OFFSETS).T + 1)  # OFFSETS as indices into a 3 x 3 x 3 frame
-# a frame's first and last layer along each axis, as indices
+# OFFSETS as places in a 3 x 3 x 3 frame flattened (i slowest)
+FRAME_STENCIL = [9 * (i + 1) + 3 * (j + 1) + (k + 1) for i, j, k in OFFSETS]
+# a flattened frame's first and last layer along each axis, in the same order
 FRAME_SIDES = [
-    tuple(tuple(end if a == axis else slice(None) for a in range(3)) for end in (0, 2))
+    tuple(
+        [
+            9 * p[0] + 3 * p[1] + p[2]
+            for p in itertools.product(range(3), repeat=3)
+            if p[axis] == end
+        ]
+        for end in (0, 2)
+    )
     for axis in range(3)
 ]
 REGULAR = 4  # cells round an edge of an ordinary grid node (Q != 4 makes a star)
@@ -307,19 +315,18 @@ def _glue(
             placed[q] = progress = True
     if not all(placed):
         return None
-    flat = [-1] * 27
+    frame = [-1] * 27
     for nb, (i, j, k) in where.items():
-        if flat[9 * i + 3 * j + k] != -1:
+        if frame[9 * i + 3 * j + k] != -1:
             return None
-        flat[9 * i + 3 * j + k] = nb
-    frame = np.array(flat).reshape(3, 3, 3)
-    h_sum, h_n = np.zeros((3, 2)), np.zeros((3, 2))
+        frame[9 * i + 3 * j + k] = nb
+    h_sum, h_n = [[0.0, 0.0] for _ in range(3)], [[0, 0] for _ in range(3)]
     for (b, c, o), (perm, sign) in zip(cells, maps):
         for a in range(3):
             side = 1 if sign[a] * (1 - 2 * int(o[a])) > 0 else 0
-            h_sum[perm[a], side] += steps[b][a][c[a]]
-            h_n[perm[a], side] += 1
-    h = np.where(h_n > 0, h_sum / np.maximum(h_n, 1), 0.0)
+            h_sum[perm[a]][side] += steps[b][a][c[a]]
+            h_n[perm[a]][side] += 1
+    h = [[t / n if n else 0.0 for t, n in zip(ts, ns)] for ts, ns in zip(h_sum, h_n)]
     return frame, h
 
 
@@ -329,18 +336,20 @@ def _det(perm, sign) -> int:
     return (-1) ** inversions * sign[0] * sign[1] * sign[2]
 
 
-def _mirror(frame: np.ndarray, h: np.ndarray) -> bool:
-    """Fill the missing half of a boundary node's frame by mirroring it across the frame's
-    axes whose one side is empty; whether the frame is then complete."""
+def _mirror(frame: list[int], h: list[list[float]]) -> bool:
+    """Fill the missing half of a boundary node's frame (27 ids, -1 where none) by mirroring
+    it across the frame's axes whose one side is empty; whether the frame is then complete."""
     for axis, (first, last) in enumerate(FRAME_SIDES):
-        lo, hi = frame[first], frame[last]
-        if (lo < 0).all() and (hi >= 0).any():
-            frame[first] = hi
-            h[axis, 0] = h[axis, 1]
-        elif (hi < 0).all() and (lo >= 0).any():
-            frame[last] = lo
-            h[axis, 1] = h[axis, 0]
-    return bool((frame[FRAME_OFFSETS] >= 0).all())
+        lo, hi = [frame[i] for i in first], [frame[i] for i in last]
+        if all(n < 0 for n in lo) and any(n >= 0 for n in hi):
+            for i, n in zip(first, hi):
+                frame[i] = n
+            h[axis][0] = h[axis][1]
+        elif all(n < 0 for n in hi) and any(n >= 0 for n in lo):
+            for i, n in zip(last, lo):
+                frame[i] = n
+            h[axis][1] = h[axis][0]
+    return all(frame[i] >= 0 for i in FRAME_STENCIL)
 
 
 def _star(node: int, cells: list, place: Placement, logical, normal: int | None) -> Star | None:
@@ -549,7 +558,7 @@ def stencils(place: Placement) -> tuple[Stencils, list[Star], np.ndarray]:
         if held[node].all():
             continue
         got = _glue(node, cells, place, steps)
-        if got is not None and _mirror(*got) and (got[1] > 0).all():
+        if got is not None and _mirror(*got) and all(x > 0 for side in got[1] for x in side):
             glued_ids.append(got[0])
             glued_h.append(got[1])
             continue
@@ -560,7 +569,7 @@ def stencils(place: Placement) -> tuple[Stencils, list[Star], np.ndarray]:
         else:
             stars.append(star)
     if glued_ids:
-        parts.append(Stencils(np.array(glued_ids), np.array(glued_h)))
+        parts.append(Stencils(np.array(glued_ids).reshape(-1, 3, 3, 3), np.array(glued_h)))
     ids = np.concatenate([p.ids for p in parts])
     h = np.concatenate([p.h for p in parts])
     solved = ~held[ids[:, 1, 1, 1]].all(axis=1)
