@@ -100,48 +100,64 @@ def pairing(quads: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return pairs[np.argsort(pairs[:, 0])], np.flatnonzero(~paired)
 
 
-def figures(
-    points: np.ndarray, cells: np.ndarray, paired: tuple[np.ndarray, np.ndarray] | None = None
-) -> Figures:
-    """checkMesh's figures of the hexahedra ``cells`` (m, 8) over ``points`` (``paired``:
-    :func:`pairing` of their faces, when known)."""
+@dataclass
+class FaceTopology:
+    """Each face of hexahedra once, as its owner sees it (OpenFOAM's faces; the neighbour's
+    copy is the same face with its area vector reversed): the internal faces first, then the
+    boundary's. What :func:`figures` needs of the cells alone, computed once per mesh."""
+
+    quads: np.ndarray  # (f, 4) point ids
+    owner: np.ndarray  # (f,) each face's owner cell
+    neighbour: np.ndarray  # (internal faces,) each internal face's other cell
+    of_cell: np.ndarray  # (cells, 6) each cell face's index among ``quads``
+    sign: np.ndarray  # (cells, 6) 1 where the cell owns the face, -1 where it neighbours it
+
+
+def topology(cells: np.ndarray) -> FaceTopology:
+    """The faces of the hexahedra ``cells`` (m, 8), each once (:class:`FaceTopology`)."""
     quads = cells[:, HEX_FACES].reshape(-1, 4)
-    pairs, single = pairing(quads) if paired is None else paired
-    # each face once, as its owner sees it (OpenFOAM's faces): the neighbour's copy is the
-    # same face with its area vector reversed
+    pairs, single = pairing(quads)
     once = np.concatenate([pairs[:, 0], single])
-    face_of = np.empty(len(quads), dtype=np.int64)
-    face_of[once] = np.arange(len(once))
-    face_of[pairs[:, 1]] = np.arange(len(pairs))
+    of_cell = np.empty(len(quads), dtype=np.int64)
+    of_cell[once] = np.arange(len(once))
+    of_cell[pairs[:, 1]] = np.arange(len(pairs))
     sign = np.ones(len(quads))
     sign[pairs[:, 1]] = -1.0
-    centres, areas = _faces(points, quads[once])
-    face_of = face_of.reshape(-1, 6)
-    sign = sign.reshape(-1, 6)
-    fc = [centres[face_of[:, f]] for f in range(6)]
+    return FaceTopology(
+        quads[once], once // 6, pairs[:, 1] // 6, of_cell.reshape(-1, 6), sign.reshape(-1, 6)
+    )
+
+
+def figures(points: np.ndarray, cells: np.ndarray, faces: FaceTopology | None = None) -> Figures:
+    """checkMesh's figures of the hexahedra ``cells`` (m, 8) over ``points`` (``faces``:
+    their :func:`topology`, when known)."""
+    faces = topology(cells) if faces is None else faces
+    internal = len(faces.neighbour)
+    centres, areas = _faces(points, faces.quads)
+    fc = [centres[faces.of_cell[:, f]] for f in range(6)]
     guess = (fc[0] + fc[1] + fc[2] + fc[3] + fc[4] + fc[5]) / 6
     total, weighted = np.zeros(len(guess)), np.zeros_like(guess)
     for f in range(6):
-        area = areas[face_of[:, f]] * sign[:, f, None]
+        area = areas[faces.of_cell[:, f]] * faces.sign[:, f, None]
         vol = np.einsum("nk,nk->n", area, fc[f] - guess)
         weighted += vol[:, None] * (0.75 * fc[f] + 0.25 * guess)
         total += vol
     cc = weighted / np.where(np.abs(total) > TINY, total, 1.0)[:, None]
     cc[np.abs(total) <= TINY] = guess[np.abs(total) <= TINY]
-    own, nei = pairs[:, 0] // 6, pairs[:, 1] // 6
-    f = pairs[:, 0]
-    centre, area = centres[: len(pairs)], areas[: len(pairs)]
+    own, nei = faces.owner[:internal], faces.neighbour
+    centre, area = centres[:internal], areas[:internal]
     d = cc[nei] - cc[own]
     cos = np.einsum("nk,nk->n", area, d) / np.maximum(
         np.linalg.norm(area, axis=1) * np.linalg.norm(d, axis=1), TINY
     )
     angles = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
-    skew = _skewness(points, quads[f], centre, area, cc[own], d, 0.2)
-    bcentre, barea = centres[len(pairs) :], areas[len(pairs) :]
-    cpf = bcentre - cc[single // 6]
+    skew = _skewness(points, faces.quads[:internal], centre, area, cc[own], d, 0.2)
+    bcentre, barea = centres[internal:], areas[internal:]
+    bowner = cc[faces.owner[internal:]]
+    cpf = bcentre - bowner
     normal = barea / np.maximum(np.linalg.norm(barea, axis=1), TINY)[:, None]
     bd = normal * np.einsum("nk,nk->n", normal, cpf)[:, None]
-    bskew = _skewness(points, quads[single], bcentre, barea, cc[single // 6], bd, 0.4)
+    bskew = _skewness(points, faces.quads[internal:], bcentre, barea, bowner, bd, 0.4)
     return Figures(
         float(angles.max(initial=0.0)),
         float(np.degrees(np.arccos(np.clip(cos.mean(), -1.0, 1.0)))) if len(cos) else 0.0,

@@ -27,7 +27,7 @@ from vtkmodules.vtkCommonDataModel import (
     vtkStructuredGrid,
 )
 
-from pinn_engine.blocks3d.checks import HEX_FACES, Figures, figures, hexes, pairing
+from pinn_engine.blocks3d.checks import Figures, figures, hexes, topology
 from pinn_engine.blocks3d.dictionary import BlockMeshDict
 from pinn_engine.blocks3d.placement import Placement, place
 from pinn_engine.errors import InputError
@@ -103,8 +103,8 @@ def mesh_dictionary(
     placed = place(d)
     cells = np.vstack([hexes(ids) for ids in placed.ids])
     timings["place"] = time.perf_counter() - began
-    paired = pairing(cells[:, HEX_FACES].reshape(-1, 4))
-    candidates = {"tfi": figures(placed.points, cells, paired)}
+    faces = topology(cells)
+    candidates = {"tfi": figures(placed.points, cells, faces)}
     if candidates["tfi"].folded:
         raise InputError(
             f"blockMesh's placement folds {candidates['tfi'].folded} cells: check the "
@@ -125,7 +125,7 @@ def mesh_dictionary(
         solved, steps = winslow(placed, free_interfaces=free_interfaces, progress=step)
         solved = _cyclic_congruent(d, placed, _through_empty(placed, solved))
         timings["solve"] = time.perf_counter() - t0
-        candidates["elliptic"] = figures(solved, cells, paired)
+        candidates["elliptic"] = figures(solved, cells, faces)
         if method == "elliptic":
             if candidates["elliptic"].folded:
                 raise InputError(
