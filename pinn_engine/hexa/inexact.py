@@ -94,8 +94,9 @@ def gmres(mat, rhs: np.ndarray, forcing: float, most: int, preconditioner):
     """GMRES preconditioned on the right (the defect measured is the system's own, as in
     :func:`flexible`), its basis by modified Gram-Schmidt, grown one vector an iteration:
     the update and its iterations. A fixed V-cycle needs no flexible method, and pyamg's
-    allocates two bases of ``most`` vectors a solve (a 90 000-node system: 0.5 s of the
-    3.5 s the 24 solves of DFG 3D's Picard steps took)."""
+    allocates two bases of ``most`` vectors a solve and orthogonalises by Householder
+    reflections: DFG 3D's Winslow solve (24 solves of 90 000 nodes) takes 3.55 s of CPU
+    with it, 3.04 s with this one."""
     size = float(np.linalg.norm(rhs))
     if size == 0.0:
         return np.zeros_like(rhs), 0
