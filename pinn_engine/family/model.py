@@ -285,13 +285,13 @@ class FamilyModel:
 
 def load_family(path: str | os.PathLike) -> FamilyModel:
     """The family model saved at ``path``; a missing, damaged or other file is one line."""
-    import torch
+    from pinn_engine.neural.networks import load_checkpoint  # torch: only to read a model
 
     src = str(path)
     if not Path(path).is_file():
         raise InputError("family model file not found", src)
     try:
-        payload = torch.load(path, map_location="cpu", weights_only=True)
+        payload = load_checkpoint(path)
     except Exception as exc:  # torch raises many types for a damaged file
         raise InputError(f"not a readable family model ({type(exc).__name__})", src) from None
     if not isinstance(payload, dict) or payload.get("format") != FORMAT:

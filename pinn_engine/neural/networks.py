@@ -10,6 +10,8 @@ pass for two inputs (pinn_engine.neural.jet); ``jet.nd`` does it for any number.
 from __future__ import annotations
 
 import math
+import os
+import warnings
 
 import torch
 from torch import nn
@@ -115,3 +117,12 @@ def autograd_jet(net: nn.Module, x: torch.Tensor) -> torch.Tensor:
             torch.stack([out[:, k], g[:, 0], g[:, 1], g_xi[:, 0], g_xi[:, 1], g_eta[:, 1]])
         )
     return torch.stack(columns, dim=-1)
+
+
+def load_checkpoint(path: str | os.PathLike) -> object:
+    """``torch.load`` of a saved model (tensors and plain data only, on the CPU), torch's own
+    warnings silenced: a damaged file is the caller's one-line error, and torch warns on some
+    (random bytes that start as a newer pickle protocol) before it raises."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return torch.load(path, map_location="cpu", weights_only=True)

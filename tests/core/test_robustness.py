@@ -972,7 +972,11 @@ def _rewrite_model(src: Path, dst: Path, change) -> Path:
 MODEL_CASES = {
     "missing": (lambda m, d: d / "none.pt", "model file not found"),
     "random bytes": (
-        lambda m, d: put(d / "x.pt", os.urandom(2000)),
+        lambda m, d: put(d / "x.pt", np.random.default_rng(7).bytes(2000)),
+        "not a readable pinn-mesh model",
+    ),
+    "bytes read as a newer pickle protocol": (  # torch warns before it raises
+        lambda m, d: put(d / "p.pt", b"\x80\xd2" + np.random.default_rng(8).bytes(2000)),
         "not a readable pinn-mesh model",
     ),
     "truncated": (

@@ -18,7 +18,7 @@ from pinn_engine.geometry.boundary import Boundary, Frame
 from pinn_engine.geometry.plane import Plane
 from pinn_engine.io.fileio import atomic_path
 from pinn_engine.kinds.four_sided.mapping import Mapping
-from pinn_engine.neural.networks import CoordinateNet
+from pinn_engine.neural.networks import CoordinateNet, load_checkpoint
 from pinn_engine.settings import Settings, read_settings
 from pinn_engine.starts.warmstart import lattice_for
 
@@ -156,7 +156,7 @@ def read_payload(path: str | os.PathLike, fmt: str) -> dict:
     if not Path(path).is_file():
         raise InputError("model file not found", src)
     try:
-        payload = torch.load(path, map_location="cpu", weights_only=True)
+        payload = load_checkpoint(path)
     except Exception as exc:  # torch raises many types for a damaged file
         raise InputError(f"not a readable pinn-mesh model ({type(exc).__name__})", src) from None
     if not isinstance(payload, dict) or payload.get("format") != fmt:
