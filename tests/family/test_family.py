@@ -339,3 +339,35 @@ def test_a_family_of_sharp_sided_domains_keeps_each_sharp_vertex_a_node():
         assert np.linalg.norm(bottom - vertex, axis=1).min() < 1e-12
     assert by_model.quality["folded_cells"] == 0
     assert by_model.quality["worst_max_angle"] <= own.quality["worst_max_angle"] + 2
+
+
+@pytest.mark.slow  # seven C-grids' own runs (about 1 s each) and a fit
+def test_a_c_grid_whose_polish_from_the_model_fails_its_choice_gets_its_own_runs_grid(
+    monkeypatch,
+):
+    """A C-grid family: where the optimisation from the model's grid fails the member's
+    choice (its elliptic grid returned; here forced), the member's own run's choice from its
+    elliptic grid decides, so its grid is its own run's."""
+    from pinn_engine.starts import quality_start
+
+    members, targets = [], []
+    for code in SECTIONS:
+        settings = make_settings("pinn", size=BODY_SIZE, topology="c", naca=code)
+        g = job.geometry_from_files(settings, None)
+        member = job.family_member(settings, g)
+        members.append(member)
+        targets.append(job.member_target(member, job.run(settings, g)))
+    model = job.fit_family_model(members, targets, "--topology c --size 65 17")
+    settings = make_settings("pinn", size=BODY_SIZE, topology="c", naca="2412")
+    g = job.geometry_from_files(settings, None)
+    own = job.run(settings, g)
+    assert own.report["training"]["start"] == "optimized"
+    real = quality_start.body_quality_start
+
+    def failing(elliptic, seam, begin=None):
+        return (elliptic, "elliptic") if begin is not None else real(elliptic, seam)
+
+    monkeypatch.setattr(quality_start, "body_quality_start", failing)
+    by_model = job.run(settings, g, family=model)
+    assert by_model.report["training"]["polished_against"] == "optimized"
+    np.testing.assert_allclose(by_model.grids[0], own.grids[0], atol=1e-9)
