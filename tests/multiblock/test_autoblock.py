@@ -244,7 +244,8 @@ def test_an_airfoil_in_a_channel_gets_c_shaped_ring_blocks_round_its_trailing_ed
     assert len(trailing) == 1 and trailing[0][1][1] == 0.0  # along the bisector, downstream
     assert o_ring(DIAMOND[::-1], [CHANNEL], main_axes(CHANNEL)).c_shaped is None
     edges = propose_edges([CHANNEL, airfoil])
-    result = mesh_blocks([CHANNEL, airfoil], edges, [""] * len(edges), make_settings("elliptic"))
+    settings = make_settings("elliptic", kind="blocks")
+    result = mesh_blocks([CHANNEL, airfoil], edges, [""] * len(edges), settings)
     assert result.report["quality"]["folded_cells"] == 0
     nodes = np.vstack([g.reshape(-1, 2) for g in result.grids])
     assert np.linalg.norm(nodes - (1.0, 0.0), axis=1).min() < 1e-12
