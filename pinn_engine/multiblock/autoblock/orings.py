@@ -175,7 +175,7 @@ def _corner_spokes(hole: np.ndarray, box: np.ndarray, spokes: list[np.ndarray]) 
         end = points[np.argmin(np.linalg.norm(points - p, axis=1))]
         spoke = LineString([p, end])
         others = [LineString(e) for e in spokes + out]
-        if spoke.crosses(solid.exterior) or solid.contains(spoke.interpolate(0.5, True)):
+        if spoke.crosses(solid.exterior) or solid.contains(spoke.interpolate(0.5, normalized=True)):
             continue
         if any(spoke.crosses(o) or spoke.distance(o) <= 1e-12 * size for o in others):
             continue
