@@ -20,6 +20,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from pinn_engine.classical.tfi import tfi_of_sides
 from pinn_engine.geometry.auxlines import AuxLine
 from pinn_engine.geometry.boundary import SHARP_TURN, SIDES, Boundary, turning_angles
 
@@ -159,8 +160,9 @@ def placed_on_boundary(grid: np.ndarray, boundary: Boundary) -> np.ndarray:
     """``grid`` (nj, ni, 2, working frame) with its boundary rows on ``boundary``: each node
     at the closest point of its own side (a side's parameters kept in order, its ends on the
     corners), the nodes nearest each sharp vertex on it (:func:`pin_sharp`); the interior
-    as it was. A grid of the soft boundary mode, whose network only approaches the sides,
-    so covers exactly the domain drawn."""
+    moved by the TFI of the boundary nodes' moves, so the rows next to the sides move with
+    them. A grid of the soft boundary mode, whose network only approaches the sides, so
+    covers exactly the domain drawn."""
     nj, ni = grid.shape[:2]
     rows = {
         "bottom": (np.s_[0, :], 0),
@@ -176,7 +178,11 @@ def placed_on_boundary(grid: np.ndarray, boundary: Boundary) -> np.ndarray:
         t[0], t[-1] = 0.0, 1.0
         params[row + (axis,)] = t
     params = pin_sharp(boundary, params)
-    out = grid.copy()
+    placed = grid.copy()
     for side, (row, axis) in rows.items():
-        out[row] = boundary.side(side).at(params[row + (axis,)])
+        placed[row] = boundary.side(side).at(params[row + (axis,)])
+    move = placed - grid
+    out = grid + tfi_of_sides(move[0], move[:, -1], move[-1], move[:, 0])
+    for row, _ in rows.values():  # the sides exactly where placed
+        out[row] = placed[row]
     return out
