@@ -166,7 +166,7 @@ def closest_points(points: np.ndarray, tris: np.ndarray, queries: np.ndarray) ->
         - (np.einsum("...d,...d->...", q - a, normal) / np.maximum(area, DEGENERATE))[..., None]
         * normal
     )
-    inside = np.ones(near.shape, dtype=bool)
+    inside = area > DEGENERATE  # a sliver's plane is no plane: its edges answer for it
     for p0, p1 in ((a, b), (b, c), (c, a)):
         inside &= np.einsum("...d,...d->...", np.cross(p1 - p0, on_plane - p0), normal) >= 0.0
     edges = np.stack(
@@ -245,9 +245,8 @@ class FaceMap:
         square map's grid bends its lines (a face of a polar bend, whose harmonic map puts
         the rows off its arcs), TFI keeps them on the arcs and at right angles."""
         u, v = params[1:-1, 1:-1, 0, None], params[1:-1, 1:-1, 1, None]
-        side = {n: self.sides[n] for n in ("a0", "a1", "b0", "b1")}
         along = {
-            n: edge_nodes(side[n], x.ravel()).reshape(*x.shape[:2], 3)
+            n: edge_nodes(self.sides[n], x.ravel()).reshape(*x.shape[:2], 3)
             for n, x in (("a0", u), ("a1", u), ("b0", v), ("b1", v))
         }
         c00, c10, c01, c11 = grid[0, 0], grid[-1, 0], grid[0, -1], grid[-1, -1]

@@ -72,6 +72,11 @@ def test_the_closest_point_on_the_triangles_is_no_farther_than_any_point_on_them
     assert np.all(gap <= nearest_dense + 1e-12)
     # each closest point lies on the surface: its own closest point is itself
     np.testing.assert_allclose(closest_points(points, tris, closest), closest, atol=1e-12)
+    # a sliver (three points on a line) among the triangles answers by its edges, not its
+    # plane: the query stays off it
+    sliver = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]])
+    found = closest_points(sliver, np.array([[0, 1, 2]]), np.array([[0.5, 1.0, 0.0]]))
+    np.testing.assert_allclose(found, [[0.5, 0.0, 0.0]], atol=1e-15)
 
 
 def test_a_polar_bend_keeps_its_grid_polar():
