@@ -289,6 +289,7 @@ def test_the_progress_line_counts_and_redraws_in_place_on_a_terminal():
     assert terminal.getvalue() == "\ra long first line\rshort            \rdone \n"
 
 
+@pytest.mark.slow  # a Dask cluster started and asked
 def test_the_dashboard_address_is_printed_and_answers(tmp_path, capsys, monkeypatch):
     """With bokeh installed (the test extra), a local cluster serves Dask's dashboard (a
     batch above ``pool.SMALL_BATCH`` cases: none here); the command prints its address and

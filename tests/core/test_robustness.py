@@ -907,6 +907,7 @@ fileio.write_vts(to_vtk(Mesher(make_settings("tfi")).fit(boundary).predict(5, 5)
     }
 
 
+@pytest.mark.slow  # two command-line processes writing at once
 def test_two_runs_writing_the_same_output_at_once(tmp_path):
     out = tmp_path / "g.vts"
     procs = [

@@ -60,6 +60,7 @@ def last_value(case: Path, function: str) -> float:
     return float(rows.strip().splitlines()[-1].split()[1])
 
 
+@pytest.mark.slow  # OpenFOAM's solver run to convergence
 def test_the_bump_channel_converges_and_keeps_its_mass(tmp_path):
     case = tmp_path / "bump"
     proc = run_example(BUMP / "run.sh", str(case))

@@ -98,6 +98,7 @@ def test_a_graded_line_leaving_a_spaced_wall_keeps_both_first_edges(tmp_path):
     assert _folded(grid) == 0
 
 
+@pytest.mark.slow  # a graded multi-block run on each side of an interface
 def test_a_grading_reaching_an_interface_grades_the_block_across(tmp_path):
     """--spacing on the inlet's floor of a step grades the inlet and the channel above the
     lip's line (one chain); that line is an interface, so the channel below it starts at

@@ -86,6 +86,7 @@ def _growth(cells: np.ndarray) -> float:
     return float(max(ratio.max(), (1 / ratio).max()))
 
 
+@pytest.mark.slow  # graded multi-block runs on both sides of a side
 def test_spacing_at_an_interior_side_grades_both_sides(tmp_path):
     """--spacing X,Y=H at the DFG box's right side (an interface): the first cells on both
     sides are H across it (within 10 %; the lines at the side's corners aside), the column

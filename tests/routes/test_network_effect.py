@@ -33,6 +33,7 @@ def _mesh(method: str, path, aux=(), **settings):
     return Mesher(config).fit(boundary, lines).predict(41, 21)
 
 
+@pytest.mark.slow  # a network trained with lines, then compared
 def test_the_network_pulls_grid_lines_onto_an_auxiliary_line():
     """fig2 with its two auxiliary lines: the network's grid is kept, it moved nodes, and its
     grid lines lie closer to the drawn lines than the elliptic start's (the same map with no

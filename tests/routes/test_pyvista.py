@@ -39,6 +39,7 @@ def test_function_returns_structured_grid(fig2):
     assert np.isclose(grid.points[:, 0].min(), boundary.points[:, 0].min())
 
 
+@pytest.mark.slow  # several trainings through the accessor
 def test_accessor_trains_once_per_training_key(fig2):
     boundary, aux = fig2
     short = {**SHORT, "warm_start": "none"}  # from TFI: the size is not part of the key

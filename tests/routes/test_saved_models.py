@@ -17,6 +17,7 @@ FINER = (13, 11, 15)  # unequal: a swapped direction in the evaluation shows as 
 ON_SURFACE = 1e-6  # SPEC 11: boundary nodes within 1e-6 of the surface's diagonal
 
 
+@pytest.mark.slow  # a training saved by one command and loaded by another
 def test_cli_pinn_with_save_and_load(tmp_path, capsys):
     model = tmp_path / "m.pt"
     args = [

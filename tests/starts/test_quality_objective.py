@@ -57,6 +57,7 @@ def test_quality_objective_beats_the_elliptic_grid_on_a_deep_notch():
     assert max(result.report["aux_line_distance"].values()) <= 1e-4
 
 
+@pytest.mark.slow  # the node optimisation with a line, at the size it bends
 def test_quality_objective_follows_an_auxiliary_line():
     """On the bump (41 x 21), whose auxiliary line the elliptic grid misses by 0.04 of the
     diagonal: the quality objective's grid line through it is on the drawn line (closer than

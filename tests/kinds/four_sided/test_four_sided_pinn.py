@@ -76,6 +76,7 @@ def test_data_term_sees_the_auxiliary_line_points(fig2):
     assert without.terms(*batch)["data"] == 0
 
 
+@pytest.mark.slow  # three trainings, two seeds
 def test_same_seed_same_grid_and_another_seed_another_grid(fig2):
     boundary, aux = fig2
     grids = [
