@@ -147,6 +147,21 @@ def no_worse(
     )
 
 
+# The default's bound on its grid's mean MaxIncludedAngle above the elliptic grid's (the
+# issue of the best grid by default: a lower worst cell may cost the mean this much)
+START_MEAN_TOL = 0.5
+
+
+def ranks_above(q: dict[str, float], reference: dict[str, float]) -> bool:
+    """Whether a candidate start's figures ``q`` fold no more cells, have the lower worst
+    MaxIncludedAngle and a mean at most ``START_MEAN_TOL`` above ``reference``'s (the
+    elliptic grid's): the default's bounds, met by the better grid."""
+    return (
+        no_worse(q, reference, START_MEAN_TOL, 0.0)
+        and q["worst_max_angle"] < reference["worst_max_angle"]
+    )
+
+
 def boundary_nodes(grid: np.ndarray) -> np.ndarray:
     """All boundary nodes of a grid, (2 (ni + nj) - 4, 2)."""
     return np.concatenate([grid[0], grid[-1], grid[1:-1, 0], grid[1:-1, -1]])

@@ -59,16 +59,13 @@ from pinn_engine.multiblock.walls import (
     wall_report,
     wall_sides,
 )
-from pinn_engine.quality import cell_quality, summary
+from pinn_engine.quality import cell_quality, ranks_above, summary
 from pinn_engine.settings import MAX_NODES, MULTIBLOCK_METHODS, Settings
 
 # Interface nodes this many positions or fewer from a block's corner are left out of the
 # kink figures (the two nodes nearest each block corner): at a corner grid lines
 # of three or more blocks meet and no line runs straight through
 KINK_CORNER_NODES = 2
-# The default's bound on its start's mean MaxIncludedAngle above the elliptic grid's (as the
-# four-sided quality objective's, starts.quality_start.MEAN_TOL)
-MEAN_TOL = 0.5
 
 Progress = Callable[[dict], "bool | str | None"]  # trainer.Progress, without importing torch
 # The pinn's training of the blocks' elliptic grids: kinds.blocks.problem.train_blocks, which the
@@ -101,19 +98,14 @@ def _figures(cells: list[dict[str, np.ndarray]]) -> dict[str, float]:
 def _tfi_ranks_better(
     lay: Layout, cross: list[Crossing], tfi: np.ndarray, elliptic: np.ndarray
 ) -> bool:
-    """Whether the blocks' TFI grid (the interfaces as drawn) folds no more cells, has the
-    lower worst MaxIncludedAngle, a mean at most ``MEAN_TOL`` above and grid lines kinking
-    no more across the interfaces (mean) than the elliptic grid's: the default's start then
-    (a step's rectangles: TFI is orthogonal, where the solve with free interfaces shears the
-    cells round the step's lip)."""
+    """Whether the blocks' TFI grid (the interfaces as drawn) ranks above the elliptic grid
+    (``quality.ranks_above``) with grid lines kinking no more across the interfaces (mean):
+    the default's start then (a step's rectangles: TFI is orthogonal, where the solve with
+    free interfaces shears the cells round the step's lip)."""
     t, e = (_figures([cell_quality(p[ids]) for ids in lay.ids]) for p in (tfi, elliptic))
     kinks = [interface_kinks(cross, lay, p) for p in (tfi, elliptic)]
-    return (
-        t["folded_cells"] <= e["folded_cells"]
-        and t["worst_max_angle"] < e["worst_max_angle"]
-        and t["mean_max_angle"] <= e["mean_max_angle"] + MEAN_TOL
-        and (kinks[0].mean() if kinks[0].size else 0.0)
-        <= (kinks[1].mean() if kinks[1].size else 0.0)
+    return ranks_above(t, e) and (kinks[0].mean() if kinks[0].size else 0.0) <= (
+        kinks[1].mean() if kinks[1].size else 0.0
     )
 
 

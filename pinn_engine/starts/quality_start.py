@@ -28,6 +28,7 @@ from pinn_engine.quality import (
     QUALITY_MEAN_WEIGHT,
     QUALITY_MIN_SINE,
     QUALITY_TAU,
+    START_MEAN_TOL,
     folded_cells,
     guard_figures,
     orientation,
@@ -36,7 +37,7 @@ from pinn_engine.quality import (
 )
 from pinn_engine.starts.untangle import untangle
 
-MEAN_TOL = 0.5  # the objective's bound on the mean MaxIncludedAngle against the elliptic grid
+MEAN_TOL = START_MEAN_TOL  # the objective's bound on the mean against the elliptic grid
 # The grid lines crossing an auxiliary line may turn there by this many degrees (mean over
 # them) more than the elliptic grid's do at the same nodes: a grid that follows the line with
 # crossing lines as smooth as the elliptic grid's (a split-block grid whose interface is the

@@ -10,15 +10,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from pinn_engine.hexa import quality, volume
+from pinn_engine.quality import ranks_above
 from pinn_engine.starts.warmstart import lattice_for
 
 # The Winslow start is solved on at most this many nodes (larger grids start from a coarser
 # lattice of the same shape, starts/warmstart.py): 41^3 takes about 1.4 s and 0.26 GiB, 81^3
 # about 14 s and 0.85 GiB more (docs/hexa.md, "Speed and memory").
 MAX_LATTICE_NODES = 41**3
-# The default's bound on a start's mean MaxIncludedAngle above the Winslow grid's (as the
-# four-sided quality objective's, starts.quality_start.MEAN_TOL)
-MEAN_TOL = 0.5
 
 
 @dataclass
@@ -47,19 +45,21 @@ def winslow_start(tfi_of: Callable[[tuple[int, ...]], np.ndarray], size: tuple[i
     return Start(tfi, volume.winslow(tfi)[0])
 
 
-def _figures(grid: np.ndarray) -> tuple[int, float, float]:
-    """A start's folded cells, worst and mean MaxIncludedAngle."""
+def _figures(grid: np.ndarray) -> dict[str, float]:
+    """A start's folded cells, worst and mean MaxIncludedAngle (``quality.ranks_above``)."""
     largest = quality.included_angles(grid)[0]
-    return int(quality.folded(grid).sum()), float(largest.max()), float(largest.mean())
+    return {
+        "folded_cells": int(quality.folded(grid).sum()),
+        "worst_max_angle": float(largest.max()),
+        "mean_max_angle": float(largest.mean()),
+    }
 
 
 def better_start(start: Start) -> Start:
-    """``start`` (a Winslow start), or its TFI grid where that folds no more cells, has the
-    lower worst MaxIncludedAngle and a mean at most ``MEAN_TOL`` above the Winslow grid's
-    (the default's bounds): TFI keeps a polar bend's grid polar, orthogonal everywhere, where
+    """``start`` (a Winslow start), or its TFI grid where that ranks above it
+    (``quality.ranks_above``: no more folds, the lower worst MaxIncludedAngle, the mean within
+    the default's bound): TFI keeps a polar bend's grid polar, orthogonal everywhere, where
     the Winslow grid bends its arcs toward the inner wall."""
-    folded, worst, mean = _figures(start.tfi)
-    w_folded, w_worst, w_mean = _figures(start.grid)
-    if folded <= w_folded and worst < w_worst and mean <= w_mean + MEAN_TOL:
+    if ranks_above(_figures(start.tfi), _figures(start.grid)):
         return Start(start.tfi, start.tfi, name="tfi")
     return start
