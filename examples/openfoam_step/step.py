@@ -27,10 +27,11 @@ MEAN = 1.0  # the inflow's mean speed
 FLOOR = 1e-9  # a cell touches the floor behind the step when its lowest point is this low
 
 
-def inlet(case: Path) -> None:
-    """Write the parabolic inflow at the inlet's face centres into 0/U."""
+def inlet(case: Path, bottom: float = BOTTOM, top: float = TOP, mean: float = MEAN) -> None:
+    """Write the developed parabola of mean speed ``mean`` between the inlet channel's walls
+    ``bottom`` and ``top`` at the inlet's face centres into 0/U."""
     y = face_centres(case, "inlet")[:, 1]
-    u = 6 * MEAN * (y - BOTTOM) * (TOP - y) / (TOP - BOTTOM) ** 2
+    u = 6 * mean * (y - bottom) * (top - y) / (top - bottom) ** 2
     values = "\n".join(f"({v:.10g} 0 0)" for v in u)
     path = case / "0" / "U"
     text = path.read_text()
@@ -42,11 +43,13 @@ def inlet(case: Path) -> None:
 
 def reattachment(case: Path) -> float:
     """x_r: where the wall shear on the floor behind the step turns from backward to
-    forward. The shear at each floor cell is the slope at the wall of the parabola through
-    the wall (no slip), that cell's and the next cell up's streamwise velocities (second
-    order, as the solve; the first cell's velocity alone would place x_r where the zero
-    line of u crosses the first cell's centre, an O(h) bias), the crossing between cells
-    the cubic through the four nearest."""
+    forward at the end of the longest stretch of backward flow: the main eddy's (a fine
+    grid also resolves the nested corner eddies in the step's foot, the innermost one's
+    backward flow ending a few thousandths of S from it). The shear at each floor cell is the slope at
+    the wall of the parabola through the wall (no slip), that cell's and the next cell up's
+    streamwise velocities (second order, as the solve; the first cell's velocity alone
+    would place x_r where the zero line of u crosses the first cell's centre, an O(h)
+    bias), the crossing between cells the cubic through the four nearest."""
     import pyvista as pv
 
     (case / "case.foam").touch()
@@ -63,7 +66,10 @@ def reattachment(case: Path) -> float:
         (y1, u1), (y2, u2) = (centres[k, 1], u[k]), (centres[up, 1], u[up])
         shear.append((u1 * y2**2 - u2 * y1**2) / (y1 * y2 * (y2 - y1)))
     x, shear = centres[floor, 0], np.array(shear)
-    k = np.flatnonzero((shear[:-1] < 0) & (shear[1:] >= 0))[0]
+    ends = np.flatnonzero((shear[:-1] < 0) & (shear[1:] >= 0))  # backward flow turns forward
+    starts = [np.flatnonzero(shear[: e + 1] >= 0)[-1] + 1 if np.any(shear[: e + 1] >= 0) else 0
+              for e in ends]  # fmt: skip
+    k = ends[np.argmax(x[ends] - x[starts])]  # the main eddy's end, not a corner eddy's
     near = slice(max(k - 1, 0), k + 3)
     cubic = np.polynomial.Polynomial.fit(x[near], shear[near], min(3, len(x[near]) - 1))
     roots = [r.real for r in cubic.roots() if abs(r.imag) < 1e-12 and x[k] <= r.real <= x[k + 1]]
