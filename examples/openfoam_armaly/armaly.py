@@ -56,6 +56,8 @@ def counts(n: int) -> dict[str, float]:
     """A grid of ``n`` cells across the step (even): the cells across the inlet channel
     (even, the step's cell height), along the channel behind the step and along the inlet
     channel, and the first cell at every wall."""
+    if n % 2:
+        raise ValueError(f"N = {n}: an even number of cells across the step (two graded halves)")
     inlet = 2 * round(n * INLET / STEP / 2)
     return {"step": n, "inlet": inlet, "long": LONG * n, "upstream": INLET_CELLS * n,
             "first": FIRST * STEP / n}  # fmt: skip
@@ -170,6 +172,11 @@ def viscosity(case: Path) -> None:
     )
 
 
+def reattachment(case: Path) -> float:
+    """x_r / S of a solved case (step.reattachment's x_r)."""
+    return step.reattachment(case) / STEP
+
+
 def main(argv: list[str]) -> None:
     what = argv[0]
     if what == "boundary":
@@ -183,8 +190,8 @@ def main(argv: list[str]) -> None:
     elif what == "inlet":
         step.inlet(Path(argv[1]), STEP, TOP, MEAN)
     elif what == "reattachment":
-        x = step.reattachment(Path(argv[1]))
-        print(f"reattachment {x:.5f} xr_S {x / STEP:.5f}")
+        x = reattachment(Path(argv[1]))
+        print(f"reattachment {x * STEP:.5f} xr_S {x:.5f}")
     else:
         raise SystemExit(f"unknown step {what!r}: boundary, args, blockmesh, viscosity, "
                          "inlet or reattachment")  # fmt: skip
