@@ -45,11 +45,11 @@ def reattachment(case: Path) -> float:
     """x_r: where the wall shear on the floor behind the step turns from backward to
     forward at the end of the longest stretch of backward flow: the main eddy's (a fine
     grid also resolves the nested corner eddies in the step's foot, the innermost one's
-    backward flow ending a few thousandths of S from it). The shear at each floor cell is the slope at
-    the wall of the parabola through the wall (no slip), that cell's and the next cell up's
-    streamwise velocities (second order, as the solve; the first cell's velocity alone
-    would place x_r where the zero line of u crosses the first cell's centre, an O(h)
-    bias), the crossing between cells the cubic through the four nearest."""
+    backward flow ending a few thousandths of S from it). The shear at each floor cell is
+    the slope at the wall of the parabola through the wall (no slip), that cell's and the
+    next cell up's streamwise velocities (second order, as the solve; the first cell's
+    velocity alone would place x_r where the zero line of u crosses the first cell's
+    centre, an O(h) bias), the crossing between cells the cubic through the four nearest."""
     import pyvista as pv
 
     (case / "case.foam").touch()
