@@ -36,7 +36,14 @@ import numpy as np
 
 from pinn_engine.family.members import Member, member_of
 from pinn_engine.family.model import FamilyModel, load_family
-from pinn_engine.quality import boundary_nodes, cell_quality, side_report, summary
+from pinn_engine.quality import (
+    boundary_nodes,
+    cell_quality,
+    guard_figures,
+    side_report,
+    summary,
+    worst_non_orthogonality,
+)
 from pinn_engine.result import MeshResult
 from pinn_engine.settings import Settings
 
@@ -117,8 +124,8 @@ def mesh_member(
     reference, polished_from = None, None
     vouched = model.winslow and defect is not None and defect <= DEFECT_TOL
     if model.polish and member.start is not None:
-        grid, polished_from = _body_polished(member, grid)
-        vouched = True  # its ranking keeps it no worse than the member's elliptic start
+        grid, polished_from = _body_chosen(member, grid)
+        vouched = True  # no worse than the member's elliptic start, or certified
     elif model.polish:
         grid, reference, vouched, polished_from = _polished(model, member, grid)
     points = member.frame.to_user(grid)
@@ -198,6 +205,38 @@ def _polished(
     ranks = ranking.key(ranking.quality(polished)) <= ranking.key(ranking.quality(begin))
     begin_figures = {k: v for k, v in ranking.quality(begin).items() if k in _FIGURES}
     return polished, begin_figures, ranks, name
+
+
+def _body_chosen(member: Member, grid: np.ndarray) -> tuple[np.ndarray, str]:
+    """A body's grid and its name: the member's own run's choice (body_quality_start)
+    with the model's ``grid`` in place of the optimised grid, kept without an
+    optimisation where its worst angle is certified; else :func:`_body_polished`.
+
+    The choice keeps the model's grid over the elliptic grid where its ranking puts it no
+    lower, its mean is not a ranking step (``MEAN_STEP``) above the elliptic grid's and it
+    is no less orthogonal. The certificate: every grid the member's own run can return (its
+    elliptic grid, or that grid optimised) holds its wall row and first layer
+    (``BODY_HELD_ROWS``), so its worst angle is at least those cells' worst; a chosen grid
+    with no fold and a worst angle within ``WORST_TOL`` of theirs is within SPEC 16's bound
+    of the member's own grid, and its mean is the elliptic grid's or at most a step above
+    it (what the own run's optimisation lowers the mean by is measured in docs/family.md,
+    not bounded here)."""
+    from pinn_engine.starts.quality_start import BODY_HELD_ROWS, MEAN_STEP, Ranking
+
+    elliptic = member.base
+    ranking = Ranking.of(elliptic, [], 1.0)
+    q_model, q_start = ranking.quality(grid), ranking.quality(elliptic)
+    chosen, q, name = elliptic, q_start, "elliptic"
+    if (
+        ranking.key(q_model) <= ranking.key(q_start)
+        and q_model["mean_max_angle"] <= q_start["mean_max_angle"] + MEAN_STEP
+        and worst_non_orthogonality(grid) <= worst_non_orthogonality(elliptic)
+    ):
+        chosen, q, name = grid, q_model, "family"
+    floor = guard_figures(elliptic[:BODY_HELD_ROWS])["worst_max_angle"]
+    if not q["folded_cells"] and q["worst_max_angle"] <= floor + WORST_TOL:
+        return chosen, f"{name} (not optimised: certified)"
+    return _body_polished(member, grid)
 
 
 def _body_polished(member: Member, grid: np.ndarray) -> tuple[np.ndarray, str]:

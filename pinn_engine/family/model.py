@@ -220,6 +220,8 @@ class FamilyModel:
         grid = self.base(member)
         if len(self.modes):
             grid = grid + (forward(self.params, z) @ self.modes).reshape(grid.shape)
+            if member.start is not None:
+                grid = _held(grid, member)
         return grid, {"in_range": self.encoding.in_range(vector)}
 
     def check(self, member: Member, settings: Settings | None = None) -> None:
@@ -281,6 +283,22 @@ class FamilyModel:
         with atomic_path(path) as tmp:
             torch.save(payload, tmp)
         return Path(path)
+
+
+def _held(grid: np.ndarray, member: Member) -> np.ndarray:
+    """A body's model ``grid`` with the nodes its own run never moves set to its start's
+    exactly (the modes vanish there to rounding): the wall, the first layer
+    (``quality_start.BODY_HELD_ROWS``), the far field and a C-grid's outflow columns; an
+    O-grid's column ni - 1 repeats its column 0 (the seam)."""
+    from pinn_engine.starts.quality_start import BODY_HELD_ROWS
+
+    base = member.base
+    grid[:BODY_HELD_ROWS], grid[-1] = base[:BODY_HELD_ROWS], base[-1]
+    if member.topology == "o":
+        grid[:, -1] = grid[:, 0]
+    else:
+        grid[:, 0], grid[:, -1] = base[:, 0], base[:, -1]
+    return grid
 
 
 def load_family(path: str | os.PathLike) -> FamilyModel:
