@@ -38,6 +38,7 @@ nodes for every method. Then:
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -259,29 +260,45 @@ def _units(v: np.ndarray) -> np.ndarray:
     return v / lengths(v)[:, None]
 
 
+# The march's neighbours along a row: the row padded with one entry before and after, so
+# that each entry's predecessor and successor are two slices of one array (an operation a
+# step instead of a slice and its ends): an O-grid's nodes (node n - 1 repeats node 0, so both
+# have the neighbours n - 2 and 1), a loop of entries (an O-grid's segments), or an open row
+# (a C-grid's nodes: an end is its own missing neighbour)
+_PADS = {"o": (slice(-2, -1), slice(1, 2)), "closed": (slice(-1, None), slice(0, 1))}
+_OPEN = (slice(0, 1), slice(-1, None))
+
+
+def _padded(u: np.ndarray, kind: str) -> np.ndarray:
+    """``u`` (n, ...) with its entries' neighbours before and after (``_PADS``)."""
+    before, after = _PADS.get(kind, _OPEN)
+    return np.concatenate((u[before], u, u[after]))
+
+
+@functools.cache
+def _chord_weights(n: int, topology: str) -> np.ndarray:
+    """The weights of the neighbours' difference in :func:`row_chords`: half, and whole at a
+    C-grid's ends (one-sided there)."""
+    half = np.full((n, 1), 0.5)
+    if topology == "c":
+        half[0] = half[-1] = 1.0
+    return half
+
+
 def _neighbour_sums(u: np.ndarray, closed: bool) -> np.ndarray:
     """Each entry's predecessor plus successor along a row (n, ...): wrapped where ``closed``,
     else the end entry counted for its missing neighbour."""
-    out = np.empty_like(u)
-    out[1:-1] = u[:-2] + u[2:]
-    if closed:
-        out[0], out[-1] = u[-1] + u[1], u[-2] + u[0]
-    else:
-        out[0], out[-1] = u[0] + u[1], u[-2] + u[-1]
-    return out
+    pad = _padded(u, "closed" if closed else "c")
+    return pad[:-2] + pad[2:]
 
 
 def row_chords(p: np.ndarray, topology: str) -> np.ndarray:
     """Half the chord between each node's two neighbours along a grid row ``p`` (ni, 2), in
-    the direction of i (wrapped across the O-grid's seam; one-sided at the C-grid's ends):
-    the row's tangents, as long as its local spacing."""
-    t = np.empty_like(p)
-    t[1:-1] = 0.5 * (p[2:] - p[:-2])
-    if topology == "o":  # p[-1] repeats p[0]: the seam's neighbours are p[1] and p[-2]
-        t[0] = t[-1] = 0.5 * (p[1] - p[-2])
-    else:
-        t[0], t[-1] = p[1] - p[0], p[-1] - p[-2]
-    return t
+    the direction of i (wrapped across the O-grid's seam, whose node p[-1] repeats p[0]:
+    their neighbours are p[1] and p[-2]; one-sided at the C-grid's ends): the row's
+    tangents, as long as its local spacing."""
+    pad = _padded(p, topology)
+    return (pad[2:] - pad[:-2]) * _chord_weights(len(p), topology)
 
 
 def _row_tangents(p: np.ndarray, topology: str) -> np.ndarray:
@@ -294,6 +311,10 @@ CORNER_COS = math.cos(math.radians(CORNER_TURN))
 ROUND_FACING_COS = math.cos(math.radians(ROUND_FACING))
 
 
+# a row's tangent (t_x, t_y) turned to its outward normal, as (t_y, t_x) times these
+_TURNS = {"o": np.array([1.0, -1.0]), "c": np.array([-1.0, 1.0])}
+
+
 def _row_normals(p: np.ndarray, topology: str) -> np.ndarray:
     """Unit normals of a grid row ``p`` (ni, 2), pointing away from the body: normal to the
     chord between each node's neighbours (:func:`row_chords`), and at a corner, where the
@@ -302,13 +323,14 @@ def _row_normals(p: np.ndarray, topology: str) -> np.ndarray:
     t = _row_tangents(p, topology)
     # i runs counter-clockwise in the O-grid (body on the left), clockwise in the C-grid
     sign = 1.0 if topology == "o" else -1.0
-    n = np.empty_like(t)
-    n[:, 0], n[:, 1] = sign * t[:, 1], -sign * t[:, 0]
-    u = _units(np.diff(p, axis=0))  # segment i runs from node i to node i + 1
+    n = t[:, ::-1] * _TURNS[topology]  # (sign t_y, -sign t_x)
+    u = _units(p[1:] - p[:-1])  # segment i runs from node i to node i + 1
     cos = np.ones(len(p))  # the C-grid's end nodes have one segment: no corner
-    cos[1:-1] = u[1:, 0] * u[:-1, 0] + u[1:, 1] * u[:-1, 1]
+    w = u[1:] * u[:-1]
+    cos[1:-1] = w[:, 0] + w[:, 1]
     if topology == "o":
-        cos[0] = cos[-1] = u[0, 0] * u[-1, 0] + u[0, 1] * u[-1, 1]
+        w = u[0] * u[-1]
+        cos[0] = cos[-1] = w[0] + w[1]
     corners = np.flatnonzero(cos < CORNER_COS)
     if len(corners):  # the bisector of the segments ahead and behind (wrapped in the O-grid)
         ahead = u[np.minimum(corners, len(u) - 1) if topology == "c" else corners % len(u)]
@@ -323,12 +345,12 @@ def _row_normals(p: np.ndarray, topology: str) -> np.ndarray:
 def _smooth_row(q: np.ndarray, eps, topology: str) -> np.ndarray:
     """One Laplacian pass along a row (ends held for the C-grid, wrapped for the O-grid, whose
     last node repeats its first); ``eps`` a number or one per node (ni, 1)."""
-    out = q.copy()
-    inner = eps if np.ndim(eps) == 0 else eps[1:-1]
-    out[1:-1] = q[1:-1] + inner * (0.5 * (q[:-2] + q[2:]) - q[1:-1])
+    pad = _padded(q, topology)
+    out = q + eps * (0.5 * (pad[:-2] + pad[2:]) - q)
     if topology == "o":
-        first = eps if np.ndim(eps) == 0 else eps[0]
-        out[0] = out[-1] = q[0] + first * (0.5 * (q[-2] + q[1]) - q[0])
+        out[-1] = out[0]
+    else:
+        out[0], out[-1] = q[0], q[-1]
     return out
 
 
@@ -339,7 +361,7 @@ def redistribute(q: np.ndarray, eps: float, topology: str, passes: int) -> np.nd
     the C-grid, the last node held). Sliding along the row keeps the nodes in order, so the
     columns cannot cross within a row, and a crowd of columns spreads out however strongly
     the lines converge (off a concave wall, under an aft surface)."""
-    seg = lengths(np.diff(q, axis=0))
+    seg = lengths(q[1:] - q[:-1])
     s_old = np.empty(len(q))
     s_old[0] = 0.0
     np.cumsum(seg, out=s_old[1:])
@@ -466,8 +488,8 @@ def march(
                 if tangent:
                     target = _smooth_row(q, tangent * grow, topology)
                     t = _row_tangents(q, topology)
-                    slide = target - q
-                    q = q + (slide[:, 0] * t[:, 0] + slide[:, 1] * t[:, 1])[:, None] * t
+                    slide = (target - q) * t
+                    q = q + (slide[:, 0] + slide[:, 1])[:, None] * t
             if topology == "o":
                 q = redistribute(q, SPREAD * grow, topology, passes)
             else:  # the body's columns (the wake's run straight)
