@@ -221,7 +221,7 @@ def _body_chosen(member: Member, grid: np.ndarray) -> tuple[np.ndarray, str]:
     of the member's own grid, and its mean is the elliptic grid's or at most a step above
     it (what the own run's optimisation lowers the mean by is measured in docs/family.md,
     not bounded here)."""
-    from pinn_engine.starts.quality_start import BODY_HELD_ROWS, MEAN_STEP, Ranking
+    from pinn_engine.starts.quality_start import MEAN_STEP, Ranking
 
     elliptic = member.base
     ranking = Ranking.of(elliptic, [], 1.0)
@@ -233,10 +233,18 @@ def _body_chosen(member: Member, grid: np.ndarray) -> tuple[np.ndarray, str]:
         and worst_non_orthogonality(grid) <= worst_non_orthogonality(elliptic)
     ):
         chosen, q, name = grid, q_model, "family"
-    floor = guard_figures(elliptic[:BODY_HELD_ROWS])["worst_max_angle"]
-    if not q["folded_cells"] and q["worst_max_angle"] <= floor + WORST_TOL:
+    if not q["folded_cells"] and q["worst_max_angle"] <= held_worst(elliptic) + WORST_TOL:
         return chosen, f"{name} (not optimised: certified)"
     return _body_polished(member, grid)
+
+
+def held_worst(elliptic: np.ndarray) -> float:
+    """The worst angle of the cells that every grid of a body's own run keeps as they are in
+    its ``elliptic`` grid: those between its held rows (the wall and the first layer,
+    ``quality_start.BODY_HELD_ROWS``), a lower bound of its own grid's worst angle."""
+    from pinn_engine.starts.quality_start import BODY_HELD_ROWS
+
+    return guard_figures(elliptic[:BODY_HELD_ROWS])["worst_max_angle"]
 
 
 def _body_polished(member: Member, grid: np.ndarray) -> tuple[np.ndarray, str]:

@@ -252,15 +252,55 @@ def sections():
     return job.fit_family_model(members, targets, "--topology o --size 65 17")
 
 
+def test_a_certified_body_grid_is_kept_without_its_members_optimisation(sections, monkeypatch):
+    """An O-grid family: the member's own choice with the model's grid in place of its
+    optimised grid, kept without the optimisation (its worst angle within 2 degrees of the
+    held first layer's, which bounds its own run's grid); the wall, first layer and far
+    field are its own run's nodes, the seam one column, no fold, its own grid's quality
+    within the check's bounds."""
+    from pinn_engine.starts import quality_start
+
+    settings, g = naca("3413")
+    own = job.run(settings, g)
+
+    def not_called(*args, **kwargs):
+        raise AssertionError("the member's optimisation ran")
+
+    monkeypatch.setattr(quality_start, "optimize_nodes", not_called)
+    by_model = job.run(settings, g, family=sections)
+    training = by_model.report["training"]
+    assert training["result"] == "family"
+    assert training["polished_against"].endswith("(not optimised: certified)")
+    a, b = own.grids[0], by_model.grids[0]
+    for rows in (np.s_[:2], np.s_[-1]):  # the wall and first layer, the far field
+        np.testing.assert_allclose(b[rows], a[rows], rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(b[:, -1], b[:, 0])  # the seam
+    q, ref = by_model.quality, own.quality
+    assert q["folded_cells"] == 0
+    assert q["worst_max_angle"] <= ref["worst_max_angle"] + 2
+    assert q["mean_max_angle"] <= ref["mean_max_angle"] + 0.5
+
+
+def test_the_held_layer_bounds_a_body_grid_from_below(sections):
+    """The certificate's premise: the member's own grid (its elliptic grid or that grid
+    optimised) keeps its wall and first layer, so its worst angle is at least theirs."""
+    settings, g = naca("3413")
+    own = job.run(settings, g)
+    member = job.family_member(settings, g)
+    assert own.quality["worst_max_angle"] >= family_mesh.held_worst(member.base) - 1e-9
+
+
 @pytest.mark.slow  # a body family fitted, then each member's own run beside it
-def test_a_body_family_polishes_as_its_members_own_run_chooses(sections):
-    """An O-grid family: the member's own choice (its elliptic grid, or that optimised where
-    it ranks better), its optimisation started from the model's grid; the wall and far field
-    are its own run's nodes, no fold, its own grid's quality within the check's bounds."""
+def test_a_body_family_polishes_as_its_members_own_run_chooses(sections, monkeypatch):
+    """An O-grid family whose model's grids are not certified (here forced): the member's
+    own choice (its elliptic grid, or that optimised where it ranks better), its
+    optimisation started from the model's grid; the wall and far field are its own run's
+    nodes, no fold, its own grid's quality within the check's bounds."""
     model = sections
     assert model.polish > 0 and model.report["polish_iterations"] == model.polish
     settings, g = naca("3413")
     own = job.run(settings, g)
+    monkeypatch.setattr(family_mesh, "held_worst", lambda elliptic: -np.inf)
     by_model = job.run(settings, g, family=model)
     training = by_model.report["training"]
     assert training["result"] == "family"
@@ -291,6 +331,7 @@ def test_a_body_model_grid_below_the_elliptic_grid_is_not_the_optimisations_star
         return grid, info
 
     monkeypatch.setattr(FamilyModel, "predict", folded)
+    monkeypatch.setattr(family_mesh, "held_worst", lambda elliptic: -np.inf)  # optimised
     settings, g = naca("3413")
     own = job.run(settings, g)
     by_model = job.run(settings, g, family=sections)
@@ -368,6 +409,7 @@ def test_a_c_grid_whose_polish_from_the_model_fails_its_choice_gets_its_own_runs
         return (elliptic, "elliptic") if begin is not None else real(elliptic, seam)
 
     monkeypatch.setattr(quality_start, "body_quality_start", failing)
+    monkeypatch.setattr(family_mesh, "held_worst", lambda elliptic: -np.inf)  # optimised
     by_model = job.run(settings, g, family=model)
     assert by_model.report["training"]["polished_against"] == "optimized"
     np.testing.assert_allclose(by_model.grids[0], own.grids[0], atol=1e-9)
