@@ -3,9 +3,11 @@
 The guard is section 4's: a grid with a folded cell, or whose worst cell is more than
 ``WORST_TOL`` degrees above the member's own start's, falls back to that start with a
 warning. A body's start (its elliptic grid) is the base the model corrects, so it is always
-at hand. A four-sided member's start (the grid its own run starts from) costs what the
-default run costs, so it is solved only where the model cannot vouch for its grid without
-it:
+at hand; a body's grid is kept without its own run's optimisation where its worst angle is
+within ``WORST_TOL`` of its held first layer's, which bounds its own run's grid from below
+(:func:`held_worst`), else optimised as its own run is. A four-sided member's start (the
+grid its own run starts from) costs what the default run costs, so it is solved only where
+the model cannot vouch for its grid without it:
 
 - a family of Winslow grids vouches for a grid that one more linearised Winslow step moves
   by at most ``DEFECT_TOL`` of the shortest edge at any node, and keeps that step (the steps

@@ -11,8 +11,9 @@ family's grids solve the Winslow equations, one more linearised solve at the pre
 takes it to second order towards the member's own. Where they are node optima (the default's
 four-sided grids and bodies) the base is the member's own elliptic grid, the network the
 linear map alone (network.fit_linear), and the member's own node optimisation finishes the
-grid: a four-sided member's until it settles (at most ``POLISH_ITERATIONS``), a body's own
-run's optimisation from the model's grid (mesh.py).
+grid: a four-sided member's until it settles (at most ``POLISH_ITERATIONS``); a body's
+grid needs none where its worst angle is certified, else its own run's optimisation starts
+from the model's grid (mesh.py).
 """
 
 from __future__ import annotations
