@@ -9,9 +9,9 @@ from the same ranges, 8 from ranges 25 % wider on each side):
 
 - ``pinn-mesh fit train.csv --workers 2``: its wall time, the members' default grids' and
   the model's;
-- in this process (warm, with one BLAS thread as a batch worker sets itself up; a BLAS
-  pool of two threads on a shared machine slowed the default's optimisation about 1.4
-  times): each unseen member's default grid,
+- in this process (warm, set up as a batch worker sets itself up: one BLAS thread, glibc's
+  heap tuned; without them a member's default run took 1.4 times the CPU time, and the
+  in-process ratios looked better than the batch's): each unseen member's default grid,
   elliptic grid and family grid, their times (the median of ``--repeat``, 3) and figures;
   the family grid must have no fold, the default grid's boundary nodes, the worst cell
   within 2 degrees and the mean within 0.5 of the default grid's;
@@ -267,10 +267,11 @@ def main() -> None:
     args = parser.parse_args()
     args.workdir = args.workdir.resolve()
     import torch
-    from threadpoolctl import threadpool_limits
+
+    from pinn_engine.batch.warm import setup_worker
 
     torch.set_num_threads(1)
-    threadpool_limits(1)  # as a batch worker (batch/warm.py)
+    setup_worker()  # one BLAS thread and glibc's heap tuned, as a batch worker
     load = os.getloadavg()[0]
     lines = [f"Measured on a shared 2-core machine (load average {load:.1f} at the start)."]
     for family in args.family:
