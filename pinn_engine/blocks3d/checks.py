@@ -19,6 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pinn_engine.io.export.topology import face_keys
+
 # OpenFOAM's hexahedron: its six faces (normals out of the cell) by corner
 HEX_FACES = np.array(
     [[0, 4, 7, 3], [1, 2, 6, 5], [0, 1, 5, 4], [3, 7, 6, 2], [0, 3, 2, 1], [4, 5, 6, 7]]
@@ -89,10 +91,10 @@ def _faces(points: np.ndarray, quads: np.ndarray) -> tuple[np.ndarray, np.ndarra
 def pairing(quads: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The faces (m, 4) met twice, as pairs (k, 2) of their indices (the lower first), and
     those met once."""
-    key = np.sort(quads, axis=1)
-    order = np.lexsort(key.T[::-1])
-    key = key[order]
-    same = (key[1:] == key[:-1]).all(axis=1)
+    low, high = face_keys(quads)
+    order = np.lexsort((high, low))
+    low, high = low[order], high[order]
+    same = (low[1:] == low[:-1]) & (high[1:] == high[:-1])
     first = np.flatnonzero(same)
     pairs = np.sort(np.column_stack([order[first], order[first + 1]]), axis=1)
     paired = np.zeros(len(quads), dtype=bool)

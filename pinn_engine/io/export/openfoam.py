@@ -26,6 +26,7 @@ from pinn_engine.io.export.topology import (
     box_cells,
     box_faces,
     end_faces,
+    face_keys,
     inner_faces,
     mean_edge,
     quads,
@@ -188,10 +189,10 @@ def write_hex_polymesh(
     normal out of its cell; ``entries``: a patch's further boundary entries by name (a
     cyclic's ``neighbourPatch``). A boundary face no patch lists is a programming error."""
     quads = cells[:, HEX_FACES].reshape(-1, 4)
-    key = np.sort(quads, axis=1)
-    order = np.lexsort(key.T[::-1])  # copies of one face together, lower cell first
-    ordered = key[order]
-    starts = np.flatnonzero(np.r_[True, (ordered[1:] != ordered[:-1]).any(axis=1)])
+    low, high = face_keys(quads)
+    order = np.lexsort((high, low))  # copies of one face together, lower cell first
+    lo, hi = low[order], high[order]
+    starts = np.flatnonzero(np.r_[True, (lo[1:] != lo[:-1]) | (hi[1:] != hi[:-1])])
     sizes = np.diff(np.r_[starts, len(order)])
     copies = np.repeat(sizes, sizes)  # per entry of ``order``: how many cells have its face
     two = copies == 2
@@ -200,15 +201,35 @@ def write_hex_polymesh(
     faces = quads[pairs[:, 0]]
     sort = np.lexsort((neighbour, owner))
     faces, owner, neighbour = faces[sort], owner[sort], neighbour[sort]
-    single = order[copies == 1]
-    where = {tuple(k): f for k, f in zip(key[single].tolist(), single.tolist())}
-    out = []
+    found = _listed(quads, order[copies == 1], [pf for _, _, pf in patches])
+    out, start = [], 0
     for name, kind, pf in patches:
-        found = np.array([where.pop(tuple(sorted(f))) for f in pf.tolist()], dtype=int)
-        out.append((name, kind, quads[found], found // 6))
-    if where:
-        raise ValueError(f"{len(where)} boundary faces are in no patch")
+        mine = found[start : start + len(pf)]
+        out.append((name, kind, quads[mine], mine // 6))
+        start += len(pf)
     write_mesh_files(mesh, points, faces, owner, neighbour, out, entries)
+
+
+def _listed(quads: np.ndarray, single: np.ndarray, listed: list[np.ndarray]) -> np.ndarray:
+    """Which of the boundary faces ``single`` (indices into ``quads``) each face of the
+    patches' lists (``listed``, (k, 4) point ids each, in any corner order) is, in the
+    lists' order: the lists' faces and the boundary's sorted together by their keys, each
+    listed face right after its boundary face. A boundary face no list has, or a listed
+    face that is no boundary face or is listed twice, is a programming error."""
+    if not listed:
+        listed = [np.empty((0, 4), dtype=quads.dtype)]
+    low, high = face_keys(np.vstack([quads[single], *listed]))
+    at = np.lexsort((np.arange(len(low)), high, low))  # a boundary face before its listing
+    same = (low[at][1:] == low[at][:-1]) & (high[at][1:] == high[at][:-1])
+    is_listed = at >= len(single)
+    ok = same & is_listed[1:] & ~is_listed[:-1]
+    found = np.full(len(low) - len(single), -1)
+    found[at[1:][ok] - len(single)] = single[at[:-1][ok]]
+    if (found < 0).any():
+        raise ValueError(f"{int((found < 0).sum())} patch faces are no boundary face")
+    if len(single) > ok.sum():
+        raise ValueError(f"{len(single) - int(ok.sum())} boundary faces are in no patch")
+    return found
 
 
 def write_mesh_files(
