@@ -17,21 +17,18 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
-from vtkmodules.util.numpy_support import numpy_to_vtk
-from vtkmodules.vtkCommonCore import vtkPoints, vtkStringArray
-from vtkmodules.vtkCommonDataModel import (
-    vtkCompositeDataSet,
-    vtkMultiBlockDataSet,
-    vtkStructuredGrid,
-)
 
 from pinn_engine.blocks3d.checks import Figures, figures, hexes, topology
 from pinn_engine.blocks3d.dictionary import BlockMeshDict
 from pinn_engine.blocks3d.placement import Placement, place
 from pinn_engine.errors import InputError
 from pinn_engine.hexa.quality import folded, included_angles, scaled_jacobian
+
+if TYPE_CHECKING:  # VTK is imported where the dataset is built: a case written needs none
+    from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet
 
 METHODS = ("pinn", "elliptic", "tfi")
 # a figure within this many degrees (non-orthogonality) or this much (skewness) of
@@ -234,6 +231,8 @@ def _report(d, result: DictResult, steps: int, timings: dict, free: bool) -> dic
 
 
 def _string(fd, name: str, value: str) -> None:
+    from vtkmodules.vtkCommonCore import vtkStringArray
+
     arr = vtkStringArray()
     arr.SetName(name)
     arr.InsertNextValue(value)
@@ -256,6 +255,14 @@ def dataset(result: DictResult) -> vtkMultiBlockDataSet:
     the method asked as ``Method``, the figures of each block's own cells as field data, and
     the whole run's report (the grid kept, checkMesh's figures) as ``Report``."""
     import json
+
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    from vtkmodules.vtkCommonCore import vtkPoints
+    from vtkmodules.vtkCommonDataModel import (
+        vtkCompositeDataSet,
+        vtkMultiBlockDataSet,
+        vtkStructuredGrid,
+    )
 
     out = vtkMultiBlockDataSet()
     blocks = result.block_nodes()

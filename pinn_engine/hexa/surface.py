@@ -9,15 +9,16 @@ from __future__ import annotations
 
 from collections import defaultdict
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkCommonDataModel import vtkPolyData
-from vtkmodules.vtkFiltersCore import vtkTriangleFilter
 
 from pinn_engine.errors import InputError
 from pinn_engine.hexa.sharp import faces_at_sharp_edges
 from pinn_engine.settings import FACE_ANGLE
+
+if TYPE_CHECKING:
+    from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 FACES = 6  # a hexahedral block has six faces
 CORNERS = 8  # ... eight corners
@@ -70,6 +71,9 @@ def surface_of(
     regions between its edges sharper than ``angle`` degrees (:mod:`pinn_engine.hexa.sharp`),
     numbered in the order of their first triangle. Plain VTK, so that ParaView's Python (no
     pyvista) can use it."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkFiltersCore import vtkTriangleFilter
+
     if not sharp_edges and data.GetCellData().GetArray(FACE_ARRAY.decode()) is None:
         raise InputError("no FaceId cell array: tag each of the six faces", source)
     triangulate = vtkTriangleFilter()

@@ -16,10 +16,10 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pinn_engine.adapt import Field, read_field, read_field_file
 from pinn_engine.errors import InputError
 from pinn_engine.job.cover import covered, followed, unfolded
 from pinn_engine.job.family import (
@@ -50,7 +50,11 @@ from pinn_engine.kinds.single import (
     geometry_from_polydata,
     topology_of,
 )
+from pinn_engine.lazy import lazy_names
 from pinn_engine.settings import Settings
+
+if TYPE_CHECKING:
+    from pinn_engine.adapt import Field
 
 
 def run(
@@ -133,3 +137,9 @@ __all__ = [
     "write_cgns",
     "write_unstructured",
 ]
+# the field a grid is adapted to (SPEC 14), read through VTK: imported on first use, so that
+# a run that adapts nothing (a blockMeshDict written as an OpenFOAM case) imports no VTK
+__getattr__, __dir__ = lazy_names(
+    __name__,
+    {name: "pinn_engine.adapt" for name in ("Field", "read_field", "read_field_file")},
+)

@@ -4,19 +4,24 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
-
-from vtkmodules.vtkCommonDataModel import vtkPolyData
+from typing import TYPE_CHECKING
 
 from pinn_engine.blocks3d.dictionary import is_blockmeshdict
 from pinn_engine.hexa.surface import FACE_ARRAY, is_faced_surface
 from pinn_engine.settings import HEXA_SIZE
 
+if TYPE_CHECKING:
+    from vtkmodules.vtkCommonDataModel import vtkPolyData
+
 
 def _faced(boundary: str | os.PathLike | vtkPolyData | None) -> bool:
     """Whether ``boundary`` is a six-faced domain's surface: a file (an ``.stl``, or a
     ``.vtp``/``.vtk`` naming a FaceId array) or VTK data with a FaceId cell array."""
-    if isinstance(boundary, vtkPolyData):
-        return boundary.GetCellData().GetArray(FACE_ARRAY.decode()) is not None
+    if boundary is not None and not isinstance(boundary, str | os.PathLike):
+        from vtkmodules.vtkCommonDataModel import vtkPolyData  # a VTK route's data
+
+        if isinstance(boundary, vtkPolyData):
+            return boundary.GetCellData().GetArray(FACE_ARRAY.decode()) is not None
     return boundary is not None and is_faced_surface(boundary)
 
 

@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
-from vtkmodules.vtkCommonDataModel import vtkDataObject
+
+if TYPE_CHECKING:
+    from vtkmodules.vtkCommonDataModel import vtkDataObject
 
 
 @dataclass

@@ -6,14 +6,17 @@ from __future__ import annotations
 import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
-from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 from pinn_engine.errors import InputError
 from pinn_engine.kinds.four_sided.cache import MeshCache
 from pinn_engine.kinds.outcome import Outcome, network_trained
 from pinn_engine.settings import DEFAULT_SIZE, Settings
+
+if TYPE_CHECKING:
+    from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 # A curve that fails as a four-sided boundary is called a body (and the user pointed to the
 # O- and C-grids) when its ends are at most this share of its size apart (a blunt trailing

@@ -83,3 +83,21 @@ def test_an_orthogonal_dictionary_imports_no_scipy(tmp_path):
     )
     run = ([str(folder / "blockMeshDict"), "--format", "openfoam"], "box_case")
     assert _imported_after([run], tmp_path, ("scipy", "pyamg", "torch")) == []
+
+
+def test_a_dictionary_written_as_an_openfoam_case_imports_no_vtk_nor_torch(tmp_path):
+    """A blockMeshDict's Winslow grid written as an OpenFOAM case: the case is written from
+    the merged hexahedra, so neither VTK (its dataset is built only where a route reads it)
+    nor torch (no network is trained) is imported; the .vtm output does build it."""
+    folder = tmp_path / "duct" / "system"
+    folder.mkdir(parents=True)
+    (folder / "blockMeshDict").write_text(
+        "vertices ((0 0 0) (2 0 0) (2 1 0) (0 1 0) (0 0 1) (2.5 0 1) (2 1 1) (0 1 1));\n"
+        "blocks (hex (0 1 2 3 4 5 6 7) (6 4 4) simpleGrading (1 1 1));\n"
+        "boundary ( walls { type wall; faces ((0 3 2 1)); } );\n"
+    )
+    names = ("vtkmodules", "torch", "pyvista", "scipy.sparse")
+    run = ([str(folder / "blockMeshDict"), "--format", "openfoam"], "duct_case")
+    assert _imported_after([run], tmp_path, names) == ["scipy.sparse"]  # it was solved
+    vtm = ([str(folder / "blockMeshDict")], "duct.vtm")
+    assert _imported_after([vtm], tmp_path, names) == ["vtkmodules", "scipy.sparse"]

@@ -31,10 +31,9 @@ import tempfile
 from collections.abc import Callable, Mapping, Sequence
 from importlib import import_module
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkStructuredGrid
 
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.plane import Plane
@@ -54,6 +53,9 @@ from pinn_engine.io.export.patches import (
 from pinn_engine.io.export.registry import FORMATS as _REGISTERED
 from pinn_engine.io.export.registry import Format
 from pinn_engine.io.export.topology import mean_edge, side_nodes
+
+if TYPE_CHECKING:  # VTK is imported where a grid is read: a blockMeshDict's case needs none
+    from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkStructuredGrid
 
 
 def formats() -> dict[str, Format]:
@@ -112,6 +114,13 @@ def output_format(
     return found
 
 
+def _xyz(grid: vtkStructuredGrid) -> np.ndarray:
+    """The points of ``grid`` (n, 3), as float64."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    return vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64)
+
+
 def _extent(grid: vtkStructuredGrid) -> tuple[int, int, int]:
     """Nodes (ni, nj, nk) of a grid that has points."""
     if grid is None or grid.GetPoints() is None or grid.GetNumberOfPoints() == 0:
@@ -131,7 +140,7 @@ def box_points(grid: vtkStructuredGrid) -> np.ndarray:
     ni, nj, nk = _extent(grid)
     if min(ni, nj, nk) < 2:
         raise InputError(f"a hexahedral grid needs 2 nodes or more, got ({ni}, {nj}, {nk})", "grid")
-    xyz = vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64).reshape(nk, nj, ni, 3)
+    xyz = _xyz(grid).reshape(nk, nj, ni, 3)
     di = xyz[:-1, :-1, 1:] - xyz[:-1, :-1, :-1]
     dj = xyz[:-1, 1:, :-1] - xyz[:-1, :-1, :-1]
     dk = xyz[1:, :-1, :-1] - xyz[:-1, :-1, :-1]
@@ -153,7 +162,7 @@ def grid_points(grid: vtkStructuredGrid) -> tuple[np.ndarray, np.ndarray]:
         raise InputError(
             f"expected a 2D structured grid of (ni, nj, 1) nodes, got ({ni}, {nj}, {nk})", "grid"
         )
-    pts = vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64).reshape(nj, ni, 3)
+    pts = _xyz(grid).reshape(nj, ni, 3)
     ring = pts.reshape(-1, 3)[np.concatenate([side_nodes(ni, nj, s)[:-1] for s in SIDES])]
     plane = Plane.fit(pts.reshape(-1, 3), "grid")
     area = 0.5 * np.cross(ring, np.roll(ring, -1, axis=0)).sum(axis=0)  # vector area
@@ -196,6 +205,8 @@ def write(
     length). Returns the path written; raises ``InputError`` (one line) for bad arguments
     and ``OSError`` when the file system refuses.
     """
+    from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkStructuredGrid
+
     path = Path(path)
     if isinstance(grid, vtkMultiBlockDataSet):
         if patches is not None:
@@ -287,7 +298,7 @@ def _written(found: Format, path: Path, write_to: Callable[[Path], None]) -> Pat
 def _body_points(grid: vtkStructuredGrid, topology: str, path: Path):
     """The nodes (nj, ni, 3) of an O- or C-grid, its extrusion normal (the O-grid's cells are
     clockwise in (i, j), SPEC 9) and its wake node count."""
-    points = vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64)
+    points = _xyz(grid)
     ext = grid.GetExtent()
     points = points.reshape(ext[3] - ext[2] + 1, ext[1] - ext[0] + 1, 3)
     if np.ptp(points[..., 2]) > 1e-12 * max(1.0, float(np.ptp(points))):

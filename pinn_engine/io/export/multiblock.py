@@ -11,14 +11,16 @@ so any route that holds the dataset can write it (``export.write_blocks``).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet
 
 from pinn_engine.errors import InputError
 from pinn_engine.io.export.quadmesh import QuadMesh
 from pinn_engine.io.export.topology import quads, side_edges
+
+if TYPE_CHECKING:
+    from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet
 
 Z_UP = np.array([0.0, 0.0, 1.0])  # a multi-block grid lies in a plane z = const
 # Field data of each block naming its boundary pieces (SPEC 10's patches; one entry a
@@ -60,6 +62,8 @@ class Blocks:
 def blocks_of(dataset: vtkMultiBlockDataSet) -> Blocks:
     """The blocks of a multi-block dataset with their pieces; refused (one line) when a
     block carries no pieces (a dataset not made by ``vtm.multiblock_dataset``)."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
     points, pieces = [], []
     for k in range(dataset.GetNumberOfBlocks()):
         grid = dataset.GetBlock(k)

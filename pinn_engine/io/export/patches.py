@@ -12,8 +12,6 @@ import re
 from collections.abc import Mapping, Sequence
 
 import numpy as np
-from vtkmodules.util.numpy_support import numpy_to_vtk
-from vtkmodules.vtkCommonCore import vtkStringArray
 
 from pinn_engine.errors import InputError
 from pinn_engine.patchnames import FACE_PREFIX, SIDE_FIX, checked_name, default_type, split_type
@@ -144,6 +142,9 @@ def type_of(names: Sequence[str], types: Sequence[str] | None, name: str) -> str
 def add_to_grid(grid, names: Sequence[str], types: Sequence[str] | None = None) -> None:
     """Put ``PatchNames`` and ``PatchTypes`` (field data; types default by name) and the
     point arrays ``i``, ``j`` (and ``k`` on a 3D grid) on ``grid``."""
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    from vtkmodules.vtkCommonCore import vtkStringArray
+
     fd = grid.GetFieldData()
     types = types if types is not None else [default_type(n) for n in names]
     for field, values in ((FIELD, names), (TYPES_FIELD, types)):

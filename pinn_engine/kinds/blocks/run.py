@@ -9,16 +9,18 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 from pinn_engine.errors import STOP, InputError
 from pinn_engine.kinds.blocks.settings import BlocksSettings
 from pinn_engine.kinds.outcome import Outcome
 from pinn_engine.kinds.untrained import TFI_START, WINSLOW, cannot_win, start_or_train
 from pinn_engine.settings import AUTO_BLOCKS, NO_TIME_LIMIT, Settings
+
+if TYPE_CHECKING:
+    from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 # A multi-block domain's curves must lie in one plane z = const: z may vary by this share
 # of the domain's size (SPEC 10's grids are built in the x, y plane)
@@ -173,6 +175,8 @@ def curves_of(
     """The rings (closed curves: outer boundary and holes), the block edges (open curves)
     and the edges' names of the two ports' inputs, each curve's points (n, 3); with
     ``automatic`` blocking there must be no edges, without it some (None: either)."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
     from pinn_engine.io.fileio import polylines_of
 
     rings, edges, names = [], [], []

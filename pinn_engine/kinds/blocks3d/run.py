@@ -44,7 +44,7 @@ def run_dictionary(
 ) -> Outcome:
     """The dictionary's blocks meshed by ``settings.method`` (``blocks3d.mesh``), interfaces
     ``settings.interfaces``; ``progress`` hears each stage."""
-    from pinn_engine.blocks3d.mesh import dataset, mesh_dictionary
+    from pinn_engine.blocks3d.mesh import mesh_dictionary
 
     settings = DictionarySettings.adopt(settings)  # a route's core settings
     if settings.method not in DICTIONARY_METHODS:
@@ -63,7 +63,25 @@ def run_dictionary(
         geometry.dictionary, settings.method, settings.interfaces == "free", stage
     )
     grids = [g.transpose(2, 1, 0, 3) for g in result.block_nodes()]
-    return Outcome("dictionary", dataset(result), result.report, grids, mesh=result)
+    return DictionaryOutcome("dictionary", None, result.report, grids, mesh=result)
+
+
+class DictionaryOutcome(Outcome):
+    """A dictionary's outcome, its VTK blocks (``data``: ``blocks3d.mesh.dataset``) built
+    from its merged mesh on first read: the solver formats are written from the mesh, so
+    an OpenFOAM case costs no VTK dataset (0.03 to 0.09 s) and no VTK import (0.12 s)."""
+
+    @property
+    def data(self):
+        if self._data is None:
+            from pinn_engine.blocks3d.mesh import dataset
+
+            self._data = dataset(self.mesh)
+        return self._data
+
+    @data.setter
+    def data(self, value) -> None:
+        self._data = value
 
 
 def write_cgns(result, out: str | os.PathLike) -> None:

@@ -7,12 +7,14 @@ import os
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-
-from vtkmodules.vtkCommonDataModel import vtkPolyData
+from typing import TYPE_CHECKING
 
 from pinn_engine.errors import SettingsError
 from pinn_engine.kinds.outcome import Outcome
 from pinn_engine.settings import Settings, hexa_size_problem
+
+if TYPE_CHECKING:
+    from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 PERCENT = 100  # a stage's progress dict counts the share of the run done in per cent
 
