@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pinn_engine.io.export.topology import face_keys
+from pinn_engine.geometry.faces import face_keys
 
 # OpenFOAM's hexahedron: its six faces (normals out of the cell) by corner
 HEX_FACES = np.array(

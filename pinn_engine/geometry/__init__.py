@@ -1,1 +1,1 @@
-"""Boundaries, sides and corners, planes, auxiliary lines, boundary fits."""
+"""Boundaries, sides and corners, planes, auxiliary lines, boundary fits, quad faces."""

@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from pinn_engine.geometry.faces import face_keys
 from pinn_engine.io.export import bodies
 from pinn_engine.io.export.block import Block, Box
 from pinn_engine.io.export.multiblock import Blocks, merged
@@ -26,7 +27,6 @@ from pinn_engine.io.export.topology import (
     box_cells,
     box_faces,
     end_faces,
-    face_keys,
     inner_faces,
     mean_edge,
     quads,

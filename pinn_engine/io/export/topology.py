@@ -96,16 +96,6 @@ def inner_faces(ni: int, nj: int, nk: int) -> tuple[np.ndarray, np.ndarray, np.n
     return np.vstack(faces), np.concatenate(owner), np.concatenate(neighbour)
 
 
-def face_keys(quads: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Each quad's (m, 4) point ids sorted, packed as two int64 keys (the two lowest ids,
-    the two highest): one face met from its two cells has the same keys, and sorting by
-    them (``np.lexsort((high, low))``) is sorting by the four sorted ids, in a third of the
-    time of a four-key sort."""
-    key = np.sort(quads, axis=1).astype(np.int64)
-    n = int(key[:, 3].max(initial=0)) + 1  # below 3e9 points: n * n fits in an int64
-    return key[:, 0] * n + key[:, 1], key[:, 2] * n + key[:, 3]
-
-
 def side_nodes(ni: int, nj: int, side: str) -> np.ndarray:
     """Node indices of a side, counter-clockwise around the domain (domain on the left)."""
     i, j = np.arange(ni), np.arange(nj)
