@@ -28,17 +28,27 @@ def _fortran(block: np.ndarray) -> np.ndarray:
 
 
 def included_angles(g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Largest and smallest of each cell's 24 face corner angles, in degrees."""
+    """Largest and smallest of each cell's 24 face corner angles, in degrees (each of the
+    12 edges' vectors and lengths computed once, for the 4 angles it makes)."""
     v = _corners(g)
+    edges: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
+
+    def edge(here: int, there: int) -> tuple[float, np.ndarray, np.ndarray]:
+        """The edge from corner ``here`` to ``there``: its sign, vector (as stored) and
+        length; stored the first way it is met, its reverse the same vector negated."""
+        if (there, here) in edges:
+            return -1.0, *edges[(there, here)]
+        if (here, there) not in edges:
+            vec = v[there] - v[here]
+            edges[(here, there)] = vec, np.linalg.norm(vec, axis=1)
+        return 1.0, *edges[(here, there)]
+
     cosines = []
     for face in HEX_FACES:
         for n in range(4):
-            prev, here, nxt = v[face[n - 1]], v[face[n]], v[face[(n + 1) % 4]]
-            a, b = prev - here, nxt - here
-            cosines.append(
-                np.einsum("ij,ij->i", a, b)
-                / np.maximum(np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1), 1e-300)
-            )
+            sa, a, la = edge(face[n], face[n - 1])
+            sb, b, lb = edge(face[n], face[(n + 1) % 4])
+            cosines.append(sa * sb * np.einsum("ij,ij->i", a, b) / np.maximum(la * lb, 1e-300))
     stacked = np.clip(np.stack(cosines, axis=1), -1.0, 1.0)
     # the angle falls as its cosine rises: the largest angle is the smallest cosine's
     return np.degrees(np.arccos(stacked.min(axis=1))), np.degrees(np.arccos(stacked.max(axis=1)))
