@@ -6,6 +6,7 @@ names and sizes with the patches asked for. The readers are in ``export_checks``
 
 from __future__ import annotations
 
+import io
 import re
 from dataclasses import replace
 from pathlib import Path
@@ -343,3 +344,26 @@ def test_the_cgns_helper_python_is_the_checkouts_venv():
     from pinn_engine.io.export import cgns
 
     assert (cgns.ROOT / "pyproject.toml").is_file()
+
+
+@pytest.mark.parametrize(
+    ("rows", "fmt"),
+    [
+        (np.array([[0, 9, 10, 99], [100, 999_999, 1_000_000, 5]]), "4(%d %d %d %d)"),
+        (np.random.default_rng(0).integers(0, 10**7, (70_000, 4)), "4(%d %d %d %d)"),
+        (np.random.default_rng(1).integers(0, 2**40, (50, 2)), "%d  %d x"),
+        (np.arange(12, dtype=np.uint32).reshape(4, 3), "9 %d %d %d"),
+        (np.zeros((0, 4), dtype=int), "4(%d %d %d %d)"),
+        (np.array([3, -1, 0]), "%d"),  # a negative number: the % path
+        (np.array([[0.5, 1e-20, 3.0]]), "(%.17g %.17g %.17g)"),
+    ],
+)
+def test_rows_are_written_as_percent_formatting_writes_them(rows, fmt):
+    """The text writers' rows (polyMesh faces and labels, SU2 and Gmsh elements): integer
+    rows laid out by array operations are the same text as ``%`` formats them."""
+    from pinn_engine.io.export.text import write_rows
+
+    out = io.StringIO()
+    write_rows(out, rows, fmt)
+    table = rows[:, None] if rows.ndim == 1 else rows
+    assert out.getvalue() == "".join(fmt % tuple(row) + "\n" for row in table.tolist())
