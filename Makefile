@@ -29,4 +29,4 @@ check: lint
 
 test: lint
 	$(VENV)/bin/python -m pytest -n $(JOBS) -m "not gui"
-	$(VENV)/bin/python -m pytest -m gui
+	$(VENV)/bin/python -m pytest -n $(JOBS) --dist loadfile -m gui

@@ -1,12 +1,13 @@
 """What the tests share: the example data folder, small boundaries, the one-line refusal of
-a command, OpenFOAM's environment and ParaView's output messages (imported as ``helpers``;
-conftest.py holds only the session's set-up)."""
+a command, OpenFOAM's environment, ParaView's output messages and its GUI driven under Xvfb
+(imported as ``helpers``; conftest.py holds only the session's set-up)."""
 
 from __future__ import annotations
 
 import functools
 import os
 import shutil
+import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -31,6 +32,34 @@ def foam_env() -> dict[str, str]:
     env = dict(os.environ)
     env.setdefault("WM_PROJECT_DIR", "/usr/share/openfoam")
     return env
+
+
+GUI_TOOLS = ("paraview", "xvfb-run", "Xvfb", "xdotool", "import")
+
+
+def skip_without_gui() -> None:
+    """Skip the calling test module where a ParaView GUI cannot be driven here."""
+    missing = [t for t in GUI_TOOLS if shutil.which(t) is None]
+    if missing or not (Path(os.environ.get("PINN_PV_VENV", ROOT / ".venv-pv")) / "bin").exists():
+        pytest.skip(
+            f"ParaView GUI test needs {', '.join(missing) or '.venv-pv'} "
+            "(bash scripts/setup_paraview.sh)",
+            allow_module_level=True,
+        )
+
+
+def drive_gui(script: str, out: Path) -> Path:
+    """Run ``tests/paraview/gui/SCRIPT`` (a GUI driven under its own Xvfb) writing into ``out``."""
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "PYTHONPATH")}
+    proc = subprocess.run(
+        ["bash", str(ROOT / "tests" / "paraview" / "gui" / script), str(out)],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=420,
+    )
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    return out
 
 
 def refused(capsys, argv: list[str], out: Path) -> str:

@@ -54,25 +54,27 @@ wait_for() {  # wait_for FILE SECONDS
 }
 
 quick_launch() {  # quick_launch TEXT: Ctrl+Space, type, Return (ParaView 5.11's layout)
-    xdotool key ctrl+space; sleep 1
+    xdotool key ctrl+space; sleep 2  # (a loaded machine's GUI answers slowly)
     xdotool type --delay 80 "$1"; sleep 1
     xdotool key Return
 }
 
-launch() {  # launch NAME TEXT: quick_launch TEXT until filter NAME exists (3 tries: a loaded
-    # machine's GUI may miss the quick-launch's keys)
+launch() {  # launch NAME TEXT X Y: select the Pipeline Browser's row at (X, Y), quick_launch
+    # TEXT, until filter NAME exists (3 tries: a loaded machine's GUI may miss the
+    # quick-launch's keys, and keys typed into the Pipeline Browser select another row)
     for _ in 1 2 3; do
+        xdotool mousemove "$3" "$4" click 1; sleep 0.5
         quick_launch "$2"
         wait_for "$PINN_GUI_RESULT.$1.created" 20 2>/dev/null && return 0
         xdotool key Escape; sleep 1
     done
-    echo "the quick-launch made no $1" >&2
+    import -window root "$OUT/$1.failed.png"
+    echo "the quick-launch made no $1 (the screen: $OUT/$1.failed.png)" >&2
     return 1
 }
 
 # 1. the STL meshed; Output Messages opened from the View menu
-xdotool mousemove 112 196 click 1; sleep 0.5                 # hexa_bend.stl
-launch PINNStructuredMeshHexahedral1 "PINN hex"
+launch PINNStructuredMeshHexahedral1 "PINN hex" 112 196      # hexa_bend.stl
 wait_for "$PINN_GUI_RESULT.PINNStructuredMeshHexahedral1.json" 120
 cp "$PINN_GUI_RESULT.PINNStructuredMeshHexahedral1.json" "$OUT/stl.json"
 xdotool mousemove 100 10 click 1; sleep 1                    # View
@@ -80,8 +82,7 @@ xdotool mousemove 166 311 click 1; sleep 2                   # Output Messages
 import -window root "$OUT/stl.png"
 
 # 2. a 2D curve given to the hexahedral filter: a failed Apply
-xdotool mousemove 91 240 click 1; sleep 0.5                  # fig2.vtp
-launch PINNStructuredMeshHexahedral2 "PINN hex"
+launch PINNStructuredMeshHexahedral2 "PINN hex" 91 240       # fig2.vtp
 wait_for "$PINN_GUI_RESULT.PINNStructuredMeshHexahedral2.json" 60
 cp "$PINN_GUI_RESULT.PINNStructuredMeshHexahedral2.json" "$OUT/curve.json"
 sleep 2
