@@ -2,7 +2,7 @@
 members against their own default grids and the elliptic grids.
 
 Usage: ``.venv/bin/python benchmarks/family.py [--out docs/family.md] [--workdir DIR]
-[--family channels naca] [--repeat N] [--batches N] [--subsets 6 12]``
+[--family channels naca] [--repeat N] [--batches N] [--subsets 6 12] [--stages]``
 
 For each family of ``example_data/make_families.py`` (24 training members, 8 unseen members
 from the same ranges, 8 from ranges 25 % wider on each side):
@@ -19,7 +19,10 @@ from the same ranges, 8 from ranges 25 % wider on each side):
   median of the summary's seconds a member; with ``--batches N`` the pair N times in turn
   (the machine's load drifts between two batches), each pair's ratio and their median;
 - the models fitted on the first 6 and 12 training members (``--subsets``; targets
-  recomputed): the worst-cell excess on the unseen members, and the wider members.
+  recomputed): the worst-cell excess on the unseen members, and the wider members;
+- with ``--stages``, a body family's CPU seconds a member, default and ``--model`` runs in
+  turn (``--repeat`` times): the whole run, the layout (and its march off the wall), the
+  elliptic grid and the member's own optimisation and choice.
 
 It prints the tables and writes them between the markers of ``--out``.
 """
@@ -28,6 +31,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import functools
 import os
 import statistics
 import subprocess
@@ -160,12 +164,71 @@ def subset_errors(folder: Path, wide: Path, n: int) -> dict:
     return out
 
 
+STAGES = (  # (module, function, name) whose CPU time --stages adds up
+    ("pinn_engine.bodies.bodygrid", "layout", "layout"),
+    ("pinn_engine.bodies.bodygrid", "march", "march"),
+    ("pinn_engine.bodies.bodygrid", "elliptic", "elliptic"),
+    ("pinn_engine.starts.quality_start", "body_quality_start", "optimisation"),
+)
+
+
+def _cpu_timer(f, key: str, spent: dict[str, float]):
+    """``f``, adding its CPU seconds to ``spent[key]``."""
+
+    @functools.wraps(f)
+    def timed_stage(*args, **kwargs):
+        began = time.process_time()
+        try:
+            return f(*args, **kwargs)
+        finally:
+            spent[key] = spent.get(key, 0.0) + time.process_time() - began
+
+    return timed_stage
+
+
+def stages(folder: Path, rows: list[dict], model, repeat: int = REPEAT) -> list[str]:
+    """The CPU seconds a member (median) of each unseen body member's default and family
+    runs, in turn, and of their ``STAGES``."""
+    import importlib
+
+    from pinn_engine import job
+
+    spent: dict[str, float] = {}
+    real = []
+    for module, name, key in STAGES:
+        mod = importlib.import_module(module)
+        real.append((mod, name, getattr(mod, name)))
+        setattr(mod, name, _cpu_timer(real[-1][2], key, spent))
+    got: dict[str, dict[str, list[float]]] = {"default": {}, "--model": {}}
+    try:
+        for _ in range(repeat):
+            for row in rows:
+                settings, geometry = settings_and_geometry(folder, row)
+                for label, family in (("default", None), ("--model", model)):
+                    spent.clear()
+                    began = time.process_time()
+                    job.run(settings, geometry, family=family)
+                    spent["run"] = time.process_time() - began
+                    for key, value in spent.items():
+                        got[label].setdefault(key, []).append(value)
+    finally:
+        for mod, name, f in real:
+            setattr(mod, name, f)
+    keys = ("run", *(key for _, _, key in STAGES))
+    lines = ["| route | " + " | ".join(keys) + " |", "|---" * (len(keys) + 1) + "|"]
+    for label, times in got.items():
+        cells = [f"{statistics.median(times[k]):.3f}" if k in times else "-" for k in keys]
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    return lines
+
+
 def run_family(
     family: str,
     workdir: Path,
     repeat: int = REPEAT,
     subsets: tuple[int, ...] = SUBSETS,
     batches: int = BATCHES,
+    with_stages: bool = False,
 ) -> list[str]:
     folder, wide = generate(workdir, family)
     model = workdir / f"{family}.pt"
@@ -237,6 +300,14 @@ def run_family(
             f"{sum(x['result'] == 'start' for x in rows)} | "
             f"{sum(bool(x['start_solved']) for x in rows)} |"
         )
+    if with_stages:
+        lines += [
+            "",
+            f"CPU seconds a member (median of {len(rows_of(folder / 'unseen.csv')) * repeat}; "
+            "the unseen members, default and `--model` runs in turn):",
+            "",
+            *stages(folder, rows_of(folder / "unseen.csv"), loaded, repeat),
+        ]
     lines += ["", "| training members | worst - default, unseen (max; fell back) | "
               "worst - default, 25 % wider (max; fell back) |", "|---|---|---|"]  # fmt: skip
     for n in subsets:
@@ -264,6 +335,7 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=REPEAT, help="timings a member")
     parser.add_argument("--subsets", type=int, nargs="*", default=list(SUBSETS))
     parser.add_argument("--batches", type=int, default=BATCHES, help="pairs of batches")
+    parser.add_argument("--stages", action="store_true", help="a body family's stages")
     args = parser.parse_args()
     args.workdir = args.workdir.resolve()
     import torch
@@ -278,7 +350,12 @@ def main() -> None:
         lines += [
             "",
             *run_family(
-                family, args.workdir / family, args.repeat, tuple(args.subsets), args.batches
+                family,
+                args.workdir / family,
+                args.repeat,
+                tuple(args.subsets),
+                args.batches,
+                args.stages,
             ),
         ]
     lines.append(f"\nload average {os.getloadavg()[0]:.1f} at the end.")
