@@ -22,7 +22,9 @@ from the same ranges, 8 from ranges 25 % wider on each side):
   recomputed): the worst-cell excess on the unseen members, and the wider members;
 - with ``--stages``, a body family's CPU seconds a member, default and ``--model`` runs in
   turn (``--repeat`` times): the whole run, the layout (and its march off the wall), the
-  elliptic grid and the member's own optimisation and choice.
+  elliptic grid and the member's own optimisation and choice; and how far the family's
+  linear map (``network.fit_linear`` on the boundary encoding) predicts the far-field
+  nodes' angles, which the march places, on the unseen members.
 
 It prints the tables and writes them between the markers of ``--out``.
 """
@@ -222,6 +224,42 @@ def stages(folder: Path, rows: list[dict], model, repeat: int = REPEAT) -> list[
     return lines
 
 
+def far_field_error(folder: Path, wide: Path) -> str:
+    """The largest error of the far-field nodes' angles about the far field's centre (the
+    family frame's origin) predicted from the training members' boundary encoding by the
+    family's linear map, on the unseen and the wider members: in radians and in chords."""
+    from pinn_engine import job
+    from pinn_engine.family.encoding import Encoding, boundary_vector
+    from pinn_engine.family.network import fit_linear, forward
+
+    def members(where: Path, manifest: str) -> list:
+        out = []
+        for row in rows_of(where / manifest):
+            settings, geometry = settings_and_geometry(where, row, "elliptic")
+            member = job.family_member(settings, geometry)
+            far = member.base[-1]
+            angle = np.unwrap(np.arctan2(far[:, 1], far[:, 0]))
+            out.append((boundary_vector(member.base, "body"), angle, np.hypot(*far[0])))
+        return out
+
+    train = members(folder, "train.csv")
+    encoding = Encoding.fit(np.array([v for v, _, _ in train]))
+    mean = np.mean([a for _, a, _ in train], axis=0)
+    z = np.array([encoding.encode(v) for v, _, _ in train])
+    params, _ = fit_linear(z, np.array([a for _, a, _ in train]) - mean)
+    errors = []
+    for where in (folder, wide):
+        for v, angle, radius in members(where, "unseen.csv"):
+            miss = float(np.abs(forward(params, encoding.clamped(v)) + mean - angle).max())
+            errors.append((miss, miss * radius))
+    return (
+        f"Far-field nodes' angles by the linear map on the boundary encoding ({len(train)} "
+        f"members): each of the {len(errors)} unseen members' largest error "
+        f"{min(e for e, _ in errors):.1e} to {max(e for e, _ in errors):.1e} radians "
+        f"({min(c for _, c in errors):.2g} to {max(c for _, c in errors):.2g} chords)."
+    )
+
+
 def run_family(
     family: str,
     workdir: Path,
@@ -308,6 +346,8 @@ def run_family(
             "",
             *stages(folder, rows_of(folder / "unseen.csv"), loaded, repeat),
         ]
+        if loaded.topology == "o":
+            lines += ["", far_field_error(folder, wide)]
     lines += ["", "| training members | worst - default, unseen (max; fell back) | "
               "worst - default, 25 % wider (max; fell back) |", "|---|---|---|"]  # fmt: skip
     for n in subsets:
