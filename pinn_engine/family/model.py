@@ -222,7 +222,7 @@ class FamilyModel:
         if len(self.modes):
             grid = grid + (forward(self.params, z) @ self.modes).reshape(grid.shape)
             if member.start is not None:
-                grid = _held(grid, member)
+                grid = _held(grid, member, self.polish > 0)
         return grid, {"in_range": self.encoding.in_range(vector)}
 
     def check(self, member: Member, settings: Settings | None = None) -> None:
@@ -286,15 +286,16 @@ class FamilyModel:
         return Path(path)
 
 
-def _held(grid: np.ndarray, member: Member) -> np.ndarray:
+def _held(grid: np.ndarray, member: Member, optimised: bool) -> np.ndarray:
     """A body's model ``grid`` with the nodes its own run never moves set to its start's
-    exactly (the modes vanish there to rounding): the wall, the first layer
-    (``quality_start.BODY_HELD_ROWS``), the far field and a C-grid's outflow columns; an
-    O-grid's column ni - 1 repeats its column 0 (the seam)."""
+    exactly (the modes vanish there to rounding): the wall, the far field and a C-grid's
+    outflow columns, and where its own run optimises its nodes (``optimised``) the first
+    layer too (``quality_start.BODY_HELD_ROWS``; a trained network's correction moves it);
+    an O-grid's column ni - 1 repeats its column 0 (the seam)."""
     from pinn_engine.starts.quality_start import BODY_HELD_ROWS
 
-    base = member.base
-    grid[:BODY_HELD_ROWS], grid[-1] = base[:BODY_HELD_ROWS], base[-1]
+    base, held = member.base, BODY_HELD_ROWS if optimised else 1
+    grid[:held], grid[-1] = base[:held], base[-1]
     if member.topology == "o":
         grid[:, -1] = grid[:, 0]
     else:
