@@ -413,3 +413,29 @@ def test_a_c_grid_whose_polish_from_the_model_fails_its_choice_gets_its_own_runs
     by_model = job.run(settings, g, family=model)
     assert by_model.report["training"]["polished_against"] == "optimized"
     np.testing.assert_allclose(by_model.grids[0], own.grids[0], atol=1e-9)
+
+
+@pytest.mark.parametrize("topology", ["o", "c"])
+@pytest.mark.parametrize("optimised", [True, False])
+def test_a_body_model_grid_keeps_the_nodes_its_own_run_never_moves(topology, optimised):
+    """A body's model grid takes its start's wall, far field and a C-grid's outflow columns
+    exactly, its first layer too where its own run optimises its nodes (which hold it; a
+    trained network's correction moves it), and an O-grid's seam is one column."""
+    from pinn_engine.family.members import Member
+    from pinn_engine.family.model import _held
+
+    rng = np.random.default_rng(0)
+    base = rng.random((6, 9, 2))
+    grid = base + 1e-3 * rng.random(base.shape)
+    if topology == "o":  # column ni - 1 repeats column 0
+        base[:, -1], grid[:, -1] = base[:, 0], grid[:, 0]
+    member = Member("body", topology, base, None, "test")
+    held = _held(grid.copy(), member, optimised)
+    np.testing.assert_array_equal(held[0], base[0])
+    np.testing.assert_array_equal(held[-1], base[-1])
+    np.testing.assert_array_equal(held[1, 1:-1], (base if optimised else grid)[1, 1:-1])
+    if topology == "o":
+        np.testing.assert_array_equal(held[:, -1], held[:, 0])
+    else:
+        np.testing.assert_array_equal(held[:, [0, -1]], base[:, [0, -1]])
+    np.testing.assert_array_equal(held[2:-1, 1:-1], grid[2:-1, 1:-1])
