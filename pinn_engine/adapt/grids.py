@@ -14,6 +14,7 @@ from pinn_engine.adapt.field import Field
 from pinn_engine.adapt.guard import GUARD_DEGREES, guarded
 from pinn_engine.adapt.monitor import equidistribution, gradient_size, monitor_values
 from pinn_engine.adapt.nodes import NodeGraph, node_graph
+from pinn_engine.adapt.parametric import ParameterSpace
 from pinn_engine.quality import cell_quality
 from pinn_engine.settings import ADAPT_STRENGTH
 
@@ -68,10 +69,11 @@ def adapt_grids(
     worst0, folded0 = _worst(graph, start)
     limit = worst0 + GUARD_DEGREES
     error0 = interpolation_error(start, graph.cells, sample)
+    space = ParameterSpace(graph, sample)
     points, share, rounds, error, used = start, np.zeros(len(start)), [], error0, 0.0
     beta, last = strength, np.inf
     for _ in range(STRENGTHS if largest > 0 else 0):
-        found = guarded(graph, sample, beta, largest, limit)
+        found = guarded(graph, space, beta, largest, limit)
         now = interpolation_error(found.solved.points, graph.cells, sample)
         rounds.append({"strength": beta, "error": now, "solves": found.rounds})
         if now < error:

@@ -7,14 +7,14 @@ round the offending cells) until it holds."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from pinn_engine.adapt.monitor import to_nodes
 from pinn_engine.adapt.nodes import NodeGraph
-from pinn_engine.adapt.winslow import Solved, adaptive_winslow, pieces_of
+from pinn_engine.adapt.parametric import ParameterSpace
+from pinn_engine.adapt.winslow import Solved, pieces_of
 from pinn_engine.quality import cell_quality
 
 GUARD_DEGREES = 10.0  # SPEC 14: the worst cell may exceed the unadapted grid's by this much
@@ -61,7 +61,7 @@ def _round(graph: NodeGraph, bad: np.ndarray) -> np.ndarray:
 
 def guarded(
     graph: NodeGraph,
-    sample: Callable[[np.ndarray], np.ndarray],
+    space: ParameterSpace,
     strength: float,
     largest: float,
     limit: float,
@@ -73,7 +73,7 @@ def guarded(
     solved = None
     rounds = []
     for _ in range(ROUNDS):
-        solved = adaptive_winslow(graph, sample, strength * share, largest, solved)
+        solved = space.solve(strength * share, largest)
         bad = offending(graph, solved.points, limit)
         rounds.append({"steps": solved.steps, "offending_cells": int(bad.sum())})
         if not bad.any():

@@ -37,10 +37,12 @@ def to_nodes(cells: np.ndarray, values: np.ndarray, n: int) -> np.ndarray:
     return total / np.maximum(np.bincount(cells.ravel(), minlength=n), 1)
 
 
-def gradient_size(points: np.ndarray, cells: np.ndarray, f: np.ndarray) -> np.ndarray:
-    """|grad f| at the nodes, smoothed by ``SMOOTHING_PASSES``."""
+def gradient_size(
+    points: np.ndarray, cells: np.ndarray, f: np.ndarray, passes: int = SMOOTHING_PASSES
+) -> np.ndarray:
+    """|grad f| at the nodes, smoothed by ``passes``."""
     g = to_nodes(cells, cell_gradients(points, cells, f), len(points))
-    for _ in range(SMOOTHING_PASSES):
+    for _ in range(passes):
         g = to_nodes(cells, g[cells].mean(axis=1), len(points))
     return g
 

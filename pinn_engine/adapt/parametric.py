@@ -1,0 +1,301 @@
+"""The adaptive equations of SPEC 14 solved in the unadapted grid's own parameter space.
+
+Each block's unadapted grid is a fold-free map x = X(u, v) from its logical lattice
+(u = i, v = j), bilinear in every cell. The adapted grid is X(s(i, j)): new logical
+positions s on the block's lattice, found from Winslow's variable-diffusion equations
+(Winslow 1981) posed in that parameter space ("adaptation in computational space": the
+monitor pulled back through X, here as the scalar M(X(u, v)) on the uniform lattice):
+
+    div_u( (1/M) grad_u xi ) = 0,   div_u( (1/M) grad_u eta ) = 0,
+
+solved for the computational coordinates (xi, eta)(u, v) on a lattice ``REFINE`` times
+finer than the block's (the monitor is resolved inside a cell), xi and eta given on the
+block's sides, then inverted: s(i, j) is the (u, v) where (xi, eta) = (i, j). With M
+constant the solution is xi = u, eta = v exactly (a linear function is discrete-harmonic),
+so the unadapted grid, its gradings, wall spacings and angles, is where adaptation starts
+from and what it keeps where the monitor is flat. The equations are linear in (xi, eta)
+for a given M (M is a function of the unadapted grid's points, not of the adapted ones):
+one sparse solve a block, no Picard steps. Their five-point operator has positive weights
+on a convex polygon (the block's rectangle), so the discrete map is one-to-one (Tutte's
+embedding; Floater 2003, "One-to-one piecewise linear mappings over triangulations") and
+the inverted lattice s has no fold, nor then X(s).
+
+A block's sides (boundary pieces, interfaces, a C-grid's wake cut, an O-grid's seam) take
+the one-dimensional form of the same equations, M times d(xi)/du constant between the
+nodes that stay: nodes slide along their own side (a boundary piece's spline, an interface
+or cut's own polyline, the same positions from both sides), and the side's xi is the
+block's boundary values."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.linalg import splu
+
+from pinn_engine.adapt.monitor import gradient_size, monitor_values
+from pinn_engine.adapt.nodes import NodeGraph
+from pinn_engine.adapt.winslow import Solved, pieces_of
+
+REFINE = 4  # sub-cells a side of an unadapted cell: a front a cell wide is seen inside it
+# refined nodes at most over all blocks (a 40 000-cell grid solves at 2 sub-cells a side)
+MAX_REFINED = 200_000
+# the monitor's smoothing passes a sub-cell: the physical-space solve's two passes of the
+# unadapted grid's cells, kept as wide
+SMOOTHING_PER_CELL = 2
+INSIDE_TOL = 1e-9  # a target on a triangle's edge counts as inside it (rounding)
+
+
+def refinement(graph: NodeGraph) -> int:
+    """Sub-cells a cell side: ``REFINE``, fewer where the refined lattices would pass
+    ``MAX_REFINED`` nodes."""
+    cells = sum((i.shape[0] - 1) * (i.shape[1] - 1) for i in graph.ids)
+    return int(max(1, min(REFINE, np.floor(np.sqrt(MAX_REFINED / max(cells, 1))))))
+
+
+def bilinear(grid: np.ndarray, u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """The block's bilinear map X at lattice coordinates (u along i, v along j)."""
+    nj, ni = grid.shape[:2]
+    i0 = np.clip(np.floor(u).astype(int), 0, ni - 2)
+    j0 = np.clip(np.floor(v).astype(int), 0, nj - 2)
+    a, b = (u - i0)[..., None], (v - j0)[..., None]
+    return (1 - b) * ((1 - a) * grid[j0, i0] + a * grid[j0, i0 + 1]) + b * (
+        (1 - a) * grid[j0 + 1, i0] + a * grid[j0 + 1, i0 + 1]
+    )
+
+
+def _lattice_cells(rows: int, cols: int) -> np.ndarray:
+    """The cells (m, 4) of a rows x cols lattice of flat node indices."""
+    k = np.arange(rows * cols).reshape(rows, cols)
+    return np.stack([k[:-1, :-1], k[:-1, 1:], k[1:, 1:], k[1:, :-1]], axis=-1).reshape(-1, 4)
+
+
+@dataclass
+class _Block:
+    """A block's refined lattice: its points in (u, v) and in the plane, and |grad f|."""
+
+    grid: np.ndarray
+    ids: np.ndarray
+    u: np.ndarray
+    v: np.ndarray
+    gradient: np.ndarray
+
+
+@dataclass
+class _Run:
+    """A block side's nodes between two that stay (ids in run order), where it lies in a
+    block ((block, side name, first and last lattice index along the side)), and the
+    boundary piece it is (with ``reverse`` when the piece runs the other way), if any."""
+
+    ids: np.ndarray
+    block: int
+    side: str
+    first: int
+    last: int
+    piece: int | None
+    reverse: bool
+
+
+def _sides(ids: np.ndarray) -> dict[str, np.ndarray]:
+    return {"bottom": ids[0, :], "top": ids[-1, :], "left": ids[:, 0], "right": ids[:, -1]}
+
+
+class ParameterSpace:
+    """The blocks of ``graph`` prepared for adapting to a field: refined lattices, the field
+    sampled once on them, the sides cut into runs. :meth:`solve` adapts with a strength at
+    each node (the guard lowers it round cells that break)."""
+
+    def __init__(self, graph: NodeGraph, sample) -> None:
+        self.graph, self.sample = graph, sample
+        self.r = r = refinement(graph)
+        self.pieces = pieces_of(graph)
+        self.blocks = []
+        for ids in graph.ids:
+            grid = graph.points[ids]
+            nj, ni = ids.shape
+            v, u = np.meshgrid(np.arange((nj - 1) * r + 1) / r, np.arange((ni - 1) * r + 1) / r)
+            u, v = u.T, v.T
+            points = bilinear(grid, u, v)
+            flat = points.reshape(-1, 2)
+            cells = _lattice_cells(*u.shape)
+            g = gradient_size(flat, cells, sample(flat), SMOOTHING_PER_CELL * r)
+            self.blocks.append(_Block(grid, ids, u, v, g.reshape(u.shape)))
+        self.runs = self._runs()
+
+    def _runs(self) -> list[_Run]:
+        """Every block side's runs between the nodes that stay; each run once (a wake cut,
+        a seam or an interface is two blocks' sides, or two sides of one)."""
+        by_ids = {}
+        for k, piece in enumerate(self.pieces):
+            by_ids[tuple(piece.ids)] = (k, False)
+            by_ids[tuple(piece.ids[::-1])] = (k, True)
+        seen, runs = set(), []
+        for b, block in enumerate(self.blocks):
+            for name, side in _sides(block.ids).items():
+                stops = np.flatnonzero(self.graph.held[side])
+                stops = np.union1d(stops, [0, len(side) - 1])
+                for first, last in zip(stops[:-1], stops[1:]):
+                    ids = side[first : last + 1]
+                    key = tuple(ids) if ids[0] <= ids[-1] else tuple(ids[::-1])
+                    if last - first < 2 or key in seen:
+                        continue
+                    seen.add(key)
+                    piece, reverse = by_ids.get(tuple(ids), (None, False))
+                    runs.append(_Run(ids, b, name, int(first), int(last), piece, reverse))
+        return runs
+
+    @staticmethod
+    def _side_values(side: str, values: np.ndarray) -> np.ndarray:
+        """A refined lattice's ``values`` along a side."""
+        return {
+            "bottom": values[0, :],
+            "top": values[-1, :],
+            "left": values[:, 0],
+            "right": values[:, -1],
+        }[side]
+
+    def solve(self, strength: np.ndarray, largest: float) -> Solved:
+        """The grid adapted with the monitor of ``strength`` at each node, scaled by the
+        field's largest gradient ``largest``."""
+        graph, r = self.graph, self.r
+        monitors = []
+        for block in self.blocks:
+            beta = bilinear(strength[block.ids][..., None], block.u, block.v)[..., 0]
+            monitors.append(monitor_values(block.gradient, beta, largest))
+        points = graph.points.copy()
+        params = [piece.s.copy() for piece in self.pieces]
+        # each run's share of the way along it at its refined points, in run order
+        shares: dict[tuple, np.ndarray] = {}
+        for run in self.runs:
+            m = monitors[run.block]
+            along = self._side_values(run.side, m)[run.first * r : run.last * r + 1]
+            cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (along[1:] + along[:-1]))])
+            share = cumulative / cumulative[-1]
+            shares[tuple(run.ids)] = share
+            shares[tuple(run.ids[::-1])] = 1.0 - share[::-1]
+            n = len(run.ids) - 1
+            u = np.interp(np.arange(n + 1) / n, share, np.arange(n * r + 1) / r)  # run index
+            inner = run.ids[1:-1]
+            if run.piece is not None:
+                piece = self.pieces[run.piece]
+                at = n - u if run.reverse else u  # the piece's own index
+                s = np.interp(at, np.arange(n + 1), piece.s)
+                points[inner] = piece.curve(s[1:-1])
+                params[run.piece][1:-1] = s[::-1][1:-1] if run.reverse else s[1:-1]
+            else:
+                line = graph.points[run.ids]
+                k = np.clip(np.floor(u).astype(int), 0, n - 1)
+                t = (u - k)[:, None]
+                points[inner] = ((1 - t) * line[k] + t * line[k + 1])[1:-1]
+        for block, m in zip(self.blocks, monitors):
+            self._interior(block, m, shares, points)
+        final = monitor_values(
+            gradient_size(points, graph.cells, self.sample(points)), strength, largest
+        )
+        return Solved(points, params, final, 1)
+
+    def _interior(
+        self, block: _Block, m: np.ndarray, shares: dict[tuple, np.ndarray], points: np.ndarray
+    ) -> None:
+        """Solve the block's (xi, eta) on its refined lattice and place its inner nodes at
+        X(s), s where (xi, eta) = (i, j)."""
+        r, held = self.r, self.graph.held[block.ids]
+        nj, ni = block.ids.shape
+        rows, cols = block.u.shape
+        xi, eta = block.u.copy(), block.v.copy()  # the values on the sides and held nodes
+        fixed = np.zeros((rows, cols), dtype=bool)
+        fixed[[0, -1], :] = True
+        fixed[:, [0, -1]] = True
+        for name, side in _sides(block.ids).items():
+            stops = np.union1d(np.flatnonzero(self.graph.held[side]), [0, len(side) - 1])
+            for first, last in zip(stops[:-1], stops[1:]):
+                share = shares.get(tuple(side[first : last + 1]))
+                if share is None:  # two nodes only: they stay
+                    continue
+                along = first + (last - first) * share
+                span = slice(first * r, last * r + 1)
+                if name in ("bottom", "top"):
+                    xi[0 if name == "bottom" else -1, span] = along
+                else:
+                    eta[span, 0 if name == "left" else -1] = along
+        # cells whose four corners stay (a wall's first row asked) stay, with their insides
+        whole = held[:-1, :-1] & held[:-1, 1:] & held[1:, :-1] & held[1:, 1:]
+        sub = np.kron(whole, np.ones((r, r), dtype=bool))
+        for dj, di in ((0, 0), (0, 1), (1, 0), (1, 1)):
+            fixed[dj : rows - 1 + dj, di : cols - 1 + di] |= sub
+        fixed[::r, ::r] |= held
+        n = rows * cols
+        k = np.arange(n).reshape(rows, cols)
+        w_i = 2.0 / (m[:, 1:] + m[:, :-1])  # 1/M at the edges along i
+        w_j = 2.0 / (m[1:, :] + m[:-1, :])
+        a = np.concatenate([k[:, :-1].ravel(), k[:-1, :].ravel()])
+        b = np.concatenate([k[:, 1:].ravel(), k[1:, :].ravel()])
+        w = np.concatenate([w_i.ravel(), w_j.ravel()])
+        lap = coo_matrix(
+            (np.concatenate([w, w, -w, -w]), (np.r_[a, b, a, b], np.r_[a, b, b, a])), shape=(n, n)
+        ).tocsr()
+        free = np.flatnonzero(~fixed.ravel())
+        known = np.flatnonzero(fixed.ravel())
+        if len(free):
+            values = np.column_stack([xi.ravel(), eta.ravel()])
+            rhs = -lap[free][:, known] @ values[known]
+            solved = splu(lap[free][:, free].tocsc()).solve(rhs)
+            values[free] = solved
+            xi, eta = values[:, 0].reshape(rows, cols), values[:, 1].reshape(rows, cols)
+        inner = np.zeros((nj, ni), dtype=bool)
+        inner[1:-1, 1:-1] = True
+        inner &= ~held
+        targets = np.argwhere(inner)  # (j, i)
+        if not len(targets):
+            return
+        uv = _inverted(xi, eta, block.u, block.v, targets[:, 1], targets[:, 0])
+        points[block.ids[inner]] = bilinear(block.grid, uv[:, 0], uv[:, 1])
+
+
+def _inverted(
+    xi: np.ndarray, eta: np.ndarray, u: np.ndarray, v: np.ndarray, ti: np.ndarray, tj: np.ndarray
+) -> np.ndarray:
+    """The lattice coordinates (u, v) (k, 2) where the piecewise-linear map (xi, eta) of the
+    refined lattice (each sub-cell two triangles) takes the integer points (ti, tj)."""
+    rows, cols = xi.shape
+    k = np.arange(rows * cols).reshape(rows, cols)
+    c00, c01, c11, c10 = k[:-1, :-1], k[:-1, 1:], k[1:, 1:], k[1:, :-1]
+    tri = np.concatenate(
+        [np.stack([c00, c01, c11], -1).reshape(-1, 3), np.stack([c00, c11, c10], -1).reshape(-1, 3)]
+    )
+    target = np.full((int(tj.max()) + 2, int(ti.max()) + 2), -1)
+    target[tj, ti] = np.arange(len(ti))
+    px, py = xi.ravel()[tri], eta.ravel()[tri]
+    lo_x, hi_x = np.ceil(px.min(1) - INSIDE_TOL), np.floor(px.max(1) + INSIDE_TOL)
+    lo_y, hi_y = np.ceil(py.min(1) - INSIDE_TOL), np.floor(py.max(1) + INSIDE_TOL)
+    nx = np.maximum(hi_x - lo_x + 1, 0).astype(int)
+    ny = np.maximum(hi_y - lo_y + 1, 0).astype(int)
+    count = nx * ny
+    owner = np.repeat(np.arange(len(tri)), count)
+    local = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
+    qx = lo_x[owner] + local % nx[owner]
+    qy = lo_y[owner] + local // nx[owner]
+    ok = (qx >= 0) & (qy >= 0) & (qx < target.shape[1]) & (qy < target.shape[0])
+    owner, qx, qy = owner[ok], qx[ok].astype(int), qy[ok].astype(int)
+    which = target[qy, qx]
+    keep = which >= 0
+    owner, qx, qy, which = owner[keep], qx[keep], qy[keep], which[keep]
+    x0, y0 = px[owner, 0], py[owner, 0]
+    e1x, e1y = px[owner, 1] - x0, py[owner, 1] - y0
+    e2x, e2y = px[owner, 2] - x0, py[owner, 2] - y0
+    det = e1x * e2y - e1y * e2x
+    det = np.where(np.abs(det) > 1e-300, det, 1e-300)
+    dx, dy = qx - x0, qy - y0
+    l1 = (dx * e2y - dy * e2x) / det
+    l2 = (e1x * dy - e1y * dx) / det
+    inside = (l1 >= -INSIDE_TOL) & (l2 >= -INSIDE_TOL) & (l1 + l2 <= 1 + INSIDE_TOL)
+    owner, which, l1, l2 = owner[inside], which[inside], l1[inside], l2[inside]
+    _, first = np.unique(which, return_index=True)
+    out = np.column_stack([u.ravel(), v.ravel()])
+    corners = tri[owner[first]]
+    a, b = l1[first, None], l2[first, None]
+    found = (1 - a - b) * out[corners[:, 0]] + a * out[corners[:, 1]] + b * out[corners[:, 2]]
+    uv = np.column_stack([ti, tj]).astype(float)  # a point no triangle holds stays
+    uv[which[first]] = found
+    return uv
