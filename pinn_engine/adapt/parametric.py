@@ -31,7 +31,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.sparse import coo_matrix
+from scipy.sparse import coo_matrix, csr_matrix
 from scipy.sparse.linalg import splu
 
 from pinn_engine.adapt.monitor import gradient_size, monitor_values
@@ -71,6 +71,55 @@ def _lattice_cells(rows: int, cols: int) -> np.ndarray:
     return np.stack([k[:-1, :-1], k[:-1, 1:], k[1:, 1:], k[1:, :-1]], axis=-1).reshape(-1, 4)
 
 
+def own_diffusion(grid: np.ndarray, r: int) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
+    """The weights of the refined lattice's edges (along i (rows, cols - 1), along j
+    (rows - 1, cols)) in the equation of xi and in that of eta.
+
+    The variable-diffusion operator pulled back to the lattice of a cell of length L along i
+    and thickness h along j is (1/M) diag(h / L, L / h) (the physical Laplacian in lattice
+    coordinates): across a cell a hundred times thinner than long, nodes move together (a
+    wall's rows slide along it as one; a trailing edge that stays holds the thin cells beside
+    it), and the thin rows are where the flat ones do not move. Each coordinate's equation
+    takes it times the unadapted grid's own density along that coordinate, c = a(j) L / h
+    for xi and c = b(i) h / L for eta, which makes the tensor's entry along the coordinate a
+    function of the other index only (a(j) for xi, b(i) for eta): then xi = u and eta = v
+    solve the equations exactly with M constant, and the unadapted grid is kept where the
+    field is flat (the physical solve's own control functions do the same). a and b are the
+    geometric means of L / h's inverse along each row and of L / h along each column."""
+    length = np.linalg.norm(np.diff(grid, axis=1), axis=-1)
+    length = 0.5 * (length[1:] + length[:-1])  # (nj - 1, ni - 1)
+    thick = np.linalg.norm(np.diff(grid, axis=0), axis=-1)
+    thick = 0.5 * (thick[:, 1:] + thick[:, :-1])
+    q = np.log(np.maximum(length, 1e-300) / np.maximum(thick, 1e-300))  # log(L / h)
+    row = np.broadcast_to(-q.mean(axis=1, keepdims=True), q.shape)  # log a(j)
+    col = np.broadcast_to(q.mean(axis=0, keepdims=True), q.shape)  # log b(i)
+    return (
+        (np.exp(_on_edges(row, r, 0)), np.exp(_on_edges(row + 2 * q, r, 1))),
+        (np.exp(_on_edges(col - 2 * q, r, 0)), np.exp(_on_edges(col, r, 1))),
+    )
+
+
+def _on_edges(per_cell: np.ndarray, r: int, along: int) -> np.ndarray:
+    """Cell values (nj - 1, ni - 1) at the refined lattice's edges along i (``along`` 0:
+    (rows, cols - 1)) or along j (1: (rows - 1, cols)): an edge inside a cell takes its
+    cell's, an edge on a grid line between two cells their mean."""
+    out = per_cell
+    for axis in (0, 1):
+        fine = np.repeat(out, r, axis=axis)
+        if axis == along:  # these edges lie on the refined lattice's lines across ``axis``
+            last = np.take(out, [-1], axis=axis)
+            fine = np.concatenate([fine, last], axis=axis)
+            mean = 0.5 * (
+                np.take(out, range(1, out.shape[axis]), axis=axis)
+                + np.take(out, range(out.shape[axis] - 1), axis=axis)
+            )
+            index = [slice(None)] * 2
+            index[axis] = slice(r, r * (out.shape[axis] - 1) + 1, r)
+            fine[tuple(index)] = mean
+        out = fine
+    return out
+
+
 @dataclass
 class _Block:
     """A block's refined lattice: its points in (u, v) and in the plane, and |grad f|."""
@@ -80,6 +129,7 @@ class _Block:
     u: np.ndarray
     v: np.ndarray
     gradient: np.ndarray
+    diffusion: tuple[tuple[np.ndarray, np.ndarray], ...]
 
 
 @dataclass
@@ -120,7 +170,8 @@ class ParameterSpace:
             flat = points.reshape(-1, 2)
             cells = _lattice_cells(*u.shape)
             g = gradient_size(flat, cells, sample(flat), SMOOTHING_PER_CELL * r)
-            self.blocks.append(_Block(grid, ids, u, v, g.reshape(u.shape)))
+            diffusion = own_diffusion(grid, r)
+            self.blocks.append(_Block(grid, ids, u, v, g.reshape(u.shape), diffusion))
         self.runs = self._runs()
 
     def _runs(self) -> list[_Run]:
@@ -225,24 +276,17 @@ class ParameterSpace:
         for dj, di in ((0, 0), (0, 1), (1, 0), (1, 1)):
             fixed[dj : rows - 1 + dj, di : cols - 1 + di] |= sub
         fixed[::r, ::r] |= held
-        n = rows * cols
-        k = np.arange(n).reshape(rows, cols)
-        w_i = 2.0 / (m[:, 1:] + m[:, :-1])  # 1/M at the edges along i
-        w_j = 2.0 / (m[1:, :] + m[:-1, :])
-        a = np.concatenate([k[:, :-1].ravel(), k[:-1, :].ravel()])
-        b = np.concatenate([k[:, 1:].ravel(), k[1:, :].ravel()])
-        w = np.concatenate([w_i.ravel(), w_j.ravel()])
-        lap = coo_matrix(
-            (np.concatenate([w, w, -w, -w]), (np.r_[a, b, a, b], np.r_[a, b, b, a])), shape=(n, n)
-        ).tocsr()
         free = np.flatnonzero(~fixed.ravel())
         known = np.flatnonzero(fixed.ravel())
-        if len(free):
-            values = np.column_stack([xi.ravel(), eta.ravel()])
-            rhs = -lap[free][:, known] @ values[known]
-            solved = splu(lap[free][:, free].tocsc()).solve(rhs)
-            values[free] = solved
-            xi, eta = values[:, 0].reshape(rows, cols), values[:, 1].reshape(rows, cols)
+        for values, (along_i, along_j) in zip((xi, eta), block.diffusion):
+            if not len(free):
+                break
+            lap = _laplacian(
+                along_i * 2.0 / (m[:, 1:] + m[:, :-1]), along_j * 2.0 / (m[1:, :] + m[:-1, :])
+            )
+            flat = values.ravel()  # a view: solved in place
+            rhs = -lap[free][:, known] @ flat[known]
+            flat[free] = splu(lap[free][:, free].tocsc()).solve(rhs)
         inner = np.zeros((nj, ni), dtype=bool)
         inner[1:-1, 1:-1] = True
         inner &= ~held
@@ -299,3 +343,16 @@ def _inverted(
     uv = np.column_stack([ti, tj]).astype(float)  # a point no triangle holds stays
     uv[which[first]] = found
     return uv
+
+
+def _laplacian(along_i: np.ndarray, along_j: np.ndarray) -> csr_matrix:
+    """The five-point operator of a lattice (rows, cols) with these edge weights."""
+    rows, cols = along_j.shape[0] + 1, along_i.shape[1] + 1
+    n = rows * cols
+    k = np.arange(n).reshape(rows, cols)
+    a = np.concatenate([k[:, :-1].ravel(), k[:-1, :].ravel()])
+    b = np.concatenate([k[:, 1:].ravel(), k[1:, :].ravel()])
+    w = np.concatenate([along_i.ravel(), along_j.ravel()])
+    return coo_matrix(
+        (np.concatenate([w, w, -w, -w]), (np.r_[a, b, a, b], np.r_[a, b, b, a])), shape=(n, n)
+    ).tocsr()
