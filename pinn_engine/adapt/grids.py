@@ -73,7 +73,7 @@ def adapt_grids(
     points, share, rounds, error, used = start, np.zeros(len(start)), [], error0, 0.0
     beta, last = strength, np.inf
     for _ in range(STRENGTHS if largest > 0 else 0):
-        found = guarded(graph, space, beta, largest, limit)
+        found = guarded(graph, space, beta, limit)
         now = interpolation_error(found.solved.points, graph.cells, sample)
         rounds.append({"strength": beta, "error": now, "solves": found.rounds})
         if now < error:

@@ -63,7 +63,6 @@ def guarded(
     graph: NodeGraph,
     space: ParameterSpace,
     strength: float,
-    largest: float,
     limit: float,
 ) -> Guarded:
     """The grid adapted with ``strength`` lowered where the guard (``limit`` degrees, no
@@ -73,7 +72,7 @@ def guarded(
     solved = None
     rounds = []
     for _ in range(ROUNDS):
-        solved = space.solve(strength * share, largest)
+        solved = space.solve(strength * share)
         bad = offending(graph, solved.points, limit)
         rounds.append({"steps": solved.steps, "offending_cells": int(bad.sum())})
         if not bad.any():

@@ -173,6 +173,8 @@ class ParameterSpace:
             diffusion = own_diffusion(grid, r)
             self.blocks.append(_Block(grid, ids, u, v, g.reshape(u.shape), diffusion))
         self.runs = self._runs()
+        # the monitor's scale: the largest |grad f| the refined lattices see
+        self.largest = max(float(b.gradient.max()) for b in self.blocks)
 
     def _runs(self) -> list[_Run]:
         """Every block side's runs between the nodes that stay; each run once (a wake cut,
@@ -206,81 +208,104 @@ class ParameterSpace:
             "right": values[:, -1],
         }[side]
 
-    def solve(self, strength: np.ndarray, largest: float) -> Solved:
-        """The grid adapted with the monitor of ``strength`` at each node, scaled by the
-        field's largest gradient ``largest``."""
-        graph, r = self.graph, self.r
+    def solve(self, strength: np.ndarray) -> Solved:
+        """The grid adapted with the monitor of ``strength`` at each node."""
+        graph, r, largest = self.graph, self.r, self.largest
         monitors = []
         for block in self.blocks:
             beta = bilinear(strength[block.ids][..., None], block.u, block.v)[..., 0]
             monitors.append(monitor_values(block.gradient, beta, largest))
         points = graph.points.copy()
         params = [piece.s.copy() for piece in self.pieces]
-        # each run's share of the way along it at its refined points, in run order
+        # each run's share of the way along it at its refined points, in run order: an
+        # interface's, a cut's or a seam's from its one-dimensional equations (the same from
+        # both sides), a boundary piece's from its block's solve (its natural condition)
         shares: dict[tuple, np.ndarray] = {}
         for run in self.runs:
-            m = monitors[run.block]
-            along = self._side_values(run.side, m)[run.first * r : run.last * r + 1]
-            cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (along[1:] + along[:-1]))])
-            share = cumulative / cumulative[-1]
-            shares[tuple(run.ids)] = share
-            shares[tuple(run.ids[::-1])] = 1.0 - share[::-1]
-            n = len(run.ids) - 1
-            u = np.interp(np.arange(n + 1) / n, share, np.arange(n * r + 1) / r)  # run index
-            inner = run.ids[1:-1]
+            if run.piece is None:
+                m = monitors[run.block]
+                along = self._side_values(run.side, m)[run.first * r : run.last * r + 1]
+                cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (along[1:] + along[:-1]))])
+                self._place(run, cumulative / cumulative[-1], shares, points, params)
+        solved = [self._interior(b, m, shares, points) for b, m in zip(self.blocks, monitors)]
+        for run in self.runs:
             if run.piece is not None:
-                piece = self.pieces[run.piece]
-                at = n - u if run.reverse else u  # the piece's own index
-                s = np.interp(at, np.arange(n + 1), piece.s)
-                points[inner] = piece.curve(s[1:-1])
-                params[run.piece][1:-1] = s[::-1][1:-1] if run.reverse else s[1:-1]
-            else:
-                line = graph.points[run.ids]
-                k = np.clip(np.floor(u).astype(int), 0, n - 1)
-                t = (u - k)[:, None]
-                points[inner] = ((1 - t) * line[k] + t * line[k + 1])[1:-1]
-        for block, m in zip(self.blocks, monitors):
-            self._interior(block, m, shares, points)
+                xi, eta = solved[run.block]
+                values = xi if run.side in ("bottom", "top") else eta
+                along = self._side_values(run.side, values)[run.first * r : run.last * r + 1]
+                share = np.maximum.accumulate((along - run.first) / (run.last - run.first))
+                self._place(run, np.clip(share, 0.0, 1.0), shares, points, params)
         final = monitor_values(
             gradient_size(points, graph.cells, self.sample(points)), strength, largest
         )
         return Solved(points, params, final, 1)
 
+    def _place(
+        self,
+        run: _Run,
+        share: np.ndarray,
+        shares: dict[tuple, np.ndarray],
+        points: np.ndarray,
+        params: list[np.ndarray],
+    ) -> None:
+        """Place a run's inner nodes where its ``share`` (at its refined points, 0 to 1)
+        passes theirs: on a boundary piece's curve, or on the run's own polyline."""
+        shares[tuple(run.ids)] = share
+        shares[tuple(run.ids[::-1])] = 1.0 - share[::-1]
+        n, r = len(run.ids) - 1, self.r
+        u = np.interp(np.arange(n + 1) / n, share, np.arange(n * r + 1) / r)  # run index
+        inner = run.ids[1:-1]
+        if run.piece is not None:
+            piece = self.pieces[run.piece]
+            at = n - u if run.reverse else u  # the piece's own index
+            s = np.interp(at, np.arange(n + 1), piece.s)
+            points[inner] = piece.curve(s[1:-1])
+            params[run.piece][1:-1] = s[::-1][1:-1] if run.reverse else s[1:-1]
+        else:
+            line = self.graph.points[run.ids]
+            k = np.clip(np.floor(u).astype(int), 0, n - 1)
+            t = (u - k)[:, None]
+            points[inner] = ((1 - t) * line[k] + t * line[k + 1])[1:-1]
+
     def _interior(
         self, block: _Block, m: np.ndarray, shares: dict[tuple, np.ndarray], points: np.ndarray
-    ) -> None:
-        """Solve the block's (xi, eta) on its refined lattice and place its inner nodes at
-        X(s), s where (xi, eta) = (i, j)."""
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Solve the block's (xi, eta) on its refined lattice, place its inner nodes at
+        X(s), s where (xi, eta) = (i, j), and return (xi, eta)."""
         r, held = self.r, self.graph.held[block.ids]
         nj, ni = block.ids.shape
         rows, cols = block.u.shape
         xi, eta = block.u.copy(), block.v.copy()  # the values on the sides and held nodes
-        fixed = np.zeros((rows, cols), dtype=bool)
-        fixed[[0, -1], :] = True
-        fixed[:, [0, -1]] = True
+        fixed_xi = np.zeros((rows, cols), dtype=bool)
+        fixed_xi[[0, -1], :] = True
+        fixed_xi[:, [0, -1]] = True
+        fixed_eta = fixed_xi.copy()
+        free_pieces = {tuple(run.ids) for run in self.runs if run.piece is not None}
         for name, side in _sides(block.ids).items():
             stops = np.union1d(np.flatnonzero(self.graph.held[side]), [0, len(side) - 1])
+            values, fixed = (xi, fixed_xi) if name in ("bottom", "top") else (eta, fixed_eta)
+            line = {"bottom": 0, "top": -1, "left": 0, "right": -1}[name]
             for first, last in zip(stops[:-1], stops[1:]):
-                share = shares.get(tuple(side[first : last + 1]))
-                if share is None:  # two nodes only: they stay
-                    continue
-                along = first + (last - first) * share
-                span = slice(first * r, last * r + 1)
-                if name in ("bottom", "top"):
-                    xi[0 if name == "bottom" else -1, span] = along
-                else:
-                    eta[span, 0 if name == "left" else -1] = along
+                ids = side[first : last + 1]
+                span = slice(first * r + 1, last * r)  # the refined points inside the run
+                index = (line, span) if name in ("bottom", "top") else (span, line)
+                if tuple(ids) in free_pieces or tuple(ids[::-1]) in free_pieces:
+                    fixed[index] = False  # a boundary piece: its natural condition
+                elif tuple(ids) in shares:
+                    values[index] = first + (last - first) * shares[tuple(ids)][1:-1]
         # cells whose four corners stay (a wall's first row asked) stay, with their insides
         whole = held[:-1, :-1] & held[:-1, 1:] & held[1:, :-1] & held[1:, 1:]
         sub = np.kron(whole, np.ones((r, r), dtype=bool))
-        for dj, di in ((0, 0), (0, 1), (1, 0), (1, 1)):
-            fixed[dj : rows - 1 + dj, di : cols - 1 + di] |= sub
-        fixed[::r, ::r] |= held
-        free = np.flatnonzero(~fixed.ravel())
-        known = np.flatnonzero(fixed.ravel())
-        for values, (along_i, along_j) in zip((xi, eta), block.diffusion):
+        for fixed in (fixed_xi, fixed_eta):
+            for dj, di in ((0, 0), (0, 1), (1, 0), (1, 1)):
+                fixed[dj : rows - 1 + dj, di : cols - 1 + di] |= sub
+            fixed[::r, ::r] |= held
+        for values, fixed, (along_i, along_j) in zip(
+            (xi, eta), (fixed_xi, fixed_eta), block.diffusion
+        ):
+            free, known = np.flatnonzero(~fixed.ravel()), np.flatnonzero(fixed.ravel())
             if not len(free):
-                break
+                continue
             lap = _laplacian(
                 along_i * 2.0 / (m[:, 1:] + m[:, :-1]), along_j * 2.0 / (m[1:, :] + m[:-1, :])
             )
@@ -291,10 +316,10 @@ class ParameterSpace:
         inner[1:-1, 1:-1] = True
         inner &= ~held
         targets = np.argwhere(inner)  # (j, i)
-        if not len(targets):
-            return
-        uv = _inverted(xi, eta, block.u, block.v, targets[:, 1], targets[:, 0])
-        points[block.ids[inner]] = bilinear(block.grid, uv[:, 0], uv[:, 1])
+        if len(targets):
+            uv = _inverted(xi, eta, block.u, block.v, targets[:, 1], targets[:, 0])
+            points[block.ids[inner]] = bilinear(block.grid, uv[:, 0], uv[:, 1])
+        return xi, eta
 
 
 def _inverted(
