@@ -18,7 +18,10 @@ from pinn_engine.adapt.winslow import Solved, pieces_of
 from pinn_engine.quality import cell_quality
 
 GUARD_DEGREES = 10.0  # SPEC 14: the worst cell may exceed the unadapted grid's by this much
-ROUNDS = 6  # solves with the strength lowered round the offending cells, at most
+ROUNDS = 12  # solves with the strength lowered round the offending cells, at most
+# a round that leaves more than this share of the last round's offending cells is the last:
+# the cells left are pulled by the monitor farther away, and the draw-back takes them
+PROGRESS = 0.8
 LOWER = 0.5  # each round multiplies the strength round an offending cell by this
 # the lowering reaches this many rings of cells round an offending cell, fading: a strength
 # cut at one node alone would crease the monitor there
@@ -77,6 +80,8 @@ def guarded(
         rounds.append({"steps": solved.steps, "offending_cells": int(bad.sum())})
         if not bad.any():
             return Guarded(solved, share, np.ones(n), rounds)
+        if len(rounds) > 1 and bad.sum() > PROGRESS * rounds[-2]["offending_cells"]:
+            break
         share = share * (1.0 - (1.0 - LOWER) * _round(graph, bad))
     return _drawn_back(graph, solved, share, limit, rounds)
 

@@ -39,8 +39,9 @@ from pinn_engine.adapt.nodes import NodeGraph
 from pinn_engine.adapt.winslow import Solved, pieces_of
 
 REFINE = 4  # sub-cells a side of an unadapted cell: a front a cell wide is seen inside it
-# refined nodes at most over all blocks (a 40 000-cell grid solves at 2 sub-cells a side)
-MAX_REFINED = 200_000
+# refined nodes at most over all blocks (a sparse factorisation of this size takes about a
+# second; a 40 000-cell grid solves on its own lattice, a 6 400-cell one at 3 sub-cells)
+MAX_REFINED = 100_000
 # the monitor's smoothing passes a sub-cell: the physical-space solve's two passes of the
 # unadapted grid's cells, kept as wide
 SMOOTHING_PER_CELL = 2
