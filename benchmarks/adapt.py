@@ -13,10 +13,7 @@ the held-out ones ``example_data/holdout`` (no constant was set on them).
     .venv/bin/python benchmarks/adapt.py [--set tuning|holdout|bodies|all] [--beta 5 10 20]
         [--size 41 31] [--speed]
 
-``--speed`` times adapting a 201 x 201 four-sided grid (40 000 cells) against meshing it;
-``--trailing-edge`` follows the NACA 0012 C-grid's first Picard steps (the curved front,
-beta 2 and 20): the worst cell after each, and the first step's moves of the nodes round
-the trailing edge against the thickness of the cells there.
+``--speed`` times adapting a 201 x 201 four-sided grid (40 000 cells) against meshing it.
 """
 
 from __future__ import annotations
@@ -206,58 +203,15 @@ def speed() -> None:
     )
 
 
-def trailing_edge() -> None:
-    """The C-grid's worst cell after each of the first Picard steps, and the first step's
-    moves round its trailing edge (docs/adaptation.md: why the C-grid adapts little)."""
-    import pinn_engine.adapt.winslow as winslow
-    from pinn_engine.adapt.monitor import gradient_size
-    from pinn_engine.adapt.nodes import node_graph
-
-    grid = c_grid()[0]
-    box = np.array([grid.reshape(-1, 2).min(axis=0), grid.reshape(-1, 2).max(axis=0)])
-    field = Field(image(fields(box)["front"], box), "u", "front")
-    graph = node_graph([grid], None)
-    largest = float(gradient_size(graph.points, graph.cells, field.sample(graph.points)).max())
-    steps = winslow.STEPS
-    for beta in (2.0, 20.0):
-        for winslow.STEPS in (1, 2, 3):
-            strength = np.full(len(graph.points), beta)
-            out = winslow.adaptive_winslow(graph, field.sample, strength, largest)
-            moved = graph.grids(out.points)[0]
-            angle = cell_quality(moved)["MaxIncludedAngle"]
-            j, i = np.unravel_index(np.argmax(angle), angle.shape)
-            print(
-                f"beta {beta:g}, {winslow.STEPS} step(s): worst {angle.max():.1f} deg "
-                f"(unadapted {cell_quality(grid)['MaxIncludedAngle'].max():.1f}) in cell "
-                f"j {j}, i {i} at ({grid[j, i, 0]:.4f}, {grid[j, i, 1]:.4f})"
-            )
-            if winslow.STEPS == 1:
-                # the trailing edge's node on the upper side (the wake runs on from it)
-                tail = int(np.flatnonzero(np.linalg.norm(grid[0] - (1.0, 0.0), axis=1) < 1e-6)[-1])
-                for jj, ii in ((0, tail), (0, tail + 1), (1, tail), (1, tail + 1)):
-                    d = moved[jj, ii] - grid[jj, ii]
-                    print(
-                        f"  node j {jj}, i {ii} at ({grid[jj, ii, 0]:.5f}, {grid[jj, ii, 1]:.5f})"
-                        f" moves ({d[0]:+.5f}, {d[1]:+.5f}); the cells there are "
-                        f"{np.linalg.norm(grid[1, tail] - grid[0, tail]):.1e} thick, "
-                        f"{np.linalg.norm(grid[0, tail + 1] - grid[0, tail]):.1e} long"
-                    )
-    winslow.STEPS = steps
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--set", default="all", choices=("tuning", "holdout", "bodies", "all"))
     parser.add_argument("--beta", type=float, nargs="+", default=[DEFAULT_STRENGTH])
     parser.add_argument("--size", type=int, nargs=2, default=(41, 31))
     parser.add_argument("--speed", action="store_true")
-    parser.add_argument("--trailing-edge", action="store_true")
     args = parser.parse_args()
     if args.speed:
         speed()
-        return
-    if args.trailing_edge:
-        trailing_edge()
         return
     print(
         "| shape | field | beta | L2 error after/before | max error after/before | worst "

@@ -50,7 +50,7 @@ def mesh_curvature(args: list[str]) -> int:
     import numpy as np
 
     import pinn_engine.adapt.grids as grids
-    import pinn_engine.adapt.winslow as winslow
+    import pinn_engine.adapt.parametric as parametric
     from pinn_engine.adapt.monitor import (
         SMOOTHING_PASSES,
         cell_areas,
@@ -60,14 +60,14 @@ def mesh_curvature(args: list[str]) -> int:
 
     scale = {}
 
-    def curvature(points, cells, f):
+    def curvature(points, cells, f, passes=SMOOTHING_PASSES):
         n = len(points)
         g = cell_gradient_vectors(points, cells, f)
         hx = cell_gradient_vectors(points, cells, to_nodes(cells, g[:, 0], n))
         hy = cell_gradient_vectors(points, cells, to_nodes(cells, g[:, 1], n))
         cross = 0.5 * (hx[:, 1] + hy[:, 0])
         h = to_nodes(cells, np.sqrt(hx[:, 0] ** 2 + hy[:, 1] ** 2 + 2 * cross**2), n)
-        for _ in range(SMOOTHING_PASSES):
+        for _ in range(passes):
             h = to_nodes(cells, h[cells].mean(axis=1), n)
         if "alpha" not in scale:  # the first call is on the unadapted grid
             area = to_nodes(cells, cell_areas(points, cells), n)
@@ -77,7 +77,7 @@ def mesh_curvature(args: list[str]) -> int:
     def monitor(h, strength, largest):
         return (1.0 + np.asarray(strength) / grids.DEFAULT_STRENGTH * h / scale["alpha"]) ** POWER
 
-    for module in (grids, winslow):
+    for module in (grids, parametric):
         module.gradient_size, module.monitor_values = curvature, monitor
     return mesh_kept(args)
 

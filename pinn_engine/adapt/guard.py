@@ -14,7 +14,7 @@ import numpy as np
 from pinn_engine.adapt.monitor import to_nodes
 from pinn_engine.adapt.nodes import NodeGraph
 from pinn_engine.adapt.parametric import ParameterSpace
-from pinn_engine.adapt.winslow import Solved, pieces_of
+from pinn_engine.adapt.pieces import Solved, pieces_of
 from pinn_engine.quality import cell_quality
 
 GUARD_DEGREES = 10.0  # SPEC 14: the worst cell may exceed the unadapted grid's by this much

@@ -1,8 +1,6 @@
 """The nodes of a 2D grid of any kind as one graph (SPEC 14): each block's nodes merged
 where they coincide (a shared block side, an O-grid's seam, a C-grid's wake cut), every
-cell counter-clockwise, the 3 x 3 stencil of each node with four cells round it (a block's
-interior node, or a node of a seam, cut or interface, its neighbours taken from the cells
-on both sides), and the boundary cut into pieces between the nodes that stay."""
+cell counter-clockwise, and the boundary cut into pieces between the nodes that stay."""
 
 from __future__ import annotations
 
@@ -12,8 +10,6 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
-
-from pinn_engine.multiblock.junctions import REGULAR, Star
 
 # Nodes of two blocks (or of a seam or cut) are one node when this share of the diagonal or
 # less apart: exporters join them at the same tolerance's scale, and shared nodes are equal
@@ -26,23 +22,15 @@ CORNER_TURN = 30.0
 @dataclass
 class NodeGraph:
     """``points`` (n, 2) of the unique nodes, each block's id lattice ``ids`` (nj, ni),
-    ``cells`` (m, 4) counter-clockwise, ``stencils`` (k, 3, 3) of the nodes solved for
-    (``[:, 1, 1]``, their i and j neighbours in a block's index directions), ``stars``:
-    the nodes inside the domain with other than four cells round them (junctions of three
-    or five blocks, ``multiblock.junctions``' stencils), ``pieces``:
-    the boundary between staying nodes (each an id run, its two ends staying), and
-    ``inward``: for a boundary node with two cells, the node its grid line leads to
-    inside the domain (else -1); ``held``: the nodes that stay (corners, block corners on
-    the boundary, and those the caller holds)."""
+    ``cells`` (m, 4) counter-clockwise, ``pieces``: the boundary between staying nodes
+    (each an id run, its two ends staying), ``held``: the nodes that stay (corners, block
+    corners, and those the caller holds)."""
 
     points: np.ndarray
     ids: list[np.ndarray]
     cells: np.ndarray
-    stencils: np.ndarray
-    stars: list[Star]
     pieces: list[np.ndarray]
     held: np.ndarray
-    inward: np.ndarray
 
     @property
     def diagonal(self) -> float:
@@ -93,32 +81,6 @@ def _edge_counts(cells: np.ndarray) -> dict[tuple[int, int], int]:
     return {(int(a), int(b)): int(c) for (a, b), c in zip(keys, counts)}
 
 
-def _fan(node: int, around: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
-    """The side and diagonal neighbours of ``node``, counter-clockwise (diagonal k between
-    side neighbours k and k + 1), from its counter-clockwise cells ``around``; None where
-    they do not close round it."""
-    rolled = []
-    for cell in around:
-        k = int(np.flatnonzero(cell == node)[0])
-        rolled.append(np.roll(cell, -k))  # (node, next, diagonal, previous)
-    order = [rolled.pop(0)]
-    while rolled:
-        nxt = [c for c in rolled if c[1] == order[-1][3]]
-        if len(nxt) != 1:
-            return None
-        order.append(nxt[0])
-        rolled = [c for c in rolled if c is not nxt[0]]
-    if order[-1][3] != order[0][1]:
-        return None
-    return np.array([c[1] for c in order]), np.array([c[2] for c in order])
-
-
-def _stencil(node: int, edges: np.ndarray, diagonals: np.ndarray) -> np.ndarray:
-    """The 3 x 3 stencil of a node with four cells round it (east, north, west, south)."""
-    (e, n, w, s), (ne, nw, sw, se) = edges, diagonals
-    return np.array([[sw, s, se], [w, node, e], [nw, n, ne]])
-
-
 def node_graph(grids: list[np.ndarray], held: list[np.ndarray] | None = None) -> NodeGraph:
     """The graph of the blocks ``grids`` (each (nj, ni, 2)); ``held``: per block, a mask of
     nodes that must stay (walls whose first edge or angle was asked, with their first row)."""
@@ -132,70 +94,9 @@ def node_graph(grids: list[np.ndarray], held: list[np.ndarray] | None = None) ->
         if mask is not None:
             stay[lattice[mask]] = True
     boundary_edges = np.array([e for e, c in counts.items() if c == 1], dtype=int).reshape(-1, 2)
-    on_boundary = np.zeros(n, dtype=bool)
-    on_boundary[boundary_edges.ravel()] = True
-    stay &= on_boundary | _held_inside(ids, held, n)
-    per_node = np.bincount(cells.ravel(), minlength=n)
-    stencils = []
-    for lattice in ids:
-        windows = np.lib.stride_tricks.sliding_window_view(lattice, (3, 3)).reshape(-1, 3, 3)
-        stencils.append(windows)
-    st = np.concatenate(stencils) if stencils else np.zeros((0, 3, 3), dtype=int)
-    centre = st[:, 1, 1]
-    inner = np.zeros(n, dtype=bool)
-    inner[centre] = True  # inside one block: its window is its stencil
-    _, first = np.unique(centre, return_index=True)
-    st = st[first]
-    others = np.flatnonzero(~inner & ~on_boundary & (per_node >= 3))
-    stars = []
-    if len(others):
-        order = np.argsort(cells.ravel(), kind="stable")
-        starts = np.searchsorted(cells.ravel()[order], others)
-        extra = []
-        for node, s in zip(others, starts):
-            fan = _fan(int(node), cells[order[s : s + per_node[node]] // 4])
-            if fan is None:
-                continue
-            if len(fan[0]) == REGULAR:
-                extra.append(_stencil(int(node), *fan))
-            else:
-                stars.append(Star(int(node), *fan))
-        if extra:
-            st = np.concatenate([st, np.array(extra)])
-    solved = np.zeros(n, dtype=bool)
-    solved[st[:, 1, 1]] = True
-    solved[[star.node for star in stars]] = True
-    stay |= ~solved & ~on_boundary  # a fan that does not close
-    st = st[~stay[st[:, 1, 1]]]
-    stars = [star for star in stars if not stay[star.node]]
     pieces, corners = _pieces(points, boundary_edges, stay)
     stay[corners] = True
-    return NodeGraph(points, ids, cells, st, stars, pieces, stay, _inward(cells, on_boundary, n))
-
-
-def _inward(cells: np.ndarray, on_boundary: np.ndarray, n: int) -> np.ndarray:
-    """For each boundary node with two cells, the node at the other end of the edge the two
-    cells share (the grid line leaving the boundary there); -1 elsewhere."""
-    out = np.full(n, -1)
-    edges = np.stack([cells, np.roll(cells, -1, axis=1)], axis=-1).reshape(-1, 2)
-    edges = np.sort(edges, axis=1)
-    keys, counts = np.unique(edges, axis=0, return_counts=True)
-    shared = keys[counts == 2]  # inside the domain
-    per_node = np.bincount(cells.ravel(), minlength=n)
-    for a, b in ((0, 1), (1, 0)):
-        at = shared[:, a]
-        take = on_boundary[at] & ~on_boundary[shared[:, b]] & (per_node[at] == 2)
-        out[at[take]] = shared[take, b]
-    return out
-
-
-def _held_inside(ids: list[np.ndarray], held, n: int) -> np.ndarray:
-    """Nodes the caller holds inside the domain (a wall's first row)."""
-    out = np.zeros(n, dtype=bool)
-    for lattice, mask in zip(ids, held or [None] * len(ids)):
-        if mask is not None:
-            out[lattice[mask]] = True
-    return out
+    return NodeGraph(points, ids, cells, pieces, stay)
 
 
 def _pieces(

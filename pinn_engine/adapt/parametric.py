@@ -36,7 +36,7 @@ from scipy.sparse.linalg import splu
 
 from pinn_engine.adapt.monitor import gradient_size, monitor_values
 from pinn_engine.adapt.nodes import NodeGraph
-from pinn_engine.adapt.winslow import Solved, pieces_of
+from pinn_engine.adapt.pieces import Solved, pieces_of
 
 REFINE = 4  # sub-cells a side of an unadapted cell: a front a cell wide is seen inside it
 # refined nodes at most over all blocks (a sparse factorisation of this size takes about a
