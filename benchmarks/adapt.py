@@ -13,7 +13,9 @@ the held-out ones ``example_data/holdout`` (no constant was set on them).
     .venv/bin/python benchmarks/adapt.py [--set tuning|holdout|bodies|all] [--beta 5 10 20]
         [--size 41 31] [--speed]
 
-``--speed`` times adapting a 201 x 201 four-sided grid (40 000 cells) against meshing it.
+``--speed`` times adapting a 201 x 201 four-sided grid (40 000 cells) against meshing it;
+``--unguarded`` solves the C-grid and the multi-block grid at fixed strengths without the
+guard: the error ratio and the cells over the guard's bound (where the bound binds).
 """
 
 from __future__ import annotations
@@ -203,15 +205,43 @@ def speed() -> None:
     )
 
 
+def unguarded() -> None:
+    """The parameter-space solve alone (no guard, no tries) on the C-grid and the blocks:
+    each strength's L2 error ratio and the cells over the worst cell's bound."""
+    from pinn_engine.adapt.guard import GUARD_DEGREES, offending
+    from pinn_engine.adapt.nodes import node_graph
+    from pinn_engine.adapt.parametric import ParameterSpace
+
+    for name, grids in (("C-grid NACA 0012", c_grid()), ("cylinder blocks", cylinder_blocks())):
+        flat = np.vstack([g.reshape(-1, 2) for g in grids])
+        box = np.array([flat.min(axis=0), flat.max(axis=0)])
+        graph = node_graph(grids, None)
+        worst = max(cell_quality(g)["MaxIncludedAngle"].max() for g in grids)
+        for field_name, f in fields(box).items():
+            space = ParameterSpace(graph, Field(image(f, box), "u", field_name).sample)
+            before = interpolation_error(grids, f)[0]
+            line = []
+            for beta in (1.0, 2.0, 5.0, 10.0, 20.0):
+                out = space.solve(np.full(len(graph.points), beta))
+                ratio = interpolation_error(graph.grids(out.points), f)[0] / before
+                over = int(offending(graph, out.points, worst + GUARD_DEGREES).sum())
+                line.append(f"{ratio:.2f} ({over})")
+            print(f"| {name} | {field_name} | " + " | ".join(line) + " |", flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--set", default="all", choices=("tuning", "holdout", "bodies", "all"))
     parser.add_argument("--beta", type=float, nargs="+", default=[DEFAULT_STRENGTH])
     parser.add_argument("--size", type=int, nargs=2, default=(41, 31))
     parser.add_argument("--speed", action="store_true")
+    parser.add_argument("--unguarded", action="store_true")
     args = parser.parse_args()
     if args.speed:
         speed()
+        return
+    if args.unguarded:
+        unguarded()
         return
     print(
         "| shape | field | beta | L2 error after/before | max error after/before | worst "
