@@ -311,7 +311,8 @@ CORNER_COS = math.cos(math.radians(CORNER_TURN))
 ROUND_FACING_COS = math.cos(math.radians(ROUND_FACING))
 
 
-# a row's tangent (t_x, t_y) turned to its outward normal, as (t_y, t_x) times these
+# a row's tangent (t_x, t_y) turned to its outward normal, as (t_y, t_x) times these (i runs
+# counter-clockwise in the O-grid, clockwise in the C-grid)
 _TURNS = {"o": np.array([1.0, -1.0]), "c": np.array([-1.0, 1.0])}
 
 
@@ -322,8 +323,7 @@ def _row_normals(p: np.ndarray, topology: str) -> np.ndarray:
     the corner's bisector, whatever the spacing on either side."""
     t = _row_tangents(p, topology)
     # i runs counter-clockwise in the O-grid (body on the left), clockwise in the C-grid
-    sign = 1.0 if topology == "o" else -1.0
-    n = t[:, ::-1] * _TURNS[topology]  # (sign t_y, -sign t_x)
+    n = t[:, ::-1] * _TURNS[topology]  # (sign t_y, -sign t_x), sign 1 (O) or -1 (C)
     u = _units(p[1:] - p[:-1])  # segment i runs from node i to node i + 1
     cos = np.ones(len(p))  # the C-grid's end nodes have one segment: no corner
     w = u[1:] * u[:-1]
@@ -335,8 +335,7 @@ def _row_normals(p: np.ndarray, topology: str) -> np.ndarray:
     if len(corners):  # the bisector of the segments ahead and behind (wrapped in the O-grid)
         ahead = u[np.minimum(corners, len(u) - 1) if topology == "c" else corners % len(u)]
         back = u[np.maximum(corners - 1, 0) if topology == "c" else corners - 1]
-        b = ahead + back
-        n[corners] = _units(sign * np.column_stack([b[:, 1], -b[:, 0]]))
+        n[corners] = _units((ahead + back)[:, ::-1] * _TURNS[topology])
     if topology == "c":
         n[0], n[-1] = (0.0, -1.0), (0.0, 1.0)
     return n
