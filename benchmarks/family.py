@@ -10,8 +10,8 @@ from the same ranges, 8 from ranges 25 % wider on each side):
 - ``pinn-mesh fit train.csv --workers 2``: its wall time, the members' default grids' and
   the model's;
 - in this process (warm, set up as a batch worker sets itself up: one BLAS thread, glibc's
-  heap tuned; without them a member's default run took 1.4 times the CPU time, and the
-  in-process ratios looked better than the batch's): each unseen member's default grid,
+  heap tuned; without them a member's default run takes more CPU time than in a worker,
+  and the in-process ratios look better than the batch's): each unseen member's default grid,
   elliptic grid and family grid, their times (the median of ``--repeat``, 3) and figures;
   the family grid must have no fold, the default grid's boundary nodes, the worst cell
   within 2 degrees and the mean within 0.5 of the default grid's;
