@@ -19,10 +19,12 @@ from pinn_engine.quality import cell_quality
 from pinn_engine.settings import ADAPT_STRENGTH
 
 DEFAULT_STRENGTH = ADAPT_STRENGTH  # the default strength beta (settings, measured there)
-# The strengths tried, each WEAKER than the last (kept only where better: the grid with the
-# lowest interpolation error of the field is the result, the unadapted grid if none is
-# lower). Five reach a sixteenth of the strength asked: the guard's bound binds at about
-# beta 2 to 5 where a front crosses grid lines obliquely (docs/adaptation.md)
+# The strengths tried: the strength asked times WEAKER to the powers STRENGTHS - 1 down to 0,
+# weakest first (kept only where better: the grid with the lowest interpolation error of
+# the field is the result, the unadapted grid if none is lower). The tries stop at the first
+# that is no better than the grid kept: a stronger one binds the guard harder. Five reach a
+# sixteenth of the strength asked: the guard's bound binds at about beta 2 to 5 where a
+# front crosses grid lines obliquely (docs/adaptation.md)
 STRENGTHS = 5
 WEAKER = 0.5
 
@@ -72,14 +74,15 @@ def adapt_grids(
     error0 = interpolation_error(start, graph.cells, sample)
     space = ParameterSpace(graph, sample)
     points, share, rounds, error, used = start, np.zeros(len(start)), [], error0, 0.0
-    beta = strength
-    for _ in range(STRENGTHS if largest > 0 else 0):
+    for k in range(STRENGTHS - 1, -1, -1) if largest > 0 else ():
+        beta = strength * WEAKER**k
         found = guarded(graph, space, beta, limit)
         now = interpolation_error(found.solved.points, graph.cells, sample)
         rounds.append({"strength": beta, "error": now, "solves": found.rounds})
         if now < error:
             points, share, error, used = found.solved.points, found.share * found.kept, now, beta
-        beta *= WEAKER
+        elif used > 0:
+            break
     final = gradient_size(points, graph.cells, sample(points))
     m_used = monitor_values(final, strength * share, largest)
     m_start = monitor_values(gradient, strength, largest)
