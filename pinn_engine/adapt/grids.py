@@ -19,12 +19,10 @@ from pinn_engine.quality import cell_quality
 from pinn_engine.settings import ADAPT_STRENGTH
 
 DEFAULT_STRENGTH = ADAPT_STRENGTH  # the default strength beta (settings, measured there)
-# The strengths tried: the strength asked times WEAKER to the powers STRENGTHS - 1 down to 0,
-# weakest first (kept only where better: the grid with the lowest interpolation error of
-# the field is the result, the unadapted grid if none is lower). The tries stop at the first
-# that is no better than the grid kept: a stronger one binds the guard harder. Five reach a
-# sixteenth of the strength asked: the guard's bound binds at about beta 2 to 5 where a
-# front crosses grid lines obliquely (docs/adaptation.md)
+# The strengths tried: the strength asked times WEAKER**k, k = STRENGTHS - 1 down to 0,
+# weakest first, stopping at the first no better than the grid kept (a stronger one binds
+# the guard harder); the lowest interpolation error wins, the unadapted grid if none is
+# lower. A sixteenth is reached: the guard binds at about beta 2 to 5 (docs/adaptation.md)
 STRENGTHS = 5
 WEAKER = 0.5
 
