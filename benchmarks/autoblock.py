@@ -110,7 +110,7 @@ def run_domain(name: str, make) -> tuple[list[str], bool, tuple]:
     rings, hand_edges = make()
     h = FINER.get(name, 1.0 / CELLS_ACROSS)
     start = time.perf_counter()
-    edges = propose_edges(rings)
+    edges = propose_edges(rings, cell_size=h)  # judged at the size meshed, as a run does
     propose = time.perf_counter() - start
     auto_result, auto_time = meshed(rings, edges, h)
     hand_result, hand_time = meshed(rings, hand_edges, h)

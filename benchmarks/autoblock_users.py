@@ -236,7 +236,7 @@ def run_domain(name: str, make) -> list[str]:
     h = 1.0 / CELLS_ACROSS
     start = time.perf_counter()
     try:
-        edges = propose_edges(rings)
+        edges = propose_edges(rings, cell_size=h)  # judged at the size meshed, as a run does
         propose = time.perf_counter() - start
         auto_result, auto_time = meshed(rings, edges, h)
         auto = figures(auto_result)

@@ -276,6 +276,7 @@ class PinnMultiBlockAlgorithm(
             orthogonal=self._orthogonal,
             cells=self._cells,
             gradings=self._gradings,
+            cell_size=settings.cell_size,
         )
         began = time.perf_counter()
         outcome = self._run_job(settings, geometry, self._block, field=field)

@@ -90,9 +90,11 @@ def _laid_out(
     automatic: bool,
     source: str,
     places: dict,
+    cell_size: float = 0.0,
 ) -> BlocksGeometry:
     """The geometry of curves (n, 2 or 3) in one plane: the edges given, or proposed from
-    the rings when ``automatic``."""
+    the rings when ``automatic`` (layouts judged at the run's ``cell_size``, 0: the
+    default)."""
     curves = flat_curves(rings + edges + [line.points for line in aux], source)
     flat = curves[len(rings) + len(edges) :]
     edges = curves[len(rings) : len(rings) + len(edges)]
@@ -100,7 +102,8 @@ def _laid_out(
     if automatic:
         from pinn_engine.multiblock.autoblock import proposal
 
-        proposed = proposal(curves[: len(rings)], source, layers=bool(places["walls"].spacing))
+        layers = bool(places["walls"].spacing)
+        proposed = proposal(curves[: len(rings)], source, layers, cell_size)
         edges, names, blocking = proposed.edges, proposed.names, proposed.report
     lines = [replace(line, points=c) for line, c in zip(aux, flat)]
     return BlocksGeometry(curves[: len(rings)], edges, names, source, lines, blocking, **places)
@@ -115,6 +118,7 @@ def blocks_from_files(
     orthogonal: Sequence[str] = (),
     cells: Sequence[str] = (),
     gradings: Sequence[str] = (),
+    cell_size: float = 0.0,
 ) -> BlocksGeometry:
     """The multi-block domain of files: ``boundary`` (outer boundary and holes), the
     block-edge files ``edges`` (``[AUTO_BLOCKS]``: edges proposed from the boundary alone,
@@ -122,7 +126,8 @@ def blocks_from_files(
     ``X,Y=NAME[:TYPE]`` items naming boundary pieces; ``spacing``: ``NAME=H`` or ``X,Y=H``
     items, ``orthogonal``: ``NAME[,NAME...]`` items; ``cells``: ``X,Y=N`` items, N cells
     along the chain through the block side nearest (X, Y); ``gradings``: ``X,Y=R`` items,
-    an expansion ratio R along that chain."""
+    an expansion ratio R along that chain; ``cell_size``: the run's (0: the default), the
+    size automatic blocking judges its layouts at."""
     from pinn_engine.io.fileio import read_aux_lines, read_rings
 
     places = _places(patches, spacing, orthogonal, cells, gradings)  # refused before reading
@@ -132,7 +137,7 @@ def blocks_from_files(
     lines = [line for path in aux for line in read_aux_lines(path)]
     names = [r.name for r in raws]
     curves = [r.points for r in raws]
-    return _laid_out(rings, curves, names, lines, automatic, str(boundary), places)
+    return _laid_out(rings, curves, names, lines, automatic, str(boundary), places, cell_size)
 
 
 def read_block_edges(path: str | os.PathLike) -> list:
@@ -222,6 +227,7 @@ def blocks_from_polydata(
     orthogonal: Sequence[str] = (),
     cells: Sequence[str] = (),
     gradings: Sequence[str] = (),
+    cell_size: float = 0.0,
 ) -> BlocksGeometry:
     """The multi-block domain of VTK inputs (:func:`curves_of`: the rings and edges of the
     boundary and block-edge ports; the auxiliary lines of ``aux_inputs``), the edges proposed
@@ -237,7 +243,7 @@ def blocks_from_polydata(
         for k, poly in enumerate(polys)
         for line in aux_lines_of(poly, _name("auxiliary lines input", k, len(polys)))
     ]
-    return _laid_out(rings, edges, names, aux, automatic, "input", places)
+    return _laid_out(rings, edges, names, aux, automatic, "input", places, cell_size)
 
 
 def train_blocks(

@@ -1,6 +1,8 @@
 """A layout judged by its grid (SPEC 13): the elliptic multi-block grid of the boundary cut by
-the layout's edges, at SPEC 10's default cell size, its quality and interface kinks weighed
-into one figure (lower is better).
+the layout's edges, at the cell size the run asks (SPEC 10's default where it asks none), its
+quality and interface kinks weighed into one figure (lower is better). A layout is judged at
+the size it will be meshed at: one that is clean at the default size may fold at a finer
+one (a diamond near a floor) or rank differently (a wide leaning tee).
 
 The solve stops after ``SCORE_ITERATIONS`` Picard steps: the examples converge in under 100,
 and a layout whose sliding ends still move after that is judged where they are.
@@ -22,15 +24,26 @@ SCORE_ITERATIONS = 200  # Picard steps at most for a layout's grid
 WORST_WEIGHT = 0.1  # a degree of the worst MaxIncludedAngle against one of the mean
 KINK_WEIGHT = 1.5  # a degree of mean interface kink against one of mean MaxIncludedAngle
 BLOCK_WEIGHT = 0.25  # degrees of mean MaxIncludedAngle one block fewer is worth
+# layouts are judged no finer than the default cell size over this: search.MAX_MESHED (8)
+# solves of at most 16 times the default's cells bound the search's time
+FINEST = 4.0
 
 
-def score(rings: list[np.ndarray], edges: list[np.ndarray]) -> float:
-    """The grid's mean MaxIncludedAngle, with the worst, the mean interface kink and the
-    block count weighed in; infinite when it folds or cannot be meshed."""
+def scoring_size(diagonal: float, cell_size: float = 0.0) -> float:
+    """The cell size a layout is judged at: the run's ``cell_size`` (0: SPEC 10's default),
+    no finer than the default over ``FINEST``."""
+    default = default_cell_size(diagonal)
+    return default if cell_size <= 0 else max(cell_size, default / FINEST)
+
+
+def score(rings: list[np.ndarray], edges: list[np.ndarray], cell_size: float = 0.0) -> float:
+    """The grid's mean MaxIncludedAngle at ``scoring_size(cell_size)``, with the worst, the
+    mean interface kink and the block count weighed in; infinite when it folds or cannot be
+    meshed."""
     try:
         lines = linework(rings, edges, [f"edge {k}" for k in range(len(edges))], "auto")
         topo = topology(lines)
-        h = default_cell_size(lines.diagonal)
+        h = scoring_size(lines.diagonal, cell_size)
         lay = layout_checked(topo, cell_counts(topo, h), h)
         points, _ = winslow(topo, lay, True, SCORE_ITERATIONS)
     except (InputError, ArithmeticError, RuntimeError, np.linalg.LinAlgError):

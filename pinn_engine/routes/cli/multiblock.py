@@ -71,6 +71,7 @@ def run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
         orthogonal,
         args.cells,
         args.grading,
+        settings.cell_size,
     )
     read = time.perf_counter() - start
     with Progress(args.quiet) as progress:
