@@ -147,7 +147,9 @@ def run_blocks(
     then ``job.run``)."""
     from pinn_engine import job
 
-    geometry = job.blocks_from_files(boundary, edges, aux, patches, spacing, orthogonal, cells)
+    geometry = job.blocks_from_files(
+        boundary, edges, aux, patches, spacing, orthogonal, cells, (), settings.cell_size
+    )
     return job.run(settings, geometry, progress)
 
 
