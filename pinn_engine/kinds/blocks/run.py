@@ -102,8 +102,8 @@ def _laid_out(
     if automatic:
         from pinn_engine.multiblock.autoblock import proposal
 
-        layers = bool(places["walls"].spacing)
-        proposed = proposal(curves[: len(rings)], source, layers, cell_size)
+        walls, patches = places["walls"], places["patches"]
+        proposed = proposal(curves[: len(rings)], source, cell_size, walls, patches)
         edges, names, blocking = proposed.edges, proposed.names, proposed.report
     lines = [replace(line, points=c) for line, c in zip(aux, flat)]
     return BlocksGeometry(curves[: len(rings)], edges, names, source, lines, blocking, **places)

@@ -25,6 +25,7 @@ from pinn_engine.multiblock.autoblock.rays import motorcycles, ray_options
 from pinn_engine.multiblock.autoblock.score import score
 from pinn_engine.multiblock.autoblock.search import best_meshed, candidates
 from pinn_engine.multiblock.graph import order_rings
+from pinn_engine.multiblock.walls import Walls
 
 
 def _segments(curves: list[np.ndarray], closed: bool) -> np.ndarray:
@@ -37,7 +38,12 @@ def _segments(curves: list[np.ndarray], closed: bool) -> np.ndarray:
 
 
 def propose_edges(
-    rings: list[np.ndarray], source: str = "boundary", layers: bool = False, cell_size: float = 0.0
+    rings: list[np.ndarray],
+    source: str = "boundary",
+    layers: bool = False,
+    cell_size: float = 0.0,
+    walls: Walls | None = None,
+    patches: tuple = (),
 ) -> list[np.ndarray]:
     """Block edges (straight polylines (2, 2)) that cut the domain of ``rings`` (the outer
     boundary and holes, any order and orientation) into four-cornered blocks; none for a
@@ -46,9 +52,9 @@ def propose_edges(
     emits both: each wall's boundary layer then runs on along a block edge, so its spacing
     has a chain to run along on both sides of the corner; where no layout has both at every
     such vertex (a sharp step's lip facing a wall two cells away), the layouts without
-    spacing are searched. The layouts are judged by their grids at the run's ``cell_size``
-    (0: SPEC 10's default; ``score.scoring_size``). A one-line InputError says why when no
-    blocking is found."""
+    spacing are searched. The layouts are judged by their grids as the run meshes them: at
+    its ``cell_size`` (0: SPEC 10's default; ``score.scoring_size``) and with its ``walls``'
+    spacing on its ``patches``. A one-line InputError says why when no blocking is found."""
     rings = order_rings([np.asarray(r, dtype=float)[:, :2] for r in rings], source)
     diagonal = float(np.linalg.norm(np.ptp(rings[0], axis=0)))
     axes = main_axes(rings[0])
@@ -93,7 +99,7 @@ def propose_edges(
         raise InputError(_why(rings, fixed_edges) + ": draw the block edges and {blocks}", source)
     if not vertices and len(rings) == 1 and len(fixed_choices) == 1:
         return layouts[0][1]  # four-sided (or cut round its centre): nothing to choose
-    best = best_meshed(layouts, lambda edges: score(rings, edges, cell_size))
+    best = best_meshed(layouts, lambda edges: score(rings, edges, cell_size, walls, patches))
     if best is None:
         raise InputError(
             "automatic blocking found no layout that meshes without folds: draw the block "
@@ -114,11 +120,18 @@ class Proposal:
 
 
 def proposal(
-    rings: list[np.ndarray], source: str = "boundary", layers: bool = False, cell_size: float = 0.0
+    rings: list[np.ndarray],
+    source: str = "boundary",
+    cell_size: float = 0.0,
+    walls: Walls | None = None,
+    patches: tuple = (),
 ) -> Proposal:
-    """:func:`propose_edges`, named and timed for a run's report."""
+    """:func:`propose_edges` for a run (its cell size, its walls' spacing on its patches:
+    both continuations of a reflex corner sought where it asks a spacing), named and timed
+    for its report."""
     start = time.perf_counter()
-    edges = propose_edges(rings, source, layers, cell_size)
+    layers = walls is not None and bool(walls.spacing)
+    edges = propose_edges(rings, source, layers, cell_size, walls, patches)
     seconds = time.perf_counter() - start
     names = [f"proposed edge {k}" for k in range(len(edges))]
     return Proposal(edges, names, {"mode": "automatic", "edges": len(edges), "seconds": seconds})

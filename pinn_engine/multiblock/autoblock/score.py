@@ -1,8 +1,11 @@
 """A layout judged by its grid (SPEC 13): the elliptic multi-block grid of the boundary cut by
 the layout's edges, at the cell size the run asks (SPEC 10's default where it asks none), its
-quality and interface kinks weighed into one figure (lower is better). A layout is judged at
-the size it will be meshed at: one that is clean at the default size may fold at a finer
-one (a diamond near a floor) or rank differently (a wide leaning tee).
+quality and interface kinks weighed into one figure (lower is better). A layout is judged as
+it will be meshed: at the run's size (one clean at the default size may fold at a finer one,
+a diamond near a floor, or rank differently, a wide leaning tee) and, where the run asks a
+wall spacing, with it (a reflex corner left inside a block's side carries the spacing
+through that block, which suits one of an open cavity's two mirror-image layouts and
+shears the other).
 
 The solve stops after ``SCORE_ITERATIONS`` Picard steps: the examples converge in under 100,
 and a layout whose sliding ends still move after that is judged where they are.
@@ -17,8 +20,10 @@ from pinn_engine.multiblock.blocks import topology
 from pinn_engine.multiblock.counts import cell_counts, default_cell_size
 from pinn_engine.multiblock.elliptic import crossings, winslow
 from pinn_engine.multiblock.graph import linework
-from pinn_engine.multiblock.mesh import interface_kinks, layout_checked
+from pinn_engine.multiblock.mesh import interface_kinks, layout_checked, mesh_blocks
+from pinn_engine.multiblock.walls import Walls
 from pinn_engine.quality import cell_quality
+from pinn_engine.settings import make_settings
 
 SCORE_ITERATIONS = 200  # Picard steps at most for a layout's grid
 WORST_WEIGHT = 0.1  # a degree of the worst MaxIncludedAngle against one of the mean
@@ -36,26 +41,46 @@ def scoring_size(diagonal: float, cell_size: float = 0.0) -> float:
     return default if cell_size <= 0 else max(cell_size, default / FINEST)
 
 
-def score(rings: list[np.ndarray], edges: list[np.ndarray], cell_size: float = 0.0) -> float:
+def score(
+    rings: list[np.ndarray],
+    edges: list[np.ndarray],
+    cell_size: float = 0.0,
+    walls: Walls | None = None,
+    patches: tuple = (),
+) -> float:
     """The grid's mean MaxIncludedAngle at ``scoring_size(cell_size)``, with the worst, the
     mean interface kink and the block count weighed in; infinite when it folds or cannot be
-    meshed."""
+    meshed. With a spacing in ``walls`` (on the ``patches`` the run names), the grid is
+    the run's own: meshed with the spacing."""
+    names = [f"edge {k}" for k in range(len(edges))]
     try:
-        lines = linework(rings, edges, [f"edge {k}" for k in range(len(edges))], "auto")
-        topo = topology(lines)
+        lines = linework(rings, edges, names, "auto")
         h = scoring_size(lines.diagonal, cell_size)
+        if walls is not None and walls.spacing:
+            settings = make_settings("elliptic", cell_size=h)
+            result = mesh_blocks(rings, edges, names, settings, "auto", patches, walls)
+            cells = [cell_quality(grid) for grid in result.grids]
+            kink = result.report["interface_kink"]["mean"]
+            return _weighed(cells, kink, result.report["blocks"])
+        topo = topology(lines)
         lay = layout_checked(topo, cell_counts(topo, h), h)
         points, _ = winslow(topo, lay, True, SCORE_ITERATIONS)
     except (InputError, ArithmeticError, RuntimeError, np.linalg.LinAlgError):
         return np.inf  # refused, or a solve that breaks down (a singular system): not this one
     cells = [cell_quality(points[ids]) for ids in lay.ids]
+    kinks = interface_kinks(crossings(topo, lay), lay, points)
+    return _weighed(cells, float(kinks.mean()) if kinks.size else 0.0, len(lay.ids))
+
+
+def _weighed(cells: list[dict], kink: float, blocks: int) -> float:
+    """The score of a grid's ``cells`` (their quality arrays), mean interface ``kink`` and
+    ``blocks``; infinite when a cell folds."""
     if any(c["Folded"].any() for c in cells):
         return np.inf
     angles = np.concatenate([c["MaxIncludedAngle"].ravel() for c in cells])
-    kinks = interface_kinks(crossings(topo, lay), lay, points)
     return (
         float(angles.mean())
         + WORST_WEIGHT * float(angles.max())
-        + KINK_WEIGHT * (float(kinks.mean()) if kinks.size else 0.0)
-        + BLOCK_WEIGHT * len(lay.ids)
+        + KINK_WEIGHT * kink
+        + BLOCK_WEIGHT * blocks
     )
