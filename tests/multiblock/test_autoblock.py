@@ -296,3 +296,22 @@ def test_a_wide_leaning_tee_is_blocked_for_the_cell_size_asked(tmp_path):
     found = json.loads(report.read_text())
     assert found["quality"]["folded_cells"] == 0
     assert found["interface_kink"]["mean"] <= 3.0 and found["blocks"] == 4
+
+
+@pytest.mark.slow  # the search meshes its shortlisted layouts with the spacing: about 5 s
+def test_a_layout_is_judged_with_the_wall_spacing_asked(tmp_path):
+    """An open cavity [2, 3] x [-1, 0] under a channel [0, 6] x [0, 1]: its two mirror-image
+    layouts (the lid and one upright edge, at x = 2 or at x = 3) are rectangular alike
+    without a spacing; with --spacing boundary=0.01 the spacing carried through the block
+    beside the cavity's other corner sheared one of them to 172.9 degrees. Judged with the
+    spacing, the search keeps a rectangular grid."""
+    import json
+
+    ring = np.array([(0, 0), (2, 0), (2, -1), (3, -1), (3, 0), (6, 0), (6, 1), (0, 1)])
+    path, out, report = tmp_path / "cavity.csv", tmp_path / "c.vtm", tmp_path / "c.json"
+    np.savetxt(path, ring, delimiter=",", header="x,y", comments="")
+    argv = [str(path), "--blocks", "auto", "--method", "elliptic", "--cell-size", "0.125"]
+    argv += ["--spacing", "boundary=0.01", "--quiet", "--report", str(report), "-o", str(out)]
+    assert main(argv) == 0
+    found = json.loads(report.read_text())
+    assert found["quality"]["worst_max_angle"] < 90.5

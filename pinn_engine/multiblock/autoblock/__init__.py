@@ -54,7 +54,8 @@ def propose_edges(
     such vertex (a sharp step's lip facing a wall two cells away), the layouts without
     spacing are searched. The layouts are judged by their grids as the run meshes them: at
     its ``cell_size`` (0: SPEC 10's default; ``score.scoring_size``) and with its ``walls``'
-    spacing on its ``patches``. A one-line InputError says why when no blocking is found."""
+    spacing on its ``patches`` (without it where every layout folds with it). A one-line
+    InputError says why when no blocking is found."""
     rings = order_rings([np.asarray(r, dtype=float)[:, :2] for r in rings], source)
     diagonal = float(np.linalg.norm(np.ptp(rings[0], axis=0)))
     axes = main_axes(rings[0])
@@ -100,6 +101,10 @@ def propose_edges(
     if not vertices and len(rings) == 1 and len(fixed_choices) == 1:
         return layouts[0][1]  # four-sided (or cut round its centre): nothing to choose
     best = best_meshed(layouts, lambda edges: score(rings, edges, cell_size, walls, patches))
+    if best is None and walls is not None and walls.spacing:
+        # every layout folds with the spacing before the run untangles its blocks (a body
+        # near a wall): judged without it, as the untangling is too dear to try on each
+        best = best_meshed(layouts, lambda edges: score(rings, edges, cell_size))
     if best is None:
         raise InputError(
             "automatic blocking found no layout that meshes without folds: draw the block "
