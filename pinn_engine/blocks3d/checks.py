@@ -63,28 +63,38 @@ def hexes(ids: np.ndarray) -> np.ndarray:
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """``np.cross`` of (..., 3) arrays, by components (several times faster on many rows)."""
-    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
-    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
+    """The cross products of (3, m) arrays of vectors (components as rows)."""
+    return np.stack(
+        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    )
 
 
-def _faces(points: np.ndarray, quads: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Centres and area vectors of quad faces (m, 4), corner by corner (sums over the
-    short axes of (m, 4, 3) arrays are several times slower than over whole columns)."""
-    p = [points[quads[:, q]] for q in range(4)]
+def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The dot products of (3, m) arrays of vectors (components as rows)."""
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _norm(a: np.ndarray) -> np.ndarray:
+    """The lengths of a (3, m) array of vectors (components as rows)."""
+    return np.sqrt(_dot(a, a))
+
+
+def _faces(coords: np.ndarray, quads: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Centres and area vectors (3, m) of quad faces (m, 4) over the points' coordinates
+    ``coords`` (3, n), corner by corner."""
+    p = [coords[:, quads[:, q]] for q in range(4)]
     mid = (p[0] + p[1] + p[2] + p[3]) / 4
-    weighted, total, area = np.zeros_like(mid), np.zeros(len(mid)), np.zeros_like(mid)
+    weighted, total, area = np.zeros_like(mid), np.zeros(mid.shape[1]), np.zeros_like(mid)
     for q in range(4):
         nxt = p[(q + 1) % 4]
         n = _cross(nxt - p[q], mid - p[q])
-        a = np.sqrt(np.einsum("nk,nk->n", n, n))
-        weighted += a[:, None] * (p[q] + nxt + mid)
+        a = _norm(n)
+        weighted += a * (p[q] + nxt + mid)
         total += a
         area += n
-    centre = weighted / (3 * np.maximum(total, TINY))[:, None]
+    centre = weighted / (3 * np.maximum(total, TINY))
     degenerate = total <= TINY
-    centre[degenerate] = mid[degenerate]
+    centre[:, degenerate] = mid[:, degenerate]
     return centre, 0.5 * area
 
 
@@ -132,59 +142,60 @@ def topology(cells: np.ndarray) -> FaceTopology:
 
 def figures(points: np.ndarray, cells: np.ndarray, faces: FaceTopology | None = None) -> Figures:
     """checkMesh's figures of the hexahedra ``cells`` (m, 8) over ``points`` (``faces``:
-    their :func:`topology`, when known)."""
+    their :func:`topology`, when known). Vectors are (3, m) arrays, a component a row, so
+    that each gather and product runs over contiguous rows."""
     faces = topology(cells) if faces is None else faces
     internal = len(faces.neighbour)
-    centres, areas = _faces(points, faces.quads)
-    fc = [centres[faces.of_cell[:, f]] for f in range(6)]
+    coords = np.ascontiguousarray(points.T)
+    centres, areas = _faces(coords, faces.quads)
+    fc = [centres[:, faces.of_cell[:, f]] for f in range(6)]
     guess = (fc[0] + fc[1] + fc[2] + fc[3] + fc[4] + fc[5]) / 6
-    total, weighted = np.zeros(len(guess)), np.zeros_like(guess)
+    total, weighted = np.zeros(guess.shape[1]), np.zeros_like(guess)
     for f in range(6):
-        area = areas[faces.of_cell[:, f]] * faces.sign[:, f, None]
-        vol = np.einsum("nk,nk->n", area, fc[f] - guess)
-        weighted += vol[:, None] * (0.75 * fc[f] + 0.25 * guess)
+        area = areas[:, faces.of_cell[:, f]] * faces.sign[:, f]
+        vol = _dot(area, fc[f] - guess)
+        weighted += vol * (0.75 * fc[f] + 0.25 * guess)
         total += vol
-    cc = weighted / np.where(np.abs(total) > TINY, total, 1.0)[:, None]
-    cc[np.abs(total) <= TINY] = guess[np.abs(total) <= TINY]
+    cc = weighted / np.where(np.abs(total) > TINY, total, 1.0)
+    cc[:, np.abs(total) <= TINY] = guess[:, np.abs(total) <= TINY]
     own, nei = faces.owner[:internal], faces.neighbour
-    centre, area = centres[:internal], areas[:internal]
-    d = cc[nei] - cc[own]
-    cos = np.einsum("nk,nk->n", area, d) / np.maximum(
-        np.linalg.norm(area, axis=1) * np.linalg.norm(d, axis=1), TINY
-    )
+    centre, area = centres[:, :internal], areas[:, :internal]
+    d = cc[:, nei] - cc[:, own]
+    cos = _dot(area, d) / np.maximum(_norm(area) * _norm(d), TINY)
     angles = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
-    skew = _skewness(points, faces.quads[:internal], centre, area, cc[own], d, 0.2)
-    bcentre, barea = centres[internal:], areas[internal:]
-    bowner = cc[faces.owner[internal:]]
+    skew = _skewness(coords, faces.quads[:internal], centre, area, cc[:, own], d, 0.2)
+    bcentre, barea = centres[:, internal:], areas[:, internal:]
+    bowner = cc[:, faces.owner[internal:]]
     cpf = bcentre - bowner
-    normal = barea / np.maximum(np.linalg.norm(barea, axis=1), TINY)[:, None]
-    bd = normal * np.einsum("nk,nk->n", normal, cpf)[:, None]
-    bskew = _skewness(points, faces.quads[internal:], bcentre, barea, bowner, bd, 0.4)
+    normal = barea / np.maximum(_norm(barea), TINY)
+    bd = normal * _dot(normal, cpf)
+    bskew = _skewness(coords, faces.quads[internal:], bcentre, barea, bowner, bd, 0.4)
     return Figures(
         float(angles.max(initial=0.0)),
         float(np.degrees(np.arccos(np.clip(cos.mean(), -1.0, 1.0)))) if len(cos) else 0.0,
         float(max(skew.max(initial=0.0), bskew.max(initial=0.0))),
-        folded(points, cells),
+        folded(coords, cells),
     )
 
 
-def _skewness(points, quads, centre, area, owner_centre, d, least) -> np.ndarray:
+def _skewness(coords, quads, centre, area, owner_centre, d, least) -> np.ndarray:
     cpf = centre - owner_centre
-    t = np.einsum("nk,nk->n", area, cpf) / (np.einsum("nk,nk->n", area, d) + TINY)
-    sv = cpf - t[:, None] * d
-    mag = np.linalg.norm(sv, axis=1)
-    hat = sv / (mag + TINY)[:, None]
+    t = _dot(area, cpf) / (_dot(area, d) + TINY)
+    sv = cpf - t * d
+    mag = _norm(sv)
+    hat = sv / (mag + TINY)
     reach = np.zeros(len(quads))
     for q in range(4):
-        corner = np.abs(np.einsum("nk,nk->n", hat, points[quads[:, q]] - centre))
+        corner = np.abs(_dot(hat, coords[:, quads[:, q]] - centre))
         np.maximum(reach, corner, out=reach)
-    fd = np.maximum(least * np.linalg.norm(d, axis=1) + TINY, reach)
+    fd = np.maximum(least * _norm(d) + TINY, reach)
     return mag / fd
 
 
-def folded(points: np.ndarray, cells: np.ndarray) -> int:
-    """Cells with a corner whose three edges make a non-positive triple product."""
-    p = [points[cells[:, corner]].T for corner in range(8)]  # (xyz, cell) views a corner
+def folded(coords: np.ndarray, cells: np.ndarray) -> int:
+    """Cells with a corner whose three edges make a non-positive triple product
+    (``coords``: the points' coordinates (3, n))."""
+    p = [coords[:, cells[:, corner]] for corner in range(8)]  # (xyz, cell) at a corner
     bad = np.zeros(len(cells), dtype=bool)
     for corner, (a, b, c) in enumerate(CORNER_EDGES):
         e0, e1, e2 = p[a] - p[corner], p[b] - p[corner], p[c] - p[corner]

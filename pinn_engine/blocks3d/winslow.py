@@ -255,24 +255,88 @@ def _spots(perm: tuple, sign: tuple, o: tuple) -> tuple | None:
     return tuple(out)
 
 
-def _glue(
-    node: int, cells: list, place: Placement, steps: list
-) -> tuple[np.ndarray, np.ndarray] | None:
-    """The 3 x 3 x 3 frame of ``node`` glued from its cells (-1 where no cell reaches), and
-    the spacings (``steps``: each block direction's logical cell lengths); None where the
-    cells do not fit one frame (an irregular edge).
+def _glued(edge: dict[int, list], place: Placement, steps: list) -> dict[int, tuple | None]:
+    """Each node's (``edge``: nodes on block edges and vertices with their cells) 3 x 3 x 3
+    frame glued from its cells (27 ids, -1 where no cell reaches) and its spacings (3 x 2;
+    ``steps``: each block direction's logical cell lengths), or None where the cells do not
+    fit one frame (an irregular edge). The nodes along one block edge (the same blocks,
+    corners and places at the blocks' ends) share their cells' axis maps (:func:`_maps`):
+    found once, and their frames gathered together."""
+    groups: dict[tuple, list[int]] = {}
+    for node, cells in edge.items():
+        key = tuple(
+            (b, o, tuple((c[a] == 0, c[a] == place.ids[b].shape[a] - 2) for a in range(3)))
+            for b, c, o in cells
+        )
+        groups.setdefault(key, []).append(node)
+    out: dict[int, tuple | None] = {}
+    for nodes in groups.values():
+        maps = _maps(nodes[0], _corners(edge[nodes[0]], place))
+        got = _frames(nodes, edge, maps, place, steps) if maps else [None] * len(nodes)
+        for node, one in zip(nodes, got):
+            if one is None:  # not as the edge's first node: glued on its own
+                own = _maps(node, _corners(edge[node], place))
+                one = _frames([node], edge, own, place, steps)[0] if own else None
+            out[node] = one
+    return out
 
-    Each cell's local axis a maps to a frame axis ``perm[a]`` with a sign: read from two of
+
+def _corners(cells: list, place: Placement) -> list:
+    """Each cell's node ids (2, 2, 2) as lists, and the node's corner in it."""
+    return [
+        (place.ids[b][c[0] : c[0] + 2, c[1] : c[1] + 2, c[2] : c[2] + 2].tolist(), o)
+        for b, c, o in cells
+    ]
+
+
+def _frames(nodes: list[int], edge: dict[int, list], maps: list, place: Placement, steps: list):
+    """The frames and spacings (as :func:`_glued`) of ``nodes``, whose cells share the axis
+    maps ``maps``; None for a node whose cells then place two ids at one spot or one id at
+    two."""
+    cells = edge[nodes[0]]
+    c = np.array([[cell[1] for cell in edge[node]] for node in nodes])  # (nodes, cells, 3)
+    frame = np.full((len(nodes), 27), -1)
+    frame[:, 13] = nodes
+    ok = np.ones(len(nodes), dtype=bool)
+    h = np.zeros((len(nodes), 3, 2))
+    count = np.zeros((3, 2), dtype=int)
+    for q, ((b, _, o), (perm, sign)) in enumerate(zip(cells, maps)):
+        off, slots = _spot_arrays(perm, sign, o)
+        nb = place.ids[b][tuple((c[:, q, :, None] + off).transpose(1, 0, 2))]  # (nodes, 8)
+        there = frame[:, slots]
+        ok &= ((there == -1) | (there == nb)).all(axis=1)
+        frame[:, slots] = nb
+        for a in range(3):
+            side = 1 if sign[a] * (1 - 2 * int(o[a])) > 0 else 0
+            h[:, perm[a], side] += steps[b][a][c[:, q, a]]
+            count[perm[a], side] += 1
+    h = np.where(count > 0, h / np.maximum(count, 1), 0.0)
+    ordered = np.sort(frame, axis=1)
+    ok &= ~((ordered[:, 1:] == ordered[:, :-1]) & (ordered[:, 1:] >= 0)).any(axis=1)
+    return [(f, s) if good else None for f, s, good in zip(frame.tolist(), h.tolist(), ok.tolist())]
+
+
+@functools.cache
+def _spot_arrays(perm: tuple, sign: tuple, o: tuple) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_spots` as arrays: the cell's corners (3, 8) and their places in a flattened
+    frame (8,)."""
+    spots = _spots(perm, sign, o)
+    off = np.array([corner for corner, _ in spots]).T
+    return off, np.array([9 * i + 3 * j + k for _, (i, j, k) in spots])
+
+
+def _maps(node: int, corners: list) -> list | None:
+    """Each cell's map of its local axes to the frame's (``perm``, ``sign``; ``corners``:
+    each cell's node ids (2, 2, 2) and the node's corner in it), or None where the cells do
+    not fit one frame.
+
+    A cell's local axis a maps to the frame axis ``perm[a]`` with a sign: read from two of
     its edge neighbours of the node already placed, the third by right-handedness (every
     block is right-handed)."""
-    corners = []
-    for b, c, o in cells:
-        box = place.ids[b][c[0] : c[0] + 2, c[1] : c[1] + 2, c[2] : c[2] + 2].tolist()
-        corners.append((box, o))
     where: dict[int, tuple[int, int, int]] = {node: CENTRE}
-    maps: list = [None] * len(cells)
+    maps: list = [None] * len(corners)
     maps[0] = ((0, 1, 2), (1, 1, 1))
-    placed = [False] * len(cells)
+    placed = [False] * len(corners)
     progress = True
     while progress:
         progress = False
@@ -315,21 +379,7 @@ def _glue(
                     return None
                 where[nb] = pos
             placed[q] = progress = True
-    if not all(placed):
-        return None
-    frame = [-1] * 27
-    for nb, (i, j, k) in where.items():
-        if frame[9 * i + 3 * j + k] != -1:
-            return None
-        frame[9 * i + 3 * j + k] = nb
-    h_sum, h_n = [[0.0, 0.0] for _ in range(3)], [[0, 0] for _ in range(3)]
-    for (b, c, o), (perm, sign) in zip(cells, maps):
-        for a in range(3):
-            side = 1 if sign[a] * (1 - 2 * int(o[a])) > 0 else 0
-            h_sum[perm[a]][side] += steps[b][a][c[a]]
-            h_n[perm[a]][side] += 1
-    h = [[t / n if n else 0.0 for t, n in zip(ts, ns)] for ts, ns in zip(h_sum, h_n)]
-    return frame, h
+    return maps if all(placed) else None
 
 
 def _det(perm, sign) -> int:
@@ -554,12 +604,12 @@ def stencils(place: Placement) -> tuple[Stencils, list[Star], np.ndarray]:
             else:
                 held[nodes.ravel()] = True
     parts = _interior(place, logical) + _faces(place, logical, across)
-    steps = [[np.abs(np.diff(u)).tolist() for u in block] for block in logical]
+    steps = [[np.abs(np.diff(u)) for u in block] for block in logical]
     glued_ids, glued_h, stars = [], [], []
-    for node, cells in _edge_nodes(place).items():
-        if held[node].all():
-            continue
-        got = _glue(node, cells, place, steps)
+    edge = {node: cells for node, cells in _edge_nodes(place).items() if not held[node].all()}
+    glued = _glued(edge, place, steps)
+    for node, cells in edge.items():
+        got = glued[node]
         if got is not None and _mirror(*got) and all(x > 0 for side in got[1] for x in side):
             glued_ids.append(got[0])
             glued_h.append(got[1])
