@@ -643,16 +643,17 @@ def _weights(points: np.ndarray, st: Stencils) -> np.ndarray:
         d.append(slope)
     upper = {(a, b): np.einsum("nk,nk->n", d[a], d[b]) for a in range(3) for b in range(a, 3)}
     c = cofactor_terms([[upper[min(a, b), max(a, b)] for b in range(3)] for a in range(3)])
-    w = np.empty((len(x0), len(OFFSETS)))
+    # an offset's weights as a row (19, m), each written and read whole, then turned
+    w = np.empty((len(OFFSETS), len(x0)))
     centre = np.zeros(len(x0))
     for k, (terms, scale) in enumerate(g.terms):
         if terms is None:
             continue
-        w[:, k] = c[terms] * scale[0] / scale[1]
+        w[k] = c[terms] * scale[0] / scale[1]
         if terms[0] == terms[1]:
-            centre -= w[:, k]
-    w[:, g.centre_column] = centre
-    return w / -centre[:, None]
+            centre -= w[k]
+    w[g.centre_column] = centre
+    return (w / -centre).T
 
 
 def _columns(st: Stencils) -> np.ndarray:
