@@ -102,12 +102,19 @@ def _blend(params: np.ndarray, maps: dict[str, tuple[np.ndarray, np.ndarray]]) -
     def mapped(side: str, x: np.ndarray) -> np.ndarray:
         return np.interp(x, *maps[side]) if side in maps else x
 
+    def blended(x: np.ndarray, s: np.ndarray, low: str, high: str) -> np.ndarray:
+        """x moved by the two sides' moves blended along s: unmoved (bit for bit) where
+        neither side moves it, and on a side (s 0 or 1) exactly that side's map."""
+        at_low, at_high = mapped(low, x), mapped(high, x)
+        inside = x + (1 - s) * (at_low - x) + s * (at_high - x)
+        return np.where(s == 0, at_low, np.where(s == 1, at_high, inside))
+
     xi, eta = params[..., 0], params[..., 1]
     out = params.copy()  # a direction whose two sides keep their nodes keeps its parameter
     if "bottom" in maps or "top" in maps:
-        out[..., 0] = (1 - eta) * mapped("bottom", xi) + eta * mapped("top", xi)
+        out[..., 0] = blended(xi, eta, "bottom", "top")
     if "left" in maps or "right" in maps:
-        out[..., 1] = (1 - xi) * mapped("left", eta) + xi * mapped("right", eta)
+        out[..., 1] = blended(eta, xi, "left", "right")
     return out
 
 
