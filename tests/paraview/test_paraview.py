@@ -14,11 +14,12 @@ import os
 import re
 import shutil
 import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers import ROOT
+from helpers import ROOT, foam_env
 
 pytestmark = pytest.mark.paraview
 
@@ -557,13 +558,38 @@ def test_hexahedral_filter_on_the_bend(checkout):
 
 def test_a_readers_solution_on_the_field_input_adapts_the_grid(checkout, tmp_path):
     """SPEC 14 in ParaView: a reader's output on the Field port, its array picked."""
-    import sys
-
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "adapt"))
     from test_adapt import front, image, write
 
     field = write(image(front, (-0.3, -0.4), (4.4, 2.5)), tmp_path / "field.vti")
-    result = run_pvpython(checkout, "check_field.py", str(checkout / "example_data"), field)
+    wavy = str(checkout / "example_data" / "wavy.vtp")
+    result = run_pvpython(checkout, "check_field.py", wavy, field, "p", "21", "11")
     assert "p" in result["arrays"] and result["points"] == 21 * 11
     assert result["array"] == "p" and result["strength"] == 10.0
     assert result["error"]["after"] < result["error"]["before"]
+
+
+@pytest.mark.skipif(
+    shutil.which("simpleFoam") is None,
+    reason="OpenFOAM's simpleFoam is missing (apt-get install openfoam; .ci/run installs it)",
+)
+def test_an_openfoam_result_on_the_field_input_meshes_the_same_domain_guarded(checkout, tmp_path):
+    """SPEC 14 from a solver: the bump channel solved by simpleFoam (its example's run.sh),
+    its .foam file opened in ParaView's OpenFOAM reader and connected to the Field port: the
+    solution's arrays are offered, the grid keeps its node count and is adapted within the
+    guard or kept (the velocity's gradient does not say where a parabola's error is)."""
+    case = tmp_path / "bump"
+    env = foam_env()
+    command = Path(sys.executable).with_name("pinn-mesh")
+    if command.exists():
+        env["PINN_MESH"] = str(command)
+    run = [str(checkout / "examples" / "openfoam_bump" / "run.sh"), str(case)]
+    subprocess.run(["bash", *run], env=env, check=True, capture_output=True, timeout=240)
+    channel = str(checkout / "example_data" / "bump_channel.vtp")
+    result = run_pvpython(
+        checkout, "check_field.py", channel, str(case / "bump.foam"), "U", "41", "21"
+    )
+    assert {"U", "p"} <= set(result["arrays"]) and result["points"] == 41 * 21
+    assert result["array"] == "U" and result["folded"]["after"] == 0
+    assert result["worst"]["after"] <= result["worst"]["limit"]
+    assert result["error"]["after"] <= result["error"]["before"]
