@@ -19,12 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pinn_engine.geometry.faces import face_keys
+from pinn_engine.geometry.faces import FaceTopology, topology
 
-# OpenFOAM's hexahedron: its six faces (normals out of the cell) by corner
-HEX_FACES = np.array(
-    [[0, 4, 7, 3], [1, 2, 6, 5], [0, 1, 5, 4], [3, 7, 6, 2], [0, 3, 2, 1], [4, 5, 6, 7]]
-)
 # each corner's three edge neighbours, in an order making the triple product the volume's sign
 CORNER_EDGES = np.array(
     [[1, 3, 4], [2, 0, 5], [3, 1, 6], [0, 2, 7], [7, 5, 0], [4, 6, 1], [5, 7, 2], [6, 4, 3]]
@@ -96,48 +92,6 @@ def _faces(coords: np.ndarray, quads: np.ndarray) -> tuple[np.ndarray, np.ndarra
     degenerate = total <= TINY
     centre[:, degenerate] = mid[:, degenerate]
     return centre, 0.5 * area
-
-
-def pairing(quads: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The faces (m, 4) met twice, as pairs (k, 2) of their indices (the lower first), and
-    those met once."""
-    low, high = face_keys(quads)
-    order = np.lexsort((high, low))
-    low, high = low[order], high[order]
-    same = (low[1:] == low[:-1]) & (high[1:] == high[:-1])
-    first = np.flatnonzero(same)
-    pairs = np.sort(np.column_stack([order[first], order[first + 1]]), axis=1)
-    paired = np.zeros(len(quads), dtype=bool)
-    paired[pairs.ravel()] = True
-    return pairs[np.argsort(pairs[:, 0])], np.flatnonzero(~paired)
-
-
-@dataclass
-class FaceTopology:
-    """Each face of hexahedra once, as its owner sees it (OpenFOAM's faces; the neighbour's
-    copy is the same face with its area vector reversed): the internal faces first, then the
-    boundary's. What :func:`figures` needs of the cells alone, computed once per mesh."""
-
-    quads: np.ndarray  # (f, 4) point ids
-    owner: np.ndarray  # (f,) each face's owner cell
-    neighbour: np.ndarray  # (internal faces,) each internal face's other cell
-    of_cell: np.ndarray  # (cells, 6) each cell face's index among ``quads``
-    sign: np.ndarray  # (cells, 6) 1 where the cell owns the face, -1 where it neighbours it
-
-
-def topology(cells: np.ndarray) -> FaceTopology:
-    """The faces of the hexahedra ``cells`` (m, 8), each once (:class:`FaceTopology`)."""
-    quads = cells[:, HEX_FACES].reshape(-1, 4)
-    pairs, single = pairing(quads)
-    once = np.concatenate([pairs[:, 0], single])
-    of_cell = np.empty(len(quads), dtype=np.int64)
-    of_cell[once] = np.arange(len(once))
-    of_cell[pairs[:, 1]] = np.arange(len(pairs))
-    sign = np.ones(len(quads))
-    sign[pairs[:, 1]] = -1.0
-    return FaceTopology(
-        quads[once], once // 6, pairs[:, 1] // 6, of_cell.reshape(-1, 6), sign.reshape(-1, 6)
-    )
 
 
 def figures(points: np.ndarray, cells: np.ndarray, faces: FaceTopology | None = None) -> Figures:

@@ -21,10 +21,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pinn_engine.blocks3d.checks import Figures, figures, hexes, topology
+from pinn_engine.blocks3d.checks import Figures, figures, hexes
 from pinn_engine.blocks3d.dictionary import BlockMeshDict
 from pinn_engine.blocks3d.placement import Placement, place
 from pinn_engine.errors import InputError
+from pinn_engine.geometry.faces import FaceTopology, topology
 from pinn_engine.hexa.quality import folded, included_angles, scaled_jacobian
 
 if TYPE_CHECKING:  # VTK is imported where the dataset is built: a case written needs none
@@ -49,13 +50,15 @@ SKIPPED = "the network would train on the Winslow equations alone, which the ell
 class DictResult:
     """A meshed dictionary: the placement (ids, patches), the chosen ``points``, the
     ``method`` given and the grid ``kept`` (``elliptic`` or ``tfi``), each candidate's
-    checkMesh figures, the report and each block's largest and smallest face angles."""
+    checkMesh figures, the cells' faces (each once), the report and each block's largest
+    and smallest face angles."""
 
     place: Placement
     points: np.ndarray
     method: str
     kept: str
     candidates: dict[str, Figures]
+    faces: FaceTopology
     report: dict = field(default_factory=dict)
     angles: list[tuple[np.ndarray, np.ndarray]] = field(default_factory=list)
 
@@ -134,7 +137,7 @@ def mesh_dictionary(
         elif no_worse(candidates["elliptic"], candidates["tfi"]):
             points, kept = solved, "elliptic"
     timings["total"] = time.perf_counter() - began
-    result = DictResult(placed, points, method, kept, candidates)
+    result = DictResult(placed, points, method, kept, candidates, faces)
     result.report = _report(d, result, steps, timings, free_interfaces)
     if method == "pinn" and orthogonal:
         result.report["unsolved"] = UNSOLVED

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pinn_engine.geometry.faces import face_keys
+from pinn_engine.geometry.faces import FaceTopology, face_keys
 from pinn_engine.io.export import bodies
 from pinn_engine.io.export.block import Block, Box
 from pinn_engine.io.export.multiblock import Blocks, merged
@@ -170,65 +170,58 @@ def write_quadmesh_polymesh(mesh: QuadMesh, thickness: float, folder: Path) -> N
     write_mesh_files(folder, points, faces, owner, neighbour, patches)
 
 
-# OpenFOAM's hexahedron: its six faces by corner, each with its normal out of the cell
-HEX_FACES = np.array(
-    [[0, 4, 7, 3], [1, 2, 6, 5], [0, 1, 5, 4], [3, 7, 6, 2], [0, 3, 2, 1], [4, 5, 6, 7]]
-)
-
-
 def write_hex_polymesh(
     points: np.ndarray,
-    cells: np.ndarray,
+    faces: FaceTopology,
     patches: list[tuple[str, str, np.ndarray]],
     mesh: Path,
     entries: dict[str, dict[str, str]] | None = None,
 ) -> None:
-    """The polyMesh of hexahedra ``cells`` (m, 8; OpenFOAM's corner order) over merged
-    ``points``: a face of two cells is internal (owned by the lower), every other face is
-    in the patch (name, OpenFOAM type, its faces (k, 4) of point ids) listing it, with its
-    normal out of its cell; ``entries``: a patch's further boundary entries by name (a
-    cyclic's ``neighbourPatch``). A boundary face no patch lists is a programming error."""
-    quads = cells[:, HEX_FACES].reshape(-1, 4)
-    low, high = face_keys(quads)
-    order = np.lexsort((high, low))  # copies of one face together, lower cell first
-    lo, hi = low[order], high[order]
-    starts = np.flatnonzero(np.r_[True, (lo[1:] != lo[:-1]) | (hi[1:] != hi[:-1])])
-    sizes = np.diff(np.r_[starts, len(order)])
-    copies = np.repeat(sizes, sizes)  # per entry of ``order``: how many cells have its face
-    two = copies == 2
-    pairs = order[two].reshape(-1, 2)  # each internal face's two copies, lower cell first
-    owner, neighbour = pairs[:, 0] // 6, pairs[:, 1] // 6
-    faces = quads[pairs[:, 0]]
-    sort = np.lexsort((neighbour, owner))
-    faces, owner, neighbour = faces[sort], owner[sort], neighbour[sort]
-    found = _listed(quads, order[copies == 1], [pf for _, _, pf in patches])
+    """The polyMesh of hexahedra over merged ``points`` from their faces (``faces``, each
+    once as its owner sees it: ``geometry.faces.topology``, which checkMesh's figures use
+    too): the internal faces in upper-triangular order, every other face in the patch
+    (name, OpenFOAM type, its faces (k, 4) of point ids) listing it, with its normal out of
+    its cell; ``entries``: a patch's further boundary entries by name (a cyclic's
+    ``neighbourPatch``). A boundary face no patch lists is a programming error."""
+    internal = len(faces.neighbour)
+    sort = np.lexsort((faces.neighbour, faces.owner[:internal]))
+    boundary, outside = faces.quads[internal:], faces.owner[internal:]
+    found = _listed(boundary, [pf for _, _, pf in patches])
     out, start = [], 0
     for name, kind, pf in patches:
         mine = found[start : start + len(pf)]
-        out.append((name, kind, quads[mine], mine // 6))
+        out.append((name, kind, boundary[mine], outside[mine]))
         start += len(pf)
-    write_mesh_files(mesh, points, faces, owner, neighbour, out, entries)
+    write_mesh_files(
+        mesh,
+        points,
+        faces.quads[sort],
+        faces.owner[sort],
+        faces.neighbour[sort],
+        out,
+        entries,
+    )
 
 
-def _listed(quads: np.ndarray, single: np.ndarray, listed: list[np.ndarray]) -> np.ndarray:
-    """Which of the boundary faces ``single`` (indices into ``quads``) each face of the
-    patches' lists (``listed``, (k, 4) point ids each, in any corner order) is, in the
-    lists' order: the lists' faces and the boundary's sorted together by their keys, each
-    listed face right after its boundary face. A boundary face no list has, or a listed
-    face that is no boundary face or is listed twice, is a programming error."""
+def _listed(boundary: np.ndarray, listed: list[np.ndarray]) -> np.ndarray:
+    """Which of the ``boundary`` faces (k, 4) each face of the patches' lists (``listed``,
+    (k, 4) point ids each, in any corner order) is, in the lists' order: the lists' faces
+    and the boundary's sorted together by their keys, each listed face right after its
+    boundary face. A boundary face no list has, or a listed face that is no boundary face
+    or is listed twice, is a programming error."""
     if not listed:
-        listed = [np.empty((0, 4), dtype=quads.dtype)]
-    low, high = face_keys(np.vstack([quads[single], *listed]))
+        listed = [np.empty((0, 4), dtype=boundary.dtype)]
+    low, high = face_keys(np.vstack([boundary, *listed]))
     at = np.lexsort((np.arange(len(low)), high, low))  # a boundary face before its listing
     same = (low[at][1:] == low[at][:-1]) & (high[at][1:] == high[at][:-1])
-    is_listed = at >= len(single)
+    is_listed = at >= len(boundary)
     ok = same & is_listed[1:] & ~is_listed[:-1]
-    found = np.full(len(low) - len(single), -1)
-    found[at[1:][ok] - len(single)] = single[at[:-1][ok]]
+    found = np.full(len(low) - len(boundary), -1)
+    found[at[1:][ok] - len(boundary)] = at[:-1][ok]
     if (found < 0).any():
         raise ValueError(f"{int((found < 0).sum())} patch faces are no boundary face")
-    if len(single) > ok.sum():
-        raise ValueError(f"{len(single) - int(ok.sum())} boundary faces are in no patch")
+    if len(boundary) > ok.sum():
+        raise ValueError(f"{len(boundary) - int(ok.sum())} boundary faces are in no patch")
     return found
 
 

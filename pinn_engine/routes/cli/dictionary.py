@@ -67,7 +67,7 @@ def run_dictionary(args: argparse.Namespace, written: list[Path]) -> Path:
         write_case(
             out,
             lambda mesh: write_hex_polymesh(
-                result.points, result.cells, result.place.patches, mesh, entries
+                result.points, result.faces, result.place.patches, mesh, entries
             ),
         )
     elif kind == "cgns":
