@@ -47,8 +47,9 @@ MAX_ITERATIONS = 60  # Picard steps at most
 # V-cycles at the single block's 0.3 left the Picard steps stalling near 1e-4 of the diagonal
 # (DFG 3D: 10 steps, 8 at 0.1; 0.05 takes as many steps with more V-cycles)
 FORCING = 0.1
-# a start whose residuals are all below this share of the diagonal is a solution (a graded
-# box's grid: its residuals are round-off of its coordinates)
+# a coordinate whose residuals are all below this share of the diagonal solves its equations
+# already and is not solved for (a graded box's grid; the axial coordinate of an extruded
+# blocking, straight in its logical coordinate: its residuals are round-off, 1e-16)
 SOLVED = 1e-12
 PLANE_TOL = 1e-9  # a boundary face is a coordinate plane when it spreads this share of the diagonal
 OFFSETS = [o for o in itertools.product((-1, 0, 1), repeat=3) if np.count_nonzero(o) < 3]
@@ -706,14 +707,17 @@ class _Systems:
         self.data = v[self.mine]
         return sp.csr_matrix((self.data, indices, indptr), shape=shape) @ points
 
-    def updates(self, residual: np.ndarray) -> list[np.ndarray]:
+    def updates(self, residual: np.ndarray, solved: float) -> list[np.ndarray | None]:
         """Per coordinate, the update of its free nodes toward the frozen system's solution
-        (``residual``: :meth:`residuals`)."""
-        out = []
+        (``residual``: :meth:`residuals`), or None where no residual exceeds ``solved``."""
+        out: list[np.ndarray | None] = []
         for comp, (keep, indices, indptr, rows) in enumerate(self.parts):
-            mat = sp.csr_matrix((-self.data[keep], indices, indptr), shape=(len(rows),) * 2)
             rhs = residual[rows, comp][:, None]
-            out.append(self.solvers[comp].solve(mat, rhs)[:, 0] if len(rows) else rhs[:0, 0])
+            if np.abs(rhs).max(initial=0.0) <= solved:
+                out.append(None)
+                continue
+            mat = sp.csr_matrix((-self.data[keep], indices, indptr), shape=(len(rows),) * 2)
+            out.append(self.solvers[comp].solve(mat, rhs)[:, 0])
         return out
 
 
@@ -746,12 +750,14 @@ def winslow(
         for steps in range(1, max_iterations + 1):
             v = np.concatenate([_weights(points, st).ravel()] + star_rows.weights(points))
             residual = systems.residuals(v, points)
-            if steps == 1 and np.abs(residual[systems.free]).max(initial=0.0) <= SOLVED * diag:
-                return points, 0  # blockMesh's grid solves the equations already
+            updates = systems.updates(residual, SOLVED * diag)
+            if all(delta is None for delta in updates):
+                return points, steps - 1  # the grid solves the equations already
             moved = 0.0
-            for comp, delta in enumerate(systems.updates(residual)):
-                points[systems.nodes[systems.parts[comp][3]], comp] += delta
-                moved = max(moved, float(np.abs(delta).max(initial=0.0)))
+            for comp, delta in enumerate(updates):
+                if delta is not None:
+                    points[systems.nodes[systems.parts[comp][3]], comp] += delta
+                    moved = max(moved, float(np.abs(delta).max(initial=0.0)))
             if progress is not None:
                 progress(steps, moved / diag)
             if moved <= TOL * diag:
