@@ -283,7 +283,7 @@ def test_a_wide_leaning_tee_is_blocked_for_the_cell_size_asked(tmp_path):
     """A tee [0, 8] x [0, 1] with a branch 2 wide leaning 30 degrees downstream, at 8 cells
     across the channel: judged at the default size (0.21) the search picked 5 blocks whose
     grid at 0.125 kinks 3.27 degrees on average (SPEC 13's bound 3); judged at the size
-    asked, 4 blocks, kinks 1.10, worst 122.8 (the hand blocking's 132.5)."""
+    asked, 3 blocks, kinks 0.20, worst 120.0 (the hand blocking's 132.5)."""
     import json
 
     up = 2.0 * np.array([np.sin(np.pi / 6), np.cos(np.pi / 6)])
@@ -295,7 +295,7 @@ def test_a_wide_leaning_tee_is_blocked_for_the_cell_size_asked(tmp_path):
     assert main([*argv, "--quiet", "--report", str(report), "-o", str(out)]) == 0
     found = json.loads(report.read_text())
     assert found["quality"]["folded_cells"] == 0
-    assert found["interface_kink"]["mean"] <= 3.0 and found["blocks"] == 4
+    assert found["interface_kink"]["mean"] <= 3.0 and found["quality"]["worst_max_angle"] < 120.5
 
 
 @pytest.mark.slow  # the search meshes its shortlisted layouts with the spacing: about 5 s
@@ -315,3 +315,43 @@ def test_a_layout_is_judged_with_the_wall_spacing_asked(tmp_path):
     assert main(argv) == 0
     found = json.loads(report.read_text())
     assert found["quality"]["worst_max_angle"] < 90.5
+
+
+def test_a_reflex_vertex_emits_the_cross_field_s_separatrices():
+    """A 245-degree corner (a tee's branch leaning 25 degrees) splits into three corners of
+    81.7 degrees; a 270-degree corner's separatrices are its two sides carried on."""
+    from pinn_engine.multiblock.autoblock.corners import Reflex
+    from pinn_engine.multiblock.autoblock.rays import separatrices
+
+    d_in = np.array([np.sin(np.radians(205.0)), np.cos(np.radians(205.0))])
+    vertex = Reflex(np.zeros(2), d_in, np.array([-1.0, 0.0]), 245.0, True)
+    turns = [np.degrees(np.arctan2(d[1], d[0])) % 360 for d in separatrices(vertex)]
+    assert np.allclose(turns, [180 + 245 / 3, (180 + 2 * 245 / 3) % 360])
+    corner = Reflex(np.zeros(2), np.array([1.0, 0.0]), np.array([0.0, -1.0]), 270.0, True)
+    assert np.allclose(separatrices(corner), [[1.0, 0.0], [0.0, 1.0]], atol=1e-12)
+
+
+def test_a_steep_tee_carries_its_branch_walls_on():
+    """A tee [0, 8] x [0, 1] whose branch (1 along the channel) leans 60 degrees upstream:
+    the branch's wall carried on leaves 30 degrees beside the channel's wall, as a careful
+    hand blocking draws it (worst 150.0); without that direction the search found no layout
+    that meshes without folds (and 173.6 degrees leaning downstream)."""
+    up = 2.0 * np.array([-np.sin(np.pi / 3), np.cos(np.pi / 3)])
+    left, right = np.array([3.0, 1.0]), np.array([4.0, 1.0])
+    ring = np.array([(0, 0), (8, 0), (8, 1), right, right + up, left + up, left, (0, 1)])
+    figures = _figures([ring], propose_edges([ring], cell_size=0.125), 0.125)
+    assert figures["folds"] == 0 and figures["worst"] < 150.5
+
+
+def test_a_y_s_hexagonal_centre_may_be_cut_along_a_diagonal():
+    """The example Y at a cell size of 0.1: its three-block centre turns grid lines by 4.49
+    degrees at the interfaces on average (SPEC 13's bound 3); cut along a diagonal, the
+    centre has no vertex where three blocks meet and the kinks fall under 3, the mean and
+    worst cell within SPEC 13's bounds of the three-block centre."""
+    from make_multiblock import ybranch
+
+    rings, hand_edges = ybranch()
+    auto = _figures(rings, propose_edges(rings, cell_size=0.1), 0.1)
+    hand = _figures(rings, hand_edges, 0.1)
+    assert auto["folds"] == 0 and auto["kink"] <= 3.0 < hand["kink"]
+    assert auto["mean"] <= hand["mean"] + 1.5 and auto["worst"] <= hand["worst"] + 10

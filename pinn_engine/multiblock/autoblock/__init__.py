@@ -19,7 +19,7 @@ import numpy as np
 from pinn_engine.errors import InputError
 from pinn_engine.multiblock.autoblock.bends import bend_cuts, cut_choices
 from pinn_engine.multiblock.autoblock.corners import corner_points, reflex_vertices
-from pinn_engine.multiblock.autoblock.faces import NoBlocking, completed
+from pinn_engine.multiblock.autoblock.faces import NoBlocking, completions
 from pinn_engine.multiblock.autoblock.orings import main_axes, o_ring
 from pinn_engine.multiblock.autoblock.rays import motorcycles, ray_options
 from pinn_engine.multiblock.autoblock.score import score
@@ -145,7 +145,7 @@ def proposal(
 def _why(rings: list[np.ndarray], edges: list[np.ndarray]) -> str:
     """Why no layout was found: what the plainest one (no edges from reflex vertices) lacks."""
     try:
-        completed(rings, edges)
+        completions(rings, edges)
     except NoBlocking as exc:
         return f"automatic blocking found no four-cornered blocks ({exc})"
     return "automatic blocking found no four-cornered blocks"

@@ -4,6 +4,10 @@ corners cut into four-cornered blocks round a centre, and the layout's cost.
 A convex face of 2m corners is cut by spokes from its centre to every other corner into m
 blocks (a Y's hexagonal centre into three: a valence-3 centre); an odd count first gains a
 corner at the middle of a long side; a triangle gets spokes to its three sides' middles.
+A face of six corners may also be cut along a diagonal into two four-cornered blocks:
+then no vertex inside it joins three blocks, where every grid line crossing the centre
+turns by about 60 degrees, and the three-block junctions lie on the boundary instead. Both
+forms go on to the search, which meshes them.
 The cost of a layout is how far its blocks' corner angles are from right angles, plus a
 price per block: the cheap ranking that the coarse grid's quality then refines.
 """
@@ -73,8 +77,9 @@ def _spoke_sets(face: np.ndarray, corners: np.ndarray) -> list[list[np.ndarray]]
 
 
 def split_face(face: np.ndarray, corners: np.ndarray, diagonal: float) -> list[list[np.ndarray]]:
-    """Candidate spoke sets (each a list of edges) cutting a face of other than four corners
-    into four-cornered blocks; NoBlocking for fewer than three corners."""
+    """Candidate edge sets cutting a face of other than four corners into four-cornered
+    blocks: spokes round its centre, and for six corners each diagonal between opposite
+    corners; NoBlocking for fewer than three corners."""
     if len(corners) < 3:
         raise NoBlocking(f"a face has {len(corners)} corners")
     polygon = Polygon(face)
@@ -82,12 +87,10 @@ def split_face(face: np.ndarray, corners: np.ndarray, diagonal: float) -> list[l
     if not polygon.contains(Point(centre)):
         centre = np.array(polygon.representative_point().coords[0])
     grown = polygon.buffer(INSIDE_TOL * diagonal)
-    out = []
-    for ends in _spoke_sets(face, corners):
-        spokes = [np.array([centre, e]) for e in ends]
-        if all(grown.contains(LineString(s)) for s in spokes):
-            out.append(spokes)
-    return out
+    cuts = [[np.array([centre, e]) for e in ends] for ends in _spoke_sets(face, corners)]
+    if len(corners) == 6:
+        cuts += [[face[corners[[k, k + 3]]]] for k in range(3)]
+    return [c for c in cuts if all(grown.contains(LineString(e)) for e in c)]
 
 
 def _block_cost(face: np.ndarray, corners: np.ndarray) -> float:
@@ -108,31 +111,31 @@ def layout_cost(rings: list[np.ndarray], edges: list[np.ndarray]) -> float:
     return cost
 
 
-def completed(rings: list[np.ndarray], edges: list[np.ndarray]) -> tuple[list[np.ndarray], float]:
-    """``edges`` with every face of other than four corners cut round its centre, each face
-    the cheapest way, and the layout's cost (``layout_cost``); NoBlocking where a face
-    cannot be cut."""
+def completions(
+    rings: list[np.ndarray], edges: list[np.ndarray]
+) -> list[tuple[list[np.ndarray], float]]:
+    """``edges`` with every face of other than four corners cut into four-cornered blocks,
+    and each such layout's cost (``layout_cost``): each face every way it can be cut (round
+    its centre, along a diagonal), in every combination; NoBlocking where a face cannot be
+    cut."""
     faces, diagonal = faces_of(rings, edges)
-    out, total = list(edges), 0.0
+    layouts = [(list(edges), 0.0)]
     for face in faces:
         corners = corners_of(face)
         if len(corners) == 4:
-            total += _block_cost(face, corners)
+            layouts = [(done, cost + _block_cost(face, corners)) for done, cost in layouts]
             continue
-        best = None
-        for spokes in split_face(face, corners, diagonal):
+        cuts = []
+        for cut in split_face(face, corners, diagonal):
             try:
-                cost = layout_cost([face], spokes)
+                cuts.append((layout_cost([face], cut), cut))
             except NoBlocking:
                 continue
-            if best is None or cost < best[0]:
-                best = (cost, spokes)
-        if best is None:
+        if not cuts:
             where = face.mean(axis=0)
             raise NoBlocking(
                 f"the face at ({where[0]:.4g}, {where[1]:.4g}) with {len(corners)} corners "
                 "cannot be cut round its centre"
             )
-        out += best[1]
-        total += best[0]
-    return out, total
+        layouts = [(done + cut, cost + extra) for done, cost in layouts for extra, cut in cuts]
+    return layouts

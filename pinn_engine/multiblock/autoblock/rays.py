@@ -2,8 +2,10 @@
 a cross field's separatrix, in one of a few directions, traced as in a motorcycle graph.
 
 The directions are those of a cross field aligned with either side at the vertex: each side
-carried on (a 270-degree corner's two separatrices) and each side's normal (a Y's mouth);
-those leaving less than ``MIN_SPLIT`` of the interior angle on one side are dropped.
+carried on (a 270-degree corner's two separatrices) and each side's normal (a Y's mouth),
+and those of a smooth cross field, which splits the interior angle evenly into about right
+angles (a tilted tee's branch corners); those leaving less than ``MIN_SPLIT`` of the
+interior angle on one side are dropped.
 Edges are placed shortest first, each stopping where it meets the boundary or an edge placed
 before it; an end near a corner of the boundary or another edge's start goes onto it, so no
 sliver of a block is left between them.
@@ -15,7 +17,10 @@ import numpy as np
 
 from pinn_engine.multiblock.autoblock.corners import Reflex
 
-MIN_SPLIT = 45.0  # degrees of the interior angle a direction leaves on each side, at least
+# degrees of the interior angle a direction leaves on each side, at least: a block corner
+# sharper than the sharpest a block may have on the boundary's side (150 degrees' turn);
+# a steep tee's branch wall carried on leaves 90 less its lean (30 at 60 degrees)
+MIN_SPLIT = 30.0
 SAME_DIRECTION = 10.0  # degrees: directions closer than this are one
 END_SNAP = 0.15  # an end goes onto a corner or edge start this close (share of its length)
 NEAR_ZERO = 1e-9  # share of the diagonal below which a hit is the ray's own start
@@ -31,10 +36,26 @@ def _ccw(frm: np.ndarray, to: np.ndarray) -> float:
     return float(a % 360.0)
 
 
+def _turned(d: np.ndarray, degrees: float) -> np.ndarray:
+    """``d`` turned counter-clockwise by ``degrees``."""
+    c, s = np.cos(np.radians(degrees)), np.sin(np.radians(degrees))
+    return np.array([c * d[0] - s * d[1], s * d[0] + c * d[1]])
+
+
+def separatrices(vertex: Reflex) -> list[np.ndarray]:
+    """The separatrices of a smooth cross field at ``vertex``: its interior angle split
+    evenly into the number of right angles nearest it, so each block corner there comes
+    as close to 90 degrees as the angle allows (a 270-degree corner: its two sides carried
+    on; a tee's 245-degree corner: two lines 81.7 degrees apart)."""
+    parts = max(int(round(vertex.angle / 90.0)), 1)
+    return [_turned(vertex.d_out, k * vertex.angle / parts) for k in range(1, parts)]
+
+
 def directions(vertex: Reflex) -> list[np.ndarray]:
     """The directions an edge may leave ``vertex`` in: the two sides carried on, their
-    normals (duplicates and slivers dropped)."""
+    normals, the cross field's separatrices (duplicates and slivers dropped)."""
     candidates = [vertex.d_in, -vertex.d_out, _left(vertex.d_in), _left(vertex.d_out)]
+    candidates += separatrices(vertex)
     out: list[np.ndarray] = []
     for d in candidates:
         a = _ccw(vertex.d_out, d)  # the interior sweeps from d_out counter-clockwise

@@ -1,7 +1,8 @@
 """The choice among candidate blockings (SPEC 13): every reflex vertex's direction (or none,
 where another edge already ends on it) is tried, each layout completed round face centres
-(``faces.py``), ranked by its blocks' corner angles, and the best few meshed by the elliptic
-multi-block solver, whose quality (and interface kinks) picks the winner (``score.py``).
+or along a hexagon's diagonals (``faces.py``), ranked by its blocks' corner angles, and the
+best few meshed by the elliptic multi-block solver, whose quality (and interface kinks)
+picks the winner (``score.py``).
 
 Few reflex vertices (up to ``EXHAUSTIVE`` combinations) are tried in every combination;
 more, coordinate by coordinate from two starts (each needed vertex its shortest edge, the
@@ -17,7 +18,7 @@ from collections.abc import Callable, Iterable
 import numpy as np
 
 from pinn_engine.multiblock.autoblock.corners import Reflex
-from pinn_engine.multiblock.autoblock.faces import NoBlocking, completed
+from pinn_engine.multiblock.autoblock.faces import NoBlocking, completions
 
 EXHAUSTIVE = 256  # combinations tried one by one; more go coordinate by coordinate
 SHORTLIST = 2  # layouts of each edge count (the cheapest by corner angles) meshed
@@ -43,7 +44,8 @@ def candidates(
     """The feasible completed layouts (cost, edges), cheapest first, of the ``fixed`` edges
     (the O-rings) and the vertices' ray ``options`` (each a list of directions, the
     shortest edge first); ``build`` turns (vertex, direction) rays into edges."""
-    seen: dict[bytes, tuple[float, list[np.ndarray]]] = {}
+    seen: dict[bytes, tuple[float, list[np.ndarray]]] = {}  # completed layouts
+    costs: dict[bytes, float] = {}  # the cheapest completion of each choice's edges
     needed = [v.point for v in vertices if v.needed]
 
     def cost_of(choice: Choice) -> float:
@@ -53,13 +55,15 @@ def candidates(
             return np.inf
         edges = fixed + cuts
         key = _key(edges)
-        if key not in seen:
+        if key not in costs:
             try:
-                done, cost = completed(rings, edges)
-                seen[key] = (cost, done)
+                done = completions(rings, edges)
             except NoBlocking:
-                seen[key] = (np.inf, edges)
-        return seen[key][0]
+                done = []
+            for layout, cost in done:
+                seen[_key(layout)] = (cost, layout)
+            costs[key] = min((cost for _, cost in done), default=np.inf)
+        return costs[key]
 
     sizes = [len(o) for o in options]
     if np.prod([n + 1 for n in sizes], dtype=float) <= EXHAUSTIVE:
