@@ -44,7 +44,7 @@ def plain_aggregation(mat: sp.csr_matrix):
     cheaper V-cycles (operator complexity near 1), each cutting the defect less."""
     import pyamg
 
-    return pyamg.smoothed_aggregation_solver(
+    hierarchy = pyamg.smoothed_aggregation_solver(
         mat,
         smooth=None,
         # the aggregates from the matrix itself: pyamg's symmetric strength at its theta of 0
@@ -56,6 +56,14 @@ def plain_aggregation(mat: sp.csr_matrix):
         presmoother=FORWARD,
         postsmoother=BACKWARD,
     )
+    # pyamg leaves the coarse operators and the transfers as 1 x 1 block (BSR) matrices,
+    # whose Gauss-Seidel sweeps and products cost far more an entry than CSR's
+    for level in hierarchy.levels:
+        level.A = level.A.tocsr()
+        for transfer in ("P", "R"):
+            if hasattr(level, transfer):
+                setattr(level, transfer, getattr(level, transfer).tocsr())
+    return hierarchy
 
 
 def v_cycle(hierarchy) -> LinearOperator:
