@@ -669,7 +669,9 @@ class _Systems:
     twice, summed by every product and smoothing sweep as one entry of their sum (the
     diagonal is never repeated): merging them would sort 1.7 million entries and touch
     170 MB on DFG 3D for nothing the solve needs. A coordinate's matrix is the rows and
-    columns of its free nodes (``free``), solved by its own inexact solver."""
+    columns of its free nodes (``free``); coordinates free at the same nodes (the
+    cross-section's two of a pipe) have the same matrix, so one inexact solver, its
+    hierarchy built once, solves their columns together."""
 
     def __init__(
         self, owners: np.ndarray, held: np.ndarray, cols: np.ndarray, counts: np.ndarray
@@ -679,26 +681,29 @@ class _Systems:
         self.nodes = owners[solved]
         self.free = ~held[self.nodes]
         self.mine = np.repeat(solved, counts)
-        cols = cols[self.mine].astype(np.int32)
-        counts = counts[solved]
-        indptr = np.zeros(len(counts) + 1, dtype=np.int64)
-        np.cumsum(counts, out=indptr[1:])
-        self.pattern = (cols, indptr, (len(self.nodes), n))
-        self.parts = [self._part(counts, self.free[:, comp]) for comp in range(3)]
-        self.solvers = [InexactSolve(plain_aggregation, FORCING, gmres) for _ in range(3)]
+        self.counts = counts[solved]
+        indptr = np.zeros(len(self.counts) + 1, dtype=np.int64)
+        np.cumsum(self.counts, out=indptr[1:])
+        self.pattern = (cols[self.mine].astype(np.int32), indptr, (len(self.nodes), n))
+        self.rows = [np.flatnonzero(self.free[:, comp]) for comp in range(3)]
+        self.groups: dict[bytes, list[int]] = {}
+        for comp in range(3):
+            self.groups.setdefault(np.packbits(self.free[:, comp]).tobytes(), []).append(comp)
+        self.parts: dict[bytes, tuple] = {}  # a group's matrix layout, at its first solve
+        self.solvers = {key: InexactSolve(plain_aggregation, FORCING, gmres) for key in self.groups}
 
-    def _part(self, counts: np.ndarray, free: np.ndarray) -> tuple:
-        """The entries (a mask), column indices, row pointers and rows of the matrix of the
-        rows and columns ``free`` among the pattern's rows (``counts``: their entries)."""
+    def _part(self, free: np.ndarray) -> tuple:
+        """The entries (a mask), column indices and row pointers of the matrix of the rows
+        and columns ``free`` among the pattern's rows."""
         cols, starts, (_, n) = self.pattern
         rows = np.flatnonzero(free)
         local = np.full(n, -1, dtype=np.int32)  # a node's place among the free rows
         local[self.nodes[rows]] = np.arange(len(rows), dtype=np.int32)
         inner = local[cols]
-        keep = np.repeat(free, counts) & (inner >= 0)
+        keep = np.repeat(free, self.counts) & (inner >= 0)
         kept = np.zeros(len(keep) + 1, dtype=np.int64)  # entries kept before each
         np.cumsum(keep, out=kept[1:])
-        return keep, inner[keep], np.append(kept[starts[rows]], kept[-1]), rows
+        return keep, inner[keep], np.append(kept[starts[rows]], kept[-1])
 
     def residuals(self, v: np.ndarray, points: np.ndarray) -> np.ndarray:
         """(m, 3) Winslow residuals of the rows' nodes under the entries' weights ``v``
@@ -708,16 +713,23 @@ class _Systems:
         return sp.csr_matrix((self.data, indices, indptr), shape=shape) @ points
 
     def updates(self, residual: np.ndarray, solved: float) -> list[np.ndarray | None]:
-        """Per coordinate, the update of its free nodes toward the frozen system's solution
-        (``residual``: :meth:`residuals`), or None where no residual exceeds ``solved``."""
-        out: list[np.ndarray | None] = []
-        for comp, (keep, indices, indptr, rows) in enumerate(self.parts):
-            rhs = residual[rows, comp][:, None]
-            if np.abs(rhs).max(initial=0.0) <= solved:
-                out.append(None)
+        """Per coordinate, the update of its free nodes (``rows``) toward the frozen
+        system's solution (``residual``: :meth:`residuals`), or None where no residual
+        exceeds ``solved``."""
+        out: list[np.ndarray | None] = [None] * 3
+        for key, comps in self.groups.items():
+            rows = self.rows[comps[0]]
+            rhs = residual[rows][:, comps]
+            live = [k for k in range(len(comps)) if np.abs(rhs[:, k]).max(initial=0.0) > solved]
+            if not live:
                 continue
+            if key not in self.parts:
+                self.parts[key] = self._part(self.free[:, comps[0]])
+            keep, indices, indptr = self.parts[key]
             mat = sp.csr_matrix((-self.data[keep], indices, indptr), shape=(len(rows),) * 2)
-            out.append(self.solvers[comp].solve(mat, rhs)[:, 0])
+            got = self.solvers[key].solve(mat, np.ascontiguousarray(rhs[:, live]))
+            for k, column in zip(live, got.T):
+                out[comps[k]] = column
         return out
 
 
@@ -756,7 +768,7 @@ def winslow(
             moved = 0.0
             for comp, delta in enumerate(updates):
                 if delta is not None:
-                    points[systems.nodes[systems.parts[comp][3]], comp] += delta
+                    points[systems.nodes[systems.rows[comp]], comp] += delta
                     moved = max(moved, float(np.abs(delta).max(initial=0.0)))
             if progress is not None:
                 progress(steps, moved / diag)
