@@ -126,6 +126,94 @@ class Star:
     slope: np.ndarray
 
 
+@dataclass
+class Fan:
+    """The cells round an irregular node as :func:`_fan` lays them out: the neighbours
+    ``around`` at their logical offsets ``pos`` (m, 3), each found as a corner of one cell
+    (``corners``: cell, corner), and its layers' signs and cells' axes along the edge
+    (``heights``: the offsets' third components are their means of those cells' lengths)."""
+
+    around: np.ndarray
+    pos: np.ndarray
+    corners: list[tuple[int, tuple[int, int, int]]]
+    heights: list[tuple[float, list[tuple[int, int]]]]
+
+    def along(self, cells: list, place: Placement, logical) -> Fan:
+        """The fan of a node further along the same block edge (``cells``: its cells, as
+        the first node's but for their index along the edge): the same neighbours a cell
+        further, the same offsets across the edge (its cells' lengths across it are the
+        same) and its own layers' heights."""
+        around = np.array(
+            [
+                place.ids[cells[q][0]][tuple(c + k for c, k in zip(cells[q][1], e))]
+                for q, e in self.corners
+            ]
+        )
+        pos = self.pos.copy()
+        for (sign, layer), first in zip(self.heights, (pos[:, 2] > 0, pos[:, 2] < 0)):
+            lengths = [_lengths(logical[cells[q][0]], cells[q][1])[al] for q, al in layer]
+            pos[first, 2] = sign * float(np.mean(lengths))
+        return Fan(around, pos, self.corners, self.heights)
+
+
+def _lengths(u: list[np.ndarray], c) -> list[float]:
+    """A cell's logical edge lengths along its block's three directions (``u``: the block's
+    logical coordinates, ``c``: the cell's index)."""
+    return [abs(float(u[a][c[a] + 1] - u[a][c[a]])) for a in range(3)]
+
+
+def _stars(
+    nodes: list[int], edge: dict[int, list], place: Placement, logical, held: np.ndarray
+) -> dict[int, Star | None]:
+    """The stars of the irregular ``nodes`` (None where their cells form no fan or the node
+    lies on two boundary planes): a fan laid out once an edge (:func:`_fan`), moved along it
+    (:meth:`Fan.along`), and every star's least-squares fits found together."""
+    groups: dict[tuple, list[int]] = {}
+    for node in nodes:
+        key = (_along_edge(edge[node], place), held[node].tobytes())
+        groups.setdefault(key, []).append(node)
+    fans: dict[int, tuple[Fan, int | None]] = {}
+    for members in groups.values():
+        normal = np.flatnonzero(held[members[0]])
+        if len(normal) > 1:
+            continue
+        side = int(normal[0]) if len(normal) else None
+        first = _fan(members[0], edge[members[0]], place, logical, side)
+        for node in members:
+            if first is None or node == members[0]:
+                fan = first if node == members[0] else _fan(node, edge[node], place, logical, side)
+            else:
+                fan = first.along(edge[node], place, logical)
+            if fan is not None:
+                fans[node] = (fan, side)
+    made = {}  # a star's neighbours, the offsets its fit is made at and its slope
+    for members in _by_shape(fans, lambda node: fans[node][0].pos.shape):
+        pos = np.stack([fans[n][0].pos for n in members])
+        # the metric from the real cells alone (a mirror would make the normal derivative 0)
+        slopes = np.linalg.pinv(_design(pos))[:, :3]
+        for node, slope, at in zip(members, slopes, pos):
+            around, side = fans[node][0].around, fans[node][1]
+            if side is not None:  # the mirror layer: the same nodes across the plane
+                around = np.concatenate([around, around])
+                at = np.vstack([at, at * [1.0, 1.0, -1.0]])
+                slope = np.hstack([slope, np.zeros_like(slope)])
+            made[node] = (around, at, slope)
+    out: dict[int, Star | None] = dict.fromkeys(nodes)
+    for members in _by_shape(made, lambda node: made[node][1].shape):
+        fits = np.linalg.pinv(_design(np.stack([made[n][1] for n in members])))
+        for node, fit in zip(members, fits):
+            out[node] = Star(node, made[node][0], fit, made[node][2])
+    return out
+
+
+def _by_shape(nodes, shape) -> list[list[int]]:
+    """``nodes`` in groups of one ``shape(node)``: their fits are found together."""
+    groups: dict[tuple, list[int]] = {}
+    for node in nodes:
+        groups.setdefault(shape(node), []).append(node)
+    return list(groups.values())
+
+
 # the derivatives of a quadratic fit, in the order of its design columns
 FIT_TERMS = ((0,), (1,), (2,), (0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
 
@@ -265,11 +353,7 @@ def _glued(edge: dict[int, list], place: Placement, steps: list) -> dict[int, tu
     found once, and their frames gathered together."""
     groups: dict[tuple, list[int]] = {}
     for node, cells in edge.items():
-        key = tuple(
-            (b, o, tuple((c[a] == 0, c[a] == place.ids[b].shape[a] - 2) for a in range(3)))
-            for b, c, o in cells
-        )
-        groups.setdefault(key, []).append(node)
+        groups.setdefault(_along_edge(cells, place), []).append(node)
     out: dict[int, tuple | None] = {}
     for nodes in groups.values():
         maps = _maps(nodes[0], _corners(edge[nodes[0]], place))
@@ -280,6 +364,16 @@ def _glued(edge: dict[int, list], place: Placement, steps: list) -> dict[int, tu
                 one = _frames([node], edge, own, place, steps)[0] if own else None
             out[node] = one
     return out
+
+
+def _along_edge(cells: list, place: Placement) -> tuple:
+    """What the nodes along one block edge share (their cells' blocks, the node's corners in
+    them and the cells' places at the blocks' ends): nodes with the same key have cells
+    that differ only in their index along the edge."""
+    return tuple(
+        (b, o, tuple((c[a] == 0, c[a] == place.ids[b].shape[a] - 2) for a in range(3)))
+        for b, c, o in cells
+    )
 
 
 def _corners(cells: list, place: Placement) -> list:
@@ -405,13 +499,13 @@ def _mirror(frame: list[int], h: list[list[float]]) -> bool:
     return all(frame[i] >= 0 for i in FRAME_STENCIL)
 
 
-def _star(node: int, cells: list, place: Placement, logical, normal: int | None) -> Star | None:
-    """The star of a node on an edge round which Q != 4 blocks meet (Knupp's irregular
+def _fan(node: int, cells: list, place: Placement, logical, normal: int | None) -> Fan | None:
+    """The fan of a node on an edge round which Q != 4 blocks meet (Knupp's irregular
     node, as ``multiblock.junctions`` in 2D): the cells' fan across the edge mapped to a
     Q-gon in a logical plane (equal angles, each side neighbour at its logical distance),
     the edge along the third logical axis, each cell's nodes at those logical offsets; a
-    node on a boundary plane (``normal``: its axis) has its one layer mirrored across it.
-    None where the cells form no such fan."""
+    node on a boundary plane (``normal``: its axis) has its one layer mirrored across it
+    (by :func:`_stars`). None where the cells form no such fan."""
 
     def neighbour(b, c, o, a) -> int:
         e = list(o)
@@ -449,7 +543,7 @@ def _star(node: int, cells: list, place: Placement, logical, normal: int | None)
         else:
             return None
     layers: dict[int, list] = {}
-    for (b, c, o), along in zip(cells, axes):
+    for q, ((b, c, o), along) in enumerate(zip(cells, axes)):
         ids = place.ids[b]
 
         def at(flip, c=c, o=o, ids=ids):
@@ -459,15 +553,14 @@ def _star(node: int, cells: list, place: Placement, logical, normal: int | None)
             return int(ids[c[0] + e[0], c[1] + e[1], c[2] + e[2]])
 
         plane = [a for a in range(3) if a != along]
-        u = logical[b]
-        lengths = [abs(float(u[a][c[a] + 1] - u[a][c[a]])) for a in range(3)]
-        layers.setdefault(at([along]), []).append((at, along, plane, lengths))
+        lengths = _lengths(logical[b], c)
+        layers.setdefault(at([along]), []).append((at, along, plane, lengths, q))
     if len(layers) > 2 or (len(layers) == 1) != (normal is not None):
         return None
     # the fan: side neighbours in the edge's normal plane, chained round the node
     first = next(iter(layers.values()))
     links: dict[int, list[int]] = {}
-    for at, _, plane, _ in first:
+    for at, _, plane, _, _ in first:
         s, t = at([plane[0]]), at([plane[1]])
         links.setdefault(s, []).append(t)
         links.setdefault(t, []).append(s)
@@ -483,7 +576,7 @@ def _star(node: int, cells: list, place: Placement, logical, normal: int | None)
     # each side neighbour at its cells' logical edge length from the node
     reach: dict[int, list[float]] = {}
     for layer in layers.values():
-        for at, _, plane, lengths in layer:
+        for at, _, plane, lengths, _ in layer:
             for a in plane:
                 reach.setdefault(at([a]), []).append(lengths[a])
     angle = 2 * np.pi * np.arange(q) / q
@@ -492,9 +585,11 @@ def _star(node: int, cells: list, place: Placement, logical, normal: int | None)
         for n, t in zip(ring, angle)
     }
     offsets: dict[int, np.ndarray] = dict(side)
+    heights = []
     for sign, layer in zip((1.0, -1.0), layers.values()):
-        height = sign * float(np.mean([ln[al] for _, al, _, ln in layer]))
-        for at, along, plane, _ in layer:
+        heights.append((sign, [(q, al) for _, al, _, _, q in layer]))
+        height = sign * float(np.mean([ln[al] for _, al, _, ln, _ in layer]))
+        for at, along, plane, _, _ in layer:
             s, t = at([plane[0]]), at([plane[1]])
             if s not in side or t not in side:
                 return None
@@ -510,14 +605,14 @@ def _star(node: int, cells: list, place: Placement, logical, normal: int | None)
                     return None
                 offsets[n] = pos
     around = np.array(list(offsets))
-    logical_pos = np.array([offsets[n] for n in around])
-    # the metric from the real cells alone (a mirror would make the normal derivative 0)
-    slope = np.linalg.pinv(_design(logical_pos))[:3]
-    if normal is not None:  # the mirror layer: the same nodes across the plane
-        around = np.concatenate([around, around])
-        logical_pos = np.vstack([logical_pos, logical_pos * [1.0, 1.0, -1.0]])
-        slope = np.hstack([slope, np.zeros_like(slope)])
-    return Star(node, around, np.linalg.pinv(_design(logical_pos)), slope)
+    corners = {}  # a node of the cells as (cell, corner), for the nodes further along the edge
+    for q, (b, c, _) in enumerate(cells):
+        box = place.ids[b][c[0] : c[0] + 2, c[1] : c[1] + 2, c[2] : c[2] + 2]
+        for e in itertools.product((0, 1), repeat=3):
+            corners.setdefault(int(box[e]), (q, e))
+    return Fan(
+        around, np.array([offsets[n] for n in around]), [corners[n] for n in around], heights
+    )
 
 
 def _close(a: np.ndarray, b: np.ndarray) -> bool:
@@ -526,10 +621,11 @@ def _close(a: np.ndarray, b: np.ndarray) -> bool:
 
 
 def _design(pos: np.ndarray) -> np.ndarray:
-    """The quadratic fit's design matrix at logical offsets ``pos`` (m, 3)."""
-    xi, eta, zeta = pos.T
-    return np.column_stack(
-        [xi, eta, zeta, 0.5 * xi**2, xi * eta, xi * zeta, 0.5 * eta**2, eta * zeta, 0.5 * zeta**2]
+    """The quadratic fit's design matrices at logical offsets ``pos`` (..., m, 3)."""
+    xi, eta, zeta = pos[..., 0], pos[..., 1], pos[..., 2]
+    return np.stack(
+        [xi, eta, zeta, 0.5 * xi**2, xi * eta, xi * zeta, 0.5 * eta**2, eta * zeta, 0.5 * zeta**2],
+        axis=-1,
     )
 
 
@@ -609,15 +705,16 @@ def stencils(place: Placement) -> tuple[Stencils, list[Star], np.ndarray]:
     glued_ids, glued_h, stars = [], [], []
     edge = {node: cells for node, cells in _edge_nodes(place).items() if not held[node].all()}
     glued = _glued(edge, place, steps)
-    for node, cells in edge.items():
+    irregular = []
+    for node in edge:
         got = glued[node]
         if got is not None and _mirror(*got) and all(x > 0 for side in got[1] for x in side):
             glued_ids.append(got[0])
             glued_h.append(got[1])
-            continue
-        normal = np.flatnonzero(held[node])
-        star = _star(node, cells, place, logical, int(normal[0]) if len(normal) == 1 else None)
-        if star is None or len(normal) > 1:
+        else:
+            irregular.append(node)
+    for node, star in _stars(irregular, edge, place, logical, held).items():
+        if star is None:
             held[node] = True
         else:
             stars.append(star)
