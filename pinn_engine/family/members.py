@@ -4,9 +4,11 @@ its own run places them, and a base grid on them, in the family's frame.
 - Four-sided: the arc-length TFI of the boundary, each sharp vertex inside a side a node (the
   nodes and base of the default run, ``kinds.four_sided.untrained.StartModel``), in the
   boundary's unit-box working frame.
-- Body (O- or C-grid): the member's elliptic grid (``kinds.body.mesh.mesh_body``: the wall and far
-  field nodes of ``bodygrid.layout``, the start of the default run), in the frame of its
-  chord: mid-chord at the origin, chord 1.
+- Body (O- or C-grid): the member's reference grid (``bodygrid.layout``: its wall, first row
+  and far field nodes, which its own run's grids keep, and the rows marched between them, from
+  which its own run solves its elliptic grid), in the frame of its chord: mid-chord at the
+  origin, chord 1. Its elliptic grid (its own run's start, ``kinds.body.mesh.mesh_body``) is
+  solved only where asked (:meth:`Member.body_start`): a certified model grid needs none.
 """
 
 from __future__ import annotations
@@ -51,10 +53,12 @@ def family_settings(settings: Settings) -> dict:
 class Member:
     """A member: ``kind``, ``topology`` (``none``, ``o`` or ``c``), ``base`` (nj, ni, 2) in the
     family's frame, ``frame`` (to the user's coordinates), ``source``, and what its kind keeps:
-    the four-sided ``boundary``, or the body's elliptic ``start`` (a :class:`MeshResult`),
-    ``body`` and far field ``far``; ``settings``: the run's settings that make a family
-    (``model.FAMILY_KEYS``); ``optimised``: whether its own run's grid is its nodes'
-    optimum under the quality objective (the default's, ``Settings.quality_objective``)."""
+    the four-sided ``boundary``, or the body's ``layout`` (``bodygrid.Layout``), ``body``,
+    far field ``far`` and the run's settings ``run`` (its elliptic ``start``, a
+    :class:`MeshResult`, once solved: :meth:`body_start`); ``settings``: the run's settings
+    that make a family (``model.FAMILY_KEYS``); ``optimised``: whether its own run's grid is
+    its nodes' optimum under the quality objective (the default's,
+    ``Settings.quality_objective``)."""
 
     kind: str
     topology: str
@@ -67,11 +71,27 @@ class Member:
     far: object | None = None  # bodies.airfoil.FarField
     settings: dict | None = None  # the run's settings that a family's members share
     optimised: bool = False  # its own run optimises its nodes (the default objective)
-    elliptic: np.ndarray | None = None  # a four-sided member's elliptic grid, once solved
+    elliptic: np.ndarray | None = None  # its elliptic grid (family frame), once solved
+    layout: object | None = None  # a body's bodygrid.Layout
+    run: Settings | None = None  # a body's run settings (its start's)
 
     @property
     def size(self) -> tuple[int, int]:
         return self.base.shape[1], self.base.shape[0]
+
+    def body_start(self) -> MeshResult:
+        """A body's own start: its elliptic grid on its layout (``mesh_body``), solved once;
+        ``elliptic`` is then that grid in the family's frame."""
+        if self.start is None:
+            from pinn_engine.kinds.body.mesh import mesh_body
+
+            ni, nj = self.size
+            self.start = mesh_body(
+                self.body, self.far, self.topology, "elliptic", ni, nj, self.run,
+                self.run.wall_spacing, layout=self.layout,
+            )  # fmt: skip
+            self.elliptic = self.frame.to_unit(self.start.points)
+        return self.start
 
 
 def member_of(
@@ -101,21 +121,18 @@ def member_of(
             "four-sided", "none", base, boundary.frame, boundary.source, boundary,
             settings=shared, optimised=settings.quality_objective,
         )  # fmt: skip
-    from pinn_engine.kinds.body.mesh import mesh_body
-
-    start = mesh_body(
-        body, far, settings.topology, "elliptic", ni, nj, settings, settings.wall_spacing
-    )
+    from pinn_engine.kinds.body.mesh import body_layout
     from pinn_engine.kinds.body.untrained import WALL, body_cannot_win
 
+    lay = body_layout(body, far, settings.topology, settings.method, ni, nj, settings.wall_spacing)
     frame = Frame(origin=np.asarray(body.mid_chord, dtype=float), scale=float(body.chord))
-    base = frame.to_unit(start.points)
+    base = frame.to_unit(lay.reference)
     shared = family_settings(settings)
     # its own run optimises its nodes (the default objective); the wall cells' aspect is not
     # known here, so a thin-walled member (whose run keeps its elliptic grid) is optimised
     # too, and its ranking keeps it no worse than that grid
     optimised = body_cannot_win(settings, 0.0) == WALL
     return Member(
-        "body", settings.topology, base, frame, body.source, None, start, body, far, shared,
-        optimised,
+        "body", settings.topology, base, frame, body.source, None, None, body, far, shared,
+        optimised, layout=lay, run=settings,
     )  # fmt: skip

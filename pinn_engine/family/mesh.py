@@ -2,12 +2,12 @@
 
 The guard is section 4's: a grid with a folded cell, or whose worst cell is more than
 ``WORST_TOL`` degrees above the member's own start's, falls back to that start with a
-warning. A body's start (its elliptic grid) is the base the model corrects, so it is always
-at hand; a body's grid is kept without its own run's optimisation where its worst angle is
-within ``WORST_TOL`` of its held first layer's, which bounds its own run's grid from below
-(:func:`held_worst`), else optimised as its own run is. A four-sided member's start (the
-grid its own run starts from) costs what the default run costs, so it is solved only where
-the model cannot vouch for its grid without it:
+warning. A body's grid is kept, without its own start (its elliptic grid) or its own run's
+optimisation, where it has no fold and its worst angle is within ``WORST_TOL`` of its held
+first layer's, which bounds its start's and its own run's grid from below
+(:func:`held_worst`); else its start is solved and it is optimised as its own run is. A
+four-sided member's start (the grid its own run starts from) costs what the default run
+costs, so it is solved only where the model cannot vouch for its grid without it:
 
 - a family of Winslow grids vouches for a grid that one more linearised Winslow step moves
   by at most ``DEFECT_TOL`` of the shortest edge at any node, and keeps that step (the steps
@@ -38,13 +38,13 @@ import numpy as np
 
 from pinn_engine.family.members import Member, member_of
 from pinn_engine.family.model import FamilyModel, load_family
+from pinn_engine.geometry.plane import Plane
 from pinn_engine.quality import (
     boundary_nodes,
     cell_quality,
     guard_figures,
     side_report,
     summary,
-    worst_non_orthogonality,
 )
 from pinn_engine.result import MeshResult
 from pinn_engine.settings import Settings
@@ -91,8 +91,9 @@ def _start(member: Member, settings: Settings) -> np.ndarray:
     """The member's own start (family frame): a body's elliptic grid; a four-sided member's
     start under ``settings`` (``kinds.four_sided.untrained.StartModel``: the grid its own run starts
     from, and keeps where no network trains)."""
-    if member.start is not None:
-        return member.base
+    if member.kind == "body":
+        member.body_start()
+        return member.elliptic
     from pinn_engine.kinds.four_sided.untrained import StartModel
 
     start = StartModel.of(member.boundary, (), settings, "the family model's grid failed")
@@ -125,26 +126,28 @@ def mesh_member(
             break
     reference, polished_from = None, None
     vouched = model.winslow and defect is not None and defect <= DEFECT_TOL
-    if model.polish and member.start is not None:
+    body = member.kind == "body"
+    if model.polish and body:
         grid, polished_from = _body_chosen(member, grid)
-        vouched = True  # no worse than the member's elliptic start, or certified
+        vouched = True  # certified, or no worse than the member's elliptic start
     elif model.polish:
         grid, reference, vouched, polished_from = _polished(model, member, grid)
     points = member.frame.to_user(grid)
     cells = cell_quality(points)
     figures = _figures(cells)
-    if member.start is not None:  # a body's start is its base: its cells are measured
-        reference = _figures(member.start.cells)
     start = None
-    if member.start is None and not vouched:  # no certificate: the member's start decides
+    if not vouched:  # no certificate: the member's start decides
         start, start_points, start_cells = _start_grid(member, settings)
         reference = _figures(start_cells)
+    elif body and member.start is not None:  # solved for its optimisation: measured
+        reference = _figures(member.start.cells)
     passed = not figures["folded_cells"] and (
         vouched or figures["worst_max_angle"] <= reference["worst_max_angle"] + WORST_TOL
     )
     if not passed:
         if start is None:
             start, start_points, start_cells = _start_grid(member, settings)
+            reference = _figures(start_cells)
         points, cells = start_points, start_cells
     guarded = time.perf_counter()
     kept = grid if passed else start
@@ -182,7 +185,7 @@ def mesh_member(
     report["training"] = training
     report["mesh_seconds"] = time.perf_counter() - began
     report["timings"] = {**training["timings"], "quality": time.perf_counter() - guarded}
-    plane = member.boundary.plane if member.boundary is not None else member.start.plane
+    plane = member.boundary.plane if member.boundary is not None else Plane.horizontal()
     return MeshResult(points=points, report=report, cells=cells, plane=plane)
 
 
@@ -210,43 +213,29 @@ def _polished(
 
 
 def _body_chosen(member: Member, grid: np.ndarray) -> tuple[np.ndarray, str]:
-    """A body's grid and its name: the member's own run's choice (body_quality_start)
-    with the model's ``grid`` in place of the optimised grid, kept without an
-    optimisation where its worst angle is certified; else :func:`_body_polished`.
+    """A body's grid and its name: the model's ``grid``, kept without the member's own start
+    or optimisation where its worst angle is certified; else :func:`_body_polished`.
 
-    The choice keeps the model's grid over the elliptic grid where its ranking puts it no
-    lower, its mean is not a ranking step (``MEAN_STEP``) above the elliptic grid's and it
-    is no less orthogonal. The certificate: every grid the member's own run can return (its
-    elliptic grid, or that grid optimised) holds its wall row and first layer
-    (``BODY_HELD_ROWS``), so its worst angle is at least those cells' worst; a chosen grid
+    The certificate: every grid the member's own run can return (its elliptic grid, or that
+    grid optimised) holds its wall row and first layer (``BODY_HELD_ROWS``), which the
+    model's grid holds too, so its worst angle is at least those cells' worst; a model grid
     with no fold and a worst angle within ``WORST_TOL`` of theirs is within SPEC 16's bound
-    of the member's own grid, and its mean is the elliptic grid's or at most a step above
-    it (what the own run's optimisation lowers the mean by is measured in docs/family.md,
-    not bounded here)."""
-    from pinn_engine.starts.quality_start import MEAN_STEP, Ranking
-
-    elliptic = member.base
-    ranking = Ranking.of(elliptic, [], 1.0)
-    q_model, q_start = ranking.quality(grid), ranking.quality(elliptic)
-    chosen, q, name = elliptic, q_start, "elliptic"
-    if (
-        ranking.key(q_model) <= ranking.key(q_start)
-        and q_model["mean_max_angle"] <= q_start["mean_max_angle"] + MEAN_STEP
-        and worst_non_orthogonality(grid) <= worst_non_orthogonality(elliptic)
-    ):
-        chosen, q, name = grid, q_model, "family"
-    if not q["folded_cells"] and q["worst_max_angle"] <= held_worst(elliptic) + WORST_TOL:
-        return chosen, f"{name} (not optimised: certified)"
+    of the member's own grid and of its start. Its mean is the model's fit of its own grid,
+    measured in docs/family.md, not bounded here."""
+    q = guard_figures(grid)
+    if not q["folded_cells"] and q["worst_max_angle"] <= held_worst(member.base) + WORST_TOL:
+        return grid, "family (not optimised: certified)"
     return _body_polished(member, grid)
 
 
-def held_worst(elliptic: np.ndarray) -> float:
+def held_worst(grid: np.ndarray) -> float:
     """The worst angle of the cells that every grid of a body's own run keeps as they are in
-    its ``elliptic`` grid: those between its held rows (the wall and the first layer,
-    ``quality_start.BODY_HELD_ROWS``), a lower bound of its own grid's worst angle."""
+    its reference ``grid`` (or its elliptic grid): those between its held rows (the wall and
+    the first layer, ``quality_start.BODY_HELD_ROWS``), a lower bound of its own grid's
+    worst angle."""
     from pinn_engine.starts.quality_start import BODY_HELD_ROWS
 
-    return guard_figures(elliptic[:BODY_HELD_ROWS])["worst_max_angle"]
+    return guard_figures(grid[:BODY_HELD_ROWS])["worst_max_angle"]
 
 
 def _body_polished(member: Member, grid: np.ndarray) -> tuple[np.ndarray, str]:
@@ -265,13 +254,15 @@ def _body_polished(member: Member, grid: np.ndarray) -> tuple[np.ndarray, str]:
     from pinn_engine.blas import one_thread
     from pinn_engine.starts.quality_start import Ranking, body_quality_start
 
-    ranking = Ranking.of(member.base, [], 1.0)
-    better = ranking.key(ranking.quality(grid)) <= ranking.key(ranking.quality(member.base))
+    member.body_start()
+    elliptic = member.elliptic
+    ranking = Ranking.of(elliptic, [], 1.0)
+    better = ranking.key(ranking.quality(grid)) <= ranking.key(ranking.quality(elliptic))
     seam = member.topology == "o"
     with one_thread():  # its L-BFGS, as the member's own run's
-        found = body_quality_start(member.base, seam, begin=grid if better else None)
+        found = body_quality_start(elliptic, seam, begin=grid if better else None)
         if better and not seam and found[1] == "elliptic":
-            found = body_quality_start(member.base, seam)
+            found = body_quality_start(elliptic, seam)
     return found
 
 
@@ -279,9 +270,10 @@ def _start_grid(member: Member, settings: Settings) -> tuple[np.ndarray, np.ndar
     """The member's own start (:func:`_start`; family frame), in the user's coordinates and
     its cell arrays."""
     start = _start(member, settings)
+    if member.kind == "body":
+        return start, member.start.points, member.start.cells
     points = member.frame.to_user(start)
-    cells = member.start.cells if member.start is not None else cell_quality(points)
-    return start, points, cells
+    return start, points, cell_quality(points)
 
 
 _FIGURES = ("mean_max_angle", "worst_max_angle", "folded_cells")
@@ -316,19 +308,14 @@ def _report(
         "aux_lines": [],
         "aux_line_distance": {},
     }
-    if member.start is None:
+    if member.kind == "body":
+        from pinn_engine.kinds.body.mesh import layout_report
+
+        deviation, report["topology"] = layout_report(
+            points, member.layout, member.body, member.far
+        )
+    else:
         deviation = float(member.boundary.deviation(boundary_nodes(unit)).max())
         report["sides"] = side_report(unit, member.frame.scale)
-    else:
-        from pinn_engine.kinds.body.mesh import topology_metrics
-
-        deviation = member.start.report["quality"]["boundary_deviation"]
-        start_topology = member.start.report["topology"]
-        report["topology"] = {
-            **start_topology,
-            **topology_metrics(
-                points, member.topology, start_topology["wake_nodes"], member.far, member.body.sharp
-            ),
-        }
     report["quality"] = summary(cells, deviation)
     return report

@@ -9,11 +9,12 @@ family the base is the family's linearised elliptic grid (physics.py: the Winslo
 frozen at the members' mean grid, solved with the member's boundary nodes), and where the
 family's grids solve the Winslow equations, one more linearised solve at the predicted grid
 takes it to second order towards the member's own. Where they are node optima (the default's
-four-sided grids and bodies) the base is the member's own elliptic grid, the network the
-linear map alone (network.fit_linear), and the member's own node optimisation finishes the
-grid: a four-sided member's until it settles (at most ``POLISH_ITERATIONS``); a body's
-grid needs none where its worst angle is certified, else its own run's optimisation starts
-from the model's grid (mesh.py).
+four-sided grids and bodies) the network is the linear map alone (network.fit_linear), and
+the member's own node optimisation finishes the grid: a four-sided member's, from the
+member's own elliptic grid as base, until it settles (at most ``POLISH_ITERATIONS``); a
+body's, based on its reference grid (the rows its layout marches, from which its own run
+solves its elliptic grid), needs none where its worst angle is certified, else its own
+run's optimisation starts from the model's grid (mesh.py).
 """
 
 from __future__ import annotations
@@ -34,7 +35,9 @@ from pinn_engine.family.physics import FrozenWinslow, solves_winslow
 from pinn_engine.quality import guard_figures
 from pinn_engine.settings import Settings
 
-FORMAT = "pinn-mesh-family/1"
+# 2: a body's base is its reference grid (1: its elliptic grid; a model of 1 is refused, its
+# corrections are from another base)
+FORMAT = "pinn-mesh-family/2"
 # The correction modes carry all but this share of the training corrections' energy
 KEPT_ENERGY = 1e-8
 EPOCHS = 1500  # Adam's full-batch epochs: about 1 s for 24 members on one core
@@ -170,7 +173,7 @@ class FamilyModel:
         return model
 
     def base(self, member: Member) -> np.ndarray:
-        """The base grid of ``member`` (family frame): a body's elliptic grid; a four-sided
+        """The base grid of ``member`` (family frame): a body's reference grid; a four-sided
         member's own elliptic grid where the family's grids are node optima (the grid its
         own run optimises from, solved once a member), else the linearised elliptic grid."""
         if self.mean_grid is None:
@@ -221,7 +224,7 @@ class FamilyModel:
         grid = self.base(member)
         if len(self.modes):
             grid = grid + (forward(self.params, z) @ self.modes).reshape(grid.shape)
-            if member.start is not None:
+            if member.kind == "body":
                 grid = _held(grid, member, self.polish > 0)
         return grid, {"in_range": self.encoding.in_range(vector)}
 
@@ -287,11 +290,12 @@ class FamilyModel:
 
 
 def _held(grid: np.ndarray, member: Member, optimised: bool) -> np.ndarray:
-    """A body's model ``grid`` with the nodes its own run never moves set to its start's
-    exactly (the modes vanish there to rounding): the wall, the far field and a C-grid's
-    outflow columns, and where its own run optimises its nodes (``optimised``) the first
-    layer too (``quality_start.BODY_HELD_ROWS``; a trained network's correction moves it);
-    an O-grid's column ni - 1 repeats its column 0 (the seam)."""
+    """A body's model ``grid`` with the nodes its own run never moves set to its base's
+    exactly (the modes vanish there to rounding; its reference grid's, which its elliptic
+    grid holds): the wall, the far field and a C-grid's outflow columns, and where its own
+    run optimises its nodes (``optimised``) the first layer too
+    (``quality_start.BODY_HELD_ROWS``; a trained network's correction moves it); an
+    O-grid's column ni - 1 repeats its column 0 (the seam)."""
     from pinn_engine.starts.quality_start import BODY_HELD_ROWS
 
     base, held = member.base, BODY_HELD_ROWS if optimised else 1

@@ -253,24 +253,26 @@ def sections():
 
 
 def test_a_certified_body_grid_is_kept_without_its_members_optimisation(sections, monkeypatch):
-    """An O-grid family: the member's own choice with the model's grid in place of its
-    optimised grid, kept without the optimisation (its worst angle within 2 degrees of the
-    held first layer's, which bounds its own run's grid); the wall, first layer and far
-    field are its own run's nodes, the seam one column, no fold, its own grid's quality
-    within the check's bounds."""
+    """An O-grid family: the model's grid, kept without the member's own start (its
+    elliptic grid) or optimisation (its worst angle within 2 degrees of the held first
+    layer's, which bounds its own run's grid); the wall, first layer and far field are its
+    own run's nodes, the seam one column, no fold, its own grid's quality within the
+    check's bounds."""
+    from pinn_engine.bodies import bodygrid
     from pinn_engine.starts import quality_start
 
     settings, g = naca("3413")
     own = job.run(settings, g)
 
     def not_called(*args, **kwargs):
-        raise AssertionError("the member's optimisation ran")
+        raise AssertionError("the member's elliptic grid or optimisation ran")
 
     monkeypatch.setattr(quality_start, "optimize_nodes", not_called)
+    monkeypatch.setattr(bodygrid, "elliptic", not_called)
     by_model = job.run(settings, g, family=sections)
     training = by_model.report["training"]
-    assert training["result"] == "family"
-    assert training["polished_against"].endswith("(not optimised: certified)")
+    assert training["result"] == "family" and not training["start_solved"]
+    assert training["polished_against"] == "family (not optimised: certified)"
     a, b = own.grids[0], by_model.grids[0]
     for rows in (np.s_[:2], np.s_[-1]):  # the wall and first layer, the far field
         np.testing.assert_allclose(b[rows], a[rows], rtol=0, atol=1e-12)
@@ -283,10 +285,12 @@ def test_a_certified_body_grid_is_kept_without_its_members_optimisation(sections
 
 def test_the_held_layer_bounds_a_body_grid_from_below(sections):
     """The certificate's premise: the member's own grid (its elliptic grid or that grid
-    optimised) keeps its wall and first layer, so its worst angle is at least theirs."""
+    optimised) keeps its wall and first layer, those of its reference grid (the model's
+    base), so its worst angle is at least theirs."""
     settings, g = naca("3413")
     own = job.run(settings, g)
     member = job.family_member(settings, g)
+    np.testing.assert_array_equal(member.layout.reference[:2], own.grids[0][:2])
     assert own.quality["worst_max_angle"] >= family_mesh.held_worst(member.base) - 1e-9
 
 

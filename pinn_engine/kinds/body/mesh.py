@@ -133,6 +133,48 @@ def topology_metrics(
     return out
 
 
+def _check_wall_spacing(wall_spacing: float | None) -> None:
+    if wall_spacing is not None and not (np.isfinite(wall_spacing) and wall_spacing > 0):
+        raise InputError(f"wall spacing {wall_spacing}: must be a number > 0 (--spacing bottom=H)")
+
+
+def body_layout(
+    body: Body,
+    far: FarField,
+    topology: str,
+    method: str,
+    ni: int,
+    nj: int,
+    wall_spacing: float | None = None,
+) -> bodygrid.Layout:
+    """The layout of a ``method`` grid around ``body`` (its wall, first row and far field, and
+    the reference grid marched between them), refused where its first row, which every grid
+    but tfi's holds, lies inside the body (as :func:`mesh_body` refuses the grid)."""
+    _check_wall_spacing(wall_spacing)
+    lay = bodygrid.layout(body, far, topology, ni, nj, wall_spacing=wall_spacing)
+    if inside_out(lay.reference, lay):
+        raise inside_out_error(method, lay, body.source)
+    return lay
+
+
+def layout_report(
+    grid: np.ndarray, lay: bodygrid.Layout, body: Body, far: FarField
+) -> tuple[float, dict]:
+    """A body grid's wall deviation from the drawn body (a share of the grid's extent) and
+    its report's topology figures (:func:`topology_metrics`, the wall spacing, a cut or a
+    closing segment that continues)."""
+    wall = grid[0][lay.wall_columns()]
+    scale = float(np.linalg.norm(np.ptp(grid.reshape(-1, 2), axis=0)))
+    deviation = float(segment_distance(wall, body.ring()[:-1]).max()) / scale
+    figures = topology_metrics(grid, lay.topology, lay.n_wake, far, body.sharp)
+    figures["wall_spacing"] = lay.wall_spacing
+    if body.cut is not None:  # crossing surfaces cut at the crossing (SPEC 9)
+        figures["cut"] = list(body.cut)
+    if body.continued is not None:  # a closing segment that is no base (SPEC 9)
+        figures["closing_segment_continues"] = body.continued
+    return deviation, figures
+
+
 def mesh_body(
     body: Body,
     far: FarField,
@@ -143,19 +185,20 @@ def mesh_body(
     settings: Settings | None = None,
     wall_spacing: float | None = None,
     progress: Callable[[dict], bool | None] | None = None,
+    layout: bodygrid.Layout | None = None,
 ) -> MeshResult:
-    """The O- or C-grid of ``ni`` x ``nj`` nodes around ``body`` (see bodygrid.py)."""
+    """The O- or C-grid of ``ni`` x ``nj`` nodes around ``body`` (see bodygrid.py), on
+    ``layout`` where given (``body_layout``'s of these arguments)."""
     if method not in METHODS:
         raise InputError(
             f"method {method}: O- and C-grids are made by "
             f"{', '.join(METHODS)} (mgnet meshes four-sided domains only)"
         )
     settings = settings or make_settings(method, lattice=(ni, nj))
-    if wall_spacing is not None and not (np.isfinite(wall_spacing) and wall_spacing > 0):
-        raise InputError(f"wall spacing {wall_spacing}: must be a number > 0 (--spacing bottom=H)")
+    _check_wall_spacing(wall_spacing)
     start = time.perf_counter()
     _stage(progress, "body layout")
-    lay = bodygrid.layout(body, far, topology, ni, nj, wall_spacing=wall_spacing)
+    lay = layout or bodygrid.layout(body, far, topology, ni, nj, wall_spacing=wall_spacing)
     timings = {"layout": time.perf_counter() - start}
     history: dict[str, list[float]] = {}
     training: dict | None = None
@@ -211,10 +254,7 @@ def mesh_body(
             "this section",
             body.source,
         )
-    ring = body.ring()
-    wall = grid[0][lay.wall_columns()]
-    scale = float(np.linalg.norm(np.ptp(grid.reshape(-1, 2), axis=0)))
-    deviation = float(segment_distance(wall, ring[:-1]).max()) / scale
+    deviation, layout_figures = layout_report(grid, lay, body, far)
     report = {
         "method": method,
         "size": [ni, nj],
@@ -225,13 +265,8 @@ def mesh_body(
         "source": body.source,
         "aux_lines": [],
         "aux_line_distance": {},
-        "topology": topology_metrics(grid, topology, lay.n_wake, far, body.sharp),
+        "topology": layout_figures,
     }
-    report["topology"]["wall_spacing"] = lay.wall_spacing
-    if body.cut is not None:  # crossing surfaces cut at the crossing (SPEC 9)
-        report["topology"]["cut"] = list(body.cut)
-    if body.continued is not None:  # a closing segment that is no base (SPEC 9)
-        report["topology"]["closing_segment_continues"] = body.continued
     if method != "tfi":
         report["topology"]["elliptic_sweeps"] = lay.sweeps_kept
     if training is not None:
@@ -243,4 +278,11 @@ def mesh_body(
     return MeshResult(points=grid, report=report, history=history, cells=cells)
 
 
-__all__ = ["METHODS", "mesh_body", "topology_metrics", "wall_metrics"]
+__all__ = [
+    "METHODS",
+    "body_layout",
+    "layout_report",
+    "mesh_body",
+    "topology_metrics",
+    "wall_metrics",
+]
