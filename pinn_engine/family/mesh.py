@@ -115,6 +115,9 @@ def mesh_member(
     model = _model(path)
     member = member_of(settings, boundary, aux, body, far)
     model.check(member, settings)
+    body = member.kind == "body"
+    if body and not model.polish:  # no certificate without its start: the model corrects it
+        member.body_start()
     placed = time.perf_counter()
     grid, info = model.predict(member)
     predicted = time.perf_counter()
@@ -126,9 +129,8 @@ def mesh_member(
             break
     reference, polished_from = None, None
     vouched = model.winslow and defect is not None and defect <= DEFECT_TOL
-    body = member.kind == "body"
     if model.polish and body:
-        grid, polished_from = _body_chosen(member, grid)
+        grid, polished_from = _body_chosen(model, member, grid)
         vouched = True  # certified, or no worse than the member's elliptic start
     elif model.polish:
         grid, reference, vouched, polished_from = _polished(model, member, grid)
@@ -160,7 +162,7 @@ def mesh_member(
         "adam_epochs": 0,
         "lbfgs_iterations": 0,
         "guard": {"family": figures, "start": reference, "in_range": info["in_range"]},
-        "start_solved": start is not None,
+        "start_solved": start is not None or member.start is not None,
         "winslow_defect": defect,
         "winslow_steps": steps,
         "polish_iterations": model.polish,
@@ -212,7 +214,7 @@ def _polished(
     return polished, begin_figures, ranks, name
 
 
-def _body_chosen(member: Member, grid: np.ndarray) -> tuple[np.ndarray, str]:
+def _body_chosen(model: FamilyModel, member: Member, grid: np.ndarray) -> tuple[np.ndarray, str]:
     """A body's grid and its name: the model's ``grid``, kept without the member's own start
     or optimisation where its worst angle is certified; else :func:`_body_polished`.
 
@@ -225,7 +227,7 @@ def _body_chosen(member: Member, grid: np.ndarray) -> tuple[np.ndarray, str]:
     q = guard_figures(grid)
     if not q["folded_cells"] and q["worst_max_angle"] <= held_worst(member.base) + WORST_TOL:
         return grid, "family (not optimised: certified)"
-    return _body_polished(member, grid)
+    return _body_polished(model, member)
 
 
 def held_worst(grid: np.ndarray) -> float:
@@ -238,10 +240,11 @@ def held_worst(grid: np.ndarray) -> float:
     return guard_figures(grid[:BODY_HELD_ROWS])["worst_max_angle"]
 
 
-def _body_polished(member: Member, grid: np.ndarray) -> tuple[np.ndarray, str]:
+def _body_polished(model: FamilyModel, member: Member) -> tuple[np.ndarray, str]:
     """A body's grid as its own run chooses it (quality_start.body_quality_start: its
-    elliptic grid, or that optimised where it ranks better), the optimisation started from
-    the model's ``grid`` where that ranks no worse than the elliptic grid (else from the
+    elliptic grid, or that optimised where it ranks better), its elliptic grid solved and
+    the optimisation started from the model's grid on it (the elliptic grid plus the
+    model's correction) where that ranks no worse than the elliptic grid (else from the
     elliptic grid, as the member's own run: a NACA-like C-grid's model grid ranked below
     it, and optimised from there its worst non-orthogonality was 30.5 degrees against the
     elliptic grid's 20.1, so the elliptic grid was kept, 10.6 degrees above its own run's),
@@ -254,8 +257,8 @@ def _body_polished(member: Member, grid: np.ndarray) -> tuple[np.ndarray, str]:
     from pinn_engine.blas import one_thread
     from pinn_engine.starts.quality_start import Ranking, body_quality_start
 
-    member.body_start()
-    elliptic = member.elliptic
+    elliptic = model.base(member)
+    grid = model.predict(member)[0]
     ranking = Ranking.of(elliptic, [], 1.0)
     better = ranking.key(ranking.quality(grid)) <= ranking.key(ranking.quality(elliptic))
     seam = member.topology == "o"

@@ -12,9 +12,12 @@ takes it to second order towards the member's own. Where they are node optima (t
 four-sided grids and bodies) the network is the linear map alone (network.fit_linear), and
 the member's own node optimisation finishes the grid: a four-sided member's, from the
 member's own elliptic grid as base, until it settles (at most ``POLISH_ITERATIONS``); a
-body's, based on its reference grid (the rows its layout marches, from which its own run
-solves its elliptic grid), needs none where its worst angle is certified, else its own
-run's optimisation starts from the model's grid (mesh.py).
+body's needs none where its worst angle is certified, else its own run's optimisation
+starts from the model's grid (mesh.py). A body's base is its elliptic grid (its own run's
+start), and a second linear map predicts that grid's correction over its reference grid
+(the rows its layout marches, from which its own run solves the elliptic grid): the model's
+grid of a member whose elliptic grid is not solved is its reference grid plus both
+corrections, so a certified grid costs the member its layout alone.
 """
 
 from __future__ import annotations
@@ -65,7 +68,8 @@ class FamilyModel:
     """A fitted family model: its ``kind``, ``topology`` and ``size``, the members' shared
     ``settings`` (``FAMILY_KEYS``) and ``options``, and the fitted parts (``encoding``,
     ``mean_grid``, ``modes``, ``params``, ``winslow``, ``polish``) with the ``report`` of
-    its fit."""
+    its fit; a body's ``start_modes`` and ``start_params``: the map to its elliptic grid's
+    correction over its reference grid."""
 
     kind: str
     topology: str
@@ -81,6 +85,8 @@ class FamilyModel:
     history: dict = field(default_factory=dict)
     path: str | None = None
     polish: int = 0  # iterations of the member's node optimisation that finish its grid
+    start_modes: np.ndarray | None = None  # a body's elliptic grid over its reference grid
+    start_params: dict[str, np.ndarray] | None = None
 
     @classmethod
     def fit(
@@ -138,11 +144,14 @@ class FamilyModel:
         model.polish = polish
         bases = [model.base(m) for m in members]
         corrections = np.array([(t - b).ravel() for t, b in zip(targets, bases)])
-        _, s, vt = np.linalg.svd(corrections, full_matrices=False)
-        energy = s**2
-        kept = int((np.cumsum(energy) < (1 - KEPT_ENERGY) * energy.sum()).sum() + 1)
-        model.modes = vt[:kept] if energy.sum() > 0 else vt[:0]
+        model.modes = _modes(corrections)
         z = np.array([model.encoding.encode(boundary_vector(m.base, m.kind)) for m in members])
+        start_fit = {}
+        if first.kind == "body":  # the elliptic grid (the base) over the reference grid
+            starts = np.array([(b - m.base).ravel() for m, b in zip(members, bases)])
+            model.start_modes = _modes(starts)
+            if len(model.start_modes):
+                model.start_params, start_fit = fit_linear(z, starts @ model.start_modes.T)
         coeffs = corrections @ model.modes.T
         network = time.perf_counter()
         fitted = {}
@@ -161,6 +170,8 @@ class FamilyModel:
             "size": list(first.size),
             "encoding_components": int(len(encoding.axes)),
             "correction_modes": int(len(model.modes)),
+            "start_modes": 0 if model.start_modes is None else int(len(model.start_modes)),
+            "start_map": start_fit,
             "epochs": epochs if len(model.modes) and not model.polish else 0,
             **fitted,
             "winslow_step": model.winslow,
@@ -173,11 +184,13 @@ class FamilyModel:
         return model
 
     def base(self, member: Member) -> np.ndarray:
-        """The base grid of ``member`` (family frame): a body's reference grid; a four-sided
-        member's own elliptic grid where the family's grids are node optima (the grid its
-        own run optimises from, solved once a member), else the linearised elliptic grid."""
-        if self.mean_grid is None:
-            return member.base
+        """The base grid of ``member`` (family frame): a body's elliptic grid (its start,
+        solved once a member); a four-sided member's own elliptic grid where the family's
+        grids are node optima (the grid its own run optimises from, solved once a member),
+        else the linearised elliptic grid."""
+        if member.kind == "body":
+            member.body_start()
+            return member.elliptic
         if self.polish:
             if member.elliptic is None:
                 member.elliptic = self._elliptic(member)
@@ -217,15 +230,18 @@ class FamilyModel:
 
     def predict(self, member: Member) -> tuple[np.ndarray, dict]:
         """The model's grid of ``member`` (family frame) and what the guard needs to know:
-        whether its encoding lies in the family's range."""
+        whether its encoding lies in the family's range. A body whose elliptic grid is not
+        solved: its reference grid plus the predicted correction to its elliptic grid."""
         self.check(member)
         vector = boundary_vector(member.base, member.kind)
         z = self.encoding.clamped(vector) if self.polish else self.encoding.encode(vector)
-        grid = self.base(member)
-        if len(self.modes):
-            grid = grid + (forward(self.params, z) @ self.modes).reshape(grid.shape)
-            if member.kind == "body":
-                grid = _held(grid, member, self.polish > 0)
+        if member.kind == "body" and member.elliptic is None:
+            grid = member.base + _correction(self.start_modes, self.start_params, z, member.base)
+        else:
+            grid = self.base(member)
+        grid = grid + _correction(self.modes, self.params, z, grid)
+        if member.kind == "body":
+            grid = _held(grid, member, self.polish > 0)
         return grid, {"in_range": self.encoding.in_range(vector)}
 
     def check(self, member: Member, settings: Settings | None = None) -> None:
@@ -281,12 +297,35 @@ class FamilyModel:
             "params": {k: t(v) for k, v in self.params.items()},
             "winslow": self.winslow,
             "polish": self.polish,
+            "start_modes": None if self.start_modes is None else t(self.start_modes),
+            "start_params": None
+            if self.start_params is None
+            else {k: t(v) for k, v in self.start_params.items()},
             "report": self.report,
             "history": self.history,
         }
         with atomic_path(path) as tmp:
             torch.save(payload, tmp)
         return Path(path)
+
+
+def _modes(corrections: np.ndarray) -> np.ndarray:
+    """The principal components of ``corrections`` (one member a row) that carry all but
+    ``KEPT_ENERGY`` of their energy (none where every correction is zero)."""
+    _, s, vt = np.linalg.svd(corrections, full_matrices=False)
+    energy = s**2
+    kept = int((np.cumsum(energy) < (1 - KEPT_ENERGY) * energy.sum()).sum() + 1)
+    return vt[:kept] if energy.sum() > 0 else vt[:0]
+
+
+def _correction(
+    modes: np.ndarray | None, params: dict | None, z: np.ndarray, like: np.ndarray
+) -> np.ndarray | float:
+    """The correction the map ``params`` makes of the encoding ``z`` on ``modes``, shaped
+    ``like`` a grid (0 without modes)."""
+    if modes is None or not len(modes):
+        return 0.0
+    return (forward(params, z) @ modes).reshape(like.shape)
 
 
 def _held(grid: np.ndarray, member: Member, optimised: bool) -> np.ndarray:
@@ -328,10 +367,13 @@ def load_family(path: str | os.PathLike) -> FamilyModel:
 
     enc = Encoding(**{k: n(v) for k, v in payload["encoding"].items()})
     mean = payload["mean_grid"]
+    start_modes, start_params = payload.get("start_modes"), payload.get("start_params")
     return FamilyModel(
         payload["kind"], payload["topology"], tuple(payload["size"]), payload["settings"],
         payload["options"], enc, None if mean is None else mean.numpy(),
         payload["modes"].numpy(), {k: v.numpy() for k, v in payload["params"].items()},
         bool(payload["winslow"]), payload["report"], payload["history"], src,
         int(payload.get("polish", 0)),
+        None if start_modes is None else start_modes.numpy(),
+        None if start_params is None else {k: v.numpy() for k, v in start_params.items()},
     )  # fmt: skip
