@@ -252,7 +252,16 @@ def sections():
     return job.fit_family_model(members, targets, "--topology o --size 65 17")
 
 
-def test_a_certified_body_grid_is_kept_without_its_members_optimisation(sections, monkeypatch):
+@pytest.fixture(scope="module")
+def unseen():
+    """An unseen section of the family (NACA 3413): its settings, geometry and own run."""
+    settings, g = naca("3413")
+    return settings, g, job.run(settings, g)
+
+
+def test_a_certified_body_grid_is_kept_without_its_members_optimisation(
+    sections, unseen, monkeypatch
+):
     """An O-grid family: the model's grid, kept without the member's own start (its
     elliptic grid) or optimisation (its worst angle within 2 degrees of the held first
     layer's, which bounds its own run's grid); the wall, first layer and far field are its
@@ -261,8 +270,7 @@ def test_a_certified_body_grid_is_kept_without_its_members_optimisation(sections
     from pinn_engine.bodies import bodygrid
     from pinn_engine.starts import quality_start
 
-    settings, g = naca("3413")
-    own = job.run(settings, g)
+    settings, g, own = unseen
 
     def not_called(*args, **kwargs):
         raise AssertionError("the member's elliptic grid or optimisation ran")
@@ -283,27 +291,25 @@ def test_a_certified_body_grid_is_kept_without_its_members_optimisation(sections
     assert q["mean_max_angle"] <= ref["mean_max_angle"] + 0.5
 
 
-def test_the_held_layer_bounds_a_body_grid_from_below(sections):
+def test_the_held_layer_bounds_a_body_grid_from_below(sections, unseen):
     """The certificate's premise: the member's own grid (its elliptic grid or that grid
     optimised) keeps its wall and first layer, those of its reference grid (the model's
     base), so its worst angle is at least theirs."""
-    settings, g = naca("3413")
-    own = job.run(settings, g)
+    settings, g, own = unseen
     member = job.family_member(settings, g)
     np.testing.assert_array_equal(member.layout.reference[:2], own.grids[0][:2])
     assert own.quality["worst_max_angle"] >= family_mesh.held_worst(member.base) - 1e-9
 
 
 @pytest.mark.slow  # a body family fitted, then each member's own run beside it
-def test_a_body_family_polishes_as_its_members_own_run_chooses(sections, monkeypatch):
+def test_a_body_family_polishes_as_its_members_own_run_chooses(sections, unseen, monkeypatch):
     """An O-grid family whose model's grids are not certified (here forced): the member's
     own choice (its elliptic grid, or that optimised where it ranks better), its
     optimisation started from the model's grid; the wall and far field are its own run's
     nodes, no fold, its own grid's quality within the check's bounds."""
     model = sections
     assert model.polish > 0 and model.report["polish_iterations"] == model.polish
-    settings, g = naca("3413")
-    own = job.run(settings, g)
+    settings, g, own = unseen
     monkeypatch.setattr(family_mesh, "held_worst", lambda elliptic: -np.inf)
     by_model = job.run(settings, g, family=model)
     training = by_model.report["training"]
@@ -319,7 +325,7 @@ def test_a_body_family_polishes_as_its_members_own_run_chooses(sections, monkeyp
 
 
 def test_a_body_model_grid_below_the_elliptic_grid_is_not_the_optimisations_start(
-    sections, monkeypatch
+    sections, unseen, monkeypatch
 ):
     """A model's grid that ranks below the member's elliptic grid (here folded: two nodes
     swapped) is not where the optimisation starts: the member's own run's start and choice,
@@ -336,8 +342,7 @@ def test_a_body_model_grid_below_the_elliptic_grid_is_not_the_optimisations_star
 
     monkeypatch.setattr(FamilyModel, "predict", folded)
     monkeypatch.setattr(family_mesh, "held_worst", lambda elliptic: -np.inf)  # optimised
-    settings, g = naca("3413")
-    own = job.run(settings, g)
+    settings, g, own = unseen
     by_model = job.run(settings, g, family=sections)
     assert by_model.report["training"]["result"] == "family"
     assert by_model.quality["folded_cells"] == 0
