@@ -38,8 +38,8 @@ from pinn_engine.family.physics import FrozenWinslow, solves_winslow
 from pinn_engine.quality import guard_figures
 from pinn_engine.settings import Settings
 
-# 2: a body's base is its reference grid (1: its elliptic grid; a model of 1 is refused, its
-# corrections are from another base)
+# 2: a body's model maps its elliptic grid's correction over its reference grid too
+# (start_modes, start_params); a model of 1 lacks that map and is refused
 FORMAT = "pinn-mesh-family/2"
 # The correction modes carry all but this share of the training corrections' energy
 KEPT_ENERGY = 1e-8
