@@ -75,9 +75,9 @@ def _norm(a: np.ndarray) -> np.ndarray:
     return np.sqrt(_dot(a, a))
 
 
-def _faces(coords: np.ndarray, quads: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _faces(coords: np.ndarray, quads: np.ndarray) -> tuple[np.ndarray, np.ndarray, list]:
     """Centres and area vectors (3, m) of quad faces (m, 4) over the points' coordinates
-    ``coords`` (3, n), corner by corner."""
+    ``coords`` (3, n), corner by corner, and the corners' coordinates (four (3, m))."""
     p = [coords[:, quads[:, q]] for q in range(4)]
     mid = (p[0] + p[1] + p[2] + p[3]) / 4
     weighted, total, area = np.zeros_like(mid), np.zeros(mid.shape[1]), np.zeros_like(mid)
@@ -91,7 +91,7 @@ def _faces(coords: np.ndarray, quads: np.ndarray) -> tuple[np.ndarray, np.ndarra
     centre = weighted / (3 * np.maximum(total, TINY))
     degenerate = total <= TINY
     centre[:, degenerate] = mid[:, degenerate]
-    return centre, 0.5 * area
+    return centre, 0.5 * area, p
 
 
 def figures(points: np.ndarray, cells: np.ndarray, faces: FaceTopology | None = None) -> Figures:
@@ -101,7 +101,7 @@ def figures(points: np.ndarray, cells: np.ndarray, faces: FaceTopology | None = 
     faces = topology(cells) if faces is None else faces
     internal = len(faces.neighbour)
     coords = np.ascontiguousarray(points.T)
-    centres, areas = _faces(coords, faces.quads)
+    centres, areas, corners = _faces(coords, faces.quads)
     fc = [centres[:, faces.of_cell[:, f]] for f in range(6)]
     guess = (fc[0] + fc[1] + fc[2] + fc[3] + fc[4] + fc[5]) / 6
     total, weighted = np.zeros(guess.shape[1]), np.zeros_like(guess)
@@ -116,32 +116,37 @@ def figures(points: np.ndarray, cells: np.ndarray, faces: FaceTopology | None = 
     centre, area = centres[:, :internal], areas[:, :internal]
     d = cc[:, nei] - cc[:, own]
     cos = _dot(area, d) / np.maximum(_norm(area) * _norm(d), TINY)
-    angles = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
-    skew = _skewness(coords, faces.quads[:internal], centre, area, cc[:, own], d, 0.2)
+    inner = [c[:, :internal] for c in corners]
+    skew = _skewness(inner, centre, area, cc[:, own], d, 0.2)
     bcentre, barea = centres[:, internal:], areas[:, internal:]
     bowner = cc[:, faces.owner[internal:]]
     cpf = bcentre - bowner
     normal = barea / np.maximum(_norm(barea), TINY)
     bd = normal * _dot(normal, cpf)
-    bskew = _skewness(coords, faces.quads[internal:], bcentre, barea, bowner, bd, 0.4)
+    bskew = _skewness([c[:, internal:] for c in corners], bcentre, barea, bowner, bd, 0.4)
     return Figures(
-        float(angles.max(initial=0.0)),
-        float(np.degrees(np.arccos(np.clip(cos.mean(), -1.0, 1.0)))) if len(cos) else 0.0,
+        # the largest angle is the smallest cosine's (the arc cosine falls)
+        _degrees(cos.min()) if len(cos) else 0.0,
+        _degrees(cos.mean()) if len(cos) else 0.0,
         float(max(skew.max(initial=0.0), bskew.max(initial=0.0))),
         folded(coords, cells),
     )
 
 
-def _skewness(coords, quads, centre, area, owner_centre, d, least) -> np.ndarray:
+def _degrees(cos: float) -> float:
+    """The angle (degrees) of a cosine, clipped to [-1, 1] (round-off)."""
+    return float(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
+
+
+def _skewness(corners, centre, area, owner_centre, d, least) -> np.ndarray:
     cpf = centre - owner_centre
     t = _dot(area, cpf) / (_dot(area, d) + TINY)
     sv = cpf - t * d
     mag = _norm(sv)
     hat = sv / (mag + TINY)
-    reach = np.zeros(len(quads))
-    for q in range(4):
-        corner = np.abs(_dot(hat, coords[:, quads[:, q]] - centre))
-        np.maximum(reach, corner, out=reach)
+    reach = np.zeros(len(mag))
+    for corner in corners:
+        np.maximum(reach, np.abs(_dot(hat, corner - centre)), out=reach)
     fd = np.maximum(least * _norm(d) + TINY, reach)
     return mag / fd
 
