@@ -751,7 +751,8 @@ def _weights(points: np.ndarray, st: Stencils) -> np.ndarray:
         if terms[0] == terms[1]:
             centre -= w[k]
     w[g.centre_column] = centre
-    return (w / -centre).T
+    w /= -centre
+    return w.T
 
 
 def _columns(st: Stencils) -> np.ndarray:
@@ -854,10 +855,14 @@ def winslow(
     entries = np.concatenate([cols.ravel()] + star_rows.ids)
     systems = _Systems(owners, held, entries, counts)
     diag = float(np.linalg.norm(np.ptp(points, axis=0)))
+    v = np.empty(len(entries))  # the entries' weights, written in place each step
+    regular = v[: cols.size].reshape(cols.shape)  # the stencils' rows; the stars' follow
     steps = 0
     with one_thread():
         for steps in range(1, max_iterations + 1):
-            v = np.concatenate([_weights(points, st).ravel()] + star_rows.weights(points))
+            np.copyto(regular, _weights(points, st))
+            if stars:
+                np.concatenate(star_rows.weights(points), out=v[cols.size :])
             residual = systems.residuals(v, points)
             updates = systems.updates(residual, SOLVED * diag)
             if all(delta is None for delta in updates):
