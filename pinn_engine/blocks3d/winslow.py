@@ -357,8 +357,10 @@ def _glued(edge: dict[int, list], place: Placement, steps: list) -> dict[int, tu
     out: dict[int, tuple | None] = {}
     for nodes in groups.values():
         maps = _maps(nodes[0], _corners(edge[nodes[0]], place))
-        got = _frames(nodes, edge, maps, place, steps) if maps else [None] * len(nodes)
-        for node, one in zip(nodes, got):
+        if maps is None:  # an irregular edge: its cells fit no frame at any of its nodes
+            out.update(dict.fromkeys(nodes))
+            continue
+        for node, one in zip(nodes, _frames(nodes, edge, maps, place, steps)):
             if one is None:  # not as the edge's first node: glued on its own
                 own = _maps(node, _corners(edge[node], place))
                 one = _frames([node], edge, own, place, steps)[0] if own else None
