@@ -78,7 +78,7 @@ def _norm(a: np.ndarray) -> np.ndarray:
 def _faces(coords: np.ndarray, quads: np.ndarray) -> tuple[np.ndarray, np.ndarray, list]:
     """Centres and area vectors (3, m) of quad faces (m, 4) over the points' coordinates
     ``coords`` (3, n), corner by corner, and the corners' coordinates (four (3, m))."""
-    p = [coords[:, quads[:, q]] for q in range(4)]
+    p = [np.take(coords, quads[:, q], axis=1) for q in range(4)]
     mid = (p[0] + p[1] + p[2] + p[3]) / 4
     weighted, total, area = np.zeros_like(mid), np.zeros(mid.shape[1]), np.zeros_like(mid)
     for q in range(4):
@@ -97,16 +97,17 @@ def _faces(coords: np.ndarray, quads: np.ndarray) -> tuple[np.ndarray, np.ndarra
 def figures(points: np.ndarray, cells: np.ndarray, faces: FaceTopology | None = None) -> Figures:
     """checkMesh's figures of the hexahedra ``cells`` (m, 8) over ``points`` (``faces``:
     their :func:`topology`, when known). Vectors are (3, m) arrays, a component a row, so
-    that each gather and product runs over contiguous rows."""
+    that each gather and product runs over contiguous rows; the gathers by ``np.take``,
+    several times faster than indexing ``[:, ids]`` with the same result."""
     faces = topology(cells) if faces is None else faces
     internal = len(faces.neighbour)
     coords = np.ascontiguousarray(points.T)
     centres, areas, corners = _faces(coords, faces.quads)
-    fc = [centres[:, faces.of_cell[:, f]] for f in range(6)]
+    fc = [np.take(centres, faces.of_cell[:, f], axis=1) for f in range(6)]
     guess = (fc[0] + fc[1] + fc[2] + fc[3] + fc[4] + fc[5]) / 6
     total, weighted = np.zeros(guess.shape[1]), np.zeros_like(guess)
     for f in range(6):
-        area = areas[:, faces.of_cell[:, f]] * faces.sign[:, f]
+        area = np.take(areas, faces.of_cell[:, f], axis=1) * faces.sign[:, f]
         vol = _dot(area, fc[f] - guess)
         weighted += vol * (0.75 * fc[f] + 0.25 * guess)
         total += vol
@@ -114,12 +115,13 @@ def figures(points: np.ndarray, cells: np.ndarray, faces: FaceTopology | None = 
     cc[:, np.abs(total) <= TINY] = guess[:, np.abs(total) <= TINY]
     own, nei = faces.owner[:internal], faces.neighbour
     centre, area = centres[:, :internal], areas[:, :internal]
-    d = cc[:, nei] - cc[:, own]
+    at_owner = np.take(cc, own, axis=1)
+    d = np.take(cc, nei, axis=1) - at_owner
     cos = _dot(area, d) / np.maximum(_norm(area) * _norm(d), TINY)
     inner = [c[:, :internal] for c in corners]
-    skew = _skewness(inner, centre, area, cc[:, own], d, 0.2)
+    skew = _skewness(inner, centre, area, at_owner, d, 0.2)
     bcentre, barea = centres[:, internal:], areas[:, internal:]
-    bowner = cc[:, faces.owner[internal:]]
+    bowner = np.take(cc, faces.owner[internal:], axis=1)
     cpf = bcentre - bowner
     normal = barea / np.maximum(_norm(barea), TINY)
     bd = normal * _dot(normal, cpf)
@@ -154,7 +156,7 @@ def _skewness(corners, centre, area, owner_centre, d, least) -> np.ndarray:
 def folded(coords: np.ndarray, cells: np.ndarray) -> int:
     """Cells with a corner whose three edges make a non-positive triple product
     (``coords``: the points' coordinates (3, n))."""
-    p = [coords[:, cells[:, corner]] for corner in range(8)]  # (xyz, cell) at a corner
+    p = [np.take(coords, cells[:, corner], axis=1) for corner in range(8)]  # (xyz, cell)
     bad = np.zeros(len(cells), dtype=bool)
     for corner, (a, b, c) in enumerate(CORNER_EDGES):
         e0, e1, e2 = p[a] - p[corner], p[b] - p[corner], p[c] - p[corner]

@@ -732,11 +732,11 @@ def _weights(points: np.ndarray, st: Stencils) -> np.ndarray:
     """(m, 19) weights of each node's frozen-coefficient Winslow row over ``OFFSETS``,
     normalised so that the centre's is -1."""
     g = st.rows
-    x0 = points[g.centre]
+    x0 = np.take(points, g.centre, axis=0)  # np.take: several times faster than [ids]
     d = []
     for a in range(3):
-        ahead = points[g.plus[a]]
-        slope = (ahead - points[g.minus[a]]) / g.span[a][:, None]
+        ahead = np.take(points, g.plus[a], axis=0)
+        slope = (ahead - np.take(points, g.minus[a], axis=0)) / g.span[a][:, None]
         # across a mirror plane the ghost is the neighbour itself: one-sided there
         at = g.mirrored[a]
         slope[at] = (ahead[at] - x0[at]) / g.ahead[a][at][:, None]
@@ -819,7 +819,7 @@ class _Systems:
         out: list[np.ndarray | None] = [None] * 3
         for key, comps in self.groups.items():
             rows = self.rows[comps[0]]
-            rhs = residual[rows][:, comps]
+            rhs = np.take(residual, rows, axis=0)[:, comps]
             live = [k for k in range(len(comps)) if np.abs(rhs[:, k]).max(initial=0.0) > solved]
             if not live:
                 continue

@@ -52,7 +52,7 @@ class FaceTopology:
 
 def topology(cells: np.ndarray) -> FaceTopology:
     """The faces of the hexahedra ``cells`` (m, 8), each once (:class:`FaceTopology`)."""
-    quads = cells[:, HEX_FACES].reshape(-1, 4)
+    quads = np.take(cells, HEX_FACES, axis=1).reshape(-1, 4)
     pairs, single = pairing(quads)
     once = np.concatenate([pairs[:, 0], single])
     of_cell = np.empty(len(quads), dtype=np.int64)
@@ -61,5 +61,9 @@ def topology(cells: np.ndarray) -> FaceTopology:
     sign = np.ones(len(quads))
     sign[pairs[:, 1]] = -1.0
     return FaceTopology(
-        quads[once], once // 6, pairs[:, 1] // 6, of_cell.reshape(-1, 6), sign.reshape(-1, 6)
+        np.take(quads, once, axis=0),  # np.take: rows several times faster than [once]
+        once // 6,
+        pairs[:, 1] // 6,
+        of_cell.reshape(-1, 6),
+        sign.reshape(-1, 6),
     )

@@ -195,7 +195,7 @@ def write_hex_polymesh(
     write_mesh_files(
         mesh,
         points,
-        faces.quads[sort],
+        np.take(faces.quads, sort, axis=0),  # rows several times faster than [sort]
         faces.owner[sort],
         faces.neighbour[sort],
         out,
