@@ -50,6 +50,7 @@ def mesh_curvature(args: list[str]) -> int:
     import numpy as np
 
     import pinn_engine.adapt.grids as grids
+    import pinn_engine.adapt.monitor as monitors
     import pinn_engine.adapt.parametric as parametric
     from pinn_engine.adapt.monitor import (
         SMOOTHING_PASSES,
@@ -77,7 +78,7 @@ def mesh_curvature(args: list[str]) -> int:
     def monitor(h, strength, largest):
         return (1.0 + np.asarray(strength) / grids.DEFAULT_STRENGTH * h / scale["alpha"]) ** POWER
 
-    for module in (grids, parametric):
+    for module in (grids, parametric, monitors):  # monitors: the diffusion tensor calls its own
         module.gradient_size, module.monitor_values = curvature, monitor
     return mesh_kept(args)
 

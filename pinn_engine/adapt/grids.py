@@ -19,12 +19,17 @@ from pinn_engine.quality import cell_quality
 from pinn_engine.settings import ADAPT_STRENGTH
 
 DEFAULT_STRENGTH = ADAPT_STRENGTH  # the default strength beta (settings, measured there)
-# The strengths tried: the strength asked times WEAKER**k, k = STRENGTHS - 1 down to 0,
-# weakest first, stopping at the first no better than the grid kept (a stronger one binds
-# the guard harder); the lowest interpolation error wins, the unadapted grid if none is
-# lower. A sixteenth is reached: the guard binds at about beta 2 to 5 (docs/adaptation.md)
+# The strengths tried, for each form of the diffusion tensor (anisotropic first): the
+# strength asked times WEAKER**k, k = 0 up to STRENGTHS - 1, strongest first, stopping at
+# the first no better than the grid the form kept (a weaker one concentrates less); the
+# lowest interpolation error wins, the unadapted grid if none is lower. A sixteenth is
+# reached: the guard binds at about beta 2 to 5 (docs/adaptation.md)
 STRENGTHS = 5
 WEAKER = 0.5
+# The forms: compressing across a front only (a front or a layer, whose cells then keep
+# their angles), and Winslow's isotropic 1/M (a vortex's core, a feature a few cells wide
+# that only a compression in every direction resolves)
+ISOTROPIC = (False, True)
 
 
 @dataclass
@@ -72,15 +77,20 @@ def adapt_grids(
     error0 = interpolation_error(start, graph.cells, sample)
     space = ParameterSpace(graph, sample)
     points, share, rounds, error, used = start, np.zeros(len(start)), [], error0, 0.0
-    for k in range(STRENGTHS - 1, -1, -1) if largest > 0 else ():
-        beta = strength * WEAKER**k
-        found = guarded(graph, space, beta, limit)
-        now = interpolation_error(found.solved.points, graph.cells, sample)
-        rounds.append({"strength": beta, "error": now, "solves": found.rounds})
-        if now < error:
-            points, share, error, used = found.solved.points, found.share * found.kept, now, beta
-        elif used > 0:
-            break
+    form = "unadapted"
+    for isotropic in ISOTROPIC if largest > 0 else ():
+        kept = False
+        for k in range(STRENGTHS):
+            beta = strength * WEAKER**k
+            found = guarded(graph, space, beta, limit, isotropic)
+            now = interpolation_error(found.solved.points, graph.cells, sample)
+            name = "isotropic" if isotropic else "anisotropic"
+            rounds.append({"form": name, "strength": beta, "error": now, "solves": found.rounds})
+            if now < error:
+                points, share, error = found.solved.points, found.share * found.kept, now
+                used, form, kept = beta, name, True
+            elif kept:
+                break
     final = gradient_size(points, graph.cells, sample(points))
     m_used = monitor_values(final, strength * share, largest)
     m_start = monitor_values(gradient, strength, largest)
@@ -93,6 +103,7 @@ def adapt_grids(
         "method": "elliptic",
         "strength": strength,
         "strength_used": used,
+        "form": form,
         "adapted_less": bool(used < strength or (share < 1.0).any()),
         "strength_share": {
             "min": float(share.min()),

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from pinn_engine.adapt.error import interpolation_error
 from pinn_engine.adapt.monitor import to_nodes
 from pinn_engine.adapt.nodes import NodeGraph
 from pinn_engine.adapt.parametric import ParameterSpace
@@ -22,11 +23,15 @@ ROUNDS = 12  # solves with the strength lowered round the offending cells, at mo
 # a round that leaves more than this share of the last round's offending cells is the last:
 # the cells left are pulled by the monitor farther away, and the draw-back takes them
 PROGRESS = 0.8
-LOWER = 0.5  # each round multiplies the strength round an offending cell by this
+LOWER = 0.7  # each round multiplies the strength round an offending cell by this
 # the lowering reaches this many rings of cells round an offending cell, fading: a strength
 # cut at one node alone would crease the monitor there
-SPREAD = 3
+SPREAD = 6
 DRAWBACKS = 40  # rounds of drawing moves back, at most (each scales moves by at most LOWER)
+# where the lowering stalls, the first solve's moves scaled by each of these everywhere are
+# also drawn back: a front's compression kept whole at a lower amplitude (the lowering cuts
+# it where it is strongest); the candidate carrying the field best is kept
+BLENDS = (0.8, 0.6, 0.4)
 
 
 @dataclass
@@ -67,33 +72,47 @@ def guarded(
     space: ParameterSpace,
     strength: float,
     limit: float,
+    isotropic: bool = False,
 ) -> Guarded:
     """The grid adapted with ``strength`` lowered where the guard (``limit`` degrees, no
-    fold) needs it."""
+    fold) needs it (``isotropic``: the diffusion tensor's form, :meth:`ParameterSpace.solve`)."""
     n = len(graph.points)
     share = np.ones(n)
-    solved = None
+    solved = first = None
     rounds = []
     for _ in range(ROUNDS):
-        solved = space.solve(strength * share)
+        solved = space.solve(strength * share, isotropic)
+        first = first or solved
         bad = offending(graph, solved.points, limit)
         rounds.append({"steps": solved.steps, "offending_cells": int(bad.sum())})
         if not bad.any():
-            return Guarded(solved, share, np.ones(n), rounds)
+            break
         if len(rounds) > 1 and bad.sum() > PROGRESS * rounds[-2]["offending_cells"]:
             break
         share = share * (1.0 - (1.0 - LOWER) * _round(graph, bad))
-    return _drawn_back(graph, solved, share, limit, rounds)
+    if len(rounds) == 1 and not bad.any():
+        return Guarded(solved, share, np.ones(n), rounds)
+    candidates = [_drawn_back(graph, solved, share, limit, rounds)] + [
+        _drawn_back(graph, first, np.ones(n), limit, rounds, blend) for blend in BLENDS
+    ]
+    return min(
+        candidates, key=lambda c: interpolation_error(c.solved.points, graph.cells, space.sample)
+    )
 
 
 def _drawn_back(
-    graph: NodeGraph, solved: Solved, share: np.ndarray, limit: float, rounds: list[dict]
+    graph: NodeGraph,
+    solved: Solved,
+    share: np.ndarray,
+    limit: float,
+    rounds: list[dict],
+    blend: float = 1.0,
 ) -> Guarded:
-    """``solved`` with its moves scaled down round the offending cells until none is left
-    (the unadapted grid, all moves undone, keeps the guard)."""
+    """``solved`` with its moves scaled by ``blend``, then down round the offending cells
+    until none is left (the unadapted grid, all moves undone, keeps the guard)."""
     pieces = pieces_of(graph)
     start_params = [p.s.copy() for p in pieces]
-    kept = np.ones(len(graph.points))
+    kept = np.full(len(graph.points), blend)
     points = solved.points
     for _ in range(DRAWBACKS):
         points = graph.points + kept[:, None] * (solved.points - graph.points)

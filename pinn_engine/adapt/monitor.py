@@ -68,3 +68,55 @@ def equidistribution(points: np.ndarray, cells: np.ndarray, m: np.ndarray) -> fl
     equidistributed), M at a cell the mean of its nodes'."""
     w = m[cells].mean(axis=1) * cell_areas(points, cells)
     return float(w.std() / w.mean()) if w.mean() > 0 else 0.0
+
+
+def gradient_tensor(
+    points: np.ndarray, cells: np.ndarray, f: np.ndarray, passes: int = SMOOTHING_PASSES
+) -> np.ndarray:
+    """The mean of grad f grad f^T at the nodes (n, 3: xx, xy, yy), smoothed by ``passes``
+    as :func:`gradient_size` smooths |grad f|: its principal direction is the one across a
+    front, and a sign change of grad f (a ridge) does not cancel it."""
+    g = cell_gradient_vectors(points, cells, f)
+    parts = (g[:, 0] ** 2, g[:, 0] * g[:, 1], g[:, 1] ** 2)
+    out = []
+    for part in parts:
+        t = to_nodes(cells, part, len(points))
+        for _ in range(passes):
+            t = to_nodes(cells, t[cells].mean(axis=1), len(points))
+        out.append(t)
+    return np.stack(out, axis=-1)
+
+
+def diffusion_tensor(
+    gradient: np.ndarray,
+    tensor: np.ndarray,
+    strength: float | np.ndarray,
+    largest: float,
+    isotropic: bool = False,
+) -> np.ndarray:
+    """The inverse metric D (..., 3: xx, xy, yy) of the variable-diffusion equations: 1/M
+    across the front (the principal direction n of ``tensor``, M SPEC 14's monitor of the
+    node ``gradient``) and 1/M' along it, M' the monitor of the gradient times sqrt(l2 / l1)
+    (the tensor's eigenvalues l1 >= l2):
+
+        D = n n^T / M + t t^T / M'     (the anisotropic diffusion tensor)
+
+    Along a straight front M' = 1: cells are compressed across it and not along it, so
+    grid lines that cross it are not sheared; where grad f has no direction (a vortex's
+    core) M' = M, Winslow's isotropic 1/M, which ``isotropic`` asks everywhere."""
+    a, b, c = tensor[..., 0], tensor[..., 1], tensor[..., 2]
+    half = np.sqrt(np.maximum(0.25 * (a - c) ** 2 + b**2, 0.0))
+    l1, l2 = 0.5 * (a + c) + half, np.maximum(0.5 * (a + c) - half, 0.0)
+    ratio = np.sqrt(np.where(l1 > 0.0, l2 / np.where(l1 > 0.0, l1, 1.0), 1.0))
+    across = 1.0 / monitor_values(gradient, strength, largest)
+    along = across if isotropic else 1.0 / monitor_values(gradient * ratio, strength, largest)
+    theta = 0.5 * np.arctan2(2.0 * b, a - c)
+    cos, sin = np.cos(theta), np.sin(theta)
+    return np.stack(
+        [
+            across * cos**2 + along * sin**2,
+            (across - along) * cos * sin,
+            across * sin**2 + along * cos**2,
+        ],
+        axis=-1,
+    )

@@ -34,7 +34,12 @@ import numpy as np
 from scipy.sparse import coo_matrix, csr_matrix
 from scipy.sparse.linalg import splu
 
-from pinn_engine.adapt.monitor import gradient_size, monitor_values
+from pinn_engine.adapt.monitor import (
+    diffusion_tensor,
+    gradient_size,
+    gradient_tensor,
+    monitor_values,
+)
 from pinn_engine.adapt.nodes import NodeGraph
 from pinn_engine.adapt.pieces import Solved, pieces_of
 
@@ -73,9 +78,9 @@ def _lattice_cells(rows: int, cols: int) -> np.ndarray:
     return np.stack([k[:-1, :-1], k[:-1, 1:], k[1:, 1:], k[1:, :-1]], axis=-1).reshape(-1, 4)
 
 
-def own_diffusion(grid: np.ndarray, r: int) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
-    """The weights of the refined lattice's edges (along i (rows, cols - 1), along j
-    (rows - 1, cols)) in the equation of xi and in that of eta.
+def own_diffusion(grid: np.ndarray) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
+    """Each cell's lattice factors (along i, along j), each (nj - 1, ni - 1), of the equation
+    of xi and of that of eta.
 
     The variable-diffusion operator pulled back to the lattice of a cell of length L along i
     and thickness h along j is (1/M) diag(h / L, L / h) (the physical Laplacian in lattice
@@ -95,42 +100,23 @@ def own_diffusion(grid: np.ndarray, r: int) -> tuple[tuple[np.ndarray, np.ndarra
     q = np.log(np.maximum(length, 1e-300) / np.maximum(thick, 1e-300))  # log(L / h)
     row = np.broadcast_to(-q.mean(axis=1, keepdims=True), q.shape)  # log a(j)
     col = np.broadcast_to(q.mean(axis=0, keepdims=True), q.shape)  # log b(i)
-    return (
-        (np.exp(_on_edges(row, r, 0)), np.exp(_on_edges(row + 2 * q, r, 1))),
-        (np.exp(_on_edges(col - 2 * q, r, 0)), np.exp(_on_edges(col, r, 1))),
-    )
-
-
-def _on_edges(per_cell: np.ndarray, r: int, along: int) -> np.ndarray:
-    """Cell values (nj - 1, ni - 1) at the refined lattice's edges along i (``along`` 0:
-    (rows, cols - 1)) or along j (1: (rows - 1, cols)): an edge inside a cell takes its
-    cell's, an edge on a grid line between two cells their mean."""
-    out = per_cell
-    for axis in (0, 1):
-        fine = np.repeat(out, r, axis=axis)
-        if axis == along:  # these edges lie on the refined lattice's lines across ``axis``
-            last = np.take(out, [-1], axis=axis)
-            fine = np.concatenate([fine, last], axis=axis)
-            mean = 0.5 * (
-                np.take(out, range(1, out.shape[axis]), axis=axis)
-                + np.take(out, range(out.shape[axis] - 1), axis=axis)
-            )
-            index = [slice(None)] * 2
-            index[axis] = slice(r, r * (out.shape[axis] - 1) + 1, r)
-            fine[tuple(index)] = mean
-        out = fine
-    return out
+    return (np.exp(row), np.exp(row + 2 * q)), (np.exp(col - 2 * q), np.exp(col))
 
 
 @dataclass
 class _Block:
-    """A block's refined lattice: its points in (u, v) and in the plane, and |grad f|."""
+    """A block's refined lattice: its points in (u, v) and in the plane, |grad f| and the
+    smoothed grad f grad f^T at its nodes, the direction of its sub-cells' i lines (radians)
+    and its sub-cells' lattice factors (:func:`own_diffusion`)."""
 
     grid: np.ndarray
     ids: np.ndarray
     u: np.ndarray
     v: np.ndarray
+    points: np.ndarray
     gradient: np.ndarray
+    tensor: np.ndarray
+    heading: np.ndarray
     diffusion: tuple[tuple[np.ndarray, np.ndarray], ...]
 
 
@@ -171,9 +157,17 @@ class ParameterSpace:
             points = bilinear(grid, u, v)
             flat = points.reshape(-1, 2)
             cells = _lattice_cells(*u.shape)
-            g = gradient_size(flat, cells, sample(flat), SMOOTHING_PER_CELL * r)
-            diffusion = own_diffusion(grid, r)
-            self.blocks.append(_Block(grid, ids, u, v, g.reshape(u.shape), diffusion))
+            f, passes = sample(flat), SMOOTHING_PER_CELL * r
+            g = gradient_size(flat, cells, f, passes).reshape(u.shape)
+            tensor = gradient_tensor(flat, cells, f, passes).reshape(*u.shape, 3)
+            along_i = np.diff(points, axis=1)
+            along_i = along_i[1:] + along_i[:-1]
+            heading = np.arctan2(along_i[..., 1], along_i[..., 0])
+            diffusion = tuple(
+                tuple(np.kron(factor, np.ones((r, r))) for factor in pair)
+                for pair in own_diffusion(grid)
+            )
+            self.blocks.append(_Block(grid, ids, u, v, points, g, tensor, heading, diffusion))
         self.runs = self._runs()
         # the monitor's scale: the largest |grad f| the refined lattices see
         self.largest = max(float(b.gradient.max()) for b in self.blocks)
@@ -210,13 +204,14 @@ class ParameterSpace:
             "right": values[:, -1],
         }[side]
 
-    def solve(self, strength: np.ndarray) -> Solved:
-        """The grid adapted with the monitor of ``strength`` at each node."""
+    def solve(self, strength: np.ndarray, isotropic: bool = False) -> Solved:
+        """The grid adapted with the monitor of ``strength`` at each node, its diffusion
+        tensor compressing across a front only or (``isotropic``) in every direction."""
         graph, r, largest = self.graph, self.r, self.largest
-        monitors = []
+        tensors = []
         for block in self.blocks:
             beta = bilinear(strength[block.ids][..., None], block.u, block.v)[..., 0]
-            monitors.append(monitor_values(block.gradient, beta, largest))
+            tensors.append(diffusion_tensor(block.gradient, block.tensor, beta, largest, isotropic))
         points = graph.points.copy()
         params = [piece.s.copy() for piece in self.pieces]
         # each run's share of the way along it at its refined points, in run order: an
@@ -225,11 +220,10 @@ class ParameterSpace:
         shares: dict[tuple, np.ndarray] = {}
         for run in self.runs:
             if run.piece is None:
-                m = monitors[run.block]
-                along = self._side_values(run.side, m)[run.first * r : run.last * r + 1]
+                along = self._along(run, tensors[run.block])
                 cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (along[1:] + along[:-1]))])
                 self._place(run, cumulative / cumulative[-1], shares, points, params)
-        solved = [self._interior(b, m, shares, points) for b, m in zip(self.blocks, monitors)]
+        solved = [self._interior(b, d, shares, points) for b, d in zip(self.blocks, tensors)]
         for run in self.runs:
             if run.piece is not None:
                 xi, eta = solved[run.block]
@@ -241,6 +235,19 @@ class ParameterSpace:
             gradient_size(points, graph.cells, self.sample(points)), strength, largest
         )
         return Solved(points, params, final, 1)
+
+    def _along(self, run: _Run, tensor: np.ndarray) -> np.ndarray:
+        """The monitor of a run's one-dimensional equations at its refined points: 1 / (s^T D
+        s), the interior's diffusion along the run's own direction s inverted (M where the
+        monitor is isotropic, 1 along a front)."""
+        r, block = self.r, self.blocks[run.block]
+        span = slice(run.first * r, run.last * r + 1)
+        line = self._side_values(run.side, block.points)[span]
+        d = self._side_values(run.side, tensor)[span]
+        s = np.gradient(line, axis=0)
+        s /= np.maximum(np.linalg.norm(s, axis=1, keepdims=True), 1e-300)
+        along = d[:, 0] * s[:, 0] ** 2 + 2 * d[:, 1] * s[:, 0] * s[:, 1] + d[:, 2] * s[:, 1] ** 2
+        return 1.0 / along
 
     def _place(
         self,
@@ -270,7 +277,7 @@ class ParameterSpace:
             points[inner] = ((1 - t) * line[k] + t * line[k + 1])[1:-1]
 
     def _interior(
-        self, block: _Block, m: np.ndarray, shares: dict[tuple, np.ndarray], points: np.ndarray
+        self, block: _Block, d: np.ndarray, shares: dict[tuple, np.ndarray], points: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray]:
         """Solve the block's (xi, eta) on its refined lattice, place its inner nodes at
         X(s), s where (xi, eta) = (i, j), and return (xi, eta)."""
@@ -302,15 +309,14 @@ class ParameterSpace:
             for dj, di in ((0, 0), (0, 1), (1, 0), (1, 1)):
                 fixed[dj : rows - 1 + dj, di : cols - 1 + di] |= sub
             fixed[::r, ::r] |= held
+        d11, d12, d22 = _in_frame(d, block.heading)
         for values, fixed, (along_i, along_j) in zip(
             (xi, eta), (fixed_xi, fixed_eta), block.diffusion
         ):
             free, known = np.flatnonzero(~fixed.ravel()), np.flatnonzero(fixed.ravel())
             if not len(free):
                 continue
-            lap = _laplacian(
-                along_i * 2.0 / (m[:, 1:] + m[:, :-1]), along_j * 2.0 / (m[1:, :] + m[:-1, :])
-            )
+            lap = _stiffness(along_i * d11, np.sqrt(along_i * along_j) * d12, along_j * d22)
             flat = values.ravel()  # a view: solved in place
             rhs = -lap[free][:, known] @ flat[known]
             # a symmetric matrix: its minimum-degree ordering fills less (1.6 times faster
@@ -375,14 +381,42 @@ def _inverted(
     return uv
 
 
-def _laplacian(along_i: np.ndarray, along_j: np.ndarray) -> csr_matrix:
-    """The five-point operator of a lattice (rows, cols) with these edge weights."""
-    rows, cols = along_j.shape[0] + 1, along_i.shape[1] + 1
+def _in_frame(d: np.ndarray, heading: np.ndarray) -> tuple[np.ndarray, ...]:
+    """The sub-cells' diffusion tensors (the mean of their nodes' D) in the frame of their i
+    line (its direction first, its normal second): (d11, d12, d22), each (rows - 1,
+    cols - 1). With D = I it is the identity, whatever the cell's angles."""
+    mean = 0.25 * (d[:-1, :-1] + d[:-1, 1:] + d[1:, :-1] + d[1:, 1:])
+    cos, sin = np.cos(heading), np.sin(heading)
+    xx, xy, yy = mean[..., 0], mean[..., 1], mean[..., 2]
+    d11 = xx * cos**2 + 2 * xy * cos * sin + yy * sin**2
+    d22 = xx * sin**2 - 2 * xy * cos * sin + yy * cos**2
+    d12 = (yy - xx) * cos * sin + xy * (cos**2 - sin**2)
+    return d11, d12, d22
+
+
+def _stiffness(k11: np.ndarray, k12: np.ndarray, k22: np.ndarray) -> csr_matrix:
+    """The piecewise-linear finite-element operator of div(K grad) on a lattice (rows, cols)
+    whose sub-cells (rows - 1, cols - 1) have the tensors K, each sub-cell cut into two
+    triangles along the diagonal K's cross term favours: the edges then have the weights
+    (k11 - |k12|) / 2 (along i, from each side), (k22 - |k12|) / 2 (along j) and |k12|
+    (the diagonal), non-negative once |k12| is cut to min(k11, k22), so the operator is an
+    M-matrix (the discrete maximum principle, Tutte's positive weights)."""
+    rows, cols = k11.shape[0] + 1, k11.shape[1] + 1
+    k = np.arange(rows * cols).reshape(rows, cols)
+    cross = np.sign(k12) * np.minimum(np.abs(k12), np.minimum(k11, k22))
+    side_i, side_j = 0.5 * (k11 - np.abs(cross)), 0.5 * (k22 - np.abs(cross))
+    rising = cross > 0  # the diagonal from the sub-cell's (j, i) corner to (j + 1, i + 1)
+    a = [
+        k[:-1, :-1],
+        k[1:, :-1],
+        k[:-1, :-1],
+        k[:-1, 1:],
+        np.where(rising, k[:-1, :-1], k[:-1, 1:]),
+    ]
+    b = [k[:-1, 1:], k[1:, 1:], k[1:, :-1], k[1:, 1:], np.where(rising, k[1:, 1:], k[1:, :-1])]
+    w = [side_i, side_i, side_j, side_j, np.abs(cross)]
+    a, b, w = (np.concatenate([x.ravel() for x in part]) for part in (a, b, w))
     n = rows * cols
-    k = np.arange(n).reshape(rows, cols)
-    a = np.concatenate([k[:, :-1].ravel(), k[:-1, :].ravel()])
-    b = np.concatenate([k[:, 1:].ravel(), k[1:, :].ravel()])
-    w = np.concatenate([along_i.ravel(), along_j.ravel()])
     return coo_matrix(
         (np.concatenate([w, w, -w, -w]), (np.r_[a, b, a, b], np.r_[a, b, b, a])), shape=(n, n)
     ).tocsr()
