@@ -1,8 +1,9 @@
 """Grids adapted to analytic fields (SPEC 14): the field's interpolation error before and
 after, the worst cell, the time.
 
-Each shape's unadapted grid (the elliptic grid at ``--size``; a NACA 0012 C-grid; the
-cylinder-channel multi-block grid) is adapted to fields given on a fine image (``FINE``
+Each shape's unadapted grid (the elliptic grid at ``--size``; C-grids of NACA 0012 and, held
+out, NACA 4412; multi-block grids of the cylinder channel and, held out, the tee and the
+Y-branch) is adapted to fields given on a fine image (``FINE``
 points a side over the shape's box, as a solver's result would be): a curved tanh front, a
 straight oblique one, a boundary layer along the lowest wall and a Lamb-Oseen vortex's
 speed, each scaled to the shape's box. The interpolation error is the bilinear interpolant
@@ -11,9 +12,10 @@ the L2 norm (cells weighted by area) and the largest. The tuning shapes are the 
 the held-out ones ``example_data/holdout`` (no constant was set on them).
 
     .venv/bin/python benchmarks/adapt.py [--set tuning|holdout|bodies|all] [--beta 5 10 20]
-        [--size 41 31] [--speed]
+        [--size 41 31] [--speed [--runs 3]] [--unguarded]
 
-``--speed`` times adapting a 201 x 201 four-sided grid (40 000 cells) against meshing it;
+``--speed`` times adapting a 201 x 201 four-sided grid (40 000 cells) against meshing it
+(CPU and wall seconds, ``--runs`` rounds interleaved);
 ``--unguarded`` solves the C-grid and the multi-block grid at fixed strengths without the
 guard: the error ratio and the cells over the guard's bound (where the bound binds).
 """
@@ -21,10 +23,12 @@ guard: the error ratio and the cells over the guard's bound (where the bound bin
 from __future__ import annotations
 
 import argparse
+import resource
 import time
 from pathlib import Path
 
 import numpy as np
+import torch
 from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
@@ -120,26 +124,45 @@ def four_sided(path: str, size: tuple[int, int]) -> list[np.ndarray]:
     return [mesher.predict(*size).points]
 
 
-def c_grid() -> list[np.ndarray]:
-    """A NACA 0012 C-grid (the body kind's elliptic grid), 161 x 41, far field 5 chords."""
+def c_grid(
+    naca: str = "0012", size: tuple[int, int] = (161, 41), farfield: float = 5.0, wall=1e-3
+) -> list[np.ndarray]:
+    """An airfoil's C-grid (the body kind's elliptic grid): NACA ``naca``, ``size`` nodes,
+    far field ``farfield`` chords away, first cell ``wall`` chords thick."""
     from pinn_engine.bodies.airfoil import circle, load_body
     from pinn_engine.kinds.body.mesh import mesh_body
 
-    settings = make_settings("elliptic", topology="c", farfield=5.0)
-    body = load_body(naca="0012", te="sharp")
-    result = mesh_body(body, circle(body, 5.0), "c", "elliptic", 161, 41, settings, 1e-3, None)
+    settings = make_settings("elliptic", topology="c", farfield=farfield)
+    body = load_body(naca=naca, te="sharp")
+    result = mesh_body(body, circle(body, farfield), "c", "elliptic", *size, settings, wall, None)
     return [result.points]
 
 
-def cylinder_blocks() -> list[np.ndarray]:
-    """The cylinder-in-channel multi-block elliptic grid (cell size 0.05)."""
+def blocks(name: str = "cylinder_channel") -> list[np.ndarray]:
+    """An example's multi-block elliptic grid (cell size 0.05)."""
     from pinn_engine.job import blocks_from_files, run
 
     geometry = blocks_from_files(
-        ROOT / "example_data/cylinder_channel.vtp",
-        [ROOT / "example_data/cylinder_channel_blocks.vtp"],
+        ROOT / f"example_data/{name}.vtp", [ROOT / f"example_data/{name}_blocks.vtp"]
     )
     return run(make_settings("elliptic", cell_size=0.05), geometry).grids
+
+
+def bodies() -> dict:
+    """The C-grids and multi-block grids by set: the tuning ones (NACA 0012, the cylinder
+    channel) and the held-out ones (NACA 4412 at other counts, far field and wall spacing;
+    the tee and the Y-branch), each a function giving its blocks."""
+    return {
+        "tuning": {
+            "C-grid NACA 0012": c_grid,
+            "cylinder channel blocks": blocks,
+        },
+        "holdout": {
+            "C-grid NACA 4412 181 x 49": lambda: c_grid("4412", (181, 49), 8.0, 5e-4),
+            "tee blocks": lambda: blocks("tee"),
+            "Y-branch blocks": lambda: blocks("ybranch"),
+        },
+    }
 
 
 def measure(name: str, grids: list[np.ndarray], betas: list[float], rows: list) -> None:
@@ -180,28 +203,50 @@ def measure(name: str, grids: list[np.ndarray], betas: list[float], rows: list) 
             )
 
 
-def speed() -> None:
-    """Adapting a 201 x 201 grid (40 000 cells) against meshing it, by the default method
-    and by the elliptic one."""
+def cpu_seconds() -> float:
+    """This process's user and system CPU time (all its threads)."""
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
+
+
+def timed(job, *args) -> tuple[object, float, float]:
+    """``job(*args)``'s result, its CPU seconds and its wall seconds."""
+    cpu, wall = cpu_seconds(), time.perf_counter()
+    out = job(*args)
+    return out, cpu_seconds() - cpu, time.perf_counter() - wall
+
+
+def speed(runs: int) -> None:
+    """Adapting a 201 x 201 grid (40 000 cells) against meshing it by the default method and
+    by the elliptic one, ``runs`` rounds interleaved (mesh, mesh, adapt): the median CPU
+    and wall seconds of each."""
     boundary = Boundary.from_points(read_boundary_points(ROOT / "example_data/wavy.vtp"))
     size = (201, 201)
-    times = {}
-    for method in ("pinn", "elliptic"):
-        start = time.perf_counter()
-        grid = Mesher(make_settings(method, lattice=size)).fit(boundary).predict(*size).points
-        times[method] = time.perf_counter() - start
-    flat = grid.reshape(-1, 2)
-    box = np.array([flat.min(axis=0), flat.max(axis=0)])
-    f = fields(box)["front"]
-    field = Field(image(f, box), "u", "front")
-    start = time.perf_counter()
-    out = adapt_grids([grid], field, DEFAULT_STRENGTH)
-    adapt = time.perf_counter() - start
-    print(f"meshing {times}, adapting {adapt:.1f} s", flush=True)
+
+    def mesh(method: str) -> np.ndarray:
+        return Mesher(make_settings(method, lattice=size)).fit(boundary).predict(*size).points
+
+    times: dict[str, list[tuple[float, float]]] = {"pinn": [], "elliptic": [], "adapt": []}
+    for _ in range(runs):
+        for method in ("pinn", "elliptic"):
+            grid, cpu, wall = timed(mesh, method)
+            times[method].append((cpu, wall))
+        flat = grid.reshape(-1, 2)
+        box = np.array([flat.min(axis=0), flat.max(axis=0)])
+        field = Field(image(fields(box)["front"], box), "u", "front")
+        out, cpu, wall = timed(adapt_grids, [grid], field, DEFAULT_STRENGTH)
+        times["adapt"].append((cpu, wall))
+    median = {k: np.median(np.array(v), axis=0) for k, v in times.items()}
+    report = out.report
+    solves = sum(len(t["solves"]) for t in report["tries"])
+    ratio = report["interpolation_error"]["after"] / report["interpolation_error"]["before"]
     print(
-        f"201 x 201 wavy: meshing pinn {times['pinn']:.1f} s, elliptic {times['elliptic']:.1f} s;"
-        f" adapting {adapt:.1f} s (strength used {out.report['strength_used']:g}, "
-        f"{sum(len(t['solves']) for t in out.report['tries'])} solves)"
+        f"201 x 201 wavy, median of {runs} (CPU / wall seconds): meshing pinn "
+        f"{median['pinn'][0]:.2f} / {median['pinn'][1]:.2f}, elliptic "
+        f"{median['elliptic'][0]:.2f} / {median['elliptic'][1]:.2f}; adapting "
+        f"{median['adapt'][0]:.2f} / {median['adapt'][1]:.2f} (strength used "
+        f"{report['strength_used']:g}, {report['form']}, {solves} solves; error "
+        f"after/before {ratio:.2f})"
     )
 
 
@@ -212,7 +257,7 @@ def unguarded() -> None:
     from pinn_engine.adapt.nodes import node_graph
     from pinn_engine.adapt.parametric import ParameterSpace
 
-    for name, grids in (("C-grid NACA 0012", c_grid()), ("cylinder blocks", cylinder_blocks())):
+    for name, grids in (("C-grid NACA 0012", c_grid()), ("cylinder blocks", blocks())):
         flat = np.vstack([g.reshape(-1, 2) for g in grids])
         box = np.array([flat.min(axis=0), flat.max(axis=0)])
         graph = node_graph(grids, None)
@@ -236,9 +281,11 @@ def main() -> None:
     parser.add_argument("--size", type=int, nargs=2, default=(41, 31))
     parser.add_argument("--speed", action="store_true")
     parser.add_argument("--unguarded", action="store_true")
+    parser.add_argument("--runs", type=int, default=3, help="--speed's interleaved rounds")
     args = parser.parse_args()
+    torch.set_num_threads(1)
     if args.speed:
-        speed()
+        speed(args.runs)
         return
     if args.unguarded:
         unguarded()
@@ -257,13 +304,25 @@ def main() -> None:
                     f"{key}: {Path(path).stem}", four_sided(path, tuple(args.size)), args.beta, rows
                 )
     if args.set in ("bodies", "all"):
-        measure("C-grid NACA 0012", c_grid(), args.beta, rows)
-        measure("cylinder channel blocks", cylinder_blocks(), args.beta, rows)
-    ratios = np.array([r[3] for r in rows])
-    print(
-        f"\nL2 error after/before: median {np.median(ratios):.2f}, worst {ratios.max():.2f}; "
-        f"at most 0.5 in {int((ratios <= 0.5).sum())} of {len(rows)}"
-    )
+        for key, shapes in bodies().items():
+            for name, make in shapes.items():
+                measure(f"{key}: {name}", make(), args.beta, rows)
+
+    def group(row: tuple) -> str:
+        body = "C-grid" in row[0] or "blocks" in row[0]
+        return ("C-grid and blocks, " if body else "four-sided, ") + row[0].split(":")[0]
+
+    groups = {"all": rows}
+    for row in rows:
+        groups.setdefault(group(row), []).append(row)
+    print()
+    for label, members in groups.items():
+        if members:
+            ratios = np.array([r[3] for r in members])
+            print(
+                f"{label}: L2 error after/before median {np.median(ratios):.2f}, worst "
+                f"{ratios.max():.2f}; at most 0.5 in {int((ratios <= 0.5).sum())} of {len(members)}"
+            )
 
 
 if __name__ == "__main__":

@@ -21,9 +21,10 @@ from pinn_engine.settings import ADAPT_STRENGTH
 DEFAULT_STRENGTH = ADAPT_STRENGTH  # the default strength beta (settings, measured there)
 # The strengths tried, for each form of the diffusion tensor (anisotropic first): the
 # strength asked times WEAKER**k, k = 0 up to STRENGTHS - 1, strongest first, stopping at
-# the first no better than the grid the form kept (a weaker one concentrates less); the
-# lowest interpolation error wins, the unadapted grid if none is lower. A sixteenth is
-# reached: the guard binds at about beta 2 to 5 (docs/adaptation.md)
+# the first no better than the form's last try (past the form's best: the error falls with
+# the strength until the guard binds or the front is over-compressed); the lowest
+# interpolation error wins, the unadapted grid if none is lower. A sixteenth is reached:
+# the guard binds at about beta 2 to 5 (docs/adaptation.md)
 STRENGTHS = 5
 WEAKER = 0.5
 # The forms: compressing across a front only (a front or a layer, whose cells then keep
@@ -79,18 +80,20 @@ def adapt_grids(
     points, share, rounds, error, used = start, np.zeros(len(start)), [], error0, 0.0
     form = "unadapted"
     for isotropic in ISOTROPIC if largest > 0 else ():
-        kept = False
+        last = np.inf
         for k in range(STRENGTHS):
             beta = strength * WEAKER**k
-            found = guarded(graph, space, beta, limit, isotropic)
-            now = interpolation_error(found.solved.points, graph.cells, sample)
+            found = guarded(graph, space, beta, limit, isotropic, error)
             name = "isotropic" if isotropic else "anisotropic"
-            rounds.append({"form": name, "strength": beta, "error": now, "solves": found.rounds})
-            if now < error:
-                points, share, error = found.solved.points, found.share * found.kept, now
-                used, form, kept = beta, name, True
-            elif kept:
+            rounds.append(
+                {"form": name, "strength": beta, "error": found.error, "solves": found.rounds}
+            )
+            if found.within and found.error < error:
+                points, share, error = found.solved.points, found.share * found.kept, found.error
+                used, form = beta, name
+            if found.error >= last:
                 break
+            last = found.error
     final = gradient_size(points, graph.cells, sample(points))
     m_used = monitor_values(final, strength * share, largest)
     m_start = monitor_values(gradient, strength, largest)

@@ -37,12 +37,16 @@ BLENDS = (0.8, 0.6, 0.4)
 @dataclass
 class Guarded:
     """The grid that keeps the guard, each node's share of the strength asked (1: all of
-    it), the share of each node's move kept by the draw-back, and the solves made."""
+    it), the share of each node's move kept by the draw-back, the solves made, and the
+    grid's interpolation error (``within`` False: the first solve broke the guard and
+    already carried the field no better than the bound asked, so it was not guarded)."""
 
     solved: Solved
     share: np.ndarray
     kept: np.ndarray
     rounds: list[dict] = field(default_factory=list)
+    error: float = np.inf
+    within: bool = True
 
 
 def offending(graph: NodeGraph, points: np.ndarray, limit: float) -> np.ndarray:
@@ -73,31 +77,38 @@ def guarded(
     strength: float,
     limit: float,
     isotropic: bool = False,
+    bound: float = np.inf,
 ) -> Guarded:
     """The grid adapted with ``strength`` lowered where the guard (``limit`` degrees, no
-    fold) needs it (``isotropic``: the diffusion tensor's form, :meth:`ParameterSpace.solve`)."""
+    fold) needs it (``isotropic``: the diffusion tensor's form, :meth:`ParameterSpace.solve`);
+    not guarded where its first solve breaks the guard and carries the field no better than
+    ``bound`` (the guard's lowering and draw-back adapt less: they seldom gain it back)."""
     n = len(graph.points)
     share = np.ones(n)
-    solved = first = None
-    rounds = []
-    for _ in range(ROUNDS):
+
+    def error(points: np.ndarray) -> float:
+        return interpolation_error(points, graph.cells, space.sample)
+
+    first = solved = space.solve(share * strength, isotropic)
+    bad = offending(graph, solved.points, limit)
+    rounds = [{"steps": solved.steps, "offending_cells": int(bad.sum())}]
+    if not bad.any():
+        return Guarded(solved, share, np.ones(n), rounds, error(solved.points))
+    if error(solved.points) >= bound:
+        return Guarded(solved, share, np.ones(n), rounds, error(solved.points), within=False)
+    for _ in range(ROUNDS - 1):
+        share = share * (1.0 - (1.0 - LOWER) * _round(graph, bad))
         solved = space.solve(strength * share, isotropic)
-        first = first or solved
         bad = offending(graph, solved.points, limit)
         rounds.append({"steps": solved.steps, "offending_cells": int(bad.sum())})
-        if not bad.any():
+        if not bad.any() or bad.sum() > PROGRESS * rounds[-2]["offending_cells"]:
             break
-        if len(rounds) > 1 and bad.sum() > PROGRESS * rounds[-2]["offending_cells"]:
-            break
-        share = share * (1.0 - (1.0 - LOWER) * _round(graph, bad))
-    if len(rounds) == 1 and not bad.any():
-        return Guarded(solved, share, np.ones(n), rounds)
     candidates = [_drawn_back(graph, solved, share, limit, rounds)] + [
         _drawn_back(graph, first, np.ones(n), limit, rounds, blend) for blend in BLENDS
     ]
-    return min(
-        candidates, key=lambda c: interpolation_error(c.solved.points, graph.cells, space.sample)
-    )
+    for candidate in candidates:
+        candidate.error = error(candidate.solved.points)
+    return min(candidates, key=lambda c: c.error)
 
 
 def _drawn_back(

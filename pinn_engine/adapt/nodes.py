@@ -74,11 +74,12 @@ def _cells(points: np.ndarray, ids: list[np.ndarray]) -> np.ndarray:
     return quads
 
 
-def _edge_counts(cells: np.ndarray) -> dict[tuple[int, int], int]:
-    """How many cells each undirected edge has."""
-    edges = np.stack([cells, np.roll(cells, -1, axis=1)], axis=-1).reshape(-1, 2)
-    keys, counts = np.unique(np.sort(edges, axis=1), axis=0, return_counts=True)
-    return {(int(a), int(b)): int(c) for (a, b), c in zip(keys, counts)}
+def _boundary_edges(cells: np.ndarray, n: int) -> np.ndarray:
+    """The undirected edges (k, 2) that only one cell has."""
+    edges = np.sort(np.stack([cells, np.roll(cells, -1, axis=1)], axis=-1).reshape(-1, 2), axis=1)
+    keys, counts = np.unique(edges[:, 0] * n + edges[:, 1], return_counts=True)
+    once = keys[counts == 1]
+    return np.column_stack([once // n, once % n])
 
 
 def node_graph(grids: list[np.ndarray], held: list[np.ndarray] | None = None) -> NodeGraph:
@@ -86,14 +87,13 @@ def node_graph(grids: list[np.ndarray], held: list[np.ndarray] | None = None) ->
     nodes that must stay (walls whose first edge or angle was asked, with their first row)."""
     points, ids = _merged(grids)
     cells = _cells(points, ids)
-    counts = _edge_counts(cells)
     n = len(points)
     stay = np.zeros(n, dtype=bool)
     for lattice, mask in zip(ids, held or [None] * len(ids)):
         stay[lattice[[0, 0, -1, -1], [0, -1, 0, -1]]] = True  # block corners
         if mask is not None:
             stay[lattice[mask]] = True
-    boundary_edges = np.array([e for e, c in counts.items() if c == 1], dtype=int).reshape(-1, 2)
+    boundary_edges = _boundary_edges(cells, n)
     pieces, corners = _pieces(points, boundary_edges, stay)
     stay[corners] = True
     return NodeGraph(points, ids, cells, pieces, stay)
