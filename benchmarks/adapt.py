@@ -245,7 +245,7 @@ def speed(runs: int) -> None:
         f"{median['pinn'][0]:.2f} / {median['pinn'][1]:.2f}, elliptic "
         f"{median['elliptic'][0]:.2f} / {median['elliptic'][1]:.2f}; adapting "
         f"{median['adapt'][0]:.2f} / {median['adapt'][1]:.2f} (strength used "
-        f"{report['strength_used']:g}, {report['form']}, {solves} solves; error "
+        f"{report['strength_used']:g}, {report.get('form', 'isotropic')}, {solves} solves; error "
         f"after/before {ratio:.2f})"
     )
 

@@ -19,17 +19,14 @@ from pinn_engine.quality import cell_quality
 from pinn_engine.settings import ADAPT_STRENGTH
 
 DEFAULT_STRENGTH = ADAPT_STRENGTH  # the default strength beta (settings, measured there)
-# The strengths tried, for each form of the diffusion tensor (anisotropic first): the
-# strength asked times WEAKER**k, k = 0 up to STRENGTHS - 1, strongest first, stopping at
-# the first no better than the form's last try (past the form's best: the error falls with
-# the strength until the guard binds or the front is over-compressed); the lowest
-# interpolation error wins, the unadapted grid if none is lower. A sixteenth is reached:
+# Each form's strengths: the one asked times WEAKER**k, k = 0 to STRENGTHS - 1, strongest
+# first, stopping at the first no better than the form's last try (past its best); the
+# lowest interpolation error of all wins, else the unadapted grid. A sixteenth is reached:
 # the guard binds at about beta 2 to 5 (docs/adaptation.md)
 STRENGTHS = 5
 WEAKER = 0.5
-# The forms: compressing across a front only (a front or a layer, whose cells then keep
-# their angles), and Winslow's isotropic 1/M (a vortex's core, a feature a few cells wide
-# that only a compression in every direction resolves)
+# The tensor's forms, in order: across a front only (a front, a layer), then Winslow's
+# isotropic 1/M (a feature a few cells wide every way, a vortex's core)
 ISOTROPIC = (False, True)
 
 
