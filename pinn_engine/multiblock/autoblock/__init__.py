@@ -15,17 +15,20 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
+from shapely.geometry import LineString, Point
 
 from pinn_engine.errors import InputError
 from pinn_engine.multiblock.autoblock.bends import bend_cuts, cut_choices
 from pinn_engine.multiblock.autoblock.corners import corner_points, reflex_vertices
 from pinn_engine.multiblock.autoblock.faces import NoBlocking, completions
-from pinn_engine.multiblock.autoblock.orings import main_axes, o_ring
+from pinn_engine.multiblock.autoblock.orings import ORing, main_axes, o_rings
 from pinn_engine.multiblock.autoblock.rays import motorcycles, ray_options
 from pinn_engine.multiblock.autoblock.score import score
 from pinn_engine.multiblock.autoblock.search import best_meshed, candidates
 from pinn_engine.multiblock.graph import order_rings
 from pinn_engine.multiblock.walls import Walls
+
+ON_WALL = 1e-9  # share of the diagonal: a box corner this close to the outer ring is on it
 
 
 def _segments(curves: list[np.ndarray], closed: bool) -> np.ndarray:
@@ -59,16 +62,54 @@ def propose_edges(
     rings = order_rings([np.asarray(r, dtype=float)[:, :2] for r in rings], source)
     diagonal = float(np.linalg.norm(np.ptp(rings[0], axis=0)))
     axes = main_axes(rings[0])
-    orings = [
-        o_ring(hole, [r for j, r in enumerate(rings) if j != k], axes)
-        for k, hole in enumerate(rings[1:], start=1)
-    ]
+    # each hole's rings (free, reaching a wall): every combination is searched
+    forms = list(
+        itertools.product(
+            *[
+                o_rings(hole, [r for j, r in enumerate(rings) if j != k], axes)
+                for k, hole in enumerate(rings[1:], start=1)
+            ]
+        )
+    )
+    layouts = []
+    for form in forms:
+        layouts += _layouts(rings, list(form), diagonal, layers)
+    layouts.sort(key=lambda layout: layout[0])
+    if not layouts:
+        fixed_edges = sum((r.edges for r in forms[0]), [])
+        raise InputError(_why(rings, fixed_edges) + ": draw the block edges and {blocks}", source)
+    if len(rings) == 1 and len(layouts) == 1 and not reflex_vertices(rings, diagonal):
+        return layouts[0][1]  # four-sided (or cut round its centre): nothing to choose
+    best = best_meshed(layouts, lambda edges: score(rings, edges, cell_size, walls, patches))
+    if best is None and walls is not None and walls.spacing:
+        # every layout folds with the spacing before the run untangles its blocks (a body
+        # near a wall): judged without it, as the untangling is too dear to try on each
+        best = best_meshed(layouts, lambda edges: score(rings, edges, cell_size))
+    if best is None:
+        raise InputError(
+            "automatic blocking found no layout that meshes without folds: draw the block "
+            "edges and {blocks}",
+            source,
+        )
+    return best
+
+
+def _layouts(
+    rings: list[np.ndarray], orings: list[ORing], diagonal: float, layers: bool
+) -> list[tuple[float, list[np.ndarray]]]:
+    """The feasible layouts (cost, edges) of ``rings`` with one ring ``orings`` round each
+    hole (each in its O form or, where it has one, its C-shaped form), edges from the
+    reflex vertices of the outer ring and the boxes (with ``layers``, both continuations
+    where every vertex has them and any layout is found), or cuts where bends begin."""
     boxes = [ring.box[::-1] for ring in orings]  # clockwise: the domain outside on its left
-    # each hole's ring, or its C-shaped one where it has one: every combination is searched
     rings_edges = [[r.edges] + ([r.c_shaped] if r.c_shaped is not None else []) for r in orings]
     fixed_choices = [sum(choice, []) for choice in itertools.product(*rings_edges)]
-    fixed_edges = fixed_choices[0]
-    vertices = reflex_vertices([rings[0], *boxes], diagonal)
+    wall = LineString(np.vstack([rings[0], rings[0][:1]]))
+    vertices = reflex_vertices([rings[0]], diagonal) + [
+        v  # a box corner on the wall (a ring reaching it) is where an edge meets the wall
+        for v in reflex_vertices(boxes, diagonal)
+        if wall.distance(Point(v.point)) > ON_WALL * diagonal
+    ]
     if not vertices and len(rings) == 1:  # one block, unless cut where its bends begin
         fixed_choices = cut_choices(bend_cuts(rings, diagonal))
     fixed = _segments([rings[0], *boxes], True)
@@ -86,32 +127,14 @@ def propose_edges(
         return motorcycles(rays, fixed, targets, diagonal)
 
     for choices in tries:
-        layouts = sorted(
-            (
-                layout
-                for fixed_choice in fixed_choices
-                for layout in candidates(vertices, choices, build, rings, fixed_choice)
-            ),
-            key=lambda layout: layout[0],
-        )
+        layouts = [
+            layout
+            for fixed_choice in fixed_choices
+            for layout in candidates(vertices, choices, build, rings, fixed_choice)
+        ]
         if layouts:
-            break
-    if not layouts:
-        raise InputError(_why(rings, fixed_edges) + ": draw the block edges and {blocks}", source)
-    if not vertices and len(rings) == 1 and len(fixed_choices) == 1:
-        return layouts[0][1]  # four-sided (or cut round its centre): nothing to choose
-    best = best_meshed(layouts, lambda edges: score(rings, edges, cell_size, walls, patches))
-    if best is None and walls is not None and walls.spacing:
-        # every layout folds with the spacing before the run untangles its blocks (a body
-        # near a wall): judged without it, as the untangling is too dear to try on each
-        best = best_meshed(layouts, lambda edges: score(rings, edges, cell_size))
-    if best is None:
-        raise InputError(
-            "automatic blocking found no layout that meshes without folds: draw the block "
-            "edges and {blocks}",
-            source,
-        )
-    return best
+            return layouts
+    return []
 
 
 @dataclass

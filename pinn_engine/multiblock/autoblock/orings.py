@@ -25,6 +25,12 @@ GAP_SHARE = 0.45  # the most of the gap beyond a box side that the ring takes (t
 # each other across a gap leave a tenth of it between them)
 SHRINKS = 6  # times the ring's thickness is halved to keep a box off a slanted wall
 SPOKE_SNAP = 0.25  # a spoke ends on a sharp vertex of the hole this close (share of its half-size)
+# a box side may lie on the straight wall beyond it where the ring there would be thinner
+# than this share of its thickness elsewhere: the block between box and wall, thinner
+# still, is left out and the ring blocks reach the wall (a square 0.25 above a floor)
+WALL_SHARE = 0.5
+WALL_TOL = 1e-6  # share of the gap: a side moved onto the wall lies on it within this
+_SIDE_OF = (0, 2, 1, 3)  # the edge from box corner k - 1 to k: the -u, -v, +u, +v side
 
 
 @dataclass
@@ -69,33 +75,88 @@ def _spoke_end(hole: np.ndarray, centre: np.ndarray, corner: np.ndarray, half: f
     return end
 
 
-def o_ring(hole: np.ndarray, others: list[np.ndarray], axes: np.ndarray) -> ORing:
-    """The O-ring of ``hole`` among the ``others`` (the outer ring and the other holes)."""
+def o_rings(hole: np.ndarray, others: list[np.ndarray], axes: np.ndarray) -> list[ORing]:
+    """The rings the search tries round ``hole`` among the ``others`` (the outer ring first,
+    then the other holes): the O-ring, and where a side of its box is near a straight wall
+    the ring reaching that wall (:func:`o_ring` with ``walls``)."""
+    free = o_ring(hole, others, axes)
+    walled = o_ring(hole, others, axes, walls=True)
+    return [free] if walled is None else [free, walled]
+
+
+def o_ring(
+    hole: np.ndarray, others: list[np.ndarray], axes: np.ndarray, walls: bool = False
+) -> ORing | None:
+    """The O-ring of ``hole`` among the ``others`` (the outer ring first, then the other
+    holes). With ``walls``, a box side whose ring would be thinner than WALL_SHARE of its
+    thickness elsewhere, a straight wall of the outer ring beyond it, lies on that wall, and
+    the other sides take their gaps beyond them, not beside them; None where no side does."""
     local = hole @ axes.T
     lo, hi = local.min(axis=0), local.max(axis=0)
     half = 0.5 * float(np.max(hi - lo))
     obstacles = MultiLineString([np.vstack([r, r[:1]]) for r in others])
     box = np.array([lo, [hi[0], lo[1]], hi, [lo[0], hi[1]]])  # counter-clockwise, local
-    margins = []
-    for a, b in ((3, 0), (1, 2), (0, 1), (2, 3)):  # the -u, +u, -v, +v sides
-        side = LineString((box[[a, b]] @ axes).tolist())
-        margins.append(min(RING_SHARE * half, GAP_SHARE * side.distance(obstacles)))
-    grow = np.array(
-        [[-margins[0], -margins[2]], [margins[1], -margins[2]], [margins[1], margins[3]],
-         [-margins[0], margins[3]]]
-    )  # fmt: skip
+    margins, walled = [], []
+    sides = ((3, 0), (1, 2), (0, 1), (2, 3))  # the -u, +u, -v, +v sides
+    reach = float(np.ptp(np.vstack(others), axis=0).sum())  # farther than any obstacle
+    for a, b in sides:
+        side = box[[a, b]] @ axes
+        if walls:
+            gap = _gap_beyond(side, 0.5 * (lo + hi) @ axes, obstacles, reach)
+        else:
+            gap = LineString(side.tolist()).distance(obstacles)
+        on_wall = walls and _wall_beyond(box[[a, b]], gap, local, others[0] @ axes.T)
+        walled.append(on_wall and GAP_SHARE * gap < WALL_SHARE * RING_SHARE * half)
+        margins.append(gap if walled[-1] else min(RING_SHARE * half, GAP_SHARE * gap))
+    if walls and not any(walled):
+        return None
+    sign = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]])  # each corner's way out, per axis
+    grow = sign * np.array([[margins[0], margins[2]], [margins[1], margins[2]],
+                            [margins[1], margins[3]], [margins[0], margins[3]]])  # fmt: skip
+    held = sign * np.array([[walled[0], walled[2]], [walled[1], walled[2]],
+                            [walled[1], walled[3]], [walled[0], walled[3]]])  # fmt: skip
+    free = np.where(held != 0, 0.0, grow)
     for _ in range(SHRINKS):  # a corner past a slanted wall: the ring thinner until inside
-        if not Polygon((box + grow) @ axes).intersects(obstacles):
+        if not Polygon((box + free) @ axes).intersects(obstacles):
             break
-        grow = 0.5 * grow
-    box = (box + grow) @ axes
+        free = 0.5 * free
+    box = (box + np.where(held != 0, grow, free)) @ axes
     centre = 0.5 * (lo + hi) @ axes
-    edges = [np.array([box[k - 1], box[k]]) for k in range(4)]
+    # a side on the wall is the wall's: no edge along it
+    edges = [np.array([box[k - 1], box[k]]) for k in range(4) if not walled[_SIDE_OF[k]]]
     spokes = [np.array([_spoke_end(hole, centre, c, half), c]) for c in box]
     own = _corner_spokes(hole, box, spokes)
     beside = _beside_sharp_edges(spokes, own, hole, box, centre)
     c_shaped = None if beside is None else edges + beside + own
     return ORing(box, edges + spokes + own, c_shaped)
+
+
+def _gap_beyond(side: np.ndarray, centre: np.ndarray, obstacles, reach: float) -> float:
+    """The distance from the box ``side`` (2, 2) to the nearest of the ``obstacles`` in the
+    strip it sweeps moving away from the ``centre`` (``reach`` far): the gap beyond it, not
+    beside it (a square's sides beside a floor below it keep their full ring)."""
+    along = side[1] - side[0]
+    out = np.array([along[1], -along[0]]) / np.linalg.norm(along)
+    if out @ (side[0] - centre) < 0:
+        out = -out
+    strip = Polygon(np.vstack([side, side[::-1] + reach * out]))
+    beyond = obstacles.intersection(strip)
+    return np.inf if beyond.is_empty else LineString(side.tolist()).distance(beyond)
+
+
+def _wall_beyond(side: np.ndarray, gap: float, hole: np.ndarray, outer: np.ndarray) -> bool:
+    """Whether the box ``side`` (2, 2), moved by ``gap`` away from the ``hole`` (both in the
+    main axes' frame), lies along the ``outer`` ring's boundary over its whole length: a
+    straight wall parallel to it."""
+    if gap <= 0:
+        return False
+    along = side[1] - side[0]
+    out = np.array([along[1], -along[0]]) / np.linalg.norm(along)
+    if out @ (side[0] - hole.mean(axis=0)) < 0:
+        out = -out
+    moved = LineString((side + gap * out).tolist())
+    wall = LineString(np.vstack([outer, outer[:1]]).tolist())
+    return wall.buffer(WALL_TOL * gap).contains(moved)
 
 
 def _beside_sharp_edges(
