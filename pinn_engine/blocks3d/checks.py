@@ -21,6 +21,10 @@ import numpy as np
 
 from pinn_engine.geometry.faces import FaceTopology, topology
 
+# checkMesh's limit on a face's skewness (OpenFOAM's primitiveMesh::skewThreshold_): a mesh
+# with a face beyond it fails checkMesh
+SKEW_LIMIT = 4.0
+
 # each corner's three edge neighbours, in an order making the triple product the volume's sign
 CORNER_EDGES = np.array(
     [[1, 3, 4], [2, 0, 5], [3, 1, 6], [0, 2, 7], [7, 5, 0], [4, 6, 1], [5, 7, 2], [6, 4, 3]]
@@ -167,3 +171,34 @@ def folded(coords: np.ndarray, cells: np.ndarray) -> int:
         )
         bad |= triple <= 0
     return int(bad.sum())
+
+
+def planar_figures(grids: list[np.ndarray]) -> Figures:
+    """checkMesh's figures of a 2D multi-block grid (blocks (nj, ni, 2)) as one layer of
+    hexahedra, the nodes that blocks share merged, each block taken counter-clockwise in
+    (i, j) so that every hexahedron's volume is positive (any depth: the figures are
+    planar)."""
+    planar = [np.asarray(g, dtype=float)[..., :2] for g in grids]
+    planar = [g if cell_areas(g).sum() >= 0 else g[:, ::-1] for g in planar]
+    flat = np.vstack([g.reshape(-1, 2) for g in planar])
+    unique, inverse = np.unique(flat, axis=0, return_inverse=True)
+    inverse, start, cells = inverse.ravel(), 0, []
+    depth = float(np.linalg.norm(np.ptp(unique, axis=0)))
+    for g in planar:
+        ids = inverse[start : start + g.shape[0] * g.shape[1]].reshape(g.shape[:2])
+        start += ids.size
+        cells.append(hexes(np.stack([ids.T, ids.T + len(unique)], axis=-1)))
+    points = np.vstack(
+        [
+            np.column_stack([unique, np.zeros(len(unique))]),
+            np.column_stack([unique, np.full(len(unique), depth)]),
+        ]
+    )
+    return figures(points, np.vstack(cells))
+
+
+def cell_areas(grid: np.ndarray) -> np.ndarray:
+    """Each cell's signed area (the shoelace of its four corners) of a grid (nj, ni, 2)."""
+    a, b, c, d = grid[:-1, :-1], grid[:-1, 1:], grid[1:, 1:], grid[1:, :-1]
+    ac, bd = c - a, d - b
+    return 0.5 * (ac[..., 0] * bd[..., 1] - ac[..., 1] * bd[..., 0])

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from pinn_engine.blocks3d.checks import SKEW_LIMIT, cell_areas, planar_figures
 from pinn_engine.errors import InputError, folded_cells_refusal
 from pinn_engine.geometry.boundary import (
     SHARP_TURN,
@@ -36,19 +37,9 @@ ROUNDING = 16 * np.finfo(float).eps
 # The cells' area may differ from the area the boundary nodes enclose by this share (the
 # rounding of summing many cells' areas)
 AREA_TOL = 1e-7
-# checkMesh's limit on a face's skewness (OpenFOAM's primitiveMesh::skewThreshold_): a
-# multi-block grid with a face beyond it fails checkMesh, so it is not written
-SKEW_LIMIT = 4.0
 # A drawn line is an instruction: the default four-sided grid's line through it (SPEC 2's
 # measure) keeps within this share of the diagonal, a tenth of a cell of a 41 x 21 grid
 LINE_TOL = 2e-3
-
-
-def _cell_areas(grid: np.ndarray) -> np.ndarray:
-    """Each cell's signed area (the shoelace of its four corners) of a grid (nj, ni, 2)."""
-    a, b, c, d = grid[:-1, :-1], grid[:-1, 1:], grid[1:, 1:], grid[1:, :-1]
-    ac, bd = c - a, d - b
-    return 0.5 * (ac[..., 0] * bd[..., 1] - ac[..., 1] * bd[..., 0])
 
 
 def _perimeter(grid: np.ndarray) -> np.ndarray:
@@ -128,7 +119,7 @@ def check_blocks_cover(
             )
         area = abs(signed_area(ring_nodes))
         enclosed += area if k == 0 else -area
-    areas = [_cell_areas(g) for g in grids]
+    areas = [cell_areas(g) for g in grids]
     cells = float(sum(np.abs(a).sum() for a in areas))
     folded = any((np.sign(a) != np.sign(a.sum())).any() for a in areas)
     domain = abs(signed_area(rings[0])) - sum(abs(signed_area(r)) for r in rings[1:])
@@ -149,30 +140,11 @@ def check_blocks_cover(
 
 def check_blocks_skewness(grids: list[np.ndarray], source: str, fix: str) -> dict:
     """Refuse a multi-block grid (blocks (nj, ni, 2)) with a face that OpenFOAM's checkMesh
-    finds skewed beyond ``SKEW_LIMIT``: the grid as one layer of hexahedra, shared nodes
-    merged, measured as checkMesh measures it (``blocks3d.checks``; a cell squeezed to a
-    near-180-degree corner beside a thin wall row has such a face); ``fix`` ends the
-    refusal. Returns the figures of the report's ``checkmesh`` entry."""
-    from pinn_engine.blocks3d.checks import figures, hexes
-
-    planar = [np.asarray(g, dtype=float)[..., :2] for g in grids]
-    # each block counter-clockwise in (i, j), so that every hexahedron's volume is positive
-    planar = [g if _cell_areas(g).sum() >= 0 else g[:, ::-1] for g in planar]
-    flat = np.vstack([g.reshape(-1, 2) for g in planar])
-    unique, inverse = np.unique(flat, axis=0, return_inverse=True)
-    inverse, start, cells = inverse.ravel(), 0, []
-    depth = float(np.linalg.norm(np.ptp(unique, axis=0)))  # any depth: the figures are planar
-    for g in planar:
-        ids = inverse[start : start + g.shape[0] * g.shape[1]].reshape(g.shape[:2])
-        start += ids.size
-        cells.append(hexes(np.stack([ids.T, ids.T + len(unique)], axis=-1)))
-    points = np.vstack(
-        [
-            np.column_stack([unique, np.zeros(len(unique))]),
-            np.column_stack([unique, np.full(len(unique), depth)]),
-        ]
-    )
-    found = figures(points, np.vstack(cells))
+    finds skewed beyond ``SKEW_LIMIT`` (a multi-block grid with such a face fails checkMesh,
+    so it is not written), measured as checkMesh measures it (``checks.planar_figures``; a
+    cell squeezed to a near-180-degree corner beside a thin wall row has such a face);
+    ``fix`` ends the refusal. Returns the figures of the report's ``checkmesh`` entry."""
+    found = planar_figures(grids)
     if found.max_skewness > SKEW_LIMIT:
         raise InputError(
             f"the grid is not written: a face is skewed {found.max_skewness:.3g} (checkMesh's "

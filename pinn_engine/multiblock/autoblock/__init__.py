@@ -22,8 +22,8 @@ from pinn_engine.multiblock.autoblock.bends import bend_cuts, cut_choices
 from pinn_engine.multiblock.autoblock.corners import corner_points, reflex_vertices
 from pinn_engine.multiblock.autoblock.faces import NoBlocking, completions
 from pinn_engine.multiblock.autoblock.orings import ORing, main_axes, o_rings
-from pinn_engine.multiblock.autoblock.rays import motorcycles, ray_options
-from pinn_engine.multiblock.autoblock.score import score
+from pinn_engine.multiblock.autoblock.rays import layered, motorcycles, ray_options
+from pinn_engine.multiblock.autoblock.score import score, scoring_size
 from pinn_engine.multiblock.autoblock.search import best_meshed, candidates
 from pinn_engine.multiblock.graph import order_rings
 from pinn_engine.multiblock.walls import Walls
@@ -56,9 +56,10 @@ def propose_edges(
     has a chain to run along on both sides of the corner; where no layout has both at every
     such vertex (a sharp step's lip facing a wall two cells away), the layouts without
     spacing are searched. The layouts are judged by their grids as the run meshes them: at
-    its ``cell_size`` (0: SPEC 10's default; ``score.scoring_size``) and with its ``walls``'
-    spacing on its ``patches`` (without it where every layout folds with it). A one-line
-    InputError says why when no blocking is found."""
+    its ``cell_size`` (0: SPEC 10's default; ``score.scoring_size``, and where that is
+    coarser, the winner meshed again at the run's size, the next best where it folds) and
+    with its ``walls``' spacing on its ``patches`` (without it where every layout folds with
+    it). A one-line InputError says why when no blocking is found."""
     rings = order_rings([np.asarray(r, dtype=float)[:, :2] for r in rings], source)
     diagonal = float(np.linalg.norm(np.ptp(rings[0], axis=0)))
     axes = main_axes(rings[0])
@@ -80,11 +81,22 @@ def propose_edges(
         raise InputError(_why(rings, fixed_edges) + ": draw the block edges and {blocks}", source)
     if len(rings) == 1 and len(layouts) == 1 and not reflex_vertices(rings, diagonal):
         return layouts[0][1]  # four-sided (or cut round its centre): nothing to choose
-    best = best_meshed(layouts, lambda edges: score(rings, edges, cell_size, walls, patches))
+    finer = 0 < cell_size < scoring_size(diagonal, cell_size)  # judged coarser than meshed
+
+    def judged(spacing: Walls | None):
+        return best_meshed(
+            layouts,
+            lambda edges: score(rings, edges, cell_size, spacing, patches),
+            (lambda edges: score(rings, edges, cell_size, spacing, patches, True))
+            if finer
+            else None,
+        )
+
+    best = judged(walls)
     if best is None and walls is not None and walls.spacing:
         # every layout folds with the spacing before the run untangles its blocks (a body
         # near a wall): judged without it, as the untangling is too dear to try on each
-        best = best_meshed(layouts, lambda edges: score(rings, edges, cell_size))
+        best = judged(None)
     if best is None:
         raise InputError(
             "automatic blocking found no layout that meshes without folds: draw the block "
@@ -117,7 +129,10 @@ def _layouts(
     # with layers, both continuations where a vertex has them; where no layout has them
     # all, the layouts of no spacing (a reflex corner left inside a block's side carries the
     # spacing through that block: spacing.held_pieces)
-    both = [[o for o in opts if len(o) == 2] or opts for opts in options]
+    both = [
+        ([o for o in opts if len(o) == 2] if layered(v) else []) or opts
+        for v, opts in zip(vertices, options)
+    ]
     tries = [both, options] if layers and both != options else [options]
     targets = np.vstack(
         [corner_points(rings[0]), *boxes, np.array([v.point for v in vertices]).reshape(-1, 2)]

@@ -21,6 +21,10 @@ from pinn_engine.multiblock.autoblock.corners import Reflex
 # sharper than the sharpest a block may have on the boundary's side (150 degrees' turn);
 # a steep tee's branch wall carried on leaves 90 less its lean (30 at 60 degrees)
 MIN_SPLIT = 30.0
+# degrees each corner beside a wall carried on must have, at least, where a wall spacing
+# asks both continuations (``layered``): a 270-degree corner's (90), not a Y's 210-degree
+# mouth's (30), whose walls' layers bend round it within a block
+PAIR_SPLIT = 45.0
 SAME_DIRECTION = 10.0  # degrees: directions closer than this are one
 END_SNAP = 0.15  # an end goes onto a corner or edge start this close (share of its length)
 NEAR_ZERO = 1e-9  # share of the diagonal below which a hit is the ray's own start
@@ -95,6 +99,13 @@ def ray_options(vertex: Reflex, fixed: np.ndarray, diagonal: float) -> list[list
     if len(carried) == 2:
         out.append(carried)
     return out
+
+
+def layered(vertex: Reflex) -> bool:
+    """Whether a wall spacing asks ``vertex`` to carry both its walls on (its two
+    separatrices), each wall's layer then running on along a block edge: where both leave
+    corners of PAIR_SPLIT or more beside the walls."""
+    return vertex.angle - 180.0 >= PAIR_SPLIT
 
 
 def motorcycles(

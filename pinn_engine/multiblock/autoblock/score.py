@@ -5,7 +5,8 @@ it will be meshed: at the run's size (one clean at the default size may fold at 
 a diamond near a floor, or rank differently, a wide leaning tee) and, where the run asks a
 wall spacing, with it (a reflex corner left inside a block's side carries the spacing
 through that block, which suits one of an open cavity's two mirror-image layouts and
-shears the other).
+shears the other), a grid with a face checkMesh finds too skewed out, as the run would
+refuse to write it.
 
 The solve stops after ``SCORE_ITERATIONS`` Picard steps: the examples converge in under 100,
 and a layout whose sliding ends still move after that is judged where they are.
@@ -15,6 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from pinn_engine.blocks3d.checks import SKEW_LIMIT, planar_figures
 from pinn_engine.errors import InputError
 from pinn_engine.multiblock.blocks import topology
 from pinn_engine.multiblock.counts import cell_counts, default_cell_size
@@ -50,18 +52,22 @@ def score(
     cell_size: float = 0.0,
     walls: Walls | None = None,
     patches: tuple = (),
+    exact: bool = False,
 ) -> float:
     """The grid's mean MaxIncludedAngle at ``scoring_size(cell_size)``, with the worst, the
     mean interface kink and the block count weighed in; infinite when it folds or cannot be
     meshed. With a spacing in ``walls`` (on the ``patches`` the run names), the grid is
-    the run's own: meshed with the spacing."""
+    the run's own: meshed with the spacing. ``exact``: at ``cell_size`` itself, however
+    fine."""
     names = [f"edge {k}" for k in range(len(edges))]
     try:
         lines = linework(rings, edges, names, "auto")
-        h = scoring_size(lines.diagonal, cell_size)
+        h = cell_size if exact and cell_size > 0 else scoring_size(lines.diagonal, cell_size)
         if walls is not None and walls.spacing:
             settings = make_settings("elliptic", cell_size=h)
             result = mesh_blocks(rings, edges, names, settings, "auto", patches, walls)
+            if planar_figures(result.grids).max_skewness > SKEW_LIMIT:
+                return np.inf  # the run would refuse to write it (job.cover)
             cells = [cell_quality(grid) for grid in result.grids]
             kink = result.report["interface_kink"]["mean"]
             return _weighed(cells, kink, result.report["blocks"])

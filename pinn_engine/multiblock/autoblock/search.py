@@ -123,12 +123,15 @@ def shortlist(layouts: list[tuple[float, list[np.ndarray]]]) -> list[list[np.nda
 def best_meshed(
     layouts: list[tuple[float, list[np.ndarray]]],
     score: Callable[[list[np.ndarray]], float],
+    confirm: Callable[[list[np.ndarray]], float] | None = None,
 ) -> list[np.ndarray] | None:
-    """Of the ``shortlist`` of ``layouts``, the edges whose grid ``score``s lowest (None
-    when none can be meshed)."""
-    best = None
-    for edges in shortlist(layouts):
-        value = score(edges)
-        if np.isfinite(value) and (best is None or value < best[0]):
-            best = (value, edges)
-    return None if best is None else best[1]
+    """Of the ``shortlist`` of ``layouts``, the edges whose grid ``score``s lowest and,
+    with ``confirm`` (the score at the run's own cell size, where the search judged them
+    coarser), whose grid there is finite too: the next best where it folds (None when none
+    can be meshed)."""
+    scored = [(score(edges), k, edges) for k, edges in enumerate(shortlist(layouts))]
+    ranked = sorted((item for item in scored if np.isfinite(item[0])), key=lambda item: item[:2])
+    for _, _, edges in ranked:
+        if confirm is None or np.isfinite(confirm(edges)):
+            return edges
+    return None
