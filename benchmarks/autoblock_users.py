@@ -196,7 +196,7 @@ TUNING: dict[str, Callable[[], Domain]] = {
     "tee, branch leaning 20 downstream": lambda: tilted_tee(20.0, 1.0),
     "tee, narrow branch leaning 40 upstream": lambda: tilted_tee(-40.0, 0.5),
     "tee, wide branch leaning 50 downstream, channel 2": lambda: tilted_tee(50.0, 2.0, 2.0),
-    "tee, branch leaning 60 upstream": lambda: tilted_tee(-60.0, 1.0),
+    "tee, branch 1 wide leaning 60 upstream": lambda: tilted_tee(-60.0, 1.0),
     "Y-branch, arms at +-70 degrees": lambda: y_branch((-70.0, 70.0, 180.0), (1.0,) * 3),
     "Y-branch, three arms 120 apart": lambda: y_branch((-60.0, 60.0, 180.0), (1.0,) * 3),
     "square near the floor": square_near_floor,
