@@ -86,9 +86,10 @@ def test_an_orthogonal_dictionary_imports_no_scipy(tmp_path):
 
 
 def test_a_dictionary_written_as_an_openfoam_case_imports_no_vtk_nor_torch(tmp_path):
-    """A blockMeshDict's Winslow grid written as an OpenFOAM case: the case is written from
-    the merged hexahedra, so neither VTK (its dataset is built only where a route reads it)
-    nor torch (no network is trained) is imported; the .vtm output does build it."""
+    """A blockMeshDict's Winslow grid written as an OpenFOAM case with its report: the case
+    is written from the merged hexahedra, so neither VTK (its dataset is built only where a
+    route reads it) nor torch (no network is trained) is imported; the .vtm output does
+    build it."""
     folder = tmp_path / "duct" / "system"
     folder.mkdir(parents=True)
     (folder / "blockMeshDict").write_text(
@@ -97,7 +98,8 @@ def test_a_dictionary_written_as_an_openfoam_case_imports_no_vtk_nor_torch(tmp_p
         "boundary ( walls { type wall; faces ((0 3 2 1)); } );\n"
     )
     names = ("vtkmodules", "torch", "pyvista", "scipy.sparse")
-    run = ([str(folder / "blockMeshDict"), "--format", "openfoam"], "duct_case")
+    report = str(tmp_path / "duct.json")
+    run = ([str(folder / "blockMeshDict"), "--format", "openfoam", "--report", report], "duct_case")
     assert _imported_after([run], tmp_path, names) == ["scipy.sparse"]  # it was solved
     vtm = ([str(folder / "blockMeshDict")], "duct.vtm")
     assert _imported_after([vtm], tmp_path, names) == ["vtkmodules", "scipy.sparse"]

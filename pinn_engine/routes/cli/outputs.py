@@ -37,7 +37,7 @@ def save_model(model, path: str, written: list[Path]) -> None:
 
 def write_report(path: str, report: dict, written: list[Path]) -> None:
     """The run's report as JSON (--report)."""
-    from pinn_engine.io.fileio import write_text_atomic
+    from pinn_engine.io.atomic import write_text_atomic  # io.fileio would import VTK
 
     write_text_atomic(path, json.dumps(report, indent=2, default=float))
     written.append(Path(path))
