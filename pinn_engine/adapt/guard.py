@@ -53,10 +53,9 @@ def offending(graph: NodeGraph, points: np.ndarray, limit: float) -> np.ndarray:
     """Which cells fold (that the unadapted grid does not fold) or have a MaxIncludedAngle
     over ``limit``, in ``graph.cells`` order."""
     bad = []
-    for grid, start in zip(graph.grids(points), graph.grids(graph.points)):
-        q, q0 = cell_quality(grid), cell_quality(start)
-        new = q["Folded"] & ~q0["Folded"]
-        bad.append(((q["MaxIncludedAngle"] > limit) & ~q0["Folded"] | new).ravel())
+    for grid, folded in zip(graph.grids(points), graph.folded):
+        q = cell_quality(grid)
+        bad.append((((q["MaxIncludedAngle"] > limit) | q["Folded"]) & ~folded).ravel())
     return np.concatenate(bad)
 
 

@@ -5,11 +5,14 @@ cell counter-clockwise, and the boundary cut into pieces between the nodes that 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
+
+from pinn_engine.quality import cell_quality
 
 # Nodes of two blocks (or of a seam or cut) are one node when this share of the diagonal or
 # less apart: exporters join them at the same tolerance's scale, and shared nodes are equal
@@ -40,6 +43,12 @@ class NodeGraph:
     def grids(self, points: np.ndarray) -> list[np.ndarray]:
         """Each block's grid (nj, ni, 2) of unique node positions ``points``."""
         return [points[ids] for ids in self.ids]
+
+    @cached_property
+    def folded(self) -> list[np.ndarray]:
+        """Each block's cells (nj - 1, ni - 1) that fold in the unadapted grid (the guard
+        asks every adapted grid of it)."""
+        return [cell_quality(grid)["Folded"] for grid in self.grids(self.points)]
 
 
 def _merged(grids: list[np.ndarray]) -> tuple[np.ndarray, list[np.ndarray]]:
