@@ -3,7 +3,9 @@ grid's worst by more than ``GUARD_DEGREES``. Where the adapted grid breaks it, t
 is lowered where it breaks (the monitor flattened round the offending cells) and the grid
 solved again from where it was; what still breaks after ``ROUNDS`` is drawn back toward
 the unadapted grid (each node's move, a boundary node's along its curve, scaled down
-round the offending cells) until it holds."""
+round the offending cells) until it holds. The first solve's moves scaled down everywhere,
+then drawn back the same way, are further candidates; the one carrying the field best is
+kept."""
 
 from __future__ import annotations
 
@@ -28,7 +30,7 @@ LOWER = 0.7  # each round multiplies the strength round an offending cell by thi
 # cut at one node alone would crease the monitor there
 SPREAD = 6
 DRAWBACKS = 40  # rounds of drawing moves back, at most (each scales moves by at most LOWER)
-# where the lowering stalls, the first solve's moves scaled by each of these everywhere are
+# where the first solve breaks the guard, its moves scaled by each of these everywhere are
 # also drawn back: a front's compression kept whole at a lower amplitude (the lowering cuts
 # it where it is strongest); the candidate carrying the field best is kept
 BLENDS = (0.8, 0.6, 0.4)
@@ -91,10 +93,9 @@ def guarded(
     first = solved = space.solve(share * strength, isotropic)
     bad = offending(graph, solved.points, limit)
     rounds = [{"steps": solved.steps, "offending_cells": int(bad.sum())}]
-    if not bad.any():
-        return Guarded(solved, share, np.ones(n), rounds, error(solved.points))
-    if error(solved.points) >= bound:
-        return Guarded(solved, share, np.ones(n), rounds, error(solved.points), within=False)
+    now = error(solved.points)
+    if not bad.any() or now >= bound:
+        return Guarded(solved, share, np.ones(n), rounds, now, within=not bad.any())
     for _ in range(ROUNDS - 1):
         share = share * (1.0 - (1.0 - LOWER) * _round(graph, bad))
         solved = space.solve(strength * share, isotropic)

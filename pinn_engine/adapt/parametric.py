@@ -4,27 +4,30 @@ Each block's unadapted grid is a fold-free map x = X(u, v) from its logical latt
 (u = i, v = j), bilinear in every cell. The adapted grid is X(s(i, j)): new logical
 positions s on the block's lattice, found from Winslow's variable-diffusion equations
 (Winslow 1981) posed in that parameter space ("adaptation in computational space": the
-monitor pulled back through X, here as the scalar M(X(u, v)) on the uniform lattice):
+diffusion tensor D of the monitor, :func:`diffusion_tensor`, pulled back through X to the
+uniform lattice as K and K', :func:`own_diffusion`):
 
-    div_u( (1/M) grad_u xi ) = 0,   div_u( (1/M) grad_u eta ) = 0,
+    div_u( K grad_u xi ) = 0,   div_u( K' grad_u eta ) = 0,   (the adaptive equations)
 
 solved for the computational coordinates (xi, eta)(u, v) on a lattice ``REFINE`` times
 finer than the block's (the monitor is resolved inside a cell), xi and eta given on the
-block's sides, then inverted: s(i, j) is the (u, v) where (xi, eta) = (i, j). With M
+block's sides, then inverted: s(i, j) is the (u, v) where (xi, eta) = (i, j). With D
 constant the solution is xi = u, eta = v exactly (a linear function is discrete-harmonic),
 so the unadapted grid, its gradings, wall spacings and angles, is where adaptation starts
 from and what it keeps where the monitor is flat. The equations are linear in (xi, eta)
-for a given M (M is a function of the unadapted grid's points, not of the adapted ones):
-one sparse solve a block, no Picard steps. Their five-point operator has positive weights
-on a convex polygon (the block's rectangle), so the discrete map is one-to-one (Tutte's
-embedding; Floater 2003, "One-to-one piecewise linear mappings over triangulations") and
-the inverted lattice s has no fold, nor then X(s).
+for a given D (a function of the unadapted grid's points, not of the adapted ones): one
+sparse solve a block and coordinate, no Picard steps. Their finite-element operator has
+non-negative edge weights on a triangulation of the block's rectangle (:func:`_stiffness`),
+so the discrete map is one-to-one where both coordinates share them (Tutte's embedding;
+Floater 2003, "One-to-one piecewise linear mappings over triangulations"); the guard checks
+every grid for the rest.
 
-A block's sides (boundary pieces, interfaces, a C-grid's wake cut, an O-grid's seam) take
-the one-dimensional form of the same equations, M times d(xi)/du constant between the
-nodes that stay: nodes slide along their own side (a boundary piece's spline, an interface
-or cut's own polyline, the same positions from both sides), and the side's xi is the
-block's boundary values."""
+A block's sides (interfaces, a C-grid's wake cut, an O-grid's seam) take the
+one-dimensional form of the same equations, d(xi)/du / (s^T D s) constant between the
+nodes that stay (s the side's direction); a boundary piece takes the block solve's natural
+condition. Nodes slide along their own side (a boundary piece's spline, an interface or
+cut's own polyline, the same positions from both sides), and the side's xi is the block's
+boundary values."""
 
 from __future__ import annotations
 
