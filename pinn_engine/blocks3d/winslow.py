@@ -20,7 +20,8 @@
   coordinate's system solved inexactly by the Krylov solver of the single hexahedral block
   (``hexa.inexact``), preconditioned by a plain-aggregation multigrid: the steps' count is
   set by the Picard iteration, not the inner solves, so the cheapest hierarchy to build
-  that meets the forcing wins.
+  that meets the forcing wins. Coordinates free at the same nodes share their matrix and
+  its hierarchy; a coordinate whose equations hold to round-off is not solved for.
 """
 
 from __future__ import annotations
