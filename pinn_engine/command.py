@@ -6,6 +6,7 @@ between them lives here and neither imports the other's entry point."""
 
 from __future__ import annotations
 
+import gc
 import os
 import sys
 
@@ -17,8 +18,12 @@ BLAS_THREADS = "1"
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run ``pinn-mesh`` with ``argv`` (default the process's); returns its exit status."""
+    """Run ``pinn-mesh`` with ``argv`` (default the process's: then this process is the
+    command, and a single run's objects are frozen out of the garbage collector when it
+    ends, since they die with the process: Python's exit would otherwise search them all
+    for cycles, 0.06 s of CPU after the blockMeshDict pipe); returns its exit status."""
     os.environ.setdefault("OPENBLAS_NUM_THREADS", BLAS_THREADS)
+    own = argv is None
     argv = sys.argv[1:] if argv is None else argv
     if argv[:1] == ["batch"]:
         from pinn_engine.batch.cli import main as batch
@@ -30,7 +35,10 @@ def main(argv: list[str] | None = None) -> int:
         return fit(argv[1:])
     from pinn_engine.routes.cli import main as single
 
-    return single(argv)
+    status = single(argv)
+    if own:
+        gc.freeze()
+    return status
 
 
 if __name__ == "__main__":  # python -m pinn_engine.command, as the pinn-mesh script
