@@ -20,6 +20,12 @@ SHARP_TURN = 30.0
 # Consecutive points closer than this (relative to the bounding-box diagonal) are one point:
 # duplicates and CAD micro-segments are merged (a documented repair).
 DUPLICATE_TOL = 1e-7
+# A point the ring comes back to is one within a square of TOUCH_BIN duplicate tolerances of an
+# earlier one (a coarse grid of squares: a touch is found whatever the points' spacing there),
+# reached along the ring only after more than TOUCH_ARC such squares (a touch goes round; two
+# close consecutive points do not)
+TOUCH_BIN = 16
+TOUCH_ARC = 2.0
 # Coordinates must resolve the domain to at least this fraction of its size: a tiny domain far
 # from the origin (1e-9 wide at 1e8) has too few significant digits left to mesh.
 PRECISION_LIMIT = 1e-4
@@ -249,6 +255,27 @@ def _merge_close(
     return keep
 
 
+def _touching(unit: np.ndarray, size: float) -> int | None:
+    """The first point of a ring (n, 2) that shares a square of side ``size`` with a point
+    further along it: one the ring reaches again only after more than ``TOUCH_ARC`` squares
+    of its length (consecutive points a few ``size`` apart lie along the ring, not on a
+    touch); None where there is none."""
+    rounded = np.round(unit / size).astype(np.int64)
+    _, inverse, counts = np.unique(rounded, axis=0, return_inverse=True, return_counts=True)
+    inverse = inverse.ravel()
+    steps = np.linalg.norm(np.diff(unit, axis=0, append=unit[:1]), axis=1)
+    arc = np.concatenate([[0.0], np.cumsum(steps[:-1])])
+    perimeter = float(steps.sum())
+    found = []
+    for group in np.flatnonzero(counts > 1):
+        members = np.flatnonzero(inverse == group)
+        apart = np.abs(arc[members][:, None] - arc[members][None, :])
+        along = np.minimum(apart, perimeter - apart)
+        if along.max() > TOUCH_ARC * size:
+            found.append(int(members[0]))
+    return min(found) if found else None
+
+
 def clean_ring(
     points: np.ndarray, source: str | None, marked: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -298,12 +325,11 @@ def clean_ring(
     if len(unit) < 4:
         raise InputError("boundary has fewer than 4 distinct points", source)
     kept = np.flatnonzero(keep)
-    rounded = np.round(unit / (tol * 16)).astype(np.int64)
-    _, first, counts = np.unique(rounded, axis=0, return_index=True, return_counts=True)
-    if np.any(counts > 1):
-        k = int(kept[first[np.argmax(counts > 1)]])
+    touching = _touching(unit, tol * TOUCH_BIN)
+    if touching is not None:
         raise InputError(
-            f"boundary point {k} is repeated further along the ring (the boundary touches itself)",
+            f"boundary point {int(kept[touching])} is repeated further along the ring (the "
+            "boundary touches itself)",
             source,
         )
     e_in = unit - np.roll(unit, 1, axis=0)

@@ -101,6 +101,17 @@ def test_repeated_point_is_an_error():
         Boundary.from_points(ring)
 
 
+def test_consecutive_points_a_micro_segment_apart_are_not_a_touch():
+    """Two consecutive side points 1.3e-6 apart (above the merge tolerance, in one square of
+    the touch check) lie along the ring: the boundary is valid, a grid meshes it."""
+    ring = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [0, 0.53226745], [0, 0.53226614]])
+    b = Boundary.from_points(ring)
+    assert len(b.ring) == 6 and b.corners == (0, 1, 2, 3)
+    again = np.insert(ring, 5, [0.4, 0.53226700], axis=0)  # a real touch nearby still is one
+    with pytest.raises(InputError, match="repeated|self-intersecting|doubles back"):
+        Boundary.from_points(again)
+
+
 def test_non_finite_point_is_an_error():
     ring = square_ring(4)
     ring[3, 1] = np.nan
