@@ -343,16 +343,20 @@ def test_a_steep_tee_carries_its_branch_walls_on():
     assert figures["folds"] == 0 and figures["worst"] < 150.5
 
 
-def test_a_y_s_hexagonal_centre_may_be_cut_along_a_diagonal():
-    """The example Y at a cell size of 0.1: its three-block centre turns grid lines by 4.49
-    degrees at the interfaces on average (SPEC 13's bound 3); cut along a diagonal, the
-    centre has no vertex where three blocks meet and the kinks fall under 3, the mean and
-    worst cell within SPEC 13's bounds of the three-block centre."""
+# the search meshes its shortlisted layouts: about 2 s at 0.1
+@pytest.mark.parametrize("h", [pytest.param(0.1, marks=pytest.mark.slow), 0.125])
+def test_a_y_s_hexagonal_centre_may_be_cut_along_a_diagonal(h):
+    """The example Y at cell sizes of 0.1 and 0.125: its three-block centre turns grid lines
+    by 4.49 and 5.29 degrees at the interfaces on average (SPEC 13's bound 3); cut along a
+    diagonal, the centre has no vertex where three blocks meet and the kinks fall under 3,
+    the mean and worst cell within SPEC 13's bounds of the three-block centre (at 0.125 a
+    layout 0.8 degrees better on the mean, kinks 3.49, ranked first before a kink beyond
+    the bound was weighed more)."""
     from make_multiblock import ybranch
 
     rings, hand_edges = ybranch()
-    auto = _figures(rings, propose_edges(rings, cell_size=0.1), 0.1)
-    hand = _figures(rings, hand_edges, 0.1)
+    auto = _figures(rings, propose_edges(rings, cell_size=h), h)
+    hand = _figures(rings, hand_edges, h)
     assert auto["folds"] == 0 and auto["kink"] <= 3.0 < hand["kink"]
     assert auto["mean"] <= hand["mean"] + 1.5 and auto["worst"] <= hand["worst"] + 10
 

@@ -82,12 +82,13 @@ def propose_edges(
     if len(rings) == 1 and len(layouts) == 1 and not reflex_vertices(rings, diagonal):
         return layouts[0][1]  # four-sided (or cut round its centre): nothing to choose
     finer = 0 < cell_size < scoring_size(diagonal, cell_size)  # judged coarser than meshed
+    bounded = walls is None or not walls.spacing  # SPEC 13's kink bound: no wall spacing
 
     def judged(spacing: Walls | None):
         return best_meshed(
             layouts,
-            lambda edges: score(rings, edges, cell_size, spacing, patches),
-            (lambda edges: score(rings, edges, cell_size, spacing, patches, True))
+            lambda edges: score(rings, edges, cell_size, spacing, patches, bounded=bounded),
+            (lambda edges: score(rings, edges, cell_size, spacing, patches, True, bounded))
             if finer
             else None,
         )

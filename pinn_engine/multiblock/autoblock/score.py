@@ -34,6 +34,11 @@ SCORE_ITERATIONS = 200  # Picard steps at most for a layout's grid
 WORST_WEIGHT = 0.25
 KINK_WEIGHT = 1.5  # a degree of mean interface kink against one of mean MaxIncludedAngle
 BLOCK_WEIGHT = 0.25  # degrees of mean MaxIncludedAngle one block fewer is worth
+KINK_BOUND = 3.0  # SPEC 13's bound on the mean interface kink (degrees), whatever the hand
+# a degree of mean kink beyond KINK_BOUND counts this many degrees of mean MaxIncludedAngle
+# more: a layout over the bound must be that much better elsewhere (one block of a round
+# U-bend, 26 degrees worse on the mean than its three blocks just over the bound, stays out)
+OVER_BOUND = 3.0
 # layouts are judged no finer than the default cell size over this: search.MAX_MESHED (8)
 # solves of at most 16 times the default's cells bound the search's time
 FINEST = 4.0
@@ -53,12 +58,15 @@ def score(
     walls: Walls | None = None,
     patches: tuple = (),
     exact: bool = False,
+    bounded: bool = True,
 ) -> float:
     """The grid's mean MaxIncludedAngle at ``scoring_size(cell_size)``, with the worst, the
     mean interface kink and the block count weighed in; infinite when it folds or cannot be
     meshed. With a spacing in ``walls`` (on the ``patches`` the run names), the grid is
     the run's own: meshed with the spacing. ``exact``: at ``cell_size`` itself, however
-    fine."""
+    fine. ``bounded``: a mean kink beyond SPEC 13's bound weighed more (a run without a
+    wall spacing, as the bound is measured: with one, the kinks are the wall rows'
+    stretching across the interfaces, 50 to 100 degrees whatever the layout)."""
     names = [f"edge {k}" for k in range(len(edges))]
     try:
         lines = linework(rings, edges, names, "auto")
@@ -70,7 +78,7 @@ def score(
                 return np.inf  # the run would refuse to write it (job.cover)
             cells = [cell_quality(grid) for grid in result.grids]
             kink = result.report["interface_kink"]["mean"]
-            return _weighed(cells, kink, result.report["blocks"])
+            return _weighed(cells, kink, result.report["blocks"], bounded)
         topo = topology(lines)
         lay = layout_checked(topo, cell_counts(topo, h), h)
         points, _ = winslow(topo, lay, True, SCORE_ITERATIONS)
@@ -78,12 +86,13 @@ def score(
         return np.inf  # refused, or a solve that breaks down (a singular system): not this one
     cells = [cell_quality(points[ids]) for ids in lay.ids]
     kinks = interface_kinks(crossings(topo, lay), lay, points)
-    return _weighed(cells, float(kinks.mean()) if kinks.size else 0.0, len(lay.ids))
+    return _weighed(cells, float(kinks.mean()) if kinks.size else 0.0, len(lay.ids), bounded)
 
 
-def _weighed(cells: list[dict], kink: float, blocks: int) -> float:
+def _weighed(cells: list[dict], kink: float, blocks: int, bounded: bool) -> float:
     """The score of a grid's ``cells`` (their quality arrays), mean interface ``kink`` and
-    ``blocks``; infinite when a cell folds."""
+    ``blocks``, a kink beyond SPEC 13's bound weighed more where ``bounded``; infinite when
+    a cell folds."""
     if any(c["Folded"].any() for c in cells):
         return np.inf
     angles = np.concatenate([c["MaxIncludedAngle"].ravel() for c in cells])
@@ -92,4 +101,5 @@ def _weighed(cells: list[dict], kink: float, blocks: int) -> float:
         + WORST_WEIGHT * float(angles.max())
         + KINK_WEIGHT * kink
         + BLOCK_WEIGHT * blocks
+        + OVER_BOUND * max(kink - KINK_BOUND, 0.0) * bounded
     )
