@@ -316,16 +316,10 @@ class ParameterSpace:
         for values, fixed, (along_i, along_j) in zip(
             (xi, eta), (fixed_xi, fixed_eta), block.diffusion
         ):
-            free, known = np.flatnonzero(~fixed.ravel()), np.flatnonzero(fixed.ravel())
-            if not len(free):
+            if fixed.all():
                 continue
             lap = _stiffness(along_i * d11, np.sqrt(along_i * along_j) * d12, along_j * d22)
-            flat = values.ravel()  # a view: solved in place
-            rhs = -lap[free][:, known] @ flat[known]
-            # a symmetric matrix: its minimum-degree ordering fills less (1.6 times faster
-            # at 40 000 unknowns than the default column ordering)
-            lu = splu(lap[free][:, free].tocsc(), permc_spec="MMD_AT_PLUS_A", options=SYMMETRIC)
-            flat[free] = lu.solve(rhs)
+            solve_lattice(lap, values, fixed)
         inner = np.zeros((nj, ni), dtype=bool)
         inner[1:-1, 1:-1] = True
         inner &= ~held
@@ -334,6 +328,20 @@ class ParameterSpace:
             uv = _inverted(xi, eta, block.u, block.v, targets[:, 1], targets[:, 0])
             points[block.ids[inner]] = bilinear(block.grid, uv[:, 0], uv[:, 1])
         return xi, eta
+
+
+def solve_lattice(lap: csr_matrix, values: np.ndarray, fixed: np.ndarray) -> None:
+    """``values`` (a refined lattice's, rows x cols) at the nodes not ``fixed``, in place:
+    the discrete equations' solution, the unique minimiser of the energy values^T lap values
+    with the fixed values held (lap symmetric, positive definite on the free nodes), by one
+    sparse factorisation. ``benchmarks/adapt_network.py`` puts a network in its place."""
+    free, known = np.flatnonzero(~fixed.ravel()), np.flatnonzero(fixed.ravel())
+    flat = values.ravel()  # a view: solved in place
+    rhs = -lap[free][:, known] @ flat[known]
+    # a symmetric matrix: its minimum-degree ordering fills less (1.6 times faster at 40 000
+    # unknowns than the default column ordering)
+    lu = splu(lap[free][:, free].tocsc(), permc_spec="MMD_AT_PLUS_A", options=SYMMETRIC)
+    flat[free] = lu.solve(rhs)
 
 
 def _inverted(
