@@ -248,7 +248,7 @@ def _field_input(port_index):
         smproperty.input(name="Field", label="Field", port_index=port_index),
         smdomain.datatype(dataTypes=["vtkDataObject"], composite_data_supported=True),
         smdomain.xml(
-            '<InputArrayDomain name="field_arrays" attribute_type="any" optional="1"/>'
+            '<InputArrayDomain name="field_arrays" attribute_type="any-except-field" optional="1"/>'
             + _doc(
                 "Optional: a solution on this domain (any dataset: connect the OpenFOAM "
                 "reader's or another reader's output). The grid's nodes then move to where "

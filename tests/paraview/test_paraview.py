@@ -590,6 +590,7 @@ def test_an_openfoam_result_on_the_field_input_meshes_the_same_domain_guarded(ch
         checkout, "check_field.py", channel, str(case / "bump.foam"), "U", "41", "21"
     )
     assert {"U", "p"} <= set(result["arrays"]) and result["points"] == 41 * 21
+    assert "CasePath" not in result["arrays"]  # the reader's field data is no field to adapt to
     assert result["array"] == "U" and result["folded"]["after"] == 0
     assert result["worst"]["after"] <= result["worst"]["limit"]
     assert result["error"]["after"] <= result["error"]["before"]
