@@ -41,10 +41,16 @@ def gradient_size(
     points: np.ndarray, cells: np.ndarray, f: np.ndarray, passes: int = SMOOTHING_PASSES
 ) -> np.ndarray:
     """|grad f| at the nodes, smoothed by ``passes``."""
-    g = to_nodes(cells, cell_gradients(points, cells, f), len(points))
+    return smoothed_at_nodes(cells, cell_gradients(points, cells, f), len(points), passes)
+
+
+def smoothed_at_nodes(cells: np.ndarray, values: np.ndarray, n: int, passes: int) -> np.ndarray:
+    """Cell ``values`` at the ``n`` nodes (:func:`to_nodes`), then ``passes`` times averaged
+    to the cells and back: one noisy cell spread over its neighbours."""
+    out = to_nodes(cells, values, n)
     for _ in range(passes):
-        g = to_nodes(cells, g[cells].mean(axis=1), len(points))
-    return g
+        out = to_nodes(cells, out[cells].mean(axis=1), n)
+    return out
 
 
 def monitor_values(
@@ -78,13 +84,7 @@ def gradient_tensor(
     front, and a sign change of grad f (a ridge) does not cancel it."""
     g = cell_gradient_vectors(points, cells, f)
     parts = (g[:, 0] ** 2, g[:, 0] * g[:, 1], g[:, 1] ** 2)
-    out = []
-    for part in parts:
-        t = to_nodes(cells, part, len(points))
-        for _ in range(passes):
-            t = to_nodes(cells, t[cells].mean(axis=1), len(points))
-        out.append(t)
-    return np.stack(out, axis=-1)
+    return np.stack([smoothed_at_nodes(cells, p, len(points), passes) for p in parts], axis=-1)
 
 
 def diffusion_tensor(
