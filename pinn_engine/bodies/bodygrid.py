@@ -99,6 +99,11 @@ SPREAD = 0.5
 # half-base heights. The base takes C_BASE_INTERVALS intervals, two a side of the cut.
 CORNER_REACH = 6.0
 C_BASE_INTERVALS = 4
+# A blunt C-grid's default first layer is at most this share of the base's interval: the base's
+# rows march down the wake, whose first interval is the base's (on six blunt NACA sections at
+# 41 x 21 to 251 x 81, 0.5 left worst cells of 148 at the base's corners and 0.125 reached
+# 161-177 at 41 x 21; 0.25 gives 140-160)
+BASE_FIRST = 0.25
 # A round trailing edge (no corner) faces downstream like a base where its wall's normal lies
 # within ROUND_FACING degrees of +x (BASE_CORNER, the turn that makes a base's corner): its C-grid
 # is smoothed as around a base of that height, halved up to ROUND_HALVINGS times while the
@@ -599,6 +604,8 @@ def layout(
         d_te = te_spacing * chord if te_spacing else TE_SPACING * mean
     surf = _surface_nodes(curve, n_up, n_s - n_up, d_te, d_le)
     h = wall_spacing * 1.0 if wall_spacing else WALL_SPACING * mean
+    if topology == "c" and n_base and not wall_spacing:
+        h = min(h, BASE_FIRST * d_te)
     radius = far.radius
     if topology == "o":
         inner = _with_base(surf, n_base)
@@ -635,9 +642,11 @@ def layout(
                 if body.rounded
                 else f"blunt trailing edge (a base of {base / chord:.2g} chords)"
             )
+            fix = "{topology}, whose grid keeps the whole edge as wall"
+            if n_base:
+                fix += f", or a first layer of at most {BASE_FIRST * d_te:.1e} ({{spacing}})"
             raise InputError(
-                f"the C-grid around this {what} folds {folded} cells at the wake cut; use "
-                "{topology}, whose grid keeps the whole edge as wall",
+                f"the C-grid around this {what} folds {folded} cells at the wake cut; use {fix}",
                 body.source,
             )
     first = np.full(ni, h)

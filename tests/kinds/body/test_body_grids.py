@@ -3,6 +3,8 @@ indices, seam, wake cut, far field, wall, blunt bases, every method unfolded, th
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 from helpers import write_selig
@@ -188,14 +190,29 @@ def test_a_thick_base_c_grid_fans_out_unfolded(code, base, size, first):
     assert r.quality["worst_max_angle"] < 160.0
 
 
+@pytest.mark.parametrize("size", [(41, 21), (121, 21), (251, 81)])
+def test_a_blunt_c_grid_without_a_first_layer_asked_has_no_fold(tmp_path, size):
+    """The default first layer of a blunt C-grid is a share of the base's interval (the
+    base's rows march down the wake, whose first interval is the base's): a 0.7 % base meshes
+    at every size, where half the wall's mean spacing folded the cut."""
+    body = _base07(tmp_path)
+    r = mesh_body(body, circle(body, 10), "c", "elliptic", *size)
+    assert r.quality["folded_cells"] == 0
+    assert r.quality["worst_max_angle"] < 170.0
+
+
 def test_a_blunt_c_grid_that_would_fold_is_refused_and_the_advice_works(tmp_path):
-    """A first layer (here the default, half the mean spacing) taller than the base's half
-    and its first wake interval: the base's and the cut's columns, leaving the wall normal,
-    cross. The refusal names --topology o, whose grid of the same size has no fold."""
+    """A first layer asked taller than the base's interval: the base's and the cut's
+    columns, leaving the wall normal, cross. The refusal names --topology o, whose grid of
+    the same size has no fold, and the first layer that meshes, which does."""
     body = _base07(tmp_path)
     with pytest.raises(InputError, match="blunt trailing edge.*use --topology o") as info:
-        mesh_body(body, circle(body, 10), "c", "tfi", 121, 21)
-    assert "\n" not in str(info.value)
+        mesh_body(body, circle(body, 10), "c", "elliptic", 121, 21, wall_spacing=0.01)
+    message = str(info.value)
+    assert "\n" not in message
+    first = float(re.search(r"first layer of at most (\S+) ", message)[1])
+    r = mesh_body(body, circle(body, 10), "c", "elliptic", 121, 21, wall_spacing=first)
+    assert r.quality["folded_cells"] == 0
     for method in ("tfi", "elliptic"):
         r = mesh_body(body, circle(body, 10), "o", method, 121, 21)
         assert r.quality["folded_cells"] == 0 and r.quality["worst_max_angle"] < 180
