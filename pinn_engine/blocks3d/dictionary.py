@@ -4,15 +4,21 @@ their counts and gradings, curved edges, patches and the default patch.
 The file's grammar is the small part of OpenFOAM's dictionary syntax blockMesh uses:
 keyword entries ending in ``;``, sub-dictionaries in braces and lists in parentheses. It is
 tokenised and read into nested dicts and lists of string tokens; ``$name`` is replaced by a
-top-level entry of that name and ``#include "file"`` by the file's text. Entries blockMesh
-reads that this reader does not (projection ``geometry`` and projected ``faces``, a
-non-empty ``mergePatchPairs``, ``#calc``, ``#eval``, ``#codeStream``, blocks other than
-``hex``, edges other than ``arc``, ``spline`` and ``polyLine``) are refused in one line
+top-level entry of that name, ``#include "file"`` by the file's text, and ``#eval{ expr }``,
+``#eval "expr"`` and ``#calc "expr"`` by the value of their arithmetic (numbers, ``$name``,
++ - * / and powers, and the scalar functions of OpenFOAM's expressions: ``sin``,
+``degToRad``, ``pi()``, ``sqrt``, ``pow``, ...). Entries blockMesh reads that this reader
+does not (projection ``geometry`` and projected ``faces``, a non-empty
+``mergePatchPairs``, ``#codeStream``, an expression beyond that arithmetic, blocks other
+than ``hex``, edges other than ``arc``, ``spline`` and ``polyLine``) are refused in one line
 naming the entry.
 """
 
 from __future__ import annotations
 
+import ast
+import math
+import operator
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -31,7 +37,37 @@ UNSUPPORTED = {
     "faces": "projected faces are not supported; remove the 'faces' entry",
     "mergePatchPairs": "merging patch pairs is not supported; give the blocks shared vertices",
 }
+# two corners of a hex closer than this share of its largest corner distance coincide
+COLLAPSED = 1e-9
 MAX_INCLUDES = 8  # nested #include files at most (a file including itself is refused)
+# an expression directive's text is carried to the parser as a string token with this prefix
+EXPRESSION = "\x00"
+# the scalar functions and constants of OpenFOAM's #eval expressions (and of #calc's C++
+# where it is arithmetic), by name
+FUNCTIONS = {
+    **{f: getattr(math, f) for f in ("sin", "cos", "tan", "asin", "acos", "atan", "atan2")},
+    **{f: getattr(math, f) for f in ("sinh", "cosh", "tanh", "sqrt", "exp", "log", "log10")},
+    **{f: getattr(math, f) for f in ("pow", "hypot", "floor", "ceil", "cbrt")},
+    "degToRad": math.radians,
+    "radToDeg": math.degrees,
+    "mag": abs,
+    "sqr": lambda x: x * x,
+    "min": min,
+    "max": max,
+    "round": round,
+    "pi": lambda: math.pi,
+}
+CONSTANTS = {"pi": math.pi}
+OPERATORS = {
+    ast.Add: operator.add,
+    ast.Sub: operator.sub,
+    ast.Mult: operator.mul,
+    ast.Div: operator.truediv,
+    ast.Pow: operator.pow,
+    ast.Mod: operator.mod,
+    ast.USub: operator.neg,
+    ast.UAdd: operator.pos,
+}
 
 
 @dataclass
@@ -80,26 +116,82 @@ class BlockMeshDict:
     source: str
 
 
+def _not_supported(name: str, source: str) -> InputError:
+    return InputError(
+        f"'#{name}' is not supported; expand the dictionary first "
+        "(foamDictionary -expand system/blockMeshDict)",
+        source,
+    )
+
+
 def _expanded(text: str, source: str, depth: int = 0) -> str:
     """``text`` without comments, each ``#include "file"`` replaced by that file's text
-    (relative to ``source``'s folder); any other directive refused, naming it."""
+    (relative to ``source``'s folder), each ``#eval``/``#calc`` by its expression as an
+    ``EXPRESSION`` string token; any other directive refused, naming it."""
     text = re.sub(r"/\*.*?\*/", " ", text, flags=re.S)
     text = re.sub(r"//[^\n]*", " ", text)
-    while found := re.search(r"#(\w+)", text):
-        name = found.group(1)
-        include = re.match(r'#include\s+"([^"]+)"', text[found.start() :])
+    start = 0
+    while found := re.compile(r"#(\w+)").search(text, start):
+        name, rest = found.group(1), text[found.start() :]
+        include = re.match(r'#include\s+"([^"]+)"', rest)
+        expression = re.match(r'#(?:eval|calc)\s*"([^"]*)"|#eval\s*\{([^{}]*)\}', rest)
+        if expression is not None:
+            token = f'"{EXPRESSION}{expression.group(1) or expression.group(2)}"'
+            text = text[: found.start()] + token + text[found.start() + expression.end() :]
+            start = found.start() + len(token)
+            continue
         if name != "include" or include is None or depth >= MAX_INCLUDES:
-            raise InputError(
-                f"'#{name}' is not supported; expand the dictionary first "
-                "(foamDictionary -expand system/blockMeshDict)",
-                source,
-            )
+            raise _not_supported(name, source)
         path = Path(source).parent / include.group(1)
         if not path.is_file():
             raise InputError(f'#include "{include.group(1)}": no file {path}', source)
         inner = _expanded(path.read_text(errors="replace"), str(path), depth + 1)
         text = text[: found.start()] + inner + text[found.start() + include.end() :]
     return text
+
+
+def _evaluate(node: ast.AST) -> float:
+    """The value of an arithmetic expression tree of numbers, ``CONSTANTS``, ``OPERATORS``
+    and ``FUNCTIONS``; anything else raises ValueError."""
+    if isinstance(node, ast.Expression):
+        return _evaluate(node.body)
+    if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)):
+        return float(node.value)
+    if isinstance(node, ast.Name) and node.id in CONSTANTS:
+        return CONSTANTS[node.id]
+    if isinstance(node, ast.BinOp) and type(node.op) in OPERATORS:
+        return OPERATORS[type(node.op)](_evaluate(node.left), _evaluate(node.right))
+    if isinstance(node, ast.UnaryOp) and type(node.op) in OPERATORS:
+        return OPERATORS[type(node.op)](_evaluate(node.operand))
+    if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and not node.keywords:
+        if node.func.id in FUNCTIONS:
+            return float(FUNCTIONS[node.func.id](*(_evaluate(a) for a in node.args)))
+    raise ValueError(f"'{ast.unparse(node)}' is not arithmetic")
+
+
+def expression_value(expression: str, names: dict, source: str) -> str:
+    """An ``#eval``/``#calc`` expression's value as a number token: ``$name`` (or
+    ``${name}``) from ``names`` (top-level entries), C++ scopes (``Foam::``) dropped."""
+
+    def entry(match: re.Match) -> str:
+        value = names.get(match.group(1))
+        if not isinstance(value, str):
+            raise InputError(
+                f"${match.group(1)} in '{expression.strip()}' is not a top-level number", source
+            )
+        return f"({value})"
+
+    text = re.sub(r"\$\{?(\w+)\}?", entry, expression)
+    text = re.sub(r"\b(?:\w+::)+", "", text).strip()
+    try:
+        value = _evaluate(ast.parse(text, mode="eval"))
+        return repr(int(value)) if value.is_integer() else repr(value)
+    except (SyntaxError, ValueError, TypeError, ArithmeticError) as error:
+        raise InputError(
+            f"cannot evaluate '{expression.strip()}' ({error}); expand the dictionary first "
+            "(foamDictionary -expand system/blockMeshDict)",
+            source,
+        ) from None
 
 
 def _tokens(text: str, source: str) -> list[str]:
@@ -134,6 +226,8 @@ def parse(text: str, source: str = "blockMeshDict") -> dict:
         return tok.strip('"')
 
     def expand(item):
+        if isinstance(item, str) and item.startswith(EXPRESSION):
+            return [expression_value(item[1:], top, source)]
         if isinstance(item, str) and item.startswith("$"):
             name = item[1:].strip("{}").lstrip(":")
             if name not in top:
@@ -303,6 +397,16 @@ def from_text(text: str, source: str = "blockMeshDict") -> BlockMeshDict:
     for b, block in enumerate(blocks):
         if max(block.vertices) >= len(vertices):
             raise InputError(f"block {b}: vertex {max(block.vertices)} does not exist", source)
+        corners = vertices[block.vertices]
+        gap = np.linalg.norm(corners[:, None] - corners[None], axis=2)
+        same = np.argwhere(np.triu(gap <= COLLAPSED * gap.max(), 1))
+        if len(same):
+            i, j = (block.vertices[k] for k in same[0])
+            raise InputError(
+                f"block {b}: vertices {i} and {j} coincide (a collapsed, wedge-shaped hex); "
+                "collapsed blocks are not supported: give every block eight distinct vertices",
+                source,
+            )
     edges = _edges(d.get("edges", []), scale, source)
     default = d.get("defaultPatch", {})
     default_patch = (

@@ -76,7 +76,9 @@ def test_curves_pass_through_their_points():
         (("mergePatchPairs ( );", "mergePatchPairs ( (a b) );"), "'mergePatchPairs'"),
         (("n 4;", '#includeEtc "caseDicts/x"\nn 4;'), "'#includeEtc'"),
         (("n 4;", '#include "nowhere"\nn 4;'), "no file"),
-        (("n 4;", 'n #calc "2*2";'), "'#calc'"),
+        (("n 4;", "n #codeStream { code #{ os << 4; #}; };"), "'#codeStream'"),
+        (("n 4;", "n #eval{ vector(4, 0, 0) };"), "cannot evaluate 'vector(4, 0, 0)'"),
+        (("n 4;", 'n #calc "$w + 1";'), "$w in '$w + 1' is not a top-level number"),
         (("spline 3 2", "BSpline 3 2"), "edge 'BSpline'"),
         (("hex (0 1 2 3 4 5 6 7)", "prism (0 1 2 3 4 5 6 7)"), "only 'hex' blocks"),
         (("edgeGrading (2 2", "edgeGrading (2"), "edgeGrading takes twelve"),
@@ -107,3 +109,25 @@ def test_include_splices_a_file(tmp_path):
     dict_path = tmp_path / "blockMeshDict"
     dict_path.write_text(BOX.replace("n 4;", '#include "params"'))
     assert read(dict_path).blocks[0].counts == (4, 3, 2)
+
+
+def test_eval_and_calc_are_evaluated():
+    """``#eval`` and ``#calc`` arithmetic, with entries, OpenFOAM's scalar functions and C++
+    scopes, as the tutorials write it (pipeCyclic's vertices, channel395DFSEM's lengths)."""
+    text = BOX.replace(
+        "n 4;",
+        "r 0.5; half 45; n #eval{ 2*2 };\n"
+        "y #eval{ $r*sin(degToRad($half)) };\n"
+        'z #calc "-1*$r*Foam::cos(degToRad(${half}))";\n'
+        'w #eval "pi()*sqr(2)";',
+    ).replace("(1 1 1)", "($y $z $w)")
+    d = from_text(text)
+    assert d.blocks[0].counts == (4, 3, 2)
+    y = 0.5 * np.sin(np.pi / 4)
+    assert np.allclose(d.vertices[6], [0.1 * y, -0.1 * y, 0.1 * 4 * np.pi])
+
+
+def test_a_collapsed_block_is_refused_in_one_line():
+    with pytest.raises(InputError, match="block 0: vertices 2 and 3 coincide") as err:
+        from_text(BOX.replace("(1 1 0) (0 1 0)", "(1 1 0) (1 1 0)"))
+    assert "\n" not in str(err.value)
