@@ -55,6 +55,14 @@ def test_values_that_look_like_options_are_still_values(tmp_path, capsys):
     assert out.is_file()
 
 
+def test_choices_are_read_in_either_case(tmp_path):
+    """O-grid, C-grid, TFI, OpenFOAM: names users write in capitals are the same choices."""
+    out = tmp_path / "case"
+    argv = ["--naca", "0012", "--topology", "C", "--method", "TFI", "--size", "41", "11"]
+    assert main([*argv, "-o", str(out), "--format", "OpenFOAM", "--quiet"]) == 0
+    assert (out / "constant" / "polyMesh" / "points").is_file()
+
+
 def test_without_o_the_line_says_where_the_grid_went(tmp_path):
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     proc = subprocess.run(

@@ -195,6 +195,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--method",
+        type=str.lower,  # O-grid, C-grid, TFI: as users write them
         choices=METHODS,
         default=None,
         help="default pinn (with --blocks too: pinn, elliptic or tfi)",
@@ -232,6 +233,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--format",
+        type=str.lower,  # O-grid, C-grid, TFI: as users write them
         choices=_FormatKeys(),
         metavar="FORMAT",  # argparse would list (and so import) the formats at every start
         default=None,
@@ -367,6 +369,7 @@ def build_parser() -> argparse.ArgumentParser:
     b = p.add_argument_group("O- and C-grids around a body")
     b.add_argument(
         "--topology",
+        type=str.lower,  # O-grid, C-grid, TFI: as users write them
         choices=("o", "c"),
         default=None,
         help="o: O-grid (j = 0 on the body, seam at the trailing edge); c: C-grid "
