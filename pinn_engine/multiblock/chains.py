@@ -275,9 +275,9 @@ def _side_length(topo: Topology, b: int, s: int) -> float:
 
 def max_growth(n: int, first: float, last: float | None = None) -> float:
     """The largest ratio of neighbouring cells of the stretching of ``n`` cells whose first
-    cell is ``first`` (a share of the line) and whose last is ``last`` (default: the
-    uniform n-th)."""
-    cells = np.diff(exact_stretch(n + 1, first, 1.0 / n if last is None else last)[0])
+    cell is ``first`` (a share of the line) and whose last is ``last`` (None: free, the
+    one-sided stretching a grading gives an end nobody asks)."""
+    cells = np.diff(exact_stretch(n + 1, first, last)[0])
     ratio = cells[1:] / cells[:-1]
     return float(max(ratio.max(), (1.0 / ratio).max()))
 
@@ -301,10 +301,10 @@ def graded_minimum(
     walls: dict[int, float],
 ) -> dict[int, int]:
     """Cells the pieces along a grading need so that neighbouring cells stay within
-    GROWTH_AIM of each other (the first edge ``item.value`` against the uniform cells of
-    ``counts``, or against the first edge of a spaced patch on the opposite side, ``walls``:
-    piece -> H, where the lines are stretched to both; where no count does that, a wall too
-    near the graded side, against the uniform cells as without the wall): per piece along,
+    GROWTH_AIM of each other (the first edge ``item.value`` with the other end free, or
+    against the first edge of a spaced patch on the opposite side, ``walls``: piece -> H,
+    where the lines are stretched to both; where no count does that, a wall too near the
+    graded side, with the other end free as without the wall): per piece along,
     the least such count of its side (one piece a side; a side of several pieces keeps its
     counts)."""
     out: dict[int, int] = {}
@@ -352,12 +352,14 @@ def graded_params(
 ) -> dict[int, np.ndarray]:
     """The arc-length fractions of the nodes of the pieces along gradings, from every
     grading's ``ends`` (:func:`graded_ends`, merged, the finer first edge where two ask
-    one end): the first edges asked at either end or both, the uniform one at an end none
-    asks, so that the solve starts from, and its sliding ends keep, the gradings."""
+    one end): the first edges asked at either end or both, an end none asks free (a
+    one-sided stretching: the cells grow monotonically from the asked end, SPEC 7, where
+    the uniform cell asked there made them bulge above it in between), so that the solve
+    starts from, and its sliding ends keep, the gradings."""
     out: dict[int, np.ndarray] = {}
     for k in sorted({k for k, _ in ends}):
         length, n = topo.pieces[k].length, int(counts[k])
-        first, last = (ends.get((k, e), length / n) / length for e in (0, 1))
+        first, last = (ends[(k, e)] / length if (k, e) in ends else None for e in (0, 1))
         out[k] = exact_stretch(n + 1, first, last)[0]
     return out
 
@@ -430,8 +432,8 @@ def joint_minimum(
     """Cells each piece with an end made ``finer`` by :func:`joint_ends` (than its
     gradings alone asked; ``ends``: all of them) needs so that its stretching's
     neighbouring cells stay within GROWTH_AIM of each other: from both first edges, else
-    (an end too near, whose stretching no count bounds) from the finer one against the
-    uniform cells, as :func:`graded_minimum` counts; a piece that neither bounds keeps its
+    (an end too near, whose stretching no count bounds) from the finer one with the other
+    end free, as :func:`graded_minimum` counts; a piece that neither bounds keeps its
     count (its gradings' own minimum has refused what they cannot do)."""
     out: dict[int, int] = {}
     for k in sorted({k for k, _ in finer}):

@@ -2,11 +2,11 @@
 method's grid: every grid line of a graded block that leaves its graded side (the blocks of
 ``chains.graded_sides``) keeps its shape and has its nodes moved along it.
 
-- **The stretching.** Each line's nodes go to the arc lengths of a two-sided Vinokur
-  stretching (``classical.spacing.exact_stretch``) whose first edge is H at each graded end
-  and the line's even cell (its length over its cells) at the other, as blockMesh places a
-  graded block's nodes and as the layout places the boundary pieces along the grading
-  (``chains.graded_params``), which keep their nodes.
+- **The stretching.** Each line's nodes go to the arc lengths of a Vinokur stretching
+  (``classical.spacing.exact_stretch``) whose first edge is H at each graded end and free
+  at an end no grading asks (one-sided: the cells grow monotonically away from H, SPEC 7),
+  as blockMesh places a graded block's nodes and as the layout places the boundary pieces
+  along the grading (``chains.graded_params``), which keep their nodes.
 - **The rows.** Lines of one block that differ in length (a side bent by the solve, a
   junction the solve moved) put one stretching's nodes at different distances, so the rows
   across them would carry the graded side's bends all along the block. The rows are then
@@ -133,11 +133,8 @@ class _Stack:
         self.free[:, [0, -1]] = False
         for r, key in enumerate(map(tuple, lines.tolist())):
             first, last = asked[key]
-            even = total[r] / (n - 1)
-            self.s[r] = (
-                total[r]
-                * exact_stretch(n, (first or even) / total[r], (last or even) / total[r])[0]
-            )
+            share = [None if h is None else h / total[r] for h in (first, last)]
+            self.s[r] = total[r] * exact_stretch(n, *share)[0]
             self.free[r, 1] &= first is None
             self.free[r, -2] &= last is None
         pairs = [beside[key] for key in map(tuple, lines.tolist())]

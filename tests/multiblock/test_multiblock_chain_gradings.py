@@ -133,3 +133,20 @@ def test_a_block_folded_by_moving_nodes_along_lines_is_untangled_its_sides_held(
     side[1:-1, 1:-1] = False
     assert np.array_equal(out[ids[0][side]], bent[ids[0][side]])
     assert np.array_equal(untangled_blocks(points, ids, untangle), points)
+
+
+def test_a_chain_graded_at_one_end_grows_monotonically_to_the_other(tmp_path):
+    """A channel of two blocks graded at its floor alone: every column, the inlet, the
+    interface and the outlet included, grows from H to the ceiling without a bulge (SPEC 7:
+    monotone; with the even cell asked at the ceiling its cells rose above it in between and
+    shrank back, by 0.90 a cell)."""
+    ring = [(0, 0), (4, 0), (4, 1), (0, 1)]
+    grid = _mesh(tmp_path, [ring], [[(1, 0), (1, 1)]], [f"--spacing=2,0={H}"])
+    assert _folded(grid) == 0
+    for block in grid:
+        ni, nj, _ = block.dimensions
+        columns = block.points[:, :2].reshape(nj, ni, 2).transpose(1, 0, 2)
+        edges = np.linalg.norm(np.diff(columns, axis=1), axis=2)
+        assert np.all(np.abs(edges[:, 0] / H - 1) <= FIRST_TOL), edges[:, 0] / H
+        ratio = edges[:, 1:] / edges[:, :-1]
+        assert ratio.min() >= 1.0 and ratio.max() <= MAX_RATIO, (ratio.min(), ratio.max())
