@@ -138,13 +138,20 @@ def blocks_lines(method: str, report: dict, seconds: float) -> list[str]:
     ]
 
 
+def _kept(report: dict) -> str:
+    """The grid a blockMeshDict kept, a blend with its share of the way to the Winslow grid."""
+    if report["kept"] != "blend":
+        return report["kept"]
+    return f"blend ({report['blend']:.2f} of the way from blockMesh's placement to Winslow's)"
+
+
 def dictionary_line(report: dict) -> str:
     """A blockMeshDict's summary (of its ``report``), one line: the grid kept, blocks,
     cells, patches, checkMesh's figures beside blockMesh's placement, time."""
     q, tfi = report["quality"], report["candidates"]["tfi"]
     patches = ", ".join(f"{n} ({p['type']}, {p['faces']})" for n, p in report["patches"].items())
     return (
-        f"{report['method']}: {report['kept']} grid of {report['blocks']} blocks, "
+        f"{report['method']}: {_kept(report)} grid of {report['blocks']} blocks, "
         f"{report['cells']} cells, patches {patches}; checkMesh non-orthogonality max "
         f"{q['max_non_orthogonality']:.2f} deg (blockMesh's placement "
         f"{tfi['max_non_orthogonality']:.2f}), skewness max {q['max_skewness']:.3f} "

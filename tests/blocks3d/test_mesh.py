@@ -18,6 +18,7 @@ from pinn_engine.blocks3d.dictionary import from_text
 from pinn_engine.blocks3d.mesh import mesh_dictionary
 from pinn_engine.blocks3d.placement import place
 from pinn_engine.routes.cli import main
+from pinn_engine.routes.summary_lines import dictionary_line
 from pinn_engine.settings import make_settings
 
 PIPE = EXAMPLES / "blockmesh" / "pipe" / "system" / "blockMeshDict"
@@ -74,6 +75,50 @@ def test_the_pipe_interfaces_are_solved():
     for ids in fixed.place.ids:  # block faces where blockMesh puts them
         for face in (ids[0], ids[-1], ids[:, 0], ids[:, -1], ids[:, :, 0], ids[:, :, -1]):
             assert np.allclose(fixed.points[face], fixed.place.points[face])
+
+
+def bulging_pipe() -> str:
+    """A butterfly pipe (radius 0.5, length 2) whose centre square's edges are arcs bulging
+    out, cells graded 5:1 towards the wall: the Winslow grid is less non-orthogonal than
+    blockMesh's but more skewed, so neither meets every aim."""
+    c, s, b = 0.5 / np.sqrt(2), 0.25, 0.3125
+    ring = [(-s, -s), (s, -s), (s, s), (-s, s), (-c, -c), (c, -c), (c, c), (-c, c)]
+    vertices = " ".join(f"({x:.10g} {y:.10g} {z})" for z in (0, 2) for x, y in ring)
+    quads = [(0, 1, 2, 3), (0, 4, 5, 1), (1, 5, 6, 2), (2, 6, 7, 3), (3, 7, 4, 0)]
+    blocks = " ".join(
+        f"hex ({' '.join(str(v) for v in (*q, *(v + 8 for v in q)))}) "
+        + ("(8 8 2) simpleGrading (1 1 1)" if k == 0 else "(6 8 2) simpleGrading (0.2 1 1)")
+        for k, q in enumerate(quads)
+    )
+    mids = [(0, -1), (1, 0), (0, 1), (-1, 0)]
+    edges = " ".join(
+        f"arc {p + off} {q + off} ({r * mx:.10g} {r * my:.10g} {z})"
+        for z, off in ((0, 0), (2, 8))
+        for r, first in ((0.5, 4), (b, 0))
+        for (mx, my), (p, q) in zip(mids, [(first + k, first + (k + 1) % 4) for k in range(4)])
+    )
+    return (
+        f"vertices ( {vertices} ); blocks ( {blocks} ); edges ( {edges} );\n"
+        "boundary ( wall { type wall; faces ( (4 5 13 12) (5 6 14 13) (6 7 15 14) "
+        "(7 4 12 15) ); } );"
+    )
+
+
+def test_the_default_blends_towards_the_winslow_grid_as_far_as_the_aims_allow():
+    """Where the Winslow grid is more skewed than blockMesh's, the default keeps the grid
+    between them nearest the Winslow grid that is no more skewed, and far less
+    non-orthogonal than blockMesh's; no fold, the wall on the cylinder."""
+    result = mesh_dictionary(from_text(bulging_pipe()))
+    tfi, ell = result.candidates["tfi"], result.candidates["elliptic"]
+    assert ell.max_skewness > tfi.max_skewness  # the Winslow grid alone is not kept
+    assert result.kept == "blend" and 0 < result.blend < 1
+    kept = figures(result.points, result.cells)
+    assert kept == result.candidates["blend"] and kept.folded == 0
+    assert kept.max_skewness <= tfi.max_skewness
+    assert kept.max_non_orthogonality < tfi.max_non_orthogonality - 10
+    wall = np.unique(result.place.patches[0][2])
+    assert np.allclose(np.hypot(*result.points[wall, :2].T), 0.5)
+    assert "blend (0.53 of the way" in dictionary_line(result.report)
 
 
 def test_the_default_keeps_blockmesh_placement_where_it_is_better():
