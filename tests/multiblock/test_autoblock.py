@@ -206,6 +206,46 @@ def test_a_hole_s_sharp_corner_off_the_spokes_gets_a_spoke_along_its_bisector():
     assert len(o_ring(np.c_[np.cos(a), -np.sin(a)], [CHANNEL], main_axes(CHANNEL)).edges) == 8
 
 
+def _plate(degrees: float = 10.0) -> np.ndarray:
+    """A plate 1 x 0.2 turned ``degrees`` (a thin body that its box does not fit)."""
+    c, s = np.cos(np.radians(degrees)), np.sin(np.radians(degrees))
+    plate = np.array([(-0.5, -0.1), (0.5, -0.1), (0.5, 0.1), (-0.5, 0.1)])
+    return plate @ np.array([[c, s], [-s, c]])
+
+
+def test_a_turned_plate_s_corner_spokes_take_the_box_corners_spokes_they_would_cross():
+    """A plate at 10 degrees: the box corners' diagonal spokes meet its long sides short of
+    two of its corners, whose bisector spokes would cross them (and were left out, so a
+    ring block had a plate corner inside its side and the blocking was refused); the two
+    are one spoke from the corner to the box corner, and every corner ends a spoke."""
+    from pinn_engine.multiblock.autoblock.orings import main_axes, o_ring
+
+    plate = _plate()
+    ring = o_ring(plate, [CHANNEL], main_axes(CHANNEL))
+    spokes = ring.edges[len(ring.edges) - 6 :]  # after the box's four sides
+    starts = np.array([s[0] for s in spokes])
+    for corner in plate:
+        assert np.linalg.norm(starts - corner, axis=1).min() == 0.0
+    assert sum(np.linalg.norm(ring.box - s[1], axis=1).min() == 0.0 for s in spokes) == 4
+
+
+@pytest.mark.slow  # the search meshes the plate's shortlisted layouts: about 5 s
+def test_a_turned_plate_in_a_channel_meshes_with_its_corners_as_nodes(tmp_path):
+    """The plate at 10 degrees in a channel was refused (a block with a hole or a loop)."""
+    path = tmp_path / "plate.vtp"
+    plate = _plate()
+    lines = [np.r_[CHANNEL, CHANNEL[:1]], np.r_[plate, plate[:1]]]
+    poly = pv.PolyData()
+    poly.points = np.vstack([np.c_[r, np.zeros(len(r))] for r in lines])
+    poly.lines = np.r_[5, 0, 1, 2, 3, 4, 5, 5, 6, 7, 8, 9]
+    poly.save(path)
+    out = tmp_path / "g.vtm"
+    assert main([str(path), "--blocks", "auto", *FAST, "-o", str(out)]) == 0
+    nodes = np.vstack(_vtm_points(out))[:, :2]
+    for corner in plate:
+        assert np.linalg.norm(nodes - corner, axis=1).min() < 1e-12
+
+
 @pytest.mark.slow
 def test_a_square_turned_45_degrees_in_a_channel_meshes_with_its_corners_as_nodes(tmp_path):
     path = tmp_path / "diamond.vtp"

@@ -207,17 +207,22 @@ def _corner_spokes(hole: np.ndarray, box: np.ndarray, spokes: list[np.ndarray]) 
     """A spoke from each sharp corner of ``hole`` that no spoke ends at, along the
     bisector of its angle outside the hole to the ``box``: a ring block's side on the
     hole then runs between two corners of its own, none inside it (a block corner at
-    every sharp corner, SPEC 10). A spoke that would cross the hole or another spoke is
-    left out (the blocking is then refused)."""
+    every sharp corner, SPEC 10). Where it would cross a box corner's spoke (a thin body
+    turned in its box: the diagonal spoke meets its long side short of the corner), the
+    two are one spoke, from the corner to the box corner: that spoke of ``spokes`` is
+    moved there (unless its own end is a sharp corner, or the moved spoke would cross the
+    hole or another spoke). A spoke that would cross the hole or another spoke is left
+    out (the blocking is then refused)."""
     solid = Polygon(hole)
     frame = LineString(np.vstack([box, box[:1]]))
     size = float(np.linalg.norm(np.ptp(box, axis=0)))
+    touch = 1e-12 * size  # a spoke this near another meets it
     ends = [s[0] for s in spokes]
     out: list[np.ndarray] = []
     turn = turning_angles(hole)
     for i in np.flatnonzero(np.abs(turn) >= CORNER_TURN):
         p = hole[i]
-        if min(np.linalg.norm(e - p) for e in ends) <= 1e-12 * size:
+        if min(np.linalg.norm(e - p) for e in ends) <= touch:
             continue
         a, b = hole[i - 1] - p, hole[(i + 1) % len(hole)] - p
         bisector = a / np.linalg.norm(a) + b / np.linalg.norm(b)
@@ -235,10 +240,44 @@ def _corner_spokes(hole: np.ndarray, box: np.ndarray, spokes: list[np.ndarray]) 
             continue
         end = points[np.argmin(np.linalg.norm(points - p, axis=1))]
         spoke = LineString([p, end])
-        others = [LineString(e) for e in spokes + out]
-        if spoke.crosses(solid.exterior) or solid.contains(spoke.interpolate(0.5, normalized=True)):
+        if _through(spoke, solid):
             continue
-        if any(spoke.crosses(o) or spoke.distance(o) <= 1e-12 * size for o in others):
-            continue
-        out.append(np.array([p, end]))
+        met = _met(spoke, spokes + out, touch)
+        if not met:
+            out.append(np.array([p, end]))
+        elif (
+            len(met) == 1 and met[0] < len(spokes) and _moved(spokes, met[0], p, solid, out, touch)
+        ):
+            ends[met[0]] = p
     return out
+
+
+def _through(line: LineString, solid: Polygon) -> bool:
+    """Whether ``line`` crosses the hole ``solid`` or runs inside it."""
+    return line.crosses(solid.exterior) or solid.contains(line.interpolate(0.5, normalized=True))
+
+
+def _met(line: LineString, edges: list[np.ndarray], touch: float) -> list[int]:
+    """The ``edges`` that ``line`` crosses or comes within ``touch`` of."""
+    return [
+        k
+        for k, e in enumerate(edges)
+        if line.crosses(o := LineString(e)) or line.distance(o) <= touch
+    ]
+
+
+def _moved(
+    spokes: list[np.ndarray], k: int, p: np.ndarray, solid: Polygon, out: list, touch: float
+) -> bool:
+    """Whether box corner ``k``'s spoke was moved to start at the hole's sharp corner ``p``
+    (``spokes`` changed in place): not where it ends at a sharp corner of its own, nor where
+    the moved spoke would cross the hole or another spoke."""
+    sharp = corner_points(np.asarray(solid.exterior.coords)[:-1])
+    if len(sharp) and np.linalg.norm(sharp - spokes[k][0], axis=1).min() <= touch:
+        return False
+    moved = LineString([p, spokes[k][1]])
+    rest = [e for j, e in enumerate(spokes + out) if j != k]
+    if _through(moved, solid) or _met(moved, rest, touch):
+        return False
+    spokes[k] = np.array([p, spokes[k][1]])
+    return True
