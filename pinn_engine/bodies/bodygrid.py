@@ -265,6 +265,12 @@ def _units(v: np.ndarray) -> np.ndarray:
     return v / lengths(v)[:, None]
 
 
+def _unit(v: np.ndarray) -> np.ndarray:
+    """:func:`_units` in place: ``v``, a vector of the caller's own, divided by its length."""
+    v /= lengths(v)[:, None]
+    return v
+
+
 # The march's neighbours along a row: the row padded with one entry before and after, so
 # that each entry's predecessor and successor are two slices of one array (an operation a
 # step instead of a slice and its ends): an O-grid's nodes (node n - 1 repeats node 0, so both
@@ -274,20 +280,18 @@ _PADS = {"o": (slice(-2, -1), slice(1, 2)), "closed": (slice(-1, None), slice(0,
 _OPEN = (slice(0, 1), slice(-1, None))
 
 
+@functools.cache
+def _pad_index(n: int, kind: str) -> np.ndarray:
+    """The rows of ``_padded`` for ``n`` entries: one ``take`` a pad, a third of the time of
+    concatenating its slices (the march pads a row about 6000 times a grid)."""
+    before, after = _PADS.get(kind, _OPEN)
+    i = np.arange(n)
+    return np.concatenate((i[before], i, i[after]))
+
+
 def _padded(u: np.ndarray, kind: str) -> np.ndarray:
     """``u`` (n, ...) with its entries' neighbours before and after (``_PADS``)."""
-    before, after = _PADS.get(kind, _OPEN)
-    return np.concatenate((u[before], u, u[after]))
-
-
-@functools.cache
-def _chord_weights(n: int, topology: str) -> np.ndarray:
-    """The weights of the neighbours' difference in :func:`row_chords`: half, and whole at a
-    C-grid's ends (one-sided there)."""
-    half = np.full((n, 1), 0.5)
-    if topology == "c":
-        half[0] = half[-1] = 1.0
-    return half
+    return u.take(_pad_index(len(u), kind), axis=0)
 
 
 def _neighbour_sums(u: np.ndarray, closed: bool) -> np.ndarray:
@@ -302,8 +306,18 @@ def row_chords(p: np.ndarray, topology: str) -> np.ndarray:
     the direction of i (wrapped across the O-grid's seam, whose node p[-1] repeats p[0]:
     their neighbours are p[1] and p[-2]; one-sided at the C-grid's ends): the row's
     tangents, as long as its local spacing."""
-    pad = _padded(p, topology)
-    return (pad[2:] - pad[:-2]) * _chord_weights(len(p), topology)
+    return _chords(_padded(p, topology), topology)
+
+
+def _chords(pad: np.ndarray, topology: str) -> np.ndarray:
+    """:func:`row_chords` of a row from its padded rows ``pad``: the neighbours' difference
+    halved, whole at a C-grid's ends (one-sided there)."""
+    out = pad[2:] - pad[:-2]
+    if topology == "c":
+        out[1:-1] *= 0.5
+    else:
+        out *= 0.5
+    return out
 
 
 def _row_tangents(p: np.ndarray, topology: str) -> np.ndarray:
@@ -326,16 +340,18 @@ def _row_normals(p: np.ndarray, topology: str) -> np.ndarray:
     chord between each node's neighbours (:func:`row_chords`), and at a corner, where the
     row turns by more than ``CORNER_TURN`` (a sharp trailing edge, a blunt base's corners),
     the corner's bisector, whatever the spacing on either side."""
-    t = _row_tangents(p, topology)
+    t = _unit(row_chords(p, topology))
     # i runs counter-clockwise in the O-grid (body on the left), clockwise in the C-grid
     n = t[:, ::-1] * _TURNS[topology]  # (sign t_y, -sign t_x), sign 1 (O) or -1 (C)
-    u = _units(p[1:] - p[:-1])  # segment i runs from node i to node i + 1
+    u = _unit(p[1:] - p[:-1])  # segment i runs from node i to node i + 1
     cos = np.ones(len(p))  # the C-grid's end nodes have one segment: no corner
-    w = u[1:] * u[:-1]
-    cos[1:-1] = w[:, 0] + w[:, 1]
-    if topology == "o":
-        w = u[0] * u[-1]
-        cos[0] = cos[-1] = w[0] + w[1]
+    if topology == "o":  # node i's segments i - 1 and i, wrapped: node 0's and n - 1's
+        w = u * _padded(u, "closed")[:-2]
+        cos[:-1] = w[:, 0] + w[:, 1]
+        cos[-1] = cos[0]
+    else:
+        w = u[1:] * u[:-1]
+        cos[1:-1] = w[:, 0] + w[:, 1]
     corners = np.flatnonzero(cos < CORNER_COS)
     if len(corners):  # the bisector of the segments ahead and behind (wrapped in the O-grid)
         ahead = u[np.minimum(corners, len(u) - 1) if topology == "c" else corners % len(u)]
@@ -349,8 +365,17 @@ def _row_normals(p: np.ndarray, topology: str) -> np.ndarray:
 def _smooth_row(q: np.ndarray, eps, topology: str) -> np.ndarray:
     """One Laplacian pass along a row (ends held for the C-grid, wrapped for the O-grid, whose
     last node repeats its first); ``eps`` a number or one per node (ni, 1)."""
-    pad = _padded(q, topology)
-    out = q + eps * (0.5 * (pad[:-2] + pad[2:]) - q)
+    return _smoothed(q, _padded(q, topology), eps, topology)
+
+
+def _smoothed(q: np.ndarray, pad: np.ndarray, eps, topology: str) -> np.ndarray:
+    """:func:`_smooth_row` of ``q`` from its padded rows ``pad``: q + eps (the neighbours'
+    mean - q), each operation in place on one new array."""
+    out = pad[:-2] + pad[2:]
+    out *= 0.5
+    out -= q
+    out *= eps
+    out += q
     if topology == "o":
         out[-1] = out[0]
     else:
@@ -368,13 +393,18 @@ def redistribute(q: np.ndarray, eps: float, topology: str, passes: int) -> np.nd
     seg = lengths(q[1:] - q[:-1])
     s_old = np.empty(len(q))
     s_old[0] = 0.0
-    np.cumsum(seg, out=s_old[1:])
+    np.add.accumulate(seg, out=s_old[1:])
     ds = seg
-    for _ in range(passes):
-        ds = ds + eps * (0.5 * _neighbour_sums(ds, topology == "o") - ds)
+    for _ in range(passes):  # ds + eps (half the neighbours' sum - ds)
+        step = _neighbour_sums(ds, topology == "o")
+        step *= 0.5
+        step -= ds
+        step *= eps
+        step += ds
+        ds = step
     s_new = np.empty(len(q))
     s_new[0] = 0.0
-    np.cumsum(ds, out=s_new[1:])
+    np.add.accumulate(ds, out=s_new[1:])
     s_new *= s_old[-1] / s_new[-1]
     out = np.empty_like(q)
     out[:, 0] = np.interp(s_new, s_old, q[:, 0])
@@ -384,10 +414,7 @@ def redistribute(q: np.ndarray, eps: float, topology: str, passes: int) -> np.nd
 
 
 def _smooth_normals(n: np.ndarray, eps, topology: str) -> np.ndarray:
-    m = _smooth_row(n, eps, topology)
-    if topology == "c":
-        m[0], m[-1] = n[0], n[-1]
-    return _units(m)
+    return _unit(_smooth_row(n, eps, topology))  # a C-grid's end normals held
 
 
 def rear_start(inner: np.ndarray, n_wake: int) -> np.ndarray:
@@ -478,8 +505,10 @@ def march(
                 fade = math.exp(-d / (REAR_REACH * scale))
                 turn = np.where(rear > 0, 1 - (1 - turn) * fade, 0.0)
                 n = _units((1 - turn) * n + turn * vertical)
-            q = q + (length / subs) * n
-            shrink = 1 - _row_spacing(q, topology) / spacing0  # clipped to 0 .. 1 below
+            n *= length / subs
+            q = q + n
+            pad = _padded(q, topology)  # the row's neighbours: its spacing, then smoothed
+            shrink = 1 - lengths(_chords(pad, topology)) / spacing0  # clipped to 0 .. 1 below
             concave = np.maximum(np.minimum(ROW_SMOOTHING_MAX, CONCAVE_SMOOTHING * shrink), 0.0)
             concave = concave[:, None]
             eps = grow * concave
@@ -487,13 +516,16 @@ def march(
                 eps[:n_wake] = eps[len(q) - n_wake :] = 0.0
             if corner is not None:  # around the base's corners: from the wall on, wake too
                 eps = np.maximum(eps, corner * concave)
-            for _ in range(passes):
-                q = _smooth_row(q, eps, topology)
-                if tangent:
-                    target = _smooth_row(q, tangent * grow, topology)
-                    t = _row_tangents(q, topology)
-                    slide = (target - q) * t
-                    q = q + (slide[:, 0] + slide[:, 1])[:, None] * t
+            for p in range(passes):
+                q = _smoothed(q, pad if p == 0 else _padded(q, topology), eps, topology)
+                if tangent:  # slid along its tangent towards its own smoothing
+                    pad = _padded(q, topology)
+                    slide = _smoothed(q, pad, tangent * grow, topology)
+                    t = _unit(_chords(pad, topology))
+                    slide -= q
+                    slide *= t
+                    t *= (slide[:, 0] + slide[:, 1])[:, None]
+                    q = q + t
             if topology == "o":
                 q = redistribute(q, SPREAD * grow, topology, passes)
             else:  # the body's columns (the wake's run straight)
