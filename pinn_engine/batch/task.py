@@ -7,9 +7,7 @@ import argparse
 import contextlib
 import copy
 import io
-import json
 import math
-import tempfile
 import time
 from pathlib import Path
 
@@ -89,19 +87,17 @@ def run_case(name: str, args: argparse.Namespace) -> dict:
     from pinn_engine.routes.cli.dispatch import run
 
     start = time.perf_counter()
-    with tempfile.TemporaryDirectory(prefix="pinn-mesh-batch-") as scratch:
-        report = Path(args.report or Path(scratch) / "report.json")
-        args.report = str(report)
-        quiet = io.StringIO()
-        try:
-            with contextlib.redirect_stdout(quiet), contextlib.redirect_stderr(quiet):
-                run(args)
-            return _row(name, json.loads(report.read_text()), time.perf_counter() - start)
-        except PinnMeshError as exc:
-            return error_row(name, str(exc), time.perf_counter() - start)
-        except OSError as exc:
-            where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
-            return error_row(name, f"{where}{exc.strerror or exc}", time.perf_counter() - start)
-        except Exception as exc:  # a bug or a training failure: the case's row, not the batch's
-            text = f"{type(exc).__name__}: {exc}"
-            return error_row(name, text, time.perf_counter() - start)
+    reports: list[dict] = []  # the run's report, kept in memory (--report writes it too)
+    quiet = io.StringIO()
+    try:
+        with contextlib.redirect_stdout(quiet), contextlib.redirect_stderr(quiet):
+            run(args, reports=reports)
+        return _row(name, reports[-1], time.perf_counter() - start)
+    except PinnMeshError as exc:
+        return error_row(name, str(exc), time.perf_counter() - start)
+    except OSError as exc:
+        where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
+        return error_row(name, f"{where}{exc.strerror or exc}", time.perf_counter() - start)
+    except Exception as exc:  # a bug or a training failure: the case's row, not the batch's
+        text = f"{type(exc).__name__}: {exc}"
+        return error_row(name, text, time.perf_counter() - start)

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from pinn_engine.errors import PinnMeshError
 from pinn_engine.routes.cli.options import refuse_others
-from pinn_engine.routes.cli.outputs import output_path, write_report
+from pinn_engine.routes.cli.outputs import keep_report, output_path
 from pinn_engine.routes.cli.summary import say
 from pinn_engine.routes.summary_lines import dictionary_line
 
@@ -28,10 +28,12 @@ def _entries(extra: dict) -> dict[str, str]:
     return {k: text(v) for k, v in extra.items() if not isinstance(v, dict)}
 
 
-def run_dictionary(args: argparse.Namespace, written: list[Path]) -> Path:
+def run_dictionary(
+    args: argparse.Namespace, written: list[Path], reports: list[dict] | None = None
+) -> Path:
     """The dictionary's grid into ``OUT.vtm`` or, with ``--format openfoam``, an OpenFOAM
     case with the dictionary's patches; appends each output file to ``written`` once it is
-    complete."""
+    complete, and the report to ``reports``."""
     from pinn_engine import job
     from pinn_engine.io.export import write_case
     from pinn_engine.io.export.openfoam import write_hex_polymesh
@@ -80,8 +82,7 @@ def run_dictionary(args: argparse.Namespace, written: list[Path]) -> Path:
         write_vtm(outcome.data, out)
     written.append(out)
     outcome.report["timings"]["run"] = time.perf_counter() - began
-    if args.report:
-        write_report(args.report, outcome.report, written)
+    keep_report(args, outcome.report, written, reports)
     if not args.quiet:
         say(dictionary_line(outcome.report))
         print(f"wrote {out}" + ("" if args.output else " (the default place without -o)"))

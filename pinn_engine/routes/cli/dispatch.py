@@ -14,12 +14,17 @@ from pinn_engine.routes.cli.multiblock import run_blocks
 from pinn_engine.routes.cli.options import refuse_options
 
 
-def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
+def run(
+    args: argparse.Namespace,
+    written: list[Path] | None = None,
+    reports: list[dict] | None = None,
+) -> Path:
     """One meshing run of the domain kind ``job.kind_of`` names: a blockMeshDict's blocks
     (SPEC 15), with --blocks a multi-block
     domain (SPEC 10), for a surface with faces a six-faced 3D domain (SPEC 11), else a
     four-sided domain or, with --topology, --naca or a .dat, a body (SPEC 5 and 9); appends
-    each output file to ``written`` once it is complete."""
+    each output file to ``written`` once it is complete, and the run's report to ``reports``
+    (a batch reads its summary row there)."""
     written = written if written is not None else []
     if args.cells and not args.blocks:
         raise PinnMeshError("--cells applies to multi-block domains (--blocks); use --size")
@@ -28,18 +33,18 @@ def run(args: argparse.Namespace, written: list[Path] | None = None) -> Path:
     # the input files read while the run imports the engine
     childread.prefetch([args.boundary, *(args.aux or []), *(args.blocks or [])])
     try:
-        return _run_kind(args, written)
+        return _run_kind(args, written, reports)
     finally:
         childread.stop_pending()  # what a refused run prefetched and never read
 
 
-def _run_kind(args: argparse.Namespace, written: list[Path]) -> Path:
+def _run_kind(args: argparse.Namespace, written: list[Path], reports: list[dict] | None) -> Path:
     """The run of the domain kind ``job.kind_of`` names."""
     from pinn_engine.job import kind_of, only_for
 
     kind = kind_of(args.boundary, bool(args.blocks), body=bool(args.topology or args.naca))
     if kind == "dictionary":
-        return run_dictionary(args, written)
+        return run_dictionary(args, written, reports)
     if kind != "hexa":
         refuse_options(
             args,
@@ -53,7 +58,7 @@ def _run_kind(args: argparse.Namespace, written: list[Path]) -> Path:
             "{} applies to multi-block domains (--blocks)",
         )
     if kind == "blocks":
-        return run_blocks(args, written)
+        return run_blocks(args, written, reports)
     if kind == "hexa":
-        return run_hexa(args, written)
-    return run_four_sided(args, written, kind == "body")
+        return run_hexa(args, written, reports)
+    return run_four_sided(args, written, kind == "body", reports)

@@ -38,9 +38,12 @@ def check_inputs(args: argparse.Namespace, body: bool) -> None:
     )
 
 
-def run_four_sided(args: argparse.Namespace, written: list[Path], body: bool) -> Path:
+def run_four_sided(
+    args: argparse.Namespace, written: list[Path], body: bool, reports: list[dict] | None = None
+) -> Path:
     """Mesh a four-sided domain or (``body``) a body into ``OUT`` (the formats of SPEC 8);
-    appends each output file to ``written`` once it is complete."""
+    appends each output file to ``written`` once it is complete, and the report to
+    ``reports`` (:func:`outputs.keep_report`)."""
     from pinn_engine import job
     from pinn_engine.io import export
 
@@ -109,7 +112,7 @@ def run_four_sided(args: argparse.Namespace, written: list[Path], body: bool) ->
             outcome.data, tmp, title=title, le=le, te=te, zoom=0.08 * geometry.body.chord
         )
 
-    write_outputs(args, out, written, write_grid, report, draw)
+    write_outputs(args, out, written, write_grid, report, draw, reports)
     if not args.quiet:  # after the files: a reader that stops early cannot stop a write
         grid_summary(report, settings, ni, nj, seconds)
     for warning, _ in grid_warnings(report, "cli"):  # printed with --quiet too

@@ -8,16 +8,19 @@ from pathlib import Path
 
 from pinn_engine.errors import PinnMeshError, grid_warnings
 from pinn_engine.routes.cli.options import check_options, refuse_others, settings_from
-from pinn_engine.routes.cli.outputs import output_path, save_model, write_report
+from pinn_engine.routes.cli.outputs import keep_report, output_path, save_model
 from pinn_engine.routes.cli.summary import warn
 from pinn_engine.routes.summary_lines import hexa_lines
 from pinn_engine.settings import HEXA_METHOD, HEXA_SIZE
 
 
-def run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
+def run_hexa(
+    args: argparse.Namespace, written: list[Path], reports: list[dict] | None = None
+) -> Path:
     """The surface's hexahedral grid into ``OUT`` (the formats and patches of SPEC 8, never
     extruded; patches named by side or by the input's FaceId; spacing and orthogonality on
-    patches); appends each output file to ``written`` once it is complete."""
+    patches); appends each output file to ``written`` once it is complete, and the report
+    to ``reports``."""
     from pinn_engine import job
     from pinn_engine.io import export
 
@@ -47,8 +50,7 @@ def run_hexa(args: argparse.Namespace, written: list[Path]) -> Path:
     export.write(outcome.data, out, args.format)
     written.append(out)
     outcome.report["timings"].update(read=read, write=time.perf_counter() - began)
-    if args.report:
-        write_report(args.report, outcome.report, written)
+    keep_report(args, outcome.report, written, reports)
     if not args.quiet:
         print("\n".join(hexa_lines(outcome.report)))
     for warning, _ in grid_warnings(outcome.report, "cli"):  # printed with --quiet too

@@ -19,9 +19,11 @@ from pinn_engine.routes.cli.summary import blocks_summary, warn
 from pinn_engine.settings import AUTO_BLOCKS, BLOCKS_METHOD, DEFAULT_SIZE, MULTIBLOCK_METHODS
 
 
-def run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
+def run_blocks(
+    args: argparse.Namespace, written: list[Path], reports: list[dict] | None = None
+) -> Path:
     """The boundary and its block edges into ``OUT.vtm`` (or a solver format); appends each
-    output file to ``written`` once it is complete."""
+    output file to ``written`` once it is complete, and the report to ``reports``."""
     from pinn_engine import job
     from pinn_engine.io.export import blocks_format, write_blocks
     from pinn_engine.io.export.edges import write_edges
@@ -94,7 +96,7 @@ def run_blocks(args: argparse.Namespace, written: list[Path]) -> Path:
         title = f"{args.method}: {Path(args.boundary).name}, {report['blocks']} blocks"
         render_blocks_png(outcome.data, tmp, title=title)
 
-    write_outputs(args, out, written, write_grid, report, draw)
+    write_outputs(args, out, written, write_grid, report, draw, reports)
     if not args.quiet:  # after the files: a reader that stops early cannot stop a write
         blocks_summary(args.method, report, seconds)
     if args.save_blocks:

@@ -43,6 +43,17 @@ def write_report(path: str, report: dict, written: list[Path]) -> None:
     written.append(Path(path))
 
 
+def keep_report(
+    args: argparse.Namespace, report: dict, written: list[Path], reports: list[dict] | None
+) -> None:
+    """The run's report: appended to ``reports`` where the caller keeps it (a batch's summary
+    row, without a file to write and read back), and written to --report if asked."""
+    if reports is not None:
+        reports.append(report)
+    if args.report:
+        write_report(args.report, report, written)
+
+
 def write_outputs(
     args: argparse.Namespace,
     out: Path,
@@ -50,10 +61,11 @@ def write_outputs(
     write_grid: Callable[[], None],
     report: dict,
     draw: Callable[[Path], None],
+    reports: list[dict] | None = None,
 ) -> None:
     """The grid (``write_grid()`` into ``out``), then the report (with the grid's writing
-    among its ``timings``, if it has them) and the picture (``draw(tmp)``) if asked, then
-    the line saying what was written."""
+    among its ``timings``, if it has them: :func:`keep_report`) and the picture
+    (``draw(tmp)``) if asked, then the line saying what was written."""
     from pinn_engine.io.fileio import atomic_path
 
     began = time.perf_counter()
@@ -61,8 +73,7 @@ def write_outputs(
     if "timings" in report:
         report["timings"]["write"] = time.perf_counter() - began
     written.append(out)
-    if args.report:
-        write_report(args.report, report, written)
+    keep_report(args, report, written, reports)
     if args.png:
         with atomic_path(args.png, suffix=Path(args.png).suffix or ".png") as tmp:
             draw(tmp)
