@@ -127,15 +127,20 @@ def mesh_member(
         steps += 1
         if defect <= DEFECT_TOL:
             break
-    reference, polished_from = None, None
+    reference, polished_from, points = None, None, None
     vouched = model.winslow and defect is not None and defect <= DEFECT_TOL
-    if model.polish and body:
-        grid, polished_from = _body_chosen(model, member, grid)
+    if model.polish and body:  # the model's grid's arrays: its certificate's, kept with it
+        points = member.frame.to_user(grid)
+        cells = cell_quality(points)
+        chosen, polished_from = _body_chosen(model, member, grid, _figures(cells))
+        if chosen is not grid:
+            grid, points = chosen, None
         vouched = True  # certified, or no worse than the member's elliptic start
     elif model.polish:
         grid, reference, vouched, polished_from = _polished(model, member, grid)
-    points = member.frame.to_user(grid)
-    cells = cell_quality(points)
+    if points is None:
+        points = member.frame.to_user(grid)
+        cells = cell_quality(points)
     figures = _figures(cells)
     start = None
     if not vouched:  # no certificate: the member's start decides
@@ -205,18 +210,21 @@ def _polished(
     elliptic = model.base(member)
     ranking = Ranking.of(elliptic, (), member.boundary.diagonal)
     (begin, name), ranking = best_candidate(elliptic, member.base, ranking)
-    if ranking.key(ranking.quality(grid)) > ranking.key(ranking.quality(begin)):
+    begun = ranking.quality(begin)
+    if ranking.key(ranking.quality(grid)) > ranking.key(begun):
         grid, name = begin, f"{name} (the model's grid ranked below it)"  # folded, say
     with one_thread():  # its L-BFGS, as the member's own run's
         polished = optimize_nodes(grid, ranking, model.polish, settle=Settle(*POLISH_SETTLE))
-    ranks = ranking.key(ranking.quality(polished)) <= ranking.key(ranking.quality(begin))
-    begin_figures = {k: v for k, v in ranking.quality(begin).items() if k in _FIGURES}
-    return polished, begin_figures, ranks, name
+    ranks = ranking.key(ranking.quality(polished)) <= ranking.key(begun)
+    return polished, {k: v for k, v in begun.items() if k in _FIGURES}, ranks, name
 
 
-def _body_chosen(model: FamilyModel, member: Member, grid: np.ndarray) -> tuple[np.ndarray, str]:
-    """A body's grid and its name: the model's ``grid``, kept without the member's own start
-    or optimisation where its worst angle is certified; else :func:`_body_polished`.
+def _body_chosen(
+    model: FamilyModel, member: Member, grid: np.ndarray, q: dict
+) -> tuple[np.ndarray, str]:
+    """A body's grid and its name: the model's ``grid`` (its figures ``q``), kept without the
+    member's own start or optimisation where its worst angle is certified; else
+    :func:`_body_polished`.
 
     The certificate: every grid the member's own run can return (its elliptic grid, or that
     grid optimised) holds its wall row and first layer (``BODY_HELD_ROWS``), which the
@@ -224,7 +232,6 @@ def _body_chosen(model: FamilyModel, member: Member, grid: np.ndarray) -> tuple[
     with no fold and a worst angle within ``WORST_TOL`` of theirs is within SPEC 16's bound
     of the member's own grid and of its start. Its mean is the model's fit of its own grid,
     measured in docs/family.md, not bounded here."""
-    q = guard_figures(grid)
     if not q["folded_cells"] and q["worst_max_angle"] <= held_worst(member.base) + WORST_TOL:
         return grid, "family (not optimised: certified)"
     return _body_polished(model, member)

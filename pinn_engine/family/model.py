@@ -203,7 +203,7 @@ class FamilyModel:
         start = np.array(self.mean_grid)
         start[0], start[-1] = member.base[0], member.base[-1]
         start[:, 0], start[:, -1] = member.base[:, 0], member.base[:, -1]
-        return self.frozen().step(start)[0]
+        return self.frozen().advance(start)
 
     def _elliptic(self, member: Member) -> np.ndarray:
         """``member``'s elliptic grid: chord steps of its Winslow equations (the system
@@ -213,7 +213,7 @@ class FamilyModel:
         grid = self._linearised(member)
         extent = float(np.ptp(grid.reshape(-1, 2), axis=0).max())
         for _ in range(ELLIPTIC_STEPS):
-            new = self.frozen().step(grid)[0]
+            new = self.frozen().advance(grid)
             moved = float(np.abs(new - grid).max())
             grid = new
             if moved <= ELLIPTIC_TOL * extent:

@@ -590,7 +590,7 @@ def optimize_nodes(
     maximum is a surrogate of the worst angle, not the same. Each node moves in units of its
     shortest edge (a diagonal preconditioner: angles change with a node's move relative to
     its cells, 100 times smaller at a notch than in the open)."""
-    if ranking.key(ranking.quality(grid))[2] > 0:  # it misses the lines
+    if ranking.lines and ranking.key(ranking.quality(grid))[2] > 0:  # it misses the lines
         grid = follow_lines(grid, ranking)
     grid = np.asarray(grid, dtype=float)
     turn = orientation(grid)
