@@ -41,7 +41,7 @@ from pinn_engine.io.childread import MAX_FILE_BYTES
 
 log = logging.getLogger(__name__)
 BOUNDARY_FORMATS = (".vtp", ".vtk", ".csv", ".txt")
-AUX_FORMATS = (".vtp", ".vtk")
+AUX_FORMATS = BOUNDARY_FORMATS  # auxiliary lines and block edges: polylines or tables
 
 
 @contextlib.contextmanager
@@ -368,10 +368,23 @@ def aux_lines_of(poly: vtkPolyData, source: str = "auxiliary input") -> list[Raw
     return lines
 
 
+def table_aux_lines(path: Path, source: str) -> list[RawLine]:
+    """The open polylines of a ``.csv``/``.txt`` table, one a group of rows that blank
+    lines separate (as :func:`read_table_lines`), named as lines of ``source``."""
+    lines = read_table_lines(path)
+    for k, points in enumerate(lines):
+        if len(points) < 2:
+            raise InputError(f"line {k} has fewer than 2 points", source)
+    return [RawLine(p, None, f"{source} line {k}") for k, p in enumerate(lines)]
+
+
 def read_aux_lines(path: str | os.PathLike) -> list[RawLine]:
-    """Auxiliary polylines from a ``.vtp`` or ``.vtk`` file."""
+    """Auxiliary polylines from a ``.vtp`` or ``.vtk`` file (with their ``xi``/``eta``
+    point data, if any), or a ``.csv``/``.txt`` table (:func:`table_aux_lines`)."""
     path = Path(path)
     src = check_file(path, AUX_FORMATS)
+    if path.suffix.lower() in (".csv", ".txt"):
+        return table_aux_lines(path, src)
     return aux_lines_of(read_polydata(path), src)
 
 

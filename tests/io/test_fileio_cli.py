@@ -30,6 +30,27 @@ def test_csv_and_vtp_give_the_same_boundary():
     assert not b[:, 2].any()
 
 
+def test_aux_lines_from_a_table_are_the_vtp_lines(tmp_path):
+    """Auxiliary lines as a .csv table (x,y rows, a blank line between lines) read as the
+    same polylines as the .vtp, and a table line of one point is a one-line error."""
+    from pinn_engine.errors import InputError
+    from pinn_engine.io.fileio import read_aux_lines
+
+    drawn = read_aux_lines(EXAMPLES / "wavy_aux.vtp")
+    table = tmp_path / "aux.csv"
+    table.write_text(
+        "x,y\n"
+        + "\n\n".join("\n".join(f"{x:.17g},{y:.17g}" for x, y, *_ in r.points) for r in drawn)
+    )
+    read = read_aux_lines(table)
+    assert len(read) == len(drawn) == 2
+    for a, b in zip(read, drawn):
+        np.testing.assert_array_equal(a.points, b.points[:, :2])
+    table.write_text("0,0\n1,1\n\n2,2\n")
+    with pytest.raises(InputError, match="line 1 has fewer than 2 points"):
+        read_aux_lines(table)
+
+
 def test_txt_with_whitespace_and_constant_z(tmp_path):
     ring = square_ring(3)
     path = tmp_path / "b.txt"

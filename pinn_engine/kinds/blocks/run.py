@@ -145,22 +145,17 @@ def read_block_edges(path: str | os.PathLike) -> list:
     table, one polyline a group of rows that blank lines separate, as the boundary's
     tables); none from a file that holds no line (a four-sided domain's saved proposal,
     SPEC 13)."""
-    from pinn_engine.geometry.auxlines import RawLine
     from pinn_engine.io.fileio import (
-        BOUNDARY_FORMATS,
+        AUX_FORMATS,
         aux_lines_of,
         check_file,
         read_polydata,
-        read_table_lines,
+        table_aux_lines,
     )
 
-    source = check_file(Path(path), BOUNDARY_FORMATS)
+    source = check_file(Path(path), AUX_FORMATS)
     if Path(path).suffix.lower() in (".csv", ".txt"):
-        lines = read_table_lines(Path(path))
-        for k, points in enumerate(lines):
-            if len(points) < 2:
-                raise InputError(f"line {k} has fewer than 2 points", source)
-        return [RawLine(p, None, f"{source} line {k}") for k, p in enumerate(lines)]
+        return table_aux_lines(Path(path), source)
     poly = read_polydata(Path(path))
     if not poly.GetNumberOfLines():
         return []

@@ -176,7 +176,7 @@ def build_parser() -> argparse.ArgumentParser:
         action="append",
         default=[],
         metavar="AUX",
-        help="auxiliary lines (.vtp/.vtk, repeatable), each from a side to the opposite "
+        help="auxiliary lines (.vtp/.vtk/.csv/.txt, repeatable), each from a side to the opposite "
         "one (of a block, with --blocks): the pinn's grid lines follow them",
     )
     p.add_argument(
