@@ -126,3 +126,27 @@ def test_automatic_blocking_with_wall_spacing_cuts_both_of_the_lips_lines(tmp_pa
     assert main([*argv, "--quiet", "--report", str(report), "-o", str(out)]) == 0
     figures = json.loads(report.read_text())
     assert figures["blocks"] == 3 and figures["quality"]["worst_max_angle"] < 90.5
+
+
+@pytest.mark.slow  # automatic blocking, the raised counts and checkMesh (about 10 s CPU)
+def test_combined_gradings_on_the_step_pass_checkmesh_but_for_the_wall_cells_aspect(tmp_path):
+    """Walls at 5e-5 and the step's line at 1e-4, automatically blocked, written for
+    OpenFOAM: checkMesh's non-orthogonality under a degree (the two gradings meeting at the
+    lip once gave 89.5) and no failed check but the aspect ratio, which first cells of 5e-5
+    under cells 0.1 long fail by design (docs/openfoam.md)."""
+    import re
+    import shutil
+
+    from export_checks import check_mesh
+
+    _polydata([STEP], True).save(tmp_path / "step.vtp")
+    case = tmp_path / "case"
+    argv = [str(tmp_path / "step.vtp"), "--blocks", "auto", *STEP_PATCHES, "--cell-size", "0.1"]
+    argv += ["--spacing=walls=5e-5", "--spacing=3,1=1e-4", "--quiet"]
+    assert main([*argv, "--format", "openfoam", "-o", str(case)]) == 0
+    if shutil.which("checkMesh") is None:
+        pytest.skip("OpenFOAM's checkMesh is missing")
+    text = check_mesh(case)
+    assert float(re.search(r"non-orthogonality Max: ([\d.e+-]+)", text)[1]) < 1.0, text
+    failed = re.search(r"Failed (\d+) mesh checks", text)
+    assert failed is None or (int(failed[1]) == 1 and "High aspect ratio" in text), text
