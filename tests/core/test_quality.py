@@ -78,3 +78,20 @@ def test_bands_on_several_threads_equal_one_pass_with_the_global_orientation(mon
     assert set(banded) == set(expected)
     for name, values in expected.items():
         np.testing.assert_array_equal(banded[name], values, err_msg=name)
+
+
+def test_guard_figures_are_the_summary_of_the_quality_arrays(monkeypatch):
+    # guard_figures computes MaxIncludedAngle and Folded alone: the same figures as the full
+    # arrays' summary, on distorted, folded and degenerate cells and on the banded path
+    grids = [distorted_grid(seed, amount) for seed, amount in [(6, 0.05), (7, 0.45), (8, 0.7)]]
+    grids[2][3, 4] = grids[2][3, 5]  # a zero-length edge: degenerate cells
+    for grid in grids + [grids[1][::-1]]:
+        whole = quality.summary(cell_quality(grid), 0.0)
+        expected = {k: whole[k] for k in ("mean_max_angle", "worst_max_angle", "folded_cells")}
+        assert quality.guard_figures(grid) == expected
+    assert quality.guard_figures(grids[2])["folded_cells"] > 0
+    monkeypatch.setattr(quality, "BAND_CELLS", 10)
+    monkeypatch.setattr(quality.os, "cpu_count", lambda: 2)
+    assert quality.guard_figures(grids[1]) == {
+        k: quality.summary(cell_quality(grids[1]), 0.0)[k] for k in expected
+    }
