@@ -8,12 +8,14 @@ For each shape of the tuning set (``example_data/hard/``, and the examples with 
 ``concave``, ``fig2``, ``wavy``) and the hold-out set (``example_data/holdout/``, nothing tuned
 on it) this meshes the converged elliptic grid (``method elliptic``) and the default pinn
 (``objective best``) on the same boundary nodes, without lines and, where the shape has some,
-with its auxiliary lines; each hold-out shape also with one drawn line, straight and slanted,
-from 0.35 of its bottom side to 0.65 of its top (or, where that leaves the domain, from 0.65 of
-its left side to 0.35 of its right; none where both do: ``drawn_line``). It prints mean and
-worst ``MaxIncludedAngle``, folded cells, the largest distance of a drawn line's grid line from
-it (of the diagonal), how much the grid lines crossing a drawn line turn there
-(``auxlines.crossing_turns``, the largest line's mean), which grid the default chose, whether
+with its auxiliary lines; each shape also with one drawn line, straight and slanted, from 0.35
+of its bottom side to 0.65 of its top (or, where that leaves the domain, from 0.65 of its left
+side to 0.35 of its right; none where both do: ``drawn_line``). It prints mean and worst
+``MaxIncludedAngle``, folded cells, the largest distance of a drawn line's grid line from it
+(of the diagonal), how much the grid lines crossing a drawn line turn there
+(``auxlines.crossing_turns``, the largest line's mean, both grids measured at the lines the
+default follows: their (xi, eta) in the fit's parameter, SPEC 2, with the sides' sharp vertices
+pinned to nodes), which grid the default chose, whether
 it trained, and seconds (fit plus grid, one process). Writes ``<out>.json`` and ``<out>.md``
 (``--from-json``: the page again from the json). The target: worst at least ``GAIN`` degrees
 below the elliptic grid's on most shapes, never more than ``MEAN_TOL`` above it, mean never
@@ -35,6 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
+from pinn_engine.classical.pins import pinned_lines
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.auxlines import RawLine, crossing_turns, map_lines
 from pinn_engine.geometry.boundary import Boundary
@@ -53,26 +56,25 @@ GAIN = 5.0  # degrees: the worst cell's drop below the elliptic grid's that coun
 MEAN_TOL = 0.5  # degrees: the most the mean (and the worst) may be above the elliptic grid's
 LINE_TOL = 2e-3  # of the diagonal: the farthest a drawn line's grid line may be from it
 TURN_TOL = 2.0  # degrees: the most the crossing lines may turn beyond the elliptic grid's
-# The hold-out shapes' drawn line: from a fraction of one side to another of the opposite
+# The shapes' drawn line: from a fraction of one side to another of the opposite
 # side (slanted, so that no symmetry follows it), each pair tried in turn
 DRAWN = (("bottom", 0.35, "top", 0.65), ("left", 0.65, "right", 0.35))
 DRAWN_POINTS = 21  # points of the drawn line
 
 
-def shapes(name: str) -> list[tuple[Path, list[Path] | str]]:
-    """The boundaries of set ``name`` with their auxiliary-line files (the hold-out set's:
-    ``"drawn"``, :func:`drawn_line`)."""
+def shapes(name: str) -> list[tuple[Path, list[list[Path] | str]]]:
+    """The boundaries of set ``name``, each with the lines it is meshed with besides none: its
+    auxiliary-line files where it has some, and ``"drawn"`` (:func:`drawn_line`) where that
+    stays inside it."""
     found = []
     for path in SETS[name]:
         if path.stem.endswith("_aux"):
             continue
         aux = path.with_name(f"{path.stem}_aux.vtp")
-        if aux.exists():
-            found.append((path, [aux]))
-        elif name == "holdout" and drawn_line(load_boundary(path)):
-            found.append((path, "drawn"))
-        else:
-            found.append((path, []))
+        variants: list[list[Path] | str] = [[aux]] if aux.exists() else []
+        if drawn_line(load_boundary(path)):
+            variants.append("drawn")
+        found.append((path, variants))
     return found
 
 
@@ -102,11 +104,15 @@ def mesh(method: str, path: Path, aux: list[Path] | str, size: tuple[int, int], 
     lines = lines_of(boundary, aux)
     began = time.perf_counter()
     settings = make_settings(method, lattice=size, size=size, **options)
-    result = Mesher(settings).fit(boundary, lines).predict(*size)
+    mesher = Mesher(settings).fit(boundary, lines)
+    result = mesher.predict(*size)
     seconds = time.perf_counter() - began
     report = result.report
     training = report.get("training", {})
-    turns = crossing_turns(boundary.frame.to_unit(result.points), lines)
+    # the lines' (xi, eta) in the fit's parameter (SPEC 2), the sides' sharp vertices pinned
+    # to nodes as every method's grid pins them: the lines the default follows
+    pinned = pinned_lines(lines, mesher.boundary_)
+    turns = crossing_turns(boundary.frame.to_unit(result.points), pinned)
     return {
         "mean": report["quality"]["mean_max_angle"],
         "worst": report["quality"]["worst_max_angle"],
@@ -138,14 +144,20 @@ def trained_lines(path: Path, aux: list[Path] | str, size: tuple[int, int]) -> d
 def run_row(name: str, path: Path, aux: list[Path] | str, size_text: str, train: bool) -> dict:
     """The elliptic grid and the default on one shape (with the lines ``aux``), printed."""
     size = tuple(int(n) for n in size_text.split("x"))
-    row = {"set": name, "shape": path.stem, "size": size_text, "lines": bool(aux)}
+    row = {
+        "set": name,
+        "shape": path.stem,
+        "size": size_text,
+        "lines": bool(aux),
+        "drawn": aux == "drawn",
+    }
     row["elliptic"] = mesh("elliptic", path, aux, size)
     row["default"] = mesh("pinn", path, aux, size)
     if train and aux:
         row["trained"] = trained_lines(path, aux, size)
     e, d = row["elliptic"], row["default"]
     print(
-        f"{name:8s} {path.stem + (' + lines' if aux else ''):34s} {size_text:7s} elliptic "
+        f"{name:8s} {path.stem + label(row):34s} {size_text:7s} elliptic "
         f"{e['mean']:7.2f} / {e['worst']:7.2f} ({e['folded']}) {e['lines']:.5f} "
         f"turn {e['turn']:5.2f} | default "
         f"{d['mean']:7.2f} / {d['worst']:7.2f} ({d['folded']}) {d['lines']:.5f} "
@@ -179,12 +191,11 @@ def main() -> None:
         rows = json.loads(Path(args.out).with_suffix(".json").read_text())
     for name in args.sets if not args.from_json else ():
         for size_text in args.sizes:
-            for path, aux in shapes(name):
-                variants = ([] if args.lines_only else [[]]) + ([aux] if aux else [])
-                for lines in variants:
+            for path, variants in shapes(name):
+                for lines in ([] if args.lines_only else [[]]) + variants:
                     rows.append(run_row(name, path, lines, size_text, args.train_lines))
     summaries = [summary(rows, name) for name in args.sets]
-    summaries += [lines_summary(rows, name) for name in args.sets]
+    summaries += [s for n in args.sets for d in (False, True) if (s := lines_summary(rows, n, d))]
     print("\n".join(summaries))
     if args.out:
         out = Path(args.out)
@@ -211,14 +222,29 @@ def summary(rows: list[dict], name: str) -> str:
     )
 
 
-def lines_summary(rows: list[dict], name: str) -> str:
-    """The target's counts on set ``name``'s grids with lines."""
-    drawn = [r for r in rows if r["set"] == name and r["lines"]]
+def label(row: dict) -> str:
+    """What a row's shape is meshed with: nothing, its own lines, or the drawn line."""
+    if not row["lines"]:
+        return ""
+    return " + drawn line" if row.get("drawn", row["set"] == "holdout") else " + lines"
+
+
+def lines_summary(rows: list[dict], name: str, with_drawn: bool) -> str:
+    """The target's counts on set ``name``'s grids with their own lines, or (``with_drawn``)
+    with :func:`drawn_line`'s; empty where there are none."""
+    drawn = [
+        r
+        for r in rows
+        if r["set"] == name and r["lines"] and label(r).endswith("drawn line") == with_drawn
+    ]
+    if not drawn:
+        return ""
     near = sum(r["default"]["lines"] <= LINE_TOL for r in drawn)
     turn = sum(r["default"]["turn"] > r["elliptic"]["turn"] + TURN_TOL for r in drawn)
     folds = sum(r["default"]["folded"] > 0 for r in drawn)
     return (
-        f"{name}: {len(drawn)} grids with lines: lines within {LINE_TOL:g} of the diagonal on "
+        f"{name}: {len(drawn)} grids with {'a drawn line' if with_drawn else 'their lines'}: "
+        f"lines within {LINE_TOL:g} of the diagonal on "
         f"{near}, crossing turn > {TURN_TOL} beyond elliptic's on {turn}, folded on {folds}"
     )
 
@@ -229,13 +255,15 @@ def page(rows: list[dict], summaries: list[str], load: str) -> str:
         "# What the default chooses, beside the elliptic grid",
         "",
         "Made by `.venv/bin/python benchmarks/default_choice.py --sizes 41x21 81x41 --out "
-        "docs/default_choice` (its docstring says what it runs; each hold-out shape is also "
+        "docs/default_choice` (its docstring says what it runs; each shape is also "
         "meshed with one drawn line, straight and slanted, from 0.35 of its bottom side to "
         "0.65 of its top, or from 0.65 of its left side to 0.35 of its right where that "
         "leaves the domain). Each grid: mean / worst "
         "`MaxIncludedAngle` (degrees), folded cells in brackets; the largest distance of a "
         "drawn line's grid line from it, of the diagonal; the turn of the grid lines crossing a "
-        "drawn line at their node nearest it (degrees, mean over them, the largest line's); "
+        "drawn line at their node nearest it (degrees, mean over them, the largest line's; both "
+        "grids at the (xi, eta) the default follows, the sides' sharp vertices pinned to "
+        "nodes); "
         "the grid the default returned "
         "(`optimized`: the quality objective's node-optimised grid); seconds of fit plus grid "
         f"in one process (2 cores shared with other sessions; load average {load}).",
@@ -251,7 +279,7 @@ def page(rows: list[dict], summaries: list[str], load: str) -> str:
         e, d = r["elliptic"], r["default"]
         chosen = "network" if d["network"] else d["chosen"]
         lines.append(
-            f"| {r['set']} | {r['shape']}{' + lines' if r['lines'] else ''} | {r['size']} | "
+            f"| {r['set']} | {r['shape']}{label(r)} | {r['size']} | "
             f"{e['mean']:.2f} / {e['worst']:.2f} ({e['folded']}) | "
             f"{d['mean']:.2f} / {d['worst']:.2f} ({d['folded']}) | "
             f"{d['lines']:.5f} | {e.get('turn', 0.0):.2f} / {d.get('turn', 0.0):.2f} | {chosen} | "
