@@ -2,7 +2,8 @@
 (docs/default_choice.md).
 
 Usage: ``.venv/bin/python benchmarks/default_choice.py [--sizes 41x21] [--set tuning holdout]
-[--train-lines] [--lines-only] [--out docs/default_choice] [--from-json [--load TEXT]]``
+[--train-lines] [--lines-only] [--slide-stretch 0.25] [--out docs/default_choice]
+[--from-json [--load TEXT]]``
 
 For each shape of the tuning set (``example_data/hard/``, and the examples with lines
 ``concave``, ``fig2``, ``wavy``) and the hold-out set (``example_data/holdout/``, nothing tuned
@@ -44,6 +45,7 @@ from pinn_engine.geometry.boundary import Boundary
 from pinn_engine.io.pipeline import load_aux, load_boundary
 from pinn_engine.kinds.four_sided.mesher import Mesher
 from pinn_engine.settings import make_settings
+from pinn_engine.starts import quality_start
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / "example_data"
@@ -184,7 +186,14 @@ def main() -> None:
     parser.add_argument("--out", default=None)
     parser.add_argument("--from-json", action="store_true", help="rewrite the page from <out>.json")
     parser.add_argument("--load", help="with --from-json: the load average its run met")
+    parser.add_argument(
+        "--slide-stretch",
+        type=float,
+        help="quality_start.SLIDE_STRETCH for this run (its tuning, on the tuning set)",
+    )
     args = parser.parse_args()
+    if args.slide_stretch is not None:
+        quality_start.SLIDE_STRETCH = args.slide_stretch
     before = os.getloadavg()[0]
     rows = []
     if args.from_json:

@@ -65,12 +65,10 @@ TURN_WEIGHT = 100.0
 TURN_AIM = TURN_TOL / 2
 PULL_ROUNDS = 15  # rounds of pull_onto_lines at most
 PULL_WEIGHT = 1e5  # of the lines against the smoothness of the pull's moves (more: folds)
-# The slide of each row to where it meets the lines (:func:`slide_to_crossings`) changes a
-# cell's width along its row by at most this share, its move spreading from the line over
-# four times its size: on the tuning shapes with the slanted line that
-# benchmarks/default_choice.py draws, 0.25 leaves 1 of 38 grids beyond 2e-3 of the diagonal,
-# 0.5 leaves 2 and 1 (the move spread over the whole row) 4: it folds the rows of a concave
-# corner beside the line, moved as far as the line's own crossing
+# A row slid to where it meets a line (slide_to_crossings) changes a cell's width along it by
+# at most this share, the move fading out over four times its size: tuned on the tuning
+# shapes with default_choice.py's drawn line, 1 of 24 grids left beyond 2e-3 of the
+# diagonal (0.5: 2; 1, the move spread over the whole row, 4: it folds a concave corner's rows)
 SLIDE_STRETCH = 0.25
 RELAX_ITERATIONS = 10  # Winslow iterations of relax_on_lines
 RELAX_WEIGHT = 10.0  # of the lines against the Winslow equations there (more: folds)
