@@ -38,8 +38,8 @@ def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
 class _Cells:
     """Edges, edge lengths and signed corner areas of every cell, computed once."""
 
-    def __init__(self, grid: np.ndarray) -> None:
-        p = _corners(np.asarray(grid, dtype=float))
+    def __init__(self, grid: np.ndarray | None, corners: list[np.ndarray] | None = None) -> None:
+        p = _corners(np.asarray(grid, dtype=float)) if corners is None else corners
         self.edges = [p[(k + 1) % 4] - p[k] for k in range(4)]
         self.lengths = [np.hypot(e[..., 0], e[..., 1]) for e in self.edges]
         # corner k sits between edge k-1 (incoming) and edge k (outgoing)
@@ -107,6 +107,17 @@ def included_angles(grid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def folded_cells(grid: np.ndarray) -> np.ndarray:
     """Boolean per cell: some corner's orientation opposes the grid's (or is degenerate)."""
     return _Cells(grid).folded()
+
+
+def corner_angles_and_folds(
+    corners: list[np.ndarray], orientation: np.ndarray | float
+) -> tuple[np.ndarray, np.ndarray]:
+    """MaxIncludedAngle and Folded, as :func:`cell_quality` gives them, of cells given by
+    their four corners (each (..., 2), counter-clockwise in (i, j)) and their grid's
+    ``orientation`` (+1 or -1): a guard that checks some cells of a grid many times."""
+    cells = _Cells(None, corners)
+    cells.orientation = orientation
+    return cells.angles()[0], cells.folded()
 
 
 def cell_quality(grid: np.ndarray) -> dict[str, np.ndarray]:

@@ -73,7 +73,7 @@ def adapt_grids(
     worst0, folded0 = _worst(graph, start)
     limit = worst0 + GUARD_DEGREES
     error0 = interpolation_error(start, graph.cells, sample)
-    space = ParameterSpace(graph, sample)
+    space = ParameterSpace(graph, sample, limit)
     points, share, rounds, error, used = start, np.zeros(len(start)), [], error0, 0.0
     form = "unadapted"
     for isotropic in ISOTROPIC if largest > 0 else ():

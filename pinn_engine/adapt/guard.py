@@ -1,39 +1,45 @@
 """SPEC 14's guard: no fold, and no cell whose MaxIncludedAngle exceeds the unadapted
-grid's worst by more than ``GUARD_DEGREES``. Where the adapted grid breaks it, the strength
-is lowered where it breaks (the monitor flattened round the offending cells) and the grid
-solved again from where it was; what still breaks after ``ROUNDS`` is drawn back toward
-the unadapted grid (each node's move, a boundary node's along its curve, scaled down
-round the offending cells) until it holds. The first solve's moves scaled down everywhere,
-then drawn back the same way, are further candidates; the one carrying the field best is
-kept."""
+grid's worst by more than ``GUARD_DEGREES``. Where the adapted grid breaks it, the grid is
+solved again with the shear cap (the compression across a front bounded by what the cells
+there take within the bound, :func:`~pinn_engine.adapt.monitor.shear_cap`), then with the
+strength lowered round the cells that still break; what still breaks is drawn back toward
+the unadapted grid (each node's move, a boundary node's along its curve, scaled down round
+the offending cells, each by as much as it is over the bound) until it holds. The first
+solve's moves, whole and scaled down everywhere, drawn back the same way, are further
+candidates; the one carrying the field best is kept."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from pinn_engine.adapt.error import interpolation_error
-from pinn_engine.adapt.monitor import to_nodes
 from pinn_engine.adapt.nodes import NodeGraph
 from pinn_engine.adapt.parametric import ParameterSpace
 from pinn_engine.adapt.pieces import Solved, pieces_of
-from pinn_engine.quality import cell_quality
+from pinn_engine.quality import corner_angles_and_folds
 
 GUARD_DEGREES = 10.0  # SPEC 14: the worst cell may exceed the unadapted grid's by this much
 ROUNDS = 12  # solves with the strength lowered round the offending cells, at most
 # a round that leaves more than this share of the last round's offending cells is the last:
 # the cells left are pulled by the monitor farther away, and the draw-back takes them
 PROGRESS = 0.8
-LOWER = 0.7  # each round multiplies the strength round an offending cell by this
+# each round multiplies the strength round an offending cell by this (and a draw-back round
+# the move round a folded cell)
+LOWER = 0.7
 # the lowering reaches this many rings of cells round an offending cell, fading: a strength
 # cut at one node alone would crease the monitor there
 SPREAD = 6
-DRAWBACKS = 40  # rounds of drawing moves back, at most (each scales moves by at most LOWER)
+DRAWBACKS = 120  # rounds of drawing moves back, at most (GENTLE**120: every move undone)
+# a round of drawing back keeps at least this share of a move round an offending cell: a
+# front's compression is given up a little at a time, only where the bound still breaks
+GENTLE = 0.9
 # where the first solve breaks the guard, its moves scaled by each of these everywhere are
 # also drawn back: a front's compression kept whole at a lower amplitude (the lowering cuts
 # it where it is strongest); the candidate carrying the field best is kept
-BLENDS = (0.8, 0.6, 0.4)
+BLENDS = (1.0, 0.8, 0.6, 0.4)
 
 
 @dataclass
@@ -51,24 +57,48 @@ class Guarded:
     within: bool = True
 
 
+def _angles(
+    graph: NodeGraph, points: np.ndarray, cells: np.ndarray | slice = slice(None)
+) -> tuple[np.ndarray, np.ndarray]:
+    """The MaxIncludedAngle of ``cells`` (all by default, in ``graph.cells`` order) and
+    whether they fold; a cell the unadapted grid folds is not the guard's (angle 0, no
+    fold)."""
+    quads, orientation, folded = graph.lattice_cells
+    q = quads[cells]
+    angle, folds = corner_angles_and_folds([points[q[:, k]] for k in range(4)], orientation[cells])
+    return np.where(folded[cells], 0.0, angle), folds & ~folded[cells]
+
+
 def offending(graph: NodeGraph, points: np.ndarray, limit: float) -> np.ndarray:
     """Which cells fold (that the unadapted grid does not fold) or have a MaxIncludedAngle
     over ``limit``, in ``graph.cells`` order."""
-    bad = []
-    for grid, folded in zip(graph.grids(points), graph.folded):
-        q = cell_quality(grid)
-        bad.append((((q["MaxIncludedAngle"] > limit) | q["Folded"]) & ~folded).ravel())
-    return np.concatenate(bad)
+    angle, folds = _angles(graph, points)
+    return (angle > limit) | folds
 
 
-def _round(graph: NodeGraph, bad: np.ndarray) -> np.ndarray:
-    """1 at the nodes of offending cells, fading over ``SPREAD`` rings round them."""
-    n = len(graph.points)
-    near = to_nodes(graph.cells, bad.astype(float), n) > 0
-    weight = near.astype(float)
-    for ring in range(1, SPREAD + 1):
-        grown = to_nodes(graph.cells, weight[graph.cells].max(axis=1), n) > 0
-        weight = np.maximum(weight, np.where(grown, 1.0 - ring / (SPREAD + 1), 0.0))
+def _largest(values: np.ndarray, index: np.ndarray) -> np.ndarray:
+    """The largest of ``values`` over each row of ``index`` (column by column: faster than
+    a reduction along a short axis)."""
+    out = values[index[:, 0]]
+    for column in range(1, index.shape[1]):
+        out = np.maximum(out, values[index[:, column]])
+    return out
+
+
+def _round(graph: NodeGraph, cut: np.ndarray) -> np.ndarray:
+    """Each cell's ``cut`` (0 to 1) at its nodes (the largest of a node's cells), fading
+    over ``SPREAD`` rings round them; only the rings' nodes and cells are visited."""
+    n, m = len(graph.points), len(graph.cells)
+    values, cells = np.append(cut, 0.0), np.flatnonzero(cut > 0.0)  # node_cells pads with m
+    weight = np.zeros(n)
+    for ring in range(SPREAD + 1):
+        nodes = np.flatnonzero(np.bincount(graph.cells[cells].ravel(), minlength=n))
+        level = np.zeros(n)
+        level[nodes] = _largest(values, graph.node_cells[nodes])
+        weight[nodes] = np.maximum(weight[nodes], (1.0 - ring / (SPREAD + 1)) * level[nodes])
+        cells = np.flatnonzero(np.bincount(graph.node_cells[nodes].ravel(), minlength=m + 1)[:m])
+        values = np.zeros(m + 1)
+        values[cells] = _largest(level, graph.cells[cells])
     return weight
 
 
@@ -94,21 +124,31 @@ def guarded(
     bad = offending(graph, solved.points, limit)
     rounds = [{"steps": solved.steps, "offending_cells": int(bad.sum())}]
     now = error(solved.points)
-    if not bad.any() or now >= bound:
-        return Guarded(solved, share, np.ones(n), rounds, now, within=not bad.any())
+    if not bad.any():
+        return Guarded(solved, share, np.ones(n), rounds, now)
+    # the shear cap, then the strength lowered round the cells that still break
+    capped = None
     for _ in range(ROUNDS - 1):
-        share = share * (1.0 - (1.0 - LOWER) * _round(graph, bad))
-        solved = space.solve(strength * share, isotropic)
+        solved = space.solve(strength * share, isotropic, capped=True)
         bad = offending(graph, solved.points, limit)
         rounds.append({"steps": solved.steps, "offending_cells": int(bad.sum())})
+        if capped is None:
+            capped = solved
+            now = min(now, error(solved.points))
+            if bad.any() and now >= bound:
+                return Guarded(solved, share, np.ones(n), rounds, now, within=False)
         if not bad.any() or bad.sum() > PROGRESS * rounds[-2]["offending_cells"]:
             break
-    candidates = [_drawn_back(graph, solved, share, limit, rounds)] + [
-        _drawn_back(graph, first, np.ones(n), limit, rounds, blend) for blend in BLENDS
-    ]
-    for candidate in candidates:
-        candidate.error = error(candidate.solved.points)
-    return min(candidates, key=lambda c: c.error)
+        share = share * (1.0 - (1.0 - LOWER) * _round(graph, bad.astype(float)))
+    sources = [(solved, share, 1.0)] + [(capped, np.ones(n), 1.0)] * (solved is not capped)
+    best = None
+    for source, its_share, blend in sources + [(first, np.ones(n), b) for b in BLENDS]:
+        # drawing back adapts less: a candidate that carries the field no better than the
+        # best one (or the grid kept) before it is drawn back is not drawn back
+        found = _drawn_back(graph, source, its_share, limit, rounds, blend, error, bound)
+        if found is not None and found.error < bound:
+            best, bound = found, found.error
+    return best or Guarded(first, share, np.ones(n), rounds, now, within=False)
 
 
 def _drawn_back(
@@ -117,27 +157,43 @@ def _drawn_back(
     share: np.ndarray,
     limit: float,
     rounds: list[dict],
-    blend: float = 1.0,
-) -> Guarded:
+    blend: float,
+    error: Callable[[np.ndarray], float],
+    bound: float,
+) -> Guarded | None:
     """``solved`` with its moves scaled by ``blend``, then down round the offending cells
-    until none is left (the unadapted grid, all moves undone, keeps the guard)."""
+    until none is left (the unadapted grid, all moves undone, keeps the guard), and its
+    ``error``; None where the scaled moves' grid carries the field no better than ``bound``."""
     pieces = pieces_of(graph)
     start_params = [p.s.copy() for p in pieces]
     kept = np.full(len(graph.points), blend)
-    points = solved.points
-    for _ in range(DRAWBACKS):
+    before, _ = _angles(graph, graph.points)
+    angle, folds = before.copy(), np.zeros(len(before), dtype=bool)
+    changed: np.ndarray | slice = slice(None)  # the cells whose nodes moved: all at first
+    for step in range(DRAWBACKS):
         points = graph.points + kept[:, None] * (solved.points - graph.points)
         params = []
         for piece, s0, s1 in zip(pieces, start_params, solved.params):
             s = s0 + kept[piece.ids] * (s1 - s0)
             points[piece.ids] = piece.curve(s)
             params.append(s)
-        bad = offending(graph, points, limit)
+        if step == 0 and error(points) >= bound:
+            return None
+        angle[changed], folds[changed] = _angles(graph, points, changed)
+        bad = (angle > limit) | folds
         if not bad.any():
-            return Guarded(
-                Solved(points, params, solved.monitor, solved.steps), share, kept, rounds
-            )
-        kept = kept * (1.0 - (1.0 - LOWER) * _round(graph, bad))
-    return Guarded(
-        Solved(graph.points.copy(), start_params, solved.monitor, 0), share * 0, kept * 0, rounds
-    )
+            adapted = Solved(points, params, solved.monitor, solved.steps)
+            return Guarded(adapted, share, kept, rounds, error(points))
+        # the share of its move a cell keeps to come as far under the bound as it is over
+        # (its angle taken linear in the share kept), GENTLE at least: a cell just over the
+        # bound gives up little of the front's compression; a fold keeps LOWER
+        over, room = angle - limit, np.maximum(limit - before, 0.0)
+        keep = np.clip((room - over) / np.maximum(room + over, 1e-12), GENTLE, 1.0)
+        keep = np.where(folds, LOWER, keep)
+        cut = _round(graph, np.where(bad, 1.0 - keep, 0.0))
+        kept = kept * (1.0 - cut)
+        mark = np.zeros(len(graph.cells) + 1, dtype=bool)
+        mark[graph.node_cells[cut > 0.0]] = True
+        changed = np.flatnonzero(mark[:-1])
+    unadapted = Solved(graph.points.copy(), start_params, solved.monitor, 0)
+    return Guarded(unadapted, share * 0, kept * 0, rounds, error(graph.points))

@@ -8,6 +8,10 @@ import numpy as np
 # Passes of averaging (nodes to cells and back) of |grad f| before the monitor is formed: one
 # noisy cell's gradient is spread over its neighbours, a front a few cells wide is kept
 SMOOTHING_PASSES = 2
+# the strongest compression the shear cap considers (a monitor ratio of 1000: beyond any
+# strength asked), and the bisection steps of its log (2^-20 of its range: exact enough)
+SHEAR_FLOOR = 1e-3
+SHEAR_BISECTIONS = 20
 
 
 def cell_gradient_vectors(points: np.ndarray, cells: np.ndarray, f: np.ndarray) -> np.ndarray:
@@ -93,6 +97,7 @@ def diffusion_tensor(
     strength: float | np.ndarray,
     largest: float,
     isotropic: bool = False,
+    shear: np.ndarray | None = None,
 ) -> np.ndarray:
     """The inverse metric D (..., 3: xx, xy, yy) of the variable-diffusion equations: 1/M
     across the front (the principal direction n of ``tensor``, M SPEC 14's monitor of the
@@ -103,15 +108,21 @@ def diffusion_tensor(
 
     Along a straight front M' = 1: cells are compressed across it and not along it, so
     grid lines that cross it are not sheared; where grad f has no direction (a vortex's
-    core) M' = M, Winslow's isotropic 1/M, which ``isotropic`` asks everywhere."""
+    core) M' = M, Winslow's isotropic 1/M, which ``isotropic`` asks everywhere. ``shear``
+    caps M / M' (:func:`shear_cap`): the compression across a front that the cells there
+    take without passing the guard's angle."""
     a, b, c = tensor[..., 0], tensor[..., 1], tensor[..., 2]
     half = np.sqrt(np.maximum(0.25 * (a - c) ** 2 + b**2, 0.0))
     l1, l2 = 0.5 * (a + c) + half, np.maximum(0.5 * (a + c) - half, 0.0)
     ratio = np.sqrt(np.where(l1 > 0.0, l2 / np.where(l1 > 0.0, l1, 1.0), 1.0))
-    across = 1.0 / monitor_values(gradient, strength, largest)
-    along = across if isotropic else 1.0 / monitor_values(gradient * ratio, strength, largest)
-    theta = 0.5 * np.arctan2(2.0 * b, a - c)
-    cos, sin = np.cos(theta), np.sin(theta)
+    m_across = monitor_values(gradient, strength, largest)
+    m_along = monitor_values(gradient * ratio, strength, largest)
+    if shear is not None:
+        m_across = np.minimum(m_across, shear * m_along)
+    across = 1.0 / m_across
+    along = across if isotropic else 1.0 / m_along
+    n = principal_direction(tensor)
+    cos, sin = n[..., 0], n[..., 1]
     return np.stack(
         [
             across * cos**2 + along * sin**2,
@@ -120,3 +131,44 @@ def diffusion_tensor(
         ],
         axis=-1,
     )
+
+
+def principal_direction(tensor: np.ndarray) -> np.ndarray:
+    """The unit eigenvector (..., 2) of the largest eigenvalue of ``tensor`` (..., 3: xx,
+    xy, yy): the direction across a front."""
+    theta = 0.5 * np.arctan2(2.0 * tensor[..., 1], tensor[..., 0] - tensor[..., 2])
+    return np.stack([np.cos(theta), np.sin(theta)], axis=-1)
+
+
+def _max_angle(e1: np.ndarray, e2: np.ndarray) -> np.ndarray:
+    """The largest angle (degrees) of the parallelogram on the edges e1, e2 (..., 2)."""
+    dot = np.abs((e1 * e2).sum(-1))
+    size = np.linalg.norm(e1, axis=-1) * np.linalg.norm(e2, axis=-1)
+    return 180.0 - np.degrees(np.arccos(np.clip(dot / np.maximum(size, 1e-300), 0.0, 1.0)))
+
+
+def shear_cap(e1: np.ndarray, e2: np.ndarray, n: np.ndarray, limit: float) -> np.ndarray:
+    """The largest compression 1/c (c <= 1) across the unit direction n that a cell with the
+    edges e1, e2 (..., 2) takes before its largest angle passes ``limit`` degrees.
+
+    A compression across a front that crosses grid lines obliquely shears the cells (a
+    square compressed by half along its diagonal is a rhombus of 127 degrees): the cap is the
+    guard's bound turned into a bound on the monitor's anisotropy, set before solving, so
+    that the whole front is compressed as far as the bound allows rather than the strength
+    lowered everywhere for the cells where it breaks."""
+
+    def squeezed(c: np.ndarray) -> np.ndarray:
+        c = c[..., None]
+        a1 = e1 - (1.0 - c) * (e1 * n).sum(-1, keepdims=True) * n
+        a2 = e2 - (1.0 - c) * (e2 * n).sum(-1, keepdims=True) * n
+        return _max_angle(a1, a2)
+
+    shape = e1.shape[:-1]
+    lo, hi = np.full(shape, np.log(SHEAR_FLOOR)), np.zeros(shape)  # log c: fails, holds
+    ok_floor = squeezed(np.exp(lo)) <= limit
+    for _ in range(SHEAR_BISECTIONS):
+        mid = 0.5 * (lo + hi)
+        holds = squeezed(np.exp(mid)) <= limit
+        hi, lo = np.where(holds, mid, hi), np.where(holds, lo, mid)
+    c = np.where(ok_floor, SHEAR_FLOOR, np.exp(hi))
+    return 1.0 / c

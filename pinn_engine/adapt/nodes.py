@@ -45,6 +45,37 @@ class NodeGraph:
         return [points[ids] for ids in self.ids]
 
     @cached_property
+    def node_cells(self) -> np.ndarray:
+        """Each node's cells (n, k), padded with ``len(cells)`` (a junction has 3 or 5 cells,
+        a boundary node 1 or 2): a value a cell, with one more appended, read at the nodes."""
+        n, m = len(self.points), len(self.cells)
+        flat = self.cells.ravel()
+        order = np.argsort(flat, kind="stable")
+        counts = np.bincount(flat, minlength=n)
+        slot = np.arange(len(flat)) - np.repeat(np.cumsum(counts) - counts, counts)
+        out = np.full((n, max(int(counts.max()), 1)), m)
+        out[flat[order], slot] = order // 4
+        return out
+
+    @cached_property
+    def lattice_cells(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Every cell's node ids in its block's (i, j) order (m, 4), in ``cells``' order, as
+        :func:`cell_quality` reads them; its block's orientation (+1: counter-clockwise) and
+        whether it folds, both in the unadapted grid."""
+        quads = [
+            np.stack([i[:-1, :-1], i[:-1, 1:], i[1:, 1:], i[1:, :-1]], axis=-1).reshape(-1, 4)
+            for i in self.ids
+        ]
+        orientation = []
+        for q in quads:
+            p = self.points[q]
+            d1, d2 = p[:, 2] - p[:, 0], p[:, 3] - p[:, 1]
+            area = (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]).sum()
+            orientation.append(np.full(len(q), 1.0 if area >= 0 else -1.0))
+        folded = np.concatenate([f.ravel() for f in self.folded])
+        return np.vstack(quads), np.concatenate(orientation), folded
+
+    @cached_property
     def folded(self) -> list[np.ndarray]:
         """Each block's cells (nj - 1, ni - 1) that fold in the unadapted grid (the guard
         asks every adapted grid of it)."""

@@ -32,6 +32,7 @@ boundary values."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 from scipy.sparse import coo_matrix, csr_matrix
@@ -42,6 +43,8 @@ from pinn_engine.adapt.monitor import (
     gradient_size,
     gradient_tensor,
     monitor_values,
+    principal_direction,
+    shear_cap,
 )
 from pinn_engine.adapt.nodes import NodeGraph
 from pinn_engine.adapt.pieces import Solved, pieces_of
@@ -145,9 +148,10 @@ def _sides(ids: np.ndarray) -> dict[str, np.ndarray]:
 class ParameterSpace:
     """The blocks of ``graph`` prepared for adapting to a field: refined lattices, the field
     sampled once on them, the sides cut into runs. :meth:`solve` adapts with a strength at
-    each node (the guard lowers it round cells that break)."""
+    each node (the guard lowers it round cells that break), capped where asked by the
+    guard's ``limit`` (the largest MaxIncludedAngle allowed)."""
 
-    def __init__(self, graph: NodeGraph, sample) -> None:
+    def __init__(self, graph: NodeGraph, sample, limit: float = np.inf) -> None:
         self.graph, self.sample = graph, sample
         self.r = r = refinement(graph)
         self.pieces = pieces_of(graph)
@@ -171,9 +175,20 @@ class ParameterSpace:
                 for pair in own_diffusion(grid)
             )
             self.blocks.append(_Block(grid, ids, u, v, points, g, tensor, heading, diffusion))
+        self.limit = limit
         self.runs = self._runs()
         # the monitor's scale: the largest |grad f| the refined lattices see
         self.largest = max(float(b.gradient.max()) for b in self.blocks)
+
+    @cached_property
+    def shear(self) -> list[np.ndarray]:
+        """Each block's shear cap at its refined nodes (:func:`shear_cap`, the guard's
+        ``limit``): made at the first capped solve, as most grids never ask one."""
+        caps = []
+        for block in self.blocks:
+            edges = np.gradient(block.points, axis=1), np.gradient(block.points, axis=0)
+            caps.append(shear_cap(*edges, principal_direction(block.tensor), self.limit))
+        return caps
 
     def _runs(self) -> list[_Run]:
         """Every block side's runs between the nodes that stay; each run once (a wake cut,
@@ -207,14 +222,18 @@ class ParameterSpace:
             "right": values[:, -1],
         }[side]
 
-    def solve(self, strength: np.ndarray, isotropic: bool = False) -> Solved:
+    def solve(self, strength: np.ndarray, isotropic: bool = False, capped: bool = False) -> Solved:
         """The grid adapted with the monitor of ``strength`` at each node, its diffusion
-        tensor compressing across a front only or (``isotropic``) in every direction."""
+        tensor compressing across a front only or (``isotropic``) in every direction;
+        ``capped``: with the shear cap of the guard's bound (:func:`shear_cap`)."""
         graph, r, largest = self.graph, self.r, self.largest
         tensors = []
-        for block in self.blocks:
+        for k, block in enumerate(self.blocks):
             beta = bilinear(strength[block.ids][..., None], block.u, block.v)[..., 0]
-            tensors.append(diffusion_tensor(block.gradient, block.tensor, beta, largest, isotropic))
+            shear = self.shear[k] if capped else None
+            tensors.append(
+                diffusion_tensor(block.gradient, block.tensor, beta, largest, isotropic, shear)
+            )
         points = graph.points.copy()
         params = [piece.s.copy() for piece in self.pieces]
         # each run's share of the way along it at its refined points, in run order: an
