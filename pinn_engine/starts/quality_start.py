@@ -11,7 +11,7 @@ the auxiliary lines (beyond what the boundary nodes fix), then by the worst
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -398,11 +398,20 @@ def slide_onto_lines(grid: np.ndarray, ranking: Ranking) -> np.ndarray:
                 field[:, axis] = solve(spread @ np.concatenate([moves[k] for k in which]))
         return field
 
+    return _pulled(grid, ranking, lambda g, step: _slide_round(g, curves, axes, smoothest, step))
+
+
+def _pulled(
+    grid: np.ndarray, ranking: Ranking, move: Callable[[np.ndarray, float], np.ndarray]
+) -> np.ndarray:
+    """``grid`` moved by ``move(grid, step)`` in up to ``PULL_ROUNDS`` rounds while it is
+    further from the lines than the ranking's tolerance, halving a step that folds more or
+    comes no closer (down to ``PULL_MIN_STEP``)."""
     q, step = ranking.quality(grid), 1.0
     for _ in range(PULL_ROUNDS):
         if q["aux_distance"] <= ranking.line_tol or step < PULL_MIN_STEP:
             break
-        moved = _slide_round(grid, curves, axes, smoothest, step)
+        moved = move(grid, step)
         q_moved = ranking.quality(moved)
         if (
             q_moved["folded_cells"] > q["folded_cells"]
@@ -453,22 +462,14 @@ def slide_to_crossings(grid: np.ndarray, ranking: Ranking) -> np.ndarray:
         for line, v in zip(ranking.lines, vertical, strict=True)
         if not v
     ]
-    q, step = ranking.quality(grid), 1.0
-    for _ in range(PULL_ROUNDS):
-        if q["aux_distance"] <= ranking.line_tol or step < PULL_MIN_STEP:
-            break
+
+    def move(grid: np.ndarray, step: float) -> np.ndarray:
         moved = _slide_rows(grid, rows, step) if rows else grid
         if columns:
             moved = _slide_rows(moved.transpose(1, 0, 2), columns, step).transpose(1, 0, 2)
-        q_moved = ranking.quality(moved)
-        if (
-            q_moved["folded_cells"] > q["folded_cells"]
-            or q_moved["aux_distance"] >= q["aux_distance"]
-        ):
-            step /= 2
-            continue
-        grid, q = moved, q_moved
-    return grid
+        return moved
+
+    return _pulled(grid, ranking, move)
 
 
 def _slide_rows(grid: np.ndarray, lines: Sequence[AuxLine], step: float) -> np.ndarray:
