@@ -229,12 +229,14 @@ def test_a_turned_plate_s_corner_spokes_take_the_box_corners_spokes_they_would_c
     assert sum(np.linalg.norm(ring.box - s[1], axis=1).min() == 0.0 for s in spokes) == 4
 
 
-@pytest.mark.slow  # the search meshes the plate's shortlisted layouts: about 5 s
-def test_a_turned_plate_in_a_channel_meshes_with_its_corners_as_nodes(tmp_path):
-    """The plate at 10 degrees in a channel was refused (a block with a hole or a loop)."""
-    path = tmp_path / "plate.vtp"
-    plate = _plate()
-    lines = [np.r_[CHANNEL, CHANNEL[:1]], np.r_[plate, plate[:1]]]
+@pytest.mark.slow  # the search meshes the shortlisted layouts: about 5 s each
+@pytest.mark.parametrize("body", ["plate", "diamond"])
+def test_a_turned_body_in_a_channel_meshes_with_its_corners_as_nodes(tmp_path, body):
+    """A plate at 10 degrees (it was refused: a block with a hole or a loop) and a square
+    turned 45 degrees in a channel: every corner of the body is a node of the grid."""
+    corners = _plate() if body == "plate" else DIAMOND
+    path = tmp_path / f"{body}.vtp"
+    lines = [np.r_[CHANNEL, CHANNEL[:1]], np.r_[corners, corners[:1]]]
     poly = pv.PolyData()
     poly.points = np.vstack([np.c_[r, np.zeros(len(r))] for r in lines])
     poly.lines = np.r_[5, 0, 1, 2, 3, 4, 5, 5, 6, 7, 8, 9]
@@ -242,22 +244,7 @@ def test_a_turned_plate_in_a_channel_meshes_with_its_corners_as_nodes(tmp_path):
     out = tmp_path / "g.vtm"
     assert main([str(path), "--blocks", "auto", *FAST, "-o", str(out)]) == 0
     nodes = np.vstack(_vtm_points(out))[:, :2]
-    for corner in plate:
-        assert np.linalg.norm(nodes - corner, axis=1).min() < 1e-12
-
-
-@pytest.mark.slow
-def test_a_square_turned_45_degrees_in_a_channel_meshes_with_its_corners_as_nodes(tmp_path):
-    path = tmp_path / "diamond.vtp"
-    lines = [np.r_[CHANNEL, CHANNEL[:1]], np.r_[DIAMOND, DIAMOND[:1]]]
-    poly = pv.PolyData()
-    poly.points = np.vstack([np.c_[r, np.zeros(len(r))] for r in lines])
-    poly.lines = np.r_[5, 0, 1, 2, 3, 4, 5, 5, 6, 7, 8, 9]
-    poly.save(path)
-    out = tmp_path / "g.vtm"
-    assert main([str(path), "--blocks", "auto", *FAST, "-o", str(out)]) == 0
-    nodes = np.vstack(_vtm_points(out))[:, :2]
-    for corner in DIAMOND:
+    for corner in corners:
         assert np.linalg.norm(nodes - corner, axis=1).min() < 1e-12
 
 
