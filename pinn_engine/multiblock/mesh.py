@@ -58,6 +58,7 @@ from pinn_engine.multiblock.walls import (
     check_names,
     wall_report,
     wall_sides,
+    with_walls,
 )
 from pinn_engine.quality import cell_quality, ranks_above, summary
 from pinn_engine.settings import MAX_NODES, MULTIBLOCK_METHODS, Settings
@@ -181,7 +182,7 @@ def mesh_blocks(
     lines = linework(rings, edges, names, source)
     topo = topology(lines)
     h = settings.cell_size or default_cell_size(lines.diagonal)
-    walls = walls or Walls()
+    walls = with_walls(walls or Walls(), piece_patches(topo, patch_points))
     fixed = {nearest_piece(topo, item): item for item in cells}
     counts = cell_counts(topo, h, fixed)
     sized = _cells(topo, counts)  # the cells of the cell size alone, before any grading

@@ -17,12 +17,16 @@ import numpy as np
 from pinn_engine.errors import InputError
 from pinn_engine.multiblock.chains import SideItem
 from pinn_engine.multiblock.layout import side_lines
-from pinn_engine.multiblock.patches import PIECES, PatchPiece, point_of
+from pinn_engine.multiblock.patches import PIECES, RING, PatchPiece, point_of
 from pinn_engine.patchnames import checked_name
 
 # Wall nodes this many positions or fewer from a block's corner are left out of the wall
 # angle figures (SPEC 7: "the two nodes nearest each corner excepted")
 ANGLE_CORNER_NODES = 1
+# ``--spacing walls=H`` and ``--orthogonal walls``, where no patch has this name: every patch
+# of type wall, else the boundary the user did not name (its default names, boundary and
+# holeK), as a CFD user means "the walls" beside the inlet and outlet they named
+WALLS = "walls"
 
 
 @dataclass(frozen=True)
@@ -69,6 +73,32 @@ def parse_walls(spacing: Sequence[str] = (), orthogonal: Sequence[str] = ()) -> 
         )
     )
     return Walls(out, names, tuple(sides))
+
+
+def with_walls(walls: Walls, specs: Sequence[tuple[str, str] | None]) -> Walls:
+    """``walls`` with the name ``WALLS`` (where no patch has it) read as the patches it
+    means, given each piece's (name, type) ``specs`` (None: an interface): those of type
+    wall, else those of the default names; a name also given on its own keeps its own
+    spacing."""
+    names = {spec[0]: spec[1] for spec in specs if spec is not None}
+    if WALLS not in walls.names or WALLS in names:
+        return walls
+    meant = sorted(n for n, kind in names.items() if kind == "wall") or sorted(
+        n for n, kind in names.items() if kind == "patch" and RING.match(n)
+    )
+    if not meant:
+        raise InputError(
+            f"{WALLS}: no patch of type wall and none left unnamed; the patches are "
+            f"{', '.join(sorted(names))} (give the walls' type with {{pieces}})"
+        )
+    spacing = {n: h for n, h in walls.spacing.items() if n != WALLS}
+    if WALLS in walls.spacing:
+        for name in meant:
+            spacing.setdefault(name, walls.spacing[WALLS])
+    orthogonal = [n for n in walls.orthogonal if n != WALLS]
+    if WALLS in walls.orthogonal:
+        orthogonal += [n for n in meant if n not in orthogonal]
+    return Walls(spacing, tuple(orthogonal), walls.sides)
 
 
 def check_names(walls: Walls, patches: list[list[PatchPiece]]) -> None:

@@ -190,3 +190,39 @@ def test_a_block_with_two_wall_sides_keeps_both_stretchings(tmp_path):
     assert np.abs(first_edges(walls) / h - 1).max() <= 0.1
     assert wall_angles(walls).max() <= 2.0
     assert max(float(b.cell_data["MaxIncludedAngle"].max()) for b in grid) < 100.0
+
+
+def test_walls_means_the_wall_patches_else_the_unnamed_boundary():
+    """``walls`` (no patch so named): the patches of type wall, else the boundary left with
+    its default names; a name given on its own keeps its spacing; nothing to mean is one
+    line naming the fix."""
+    from pinn_engine.errors import InputError
+    from pinn_engine.multiblock.walls import parse_walls, with_walls
+
+    asked = parse_walls(["walls=0.01", "hole1=0.002"], ["walls"])
+    typed = [("inlet", "inflow"), ("top", "wall"), ("floor", "wall"), None, ("hole1", "patch")]
+    meant = with_walls(asked, typed)
+    assert meant.spacing == {"hole1": 0.002, "floor": 0.01, "top": 0.01}
+    assert meant.orthogonal == ("floor", "top")
+    untyped = [("inlet", "inflow"), ("boundary", "patch"), ("hole1", "patch"), None]
+    meant = with_walls(asked, untyped)
+    assert meant.spacing == {"hole1": 0.002, "boundary": 0.01}
+    assert meant.orthogonal == ("boundary", "hole1")
+    named = [("walls", "patch"), ("inlet", "inflow")]  # a patch named walls is itself
+    assert with_walls(asked, named) == asked
+    with pytest.raises(InputError, match=r"walls: no patch of type wall .* inlet, outlet \("):
+        with_walls(asked, [("inlet", "inflow"), ("outlet", "outflow")])
+
+
+def test_walls_on_a_step_drawn_without_patches_is_its_whole_boundary(tmp_path):
+    """``example_data/step.vtp --blocks auto --spacing walls=0.01``: the grid of
+    ``--spacing boundary=0.01``, every corner of the step a node."""
+    grids = []
+    for name in ("walls", "boundary"):
+        out = tmp_path / f"{name}.vtm"
+        argv = [str(EXAMPLES / "step.vtp"), "--blocks", "auto", "--spacing", f"{name}=0.01"]
+        assert main([*argv, "-o", str(out), "--quiet"]) == 0
+        grids.append(np.vstack([b.points for b in pv.read(out)]))
+    np.testing.assert_array_equal(*grids)
+    corners = pv.read(EXAMPLES / "step.vtp").points
+    assert max(np.linalg.norm(grids[0] - c, axis=1).min() for c in corners) == 0.0
