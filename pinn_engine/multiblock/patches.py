@@ -26,8 +26,13 @@ PIECES = "{pieces}"  # the route token an error about a piece's name or type poi
 # piece is refused: a point meant for a piece lies on or near it; one this far is a typo
 FAR = 0.05
 # A --patch point whose two nearest pieces are within this share of the diagonal of each
-# other's distance is refused as ambiguous (a point at the corner between two pieces)
+# other's distance lies where they meet: it names both where they continue one straight side
+# (a block corner on it, as automatic blocking places them), and is refused as ambiguous at
+# a corner of the boundary
 TIE = 1e-3
+# two pieces continue one straight side where their directions at the end they share differ
+# by less than this many degrees (a drawn corner turns by more: SPEC 1's sharp corners)
+STRAIGHT = 1.0
 
 
 @dataclass(frozen=True)
@@ -112,9 +117,21 @@ def _default_names(topo: Topology) -> list[str | None]:
     return out
 
 
-def _nearest(topo: Topology, point: PatchPoint, candidates: list[int]) -> int:
-    """The boundary piece nearest ``point``; refused when it is far from all or when two
-    are about as near."""
+def _continued(topo: Topology, a: int, b: int) -> bool:
+    """Whether pieces ``a`` and ``b`` share an end where they continue one straight side."""
+    pa, pb = topo.pieces[a].points, topo.pieces[b].points
+    for ea, eb in ((0, 0), (0, -1), (-1, 0), (-1, -1)):
+        if np.allclose(pa[ea], pb[eb]):
+            da = pa[1 if ea == 0 else -2] - pa[ea]  # each leaving the shared end
+            db = pb[1 if eb == 0 else -2] - pb[eb]
+            cos = -np.dot(da, db) / (np.linalg.norm(da) * np.linalg.norm(db))
+            return cos >= np.cos(np.radians(STRAIGHT))
+    return False
+
+
+def _nearest(topo: Topology, point: PatchPoint, candidates: list[int]) -> list[int]:
+    """The boundary piece nearest ``point``, or the two it lies between where they continue
+    one straight side; refused when it is far from all or between two at a corner."""
     p = Point(point.x, point.y)
     dist = np.array([LineString(topo.pieces[k].points).distance(p) for k in candidates])
     order = np.argsort(dist)
@@ -126,11 +143,16 @@ def _nearest(topo: Topology, point: PatchPoint, candidates: list[int]) -> int:
             f"boundary piece (at most {FAR * diagonal:.3g}); put it on the piece to name"
         )
     if len(order) > 1 and dist[order[1]] - dist[order[0]] <= TIE * diagonal:
-        raise InputError(
-            f"patch {where}={point.name}: the point is as near to two boundary pieces (a "
-            "junction or a block corner); put it inside the piece to name"
-        )
-    return candidates[order[0]]
+        pair = [candidates[order[0]], candidates[order[1]]]
+        if len(order) > 2 and dist[order[2]] - dist[order[0]] <= TIE * diagonal:
+            pair = []  # three pieces meet there: no one side to name
+        if not pair or not _continued(topo, *pair):
+            raise InputError(
+                f"patch {where}={point.name}: the point is as near to two boundary pieces (a "
+                "corner of the boundary); put it inside the piece to name"
+            )
+        return pair
+    return [candidates[order[0]]]
 
 
 def _ring_pieces(topo: Topology, defaults: list[str | None], item: PatchRing) -> list[int]:
@@ -150,7 +172,8 @@ def piece_patches(
     topo: Topology, items: Sequence[PatchPoint | PatchRing]
 ) -> list[tuple[str, str] | None]:
     """Each piece's (patch name, type), None for interfaces: defaults, then the ring items,
-    then the point items (a point names one piece of a ring named as a whole). Pieces of
+    then the point items (a point names one piece of a ring named as a whole, or the two it
+    lies between on one straight side). Pieces of
     one name must agree on its type; a name without a type gets the type given to it
     elsewhere, else ``default_type``."""
     defaults = _default_names(topo)
@@ -167,12 +190,12 @@ def piece_patches(
                 names[k] = item.name
         else:
             where = f"({item.x:g}, {item.y:g})"
-            k = _nearest(topo, item, boundary)
-            if named.setdefault(k, item.name) != item.name:
-                raise InputError(
-                    f"patch {where}={item.name}: that piece is already named {named[k]}"
-                )
-            names[k] = item.name
+            for k in _nearest(topo, item, boundary):
+                if named.setdefault(k, item.name) != item.name:
+                    raise InputError(
+                        f"patch {where}={item.name}: that piece is already named {named[k]}"
+                    )
+                names[k] = item.name
         if item.kind is not None and given.setdefault(item.name, item.kind) != item.kind:
             raise InputError(
                 f"patch {item.name!r} is given two types, {given[item.name]} and {item.kind} "

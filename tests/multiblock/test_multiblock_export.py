@@ -400,3 +400,19 @@ def test_icofoam_reaches_a_steady_state_on_the_cylinder(tmp_path):
     assert ux[-1] < STEADY < ux[0]
     local = [float(v) for v in re.findall(r"sum local = ([^,]+)", log)]
     assert local[-1] < CONTINUITY
+
+
+def test_a_point_where_a_straight_side_is_split_names_both_pieces(tmp_path, capsys):
+    """Automatic blocking splits the step's outlet at its middle (a block corner on a
+    straight side): a point there names both halves; at the step's lip (a corner of the
+    boundary) it is refused as before."""
+    step = str(EXAMPLES / "step.vtp")
+    out = tmp_path / "case"
+    argv = [step, "--blocks", "auto", "--patch", "-2,1.5=inlet:inflow"]
+    argv += ["--patch", "6,1=outlet:outflow", "--format", "openfoam", "--extrude", "0.1"]
+    assert main([*argv, "-o", str(out), "--quiet"]) == 0
+    boundary = (out / "constant" / "polyMesh" / "boundary").read_text()
+    faces = dict(re.findall(r"(\w+)\s*\{[^}]*?nFaces\s+(\d+);", boundary))
+    assert int(faces["outlet"]) == 2 * int(faces["inlet"])  # the whole outlet, twice the inlet
+    code = main([step, "--blocks", "auto", "--patch", "0,1=lip", "-o", str(tmp_path / "g.vtm")])
+    assert code == 2 and "a corner of the boundary" in capsys.readouterr().err
