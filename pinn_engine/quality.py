@@ -117,7 +117,7 @@ def corner_angles_and_folds(
     ``orientation`` (+1 or -1): a guard that checks some cells of a grid many times."""
     cells = _Cells(None, corners)
     cells.orientation = orientation
-    return cells.angles()[0], cells.folded()
+    return cells.max_angles(), cells.folded()
 
 
 def cell_quality(grid: np.ndarray) -> dict[str, np.ndarray]:
