@@ -29,4 +29,5 @@ check: lint
 
 test: lint
 	$(VENV)/bin/python -m pytest -n $(JOBS) -m "not gui"
-	$(VENV)/bin/python -m pytest -n $(JOBS) --dist loadfile -m gui
+	$(VENV)/bin/python -m pytest -n $(JOBS) --dist loadfile -m gui; status=$$?; \
+		[ $$status -eq 0 ] || [ $$status -eq 5 ]  # 5: no GUI test ran (no ParaView: they skip)
