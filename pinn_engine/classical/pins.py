@@ -7,7 +7,9 @@ joining them. Two steps tie each such vertex to a node, both by one assignment
 
 - :func:`pinned_boundary` reparametrizes each side, piecewise linearly in arc length
   between its sharp vertices, so that the uniform nodes of the start's lattice land on
-  them: the start, the training and the guard all see them as nodes;
+  them: the start, the training and the guard all see them as nodes. The ends of the
+  auxiliary lines followed are pinned with them, so that the grid line along a drawn line
+  starts where the line does, not on a chord past a curved side;
 - :func:`pin_sharp` moves the nodes of a grid of another size or distribution (a
   spacing's) onto them, only the nodes assigned (the spacing asked at the corners' walls
   stays), the move spread into the domain as TFI blends the sides.
@@ -22,7 +24,11 @@ import numpy as np
 
 from pinn_engine.classical.tfi import tfi_of_sides
 from pinn_engine.geometry.auxlines import AuxLine
-from pinn_engine.geometry.boundary import SHARP_TURN, SIDES, Boundary, turning_angles
+from pinn_engine.geometry.boundary import SHARP_TURN, SIDES, Boundary, Polyline, turning_angles
+
+# arc-length fraction within which a line's end is taken to be at a corner, a sharp vertex or
+# another line's end (it shares their node): far below any lattice's node spacing
+MERGED = 1e-6
 
 
 def side_sharp_params(points: np.ndarray, t: np.ndarray) -> np.ndarray:
@@ -118,16 +124,48 @@ def _blend(params: np.ndarray, maps: dict[str, tuple[np.ndarray, np.ndarray]]) -
     return out
 
 
-def pinned_boundary(boundary: Boundary, ni: int, nj: int) -> Boundary:
-    """``boundary`` with each side whose sharp inner vertices are not all at uniform nodes
-    of an ``ni`` x ``nj`` lattice reparametrized so that they are (``Boundary.knots``);
-    ``boundary`` itself where none needs it."""
+def line_ends(lines: Sequence[AuxLine], side: str) -> np.ndarray:
+    """The arc-length parameters on ``side`` where auxiliary ``lines`` (mapped on the
+    arc-length sides, SPEC 2) end; lines given their own (xi, eta) have no mapped ends."""
+    ends = []
+    for line in lines:
+        if line.sides is None:
+            continue
+        axis = 0 if line.sides[0] == "bottom" else 1  # the parameter along the end's side
+        for end, name in ((line.xi_eta[0], line.sides[0]), (line.xi_eta[-1], line.sides[1])):
+            if name == side:
+                ends.append(float(end[axis]))
+    return np.asarray(ends)
+
+
+def _side_vertices(line: Polyline, ends: np.ndarray) -> list[np.ndarray]:
+    """The parameters a side's nodes should sit on, the most wanted first: its sharp vertices
+    with the auxiliary lines' ``ends`` (apart from them and from the corners by at least
+    ``MERGED``), then the sharp vertices alone."""
+    sharp = side_sharp_params(line.points, line.t)
+    anchors = np.concatenate([[0.0, 1.0], sharp])
+    far = [t for t in np.unique(ends) if np.abs(anchors - t).min() > MERGED]
+    far = [t for k, t in enumerate(far) if k == 0 or t - far[k - 1] > MERGED]
+    return [np.sort(np.concatenate([sharp, far])), sharp] if far else [sharp]
+
+
+def pinned_boundary(
+    boundary: Boundary, ni: int, nj: int, lines: Sequence[AuxLine] = ()
+) -> Boundary:
+    """``boundary`` with each side whose sharp inner vertices, and the ends of auxiliary
+    ``lines`` on it, are not all at uniform nodes of an ``ni`` x ``nj`` lattice
+    reparametrized so that they are (``Boundary.knots``): a cell edge then neither cuts a
+    corner off nor misses where a drawn line meets a curved side. Where the ends leave no
+    assignment (more of them than nodes) only the sharp vertices are pinned; ``boundary``
+    itself where nothing moves."""
     knots = []
     for side in SIDES:
         line = boundary.arc_side(side)
-        vertices = side_sharp_params(line.points, line.t)
         nodes = np.linspace(0.0, 1.0, ni if side in ("bottom", "top") else nj)
-        picks = assign(nodes, vertices)
+        for vertices in _side_vertices(line, line_ends(lines, side)):
+            picks = assign(nodes, vertices)
+            if picks is not None:
+                break
         if picks is None or np.array_equal(nodes[picks], vertices):
             continue
         ends = np.array([0.0, 1.0])
@@ -137,7 +175,8 @@ def pinned_boundary(boundary: Boundary, ni: int, nj: int) -> Boundary:
 
 def pinned_lines(lines: Sequence[AuxLine], boundary: Boundary) -> list[AuxLine]:
     """Auxiliary lines mapped on the arc-length sides, their (xi, eta) on ``boundary``'s
-    reparametrized sides (:func:`pinned_boundary`): an end on a side keeps its point."""
+    reparametrized sides (:func:`pinned_boundary`): an end on a side keeps its point, on a
+    node where the side was pinned with the lines."""
     if not boundary.knots:
         return list(lines)
     maps = {side: (arc, param) for side, arc, param in boundary.knots}

@@ -51,10 +51,13 @@ class Polyline:
 
     def reparametrized(self, arc: np.ndarray, param: np.ndarray) -> Polyline:
         """The same polyline with its parameter the piecewise-linear map of the arc-length
-        fraction through the knots (``arc``, ``param``), both increasing from 0 to 1."""
+        fraction through the knots (``arc``, ``param``), both increasing from 0 to 1; a knot
+        inside a segment becomes a point of it, so that the knot's parameter is exactly there."""
+        t = np.union1d(self.t, arc)
         line = Polyline.__new__(Polyline)
-        line.points, line.length = self.points, self.length
-        line.t = np.interp(self.t, arc, param)
+        line.points, line.length = self.at(t), self.length
+        line.points[np.searchsorted(t, self.t)] = self.points  # its own points bit for bit
+        line.t = np.interp(t, arc, param)
         return line
 
     def at(self, t: np.ndarray) -> np.ndarray:

@@ -8,9 +8,16 @@ import itertools
 import numpy as np
 import pytest
 
-from pinn_engine.classical.pins import assign, pin_sharp, pinned_boundary, placed_on_boundary
+from pinn_engine.classical.pins import (
+    assign,
+    pin_sharp,
+    pinned_boundary,
+    pinned_lines,
+    placed_on_boundary,
+)
 from pinn_engine.classical.spacing import param_grid
 from pinn_engine.classical.tfi import tfi_at
+from pinn_engine.geometry.auxlines import RawLine, map_lines
 from pinn_engine.geometry.boundary import Boundary
 
 # a 3 x 1.5 box whose bottom side climbs a trapezoidal bump: four vertices turning 45 degrees
@@ -89,3 +96,41 @@ def test_a_grid_near_the_boundary_is_placed_on_it_with_every_sharp_vertex_a_node
     for vertex in boundary.frame.to_unit(BUMP[1:5]):
         assert np.linalg.norm(placed[0] - vertex, axis=1).min() == 0.0
     assert np.all(np.diff(placed[0, :, 0]) > 0)
+
+
+def _round_bump(n: int = 200) -> np.ndarray:
+    """A 3 x 1.5 box whose bottom side is a smooth bump (no sharp vertex), counter-clockwise."""
+    x = np.linspace(0.0, 3.0, n)
+    bottom = np.column_stack([x, 0.4 * np.exp(-(((x - 1.5) / 0.4) ** 2))])
+    return np.vstack([bottom, [[3.0, 1.5], [0.0, 1.5]]])
+
+
+def test_a_drawn_lines_ends_are_lattice_nodes_where_it_meets_a_curved_side():
+    boundary = Boundary.from_points(_round_bump())
+    drawn = np.array([[1.17, 0.2], [1.8, 1.5]])  # from the bump's flank to the top
+    start = boundary.side("bottom").project(boundary.frame.to_unit(np.array([[1.17, 0.2]])))[0]
+    line = map_lines([RawLine(drawn, None, "drawn")], boundary)
+    pinned = pinned_boundary(boundary, 21, 11, line)
+    assert "bottom" in [side for side, _, _ in pinned.knots]
+    (on,) = pinned_lines(line, pinned)
+    ends = on.xi_eta[[0, -1], 0] * 20  # the line's xi at its ends, in node steps
+    assert ends == pytest.approx(np.rint(ends), abs=1e-12)  # on lattice nodes
+    nodes = pinned.side("bottom").at(np.linspace(0, 1, 21))
+    assert np.linalg.norm(nodes - on.xy[0], axis=1).min() < 1e-12  # the end is a node
+    assert on.xy[0] == pytest.approx(boundary.side("bottom").at(np.array([start]))[0])
+    # without the line the smooth side keeps its arc-length parameter
+    assert pinned_boundary(boundary, 21, 11) is boundary
+
+
+def test_line_ends_too_many_for_the_nodes_leave_the_sharp_vertices_pinned():
+    boundary = Boundary.from_points(BUMP)
+    # twelve lines beside the bump, more ends than a 5-node bottom has inside
+    x = np.r_[np.linspace(0.1, 0.95, 6), np.linspace(2.1, 2.9, 6)]
+    lines = map_lines(
+        [RawLine(np.array([[u, 0.0], [u, 1.5]]), None, f"l{k}") for k, u in enumerate(x)],
+        boundary,
+    )
+    with_lines, alone = (pinned_boundary(boundary, 9, 5, ends) for ends in (lines, ()))
+    assert [side for side, _, _ in with_lines.knots] == ["bottom"]
+    for (_, *knots), (_, *expected) in zip(with_lines.knots, alone.knots, strict=True):
+        assert all(np.array_equal(a, b) for a, b in zip(knots, expected, strict=True))

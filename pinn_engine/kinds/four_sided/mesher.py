@@ -81,11 +81,13 @@ class Mesher:
         ``progress(info)`` is called during training; returning True cancels it.
         """
         working_spacing(self.settings.spacing, boundary)  # checked before any work
-        # a node on every sharp vertex inside a side, at the start's lattice
-        boundary = pinned_boundary(boundary, *lattice_for(*self.settings.lattice))
-        self.boundary_ = boundary
         pinn = self.settings.method == "pinn"
-        self.aux_lines_ = pinned_lines(aux_lines, boundary) if pinn else []
+        followed = aux_lines if pinn else ()
+        # a node on every sharp vertex inside a side and every followed line's end, at the
+        # start's lattice
+        boundary = pinned_boundary(boundary, *lattice_for(*self.settings.lattice), followed)
+        self.boundary_ = boundary
+        self.aux_lines_ = pinned_lines(followed, boundary)
         self.model_ = None
         self.train_seconds_ = 0.0
         if self.settings.method in NEURAL:

@@ -55,6 +55,8 @@ class TrainedModel:
                 "scale": b.frame.scale,
                 "plane_origin": torch.as_tensor(b.plane.origin),
                 "plane_axes": torch.as_tensor(b.plane.axes),
+                # the sides as trained: nodes on sharp vertices and followed lines' ends
+                "knots": [(side, torch.as_tensor(a), torch.as_tensor(t)) for side, a, t in b.knots],
             },
             "history": self.history,
             "info": self.info,
@@ -116,8 +118,16 @@ class TrainedModel:
             if not same:
                 raise InputError("model was trained for a different boundary", src)
             saved = dataclasses.replace(saved, source=boundary.source, plane=boundary.plane)
-        # the sides as the model was trained on them (Mesher.fit)
-        saved = pinned_boundary(saved, *lattice_for(*settings.lattice))
+        # the sides as the model was trained on them (Mesher.fit); a model saved without
+        # them had its sharp vertices alone pinned
+        knots = bd.get("knots")
+        saved = (
+            pinned_boundary(saved, *lattice_for(*settings.lattice))
+            if knots is None
+            else dataclasses.replace(
+                saved, knots=tuple((side, a.numpy(), t.numpy()) for side, a, t in knots)
+            )
+        )
         return cls(
             Mapping(net, saved, settings.boundary_mode, warm),
             settings,
