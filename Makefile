@@ -7,7 +7,8 @@ STAMP := $(VENV)/.installed
 .PHONY: setup demo lint check test
 setup: $(STAMP)
 
-$(STAMP): pyproject.toml setup.py pinn_engine/neural/jet/kernels.cpp scripts/setup.sh
+$(STAMP): pyproject.toml setup.py pinn_engine/neural/jet/kernels.cpp pinn_engine/bodies/march.cpp \
+		scripts/setup.sh
 	bash scripts/setup.sh
 
 demo: $(STAMP)

@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 PYTHON=${PYTHON:-python3}
 stamp=.venv/.installed
 # what the install builds from: the package's metadata and the C++ kernels it compiles
-sources=(pyproject.toml setup.py pinn_engine/neural/jet/kernels.cpp)
+sources=(pyproject.toml setup.py pinn_engine/neural/jet/kernels.cpp pinn_engine/bodies/march.cpp)
 fresh=1
 for source in "${sources[@]}"; do
   [ -f "$stamp" ] && [ "$stamp" -nt "$source" ] || fresh=0

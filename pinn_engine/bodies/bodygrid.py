@@ -44,6 +44,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pinn_engine.bodies import marching
 from pinn_engine.bodies.airfoil import Body, FarField
 from pinn_engine.classical.elliptic import winslow_coefficients, winslow_operator
 from pinn_engine.classical.spacing import exact_stretch
@@ -446,6 +447,42 @@ def rear_start(inner: np.ndarray, n_wake: int) -> np.ndarray:
     return np.where(np.arange(ni) < ni // 2, x_lo, x_up)
 
 
+def _march_constants(topology: str) -> list[float]:
+    """:func:`march`'s constants as the compiled loop takes them (march.cpp's Constants)."""
+    return [
+        NORMAL_REACH,
+        NORMAL_SMOOTHING,
+        CONCAVE_SMOOTHING,
+        ROW_SMOOTHING_MAX,
+        SPREAD,
+        REAR_REACH,
+        SUBSTEP,
+        MAX_SUBSTEPS,
+        SPACING_RATE[topology],
+        CORNER_COS,
+    ]
+
+
+@dataclass
+class _Marching:
+    """What each of :func:`march`'s rows reads beside the row before it: the wall row's
+    spacing, a blunt C-grid's corner weights (ni, 1) or None, the nodes whose spacing limits
+    a sub-step, and the C-grid's turn behind its thickest point (rear weights (ni, 1),
+    lengths (ni, 1) and the vertical directions (ni, 2); None for the O-grid)."""
+
+    topology: str
+    scale: float
+    n_wake: int
+    passes: int
+    tangent: float
+    spacing0: np.ndarray
+    corner: np.ndarray | None
+    free: np.ndarray
+    rear: np.ndarray | None = None
+    turn_length: np.ndarray | None = None
+    vertical: np.ndarray | None = None
+
+
 def march(
     inner: np.ndarray,
     topology: str,
@@ -462,9 +499,8 @@ def march(
     (relative to ``scale``, the chord) and where it has shrunk (lines converging off a
     concave wall); and from the wall on, by a weight that decays away from it, around the
     concave corners where a blunt C-grid's cut leaves its base of length ``base`` (see
-    ``CORNER_REACH``)."""
-    rows = [inner]
-    spacing0 = _row_spacing(inner, topology)
+    ``CORNER_REACH``). The rows after the first are marched by the compiled loop
+    (``marching.py``) where it was built, else by :func:`_march_numpy`: the same grid."""
     corner = None  # the weight of a blunt C-grid's concave corners at its base
     free = np.ones(len(inner), dtype=bool)  # the nodes whose spacing limits a sub-step
     if topology == "c" and base > 0:
@@ -472,32 +508,76 @@ def march(
         reach = min(CORNER_REACH * base / 2, CORNER_REACH_MAX * scale)
         corner = np.exp(-distance / reach)[:, None]
         free = distance > base
-    rear = None
+    setup = _Marching(
+        topology, scale, n_wake, passes, tangent, _row_spacing(inner, topology), corner, free
+    )
     if topology == "c":
         # behind the thickest point the C-grid's columns turn straight down (lower side)
         # or up (upper side) within ``REAR_TURN`` chords of the wall, as the wake's do (the
         # aft surface's normals lean downstream and would overtake the wake's columns); the
         # base's columns (the nodes not ``free``) within the base's height if it is larger
-        turn_length = np.where(free, REAR_TURN * scale, max(REAR_TURN * scale, base))[:, None]
+        setup.turn_length = np.where(free, REAR_TURN * scale, max(REAR_TURN * scale, base))[:, None]
         ni = len(inner)
         x = inner[:, 0]
         x_t = rear_start(inner, n_wake)
         share = np.clip((x - x_t) / (x[n_wake] - x_t), 0.0, 1.0)
         share[: n_wake + 1] = share[ni - n_wake - 1 :] = 1.0
-        rear = np.where(x >= x_t, 1.0, 0.0)[:, None] * (
+        setup.rear = np.where(x >= x_t, 1.0, 0.0)[:, None] * (
             REAR_TURN_START + (1 - REAR_TURN_START) * share[:, None]
         )
         side = np.where(np.arange(ni) < ni // 2, -1.0, 1.0)
-        vertical = np.column_stack([np.zeros(ni), side])
-    q = inner
-    for j in range(1, len(distances)):
+        setup.vertical = np.column_stack([np.zeros(ni), side])
+    rows = np.empty((len(distances), len(inner), 2))
+    rows[0] = inner
+    if len(distances) > 1:
+        rows[1] = first_row(inner, topology, distances[1] - distances[0])
+    lib = marching.library()
+    if lib is None or _march_compiled(lib, rows, distances, setup):
+        _march_numpy(rows, distances, setup)
+    return rows
+
+
+def _array(a: np.ndarray | None, dtype=np.float64) -> np.ndarray | None:
+    return None if a is None else np.ascontiguousarray(a, dtype=dtype)
+
+
+def _march_compiled(lib, rows: np.ndarray, distances: np.ndarray, setup: _Marching) -> int:
+    """Rows 2 .. of ``rows`` marched by the compiled loop; non-zero where it stopped (a
+    sub-step count not finite: :func:`_march_numpy` then raises as before)."""
+    arrays = [
+        _array(setup.spacing0),
+        _array(setup.corner),
+        _array(setup.free, np.uint8),
+        _array(setup.rear),
+        _array(setup.turn_length),
+        _array(setup.vertical),
+        np.array(_march_constants(setup.topology)),
+    ]
+    dist = _array(distances)
+    return lib.march_rows(
+        rows.shape[1],
+        len(dist),
+        dist.ctypes.data,
+        float(setup.scale),
+        int(setup.topology == "o"),
+        setup.passes,
+        float(setup.tangent),
+        setup.n_wake,
+        *(None if a is None else a.ctypes.data for a in arrays),
+        rows.ctypes.data,
+    )
+
+
+def _march_numpy(rows: np.ndarray, distances: np.ndarray, setup: _Marching) -> None:
+    """Rows 2 .. of ``rows`` (the wall and the first row given) marched off the row before
+    each by NumPy operations (:func:`march`)."""
+    topology, scale, n_wake, passes = setup.topology, setup.scale, setup.n_wake, setup.passes
+    corner, rear, tangent, inner = setup.corner, setup.rear, setup.tangent, rows[0]
+    q = rows[1]
+    for j in range(2, len(distances)):
         step = distances[j] - distances[j - 1]
-        if j == 1:
-            q = first_row(inner, topology, step)
-            rows.append(q)
-            continue
         n = _row_normals(q, topology)
-        subs, rate = _substeps(q, n, step, topology, free)
+        subs, rate = _substeps(q, n, step, topology, setup.free)
         start, length, k, marched = distances[j - 1], step, 0, 0.0
         while k < subs:
             if k:
@@ -518,14 +598,14 @@ def march(
             for _ in range(passes):
                 n = _smooth_normals(n, NORMAL_SMOOTHING * weight, topology)
             if rear is not None:
-                turn = rear * np.minimum(1.0, (d - distances[1]) / turn_length)
+                turn = rear * np.minimum(1.0, (d - distances[1]) / setup.turn_length)
                 fade = math.exp(-d / (REAR_REACH * scale))
                 turn = np.where(rear > 0, 1 - (1 - turn) * fade, 0.0)
-                n = _units((1 - turn) * n + turn * vertical)
+                n = _units((1 - turn) * n + turn * setup.vertical)
             n *= length / subs
             q = q + n
             pad = _padded(q, topology)  # the row's neighbours: its spacing, then smoothed
-            shrink = 1 - lengths(_chords(pad, topology)) / spacing0  # clipped to 0 .. 1 below
+            shrink = 1 - lengths(_chords(pad, topology)) / setup.spacing0  # clipped below
             concave = np.maximum(np.minimum(ROW_SMOOTHING_MAX, CONCAVE_SMOOTHING * shrink), 0.0)
             concave = _pairs(concave)
             eps = grow * concave
@@ -550,8 +630,7 @@ def march(
                 q[body] = redistribute(q[body], SPREAD * grow, topology, passes)
             if topology == "c":  # the outflow columns march straight
                 q[0], q[-1] = inner[0] + (0, -d), inner[-1] + (0, d)
-        rows.append(q)
-    return np.stack(rows)
+        rows[j] = q
 
 
 def first_row(inner: np.ndarray, topology: str, h: float) -> np.ndarray:

@@ -261,12 +261,15 @@ def _private_dir(path: Path) -> Path:
     return path
 
 
-def _compile(compiler: str, folder: Path, target: Path, flags: list[str] = FLAGS) -> Path:
-    """Build the library into ``target`` in ``folder`` with ``flags``: complete or absent,
-    even if two processes build at once; readable and writable by this user alone."""
+def _compile(
+    compiler: str, folder: Path, target: Path, flags: list[str] = FLAGS, source: Path = SOURCE
+) -> Path:
+    """Build the library of ``source`` (the jet kernels') into ``target`` in ``folder`` with
+    ``flags``: complete or absent, even if two processes build at once; readable and
+    writable by this user alone."""
     fd, tmp = tempfile.mkstemp(suffix=".so.part", dir=folder)
     os.close(fd)
-    command = [compiler, *flags, "-o", tmp, str(SOURCE)]
+    command = [compiler, *flags, "-o", tmp, str(source)]
     shown = " ".join(command)
     try:
         try:
