@@ -21,6 +21,7 @@ from pinn_engine.routes.algorithm import PinnMeshAlgorithm
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
 from pinn_engine.starts.quality_start import (
+    LINE_TOL,
     Ranking,
     _slide_rows,
     _turn_term,
@@ -58,7 +59,7 @@ def test_quality_objective_beats_the_elliptic_grid_on_a_deep_notch():
     _, elliptic = elliptic_start(boundary, 41, 21)
     turn = result.report["aux_line_turn"][aux[0].name]
     assert turn <= crossing_turns(elliptic, aux)[aux[0].name] + 2.0
-    assert max(result.report["aux_line_distance"].values()) <= 1e-4
+    assert max(result.report["aux_line_distance"].values()) <= LINE_TOL
 
 
 @pytest.mark.slow  # the node optimisation with a line, at the size it bends
