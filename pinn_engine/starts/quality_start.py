@@ -54,10 +54,10 @@ BODY_STALL = 10
 # A grid follows the auxiliary lines when it misses them by at most LINE_TOL (of the
 # diagonal) more than the boundary nodes fix: half the 2e-3 at which a grid line counts as
 # on its drawn line, so that grids within it are ranked by their cells, not by a closeness
-# nobody asked (tighter, the ranking trades the worst cell for 1e-5 steps of distance); the
-# line term's weight in the node optimisation (squared distance in units of the lattice's
-# median shortest edge)
+# nobody asked (tighter, the ranking trades the worst cell for 1e-5 steps of distance)
 LINE_TOL = 1e-3
+# the line term's weight in the node optimisation (squared distance in units of the
+# lattice's median shortest edge)
 LINE_WEIGHT = 100.0
 # The crossing-turn term's weight in the node optimisation (its squared mean excess in
 # radians): a degree beyond its aim costs 0.03, as about two degrees of the worst angle do in
