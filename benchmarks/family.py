@@ -20,11 +20,13 @@ from the same ranges, 8 from ranges 25 % wider on each side):
   (the machine's load drifts between two batches), each pair's ratio and their median;
 - the models fitted on the first 6 and 12 training members (``--subsets``; targets
   recomputed): the worst-cell excess on the unseen members, and the wider members;
-- with ``--stages``, a body family's CPU seconds a member, default and ``--model`` runs in
-  turn (``--repeat`` times): the whole run, the layout (and its march off the wall), the
-  elliptic grid and the member's own optimisation and choice; and how far the family's
-  linear map (``network.fit_linear`` on the boundary encoding) predicts the far-field
-  nodes' angles, which the march places, on the unseen members.
+- with ``--stages``, the CPU seconds a member, default and ``--model`` cases in turn
+  (``--repeat`` times), each case as a batch worker runs it (``batch.task.run_case``:
+  reading, the run, writing) and the ratio of their medians; of a body's run the layout (and
+  its march off the wall), the elliptic grid and the member's own optimisation and choice;
+  and for an O-grid family how far the family's linear map (``network.fit_linear`` on the
+  boundary encoding) predicts the far-field nodes' angles, which the march places, on the
+  unseen members.
 
 It prints the tables and writes them between the markers of ``--out``.
 """
@@ -133,17 +135,23 @@ def compare(folder: Path, rows: list[dict], model, repeat: int = REPEAT) -> list
     return out
 
 
+def model_manifest(folder: Path, manifest: Path, model: Path) -> Path:
+    """``manifest`` with ``--model`` in every case's options, as ``unseen_model.csv``."""
+    rows = rows_of(manifest)
+    out = folder / "unseen_model.csv"
+    with out.open("w", newline="") as f:
+        w = csv.DictWriter(f, ["name", "input", "aux", "options"])
+        w.writeheader()
+        for row in rows:
+            w.writerow({**row, "options": f"{row['options']} --model {model}"})
+    return out
+
+
 def batch_median(folder: Path, manifest: Path, outdir: Path, model: Path | None) -> float:
     """The median seconds a member of ``pinn-mesh batch --workers 1`` (with ``--model``);
     the summary stays in ``outdir``."""
     if model is not None:
-        rows = rows_of(manifest)
-        manifest = folder / "unseen_model.csv"
-        with manifest.open("w", newline="") as f:
-            w = csv.DictWriter(f, ["name", "input", "aux", "options"])
-            w.writeheader()
-            for row in rows:
-                w.writerow({**row, "options": f"{row['options']} --model {model}"})
+        manifest = model_manifest(folder, manifest, model)
     subprocess.run(
         [PINN, "batch", str(manifest), "-o", str(outdir), "--workers", "1", "--force"],
         check=True,
@@ -178,6 +186,7 @@ def subset_errors(folder: Path, wide: Path, n: int) -> dict:
 
 
 STAGES = (  # (module, function, name) whose CPU time --stages adds up
+    ("pinn_engine.job", "run", "run"),
     ("pinn_engine.bodies.bodygrid", "layout", "layout"),
     ("pinn_engine.bodies.bodygrid", "march", "march"),
     ("pinn_engine.bodies.bodygrid", "elliptic", "elliptic"),
@@ -199,12 +208,14 @@ def _cpu_timer(f, key: str, spent: dict[str, float]):
     return timed_stage
 
 
-def stages(folder: Path, rows: list[dict], model, repeat: int = REPEAT) -> list[str]:
-    """The CPU seconds a member (median) of each unseen body member's default and family
-    runs, in turn, and of their ``STAGES``."""
+def stages(folder: Path, model: Path, repeat: int = REPEAT) -> list[str]:
+    """The CPU seconds a member (median) of each unseen member's case as a batch worker
+    runs it (``batch.task.run_case``: reading, the run, writing, its summary row), default
+    and ``--model`` in turn, and of their ``STAGES``; and the ratio of the medians."""
     import importlib
 
-    from pinn_engine import job
+    from pinn_engine.batch.manifest import read_manifest
+    from pinn_engine.batch.task import prepared, run_case
 
     spent: dict[str, float] = {}
     real = []
@@ -212,26 +223,34 @@ def stages(folder: Path, rows: list[dict], model, repeat: int = REPEAT) -> list[
         mod = importlib.import_module(module)
         real.append((mod, name, getattr(mod, name)))
         setattr(mod, name, _cpu_timer(real[-1][2], key, spent))
-    got: dict[str, dict[str, list[float]]] = {"default": {}, "--model": {}}
+    routes = {
+        "default": read_manifest(folder / "unseen.csv"),
+        "--model": read_manifest(model_manifest(folder, folder / "unseen.csv", model)),
+    }
+    got: dict[str, dict[str, list[float]]] = {label: {} for label in routes}
     try:
+        for cases in routes.values():  # the model's loading and each route's first case
+            run_case(cases[0].name, prepared(cases[0], folder / "stages"))
         for _ in range(repeat):
-            for row in rows:
-                settings, geometry = settings_and_geometry(folder, row)
-                for label, family in (("default", None), ("--model", model)):
+            for k in range(len(routes["default"])):
+                for label, cases in routes.items():
                     spent.clear()
                     began = time.process_time()
-                    job.run(settings, geometry, family=family)
-                    spent["run"] = time.process_time() - began
+                    row = run_case(cases[k].name, prepared(cases[k], folder / "stages"))
+                    spent["case"] = time.process_time() - began
+                    assert row["status"] == "ok", row
                     for key, value in spent.items():
                         got[label].setdefault(key, []).append(value)
     finally:
         for mod, name, f in real:
             setattr(mod, name, f)
-    keys = ("run", *(key for _, _, key in STAGES))
+    keys = ("case", *(key for _, _, key in STAGES))
     lines = ["| route | " + " | ".join(keys) + " |", "|---" * (len(keys) + 1) + "|"]
     for label, times in got.items():
         cells = [f"{statistics.median(times[k]):.3f}" if k in times else "-" for k in keys]
         lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    case = {label: statistics.median(times["case"]) for label, times in got.items()}
+    lines += ["", f"CPU ratio of the median cases: {case['--model'] / case['default']:.2f}."]
     return lines
 
 
@@ -354,9 +373,10 @@ def run_family(
         lines += [
             "",
             f"CPU seconds a member (median of {len(rows_of(folder / 'unseen.csv')) * repeat}; "
-            "the unseen members, default and `--model` runs in turn):",
+            "the unseen members' cases as a batch worker runs them, default and `--model` "
+            "in turn; the run, `job.run`, is the case less reading and writing):",
             "",
-            *stages(folder, rows_of(folder / "unseen.csv"), loaded, repeat),
+            *stages(folder, model, repeat),
         ]
         if loaded.topology == "o":
             lines += ["", far_field_error(folder, wide)]
