@@ -40,6 +40,11 @@ def arc_lengths(points: np.ndarray) -> np.ndarray:
     return np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
 
 
+# arc-length fraction within which a knot of a reparametrized polyline is one of its points
+# (a knot met by rounding beside a point would make a segment of zero length)
+KNOT_MERGE = 1e-12
+
+
 class Polyline:
     """An open polyline parametrised by its arc-length fraction t in [0, 1]."""
 
@@ -52,8 +57,10 @@ class Polyline:
     def reparametrized(self, arc: np.ndarray, param: np.ndarray) -> Polyline:
         """The same polyline with its parameter the piecewise-linear map of the arc-length
         fraction through the knots (``arc``, ``param``), both increasing from 0 to 1; a knot
-        inside a segment becomes a point of it, so that the knot's parameter is exactly there."""
-        t = np.union1d(self.t, arc)
+        inside a segment becomes a point of it, so that the knot's parameter is exactly there
+        (one within ``KNOT_MERGE`` of a point is that point: no segment of zero length)."""
+        near = np.abs(arc[:, None] - self.t[None, :]).min(axis=1) <= KNOT_MERGE
+        t = np.union1d(self.t, arc[~near])
         line = Polyline.__new__(Polyline)
         line.points, line.length = self.at(t), self.length
         line.points[np.searchsorted(t, self.t)] = self.points  # its own points bit for bit
