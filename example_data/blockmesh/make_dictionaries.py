@@ -71,10 +71,17 @@ def hexes(quads, n: int, counts, grading):
     return out
 
 
-def pipe(square: float = 0.4, grade: float = 3.0, layers: int = 1) -> str:
-    """The butterfly pipe's dictionary: the centre square's half-side ``square`` radii, the
-    outer blocks' cells growing ``grade`` times from the wall to the square, ``layers``
-    blocks along the axis."""
+def pipe(
+    square: float = 0.4,
+    grade: float = 3.0,
+    layers: int = 1,
+    bulge: float = 1.0,
+    cells: tuple[int, int, int] = (12, 10, 40),
+) -> str:
+    """The butterfly pipe's dictionary: the centre square's half-side ``square`` radii, its
+    edges arcs through ``bulge`` times the half-side (1: straight), the outer blocks' cells
+    growing ``grade`` times from the wall to the square, ``layers`` blocks along the axis,
+    ``cells`` across the square, from the wall to the square and along the axis."""
     r, length = 0.05, 0.5
     a, c = square * r, r / math.sqrt(2)
     base = [(-a, -a), (a, -a), (a, a), (-a, a), (-c, -c), (c, -c), (c, c), (-c, c)]
@@ -82,7 +89,7 @@ def pipe(square: float = 0.4, grade: float = 3.0, layers: int = 1) -> str:
     zs = [length * k / layers for k in range(layers + 1)]
     verts = [(x, y, z) for z in zs for x, y in base]
     quads = [(0, 1, 2, 3), (4, 5, 1, 0), (5, 6, 2, 1), (6, 7, 3, 2), (7, 4, 0, 3)]
-    nc, nr, nz = 12, 10, 40 // layers
+    nc, nr, nz = cells[0], cells[1], cells[2] // layers
     counts = [(nc, nc, nz)] + [(nc, nr, nz)] * 4
     grading = [(1, 1, 1)] + [(1, f"{grade:g}", 1)] * 4  # j runs wall to square
     blocks = []
@@ -95,6 +102,9 @@ def pipe(square: float = 0.4, grade: float = 3.0, layers: int = 1) -> str:
     for layer, z in enumerate(zs):
         for (p, q), m in zip(ring, mids):
             edges.append(f"arc {p + n * layer} {q + n * layer} {_vec((*m, z))}")
+            if bulge != 1:  # the centre square's edge under this ring edge
+                out = [bulge * a * v / r for v in m]
+                edges.append(f"arc {p - 4 + n * layer} {q - 4 + n * layer} {_vec((*out, z))}")
     top = n * layers
     inlet = [tuple(reversed(q)) for q in quads]
     outlet = [tuple(v + top for v in q) for q in quads]

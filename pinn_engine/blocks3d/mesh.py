@@ -68,6 +68,7 @@ class DictResult:
     candidates: dict[str, Figures]
     faces: FaceTopology
     blend: float | None = None  # a blend's share of the way to the Winslow grid
+    start: str | None = None  # the grid the optimised section started from
     report: dict = field(default_factory=dict)
     angles: list[tuple[np.ndarray, np.ndarray]] = field(default_factory=list)
 
@@ -120,7 +121,7 @@ def mesh_dictionary(
             "vertex order of the blocks (each right-handed) and the curved edges",
             d.source,
         )
-    points, kept, steps, share = placed.points, "tfi", 0, None
+    points, kept, steps, share, start = placed.points, "tfi", 0, None, None
     orthogonal = candidates["tfi"].max_non_orthogonality <= ORTHOGONAL
     if method == "elliptic" or (method == "pinn" and not orthogonal):
         from pinn_engine.blocks3d.winslow import winslow  # scipy: only where it solves
@@ -150,8 +151,16 @@ def mesh_dictionary(
             if blend is not None:
                 candidates["blend"], share = blend, t
                 points, kept = placed.points + t * (solved - placed.points), "blend"
+        if method == "pinn":
+            stage("the least non-orthogonal section", 0.8)
+            t0 = time.perf_counter()
+            better = _least_non_orthogonal(d, placed, points, cells, faces, candidates[kept])
+            timings["section"] = time.perf_counter() - t0
+            if better is not None:
+                points, candidates["optimised"] = better
+                start, kept = kept, "optimised"
     timings["total"] = time.perf_counter() - began
-    result = DictResult(placed, points, method, kept, candidates, faces, share)
+    result = DictResult(placed, points, method, kept, candidates, faces, share, start)
     result.report = _report(d, result, steps, timings, free_interfaces)
     if method == "pinn" and orthogonal:
         result.report["unsolved"] = UNSOLVED
@@ -181,6 +190,34 @@ def _blend(
         else:
             high = t
     return low, found
+
+
+def _least_non_orthogonal(
+    d: BlockMeshDict,
+    placed: Placement,
+    points: np.ndarray,
+    cells: np.ndarray,
+    faces: FaceTopology,
+    start: Figures,
+) -> tuple[np.ndarray, Figures] | None:
+    """The grid of a swept blocking whose section is the least non-orthogonal under the
+    skewness of ``start`` (the grid ``points`` chosen so far), and its figures: None where
+    the blocking is no swept section, or the grid is not at least ``ORTHOGONAL`` degrees
+    less non-orthogonal with no worse skewness and no fold."""
+    from pinn_engine.blocks3d.section import least_non_orthogonal, section, start_of, swept
+    from pinn_engine.blocks3d.winslow import boundary_held
+
+    sec = section(placed, boundary_held(placed)[1])
+    if sec is None:
+        return None
+    xy = least_non_orthogonal(start_of(points, sec), sec, start.max_skewness)
+    out = _cyclic_congruent(d, placed, swept(points, sec, xy))
+    got = figures(out, cells, faces)
+    if no_worse(got, start) and (
+        got.max_non_orthogonality <= start.max_non_orthogonality - ORTHOGONAL
+    ):
+        return out, got
+    return None
 
 
 def _through_empty(placed: Placement, points: np.ndarray) -> np.ndarray:
@@ -249,6 +286,7 @@ def _report(d, result: DictResult, steps: int, timings: dict, free: bool) -> dic
         "method": result.method,
         "kept": result.kept,
         "blend": result.blend,
+        "start": result.start,
         "source": d.source,
         "blocks": len(d.blocks),
         "cells": int(len(result.cells)),

@@ -674,10 +674,10 @@ class StarRows:
         return out
 
 
-def stencils(place: Placement) -> tuple[Stencils, list[Star], np.ndarray]:
-    """Every node's neighbourhood that can be built, and per node and coordinate whether it
-    is held (the boundary's rules of the module)."""
-    logical = _logical(place)
+def boundary_held(place: Placement) -> tuple[dict, np.ndarray]:
+    """Each shared block face's face across (block, axis, end both), and per node and
+    coordinate whether the boundary's rules of the module hold it: a node on a boundary
+    face in a coordinate plane holds that coordinate, on any other boundary face all three."""
     across = {}
     faces_of = {}
     for b, _ in enumerate(place.ids):
@@ -703,6 +703,14 @@ def stencils(place: Placement) -> tuple[Stencils, list[Star], np.ndarray]:
                 held[nodes.ravel(), flat[0]] = True
             else:
                 held[nodes.ravel()] = True
+    return across, held
+
+
+def stencils(place: Placement) -> tuple[Stencils, list[Star], np.ndarray]:
+    """Every node's neighbourhood that can be built, and per node and coordinate whether it
+    is held (the boundary's rules of the module)."""
+    logical = _logical(place)
+    across, held = boundary_held(place)
     parts = _interior(place, logical) + _faces(place, logical, across)
     steps = [[np.abs(np.diff(u)) for u in block] for block in logical]
     glued_ids, glued_h, stars = [], [], []

@@ -138,10 +138,14 @@ def blocks_lines(method: str, report: dict, seconds: float) -> list[str]:
     ]
 
 
-def _kept(report: dict) -> str:
-    """The grid a blockMeshDict kept, a blend with its share of the way to the Winslow grid."""
-    if report["kept"] != "blend":
-        return report["kept"]
+def _kept(report: dict, kept: str | None = None) -> str:
+    """The grid a blockMeshDict kept (or ``kept``), a blend with its share of the way to the
+    Winslow grid, an optimised section with the grid it started from."""
+    kept = kept or report["kept"]
+    if kept == "optimised":
+        return f"optimised (from the {_kept(report, report['start'])} grid's section)"
+    if kept != "blend":
+        return kept
     return f"blend ({report['blend']:.2f} of the way from blockMesh's placement to Winslow's)"
 
 

@@ -1,0 +1,366 @@
+"""The least non-orthogonal grid of an extruded blocking (a section swept along an axis: a
+straight pipe, a duct's bend, the DFG channel), under blockMesh's skewness (SPEC 15).
+
+- **The section.** Where every block has one direction along a coordinate axis in which
+  its nodes keep their two other coordinates (blockMesh's placement), the grid is a 2D
+  section swept along that axis: every cell is a prism of a section quadrilateral, so its
+  centre is the quadrilateral's area centroid and a side face's centre its edge's
+  midpoint, and checkMesh's figures of the 3D grid are those of the section (faces
+  between layers have no non-orthogonality or skewness).
+- **The objective.** The section's free nodes (those the 3D rules free: inside the
+  domain, or sliding on a coordinate plane) minimise a soft maximum of the faces'
+  non-orthogonality (``SOFTNESS``) plus a quadratic penalty on every face's skewness over
+  a bound (``PENALTY``): the grid with the least largest non-orthogonality whose every face
+  is no more skewed than the bound (blockMesh's largest, so that neither figure is worse).
+  Curved and tilted boundary nodes keep blockMesh's placement. A step that would fold a
+  cell (a corner turning the wrong way) is refused by the line search.
+- **The solve.** L-BFGS (``MEMORY`` pairs) from the grid given, with a backtracking line
+  search, in NumPy: the section is small (hundreds to a few thousand cells), so SciPy's
+  optimiser would cost more to import than to run.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from pinn_engine.blocks3d.placement import Placement, _merged
+
+# a block direction is along an axis when its nodes keep their other two coordinates to
+# this share of the domain's diagonal (blockMesh's placement of a swept section: round-off)
+SWEPT = 1e-9
+# the soft maximum's sharpness (per degree): log(faces) / SOFTNESS degrees above the largest
+# angle at most, while faces a few degrees under it barely count
+SOFTNESS = 1.0
+# the penalty on a face's skewness over the bound, per unit squared, in degrees of the soft
+# maximum: 0.01 over it costs as much as a degree, so the solve stays under the bound
+PENALTY = 1e4
+# the bound the solve aims at, this share under blockMesh's largest skewness, so that the
+# penalty's last small excess still leaves the grid no more skewed than blockMesh's
+MARGIN = 0.995
+MEMORY = 10  # L-BFGS pairs kept: the curvature of a few hundred coupled nodes
+STEPS = 40  # L-BFGS steps at most: on the butterfly pipes the figures settle within them
+# a step stops once the objective falls by less than this (degrees): a hundredth of checkMesh's
+# printed precision
+STALL = 1e-4
+BACKTRACKS = 30  # halvings of a step at most before the search stops
+ARMIJO = 1e-4  # the share of the slope's predicted fall a step must achieve
+
+
+@dataclass
+class Section:
+    """An extruded grid's section: the sweep ``axis`` and the two others (``plane``), each
+    node's section node (``column``), the section nodes' 3D ids (``nodes``), the section's
+    quadrilaterals counter-clockwise (``quads``, section numbering), interior edges
+    (``inner``: p, q, owner, neighbour, p -> q counter-clockwise in the owner) and boundary
+    edges (``outer``: p, q, owner), and the free coordinates (``free``, section nodes x 2)."""
+
+    axis: int
+    plane: list[int]
+    column: np.ndarray
+    nodes: np.ndarray
+    quads: np.ndarray
+    inner: np.ndarray
+    outer: np.ndarray
+    free: np.ndarray
+
+
+def sweep_axis(place: Placement) -> tuple[int, list[int]] | None:
+    """The first axis every block is swept along and each block's direction along it, or
+    None where the placement is no swept section."""
+    diag = float(np.linalg.norm(np.ptp(place.points, axis=0)))
+    # per block, per direction: the coordinates its nodes keep along it
+    kept = [
+        [np.ptp(place.points[ids], axis=k).max(axis=(0, 1)) <= SWEPT * diag for k in range(3)]
+        for ids in place.ids
+    ]
+    for axis in range(3):
+        others = [a for a in range(3) if a != axis]
+        directions = [next((k for k in range(3) if b[k][others].all()), None) for b in kept]
+        if None not in directions:
+            return axis, directions
+    return None
+
+
+def section(place: Placement, held: np.ndarray) -> Section | None:
+    """The section of a swept placement (``held``: per node and coordinate whether the 3D
+    rules hold it), or None where it is not swept."""
+    swept = sweep_axis(place)
+    if swept is None:
+        return None
+    axis, directions = swept
+    plane = [a for a in range(3) if a != axis]
+    pairs = [
+        np.stack([ids.ravel(), np.broadcast_to(np.take(ids, [0], axis=k), ids.shape).ravel()], 1)
+        for ids, k in zip(place.ids, directions)
+    ]
+    group = _merged(len(place.points), np.vstack(pairs))
+    nodes = np.full(group.max() + 1, -1)
+    nodes[group] = np.arange(len(place.points))
+    quads, seen = [], set()
+    for ids, k in zip(place.ids, directions):
+        layer = group[np.take(ids, 0, axis=k)]
+        key = (*np.sort(layer[[0, 0, -1, -1], [0, -1, 0, -1]]).tolist(), *layer.shape)
+        if key in seen:  # a block further along the axis: the same quadrilaterals
+            continue
+        seen.add(key)
+        q = np.stack([layer[:-1, :-1], layer[1:, :-1], layer[1:, 1:], layer[:-1, 1:]], -1)
+        q = q.reshape(-1, 4)
+        xy = place.points[nodes[q]][..., plane]
+        if _areas(xy).sum() < 0:
+            q = q[:, ::-1]
+        quads.append(q)
+    quads = np.vstack(quads)
+    inner, outer = _edges(quads)
+    free = np.ones((len(nodes), 2), dtype=bool)
+    for c, a in enumerate(plane):
+        np.logical_and.at(free[:, c], group, ~held[:, a])
+    return Section(axis, plane, group, nodes, quads, inner, outer, free)
+
+
+def _areas(xy: np.ndarray) -> np.ndarray:
+    """Signed areas of quadrilaterals (m, 4, 2)."""
+    x, y = xy[..., 0], xy[..., 1]
+    return 0.5 * (x * np.roll(y, -1, axis=1) - np.roll(x, -1, axis=1) * y).sum(axis=1)
+
+
+def _edges(quads: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Interior edges (p, q, owner, neighbour) and boundary edges (p, q, owner) of
+    counter-clockwise quadrilaterals, p -> q counter-clockwise in the owner."""
+    p = quads.ravel()
+    q = np.roll(quads, -1, axis=1).ravel()
+    cell = np.repeat(np.arange(len(quads)), 4)
+    key = np.minimum(p, q) * (quads.max() + 1) + np.maximum(p, q)
+    order = np.argsort(key, kind="stable")
+    key, p, q, cell = key[order], p[order], q[order], cell[order]
+    twin = np.flatnonzero(key[1:] == key[:-1])
+    first = np.zeros(len(key), dtype=bool)
+    first[twin] = True
+    paired = first.copy()
+    paired[twin + 1] = True
+    inner = np.stack([p[twin], q[twin], cell[twin], cell[twin + 1]], axis=1)
+    outer = np.stack([p[~paired], q[~paired], cell[~paired]], axis=1)
+    return inner, outer
+
+
+def _rot(v: np.ndarray) -> np.ndarray:
+    """Each vector (m, 2) turned a quarter clockwise: an edge's outward normal."""
+    return np.stack([v[:, 1], -v[:, 0]], axis=1)
+
+
+def _unrot(g: np.ndarray) -> np.ndarray:
+    """The gradient with respect to v of a function of ``_rot(v)`` (``g``: with respect to
+    the turned vector)."""
+    return np.stack([-g[:, 1], g[:, 0]], axis=1)
+
+
+def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.einsum("ij,ij->i", a, b)
+
+
+def _unit_back(g: np.ndarray, u: np.ndarray, length: np.ndarray) -> np.ndarray:
+    """The gradient with respect to v of a function of u = v / |v|."""
+    return (g - _dot(g, u)[:, None] * u) / length[:, None]
+
+
+def figures(xy: np.ndarray, sec: Section) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each interior face's non-orthogonality (degrees), each face's skewness (interior,
+    then boundary) and each quadrilateral's smallest corner cross product (a fold where
+    it is not positive), as checkMesh gives them on the swept grid."""
+    parts = _forward(xy, sec)
+    return parts["angle"], np.concatenate([parts["skew"], parts["bskew"]]), parts["turn"]
+
+
+def _forward(xy: np.ndarray, sec: Section) -> dict:
+    v = [xy[sec.quads[:, k]] for k in range(4)]
+    w = [v[k][:, 0] * v[(k + 1) % 4][:, 1] - v[(k + 1) % 4][:, 0] * v[k][:, 1] for k in range(4)]
+    area = 0.5 * (w[0] + w[1] + w[2] + w[3])
+    moment = sum((v[k] + v[(k + 1) % 4]) * w[k][:, None] for k in range(4))
+    centre = moment / (6 * area[:, None])
+    turn = np.min(
+        [
+            (v[k][:, 0] - v[k - 1][:, 0]) * (v[(k + 1) % 4][:, 1] - v[k][:, 1])
+            - (v[k][:, 1] - v[k - 1][:, 1]) * (v[(k + 1) % 4][:, 0] - v[k][:, 0])
+            for k in range(4)
+        ],
+        axis=0,
+    )
+    p, q, a, b = (sec.inner[:, k] for k in range(4))
+    e = xy[q] - xy[p]
+    n = _rot(e)
+    length = np.linalg.norm(e, axis=1)
+    d = centre[b] - centre[a]
+    dist = np.linalg.norm(d, axis=1)
+    nd = _dot(n, d)
+    cos = nd / (length * dist)
+    angle = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+    u = e / length[:, None]
+    cpf = 0.5 * (xy[p] + xy[q]) - centre[a]
+    alpha, beta, gamma = _dot(u, cpf), _dot(n, cpf), _dot(u, d)
+    r = alpha - beta * gamma / nd
+    wide = 0.2 * dist >= 0.5 * length
+    reach = np.where(wide, 0.2 * dist, 0.5 * length)
+    skew = np.abs(r) / reach
+    bp, bq, ba = (sec.outer[:, k] for k in range(3))
+    be = xy[bq] - xy[bp]
+    blength = np.linalg.norm(be, axis=1)
+    bu = be / blength[:, None]
+    bcpf = 0.5 * (xy[bp] + xy[bq]) - centre[ba]
+    along = _dot(bu, bcpf)
+    normal = _dot(_rot(bu), bcpf)
+    bwide = 0.4 * np.abs(normal) >= 0.5 * blength
+    breach = np.where(bwide, 0.4 * np.abs(normal), 0.5 * blength)
+    bskew = np.abs(along) / breach
+    return locals()
+
+
+def objective(xy: np.ndarray, sec: Section, bound: float) -> tuple[float, np.ndarray]:
+    """The soft maximum of the non-orthogonality plus the skewness penalty over ``bound``,
+    and its gradient (section nodes x 2); inf where a cell folds."""
+    f = _forward(xy, sec)
+    if f["turn"].min() <= 0 or not np.isfinite(f["angle"]).all():
+        return np.inf, np.zeros_like(xy)
+    angle = f["angle"]
+    top = angle.max()
+    weight = np.exp(SOFTNESS * (angle - top))
+    total = weight.sum()
+    over = np.maximum(f["skew"] - bound, 0.0)
+    bover = np.maximum(f["bskew"] - bound, 0.0)
+    value = top + np.log(total) / SOFTNESS + PENALTY * (over @ over + bover @ bover)
+    # the angles' part: d angle / d cos, each face's share of the soft maximum
+    sin = np.sqrt(np.maximum(1.0 - np.clip(f["cos"], -1.0, 1.0) ** 2, 1e-24))
+    g_cos = -(weight / total) * np.degrees(1.0) / sin
+    n, d, length, dist, cos = f["n"], f["d"], f["length"], f["dist"], f["cos"]
+    g_d = g_cos[:, None] * (n / (length * dist)[:, None] - (cos / dist**2)[:, None] * d)
+    g_n = g_cos[:, None] * (d / (length * dist)[:, None] - (cos / length**2)[:, None] * n)
+    # the skewness's part: |r| / reach
+    g_s = 2 * PENALTY * over
+    r, reach, nd = f["r"], f["reach"], f["nd"]
+    beta, gamma = f["beta"], f["gamma"]
+    g_r = g_s * np.sign(r) / reach
+    g_reach = -g_s * np.abs(r) / reach**2
+    u, cpf = f["u"], f["cpf"]
+    g_cpf = g_r[:, None] * (u - (gamma / nd)[:, None] * n)
+    g_d += g_r[:, None] * (-(beta / nd)[:, None] * u + (beta * gamma / nd**2)[:, None] * n)
+    g_u = g_r[:, None] * (cpf - (beta / nd)[:, None] * d)
+    g_n += g_r[:, None] * (-(gamma / nd)[:, None] * cpf + (beta * gamma / nd**2)[:, None] * d)
+    wide = f["wide"]
+    g_d += np.where(wide, g_reach * 0.2 / dist, 0.0)[:, None] * d
+    g_e = _unrot(g_n) + _unit_back(g_u, u, length)
+    g_e += np.where(wide, 0.0, g_reach * 0.5)[:, None] * u
+    grad = np.zeros_like(xy)
+    g_centre = np.zeros((len(sec.quads), 2))
+    p, q, a, b = (sec.inner[:, k] for k in range(4))
+    _add(grad, q, g_e + 0.5 * g_cpf)
+    _add(grad, p, -g_e + 0.5 * g_cpf)
+    _add(g_centre, b, g_d)
+    _add(g_centre, a, -g_d - g_cpf)
+    # the boundary faces' skewness: |along| / breach
+    g_b = 2 * PENALTY * bover
+    along, normal, breach, bwide = f["along"], f["normal"], f["breach"], f["bwide"]
+    bu, bcpf, blength = f["bu"], f["bcpf"], f["blength"]
+    g_along = g_b * np.sign(along) / breach
+    g_breach = -g_b * np.abs(along) / breach**2
+    g_normal = np.where(bwide, g_breach * 0.4 * np.sign(normal), 0.0)
+    g_bcpf = g_along[:, None] * bu + g_normal[:, None] * _rot(bu)
+    g_bu = g_along[:, None] * bcpf + _unrot(g_normal[:, None] * bcpf)
+    g_be = _unit_back(g_bu, bu, blength) + np.where(bwide, 0.0, g_breach * 0.5)[:, None] * bu
+    bp, bq, ba = (sec.outer[:, k] for k in range(3))
+    _add(grad, bq, g_be + 0.5 * g_bcpf)
+    _add(grad, bp, -g_be + 0.5 * g_bcpf)
+    _add(g_centre, ba, -g_bcpf)
+    # the centroids: moment / (6 area)
+    v, w, area, centre = f["v"], f["w"], f["area"], f["centre"]
+    g_moment = g_centre / (6 * area)[:, None]
+    g_area = -_dot(g_centre, centre) / area
+    for k in range(4):
+        k1 = (k + 1) % 4
+        g_w = _dot(g_moment, v[k] + v[k1]) + 0.5 * g_area
+        g_vk = g_moment * w[k][:, None] + g_w[:, None] * np.stack([v[k1][:, 1], -v[k1][:, 0]], 1)
+        g_vk1 = g_moment * w[k][:, None] + g_w[:, None] * np.stack([-v[k][:, 1], v[k][:, 0]], 1)
+        _add(grad, sec.quads[:, k], g_vk)
+        _add(grad, sec.quads[:, k1], g_vk1)
+    return float(value), grad
+
+
+def _add(out: np.ndarray, at: np.ndarray, values: np.ndarray) -> None:
+    """``out[at] += values`` with repeated indices summed (a bincount per coordinate)."""
+    for c in range(out.shape[1]):
+        out[:, c] += np.bincount(at, weights=values[:, c], minlength=len(out))
+
+
+def least_non_orthogonal(xy: np.ndarray, sec: Section, bound: float) -> np.ndarray:
+    """The section's nodes (section nodes x 2) from ``xy`` by L-BFGS on :func:`objective`
+    with the skewness bound ``MARGIN`` under ``bound``, over the free coordinates."""
+    free = sec.free
+    x = xy[free]
+    target = MARGIN * bound
+
+    def evaluate(values: np.ndarray) -> tuple[float, np.ndarray]:
+        full = xy.copy()
+        full[free] = values
+        value, grad = objective(full, sec, target)
+        return value, grad[free]
+
+    value, grad = evaluate(x)
+    if not np.isfinite(value):
+        return xy
+    steps: list[tuple[np.ndarray, np.ndarray]] = []
+    for _ in range(STEPS):
+        direction = -_two_loop(grad, steps)
+        slope = float(direction @ grad)
+        if slope >= 0:
+            direction, slope, steps = -grad, -float(grad @ grad), []
+        t = 1.0 if steps else min(1.0, 1e-3 * np.sqrt(len(x)) / max(np.linalg.norm(grad), 1e-300))
+        for _ in range(BACKTRACKS):
+            trial, trial_grad = evaluate(x + t * direction)
+            if trial <= value + ARMIJO * t * slope:
+                break
+            t *= 0.5
+        else:
+            break
+        s, y = t * direction, trial_grad - grad
+        if s @ y > 0:
+            steps.append((s, y))
+            steps = steps[-MEMORY:]
+        fall = value - trial
+        x, value, grad = x + s, trial, trial_grad
+        if fall < STALL:
+            break
+    out = xy.copy()
+    out[free] = x
+    return out
+
+
+def _two_loop(grad: np.ndarray, steps: list[tuple[np.ndarray, np.ndarray]]) -> np.ndarray:
+    """L-BFGS's product of the inverse Hessian estimate with ``grad``."""
+    q = grad.copy()
+    alphas = []
+    for s, y in reversed(steps):
+        rho = 1.0 / (y @ s)
+        alpha = rho * (s @ q)
+        q -= alpha * y
+        alphas.append((rho, alpha, s, y))
+    if steps:
+        s, y = steps[-1]
+        q *= (s @ y) / (y @ y)
+    for rho, alpha, s, y in reversed(alphas):
+        q += (alpha - rho * (y @ q)) * s
+    return q
+
+
+def swept(points: np.ndarray, sec: Section, xy: np.ndarray) -> np.ndarray:
+    """The 3D nodes with every column's in-plane coordinates the section node's ``xy``."""
+    out = points.copy()
+    out[:, sec.plane] = xy[sec.column]
+    return out
+
+
+def start_of(points: np.ndarray, sec: Section) -> np.ndarray:
+    """The section's nodes (section nodes x 2) of a 3D grid: each column's mean in-plane
+    coordinates (a solved grid's layers agree to the solve's tolerance)."""
+    total = np.zeros((len(sec.nodes), 2))
+    _add(total, sec.column, points[:, sec.plane])
+    count = np.bincount(sec.column, minlength=len(sec.nodes))
+    return total / count[:, None]
