@@ -204,13 +204,15 @@ def _least_non_orthogonal(
     skewness of ``start`` (the grid ``points`` chosen so far), and its figures: None where
     the blocking is no swept section, or the grid is not at least ``ORTHOGONAL`` degrees
     less non-orthogonal with no worse skewness and no fold."""
+    from pinn_engine.blas import one_thread
     from pinn_engine.blocks3d.section import least_non_orthogonal, section, start_of, swept
     from pinn_engine.blocks3d.winslow import boundary_held
 
     sec = section(placed, boundary_held(placed)[1])
     if sec is None:
         return None
-    xy = least_non_orthogonal(start_of(points, sec), sec, start.max_skewness)
+    with one_thread():  # L-BFGS's vectors are far too small for BLAS threads
+        xy = least_non_orthogonal(start_of(points, sec), sec, start.max_skewness)
     out = _cyclic_congruent(d, placed, swept(points, sec, xy))
     got = figures(out, cells, faces)
     if no_worse(got, start) and (

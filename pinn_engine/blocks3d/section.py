@@ -43,11 +43,13 @@ MARGIN = 0.995
 # angle 28 degrees or more under the largest)
 FAINT = 1e-12
 MEMORY = 10  # L-BFGS pairs kept: the curvature of a few hundred coupled nodes
-STEPS = 40  # L-BFGS steps at most: on the butterfly pipes the figures settle within them
-# a step stops once the objective falls by less than this (degrees): a hundredth of checkMesh's
-# printed precision
-STALL = 1e-4
-BACKTRACKS = 30  # halvings of a step at most before the search stops
+EVALUATIONS = 80  # of the objective at most, every trial step counted
+# the search stops once its best grid has gained less than STALL degrees (checkMesh's
+# printed precision) in PATIENCE steps
+STALL = 0.01
+PATIENCE = 10
+FIRST = 0.01  # a first step's largest move, a share of the median edge: no fold to back off
+BACKTRACKS = 8  # halvings of a step before the memory is dropped
 ARMIJO = 1e-4  # the share of the slope's predicted fall a step must achieve
 
 
@@ -80,7 +82,19 @@ def sweep_axis(place: Placement) -> tuple[int, list[int]] | None:
     ]
     for axis in range(3):
         others = [a for a in range(3) if a != axis]
-        directions = [next((k for k in range(3) if b[k][others].all()), None) for b in kept]
+        # along the direction the other two coordinates kept, across it the axis's (each
+        # layer a plane normal to the axis, so that every cell is a prism)
+        directions = [
+            next(
+                (
+                    k
+                    for k in range(3)
+                    if b[k][others].all() and all(b[j][axis] for j in range(3) if j != k)
+                ),
+                None,
+            )
+            for b in kept
+        ]
         if None not in directions:
             return axis, directions
     return None
@@ -176,19 +190,15 @@ def figures(xy: np.ndarray, sec: Section) -> tuple[np.ndarray, np.ndarray, np.nd
 
 
 def _forward(xy: np.ndarray, sec: Section) -> dict:
-    v = [xy[sec.quads[:, k]] for k in range(4)]
-    w = [v[k][:, 0] * v[(k + 1) % 4][:, 1] - v[(k + 1) % 4][:, 0] * v[k][:, 1] for k in range(4)]
-    area = 0.5 * (w[0] + w[1] + w[2] + w[3])
-    moment = sum((v[k] + v[(k + 1) % 4]) * w[k][:, None] for k in range(4))
+    # each quadrilateral's corners (4, m) and the next corners, counter-clockwise
+    x, y = xy[sec.quads.T, 0], xy[sec.quads.T, 1]
+    x1, y1 = np.roll(x, -1, axis=0), np.roll(y, -1, axis=0)
+    w = x * y1 - x1 * y
+    area = 0.5 * w.sum(axis=0)
+    moment = np.stack([((x + x1) * w).sum(axis=0), ((y + y1) * w).sum(axis=0)], axis=1)
     centre = moment / (6 * area[:, None])
-    turn = np.min(
-        [
-            (v[k][:, 0] - v[k - 1][:, 0]) * (v[(k + 1) % 4][:, 1] - v[k][:, 1])
-            - (v[k][:, 1] - v[k - 1][:, 1]) * (v[(k + 1) % 4][:, 0] - v[k][:, 0])
-            for k in range(4)
-        ],
-        axis=0,
-    )
+    x0, y0 = np.roll(x, 1, axis=0), np.roll(y, 1, axis=0)
+    turn = ((x - x0) * (y1 - y) - (y - y0) * (x1 - x)).min(axis=0)
     p, q, a, b = (sec.inner[:, k] for k in range(4))
     e = xy[q] - xy[p]
     n = _rot(e)
@@ -218,12 +228,13 @@ def _forward(xy: np.ndarray, sec: Section) -> dict:
     return locals()
 
 
-def objective(xy: np.ndarray, sec: Section, bound: float) -> tuple[float, np.ndarray]:
+def objective(xy: np.ndarray, sec: Section, bound: float) -> tuple[float, np.ndarray, float, float]:
     """The soft maximum of the non-orthogonality plus the skewness penalty over ``bound``,
-    and its gradient (section nodes x 2); inf where a cell folds."""
+    its gradient (section nodes x 2), the largest angle and skewness; inf where a cell
+    folds."""
     f = _forward(xy, sec)
     if f["turn"].min() <= 0 or not np.isfinite(f["angle"]).all():
-        return np.inf, np.zeros_like(xy)
+        return np.inf, np.zeros_like(xy), np.inf, np.inf
     angle = f["angle"]
     top = angle.max()
     weight = np.exp(SOFTNESS * (angle - top))
@@ -277,18 +288,16 @@ def objective(xy: np.ndarray, sec: Section, bound: float) -> tuple[float, np.nda
     _add(grad, bq, g_be + 0.5 * g_bcpf)
     _add(grad, bp, -g_be + 0.5 * g_bcpf)
     _add(g_centre, ba, -g_bcpf)
-    # the centroids: moment / (6 area)
-    v, w, area, centre = f["v"], f["w"], f["area"], f["centre"]
-    g_moment = g_centre / (6 * area)[:, None]
+    # the centroids: moment / (6 area), through each corner's share of the moment and area
+    x, y, x1, y1, w, area, centre = (f[k] for k in ("x", "y", "x1", "y1", "w", "area", "centre"))
+    g_mx, g_my = (g_centre / (6 * area)[:, None]).T
     g_area = -_dot(g_centre, centre) / area
-    for k in range(4):
-        k1 = (k + 1) % 4
-        g_w = _dot(g_moment, v[k] + v[k1]) + 0.5 * g_area
-        g_vk = g_moment * w[k][:, None] + g_w[:, None] * np.stack([v[k1][:, 1], -v[k1][:, 0]], 1)
-        g_vk1 = g_moment * w[k][:, None] + g_w[:, None] * np.stack([-v[k][:, 1], v[k][:, 0]], 1)
-        _add(grad, sec.quads[:, k], g_vk)
-        _add(grad, sec.quads[:, k1], g_vk1)
-    return float(value), grad
+    g_w = g_mx * (x + x1) + g_my * (y + y1) + 0.5 * g_area
+    g_x = g_mx * w + g_w * y1 + np.roll(g_mx * w - g_w * y, 1, axis=0)
+    g_y = g_my * w - g_w * x1 + np.roll(g_my * w + g_w * x, 1, axis=0)
+    _add(grad, sec.quads.T.ravel(), np.stack([g_x.ravel(), g_y.ravel()], axis=1))
+    skew = max(f["skew"].max(initial=0.0), f["bskew"].max(initial=0.0))
+    return float(value), grad, float(top), float(skew)
 
 
 def _add(out: np.ndarray, at: np.ndarray, values: np.ndarray) -> None:
@@ -299,44 +308,54 @@ def _add(out: np.ndarray, at: np.ndarray, values: np.ndarray) -> None:
 
 def least_non_orthogonal(xy: np.ndarray, sec: Section, bound: float) -> np.ndarray:
     """The section's nodes (section nodes x 2) from ``xy`` by L-BFGS on :func:`objective`
-    with the skewness bound ``MARGIN`` under ``bound``, over the free coordinates."""
+    (the skewness bound ``MARGIN`` under ``bound``) over the free coordinates: of the grids
+    met, the least non-orthogonal with no face more skewed than ``bound`` (``xy`` itself
+    where none is less), the search stopped once that grid has gained less than ``STALL``
+    degrees in ``PATIENCE`` steps or after ``EVALUATIONS``."""
     free = sec.free
     x = xy[free]
     target = MARGIN * bound
 
-    def evaluate(values: np.ndarray) -> tuple[float, np.ndarray]:
+    def evaluate(values: np.ndarray) -> tuple[float, np.ndarray, float, float]:
         full = xy.copy()
         full[free] = values
-        value, grad = objective(full, sec, target)
-        return value, grad[free]
+        value, grad, largest, skew = objective(full, sec, target)
+        return value, grad[free], largest, skew
 
-    value, grad = evaluate(x)
+    value, grad, best, _ = evaluate(x)
     if not np.isfinite(value):
         return xy
+    kept, since, spent = x, 0, 1
+    edge = float(np.median(np.linalg.norm(xy[sec.inner[:, 1]] - xy[sec.inner[:, 0]], axis=1)))
     steps: list[tuple[np.ndarray, np.ndarray]] = []
-    for _ in range(STEPS):
+    while spent < EVALUATIONS and since < PATIENCE:
         direction = -_two_loop(grad, steps)
         slope = float(direction @ grad)
         if slope >= 0:
             direction, slope, steps = -grad, -float(grad @ grad), []
-        t = 1.0 if steps else min(1.0, 1e-3 * np.sqrt(len(x)) / max(np.linalg.norm(grad), 1e-300))
+        # a first step (or one after a reset) moves no node more than FIRST of an edge
+        t = 1.0 if steps else FIRST * edge / max(float(np.abs(direction).max()), 1e-300)
         for _ in range(BACKTRACKS):
-            trial, trial_grad = evaluate(x + t * direction)
+            trial, trial_grad, largest, skew = evaluate(x + t * direction)
+            spent += 1
+            if skew <= bound and largest < best:  # the best grid met, as checkMesh judges
+                since = -1 if largest < best - STALL else since
+                kept, best = x + t * direction, largest
             if trial <= value + ARMIJO * t * slope:
                 break
             t *= 0.5
         else:
-            break
+            if not steps:
+                break  # no fall even along the gradient
+            steps = []
+            continue
         s, y = t * direction, trial_grad - grad
         if s @ y > 0:
             steps.append((s, y))
             steps = steps[-MEMORY:]
-        fall = value - trial
-        x, value, grad = x + s, trial, trial_grad
-        if fall < STALL:
-            break
+        x, value, grad, since = x + s, trial, trial_grad, since + 1
     out = xy.copy()
-    out[free] = x
+    out[free] = kept
     return out
 
 
