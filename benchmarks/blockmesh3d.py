@@ -206,6 +206,13 @@ def table(rows: list[dict]) -> str:
     return "\n".join(out)
 
 
+def compile_package() -> None:
+    """The package's bytecode up to date, as an installed package has it: where the shell
+    sets PYTHONDONTWRITEBYTECODE=1 each run would otherwise compile every changed module."""
+    command = [sys.executable, "-m", "compileall", "-q", str(ROOT / "pinn_engine")]
+    subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--set", choices=tuple(SETS), action="append", help="default: all")
@@ -213,10 +220,7 @@ def main() -> None:
     parser.add_argument("--out", type=Path, help="the page whose BLOCKMESH3D table to replace")
     parser.add_argument("--runs", type=int, default=1, help="runs of each tool (their median)")
     opts = parser.parse_args()
-    # the package's bytecode up to date first, as an installed package has it: where the shell
-    # sets PYTHONDONTWRITEBYTECODE=1 each run would otherwise compile every changed module
-    compile_package = [sys.executable, "-m", "compileall", "-q", str(ROOT / "pinn_engine")]
-    subprocess.run(compile_package, check=True, stdout=subprocess.DEVNULL)
+    compile_package()
     before = os.getloadavg()[0]
     rows = []
     with tempfile.TemporaryDirectory(prefix="pinn-mesh-blockmesh3d-") as scratch:

@@ -37,12 +37,11 @@ import argparse
 import math
 import os
 import re
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
 
-from blockmesh3d import ROOT, run_case, table
+from blockmesh3d import ROOT, compile_package, run_case, table
 
 sys.path.insert(0, str(ROOT / "example_data" / "blockmesh"))
 from make_dictionaries import HEADER, pipe  # noqa: E402
@@ -52,6 +51,22 @@ GAIN = 5.0  # degrees of non-orthogonality under blockMesh's that SPEC 15 asks o
 
 def _v(p) -> str:
     return "(" + " ".join(f"{x:.10g}" for x in p) + ")"
+
+
+def _dictionary(verts, blocks: list[str], edges: list[str], patches: list[str]) -> str:
+    """A dictionary's text of its vertices, blocks, edges and patches (each a ``boundary``
+    entry)."""
+    return (
+        f"{HEADER}convertToMeters 1;\nvertices\n(\n"
+        + "\n".join(f"    {_v(p)}" for p in verts)
+        + "\n);\nblocks\n(\n    "
+        + "\n    ".join(blocks)
+        + "\n);\nedges\n(\n    "
+        + "\n    ".join(edges)
+        + "\n);\nboundary\n(\n    "
+        + "\n    ".join(patches)
+        + "\n);\n"
+    )
 
 
 def cylinder_m4(d: float, length: float, nps: int, npd: int, npy: int) -> str:
@@ -141,17 +156,15 @@ def ogrid_generator(a: float, length: float, n_c: int, n_r: int, nx: int, f: flo
         f"({k + 8} {4 + k + 8} {4 + (k + 1) % 4 + 8} {(k + 1) % 4 + 8})" for k in range(4)
     ]
     wall = [f"({4 + k} {4 + (k + 1) % 4} {4 + (k + 1) % 4 + 8} {4 + k + 8})" for k in range(4)]
-    return (
-        f"{HEADER}convertToMeters 1;\nvertices\n(\n"
-        + "\n".join(f"    {_v(p)}" for p in verts)
-        + "\n);\nblocks\n(\n    "
-        + "\n    ".join(blocks)
-        + "\n);\nedges\n(\n    "
-        + "\n    ".join(edges)
-        + "\n);\nboundary\n(\n"
-        + f"    inlet {{ type cyclic; neighbourPatch outlet; faces ({' '.join(inlet)}); }}\n"
-        + f"    outlet {{ type cyclic; neighbourPatch inlet; faces ({' '.join(outlet)}); }}\n"
-        + f"    wall {{ type wall; faces ({' '.join(wall)}); }}\n);\n"
+    return _dictionary(
+        verts,
+        blocks,
+        edges,
+        [
+            f"inlet {{ type cyclic; neighbourPatch outlet; faces ({' '.join(inlet)}); }}",
+            f"outlet {{ type cyclic; neighbourPatch inlet; faces ({' '.join(outlet)}); }}",
+            f"wall {{ type wall; faces ({' '.join(wall)}); }}",
+        ],
     )
 
 
@@ -181,17 +194,15 @@ def gui_template(radius: float, length: float, n_circ: int, n_radial: int, n_axi
         f"({8 + k} {8 + (k + 1) % 4} {12 + (k + 1) % 4} {12 + k})" for k in range(4)
     ]
     walls = [f"({4 + k} {4 + (k + 1) % 4} {12 + (k + 1) % 4} {12 + k})" for k in range(4)]
-    return (
-        f"{HEADER}convertToMeters 1;\nvertices\n(\n"
-        + "\n".join(f"    {_v(p)}" for p in verts)
-        + "\n);\nblocks\n(\n    "
-        + "\n    ".join(blocks)
-        + "\n);\nedges\n(\n    "
-        + "\n    ".join(edges)
-        + "\n);\nboundary\n(\n"
-        + f"    inlet {{ type patch; faces ({' '.join(inlet)}); }}\n"
-        + f"    outlet {{ type patch; faces ({' '.join(outlet)}); }}\n"
-        + f"    walls {{ type wall; faces ({' '.join(walls)}); }}\n);\n"
+    return _dictionary(
+        verts,
+        blocks,
+        edges,
+        [
+            f"inlet {{ type patch; faces ({' '.join(inlet)}); }}",
+            f"outlet {{ type patch; faces ({' '.join(outlet)}); }}",
+            f"walls {{ type wall; faces ({' '.join(walls)}); }}",
+        ],
     )
 
 
@@ -247,8 +258,7 @@ def main() -> None:
     parser.add_argument("--set", choices=tuple(SETS), action="append", help="default: both")
     parser.add_argument("--runs", type=int, default=1, help="runs of each tool (their median)")
     opts = parser.parse_args()
-    compile_package = [sys.executable, "-m", "compileall", "-q", str(ROOT / "pinn_engine")]
-    subprocess.run(compile_package, check=True, stdout=subprocess.DEVNULL)
+    compile_package()
     before = os.getloadavg()[0]
     summary = []
     with tempfile.TemporaryDirectory(prefix="pinn-mesh-butterfly-") as scratch:

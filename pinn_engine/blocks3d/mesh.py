@@ -7,7 +7,9 @@ where it meets SPEC 15's aims, checkMesh's largest non-orthogonality and skewnes
 than blockMesh's, else the grid between the two nearest the Winslow grid that meets them and
 is less non-orthogonal (a ``blend``), else blockMesh's placement (a placement orthogonal to
 within ``ORTHOGONAL`` everywhere is kept unsolved: the solve could gain no figure that
-matters); the network would train on the Winslow
+matters); where the blocking is a swept section, the grid chosen is then ``optimised``: its
+section's largest non-orthogonality minimised with no face more skewed (``section.py``),
+kept where at least ``ORTHOGONAL`` degrees less; the network would train on the Winslow
 equations alone, which the elliptic grid already solves, so none is trained (the report's
 ``training.skipped`` says so, as for a hexahedral block without spacing or orthogonal
 patches). The blocks are coupled through their interfaces, so the choice is made for the
