@@ -143,7 +143,7 @@ def _kept(report: dict, kept: str | None = None) -> str:
     Winslow grid, an optimised section with the grid it started from."""
     kept = kept or report["kept"]
     if kept == "optimised":
-        return f"optimised (from the {_kept(report, report['start'])} grid's section)"
+        return f"section-optimised {_kept(report, report['start'])}"
     if kept != "blend":
         return kept
     return f"blend ({report['blend']:.2f} of the way from blockMesh's placement to Winslow's)"

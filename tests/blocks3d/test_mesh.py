@@ -121,7 +121,7 @@ def test_the_default_blends_towards_the_winslow_grid_as_far_as_the_aims_allow():
     assert kept.max_non_orthogonality < blend.max_non_orthogonality - 10
     wall = np.unique(result.place.patches[0][2])
     assert np.allclose(np.hypot(*result.points[wall, :2].T), 0.5)
-    assert "optimised (from the blend (0.53 of the way" in dictionary_line(result.report)
+    assert "section-optimised blend (0.53 of the way" in dictionary_line(result.report)
 
 
 def test_the_default_keeps_blockmesh_placement_where_it_is_better():
