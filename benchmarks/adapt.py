@@ -2,14 +2,14 @@
 after, the worst cell, the time.
 
 Each shape's unadapted grid (the elliptic grid at ``--size``; C-grids of NACA 0012 and, held
-out, NACA 4412; multi-block grids of the cylinder channel and, held out, the tee and the
-Y-branch) is adapted to fields given on a fine image (``FINE``
-points a side over the shape's box, as a solver's result would be): a curved tanh front, a
-straight oblique one, a boundary layer along the lowest wall and a Lamb-Oseen vortex's
-speed, each scaled to the shape's box. The interpolation error is the bilinear interpolant
-of the nodes' values against the field at ``QUAD`` x ``QUAD`` points inside every cell:
-the L2 norm (cells weighted by area) and the largest. The tuning shapes are the examples,
-the held-out ones ``example_data/holdout`` (no constant was set on them).
+out, NACA 4412; multi-block grids of the cylinder channel and, held out, the tee, the
+Y-branch, the L-shape and the backward-facing step) is adapted to fields given on a fine
+image (``FINE`` points a side over the shape's box, as a solver's result would be): a
+curved tanh front, a straight oblique one, a boundary layer along the lowest wall and a
+Lamb-Oseen vortex's speed, each scaled to the shape's box. The interpolation error is the
+bilinear interpolant of the nodes' values against the field at ``QUAD`` x ``QUAD`` points
+inside every cell: the L2 norm (cells weighted by area) and the largest. The tuning shapes
+are the examples, the held-out ones ``example_data/holdout`` (no constant was set on them).
 
     .venv/bin/python benchmarks/adapt.py [--set tuning|holdout|bodies|all] [--beta 5 10 20]
         [--size 41 31] [--speed [--runs 3]] [--unguarded]
@@ -152,7 +152,7 @@ def blocks(name: str = "cylinder_channel") -> list[np.ndarray]:
 def bodies() -> dict:
     """The C-grids and multi-block grids by set: the tuning ones (NACA 0012, the cylinder
     channel) and the held-out ones (NACA 4412 at other counts, far field and wall spacing;
-    the tee and the Y-branch), each a function giving its blocks."""
+    the tee, the Y-branch, the L-shape and the step), each a function giving its blocks."""
     return {
         "tuning": {
             "C-grid NACA 0012": c_grid,
@@ -162,6 +162,8 @@ def bodies() -> dict:
             "C-grid NACA 4412 181 x 49": lambda: c_grid("4412", (181, 49), 8.0, 5e-4),
             "tee blocks": lambda: blocks("tee"),
             "Y-branch blocks": lambda: blocks("ybranch"),
+            "L-shape blocks": lambda: blocks("lshape"),
+            "step blocks": lambda: blocks("step"),
         },
     }
 
@@ -314,8 +316,8 @@ def main() -> None:
                 measure(f"{key}: {name}", make(), args.beta, rows)
 
     def group(row: tuple) -> str:
-        body = "C-grid" in row[0] or "blocks" in row[0]
-        return ("C-grid and blocks, " if body else "four-sided, ") + row[0].split(":")[0]
+        kind = "C-grid" if "C-grid" in row[0] else "multi-block" if "blocks" in row[0] else None
+        return f"{kind or 'four-sided'}, " + row[0].split(":")[0]
 
     groups = {"all": rows}
     for row in rows:

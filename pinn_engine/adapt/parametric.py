@@ -32,19 +32,23 @@ boundary values."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
 
 import numpy as np
 from scipy.sparse import coo_matrix, csr_matrix
 from scipy.sparse.linalg import splu
 
 from pinn_engine.adapt.monitor import (
+    cell_areas,
+    curvature_diffusion,
+    curvature_intensity,
     diffusion_tensor,
     gradient_size,
     gradient_tensor,
+    hessian_tensor,
     monitor_values,
     principal_direction,
     shear_cap,
+    to_nodes,
 )
 from pinn_engine.adapt.nodes import NodeGraph
 from pinn_engine.adapt.pieces import Solved, pieces_of
@@ -57,6 +61,9 @@ MAX_REFINED = 100_000
 # unadapted grid's cells, kept as wide
 SMOOTHING_PER_CELL = 2
 INSIDE_TOL = 1e-9  # a target on a triangle's edge counts as inside it (rounding)
+# the strength at which the curvature metric's intensity is Huang's alpha (the error
+# bound's own balance of the feature and the bulk): the default strength
+CURVATURE_STRENGTH = 20.0
 SYMMETRIC = {"SymmetricMode": True}  # SuperLU's pivoting for a symmetric matrix
 
 
@@ -111,9 +118,10 @@ def own_diffusion(grid: np.ndarray) -> tuple[tuple[np.ndarray, np.ndarray], ...]
 
 @dataclass
 class _Block:
-    """A block's refined lattice: its points in (u, v) and in the plane, |grad f| and the
-    smoothed grad f grad f^T at its nodes, the direction of its sub-cells' i lines (radians)
-    and its sub-cells' lattice factors (:func:`own_diffusion`)."""
+    """A block's refined lattice: its points in (u, v) and in the plane, |grad f|, the
+    smoothed grad f grad f^T and |H| at its nodes, the nodes' areas (their cells' mean),
+    the direction of its sub-cells' i lines (radians) and its sub-cells' lattice factors
+    (:func:`own_diffusion`)."""
 
     grid: np.ndarray
     ids: np.ndarray
@@ -122,6 +130,8 @@ class _Block:
     points: np.ndarray
     gradient: np.ndarray
     tensor: np.ndarray
+    hessian: np.ndarray
+    area: np.ndarray
     heading: np.ndarray
     diffusion: tuple[tuple[np.ndarray, np.ndarray], ...]
 
@@ -167,6 +177,8 @@ class ParameterSpace:
             f, passes = sample(flat), SMOOTHING_PER_CELL * r
             g = gradient_size(flat, cells, f, passes).reshape(u.shape)
             tensor = gradient_tensor(flat, cells, f, passes).reshape(*u.shape, 3)
+            hessian = hessian_tensor(flat, cells, f, passes).reshape(*u.shape, 3)
+            area = to_nodes(cells, cell_areas(flat, cells), len(flat)).reshape(u.shape)
             along_i = np.diff(points, axis=1)
             along_i = along_i[1:] + along_i[:-1]
             heading = np.arctan2(along_i[..., 1], along_i[..., 0])
@@ -174,21 +186,32 @@ class ParameterSpace:
                 tuple(np.kron(factor, np.ones((r, r))) for factor in pair)
                 for pair in own_diffusion(grid)
             )
-            self.blocks.append(_Block(grid, ids, u, v, points, g, tensor, heading, diffusion))
+            self.blocks.append(
+                _Block(grid, ids, u, v, points, g, tensor, hessian, area, heading, diffusion)
+            )
         self.limit = limit
         self.runs = self._runs()
         # the monitor's scale: the largest |grad f| the refined lattices see
         self.largest = max(float(b.gradient.max()) for b in self.blocks)
+        # the curvature metric's: Huang's alpha over every block's area
+        self.alpha = curvature_intensity(
+            np.concatenate([b.hessian.reshape(-1, 3) for b in self.blocks]),
+            np.concatenate([b.area.ravel() for b in self.blocks]),
+        )
+        self._shear: dict[bool, list[np.ndarray]] = {}
 
-    @cached_property
-    def shear(self) -> list[np.ndarray]:
+    def shear(self, curvature: bool = False) -> list[np.ndarray]:
         """Each block's shear cap at its refined nodes (:func:`shear_cap`, the guard's
-        ``limit``): made at the first capped solve, as most grids never ask one."""
-        caps = []
-        for block in self.blocks:
-            edges = np.gradient(block.points, axis=1), np.gradient(block.points, axis=0)
-            caps.append(shear_cap(*edges, principal_direction(block.tensor), self.limit))
-        return caps
+        ``limit``) across the principal direction of grad f grad f^T or (``curvature``) of
+        |H|: made at the first capped solve, as most grids never ask one."""
+        if curvature not in self._shear:
+            caps = []
+            for block in self.blocks:
+                edges = np.gradient(block.points, axis=1), np.gradient(block.points, axis=0)
+                across = principal_direction(block.hessian if curvature else block.tensor)
+                caps.append(shear_cap(*edges, across, self.limit))
+            self._shear[curvature] = caps
+        return self._shear[curvature]
 
     def _runs(self) -> list[_Run]:
         """Every block side's runs between the nodes that stay; each run once (a wake cut,
@@ -222,18 +245,31 @@ class ParameterSpace:
             "right": values[:, -1],
         }[side]
 
-    def solve(self, strength: np.ndarray, isotropic: bool = False, capped: bool = False) -> Solved:
+    def solve(
+        self,
+        strength: np.ndarray,
+        isotropic: bool = False,
+        capped: bool = False,
+        curvature: bool = False,
+    ) -> Solved:
         """The grid adapted with the monitor of ``strength`` at each node, its diffusion
         tensor compressing across a front only or (``isotropic``) in every direction;
-        ``capped``: with the shear cap of the guard's bound (:func:`shear_cap`)."""
+        ``capped``: with the shear cap of the guard's bound (:func:`shear_cap`);
+        ``curvature``: the tensor of the interpolation error's curvature metric
+        (:func:`curvature_diffusion`, intensity strength / (``CURVATURE_STRENGTH`` alpha))
+        in place of the gradient's."""
         graph, r, largest = self.graph, self.r, self.largest
         tensors = []
         for k, block in enumerate(self.blocks):
             beta = bilinear(strength[block.ids][..., None], block.u, block.v)[..., 0]
-            shear = self.shear[k] if capped else None
-            tensors.append(
-                diffusion_tensor(block.gradient, block.tensor, beta, largest, isotropic, shear)
-            )
+            shear = self.shear(curvature)[k] if capped else None
+            if curvature:
+                intensity = beta / (CURVATURE_STRENGTH * self.alpha)
+                tensors.append(curvature_diffusion(block.hessian, intensity, isotropic, shear))
+            else:
+                tensors.append(
+                    diffusion_tensor(block.gradient, block.tensor, beta, largest, isotropic, shear)
+                )
         points = graph.points.copy()
         params = [piece.s.copy() for piece in self.pieces]
         # each run's share of the way along it at its refined points, in run order: an
