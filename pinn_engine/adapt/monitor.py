@@ -237,20 +237,20 @@ def curvature_diffusion(
         G = det(I + |H| / alpha)^(-1/6) (I + |H| / alpha)     (the metric, d = 2, L2 norm)
 
     ``intensity`` the factor 1 / alpha (the strength scaled); D's eigenvalues are the
-    cells' lengths asked in H's eigen-directions. ``isotropic``: their geometric mean in
-    every direction; ``shear`` caps the ratio of the lengths along and across
-    (:func:`shear_cap`)."""
+    cells' lengths asked in H's eigen-directions. ``shear`` caps the ratio of the lengths
+    along and across (:func:`shear_cap`); ``isotropic``: their geometric mean in every
+    direction."""
     mu = symmetric_function(hessian * np.asarray(intensity)[..., None], lambda x: 1.0 + x)
     det = mu[..., 0] * mu[..., 2] - mu[..., 1] ** 2
     metric = mu * (det**CURVATURE_DET_POWER)[..., None]
     lengths = symmetric_function(metric, lambda x: 1.0 / np.sqrt(np.maximum(x, 1e-300)))
-    if isotropic or shear is not None:
-        a, b, c = lengths[..., 0], lengths[..., 1], lengths[..., 2]
-        half = np.sqrt(np.maximum(0.25 * (a - c) ** 2 + b**2, 0.0))
-        long, short = 0.5 * (a + c) + half, 0.5 * (a + c) - half
-        if isotropic:
-            mean = np.sqrt(long * short)
-            return np.stack([mean, np.zeros_like(mean), mean], axis=-1)
-        ratio = np.minimum(long / np.maximum(short, 1e-300), shear)
-        lengths = symmetric_function(lengths, lambda x: np.maximum(x, long / ratio))
+    a, b, c = lengths[..., 0], lengths[..., 1], lengths[..., 2]
+    half = np.sqrt(np.maximum(0.25 * (a - c) ** 2 + b**2, 0.0))
+    long, short = 0.5 * (a + c) + half, 0.5 * (a + c) - half
+    if shear is not None:
+        short = np.maximum(short, long / shear)
+        lengths = symmetric_function(lengths, lambda x: np.maximum(x, short))
+    if isotropic:
+        mean = np.sqrt(long * short)
+        return np.stack([mean, np.zeros_like(mean), mean], axis=-1)
     return lengths
