@@ -115,9 +115,8 @@ def diffusion_tensor(
     core) M' = M, Winslow's isotropic 1/M, which ``isotropic`` asks everywhere. ``shear``
     caps M / M' (:func:`shear_cap`): the compression across a front that the cells there
     take without passing the guard's angle."""
-    a, b, c = tensor[..., 0], tensor[..., 1], tensor[..., 2]
-    half = np.sqrt(np.maximum(0.25 * (a - c) ** 2 + b**2, 0.0))
-    l1, l2 = 0.5 * (a + c) + half, np.maximum(0.5 * (a + c) - half, 0.0)
+    l1, l2 = eigenvalues(tensor)
+    l2 = np.maximum(l2, 0.0)
     ratio = np.sqrt(np.where(l1 > 0.0, l2 / np.where(l1 > 0.0, l1, 1.0), 1.0))
     m_across = monitor_values(gradient, strength, largest)
     m_along = monitor_values(gradient * ratio, strength, largest)
@@ -135,6 +134,14 @@ def diffusion_tensor(
         ],
         axis=-1,
     )
+
+
+def eigenvalues(tensor: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The larger and the smaller eigenvalue of symmetric 2 x 2 tensors (..., 3: xx, xy,
+    yy)."""
+    a, b, c = tensor[..., 0], tensor[..., 1], tensor[..., 2]
+    half = np.sqrt(np.maximum(0.25 * (a - c) ** 2 + b**2, 0.0))
+    return 0.5 * (a + c) + half, 0.5 * (a + c) - half
 
 
 def principal_direction(tensor: np.ndarray) -> np.ndarray:
@@ -199,11 +206,9 @@ def hessian_tensor(
 def symmetric_function(tensor: np.ndarray, fn) -> np.ndarray:
     """``fn`` of symmetric 2 x 2 tensors (..., 3: xx, xy, yy): the same eigenvectors,
     ``fn`` of the eigenvalues."""
-    a, b, c = tensor[..., 0], tensor[..., 1], tensor[..., 2]
-    half = np.sqrt(np.maximum(0.25 * (a - c) ** 2 + b**2, 0.0))
-    big, small = fn(0.5 * (a + c) + half), fn(0.5 * (a + c) - half)
-    theta = 0.5 * np.arctan2(2.0 * b, a - c)
-    cos, sin = np.cos(theta), np.sin(theta)
+    big, small = (fn(x) for x in eigenvalues(tensor))
+    n = principal_direction(tensor)
+    cos, sin = n[..., 0], n[..., 1]
     return np.stack(
         [
             big * cos**2 + small * sin**2,
@@ -219,8 +224,7 @@ def curvature_intensity(hessian: np.ndarray, weights: np.ndarray) -> float:
     l1^(1/3), cubed (l1 the larger eigenvalue of |H|, in place of Huang's det|H|^(1/6),
     which a straight front's one-eigenvalue |H| makes zero), so that about half the
     density goes to where |H| is large and half stays in the bulk."""
-    a, b, c = hessian[..., 0], hessian[..., 1], hessian[..., 2]
-    largest = 0.5 * (a + c) + np.sqrt(np.maximum(0.25 * (a - c) ** 2 + b**2, 0.0))
+    largest = eigenvalues(hessian)[0]
     mean = float((weights * np.cbrt(np.maximum(largest, 0.0))).sum() / weights.sum())
     return mean**3
 
@@ -244,9 +248,7 @@ def curvature_diffusion(
     det = mu[..., 0] * mu[..., 2] - mu[..., 1] ** 2
     metric = mu * (det**CURVATURE_DET_POWER)[..., None]
     lengths = symmetric_function(metric, lambda x: 1.0 / np.sqrt(np.maximum(x, 1e-300)))
-    a, b, c = lengths[..., 0], lengths[..., 1], lengths[..., 2]
-    half = np.sqrt(np.maximum(0.25 * (a - c) ** 2 + b**2, 0.0))
-    long, short = 0.5 * (a + c) + half, 0.5 * (a + c) - half
+    long, short = eigenvalues(lengths)
     if shear is not None:
         short = np.maximum(short, long / shear)
         lengths = symmetric_function(lengths, lambda x: np.maximum(x, short))
