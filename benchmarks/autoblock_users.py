@@ -126,6 +126,56 @@ def three_elements() -> Domain:
     return [channel, slat, main, flap], []
 
 
+def two_elements() -> Domain:
+    """A NACA 0012 of chord 1 and a flap 0.35 deflected 20 degrees down, its leading edge
+    tucked 0.03 under and behind the main element's trailing edge, in [-3, 6] x [-2, 2]."""
+    channel = _a((-3, -2), (6, -2), (6, 2), (-3, 2))
+    flap = _turned(_naca(0.12, 0.35), -20.0) + (0.97, -0.07)
+    return [channel, _naca(0.12), flap], []
+
+
+def slat_and_main() -> Domain:
+    """A slat 0.2 at -40 degrees ahead and below a NACA 0015's leading edge (a gap of
+    about 0.04) in [-3, 6] x [-2, 2]."""
+    channel = _a((-3, -2), (6, -2), (6, 2), (-3, 2))
+    slat = _turned(_naca(0.12, 0.2), -40.0) + (-0.2, 0.05)
+    return [channel, slat, _naca(0.15)], []
+
+
+def squares_side_by_side() -> Domain:
+    """Two squares of side 0.5, 0.1 apart across the flow, in [-2, 5] x [-2, 2]."""
+    channel = _a((-2, -2), (5, -2), (5, 2), (-2, 2))
+    square = _a((0, 0.05), (0.5, 0.05), (0.5, 0.55), (0, 0.55))
+    return [channel, square, (square * (1, -1))[::-1]], []
+
+
+def cylinder_before_plate() -> Domain:
+    """A cylinder of diameter 0.5 0.1 upstream of a plate 1 x 0.1, in [-2, 5] x [-1.5, 1.5]."""
+    channel = _a((-2, -1.5), (5, -1.5), (5, 1.5), (-2, 1.5))
+    t = np.linspace(0, 2 * np.pi, 48, endpoint=False)
+    cylinder = np.column_stack([0.25 * np.cos(t), 0.25 * np.sin(t)])
+    plate = _a((0.35, -0.05), (1.35, -0.05), (1.35, 0.05), (0.35, 0.05))
+    return [channel, cylinder, plate], []
+
+
+def wedge_and_square() -> Domain:
+    """A wedge pointing upstream 0.15 ahead of a square of side 0.6 turned 10 degrees,
+    0.3 above the floor of [-2, 5] x [0, 2.5]."""
+    channel = _a((-2, 0), (5, 0), (5, 2.5), (-2, 2.5))
+    wedge = _a((-0.5, 0.6), (0.0, 0.35), (0.0, 0.85))
+    square = _turned(_a((0, 0), (0.6, 0), (0.6, 0.6), (0, 0.6)), 10.0) + (0.2, 0.3)
+    return [channel, wedge, square], []
+
+
+def three_elements_steep() -> Domain:
+    """A landing-like three-element section: a slat 0.15 at -35 degrees, a NACA 0012 and a
+    flap 0.3 deflected 35 degrees down under its trailing edge, in [-3, 6] x [-2, 2]."""
+    channel = _a((-3, -2), (6, -2), (6, 2), (-3, 2))
+    slat = _turned(_naca(0.10, 0.15), -35.0) + (-0.15, 0.03)
+    flap = _turned(_naca(0.10, 0.3), -35.0) + (0.96, -0.08)
+    return [channel, slat, _naca(0.12), flap], []
+
+
 def triangle_near_floor() -> Domain:
     """An equilateral triangle of side 0.6 pointing up, its base 0.2 above the floor."""
     channel = _a((-2, 0), (5, 0), (5, 2), (-2, 2))
@@ -219,6 +269,12 @@ REPORT: dict[str, Callable[[], Domain]] = {
     "tee, wide branch leaning 55 downstream, channel 1.5": lambda: tilted_tee(55.0, 1.5, 1.5),
     "Y-branch, skewed": lambda: y_branch((-20.0, 80.0, 200.0), (0.7, 0.9, 1.0)),
     "Y-branch, arms at +-35 degrees": lambda: y_branch((-35.0, 35.0, 180.0), (0.6, 0.6, 1.0), 1.0),
+    "main element and flap": two_elements,
+    "slat and main element": slat_and_main,
+    "two squares side by side": squares_side_by_side,
+    "cylinder before a plate": cylinder_before_plate,
+    "wedge before a turned square": wedge_and_square,
+    "three-element section, landing": three_elements_steep,
 }
 # the sweep of tilted tees (``--sweep``): leans, branch widths and channel heights of each
 # half; a tee's careful hand blocking is the better (lower worst cell) of its two

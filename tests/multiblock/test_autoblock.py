@@ -398,3 +398,47 @@ def test_a_square_near_a_floor_gets_a_ring_reaching_the_floor():
     body = np.array([(1, 0.25), (1.5, 0.25), (1.5, 0.75), (1, 0.75)])
     figures = _figures([channel, body], propose_edges([channel, body], cell_size=0.125), 0.125)
     assert figures["folds"] == 0 and figures["worst"] < 148.2
+
+
+SQUARE = np.array([(0, 0.05), (0.5, 0.05), (0.5, 0.55), (0, 0.55)])  # 0.1 above its mirror
+
+
+def test_holes_too_close_for_rings_of_their_own_share_a_box_cut_across_their_gap():
+    """Two squares 0.5 wide, 0.1 apart: each one's ring would leave a tenth of the gap
+    between their boxes, so the search also tries one box round both, cut midway across
+    the gap, whose block across the gap runs between the squares' facing corners; where
+    the boxes overlap (a slat against its main element) only the shared box is tried."""
+    from pinn_engine.multiblock.autoblock.orings import main_axes, ring_forms
+
+    holes = [SQUARE[::-1], (SQUARE * (1, -1))]  # clockwise, as the domain's holes
+    forms = ring_forms([CHANNEL, *holes], main_axes(CHANNEL))
+    shared = [f[0] for f in forms if len(f) == 1]
+    assert len(forms) > len(shared) >= 1  # separate rings are tried too
+    for ring in shared:
+        assert np.allclose(ring.box.min(axis=0), (-0.55, -1.1))
+        edges = {tuple(np.round(e, 9).ravel()) for e in ring.edges}
+        assert (-0.55, 0.0, 1.05, 0.0) in edges  # the cut
+        for x in (0.0, 0.5):  # the gap's block: its sides from the facing corners to the cut
+            assert (x, 0.05, x, 0.0) in edges and (x, -0.05, x, 0.0) in edges
+    slat = np.array([(-0.2, -0.05), (-0.02, -0.1), (-0.05, -0.02)])
+    main_element = np.array([(0.0, 0.0), (0.3, -0.05), (1.0, 0.0), (0.3, 0.05)])[::-1]
+    forms = ring_forms([CHANNEL, slat[::-1], main_element], main_axes(CHANNEL))
+    assert [len(f) for f in forms] == [1] * len(forms)
+
+
+@pytest.mark.slow  # the search meshes the shortlisted layouts: about 7 s
+def test_two_squares_side_by_side_mesh_with_their_corners_as_nodes(tmp_path):
+    """The two squares 0.1 apart in a channel, at 8 cells a unit: every ring of each alone
+    folds (they were refused); the shared box meshes, every corner a node."""
+    lower = (SQUARE * (1, -1))[::-1]
+    lines = [np.r_[r, r[:1]] for r in (CHANNEL, SQUARE, lower)]
+    poly = pv.PolyData()
+    poly.points = np.vstack([np.c_[r, np.zeros(len(r))] for r in lines])
+    poly.lines = np.r_[5, 0, 1, 2, 3, 4, 5, 5, 6, 7, 8, 9, 5, 10, 11, 12, 13, 14]
+    path, out = tmp_path / "squares.vtp", tmp_path / "g.vtm"
+    poly.save(path)
+    argv = ["--blocks", "auto", "--method", "elliptic", "--cell-size", "0.125", "--quiet"]
+    assert main([str(path), *argv, "-o", str(out)]) == 0
+    nodes = np.vstack(_vtm_points(out))[:, :2]
+    for corner in np.vstack([SQUARE, lower]):
+        assert np.linalg.norm(nodes - corner, axis=1).min() < 1e-12

@@ -21,7 +21,7 @@ from pinn_engine.errors import InputError
 from pinn_engine.multiblock.autoblock.bends import bend_cuts, cut_choices
 from pinn_engine.multiblock.autoblock.corners import corner_points, reflex_vertices
 from pinn_engine.multiblock.autoblock.faces import NoBlocking, completions
-from pinn_engine.multiblock.autoblock.orings import ORing, main_axes, o_rings
+from pinn_engine.multiblock.autoblock.orings import ORing, main_axes, ring_forms
 from pinn_engine.multiblock.autoblock.rays import layered, motorcycles, ray_options
 from pinn_engine.multiblock.autoblock.score import score, scoring_size
 from pinn_engine.multiblock.autoblock.search import best_meshed, candidates
@@ -63,15 +63,9 @@ def propose_edges(
     rings = order_rings([np.asarray(r, dtype=float)[:, :2] for r in rings], source)
     diagonal = float(np.linalg.norm(np.ptp(rings[0], axis=0)))
     axes = main_axes(rings[0])
-    # each hole's rings (free, reaching a wall): every combination is searched
-    forms = list(
-        itertools.product(
-            *[
-                o_rings(hole, [r for j, r in enumerate(rings) if j != k], axes)
-                for k, hole in enumerate(rings[1:], start=1)
-            ]
-        )
-    )
+    # each hole's rings (free, reaching a wall), close holes' shared ones: every
+    # combination is searched
+    forms = ring_forms(rings, axes)
     layouts = []
     for form in forms:
         layouts += _layouts(rings, list(form), diagonal, layers)

@@ -5,19 +5,24 @@ angles; the box's corners then emit block edges like the boundary's reflex corne
 The box is aligned with the outer boundary's main directions (``main_axes``), as far from
 the hole as the hole's own half-size and at most ``GAP_SHARE`` of the way to whatever lies
 beyond each of its sides (the wall, another hole), so a body near a wall keeps a thin ring
-there and a full one elsewhere.
+there and a full one elsewhere. Holes so close that their boxes would crowd each other (a
+slat before its main element, two squares side by side) may share one box instead, cut
+midway across each gap, the gap a block of its own (``group_ring``).
 """
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
+import shapely
 from shapely.geometry import LineString, MultiLineString, Point, Polygon
 from shapely.geometry.polygon import orient
 
 from pinn_engine.geometry.boundary import turning_angles
 from pinn_engine.multiblock.autoblock.corners import corner_points
+from pinn_engine.multiblock.autoblock.faces import NoBlocking, faces_of, layout_cost
 from pinn_engine.multiblock.blocks import CORNER_TURN
 
 RING_SHARE = 1.0  # the ring's thickness over the hole's half-size (a cylinder's box: 2 D wide)
@@ -31,6 +36,16 @@ SPOKE_SNAP = 0.25  # a spoke ends on a sharp vertex of the hole this close (shar
 WALL_SHARE = 0.5
 WALL_TOL = 1e-6  # share of the gap: a side moved onto the wall lies on it within this
 _SIDE_OF = (0, 2, 1, 3)  # the edge from box corner k - 1 to k: the -u, -v, +u, +v side
+# holes whose boxes leave less than this share of the gap between the holes free (boxes
+# facing each other across a gap leave a tenth) may share one box, cut between them
+GROUP_SHARE = 0.5
+SEPARATING_TURN = 80.0  # degrees a cut between grouped holes may turn from across the box
+# a cut's gap is weighed by the cosine of its turn to this power: a cut square to the box
+# unless turning widens the gap much (a flap tucked under a main element's trailing edge)
+TURN_POWER = 16
+CUT_ENDS = ("fitted", "none", "all")  # the spokes to the cuts' ends the search tries
+FACING = 2.0  # a hole faces a cut where it is within this many times its nearest distance
+FACING_STEP = 0.25  # the outline is measured every this many times that nearest distance
 
 
 @dataclass
@@ -75,6 +90,163 @@ def _spoke_end(hole: np.ndarray, centre: np.ndarray, corner: np.ndarray, half: f
     return end
 
 
+def ring_forms(rings: list[np.ndarray], axes: np.ndarray) -> list[list[ORing]]:
+    """Every set of rings the search tries round the holes ``rings[1:]`` (``rings[0]`` the
+    outer ring): each hole's :func:`o_rings`, and where holes stand so close that their
+    boxes take more than GROUP_SHARE of the gap between them (a slat, a main element and
+    a flap), one box round the group (:func:`group_ring`), the only one where their boxes
+    overlap."""
+    holes = rings[1:]
+    singles = [o_rings(h, rings[:k] + rings[k + 1 :], axes) for k, h in enumerate(holes, 1)]
+    boxes = [Polygon(s[0].box) for s in singles]
+    solids = [Polygon(h) for h in holes]
+    group = list(range(len(holes)))  # each hole's group: the least index joined to it
+    overlap = set()
+    for i, j in itertools.combinations(range(len(holes)), 2):
+        between = boxes[i].distance(boxes[j])
+        if between < GROUP_SHARE * solids[i].distance(solids[j]):
+            old, new = max(group[i], group[j]), min(group[i], group[j])
+            group = [new if g == old else g for g in group]
+            overlap.update({i, j} if between == 0.0 else set())
+    units = []
+    for g in sorted(set(group)):
+        members = [k for k in range(len(holes)) if group[k] == g]
+        separate = [list(c) for c in itertools.product(*[singles[k] for k in members])]
+        if len(members) == 1:
+            units.append(separate)
+            continue
+        outside = [rings[0]] + [h for k, h in enumerate(holes) if group[k] != g]
+        joined = [group_ring([holes[k] for k in members], outside, axes, e) for e in CUT_ENDS]
+        apart = not overlap.intersection(members)
+        units.append([[j] for j in joined if j is not None] + separate * apart or separate)
+    return [sum(choice, []) for choice in itertools.product(*units)]
+
+
+def group_ring(
+    holes: list[np.ndarray], others: list[np.ndarray], axes: np.ndarray, ends: str = "fitted"
+) -> ORing | None:
+    """One ring round ``holes`` among the ``others`` (the outer ring first): the box
+    :func:`o_ring` puts round all their points, cut between each hole and the next along
+    the box's longer axis by a line that leaves them apart (:func:`_separating`), each
+    hole cut from its own part of the box by spokes (:func:`_part_spokes`, with ``ends``)
+    to the part's corners and to the ends of its stretch facing each cut (:func:`_facing`),
+    so that the gap between two holes is a block of its own, split by the cut; the
+    C-shaped form: each hole in its C-shaped form where it has one.
+    None where no line leaves two neighbours apart or a part holds no whole hole."""
+    box, _ = _box(np.vstack(holes), others, axes)
+    frame = Polygon(box)
+    along = axes[int(np.argmax(np.ptp(box @ axes.T, axis=0)))]
+    order = sorted(range(len(holes)), key=lambda k: float(_centre(holes[k], axes) @ along))
+    reach = 2.0 * float(np.linalg.norm(np.ptp(box, axis=0)))  # beyond the box every way
+    edges = [np.array([box[k - 1], box[k]]) for k in range(4)]
+    parts, cuts, lines = [], [], []
+    rest = frame
+    for a, b in zip(order, order[1:]):
+        cut = _separating(holes[a], holes[b], along)
+        if cut is None:
+            return None
+        middle, normal = cut
+        lines.append(cut)
+        side = np.array([-normal[1], normal[0]])
+        behind = Polygon([middle + reach * (side - normal), middle + reach * side,
+                          middle - reach * side, middle - reach * (side + normal)])  # fmt: skip
+        parts.append(rest.intersection(behind))
+        rest = rest.difference(behind)
+        cuts.append(np.asarray(frame.intersection(LineString(behind.exterior.coords[1:3])).coords))
+    parts.append(rest)
+    if any(c.crosses(LineString(d)) for c, d in itertools.combinations(map(LineString, cuts), 2)):
+        return None
+    o_form, c_form, shaped = [], [], False
+    for j, (k, part) in enumerate(zip(order, parts)):
+        if not isinstance(part, Polygon) or not part.contains(Polygon(holes[k])):
+            return None
+        corners = np.asarray(orient(part.simplify(0.0)).exterior.coords)[:-1]
+        facing = [p for m, n in lines[max(j - 1, 0) : j + 1] for p in _facing(holes[k], m, n)]
+        spokes, c_spokes = _part_spokes(holes[k], corners, box, facing, axes, ends)
+        o_form += spokes
+        c_form += spokes if c_spokes is None else c_spokes
+        shaped |= c_spokes is not None
+    edges += cuts
+    return ORing(box, edges + o_form, edges + c_form if shaped else None)
+
+
+def _part_spokes(
+    hole: np.ndarray,
+    corners: np.ndarray,
+    box: np.ndarray,
+    facing: list,
+    axes: np.ndarray,
+    ends: str,
+) -> tuple[list[np.ndarray], list[np.ndarray] | None]:
+    """:func:`_spoked` for a ``hole`` in its part (``corners``) of a group's ``box``: spokes
+    to the ``facing`` points (inserted on the cuts) and to the box's corners, and (``ends``)
+    to the cuts' ends on the box: "none", "all", or "fitted": where the ring blocks beside
+    them would otherwise not all have four corners (a round hole's arc turns there; a
+    square's side runs on straight). A C-shaped form whose spokes, moved along the hole,
+    cross it is none."""
+    outline = _inserted(corners, facing)
+    own = [c for c in corners if np.isclose(box, c).all(axis=1).any()]
+    centre, half = _centre(hole, axes), _half(hole, axes)
+    tried = []
+    for targets in {"none": [own], "all": [list(corners)], "fitted": [own, list(corners)]}[ends]:
+        spokes, c_spokes = _spoked(hole, outline, centre, half, np.array(targets + facing))
+        if c_spokes is not None:
+            try:
+                faces_of([outline, hole], c_spokes)
+            except NoBlocking:
+                c_spokes = None
+        tried.append((spokes, c_spokes))
+        try:
+            layout_cost([outline, hole], spokes)
+        except NoBlocking:
+            continue
+        return spokes, c_spokes
+    return tried[0]
+
+
+def _facing(hole: np.ndarray, middle: np.ndarray, normal: np.ndarray) -> list[np.ndarray]:
+    """The two ends, seen square across the cut through ``middle`` across ``normal``, of
+    the stretch of ``hole`` that faces it (its points within FACING times its nearest
+    distance to the cut): the corners of the hole's half of the block across the gap."""
+    side = np.array([-normal[1], normal[0]])
+    nearest = float(np.abs((hole - middle) @ normal).min())
+    outline = shapely.segmentize(Polygon(hole).exterior, FACING_STEP * nearest)
+    points = np.asarray(outline.coords)
+    away = np.abs((points - middle) @ normal)
+    near = (points - middle)[away <= FACING * nearest] @ side
+    return [middle + near.min() * side, middle + near.max() * side]
+
+
+def _inserted(corners: np.ndarray, points: list[np.ndarray]) -> np.ndarray:
+    """The polygon ``corners`` with each of ``points`` (on its outline) inserted as a
+    vertex of the side it lies on, unless it is one already."""
+    out = list(corners)
+    for point in points:
+        if np.isclose(np.array(out), point).all(axis=1).any():
+            continue
+        ring = np.array(out)
+        gaps = [LineString([ring[i - 1], ring[i]]).distance(Point(point)) for i in range(len(out))]
+        out.insert(int(np.argmin(gaps)), point)
+    return np.array(out)
+
+
+def _separating(a: np.ndarray, b: np.ndarray, along: np.ndarray) -> tuple | None:
+    """The line between holes ``a`` and ``b`` (``a`` first along ``along``) as (a point,
+    its unit normal towards ``b``): of the lines that leave the two apart, turned at most
+    SEPARATING_TURN from across ``along`` (one a degree), the one whose gap times the
+    cosine of its turn to TURN_POWER is widest (a wide gap, a cut near square to the box),
+    midway across the gap; None where no such line leaves them apart."""
+    best, found = 0.0, None
+    for turn in np.radians(np.arange(-SEPARATING_TURN, SEPARATING_TURN + 1.0)):
+        c, s = np.cos(turn), np.sin(turn)
+        normal = np.array([c * along[0] - s * along[1], s * along[0] + c * along[1]])
+        gap = (b @ normal).min() - (a @ normal).max()
+        if gap * c**TURN_POWER > best:
+            middle = 0.5 * ((b @ normal).min() + (a @ normal).max())
+            best, found = gap * c**TURN_POWER, (middle * normal, normal)
+    return found
+
+
 def o_rings(hole: np.ndarray, others: list[np.ndarray], axes: np.ndarray) -> list[ORing]:
     """The rings the search tries round ``hole`` among the ``others`` (the outer ring first,
     then the other holes): the O-ring, and where a side of its box is near a straight wall
@@ -91,6 +263,33 @@ def o_ring(
     holes). With ``walls``, a box side whose ring would be thinner than WALL_SHARE of its
     thickness elsewhere, a straight wall of the outer ring beyond it, lies on that wall, and
     the other sides take their gaps beyond them, not beside them; None where no side does."""
+    framed = _box(hole, others, axes, walls)
+    if framed is None:
+        return None
+    box, walled = framed
+    # a side on the wall is the wall's: no edge along it
+    edges = [np.array([box[k - 1], box[k]]) for k in range(4) if not walled[_SIDE_OF[k]]]
+    o_form, c_form = _spoked(hole, box, _centre(hole, axes), _half(hole, axes))
+    return ORing(box, edges + o_form, None if c_form is None else edges + c_form)
+
+
+def _centre(points: np.ndarray, axes: np.ndarray) -> np.ndarray:
+    """The middle of ``points``' extent along the main ``axes``."""
+    local = points @ axes.T
+    return 0.5 * (local.min(axis=0) + local.max(axis=0)) @ axes
+
+
+def _half(points: np.ndarray, axes: np.ndarray) -> float:
+    """Half the larger of ``points``' extents along the main ``axes``."""
+    return 0.5 * float(np.ptp(points @ axes.T, axis=0).max())
+
+
+def _box(
+    hole: np.ndarray, others: list[np.ndarray], axes: np.ndarray, walls: bool = False
+) -> tuple[np.ndarray, list[bool]] | None:
+    """The box (4, 2), counter-clockwise, that :func:`o_ring` puts round the points
+    ``hole`` among the ``others``, and which of its -u, +u, -v, +v sides lie on a wall;
+    None where ``walls`` asks sides on a wall and none is."""
     local = hole @ axes.T
     lo, hi = local.min(axis=0), local.max(axis=0)
     half = 0.5 * float(np.max(hi - lo))
@@ -120,15 +319,26 @@ def o_ring(
         if not Polygon((box + free) @ axes).intersects(obstacles):
             break
         free = 0.5 * free
-    box = (box + np.where(held != 0, grow, free)) @ axes
-    centre = 0.5 * (lo + hi) @ axes
-    # a side on the wall is the wall's: no edge along it
-    edges = [np.array([box[k - 1], box[k]]) for k in range(4) if not walled[_SIDE_OF[k]]]
-    spokes = [np.array([_spoke_end(hole, centre, c, half), c]) for c in box]
+    return (box + np.where(held != 0, grow, free)) @ axes, walled
+
+
+def _spoked(
+    hole: np.ndarray,
+    box: np.ndarray,
+    centre: np.ndarray,
+    half: float,
+    targets: np.ndarray | None = None,
+) -> tuple[list[np.ndarray], list[np.ndarray] | None]:
+    """The spokes that cut ``hole`` from its ``box`` (from the hole's ``centre`` towards the
+    box's corners, or the ``targets`` among them, onto a sharp vertex within SPOKE_SNAP of
+    its ``half``-size, and one from each sharp corner no spoke ends at), and the C-shaped
+    form's spokes (None where the hole has no corner too sharp for its spoke to leave block
+    corners)."""
+    ends = box if targets is None else targets
+    spokes = [np.array([_spoke_end(hole, centre, c, half), c]) for c in ends]
     own = _corner_spokes(hole, box, spokes)
     beside = _beside_sharp_edges(spokes, own, hole, box, centre)
-    c_shaped = None if beside is None else edges + beside + own
-    return ORing(box, edges + spokes + own, c_shaped)
+    return spokes + own, None if beside is None else beside + own
 
 
 def _gap_beyond(side: np.ndarray, centre: np.ndarray, obstacles, reach: float) -> float:
