@@ -426,7 +426,7 @@ def test_holes_too_close_for_rings_of_their_own_share_a_box_cut_across_their_gap
     assert [len(f) for f in forms] == [1] * len(forms)
 
 
-@pytest.mark.slow  # the search meshes the shortlisted layouts: about 7 s
+@pytest.mark.slow  # the search meshes the shortlisted layouts: about 8 s of CPU
 def test_two_squares_side_by_side_mesh_with_their_corners_as_nodes(tmp_path):
     """The two squares 0.1 apart in a channel, at 8 cells a unit: every ring of each alone
     folds (they were refused); the shared box meshes, every corner a node."""

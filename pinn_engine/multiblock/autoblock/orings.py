@@ -116,10 +116,28 @@ def ring_forms(rings: list[np.ndarray], axes: np.ndarray) -> list[list[ORing]]:
             units.append(separate)
             continue
         outside = [rings[0]] + [h for k, h in enumerate(holes) if group[k] != g]
-        joined = [group_ring([holes[k] for k in members], outside, axes, e) for e in CUT_ENDS]
+        joined: list[ORing] = []
+        for ends in CUT_ENDS:
+            ring = group_ring([holes[k] for k in members], outside, axes, ends)
+            if ring is not None and not any(_same(ring, other) for other in joined):
+                joined.append(ring)
         apart = not overlap.intersection(members)
-        units.append([[j] for j in joined if j is not None] + separate * apart or separate)
+        units.append([[j] for j in joined] + separate * apart or separate)
     return [sum(choice, []) for choice in itertools.product(*units)]
+
+
+def _same(a: ORing, b: ORing) -> bool:
+    """Whether rings ``a`` and ``b`` have the same edges in both forms."""
+    return all(
+        x is y
+        or (
+            x is not None
+            and y is not None
+            and len(x) == len(y)
+            and all(np.array_equal(e, f) for e, f in zip(x, y))
+        )  # fmt: skip
+        for x, y in ((a.edges, b.edges), (a.c_shaped, b.c_shaped))
+    )
 
 
 def group_ring(
