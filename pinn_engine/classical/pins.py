@@ -24,11 +24,23 @@ import numpy as np
 
 from pinn_engine.classical.tfi import tfi_of_sides
 from pinn_engine.geometry.auxlines import AuxLine
-from pinn_engine.geometry.boundary import SHARP_TURN, SIDES, Boundary, Polyline, turning_angles
+from pinn_engine.geometry.boundary import (
+    SHARP_TURN,
+    SIDES,
+    Boundary,
+    Polyline,
+    segment_distance,
+    turning_angles,
+)
 
 # arc-length fraction within which a line's end is taken to be at a corner, a sharp vertex or
 # another line's end (it shares their node): far below any lattice's node spacing
 MERGED = 1e-6
+# a line's end becomes a node where the cell edge between the nodes round it misses it by more
+# than this share of the diagonal, a quarter of the 2e-3 at which a line counts as followed:
+# pinning moves a node up to half a cell, which costs more than a smaller miss (fig2's line
+# ends at 21 x 11, pinned: mean 1 degree higher)
+END_MISS = 5e-4
 
 
 def side_sharp_params(points: np.ndarray, t: np.ndarray) -> np.ndarray:
@@ -138,14 +150,38 @@ def line_ends(lines: Sequence[AuxLine], side: str) -> np.ndarray:
     return np.asarray(ends)
 
 
-def _side_vertices(line: Polyline, ends: np.ndarray) -> list[np.ndarray]:
+def _missed(
+    line: Polyline, sharp: np.ndarray, nodes: np.ndarray, ends: np.ndarray, diagonal: float
+) -> np.ndarray:
+    """The ``ends`` (arc-length parameters) that the side's cell edge between the two nodes
+    round each misses by more than ``END_MISS`` of the ``diagonal``, the side's ``nodes``
+    placed with its ``sharp`` vertices pinned (a straight stretch misses none)."""
+    arc, param = np.array([0.0, 1.0]), np.array([0.0, 1.0])
+    picks = assign(nodes, sharp)
+    if picks is not None and len(picks):
+        arc, param = np.insert(arc, 1, sharp), np.insert(param, 1, nodes[picks])
+    side = line.reparametrized(arc, param)
+    out = []
+    for t in ends:
+        q = np.interp(t, arc, param)  # the end's parameter on the side so placed
+        k = int(np.clip(np.searchsorted(nodes, q, side="right") - 1, 0, len(nodes) - 2))
+        chord = side.at(nodes[k : k + 2])
+        if segment_distance(line.at(np.array([t])), chord, closed=False)[0] > END_MISS * diagonal:
+            out.append(t)
+    return np.asarray(out)
+
+
+def _side_vertices(
+    line: Polyline, ends: np.ndarray, nodes: np.ndarray, diagonal: float
+) -> list[np.ndarray]:
     """The parameters a side's nodes should sit on, the most wanted first: its sharp vertices
-    with the auxiliary lines' ``ends`` (apart from them and from the corners by at least
-    ``MERGED``), then the sharp vertices alone."""
+    with the auxiliary lines' ``ends`` that a cell edge would miss (:func:`_missed`; apart
+    from them and from the corners by at least ``MERGED``), then the sharp vertices alone."""
     sharp = side_sharp_params(line.points, line.t)
     anchors = np.concatenate([[0.0, 1.0], sharp])
     far = [t for t in np.unique(ends) if np.abs(anchors - t).min() > MERGED]
     far = [t for k, t in enumerate(far) if k == 0 or t - far[k - 1] > MERGED]
+    far = list(_missed(line, sharp, nodes, np.asarray(far), diagonal)) if far else []
     return [np.sort(np.concatenate([sharp, far])), sharp] if far else [sharp]
 
 
@@ -162,7 +198,7 @@ def pinned_boundary(
     for side in SIDES:
         line = boundary.arc_side(side)
         nodes = np.linspace(0.0, 1.0, ni if side in ("bottom", "top") else nj)
-        for vertices in _side_vertices(line, line_ends(lines, side)):
+        for vertices in _side_vertices(line, line_ends(lines, side), nodes, boundary.diagonal):
             picks = assign(nodes, vertices)
             if picks is not None:
                 break
