@@ -128,9 +128,8 @@ def member_of(
     frame = Frame(origin=np.asarray(body.mid_chord, dtype=float), scale=float(body.chord))
     base = frame.to_unit(lay.reference)
     shared = family_settings(settings)
-    # its own run optimises its nodes (the default objective); the wall cells' aspect is not
-    # known here, so a thin-walled member (whose run keeps its elliptic grid) is optimised
-    # too, and its ranking keeps it no worse than that grid
+    # its own run optimises its nodes (the default objective), a thin-walled member's beyond
+    # its boundary layer (quality_start.body_held_rows)
     optimised = body_cannot_win(settings, 0.0) == WALL
     return Member(
         "body", settings.topology, base, frame, body.source, None, None, body, far, shared,

@@ -42,7 +42,6 @@ from pinn_engine.geometry.plane import Plane
 from pinn_engine.quality import (
     boundary_nodes,
     cell_quality,
-    guard_figures,
     side_report,
     summary,
 )
@@ -240,11 +239,11 @@ def _body_chosen(
 def held_worst(grid: np.ndarray) -> float:
     """The worst angle of the cells that every grid of a body's own run keeps as they are in
     its reference ``grid`` (or its elliptic grid): those between its held rows (the wall and
-    the first layer, ``quality_start.BODY_HELD_ROWS``), a lower bound of its own grid's
-    worst angle."""
-    from pinn_engine.starts.quality_start import BODY_HELD_ROWS
+    the first layer, ``kinds.body.untrained.BODY_HELD_ROWS``, the least it holds), a lower
+    bound of its own grid's worst angle."""
+    from pinn_engine.kinds.body import untrained
 
-    return guard_figures(grid[:BODY_HELD_ROWS])["worst_max_angle"]
+    return untrained.held_worst(grid)
 
 
 def _body_polished(model: FamilyModel, member: Member) -> tuple[np.ndarray, str]:
@@ -262,6 +261,7 @@ def _body_polished(model: FamilyModel, member: Member) -> tuple[np.ndarray, str]
     grids, whose own optimised grids were 7-12 degrees lower in worst angle; an O-grid's
     own run mostly keeps its elliptic grid, and would pay its optimisation twice."""
     from pinn_engine.blas import one_thread
+    from pinn_engine.kinds.body.untrained import held_rows
     from pinn_engine.starts.quality_start import Ranking, body_quality_start
 
     elliptic = model.base(member)
@@ -270,9 +270,10 @@ def _body_polished(model: FamilyModel, member: Member) -> tuple[np.ndarray, str]
     better = ranking.key(ranking.quality(grid)) <= ranking.key(ranking.quality(elliptic))
     seam = member.topology == "o"
     with one_thread():  # its L-BFGS, as the member's own run's
-        found = body_quality_start(elliptic, seam, begin=grid if better else None)
+        held = held_rows(elliptic)
+        found = body_quality_start(elliptic, seam, held, begin=grid if better else None)
         if better and not seam and found[1] == "elliptic":
-            found = body_quality_start(elliptic, seam)
+            found = body_quality_start(elliptic, seam, held)
     return found
 
 

@@ -333,9 +333,9 @@ def _held(grid: np.ndarray, member: Member, optimised: bool) -> np.ndarray:
     exactly (the modes vanish there to rounding; its reference grid's, which its elliptic
     grid holds): the wall, the far field and a C-grid's outflow columns, and where its own
     run optimises its nodes (``optimised``) the first layer too
-    (``quality_start.BODY_HELD_ROWS``; a trained network's correction moves it); an
+    (``kinds.body.untrained.BODY_HELD_ROWS``; a trained network's correction moves it); an
     O-grid's column ni - 1 repeats its column 0 (the seam)."""
-    from pinn_engine.starts.quality_start import BODY_HELD_ROWS
+    from pinn_engine.kinds.body.untrained import BODY_HELD_ROWS
 
     base, held = member.base, BODY_HELD_ROWS if optimised else 1
     grid[:held], grid[-1] = base[:held], base[-1]

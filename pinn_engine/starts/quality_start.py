@@ -45,11 +45,8 @@ MEAN_TOL = START_MEAN_TOL  # the objective's bound on the mean against the ellip
 TURN_TOL = 2.0
 TURN_STEP = 0.01  # the ranking's step of the crossing turn, degrees
 NODE_ITERATIONS = 100  # L-BFGS iterations of the node optimisation (0: none, an ablation)
-# A body grid's rows held by its node optimisation: the wall's and the first layer's, which
-# fix the first edges off the wall and the angles at which grid lines leave it (90 degrees)
-BODY_HELD_ROWS = 2
-# and it stops after this many iterations without a better-ranked state (NACA 0012 at 41x21:
-# the C-grid's best at 20 of its 100 iterations, the O-grid's at 60)
+# A body grid's node optimisation stops after this many iterations without a better-ranked
+# state (NACA 0012 at 41x21: the C-grid's best at 20 of its 100 iterations, the O-grid's at 60)
 BODY_STALL = 10
 # A grid follows the auxiliary lines when it misses them by at most LINE_TOL (of the
 # diagonal) more than the boundary nodes fix: half the 2e-3 at which a grid line counts as
@@ -250,16 +247,17 @@ def candidates(
 
 
 def body_quality_start(
-    elliptic: np.ndarray, seam: bool, begin: np.ndarray | None = None
+    elliptic: np.ndarray, seam: bool, held: int, begin: np.ndarray | None = None
 ) -> tuple[np.ndarray, str]:
     """The better ranked (no lines) of a body's (O- or C-grid's) elliptic grid and that grid
-    with its nodes optimised (:func:`optimize_nodes`), the wall's row and the first layer
-    held (``BODY_HELD_ROWS``), with its name; ``seam``: an O-grid's (column ni - 1 is
-    column 0); ``begin``: the grid the optimisation starts from instead (a family model's,
-    on the same wall, first layer and far field)."""
+    with its nodes optimised (:func:`optimize_nodes`), its first ``held`` rows (the wall's,
+    the first layer's and any boundary layer's: ``kinds.body.untrained.held_rows``) kept,
+    with its name; ``seam``: an O-grid's (column ni - 1 is column 0); ``begin``: the grid the
+    optimisation starts from instead (a family model's, on the same wall, first layer and
+    far field)."""
     ranking = Ranking.of(elliptic, [], 1.0)
     begin = elliptic if begin is None else begin
-    optimized = optimize_nodes(begin, ranking, NODE_ITERATIONS, BODY_HELD_ROWS, seam, BODY_STALL)
+    optimized = optimize_nodes(begin, ranking, NODE_ITERATIONS, held, seam, BODY_STALL)
     if worst_non_orthogonality(optimized) > worst_non_orthogonality(elliptic):
         return elliptic, "elliptic"  # less orthogonal where a solver's faces meet
     candidates = [(elliptic, "elliptic"), (optimized, "optimized")]

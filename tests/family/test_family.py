@@ -414,8 +414,8 @@ def test_a_c_grid_whose_polish_from_the_model_fails_its_choice_gets_its_own_runs
     assert own.report["training"]["start"] == "optimized"
     real = quality_start.body_quality_start
 
-    def failing(elliptic, seam, begin=None):
-        return (elliptic, "elliptic") if begin is not None else real(elliptic, seam)
+    def failing(elliptic, seam, held, begin=None):
+        return (elliptic, "elliptic") if begin is not None else real(elliptic, seam, held)
 
     monkeypatch.setattr(quality_start, "body_quality_start", failing)
     monkeypatch.setattr(family_mesh, "held_worst", lambda elliptic: -np.inf)  # optimised

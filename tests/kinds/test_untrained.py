@@ -12,11 +12,21 @@ import numpy as np
 import pytest
 from helpers import EXAMPLES, ROOT, run_blocks
 
+from pinn_engine import job
 from pinn_engine.bodies.airfoil import circle, load_body
 from pinn_engine.bodies.bodygrid import elliptic, layout
 from pinn_engine.io.pipeline import load_aux, load_boundary
 from pinn_engine.kinds.body.mesh import mesh_body
-from pinn_engine.kinds.body.untrained import THIN, THIN_WALL, WALL, body_cannot_win
+from pinn_engine.kinds.body.untrained import (
+    BODY_HELD_ROWS,
+    THIN,
+    THIN_WALL,
+    WALL,
+    body_cannot_win,
+    body_start,
+    held_rows,
+    held_worst,
+)
 from pinn_engine.kinds.four_sided.mesher import Mesher
 from pinn_engine.kinds.hexa.mesh import mesh_surface
 from pinn_engine.kinds.untrained import QUALITY, WINSLOW, cannot_win, start_or_train
@@ -199,3 +209,43 @@ def test_the_default_body_grid_has_a_lower_worst_cell_with_the_wall_rows_kept(to
     assert best.report["training"]["start"] == "optimized"
     assert best.report["train_seconds"] == 0.0
     assert best.report["choice"].startswith("chose the optimized grid")
+
+
+def _default_c_grid(method: str):
+    """The command's C-grid of ``example_data/naca0012.dat`` at the default size and first
+    layer (a boundary layer: wall cells of aspect ratio far above ``LAYER_ASPECT``)."""
+    settings = make_settings(method, topology="c")
+    return job.run(settings, job.geometry_from_files(settings, EXAMPLES / "naca0012.dat"))
+
+
+def test_the_default_c_grid_is_optimised_beyond_its_boundary_layer():
+    """That C-grid's first layer is thin (aspect far above 20), so its boundary
+    layer's rows are held and the nodes beyond them optimised: the worst cell below the
+    elliptic grid's, the held rows and far field the elliptic grid's to the bit, the wall
+    angles 90 degrees, and no training second."""
+    ell, best = _default_c_grid("elliptic"), _default_c_grid("pinn")
+    e, b = ell.grids[0], best.grids[0]
+    held = held_rows(e)
+    assert held > BODY_HELD_ROWS
+    assert best.report["quality"]["worst_max_angle"] < ell.report["quality"]["worst_max_angle"]
+    assert best.report["training"]["start"] == "optimized"
+    np.testing.assert_array_equal(b[:held], e[:held])
+    np.testing.assert_array_equal(b[-1], e[-1])
+    assert best.report["topology"]["wall_angle_deviation"] < 1e-3
+    assert best.report["train_seconds"] == 0.0
+
+
+def test_no_optimisation_where_the_worst_cell_is_in_the_held_rows(monkeypatch):
+    """A body grid whose worst cell lies between its held rows is kept as it is, without
+    the optimisation (which could not lower that cell) being run."""
+    nj, ni = 12, 30
+    i, j = np.meshgrid(np.linspace(0.0, 1.0, ni), np.geomspace(1e-4, 1.0, nj) - 1e-4)
+    grid = np.stack([i, j], axis=-1)
+    assert held_rows(grid) > BODY_HELD_ROWS  # rows of cells 1e-4 high, 0.03 wide
+    grid[1, ni // 2, 0] += 0.02  # a sheared cell next to the wall
+    assert held_worst(grid, held_rows(grid)) > held_worst(grid[held_rows(grid) - 1 :])
+    from pinn_engine.starts import quality_start
+
+    monkeypatch.setattr(quality_start, "body_quality_start", None)  # any call fails
+    kept, training = body_start(grid, THIN, True, False)
+    assert kept is grid and training["start"] == "elliptic"

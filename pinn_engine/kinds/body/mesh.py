@@ -213,14 +213,14 @@ def mesh_body(
         timings["elliptic"] = time.perf_counter() - start - timings["layout"]
     if method == "pinn":
         began = time.perf_counter()
-        from pinn_engine.kinds.body.untrained import WALL, body_cannot_win, body_start
+        from pinn_engine.kinds.body.untrained import body_cannot_win, body_start
         from pinn_engine.kinds.untrained import start_or_train
 
         def kept(reason: str) -> tuple[np.ndarray, dict, dict, float]:
-            """The elliptic start (under the default objective, wall cells not thin: its
-            nodes beyond the first layer optimised where that ranks better), its report, no
+            """The elliptic start (under the default objective: its nodes beyond the first
+            layer and any boundary layer optimised where that ranks better), its report, no
             history and no training seconds."""
-            optimize = reason == WALL  # the default objective, wall cells not thin
+            optimize = settings.objective != "winslow"  # the default or quality objective
             chosen, training = body_start(grid, reason, optimize, topology == "o")
             return chosen, {}, training, 0.0
 

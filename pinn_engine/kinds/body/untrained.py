@@ -31,9 +31,17 @@ THIN = "its wall cells, of aspect ratio 20 or more, are too thin for its correct
 # grid's leave it at 90 (--objective winslow still trains it)
 WALL = "its kept grids left the wall off 90 degrees, where the elliptic grid's leave it at 90"
 
-# (The default then optimises the elliptic grid's nodes beyond the first layer,
-# quality_start.body_quality_start; not on THIN walls: on the NACA 0012 and 4412 C-grids with a
-# first layer of 1e-5 chord that left faces up to 36-40 degrees non-orthogonal, against 20.)
+# A body grid's rows its node optimisation holds: the wall's and the first layer's, which fix
+# the first edges off the wall and the angles at which grid lines leave it (90 degrees)
+BODY_HELD_ROWS = 2
+# and every row of a boundary layer: cells this stretched (median width along the wall over
+# height) are a layer the wall's spacing grades, and optimising them sheared their faces (NACA
+# 0012 and 4412 C-grids at a 1e-5 chord first layer: 36-40 degrees non-orthogonal, against 20)
+LAYER_ASPECT = 20.0
+# A boundary-layer grid (``THIN``) of more nodes keeps its elliptic grid: the optimisation
+# costs about 0.12 ms of CPU a node (a NACA 0006 C-grid at 300 x 80, first layer 1e-5 chord:
+# 2.9 s against the elliptic command's 0.9 s), beyond the 3x bound against Construct2D there
+LAYER_OPTIMISED_NODES = 4000
 
 
 def body_cannot_win(settings: Settings, wall_aspect: float) -> str | None:
@@ -49,20 +57,41 @@ def body_cannot_win(settings: Settings, wall_aspect: float) -> str | None:
     return WALL if settings.objective == "best" else None
 
 
+def held_rows(grid: np.ndarray) -> int:
+    """The rows of a body's grid (nj, ni, 2) from the wall (j = 0) that its node optimisation
+    holds: the wall's and the first layer's (``BODY_HELD_ROWS``), and the top of every row of
+    cells of the boundary layer (median aspect at least ``LAYER_ASPECT``) next to the wall."""
+    along = np.linalg.norm(np.diff(grid, axis=1), axis=2)
+    across = np.linalg.norm(np.diff(grid, axis=0), axis=2)
+    aspect = np.median((along[:-1] + along[1:]) / (across[:, :-1] + across[:, 1:]), axis=1)
+    layer = int(np.argmin(np.append(aspect, 0.0) >= LAYER_ASPECT))
+    return max(BODY_HELD_ROWS, layer + 1)
+
+
+def held_worst(grid: np.ndarray, held: int = BODY_HELD_ROWS) -> float:
+    """The worst angle of the cells between a body grid's first ``held`` rows, which its node
+    optimisation keeps: a lower bound of the worst angle of any grid it makes."""
+    return guard_figures(grid[:held])["worst_max_angle"]
+
+
 def body_start(
     start: np.ndarray, reason: str, optimize: bool, seam: bool
 ) -> tuple[np.ndarray, dict]:
     """The grid and the body report's ``training`` where its network is not trained
-    (``reason``): the elliptic ``start``, or with ``optimize`` (the default objective) the
-    better of it and its nodes off the wall and first layer optimised
-    (``quality_start.body_quality_start``; ``seam``: an O-grid's), with the guard figures."""
+    (``reason``): the elliptic ``start``, or with ``optimize`` (any objective but Winslow's)
+    the better of it and its nodes beyond its held rows optimised (:func:`held_rows`,
+    ``quality_start.body_quality_start``; ``seam``: an O-grid's), with the guard figures. No
+    optimisation is run where the worst cell lies between the held rows (none can lower it),
+    nor on a boundary-layer grid of more than ``LAYER_OPTIMISED_NODES``."""
     began = time.perf_counter()
     figures = guard_figures(start)
     grid, name = start, "elliptic"
-    if optimize:
+    held = held_rows(start)
+    optimize &= reason != THIN or start.size // 2 <= LAYER_OPTIMISED_NODES
+    if optimize and held_worst(start, held) < figures["worst_max_angle"]:
         from pinn_engine.starts.quality_start import body_quality_start
 
-        grid, name = body_quality_start(start, seam)
+        grid, name = body_quality_start(start, seam, held)
     return grid, {
         "result": "start",
         "start": name,
