@@ -14,6 +14,8 @@ from vtkmodules.vtkIOXML import vtkXMLMultiBlockDataReader, vtkXMLPolyDataReader
 from pinn_engine.errors import InputError
 from pinn_engine.io.export.edges import edges_of
 from pinn_engine.multiblock.autoblock import propose_edges
+from pinn_engine.multiblock.autoblock.score import Rejected
+from pinn_engine.multiblock.autoblock.search import best_meshed
 from pinn_engine.multiblock.mesh import mesh_blocks
 from pinn_engine.routes.cli import main
 from pinn_engine.routes.multiblock_algorithm import PinnMultiBlockAlgorithm
@@ -71,12 +73,45 @@ def test_no_blocking_is_a_one_line_error(tmp_path, capsys):
     np.savetxt(path, np.column_stack([np.cos(a), np.sin(a)]), delimiter=",")
     out = tmp_path / "disc.vtm"
     err = refused(capsys, [str(path), "--blocks", "auto", *FAST, "-o", str(out)], out)
-    assert "automatic blocking found no four-cornered blocks" in err
+    assert "automatic blocking found no four-cornered blocks (the face at (0, 0) has 0" in err
     assert err.endswith("draw the block edges and give them with --blocks EDGES")
     err = refused(
         capsys, [str(path), "--save-blocks", str(tmp_path / "e.vtp"), "-o", str(out)], out
     )
     assert "--save-blocks writes the block edges of --blocks" in err
+
+
+def test_a_refusal_names_why_the_layouts_tried_fail_in_the_route_s_words():
+    """A disc with a hole near its rim: the layouts tried leave a corner of the hole's box
+    with no edge, and the refusal says so, not what the hole's ring alone would lack."""
+    t = np.linspace(0, 2 * np.pi, 48, endpoint=False)
+    rim, hole = [
+        np.column_stack([c + r * np.cos(t), r * np.sin(t)]) for c, r in ((0, 2), (1.45, 0.4))
+    ]
+    with pytest.raises(InputError) as caught:
+        propose_edges([rim, hole], cell_size=0.25)
+    text = str(caught.value)
+    assert "the reflex corner at (1.994, -0.1536) gets no edge, in 144 of the 256 layouts" in text
+    assert "a hole or a loop" not in text
+    assert str(caught.value.for_route("pyvista")).endswith(
+        "draw the block edges and give them as blocks="
+    )
+
+
+def test_a_refusal_for_folds_names_the_nearest_layout_s_first_fold():
+    """Every layout shortlisted folds: the refusal names the one with the fewest folds; one
+    that folds only at the run's finer size gives way to the next best."""
+
+    def fold(edges):
+        raise Rejected(f"folds {len(edges)} cells at (1, 2)", len(edges))
+
+    def fold_one(edges):
+        return fold(edges) if len(edges) == 1 else 0.0
+
+    layouts = [(1.0, [np.zeros((2, 2))] * n) for n in (3, 1, 2)]
+    with pytest.raises(Rejected, match=r"^of the 3 layouts meshed, the nearest folds 1 cells"):
+        best_meshed(layouts, fold)
+    assert len(best_meshed(layouts, len, fold_one)) == 2
 
 
 def _figures(rings, edges, h: float) -> dict:

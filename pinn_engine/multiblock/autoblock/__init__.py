@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import itertools
 import time
+from collections import Counter
 from dataclasses import dataclass
 
 import numpy as np
@@ -20,10 +21,9 @@ from shapely.geometry import LineString, Point
 from pinn_engine.errors import InputError
 from pinn_engine.multiblock.autoblock.bends import bend_cuts, cut_choices
 from pinn_engine.multiblock.autoblock.corners import corner_points, reflex_vertices
-from pinn_engine.multiblock.autoblock.faces import NoBlocking, completions
 from pinn_engine.multiblock.autoblock.orings import ORing, main_axes, ring_forms
 from pinn_engine.multiblock.autoblock.rays import layered, motorcycles, ray_options
-from pinn_engine.multiblock.autoblock.score import score, scoring_size
+from pinn_engine.multiblock.autoblock.score import Rejected, score, scoring_size
 from pinn_engine.multiblock.autoblock.search import best_meshed, candidates
 from pinn_engine.multiblock.graph import order_rings
 from pinn_engine.multiblock.walls import Walls
@@ -59,7 +59,8 @@ def propose_edges(
     its ``cell_size`` (0: SPEC 10's default; ``score.scoring_size``, and where that is
     coarser, the winner meshed again at the run's size, the next best where it folds) and
     with its ``walls``' spacing on its ``patches`` (without it where every layout folds with
-    it). A one-line InputError says why when no blocking is found."""
+    it). A one-line InputError says why when no blocking is found: the commonest reason a
+    layout tried is no blocking, or the nearest to meshing of the layouts meshed."""
     rings = order_rings([np.asarray(r, dtype=float)[:, :2] for r in rings], source)
     diagonal = float(np.linalg.norm(np.ptp(rings[0], axis=0)))
     axes = main_axes(rings[0])
@@ -67,12 +68,16 @@ def propose_edges(
     # combination is searched
     forms = ring_forms(rings, axes)
     layouts = []
+    failures: Counter[str] = Counter()  # why each layout tried is no blocking
     for form in forms:
-        layouts += _layouts(rings, list(form), diagonal, layers)
+        layouts += _layouts(rings, list(form), diagonal, layers, failures)
     layouts.sort(key=lambda layout: layout[0])
     if not layouts:
-        fixed_edges = sum((r.edges for r in forms[0]), [])
-        raise InputError(_why(rings, fixed_edges) + ": draw the block edges and {blocks}", source)
+        raise InputError(
+            f"automatic blocking found no four-cornered blocks ({_commonest(failures)}): "
+            "draw the block edges and {blocks}",
+            source,
+        )
     if len(rings) == 1 and len(layouts) == 1 and not reflex_vertices(rings, diagonal):
         return layouts[0][1]  # four-sided (or cut round its centre): nothing to choose
     finer = 0 < cell_size < scoring_size(diagonal, cell_size)  # judged coarser than meshed
@@ -87,27 +92,35 @@ def propose_edges(
             else None,
         )
 
-    best = judged(walls)
-    if best is None and walls is not None and walls.spacing:
+    try:
+        try:
+            return judged(walls)
+        except Rejected:
+            if walls is None or not walls.spacing:
+                raise
         # every layout folds with the spacing before the run untangles its blocks (a body
         # near a wall): judged without it, as the untangling is too dear to try on each
-        best = judged(None)
-    if best is None:
+        return judged(None)
+    except Rejected as exc:
         raise InputError(
-            "automatic blocking found no layout that meshes without folds: draw the block "
-            "edges and {blocks}",
+            f"automatic blocking found no layout that meshes without folds ({exc}): draw the "
+            "block edges and {blocks}",
             source,
-        )
-    return best
+        ) from None
 
 
 def _layouts(
-    rings: list[np.ndarray], orings: list[ORing], diagonal: float, layers: bool
+    rings: list[np.ndarray],
+    orings: list[ORing],
+    diagonal: float,
+    layers: bool,
+    failures: Counter[str],
 ) -> list[tuple[float, list[np.ndarray]]]:
     """The feasible layouts (cost, edges) of ``rings`` with one ring ``orings`` round each
     hole (each in its O form or, where it has one, its C-shaped form), edges from the
     reflex vertices of the outer ring and the boxes (with ``layers``, both continuations
-    where every vertex has them and any layout is found), or cuts where bends begin."""
+    where every vertex has them and any layout is found), or cuts where bends begin; why
+    each layout tried is no blocking counted in ``failures``."""
     boxes = [ring.box[::-1] for ring in orings]  # clockwise: the domain outside on its left
     rings_edges = [[r.edges] + ([r.c_shaped] if r.c_shaped is not None else []) for r in orings]
     fixed_choices = [sum(choice, []) for choice in itertools.product(*rings_edges)]
@@ -140,7 +153,7 @@ def _layouts(
         layouts = [
             layout
             for fixed_choice in fixed_choices
-            for layout in candidates(vertices, choices, build, rings, fixed_choice)
+            for layout in candidates(vertices, choices, build, rings, fixed_choice, failures)
         ]
         if layouts:
             return layouts
@@ -175,13 +188,11 @@ def proposal(
     return Proposal(edges, names, {"mode": "automatic", "edges": len(edges), "seconds": seconds})
 
 
-def _why(rings: list[np.ndarray], edges: list[np.ndarray]) -> str:
-    """Why no layout was found: what the plainest one (no edges from reflex vertices) lacks."""
-    try:
-        completions(rings, edges)
-    except NoBlocking as exc:
-        return f"automatic blocking found no four-cornered blocks ({exc})"
-    return "automatic blocking found no four-cornered blocks"
+def _commonest(failures: Counter[str]) -> str:
+    """The reason most layouts tried are no blocking, and in how many of them."""
+    reason, count = failures.most_common(1)[0]
+    total = sum(failures.values())
+    return reason if total == 1 else f"{reason}, in {count} of the {total} layouts tried"
 
 
 __all__ = ["Proposal", "proposal", "propose_edges"]

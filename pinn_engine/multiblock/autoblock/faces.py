@@ -25,6 +25,8 @@ from pinn_engine.multiblock.graph import linework
 
 BLOCK_PRICE = 20.0  # degrees of corner-angle deviation one block fewer is worth
 INSIDE_TOL = 1e-9  # share of the diagonal a spoke may stray outside its face (rounding)
+ROUND_OFF = 1e-9  # share of its size a named point's coordinate is 0 under: round-off
+# (a disc's centre, (-7e-17, 9e-17), reads (0, 0))
 
 
 class NoBlocking(Exception):
@@ -42,12 +44,24 @@ def faces_of(rings: list[np.ndarray], edges: list[np.ndarray]) -> tuple[list[np.
     return [np.asarray(f.exterior.coords)[:-1] for f in faces], lines.diagonal
 
 
+def place(point: np.ndarray, size: float) -> str:
+    """A point as a refusal names it: four significant figures, a coordinate under
+    ROUND_OFF of ``size`` (of the thing it places) shown as 0."""
+    x, y = np.where(np.abs(point) < ROUND_OFF * size, 0.0, point)
+    return f"({x:.4g}, {y:.4g})"
+
+
+def _at(face: np.ndarray) -> str:
+    """The face named by its vertices' mean."""
+    return f"the face at {place(face.mean(axis=0), float(np.ptp(face, axis=0).max()))}"
+
+
 def corners_of(face: np.ndarray) -> np.ndarray:
     """Indices of the face's corners; NoBlocking if it turns the wrong way anywhere."""
     turns = turning_angles(face)
     if np.any(turns <= -CORNER_TURN):
-        where = face[int(np.argmin(turns))]
-        raise NoBlocking(f"a reflex corner at ({where[0]:.4g}, {where[1]:.4g}) is not cut")
+        where = place(face[int(np.argmin(turns))], float(np.ptp(face, axis=0).max()))
+        raise NoBlocking(f"a reflex corner at {where} is not cut")
     return np.flatnonzero(turns >= CORNER_TURN)
 
 
@@ -81,7 +95,7 @@ def split_face(face: np.ndarray, corners: np.ndarray, diagonal: float) -> list[l
     blocks: spokes round its centre, and for six corners each diagonal between opposite
     corners; NoBlocking for fewer than three corners."""
     if len(corners) < 3:
-        raise NoBlocking(f"a face has {len(corners)} corners")
+        raise NoBlocking(f"{_at(face)} has {len(corners)} corners")
     polygon = Polygon(face)
     centre = face[corners].mean(axis=0)
     if not polygon.contains(Point(centre)):
@@ -106,7 +120,7 @@ def layout_cost(rings: list[np.ndarray], edges: list[np.ndarray]) -> float:
     for face in faces:
         corners = corners_of(face)
         if len(corners) != 4:
-            raise NoBlocking(f"a face has {len(corners)} corners")
+            raise NoBlocking(f"{_at(face)} has {len(corners)} corners")
         cost += _block_cost(face, corners)
     return cost
 
@@ -132,10 +146,8 @@ def completions(
             except NoBlocking:
                 continue
         if not cuts:
-            where = face.mean(axis=0)
             raise NoBlocking(
-                f"the face at ({where[0]:.4g}, {where[1]:.4g}) with {len(corners)} corners "
-                "cannot be cut round its centre"
+                f"{_at(face)} with {len(corners)} corners cannot be cut round its centre"
             )
         layouts = [(done + cut, cost + extra) for done, cost in layouts for extra, cut in cuts]
     return layouts

@@ -18,6 +18,7 @@ import numpy as np
 
 from pinn_engine.blocks3d.checks import SKEW_LIMIT, planar_figures
 from pinn_engine.errors import InputError
+from pinn_engine.multiblock.autoblock.faces import place
 from pinn_engine.multiblock.blocks import topology
 from pinn_engine.multiblock.counts import cell_counts, default_cell_size
 from pinn_engine.multiblock.elliptic import crossings, winslow
@@ -44,6 +45,15 @@ OVER_BOUND = 3.0
 FINEST = 4.0
 
 
+class Rejected(Exception):
+    """A layout whose grid the run would not write, and why, a verb's phrase ("folds 2
+    cells ..."): a refusal names the nearest to meshing."""
+
+    def __init__(self, reason: str, folds: float = np.inf) -> None:
+        super().__init__(reason)
+        self.folds = folds  # folded cells (the nearest to meshing folds fewest); inf: no grid
+
+
 def scoring_size(diagonal: float, cell_size: float = 0.0) -> float:
     """The cell size a layout is judged at: the run's ``cell_size`` (0: SPEC 10's default),
     no finer than the default over ``FINEST``."""
@@ -61,12 +71,12 @@ def score(
     bounded: bool = True,
 ) -> float:
     """The grid's mean MaxIncludedAngle at ``scoring_size(cell_size)``, with the worst, the
-    mean interface kink and the block count weighed in; infinite when it folds or cannot be
-    meshed. With a spacing in ``walls`` (on the ``patches`` the run names), the grid is
-    the run's own: meshed with the spacing. ``exact``: at ``cell_size`` itself, however
-    fine. ``bounded``: a mean kink beyond SPEC 13's bound weighed more (a run without a
-    wall spacing, as the bound is measured: with one, the kinks are the wall rows'
-    stretching across the interfaces, 50 to 100 degrees whatever the layout)."""
+    mean interface kink and the block count weighed in; Rejected, with the reason, when it
+    folds or cannot be meshed. With a spacing in ``walls`` (on the ``patches`` the run
+    names), the grid is the run's own: meshed with the spacing. ``exact``: at ``cell_size``
+    itself, however fine. ``bounded``: a mean kink beyond SPEC 13's bound weighed more (a
+    run without a wall spacing, as the bound is measured: with one, the kinks are the wall
+    rows' stretching across the interfaces, 50 to 100 degrees whatever the layout)."""
     names = [f"edge {k}" for k in range(len(edges))]
     try:
         lines = linework(rings, edges, names, "auto")
@@ -74,32 +84,40 @@ def score(
         if walls is not None and walls.spacing:
             settings = make_settings("elliptic", cell_size=h)
             result = mesh_blocks(rings, edges, names, settings, "auto", patches, walls)
-            if planar_figures(result.grids).max_skewness > SKEW_LIMIT:
-                return np.inf  # the run would refuse to write it (job.cover)
-            cells = [cell_quality(grid) for grid in result.grids]
+            skew = planar_figures(result.grids).max_skewness
+            if skew > SKEW_LIMIT:  # the run would refuse to write it (job.cover)
+                raise Rejected(f"has a face skewed {skew:.3g} (checkMesh's limit {SKEW_LIMIT:g})")
             kink = result.report["interface_kink"]["mean"]
-            return _weighed(cells, kink, result.report["blocks"], bounded)
+            return _weighed(result.grids, kink, bounded, h)
         topo = topology(lines)
         lay = layout_checked(topo, cell_counts(topo, h), h)
         points, _ = winslow(topo, lay, True, SCORE_ITERATIONS)
-    except (InputError, ArithmeticError, RuntimeError, np.linalg.LinAlgError):
-        return np.inf  # refused, or a solve that breaks down (a singular system): not this one
-    cells = [cell_quality(points[ids]) for ids in lay.ids]
+    except InputError as exc:
+        raise Rejected(f"is refused ({exc.template})") from exc  # in the route's words
+    except (ArithmeticError, RuntimeError, np.linalg.LinAlgError) as exc:
+        raise Rejected("breaks its elliptic solve down (a singular system)") from exc
     kinks = interface_kinks(crossings(topo, lay), lay, points)
-    return _weighed(cells, float(kinks.mean()) if kinks.size else 0.0, len(lay.ids), bounded)
+    grids = [points[ids] for ids in lay.ids]
+    return _weighed(grids, float(kinks.mean()) if kinks.size else 0.0, bounded, h)
 
 
-def _weighed(cells: list[dict], kink: float, blocks: int, bounded: bool) -> float:
-    """The score of a grid's ``cells`` (their quality arrays), mean interface ``kink`` and
-    ``blocks``, a kink beyond SPEC 13's bound weighed more where ``bounded``; infinite when
-    a cell folds."""
-    if any(c["Folded"].any() for c in cells):
-        return np.inf
+def _weighed(grids: list[np.ndarray], kink: float, bounded: bool, h: float) -> float:
+    """The score of the blocks' ``grids`` at cell size ``h`` and their mean interface
+    ``kink``, a kink beyond SPEC 13's bound weighed more where ``bounded``; Rejected, naming
+    the first folded cell, when a cell folds."""
+    cells = [cell_quality(grid) for grid in grids]
+    folds = sum(int(c["Folded"].sum()) for c in cells)
+    if folds:
+        grid, c = next((g, c) for g, c in zip(grids, cells) if c["Folded"].any())
+        j, i = np.argwhere(c["Folded"])[0]
+        where = place(np.asarray(grid)[j : j + 2, i : i + 2, :2].reshape(-1, 2).mean(axis=0), h)
+        cells_folded = f"{folds} cell{'s' * (folds > 1)}"
+        raise Rejected(f"folds {cells_folded} at cell size {h:.4g}, at {where}", folds)
     angles = np.concatenate([c["MaxIncludedAngle"].ravel() for c in cells])
     return (
         float(angles.mean())
         + WORST_WEIGHT * float(angles.max())
         + KINK_WEIGHT * kink
-        + BLOCK_WEIGHT * blocks
+        + BLOCK_WEIGHT * len(grids)
         + OVER_BOUND * max(kink - KINK_BOUND, 0.0) * bounded
     )

@@ -13,12 +13,14 @@ lowers the layout cost, the others held, until no choice improves.
 from __future__ import annotations
 
 import itertools
+from collections import Counter
 from collections.abc import Callable, Iterable
 
 import numpy as np
 
 from pinn_engine.multiblock.autoblock.corners import Reflex
-from pinn_engine.multiblock.autoblock.faces import NoBlocking, completions
+from pinn_engine.multiblock.autoblock.faces import NoBlocking, completions, place
+from pinn_engine.multiblock.autoblock.score import Rejected
 
 EXHAUSTIVE = 256  # combinations tried one by one; more go coordinate by coordinate
 SHORTLIST = 2  # layouts of each edge count (the cheapest by corner angles) meshed
@@ -40,10 +42,12 @@ def candidates(
     build: Callable[[list[tuple[Reflex, np.ndarray]]], list[np.ndarray]],
     rings: list[np.ndarray],
     fixed: list[np.ndarray],
+    failures: Counter[str],
 ) -> list[tuple[float, list[np.ndarray]]]:
     """The feasible completed layouts (cost, edges), cheapest first, of the ``fixed`` edges
     (the O-rings) and the vertices' ray ``options`` (each a list of directions, the
-    shortest edge first); ``build`` turns (vertex, direction) rays into edges."""
+    shortest edge first); ``build`` turns (vertex, direction) rays into edges. Each layout
+    tried that is no blocking counts its reason in ``failures``."""
     seen: dict[bytes, tuple[float, list[np.ndarray]]] = {}  # completed layouts
     costs: dict[bytes, float] = {}  # the cheapest completion of each choice's edges
     needed = [v.point for v in vertices if v.needed]
@@ -51,14 +55,18 @@ def candidates(
     def cost_of(choice: Choice) -> float:
         rays = [(v, d) for v, opts, c in zip(vertices, options, choice) if c >= 0 for d in opts[c]]
         cuts = build(rays)
-        if not _all_cut(needed, cuts):
+        uncut = _uncut(needed, cuts)
+        if uncut is not None:
+            where = place(uncut, float(np.abs(uncut).max()))  # a vertex as drawn
+            failures[f"the reflex corner at {where} gets no edge"] += 1
             return np.inf
         edges = fixed + cuts
         key = _key(edges)
         if key not in costs:
             try:
                 done = completions(rings, edges)
-            except NoBlocking:
+            except NoBlocking as exc:
+                failures[str(exc)] += 1
                 done = []
             for layout, cost in done:
                 seen[_key(layout)] = (cost, layout)
@@ -96,15 +104,14 @@ def _key(edges: list[np.ndarray]) -> bytes:
     return repr(sorted(tuple(map(tuple, e)) for e in ends)).encode()
 
 
-def _all_cut(points: list[np.ndarray], edges: list[np.ndarray]) -> bool:
-    """Whether an edge ends at each of ``points`` (the reflex vertices that need one)."""
-    if not points:
-        return True
+def _uncut(points: list[np.ndarray], edges: list[np.ndarray]) -> np.ndarray | None:
+    """The first of ``points`` (the reflex vertices that need an edge) that no edge ends at;
+    None when every one has its edge."""
     ends = np.array([e[[0, -1]] for e in edges]).reshape(-1, 2)
-    if not len(ends):
-        return False
-    near = [np.abs(ends - p).max(axis=1).min() / (1 + np.abs(p).max()) for p in points]
-    return max(near) <= SAME_POINT
+    for p in points:
+        if not len(ends) or np.abs(ends - p).max(axis=1).min() / (1 + np.abs(p).max()) > SAME_POINT:
+            return p
+    return None
 
 
 def shortlist(layouts: list[tuple[float, list[np.ndarray]]]) -> list[list[np.ndarray]]:
@@ -124,14 +131,25 @@ def best_meshed(
     layouts: list[tuple[float, list[np.ndarray]]],
     score: Callable[[list[np.ndarray]], float],
     confirm: Callable[[list[np.ndarray]], float] | None = None,
-) -> list[np.ndarray] | None:
+) -> list[np.ndarray]:
     """Of the ``shortlist`` of ``layouts``, the edges whose grid ``score``s lowest and,
     with ``confirm`` (the score at the run's own cell size, where the search judged them
-    coarser), whose grid there is finite too: the next best where it folds (None when none
-    can be meshed)."""
-    scored = [(score(edges), k, edges) for k, edges in enumerate(shortlist(layouts))]
-    ranked = sorted((item for item in scored if np.isfinite(item[0])), key=lambda item: item[:2])
-    for _, _, edges in ranked:
-        if confirm is None or np.isfinite(confirm(edges)):
-            return edges
-    return None
+    coarser), is not rejected there too: the next best where it is. Rejected, with the
+    reason of the layout nearest to meshing (the fewest folded cells), when none can be
+    meshed."""
+    scored, rejected = [], []
+    for k, edges in enumerate(shortlist(layouts)):
+        try:
+            scored.append((score(edges), k, edges))
+        except Rejected as exc:
+            rejected.append(exc)
+    for _, _, edges in sorted(scored, key=lambda item: item[:2]):
+        try:
+            if confirm is not None:
+                confirm(edges)
+        except Rejected as exc:
+            rejected.append(exc)
+            continue
+        return edges
+    nearest = min(rejected, key=lambda exc: exc.folds)  # the first of the fewest folds
+    raise Rejected(f"of the {len(rejected)} layouts meshed, the nearest {nearest}", nearest.folds)
