@@ -8,8 +8,9 @@ than blockMesh's, else the grid between the two nearest the Winslow grid that me
 is less non-orthogonal (a ``blend``), else blockMesh's placement (a placement orthogonal to
 within ``ORTHOGONAL`` everywhere is kept unsolved: the solve could gain no figure that
 matters); where the blocking is a swept section, the grid chosen is then ``optimised``: its
-section's largest non-orthogonality minimised with no face more skewed (``section.py``),
-kept where at least ``ORTHOGONAL`` degrees less; the network would train on the Winslow
+section's largest non-orthogonality minimised with no face more skewed (``section.py``), the
+search run from it and from blockMesh's placement, kept where at least ``ORTHOGONAL``
+degrees less; the network would train on the Winslow
 equations alone, which the elliptic grid already solves, so none is trained (the report's
 ``training.skipped`` says so, as for a hexahedral block without spacing or orthogonal
 patches). The blocks are coupled through their interfaces, so the choice is made for the
@@ -156,11 +157,12 @@ def mesh_dictionary(
         if method == "pinn":
             stage("the least non-orthogonal section", 0.8)
             t0 = time.perf_counter()
-            better = _least_non_orthogonal(d, placed, points, cells, faces, candidates[kept])
+            begins = {kept: points, "tfi": placed.points}
+            better = _least_non_orthogonal(d, placed, begins, cells, faces, candidates[kept])
             timings["section"] = time.perf_counter() - t0
             if better is not None:
-                points, candidates["optimised"] = better
-                start, kept = kept, "optimised"
+                points, candidates["optimised"], start = better
+                kept = "optimised"
     timings["total"] = time.perf_counter() - began
     result = DictResult(placed, points, method, kept, candidates, faces, share, start)
     result.report = _report(d, result, steps, timings, free_interfaces)
@@ -197,15 +199,18 @@ def _blend(
 def _least_non_orthogonal(
     d: BlockMeshDict,
     placed: Placement,
-    points: np.ndarray,
+    begins: dict[str, np.ndarray],
     cells: np.ndarray,
     faces: FaceTopology,
     start: Figures,
-) -> tuple[np.ndarray, Figures] | None:
+) -> tuple[np.ndarray, Figures, str] | None:
     """The grid of a swept blocking whose section is the least non-orthogonal under the
-    skewness of ``start`` (the grid ``points`` chosen so far), and its figures: None where
-    the blocking is no swept section, or the grid is not at least ``ORTHOGONAL`` degrees
-    less non-orthogonal with no worse skewness and no fold."""
+    skewness of ``start`` (the figures of the grid chosen so far), its figures and the name
+    of the grid of ``begins`` (the grid chosen and blockMesh's placement) its search began
+    from, the better of the searches from each: the Winslow grid's smooth cells can lie in a
+    basin of their own (a butterfly pipe's centre square of 0.6 R: 15.1 degrees from it, 3.3
+    from the placement). None where the blocking is no swept section, or no grid found is at
+    least ``ORTHOGONAL`` degrees less non-orthogonal with no worse skewness and no fold."""
     from pinn_engine.blas import one_thread
     from pinn_engine.blocks3d.section import least_non_orthogonal, section, start_of, swept
     from pinn_engine.blocks3d.winslow import boundary_held
@@ -213,15 +218,17 @@ def _least_non_orthogonal(
     sec = section(placed, boundary_held(placed)[1])
     if sec is None:
         return None
-    with one_thread():  # L-BFGS's vectors are far too small for BLAS threads
-        xy = least_non_orthogonal(start_of(points, sec), sec, start.max_skewness)
-    out = _cyclic_congruent(d, placed, swept(points, sec, xy))
-    got = figures(out, cells, faces)
-    if no_worse(got, start) and (
-        got.max_non_orthogonality <= start.max_non_orthogonality - ORTHOGONAL
-    ):
-        return out, got
-    return None
+    found = []
+    for name, begin in begins.items():
+        with one_thread():  # L-BFGS's vectors are far too small for BLAS threads
+            xy = least_non_orthogonal(start_of(begin, sec), sec, start.max_skewness)
+        out = _cyclic_congruent(d, placed, swept(begin, sec, xy))
+        got = figures(out, cells, faces)
+        if no_worse(got, start) and (
+            got.max_non_orthogonality <= start.max_non_orthogonality - ORTHOGONAL
+        ):
+            found.append((got.max_non_orthogonality, len(found), out, got, name))
+    return min(found)[2:] if found else None
 
 
 def _through_empty(placed: Placement, points: np.ndarray) -> np.ndarray:

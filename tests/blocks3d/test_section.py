@@ -85,3 +85,18 @@ def test_the_default_optimises_a_pipe_whose_winslow_grid_is_more_skewed():
     assert kept.max_non_orthogonality < tfi.max_non_orthogonality - 5
     wall = np.unique(result.place.patches[2][2])
     assert np.allclose(np.hypot(*result.points[wall, :2].T), 0.05)
+
+
+def test_the_section_search_also_begins_from_blockmeshs_placement():
+    """A butterfly pipe whose centre square is 0.6 radii: the search from the grid chosen
+    (a blend towards the Winslow grid, whose smooth cells sit in a basin of their own) and
+    from blockMesh's placement; the placement's wins, under 5 degrees with a mean below
+    blockMesh's (the Winslow grid's mean is above it)."""
+    result = mesh_dictionary(from_text(pipe(square=0.6, cells=(8, 6, 2))))
+    tfi, ell = result.candidates["tfi"], result.candidates["elliptic"]
+    assert ell.mean_non_orthogonality > tfi.mean_non_orthogonality
+    assert result.kept == "optimised" and result.report["start"] == "tfi"
+    kept = result.candidates["optimised"]
+    assert kept.folded == 0 and kept.max_skewness <= tfi.max_skewness
+    assert kept.max_non_orthogonality < 5
+    assert kept.mean_non_orthogonality < tfi.mean_non_orthogonality
