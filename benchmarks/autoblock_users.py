@@ -5,7 +5,8 @@ expansions, a cavity and airfoils in channels, in a tuning half and a report hal
 Usage: ``.venv/bin/python benchmarks/autoblock_users.py [--out docs/blocking.md]
 [--domains NAME ...]``, or ``--sweep``: tilted tees (``SWEEP``: leans of 15 to 60 degrees
 both ways, narrow and wide branches, two channel heights) against the better of two hand
-blockings, a line for each that misses a bound.
+blockings, a line for each that misses a bound; or ``--ys``: narrow Ys (``NARROW_YS``)
+against their hand-drawn centre, a line each.
 
 Per domain, at ``autoblock.CELLS_ACROSS`` cells across a channel of width 1:
 
@@ -424,6 +425,53 @@ def sweep() -> str:
     return "\n".join(lines) + "\n"
 
 
+# narrow Ys (``--ys``): arms leaning +-25 to +-45 degrees, 0.5 to 0.7 wide, from an inlet 1
+# wide, drawn after the +-35 Y of REPORT, whose refusal the widened search was built on
+NARROW_YS = {
+    f"arms {a:+g}/{b:+g}, {w:g} wide, mouth {m:g}": ((a, b, 180.0), (w, w, 1.0), m)
+    for a, b, w, m in (
+        (-25, 25, 0.6, 1.0),
+        (-30, 30, 0.6, 1.0),
+        (-40, 40, 0.6, 1.0),
+        (-45, 45, 0.6, 1.0),
+        (-35, 35, 0.5, 1.0),
+        (-35, 35, 0.7, 1.0),
+        (-30, 40, 0.6, 1.0),
+        (-35, 35, 0.6, 1.2),
+    )
+}
+
+
+def _line(f: dict) -> str:
+    return (
+        f"{f['blocks']} blocks, {f['mean']:.2f} / {f['worst']:.2f}, {f['folds']} folds, kinks "
+        f"{f['kink']['mean']:.2f} / {f['kink']['max']:.2f}"
+    )
+
+
+def narrow_ys() -> str:
+    """The Ys of ``NARROW_YS`` against their hand-drawn three-block centre: a line each."""
+    h = 1.0 / CELLS_ACROSS
+    lines = []
+    for name, (arms, widths, mouth) in NARROW_YS.items():
+        rings, hand_edges = y_branch(arms, widths, mouth)
+        hand = _careful_hand(rings, [hand_edges])
+        start = time.process_time()
+        try:
+            edges = propose_edges(rings, cell_size=h)
+            cpu = time.process_time() - start
+            auto = figures(meshed(rings, edges, h)[0])
+        except InputError as refusal:
+            lines.append(f"- {name}: refused: {str(refusal).split(': ', 1)[-1]}")
+            continue
+        failed = checks(auto, hand) if hand else ["folds"] * bool(auto["folds"])
+        lines.append(
+            f"- {name}: {_line(auto)}: {'; '.join(failed) or 'hold'} (hand "
+            f"{_line(hand) if hand else 'folds'}; proposal {cpu:.1f} s CPU)"
+        )
+    return "\n".join(lines) + "\n"
+
+
 def markdown(names: list[str]) -> str:
     lines = []
     for half, domains in (("tuning half", TUNING), ("report half", REPORT)):
@@ -450,9 +498,10 @@ def main() -> None:
     parser.add_argument("--out", type=Path, help="a Markdown file with the AUTOBLOCK-USERS markers")
     parser.add_argument("--domains", nargs="+", default=[*TUNING, *REPORT])
     parser.add_argument("--sweep", action="store_true", help="the tilted tees of SWEEP instead")
+    parser.add_argument("--ys", action="store_true", help="the narrow Ys of NARROW_YS instead")
     args = parser.parse_args()
-    if args.sweep:
-        print(sweep(), end="")
+    if args.sweep or args.ys:
+        print(sweep() if args.sweep else narrow_ys(), end="")
         return
     gmsh.initialize()
     gmsh.option.setNumber("General.Terminal", 0)

@@ -407,6 +407,24 @@ def test_a_steep_tee_carries_its_branch_walls_on():
     assert figures["folds"] == 0 and figures["worst"] < 150.5
 
 
+def test_a_narrow_y_with_no_layout_that_meshes_widens_the_search_to_its_mouth_s_kinks():
+    """A Y whose arms (0.6 wide) leave at +-35 degrees: every layout of the edges from its
+    crotch's corners folds 1 cell there (refused); the search then widens to cuts between
+    the walls' kinks, the inlet's mouth among them (worst 129.5; the hand-drawn centre's
+    178.9)."""
+    ring = []
+    for angle, width in ((-35.0, 0.6), (35.0, 0.6), (180.0, 1.0)):
+        a = np.array([np.cos(np.radians(angle)), np.sin(np.radians(angle))])
+        n = np.array([-a[1], a[0]])
+        right, left = a - 0.5 * width * n, a + 0.5 * width * n
+        ring += [right, right + 3 * a, left + 3 * a, left]
+    edges = propose_edges([np.array(ring)], cell_size=0.125)
+    mouth = [[-1.0, 0.5], [-1.0, -0.5]]
+    assert any(np.allclose(e, mouth) or np.allclose(e[::-1], mouth) for e in edges)
+    figures = _figures([np.array(ring)], edges, 0.125)
+    assert figures["folds"] == 0 and figures["worst"] < 130 and figures["kink"] < 3.0
+
+
 # the search meshes its shortlisted layouts: about 2 s at 0.1
 @pytest.mark.parametrize("h", [pytest.param(0.1, marks=pytest.mark.slow), 0.125])
 def test_a_y_s_hexagonal_centre_may_be_cut_along_a_diagonal(h):

@@ -59,31 +59,31 @@ def propose_edges(
     its ``cell_size`` (0: SPEC 10's default; ``score.scoring_size``, and where that is
     coarser, the winner meshed again at the run's size, the next best where it folds) and
     with its ``walls``' spacing on its ``patches`` (without it where every layout folds with
-    it). A one-line InputError says why when no blocking is found: the commonest reason a
-    layout tried is no blocking, or the nearest to meshing of the layouts meshed."""
+    it). Where no layout meshes, the search widens: each subset of the cuts between the
+    outer wall's kinks and bends' ends (``bends.bend_cuts``) in every domain. A one-line
+    InputError says why when no blocking is found: the commonest reason a layout tried is
+    no blocking, or the nearest to meshing of the layouts meshed."""
     rings = order_rings([np.asarray(r, dtype=float)[:, :2] for r in rings], source)
     diagonal = float(np.linalg.norm(np.ptp(rings[0], axis=0)))
     axes = main_axes(rings[0])
     # each hole's rings (free, reaching a wall), close holes' shared ones: every
     # combination is searched
     forms = ring_forms(rings, axes)
-    layouts = []
     failures: Counter[str] = Counter()  # why each layout tried is no blocking
-    for form in forms:
-        layouts += _layouts(rings, list(form), diagonal, layers, failures)
-    layouts.sort(key=lambda layout: layout[0])
-    if not layouts:
-        raise InputError(
-            f"automatic blocking found no four-cornered blocks ({_commonest(failures)}): "
-            "draw the block edges and {blocks}",
-            source,
-        )
+
+    def layouts_of(cuts: list[np.ndarray] | None) -> list[tuple[float, list[np.ndarray]]]:
+        found = []
+        for form in forms:
+            found += _layouts(rings, list(form), diagonal, layers, failures, cuts)
+        return sorted(found, key=lambda layout: layout[0])
+
+    layouts = layouts_of(None)
     if len(rings) == 1 and len(layouts) == 1 and not reflex_vertices(rings, diagonal):
         return layouts[0][1]  # four-sided (or cut round its centre): nothing to choose
     finer = 0 < cell_size < scoring_size(diagonal, cell_size)  # judged coarser than meshed
     bounded = walls is None or not walls.spacing  # SPEC 13's kink bound: no wall spacing
 
-    def judged(spacing: Walls | None):
+    def judged(layouts: list, spacing: Walls | None) -> list[np.ndarray]:
         return best_meshed(
             layouts,
             lambda edges: score(rings, edges, cell_size, spacing, patches, bounded=bounded),
@@ -92,21 +92,38 @@ def propose_edges(
             else None,
         )
 
-    try:
+    def meshed(layouts: list) -> list[np.ndarray]:
         try:
-            return judged(walls)
+            return judged(layouts, walls)
         except Rejected:
             if walls is None or not walls.spacing:
                 raise
         # every layout folds with the spacing before the run untangles its blocks (a body
         # near a wall): judged without it, as the untangling is too dear to try on each
-        return judged(None)
-    except Rejected as exc:
+        return judged(layouts, None)
+
+    rejected: list[Rejected] = []
+    for widened in (False, True):
+        if widened:  # none meshes: the search widens to cuts between the walls' kinks, bends
+            cuts = bend_cuts(rings, diagonal, with_kinks=True)
+            layouts = layouts_of(cuts) if cuts else []
+        if layouts:
+            try:
+                return meshed(layouts)
+            except Rejected as exc:
+                rejected.append(exc)
+    if not rejected:
         raise InputError(
-            f"automatic blocking found no layout that meshes without folds ({exc}): draw the "
-            "block edges and {blocks}",
+            f"automatic blocking found no four-cornered blocks ({_commonest(failures)}): "
+            "draw the block edges and {blocks}",
             source,
-        ) from None
+        )
+    nearest = min(rejected, key=lambda exc: exc.folds)
+    raise InputError(
+        f"automatic blocking found no layout that meshes without folds ({nearest}): draw the "
+        "block edges and {blocks}",
+        source,
+    )
 
 
 def _layouts(
@@ -115,23 +132,26 @@ def _layouts(
     diagonal: float,
     layers: bool,
     failures: Counter[str],
+    cuts: list[np.ndarray] | None = None,
 ) -> list[tuple[float, list[np.ndarray]]]:
     """The feasible layouts (cost, edges) of ``rings`` with one ring ``orings`` round each
     hole (each in its O form or, where it has one, its C-shaped form), edges from the
     reflex vertices of the outer ring and the boxes (with ``layers``, both continuations
-    where every vertex has them and any layout is found), or cuts where bends begin; why
-    each layout tried is no blocking counted in ``failures``."""
+    where every vertex has them and any layout is found), or cuts where bends begin; with
+    ``cuts``, each subset of them in every domain, the rays stopping at them. Why each
+    layout tried is no blocking is counted in ``failures``."""
     boxes = [ring.box[::-1] for ring in orings]  # clockwise: the domain outside on its left
     rings_edges = [[r.edges] + ([r.c_shaped] if r.c_shaped is not None else []) for r in orings]
-    fixed_choices = [sum(choice, []) for choice in itertools.product(*rings_edges)]
+    ring_choices = [sum(choice, []) for choice in itertools.product(*rings_edges)]
     wall = LineString(np.vstack([rings[0], rings[0][:1]]))
     vertices = reflex_vertices([rings[0]], diagonal) + [
         v  # a box corner on the wall (a ring reaching it) is where an edge meets the wall
         for v in reflex_vertices(boxes, diagonal)
         if wall.distance(Point(v.point)) > ON_WALL * diagonal
     ]
-    if not vertices and len(rings) == 1:  # one block, unless cut where its bends begin
-        fixed_choices = cut_choices(bend_cuts(rings, diagonal))
+    if cuts is None and not vertices and len(rings) == 1:  # one block, unless cut at bends
+        cuts = bend_cuts(rings, diagonal)
+    fixed_choices = [(ring, cut) for ring in ring_choices for cut in cut_choices(cuts or [])]
     fixed = _segments([rings[0], *boxes], True)
     options = [ray_options(v, fixed, diagonal) for v in vertices]
     # with layers, both continuations where a vertex has them; where no layout has them
@@ -146,14 +166,15 @@ def _layouts(
         [corner_points(rings[0]), *boxes, np.array([v.point for v in vertices]).reshape(-1, 2)]
     )
 
-    def build(rays):
-        return motorcycles(rays, fixed, targets, diagonal)
+    def builder(cut: list[np.ndarray]):
+        segments = np.concatenate([fixed, _segments(cut, False)])
+        return lambda rays: motorcycles(rays, segments, targets, diagonal)
 
     for choices in tries:
         layouts = [
             layout
-            for fixed_choice in fixed_choices
-            for layout in candidates(vertices, choices, build, rings, fixed_choice, failures)
+            for ring, cut in fixed_choices
+            for layout in candidates(vertices, choices, builder(cut), rings, ring + cut, failures)
         ]
         if layouts:
             return layouts

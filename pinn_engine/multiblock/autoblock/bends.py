@@ -9,6 +9,11 @@ weak turns, the wall has a *junction*; two junctions that see each other across 
 domain along a line leaving both walls at a block corner's angle or more give a cut. The
 search then meshes the layouts with and without each cut and keeps the best-ranked, as it
 chooses among reflex vertices' edges.
+
+A *kink*, one vertex turning weakly between two straight runs, is a bend of one vertex (a
+Y's inlet meeting the walls that widen to its arms: a mouth). Where the search finds no
+layout that meshes, it searches again with the cuts between junctions and kinks in every
+domain, each cut taken or not beside the edges from reflex vertices.
 """
 
 from __future__ import annotations
@@ -51,12 +56,22 @@ def junctions(ring: np.ndarray, diagonal: float) -> list[int]:
     return out
 
 
-def bend_cuts(rings: list[np.ndarray], diagonal: float) -> list[np.ndarray]:
-    """The cuts (2, 2) between junctions of the outer ring (``rings[0]``) that see each
-    other inside the domain, each junction cut to the nearest one whose line leaves both
-    walls at a block corner's angle or more (mutual nearest only)."""
+def kinks(ring: np.ndarray) -> list[int]:
+    """The vertices of ``ring`` that turn weakly (BEND_TURN to a corner's turn) between two
+    that do not turn: bends of one vertex."""
+    turns = np.abs(turning_angles(ring))
+    curved = (turns >= BEND_TURN) & (turns < CORNER_TURN)
+    return [int(i) for i in np.flatnonzero(curved & ~np.roll(curved, 1) & ~np.roll(curved, -1))]
+
+
+def bend_cuts(
+    rings: list[np.ndarray], diagonal: float, with_kinks: bool = False
+) -> list[np.ndarray]:
+    """The cuts (2, 2) between junctions of the outer ring (``rings[0]``), and ``with_kinks``
+    its kinks, that see each other inside the domain, each cut to the nearest one whose
+    line leaves both walls at a block corner's angle or more (mutual nearest only)."""
     ring = rings[0]
-    found = junctions(ring, diagonal)
+    found = sorted(set(junctions(ring, diagonal) + (kinks(ring) if with_kinks else [])))
     domain = Polygon(ring, [r for r in rings[1:]])
     n = len(ring)
     tangent = {i: ring[(i + 1) % n] - ring[i - 1] for i in found}
