@@ -25,7 +25,9 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-# (label, start: the model's grid or the better ranked of it and the member's own start,
+# (label, start: the model's grid, the better ranked of it and the member's own start, or
+# the polish's own start (family.mesh.polish_start: where the model's grid ranks below the
+# member's start, the best ranked of that start and its blends towards the model's grid),
 # iterations at most, Settle's window, worst step and spare, or None: a fixed count)
 RULES = (
     ("model's grid, 60 iterations", "model", 60, None),
@@ -33,6 +35,9 @@ RULES = (
     ("model's grid, settled (15, 0.05, no spare)", "model", 100, (15, 0.05, 0.0)),
     ("better start, settled (15, 0.05, spare 0.25)", "better", 100, (15, 0.05, 0.25)),
     ("better start, settled (20, 0.05, spare 0.25)", "better", 100, (20, 0.05, 0.25)),
+    ("blended start, settled (20, 0.05, spare 0.25)", "blend", 100, (20, 0.05, 0.25)),
+    ("blended start, settled (15, 0.05, spare 0.25)", "blend", 100, (15, 0.05, 0.25)),
+    ("blended start, settled (10, 0.05, spare 0.25)", "blend", 100, (10, 0.05, 0.25)),
 )
 
 
@@ -47,6 +52,7 @@ def draw(workdir: Path, seed: int, members: int) -> Path:
 
 def finish(model, member, rule, counted: list) -> np.ndarray:
     """The member's grid finished from the model's by ``rule`` (the user's coordinates)."""
+    from pinn_engine.family.mesh import polish_start
     from pinn_engine.starts.quality_start import Ranking, Settle, best_candidate, optimize_nodes
 
     _, start, iterations, settle = rule
@@ -54,10 +60,11 @@ def finish(model, member, rule, counted: list) -> np.ndarray:
     elliptic = model.base(member)
     ranking = Ranking.of(elliptic, (), member.boundary.diagonal)
     (begin, _), ranking = best_candidate(elliptic, member.base, ranking)
-    if start == "better" and ranking.key(ranking.quality(grid)) > ranking.key(
-        ranking.quality(begin)
-    ):
+    begun = ranking.quality(begin)
+    if start == "better" and ranking.key(ranking.quality(grid)) > ranking.key(begun):
         grid = begin
+    elif start == "blend":
+        grid, _ = polish_start(ranking, begin, begun, grid)
     counted.clear()
     done = optimize_nodes(grid, ranking, iterations, settle=settle and Settle(*settle))
     return member.frame.to_user(done)

@@ -15,8 +15,8 @@ costs, so it is solved only where the model cannot vouch for its grid without it
   on the channels of docs/family.md, so the step's cells' angles are within a fraction of a
   degree of it); up to ``DEFECT_STEPS`` steps are taken to get there;
 - a family of node optima (the default's four-sided grids: the quality objective's best
-  start, its nodes optimised) finishes the model's grid by the member's own node
-  optimisation (quality_start.optimize_nodes, under the member's own ranking) until it
+  start, its nodes optimised) finishes the model's grid (:func:`polish_start`) by the
+  member's own node optimisation (quality_start.optimize_nodes, its own ranking) until it
   settles (``POLISH_SETTLE``; at most ``model.polish`` iterations, its own run's), and
   vouches for a polished grid that ranks no worse than the grid the member's
   own optimisation starts from (the best of its elliptic, TFI and blended grids, which cost
@@ -33,6 +33,7 @@ import time
 from collections import OrderedDict
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -48,17 +49,20 @@ from pinn_engine.quality import (
 from pinn_engine.result import MeshResult
 from pinn_engine.settings import Settings
 
+if TYPE_CHECKING:
+    from pinn_engine.starts.quality_start import Ranking
+
 WORST_TOL = 2.0  # SPEC 16: degrees the worst cell may exceed the member's start's
 # One more linearised step moves no node by more than this share of its shortest edge: a
 # corner's angle then moves by at most about four times it in radians, 1.2 degrees
 DEFECT_TOL = 0.005
 DEFECT_STEPS = 6  # chord steps tried (0.3 ms each at 41 x 21; the default solve takes 15 ms)
-# A four-sided member's polish stops once 20 iterations lowered its best-ranked worst angle
-# by under 0.05 degrees, and keeps the state of least mean within 0.25 of it (Settle): on 32
-# channels of two draws apart from docs/family.md's it left each within 0.3 of its own worst
-# and 0.1 of its mean at a median 54-86 evaluations (its own run: about 200); what shorter
-# windows, fixed counts and no spare left is in docs/family.md
-POLISH_SETTLE = (20, 0.05, 0.25)
+# A four-sided member's polish stops once 15 iterations lowered its best-ranked worst angle
+# by under 0.05 degrees (or it is its held corners'), keeping the state of least mean within
+# 0.25 of it (Settle): on 64 channels of four draws apart from docs/family.md's (the window
+# chosen on two) it left each within 0.22 of its own worst and 0.19 of its mean at a median
+# 34-60 evaluations (its own run: about 200); the other rules tried are in docs/family.md
+POLISH_SETTLE = (15, 0.05, 0.25)
 KEPT_MODELS = 4  # family models kept loaded in a process (a batch worker meshes many members)
 _LOADED: OrderedDict[tuple, FamilyModel] = OrderedDict()
 
@@ -198,11 +202,11 @@ def mesh_member(
 def _polished(
     model: FamilyModel, member: Member, grid: np.ndarray
 ) -> tuple[np.ndarray, dict, bool, str]:
-    """``grid`` (or, where that ranks below it, the grid the member's own run optimises
-    from: quality_start.best_candidate, with the member's ranking) after the member's own
-    node optimisation has settled (``POLISH_SETTLE``, at most ``model.polish`` iterations),
-    the figures of that grid of its own run, whether the polished grid ranks no worse than
-    it, and its name (and whether the polish started from it)."""
+    """``grid`` after the member's own node optimisation has settled (``POLISH_SETTLE``, at
+    most ``model.polish`` iterations) from :func:`polish_start`, the figures of the grid its
+    own run optimises from (quality_start.best_candidate, with the member's ranking),
+    whether the polished grid ranks no worse than that, and its name (and where the polish
+    started, where not from ``grid``)."""
     from pinn_engine.blas import one_thread
     from pinn_engine.starts.quality_start import Ranking, Settle, best_candidate, optimize_nodes
 
@@ -210,12 +214,31 @@ def _polished(
     ranking = Ranking.of(elliptic, (), member.boundary.diagonal)
     (begin, name), ranking = best_candidate(elliptic, member.base, ranking)
     begun = ranking.quality(begin)
-    if ranking.key(ranking.quality(grid)) > ranking.key(begun):
-        grid, name = begin, f"{name} (the model's grid ranked below it)"  # folded, say
+    grid, share = polish_start(ranking, begin, begun, grid)
+    if share < 1:
+        start = f"{share:.1f} of the way to the model's grid" if share else "itself"
+        name = f"{name} (the model's grid ranked below it; polished from {start})"
     with one_thread():  # its L-BFGS, as the member's own run's
         polished = optimize_nodes(grid, ranking, model.polish, settle=Settle(*POLISH_SETTLE))
     ranks = ranking.key(ranking.quality(polished)) <= ranking.key(begun)
     return polished, {k: v for k, v in begun.items() if k in _FIGURES}, ranks, name
+
+
+def polish_start(
+    ranking: Ranking, begin: np.ndarray, begun: dict, grid: np.ndarray
+) -> tuple[np.ndarray, float]:
+    """Where a four-sided member's polish starts, and its share of the way from ``begin``
+    (the grid its own run optimises from, its ``ranking``'s figures ``begun``) to the
+    model's ``grid``: ``grid`` (1), or where that ranks below ``begin`` (folded, say) the
+    best ranked of ``begin`` (0) and its blends towards ``grid`` at the own run's blends'
+    weights (``quality_start.BLEND_WEIGHTS``), which keep what of the model's correction
+    ranks well."""
+    from pinn_engine.starts.quality_start import BLEND_WEIGHTS
+
+    if ranking.key(ranking.quality(grid)) <= ranking.key(begun):
+        return grid, 1.0
+    blends = [(begin + w * (grid - begin), float(w)) for w in BLEND_WEIGHTS[::-1]]
+    return min([*blends, (begin, 0.0)], key=lambda b: ranking.key(ranking.quality(b[0])))
 
 
 def _body_chosen(

@@ -103,10 +103,12 @@ FOLDED_ANGLE = 180.0  # degrees: a corner above it is reflex, its cell folded (q
 class Settle:
     """When a node optimisation has settled, and the state it returns (:func:`optimize_nodes`):
     its last ``window`` iterations left the best-ranked state's ranking above its worst angle
-    and lowered that by less than ``worst`` degrees; it returns, of the states ranked as the
-    best but for their worst angle within ``spare`` degrees of its, the one of least mean (a
-    worst angle stuck at a boundary corner leaves every state tied, and the first met is the
-    best ranked); none ranked below the state it started from."""
+    and lowered that by less than ``worst`` degrees, or that state ranks as none can rank
+    better (within every bound but the worst angle, and that at the corners no move of its
+    free nodes changes: a four-sided domain's corners); it returns, of the states ranked as
+    the best but for their worst angle within ``spare`` degrees of its, the one of least
+    mean (a worst angle stuck at a boundary corner leaves every state tied, and the first
+    met is the best ranked); none ranked below the state it started from."""
 
     window: int
     worst: float
@@ -710,6 +712,8 @@ def optimize_nodes(
     since = [0]  # iterations since the best state was found
     keys: list[tuple] = []  # with settle: the best state's key after each iteration
     met: list[tuple[tuple, float, np.ndarray]] = []  # with settle: each state's key, mean, x
+    held = _held_corners(grid.shape[:2], free, seam) if settle is not None else None
+    floor = [-math.inf]  # with settle: the held corners' worst angle, no state's worst below
 
     def moved(x: np.ndarray) -> np.ndarray:
         g = grid.copy()
@@ -735,6 +739,8 @@ def optimize_nodes(
             loss += TURN_WEIGHT * term
             grad += TURN_WEIGHT * d_term
         largest = np.rad2deg(theta.max(0))
+        if held is not None and not met and held.any():  # the same in every state
+            floor[0] = round(float(np.rad2deg(theta[held].max())), WORST_DECIMALS)
         q.update(
             folded_cells=int((largest > FOLDED_ANGLE).sum()),
             mean_max_angle=float(largest.mean()),
@@ -753,6 +759,8 @@ def optimize_nodes(
         if stall is not None and since[0] > stall:
             raise StopIteration
         if settle is not None:
+            if not any(best[0][:-1]) and best[0][-1] <= floor[0]:  # no state ranks better
+                raise StopIteration
             keys.append(best[0])
             then = keys[-1 - settle.window] if len(keys) > settle.window else None
             if then is not None and then[:-1] == best[0][:-1]:
@@ -777,6 +785,19 @@ def optimize_nodes(
         ]
         return moved(min(near, key=lambda m: m[0])[1])
     return moved(best[1])
+
+
+def _held_corners(shape: tuple[int, int], free: tuple[slice, slice], seam: bool) -> np.ndarray:
+    """Which cell corners of a grid of ``shape`` (nj, ni) no move of its ``free`` nodes
+    changes, (4, nj - 1, ni - 1) in ``_CORNERS``' order: those whose node and both
+    neighbours along the cell's edges are held (a four-sided domain's corners)."""
+    held = np.ones(shape, dtype=bool)
+    held[free] = False
+    if seam:
+        held[:, -1] = held[:, 0]
+    return np.stack(
+        [held[_CORNERS[k]] & held[_CORNERS[(k + 1) % 4]] & held[_CORNERS[k - 1]] for k in range(4)]
+    )
 
 
 def _node_units(grid: np.ndarray, seam: bool) -> np.ndarray:

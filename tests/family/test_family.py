@@ -229,6 +229,49 @@ def test_a_settled_polish_stops_early_and_never_ranks_below_its_start():
     assert ranking.key(ranking.quality(settled)) <= ranking.key(ranking.quality(grid))
 
 
+def test_a_settled_polish_stops_at_its_held_corners_worst_angle():
+    """quality_start.optimize_nodes with a Settle: where its best state's worst angle is that
+    of a corner no interior node changes (a sheared box's, 106.7 degrees, every cell's), no
+    state ranks better, and it stops there, long before its window of 50 iterations."""
+    from pinn_engine.starts import quality_start as qs
+
+    x, y = np.meshgrid(np.linspace(0, 1, 11), np.linspace(0, 1, 7))
+    grid = np.stack([x + 0.3 * y, y], -1)  # a sheared box: 106.7-degree corners, fixed
+    ranking = qs.Ranking.of(grid, (), 1.0)
+    calls = []
+    real = qs.quality_loss
+    monkeypatch = pytest.MonkeyPatch()
+    monkeypatch.setattr(qs, "quality_loss", lambda g, t: calls.append(1) or real(g, t))
+    try:
+        settled = qs.optimize_nodes(grid, ranking, 100, settle=qs.Settle(50, 0.05, 0.25))
+    finally:
+        monkeypatch.undo()
+    assert len(calls) < 10
+    corner = 180 - np.degrees(np.arctan2(1, 0.3))
+    assert ranking.quality(settled)["worst_max_angle"] == pytest.approx(corner, abs=1e-3)
+
+
+def test_a_model_grid_below_the_members_start_starts_the_polish_from_a_blend():
+    """family.mesh.polish_start: a model's grid that ranks below the member's own start (a
+    node moved past its neighbour: folded) gives way to the best ranked blend of the start
+    towards it, here the one that puts the node back where the box has it; a model's grid
+    that ranks no worse than the start is where the polish starts."""
+    from pinn_engine.family.mesh import polish_start
+    from pinn_engine.starts import quality_start as qs
+
+    x, y = np.meshgrid(np.linspace(0, 1, 11), np.linspace(0, 1, 7))
+    box = np.stack([x, y], -1)
+    ranking = qs.Ranking.of(box, (), 1.0)
+    begin, model = box.copy(), box.copy()
+    begin[3, 5, 0] += 0.04  # a skewed start
+    model[3, 5, 0] -= 0.16  # past its neighbour at -0.1: folded
+    begun = ranking.quality(begin)
+    start, share = polish_start(ranking, begin, begun, model)
+    assert share == pytest.approx(0.2)
+    np.testing.assert_allclose(start, box, atol=1e-12)
+    assert polish_start(ranking, begin, begun, box)[1] == 1.0
+
+
 # a family of O-grids under the default (its members' nodes optimised where that ranks
 # better): the model's grid is the start of the member's own optimisation
 BODY_SIZE = (65, 17)
