@@ -9,7 +9,8 @@ Usage: ``.venv/bin/python benchmarks/family_polish.py MODEL.pt [--seeds 2 3 4] [
 as ``benchmarks/family.py`` writes it). For each seed, ``--members`` unseen channels of that
 draw are meshed by their own default run and finished from the model's grid by each rule;
 the table gives the largest excess of the finished grid's worst angle and mean over the
-default grid's, and the median number of evaluations of the optimisation's objective.
+default grid's, and the median number of evaluations of the optimisation's objective (its
+first row: the member's own run's).
 """
 
 from __future__ import annotations
@@ -39,6 +40,9 @@ RULES = (
     ("blended start, settled (15, 0.05, spare 0.25)", "blend", 100, (15, 0.05, 0.25)),
     ("blended start, settled (10, 0.05, spare 0.25)", "blend", 100, (10, 0.05, 0.25)),
 )
+
+
+OWN = "the member's own run (its start, 100 iterations)"  # its evaluations, for scale
 
 
 def draw(workdir: Path, seed: int, members: int) -> Path:
@@ -95,13 +99,15 @@ def main() -> None:
 
     quality_start.quality_loss = counting
     model = job.load_family(args.model)
-    table = {rule[0]: {} for rule in RULES}
+    table = {label: {} for label in (OWN, *(rule[0] for rule in RULES))}
     for seed in args.seeds:
         folder = draw(args.workdir.resolve(), seed, args.members)
-        found = {rule[0]: [] for rule in RULES}
+        found = {label: [] for label in table}
         for row in rows_of(folder / "unseen.csv"):
             settings, geometry = settings_and_geometry(folder, row)
+            counted.clear()
             own = job.run(settings, geometry).quality
+            found[OWN].append((0.0, 0.0, len(counted)))
             member = job.family_member(settings, geometry)
             for rule in RULES:
                 q = guard_figures(finish(model, member, rule, counted))

@@ -61,7 +61,7 @@ DEFECT_STEPS = 6  # chord steps tried (0.3 ms each at 41 x 21; the default solve
 # by under 0.05 degrees (or it is its held corners'), keeping the state of least mean within
 # 0.25 of it (Settle): on 64 channels of four draws apart from docs/family.md's (the window
 # chosen on two) it left each within 0.22 of its own worst and 0.19 of its mean at a median
-# 34-60 evaluations (its own run: about 200); the other rules tried are in docs/family.md
+# 34-60 evaluations (its own run: 116-186); the other rules tried are in docs/family.md
 POLISH_SETTLE = (15, 0.05, 0.25)
 KEPT_MODELS = 4  # family models kept loaded in a process (a batch worker meshes many members)
 _LOADED: OrderedDict[tuple, FamilyModel] = OrderedDict()
