@@ -11,9 +11,10 @@ bilinear interpolant of the nodes' values against the field at ``QUAD`` x ``QUAD
 inside every cell: the L2 norm (cells weighted by area) and the largest. The tuning shapes
 are the examples, the held-out ones ``example_data/holdout`` (no constant was set on them).
 
-    .venv/bin/python benchmarks/adapt.py [--set tuning|holdout|bodies|all] [--beta 5 10 20]
+    .venv/bin/python benchmarks/adapt.py [--set tuning|holdout|bodies|blocks|all] [--beta 5 10 20]
         [--size 41 31] [--speed [--runs 3]] [--unguarded]
 
+``--set blocks``: the multi-block grids alone (the bodies less the C-grids).
 ``--speed`` times adapting a 201 x 201 four-sided grid (40 000 cells) against meshing it
 (CPU and wall seconds, ``--runs`` rounds interleaved);
 ``--unguarded`` solves the C-grid and the multi-block grid at fixed strengths without the
@@ -283,7 +284,9 @@ def unguarded() -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--set", default="all", choices=("tuning", "holdout", "bodies", "all"))
+    parser.add_argument(
+        "--set", default="all", choices=("tuning", "holdout", "bodies", "blocks", "all")
+    )
     parser.add_argument("--beta", type=float, nargs="+", default=[DEFAULT_STRENGTH])
     parser.add_argument("--size", type=int, nargs=2, default=(41, 31))
     parser.add_argument("--speed", action="store_true")
@@ -310,10 +313,11 @@ def main() -> None:
                 measure(
                     f"{key}: {Path(path).stem}", four_sided(path, tuple(args.size)), args.beta, rows
                 )
-    if args.set in ("bodies", "all"):
+    if args.set in ("bodies", "blocks", "all"):
         for key, shapes in bodies().items():
             for name, make in shapes.items():
-                measure(f"{key}: {name}", make(), args.beta, rows)
+                if args.set != "blocks" or "blocks" in name:
+                    measure(f"{key}: {name}", make(), args.beta, rows)
 
     def group(row: tuple) -> str:
         kind = "C-grid" if "C-grid" in row[0] else "multi-block" if "blocks" in row[0] else None

@@ -25,11 +25,12 @@ DEFAULT_STRENGTH = ADAPT_STRENGTH  # the default strength beta (settings, measur
 # the guard binds at about beta 2 to 5 (docs/adaptation.md)
 STRENGTHS = 5
 WEAKER = 0.5
-# The tensor's forms, in order, (curvature, isotropic): the gradient's monitor across a
-# front only (a front, a layer), then Winslow's isotropic 1/M (a feature a few cells wide
-# every way, a vortex's core); the interpolation error's curvature metric, anisotropic and
-# isotropic (a front's flanks, where linear interpolation errs, rather than its centre)
-FORMS = ((False, False), (False, True), (True, False), (True, True))
+# The tensor's forms, in order, (curvature, isotropic, joined): the gradient's monitor
+# across a front only (a front, a layer), a multi-block grid's blocks joined for it (its
+# junctions and interfaces move with the front); Winslow's isotropic 1/M (a feature a few
+# cells wide every way, a vortex's core); the interpolation error's curvature metric,
+# anisotropic and isotropic (a front's flanks, where linear interpolation errs)
+FORMS = ((False, False, True), (False, True, False), (True, False, False), (True, True, False))
 
 
 @dataclass
@@ -78,12 +79,13 @@ def adapt_grids(
     space = ParameterSpace(graph, sample, limit)
     points, share, rounds, error, used = start, np.zeros(len(start)), [], error0, 0.0
     form = "unadapted"
-    for curvature, isotropic in FORMS if largest > 0 else ():
+    for curvature, isotropic, joined in FORMS if largest > 0 else ():
         last = np.inf
-        name = ("curvature " if curvature else "") + ("isotropic" if isotropic else "anisotropic")
+        name = ("joined " if joined and space.joined else "") + ("curvature " if curvature else "")
+        name += "isotropic" if isotropic else "anisotropic"
         for k in range(STRENGTHS):
             beta = strength * WEAKER**k
-            found = guarded(graph, space, beta, limit, isotropic, error, curvature)
+            found = guarded(graph, space, beta, limit, isotropic, error, curvature, joined)
             rounds.append(
                 {"form": name, "strength": beta, "error": found.error, "solves": found.rounds}
             )

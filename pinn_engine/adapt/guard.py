@@ -110,10 +110,11 @@ def guarded(
     isotropic: bool = False,
     bound: float = np.inf,
     curvature: bool = False,
+    joined: bool = False,
 ) -> Guarded:
     """The grid adapted with ``strength`` lowered where the guard (``limit`` degrees, no
-    fold) needs it (``isotropic``, ``curvature``: the diffusion tensor's form,
-    :meth:`ParameterSpace.solve`);
+    fold) needs it (``isotropic``, ``curvature``: the diffusion tensor's form, ``joined``:
+    a multi-block grid's blocks solved joined, :meth:`ParameterSpace.solve`);
     not guarded where its first solve breaks the guard and carries the field no better than
     ``bound`` (the guard's lowering and draw-back adapt less: they seldom gain it back)."""
     n = len(graph.points)
@@ -122,7 +123,7 @@ def guarded(
     def error(points: np.ndarray) -> float:
         return interpolation_error(points, graph.cells, space.sample)
 
-    first = solved = space.solve(share * strength, isotropic, curvature=curvature)
+    first = solved = space.solve(share * strength, isotropic, False, curvature, joined)
     bad = offending(graph, solved.points, limit)
     rounds = [{"steps": solved.steps, "offending_cells": int(bad.sum())}]
     now = error(solved.points)
@@ -131,7 +132,7 @@ def guarded(
     # the shear cap, then the strength lowered round the cells that still break
     capped = None
     for _ in range(ROUNDS - 1):
-        solved = space.solve(strength * share, isotropic, True, curvature)
+        solved = space.solve(strength * share, isotropic, True, curvature, joined)
         bad = offending(graph, solved.points, limit)
         rounds.append({"steps": solved.steps, "offending_cells": int(bad.sum())})
         if capped is None:

@@ -27,13 +27,15 @@ class NodeGraph:
     """``points`` (n, 2) of the unique nodes, each block's id lattice ``ids`` (nj, ni),
     ``cells`` (m, 4) counter-clockwise, ``pieces``: the boundary between staying nodes
     (each an id run, its two ends staying), ``held``: the nodes that stay (corners, block
-    corners, and those the caller holds)."""
+    corners, and those the caller holds), ``junctions``: the block corners inside the domain
+    that the caller does not hold (a multi-block grid's joined solve moves them)."""
 
     points: np.ndarray
     ids: list[np.ndarray]
     cells: np.ndarray
     pieces: list[np.ndarray]
     held: np.ndarray
+    junctions: np.ndarray
 
     @property
     def diagonal(self) -> float:
@@ -62,10 +64,7 @@ class NodeGraph:
         """Every cell's node ids in its block's (i, j) order (m, 4), in ``cells``' order, as
         :func:`cell_quality` reads them; its block's orientation (+1: counter-clockwise) and
         whether it folds, both in the unadapted grid."""
-        quads = [
-            np.stack([i[:-1, :-1], i[:-1, 1:], i[1:, 1:], i[1:, :-1]], axis=-1).reshape(-1, 4)
-            for i in self.ids
-        ]
+        quads = [lattice_quads([i]) for i in self.ids]
         orientation = []
         for q in quads:
             p = self.points[q]
@@ -99,14 +98,19 @@ def _merged(grids: list[np.ndarray]) -> tuple[np.ndarray, list[np.ndarray]]:
     return flat[first], out
 
 
-def _cells(points: np.ndarray, ids: list[np.ndarray]) -> np.ndarray:
-    """Every cell's four node ids, counter-clockwise."""
-    quads = np.vstack(
+def lattice_quads(ids: list[np.ndarray]) -> np.ndarray:
+    """The cells (m, 4) of id lattices, (j, i), (j, i + 1), (j + 1, i + 1), (j + 1, i)."""
+    return np.vstack(
         [
             np.stack([i[:-1, :-1], i[:-1, 1:], i[1:, 1:], i[1:, :-1]], axis=-1).reshape(-1, 4)
             for i in ids
         ]
     )
+
+
+def _cells(points: np.ndarray, ids: list[np.ndarray]) -> np.ndarray:
+    """Every cell's four node ids, counter-clockwise."""
+    quads = lattice_quads(ids)
     p = points[quads]
     d1, d2 = p[:, 2] - p[:, 0], p[:, 3] - p[:, 1]
     area = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
@@ -128,15 +132,18 @@ def node_graph(grids: list[np.ndarray], held: list[np.ndarray] | None = None) ->
     points, ids = _merged(grids)
     cells = _cells(points, ids)
     n = len(points)
-    stay = np.zeros(n, dtype=bool)
+    stay, corner = np.zeros(n, dtype=bool), np.zeros(n, dtype=bool)
     for lattice, mask in zip(ids, held or [None] * len(ids)):
-        stay[lattice[[0, 0, -1, -1], [0, -1, 0, -1]]] = True  # block corners
+        corner[lattice[[0, 0, -1, -1], [0, -1, 0, -1]]] = True
         if mask is not None:
             stay[lattice[mask]] = True
     boundary_edges = _boundary_edges(cells, n)
+    junctions = corner & ~stay
+    junctions[boundary_edges.ravel()] = False
+    stay |= corner
     pieces, corners = _pieces(points, boundary_edges, stay)
     stay[corners] = True
-    return NodeGraph(points, ids, cells, pieces, stay)
+    return NodeGraph(points, ids, cells, pieces, stay, junctions)
 
 
 def _pieces(

@@ -27,7 +27,12 @@ one-dimensional form of the same equations, d(xi)/du / (s^T D s) constant betwee
 nodes that stay (s the side's direction); a boundary piece takes the block solve's natural
 condition. Nodes slide along their own side (a boundary piece's spline, an interface or
 cut's own polyline, the same positions from both sides), and the side's xi is the block's
-boundary values."""
+boundary values.
+
+A multi-block grid's blocks may be solved joined instead (``joined``,
+:mod:`~pinn_engine.adapt.joined`: in the plane, interfaces and junctions inside the domain
+as interior nodes); its boundary pieces then take the one-dimensional form, as interfaces
+do here."""
 
 from __future__ import annotations
 
@@ -37,6 +42,7 @@ import numpy as np
 from scipy.sparse import coo_matrix, csr_matrix
 from scipy.sparse.linalg import splu
 
+from pinn_engine.adapt.joined import Joined
 from pinn_engine.adapt.monitor import (
     cell_areas,
     curvature_diffusion,
@@ -199,6 +205,8 @@ class ParameterSpace:
             np.concatenate([b.area.ravel() for b in self.blocks]),
         )
         self._shear: dict[bool, list[np.ndarray]] = {}
+        refined = [b.points for b in self.blocks]
+        self.joined = Joined(graph, refined, r) if len(self.blocks) > 1 else None
 
     def shear(self, curvature: bool = False) -> list[np.ndarray]:
         """Each block's shear cap at its refined nodes (:func:`shear_cap`, the guard's
@@ -251,14 +259,17 @@ class ParameterSpace:
         isotropic: bool = False,
         capped: bool = False,
         curvature: bool = False,
+        joined: bool = False,
     ) -> Solved:
         """The grid adapted with the monitor of ``strength`` at each node, its diffusion
         tensor compressing across a front only or (``isotropic``) in every direction;
         ``capped``: with the shear cap of the guard's bound (:func:`shear_cap`);
         ``curvature``: the tensor of the interpolation error's curvature metric
         (:func:`curvature_diffusion`, intensity strength / (``CURVATURE_STRENGTH`` alpha))
-        in place of the gradient's."""
-        graph, r, largest = self.graph, self.r, self.largest
+        in place of the gradient's; ``joined``: a multi-block grid's blocks solved joined
+        (:class:`Joined`: its junctions and interfaces move), else each in its own
+        parameter space."""
+        graph, largest = self.graph, self.largest
         tensors = []
         for k, block in enumerate(self.blocks):
             beta = bilinear(strength[block.ids][..., None], block.u, block.v)[..., 0]
@@ -274,13 +285,54 @@ class ParameterSpace:
         params = [piece.s.copy() for piece in self.pieces]
         # each run's share of the way along it at its refined points, in run order: an
         # interface's, a cut's or a seam's from its one-dimensional equations (the same from
-        # both sides), a boundary piece's from its block's solve (its natural condition)
+        # both sides), a boundary piece's from its block's solve (its natural condition);
+        # joined blocks: a boundary piece's from the one-dimensional equations, interfaces
+        # from the joined solve
         shares: dict[tuple, np.ndarray] = {}
+        joined = joined and self.joined is not None
         for run in self.runs:
-            if run.piece is None:
+            if (run.piece is None) != joined:
                 along = self._along(run, tensors[run.block])
                 cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (along[1:] + along[:-1]))])
                 self._place(run, cumulative / cumulative[-1], shares, points, params)
+        if joined:
+            self._joined(tensors, shares, points)
+        else:
+            self._blocks(tensors, shares, points, params)
+        final = monitor_values(
+            gradient_size(points, graph.cells, self.sample(points)), strength, largest
+        )
+        return Solved(points, params, final, 1)
+
+    def _joined(
+        self, tensors: list[np.ndarray], shares: dict[tuple, np.ndarray], points: np.ndarray
+    ) -> None:
+        """The joined blocks' inner nodes placed in ``points`` (:class:`Joined`), the
+        boundary pieces' refined points held where their ``shares`` put them."""
+        joined, r = self.joined, self.r
+        xi = joined.points.copy()
+        for run in self.runs:
+            if run.piece is not None:
+                n, line = len(run.ids) - 1, self.graph.points[run.ids]
+                at = n * shares[tuple(run.ids)]
+                k = np.clip(np.floor(at).astype(int), 0, n - 1)
+                t = (at - k)[:, None]
+                ids = self._side_values(run.side, joined.ids[run.block])
+                xi[ids[run.first * r : run.last * r + 1]] = (1 - t) * line[k] + t * line[k + 1]
+        lap, triangles = joined.system(tensors)
+        solve_lattice(lap, xi, joined.fixed)
+        points[joined.inner] = joined.placed(xi, triangles, self.graph.points[joined.inner])
+
+    def _blocks(
+        self,
+        tensors: list[np.ndarray],
+        shares: dict[tuple, np.ndarray],
+        points: np.ndarray,
+        params: list[np.ndarray],
+    ) -> None:
+        """Each block solved in its own parameter space (:meth:`_interior`), its boundary
+        pieces placed by their natural condition there."""
+        r = self.r
         solved = [self._interior(b, d, shares, points) for b, d in zip(self.blocks, tensors)]
         for run in self.runs:
             if run.piece is not None:
@@ -289,10 +341,6 @@ class ParameterSpace:
                 along = self._side_values(run.side, values)[run.first * r : run.last * r + 1]
                 share = np.maximum.accumulate((along - run.first) / (run.last - run.first))
                 self._place(run, np.clip(share, 0.0, 1.0), shares, points, params)
-        final = monitor_values(
-            gradient_size(points, graph.cells, self.sample(points)), strength, largest
-        )
-        return Solved(points, params, final, 1)
 
     def _along(self, run: _Run, tensor: np.ndarray) -> np.ndarray:
         """The monitor of a run's one-dimensional equations at its refined points: 1 / (s^T D
@@ -386,12 +434,13 @@ class ParameterSpace:
 
 
 def solve_lattice(lap: csr_matrix, values: np.ndarray, fixed: np.ndarray) -> None:
-    """``values`` (a refined lattice's, rows x cols) at the nodes not ``fixed``, in place:
-    the discrete equations' solution, the unique minimiser of the energy values^T lap values
+    """``values`` (a refined lattice's, rows x cols, or a joined grid's nodes' (n, 2)) at
+    the nodes not ``fixed`` (``values``' shape, less a last axis of columns), in place: the
+    discrete equations' solution, the unique minimiser of the energy values^T lap values
     with the fixed values held (lap symmetric, positive definite on the free nodes), by one
     sparse factorisation. ``benchmarks/adapt_network.py`` puts a network in its place."""
     free, known = np.flatnonzero(~fixed.ravel()), np.flatnonzero(fixed.ravel())
-    flat = values.ravel()  # a view: solved in place
+    flat = values.reshape(fixed.size, -1)  # a view: solved in place
     rhs = -lap[free][:, known] @ flat[known]
     # a symmetric matrix: its minimum-degree ordering fills less (1.6 times faster at 40 000
     # unknowns than the default column ordering)
