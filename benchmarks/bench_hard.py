@@ -120,14 +120,14 @@ def run_shape(
     rows, ref, tfi = [], None, None
     for label, (method, overrides) in runs.items():
         overrides = dict(overrides)
-        node_iterations = overrides.pop("node_iterations", quality_start.NODE_ITERATIONS)
+        node_iterations = overrides.pop("node_iterations", quality_start.STAGE_ITERATIONS)
         start = time.perf_counter()
         settings = make_settings(method, lattice=size, **overrides)
-        saved, quality_start.NODE_ITERATIONS = quality_start.NODE_ITERATIONS, node_iterations
+        saved, quality_start.STAGE_ITERATIONS = quality_start.STAGE_ITERATIONS, node_iterations
         try:
             result = Mesher(settings).fit(boundary, aux).predict(*size)
         finally:
-            quality_start.NODE_ITERATIONS = saved
+            quality_start.STAGE_ITERATIONS = saved
         seconds = time.perf_counter() - start
         q = result.quality
         unit = boundary.frame.to_unit(result.points)

@@ -44,7 +44,18 @@ MEAN_TOL = START_MEAN_TOL  # the objective's bound on the mean against the ellip
 # line kinks them by 8.7 and 7.9 degrees mean on wavy and fig2; auxlines.crossing_turns)
 TURN_TOL = 2.0
 TURN_STEP = 0.01  # the ranking's step of the crossing turn, degrees
-NODE_ITERATIONS = 100  # L-BFGS iterations of the node optimisation (0: none, an ablation)
+NODE_ITERATIONS = 100  # L-BFGS iterations of a body's node optimisation
+# A four-sided block's node optimisation sharpens its soft maximum in stages: temperatures in
+# QUALITY_TAU's. At 1 degree alone a band of near-worst corners shares the weight and L-BFGS
+# settles 2 to 4 degrees above the stages' end (300 iterations: the dart at 41 x 21 147.4,
+# the S-duct at 81 x 41 154.2; the stages 143.4 and 152.2, at no more CPU: STAGE_ITERATIONS).
+SHARPENING = (1.0, 1 / 2, 1 / 4, 1 / 8)
+# A stage's iterations at most (0: no node optimisation, an ablation): the stages then cost
+# the CPU one stage of 100 cost on the tuning set at 81 x 41; and a stage ends after
+# STAGE_STALL iterations without a better-ranked state (a grid at its floor stops at once;
+# 10 ended the S-duct's first stage early: 154.9 at 81 x 41 against 149.6 with 20)
+STAGE_ITERATIONS = 67
+STAGE_STALL = 20
 # A body grid's node optimisation stops after this many iterations without a better-ranked
 # state (NACA 0012 at 41x21: the C-grid's best at 20 of its 100 iterations, the O-grid's at 60)
 BODY_STALL = 10
@@ -205,15 +216,33 @@ def quality_start(
     tfi = elliptic - warm.correction
     found, ranking = candidates(elliptic, tfi, ranking)
     best = min(found, key=lambda c: ranking.key(ranking.quality(c[0])))
-    if NODE_ITERATIONS:
-        optimized = (optimize_nodes(best[0], ranking, NODE_ITERATIONS), "optimized")
+    if STAGE_ITERATIONS:
+        optimized = (sharpened(best[0], ranking), "optimized")
         turning = ranking.key(ranking.quality(optimized[0]))[3] > 0
         if turning and best[1] != "line-following elliptic":
             on_lines = next(g for g, name in found if name == "line-following elliptic")
-            again = (optimize_nodes(on_lines, ranking, NODE_ITERATIONS), "optimized")
+            again = (sharpened(on_lines, ranking), "optimized")
             optimized = min([optimized, again], key=lambda c: ranking.key(ranking.quality(c[0])))
         best = min([best, optimized], key=lambda c: ranking.key(ranking.quality(c[0])))
     return WarmStart(best[0] - tfi, start=best[1]), ranking
+
+
+def sharpened(grid: np.ndarray, ranking: Ranking) -> np.ndarray:
+    """``grid`` with its interior nodes optimised (:func:`optimize_nodes`) in stages whose
+    soft maximum sharpens (``SHARPENING``), each from the best-ranked state of the one
+    before: a blunt soft maximum moves the whole band of near-worst cells, a sharp one then
+    the few that bind. No stage ranks below its start; only the first moves the grid onto
+    the auxiliary lines (:func:`follow_lines`), the others go on from where it ended."""
+    for stage, share in enumerate(SHARPENING):
+        grid = optimize_nodes(
+            grid,
+            ranking,
+            STAGE_ITERATIONS,
+            stall=STAGE_STALL,
+            tau=share * QUALITY_TAU,
+            follow=stage == 0,
+        )
+    return grid
 
 
 def best_candidate(
@@ -634,47 +663,52 @@ _CORNERS = (
 )
 
 
-def quality_loss(grid: np.ndarray, turn: float) -> tuple[float, np.ndarray, np.ndarray]:
-    """``losses.loss_quality`` of ``losses.corner_angles(grid, turn)`` in NumPy, with its
-    gradient by the grid's nodes (nj, ni, 2) and the corner angles (4, nj - 1, ni - 1): the
-    node optimisation's objective without torch."""
-    parts, theta = [], []
-    for k in range(4):
-        p = grid[_CORNERS[k]]
-        a, b = grid[_CORNERS[(k + 1) % 4]] - p, grid[_CORNERS[k - 1]] - p
-        cross = turn * (a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0])
-        dot = (a * b).sum(-1)
-        parts.append((a, b, cross, dot))
-        theta.append(np.pi + np.arctan2(-cross, -dot))
-    theta = np.stack(theta)
-    scaled = theta / QUALITY_TAU
-    top = scaled.max()
-    every = np.exp(scaled - top)
-    soft_max = QUALITY_TAU * (top + np.log(every.sum()))
+def quality_loss(
+    grid: np.ndarray, turn: float, tau: float = QUALITY_TAU
+) -> tuple[float, np.ndarray, np.ndarray]:
+    """``losses.loss_quality`` of ``losses.corner_angles(grid, turn)`` at temperature ``tau``
+    in NumPy, with its gradient by the grid's nodes (nj, ni, 2) and the corner angles
+    (4, nj - 1, ni - 1): the node optimisation's objective without torch. Coordinates are
+    taken apart (x, y) and sine and cosine come from the cross and dot products: a third of
+    the time of stacked pairs and np.sin (arctan2 and exp are most of what is left)."""
+    x, y = grid[..., 0], grid[..., 1]
+    # the edge from each cell corner to the next counter-clockwise; corner k's edges are
+    # e[k] (to the next) and -e[k - 1] (to the previous)
+    ex = [x[_CORNERS[(k + 1) % 4]] - x[_CORNERS[k]] for k in range(4)]
+    ey = [y[_CORNERS[(k + 1) % 4]] - y[_CORNERS[k]] for k in range(4)]
+    cross = np.stack([turn * (ex[k - 1] * ey[k] - ey[k - 1] * ex[k]) for k in range(4)])
+    dot = np.stack([-(ex[k] * ex[k - 1] + ey[k] * ey[k - 1]) for k in range(4)])
+    theta = np.pi + np.arctan2(-cross, -dot)
+    scaled = theta / tau
     cell_top = scaled.max(0)
     cells = np.exp(scaled - cell_top)
-    cell_max = QUALITY_TAU * (cell_top + np.log(cells.sum(0)))
-    short = np.maximum(QUALITY_MIN_SINE - np.sin(theta), 0.0)
-    loss = soft_max + QUALITY_MEAN_WEIGHT * cell_max.mean()
+    cell_sum = cells.sum(0)
+    cell_max = tau * (cell_top + np.log(cell_sum))
+    top = cell_top.max()
+    every = cells * np.exp(cell_top - top)  # each corner's weight in the soft maximum
+    total = every.sum()
+    square = cross**2 + dot**2
+    radius = np.sqrt(square)
+    short = np.maximum(QUALITY_MIN_SINE - cross / radius, 0.0)  # sin theta: cross / radius
+    loss = tau * (top + np.log(total)) + QUALITY_MEAN_WEIGHT * cell_max.mean()
     loss += QUALITY_BARRIER_WEIGHT * float((short**2).sum())
-    d_theta = (
-        every / every.sum()
-        + QUALITY_MEAN_WEIGHT * cells / cells.sum(0) / cell_max.size
-        - 2 * QUALITY_BARRIER_WEIGHT * short * np.cos(theta)
-    )
-    grad = np.zeros_like(grid)
-    for k, (a, b, cross, dot) in enumerate(parts):
-        square = cross**2 + dot**2
-        d_cross, d_dot = (
-            (d_theta[k] * dot / square)[..., None],
-            (-d_theta[k] * cross / square)[..., None],
-        )
-        d_a = d_cross * turn * np.stack([b[..., 1], -b[..., 0]], -1) + d_dot * b
-        d_b = d_cross * turn * np.stack([-a[..., 1], a[..., 0]], -1) + d_dot * a
-        grad[_CORNERS[(k + 1) % 4]] += d_a
-        grad[_CORNERS[k - 1]] += d_b
-        grad[_CORNERS[k]] -= d_a + d_b
-    return float(loss), grad, theta
+    d_theta = every / total + (QUALITY_MEAN_WEIGHT / cell_max.size) * (cells / cell_sum)
+    d_theta -= 2 * QUALITY_BARRIER_WEIGHT * short * (dot / radius)  # cos theta: dot / radius
+    d_cross = turn * d_theta * dot / square
+    d_dot = -d_theta * cross / square
+    gx, gy = np.zeros_like(x), np.zeros_like(y)
+    for k in range(4):
+        ax, ay, bx, by = ex[k], ey[k], -ex[k - 1], -ey[k - 1]
+        dax, day = d_cross[k] * by + d_dot[k] * bx, d_dot[k] * by - d_cross[k] * bx
+        dbx, dby = d_dot[k] * ax - d_cross[k] * ay, d_cross[k] * ax + d_dot[k] * ay
+        ahead, here, behind = _CORNERS[(k + 1) % 4], _CORNERS[k], _CORNERS[k - 1]
+        gx[ahead] += dax
+        gy[ahead] += day
+        gx[behind] += dbx
+        gy[behind] += dby
+        gx[here] -= dax + dbx
+        gy[here] -= day + dby
+    return float(loss), np.stack([gx, gy], -1), theta
 
 
 def optimize_nodes(
@@ -685,20 +719,23 @@ def optimize_nodes(
     seam: bool = False,
     stall: int | None = None,
     settle: Settle | None = None,
+    tau: float = QUALITY_TAU,
+    follow: bool = True,
 ) -> np.ndarray:
     """``grid`` with its interior nodes moved to minimise ``losses.loss_quality``
-    (:func:`quality_loss`; L-BFGS in float64, at most ``iterations``), with auxiliary lines
-    from the grid moved onto them (:func:`follow_lines`, unless it follows them) and plus
-    ``LINE_WEIGHT`` times the line term (:func:`_line_term`); the boundary nodes stay, and the
-    first ``held_rows`` rows from j = 0 (a body's wall and first layer: its first edges and
-    wall angles). ``seam``: column ni - 1 is column 0 (an O-grid's seam), which moves with it.
+    (:func:`quality_loss` at temperature ``tau``; L-BFGS in float64, at most
+    ``iterations``), with auxiliary lines from the grid moved onto them (:func:`follow_lines`,
+    unless it follows them or not ``follow``) and plus ``LINE_WEIGHT`` times the line term
+    (:func:`_line_term`); the boundary nodes stay, and the first ``held_rows`` rows from
+    j = 0 (a body's wall and first layer: its first edges and wall angles). ``seam``: column
+    ni - 1 is column 0 (an O-grid's seam), which moves with it.
     ``stall``: stop once that many iterations have not found a better-ranked state.
     ``settle``: stop once it has settled, and return its state (:class:`Settle`).
     Returns the evaluated state that ranks best (``ranking``, on the corner angles): the soft
     maximum is a surrogate of the worst angle, not the same. Each node moves in units of its
     shortest edge (a diagonal preconditioner: angles change with a node's move relative to
     its cells, 100 times smaller at a notch than in the open)."""
-    if ranking.lines and ranking.key(ranking.quality(grid))[2] > 0:  # it misses the lines
+    if follow and ranking.lines and ranking.key(ranking.quality(grid))[2] > 0:  # misses them
         grid = follow_lines(grid, ranking)
     grid = np.asarray(grid, dtype=float)
     turn = orientation(grid)
@@ -724,7 +761,7 @@ def optimize_nodes(
 
     def loss_and_grad(x: np.ndarray) -> tuple[float, np.ndarray]:
         g = moved(x)
-        loss, grad, theta = quality_loss(g, turn)
+        loss, grad, theta = quality_loss(g, turn, tau)
         if seam:
             grad[:, 0] += grad[:, -1]
         q = {}
