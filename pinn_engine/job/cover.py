@@ -18,6 +18,7 @@ from pinn_engine.errors import InputError, folded_cells_refusal
 from pinn_engine.geometry.boundary import (
     SHARP_TURN,
     segment_distance,
+    segment_feet,
     signed_area,
     turning_angles,
 )
@@ -57,9 +58,7 @@ def _arc_positions(points: np.ndarray, ring: np.ndarray) -> tuple[np.ndarray, np
     ab2 = np.maximum(length**2, 1e-300)
     s, d = np.empty(len(points)), np.empty(len(points))
     for k in range(0, len(points), 256):
-        q = points[k : k + 256, None, :]
-        u = np.clip(np.einsum("pmj,mj->pm", q - a, ab) / ab2, 0.0, 1.0)
-        dist = np.linalg.norm(a + u[..., None] * ab - q, axis=2)
+        u, dist = segment_feet(points[k : k + 256], a, ab, ab2)
         near = dist.argmin(axis=1)
         rows = np.arange(len(near))
         s[k : k + 256] = start[near] + u[rows, near] * length[near]
