@@ -222,19 +222,13 @@ def mesh_blocks(
     patches = block_patches(topo, lay, patch_points)  # refused before the solve, not after
     check_names(walls, patches)
     sides = wall_sides(lay.ids, patches, walls.names)
-    held = {
-        int(nodes[end])
-        for piece, nodes in zip(topo.pieces, lay.piece_ids)
-        if not piece.interface
-        for end in (0, -1)
-    }
     ends_of_pieces = {int(nodes[e]) for nodes in lay.piece_ids for e in (0, -1)}
     boundary_nodes = np.zeros(len(lay.points), dtype=bool)
     for piece, nodes in zip(topo.pieces, lay.piece_ids):
         boundary_nodes[nodes] |= not piece.interface
     pieces, asked = held_pieces(
         spread(requests(sides, walls.spacing), lay.ids, lay.points, ends_of_pieces, boundary_nodes),
-        held,
+        ends_of_pieces,
         wall_nodes(sides, walls.spacing),
         lay.ids,
     )

@@ -168,12 +168,14 @@ def wall_nodes(sides: list[WallSide], spacing: dict[str, float]) -> dict[int, fl
 def held_pieces(
     asked: Requests, held: set[int], walls: dict[int, float], ids: list[np.ndarray]
 ) -> tuple[Requests, Requests]:
-    """``asked`` with every line cut at its inner nodes in ``held`` (the ends of boundary
-    pieces: sharp corners and the places edges meet the boundary, which fix the domain
-    drawn and must stay grid nodes where they are), each piece stretched on its own: asked
-    at a cut the first edge of the wall there (``walls``: a reflex corner's lines leave it
-    as they leave the rest of the wall), else the map's own interval; a piece asked at
-    neither end is left as it is.
+    """``asked`` with every line cut at its inner nodes in ``held`` (the ends of pieces:
+    sharp corners and the places edges meet the boundary, which fix the domain drawn, and
+    block corners inside a side of the block beside them, a T-junction, whose blocks end
+    their lines there: all must stay grid nodes where they are), each piece stretched on
+    its own (a side stretched past a junction moved it, and the sides of the blocks across
+    were stretched again from there, one over the other), asked at a cut the first edge of
+    the wall there (``walls``: a reflex corner's lines leave it as they leave the rest of
+    the wall), else the map's own interval; a piece asked at neither end is left as it is.
 
     A cut asked a first edge is carried through the block (``ids``: each block's node
     ids) whose line it cuts: every line of the block parallel to it is cut at the same
@@ -311,9 +313,11 @@ def check_room(points: np.ndarray, asked: Requests) -> None:
 def respace(points: np.ndarray, asked: Requests) -> np.ndarray:
     """``points`` with every asked line's nodes moved along it (its ends stay). A line
     asked at one end only is turned to start there, so that the lines stretched together
-    (one length) share the stretching's asked end. Lines that share a node (a block's rows
-    and columns, where two of its sides are walls) are stretched one after the other, each
-    from the nodes the ones before left, so the block keeps both stretchings."""
+    (one length) share the stretching's asked end; where one is asked at both ends, the
+    stretching they share is the same read either way (``_stretched``). Lines that share a
+    node (a block's rows and columns, where two of its sides are walls) are stretched one
+    after the other, each from the nodes the ones before left, so the block keeps both
+    stretchings."""
     groups: dict[int, list] = {}
     for ids, (first, last, _) in asked.items():
         if first is None:
@@ -335,7 +339,11 @@ def respace(points: np.ndarray, asked: Requests) -> np.ndarray:
 
 def _stretched(p: np.ndarray, first: np.ndarray, last: np.ndarray) -> np.ndarray:
     """Lines ``p`` (m, n, 2) of the map evaluated at stretched parameters whose first and
-    last edges are ``first`` and ``last`` (m,) (NaN: the map's own interval there)."""
+    last edges are ``first`` and ``last`` (m,) (NaN: the map's own interval there). Where
+    any line is asked at both ends, the lines are stretched with their mirror images, so
+    the stretching they share is symmetric: two rows of one block listed from opposite ends
+    (a line's ids may run either way) get the same nodes inside, where a stretching steeper
+    at one end sheared the cells between them (the Y-branch at +-35 degrees: 179 degrees)."""
     from scipy.interpolate import CubicSpline  # only asked spacings get here
 
     m, n = p.shape[:2]
@@ -349,7 +357,11 @@ def _stretched(p: np.ndarray, first: np.ndarray, last: np.ndarray) -> np.ndarray
         for h, a, b in ends
     ]
     for _ in range(FIT_ROUNDS):
-        t = line_parameters(n, param[0], param[1], m) * (n - 1)
+        if np.isnan(last).all():
+            t = line_parameters(n, param[0], param[1], m) * (n - 1)
+        else:
+            both = (np.concatenate([param[0], param[1]]), np.concatenate([param[1], param[0]]))
+            t = line_parameters(n, *both, 2 * m)[:m] * (n - 1)
         new = np.stack([spline(row) for spline, row in zip(splines, t)])
         new[:, 0], new[:, -1] = p[:, 0], p[:, -1]
         off = 0.0

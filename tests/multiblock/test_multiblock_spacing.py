@@ -226,3 +226,48 @@ def test_walls_on_a_step_drawn_without_patches_is_its_whole_boundary(tmp_path):
     np.testing.assert_array_equal(*grids)
     corners = pv.read(EXAMPLES / "step.vtp").points
     assert max(np.linalg.norm(grids[0] - c, axis=1).min() for c in corners) == 0.0
+
+
+def test_lines_asked_at_both_ends_get_the_same_nodes_whichever_way_they_run():
+    """Three parallel rows of a block, asked 0.01 at their left ends and 0.05 at their right
+    ends, the middle one listed from its right end (a line's ids may run either way): all
+    three get the same nodes (before, the stretching they shared was steeper at one end
+    and the middle row got it mirrored: a wall row of the Y-branch at +-35 degrees sheared
+    its cells to 179 degrees)."""
+    from pinn_engine.multiblock.spacing import respace
+
+    n = 11
+    x = np.linspace(0.0, 1.0, n)
+    points = np.vstack([np.column_stack([x, np.full(n, y)]) for y in (0.0, 1.0, 2.0)])
+    rows = [tuple(range(k * n, (k + 1) * n)) for k in range(3)]
+    asked = {rows[0]: [0.01, 0.05, "spacing"], rows[1][::-1]: [0.05, 0.01, "spacing"]}
+    asked[rows[2]] = [0.01, 0.05, "spacing"]
+    out = respace(points, asked)
+    along = [out[list(row), 0] for row in rows]
+    np.testing.assert_allclose(along[1], along[0], atol=1e-12)
+    np.testing.assert_allclose(along[2], along[0], atol=1e-12)
+    assert abs(along[0][1] - 0.01) < 1e-3 and abs(along[0][-1] - along[0][-2] - 0.05) < 5e-3
+
+
+def test_a_block_corner_inside_a_spaced_line_stays_where_the_solve_put_it():
+    """A channel cut in two, its right half cut again at 0.3 (a T-junction on the left
+    block's side), every wall spaced 0.002: the left block's side is cut at the junction
+    and each part stretched on its own, so the junction, a corner of the blocks across,
+    stays where the solve put it and no cell folds (before, the whole side was stretched
+    past it, moving the junction from 0.3 to 0.05, and the right blocks' sides stretched
+    again from there; the Y-branch at +-35 degrees folded a cell so)."""
+    from pinn_engine.multiblock.mesh import mesh_blocks
+    from pinn_engine.multiblock.walls import parse_walls
+
+    ring = np.array([(0, 0), (2, 0), (2, 1), (0, 1)], dtype=float)
+    edges = [np.array([(1.0, 0.0), (1.0, 1.0)]), np.array([(1.0, 0.3), (2.0, 0.3)])]
+    names = ["cut", "tee"]
+    settings = make_settings("elliptic", cell_size=0.1)
+    plain = mesh_blocks([ring], edges, names, settings)
+    walls = parse_walls(["boundary=0.002"], [])
+    spaced = mesh_blocks([ring], edges, names, settings, walls=walls)
+    left = next(k for k, g in enumerate(plain.grids) if g[:, 0, 0].max() < 1e-9)
+    side = [g[:, -1] for g in (plain.grids[left], spaced.grids[left])]
+    junction = int(np.argmin(np.abs(side[0][:, 1] - 0.3)))
+    np.testing.assert_allclose(side[1][junction], side[0][junction], atol=1e-12)
+    assert spaced.report["quality"]["folded_cells"] == 0
