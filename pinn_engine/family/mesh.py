@@ -16,8 +16,8 @@ costs, so it is solved only where the model cannot vouch for its grid without it
   degree of it); up to ``DEFECT_STEPS`` steps are taken to get there;
 - a family of node optima (the default's four-sided grids: the quality objective's best
   start, its nodes optimised) finishes the model's grid (:func:`polish_start`) by the
-  member's own node optimisation (quality_start.optimize_nodes, its own ranking) until it
-  settles (``POLISH_SETTLE``; at most ``model.polish`` iterations, its own run's), and
+  member's own node optimisation (quality_start.sharpened: its stages, its own ranking),
+  each stage until it settles (``POLISH_SETTLE``; at most ``model.polish`` iterations), and
   vouches for a polished grid that ranks no worse than the grid the member's
   own optimisation starts from (the best of its elliptic, TFI and blended grids, which cost
   milliseconds once its elliptic grid, the model's base, is solved): what its own run would
@@ -208,7 +208,7 @@ def _polished(
     whether the polished grid ranks no worse than that, and its name (and where the polish
     started, where not from ``grid``)."""
     from pinn_engine.blas import one_thread
-    from pinn_engine.starts.quality_start import Ranking, Settle, best_candidate, optimize_nodes
+    from pinn_engine.starts.quality_start import Ranking, Settle, best_candidate, sharpened
 
     elliptic = model.base(member)
     ranking = Ranking.of(elliptic, (), member.boundary.diagonal)
@@ -219,7 +219,7 @@ def _polished(
         start = f"{share:.1f} of the way to the model's grid" if share else "itself"
         name = f"{name} (the model's grid ranked below it; polished from {start})"
     with one_thread():  # its L-BFGS, as the member's own run's
-        polished = optimize_nodes(grid, ranking, model.polish, settle=Settle(*POLISH_SETTLE))
+        polished = sharpened(grid, ranking, model.polish, Settle(*POLISH_SETTLE))
     ranks = ranking.key(ranking.quality(polished)) <= ranking.key(begun)
     return polished, {k: v for k, v in begun.items() if k in _FIGURES}, ranks, name
 

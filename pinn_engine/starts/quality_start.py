@@ -227,18 +227,26 @@ def quality_start(
     return WarmStart(best[0] - tfi, start=best[1]), ranking
 
 
-def sharpened(grid: np.ndarray, ranking: Ranking) -> np.ndarray:
+def sharpened(
+    grid: np.ndarray,
+    ranking: Ranking,
+    iterations: int = STAGE_ITERATIONS,
+    settle: Settle | None = None,
+) -> np.ndarray:
     """``grid`` with its interior nodes optimised (:func:`optimize_nodes`) in stages whose
     soft maximum sharpens (``SHARPENING``), each from the best-ranked state of the one
     before: a blunt soft maximum moves the whole band of near-worst cells, a sharp one then
-    the few that bind. No stage ranks below its start; only the first moves the grid onto
-    the auxiliary lines (:func:`follow_lines`), the others go on from where it ended."""
+    the few that bind. Each stage runs at most ``iterations``, and stops after
+    ``STAGE_STALL`` without a better-ranked state or, given ``settle``, once settled (a
+    family model's polish). No stage ranks below its start; only the first moves the grid
+    onto the auxiliary lines (:func:`follow_lines`), the others go on from where it ended."""
     for stage, share in enumerate(SHARPENING):
         grid = optimize_nodes(
             grid,
             ranking,
-            STAGE_ITERATIONS,
-            stall=STAGE_STALL,
+            iterations,
+            stall=None if settle else STAGE_STALL,
+            settle=settle,
             tau=share * QUALITY_TAU,
             follow=stage == 0,
         )
