@@ -206,6 +206,18 @@ def test_a_model_grid_below_the_members_own_start_is_not_polished(optima, monkey
     np.testing.assert_allclose(by_model.grids[0][0], own.grids[0][0], atol=1e-12)
 
 
+def _settled(grid: np.ndarray, ranking, settle) -> tuple[np.ndarray, int]:
+    """quality_start.optimize_nodes of ``grid`` (at most 100 iterations) stopped by
+    ``settle``, and how many times it evaluated its objective."""
+    from pinn_engine.starts import quality_start as qs
+
+    calls = []
+    real = qs.quality_loss
+    with pytest.MonkeyPatch.context() as monkeypatch:
+        monkeypatch.setattr(qs, "quality_loss", lambda *a: calls.append(1) or real(*a))
+        return qs.optimize_nodes(grid, ranking, 100, settle=settle), len(calls)
+
+
 def test_a_settled_polish_stops_early_and_never_ranks_below_its_start():
     """quality_start.optimize_nodes with a Settle: it stops once its window has not lowered
     the worst angle by the step (far fewer iterations than asked on a grid whose worst angle
@@ -217,15 +229,8 @@ def test_a_settled_polish_stops_early_and_never_ranks_below_its_start():
     grid = np.stack([x + 0.3 * y, y], -1)  # a sheared box: 73.3-degree corners, fixed
     grid[3, 5] += (0.02, 0.03)
     ranking = qs.Ranking.of(grid, (), 1.0)
-    calls = []
-    real = qs.quality_loss
-    monkeypatch = pytest.MonkeyPatch()
-    monkeypatch.setattr(qs, "quality_loss", lambda *a: calls.append(1) or real(*a))
-    try:
-        settled = qs.optimize_nodes(grid, ranking, 100, settle=qs.Settle(5, 0.05, 0.25))
-    finally:
-        monkeypatch.undo()
-    assert len(calls) < 3 * 20
+    settled, calls = _settled(grid, ranking, qs.Settle(5, 0.05, 0.25))
+    assert calls < 3 * 20
     assert ranking.key(ranking.quality(settled)) <= ranking.key(ranking.quality(grid))
 
 
@@ -238,15 +243,8 @@ def test_a_settled_polish_stops_at_its_held_corners_worst_angle():
     x, y = np.meshgrid(np.linspace(0, 1, 11), np.linspace(0, 1, 7))
     grid = np.stack([x + 0.3 * y, y], -1)  # a sheared box: 106.7-degree corners, fixed
     ranking = qs.Ranking.of(grid, (), 1.0)
-    calls = []
-    real = qs.quality_loss
-    monkeypatch = pytest.MonkeyPatch()
-    monkeypatch.setattr(qs, "quality_loss", lambda *a: calls.append(1) or real(*a))
-    try:
-        settled = qs.optimize_nodes(grid, ranking, 100, settle=qs.Settle(50, 0.05, 0.25))
-    finally:
-        monkeypatch.undo()
-    assert len(calls) < 10
+    settled, calls = _settled(grid, ranking, qs.Settle(50, 0.05, 0.25))
+    assert calls < 10
     corner = 180 - np.degrees(np.arctan2(1, 0.3))
     assert ranking.quality(settled)["worst_max_angle"] == pytest.approx(corner, abs=1e-3)
 
