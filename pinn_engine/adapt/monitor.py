@@ -124,16 +124,7 @@ def diffusion_tensor(
         m_across = np.minimum(m_across, shear * m_along)
     across = 1.0 / m_across
     along = across if isotropic else 1.0 / m_along
-    n = principal_direction(tensor)
-    cos, sin = n[..., 0], n[..., 1]
-    return np.stack(
-        [
-            across * cos**2 + along * sin**2,
-            (across - along) * cos * sin,
-            across * sin**2 + along * cos**2,
-        ],
-        axis=-1,
-    )
+    return oriented(principal_direction(tensor), across, along)
 
 
 def eigenvalues(tensor: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -207,13 +198,18 @@ def symmetric_function(tensor: np.ndarray, fn) -> np.ndarray:
     """``fn`` of symmetric 2 x 2 tensors (..., 3: xx, xy, yy): the same eigenvectors,
     ``fn`` of the eigenvalues."""
     big, small = (fn(x) for x in eigenvalues(tensor))
-    n = principal_direction(tensor)
+    return oriented(principal_direction(tensor), big, small)
+
+
+def oriented(n: np.ndarray, first: np.ndarray, second: np.ndarray) -> np.ndarray:
+    """The symmetric 2 x 2 tensors (..., 3: xx, xy, yy) whose eigenvalue along the unit
+    vectors ``n`` (..., 2) is ``first`` and across them ``second``."""
     cos, sin = n[..., 0], n[..., 1]
     return np.stack(
         [
-            big * cos**2 + small * sin**2,
-            (big - small) * cos * sin,
-            big * sin**2 + small * cos**2,
+            first * cos**2 + second * sin**2,
+            (first - second) * cos * sin,
+            first * sin**2 + second * cos**2,
         ],
         axis=-1,
     )

@@ -86,8 +86,8 @@ def body_start(
     began = time.perf_counter()
     figures = guard_figures(start)
     grid, name = start, "elliptic"
-    held = held_rows(start)
     optimize &= reason != THIN or start.size // 2 <= LAYER_OPTIMISED_NODES
+    held = held_rows(start) if optimize else BODY_HELD_ROWS
     if optimize and held_worst(start, held) < figures["worst_max_angle"]:
         from pinn_engine.starts.quality_start import body_quality_start
 
