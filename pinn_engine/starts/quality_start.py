@@ -13,12 +13,11 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.optimize import minimize
-from scipy.sparse.linalg import splu, spsolve
 
+from pinn_engine import lbfgs
 from pinn_engine.classical.elliptic import stencil_matrix
 from pinn_engine.classical.warm import WarmStart
 from pinn_engine.geometry.auxlines import AuxLine, crossing_nodes, crossing_turns, line_distances
@@ -36,6 +35,9 @@ from pinn_engine.quality import (
     worst_non_orthogonality,
 )
 from pinn_engine.starts.untangle import untangle
+
+if TYPE_CHECKING:  # SciPy is imported where a function uses it: a body's node optimisation
+    import scipy.sparse as sp  # runs on NumPy alone (lbfgs)
 
 MEAN_TOL = START_MEAN_TOL  # the objective's bound on the mean against the elliptic grid
 # The grid lines crossing an auxiliary line may turn there by this many degrees (mean over
@@ -289,14 +291,16 @@ def body_quality_start(
     elliptic: np.ndarray, seam: bool, held: int, begin: np.ndarray | None = None
 ) -> tuple[np.ndarray, str]:
     """The better ranked (no lines) of a body's (O- or C-grid's) elliptic grid and that grid
-    with its nodes optimised (:func:`optimize_nodes`), its first ``held`` rows (the wall's,
-    the first layer's and any boundary layer's: ``kinds.body.untrained.held_rows``) kept,
-    with its name; ``seam``: an O-grid's (column ni - 1 is column 0); ``begin``: the grid the
-    optimisation starts from instead (a family model's, on the same wall, first layer and
-    far field)."""
+    with its nodes optimised (:func:`optimize_nodes` by NumPy's L-BFGS: a body's route
+    imports no SciPy), its first ``held`` rows (the wall's, the first layer's and any
+    boundary layer's: ``kinds.body.untrained.held_rows``) kept, with its name; ``seam``: an
+    O-grid's (column ni - 1 is column 0); ``begin``: the grid the optimisation starts from
+    instead (a family model's, on the same wall, first layer and far field)."""
     ranking = Ranking.of(elliptic, [], 1.0)
     begin = elliptic if begin is None else begin
-    optimized = optimize_nodes(begin, ranking, NODE_ITERATIONS, held, seam, BODY_STALL)
+    optimized = optimize_nodes(
+        begin, ranking, NODE_ITERATIONS, held, seam, BODY_STALL, numpy_lbfgs=True
+    )
     if worst_non_orthogonality(optimized) > worst_non_orthogonality(elliptic):
         return elliptic, "elliptic"  # less orthogonal where a solver's faces meet
     candidates = [(elliptic, "elliptic"), (optimized, "optimized")]
@@ -332,6 +336,8 @@ class _Samples:
 
     def matrix(self) -> sp.csr_matrix:
         """The interpolation as a sparse (n, ni nj) matrix on the flattened nodes."""
+        import scipy.sparse as sp
+
         rows = np.repeat(np.arange(len(self.index)), 4)
         return sp.csr_matrix(
             (self.weight.ravel(), (rows, self.index.ravel())),
@@ -347,12 +353,15 @@ def _curves(ranking: Ranking, ni: int, nj: int) -> list[tuple[_Samples, np.ndarr
 
 def _picks(curves: list[tuple[_Samples, np.ndarray]]) -> sp.csr_matrix:
     """The curves' samples as one sparse matrix on the flattened nodes."""
+    import scipy.sparse as sp
+
     return sp.vstack([samples.matrix() for samples, _ in curves]).tocsr()
 
 
 def _smoothing(ni: int, nj: int) -> sp.csr_matrix:
     """The squared 5-point Laplacian on the interior nodes of an ni x nj lattice (boundary
     values zero): the roughness of a displacement field."""
+    import scipy.sparse as sp
 
     def second_difference(n: int) -> sp.spmatrix:
         return sp.diags([-np.ones(n - 1), 2 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1])
@@ -414,6 +423,8 @@ def slide_onto_lines(grid: np.ndarray, ranking: Ranking) -> np.ndarray:
     the squared Laplacian, each direction on its own lines' samples only) moves every node
     within the old grid, in up to ``PULL_ROUNDS`` rounds, halving a step that folds or comes
     no closer. The crossing grid lines keep their shape; their nodes only move along them."""
+    from scipy.sparse.linalg import splu
+
     nj, ni = grid.shape[:2]
     curves = _curves(ranking, ni, nj)
     inner = _interior(ni, nj)
@@ -576,6 +587,8 @@ def pull_onto_lines(grid: np.ndarray, ranking: Ranking) -> np.ndarray:
     retried at half its step, up to three times. A grid line far from its drawn line moves
     the rows or columns beside it along, in proportion to their spacing (the node
     optimisation, one node at a time, would fold them)."""
+    from scipy.sparse.linalg import splu
+
     nj, ni = grid.shape[:2]
     curves = _curves(ranking, ni, nj)
     inner = _interior(ni, nj)
@@ -631,6 +644,8 @@ def relax_on_lines(grid: np.ndarray, ranking: Ranking) -> np.ndarray:
     the lines, which the pull only approaches (it shears cells where lines move far, and the
     node optimisation does not undo that: the mean angle rises). ``grid`` itself if that
     folds more cells."""
+    from scipy.sparse.linalg import spsolve
+
     nj, ni = grid.shape[:2]
     curves = _curves(ranking, ni, nj)
     picks = _picks(curves)
@@ -729,6 +744,7 @@ def optimize_nodes(
     settle: Settle | None = None,
     tau: float = QUALITY_TAU,
     follow: bool = True,
+    numpy_lbfgs: bool = False,
 ) -> np.ndarray:
     """``grid`` with its interior nodes moved to minimise ``losses.loss_quality``
     (:func:`quality_loss` at temperature ``tau``; L-BFGS in float64, at most
@@ -739,6 +755,8 @@ def optimize_nodes(
     ni - 1 is column 0 (an O-grid's seam), which moves with it.
     ``stall``: stop once that many iterations have not found a better-ranked state.
     ``settle``: stop once it has settled, and return its state (:class:`Settle`).
+    ``numpy_lbfgs``: L-BFGS in NumPy (``lbfgs.minimize``: SciPy's L-BFGS-B without bounds,
+    another line search) instead of SciPy's, whose import a body's route saves.
     Returns the evaluated state that ranks best (``ranking``, on the corner angles): the soft
     maximum is a surrogate of the worst angle, not the same. Each node moves in units of its
     shortest edge (a diagonal preconditioner: angles change with a node's move relative to
@@ -812,14 +830,28 @@ def optimize_nodes(
                 if then[-1] - best[0][-1] < settle.worst:
                     raise StopIteration
 
-    minimize(
-        loss_and_grad,
-        np.zeros(inner0.size),
-        jac=True,
-        method="L-BFGS-B",
-        callback=stalled,
-        options={"maxiter": iterations, "maxfun": NODE_EVALUATIONS * iterations, **NODE_LBFGS},
-    )
+    evaluations = NODE_EVALUATIONS * iterations
+    if numpy_lbfgs:
+        lbfgs.minimize(
+            loss_and_grad,
+            np.zeros(inner0.size),
+            iterations,
+            evaluations,
+            stalled,
+            NODE_LBFGS["maxcor"],
+            NODE_LBFGS["gtol"],
+        )
+    else:
+        from scipy.optimize import minimize
+
+        minimize(
+            loss_and_grad,
+            np.zeros(inner0.size),
+            jac=True,
+            method="L-BFGS-B",
+            callback=stalled,
+            options={"maxiter": iterations, "maxfun": evaluations, **NODE_LBFGS},
+        )
     if settle is not None:
         near = [  # ranked no worse than the start, whose key is the first met
             (mean, x)

@@ -59,9 +59,11 @@ def test_the_default_four_sided_grid_imports_no_torch(tmp_path):
 def test_a_body_grid_imports_no_scipy(tmp_path):
     """An airfoil's C-grid, by the default method on a boundary-layer grid of more than
     ``LAYER_OPTIMISED_NODES`` (its network not trained, its nodes not optimised) and by
-    elliptic, runs on NumPy alone."""
+    elliptic, and its O-grid by the default at the default size (its nodes optimised by
+    NumPy's L-BFGS, lbfgs.py), run on NumPy alone."""
     run = ["--naca", "0012", "--topology", "c", "--size", "241", "17", "--spacing", "bottom=1e-5"]
     runs = [(run, "f.vts"), ([*run, "--method", "elliptic"], "g.vts")]
+    runs.append((["--naca", "0012", "--topology", "o"], "h.vts"))
     assert _imported_after(runs, tmp_path, ("scipy", "torch")) == []
 
 
