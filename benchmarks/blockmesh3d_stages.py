@@ -2,13 +2,16 @@
 
     .venv/bin/python benchmarks/blockmesh3d_stages.py              # example_data/blockmesh
     .venv/bin/python benchmarks/blockmesh3d_stages.py --runs 5 pipe
+    .venv/bin/python benchmarks/blockmesh3d_stages.py CASE/system/blockMeshDict   # any other
 
 Each run is a fresh process (first-touched memory is part of a stage's cost, as in the
 command) that imports what the command imports, reads and places the dictionary, finds its
-faces, computes checkMesh's figures of blockMesh's placement, solves the Winslow grid,
-computes the figures of that grid, optimises the swept section from it and computes the
-figures of that grid, SPEC 6's angles of the report, and writes the polyMesh files (the
-dictionaries of ``example_data/blockmesh`` that are solved are swept sections). Printed per
+faces, computes checkMesh's figures of blockMesh's placement, solves the Winslow grid (as
+the command: a swept section's slab), computes the figures of that grid, optimises the swept
+section from it and computes the figures of that grid, SPEC 6's angles of the report, and
+writes the polyMesh files (the dictionaries of ``example_data/blockmesh`` that are solved
+are swept sections; a dictionary that is none stops after the Winslow grid's figures; the
+default's second search, from blockMesh's placement, is not timed). Printed per
 dictionary: each stage's CPU seconds (user and system of the process,
 ``time.process_time``), the medians of ``--runs``, and the load average.
 """
@@ -38,6 +41,7 @@ import pyamg, scipy.sparse
 from pinn_engine import heap
 from pinn_engine.blocks3d import checks, placement, section, winslow
 from pinn_engine.blocks3d.dictionary import read
+from pinn_engine.blocks3d.mesh import winslow_grid
 from pinn_engine.geometry.faces import topology
 from pinn_engine.hexa.quality import included_angles
 from pinn_engine.io.export.openfoam import write_hex_polymesh
@@ -54,12 +58,15 @@ placed = stage("place", lambda: placement.place(read(sys.argv[1])))
 cells = np.vstack([checks.hexes(ids) for ids in placed.ids])
 faces = stage("faces", lambda: topology(cells))
 stage("figures (placement)", lambda: checks.figures(placed.points, cells, faces))
-points, _ = stage("Winslow solve", lambda: winslow.winslow(placed))
+sec = section.section(placed, winslow.boundary_held(placed)[1])
+points, _ = stage("Winslow solve", lambda: winslow_grid(placed, sec))
 solved = stage("figures (solved)", lambda: checks.figures(points, cells, faces))
+if sec is None:
+    print(json.dumps(out))
+    sys.exit()
 
 
 def optimised():
-    sec = section.section(placed, winslow.boundary_held(placed)[1])
     xy = section.least_non_orthogonal(section.start_of(points, sec), sec, solved.max_skewness)
     return section.swept(points, sec, xy)
 
@@ -73,9 +80,16 @@ print(json.dumps(out))
 """
 
 
+def dictionary(name: str) -> Path:
+    """A dictionary's path: one of ``example_data/blockmesh``'s by name, or a file."""
+    return Path(name) if Path(name).is_file() else OWN / name / "system" / "blockMeshDict"
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("names", nargs="*", default=["pipe", "bend", "dfg3d"])
+    parser.add_argument(
+        "names", nargs="*", default=["pipe", "bend", "dfg3d"], help="names or dictionary files"
+    )
     parser.add_argument("--runs", type=int, default=3, help="fresh processes (their medians)")
     opts = parser.parse_args()
     before = os.getloadavg()[0]
@@ -83,7 +97,7 @@ def main() -> None:
         runs = [
             json.loads(
                 subprocess.run(
-                    [sys.executable, "-c", STAGES, str(OWN / name / "system" / "blockMeshDict")],
+                    [sys.executable, "-c", STAGES, str(dictionary(name))],
                     capture_output=True,
                     text=True,
                     check=True,

@@ -43,11 +43,15 @@ MARGIN = 0.995
 # angle 28 degrees or more under the largest)
 FAINT = 1e-12
 MEMORY = 10  # L-BFGS pairs kept: the curvature of a few hundred coupled nodes
-EVALUATIONS = 80  # of the objective at most, every trial step counted
+# of the objective at most, every trial step counted: at 80 the searches of the pipe and
+# DFG variants still gained at their last steps, so that a start moved by the Winslow
+# solve's tolerance changed their largest angle by up to 4 degrees (docs/blockmesh.md)
+EVALUATIONS = 120
 # the search stops once its best grid has gained less than STALL degrees (checkMesh's
-# printed precision) in PATIENCE steps
+# printed precision) in PATIENCE steps: 10 stopped DFG 3D's ring grading 1 on a plateau at
+# 6.6 degrees that it leaves for 2.3
 STALL = 0.01
-PATIENCE = 10
+PATIENCE = 20
 FIRST = 0.01  # a first step's largest move, a share of the median edge: no fold to back off
 BACKTRACKS = 8  # halvings of a step before the memory is dropped
 ARMIJO = 1e-4  # the share of the slope's predicted fall a step must achieve
@@ -59,7 +63,9 @@ class Section:
     node's section node (``column``), the section nodes' 3D ids (``nodes``), the section's
     quadrilaterals counter-clockwise (``quads``, section numbering), interior edges
     (``inner``: p, q, owner, neighbour, p -> q counter-clockwise in the owner) and boundary
-    edges (``outer``: p, q, owner), and the free coordinates (``free``, section nodes x 2)."""
+    edges (``outer``: p, q, owner), the free coordinates (``free``, section nodes x 2), and
+    the blocks whose first layer gave the quadrilaterals (``blocks``) with each one's
+    direction along the axis (``directions``)."""
 
     axis: int
     plane: list[int]
@@ -69,6 +75,8 @@ class Section:
     inner: np.ndarray
     outer: np.ndarray
     free: np.ndarray
+    blocks: list[int]
+    directions: list[int]
 
 
 def sweep_axis(place: Placement) -> tuple[int, list[int]] | None:
@@ -115,13 +123,14 @@ def section(place: Placement, held: np.ndarray) -> Section | None:
     group = _merged(len(place.points), np.vstack(pairs))
     nodes = np.full(group.max() + 1, -1)
     nodes[group] = np.arange(len(place.points))
-    quads, seen = [], set()
-    for ids, k in zip(place.ids, directions):
+    quads, seen, blocks = [], set(), []
+    for b, (ids, k) in enumerate(zip(place.ids, directions)):
         layer = group[np.take(ids, 0, axis=k)]
         key = (*np.sort(layer[[0, 0, -1, -1], [0, -1, 0, -1]]).tolist(), *layer.shape)
         if key in seen:  # a block further along the axis: the same quadrilaterals
             continue
         seen.add(key)
+        blocks.append(b)
         q = np.stack([layer[:-1, :-1], layer[1:, :-1], layer[1:, 1:], layer[:-1, 1:]], -1)
         q = q.reshape(-1, 4)
         xy = place.points[nodes[q]][..., plane]
@@ -133,7 +142,48 @@ def section(place: Placement, held: np.ndarray) -> Section | None:
     free = np.ones((len(nodes), 2), dtype=bool)
     for c, a in enumerate(plane):
         np.logical_and.at(free[:, c], group, ~held[:, a])
-    return Section(axis, plane, group, nodes, quads, inner, outer, free)
+    kept = [directions[b] for b in blocks]
+    return Section(axis, plane, group, nodes, quads, inner, outer, free, blocks, kept)
+
+
+def slab(place: Placement, sec: Section) -> Placement:
+    """The section as a placement one cell thick along the axis (each block of ``blocks``
+    cut to its first cell along it; node s and s + section nodes: the section node s at
+    either face), its thickness the first block's first cell. Its Winslow grid is
+    the swept grid's: a swept grid has no derivative along the axis, so the 3D equations
+    over every layer are the section's, the same at each (``thin`` takes it back)."""
+    n = len(sec.nodes)
+    points = np.repeat(place.points[sec.nodes][None], 2, axis=0)
+    ids, params, rises = [], [], []
+    for b, k in zip(sec.blocks, sec.directions):
+        first, second = np.moveaxis(place.ids[b], k, 0)[:2]  # its first layers along the axis
+        rises.append(place.points[second.flat[0], sec.axis] - place.points[first.flat[0], sec.axis])
+        layer = sec.column[first]
+        ids.append(np.stack([layer, layer + n] if rises[-1] > 0 else [layer + n, layer], axis=k))
+        params.append(
+            [np.array([0.0, 1.0]) if a == k else u for a, u in enumerate(place.params[b])]
+        )
+    points[:, :, sec.axis] = [[0.0], [abs(rises[0])]]
+    return Placement(points.reshape(-1, 3), ids, params, [], _shared_faces(ids))
+
+
+def thin(points: np.ndarray, sec: Section) -> np.ndarray:
+    """The section's nodes (section nodes x 2) of a grid of :func:`slab`: its two faces'
+    mean."""
+    n = len(sec.nodes)
+    return 0.5 * (points[:n, sec.plane] + points[n:, sec.plane])
+
+
+def _shared_faces(ids: list[np.ndarray]) -> set[tuple[int, int, int]]:
+    """The (block, axis, end) faces whose four corners another block's face has too."""
+    owners: dict[frozenset, list[tuple[int, int, int]]] = {}
+    for b, g in enumerate(ids):
+        for axis in range(3):
+            for end in (0, 1):
+                face = np.take(g, -end, axis=axis)
+                key = frozenset(face[[0, 0, -1, -1], [0, -1, 0, -1]].tolist())
+                owners.setdefault(key, []).append((b, axis, end))
+    return {f for faces in owners.values() if len(faces) == 2 for f in faces}
 
 
 def _areas(xy: np.ndarray) -> np.ndarray:

@@ -13,9 +13,9 @@ from helpers import EXAMPLES
 from pinn_engine.blocks3d import section as S
 from pinn_engine.blocks3d.checks import figures, hexes
 from pinn_engine.blocks3d.dictionary import from_text
-from pinn_engine.blocks3d.mesh import mesh_dictionary
+from pinn_engine.blocks3d.mesh import ORTHOGONAL, mesh_dictionary, winslow_grid
 from pinn_engine.blocks3d.placement import place
-from pinn_engine.blocks3d.winslow import boundary_held
+from pinn_engine.blocks3d.winslow import boundary_held, winslow
 
 sys.path.insert(0, str(EXAMPLES / "blockmesh"))
 from make_dictionaries import pipe  # noqa: E402
@@ -100,3 +100,36 @@ def test_the_section_search_also_begins_from_blockmeshs_placement():
     assert kept.folded == 0 and kept.max_skewness <= tfi.max_skewness
     assert kept.max_non_orthogonality < 5
     assert kept.mean_non_orthogonality < tfi.mean_non_orthogonality
+
+
+def test_a_swept_section_is_solved_as_its_slab():
+    """A pipe four blocks along its axis (a section of 5 blocks in 4 layers of blocks): the
+    Winslow grid is its slab's, one cell thick, swept (every layer the same), and it solves
+    the 3D equations as the grid solved over every layer does."""
+    placed = place(from_text(pipe(square=0.4, grade=1, bulge=1.15, cells=(6, 5, 8), layers=4)))
+    sec = S.section(placed, boundary_held(placed)[1])
+    slab = S.slab(placed, sec)
+    assert len(slab.ids) == 5 and len(slab.points) == 2 * len(sec.nodes)
+    got, _ = winslow_grid(placed, sec)
+    assert np.array_equal(got[:, sec.plane], got[sec.nodes[sec.column]][:, sec.plane])
+    cells = np.vstack([hexes(ids) for ids in placed.ids])
+    whole, swept = figures(winslow(placed)[0], cells), figures(got, cells)
+    assert swept.folded == 0
+    assert swept.max_non_orthogonality == pytest.approx(whole.max_non_orthogonality, abs=0.05)
+    assert swept.max_skewness == pytest.approx(whole.max_skewness, abs=0.005)
+
+
+def test_no_second_search_follows_one_that_reaches_orthogonal(monkeypatch):
+    """The search from the Winslow grid reaches a section within ``ORTHOGONAL`` of
+    orthogonal: the search from blockMesh's placement could gain less, so it is not run."""
+    searches = []
+
+    def counted(*args):
+        searches.append(args)
+        return least(*args)
+
+    least = S.least_non_orthogonal
+    monkeypatch.setattr(S, "least_non_orthogonal", counted)
+    result = mesh_dictionary(from_text(pipe(cells=(6, 5, 2))))
+    assert result.kept == "optimised" and result.start == "elliptic" and len(searches) == 1
+    assert result.candidates["optimised"].max_non_orthogonality <= ORTHOGONAL
