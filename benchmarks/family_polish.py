@@ -1,6 +1,6 @@
 """How a four-sided family model's grid is finished (docs/family.md, "The polish"): where the
-member's own node optimisation starts and when it stops, against the member's own default
-grid, on channels drawn apart from the model's members.
+member's own node optimisation starts, in which stages and when each stops, against the
+member's own default grid, on channels drawn apart from the model's members.
 
 Usage: ``.venv/bin/python benchmarks/family_polish.py MODEL.pt [--seeds 2 3 4] [--members 16]
 [--workdir DIR]``
@@ -10,7 +10,8 @@ as ``benchmarks/family.py`` writes it). For each seed, ``--members`` unseen chan
 draw are meshed by their own default run and finished from the model's grid by each rule;
 the table gives the largest excess of the finished grid's worst angle and mean over the
 default grid's, and the median number of evaluations of the optimisation's objective (its
-first row: the member's own run's).
+first row: the member's own run's); its last column, the quartiles of the evaluations over
+every seed's members.
 """
 
 from __future__ import annotations
@@ -26,23 +27,24 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-# (label, start: the model's grid, the better ranked of it and the member's own start, or
-# the polish's own start (family.mesh.polish_start: where the model's grid ranks below the
-# member's start, the best ranked of that start and its blends towards the model's grid),
-# iterations at most, Settle's window, worst step and spare, or None: a fixed count)
+# (label, start: the model's grid, or the polish's own start (family.mesh.polish_start:
+# where the model's grid ranks below the member's start, the best ranked of that start and
+# its blends towards the model's grid), the stages' temperatures (shares of QUALITY_TAU,
+# quality_start.sharpened), at most 100 iterations a stage, Settle's window, worst step and
+# spare)
+STAGES = (1.0, 1 / 2, 1 / 4, 1 / 8)  # the member's own run's (quality_start.SHARPENING)
 RULES = (
-    ("model's grid, 60 iterations", "model", 60, None),
-    ("better start, 60 iterations", "better", 60, None),
-    ("model's grid, settled (15, 0.05, no spare)", "model", 100, (15, 0.05, 0.0)),
-    ("better start, settled (15, 0.05, spare 0.25)", "better", 100, (15, 0.05, 0.25)),
-    ("better start, settled (20, 0.05, spare 0.25)", "better", 100, (20, 0.05, 0.25)),
-    ("blended start, settled (20, 0.05, spare 0.25)", "blend", 100, (20, 0.05, 0.25)),
-    ("blended start, settled (15, 0.05, spare 0.25)", "blend", 100, (15, 0.05, 0.25)),
-    ("blended start, settled (10, 0.05, spare 0.25)", "blend", 100, (10, 0.05, 0.25)),
+    ("model's grid, 1 degree alone, settled (15)", "model", (1.0,), (15, 0.05, 0.25)),
+    ("blended start, 1 degree alone, settled (15)", "blend", (1.0,), (15, 0.05, 0.25)),
+    ("blended start, 1, 1/2, 1/4, 1/8, settled (15)", "blend", STAGES, (15, 0.05, 0.25)),
+    ("blended start, 1, 1/2, 1/4, 1/8, settled (10)", "blend", STAGES, (10, 0.05, 0.25)),
+    ("blended start, 1, 1/4, 1/8, settled (15)", "blend", (1.0, 1 / 4, 1 / 8), (15, 0.05, 0.25)),
+    ("blended start, 1, 1/2, 1/8, settled (15)", "blend", (1.0, 1 / 2, 1 / 8), (15, 0.05, 0.25)),
+    ("blended start, 1, 1/8, settled (15)", "blend", (1.0, 1 / 8), (15, 0.05, 0.25)),
 )
 
 
-OWN = "the member's own run (its start, 100 iterations)"  # its evaluations, for scale
+OWN = "the member's own run (its start, its four stages)"  # its evaluations, for scale
 
 
 def draw(workdir: Path, seed: int, members: int) -> Path:
@@ -57,20 +59,17 @@ def draw(workdir: Path, seed: int, members: int) -> Path:
 def finish(model, member, rule, counted: list) -> np.ndarray:
     """The member's grid finished from the model's by ``rule`` (the user's coordinates)."""
     from pinn_engine.family.mesh import polish_start
-    from pinn_engine.starts.quality_start import Ranking, Settle, best_candidate, optimize_nodes
+    from pinn_engine.starts.quality_start import Ranking, Settle, best_candidate, sharpened
 
-    _, start, iterations, settle = rule
+    _, start, shares, settle = rule
     grid, _ = model.predict(member)
     elliptic = model.base(member)
     ranking = Ranking.of(elliptic, (), member.boundary.diagonal)
     (begin, _), ranking = best_candidate(elliptic, member.base, ranking)
-    begun = ranking.quality(begin)
-    if start == "better" and ranking.key(ranking.quality(grid)) > ranking.key(begun):
-        grid = begin
-    elif start == "blend":
-        grid, _ = polish_start(ranking, begin, begun, grid)
+    if start == "blend":
+        grid, _ = polish_start(ranking, begin, ranking.quality(begin), grid)
     counted.clear()
-    done = optimize_nodes(grid, ranking, iterations, settle=settle and Settle(*settle))
+    done = sharpened(grid, ranking, model.polish, Settle(*settle), shares)
     return member.frame.to_user(done)
 
 
@@ -93,9 +92,9 @@ def main() -> None:
     counted: list = []
     real = quality_start.quality_loss
 
-    def counting(grid, turn):
+    def counting(*args, **kwargs):
         counted.append(1)
-        return real(grid, turn)
+        return real(*args, **kwargs)
 
     quality_start.quality_loss = counting
     model = job.load_family(args.model)
@@ -120,13 +119,17 @@ def main() -> None:
                 )
         for label, rows in found.items():
             worst, mean, evaluations = zip(*rows)
-            table[label][seed] = (max(worst), max(mean), statistics.median(evaluations))
+            table[label][seed] = (max(worst), max(mean), evaluations)
     head = " | ".join(f"seed {s}: worst / mean - default (max), evaluations" for s in args.seeds)
-    print(f"| rule | {head} |")
-    print("|---" * (1 + len(args.seeds)) + "|")
+    print(f"| rule | {head} | evaluations, all seeds (quartiles) |")
+    print("|---" * (2 + len(args.seeds)) + "|")
     for label, by_seed in table.items():
-        cells = " | ".join(f"{w:+.2f} / {m:+.2f}, {e:.0f}" for w, m, e in by_seed.values())
-        print(f"| {label} | {cells} |")
+        cells = " | ".join(
+            f"{w:+.2f} / {m:+.2f}, {statistics.median(e):.0f}" for w, m, e in by_seed.values()
+        )
+        every = [n for _, _, e in by_seed.values() for n in e]
+        quartiles = " / ".join(f"{q:.0f}" for q in statistics.quantiles(every, n=4))
+        print(f"| {label} | {cells} | {quartiles} |")
 
 
 if __name__ == "__main__":

@@ -16,8 +16,9 @@ costs, so it is solved only where the model cannot vouch for its grid without it
   degree of it); up to ``DEFECT_STEPS`` steps are taken to get there;
 - a family of node optima (the default's four-sided grids: the quality objective's best
   start, its nodes optimised) finishes the model's grid (:func:`polish_start`) by the
-  member's own node optimisation (quality_start.sharpened: its stages, its own ranking),
-  each stage until it settles (``POLISH_SETTLE``; at most ``model.polish`` iterations), and
+  member's own node optimisation (quality_start.sharpened: its own ranking, three of its
+  stages, ``POLISH_SHARPENING``), each stage until it settles (``POLISH_SETTLE``; at most
+  ``model.polish`` iterations), and
   vouches for a polished grid that ranks no worse than the grid the member's
   own optimisation starts from (the best of its elliptic, TFI and blended grids, which cost
   milliseconds once its elliptic grid, the model's base, is solved): what its own run would
@@ -57,12 +58,17 @@ WORST_TOL = 2.0  # SPEC 16: degrees the worst cell may exceed the member's start
 # corner's angle then moves by at most about four times it in radians, 1.2 degrees
 DEFECT_TOL = 0.005
 DEFECT_STEPS = 6  # chord steps tried (0.3 ms each at 41 x 21; the default solve takes 15 ms)
-# A four-sided member's polish stops once 15 iterations lowered its best-ranked worst angle
-# by under 0.05 degrees (or it is its held corners'), keeping the state of least mean within
-# 0.25 of it (Settle): on 64 channels of four draws apart from docs/family.md's (the window
-# chosen on two) it left each within 0.22 of its own worst and 0.19 of its mean at a median
-# 34-60 evaluations (its own run: 116-186); the other rules tried are in docs/family.md
+# Each stage of a four-sided member's polish stops once 15 iterations lowered its best-ranked
+# worst angle by under 0.05 degrees (or it is its held corners'), keeping the state of least
+# mean within 0.25 of it (Settle): with the stages below, on 96 unseen channels of six draws
+# it left each within 0.03 of its own worst and 0.40 of its mean at a median 103 evaluations
+# (its own run: 173); a window of 10 left one 0.57 above (docs/family.md, "The polish")
 POLISH_SETTLE = (15, 0.05, 0.25)
+# The polish's stages (temperatures in QUALITY_TAU's): the own run's first (1 degree moves the
+# band of near-worst cells) and last (1/8: the own run's grids are its end), and 1/2 between;
+# with the own run's 1/4 stage too it ended as near the own grids at a median 121 evaluations
+# (the same channels), with 1/8 alone after 1 degree up to 0.58 above an own grid's mean
+POLISH_SHARPENING = (1.0, 1 / 2, 1 / 8)
 KEPT_MODELS = 4  # family models kept loaded in a process (a batch worker meshes many members)
 _LOADED: OrderedDict[tuple, FamilyModel] = OrderedDict()
 
@@ -219,7 +225,8 @@ def _polished(
         start = f"{share:.1f} of the way to the model's grid" if share else "itself"
         name = f"{name} (the model's grid ranked below it; polished from {start})"
     with one_thread():  # its L-BFGS, as the member's own run's
-        polished = sharpened(grid, ranking, model.polish, Settle(*POLISH_SETTLE))
+        settle = Settle(*POLISH_SETTLE)
+        polished = sharpened(grid, ranking, model.polish, settle, POLISH_SHARPENING)
     ranks = ranking.key(ranking.quality(polished)) <= ranking.key(begun)
     return polished, {k: v for k, v in begun.items() if k in _FIGURES}, ranks, name
 

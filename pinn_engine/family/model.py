@@ -45,8 +45,8 @@ FORMAT = "pinn-mesh-family/2"
 KEPT_ENERGY = 1e-8
 EPOCHS = 1500  # Adam's full-batch epochs: about 1 s for 24 members on one core
 # Iterations of the member's own node optimisation that finish a model's grid where the
-# family's grids are node optima (the default's four-sided grids), at most, in each of the
-# own run's stages (quality_start.sharpened), stopped where it has settled (mesh.POLISH_SETTLE)
+# family's grids are node optima (the default's four-sided grids), at most, in each of its
+# stages (mesh.POLISH_SHARPENING), stopped where it has settled (mesh.POLISH_SETTLE)
 POLISH_ITERATIONS = 100
 # A node-optimum family's member's elliptic grid by chord steps (FamilyModel._elliptic): they
 # stop when no node moves more than ELLIPTIC_TOL of the extent (a grid that far from the

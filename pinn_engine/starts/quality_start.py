@@ -234,15 +234,17 @@ def sharpened(
     ranking: Ranking,
     iterations: int = STAGE_ITERATIONS,
     settle: Settle | None = None,
+    shares: Sequence[float] = SHARPENING,
 ) -> np.ndarray:
     """``grid`` with its interior nodes optimised (:func:`optimize_nodes`) in stages whose
-    soft maximum sharpens (``SHARPENING``), each from the best-ranked state of the one
-    before: a blunt soft maximum moves the whole band of near-worst cells, a sharp one then
-    the few that bind. Each stage runs at most ``iterations``, and stops after
-    ``STAGE_STALL`` without a better-ranked state or, given ``settle``, once settled (a
-    family model's polish). No stage ranks below its start; only the first moves the grid
-    onto the auxiliary lines (:func:`follow_lines`), the others go on from where it ended."""
-    for stage, share in enumerate(SHARPENING):
+    soft maximum sharpens (temperatures ``shares`` of ``QUALITY_TAU``), each from the
+    best-ranked state of the one before: a blunt soft maximum moves the whole band of
+    near-worst cells, a sharp one then the few that bind. Each stage runs at most
+    ``iterations``, and stops after ``STAGE_STALL`` without a better-ranked state or, given
+    ``settle``, once settled (a family model's polish). No stage ranks below its start; only
+    the first moves the grid onto the auxiliary lines (:func:`follow_lines`), the others go
+    on from where it ended."""
+    for stage, share in enumerate(shares):
         grid = optimize_nodes(
             grid,
             ranking,

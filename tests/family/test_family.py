@@ -206,6 +206,26 @@ def test_a_model_grid_below_the_members_own_start_is_not_polished(optima, monkey
     np.testing.assert_allclose(by_model.grids[0][0], own.grids[0][0], atol=1e-12)
 
 
+def test_the_polish_runs_the_own_runs_first_and_last_stages_and_one_between(optima, monkeypatch):
+    """A family of node optima: the polish optimises the member's nodes at 1, 1/2 and 1/8
+    degree (mesh.POLISH_SHARPENING: the own run's first and last stages, and 1/2; with its
+    1/4 stage too it ended as near its own grids at more evaluations), each stage settled."""
+    from pinn_engine.quality import QUALITY_TAU
+    from pinn_engine.starts import quality_start as qs
+
+    stages = []
+    real = qs.optimize_nodes
+
+    def recorded(*args, **kwargs):
+        stages.append((kwargs["tau"] / QUALITY_TAU, kwargs["settle"] is not None))
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(qs, "optimize_nodes", recorded)
+    by_model = job.run(DEFAULT, geometry(channel(0.25, 0.05)), family=optima)
+    assert by_model.report["training"]["result"] == "family"
+    assert stages == [(1.0, True), (0.5, True), (0.125, True)]
+
+
 def _settled(grid: np.ndarray, ranking, settle) -> tuple[np.ndarray, int]:
     """quality_start.optimize_nodes of ``grid`` (at most 100 iterations) stopped by
     ``settle``, and how many times it evaluated its objective."""
