@@ -5,8 +5,9 @@ there take within the bound, :func:`~pinn_engine.adapt.monitor.shear_cap`), then
 strength lowered round the cells that still break; what still breaks is drawn back toward
 the unadapted grid (each node's move, a boundary node's along its curve, scaled down round
 the offending cells, each by as much as it is over the bound) until it holds. The first
-solve's moves, whole and scaled down everywhere, drawn back the same way, are further
-candidates; the one carrying the field best is kept."""
+solve's moves (and, blocks joined, those of the first solve slipped: its compressed cells
+turned along the front), whole and scaled down everywhere, drawn back the same way, are
+further candidates; the one carrying the field best is kept."""
 
 from __future__ import annotations
 
@@ -129,6 +130,12 @@ def guarded(
     now = error(solved.points)
     if not bad.any():
         return Guarded(solved, share, np.ones(n), rounds, now)
+    # joined blocks: the first solve slipped (its compressed cells turned along the front,
+    # not sheared) is a candidate too, its moves scaled and drawn back as the first's
+    starts = [first]
+    if joined and space.joined is not None:
+        starts.append(space.solve(share * strength, isotropic, False, curvature, joined, True))
+        now = min(now, error(starts[-1].points))
     # the shear cap, then the strength lowered round the cells that still break
     capped = None
     for _ in range(ROUNDS - 1):
@@ -145,7 +152,8 @@ def guarded(
         share = share * (1.0 - (1.0 - LOWER) * _round(graph, bad.astype(float)))
     sources = [(solved, share, 1.0)] + [(capped, np.ones(n), 1.0)] * (solved is not capped)
     best = None
-    for source, its_share, blend in sources + [(first, np.ones(n), b) for b in BLENDS]:
+    scaled = [(start, np.ones(n), blend) for start in starts for blend in BLENDS]
+    for source, its_share, blend in sources + scaled:
         # drawing back adapts less: a candidate that carries the field no better than the
         # best one (or the grid kept) before it is drawn back is not drawn back
         found = _drawn_back(graph, source, its_share, limit, rounds, blend, error, bound)

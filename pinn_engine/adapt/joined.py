@@ -65,6 +65,25 @@ class Joined:
         triangles = _split(self.points, self.quads, d)
         return _stiffness(self.points, triangles, d[triangles].mean(axis=1)), triangles
 
+    def jacobian(self, xi: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+        """d xi / d x (n, 2, 2) of the piecewise-linear map ``xi`` (n, 2) of the joined
+        refined nodes: each of ``triangles``' own, their mean at each node."""
+        p, v = self.points[triangles], xi[triangles]
+        e1, e2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+        f1, f2 = v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]
+        det = _cross(e1, e2)
+        det = np.where(np.abs(det) > 1e-300, det, 1e-300)
+        # J (e1 e2) = (f1 f2), so J = (f1 e2^perp - f2 e1^perp) / det, e^perp = (e_y, -e_x)
+        jac = (
+            f1[:, :, None] * np.stack([e2[:, 1], -e2[:, 0]], -1)[:, None, :]
+            - f2[:, :, None] * np.stack([e1[:, 1], -e1[:, 0]], -1)[:, None, :]
+        ) / det[:, None, None]
+        n, corners = len(self.points), triangles.ravel()
+        count = np.maximum(np.bincount(corners, minlength=n), 1)
+        flat = jac.reshape(-1, 4)
+        total = [np.bincount(corners, np.repeat(flat[:, k], 3), minlength=n) for k in range(4)]
+        return (np.stack(total, axis=-1) / count[:, None]).reshape(n, 2, 2)
+
     def placed(self, xi: np.ndarray, triangles: np.ndarray, targets: np.ndarray) -> np.ndarray:
         """The points where the piecewise-linear map ``xi`` (n, 2) of the joined refined
         nodes takes ``targets`` (k, 2): in the one of each target's ``NEAREST``

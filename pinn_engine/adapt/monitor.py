@@ -127,6 +127,46 @@ def diffusion_tensor(
     return oriented(principal_direction(tensor), across, along)
 
 
+def slipped(
+    d: np.ndarray, n: np.ndarray, jacobian: np.ndarray, e1: np.ndarray, e2: np.ndarray
+) -> np.ndarray:
+    """D (..., 3: xx, xy, yy; n its principal direction, (..., 2)) with the cross term that
+    turns a compressed cell's grid lines along the front instead of shearing it: the slip.
+
+    Across a straight front the equations' solution is xi = x + g(n . x), and a cell's edge
+    e (the lattice's ``e1``, ``e2``) becomes A e, A = [[c, 0], [-s, 1]] in the frame (n, t):
+    compressed by c across the front and slipped by s = -c q / p along it, p = n^T D n and
+    q = n^T D t the cross term. D as built has q = 0, and an oblique cell shears; here s
+    keeps (A e1) . (A e2) = e1 . e2 (a square stays a rectangle, turned along the front):
+    the root nearest 0 of (e1.n)(e2.n) (s^2 + c^2 - 1) - ((e1.n)(e2.t) + (e2.n)(e1.t)) s = 0.
+    c = 1 / (n^T J n) is read from a solve with D (``jacobian`` J = d xi / d x at the
+    nodes); a stretched cell (c >= 1) slips none: no slip along the front makes it square.
+    t^T D t grows by q^2 / p, which keeps D positive definite and leaves the front's
+    one-dimensional solution as it was."""
+    t = np.stack([-n[..., 1], n[..., 0]], axis=-1)
+    p, b = _quadratic(d, n, n), _quadratic(d, t, t)
+    c = 1.0 / np.maximum(np.einsum("...i,...ij,...j->...", n, jacobian, n), 1.0)
+    a1, a2 = (e1 * n).sum(-1), (e2 * n).sum(-1)
+    lean = a1 * (e2 * t).sum(-1) + a2 * (e1 * t).sum(-1)
+    constant = a1 * a2 * (c**2 - 1.0)
+    # the root nearest 0 in the form that does not cancel (constant <= 0: two real roots)
+    den = lean + np.where(lean >= 0.0, 1.0, -1.0) * np.sqrt(lean**2 - 4.0 * a1 * a2 * constant)
+    slip = 2.0 * constant / np.where(np.abs(den) > 0.0, den, 1.0)
+    q = -slip * p / c
+    (n1, n2), (t1, t2) = np.moveaxis(n, -1, 0), np.moveaxis(t, -1, 0)
+    cross = np.stack([2 * n1 * t1, n1 * t2 + n2 * t1, 2 * n2 * t2], axis=-1)  # n t^T + t n^T
+    return oriented(n, p, b + q**2 / p) + q[..., None] * cross
+
+
+def _quadratic(d: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a^T D b of tensors D (..., 3: xx, xy, yy) and vectors a, b (..., 2)."""
+    return (
+        d[..., 0] * a[..., 0] * b[..., 0]
+        + d[..., 1] * (a[..., 0] * b[..., 1] + a[..., 1] * b[..., 0])
+        + d[..., 2] * a[..., 1] * b[..., 1]
+    )
+
+
 def eigenvalues(tensor: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The larger and the smaller eigenvalue of symmetric 2 x 2 tensors (..., 3: xx, xy,
     yy)."""

@@ -54,6 +54,7 @@ from pinn_engine.adapt.monitor import (
     monitor_values,
     principal_direction,
     shear_cap,
+    slipped,
     to_nodes,
 )
 from pinn_engine.adapt.nodes import NodeGraph
@@ -215,9 +216,8 @@ class ParameterSpace:
         if curvature not in self._shear:
             caps = []
             for block in self.blocks:
-                edges = np.gradient(block.points, axis=1), np.gradient(block.points, axis=0)
                 across = principal_direction(block.hessian if curvature else block.tensor)
-                caps.append(shear_cap(*edges, across, self.limit))
+                caps.append(shear_cap(*_edges(block.points), across, self.limit))
             self._shear[curvature] = caps
         return self._shear[curvature]
 
@@ -260,6 +260,7 @@ class ParameterSpace:
         capped: bool = False,
         curvature: bool = False,
         joined: bool = False,
+        slip: bool = False,
     ) -> Solved:
         """The grid adapted with the monitor of ``strength`` at each node, its diffusion
         tensor compressing across a front only or (``isotropic``) in every direction;
@@ -268,7 +269,8 @@ class ParameterSpace:
         (:func:`curvature_diffusion`, intensity strength / (``CURVATURE_STRENGTH`` alpha))
         in place of the gradient's; ``joined``: a multi-block grid's blocks solved joined
         (:class:`Joined`: its junctions and interfaces move), else each in its own
-        parameter space."""
+        parameter space; ``slip`` (joined): solved again with the slip of that solve's
+        compression (:func:`slipped`: grid lines turned along a front, not sheared)."""
         graph, largest = self.graph, self.largest
         tensors = []
         for k, block in enumerate(self.blocks):
@@ -296,7 +298,7 @@ class ParameterSpace:
                 cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (along[1:] + along[:-1]))])
                 self._place(run, cumulative / cumulative[-1], shares, points, params)
         if joined:
-            self._joined(tensors, shares, points)
+            self._joined(tensors, shares, points, slip)
         else:
             self._blocks(tensors, shares, points, params)
         final = monitor_values(
@@ -305,10 +307,15 @@ class ParameterSpace:
         return Solved(points, params, final, 1)
 
     def _joined(
-        self, tensors: list[np.ndarray], shares: dict[tuple, np.ndarray], points: np.ndarray
+        self,
+        tensors: list[np.ndarray],
+        shares: dict[tuple, np.ndarray],
+        points: np.ndarray,
+        slip: bool = False,
     ) -> None:
         """The joined blocks' inner nodes placed in ``points`` (:class:`Joined`), the
-        boundary pieces' refined points held where their ``shares`` put them."""
+        boundary pieces' refined points held where their ``shares`` put them; ``slip``:
+        solved again with each tensor slipped by the first solution's compression."""
         joined, r = self.joined, self.r
         xi = joined.points.copy()
         for run in self.runs:
@@ -319,8 +326,18 @@ class ParameterSpace:
                 t = (at - k)[:, None]
                 ids = self._side_values(run.side, joined.ids[run.block])
                 xi[ids[run.first * r : run.last * r + 1]] = (1 - t) * line[k] + t * line[k + 1]
+        given = xi.copy()
         lap, triangles = joined.system(tensors)
         solve_lattice(lap, xi, joined.fixed)
+        if slip:
+            jacobian = joined.jacobian(xi, triangles)
+            tensors = [
+                slipped(d, principal_direction(b.tensor), jacobian[ids], *_edges(b.points))
+                for d, b, ids in zip(tensors, self.blocks, joined.ids)
+            ]
+            xi = given
+            lap, triangles = joined.system(tensors)
+            solve_lattice(lap, xi, joined.fixed)
         points[joined.inner] = joined.placed(xi, triangles, self.graph.points[joined.inner])
 
     def _blocks(
@@ -431,6 +448,11 @@ class ParameterSpace:
             uv = _inverted(xi, eta, block.u, block.v, targets[:, 1], targets[:, 0])
             points[block.ids[inner]] = bilinear(block.grid, uv[:, 0], uv[:, 1])
         return xi, eta
+
+
+def _edges(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A refined lattice's (rows, cols, 2) edges at its nodes, along i and along j."""
+    return np.gradient(points, axis=1), np.gradient(points, axis=0)
 
 
 def solve_lattice(lap: csr_matrix, values: np.ndarray, fixed: np.ndarray) -> None:
