@@ -88,6 +88,15 @@ def square_ring(n: int = 10, size: float = 1.0) -> np.ndarray:
     )
 
 
+def bumped_l() -> tuple[np.ndarray, list[np.ndarray]]:
+    """The L of arm width 1 with a bump 0.15 high on its floor (the autoblock benchmark's)
+    and the two edges that cut it into three blocks."""
+    x = np.linspace(0.3, 1.7, 21)
+    bump = np.c_[x, 0.15 * np.sin(np.pi * (x - 0.3) / 1.4) ** 2][1:-1]
+    ring = np.vstack([[(0, 0)], bump, [(2, 0), (2, 1), (1, 1), (1, 2), (0, 2)]])
+    return ring, [np.array([(1, 1), (0, 1)]), np.array([(1, 1), (1, 0.15)])]
+
+
 def wavy_ring(n: int = 24) -> np.ndarray:
     """A four-sided domain with wavy sides (2 x 1), CCW from (0, 0)."""
     s = np.linspace(0, 1, n + 1)[:-1]

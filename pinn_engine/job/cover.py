@@ -22,6 +22,7 @@ from pinn_engine.geometry.boundary import (
     signed_area,
     turning_angles,
 )
+from pinn_engine.multiblock.walls import first_edges_refusal
 
 # A node is on the drawn boundary, or at a corner, within this share of the domain's
 # diagonal: the nodes are placed there exactly, so only rounding separates them
@@ -41,6 +42,11 @@ AREA_TOL = 1e-7
 # A drawn line is an instruction: the default four-sided grid's line through it (SPEC 2's
 # measure) keeps within this share of the diagonal, a tenth of a cell of a 41 x 21 grid
 LINE_TOL = 2e-3
+# The fix of a multi-block grid whose first edges miss the spacing asked: the lines leaving
+# the wall there are too short, or their nodes too few, to start with it
+EDGES_FIX = (
+    "a smaller first edge in {spacing} or a finer {cell_size}, or draw the block edges and {blocks}"
+)
 
 
 def _perimeter(grid: np.ndarray) -> np.ndarray:
@@ -247,6 +253,11 @@ def covered(outcome, geometry):
             )
             fix = f"a larger first edge in {{spacing}}, or {fix}" if spaced else fix
             outcome.report["checkmesh"] = check_blocks_skewness(outcome.grids, geometry.source, fix)
+            off = first_edges_refusal(outcome.report["walls"])
+            if off is not None:
+                raise InputError(
+                    f"the grid is not written: {off} (SPEC 7); {EDGES_FIX}", geometry.source
+                )
     elif outcome.kind == "body":
         body, grid = geometry.body, outcome.grids[0]
         n_wake = outcome.report["topology"]["wake_nodes"]

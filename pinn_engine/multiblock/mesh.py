@@ -45,6 +45,7 @@ from pinn_engine.multiblock.patches import (
 from pinn_engine.multiblock.quadblock import block_boundary, block_lines
 from pinn_engine.multiblock.spacing import (
     check_room,
+    fitted_first_edges,
     held_pieces,
     on_drawn,
     requests,
@@ -277,6 +278,8 @@ def mesh_blocks(
             points = on_drawn(points, boundary_nodes, rings)
         if (grades or asked) and untangle is not None:
             points = untangled_blocks(points, lay.ids, untangle)
+        if asked:
+            points = fitted_first_edges(points, sides, walls.spacing)
         if walls.orthogonal:
             points = orthogonal(
                 points, sides, walls.orthogonal, boundary_neighbours(topo, lay), lay.ids
@@ -312,7 +315,7 @@ def mesh_blocks(
         },
         "graded_cells": {"from": sized, "to": _cells(topo, counts)},
         "iterations": steps,
-        "walls": wall_report(points, sides),
+        "walls": wall_report(points, sides, walls.spacing),
         "aux_lines": [line.name for block in lines for line in block],
         "aux_line_distance": {
             name: d

@@ -23,7 +23,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from pinn_engine.classical.spacing import line_parameters
+from pinn_engine.classical.spacing import LOCAL_CELLS, line_parameters
 from pinn_engine.errors import InputError
 from pinn_engine.geometry.boundary import arc_lengths
 from pinn_engine.multiblock.blocks import CORNER_TURN
@@ -38,6 +38,10 @@ FIT_ROUNDS, FIT_TOL = 12, 1e-3
 # The first edges asked of a line take less than this share of it (SPEC 7's rule for one
 # block: a first edge shorter than half the sides it runs along)
 MAX_ASKED_SHARE = 0.5
+
+# Rounds of sliding the first nodes of the lines leaving spaced walls onto H: a node next to
+# two walls (a block's corner cell) is on two such lines, each slide moving it along its own
+SLIDE_ROUNDS = 3
 
 # a line's ids -> [H at its start, H at its end, the option asking (for messages)]
 Requests = dict[tuple[int, ...], list]
@@ -372,3 +376,63 @@ def _stretched(p: np.ndarray, first: np.ndarray, last: np.ndarray) -> np.ndarray
         if off <= FIT_TOL:
             break
     return new
+
+
+def _slid(p: np.ndarray, first: float | None, last: float | None) -> np.ndarray | None:
+    """The nodes ``p`` (n, 2) of a line moved along the polyline through them, so that its
+    first and last edges are ``first`` and ``last`` (None: as they are; a line whose asked
+    edges are already within ``FIT_TOL`` is left as the stretching fitted it): a shift of the
+    nodes' arc positions that decays from each asked end over ``LOCAL_CELLS`` cells to
+    nothing at the other end, so the line keeps its shape and its far part. None where no
+    such shift keeps the nodes in order."""
+    n = len(p)
+    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
+    off = [abs(d / h - 1.0) for h, d in ((first, s[1]), (last, s[-1] - s[-2])) if h is not None]
+    if max(off) <= FIT_TOL:
+        return p  # as the stretching fitted it
+    tail = np.exp(-(n - 2) / LOCAL_CELLS)
+    w = np.zeros(n)
+    w[1:-1] = (np.exp(-np.arange(n - 2) / LOCAL_CELLS) - tail) / (1.0 - tail)
+    shift = np.zeros(n)
+    if first is not None and last is not None:
+        if n < 4:
+            return None  # one inner node cannot take both first edges
+        system = np.array([[1.0, w[-2]], [w[-2], 1.0]])  # the two decays at both first nodes
+        a, b = np.linalg.solve(system, [first - s[1], s[-1] - last - s[-2]])
+        shift = a * w + b * w[::-1]
+    elif first is not None:
+        shift = (first - s[1]) * w
+    elif last is not None:
+        shift = (s[-1] - last - s[-2]) * w[::-1]
+    new = s + shift
+    if not (np.diff(new) > 0).all():
+        return None
+    return np.column_stack([np.interp(new, s, p[:, 0]), np.interp(new, s, p[:, 1])])
+
+
+def fitted_first_edges(
+    points: np.ndarray, sides: list[WallSide], spacing: dict[str, float]
+) -> np.ndarray:
+    """``points`` with every inner line leaving a spaced wall side (those SPEC 7 measures:
+    a block side's corner lines aside) slid along itself so that its first edge is the H
+    asked (:func:`_slid`), at both ends where it leaves a wall at both. The stretchings
+    place each block's lines one family after the other, and a line's nodes moved by the
+    lines crossing it (a block's other family, a spline of a few coarse nodes cutting
+    across a curved wall, a block untangled) leave its first edge off H, beyond SPEC 7's
+    10 % beside reflex corners and T-junctions; the slide moves only nodes inside a block,
+    each along its own line, so the cells keep their shapes."""
+    ends: dict[tuple[int, ...], list] = {}
+    for wall in sides:
+        h = spacing.get(wall.name)
+        if h is None:
+            continue
+        for line in wall.lines[1:-1][wall.on[1:-1]]:
+            if len(line) > 2:
+                _ask(ends, line, h, wall.name)
+    out = points.copy()
+    for _ in range(SLIDE_ROUNDS):
+        for key, (first, last, _) in ends.items():
+            slid = _slid(out[list(key)], first, last)
+            if slid is not None:
+                out[list(key[1:-1])] = slid[1:-1]
+    return out

@@ -23,6 +23,9 @@ from pinn_engine.patchnames import checked_name
 # Wall nodes this many positions or fewer from a block's corner are left out of the wall
 # angle figures (SPEC 7: "the two nodes nearest each corner excepted")
 ANGLE_CORNER_NODES = 1
+# SPEC 7: a spaced patch's first edges are H within this share (each block side's corners
+# aside, as the report's figures)
+FIRST_EDGE_TOL = 0.1
 # ``--spacing walls=H`` and ``--orthogonal walls``, where no patch has this name: every patch
 # of type wall, else the boundary the user did not name (its default names, boundary and
 # holeK), as a CFD user means "the walls" beside the inlet and outlet they named
@@ -161,16 +164,22 @@ def _wall_angles(points: np.ndarray, wall: WallSide) -> np.ndarray:
     return np.abs(90.0 - np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
 
 
-def wall_report(points: np.ndarray, sides: list[WallSide]) -> dict[str, dict]:
+def wall_report(
+    points: np.ndarray, sides: list[WallSide], spacing: dict[str, float]
+) -> dict[str, dict]:
     """Per patch: its first edges (min, median, max over its nodes, block corners aside)
-    and the largest wall angle off 90 degrees (the two nodes nearest each corner aside)."""
+    and the largest wall angle off 90 degrees (the two nodes nearest each corner aside);
+    where ``spacing`` asks H of it, H and the node whose first edge is farthest from it
+    (``first_edge_off``: the relative error there, and where)."""
     edges: dict[str, list[np.ndarray]] = {}
     angles: dict[str, list[np.ndarray]] = {}
+    nodes: dict[str, list[np.ndarray]] = {}
     for wall in sides:
         inner = wall.on.copy()
         inner[[0, -1]] = False
         first = points[wall.lines[:, 1]] - points[wall.lines[:, 0]]
         edges.setdefault(wall.name, []).append(np.linalg.norm(first, axis=1)[inner])
+        nodes.setdefault(wall.name, []).append(points[wall.lines[inner, 0]])
         keep = inner[1:-1].copy()
         keep[:ANGLE_CORNER_NODES] = keep[len(keep) - ANGLE_CORNER_NODES :] = False
         angles.setdefault(wall.name, []).append(_wall_angles(points, wall)[keep])
@@ -185,4 +194,28 @@ def wall_report(points: np.ndarray, sides: list[WallSide]) -> dict[str, dict]:
             },
             "max_angle_deviation": float(a.max(initial=0.0)),
         }
+        h = spacing.get(name)
+        if h is not None:
+            off = np.abs(e / h - 1.0)
+            worst = int(off.argmax())
+            at = np.concatenate(nodes[name])[worst]
+            out[name]["spacing"] = h
+            out[name]["first_edge_off"] = {"share": float(off[worst]), "at": at.tolist()}
     return out
+
+
+def first_edges_refusal(figures: dict[str, dict]) -> str | None:
+    """Why a grid whose report ``walls`` are ``figures`` (:func:`wall_report`) breaks SPEC
+    7 (a spaced patch with a first edge off H by more than ``FIRST_EDGE_TOL``), a phrase, or
+    None where every first edge keeps it."""
+    for name, patch in figures.items():
+        off = patch.get("first_edge_off")
+        if off is None or off["share"] <= FIRST_EDGE_TOL:
+            continue
+        edge, (x, y) = patch["first_edge"], off["at"]
+        return (
+            f"its first edges on {name} are {edge['min']:.3g} to {edge['max']:.3g}, "
+            f"{patch['spacing']:g} asked (within {FIRST_EDGE_TOL:.0%}), "
+            f"{off['share']:.0%} off at ({x:.4g}, {y:.4g})"
+        )
+    return None

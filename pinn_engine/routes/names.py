@@ -129,6 +129,7 @@ PHRASES = {
     ),
     "refuse": ("; --fail-on-folded refuses such grids", "", ""),
     "size": ("{size}",) * 3,
+    "cell_size": ("{cell_size}",) * 3,
     "patch": (
         "{patches} SIDE=NAME",
         '{patches}{{"bottom": "wall", ...}}',

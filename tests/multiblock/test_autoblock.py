@@ -8,15 +8,17 @@ import sys
 import numpy as np
 import pytest
 import pyvista as pv
-from helpers import ROOT, refused, run_blocks, square_ring
+from helpers import ROOT, bumped_l, refused, run_blocks, square_ring
 from vtkmodules.vtkIOXML import vtkXMLMultiBlockDataReader, vtkXMLPolyDataReader
 
 from pinn_engine.errors import InputError
 from pinn_engine.io.export.edges import edges_of
+from pinn_engine.multiblock import mesh
 from pinn_engine.multiblock.autoblock import propose_edges
-from pinn_engine.multiblock.autoblock.score import Rejected
+from pinn_engine.multiblock.autoblock.score import Rejected, score
 from pinn_engine.multiblock.autoblock.search import best_meshed
 from pinn_engine.multiblock.mesh import mesh_blocks
+from pinn_engine.multiblock.walls import parse_walls
 from pinn_engine.routes.cli import main
 from pinn_engine.routes.multiblock_algorithm import PinnMultiBlockAlgorithm
 from pinn_engine.settings import AUTO_BLOCKS, make_settings
@@ -112,6 +114,17 @@ def test_a_refusal_for_folds_names_the_nearest_layout_s_first_fold():
     with pytest.raises(Rejected, match=r"^of the 3 layouts meshed, the nearest folds 1 cells"):
         best_meshed(layouts, fold)
     assert len(best_meshed(layouts, len, fold_one)) == 2
+
+
+def test_a_layout_whose_first_edges_miss_the_spacing_is_out(monkeypatch):
+    """A layout is judged as the run writes it: one whose first edges miss the wall
+    spacing beyond SPEC 7's 10 % (the bumped L's, without the last slide of the lines
+    leaving the wall) is out, as the run would refuse it."""
+    monkeypatch.setattr(mesh, "fitted_first_edges", lambda points, *_: points)
+    ring, edges = bumped_l()
+    walls = parse_walls(["boundary=0.01"])
+    with pytest.raises(Rejected, match=r"^misses the spacing asked: its first edges on"):
+        score([ring], edges, 0.125, walls)
 
 
 def _figures(rings, edges, h: float) -> dict:

@@ -5,8 +5,8 @@ it will be meshed: at the run's size (one clean at the default size may fold at 
 a diamond near a floor, or rank differently, a wide leaning tee) and, where the run asks a
 wall spacing, with it (a reflex corner left inside a block's side carries the spacing
 through that block, which suits one of an open cavity's two mirror-image layouts and
-shears the other), a grid with a face checkMesh finds too skewed out, as the run would
-refuse to write it.
+shears the other), a grid with a face checkMesh finds too skewed, or with first edges off
+the spacing beyond SPEC 7's tolerance, out, as the run would refuse to write it.
 
 The solve stops after ``SCORE_ITERATIONS`` Picard steps: the examples converge in under 100,
 and a layout whose sliding ends still move after that is judged where they are.
@@ -24,7 +24,7 @@ from pinn_engine.multiblock.counts import cell_counts, default_cell_size
 from pinn_engine.multiblock.elliptic import crossings, winslow
 from pinn_engine.multiblock.graph import linework
 from pinn_engine.multiblock.mesh import interface_kinks, layout_checked, mesh_blocks
-from pinn_engine.multiblock.walls import Walls
+from pinn_engine.multiblock.walls import Walls, first_edges_refusal
 from pinn_engine.quality import cell_quality
 from pinn_engine.settings import make_settings
 
@@ -87,6 +87,9 @@ def score(
             skew = planar_figures(result.grids).max_skewness
             if skew > SKEW_LIMIT:  # the run would refuse to write it (job.cover)
                 raise Rejected(f"has a face skewed {skew:.3g} (checkMesh's limit {SKEW_LIMIT:g})")
+            off = first_edges_refusal(result.report["walls"])
+            if off is not None:  # the run would refuse to write it (job.cover)
+                raise Rejected(f"misses the spacing asked: {off}")
             kink = result.report["interface_kink"]["mean"]
             return _weighed(result.grids, kink, bounded, h)
         topo = topology(lines)
