@@ -7,7 +7,8 @@
 Each run is a fresh process (first-touched memory is part of a stage's cost, as in the
 command) that imports what the command imports, reads and places the dictionary, finds its
 faces, computes checkMesh's figures of blockMesh's placement, solves the Winslow grid (as
-the command: a swept section's slab), computes the figures of that grid, optimises the swept
+the command: a swept section's slab), computes the figures of that grid (as the command: a
+swept grid's on its slab, ``mesh.measure_of``), optimises the swept
 section from it and computes the figures of that grid, SPEC 6's angles of the report, and
 writes the polyMesh files (the dictionaries of ``example_data/blockmesh`` that are solved
 are swept sections; a dictionary that is none stops after the Winslow grid's figures; the
@@ -41,7 +42,7 @@ import pyamg, scipy.sparse
 from pinn_engine import heap
 from pinn_engine.blocks3d import checks, placement, section, winslow
 from pinn_engine.blocks3d.dictionary import read
-from pinn_engine.blocks3d.mesh import winslow_grid
+from pinn_engine.blocks3d.mesh import measure_of, winslow_grid
 from pinn_engine.geometry.faces import topology
 from pinn_engine.hexa.quality import included_angles
 from pinn_engine.io.export.openfoam import write_hex_polymesh
@@ -60,7 +61,8 @@ faces = stage("faces", lambda: topology(cells))
 stage("figures (placement)", lambda: checks.figures(placed.points, cells, faces))
 sec = section.section(placed, winslow.boundary_held(placed)[1])
 points, _ = stage("Winslow solve", lambda: winslow_grid(placed, sec))
-solved = stage("figures (solved)", lambda: checks.figures(points, cells, faces))
+measure = measure_of(placed, sec, True, cells, faces)
+solved = stage("figures (solved)", lambda: measure(points))
 if sec is None:
     print(json.dumps(out))
     sys.exit()
@@ -72,7 +74,7 @@ def optimised():
 
 
 points = stage("section", optimised)
-stage("figures (section)", lambda: checks.figures(points, cells, faces))
+stage("figures (section)", lambda: measure(points))
 stage("angles", lambda: [included_angles(points[ids]) for ids in placed.ids])
 with tempfile.TemporaryDirectory() as case:
     stage("write", lambda: write_hex_polymesh(points, faces, placed.patches, Path(case)))

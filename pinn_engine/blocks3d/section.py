@@ -25,7 +25,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pinn_engine.blocks3d import checks
 from pinn_engine.blocks3d.placement import Placement, _merged
+from pinn_engine.geometry.faces import topology
 
 # a block direction is along an axis when its nodes keep their other two coordinates to
 # this share of the domain's diagonal (blockMesh's placement of a swept section: round-off)
@@ -165,6 +167,32 @@ def slab(place: Placement, sec: Section) -> Placement:
         )
     points[:, :, sec.axis] = [[0.0], [abs(rises[0])]]
     return Placement(points.reshape(-1, 3), ids, params, [], _shared_faces(ids))
+
+
+class SlabFigures:
+    """checkMesh's figures of grids swept from ``sec`` (every node its column's section
+    node's ``plane`` coordinates), each column ``layers`` cells, measured on the slab: the
+    largest non-orthogonality and skewness are the slab's (faces between layers are neither
+    non-orthogonal nor skewed, end faces not skewed), the mean cosine counts each side face
+    ``layers`` times and each face between layers (cosine 1), and a folded quadrilateral
+    folds its column's ``layers`` cells (a folded grid's other figures are the slab's: the
+    choice refuses it whatever they are)."""
+
+    def __init__(self, place: Placement, sec: Section, layers: int) -> None:
+        self.sec, self.layers, self.slab = sec, layers, slab(place, sec)
+        self.cells = np.vstack([checks.hexes(ids) for ids in self.slab.ids])
+        self.faces = topology(self.cells)
+
+    def __call__(self, points: np.ndarray) -> checks.Figures:
+        n, plane = len(self.sec.nodes), self.sec.plane
+        at = self.slab.points.copy()
+        at[:n, plane] = at[n:, plane] = points[self.sec.nodes][:, plane]
+        f = checks.figures(at, self.cells, self.faces)
+        side = len(self.faces.neighbour) * self.layers
+        between = len(self.cells) * (self.layers - 1)
+        cos = (side * np.cos(np.radians(f.mean_non_orthogonality)) + between) / (side + between)
+        mean = float(np.degrees(np.arccos(min(cos, 1.0))))
+        return checks.Figures(f.max_non_orthogonality, mean, f.max_skewness, self.layers * f.folded)
 
 
 def thin(points: np.ndarray, sec: Section) -> np.ndarray:

@@ -116,7 +116,8 @@ def test_the_default_blends_towards_the_winslow_grid_as_far_as_the_aims_allow():
     assert blend.max_skewness <= tfi.max_skewness and blend.folded == 0
     assert blend.max_non_orthogonality < tfi.max_non_orthogonality - 10
     kept = figures(result.points, result.cells)  # the section optimised from blend or tfi
-    assert result.kept == "optimised" and kept == result.candidates["optimised"]
+    assert result.kept == "optimised"  # its figures measured on the slab, to round-off
+    assert kept.as_dict() == pytest.approx(result.candidates["optimised"].as_dict(), abs=1e-9)
     assert result.report["start"] in ("blend", "tfi")
     assert kept.max_skewness <= blend.max_skewness and kept.folded == 0
     assert kept.max_non_orthogonality < blend.max_non_orthogonality - 10
