@@ -1,8 +1,9 @@
 """Grids adapted to analytic fields (SPEC 14): the field's interpolation error before and
 after, the worst cell, the time.
 
-Each shape's unadapted grid (the elliptic grid at ``--size``; C-grids of NACA 0012 and, held
-out, NACA 4412; multi-block grids of the cylinder channel and, held out, the tee, the
+Each shape's unadapted grid (``--base``: ``default``, the grid the command gives without
+``--adapt``, as a user adapts it, or ``elliptic``; at ``--size``; C-grids of NACA 0012 and,
+held out, NACA 4412; multi-block grids of the cylinder channel and, held out, the tee, the
 Y-branch, the L-shape and the backward-facing step) is adapted to fields given on a fine
 image (``FINE`` points a side over the shape's box, as a solver's result would be): a
 curved tanh front, a straight oblique one, a boundary layer along the lowest wall and a
@@ -12,7 +13,7 @@ inside every cell: the L2 norm (cells weighted by area) and the largest. The tun
 are the examples, the held-out ones ``example_data/holdout`` (no constant was set on them).
 
     .venv/bin/python benchmarks/adapt.py [--set tuning|holdout|bodies|blocks|all] [--beta 5 10 20]
-        [--size 41 31] [--speed [--runs 3]] [--unguarded]
+        [--size 41 31] [--base default|elliptic] [--speed [--runs 3]] [--unguarded]
 
 ``--set blocks``: the multi-block grids alone (the bodies less the C-grids).
 ``--speed`` times adapting a 201 x 201 four-sided grid (40 000 cells) against meshing it
@@ -50,6 +51,7 @@ HOLDOUT = [f"holdout/h0{k}_wavy.vtp" for k in range(0, 8, 2)] + [
 ]
 FINE = 801  # points a side of the field's image
 QUAD = 4  # sample points a cell side for the interpolation error
+BASES = {"default": "pinn", "elliptic": "elliptic"}  # --base: the method of the unadapted grid
 
 
 def fields(box: np.ndarray) -> dict:
@@ -119,52 +121,56 @@ def interpolation_error(grids: list[np.ndarray], f) -> tuple[float, float]:
     return float(np.sqrt(total / area)), largest
 
 
-def four_sided(path: str, size: tuple[int, int]) -> list[np.ndarray]:
-    """The elliptic grid of a four-sided example."""
+def four_sided(path: str, size: tuple[int, int], method: str = "elliptic") -> list[np.ndarray]:
+    """The ``method``'s grid of a four-sided example."""
     boundary = Boundary.from_points(read_boundary_points(ROOT / "example_data" / path))
-    mesher = Mesher(make_settings("elliptic", lattice=size)).fit(boundary)
+    mesher = Mesher(make_settings(method, lattice=size)).fit(boundary)
     return [mesher.predict(*size).points]
 
 
 def c_grid(
-    naca: str = "0012", size: tuple[int, int] = (161, 41), farfield: float = 5.0, wall=1e-3
+    naca: str = "0012",
+    size: tuple[int, int] = (161, 41),
+    farfield: float = 5.0,
+    wall=1e-3,
+    method: str = "elliptic",
 ) -> list[np.ndarray]:
-    """An airfoil's C-grid (the body kind's elliptic grid): NACA ``naca``, ``size`` nodes,
+    """An airfoil's C-grid (the body kind's ``method`` grid): NACA ``naca``, ``size`` nodes,
     far field ``farfield`` chords away, first cell ``wall`` chords thick."""
     from pinn_engine.bodies.airfoil import circle, load_body
     from pinn_engine.kinds.body.mesh import mesh_body
 
-    settings = make_settings("elliptic", topology="c", farfield=farfield)
+    settings = make_settings(method, topology="c", farfield=farfield)
     body = load_body(naca=naca, te="sharp")
-    result = mesh_body(body, circle(body, farfield), "c", "elliptic", *size, settings, wall, None)
+    result = mesh_body(body, circle(body, farfield), "c", method, *size, settings, wall, None)
     return [result.points]
 
 
-def blocks(name: str = "cylinder_channel") -> list[np.ndarray]:
-    """An example's multi-block elliptic grid (cell size 0.05)."""
+def blocks(name: str = "cylinder_channel", method: str = "elliptic") -> list[np.ndarray]:
+    """An example's multi-block ``method`` grid (cell size 0.05)."""
     from pinn_engine.job import blocks_from_files, run
 
     geometry = blocks_from_files(
         ROOT / f"example_data/{name}.vtp", [ROOT / f"example_data/{name}_blocks.vtp"]
     )
-    return run(make_settings("elliptic", cell_size=0.05), geometry).grids
+    return run(make_settings(method, cell_size=0.05), geometry).grids
 
 
-def bodies() -> dict:
+def bodies(method: str = "elliptic") -> dict:
     """The C-grids and multi-block grids by set: the tuning ones (NACA 0012, the cylinder
     channel) and the held-out ones (NACA 4412 at other counts, far field and wall spacing;
     the tee, the Y-branch, the L-shape and the step), each a function giving its blocks."""
     return {
         "tuning": {
-            "C-grid NACA 0012": c_grid,
-            "cylinder channel blocks": blocks,
+            "C-grid NACA 0012": lambda: c_grid(method=method),
+            "cylinder channel blocks": lambda: blocks(method=method),
         },
         "holdout": {
-            "C-grid NACA 4412 181 x 49": lambda: c_grid("4412", (181, 49), 8.0, 5e-4),
-            "tee blocks": lambda: blocks("tee"),
-            "Y-branch blocks": lambda: blocks("ybranch"),
-            "L-shape blocks": lambda: blocks("lshape"),
-            "step blocks": lambda: blocks("step"),
+            "C-grid NACA 4412 181 x 49": lambda: c_grid("4412", (181, 49), 8.0, 5e-4, method),
+            "tee blocks": lambda: blocks("tee", method),
+            "Y-branch blocks": lambda: blocks("ybranch", method),
+            "L-shape blocks": lambda: blocks("lshape", method),
+            "step blocks": lambda: blocks("step", method),
         },
     }
 
@@ -289,6 +295,7 @@ def main() -> None:
     )
     parser.add_argument("--beta", type=float, nargs="+", default=[DEFAULT_STRENGTH])
     parser.add_argument("--size", type=int, nargs=2, default=(41, 31))
+    parser.add_argument("--base", default="default", choices=tuple(BASES))
     parser.add_argument("--speed", action="store_true")
     parser.add_argument("--unguarded", action="store_true")
     parser.add_argument("--runs", type=int, default=3, help="--speed's interleaved rounds")
@@ -310,11 +317,10 @@ def main() -> None:
     for key in ("tuning", "holdout"):
         if args.set in (key, "all"):
             for path in shapes[key]:
-                measure(
-                    f"{key}: {Path(path).stem}", four_sided(path, tuple(args.size)), args.beta, rows
-                )
+                grids = four_sided(path, tuple(args.size), BASES[args.base])
+                measure(f"{key}: {Path(path).stem}", grids, args.beta, rows)
     if args.set in ("bodies", "blocks", "all"):
-        for key, shapes in bodies().items():
+        for key, shapes in bodies(BASES[args.base]).items():
             for name, make in shapes.items():
                 if args.set != "blocks" or "blocks" in name:
                     measure(f"{key}: {name}", make(), args.beta, rows)

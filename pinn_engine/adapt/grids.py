@@ -78,7 +78,7 @@ def adapt_grids(
     error0 = interpolation_error(start, graph.cells, sample)
     space = ParameterSpace(graph, sample, limit)
     points, share, rounds, error, used = start, np.zeros(len(start)), [], error0, 0.0
-    form = "unadapted"
+    form, moved = "unadapted", False
     for curvature, isotropic, joined in FORMS if largest > 0 else ():
         last = np.inf
         name = ("joined " if joined and space.joined else "") + ("curvature " if curvature else "")
@@ -91,7 +91,7 @@ def adapt_grids(
             )
             if found.within and found.error < error:
                 points, share, error = found.solved.points, found.share * found.kept, found.error
-                used, form = beta, name
+                used, form, moved = beta, name, found.moved
             if found.error >= last:
                 break
             last = found.error
@@ -108,7 +108,8 @@ def adapt_grids(
         "strength": strength,
         "strength_used": used,
         "form": form,
-        "adapted_less": bool(used < strength or (share < 1.0).any()),
+        "adapted_less": bool(used < strength or (share < 1.0).any() or moved),
+        "moved_within_bound": moved,
         "strength_share": {
             "min": float(share.min()),
             "mean": float(share.mean()),

@@ -7,7 +7,9 @@ the unadapted grid (each node's move, a boundary node's along its curve, scaled 
 the offending cells, each by as much as it is over the bound) until it holds. The first
 solve's moves (and, blocks joined, those of the first solve slipped: its compressed cells
 turned along the front), whole and scaled down everywhere, drawn back the same way, are
-further candidates; the one carrying the field best is kept."""
+further candidates, and so is the grid within the bound nearest the candidate that carries
+the field best (:func:`~pinn_engine.adapt.nearest.nearest_within`); the one carrying the
+field best is kept."""
 
 from __future__ import annotations
 
@@ -17,9 +19,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pinn_engine.adapt.error import interpolation_error
+from pinn_engine.adapt.nearest import nearest_within
 from pinn_engine.adapt.nodes import NodeGraph
 from pinn_engine.adapt.parametric import ParameterSpace
-from pinn_engine.adapt.pieces import Solved, pieces_of
+from pinn_engine.adapt.pieces import Piece, Solved, pieces_of
 from pinn_engine.quality import corner_angles_and_folds
 
 GUARD_DEGREES = 10.0  # SPEC 14: the worst cell may exceed the unadapted grid's by this much
@@ -41,6 +44,12 @@ GENTLE = 0.9
 # also drawn back: a front's compression kept whole at a lower amplitude (the lowering cuts
 # it where it is strongest); the candidate carrying the field best is kept
 BLENDS = (1.0, 0.8, 0.6, 0.4)
+# the candidates, least error first, whose nearest grid within the bound is sought, at
+# most: a candidate a cell or two folded often has one, one folded wide seldom
+NEAREST_TRIES = 2
+# rings of cells round the offending ones whose nodes move to reach the bound: a sheared
+# cell is straightened by its neighbours taking up the move, the rest of the grid stays
+NEAREST_RINGS = 4
 
 
 @dataclass
@@ -48,7 +57,8 @@ class Guarded:
     """The grid that keeps the guard, each node's share of the strength asked (1: all of
     it), the share of each node's move kept by the draw-back, the solves made, and the
     grid's interpolation error (``within`` False: the first solve broke the guard and
-    already carried the field no better than the bound asked, so it was not guarded)."""
+    already carried the field no better than the bound asked, so it was not guarded;
+    ``moved``: its nodes were moved to the nearest grid within the bound)."""
 
     solved: Solved
     share: np.ndarray
@@ -56,6 +66,7 @@ class Guarded:
     rounds: list[dict] = field(default_factory=list)
     error: float = np.inf
     within: bool = True
+    moved: bool = False
 
 
 def _angles(
@@ -151,14 +162,16 @@ def guarded(
             break
         share = share * (1.0 - (1.0 - LOWER) * _round(graph, bad.astype(float)))
     sources = [(solved, share, 1.0)] + [(capped, np.ones(n), 1.0)] * (solved is not capped)
+    sources += [(start, np.ones(n), blend) for start in starts for blend in BLENDS]
+    nearest = _nearest(graph, sources, limit, error, bound)
     best = None
-    scaled = [(start, np.ones(n), blend) for start in starts for blend in BLENDS]
-    for source, its_share, blend in sources + scaled:
+    for k, (source, its_share, blend) in enumerate(nearest + sources):
         # drawing back adapts less: a candidate that carries the field no better than the
         # best one (or the grid kept) before it is drawn back is not drawn back
         found = _drawn_back(graph, source, its_share, limit, rounds, blend, error, bound)
         if found is not None and found.error < bound:
             best, bound = found, found.error
+            best.moved = k < len(nearest)
     return best or Guarded(first, share, np.ones(n), rounds, now, within=False)
 
 
@@ -182,12 +195,7 @@ def _drawn_back(
     angle, folds = before.copy(), np.zeros(len(before), dtype=bool)
     changed: np.ndarray | slice = slice(None)  # the cells whose nodes moved: all at first
     for step in range(DRAWBACKS):
-        points = graph.points + kept[:, None] * (solved.points - graph.points)
-        params = []
-        for piece, s0, s1 in zip(pieces, start_params, solved.params):
-            s = s0 + kept[piece.ids] * (s1 - s0)
-            points[piece.ids] = piece.curve(s)
-            params.append(s)
+        points, params = _scaled(graph, pieces, solved, kept)
         if step == 0 and error(points) >= bound:
             return None
         angle[changed], folds[changed] = _angles(graph, points, changed)
@@ -208,3 +216,62 @@ def _drawn_back(
         changed = np.flatnonzero(mark[:-1])
     unadapted = Solved(graph.points.copy(), start_params, solved.monitor, 0)
     return Guarded(unadapted, share * 0, kept * 0, rounds, error(graph.points))
+
+
+def _scaled(
+    graph: NodeGraph, pieces: list[Piece], solved: Solved, kept: np.ndarray
+) -> tuple[np.ndarray, list[np.ndarray]]:
+    """The grid whose nodes keep the share ``kept`` (n,) of their moves to ``solved``, a
+    boundary node's along its piece's curve, and the pieces' arc lengths."""
+    points = graph.points + kept[:, None] * (solved.points - graph.points)
+    params = []
+    for piece, s1 in zip(pieces, solved.params):
+        s = piece.s + kept[piece.ids] * (s1 - piece.s)
+        points[piece.ids] = piece.curve(s)
+        params.append(s)
+    return points, params
+
+
+def _nearest(
+    graph: NodeGraph,
+    sources: list[tuple],
+    limit: float,
+    error: Callable[[np.ndarray], float],
+    bound: float,
+) -> list[tuple]:
+    """The grid nearest one of ``sources`` (solved, share, blend) within ``limit``
+    (interior nodes moved, boundary nodes kept), as a source: the sources that break the
+    guard tried in the order of the field's error on their scaled moves, ``NEAREST_TRIES``
+    at most, the first whose nearest grid keeps the guard; none where none does."""
+    pieces = pieces_of(graph)
+    quads, orientation, folded = graph.lattice_cells
+    free = ~graph.held
+    for piece in graph.pieces:
+        free[piece] = False
+    scaled = []
+    for solved, share, blend in sources:
+        points, params = _scaled(graph, pieces, solved, np.full(len(graph.points), blend))
+        if offending(graph, points, limit).any():
+            scaled.append((error(points), points, params, solved, share))
+    scaled = sorted((s for s in scaled if s[0] < bound), key=lambda s: s[0])
+    for _, points, params, solved, share in scaled[:NEAREST_TRIES]:
+        cells = _rings(graph, offending(graph, points, limit), NEAREST_RINGS)
+        moving = free & np.isin(np.arange(len(points)), quads[cells])
+        near = nearest_within(
+            points, quads[cells], orientation[cells], moving, limit, ~folded[cells]
+        )
+        if not offending(graph, near, limit).any():
+            return [(Solved(near, params, solved.monitor, solved.steps), share, 1.0)]
+    return []
+
+
+def _rings(graph: NodeGraph, cells: np.ndarray, rings: int) -> np.ndarray:
+    """The cells ``cells`` (a mask, m) and those within ``rings`` rings of them (sharing a
+    node), as a mask."""
+    m = len(graph.cells)
+    for _ in range(rings):
+        nodes = np.unique(graph.cells[cells])
+        near = np.zeros(m + 1, dtype=bool)
+        near[graph.node_cells[nodes].ravel()] = True
+        cells = cells | near[:m]
+    return cells

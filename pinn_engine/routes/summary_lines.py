@@ -92,6 +92,8 @@ def adaptation_lines(report: dict) -> list[str]:
         if a["adapted_less"]
         else ""
     )
+    if a.get("moved_within_bound"):
+        less += " (nodes moved to the nearest grid within it)"
     return [
         f"adapted to {a['array']} at strength {a['strength_used']:g}{less}: interpolation error "
         f"{error['before']:.3g} -> {error['after']:.3g}, equidistribution CV {cv['before']:.2f} "
