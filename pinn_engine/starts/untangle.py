@@ -80,49 +80,53 @@ class _Corners:
         nodes = np.arange(free.size).reshape(free.shape)
         self.index = np.stack([corner[moving] for corner in _corners(nodes)])
         self.area = area[moving]
+        self.free_nodes = np.flatnonzero(free)
 
     def with_free(self, x: np.ndarray) -> np.ndarray:
         g = self.grid.copy()
         g[self.free] = x.reshape(-1, 2)
         return g
 
-    def _edges(self, g: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _edges(self, g: np.ndarray) -> tuple[np.ndarray, ...]:
         """At the four corners k (axis 0) of every cell with a free corner: the edges a (to
-        corner k + 1) and b (to corner k - 1) and the Jacobian det(a, b) in cell areas."""
-        p = g.reshape(-1, 2)[self.index]
-        a, b = np.roll(p, -1, axis=0) - p, np.roll(p, 1, axis=0) - p
-        return a, b, self.turn * (a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]) / self.area
+        corner k + 1) and b (to corner k - 1), each as its x and y, and the Jacobian det(a,
+        b) in cell areas."""
+        flat = g.reshape(-1, 2)
+        px, py = flat[:, 0][self.index], flat[:, 1][self.index]
+        ax, ay = px[_NEXT] - px, py[_NEXT] - py
+        bx, by = px[_PREVIOUS] - px, py[_PREVIOUS] - py
+        return ax, ay, bx, by, self.turn * (ax * by - ay * bx) / self.area
 
     def least(self, x: np.ndarray) -> float:
         """The smallest corner Jacobian (in cell areas)."""
-        return float(self._edges(self.with_free(x))[2].min())
+        return float(self._edges(self.with_free(x))[-1].min())
 
     def energy(self, x: np.ndarray, eps: float) -> tuple[float, np.ndarray]:
         """The regularised energy and its gradient in the free nodes' coordinates."""
-        g = self.with_free(x)
-        a, b, det = self._edges(g)
+        ax, ay, bx, by, det = self._edges(self.with_free(x))
         root = np.sqrt(eps * eps + det * det)
         chi = _chi(det, root, eps)
-        la = np.maximum(np.hypot(a[..., 0], a[..., 1]), DBL_MIN)
-        lb = np.maximum(np.hypot(b[..., 0], b[..., 1]), DBL_MIN)
+        la = np.maximum(np.hypot(ax, ay), DBL_MIN)
+        lb = np.maximum(np.hypot(bx, by), DBL_MIN)
         top = (1 - AREA_SHARE) * 2 * la * lb / self.area + AREA_SHARE * (det * det + 1)
         d_shape = (1 - AREA_SHARE) * 2 / (chi * self.area)
-        d_det = (self.turn * (AREA_SHARE * 2 * det / chi - top / (chi * root)) / self.area)[
-            ..., None
-        ]
-        ga = (d_shape * lb / la)[..., None] * a + d_det * np.stack([b[..., 1], -b[..., 0]], -1)
-        gb = (d_shape * la / lb)[..., None] * b + d_det * np.stack([-a[..., 1], a[..., 0]], -1)
+        d_det = self.turn * (AREA_SHARE * 2 * det / chi - top / (chi * root)) / self.area
+        along_a, along_b = d_shape * lb / la, d_shape * la / lb
+        # the gradients by a and b: along themselves, and d_det times (b_y, -b_x), (-a_y, a_x)
+        ga = (along_a * ax + d_det * by, along_a * ay - d_det * bx)
+        gb = (along_b * bx - d_det * ay, along_b * by + d_det * ax)
         # a runs to corner k + 1, b to corner k - 1: each corner gets its own and its
         # neighbours' parts
-        per_corner = np.roll(ga, 1, axis=0) + np.roll(gb, -1, axis=0) - ga - gb
-        full = np.stack(
-            [
-                np.bincount(self.index.ravel(), per_corner[..., c].ravel(), self.free.size)
-                for c in (0, 1)
-            ],
-            axis=-1,
-        ).reshape(g.shape)
-        return float((top / chi).sum()), full[self.free].ravel()
+        size, out = self.free.size, np.empty((self.free_nodes.size, 2))
+        for c in (0, 1):
+            per_corner = ga[c][_PREVIOUS] + gb[c][_NEXT] - ga[c] - gb[c]
+            out[:, c] = np.bincount(self.index.ravel(), per_corner.ravel(), size)[self.free_nodes]
+        return float((top / chi).sum()), out.ravel()
+
+
+# The corner after and before each of a cell's four (axis 0 of _Corners' arrays)
+_NEXT = [1, 2, 3, 0]
+_PREVIOUS = [3, 0, 1, 2]
 
 
 def _corners(g: np.ndarray) -> list[np.ndarray]:
