@@ -41,6 +41,7 @@ RULES = (
     ("blended start, 1, 1/4, 1/8, settled (15)", "blend", (1.0, 1 / 4, 1 / 8), (15, 0.05, 0.25)),
     ("blended start, 1, 1/2, 1/8, settled (15)", "blend", (1.0, 1 / 2, 1 / 8), (15, 0.05, 0.25)),
     ("blended start, 1, 1/8, settled (15)", "blend", (1.0, 1 / 8), (15, 0.05, 0.25)),
+    ("blended start, 2, 1/2, 1/8, settled (15)", "blend", (2.0, 1 / 2, 1 / 8), (15, 0.05, 0.25)),
 )
 
 

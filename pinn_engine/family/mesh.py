@@ -61,14 +61,15 @@ DEFECT_STEPS = 6  # chord steps tried (0.3 ms each at 41 x 21; the default solve
 # Each stage of a four-sided member's polish stops once 15 iterations lowered its best-ranked
 # worst angle by under 0.05 degrees (or it is its held corners'), keeping the state of least
 # mean within 0.25 of it (Settle): with the stages below, on 96 unseen channels of six draws
-# it left each within 0.03 of its own worst and 0.40 of its mean at a median 103 evaluations
+# it left each within 0.03 of its own worst and 0.39 of its mean at a median 87 evaluations
 # (its own run: 173); a window of 10 left one 0.57 above (docs/family.md, "The polish")
 POLISH_SETTLE = (15, 0.05, 0.25)
-# The polish's stages (temperatures in QUALITY_TAU's): the own run's first (1 degree moves the
-# band of near-worst cells) and last (1/8: the own run's grids are its end), and 1/2 between;
-# with the own run's 1/4 stage too it ended as near the own grids at a median 121 evaluations
-# (the same channels), with 1/8 alone after 1 degree up to 0.58 above an own grid's mean
-POLISH_SHARPENING = (1.0, 1 / 2, 1 / 8)
+# The polish's stages (temperatures in QUALITY_TAU's), each a quarter of the one before and
+# the last the own run's (its grids are that stage's end): the model's grid misses its own
+# optimum in many cells across the grid, and 2 degrees moves that band together; from 1 degree
+# (1, 1/2, 1/8) the median was 103 evaluations, with the own run's four stages 121 (the same
+# channels), with 1 and 1/8 alone up to 0.58 above an own grid's mean
+POLISH_SHARPENING = (2.0, 1 / 2, 1 / 8)
 KEPT_MODELS = 4  # family models kept loaded in a process (a batch worker meshes many members)
 _LOADED: OrderedDict[tuple, FamilyModel] = OrderedDict()
 
