@@ -21,9 +21,11 @@ Usage: ``.venv/bin/python benchmarks/peers.py [--construct2d PATH] [--runs 3]
   ``benchmarks/multiblock_gmsh.py``); the model's build and meshing in this process, without
   the import.
 
-Each job runs ``--runs`` times, the tools alternating; the table shows the medians and the
-ratios of pinn-mesh's times to the peer's. With ``--out`` the table replaces the part of
-that page between the PEERS markers.
+Each job runs ``--runs`` times, the tools alternating; the table shows the median wall times
+and the ratios of pinn-mesh's times to the peer's, then the median CPU times (user and system:
+a command's own and its children's, gmsh's this process's) and the default's ratio, which a
+shared machine's load disturbs less than the wall times. With ``--out`` the table replaces
+the part of that page between the PEERS markers.
 """
 
 from __future__ import annotations
@@ -31,6 +33,7 @@ from __future__ import annotations
 import argparse
 import os
 import re
+import resource
 import shutil
 import statistics
 import subprocess
@@ -63,16 +66,22 @@ MARK = "<!-- PEERS {} -->"  # the markers round the table in --out
 # the jobs' groups: Construct2D's airfoils, the DFG blocks and the duct (blockMesh and gmsh
 # given pinn-mesh's blocks), the blockMeshDicts read by both
 GROUPS = ("airfoils", "blocks", "dictionaries")
+Timer = Callable[[], tuple[float, float]]  # a run's wall and CPU seconds
+Timers = dict[str, Timer]  # pinn-mesh's default and elliptic, or the peers
 
 
-def seconds(command: list[str], **kwargs) -> float:
-    """The wall time of ``command`` (it must succeed)."""
+def seconds(command: list[str], **kwargs) -> tuple[float, float]:
+    """The wall time of ``command`` (it must succeed) and its CPU time (user and system, its
+    own and its waited-for children's)."""
+    used = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
     subprocess.run(command, check=True, capture_output=True, timeout=900, **kwargs)
-    return time.perf_counter() - start
+    took = time.perf_counter() - start
+    now = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return took, (now.ru_utime - used.ru_utime) + (now.ru_stime - used.ru_stime)
 
 
-def pinn_mesh(args: list[str], out: Path) -> dict[str, Callable[[], float]]:
+def pinn_mesh(args: list[str], out: Path) -> Timers:
     """The default and elliptic commands on ``args``, each a timer.
 
     They run with Python's bytecode cache written and read, as an installed package's
@@ -87,7 +96,7 @@ def pinn_mesh(args: list[str], out: Path) -> dict[str, Callable[[], float]]:
     }
 
 
-def construct2d(dat: Path, size: tuple[int, int], topology: str) -> tuple[Callable, float]:
+def construct2d(dat: Path, size: tuple[int, int], topology: str) -> tuple[Timer, float]:
     """Construct2D's timer on ``dat`` (an O- or C-grid of ``size``, smoothed) and its grid's
     first-layer height."""
     if topology == "c":  # its surface points are ni less 2 x its 50 wake points
@@ -96,7 +105,7 @@ def construct2d(dat: Path, size: tuple[int, int], topology: str) -> tuple[Callab
         menu = f"SOPT\nNSRF\n{size[0]}\nQUIT\nVOPT\nTOPO\nOGRD\n"
     menu += f"JMAX\n{size[1]}\nQUIT\nGRID\nSMTH\nQUIT\n"
 
-    def run() -> float:
+    def run() -> tuple[float, float]:
         return seconds([CONSTRUCT2D, dat.name], input=menu.encode(), cwd=dat.parent)
 
     run()
@@ -129,7 +138,7 @@ def write_dictionary(case: Path, vertices, body: list[str]) -> None:
     (case / "system" / "blockMeshDict").write_text("\n".join([*lines, ");", *body]) + "\n")
 
 
-def block_mesh(case: Path, cells: int, vertices, blocks, edges) -> Callable[[], float]:
+def block_mesh(case: Path, cells: int, vertices, blocks, edges) -> Timer:
     """A blockMesh case of ``vertices`` (x, y, z), ``blocks`` (8 vertex ids, 3 counts) and
     ``edges`` (a, b, interior points): its timer, once it made ``cells`` cells."""
     body = ["blocks ("]
@@ -179,28 +188,26 @@ def dfg_blocks(lay) -> tuple[list, list, list]:
     return vertices, blocks, edges
 
 
-def gmsh_timer(lay) -> Callable[[], float]:
-    """gmsh's transfinite and smoothed DFG blocks: the model's build and meshing."""
+def gmsh_timer(lay) -> Timer:
+    """gmsh's transfinite and smoothed DFG blocks: the model's build and meshing (wall and
+    this process's CPU time)."""
     import gmsh
     from multiblock_gmsh import gmsh_model
 
-    def run() -> float:
+    def run() -> tuple[float, float]:
         gmsh.initialize()
         gmsh.option.setNumber("General.Terminal", 0)
-        start = time.perf_counter()
+        start, cpu = time.perf_counter(), time.process_time()
         gmsh_model(lay, SMOOTHING)
         gmsh.model.mesh.generate(2)
-        took = time.perf_counter() - start
+        took = time.perf_counter() - start, time.process_time() - cpu
         gmsh.finalize()
         return took
 
     return run
 
 
-Timers = dict[str, Callable[[], float]]  # pinn-mesh's default and elliptic, or the peers
-
-
-def airfoil_jobs(work: Path) -> list[tuple[str, list[str], Callable[[], float]]]:
+def airfoil_jobs(work: Path) -> list[tuple[str, list[str], Timer]]:
     """The airfoil jobs: each one's name, pinn-mesh's arguments (Construct2D's first layer and
     far field) and Construct2D's timer."""
     out = []
@@ -289,20 +296,24 @@ def write_between(page: Path, mark: str, text: str) -> None:
     page.write_text(f"{head}{begin}\n{text}\n{end}{rest.split(end, 1)[1]}")
 
 
-def table(rows: list[tuple[str, str, dict[str, float]]], runs: int, load: tuple) -> str:
-    """The Markdown table: a row a job and peer, the medians and the ratios."""
+def table(rows: list[tuple[str, str, dict, dict]], runs: int, load: tuple) -> str:
+    """The Markdown table: a row a job and peer, the median wall times and their ratios, then
+    the median CPU times and their ratio (the default's to the peer's)."""
     lines = [
         f"Medians of {runs} runs a tool, alternating; load average {load[0]:.1f} before, "
-        f"{load[1]:.1f} after, on 2 shared cores.",
+        f"{load[1]:.1f} after, on 2 shared cores.\nWall seconds, then CPU seconds (user and "
+        "system).",
         "",
         "| job | peer | pinn-mesh (s) | `--method elliptic` (s) | peer (s) | ratio | "
-        "elliptic's ratio |",
-        "|---|---|---:|---:|---:|---:|---:|",
+        "elliptic's ratio | CPU: pinn-mesh, elliptic, peer (s) | CPU ratio |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|",
     ]
-    for name, peer, t in rows:
+    for name, peer, t, c in rows:
         lines.append(
             f"| {name} | {peer} | {t['default']:.2f} | {t['elliptic']:.2f} | {t['peer']:.2f} | "
-            f"{t['default'] / t['peer']:.1f}x | {t['elliptic'] / t['peer']:.1f}x |"
+            f"{t['default'] / t['peer']:.1f}x | {t['elliptic'] / t['peer']:.1f}x | "
+            f"{c['default']:.2f}, {c['elliptic']:.2f}, {c['peer']:.2f} | "
+            f"{c['default'] / c['peer']:.1f}x |"
         )
     return "\n".join(lines)
 
@@ -326,10 +337,12 @@ def main() -> None:
             for _ in range(opts.runs):
                 for key, timer in timers.items():
                     times[key].append(timer())
-            medians = {key: statistics.median(t) for key, t in times.items()}
-            print(name, {k: round(v, 2) for k, v in medians.items()}, flush=True)
+            wall = {key: statistics.median(w for w, _ in t) for key, t in times.items()}
+            cpu = {key: statistics.median(c for _, c in t) for key, t in times.items()}
+            print(name, "wall", {k: round(v, 2) for k, v in wall.items()}, flush=True)
+            print(name, "CPU", {k: round(v, 2) for k, v in cpu.items()}, flush=True)
             for peer in peers:
-                rows.append((name, peer, {**medians, "peer": medians[peer]}))
+                rows.append((name, peer, {**wall, "peer": wall[peer]}, {**cpu, "peer": cpu[peer]}))
     text = table(rows, opts.runs, (before, os.getloadavg()[0]))
     print(text)
     if opts.out:
