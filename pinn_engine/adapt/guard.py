@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pinn_engine.adapt.error import interpolation_error
-from pinn_engine.adapt.nearest import nearest_within
+from pinn_engine.adapt.nearest import Slide, nearest_within
 from pinn_engine.adapt.nodes import NodeGraph
 from pinn_engine.adapt.parametric import ParameterSpace
 from pinn_engine.adapt.pieces import Piece, Solved, pieces_of
@@ -44,12 +44,10 @@ GENTLE = 0.9
 # also drawn back: a front's compression kept whole at a lower amplitude (the lowering cuts
 # it where it is strongest); the candidate carrying the field best is kept
 BLENDS = (1.0, 0.8, 0.6, 0.4)
-# the candidates, least error first, whose nearest grid within the bound is sought, at
-# most: a candidate a cell or two folded often has one, one folded wide seldom
-NEAREST_TRIES = 2
 # rings of cells round the offending ones whose nodes move to reach the bound: a sheared
 # cell is straightened by its neighbours taking up the move, the rest of the grid stays
 NEAREST_RINGS = 4
+REFLEX = 180.0  # degrees: a cell with a corner above it folds
 
 
 @dataclass
@@ -240,9 +238,11 @@ def _nearest(
     bound: float,
 ) -> list[tuple]:
     """The grid nearest one of ``sources`` (solved, share, blend) within ``limit``
-    (interior nodes moved, boundary nodes kept), as a source: the sources that break the
-    guard tried in the order of the field's error on their scaled moves, ``NEAREST_TRIES``
-    at most, the first whose nearest grid keeps the guard; none where none does."""
+    (interior nodes moved, boundary nodes slid along their pieces, the pieces' ends kept),
+    as a source: of the sources that break the guard and carry the field better than
+    ``bound``, the one of least error and the one of fewest offending cells (the nearest
+    the bound), drawn back until no cell folds, the first whose nearest grid keeps the
+    guard; none where none does."""
     pieces = pieces_of(graph)
     quads, orientation, folded = graph.lattice_cells
     free = ~graph.held
@@ -250,18 +250,30 @@ def _nearest(
         free[piece] = False
     scaled = []
     for solved, share, blend in sources:
-        points, params = _scaled(graph, pieces, solved, np.full(len(graph.points), blend))
+        points, _ = _scaled(graph, pieces, solved, np.full(len(graph.points), blend))
         if offending(graph, points, limit).any():
-            scaled.append((error(points), points, params, solved, share))
-    scaled = sorted((s for s in scaled if s[0] < bound), key=lambda s: s[0])
-    for _, points, params, solved, share in scaled[:NEAREST_TRIES]:
+            bad = int(offending(graph, points, limit).sum())
+            scaled.append((error(points), bad, solved, share, blend))
+    scaled = [s for s in scaled if s[0] < bound]
+    if not scaled:
+        return []
+    least_error, fewest = (min(scaled, key=lambda s: s[k]) for k in (0, 1))
+    for _, _, solved, share, blend in [least_error] + [fewest] * (fewest is not least_error):
+        # a folded cell does not unfold by lowering its angles: drawn back first
+        unfolded = _drawn_back(graph, solved, share, REFLEX, [], blend, error, np.inf).solved
+        points, params = unfolded.points, unfolded.params
         cells = _rings(graph, offending(graph, points, limit), NEAREST_RINGS)
-        moving = free & np.isin(np.arange(len(points)), quads[cells])
-        near = nearest_within(
-            points, quads[cells], orientation[cells], moving, limit, ~folded[cells]
+        near = np.isin(np.arange(len(points)), quads[cells])
+        inner = [np.flatnonzero(near[p.ids[1:-1]]) + 1 for p in pieces]  # the ends stay
+        slides = [Slide(p.ids[k], s[k], p.curve) for p, s, k in zip(pieces, params, inner)]
+        moved, arcs = nearest_within(
+            points, quads[cells], orientation[cells], free & near, limit, ~folded[cells], slides
         )
-        if not offending(graph, near, limit).any():
-            return [(Solved(near, params, solved.monitor, solved.steps), share, 1.0)]
+        if not offending(graph, moved, limit).any():
+            slid = [s.copy() for s in params]
+            for s, k, arc in zip(slid, inner, arcs):
+                s[k] = arc
+            return [(Solved(moved, slid, solved.monitor, solved.steps), share, 1.0)]
     return []
 
 

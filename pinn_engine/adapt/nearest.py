@@ -1,11 +1,15 @@
-"""The grid nearest an adapted one that keeps SPEC 14's guard: the interior nodes moved as
-little as they can be (each in units of its shortest edge) so that no corner exceeds the
-guard's limit. A quadratic penalty on every corner angle over the limit, raised in turn
-until none is over (Nocedal and Wright, 17.1), minimised by L-BFGS from the adapted grid.
+"""The grid nearest an adapted one that keeps SPEC 14's guard: the interior nodes moved, and
+boundary nodes slid along their curves, as little as they can be (each in units of its
+shortest edge) so that no corner exceeds the guard's limit. A quadratic penalty on every
+corner angle over the limit, raised in turn until none is over (Nocedal and Wright, 17.1),
+minimised by L-BFGS from the adapted grid.
 Drawing the adapted grid back toward the unadapted one gives up the front's compression
 where a cell is sheared; the nearest grid shears the cell back and keeps the compression."""
 
 from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import minimize
@@ -18,6 +22,16 @@ PENALTIES = (1.0, 10.0, 100.0)
 # little over its aim (the move's pull against it), so the limit itself is kept
 MARGIN = 0.5
 ITERATIONS = 200  # L-BFGS iterations a weight, at most (a 41 x 31 grid settles in 30-150)
+
+
+@dataclass
+class Slide:
+    """Boundary nodes ``ids`` that slide along ``curve`` (a function of arc length with a
+    ``derivative``), from their arc lengths ``s``."""
+
+    ids: np.ndarray
+    s: np.ndarray
+    curve: Callable
 
 
 def corner_angles(
@@ -74,35 +88,49 @@ def nearest_within(
     free: np.ndarray,
     limit: float,
     guarded: np.ndarray,
-) -> np.ndarray:
-    """``points`` (n, 2) with the ``free`` nodes moved least so that no corner of the
-    ``guarded`` cells (m,) of ``quads`` (m, 4, orientation ``turn``) exceeds ``limit``
-    degrees: the penalty's minimum at its last weight, or at the first weight that leaves
-    no corner over the limit."""
+    slides: Sequence[Slide] = (),
+) -> tuple[np.ndarray, list[np.ndarray]]:
+    """``points`` (n, 2) with the ``free`` nodes moved and the ``slides``' nodes slid along
+    their curves least so that no corner of the ``guarded`` cells (m,) of ``quads`` (m, 4,
+    orientation ``turn``) exceeds ``limit`` degrees: the penalty's minimum at its last
+    weight, or at the first weight that leaves no corner over the limit; and each slide's
+    arc lengths."""
     index = np.flatnonzero(free)
-    unit = _units(points, quads)[index, None]
+    units = _units(points, quads)
+    unit = units[index, None]
+    along = [units[slide.ids] for slide in slides]
+    tangents = [slide.curve.derivative() for slide in slides]
     aim = np.deg2rad(limit - MARGIN)
     weight = np.zeros(len(quads))
     weight[guarded] = 1.0
+    cut = np.cumsum([2 * len(index)] + [len(slide.ids) for slide in slides])
 
-    def moved(x: np.ndarray) -> np.ndarray:
+    def moved(x: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:
         out = points.copy()
-        out[index] += unit * x.reshape(-1, 2)
-        return out
+        out[index] += unit * x[: cut[0]].reshape(-1, 2)
+        arcs = [s.s + u * x[a:b] for s, u, a, b in zip(slides, along, cut[:-1], cut[1:])]
+        for slide, arc in zip(slides, arcs):
+            out[slide.ids] = slide.curve(arc)
+        return out, arcs
 
-    x = np.zeros(2 * len(index))
+    x = np.zeros(cut[-1])
     for penalty in PENALTIES:
         scale = penalty * np.rad2deg(1.0) ** 2  # the penalty counts degrees
 
         def loss(x: np.ndarray, scale: float = scale) -> tuple[float, np.ndarray]:
-            theta, parts = corner_angles(moved(x), quads, turn)
+            at, arcs = moved(x)
+            theta, parts = corner_angles(at, quads, turn)
             over = np.maximum(theta - aim, 0.0) * weight[:, None]
             grad = angle_gradient(2 * scale * over, quads, turn, parts, len(points))
+            by_arc = [
+                u * (grad[slide.ids] * tangent(arc)).sum(axis=1)
+                for slide, u, tangent, arc in zip(slides, along, tangents, arcs)
+            ]
             value = float(x @ x + scale * (over**2).sum())
-            return value, 2 * x + (grad[index] * unit).ravel()
+            return value, 2 * x + np.concatenate([(grad[index] * unit).ravel(), *by_arc])
 
         x = minimize(loss, x, jac=True, method="L-BFGS-B", options={"maxiter": ITERATIONS}).x
-        theta, _ = corner_angles(moved(x), quads, turn)
+        theta, _ = corner_angles(moved(x)[0], quads, turn)
         if not (np.rad2deg(theta[guarded]) > limit).any():
             break
     return moved(x)

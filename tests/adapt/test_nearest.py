@@ -8,9 +8,10 @@ import pytest
 
 from pinn_engine.adapt.error import interpolation_error
 from pinn_engine.adapt.guard import _drawn_back, offending
-from pinn_engine.adapt.nearest import angle_gradient, corner_angles, nearest_within
+from pinn_engine.adapt.nearest import Slide, angle_gradient, corner_angles, nearest_within
 from pinn_engine.adapt.nodes import lattice_quads, node_graph
 from pinn_engine.adapt.parametric import ParameterSpace
+from pinn_engine.adapt.pieces import Piece
 from pinn_engine.quality import cell_quality
 
 LIMIT = 100.0  # a square grid's worst cell (90 degrees) plus the guard's 10
@@ -61,7 +62,31 @@ def test_the_nearest_grid_keeps_the_bound_and_more_of_the_front_than_drawing_bac
     free = ~graph.held
     for piece in graph.pieces:
         free[piece] = False
-    near = nearest_within(solved.points, quads, turn, free, LIMIT, ~folded)
+    near, _ = nearest_within(solved.points, quads, turn, free, LIMIT, ~folded)
     assert not offending(graph, near, LIMIT).any()
     assert np.allclose(near[~free], solved.points[~free])
     assert error(near) < 0.95 * drawn.error
+
+
+def test_a_boundary_node_slides_along_its_piece_to_the_bound():
+    """A bottom-side node pushed along its side shears its two cells past the bound; with
+    every interior node held and the side's ends kept, it slides back along the side (y
+    stays 0) until they keep it."""
+    x, y = np.meshgrid(np.linspace(0.0, 1.0, 5), np.linspace(0.0, 1.0, 5))
+    grid = np.stack([x, y], axis=-1)
+    graph = node_graph([grid])
+    bottom = graph.pieces[[k for k, p in enumerate(graph.pieces) if 2 in p][0]]
+    piece = Piece(bottom, graph.points)
+    arcs = piece.s.copy()
+    node = int(np.flatnonzero(bottom == 2)[0])
+    arcs[node] += 0.15  # of a side 1 long, cells 0.25 wide
+    points = graph.points.copy()
+    points[bottom] = piece.curve(arcs)
+    quads, turn, folded = graph.lattice_cells
+    assert offending(graph, points, LIMIT).any()
+    free = np.zeros(len(points), dtype=bool)
+    moved, (slid,) = nearest_within(
+        points, quads, turn, free, LIMIT, ~folded, [Slide(bottom[1:-1], arcs[1:-1], piece.curve)]
+    )
+    assert not offending(graph, moved, LIMIT).any()
+    assert np.allclose(moved[bottom, 1], 0.0) and 0.0 < slid[node - 1] - piece.s[node] < 0.15
