@@ -150,7 +150,8 @@ def test_an_untrained_body_grid_is_the_start_its_trained_network_kept():
     assert np.array_equal(skipped.points, trained)
     report = skipped.report
     assert report["training"]["skipped"] == THIN
-    assert set(report["timings"]) == {"layout", "elliptic", "training", "quality"}
+    assert set(report["timings"]) == {"layout", "elliptic", "start", "training", "quality"}
+    assert report["timings"]["training"] == report["train_seconds"] == 0.0  # none trained
     code = (
         "import sys; from pinn_engine.bodies.airfoil import circle, load_body;"
         "from pinn_engine.kinds.body.mesh import mesh_body; b = load_body(naca='0012');"
