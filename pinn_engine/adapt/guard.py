@@ -251,8 +251,8 @@ def _nearest(
     scaled = []
     for solved, share, blend in sources:
         points, _ = _scaled(graph, pieces, solved, np.full(len(graph.points), blend))
-        if offending(graph, points, limit).any():
-            bad = int(offending(graph, points, limit).sum())
+        bad = int(offending(graph, points, limit).sum())
+        if bad:
             scaled.append((error(points), bad, solved, share, blend))
     scaled = [s for s in scaled if s[0] < bound]
     if not scaled:
