@@ -57,6 +57,9 @@ PATIENCE = 20
 FIRST = 0.01  # a first step's largest move, a share of the median edge: no fold to back off
 BACKTRACKS = 8  # halvings of a step before the memory is dropped
 ARMIJO = 1e-4  # the share of the slope's predicted fall a step must achieve
+# a quadrilateral's next and previous corners counter-clockwise: np.roll's rows, without
+# its cost per call (the section's evaluations are many and small)
+NEXT, PREVIOUS = [1, 2, 3, 0], [3, 0, 1, 2]
 
 
 @dataclass
@@ -251,7 +254,8 @@ def _unrot(g: np.ndarray) -> np.ndarray:
 
 
 def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return np.einsum("ij,ij->i", a, b)
+    """Each row's dot product (m, 2)."""
+    return a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1]
 
 
 def _unit_back(g: np.ndarray, u: np.ndarray, length: np.ndarray) -> np.ndarray:
@@ -270,34 +274,37 @@ def figures(xy: np.ndarray, sec: Section) -> tuple[np.ndarray, np.ndarray, np.nd
 def _forward(xy: np.ndarray, sec: Section) -> dict:
     # each quadrilateral's corners (4, m) and the next corners, counter-clockwise
     x, y = xy[sec.quads.T, 0], xy[sec.quads.T, 1]
-    x1, y1 = np.roll(x, -1, axis=0), np.roll(y, -1, axis=0)
+    x1, y1 = x[NEXT], y[NEXT]
     w = x * y1 - x1 * y
     area = 0.5 * w.sum(axis=0)
     moment = np.stack([((x + x1) * w).sum(axis=0), ((y + y1) * w).sum(axis=0)], axis=1)
     centre = moment / (6 * area[:, None])
-    x0, y0 = np.roll(x, 1, axis=0), np.roll(y, 1, axis=0)
+    x0, y0 = x[PREVIOUS], y[PREVIOUS]
     turn = ((x - x0) * (y1 - y) - (y - y0) * (x1 - x)).min(axis=0)
-    p, q, a, b = (sec.inner[:, k] for k in range(4))
-    e = xy[q] - xy[p]
+    p, q, a, b = sec.inner.T
+    # np.take: several times faster than [ids] on these (m, 2) rows
+    xp, xq, ca = np.take(xy, p, axis=0), np.take(xy, q, axis=0), np.take(centre, a, axis=0)
+    e = xq - xp
     n = _rot(e)
-    length = np.linalg.norm(e, axis=1)
-    d = centre[b] - centre[a]
-    dist = np.linalg.norm(d, axis=1)
+    length = _length(e)
+    d = np.take(centre, b, axis=0) - ca
+    dist = _length(d)
     nd = _dot(n, d)
     cos = nd / (length * dist)
     angle = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
     u = e / length[:, None]
-    cpf = 0.5 * (xy[p] + xy[q]) - centre[a]
+    cpf = 0.5 * (xp + xq) - ca
     alpha, beta, gamma = _dot(u, cpf), _dot(n, cpf), _dot(u, d)
     r = alpha - beta * gamma / nd
     wide = 0.2 * dist >= 0.5 * length
     reach = np.where(wide, 0.2 * dist, 0.5 * length)
     skew = np.abs(r) / reach
-    bp, bq, ba = (sec.outer[:, k] for k in range(3))
-    be = xy[bq] - xy[bp]
-    blength = np.linalg.norm(be, axis=1)
+    bp, bq, ba = sec.outer.T
+    bxp, bxq = np.take(xy, bp, axis=0), np.take(xy, bq, axis=0)
+    be = bxq - bxp
+    blength = _length(be)
     bu = be / blength[:, None]
-    bcpf = 0.5 * (xy[bp] + xy[bq]) - centre[ba]
+    bcpf = 0.5 * (bxp + bxq) - np.take(centre, ba, axis=0)
     along = _dot(bu, bcpf)
     normal = _dot(_rot(bu), bcpf)
     bwide = 0.4 * np.abs(normal) >= 0.5 * blength
@@ -320,8 +327,10 @@ def objective(xy: np.ndarray, sec: Section, bound: float) -> tuple[float, np.nda
     over = np.maximum(f["skew"] - bound, 0.0)
     bover = np.maximum(f["bskew"] - bound, 0.0)
     value = top + np.log(total) / SOFTNESS + PENALTY * (over @ over + bover @ bover)
-    # the gradient over the faces that count: near the largest angle or over the bound
-    live = np.flatnonzero((weight > FAINT * total) | (over > 0))
+    # the gradient over the faces that count: near the largest angle or over the bound (a
+    # slice where every face counts, as under a largest angle below 28 degrees: no copies)
+    counts = (weight > FAINT * total) | (over > 0)
+    live = slice(None) if counts.all() else np.flatnonzero(counts)
     n, d, length, dist, cos, r, reach, nd, beta, gamma, u, cpf, wide = (
         f[k][live]
         for k in ("n", "d", "length", "dist", "cos", "r", "reach", "nd", "beta", "gamma")
@@ -332,24 +341,31 @@ def objective(xy: np.ndarray, sec: Section, bound: float) -> tuple[float, np.nda
     g_cos = -(weight[live] / total) * np.degrees(1.0) / sin
     g_d = g_cos[:, None] * (n / (length * dist)[:, None] - (cos / dist**2)[:, None] * d)
     g_n = g_cos[:, None] * (d / (length * dist)[:, None] - (cos / length**2)[:, None] * n)
-    # the skewness's part: |r| / reach
-    g_s = 2 * PENALTY * over[live]
-    g_r = g_s * np.sign(r) / reach
-    g_reach = -g_s * np.abs(r) / reach**2
-    g_cpf = g_r[:, None] * (u - (gamma / nd)[:, None] * n)
-    g_d += g_r[:, None] * (-(beta / nd)[:, None] * u + (beta * gamma / nd**2)[:, None] * n)
-    g_u = g_r[:, None] * (cpf - (beta / nd)[:, None] * d)
-    g_n += g_r[:, None] * (-(gamma / nd)[:, None] * cpf + (beta * gamma / nd**2)[:, None] * d)
-    g_d += np.where(wide, g_reach * 0.2 / dist, 0.0)[:, None] * d
-    g_e = _unrot(g_n) + _unit_back(g_u, u, length)
-    g_e += np.where(wide, 0.0, g_reach * 0.5)[:, None] * u
+    # the skewness's part, |r| / reach, on the faces over the bound (zero on the others)
+    sk = np.flatnonzero(over[live] > 0)
+    g_cpf = np.zeros_like(n)
+    g_e = _unrot(g_n)
+    if len(sk):
+        n, d, length, dist, r, reach, nd, beta, gamma, u, cpf, wide = (
+            v[sk] for v in (n, d, length, dist, r, reach, nd, beta, gamma, u, cpf, wide)
+        )
+        g_s = 2 * PENALTY * over[live][sk]
+        g_r = g_s * np.sign(r) / reach
+        g_reach = -g_s * np.abs(r) / reach**2
+        g_cpf[sk] = g_r[:, None] * (u - (gamma / nd)[:, None] * n)
+        g_d[sk] += g_r[:, None] * (-(beta / nd)[:, None] * u + (beta * gamma / nd**2)[:, None] * n)
+        g_u = g_r[:, None] * (cpf - (beta / nd)[:, None] * d)
+        turned = g_r[:, None] * (-(gamma / nd)[:, None] * cpf + (beta * gamma / nd**2)[:, None] * d)
+        g_d[sk] += np.where(wide, g_reach * 0.2 / dist, 0.0)[:, None] * d
+        g_e[sk] = _unrot(g_n[sk] + turned) + _unit_back(g_u, u, length)
+        g_e[sk] += np.where(wide, 0.0, g_reach * 0.5)[:, None] * u
     grad = np.zeros_like(xy)
     g_centre = np.zeros((len(sec.quads), 2))
     p, q, a, b = sec.inner[live].T
-    _add(grad, q, g_e + 0.5 * g_cpf)
-    _add(grad, p, -g_e + 0.5 * g_cpf)
-    _add(g_centre, b, g_d)
-    _add(g_centre, a, -g_d - g_cpf)
+    _add(grad, q, (g_e + 0.5 * g_cpf).T)
+    _add(grad, p, (-g_e + 0.5 * g_cpf).T)
+    _add(g_centre, b, g_d.T)
+    _add(g_centre, a, (-g_d - g_cpf).T)
     # the boundary faces' skewness: |along| / breach
     blive = np.flatnonzero(bover > 0)
     g_b = 2 * PENALTY * bover[blive]
@@ -363,25 +379,32 @@ def objective(xy: np.ndarray, sec: Section, bound: float) -> tuple[float, np.nda
     g_bu = g_along[:, None] * bcpf + _unrot(g_normal[:, None] * bcpf)
     g_be = _unit_back(g_bu, bu, blength) + np.where(bwide, 0.0, g_breach * 0.5)[:, None] * bu
     bp, bq, ba = sec.outer[blive].T
-    _add(grad, bq, g_be + 0.5 * g_bcpf)
-    _add(grad, bp, -g_be + 0.5 * g_bcpf)
-    _add(g_centre, ba, -g_bcpf)
+    _add(grad, bq, (g_be + 0.5 * g_bcpf).T)
+    _add(grad, bp, (-g_be + 0.5 * g_bcpf).T)
+    _add(g_centre, ba, -g_bcpf.T)
     # the centroids: moment / (6 area), through each corner's share of the moment and area
     x, y, x1, y1, w, area, centre = (f[k] for k in ("x", "y", "x1", "y1", "w", "area", "centre"))
     g_mx, g_my = (g_centre / (6 * area)[:, None]).T
     g_area = -_dot(g_centre, centre) / area
     g_w = g_mx * (x + x1) + g_my * (y + y1) + 0.5 * g_area
-    g_x = g_mx * w + g_w * y1 + np.roll(g_mx * w - g_w * y, 1, axis=0)
-    g_y = g_my * w - g_w * x1 + np.roll(g_my * w + g_w * x, 1, axis=0)
-    _add(grad, sec.quads.T.ravel(), np.stack([g_x.ravel(), g_y.ravel()], axis=1))
+    g_x = g_mx * w + g_w * y1 + (g_mx * w - g_w * y)[PREVIOUS]
+    g_y = g_my * w - g_w * x1 + (g_my * w + g_w * x)[PREVIOUS]
+    _add(grad, sec.quads.T.ravel(), (g_x.ravel(), g_y.ravel()))
     skew = max(f["skew"].max(initial=0.0), f["bskew"].max(initial=0.0))
     return float(value), grad, float(top), float(skew)
 
 
-def _add(out: np.ndarray, at: np.ndarray, values: np.ndarray) -> None:
-    """``out[at] += values`` with repeated indices summed (a bincount per coordinate)."""
-    for c in range(out.shape[1]):
-        out[:, c] += np.bincount(at, weights=values[:, c], minlength=len(out))
+def _add(out: np.ndarray, at: np.ndarray, columns: np.ndarray | tuple[np.ndarray, ...]) -> None:
+    """``out[at, c] += columns[c]`` with repeated indices summed (a bincount per coordinate;
+    ``columns``: a sequence of 1-D arrays, or a 2-D array's transpose)."""
+    for c, column in enumerate(columns):
+        out[:, c] += np.bincount(at, weights=column, minlength=len(out))
+
+
+def _length(v: np.ndarray) -> np.ndarray:
+    """Each row's length (m, 2): ``np.linalg.norm(v, axis=1)``'s sums, without its reduction
+    along rows of two (several times slower)."""
+    return np.sqrt(v[:, 0] * v[:, 0] + v[:, 1] * v[:, 1])
 
 
 def least_non_orthogonal(xy: np.ndarray, sec: Section, bound: float) -> np.ndarray:
@@ -465,6 +488,6 @@ def start_of(points: np.ndarray, sec: Section) -> np.ndarray:
     """The section's nodes (section nodes x 2) of a 3D grid: each column's mean in-plane
     coordinates (a solved grid's layers agree to the solve's tolerance)."""
     total = np.zeros((len(sec.nodes), 2))
-    _add(total, sec.column, points[:, sec.plane])
+    _add(total, sec.column, points[:, sec.plane].T)
     count = np.bincount(sec.column, minlength=len(sec.nodes))
     return total / count[:, None]
