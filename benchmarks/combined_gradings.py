@@ -2,8 +2,8 @@
 and read back: each case writes the OpenFOAM case and the ``.vtm``; checkMesh's verdict,
 its largest non-orthogonality, skewness and aspect ratio, and from the ``.vtm`` the worst
 neighbour ratio along any grid line, the lines whose cells bulge (an interior cell larger
-than both its neighbours), the first edges at the spaced walls and the cell heights on both
-sides of the step's line y = S.
+than both its neighbours), and the cell heights on both sides of the step's line y = S (the
+first edges of a grading there: their range, and their largest ratio across the line).
 
 Run ``.venv/bin/python benchmarks/combined_gradings.py`` (OpenFOAM's checkMesh on the PATH,
 else the checkMesh columns read "missing"). The step is ``example_data/step.vtp`` (S = 1,
@@ -39,6 +39,7 @@ BULGE = 1.01  # an interior cell over this times both neighbours is a bulge
 CASES: list[tuple[str, str, list[str]]] = [
     ("walls + step line", "lines", [f"--spacing=walls={WALL}", f"--spacing=3,1={LINE}"]),
     ("walls + step line", "auto", [f"--spacing=walls={WALL}", f"--spacing=3,1={LINE}"]),
+    ("step line finer than walls", "lines", [f"--spacing=walls={LINE}", f"--spacing=3,1={WALL}"]),
     ("walls", "auto", [f"--spacing=walls={WALL}"]),
     ("step line", "auto", [f"--spacing=3,1={LINE}"]),
     ("ratio 10 from the lip", "lines", ["--grading=0.5,0=10"]),
@@ -91,11 +92,18 @@ def lines_figures(path: Path) -> dict[str, str]:
                 found = below if inner[on, 1].mean() < 1.0 else above
                 found.update(zip(np.round(side[on, 0], 6), np.abs(inner[on, 1] - side[on, 1])))
     common = sorted(set(below) & set(above))
+    heights = [*below.values(), *above.values()]
+    first = f"{min(heights):.3g}..{max(heights):.3g}" if heights else "-"
     jump = "-"
     if common:
         b, a = np.array([below[x] for x in common]), np.array([above[x] for x in common])
         jump = f"{float(np.max(np.maximum(a / b, b / a))):.2f}"
-    return {"worst ratio": f"{worst:.3f}", "bulged lines": f"{bulged}/{total}", "y=S jump": jump}
+    return {
+        "worst ratio": f"{worst:.3f}",
+        "bulged lines": f"{bulged}/{total}",
+        "y=S first": first,
+        "y=S jump": jump,
+    }
 
 
 def run(name: str, edges: str, options: list[str], folder: Path) -> list[str]:
@@ -119,7 +127,7 @@ def run(name: str, edges: str, options: list[str], folder: Path) -> list[str]:
 
 def main() -> None:
     head = ["case", "edges", "options", "cells", "checkMesh", "fails but aspect", "non-orth"]
-    head += ["skewness", "aspect", "worst ratio", "bulged lines", "y=S jump"]
+    head += ["skewness", "aspect", "worst ratio", "bulged lines", "y=S first", "y=S jump"]
     print("| " + " | ".join(head) + " |")
     print("|" + "---|" * len(head))
     for name, edges, options in CASES:

@@ -253,7 +253,7 @@ def covered(outcome, geometry):
             )
             fix = f"a larger first edge in {{spacing}}, or {fix}" if spaced else fix
             outcome.report["checkmesh"] = check_blocks_skewness(outcome.grids, geometry.source, fix)
-            off = first_edges_refusal(outcome.report["walls"])
+            off = first_edges_refusal(outcome.report)
             if off is not None:
                 raise InputError(
                     f"the grid is not written: {off} (SPEC 7); {EDGES_FIX}", geometry.source

@@ -27,6 +27,7 @@ import numpy as np
 
 from pinn_engine.classical.spacing import exact_stretch
 from pinn_engine.geometry.boundary import arc_lengths
+from pinn_engine.multiblock.chains import SideItem
 from pinn_engine.multiblock.layout import side_lines
 from pinn_engine.multiblock.spacing import Requests
 from pinn_engine.settings import SIDE_NAMES
@@ -38,7 +39,8 @@ ROW_GROWTH = 1.22
 # (the bends decay over a few tens of lines; more sweeps changed no figure of the benchmarks)
 ROW_SWEEPS, ROW_PULL = 40, 0.5
 
-Grades = list[tuple[dict[tuple[int, int], int], float]]  # (chains.graded_sides, H) each
+# (the item, (block, side), its sign, H): each side a grading asks a first edge H of
+Graded = list[tuple[SideItem, tuple[int, int], int, float]]
 
 
 def _key(line: np.ndarray) -> tuple[tuple[int, ...], bool]:
@@ -49,41 +51,57 @@ def _key(line: np.ndarray) -> tuple[tuple[int, ...], bool]:
     return key, key != ids
 
 
-def _lines(ids: list[np.ndarray], grades: Grades):
+def _lines(ids: list[np.ndarray], graded: Graded):
     """Each graded line once: its key -> [H at its first node or None, H at its last], and
     its key -> the node ids of the lines beside it in the blocks listing it, aligned, each
     once."""
     asked: dict[tuple[int, ...], list] = {}
     beside: dict[tuple[int, ...], dict[tuple[int, ...], np.ndarray]] = defaultdict(dict)
-    for graded, h in grades:
-        for b, s in graded:
-            lines = side_lines(ids[b], SIDE_NAMES[s])
-            for m, line in enumerate(lines):
-                key, flip = _key(line)
-                ask = asked.setdefault(key, [None, None])
-                ask[int(flip)] = h if ask[int(flip)] is None else min(ask[int(flip)], h)
-                for other in lines[max(m - 1, 0) : m + 2 : 2] if m else lines[1:2]:
-                    aligned = other[::-1] if flip else other
-                    beside[key][tuple(int(n) for n in aligned)] = aligned
+    for _, (b, s), _, h in graded:
+        lines = side_lines(ids[b], SIDE_NAMES[s])
+        for m, line in enumerate(lines):
+            key, flip = _key(line)
+            ask = asked.setdefault(key, [None, None])
+            ask[int(flip)] = h if ask[int(flip)] is None else min(ask[int(flip)], h)
+            for other in lines[max(m - 1, 0) : m + 2 : 2] if m else lines[1:2]:
+                aligned = other[::-1] if flip else other
+                beside[key][tuple(int(n) for n in aligned)] = aligned
     return asked, {key: list(found.values()) for key, found in beside.items()}
+
+
+def graded_asks(
+    ids: list[np.ndarray], graded: Graded, boundary: np.ndarray, patches: Requests
+) -> dict[tuple[int, ...], list]:
+    """Each graded line's key -> [H at its first node or None, H at its last]: the
+    grading's H at its graded end; where the ``patches``' first edges (``spacing.requests``,
+    spread) ask an end too, the patch's at a ``boundary`` node (the wall's own first edge)
+    and the smaller of the two inside the domain (a wall's spacing carried along an
+    interface that a grading asks a smaller first edge of: the step's line)."""
+    asked = _lines(ids, graded)[0]
+    for key, ends in asked.items():
+        if key in patches:
+            at_wall = boundary[[key[0], key[-1]]]
+            ends[:] = [
+                g if p is None else p if g is None or wall else min(g, p)
+                for g, p, wall in zip(ends, patches[key][:2], at_wall)
+            ]
+    return asked
 
 
 def graded_lines(
     points: np.ndarray,
     ids: list[np.ndarray],
-    grades: Grades,
+    graded: Graded,
     boundary: np.ndarray,
     patches: Requests,
 ) -> tuple[np.ndarray, Requests]:
-    """``points`` with the nodes of every line of ``grades`` placed along it (the module's
+    """``points`` with the nodes of every line of ``graded`` placed along it (the module's
     rule), and the ``patches``' first edges (``spacing.requests``) left to
-    ``spacing.respace``: a graded line that a patch asks too takes the patch's first edge
-    at that end in its one stretching, so neither end undoes the other; ``boundary`` masks
+    ``spacing.respace``: a graded line that a patch asks too takes both in its one
+    stretching (:func:`graded_asks`), so neither end undoes the other; ``boundary`` masks
     the boundary's nodes, which stay (the layout placed them)."""
-    asked, beside = _lines(ids, grades)
-    for key, ends in asked.items():
-        if key in patches:
-            ends[:] = [g if p is None else p for g, p in zip(ends, patches[key][:2])]
+    asked = graded_asks(ids, graded, boundary, patches)
+    beside = _lines(ids, graded)[1]
     rest = {key: ask for key, ask in patches.items() if key not in asked}
     keys = [key for key in asked if not boundary[list(key)].all()]
     lines_of = np.zeros(len(points), dtype=int)
@@ -183,3 +201,43 @@ class _Stack:
         move &= lo <= hi
         s[move] = np.clip(want, lo, hi)[move]
         out[self.lines[move]] = self._at(s)[0][move]
+
+
+def graded_report(
+    points: np.ndarray,
+    ids: list[np.ndarray],
+    graded: Graded,
+    asked: dict[tuple[int, ...], list],
+    walls: dict[int, float],
+) -> dict[str, dict]:
+    """Per grading (``--spacing X,Y=H``, keyed by its item): the first edges of the lines
+    leaving its graded sides (each side's corner lines aside, and lines starting on a
+    spaced patch, ``walls``: node -> H, whose figures hold them), as
+    ``walls.wall_report`` gives a patch's: min, median and max, and the line farthest off
+    the H asked of it (``asked``: :func:`graded_asks`) with that H (``spacing``: the
+    item's, or a smaller one a wall's spacing brings, ``chains.joint_ends``)."""
+    edges: dict[str, list[float]] = {}
+    off: dict[str, list[tuple[float, list[float], float]]] = {}
+    for item, (b, s), _, _ in graded:
+        label = f"the side of {item.where}"
+        for line in side_lines(ids[b], SIDE_NAMES[s])[1:-1]:
+            if int(line[0]) in walls:
+                continue
+            key, flip = _key(line)
+            h = asked[key][int(flip)]
+            first = float(np.linalg.norm(points[line[1]] - points[line[0]]))
+            edges.setdefault(label, []).append(first)
+            off.setdefault(label, []).append((abs(first / h - 1.0), points[line[0]].tolist(), h))
+    out = {}
+    for label, e in edges.items():
+        share, at, h = max(off[label], key=lambda found: found[0])
+        out[label] = {
+            "first_edge": {
+                "min": float(min(e)),
+                "median": float(np.median(e)),
+                "max": float(max(e)),
+            },
+            "spacing": h,
+            "first_edge_off": {"share": share, "at": at},
+        }
+    return out

@@ -31,7 +31,7 @@ from pinn_engine.multiblock.chains import (
 )
 from pinn_engine.multiblock.counts import cell_counts, default_cell_size
 from pinn_engine.multiblock.elliptic import Crossing, crossings, winslow
-from pinn_engine.multiblock.grading import graded_lines
+from pinn_engine.multiblock.grading import graded_asks, graded_lines, graded_report
 from pinn_engine.multiblock.graph import linework
 from pinn_engine.multiblock.layout import Layout, layout, side_lines
 from pinn_engine.multiblock.orthogonal import boundary_neighbours, orthogonal
@@ -262,15 +262,17 @@ def mesh_blocks(
         points = _assembled(points, lay, grids)
         timings["training"] = training["seconds"]
 
+    graded = [
+        (item, side, sign, min(item.value, side_first(topo, *side, ends) or item.value))
+        for item, g in grades
+        for side, sign in g.items()
+    ]
+    graded_ask = graded_asks(lay.ids, graded, boundary_nodes, asked)
+
     def finished(points: np.ndarray) -> np.ndarray:
         """Gradings along chains, first edges of patches, blocks these fold untangled, and
         orthogonality on patches, last: no solve or training moves them after."""
-        grading = [
-            ({side: sign}, min(item.value, side_first(topo, *side, ends) or item.value))
-            for item, g in grades
-            for side, sign in g.items()
-        ]
-        points, rest = graded_lines(points, lay.ids, grading, boundary_nodes, asked)
+        points, rest = graded_lines(points, lay.ids, graded, boundary_nodes, asked)
         points = respace(points, ratio_lines(topo, lay.ids, ratios, points))
         points = respace(points, {key: ask for key, ask in rest.items() if key in pieces})
         points = respace(points, {key: ask for key, ask in rest.items() if key not in pieces})
@@ -278,8 +280,9 @@ def mesh_blocks(
             points = on_drawn(points, boundary_nodes, rings)
         if (grades or asked) and untangle is not None:
             points = untangled_blocks(points, lay.ids, untangle)
-        if asked:
-            points = fitted_first_edges(points, sides, walls.spacing)
+        if asked or graded:
+            inner = {k: ask for k, ask in graded_ask.items() if not boundary_nodes[list(k)].all()}
+            points = fitted_first_edges(points, sides, walls.spacing, inner)
         if walls.orthogonal:
             points = orthogonal(
                 points, sides, walls.orthogonal, boundary_neighbours(topo, lay), lay.ids
@@ -316,6 +319,13 @@ def mesh_blocks(
         "graded_cells": {"from": sized, "to": _cells(topo, counts)},
         "iterations": steps,
         "walls": wall_report(points, sides, walls.spacing),
+        "gradings": graded_report(
+            points,
+            lay.ids,
+            graded,
+            graded_ask,
+            wall_nodes(sides, walls.spacing),
+        ),
         "aux_lines": [line.name for block in lines for line in block],
         "aux_line_distance": {
             name: d

@@ -411,11 +411,15 @@ def _slid(p: np.ndarray, first: float | None, last: float | None) -> np.ndarray 
 
 
 def fitted_first_edges(
-    points: np.ndarray, sides: list[WallSide], spacing: dict[str, float]
+    points: np.ndarray,
+    sides: list[WallSide],
+    spacing: dict[str, float],
+    graded: dict[tuple[int, ...], list] | None = None,
 ) -> np.ndarray:
     """``points`` with every inner line leaving a spaced wall side (those SPEC 7 measures:
-    a block side's corner lines aside) slid along itself so that its first edge is the H
-    asked (:func:`_slid`), at both ends where it leaves a wall at both. The stretchings
+    a block side's corner lines aside), and every ``graded`` line (``grading.graded_asks``:
+    key -> the first edge at each end or None), slid along itself so that its first edge
+    is the H asked (:func:`_slid`), at both ends where both ask one. The stretchings
     place each block's lines one family after the other, and a line's nodes moved by the
     lines crossing it (a block's other family, a spline of a few coarse nodes cutting
     across a curved wall, a block untangled) leave its first edge off H, beyond SPEC 7's
@@ -429,6 +433,10 @@ def fitted_first_edges(
         for line in wall.lines[1:-1][wall.on[1:-1]]:
             if len(line) > 2:
                 _ask(ends, line, h, wall.name)
+    for key, asks in (graded or {}).items():
+        for line, h in ((np.asarray(key), asks[0]), (np.asarray(key[::-1]), asks[1])):
+            if h is not None:
+                _ask(ends, line, h, "grading")
     out = points.copy()
     for _ in range(SLIDE_ROUNDS):
         for key, (first, last, _) in ends.items():

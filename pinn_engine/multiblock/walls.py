@@ -204,10 +204,12 @@ def wall_report(
     return out
 
 
-def first_edges_refusal(figures: dict[str, dict]) -> str | None:
-    """Why a grid whose report ``walls`` are ``figures`` (:func:`wall_report`) breaks SPEC
-    7 (a spaced patch with a first edge off H by more than ``FIRST_EDGE_TOL``), a phrase, or
-    None where every first edge keeps it."""
+def first_edges_refusal(report: dict) -> str | None:
+    """Why a multi-block grid whose ``report`` has the figures ``walls``
+    (:func:`wall_report`) and ``gradings`` (``grading.graded_report``) breaks SPEC 7 (a
+    spaced patch or a grading along a chain with a first edge off H by more than
+    ``FIRST_EDGE_TOL``), a phrase, or None where every first edge keeps it."""
+    figures = {**report["walls"], **report.get("gradings", {})}
     for name, patch in figures.items():
         off = patch.get("first_edge_off")
         if off is None or off["share"] <= FIRST_EDGE_TOL:

@@ -21,6 +21,7 @@ from multiblock_checks import (
 
 from pinn_engine import job
 from pinn_engine.kinds.blocks.run import run_blocks
+from pinn_engine.multiblock.walls import first_edges_refusal
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
 
@@ -271,3 +272,15 @@ def test_a_block_corner_inside_a_spaced_line_stays_where_the_solve_put_it():
     junction = int(np.argmin(np.abs(side[0][:, 1] - 0.3)))
     np.testing.assert_allclose(side[1][junction], side[0][junction], atol=1e-12)
     assert spaced.report["quality"]["folded_cells"] == 0
+
+
+def test_a_gradings_first_edges_off_h_are_refused_as_a_patchs():
+    """A grading along a chain (``--spacing X,Y=H``) is held to SPEC 7 as a spaced patch is:
+    its first edges off H by more than 10 % name it in the refusal."""
+    figures = {"first_edge": {"min": 1e-3, "median": 1.5e-3, "max": 2e-3}, "spacing": 1e-3}
+    far = figures | {"first_edge_off": {"share": 1.0, "at": [5.0, 1.0]}}
+    near = figures | {"first_edge_off": {"share": 0.05, "at": [5.0, 1.0]}}
+    label = "the side of spacing 3,1=0.001"
+    assert first_edges_refusal({"walls": {}, "gradings": {label: near}}) is None
+    refusal = first_edges_refusal({"walls": {}, "gradings": {label: far}})
+    assert refusal.startswith(f"its first edges on {label} are 0.001 to 0.002")

@@ -105,6 +105,20 @@ def test_a_step_line_graded_beside_spaced_walls_keeps_the_finer_first_edge(tmp_p
     assert report["cells"] == report["graded_cells"]["to"]
 
 
+def test_a_step_line_graded_finer_than_the_walls_keeps_its_first_edge(tmp_path):
+    """Walls at 2e-3 and the step's line at 1e-3: the lines above and below the step's line
+    start at 1e-3, as the report's figures of the grading say (the walls' spacing, carried
+    along the line from the inlet's floor, overrode it above: 2e-3, and checkMesh's
+    non-orthogonality was 88.4 degrees at 1e-4 and 5e-5)."""
+    grids, report = _step(
+        tmp_path, "--spacing=walls=2e-3", "--spacing=3,1=1e-3", "--cell-size=0.25"
+    )
+    edges = _across_step_line(grids)
+    assert np.all(np.abs(edges[:, 1:-1] / 1e-3 - 1) < 0.1), edges
+    figures = report["gradings"]["the side of spacing 3,1=0.001"]
+    assert figures["spacing"] == 1e-3 and figures["first_edge_off"]["share"] < 0.1
+
+
 @pytest.mark.slow  # a graded multi-block step at the cell size at which the lip's line moved
 def test_a_graded_line_from_the_lip_stays_where_it_is_drawn(tmp_path):
     """The step's line alone graded: the solve keeps it on y = 1 (free, it left the lip 0.08

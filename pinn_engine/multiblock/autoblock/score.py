@@ -87,7 +87,7 @@ def score(
             skew = planar_figures(result.grids).max_skewness
             if skew > SKEW_LIMIT:  # the run would refuse to write it (job.cover)
                 raise Rejected(f"has a face skewed {skew:.3g} (checkMesh's limit {SKEW_LIMIT:g})")
-            off = first_edges_refusal(result.report["walls"])
+            off = first_edges_refusal(result.report)
             if off is not None:  # the run would refuse to write it (job.cover)
                 raise Rejected(f"misses the spacing asked: {off}")
             kink = result.report["interface_kink"]["mean"]
