@@ -2,7 +2,9 @@
 members against their own default grids and the elliptic grids.
 
 Usage: ``.venv/bin/python benchmarks/family.py [--out docs/family.md] [--workdir DIR]
-[--family channels naca] [--repeat N] [--batches N] [--subsets 6 12] [--stages]``
+[--family channels naca] [--repeat N] [--batches N] [--subsets 6 12] [--stages]
+[--section NAME]`` (``--section``: the markers in ``--out`` the tables go between, ``family
+benchmark`` by default; the cylinder family's are ``family benchmark cylinder``)
 
 For each family of ``example_data/make_families.py`` (24 training members, 8 unseen members
 from the same ranges, 8 from ranges 25 % wider on each side):
@@ -47,7 +49,7 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 PINN = str(ROOT / ".venv" / "bin" / "pinn-mesh")
-BEGIN, END = "<!-- family benchmark: begin -->", "<!-- family benchmark: end -->"
+SECTION = "family benchmark"  # the markers the tables go between (--section)
 REPEAT = 3  # timings a member: the median (--repeat)
 BATCHES = 1  # pairs of batches, default and --model in turn (--batches)
 SUBSETS = (6, 12)  # training members of the smaller models (--subsets)
@@ -101,6 +103,30 @@ def boundary_and_seam(a: np.ndarray, b: np.ndarray, topology: str) -> tuple[floa
     return boundary, seam
 
 
+def rings_nodes(own, fam, geometry) -> tuple[float, float]:
+    """A multi-block member's largest node difference between its own and its family grid on
+    its holes (the cylinder: nodes its run places as drawn) and on its outer boundary (where
+    the edge ends slide along straight walls, the family's ends the model's)."""
+    from pinn_engine.geometry.boundary import segment_distance
+
+    a = np.vstack([g.reshape(-1, 2) for g in own.grids])
+    b = np.vstack([g.reshape(-1, 2) for g in fam.grids])
+    size = float(np.ptp(geometry.rings[0], axis=0).max())
+    out = []
+    for rings in (geometry.rings[1:], geometry.rings[:1]):
+        near = np.min([segment_distance(a, ring) for ring in rings], axis=0) < 1e-9 * size
+        out.append(float(np.abs(a[near] - b[near]).max()) if near.any() else 0.0)
+    return out[0], out[1]
+
+
+def outcome_of(report: dict) -> tuple[str, bool]:
+    """A family run's result (``family`` or ``start``) and whether the member's own start was
+    solved (a multi-block member's: where it fell back)."""
+    if "family" in report:
+        return report["family"]["result"], report["family"]["result"] == "start"
+    return report["training"]["result"], bool(report["training"]["start_solved"])
+
+
 def compare(folder: Path, rows: list[dict], model, repeat: int = REPEAT) -> list[dict]:
     """Each member's default, elliptic and family grids: times (the median of ``repeat``)
     and figures."""
@@ -113,8 +139,12 @@ def compare(folder: Path, rows: list[dict], model, repeat: int = REPEAT) -> list
         own, t_own = timed(job.run, settings, geometry, repeat=repeat)
         ell, t_ell = timed(job.run, e_settings, e_geometry, repeat=repeat)
         fam, t_fam = timed(job.run, settings, geometry, family=model, repeat=repeat)
-        boundary, seam = boundary_and_seam(own.grids[0], fam.grids[0], settings.topology)
+        if len(own.grids) > 1:  # multi-block: the holes' nodes, and the outer boundary's
+            boundary, seam = rings_nodes(own, fam, geometry)
+        else:
+            boundary, seam = boundary_and_seam(own.grids[0], fam.grids[0], settings.topology)
         q, d, e = fam.quality, own.quality, ell.quality
+        result, start_solved = outcome_of(fam.report)
         out.append(
             {
                 "name": row["name"],
@@ -128,8 +158,12 @@ def compare(folder: Path, rows: list[dict], model, repeat: int = REPEAT) -> list
                 "folds": q["folded_cells"],
                 "boundary": boundary,
                 "seam": seam,
-                "result": fam.report["training"]["result"],
-                "start_solved": fam.report["training"]["start_solved"],
+                "result": result,
+                "start_solved": start_solved,
+                "steps": (
+                    own.report.get("iterations"),
+                    fam.report.get("family", {}).get("solve_steps"),
+                ),
             }
         )
     return out
@@ -168,9 +202,9 @@ def subset_errors(folder: Path, wide: Path, n: int) -> dict:
     members, targets = [], []
     for row in rows_of(folder / "train.csv")[:n]:
         settings, geometry = settings_and_geometry(folder, row)
-        member = job.family_member(settings, geometry)
+        outcome, member = job.member_run(settings, geometry)
         members.append(member)
-        targets.append(job.member_target(member, job.run(settings, geometry)))
+        targets.append(job.member_target(member, outcome))
     model = job.fit_family_model(members, targets)
     out = {}
     for name, where in (("unseen", folder), ("wide", wide)):
@@ -180,7 +214,7 @@ def subset_errors(folder: Path, wide: Path, n: int) -> dict:
             own = job.run(settings, geometry)
             fam = job.run(settings, geometry, family=model)
             excess.append(fam.quality["worst_max_angle"] - own.quality["worst_max_angle"])
-            fallbacks += fam.report["training"]["result"] == "start"
+            fallbacks += outcome_of(fam.report)[0] == "start"
         out[name] = (max(excess), fallbacks)
     return out
 
@@ -191,6 +225,7 @@ STAGES = (  # (module, function, name) whose CPU time --stages adds up
     ("pinn_engine.bodies.bodygrid", "march", "march"),
     ("pinn_engine.bodies.bodygrid", "elliptic", "elliptic"),
     ("pinn_engine.starts.quality_start", "body_quality_start", "optimisation"),
+    ("pinn_engine.multiblock.mesh", "winslow", "multi-block solve"),
 )
 
 
@@ -329,8 +364,15 @@ def run_family(
     ]
     worst_excess, mean_excess = (max(x) for x in zip(*excess))
     r = loaded.report
+    blocks = r["kind"] == "blocks"
+    counts = r["topology"] if blocks else f"{r['size'][0]} x {r['size'][1]}"
+    nodes = (
+        "cylinder nodes (max diff) | channel's sides, beside sliding ends (max diff)"
+        if blocks
+        else "boundary nodes (max diff) | O-grid seam (max diff)"
+    )
     lines = [
-        f"### {family}: {r['members']} members, {r['size'][0]} x {r['size'][1]}",
+        f"### {family}: {r['members']} members, {counts}",
         "",
         f"`pinn-mesh fit --workers 2`: {wall:.1f} s wall ({r['targets_seconds']:.1f} s the "
         f"members' default grids, {r['fit_seconds']:.1f} s the model: encoding "
@@ -350,8 +392,8 @@ def run_family(
         f"{mean_excess:+.4f} (largest excess).",
         "",
         "| members | time default / elliptic / family (s, median) | worst - default (max) | "
-        "mean - default (max) | worst - elliptic (max) | folds | boundary nodes (max diff) | "
-        "O-grid seam (max diff) | fell back | start solved |",
+        f"mean - default (max) | worst - elliptic (max) | folds | {nodes} | fell back | "
+        "start solved |",
         "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for label, rows in (("unseen, same ranges", unseen), ("unseen, 25 % wider", wider)):
@@ -369,6 +411,14 @@ def run_family(
             f"{sum(x['result'] == 'start' for x in rows)} | "
             f"{sum(bool(x['start_solved']) for x in rows)} |"
         )
+    if blocks:
+        steps = [x["steps"] for x in unseen + wider]
+        lines += [
+            "",
+            "Picard steps a member (median of the 16 unseen members): the own run's from its "
+            f"layout {statistics.median(a for a, _ in steps):.0f}, from the model's nodes "
+            f"{statistics.median(b for _, b in steps):.0f} (largest {max(b for _, b in steps)}).",
+        ]
     if with_stages:
         lines += [
             "",
@@ -408,6 +458,7 @@ def main() -> None:
     parser.add_argument("--subsets", type=int, nargs="*", default=list(SUBSETS))
     parser.add_argument("--batches", type=int, default=BATCHES, help="pairs of batches")
     parser.add_argument("--stages", action="store_true", help="a body family's stages")
+    parser.add_argument("--section", default=SECTION, help="the markers' name in --out")
     args = parser.parse_args()
     args.workdir = args.workdir.resolve()
     import torch
@@ -434,9 +485,10 @@ def main() -> None:
     text = "\n".join(lines)
     print(text)
     if args.out:
+        begin, end = f"<!-- {args.section}: begin -->", f"<!-- {args.section}: end -->"
         page = args.out.read_text()
-        head, rest = page.split(BEGIN, 1)
-        args.out.write_text(head + BEGIN + "\n" + text + "\n" + END + rest.split(END, 1)[1])
+        head, rest = page.split(begin, 1)
+        args.out.write_text(head + begin + "\n" + text + "\n" + end + rest.split(end, 1)[1])
 
 
 if __name__ == "__main__":

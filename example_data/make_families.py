@@ -14,6 +14,9 @@ measure how the error grows outside the training ranges.
   4-digit formula's blunt trailing edge) as Selig ``.dat`` files, O-grids at 129 x 41.
 - ``naca_c``: the same sections with the modified formula's closed trailing edge, C-grids at
   129 x 41.
+- ``cylinder``: the DFG 2D-1 channel with its cylinder moved and resized (centre, radius), in
+  the blocking of ``dfg_blocks.vtp`` (``make_multiblock.dfg``: 12 blocks), each member's block
+  edges beside it and its chains' cell counts fixed by ``--cells`` (``CYLINDER_CELLS``).
 """
 
 from __future__ import annotations
@@ -39,6 +42,13 @@ NACA_RANGES = {"camber": (0.0, 0.06), "camber_at": (0.25, 0.6), "thickness": (0.
 CHANNEL_LENGTH, CHANNEL_HEIGHT = 3.0, 1.0
 CHANNEL_OPTIONS, NACA_OPTIONS = "--size 41 21", "--topology o --size 129 41"
 NACA_C_OPTIONS = "--topology c --size 129 41"
+# The cylinder's centre and radius in the DFG channel [0, 2.2] x [0, 0.41] (DFG 2D-1: (0.2,
+# 0.2), 0.05), the square of half side 0.1 around it inside the channel at 25 % wider ranges
+CYLINDER_RANGES = {"centre_x": (0.15, 0.3), "centre_y": (0.16, 0.25), "radius": (0.035, 0.06)}
+# Cells along each chain of the blocking (upstream, along each side of the square, downstream,
+# below and above it, cylinder to square): the same in every member, as a family's counts
+# are; cells about 0.017 across the square's rows, 0.033 long downstream
+CYLINDER_CELLS = {"upstream": 6, "square": 12, "downstream": 60, "radial": 8, "below": 6}
 # The thickness formula's x^4 coefficient: the classical one leaves a blunt trailing edge
 # (0.21 % of the thickness), which a C-grid refuses; the modified one closes it
 BLUNT_A4, SHARP_A4 = -0.1015, -0.1036
@@ -107,11 +117,52 @@ def write_dat(points: np.ndarray, path: Path, title: str) -> None:
     path.write_text(f"{title}\n{rows}\n")
 
 
+def cylinder_options(p: dict) -> str:
+    """The ``--cells`` items that give a cylinder member the family's counts: each chain's
+    by a point on one of its sides (each side of the square is a chain of its own, through
+    the ring's block and on to a wall, the inlet or the outlet)."""
+    from make_multiblock import DFG_BOX, DFG_HEIGHT, DFG_LENGTH
+
+    cx, cy, r = p["centre_x"], p["centre_y"], p["radius"]
+    c = CYLINDER_CELLS
+    out = 0.5 * (r + DFG_BOX * np.sqrt(2)) / np.sqrt(2)  # mid-way along a diagonal edge
+    places = [
+        (0.005, 0.0, c["upstream"]),
+        (cx, 0.0, c["square"]),
+        (DFG_LENGTH - 0.005, 0.0, c["downstream"]),
+        (0.0, 0.005, c["below"]),
+        (0.0, cy, c["square"]),
+        (cx, DFG_HEIGHT, c["square"]),
+        (DFG_LENGTH, cy, c["square"]),
+        (0.0, DFG_HEIGHT - 0.005, c["below"]),
+        (cx + out, cy + out, c["radial"]),
+    ]
+    return " ".join(f"--cells {x:.6f},{y:.6f}={n}" for x, y, n in places)
+
+
+def write_cylinder(p: dict, path: Path) -> str:
+    """A cylinder member's boundary at ``path`` (``.vtp``) and its block edges beside it
+    (``<stem>_blocks.vtp``); its options."""
+    from make_examples import polydata
+    from make_multiblock import dfg
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
+
+    rings, edges = dfg((p["centre_x"], p["centre_y"]), p["radius"])
+    blocks = path.with_name(f"{path.stem}_blocks.vtp")
+    for target, lines, closed in ((path, rings, True), (blocks, edges, False)):
+        writer = vtkXMLPolyDataWriter()
+        writer.SetFileName(str(target))
+        writer.SetInputData(polydata(lines, closed))
+        writer.Write()
+    return f"--blocks {blocks.name} {cylinder_options(p)}"
+
+
 FAMILIES: dict[str, tuple[dict, Callable, str, str]] = {
     "channels": (CHANNEL_RANGES, channel, ".vtp", CHANNEL_OPTIONS),
     "channels_winslow": (CHANNEL_RANGES, channel, ".vtp", f"{CHANNEL_OPTIONS} --objective winslow"),
     "naca": (NACA_RANGES, naca_like, ".dat", NACA_OPTIONS),
     "naca_c": (NACA_RANGES, naca_closed, ".dat", NACA_C_OPTIONS),
+    "cylinder": (CYLINDER_RANGES, write_cylinder, ".vtp", ""),
 }
 
 
@@ -127,11 +178,14 @@ def make_family(name: str, out: Path, train: int, unseen: int, seed: int, wide: 
             params = draw(ranges, rng, wide and split == "unseen")
             member = f"{split}{k:02d}"
             path = folder / f"{member}{suffix}"
-            if suffix == ".dat":
+            own = options
+            if shape is write_cylinder:  # a boundary and its block edges, its own --cells
+                own = shape(params, path)
+            elif suffix == ".dat":
                 write_dat(shape(params), path, member)
             else:
                 write_vtp(shape(params), path)
-            rows.append({"name": member, "input": path.name, "aux": "", "options": options})
+            rows.append({"name": member, "input": path.name, "aux": "", "options": own})
         with (folder / f"{split}.csv").open("w", newline="") as f:
             writer = csv.DictWriter(f, ["name", "input", "aux", "options"])
             writer.writeheader()

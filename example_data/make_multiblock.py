@@ -98,20 +98,23 @@ def ybranch() -> tuple[list[np.ndarray], list[np.ndarray]]:
     return [np.array(ring)], edges
 
 
-def dfg() -> tuple[list[np.ndarray], list[np.ndarray]]:
-    """The DFG 2D-1 channel and cylinder; a square of half side DFG_BOX around the cylinder
-    cut along its diagonals (the O-ring) and its sides carried on to the walls, the inlet
-    and the outlet (8 outer blocks)."""
+def dfg(
+    centre: tuple[float, float] = DFG_CENTRE, radius: float = DFG_RADIUS
+) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """The DFG 2D-1 channel and cylinder (or one of ``radius`` at ``centre``: the family of
+    make_families.py); a square of half side DFG_BOX around the cylinder cut along its
+    diagonals (the O-ring) and its sides carried on to the walls, the inlet and the outlet
+    (8 outer blocks)."""
     channel = np.array([(0, 0), (DFG_LENGTH, 0), (DFG_LENGTH, DFG_HEIGHT), (0, DFG_HEIGHT)])
     a = 2 * np.pi * np.arange(CYLINDER_POINTS) / CYLINDER_POINTS
-    cx, cy = DFG_CENTRE
-    cylinder = np.column_stack([cx + DFG_RADIUS * np.cos(a), cy + DFG_RADIUS * np.sin(a)])
+    cx, cy = centre
+    cylinder = np.column_stack([cx + radius * np.cos(a), cy + radius * np.sin(a)])
     x0, x1, y0, y1 = cx - DFG_BOX, cx + DFG_BOX, cy - DFG_BOX, cy + DFG_BOX
     square = [(x1, y0), (x1, y1), (x0, y1), (x0, y0)]
     edges = [np.array([square[k - 1], square[k]]) for k in range(4)]
     for x, y in square:
         d = np.array([x - cx, y - cy]) / np.hypot(x - cx, y - cy)
-        edges.append(np.array([(cx + DFG_RADIUS * d[0], cy + DFG_RADIUS * d[1]), (x, y)]))
+        edges.append(np.array([(cx + radius * d[0], cy + radius * d[1]), (x, y)]))
     for x in (x0, x1):
         edges += [np.array([(x, 0.0), (x, y0)]), np.array([(x, y1), (x, DFG_HEIGHT)])]
     for y in (y0, y1):

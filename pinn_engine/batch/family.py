@@ -78,7 +78,8 @@ def _options_of(case) -> list[str]:
     for flag, value in (("--topology", args.topology), ("--farfield", args.farfield)):
         if value is not None:
             words += [flag, str(value)]
-    for flag, value in (("--method", args.method), ("--objective", args.objective)):
+    interfaces = ("--interfaces", getattr(args, "interfaces", None))
+    for flag, value in (("--method", args.method), ("--objective", args.objective), interfaces):
         if value is not None:
             words += [flag, str(value)]
     return words

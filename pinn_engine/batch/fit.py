@@ -59,9 +59,10 @@ def main(argv: list[str]) -> int:
         print(f"pinn-mesh fit: error: {exc}", file=sys.stderr)
         return EXIT_ERROR
     r = model.report
+    counts = f"{r['size'][0]} x {r['size'][1]}" if r["kind"] != "blocks" else r["topology"]
     print(
         f"wrote {args.output}: a family of {r['members']} {model_kind(r)} "
-        f"({r['size'][0]} x {r['size'][1]}), fitted in {r['targets_seconds']:.1f} s "
+        f"({counts}), fitted in {r['targets_seconds']:.1f} s "
         f"(members' grids) + {r['fit_seconds']:.1f} s (model); encoding "
         f"{r['encoding_components']} components, {r['correction_modes']} correction modes"
     )
@@ -72,4 +73,6 @@ def main(argv: list[str]) -> int:
 
 def model_kind(report: dict) -> str:
     """The members' kind in words."""
+    if report["kind"] == "blocks":
+        return "multi-block grids"
     return {"o": "O-grids", "c": "C-grids"}.get(report["topology"], "four-sided grids")

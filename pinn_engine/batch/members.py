@@ -17,7 +17,7 @@ from pinn_engine.batch.task import error_row
 from pinn_engine.errors import PinnMeshError
 from pinn_engine.settings import DEFAULT_SIZE
 
-FAMILY_KINDS = ("four-sided", "body")  # the kinds a family model meshes in this build
+FAMILY_KINDS = ("four-sided", "body", "blocks")  # the kinds a family model meshes in this build
 
 
 def member_inputs(args: argparse.Namespace):
@@ -31,11 +31,16 @@ def member_inputs(args: argparse.Namespace):
     kind = job.kind_of(args.boundary, bool(args.blocks), body=bool(args.topology or args.naca))
     if kind not in FAMILY_KINDS:
         raise PinnMeshError(
-            f"a family model meshes four-sided domains and O- and C-grids in this build, "
-            f"not {kind} domains"
+            f"a family model meshes four-sided domains, O- and C-grids and multi-block "
+            f"domains in this build, not {kind} domains; fit without this member"
         )
     if args.model or args.load_model:
         raise PinnMeshError("a member to fit on is meshed by its own run: drop --model")
+    if kind == "blocks":
+        from pinn_engine.routes.cli.multiblock import blocks_inputs, check_blocks
+
+        check_blocks(args)
+        return blocks_inputs(args)
     args.method = args.method or "pinn"
     args.size = args.size or DEFAULT_SIZE
     check_inputs(args, kind == "body")
@@ -55,8 +60,7 @@ def member_task(name: str, args: argparse.Namespace) -> dict:
     began = time.perf_counter()
     try:
         settings, geometry = member_inputs(args)
-        outcome = job.run(settings, geometry)
-        member = job.family_member(settings, geometry)
+        outcome, member = job.member_run(settings, geometry)
         target = job.member_target(member, outcome)
     except PinnMeshError as exc:
         return error_row(name, str(exc), time.perf_counter() - began)

@@ -7,8 +7,18 @@ equations linearised at a grid: one solve), ``network`` (the correction's networ
 forward pass), ``train`` (its training, torch), ``model`` (fit, predict, save, load) and
 ``mesh`` (a member's grid with the guard and its report)."""
 
-from pinn_engine.family.members import Member, member_of
-from pinn_engine.family.mesh import family_size, mesh_member
+from pinn_engine.family.members import Member, blocks_member, member_of, refuse_blocks_options
+from pinn_engine.family.mesh import BlocksStart, family_size, mesh_member
 from pinn_engine.family.model import FamilyModel, load_family
 
-__all__ = ["FamilyModel", "Member", "family_size", "load_family", "member_of", "mesh_member"]
+__all__ = [
+    "BlocksStart",
+    "FamilyModel",
+    "Member",
+    "blocks_member",
+    "family_size",
+    "load_family",
+    "member_of",
+    "mesh_member",
+    "refuse_blocks_options",
+]

@@ -18,9 +18,12 @@ RANGE_VARIANCE = 1e-3
 RANGE_MARGIN = 0.25
 
 
-def boundary_vector(grid: np.ndarray, kind: str) -> np.ndarray:
+def boundary_vector(grid: np.ndarray, kind: str, drawn: np.ndarray | None = None) -> np.ndarray:
     """The boundary nodes of a member's grid (nj, ni, 2) as one vector: the four sides of a
-    four-sided grid, the wall row (j = 0) of a body's (its far field follows from it)."""
+    four-sided grid, the wall row (j = 0) of a body's (its far field follows from it); of a
+    multi-block member's stacked nodes (M, 2) those at ``drawn``, its blocks' sides."""
+    if kind == "blocks":
+        return grid[drawn].ravel()
     if kind == "body":
         return grid[0].ravel()
     return np.concatenate(

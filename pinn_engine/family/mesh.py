@@ -24,7 +24,11 @@ costs, so it is solved only where the model cannot vouch for its grid without it
   milliseconds once its elliptic grid, the model's base, is solved): what its own run would
   keep were its optimisation stopped there;
 - another family's grid (no cheap certificate) is compared with the member's own start,
-  solved: it is kept where it passes, and the member gains nothing in time.
+  solved: it is kept where it passes, and the member gains nothing in time;
+- a multi-block member's grid is its own run's Winslow solve, choice and tolerance, started
+  from the model's nodes (:class:`BlocksStart`), its sliding edge ends held where the model
+  puts them on the wall (``multiblock.elliptic.winslow``): a model grid with a folded cell,
+  or a solve from it that does not converge, gives way to its own run from its layout.
 """
 
 from __future__ import annotations
@@ -38,8 +42,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pinn_engine.family.members import Member, member_of
+from pinn_engine.family.members import Member, blocks_member, member_of, refuse_blocks_options
 from pinn_engine.family.model import FamilyModel, load_family
+from pinn_engine.geometry.boundary import Frame
 from pinn_engine.geometry.plane import Plane
 from pinn_engine.quality import (
     boundary_nodes,
@@ -361,3 +366,53 @@ def _report(
         report["sides"] = side_report(unit, member.frame.scale)
     report["quality"] = summary(cells, deviation)
     return report
+
+
+class BlocksStart:
+    """A multi-block member's start by the family model at ``path`` (or a fitted model), for
+    its own run under ``settings`` (``multiblock.mesh.StartNodes``): the model's nodes of
+    the member's blocking, a blocking of another topology refused in one line; where they
+    fold a cell, the layout's (the member's own start). ``geometry``: the member's
+    (``kinds.blocks.run.BlocksGeometry``), options that place nodes otherwise refused."""
+
+    def __init__(self, path: str | os.PathLike | FamilyModel, settings: Settings, geometry) -> None:
+        g = geometry
+        refuse_blocks_options(g.aux, g.walls, g.gradings, g.source)
+        self.model, self.settings, self.source = _model(path), settings, g.source
+        self.info: dict = {}
+
+    def __call__(self, topo, lay) -> np.ndarray | None:
+        began = time.perf_counter()
+        frame = Frame.around(topo.lines.rings[0])
+        member = blocks_member(self.settings, lay, self.source, frame, self.model.corners)
+        self.model.check(member, self.settings)
+        grid, info = self.model.predict(member)
+        points = member.frame.to_user(member.unique(grid))
+        folded = int(sum(cell_quality(points[ids])["Folded"].sum() for ids in lay.ids))
+        self.info = {
+            "in_range": info["in_range"],
+            "model_folded_cells": folded,
+            "predict_seconds": time.perf_counter() - began,
+        }
+        return None if folded else points
+
+    def note(self, report: dict) -> None:
+        """The family's part of the run's ``report`` (``family``): ``result`` ``family``
+        where the grid was solved from the model's nodes, else ``start`` and why."""
+        kept = report["solve_start"] == "given"
+        family = {
+            "result": "family" if kept else "start",
+            "model": self.model.path or "(not saved)",
+            "solve_steps": report["iterations"],
+            **self.info,
+        }
+        if not kept:
+            why = (
+                f"{self.info['model_folded_cells']} folded cells"
+                if self.info.get("model_folded_cells")
+                else "a solve that did not converge"
+            )
+            family["fallback"] = (
+                f"the family model's grid had {why}: solved from the member's own start"
+            )
+        report["family"] = family

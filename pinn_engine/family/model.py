@@ -17,7 +17,9 @@ starts from the model's grid (mesh.py). A body's base is its elliptic grid (its 
 start), and a second linear map predicts that grid's correction over its reference grid
 (the rows its layout marches, from which its own run solves the elliptic grid): the model's
 grid of a member whose elliptic grid is not solved is its reference grid plus both
-corrections, so a certified grid costs the member its layout alone.
+corrections, so a certified grid costs the member its layout alone. A multi-block member's
+base is its blocking's layout, its map linear, and its grid the start of its own run's
+Winslow solve (mesh.BlocksStart).
 """
 
 from __future__ import annotations
@@ -32,7 +34,7 @@ import numpy as np
 
 from pinn_engine.errors import InputError
 from pinn_engine.family.encoding import Encoding, boundary_vector
-from pinn_engine.family.members import FAMILY_KEYS, Member, family_settings
+from pinn_engine.family.members import Member, block_corners, family_settings, realigned
 from pinn_engine.family.network import fit_linear, forward
 from pinn_engine.family.physics import FrozenWinslow, solves_winslow
 from pinn_engine.quality import guard_figures
@@ -59,6 +61,8 @@ MIN_MEMBERS = 3  # fewer members span no family
 
 
 def _describe(kind: str, topology: str, size: Sequence[int]) -> str:
+    if kind == "blocks":
+        return f"multi-block grids of {size[0]} nodes ({topology})"
     shape = {"o": "O-grids", "c": "C-grids"}.get(topology, "four-sided grids")
     return f"{shape} of {size[0]} x {size[1]} nodes"
 
@@ -87,6 +91,7 @@ class FamilyModel:
     polish: int = 0  # iterations of the member's node optimisation that finish its grid
     start_modes: np.ndarray | None = None  # a body's elliptic grid over its reference grid
     start_params: dict[str, np.ndarray] | None = None
+    corners: np.ndarray | None = None  # a multi-block family's blocks' corners (B, 4, 2)
 
     @classmethod
     def fit(
@@ -104,6 +109,15 @@ class FamilyModel:
         if len(members) < MIN_MEMBERS:
             raise InputError(f"a family needs at least {MIN_MEMBERS} members, not {len(members)}")
         first = members[0]
+        corners = None
+        if first.kind == "blocks":  # every member's blocks in the first's order and turn
+            corners = np.array(block_corners(first))
+            aligned = [realigned(m, corners) if m.kind == "blocks" else m for m in members]
+            targets = [
+                a.stacked(m.unique(t)) if m.kind == "blocks" else t
+                for a, m, t in zip(aligned, members, targets)
+            ]
+            members, first = aligned, aligned[0]
         for m in members[1:]:
             if (m.kind, m.topology, m.size) != (first.kind, first.topology, first.size):
                 raise InputError(
@@ -111,7 +125,7 @@ class FamilyModel:
                     f"first member makes {_describe(first.kind, first.topology, first.size)}",
                     m.source,
                 )
-            other = [k for k in FAMILY_KEYS if m.settings[k] != first.settings[k]]
+            other = [k for k in first.settings if m.settings.get(k) != first.settings[k]]
             if other:
                 diff = ", ".join(f"{k} {m.settings[k]}" for k in other)
                 shared = ", ".join(f"{k} {first.settings[k]}" for k in other)
@@ -120,7 +134,7 @@ class FamilyModel:
                     "a family's members share their options",
                     m.source,
                 )
-        encoding = Encoding.fit(np.array([boundary_vector(m.base, m.kind) for m in members]))
+        encoding = Encoding.fit(np.array([_vector(m) for m in members]))
         targets = [np.asarray(t, dtype=float) for t in targets]
         winslow = first.kind == "four-sided" and solves_winslow(targets)
         polish = 0
@@ -141,11 +155,11 @@ class FamilyModel:
             first.kind, first.topology, first.size, first.settings, options,
             encoding, mean_grid, np.zeros((0, first.base.size)), {}, winslow,
         )  # fmt: skip
-        model.polish = polish
+        model.polish, model.corners = polish, corners
         bases = [model.base(m) for m in members]
         corrections = np.array([(t - b).ravel() for t, b in zip(targets, bases)])
         model.modes = _modes(corrections)
-        z = np.array([model.encoding.encode(boundary_vector(m.base, m.kind)) for m in members])
+        z = np.array([model.encoding.encode(_vector(m)) for m in members])
         start_fit = {}
         if first.kind == "body":  # the elliptic grid (the base) over the reference grid
             starts = np.array([(b - m.base).ravel() for m, b in zip(members, bases)])
@@ -155,7 +169,7 @@ class FamilyModel:
         coeffs = corrections @ model.modes.T
         network = time.perf_counter()
         fitted = {}
-        if len(model.modes) and model.polish:  # node optima: the linear map, polished
+        if len(model.modes) and model.linear:  # the linear map, finished by the member's own
             model.params, fitted = fit_linear(z, coeffs)
         elif len(model.modes):
             from pinn_engine.family.train import fit_network  # torch: imported only to fit
@@ -172,22 +186,31 @@ class FamilyModel:
             "correction_modes": int(len(model.modes)),
             "start_modes": 0 if model.start_modes is None else int(len(model.start_modes)),
             "start_map": start_fit,
-            "epochs": epochs if len(model.modes) and not model.polish else 0,
+            "epochs": epochs if len(model.modes) and not model.linear else 0,
             **fitted,
             "winslow_step": model.winslow,
             "polish_iterations": model.polish,
             "largest_training_error": max(errors),
-            "worst_target": max(guard_figures(t)["worst_max_angle"] for t in targets),
+            "worst_target": max(_worst(m, t) for m, t in zip(members, targets)),
             "network_seconds": network,
             "fit_seconds": time.perf_counter() - began,
         }
         return model
 
+    @property
+    def linear(self) -> bool:
+        """Whether the map is linear (``network.fit_linear``) on the clamped encoding: where
+        the member's own work finishes the model's grid (a node optimum's polish, a
+        multi-block member's elliptic solve), which corrects what a network would fit."""
+        return bool(self.polish) or self.kind == "blocks"
+
     def base(self, member: Member) -> np.ndarray:
         """The base grid of ``member`` (family frame): a body's elliptic grid (its start,
         solved once a member); a four-sided member's own elliptic grid where the family's
         grids are node optima (the grid its own run optimises from, solved once a member),
-        else the linearised elliptic grid."""
+        else the linearised elliptic grid; a multi-block member's layout."""
+        if member.kind == "blocks":
+            return member.base
         if member.kind == "body":
             member.body_start()
             return member.elliptic
@@ -233,8 +256,8 @@ class FamilyModel:
         whether its encoding lies in the family's range. A body whose elliptic grid is not
         solved: its reference grid plus the predicted correction to its elliptic grid."""
         self.check(member)
-        vector = boundary_vector(member.base, member.kind)
-        z = self.encoding.clamped(vector) if self.polish else self.encoding.encode(vector)
+        vector = _vector(member)
+        z = self.encoding.clamped(vector) if self.linear else self.encoding.encode(vector)
         if member.kind == "body" and member.elliptic is None:
             grid = member.base + _correction(self.start_modes, self.start_params, z, member.base)
         else:
@@ -259,7 +282,7 @@ class FamilyModel:
             )
         if settings is not None:
             asked = family_settings(settings)
-            other = [k for k in FAMILY_KEYS if k != "size" and asked[k] != self.settings[k]]
+            other = [k for k in self.settings if k != "size" and asked.get(k) != self.settings[k]]
             if other:
                 diff = ", ".join(
                     f"{k} {asked[k]} (the family's: {self.settings[k]})" for k in other
@@ -301,12 +324,26 @@ class FamilyModel:
             "start_params": None
             if self.start_params is None
             else {k: t(v) for k, v in self.start_params.items()},
+            "corners": None if self.corners is None else t(self.corners),
             "report": self.report,
             "history": self.history,
         }
         with atomic_path(path) as tmp:
             torch.save(payload, tmp)
         return Path(path)
+
+
+def _worst(member: Member, grid: np.ndarray) -> float:
+    """The worst MaxIncludedAngle of ``member``'s ``grid`` (a multi-block member's stacked
+    nodes: over its blocks)."""
+    if member.kind == "blocks":
+        return max(guard_figures(b)["worst_max_angle"] for b in member.blocks_of(grid))
+    return guard_figures(grid)["worst_max_angle"]
+
+
+def _vector(member: Member) -> np.ndarray:
+    """``member``'s boundary nodes as the encoding reads them."""
+    return boundary_vector(member.base, member.kind, member.drawn)
 
 
 def _modes(corrections: np.ndarray) -> np.ndarray:
@@ -368,6 +405,7 @@ def load_family(path: str | os.PathLike) -> FamilyModel:
     enc = Encoding(**{k: n(v) for k, v in payload["encoding"].items()})
     mean = payload["mean_grid"]
     start_modes, start_params = payload.get("start_modes"), payload.get("start_params")
+    corners = payload.get("corners")
     return FamilyModel(
         payload["kind"], payload["topology"], tuple(payload["size"]), payload["settings"],
         payload["options"], enc, None if mean is None else mean.numpy(),
@@ -376,4 +414,5 @@ def load_family(path: str | os.PathLike) -> FamilyModel:
         int(payload.get("polish", 0)),
         None if start_modes is None else start_modes.numpy(),
         None if start_params is None else {k: v.numpy() for k, v in start_params.items()},
+        None if corners is None else corners.numpy(),
     )  # fmt: skip

@@ -27,6 +27,7 @@ from pinn_engine.job.family import (
     family_size,
     fit_family_model,
     load_family,
+    member_run,
     member_target,
     run_family,
 )
@@ -76,14 +77,14 @@ def run(
     kind = kind_of_geometry(geometry)
     if family is not None and not kind.family:
         raise InputError(
-            "a family model meshes four-sided domains and O- and C-grids in this build, "
-            "not multi-block or six-faced domains; mesh without the model",
+            "a family model meshes four-sided domains, O- and C-grids and multi-block domains "
+            "in this build, not six-faced domains; mesh without the model",
             str(family),
         )
     if field is not None and not kind.adapts:
         raise InputError("adapting to a field (SPEC 14) applies to 2D domains in this build")
     if family is not None:
-        outcome = run_family(settings, geometry, family)
+        outcome = run_family(settings, geometry, family, progress)
     else:
         outcome = kind.run(settings, geometry, progress, cache, model)
     if kind.covered:
@@ -120,6 +121,7 @@ __all__ = [
     "family_size",
     "fit_family_model",
     "load_family",
+    "member_run",
     "member_target",
     "blocks_from_polydata",
     "dictionary_from_file",

@@ -57,7 +57,7 @@ REGISTRY = (
         BlocksGeometry,
         lambda settings, geometry, progress, cache, model: run_blocks(settings, geometry, progress),
         True,
-        False,
+        True,
         True,
         (blocks.OPTIONS,),
     ),

@@ -22,7 +22,7 @@ from pinn_engine.classical.elliptic import winslow_coefficients
 from pinn_engine.multiblock.blocks import Topology
 from pinn_engine.multiblock.junctions import Star, junction_stencils, star_row
 from pinn_engine.multiblock.layout import Layout
-from pinn_engine.multiblock.sliding import slide, sliders
+from pinn_engine.multiblock.sliding import place, slide, sliders
 
 TOL = 1e-8  # converged when no node moves more than this share of the diagonal in a step
 MAX_ITERATIONS = 1000  # Picard steps at most (the examples converge in under 100)
@@ -221,18 +221,32 @@ def winslow(
     free_interfaces: bool = True,
     max_iterations: int = MAX_ITERATIONS,
     held: frozenset[int] = frozenset(),
+    start: np.ndarray | None = None,
 ) -> tuple[np.ndarray, int]:
     """Node positions of the converged multi-block Winslow grid from ``lay``'s (TFI) start
     (or after ``max_iterations`` Picard steps), and the Picard steps taken; the ``held``
-    interface pieces (those a spacing names) and their ends stay where drawn."""
+    interface pieces (those a spacing names) and their ends stay where drawn. From
+    ``start`` (a family model's nodes, SPEC 16) the solved nodes start at its, the other
+    nodes at the layout's, and each sliding end is put where the start has it (on its
+    stretch of boundary, its pieces respaced evenly) and held there: the ends' own rule
+    converges slowly (on the cylinder family of docs/family.md 38 to 159 steps from the
+    model's nodes, 56 to 132 from the layout), the interior from the model's in 13 to 18."""
     points = lay.points.copy()
     st, stars = stencils(topo, lay, free_interfaces, held)
     solved = np.concatenate([st[:, 1, 1], [star.node for star in stars]]).astype(int)
+    if start is not None:  # the solved nodes from it, every other node the layout's
+        points[solved] = np.asarray(start, dtype=float)[solved]
     column = np.full(len(points), -1)
     column[solved] = np.arange(len(solved))
     slide_ends, rings, at = sliders(topo, lay) if free_interfaces else ([], [], {})
     kept = {int(lay.piece_ids[k][e]) for k in held for e in (0, -1)}
     slide_ends = [end for end in slide_ends if end.node not in kept]
+    if start is not None:  # each end where the start put it, held there
+        ends = [end.node for end in slide_ends]
+        points[ends] = np.asarray(start, dtype=float)[ends]
+        for end in slide_ends:
+            place(points, end, rings[end.ring], at)
+        slide_ends = []
     last: dict[int, tuple[float, float]] = {}  # each slider's previous position and target
     tol = TOL * topo.lines.diagonal
     op = Operator(st, stars, column)

@@ -8,6 +8,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 
@@ -30,7 +31,7 @@ from pinn_engine.multiblock.chains import (
     side_first,
 )
 from pinn_engine.multiblock.counts import cell_counts, default_cell_size
-from pinn_engine.multiblock.elliptic import Crossing, crossings, winslow
+from pinn_engine.multiblock.elliptic import MAX_ITERATIONS, Crossing, crossings, winslow
 from pinn_engine.multiblock.grading import graded_asks, graded_lines, graded_report
 from pinn_engine.multiblock.graph import linework
 from pinn_engine.multiblock.layout import Layout, layout, side_lines
@@ -76,6 +77,17 @@ TrainBlocks = Callable[..., tuple[list[np.ndarray], dict]]
 # A block's grid (nj, ni, 2) with its folds undone and its sides held (starts.untangle, a
 # layer above this package)
 Untangle = Callable[[np.ndarray], np.ndarray]
+
+
+class StartNodes(Protocol):
+    """Where the Winslow solve starts (a family model's, SPEC 16, a layer above this
+    package): called with the blocking and its layout, the unique nodes (N, 2) whose solved
+    nodes start the solve, or None for the layout's own; ``note`` then adds what it did to
+    the run's report (``solve_start`` says which start the grid was solved from)."""
+
+    def __call__(self, topo: Topology, lay: Layout) -> np.ndarray | None: ...
+
+    def note(self, report: dict) -> None: ...
 
 
 @dataclass
@@ -158,6 +170,7 @@ def mesh_blocks(
     cells: Sequence[SideItem] = (),
     untangle: Untangle | None = None,
     gradings: Sequence[SideItem] = (),
+    start: StartNodes | None = None,
 ) -> MultiBlockResult:
     """The multi-block grid of a boundary's ``rings`` (outer and holes) and block
     ``edges`` (named ``names`` in messages) by ``settings.method`` (tfi, elliptic or pinn),
@@ -170,7 +183,8 @@ def mesh_blocks(
     is from them; ``cells``: ``--cells X,Y=N`` items (``chains.py``); ``untangle``: undoes a
     block's folds after gradings and patch spacings move its nodes
     (``starts.untangle.untangle``, passed in by the caller); ``gradings``: ``--grading
-    X,Y=R`` items, expansion ratios along chains (``chains.ratio_params``)."""
+    X,Y=R`` items, expansion ratios along chains (``chains.ratio_params``); ``start``: where
+    the elliptic solve starts, asked once the layout is known (a family model's nodes)."""
     if settings.method not in MULTIBLOCK_METHODS:
         raise InputError(
             f"method {settings.method}: multi-block domains are meshed by "
@@ -179,7 +193,7 @@ def mesh_blocks(
         )
     if settings.method == "pinn" and train is None:
         raise ValueError("method pinn: pass train=kinds.blocks.problem.train_blocks")
-    start = time.perf_counter()
+    began = time.perf_counter()
     lines = linework(rings, edges, names, source)
     topo = topology(lines)
     h = settings.cell_size or default_cell_size(lines.diagonal)
@@ -237,13 +251,19 @@ def mesh_blocks(
     check_room(lay.points, asked)
     steps = 0
     points = lay.points
-    timings = {"layout": time.perf_counter() - start}
+    timings = {"layout": time.perf_counter() - began}
+    first = start(topo, lay) if start is not None else None
+    solve_start = "layout" if first is None else "given"
     if settings.method in ("elliptic", "pinn"):
         held_sides = frozenset(
             k for item, _ in grades if from_corner(topo, k := nearest_piece(topo, item))
         )
-        points, steps = winslow(topo, lay, settings.interfaces == "free", held=held_sides)
-    timings["solve"] = time.perf_counter() - start - timings["layout"]
+        free = settings.interfaces == "free"
+        points, steps = winslow(topo, lay, free, held=held_sides, start=first)
+        if first is not None and steps >= MAX_ITERATIONS:  # not converged: the layout's
+            points, steps = winslow(topo, lay, free, held=held_sides)
+            solve_start = "layout (the given start did not converge)"
+    timings["solve"] = time.perf_counter() - began - timings["layout"]
     lines = block_lines(aux, [points[ids] for ids in lay.ids])  # the method's block sides
     cross = crossings(topo, lay)  # the interfaces' nodes, for every kink figure below
     frames = [block_boundary(points[ids]) for ids in lay.ids]
@@ -332,13 +352,16 @@ def mesh_blocks(
             for grid, frame, mine in zip(grids, frames, lines)
             for name, d in line_distances(frame.frame.to_unit(grid), mine, frame.diagonal).items()
         },
-        "mesh_seconds": time.perf_counter() - start,
+        "mesh_seconds": time.perf_counter() - began,
     }
     timings["walls_and_quality"] = report["mesh_seconds"] - sum(timings.values())
     report["timings"] = timings
     if training is not None:
         report["training"] = training
         report["choice"] = network_effect(report)
+    if start is not None:
+        report["solve_start"] = solve_start
+        start.note(report)
     return MultiBlockResult(grids, cells, report, patches)
 
 

@@ -157,8 +157,7 @@ def slide(
     position) = 0 over this slider's previous step, kept in ``last`` (position, target),
     where the two steps say the next node follows by a share between 0 and
     ``MAX_FOLLOW``, else the plain move."""
-    lo = at[slider.far[0]]
-    hi = lo + (np.mod(at[slider.far[1]] - lo, ring.length) or ring.length)
+    lo, hi = _stretch(slider, ring, at)
     now = lo + np.mod(at[slider.node] - lo, ring.length)
     target = ring.nearest(points[slider.next], lo + slider.margin, hi - slider.margin)
     s = target
@@ -171,6 +170,29 @@ def slide(
                 s = now + (target - now) / (1.0 - follow)
         s = float(np.clip(s, lo + slider.margin, hi - slider.margin))
     last[slider.node] = (now, target)
+    _put(points, slider, ring, at, s)
+
+
+def place(points: np.ndarray, slider: Slider, ring: Ring, at: dict[int, float]) -> None:
+    """Put a slider at the point of its stretch (as :func:`slide`'s) nearest its node's
+    position in ``points`` (a family model's, SPEC 16), record its arc length in ``at`` and
+    respace its two boundary pieces at equal arc length: exactly on the boundary, where the
+    model put it."""
+    lo, hi = _stretch(slider, ring, at)
+    s = ring.nearest(points[slider.node], lo + slider.margin, hi - slider.margin)
+    _put(points, slider, ring, at, s)
+
+
+def _stretch(slider: Slider, ring: Ring, at: dict[int, float]) -> tuple[float, float]:
+    """The arc lengths of a slider's far ends (``at``), the second past the first."""
+    lo = at[slider.far[0]]
+    return lo, lo + (np.mod(at[slider.far[1]] - lo, ring.length) or ring.length)
+
+
+def _put(points: np.ndarray, slider: Slider, ring: Ring, at: dict[int, float], s: float) -> None:
+    """A slider at arc length ``s`` (within its stretch, recorded in ``at``), its two
+    pieces respaced evenly."""
+    lo, hi = _stretch(slider, ring, at)
     at[slider.node] = float(np.mod(s, ring.length))
     first, second = slider.pieces
     points[first[1:]] = ring.at(np.linspace(lo, s, len(first))[1:])

@@ -84,11 +84,14 @@ def test_a_fit_of_too_few_members_exits_2_with_one_line(tmp_path, capsys):
     assert not (tmp_path / "f.pt").exists()
 
 
-def test_model_with_blocks_is_refused_in_one_line(tmp_path, capsys):
+def test_a_multiblock_run_with_a_missing_model_is_one_line(tmp_path, capsys):
+    """A multi-block domain takes --model (SPEC 16's multi-block families): a missing model
+    file is one line naming it, before any solve, and no grid is written."""
     from helpers import EXAMPLES
 
     argv = [str(EXAMPLES / "lshape.vtp"), "--blocks", str(EXAMPLES / "lshape_blocks.vtp"),
             "--model", "f.pt", "-o", str(tmp_path / "l.vtm")]  # fmt: skip
     assert main(argv) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "--model" in err
+    assert err.count("\n") == 1 and "f.pt: family model file not found" in err
+    assert not (tmp_path / "l.vtm").exists()

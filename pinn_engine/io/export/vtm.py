@@ -54,6 +54,8 @@ def multiblock_dataset(grids, cells, report: dict, patches=None) -> vtkMultiBloc
             "folded_cells": int(arrays["Folded"].sum()),
         }
         block = {"method": report["method"], "block": k, "quality": figures, "multiblock": whole}
+        if "family" in report:  # a family model's run (SPEC 16): NetworkResult, FamilyModel
+            block["training"] = {key: report["family"][key] for key in ("result", "model")}
         grid = structured_grid(points, block, cells=arrays)
         for name in (FIELD, TYPES_FIELD):  # a block's sides are no patches (SPEC 10's are)
             grid.GetFieldData().RemoveArray(name)

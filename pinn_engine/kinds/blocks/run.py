@@ -34,7 +34,9 @@ class BlocksGeometry:
     (``geometry.auxlines.RawLine``), how the edges came (``blocking``: drawn, or proposed
     from the rings, SPEC 13), and what the options name on it: ``patches``
     (``multiblock.patches``' items), ``walls`` (spacing and orthogonality on patches or
-    block sides) and ``cells`` (``--cells`` items); ``source`` names it in messages."""
+    block sides) and ``cells`` (``--cells`` items); ``source`` names it in messages;
+    ``start``: where its elliptic solve starts (``multiblock.mesh.StartNodes``: a family
+    model's, SPEC 16; None: the layout's)."""
 
     rings: list[np.ndarray]
     edges: list[np.ndarray]
@@ -46,6 +48,7 @@ class BlocksGeometry:
     walls: object | None = None  # multiblock.walls.Walls
     cells: tuple = ()
     gradings: tuple = ()
+    start: object | None = None  # multiblock.mesh.StartNodes
 
 
 def flat_curves(curves: list[np.ndarray], source: str) -> list[np.ndarray]:
@@ -324,6 +327,7 @@ def run_blocks(
         g.cells,
         untangle,
         g.gradings,
+        g.start,
     )
     result.report["blocking"] = g.blocking
     training = result.report.get("training", {})

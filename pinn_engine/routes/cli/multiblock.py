@@ -19,20 +19,15 @@ from pinn_engine.routes.cli.summary import blocks_summary, warn
 from pinn_engine.settings import AUTO_BLOCKS, BLOCKS_METHOD, DEFAULT_SIZE, MULTIBLOCK_METHODS
 
 
-def run_blocks(
-    args: argparse.Namespace, written: list[Path], reports: list[dict] | None = None
-) -> Path:
-    """The boundary and its block edges into ``OUT.vtm`` (or a solver format); appends each
-    output file to ``written`` once it is complete, and the report to ``reports``."""
+def check_blocks(args: argparse.Namespace) -> None:
+    """Refuse, in one line, what a multi-block run does not take (SPEC 10), and set its
+    method's default."""
     from pinn_engine import job
-    from pinn_engine.io.export import blocks_format, write_blocks
-    from pinn_engine.io.export.edges import write_edges
-    from pinn_engine.io.export.vtm import write_vtm
-    from pinn_engine.io.fileio import check_writable
 
     refuse_options(  # SPEC 10: what four-sided domains and bodies take and blocks do not
         args,
-        set(job.only_for("four-sided", "blocks")) | set(job.only_for("body", "blocks")),
+        (set(job.only_for("four-sided", "blocks")) | set(job.only_for("body", "blocks")))
+        - {"model"},  # SPEC 16: a family model of multi-block members
         "{} applies to four-sided domains and bodies, not to --blocks",
     )
     if args.boundary is None:
@@ -48,22 +43,19 @@ def run_blocks(
             f"{', '.join(MULTIBLOCK_METHODS[:-1])} or {MULTIBLOCK_METHODS[-1]} in this build "
             f"(default {BLOCKS_METHOD})"
         )
-    out = output_path(args, f"{Path(args.boundary).stem}_{args.method}", "vtm")
-    vtm = args.format is None and out.suffix.lower() == ".vtm"
-    if vtm and args.extrude is not None:
-        raise PinnMeshError(f"{out}: --extrude applies to .xyz, .cgns and --format openfoam")
-    if vtm:
-        check_writable(out)  # refused before meshing
-    else:
-        blocks_format(out, args.format, args.extrude)  # refused before meshing
+
+
+def blocks_inputs(args: argparse.Namespace):
+    """The settings and the geometry (``job.BlocksGeometry``) of a multi-block run's checked
+    arguments (:func:`check_blocks`)."""
+    from pinn_engine import job
+
     args.size = DEFAULT_SIZE  # checked by check_options, unused by multi-block
     check_options(args)
     # patch names, not sides: passed to the run, not to the four-sided settings
     spacing, orthogonal = args.spacing, [args.orthogonal] if args.orthogonal else []
     args.spacing, args.orthogonal = [], None
     settings = settings_from(args, kind="blocks")
-    start = time.perf_counter()
-    field = read_adapt_field(args)
     geometry = job.blocks_from_files(
         args.boundary,
         args.blocks,
@@ -75,9 +67,36 @@ def run_blocks(
         args.grading,
         settings.cell_size,
     )
+    return settings, geometry
+
+
+def run_blocks(
+    args: argparse.Namespace, written: list[Path], reports: list[dict] | None = None
+) -> Path:
+    """The boundary and its block edges into ``OUT.vtm`` (or a solver format); appends each
+    output file to ``written`` once it is complete, and the report to ``reports``; with
+    ``--model`` the family model's run (SPEC 16)."""
+    from pinn_engine import job
+    from pinn_engine.io.export import blocks_format, write_blocks
+    from pinn_engine.io.export.edges import write_edges
+    from pinn_engine.io.export.vtm import write_vtm
+    from pinn_engine.io.fileio import check_writable
+
+    check_blocks(args)
+    out = output_path(args, f"{Path(args.boundary).stem}_{args.method}", "vtm")
+    vtm = args.format is None and out.suffix.lower() == ".vtm"
+    if vtm and args.extrude is not None:
+        raise PinnMeshError(f"{out}: --extrude applies to .xyz, .cgns and --format openfoam")
+    if vtm:
+        check_writable(out)  # refused before meshing
+    else:
+        blocks_format(out, args.format, args.extrude)  # refused before meshing
+    start = time.perf_counter()
+    settings, geometry = blocks_inputs(args)
+    field = read_adapt_field(args)
     read = time.perf_counter() - start
     with Progress(args.quiet) as progress:
-        outcome = job.run(settings, geometry, progress, field=field)
+        outcome = job.run(settings, geometry, progress, field=field, family=args.model)
     report = outcome.report
     report["timings"]["read"] = read
     folded = report["quality"]["folded_cells"]

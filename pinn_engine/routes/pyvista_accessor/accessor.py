@@ -259,7 +259,8 @@ class PinnMeshAccessor:
         if model is not None and "model" not in OPTIONS[kind]:
             raise InputError(
                 "model= (a family model) meshes four-sided domains and O- and C-grids in "
-                "this build, not multi-block or six-faced domains"
+                "pyvista in this build, not multi-block or six-faced domains; a multi-block "
+                "family's model meshes by pinn-mesh BOUNDARY --blocks EDGES --model FAMILY.pt"
             )
         if kind == "hexa":
             self.last = self._hexa(size, method, given, progress_bar)
