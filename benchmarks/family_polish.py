@@ -29,9 +29,9 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 
 # (label, start: the model's grid, or the polish's own start (family.mesh.polish_start:
 # where the model's grid ranks below the member's start, the best ranked of that start and
-# its blends towards the model's grid), the stages' temperatures (shares of QUALITY_TAU,
-# quality_start.sharpened), at most 100 iterations a stage, Settle's window, worst step and
-# spare)
+# its blends towards the model's grid; "leap": from a model's grid or a blend, a settled
+# stage is followed by the last alone), the stages' temperatures (shares of QUALITY_TAU,
+# quality_start.sharpened), at most 100 iterations a stage, Settle's window, worst, spare)
 STAGES = (1.0, 1 / 2, 1 / 4, 1 / 8)  # the member's own run's (quality_start.SHARPENING)
 RULES = (
     ("model's grid, 1 degree alone, settled (15)", "model", (1.0,), (15, 0.05, 0.25)),
@@ -42,6 +42,13 @@ RULES = (
     ("blended start, 1, 1/2, 1/8, settled (15)", "blend", (1.0, 1 / 2, 1 / 8), (15, 0.05, 0.25)),
     ("blended start, 1, 1/8, settled (15)", "blend", (1.0, 1 / 8), (15, 0.05, 0.25)),
     ("blended start, 2, 1/2, 1/8, settled (15)", "blend", (2.0, 1 / 2, 1 / 8), (15, 0.05, 0.25)),
+    ("blended start, 2, 1/8, settled (15)", "blend", (2.0, 1 / 8), (15, 0.05, 0.25)),
+    (
+        "blended start, 2, 1/2, 1/8, settled (15), a settled stage leaps to 1/8",
+        "leap",
+        (2.0, 1 / 2, 1 / 8),
+        (15, 0.05, 0.25),
+    ),
 )
 
 
@@ -67,10 +74,12 @@ def finish(model, member, rule, counted: list) -> np.ndarray:
     elliptic = model.base(member)
     ranking = Ranking.of(elliptic, (), member.boundary.diagonal)
     (begin, _), ranking = best_candidate(elliptic, member.base, ranking)
-    if start == "blend":
-        grid, _ = polish_start(ranking, begin, ranking.quality(begin), grid)
+    share = 1.0
+    if start != "model":
+        grid, share = polish_start(ranking, begin, ranking.quality(begin), grid)
     counted.clear()
-    done = sharpened(grid, ranking, model.polish, Settle(*settle), shares)
+    leap = start == "leap" and share > 0
+    done = sharpened(grid, ranking, model.polish, Settle(*settle), shares, leap)
     return member.frame.to_user(done)
 
 

@@ -235,25 +235,32 @@ def sharpened(
     iterations: int = STAGE_ITERATIONS,
     settle: Settle | None = None,
     shares: Sequence[float] = SHARPENING,
+    leap: bool = False,
 ) -> np.ndarray:
     """``grid`` with its interior nodes optimised (:func:`optimize_nodes`) in stages whose
     soft maximum sharpens (temperatures ``shares`` of ``QUALITY_TAU``), each from the
     best-ranked state of the one before: a blunt soft maximum moves the whole band of
     near-worst cells, a sharp one then the few that bind. Each stage runs at most
     ``iterations``, and stops after ``STAGE_STALL`` without a better-ranked state or, given
-    ``settle``, once settled (a family model's polish). No stage ranks below its start; only
-    the first moves the grid onto the auxiliary lines (:func:`follow_lines`), the others go
-    on from where it ended."""
-    for stage, share in enumerate(shares):
+    ``settle``, once settled (a family model's polish); with ``leap``, a stage that settled
+    is followed by the last alone (its band of near-worst cells has moved together), and
+    the stages between follow one that ran out of iterations. No stage ranks below its
+    start; only the first moves the grid onto the auxiliary lines (:func:`follow_lines`),
+    the others go on from where it ended."""
+    stage, outcome = 0, {}
+    while stage < len(shares):
         grid = optimize_nodes(
             grid,
             ranking,
             iterations,
             stall=None if settle else STAGE_STALL,
             settle=settle,
-            tau=share * QUALITY_TAU,
+            tau=shares[stage] * QUALITY_TAU,
             follow=stage == 0,
+            outcome=outcome,
         )
+        last = len(shares) - 1
+        stage = max(stage + 1, last) if leap and outcome.get("settled") else stage + 1
     return grid
 
 
@@ -747,6 +754,7 @@ def optimize_nodes(
     tau: float = QUALITY_TAU,
     follow: bool = True,
     numpy_lbfgs: bool = False,
+    outcome: dict | None = None,
 ) -> np.ndarray:
     """``grid`` with its interior nodes moved to minimise ``losses.loss_quality``
     (:func:`quality_loss` at temperature ``tau``; L-BFGS in float64, at most
@@ -757,6 +765,8 @@ def optimize_nodes(
     ni - 1 is column 0 (an O-grid's seam), which moves with it.
     ``stall``: stop once that many iterations have not found a better-ranked state.
     ``settle``: stop once it has settled, and return its state (:class:`Settle`).
+    ``outcome``: given, its ``settled`` says whether it stopped before its iterations (or
+    their evaluations) ran out: settled, stalled or converged.
     ``numpy_lbfgs``: L-BFGS in NumPy (``lbfgs.minimize``: SciPy's L-BFGS-B without bounds,
     another line search) instead of SciPy's, whose import a body's route saves.
     Returns the evaluated state that ranks best (``ranking``, on the corner angles): the soft
@@ -779,6 +789,7 @@ def optimize_nodes(
     met: list[tuple[tuple, float, np.ndarray]] = []  # with settle: each state's key, mean, x
     held = _held_corners(grid.shape[:2], free, seam) if settle is not None else None
     floor = [-math.inf]  # with settle: the held corners' worst angle, no state's worst below
+    spent = [0, 0]  # iterations and evaluations run
 
     def moved(x: np.ndarray) -> np.ndarray:
         g = grid.copy()
@@ -788,6 +799,7 @@ def optimize_nodes(
         return g
 
     def loss_and_grad(x: np.ndarray) -> tuple[float, np.ndarray]:
+        spent[1] += 1
         g = moved(x)
         loss, grad, theta = quality_loss(g, turn, tau)
         if seam:
@@ -821,6 +833,7 @@ def optimize_nodes(
 
     def stalled(_) -> None:
         since[0] += 1
+        spent[0] += 1
         if stall is not None and since[0] > stall:
             raise StopIteration
         if settle is not None:
@@ -854,6 +867,8 @@ def optimize_nodes(
             callback=stalled,
             options={"maxiter": iterations, "maxfun": evaluations, **NODE_LBFGS},
         )
+    if outcome is not None:
+        outcome["settled"] = spent[0] < iterations and spent[1] < evaluations
     if settle is not None:
         near = [  # ranked no worse than the start, whose key is the first met
             (mean, x)

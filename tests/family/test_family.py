@@ -206,11 +206,11 @@ def test_a_model_grid_below_the_members_own_start_is_not_polished(optima, monkey
     np.testing.assert_allclose(by_model.grids[0][0], own.grids[0][0], atol=1e-12)
 
 
-def test_the_polish_runs_three_stages_ending_at_the_own_runs_sharpest(optima, monkeypatch):
-    """A family of node optima: the polish optimises the member's nodes at 2, 1/2 and 1/8
-    degree (mesh.POLISH_SHARPENING: each a quarter of the one before, the last the own
-    run's; from 1 degree, or in the own run's four stages, it took more evaluations), each
-    stage settled."""
+def test_the_polish_leaps_to_the_own_runs_sharpest_stage_once_one_settles(optima, monkeypatch):
+    """A family of node optima: the polish optimises the member's nodes from the model's grid
+    at 2 degrees, and once that stage has settled at 1/8 degree alone (mesh.POLISH_SHARPENING:
+    each a quarter of the one before, the last the own run's; the 1/2 stage between only
+    after a stage that ran out of iterations), each stage settled."""
     from pinn_engine.quality import QUALITY_TAU
     from pinn_engine.starts import quality_start as qs
 
@@ -224,7 +224,40 @@ def test_the_polish_runs_three_stages_ending_at_the_own_runs_sharpest(optima, mo
     monkeypatch.setattr(qs, "optimize_nodes", recorded)
     by_model = job.run(DEFAULT, geometry(channel(0.25, 0.05)), family=optima)
     assert by_model.report["training"]["result"] == "family"
-    assert stages == [(2.0, True), (0.5, True), (0.125, True)]
+    assert stages == [(2.0, True), (0.125, True)]
+
+
+def _stages(grid: np.ndarray, iterations: int, settle, leap: bool) -> list[float]:
+    """The temperatures (shares of QUALITY_TAU) of the stages quality_start.sharpened runs
+    on ``grid`` at 2, 1/2 and 1/8 degree, at most ``iterations`` each."""
+    from pinn_engine.quality import QUALITY_TAU
+    from pinn_engine.starts import quality_start as qs
+
+    stages = []
+    real = qs.optimize_nodes
+    with pytest.MonkeyPatch.context() as monkeypatch:
+        monkeypatch.setattr(
+            qs, "optimize_nodes", lambda *a, **k: stages.append(k["tau"]) or real(*a, **k)
+        )
+        ranking = qs.Ranking.of(grid, (), 1.0)
+        qs.sharpened(grid, ranking, iterations, settle, (2.0, 1 / 2, 1 / 8), leap)
+    return [tau / QUALITY_TAU for tau in stages]
+
+
+def test_a_leaping_polish_runs_the_stages_between_only_after_one_out_of_iterations():
+    """quality_start.sharpened with ``leap``: a stage that settled (a sheared box, its worst
+    angle its fixed corners') is followed by the last alone, where without ``leap`` every
+    stage runs; a stage that runs out of its iterations is followed by the next."""
+    from pinn_engine.starts import quality_start as qs
+
+    x, y = np.meshgrid(np.linspace(0, 1, 11), np.linspace(0, 1, 7))
+    box = np.stack([x + 0.3 * y, y], -1)  # a sheared box: 106.7-degree corners, fixed
+    settle = qs.Settle(50, 0.05, 0.25)
+    assert _stages(box, 100, settle, leap=True) == [2.0, 0.125]
+    assert _stages(box, 100, settle, leap=False) == [2.0, 0.5, 0.125]
+    skewed = box.copy()
+    skewed[3, 5] += (0.02, 0.03)
+    assert _stages(skewed, 1, settle, leap=True) == [2.0, 0.5, 0.125]
 
 
 def _settled(grid: np.ndarray, ranking, settle) -> tuple[np.ndarray, int]:
