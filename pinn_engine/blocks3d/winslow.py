@@ -1,11 +1,12 @@
 """The 3D Winslow grid over all blocks of a dictionary at once (SPEC 15's ``elliptic``).
 
-- **Unknowns.** Every node once (``placement``'s numbering). A node inside a block, inside
-  a face two blocks share, or on an edge or vertex round which the blocks' cells close as
-  eight octants has a full 3 x 3 x 3 neighbourhood: across a shared face it continues into
-  the next block (the blocks' index directions carry on through it), on edges and vertices
-  it is glued cell by cell from the cells round the node. Those nodes move as interior
-  nodes: interfaces are solved, not drawn (SPEC 10's idea in 3D).
+- **Unknowns.** Every node once (``placement``'s numbering; a slab's back face, the
+  mirror image of its front, moves with it and is not solved for). A node inside a block,
+  inside a face two blocks share, or on an edge or vertex round which the blocks' cells
+  close as eight octants has a full 3 x 3 x 3 neighbourhood: across a shared face it
+  continues into the next block (the blocks' index directions carry on through it), on
+  edges and vertices it is glued cell by cell from the cells round the node. Those nodes
+  move as interior nodes: interfaces are solved, not drawn (SPEC 10's idea in 3D).
 - **Boundary.** A node on a boundary face lying in a plane x, y or z = const slides within
   the plane: its normal coordinate is held and its neighbourhood is mirrored across the
   plane (a symmetry wall, so the grid lines meet it at right angles); on two such planes it
@@ -706,15 +707,23 @@ def boundary_held(place: Placement) -> tuple[dict, np.ndarray]:
     return across, held
 
 
-def stencils(place: Placement) -> tuple[Stencils, list[Star], np.ndarray]:
-    """Every node's neighbourhood that can be built, and per node and coordinate whether it
-    is held (the boundary's rules of the module)."""
+def stencils(
+    place: Placement, twin: np.ndarray | None = None
+) -> tuple[Stencils, list[Star], np.ndarray]:
+    """Every node's neighbourhood that can be built (none for a node whose ``twin`` is
+    another: it moves with it), and per node and coordinate whether it is held (the
+    boundary's rules of the module)."""
+    twin = np.arange(len(place.points)) if twin is None else twin
     logical = _logical(place)
     across, held = boundary_held(place)
     parts = _interior(place, logical) + _faces(place, logical, across)
     steps = [[np.abs(np.diff(u)) for u in block] for block in logical]
     glued_ids, glued_h, stars = [], [], []
-    edge = {node: cells for node, cells in _edge_nodes(place).items() if not held[node].all()}
+    edge = {
+        node: cells
+        for node, cells in _edge_nodes(place).items()
+        if not held[node].all() and twin[node] == node
+    }
     glued = _glued(edge, place, steps)
     irregular = []
     for node in edge:
@@ -733,7 +742,8 @@ def stencils(place: Placement) -> tuple[Stencils, list[Star], np.ndarray]:
         parts.append(Stencils(np.array(glued_ids).reshape(-1, 3, 3, 3), np.array(glued_h)))
     ids = np.concatenate([p.ids for p in parts])
     h = np.concatenate([p.h for p in parts])
-    solved = ~held[ids[:, 1, 1, 1]].all(axis=1)
+    centre = ids[:, 1, 1, 1]
+    solved = ~held[centre].all(axis=1) & (twin[centre] == centre)
     return Stencils(ids[solved], h[solved]), stars, held
 
 
@@ -780,13 +790,22 @@ class _Systems:
     170 MB on DFG 3D for nothing the solve needs. A coordinate's matrix is the rows and
     columns of its free nodes (``free``); coordinates free at the same nodes (the
     cross-section's two of a pipe) have the same matrix, so one inexact solver, its
-    hierarchy built once, solves their columns together."""
+    hierarchy built once, solves their columns together. A node whose ``twin`` is another
+    (a slab's back face, the mirror image of its front) has no row: its column is its twin's,
+    and where that is the row's own node its weight joins the diagonal (Gauss-Seidel reads
+    one diagonal entry a row)."""
 
     def __init__(
-        self, owners: np.ndarray, held: np.ndarray, cols: np.ndarray, counts: np.ndarray
+        self,
+        owners: np.ndarray,
+        held: np.ndarray,
+        cols: np.ndarray,
+        counts: np.ndarray,
+        twin: np.ndarray,
     ) -> None:
         n = len(held)
-        solved = ~held[owners].all(axis=1)
+        solved = ~held[owners].all(axis=1) & (twin[owners] == owners)
+        self.twin = twin
         self.nodes = owners[solved]
         self.free = ~held[self.nodes]
         self.mine = np.repeat(solved, counts)
@@ -803,16 +822,27 @@ class _Systems:
 
     def _part(self, free: np.ndarray) -> tuple:
         """The entries (a mask), column indices and row pointers of the matrix of the rows
-        and columns ``free`` among the pattern's rows."""
+        and columns ``free`` among the pattern's rows, and the entries that join their
+        row's diagonal (a twin of the row's node: a mask) with the places of those
+        diagonals among the entries kept."""
         cols, starts, (_, n) = self.pattern
         rows = np.flatnonzero(free)
         local = np.full(n, -1, dtype=np.int32)  # a node's place among the free rows
         local[self.nodes[rows]] = np.arange(len(rows), dtype=np.int32)
+        local = local[self.twin]  # a twin's column is its node's
         inner = local[cols]
+        row = np.repeat(np.arange(len(self.nodes)), self.counts)  # each entry's row
+        owner = self.nodes[row]
         keep = np.repeat(free, self.counts) & (inner >= 0)
+        own = keep & (cols == owner)  # each kept row's diagonal
+        echo = keep & ~own & (inner == local[owner])
+        keep &= ~echo
         kept = np.zeros(len(keep) + 1, dtype=np.int64)  # entries kept before each
         np.cumsum(keep, out=kept[1:])
-        return keep, inner[keep], np.append(kept[starts[rows]], kept[-1])
+        diagonal = np.zeros(len(self.nodes), dtype=np.int64)
+        diagonal[row[own]] = kept[:-1][own]
+        into = diagonal[row[echo]]
+        return keep, inner[keep], np.append(kept[starts[rows]], kept[-1]), echo, into
 
     def residuals(self, v: np.ndarray, points: np.ndarray) -> np.ndarray:
         """(m, 3) Winslow residuals of the rows' nodes under the entries' weights ``v``
@@ -834,8 +864,11 @@ class _Systems:
                 continue
             if key not in self.parts:
                 self.parts[key] = self._part(self.free[:, comps[0]])
-            keep, indices, indptr = self.parts[key]
-            mat = sp.csr_matrix((-self.data[keep], indices, indptr), shape=(len(rows),) * 2)
+            keep, indices, indptr, echo, into = self.parts[key]
+            values = -self.data[keep]
+            if len(into):
+                values -= np.bincount(into, weights=self.data[echo], minlength=len(values))
+            mat = sp.csr_matrix((values, indices, indptr), shape=(len(rows),) * 2)
             got = self.solvers[key].solve(mat, np.ascontiguousarray(rhs[:, live]))
             for k, column in zip(live, got.T):
                 out[comps[k]] = column
@@ -847,11 +880,16 @@ def winslow(
     max_iterations: int = MAX_ITERATIONS,
     free_interfaces: bool = True,
     progress=None,
+    twin: np.ndarray | None = None,
 ) -> tuple[np.ndarray, int]:
     """The nodes of the Winslow grid over all blocks from blockMesh's placement, and the
     Picard steps taken. ``free_interfaces=False`` keeps every node on a block face, edge
-    or vertex where blockMesh puts it (each block's interior solved)."""
-    st, stars, held = stencils(place)
+    or vertex where blockMesh puts it (each block's interior solved). ``twin``: each
+    node's mirror image where the placement and its equations are symmetric (a slab's two
+    faces, section.slab; the identity by default): only one of each pair is solved for,
+    the other moves with it (half the unknowns)."""
+    twin = np.arange(len(place.points)) if twin is None else twin
+    st, stars, held = stencils(place, twin)
     points = place.points.copy()
     if not free_interfaces:
         inner = np.zeros(len(points), dtype=bool)
@@ -864,7 +902,7 @@ def winslow(
     counts = np.array([cols.shape[1]] * len(cols) + [len(s.around) + 1 for s in stars])
     star_rows = StarRows(stars)
     entries = np.concatenate([cols.ravel()] + star_rows.ids)
-    systems = _Systems(owners, held, entries, counts)
+    systems = _Systems(owners, held, entries, counts, twin)
     diag = float(np.linalg.norm(np.ptp(points, axis=0)))
     v = np.empty(len(entries))  # the entries' weights, written in place each step
     regular = v[: cols.size].reshape(cols.shape)  # the stencils' rows; the stars' follow
@@ -881,7 +919,9 @@ def winslow(
             moved = 0.0
             for comp, delta in enumerate(updates):
                 if delta is not None:
-                    points[systems.nodes[systems.rows[comp]], comp] += delta
+                    step = np.zeros(len(points))
+                    step[systems.nodes[systems.rows[comp]]] = delta
+                    points[:, comp] += step[twin]  # a twin moves as its node
                     moved = max(moved, float(np.abs(delta).max(initial=0.0)))
             if progress is not None:
                 progress(steps, moved / diag)

@@ -16,6 +16,7 @@ from pinn_engine.blocks3d.dictionary import from_text
 from pinn_engine.blocks3d.mesh import ORTHOGONAL, mesh_dictionary, winslow_grid
 from pinn_engine.blocks3d.placement import place
 from pinn_engine.blocks3d.winslow import boundary_held, winslow
+from pinn_engine.hexa.inexact import InexactSolve
 
 sys.path.insert(0, str(EXAMPLES / "blockmesh"))
 from make_dictionaries import pipe  # noqa: E402
@@ -158,3 +159,25 @@ def test_a_swept_grids_figures_are_its_slabs_counted_over_its_layers():
         assert got.folded == want.folded == 0
     points = S.swept(placed.points, sec, folded)
     assert slab(points).folded == figures(points, cells).folded > 0
+
+
+def test_a_slab_solves_one_face_and_its_twin_moves_with_it(monkeypatch):
+    """The slab's back face mirrors its front (``twin``): the systems have the front face's
+    rows alone, half the unknowns, and the grid is the slab's solved over both faces (this
+    small one's systems are solved exactly: to round-off), both faces the same in-plane."""
+    placed, sec = swept_pipe()
+    slab, n = S.slab(placed, sec), len(sec.nodes)
+    sizes = []
+    solve = InexactSolve.solve
+
+    def counted(self, mat, rhs):
+        sizes.append(mat.shape[0])
+        return solve(self, mat, rhs)
+
+    monkeypatch.setattr(InexactSolve, "solve", counted)
+    both, _ = winslow(slab)
+    unknowns, sizes[:] = sizes[0], []
+    one, _ = winslow(slab, twin=np.tile(np.arange(n), 2))
+    assert 2 * sizes[0] == unknowns
+    assert np.array_equal(one[:n, sec.plane], one[n:, sec.plane])
+    assert np.abs(one - both).max() < 1e-12 * np.ptp(slab.points, axis=0).max()
