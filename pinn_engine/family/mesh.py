@@ -399,15 +399,20 @@ class BlocksStart:
 
     def note(self, report: dict) -> None:
         """The family's part of the run's ``report`` (``family``): ``result`` ``family``
-        where the grid was solved from the model's nodes, else ``start`` and why."""
-        kept = report["solve_start"] == "given"
+        where the grid was solved from the model's nodes and kept, else ``start`` and why
+        (the run's own choice keeps its start, the blocks' TFI grid, where that ranks above
+        the solved grid: section 4's guard, as the member's own run applies it)."""
+        solved = report["solve_start"] == "given"
+        tfi = report.get("training", {}).get("start") == "tfi"
         family = {
-            "result": "family" if kept else "start",
+            "result": "family" if solved and not tfi else "start",
             "model": self.model.path or "(not saved)",
             "solve_steps": report["iterations"],
             **self.info,
         }
-        if not kept:
+        if tfi:
+            family["fallback"] = "the member's start (its blocks' TFI grid) ranked above"
+        elif not solved:
             why = (
                 f"{self.info['model_folded_cells']} folded cells"
                 if self.info.get("model_folded_cells")

@@ -136,3 +136,14 @@ def test_a_multiblock_member_with_auxiliary_lines_or_spacing_is_refused(fitted):
     g.walls = parse_walls(["boundary=0.001"], [])
     with pytest.raises(InputError, match="without --aux, --spacing"):
         job.run(SETTINGS, g, family=str(fitted))
+
+
+def test_a_grid_below_the_members_tfi_start_keeps_the_start(fitted, monkeypatch):
+    """Where the member's own choice keeps its start (its blocks' TFI grid ranks above the
+    grid solved from the model's nodes), the report says start and why."""
+    from pinn_engine.multiblock import mesh as multiblock_mesh
+
+    monkeypatch.setattr(multiblock_mesh, "_tfi_ranks_better", lambda *args: True)
+    fam = job.run(SETTINGS, cylinder(0.22, 0.2, 0.05), family=str(fitted))
+    assert fam.report["family"]["result"] == "start"
+    assert "TFI grid" in fam.report["family"]["fallback"]
