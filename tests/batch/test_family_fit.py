@@ -95,3 +95,27 @@ def test_a_multiblock_run_with_a_missing_model_is_one_line(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "f.pt: family model file not found" in err
     assert not (tmp_path / "l.vtm").exists()
+
+
+def test_a_multiblock_family_is_fitted_and_meshes_a_member_from_the_command_line(tmp_path):
+    """``pinn-mesh fit`` on multi-block members (each row's --blocks file and --cells in its
+    options: make_families.py's cylinder family), then a new member by ``--model``: a .vtm
+    whose blocks' field data say family and the model's file."""
+    import subprocess
+    import sys
+
+    import pyvista as pv
+    from helpers import EXAMPLES
+
+    make = [sys.executable, str(EXAMPLES / "make_families.py"), str(tmp_path), "--family"]
+    subprocess.run([*make, "cylinder", "--train", "3", "--unseen", "1"], check=True)
+    folder, model = tmp_path / "cylinder", tmp_path / "cylinder.pt"
+    assert main(["fit", str(folder / "train.csv"), "-o", str(model), "--workers", "1"]) == 0
+    row = list(csv.DictReader((folder / "unseen.csv").open()))[0]
+    grid = tmp_path / "u0.vtm"
+    options = row["options"].replace("unseen00_blocks.vtp", str(folder / "unseen00_blocks.vtp"))
+    argv = [str(folder / row["input"]), *options.split(), "--model", str(model)]
+    assert main([*argv, "-o", str(grid)]) == 0
+    block = pv.read(grid)[0]
+    assert block.field_data["NetworkResult"][0] == "family"
+    assert block.field_data["FamilyModel"][0] == str(model)
