@@ -25,11 +25,11 @@ DEFAULT_STRENGTH = ADAPT_STRENGTH  # the default strength beta (settings, measur
 # the guard binds at about beta 2 to 5 (docs/adaptation.md)
 STRENGTHS = 5
 WEAKER = 0.5
-# The tensor's forms, in order, (curvature, isotropic, joined): the gradient's monitor
-# across a front only (a front, a layer), a multi-block grid's blocks joined for it (its
-# junctions and interfaces move with the front); Winslow's isotropic 1/M (a feature a few
-# cells wide every way, a vortex's core); the interpolation error's curvature metric,
-# anisotropic and isotropic (a front's flanks, where linear interpolation errs)
+# The tensor's forms (curvature, isotropic, joined): the gradient's monitor across a front
+# only (a front, a layer), a multi-block grid's blocks joined for it (its junctions and
+# interfaces move with the front); Winslow's isotropic 1/M (a feature a few cells wide
+# every way, a vortex's core); the interpolation error's curvature metric, anisotropic and
+# isotropic (a front's flanks, where linear interpolation errs)
 FORMS = ((False, False, True), (False, True, False), (True, False, False), (True, True, False))
 
 
@@ -79,13 +79,27 @@ def adapt_grids(
     space = ParameterSpace(graph, sample, limit)
     points, share, rounds, error, used = start, np.zeros(len(start)), [], error0, 0.0
     form, moved = "unadapted", False
+    # each form's first solve (the strength asked) is made before any is guarded, and the
+    # forms are tried in the order of its error, least first: the best grid found early
+    # bounds the others' guard (a candidate carrying the field no better is not drawn back)
+    firsts = {}
     for curvature, isotropic, joined in FORMS if largest > 0 else ():
+        solved = space.solve(np.full(len(start), strength), isotropic, False, curvature, joined)
+        firsts[curvature, isotropic, joined] = (
+            solved,
+            interpolation_error(solved.points, graph.cells, sample),
+        )
+    order = sorted(firsts, key=lambda f: firsts[f][1])
+    for curvature, isotropic, joined in order:
         last = np.inf
         name = ("joined " if joined and space.joined else "") + ("curvature " if curvature else "")
         name += "isotropic" if isotropic else "anisotropic"
         for k in range(STRENGTHS):
             beta = strength * WEAKER**k
-            found = guarded(graph, space, beta, limit, isotropic, error, curvature, joined)
+            first = firsts[curvature, isotropic, joined] if k == 0 else None
+            found = guarded(
+                graph, space, beta, limit, isotropic, error, curvature, joined, first, error0
+            )
             rounds.append(
                 {"form": name, "strength": beta, "error": found.error, "solves": found.rounds}
             )

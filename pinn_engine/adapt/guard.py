@@ -121,22 +121,37 @@ def guarded(
     bound: float = np.inf,
     curvature: bool = False,
     joined: bool = False,
+    first: tuple[Solved, float] | None = None,
+    unadapted: float = np.inf,
 ) -> Guarded:
     """The grid adapted with ``strength`` lowered where the guard (``limit`` degrees, no
     fold) needs it (``isotropic``, ``curvature``: the diffusion tensor's form, ``joined``:
-    a multi-block grid's blocks solved joined, :meth:`ParameterSpace.solve`);
-    not guarded where its first solve breaks the guard and carries the field no better than
-    ``bound`` (the guard's lowering and draw-back adapt less: they seldom gain it back)."""
+    a multi-block grid's blocks solved joined, :meth:`ParameterSpace.solve`; ``first``: its
+    first solve and that grid's error, where made already), its candidates kept where they
+    carry the field better than ``bound`` (the best grid so far); not guarded where its
+    first and capped solves break the guard and carry the field no better than the
+    ``unadapted`` grid's error (the guard's lowering and draw-back adapt less: they seldom
+    gain it back)."""
     n = len(graph.points)
     share = np.ones(n)
 
-    def error(points: np.ndarray) -> float:
-        return interpolation_error(points, graph.cells, space.sample)
+    scored: dict[bytes, float] = {}
 
-    first = solved = space.solve(share * strength, isotropic, False, curvature, joined)
+    def error(points: np.ndarray) -> float:
+        # a grid is scored once: a candidate's scaled moves are scored before it is drawn
+        # back, and again where it keeps the guard as it is
+        key = points.tobytes()
+        if key not in scored:
+            scored[key] = interpolation_error(points, graph.cells, space.sample)
+        return scored[key]
+
+    if first is None:
+        made = space.solve(share * strength, isotropic, False, curvature, joined)
+        first = made, error(made.points)
+    first, now = first
+    solved = first
     bad = offending(graph, solved.points, limit)
     rounds = [{"steps": solved.steps, "offending_cells": int(bad.sum())}]
-    now = error(solved.points)
     if not bad.any():
         return Guarded(solved, share, np.ones(n), rounds, now)
     # joined blocks: the first solve slipped (its compressed cells turned along the front,
@@ -154,7 +169,7 @@ def guarded(
         if capped is None:
             capped = solved
             now = min(now, error(solved.points))
-            if bad.any() and now >= bound:
+            if bad.any() and now >= unadapted:
                 return Guarded(solved, share, np.ones(n), rounds, now, within=False)
         if not bad.any() or bad.sum() > PROGRESS * rounds[-2]["offending_cells"]:
             break
@@ -199,7 +214,7 @@ def _drawn_back(
         angle[changed], folds[changed] = _angles(graph, points, changed)
         bad = (angle > limit) | folds
         if not bad.any():
-            adapted = Solved(points, params, solved.monitor, solved.steps)
+            adapted = Solved(points, params, solved.steps)
             return Guarded(adapted, share, kept, rounds, error(points))
         # the share of its move a cell keeps to come as far under the bound as it is over
         # (its angle taken linear in the share kept), GENTLE at least: a cell just over the
@@ -212,7 +227,7 @@ def _drawn_back(
         mark = np.zeros(len(graph.cells) + 1, dtype=bool)
         mark[graph.node_cells[cut > 0.0]] = True
         changed = np.flatnonzero(mark[:-1])
-    unadapted = Solved(graph.points.copy(), start_params, solved.monitor, 0)
+    unadapted = Solved(graph.points.copy(), start_params, 0)
     return Guarded(unadapted, share * 0, kept * 0, rounds, error(graph.points))
 
 
@@ -273,7 +288,7 @@ def _nearest(
             slid = [s.copy() for s in params]
             for s, k, arc in zip(slid, inner, arcs):
                 s[k] = arc
-            return [(Solved(moved, slid, solved.monitor, solved.steps), share, 1.0)]
+            return [(Solved(moved, slid, solved.steps), share, 1.0)]
     return []
 
 

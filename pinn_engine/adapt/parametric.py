@@ -51,7 +51,6 @@ from pinn_engine.adapt.monitor import (
     gradient_size,
     gradient_tensor,
     hessian_tensor,
-    monitor_values,
     principal_direction,
     shear_cap,
     slipped,
@@ -301,10 +300,7 @@ class ParameterSpace:
             self._joined(tensors, shares, points, slip)
         else:
             self._blocks(tensors, shares, points, params)
-        final = monitor_values(
-            gradient_size(points, graph.cells, self.sample(points)), strength, largest
-        )
-        return Solved(points, params, final, 1)
+        return Solved(points, params, 1)
 
     def _joined(
         self,

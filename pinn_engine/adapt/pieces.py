@@ -31,9 +31,8 @@ def pieces_of(graph: NodeGraph) -> list[Piece]:
 @dataclass
 class Solved:
     """An adapted grid's unique nodes, its boundary pieces' arc lengths (in
-    :func:`pieces_of`'s order), its monitor at the nodes and the solves made."""
+    :func:`pieces_of`'s order) and the solves made."""
 
     points: np.ndarray
     params: list[np.ndarray]
-    monitor: np.ndarray
     steps: int

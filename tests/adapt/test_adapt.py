@@ -166,3 +166,24 @@ def test_adapt_needs_file_and_array(capsys, tmp_path, spec):
     out = tmp_path / "x.vts"
     argv = [str(EXAMPLES / "wavy.vtp"), "--adapt", spec, "-o", str(out)]
     assert "write FILE:ARRAY" in refused(capsys, argv, out)
+
+
+def test_the_forms_are_tried_in_the_order_of_their_first_solves_error():
+    """Each form's first solve is made before any try is guarded, and the forms are tried
+    least error first (the best grid early bounds the others' guard)."""
+    from pinn_engine.adapt.grids import FORMS
+    from pinn_engine.adapt.parametric import ParameterSpace
+
+    grid = square(13)
+    field = Field(image(front, (-1, -1), (2, 2)), "p")
+    out = adapt_grids([grid], field, strength=20.0)
+    graph = node_graph([grid])
+    space = ParameterSpace(graph, field.sample, out.report["worst_max_angle"]["limit"])
+    errors = {}
+    for curvature, isotropic, joined in FORMS:
+        name = ("curvature " if curvature else "") + ("isotropic" if isotropic else "anisotropic")
+        solved = space.solve(np.full(len(graph.points), 20.0), isotropic, False, curvature, joined)
+        errors[name] = interpolation_error(solved.points, graph.cells, field.sample)
+    tried = list(dict.fromkeys(t["form"] for t in out.report["tries"]))
+    assert tried == sorted(errors, key=errors.get)
+    assert tried != list(errors)  # this field's order is not the forms' own
