@@ -18,7 +18,7 @@ start), and a second linear map predicts that grid's correction over its referen
 (the rows its layout marches, from which its own run solves the elliptic grid): the model's
 grid of a member whose elliptic grid is not solved is its reference grid plus both
 corrections, so a certified grid costs the member its layout alone. A multi-block member's
-base is its blocking's layout, its map linear, and its grid the start of its own run's
+base is its blocking's layout, and its grid (the network's) the start of its own run's
 Winslow solve (mesh.BlocksStart).
 """
 
@@ -200,9 +200,10 @@ class FamilyModel:
     @property
     def linear(self) -> bool:
         """Whether the map is linear (``network.fit_linear``) on the clamped encoding: where
-        the member's own work finishes the model's grid (a node optimum's polish, a
-        multi-block member's elliptic solve), which corrects what a network would fit."""
-        return bool(self.polish) or self.kind == "blocks"
+        the member's own polish finishes the model's grid and corrects what a network would
+        fit. A multi-block member's solve holds its sliding edge ends where the model puts
+        them, which the network places nearer its own run's."""
+        return bool(self.polish)
 
     def base(self, member: Member) -> np.ndarray:
         """The base grid of ``member`` (family frame): a body's elliptic grid (its start,
