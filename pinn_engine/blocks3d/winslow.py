@@ -21,8 +21,9 @@
   coordinate's system solved inexactly by the Krylov solver of the single hexahedral block
   (``hexa.inexact``), preconditioned by a plain-aggregation multigrid: the steps' count is
   set by the Picard iteration, not the inner solves, so the cheapest hierarchy to build
-  that meets the forcing wins. Coordinates free at the same nodes share their matrix and
-  its hierarchy; a coordinate whose equations hold to round-off is not solved for.
+  that meets the forcing wins. A slab's face, a 2D system, is preconditioned by its sparse
+  LU instead. Coordinates free at the same nodes share their matrix and its
+  preconditioner; a coordinate whose equations hold to round-off is not solved for.
 """
 
 from __future__ import annotations
@@ -36,7 +37,7 @@ import scipy.sparse as sp
 
 from pinn_engine.blas import one_thread
 from pinn_engine.blocks3d.placement import HEX_FACES, Placement, face_slice
-from pinn_engine.hexa.inexact import InexactSolve, gmres, plain_aggregation
+from pinn_engine.hexa.inexact import InexactSolve, direct, gmres, plain_aggregation
 from pinn_engine.hexa.volume import cofactor_terms
 
 # converged when no node moves more than this share of the diagonal in a step: on every
@@ -818,7 +819,11 @@ class _Systems:
         for comp in range(3):
             self.groups.setdefault(np.packbits(self.free[:, comp]).tobytes(), []).append(comp)
         self.parts: dict[bytes, tuple] = {}  # a group's matrix layout, at its first solve
-        self.solvers = {key: InexactSolve(plain_aggregation, FORCING, gmres) for key in self.groups}
+        # a slab's face (its back face the twin) is a 2D system: its sparse LU costs less
+        # than the multigrid's V-cycles there, and pyamg is not imported
+        face = bool((twin != np.arange(n)).any())
+        build = direct if face else plain_aggregation
+        self.solvers = {key: InexactSolve(build, FORCING, gmres) for key in self.groups}
 
     def _part(self, free: np.ndarray) -> tuple:
         """The entries (a mask), column indices and row pointers of the matrix of the rows

@@ -2,7 +2,8 @@
 for the single block, a lean right-preconditioned one for a dictionary's blocks)
 preconditioned by an algebraic multigrid V-cycle (pyamg), the hierarchy reused over the
 steps. A sparse LU of the 19-point 3D system fills in far more than in 2D (a minute
-and 2.2 GiB at 41^3); the multigrid hierarchy grows like the nodes."""
+and 2.2 GiB at 41^3); the multigrid hierarchy grows like the nodes. A 2D system (a slab's
+face) is preconditioned by its own sparse LU instead (:func:`direct`)."""
 
 from __future__ import annotations
 
@@ -15,14 +16,20 @@ from scipy.sparse.linalg import LinearOperator
 # at 41^3: 0.3 keeps the 12 Picard steps of 0.1 with half the V-cycles; 0.5 took 16)
 FORCING = 0.3
 # the most (flexible, unrestarted) GMRES iterations per solve; one or two V-cycles meet
-# FORCING, so this binds only where the hierarchy has gone stale
+# FORCING, so this binds only where the preconditioner has gone stale
 MAX_ITERATIONS = 30
-# the hierarchy is rebuilt when a step needs more than this many times the iterations of the
+# the preconditioner is rebuilt when a step needs more than this many times the iterations of the
 # step right after the last build (the coefficients have moved too far from its own)
 STALE = 2.0
 # the coarsest level's size: solved by a sparse LU, which is cheaper there than more levels
 # (each a Python-level pass of the V-cycle)
 COARSEST = 500
+
+
+# a sparse LU's pivot: the diagonal entry unless it is below this share of its column's
+# largest (SuperLU's threshold pivoting; a Picard system's diagonal dominates its row): on
+# backwardFacingStep2D's face half the fill and CPU of partial pivoting (1.0)
+PIVOT = 0.1
 
 
 # plain aggregation's smoothing: a forward Gauss-Seidel sweep before the coarse correction
@@ -31,17 +38,18 @@ FORWARD = ("gauss_seidel", {"sweep": "forward"})
 BACKWARD = ("gauss_seidel", {"sweep": "backward"})
 
 
-def classical(mat: sp.csr_matrix):
-    """Ruge-Stuben's hierarchy of ``mat``: strong V-cycles, a costly set-up."""
-    import pyamg  # imported where a system is solved (a box's TFI grid needs none)
+def classical(mat: sp.csr_matrix) -> LinearOperator:
+    """The V-cycle of Ruge-Stuben's hierarchy of ``mat``: strong V-cycles, a costly set-up."""
+    import pyamg  # imported where a 3D system is solved (a box's TFI grid needs none)
 
-    return pyamg.ruge_stuben_solver(mat, max_coarse=COARSEST, coarse_solver="splu")
+    return v_cycle(pyamg.ruge_stuben_solver(mat, max_coarse=COARSEST, coarse_solver="splu"))
 
 
-def plain_aggregation(mat: sp.csr_matrix):
-    """The unsmoothed aggregation hierarchy of ``mat``: a set-up about ten times cheaper
-    than :func:`classical`'s (no Galerkin product with a smoothed, denser interpolation) and
-    cheaper V-cycles (operator complexity near 1), each cutting the defect less."""
+def plain_aggregation(mat: sp.csr_matrix) -> LinearOperator:
+    """The V-cycle of the unsmoothed aggregation hierarchy of ``mat``: a set-up about ten
+    times cheaper than :func:`classical`'s (no Galerkin product with a smoothed, denser
+    interpolation) and cheaper V-cycles (operator complexity near 1), each cutting the
+    defect less."""
     import pyamg
 
     hierarchy = pyamg.smoothed_aggregation_solver(
@@ -63,7 +71,23 @@ def plain_aggregation(mat: sp.csr_matrix):
         for transfer in ("P", "R"):
             if hasattr(level, transfer):
                 setattr(level, transfer, getattr(level, transfer).tocsr())
-    return hierarchy
+    return v_cycle(hierarchy)
+
+
+def direct(mat: sp.csr_matrix) -> LinearOperator:
+    """The sparse LU of a 2D system ``mat`` (its fill grows like n log n; minimum degree on
+    its symmetric pattern) as the preconditioner: one GMRES iteration while it is the
+    step's own matrix, a few on the next steps' (backwardFacingStep2D's stretched cells
+    took plain aggregation 11 to 30 iterations a solve)."""
+    from scipy.sparse.linalg import splu
+
+    lu = splu(
+        mat.tocsc(),
+        permc_spec="MMD_AT_PLUS_A",
+        diag_pivot_thresh=PIVOT,
+        options={"SymmetricMode": True},
+    )
+    return LinearOperator(mat.shape, lu.solve, dtype=mat.dtype)
 
 
 def v_cycle(hierarchy) -> LinearOperator:
@@ -135,19 +159,20 @@ def gmres(mat, rhs: np.ndarray, forcing: float, most: int, preconditioner):
 
 
 class InexactSolve:
-    """Inexact solves of the Picard steps' systems with a reused multigrid hierarchy
-    (``hierarchy``: how it is built), by the Krylov method ``krylov`` (:func:`flexible`
-    or :func:`gmres`) to ``forcing`` of each defect."""
+    """Inexact solves of the Picard steps' systems with a reused preconditioner (``build``:
+    how it is made of a matrix, :func:`classical`, :func:`plain_aggregation` or
+    :func:`direct`), by the Krylov method ``krylov`` (:func:`flexible` or :func:`gmres`) to
+    ``forcing`` of each defect."""
 
-    def __init__(self, hierarchy=classical, forcing: float = FORCING, krylov=flexible) -> None:
-        self.hierarchy, self.forcing, self.krylov = hierarchy, forcing, krylov
+    def __init__(self, build=classical, forcing: float = FORCING, krylov=flexible) -> None:
+        self.build, self.forcing, self.krylov = build, forcing, krylov
         self.preconditioner, self.baseline = None, None
 
     def solve(self, mat: sp.csr_matrix, rhs: np.ndarray) -> np.ndarray:
         """The update ``x`` (columns as ``rhs``) with ``|mat x - rhs| <= forcing |rhs|`` per
         column; ``mat`` has a positive diagonal, as the multigrid setup expects."""
         if self.preconditioner is None:
-            self.preconditioner, self.baseline = v_cycle(self.hierarchy(mat)), None
+            self.preconditioner, self.baseline = self.build(mat), None
         out = np.zeros_like(rhs)
         iterations = 0
         most = min(MAX_ITERATIONS, mat.shape[0])  # pyamg warns above the unknowns

@@ -106,3 +106,18 @@ def test_a_dictionary_written_as_an_openfoam_case_imports_no_vtk_nor_torch(tmp_p
     assert _imported_after([run], tmp_path, names) == ["scipy.sparse"]  # it was solved
     vtm = ([str(folder / "blockMeshDict")], "duct.vtm")
     assert _imported_after([vtm], tmp_path, names) == ["vtkmodules", "scipy.sparse"]
+
+
+def test_a_swept_dictionary_solves_its_face_without_pyamg(tmp_path):
+    """A dictionary one cell thick (a trapezoid swept along z) is solved as its slab's
+    face, a 2D system preconditioned by its sparse LU: SciPy's sparse matrices are imported
+    and pyamg (about 0.05 s of CPU) is not."""
+    folder = tmp_path / "trapezoid" / "system"
+    folder.mkdir(parents=True)
+    (folder / "blockMeshDict").write_text(
+        "vertices ((0 0 0) (2 0 0) (2.5 1 0) (0 1 0) (0 0 1) (2 0 1) (2.5 1 1) (0 1 1));\n"
+        "blocks (hex (0 1 2 3 4 5 6 7) (8 4 1) simpleGrading (1 1 1));\n"
+        "boundary ( walls { type wall; faces ((0 3 2 1)); } );\n"
+    )
+    run = ([str(folder / "blockMeshDict"), "--format", "openfoam"], "trapezoid_case")
+    assert _imported_after([run], tmp_path, ("pyamg", "scipy.sparse")) == ["scipy.sparse"]
