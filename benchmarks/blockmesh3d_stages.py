@@ -38,7 +38,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # as the pinn-mesh command
 clock, out = time.process_time, {}
 start = clock()
 import numpy as np
-import pyamg, scipy.sparse
+import scipy.sparse
 from pinn_engine import heap
 from pinn_engine.blocks3d import checks, placement, section, winslow
 from pinn_engine.blocks3d.dictionary import read
