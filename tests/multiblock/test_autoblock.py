@@ -16,7 +16,7 @@ from pinn_engine.io.export.edges import edges_of
 from pinn_engine.multiblock import mesh
 from pinn_engine.multiblock.autoblock import propose_edges
 from pinn_engine.multiblock.autoblock.score import Rejected, score
-from pinn_engine.multiblock.autoblock.search import best_meshed
+from pinn_engine.multiblock.autoblock.search import best_meshed, ranked
 from pinn_engine.multiblock.mesh import mesh_blocks
 from pinn_engine.multiblock.walls import parse_walls
 from pinn_engine.routes.cli import main
@@ -114,6 +114,19 @@ def test_a_refusal_for_folds_names_the_nearest_layout_s_first_fold():
     with pytest.raises(Rejected, match=r"^of the 3 layouts meshed, the nearest folds 1 cells"):
         best_meshed(layouts, fold)
     assert len(best_meshed(layouts, len, fold_one)) == 2
+
+
+def test_mirror_layouts_that_tie_but_for_rounding_rank_in_the_order_found():
+    """Two mirror layouts whose costs, and then scores, differ by rounding alone (which
+    differs between machines) rank in the order the search found them, whichever costs or
+    scores a hair less, and the first found wins the meshing."""
+    left = [np.array([[0.0, 0.0], [0.0, 1.0]])]
+    right = [np.array([[1.0, 0.0], [1.0, 1.0]])]
+    for a, b in ((0.0, 1e-13), (1e-13, 0.0)):
+        layouts = [(5 + a, left), (5 + b, right)]
+        assert ranked(layouts)[0][1] is left and ranked(layouts[::-1])[0][1] is right
+        scores = {id(left): 1 + a, id(right): 1 + b}
+        assert best_meshed(ranked(layouts), lambda edges, s=scores: s[id(edges)]) is left
 
 
 def test_a_layout_whose_first_edges_miss_the_spacing_is_out(monkeypatch):

@@ -24,7 +24,7 @@ from pinn_engine.multiblock.autoblock.corners import corner_points, reflex_verti
 from pinn_engine.multiblock.autoblock.orings import ORing, main_axes, ring_forms
 from pinn_engine.multiblock.autoblock.rays import layered, motorcycles, ray_options
 from pinn_engine.multiblock.autoblock.score import Rejected, score, scoring_size
-from pinn_engine.multiblock.autoblock.search import best_meshed, candidates
+from pinn_engine.multiblock.autoblock.search import best_meshed, candidates, ranked
 from pinn_engine.multiblock.graph import order_rings
 from pinn_engine.multiblock.walls import Walls
 
@@ -75,7 +75,7 @@ def propose_edges(
         found = []
         for form in forms:
             found += _layouts(rings, list(form), diagonal, layers, failures, cuts)
-        return sorted(found, key=lambda layout: layout[0])
+        return ranked(found)
 
     layouts = layouts_of(None)
     if len(rings) == 1 and len(layouts) == 1 and not reflex_vertices(rings, diagonal):

@@ -1,8 +1,8 @@
 """The choice among candidate blockings (SPEC 13): every reflex vertex's direction (or none,
 where another edge already ends on it) is tried, each layout completed round face centres
-or along a hexagon's diagonals (``faces.py``), ranked by its blocks' corner angles, and the
-best few meshed by the elliptic multi-block solver, whose quality (and interface kinks)
-picks the winner (``score.py``).
+or along a hexagon's diagonals (``faces.py``), ranked by its blocks' corner angles (to
+``RANK_DIGITS``: a tie in the order found), and the best few meshed by the elliptic
+multi-block solver, whose quality (and interface kinks) picks the winner (``score.py``).
 
 Few reflex vertices (up to ``EXHAUSTIVE`` combinations) are tried in every combination;
 more, coordinate by coordinate from two starts (each needed vertex its shortest edge, the
@@ -27,6 +27,10 @@ SHORTLIST = 2  # layouts of each edge count (the cheapest by corner angles) mesh
 MAX_MESHED = 8  # layouts meshed at most (the shortlist's cheapest)
 MAX_SWEEPS = 4  # passes of the coordinate search over all vertices
 SAME_POINT = 1e-12  # relative: an edge's end is a vertex (edges start exactly at vertices)
+# Significant digits of a layout's cost or score that rank it: mirror layouts cost the same
+# but for rounding, which differs between machines far below this; a tie goes by the order
+# the search found them in, the same on every machine, so every machine picks the same one
+RANK_DIGITS = 9
 
 Choice = tuple[int, ...]  # per reflex vertex: index into its ray options, or -1 for none
 
@@ -94,7 +98,19 @@ def candidates(
                             best, choice, improved = cost, list(trial), True
                 if not improved:
                     break
-    return sorted((v for v in seen.values() if np.isfinite(v[0])), key=lambda item: item[0])
+    return ranked(seen.values())
+
+
+def ranked(layouts: Iterable[tuple[float, list[np.ndarray]]]) -> list[tuple[float, list]]:
+    """The feasible ``layouts`` (cost, edges), cheapest first, a tie (to ``RANK_DIGITS``)
+    in the order the search found them, whichever costs a hair less."""
+    feasible = (item for item in layouts if np.isfinite(item[0]))
+    return sorted(feasible, key=lambda item: _rounded(item[0]))
+
+
+def _rounded(cost: float) -> float:
+    """``cost`` to ``RANK_DIGITS`` significant digits, as layouts are ranked."""
+    return float(f"{cost:.{RANK_DIGITS}g}")
 
 
 def _key(edges: list[np.ndarray]) -> bytes:
@@ -143,7 +159,7 @@ def best_meshed(
             scored.append((score(edges), k, edges))
         except Rejected as exc:
             rejected.append(exc)
-    for _, _, edges in sorted(scored, key=lambda item: item[:2]):
+    for _, _, edges in sorted(scored, key=lambda item: (_rounded(item[0]), item[1])):
         try:
             if confirm is not None:
                 confirm(edges)
