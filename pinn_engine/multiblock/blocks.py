@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
-from shapely.geometry import LineString, Point, Polygon
+from shapely.geometry import Point, Polygon
 from shapely.geometry.polygon import orient
 
 from pinn_engine.errors import InputError
@@ -69,12 +69,13 @@ def _key(p) -> tuple[float, float]:
 def polygon_faces(lines: Linework) -> list[Polygon]:
     """The faces of the linework inside the domain, each oriented counter-clockwise;
     refused: a face with a hole or loop inside it, and one outside the boundary."""
-    segs = []
+    pairs = []
     for k, curve in enumerate(lines.rings + lines.edges):
         closed = k < len(lines.rings)
         nxt = np.roll(curve, -1, axis=0) if closed else curve[1:]
         start = curve if closed else curve[:-1]
-        segs += [LineString([a, b]) for a, b in zip(start, nxt) if not np.array_equal(a, b)]
+        pairs.append(np.stack([start, nxt], axis=1)[(start != nxt).any(axis=1)])
+    segs = shapely.linestrings(np.concatenate(pairs))
     holes = [Polygon(r) for r in lines.rings[1:]]
     outer = Polygon(lines.rings[0])
     faces = []

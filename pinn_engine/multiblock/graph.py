@@ -81,16 +81,11 @@ def check_simple(rings: list[np.ndarray], source: str) -> None:
         )
 
 
-def _nearest_on(polyline: np.ndarray, closed: bool, p: np.ndarray) -> tuple[float, int, float]:
-    """Distance from ``p`` to ``polyline``, the segment index and its parameter there."""
+def _pieces(polyline: np.ndarray, closed: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A polyline's segments: their starts, their vectors and squared lengths (kept off 0)."""
     a = polyline if closed else polyline[:-1]
-    b = np.roll(polyline, -1, axis=0) if closed else polyline[1:]
-    d = b - a
-    length2 = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
-    t = np.clip(np.einsum("ij,ij->i", p - a, d) / length2, 0.0, 1.0)
-    dist = np.linalg.norm(a + t[:, None] * d - p, axis=1)
-    k = int(np.argmin(dist))
-    return float(dist[k]), k, float(t[k])
+    d = (np.roll(polyline, -1, axis=0) if closed else polyline[1:]) - a
+    return a, d, np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
 
 
 class _Curves:
@@ -100,26 +95,43 @@ class _Curves:
         self.curves = [list(map(tuple, r)) for r in rings] + [list(map(tuple, e)) for e in edges]
         self.closed = [True] * len(rings) + [False] * len(edges)
         self.tol = tol
+        self._cache: dict[int, tuple] = {}  # each curve's points and segments, until it changes
+
+    def points(self, c: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Curve ``c``'s points and :func:`_pieces` (built once for each state of the curve)."""
+        if c not in self._cache:
+            pts = np.array(self.curves[c])
+            self._cache[c] = (pts, *_pieces(pts, self.closed[c]))
+        return self._cache[c]
+
+    def put(self, c: int, k: int, point: tuple) -> None:
+        """Set point ``k`` of curve ``c``."""
+        self.curves[c][k] = point
+        self._cache.pop(c, None)
 
     def snap(self, p: np.ndarray, candidates: list[int]) -> tuple | None:
-        """The point of the nearest curve among ``candidates`` within ``tol`` of ``p``: one
-        of its vertices if one is that close, else the foot of ``p``, inserted as a vertex."""
-        best = None
-        for c in candidates:
-            pts = np.array(self.curves[c])
-            dist, seg, t = _nearest_on(pts, self.closed[c], p)
-            if dist <= self.tol and (best is None or dist < best[0]):
-                best = (dist, c, seg, t)
-        if best is None:
+        """The point of the nearest curve among ``candidates`` within ``tol`` of ``p`` (the
+        first of equals): one of its vertices if one is that close, else the foot of ``p``,
+        inserted as a vertex."""
+        if not candidates:
             return None
-        _, c, seg, t = best
-        pts = np.array(self.curves[c])
+        parts = [self.points(c)[1:] for c in candidates]
+        a, d, length2 = (np.concatenate(x) for x in zip(*parts))
+        t = np.clip(np.einsum("ij,ij->i", p - a, d) / length2, 0.0, 1.0)
+        dist = np.linalg.norm(a + t[:, None] * d - p, axis=1)
+        k = int(np.argmin(dist))
+        if dist[k] > self.tol:
+            return None
+        first = np.cumsum([0] + [len(x[0]) for x in parts])  # each curve's first segment
+        which = int(np.searchsorted(first, k, side="right")) - 1
+        c, seg = candidates[which], k - int(first[which])
+        pts = self.points(c)[0]
         near = np.linalg.norm(pts - p, axis=1)
         if near.min() <= self.tol:
             return self.curves[c][int(np.argmin(near))]
-        a, b = pts[seg], pts[(seg + 1) % len(pts)]
-        foot = tuple(a + t * (b - a))
+        foot = tuple(a[k] + t[k] * d[k])
         self.curves[c].insert(seg + 1, foot)
+        self._cache.pop(c, None)
         return foot
 
 
@@ -140,10 +152,9 @@ def snap_edges(rings: list[np.ndarray], edges: list[np.ndarray], tol: float) -> 
             a = group[a]
         return a
 
-    for a in range(len(ends)):
-        for b in range(a + 1, len(ends)):
-            if np.linalg.norm(xy[a] - xy[b]) <= tol:
-                group[root(a)] = root(b)
+    apart = np.linalg.norm(xy[:, None] - xy[None, :], axis=-1)
+    for a, b in np.argwhere(np.triu(apart <= tol, 1)):  # each close pair, a < b, in order
+        group[root(int(a))] = root(int(b))
     clusters: dict[int, list[int]] = {}
     for a in range(len(ends)):
         clusters.setdefault(root(a), []).append(a)
@@ -161,7 +172,7 @@ def snap_edges(rings: list[np.ndarray], edges: list[np.ndarray], tol: float) -> 
                 loose.append(ends[members[0]])
         for a in members:
             e, k = ends[a]
-            curves.curves[n_r + e][k] = target
+            curves.put(n_r + e, k, target)
     return curves.curves, loose
 
 
@@ -170,9 +181,9 @@ def _segments(curve: np.ndarray, closed: bool) -> np.ndarray:
     return np.stack([curve if closed else curve[:-1], b], axis=1)
 
 
-def _crossing(s: np.ndarray, t: np.ndarray) -> np.ndarray:
-    """Pairs (i, j) of segments ``s[i]``, ``t[j]`` ((n, 2, 2)) that cross properly (each
-    one's ends strictly on both sides of the other), sharing no end point."""
+def _crosses(s: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Whether segments ``s[i]``, ``t[j]`` ((n, 2, 2)) cross properly (each one's ends
+    strictly on both sides of the other), sharing no end point, for every (i, j)."""
 
     def side(a, b, p):
         ab, ap = b - a, p - a
@@ -180,8 +191,12 @@ def _crossing(s: np.ndarray, t: np.ndarray) -> np.ndarray:
 
     a, b = s[:, None, 0], s[:, None, 1]
     c, d = t[None, :, 0], t[None, :, 1]
-    crosses = (side(a, b, c) * side(a, b, d) < 0) & (side(c, d, a) * side(c, d, b) < 0)
-    return np.argwhere(crosses)
+    return (side(a, b, c) * side(a, b, d) < 0) & (side(c, d, a) * side(c, d, b) < 0)
+
+
+def _crossing(s: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Pairs (i, j) of segments ``s[i]``, ``t[j]`` that cross (:func:`_crosses`)."""
+    return np.argwhere(_crosses(s, t))
 
 
 def _where(s: np.ndarray, t: np.ndarray) -> str:
@@ -197,6 +212,13 @@ def check_crossings(rings: list[np.ndarray], edges: list[np.ndarray], names: lis
     """Refuse an edge that crosses another edge or a ring, naming the place."""
     ring_segs = np.concatenate([_segments(r, True) for r in rings])
     edge_segs = [_segments(e, False) for e in edges]
+    every = np.concatenate(edge_segs)
+    owner = np.repeat(np.arange(len(edges)), [len(segs) for segs in edge_segs])
+    # every pair at once: each edge against the rings and against each later edge; the
+    # loop below only runs to name the first crossing
+    later = owner[:, None] < owner[None, :]
+    if not _crosses(every, ring_segs).any() and not (_crosses(every, every) & later).any():
+        return
     for k, segs in enumerate(edge_segs):
         hit = _crossing(segs, ring_segs)
         if len(hit):

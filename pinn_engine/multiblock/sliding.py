@@ -40,6 +40,8 @@ class Ring:
         self.arc = np.concatenate([[0.0], np.cumsum(steps)])
         self.length = float(self.arc[-1])
         self.vertex = {(float(x), float(y)): float(s) for (x, y), s in zip(ring, self.arc)}
+        # the vertices' arc lengths over two laps, ascending
+        self.inner = np.concatenate([self.arc[:-1], self.arc[:-1] + self.length])
 
     def at(self, s: np.ndarray) -> np.ndarray:
         """Points at arc lengths ``s``."""
@@ -51,9 +53,12 @@ class Ring:
     def nearest(self, p: np.ndarray, lo: float, hi: float) -> float:
         """Arc length in [lo, hi] (hi - lo at most the perimeter) of the point of that
         stretch nearest ``p``."""
-        inner = np.concatenate([self.arc[:-1], self.arc[:-1] + self.length])
-        s = np.concatenate([[lo], inner[(inner > lo) & (inner < hi)], [hi]])
-        a, b = self.at(s[:-1]), self.at(s[1:])
+        inside = self.inner[
+            np.searchsorted(self.inner, lo, "right") : np.searchsorted(self.inner, hi)
+        ]
+        s = np.concatenate([[lo], inside, [hi]])
+        ends = self.at(s)
+        a, b = ends[:-1], ends[1:]
         d = b - a
         t = np.einsum("nk,nk->n", p - a, d) / np.maximum(np.einsum("nk,nk->n", d, d), 1e-300)
         t = np.clip(t, 0.0, 1.0)
@@ -195,5 +200,7 @@ def _put(points: np.ndarray, slider: Slider, ring: Ring, at: dict[int, float], s
     lo, hi = _stretch(slider, ring, at)
     at[slider.node] = float(np.mod(s, ring.length))
     first, second = slider.pieces
-    points[first[1:]] = ring.at(np.linspace(lo, s, len(first))[1:])
-    points[second[1:-1]] = ring.at(np.linspace(s, hi, len(second))[1:-1])
+    arcs = [np.linspace(lo, s, len(first))[1:], np.linspace(s, hi, len(second))[1:-1]]
+    placed = ring.at(np.concatenate(arcs))
+    points[first[1:]] = placed[: len(arcs[0])]
+    points[second[1:-1]] = placed[len(arcs[0]) :]

@@ -10,6 +10,7 @@ from helpers import EXAMPLES, run_blocks
 from multiblock_checks import block_sides, interface_kinks, write_polylines
 from vtkmodules.vtkFiltersVerdict import vtkMeshQuality
 
+from pinn_engine.multiblock.graph import snap_edges
 from pinn_engine.routes.cli import main
 from pinn_engine.settings import make_settings
 
@@ -172,3 +173,13 @@ def test_ybranch_kinks_fall_within_the_bound_as_cells_shrink():
     coarse, fine = (kinks[h]["interface_kink"] for h in (0.1, 0.025))
     assert coarse["mean"] > 2.0 >= fine["mean"] and fine["max"] <= 15.0
     assert kinks[0.025]["quality"]["folded_cells"] == 0
+
+
+def test_ends_snapped_onto_one_side_are_inserted_in_order():
+    """Two edges across a square end on its bottom side: the second end's foot goes in
+    after the first's (the side's points are re-read after each insertion)."""
+    ring = np.array(RECTANGLE, dtype=float)
+    edges = [np.array([(0.5, 2.0), (0.5, 0.0)]), np.array([(1.5, 2.0), (1.5, 0.0)])]
+    curves, loose = snap_edges([ring], edges, 1e-6)
+    assert not loose
+    assert curves[0][:4] == [(0.0, 0.0), (0.5, 0.0), (1.5, 0.0), (2.0, 0.0)]

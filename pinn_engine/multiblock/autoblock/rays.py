@@ -133,7 +133,8 @@ def motorcycles(
         if near.size and near.min() <= END_SNAP * length:
             end = targets[int(np.argmin(near))]
         edge = np.array([vertex.point, end])
-        if any(np.allclose(edge, e) or np.allclose(edge, e[::-1]) for e in placed):
+        both = np.array(placed + [e[::-1] for e in placed]).reshape(-1, 2, 2)  # either way
+        if np.isclose(edge, both).all(axis=(1, 2)).any():  # np.allclose against each
             continue
         placed.append(edge)
     return placed
