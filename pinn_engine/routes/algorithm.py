@@ -45,6 +45,7 @@ from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 from pinn_engine.errors import STOP, InputError, SettingsError, grid_warnings, unknown_name
 from pinn_engine.routes.filters import (
+    FamilyInput,
     FieldInput,
     LastOutcome,
     LineInputs,
@@ -84,7 +85,9 @@ def _warning(report: dict) -> str | None:
     return "; ".join(text for text, _ in grid_warnings(report, "paraview")) or None
 
 
-class PinnMeshAlgorithm(LastOutcome, Stoppable, FieldInput, LineInputs, VTKPythonAlgorithmBase):
+class PinnMeshAlgorithm(
+    LastOutcome, Stoppable, FamilyInput, FieldInput, LineInputs, VTKPythonAlgorithmBase
+):
     """Structured quadrilateral grid of a four-sided boundary (pinn, mgnet, tfi, elliptic).
 
     Settings (each setter calls ``Modified()`` when the value changes):
@@ -137,7 +140,6 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, FieldInput, LineInputs, VTKPytho
         self._patches = ""  # as given; checked at the update (default names when empty)
         self._wall_spacing = 0.0  # first-layer height off a body's wall; 0: the default
         self._auto_topology = False  # topology from the input (AUTO_TOPOLOGY)
-        self._model = None  # a family model (SPEC 16): its file, or a fitted model
         if cache is None:
             from pinn_engine.job import MeshCache  # the job's modules: at the first filter
 
@@ -313,14 +315,6 @@ class PinnMeshAlgorithm(LastOutcome, Stoppable, FieldInput, LineInputs, VTKPytho
         """First-layer height off the body wall (0: the default, half the mean spacing
         along the wall); with Topology O or C it is the spacing of the wall, side bottom."""
         self._set("_wall_spacing", float(h))
-
-    def SetModel(self, model) -> None:
-        """A family model (SPEC 16: ``pinn-mesh fit``'s file, or a fitted model) that meshes
-        the boundary in a forward pass instead of its own run; ``None`` or "": none."""
-        self._set("_model", model or None)
-
-    def GetModel(self):
-        return self._model
 
     def GetPatchNames(self) -> tuple[str, ...]:
         """The four patch names (bottom, right, top, left) the next update uses."""

@@ -109,6 +109,21 @@ class PatchWalls(ModifiedOnChange):
         return self._orthogonal
 
 
+class FamilyInput(ModifiedOnChange):
+    """Mixed into the 2D filters: a family model (SPEC 16) that meshes the input as a member
+    of its family (``job.run``'s ``family``)."""
+
+    _model = None  # the model's file, or a fitted model; None: the input's own run
+
+    def SetModel(self, model) -> None:
+        """A family model (SPEC 16: ``pinn-mesh fit``'s file, or a fitted model) that meshes
+        the input as a member of its family; ``None`` or "": none."""
+        self._set("_model", model or None)
+
+    def GetModel(self):
+        return self._model
+
+
 class LastOutcome:
     """Mixed into a ``VTKPythonAlgorithmBase`` whose class names its ``LABEL``: progress and
     messages under that name, and what the last update left (``RequestData`` sets

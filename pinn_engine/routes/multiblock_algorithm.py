@@ -44,6 +44,7 @@ from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkMultiBlockDataSet, v
 from pinn_engine.errors import unknown_name
 from pinn_engine.io.export.edges import edges_polydata
 from pinn_engine.routes.filters import (
+    FamilyInput,
     FieldInput,
     LastOutcome,
     LineInputs,
@@ -76,7 +77,7 @@ MOVE_EDGES = "moving the block edges near them (the cell array Folded marks them
 
 
 class PinnMultiBlockAlgorithm(
-    LastOutcome, Stoppable, FieldInput, LineInputs, PatchWalls, VTKPythonAlgorithmBase
+    LastOutcome, Stoppable, FamilyInput, FieldInput, LineInputs, PatchWalls, VTKPythonAlgorithmBase
 ):
     """Multi-block structured grid (SPEC 10) of a boundary, its holes and block edges.
 
@@ -111,6 +112,9 @@ class PinnMultiBlockAlgorithm(
     * ``SetTimeLimit(seconds)``: pinn's training (all blocks together) ends after this many
       seconds with its best grids so far (0: no limit, the default); so does an abort
       request or SIGUSR1
+    * ``SetModel(path)``: a multi-block family model (SPEC 16: ``pinn-mesh fit``'s file, or
+      a fitted model) whose nodes start the solve (the report's ``family`` and the blocks'
+      field data ``NetworkResult`` and ``FamilyModel`` say what was kept); "": none
     * ``SetSetting(name, value)``: any other setting of the multi-block kind by its name (its
       blocks' training: ``adam_epochs``, ``lbfgs_iterations``, ``hidden_layers``, ``preset``
       ...); None: the default
@@ -279,7 +283,7 @@ class PinnMultiBlockAlgorithm(
             cell_size=settings.cell_size,
         )
         began = time.perf_counter()
-        outcome = self._run_job(settings, geometry, self._block, field=field)
+        outcome = self._run_job(settings, geometry, self._block, family=self._model, field=field)
         self._tell(blocks_lines(settings.method, outcome.report, time.perf_counter() - began))
         return outcome.data, outcome.report, outcome.edges
 

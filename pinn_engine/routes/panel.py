@@ -177,6 +177,23 @@ def _time_limit(method: str, methods: tuple[str, ...]) -> Property:
     )
 
 
+def _model(method: str, effect: str) -> Property:
+    """The Model of a 2D filter: a family model's file (SPEC 16), whose ``effect`` on the
+    filter's grid its help says."""
+    return Property(
+        method,
+        "Model",
+        "string",
+        "",
+        f"A family model (a .pt file made by pinn-mesh fit, docs/family.md): {effect} "
+        "Empty: no model.",
+        "SetModel",
+        option="model",
+        convert=lambda path: path or None,
+        files=("pt", "pinn-mesh family models"),
+    )
+
+
 _TIME_LIMIT_DOC = (
     "Seconds of training, then the grid of the best state so far is produced with a warning "
     "(0: no limit). ParaView 5.11 handles no event while a filter runs, so its progress "
@@ -407,18 +424,10 @@ FOUR_SIDED_PANEL = (
         option="patches",
         convert=as_given,
     ),
-    Property(
+    _model(
         "P21Model",
-        "Model",
-        "string",
-        "",
-        "A family model (a .pt file made by pinn-mesh fit, docs/family.md): the boundary is "
-        "meshed as a member of its family, its interior in a forward pass instead of its own "
-        "run, and its Grid Size must be the family's. Empty: no model.",
-        "SetModel",
-        option="model",
-        convert=lambda path: path or None,
-        files=("pt", "pinn-mesh family models"),
+        "the boundary is meshed as a member of its family, its interior in a forward pass "
+        "instead of its own run, and its Grid Size must be the family's.",
     ),
 )
 
@@ -524,6 +533,12 @@ BLOCKS_PANEL = (
         "side's end nearest the point), e.g. '1.5,-2=4' (empty: none).",
         "SetGradings",
         "grading",
+    ),
+    _model(
+        "P09Model",
+        "its members are of this blocking, and its nodes start the blocks' Winslow solve; "
+        "the blocks' field data NetworkResult (family where the grid solved from them is "
+        "kept, else start) and FamilyModel say what was kept.",
     ),
 )
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import pyvista as pv
 
 from pinn_engine import job
 from pinn_engine.errors import InputError
@@ -147,3 +148,49 @@ def test_a_grid_below_the_members_tfi_start_keeps_the_start(fitted, monkeypatch)
     fam = job.run(SETTINGS, cylinder(0.22, 0.2, 0.05), family=str(fitted))
     assert fam.report["family"]["result"] == "start"
     assert "TFI grid" in fam.report["family"]["fallback"]
+
+
+def _route_inputs(g: job.BlocksGeometry) -> tuple[pv.PolyData, list[np.ndarray], dict]:
+    """``g`` as the pyvista and ParaView routes take it: its rings as closed polylines in
+    one PolyData, its block edges and its cells by place (``{(x, y): n}``)."""
+    rings = [np.column_stack([ring, np.zeros(len(ring))]) for ring in g.rings]
+    lines, start = [], 0
+    for ring in rings:
+        lines += [len(ring) + 1, *range(start, start + len(ring)), start]
+        start += len(ring)
+    boundary = pv.PolyData(np.vstack(rings), lines=lines)
+    return boundary, list(g.edges), {(c.x, c.y): int(c.value) for c in g.cells}
+
+
+def test_pyvista_meshes_a_multiblock_member_by_its_family_model(fitted):
+    """pyvista's ``blocks=`` with ``model=``: the model's grid of the member, which its
+    blocks' field data and the report name as the command line's do."""
+    from pinn_engine import report
+
+    boundary, edges, cells = _route_inputs(cylinder(0.22, 0.2, 0.05))
+    blocks = boundary.pinn_mesh(blocks=edges, cells=cells, model=str(fitted))
+    assert blocks.n_blocks == 12
+    assert report(blocks)["family"]["result"] == "family"
+    fields = blocks["block0"].field_data
+    assert fields["NetworkResult"][0] == "family" and fields["FamilyModel"][0] == str(fitted)
+
+
+def test_the_multiblock_filters_model_property_reaches_its_run(fitted):
+    """The multi-block filter's Model (the panel's property, through the plain VTK
+    algorithm) meshes by the model: a member of another blocking is its one-line refusal."""
+    from pinn_engine.routes.multiblock_algorithm import PinnMultiBlockAlgorithm
+    from pinn_engine.routes.panel import PANELS
+
+    boundary, edges, cells = _route_inputs(cylinder(0.22, 0.2, 0.05, split=True))
+    alg = PinnMultiBlockAlgorithm(route="pyvista")
+    alg.SetInputDataObject(0, boundary)
+    for edge in edges:
+        alg.AddInputDataObject(1, pv.lines_from_points(np.column_stack([edge, [0, 0]])))
+    alg.SetCells(cells)
+    (model,) = [prop for prop in PANELS["blocks"] if prop.name == "Model"]
+    getattr(alg, model.call)(model.convert(str(fitted)))
+    assert alg.GetModel() == str(fitted)
+    alg.Update()
+    assert "outside the family" in alg.GetLastError() and "\n" not in alg.GetLastError()
+    getattr(alg, model.call)(model.convert(""))
+    assert alg.GetModel() is None

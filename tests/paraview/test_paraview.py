@@ -398,6 +398,7 @@ def test_multiblock_filter_on_the_step(checkout):
         "PatchNames",
         "FirstEdgeSpacing",
         "OrthogonalPatches",
+        "Model",
         "TimeLimit",
         "Field",
         "FieldArray",

@@ -5,7 +5,7 @@ each block."""
 from pinn_engine.kinds.options import SHARED_2D
 
 # The options a multi-block domain takes (its block edges, cell counts and gradings along
-# chains, the cells' size, its interfaces, auxiliary lines inside blocks)
+# chains, the cells' size, its interfaces, auxiliary lines inside blocks, a family model)
 OPTIONS = SHARED_2D | {
     "blocks",
     "save_blocks",
@@ -14,4 +14,5 @@ OPTIONS = SHARED_2D | {
     "grading",
     "cell_size",
     "interfaces",
+    "model",
 }

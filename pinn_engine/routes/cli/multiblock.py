@@ -26,8 +26,7 @@ def check_blocks(args: argparse.Namespace) -> None:
 
     refuse_options(  # SPEC 10: what four-sided domains and bodies take and blocks do not
         args,
-        (set(job.only_for("four-sided", "blocks")) | set(job.only_for("body", "blocks")))
-        - {"model"},  # SPEC 16: a family model of multi-block members
+        set(job.only_for("four-sided", "blocks")) | set(job.only_for("body", "blocks")),
         "{} applies to four-sided domains and bodies, not to --blocks",
     )
     if args.boundary is None:

@@ -191,7 +191,7 @@ class PinnMeshAccessor:
         model : str, path or fitted family model, optional
             A family model (SPEC 16, ``pinn-mesh fit`` or ``pinn_engine.fit_family``) that
             meshes a four-sided domain or a body in a forward pass (default ``size``: the
-            family's).
+            family's), or whose nodes start a multi-block domain's solve (with ``blocks``).
         **settings
             Any other training setting by name, e.g. ``learning_rate=5e-4``.
 
@@ -258,9 +258,9 @@ class PinnMeshAccessor:
             kind = "hexa"  # a surface without FaceId: its size is checked as a 3D domain's
         if model is not None and "model" not in OPTIONS[kind]:
             raise InputError(
-                "model= (a family model) meshes four-sided domains and O- and C-grids in "
-                "pyvista in this build, not multi-block or six-faced domains; a multi-block "
-                "family's model meshes by pinn-mesh BOUNDARY --blocks EDGES --model FAMILY.pt"
+                "model= (a family model) meshes four-sided domains, O- and C-grids and "
+                "multi-block domains (with blocks=) in this build, not six-faced domains; "
+                "mesh without model="
             )
         if kind == "hexa":
             self.last = self._hexa(size, method, given, progress_bar)

@@ -39,6 +39,7 @@ def pinn_mesh_blocks(
     grading=None,
     adapt=None,
     adapt_strength: float | None = None,
+    model=None,
     **settings,
 ) -> pv.MultiBlock:
     """Multi-block structured grid (SPEC 10) of a domain cut into four-sided blocks.
@@ -97,6 +98,12 @@ def pinn_mesh_blocks(
         ``orthogonal`` stay with their first row. Point data ``Monitor``.
     adapt_strength : float, optional
         The monitor's strength beta (default 20).
+    model : str, path or fitted family model, optional
+        A multi-block family model (SPEC 16: ``pinn-mesh fit``'s file, or a fitted model)
+        of this blocking: its nodes start the blocks' Winslow solve (docs/family.md). The
+        blocks' field data ``NetworkResult`` (``family`` where the grid solved from them
+        was kept, else ``start``) and ``FamilyModel`` say what was kept, as the report's
+        ``family`` does; a member of another blocking is refused in one line.
     **settings
         The blocks' training settings by name, as ``pinn_mesh`` takes them (e.g.
         ``adam_epochs=500``, ``lbfgs_iterations=60``, ``hidden_layers=3``, ``preset="paper"``;
@@ -135,6 +142,7 @@ def pinn_mesh_blocks(
         (alg.SetCells, cells),
         (alg.SetGradings, grading),
         (alg.SetAdaptStrength, adapt_strength),
+        (alg.SetModel, model),
     ):
         if value is not None:
             setter(value)
