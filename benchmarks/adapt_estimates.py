@@ -4,7 +4,7 @@ adapted to the first solution's velocity, with the route's judge (the field's
 interpolation error, which the grid the field was solved on always wins) replaced by an
 estimate it does not win by construction, and on grids of one form and strength.
 
-    .venv/bin/python benchmarks/adapt_estimates.py [--sizes 0.2 0.1414] [--sweep]  # minutes
+    .venv/bin/python benchmarks/adapt_estimates.py [--sizes 0.2 0.1414] [--rows ...] [--sweep]
 
 Rows, each one ``run.sh`` of ``examples/openfoam_step`` at each cell size (in
 ``out/adapt_step/``, beside ``adapt_step.py``'s) and of ``examples/openfoam_dfg`` at 0.01
@@ -20,10 +20,16 @@ step's read where ``adapt_step.py`` solved it):
   mean on the unadapted grid;
 - ``cell mean``: the judge is the L2 error of the field's cell means (a cell-centred finite
   volume's own representation of it, whose optimal density is the gradient's, SPEC 14's);
+- ``truncation``: the judge is the tau-estimate of the truncation error of a cell-centred
+  finite-volume Laplacian (faces' over-relaxed two-point gradients, a boundary face's value
+  at its middle) of the field's C1 reconstruction (Clough-Tocher's cubic through its point
+  values, on the image the field is sampled on): the operator on the grid minus its mean on
+  the grid's cells split in four, L2 over the cells (the local source of a solver's error);
 - ``--sweep``: each gradient form (``grids.FORMS`` 0, the anisotropic tensor, joined on
   multi-block grids, and 1, the isotropic) alone at strengths 1.25 to 20, kept whatever its
   interpolation error.
-Each row names the form and strength kept. ``--mesh ARGS`` is the pinn-mesh command of a row
+Each row names the form and strength kept, the unadapted grid's judged error and the
+lowest of the tries'. ``--mesh ARGS`` is the pinn-mesh command of a row
 (run.sh's PINN_MESH; the row from the environment's ESTIMATE, the form kept written to the
 file ADAPTATION names).
 """
@@ -48,7 +54,7 @@ DFG = ROOT / "out" / "adapt_dfg"
 DFG_SIZE = 0.01  # DFG 2D-1's coarsest documented cell size (4533 cells)
 SIZES = (0.2, 0.1414)  # the step's two coarsest sizes
 REFERENCE_X = 2.9148  # the step's x_r on the 0.0177 grid (adapt_step.py's reference row)
-ROWS = ("recovery", "recovery monitor", "cell mean")
+ROWS = ("recovery", "recovery monitor", "cell mean", "truncation")
 SWEEP = (1.25, 2.5, 5.0, 20.0)  # strengths of --sweep: the route's from 20 down to a sixteenth
 GAUSS = (0.5 - 0.5 / math.sqrt(3.0), 0.5 + 0.5 / math.sqrt(3.0))  # 2-point Gauss on [0, 1]
 QUAD = 3  # the cell-mean judge's sample points a cell side, as the interpolation error's
@@ -107,6 +113,92 @@ def cell_mean_error(points: np.ndarray, cells: np.ndarray, sample) -> float:
     return float(np.sqrt((area * gap).sum() / area.sum()))
 
 
+def _split(points: np.ndarray, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The grid with each cell split in four at its edges' middles and its centre (each
+    cell's four children in a row of the cells returned)."""
+    n, m = len(points), len(cells)
+    a, b, c, d = cells.T
+    sides = np.stack([np.sort(np.stack(pair), axis=0) for pair in ((a, b), (b, c), (c, d), (d, a))])
+    keys, middle = np.unique((sides[:, 0] * n + sides[:, 1]).ravel(), return_inverse=True)
+    ab, bc, cd, da = middle.reshape(4, m) + n
+    centre = np.arange(m) + n + len(keys)
+    halves = 0.5 * (points[keys // n] + points[keys % n])
+    out = np.concatenate([points, halves, points[cells].mean(axis=1)])
+    children = np.stack(
+        [(a, ab, centre, da), (ab, b, bc, centre), (centre, bc, c, cd), (da, centre, cd, d)]
+    )  # (4 children, 4 corners, m)
+    return out, children.transpose(2, 0, 1).reshape(-1, 4)
+
+
+def laplacian(points: np.ndarray, cells: np.ndarray, sample) -> tuple[np.ndarray, np.ndarray]:
+    """The cell-centred finite-volume Laplacian of the field at each cell (cells (m, 4)
+    counter-clockwise) and the cells' areas."""
+    from pinn_engine.adapt.monitor import cell_areas
+
+    n, m = len(points), len(cells)
+    centres, area = points[cells].mean(axis=1), cell_areas(points, cells)
+    f = sample(centres)
+    first, second = cells.ravel(), np.roll(cells, -1, axis=1).ravel()
+    edge = points[second] - points[first]
+    normal = np.column_stack([edge[:, 1], -edge[:, 0]])  # outward of a counter-clockwise cell
+    owner = np.repeat(np.arange(m), 4)
+    keys = np.minimum(first, second) * n + np.maximum(first, second)
+    order = np.argsort(keys, kind="stable")
+    pair = np.flatnonzero(keys[order][1:] == keys[order][:-1])
+    near, far = order[pair], order[pair + 1]
+    lone = np.setdiff1d(np.arange(4 * m), np.concatenate([near, far]))
+    flux = np.zeros(m)
+    for face, gap, value in (
+        (near, centres[owner[far]] - centres[owner[near]], f[owner[far]]),
+        (lone, 0.5 * (points[first[lone]] + points[second[lone]]) - centres[owner[lone]], None),
+    ):
+        s = normal[face]
+        if value is None:
+            value = sample(0.5 * (points[first[face]] + points[second[face]]))
+        g = (s * s).sum(axis=1) / np.abs((s * gap).sum(axis=1)) * (value - f[owner[face]])
+        np.add.at(flux, owner[face], g)
+        if face is near:
+            np.add.at(flux, owner[far], -g)
+    return flux / area, area
+
+
+def truncation_error(points: np.ndarray, cells: np.ndarray, sample) -> float:
+    """The tau-estimate of the finite-volume Laplacian's truncation error on the grid: the
+    operator on its cells minus its area mean on their four children, L2 over the cells."""
+    coarse, area = laplacian(points, cells, sample)
+    fine, halves = laplacian(*_split(points, cells), sample)
+    fine = (fine * halves).reshape(-1, 4).sum(axis=1) / halves.reshape(-1, 4).sum(axis=1)
+    return float(np.sqrt((area * (coarse - fine) ** 2).sum() / area.sum()))
+
+
+def c1_image(imaged):
+    """``Field._imaged`` with the values inside the field's cells from the C1 (Clough-Tocher)
+    cubic through its point values (coinciding points, a 2D case's two planes, averaged)."""
+    from scipy.interpolate import CloughTocher2DInterpolator, RegularGridInterpolator
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    from pinn_engine.adapt.nodes import MERGE_TOL
+
+    def smooth(field):
+        image = imaged(field)
+        y, x = image.grid
+        xx, yy = np.meshgrid(x, y)
+        at = np.column_stack([xx.ravel(), yy.ravel()])
+        inside = field.probe(at)[1]
+        plane = field._all_points()[:, :2]
+        key = np.round((plane - plane.min(axis=0)) / (MERGE_TOL * field.diagonal))
+        _, first, which = np.unique(key, axis=0, return_index=True, return_inverse=True)
+        values = vtk_to_numpy(field.data.GetPointData().GetArray("f")).astype(float)
+        mean = np.bincount(which.ravel(), values) / np.bincount(which.ravel())
+        cubic = CloughTocher2DInterpolator(plane[first], mean)(at[inside])
+        flat = image.values.ravel().copy()
+        flat[inside] = np.where(np.isnan(cubic), flat[inside], cubic)
+        values = flat.reshape(image.values.shape)
+        return RegularGridInterpolator((y, x), values, bounds_error=False, fill_value=None)
+
+    return smooth
+
+
 def mesh(row: str, args: list[str]) -> int:
     """pinn-mesh with ``args``, its judge (and monitor, or forms and strength) as ``row``."""
     import torch
@@ -133,8 +225,13 @@ def mesh(row: str, args: list[str]) -> int:
 
         grids.interpolation_error, job.adapt_grids = unadapted_worst, fixed
     else:
-        judge = cell_mean_error if row == "cell mean" else recovery_error
+        judge = {"cell mean": cell_mean_error, "truncation": truncation_error}
+        judge = judge.get(row, recovery_error)
         grids.interpolation_error = guard.interpolation_error = judge
+    if row == "truncation":
+        from pinn_engine.adapt.field import Field
+
+        Field._imaged = c1_image(Field._imaged)
     if row == "recovery monitor":
         from pinn_engine.adapt.monitor import cell_areas, smoothed_at_nodes, to_nodes
 
@@ -158,8 +255,11 @@ def mesh(row: str, args: list[str]) -> int:
 
     def reported(*given, **named):
         result = adapted(*given, **named)
+        report = result.report
+        best = min(t["error"] for t in report["tries"])
         Path(os.environ["ADAPTATION"]).write_text(
-            f"{result.report['form']} {result.report['strength_used']:g}"
+            f"{report['form']} {report['strength_used']:g}; the grid judged "
+            f"{report['interpolation_error']['before']:.3g}, the best try {best:.3g}"
         )
         return result
 
@@ -194,8 +294,9 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=float, nargs="+", default=SIZES)
     parser.add_argument("--sweep", action="store_true")
+    parser.add_argument("--rows", nargs="+", choices=ROWS, default=ROWS)
     args = parser.parse_args()
-    rows = [f"form {k} beta {b:g}" for k in (0, 1) for b in SWEEP] if args.sweep else ROWS
+    rows = [f"form {k} beta {b:g}" for k in (0, 1) for b in SWEEP] if args.sweep else args.rows
     adapt_step.OUT.mkdir(parents=True, exist_ok=True)
     DFG.mkdir(parents=True, exist_ok=True)
     command = adapt_step.OUT / "mesh_estimates.sh"
