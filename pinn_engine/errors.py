@@ -361,9 +361,12 @@ def _blocks_choice(training: dict, gain: str) -> str:
 
 
 def family_fallback_warning(report: dict, route: str) -> str | None:  # noqa: ARG001
-    """The warning for a member whose family model's grid failed the guard (the report's
-    ``training.fallback``), or None; the same words on every route."""
-    return report.get("training", {}).get("fallback")
+    """The warning for a member whose family model's grid was not kept (the report's
+    ``training.fallback``; a multi-block member's ``family.fallback``), or None; the same
+    words on every route."""
+    return report.get("training", {}).get("fallback") or (report.get("family") or {}).get(
+        "fallback"
+    )
 
 
 def crossing_cut_warning(report: dict, route: str) -> str | None:

@@ -14,7 +14,13 @@ from dataclasses import replace
 import numpy as np
 from vtkmodules.vtkCommonCore import vtkOutputWindow
 
-from pinn_engine.errors import ROUTE_WORDS, STOP, SettingsError, stopped_training_warning
+from pinn_engine.errors import (
+    ROUTE_WORDS,
+    STOP,
+    SettingsError,
+    family_fallback_warning,
+    stopped_training_warning,
+)
 from pinn_engine.routes.reporting import announce
 from pinn_engine.routes.responsive import run_polled
 from pinn_engine.settings import setting_problem
@@ -351,7 +357,11 @@ def folded_warning(report: dict, route: str, otherwise: str) -> str | None:
 
 def update_warning(report: dict, route: str, otherwise: str) -> str | None:
     """The warning line of a multi-block or hexahedral update: a training stopped early
-    (time limit, abort, SIGUSR1) and folded cells (:func:`folded_warning`), joined; None
-    when neither applies."""
-    found = (stopped_training_warning(report, route), folded_warning(report, route, otherwise))
+    (time limit, abort, SIGUSR1), folded cells (:func:`folded_warning`) and a family model's
+    grid not kept, joined; None when none applies."""
+    found = (
+        stopped_training_warning(report, route),
+        folded_warning(report, route, otherwise),
+        family_fallback_warning(report, route),
+    )
     return "; ".join(w for w in found if w) or None

@@ -194,3 +194,19 @@ def test_the_multiblock_filters_model_property_reaches_its_run(fitted):
     assert "outside the family" in alg.GetLastError() and "\n" not in alg.GetLastError()
     getattr(alg, model.call)(model.convert(""))
     assert alg.GetModel() is None
+
+
+def test_a_multiblock_members_fallback_is_a_warning_on_every_route(fitted, monkeypatch):
+    """A multi-block member whose model grid is not kept warns as a four-sided one does:
+    pyvista's ``FamilyFallbackWarning``, the filter's warning line, the report's words."""
+    from pinn_engine import report
+    from pinn_engine.errors import FamilyFallbackWarning, family_fallback_warning
+    from pinn_engine.multiblock import mesh as multiblock_mesh
+    from pinn_engine.routes.filters import update_warning
+
+    monkeypatch.setattr(multiblock_mesh, "_tfi_ranks_better", lambda *args: True)
+    boundary, edges, cells = _route_inputs(cylinder(0.22, 0.2, 0.05))
+    with pytest.warns(FamilyFallbackWarning, match="TFI grid"):
+        blocks = boundary.pinn_mesh(blocks=edges, cells=cells, model=str(fitted))
+    text = family_fallback_warning(report(blocks), "paraview")
+    assert text and text in update_warning(report(blocks), "paraview", "")

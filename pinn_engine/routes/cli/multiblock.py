@@ -6,7 +6,7 @@ import argparse
 import time
 from pathlib import Path
 
-from pinn_engine.errors import PinnMeshError
+from pinn_engine.errors import PinnMeshError, family_fallback_warning
 from pinn_engine.routes.cli.options import (
     check_options,
     read_adapt_field,
@@ -122,4 +122,7 @@ def run_blocks(
         print(f"wrote {args.save_blocks} ({len(outcome.edges)} block edges)")
     if folded:
         warn(f"{args.boundary}: {folded} of {report['cells']} cells are folded")
+    fallback = family_fallback_warning(report, "cli")
+    if fallback:
+        warn(f"{args.boundary}: {fallback}")
     return out

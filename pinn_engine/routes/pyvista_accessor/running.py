@@ -18,10 +18,12 @@ import pyvista as pv
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 from pinn_engine.errors import (
+    FamilyFallbackWarning,
     FoldedCellsWarning,
     InputError,
     KeywordError,
     SettingsError,
+    family_fallback_warning,
     grid_warnings,
     unknown_keyword,
 )
@@ -157,7 +159,13 @@ def warn_about(report: dict) -> None:
 
 def warn_folded(report: dict, otherwise: str) -> None:
     """A ``FoldedCellsWarning`` where ``report`` counts folded cells (``otherwise``: the fix
-    of a grid not made by tfi), attributed to the first caller outside this package."""
-    warning = folded_warning(report, ROUTE, otherwise)
-    if warning:
-        warnings.warn(warning, FoldedCellsWarning, stacklevel=_caller_level())
+    of a grid not made by tfi), and a ``FamilyFallbackWarning`` where a family model's grid
+    was not kept, attributed to the first caller outside this package."""
+    level = _caller_level()
+    found = (
+        (folded_warning(report, ROUTE, otherwise), FoldedCellsWarning),
+        (family_fallback_warning(report, ROUTE), FamilyFallbackWarning),
+    )
+    for text, category in found:
+        if text:
+            warnings.warn(text, category, stacklevel=level)
