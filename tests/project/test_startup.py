@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 from helpers import EXAMPLES
@@ -28,6 +29,7 @@ def _imported_after(runs, tmp_path, names=UNUSED) -> list[str]:
     a fresh Python, as it prints."""
     code = f"""
 import sys
+from pathlib import Path
 from pinn_engine.routes.cli import main
 for argv, out in {runs!r}:
     assert main([*argv, "--quiet", "-o", {str(tmp_path)!r} + "/" + out]) == 0, argv
@@ -77,12 +79,14 @@ def test_an_orthogonal_dictionary_imports_no_scipy(tmp_path):
     """A blockMeshDict whose placement is orthogonal (kept unsolved by the default) is
     placed, checked and written on NumPy alone: SciPy's sparse matrices and multigrid are
     imported only where the Winslow equations are solved."""
-    folder = tmp_path / "box" / "system"
-    folder.mkdir(parents=True)
-    (folder / "blockMeshDict").write_text(
-        "vertices ((0 0 0) (2 0 0) (2 1 0) (0 1 0) (0 0 1) (2 0 1) (2 1 1) (0 1 1));\n"
-        "blocks (hex (0 1 2 3 4 5 6 7) (8 4 2) simpleGrading (3 1 1));\n"
-        "boundary ( walls { type wall; faces ((0 3 2 1)); } );\n"
+    folder = _dictionary(
+        tmp_path,
+        "box",
+        (
+            "vertices ((0 0 0) (2 0 0) (2 1 0) (0 1 0) (0 0 1) (2 0 1) (2 1 1) (0 1 1));\n"
+            "blocks (hex (0 1 2 3 4 5 6 7) (8 4 2) simpleGrading (3 1 1));\n"
+            "boundary ( walls { type wall; faces ((0 3 2 1)); } );\n"
+        ),
     )
     run = ([str(folder / "blockMeshDict"), "--format", "openfoam"], "box_case")
     assert _imported_after([run], tmp_path, ("scipy", "pyamg", "torch")) == []
@@ -93,12 +97,14 @@ def test_a_dictionary_written_as_an_openfoam_case_imports_no_vtk_nor_torch(tmp_p
     is written from the merged hexahedra, so neither VTK (its dataset is built only where a
     route reads it) nor torch (no network is trained) is imported; the .vtm output does
     build it."""
-    folder = tmp_path / "duct" / "system"
-    folder.mkdir(parents=True)
-    (folder / "blockMeshDict").write_text(
-        "vertices ((0 0 0) (2 0 0) (2 1 0) (0 1 0) (0 0 1) (2.5 0 1) (2 1 1) (0 1 1));\n"
-        "blocks (hex (0 1 2 3 4 5 6 7) (6 4 4) simpleGrading (1 1 1));\n"
-        "boundary ( walls { type wall; faces ((0 3 2 1)); } );\n"
+    folder = _dictionary(
+        tmp_path,
+        "duct",
+        (
+            "vertices ((0 0 0) (2 0 0) (2 1 0) (0 1 0) (0 0 1) (2.5 0 1) (2 1 1) (0 1 1));\n"
+            "blocks (hex (0 1 2 3 4 5 6 7) (6 4 4) simpleGrading (1 1 1));\n"
+            "boundary ( walls { type wall; faces ((0 3 2 1)); } );\n"
+        ),
     )
     names = ("vtkmodules", "torch", "pyvista", "scipy.sparse")
     report = str(tmp_path / "duct.json")
@@ -112,12 +118,23 @@ def test_a_swept_dictionary_solves_its_face_without_pyamg(tmp_path):
     """A dictionary one cell thick (a trapezoid swept along z) is solved as its slab's
     face, a 2D system preconditioned by its sparse LU: SciPy's sparse matrices are imported
     and pyamg (about 0.05 s of CPU) is not."""
-    folder = tmp_path / "trapezoid" / "system"
-    folder.mkdir(parents=True)
-    (folder / "blockMeshDict").write_text(
-        "vertices ((0 0 0) (2 0 0) (2.5 1 0) (0 1 0) (0 0 1) (2 0 1) (2.5 1 1) (0 1 1));\n"
-        "blocks (hex (0 1 2 3 4 5 6 7) (8 4 1) simpleGrading (1 1 1));\n"
-        "boundary ( walls { type wall; faces ((0 3 2 1)); } );\n"
+    folder = _dictionary(
+        tmp_path,
+        "trapezoid",
+        (
+            "vertices ((0 0 0) (2 0 0) (2.5 1 0) (0 1 0) (0 0 1) (2 0 1) (2.5 1 1) (0 1 1));\n"
+            "blocks (hex (0 1 2 3 4 5 6 7) (8 4 1) simpleGrading (1 1 1));\n"
+            "boundary ( walls { type wall; faces ((0 3 2 1)); } );\n"
+        ),
     )
     run = ([str(folder / "blockMeshDict"), "--format", "openfoam"], "trapezoid_case")
     assert _imported_after([run], tmp_path, ("pyamg", "scipy.sparse")) == ["scipy.sparse"]
+
+
+def _dictionary(tmp_path: Path, name: str, text: str) -> Path:
+    """A case folder ``name`` under ``tmp_path`` whose system/blockMeshDict is ``text``; its
+    system folder."""
+    folder = tmp_path / name / "system"
+    folder.mkdir(parents=True)
+    (folder / "blockMeshDict").write_text(text)
+    return folder
