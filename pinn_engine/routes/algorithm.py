@@ -111,6 +111,9 @@ class PinnMeshAlgorithm(
     * input port 2 (optional), a Field: any dataset (a solver's result); the grid is then
       adapted to its array ``SetAdaptArray(name)`` (default: its first point array) with
       ``SetAdaptStrength(beta)`` (SPEC 14); point array ``Monitor``
+    * ``SetModel(path)``: a family model (SPEC 16: ``pinn-mesh fit``'s file, or a fitted
+      model) that meshes the boundary as a member of its family (field data
+      ``NetworkResult`` and ``FamilyModel`` say what was kept); "": none
     """
 
     FIELD_PORT = 2
