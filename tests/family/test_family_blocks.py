@@ -4,9 +4,12 @@ run, and a member of another blocking refused in one line."""
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 import pytest
 import pyvista as pv
+from helpers import EXAMPLES
 
 from pinn_engine import job
 from pinn_engine.errors import InputError
@@ -14,7 +17,12 @@ from pinn_engine.family import mesh as family_mesh
 from pinn_engine.multiblock.chains import parse_cells
 from pinn_engine.settings import make_settings
 
-LENGTH, HEIGHT, BOX = 2.2, 0.41, 0.1  # the DFG channel and the square's half side
+sys.path.insert(0, str(EXAMPLES))  # make_multiblock: the DFG channel's rings and block edges
+from make_multiblock import DFG_BOX as BOX  # noqa: E402
+from make_multiblock import DFG_HEIGHT as HEIGHT  # noqa: E402
+from make_multiblock import DFG_LENGTH as LENGTH  # noqa: E402
+from make_multiblock import dfg  # noqa: E402
+
 SETTINGS = make_settings("pinn", kind="blocks")
 # (centre x, centre y, radius) of the training members: about the ranges' corners and centre
 TRAIN = [(0.18, 0.17, 0.04), (0.26, 0.17, 0.06), (0.18, 0.24, 0.06), (0.26, 0.24, 0.04)]
@@ -26,19 +34,8 @@ def cylinder(cx: float, cy: float, r: float, split: bool = False) -> job.BlocksG
     its diagonals and its sides carried on to the walls, the inlet and the outlet (with
     ``split``, the blocks downstream cut across at mid-channel too: another blocking); every
     chain's cells fixed (as a family's counts are)."""
-    channel = np.array([(0, 0), (LENGTH, 0), (LENGTH, HEIGHT), (0, HEIGHT)], dtype=float)
-    a = 2 * np.pi * np.arange(32) / 32
-    hole = np.column_stack([cx + r * np.cos(a), cy + r * np.sin(a)])
-    x0, x1, y0, y1 = cx - BOX, cx + BOX, cy - BOX, cy + BOX
-    square = [(x1, y0), (x1, y1), (x0, y1), (x0, y0)]
-    edges = [np.array([square[k - 1], square[k]]) for k in range(4)]
-    for x, y in square:
-        d = np.array([x - cx, y - cy]) / np.hypot(x - cx, y - cy)
-        edges.append(np.array([(cx + r * d[0], cy + r * d[1]), (x, y)]))
-    for x in (x0, x1):
-        edges += [np.array([(x, 0.0), (x, y0)]), np.array([(x, y1), (x, HEIGHT)])]
-    for y in (y0, y1):
-        edges += [np.array([(0.0, y), (x0, y)]), np.array([(x1, y), (LENGTH, y)])]
+    (channel, hole), edges = dfg((cx, cy), r)
+    y0, y1 = cy - BOX, cy + BOX
     if split:  # three edges across, each ending on the channel or on an edge along it
         across = [0.0, y0, y1, HEIGHT]
         edges += [np.array([(LENGTH / 2, a), (LENGTH / 2, b)]) for a, b in zip(across, across[1:])]
